@@ -1,0 +1,7 @@
+//! The article's `BVH` class: loading, printing and writing BVH files.
+
+pub mod loader;
+pub mod print;
+pub mod writer;
+
+pub use loader::{Bvh, load_bytes, load_file};

@@ -1,0 +1,41 @@
+//! C++: `BVH::print` and `BVH::printRecursive`: the loaded tree, one joint per line.
+
+use crate::skeleton::Skeleton;
+use std::fmt::Write;
+
+/// C++: `NAMESIZE - 1`: the longest name the article's `BVHJoint` can hold.
+pub const NAME_LIMIT: usize = 23;
+
+/// C++: `BVH::print`. Writes what the article's program prints for the same file, byte for byte:
+/// per joint ` -` once per level, the name, ` : x,y,z -flags- ` and the order in lower case.
+/// End Sites print as `Site` with flags 0, as the article's `processEnd` names them. Names are cut
+/// to [`NAME_LIMIT`] bytes, because the article stores them in `unsigned char name[NAMESIZE]`
+/// (24 with its terminator); only this output keeps that limit, every other command has the whole
+/// name. One change:
+/// the article dereferences a null root when the load failed; here there is nothing to print
+/// because a failed load is an error and no tree exists.
+pub fn print(skeleton: &Skeleton) -> String {
+    let mut out = String::new();
+    for root in skeleton.roots() {
+        print_recursive(skeleton, root, 0, &mut out);
+    }
+    out
+}
+
+/// C++: `BVH::printRecursive`. Numbers are `printf("%f")` of the stored single-precision values.
+pub fn print_recursive(skeleton: &Skeleton, joint: usize, depth: usize, out: &mut String) {
+    let node = &skeleton.joints[joint];
+    for _ in 0..depth {
+        out.push_str(" -");
+    }
+    let flags = node.rotation_order.map_or(0, |order| order.flag());
+    let letters = node.rotation_order.map_or("", |order| order.letters());
+    let [x, y, z] = node.offset.to_array().map(f64::from);
+    // Infallible: writing to a String cannot fail.
+    let bytes = node.name.as_bytes();
+    let name = String::from_utf8_lossy(&bytes[..bytes.len().min(NAME_LIMIT)]);
+    let _ = writeln!(out, "{name} : {x:.6},{y:.6},{z:.6} -{flags}- {letters}");
+    for &child in &node.children {
+        print_recursive(skeleton, child, depth + 1, out);
+    }
+}

@@ -1,0 +1,93 @@
+//! Errors of every loader and command: where in which file, what was expected, what was found.
+
+use std::fmt;
+use std::io;
+use std::path::{Path, PathBuf};
+
+#[derive(Debug)]
+pub enum Error {
+    /// The input is malformed: `path:line:column: message`.
+    Parse {
+        path: String,
+        line: usize,
+        column: usize,
+        message: String,
+    },
+    /// A file could not be read or written.
+    Io { path: PathBuf, source: io::Error },
+    /// Anything else the user asked for that cannot be done (a frame out of range, a bad option).
+    Usage(String),
+}
+
+impl Error {
+    pub fn io(path: &Path, source: io::Error) -> Error {
+        Error::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
+    /// The CLI's exit code: 2 for bad input, 1 for everything else.
+    pub fn exit_code(&self) -> i32 {
+        match self {
+            Error::Parse { .. } | Error::Usage(_) => 2,
+            Error::Io { source, .. } => match source.kind() {
+                io::ErrorKind::NotFound
+                | io::ErrorKind::IsADirectory
+                | io::ErrorKind::InvalidData => 2,
+                _ => 1,
+            },
+        }
+    }
+}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Error::Parse {
+                path,
+                line,
+                column,
+                message,
+            } => write!(f, "{path}:{line}:{column}: {message}"),
+            Error::Io { path, source } => write!(f, "{}: {}", path.display(), io_message(source)),
+            Error::Usage(message) => f.write_str(message),
+        }
+    }
+}
+
+/// The OS's message without Rust's "(os error N)" suffix.
+fn io_message(error: &io::Error) -> String {
+    let text = error.to_string();
+    match text.find(" (os error") {
+        Some(cut) => text[..cut].to_string(),
+        None => text,
+    }
+}
+
+impl std::error::Error for Error {}
+
+/// 1-based line and column of byte `offset` in `text`. Lines end at LF, CRLF or a lone CR; columns
+/// count characters, not bytes; a UTF-8 byte-order mark is not a column.
+pub fn line_column(text: &[u8], offset: usize) -> (usize, usize) {
+    let offset = offset.min(text.len());
+    let mut line = 1;
+    let mut line_start = if text.starts_with(b"\xEF\xBB\xBF") && offset >= 3 {
+        3
+    } else {
+        0
+    };
+    for (i, &byte) in text[..offset].iter().enumerate() {
+        let breaks = byte == b'\n' || (byte == b'\r' && text.get(i + 1) != Some(&b'\n'));
+        if breaks {
+            line += 1;
+            line_start = i + 1;
+        }
+    }
+    let column = text[line_start..offset]
+        .iter()
+        .filter(|&&b| (b & 0xC0) != 0x80)
+        .count()
+        + 1;
+    (line, column)
+}

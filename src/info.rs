@@ -1,0 +1,128 @@
+//! `bvhview info`: what a file holds, in a few lines.
+
+use crate::bvh::Bvh;
+use crate::pose::OffsetMode;
+use crate::skeleton::Skeleton;
+use std::collections::BTreeMap;
+use std::fmt::Write;
+
+/// A human-readable summary: joints, End Sites, channels, frames, timing, orders, warnings.
+pub fn summary(name: &str, bvh: &Bvh, mode: OffsetMode) -> String {
+    let skeleton = &bvh.skeleton;
+    let motion = &bvh.motion;
+    let end_sites = skeleton.end_site_count();
+    let joints = skeleton.joints.len() - end_sites;
+    let mut out = String::new();
+    let _ = writeln!(out, "file:             {name}");
+    let _ = writeln!(out, "joints:           {joints}");
+    let _ = writeln!(out, "end sites:        {end_sites}");
+    let _ = writeln!(out, "channels:         {}", skeleton.channel_count());
+    let _ = writeln!(out, "frames:           {}", motion.frame_count());
+    let rate = if motion.frame_time > 0.0 {
+        format!(" ({:.2} frames per second)", 1.0 / motion.frame_time)
+    } else {
+        String::new()
+    };
+    let _ = writeln!(out, "frame time:       {} s{rate}", motion.frame_time);
+    let _ = writeln!(out, "duration:         {:.3} s", motion.duration());
+    let _ = writeln!(out, "rotation orders:  {}", rotation_orders(skeleton));
+    let _ = writeln!(out, "position channels: {}", position_joints(skeleton));
+    let mut warnings = bvh.warnings.clone();
+    warnings.extend(offset_mode_warning(bvh, mode));
+    if warnings.is_empty() {
+        let _ = writeln!(out, "warnings:         none");
+    } else {
+        let _ = writeln!(out, "warnings:");
+        for warning in &warnings {
+            let _ = writeln!(out, "  - {warning}");
+        }
+    }
+    out
+}
+
+/// e.g. `ZYX ×19, ZXY ×12`; joints without three rotation channels are counted apart.
+fn rotation_orders(skeleton: &Skeleton) -> String {
+    let mut counts: BTreeMap<String, usize> = BTreeMap::new();
+    let mut other = 0;
+    for joint in skeleton.joints.iter().filter(|j| !j.end_site) {
+        match joint.rotation_order {
+            Some(order) => *counts.entry(order.letters().to_uppercase()).or_default() += 1,
+            None => other += 1,
+        }
+    }
+    let mut parts: Vec<String> = counts.iter().map(|(k, n)| format!("{k} ×{n}")).collect();
+    if other > 0 {
+        parts.push(format!("other ×{other}"));
+    }
+    if parts.is_empty() {
+        "none".to_string()
+    } else {
+        parts.join(", ")
+    }
+}
+
+/// Which joints carry position channels: the names if few, else a count.
+fn position_joints(skeleton: &Skeleton) -> String {
+    let names: Vec<&str> = skeleton
+        .joints
+        .iter()
+        .filter(|j| j.channels.iter().any(|c| c.is_position()))
+        .map(|j| j.name.as_str())
+        .collect();
+    match names.len() {
+        0 => "none".to_string(),
+        1..=4 => names.join(", "),
+        n => format!("{n} joints"),
+    }
+}
+
+/// Warns when the non-root position channels look written for the other `--offset-mode`: under
+/// `replace`, nearly all of them are zero at frame 0 while the OFFSETs are not (MakeHuman's
+/// files, which mean "added to OFFSET"); under `add`, they equal the OFFSETs (so adding doubles
+/// every bone).
+pub fn offset_mode_warning(bvh: &Bvh, mode: OffsetMode) -> Option<String> {
+    if bvh.motion.frame_count() == 0 {
+        return None;
+    }
+    let frame = bvh.motion.frame(0);
+    let mut candidates = 0;
+    let mut matching = 0;
+    for joint in bvh.skeleton.joints.iter().filter(|j| j.parent.is_some()) {
+        let values = joint.values(frame);
+        let positions: Vec<(usize, f32)> = joint
+            .channels
+            .iter()
+            .zip(values)
+            .filter(|(c, _)| c.is_position())
+            .map(|(c, &v)| (c.axis(), v))
+            .collect();
+        if positions.is_empty() || joint.offset.length() < 1e-3 {
+            continue;
+        }
+        candidates += 1;
+        let looks_other = match mode {
+            OffsetMode::Replace => positions.iter().all(|&(_, v)| v.abs() <= 1e-4),
+            OffsetMode::Add => positions.iter().all(|&(axis, v)| {
+                (v - joint.offset[axis]).abs() <= 1e-4 * joint.offset.length().max(1.0)
+            }),
+        };
+        if looks_other {
+            matching += 1;
+        }
+    }
+    if candidates == 0 || matching * 10 < candidates * 9 {
+        return None;
+    }
+    Some(match mode {
+        OffsetMode::Replace => format!(
+            "{matching} of {candidates} non-root joints with position channels have them all 0 at \
+             frame 0 while their OFFSETs are not: the file looks written for `--offset-mode add` \
+             (position added to OFFSET); with the default (replace) those bones collapse"
+        ),
+        OffsetMode::Add => format!(
+            "{matching} of {candidates} non-root joints with position channels repeat their OFFSET \
+             at frame 0: the file looks written for the default `--offset-mode replace`; adding \
+             doubles those bones"
+        ),
+    })
+}

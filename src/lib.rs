@@ -1,0 +1,28 @@
+//! bvhview: load, look at, snapshot and export BVH motion capture.
+//!
+//! The heart is a port of a well-known C++/GLUT teaching program (a BVH loader with a byte cursor
+//! and a brace stack, a recursive fixed-function draw). Its names and structure are kept so the
+//! two can be read side by side: every item that ports an article function starts its docs with
+//! `C++: …`.
+//!
+//! Data flows one way: bytes → [`bvh::loader`] → [`Skeleton`] + [`Motion`] → [`pose`] (forward
+//! kinematics) → export, print, or the writer.
+
+pub mod bvh;
+pub mod error;
+pub mod export;
+pub mod info;
+pub mod motion;
+pub mod pose;
+pub mod skeleton;
+
+pub use error::Error;
+pub use motion::Motion;
+pub use skeleton::{Channel, Joint, RotationOrder, Skeleton};
+
+/// The default motion shown when no file is given: a short walk on the skeleton printed in the
+/// article's companion text about MOTION rows, made by `examples/make_walk.rs`.
+pub const DEFAULT_MOTION: &[u8] = include_bytes!("../assets/walk.bvh");
+
+/// How the default motion is named in messages.
+pub const DEFAULT_MOTION_NAME: &str = "assets/walk.bvh";

@@ -1,0 +1,42 @@
+//! The MOTION section: a frame time and one flat array of values, `frames × channels`.
+//!
+//! C++: `float **frameData` (one heap array per frame) and `frameTime`. One flat `Vec<f32>` keeps
+//! the rows contiguous and costs one allocation.
+
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Motion {
+    /// Seconds per frame, as the file's `Frame Time:` says.
+    pub frame_time: f64,
+    /// Values per frame (the skeleton's channel count).
+    pub channels: usize,
+    /// `frame_count() * channels` values, row after row.
+    pub data: Vec<f32>,
+    frames: usize,
+}
+
+impl Motion {
+    pub fn new(frame_time: f64, channels: usize, frames: usize, data: Vec<f32>) -> Motion {
+        debug_assert_eq!(data.len(), frames * channels);
+        Motion {
+            frame_time,
+            channels,
+            data,
+            frames,
+        }
+    }
+
+    /// C++: `BVH::getFrameCount`.
+    pub fn frame_count(&self) -> usize {
+        self.frames
+    }
+
+    /// The values of frame `index` (C++: `frameData[index]`). Panics if `index` is out of range.
+    pub fn frame(&self, index: usize) -> &[f32] {
+        &self.data[index * self.channels..(index + 1) * self.channels]
+    }
+
+    /// Length of the take in seconds.
+    pub fn duration(&self) -> f64 {
+        self.frames as f64 * self.frame_time
+    }
+}

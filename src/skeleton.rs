@@ -1,0 +1,227 @@
+//! The skeleton: joints in pre-order with parent indices, each with its channels in file order.
+//!
+//! C++: `class BVHJoint`. The article keeps a fixed array of 16 children and a 24-byte name per joint
+//! and links them by pointers; here joints live in one `Vec` in the order the file lists them (the
+//! article's pre-order), so the MOTION columns of a joint are one contiguous slice.
+
+use glam::Vec3;
+use std::fmt;
+
+/// One MOTION column's meaning, as written in a CHANNELS line.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Channel {
+    Xposition,
+    Yposition,
+    Zposition,
+    Xrotation,
+    Yrotation,
+    Zrotation,
+}
+
+impl Channel {
+    /// Reads a channel name; case does not matter (`Xrotation`, `XROTATION`).
+    pub fn parse(name: &str) -> Option<Channel> {
+        const ALL: [(&str, Channel); 6] = [
+            ("Xposition", Channel::Xposition),
+            ("Yposition", Channel::Yposition),
+            ("Zposition", Channel::Zposition),
+            ("Xrotation", Channel::Xrotation),
+            ("Yrotation", Channel::Yrotation),
+            ("Zrotation", Channel::Zrotation),
+        ];
+        ALL.iter()
+            .find(|(text, _)| text.eq_ignore_ascii_case(name))
+            .map(|&(_, channel)| channel)
+    }
+
+    /// The name a BVH file uses for this channel.
+    pub fn name(self) -> &'static str {
+        match self {
+            Channel::Xposition => "Xposition",
+            Channel::Yposition => "Yposition",
+            Channel::Zposition => "Zposition",
+            Channel::Xrotation => "Xrotation",
+            Channel::Yrotation => "Yrotation",
+            Channel::Zrotation => "Zrotation",
+        }
+    }
+
+    /// 0, 1 or 2 for the X, Y or Z axis.
+    pub fn axis(self) -> usize {
+        match self {
+            Channel::Xposition | Channel::Xrotation => 0,
+            Channel::Yposition | Channel::Yrotation => 1,
+            Channel::Zposition | Channel::Zrotation => 2,
+        }
+    }
+
+    pub fn is_rotation(self) -> bool {
+        matches!(
+            self,
+            Channel::Xrotation | Channel::Yrotation | Channel::Zrotation
+        )
+    }
+
+    pub fn is_position(self) -> bool {
+        !self.is_rotation()
+    }
+}
+
+impl fmt::Display for Channel {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// The order of a joint's three rotation channels: the article's `flags`.
+///
+/// C++: the anonymous `enum { ZYX = 1, YZX = 2, ZXY = 3, XZY = 5, YXZ = 6, XYZ = 7 }`. The article
+/// packs the three axis letters into one number (`getFlags`); the discriminants keep its values so
+/// `print` writes the same digits.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum RotationOrder {
+    Zyx = 1,
+    Yzx = 2,
+    Zxy = 3,
+    Xzy = 5,
+    Yxz = 6,
+    Xyz = 7,
+}
+
+impl RotationOrder {
+    /// The article's flag value (1, 2, 3, 5, 6 or 7).
+    pub fn flag(self) -> u8 {
+        self as u8
+    }
+
+    /// Lower-case letters in file order, as the article's `printRecursive` writes them.
+    pub fn letters(self) -> &'static str {
+        match self {
+            RotationOrder::Zyx => "zyx",
+            RotationOrder::Yzx => "yzx",
+            RotationOrder::Zxy => "zxy",
+            RotationOrder::Xzy => "xzy",
+            RotationOrder::Yxz => "yxz",
+            RotationOrder::Xyz => "xyz",
+        }
+    }
+
+    /// The order whose axes (0 = X, 1 = Y, 2 = Z) come in this sequence; `None` unless the three
+    /// are distinct.
+    pub fn from_axes(axes: [usize; 3]) -> Option<RotationOrder> {
+        Some(match axes {
+            [2, 1, 0] => RotationOrder::Zyx,
+            [1, 2, 0] => RotationOrder::Yzx,
+            [2, 0, 1] => RotationOrder::Zxy,
+            [0, 2, 1] => RotationOrder::Xzy,
+            [1, 0, 2] => RotationOrder::Yxz,
+            [0, 1, 2] => RotationOrder::Xyz,
+            _ => return None,
+        })
+    }
+
+    /// C++: `BVH::getFlags`. The article reads the first letter of three words at fixed byte
+    /// distances (`p`, `p+10`, `p+20`), which breaks on any other spacing and on position channels
+    /// listed after rotations; here the order comes from the parsed channels, whatever their layout.
+    /// `None` when the joint does not have exactly three rotation channels on distinct axes.
+    pub fn get_flags(channels: &[Channel]) -> Option<RotationOrder> {
+        let mut axes = [0usize; 3];
+        let mut count = 0;
+        for channel in channels.iter().filter(|c| c.is_rotation()) {
+            if count == 3 {
+                return None;
+            }
+            axes[count] = channel.axis();
+            count += 1;
+        }
+        if count == 3 {
+            RotationOrder::from_axes(axes)
+        } else {
+            None
+        }
+    }
+}
+
+/// A joint or End Site.
+///
+/// C++: `BVHJoint`. `x, y, z` become `offset`; `flags` becomes `channels` (all of them, in file
+/// order) plus `rotation_order`; the child array becomes `children` with no limit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Joint {
+    pub name: String,
+    pub parent: Option<usize>,
+    pub children: Vec<usize>,
+    pub offset: Vec3,
+    pub channels: Vec<Channel>,
+    /// Index of this joint's first column in a MOTION row.
+    pub first_channel: usize,
+    /// Written `End Site` (or, by some exporters, `JOINT Site` with `CHANNELS 0` and no children).
+    pub end_site: bool,
+    pub rotation_order: Option<RotationOrder>,
+}
+
+impl Joint {
+    pub fn new(name: String, parent: Option<usize>) -> Joint {
+        Joint {
+            name,
+            parent,
+            children: Vec::new(),
+            offset: Vec3::ZERO,
+            channels: Vec::new(),
+            first_channel: 0,
+            end_site: false,
+            rotation_order: None,
+        }
+    }
+
+    /// This joint's values in one MOTION row.
+    pub fn values<'a>(&self, frame: &'a [f32]) -> &'a [f32] {
+        &frame[self.first_channel..self.first_channel + self.channels.len()]
+    }
+}
+
+/// All joints of a file in pre-order (a parent always comes before its children).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Skeleton {
+    pub joints: Vec<Joint>,
+}
+
+impl Skeleton {
+    /// Columns in one MOTION row.
+    pub fn channel_count(&self) -> usize {
+        self.joints.iter().map(|j| j.channels.len()).sum()
+    }
+
+    /// Indices of joints without a parent (BVH files usually have one).
+    pub fn roots(&self) -> impl Iterator<Item = usize> + '_ {
+        self.joints
+            .iter()
+            .enumerate()
+            .filter(|(_, j)| j.parent.is_none())
+            .map(|(i, _)| i)
+    }
+
+    pub fn end_site_count(&self) -> usize {
+        self.joints.iter().filter(|j| j.end_site).count()
+    }
+
+    /// Depth of each joint: 0 for a root.
+    pub fn depths(&self) -> Vec<usize> {
+        let mut depths = vec![0; self.joints.len()];
+        for (i, joint) in self.joints.iter().enumerate() {
+            if let Some(parent) = joint.parent {
+                depths[i] = depths[parent] + 1;
+            }
+        }
+        depths
+    }
+
+    /// The name an export uses for a joint: its own, or `<parent>_End` for an End Site.
+    pub fn export_name(&self, index: usize) -> String {
+        let joint = &self.joints[index];
+        match (joint.end_site, joint.parent) {
+            (true, Some(parent)) => format!("{}_End", self.joints[parent].name),
+            _ => joint.name.clone(),
+        }
+    }
+}

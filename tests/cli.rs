@@ -1,0 +1,170 @@
+//! The command line: positions, info, exit codes and messages.
+
+mod common;
+use common::*;
+use std::process::{Command, Output};
+
+fn bvhview(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn tiny() -> String {
+    shared()
+        .join("oracle/inputs/tiny_crlf.bvh")
+        .display()
+        .to_string()
+}
+
+/// Parses `frame,joint,x,y,z` rows into (frame, joint, [x, y, z]).
+fn rows(csv: &str) -> Vec<(usize, String, [f32; 3])> {
+    let mut lines = csv.lines();
+    assert_eq!(lines.next(), Some("frame,joint,x,y,z"));
+    lines
+        .map(|line| {
+            let f: Vec<&str> = line.split(',').collect();
+            let n = |i: usize| f[i].parse::<f32>().unwrap();
+            (f[0].parse().unwrap(), f[1].to_string(), [n(2), n(3), n(4)])
+        })
+        .collect()
+}
+
+fn find(rows: &[(usize, String, [f32; 3])], frame: usize, joint: &str) -> [f32; 3] {
+    rows.iter()
+        .find(|r| r.0 == frame && r.1 == joint)
+        .unwrap()
+        .2
+}
+
+fn close(a: [f32; 3], b: [f32; 3]) -> bool {
+    a.iter().zip(b).all(|(x, y)| (x - y).abs() < 1e-4)
+}
+
+#[test]
+fn positions_csv_gives_hand_computed_points() {
+    let out = bvhview(&["positions", &tiny(), "--frames", "0..2"]);
+    assert!(out.status.success());
+    let rows = rows(&String::from_utf8(out.stdout).unwrap());
+    assert_eq!(rows.len(), 2 * 12, "12 joints and End Sites, 2 frames");
+    // Frame 0: no rotation; the root's position channels replace its OFFSET: (0, 30, 0).
+    assert_eq!(find(&rows, 0, "Hips"), [0.0, 30.0, 0.0]);
+    assert_eq!(find(&rows, 0, "Neck_End"), [0.0, 77.0, 0.0]);
+    assert_eq!(find(&rows, 0, "LeftArm_End"), [37.0, 60.0, 0.0]);
+    // Frame 1: root at (5, 30, -3) turned 30° about Y; LeftLeg (8, 0, 0) lands at
+    // (5 + 8 cos 30°, 30, -3 - 8 sin 30°); its End Site (0, -40, 0) turned -30° about X is
+    // (0, -34.641, 20), then 30° about Y: (10, -34.641, 17.3205).
+    assert!(close(find(&rows, 1, "LeftLeg"), [11.928203, 30.0, -7.0]));
+    assert!(close(
+        find(&rows, 1, "LeftLeg_End"),
+        [21.928203, -4.641016, 10.320508]
+    ));
+}
+
+#[test]
+fn positions_left_handed_negates_z_and_json_has_the_same_numbers() {
+    let right =
+        rows(&String::from_utf8(bvhview(&["positions", &tiny(), "--frames", "1"]).stdout).unwrap());
+    let left_out = bvhview(&["positions", &tiny(), "--frames", "1", "--left-handed"]);
+    let left = rows(&String::from_utf8(left_out.stdout).unwrap());
+    for (r, l) in right.iter().zip(&left) {
+        assert_eq!(r.1, l.1);
+        assert_eq!([r.2[0], r.2[1], -r.2[2]], l.2);
+    }
+    let json = bvhview(&[
+        "positions",
+        &tiny(),
+        "--frames",
+        "1..=1",
+        "--format",
+        "json",
+    ]);
+    let text = String::from_utf8(json.stdout).unwrap();
+    assert!(text.starts_with(
+        "{\"frame_time\":0.033333,\"joints\":[\"Hips\",\"Chest\",\"Neck\",\"Neck_End\","
+    ));
+    assert!(
+        text.contains("{\"frame\":1,\"positions\":[[5,30,-3],[5,45,-3],"),
+        "{text}"
+    );
+    assert!(text.trim_end().ends_with("]}]}"));
+}
+
+#[test]
+fn positions_offset_mode_add_adds_position_channels() {
+    let file = data("bvh/makehuman_tpose.bvh").display().to_string();
+    let replace = rows(&String::from_utf8(bvhview(&["positions", &file]).stdout).unwrap());
+    let add_out = bvhview(&["positions", &file, "--offset-mode", "add"]);
+    let add = rows(&String::from_utf8(add_out.stdout).unwrap());
+    // The root's position channels hold (0, 0.6394, 0.027754); its OFFSET is (0, 0.6394, 0.6314).
+    assert!(close(find(&replace, 0, "root"), [0.0, 0.6394, 0.027754]));
+    assert!(close(find(&add, 0, "root"), [0.0, 1.2788, 0.659154]));
+    let stderr = String::from_utf8(bvhview(&["positions", &file]).stderr).unwrap();
+    assert!(
+        stderr.contains("looks written for `--offset-mode add`"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn bad_frame_ranges_and_bad_files_exit_2_with_one_line() {
+    let out = bvhview(&["positions", &tiny(), "--frames", "2..9"]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(
+        stderr,
+        "bvhview: --frames 2..9: expected N, A..B, A..=B, A.. or ..B with frames 0..3\n"
+    );
+
+    let broken = data("bvh_malformed/dali_test-invalid-hierarchy1.bvh")
+        .display()
+        .to_string();
+    for command in ["print", "info", "positions"] {
+        let out = bvhview(&[command, &broken]);
+        assert_eq!(out.status.code(), Some(2), "{command}");
+        let stderr = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(
+            stderr,
+            format!("bvhview: {broken}:3:3: expected '{{' after 'root', found 'OFFSET'\n")
+        );
+        assert!(out.stdout.is_empty());
+    }
+}
+
+#[test]
+fn info_reports_counts_timing_orders_and_warnings() {
+    let file = data("bvh/assimp_Boxing_Toes.bvh").display().to_string();
+    let out = bvhview(&["info", &file]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    for line in [
+        "joints:           21\n",
+        "end sites:        5\n",
+        "channels:         66\n",
+        "frames:           3069\n",
+        "frame time:       0.01 s (100.00 frames per second)\n",
+        "duration:         30.690 s\n",
+        "rotation orders:  ZXY ×21\n",
+        "  - 1 extra row after the 3069 announced by Frames: (line 128) ignored, from line 3199 on\n",
+    ] {
+        assert!(text.contains(line), "missing {line:?} in\n{text}");
+    }
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.contains(": warning: 1 extra row after the 3069"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn without_arguments_it_shows_the_bundled_walk() {
+    let out = bvhview(&[]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains("file:             assets/walk.bvh\n"),
+        "{text}"
+    );
+    assert!(text.contains("frames:           40\n"));
+}

@@ -1,0 +1,47 @@
+//! `convert` writes BVH that loads back to the same skeleton and the same values.
+
+mod common;
+use common::*;
+use std::process::Command;
+
+#[test]
+fn every_real_file_round_trips_exactly() {
+    for path in files_in(&data("bvh"), "bvh") {
+        let original = bvhview::bvh::load_file(&path).unwrap();
+        let text = bvhview::bvh::writer::to_string(&original.skeleton, &original.motion);
+        let again = bvhview::bvh::load_bytes(text.as_bytes(), "written.bvh")
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(again.skeleton, original.skeleton, "{}", path.display());
+        assert_eq!(again.motion.frame_count(), original.motion.frame_count());
+        assert_eq!(again.motion.frame_time, original.motion.frame_time);
+        // Bit for bit, so -0 stays -0.
+        let bits = |m: &bvhview::Motion| m.data.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+        assert!(
+            bits(&again.motion) == bits(&original.motion),
+            "{}",
+            path.display()
+        );
+        assert!(again.warnings.is_empty());
+    }
+}
+
+#[test]
+fn convert_command_writes_a_loadable_file() {
+    let out = std::env::temp_dir().join(format!("bvhview-convert-{}.bvh", std::process::id()));
+    let input = data("bvh/opencollar_run.bvh");
+    let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .args(["convert"])
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let written = bvhview::bvh::load_file(&out).unwrap();
+    let original = bvhview::bvh::load_file(&input).unwrap();
+    assert_eq!(written.skeleton, original.skeleton);
+    assert_eq!(written.motion, original.motion);
+    let text = std::fs::read_to_string(&out).unwrap();
+    assert!(!text.contains('\r'), "the writer uses LF");
+    std::fs::remove_file(out).unwrap();
+}
