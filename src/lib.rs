@@ -14,6 +14,7 @@ pub mod export;
 pub mod info;
 pub mod motion;
 pub mod pose;
+pub mod render;
 pub mod skeleton;
 
 pub use error::Error;

@@ -5,6 +5,8 @@ use bvhview::bvh::{self, Bvh};
 use bvhview::error::Error;
 use bvhview::export::{self, Format, PositionsOptions};
 use bvhview::pose::OffsetMode;
+use bvhview::render::SnapshotOptions;
+use bvhview::render::draw::Style;
 use clap::{Parser, Subcommand};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -53,12 +55,47 @@ enum Command {
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
+    /// Draw one frame offscreen (no display needed) and write it as PNG.
+    Snapshot {
+        file: PathBuf,
+        /// Frame to draw, from 0.
+        #[arg(long, default_value_t = 0)]
+        frame: usize,
+        /// Camera angle around the Y axis in radians (the article starts at 10).
+        #[arg(long, default_value_t = bvhview::render::scene::START_ANGLE, allow_negative_numbers = true)]
+        angle: f32,
+        /// Picture size, WIDTHxHEIGHT.
+        #[arg(long, default_value = "600x600", value_parser = parse_size)]
+        size: (u32, u32),
+        /// Spheres (the article), the stick figure, or both.
+        #[arg(long, value_enum, default_value_t)]
+        style: Style,
+        /// Frame the skeleton instead of using the article's fixed camera.
+        #[arg(long)]
+        fit: bool,
+        /// How position channels combine with OFFSET.
+        #[arg(long, value_enum, default_value_t)]
+        offset_mode: OffsetMode,
+        /// The PNG to write.
+        #[arg(short, long)]
+        output: PathBuf,
+    },
     /// Write a file back out as BVH.
     Convert {
         input: PathBuf,
         #[arg(short, long)]
         output: PathBuf,
     },
+}
+
+/// `600x400` → (600, 400).
+fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected WIDTHxHEIGHT such as 600x600, found '{text}'");
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    bvhview::render::osmesa::check_size(w, h).map_err(|e| e.to_string())?;
+    Ok((w, h))
 }
 
 fn main() -> ExitCode {
@@ -172,6 +209,29 @@ fn run(cli: Cli) -> Result<(), Error> {
                 export::write_positions(&mut out, &bvh.skeleton, &bvh.motion, range, &options)
                     .and_then(|()| out.flush());
             finish_write(result, output.as_deref())
+        }
+        Some(Command::Snapshot {
+            file,
+            frame,
+            angle,
+            size,
+            style,
+            fit,
+            offset_mode,
+            output,
+        }) => {
+            let bvh = load(&file)?;
+            let options = SnapshotOptions {
+                frame,
+                angle,
+                width: size.0,
+                height: size.1,
+                style,
+                fit,
+                offset_mode,
+            };
+            let image = bvhview::render::snapshot(&bvh.skeleton, &bvh.motion, &options)?;
+            image.write_png(&output)
         }
         Some(Command::Convert { input, output }) => {
             let bvh = load(&input)?;

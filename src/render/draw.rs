@@ -1,0 +1,98 @@
+//! C++: `BVH::draw`, `BVH::drawRecursive`, `BVH::roateSpace`: the skeleton drawn down the tree
+//! on the GL matrix stack.
+
+use crate::pose::{OffsetMode, joint_translation};
+use crate::render::fixed::{FixedFunction, GL_LIGHTING, GL_LINES};
+use crate::skeleton::{Joint, Skeleton};
+
+/// How joints are drawn. `Points` is the article's picture.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+pub enum Style {
+    /// A sphere per joint and End Site (the article).
+    #[default]
+    Points,
+    /// A line from each joint to each child (the paper's stick figure), unlit, green.
+    Sticks,
+    /// Both.
+    Both,
+}
+
+/// C++: `BVH::draw`. The article copies the root's first three values into its offset and starts
+/// `pFrame` after them, which assumes a root with exactly three position channels first; here
+/// every joint reads its own columns, so position channels may be on any joint, in any order.
+/// `frame: None` draws the rest pose (every OFFSET, no rotation).
+pub fn draw<G: FixedFunction>(
+    gl: &mut G,
+    skeleton: &Skeleton,
+    frame: Option<&[f32]>,
+    style: Style,
+    mode: OffsetMode,
+) {
+    for root in skeleton.roots() {
+        draw_recursive(gl, skeleton, root, frame, style, mode);
+    }
+}
+
+/// The joint's translation for this frame (its OFFSET in the rest pose).
+fn translation(joint: &Joint, frame: Option<&[f32]>, mode: OffsetMode) -> [f32; 3] {
+    match frame {
+        Some(frame) => joint_translation(joint, joint.values(frame), mode).to_array(),
+        None => joint.offset.to_array(),
+    }
+}
+
+/// C++: `BVH::drawRecursive`: push, translate, rotate, sphere, children, pop. The same calls in
+/// the same order (the article's "debug 3": translate before rotating). The translation is
+/// `pose::joint_translation`, so the matrix at each joint is `pose`'s world matrix times the view.
+pub fn draw_recursive<G: FixedFunction>(
+    gl: &mut G,
+    skeleton: &Skeleton,
+    index: usize,
+    frame: Option<&[f32]>,
+    style: Style,
+    mode: OffsetMode,
+) {
+    let joint = &skeleton.joints[index];
+    gl.push_matrix();
+    let [x, y, z] = translation(joint, frame, mode);
+    gl.translatef(x, y, z);
+    rotate_space(gl, joint, frame);
+    if style != Style::Sticks {
+        gl.solid_sphere(1.0, 20, 16);
+    }
+    if style != Style::Points && !joint.children.is_empty() {
+        gl.disable(GL_LIGHTING);
+        gl.begin(GL_LINES);
+        for &child in &joint.children {
+            let [cx, cy, cz] = translation(&skeleton.joints[child], frame, mode);
+            gl.vertex3f(0.0, 0.0, 0.0);
+            gl.vertex3f(cx, cy, cz);
+        }
+        gl.end();
+        gl.enable(GL_LIGHTING);
+    }
+    for &child in &joint.children {
+        draw_recursive(gl, skeleton, child, frame, style, mode);
+    }
+    gl.pop_matrix();
+}
+
+/// C++: `BVH::roateSpace` (sic). The article switches over its six flags and issues three
+/// `glRotatef` in that order, then advances `pFrame` by three unless the joint is an End Site
+/// (its "debug 2"). Here one `glRotatef` per rotation channel in file order gives the same calls
+/// for those six orders and also handles any other layout; each joint's columns are its own, so
+/// there is no shared cursor to advance.
+pub fn rotate_space<G: FixedFunction>(gl: &mut G, joint: &Joint, frame: Option<&[f32]>) {
+    let values = frame.map(|f| joint.values(f));
+    for (i, channel) in joint.channels.iter().enumerate() {
+        if !channel.is_rotation() {
+            continue;
+        }
+        let angle = values.map_or(0.0, |v| v[i]);
+        match channel.axis() {
+            0 => gl.rotatef(angle, 1.0, 0.0, 0.0),
+            1 => gl.rotatef(angle, 0.0, 1.0, 0.0),
+            _ => gl.rotatef(angle, 0.0, 0.0, 1.0),
+        }
+    }
+}

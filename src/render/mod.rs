@@ -1,0 +1,230 @@
+//! Drawing: the article's fixed-function renderer, offscreen (OSMesa) and in a window.
+
+pub mod draw;
+pub mod fixed;
+pub mod osmesa;
+pub mod scene;
+pub mod sphere;
+pub mod window;
+
+use crate::error::Error;
+use crate::motion::Motion;
+use crate::pose::{OffsetMode, world_positions};
+use crate::skeleton::Skeleton;
+use draw::Style;
+use scene::{Camera, Scene};
+use std::path::Path;
+
+/// An RGB picture, rows from the top down.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Image {
+    pub width: u32,
+    pub height: u32,
+    pub rgb: Vec<u8>,
+}
+
+impl Image {
+    pub fn write_png(&self, path: &Path) -> Result<(), Error> {
+        let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+        let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
+        encoder.set_color(png::ColorType::Rgb);
+        encoder.set_depth(png::BitDepth::Eight);
+        let io_error = |e: png::EncodingError| match e {
+            png::EncodingError::IoError(e) => Error::io(path, e),
+            other => Error::Usage(format!("{}: {other}", path.display())),
+        };
+        let mut writer = encoder.write_header().map_err(io_error)?;
+        writer.write_image_data(&self.rgb).map_err(io_error)?;
+        writer.finish().map_err(io_error)
+    }
+
+    pub fn read_png(path: &Path) -> Result<Image, Error> {
+        let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+        let bad = |e: png::DecodingError| Error::Usage(format!("{}: {e}", path.display()));
+        let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
+        decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+        let mut reader = decoder.read_info().map_err(bad)?;
+        let mut data = vec![0; reader.output_buffer_size().unwrap_or(0)];
+        let info = reader.next_frame(&mut data).map_err(bad)?;
+        data.truncate(info.buffer_size());
+        let channels = info.color_type.samples();
+        let rgb = match channels {
+            3 => data,
+            4 => data
+                .chunks_exact(4)
+                .flat_map(|p| [p[0], p[1], p[2]])
+                .collect(),
+            _ => {
+                return Err(Error::Usage(format!(
+                    "{}: not an RGB picture",
+                    path.display()
+                )));
+            }
+        };
+        Ok(Image {
+            width: info.width,
+            height: info.height,
+            rgb,
+        })
+    }
+
+    /// Pixels whose RGB differ from `other`'s (the sizes must match).
+    pub fn differing_pixels(&self, other: &Image) -> usize {
+        assert_eq!(
+            (self.width, self.height),
+            (other.width, other.height),
+            "picture sizes differ"
+        );
+        self.rgb
+            .chunks_exact(3)
+            .zip(other.rgb.chunks_exact(3))
+            .filter(|(a, b)| a != b)
+            .count()
+    }
+}
+
+/// What a snapshot shows.
+#[derive(Clone, Copy, Debug)]
+pub struct SnapshotOptions {
+    pub frame: usize,
+    /// Camera angle in radians (the article's `angle`; it starts at 10).
+    pub angle: f32,
+    pub width: u32,
+    pub height: u32,
+    pub style: Style,
+    /// Frame the skeleton instead of the article's fixed camera.
+    pub fit: bool,
+    pub offset_mode: OffsetMode,
+}
+
+impl Default for SnapshotOptions {
+    fn default() -> SnapshotOptions {
+        SnapshotOptions {
+            frame: 0,
+            angle: scene::START_ANGLE,
+            width: 600,
+            height: 600,
+            style: Style::Points,
+            fit: false,
+            offset_mode: OffsetMode::Replace,
+        }
+    }
+}
+
+/// The camera for a frame: the article's, or one that frames the skeleton (from `pose`'s FK).
+pub fn camera_for(
+    skeleton: &Skeleton,
+    frame: Option<&[f32]>,
+    angle: f32,
+    fit: bool,
+    mode: OffsetMode,
+) -> Camera {
+    if !fit {
+        return Camera {
+            angle,
+            ..Camera::default()
+        };
+    }
+    let points = world_positions(skeleton, frame.unwrap_or(&[]), mode);
+    let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
+    for p in &points {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    let center = (lo + hi) * 0.5;
+    let radius = points
+        .iter()
+        .map(|p| p.distance(center))
+        .fold(0.0, f32::max);
+    Camera::framing(center.to_array(), radius, angle)
+}
+
+/// The MOTION row `index`, or `None` (the rest pose) for a take without frames; an index out of
+/// range is an error.
+pub fn frame_values(motion: &Motion, index: usize) -> Result<Option<&[f32]>, Error> {
+    if motion.frame_count() == 0 {
+        return if index == 0 {
+            Ok(None)
+        } else {
+            Err(Error::Usage(format!(
+                "--frame {index}: the file has no frames (only 0, the rest pose)"
+            )))
+        };
+    }
+    if index >= motion.frame_count() {
+        return Err(Error::Usage(format!(
+            "--frame {index}: the file has frames 0 to {}",
+            motion.frame_count() - 1
+        )));
+    }
+    Ok(Some(motion.frame(index)))
+}
+
+/// Renders frames offscreen with one context, reused for every picture.
+pub struct Renderer {
+    context: osmesa::OsMesa,
+}
+
+impl Renderer {
+    pub fn new(width: u32, height: u32) -> Result<Renderer, Error> {
+        let mut context = osmesa::OsMesa::new(width, height)?;
+        scene::init(&mut context.gl);
+        Ok(Renderer { context })
+    }
+
+    /// The article's `reshape` then `display` for one frame, read back.
+    pub fn render(
+        &mut self,
+        skeleton: &Skeleton,
+        motion: &Motion,
+        options: &SnapshotOptions,
+    ) -> Result<Image, Error> {
+        let (width, height) = self.context.size();
+        if (options.width, options.height) != (width, height) {
+            return Err(Error::Usage(
+                "a renderer draws at the size it was made with".into(),
+            ));
+        }
+        self.context.make_current()?;
+        let frame = frame_values(motion, options.frame)?;
+        let camera = camera_for(
+            skeleton,
+            frame,
+            options.angle,
+            options.fit,
+            options.offset_mode,
+        );
+        let gl = &mut self.context.gl;
+        scene::reshape(gl, width, height, &camera);
+        scene::display(
+            gl,
+            &Scene {
+                skeleton,
+                frame,
+                camera,
+                style: options.style,
+                offset_mode: options.offset_mode,
+            },
+        );
+        Ok(Image {
+            width,
+            height,
+            rgb: self.context.read_rgb(),
+        })
+    }
+
+    /// The GL context, for tests that query its state.
+    pub fn context(&mut self) -> &mut osmesa::OsMesa {
+        &mut self.context
+    }
+}
+
+/// One picture of one frame, offscreen.
+pub fn snapshot(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    options: &SnapshotOptions,
+) -> Result<Image, Error> {
+    frame_values(motion, options.frame)?;
+    Renderer::new(options.width, options.height)?.render(skeleton, motion, options)
+}

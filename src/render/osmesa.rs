@@ -1,0 +1,161 @@
+//! An offscreen OpenGL context in memory through Mesa's OSMesa, loaded at run time
+//! (`libOSMesa.so.8`, Debian package `libosmesa6`): no display, no GPU, no link-time GL.
+
+use crate::error::Error;
+use crate::render::fixed::GlTable;
+use libloading::Library;
+use std::ffi::{CStr, c_char, c_void};
+
+const OSMESA_RGBA: u32 = 0x1908;
+const GL_UNSIGNED_BYTE: u32 = 0x1401;
+const LIBRARY: &str = "libOSMesa.so.8";
+
+type CreateContextExt = unsafe extern "C" fn(u32, i32, i32, i32, *mut c_void) -> *mut c_void;
+type MakeCurrent = unsafe extern "C" fn(*mut c_void, *mut c_void, u32, i32, i32) -> u8;
+type GetProcAddress = unsafe extern "C" fn(*const c_char) -> *const c_void;
+type DestroyContext = unsafe extern "C" fn(*mut c_void);
+
+/// One OSMesa context drawing into its own RGBA buffer. A context is current per thread: make
+/// one per thread, and draw with it on the thread that made it.
+pub struct OsMesa {
+    context: *mut c_void,
+    make_current: MakeCurrent,
+    destroy: DestroyContext,
+    /// The colour buffer OSMesa renders into; it must not move while the context uses it.
+    buffer: Vec<u8>,
+    width: u32,
+    height: u32,
+    pub gl: GlTable,
+    _library: Library,
+}
+
+impl OsMesa {
+    /// A context with a 24-bit depth buffer and no multisampling (the article's window on
+    /// llvmpipe), current on this thread, with a `width × height` buffer.
+    pub fn new(width: u32, height: u32) -> Result<OsMesa, Error> {
+        check_size(width, height)?;
+        // SAFETY: loading Mesa's OSMesa runs its initialisers, which have no preconditions.
+        let library = unsafe { Library::new(LIBRARY) }.map_err(|e| {
+            Error::Usage(format!(
+                "offscreen rendering needs {LIBRARY} ({e}); install it with: apt-get install libosmesa6"
+            ))
+        })?;
+        // SAFETY: the symbols have these C signatures in every OSMesa since 3.5.
+        let (create, make_current, get_proc, destroy) = unsafe {
+            let symbol_error = |e: libloading::Error| Error::Usage(format!("{LIBRARY}: {e}"));
+            (
+                *library
+                    .get::<CreateContextExt>(b"OSMesaCreateContextExt\0")
+                    .map_err(symbol_error)?,
+                *library
+                    .get::<MakeCurrent>(b"OSMesaMakeCurrent\0")
+                    .map_err(symbol_error)?,
+                *library
+                    .get::<GetProcAddress>(b"OSMesaGetProcAddress\0")
+                    .map_err(symbol_error)?,
+                *library
+                    .get::<DestroyContext>(b"OSMesaDestroyContext\0")
+                    .map_err(symbol_error)?,
+            )
+        };
+        // SAFETY: RGBA, 24 depth bits, no stencil, no accumulation buffer, no shared context.
+        let context = unsafe { create(OSMESA_RGBA, 24, 0, 0, std::ptr::null_mut()) };
+        if context.is_null() {
+            return Err(Error::Usage("OSMesa could not create a context".into()));
+        }
+        let mut buffer = vec![0u8; width as usize * height as usize * 4];
+        // SAFETY: the buffer holds width × height RGBA bytes and lives as long as the context.
+        let current = unsafe {
+            make_current(
+                context,
+                buffer.as_mut_ptr().cast(),
+                GL_UNSIGNED_BYTE,
+                width as i32,
+                height as i32,
+            )
+        };
+        if current == 0 {
+            // SAFETY: the context was created above and is not used again.
+            unsafe { destroy(context) };
+            return Err(Error::Usage(
+                "OSMesa could not make its context current".into(),
+            ));
+        }
+        let gl = GlTable::load(|name: &CStr| {
+            // SAFETY: a NUL-terminated name; OSMesa returns null or the entry point.
+            unsafe { get_proc(name.as_ptr()) }
+        });
+        let gl = match gl {
+            Ok(gl) => gl,
+            Err(e) => {
+                // SAFETY: as above.
+                unsafe { destroy(context) };
+                return Err(e);
+            }
+        };
+        Ok(OsMesa {
+            context,
+            make_current,
+            destroy,
+            buffer,
+            width,
+            height,
+            gl,
+            _library: library,
+        })
+    }
+
+    pub fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+
+    /// Makes this context current on the calling thread again (after another one was).
+    pub fn make_current(&mut self) -> Result<(), Error> {
+        // SAFETY: the buffer matches the size it was made for and outlives the context.
+        let ok = unsafe {
+            (self.make_current)(
+                self.context,
+                self.buffer.as_mut_ptr().cast(),
+                GL_UNSIGNED_BYTE,
+                self.width as i32,
+                self.height as i32,
+            )
+        };
+        if ok == 0 {
+            return Err(Error::Usage(
+                "OSMesa could not make its context current".into(),
+            ));
+        }
+        Ok(())
+    }
+
+    /// The picture drawn so far, as RGB rows from the top down.
+    pub fn read_rgb(&self) -> Vec<u8> {
+        let (w, h) = (self.width as usize, self.height as usize);
+        let rgba = self.gl.read_rgba(w, h);
+        let mut rgb = Vec::with_capacity(w * h * 3);
+        for row in rgba.chunks_exact(w * 4).rev() {
+            for pixel in row.chunks_exact(4) {
+                rgb.extend_from_slice(&pixel[..3]);
+            }
+        }
+        rgb
+    }
+}
+
+impl Drop for OsMesa {
+    fn drop(&mut self) {
+        // SAFETY: the context was created by this library and is destroyed once.
+        unsafe { (self.destroy)(self.context) };
+    }
+}
+
+/// Sizes a context and a PNG can have.
+pub fn check_size(width: u32, height: u32) -> Result<(), Error> {
+    if width == 0 || height == 0 || width > 16384 || height > 16384 {
+        return Err(Error::Usage(format!(
+            "--size {width}x{height}: width and height must be 1 to 16384"
+        )));
+    }
+    Ok(())
+}

@@ -1,0 +1,184 @@
+//! C++: main.cpp's `init`, `reshape` and `display`: the article's GL state, camera, light and
+//! floor, drawn into whatever context is current (an OSMesa buffer or a window).
+//!
+//! The numbers are the article's and are computed at its precision, because the golden pictures
+//! compare pixels: the eye is `(R·cos(angle), 20, R·sin(angle))` in single precision, GLU's
+//! `gluLookAt` builds its matrix in floats and then calls `glTranslated`, and `gluPerspective`
+//! builds its matrix in doubles for `glMultMatrixd`.
+
+use crate::pose::OffsetMode;
+use crate::render::draw::{self, Style};
+use crate::render::fixed::*;
+use crate::skeleton::Skeleton;
+
+/// C++: `float R = 200.0f`: the camera's distance from the point it looks at.
+pub const R: f32 = 200.0;
+/// C++: `float angle = 10`: the camera's start angle around the Y axis, in radians.
+pub const START_ANGLE: f32 = 10.0;
+
+/// Where the camera is: it circles `target` at `distance`, at the target's height.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Camera {
+    pub angle: f32,
+    pub target: [f32; 3],
+    pub distance: f32,
+}
+
+impl Default for Camera {
+    /// The article's camera: 200 units from (0, 20, 0), angle 10.
+    fn default() -> Camera {
+        Camera {
+            angle: START_ANGLE,
+            target: [0.0, 20.0, 0.0],
+            distance: R,
+        }
+    }
+}
+
+impl Camera {
+    /// The eye, as the article computes it: `R*cos(angle)` with a float `cos`.
+    pub fn eye(&self) -> [f32; 3] {
+        let [x, y, z] = self.target;
+        [
+            x + self.distance * self.angle.cos(),
+            y,
+            z + self.distance * self.angle.sin(),
+        ]
+    }
+
+    /// A camera at `angle` that sees the whole sphere (`center`, `radius`) in the article's 45°
+    /// field of view.
+    pub fn framing(center: [f32; 3], radius: f32, angle: f32) -> Camera {
+        let half_fov = 22.5f32.to_radians();
+        Camera {
+            angle,
+            target: center,
+            distance: (radius.max(1.0) / half_fov.sin()) * 1.1,
+        }
+    }
+}
+
+/// What one `display()` draws.
+#[derive(Clone, Copy, Debug)]
+pub struct Scene<'a> {
+    pub skeleton: &'a Skeleton,
+    /// The MOTION row to draw; `None` draws the rest pose.
+    pub frame: Option<&'a [f32]>,
+    pub camera: Camera,
+    pub style: Style,
+    pub offset_mode: OffsetMode,
+}
+
+/// C++: `init()`: black clear colour, depth test, `GL_LIGHT0` at (0, 0, 1, 1) while the modelview
+/// matrix is the identity (so the light sits at the eye and moves with it), lighting on, line
+/// width 3, colour green (which lighting then ignores: the article's spheres are grey). The
+/// article also loads its file and prints it here; the port loads before it makes a context.
+pub fn init<G: FixedFunction>(gl: &mut G) {
+    gl.clear_color(0.0, 0.0, 0.0, 0.0);
+    gl.enable(GL_DEPTH_TEST);
+    gl.lightfv(GL_LIGHT0, GL_POSITION, [0.0, 0.0, 1.0, 1.0]);
+    gl.enable(GL_LIGHTING);
+    gl.enable(GL_LIGHT0);
+    gl.line_width(3.0);
+    gl.color3f(0.0, 1.0, 0.0);
+}
+
+/// C++: `reshape(w, h)`: viewport, a 45° perspective from 1 to 1000, and a modelview that
+/// `display` replaces at once (the article looks at the origin here; kept so the calls match).
+pub fn reshape<G: FixedFunction>(gl: &mut G, width: u32, height: u32, camera: &Camera) {
+    gl.viewport(0, 0, width as i32, height as i32);
+    gl.matrix_mode(GL_PROJECTION);
+    gl.load_identity();
+    perspective(gl, 45.0, width as f64 / height.max(1) as f64, 1.0, 1000.0);
+    gl.matrix_mode(GL_MODELVIEW);
+    gl.load_identity();
+    let [x, _, z] = camera.eye();
+    let [tx, _, tz] = camera.target;
+    look_at(gl, [x, 0.0, z], [tx, 0.0, tz], [0.0, 1.0, 0.0]);
+}
+
+/// C++: `display()` without `glutSwapBuffers` (the caller presents): clear, look at the target,
+/// draw the skeleton, then the floor quad at y = −10, which has no `glNormal` and so is lit with
+/// the current normal like a wall facing +Z.
+pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene) {
+    gl.clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl.load_identity();
+    look_at(gl, scene.camera.eye(), scene.camera.target, [0.0, 1.0, 0.0]);
+    draw::draw(
+        gl,
+        scene.skeleton,
+        scene.frame,
+        scene.style,
+        scene.offset_mode,
+    );
+    gl.begin(GL_QUADS);
+    gl.vertex3f(-100.0, -10.0, 100.0);
+    gl.vertex3f(100.0, -10.0, 100.0);
+    gl.vertex3f(100.0, -10.0, -100.0);
+    gl.vertex3f(-100.0, -10.0, -100.0);
+    gl.end();
+}
+
+fn normalize(v: &mut [f32; 3]) {
+    // GLU: the sum in floats, the root rounded to a float.
+    let r = (v[0] * v[0] + v[1] * v[1] + v[2] * v[2]).sqrt();
+    if r == 0.0 {
+        return;
+    }
+    for c in v.iter_mut() {
+        *c /= r;
+    }
+}
+
+fn cross(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// C++: `gluLookAt` (SGI's libGLU, as Mesa ships it). Its arguments are doubles; the article
+/// passes floats. The direction is computed in doubles and stored in floats, the basis is built
+/// in floats and multiplied with `glMultMatrixf`, then `glTranslated(-eye)`.
+pub fn look_at<G: FixedFunction>(gl: &mut G, eye: [f32; 3], center: [f32; 3], up: [f32; 3]) {
+    let eye = eye.map(f64::from);
+    let center = center.map(f64::from);
+    let mut forward = [
+        (center[0] - eye[0]) as f32,
+        (center[1] - eye[1]) as f32,
+        (center[2] - eye[2]) as f32,
+    ];
+    normalize(&mut forward);
+    let mut side = cross(forward, up);
+    normalize(&mut side);
+    let up = cross(side, forward);
+    #[rustfmt::skip]
+    let m = [
+        side[0], up[0], -forward[0], 0.0,
+        side[1], up[1], -forward[1], 0.0,
+        side[2], up[2], -forward[2], 0.0,
+        0.0, 0.0, 0.0, 1.0,
+    ];
+    gl.mult_matrixf(&m);
+    gl.translated(-eye[0], -eye[1], -eye[2]);
+}
+
+/// C++: `gluPerspective`: the matrix in doubles, multiplied with `glMultMatrixd`.
+pub fn perspective<G: FixedFunction>(gl: &mut G, fovy: f64, aspect: f64, near: f64, far: f64) {
+    let radians = fovy / 2.0 * std::f64::consts::PI / 180.0;
+    let delta_z = far - near;
+    let sine = radians.sin();
+    if delta_z == 0.0 || sine == 0.0 || aspect == 0.0 {
+        return;
+    }
+    let cotangent = radians.cos() / sine;
+    #[rustfmt::skip]
+    let m = [
+        cotangent / aspect, 0.0, 0.0, 0.0,
+        0.0, cotangent, 0.0, 0.0,
+        0.0, 0.0, -(far + near) / delta_z, -1.0,
+        0.0, 0.0, -2.0 * near * far / delta_z, 0.0,
+    ];
+    gl.mult_matrixd(&m);
+}
