@@ -104,7 +104,7 @@ pub struct GlTable {
 }
 
 macro_rules! load_all {
-    ($gl:expr, $loader:expr, $($field:ident = $name:literal),* $(,)?) => {{
+    ($gl:expr, $loader:expr, $($field:ident: $ty:ty = $name:literal),* $(,)?) => {{
         $(
             let pointer = $loader(CStr::from_bytes_with_nul(concat!($name, "\0").as_bytes())
                 .expect("literal names have one NUL"));
@@ -113,7 +113,7 @@ macro_rules! load_all {
             }
             // SAFETY: a non-null pointer from the context's loader for this exact name has the
             // C signature the field's type spells out (OpenGL 1.1).
-            let $field = unsafe { std::mem::transmute::<*const c_void, _>(pointer) };
+            let $field = unsafe { std::mem::transmute::<*const c_void, $ty>(pointer) };
         )*
         GlTable { gl: $gl, $($field,)* sphere: None }
     }};
@@ -129,28 +129,28 @@ impl GlTable {
         let table = load_all!(
             gl,
             loader,
-            lightfv = "glLightfv",
-            color3f = "glColor3f",
-            matrix_mode = "glMatrixMode",
-            load_identity = "glLoadIdentity",
-            load_matrixf = "glLoadMatrixf",
-            mult_matrixf = "glMultMatrixf",
-            mult_matrixd = "glMultMatrixd",
-            push_matrix = "glPushMatrix",
-            pop_matrix = "glPopMatrix",
-            translatef = "glTranslatef",
-            translated = "glTranslated",
-            rotatef = "glRotatef",
-            begin = "glBegin",
-            end = "glEnd",
-            vertex3f = "glVertex3f",
-            normal3f = "glNormal3f",
-            get_floatv = "glGetFloatv",
-            enable_client_state = "glEnableClientState",
-            disable_client_state = "glDisableClientState",
-            vertex_pointer = "glVertexPointer",
-            normal_pointer = "glNormalPointer",
-            draw_elements = "glDrawElements",
+            lightfv: FnLightfv = "glLightfv",
+            color3f: Fn3f = "glColor3f",
+            matrix_mode: FnU32 = "glMatrixMode",
+            load_identity: Fn0 = "glLoadIdentity",
+            load_matrixf: FnPtrF = "glLoadMatrixf",
+            mult_matrixf: FnPtrF = "glMultMatrixf",
+            mult_matrixd: FnPtrD = "glMultMatrixd",
+            push_matrix: Fn0 = "glPushMatrix",
+            pop_matrix: Fn0 = "glPopMatrix",
+            translatef: Fn3f = "glTranslatef",
+            translated: Fn3d = "glTranslated",
+            rotatef: Fn4f = "glRotatef",
+            begin: FnU32 = "glBegin",
+            end: Fn0 = "glEnd",
+            vertex3f: Fn3f = "glVertex3f",
+            normal3f: Fn3f = "glNormal3f",
+            get_floatv: FnGetFloatv = "glGetFloatv",
+            enable_client_state: FnU32 = "glEnableClientState",
+            disable_client_state: FnU32 = "glDisableClientState",
+            vertex_pointer: FnVertexPointer = "glVertexPointer",
+            normal_pointer: FnNormalPointer = "glNormalPointer",
+            draw_elements: FnDrawElements = "glDrawElements",
         );
         let version = table.string(GL_VERSION);
         if !is_compatibility(&version) {
