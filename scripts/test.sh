@@ -4,8 +4,14 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
-# Debian packages the tests use; empty until a test needs a system library.
-PACKAGES=()
+# Debian packages the tests use: OSMesa for offscreen pictures, the X11/GL libraries the window
+# loads at run time, and Xvfb, xdotool and xwd for the end-to-end window test.
+PACKAGES=(
+    libosmesa6
+    libx11-6 libx11-xcb1 libxcb1 libxcursor1 libxi6 libxkbcommon-x11-0
+    libgl1 libglx-mesa0 libgl1-mesa-dri libegl1 libegl-mesa0
+    xvfb xauth xdotool x11-apps
+)
 
 missing=()
 for package in "${PACKAGES[@]}"; do

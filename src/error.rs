@@ -17,6 +17,8 @@ pub enum Error {
     Io { path: PathBuf, source: io::Error },
     /// Anything else the user asked for that cannot be done (a frame out of range, a bad option).
     Usage(String),
+    /// The machine lacks something (a display, a library): not the input's fault.
+    Environment(String),
 }
 
 impl Error {
@@ -31,6 +33,7 @@ impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Parse { .. } | Error::Usage(_) => 2,
+            Error::Environment(_) => 1,
             Error::Io { source, .. } => match source.kind() {
                 io::ErrorKind::NotFound
                 | io::ErrorKind::IsADirectory
@@ -51,7 +54,7 @@ impl fmt::Display for Error {
                 message,
             } => write!(f, "{path}:{line}:{column}: {message}"),
             Error::Io { path, source } => write!(f, "{}: {}", path.display(), io_message(source)),
-            Error::Usage(message) => f.write_str(message),
+            Error::Usage(message) | Error::Environment(message) => f.write_str(message),
         }
     }
 }

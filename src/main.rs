@@ -7,6 +7,7 @@ use bvhview::export::{self, Format, PositionsOptions};
 use bvhview::pose::OffsetMode;
 use bvhview::render::SnapshotOptions;
 use bvhview::render::draw::Style;
+use bvhview::render::window::ViewerOptions;
 use clap::{Parser, Subcommand};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -22,8 +23,14 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
-    /// A BVH file to show (default: the bundled walk, assets/walk.bvh).
+    /// A BVH file to show in a window (default: the bundled walk, assets/walk.bvh).
     file: Option<PathBuf>,
+    /// Start with the stick figure (B toggles it).
+    #[arg(long, value_enum, default_value_t)]
+    style: Style,
+    /// How position channels combine with OFFSET.
+    #[arg(long, value_enum, default_value_t)]
+    offset_mode: OffsetMode,
 }
 
 #[derive(Subcommand)]
@@ -32,7 +39,8 @@ enum Command {
     Print { file: PathBuf },
     /// Summarise a file: joints, channels, frames, timing, rotation orders, warnings.
     Info {
-        file: PathBuf,
+        /// The file (default: the bundled walk).
+        file: Option<PathBuf>,
         /// How position channels combine with OFFSET (checked by the warnings).
         #[arg(long, value_enum, default_value_t)]
         offset_mode: OffsetMode,
@@ -116,6 +124,17 @@ fn load(path: &Path) -> Result<Bvh, Error> {
     Ok(bvh)
 }
 
+/// The named file, or the bundled walk; with the name to show.
+fn load_or_default(path: Option<&Path>) -> Result<(String, Bvh), Error> {
+    match path {
+        Some(path) => Ok((path.display().to_string(), load(path)?)),
+        None => {
+            let bvh = bvh::load_bytes(bvhview::DEFAULT_MOTION, bvhview::DEFAULT_MOTION_NAME)?;
+            Ok((bvhview::DEFAULT_MOTION_NAME.to_string(), bvh))
+        }
+    }
+}
+
 fn report_warnings(name: &str, bvh: &Bvh) {
     for warning in &bvh.warnings {
         eprintln!("bvhview: {name}: warning: {warning}");
@@ -144,20 +163,18 @@ fn finish_write(result: io::Result<()>, path: Option<&Path>) -> Result<(), Error
 fn run(cli: Cli) -> Result<(), Error> {
     match cli.command {
         None => {
-            let (name, bvh) = match &cli.file {
-                Some(path) => (path.display().to_string(), load(path)?),
-                None => {
-                    let bvh =
-                        bvh::load_bytes(bvhview::DEFAULT_MOTION, bvhview::DEFAULT_MOTION_NAME)?;
-                    (bvhview::DEFAULT_MOTION_NAME.to_string(), bvh)
-                }
+            // Say there is no display before loading anything.
+            bvhview::render::window::check_environment()?;
+            let (name, bvh) = load_or_default(cli.file.as_deref())?;
+            let name = Path::new(&name)
+                .file_name()
+                .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
+            let options = ViewerOptions {
+                name,
+                offset_mode: cli.offset_mode,
+                style: cli.style,
             };
-            print!(
-                "{}",
-                bvhview::info::summary(&name, &bvh, OffsetMode::Replace)
-            );
-            print!("{}", bvh::print::print(&bvh.skeleton));
-            Ok(())
+            bvhview::render::window::run(&bvh.skeleton, &bvh.motion, options)
         }
         Some(Command::Print { file }) => {
             let bvh = load(&file)?;
@@ -168,8 +185,8 @@ fn run(cli: Cli) -> Result<(), Error> {
             finish_write(result, None)
         }
         Some(Command::Info { file, offset_mode }) => {
-            let bvh = load(&file)?;
-            let summary = bvhview::info::summary(&file.display().to_string(), &bvh, offset_mode);
+            let (name, bvh) = load_or_default(file.as_deref())?;
+            let summary = bvhview::info::summary(&name, &bvh, offset_mode);
             let mut out = open_output(None)?;
             finish_write(
                 out.write_all(summary.as_bytes()).and_then(|()| out.flush()),

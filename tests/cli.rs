@@ -158,8 +158,8 @@ fn info_reports_counts_timing_orders_and_warnings() {
 }
 
 #[test]
-fn without_arguments_it_shows_the_bundled_walk() {
-    let out = bvhview(&[]);
+fn info_without_a_file_describes_the_bundled_walk() {
+    let out = bvhview(&["info"]);
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(
@@ -167,4 +167,24 @@ fn without_arguments_it_shows_the_bundled_walk() {
         "{text}"
     );
     assert!(text.contains("frames:           40\n"));
+    assert!(text.contains("rotation orders:  YXZ ×23\n"));
+}
+
+#[test]
+fn the_window_without_a_display_says_so_in_one_line() {
+    for args in [&[][..], &[tiny().as_str()][..]] {
+        let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+            .args(args)
+            .env_remove("DISPLAY")
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(1));
+        let stderr = String::from_utf8(out.stderr).unwrap();
+        assert_eq!(
+            stderr,
+            "bvhview: no display to open a window on: neither DISPLAY nor WAYLAND_DISPLAY is set. \
+             `bvhview snapshot FILE -o out.png` draws without one\n"
+        );
+    }
 }

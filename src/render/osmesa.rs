@@ -36,13 +36,13 @@ impl OsMesa {
         check_size(width, height)?;
         // SAFETY: loading Mesa's OSMesa runs its initialisers, which have no preconditions.
         let library = unsafe { Library::new(LIBRARY) }.map_err(|e| {
-            Error::Usage(format!(
+            Error::Environment(format!(
                 "offscreen rendering needs {LIBRARY} ({e}); install it with: apt-get install libosmesa6"
             ))
         })?;
         // SAFETY: the symbols have these C signatures in every OSMesa since 3.5.
         let (create, make_current, get_proc, destroy) = unsafe {
-            let symbol_error = |e: libloading::Error| Error::Usage(format!("{LIBRARY}: {e}"));
+            let symbol_error = |e: libloading::Error| Error::Environment(format!("{LIBRARY}: {e}"));
             (
                 *library
                     .get::<CreateContextExt>(b"OSMesaCreateContextExt\0")
@@ -61,7 +61,9 @@ impl OsMesa {
         // SAFETY: RGBA, 24 depth bits, no stencil, no accumulation buffer, no shared context.
         let context = unsafe { create(OSMESA_RGBA, 24, 0, 0, std::ptr::null_mut()) };
         if context.is_null() {
-            return Err(Error::Usage("OSMesa could not create a context".into()));
+            return Err(Error::Environment(
+                "OSMesa could not create a context".into(),
+            ));
         }
         let mut buffer = vec![0u8; width as usize * height as usize * 4];
         // SAFETY: the buffer holds width × height RGBA bytes and lives as long as the context.
@@ -77,7 +79,7 @@ impl OsMesa {
         if current == 0 {
             // SAFETY: the context was created above and is not used again.
             unsafe { destroy(context) };
-            return Err(Error::Usage(
+            return Err(Error::Environment(
                 "OSMesa could not make its context current".into(),
             ));
         }
@@ -122,7 +124,7 @@ impl OsMesa {
             )
         };
         if ok == 0 {
-            return Err(Error::Usage(
+            return Err(Error::Environment(
                 "OSMesa could not make its context current".into(),
             ));
         }

@@ -1,1 +1,415 @@
-//! placeholder
+//! C++: main.cpp's `main` and `keyboard`: a 600×600 window whose `display` is the article's,
+//! through glutin and winit on a compatibility-profile context with no multisampling.
+//!
+//! The article's keys: W next frame (wrapping), A/D turn the camera by 0.1 rad, Esc quits. The
+//! article wraps the angle at 360 although it is in radians; here it wraps at 2π. Beyond the
+//! article, all opt-in so the first picture stays the article's: Space plays at the file's frame
+//! time, S goes back a frame, a mouse drag orbits, the wheel zooms, F frames the skeleton, B
+//! toggles the stick figure.
+
+use crate::error::Error;
+use crate::motion::Motion;
+use crate::pose::OffsetMode;
+use crate::render::draw::Style;
+use crate::render::fixed::GlTable;
+use crate::render::scene::{self, Camera, Scene};
+use crate::render::{camera_for, frame_values};
+use crate::skeleton::Skeleton;
+use glutin::config::{ConfigTemplateBuilder, GlConfig};
+use glutin::context::{ContextAttributesBuilder, GlProfile, PossiblyCurrentContext};
+use glutin::display::{GetGlDisplay, GlDisplay};
+use glutin::prelude::{GlSurface, NotCurrentGlContext};
+use glutin::surface::{Surface, WindowSurface};
+use glutin_winit::{DisplayBuilder, GlWindow};
+use raw_window_handle::HasWindowHandle;
+use std::f32::consts::TAU;
+use std::num::NonZeroU32;
+use std::time::{Duration, Instant};
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::keyboard::{Key, NamedKey};
+use winit::window::{Window, WindowId};
+
+/// C++: `glutInitWindowSize(600, 600)`.
+pub const WINDOW_SIZE: u32 = 600;
+
+/// Shared libraries the window needs, with the Debian package of each.
+const X_LIBRARIES: &[(&str, &str)] = &[
+    ("libX11.so.6", "libx11-6"),
+    ("libX11-xcb.so.1", "libx11-xcb1"),
+    ("libxcb.so.1", "libxcb1"),
+    ("libxkbcommon-x11.so.0", "libxkbcommon-x11-0"),
+    ("libXcursor.so.1", "libxcursor1"),
+    ("libXi.so.6", "libxi6"),
+    ("libGL.so.1", "libgl1 libglx-mesa0 libgl1-mesa-dri"),
+];
+
+/// Fails with one clear line when there is no display to open a window on, or when the X
+/// libraries winit loads at run time are missing (without libxkbcommon-x11 it panics).
+pub fn check_environment() -> Result<(), Error> {
+    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
+    if !set("DISPLAY") {
+        let why = if set("WAYLAND_DISPLAY") {
+            "WAYLAND_DISPLAY is set but DISPLAY is not, and bvhview's window needs X11 (XWayland)"
+        } else {
+            "neither DISPLAY nor WAYLAND_DISPLAY is set"
+        };
+        return Err(Error::Environment(format!(
+            "no display to open a window on: {why}. `bvhview snapshot FILE -o out.png` draws \
+             without one"
+        )));
+    }
+    let missing: Vec<&str> = X_LIBRARIES
+        .iter()
+        // SAFETY: these are the system's X and GL libraries, whose initialisers are safe to run.
+        .filter(|(library, _)| unsafe { libloading::Library::new(library) }.is_err())
+        .map(|&(_, package)| package)
+        .collect();
+    if !missing.is_empty() {
+        return Err(Error::Environment(format!(
+            "the window needs X11 and OpenGL libraries that are missing; install them with: \
+             apt-get install {}",
+            missing.join(" ")
+        )));
+    }
+    Ok(())
+}
+
+/// How the window starts.
+#[derive(Clone, Debug)]
+pub struct ViewerOptions {
+    /// Shown in the title.
+    pub name: String,
+    pub offset_mode: OffsetMode,
+    pub style: Style,
+}
+
+/// Opens the window and runs until it is closed or Esc is pressed.
+pub fn run(skeleton: &Skeleton, motion: &Motion, options: ViewerOptions) -> Result<(), Error> {
+    check_environment()?;
+    let event_loop = quietly(EventLoop::new)
+        .and_then(|r| r.map_err(|e| e.to_string()))
+        .map_err(|e| Error::Environment(format!("cannot open the X display: {e}")))?;
+    let mut app = Viewer {
+        skeleton,
+        motion,
+        options,
+        frame: 0,
+        camera: Camera::default(),
+        fit: false,
+        playing: false,
+        next_tick: Instant::now(),
+        drag_from: None,
+        dragging: false,
+        running: None,
+        error: None,
+    };
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| Error::Environment(format!("the window's event loop failed: {e}")))?;
+    match app.error {
+        Some(error) => Err(error),
+        None => Ok(()),
+    }
+}
+
+/// Runs `f`, turning a panic into an error message instead of a backtrace with source paths.
+fn quietly<T>(f: impl FnOnce() -> T) -> Result<T, String> {
+    let hook = std::panic::take_hook();
+    std::panic::set_hook(Box::new(|_| {}));
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
+    std::panic::set_hook(hook);
+    result.map_err(|panic| {
+        let text = panic
+            .downcast_ref::<String>()
+            .cloned()
+            .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
+            .unwrap_or_else(|| "unknown failure".into());
+        format!(
+            "{text} (the X libraries may be missing: apt-get install libx11-6 libx11-xcb1 \
+             libxcb1 libxkbcommon-x11-0 libxcursor1 libxi6 libgl1 libglx-mesa0 libgl1-mesa-dri)"
+        )
+    })
+}
+
+/// The window, its surface and its context, once the event loop has started.
+struct Running {
+    window: Window,
+    surface: Surface<WindowSurface>,
+    context: PossiblyCurrentContext,
+    gl: GlTable,
+    size: (u32, u32),
+}
+
+struct Viewer<'a> {
+    skeleton: &'a Skeleton,
+    motion: &'a Motion,
+    options: ViewerOptions,
+    frame: usize,
+    camera: Camera,
+    fit: bool,
+    playing: bool,
+    next_tick: Instant,
+    drag_from: Option<f64>,
+    dragging: bool,
+    running: Option<Running>,
+    error: Option<Error>,
+}
+
+impl Viewer<'_> {
+    fn frame_count(&self) -> usize {
+        self.motion.frame_count().max(1)
+    }
+
+    fn title(&self) -> String {
+        format!(
+            "bvhview - {} - frame {}/{}",
+            self.options.name,
+            self.frame + 1,
+            self.frame_count()
+        )
+    }
+
+    fn frame_duration(&self) -> Duration {
+        let seconds = self.motion.frame_time;
+        Duration::from_secs_f64(if seconds > 0.0 && seconds.is_finite() {
+            seconds
+        } else {
+            1.0 / 30.0
+        })
+    }
+
+    fn create(&mut self, event_loop: &ActiveEventLoop) -> Result<Running, Error> {
+        let failed = |what: &str, e: &dyn std::fmt::Display| {
+            Error::Environment(format!("cannot {what}: {e}"))
+        };
+        let attributes = Window::default_attributes()
+            .with_title(self.title())
+            .with_inner_size(PhysicalSize::new(WINDOW_SIZE, WINDOW_SIZE));
+        // The article's GLUT_DOUBLE | GLUT_RGBA | GLUT_DEPTH: a depth buffer, no multisampling.
+        let template = ConfigTemplateBuilder::new().with_depth_size(24);
+        let (window, config) = DisplayBuilder::new()
+            .with_window_attributes(Some(attributes))
+            .build(event_loop, template, |configs| {
+                // glutin calls this with at least one configuration.
+                configs
+                    .max_by_key(|c| {
+                        (
+                            c.num_samples() == 0,
+                            c.depth_size() == 24,
+                            c.alpha_size() == 8,
+                        )
+                    })
+                    .expect("glutin offers at least one configuration")
+            })
+            .map_err(|e| failed("find an OpenGL configuration", &e))?;
+        let window = window.ok_or_else(|| Error::Environment("no window was created".into()))?;
+        let handle = window
+            .window_handle()
+            .map_err(|e| failed("get the window handle", &e))?
+            .as_raw();
+        let display = config.display();
+        let attributes = ContextAttributesBuilder::new()
+            .with_profile(GlProfile::Compatibility)
+            .build(Some(handle));
+        // SAFETY: the handle belongs to the window, which outlives the context (both in Running).
+        let context = unsafe { display.create_context(&config, &attributes) }
+            .map_err(|e| failed("create an OpenGL context", &e))?;
+        let surface_attributes = window
+            .build_surface_attributes(Default::default())
+            .map_err(|e| failed("describe the window surface", &e))?;
+        // SAFETY: as above.
+        let surface = unsafe { display.create_window_surface(&config, &surface_attributes) }
+            .map_err(|e| failed("create the window surface", &e))?;
+        let context = context
+            .make_current(&surface)
+            .map_err(|e| failed("make the OpenGL context current", &e))?;
+        let mut gl = GlTable::load(|name| display.get_proc_address(name))?;
+        scene::init(&mut gl);
+        let size = window.inner_size();
+        let size = (size.width.max(1), size.height.max(1));
+        scene::reshape(&mut gl, size.0, size.1, &self.camera);
+        Ok(Running {
+            window,
+            surface,
+            context,
+            gl,
+            size,
+        })
+    }
+
+    fn redraw(&mut self) -> Result<(), Error> {
+        let frame = frame_values(self.motion, self.frame)?;
+        let camera = if self.fit {
+            let mut fitted = camera_for(
+                self.skeleton,
+                frame,
+                self.camera.angle,
+                true,
+                self.options.offset_mode,
+            );
+            fitted.distance *= self.camera.distance / scene::R;
+            fitted
+        } else {
+            self.camera
+        };
+        let title = self.title();
+        let Some(running) = self.running.as_mut() else {
+            return Ok(());
+        };
+        let scene = Scene {
+            skeleton: self.skeleton,
+            frame,
+            camera,
+            style: self.options.style,
+            offset_mode: self.options.offset_mode,
+        };
+        scene::display(&mut running.gl, &scene);
+        running
+            .surface
+            .swap_buffers(&running.context)
+            .map_err(|e| Error::Environment(format!("cannot present the picture: {e}")))?;
+        running.window.set_title(&title);
+        Ok(())
+    }
+
+    fn resize(&mut self, size: PhysicalSize<u32>) {
+        let Some(running) = self.running.as_mut() else {
+            return;
+        };
+        let (Some(w), Some(h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) else {
+            return;
+        };
+        running.surface.resize(&running.context, w, h);
+        running.size = (w.get(), h.get());
+        scene::reshape(&mut running.gl, w.get(), h.get(), &self.camera);
+    }
+
+    fn turn(&mut self, radians: f32) {
+        self.camera.angle += radians;
+        if self.camera.angle >= TAU {
+            self.camera.angle -= TAU;
+        } else if self.camera.angle < 0.0 {
+            self.camera.angle += TAU;
+        }
+    }
+
+    /// C++: `keyboard`. Returns false to quit.
+    fn key(&mut self, key: &Key) -> bool {
+        match key {
+            Key::Named(NamedKey::Escape) => return false,
+            Key::Named(NamedKey::Space) => {
+                self.playing = !self.playing;
+                self.next_tick = Instant::now() + self.frame_duration();
+            }
+            Key::Character(text) => match text.to_ascii_lowercase().as_str() {
+                // C++: BVH::addFrame, wrapping at the end.
+                "w" => self.frame = (self.frame + 1) % self.frame_count(),
+                "s" => self.frame = (self.frame + self.frame_count() - 1) % self.frame_count(),
+                "a" => self.turn(0.1),
+                "d" => self.turn(-0.1),
+                "f" => self.fit = !self.fit,
+                "b" => {
+                    self.options.style = match self.options.style {
+                        Style::Points => Style::Both,
+                        _ => Style::Points,
+                    }
+                }
+                _ => return true,
+            },
+            _ => return true,
+        }
+        true
+    }
+}
+
+impl ApplicationHandler for Viewer<'_> {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.running.is_some() {
+            return;
+        }
+        match self.create(event_loop) {
+            Ok(running) => {
+                running.window.request_redraw();
+                self.running = Some(running);
+            }
+            Err(error) => {
+                self.error = Some(error);
+                event_loop.exit();
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        let mut redraw = false;
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                self.resize(size);
+                redraw = true;
+            }
+            WindowEvent::RedrawRequested => {
+                if let Err(error) = self.redraw() {
+                    self.error = Some(error);
+                    event_loop.exit();
+                }
+            }
+            WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
+                if !self.key(&event.logical_key) {
+                    event_loop.exit();
+                }
+                redraw = true;
+            }
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Left,
+                ..
+            } => {
+                self.dragging = state == ElementState::Pressed;
+                self.drag_from = None;
+            }
+            WindowEvent::CursorMoved { position, .. } if self.dragging => {
+                if let Some(from) = self.drag_from {
+                    self.turn(((position.x - from) * 0.01) as f32);
+                    redraw = true;
+                }
+                self.drag_from = Some(position.x);
+            }
+            WindowEvent::MouseWheel { delta, .. } => {
+                let lines = match delta {
+                    MouseScrollDelta::LineDelta(_, y) => y,
+                    MouseScrollDelta::PixelDelta(p) => (p.y / 40.0) as f32,
+                };
+                self.camera.distance =
+                    (self.camera.distance * 0.9f32.powf(lines)).clamp(2.0, 900.0);
+                redraw = true;
+            }
+            _ => {}
+        }
+        if redraw && let Some(running) = &self.running {
+            running.window.request_redraw();
+        }
+    }
+
+    fn about_to_wait(&mut self, event_loop: &ActiveEventLoop) {
+        if !self.playing {
+            event_loop.set_control_flow(ControlFlow::Wait);
+            return;
+        }
+        let now = Instant::now();
+        if now >= self.next_tick {
+            // Keep to the file's rate; after a stall, skip ahead rather than rush.
+            let step = self.frame_duration();
+            while self.next_tick <= now {
+                self.next_tick += step;
+                self.frame = (self.frame + 1) % self.frame_count();
+            }
+            if let Some(running) = &self.running {
+                running.window.request_redraw();
+            }
+        }
+        event_loop.set_control_flow(ControlFlow::WaitUntil(self.next_tick));
+    }
+}

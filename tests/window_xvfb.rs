@@ -1,0 +1,195 @@
+//! End to end under Xvfb: the viewer opens on a file, W steps a frame, the window's pixels equal
+//! the offscreen snapshot of that frame, and Esc quits. Needs Xvfb, xdotool and xwd
+//! (scripts/test.sh installs them).
+
+mod common;
+use bvhview::render::{Image, SnapshotOptions};
+use common::*;
+use std::path::Path;
+use std::process::{Child, Command, Stdio};
+use std::time::{Duration, Instant};
+
+/// Kills the child when the test ends, however it ends.
+struct Guard(Child);
+
+impl Drop for Guard {
+    fn drop(&mut self) {
+        let _ = self.0.kill();
+        let _ = self.0.wait();
+    }
+}
+
+fn wait_for<T>(what: &str, timeout: Duration, mut probe: impl FnMut() -> Option<T>) -> T {
+    let start = Instant::now();
+    loop {
+        if let Some(value) = probe() {
+            return value;
+        }
+        assert!(start.elapsed() < timeout, "timed out waiting for {what}");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+fn run(display: &str, program: &str, args: &[&str]) -> Option<String> {
+    let out = Command::new(program)
+        .args(args)
+        .env("DISPLAY", display)
+        .stderr(Stdio::null())
+        .output()
+        .ok()?;
+    out.status
+        .success()
+        .then(|| String::from_utf8_lossy(&out.stdout).trim().to_string())
+}
+
+/// Starts Xvfb on a free display number.
+fn start_xvfb() -> (Guard, String) {
+    let number = (60..200)
+        .find(|n| {
+            !Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
+                && !Path::new(&format!("/tmp/.X{n}-lock")).exists()
+        })
+        .expect("a free X display number");
+    let display = format!(":{number}");
+    let child = Command::new("Xvfb")
+        .args([
+            display.as_str(),
+            "-screen",
+            "0",
+            "1024x768x24",
+            "-nolisten",
+            "tcp",
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::null())
+        .spawn()
+        .expect("Xvfb runs (apt-get install xvfb)");
+    let guard = Guard(child);
+    wait_for("Xvfb", Duration::from_secs(20), || {
+        Path::new(&format!("/tmp/.X11-unix/X{number}"))
+            .exists()
+            .then_some(())
+    });
+    (guard, display)
+}
+
+/// The window's pixels, read with `xwd` (32-bit ZPixmap, masks from the header).
+fn capture(display: &str, window: &str) -> Image {
+    let out = Command::new("xwd")
+        .args(["-id", window, "-silent"])
+        .env("DISPLAY", display)
+        .output()
+        .expect("xwd runs (apt-get install x11-apps)");
+    assert!(out.status.success());
+    let d = out.stdout;
+    let field = |i: usize| u32::from_be_bytes(d[i * 4..i * 4 + 4].try_into().unwrap());
+    let (header, width, height) = (field(0) as usize, field(4), field(5));
+    let (little_endian, bits, stride) = (field(7) == 0, field(11), field(12) as usize);
+    let (red, green, blue, colors) = (field(14), field(15), field(16), field(19) as usize);
+    assert_eq!(bits, 32, "xwd pixels of 32 bits");
+    let pixels = &d[header + colors * 12..];
+    let channel = |p: u32, mask: u32| ((p & mask) >> mask.trailing_zeros()) as u8;
+    let mut rgb = Vec::with_capacity((width * height * 3) as usize);
+    for y in 0..height as usize {
+        for x in 0..width as usize {
+            let bytes: [u8; 4] = pixels[y * stride + x * 4..][..4].try_into().unwrap();
+            let p = if little_endian {
+                u32::from_le_bytes(bytes)
+            } else {
+                u32::from_be_bytes(bytes)
+            };
+            rgb.extend([channel(p, red), channel(p, green), channel(p, blue)]);
+        }
+    }
+    Image { width, height, rgb }
+}
+
+#[test]
+fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
+    let input = shared().join("oracle/inputs/tiny_crlf.bvh");
+    let bvh = bvhview::bvh::load_file(&input).unwrap();
+    let snapshot = |frame| {
+        bvhview::render::snapshot(
+            &bvh.skeleton,
+            &bvh.motion,
+            &SnapshotOptions {
+                frame,
+                ..SnapshotOptions::default()
+            },
+        )
+        .unwrap()
+    };
+
+    let (_xvfb, display) = start_xvfb();
+    let viewer = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg(&input)
+        .env("DISPLAY", &display)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut viewer = Guard(viewer);
+    let window = wait_for("the window", Duration::from_secs(30), || {
+        run(
+            &display,
+            "xdotool",
+            &["search", "--name", "^bvhview - tiny_crlf.bvh - frame"],
+        )
+        .and_then(|ids| ids.lines().next().map(str::to_string))
+    });
+    let title = |frame: &str| {
+        let want = format!("bvhview - tiny_crlf.bvh - frame {frame}");
+        let display = display.clone();
+        let window = window.clone();
+        move || {
+            run(&display, "xdotool", &["getwindowname", &window])
+                .filter(|t| *t == want)
+                .map(|_| ())
+        }
+    };
+    wait_for(
+        "frame 1/3 in the title",
+        Duration::from_secs(10),
+        title("1/3"),
+    );
+    let first = snapshot(0);
+    let seen = wait_for("the first picture", Duration::from_secs(10), || {
+        let image = capture(&display, &window);
+        (image.differing_pixels(&first) == 0).then_some(image)
+    });
+    assert_eq!(
+        (seen.width, seen.height),
+        (600, 600),
+        "the article's window size"
+    );
+
+    // winit reads keys through XInput2, which ignores synthetic events: focus, then type (XTEST).
+    run(&display, "xdotool", &["windowfocus", "--sync", &window]).expect("focus");
+    run(&display, "xdotool", &["key", "w"]).expect("key w");
+    wait_for(
+        "frame 2/3 in the title",
+        Duration::from_secs(10),
+        title("2/3"),
+    );
+    let second = snapshot(1);
+    let start = Instant::now();
+    let mut differing;
+    loop {
+        differing = capture(&display, &window).differing_pixels(&second);
+        if differing == 0 || start.elapsed() > Duration::from_secs(5) {
+            break;
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    assert_eq!(
+        differing, 0,
+        "the window after W differs from the snapshot of frame 1"
+    );
+
+    run(&display, "xdotool", &["key", "Escape"]).expect("key Escape");
+    let status = wait_for("the viewer to quit on Esc", Duration::from_secs(10), || {
+        viewer.0.try_wait().unwrap()
+    });
+    assert!(status.success(), "exit status {status}");
+}
