@@ -241,3 +241,30 @@ fn sticks_and_fit_are_opt_in() {
         green(&sticks)
     );
 }
+
+/// init, reshape and display make exactly the calls the article's program makes, in order and
+/// with the same arguments (../shared/oracle/trace, recorded with apitrace).
+#[test]
+fn calls_match_the_articles_trace() {
+    use bvhview::render::trace::{Numbers, Recorder};
+    let bvh = bvhview::bvh::load_file(&oracle_input("tiny_crlf.bvh")).unwrap();
+    let mut recorder = Recorder::new(Numbers::Apitrace);
+    let camera = Camera::default();
+    scene::init(&mut recorder);
+    scene::reshape(&mut recorder, 600, 600, &camera);
+    let s = Scene {
+        skeleton: &bvh.skeleton,
+        frame: Some(bvh.motion.frame(1)),
+        camera,
+        style: Style::Points,
+        offset_mode: Default::default(),
+    };
+    scene::display(&mut recorder, &s);
+    let expected =
+        std::fs::read_to_string(shared().join("oracle/trace/tiny_crlf__f1__a10.txt")).unwrap();
+    let expected: Vec<&str> = expected.lines().collect();
+    assert_eq!(recorder.lines.len(), expected.len());
+    for (i, (ours, theirs)) in recorder.lines.iter().zip(&expected).enumerate() {
+        assert_eq!(ours, theirs, "call {}", i + 1);
+    }
+}

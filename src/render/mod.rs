@@ -5,6 +5,7 @@ pub mod fixed;
 pub mod osmesa;
 pub mod scene;
 pub mod sphere;
+pub mod trace;
 pub mod window;
 
 use crate::error::Error;

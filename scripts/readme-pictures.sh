@@ -1,0 +1,9 @@
+#!/usr/bin/env bash
+# Regenerates the README's pictures with bvhview itself.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo build --release --quiet
+bvhview=target/release/bvhview
+$bvhview snapshot assets/walk.bvh -o docs/walk.png
+$bvhview snapshot assets/walk.bvh --frame 10 --style both --fit --angle 0.6 -o docs/walk_sticks.png
+$bvhview snapshot ../shared/oracle/inputs/xsens_seed002_crlf_trail.bvh -o docs/xsens_seed002.png

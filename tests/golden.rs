@@ -1,0 +1,108 @@
+//! Golden pictures of files the article cannot load (6-channel joints, CR-only line endings, a
+//! 173-joint rig, a root written JOINT) and of the opt-in styles, under tests/snapshots/.
+//! `BVHVIEW_BLESS=1 cargo test --test golden` rewrites them; look at every one before committing.
+
+mod common;
+use bvhview::pose::OffsetMode;
+use bvhview::render::{Image, SnapshotOptions, draw::Style};
+use common::*;
+use std::path::{Path, PathBuf};
+
+struct Case {
+    name: &'static str,
+    input: &'static str,
+    options: SnapshotOptions,
+}
+
+fn cases() -> Vec<Case> {
+    let base = SnapshotOptions::default();
+    vec![
+        Case {
+            name: "walk__f0",
+            input: "assets/walk.bvh",
+            options: base,
+        },
+        Case {
+            name: "walk__f10__both__fit__a0.6",
+            input: "assets/walk.bvh",
+            options: SnapshotOptions {
+                frame: 10,
+                style: Style::Both,
+                fit: true,
+                angle: 0.6,
+                ..base
+            },
+        },
+        Case {
+            name: "bandai_wave__f10",
+            input: "bvh/bandai_dataset-2_wave-left-hand_active_011.bvh",
+            options: SnapshotOptions { frame: 10, ..base },
+        },
+        Case {
+            name: "opencollar_run__f15",
+            input: "bvh/opencollar_run.bvh",
+            options: SnapshotOptions { frame: 15, ..base },
+        },
+        Case {
+            name: "makehuman_tpose__sticks__fit__add__a0",
+            input: "bvh/makehuman_tpose.bvh",
+            options: SnapshotOptions {
+                style: Style::Sticks,
+                fit: true,
+                offset_mode: OffsetMode::Add,
+                angle: 0.0,
+                ..base
+            },
+        },
+        Case {
+            name: "alinen_samba__f300__fit__320x240",
+            input: "bvh/alinen_samba_dancing.bvh",
+            options: SnapshotOptions {
+                frame: 300,
+                fit: true,
+                width: 320,
+                height: 240,
+                ..base
+            },
+        },
+    ]
+}
+
+fn input_path(input: &str) -> PathBuf {
+    if input.starts_with("assets/") {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join(input)
+    } else {
+        data(input)
+    }
+}
+
+#[test]
+fn snapshots_match_their_golden_pictures() {
+    let bless = std::env::var_os("BVHVIEW_BLESS").is_some();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
+    for case in cases() {
+        let bvh = bvhview::bvh::load_file(&input_path(case.input)).unwrap();
+        let ours = bvhview::render::snapshot(&bvh.skeleton, &bvh.motion, &case.options).unwrap();
+        let golden = dir.join(format!("{}.png", case.name));
+        if bless {
+            ours.write_png(&golden).unwrap();
+            continue;
+        }
+        let expected =
+            Image::read_png(&golden).unwrap_or_else(|e| panic!("{e} (run with BVHVIEW_BLESS=1)"));
+        let differing = ours.differing_pixels(&expected);
+        let allowed = (ours.width * ours.height) as usize / 1000;
+        assert!(
+            differing <= allowed,
+            "{}: {differing} pixels differ (at most {allowed})",
+            case.name
+        );
+        // A picture with nothing but background and floor would be a broken renderer.
+        let lit = ours
+            .rgb
+            .chunks_exact(3)
+            .filter(|p| p.iter().all(|&c| c > 150))
+            .count();
+        assert!(lit > 20, "{}: no joints visible", case.name);
+    }
+}
