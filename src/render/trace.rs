@@ -3,7 +3,6 @@
 //! so what the trace shows is what they draw.
 
 use crate::render::fixed::*;
-use std::fmt::Write;
 
 /// How numbers are written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
