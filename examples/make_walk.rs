@@ -73,7 +73,10 @@ fn skeleton() -> Skeleton {
         }
         joints.push(joint);
     }
-    Skeleton { joints }
+    Skeleton {
+        joints,
+        ..Skeleton::default()
+    }
 }
 
 /// Rotation (Y, X, Z degrees) of a joint at phase `phase` (radians over one cycle).

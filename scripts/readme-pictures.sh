@@ -7,3 +7,5 @@ bvhview=target/release/bvhview
 $bvhview snapshot assets/walk.bvh -o docs/walk.png
 $bvhview snapshot assets/walk.bvh --frame 10 --style both --fit --angle 0.6 -o docs/walk_sticks.png
 $bvhview snapshot ../shared/oracle/inputs/xsens_seed002_crlf_trail.bvh -o docs/xsens_seed002.png
+$bvhview snapshot ../shared/data/asf_amc/heiden_12.asf --motion ../shared/data/asf_amc/heiden_12_02_01.amc \
+    --frame 150 --style sticks --fit --angle 0.5 --size 400x400 -o docs/cmu_walk.png

@@ -17,12 +17,25 @@ pub enum Format {
 }
 
 /// Options of a positions export.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct PositionsOptions {
     pub format: Format,
     pub offset_mode: OffsetMode,
     /// Negate z, turning the right-handed BVH frame into a left-handed one (Direct3D).
     pub left_handed: bool,
+    /// Multiplies every coordinate (1 keeps the file's units).
+    pub scale: f32,
+}
+
+impl Default for PositionsOptions {
+    fn default() -> PositionsOptions {
+        PositionsOptions {
+            format: Format::Csv,
+            offset_mode: OffsetMode::Replace,
+            left_handed: false,
+            scale: 1.0,
+        }
+    }
 }
 
 /// Parses a frame range: `N`, `A..B` (B excluded), `A..=B`, `A..` or `..B`, checked against
@@ -64,9 +77,9 @@ pub fn write_positions<W: Write>(
     frames: Range<usize>,
     options: &PositionsOptions,
 ) -> io::Result<()> {
-    let names: Vec<String> = (0..skeleton.joints.len())
-        .map(|i| skeleton.export_name(i))
-        .collect();
+    let points = skeleton.export_points();
+    let names: Vec<&String> = points.iter().map(|(name, _)| name).collect();
+    let scale = options.scale;
     let mut matrices = Vec::new();
     let mut line = String::new();
     let z_sign = if options.left_handed { -1.0 } else { 1.0 };
@@ -91,8 +104,8 @@ pub fn write_positions<W: Write>(
         line.clear();
         match options.format {
             Format::Csv => {
-                for (name, m) in names.iter().zip(&matrices) {
-                    let p = m.w_axis;
+                for (name, &(_, joint)) in names.iter().zip(&points) {
+                    let p = matrices[joint].w_axis * scale;
                     use std::fmt::Write as _;
                     let _ = writeln!(
                         line,
@@ -108,8 +121,8 @@ pub fn write_positions<W: Write>(
                 use std::fmt::Write as _;
                 let comma = if n > 0 { "," } else { "" };
                 let _ = write!(line, "{comma}{{\"frame\":{frame},\"positions\":[");
-                for (i, m) in matrices.iter().enumerate() {
-                    let p = m.w_axis;
+                for (i, &(_, joint)) in points.iter().enumerate() {
+                    let p = matrices[joint].w_axis * scale;
                     let comma = if i > 0 { "," } else { "" };
                     let _ = write!(line, "{comma}[{},{},{}]", p.x, p.y, p.z * z_sign);
                 }

@@ -1,15 +1,16 @@
 //! `bvhview info`: what a file holds, in a few lines.
 
-use crate::bvh::Bvh;
+use crate::input::Loaded;
+use crate::motion::Motion;
 use crate::pose::OffsetMode;
 use crate::skeleton::Skeleton;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
 /// A human-readable summary: joints, End Sites, channels, frames, timing, orders, warnings.
-pub fn summary(name: &str, bvh: &Bvh, mode: OffsetMode) -> String {
-    let skeleton = &bvh.skeleton;
-    let motion = &bvh.motion;
+pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
+    let skeleton = &loaded.skeleton;
+    let motion = &loaded.motion;
     let end_sites = skeleton.end_site_count();
     let joints = skeleton.joints.len() - end_sites;
     let mut out = String::new();
@@ -27,8 +28,8 @@ pub fn summary(name: &str, bvh: &Bvh, mode: OffsetMode) -> String {
     let _ = writeln!(out, "duration:         {:.3} s", motion.duration());
     let _ = writeln!(out, "rotation orders:  {}", rotation_orders(skeleton));
     let _ = writeln!(out, "position channels: {}", position_joints(skeleton));
-    let mut warnings = bvh.warnings.clone();
-    warnings.extend(offset_mode_warning(bvh, mode));
+    let mut warnings = loaded.warnings.clone();
+    warnings.extend(offset_mode_warning(skeleton, motion, mode));
     if warnings.is_empty() {
         let _ = writeln!(out, "warnings:         none");
     } else {
@@ -80,14 +81,18 @@ fn position_joints(skeleton: &Skeleton) -> String {
 /// `replace`, nearly all of them are zero at frame 0 while the OFFSETs are not (MakeHuman's
 /// files, which mean "added to OFFSET"); under `add`, they equal the OFFSETs (so adding doubles
 /// every bone).
-pub fn offset_mode_warning(bvh: &Bvh, mode: OffsetMode) -> Option<String> {
-    if bvh.motion.frame_count() == 0 {
+pub fn offset_mode_warning(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mode: OffsetMode,
+) -> Option<String> {
+    if motion.frame_count() == 0 {
         return None;
     }
-    let frame = bvh.motion.frame(0);
+    let frame = motion.frame(0);
     let mut candidates = 0;
     let mut matching = 0;
-    for joint in bvh.skeleton.joints.iter().filter(|j| j.parent.is_some()) {
+    for joint in skeleton.joints.iter().filter(|j| j.parent.is_some()) {
         let values = joint.values(frame);
         let positions: Vec<(usize, f32)> = joint
             .channels

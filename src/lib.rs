@@ -8,10 +8,12 @@
 //! Data flows one way: bytes → [`bvh::loader`] → [`Skeleton`] + [`Motion`] → [`pose`] (forward
 //! kinematics) → export, print, or the writer.
 
+pub mod acclaim;
 pub mod bvh;
 pub mod error;
 pub mod export;
 pub mod info;
+pub mod input;
 pub mod motion;
 pub mod pose;
 pub mod render;

@@ -1,14 +1,14 @@
 //! The `bvhview` command line: parses arguments, calls the library, maps errors to exit codes
 //! (0 success, 2 bad input, 1 anything else).
 
-use bvhview::bvh::{self, Bvh};
 use bvhview::error::Error;
 use bvhview::export::{self, Format, PositionsOptions};
+use bvhview::input::{self, Loaded};
 use bvhview::pose::OffsetMode;
 use bvhview::render::SnapshotOptions;
 use bvhview::render::draw::Style;
 use bvhview::render::window::ViewerOptions;
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -17,14 +17,16 @@ use std::process::ExitCode;
 #[command(
     name = "bvhview",
     version,
-    about = "Load, look at and export BVH motion capture",
+    about = "Load, look at, snapshot and export BVH and ASF/AMC motion capture",
     args_conflicts_with_subcommands = true
 )]
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
-    /// A BVH file to show in a window (default: the bundled walk, assets/walk.bvh).
+    /// A .bvh file, or an .asf skeleton, to show in a window (default: the bundled walk).
     file: Option<PathBuf>,
+    #[command(flatten)]
+    source: Source,
     /// Start with the stick figure (B toggles it).
     #[arg(long, value_enum, default_value_t)]
     style: Style,
@@ -33,29 +35,51 @@ struct Cli {
     offset_mode: OffsetMode,
 }
 
+/// Options that come with any input file.
+#[derive(Args, Clone, Debug)]
+struct Source {
+    /// The AMC motion for an ASF skeleton (without it: the rest pose).
+    #[arg(long, value_name = "TAKE.amc")]
+    motion: Option<PathBuf>,
+    /// Seconds per frame, overriding the file (AMC files have none: default 1/120).
+    #[arg(long, value_name = "SECONDS")]
+    frame_time: Option<f64>,
+}
+
 #[derive(Subcommand)]
 enum Command {
     /// Print the joint tree exactly as the article's BVH::print() does.
-    Print { file: PathBuf },
+    Print {
+        file: PathBuf,
+        #[command(flatten)]
+        source: Source,
+    },
     /// Summarise a file: joints, channels, frames, timing, rotation orders, warnings.
     Info {
         /// The file (default: the bundled walk).
         file: Option<PathBuf>,
+        #[command(flatten)]
+        source: Source,
         /// How position channels combine with OFFSET (checked by the warnings).
         #[arg(long, value_enum, default_value_t)]
         offset_mode: OffsetMode,
     },
-    /// Write the world position of every joint and End Site per frame.
+    /// Write the world position of every joint and End Site (ASF: every bone's end) per frame.
     Positions {
         file: PathBuf,
+        #[command(flatten)]
+        source: Source,
         /// Frames to write: N, A..B (B excluded), A..=B, A.. or ..B (default: all).
         #[arg(long)]
         frames: Option<String>,
         #[arg(long, value_enum, default_value_t)]
         format: Format,
-        /// Negate z (right-handed BVH to left-handed, as for Direct3D).
+        /// Negate z (right-handed to left-handed, as for Direct3D).
         #[arg(long)]
         left_handed: bool,
+        /// Multiply every coordinate (default 1: the file's own units).
+        #[arg(long, default_value_t = 1.0)]
+        scale: f32,
         /// How position channels combine with OFFSET.
         #[arg(long, value_enum, default_value_t)]
         offset_mode: OffsetMode,
@@ -66,6 +90,8 @@ enum Command {
     /// Draw one frame offscreen (no display needed) and write it as PNG.
     Snapshot {
         file: PathBuf,
+        #[command(flatten)]
+        source: Source,
         /// Frame to draw, from 0.
         #[arg(long, default_value_t = 0)]
         frame: usize,
@@ -88,9 +114,11 @@ enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
-    /// Write a file back out as BVH.
+    /// Write a file (BVH, or ASF + AMC) as BVH.
     Convert {
         input: PathBuf,
+        #[command(flatten)]
+        source: Source,
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -117,27 +145,28 @@ fn main() -> ExitCode {
     }
 }
 
-/// Loads a file and reports its warnings on stderr.
-fn load(path: &Path) -> Result<Bvh, Error> {
-    let bvh = bvh::load_file(path)?;
-    report_warnings(&path.display().to_string(), &bvh);
-    Ok(bvh)
+/// Loads a file (with its motion) and reports its warnings on stderr.
+fn load(path: &Path, source: &Source) -> Result<Loaded, Error> {
+    let loaded = input::load(path, source.motion.as_deref(), source.frame_time)?;
+    for warning in &loaded.warnings {
+        eprintln!("bvhview: {}: warning: {warning}", path.display());
+    }
+    Ok(loaded)
 }
 
 /// The named file, or the bundled walk; with the name to show.
-fn load_or_default(path: Option<&Path>) -> Result<(String, Bvh), Error> {
+fn load_or_default(path: Option<&Path>, source: &Source) -> Result<(String, Loaded), Error> {
     match path {
-        Some(path) => Ok((path.display().to_string(), load(path)?)),
+        Some(path) => Ok((path.display().to_string(), load(path, source)?)),
         None => {
-            let bvh = bvh::load_bytes(bvhview::DEFAULT_MOTION, bvhview::DEFAULT_MOTION_NAME)?;
-            Ok((bvhview::DEFAULT_MOTION_NAME.to_string(), bvh))
+            if source.motion.is_some() {
+                return Err(Error::Usage("--motion needs an ASF skeleton file".into()));
+            }
+            Ok((
+                bvhview::DEFAULT_MOTION_NAME.to_string(),
+                input::default_motion()?,
+            ))
         }
-    }
-}
-
-fn report_warnings(name: &str, bvh: &Bvh) {
-    for warning in &bvh.warnings {
-        eprintln!("bvhview: {name}: warning: {warning}");
     }
 }
 
@@ -160,12 +189,20 @@ fn finish_write(result: io::Result<()>, path: Option<&Path>) -> Result<(), Error
     }
 }
 
+fn write_text(text: &str) -> Result<(), Error> {
+    let mut out = open_output(None)?;
+    finish_write(
+        out.write_all(text.as_bytes()).and_then(|()| out.flush()),
+        None,
+    )
+}
+
 fn run(cli: Cli) -> Result<(), Error> {
     match cli.command {
         None => {
             // Say there is no display before loading anything.
             bvhview::render::window::check_environment()?;
-            let (name, bvh) = load_or_default(cli.file.as_deref())?;
+            let (name, loaded) = load_or_default(cli.file.as_deref(), &cli.source)?;
             let name = Path::new(&name)
                 .file_name()
                 .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
@@ -174,36 +211,33 @@ fn run(cli: Cli) -> Result<(), Error> {
                 offset_mode: cli.offset_mode,
                 style: cli.style,
             };
-            bvhview::render::window::run(&bvh.skeleton, &bvh.motion, options)
+            bvhview::render::window::run(&loaded.skeleton, &loaded.motion, options)
         }
-        Some(Command::Print { file }) => {
-            let bvh = load(&file)?;
-            let mut out = open_output(None)?;
-            let result = out
-                .write_all(bvh::print::print(&bvh.skeleton).as_bytes())
-                .and_then(|()| out.flush());
-            finish_write(result, None)
+        Some(Command::Print { file, source }) => {
+            let loaded = load(&file, &source)?;
+            write_text(&bvhview::bvh::print::print(&loaded.skeleton))
         }
-        Some(Command::Info { file, offset_mode }) => {
-            let (name, bvh) = load_or_default(file.as_deref())?;
-            let summary = bvhview::info::summary(&name, &bvh, offset_mode);
-            let mut out = open_output(None)?;
-            finish_write(
-                out.write_all(summary.as_bytes()).and_then(|()| out.flush()),
-                None,
-            )
+        Some(Command::Info {
+            file,
+            source,
+            offset_mode,
+        }) => {
+            let (name, loaded) = load_or_default(file.as_deref(), &source)?;
+            write_text(&bvhview::info::summary(&name, &loaded, offset_mode))
         }
         Some(Command::Positions {
             file,
+            source,
             frames,
             format,
             left_handed,
+            scale,
             offset_mode,
             output,
         }) => {
-            let bvh = load(&file)?;
-            let available = bvh.motion.frame_count().max(1);
-            if bvh.motion.frame_count() == 0 {
+            let loaded = load(&file, &source)?;
+            let available = loaded.motion.frame_count().max(1);
+            if loaded.motion.frame_count() == 0 {
                 eprintln!(
                     "bvhview: {}: no frames; writing the rest pose",
                     file.display()
@@ -213,22 +247,36 @@ fn run(cli: Cli) -> Result<(), Error> {
                 Some(text) => export::parse_frames(&text, available)?,
                 None => 0..available,
             };
-            if let Some(warning) = bvhview::info::offset_mode_warning(&bvh, offset_mode) {
+            if !(scale.is_finite() && scale != 0.0) {
+                return Err(Error::Usage(format!(
+                    "--scale {scale}: expected a finite number other than 0"
+                )));
+            }
+            if let Some(warning) =
+                bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, offset_mode)
+            {
                 eprintln!("bvhview: {}: warning: {warning}", file.display());
             }
             let options = PositionsOptions {
                 format,
                 offset_mode,
                 left_handed,
+                scale,
             };
             let mut out = open_output(output.as_deref())?;
-            let result =
-                export::write_positions(&mut out, &bvh.skeleton, &bvh.motion, range, &options)
-                    .and_then(|()| out.flush());
+            let result = export::write_positions(
+                &mut out,
+                &loaded.skeleton,
+                &loaded.motion,
+                range,
+                &options,
+            )
+            .and_then(|()| out.flush());
             finish_write(result, output.as_deref())
         }
         Some(Command::Snapshot {
             file,
+            source,
             frame,
             angle,
             size,
@@ -237,7 +285,7 @@ fn run(cli: Cli) -> Result<(), Error> {
             offset_mode,
             output,
         }) => {
-            let bvh = load(&file)?;
+            let loaded = load(&file, &source)?;
             let options = SnapshotOptions {
                 frame,
                 angle,
@@ -247,13 +295,23 @@ fn run(cli: Cli) -> Result<(), Error> {
                 fit,
                 offset_mode,
             };
-            let image = bvhview::render::snapshot(&bvh.skeleton, &bvh.motion, &options)?;
+            let image = bvhview::render::snapshot(&loaded.skeleton, &loaded.motion, &options)?;
             image.write_png(&output)
         }
-        Some(Command::Convert { input, output }) => {
-            let bvh = load(&input)?;
+        Some(Command::Convert {
+            input,
+            source,
+            output,
+        }) => {
+            let loaded = load(&input, &source)?;
+            // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
+            let (skeleton, motion) = if loaded.skeleton.joints.iter().any(|j| j.axis.is_some()) {
+                bvhview::acclaim::bake_axes(&loaded.skeleton, &loaded.motion)
+            } else {
+                (loaded.skeleton, loaded.motion)
+            };
             let mut out = open_output(Some(&output))?;
-            let result = bvh::writer::write_bvh(&mut out, &bvh.skeleton, &bvh.motion)
+            let result = bvhview::bvh::writer::write_bvh(&mut out, &skeleton, &motion)
                 .and_then(|()| out.flush());
             finish_write(result, Some(&output))
         }

@@ -45,15 +45,28 @@ pub fn channel_rotation(channel: Channel, degrees: f32) -> Mat4 {
     }
 }
 
-/// `T(t) · R1 · R2 · R3` for one joint; `values` are this joint's channel values.
-pub fn local_matrix(joint: &Joint, values: &[f32], mode: OffsetMode) -> Mat4 {
-    let mut local = Mat4::from_translation(joint_translation(joint, values, mode));
+/// `R1 · R2 · R3`: the joint's rotation channels in file order.
+pub fn channel_rotations(joint: &Joint, values: &[f32]) -> Mat4 {
+    let mut rotation = Mat4::IDENTITY;
     for (channel, &value) in joint.channels.iter().zip(values) {
         if channel.is_rotation() {
-            local *= channel_rotation(*channel, value);
+            rotation *= channel_rotation(*channel, value);
         }
     }
-    local
+    rotation
+}
+
+/// `T(t) · R1 · R2 · R3` for one joint, or `T(t) · C · R1 · R2 · R3 · C⁻¹` when the joint has a
+/// fixed axis C (ASF bones); `values` are this joint's channel values.
+pub fn local_matrix(joint: &Joint, values: &[f32], mode: OffsetMode) -> Mat4 {
+    let translation = Mat4::from_translation(joint_translation(joint, values, mode));
+    let rotation = channel_rotations(joint, values);
+    match joint.axis {
+        None => translation * rotation,
+        Some(axis) => {
+            translation * Mat4::from_quat(axis) * rotation * Mat4::from_quat(axis.inverse())
+        }
+    }
 }
 
 /// World matrices of every joint for one MOTION row (`frame` has one value per channel). An empty
@@ -170,6 +183,7 @@ mod tests {
         child.first_channel = 4;
         let skeleton = Skeleton {
             joints: vec![root, child],
+            ..Skeleton::default()
         };
         let positions = world_positions(&skeleton, &[0.0, 10.0, 0.0, 90.0], OffsetMode::Replace);
         assert_close(positions[0], Vec3::new(0.0, 10.0, 0.0));

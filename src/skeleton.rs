@@ -4,7 +4,7 @@
 //! and links them by pointers; here joints live in one `Vec` in the order the file lists them (the
 //! article's pre-order), so the MOTION columns of a joint are one contiguous slice.
 
-use glam::Vec3;
+use glam::{Quat, Vec3};
 use std::fmt;
 
 /// One MOTION column's meaning, as written in a CHANNELS line.
@@ -158,6 +158,9 @@ pub struct Joint {
     /// Written `End Site` (or, by some exporters, `JOINT Site` with `CHANNELS 0` and no children).
     pub end_site: bool,
     pub rotation_order: Option<RotationOrder>,
+    /// A fixed rotation C around the channels' rotation: local = T · C · R · C⁻¹. ASF bones have
+    /// one (their `axis`); BVH joints never do.
+    pub axis: Option<Quat>,
 }
 
 impl Joint {
@@ -171,6 +174,7 @@ impl Joint {
             first_channel: 0,
             end_site: false,
             rotation_order: None,
+            axis: None,
         }
     }
 
@@ -180,10 +184,21 @@ impl Joint {
     }
 }
 
+/// Where a skeleton came from, which decides how its points are named in exports.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Source {
+    /// Joints are named; End Sites are `<parent>_End`.
+    #[default]
+    Bvh,
+    /// ASF bones: a joint sits at the start of its bone, and a bone's name labels its end point.
+    Acclaim,
+}
+
 /// All joints of a file in pre-order (a parent always comes before its children).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Skeleton {
     pub joints: Vec<Joint>,
+    pub source: Source,
 }
 
 impl Skeleton {
@@ -222,6 +237,27 @@ impl Skeleton {
         match (joint.end_site, joint.parent) {
             (true, Some(parent)) => format!("{}_End", self.joints[parent].name),
             _ => joint.name.clone(),
+        }
+    }
+
+    /// The points an export lists, as (name, joint whose world position it is). BVH: every joint
+    /// and End Site. ASF: the root, then the end point of every bone, named by the bone (the end
+    /// of a bone is where its children, or its End Site, start).
+    pub fn export_points(&self) -> Vec<(String, usize)> {
+        match self.source {
+            Source::Bvh => (0..self.joints.len())
+                .map(|i| (self.export_name(i), i))
+                .collect(),
+            Source::Acclaim => self
+                .joints
+                .iter()
+                .enumerate()
+                .filter(|(_, j)| !j.end_site)
+                .map(|(i, j)| match (j.parent, j.children.first()) {
+                    (Some(_), Some(&end)) => (j.name.clone(), end),
+                    _ => (j.name.clone(), i),
+                })
+                .collect(),
         }
     }
 }

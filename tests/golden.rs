@@ -13,58 +13,79 @@ struct Case {
     name: &'static str,
     input: &'static str,
     options: SnapshotOptions,
+    /// The AMC for an ASF input.
+    motion: Option<&'static str>,
+}
+
+fn case(name: &'static str, input: &'static str, options: SnapshotOptions) -> Case {
+    Case {
+        name,
+        input,
+        options,
+        motion: None,
+    }
 }
 
 fn cases() -> Vec<Case> {
     let base = SnapshotOptions::default();
     vec![
-        Case {
-            name: "walk__f0",
-            input: "assets/walk.bvh",
-            options: base,
-        },
-        Case {
-            name: "walk__f10__both__fit__a0.6",
-            input: "assets/walk.bvh",
-            options: SnapshotOptions {
+        case("walk__f0", "assets/walk.bvh", base),
+        case(
+            "walk__f10__both__fit__a0.6",
+            "assets/walk.bvh",
+            SnapshotOptions {
                 frame: 10,
                 style: Style::Both,
                 fit: true,
                 angle: 0.6,
                 ..base
             },
-        },
-        Case {
-            name: "bandai_wave__f10",
-            input: "bvh/bandai_dataset-2_wave-left-hand_active_011.bvh",
-            options: SnapshotOptions { frame: 10, ..base },
-        },
-        Case {
-            name: "opencollar_run__f15",
-            input: "bvh/opencollar_run.bvh",
-            options: SnapshotOptions { frame: 15, ..base },
-        },
-        Case {
-            name: "makehuman_tpose__sticks__fit__add__a0",
-            input: "bvh/makehuman_tpose.bvh",
-            options: SnapshotOptions {
+        ),
+        case(
+            "bandai_wave__f10",
+            "bvh/bandai_dataset-2_wave-left-hand_active_011.bvh",
+            SnapshotOptions { frame: 10, ..base },
+        ),
+        case(
+            "opencollar_run__f15",
+            "bvh/opencollar_run.bvh",
+            SnapshotOptions { frame: 15, ..base },
+        ),
+        case(
+            "makehuman_tpose__sticks__fit__add__a0",
+            "bvh/makehuman_tpose.bvh",
+            SnapshotOptions {
                 style: Style::Sticks,
                 fit: true,
                 offset_mode: OffsetMode::Add,
                 angle: 0.0,
                 ..base
             },
-        },
-        Case {
-            name: "alinen_samba__f300__fit__320x240",
-            input: "bvh/alinen_samba_dancing.bvh",
-            options: SnapshotOptions {
+        ),
+        case(
+            "alinen_samba__f300__fit__320x240",
+            "bvh/alinen_samba_dancing.bvh",
+            SnapshotOptions {
                 frame: 300,
                 fit: true,
                 width: 320,
                 height: 240,
                 ..base
             },
+        ),
+        Case {
+            motion: Some("asf_amc/simchoni_charleston_1.amc"),
+            ..case(
+                "cmu_charleston__f200__both__fit__a1.2",
+                "asf_amc/simchoni_charleston.asf",
+                SnapshotOptions {
+                    frame: 200,
+                    style: Style::Both,
+                    fit: true,
+                    angle: 1.2,
+                    ..base
+                },
+            )
         },
     ]
 }
@@ -78,7 +99,7 @@ fn input_path(input: &str) -> PathBuf {
 }
 
 /// The same view with an empty skeleton: background and floor only.
-fn without_skeleton(bvh: &bvhview::bvh::Bvh, options: &SnapshotOptions) -> Image {
+fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> Image {
     let frame = bvhview::render::frame_values(&bvh.motion, options.frame).unwrap();
     let camera = bvhview::render::camera_for(
         &bvh.skeleton,
@@ -112,7 +133,8 @@ fn snapshots_match_their_golden_pictures() {
     let bless = std::env::var_os("BVHVIEW_BLESS").is_some();
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
     for case in cases() {
-        let bvh = bvhview::bvh::load_file(&input_path(case.input)).unwrap();
+        let motion = case.motion.map(data);
+        let bvh = bvhview::input::load(&input_path(case.input), motion.as_deref(), None).unwrap();
         let ours = bvhview::render::snapshot(&bvh.skeleton, &bvh.motion, &case.options).unwrap();
         let golden = dir.join(format!("{}.png", case.name));
         if bless {

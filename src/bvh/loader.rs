@@ -50,6 +50,7 @@ pub fn load_bytes(text: &[u8], source: &str) -> Result<Bvh, Error> {
     Ok(Bvh {
         skeleton: Skeleton {
             joints: loader.joints,
+            ..Skeleton::default()
         },
         motion,
         warnings: loader.warnings,

@@ -56,7 +56,14 @@ pub fn draw_recursive<G: FixedFunction>(
     gl.push_matrix();
     let [x, y, z] = translation(joint, frame, mode);
     gl.translatef(x, y, z);
+    // ASF bones turn about their own axis C: C · R · C⁻¹. BVH joints have none.
+    if let Some(axis) = joint.axis {
+        gl.mult_matrixf(&glam::Mat4::from_quat(axis).to_cols_array());
+    }
     rotate_space(gl, joint, frame);
+    if let Some(axis) = joint.axis {
+        gl.mult_matrixf(&glam::Mat4::from_quat(axis.inverse()).to_cols_array());
+    }
     if style != Style::Sticks {
         gl.solid_sphere(1.0, 20, 16);
     }

@@ -1,0 +1,700 @@
+//! The ASF skeleton file: `:units`, `:root`, `:bonedata` (begin … end per bone: id, name,
+//! direction, length, axis, dof, limits) and `:hierarchy` (begin, one `parent child…` line per
+//! parent, end). Seed 004's `Read_ASF`; unlike it, any number of bones and frames, keywords in any
+//! case, and an error with the line and column for anything malformed.
+
+use super::text::{Word, error_at, expected, expected_after, lines, number};
+use super::{axis_rotation, bone_joint};
+use crate::error::Error;
+use crate::skeleton::{Channel, Joint, RotationOrder, Skeleton, Source};
+use glam::Vec3;
+use std::path::Path;
+
+/// One degree of freedom as the ASF names it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Dof {
+    Rx,
+    Ry,
+    Rz,
+    Tx,
+    Ty,
+    Tz,
+}
+
+impl Dof {
+    fn parse(text: &str) -> Option<Dof> {
+        Some(match text.to_ascii_lowercase().as_str() {
+            "rx" => Dof::Rx,
+            "ry" => Dof::Ry,
+            "rz" => Dof::Rz,
+            "tx" => Dof::Tx,
+            "ty" => Dof::Ty,
+            "tz" => Dof::Tz,
+            _ => return None,
+        })
+    }
+
+    fn channel(self) -> Channel {
+        match self {
+            Dof::Rx => Channel::Xrotation,
+            Dof::Ry => Channel::Yrotation,
+            Dof::Rz => Channel::Zrotation,
+            Dof::Tx => Channel::Xposition,
+            Dof::Ty => Channel::Yposition,
+            Dof::Tz => Channel::Zposition,
+        }
+    }
+
+    fn is_rotation(self) -> bool {
+        matches!(self, Dof::Rx | Dof::Ry | Dof::Rz)
+    }
+}
+
+/// `:units`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Units {
+    pub mass: f64,
+    pub length: f64,
+    /// `angle deg` (true) or `angle rad`.
+    pub degrees: bool,
+}
+
+/// `:root`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Root {
+    /// The AMC root line's values, in this order.
+    pub order: Vec<Dof>,
+    /// The order of the orientation's rotations (`axis XYZ`).
+    pub axis_order: [usize; 3],
+    pub position: [f64; 3],
+    /// Degrees.
+    pub orientation: [f64; 3],
+}
+
+/// One `begin … end` block of `:bonedata`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Bone {
+    pub id: Option<i64>,
+    pub name: String,
+    pub direction: [f64; 3],
+    pub length: f64,
+    /// Degrees.
+    pub axis: [f64; 3],
+    pub axis_order: [usize; 3],
+    /// The AMC line's values for this bone, in this order.
+    pub dof: Vec<Dof>,
+    /// `(min, max)` per dof, in degrees for rotations; infinite where the file says `inf`.
+    pub limits: Vec<(f64, f64)>,
+    /// Where the block starts, for messages.
+    pub line: usize,
+}
+
+/// A parsed ASF file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Asf {
+    pub units: Units,
+    pub root: Root,
+    pub bones: Vec<Bone>,
+    /// Children of the root, as bone indices.
+    pub root_children: Vec<usize>,
+    /// Children of each bone, as bone indices.
+    pub children: Vec<Vec<usize>>,
+    pub warnings: Vec<String>,
+}
+
+/// Reads an ASF file.
+pub fn load_asf(path: &Path) -> Result<Asf, Error> {
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    parse_asf(
+        &String::from_utf8_lossy(&bytes),
+        &path.display().to_string(),
+    )
+}
+
+fn axis_order(source: &str, word: &Word<'_>) -> Result<[usize; 3], Error> {
+    let letters: Vec<usize> = word
+        .text
+        .chars()
+        .filter_map(|c| match c.to_ascii_uppercase() {
+            'X' => Some(0),
+            'Y' => Some(1),
+            'Z' => Some(2),
+            _ => None,
+        })
+        .collect();
+    match letters[..] {
+        [a, b, c] if word.text.len() == 3 && a != b && b != c && a != c => Ok([a, b, c]),
+        _ => Err(expected(source, word, "a rotation order such as XYZ")),
+    }
+}
+
+fn three(source: &str, line: &[Word<'_>], what: &str) -> Result<[f64; 3], Error> {
+    if line.len() < 4 {
+        return Err(expected_after(
+            source,
+            line,
+            &format!("three numbers ({what})"),
+        ));
+    }
+    let mut out = [0.0; 3];
+    for (value, word) in out.iter_mut().zip(&line[1..4]) {
+        *value = number(source, word, &format!("a number ({what})"))?;
+    }
+    Ok(out)
+}
+
+/// A limit bound: a number or `inf` / `-inf`, possibly with the parentheses attached.
+fn bound(source: &str, word: &Word<'_>) -> Result<f64, Error> {
+    let text = word.text.trim_matches(|c| c == '(' || c == ')');
+    match text.to_ascii_lowercase().as_str() {
+        "inf" | "+inf" => Ok(f64::INFINITY),
+        "-inf" => Ok(f64::NEG_INFINITY),
+        _ => text
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| expected(source, word, "a limit (a number or inf)")),
+    }
+}
+
+#[derive(PartialEq)]
+enum Section {
+    None,
+    Units,
+    Root,
+    BoneData,
+    Hierarchy,
+    Other,
+}
+
+/// Parses ASF text; `source` names it in errors.
+pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
+    let all = lines(text);
+    let mut units = Units {
+        mass: 1.0,
+        length: 1.0,
+        degrees: true,
+    };
+    let mut root: Option<Root> = None;
+    let mut bones: Vec<Bone> = Vec::new();
+    let mut current: Option<Bone> = None;
+    // (the bone name word, its child name words) per hierarchy line
+    let mut hierarchy: Vec<Vec<Word<'_>>> = Vec::new();
+    let mut seen_hierarchy = false;
+    let mut seen_bonedata = false;
+    let mut section = Section::None;
+    let mut pending_limits = 0usize;
+
+    for line in &all {
+        let first = &line[0];
+        if first.text.starts_with(':') {
+            if let Some(bone) = &current {
+                return Err(expected(
+                    source,
+                    first,
+                    &format!("'end' to close bone '{}'", bone.name),
+                ));
+            }
+            section = match first.text.to_ascii_lowercase().as_str() {
+                ":units" => Section::Units,
+                ":root" => {
+                    root = Some(Root {
+                        order: Vec::new(),
+                        axis_order: [0, 1, 2],
+                        position: [0.0; 3],
+                        orientation: [0.0; 3],
+                    });
+                    Section::Root
+                }
+                ":bonedata" => {
+                    seen_bonedata = true;
+                    Section::BoneData
+                }
+                ":hierarchy" => {
+                    seen_hierarchy = true;
+                    Section::Hierarchy
+                }
+                _ => Section::Other,
+            };
+            pending_limits = 0;
+            continue;
+        }
+        match section {
+            Section::None => return Err(expected(source, first, "a section such as :root")),
+            Section::Other => {}
+            Section::Units => {
+                let value = line
+                    .get(1)
+                    .ok_or_else(|| expected_after(source, line, "a value"))?;
+                if first.is("mass") {
+                    units.mass = number(source, value, "a number")?;
+                } else if first.is("length") {
+                    units.length = number(source, value, "a number")?;
+                } else if first.is("angle") {
+                    units.degrees = if value.is("deg") || value.is("degrees") {
+                        true
+                    } else if value.is("rad") || value.is("radians") {
+                        false
+                    } else {
+                        return Err(expected(source, value, "deg or rad"));
+                    };
+                }
+            }
+            Section::Root => {
+                let root = root.as_mut().expect(":root opened the section");
+                if first.is("order") {
+                    root.order.clear();
+                    for word in &line[1..] {
+                        let dof = Dof::parse(word.text)
+                            .ok_or_else(|| expected(source, word, "TX, TY, TZ, RX, RY or RZ"))?;
+                        if root.order.contains(&dof) {
+                            return Err(error_at(
+                                source,
+                                word.line,
+                                word.column,
+                                format!("'{}' listed twice", word.text),
+                            ));
+                        }
+                        root.order.push(dof);
+                    }
+                } else if first.is("axis") {
+                    let word = line
+                        .get(1)
+                        .ok_or_else(|| expected_after(source, line, "a rotation order"))?;
+                    root.axis_order = axis_order(source, word)?;
+                } else if first.is("position") {
+                    root.position = three(source, line, "root position")?;
+                } else if first.is("orientation") {
+                    root.orientation = three(source, line, "root orientation")?;
+                } else {
+                    return Err(expected(
+                        source,
+                        first,
+                        "order, axis, position or orientation",
+                    ));
+                }
+            }
+            Section::BoneData => {
+                if first.is("begin") {
+                    if current.is_some() {
+                        return Err(expected(source, first, "'end' before the next 'begin'"));
+                    }
+                    current = Some(Bone {
+                        id: None,
+                        name: String::new(),
+                        direction: [f64::NAN; 3],
+                        length: f64::NAN,
+                        axis: [0.0; 3],
+                        axis_order: [0, 1, 2],
+                        dof: Vec::new(),
+                        limits: Vec::new(),
+                        line: first.line,
+                    });
+                    pending_limits = 0;
+                    continue;
+                }
+                let Some(bone) = current.as_mut() else {
+                    return Err(expected(source, first, "'begin'"));
+                };
+                if first.is("end") {
+                    let bone = current.take().expect("checked above");
+                    let what = if bone.name.is_empty() {
+                        Some("a name")
+                    } else if bone.direction[0].is_nan() {
+                        Some("a direction")
+                    } else if bone.length.is_nan() {
+                        Some("a length")
+                    } else {
+                        None
+                    };
+                    if let Some(what) = what {
+                        let name = if bone.name.is_empty() {
+                            "bone"
+                        } else {
+                            bone.name.as_str()
+                        };
+                        return Err(error_at(
+                            source,
+                            first.line,
+                            first.column,
+                            format!("'{name}' (begun at line {}) ends without {what}", bone.line),
+                        ));
+                    }
+                    if bones.iter().any(|b| b.name == bone.name) {
+                        return Err(error_at(
+                            source,
+                            bone.line,
+                            1,
+                            format!("a second bone named '{}'", bone.name),
+                        ));
+                    }
+                    bones.push(bone);
+                } else if first.is("id") {
+                    let word = line
+                        .get(1)
+                        .ok_or_else(|| expected_after(source, line, "an id"))?;
+                    bone.id = Some(
+                        word.text
+                            .parse()
+                            .map_err(|_| expected(source, word, "an integer id"))?,
+                    );
+                } else if first.is("name") {
+                    let word = line
+                        .get(1)
+                        .ok_or_else(|| expected_after(source, line, "a name"))?;
+                    if word.is("root") {
+                        return Err(expected(source, word, "a bone name other than 'root'"));
+                    }
+                    bone.name = word.text.to_string();
+                } else if first.is("direction") {
+                    bone.direction = three(source, line, "direction")?;
+                } else if first.is("length") {
+                    let word = line
+                        .get(1)
+                        .ok_or_else(|| expected_after(source, line, "a length"))?;
+                    bone.length = number(source, word, "a number (length)")?;
+                } else if first.is("axis") {
+                    bone.axis = three(source, line, "axis")?;
+                    let word = line.get(4).ok_or_else(|| {
+                        expected_after(source, line, "a rotation order such as XYZ")
+                    })?;
+                    bone.axis_order = axis_order(source, word)?;
+                } else if first.is("dof") {
+                    bone.dof.clear();
+                    for word in &line[1..] {
+                        let dof = if word.is("l") {
+                            return Err(error_at(
+                                source,
+                                word.line,
+                                word.column,
+                                "dof 'l' (a bone that stretches) is not supported".into(),
+                            ));
+                        } else {
+                            Dof::parse(word.text)
+                                .ok_or_else(|| expected(source, word, "rx, ry or rz"))?
+                        };
+                        if !dof.is_rotation() {
+                            return Err(error_at(
+                                source,
+                                word.line,
+                                word.column,
+                                format!(
+                                    "dof '{}' on a bone is not supported: only the root translates",
+                                    word.text
+                                ),
+                            ));
+                        }
+                        if bone.dof.contains(&dof) {
+                            return Err(error_at(
+                                source,
+                                word.line,
+                                word.column,
+                                format!("dof '{}' listed twice", word.text),
+                            ));
+                        }
+                        bone.dof.push(dof);
+                    }
+                    pending_limits = bone.dof.len();
+                } else if first.is("limits") || first.text.starts_with('(') {
+                    // `limits (a b)` then one `(a b)` line per further dof; parentheses may be
+                    // written apart from the numbers.
+                    let words: Vec<&Word<'_>> = line
+                        .iter()
+                        .skip(usize::from(first.is("limits")))
+                        .filter(|w| !w.text.chars().all(|c| c == '(' || c == ')'))
+                        .collect();
+                    if words.len() != 2 || pending_limits == 0 {
+                        let what = if pending_limits == 0 {
+                            "no more limits than dofs"
+                        } else {
+                            "(min max)"
+                        };
+                        return Err(expected(source, first, what));
+                    }
+                    bone.limits
+                        .push((bound(source, words[0])?, bound(source, words[1])?));
+                    pending_limits -= 1;
+                } else if first.is("bodymass") || first.is("cofmass") {
+                    // Known extras some exporters write; they do not change the skeleton.
+                } else {
+                    return Err(expected(
+                        source,
+                        first,
+                        "id, name, direction, length, axis, dof, limits or end",
+                    ));
+                }
+            }
+            Section::Hierarchy => {
+                if first.is("begin") || first.is("end") {
+                    continue;
+                }
+                if line.len() < 2 {
+                    return Err(expected_after(source, line, "the children of this bone"));
+                }
+                hierarchy.push(line.clone());
+            }
+        }
+    }
+    let end_line = all.last().map_or(1, |l| l[0].line + 1);
+    if let Some(bone) = &current {
+        return Err(error_at(
+            source,
+            end_line,
+            1,
+            format!(
+                "expected 'end' to close bone '{}', found end of file",
+                bone.name
+            ),
+        ));
+    }
+    let Some(mut root) = root else {
+        return Err(error_at(
+            source,
+            end_line,
+            1,
+            "missing section :root".into(),
+        ));
+    };
+    if !seen_bonedata {
+        return Err(error_at(
+            source,
+            end_line,
+            1,
+            "missing section :bonedata".into(),
+        ));
+    }
+    if !seen_hierarchy {
+        return Err(error_at(
+            source,
+            end_line,
+            1,
+            "missing section :hierarchy".into(),
+        ));
+    }
+    if root.order.is_empty() {
+        root.order = vec![Dof::Tx, Dof::Ty, Dof::Tz, Dof::Rx, Dof::Ry, Dof::Rz];
+    }
+
+    // Angles in radians become degrees, as the Skeleton's channels are.
+    if !units.degrees {
+        let degrees = |v: f64| v.to_degrees();
+        root.orientation = root.orientation.map(degrees);
+        for bone in &mut bones {
+            bone.axis = bone.axis.map(degrees);
+            for (dof, limit) in bone.dof.iter().zip(bone.limits.iter_mut()) {
+                if dof.is_rotation() {
+                    *limit = (limit.0.to_degrees(), limit.1.to_degrees());
+                }
+            }
+        }
+    }
+
+    // The tree: every bone gets one parent, and every bone must be reachable from the root.
+    let index_of = |word: &Word<'_>| bones.iter().position(|b| b.name == word.text);
+    let mut root_children = Vec::new();
+    let mut children = vec![Vec::new(); bones.len()];
+    let mut parent_of: Vec<Option<usize>> = vec![None; bones.len()];
+    for line in &hierarchy {
+        let parent = if line[0].is("root") {
+            None
+        } else {
+            Some(
+                index_of(&line[0])
+                    .ok_or_else(|| expected(source, &line[0], "a bone named in :bonedata"))?,
+            )
+        };
+        for word in &line[1..] {
+            let child = index_of(word)
+                .ok_or_else(|| expected(source, word, "a bone named in :bonedata"))?;
+            if parent_of[child].is_some() || root_children.contains(&child) || parent == Some(child)
+            {
+                return Err(error_at(
+                    source,
+                    word.line,
+                    word.column,
+                    format!(
+                        "'{}' already has a parent: the hierarchy is not a tree",
+                        word.text
+                    ),
+                ));
+            }
+            match parent {
+                None => root_children.push(child),
+                Some(p) => {
+                    parent_of[child] = Some(p);
+                    children[p].push(child);
+                }
+            }
+        }
+    }
+    // Reachable from the root; a bone with a parent that is not reachable sits on a loop.
+    let mut reached = vec![false; bones.len()];
+    let mut stack = root_children.clone();
+    while let Some(bone) = stack.pop() {
+        reached[bone] = true;
+        stack.extend(children[bone].iter().copied());
+    }
+    let mut warnings = Vec::new();
+    for (i, bone) in bones.iter().enumerate() {
+        if reached[i] {
+            continue;
+        }
+        if parent_of[i].is_some() {
+            let line = hierarchy
+                .iter()
+                .flat_map(|l| l[1..].iter())
+                .find(|w| w.text == bone.name)
+                .expect("a bone with a parent is named in the hierarchy");
+            return Err(error_at(
+                source,
+                line.line,
+                line.column,
+                format!(
+                    "the hierarchy loops through '{}' and never reaches root",
+                    bone.name
+                ),
+            ));
+        }
+        warnings.push(format!(
+            "bone '{}' (line {}) is not in the hierarchy and is left out",
+            bone.name, bone.line
+        ));
+    }
+    Ok(Asf {
+        units,
+        root,
+        bones,
+        root_children,
+        children,
+        warnings,
+    })
+}
+
+/// Where one AMC line's values go: the joint's first MOTION column, and per value the channel
+/// slot (relative to it) it fills.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ValueMap {
+    pub name: String,
+    pub first_channel: usize,
+    pub slots: Vec<usize>,
+    /// Per value: a rotation (converted from radians when the file uses them) or a translation.
+    pub rotations: Vec<bool>,
+}
+
+impl Asf {
+    /// The skeleton seed 004 describes, as joints (DESIGN.md decision 7), and for each AMC line
+    /// name (the root first, then bones in :bonedata order) where its values go.
+    pub fn to_skeleton(&self) -> (Skeleton, Vec<ValueMap>) {
+        let mut joints: Vec<Joint> = Vec::new();
+        let mut maps = Vec::new();
+        let mut column = 0;
+
+        // The root: translations in their listed order, then rotations reversed.
+        let mut root = bone_joint(
+            "root",
+            Some(axis_rotation(self.root.orientation, self.root.axis_order)),
+        );
+        root.offset = Vec3::from_array(self.root.position.map(|v| v as f32));
+        let (channels, slots) = channels_for(&self.root.order);
+        root.channels = channels;
+        root.rotation_order = RotationOrder::get_flags(&root.channels);
+        root.first_channel = column;
+        column += root.channels.len();
+        let rotations = self.root.order.iter().map(|d| d.is_rotation()).collect();
+        maps.push(ValueMap {
+            name: "root".into(),
+            first_channel: root.first_channel,
+            slots,
+            rotations,
+        });
+        joints.push(root);
+
+        let mut bone_maps: Vec<Option<ValueMap>> = vec![None; self.bones.len()];
+        // Pre-order from the root, children in hierarchy order.
+        let mut stack: Vec<(usize, usize)> =
+            self.root_children.iter().rev().map(|&b| (b, 0)).collect();
+        while let Some((bone_index, parent_joint)) = stack.pop() {
+            let bone = &self.bones[bone_index];
+            let mut joint = bone_joint(&bone.name, Some(axis_rotation(bone.axis, bone.axis_order)));
+            joint.parent = Some(parent_joint);
+            // A bone starts where its parent bone ends; bones under the root start at the root.
+            joint.offset = match parent_joint {
+                0 => Vec3::ZERO,
+                _ => bone_vector(self.bone_named(&joints[parent_joint].name)),
+            };
+            let (channels, slots) = channels_for(&bone.dof);
+            joint.channels = channels;
+            joint.rotation_order = RotationOrder::get_flags(&joint.channels);
+            joint.first_channel = column;
+            column += joint.channels.len();
+            bone_maps[bone_index] = Some(ValueMap {
+                name: bone.name.clone(),
+                first_channel: joint.first_channel,
+                slots,
+                rotations: bone.dof.iter().map(|d| d.is_rotation()).collect(),
+            });
+            let index = joints.len();
+            joints[parent_joint].children.push(index);
+            joints.push(joint);
+            if self.children[bone_index].is_empty() {
+                let mut end = Joint::new("Site".into(), Some(index));
+                end.end_site = true;
+                end.offset = bone_vector(bone);
+                end.first_channel = column;
+                let end_index = joints.len();
+                joints[index].children.push(end_index);
+                joints.push(end);
+            } else {
+                for &child in self.children[bone_index].iter().rev() {
+                    stack.push((child, index));
+                }
+            }
+        }
+        maps.extend(bone_maps.into_iter().flatten());
+        (
+            Skeleton {
+                joints,
+                source: Source::Acclaim,
+            },
+            maps,
+        )
+    }
+
+    fn bone_named(&self, name: &str) -> &Bone {
+        self.bones
+            .iter()
+            .find(|b| b.name == name)
+            .expect("every joint but the root is a bone")
+    }
+}
+
+/// `direction × length`.
+fn bone_vector(bone: &Bone) -> Vec3 {
+    Vec3::from_array(bone.direction.map(|d| (d * bone.length) as f32))
+}
+
+/// Channels for a dof list (translations as listed, then rotations reversed, so that the
+/// rotations multiply as Acclaim applies them) and, per dof, its channel slot.
+fn channels_for(dofs: &[Dof]) -> (Vec<Channel>, Vec<usize>) {
+    let mut channels: Vec<Channel> = dofs
+        .iter()
+        .filter(|d| !d.is_rotation())
+        .map(|d| d.channel())
+        .collect();
+    channels.extend(
+        dofs.iter()
+            .rev()
+            .filter(|d| d.is_rotation())
+            .map(|d| d.channel()),
+    );
+    let slots = dofs
+        .iter()
+        .map(|d| {
+            channels
+                .iter()
+                .position(|&c| c == d.channel())
+                .expect("every dof has a channel")
+        })
+        .collect();
+    (channels, slots)
+}

@@ -1,0 +1,95 @@
+//! What every command reads: a BVH file, or an ASF skeleton with an optional AMC motion.
+
+use crate::acclaim;
+use crate::bvh;
+use crate::error::Error;
+use crate::motion::Motion;
+use crate::skeleton::Skeleton;
+use std::path::Path;
+
+/// A skeleton and its motion, from whichever format.
+#[derive(Clone, Debug)]
+pub struct Loaded {
+    pub skeleton: Skeleton,
+    pub motion: Motion,
+    pub warnings: Vec<String>,
+}
+
+fn extension(path: &Path) -> String {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default()
+}
+
+/// Loads `path` (`.bvh`, or `.asf` with `motion` an `.amc`). `frame_time` overrides the file's
+/// (AMC has none: CMU's 120 Hz is the default).
+pub fn load(path: &Path, motion: Option<&Path>, frame_time: Option<f64>) -> Result<Loaded, Error> {
+    if let Some(time) = frame_time
+        && !(time.is_finite() && time > 0.0)
+    {
+        return Err(Error::Usage(format!(
+            "--frame-time {time}: expected seconds per frame, above 0"
+        )));
+    }
+    match extension(path).as_str() {
+        "asf" => {
+            let asf = acclaim::load_asf(path)?;
+            let (skeleton, maps) = asf.to_skeleton();
+            let frame_time = frame_time.unwrap_or(acclaim::DEFAULT_FRAME_TIME);
+            let channels = skeleton.channel_count();
+            let motion = match motion {
+                Some(amc) => {
+                    if extension(amc) != "amc" {
+                        return Err(Error::Usage(format!(
+                            "--motion {}: expected an .amc file",
+                            amc.display()
+                        )));
+                    }
+                    acclaim::load_amc(amc, &maps, channels, asf.units.degrees, frame_time)?
+                }
+                None => Motion::new(frame_time, channels, 0, Vec::new()),
+            };
+            Ok(Loaded {
+                skeleton,
+                motion,
+                warnings: asf.warnings,
+            })
+        }
+        "amc" => Err(Error::Usage(format!(
+            "{}: an AMC file holds motion only; give its skeleton: bvhview COMMAND SKELETON.asf --motion {}",
+            path.display(),
+            path.display()
+        ))),
+        "bvh" => {
+            if let Some(amc) = motion {
+                return Err(Error::Usage(format!(
+                    "--motion {}: only an ASF skeleton takes a motion file",
+                    amc.display()
+                )));
+            }
+            let mut file = bvh::load_file(path)?;
+            if let Some(time) = frame_time {
+                file.motion.frame_time = time;
+            }
+            Ok(Loaded {
+                skeleton: file.skeleton,
+                motion: file.motion,
+                warnings: file.warnings,
+            })
+        }
+        other => Err(Error::Usage(format!(
+            "{}: unknown extension '{other}': bvhview reads .bvh files and .asf skeletons (with --motion .amc)",
+            path.display()
+        ))),
+    }
+}
+
+/// The bundled walk.
+pub fn default_motion() -> Result<Loaded, Error> {
+    let file = bvh::load_bytes(crate::DEFAULT_MOTION, crate::DEFAULT_MOTION_NAME)?;
+    Ok(Loaded {
+        skeleton: file.skeleton,
+        motion: file.motion,
+        warnings: file.warnings,
+    })
+}
