@@ -9,3 +9,6 @@ $bvhview snapshot assets/walk.bvh --frame 10 --style both --fit --angle 0.6 -o d
 $bvhview snapshot ../shared/oracle/inputs/xsens_seed002_crlf_trail.bvh -o docs/xsens_seed002.png
 $bvhview snapshot ../shared/data/asf_amc/heiden_12.asf --motion ../shared/data/asf_amc/heiden_12_02_01.amc \
     --frame 150 --style sticks --fit --angle 0.5 --size 400x400 -o docs/cmu_walk.png
+# The chapter's side by side: our snapshot and where it differs from the article's own picture.
+$bvhview diff docs/xsens_seed002.png ../shared/oracle/refs/xsens_seed002_crlf_trail__f0__a10__600x600.png \
+    -o docs/xsens_seed002_diff.png

@@ -5,8 +5,12 @@
 //! two can be read side by side: every item that ports an article function starts its docs with
 //! `C++: …`.
 //!
-//! Data flows one way: bytes → [`bvh::loader`] → [`Skeleton`] + [`Motion`] → [`pose`] (forward
-//! kinematics) → export, print, or the writer.
+//! Data flows one way: bytes → [`bvh::loader`] (or [`acclaim`] for ASF/AMC) → [`Skeleton`] +
+//! [`Motion`] → [`pose`] (forward kinematics) → [`render`], [`export`], [`bvh::print`] or
+//! [`bvh::writer`].
+//!
+//! Start with the chapter [`teaching`] (TEACHING.md), which reads the article function by function
+//! beside the items here.
 
 pub mod acclaim;
 pub mod bvh;
@@ -18,6 +22,10 @@ pub mod motion;
 pub mod pose;
 pub mod render;
 pub mod skeleton;
+
+/// The article side by side with this crate: TEACHING.md.
+#[doc = include_str!("../TEACHING.md")]
+pub mod teaching {}
 
 pub use error::Error;
 pub use motion::Motion;

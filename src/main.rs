@@ -114,6 +114,36 @@ enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+    /// Print the GL calls one display() makes for a frame, in C, one per line.
+    Trace {
+        file: PathBuf,
+        #[command(flatten)]
+        source: Source,
+        /// Frame to draw, from 0.
+        #[arg(long, default_value_t = 0)]
+        frame: usize,
+        /// Camera angle around the Y axis in radians (the article starts at 10).
+        #[arg(long, default_value_t = bvhview::render::scene::START_ANGLE, allow_negative_numbers = true)]
+        angle: f32,
+        /// Spheres (the article), the stick figure, or both.
+        #[arg(long, value_enum, default_value_t)]
+        style: Style,
+        /// Frame the skeleton instead of using the article's fixed camera.
+        #[arg(long)]
+        fit: bool,
+        /// How position channels combine with OFFSET.
+        #[arg(long, value_enum, default_value_t)]
+        offset_mode: OffsetMode,
+    },
+    /// Compare two PNG pictures: how many pixels differ (exit 1 if any), and optionally a
+    /// picture of where.
+    Diff {
+        first: PathBuf,
+        second: PathBuf,
+        /// Write the difference: differing pixels red, the rest dimmed.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
     /// Write a file (BVH, or ASF + AMC) as BVH.
     Convert {
         input: PathBuf,
@@ -297,6 +327,59 @@ fn run(cli: Cli) -> Result<(), Error> {
             };
             let image = bvhview::render::snapshot(&loaded.skeleton, &loaded.motion, &options)?;
             image.write_png(&output)
+        }
+        Some(Command::Trace {
+            file,
+            source,
+            frame,
+            angle,
+            style,
+            fit,
+            offset_mode,
+        }) => {
+            use bvhview::render::scene::{self, Scene};
+            use bvhview::render::trace::{Numbers, Recorder};
+            let loaded = load(&file, &source)?;
+            let values = bvhview::render::frame_values(&loaded.motion, frame)?;
+            let camera =
+                bvhview::render::camera_for(&loaded.skeleton, values, angle, fit, offset_mode);
+            let mut recorder = Recorder::new(Numbers::Printf);
+            let view = Scene {
+                skeleton: &loaded.skeleton,
+                frame: values,
+                camera,
+                style,
+                offset_mode,
+            };
+            scene::display(&mut recorder, &view);
+            write_text(&recorder.text())
+        }
+        Some(Command::Diff {
+            first,
+            second,
+            output,
+        }) => {
+            use bvhview::render::Image;
+            let (a, b) = (Image::read_png(&first)?, Image::read_png(&second)?);
+            if (a.width, a.height) != (b.width, b.height) {
+                return Err(Error::Usage(format!(
+                    "the pictures differ in size: {}x{} and {}x{}",
+                    a.width, a.height, b.width, b.height
+                )));
+            }
+            let differing = a.differing_pixels(&b);
+            let total = a.width as usize * a.height as usize;
+            if let Some(path) = &output {
+                a.difference(&b).write_png(path)?;
+            }
+            let percent = differing as f64 * 100.0 / total as f64;
+            write_text(&format!(
+                "{differing} of {total} pixels differ ({percent:.3}%)\n"
+            ))?;
+            if differing > 0 {
+                std::process::exit(1);
+            }
+            Ok(())
         }
         Some(Command::Convert {
             input,

@@ -3,6 +3,7 @@
 //! C++: `float **frameData` (one heap array per frame) and `frameTime`. One flat `Vec<f32>` keeps
 //! the rows contiguous and costs one allocation.
 
+/// C++: `BVH::frameData`, `frameCount` and `frameTime`: the rows of the MOTION section.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Motion {
     /// Seconds per frame, as the file's `Frame Time:` says.
@@ -33,6 +34,18 @@ impl Motion {
     /// The values of frame `index` (C++: `frameData[index]`). Panics if `index` is out of range.
     pub fn frame(&self, index: usize) -> &[f32] {
         &self.data[index * self.channels..(index + 1) * self.channels]
+    }
+
+    /// C++: `BVH::addFrame`: the frame after `current`, back to 0 after the last (the article
+    /// keeps the current frame inside the class; here the caller does).
+    pub fn next_frame(&self, current: usize) -> usize {
+        (current + 1) % self.frames.max(1)
+    }
+
+    /// The frame before `current`, wrapping to the last (the S key; the article has none).
+    pub fn previous_frame(&self, current: usize) -> usize {
+        let count = self.frames.max(1);
+        (current + count - 1) % count
     }
 
     /// Length of the take in seconds.

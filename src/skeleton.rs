@@ -73,11 +73,10 @@ impl fmt::Display for Channel {
     }
 }
 
-/// The order of a joint's three rotation channels: the article's `flags`.
-///
-/// C++: the anonymous `enum { ZYX = 1, YZX = 2, ZXY = 3, XZY = 5, YXZ = 6, XYZ = 7 }`. The article
-/// packs the three axis letters into one number (`getFlags`); the discriminants keep its values so
-/// `print` writes the same digits.
+/// C++: the anonymous `enum { ZYX = 1, YZX = 2, ZXY = 3, XZY = 5, YXZ = 6, XYZ = 7 }` and
+/// `BVHJoint::flags`: the order of a joint's three rotation channels. The article packs the three
+/// axis letters into one number (`getFlags`); the discriminants keep its values so `print` writes
+/// the same digits.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum RotationOrder {
     Zyx = 1,
@@ -142,10 +141,9 @@ impl RotationOrder {
     }
 }
 
-/// A joint or End Site.
-///
-/// C++: `BVHJoint`. `x, y, z` become `offset`; `flags` becomes `channels` (all of them, in file
-/// order) plus `rotation_order`; the child array becomes `children` with no limit.
+/// C++: `class BVHJoint`: a joint or End Site. `x, y, z` become `offset`; `flags` becomes
+/// `channels` (all of them, in file order) plus `rotation_order`; the 16-slot child array becomes
+/// `children` with no limit, and the 24-byte name a `String`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Joint {
     pub name: String,

@@ -17,7 +17,11 @@ use std::path::Path;
 /// Deepest nesting of joints the loader accepts; deeper files are refused, not a stack overflow.
 pub const MAX_DEPTH: usize = 1000;
 
-/// A loaded BVH file.
+/// C++: `class BVH`: a loaded file. The article keeps the loader's state (`p`, `father`,
+/// `currentNode`) and the viewer's (`currentFrame`, `pFrame`) in the same object; here the loader
+/// state lives in a private `Loader` for the length of one load, and the current frame belongs to
+/// whoever shows the file. `clear` and `deleteRecursive` have no counterpart: loading returns a
+/// new value, and dropping it frees every joint.
 #[derive(Clone, Debug, Default)]
 pub struct Bvh {
     pub skeleton: Skeleton,

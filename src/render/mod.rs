@@ -69,6 +69,23 @@ impl Image {
         })
     }
 
+    /// A picture of where two pictures differ: differing pixels red, the others a dim copy.
+    pub fn difference(&self, other: &Image) -> Image {
+        let mut rgb = Vec::with_capacity(self.rgb.len());
+        for (a, b) in self.rgb.chunks_exact(3).zip(other.rgb.chunks_exact(3)) {
+            if a == b {
+                rgb.extend(a.iter().map(|&c| c / 4));
+            } else {
+                rgb.extend([255, 0, 0]);
+            }
+        }
+        Image {
+            width: self.width,
+            height: self.height,
+            rgb,
+        }
+    }
+
     /// Pixels whose RGB differ from `other`'s (the sizes must match).
     pub fn differing_pixels(&self, other: &Image) -> usize {
         assert_eq!(
@@ -140,8 +157,9 @@ pub fn camera_for(
     Camera::framing(center.to_array(), radius, angle)
 }
 
-/// The MOTION row `index`, or `None` (the rest pose) for a take without frames; an index out of
-/// range is an error.
+/// C++: `BVH::setCurrentFrame`: the MOTION row `index`. The article only `assert`s the range
+/// (and its `draw` reads `frameData[0]` even when there are no frames); here an index out of
+/// range is an error, and a take without frames draws its rest pose (`None`).
 pub fn frame_values(motion: &Motion, index: usize) -> Result<Option<&[f32]>, Error> {
     if motion.frame_count() == 0 {
         return if index == 0 {

@@ -86,7 +86,9 @@ pub struct ViewerOptions {
     pub style: Style,
 }
 
-/// Opens the window and runs until it is closed or Esc is pressed.
+/// C++: `main` in main.cpp: a 600×600 window whose display, reshape and keyboard functions are
+/// the article's. GLUT's main loop becomes winit's; the file is loaded by the caller, not in
+/// `init`, so a bad file is reported before any window opens.
 pub fn run(skeleton: &Skeleton, motion: &Motion, options: ViewerOptions) -> Result<(), Error> {
     check_environment()?;
     let event_loop = quietly(EventLoop::new)
@@ -305,9 +307,8 @@ impl Viewer<'_> {
                 self.next_tick = Instant::now() + self.frame_duration();
             }
             Key::Character(text) => match text.to_ascii_lowercase().as_str() {
-                // C++: BVH::addFrame, wrapping at the end.
-                "w" => self.frame = (self.frame + 1) % self.frame_count(),
-                "s" => self.frame = (self.frame + self.frame_count() - 1) % self.frame_count(),
+                "w" => self.frame = self.motion.next_frame(self.frame),
+                "s" => self.frame = self.motion.previous_frame(self.frame),
                 "a" => self.turn(0.1),
                 "d" => self.turn(-0.1),
                 "f" => self.fit = !self.fit,
@@ -404,7 +405,7 @@ impl ApplicationHandler for Viewer<'_> {
             let step = self.frame_duration();
             while self.next_tick <= now {
                 self.next_tick += step;
-                self.frame = (self.frame + 1) % self.frame_count();
+                self.frame = self.motion.next_frame(self.frame);
             }
             if let Some(running) = &self.running {
                 running.window.request_redraw();

@@ -1,0 +1,75 @@
+//! `bvhview trace`: the calls one display() makes, in C with printf's %f.
+
+mod common;
+use common::*;
+use std::process::Command;
+
+fn trace(args: &[&str]) -> String {
+    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("trace")
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// Every number in a line of C, in order.
+fn numbers(line: &str) -> Vec<f64> {
+    line.split(|c: char| !(c.is_ascii_digit() || c == '.' || c == '-' || c == 'e'))
+        .filter(|s| s.chars().any(|c| c.is_ascii_digit()))
+        .map(|s| s.parse().unwrap())
+        .collect()
+}
+
+#[test]
+fn trace_of_tiny_crlf_is_pinned_and_matches_the_articles_calls() {
+    let input = shared()
+        .join("oracle/inputs/tiny_crlf.bvh")
+        .display()
+        .to_string();
+    let ours = trace(&[&input, "--frame", "1"]);
+    let pinned = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/snapshots/trace_tiny_crlf__f1__a10.txt"),
+    )
+    .unwrap();
+    assert_eq!(ours, pinned);
+    assert!(ours.contains("glPushMatrix();\nglTranslatef(5.000000, 30.000000, -3.000000);\n"));
+    assert!(ours.contains("glutSolidSphere(1.000000, 20, 16);\n"));
+
+    // The article's own trace (apitrace) from display()'s glClear on: same calls, same numbers.
+    let article =
+        std::fs::read_to_string(shared().join("oracle/trace/tiny_crlf__f1__a10.txt")).unwrap();
+    let display: Vec<&str> = article
+        .lines()
+        .skip_while(|l| !l.starts_with("glClear("))
+        .collect();
+    let ours: Vec<&str> = ours.lines().collect();
+    assert_eq!(ours.len(), display.len());
+    for (a, b) in ours.iter().zip(&display) {
+        assert_eq!(a.split('(').next(), b.split('(').next());
+        let (x, y) = (numbers(a), numbers(b));
+        assert_eq!(x.len(), y.len(), "{a} / {b}");
+        for (p, q) in x.iter().zip(&y) {
+            assert!((p - q).abs() <= 5.1e-7, "{a} / {b}");
+        }
+    }
+}
+
+#[test]
+fn trace_follows_the_frame_and_the_style() {
+    let input = shared()
+        .join("oracle/inputs/tiny_crlf.bvh")
+        .display()
+        .to_string();
+    let frame0 = trace(&[&input, "--frame", "0"]);
+    assert!(frame0.contains("glTranslatef(0.000000, 30.000000, 0.000000);\n"));
+    let sticks = trace(&[&input, "--frame", "0", "--style", "sticks"]);
+    assert!(!sticks.contains("glutSolidSphere"));
+    assert!(sticks.contains("glDisable(GL_LIGHTING);\nglBegin(GL_LINES);\n"));
+}
