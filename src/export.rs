@@ -2,7 +2,7 @@
 
 use crate::error::Error;
 use crate::motion::Motion;
-use crate::pose::{OffsetMode, world_matrices};
+use crate::pose::{FkPlan, FkScratch, OffsetMode, world_matrices};
 use crate::skeleton::Skeleton;
 use std::io::{self, Write};
 use std::ops::Range;
@@ -68,6 +68,9 @@ pub fn parse_frames(text: &str, frame_count: usize) -> Result<Range<usize>, Erro
     Ok(range)
 }
 
+/// Frames formatted per block; blocks go to the cores in turn and are written in order.
+const BLOCK: usize = 2048;
+
 /// Writes the positions of `frames` (indices into `motion`; for a take without frames, pass
 /// `0..1` to get the rest pose).
 pub fn write_positions<W: Write>(
@@ -78,63 +81,110 @@ pub fn write_positions<W: Write>(
     options: &PositionsOptions,
 ) -> io::Result<()> {
     let points = skeleton.export_points();
-    let names: Vec<&String> = points.iter().map(|(name, _)| name).collect();
-    let scale = options.scale;
-    let mut matrices = Vec::new();
-    let mut line = String::new();
-    let z_sign = if options.left_handed { -1.0 } else { 1.0 };
     match options.format {
         Format::Csv => writeln!(out, "frame,joint,x,y,z")?,
         Format::Json => {
             write!(out, "{{\"frame_time\":{},\"joints\":[", motion.frame_time)?;
-            for (i, name) in names.iter().enumerate() {
+            for (i, (name, _)) in points.iter().enumerate() {
                 let comma = if i > 0 { "," } else { "" };
                 write!(out, "{comma}{}", json_string(name))?;
             }
             write!(out, "],\"frames\":[")?;
         }
     }
-    for (n, frame) in frames.enumerate() {
-        let values: &[f32] = if motion.frame_count() == 0 {
-            &[]
-        } else {
-            motion.frame(frame)
-        };
-        world_matrices(skeleton, values, options.offset_mode, &mut matrices);
-        line.clear();
-        match options.format {
-            Format::Csv => {
-                for (name, &(_, joint)) in names.iter().zip(&points) {
-                    let p = matrices[joint].w_axis * scale;
-                    use std::fmt::Write as _;
-                    let _ = writeln!(
-                        line,
-                        "{frame},{},{},{},{}",
-                        csv_field(name),
-                        p.x,
-                        p.y,
-                        p.z * z_sign
-                    );
-                }
-            }
-            Format::Json => {
-                use std::fmt::Write as _;
-                let comma = if n > 0 { "," } else { "" };
-                let _ = write!(line, "{comma}{{\"frame\":{frame},\"positions\":[");
-                for (i, &(_, joint)) in points.iter().enumerate() {
-                    let p = matrices[joint].w_axis * scale;
-                    let comma = if i > 0 { "," } else { "" };
-                    let _ = write!(line, "{comma}[{},{},{}]", p.x, p.y, p.z * z_sign);
-                }
-                line.push_str("]}");
-            }
+    let names: Vec<String> = points.iter().map(|(name, _)| csv_field(name)).collect();
+    let plan = FkPlan::new(skeleton, options.offset_mode);
+    let threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .clamp(1, 8);
+    let first = frames.start;
+    let mut start = frames.start;
+    while start < frames.end {
+        // One round: a block per core, formatted in parallel, written in order.
+        let blocks: Vec<Range<usize>> = (0..threads)
+            .map(|k| (start + k * BLOCK).min(frames.end)..(start + (k + 1) * BLOCK).min(frames.end))
+            .filter(|r| !r.is_empty())
+            .collect();
+        start = blocks.last().map_or(frames.end, |r| r.end);
+        let texts: Vec<String> = std::thread::scope(|scope| {
+            let handles: Vec<_> = blocks
+                .iter()
+                .map(|block| {
+                    let (plan, names, points) = (&plan, &names, &points);
+                    scope.spawn(move || {
+                        format_block(
+                            skeleton,
+                            plan,
+                            names,
+                            points,
+                            motion,
+                            block.clone(),
+                            first,
+                            options,
+                        )
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| h.join().expect("a formatting thread panicked"))
+                .collect()
+        });
+        for text in &texts {
+            out.write_all(text.as_bytes())?;
         }
-        out.write_all(line.as_bytes())?;
     }
     if options.format == Format::Json {
         writeln!(out, "]}}")?;
     }
     Ok(())
+}
+
+/// The text of `frames`: CSV rows, or JSON frame objects (comma-led except the very first).
+#[allow(clippy::too_many_arguments)]
+fn format_block(
+    skeleton: &Skeleton,
+    plan: &FkPlan,
+    names: &[String],
+    points: &[(String, usize)],
+    motion: &Motion,
+    frames: Range<usize>,
+    first: usize,
+    options: &PositionsOptions,
+) -> String {
+    use std::fmt::Write as _;
+    let mut text = String::with_capacity(frames.len() * points.len() * 32);
+    let (mut positions, mut scratch, mut matrices) = (Vec::new(), FkScratch::default(), Vec::new());
+    let z_sign = if options.left_handed { -1.0 } else { 1.0 };
+    let scale = options.scale;
+    for frame in frames {
+        if motion.frame_count() == 0 {
+            // The rest pose: OFFSETs only.
+            world_matrices(skeleton, &[], options.offset_mode, &mut matrices);
+            positions = matrices.iter().map(|m| m.w_axis.truncate()).collect();
+        } else {
+            plan.positions(motion.frame(frame), &mut positions, &mut scratch);
+        }
+        match options.format {
+            Format::Csv => {
+                for (name, &(_, joint)) in names.iter().zip(points) {
+                    let p = positions[joint] * scale;
+                    let _ = writeln!(text, "{frame},{name},{},{},{}", p.x, p.y, p.z * z_sign);
+                }
+            }
+            Format::Json => {
+                let comma = if frame > first { "," } else { "" };
+                let _ = write!(text, "{comma}{{\"frame\":{frame},\"positions\":[");
+                for (i, &(_, joint)) in points.iter().enumerate() {
+                    let p = positions[joint] * scale;
+                    let comma = if i > 0 { "," } else { "" };
+                    let _ = write!(text, "{comma}[{},{},{}]", p.x, p.y, p.z * z_sign);
+                }
+                text.push_str("]}");
+            }
+        }
+    }
+    text
 }
 
 /// Quotes a CSV field only when it needs it (names with ',' or '"').

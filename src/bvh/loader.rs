@@ -8,6 +8,7 @@
 //! [`Error::Parse`] with the line and column of the offending token instead of a crash or a tree
 //! built from garbage.
 
+use super::rows::{CHUNK, RowParser, last_line_end, parse_number};
 use crate::error::{Error, line_column};
 use crate::motion::Motion;
 use crate::skeleton::{Channel, Joint, RotationOrder, Skeleton};
@@ -30,35 +31,156 @@ pub struct Bvh {
     pub warnings: Vec<String>,
 }
 
-/// C++: `BVH::loadFile`. Reads the whole file, then parses it; see [`load_bytes`].
+/// C++: `BVH::loadFile`. The hierarchy is read into memory; the MOTION rows are streamed in
+/// chunks and parsed on every core (see [`super::rows`]), so the file is never held whole.
 pub fn load_file(path: &Path) -> Result<Bvh, Error> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
-    load_bytes(&bytes, &path.display().to_string())
+    use std::io::Read;
+    let io_error = |e| Error::io(path, e);
+    let mut file = std::fs::File::open(path).map_err(io_error)?;
+    let length = file.metadata().map_err(io_error)?.len();
+    let source = path.display().to_string();
+    let mut head = Vec::new();
+    // Read until the line with `Frame Time` has ended, or the file has.
+    let rows_start = loop {
+        let before = head.len();
+        head.resize(before + 64 * 1024, 0);
+        let read = file.read(&mut head[before..]).map_err(io_error)?;
+        head.truncate(before + read);
+        if read == 0 {
+            return load_bytes(&head, &source);
+        }
+        if let Some(end) = header_end(&head) {
+            break end;
+        }
+    };
+    let mut loader = Loader::new(&head[..rows_start], &source);
+    let header = match loader.load() {
+        Ok(header) => header,
+        // Something in the hierarchy looked like the motion header: read it all the slow way.
+        Err(_) => {
+            let mut all = head;
+            file.read_to_end(&mut all).map_err(io_error)?;
+            return load_bytes(&all, &source);
+        }
+    };
+    let Header::Motion {
+        frames,
+        frame_time,
+        frames_line,
+    } = header
+    else {
+        unreachable!("the header was cut after its Frame Time line");
+    };
+    let start = line_column(&head, rows_start);
+    let mut rows = RowParser::new(
+        &source,
+        frames,
+        loader.channel_count,
+        frames_line,
+        start,
+        length.saturating_sub(rows_start as u64),
+    );
+    // The hierarchy stays with the loader; the rows already read start the stream. One buffer
+    // is filled, cut after its last line end, parsed, and the rest moved to its front.
+    let carry = &head[rows_start..];
+    let mut buffer = vec![0u8; (CHUNK + CHUNK / 4).max(carry.len() * 2)];
+    buffer[..carry.len()].copy_from_slice(carry);
+    let mut filled = carry.len();
+    loop {
+        let mut end_of_file = false;
+        while filled < CHUNK.min(buffer.len()) {
+            let read = file.read(&mut buffer[filled..]).map_err(io_error)?;
+            if read == 0 {
+                end_of_file = true;
+                break;
+            }
+            filled += read;
+        }
+        if end_of_file {
+            rows.feed(&buffer[..filled])?;
+            break;
+        }
+        match last_line_end(&buffer[..filled]) {
+            Some(cut) => {
+                rows.feed(&buffer[..cut])?;
+                buffer.copy_within(cut..filled, 0);
+                filled -= cut;
+            }
+            // A line longer than the buffer: make room and read on.
+            None => buffer.resize(buffer.len() * 2, 0),
+        }
+    }
+    let (data, mut warnings) = rows.finish()?;
+    let mut bvh = loader.finish(frames, frame_time, data);
+    bvh.warnings.append(&mut warnings);
+    Ok(bvh)
+}
+
+/// Where the rows begin: the line end after the first `Frame Time` that follows `MOTION`.
+fn header_end(head: &[u8]) -> Option<usize> {
+    let find = |needle: &[u8], from: usize| {
+        head.get(from..)?
+            .windows(needle.len())
+            .position(|w| w.eq_ignore_ascii_case(needle))
+            .map(|i| i + from)
+    };
+    let motion = find(b"MOTION", 0)?;
+    let time = find(b"Frame Time", motion)?;
+    let end = head[time..]
+        .iter()
+        .position(|&b| b == b'\n' || b == b'\r')?
+        + time;
+    // The value may be followed by spaces before the line end; the loader stops at them.
+    let mut start = end;
+    while start > time && matches!(head[start - 1], b' ' | b'\t') {
+        start -= 1;
+    }
+    Some(start)
 }
 
 /// Parses BVH text. `source` names the input in error messages (`source:line:column: …`).
 pub fn load_bytes(text: &[u8], source: &str) -> Result<Bvh, Error> {
-    let mut loader = Loader {
-        text,
-        p: 0,
-        source,
-        joints: Vec::new(),
-        has_offset: Vec::new(),
-        father: Vec::new(),
-        current_node: None,
-        awaiting_brace: None,
-        channel_count: 0,
-        warnings: Vec::new(),
+    let mut loader = Loader::new(text, source);
+    let (frames, frame_time, frames_line) = match loader.load()? {
+        Header::NoMotion => return Ok(loader.finish(0, 0.0, Vec::new())),
+        Header::Motion {
+            frames,
+            frame_time,
+            frames_line,
+        } => (frames, frame_time, frames_line),
     };
-    let motion = loader.load()?;
-    Ok(Bvh {
-        skeleton: Skeleton {
-            joints: loader.joints,
-            ..Skeleton::default()
-        },
-        motion,
-        warnings: loader.warnings,
-    })
+    let start = loader.p;
+    let mut rows = RowParser::new(
+        source,
+        frames,
+        loader.channel_count,
+        frames_line,
+        line_column(text, start),
+        (text.len() - start) as u64,
+    );
+    let mut rest = &text[start..];
+    while rest.len() > CHUNK {
+        let cut = last_line_end(&rest[..CHUNK]).unwrap_or(rest.len());
+        rows.feed(&rest[..cut])?;
+        rest = &rest[cut..];
+    }
+    rows.feed(rest)?;
+    let (data, mut warnings) = rows.finish()?;
+    let mut bvh = loader.finish(frames, frame_time, data);
+    bvh.warnings.append(&mut warnings);
+    Ok(bvh)
+}
+
+/// How the hierarchy part ended.
+enum Header {
+    /// The file ends after the hierarchy: a skeleton without frames.
+    NoMotion,
+    /// `Frames:` and `Frame Time:` were read; the rows start at the loader's position.
+    Motion {
+        frames: u64,
+        frame_time: f64,
+        frames_line: usize,
+    },
 }
 
 /// A word of the file and the byte offset where it starts.
@@ -98,14 +220,6 @@ fn describe(token: Option<Token<'_>>) -> String {
     }
 }
 
-/// Parses one number as the article does (`(float)atof(p)`: read as a double, then rounded to a
-/// float), but refuses anything that is not entirely a finite number.
-pub(crate) fn parse_number(text: &[u8]) -> Option<f32> {
-    let value: f64 = std::str::from_utf8(text).ok()?.parse().ok()?;
-    let value = value as f32;
-    value.is_finite().then_some(value)
-}
-
 struct Loader<'a> {
     text: &'a [u8],
     /// C++: `unsigned char *p`, the read position.
@@ -124,6 +238,34 @@ struct Loader<'a> {
 }
 
 impl<'a> Loader<'a> {
+    fn new(text: &'a [u8], source: &'a str) -> Loader<'a> {
+        Loader {
+            text,
+            p: 0,
+            source,
+            joints: Vec::new(),
+            has_offset: Vec::new(),
+            father: Vec::new(),
+            current_node: None,
+            awaiting_brace: None,
+            channel_count: 0,
+            warnings: Vec::new(),
+        }
+    }
+
+    /// The loaded file, once its rows are read.
+    fn finish(self, frames: u64, frame_time: f64, data: Vec<f32>) -> Bvh {
+        let motion = Motion::new(frame_time, self.channel_count, frames as usize, data);
+        Bvh {
+            skeleton: Skeleton {
+                joints: self.joints,
+                ..Skeleton::default()
+            },
+            motion,
+            warnings: self.warnings,
+        }
+    }
+
     fn error_at(&self, offset: usize, message: String) -> Error {
         let (line, column) = line_column(self.text, offset);
         Error::Parse {
@@ -256,7 +398,7 @@ impl<'a> Loader<'a> {
     /// then the motion. The article treats ROOT apart (it skips to fixed offsets for its OFFSET
     /// and assumes three position channels first); here ROOT is a joint like the others, so
     /// position channels may sit on any joint, in any order, and a root written `JOINT` loads.
-    fn load(&mut self) -> Result<Motion, Error> {
+    fn load(&mut self) -> Result<Header, Error> {
         if self.text.starts_with(b"\xEF\xBB\xBF") {
             self.p = 3;
         }
@@ -280,7 +422,7 @@ impl<'a> Loader<'a> {
                     }
                     None if self.joints.is_empty() => Err(self.expected("ROOT", None)),
                     // A hierarchy without a MOTION section: a skeleton with zero frames.
-                    None => Ok(Motion::new(0.0, self.channel_count, 0, Vec::new())),
+                    None => Ok(Header::NoMotion),
                 };
             };
             let in_end_site = self.open_joint().is_some_and(|j| self.joints[j].end_site);
@@ -441,7 +583,7 @@ impl<'a> Loader<'a> {
     /// the file holds; here the allocation is bounded by what the rest of the file could hold,
     /// each row must be one line with exactly one value per channel, a file that ends early is an
     /// error, and rows beyond the count are ignored with a warning.
-    fn load_motion(&mut self) -> Result<Motion, Error> {
+    fn load_motion(&mut self) -> Result<Header, Error> {
         self.label("Frames", "'Frames:'")?;
         let frames_token = self.token();
         let frames: u64 = match frames_token
@@ -469,14 +611,11 @@ impl<'a> Loader<'a> {
         };
         self.finish_line("end of line after the frame time")?;
         let (frames_line, _) = line_column(self.text, frames_at);
-        let data = self.read_rows(frames, frames_line)?;
-        let frame_count = frames as usize;
-        Ok(Motion::new(
+        Ok(Header::Motion {
+            frames,
             frame_time,
-            self.channel_count,
-            frame_count,
-            data,
-        ))
+            frames_line,
+        })
     }
 
     /// Requires that nothing but spaces follows on the current line.
@@ -487,109 +626,6 @@ impl<'a> Loader<'a> {
         if self.p < self.text.len() && !is_line_end(self.text[self.p]) {
             let token = self.peek_token();
             return Err(self.expected(what, token));
-        }
-        Ok(())
-    }
-
-    /// Reads `frames` rows of `channel_count` values, one row per line.
-    fn read_rows(&mut self, frames: u64, frames_line: usize) -> Result<Vec<f32>, Error> {
-        let width = self.channel_count;
-        let remaining = (self.text.len() - self.p) as u64;
-        if width == 0 {
-            // No columns: rows are empty lines and cannot be counted reliably; the count may not
-            // exceed the lines left, so a huge count cannot make the caller loop for ever.
-            let lines_left = self.text[self.p..]
-                .iter()
-                .filter(|&&b| b == b'\n' || b == b'\r')
-                .count() as u64;
-            if frames > lines_left {
-                return Err(self.error_at(
-                    self.text.len(),
-                    format!(
-                        "Frames: {frames} (line {frames_line}) but only {lines_left} lines follow"
-                    ),
-                ));
-            }
-            return Ok(Vec::new());
-        }
-        // Each value takes at least two bytes ("0 "), so no more than this can be in the file.
-        let possible_values = remaining / 2 + 1;
-        let wanted = frames.saturating_mul(width as u64);
-        let mut data = Vec::with_capacity(wanted.min(possible_values) as usize);
-        for frame in 0..frames {
-            self.skip_space();
-            if self.p == self.text.len() {
-                return Err(self.error_at(
-                    self.p,
-                    format!(
-                        "expected {frames} frames as Frames: says (line {frames_line}), \
-                         found {frame}: the file ends"
-                    ),
-                ));
-            }
-            self.read_row(frame, width, &mut data)?;
-        }
-        self.skip_space();
-        if self.p < self.text.len() {
-            let (line, _) = line_column(self.text, self.p);
-            let extra = self.text[self.p..]
-                .split(|&b| b == b'\n' || b == b'\r')
-                .filter(|row| !row.trim_ascii().is_empty())
-                .count();
-            let rows = if extra == 1 { "row" } else { "rows" };
-            self.warnings.push(format!(
-                "{extra} extra {rows} after the {frames} announced by Frames: (line {frames_line}) \
-                 ignored, from line {line} on"
-            ));
-        }
-        Ok(data)
-    }
-
-    /// One MOTION row: exactly `width` numbers on one line.
-    fn read_row(&mut self, frame: u64, width: usize, data: &mut Vec<f32>) -> Result<(), Error> {
-        let text = self.text;
-        let mut count = 0;
-        loop {
-            while self.p < text.len() && matches!(text[self.p], b' ' | b'\t' | 0x0B | 0x0C) {
-                self.p += 1;
-            }
-            if self.p == text.len() || is_line_end(text[self.p]) {
-                break;
-            }
-            let start = self.p;
-            while self.p < text.len() && !is_space(text[self.p]) {
-                self.p += 1;
-            }
-            let word = &text[start..self.p];
-            if count == width {
-                return Err(self.error_at(
-                    start,
-                    format!(
-                        "frame {} has more than the {width} values the channels need",
-                        frame + 1
-                    ),
-                ));
-            }
-            match parse_number(word) {
-                Some(value) => data.push(value),
-                None => {
-                    let found = Token {
-                        text: word,
-                        at: start,
-                    };
-                    return Err(self.expected("a finite number", Some(found)));
-                }
-            }
-            count += 1;
-        }
-        if count < width {
-            return Err(self.error_at(
-                self.p,
-                format!(
-                    "frame {} has {count} values, expected {width} (one per channel)",
-                    frame + 1
-                ),
-            ));
         }
         Ok(())
     }

@@ -2,6 +2,7 @@
 
 pub mod loader;
 pub mod print;
+pub mod rows;
 pub mod writer;
 
 pub use loader::{Bvh, load_bytes, load_file};

@@ -1,0 +1,139 @@
+//! `cargo run --release -p bvhview-bench -- BIG.bvh [--quick]`: throughput of loading (bvhview
+//! and bvh_anim 0.4 on the same bytes), forward kinematics, CSV export and offscreen drawing.
+
+use std::time::{Duration, Instant};
+
+/// The fastest of `runs` timings of `f` (the least disturbed by the rest of the machine).
+fn best<T>(runs: usize, mut f: impl FnMut() -> T) -> (Duration, T) {
+    let mut fastest = Duration::MAX;
+    let mut last = None;
+    for _ in 0..runs {
+        let start = Instant::now();
+        let value = f();
+        fastest = fastest.min(start.elapsed());
+        last = Some(value);
+    }
+    (fastest, last.expect("at least one run"))
+}
+
+fn mb_per_s(bytes: usize, time: Duration) -> f64 {
+    bytes as f64 / 1e6 / time.as_secs_f64()
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let Some(path) = args.iter().find(|a| !a.starts_with("--")) else {
+        eprintln!(
+            "usage: bvhview-bench BIG.bvh [--quick]   (make one: cargo run --release --example make_big -- SOURCE.bvh BIG.bvh 100)"
+        );
+        std::process::exit(2);
+    };
+    let quick = args.iter().any(|a| a == "--quick");
+    let runs = if quick { 2 } else { 7 };
+    let bytes = std::fs::read(path).expect("the file reads");
+    let size = bytes.len();
+    println!(
+        "file: {path} ({:.1} MB), {} cores",
+        size as f64 / 1e6,
+        std::thread::available_parallelism().map_or(1, |n| n.get())
+    );
+
+    // Loading.
+    let (t_file, bvh) = best(runs, || {
+        bvhview::bvh::load_file(std::path::Path::new(path)).expect("loads")
+    });
+    let (t_bytes, _) = best(runs, || {
+        bvhview::bvh::load_bytes(&bytes, path).expect("loads")
+    });
+    let joints = bvh.skeleton.joints.len();
+    let frames = bvh.motion.frame_count();
+    println!(
+        "load_file   (from the page cache): {:8.1} ms  {:7.1} MB/s",
+        t_file.as_secs_f64() * 1e3,
+        mb_per_s(size, t_file)
+    );
+    println!(
+        "load_bytes  (from memory):         {:8.1} ms  {:7.1} MB/s",
+        t_bytes.as_secs_f64() * 1e3,
+        mb_per_s(size, t_bytes)
+    );
+    let text = std::str::from_utf8(&bytes).expect("UTF-8");
+    let anim_runs = if quick { 1 } else { 3 };
+    let (t_anim, anim) = best(anim_runs, || {
+        bvh_anim::from_str(text).expect("bvh_anim loads")
+    });
+    println!(
+        "bvh_anim 0.4 from_str:             {:8.1} ms  {:7.1} MB/s",
+        t_anim.as_secs_f64() * 1e3,
+        mb_per_s(size, t_anim)
+    );
+    drop(anim);
+    println!(
+        "bvhview / bvh_anim:                {:8.1}x",
+        t_anim.as_secs_f64() / t_file.as_secs_f64()
+    );
+
+    // Forward kinematics: world position of every joint on every frame.
+    let (t_fk, checksum) = best(runs, || {
+        bvhview::pose::positions_all_frames(
+            &bvh.skeleton,
+            &bvh.motion,
+            bvhview::pose::OffsetMode::Replace,
+        )
+    });
+    let transforms = joints * frames;
+    println!(
+        "FK, all frames:                    {:8.1} ms  {:7.1} M joint transforms/s ({joints} joints × {frames} frames, checksum {checksum:.3})",
+        t_fk.as_secs_f64() * 1e3,
+        transforms as f64 / 1e6 / t_fk.as_secs_f64()
+    );
+
+    // CSV export to memory.
+    let options = bvhview::export::PositionsOptions::default();
+    let (t_csv, written) = best(runs.min(3), || {
+        let mut out = Vec::with_capacity(1 << 30);
+        bvhview::export::write_positions(&mut out, &bvh.skeleton, &bvh.motion, 0..frames, &options)
+            .expect("writes");
+        out.len()
+    });
+    println!(
+        "positions CSV:                     {:8.1} ms  {:7.1} MB/s of output ({:.0} MB)",
+        t_csv.as_secs_f64() * 1e3,
+        mb_per_s(written, t_csv),
+        written as f64 / 1e6
+    );
+
+    // Drawing, offscreen at the article's 600×600.
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/bvh");
+    for (name, file) in [
+        ("CMU 31 joints", "assimp_01_01.bvh"),
+        ("MakeHuman 173 joints", "makehuman_tpose.bvh"),
+    ] {
+        let rig = match bvhview::bvh::load_file(&data.join(file)) {
+            Ok(rig) => rig,
+            Err(e) => {
+                println!("draw {name}: skipped ({e})");
+                continue;
+            }
+        };
+        let mut renderer =
+            bvhview::render::Renderer::new(600, 600).expect("OSMesa (apt-get install libosmesa6)");
+        let frames = rig.motion.frame_count();
+        let draws = if quick { 5 } else { 30 };
+        let start = Instant::now();
+        for i in 0..draws {
+            let options = bvhview::render::SnapshotOptions {
+                frame: i % frames,
+                ..Default::default()
+            };
+            renderer
+                .render(&rig.skeleton, &rig.motion, &options)
+                .expect("draws");
+        }
+        let per = start.elapsed() / draws as u32;
+        println!(
+            "draw + read back, 600×600, {name}: {:6.2} ms per frame",
+            per.as_secs_f64() * 1e3
+        );
+    }
+}
