@@ -106,7 +106,7 @@ pub fn write_positions<W: Write>(
             .filter(|r| !r.is_empty())
             .collect();
         start = blocks.last().map_or(frames.end, |r| r.end);
-        let texts: Vec<String> = std::thread::scope(|scope| {
+        let texts: Vec<Vec<u8>> = std::thread::scope(|scope| {
             let handles: Vec<_> = blocks
                 .iter()
                 .map(|block| {
@@ -131,13 +131,20 @@ pub fn write_positions<W: Write>(
                 .collect()
         });
         for text in &texts {
-            out.write_all(text.as_bytes())?;
+            out.write_all(text)?;
         }
     }
     if options.format == Format::Json {
         writeln!(out, "]}}")?;
     }
     Ok(())
+}
+
+/// Appends a float in its shortest form that reads back to the same value (`ryu`), without
+/// ryu's `.0` on whole numbers, so 30 prints as `30`.
+fn push_float(text: &mut Vec<u8>, buffer: &mut ryu::Buffer, value: f32) {
+    let printed = buffer.format(value);
+    text.extend_from_slice(printed.strip_suffix(".0").unwrap_or(printed).as_bytes());
 }
 
 /// The text of `frames`: CSV rows, or JSON frame objects (comma-led except the very first).
@@ -151,9 +158,9 @@ fn format_block(
     frames: Range<usize>,
     first: usize,
     options: &PositionsOptions,
-) -> String {
-    use std::fmt::Write as _;
-    let mut text = String::with_capacity(frames.len() * points.len() * 32);
+) -> Vec<u8> {
+    let mut text = Vec::with_capacity(frames.len() * points.len() * 40);
+    let mut buffer = ryu::Buffer::new();
     let (mut positions, mut scratch, mut matrices) = (Vec::new(), FkScratch::default(), Vec::new());
     let z_sign = if options.left_handed { -1.0 } else { 1.0 };
     let scale = options.scale;
@@ -165,22 +172,41 @@ fn format_block(
         } else {
             plan.positions(motion.frame(frame), &mut positions, &mut scratch);
         }
+        let frame_number = frame.to_string();
         match options.format {
             Format::Csv => {
                 for (name, &(_, joint)) in names.iter().zip(points) {
                     let p = positions[joint] * scale;
-                    let _ = writeln!(text, "{frame},{name},{},{},{}", p.x, p.y, p.z * z_sign);
+                    text.extend_from_slice(frame_number.as_bytes());
+                    text.push(b',');
+                    text.extend_from_slice(name.as_bytes());
+                    for value in [p.x, p.y, p.z * z_sign] {
+                        text.push(b',');
+                        push_float(&mut text, &mut buffer, value);
+                    }
+                    text.push(b'\n');
                 }
             }
             Format::Json => {
-                let comma = if frame > first { "," } else { "" };
-                let _ = write!(text, "{comma}{{\"frame\":{frame},\"positions\":[");
+                if frame > first {
+                    text.push(b',');
+                }
+                text.extend_from_slice(format!("{{\"frame\":{frame},\"positions\":[").as_bytes());
                 for (i, &(_, joint)) in points.iter().enumerate() {
                     let p = positions[joint] * scale;
-                    let comma = if i > 0 { "," } else { "" };
-                    let _ = write!(text, "{comma}[{},{},{}]", p.x, p.y, p.z * z_sign);
+                    if i > 0 {
+                        text.push(b',');
+                    }
+                    text.push(b'[');
+                    for (k, value) in [p.x, p.y, p.z * z_sign].into_iter().enumerate() {
+                        if k > 0 {
+                            text.push(b',');
+                        }
+                        push_float(&mut text, &mut buffer, value);
+                    }
+                    text.push(b']');
                 }
-                text.push_str("]}");
+                text.extend_from_slice(b"]}");
             }
         }
     }

@@ -24,6 +24,21 @@ fn extension(path: &Path) -> String {
 /// Loads `path` (`.bvh`, or `.asf` with `motion` an `.amc`). `frame_time` overrides the file's
 /// (AMC has none: CMU's 120 Hz is the default).
 pub fn load(path: &Path, motion: Option<&Path>, frame_time: Option<f64>) -> Result<Loaded, Error> {
+    load_with_threads(
+        path,
+        motion,
+        frame_time,
+        std::thread::available_parallelism().map_or(1, |n| n.get()),
+    )
+}
+
+/// [`load`] parsing a BVH on at most `threads` threads.
+pub fn load_with_threads(
+    path: &Path,
+    motion: Option<&Path>,
+    frame_time: Option<f64>,
+    threads: usize,
+) -> Result<Loaded, Error> {
     if let Some(time) = frame_time
         && !(time.is_finite() && time > 0.0)
     {
@@ -67,7 +82,7 @@ pub fn load(path: &Path, motion: Option<&Path>, frame_time: Option<f64>) -> Resu
                     amc.display()
                 )));
             }
-            let mut file = bvh::load_file(path)?;
+            let mut file = bvh::loader::load_file_with_threads(path, threads)?;
             if let Some(time) = frame_time {
                 file.motion.frame_time = time;
             }

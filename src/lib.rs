@@ -13,6 +13,7 @@
 //! beside the items here.
 
 pub mod acclaim;
+pub mod batch;
 pub mod bvh;
 pub mod error;
 pub mod export;

@@ -54,9 +54,10 @@ enum Command {
         #[command(flatten)]
         source: Source,
     },
-    /// Summarise a file: joints, channels, frames, timing, rotation orders, warnings.
+    /// Summarise a file (joints, channels, frames, timing, rotation orders, warnings), or every
+    /// BVH and ASF/AMC under a folder, one line each, on all cores.
     Info {
-        /// The file (default: the bundled walk).
+        /// The file or folder (default: the bundled walk).
         file: Option<PathBuf>,
         #[command(flatten)]
         source: Source,
@@ -93,8 +94,11 @@ enum Command {
         #[command(flatten)]
         source: Source,
         /// Frame to draw, from 0.
-        #[arg(long, default_value_t = 0)]
+        #[arg(long, default_value_t = 0, conflicts_with = "frames")]
         frame: usize,
+        /// A sequence instead: N, A..B, A..=B, A.. or ..B, written as OUT/frame_NNNNN.png.
+        #[arg(long)]
+        frames: Option<String>,
         /// Camera angle around the Y axis in radians (the article starts at 10).
         #[arg(long, default_value_t = bvhview::render::scene::START_ANGLE, allow_negative_numbers = true)]
         angle: f32,
@@ -110,7 +114,7 @@ enum Command {
         /// How position channels combine with OFFSET.
         #[arg(long, value_enum, default_value_t)]
         offset_mode: OffsetMode,
-        /// The PNG to write.
+        /// The PNG to write (with --frames: the folder to write into, created if missing).
         #[arg(short, long)]
         output: PathBuf,
     },
@@ -227,6 +231,66 @@ fn write_text(text: &str) -> Result<(), Error> {
     )
 }
 
+/// `bvhview info DIR`: one line per file, in path order, a progress bar on a terminal, and a
+/// summary. Exits 2 if any file failed.
+fn batch(dir: &Path) -> Result<(), Error> {
+    use std::io::IsTerminal;
+    let started = std::time::Instant::now();
+    let items = bvhview::batch::collect(dir)?;
+    if items.is_empty() {
+        return Err(Error::Usage(format!(
+            "{}: no .bvh, .asf or .amc files",
+            dir.display()
+        )));
+    }
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let progress = io::stderr().is_terminal();
+    let outcomes = bvhview::batch::run(items, threads, |outcome, finished, total| {
+        let line = match &outcome.result {
+            Ok(text) => {
+                let name = match &outcome.item.motion {
+                    Some(amc) => format!("{} + {}", outcome.item.path.display(), amc.display()),
+                    None => outcome.item.path.display().to_string(),
+                };
+                format!("ok     {name}: {text}")
+            }
+            Err(error) => format!("error  {error}"),
+        };
+        if progress {
+            eprint!("\r\x1b[2K");
+        }
+        let mut out = io::stdout().lock();
+        let _ = writeln!(out, "{line}");
+        let _ = out.flush();
+        if progress {
+            let width = 30;
+            let filled = finished * width / total.max(1);
+            eprint!(
+                "\r[{}{}] {finished}/{total}",
+                "#".repeat(filled),
+                "-".repeat(width - filled)
+            );
+        }
+    });
+    if progress {
+        eprint!("\r\x1b[2K");
+    }
+    let failed = outcomes.iter().filter(|o| o.result.is_err()).count();
+    let bytes: u64 = outcomes.iter().map(|o| o.bytes).sum();
+    let seconds = started.elapsed().as_secs_f64();
+    println!(
+        "{} files: {} ok, {failed} failed; {:.1} MB in {seconds:.2} s ({:.0} MB/s)",
+        outcomes.len(),
+        outcomes.len() - failed,
+        bytes as f64 / 1e6,
+        bytes as f64 / 1e6 / seconds.max(1e-9)
+    );
+    if failed > 0 {
+        std::process::exit(2);
+    }
+    Ok(())
+}
+
 fn run(cli: Cli) -> Result<(), Error> {
     match cli.command {
         None => {
@@ -247,6 +311,9 @@ fn run(cli: Cli) -> Result<(), Error> {
             let loaded = load(&file, &source)?;
             write_text(&bvhview::bvh::print::print(&loaded.skeleton))
         }
+        Some(Command::Info {
+            file: Some(dir), ..
+        }) if dir.is_dir() => batch(&dir),
         Some(Command::Info {
             file,
             source,
@@ -308,6 +375,7 @@ fn run(cli: Cli) -> Result<(), Error> {
             file,
             source,
             frame,
+            frames,
             angle,
             size,
             style,
@@ -325,8 +393,24 @@ fn run(cli: Cli) -> Result<(), Error> {
                 fit,
                 offset_mode,
             };
-            let image = bvhview::render::snapshot(&loaded.skeleton, &loaded.motion, &options)?;
-            image.write_png(&output)
+            let Some(frames) = frames else {
+                let image = bvhview::render::snapshot(&loaded.skeleton, &loaded.motion, &options)?;
+                return image.write_png(&output);
+            };
+            let range = export::parse_frames(&frames, loaded.motion.frame_count().max(1))?;
+            std::fs::create_dir_all(&output).map_err(|e| Error::io(&output, e))?;
+            // One offscreen context for the whole sequence.
+            let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
+            let digits = (range.end.max(1) - 1).to_string().len().max(5);
+            for frame in range {
+                let image = renderer.render(
+                    &loaded.skeleton,
+                    &loaded.motion,
+                    &SnapshotOptions { frame, ..options },
+                )?;
+                image.write_png(&output.join(format!("frame_{frame:0digits$}.png")))?;
+            }
+            Ok(())
         }
         Some(Command::Trace {
             file,

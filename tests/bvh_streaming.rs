@@ -11,18 +11,28 @@ Zrotation Xrotation Yrotation\n\tEnd Site\n\t{\n\t\tOFFSET 0 5 0\n\t}\n}\nMOTION
 fn take(frames: usize, extra: usize, newline: &str) -> String {
     let mut text = format!("{HEAD}Frames: {frames}\nFrame Time: 0.01\n").replace('\n', newline);
     for row in 0..frames + extra {
-        text.push_str(&format!("{row} {}.5 -{}.25 0 1.125 -0.0625{newline}", row % 97, row % 89));
+        text.push_str(&format!(
+            "{row} {}.5 -{}.25 0 1.125 -0.0625{newline}",
+            row % 97,
+            row % 89
+        ));
     }
     text
 }
 
-fn both(text: &str) -> (Result<bvhview::bvh::Bvh, String>, Result<bvhview::bvh::Bvh, String>) {
+fn both(
+    text: &str,
+) -> (
+    Result<bvhview::bvh::Bvh, String>,
+    Result<bvhview::bvh::Bvh, String>,
+) {
     let from_memory = bvhview::bvh::load_bytes(text.as_bytes(), "t.bvh").map_err(|e| e.to_string());
     static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let path = std::env::temp_dir().join(format!("bvhview-stream-{}-{n}.bvh", std::process::id()));
     std::fs::write(&path, text).unwrap();
-    let from_file = bvhview::bvh::load_file(&path).map_err(|e| e.to_string().replace(&path.display().to_string(), "t.bvh"));
+    let from_file = bvhview::bvh::load_file(&path)
+        .map_err(|e| e.to_string().replace(&path.display().to_string(), "t.bvh"));
     std::fs::remove_file(&path).unwrap();
     (from_memory, from_file)
 }
@@ -38,7 +48,17 @@ fn many_chunks_read_the_same_values_with_any_line_ending() {
             assert_eq!(bvh.motion.frame_count(), frames);
             for row in [0, 1, frames / 2, frames - 1] {
                 let values = bvh.motion.frame(row);
-                assert_eq!(values, &[row as f32, (row % 97) as f32 + 0.5, -((row % 89) as f32) - 0.25, 0.0, 1.125, -0.0625]);
+                assert_eq!(
+                    values,
+                    &[
+                        row as f32,
+                        (row % 97) as f32 + 0.5,
+                        -((row % 89) as f32) - 0.25,
+                        0.0,
+                        1.125,
+                        -0.0625
+                    ]
+                );
             }
             assert!(bvh.warnings.is_empty());
         }
@@ -68,15 +88,24 @@ fn errors_deep_in_a_big_file_name_their_line_and_column() {
 fn a_short_file_and_extra_rows_are_reported_at_the_right_lines() {
     let frames = 3 * CHUNK / 30;
     let mut text = take(frames, 0, "\n");
-    text = text.replace(&format!("Frames: {frames}"), &format!("Frames: {}", frames + 5));
+    text = text.replace(
+        &format!("Frames: {frames}"),
+        &format!("Frames: {}", frames + 5),
+    );
     let end_line = 14 + frames;
-    let want = format!("t.bvh:{end_line}:1: expected {} frames as Frames: says (line 12), found {frames}: the file ends", frames + 5);
+    let want = format!(
+        "t.bvh:{end_line}:1: expected {} frames as Frames: says (line 12), found {frames}: the file ends",
+        frames + 5
+    );
     let (memory, file) = both(&text);
     assert_eq!(memory.unwrap_err(), want);
     assert_eq!(file.unwrap_err(), want);
 
     let text = take(frames, 1000, "\r\n");
-    let want = format!("1000 extra rows after the {frames} announced by Frames: (line 12) ignored, from line {} on", 14 + frames);
+    let want = format!(
+        "1000 extra rows after the {frames} announced by Frames: (line 12) ignored, from line {} on",
+        14 + frames
+    );
     let (memory, file) = both(&text);
     for bvh in [memory.unwrap(), file.unwrap()] {
         assert_eq!(bvh.motion.frame_count(), frames);

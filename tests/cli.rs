@@ -188,3 +188,84 @@ fn the_window_without_a_display_says_so_in_one_line() {
         );
     }
 }
+
+#[test]
+fn info_on_a_folder_lists_every_file_and_sums_up() {
+    let dir = shared().join("data").display().to_string();
+    let out = bvhview(&["info", &dir]);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "a malformed file makes the run fail"
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 42, "{text}");
+    assert_eq!(lines.iter().filter(|l| l.starts_with("ok ")).count(), 33);
+    assert!(
+        lines[0].starts_with("ok     ")
+            && lines[0].contains("heiden_12.asf + ")
+            && lines[0].ends_with(": 31 joints, 343 frames, 2.9 s"),
+        "{}",
+        lines[0]
+    );
+    assert!(
+        text.contains("error  ")
+            && text.contains(
+                "dali_test-invalid-hierarchy1.bvh:3:3: expected '{' after 'root', found 'OFFSET'\n"
+            )
+    );
+    assert!(
+        lines[41].starts_with("41 files: 33 ok, 8 failed; 15.8 MB in "),
+        "{}",
+        lines[41]
+    );
+}
+
+#[test]
+fn snapshot_frames_writes_a_sequence_equal_to_single_snapshots() {
+    let dir = std::env::temp_dir().join(format!("bvhview-seq-{}", std::process::id()));
+    let out = bvhview(&[
+        "snapshot",
+        &tiny(),
+        "--frames",
+        "0..3",
+        "--size",
+        "96x64",
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut names: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        ["frame_00000.png", "frame_00001.png", "frame_00002.png"]
+    );
+    let single = dir.join("single.png");
+    assert!(
+        bvhview(&[
+            "snapshot",
+            &tiny(),
+            "--frame",
+            "2",
+            "--size",
+            "96x64",
+            "-o",
+            single.to_str().unwrap()
+        ])
+        .status
+        .success()
+    );
+    let a = bvhview::render::Image::read_png(&dir.join("frame_00002.png")).unwrap();
+    let b = bvhview::render::Image::read_png(&single).unwrap();
+    assert_eq!(a.differing_pixels(&b), 0);
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -34,6 +34,14 @@ pub struct Bvh {
 /// C++: `BVH::loadFile`. The hierarchy is read into memory; the MOTION rows are streamed in
 /// chunks and parsed on every core (see [`super::rows`]), so the file is never held whole.
 pub fn load_file(path: &Path) -> Result<Bvh, Error> {
+    load_file_with_threads(
+        path,
+        std::thread::available_parallelism().map_or(1, |n| n.get()),
+    )
+}
+
+/// [`load_file`] parsing on at most `threads` threads (1 when many files load at once).
+pub fn load_file_with_threads(path: &Path, threads: usize) -> Result<Bvh, Error> {
     use std::io::Read;
     let io_error = |e| Error::io(path, e);
     let mut file = std::fs::File::open(path).map_err(io_error)?;
@@ -47,7 +55,7 @@ pub fn load_file(path: &Path) -> Result<Bvh, Error> {
         let read = file.read(&mut head[before..]).map_err(io_error)?;
         head.truncate(before + read);
         if read == 0 {
-            return load_bytes(&head, &source);
+            return load_bytes_with_threads(&head, &source, threads);
         }
         if let Some(end) = header_end(&head) {
             break end;
@@ -60,7 +68,7 @@ pub fn load_file(path: &Path) -> Result<Bvh, Error> {
         Err(_) => {
             let mut all = head;
             file.read_to_end(&mut all).map_err(io_error)?;
-            return load_bytes(&all, &source);
+            return load_bytes_with_threads(&all, &source, threads);
         }
     };
     let Header::Motion {
@@ -79,7 +87,8 @@ pub fn load_file(path: &Path) -> Result<Bvh, Error> {
         frames_line,
         start,
         length.saturating_sub(rows_start as u64),
-    );
+    )
+    .with_threads(threads);
     // The hierarchy stays with the loader; the rows already read start the stream. One buffer
     // is filled, cut after its last line end, parsed, and the rest moved to its front.
     let carry = &head[rows_start..];
@@ -140,6 +149,14 @@ fn header_end(head: &[u8]) -> Option<usize> {
 
 /// Parses BVH text. `source` names the input in error messages (`source:line:column: …`).
 pub fn load_bytes(text: &[u8], source: &str) -> Result<Bvh, Error> {
+    load_bytes_with_threads(
+        text,
+        source,
+        std::thread::available_parallelism().map_or(1, |n| n.get()),
+    )
+}
+
+fn load_bytes_with_threads(text: &[u8], source: &str, threads: usize) -> Result<Bvh, Error> {
     let mut loader = Loader::new(text, source);
     let (frames, frame_time, frames_line) = match loader.load()? {
         Header::NoMotion => return Ok(loader.finish(0, 0.0, Vec::new())),
@@ -157,7 +174,8 @@ pub fn load_bytes(text: &[u8], source: &str) -> Result<Bvh, Error> {
         frames_line,
         line_column(text, start),
         (text.len() - start) as u64,
-    );
+    )
+    .with_threads(threads);
     let mut rest = &text[start..];
     while rest.len() > CHUNK {
         let cut = last_line_end(&rest[..CHUNK]).unwrap_or(rest.len());

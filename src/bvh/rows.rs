@@ -523,6 +523,12 @@ impl RowParser {
         }
     }
 
+    /// Parses on at most `threads` threads (the default is every core).
+    pub fn with_threads(mut self, threads: usize) -> RowParser {
+        self.threads = threads.clamp(1, 8);
+        self
+    }
+
     /// Parses one chunk that ends at a line end (or at the end of the input).
     pub fn feed(&mut self, chunk: &[u8]) -> Result<(), Error> {
         let (breaks, since) = if self.width == 0 {

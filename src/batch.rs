@@ -1,0 +1,180 @@
+//! `bvhview info DIR`: every BVH file and ASF/AMC pair under a folder, loaded on every core.
+
+use crate::error::Error;
+use crate::input;
+use std::path::{Path, PathBuf};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// One thing to load: a BVH file, an ASF with its AMC, an ASF alone, or an AMC without an ASF.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Item {
+    pub path: PathBuf,
+    pub motion: Option<PathBuf>,
+}
+
+/// How one item went.
+#[derive(Debug)]
+pub struct Outcome {
+    pub item: Item,
+    pub result: Result<String, Error>,
+    pub bytes: u64,
+}
+
+fn extension(path: &Path) -> String {
+    path.extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default()
+}
+
+/// Every item under `dir` (subfolders too), in path order. An AMC pairs with the ASF in its folder
+/// whose name is the longest prefix of the AMC's (`12.asf` with `12_02.amc`), or with the
+/// folder's only ASF; an ASF no AMC uses is listed alone (its rest pose).
+pub fn collect(dir: &Path) -> Result<Vec<Item>, Error> {
+    let mut items = Vec::new();
+    let mut folders = vec![dir.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        let mut entries: Vec<PathBuf> = std::fs::read_dir(&folder)
+            .map_err(|e| Error::io(&folder, e))?
+            .filter_map(|entry| entry.ok().map(|e| e.path()))
+            .collect();
+        entries.sort();
+        let asfs: Vec<&PathBuf> = entries.iter().filter(|p| extension(p) == "asf").collect();
+        let mut used = vec![false; asfs.len()];
+        for path in &entries {
+            if path.is_dir() {
+                folders.push(path.clone());
+                continue;
+            }
+            match extension(path).as_str() {
+                "bvh" => items.push(Item {
+                    path: path.clone(),
+                    motion: None,
+                }),
+                "amc" => {
+                    let stem = path
+                        .file_stem()
+                        .map(|s| s.to_string_lossy().into_owned())
+                        .unwrap_or_default();
+                    let by_prefix = asfs
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, asf)| {
+                            let asf_stem = asf
+                                .file_stem()
+                                .map(|s| s.to_string_lossy().into_owned())
+                                .unwrap_or_default();
+                            stem.starts_with(&asf_stem)
+                        })
+                        .max_by_key(|(_, asf)| asf.as_os_str().len());
+                    let chosen = by_prefix.or(if asfs.len() == 1 {
+                        Some((0, &asfs[0]))
+                    } else {
+                        None
+                    });
+                    match chosen {
+                        Some((k, asf)) => {
+                            used[k] = true;
+                            items.push(Item {
+                                path: (*asf).clone(),
+                                motion: Some(path.clone()),
+                            });
+                        }
+                        None => items.push(Item {
+                            path: path.clone(),
+                            motion: None,
+                        }),
+                    }
+                }
+                _ => {}
+            }
+        }
+        for (asf, used) in asfs.iter().zip(used) {
+            if !used {
+                items.push(Item {
+                    path: (*asf).clone(),
+                    motion: None,
+                });
+            }
+        }
+    }
+    items.sort_by(|a, b| {
+        (a.motion.as_ref().unwrap_or(&a.path)).cmp(b.motion.as_ref().unwrap_or(&b.path))
+    });
+    Ok(items)
+}
+
+/// The line printed for a loaded item.
+fn describe(loaded: &input::Loaded) -> String {
+    let joints = loaded
+        .skeleton
+        .joints
+        .iter()
+        .filter(|j| !j.end_site)
+        .count();
+    let frames = loaded.motion.frame_count();
+    let mut line = format!(
+        "{joints} joints, {frames} frames, {:.1} s",
+        loaded.motion.duration()
+    );
+    if !loaded.warnings.is_empty() {
+        line.push_str(&format!(
+            " ({} warning{})",
+            loaded.warnings.len(),
+            if loaded.warnings.len() == 1 { "" } else { "s" }
+        ));
+    }
+    line
+}
+
+/// Loads every item on `threads` threads; `done(outcome, finished, total)` is called for each
+/// outcome in item order (so output is the same from run to run).
+pub fn run(
+    items: Vec<Item>,
+    threads: usize,
+    mut done: impl FnMut(&Outcome, usize, usize) + Send,
+) -> Vec<Outcome> {
+    let total = items.len();
+    let next = AtomicUsize::new(0);
+    let finished = AtomicUsize::new(0);
+    let slots: Vec<Mutex<Option<Outcome>>> = (0..total).map(|_| Mutex::new(None)).collect();
+    let reported = Mutex::new((0usize, &mut done));
+    std::thread::scope(|scope| {
+        for _ in 0..threads.clamp(1, total.max(1)) {
+            scope.spawn(|| {
+                loop {
+                    let index = next.fetch_add(1, Ordering::Relaxed);
+                    let Some(item) = items.get(index) else { break };
+                    let size = |p: &Path| std::fs::metadata(p).map_or(0, |m| m.len());
+                    let bytes = size(&item.path) + item.motion.as_deref().map_or(0, size);
+                    let result =
+                        input::load_with_threads(&item.path, item.motion.as_deref(), None, 1)
+                            .map(|loaded| describe(&loaded));
+                    *slots[index]
+                        .lock()
+                        .expect("no thread panics holding a slot") = Some(Outcome {
+                        item: item.clone(),
+                        result,
+                        bytes,
+                    });
+                    let count = finished.fetch_add(1, Ordering::Relaxed) + 1;
+                    // Report every outcome that is now next in order.
+                    let mut state = reported.lock().expect("no thread panics while reporting");
+                    while state.0 < total {
+                        let slot = slots[state.0]
+                            .lock()
+                            .expect("no thread panics holding a slot");
+                        let Some(outcome) = slot.as_ref() else { break };
+                        (state.1)(outcome, count, total);
+                        drop(slot);
+                        state.0 += 1;
+                    }
+                }
+            });
+        }
+    });
+    slots
+        .into_iter()
+        .filter_map(|s| s.into_inner().expect("no thread panicked"))
+        .collect()
+}
