@@ -13,8 +13,10 @@ pub enum Error {
         column: usize,
         message: String,
     },
-    /// A file could not be read or written.
+    /// An input file could not be read.
     Io { path: PathBuf, source: io::Error },
+    /// An output file could not be written.
+    Output { path: PathBuf, source: io::Error },
     /// Anything else the user asked for that cannot be done (a frame out of range, a bad option).
     Usage(String),
     /// The machine lacks something (a display, a library): not the input's fault.
@@ -29,11 +31,19 @@ impl Error {
         }
     }
 
+    pub fn output(path: &Path, source: io::Error) -> Error {
+        Error::Output {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
     /// The CLI's exit code: 2 for bad input, 1 for everything else.
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Parse { .. } | Error::Usage(_) => 2,
-            Error::Environment(_) => 1,
+            Error::Environment(_) | Error::Output { .. } => 1,
+            // A missing or unreadable input is the caller's input; the rest is the machine's.
             Error::Io { source, .. } => match source.kind() {
                 io::ErrorKind::NotFound
                 | io::ErrorKind::IsADirectory
@@ -53,7 +63,28 @@ impl fmt::Display for Error {
                 column,
                 message,
             } => write!(f, "{path}:{line}:{column}: {message}"),
-            Error::Io { path, source } => write!(f, "{}: {}", path.display(), io_message(source)),
+            Error::Io { path, source } => match source.kind() {
+                io::ErrorKind::NotFound => write!(f, "{}: no such file", path.display()),
+                io::ErrorKind::PermissionDenied => {
+                    write!(f, "{}: permission denied (cannot read it)", path.display())
+                }
+                _ => write!(f, "{}: {}", path.display(), io_message(source)),
+            },
+            Error::Output { path, source } => {
+                let folder = path.parent().filter(|p| !p.as_os_str().is_empty());
+                match (source.kind(), folder) {
+                    (io::ErrorKind::NotFound, Some(folder)) => write!(
+                        f,
+                        "cannot write {}: the folder {} does not exist",
+                        path.display(),
+                        folder.display()
+                    ),
+                    (io::ErrorKind::PermissionDenied, _) => {
+                        write!(f, "cannot write {}: permission denied", path.display())
+                    }
+                    _ => write!(f, "cannot write {}: {}", path.display(), io_message(source)),
+                }
+            }
             Error::Usage(message) | Error::Environment(message) => f.write_str(message),
         }
     }

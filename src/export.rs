@@ -94,9 +94,7 @@ pub fn write_positions<W: Write>(
     }
     let names: Vec<String> = points.iter().map(|(name, _)| csv_field(name)).collect();
     let plan = FkPlan::new(skeleton, options.offset_mode);
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .clamp(1, 8);
+    let threads = crate::cores().clamp(1, 8);
     let first = frames.start;
     let mut start = frames.start;
     while start < frames.end {

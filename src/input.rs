@@ -24,12 +24,7 @@ fn extension(path: &Path) -> String {
 /// Loads `path` (`.bvh`, or `.asf` with `motion` an `.amc`). `frame_time` overrides the file's
 /// (AMC has none: CMU's 120 Hz is the default).
 pub fn load(path: &Path, motion: Option<&Path>, frame_time: Option<f64>) -> Result<Loaded, Error> {
-    load_with_threads(
-        path,
-        motion,
-        frame_time,
-        std::thread::available_parallelism().map_or(1, |n| n.get()),
-    )
+    load_with_threads(path, motion, frame_time, crate::cores())
 }
 
 /// [`load`] parsing a BVH on at most `threads` threads.
@@ -39,6 +34,43 @@ pub fn load_with_threads(
     frame_time: Option<f64>,
     threads: usize,
 ) -> Result<Loaded, Error> {
+    load_checked(path, motion, frame_time, threads, DEFAULT_MAX_SIZE)
+}
+
+/// Files larger than this are refused unless `--max-size` says otherwise (8 GiB).
+pub const DEFAULT_MAX_SIZE: u64 = 8 << 30;
+
+/// Fails unless `path` is a readable file of at most `max_size` bytes.
+pub fn check_file(path: &Path, max_size: u64) -> Result<(), Error> {
+    let metadata = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
+    if metadata.is_dir() {
+        return Err(Error::Usage(format!(
+            "{}: is a folder, not a file (`bvhview info FOLDER` reads every file in one)",
+            path.display()
+        )));
+    }
+    if metadata.len() > max_size {
+        return Err(Error::Usage(format!(
+            "{}: {} bytes, more than --max-size {max_size}",
+            path.display(),
+            metadata.len()
+        )));
+    }
+    Ok(())
+}
+
+/// [`load_with_threads`] refusing files larger than `max_size` bytes before reading them.
+pub fn load_checked(
+    path: &Path,
+    motion: Option<&Path>,
+    frame_time: Option<f64>,
+    threads: usize,
+    max_size: u64,
+) -> Result<Loaded, Error> {
+    check_file(path, max_size)?;
+    if let Some(motion) = motion {
+        check_file(motion, max_size)?;
+    }
     if let Some(time) = frame_time
         && !(time.is_finite() && time > 0.0)
     {

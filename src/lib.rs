@@ -36,5 +36,12 @@ pub use skeleton::{Channel, Joint, RotationOrder, Skeleton};
 /// article's companion text about MOTION rows, made by `examples/make_walk.rs`.
 pub const DEFAULT_MOTION: &[u8] = include_bytes!("../assets/walk.bvh");
 
+/// Threads to parse and export with: the machine's cores, asked once (the answer comes from
+/// cgroup files, too slow to read for every small file).
+pub fn cores() -> usize {
+    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
+    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+}
+
 /// How the default motion is named in messages.
 pub const DEFAULT_MOTION_NAME: &str = "assets/walk.bvh";

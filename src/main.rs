@@ -44,6 +44,28 @@ struct Source {
     /// Seconds per frame, overriding the file (AMC files have none: default 1/120).
     #[arg(long, value_name = "SECONDS")]
     frame_time: Option<f64>,
+    /// Refuse input files larger than this (bytes; K, M, G suffixes), before reading them.
+    #[arg(long, value_name = "SIZE", default_value = "8G", value_parser = parse_max_size)]
+    max_size: u64,
+}
+
+/// `8G` → 8 GiB; plain numbers are bytes.
+fn parse_max_size(text: &str) -> Result<u64, String> {
+    let bad = || format!("expected a size such as 500M or 8G, found '{text}'");
+    let (number, unit) = match text.trim().char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => (&text.trim()[..i], c.to_ascii_uppercase()),
+        _ => (text.trim(), 'B'),
+    };
+    let shift = match unit {
+        'B' => 0,
+        'K' => 10,
+        'M' => 20,
+        'G' => 30,
+        'T' => 40,
+        _ => return Err(bad()),
+    };
+    let value: u64 = number.parse().map_err(|_| bad())?;
+    value.checked_mul(1 << shift).ok_or_else(bad)
 }
 
 #[derive(Subcommand)]
@@ -181,7 +203,14 @@ fn main() -> ExitCode {
 
 /// Loads a file (with its motion) and reports its warnings on stderr.
 fn load(path: &Path, source: &Source) -> Result<Loaded, Error> {
-    let loaded = input::load(path, source.motion.as_deref(), source.frame_time)?;
+    let threads = bvhview::cores();
+    let loaded = input::load_checked(
+        path,
+        source.motion.as_deref(),
+        source.frame_time,
+        threads,
+        source.max_size,
+    )?;
     for warning in &loaded.warnings {
         eprintln!("bvhview: {}: warning: {warning}", path.display());
     }
@@ -208,7 +237,7 @@ fn load_or_default(path: Option<&Path>, source: &Source) -> Result<(String, Load
 fn open_output(path: Option<&Path>) -> Result<Box<dyn Write>, Error> {
     Ok(match path {
         Some(path) => Box::new(BufWriter::new(
-            std::fs::File::create(path).map_err(|e| Error::io(path, e))?,
+            std::fs::File::create(path).map_err(|e| Error::output(path, e))?,
         )),
         None => Box::new(BufWriter::new(io::stdout().lock())),
     })
@@ -219,7 +248,7 @@ fn finish_write(result: io::Result<()>, path: Option<&Path>) -> Result<(), Error
     match result {
         Ok(()) => Ok(()),
         Err(e) if path.is_none() && e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) => Err(Error::io(path.unwrap_or(Path::new("<stdout>")), e)),
+        Err(e) => Err(Error::output(path.unwrap_or(Path::new("<stdout>")), e)),
     }
 }
 
@@ -243,7 +272,7 @@ fn batch(dir: &Path) -> Result<(), Error> {
             dir.display()
         )));
     }
-    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = bvhview::cores();
     let progress = io::stderr().is_terminal();
     let outcomes = bvhview::batch::run(items, threads, |outcome, finished, total| {
         let line = match &outcome.result {
@@ -398,7 +427,7 @@ fn run(cli: Cli) -> Result<(), Error> {
                 return image.write_png(&output);
             };
             let range = export::parse_frames(&frames, loaded.motion.frame_count().max(1))?;
-            std::fs::create_dir_all(&output).map_err(|e| Error::io(&output, e))?;
+            std::fs::create_dir_all(&output).map_err(|e| Error::output(&output, e))?;
             // One offscreen context for the whole sequence.
             let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
             let digits = (range.end.max(1) - 1).to_string().len().max(5);

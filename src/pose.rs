@@ -422,9 +422,7 @@ pub fn positions_all_frames(
 ) -> f64 {
     let plan = FkPlan::new(skeleton, mode);
     let frames = motion.frame_count();
-    let threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(frames.max(1));
+    let threads = crate::cores().min(frames.max(1));
     let per_thread = frames.div_ceil(threads.max(1));
     std::thread::scope(|scope| {
         let handles: Vec<_> = (0..threads)

@@ -93,6 +93,12 @@ struct Probe<'a> {
 }
 
 impl FixedFunction for Probe<'_> {
+    fn get_modelview(&mut self) -> [f32; 16] {
+        self.gl.get_modelview()
+    }
+    fn load_matrix(&mut self, m: &[f32; 16]) {
+        self.gl.load_matrix(m)
+    }
     fn clear_color(&mut self, r: f32, g: f32, b: f32, a: f32) {
         self.gl.clear_color(r, g, b, a)
     }
@@ -166,12 +172,34 @@ impl FixedFunction for Probe<'_> {
 /// At each joint the GL modelview matrix is the view times `pose`'s world matrix.
 #[test]
 fn gl_matrix_stack_equals_pose_world_times_view() {
+    // A chain 200 joints deep (each turned 2° about Z and 1° about X), far deeper than GL's
+    // 32-matrix stack. Each level ends with an End Site drawn after the deeper joints return: it
+    // is only right if every level's matrix was restored.
+    let mut deep = String::from("HIERARCHY\n");
+    for i in 0..200 {
+        let keyword = if i == 0 { "ROOT" } else { "JOINT" };
+        deep.push_str(&format!(
+            "{keyword} j{i}\n{{\nOFFSET 0 0.5 0\nCHANNELS 2 Zrotation Xrotation\n"
+        ));
+    }
+    deep.push_str(&"End Site\n{\nOFFSET 0.3 0 0\n}\n}\n".repeat(200));
+    deep.push_str("MOTION\nFrames: 1\nFrame Time: 0.1\n");
+    deep.push_str(&"2 1 ".repeat(200));
+    deep.push('\n');
+    let deep_path = std::env::temp_dir().join(format!("bvhview-deep-{}.bvh", std::process::id()));
+    std::fs::write(&deep_path, &deep).unwrap();
     for name in [
         "tiny_crlf.bvh",
         "bvh11_131_01.bvh",
         "bandai_dataset-2_wave-left-hand_active_011.bvh",
+        "deep",
     ] {
-        let bvh = bvhview::bvh::load_file(&oracle_input(name)).unwrap();
+        let path = if name == "deep" {
+            deep_path.clone()
+        } else {
+            oracle_input(name)
+        };
+        let bvh = bvhview::bvh::load_file(&path).unwrap();
         let mut renderer = Renderer::new(64, 64).unwrap();
         let gl = &mut renderer.context().gl;
         let camera = Camera::default();

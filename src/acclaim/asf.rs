@@ -527,12 +527,29 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
             }
         }
     }
-    // Reachable from the root; a bone with a parent that is not reachable sits on a loop.
+    // Reachable from the root; a bone with a parent that is not reachable sits on a loop. As in
+    // the BVH loader, nesting deeper than MAX_DEPTH is refused: everything after recurses.
     let mut reached = vec![false; bones.len()];
-    let mut stack = root_children.clone();
-    while let Some(bone) = stack.pop() {
+    let mut stack: Vec<(usize, usize)> = root_children.iter().map(|&b| (b, 1)).collect();
+    while let Some((bone, depth)) = stack.pop() {
         reached[bone] = true;
-        stack.extend(children[bone].iter().copied());
+        if depth > crate::bvh::loader::MAX_DEPTH {
+            let word = hierarchy
+                .iter()
+                .flat_map(|l| l[1..].iter())
+                .find(|w| w.text == bones[bone].name)
+                .expect("a reached bone is named in the hierarchy");
+            return Err(error_at(
+                source,
+                word.line,
+                word.column,
+                format!(
+                    "bones nest deeper than {} levels",
+                    crate::bvh::loader::MAX_DEPTH
+                ),
+            ));
+        }
+        stack.extend(children[bone].iter().map(|&c| (c, depth + 1)));
     }
     let mut warnings = Vec::new();
     for (i, bone) in bones.iter().enumerate() {

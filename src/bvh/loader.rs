@@ -34,10 +34,7 @@ pub struct Bvh {
 /// C++: `BVH::loadFile`. The hierarchy is read into memory; the MOTION rows are streamed in
 /// chunks and parsed on every core (see [`super::rows`]), so the file is never held whole.
 pub fn load_file(path: &Path) -> Result<Bvh, Error> {
-    load_file_with_threads(
-        path,
-        std::thread::available_parallelism().map_or(1, |n| n.get()),
-    )
+    load_file_with_threads(path, crate::cores())
 }
 
 /// [`load_file`] parsing on at most `threads` threads (1 when many files load at once).
@@ -149,11 +146,7 @@ fn header_end(head: &[u8]) -> Option<usize> {
 
 /// Parses BVH text. `source` names the input in error messages (`source:line:column: …`).
 pub fn load_bytes(text: &[u8], source: &str) -> Result<Bvh, Error> {
-    load_bytes_with_threads(
-        text,
-        source,
-        std::thread::available_parallelism().map_or(1, |n| n.get()),
-    )
+    load_bytes_with_threads(text, source, crate::cores())
 }
 
 fn load_bytes_with_threads(text: &[u8], source: &str, threads: usize) -> Result<Bvh, Error> {

@@ -432,9 +432,7 @@ impl RowParser {
         // Each value takes at least two bytes ("0 "), so no more than this can be in the file.
         let possible = room / 2 + 1;
         let wanted = frames.saturating_mul(width as u64).min(possible);
-        let threads = std::thread::available_parallelism()
-            .map_or(1, |n| n.get())
-            .clamp(1, 8);
+        let threads = crate::cores().clamp(1, 8);
         let data = Vec::with_capacity(wanted as usize);
         RowParser {
             source: source.to_string(),

@@ -52,8 +52,30 @@ pub fn draw_recursive<G: FixedFunction>(
     style: Style,
     mode: OffsetMode,
 ) {
+    draw_at_depth(gl, skeleton, index, frame, style, mode, 0);
+}
+
+/// The GL modelview stack holds at least 32 matrices; below this depth the draw pushes and pops
+/// as the article does, deeper it saves and restores the matrix itself (a 1000-joint chain would
+/// otherwise overflow the stack and draw garbage).
+const GL_STACK_DEPTH: usize = 30;
+
+fn draw_at_depth<G: FixedFunction>(
+    gl: &mut G,
+    skeleton: &Skeleton,
+    index: usize,
+    frame: Option<&[f32]>,
+    style: Style,
+    mode: OffsetMode,
+    depth: usize,
+) {
     let joint = &skeleton.joints[index];
-    gl.push_matrix();
+    let saved = if depth < GL_STACK_DEPTH {
+        gl.push_matrix();
+        None
+    } else {
+        Some(gl.get_modelview())
+    };
     let [x, y, z] = translation(joint, frame, mode);
     gl.translatef(x, y, z);
     // ASF bones turn about their own axis C: C · R · C⁻¹. BVH joints have none.
@@ -79,9 +101,12 @@ pub fn draw_recursive<G: FixedFunction>(
         gl.enable(GL_LIGHTING);
     }
     for &child in &joint.children {
-        draw_recursive(gl, skeleton, child, frame, style, mode);
+        draw_at_depth(gl, skeleton, child, frame, style, mode, depth + 1);
     }
-    gl.pop_matrix();
+    match saved {
+        None => gl.pop_matrix(),
+        Some(matrix) => gl.load_matrix(&matrix),
+    }
 }
 
 /// C++: `BVH::roateSpace` (sic). The article switches over its six flags and issues three

@@ -58,6 +58,10 @@ pub trait FixedFunction {
     fn normal3f(&mut self, x: f32, y: f32, z: f32);
     /// C++: `glutSolidSphere(radius, slices, stacks)`.
     fn solid_sphere(&mut self, radius: f64, slices: i32, stacks: i32);
+    /// `glGetFloatv(GL_MODELVIEW_MATRIX, m)`.
+    fn get_modelview(&mut self) -> [f32; 16];
+    /// `glLoadMatrixf(m)`.
+    fn load_matrix(&mut self, m: &[f32; 16]);
 }
 
 type Fn0 = unsafe extern "system" fn();
@@ -285,6 +289,13 @@ impl FixedFunction for GlTable {
     }
     fn normal3f(&mut self, x: f32, y: f32, z: f32) {
         unsafe { (self.normal3f)(x, y, z) }
+    }
+
+    fn get_modelview(&mut self) -> [f32; 16] {
+        self.get_matrix(GL_MODELVIEW_MATRIX)
+    }
+    fn load_matrix(&mut self, m: &[f32; 16]) {
+        self.load_matrixf(m)
     }
 
     /// As freeglut: client-side vertex and normal arrays, one `glDrawElements` triangle strip per

@@ -26,12 +26,12 @@ pub struct Image {
 
 impl Image {
     pub fn write_png(&self, path: &Path) -> Result<(), Error> {
-        let file = std::fs::File::create(path).map_err(|e| Error::io(path, e))?;
+        let file = std::fs::File::create(path).map_err(|e| Error::output(path, e))?;
         let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
         let io_error = |e: png::EncodingError| match e {
-            png::EncodingError::IoError(e) => Error::io(path, e),
+            png::EncodingError::IoError(e) => Error::output(path, e),
             other => Error::Usage(format!("{}: {other}", path.display())),
         };
         let mut writer = encoder.write_header().map_err(io_error)?;

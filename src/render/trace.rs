@@ -13,10 +13,13 @@ pub enum Numbers {
     Printf,
 }
 
-/// Collects the calls as lines.
+/// Collects the calls as lines, and follows the modelview matrix (so that a draw that saves it,
+/// for skeletons deeper than the GL matrix stack, records the right values).
 pub struct Recorder {
     pub numbers: Numbers,
     pub lines: Vec<String>,
+    modelview: Vec<glam::DMat4>,
+    in_modelview: bool,
 }
 
 impl Recorder {
@@ -24,6 +27,8 @@ impl Recorder {
         Recorder {
             numbers,
             lines: Vec::new(),
+            modelview: vec![glam::DMat4::IDENTITY],
+            in_modelview: true,
         }
     }
 
@@ -69,6 +74,14 @@ impl Recorder {
 
     fn call(&mut self, name: &str, arguments: &str) {
         self.lines.push(format!("{name}({arguments});"));
+    }
+
+    /// Applies `m` to the current modelview matrix, if modelview is the current mode.
+    fn multiply(&mut self, m: glam::DMat4) {
+        if self.in_modelview {
+            let top = self.modelview.last_mut().expect("the stack is never empty");
+            *top *= m;
+        }
     }
 }
 
@@ -168,36 +181,78 @@ impl FixedFunction for Recorder {
         self.call("glViewport", &format!("{x}, {y}, {width}, {height}"));
     }
     fn matrix_mode(&mut self, mode: u32) {
+        self.in_modelview = mode == GL_MODELVIEW;
         self.call("glMatrixMode", &enum_name(mode, MATRICES));
     }
     fn load_identity(&mut self) {
+        if self.in_modelview {
+            *self.modelview.last_mut().expect("never empty") = glam::DMat4::IDENTITY;
+        }
         self.call("glLoadIdentity", "");
     }
     fn mult_matrixf(&mut self, m: &[f32; 16]) {
+        self.multiply(glam::Mat4::from_cols_array(m).as_dmat4());
         let args = format!("{{{}}}", self.floats(m));
         self.call("glMultMatrixf", &args);
     }
     fn mult_matrixd(&mut self, m: &[f64; 16]) {
+        self.multiply(glam::DMat4::from_cols_array(m));
         let args = format!("{{{}}}", self.doubles(m));
         self.call("glMultMatrixd", &args);
     }
     fn push_matrix(&mut self) {
+        if self.in_modelview {
+            let top = *self.modelview.last().expect("never empty");
+            self.modelview.push(top);
+        }
         self.call("glPushMatrix", "");
     }
     fn pop_matrix(&mut self) {
+        if self.in_modelview && self.modelview.len() > 1 {
+            self.modelview.pop();
+        }
         self.call("glPopMatrix", "");
     }
     fn translatef(&mut self, x: f32, y: f32, z: f32) {
+        self.multiply(glam::DMat4::from_translation(glam::DVec3::new(
+            x.into(),
+            y.into(),
+            z.into(),
+        )));
         let args = self.floats(&[x, y, z]);
         self.call("glTranslatef", &args);
     }
     fn translated(&mut self, x: f64, y: f64, z: f64) {
+        self.multiply(glam::DMat4::from_translation(glam::DVec3::new(x, y, z)));
         let args = self.doubles(&[x, y, z]);
         self.call("glTranslated", &args);
     }
     fn rotatef(&mut self, angle: f32, x: f32, y: f32, z: f32) {
+        let axis = glam::DVec3::new(x.into(), y.into(), z.into());
+        if axis.length_squared() > 0.0 {
+            self.multiply(glam::DMat4::from_axis_angle(
+                axis.normalize(),
+                f64::from(angle).to_radians(),
+            ));
+        }
         let args = self.floats(&[angle, x, y, z]);
         self.call("glRotatef", &args);
+    }
+    fn get_modelview(&mut self) -> [f32; 16] {
+        self.call("glGetFloatv", "GL_MODELVIEW_MATRIX, m");
+        self.modelview
+            .last()
+            .expect("never empty")
+            .as_mat4()
+            .to_cols_array()
+    }
+    fn load_matrix(&mut self, m: &[f32; 16]) {
+        if self.in_modelview {
+            *self.modelview.last_mut().expect("never empty") =
+                glam::Mat4::from_cols_array(m).as_dmat4();
+        }
+        let args = format!("{{{}}}", self.floats(m));
+        self.call("glLoadMatrixf", &args);
     }
     fn begin(&mut self, mode: u32) {
         self.call("glBegin", &enum_name(mode, MODES));

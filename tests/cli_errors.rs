@@ -1,0 +1,185 @@
+//! Every kind of bad call gets one line on stderr and its documented exit code: 2 for bad input,
+//! 1 for everything else.
+
+mod common;
+use common::*;
+use std::process::{Command, Output};
+
+fn bvhview(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Runs as an unprivileged user when the tests run as root (root may read and write anything).
+fn bvhview_unprivileged(args: &[&str]) -> Output {
+    let root = Command::new("id")
+        .arg("-u")
+        .output()
+        .map(|o| o.stdout == b"0\n")
+        .unwrap_or(false);
+    let mut command = if root {
+        let mut c = Command::new("setpriv");
+        c.args([
+            "--reuid=65534",
+            "--regid=65534",
+            "--clear-groups",
+            env!("CARGO_BIN_EXE_bvhview"),
+        ]);
+        c
+    } else {
+        Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    };
+    command.args(args).output().unwrap()
+}
+
+fn one_line(out: &Output, code: i32, want: &str) {
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(code), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(stderr.starts_with("bvhview: "), "{stderr}");
+    assert!(stderr.contains(want), "{stderr} lacks {want}");
+    assert!(
+        !stderr.contains("panicked") && !stderr.contains(".rs:"),
+        "{stderr}"
+    );
+}
+
+fn tiny() -> String {
+    shared()
+        .join("oracle/inputs/tiny_crlf.bvh")
+        .display()
+        .to_string()
+}
+
+fn scratch(name: &str) -> std::path::PathBuf {
+    let dir = std::env::temp_dir().join(format!("bvhview-errors-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // Readable and enterable by the unprivileged user.
+    let _ = Command::new("chmod")
+        .args(["755", dir.to_str().unwrap()])
+        .status();
+    dir.join(name)
+}
+
+#[test]
+fn a_missing_file_is_bad_input() {
+    one_line(
+        &bvhview(&["info", "/no/such/take.bvh"]),
+        2,
+        "/no/such/take.bvh: no such file",
+    );
+    let amc = format!("{}", data("asf_amc/nope.amc").display());
+    let asf = data("asf_amc/heiden_12.asf").display().to_string();
+    one_line(
+        &bvhview(&["info", &asf, "--motion", &amc]),
+        2,
+        "nope.amc: no such file",
+    );
+}
+
+#[test]
+fn a_folder_where_a_file_is_needed_is_bad_input() {
+    let folder = data("bvh").display().to_string();
+    for command in ["print", "positions", "convert", "trace"] {
+        let mut args = vec![command, folder.as_str()];
+        if command == "convert" {
+            args.extend(["-o", "/tmp/x.bvh"]);
+        }
+        one_line(&bvhview(&args), 2, "is a folder, not a file");
+    }
+}
+
+#[test]
+fn an_unknown_extension_is_bad_input() {
+    one_line(
+        &bvhview(&["info", &data("SOURCES.md").display().to_string()]),
+        2,
+        "unknown extension 'md'",
+    );
+}
+
+#[test]
+fn a_file_without_read_permission_is_an_other_failure() {
+    let path = scratch("secret.bvh");
+    std::fs::copy(tiny(), &path).unwrap();
+    Command::new("chmod")
+        .args(["000", path.to_str().unwrap()])
+        .status()
+        .unwrap();
+    one_line(
+        &bvhview_unprivileged(&["info", path.to_str().unwrap()]),
+        1,
+        "permission denied (cannot read it)",
+    );
+    std::fs::remove_file(path).unwrap();
+}
+
+#[test]
+fn an_unwritable_output_is_an_other_failure() {
+    let folder = scratch("locked");
+    std::fs::create_dir_all(&folder).unwrap();
+    Command::new("chmod")
+        .args(["555", folder.to_str().unwrap()])
+        .status()
+        .unwrap();
+    let output = folder.join("out.bvh");
+    let out = bvhview_unprivileged(&["convert", &tiny(), "-o", output.to_str().unwrap()]);
+    one_line(&out, 1, "cannot write");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("permission denied"));
+    let png = folder.join("out.png");
+    one_line(
+        &bvhview_unprivileged(&[
+            "snapshot",
+            &tiny(),
+            "--size",
+            "8x8",
+            "-o",
+            png.to_str().unwrap(),
+        ]),
+        1,
+        "permission denied",
+    );
+}
+
+#[test]
+fn an_output_folder_that_does_not_exist_is_an_other_failure() {
+    for args in [
+        vec!["convert", "TINY", "-o", "/no/such/folder/out.bvh"],
+        vec!["positions", "TINY", "-o", "/no/such/folder/out.csv"],
+        vec![
+            "snapshot",
+            "TINY",
+            "--size",
+            "8x8",
+            "-o",
+            "/no/such/folder/out.png",
+        ],
+    ] {
+        let tiny = tiny();
+        let args: Vec<&str> = args
+            .iter()
+            .map(|a| if *a == "TINY" { tiny.as_str() } else { a })
+            .collect();
+        one_line(
+            &bvhview(&args),
+            1,
+            "the folder /no/such/folder does not exist",
+        );
+    }
+}
+
+#[test]
+fn a_file_larger_than_max_size_is_refused_before_reading() {
+    one_line(
+        &bvhview(&["info", &tiny(), "--max-size", "1K"]),
+        2,
+        "1826 bytes, more than --max-size 1024",
+    );
+    assert!(
+        bvhview(&["info", &tiny(), "--max-size", "2K"])
+            .status
+            .success()
+    );
+}
