@@ -529,6 +529,10 @@ impl RowParser {
 
     /// Parses one chunk that ends at a line end (or at the end of the input).
     pub fn feed(&mut self, chunk: &[u8]) -> Result<(), Error> {
+        // Nothing to parse (a file that ends right after `Frame Time:`): no parts to split into.
+        if chunk.is_empty() {
+            return Ok(());
+        }
         let (breaks, since) = if self.width == 0 {
             let lines = count_lines(chunk);
             self.line_ends += lines.0 as u64;
