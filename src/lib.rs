@@ -23,6 +23,7 @@ pub mod motion;
 pub mod pose;
 pub mod render;
 pub mod skeleton;
+pub mod skin;
 
 /// The article side by side with this crate: TEACHING.md.
 #[doc = include_str!("../TEACHING.md")]
