@@ -49,6 +49,18 @@ struct Source {
     max_size: u64,
 }
 
+/// `30,-45` → (30, -45).
+fn parse_bend(text: &str) -> Result<(f32, f32), String> {
+    let bad = || format!("expected Y,Z in degrees such as 30,-45, found '{text}'");
+    let (y, z) = text.split_once(',').ok_or_else(bad)?;
+    let y: f32 = y.trim().parse().map_err(|_| bad())?;
+    let z: f32 = z.trim().parse().map_err(|_| bad())?;
+    if !(y.is_finite() && z.is_finite()) {
+        return Err(bad());
+    }
+    Ok((y, z))
+}
+
 /// `8G` → 8 GiB; plain numbers are bytes.
 fn parse_max_size(text: &str) -> Result<u64, String> {
     let bad = || format!("expected a size such as 500M or 8G, found '{text}'");
@@ -167,6 +179,19 @@ enum Command {
         first: PathBuf,
         second: PathBuf,
         /// Write the difference: differing pixels red, the rest dimmed.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+    /// Seed 001's two-bone skinning demo: in a window (right-drag bends the second bone), or
+    /// offscreen with -o.
+    SkinDemo {
+        /// The second bone's bend about Y and Z, in degrees.
+        #[arg(long, default_value = "0,0", value_parser = parse_bend, allow_hyphen_values = true)]
+        bend: (f32, f32),
+        /// Picture size, WIDTHxHEIGHT (the demo's window is 640x480).
+        #[arg(long, default_value = "640x480", value_parser = parse_size)]
+        size: (u32, u32),
+        /// Draw offscreen into this PNG instead of opening a window.
         #[arg(short, long)]
         output: Option<PathBuf>,
     },
@@ -494,6 +519,10 @@ fn run(cli: Cli) -> Result<(), Error> {
             }
             Ok(())
         }
+        Some(Command::SkinDemo { bend, size, output }) => match output {
+            Some(path) => bvhview::render::skin_demo::render(bend, size.0, size.1)?.write_png(&path),
+            None => bvhview::render::window::run_skin_demo(bend),
+        },
         Some(Command::Convert {
             input,
             source,

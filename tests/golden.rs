@@ -160,3 +160,29 @@ fn snapshots_match_their_golden_pictures() {
         );
     }
 }
+
+/// Seed 001's skinning demo at a few bends, against golden pictures; the middle quad's vertices
+/// sit halfway between the two bones' transforms.
+#[test]
+fn skin_demo_matches_its_golden_pictures() {
+    let bless = std::env::var_os("BVHVIEW_BLESS").is_some();
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
+    for (name, bend) in [("skin_demo__0_0", (0.0, 0.0)), ("skin_demo__30_45", (30.0, 45.0)), ("skin_demo__-60_90", (-60.0, 90.0))] {
+        let ours = bvhview::render::skin_demo::render(bend, 640, 480).unwrap();
+        let golden = dir.join(format!("{name}.png"));
+        if bless {
+            ours.write_png(&golden).unwrap();
+            continue;
+        }
+        let expected = Image::read_png(&golden).unwrap();
+        let differing = ours.differing_pixels(&expected);
+        assert!(differing <= 307, "{name}: {differing} pixels differ");
+    }
+    // Bend Z by 90°: bone 2 takes (1, 4) to (-1, 4); half and half puts it at (0, 4).
+    let skinned = bvhview::render::skin_demo::skinned((0.0, 90.0));
+    assert!(skinned[6].abs_diff_eq(glam::Vec3::new(0.0, 4.0, 0.0), 1e-5), "{}", skinned[6]);
+    // The top of the blue quad follows bone 2 alone: (1, 6) turns to (-3, 4).
+    assert!(skinned[10].abs_diff_eq(glam::Vec3::new(-3.0, 4.0, 0.0), 1e-5), "{}", skinned[10]);
+    // The bottom of the yellow quad stays with bone 1.
+    assert_eq!(skinned[0], glam::Vec3::new(-1.0, 0.0, 0.0));
+}

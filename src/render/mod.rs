@@ -4,6 +4,7 @@ pub mod draw;
 pub mod fixed;
 pub mod osmesa;
 pub mod scene;
+pub mod skin_demo;
 pub mod sphere;
 pub mod trace;
 pub mod window;

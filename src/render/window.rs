@@ -77,6 +77,136 @@ pub fn check_environment() -> Result<(), Error> {
     Ok(())
 }
 
+/// A window of `width × height` with a current compatibility-profile context (a depth buffer, no
+/// multisampling: the article's GLUT_DOUBLE | GLUT_RGBA | GLUT_DEPTH) and its GL table.
+fn open_gl_window(event_loop: &ActiveEventLoop, title: String, width: u32, height: u32) -> Result<Running, Error> {
+    let failed = |what: &str, e: &dyn std::fmt::Display| Error::Environment(format!("cannot {what}: {e}"));
+    let attributes = Window::default_attributes()
+        .with_title(title)
+        .with_inner_size(PhysicalSize::new(width, height));
+    let template = ConfigTemplateBuilder::new().with_depth_size(24);
+    let (window, config) = DisplayBuilder::new()
+        .with_window_attributes(Some(attributes))
+        .build(event_loop, template, |configs| {
+            // glutin calls this with at least one configuration.
+            configs
+                .max_by_key(|c| (c.num_samples() == 0, c.depth_size() == 24, c.alpha_size() == 8))
+                .expect("glutin offers at least one configuration")
+        })
+        .map_err(|e| failed("find an OpenGL configuration", &e))?;
+    let window = window.ok_or_else(|| Error::Environment("no window was created".into()))?;
+    let handle = window.window_handle().map_err(|e| failed("get the window handle", &e))?.as_raw();
+    let display = config.display();
+    let attributes = ContextAttributesBuilder::new()
+        .with_profile(GlProfile::Compatibility)
+        .build(Some(handle));
+    // SAFETY: the handle belongs to the window, which outlives the context (both in Running).
+    let context = unsafe { display.create_context(&config, &attributes) }
+        .map_err(|e| failed("create an OpenGL context", &e))?;
+    let surface_attributes = window
+        .build_surface_attributes(Default::default())
+        .map_err(|e| failed("describe the window surface", &e))?;
+    // SAFETY: as above.
+    let surface = unsafe { display.create_window_surface(&config, &surface_attributes) }
+        .map_err(|e| failed("create the window surface", &e))?;
+    let context = context
+        .make_current(&surface)
+        .map_err(|e| failed("make the OpenGL context current", &e))?;
+    let gl = GlTable::load(|name| display.get_proc_address(name))?;
+    let size = window.inner_size();
+    Ok(Running { window, surface, context, gl, size: (size.width.max(1), size.height.max(1)) })
+}
+
+/// Seed 001's demo in a window: a right-button drag bends the second bone about Y (up and down)
+/// and Z (left and right); Esc quits.
+pub fn run_skin_demo(bend: (f32, f32)) -> Result<(), Error> {
+    check_environment()?;
+    let event_loop = quietly(EventLoop::new)
+        .and_then(|r| r.map_err(|e| e.to_string()))
+        .map_err(|e| Error::Environment(format!("cannot open the X display: {e}")))?;
+    let mut app = SkinDemo { bend, drag: None, dragging: false, running: None, error: None };
+    event_loop
+        .run_app(&mut app)
+        .map_err(|e| Error::Environment(format!("the window's event loop failed: {e}")))?;
+    app.error.map_or(Ok(()), Err)
+}
+
+struct SkinDemo {
+    bend: (f32, f32),
+    drag: Option<(f64, f64)>,
+    dragging: bool,
+    running: Option<Running>,
+    error: Option<Error>,
+}
+
+impl SkinDemo {
+    fn title(&self) -> String {
+        format!("bvhview skin-demo - bend Y {:.0}°, Z {:.0}° (right-drag)", self.bend.0, self.bend.1)
+    }
+}
+
+impl ApplicationHandler for SkinDemo {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.running.is_some() {
+            return;
+        }
+        let (width, height) = crate::render::skin_demo::SIZE;
+        match open_gl_window(event_loop, self.title(), width, height) {
+            Ok(running) => {
+                running.window.request_redraw();
+                self.running = Some(running);
+            }
+            Err(error) => {
+                self.error = Some(error);
+                event_loop.exit();
+            }
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
+        let title = self.title();
+        let Some(running) = self.running.as_mut() else { return };
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::KeyboardInput { event, .. }
+                if event.state == ElementState::Pressed && event.logical_key == Key::Named(NamedKey::Escape) =>
+            {
+                event_loop.exit()
+            }
+            WindowEvent::Resized(size) => {
+                if let (Some(w), Some(h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) {
+                    running.surface.resize(&running.context, w, h);
+                    running.size = (w.get(), h.get());
+                }
+                running.window.request_redraw();
+            }
+            WindowEvent::MouseInput { state, button: MouseButton::Right, .. } => {
+                self.dragging = state == ElementState::Pressed;
+                self.drag = None;
+            }
+            WindowEvent::CursorMoved { position, .. } if self.dragging => {
+                if let Some((x, y)) = self.drag {
+                    // As seed 001: one degree per pixel; Z follows x, Y follows y.
+                    self.bend.1 += (position.x - x) as f32;
+                    self.bend.0 -= (position.y - y) as f32;
+                    running.window.request_redraw();
+                }
+                self.drag = Some((position.x, position.y));
+            }
+            WindowEvent::RedrawRequested => {
+                let (width, height) = running.size;
+                crate::render::skin_demo::draw(&mut running.gl, self.bend, width, height);
+                if let Err(e) = running.surface.swap_buffers(&running.context) {
+                    self.error = Some(Error::Environment(format!("cannot present the picture: {e}")));
+                    event_loop.exit();
+                }
+                running.window.set_title(&title);
+            }
+            _ => {}
+        }
+    }
+}
+
 /// How the window starts.
 #[derive(Clone, Debug)]
 pub struct ViewerOptions {
@@ -184,62 +314,11 @@ impl Viewer<'_> {
     }
 
     fn create(&mut self, event_loop: &ActiveEventLoop) -> Result<Running, Error> {
-        let failed = |what: &str, e: &dyn std::fmt::Display| {
-            Error::Environment(format!("cannot {what}: {e}"))
-        };
-        let attributes = Window::default_attributes()
-            .with_title(self.title())
-            .with_inner_size(PhysicalSize::new(WINDOW_SIZE, WINDOW_SIZE));
-        // The article's GLUT_DOUBLE | GLUT_RGBA | GLUT_DEPTH: a depth buffer, no multisampling.
-        let template = ConfigTemplateBuilder::new().with_depth_size(24);
-        let (window, config) = DisplayBuilder::new()
-            .with_window_attributes(Some(attributes))
-            .build(event_loop, template, |configs| {
-                // glutin calls this with at least one configuration.
-                configs
-                    .max_by_key(|c| {
-                        (
-                            c.num_samples() == 0,
-                            c.depth_size() == 24,
-                            c.alpha_size() == 8,
-                        )
-                    })
-                    .expect("glutin offers at least one configuration")
-            })
-            .map_err(|e| failed("find an OpenGL configuration", &e))?;
-        let window = window.ok_or_else(|| Error::Environment("no window was created".into()))?;
-        let handle = window
-            .window_handle()
-            .map_err(|e| failed("get the window handle", &e))?
-            .as_raw();
-        let display = config.display();
-        let attributes = ContextAttributesBuilder::new()
-            .with_profile(GlProfile::Compatibility)
-            .build(Some(handle));
-        // SAFETY: the handle belongs to the window, which outlives the context (both in Running).
-        let context = unsafe { display.create_context(&config, &attributes) }
-            .map_err(|e| failed("create an OpenGL context", &e))?;
-        let surface_attributes = window
-            .build_surface_attributes(Default::default())
-            .map_err(|e| failed("describe the window surface", &e))?;
-        // SAFETY: as above.
-        let surface = unsafe { display.create_window_surface(&config, &surface_attributes) }
-            .map_err(|e| failed("create the window surface", &e))?;
-        let context = context
-            .make_current(&surface)
-            .map_err(|e| failed("make the OpenGL context current", &e))?;
-        let mut gl = GlTable::load(|name| display.get_proc_address(name))?;
-        scene::init(&mut gl);
-        let size = window.inner_size();
-        let size = (size.width.max(1), size.height.max(1));
-        scene::reshape(&mut gl, size.0, size.1, &self.camera);
-        Ok(Running {
-            window,
-            surface,
-            context,
-            gl,
-            size,
-        })
+        let mut running = open_gl_window(event_loop, self.title(), WINDOW_SIZE, WINDOW_SIZE)?;
+        scene::init(&mut running.gl);
+        let (width, height) = running.size;
+        scene::reshape(&mut running.gl, width, height, &self.camera);
+        Ok(running)
     }
 
     fn redraw(&mut self) -> Result<(), Error> {
