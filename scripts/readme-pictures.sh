@@ -12,3 +12,6 @@ $bvhview snapshot ../shared/data/asf_amc/heiden_12.asf --motion ../shared/data/a
 # The chapter's side by side: our snapshot and where it differs from the article's own picture.
 $bvhview diff docs/xsens_seed002.png ../shared/oracle/refs/xsens_seed002_crlf_trail__f0__a10__600x600.png \
     -o docs/xsens_seed002_diff.png
+# Skinning: seed 001's demo, and a generated skin on a BVH skeleton.
+$bvhview skin-demo --bend 30,45 -o docs/skin_demo.png
+$bvhview snapshot ../shared/data/bvh/bvh11_131_01.bvh --frame 400 --skin --fit --angle 1.2 --size 400x400 -o docs/skin_cmu.png

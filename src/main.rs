@@ -33,6 +33,9 @@ struct Cli {
     /// How position channels combine with OFFSET.
     #[arg(long, value_enum, default_value_t)]
     offset_mode: OffsetMode,
+    /// Start with a generated skin around the bones (K toggles it).
+    #[arg(long)]
+    skin: bool,
 }
 
 /// Options that come with any input file.
@@ -148,6 +151,9 @@ enum Command {
         /// How position channels combine with OFFSET.
         #[arg(long, value_enum, default_value_t)]
         offset_mode: OffsetMode,
+        /// Draw a generated skin around the bones, moved by linear blend skinning.
+        #[arg(long)]
+        skin: bool,
         /// The PNG to write (with --frames: the folder to write into, created if missing).
         #[arg(short, long)]
         output: PathBuf,
@@ -358,6 +364,7 @@ fn run(cli: Cli) -> Result<(), Error> {
                 name,
                 offset_mode: cli.offset_mode,
                 style: cli.style,
+                skin: cli.skin,
             };
             bvhview::render::window::run(&loaded.skeleton, &loaded.motion, options)
         }
@@ -435,10 +442,12 @@ fn run(cli: Cli) -> Result<(), Error> {
             style,
             fit,
             offset_mode,
+            skin,
             output,
         }) => {
             let loaded = load(&file, &source)?;
             let options = SnapshotOptions {
+                skin,
                 frame,
                 angle,
                 width: size.0,
@@ -488,6 +497,7 @@ fn run(cli: Cli) -> Result<(), Error> {
                 camera,
                 style,
                 offset_mode,
+                skin: None,
             };
             scene::display(&mut recorder, &view);
             write_text(&recorder.text())
@@ -520,7 +530,9 @@ fn run(cli: Cli) -> Result<(), Error> {
             Ok(())
         }
         Some(Command::SkinDemo { bend, size, output }) => match output {
-            Some(path) => bvhview::render::skin_demo::render(bend, size.0, size.1)?.write_png(&path),
+            Some(path) => {
+                bvhview::render::skin_demo::render(bend, size.0, size.1)?.write_png(&path)
+            }
             None => bvhview::render::window::run_skin_demo(bend),
         },
         Some(Command::Convert {

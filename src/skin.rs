@@ -69,7 +69,12 @@ impl Skin {
 
     /// The skinned positions and normals (normals unit length), into `positions` and `normals`.
     /// Bones are rigid, so a normal turns with the blended matrix's rotation part.
-    pub fn deform(&self, bone_matrices: &[Mat4], positions: &mut Vec<Vec3>, normals: &mut Vec<Vec3>) {
+    pub fn deform(
+        &self,
+        bone_matrices: &[Mat4],
+        positions: &mut Vec<Vec3>,
+        normals: &mut Vec<Vec3>,
+    ) {
         positions.clear();
         normals.clear();
         for vertex in &self.vertices {
@@ -95,10 +100,14 @@ mod tests {
 
     /// Bone 0 stays put; bone 1 turns 90° about Z around the joint at (0, 3, 0), as in the demo.
     fn bones() -> (Vec<Mat4>, Vec<Mat4>) {
-        let bind = vec![Mat4::IDENTITY, Mat4::from_translation(Vec3::new(0.0, 3.0, 0.0))];
+        let bind = vec![
+            Mat4::IDENTITY,
+            Mat4::from_translation(Vec3::new(0.0, 3.0, 0.0)),
+        ];
         let now = vec![
             Mat4::IDENTITY,
-            Mat4::from_translation(Vec3::new(0.0, 3.0, 0.0)) * Mat4::from_rotation_z(90f32.to_radians()),
+            Mat4::from_translation(Vec3::new(0.0, 3.0, 0.0))
+                * Mat4::from_rotation_z(90f32.to_radians()),
         ];
         (bind, now)
     }
@@ -134,7 +143,18 @@ mod tests {
     /// Weights are scaled to sum to 1 and only the four strongest are kept.
     #[test]
     fn weights_are_normalised_and_limited_to_four() {
-        let v = SkinVertex::new(Vec3::ZERO, Vec3::Y, &[(0, 2.0), (1, 1.0), (2, 0.5), (3, 0.25), (4, 0.25), (5, f32::NAN)]);
+        let v = SkinVertex::new(
+            Vec3::ZERO,
+            Vec3::Y,
+            &[
+                (0, 2.0),
+                (1, 1.0),
+                (2, 0.5),
+                (3, 0.25),
+                (4, 0.25),
+                (5, f32::NAN),
+            ],
+        );
         let total: f32 = v.influences.iter().map(|i| i.1).sum();
         assert!((total - 1.0).abs() < 1e-6);
         assert_eq!(v.influences.map(|i| i.0), [0, 1, 2, 3]);

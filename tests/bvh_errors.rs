@@ -228,7 +228,10 @@ fn a_file_ending_right_after_the_frame_time_is_an_error_not_a_panic() {
         error_text(text),
         "t.bvh:9:16: expected 5 frames as Frames: says (line 8), found 0: the file ends"
     );
-    assert_eq!(error_text(&format!("{text}\t")), "t.bvh:9:17: expected 5 frames as Frames: says (line 8), found 0: the file ends");
+    assert_eq!(
+        error_text(&format!("{text}\t")),
+        "t.bvh:9:17: expected 5 frames as Frames: says (line 8), found 0: the file ends"
+    );
     let zero = text.replace("Frames: 5", "Frames: 0");
     assert_eq!(load_text(&zero).unwrap().motion.frame_count(), 0);
 }

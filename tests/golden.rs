@@ -73,6 +73,28 @@ fn cases() -> Vec<Case> {
                 ..base
             },
         ),
+        case(
+            "walk__f10__skin__fit__a0.6",
+            "assets/walk.bvh",
+            SnapshotOptions {
+                frame: 10,
+                skin: true,
+                fit: true,
+                angle: 0.6,
+                ..base
+            },
+        ),
+        case(
+            "bvh11__f400__skin__fit__a1.2",
+            "bvh/bvh11_131_01.bvh",
+            SnapshotOptions {
+                frame: 400,
+                skin: true,
+                fit: true,
+                angle: 1.2,
+                ..base
+            },
+        ),
         Case {
             motion: Some("asf_amc/simchoni_charleston_1.amc"),
             ..case(
@@ -119,6 +141,7 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
         camera,
         style: options.style,
         offset_mode: options.offset_mode,
+        skin: None,
     };
     scene::display(gl, &view);
     Image {
@@ -167,7 +190,11 @@ fn snapshots_match_their_golden_pictures() {
 fn skin_demo_matches_its_golden_pictures() {
     let bless = std::env::var_os("BVHVIEW_BLESS").is_some();
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
-    for (name, bend) in [("skin_demo__0_0", (0.0, 0.0)), ("skin_demo__30_45", (30.0, 45.0)), ("skin_demo__-60_90", (-60.0, 90.0))] {
+    for (name, bend) in [
+        ("skin_demo__0_0", (0.0, 0.0)),
+        ("skin_demo__30_45", (30.0, 45.0)),
+        ("skin_demo__-60_90", (-60.0, 90.0)),
+    ] {
         let ours = bvhview::render::skin_demo::render(bend, 640, 480).unwrap();
         let golden = dir.join(format!("{name}.png"));
         if bless {
@@ -180,9 +207,17 @@ fn skin_demo_matches_its_golden_pictures() {
     }
     // Bend Z by 90°: bone 2 takes (1, 4) to (-1, 4); half and half puts it at (0, 4).
     let skinned = bvhview::render::skin_demo::skinned((0.0, 90.0));
-    assert!(skinned[6].abs_diff_eq(glam::Vec3::new(0.0, 4.0, 0.0), 1e-5), "{}", skinned[6]);
+    assert!(
+        skinned[6].abs_diff_eq(glam::Vec3::new(0.0, 4.0, 0.0), 1e-5),
+        "{}",
+        skinned[6]
+    );
     // The top of the blue quad follows bone 2 alone: (1, 6) turns to (-3, 4).
-    assert!(skinned[10].abs_diff_eq(glam::Vec3::new(-3.0, 4.0, 0.0), 1e-5), "{}", skinned[10]);
+    assert!(
+        skinned[10].abs_diff_eq(glam::Vec3::new(-3.0, 4.0, 0.0), 1e-5),
+        "{}",
+        skinned[10]
+    );
     // The bottom of the yellow quad stays with bone 1.
     assert_eq!(skinned[0], glam::Vec3::new(-1.0, 0.0, 0.0));
 }

@@ -93,6 +93,9 @@ struct Probe<'a> {
 }
 
 impl FixedFunction for Probe<'_> {
+    fn draw_triangles(&mut self, p: &[glam::Vec3], n: &[glam::Vec3], i: &[u32]) {
+        self.gl.draw_triangles(p, n, i)
+    }
     fn get_modelview(&mut self) -> [f32; 16] {
         self.gl.get_modelview()
     }
@@ -218,6 +221,7 @@ fn gl_matrix_stack_equals_pose_world_times_view() {
             camera,
             style: Style::Points,
             offset_mode: Default::default(),
+            skin: None,
         };
         bvhview::render::draw::draw(&mut probe, s.skeleton, s.frame, s.style, s.offset_mode);
         let mut worlds = Vec::new();
@@ -286,6 +290,7 @@ fn calls_match_the_articles_trace() {
         camera,
         style: Style::Points,
         offset_mode: Default::default(),
+        skin: None,
     };
     scene::display(&mut recorder, &s);
     let expected =

@@ -135,5 +135,43 @@ fn main() {
             "draw + read back, 600×600, {name}: {:6.2} ms per frame",
             per.as_secs_f64() * 1e3
         );
+
+        // The generated skin: posing it (FK + linear blend skinning) alone, then the whole frame.
+        let body =
+            bvhview::render::body::Body::new(&rig.skeleton, bvhview::pose::OffsetMode::Replace);
+        let (mut posed, mut scratch) = (
+            bvhview::render::body::PosedBody::default(),
+            (Vec::new(), Vec::new()),
+        );
+        let poses = if quick { 50 } else { 500 };
+        let start = Instant::now();
+        for i in 0..poses {
+            body.pose(
+                &rig.skeleton,
+                Some(rig.motion.frame(i % frames)),
+                &mut posed,
+                &mut scratch,
+            );
+        }
+        let pose = start.elapsed() / poses as u32;
+        let start = Instant::now();
+        for i in 0..draws {
+            let options = bvhview::render::SnapshotOptions {
+                frame: i % frames,
+                skin: true,
+                ..Default::default()
+            };
+            renderer
+                .render(&rig.skeleton, &rig.motion, &options)
+                .expect("draws");
+        }
+        let skinned = start.elapsed() / draws as u32;
+        println!(
+            "  skin ({} vertices): pose {:.3} ms, frame with skin {:.2} ms ({:.0} frames/s)",
+            body.skin.vertices.len(),
+            pose.as_secs_f64() * 1e3,
+            skinned.as_secs_f64() * 1e3,
+            1.0 / skinned.as_secs_f64()
+        );
     }
 }

@@ -26,6 +26,8 @@ pub const GL_NORMAL_ARRAY: u32 = 0x8075;
 pub const GL_FLOAT: u32 = 0x1406;
 pub const GL_UNSIGNED_SHORT: u32 = 0x1403;
 pub const GL_UNSIGNED_BYTE: u32 = 0x1401;
+pub const GL_UNSIGNED_INT: u32 = 0x1405;
+pub const GL_TRIANGLES: u32 = 0x0004;
 pub const GL_RGBA: u32 = 0x1908;
 pub const GL_COLOR_BUFFER_BIT: u32 = 0x4000;
 pub const GL_DEPTH_BUFFER_BIT: u32 = 0x0100;
@@ -62,6 +64,8 @@ pub trait FixedFunction {
     fn get_modelview(&mut self) -> [f32; 16];
     /// `glLoadMatrixf(m)`.
     fn load_matrix(&mut self, m: &[f32; 16]);
+    /// Lit triangles from client-side arrays: `glDrawElements(GL_TRIANGLES, …)`.
+    fn draw_triangles(&mut self, positions: &[glam::Vec3], normals: &[glam::Vec3], indices: &[u32]);
 }
 
 type Fn0 = unsafe extern "system" fn();
@@ -296,6 +300,31 @@ impl FixedFunction for GlTable {
     }
     fn load_matrix(&mut self, m: &[f32; 16]) {
         self.load_matrixf(m)
+    }
+    fn draw_triangles(
+        &mut self,
+        positions: &[glam::Vec3],
+        normals: &[glam::Vec3],
+        indices: &[u32],
+    ) {
+        if indices.is_empty() || positions.len() != normals.len() {
+            return;
+        }
+        // Vec3 is three packed f32s, as glVertexPointer(3, GL_FLOAT, 0) and glNormalPointer read.
+        unsafe {
+            (self.enable_client_state)(GL_VERTEX_ARRAY);
+            (self.enable_client_state)(GL_NORMAL_ARRAY);
+            (self.vertex_pointer)(3, GL_FLOAT, 0, positions.as_ptr().cast());
+            (self.normal_pointer)(GL_FLOAT, 0, normals.as_ptr().cast());
+            (self.draw_elements)(
+                GL_TRIANGLES,
+                indices.len() as i32,
+                GL_UNSIGNED_INT,
+                indices.as_ptr().cast(),
+            );
+            (self.disable_client_state)(GL_VERTEX_ARRAY);
+            (self.disable_client_state)(GL_NORMAL_ARRAY);
+        }
     }
 
     /// As freeglut: client-side vertex and normal arrays, one `glDrawElements` triangle strip per

@@ -1,5 +1,6 @@
 //! Drawing: the article's fixed-function renderer, offscreen (OSMesa) and in a window.
 
+pub mod body;
 pub mod draw;
 pub mod fixed;
 pub mod osmesa;
@@ -114,6 +115,8 @@ pub struct SnapshotOptions {
     /// Frame the skeleton instead of the article's fixed camera.
     pub fit: bool,
     pub offset_mode: OffsetMode,
+    /// Draw a generated skin around the bones (not the article's picture).
+    pub skin: bool,
 }
 
 impl Default for SnapshotOptions {
@@ -126,6 +129,7 @@ impl Default for SnapshotOptions {
             style: Style::Points,
             fit: false,
             offset_mode: OffsetMode::Replace,
+            skin: false,
         }
     }
 }
@@ -183,13 +187,22 @@ pub fn frame_values(motion: &Motion, index: usize) -> Result<Option<&[f32]>, Err
 /// Renders frames offscreen with one context, reused for every picture.
 pub struct Renderer {
     context: osmesa::OsMesa,
+    /// The skin last built, and for which skeleton (by address) and offset mode.
+    body: Option<(*const Skeleton, OffsetMode, body::Body)>,
+    posed: body::PosedBody,
+    scratch: (Vec<glam::Mat4>, Vec<glam::Mat4>),
 }
 
 impl Renderer {
     pub fn new(width: u32, height: u32) -> Result<Renderer, Error> {
         let mut context = osmesa::OsMesa::new(width, height)?;
         scene::init(&mut context.gl);
-        Ok(Renderer { context })
+        Ok(Renderer {
+            context,
+            body: None,
+            posed: body::PosedBody::default(),
+            scratch: (Vec::new(), Vec::new()),
+        })
     }
 
     /// The article's `reshape` then `display` for one frame, read back.
@@ -214,6 +227,17 @@ impl Renderer {
             options.fit,
             options.offset_mode,
         );
+        let skin = if options.skin {
+            let key = (skeleton as *const Skeleton, options.offset_mode);
+            if self.body.as_ref().is_none_or(|(s, m, _)| (*s, *m) != key) {
+                self.body = Some((key.0, key.1, body::Body::new(skeleton, options.offset_mode)));
+            }
+            let (_, _, body) = self.body.as_ref().expect("built above");
+            body.pose(skeleton, frame, &mut self.posed, &mut self.scratch);
+            Some(&self.posed)
+        } else {
+            None
+        };
         let gl = &mut self.context.gl;
         scene::reshape(gl, width, height, &camera);
         scene::display(
@@ -224,6 +248,7 @@ impl Renderer {
                 camera,
                 style: options.style,
                 offset_mode: options.offset_mode,
+                skin,
             },
         );
         Ok(Image {

@@ -67,6 +67,8 @@ pub struct Scene<'a> {
     pub camera: Camera,
     pub style: Style,
     pub offset_mode: OffsetMode,
+    /// A skin posed for this frame, drawn lit before the skeleton (`--skin`; not the article's).
+    pub skin: Option<&'a crate::render::body::PosedBody>,
 }
 
 /// C++: `init()`: black clear colour, depth test, `GL_LIGHT0` at (0, 0, 1, 1) while the modelview
@@ -104,6 +106,9 @@ pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene) {
     gl.clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     gl.load_identity();
     look_at(gl, scene.camera.eye(), scene.camera.target, [0.0, 1.0, 0.0]);
+    if let Some(skin) = scene.skin {
+        gl.draw_triangles(&skin.positions, &skin.normals, &skin.indices);
+    }
     draw::draw(
         gl,
         scene.skeleton,

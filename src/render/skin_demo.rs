@@ -4,7 +4,9 @@
 //! smoothly when bone 2 turns. Drawn as the demo draws it: line loops for the quads and a
 //! wireframe shape per bone, over a blue-grey background, 15 units from the camera.
 
-use crate::render::fixed::{FixedFunction, GL_COLOR_BUFFER_BIT, GL_DEPTH_BUFFER_BIT, GL_MODELVIEW, GL_PROJECTION};
+use crate::render::fixed::{
+    FixedFunction, GL_COLOR_BUFFER_BIT, GL_DEPTH_BUFFER_BIT, GL_MODELVIEW, GL_PROJECTION,
+};
 use crate::skin::{Skin, SkinVertex};
 use glam::{Mat4, Vec3};
 
@@ -14,15 +16,26 @@ pub const SIZE: (u32, u32) = (640, 480);
 const GL_LINE_LOOP: u32 = 0x0002;
 const GL_LINE_STRIP: u32 = 0x0003;
 
-/// (colour, position, influences) of the 12 vertices, as in the seed.
-fn quad_vertices() -> Vec<([f32; 3], Vec3, Vec<(usize, f32)>)> {
+/// One of the seed's vertices: colour, position, (bone, weight) pairs.
+type DemoVertex = ([f32; 3], Vec3, Vec<(usize, f32)>);
+
+/// The 12 vertices, as in the seed.
+fn quad_vertices() -> Vec<DemoVertex> {
     let half = vec![(0, 0.5), (1, 0.5)];
     let mut out = Vec::new();
     let colours = [[1.0, 1.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]];
     for (quad, colour) in colours.into_iter().enumerate() {
         let (bottom, top) = (2.0 * quad as f32, 2.0 * quad as f32 + 2.0);
-        let bottom_weights = if quad == 0 { vec![(0, 1.0)] } else { half.clone() };
-        let top_weights = if quad == 2 { vec![(1, 1.0)] } else { half.clone() };
+        let bottom_weights = if quad == 0 {
+            vec![(0, 1.0)]
+        } else {
+            half.clone()
+        };
+        let top_weights = if quad == 2 {
+            vec![(1, 1.0)]
+        } else {
+            half.clone()
+        };
         out.push((colour, Vec3::new(-1.0, bottom, 0.0), bottom_weights.clone()));
         out.push((colour, Vec3::new(1.0, bottom, 0.0), bottom_weights));
         out.push((colour, Vec3::new(1.0, top, 0.0), top_weights.clone()));
@@ -33,9 +46,20 @@ fn quad_vertices() -> Vec<([f32; 3], Vec3, Vec<(usize, f32)>)> {
 
 /// The seed's wireframe bone, from (0, 0, 0) to (0, 3, 0).
 const BONE_SHAPE: [[f32; 3]; 14] = [
-    [0.0, 0.0, 0.0], [-0.2, 0.2, -0.2], [0.2, 0.2, -0.2], [0.0, 3.0, 0.0], [-0.2, 0.2, -0.2],
-    [-0.2, 0.2, 0.2], [0.0, 0.0, 0.0], [0.2, 0.2, -0.2], [0.2, 0.2, 0.2], [0.0, 0.0, 0.0],
-    [-0.2, 0.2, 0.2], [0.0, 3.0, 0.0], [0.2, 0.2, 0.2], [-0.2, 0.2, 0.2],
+    [0.0, 0.0, 0.0],
+    [-0.2, 0.2, -0.2],
+    [0.2, 0.2, -0.2],
+    [0.0, 3.0, 0.0],
+    [-0.2, 0.2, -0.2],
+    [-0.2, 0.2, 0.2],
+    [0.0, 0.0, 0.0],
+    [0.2, 0.2, -0.2],
+    [0.2, 0.2, 0.2],
+    [0.0, 0.0, 0.0],
+    [-0.2, 0.2, 0.2],
+    [0.0, 3.0, 0.0],
+    [0.2, 0.2, 0.2],
+    [-0.2, 0.2, 0.2],
 ];
 
 /// World matrices of the two bones: bone 1 at the origin, bone 2 at the end of bone 1 turned
@@ -96,7 +120,10 @@ pub fn draw<G: FixedFunction>(gl: &mut G, bend: (f32, f32), width: u32, height: 
         }
         gl.end();
     }
-    for (bone, [r, g, b]) in bone_worlds(bend).iter().zip([[1.0, 1.0, 0.0], [0.0, 0.0, 1.0]]) {
+    for (bone, [r, g, b]) in bone_worlds(bend)
+        .iter()
+        .zip([[1.0, 1.0, 0.0], [0.0, 0.0, 1.0]])
+    {
         gl.push_matrix();
         gl.mult_matrixf(&bone.to_cols_array());
         gl.color3f(r, g, b);
@@ -110,8 +137,16 @@ pub fn draw<G: FixedFunction>(gl: &mut G, bend: (f32, f32), width: u32, height: 
 }
 
 /// The demo offscreen, as a picture.
-pub fn render(bend: (f32, f32), width: u32, height: u32) -> Result<crate::render::Image, crate::Error> {
+pub fn render(
+    bend: (f32, f32),
+    width: u32,
+    height: u32,
+) -> Result<crate::render::Image, crate::Error> {
     let mut context = crate::render::osmesa::OsMesa::new(width, height)?;
     draw(&mut context.gl, bend, width, height);
-    Ok(crate::render::Image { width, height, rgb: context.read_rgb() })
+    Ok(crate::render::Image {
+        width,
+        height,
+        rgb: context.read_rgb(),
+    })
 }

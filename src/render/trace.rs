@@ -238,6 +238,19 @@ impl FixedFunction for Recorder {
         let args = self.floats(&[angle, x, y, z]);
         self.call("glRotatef", &args);
     }
+    fn draw_triangles(
+        &mut self,
+        positions: &[glam::Vec3],
+        _normals: &[glam::Vec3],
+        indices: &[u32],
+    ) {
+        let args = format!(
+            "GL_TRIANGLES, {}, GL_UNSIGNED_INT, skin /* {} vertices */",
+            indices.len(),
+            positions.len()
+        );
+        self.call("glDrawElements", &args);
+    }
     fn get_modelview(&mut self) -> [f32; 16] {
         self.call("glGetFloatv", "GL_MODELVIEW_MATRIX, m");
         self.modelview

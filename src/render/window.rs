@@ -5,7 +5,7 @@
 //! article wraps the angle at 360 although it is in radians; here it wraps at 2π. Beyond the
 //! article, all opt-in so the first picture stays the article's: Space plays at the file's frame
 //! time, S goes back a frame, a mouse drag orbits, the wheel zooms, F frames the skeleton, B
-//! toggles the stick figure.
+//! toggles the stick figure, K the generated skin.
 
 use crate::error::Error;
 use crate::motion::Motion;
@@ -79,8 +79,14 @@ pub fn check_environment() -> Result<(), Error> {
 
 /// A window of `width × height` with a current compatibility-profile context (a depth buffer, no
 /// multisampling: the article's GLUT_DOUBLE | GLUT_RGBA | GLUT_DEPTH) and its GL table.
-fn open_gl_window(event_loop: &ActiveEventLoop, title: String, width: u32, height: u32) -> Result<Running, Error> {
-    let failed = |what: &str, e: &dyn std::fmt::Display| Error::Environment(format!("cannot {what}: {e}"));
+fn open_gl_window(
+    event_loop: &ActiveEventLoop,
+    title: String,
+    width: u32,
+    height: u32,
+) -> Result<Running, Error> {
+    let failed =
+        |what: &str, e: &dyn std::fmt::Display| Error::Environment(format!("cannot {what}: {e}"));
     let attributes = Window::default_attributes()
         .with_title(title)
         .with_inner_size(PhysicalSize::new(width, height));
@@ -90,12 +96,21 @@ fn open_gl_window(event_loop: &ActiveEventLoop, title: String, width: u32, heigh
         .build(event_loop, template, |configs| {
             // glutin calls this with at least one configuration.
             configs
-                .max_by_key(|c| (c.num_samples() == 0, c.depth_size() == 24, c.alpha_size() == 8))
+                .max_by_key(|c| {
+                    (
+                        c.num_samples() == 0,
+                        c.depth_size() == 24,
+                        c.alpha_size() == 8,
+                    )
+                })
                 .expect("glutin offers at least one configuration")
         })
         .map_err(|e| failed("find an OpenGL configuration", &e))?;
     let window = window.ok_or_else(|| Error::Environment("no window was created".into()))?;
-    let handle = window.window_handle().map_err(|e| failed("get the window handle", &e))?.as_raw();
+    let handle = window
+        .window_handle()
+        .map_err(|e| failed("get the window handle", &e))?
+        .as_raw();
     let display = config.display();
     let attributes = ContextAttributesBuilder::new()
         .with_profile(GlProfile::Compatibility)
@@ -114,7 +129,13 @@ fn open_gl_window(event_loop: &ActiveEventLoop, title: String, width: u32, heigh
         .map_err(|e| failed("make the OpenGL context current", &e))?;
     let gl = GlTable::load(|name| display.get_proc_address(name))?;
     let size = window.inner_size();
-    Ok(Running { window, surface, context, gl, size: (size.width.max(1), size.height.max(1)) })
+    Ok(Running {
+        window,
+        surface,
+        context,
+        gl,
+        size: (size.width.max(1), size.height.max(1)),
+    })
 }
 
 /// Seed 001's demo in a window: a right-button drag bends the second bone about Y (up and down)
@@ -124,7 +145,13 @@ pub fn run_skin_demo(bend: (f32, f32)) -> Result<(), Error> {
     let event_loop = quietly(EventLoop::new)
         .and_then(|r| r.map_err(|e| e.to_string()))
         .map_err(|e| Error::Environment(format!("cannot open the X display: {e}")))?;
-    let mut app = SkinDemo { bend, drag: None, dragging: false, running: None, error: None };
+    let mut app = SkinDemo {
+        bend,
+        drag: None,
+        dragging: false,
+        running: None,
+        error: None,
+    };
     event_loop
         .run_app(&mut app)
         .map_err(|e| Error::Environment(format!("the window's event loop failed: {e}")))?;
@@ -141,7 +168,10 @@ struct SkinDemo {
 
 impl SkinDemo {
     fn title(&self) -> String {
-        format!("bvhview skin-demo - bend Y {:.0}°, Z {:.0}° (right-drag)", self.bend.0, self.bend.1)
+        format!(
+            "bvhview skin-demo - bend Y {:.0}°, Z {:.0}° (right-drag)",
+            self.bend.0, self.bend.1
+        )
     }
 }
 
@@ -165,22 +195,31 @@ impl ApplicationHandler for SkinDemo {
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
         let title = self.title();
-        let Some(running) = self.running.as_mut() else { return };
+        let Some(running) = self.running.as_mut() else {
+            return;
+        };
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),
             WindowEvent::KeyboardInput { event, .. }
-                if event.state == ElementState::Pressed && event.logical_key == Key::Named(NamedKey::Escape) =>
+                if event.state == ElementState::Pressed
+                    && event.logical_key == Key::Named(NamedKey::Escape) =>
             {
                 event_loop.exit()
             }
             WindowEvent::Resized(size) => {
-                if let (Some(w), Some(h)) = (NonZeroU32::new(size.width), NonZeroU32::new(size.height)) {
+                if let (Some(w), Some(h)) =
+                    (NonZeroU32::new(size.width), NonZeroU32::new(size.height))
+                {
                     running.surface.resize(&running.context, w, h);
                     running.size = (w.get(), h.get());
                 }
                 running.window.request_redraw();
             }
-            WindowEvent::MouseInput { state, button: MouseButton::Right, .. } => {
+            WindowEvent::MouseInput {
+                state,
+                button: MouseButton::Right,
+                ..
+            } => {
                 self.dragging = state == ElementState::Pressed;
                 self.drag = None;
             }
@@ -197,7 +236,9 @@ impl ApplicationHandler for SkinDemo {
                 let (width, height) = running.size;
                 crate::render::skin_demo::draw(&mut running.gl, self.bend, width, height);
                 if let Err(e) = running.surface.swap_buffers(&running.context) {
-                    self.error = Some(Error::Environment(format!("cannot present the picture: {e}")));
+                    self.error = Some(Error::Environment(format!(
+                        "cannot present the picture: {e}"
+                    )));
                     event_loop.exit();
                 }
                 running.window.set_title(&title);
@@ -214,6 +255,8 @@ pub struct ViewerOptions {
     pub name: String,
     pub offset_mode: OffsetMode,
     pub style: Style,
+    /// Start with the generated skin (K toggles it).
+    pub skin: bool,
 }
 
 /// C++: `main` in main.cpp: a 600×600 window whose display, reshape and keyboard functions are
@@ -237,6 +280,9 @@ pub fn run(skeleton: &Skeleton, motion: &Motion, options: ViewerOptions) -> Resu
         dragging: false,
         running: None,
         error: None,
+        body: None,
+        posed: crate::render::body::PosedBody::default(),
+        scratch: (Vec::new(), Vec::new()),
     };
     event_loop
         .run_app(&mut app)
@@ -288,6 +334,10 @@ struct Viewer<'a> {
     dragging: bool,
     running: Option<Running>,
     error: Option<Error>,
+    /// The generated skin, built the first time it is shown.
+    body: Option<crate::render::body::Body>,
+    posed: crate::render::body::PosedBody,
+    scratch: (Vec<glam::Mat4>, Vec<glam::Mat4>),
 }
 
 impl Viewer<'_> {
@@ -337,6 +387,15 @@ impl Viewer<'_> {
             self.camera
         };
         let title = self.title();
+        let skin = if self.options.skin {
+            let body = self.body.get_or_insert_with(|| {
+                crate::render::body::Body::new(self.skeleton, self.options.offset_mode)
+            });
+            body.pose(self.skeleton, frame, &mut self.posed, &mut self.scratch);
+            Some(&self.posed)
+        } else {
+            None
+        };
         let Some(running) = self.running.as_mut() else {
             return Ok(());
         };
@@ -346,6 +405,7 @@ impl Viewer<'_> {
             camera,
             style: self.options.style,
             offset_mode: self.options.offset_mode,
+            skin,
         };
         scene::display(&mut running.gl, &scene);
         running
@@ -391,6 +451,7 @@ impl Viewer<'_> {
                 "a" => self.turn(0.1),
                 "d" => self.turn(-0.1),
                 "f" => self.fit = !self.fit,
+                "k" => self.options.skin = !self.options.skin,
                 "b" => {
                     self.options.style = match self.options.style {
                         Style::Points => Style::Both,

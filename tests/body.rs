@@ -1,0 +1,36 @@
+//! The generated skin: in the rest pose it is the mesh it was made as, and the middle of each
+//! bone moves rigidly with its joint.
+
+mod common;
+use bvhview::pose::{OffsetMode, world_matrices};
+use bvhview::render::body::{Body, PosedBody};
+use common::*;
+
+#[test]
+fn rest_pose_reproduces_the_bind_mesh_and_bone_middles_move_rigidly() {
+    let bvh = load("bvh/bvh11_131_01.bvh");
+    let body = Body::new(&bvh.skeleton, OffsetMode::Replace);
+    let (mut posed, mut scratch) = (PosedBody::default(), (Vec::new(), Vec::new()));
+    body.pose(&bvh.skeleton, None, &mut posed, &mut scratch);
+    assert_eq!(posed.positions.len(), body.skin.vertices.len());
+    assert!(posed.indices.len() > 1000 && posed.indices.len() % 3 == 0);
+    for (p, v) in posed.positions.iter().zip(&body.skin.vertices) {
+        assert!(p.abs_diff_eq(v.position, 1e-4), "{p} vs {}", v.position);
+    }
+    // Frame 400: a vertex with a single influence is its joint's world × inverse rest world.
+    let frame = bvh.motion.frame(400);
+    body.pose(&bvh.skeleton, Some(frame), &mut posed, &mut scratch);
+    let (mut now, mut rest) = (Vec::new(), Vec::new());
+    world_matrices(&bvh.skeleton, frame, OffsetMode::Replace, &mut now);
+    world_matrices(&bvh.skeleton, &[], OffsetMode::Replace, &mut rest);
+    let mut checked = 0;
+    for (i, v) in body.skin.vertices.iter().enumerate() {
+        if v.influences[0].1 == 1.0 {
+            let bone = v.influences[0].0 as usize;
+            let want = (now[bone] * rest[bone].inverse()).transform_point3(v.position);
+            assert!(posed.positions[i].abs_diff_eq(want, 1e-3), "vertex {i}");
+            checked += 1;
+        }
+    }
+    assert!(checked > 100, "{checked}");
+}
