@@ -109,8 +109,6 @@ pub struct GlTable {
     draw_elements: FnDrawElements,
     /// glutSolidSphere's geometry for the last (radius, slices, stacks) asked for.
     sphere: Option<Sphere>,
-    /// The sphere in buffer objects: vertices (positions then normals) and indices.
-    sphere_buffers: Option<(glow::Buffer, glow::Buffer)>,
 }
 
 macro_rules! load_all {
@@ -125,7 +123,7 @@ macro_rules! load_all {
             // C signature the field's type spells out (OpenGL 1.1).
             let $field = unsafe { std::mem::transmute::<*const c_void, $ty>(pointer) };
         )*
-        GlTable { gl: $gl, $($field,)* sphere: None, sphere_buffers: None }
+        GlTable { gl: $gl, $($field,)* sphere: None }
     }};
 }
 
@@ -329,9 +327,8 @@ impl FixedFunction for GlTable {
         }
     }
 
-    /// As freeglut: vertex and normal arrays, one `glDrawElements` triangle strip per stack, the
-    /// same triangles in the same order. Unlike freeglut, the geometry is built on the first call
-    /// and kept in buffer objects, so it is not copied to GL again for every strip of every joint.
+    /// As freeglut: client-side vertex and normal arrays, one `glDrawElements` triangle strip per
+    /// stack. The geometry is built on the first call and kept.
     fn solid_sphere(&mut self, radius: f64, slices: i32, stacks: i32) {
         let (radius, slices, stacks) = (
             radius as f32,
@@ -343,74 +340,26 @@ impl FixedFunction for GlTable {
             .as_ref()
             .is_some_and(|s| s.radius == radius && s.slices == slices && s.stacks == stacks);
         if !cached {
-            let sphere = Sphere::new(radius, slices, stacks);
-            self.sphere_buffers = upload_sphere(&self.gl, &sphere, self.sphere_buffers.take());
-            self.sphere = Some(sphere);
+            self.sphere = Some(Sphere::new(radius, slices, stacks));
         }
         let sphere = self.sphere.as_ref().expect("built above");
         let strip = sphere.strip_len();
-        // SAFETY: with the buffers bound, the pointers are byte offsets into them, inside the data
-        // uploaded above (positions first, then normals; strips of u16 indices).
         unsafe {
-            let (vertices, indices) = match self.sphere_buffers {
-                Some(buffers) => buffers,
-                None => return,
-            };
-            self.gl.bind_buffer(glow::ARRAY_BUFFER, Some(vertices));
-            self.gl
-                .bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(indices));
             (self.enable_client_state)(GL_VERTEX_ARRAY);
             (self.enable_client_state)(GL_NORMAL_ARRAY);
-            (self.vertex_pointer)(3, GL_FLOAT, 0, std::ptr::null());
-            let normals_at = std::mem::size_of_val(sphere.positions.as_slice());
-            (self.normal_pointer)(GL_FLOAT, 0, normals_at as *const c_void);
+            (self.vertex_pointer)(3, GL_FLOAT, 0, sphere.positions.as_ptr().cast());
+            (self.normal_pointer)(GL_FLOAT, 0, sphere.normals.as_ptr().cast());
             for part in 0..sphere.stacks {
-                let first = part * strip * std::mem::size_of::<u16>();
+                let first = sphere.indices[part * strip..].as_ptr();
                 (self.draw_elements)(
                     GL_TRIANGLE_STRIP,
                     strip as i32,
                     GL_UNSIGNED_SHORT,
-                    first as *const c_void,
+                    first.cast(),
                 );
             }
             (self.disable_client_state)(GL_VERTEX_ARRAY);
             (self.disable_client_state)(GL_NORMAL_ARRAY);
-            // Unbound again, so client-side arrays (the skin) work as before.
-            self.gl.bind_buffer(glow::ARRAY_BUFFER, None);
-            self.gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, None);
         }
-    }
-}
-
-/// The sphere's vertices (positions, then normals) and indices in two buffer objects.
-fn upload_sphere(
-    gl: &glow::Context,
-    sphere: &Sphere,
-    old: Option<(glow::Buffer, glow::Buffer)>,
-) -> Option<(glow::Buffer, glow::Buffer)> {
-    // SAFETY: plain buffer calls on the current context; the slices outlive the calls.
-    unsafe {
-        if let Some((a, b)) = old {
-            gl.delete_buffer(a);
-            gl.delete_buffer(b);
-        }
-        let vertices = gl.create_buffer().ok()?;
-        let indices = gl.create_buffer().ok()?;
-        let mut bytes: Vec<u8> = Vec::new();
-        for value in sphere.positions.iter().chain(&sphere.normals) {
-            bytes.extend_from_slice(&value.to_ne_bytes());
-        }
-        gl.bind_buffer(glow::ARRAY_BUFFER, Some(vertices));
-        gl.buffer_data_u8_slice(glow::ARRAY_BUFFER, &bytes, glow::STATIC_DRAW);
-        let index_bytes: Vec<u8> = sphere
-            .indices
-            .iter()
-            .flat_map(|i| i.to_ne_bytes())
-            .collect();
-        gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, Some(indices));
-        gl.buffer_data_u8_slice(glow::ELEMENT_ARRAY_BUFFER, &index_bytes, glow::STATIC_DRAW);
-        gl.bind_buffer(glow::ARRAY_BUFFER, None);
-        gl.bind_buffer(glow::ELEMENT_ARRAY_BUFFER, None);
-        Some((vertices, indices))
     }
 }

@@ -106,16 +106,18 @@ pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene) {
     gl.clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     gl.load_identity();
     look_at(gl, scene.camera.eye(), scene.camera.target, [0.0, 1.0, 0.0]);
+    // With a skin, the skin takes the spheres' place (the stick figure, if asked for, stays).
+    let style = match (scene.skin, scene.style) {
+        (None, style) => Some(style),
+        (Some(_), Style::Points) => None,
+        (Some(_), _) => Some(Style::Sticks),
+    };
     if let Some(skin) = scene.skin {
         gl.draw_triangles(&skin.positions, &skin.normals, &skin.indices);
     }
-    draw::draw(
-        gl,
-        scene.skeleton,
-        scene.frame,
-        scene.style,
-        scene.offset_mode,
-    );
+    if let Some(style) = style {
+        draw::draw(gl, scene.skeleton, scene.frame, style, scene.offset_mode);
+    }
     gl.begin(GL_QUADS);
     gl.vertex3f(-100.0, -10.0, 100.0);
     gl.vertex3f(100.0, -10.0, 100.0);
