@@ -288,8 +288,8 @@ fn times_axis(q: glam::Quat, axis: usize, s: f32, c: f32) -> glam::Quat {
 struct PlannedJoint {
     parent: Option<usize>,
     offset: Vec3,
-    /// (axis, column) of each position channel.
-    positions: Vec<(usize, usize)>,
+    /// (axis, column) of each position channel: a range of the plan's flat position list.
+    positions: std::ops::Range<usize>,
     /// Its rotation channels: a range of the plan's flat rotation lists.
     rotations: std::ops::Range<usize>,
     axis: Option<glam::Quat>,
@@ -300,6 +300,8 @@ struct PlannedJoint {
 #[derive(Clone, Debug)]
 pub struct FkPlan {
     joints: Vec<PlannedJoint>,
+    /// Every position channel, joint after joint: (axis, column).
+    position_channels: Vec<(usize, usize)>,
     /// Every rotation channel, joint after joint: its column and axis.
     rotation_columns: Vec<usize>,
     rotation_axes: Vec<usize>,
@@ -319,6 +321,7 @@ impl FkPlan {
     pub fn new(skeleton: &Skeleton, mode: OffsetMode) -> FkPlan {
         let mut rotation_columns = Vec::new();
         let mut rotation_axes = Vec::new();
+        let mut position_channels = Vec::new();
         let joints = skeleton
             .joints
             .iter()
@@ -334,14 +337,17 @@ impl FkPlan {
                     rotation_columns.push(column);
                     rotation_axes.push(c.axis());
                 }
+                let first_position = position_channels.len();
+                position_channels.extend(
+                    columns
+                        .iter()
+                        .filter(|(c, _)| c.is_position())
+                        .map(|&(c, i)| (c.axis(), i)),
+                );
                 PlannedJoint {
                     parent: joint.parent,
                     offset: joint.offset,
-                    positions: columns
-                        .iter()
-                        .filter(|(c, _)| c.is_position())
-                        .map(|&(c, i)| (c.axis(), i))
-                        .collect(),
+                    positions: first_position..position_channels.len(),
                     rotations: first..rotation_columns.len(),
                     axis: joint.axis,
                 }
@@ -349,6 +355,7 @@ impl FkPlan {
             .collect();
         FkPlan {
             joints,
+            position_channels,
             rotation_columns,
             rotation_axes,
             mode,
@@ -372,7 +379,7 @@ impl FkPlan {
         let (out, rotations) = (&mut out[..count], &mut scratch.rotations[..count]);
         for (index, joint) in self.joints.iter().enumerate() {
             let mut t = joint.offset;
-            for &(axis, column) in &joint.positions {
+            for &(axis, column) in &self.position_channels[joint.positions.clone()] {
                 match self.mode {
                     OffsetMode::Replace => t[axis] = frame[column],
                     OffsetMode::Add => t[axis] += frame[column],
