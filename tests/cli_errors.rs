@@ -20,13 +20,18 @@ fn bvhview_unprivileged(args: &[&str]) -> Output {
         .map(|o| o.stdout == b"0\n")
         .unwrap_or(false);
     let mut command = if root {
+        // A copy in a world-readable folder: the checkout may sit where that user cannot enter.
+        let binary = scratch("bvhview");
+        if !binary.exists() {
+            std::fs::copy(env!("CARGO_BIN_EXE_bvhview"), &binary).unwrap();
+            Command::new("chmod")
+                .args(["755", binary.to_str().unwrap()])
+                .status()
+                .unwrap();
+        }
         let mut c = Command::new("setpriv");
-        c.args([
-            "--reuid=65534",
-            "--regid=65534",
-            "--clear-groups",
-            env!("CARGO_BIN_EXE_bvhview"),
-        ]);
+        c.args(["--reuid=65534", "--regid=65534", "--clear-groups"])
+            .arg(&binary);
         c
     } else {
         Command::new(env!("CARGO_BIN_EXE_bvhview"))
@@ -124,15 +129,23 @@ fn an_unwritable_output_is_an_other_failure() {
         .args(["555", folder.to_str().unwrap()])
         .status()
         .unwrap();
+    // An input the unprivileged user can read, wherever the checkout is.
+    let input = scratch("input.bvh");
+    std::fs::copy(tiny(), &input).unwrap();
+    Command::new("chmod")
+        .args(["644", input.to_str().unwrap()])
+        .status()
+        .unwrap();
+    let input = input.display().to_string();
     let output = folder.join("out.bvh");
-    let out = bvhview_unprivileged(&["convert", &tiny(), "-o", output.to_str().unwrap()]);
+    let out = bvhview_unprivileged(&["convert", &input, "-o", output.to_str().unwrap()]);
     one_line(&out, 1, "cannot write");
     assert!(String::from_utf8_lossy(&out.stderr).contains("permission denied"));
     let png = folder.join("out.png");
     one_line(
         &bvhview_unprivileged(&[
             "snapshot",
-            &tiny(),
+            &input,
             "--size",
             "8x8",
             "-o",
