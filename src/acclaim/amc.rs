@@ -44,6 +44,12 @@ pub fn parse_amc(
     let mut frames = 0usize;
     let mut frame_number: Option<(i64, usize)> = None;
     let mut filled = vec![false; maps.len()];
+    // Bone names to maps: one lookup per line, however many bones the skeleton has.
+    let index: std::collections::HashMap<&str, usize> = maps
+        .iter()
+        .enumerate()
+        .map(|(i, m)| (m.name.as_str(), i))
+        .collect();
 
     // Checks that the frame just read gave every bone that has values.
     let finish = |filled: &mut Vec<bool>, number: Option<(i64, usize)>| -> Result<(), Error> {
@@ -98,7 +104,7 @@ pub fn parse_amc(
         if frame_number.is_none() {
             return Err(expected(source, first, "a frame number"));
         }
-        let Some(bone) = maps.iter().position(|m| m.name == first.text) else {
+        let Some(bone) = index.get(first.text).copied() else {
             return Err(expected(source, first, "a bone of the ASF skeleton"));
         };
         let map = &maps[bone];

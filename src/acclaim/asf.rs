@@ -177,6 +177,8 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
     };
     let mut root: Option<Root> = None;
     let mut bones: Vec<Bone> = Vec::new();
+    // Bone names to indices: files with many bones must not cost a search per name.
+    let mut names: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
     let mut current: Option<Bone> = None;
     // (the bone name word, its child name words) per hierarchy line
     let mut hierarchy: Vec<Vec<Word<'_>>> = Vec::new();
@@ -320,7 +322,7 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
                             format!("'{name}' (begun at line {}) ends without {what}", bone.line),
                         ));
                     }
-                    if bones.iter().any(|b| b.name == bone.name) {
+                    if names.contains_key(&bone.name) {
                         return Err(error_at(
                             source,
                             bone.line,
@@ -328,6 +330,7 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
                             format!("a second bone named '{}'", bone.name),
                         ));
                     }
+                    names.insert(bone.name.clone(), bones.len());
                     bones.push(bone);
                 } else if first.is("id") {
                     let word = line
@@ -490,10 +493,11 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
     }
 
     // The tree: every bone gets one parent, and every bone must be reachable from the root.
-    let index_of = |word: &Word<'_>| bones.iter().position(|b| b.name == word.text);
+    let index_of = |word: &Word<'_>| names.get(word.text).copied();
     let mut root_children = Vec::new();
     let mut children = vec![Vec::new(); bones.len()];
     let mut parent_of: Vec<Option<usize>> = vec![None; bones.len()];
+    let mut under_root = vec![false; bones.len()];
     for line in &hierarchy {
         let parent = if line[0].is("root") {
             None
@@ -506,8 +510,7 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
         for word in &line[1..] {
             let child = index_of(word)
                 .ok_or_else(|| expected(source, word, "a bone named in :bonedata"))?;
-            if parent_of[child].is_some() || root_children.contains(&child) || parent == Some(child)
-            {
+            if parent_of[child].is_some() || under_root[child] || parent == Some(child) {
                 return Err(error_at(
                     source,
                     word.line,
@@ -519,7 +522,10 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
                 ));
             }
             match parent {
-                None => root_children.push(child),
+                None => {
+                    under_root[child] = true;
+                    root_children.push(child);
+                }
                 Some(p) => {
                     parent_of[child] = Some(p);
                     children[p].push(child);
@@ -628,17 +634,19 @@ impl Asf {
 
         let mut bone_maps: Vec<Option<ValueMap>> = vec![None; self.bones.len()];
         // Pre-order from the root, children in hierarchy order.
-        let mut stack: Vec<(usize, usize)> =
-            self.root_children.iter().rev().map(|&b| (b, 0)).collect();
-        while let Some((bone_index, parent_joint)) = stack.pop() {
+        // (bone, its parent's joint, its parent bone if it is not the root)
+        let mut stack: Vec<(usize, usize, Option<usize>)> = self
+            .root_children
+            .iter()
+            .rev()
+            .map(|&b| (b, 0, None))
+            .collect();
+        while let Some((bone_index, parent_joint, parent_bone)) = stack.pop() {
             let bone = &self.bones[bone_index];
             let mut joint = bone_joint(&bone.name, Some(axis_rotation(bone.axis, bone.axis_order)));
             joint.parent = Some(parent_joint);
             // A bone starts where its parent bone ends; bones under the root start at the root.
-            joint.offset = match parent_joint {
-                0 => Vec3::ZERO,
-                _ => bone_vector(self.bone_named(&joints[parent_joint].name)),
-            };
+            joint.offset = parent_bone.map_or(Vec3::ZERO, |p| bone_vector(&self.bones[p]));
             let (channels, slots) = channels_for(&bone.dof);
             joint.channels = channels;
             joint.rotation_order = RotationOrder::get_flags(&joint.channels);
@@ -663,7 +671,7 @@ impl Asf {
                 joints.push(end);
             } else {
                 for &child in self.children[bone_index].iter().rev() {
-                    stack.push((child, index));
+                    stack.push((child, index, Some(bone_index)));
                 }
             }
         }
@@ -675,13 +683,6 @@ impl Asf {
             },
             maps,
         )
-    }
-
-    fn bone_named(&self, name: &str) -> &Bone {
-        self.bones
-            .iter()
-            .find(|b| b.name == name)
-            .expect("every joint but the root is a bone")
     }
 }
 
