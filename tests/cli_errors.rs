@@ -21,17 +21,20 @@ fn bvhview_unprivileged(args: &[&str]) -> Output {
         .unwrap_or(false);
     let mut command = if root {
         // A copy in a world-readable folder: the checkout may sit where that user cannot enter.
-        let binary = scratch("bvhview");
-        if !binary.exists() {
+        // Copied once, before any test runs it (a binary still being written cannot be run).
+        static BINARY: std::sync::OnceLock<std::path::PathBuf> = std::sync::OnceLock::new();
+        let binary = BINARY.get_or_init(|| {
+            let binary = scratch("bvhview");
             std::fs::copy(env!("CARGO_BIN_EXE_bvhview"), &binary).unwrap();
             Command::new("chmod")
                 .args(["755", binary.to_str().unwrap()])
                 .status()
                 .unwrap();
-        }
+            binary
+        });
         let mut c = Command::new("setpriv");
         c.args(["--reuid=65534", "--regid=65534", "--clear-groups"])
-            .arg(&binary);
+            .arg(binary);
         c
     } else {
         Command::new(env!("CARGO_BIN_EXE_bvhview"))
