@@ -198,30 +198,15 @@ mod tests {
 /// 1e-7 (a float's own precision), exact at multiples of 90°. Much faster than two libm calls.
 #[inline]
 pub fn sin_cos_degrees(degrees: f32) -> (f32, f32) {
-    if degrees.abs() > 1.0e6 {
+    if degrees.abs() >= 1.0e6 {
         return degrees.to_radians().sin_cos();
     }
-    let quadrant = (degrees * (1.0 / 90.0)).round();
-    let r = (degrees - quadrant * 90.0) * (std::f32::consts::PI / 180.0);
-    let r2 = r * r;
-    let sin = r
-        * (1.0
-            + r2 * (-1.0 / 6.0
-                + r2 * (1.0 / 120.0 + r2 * (-1.0 / 5040.0 + r2 * (1.0 / 362_880.0)))));
-    let cos = 1.0
-        + r2 * (-0.5
-            + r2 * (1.0 / 24.0
-                + r2 * (-1.0 / 720.0 + r2 * (1.0 / 40_320.0 + r2 * (-1.0 / 3_628_800.0)))));
-    match (quadrant as i32) & 3 {
-        0 => (sin, cos),
-        1 => (cos, -sin),
-        2 => (-sin, -cos),
-        _ => (-cos, sin),
-    }
+    sin_cos_lane(degrees)
 }
 
-/// `sin_cos_degrees` without branches, so a loop over many angles becomes SIMD code: rounding by
-/// the 1.5·2²³ trick and the quadrant picked with selects. For |degrees| < 10⁶.
+/// The reduction and polynomials of `sin_cos_degrees`, without branches, so a loop over many
+/// angles becomes SIMD code: rounding by the 1.5·2²³ trick and the quadrant picked with selects.
+/// For |degrees| < 10⁶.
 #[inline(always)]
 fn sin_cos_lane(degrees: f32) -> (f32, f32) {
     const ROUND: f32 = 12_582_912.0;
