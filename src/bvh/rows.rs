@@ -83,84 +83,60 @@ fn digit_run(text: &[u8], p: usize) -> Option<(u64, usize)> {
 }
 
 /// One number, as the article reads it with `(float)atof(p)`: the nearest double, rounded to a
-/// float; `None` unless the whole word is a finite number. Most mocap numbers (up to 15
-/// significant digits, small exponents) take Clinger's exact fast path: an integer mantissa and
-/// one multiplication or division by an exact power of ten, which rounds once, correctly. The
-/// rest go through the standard library's parser, which gives the same answer.
+/// float; `None` unless the whole word is a finite number. The usual shape goes through
+/// [`read_decimal`]; anything else (exponents, long mantissas) through the standard library's
+/// parser, which gives the same answer.
 pub fn parse_number(word: &[u8]) -> Option<f32> {
-    let value = fast_path(word).or_else(|| std::str::from_utf8(word).ok()?.parse::<f64>().ok())?;
-    let value = value as f32;
+    if let Some((value, end)) = read_decimal(word, 0)
+        && end == word.len()
+    {
+        return Some(value);
+    }
+    let value = std::str::from_utf8(word).ok()?.parse::<f64>().ok()? as f32;
     value.is_finite().then_some(value)
 }
 
-fn fast_path(word: &[u8]) -> Option<f64> {
-    let (negative, mut rest) = match word.first()? {
-        b'-' => (true, &word[1..]),
-        b'+' => (false, &word[1..]),
-        _ => (false, word),
-    };
+/// The usual MOTION number at `p`, `[-+]digits[.digits]` with 1 to 15 digits and followed by a
+/// blank, a line end or the end of `text`: its value (rounded exactly as `(float)atof` rounds,
+/// by Clinger's fast path: the mantissa is exact below 2^53 and the scale at most 15) and where
+/// it ends. `None` for anything else, which the caller hands to the standard parser.
+#[inline(always)]
+fn read_decimal(text: &[u8], mut p: usize) -> Option<(f32, usize)> {
+    let negative = *text.get(p)? == b'-';
+    p += usize::from(negative || text[p] == b'+');
     let mut mantissa: u64 = 0;
-    let mut digits = 0u32;
-    let mut scale = 0i32;
-    let mut seen_digit = false;
-    while let [c @ b'0'..=b'9', tail @ ..] = rest {
-        mantissa = mantissa * 10 + u64::from(c - b'0');
-        digits += u32::from(mantissa != 0);
-        seen_digit = true;
-        rest = tail;
-        if digits > 15 {
-            return None;
+    let digits_start = p;
+    if let Some((value, length)) = digit_run(text, p) {
+        mantissa = value;
+        p += length;
+    } else {
+        while let Some(&c) = text.get(p).filter(|c| c.is_ascii_digit()) {
+            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
+            p += 1;
         }
     }
-    if let [b'.', tail @ ..] = rest {
-        rest = tail;
-        while let [c @ b'0'..=b'9', tail @ ..] = rest {
-            mantissa = mantissa * 10 + u64::from(c - b'0');
-            digits += u32::from(mantissa != 0);
-            scale -= 1;
-            seen_digit = true;
-            rest = tail;
-            if digits > 15 {
-                return None;
+    let mut digits = p - digits_start;
+    let mut scale = 0;
+    if text.get(p) == Some(&b'.') {
+        p += 1;
+        let fraction_start = p;
+        match digit_run(text, p) {
+            Some((value, length)) if digits <= 8 => {
+                mantissa = mantissa * POW10_INT[length] + value;
+                p += length;
+            }
+            _ => {
+                while let Some(&c) = text.get(p).filter(|c| c.is_ascii_digit()) {
+                    mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
+                    p += 1;
+                }
             }
         }
+        scale = p - fraction_start;
+        digits += scale;
     }
-    if !seen_digit {
-        return None;
-    }
-    if let [b'e' | b'E', tail @ ..] = rest {
-        let (sign, mut exponent_digits) = match tail {
-            [b'-', t @ ..] => (-1, t),
-            [b'+', t @ ..] => (1, t),
-            t => (1, t),
-        };
-        if exponent_digits.is_empty() {
-            return None;
-        }
-        let mut exponent = 0i32;
-        while let [c @ b'0'..=b'9', t @ ..] = exponent_digits {
-            exponent = exponent
-                .saturating_mul(10)
-                .saturating_add(i32::from(c - b'0'));
-            exponent_digits = t;
-        }
-        if !exponent_digits.is_empty() {
-            return None;
-        }
-        scale = scale.saturating_add(sign * exponent);
-        rest = &[];
-    }
-    if !rest.is_empty() || !(-22..=22).contains(&scale) {
-        return None;
-    }
-    // At most 15 significant digits: the mantissa is below 2^53 and exact as a double.
-    let magnitude = mantissa as f64;
-    let value = if scale < 0 {
-        magnitude / POW10[(-scale) as usize]
-    } else {
-        magnitude * POW10[scale as usize]
-    };
-    Some(if negative { -value } else { value })
+    let ends = p == text.len() || is_blank(text[p]) || is_line_end(text[p]);
+    (ends && digits > 0 && digits <= 15).then(|| (decimal_to_f32(mantissa, scale, negative), p))
 }
 
 /// What went wrong in a row, at a byte offset of the part being parsed.
@@ -280,45 +256,9 @@ fn parse_rows_counting<S: Sink>(text: &[u8], width: usize, limit: usize, out: &m
                 };
             }
             let start = p;
-            // The usual shape, [-]digits[.digits] with at most 15 digits, is read in this one
-            // pass (exactly, as in `fast_path`); anything else goes to `parse_number`.
-            let negative = text[p] == b'-';
-            p += usize::from(negative || text[p] == b'+');
-            let mut mantissa: u64 = 0;
-            let digits_start = p;
-            if let Some((value, length)) = digit_run(text, p) {
-                mantissa = value;
-                p += length;
-            } else {
-                while let Some(&c) = text.get(p).filter(|c| c.is_ascii_digit()) {
-                    mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
-                    p += 1;
-                }
-            }
-            let mut digits = p - digits_start;
-            let mut scale = 0;
-            if text.get(p) == Some(&b'.') {
-                p += 1;
-                let fraction_start = p;
-                match digit_run(text, p) {
-                    Some((value, length)) if digits <= 8 => {
-                        mantissa = mantissa * POW10_INT[length] + value;
-                        p += length;
-                    }
-                    _ => {
-                        while let Some(&c) = text.get(p).filter(|c| c.is_ascii_digit()) {
-                            mantissa = mantissa.wrapping_mul(10).wrapping_add(u64::from(c - b'0'));
-                            p += 1;
-                        }
-                    }
-                }
-                scale = p - fraction_start;
-                digits += scale;
-            }
-            let ends = p == text.len() || is_blank(text[p]) || is_line_end(text[p]);
-            // Up to 15 digits: the mantissa is below 2^53 and the scale at most 15.
-            if ends && digits > 0 && digits <= 15 {
-                out.push(decimal_to_f32(mantissa, scale, negative));
+            if let Some((value, end)) = read_decimal(text, p) {
+                out.push(value);
+                p = end;
             } else {
                 while p < text.len() && !is_blank(text[p]) && !is_line_end(text[p]) {
                     p += 1;
