@@ -136,21 +136,11 @@ enum Command {
         /// A sequence instead: N, A..B, A..=B, A.. or ..B, written as OUT/frame_NNNNN.png.
         #[arg(long)]
         frames: Option<String>,
-        /// Camera angle around the Y axis in radians (the article starts at 10).
-        #[arg(long, default_value_t = bvhview::render::scene::START_ANGLE, allow_negative_numbers = true)]
-        angle: f32,
+        #[command(flatten)]
+        view: View,
         /// Picture size, WIDTHxHEIGHT.
         #[arg(long, default_value = "600x600", value_parser = parse_size)]
         size: (u32, u32),
-        /// Spheres (the article), the stick figure, or both.
-        #[arg(long, value_enum, default_value_t)]
-        style: Style,
-        /// Frame the skeleton instead of using the article's fixed camera.
-        #[arg(long)]
-        fit: bool,
-        /// How position channels combine with OFFSET.
-        #[arg(long, value_enum, default_value_t)]
-        offset_mode: OffsetMode,
         /// Draw a generated skin around the bones, moved by linear blend skinning.
         #[arg(long)]
         skin: bool,
@@ -166,18 +156,8 @@ enum Command {
         /// Frame to draw, from 0.
         #[arg(long, default_value_t = 0)]
         frame: usize,
-        /// Camera angle around the Y axis in radians (the article starts at 10).
-        #[arg(long, default_value_t = bvhview::render::scene::START_ANGLE, allow_negative_numbers = true)]
-        angle: f32,
-        /// Spheres (the article), the stick figure, or both.
-        #[arg(long, value_enum, default_value_t)]
-        style: Style,
-        /// Frame the skeleton instead of using the article's fixed camera.
-        #[arg(long)]
-        fit: bool,
-        /// How position channels combine with OFFSET.
-        #[arg(long, value_enum, default_value_t)]
-        offset_mode: OffsetMode,
+        #[command(flatten)]
+        view: View,
     },
     /// Compare two PNG pictures: how many pixels differ (exit 1 if any), and optionally a
     /// picture of where.
@@ -209,6 +189,23 @@ enum Command {
         #[arg(short, long)]
         output: PathBuf,
     },
+}
+
+/// How a drawing command looks at the skeleton.
+#[derive(Args, Clone, Copy, Debug)]
+struct View {
+    /// Camera angle around the Y axis in radians (the article starts at 10).
+    #[arg(long, default_value_t = bvhview::render::scene::START_ANGLE, allow_negative_numbers = true)]
+    angle: f32,
+    /// Spheres (the article), the stick figure, or both.
+    #[arg(long, value_enum, default_value_t)]
+    style: Style,
+    /// Frame the skeleton instead of using the article's fixed camera.
+    #[arg(long)]
+    fit: bool,
+    /// How position channels combine with OFFSET.
+    #[arg(long, value_enum, default_value_t)]
+    offset_mode: OffsetMode,
 }
 
 /// `600x400` → (600, 400).
@@ -437,11 +434,8 @@ fn run(cli: Cli) -> Result<(), Error> {
             source,
             frame,
             frames,
-            angle,
+            view,
             size,
-            style,
-            fit,
-            offset_mode,
             skin,
             output,
         }) => {
@@ -449,12 +443,12 @@ fn run(cli: Cli) -> Result<(), Error> {
             let options = SnapshotOptions {
                 skin,
                 frame,
-                angle,
+                angle: view.angle,
                 width: size.0,
                 height: size.1,
-                style,
-                fit,
-                offset_mode,
+                style: view.style,
+                fit: view.fit,
+                offset_mode: view.offset_mode,
             };
             let Some(frames) = frames else {
                 let image = bvhview::render::snapshot(&loaded.skeleton, &loaded.motion, &options)?;
@@ -479,10 +473,13 @@ fn run(cli: Cli) -> Result<(), Error> {
             file,
             source,
             frame,
-            angle,
-            style,
-            fit,
-            offset_mode,
+            view:
+                View {
+                    angle,
+                    style,
+                    fit,
+                    offset_mode,
+                },
         }) => {
             use bvhview::render::scene::{self, Scene};
             use bvhview::render::trace::{Numbers, Recorder};

@@ -138,6 +138,26 @@ fn open_gl_window(
     })
 }
 
+/// A window just opened is kept and drawn; if it could not be opened, the error is kept and the
+/// event loop ends.
+fn keep_or_exit(
+    event_loop: &ActiveEventLoop,
+    opened: Result<Running, Error>,
+    running: &mut Option<Running>,
+    error: &mut Option<Error>,
+) {
+    match opened {
+        Ok(window) => {
+            window.window.request_redraw();
+            *running = Some(window);
+        }
+        Err(e) => {
+            *error = Some(e);
+            event_loop.exit();
+        }
+    }
+}
+
 /// Seed 001's demo in a window: a right-button drag bends the second bone about Y (up and down)
 /// and Z (left and right); Esc quits.
 pub fn run_skin_demo(bend: (f32, f32)) -> Result<(), Error> {
@@ -181,16 +201,8 @@ impl ApplicationHandler for SkinDemo {
             return;
         }
         let (width, height) = crate::render::skin_demo::SIZE;
-        match open_gl_window(event_loop, self.title(), width, height) {
-            Ok(running) => {
-                running.window.request_redraw();
-                self.running = Some(running);
-            }
-            Err(error) => {
-                self.error = Some(error);
-                event_loop.exit();
-            }
-        }
+        let opened = open_gl_window(event_loop, self.title(), width, height);
+        keep_or_exit(event_loop, opened, &mut self.running, &mut self.error);
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
@@ -471,16 +483,8 @@ impl ApplicationHandler for Viewer<'_> {
         if self.running.is_some() {
             return;
         }
-        match self.create(event_loop) {
-            Ok(running) => {
-                running.window.request_redraw();
-                self.running = Some(running);
-            }
-            Err(error) => {
-                self.error = Some(error);
-                event_loop.exit();
-            }
-        }
+        let opened = self.create(event_loop);
+        keep_or_exit(event_loop, opened, &mut self.running, &mut self.error);
     }
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
