@@ -147,9 +147,14 @@ pub fn run(
                     let Some(item) = items.get(index) else { break };
                     let size = |p: &Path| std::fs::metadata(p).map_or(0, |m| m.len());
                     let bytes = size(&item.path) + item.motion.as_deref().map_or(0, size);
-                    let result =
-                        input::load_with_threads(&item.path, item.motion.as_deref(), None, 1)
-                            .map(|loaded| describe(&loaded));
+                    let result = input::load_checked(
+                        &item.path,
+                        item.motion.as_deref(),
+                        None,
+                        1,
+                        input::DEFAULT_MAX_SIZE,
+                    )
+                    .map(|loaded| describe(&loaded));
                     *slots[index]
                         .lock()
                         .expect("no thread panics holding a slot") = Some(Outcome {

@@ -24,17 +24,7 @@ fn extension(path: &Path) -> String {
 /// Loads `path` (`.bvh`, or `.asf` with `motion` an `.amc`). `frame_time` overrides the file's
 /// (AMC has none: CMU's 120 Hz is the default).
 pub fn load(path: &Path, motion: Option<&Path>, frame_time: Option<f64>) -> Result<Loaded, Error> {
-    load_with_threads(path, motion, frame_time, crate::cores())
-}
-
-/// [`load`] parsing a BVH on at most `threads` threads.
-pub fn load_with_threads(
-    path: &Path,
-    motion: Option<&Path>,
-    frame_time: Option<f64>,
-    threads: usize,
-) -> Result<Loaded, Error> {
-    load_checked(path, motion, frame_time, threads, DEFAULT_MAX_SIZE)
+    load_checked(path, motion, frame_time, crate::cores(), DEFAULT_MAX_SIZE)
 }
 
 /// Files larger than this are refused unless `--max-size` says otherwise (8 GiB).
@@ -59,7 +49,8 @@ pub fn check_file(path: &Path, max_size: u64) -> Result<(), Error> {
     Ok(())
 }
 
-/// [`load_with_threads`] refusing files larger than `max_size` bytes before reading them.
+/// [`load`] parsing a BVH on at most `threads` threads and refusing files larger than `max_size`
+/// bytes before reading them.
 pub fn load_checked(
     path: &Path,
     motion: Option<&Path>,

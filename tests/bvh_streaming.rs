@@ -112,3 +112,32 @@ fn a_short_file_and_extra_rows_are_reported_at_the_right_lines() {
         assert_eq!(bvh.warnings, vec![want.clone()]);
     }
 }
+
+#[test]
+fn joint_names_that_look_like_the_motion_header_do_not_fool_the_streaming_loader() {
+    let text = take(200, 0, "\n")
+        .replace("ROOT Hips", "ROOT MOTION")
+        .replace(
+            "End Site\n\t{\n\t\tOFFSET 0 5 0\n\t}",
+            "JOINT Frame Time x\n\t{\n\t\tOFFSET 0 5 0\n\t\tCHANNELS 0\n\t}",
+        );
+    assert!(text.contains("JOINT Frame Time x"));
+    let (memory, file) = both(&text);
+    let (memory, file) = (memory.unwrap(), file.unwrap());
+    assert_eq!(file.skeleton, memory.skeleton);
+    assert_eq!(file.motion, memory.motion);
+    assert_eq!(file.skeleton.joints[0].name, "MOTION");
+    assert_eq!(file.motion.frame_count(), 200);
+
+    // A real error in the hierarchy is reported where it is, by both.
+    let broken = take(200, 0, "\n").replace("OFFSET 0 5 0", "OFFSET 0 five 0");
+    let (memory, file) = both(&broken);
+    assert_eq!(
+        memory.unwrap_err(),
+        "t.bvh:8:12: expected OFFSET's y value (a number), found 'five'"
+    );
+    assert_eq!(
+        file.unwrap_err(),
+        "t.bvh:8:12: expected OFFSET's y value (a number), found 'five'"
+    );
+}

@@ -45,7 +45,9 @@ pub fn load_file_with_threads(path: &Path, threads: usize) -> Result<Bvh, Error>
     let length = file.metadata().map_err(io_error)?.len();
     let source = path.display().to_string();
     let mut head = Vec::new();
-    // Read until the line with `Frame Time` has ended, or the file has.
+    // Read until the line with `Frame Time` has ended, or the file has. Each search starts where
+    // the last one could not have found the start of `MOTION`, so a long hierarchy is read once.
+    let mut searched = 0;
     let rows_start = loop {
         let before = head.len();
         head.resize(before + 64 * 1024, 0);
@@ -54,19 +56,29 @@ pub fn load_file_with_threads(path: &Path, threads: usize) -> Result<Bvh, Error>
         if read == 0 {
             return load_bytes_with_threads(&head, &source, threads);
         }
-        if let Some(end) = header_end(&head) {
+        if let Some(end) = header_end(&head, searched) {
             break end;
+        }
+        if !head[searched..]
+            .windows(6)
+            .any(|w| w.eq_ignore_ascii_case(b"MOTION"))
+        {
+            searched = head.len().saturating_sub(5);
         }
     };
     let mut loader = Loader::new(&head[..rows_start], &source);
     let header = match loader.load() {
         Ok(header) => header,
-        // Something in the hierarchy looked like the motion header: read it all the slow way.
-        Err(_) => {
+        // The hierarchy ended where the cut did: something in it only looked like the motion
+        // header (a joint named MOTION). Read it all the slow way. Any other error is the file's.
+        Err(Error::Parse { line, column, .. })
+            if (line, column) == line_column(&head, rows_start) =>
+        {
             let mut all = head;
             file.read_to_end(&mut all).map_err(io_error)?;
             return load_bytes_with_threads(&all, &source, threads);
         }
+        Err(error) => return Err(error),
     };
     let Header::Motion {
         frames,
@@ -122,15 +134,16 @@ pub fn load_file_with_threads(path: &Path, threads: usize) -> Result<Bvh, Error>
     Ok(bvh)
 }
 
-/// Where the rows begin: the line end after the first `Frame Time` that follows `MOTION`.
-fn header_end(head: &[u8]) -> Option<usize> {
+/// Where the rows begin: the line end after the first `Frame Time` that follows `MOTION`,
+/// looking from `from` (what was searched before cannot hold the start of `MOTION`).
+fn header_end(head: &[u8], from: usize) -> Option<usize> {
     let find = |needle: &[u8], from: usize| {
         head.get(from..)?
             .windows(needle.len())
             .position(|w| w.eq_ignore_ascii_case(needle))
             .map(|i| i + from)
     };
-    let motion = find(b"MOTION", 0)?;
+    let motion = find(b"MOTION", from)?;
     let time = find(b"Frame Time", motion)?;
     let end = head[time..]
         .iter()
