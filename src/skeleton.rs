@@ -218,17 +218,6 @@ impl Skeleton {
         self.joints.iter().filter(|j| j.end_site).count()
     }
 
-    /// Depth of each joint: 0 for a root.
-    pub fn depths(&self) -> Vec<usize> {
-        let mut depths = vec![0; self.joints.len()];
-        for (i, joint) in self.joints.iter().enumerate() {
-            if let Some(parent) = joint.parent {
-                depths[i] = depths[parent] + 1;
-            }
-        }
-        depths
-    }
-
     /// The name an export uses for a joint: its own, or `<parent>_End` for an End Site.
     pub fn export_name(&self, index: usize) -> String {
         let joint = &self.joints[index];

@@ -19,6 +19,8 @@ pub const GL_LIGHT0: u32 = 0x4000;
 pub const GL_POSITION: u32 = 0x1203;
 pub const GL_DEPTH_TEST: u32 = 0x0B71;
 pub const GL_LINES: u32 = 0x0001;
+pub const GL_LINE_LOOP: u32 = 0x0002;
+pub const GL_LINE_STRIP: u32 = 0x0003;
 pub const GL_QUADS: u32 = 0x0007;
 pub const GL_TRIANGLE_STRIP: u32 = 0x0005;
 pub const GL_VERTEX_ARRAY: u32 = 0x8074;
@@ -32,7 +34,6 @@ pub const GL_RGBA: u32 = 0x1908;
 pub const GL_COLOR_BUFFER_BIT: u32 = 0x4000;
 pub const GL_DEPTH_BUFFER_BIT: u32 = 0x0100;
 pub const GL_VERSION: u32 = 0x1F02;
-pub const GL_RENDERER: u32 = 0x1F01;
 
 /// Every GL call the article's `init`, `reshape` and `display` make, one method per call, with
 /// the C names' meaning. `solid_sphere` stands for `glutSolidSphere`.

@@ -5,16 +5,14 @@
 //! wireframe shape per bone, over a blue-grey background, 15 units from the camera.
 
 use crate::render::fixed::{
-    FixedFunction, GL_COLOR_BUFFER_BIT, GL_DEPTH_BUFFER_BIT, GL_MODELVIEW, GL_PROJECTION,
+    FixedFunction, GL_COLOR_BUFFER_BIT, GL_DEPTH_BUFFER_BIT, GL_LINE_LOOP, GL_LINE_STRIP,
+    GL_MODELVIEW, GL_PROJECTION,
 };
 use crate::skin::{Skin, SkinVertex};
 use glam::{Mat4, Vec3};
 
 /// The demo's window size.
 pub const SIZE: (u32, u32) = (640, 480);
-
-const GL_LINE_LOOP: u32 = 0x0002;
-const GL_LINE_STRIP: u32 = 0x0003;
 
 /// One of the seed's vertices: colour, position, (bone, weight) pairs.
 type DemoVertex = ([f32; 3], Vec3, Vec<(usize, f32)>);

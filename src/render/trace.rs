@@ -128,6 +128,8 @@ const CAPS: &[(u32, &str)] = &[
 const MODES: &[(u32, &str)] = &[
     (GL_QUADS, "GL_QUADS"),
     (GL_LINES, "GL_LINES"),
+    (GL_LINE_LOOP, "GL_LINE_LOOP"),
+    (GL_LINE_STRIP, "GL_LINE_STRIP"),
     (GL_TRIANGLE_STRIP, "GL_TRIANGLE_STRIP"),
 ];
 const MATRICES: &[(u32, &str)] = &[
