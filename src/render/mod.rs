@@ -187,8 +187,9 @@ pub fn frame_values(motion: &Motion, index: usize) -> Result<Option<&[f32]>, Err
 /// Renders frames offscreen with one context, reused for every picture.
 pub struct Renderer {
     context: osmesa::OsMesa,
-    /// The skin last built, and for which skeleton (by address) and offset mode.
-    body: Option<(*const Skeleton, OffsetMode, body::Body)>,
+    /// The skin last built, with the skeleton and offset mode it was built for (compared by
+    /// value: another skeleton may later live at the same address).
+    body: Option<(Skeleton, OffsetMode, body::Body)>,
     posed: body::PosedBody,
     scratch: (Vec<glam::Mat4>, Vec<glam::Mat4>),
 }
@@ -228,9 +229,13 @@ impl Renderer {
             options.offset_mode,
         );
         let skin = if options.skin {
-            let key = (skeleton as *const Skeleton, options.offset_mode);
-            if self.body.as_ref().is_none_or(|(s, m, _)| (*s, *m) != key) {
-                self.body = Some((key.0, key.1, body::Body::new(skeleton, options.offset_mode)));
+            let mode = options.offset_mode;
+            if self
+                .body
+                .as_ref()
+                .is_none_or(|(s, m, _)| *m != mode || s != skeleton)
+            {
+                self.body = Some((skeleton.clone(), mode, body::Body::new(skeleton, mode)));
             }
             let (_, _, body) = self.body.as_ref().expect("built above");
             body.pose(skeleton, frame, &mut self.posed, &mut self.scratch);
