@@ -128,10 +128,7 @@ pub fn load_file_with_threads(path: &Path, threads: usize) -> Result<Bvh, Error>
             None => buffer.resize(buffer.len() * 2, 0),
         }
     }
-    let (data, mut warnings) = rows.finish()?;
-    let mut bvh = loader.finish(frames, frame_time, data);
-    bvh.warnings.append(&mut warnings);
-    Ok(bvh)
+    loader.finish_rows(frames, frame_time, rows)
 }
 
 /// Where the rows begin: the line end after the first `Frame Time` that follows `MOTION`,
@@ -189,10 +186,7 @@ fn load_bytes_with_threads(text: &[u8], source: &str, threads: usize) -> Result<
         rest = &rest[cut..];
     }
     rows.feed(rest)?;
-    let (data, mut warnings) = rows.finish()?;
-    let mut bvh = loader.finish(frames, frame_time, data);
-    bvh.warnings.append(&mut warnings);
-    Ok(bvh)
+    loader.finish_rows(frames, frame_time, rows)
 }
 
 /// How the hierarchy part ended.
@@ -288,6 +282,14 @@ impl<'a> Loader<'a> {
             motion,
             warnings: self.warnings,
         }
+    }
+
+    /// The loaded file once every chunk of rows was fed: the rows' check, values and warnings.
+    fn finish_rows(self, frames: u64, frame_time: f64, rows: RowParser) -> Result<Bvh, Error> {
+        let (data, warnings) = rows.finish()?;
+        let mut bvh = self.finish(frames, frame_time, data);
+        bvh.warnings.extend(warnings);
+        Ok(bvh)
     }
 
     fn error_at(&self, offset: usize, message: String) -> Error {
