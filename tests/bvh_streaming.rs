@@ -141,3 +141,69 @@ fn joint_names_that_look_like_the_motion_header_do_not_fool_the_streaming_loader
         "t.bvh:8:12: expected OFFSET's y value (a number), found 'five'"
     );
 }
+
+/// The values `take` writes in `row`.
+fn row_values(row: usize) -> [f32; 6] {
+    [
+        row as f32,
+        (row % 97) as f32 + 0.5,
+        -((row % 89) as f32) - 0.25,
+        0.0,
+        1.125,
+        -0.0625,
+    ]
+}
+
+#[test]
+fn blank_lines_anywhere_in_a_big_file_change_only_the_line_numbers() {
+    // Rows are placed in the result by counting lines, so blank lines leave gaps to close, and
+    // many of them use up the room before the rows do.
+    let frames = 3 * CHUNK / 30;
+    for every in [1, 7, 5000] {
+        let plain = take(frames, 3, "\n");
+        let (head, rows) = plain.split_at(plain.find("Frame Time: 0.01\n").unwrap() + 17);
+        let mut text = head.to_string();
+        let mut line = head.lines().count() + 1;
+        let mut extra_line = 0;
+        for (row, values) in rows.lines().enumerate() {
+            if row == frames {
+                extra_line = line;
+            }
+            text.push_str(values);
+            text.push('\n');
+            line += 1;
+            if row % every == 0 {
+                text.push_str(" \t\n\n");
+                line += 2;
+            }
+        }
+        let want = format!(
+            "3 extra rows after the {frames} announced by Frames: (line 12) ignored, from line {extra_line} on"
+        );
+        let (memory, file) = both(&text);
+        for bvh in [memory.unwrap(), file.unwrap()] {
+            assert_eq!(bvh.motion.frame_count(), frames, "every {every}");
+            for row in [0, 1, 2, frames / 3, frames / 2, frames - 2, frames - 1] {
+                assert_eq!(
+                    bvh.motion.frame(row),
+                    &row_values(row),
+                    "every {every}, row {row}"
+                );
+            }
+            assert_eq!(bvh.warnings, vec![want.clone()], "every {every}");
+        }
+
+        // A broken value in the last row: found, at its line, wherever the room ran out.
+        let last = format!("\n{} ", frames - 1);
+        let at = text.find(&last).unwrap() + 1;
+        text.replace_range(at..at + 1, "?");
+        let line = text[..at].lines().count() + 1;
+        let want = format!(
+            "t.bvh:{line}:1: expected a finite number, found '?{}'",
+            &last[2..last.len() - 1]
+        );
+        let (memory, file) = both(&text);
+        assert_eq!(memory.unwrap_err(), want, "every {every}");
+        assert_eq!(file.unwrap_err(), want, "every {every}");
+    }
+}

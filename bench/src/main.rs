@@ -42,6 +42,9 @@ fn main() {
     let (t_file, bvh) = best(runs, || {
         bvhview::bvh::load_file(std::path::Path::new(path)).expect("loads")
     });
+    let (t_one, _) = best(runs, || {
+        bvhview::bvh::loader::load_file_with_threads(std::path::Path::new(path), 1).expect("loads")
+    });
     let (t_bytes, _) = best(runs, || {
         bvhview::bvh::load_bytes(&bytes, path).expect("loads")
     });
@@ -51,6 +54,11 @@ fn main() {
         "load_file   (from the page cache): {:8.1} ms  {:7.1} MB/s",
         t_file.as_secs_f64() * 1e3,
         mb_per_s(size, t_file)
+    );
+    println!(
+        "load_file   on one thread:         {:8.1} ms  {:7.1} MB/s",
+        t_one.as_secs_f64() * 1e3,
+        mb_per_s(size, t_one)
     );
     println!(
         "load_bytes  (from memory):         {:8.1} ms  {:7.1} MB/s",

@@ -8,7 +8,7 @@
 //! [`Error::Parse`] with the line and column of the offending token instead of a crash or a tree
 //! built from garbage.
 
-use super::rows::{CHUNK, RowParser, last_line_end, parse_number};
+use super::rows::{RowParser, parse_number};
 use crate::error::{Error, line_column};
 use crate::motion::Motion;
 use crate::skeleton::{Channel, Joint, RotationOrder, Skeleton};
@@ -98,36 +98,8 @@ pub fn load_file_with_threads(path: &Path, threads: usize) -> Result<Bvh, Error>
         length.saturating_sub(rows_start as u64),
     )
     .with_threads(threads);
-    // The hierarchy stays with the loader; the rows already read start the stream. One buffer
-    // is filled, cut after its last line end, parsed, and the rest moved to its front.
-    let carry = &head[rows_start..];
-    let mut buffer = vec![0u8; (CHUNK + CHUNK / 4).max(carry.len() * 2)];
-    buffer[..carry.len()].copy_from_slice(carry);
-    let mut filled = carry.len();
-    loop {
-        let mut end_of_file = false;
-        while filled < CHUNK.min(buffer.len()) {
-            let read = file.read(&mut buffer[filled..]).map_err(io_error)?;
-            if read == 0 {
-                end_of_file = true;
-                break;
-            }
-            filled += read;
-        }
-        if end_of_file {
-            rows.feed(&buffer[..filled])?;
-            break;
-        }
-        match last_line_end(&buffer[..filled]) {
-            Some(cut) => {
-                rows.feed(&buffer[..cut])?;
-                buffer.copy_within(cut..filled, 0);
-                filled -= cut;
-            }
-            // A line longer than the buffer: make room and read on.
-            None => buffer.resize(buffer.len() * 2, 0),
-        }
-    }
+    // The hierarchy stays with the loader; the rows already read start the stream.
+    rows.feed_all(&head[rows_start..], &mut file, &io_error)?;
     loader.finish_rows(frames, frame_time, rows)
 }
 
@@ -179,13 +151,8 @@ fn load_bytes_with_threads(text: &[u8], source: &str, threads: usize) -> Result<
         (text.len() - start) as u64,
     )
     .with_threads(threads);
-    let mut rest = &text[start..];
-    while rest.len() > CHUNK {
-        let cut = last_line_end(&rest[..CHUNK]).unwrap_or(rest.len());
-        rows.feed(&rest[..cut])?;
-        rest = &rest[cut..];
-    }
-    rows.feed(rest)?;
+    let in_memory = |e| Error::io(std::path::Path::new(source), e);
+    rows.feed_all(&[], &mut &text[start..], &in_memory)?;
     loader.finish_rows(frames, frame_time, rows)
 }
 

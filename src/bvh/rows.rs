@@ -6,6 +6,7 @@
 //! still names its exact line and column.
 
 use crate::error::Error;
+use std::io::Read;
 
 /// Bytes of MOTION text handed to the parser at a time.
 pub const CHUNK: usize = 1 << 20;
@@ -182,7 +183,7 @@ impl Sink for SliceSink<'_> {
 }
 
 /// One bit per byte of 64 bytes of text (bit i for byte i): whitespace, LF, CR, digits, '.', '-'.
-#[derive(Clone, Copy)]
+#[derive(Clone, Copy, Default)]
 struct Block {
     whitespace: u64,
     lf: u64,
@@ -248,19 +249,6 @@ impl Block {
             block.minus |= u64::from(b == b'-') << i;
         }
         block
-    }
-}
-
-impl Default for Block {
-    fn default() -> Block {
-        Block {
-            whitespace: 0,
-            lf: 0,
-            cr: 0,
-            digit: 0,
-            dot: 0,
-            minus: 0,
-        }
     }
 }
 
@@ -501,6 +489,151 @@ pub fn last_line_end(buffer: &[u8]) -> Option<usize> {
     None
 }
 
+/// The result's spare room, written by several threads at once (each in its own stretch).
+#[derive(Clone, Copy)]
+struct Room(*mut std::mem::MaybeUninit<f32>);
+
+impl Room {
+    /// # Safety
+    /// `start + length` is within the capacity, and no one else uses that stretch meanwhile.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn stretch(&self, start: usize, length: usize) -> &mut [std::mem::MaybeUninit<f32>] {
+        // SAFETY: as the caller promises.
+        unsafe { std::slice::from_raw_parts_mut(self.0.add(start), length) }
+    }
+}
+
+// SAFETY: the threads write disjoint stretches; see `RowParser::feed_placed`.
+unsafe impl Send for Room {}
+unsafe impl Sync for Room {}
+
+/// A chunk handed to a thread: its text is in the thread's buffer.
+struct Job {
+    index: usize,
+    length: usize,
+    /// Where its text starts.
+    line: usize,
+    column: usize,
+    /// The row its rows go to, how many lines it has (at most that many rows), and how many rows
+    /// it may write (fewer only in the last chunk, at the end of the room).
+    placed: usize,
+    bound: usize,
+    limit: usize,
+}
+
+/// What a thread made of a chunk.
+struct Chunk {
+    index: usize,
+    placed: usize,
+    rows: usize,
+    error: Option<Error>,
+    /// The text beyond the rows the chunk could write, with its line and column.
+    rest: Option<(Vec<u8>, usize, usize)>,
+}
+
+/// The reading side shared by the threads of `RowParser::feed_placed`.
+struct Stream<'a> {
+    input: &'a mut (dyn Read + Send),
+    /// Text read after the last chunk handed out.
+    carry: Vec<u8>,
+    end_of_input: bool,
+    next_index: usize,
+    /// Bytes to read at a time.
+    chunk: usize,
+    /// Rows placed so far, and the room for rows.
+    placed: usize,
+    room_rows: usize,
+    /// Where the next chunk starts.
+    line: usize,
+    column: usize,
+    /// No more chunks: a problem was found, the room is used up, or the input ended.
+    stop: bool,
+    error: Option<std::io::Error>,
+}
+
+impl Stream<'_> {
+    /// Reads the next chunk into `buffer`: the carried text, then up to a chunk's worth, cut
+    /// after its last line end.
+    fn next_chunk(&mut self, buffer: &mut Vec<u8>) -> Option<Job> {
+        if self.stop {
+            return None;
+        }
+        let mut filled = self.carry.len();
+        if buffer.len() < filled * 2 {
+            buffer.resize(filled * 2, 0);
+        }
+        buffer[..filled].copy_from_slice(&self.carry);
+        let cut = loop {
+            while !self.end_of_input && filled < self.chunk.min(buffer.len()) {
+                match self.input.read(&mut buffer[filled..]) {
+                    Ok(0) => self.end_of_input = true,
+                    Ok(read) => filled += read,
+                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                    Err(e) => {
+                        self.error = Some(e);
+                        self.stop = true;
+                        return None;
+                    }
+                }
+            }
+            if self.end_of_input {
+                break filled;
+            }
+            match last_line_end(&buffer[..filled]) {
+                Some(cut) => break cut,
+                None => buffer.resize(buffer.len() * 2, 0),
+            }
+        };
+        self.carry.clear();
+        self.carry.extend_from_slice(&buffer[cut..filled]);
+        if cut == 0 {
+            self.stop = true;
+            return None;
+        }
+        let (breaks, since) = count_lines(&buffer[..cut]);
+        let bound = breaks + usize::from(since > 0);
+        let job = Job {
+            index: self.next_index,
+            length: cut,
+            line: self.line,
+            column: self.column,
+            placed: self.placed,
+            bound,
+            limit: bound.min(self.room_rows - self.placed),
+        };
+        self.next_index += 1;
+        self.placed += job.limit;
+        if breaks == 0 {
+            self.column += since;
+        } else {
+            self.line += breaks;
+            self.column = since + 1;
+        }
+        self.stop = self.placed == self.room_rows || self.end_of_input;
+        Some(job)
+    }
+}
+
+/// Takes the lock spinning: it is held only to read a chunk, and a thread put to sleep here
+/// can take long to wake.
+fn lock<T>(mutex: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    let mut spins = 0u32;
+    loop {
+        match mutex.try_lock() {
+            Ok(guard) => return guard,
+            Err(std::sync::TryLockError::Poisoned(poisoned)) => return poisoned.into_inner(),
+            Err(std::sync::TryLockError::WouldBlock) => {
+                spins += 1;
+                if spins.is_multiple_of(1024) {
+                    std::thread::yield_now();
+                } else {
+                    std::hint::spin_loop();
+                }
+            }
+        }
+    }
+}
+
 /// Collects `frames` rows of `width` values from text fed in line-aligned chunks.
 pub struct RowParser {
     source: String,
@@ -517,6 +650,8 @@ pub struct RowParser {
     /// Line ends seen, for a skeleton without channels.
     line_ends: u64,
     threads: usize,
+    /// Bytes read at a time: a megabyte, less for a small input (so that it is still split).
+    chunk: usize,
 }
 
 impl RowParser {
@@ -547,6 +682,9 @@ impl RowParser {
             extra: None,
             line_ends: 0,
             threads,
+            chunk: (room / 8)
+                .clamp(PARALLEL_MIN as u64, CHUNK as u64)
+                .min(room + 1) as usize,
         }
     }
 
@@ -653,146 +791,217 @@ impl RowParser {
         Ok(())
     }
 
-    /// Parses the rows of a chunk; returns its line count (as `count_lines`).
-    ///
-    /// Two steps per chunk, each on every core: count the lines of each part (which bounds its
-    /// rows), then parse each part straight into its own stretch of the result's spare room. No
-    /// value is copied, and the result's pages are first touched by the threads that fill them.
+    /// Parses the rows of a chunk in order; returns its line count (as `count_lines`). This
+    /// reads what the parallel pass leaves (see [`RowParser::feed_all`]), usually nothing.
     fn feed_rows(&mut self, chunk: &[u8]) -> Result<(usize, usize), Error> {
         let needed = (self.frames - self.rows).min(usize::MAX as u64) as usize;
+        let part = parse_rows(chunk, self.width, needed, &mut self.data);
+        let first_row = self.rows;
+        self.rows += part.rows as u64;
+        if let Some((row, problem)) = part.problem {
+            return Err(self.problem_error(chunk, 0, first_row + row as u64, problem));
+        }
+        if part.rows == needed {
+            self.count_extra(chunk, part.end);
+        }
+        Ok(part.lines)
+    }
+
+    /// Reads and parses all the rows: `carry` (rows already read) and then everything `input`
+    /// holds. `io_error` names the input in a read error.
+    ///
+    /// Every thread runs the same loop: under a lock it reads the next chunk (cut at a line end)
+    /// and counts its lines, which places the chunk's rows in the result (each line at most one
+    /// row); then it parses the chunk into that place while another thread reads. No thread waits
+    /// for another at every chunk, and the reading overlaps the parsing. What the placing cannot
+    /// cover (rows after `Frames`, or a file with blank lines that used up the room) is read
+    /// after them in order.
+    pub fn feed_all(
+        &mut self,
+        carry: &[u8],
+        input: &mut (dyn Read + Send),
+        io_error: &dyn Fn(std::io::Error) -> Error,
+    ) -> Result<(), Error> {
+        let mut carry = carry.to_vec();
+        if self.width > 0 && self.rows == 0 {
+            let (rest, after) = self.feed_placed(carry, input, io_error)?;
+            carry = after;
+            if let Some((text, line, column)) = rest {
+                (self.line, self.column) = (line, column);
+                self.feed(&text)?;
+            }
+        }
+        self.feed_in_order(carry, input, io_error)
+    }
+
+    /// The parallel pass of [`RowParser::feed_all`]: the rows placed by line counts. Returns the
+    /// text left in the last chunk (beyond the rows placed, with its line and column) and the
+    /// text read after the last chunk.
+    #[allow(clippy::type_complexity)]
+    fn feed_placed(
+        &mut self,
+        carry: Vec<u8>,
+        input: &mut (dyn Read + Send),
+        io_error: &dyn Fn(std::io::Error) -> Error,
+    ) -> Result<(Option<(Vec<u8>, usize, usize)>, Vec<u8>), Error> {
         let width = self.width;
-        // Split at line ends into one part per thread.
-        let parts = if chunk.len() < PARALLEL_MIN {
-            1
-        } else {
-            self.threads
-        };
-        let mut bounds = vec![0];
-        for k in 1..parts {
-            let target = chunk.len() * k / parts;
-            let from = (*bounds.last().expect("starts with 0")).max(target);
-            let breaks_here = |i: usize| {
-                chunk[i] == b'\n' || (chunk[i] == b'\r' && chunk.get(i + 1) != Some(&b'\n'))
-            };
-            match (from..chunk.len()).find(|&i| breaks_here(i)) {
-                Some(i) => bounds.push(i + 1),
-                None => break,
-            }
-        }
-        bounds.push(chunk.len());
-        bounds.dedup();
-        let slices: Vec<&[u8]> = bounds.windows(2).map(|w| &chunk[w[0]..w[1]]).collect();
-        let on_all_cores = |work: &(dyn Fn(usize) -> Part + Sync)| -> Vec<Part> {
-            if slices.len() == 1 {
-                return vec![work(0)];
-            }
-            std::thread::scope(|scope| {
-                let handles: Vec<_> = (1..slices.len())
-                    .map(|k| scope.spawn(move || work(k)))
-                    .collect();
-                let mut results = vec![work(0)];
-                results.extend(
-                    handles
-                        .into_iter()
-                        .map(|h| h.join().expect("a row parser panicked")),
-                );
-                results
-            })
-        };
-        // Room per part: a row of `width` values takes at least 2·width − 1 bytes, which bounds
-        // the rows without looking. Untouched room costs no memory; only when the rest of the
-        // allocation is too small are the lines counted first for an exact bound.
-        let mut limits: Vec<usize> = slices
-            .iter()
-            .map(|part| (part.len() / (2 * width - 1) + 1).min(needed))
-            .collect();
-        if limits.iter().sum::<usize>() * width > self.data.capacity() - self.data.len() {
-            let counted = on_all_cores(&|k| Part {
-                lines: count_lines(slices[k]),
-                rows: 0,
-                problem: None,
-                end: 0,
-            });
-            limits = counted
-                .iter()
-                .map(|p| (p.lines.0 + 1).min(needed))
-                .collect();
-        }
-        // Step 2: parse each part into its own stretch of spare room.
-        let room_needed: usize = limits.iter().sum::<usize>() * width;
-        self.data.reserve(room_needed);
-        let mut rooms: Vec<&mut [std::mem::MaybeUninit<f32>]> = Vec::new();
-        let mut spare = &mut self.data.spare_capacity_mut()[..room_needed];
-        for &limit in &limits {
-            let (room, rest) = spare.split_at_mut(limit * width);
-            rooms.push(room);
-            spare = rest;
-        }
-        let rooms: Vec<std::sync::Mutex<&mut [std::mem::MaybeUninit<f32>]>> =
-            rooms.into_iter().map(std::sync::Mutex::new).collect();
-        let results = on_all_cores(&|k| {
-            let mut room = rooms[k].lock().expect("each room has one user");
-            let mut sink = SliceSink {
-                room: &mut room,
-                written: 0,
-            };
-            parse_rows(slices[k], width, limits[k], &mut sink)
+        let room_rows =
+            (self.frames.min(usize::MAX as u64) as usize).min(self.data.capacity() / width);
+        let stream = std::sync::Mutex::new(Stream {
+            input,
+            carry,
+            end_of_input: false,
+            next_index: 0,
+            chunk: self.chunk,
+            placed: 0,
+            room_rows,
+            line: self.line,
+            column: self.column,
+            stop: room_rows == 0,
+            error: None,
         });
-        let mut lines = (0, 0);
-        for part in &results {
-            lines = if part.lines.0 == 0 {
-                (lines.0, lines.1 + part.lines.1)
-            } else {
-                (lines.0 + part.lines.0, part.lines.1)
-            };
-        }
-        // Take the parts in order until the frames are complete; a problem counts only in a row
-        // that is needed (rows beyond Frames are ignored, whatever they hold). Parts are moved
-        // down to follow each other.
-        let mut stop: Option<usize> = None;
-        let mut filled = 0; // values in the spare room that are in place
-        let mut taken_rows = 0;
-        let mut room_start = 0;
-        let mut problem_found = None;
-        for (k, part) in results.iter().enumerate() {
-            let remaining = needed - taken_rows;
-            if let Some((row, problem)) = part.problem
-                && row < remaining
-            {
-                problem_found = Some((k, row, problem));
-                break;
-            }
-            let take = part.rows.min(remaining);
-            if room_start != filled {
-                self.data
-                    .spare_capacity_mut()
-                    .copy_within(room_start..room_start + take * width, filled);
-            }
-            filled += take * width;
-            taken_rows += take;
-            room_start += limits[k] * width;
-            if taken_rows == needed {
-                // Where the last needed row ends.
-                let end = if take == part.rows && part.problem.is_none() {
-                    part.end
-                } else {
-                    parse_rows(slices[k], width, take, &mut Vec::new()).end
+        let room = Room(self.data.spare_capacity_mut().as_mut_ptr());
+        let done = std::sync::Mutex::new(Vec::<Chunk>::new());
+        let this = &*self;
+        let work = || {
+            let mut buffer = vec![0u8; this.chunk + this.chunk / 4];
+            loop {
+                let Some(job) = lock(&stream).next_chunk(&mut buffer) else {
+                    return;
                 };
-                stop = Some(bounds[k] + end);
-                break;
+                let text = &buffer[..job.length];
+                // SAFETY: each job's stretch starts where the previous job's ends and all of them
+                // end by `room_rows`, inside the capacity; the result is not touched until every
+                // worker has ended.
+                let stretch = unsafe { room.stretch(job.placed * width, job.limit * width) };
+                let mut sink = SliceSink {
+                    room: stretch,
+                    written: 0,
+                };
+                let part = parse_rows(text, width, job.limit, &mut sink);
+                let mut chunk = Chunk {
+                    index: job.index,
+                    placed: job.placed,
+                    rows: part.rows,
+                    error: None,
+                    rest: None,
+                };
+                let at = |offset: usize| {
+                    let (breaks, since) = count_lines(&text[..offset]);
+                    if breaks == 0 {
+                        (job.line, job.column + since)
+                    } else {
+                        (job.line + breaks, since + 1)
+                    }
+                };
+                if let Some((row, problem)) = part.problem {
+                    let mut chunk_parser = this.at_chunk(job.line, job.column);
+                    chunk_parser.rows = 0;
+                    chunk.error = Some(chunk_parser.problem_error(
+                        text,
+                        0,
+                        (job.placed + row) as u64,
+                        problem,
+                    ));
+                    lock(&stream).stop = true;
+                } else if part.rows == job.limit && job.limit < job.bound {
+                    let (line, column) = at(part.end);
+                    chunk.rest = Some((text[part.end..].to_vec(), line, column));
+                }
+                lock(&done).push(chunk);
+            }
+        };
+        if self.threads <= 1 {
+            work();
+        } else {
+            std::thread::scope(|scope| {
+                for _ in 1..self.threads {
+                    scope.spawn(work);
+                }
+                work();
+            });
+        }
+        let stream = stream.into_inner().unwrap_or_else(|e| e.into_inner());
+        if let Some(error) = stream.error {
+            return Err(io_error(error));
+        }
+        let mut chunks = done.into_inner().unwrap_or_else(|e| e.into_inner());
+        chunks.sort_by_key(|c| c.index);
+        // In file order: the first problem wins; rows placed after blank lines move down.
+        let mut rows = 0;
+        let mut rest = None;
+        for chunk in chunks {
+            if let Some(error) = chunk.error {
+                return Err(error);
+            }
+            if chunk.placed != rows {
+                self.data.spare_capacity_mut().copy_within(
+                    chunk.placed * width..(chunk.placed + chunk.rows) * width,
+                    rows * width,
+                );
+            }
+            rows += chunk.rows;
+            rest = chunk.rest.or(rest);
+        }
+        // SAFETY: the first `rows` rows of the spare room were written by the workers (each
+        // wrote its rows front to back from its place) and moved down to follow each other.
+        unsafe { self.data.set_len(rows * width) };
+        self.rows = rows as u64;
+        (self.line, self.column) = (stream.line, stream.column);
+        Ok((rest, stream.carry))
+    }
+
+    /// A parser for error messages in a chunk that starts at `line`, `column`.
+    fn at_chunk(&self, line: usize, column: usize) -> RowParser {
+        RowParser {
+            source: self.source.clone(),
+            frames: self.frames,
+            width: self.width,
+            frames_line: self.frames_line,
+            rows: 0,
+            data: Vec::new(),
+            line,
+            column,
+            extra: None,
+            line_ends: 0,
+            threads: 1,
+            chunk: self.chunk,
+        }
+    }
+
+    /// The rest of the rows in order, one chunk at a time.
+    fn feed_in_order(
+        &mut self,
+        carry: Vec<u8>,
+        input: &mut (dyn Read + Send),
+        io_error: &dyn Fn(std::io::Error) -> Error,
+    ) -> Result<(), Error> {
+        let mut buffer = carry;
+        let mut filled = buffer.len();
+        buffer.resize((self.chunk + self.chunk / 4).max(filled * 2), 0);
+        loop {
+            let mut end_of_input = false;
+            while filled < self.chunk.min(buffer.len()) {
+                let read = input.read(&mut buffer[filled..]).map_err(io_error)?;
+                if read == 0 {
+                    end_of_input = true;
+                    break;
+                }
+                filled += read;
+            }
+            if end_of_input {
+                return self.feed(&buffer[..filled]);
+            }
+            match last_line_end(&buffer[..filled]) {
+                Some(cut) => {
+                    self.feed(&buffer[..cut])?;
+                    buffer.copy_within(cut..filled, 0);
+                    filled -= cut;
+                }
+                // A line longer than the buffer: make room and read on.
+                None => buffer.resize(buffer.len() * 2, 0),
             }
         }
-        // SAFETY: the first `filled` values of the spare room were written by the parts (each
-        // wrote its rows' values front to back) and moved down to follow each other above.
-        unsafe { self.data.set_len(self.data.len() + filled) };
-        self.rows += taken_rows as u64;
-        if let Some((k, row, problem)) = problem_found {
-            return Err(self.problem_error(chunk, bounds[k], self.rows + row as u64, problem));
-        }
-        if let Some(stop) = stop {
-            self.count_extra(chunk, stop);
-        }
-        Ok(lines)
     }
 
     /// Checks that every frame arrived; returns the values and the warnings.
@@ -1004,7 +1213,7 @@ mod tests {
             }
             let start = text.len();
             text.extend_from_slice(b"1.2.3 4\n");
-            let values = (start + 3) / 4;
+            let values = start.div_ceil(4);
             let part = parse_rows(&text, values + 2, 1, &mut Vec::new());
             match part.problem {
                 Some((0, Problem::NotANumber(s, e))) => assert_eq!((s, e), (start, start + 5)),
