@@ -652,6 +652,8 @@ pub struct RowParser {
     threads: usize,
     /// Bytes read at a time: a megabyte, less for a small input (so that it is still split).
     chunk: usize,
+    /// Bytes of input after the rows' start.
+    input_left: u64,
 }
 
 impl RowParser {
@@ -685,6 +687,7 @@ impl RowParser {
             chunk: (room / 8)
                 .clamp(PARALLEL_MIN as u64, CHUNK as u64)
                 .min(room + 1) as usize,
+            input_left: room,
         }
     }
 
@@ -911,11 +914,15 @@ impl RowParser {
                 lock(&done).push(chunk);
             }
         };
-        if self.threads <= 1 {
+        // No more threads than chunks.
+        let threads = self
+            .threads
+            .min(1 + (self.input_left / self.chunk as u64) as usize);
+        if threads <= 1 {
             work();
         } else {
             std::thread::scope(|scope| {
-                for _ in 1..self.threads {
+                for _ in 1..threads {
                     scope.spawn(work);
                 }
                 work();
@@ -966,6 +973,7 @@ impl RowParser {
             line_ends: 0,
             threads: 1,
             chunk: self.chunk,
+            input_left: 0,
         }
     }
 
