@@ -2,7 +2,7 @@
 
 use crate::error::Error;
 use crate::motion::Motion;
-use crate::pose::{FkPlan, FkScratch, OffsetMode, world_matrices};
+use crate::pose::{FkPlan, FkScratch, LANES, OffsetMode, world_matrices};
 use crate::skeleton::Skeleton;
 use std::io::{self, Write};
 use std::ops::Range;
@@ -159,17 +159,28 @@ fn format_block(
 ) -> Vec<u8> {
     let mut text = Vec::with_capacity(frames.len() * points.len() * 40);
     let mut buffer = ryu::Buffer::new();
-    let (mut positions, mut scratch, mut matrices) = (Vec::new(), FkScratch::default(), Vec::new());
+    let (mut batch, mut scratch, mut matrices) = (Vec::new(), FkScratch::default(), Vec::new());
     let z_sign = if options.left_handed { -1.0 } else { 1.0 };
     let scale = options.scale;
-    for frame in frames {
+    let joints = skeleton.joints.len();
+    for frame in frames.clone() {
+        let in_batch = (frame - frames.start) % LANES;
         if motion.frame_count() == 0 {
             // The rest pose: OFFSETs only.
             world_matrices(skeleton, &[], options.offset_mode, &mut matrices);
-            positions = matrices.iter().map(|m| m.w_axis.truncate()).collect();
-        } else {
-            plan.positions(motion.frame(frame), &mut positions, &mut scratch);
+            batch = matrices.iter().map(|m| m.w_axis.truncate()).collect();
+        } else if in_batch == 0 {
+            // Eight frames at a time, side by side.
+            let rows: Vec<&[f32]> = (frame..(frame + LANES).min(frames.end))
+                .map(|f| motion.frame(f))
+                .collect();
+            plan.positions_of_frames(&rows, &mut batch, &mut scratch);
         }
+        let positions = if motion.frame_count() == 0 {
+            &batch[..]
+        } else {
+            &batch[in_batch * joints..(in_batch + 1) * joints]
+        };
         let frame_number = frame.to_string();
         match options.format {
             Format::Csv => {

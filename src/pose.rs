@@ -256,18 +256,6 @@ pub fn sin_cos_batch(angles: &[f32], sin: &mut [f32], cos: &mut [f32]) {
     sin_cos_batch_impl(angles, sin, cos)
 }
 
-/// `q · (axis · s, c)`: a quaternion times a rotation about X, Y or Z (half the work of a full
-/// product).
-#[inline(always)]
-fn times_axis(q: glam::Quat, axis: usize, s: f32, c: f32) -> glam::Quat {
-    let (x, y, z, w) = (q.x, q.y, q.z, q.w);
-    match axis {
-        0 => glam::Quat::from_xyzw(w * s + x * c, y * c + z * s, z * c - y * s, w * c - x * s),
-        1 => glam::Quat::from_xyzw(x * c - z * s, w * s + y * c, z * c + x * s, w * c - y * s),
-        _ => glam::Quat::from_xyzw(x * c + y * s, y * c - x * s, w * s + z * c, w * c - z * s),
-    }
-}
-
 /// One joint, ready for fast FK: where its values are and what they do.
 #[derive(Clone, Debug)]
 struct PlannedJoint {
@@ -293,13 +281,129 @@ pub struct FkPlan {
     mode: OffsetMode,
 }
 
-/// Buffers one thread reuses from frame to frame.
+/// Frames computed side by side: lane `l` of every value belongs to the batch's frame `l`.
+pub const LANES: usize = 8;
+type Lanes = [f32; LANES];
+
+#[inline(always)]
+fn lanes(f: impl FnMut(usize) -> f32) -> Lanes {
+    std::array::from_fn(f)
+}
+
+/// A quaternion per lane.
+#[derive(Clone, Copy, Debug)]
+struct QuatLanes {
+    x: Lanes,
+    y: Lanes,
+    z: Lanes,
+    w: Lanes,
+}
+
+/// A point per lane.
+#[derive(Clone, Copy, Debug)]
+struct PointLanes {
+    x: Lanes,
+    y: Lanes,
+    z: Lanes,
+}
+
+impl QuatLanes {
+    fn splat(q: glam::Quat) -> QuatLanes {
+        QuatLanes {
+            x: [q.x; LANES],
+            y: [q.y; LANES],
+            z: [q.z; LANES],
+            w: [q.w; LANES],
+        }
+    }
+
+    /// The rotation of `(s, c)` (sine and cosine of half the angle) about one axis.
+    #[inline(always)]
+    fn about_axis(axis: usize, s: &Lanes, c: &Lanes) -> QuatLanes {
+        let zero = [0.0; LANES];
+        match axis {
+            0 => QuatLanes {
+                x: *s,
+                y: zero,
+                z: zero,
+                w: *c,
+            },
+            1 => QuatLanes {
+                x: zero,
+                y: *s,
+                z: zero,
+                w: *c,
+            },
+            _ => QuatLanes {
+                x: zero,
+                y: zero,
+                z: *s,
+                w: *c,
+            },
+        }
+    }
+
+    /// `self · (axis · s, c)`: half the work of a full product, the zeros of the axis left out.
+    #[inline(always)]
+    fn times_axis(self, axis: usize, s: &Lanes, c: &Lanes) -> QuatLanes {
+        let QuatLanes { x, y, z, w } = self;
+        match axis {
+            0 => QuatLanes {
+                x: lanes(|l| w[l] * s[l] + x[l] * c[l]),
+                y: lanes(|l| y[l] * c[l] + z[l] * s[l]),
+                z: lanes(|l| z[l] * c[l] - y[l] * s[l]),
+                w: lanes(|l| w[l] * c[l] - x[l] * s[l]),
+            },
+            1 => QuatLanes {
+                x: lanes(|l| x[l] * c[l] - z[l] * s[l]),
+                y: lanes(|l| w[l] * s[l] + y[l] * c[l]),
+                z: lanes(|l| z[l] * c[l] + x[l] * s[l]),
+                w: lanes(|l| w[l] * c[l] - y[l] * s[l]),
+            },
+            _ => QuatLanes {
+                x: lanes(|l| x[l] * c[l] + y[l] * s[l]),
+                y: lanes(|l| y[l] * c[l] - x[l] * s[l]),
+                z: lanes(|l| w[l] * s[l] + z[l] * c[l]),
+                w: lanes(|l| w[l] * c[l] - z[l] * s[l]),
+            },
+        }
+    }
+
+    /// The Hamilton product `self · b`.
+    #[inline(always)]
+    fn times(self, b: QuatLanes) -> QuatLanes {
+        let a = self;
+        QuatLanes {
+            x: lanes(|l| a.w[l] * b.x[l] + a.x[l] * b.w[l] + a.y[l] * b.z[l] - a.z[l] * b.y[l]),
+            y: lanes(|l| a.w[l] * b.y[l] - a.x[l] * b.z[l] + a.y[l] * b.w[l] + a.z[l] * b.x[l]),
+            z: lanes(|l| a.w[l] * b.z[l] + a.x[l] * b.y[l] - a.y[l] * b.x[l] + a.z[l] * b.w[l]),
+            w: lanes(|l| a.w[l] * b.w[l] - a.x[l] * b.x[l] - a.y[l] * b.y[l] - a.z[l] * b.z[l]),
+        }
+    }
+
+    /// `v` turned by this (unit) quaternion: `v + w·t + q×t` with `t = 2·(q×v)`.
+    #[inline(always)]
+    fn rotate(self, v: PointLanes) -> PointLanes {
+        let QuatLanes { x, y, z, w } = self;
+        let tx = lanes(|l| 2.0 * (y[l] * v.z[l] - z[l] * v.y[l]));
+        let ty = lanes(|l| 2.0 * (z[l] * v.x[l] - x[l] * v.z[l]));
+        let tz = lanes(|l| 2.0 * (x[l] * v.y[l] - y[l] * v.x[l]));
+        PointLanes {
+            x: lanes(|l| v.x[l] + w[l] * tx[l] + (y[l] * tz[l] - z[l] * ty[l])),
+            y: lanes(|l| v.y[l] + w[l] * ty[l] + (z[l] * tx[l] - x[l] * tz[l])),
+            z: lanes(|l| v.z[l] + w[l] * tz[l] + (x[l] * ty[l] - y[l] * tx[l])),
+        }
+    }
+}
+
+/// Buffers one thread reuses from batch to batch.
 #[derive(Clone, Debug, Default)]
 pub struct FkScratch {
     half_angles: Vec<f32>,
     sin: Vec<f32>,
     cos: Vec<f32>,
-    rotations: Vec<glam::Quat>,
+    rotations: Vec<QuatLanes>,
+    points: Vec<PointLanes>,
 }
 
 impl FkPlan {
@@ -349,60 +453,131 @@ impl FkPlan {
 
     /// World position of every joint for one MOTION row, into `out` (one per joint).
     pub fn positions(&self, frame: &[f32], out: &mut Vec<Vec3>, scratch: &mut FkScratch) {
+        self.positions_of_frames(&[frame], out, scratch);
+    }
+
+    /// World positions of every joint for up to [`LANES`] MOTION rows at once, into `out`
+    /// (frame after frame, one point per joint). Each frame is a lane of the same vector
+    /// operations, so a batch costs little more than one frame.
+    pub fn positions_of_frames(
+        &self,
+        frames: &[&[f32]],
+        out: &mut Vec<Vec3>,
+        scratch: &mut FkScratch,
+    ) {
+        assert!(
+            (1..=LANES).contains(&frames.len()),
+            "1 to {LANES} frames at a time"
+        );
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has just been found to support AVX2.
+            unsafe { self.lanes_avx2(frames, out, scratch) };
+            return;
+        }
+        self.lanes_impl(frames, out, scratch)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn lanes_avx2(&self, frames: &[&[f32]], out: &mut Vec<Vec3>, scratch: &mut FkScratch) {
+        self.lanes_impl(frames, out, scratch)
+    }
+
+    #[inline(always)]
+    fn lanes_impl(&self, frames: &[&[f32]], out: &mut Vec<Vec3>, scratch: &mut FkScratch) {
+        // A short batch repeats its last frame in the spare lanes.
+        let frame = |l: usize| frames[l.min(frames.len() - 1)];
         // Every rotation's half angle, then all their sines and cosines in one vector loop.
-        let n = self.rotation_columns.len();
+        let n = self.rotation_columns.len() * LANES;
         scratch.half_angles.clear();
-        scratch
-            .half_angles
-            .extend(self.rotation_columns.iter().map(|&c| frame[c] * 0.5));
+        for &column in &self.rotation_columns {
+            scratch
+                .half_angles
+                .extend((0..LANES).map(|l| frame(l)[column] * 0.5));
+        }
         scratch.sin.resize(n, 0.0);
         scratch.cos.resize(n, 0.0);
         sin_cos_batch(&scratch.half_angles, &mut scratch.sin, &mut scratch.cos);
         let count = self.joints.len();
-        out.resize(count, Vec3::ZERO);
-        scratch.rotations.resize(count, glam::Quat::IDENTITY);
-        let (out, rotations) = (&mut out[..count], &mut scratch.rotations[..count]);
+        let identity = QuatLanes::splat(glam::Quat::IDENTITY);
+        let origin = PointLanes {
+            x: [0.0; LANES],
+            y: [0.0; LANES],
+            z: [0.0; LANES],
+        };
+        scratch.rotations.resize(count, identity);
+        scratch.points.resize(count, origin);
+        let sines: &[Lanes] = as_lanes(&scratch.sin);
+        let cosines: &[Lanes] = as_lanes(&scratch.cos);
+        let (points, rotations) = (
+            &mut scratch.points[..count],
+            &mut scratch.rotations[..count],
+        );
         for (index, joint) in self.joints.iter().enumerate() {
-            let mut t = joint.offset;
+            let mut t = [joint.offset.x, joint.offset.y, joint.offset.z].map(|v| [v; LANES]);
             for &(axis, column) in &self.position_channels[joint.positions.clone()] {
-                match self.mode {
-                    OffsetMode::Replace => t[axis] = frame[column],
-                    OffsetMode::Add => t[axis] += frame[column],
+                for (l, value) in t[axis].iter_mut().enumerate() {
+                    match self.mode {
+                        OffsetMode::Replace => *value = frame(l)[column],
+                        OffsetMode::Add => *value += frame(l)[column],
+                    }
                 }
             }
+            let t = PointLanes {
+                x: t[0],
+                y: t[1],
+                z: t[2],
+            };
             // A rotation of θ about an axis is the quaternion (axis · sin θ/2, cos θ/2); each
-            // later channel multiplies on the right, with the zeros of its axis left out.
-            let mut rotation: Option<glam::Quat> = None;
+            // later channel multiplies on the right.
+            let mut rotation: Option<QuatLanes> = None;
             for i in joint.rotations.clone() {
-                let (s, c) = (scratch.sin[i], scratch.cos[i]);
-                let axis = self.rotation_axes[i];
+                let (s, c, axis) = (&sines[i], &cosines[i], self.rotation_axes[i]);
                 rotation = Some(match rotation {
-                    None => match axis {
-                        0 => glam::Quat::from_xyzw(s, 0.0, 0.0, c),
-                        1 => glam::Quat::from_xyzw(0.0, s, 0.0, c),
-                        _ => glam::Quat::from_xyzw(0.0, 0.0, s, c),
-                    },
-                    Some(q) => times_axis(q, axis, s, c),
+                    None => QuatLanes::about_axis(axis, s, c),
+                    Some(q) => q.times_axis(axis, s, c),
                 });
             }
             if let (Some(axis), Some(r)) = (joint.axis, rotation) {
-                rotation = Some(axis * r * axis.conjugate());
+                rotation = Some(
+                    QuatLanes::splat(axis)
+                        .times(r)
+                        .times(QuatLanes::splat(axis.conjugate())),
+                );
             }
-            let (world_rotation, world_position) = match (joint.parent, rotation) {
-                (Some(parent), Some(r)) => {
-                    let parent_rotation = rotations[parent];
-                    (parent_rotation * r, out[parent] + parent_rotation * t)
+            let (world_rotation, world_point) = match joint.parent {
+                Some(parent) => {
+                    let (parent_rotation, parent_point) = (rotations[parent], points[parent]);
+                    let moved = parent_rotation.rotate(t);
+                    let point = PointLanes {
+                        x: lanes(|l| parent_point.x[l] + moved.x[l]),
+                        y: lanes(|l| parent_point.y[l] + moved.y[l]),
+                        z: lanes(|l| parent_point.z[l] + moved.z[l]),
+                    };
+                    let rotation = match rotation {
+                        Some(r) => parent_rotation.times(r),
+                        None => parent_rotation,
+                    };
+                    (rotation, point)
                 }
-                (Some(parent), None) => {
-                    let parent_rotation = rotations[parent];
-                    (parent_rotation, out[parent] + parent_rotation * t)
-                }
-                (None, r) => (r.unwrap_or(glam::Quat::IDENTITY), t),
+                None => (rotation.unwrap_or(identity), t),
             };
             rotations[index] = world_rotation;
-            out[index] = world_position;
+            points[index] = world_point;
+        }
+        out.clear();
+        for l in 0..frames.len() {
+            out.extend(points.iter().map(|p| Vec3::new(p.x[l], p.y[l], p.z[l])));
         }
     }
+}
+
+/// A flat list of values as lanes (its length is a multiple of [`LANES`]).
+fn as_lanes(values: &[f32]) -> &[Lanes] {
+    let (lanes, rest) = values.as_chunks::<LANES>();
+    debug_assert!(rest.is_empty());
+    lanes
 }
 
 /// Forward kinematics of every frame on every core; returns the sum of all coordinates (so the
@@ -423,10 +598,18 @@ pub fn positions_all_frames(
                 scope.spawn(move || {
                     let (mut out, mut scratch) = (Vec::new(), FkScratch::default());
                     let mut sum = 0.0f64;
-                    for frame in t * per_thread..((t + 1) * per_thread).min(frames) {
-                        plan.positions(motion.frame(frame), &mut out, &mut scratch);
-                        let total: Vec3 = out.iter().copied().sum();
-                        sum += f64::from(total.x + total.y + total.z);
+                    let mine = t * per_thread..((t + 1) * per_thread).min(frames);
+                    let mut batch: Vec<&[f32]> = Vec::with_capacity(LANES);
+                    for first in mine.clone().step_by(LANES) {
+                        batch.clear();
+                        batch.extend(
+                            (first..(first + LANES).min(mine.end)).map(|f| motion.frame(f)),
+                        );
+                        plan.positions_of_frames(&batch, &mut out, &mut scratch);
+                        for points in out.chunks(plan.joints.len()) {
+                            let total: Vec3 = points.iter().copied().sum();
+                            sum += f64::from(total.x + total.y + total.z);
+                        }
                     }
                     sum
                 })
