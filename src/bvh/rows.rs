@@ -1,9 +1,9 @@
-//! The MOTION rows, read in chunks that end at line ends, each chunk split across the cores.
+//! The MOTION rows, read in chunks that end at line ends, the chunks parsed on every core.
 //!
 //! C++: the row loop at the end of `BVH::loadFile`. The article reads `Frames` rows with fixed
 //! strides from a buffer holding the whole file. Here the rows arrive in pieces (a file is never
-//! held whole), each piece is parsed in parallel without a `String` per number, and every error
-//! still names its exact line and column.
+//! held whole), the cores take the pieces in turn and parse them without a `String` per number,
+//! and every error still names its exact line and column.
 
 use crate::error::Error;
 use std::io::Read;
@@ -11,8 +11,8 @@ use std::io::Read;
 /// Bytes of MOTION text handed to the parser at a time.
 pub const CHUNK: usize = 1 << 20;
 
-/// Below this a chunk is parsed on one thread: starting one costs more than it saves.
-const PARALLEL_MIN: usize = 64 * 1024;
+/// The smallest chunk: a small input is cut into about eight chunks, but not smaller ones.
+const SMALLEST_CHUNK: usize = 64 * 1024;
 
 fn is_line_end(byte: u8) -> bool {
     byte == b'\n' || byte == b'\r'
@@ -685,7 +685,7 @@ impl RowParser {
             line_ends: 0,
             threads,
             chunk: (room / 8)
-                .clamp(PARALLEL_MIN as u64, CHUNK as u64)
+                .clamp(SMALLEST_CHUNK as u64, CHUNK as u64)
                 .min(room + 1) as usize,
             input_left: room,
         }
