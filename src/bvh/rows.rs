@@ -145,8 +145,6 @@ enum Problem {
 
 /// The result of parsing one part of a chunk.
 struct Part {
-    /// Line breaks in the part, and characters after the last one.
-    lines: (usize, usize),
     rows: usize,
     /// The problem and the row it is in (counted from the part's first row).
     problem: Option<(usize, Problem)>,
@@ -182,12 +180,11 @@ impl Sink for SliceSink<'_> {
     }
 }
 
-/// One bit per byte of 64 bytes of text (bit i for byte i): whitespace, LF, CR, digits, '.', '-'.
+/// One bit per byte of 64 bytes of text (bit i for byte i): whitespace, LF or CR, digits, '.', '-'.
 #[derive(Clone, Copy, Default)]
 struct Block {
     whitespace: u64,
-    lf: u64,
-    cr: u64,
+    line_end: u64,
     digit: u64,
     dot: u64,
     minus: u64,
@@ -226,8 +223,7 @@ impl Block {
                 let is = |b: u8| _mm_cmpeq_epi8(v, _mm_set1_epi8(b as i8));
                 // Tab, LF, VT, FF, CR (9 to 13) and space.
                 block.whitespace |= mask(_mm_or_si128(within(9, 5), is(b' ')));
-                block.lf |= mask(is(b'\n'));
-                block.cr |= mask(is(b'\r'));
+                block.line_end |= mask(_mm_or_si128(is(b'\n'), is(b'\r')));
                 block.digit |= mask(within(b'0', 10));
                 block.dot |= mask(is(b'.'));
                 block.minus |= mask(is(b'-'));
@@ -242,8 +238,7 @@ impl Block {
         let mut block = Block::default();
         for (i, &b) in bytes.iter().enumerate() {
             block.whitespace |= u64::from(is_blank(b) || is_line_end(b)) << i;
-            block.lf |= u64::from(b == b'\n') << i;
-            block.cr |= u64::from(b == b'\r') << i;
+            block.line_end |= u64::from(is_line_end(b)) << i;
             block.digit |= u64::from(b.is_ascii_digit()) << i;
             block.dot |= u64::from(b == b'.') << i;
             block.minus |= u64::from(b == b'-') << i;
@@ -346,22 +341,14 @@ fn word_end(text: &[u8], at: usize) -> usize {
 /// starts never waits for the previous one to be read, and a number's shape is checked with a few
 /// mask operations. A window ends before a word that runs past it, which starts the next window.
 fn parse_rows<S: Sink>(text: &[u8], width: usize, limit: usize, out: &mut S) -> Part {
-    let stopped = |rows, problem, end| Part {
-        lines: count_lines(text),
-        rows,
-        problem,
-        end,
-    };
+    let stopped = |rows, problem, end| Part { rows, problem, end };
     if limit == 0 {
         return stopped(0, None, 0);
     }
     let mut rows = 0;
     let mut values = 0; // in the current row
-    let mut breaks = 0;
-    let mut after_last_break = 0;
-    // Whether the byte before the window is whitespace (the text's start counts as such) or a CR.
+    // Whether the byte before the window is whitespace (the text's start counts as such).
     let mut after_whitespace = 1;
-    let mut after_cr = 0;
     let mut base = 0;
     while base < text.len() {
         let block = Block::of(&text[base..]);
@@ -382,17 +369,11 @@ fn parse_rows<S: Sink>(text: &[u8], width: usize, limit: usize, out: &mut S) -> 
             }
             values += 1;
             base = word_end(text, base);
-            (after_whitespace, after_cr) = (1, 0);
+            after_whitespace = 1;
             continue;
         }
         let inside = u64::MAX >> (64 - advance);
-        let line_ends = (block.lf | block.cr) & inside;
-        // LF, CR and CRLF each break a line once.
-        let crlf = block.lf & ((block.cr << 1) | after_cr) & inside;
-        breaks += (line_ends.count_ones() - crlf.count_ones()) as usize;
-        if line_ends != 0 {
-            after_last_break = base + 64 - line_ends.leading_zeros() as usize;
-        }
+        let line_ends = block.line_end & inside;
         let mut events = (starts & inside) | line_ends;
         while events != 0 {
             let i = events.trailing_zeros() as usize;
@@ -425,7 +406,6 @@ fn parse_rows<S: Sink>(text: &[u8], width: usize, limit: usize, out: &mut S) -> 
             values += 1;
         }
         after_whitespace = (block.whitespace >> (advance - 1)) & 1;
-        after_cr = (block.cr >> (advance - 1)) & 1;
         base += advance;
     }
     if values == width {
@@ -434,12 +414,7 @@ fn parse_rows<S: Sink>(text: &[u8], width: usize, limit: usize, out: &mut S) -> 
         let problem = Problem::TooFew(text.len(), values);
         return stopped(rows, Some((rows, problem)), text.len());
     }
-    let since = text[after_last_break..]
-        .iter()
-        .filter(|&&b| (b & 0xC0) != 0x80)
-        .count();
     Part {
-        lines: (breaks, since),
         rows,
         problem: None,
         end: text.len(),
@@ -603,12 +578,7 @@ impl Stream<'_> {
         };
         self.next_index += 1;
         self.placed += job.limit;
-        if breaks == 0 {
-            self.column += since;
-        } else {
-            self.line += breaks;
-            self.column = since + 1;
-        }
+        (self.line, self.column) = advance((self.line, self.column), (breaks, since));
         self.stop = self.placed == self.room_rows || self.end_of_input;
         Some(job)
     }
@@ -631,6 +601,60 @@ fn lock<T>(mutex: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
                 }
             }
         }
+    }
+}
+
+/// The line and column after text with `breaks` line breaks and `since` characters after the
+/// last one, when the text starts at `(line, column)`.
+fn advance((line, column): (usize, usize), (breaks, since): (usize, usize)) -> (usize, usize) {
+    if breaks == 0 {
+        (line, column + since)
+    } else {
+        (line + breaks, since + 1)
+    }
+}
+
+/// The error for a problem in row `row` (counted from the first frame) of `chunk`, which starts
+/// at `start`; `width` values make a row.
+fn problem_error(
+    source: &str,
+    width: usize,
+    chunk: &[u8],
+    start: (usize, usize),
+    row: usize,
+    problem: Problem,
+) -> Error {
+    let (offset, message) = match problem {
+        Problem::TooMany(at) => (
+            at,
+            format!(
+                "frame {} has more than the {width} values the channels need",
+                row + 1
+            ),
+        ),
+        Problem::TooFew(at, count) => (
+            at,
+            format!(
+                "frame {} has {count} values, expected {width} (one per channel)",
+                row + 1
+            ),
+        ),
+        Problem::NotANumber(at, end) => {
+            let word = String::from_utf8_lossy(&chunk[at..end]);
+            let word: String = if word.chars().count() > 40 {
+                format!("{}…", word.chars().take(40).collect::<String>())
+            } else {
+                word.into_owned()
+            };
+            (at, format!("expected a finite number, found '{word}'"))
+        }
+    };
+    let (line, column) = advance(start, count_lines(&chunk[..offset]));
+    Error::Parse {
+        path: source.to_string(),
+        line,
+        column,
+        message,
     }
 }
 
@@ -691,57 +715,6 @@ impl RowParser {
         }
     }
 
-    fn error_at(&self, chunk: &[u8], offset: usize, message: String) -> Error {
-        let (breaks, since) = count_lines(&chunk[..offset]);
-        let column = if breaks == 0 {
-            self.column + since
-        } else {
-            since + 1
-        };
-        Error::Parse {
-            path: self.source.clone(),
-            line: self.line + breaks,
-            column,
-            message,
-        }
-    }
-
-    fn problem_error(&self, chunk: &[u8], base: usize, row: u64, problem: Problem) -> Error {
-        match problem {
-            Problem::TooMany(at) => self.error_at(
-                chunk,
-                base + at,
-                format!(
-                    "frame {} has more than the {} values the channels need",
-                    row + 1,
-                    self.width
-                ),
-            ),
-            Problem::TooFew(at, count) => self.error_at(
-                chunk,
-                base + at,
-                format!(
-                    "frame {} has {count} values, expected {} (one per channel)",
-                    row + 1,
-                    self.width
-                ),
-            ),
-            Problem::NotANumber(start, end) => {
-                let word = String::from_utf8_lossy(&chunk[base + start..base + end]);
-                let word: String = if word.chars().count() > 40 {
-                    format!("{}…", word.chars().take(40).collect::<String>())
-                } else {
-                    word.into_owned()
-                };
-                self.error_at(
-                    chunk,
-                    base + start,
-                    format!("expected a finite number, found '{word}'"),
-                )
-            }
-        }
-    }
-
     /// Counts the non-blank lines of `chunk` from `from` on as ignored rows.
     fn count_extra(&mut self, chunk: &[u8], from: usize) {
         let mut line = self.line + count_lines(&chunk[..from]).0;
@@ -775,39 +748,41 @@ impl RowParser {
         if chunk.is_empty() {
             return Ok(());
         }
-        let (breaks, since) = if self.width == 0 {
-            let lines = count_lines(chunk);
+        let lines = count_lines(chunk);
+        if self.width == 0 {
             self.line_ends += lines.0 as u64;
-            lines
         } else if self.rows >= self.frames {
             self.count_extra(chunk, 0);
-            count_lines(chunk)
         } else {
-            self.feed_rows(chunk)?
-        };
-        if breaks == 0 {
-            self.column += since;
-        } else {
-            self.line += breaks;
-            self.column = since + 1;
+            self.feed_rows(chunk)?;
         }
+        (self.line, self.column) = advance((self.line, self.column), lines);
         Ok(())
     }
 
-    /// Parses the rows of a chunk in order; returns its line count (as `count_lines`). This
-    /// reads what the parallel pass leaves (see [`RowParser::feed_all`]), usually nothing.
-    fn feed_rows(&mut self, chunk: &[u8]) -> Result<(usize, usize), Error> {
+    /// Parses the rows of a chunk in order. This reads what the parallel pass leaves (see
+    /// [`RowParser::feed_all`]), usually nothing.
+    fn feed_rows(&mut self, chunk: &[u8]) -> Result<(), Error> {
         let needed = (self.frames - self.rows).min(usize::MAX as u64) as usize;
         let part = parse_rows(chunk, self.width, needed, &mut self.data);
         let first_row = self.rows;
         self.rows += part.rows as u64;
         if let Some((row, problem)) = part.problem {
-            return Err(self.problem_error(chunk, 0, first_row + row as u64, problem));
+            let row = first_row as usize + row;
+            let start = (self.line, self.column);
+            return Err(problem_error(
+                &self.source,
+                self.width,
+                chunk,
+                start,
+                row,
+                problem,
+            ));
         }
         if part.rows == needed {
             self.count_extra(chunk, part.end);
         }
-        Ok(part.lines)
+        Ok(())
     }
 
     /// Reads and parses all the rows: `carry` (rows already read) and then everything `input`
@@ -865,9 +840,9 @@ impl RowParser {
         });
         let room = Room(self.data.spare_capacity_mut().as_mut_ptr());
         let done = std::sync::Mutex::new(Vec::<Chunk>::new());
-        let this = &*self;
+        let (source, chunk_size) = (self.source.as_str(), self.chunk);
         let work = || {
-            let mut buffer = vec![0u8; this.chunk + this.chunk / 4];
+            let mut buffer = vec![0u8; chunk_size + chunk_size / 4];
             loop {
                 let Some(job) = lock(&stream).next_chunk(&mut buffer) else {
                     return;
@@ -889,26 +864,13 @@ impl RowParser {
                     error: None,
                     rest: None,
                 };
-                let at = |offset: usize| {
-                    let (breaks, since) = count_lines(&text[..offset]);
-                    if breaks == 0 {
-                        (job.line, job.column + since)
-                    } else {
-                        (job.line + breaks, since + 1)
-                    }
-                };
+                let start = (job.line, job.column);
                 if let Some((row, problem)) = part.problem {
-                    let mut chunk_parser = this.at_chunk(job.line, job.column);
-                    chunk_parser.rows = 0;
-                    chunk.error = Some(chunk_parser.problem_error(
-                        text,
-                        0,
-                        (job.placed + row) as u64,
-                        problem,
-                    ));
+                    let row = job.placed + row;
+                    chunk.error = Some(problem_error(source, width, text, start, row, problem));
                     lock(&stream).stop = true;
                 } else if part.rows == job.limit && job.limit < job.bound {
-                    let (line, column) = at(part.end);
+                    let (line, column) = advance(start, count_lines(&text[..part.end]));
                     chunk.rest = Some((text[part.end..].to_vec(), line, column));
                 }
                 lock(&done).push(chunk);
@@ -956,25 +918,6 @@ impl RowParser {
         self.rows = rows as u64;
         (self.line, self.column) = (stream.line, stream.column);
         Ok((rest, stream.carry))
-    }
-
-    /// A parser for error messages in a chunk that starts at `line`, `column`.
-    fn at_chunk(&self, line: usize, column: usize) -> RowParser {
-        RowParser {
-            source: self.source.clone(),
-            frames: self.frames,
-            width: self.width,
-            frames_line: self.frames_line,
-            rows: 0,
-            data: Vec::new(),
-            line,
-            column,
-            extra: None,
-            line_ends: 0,
-            threads: 1,
-            chunk: self.chunk,
-            input_left: 0,
-        }
     }
 
     /// The rest of the rows in order, one chunk at a time.
@@ -1201,7 +1144,6 @@ mod tests {
             let part = parse_rows(text.as_bytes(), width, usize::MAX, &mut out);
             assert!(part.problem.is_none(), "{:?} {text:?}", part.problem);
             assert_eq!(part.rows, rows);
-            assert_eq!(part.lines, count_lines(text.as_bytes()));
             let want: Vec<u32> = words.iter().map(|w| reference(w).to_bits()).collect();
             let got: Vec<u32> = out.iter().map(|v| v.to_bits()).collect();
             assert_eq!(got, want, "{text:?}");
