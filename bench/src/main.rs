@@ -128,17 +128,22 @@ fn main() {
             bvhview::render::Renderer::new(600, 600).expect("OSMesa (apt-get install libosmesa6)");
         let frames = rig.motion.frame_count();
         let draws = if quick { 5 } else { 30 };
-        let start = Instant::now();
-        for i in 0..draws {
-            let options = bvhview::render::SnapshotOptions {
-                frame: i % frames,
-                ..Default::default()
-            };
-            renderer
-                .render(&rig.skeleton, &rig.motion, &options)
-                .expect("draws");
-        }
-        let per = start.elapsed() / draws as u32;
+        // Each frame of the take in turn, with or without the skin: the mean time per frame.
+        let mut time_draws = |skin: bool| {
+            let start = Instant::now();
+            for i in 0..draws {
+                let options = bvhview::render::SnapshotOptions {
+                    frame: i % frames,
+                    skin,
+                    ..Default::default()
+                };
+                renderer
+                    .render(&rig.skeleton, &rig.motion, &options)
+                    .expect("draws");
+            }
+            start.elapsed() / draws as u32
+        };
+        let per = time_draws(false);
         println!(
             "draw + read back, 600×600, {name}: {:6.2} ms per frame",
             per.as_secs_f64() * 1e3
@@ -162,18 +167,7 @@ fn main() {
             );
         }
         let pose = start.elapsed() / poses as u32;
-        let start = Instant::now();
-        for i in 0..draws {
-            let options = bvhview::render::SnapshotOptions {
-                frame: i % frames,
-                skin: true,
-                ..Default::default()
-            };
-            renderer
-                .render(&rig.skeleton, &rig.motion, &options)
-                .expect("draws");
-        }
-        let skinned = start.elapsed() / draws as u32;
+        let skinned = time_draws(true);
         println!(
             "  skin ({} vertices): pose {:.3} ms, frame with skin {:.2} ms ({:.0} frames/s)",
             body.skin.vertices.len(),
