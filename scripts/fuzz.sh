@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Fuzz one loader with AFL++ through cargo-afl (stable Rust).
 #   scripts/fuzz.sh bvh|asf|amc [EXECUTIONS] [WORKDIR]      (default 10000000, /tmp/bvhview-fuzz)
-# Seeds come from ../shared/data at run time (files up to 4 KB whole, the first 2 KB of larger
+# Seeds come from the repository's corpus (tests/data) at run time (files up to 4 KB whole, the first 2 KB of larger
 # ones, cut at a line end: small inputs run faster) and are
 # written under WORKDIR, never into the project. Crashes land in WORKDIR/TARGET/out/default/crashes.
 set -euo pipefail
@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 target=${1:?usage: scripts/fuzz.sh bvh|asf|amc [EXECUTIONS] [WORKDIR]}
 executions=${2:-10000000}
 work=${3:-/tmp/bvhview-fuzz}/$target
-data=../shared/data
+data=tests/data
 
 command -v cargo-afl >/dev/null || cargo install cargo-afl
 (cd fuzz && cargo afl build --release --bin "$target")

@@ -6,12 +6,12 @@ cargo build --release --quiet
 bvhview=target/release/bvhview
 $bvhview snapshot assets/walk.bvh -o docs/walk.png
 $bvhview snapshot assets/walk.bvh --frame 10 --style both --fit --angle 0.6 -o docs/walk_sticks.png
-$bvhview snapshot ../shared/oracle/inputs/xsens_seed002_crlf_trail.bvh -o docs/xsens_seed002.png
-$bvhview snapshot ../shared/data/asf_amc/heiden_12.asf --motion ../shared/data/asf_amc/heiden_12_02_01.amc \
+$bvhview snapshot tests/oracle/inputs/xsens_seed002_crlf_trail.bvh -o docs/xsens_seed002.png
+$bvhview snapshot tests/data/asf_amc/heiden_12.asf --motion tests/data/asf_amc/heiden_12_02_01.amc \
     --frame 150 --style sticks --fit --angle 0.5 --size 400x400 -o docs/cmu_walk.png
 # The chapter's side by side: our snapshot and where it differs from the article's own picture.
-$bvhview diff docs/xsens_seed002.png ../shared/oracle/refs/xsens_seed002_crlf_trail__f0__a10__600x600.png \
+$bvhview diff docs/xsens_seed002.png tests/oracle/refs/xsens_seed002_crlf_trail__f0__a10__600x600.png \
     -o docs/xsens_seed002_diff.png
 # Skinning: seed 001's demo, and a generated skin on a BVH skeleton.
 $bvhview skin-demo --bend 30,45 -o docs/skin_demo.png
-$bvhview snapshot ../shared/data/bvh/bvh11_131_01.bvh --frame 400 --skin --fit --angle 1.2 --size 400x400 -o docs/skin_cmu.png
+$bvhview snapshot tests/data/bvh/bvh11_131_01.bvh --frame 400 --skin --fit --angle 1.2 --size 400x400 -o docs/skin_cmu.png

@@ -148,13 +148,26 @@ fn amc_frame(text: &str, n: usize) -> Vec<(String, Vec<f64>)> {
 }
 
 #[test]
-fn fk_matches_seed_004s_algorithm_on_real_takes() {
-    for (asf_name, amc_name) in [
-        ("simchoni_charleston", "simchoni_charleston_1"),
-        ("heiden_12", "heiden_12_02_01"),
-    ] {
-        let asf_path = data(&format!("asf_amc/{asf_name}.asf"));
-        let amc_path = data(&format!("asf_amc/{amc_name}.amc"));
+fn fk_matches_seed_004s_algorithm_on_a_repository_take() {
+    check_fk_against_seed_004(&repo_data("asf_amc"), &[("heiden_12", "heiden_12_02_01")]);
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn fk_matches_seed_004s_algorithm_on_whole_corpus_takes() {
+    check_fk_against_seed_004(
+        &shared_data("asf_amc"),
+        &[
+            ("simchoni_charleston", "simchoni_charleston_1"),
+            ("heiden_12", "heiden_12_02_01"),
+        ],
+    );
+}
+
+fn check_fk_against_seed_004(folder: &std::path::Path, takes: &[(&str, &str)]) {
+    for (asf_name, amc_name) in takes {
+        let asf_path = folder.join(format!("{asf_name}.asf"));
+        let amc_path = folder.join(format!("{amc_name}.amc"));
         let asf = bvhview::acclaim::load_asf(&asf_path).unwrap();
         let loaded = bvhview::input::load(&asf_path, Some(&amc_path), None).unwrap();
         let amc_text = std::fs::read_to_string(&amc_path).unwrap();
@@ -177,22 +190,38 @@ fn fk_matches_seed_004s_algorithm_on_real_takes() {
 }
 
 #[test]
-fn every_real_pair_loads_and_converts_to_bvh_with_the_same_positions() {
-    let pairs = [
-        ("heiden_12", "heiden_12_02_01", 343),
-        ("simchoni_charleston", "simchoni_charleston_1", 506),
-        ("simchoni_charleston", "simchoni_charleston_2", 0),
-        ("simchoni_lambada", "simchoni_lambada_1", 2180),
-        ("simchoni_pirouette", "simchoni_pirouette_1", 0),
-    ];
-    assert_eq!(
-        files_in(&data("asf_amc"), "amc").len(),
-        pairs.len(),
-        "a pair in asf_amc is not tested"
+fn every_repository_pair_loads_and_converts_to_bvh_with_the_same_positions() {
+    check_pairs(
+        &repo_data("asf_amc"),
+        &[("heiden_12", "heiden_12_02_01", 343)],
     );
-    for (asf_name, amc_name, frames) in pairs {
-        let asf_path = data(&format!("asf_amc/{asf_name}.asf"));
-        let amc_path = data(&format!("asf_amc/{amc_name}.amc"));
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn every_whole_corpus_pair_loads_and_converts_to_bvh_with_the_same_positions() {
+    check_pairs(
+        &shared_data("asf_amc"),
+        &[
+            ("heiden_12", "heiden_12_02_01", 343),
+            ("simchoni_charleston", "simchoni_charleston_1", 506),
+            ("simchoni_charleston", "simchoni_charleston_2", 0),
+            ("simchoni_lambada", "simchoni_lambada_1", 2180),
+            ("simchoni_pirouette", "simchoni_pirouette_1", 0),
+        ],
+    );
+}
+
+fn check_pairs(folder: &std::path::Path, pairs: &[(&str, &str, usize)]) {
+    assert_eq!(
+        files_in(folder, "amc").len(),
+        pairs.len(),
+        "a pair in {} is not tested",
+        folder.display()
+    );
+    for &(asf_name, amc_name, frames) in pairs {
+        let asf_path = folder.join(format!("{asf_name}.asf"));
+        let amc_path = folder.join(format!("{amc_name}.amc"));
         let loaded = bvhview::input::load(&asf_path, Some(&amc_path), None).unwrap();
         if frames > 0 {
             assert_eq!(loaded.motion.frame_count(), frames, "{amc_name}");
@@ -363,10 +392,8 @@ fn malformed_asf_and_amc_give_line_and_column() {
 
 #[test]
 fn every_command_takes_an_asf_amc_pair() {
-    let asf = data("asf_amc/simchoni_pirouette.asf").display().to_string();
-    let amc = data("asf_amc/simchoni_pirouette_1.amc")
-        .display()
-        .to_string();
+    let asf = data("asf_amc/heiden_12.asf").display().to_string();
+    let amc = data("asf_amc/heiden_12_02_01.amc").display().to_string();
     let run = |args: &[&str]| {
         Command::new(env!("CARGO_BIN_EXE_bvhview"))
             .args(args)

@@ -3,7 +3,8 @@
 mod common;
 use common::*;
 
-/// Every file in ../shared/data/bvh_malformed with the exact error it gets (None: it loads).
+/// Every file in bvh_malformed (tests/data and ../shared/data hold the same ten) with the exact
+/// error it gets (None: it loads).
 const MALFORMED: &[(&str, Option<&str>)] = &[
     (
         "dali_test-empty.bvh",
@@ -42,15 +43,25 @@ const MALFORMED: &[(&str, Option<&str>)] = &[
 ];
 
 #[test]
-fn every_malformed_file_fails_where_it_breaks() {
-    let files = files_in(&data("bvh_malformed"), "bvh");
+fn every_malformed_repository_file_fails_where_it_breaks() {
+    check_malformed(&repo_data("bvh_malformed"));
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn every_malformed_whole_corpus_file_fails_where_it_breaks() {
+    check_malformed(&shared_data("bvh_malformed"));
+}
+
+fn check_malformed(folder: &std::path::Path) {
+    let files = files_in(folder, "bvh");
     assert_eq!(
         files.len(),
         MALFORMED.len(),
         "a file in bvh_malformed has no expectation here"
     );
     for (name, expected) in MALFORMED {
-        let path = data("bvh_malformed").join(name);
+        let path = folder.join(name);
         let result = bvhview::bvh::load_file(&path);
         match (expected, result) {
             (Some(message), Err(error)) => {
@@ -62,7 +73,7 @@ fn every_malformed_file_fails_where_it_breaks() {
             (None, Err(e)) => panic!("{e}"),
         }
     }
-    let extra = bvhview::bvh::load_file(&data("bvh_malformed/dali_test-invalid-motion1.bvh"));
+    let extra = bvhview::bvh::load_file(&folder.join("dali_test-invalid-motion1.bvh"));
     let extra = extra.unwrap();
     assert_eq!(extra.motion.frame_count(), 1);
     assert_eq!(extra.warnings.len(), 1);

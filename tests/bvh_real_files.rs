@@ -1,12 +1,23 @@
-//! Every real BVH file in ../shared/data/bvh loads, with the counts and values its text holds.
+//! Every real BVH file loads, with the counts and values its text holds: the repository's own
+//! corpus (tests/data/bvh) always, the whole corpus (../shared/data/bvh) when it is there.
 
 mod common;
 use bvhview::{Channel, RotationOrder};
 use common::*;
 
 #[test]
-fn every_real_file_loads_with_consistent_shape() {
-    for path in files_in(&data("bvh"), "bvh") {
+fn every_repository_file_loads_with_consistent_shape() {
+    check_shapes(&repo_data("bvh"));
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn every_whole_corpus_file_loads_with_consistent_shape() {
+    check_shapes(&shared_data("bvh"));
+}
+
+fn check_shapes(folder: &std::path::Path) {
+    for path in files_in(folder, "bvh") {
         let bvh = bvhview::bvh::load_file(&path).unwrap_or_else(|e| panic!("{e}"));
         let skeleton = &bvh.skeleton;
         assert!(!skeleton.joints.is_empty(), "{}", path.display());
@@ -141,22 +152,42 @@ const FACTS: &[Facts] = &[
 ];
 
 #[test]
-fn counts_and_values_match_the_files() {
-    for &Facts(name, joints, end_sites, channels, frames, frame_time, first, last) in FACTS {
-        let bvh = load(&format!("bvh/{name}.bvh"));
-        assert_eq!(bvh.skeleton.joints.len(), joints, "{name} joints");
-        assert_eq!(bvh.skeleton.end_site_count(), end_sites, "{name} end sites");
-        assert_eq!(bvh.skeleton.channel_count(), channels, "{name} channels");
-        assert_eq!(bvh.motion.frame_count(), frames, "{name} frames");
-        assert_eq!(bvh.motion.frame_time, frame_time, "{name} frame time");
-        if !first[0].is_nan() {
-            assert_eq!(&bvh.motion.frame(0)[..3], &first, "{name} first values");
-            assert_eq!(*bvh.motion.data.last().unwrap(), last, "{name} last value");
+fn counts_and_values_match_the_repository_files() {
+    let mut checked = 0;
+    for facts in FACTS {
+        let path = repo_data(&format!("bvh/{}.bvh", facts.0));
+        if path.exists() {
+            check_facts(facts, &path);
+            checked += 1;
         }
+    }
+    assert_eq!(checked, 7, "files of FACTS in tests/data/bvh");
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn counts_and_values_match_the_whole_corpus_files() {
+    for facts in FACTS {
+        check_facts(facts, &shared_data(&format!("bvh/{}.bvh", facts.0)));
+    }
+}
+
+fn check_facts(facts: &Facts, path: &std::path::Path) {
+    let &Facts(name, joints, end_sites, channels, frames, frame_time, first, last) = facts;
+    let bvh = load_path(path);
+    assert_eq!(bvh.skeleton.joints.len(), joints, "{name} joints");
+    assert_eq!(bvh.skeleton.end_site_count(), end_sites, "{name} end sites");
+    assert_eq!(bvh.skeleton.channel_count(), channels, "{name} channels");
+    assert_eq!(bvh.motion.frame_count(), frames, "{name} frames");
+    assert_eq!(bvh.motion.frame_time, frame_time, "{name} frame time");
+    if !first[0].is_nan() {
+        assert_eq!(&bvh.motion.frame(0)[..3], &first, "{name} first values");
+        assert_eq!(*bvh.motion.data.last().unwrap(), last, "{name} last value");
     }
 }
 
 #[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
 fn exponents_are_read() {
     let bvh = load("bvh/bandai_dataset-1_dance-short_normal_001.bvh");
     let offsets: Vec<f32> = bvh.skeleton.joints.iter().map(|j| j.offset.y).collect();
@@ -205,7 +236,22 @@ fn per_joint_rotation_orders_and_position_channels() {
         .collect();
     assert_eq!(orders.len(), 4, "XZY, YZX, ZYX and XYZ in one CR-only file");
 
-    let bandai = load("bvh/bandai_dataset-2_wave-left-hand_active_011.bvh");
+    let makehuman = load("bvh/makehuman_tpose.bvh");
+    let six = makehuman
+        .skeleton
+        .joints
+        .iter()
+        .filter(|j| j.channels.len() == 6)
+        .count();
+    assert_eq!(six, 144, "position channels on 143 joints below the root");
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn position_channels_on_every_joint_of_bandai() {
+    let bandai = load_path(&shared_data(
+        "bvh/bandai_dataset-2_wave-left-hand_active_011.bvh",
+    ));
     let six = bandai
         .skeleton
         .joints
@@ -221,8 +267,9 @@ fn per_joint_rotation_orders_and_position_channels() {
 }
 
 #[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
 fn root_written_joint_and_end_sites_written_joint_site() {
-    let bvh = load("bvh/alinen_t-pose.bvh");
+    let bvh = load_path(&shared_data("bvh/alinen_t-pose.bvh"));
     let root = &bvh.skeleton.joints[0];
     assert_eq!(root.name, "Beta:Hips");
     assert_eq!(root.parent, None);
@@ -241,11 +288,7 @@ fn root_written_joint_and_end_sites_written_joint_site() {
 
 #[test]
 fn mixed_line_endings_and_lf_only_lines_inside_crlf() {
-    for name in [
-        "bvhparser_walk_01",
-        "deepmotionediting_blender_example",
-        "bvh11_131_01",
-    ] {
+    for name in ["bvhparser_walk_01", "bvh11_131_01"] {
         let bvh = load(&format!("bvh/{name}.bvh"));
         assert_eq!(bvh.skeleton.channel_count(), 96, "{name}");
         assert!(bvh.warnings.is_empty(), "{name}: {:?}", bvh.warnings);
@@ -253,8 +296,18 @@ fn mixed_line_endings_and_lf_only_lines_inside_crlf() {
 }
 
 #[test]
-fn more_rows_than_frames_warns_and_keeps_the_count() {
-    let boxing = load("bvh/assimp_Boxing_Toes.bvh");
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn mixed_line_endings_in_deep_motion_editing_example() {
+    let path = shared_data("bvh/deepmotionediting_blender_example.bvh");
+    let bvh = load_path(&path);
+    assert_eq!(bvh.skeleton.channel_count(), 96);
+    assert!(bvh.warnings.is_empty(), "{:?}", bvh.warnings);
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn one_extra_row_after_frames_warns_and_keeps_the_count() {
+    let boxing = load_path(&shared_data("bvh/assimp_Boxing_Toes.bvh"));
     assert_eq!(boxing.motion.frame_count(), 3069);
     assert_eq!(boxing.warnings.len(), 1);
     assert!(
@@ -262,7 +315,10 @@ fn more_rows_than_frames_warns_and_keeps_the_count() {
         "{}",
         boxing.warnings[0]
     );
+}
 
+#[test]
+fn a_trailer_of_short_rows_after_frames_warns_and_keeps_the_count() {
     let stand = load("bvh/opencollar_oc_stand_boy01.bvh");
     assert_eq!(stand.warnings.len(), 1);
     assert!(

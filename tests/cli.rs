@@ -12,10 +12,7 @@ fn bvhview(args: &[&str]) -> Output {
 }
 
 fn tiny() -> String {
-    shared()
-        .join("oracle/inputs/tiny_crlf.bvh")
-        .display()
-        .to_string()
+    oracle("inputs/tiny_crlf.bvh").display().to_string()
 }
 
 /// Parses `frame,joint,x,y,z` rows into (frame, joint, [x, y, z]).
@@ -133,8 +130,39 @@ fn bad_frame_ranges_and_bad_files_exit_2_with_one_line() {
 }
 
 #[test]
+fn info_reports_counts_timing_orders_and_a_trailer_warning() {
+    let file = data("bvh/opencollar_oc_stand_boy01.bvh")
+        .display()
+        .to_string();
+    let out = bvhview(&["info", &file]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    for line in [
+        "joints:           19\n",
+        "end sites:        5\n",
+        "channels:         60\n",
+        "frames:           100\n",
+        "frame time:       0.033333 s (30.00 frames per second)\n",
+        "duration:         3.333 s\n",
+        "rotation orders:  XYZ ×2, XZY ×9, YZX ×4, ZYX ×4\n",
+        "position channels: hip\n",
+        "  - 24 extra rows after the 100 announced by Frames: (line 118) ignored, from line 220 on\n",
+    ] {
+        assert!(text.contains(line), "missing {line:?} in\n{text}");
+    }
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.contains(": warning: 24 extra rows after the 100"),
+        "{stderr}"
+    );
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
 fn info_reports_counts_timing_orders_and_warnings() {
-    let file = data("bvh/assimp_Boxing_Toes.bvh").display().to_string();
+    let file = shared_data("bvh/assimp_Boxing_Toes.bvh")
+        .display()
+        .to_string();
     let out = bvhview(&["info", &file]);
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
@@ -190,8 +218,42 @@ fn the_window_without_a_display_says_so_in_one_line() {
 }
 
 #[test]
+fn info_on_the_repository_folder_lists_every_file_and_sums_up() {
+    let dir = repo_data("").display().to_string();
+    let out = bvhview(&["info", &dir]);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "a malformed file makes the run fail"
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(lines.len(), 29, "{text}");
+    assert_eq!(lines.iter().filter(|l| l.starts_with("ok ")).count(), 20);
+    assert!(
+        lines[0].starts_with("ok     ")
+            && lines[0].contains("heiden_12.asf + ")
+            && lines[0].ends_with(": 31 joints, 343 frames, 2.9 s"),
+        "{}",
+        lines[0]
+    );
+    assert!(
+        text.contains("error  ")
+            && text.contains(
+                "dali_test-invalid-hierarchy1.bvh:3:3: expected '{' after 'root', found 'OFFSET'\n"
+            )
+    );
+    assert!(
+        lines[28].starts_with("28 files: 20 ok, 8 failed; 5.4 MB in "),
+        "{}",
+        lines[28]
+    );
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
 fn info_on_a_folder_lists_every_file_and_sums_up() {
-    let dir = shared().join("data").display().to_string();
+    let dir = shared_data("").display().to_string();
     let out = bvhview(&["info", &dir]);
     assert_eq!(
         out.status.code(),

@@ -55,10 +55,7 @@ fn one_line(out: &Output, code: i32, want: &str) {
 }
 
 fn tiny() -> String {
-    shared()
-        .join("oracle/inputs/tiny_crlf.bvh")
-        .display()
-        .to_string()
+    oracle("inputs/tiny_crlf.bvh").display().to_string()
 }
 
 fn scratch(name: &str) -> std::path::PathBuf {

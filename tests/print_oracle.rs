@@ -1,4 +1,4 @@
-//! `print` writes byte for byte what the article's own program printed (../shared/oracle/print).
+//! `print` writes byte for byte what the article's own program printed (tests/oracle/print).
 
 mod common;
 use common::*;
@@ -6,10 +6,10 @@ use std::process::Command;
 
 #[test]
 fn print_matches_the_article_for_every_oracle_file() {
-    let expected_files = files_in(&shared().join("oracle/print"), "txt");
+    let expected_files = files_in(&oracle("print"), "txt");
     for expected_path in expected_files {
         let name = expected_path.file_stem().unwrap().to_str().unwrap();
-        let mut input = shared().join("oracle/inputs").join(format!("{name}.bvh"));
+        let mut input = oracle("inputs").join(format!("{name}.bvh"));
         if !input.exists() {
             input = data(&format!("bvh/{name}.bvh"));
         }

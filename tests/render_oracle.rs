@@ -1,5 +1,5 @@
 //! The article's picture: our offscreen snapshots against the pictures its own program drew
-//! (../shared/oracle/refs), the sphere against freeglut's triangles, and the GL matrix stack
+//! (tests/oracle/refs), the sphere against freeglut's triangles, and the GL matrix stack
 //! against `pose`.
 
 mod common;
@@ -10,7 +10,7 @@ use common::*;
 use std::path::PathBuf;
 
 fn oracle_input(name: &str) -> PathBuf {
-    let input = shared().join("oracle/inputs").join(name);
+    let input = oracle("inputs").join(name);
     if input.exists() {
         input
     } else {
@@ -21,7 +21,7 @@ fn oracle_input(name: &str) -> PathBuf {
 /// Every picture in MANIFEST.tsv, drawn by us with the same input, frame, angle and size.
 #[test]
 fn snapshots_match_the_articles_pictures() {
-    let manifest = std::fs::read_to_string(shared().join("oracle/refs/MANIFEST.tsv")).unwrap();
+    let manifest = std::fs::read_to_string(oracle("refs/MANIFEST.tsv")).unwrap();
     let mut checked = 0;
     for line in manifest.lines().skip(1) {
         let f: Vec<&str> = line.split('\t').collect();
@@ -35,7 +35,7 @@ fn snapshots_match_the_articles_pictures() {
             ..SnapshotOptions::default()
         };
         let ours = bvhview::render::snapshot(&bvh.skeleton, &bvh.motion, &options).unwrap();
-        let theirs = Image::read_png(&shared().join("oracle/refs").join(file)).unwrap();
+        let theirs = Image::read_png(&oracle("refs").join(file)).unwrap();
         let differing = ours.differing_pixels(&theirs);
         let allowed = (ours.width * ours.height) as usize / 1000;
         assert!(
@@ -54,7 +54,7 @@ fn snapshots_match_the_articles_pictures() {
 /// Our sphere is freeglut's: the same 16 strips of 42 (position, normal) pairs, bit for bit.
 #[test]
 fn sphere_matches_freeglut_triangles() {
-    let text = std::fs::read_to_string(shared().join("oracle/sphere_1_20_16.json")).unwrap();
+    let text = std::fs::read_to_string(oracle("sphere_1_20_16.json")).unwrap();
     // The file's numbers after the description, in order: per strip 42 positions then 42 normals.
     let body = &text[text.find("\"strips\"").unwrap()..];
     let numbers: Vec<f32> = body
@@ -247,8 +247,7 @@ fn sticks_and_fit_are_opt_in() {
         ..SnapshotOptions::default()
     };
     let article = bvhview::render::snapshot(&bvh.skeleton, &bvh.motion, &base).unwrap();
-    let theirs =
-        Image::read_png(&shared().join("oracle/refs/tiny_crlf__f1__a10__600x600.png")).unwrap();
+    let theirs = Image::read_png(&oracle("refs/tiny_crlf__f1__a10__600x600.png")).unwrap();
     assert_eq!(article.differing_pixels(&theirs), 0);
     let green = |image: &Image| {
         image
@@ -275,7 +274,7 @@ fn sticks_and_fit_are_opt_in() {
 }
 
 /// init, reshape and display make exactly the calls the article's program makes, in order and
-/// with the same arguments (../shared/oracle/trace, recorded with apitrace).
+/// with the same arguments (tests/oracle/trace, recorded with apitrace).
 #[test]
 fn calls_match_the_articles_trace() {
     use bvhview::render::trace::{Numbers, Recorder};
@@ -293,8 +292,7 @@ fn calls_match_the_articles_trace() {
         skin: None,
     };
     scene::display(&mut recorder, &s);
-    let expected =
-        std::fs::read_to_string(shared().join("oracle/trace/tiny_crlf__f1__a10.txt")).unwrap();
+    let expected = std::fs::read_to_string(oracle("trace/tiny_crlf__f1__a10.txt")).unwrap();
     let expected: Vec<&str> = expected.lines().collect();
     assert_eq!(recorder.lines.len(), expected.len());
     for (i, (ours, theirs)) in recorder.lines.iter().zip(&expected).enumerate() {

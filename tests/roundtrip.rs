@@ -5,8 +5,18 @@ use common::*;
 use std::process::Command;
 
 #[test]
-fn every_real_file_round_trips_exactly() {
-    for path in files_in(&data("bvh"), "bvh") {
+fn every_repository_file_round_trips_exactly() {
+    check_round_trips(&repo_data("bvh"));
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn every_whole_corpus_file_round_trips_exactly() {
+    check_round_trips(&shared_data("bvh"));
+}
+
+fn check_round_trips(folder: &std::path::Path) {
+    for path in files_in(folder, "bvh") {
         let original = bvhview::bvh::load_file(&path).unwrap();
         let text = bvhview::bvh::writer::to_string(&original.skeleton, &original.motion);
         let again = bvhview::bvh::load_bytes(text.as_bytes(), "written.bvh")

@@ -28,10 +28,7 @@ fn numbers(line: &str) -> Vec<f64> {
 
 #[test]
 fn trace_of_tiny_crlf_is_pinned_and_matches_the_articles_calls() {
-    let input = shared()
-        .join("oracle/inputs/tiny_crlf.bvh")
-        .display()
-        .to_string();
+    let input = oracle("inputs/tiny_crlf.bvh").display().to_string();
     let ours = trace(&[&input, "--frame", "1"]);
     let pinned = std::fs::read_to_string(
         std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -43,8 +40,7 @@ fn trace_of_tiny_crlf_is_pinned_and_matches_the_articles_calls() {
     assert!(ours.contains("glutSolidSphere(1.000000, 20, 16);\n"));
 
     // The article's own trace (apitrace) from display()'s glClear on: same calls, same numbers.
-    let article =
-        std::fs::read_to_string(shared().join("oracle/trace/tiny_crlf__f1__a10.txt")).unwrap();
+    let article = std::fs::read_to_string(oracle("trace/tiny_crlf__f1__a10.txt")).unwrap();
     let display: Vec<&str> = article
         .lines()
         .skip_while(|l| !l.starts_with("glClear("))
@@ -63,10 +59,7 @@ fn trace_of_tiny_crlf_is_pinned_and_matches_the_articles_calls() {
 
 #[test]
 fn trace_follows_the_frame_and_the_style() {
-    let input = shared()
-        .join("oracle/inputs/tiny_crlf.bvh")
-        .display()
-        .to_string();
+    let input = oracle("inputs/tiny_crlf.bvh").display().to_string();
     let frame0 = trace(&[&input, "--frame", "0"]);
     assert!(frame0.contains("glTranslatef(0.000000, 30.000000, 0.000000);\n"));
     let sticks = trace(&[&input, "--frame", "0", "--style", "sticks"]);

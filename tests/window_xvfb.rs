@@ -106,7 +106,7 @@ fn capture(display: &str, window: &str) -> Image {
 
 #[test]
 fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
-    let input = shared().join("oracle/inputs/tiny_crlf.bvh");
+    let input = oracle("inputs/tiny_crlf.bvh");
     let bvh = bvhview::bvh::load_file(&input).unwrap();
     let snapshot = |frame| {
         bvhview::render::snapshot(

@@ -112,7 +112,7 @@ fn main() {
     );
 
     // Drawing, offscreen at the article's 600×600.
-    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/data/bvh");
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/bvh");
     for (name, file) in [
         ("CMU 31 joints", "assimp_01_01.bvh"),
         ("MakeHuman 173 joints", "makehuman_tpose.bvh"),

@@ -7,7 +7,7 @@ use crate::render::fixed::*;
 /// How numbers are written.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Numbers {
-    /// As apitrace dumps them: `%.7g` for floats, `%.16g` for doubles (../shared/oracle/trace).
+    /// As apitrace dumps them: `%.7g` for floats, `%.16g` for doubles (tests/oracle/trace).
     Apitrace,
     /// As C's `printf("%f")`: six decimals (`glTranslatef(0.000000, 84.730759, 0.000000)`).
     Printf,

@@ -1,14 +1,57 @@
-//! Helpers shared by the integration tests. Real-world files are read from ../shared/data.
+//! Helpers shared by the integration tests.
+//!
+//! Three places hold test input:
+//! - `tests/data/`: the repository's own corpus, a redistributable subset of the shared corpus,
+//!   byte for byte (tests/data/SOURCES.md), so a bare clone tests itself;
+//! - `tests/oracle/` and `tests/edge/`: the article's own outputs, and one hand-written file per
+//!   article defect;
+//! - `../shared/data/`: the whole corpus beside the checkout (CI has it). Tests that need it are
+//!   `#[ignore]`d with a reason; `scripts/test.sh` runs them with `--include-ignored` when the folder
+//!   is there, and [`shared_data`] fails loudly when it is not.
 #![allow(dead_code)]
 
 use std::path::{Path, PathBuf};
 
-pub fn shared() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared")
+fn manifest() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// A path in the repository's own corpus, `tests/data/`.
+pub fn repo_data(relative: &str) -> PathBuf {
+    manifest().join("tests/data").join(relative)
+}
+
+/// A path in the whole corpus, `../shared/data/`; panics with what to do when it is missing.
+pub fn shared_data(relative: &str) -> PathBuf {
+    let root = manifest().join("../shared/data");
+    assert!(
+        root.is_dir(),
+        "{} is missing: this test reads the whole corpus beside the checkout \
+         (run it where ../shared/data exists, as CI does)",
+        root.display()
+    );
+    root.join(relative)
+}
+
+/// A real file or folder by its corpus path (`bvh/NAME.bvh`): the repository's copy when it carries
+/// one, else the whole corpus's.
 pub fn data(relative: &str) -> PathBuf {
-    shared().join("data").join(relative)
+    let own = repo_data(relative);
+    if own.exists() {
+        own
+    } else {
+        shared_data(relative)
+    }
+}
+
+/// A file of the article's outputs, `tests/oracle/` (see its README).
+pub fn oracle(relative: &str) -> PathBuf {
+    manifest().join("tests/oracle").join(relative)
+}
+
+/// A hand-written input, `tests/edge/` (see its README).
+pub fn edge(name: &str) -> PathBuf {
+    manifest().join("tests/edge").join(name)
 }
 
 /// Every file with extension `ext` in a folder, sorted; fails if there is none.
@@ -23,9 +66,12 @@ pub fn files_in(dir: &Path, ext: &str) -> Vec<PathBuf> {
     files
 }
 
+pub fn load_path(path: &Path) -> bvhview::bvh::Bvh {
+    bvhview::bvh::load_file(path).unwrap_or_else(|e| panic!("{e}"))
+}
+
 pub fn load(relative: &str) -> bvhview::bvh::Bvh {
-    let path = data(relative);
-    bvhview::bvh::load_file(&path).unwrap_or_else(|e| panic!("{e}"))
+    load_path(&data(relative))
 }
 
 pub fn load_text(text: &str) -> Result<bvhview::bvh::Bvh, bvhview::Error> {

@@ -1,7 +1,7 @@
 //! Any text into the AMC loader, against a real CMU skeleton (embedded at build time).
 fn main() {
-    let asf_text = include_str!("../../../../shared/data/asf_amc/simchoni_charleston.asf");
-    let asf = bvhview::acclaim::asf::parse_asf(asf_text, "charleston.asf").expect("the real ASF loads");
+    let asf_text = include_str!("../../../tests/data/asf_amc/heiden_12.asf");
+    let asf = bvhview::acclaim::asf::parse_asf(asf_text, "heiden_12.asf").expect("the real ASF loads");
     let (skeleton, maps) = asf.to_skeleton();
     let channels = skeleton.channel_count();
     afl::fuzz!(|data: &[u8]| {

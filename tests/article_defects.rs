@@ -1,0 +1,270 @@
+//! One hand-written input per defect of the article's loader (tests/edge/README.md says what the
+//! article does with each); these tests pin what bvhview does with it instead. Every input is the
+//! control file `article_base_crlf.bvh` (which the article reads) changed in one way only.
+
+mod common;
+use bvhview::pose::{OffsetMode, world_positions};
+use bvhview::{Channel, RotationOrder};
+use common::*;
+use glam::Vec3;
+use std::process::Command;
+
+const ROW_0: [f32; 9] = [0.0, 30.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+const ROW_1: [f32; 9] = [5.0, 30.0, -3.0, 10.0, 20.0, 30.0, -40.0, 50.0, 60.0];
+const ROOT_CHANNELS: [Channel; 6] = [
+    Channel::Xposition,
+    Channel::Yposition,
+    Channel::Zposition,
+    Channel::Zrotation,
+    Channel::Xrotation,
+    Channel::Yrotation,
+];
+
+fn load_edge(name: &str) -> bvhview::bvh::Bvh {
+    load_path(&edge(name))
+}
+
+fn bvhview(args: &[&str]) -> std::process::Output {
+    Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn print_of(name: &str) -> String {
+    let out = bvhview(&["print", edge(name).to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
+
+/// The control file: Hips (6 channels, ZXY) → Chest (ZXY) → End Site, two frames.
+#[test]
+fn the_control_file_loads_with_the_values_its_text_holds() {
+    let bvh = load_edge("article_base_crlf.bvh");
+    let joints = &bvh.skeleton.joints;
+    let names: Vec<&str> = joints.iter().map(|j| j.name.as_str()).collect();
+    assert_eq!(names, ["Hips", "Chest", "Site"]);
+    assert_eq!(joints[0].channels, ROOT_CHANNELS);
+    assert_eq!(joints[1].channels, ROOT_CHANNELS[3..]);
+    assert_eq!(joints[1].rotation_order, Some(RotationOrder::Zxy));
+    assert_eq!(joints[1].offset, Vec3::new(0.0, 15.0, 0.0));
+    assert!(joints[2].end_site);
+    assert_eq!(joints[2].offset, Vec3::new(0.0, 20.0, 0.0));
+    assert_eq!(bvh.motion.frame_count(), 2);
+    assert_eq!(bvh.motion.frame_time, 0.033333);
+    assert_eq!(bvh.motion.frame(0), ROW_0);
+    assert_eq!(bvh.motion.frame(1), ROW_1);
+    assert!(bvh.warnings.is_empty());
+    assert_eq!(
+        print_of("article_base_crlf.bvh"),
+        "Hips : 0.000000,0.000000,0.000000 -3- zxy\n \
+         -Chest : 0.000000,15.000000,0.000000 -3- zxy\n \
+         - -Site : 0.000000,20.000000,0.000000 -0- \n"
+    );
+}
+
+/// The article skips exactly two bytes after each row and drops the last byte of each name (it
+/// assumes CR LF); the format error it stops with depends on the file. Here: the same model.
+#[test]
+fn lf_line_endings_load_the_same_as_crlf() {
+    let base = load_edge("article_base_crlf.bvh");
+    let lf = load_edge("lf_line_endings.bvh");
+    assert_eq!(lf.skeleton, base.skeleton);
+    assert_eq!(lf.motion, base.motion);
+}
+
+/// The article's row loop expects a blank after the last number of a row, then CR LF.
+#[test]
+fn rows_without_a_trailing_blank_load_the_same() {
+    let base = load_edge("article_base_crlf.bvh");
+    let bare = load_edge("row_without_trailing_blank.bvh");
+    assert_eq!(bare.skeleton, base.skeleton);
+    assert_eq!(bare.motion, base.motion);
+}
+
+/// The article reads the root OFFSET in steps of 5 bytes, other OFFSETs and MOTION values in
+/// steps of at least 8: `0 15 0` and rows of `0` shift every value after them.
+#[test]
+fn short_numbers_in_offsets_and_rows_load_the_same() {
+    let base = load_edge("article_base_crlf.bvh");
+    let short = load_edge("short_numbers.bvh");
+    assert_eq!(short.skeleton, base.skeleton);
+    assert_eq!(short.motion, base.motion);
+}
+
+/// The article has room for 16 children per joint. Here 17 and 18 children are all kept, in file
+/// order, and each reads its own three columns.
+#[test]
+fn seventeen_and_eighteen_children_are_all_kept() {
+    for n in [17usize, 18] {
+        let name = format!("children_{n}.bvh");
+        let bvh = load_edge(&name);
+        let skeleton = &bvh.skeleton;
+        assert_eq!(skeleton.joints.len(), 1 + 2 * n, "{name}");
+        assert_eq!(skeleton.joints[0].children.len(), n, "{name}");
+        assert_eq!(skeleton.channel_count(), 6 + 3 * n, "{name}");
+        let frame = bvh.motion.frame(1);
+        let positions = world_positions(skeleton, frame, OffsetMode::Replace);
+        for (k, &child) in skeleton.joints[0].children.iter().enumerate() {
+            let finger = &skeleton.joints[child];
+            assert_eq!(finger.name, format!("Finger{:02}", k + 1));
+            assert_eq!(finger.first_channel, 6 + 3 * k);
+            // Zrotation of finger k is k + 1 degrees at frame 1; the root is at (0, 30, 0).
+            assert_eq!(finger.values(frame), [(k + 1) as f32, 0.0, 0.0]);
+            let x = k as f32 + 1.0 - (n as f32 + 1.0) / 2.0;
+            let angle = ((k + 1) as f32).to_radians();
+            let tip = Vec3::new(x - 5.0 * angle.sin(), 40.0 + 5.0 * angle.cos(), 0.0);
+            let site = finger.children[0];
+            assert!(
+                positions[site].abs_diff_eq(tip, 1e-4),
+                "{name} Finger{:02}: {} vs {tip}",
+                k + 1,
+                positions[site]
+            );
+        }
+        let print = print_of(&name);
+        assert_eq!(print.lines().count(), 1 + 2 * n, "{name}");
+        assert!(print.ends_with(&format!(
+            " -Finger{n:02} : {:.6},10.000000,0.000000 -3- zxy\n - -Site : 0.000000,5.000000,0.000000 -0- \n",
+            (n as f32 - 1.0) / 2.0
+        )));
+    }
+}
+
+/// The article's `name` holds 24 bytes with its terminator; longer names break its load. Every
+/// command here keeps the whole name; only `print` cuts it, to match the article's own output.
+#[test]
+fn long_names_are_kept_whole_and_cut_only_by_print() {
+    for (file, name, printed) in [
+        (
+            "name_23_bytes.bvh",
+            "mixamorig:LeftHandIndex",
+            "mixamorig:LeftHandIndex",
+        ),
+        (
+            "name_25_bytes.bvh",
+            "mixamorig:LeftHandMiddle1",
+            "mixamorig:LeftHandMiddl",
+        ),
+        (
+            "name_26_bytes.bvh",
+            "mixamorig:RightHandMiddle1",
+            "mixamorig:RightHandMidd",
+        ),
+    ] {
+        let bvh = load_edge(file);
+        assert_eq!(bvh.skeleton.joints[1].name, name);
+        assert_eq!(bvh.motion, load_edge("article_base_crlf.bvh").motion);
+        let print = print_of(file);
+        assert_eq!(
+            print.lines().nth(1).unwrap(),
+            format!(" -{printed} : 0.000000,15.000000,0.000000 -3- zxy")
+        );
+        let out = bvhview(&["positions", edge(file).to_str().unwrap(), "--frames", "0"]);
+        let csv = String::from_utf8(out.stdout).unwrap();
+        assert!(csv.contains(&format!("\n0,{name},0,45,0\n")), "{csv}");
+    }
+}
+
+/// The article reads `Frames` rows whatever the file holds, past the end of its buffer.
+#[test]
+fn frames_larger_than_the_rows_is_an_error_at_the_end_of_the_file() {
+    let path = edge("frames_more_than_rows.bvh");
+    let error = bvhview::bvh::load_file(&path).err().unwrap();
+    assert_eq!(
+        error.to_string(),
+        format!(
+            "{}:22:1: expected 4 frames as Frames: says (line 17), found 3: the file ends",
+            path.display()
+        )
+    );
+    assert_eq!(error.exit_code(), 2);
+    let out = bvhview(&["info", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+}
+
+/// With `Frames: 0` the article's `draw` reads row 0 of an empty array; without MOTION its scan for
+/// `F` runs off the buffer. Here both are the skeleton with no frames, drawn in its rest pose.
+#[test]
+fn frames_zero_and_no_motion_give_the_skeleton_at_rest() {
+    let base = load_edge("article_base_crlf.bvh");
+    for (file, frame_time) in [("frames_zero.bvh", 0.033333), ("no_motion.bvh", 0.0)] {
+        let bvh = load_edge(file);
+        assert_eq!(bvh.skeleton, base.skeleton, "{file}");
+        assert_eq!(bvh.motion.frame_count(), 0, "{file}");
+        assert!(bvh.motion.data.is_empty());
+        assert_eq!(bvh.motion.frame_time, frame_time, "{file}");
+        let out = bvhview(&["positions", edge(file).to_str().unwrap()]);
+        assert!(out.status.success(), "{file}");
+        assert_eq!(
+            String::from_utf8(out.stdout).unwrap(),
+            "frame,joint,x,y,z\n0,Hips,0,0,0\n0,Chest,0,15,0\n0,Chest_End,0,35,0\n",
+            "{file}"
+        );
+    }
+}
+
+/// R = Rz(z) · Rx(x) · Ry(y) applied to v, in f64, written out from the rotation matrices.
+fn rotate_zxy(z: f64, x: f64, y: f64, v: [f64; 3]) -> [f64; 3] {
+    let (sz, cz) = z.to_radians().sin_cos();
+    let (sx, cx) = x.to_radians().sin_cos();
+    let (sy, cy) = y.to_radians().sin_cos();
+    let ry = [cy * v[0] + sy * v[2], v[1], -sy * v[0] + cy * v[2]];
+    let rx = [ry[0], cx * ry[1] - sx * ry[2], sx * ry[1] + cx * ry[2]];
+    [cz * rx[0] - sz * rx[1], sz * rx[0] + cz * rx[1], rx[2]]
+}
+
+fn add(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+/// The article reads the first three channel names of a non-root joint as its rotation order, so
+/// `Xposition Yposition Zposition` becomes XYZ rotations and every column after it shifts. Here
+/// the position channels replace the OFFSET (or add to it with `--offset-mode add`).
+#[test]
+fn position_channels_on_a_non_root_joint_move_it() {
+    let bvh = load_edge("position_channels_non_root.bvh");
+    let chest = &bvh.skeleton.joints[1];
+    assert_eq!(chest.channels, ROOT_CHANNELS);
+    assert_eq!(chest.first_channel, 6);
+    let frame = bvh.motion.frame(1);
+    assert_eq!(chest.values(frame), [1.0, 16.0, -2.0, -40.0, 50.0, 60.0]);
+    for (mode, chest_local) in [
+        (OffsetMode::Replace, [1.0, 16.0, -2.0]),
+        (OffsetMode::Add, [1.0, 31.0, -2.0]),
+    ] {
+        let root = [5.0, 30.0, -3.0];
+        let chest_world = add(root, rotate_zxy(10.0, 20.0, 30.0, chest_local));
+        let site_in_chest = rotate_zxy(-40.0, 50.0, 60.0, [0.0, 20.0, 0.0]);
+        let site_world = add(chest_world, rotate_zxy(10.0, 20.0, 30.0, site_in_chest));
+        let got = world_positions(&bvh.skeleton, frame, mode);
+        for (index, want) in [(0, root), (1, chest_world), (2, site_world)] {
+            let want = Vec3::new(want[0] as f32, want[1] as f32, want[2] as f32);
+            assert!(
+                got[index].abs_diff_eq(want, 1e-4),
+                "{mode:?} joint {index}: {} vs {want}",
+                got[index]
+            );
+        }
+    }
+}
+
+/// A root written `JOINT` and End Sites written `JOINT Site` with `CHANNELS 0`: the article counts
+/// every `J` keyword as three rotation columns, so the columns after the first such Site shift.
+#[test]
+fn joint_site_with_channels_0_is_an_end_site_and_takes_no_columns() {
+    let bvh = load_edge("joint_site_channels_0.bvh");
+    let joints = &bvh.skeleton.joints;
+    let names: Vec<&str> = joints.iter().map(|j| j.name.as_str()).collect();
+    assert_eq!(names, ["Hips", "Chest", "Site", "Tail", "Site"]);
+    assert_eq!(joints[0].parent, None);
+    assert!(joints[2].end_site && joints[2].channels.is_empty());
+    assert!(joints[4].end_site && joints[4].channels.is_empty());
+    assert_eq!(bvh.skeleton.channel_count(), 12);
+    assert_eq!(joints[3].first_channel, 9);
+    assert_eq!(joints[3].values(bvh.motion.frame(1)), [70.0, 0.0, 0.0]);
+}
