@@ -41,7 +41,7 @@ fi
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 status=0
-cargo test --all-targets --locked -- "${test_args[@]}" 2>&1 | tee "$log" || status=$?
+cargo test --all-targets --locked --no-fail-fast -- "${test_args[@]}" 2>&1 | tee "$log" || status=$?
 # One closing line for the whole run: the sum over every test binary.
 summary=$(awk '/^test result:/ { p += $4; f += $6; i += $8 } END { printf "%d %d %d", p, f, i }' "$log")
 read -r passed failed ignored <<<"$summary"

@@ -115,7 +115,8 @@ fn repository_copies_equal_the_shared_corpus_and_oracle() {
     for folder in ["inputs", "print", "refs", "trace", ""] {
         for entry in std::fs::read_dir(shared_oracle.join(folder)).unwrap() {
             let path = entry.unwrap().path();
-            if path.is_file() && path.file_name().unwrap() != "README.md" {
+            let name = path.file_name().unwrap().to_str().unwrap();
+            if path.is_file() && name != "README.md" && !name.starts_with('.') {
                 let relative = path.strip_prefix(&shared_oracle).unwrap();
                 assert_same_bytes(&oracle(relative.to_str().unwrap()), &path);
                 compared += 1;
