@@ -189,7 +189,9 @@ fn check_facts(facts: &Facts, path: &std::path::Path) {
 #[test]
 #[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
 fn exponents_are_read() {
-    let bvh = load("bvh/bandai_dataset-1_dance-short_normal_001.bvh");
+    let bvh = load_path(&shared_data(
+        "bvh/bandai_dataset-1_dance-short_normal_001.bvh",
+    ));
     let offsets: Vec<f32> = bvh.skeleton.joints.iter().map(|j| j.offset.y).collect();
     assert!(offsets.contains(&1.87007e-05));
     let row = bvh.motion.frame(0);

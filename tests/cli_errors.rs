@@ -75,7 +75,7 @@ fn a_missing_file_is_bad_input() {
         2,
         "/no/such/take.bvh: no such file",
     );
-    let amc = format!("{}", data("asf_amc/nope.amc").display());
+    let amc = format!("{}", repo_data("asf_amc/nope.amc").display());
     let asf = data("asf_amc/heiden_12.asf").display().to_string();
     one_line(
         &bvhview(&["info", &asf, "--motion", &amc]),

@@ -115,8 +115,10 @@ fn cases() -> Vec<Case> {
 fn input_path(input: &str) -> PathBuf {
     if input.starts_with("assets/") {
         Path::new(env!("CARGO_MANIFEST_DIR")).join(input)
+    } else if repo_data(input).exists() {
+        repo_data(input)
     } else {
-        data(input)
+        shared_data(input)
     }
 }
 
@@ -176,7 +178,7 @@ fn check_goldens(cases: Vec<Case>) {
     let bless = std::env::var_os("BVHVIEW_BLESS").is_some();
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
     for case in cases {
-        let motion = case.motion.map(data);
+        let motion = case.motion.map(input_path);
         let bvh = bvhview::input::load(&input_path(case.input), motion.as_deref(), None).unwrap();
         let ours = bvhview::render::snapshot(&bvh.skeleton, &bvh.motion, &case.options).unwrap();
         let golden = dir.join(format!("{}.png", case.name));

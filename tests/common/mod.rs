@@ -33,15 +33,11 @@ pub fn shared_data(relative: &str) -> PathBuf {
     root.join(relative)
 }
 
-/// A real file or folder by its corpus path (`bvh/NAME.bvh`): the repository's copy when it carries
-/// one, else the whole corpus's.
+/// A real file or folder by its corpus path (`bvh/NAME.bvh`) in the repository's own corpus.
+/// There is no fallback to ../shared/data, so a test that runs on a bare clone cannot come to
+/// depend on the whole corpus by accident; tests that need it call [`shared_data`].
 pub fn data(relative: &str) -> PathBuf {
-    let own = repo_data(relative);
-    if own.exists() {
-        own
-    } else {
-        shared_data(relative)
-    }
+    repo_data(relative)
 }
 
 /// A file of the article's outputs, `tests/oracle/` (see its README).
