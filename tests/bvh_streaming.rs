@@ -207,3 +207,59 @@ fn blank_lines_anywhere_in_a_big_file_change_only_the_line_numbers() {
         assert_eq!(file.unwrap_err(), want, "every {every}");
     }
 }
+
+#[test]
+fn a_row_with_the_wrong_count_names_its_own_frame_in_any_chunk() {
+    // Rows are 1-numbered in this message. Later chunks are parsed out of order on other threads,
+    // and blank lines shift where their rows are placed: neither may change the number.
+    let frames = 3 * CHUNK / 30;
+    for (newline, blank_every) in [("\n", 0), ("\r\n", 0), ("\r", 0), ("\n", 10)] {
+        for row in [5, 20_000, 50_000, frames - 1] {
+            let mut text = String::new();
+            let plain = take(frames, 0, newline);
+            let marker = format!("Frame Time: 0.01{newline}");
+            let (head, rows) = plain.split_at(plain.find(&marker).unwrap() + marker.len());
+            text.push_str(head);
+            for (index, values) in rows.split_terminator(newline).enumerate() {
+                if index == row {
+                    // One value short: drop the last word.
+                    text.push_str(&values[..values.rfind(' ').unwrap()]);
+                } else {
+                    text.push_str(values);
+                }
+                text.push_str(newline);
+                if blank_every > 0 && index % blank_every == 0 {
+                    text.push_str(newline);
+                }
+            }
+            let (memory, file) = both(&text);
+            let want = format!(
+                "frame {} has 5 values, expected 6 (one per channel)",
+                row + 1
+            );
+            for error in [memory.unwrap_err(), file.unwrap_err()] {
+                assert!(
+                    error.ends_with(&want),
+                    "{newline:?} every {blank_every}, row {row}: {error}"
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn unusual_and_malformed_motion_headers_stream_to_the_same_result() {
+    let frames = 3 * CHUNK / 30;
+    let plain = take(frames, 0, "\n");
+    // Accepted spellings stream; a malformed one is reported where it is, as from memory.
+    let spaced = plain.replace("Frame Time: 0.01", "Frame  Time:\t0.01");
+    let (memory, file) = both(&spaced);
+    let (memory, file) = (memory.unwrap(), file.unwrap());
+    assert_eq!(file.motion, memory.motion);
+    assert_eq!(file.motion.frame(frames - 1), &row_values(frames - 1));
+    let broken = plain.replace("Frame Time: 0.01", "FrameTime: 0.01");
+    let want = "t.bvh:13:1: expected 'Frame Time:', found 'FrameTime:'";
+    let (memory, file) = both(&broken);
+    assert_eq!(memory.unwrap_err(), want);
+    assert_eq!(file.unwrap_err(), want);
+}

@@ -39,32 +39,15 @@ pub fn load_file(path: &Path) -> Result<Bvh, Error> {
 
 /// [`load_file`] parsing on at most `threads` threads (1 when many files load at once).
 pub fn load_file_with_threads(path: &Path, threads: usize) -> Result<Bvh, Error> {
-    use std::io::Read;
     let io_error = |e| Error::io(path, e);
     let mut file = std::fs::File::open(path).map_err(io_error)?;
     let length = file.metadata().map_err(io_error)?.len();
     let source = path.display().to_string();
-    let mut head = Vec::new();
-    // Read until the line with `Frame Time` has ended, or the file has. Each search starts where
-    // the last one could not have found the start of `MOTION`, so a long hierarchy is read once.
-    let mut searched = 0;
-    let rows_start = loop {
-        let before = head.len();
-        head.resize(before + 64 * 1024, 0);
-        let read = file.read(&mut head[before..]).map_err(io_error)?;
-        head.truncate(before + read);
-        if read == 0 {
-            return load_bytes_with_threads(&head, &source, threads);
-        }
-        if let Some(end) = header_end(&head, searched) {
-            break end;
-        }
-        if !head[searched..]
-            .windows(6)
-            .any(|w| w.eq_ignore_ascii_case(b"MOTION"))
-        {
-            searched = head.len().saturating_sub(5);
-        }
+    // The hierarchy and the MOTION header, read until the rows begin (or the file ends).
+    let mut scan = HeaderScan::default();
+    let (head, rows_start) = read_head(&mut file, length, &mut scan).map_err(io_error)?;
+    let Some(rows_start) = rows_start else {
+        return load_bytes_with_threads(&head, &source, threads);
     };
     let mut loader = Loader::new(&head[..rows_start], &source);
     let header = match loader.load() {
@@ -74,6 +57,7 @@ pub fn load_file_with_threads(path: &Path, threads: usize) -> Result<Bvh, Error>
         Err(Error::Parse { line, column, .. })
             if (line, column) == line_column(&head, rows_start) =>
         {
+            use std::io::Read;
             let mut all = head;
             file.read_to_end(&mut all).map_err(io_error)?;
             return load_bytes_with_threads(&all, &source, threads);
@@ -88,13 +72,14 @@ pub fn load_file_with_threads(path: &Path, threads: usize) -> Result<Bvh, Error>
     else {
         unreachable!("the header was cut after its Frame Time line");
     };
-    let start = line_column(&head, rows_start);
+    // C++: the row loop at the end of `loadFile`. The rows are the bulk of a file, so they go to
+    // the parallel row reader in `super::rows` (chunked, every core, exact errors).
     let mut rows = RowParser::new(
         &source,
         frames,
         loader.channel_count,
         frames_line,
-        start,
+        line_column(&head, rows_start),
         length.saturating_sub(rows_start as u64),
     )
     .with_threads(threads);
@@ -103,27 +88,180 @@ pub fn load_file_with_threads(path: &Path, threads: usize) -> Result<Bvh, Error>
     loader.finish_rows(frames, frame_time, rows)
 }
 
-/// Where the rows begin: the line end after the first `Frame Time` that follows `MOTION`,
-/// looking from `from` (what was searched before cannot hold the start of `MOTION`).
-fn header_end(head: &[u8], from: usize) -> Option<usize> {
-    let find = |needle: &[u8], from: usize| {
-        head.get(from..)?
-            .windows(needle.len())
-            .position(|w| w.eq_ignore_ascii_case(needle))
-            .map(|i| i + from)
-    };
-    let motion = find(b"MOTION", from)?;
-    let time = find(b"Frame Time", motion)?;
-    let end = head[time..]
-        .iter()
-        .position(|&b| b == b'\n' || b == b'\r')?
-        + time;
-    // The value may be followed by spaces before the line end; the loader stops at them.
-    let mut start = end;
-    while start > time && matches!(head[start - 1], b' ' | b'\t') {
-        start -= 1;
+/// Reads the start of `input` (`length` bytes, as far as is known) until [`HeaderScan`] finds
+/// where the rows begin, or to the end. Each read doubles what is held, so however often the scan
+/// looks again, it looks at no more than about twice the bytes read.
+fn read_head(
+    input: &mut impl std::io::Read,
+    length: u64,
+    scan: &mut HeaderScan,
+) -> std::io::Result<(Vec<u8>, Option<usize>)> {
+    let mut head = Vec::new();
+    loop {
+        let before = head.len();
+        // One byte more than the rest of the file, so that its end is seen without a second read.
+        let rest = length.saturating_sub(before as u64).saturating_add(1);
+        let more = (before.max(64 * 1024) as u64).min(rest.max(4096)) as usize;
+        head.resize(before + more, 0);
+        let read = loop {
+            match input.read(&mut head[before..]) {
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                result => break result?,
+            }
+        };
+        head.truncate(before + read);
+        if read == 0 {
+            return Ok((head, None));
+        }
+        if let Some(start) = scan.rows_start(&head) {
+            return Ok((head, Some(start)));
+        }
     }
-    Some(start)
+}
+
+/// Finds where the MOTION rows begin while the head of a file streams in: the start of the line
+/// after `MOTION`, `Frames: N` and `Frame Time: T`, read word by word as the loader reads them.
+/// It settles what it has seen: a later call starts at the last `MOTION` whose header was cut
+/// short by the end of the bytes, or where the last search for `MOTION` ended.
+#[derive(Default)]
+struct HeaderScan {
+    /// No `MOTION` that matters starts before this.
+    from: usize,
+    /// Bytes looked at so far, counting looks again (what the tests bound).
+    scanned: usize,
+}
+
+/// What followed a `MOTION`.
+enum AfterMotion {
+    /// The rows begin here.
+    Rows(usize),
+    /// The bytes ended first.
+    CutShort,
+    /// Not a MOTION header (a joint's name, or a malformed header the loader will report).
+    Other,
+}
+
+impl HeaderScan {
+    fn rows_start(&mut self, head: &[u8]) -> Option<usize> {
+        loop {
+            let motion = self.find_motion(head)?;
+            match self.after_motion(head, motion + 6) {
+                AfterMotion::Rows(start) => return Some(start),
+                AfterMotion::CutShort => {
+                    self.from = motion;
+                    return None;
+                }
+                AfterMotion::Other => self.from = motion + 6,
+            }
+        }
+    }
+
+    /// The next word `MOTION` (any case) from `self.from`, standing alone between separators.
+    /// When there is none yet, `self.from` moves to where one could still start.
+    fn find_motion(&mut self, head: &[u8]) -> Option<usize> {
+        let mut at = self.from;
+        while at + 6 <= head.len() {
+            self.scanned += 1;
+            if head[at..at + 6].eq_ignore_ascii_case(b"MOTION")
+                && (at == 0 || is_space(head[at - 1]) || head[at - 1] == b'}')
+            {
+                match head.get(at + 6) {
+                    Some(&b) if is_space(b) => return Some(at),
+                    Some(_) => {}
+                    // Undecided until the next byte arrives.
+                    None => break,
+                }
+            }
+            at += 1;
+        }
+        self.from = at;
+        None
+    }
+
+    /// Reads `Frames: N Frame Time: T` and the end of that line from `at`, as `Loader::load_motion`
+    /// reads them.
+    fn after_motion(&mut self, head: &[u8], mut at: usize) -> AfterMotion {
+        let mut words: Vec<&[u8]> = Vec::with_capacity(8);
+        loop {
+            while at < head.len() && is_space(head[at]) {
+                at += 1;
+                self.scanned += 1;
+            }
+            let start = at;
+            while at < head.len() && !is_space(head[at]) {
+                at += 1;
+                self.scanned += 1;
+            }
+            if at == head.len() {
+                return AfterMotion::CutShort;
+            }
+            words.push(&head[start..at]);
+            match motion_header(&words) {
+                Some(true) => break,
+                Some(false) => return AfterMotion::Other,
+                None => {}
+            }
+        }
+        // Only blanks may follow on the line; the rows start on the next one.
+        while at < head.len() && matches!(head[at], b' ' | b'\t') {
+            at += 1;
+            self.scanned += 1;
+        }
+        match (head.get(at), head.get(at + 1)) {
+            (None, _) | (Some(b'\r'), None) => AfterMotion::CutShort,
+            (Some(b'\r' | b'\n'), _) => AfterMotion::Rows(next_line_start(head, at)),
+            _ => AfterMotion::Other,
+        }
+    }
+}
+
+/// Whether `words`, read after MOTION, are a whole `Frames: N Frame Time: T` header the loader
+/// accepts (`Some(true)`), cannot become one (`Some(false)`), or may with more words (`None`).
+fn motion_header(words: &[&[u8]]) -> Option<bool> {
+    // `Label:`, or `Label` then `:`; moves `i` past it.
+    fn label(words: &[&[u8]], i: &mut usize, text: &str) -> Option<bool> {
+        let word = words.get(*i)?;
+        if word.eq_ignore_ascii_case(format!("{text}:").as_bytes()) {
+            *i += 1;
+            return Some(true);
+        }
+        if !word.eq_ignore_ascii_case(text.as_bytes()) {
+            return Some(false);
+        }
+        let colon = words.get(*i + 1)?;
+        *i += 2;
+        Some(*colon == b":")
+    }
+    let text = |word: &[u8]| std::str::from_utf8(word).ok().map(str::to_string);
+    let mut i = 0;
+    if !label(words, &mut i, "Frames")? {
+        return Some(false);
+    }
+    if text(words.get(i)?)
+        .and_then(|f| f.parse::<u64>().ok())
+        .is_none()
+    {
+        return Some(false);
+    }
+    i += 1;
+    if !words.get(i)?.eq_ignore_ascii_case(b"Frame") {
+        return Some(false);
+    }
+    i += 1;
+    if !label(words, &mut i, "Time")? {
+        return Some(false);
+    }
+    let time = text(words.get(i)?).and_then(|t| t.parse::<f64>().ok());
+    Some(time.is_some_and(|t| t.is_finite() && t >= 0.0) && i + 1 == words.len())
+}
+
+/// Where the line after the one that ends at `at` starts (past CR LF, LF or CR).
+fn next_line_start(text: &[u8], at: usize) -> usize {
+    match (text.get(at), text.get(at + 1)) {
+        (Some(b'\r'), Some(b'\n')) => at + 2,
+        (Some(b'\r' | b'\n'), _) => at + 1,
+        _ => at,
+    }
 }
 
 /// Parses BVH text. `source` names the input in error messages (`source:line:column: …`).
@@ -141,7 +279,8 @@ fn load_bytes_with_threads(text: &[u8], source: &str, threads: usize) -> Result<
             frames_line,
         } => (frames, frame_time, frames_line),
     };
-    let start = loader.p;
+    // The rows start on the line after the frame time's.
+    let start = next_line_start(text, loader.p);
     let mut rows = RowParser::new(
         source,
         frames,
@@ -621,5 +760,85 @@ impl<'a> Loader<'a> {
             return Err(self.expected(what, token));
         }
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A file of `rows` rows after `header` (the text from MOTION on, without the rows).
+    fn file_with(header: &str, rows: usize) -> Vec<u8> {
+        let mut text = String::from(
+            "HIERARCHY\nROOT Hips\n{\n\tOFFSET 0 0 0\n\tCHANNELS 3 Zrotation Xrotation Yrotation\n\
+             \tEnd Site\n\t{\n\t\tOFFSET 0 1 0\n\t}\n}\n",
+        );
+        text.push_str(header);
+        for row in 0..rows {
+            text.push_str(&format!("{row} 1.5 -2.25\n"));
+        }
+        text.into_bytes()
+    }
+
+    /// What `read_head` settles on, and the bytes the scan looked at, for `bytes` read in pieces.
+    fn scan(bytes: &[u8]) -> (Option<usize>, usize, usize) {
+        let mut scan = HeaderScan::default();
+        let (head, start) = read_head(&mut &bytes[..], bytes.len() as u64, &mut scan).unwrap();
+        (start, head.len(), scan.scanned)
+    }
+
+    #[test]
+    fn the_header_scan_looks_at_each_byte_a_bounded_number_of_times() {
+        let rows = 600_000; // about 8 MB
+        // Legal spellings the loader accepts: found in the first piece read.
+        for header in [
+            "MOTION\nFrames: 600000\nFrame  Time: 0.01\n",
+            "MOTION\r\nFrames :\t600000\r\nFRAME TIME : 0.01\r\n",
+        ] {
+            let bytes = file_with(header, rows);
+            let (start, held, scanned) = scan(&bytes);
+            let start = start.expect(header);
+            assert_eq!(&bytes[start..start + 7], b"0 1.5 -", "{header:?}");
+            assert!(
+                held <= 64 * 1024 && scanned <= held,
+                "{header:?}: {scanned}"
+            );
+        }
+        // Malformed, or MOTION followed by a long run of blank lines: every byte is read, and the
+        // scan looks at each a few times at most (it used to look again at everything after
+        // MOTION for every 64 KB read).
+        let blank_lines = "\n".repeat(8 << 20);
+        for header in [
+            "MOTION\nFrames: 600000\nFrameTime: 0.01\n".to_string(),
+            format!("MOTION{blank_lines}Frames: 600000\nFrame Time: 0.01\n"),
+        ] {
+            let bytes = file_with(&header, rows);
+            let (start, held, scanned) = scan(&bytes);
+            assert!(held >= 8 << 20);
+            assert!(
+                scanned <= 3 * bytes.len(),
+                "{} bytes, scanned {scanned}",
+                bytes.len()
+            );
+            if header.contains("FrameTime") {
+                assert_eq!(start, None);
+                assert_eq!(held, bytes.len());
+            } else {
+                assert_eq!(&bytes[start.unwrap()..][..7], b"0 1.5 -");
+            }
+        }
+    }
+
+    #[test]
+    fn a_joint_named_motion_is_not_the_header() {
+        let bytes = file_with("MOTION\nFrames: 2\nFrame Time: 0.5\n", 2);
+        let named = String::from_utf8(bytes)
+            .unwrap()
+            .replace("ROOT Hips", "ROOT MOTION");
+        let (start, _, _) = scan(named.as_bytes());
+        assert_eq!(
+            &named.as_bytes()[start.unwrap()..],
+            b"0 1.5 -2.25\n1 1.5 -2.25\n"
+        );
     }
 }

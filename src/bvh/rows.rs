@@ -501,7 +501,7 @@ struct Chunk {
     index: usize,
     placed: usize,
     rows: usize,
-    error: Option<Error>,
+    problem: Option<Located>,
     /// The text beyond the rows the chunk could write, with its line and column.
     rest: Option<(Vec<u8>, usize, usize)>,
 }
@@ -614,47 +614,59 @@ fn advance((line, column): (usize, usize), (breaks, since): (usize, usize)) -> (
     }
 }
 
-/// The error for a problem in row `row` (counted from the first frame) of `chunk`, which starts
-/// at `start`; `width` values make a row.
-fn problem_error(
-    source: &str,
-    width: usize,
-    chunk: &[u8],
-    start: (usize, usize),
-    row: usize,
-    problem: Problem,
-) -> Error {
-    let (offset, message) = match problem {
-        Problem::TooMany(at) => (
-            at,
-            format!(
-                "frame {} has more than the {width} values the channels need",
-                row + 1
-            ),
-        ),
-        Problem::TooFew(at, count) => (
-            at,
-            format!(
-                "frame {} has {count} values, expected {width} (one per channel)",
-                row + 1
-            ),
-        ),
-        Problem::NotANumber(at, end) => {
-            let word = String::from_utf8_lossy(&chunk[at..end]);
-            let word: String = if word.chars().count() > 40 {
-                format!("{}…", word.chars().take(40).collect::<String>())
-            } else {
-                word.into_owned()
-            };
-            (at, format!("expected a finite number, found '{word}'"))
+/// A problem found in a chunk, placed in the file but not yet numbered: a chunk parsed on another
+/// thread does not know how many rows the chunks before it hold.
+struct Located {
+    line: usize,
+    column: usize,
+    /// The row it is in, counted from the chunk's first row.
+    row_in_chunk: usize,
+    /// The frame's problem (its value count), or a word that is not a number.
+    what: Result<Option<usize>, String>,
+}
+
+impl Located {
+    /// Where `problem`, in row `row_in_chunk` of `chunk` (which starts at `start`), is in the file.
+    fn new(chunk: &[u8], start: (usize, usize), row_in_chunk: usize, problem: Problem) -> Located {
+        let (offset, what) = match problem {
+            Problem::TooMany(at) => (at, Ok(None)),
+            Problem::TooFew(at, count) => (at, Ok(Some(count))),
+            Problem::NotANumber(at, end) => {
+                let word = String::from_utf8_lossy(&chunk[at..end]);
+                let word: String = if word.chars().count() > 40 {
+                    format!("{}…", word.chars().take(40).collect::<String>())
+                } else {
+                    word.into_owned()
+                };
+                (at, Err(word))
+            }
+        };
+        let (line, column) = advance(start, count_lines(&chunk[..offset]));
+        Located {
+            line,
+            column,
+            row_in_chunk,
+            what,
         }
-    };
-    let (line, column) = advance(start, count_lines(&chunk[..offset]));
-    Error::Parse {
-        path: source.to_string(),
-        line,
-        column,
-        message,
+    }
+
+    /// The error, once the chunk's first row is known to be row `first_row` (counted from 0) of
+    /// the MOTION section; `width` values make a row.
+    fn into_error(self, source: &str, width: usize, first_row: usize) -> Error {
+        let frame = first_row + self.row_in_chunk + 1;
+        let message = match self.what {
+            Ok(None) => format!("frame {frame} has more than the {width} values the channels need"),
+            Ok(Some(count)) => {
+                format!("frame {frame} has {count} values, expected {width} (one per channel)")
+            }
+            Err(word) => format!("expected a finite number, found '{word}'"),
+        };
+        Error::Parse {
+            path: source.to_string(),
+            line: self.line,
+            column: self.column,
+            message,
+        }
     }
 }
 
@@ -678,6 +690,8 @@ pub struct RowParser {
     chunk: usize,
     /// Bytes of input after the rows' start.
     input_left: u64,
+    /// Rows moved down after the parallel pass (only blank lines should cause any).
+    rows_moved: usize,
 }
 
 impl RowParser {
@@ -712,6 +726,7 @@ impl RowParser {
                 .clamp(SMALLEST_CHUNK as u64, CHUNK as u64)
                 .min(room + 1) as usize,
             input_left: room,
+            rows_moved: 0,
         }
     }
 
@@ -768,16 +783,8 @@ impl RowParser {
         let first_row = self.rows;
         self.rows += part.rows as u64;
         if let Some((row, problem)) = part.problem {
-            let row = first_row as usize + row;
-            let start = (self.line, self.column);
-            return Err(problem_error(
-                &self.source,
-                self.width,
-                chunk,
-                start,
-                row,
-                problem,
-            ));
+            let located = Located::new(chunk, (self.line, self.column), row, problem);
+            return Err(located.into_error(&self.source, self.width, first_row as usize));
         }
         if part.rows == needed {
             self.count_extra(chunk, part.end);
@@ -840,7 +847,7 @@ impl RowParser {
         });
         let room = Room(self.data.spare_capacity_mut().as_mut_ptr());
         let done = std::sync::Mutex::new(Vec::<Chunk>::new());
-        let (source, chunk_size) = (self.source.as_str(), self.chunk);
+        let chunk_size = self.chunk;
         let work = || {
             let mut buffer = vec![0u8; chunk_size + chunk_size / 4];
             loop {
@@ -861,13 +868,12 @@ impl RowParser {
                     index: job.index,
                     placed: job.placed,
                     rows: part.rows,
-                    error: None,
+                    problem: None,
                     rest: None,
                 };
                 let start = (job.line, job.column);
                 if let Some((row, problem)) = part.problem {
-                    let row = job.placed + row;
-                    chunk.error = Some(problem_error(source, width, text, start, row, problem));
+                    chunk.problem = Some(Located::new(text, start, row, problem));
                     lock(&stream).stop = true;
                 } else if part.rows == job.limit && job.limit < job.bound {
                     let (line, column) = advance(start, count_lines(&text[..part.end]));
@@ -900,10 +906,12 @@ impl RowParser {
         let mut rows = 0;
         let mut rest = None;
         for chunk in chunks {
-            if let Some(error) = chunk.error {
-                return Err(error);
+            // Every chunk before this one has ended, so `rows` is where its rows begin.
+            if let Some(problem) = chunk.problem {
+                return Err(problem.into_error(&self.source, width, rows));
             }
             if chunk.placed != rows {
+                self.rows_moved += chunk.rows;
                 self.data.spare_capacity_mut().copy_within(
                     chunk.placed * width..(chunk.placed + chunk.rows) * width,
                     rows * width,
@@ -997,6 +1005,29 @@ impl RowParser {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Rows are placed by counting lines, so without blank lines none has to move afterwards.
+    #[test]
+    fn rows_without_blank_lines_are_parsed_in_place() {
+        for newline in ["\n", "\r\n", "\r"] {
+            let row = format!("1 2.5 -3{newline}");
+            let rows = row.repeat(4 * SMALLEST_CHUNK / row.len());
+            let frames = (4 * SMALLEST_CHUNK / row.len()) as u64;
+            let mut parser =
+                RowParser::new("t.bvh", frames, 3, 1, (2, 1), rows.len() as u64).with_threads(2);
+            parser.chunk = SMALLEST_CHUNK;
+            parser.input_left = rows.len() as u64;
+            parser
+                .feed_all(&[], &mut rows.as_bytes(), &|e| {
+                    Error::io(std::path::Path::new("t"), e)
+                })
+                .unwrap();
+            assert_eq!(parser.rows, frames);
+            assert_eq!(parser.rows_moved, 0, "{newline:?}");
+            let (data, _) = parser.finish().unwrap();
+            assert_eq!(&data[data.len() - 3..], [1.0, 2.5, -3.0]);
+        }
+    }
 
     /// What `(float)atof(word)` gives: the nearest double, then the nearest float.
     fn reference(word: &str) -> f32 {
