@@ -478,6 +478,21 @@ impl FkPlan {
         self.lanes_impl(frames, out, scratch)
     }
 
+    /// [`FkPlan::positions_of_frames`] without AVX2 even where the CPU has it: the path every
+    /// other CPU takes, so that tests check it on any machine.
+    pub fn positions_of_frames_portable(
+        &self,
+        frames: &[&[f32]],
+        out: &mut Vec<Vec3>,
+        scratch: &mut FkScratch,
+    ) {
+        assert!(
+            (1..=LANES).contains(&frames.len()),
+            "1 to {LANES} frames at a time"
+        );
+        self.lanes_impl(frames, out, scratch)
+    }
+
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
     fn lanes_avx2(&self, frames: &[&[f32]], out: &mut Vec<Vec3>, scratch: &mut FkScratch) {
@@ -654,33 +669,59 @@ mod fast_tests {
     }
 
     #[test]
-    fn plan_matches_world_matrices_on_real_files() {
-        // The repository's own corpus: mixed orders, position channels on 143 joints, CR endings.
-        let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bvh");
-        for name in [
+    fn plan_matches_world_matrices_on_real_files_on_both_paths() {
+        // The repository's own corpus: mixed orders, position channels on 143 joints, CR endings,
+        // and a CMU ASF/AMC pair whose bones turn about their own axes (the C·R·C⁻¹ step).
+        let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+        let mut inputs: Vec<(String, Skeleton, crate::motion::Motion)> = [
             "bvh11_131_01.bvh",
             "makehuman_tpose.bvh",
             "opencollar_run.bvh",
-        ] {
-            let bvh = crate::bvh::load_file(&data.join(name)).unwrap();
+        ]
+        .iter()
+        .map(|name| {
+            let bvh = crate::bvh::load_file(&data.join("bvh").join(name)).unwrap();
+            (name.to_string(), bvh.skeleton, bvh.motion)
+        })
+        .collect();
+        let asf = data.join("asf_amc/heiden_12.asf");
+        let amc = data.join("asf_amc/heiden_12_02_01.amc");
+        let cmu = crate::input::load(&asf, Some(&amc), None).unwrap();
+        let turned = cmu.skeleton.joints.iter().filter(|j| {
+            j.axis
+                .is_some_and(|a| a.angle_between(glam::Quat::IDENTITY) > 0.1)
+        });
+        assert!(turned.count() >= 10, "bones with an axis of their own");
+        inputs.push(("heiden_12_02_01.amc".to_string(), cmu.skeleton, cmu.motion));
+
+        for (name, skeleton, motion) in &inputs {
             for mode in [OffsetMode::Replace, OffsetMode::Add] {
-                let plan = FkPlan::new(&bvh.skeleton, mode);
+                let plan = FkPlan::new(skeleton, mode);
                 let (mut out, mut scratch, mut matrices) =
                     (Vec::new(), FkScratch::default(), Vec::new());
-                for frame in [
-                    0,
-                    bvh.motion.frame_count() / 2,
-                    bvh.motion.frame_count() - 1,
-                ] {
-                    let row = bvh.motion.frame(frame);
-                    plan.positions(row, &mut out, &mut scratch);
-                    world_matrices(&bvh.skeleton, row, mode, &mut matrices);
-                    for (p, m) in out.iter().zip(&matrices) {
-                        let q = m.w_axis.truncate();
-                        assert!(
-                            p.distance(q) <= 1e-5 * q.length().max(10.0),
-                            "{name} {frame}: {p} vs {q}"
-                        );
+                let last = motion.frame_count() - 1;
+                // One frame, and a batch of eight (a lane each), on the dispatching and the
+                // portable path.
+                let batch: Vec<usize> = (0..LANES).map(|i| i * last / (LANES - 1)).collect();
+                for (path, frames) in [("one", vec![last / 2]), ("eight", batch)] {
+                    let rows: Vec<&[f32]> = frames.iter().map(|&f| motion.frame(f)).collect();
+                    for portable in [false, true] {
+                        if portable {
+                            plan.positions_of_frames_portable(&rows, &mut out, &mut scratch);
+                        } else {
+                            plan.positions_of_frames(&rows, &mut out, &mut scratch);
+                        }
+                        for (lane, row) in rows.iter().enumerate() {
+                            world_matrices(skeleton, row, mode, &mut matrices);
+                            let points = &out[lane * matrices.len()..][..matrices.len()];
+                            for (p, m) in points.iter().zip(&matrices) {
+                                let q = m.w_axis.truncate();
+                                assert!(
+                                    p.distance(q) <= 1e-5 * q.length().max(10.0),
+                                    "{name} {path} portable {portable} lane {lane}: {p} vs {q}"
+                                );
+                            }
+                        }
                     }
                 }
             }

@@ -1,6 +1,6 @@
 //! Files larger than the loader's chunks: values, errors and warnings are exactly those of a
 //! small file, whatever the line endings, through `load_bytes` and through the streaming
-//! `load_file`.
+//! `load_file`, on one thread and on several whatever the machine's core count.
 
 use bvhview::bvh::rows::CHUNK;
 
@@ -31,8 +31,24 @@ fn both(
     let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
     let path = std::env::temp_dir().join(format!("bvhview-stream-{}-{n}.bvh", std::process::id()));
     std::fs::write(&path, text).unwrap();
+    let load = |threads: usize| {
+        bvhview::bvh::loader::load_file_with_threads(&path, threads)
+            .map_err(|e| e.to_string().replace(&path.display().to_string(), "t.bvh"))
+    };
     let from_file = bvhview::bvh::load_file(&path)
         .map_err(|e| e.to_string().replace(&path.display().to_string(), "t.bvh"));
+    // The same on one thread and on four, whatever this machine's core count makes the default.
+    for threads in [1, 4] {
+        match (&from_file, load(threads)) {
+            (Ok(a), Ok(b)) => {
+                assert_eq!(a.skeleton, b.skeleton, "{threads} threads");
+                assert_eq!(a.motion, b.motion, "{threads} threads");
+                assert_eq!(a.warnings, b.warnings, "{threads} threads");
+            }
+            (Err(a), Err(b)) => assert_eq!(a, &b, "{threads} threads"),
+            (a, b) => panic!("{threads} threads: {:?} vs {:?}", a.is_ok(), b.is_ok()),
+        }
+    }
     std::fs::remove_file(&path).unwrap();
     (from_memory, from_file)
 }
