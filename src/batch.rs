@@ -114,8 +114,8 @@ fn describe(loaded: &input::Loaded) -> String {
         .count();
     let frames = loaded.motion.frame_count();
     let mut line = format!(
-        "{joints} joints, {frames} frames, {:.1} s",
-        loaded.motion.duration()
+        "{joints} joints, {frames} frames, {} s",
+        crate::info::readable(loaded.motion.duration(), 1)
     );
     if !loaded.warnings.is_empty() {
         line.push_str(&format!(

@@ -7,6 +7,17 @@ use crate::skeleton::Skeleton;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
+/// `value` with `decimals` decimals, or in scientific notation when that would print hundreds
+/// of digits or only zeros (a file may say `Frame Time: 1e300`).
+pub fn readable(value: f64, decimals: usize) -> String {
+    let tiny = value != 0.0 && value.abs() < 0.5 * 10f64.powi(-(decimals as i32));
+    if value.is_finite() && (value.abs() >= 1e9 || tiny) {
+        format!("{value:.3e}")
+    } else {
+        format!("{value:.decimals$}")
+    }
+}
+
 /// A human-readable summary: joints, End Sites, channels, frames, timing, orders, warnings.
 pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
     let skeleton = &loaded.skeleton;
@@ -20,12 +31,24 @@ pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
     let _ = writeln!(out, "channels:         {}", skeleton.channel_count());
     let _ = writeln!(out, "frames:           {}", motion.frame_count());
     let rate = if motion.frame_time > 0.0 {
-        format!(" ({:.2} frames per second)", 1.0 / motion.frame_time)
+        format!(
+            " ({} frames per second)",
+            readable(1.0 / motion.frame_time, 2)
+        )
     } else {
         String::new()
     };
-    let _ = writeln!(out, "frame time:       {} s{rate}", motion.frame_time);
-    let _ = writeln!(out, "duration:         {:.3} s", motion.duration());
+    let time = if (1e-6..1e9).contains(&motion.frame_time) || motion.frame_time == 0.0 {
+        motion.frame_time.to_string()
+    } else {
+        format!("{:e}", motion.frame_time)
+    };
+    let _ = writeln!(out, "frame time:       {time} s{rate}");
+    let _ = writeln!(
+        out,
+        "duration:         {} s",
+        readable(motion.duration(), 3)
+    );
     let _ = writeln!(out, "rotation orders:  {}", rotation_orders(skeleton));
     let _ = writeln!(out, "position channels: {}", position_joints(skeleton));
     let mut warnings = loaded.warnings.clone();

@@ -360,6 +360,12 @@ fn malformed_asf_and_amc_give_line_and_column() {
         "t.asf:17:12: expected a number (length), found 'two'"
     );
 
+    // The largest frame number, then any other: an error, not an overflow.
+    let max = i64::MAX;
+    assert_eq!(
+        amc_error(&format!(":DEGREES\n{max}\nroot 0 0 0 0 0 0\na 0\n{max}\n")),
+        format!("t.amc:5:1: expected the end (no frame number follows {max}), found '{max}'")
+    );
     assert_eq!(
         amc_error(":DEGREES\n1\nroot 0 0 0 0 0 0\na 0\nc 1\n"),
         "t.amc:5:1: expected a bone of the ASF skeleton, found 'c'"

@@ -34,3 +34,30 @@ fn rest_pose_reproduces_the_bind_mesh_and_bone_middles_move_rigidly() {
     }
     assert!(checked > 100, "{checked}");
 }
+
+/// `draw_triangles` is safe to call with any arrays: an index past them draws nothing instead of
+/// letting GL read outside them; in-range indices draw.
+#[test]
+fn draw_triangles_with_an_index_past_the_arrays_draws_nothing() {
+    use bvhview::render::fixed::{FixedFunction, GL_COLOR_BUFFER_BIT, GL_DEPTH_BUFFER_BIT};
+    let positions = [
+        glam::Vec3::new(-0.5, -0.5, 0.0),
+        glam::Vec3::new(0.5, -0.5, 0.0),
+        glam::Vec3::new(0.0, 0.5, 0.0),
+    ];
+    let normals = [glam::Vec3::Z; 3];
+    let mut pictures = Vec::new();
+    for indices in [&[0u32, 1, 3][..], &[0, 1, u32::MAX], &[0, 1, 2]] {
+        let mut renderer = bvhview::render::Renderer::new(32, 32).unwrap();
+        let context = renderer.context();
+        context.gl.clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+        context.gl.draw_triangles(&positions, &normals, indices);
+        let lit = context.read_rgb().iter().filter(|&&b| b > 0).count();
+        pictures.push(lit);
+    }
+    assert_eq!(pictures[..2], [0, 0], "nothing drawn");
+    assert!(
+        pictures[2] > 100,
+        "the in-range triangle is drawn: {pictures:?}"
+    );
+}

@@ -331,3 +331,36 @@ fn snapshot_frames_writes_a_sequence_equal_to_single_snapshots() {
     assert_eq!(a.differing_pixels(&b), 0);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+#[test]
+fn absurd_frame_times_load_and_print_readably() {
+    let base = std::fs::read_to_string(edge("article_base_crlf.bvh")).unwrap();
+    for (time, want_time, want_duration) in [
+        (
+            "1e300",
+            "1e300 s (1.000e-300 frames per second)",
+            "2.000e300 s",
+        ),
+        ("1e-320", "1e-320 s (inf frames per second)", "2.000e-320 s"),
+    ] {
+        let path =
+            std::env::temp_dir().join(format!("bvhview-time-{time}-{}.bvh", std::process::id()));
+        std::fs::write(
+            &path,
+            base.replace("Frame Time: 0.033333", &format!("Frame Time: {time}")),
+        )
+        .unwrap();
+        let out = bvhview(&["info", path.to_str().unwrap()]);
+        assert!(out.status.success());
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(
+            text.contains(&format!("frame time:       {want_time}\n")),
+            "{text}"
+        );
+        assert!(
+            text.contains(&format!("duration:         {want_duration}\n")),
+            "{text}"
+        );
+        std::fs::remove_file(path).unwrap();
+    }
+}

@@ -87,14 +87,15 @@ pub fn parse_amc(
             && let Ok(n) = first.text.parse::<i64>()
         {
             finish(&mut filled, frame_number)?;
-            if let Some((previous, _)) = frame_number
-                && n != previous + 1
-            {
-                return Err(expected(
-                    source,
-                    first,
-                    &format!("frame number {}", previous + 1),
-                ));
+            if let Some((previous, _)) = frame_number {
+                let next = previous.checked_add(1);
+                if next != Some(n) {
+                    let what = match next {
+                        Some(next) => format!("frame number {next}"),
+                        None => format!("the end (no frame number follows {previous})"),
+                    };
+                    return Err(expected(source, first, &what));
+                }
             }
             frame_number = Some((n, first.line));
             frames += 1;

@@ -501,6 +501,8 @@ struct Chunk {
     index: usize,
     placed: usize,
     rows: usize,
+    /// Values written from its place on (its rows', and part of a row with a problem).
+    written: usize,
     problem: Option<Located>,
     /// The text beyond the rows the chunk could write, with its line and column.
     rest: Option<(Vec<u8>, usize, usize)>,
@@ -868,6 +870,7 @@ impl RowParser {
                     index: job.index,
                     placed: job.placed,
                     rows: part.rows,
+                    written: sink.written,
                     problem: None,
                     rest: None,
                 };
@@ -910,6 +913,8 @@ impl RowParser {
             if let Some(problem) = chunk.problem {
                 return Err(problem.into_error(&self.source, width, rows));
             }
+            // What `set_len` below relies on: the chunk's rows were all written.
+            debug_assert!(chunk.written >= chunk.rows * width, "chunk {}", chunk.index);
             if chunk.placed != rows {
                 self.rows_moved += chunk.rows;
                 self.data.spare_capacity_mut().copy_within(
@@ -920,6 +925,7 @@ impl RowParser {
             rows += chunk.rows;
             rest = chunk.rest.or(rest);
         }
+        debug_assert!(rows * width <= self.data.capacity());
         // SAFETY: the first `rows` rows of the spare room were written by the workers (each
         // wrote its rows front to back from its place) and moved down to follow each other.
         unsafe { self.data.set_len(rows * width) };

@@ -308,7 +308,13 @@ impl FixedFunction for GlTable {
         normals: &[glam::Vec3],
         indices: &[u32],
     ) {
-        if indices.is_empty() || positions.len() != normals.len() {
+        // GL reads `positions[i]` and `normals[i]` for every index without checking: an index
+        // past the arrays would read outside them. Such a call draws nothing.
+        let in_range = indices.iter().all(|&i| (i as usize) < positions.len());
+        let Ok(count) = i32::try_from(indices.len()) else {
+            return;
+        };
+        if count == 0 || positions.len() != normals.len() || !in_range {
             return;
         }
         // Vec3 is three packed f32s, as glVertexPointer(3, GL_FLOAT, 0) and glNormalPointer read.
@@ -319,7 +325,7 @@ impl FixedFunction for GlTable {
             (self.normal_pointer)(GL_FLOAT, 0, normals.as_ptr().cast());
             (self.draw_elements)(
                 GL_TRIANGLES,
-                indices.len() as i32,
+                count,
                 GL_UNSIGNED_INT,
                 indices.as_ptr().cast(),
             );

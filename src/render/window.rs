@@ -115,7 +115,8 @@ fn open_gl_window(
     let attributes = ContextAttributesBuilder::new()
         .with_profile(GlProfile::Compatibility)
         .build(Some(handle));
-    // SAFETY: the handle belongs to the window, which outlives the context (both in Running).
+    // SAFETY: the handle belongs to the window, which outlives the context and the surface
+    // (`Running` drops the window last).
     let context = unsafe { display.create_context(&config, &attributes) }
         .map_err(|e| failed("create an OpenGL context", &e))?;
     let surface_attributes = window
@@ -324,13 +325,35 @@ fn quietly<T>(f: impl FnOnce() -> T) -> Result<T, String> {
     })
 }
 
+/// How long playback shows each frame: the file's Frame Time, kept between 1 ms and an hour so
+/// that any value a file holds (0, 1e-300, 1e300) plays without a panic or a busy loop; 1/30 s
+/// when the file gives none.
+fn playback_step(frame_time: f64) -> Duration {
+    if !(frame_time > 0.0 && frame_time.is_finite()) {
+        return Duration::from_secs_f64(1.0 / 30.0);
+    }
+    Duration::from_secs_f64(frame_time.clamp(0.001, 3600.0))
+}
+
+/// When a frame was due `late` ago and frames last `step`: how many frames to step (at least
+/// one), and how much later than the missed time the next one is due.
+fn frames_due(late: Duration, step: Duration) -> (u64, Duration) {
+    let step_nanos = step.as_nanos().max(1);
+    let frames = late.as_nanos() / step_nanos + 1;
+    let later = Duration::from_nanos(u64::try_from(frames * step_nanos).unwrap_or(u64::MAX));
+    (u64::try_from(frames).unwrap_or(u64::MAX), later)
+}
+
 /// The window, its surface and its context, once the event loop has started.
+///
+/// Fields drop in the order they are declared, and glutin requires the surface (and the context
+/// drawing into it) to go before the window they were made for: keep `window` last.
 struct Running {
-    window: Window,
+    gl: GlTable,
     surface: Surface<WindowSurface>,
     context: PossiblyCurrentContext,
-    gl: GlTable,
     size: (u32, u32),
+    window: Window,
 }
 
 struct Viewer<'a> {
@@ -367,12 +390,7 @@ impl Viewer<'_> {
     }
 
     fn frame_duration(&self) -> Duration {
-        let seconds = self.motion.frame_time;
-        Duration::from_secs_f64(if seconds > 0.0 && seconds.is_finite() {
-            seconds
-        } else {
-            1.0 / 30.0
-        })
+        playback_step(self.motion.frame_time)
     }
 
     fn create(&mut self, event_loop: &ActiveEventLoop) -> Result<Running, Error> {
@@ -546,15 +564,40 @@ impl ApplicationHandler for Viewer<'_> {
         let now = Instant::now();
         if now >= self.next_tick {
             // Keep to the file's rate; after a stall, skip ahead rather than rush.
-            let step = self.frame_duration();
-            while self.next_tick <= now {
-                self.next_tick += step;
-                self.frame = self.motion.next_frame(self.frame);
-            }
+            let (frames, later) = frames_due(now - self.next_tick, self.frame_duration());
+            self.next_tick += later;
+            let count = self.motion.frame_count().max(1) as u64;
+            self.frame = ((self.frame as u64 + frames % count) % count) as usize;
             if let Some(running) = &self.running {
                 running.window.request_redraw();
             }
         }
         event_loop.set_control_flow(ControlFlow::WaitUntil(self.next_tick));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn any_frame_time_plays_at_a_bounded_rate() {
+        assert_eq!(playback_step(0.01), Duration::from_millis(10));
+        assert_eq!(playback_step(1e300), Duration::from_secs(3600));
+        assert_eq!(playback_step(1e-300), Duration::from_millis(1));
+        for odd in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+            assert_eq!(playback_step(odd), Duration::from_secs_f64(1.0 / 30.0));
+        }
+    }
+
+    #[test]
+    fn a_stall_skips_frames_in_one_step() {
+        let step = Duration::from_millis(10);
+        assert_eq!(frames_due(Duration::ZERO, step), (1, step));
+        assert_eq!(frames_due(Duration::from_millis(25), step), (3, step * 3));
+        // A day late at 1 ms per frame: one division, not 86 million turns of a loop.
+        let (frames, later) = frames_due(Duration::from_secs(86_400), Duration::from_millis(1));
+        assert_eq!(frames, 86_400_001);
+        assert_eq!(later, Duration::from_millis(86_400_001));
     }
 }
