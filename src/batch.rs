@@ -104,8 +104,29 @@ pub fn collect(dir: &Path) -> Result<Vec<Item>, Error> {
     Ok(items)
 }
 
-/// The line printed for a loaded item.
-fn describe(loaded: &input::Loaded) -> String {
+/// What every item is loaded with: the options `info` takes for one file.
+#[derive(Clone, Copy, Debug)]
+pub struct Settings {
+    /// Seconds per frame, overriding each file's.
+    pub frame_time: Option<f64>,
+    /// Files larger than this are refused.
+    pub max_size: u64,
+    /// The convention the offset-mode warning is judged against.
+    pub offset_mode: crate::pose::OffsetMode,
+}
+
+impl Default for Settings {
+    fn default() -> Settings {
+        Settings {
+            frame_time: None,
+            max_size: input::DEFAULT_MAX_SIZE,
+            offset_mode: crate::pose::OffsetMode::default(),
+        }
+    }
+}
+
+/// The line printed for a loaded item; its warnings are those `info FILE` lists.
+fn describe(loaded: &input::Loaded, offset_mode: crate::pose::OffsetMode) -> String {
     let joints = loaded
         .skeleton
         .joints
@@ -117,11 +138,12 @@ fn describe(loaded: &input::Loaded) -> String {
         "{joints} joints, {frames} frames, {} s",
         crate::info::readable(loaded.motion.duration(), 1)
     );
-    if !loaded.warnings.is_empty() {
+    let warnings = crate::info::warnings(loaded, offset_mode);
+    if !warnings.is_empty() {
         line.push_str(&format!(
             " ({} warning{})",
-            loaded.warnings.len(),
-            if loaded.warnings.len() == 1 { "" } else { "s" }
+            warnings.len(),
+            if warnings.len() == 1 { "" } else { "s" }
         ));
     }
     line
@@ -132,6 +154,7 @@ fn describe(loaded: &input::Loaded) -> String {
 pub fn run(
     items: Vec<Item>,
     threads: usize,
+    settings: Settings,
     mut done: impl FnMut(&Outcome, usize, usize) + Send,
 ) -> Vec<Outcome> {
     let total = items.len();
@@ -150,11 +173,11 @@ pub fn run(
                     let result = input::load_checked(
                         &item.path,
                         item.motion.as_deref(),
-                        None,
+                        settings.frame_time,
                         1,
-                        input::DEFAULT_MAX_SIZE,
+                        settings.max_size,
                     )
-                    .map(|loaded| describe(&loaded));
+                    .map(|loaded| describe(&loaded, settings.offset_mode));
                     *slots[index]
                         .lock()
                         .expect("no thread panics holding a slot") = Some(Outcome {

@@ -47,7 +47,8 @@ impl Error {
             Error::Io { source, .. } => match source.kind() {
                 io::ErrorKind::NotFound
                 | io::ErrorKind::IsADirectory
-                | io::ErrorKind::InvalidData => 2,
+                | io::ErrorKind::InvalidData
+                | io::ErrorKind::FileTooLarge => 2,
                 _ => 1,
             },
         }

@@ -7,15 +7,22 @@ use crate::skeleton::Skeleton;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
-/// `value` with `decimals` decimals, or in scientific notation when that would print hundreds
-/// of digits or only zeros (a file may say `Frame Time: 1e300`).
+/// `value` with `decimals` decimals, or in scientific notation when it is so large or so small
+/// that it would print hundreds of digits or only zeros (a file may say `Frame Time: 1e300`).
 pub fn readable(value: f64, decimals: usize) -> String {
-    let tiny = value != 0.0 && value.abs() < 0.5 * 10f64.powi(-(decimals as i32));
+    let tiny = value != 0.0 && value.abs() < 1e-6;
     if value.is_finite() && (value.abs() >= 1e9 || tiny) {
         format!("{value:.3e}")
     } else {
         format!("{value:.decimals$}")
     }
+}
+
+/// Every warning `info` gives for a file: the loader's, then the offset-mode guess.
+pub fn warnings(loaded: &Loaded, mode: OffsetMode) -> Vec<String> {
+    let mut warnings = loaded.warnings.clone();
+    warnings.extend(offset_mode_warning(&loaded.skeleton, &loaded.motion, mode));
+    warnings
 }
 
 /// A human-readable summary: joints, End Sites, channels, frames, timing, orders, warnings.
@@ -51,8 +58,7 @@ pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
     );
     let _ = writeln!(out, "rotation orders:  {}", rotation_orders(skeleton));
     let _ = writeln!(out, "position channels: {}", position_joints(skeleton));
-    let mut warnings = loaded.warnings.clone();
-    warnings.extend(offset_mode_warning(skeleton, motion, mode));
+    let warnings = warnings(loaded, mode);
     if warnings.is_empty() {
         let _ = writeln!(out, "warnings:         none");
     } else {

@@ -30,6 +30,60 @@ pub fn load(path: &Path, motion: Option<&Path>, frame_time: Option<f64>) -> Resu
 /// Files larger than this are refused unless `--max-size` says otherwise (8 GiB).
 pub const DEFAULT_MAX_SIZE: u64 = 8 << 30;
 
+/// A reader that fails once more than `max_size` bytes come out of `inner`: a size check that
+/// also holds for what has no size up front (a pipe, a device such as /dev/zero).
+pub struct Bounded<R> {
+    inner: R,
+    left: u64,
+    max_size: u64,
+}
+
+impl<R: std::io::Read> Bounded<R> {
+    pub fn new(inner: R, max_size: u64) -> Bounded<R> {
+        Bounded {
+            inner,
+            left: max_size,
+            max_size,
+        }
+    }
+}
+
+impl<R: std::io::Read> std::io::Read for Bounded<R> {
+    fn read(&mut self, buffer: &mut [u8]) -> std::io::Result<usize> {
+        if buffer.is_empty() {
+            return Ok(0);
+        }
+        if self.left == 0 {
+            // At the limit: one byte more is one too many.
+            let mut probe = [0u8; 1];
+            return match self.inner.read(&mut probe)? {
+                0 => Ok(0),
+                _ => Err(std::io::Error::new(
+                    std::io::ErrorKind::FileTooLarge,
+                    format!("more than --max-size {} bytes", self.max_size),
+                )),
+            };
+        }
+        let room = buffer
+            .len()
+            .min(usize::try_from(self.left).unwrap_or(usize::MAX));
+        let read = self.inner.read(&mut buffer[..room])?;
+        self.left -= read as u64;
+        Ok(read)
+    }
+}
+
+/// The whole of `path`, refused past `max_size` bytes.
+pub fn read_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut bytes = Vec::new();
+    Bounded::new(file, max_size)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(path, e))?;
+    Ok(bytes)
+}
+
 /// Fails unless `path` is a readable file of at most `max_size` bytes.
 pub fn check_file(path: &Path, max_size: u64) -> Result<(), Error> {
     let metadata = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
@@ -49,6 +103,16 @@ pub fn check_file(path: &Path, max_size: u64) -> Result<(), Error> {
     Ok(())
 }
 
+/// Fails unless a `--frame-time` is a finite number of seconds above 0.
+pub fn check_frame_time(frame_time: Option<f64>) -> Result<(), Error> {
+    match frame_time {
+        Some(time) if !(time.is_finite() && time > 0.0) => Err(Error::Usage(format!(
+            "--frame-time {time}: expected seconds per frame, above 0"
+        ))),
+        _ => Ok(()),
+    }
+}
+
 /// [`load`] parsing a BVH on at most `threads` threads and refusing files larger than `max_size`
 /// bytes before reading them.
 pub fn load_checked(
@@ -62,16 +126,10 @@ pub fn load_checked(
     if let Some(motion) = motion {
         check_file(motion, max_size)?;
     }
-    if let Some(time) = frame_time
-        && !(time.is_finite() && time > 0.0)
-    {
-        return Err(Error::Usage(format!(
-            "--frame-time {time}: expected seconds per frame, above 0"
-        )));
-    }
+    check_frame_time(frame_time)?;
     match extension(path).as_str() {
         "asf" => {
-            let asf = acclaim::load_asf(path)?;
+            let asf = acclaim::load_asf(path, max_size)?;
             let (skeleton, maps) = asf.to_skeleton();
             let frame_time = frame_time.unwrap_or(acclaim::DEFAULT_FRAME_TIME);
             let channels = skeleton.channel_count();
@@ -83,7 +141,14 @@ pub fn load_checked(
                             amc.display()
                         )));
                     }
-                    acclaim::load_amc(amc, &maps, channels, asf.units.degrees, frame_time)?
+                    acclaim::load_amc(
+                        amc,
+                        max_size,
+                        &maps,
+                        channels,
+                        asf.units.degrees,
+                        frame_time,
+                    )?
                 }
                 None => Motion::new(frame_time, channels, 0, Vec::new()),
             };
@@ -105,7 +170,7 @@ pub fn load_checked(
                     amc.display()
                 )));
             }
-            let mut file = bvh::loader::load_file_with_threads(path, threads)?;
+            let mut file = bvh::loader::load_file_bounded(path, threads, max_size)?;
             if let Some(time) = frame_time {
                 file.motion.frame_time = time;
             }

@@ -290,7 +290,7 @@ fn write_text(text: &str) -> Result<(), Error> {
 
 /// `bvhview info DIR`: one line per file, in path order, a progress bar on a terminal, and a
 /// summary. Exits 2 if any file failed.
-fn batch(dir: &Path) -> Result<(), Error> {
+fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<(), Error> {
     use std::io::IsTerminal;
     let started = std::time::Instant::now();
     let items = bvhview::batch::collect(dir)?;
@@ -302,7 +302,19 @@ fn batch(dir: &Path) -> Result<(), Error> {
     }
     let threads = bvhview::cores();
     let progress = io::stderr().is_terminal();
-    let outcomes = bvhview::batch::run(items, threads, |outcome, finished, total| {
+    if let Some(motion) = &source.motion {
+        return Err(Error::Usage(format!(
+            "--motion {}: a folder pairs each AMC with its ASF itself",
+            motion.display()
+        )));
+    }
+    input::check_frame_time(source.frame_time)?;
+    let settings = bvhview::batch::Settings {
+        frame_time: source.frame_time,
+        max_size: source.max_size,
+        offset_mode,
+    };
+    let outcomes = bvhview::batch::run(items, threads, settings, |outcome, finished, total| {
         let line = match &outcome.result {
             Ok(text) => {
                 let name = match &outcome.item.motion {
@@ -370,8 +382,10 @@ fn run(cli: Cli) -> Result<(), Error> {
             write_text(&bvhview::bvh::print::print(&loaded.skeleton))
         }
         Some(Command::Info {
-            file: Some(dir), ..
-        }) if dir.is_dir() => batch(&dir),
+            file: Some(dir),
+            source,
+            offset_mode,
+        }) if dir.is_dir() => batch(&dir, &source, offset_mode),
         Some(Command::Info {
             file,
             source,

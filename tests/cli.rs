@@ -364,3 +364,47 @@ fn absurd_frame_times_load_and_print_readably() {
         std::fs::remove_file(path).unwrap();
     }
 }
+
+/// `info FOLDER` loads every file with the options `info FILE` takes, and counts the same
+/// warnings.
+#[test]
+fn info_on_a_folder_honours_max_size_frame_time_and_offset_mode() {
+    let dir = repo_data("").display().to_string();
+    let text = |args: &[&str]| String::from_utf8(bvhview(args).stdout).unwrap();
+    let line = |text: &str, name: &str| {
+        text.lines()
+            .find(|l| l.contains(name))
+            .unwrap_or_else(|| panic!("{name} in\n{text}"))
+            .to_string()
+    };
+    let plain = text(&["info", &dir]);
+    assert!(line(&plain, "heiden_12.asf").ends_with(": 31 joints, 343 frames, 2.9 s"));
+    assert!(line(&plain, "makehuman_tpose").ends_with("(1 warning)"));
+
+    let slow = text(&["info", &dir, "--frame-time", "0.5"]);
+    assert!(line(&slow, "heiden_12.asf").ends_with(": 31 joints, 343 frames, 171.5 s"));
+    assert!(line(&slow, "opencollar_run").ends_with(": 20 joints, 31 frames, 15.5 s"));
+
+    let add = text(&["info", &dir, "--offset-mode", "add"]);
+    assert!(line(&add, "makehuman_tpose").ends_with(": 173 joints, 1 frames, 0.0 s"));
+
+    let small = text(&["info", &dir, "--max-size", "100K"]);
+    assert_eq!(
+        line(&small, "assimp_01_01"),
+        format!(
+            "error  {}: 2070355 bytes, more than --max-size 102400",
+            repo_data("bvh/assimp_01_01.bvh").display()
+        )
+    );
+    // Single-file mode lists the same warnings the folder line counts.
+    let tpose = repo_data("bvh/makehuman_tpose.bvh").display().to_string();
+    let single = text(&["info", &tpose]);
+    assert_eq!(single.matches("\n  - ").count(), 1, "{single}");
+
+    let bad = bvhview(&["info", &dir, "--frame-time", "0"]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8(bad.stderr).unwrap(),
+        "bvhview: --frame-time 0: expected seconds per frame, above 0\n"
+    );
+}

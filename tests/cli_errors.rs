@@ -196,3 +196,32 @@ fn a_file_larger_than_max_size_is_refused_before_reading() {
             .success()
     );
 }
+
+/// A path with no size up front (here a link to /dev/zero, endless) is read only up to
+/// `--max-size`, for every format.
+#[test]
+fn max_size_bounds_what_is_read_from_any_path() {
+    let dir = scratch("endless");
+    std::fs::create_dir_all(&dir).unwrap();
+    for name in ["zero.bvh", "zero.asf"] {
+        let link = dir.join(name);
+        let _ = std::fs::remove_file(&link);
+        std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+        let out = bvhview(&["info", link.to_str().unwrap(), "--max-size", "1K"]);
+        one_line(&out, 2, "more than --max-size 1024 bytes");
+    }
+    let amc = dir.join("zero.amc");
+    let _ = std::fs::remove_file(&amc);
+    std::os::unix::fs::symlink("/dev/zero", &amc).unwrap();
+    let asf = data("asf_amc/heiden_12.asf").display().to_string();
+    let out = bvhview(&[
+        "info",
+        &asf,
+        "--motion",
+        amc.to_str().unwrap(),
+        "--max-size",
+        "64K",
+    ]);
+    one_line(&out, 2, "zero.amc: more than --max-size 65536 bytes");
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -12,14 +12,16 @@ use std::path::Path;
 /// Reads an AMC file into a Motion for the skeleton whose value maps `maps` describe
 /// (`channels` columns per frame). `degrees` is the ASF's angle unit, which a `:RADIANS` or
 /// `:DEGREES` line in the AMC overrides.
+/// Reading stops with an error past `max_size` bytes.
 pub fn load_amc(
     path: &Path,
+    max_size: u64,
     maps: &[ValueMap],
     channels: usize,
     degrees: bool,
     frame_time: f64,
 ) -> Result<Motion, Error> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = crate::input::read_file(path, max_size)?;
     parse_amc(
         &String::from_utf8_lossy(&bytes),
         &path.display().to_string(),

@@ -102,9 +102,9 @@ pub struct Asf {
     pub warnings: Vec<String>,
 }
 
-/// Reads an ASF file.
-pub fn load_asf(path: &Path) -> Result<Asf, Error> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+/// Reads an ASF file; reading stops with an error past `max_size` bytes.
+pub fn load_asf(path: &Path, max_size: u64) -> Result<Asf, Error> {
+    let bytes = crate::input::read_file(path, max_size)?;
     parse_asf(
         &String::from_utf8_lossy(&bytes),
         &path.display().to_string(),

@@ -39,9 +39,16 @@ pub fn load_file(path: &Path) -> Result<Bvh, Error> {
 
 /// [`load_file`] parsing on at most `threads` threads (1 when many files load at once).
 pub fn load_file_with_threads(path: &Path, threads: usize) -> Result<Bvh, Error> {
+    load_file_bounded(path, threads, u64::MAX)
+}
+
+/// [`load_file_with_threads`] that stops with an error past `max_size` bytes, whatever the path
+/// is (a file, a pipe, a device).
+pub fn load_file_bounded(path: &Path, threads: usize, max_size: u64) -> Result<Bvh, Error> {
     let io_error = |e| Error::io(path, e);
-    let mut file = std::fs::File::open(path).map_err(io_error)?;
+    let file = std::fs::File::open(path).map_err(io_error)?;
     let length = file.metadata().map_err(io_error)?.len();
+    let mut file = crate::input::Bounded::new(file, max_size);
     let source = path.display().to_string();
     // The hierarchy and the MOTION header, read until the rows begin (or the file ends).
     let mut scan = HeaderScan::default();
