@@ -41,7 +41,9 @@ fi
 log=$(mktemp)
 trap 'rm -f "$log"' EXIT
 status=0
-cargo test --all-targets --locked --no-fail-fast -- "${test_args[@]}" 2>&1 | tee "$log" || status=$?
+# --show-output: the golden-picture tests print how many pixels drifted even when they pass.
+cargo test --all-targets --locked --no-fail-fast -- --show-output "${test_args[@]}" 2>&1 | tee "$log" || status=$?
+grep '^drift ' "$log" | awk '{ if ($3 > 0) n++ } END { printf "golden pictures: %d compared, %d with any pixel drift\n", NR, n }' || true
 # One closing line for the whole run: the sum over every test binary.
 summary=$(awk '/^test result:/ { p += $4; f += $6; i += $8 } END { printf "%d %d %d", p, f, i }' "$log")
 read -r passed failed ignored <<<"$summary"

@@ -68,6 +68,25 @@ pub fn parse_frames(text: &str, frame_count: usize) -> Result<Range<usize>, Erro
     Ok(range)
 }
 
+/// A position that is not a finite number (offsets and values near the float limit, or a large
+/// `--scale`, overflow): the export stops rather than write `inf` or `NaN`, which CSV and JSON
+/// readers refuse. It travels inside the `io::Error` that [`write_positions`] returns.
+#[derive(Debug)]
+pub struct NotFinite(pub String);
+
+impl std::fmt::Display for NotFinite {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for NotFinite {}
+
+/// The [`NotFinite`] inside an error of [`write_positions`], if that is what it is.
+pub fn not_finite(error: &io::Error) -> Option<&NotFinite> {
+    error.get_ref()?.downcast_ref::<NotFinite>()
+}
+
 /// Frames formatted per block; blocks go to the cores in turn and are written in order.
 const BLOCK: usize = 2048;
 
@@ -81,15 +100,22 @@ pub fn write_positions<W: Write>(
     options: &PositionsOptions,
 ) -> io::Result<()> {
     let points = skeleton.export_points();
+    // Held back until the first frames are known to be finite, so that a refused export of a
+    // short take writes nothing at all.
+    let mut header = Vec::new();
     match options.format {
-        Format::Csv => writeln!(out, "frame,joint,x,y,z")?,
+        Format::Csv => writeln!(header, "frame,joint,x,y,z")?,
         Format::Json => {
-            write!(out, "{{\"frame_time\":{},\"joints\":[", motion.frame_time)?;
+            write!(
+                header,
+                "{{\"frame_time\":{},\"joints\":[",
+                motion.frame_time
+            )?;
             for (i, (name, _)) in points.iter().enumerate() {
                 let comma = if i > 0 { "," } else { "" };
-                write!(out, "{comma}{}", json_string(name))?;
+                write!(header, "{comma}{}", json_string(name))?;
             }
-            write!(out, "],\"frames\":[")?;
+            write!(header, "],\"frames\":[")?;
         }
     }
     let names: Vec<String> = points.iter().map(|(name, _)| csv_field(name)).collect();
@@ -126,12 +152,15 @@ pub fn write_positions<W: Write>(
             handles
                 .into_iter()
                 .map(|h| h.join().expect("a formatting thread panicked"))
-                .collect()
-        });
+                .collect::<Result<_, NotFinite>>()
+        })
+        .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
+        out.write_all(&std::mem::take(&mut header))?;
         for text in &texts {
             out.write_all(text)?;
         }
     }
+    out.write_all(&header)?;
     if options.format == Format::Json {
         writeln!(out, "]}}")?;
     }
@@ -156,7 +185,7 @@ fn format_block(
     frames: Range<usize>,
     first: usize,
     options: &PositionsOptions,
-) -> Vec<u8> {
+) -> Result<Vec<u8>, NotFinite> {
     let mut text = Vec::with_capacity(frames.len() * points.len() * 40);
     let mut buffer = ryu::Buffer::new();
     let (mut batch, mut scratch, mut matrices) = (Vec::new(), FkScratch::default(), Vec::new());
@@ -182,6 +211,16 @@ fn format_block(
             &batch[in_batch * joints..(in_batch + 1) * joints]
         };
         let frame_number = frame.to_string();
+        for (name, joint) in points {
+            let p = positions[*joint] * scale;
+            if !p.is_finite() {
+                return Err(NotFinite(format!(
+                    "frame {frame}, {name}: the position ({}, {}, {}) is not a finite number \
+                     (the offsets, the values or --scale overflow)",
+                    p.x, p.y, p.z
+                )));
+            }
+        }
         match options.format {
             Format::Csv => {
                 for (name, &(_, joint)) in names.iter().zip(points) {
@@ -219,7 +258,7 @@ fn format_block(
             }
         }
     }
-    text
+    Ok(text)
 }
 
 /// Quotes a CSV field only when it needs it (names with ',' or '"').

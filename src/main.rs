@@ -276,6 +276,7 @@ fn finish_write(result: io::Result<()>, path: Option<&Path>) -> Result<(), Error
     match result {
         Ok(()) => Ok(()),
         Err(e) if path.is_none() && e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) if export::not_finite(&e).is_some() => Err(Error::Usage(e.to_string())),
         Err(e) => Err(Error::output(path.unwrap_or(Path::new("<stdout>")), e)),
     }
 }
@@ -561,7 +562,15 @@ fn run(cli: Cli) -> Result<(), Error> {
             let mut out = open_output(Some(&output))?;
             let result = bvhview::bvh::writer::write_bvh(&mut out, &skeleton, &motion)
                 .and_then(|()| out.flush());
-            finish_write(result, Some(&output))
+            finish_write(result, Some(&output))?;
+            for (name, written) in bvhview::bvh::writer::renamed(&skeleton) {
+                eprintln!(
+                    "bvhview: {}: joint {name:?} written as {written:?} (a BVH name holds no \
+                     whitespace or braces)",
+                    output.display()
+                );
+            }
+            Ok(())
         }
     }
 }

@@ -408,3 +408,73 @@ fn info_on_a_folder_honours_max_size_frame_time_and_offset_mode() {
         "bvhview: --frame-time 0: expected seconds per frame, above 0\n"
     );
 }
+
+/// Positions that overflow to infinity are refused, naming the frame and the joint, and nothing
+/// is written: CSV and JSON readers refuse `inf`.
+#[test]
+fn positions_that_are_not_finite_are_refused() {
+    let base = std::fs::read_to_string(edge("article_base_crlf.bvh")).unwrap();
+    let path = std::env::temp_dir().join(format!("bvhview-overflow-{}.bvh", std::process::id()));
+    std::fs::write(
+        &path,
+        base.replace("OFFSET 0.000000 15.000000 0.000000", "OFFSET 0 3e38 0")
+            .replace("OFFSET 0.000000 20.000000 0.000000", "OFFSET 0 3e38 0"),
+    )
+    .unwrap();
+    for format in ["csv", "json"] {
+        let out = bvhview(&["positions", path.to_str().unwrap(), "--format", format]);
+        assert_eq!(out.status.code(), Some(2), "{format}");
+        assert!(out.stdout.is_empty(), "{format}");
+        assert_eq!(
+            String::from_utf8(out.stderr).unwrap(),
+            "bvhview: frame 0, Chest_End: the position (0, inf, 0) is not a finite number \
+             (the offsets, the values or --scale overflow)\n"
+        );
+    }
+    std::fs::remove_file(path).unwrap();
+    let scaled = bvhview(&["positions", &tiny(), "--scale", "1e38"]);
+    assert_eq!(scaled.status.code(), Some(2));
+}
+
+/// `diff` reads grey, grey + alpha, RGB and RGBA pictures alike; it exits 1 only when pictures
+/// differ, and names a file it cannot read.
+#[test]
+fn diff_reads_grey_and_colour_pictures_and_names_bad_files() {
+    let dir = std::env::temp_dir().join(format!("bvhview-diff-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |name: &str, color: png::ColorType, pixel: &[u8]| {
+        let path = dir.join(name);
+        let file = std::fs::File::create(&path).unwrap();
+        let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), 4, 4);
+        encoder.set_color(color);
+        encoder.set_depth(png::BitDepth::Eight);
+        let mut writer = encoder.write_header().unwrap();
+        writer.write_image_data(&pixel.repeat(16)).unwrap();
+        writer.finish().unwrap();
+        path.display().to_string()
+    };
+    let grey = write("grey.png", png::ColorType::Grayscale, &[128]);
+    let grey_alpha = write("ga.png", png::ColorType::GrayscaleAlpha, &[128, 255]);
+    let rgb = write("rgb.png", png::ColorType::Rgb, &[128, 128, 128]);
+    let red = write("red.png", png::ColorType::Rgba, &[255, 0, 0, 255]);
+    for other in [&grey_alpha, &rgb] {
+        let out = bvhview(&["diff", &grey, other]);
+        assert_eq!(out.status.code(), Some(0), "{other}");
+        assert_eq!(
+            String::from_utf8(out.stdout).unwrap(),
+            "0 of 16 pixels differ (0.000%)\n"
+        );
+    }
+    let out = bvhview(&["diff", &grey, &red]);
+    assert_eq!(out.status.code(), Some(1));
+    let text = dir.join("notes.png");
+    std::fs::write(&text, "not a picture").unwrap();
+    let out = bvhview(&["diff", text.to_str().unwrap(), &rgb]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.starts_with(&format!("bvhview: {}: ", text.display())),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

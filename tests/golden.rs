@@ -190,6 +190,11 @@ fn check_goldens(cases: Vec<Case>) {
             Image::read_png(&golden).unwrap_or_else(|e| panic!("{e} (run with BVHVIEW_BLESS=1)"));
         let differing = ours.differing_pixels(&expected);
         let allowed = (ours.width * ours.height) as usize / 1000;
+        println!(
+            "drift {}: {differing} of {} pixels differ (at most {allowed})",
+            case.name,
+            ours.width * ours.height
+        );
         assert!(
             differing <= allowed,
             "{}: {differing} pixels differ (at most {allowed})",
@@ -225,6 +230,7 @@ fn skin_demo_matches_its_golden_pictures() {
         }
         let expected = Image::read_png(&golden).unwrap();
         let differing = ours.differing_pixels(&expected);
+        println!("drift {name}: {differing} of 307200 pixels differ (at most 307)");
         assert!(differing <= 307, "{name}: {differing} pixels differ");
     }
     // Bend Z by 90°: bone 2 takes (1, 4) to (-1, 4); half and half puts it at (0, 4).

@@ -55,3 +55,34 @@ fn convert_command_writes_a_loadable_file() {
     assert!(!text.contains('\r'), "the writer uses LF");
     std::fs::remove_file(out).unwrap();
 }
+
+#[test]
+fn convert_writes_names_with_blanks_safe_and_says_so() {
+    let text = std::fs::read_to_string(edge("article_base_crlf.bvh"))
+        .unwrap()
+        .replace("JOINT Chest", "JOINT Upper Chest");
+    let dir = std::env::temp_dir();
+    let input = dir.join(format!("bvhview-blank-{}.bvh", std::process::id()));
+    let out = dir.join(format!("bvhview-blank-out-{}.bvh", std::process::id()));
+    std::fs::write(&input, text).unwrap();
+    let result = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("convert")
+        .arg(&input)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(result.status.success());
+    assert_eq!(
+        String::from_utf8(result.stderr).unwrap(),
+        format!(
+            "bvhview: {}: joint \"Upper Chest\" written as \"Upper_Chest\" (a BVH name holds no \
+             whitespace or braces)\n",
+            out.display()
+        )
+    );
+    let written = bvhview::bvh::load_file(&out).unwrap();
+    assert_eq!(written.skeleton.joints[1].name, "Upper_Chest");
+    std::fs::remove_file(input).unwrap();
+    std::fs::remove_file(out).unwrap();
+}

@@ -3,10 +3,41 @@
 
 use crate::motion::Motion;
 use crate::skeleton::Skeleton;
+use std::borrow::Cow;
 use std::io::{self, Write};
+
+/// A joint name as the writer writes it. A BVH name runs to the end of its line and other
+/// readers split it at blanks, so whitespace (line ends included) and the braces that open and
+/// close joints become `_`; an empty name becomes `unnamed`. Any other name is kept as it is.
+pub fn safe_name(name: &str) -> Cow<'_, str> {
+    let unsafe_char = |c: char| c.is_whitespace() || c == '{' || c == '}';
+    if name.is_empty() {
+        Cow::Borrowed("unnamed")
+    } else if name.contains(unsafe_char) {
+        Cow::Owned(name.replace(unsafe_char, "_"))
+    } else {
+        Cow::Borrowed(name)
+    }
+}
+
+/// Every joint (End Sites aside: they are written `End Site`) whose name the writer changes:
+/// (the name, the name written).
+pub fn renamed(skeleton: &Skeleton) -> Vec<(String, String)> {
+    skeleton
+        .joints
+        .iter()
+        .filter(|joint| !joint.end_site)
+        .filter_map(|joint| match safe_name(&joint.name) {
+            Cow::Owned(safe) => Some((joint.name.clone(), safe)),
+            Cow::Borrowed(safe) if safe != joint.name => Some((joint.name.clone(), safe.into())),
+            Cow::Borrowed(_) => None,
+        })
+        .collect()
+}
 
 /// Writes `skeleton` and `motion` as BVH. Numbers are written in their shortest form that reads
 /// back to the same `f32`, so a load of the output gives exactly the values that were written.
+/// Names pass through [`safe_name`], so the loader reads back every file this writes.
 pub fn write_bvh<W: Write>(out: &mut W, skeleton: &Skeleton, motion: &Motion) -> io::Result<()> {
     writeln!(out, "HIERARCHY")?;
     for root in skeleton.roots() {
@@ -54,9 +85,9 @@ fn write_joint<W: Write>(
     if joint.end_site {
         writeln!(out, "{indent}End Site")?;
     } else if joint.parent.is_none() {
-        writeln!(out, "{indent}ROOT {}", joint.name)?;
+        writeln!(out, "{indent}ROOT {}", safe_name(&joint.name))?;
     } else {
-        writeln!(out, "{indent}JOINT {}", joint.name)?;
+        writeln!(out, "{indent}JOINT {}", safe_name(&joint.name))?;
     }
     writeln!(out, "{indent}{{")?;
     let mut offset = String::new();
@@ -78,4 +109,40 @@ fn write_joint<W: Write>(
         write_joint(out, skeleton, child, depth + 1)?;
     }
     writeln!(out, "{indent}}}")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::skeleton::{Channel, Joint};
+
+    /// Names the loader would refuse or read differently are written safe, and the file loads.
+    #[test]
+    fn every_name_is_written_so_that_it_loads_back() {
+        let names = ["x{y}", "", "a\nb", "Left Arm\t2", "ok:name.1"];
+        let mut skeleton = Skeleton::default();
+        for (i, name) in names.iter().enumerate() {
+            let mut joint = Joint::new(name.to_string(), i.checked_sub(1));
+            joint.channels = vec![Channel::Zrotation];
+            joint.first_channel = i;
+            if i > 0 {
+                skeleton.joints[i - 1].children.push(i);
+            }
+            skeleton.joints.push(joint);
+        }
+        let motion = Motion::new(0.5, names.len(), 1, vec![1.0; names.len()]);
+        let text = to_string(&skeleton, &motion);
+        let loaded = crate::bvh::load_bytes(text.as_bytes(), "t.bvh").unwrap();
+        let read: Vec<&str> = loaded
+            .skeleton
+            .joints
+            .iter()
+            .map(|j| j.name.as_str())
+            .collect();
+        assert_eq!(read, ["x_y_", "unnamed", "a_b", "Left_Arm_2", "ok:name.1"]);
+        assert_eq!(loaded.motion, motion);
+        let renamed = renamed(&skeleton);
+        assert_eq!(renamed.len(), 4);
+        assert_eq!(renamed[0], ("x{y}".to_string(), "x_y_".to_string()));
+    }
 }

@@ -118,7 +118,7 @@ macro_rules! load_all {
             let pointer = $loader(CStr::from_bytes_with_nul(concat!($name, "\0").as_bytes())
                 .expect("literal names have one NUL"));
             if pointer.is_null() {
-                return Err(Error::Usage(format!("OpenGL has no {}", $name)));
+                return Err(Error::Environment(format!("OpenGL has no {}", $name)));
             }
             // SAFETY: a non-null pointer from the context's loader for this exact name has the
             // C signature the field's type spells out (OpenGL 1.1).
@@ -163,7 +163,7 @@ impl GlTable {
         );
         let version = table.string(GL_VERSION);
         if !is_compatibility(&version) {
-            return Err(Error::Usage(format!(
+            return Err(Error::Environment(format!(
                 "the OpenGL context is \"{version}\"; bvhview draws with the fixed-function \
                  pipeline and needs a compatibility profile (or a version below 3.2)"
             )));
@@ -368,5 +368,44 @@ impl FixedFunction for GlTable {
             (self.disable_client_state)(GL_VERTEX_ARRAY);
             (self.disable_client_state)(GL_NORMAL_ARRAY);
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::render::osmesa::{GetProcAddress, LIBRARY, OsMesa};
+
+    /// A GL without an entry point bvhview needs is the machine's shortcoming: exit code 1.
+    #[test]
+    fn a_missing_entry_point_is_the_machines_failure() {
+        // A current context, so that the rest of the table loads for real.
+        let _context = OsMesa::new(8, 8).unwrap();
+        // SAFETY: the same library the context came from; its symbol has this signature.
+        let library = unsafe { libloading::Library::new(LIBRARY) }.unwrap();
+        let get_proc = unsafe {
+            *library
+                .get::<GetProcAddress>(b"OSMesaGetProcAddress\0")
+                .unwrap()
+        };
+        let error = GlTable::load(|name: &CStr| {
+            if name.to_bytes() == b"glLightfv" {
+                std::ptr::null()
+            } else {
+                // SAFETY: a NUL-terminated name.
+                unsafe { get_proc(name.as_ptr()) }
+            }
+        })
+        .err()
+        .unwrap();
+        assert_eq!(error.to_string(), "OpenGL has no glLightfv");
+        assert_eq!(error.exit_code(), 1);
+    }
+
+    #[test]
+    fn only_compatibility_contexts_are_accepted() {
+        assert!(is_compatibility("4.5 (Compatibility Profile) Mesa 22.3.6"));
+        assert!(is_compatibility("2.1 Mesa 22.3.6"));
+        assert!(!is_compatibility("4.5 (Core Profile) Mesa 22.3.6"));
     }
 }

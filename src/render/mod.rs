@@ -32,9 +32,10 @@ impl Image {
         let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
+        // Whatever goes wrong while encoding is a failure to write the output (exit code 1).
         let io_error = |e: png::EncodingError| match e {
             png::EncodingError::IoError(e) => Error::output(path, e),
-            other => Error::Usage(format!("{}: {other}", path.display())),
+            other => Error::output(path, std::io::Error::other(other.to_string())),
         };
         let mut writer = encoder.write_header().map_err(io_error)?;
         writer.write_image_data(&self.rgb).map_err(io_error)?;
@@ -50,19 +51,18 @@ impl Image {
         let mut data = vec![0; reader.output_buffer_size().unwrap_or(0)];
         let info = reader.next_frame(&mut data).map_err(bad)?;
         data.truncate(info.buffer_size());
-        let channels = info.color_type.samples();
-        let rgb = match channels {
+        // 8 bits per sample after the transformations: grey, grey + alpha, RGB or RGBA.
+        let rgb = match info.color_type.samples() {
+            1 => data.iter().flat_map(|&g| [g, g, g]).collect(),
+            2 => data
+                .chunks_exact(2)
+                .flat_map(|p| [p[0], p[0], p[0]])
+                .collect(),
             3 => data,
-            4 => data
+            _ => data
                 .chunks_exact(4)
                 .flat_map(|p| [p[0], p[1], p[2]])
                 .collect(),
-            _ => {
-                return Err(Error::Usage(format!(
-                    "{}: not an RGB picture",
-                    path.display()
-                )));
-            }
         };
         Ok(Image {
             width: info.width,

@@ -8,11 +8,11 @@ use std::ffi::{CStr, c_char, c_void};
 
 const OSMESA_RGBA: u32 = 0x1908;
 const GL_UNSIGNED_BYTE: u32 = 0x1401;
-const LIBRARY: &str = "libOSMesa.so.8";
+pub(crate) const LIBRARY: &str = "libOSMesa.so.8";
 
 type CreateContextExt = unsafe extern "C" fn(u32, i32, i32, i32, *mut c_void) -> *mut c_void;
 type MakeCurrent = unsafe extern "C" fn(*mut c_void, *mut c_void, u32, i32, i32) -> u8;
-type GetProcAddress = unsafe extern "C" fn(*const c_char) -> *const c_void;
+pub(crate) type GetProcAddress = unsafe extern "C" fn(*const c_char) -> *const c_void;
 type DestroyContext = unsafe extern "C" fn(*mut c_void);
 
 /// One OSMesa context drawing into its own RGBA buffer. A context is current per thread: make
