@@ -77,7 +77,9 @@ impl<R: std::io::Read> std::io::Read for Bounded<R> {
 pub fn read_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     use std::io::Read;
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-    let mut bytes = Vec::new();
+    // Room for the whole file at once (reading in doubling steps could hold twice its size).
+    let length = file.metadata().map_or(0, |m| m.len()).min(max_size);
+    let mut bytes = Vec::with_capacity(usize::try_from(length).unwrap_or(0).saturating_add(1));
     Bounded::new(file, max_size)
         .read_to_end(&mut bytes)
         .map_err(|e| Error::io(path, e))?;

@@ -1,22 +1,36 @@
-//! A count read from the file never sizes an allocation beyond what the file could hold.
-//! This test binary counts every byte it allocates.
+//! A count read from the file never sizes an allocation beyond what the file could hold, and a
+//! long take costs memory in proportion to its size. This test binary counts every byte it
+//! allocates; its tests take turns, so that one's allocations do not count for another.
 
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 struct Counting;
+/// The largest single allocation, the bytes allocated now, and the most at any one time.
 static LARGEST: AtomicUsize = AtomicUsize::new(0);
+static LIVE: AtomicUsize = AtomicUsize::new(0);
+static PEAK: AtomicUsize = AtomicUsize::new(0);
+static TURN: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
+fn grow(bytes: usize) {
+    let live = LIVE.fetch_add(bytes, Ordering::Relaxed) + bytes;
+    PEAK.fetch_max(live, Ordering::Relaxed);
+}
 
 unsafe impl GlobalAlloc for Counting {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         LARGEST.fetch_max(layout.size(), Ordering::Relaxed);
+        grow(layout.size());
         unsafe { System.alloc(layout) }
     }
     unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
         unsafe { System.dealloc(ptr, layout) }
     }
     unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
         LARGEST.fetch_max(new_size, Ordering::Relaxed);
+        LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
+        grow(new_size);
         unsafe { System.realloc(ptr, layout, new_size) }
     }
 }
@@ -26,6 +40,7 @@ static ALLOCATOR: Counting = Counting;
 
 #[test]
 fn a_huge_frames_count_allocates_nothing_big() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
     let text = "HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition Zposition \
                 Zrotation Xrotation Yrotation\n}\nMOTION\nFrames: 999999999999\nFrame Time: 0.1\n\
                 1 2 3 4 5 6\n";
@@ -40,5 +55,45 @@ fn a_huge_frames_count_allocates_nothing_big() {
         largest < 4096,
         "largest allocation {largest} bytes for a {}-byte file",
         text.len()
+    );
+}
+
+/// A long AMC take (4 MB here) is read without holding more than twice its size: the text once,
+/// the values, and one line's words at a time.
+#[test]
+fn a_long_amc_take_needs_at_most_twice_its_size() {
+    let _turn = TURN.lock().unwrap_or_else(|e| e.into_inner());
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/asf_amc");
+    let take = std::fs::read_to_string(data.join("heiden_12_02_01.amc")).unwrap();
+    // The take's frames, numbered on from the last, until the text passes 4 MB.
+    let first = take.find("\r\n1\r\n").unwrap() + 2;
+    let mut text = take[..first].to_string();
+    let body: Vec<&str> = take[first..].split("\r\n").collect();
+    let mut number = 0;
+    while text.len() < 4 << 20 {
+        for line in &body {
+            if line.trim().parse::<u32>().is_ok() {
+                number += 1;
+                text.push_str(&format!("{number}\r\n"));
+            } else if !line.is_empty() {
+                text.push_str(line);
+                text.push_str("\r\n");
+            }
+        }
+    }
+    let amc = std::env::temp_dir().join(format!("bvhview-long-{}.amc", std::process::id()));
+    std::fs::write(&amc, &text).unwrap();
+    drop(text);
+    let size = std::fs::metadata(&amc).unwrap().len() as usize;
+    let before = LIVE.load(Ordering::Relaxed);
+    PEAK.store(before, Ordering::Relaxed);
+    let loaded = bvhview::input::load(&data.join("heiden_12.asf"), Some(&amc), None).unwrap();
+    let peak = PEAK.load(Ordering::Relaxed) - before;
+    std::fs::remove_file(&amc).unwrap();
+    assert_eq!(loaded.motion.frame_count(), number);
+    assert!(
+        peak <= 2 * size,
+        "{peak} bytes at most for a {size}-byte take ({:.2}×)",
+        peak as f64 / size as f64
     );
 }

@@ -4,7 +4,7 @@
 //! must count up by one, and every bone with a dof must appear once per frame.
 
 use super::asf::ValueMap;
-use super::text::{error_at, expected, lines, number};
+use super::text::{LineWords, error_at, expected, number};
 use crate::error::Error;
 use crate::motion::Motion;
 use std::path::Path;
@@ -41,7 +41,7 @@ pub fn parse_amc(
     mut degrees: bool,
     frame_time: f64,
 ) -> Result<Motion, Error> {
-    let all = lines(text);
+    let mut lines = LineWords::new(text);
     let mut data: Vec<f32> = Vec::new();
     let mut frames = 0usize;
     let mut frame_number: Option<(i64, usize)> = None;
@@ -72,7 +72,7 @@ pub fn parse_amc(
         Ok(())
     };
 
-    for line in &all {
+    while let Some(line) = lines.next_line() {
         let first = &line[0];
         if first.text.starts_with(':') {
             if frame_number.is_some() {

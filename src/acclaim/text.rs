@@ -19,49 +19,73 @@ impl Word<'_> {
 /// Every line that has a word, as its words.
 pub(crate) fn lines(text: &str) -> Vec<Vec<Word<'_>>> {
     let mut out = Vec::new();
-    let mut line_number = 0;
-    let mut rest = text.strip_prefix('\u{feff}').unwrap_or(text);
-    while !rest.is_empty() || line_number == 0 {
-        line_number += 1;
-        let end = rest.find(['\n', '\r']).unwrap_or(rest.len());
-        let line = &rest[..end];
-        rest = &rest[end..];
-        if rest.starts_with("\r\n") {
-            rest = &rest[2..];
-        } else if !rest.is_empty() {
-            rest = &rest[1..];
-        }
-        let content = line.split('#').next().unwrap_or("");
-        let mut words = Vec::new();
-        let mut start: Option<(usize, usize)> = None;
-        for (column, (byte, c)) in (1..).zip(content.char_indices()) {
-            if c.is_whitespace() {
-                if let Some((from, col)) = start.take() {
-                    words.push(Word {
-                        text: &content[from..byte],
-                        line: line_number,
-                        column: col,
-                    });
-                }
-            } else if start.is_none() {
-                start = Some((byte, column));
-            }
-        }
-        if let Some((from, col)) = start {
-            words.push(Word {
-                text: &content[from..],
-                line: line_number,
-                column: col,
-            });
-        }
-        if !words.is_empty() {
-            out.push(words);
-        }
-        if rest.is_empty() {
-            break;
-        }
+    let mut words = LineWords::new(text);
+    while let Some(line) = words.next_line() {
+        out.push(line.to_vec());
     }
     out
+}
+
+/// The lines of a text that have a word, one at a time, as their words: a reader that holds one
+/// line's words, however long the text (an AMC take of many megabytes).
+pub(crate) struct LineWords<'a> {
+    rest: &'a str,
+    line_number: usize,
+    words: Vec<Word<'a>>,
+}
+
+impl<'a> LineWords<'a> {
+    pub fn new(text: &'a str) -> LineWords<'a> {
+        LineWords {
+            rest: text.strip_prefix('\u{feff}').unwrap_or(text),
+            line_number: 0,
+            words: Vec::new(),
+        }
+    }
+
+    /// The words of the next line that has any; `None` at the end of the text.
+    pub fn next_line(&mut self) -> Option<&[Word<'a>]> {
+        while !self.rest.is_empty() {
+            self.line_number += 1;
+            let end = self.rest.find(['\n', '\r']).unwrap_or(self.rest.len());
+            let line = &self.rest[..end];
+            let after = &self.rest[end..];
+            self.rest = if after.starts_with("\r\n") {
+                &after[2..]
+            } else if after.is_empty() {
+                after
+            } else {
+                &after[1..]
+            };
+            let content = line.split('#').next().unwrap_or("");
+            self.words.clear();
+            let mut start: Option<(usize, usize)> = None;
+            for (column, (byte, c)) in (1..).zip(content.char_indices()) {
+                if c.is_whitespace() {
+                    if let Some((from, col)) = start.take() {
+                        self.words.push(Word {
+                            text: &content[from..byte],
+                            line: self.line_number,
+                            column: col,
+                        });
+                    }
+                } else if start.is_none() {
+                    start = Some((byte, column));
+                }
+            }
+            if let Some((from, col)) = start {
+                self.words.push(Word {
+                    text: &content[from..],
+                    line: self.line_number,
+                    column: col,
+                });
+            }
+            if !self.words.is_empty() {
+                return Some(&self.words);
+            }
+        }
+        None
+    }
 }
 
 /// `source:line:column: message`.
