@@ -7,7 +7,7 @@ use crate::skeleton::Skeleton;
 use std::io::{self, Write};
 use std::ops::Range;
 
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Format {
     /// `frame,joint,x,y,z`, one joint per line.
     #[default]

@@ -8,7 +8,7 @@ use bvhview::pose::OffsetMode;
 use bvhview::render::SnapshotOptions;
 use bvhview::render::draw::Style;
 use bvhview::render::window::ViewerOptions;
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -29,13 +29,73 @@ struct Cli {
     source: Source,
     /// Start with the stick figure (B toggles it).
     #[arg(long, value_enum, default_value_t)]
-    style: Style,
+    style: StyleArg,
     /// How position channels combine with OFFSET.
     #[arg(long, value_enum, default_value_t)]
-    offset_mode: OffsetMode,
+    offset_mode: OffsetModeArg,
     /// Start with a generated skin around the bones (K toggles it).
     #[arg(long)]
     skin: bool,
+}
+
+/// `--offset-mode`: how a joint's position channels combine with its OFFSET.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+enum OffsetModeArg {
+    /// Position channels replace the matching OFFSET components (the article, Blender, bvhio).
+    #[default]
+    Replace,
+    /// Position channels are added to the OFFSET (three.js).
+    Add,
+}
+
+impl From<OffsetModeArg> for OffsetMode {
+    fn from(arg: OffsetModeArg) -> OffsetMode {
+        match arg {
+            OffsetModeArg::Replace => OffsetMode::Replace,
+            OffsetModeArg::Add => OffsetMode::Add,
+        }
+    }
+}
+
+/// `--style`: how joints are drawn.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+enum StyleArg {
+    /// A sphere per joint and End Site (the article).
+    #[default]
+    Points,
+    /// A line from each joint to each child, unlit, green.
+    Sticks,
+    /// Both.
+    Both,
+}
+
+impl From<StyleArg> for Style {
+    fn from(arg: StyleArg) -> Style {
+        match arg {
+            StyleArg::Points => Style::Points,
+            StyleArg::Sticks => Style::Sticks,
+            StyleArg::Both => Style::Both,
+        }
+    }
+}
+
+/// `--format` of `positions`.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+enum FormatArg {
+    /// `frame,joint,x,y,z`, one joint per line.
+    #[default]
+    Csv,
+    /// `{"frame_time":…,"joints":[…],"frames":[{"frame":0,"positions":[[x,y,z],…]},…]}`.
+    Json,
+}
+
+impl From<FormatArg> for Format {
+    fn from(arg: FormatArg) -> Format {
+        match arg {
+            FormatArg::Csv => Format::Csv,
+            FormatArg::Json => Format::Json,
+        }
+    }
 }
 
 /// Options that come with any input file.
@@ -86,109 +146,133 @@ fn parse_max_size(text: &str) -> Result<u64, String> {
 #[derive(Subcommand)]
 enum Command {
     /// Print the joint tree exactly as the article's BVH::print() does.
-    Print {
-        file: PathBuf,
-        #[command(flatten)]
-        source: Source,
-    },
+    Print(PrintArgs),
     /// Summarise a file (joints, channels, frames, timing, rotation orders, warnings), or every
     /// BVH and ASF/AMC under a folder, one line each, on all cores.
-    Info {
-        /// The file or folder (default: the bundled walk).
-        file: Option<PathBuf>,
-        #[command(flatten)]
-        source: Source,
-        /// How position channels combine with OFFSET (checked by the warnings).
-        #[arg(long, value_enum, default_value_t)]
-        offset_mode: OffsetMode,
-    },
+    Info(InfoArgs),
     /// Write the world position of every joint and End Site (ASF: every bone's end) per frame.
-    Positions {
-        file: PathBuf,
-        #[command(flatten)]
-        source: Source,
-        /// Frames to write: N, A..B (B excluded), A..=B, A.. or ..B (default: all).
-        #[arg(long)]
-        frames: Option<String>,
-        #[arg(long, value_enum, default_value_t)]
-        format: Format,
-        /// Negate z (right-handed to left-handed, as for Direct3D).
-        #[arg(long)]
-        left_handed: bool,
-        /// Multiply every coordinate (default 1: the file's own units).
-        #[arg(long, default_value_t = 1.0)]
-        scale: f32,
-        /// How position channels combine with OFFSET.
-        #[arg(long, value_enum, default_value_t)]
-        offset_mode: OffsetMode,
-        /// Output file (default: standard output).
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-    },
+    Positions(PositionsArgs),
     /// Draw one frame offscreen (no display needed) and write it as PNG.
-    Snapshot {
-        file: PathBuf,
-        #[command(flatten)]
-        source: Source,
-        /// Frame to draw, from 0.
-        #[arg(long, default_value_t = 0, conflicts_with = "frames")]
-        frame: usize,
-        /// A sequence instead: N, A..B, A..=B, A.. or ..B, written as OUT/frame_NNNNN.png.
-        #[arg(long)]
-        frames: Option<String>,
-        #[command(flatten)]
-        view: View,
-        /// Picture size, WIDTHxHEIGHT.
-        #[arg(long, default_value = "600x600", value_parser = parse_size)]
-        size: (u32, u32),
-        /// Draw a generated skin around the bones, moved by linear blend skinning.
-        #[arg(long)]
-        skin: bool,
-        /// The PNG to write (with --frames: the folder to write into, created if missing).
-        #[arg(short, long)]
-        output: PathBuf,
-    },
+    Snapshot(SnapshotArgs),
     /// Print the GL calls one display() makes for a frame, in C, one per line.
-    Trace {
-        file: PathBuf,
-        #[command(flatten)]
-        source: Source,
-        /// Frame to draw, from 0.
-        #[arg(long, default_value_t = 0)]
-        frame: usize,
-        #[command(flatten)]
-        view: View,
-    },
+    Trace(TraceArgs),
     /// Compare two PNG pictures: how many pixels differ (exit 1 if any), and optionally a
     /// picture of where.
-    Diff {
-        first: PathBuf,
-        second: PathBuf,
-        /// Write the difference: differing pixels red, the rest dimmed.
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-    },
+    Diff(DiffArgs),
     /// Seed 001's two-bone skinning demo: in a window (right-drag bends the second bone), or
     /// offscreen with -o.
-    SkinDemo {
-        /// The second bone's bend about Y and Z, in degrees.
-        #[arg(long, default_value = "0,0", value_parser = parse_bend, allow_hyphen_values = true)]
-        bend: (f32, f32),
-        /// Picture size, WIDTHxHEIGHT (the demo's window is 640x480).
-        #[arg(long, default_value = "640x480", value_parser = parse_size)]
-        size: (u32, u32),
-        /// Draw offscreen into this PNG instead of opening a window.
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-    },
+    SkinDemo(SkinDemoArgs),
     /// Write a file (BVH, or ASF + AMC) as BVH.
-    Convert {
-        input: PathBuf,
-        #[command(flatten)]
-        source: Source,
-        #[arg(short, long)]
-        output: PathBuf,
-    },
+    Convert(ConvertArgs),
+}
+
+#[derive(Args)]
+struct PrintArgs {
+    file: PathBuf,
+    #[command(flatten)]
+    source: Source,
+}
+
+#[derive(Args)]
+struct InfoArgs {
+    /// The file or folder (default: the bundled walk).
+    file: Option<PathBuf>,
+    #[command(flatten)]
+    source: Source,
+    /// How position channels combine with OFFSET (checked by the warnings).
+    #[arg(long, value_enum, default_value_t)]
+    offset_mode: OffsetModeArg,
+}
+
+#[derive(Args)]
+struct PositionsArgs {
+    file: PathBuf,
+    #[command(flatten)]
+    source: Source,
+    /// Frames to write: N, A..B (B excluded), A..=B, A.. or ..B (default: all).
+    #[arg(long)]
+    frames: Option<String>,
+    #[arg(long, value_enum, default_value_t)]
+    format: FormatArg,
+    /// Negate z (right-handed to left-handed, as for Direct3D).
+    #[arg(long)]
+    left_handed: bool,
+    /// Multiply every coordinate (default 1: the file's own units).
+    #[arg(long, default_value_t = 1.0)]
+    scale: f32,
+    /// How position channels combine with OFFSET.
+    #[arg(long, value_enum, default_value_t)]
+    offset_mode: OffsetModeArg,
+    /// Output file (default: standard output).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct SnapshotArgs {
+    file: PathBuf,
+    #[command(flatten)]
+    source: Source,
+    /// Frame to draw, from 0.
+    #[arg(long, default_value_t = 0, conflicts_with = "frames")]
+    frame: usize,
+    /// A sequence instead: N, A..B, A..=B, A.. or ..B, written as OUT/frame_NNNNN.png.
+    #[arg(long)]
+    frames: Option<String>,
+    #[command(flatten)]
+    view: View,
+    /// Picture size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "600x600", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Draw a generated skin around the bones, moved by linear blend skinning.
+    #[arg(long)]
+    skin: bool,
+    /// The PNG to write (with --frames: the folder to write into, created if missing).
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+#[derive(Args)]
+struct TraceArgs {
+    file: PathBuf,
+    #[command(flatten)]
+    source: Source,
+    /// Frame to draw, from 0.
+    #[arg(long, default_value_t = 0)]
+    frame: usize,
+    #[command(flatten)]
+    view: View,
+}
+
+#[derive(Args)]
+struct DiffArgs {
+    first: PathBuf,
+    second: PathBuf,
+    /// Write the difference: differing pixels red, the rest dimmed.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct SkinDemoArgs {
+    /// The second bone's bend about Y and Z, in degrees.
+    #[arg(long, default_value = "0,0", value_parser = parse_bend, allow_hyphen_values = true)]
+    bend: (f32, f32),
+    /// Picture size, WIDTHxHEIGHT (the demo's window is 640x480).
+    #[arg(long, default_value = "640x480", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Draw offscreen into this PNG instead of opening a window.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+#[derive(Args)]
+struct ConvertArgs {
+    input: PathBuf,
+    #[command(flatten)]
+    source: Source,
+    #[arg(short, long)]
+    output: PathBuf,
 }
 
 /// How a drawing command looks at the skeleton.
@@ -199,13 +283,13 @@ struct View {
     angle: f32,
     /// Spheres (the article), the stick figure, or both.
     #[arg(long, value_enum, default_value_t)]
-    style: Style,
+    style: StyleArg,
     /// Frame the skeleton instead of using the article's fixed camera.
     #[arg(long)]
     fit: bool,
     /// How position channels combine with OFFSET.
     #[arg(long, value_enum, default_value_t)]
-    offset_mode: OffsetMode,
+    offset_mode: OffsetModeArg,
 }
 
 /// `600x400` → (600, 400).
@@ -220,8 +304,19 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
-    match run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
+    let result = match cli.command {
+        None => viewer(cli.file, cli.source, cli.style, cli.offset_mode, cli.skin),
+        Some(Command::Print(args)) => print(args),
+        Some(Command::Info(args)) => info(args),
+        Some(Command::Positions(args)) => positions(args),
+        Some(Command::Snapshot(args)) => snapshot(args),
+        Some(Command::Trace(args)) => trace(args),
+        Some(Command::Diff(args)) => diff(args),
+        Some(Command::SkinDemo(args)) => skin_demo(args),
+        Some(Command::Convert(args)) => convert(args),
+    };
+    match result {
+        Ok(code) => code,
         Err(error) => {
             eprintln!("bvhview: {error}");
             ExitCode::from(error.exit_code() as u8)
@@ -291,7 +386,7 @@ fn write_text(text: &str) -> Result<(), Error> {
 
 /// `bvhview info DIR`: one line per file, in path order, a progress bar on a terminal, and a
 /// summary. Exits 2 if any file failed.
-fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<(), Error> {
+fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCode, Error> {
     use std::io::IsTerminal;
     let started = std::time::Instant::now();
     let items = bvhview::batch::collect(dir)?;
@@ -355,222 +450,213 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<(), Err
         bytes as f64 / 1e6,
         bytes as f64 / 1e6 / seconds.max(1e-9)
     );
-    if failed > 0 {
-        std::process::exit(2);
-    }
-    Ok(())
+    Ok(if failed > 0 {
+        ExitCode::from(2)
+    } else {
+        ExitCode::SUCCESS
+    })
 }
 
-fn run(cli: Cli) -> Result<(), Error> {
-    match cli.command {
-        None => {
-            // Say there is no display before loading anything.
-            bvhview::render::window::check_environment()?;
-            let (name, loaded) = load_or_default(cli.file.as_deref(), &cli.source)?;
-            let name = Path::new(&name)
-                .file_name()
-                .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
-            let options = ViewerOptions {
-                name,
-                offset_mode: cli.offset_mode,
-                style: cli.style,
-                skin: cli.skin,
-            };
-            bvhview::render::window::run(&loaded.skeleton, &loaded.motion, options)
-        }
-        Some(Command::Print { file, source }) => {
-            let loaded = load(&file, &source)?;
-            write_text(&bvhview::bvh::print::print(&loaded.skeleton))
-        }
-        Some(Command::Info {
-            file: Some(dir),
-            source,
-            offset_mode,
-        }) if dir.is_dir() => batch(&dir, &source, offset_mode),
-        Some(Command::Info {
-            file,
-            source,
-            offset_mode,
-        }) => {
-            let (name, loaded) = load_or_default(file.as_deref(), &source)?;
-            write_text(&bvhview::info::summary(&name, &loaded, offset_mode))
-        }
-        Some(Command::Positions {
-            file,
-            source,
-            frames,
-            format,
-            left_handed,
-            scale,
-            offset_mode,
-            output,
-        }) => {
-            let loaded = load(&file, &source)?;
-            let available = loaded.motion.frame_count().max(1);
-            if loaded.motion.frame_count() == 0 {
-                eprintln!(
-                    "bvhview: {}: no frames; writing the rest pose",
-                    file.display()
-                );
-            }
-            let range = match frames {
-                Some(text) => export::parse_frames(&text, available)?,
-                None => 0..available,
-            };
-            if !(scale.is_finite() && scale != 0.0) {
-                return Err(Error::Usage(format!(
-                    "--scale {scale}: expected a finite number other than 0"
-                )));
-            }
-            if let Some(warning) =
-                bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, offset_mode)
-            {
-                eprintln!("bvhview: {}: warning: {warning}", file.display());
-            }
-            let options = PositionsOptions {
-                format,
-                offset_mode,
-                left_handed,
-                scale,
-            };
-            let mut out = open_output(output.as_deref())?;
-            let result = export::write_positions(
-                &mut out,
-                &loaded.skeleton,
-                &loaded.motion,
-                range,
-                &options,
-            )
-            .and_then(|()| out.flush());
-            finish_write(result, output.as_deref())
-        }
-        Some(Command::Snapshot {
-            file,
-            source,
-            frame,
-            frames,
-            view,
-            size,
-            skin,
-            output,
-        }) => {
-            let loaded = load(&file, &source)?;
-            let options = SnapshotOptions {
-                skin,
-                frame,
-                angle: view.angle,
-                width: size.0,
-                height: size.1,
-                style: view.style,
-                fit: view.fit,
-                offset_mode: view.offset_mode,
-            };
-            let Some(frames) = frames else {
-                let image = bvhview::render::snapshot(&loaded.skeleton, &loaded.motion, &options)?;
-                return image.write_png(&output);
-            };
-            let range = export::parse_frames(&frames, loaded.motion.frame_count().max(1))?;
-            std::fs::create_dir_all(&output).map_err(|e| Error::output(&output, e))?;
-            // One offscreen context for the whole sequence.
-            let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
-            let digits = (range.end.max(1) - 1).to_string().len().max(5);
-            for frame in range {
-                let image = renderer.render(
-                    &loaded.skeleton,
-                    &loaded.motion,
-                    &SnapshotOptions { frame, ..options },
-                )?;
-                image.write_png(&output.join(format!("frame_{frame:0digits$}.png")))?;
-            }
-            Ok(())
-        }
-        Some(Command::Trace {
-            file,
-            source,
-            frame,
-            view:
-                View {
-                    angle,
-                    style,
-                    fit,
-                    offset_mode,
-                },
-        }) => {
-            use bvhview::render::scene::{self, Scene};
-            use bvhview::render::trace::{Numbers, Recorder};
-            let loaded = load(&file, &source)?;
-            let values = bvhview::render::frame_values(&loaded.motion, frame)?;
-            let camera =
-                bvhview::render::camera_for(&loaded.skeleton, values, angle, fit, offset_mode);
-            let mut recorder = Recorder::new(Numbers::Printf);
-            let view = Scene {
-                skeleton: &loaded.skeleton,
-                frame: values,
-                camera,
-                style,
-                offset_mode,
-                skin: None,
-            };
-            scene::display(&mut recorder, &view);
-            write_text(&recorder.text())
-        }
-        Some(Command::Diff {
-            first,
-            second,
-            output,
-        }) => {
-            use bvhview::render::Image;
-            let (a, b) = (Image::read_png(&first)?, Image::read_png(&second)?);
-            if (a.width, a.height) != (b.width, b.height) {
-                return Err(Error::Usage(format!(
-                    "the pictures differ in size: {}x{} and {}x{}",
-                    a.width, a.height, b.width, b.height
-                )));
-            }
-            let differing = a.differing_pixels(&b);
-            let total = a.width as usize * a.height as usize;
-            if let Some(path) = &output {
-                a.difference(&b).write_png(path)?;
-            }
-            let percent = differing as f64 * 100.0 / total as f64;
-            write_text(&format!(
-                "{differing} of {total} pixels differ ({percent:.3}%)\n"
-            ))?;
-            if differing > 0 {
-                std::process::exit(1);
-            }
-            Ok(())
-        }
-        Some(Command::SkinDemo { bend, size, output }) => match output {
-            Some(path) => {
-                bvhview::render::skin_demo::render(bend, size.0, size.1)?.write_png(&path)
-            }
-            None => bvhview::render::window::run_skin_demo(bend),
-        },
-        Some(Command::Convert {
-            input,
-            source,
-            output,
-        }) => {
-            let loaded = load(&input, &source)?;
-            // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
-            let (skeleton, motion) = if loaded.skeleton.joints.iter().any(|j| j.axis.is_some()) {
-                bvhview::acclaim::bake_axes(&loaded.skeleton, &loaded.motion)
-            } else {
-                (loaded.skeleton, loaded.motion)
-            };
-            let mut out = open_output(Some(&output))?;
-            let result = bvhview::bvh::writer::write_bvh(&mut out, &skeleton, &motion)
-                .and_then(|()| out.flush());
-            finish_write(result, Some(&output))?;
-            for (name, written) in bvhview::bvh::writer::renamed(&skeleton) {
-                eprintln!(
-                    "bvhview: {}: joint {name:?} written as {written:?} (a BVH name holds no \
-                     whitespace or braces)",
-                    output.display()
-                );
-            }
-            Ok(())
-        }
+/// The window on a file (or the bundled walk).
+fn viewer(
+    file: Option<PathBuf>,
+    source: Source,
+    style: StyleArg,
+    offset_mode: OffsetModeArg,
+    skin: bool,
+) -> Result<ExitCode, Error> {
+    // Say there is no display before loading anything.
+    bvhview::render::window::check_environment()?;
+    let (name, loaded) = load_or_default(file.as_deref(), &source)?;
+    let name = Path::new(&name)
+        .file_name()
+        .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
+    let options = ViewerOptions {
+        name,
+        offset_mode: offset_mode.into(),
+        style: style.into(),
+        skin,
+    };
+    bvhview::render::window::run(&loaded.skeleton, &loaded.motion, options)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn print(args: PrintArgs) -> Result<ExitCode, Error> {
+    let loaded = load(&args.file, &args.source)?;
+    write_text(&bvhview::bvh::print::print(&loaded.skeleton))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn info(args: InfoArgs) -> Result<ExitCode, Error> {
+    let offset_mode = args.offset_mode.into();
+    if let Some(dir) = args.file.as_deref().filter(|f| f.is_dir()) {
+        return batch(dir, &args.source, offset_mode);
     }
+    let (name, loaded) = load_or_default(args.file.as_deref(), &args.source)?;
+    write_text(&bvhview::info::summary(&name, &loaded, offset_mode))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn positions(args: PositionsArgs) -> Result<ExitCode, Error> {
+    let loaded = load(&args.file, &args.source)?;
+    let available = loaded.motion.frame_count().max(1);
+    if loaded.motion.frame_count() == 0 {
+        eprintln!(
+            "bvhview: {}: no frames; writing the rest pose",
+            args.file.display()
+        );
+    }
+    let range = match &args.frames {
+        Some(text) => export::parse_frames(text, available)?,
+        None => 0..available,
+    };
+    let scale = args.scale;
+    if !(scale.is_finite() && scale != 0.0) {
+        return Err(Error::Usage(format!(
+            "--scale {scale}: expected a finite number other than 0"
+        )));
+    }
+    let offset_mode = args.offset_mode.into();
+    if let Some(warning) =
+        bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, offset_mode)
+    {
+        eprintln!("bvhview: {}: warning: {warning}", args.file.display());
+    }
+    let options = PositionsOptions {
+        format: args.format.into(),
+        offset_mode,
+        left_handed: args.left_handed,
+        scale,
+    };
+    let output = args.output.as_deref();
+    let mut out = open_output(output)?;
+    let result =
+        export::write_positions(&mut out, &loaded.skeleton, &loaded.motion, range, &options)
+            .and_then(|()| out.flush());
+    finish_write(result, output)?;
+    Ok(ExitCode::SUCCESS)
+}
+
+fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
+    let loaded = load(&args.file, &args.source)?;
+    let options = SnapshotOptions {
+        skin: args.skin,
+        frame: args.frame,
+        angle: args.view.angle,
+        width: args.size.0,
+        height: args.size.1,
+        style: args.view.style.into(),
+        fit: args.view.fit,
+        offset_mode: args.view.offset_mode.into(),
+    };
+    let output = &args.output;
+    let Some(frames) = &args.frames else {
+        let image = bvhview::render::snapshot(&loaded.skeleton, &loaded.motion, &options)?;
+        image.write_png(output)?;
+        return Ok(ExitCode::SUCCESS);
+    };
+    let range = export::parse_frames(frames, loaded.motion.frame_count().max(1))?;
+    std::fs::create_dir_all(output).map_err(|e| Error::output(output, e))?;
+    // One offscreen context for the whole sequence.
+    let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
+    let digits = (range.end.max(1) - 1).to_string().len().max(5);
+    for frame in range {
+        let image = renderer.render(
+            &loaded.skeleton,
+            &loaded.motion,
+            &SnapshotOptions { frame, ..options },
+        )?;
+        image.write_png(&output.join(format!("frame_{frame:0digits$}.png")))?;
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
+    use bvhview::render::scene::{self, Scene};
+    use bvhview::render::trace::{Numbers, Recorder};
+    let loaded = load(&args.file, &args.source)?;
+    let values = bvhview::render::frame_values(&loaded.motion, args.frame)?;
+    let View {
+        angle,
+        style,
+        fit,
+        offset_mode,
+    } = args.view;
+    let offset_mode = offset_mode.into();
+    let camera = bvhview::render::camera_for(&loaded.skeleton, values, angle, fit, offset_mode);
+    let mut recorder = Recorder::new(Numbers::Printf);
+    let view = Scene {
+        skeleton: &loaded.skeleton,
+        frame: values,
+        camera,
+        style: style.into(),
+        offset_mode,
+        skin: None,
+    };
+    scene::display(&mut recorder, &view);
+    write_text(&recorder.text())?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// Exits 1 when the pictures differ, 0 when they are the same.
+fn diff(args: DiffArgs) -> Result<ExitCode, Error> {
+    use bvhview::render::Image;
+    let (a, b) = (
+        Image::read_png(&args.first)?,
+        Image::read_png(&args.second)?,
+    );
+    if (a.width, a.height) != (b.width, b.height) {
+        return Err(Error::Usage(format!(
+            "the pictures differ in size: {}x{} and {}x{}",
+            a.width, a.height, b.width, b.height
+        )));
+    }
+    let differing = a.differing_pixels(&b);
+    let total = a.width as usize * a.height as usize;
+    if let Some(path) = &args.output {
+        a.difference(&b).write_png(path)?;
+    }
+    let percent = differing as f64 * 100.0 / total as f64;
+    write_text(&format!(
+        "{differing} of {total} pixels differ ({percent:.3}%)\n"
+    ))?;
+    Ok(if differing > 0 {
+        ExitCode::from(1)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+fn skin_demo(args: SkinDemoArgs) -> Result<ExitCode, Error> {
+    match &args.output {
+        Some(path) => {
+            let (width, height) = args.size;
+            bvhview::render::skin_demo::render(args.bend, width, height)?.write_png(path)?
+        }
+        None => bvhview::render::window::run_skin_demo(args.bend)?,
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
+    let loaded = load(&args.input, &args.source)?;
+    // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
+    let (skeleton, motion) = if loaded.skeleton.joints.iter().any(|j| j.axis.is_some()) {
+        bvhview::acclaim::bake_axes(&loaded.skeleton, &loaded.motion)
+    } else {
+        (loaded.skeleton, loaded.motion)
+    };
+    let output = &args.output;
+    let mut out = open_output(Some(output))?;
+    let result =
+        bvhview::bvh::writer::write_bvh(&mut out, &skeleton, &motion).and_then(|()| out.flush());
+    finish_write(result, Some(output))?;
+    for (name, written) in bvhview::bvh::writer::renamed(&skeleton) {
+        eprintln!(
+            "bvhview: {}: joint {name:?} written as {written:?} (a BVH name holds no \
+             whitespace or braces)",
+            output.display()
+        );
+    }
+    Ok(ExitCode::SUCCESS)
 }

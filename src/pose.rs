@@ -9,7 +9,7 @@ use crate::skeleton::{Channel, Joint, Skeleton};
 use glam::{Mat4, Vec3};
 
 /// How a joint's position channels combine with its OFFSET.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum OffsetMode {
     /// Position channels replace the matching OFFSET components (the article's
     /// `root->x = pFrame[0]`; Blender, bvhio).

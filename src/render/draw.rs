@@ -6,7 +6,7 @@ use crate::render::fixed::{FixedFunction, GL_LIGHTING, GL_LINES};
 use crate::skeleton::{Joint, Skeleton};
 
 /// How joints are drawn. `Points` is the article's picture.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, clap::ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Style {
     /// A sphere per joint and End Site (the article).
     #[default]
