@@ -50,12 +50,10 @@ impl<'a> LineWords<'a> {
             let end = self.rest.find(['\n', '\r']).unwrap_or(self.rest.len());
             let line = &self.rest[..end];
             let after = &self.rest[end..];
-            self.rest = if after.starts_with("\r\n") {
-                &after[2..]
-            } else if after.is_empty() {
-                after
-            } else {
-                &after[1..]
+            self.rest = match after.strip_prefix("\r\n") {
+                Some(rest) => rest,
+                None if after.is_empty() => after,
+                None => &after[1..],
             };
             let content = line.split('#').next().unwrap_or("");
             self.words.clear();
