@@ -3,7 +3,7 @@
 use crate::error::Error;
 use crate::motion::Motion;
 use crate::pose::{FkPlan, FkScratch, LANES, OffsetMode, world_matrices};
-use crate::skeleton::Skeleton;
+use crate::skeleton::{Skeleton, Source};
 use std::io::{self, Write};
 use std::ops::Range;
 
@@ -87,6 +87,36 @@ pub fn not_finite(error: &io::Error) -> Option<&NotFinite> {
     error.get_ref()?.downcast_ref::<NotFinite>()
 }
 
+/// The name an export uses for a joint: its own, or `<parent>_End` for an End Site.
+pub fn export_name(skeleton: &Skeleton, index: usize) -> String {
+    let joint = &skeleton.joints[index];
+    match (joint.end_site, joint.parent) {
+        (true, Some(parent)) => format!("{}_End", skeleton.joints[parent].name),
+        _ => joint.name.clone(),
+    }
+}
+
+/// The points an export lists, as (name, joint whose world position it is). BVH: every joint
+/// and End Site. ASF: the root, then the end point of every bone, named by the bone (the end
+/// of a bone is where its children, or its End Site, start).
+pub fn export_points(skeleton: &Skeleton) -> Vec<(String, usize)> {
+    match skeleton.source {
+        Source::Bvh => (0..skeleton.joints.len())
+            .map(|i| (export_name(skeleton, i), i))
+            .collect(),
+        Source::Acclaim => skeleton
+            .joints
+            .iter()
+            .enumerate()
+            .filter(|(_, j)| !j.end_site)
+            .map(|(i, j)| match (j.parent, j.children.first()) {
+                (Some(_), Some(&end)) => (j.name.clone(), end),
+                _ => (j.name.clone(), i),
+            })
+            .collect(),
+    }
+}
+
 /// Frames formatted per block; blocks go to the cores in turn and are written in order.
 const BLOCK: usize = 2048;
 
@@ -99,7 +129,7 @@ pub fn write_positions<W: Write>(
     frames: Range<usize>,
     options: &PositionsOptions,
 ) -> io::Result<()> {
-    let points = skeleton.export_points();
+    let points = export_points(skeleton);
     // Held back until the first frames are known to be finite, so that a refused export of a
     // short take writes nothing at all.
     let mut header = Vec::new();

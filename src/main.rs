@@ -642,7 +642,7 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
     let loaded = load(&args.input, &args.source)?;
     // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
     let (skeleton, motion) = if loaded.skeleton.joints.iter().any(|j| j.axis.is_some()) {
-        bvhview::acclaim::bake_axes(&loaded.skeleton, &loaded.motion)
+        bvhview::edit::bake_axes(&loaded.skeleton, &loaded.motion)
     } else {
         (loaded.skeleton, loaded.motion)
     };

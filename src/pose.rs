@@ -56,17 +56,22 @@ pub fn channel_rotations(joint: &Joint, values: &[f32]) -> Mat4 {
     rotation
 }
 
+/// A joint's rotation for one frame: `R1 · R2 · R3` of its channels, or `C · R1 · R2 · R3 · C⁻¹`
+/// when it turns about a fixed axis C of its own (ASF bones); `values` are the joint's channel
+/// values. Every matrix form of a joint's rotation is this one (the FK plan's quaternion lanes
+/// compute the same product, and the draw issues it as GL calls).
+pub fn local_rotation(joint: &Joint, values: &[f32]) -> Mat4 {
+    let rotation = channel_rotations(joint, values);
+    match joint.axis {
+        None => rotation,
+        Some(axis) => Mat4::from_quat(axis) * rotation * Mat4::from_quat(axis.inverse()),
+    }
+}
+
 /// `T(t) · R1 · R2 · R3` for one joint, or `T(t) · C · R1 · R2 · R3 · C⁻¹` when the joint has a
 /// fixed axis C (ASF bones); `values` are this joint's channel values.
 pub fn local_matrix(joint: &Joint, values: &[f32], mode: OffsetMode) -> Mat4 {
-    let translation = Mat4::from_translation(joint_translation(joint, values, mode));
-    let rotation = channel_rotations(joint, values);
-    match joint.axis {
-        None => translation * rotation,
-        Some(axis) => {
-            translation * Mat4::from_quat(axis) * rotation * Mat4::from_quat(axis.inverse())
-        }
-    }
+    Mat4::from_translation(joint_translation(joint, values, mode)) * local_rotation(joint, values)
 }
 
 /// World matrices of every joint for one MOTION row (`frame` has one value per channel). An empty

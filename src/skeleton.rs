@@ -217,34 +217,4 @@ impl Skeleton {
     pub fn end_site_count(&self) -> usize {
         self.joints.iter().filter(|j| j.end_site).count()
     }
-
-    /// The name an export uses for a joint: its own, or `<parent>_End` for an End Site.
-    pub fn export_name(&self, index: usize) -> String {
-        let joint = &self.joints[index];
-        match (joint.end_site, joint.parent) {
-            (true, Some(parent)) => format!("{}_End", self.joints[parent].name),
-            _ => joint.name.clone(),
-        }
-    }
-
-    /// The points an export lists, as (name, joint whose world position it is). BVH: every joint
-    /// and End Site. ASF: the root, then the end point of every bone, named by the bone (the end
-    /// of a bone is where its children, or its End Site, start).
-    pub fn export_points(&self) -> Vec<(String, usize)> {
-        match self.source {
-            Source::Bvh => (0..self.joints.len())
-                .map(|i| (self.export_name(i), i))
-                .collect(),
-            Source::Acclaim => self
-                .joints
-                .iter()
-                .enumerate()
-                .filter(|(_, j)| !j.end_site)
-                .map(|(i, j)| match (j.parent, j.children.first()) {
-                    (Some(_), Some(&end)) => (j.name.clone(), end),
-                    _ => (j.name.clone(), i),
-                })
-                .collect(),
-        }
-    }
 }

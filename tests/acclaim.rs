@@ -31,8 +31,7 @@ fn small() -> (bvhview::Skeleton, bvhview::Motion) {
 fn export_positions(skeleton: &bvhview::Skeleton, frame: &[f32]) -> Vec<(String, Vec3)> {
     let mut matrices = Vec::new();
     world_matrices(skeleton, frame, OffsetMode::Replace, &mut matrices);
-    skeleton
-        .export_points()
+    bvhview::export::export_points(skeleton)
         .into_iter()
         .map(|(name, joint)| (name, matrices[joint].w_axis.truncate()))
         .collect()

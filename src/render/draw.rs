@@ -78,13 +78,9 @@ fn draw_at_depth<G: FixedFunction>(
     };
     let [x, y, z] = translation(joint, frame, mode);
     gl.translatef(x, y, z);
-    // ASF bones turn about their own axis C: C · R · C⁻¹. BVH joints have none.
-    if let Some(axis) = joint.axis {
-        gl.mult_matrixf(&glam::Mat4::from_quat(axis).to_cols_array());
-    }
-    rotate_space(gl, joint, frame);
-    if let Some(axis) = joint.axis {
-        gl.mult_matrixf(&glam::Mat4::from_quat(axis.inverse()).to_cols_array());
+    match joint.axis {
+        None => rotate_space(gl, joint, frame),
+        Some(axis) => rotate_space_about_axis(gl, joint, frame, axis),
     }
     if style != Style::Sticks {
         gl.solid_sphere(1.0, 20, 16);
@@ -107,6 +103,19 @@ fn draw_at_depth<G: FixedFunction>(
         None => gl.pop_matrix(),
         Some(matrix) => gl.load_matrix(&matrix),
     }
+}
+
+/// An ASF bone turns about its own fixed axis C: [`rotate_space`] between C and C⁻¹, the GL calls
+/// for [`crate::pose::local_rotation`]. BVH joints have no axis and never come here.
+fn rotate_space_about_axis<G: FixedFunction>(
+    gl: &mut G,
+    joint: &Joint,
+    frame: Option<&[f32]>,
+    axis: glam::Quat,
+) {
+    gl.mult_matrixf(&glam::Mat4::from_quat(axis).to_cols_array());
+    rotate_space(gl, joint, frame);
+    gl.mult_matrixf(&glam::Mat4::from_quat(axis.inverse()).to_cols_array());
 }
 
 /// C++: `BVH::roateSpace` (sic). The article switches over its six flags and issues three
