@@ -9,8 +9,8 @@
 //! [`Motion`] → [`pose`] (forward kinematics) → [`render`], [`export`], [`bvh::print`] or
 //! [`bvh::writer`].
 //!
-//! Start with the chapter [`teaching`] (TEACHING.md), which reads the article function by function
-//! beside the items here.
+//! Start with the chapter [`teaching`] (TEACHING.md; in Traditional Chinese [`teaching_zh_hant`],
+//! TEACHING.zh-Hant.md), which reads the article function by function beside the items here.
 
 pub mod acclaim;
 pub mod batch;
@@ -29,6 +29,10 @@ pub mod skin;
 /// The article side by side with this crate: TEACHING.md.
 #[doc = include_str!("../TEACHING.md")]
 pub mod teaching {}
+
+/// The same chapter in Traditional Chinese, the article's own language: TEACHING.zh-Hant.md.
+#[doc = include_str!("../TEACHING.zh-Hant.md")]
+pub mod teaching_zh_hant {}
 
 pub use error::Error;
 pub use motion::Motion;

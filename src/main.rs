@@ -159,8 +159,8 @@ enum Command {
     /// Compare two PNG pictures: how many pixels differ (exit 1 if any), and optionally a
     /// picture of where.
     Diff(DiffArgs),
-    /// Seed 001's two-bone skinning demo: in a window (right-drag bends the second bone), or
-    /// offscreen with -o.
+    /// The two-bone, three-quad linear blend skinning demo: in a window (right-drag bends the
+    /// second bone), or offscreen with -o.
     SkinDemo(SkinDemoArgs),
     /// Write a file (BVH, or ASF + AMC) as BVH.
     Convert(ConvertArgs),

@@ -96,6 +96,25 @@ fn short_numbers_in_offsets_and_rows_load_the_same() {
     assert_eq!(short.motion, base.motion);
 }
 
+/// The article reads the root's OFFSET in 5-byte steps, which fit only 4-character numbers: it
+/// prints this one as `1.25,0,0.5`. Here the three numbers are read whole.
+#[test]
+fn a_wide_root_offset_is_read_whole() {
+    let bvh = load_edge("root_offset_wide.bvh");
+    assert_eq!(bvh.skeleton.joints[0].offset, Vec3::new(1.25, 2.5, 3.75));
+    assert!(
+        print_of("root_offset_wide.bvh").starts_with("Hips : 1.250000,2.500000,3.750000 -3- zxy\n")
+    );
+    // The position channels replace it in every frame, as in the control file.
+    let base = load_edge("article_base_crlf.bvh");
+    assert_eq!(bvh.motion, base.motion);
+    let frame = bvh.motion.frame(1);
+    assert_eq!(
+        world_positions(&bvh.skeleton, frame, OffsetMode::Replace),
+        world_positions(&base.skeleton, frame, OffsetMode::Replace)
+    );
+}
+
 /// The article has room for 16 children per joint. Here 17 and 18 children are all kept, in file
 /// order, and each reads its own three columns.
 #[test]
@@ -135,8 +154,9 @@ fn seventeen_and_eighteen_children_are_all_kept() {
     }
 }
 
-/// The article's `name` holds 24 bytes with its terminator; longer names break its load. Every
-/// command here keeps the whole name; only `print` cuts it, to match the article's own output.
+/// The article keeps at most 22 bytes of a name (23 to 25 load cut short, 26 and more break its
+/// load). Every command here keeps the whole name; only `print` cuts it, at 23 bytes, to match
+/// the reference prints in tests/oracle/print.
 #[test]
 fn long_names_are_kept_whole_and_cut_only_by_print() {
     for (file, name, printed) in [
@@ -253,8 +273,9 @@ fn position_channels_on_a_non_root_joint_move_it() {
     }
 }
 
-/// A root written `JOINT` and End Sites written `JOINT Site` with `CHANNELS 0`: the article counts
-/// every `J` keyword as three rotation columns, so the columns after the first such Site shift.
+/// A root written `JOINT` and End Sites written `JOINT Site` with `CHANNELS 0`: the article's
+/// `processChannels` steps 30 bytes past `CHANNELS 0`, over the braces that follow, and its load
+/// stops with a format error. Here the Sites are End Sites and take no columns.
 #[test]
 fn joint_site_with_channels_0_is_an_end_site_and_takes_no_columns() {
     let bvh = load_edge("joint_site_channels_0.bvh");
