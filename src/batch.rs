@@ -1,7 +1,7 @@
 //! `bvhview info DIR`: every BVH file and ASF/AMC pair under a folder, loaded on every core.
 
 use crate::error::Error;
-use crate::input;
+use crate::input::{self, extension};
 use std::path::{Path, PathBuf};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -19,12 +19,6 @@ pub struct Outcome {
     pub item: Item,
     pub result: Result<String, Error>,
     pub bytes: u64,
-}
-
-fn extension(path: &Path) -> String {
-    path.extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase())
-        .unwrap_or_default()
 }
 
 /// Every item under `dir` (subfolders too), in path order. An AMC pairs with the ASF in its folder

@@ -102,27 +102,4 @@ fn io_message(error: &io::Error) -> String {
 
 impl std::error::Error for Error {}
 
-/// 1-based line and column of byte `offset` in `text`. Lines end at LF, CRLF or a lone CR; columns
-/// count characters, not bytes; a UTF-8 byte-order mark is not a column.
-pub fn line_column(text: &[u8], offset: usize) -> (usize, usize) {
-    let offset = offset.min(text.len());
-    let mut line = 1;
-    let mut line_start = if text.starts_with(b"\xEF\xBB\xBF") && offset >= 3 {
-        3
-    } else {
-        0
-    };
-    for (i, &byte) in text[..offset].iter().enumerate() {
-        let breaks = byte == b'\n' || (byte == b'\r' && text.get(i + 1) != Some(&b'\n'));
-        if breaks {
-            line += 1;
-            line_start = i + 1;
-        }
-    }
-    let column = text[line_start..offset]
-        .iter()
-        .filter(|&&b| (b & 0xC0) != 0x80)
-        .count()
-        + 1;
-    (line, column)
-}
+pub use crate::lines::line_column;

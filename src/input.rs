@@ -15,7 +15,8 @@ pub struct Loaded {
     pub warnings: Vec<String>,
 }
 
-fn extension(path: &Path) -> String {
+/// A path's extension in lower case (`TAKE.BVH` → `bvh`), empty when it has none.
+pub fn extension(path: &Path) -> String {
     path.extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default()

@@ -20,6 +20,7 @@ pub mod error;
 pub mod export;
 pub mod info;
 pub mod input;
+pub mod lines;
 pub mod motion;
 pub mod pose;
 pub mod render;

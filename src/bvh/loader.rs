@@ -9,7 +9,8 @@
 //! built from garbage.
 
 use super::rows::{RowParser, parse_number};
-use crate::error::{Error, line_column};
+use crate::error::Error;
+use crate::lines::{is_line_end, line_column};
 use crate::motion::Motion;
 use crate::skeleton::{Channel, Joint, RotationOrder, Skeleton};
 use glam::Vec3;
@@ -329,10 +330,6 @@ impl Token<'_> {
 
 fn is_space(byte: u8) -> bool {
     matches!(byte, b' ' | b'\t' | b'\r' | b'\n' | 0x0B | 0x0C)
-}
-
-fn is_line_end(byte: u8) -> bool {
-    byte == b'\n' || byte == b'\r'
 }
 
 /// How a found token is quoted in an error message.

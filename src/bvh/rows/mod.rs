@@ -1,0 +1,591 @@
+//! The MOTION rows, read in chunks that end at line ends, the chunks parsed on every core.
+//!
+//! C++: the row loop at the end of `BVH::loadFile`. The article reads `Frames` rows with fixed
+//! strides from a buffer holding the whole file. Here the rows arrive in pieces (a file is never
+//! held whole), the cores take the pieces in turn and parse them without a `String` per number,
+//! and every error still names its exact line and column.
+//!
+//! Three parts: `number` reads one number as `(float)atof` does; `scan` finds the numbers of a
+//! piece of text, row by row, 64 bytes at a time; this module feeds the pieces to the cores and
+//! puts their rows in order ([`RowParser`]).
+
+use crate::error::Error;
+use crate::lines::{advance, count_lines, is_line_end};
+use std::io::Read;
+
+/// Bytes of MOTION text handed to the parser at a time.
+pub const CHUNK: usize = 1 << 20;
+
+/// The smallest chunk: a small input is cut into about eight chunks, but not smaller ones.
+const SMALLEST_CHUNK: usize = 64 * 1024;
+
+mod number;
+mod scan;
+
+use number::is_blank;
+pub use number::parse_number;
+use scan::{Problem, SliceSink, parse_rows};
+
+/// The last place a chunk may end: after an LF, or after a CR that is not the buffer's last byte
+/// (it might be followed by an LF in the next read). `None` if there is none.
+pub fn last_line_end(buffer: &[u8]) -> Option<usize> {
+    let last = buffer.len().checked_sub(1)?;
+    for i in (0..=last).rev() {
+        match buffer[i] {
+            b'\n' => return Some(i + 1),
+            b'\r' if i < last => return Some(i + 1),
+            _ => {}
+        }
+    }
+    None
+}
+
+/// The result's spare room, written by several threads at once (each in its own stretch).
+#[derive(Clone, Copy)]
+struct Room(*mut std::mem::MaybeUninit<f32>);
+
+impl Room {
+    /// # Safety
+    /// `start + length` is within the capacity, and no one else uses that stretch meanwhile.
+    #[allow(clippy::mut_from_ref)]
+    unsafe fn stretch(&self, start: usize, length: usize) -> &mut [std::mem::MaybeUninit<f32>] {
+        // SAFETY: as the caller promises.
+        unsafe { std::slice::from_raw_parts_mut(self.0.add(start), length) }
+    }
+}
+
+// SAFETY: the threads write disjoint stretches; see `RowParser::feed_placed`.
+unsafe impl Send for Room {}
+unsafe impl Sync for Room {}
+
+/// A chunk handed to a thread: its text is in the thread's buffer.
+struct Job {
+    index: usize,
+    length: usize,
+    /// Where its text starts.
+    line: usize,
+    column: usize,
+    /// The row its rows go to, how many lines it has (at most that many rows), and how many rows
+    /// it may write (fewer only in the last chunk, at the end of the room).
+    placed: usize,
+    bound: usize,
+    limit: usize,
+}
+
+/// What a thread made of a chunk.
+struct Chunk {
+    index: usize,
+    placed: usize,
+    rows: usize,
+    /// Values written from its place on (its rows', and part of a row with a problem).
+    written: usize,
+    problem: Option<Located>,
+    /// The text beyond the rows the chunk could write, with its line and column.
+    rest: Option<(Vec<u8>, usize, usize)>,
+}
+
+/// The reading side shared by the threads of `RowParser::feed_placed`.
+struct Stream<'a> {
+    input: &'a mut (dyn Read + Send),
+    /// Text read after the last chunk handed out.
+    carry: Vec<u8>,
+    end_of_input: bool,
+    next_index: usize,
+    /// Bytes to read at a time.
+    chunk: usize,
+    /// Rows placed so far, and the room for rows.
+    placed: usize,
+    room_rows: usize,
+    /// Where the next chunk starts.
+    line: usize,
+    column: usize,
+    /// No more chunks: a problem was found, the room is used up, or the input ended.
+    stop: bool,
+    error: Option<std::io::Error>,
+}
+
+impl Stream<'_> {
+    /// Reads the next chunk into `buffer`: the carried text, then up to a chunk's worth, cut
+    /// after its last line end.
+    fn next_chunk(&mut self, buffer: &mut Vec<u8>) -> Option<Job> {
+        if self.stop {
+            return None;
+        }
+        let mut filled = self.carry.len();
+        if buffer.len() < filled * 2 {
+            buffer.resize(filled * 2, 0);
+        }
+        buffer[..filled].copy_from_slice(&self.carry);
+        let cut = loop {
+            while !self.end_of_input && filled < self.chunk.min(buffer.len()) {
+                match self.input.read(&mut buffer[filled..]) {
+                    Ok(0) => self.end_of_input = true,
+                    Ok(read) => filled += read,
+                    Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                    Err(e) => {
+                        self.error = Some(e);
+                        self.stop = true;
+                        return None;
+                    }
+                }
+            }
+            if self.end_of_input {
+                break filled;
+            }
+            match last_line_end(&buffer[..filled]) {
+                Some(cut) => break cut,
+                None => buffer.resize(buffer.len() * 2, 0),
+            }
+        };
+        self.carry.clear();
+        self.carry.extend_from_slice(&buffer[cut..filled]);
+        if cut == 0 {
+            self.stop = true;
+            return None;
+        }
+        let (breaks, since) = count_lines(&buffer[..cut]);
+        let bound = breaks + usize::from(since > 0);
+        let job = Job {
+            index: self.next_index,
+            length: cut,
+            line: self.line,
+            column: self.column,
+            placed: self.placed,
+            bound,
+            limit: bound.min(self.room_rows - self.placed),
+        };
+        self.next_index += 1;
+        self.placed += job.limit;
+        (self.line, self.column) = advance((self.line, self.column), (breaks, since));
+        self.stop = self.placed == self.room_rows || self.end_of_input;
+        Some(job)
+    }
+}
+
+/// Takes a lock; a thread that panicked while holding it left nothing half done that matters
+/// here (the caller reports the first problem in file order), so a poisoned lock is taken too.
+fn lock<T>(mutex: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    mutex
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner)
+}
+
+/// A problem found in a chunk, placed in the file but not yet numbered: a chunk parsed on another
+/// thread does not know how many rows the chunks before it hold.
+struct Located {
+    line: usize,
+    column: usize,
+    /// The row it is in, counted from the chunk's first row.
+    row_in_chunk: usize,
+    /// The frame's problem (its value count), or a word that is not a number.
+    what: Result<Option<usize>, String>,
+}
+
+impl Located {
+    /// Where `problem`, in row `row_in_chunk` of `chunk` (which starts at `start`), is in the file.
+    fn new(chunk: &[u8], start: (usize, usize), row_in_chunk: usize, problem: Problem) -> Located {
+        let (offset, what) = match problem {
+            Problem::TooMany(at) => (at, Ok(None)),
+            Problem::TooFew(at, count) => (at, Ok(Some(count))),
+            Problem::NotANumber(at, end) => {
+                let word = String::from_utf8_lossy(&chunk[at..end]);
+                let word: String = if word.chars().count() > 40 {
+                    format!("{}…", word.chars().take(40).collect::<String>())
+                } else {
+                    word.into_owned()
+                };
+                (at, Err(word))
+            }
+        };
+        let (line, column) = advance(start, count_lines(&chunk[..offset]));
+        Located {
+            line,
+            column,
+            row_in_chunk,
+            what,
+        }
+    }
+
+    /// The error, once the chunk's first row is known to be row `first_row` (counted from 0) of
+    /// the MOTION section; `width` values make a row.
+    fn into_error(self, source: &str, width: usize, first_row: usize) -> Error {
+        let frame = first_row + self.row_in_chunk + 1;
+        let message = match self.what {
+            Ok(None) => format!("frame {frame} has more than the {width} values the channels need"),
+            Ok(Some(count)) => {
+                format!("frame {frame} has {count} values, expected {width} (one per channel)")
+            }
+            Err(word) => format!("expected a finite number, found '{word}'"),
+        };
+        Error::Parse {
+            path: source.to_string(),
+            line: self.line,
+            column: self.column,
+            message,
+        }
+    }
+}
+
+/// Collects `frames` rows of `width` values from text fed in line-aligned chunks.
+pub struct RowParser {
+    source: String,
+    frames: u64,
+    width: usize,
+    frames_line: usize,
+    rows: u64,
+    data: Vec<f32>,
+    /// The line the next chunk starts on, and the column after the text so far.
+    line: usize,
+    column: usize,
+    /// The first ignored row's line, and how many rows are ignored.
+    extra: Option<(usize, usize)>,
+    /// Line ends seen, for a skeleton without channels.
+    line_ends: u64,
+    threads: usize,
+    /// Bytes read at a time: a megabyte, less for a small input (so that it is still split).
+    chunk: usize,
+    /// Bytes of input after the rows' start.
+    input_left: u64,
+    /// Rows moved down after the parallel pass (only blank lines should cause any).
+    rows_moved: usize,
+}
+
+impl RowParser {
+    /// The first chunk starts at `(start_line, start_column)`; `room` is the bytes left in the input,
+    /// which bounds the allocation whatever `Frames:` says.
+    pub fn new(
+        source: &str,
+        frames: u64,
+        width: usize,
+        frames_line: usize,
+        (start_line, start_column): (usize, usize),
+        room: u64,
+    ) -> RowParser {
+        // Each value takes at least two bytes ("0 "), so no more than this can be in the file.
+        let possible = room / 2 + 1;
+        let wanted = frames.saturating_mul(width as u64).min(possible);
+        let threads = crate::cores().clamp(1, 8);
+        let data = Vec::with_capacity(wanted as usize);
+        RowParser {
+            source: source.to_string(),
+            frames,
+            width,
+            frames_line,
+            rows: 0,
+            data,
+            line: start_line,
+            column: start_column,
+            extra: None,
+            line_ends: 0,
+            threads,
+            chunk: (room / 8)
+                .clamp(SMALLEST_CHUNK as u64, CHUNK as u64)
+                .min(room + 1) as usize,
+            input_left: room,
+            rows_moved: 0,
+        }
+    }
+
+    /// Counts the non-blank lines of `chunk` from `from` on as ignored rows.
+    fn count_extra(&mut self, chunk: &[u8], from: usize) {
+        let mut line = self.line + count_lines(&chunk[..from]).0;
+        let mut p = from;
+        while p < chunk.len() {
+            let b = chunk[p];
+            if b == b'\n' || (b == b'\r' && chunk.get(p + 1) != Some(&b'\n')) {
+                line += 1;
+                p += 1;
+            } else if is_blank(b) || b == b'\r' {
+                p += 1;
+            } else {
+                let entry = self.extra.get_or_insert((line, 0));
+                entry.1 += 1;
+                while p < chunk.len() && !is_line_end(chunk[p]) {
+                    p += 1;
+                }
+            }
+        }
+    }
+
+    /// Parses on at most `threads` threads (the default is every core).
+    pub fn with_threads(mut self, threads: usize) -> RowParser {
+        self.threads = threads.clamp(1, 8);
+        self
+    }
+
+    /// Parses one chunk that ends at a line end (or at the end of the input).
+    pub fn feed(&mut self, chunk: &[u8]) -> Result<(), Error> {
+        // Nothing to parse (a file that ends right after `Frame Time:`): no parts to split into.
+        if chunk.is_empty() {
+            return Ok(());
+        }
+        let lines = count_lines(chunk);
+        if self.width == 0 {
+            self.line_ends += lines.0 as u64;
+        } else if self.rows >= self.frames {
+            self.count_extra(chunk, 0);
+        } else {
+            self.feed_rows(chunk)?;
+        }
+        (self.line, self.column) = advance((self.line, self.column), lines);
+        Ok(())
+    }
+
+    /// Parses the rows of a chunk in order. This reads what the parallel pass leaves (see
+    /// [`RowParser::feed_all`]), usually nothing.
+    fn feed_rows(&mut self, chunk: &[u8]) -> Result<(), Error> {
+        let needed = (self.frames - self.rows).min(usize::MAX as u64) as usize;
+        let part = parse_rows(chunk, self.width, needed, &mut self.data);
+        let first_row = self.rows;
+        self.rows += part.rows as u64;
+        if let Some((row, problem)) = part.problem {
+            let located = Located::new(chunk, (self.line, self.column), row, problem);
+            return Err(located.into_error(&self.source, self.width, first_row as usize));
+        }
+        if part.rows == needed {
+            self.count_extra(chunk, part.end);
+        }
+        Ok(())
+    }
+
+    /// Reads and parses all the rows: `carry` (rows already read) and then everything `input`
+    /// holds. `io_error` names the input in a read error.
+    ///
+    /// Every thread runs the same loop: under a lock it reads the next chunk (cut at a line end)
+    /// and counts its lines, which places the chunk's rows in the result (each line at most one
+    /// row); then it parses the chunk into that place while another thread reads. No thread waits
+    /// for another at every chunk, and the reading overlaps the parsing. What the placing cannot
+    /// cover (rows after `Frames`, or a file with blank lines that used up the room) is read
+    /// after them in order.
+    pub fn feed_all(
+        &mut self,
+        carry: &[u8],
+        input: &mut (dyn Read + Send),
+        io_error: &dyn Fn(std::io::Error) -> Error,
+    ) -> Result<(), Error> {
+        let mut carry = carry.to_vec();
+        if self.width > 0 && self.rows == 0 {
+            let (rest, after) = self.feed_placed(carry, input, io_error)?;
+            carry = after;
+            if let Some((text, line, column)) = rest {
+                (self.line, self.column) = (line, column);
+                self.feed(&text)?;
+            }
+        }
+        self.feed_in_order(carry, input, io_error)
+    }
+
+    /// The parallel pass of [`RowParser::feed_all`]: the rows placed by line counts. Returns the
+    /// text left in the last chunk (beyond the rows placed, with its line and column) and the
+    /// text read after the last chunk.
+    #[allow(clippy::type_complexity)]
+    fn feed_placed(
+        &mut self,
+        carry: Vec<u8>,
+        input: &mut (dyn Read + Send),
+        io_error: &dyn Fn(std::io::Error) -> Error,
+    ) -> Result<(Option<(Vec<u8>, usize, usize)>, Vec<u8>), Error> {
+        let width = self.width;
+        let room_rows =
+            (self.frames.min(usize::MAX as u64) as usize).min(self.data.capacity() / width);
+        let stream = std::sync::Mutex::new(Stream {
+            input,
+            carry,
+            end_of_input: false,
+            next_index: 0,
+            chunk: self.chunk,
+            placed: 0,
+            room_rows,
+            line: self.line,
+            column: self.column,
+            stop: room_rows == 0,
+            error: None,
+        });
+        let room = Room(self.data.spare_capacity_mut().as_mut_ptr());
+        let done = std::sync::Mutex::new(Vec::<Chunk>::new());
+        let chunk_size = self.chunk;
+        let work = || {
+            let mut buffer = vec![0u8; chunk_size + chunk_size / 4];
+            loop {
+                let Some(job) = lock(&stream).next_chunk(&mut buffer) else {
+                    return;
+                };
+                let text = &buffer[..job.length];
+                // SAFETY: each job's stretch starts where the previous job's ends and all of them
+                // end by `room_rows`, inside the capacity; the result is not touched until every
+                // worker has ended.
+                let stretch = unsafe { room.stretch(job.placed * width, job.limit * width) };
+                let mut sink = SliceSink {
+                    room: stretch,
+                    written: 0,
+                };
+                let part = parse_rows(text, width, job.limit, &mut sink);
+                let mut chunk = Chunk {
+                    index: job.index,
+                    placed: job.placed,
+                    rows: part.rows,
+                    written: sink.written,
+                    problem: None,
+                    rest: None,
+                };
+                let start = (job.line, job.column);
+                if let Some((row, problem)) = part.problem {
+                    chunk.problem = Some(Located::new(text, start, row, problem));
+                    lock(&stream).stop = true;
+                } else if part.rows == job.limit && job.limit < job.bound {
+                    let (line, column) = advance(start, count_lines(&text[..part.end]));
+                    chunk.rest = Some((text[part.end..].to_vec(), line, column));
+                }
+                lock(&done).push(chunk);
+            }
+        };
+        // No more threads than chunks.
+        let threads = self
+            .threads
+            .min(1 + (self.input_left / self.chunk as u64) as usize);
+        if threads <= 1 {
+            work();
+        } else {
+            std::thread::scope(|scope| {
+                for _ in 1..threads {
+                    scope.spawn(work);
+                }
+                work();
+            });
+        }
+        let stream = stream.into_inner().unwrap_or_else(|e| e.into_inner());
+        if let Some(error) = stream.error {
+            return Err(io_error(error));
+        }
+        let mut chunks = done.into_inner().unwrap_or_else(|e| e.into_inner());
+        chunks.sort_by_key(|c| c.index);
+        // In file order: the first problem wins; rows placed after blank lines move down.
+        let mut rows = 0;
+        let mut rest = None;
+        for chunk in chunks {
+            // Every chunk before this one has ended, so `rows` is where its rows begin.
+            if let Some(problem) = chunk.problem {
+                return Err(problem.into_error(&self.source, width, rows));
+            }
+            // What `set_len` below relies on: the chunk's rows were all written.
+            debug_assert!(chunk.written >= chunk.rows * width, "chunk {}", chunk.index);
+            if chunk.placed != rows {
+                self.rows_moved += chunk.rows;
+                self.data.spare_capacity_mut().copy_within(
+                    chunk.placed * width..(chunk.placed + chunk.rows) * width,
+                    rows * width,
+                );
+            }
+            rows += chunk.rows;
+            rest = chunk.rest.or(rest);
+        }
+        debug_assert!(rows * width <= self.data.capacity());
+        // SAFETY: the first `rows` rows of the spare room were written by the workers (each
+        // wrote its rows front to back from its place) and moved down to follow each other.
+        unsafe { self.data.set_len(rows * width) };
+        self.rows = rows as u64;
+        (self.line, self.column) = (stream.line, stream.column);
+        Ok((rest, stream.carry))
+    }
+
+    /// The rest of the rows in order, one chunk at a time.
+    fn feed_in_order(
+        &mut self,
+        carry: Vec<u8>,
+        input: &mut (dyn Read + Send),
+        io_error: &dyn Fn(std::io::Error) -> Error,
+    ) -> Result<(), Error> {
+        let mut buffer = carry;
+        let mut filled = buffer.len();
+        buffer.resize((self.chunk + self.chunk / 4).max(filled * 2), 0);
+        loop {
+            let mut end_of_input = false;
+            while filled < self.chunk.min(buffer.len()) {
+                let read = input.read(&mut buffer[filled..]).map_err(io_error)?;
+                if read == 0 {
+                    end_of_input = true;
+                    break;
+                }
+                filled += read;
+            }
+            if end_of_input {
+                return self.feed(&buffer[..filled]);
+            }
+            match last_line_end(&buffer[..filled]) {
+                Some(cut) => {
+                    self.feed(&buffer[..cut])?;
+                    buffer.copy_within(cut..filled, 0);
+                    filled -= cut;
+                }
+                // A line longer than the buffer: make room and read on.
+                None => buffer.resize(buffer.len() * 2, 0),
+            }
+        }
+    }
+
+    /// Checks that every frame arrived; returns the values and the warnings.
+    pub fn finish(self) -> Result<(Vec<f32>, Vec<String>), Error> {
+        if self.width == 0 {
+            if self.frames > self.line_ends {
+                return Err(Error::Parse {
+                    path: self.source,
+                    line: self.line,
+                    column: self.column,
+                    message: format!(
+                        "Frames: {} (line {}) but only {} lines follow",
+                        self.frames, self.frames_line, self.line_ends
+                    ),
+                });
+            }
+            return Ok((Vec::new(), Vec::new()));
+        }
+        if self.rows < self.frames {
+            return Err(Error::Parse {
+                path: self.source,
+                line: self.line,
+                column: self.column,
+                message: format!(
+                    "expected {} frames as Frames: says (line {}), found {}: the file ends",
+                    self.frames, self.frames_line, self.rows
+                ),
+            });
+        }
+        let mut warnings = Vec::new();
+        if let Some((line, count)) = self.extra {
+            let rows = if count == 1 { "row" } else { "rows" };
+            warnings.push(format!(
+                "{count} extra {rows} after the {} announced by Frames: (line {}) ignored, from line {line} on",
+                self.frames, self.frames_line
+            ));
+        }
+        Ok((self.data, warnings))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rows are placed by counting lines, so without blank lines none has to move afterwards.
+    #[test]
+    fn rows_without_blank_lines_are_parsed_in_place() {
+        for newline in ["\n", "\r\n", "\r"] {
+            let row = format!("1 2.5 -3{newline}");
+            let rows = row.repeat(4 * SMALLEST_CHUNK / row.len());
+            let frames = (4 * SMALLEST_CHUNK / row.len()) as u64;
+            let mut parser =
+                RowParser::new("t.bvh", frames, 3, 1, (2, 1), rows.len() as u64).with_threads(2);
+            parser.chunk = SMALLEST_CHUNK;
+            parser.input_left = rows.len() as u64;
+            parser
+                .feed_all(&[], &mut rows.as_bytes(), &|e| {
+                    Error::io(std::path::Path::new("t"), e)
+                })
+                .unwrap();
+            assert_eq!(parser.rows, frames);
+            assert_eq!(parser.rows_moved, 0, "{newline:?}");
+            let (data, _) = parser.finish().unwrap();
+            assert_eq!(&data[data.len() - 3..], [1.0, 2.5, -3.0]);
+        }
+    }
+}
