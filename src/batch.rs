@@ -3,8 +3,6 @@
 use crate::error::Error;
 use crate::input::{self, extension};
 use std::path::{Path, PathBuf};
-use std::sync::Mutex;
-use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// One thing to load: a BVH file, an ASF with its AMC, an ASF alone, or an AMC without an ASF.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -152,51 +150,34 @@ pub fn run(
     mut done: impl FnMut(&Outcome, usize, usize) + Send,
 ) -> Vec<Outcome> {
     let total = items.len();
-    let next = AtomicUsize::new(0);
-    let finished = AtomicUsize::new(0);
-    let slots: Vec<Mutex<Option<Outcome>>> = (0..total).map(|_| Mutex::new(None)).collect();
-    let reported = Mutex::new((0usize, &mut done));
-    std::thread::scope(|scope| {
-        for _ in 0..threads.clamp(1, total.max(1)) {
-            scope.spawn(|| {
-                loop {
-                    let index = next.fetch_add(1, Ordering::Relaxed);
-                    let Some(item) = items.get(index) else { break };
-                    let size = |p: &Path| std::fs::metadata(p).map_or(0, |m| m.len());
-                    let bytes = size(&item.path) + item.motion.as_deref().map_or(0, size);
-                    let result = input::load_checked(
-                        &item.path,
-                        item.motion.as_deref(),
-                        settings.frame_time,
-                        1,
-                        settings.max_size,
-                    )
-                    .map(|loaded| describe(&loaded, settings.offset_mode));
-                    *slots[index]
-                        .lock()
-                        .expect("no thread panics holding a slot") = Some(Outcome {
-                        item: item.clone(),
-                        result,
-                        bytes,
-                    });
-                    let count = finished.fetch_add(1, Ordering::Relaxed) + 1;
-                    // Report every outcome that is now next in order.
-                    let mut state = reported.lock().expect("no thread panics while reporting");
-                    while state.0 < total {
-                        let slot = slots[state.0]
-                            .lock()
-                            .expect("no thread panics holding a slot");
-                        let Some(outcome) = slot.as_ref() else { break };
-                        (state.1)(outcome, count, total);
-                        drop(slot);
-                        state.0 += 1;
-                    }
-                }
-            });
-        }
-    });
-    slots
-        .into_iter()
-        .filter_map(|s| s.into_inner().expect("no thread panicked"))
-        .collect()
+    let mut outcomes = Vec::with_capacity(total);
+    crate::parallel::map_in_order(
+        total,
+        threads,
+        4 * threads.max(1),
+        |index| {
+            let item = &items[index];
+            let size = |p: &Path| std::fs::metadata(p).map_or(0, |m| m.len());
+            let bytes = size(&item.path) + item.motion.as_deref().map_or(0, size);
+            let result = input::load_checked(
+                &item.path,
+                item.motion.as_deref(),
+                settings.frame_time,
+                1,
+                settings.max_size,
+            )
+            .map(|loaded| describe(&loaded, settings.offset_mode));
+            Outcome {
+                item: item.clone(),
+                result,
+                bytes,
+            }
+        },
+        |index, outcome| {
+            done(&outcome, index + 1, total);
+            outcomes.push(outcome);
+            true
+        },
+    );
+    outcomes
 }

@@ -122,7 +122,7 @@ const BLOCK: usize = 2048;
 
 /// Writes the positions of `frames` (indices into `motion`; for a take without frames, pass
 /// `0..1` to get the rest pose).
-pub fn write_positions<W: Write>(
+pub fn write_positions<W: Write + Send>(
     out: &mut W,
     skeleton: &Skeleton,
     motion: &Motion,
@@ -152,43 +152,36 @@ pub fn write_positions<W: Write>(
     let plan = FkPlan::new(skeleton, options.offset_mode);
     let threads = crate::cores().clamp(1, 8);
     let first = frames.start;
-    let mut start = frames.start;
-    while start < frames.end {
-        // One round: a block per core, formatted in parallel, written in order.
-        let blocks: Vec<Range<usize>> = (0..threads)
-            .map(|k| (start + k * BLOCK).min(frames.end)..(start + (k + 1) * BLOCK).min(frames.end))
-            .filter(|r| !r.is_empty())
-            .collect();
-        start = blocks.last().map_or(frames.end, |r| r.end);
-        let texts: Vec<Vec<u8>> = std::thread::scope(|scope| {
-            let handles: Vec<_> = blocks
-                .iter()
-                .map(|block| {
-                    let (plan, names, points) = (&plan, &names, &points);
-                    scope.spawn(move || {
-                        format_block(
-                            skeleton,
-                            plan,
-                            names,
-                            points,
-                            motion,
-                            block.clone(),
-                            first,
-                            options,
-                        )
-                    })
-                })
-                .collect();
-            handles
-                .into_iter()
-                .map(|h| h.join().expect("a formatting thread panicked"))
-                .collect::<Result<_, NotFinite>>()
-        })
-        .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))?;
-        out.write_all(&std::mem::take(&mut header))?;
-        for text in &texts {
-            out.write_all(text)?;
-        }
+    // Blocks of frames formatted on every core and written in order as they are ready; a few
+    // blocks at most wait for an earlier one.
+    let blocks: Vec<Range<usize>> = frames
+        .clone()
+        .step_by(BLOCK)
+        .map(|start| start..(start + BLOCK).min(frames.end))
+        .collect();
+    let mut failure = None;
+    crate::parallel::map_in_order(
+        blocks.len(),
+        threads,
+        2 * threads,
+        |k| {
+            let block = blocks[k].clone();
+            format_block(
+                skeleton, &plan, &names, &points, motion, block, first, options,
+            )
+        },
+        |_, text| {
+            let written = text
+                .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))
+                .and_then(|text| {
+                    out.write_all(&std::mem::take(&mut header))?;
+                    out.write_all(&text)
+                });
+            written.map_err(|e| failure = Some(e)).is_ok()
+        },
+    );
+    if let Some(error) = failure {
+        return Err(error);
     }
     out.write_all(&header)?;
     if options.format == Format::Json {

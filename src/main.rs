@@ -356,13 +356,13 @@ fn load_or_default(path: Option<&Path>, source: &Source) -> Result<(String, Load
     }
 }
 
-/// Opens the output (a file, or stdout when none is named).
-fn open_output(path: Option<&Path>) -> Result<Box<dyn Write>, Error> {
+/// Opens the output (a file, or stdout when none is named). It may be written from any thread.
+fn open_output(path: Option<&Path>) -> Result<Box<dyn Write + Send>, Error> {
     Ok(match path {
         Some(path) => Box::new(BufWriter::new(
             std::fs::File::create(path).map_err(|e| Error::output(path, e))?,
         )),
-        None => Box::new(BufWriter::new(io::stdout().lock())),
+        None => Box::new(BufWriter::new(io::stdout())),
     })
 }
 

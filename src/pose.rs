@@ -609,37 +609,35 @@ pub fn positions_all_frames(
 ) -> f64 {
     let plan = FkPlan::new(skeleton, mode);
     let frames = motion.frame_count();
-    let threads = crate::cores().min(frames.max(1));
-    let per_thread = frames.div_ceil(threads.max(1));
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..threads)
-            .map(|t| {
-                let plan = &plan;
-                scope.spawn(move || {
-                    let (mut out, mut scratch) = (Vec::new(), FkScratch::default());
-                    let mut sum = 0.0f64;
-                    let mine = t * per_thread..((t + 1) * per_thread).min(frames);
-                    let mut batch: Vec<&[f32]> = Vec::with_capacity(LANES);
-                    for first in mine.clone().step_by(LANES) {
-                        batch.clear();
-                        batch.extend(
-                            (first..(first + LANES).min(mine.end)).map(|f| motion.frame(f)),
-                        );
-                        plan.positions_of_frames(&batch, &mut out, &mut scratch);
-                        for points in out.chunks(plan.joints.len()) {
-                            let total: Vec3 = points.iter().copied().sum();
-                            sum += f64::from(total.x + total.y + total.z);
-                        }
-                    }
-                    sum
-                })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| h.join().expect("an FK thread panicked"))
-            .sum()
-    })
+    // Pieces of a few thousand frames, taken in turn by every core.
+    const PIECE: usize = 4096;
+    let mut total = 0.0f64;
+    crate::parallel::map_in_order(
+        frames.div_ceil(PIECE),
+        crate::cores(),
+        2 * crate::cores(),
+        |piece| {
+            let (mut out, mut scratch) = (Vec::new(), FkScratch::default());
+            let mut sum = 0.0f64;
+            let mine = piece * PIECE..((piece + 1) * PIECE).min(frames);
+            let mut batch: Vec<&[f32]> = Vec::with_capacity(LANES);
+            for first in mine.clone().step_by(LANES) {
+                batch.clear();
+                batch.extend((first..(first + LANES).min(mine.end)).map(|f| motion.frame(f)));
+                plan.positions_of_frames(&batch, &mut out, &mut scratch);
+                for points in out.chunks(plan.joints.len()) {
+                    let sum_of_points: Vec3 = points.iter().copied().sum();
+                    sum += f64::from(sum_of_points.x + sum_of_points.y + sum_of_points.z);
+                }
+            }
+            sum
+        },
+        |_, sum| {
+            total += sum;
+            true
+        },
+    );
+    total
 }
 
 #[cfg(test)]

@@ -443,16 +443,7 @@ impl RowParser {
         let threads = self
             .threads
             .min(1 + (self.input_left / self.chunk as u64) as usize);
-        if threads <= 1 {
-            work();
-        } else {
-            std::thread::scope(|scope| {
-                for _ in 1..threads {
-                    scope.spawn(work);
-                }
-                work();
-            });
-        }
+        crate::parallel::on_threads(threads, work);
         let stream = stream.into_inner().unwrap_or_else(|e| e.into_inner());
         if let Some(error) = stream.error {
             return Err(io_error(error));
