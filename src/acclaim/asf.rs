@@ -157,6 +157,7 @@ fn bound(source: &str, word: &Word<'_>) -> Result<f64, Error> {
     }
 }
 
+/// Which section of an ASF file a line is in.
 #[derive(PartialEq)]
 enum Section {
     None,
@@ -167,7 +168,20 @@ enum Section {
     Other,
 }
 
-/// Parses ASF text; `source` names it in errors.
+/// The bones of `:bonedata` as they are read.
+#[derive(Default)]
+struct BoneData {
+    bones: Vec<Bone>,
+    /// Bone names to indices: files with many bones must not cost a search per name.
+    names: std::collections::HashMap<String, usize>,
+    /// The bone between `begin` and `end`.
+    current: Option<Bone>,
+    /// `(min max)` lines still expected for the current bone's dofs.
+    pending_limits: usize,
+}
+
+/// Parses ASF text; `source` names it in errors. One function per section reads its lines;
+/// then the tree is built from `:hierarchy`.
 pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
     let all = lines(text);
     let mut units = Units {
@@ -176,21 +190,17 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
         degrees: true,
     };
     let mut root: Option<Root> = None;
-    let mut bones: Vec<Bone> = Vec::new();
-    // Bone names to indices: files with many bones must not cost a search per name.
-    let mut names: std::collections::HashMap<String, usize> = std::collections::HashMap::new();
-    let mut current: Option<Bone> = None;
-    // (the bone name word, its child name words) per hierarchy line
+    let mut data = BoneData::default();
+    // Each hierarchy line: the parent's name, then its children's.
     let mut hierarchy: Vec<Vec<Word<'_>>> = Vec::new();
     let mut seen_hierarchy = false;
     let mut seen_bonedata = false;
     let mut section = Section::None;
-    let mut pending_limits = 0usize;
 
     for line in &all {
         let first = &line[0];
         if first.text.starts_with(':') {
-            if let Some(bone) = &current {
+            if let Some(bone) = &data.current {
                 return Err(expected(
                     source,
                     first,
@@ -218,227 +228,36 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
                 }
                 _ => Section::Other,
             };
-            pending_limits = 0;
+            data.pending_limits = 0;
             continue;
         }
         match section {
             Section::None => return Err(expected(source, first, "a section such as :root")),
             Section::Other => {}
-            Section::Units => {
-                let value = line
-                    .get(1)
-                    .ok_or_else(|| expected_after(source, line, "a value"))?;
-                if first.is("mass") {
-                    units.mass = number(source, value, "a number")?;
-                } else if first.is("length") {
-                    units.length = number(source, value, "a number")?;
-                } else if first.is("angle") {
-                    units.degrees = if value.is("deg") || value.is("degrees") {
-                        true
-                    } else if value.is("rad") || value.is("radians") {
-                        false
-                    } else {
-                        return Err(expected(source, value, "deg or rad"));
-                    };
-                }
-            }
-            Section::Root => {
-                let root = root.as_mut().expect(":root opened the section");
-                if first.is("order") {
-                    root.order.clear();
-                    for word in &line[1..] {
-                        let dof = Dof::parse(word.text)
-                            .ok_or_else(|| expected(source, word, "TX, TY, TZ, RX, RY or RZ"))?;
-                        if root.order.contains(&dof) {
-                            return Err(error_at(
-                                source,
-                                word.line,
-                                word.column,
-                                format!("'{}' listed twice", word.text),
-                            ));
-                        }
-                        root.order.push(dof);
-                    }
-                } else if first.is("axis") {
-                    let word = line
-                        .get(1)
-                        .ok_or_else(|| expected_after(source, line, "a rotation order"))?;
-                    root.axis_order = axis_order(source, word)?;
-                } else if first.is("position") {
-                    root.position = three(source, line, "root position")?;
-                } else if first.is("orientation") {
-                    root.orientation = three(source, line, "root orientation")?;
-                } else {
-                    return Err(expected(
-                        source,
-                        first,
-                        "order, axis, position or orientation",
-                    ));
-                }
-            }
-            Section::BoneData => {
-                if first.is("begin") {
-                    if current.is_some() {
-                        return Err(expected(source, first, "'end' before the next 'begin'"));
-                    }
-                    current = Some(Bone {
-                        id: None,
-                        name: String::new(),
-                        direction: [f64::NAN; 3],
-                        length: f64::NAN,
-                        axis: [0.0; 3],
-                        axis_order: [0, 1, 2],
-                        dof: Vec::new(),
-                        limits: Vec::new(),
-                        line: first.line,
-                    });
-                    pending_limits = 0;
-                    continue;
-                }
-                let Some(bone) = current.as_mut() else {
-                    return Err(expected(source, first, "'begin'"));
-                };
-                if first.is("end") {
-                    let bone = current.take().expect("checked above");
-                    let what = if bone.name.is_empty() {
-                        Some("a name")
-                    } else if bone.direction[0].is_nan() {
-                        Some("a direction")
-                    } else if bone.length.is_nan() {
-                        Some("a length")
-                    } else {
-                        None
-                    };
-                    if let Some(what) = what {
-                        let name = if bone.name.is_empty() {
-                            "bone"
-                        } else {
-                            bone.name.as_str()
-                        };
-                        return Err(error_at(
-                            source,
-                            first.line,
-                            first.column,
-                            format!("'{name}' (begun at line {}) ends without {what}", bone.line),
-                        ));
-                    }
-                    if names.contains_key(&bone.name) {
-                        return Err(error_at(
-                            source,
-                            bone.line,
-                            1,
-                            format!("a second bone named '{}'", bone.name),
-                        ));
-                    }
-                    names.insert(bone.name.clone(), bones.len());
-                    bones.push(bone);
-                } else if first.is("id") {
-                    let word = line
-                        .get(1)
-                        .ok_or_else(|| expected_after(source, line, "an id"))?;
-                    bone.id = Some(
-                        word.text
-                            .parse()
-                            .map_err(|_| expected(source, word, "an integer id"))?,
-                    );
-                } else if first.is("name") {
-                    let word = line
-                        .get(1)
-                        .ok_or_else(|| expected_after(source, line, "a name"))?;
-                    if word.is("root") {
-                        return Err(expected(source, word, "a bone name other than 'root'"));
-                    }
-                    bone.name = word.text.to_string();
-                } else if first.is("direction") {
-                    bone.direction = three(source, line, "direction")?;
-                } else if first.is("length") {
-                    let word = line
-                        .get(1)
-                        .ok_or_else(|| expected_after(source, line, "a length"))?;
-                    bone.length = number(source, word, "a number (length)")?;
-                } else if first.is("axis") {
-                    bone.axis = three(source, line, "axis")?;
-                    let word = line.get(4).ok_or_else(|| {
-                        expected_after(source, line, "a rotation order such as XYZ")
-                    })?;
-                    bone.axis_order = axis_order(source, word)?;
-                } else if first.is("dof") {
-                    bone.dof.clear();
-                    for word in &line[1..] {
-                        let dof = if word.is("l") {
-                            return Err(error_at(
-                                source,
-                                word.line,
-                                word.column,
-                                "dof 'l' (a bone that stretches) is not supported".into(),
-                            ));
-                        } else {
-                            Dof::parse(word.text)
-                                .ok_or_else(|| expected(source, word, "rx, ry or rz"))?
-                        };
-                        if !dof.is_rotation() {
-                            return Err(error_at(
-                                source,
-                                word.line,
-                                word.column,
-                                format!(
-                                    "dof '{}' on a bone is not supported: only the root translates",
-                                    word.text
-                                ),
-                            ));
-                        }
-                        if bone.dof.contains(&dof) {
-                            return Err(error_at(
-                                source,
-                                word.line,
-                                word.column,
-                                format!("dof '{}' listed twice", word.text),
-                            ));
-                        }
-                        bone.dof.push(dof);
-                    }
-                    pending_limits = bone.dof.len();
-                } else if first.is("limits") || first.text.starts_with('(') {
-                    // `limits (a b)` then one `(a b)` line per further dof; parentheses may be
-                    // written apart from the numbers.
-                    let words: Vec<&Word<'_>> = line
-                        .iter()
-                        .skip(usize::from(first.is("limits")))
-                        .filter(|w| !w.text.chars().all(|c| c == '(' || c == ')'))
-                        .collect();
-                    if words.len() != 2 || pending_limits == 0 {
-                        let what = if pending_limits == 0 {
-                            "no more limits than dofs"
-                        } else {
-                            "(min max)"
-                        };
-                        return Err(expected(source, first, what));
-                    }
-                    bone.limits
-                        .push((bound(source, words[0])?, bound(source, words[1])?));
-                    pending_limits -= 1;
-                } else if first.is("bodymass") || first.is("cofmass") {
-                    // Known extras some exporters write; they do not change the skeleton.
-                } else {
-                    return Err(expected(
-                        source,
-                        first,
-                        "id, name, direction, length, axis, dof, limits or end",
-                    ));
-                }
-            }
-            Section::Hierarchy => {
-                if first.is("begin") || first.is("end") {
-                    continue;
-                }
-                if line.len() < 2 {
-                    return Err(expected_after(source, line, "the children of this bone"));
-                }
-                hierarchy.push(line.clone());
-            }
+            Section::Units => units_line(source, line, &mut units)?,
+            Section::Root => root_line(
+                source,
+                line,
+                root.as_mut().expect(":root opened the section"),
+            )?,
+            Section::BoneData => bonedata_line(
+                source,
+                line,
+                &mut data.bones,
+                &mut data.names,
+                &mut data.current,
+                &mut data.pending_limits,
+            )?,
+            Section::Hierarchy => hierarchy_line(source, line, &mut hierarchy)?,
         }
     }
     let end_line = all.last().map_or(1, |l| l[0].line + 1);
+    let BoneData {
+        mut bones,
+        names,
+        current,
+        ..
+    } = data;
     if let Some(bone) = &current {
         return Err(error_at(
             source,
@@ -478,27 +297,288 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
         root.order = vec![Dof::Tx, Dof::Ty, Dof::Tz, Dof::Rx, Dof::Ry, Dof::Rz];
     }
 
-    // Angles in radians become degrees, as the Skeleton's channels are.
     if !units.degrees {
-        let degrees = |v: f64| v.to_degrees();
-        root.orientation = root.orientation.map(degrees);
-        for bone in &mut bones {
-            bone.axis = bone.axis.map(degrees);
-            for (dof, limit) in bone.dof.iter().zip(bone.limits.iter_mut()) {
-                if dof.is_rotation() {
-                    *limit = (limit.0.to_degrees(), limit.1.to_degrees());
-                }
+        to_degrees(&mut root, &mut bones);
+    }
+    let (root_children, children, warnings) = build_tree(source, &bones, &names, &hierarchy)?;
+    Ok(Asf {
+        units,
+        root,
+        bones,
+        root_children,
+        children,
+        warnings,
+    })
+}
+
+/// A line of `:units`.
+fn units_line(source: &str, line: &[Word<'_>], units: &mut Units) -> Result<(), Error> {
+    let first = &line[0];
+    let value = line
+        .get(1)
+        .ok_or_else(|| expected_after(source, line, "a value"))?;
+    if first.is("mass") {
+        units.mass = number(source, value, "a number")?;
+    } else if first.is("length") {
+        units.length = number(source, value, "a number")?;
+    } else if first.is("angle") {
+        units.degrees = if value.is("deg") || value.is("degrees") {
+            true
+        } else if value.is("rad") || value.is("radians") {
+            false
+        } else {
+            return Err(expected(source, value, "deg or rad"));
+        };
+    }
+    Ok(())
+}
+
+/// A line of `:root`.
+fn root_line(source: &str, line: &[Word<'_>], root: &mut Root) -> Result<(), Error> {
+    let first = &line[0];
+    if first.is("order") {
+        root.order.clear();
+        for word in &line[1..] {
+            let dof = Dof::parse(word.text)
+                .ok_or_else(|| expected(source, word, "TX, TY, TZ, RX, RY or RZ"))?;
+            if root.order.contains(&dof) {
+                return Err(error_at(
+                    source,
+                    word.line,
+                    word.column,
+                    format!("'{}' listed twice", word.text),
+                ));
+            }
+            root.order.push(dof);
+        }
+    } else if first.is("axis") {
+        let word = line
+            .get(1)
+            .ok_or_else(|| expected_after(source, line, "a rotation order"))?;
+        root.axis_order = axis_order(source, word)?;
+    } else if first.is("position") {
+        root.position = three(source, line, "root position")?;
+    } else if first.is("orientation") {
+        root.orientation = three(source, line, "root orientation")?;
+    } else {
+        return Err(expected(
+            source,
+            first,
+            "order, axis, position or orientation",
+        ));
+    }
+    Ok(())
+}
+
+/// A line of `:bonedata`: `begin`, a field of the current bone, or `end`.
+fn bonedata_line(
+    source: &str,
+    line: &[Word<'_>],
+    bones: &mut Vec<Bone>,
+    names: &mut std::collections::HashMap<String, usize>,
+    current: &mut Option<Bone>,
+    pending_limits: &mut usize,
+) -> Result<(), Error> {
+    let first = &line[0];
+    if first.is("begin") {
+        if current.is_some() {
+            return Err(expected(source, first, "'end' before the next 'begin'"));
+        }
+        *current = Some(Bone {
+            id: None,
+            name: String::new(),
+            direction: [f64::NAN; 3],
+            length: f64::NAN,
+            axis: [0.0; 3],
+            axis_order: [0, 1, 2],
+            dof: Vec::new(),
+            limits: Vec::new(),
+            line: first.line,
+        });
+        *pending_limits = 0;
+        return Ok(());
+    }
+    let Some(bone) = current.as_mut() else {
+        return Err(expected(source, first, "'begin'"));
+    };
+    if first.is("end") {
+        let bone = current.take().expect("checked above");
+        let what = if bone.name.is_empty() {
+            Some("a name")
+        } else if bone.direction[0].is_nan() {
+            Some("a direction")
+        } else if bone.length.is_nan() {
+            Some("a length")
+        } else {
+            None
+        };
+        if let Some(what) = what {
+            let name = if bone.name.is_empty() {
+                "bone"
+            } else {
+                bone.name.as_str()
+            };
+            return Err(error_at(
+                source,
+                first.line,
+                first.column,
+                format!("'{name}' (begun at line {}) ends without {what}", bone.line),
+            ));
+        }
+        if names.contains_key(&bone.name) {
+            return Err(error_at(
+                source,
+                bone.line,
+                1,
+                format!("a second bone named '{}'", bone.name),
+            ));
+        }
+        names.insert(bone.name.clone(), bones.len());
+        bones.push(bone);
+    } else if first.is("id") {
+        let word = line
+            .get(1)
+            .ok_or_else(|| expected_after(source, line, "an id"))?;
+        bone.id = Some(
+            word.text
+                .parse()
+                .map_err(|_| expected(source, word, "an integer id"))?,
+        );
+    } else if first.is("name") {
+        let word = line
+            .get(1)
+            .ok_or_else(|| expected_after(source, line, "a name"))?;
+        if word.is("root") {
+            return Err(expected(source, word, "a bone name other than 'root'"));
+        }
+        bone.name = word.text.to_string();
+    } else if first.is("direction") {
+        bone.direction = three(source, line, "direction")?;
+    } else if first.is("length") {
+        let word = line
+            .get(1)
+            .ok_or_else(|| expected_after(source, line, "a length"))?;
+        bone.length = number(source, word, "a number (length)")?;
+    } else if first.is("axis") {
+        bone.axis = three(source, line, "axis")?;
+        let word = line
+            .get(4)
+            .ok_or_else(|| expected_after(source, line, "a rotation order such as XYZ"))?;
+        bone.axis_order = axis_order(source, word)?;
+    } else if first.is("dof") {
+        bone.dof.clear();
+        for word in &line[1..] {
+            let dof = if word.is("l") {
+                return Err(error_at(
+                    source,
+                    word.line,
+                    word.column,
+                    "dof 'l' (a bone that stretches) is not supported".into(),
+                ));
+            } else {
+                Dof::parse(word.text).ok_or_else(|| expected(source, word, "rx, ry or rz"))?
+            };
+            if !dof.is_rotation() {
+                return Err(error_at(
+                    source,
+                    word.line,
+                    word.column,
+                    format!(
+                        "dof '{}' on a bone is not supported: only the root translates",
+                        word.text
+                    ),
+                ));
+            }
+            if bone.dof.contains(&dof) {
+                return Err(error_at(
+                    source,
+                    word.line,
+                    word.column,
+                    format!("dof '{}' listed twice", word.text),
+                ));
+            }
+            bone.dof.push(dof);
+        }
+        *pending_limits = bone.dof.len();
+    } else if first.is("limits") || first.text.starts_with('(') {
+        // `limits (a b)` then one `(a b)` line per further dof; parentheses may be
+        // written apart from the numbers.
+        let words: Vec<&Word<'_>> = line
+            .iter()
+            .skip(usize::from(first.is("limits")))
+            .filter(|w| !w.text.chars().all(|c| c == '(' || c == ')'))
+            .collect();
+        if words.len() != 2 || *pending_limits == 0 {
+            let what = if *pending_limits == 0 {
+                "no more limits than dofs"
+            } else {
+                "(min max)"
+            };
+            return Err(expected(source, first, what));
+        }
+        bone.limits
+            .push((bound(source, words[0])?, bound(source, words[1])?));
+        *pending_limits -= 1;
+    } else if first.is("bodymass") || first.is("cofmass") {
+        // Known extras some exporters write; they do not change the skeleton.
+    } else {
+        return Err(expected(
+            source,
+            first,
+            "id, name, direction, length, axis, dof, limits or end",
+        ));
+    }
+    Ok(())
+}
+
+/// A line of `:hierarchy`: a parent and its children (`begin` and `end` pass).
+fn hierarchy_line<'a>(
+    source: &str,
+    line: &[Word<'a>],
+    hierarchy: &mut Vec<Vec<Word<'a>>>,
+) -> Result<(), Error> {
+    let first = &line[0];
+    if first.is("begin") || first.is("end") {
+        return Ok(());
+    }
+    if line.len() < 2 {
+        return Err(expected_after(source, line, "the children of this bone"));
+    }
+    hierarchy.push(line.to_vec());
+    Ok(())
+}
+
+/// Angles in radians become degrees, as the Skeleton's channels are.
+fn to_degrees(root: &mut Root, bones: &mut [Bone]) {
+    let degrees = |v: f64| v.to_degrees();
+    root.orientation = root.orientation.map(degrees);
+    for bone in bones {
+        bone.axis = bone.axis.map(degrees);
+        for (dof, limit) in bone.dof.iter().zip(bone.limits.iter_mut()) {
+            if dof.is_rotation() {
+                *limit = (limit.0.to_degrees(), limit.1.to_degrees());
             }
         }
     }
+}
 
+/// The tree of `:hierarchy`: the root's children, each bone's children, and a warning for each
+/// bone the hierarchy leaves out. Every bone gets one parent; a loop, a second parent or nesting
+/// deeper than the BVH loader allows is an error.
+#[allow(clippy::type_complexity)]
+fn build_tree(
+    source: &str,
+    bones: &[Bone],
+    names: &std::collections::HashMap<String, usize>,
+    hierarchy: &[Vec<Word<'_>>],
+) -> Result<(Vec<usize>, Vec<Vec<usize>>, Vec<String>), Error> {
     // The tree: every bone gets one parent, and every bone must be reachable from the root.
     let index_of = |word: &Word<'_>| names.get(word.text).copied();
     let mut root_children = Vec::new();
     let mut children = vec![Vec::new(); bones.len()];
     let mut parent_of: Vec<Option<usize>> = vec![None; bones.len()];
     let mut under_root = vec![false; bones.len()];
-    for line in &hierarchy {
+    for line in hierarchy {
         let parent = if line[0].is("root") {
             None
         } else {
@@ -583,14 +663,7 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
             bone.name, bone.line
         ));
     }
-    Ok(Asf {
-        units,
-        root,
-        bones,
-        root_children,
-        children,
-        warnings,
-    })
+    Ok((root_children, children, warnings))
 }
 
 /// Where one AMC line's values go: the joint's first MOTION column, and per value the channel
