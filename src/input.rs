@@ -173,7 +173,7 @@ pub fn load_checked(
                     amc.display()
                 )));
             }
-            let mut file = bvh::loader::load_file_bounded(path, threads, max_size)?;
+            let mut file = bvh::loader::load_file_with(path, threads, max_size)?;
             if let Some(time) = frame_time {
                 file.motion.frame_time = time;
             }

@@ -242,6 +242,37 @@ struct TraceArgs {
     frame: usize,
     #[command(flatten)]
     view: View,
+    /// Indent each call by the depth of the matrix stack and say what it does: the joint, the
+    /// MOTION columns it reads (the article's pFrame), where each sphere lands.
+    #[arg(long)]
+    explain: bool,
+    /// The language of --explain's notes.
+    #[arg(long, value_enum, default_value_t, requires = "explain")]
+    lang: LanguageArg,
+    /// How numbers are written: printf's %f (the article's code), or apitrace's %g with the
+    /// whole run from init() on, to diff against a recording of the article's program.
+    #[arg(long, value_enum, default_value_t)]
+    numbers: NumbersArg,
+}
+
+/// `--lang` of `trace --explain`.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+enum LanguageArg {
+    /// English.
+    #[default]
+    En,
+    /// Traditional Chinese, in the article's terms.
+    Zh,
+}
+
+/// `--numbers` of `trace`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+enum NumbersArg {
+    /// printf's %f, six decimals: display() only.
+    #[default]
+    Printf,
+    /// apitrace's %.7g / %.16g, from init() through display().
+    Apitrace,
 }
 
 #[derive(Args)]
@@ -573,7 +604,7 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
 
 fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
     use bvhview::render::scene::{self, Scene};
-    use bvhview::render::trace::{Numbers, Recorder};
+    use bvhview::render::trace::{Language, Numbers, Recorder};
     let loaded = load(&args.file, &args.source)?;
     let values = bvhview::render::frame_values(&loaded.motion, args.frame)?;
     let View {
@@ -584,7 +615,24 @@ fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
     } = args.view;
     let offset_mode = offset_mode.into();
     let camera = bvhview::render::camera_for(&loaded.skeleton, values, angle, fit, offset_mode);
-    let mut recorder = Recorder::new(Numbers::Printf);
+    let numbers = match args.numbers {
+        NumbersArg::Printf => Numbers::Printf,
+        NumbersArg::Apitrace => Numbers::Apitrace,
+    };
+    let language = match args.lang {
+        LanguageArg::En => Language::English,
+        LanguageArg::Zh => Language::Chinese,
+    };
+    let mut recorder = if args.explain {
+        Recorder::explaining(numbers, &loaded.skeleton, values, offset_mode, language)
+    } else {
+        Recorder::new(numbers)
+    };
+    if args.numbers == NumbersArg::Apitrace {
+        // What a recording of the article's program holds: init, reshape, then display.
+        scene::init(&mut recorder);
+        scene::reshape(&mut recorder, 600, 600, &camera);
+    }
     let view = Scene {
         skeleton: &loaded.skeleton,
         frame: values,

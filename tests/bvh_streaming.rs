@@ -32,7 +32,7 @@ fn both(
     let path = std::env::temp_dir().join(format!("bvhview-stream-{}-{n}.bvh", std::process::id()));
     std::fs::write(&path, text).unwrap();
     let load = |threads: usize| {
-        bvhview::bvh::loader::load_file_with_threads(&path, threads)
+        bvhview::bvh::loader::load_file_with(&path, threads, u64::MAX)
             .map_err(|e| e.to_string().replace(&path.display().to_string(), "t.bvh"))
     };
     let from_file = bvhview::bvh::load_file(&path)

@@ -66,3 +66,68 @@ fn trace_follows_the_frame_and_the_style() {
     assert!(!sticks.contains("glutSolidSphere"));
     assert!(sticks.contains("glDisable(GL_LIGHTING);\nglBegin(GL_LINES);\n"));
 }
+
+/// `--numbers apitrace` writes what a recording of the article's program holds, from init() on:
+/// the two diff line for line with nothing to show.
+#[test]
+fn apitrace_numbers_diff_empty_against_the_articles_recording() {
+    let input = oracle("inputs/tiny_crlf.bvh").display().to_string();
+    let ours = trace(&[&input, "--frame", "1", "--numbers", "apitrace"]);
+    let article = std::fs::read_to_string(oracle("trace/tiny_crlf__f1__a10.txt")).unwrap();
+    assert_eq!(ours, article);
+}
+
+/// `--explain` (English and Chinese) is pinned; it is the same calls as the plain trace, indented
+/// by the stack depth, and each sphere's note gives the world position `positions` reports.
+#[test]
+fn explain_annotates_the_same_calls_in_both_languages() {
+    let input = oracle("inputs/tiny_crlf.bvh").display().to_string();
+    let plain = trace(&[&input, "--frame", "1"]);
+    let snapshots = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
+    for (lang, golden) in [
+        ("en", "trace_explain_tiny_crlf__f1__a10.txt"),
+        ("zh", "trace_explain_zh_tiny_crlf__f1__a10.txt"),
+    ] {
+        let explained = trace(&[&input, "--frame", "1", "--explain", "--lang", lang]);
+        assert_eq!(
+            explained,
+            std::fs::read_to_string(snapshots.join(golden)).unwrap(),
+            "{lang}"
+        );
+        // Without the joint headers and the notes, and unindented: the plain trace.
+        let calls: Vec<&str> = explained
+            .lines()
+            .filter(|l| !l.trim_start().starts_with("//"))
+            .map(|l| l.split(" // ").next().unwrap().trim())
+            .collect();
+        assert_eq!(calls, plain.lines().collect::<Vec<_>>(), "{lang}");
+    }
+    // Every sphere's world position, against `positions` (both print the same float).
+    let explained = trace(&[&input, "--frame", "1", "--explain"]);
+    let csv = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .args(["positions", &input, "--frames", "1"])
+        .output()
+        .unwrap()
+        .stdout;
+    let csv = String::from_utf8(csv).unwrap();
+    let spheres: Vec<Vec<f64>> = explained
+        .lines()
+        .filter_map(|l| l.split_once("'s sphere, at ("))
+        .map(|(_, at)| numbers(at.split(')').next().unwrap()))
+        .collect();
+    let rows: Vec<Vec<f64>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').skip(2).map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(spheres.len(), 12);
+    assert_eq!(spheres.len(), rows.len());
+    for (sphere, row) in spheres.iter().zip(&rows) {
+        for (a, b) in sphere.iter().zip(row) {
+            assert!(
+                (a - b).abs() <= 1e-4 * b.abs().max(1.0),
+                "{sphere:?} vs {row:?}"
+            );
+        }
+    }
+}

@@ -43,7 +43,8 @@ fn main() {
         bvhview::bvh::load_file(std::path::Path::new(path)).expect("loads")
     });
     let (t_one, _) = best(runs, || {
-        bvhview::bvh::loader::load_file_with_threads(std::path::Path::new(path), 1).expect("loads")
+        bvhview::bvh::loader::load_file_with(std::path::Path::new(path), 1, u64::MAX)
+            .expect("loads")
     });
     let (t_bytes, _) = best(runs, || {
         bvhview::bvh::load_bytes(&bytes, path).expect("loads")

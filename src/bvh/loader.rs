@@ -24,7 +24,7 @@ pub const MAX_DEPTH: usize = 1000;
 /// state lives in a private `Loader` for the length of one load, and the current frame belongs to
 /// whoever shows the file. `clear` and `deleteRecursive` have no counterpart: loading returns a
 /// new value, and dropping it frees every joint.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug)]
 pub struct Bvh {
     pub skeleton: Skeleton,
     pub motion: Motion,
@@ -32,31 +32,46 @@ pub struct Bvh {
     pub warnings: Vec<String>,
 }
 
-/// C++: `BVH::loadFile`. The hierarchy is read into memory; the MOTION rows are streamed in
-/// chunks and parsed on every core (see [`super::rows`]), so the file is never held whole.
+impl Default for Bvh {
+    /// C++: `BVH::BVH`: an empty model, no joints and no frames (the article sets `frameTime` to 1
+    /// and `jointCount` to 1 until a file is loaded; here the counts come from the file).
+    fn default() -> Bvh {
+        Bvh {
+            skeleton: Skeleton::default(),
+            motion: Motion::default(),
+            warnings: Vec::new(),
+        }
+    }
+}
+
+/// C++: `BVH::loadFile`, in the article's steps: open the file, read it, check that it starts with
+/// `HIERARCHY`, move a cursor over the hierarchy dispatching each keyword to its `process_*`, then
+/// read `Frames`, `Frame Time` and the rows. Those steps are [`load_file_with`]'s, in that order.
+/// What changed: the rows, the bulk of a file, are not read into one buffer first but streamed
+/// to every core by the row engine in [`super::rows`]; every mismatch is an error with its line
+/// and column.
 pub fn load_file(path: &Path) -> Result<Bvh, Error> {
-    load_file_with_threads(path, crate::cores())
+    load_file_with(path, crate::cores(), u64::MAX)
 }
 
-/// [`load_file`] parsing on at most `threads` threads (1 when many files load at once).
-pub fn load_file_with_threads(path: &Path, threads: usize) -> Result<Bvh, Error> {
-    load_file_bounded(path, threads, u64::MAX)
-}
-
-/// [`load_file_with_threads`] that stops with an error past `max_size` bytes, whatever the path
-/// is (a file, a pipe, a device).
-pub fn load_file_bounded(path: &Path, threads: usize, max_size: u64) -> Result<Bvh, Error> {
+/// [`load_file`] parsing on at most `threads` threads (1 when many files load at once), reading
+/// no more than `max_size` bytes from the path, whatever it is (a file, a pipe, a device).
+pub fn load_file_with(path: &Path, threads: usize, max_size: u64) -> Result<Bvh, Error> {
     let io_error = |e| Error::io(path, e);
+    let source = path.display().to_string();
+    // fopen.
     let file = std::fs::File::open(path).map_err(io_error)?;
     let length = file.metadata().map_err(io_error)?.len();
     let mut file = crate::input::Bounded::new(file, max_size);
-    let source = path.display().to_string();
-    // The hierarchy and the MOTION header, read until the rows begin (or the file ends).
-    let mut scan = HeaderScan::default();
-    let (head, rows_start) = read_head(&mut file, length, &mut scan).map_err(io_error)?;
+    // fread: the hierarchy and the MOTION header; the rows stay in the file for now. A file
+    // without rows is read whole and loaded from memory.
+    let (head, rows_start) =
+        read_head(&mut file, length, &mut HeaderScan::default()).map_err(io_error)?;
     let Some(rows_start) = rows_start else {
         return load_bytes_with_threads(&head, &source, threads);
     };
+    // Check HIERARCHY, then the cursor loop: one `process_*` per keyword, then Frames and
+    // Frame Time (`Loader::load`).
     let mut loader = Loader::new(&head[..rows_start], &source);
     let header = match loader.load() {
         Ok(header) => header,
@@ -80,18 +95,18 @@ pub fn load_file_bounded(path: &Path, threads: usize, max_size: u64) -> Result<B
     else {
         unreachable!("the header was cut after its Frame Time line");
     };
-    // C++: the row loop at the end of `loadFile`. The rows are the bulk of a file, so they go to
-    // the parallel row reader in `super::rows` (chunked, every core, exact errors).
+    // The row loop: the row engine reads what was read already, then the rest of the file.
+    let start = line_column(&head, rows_start);
+    let rest = length.saturating_sub(rows_start as u64);
     let mut rows = RowParser::new(
         &source,
         frames,
         loader.channel_count,
         frames_line,
-        line_column(&head, rows_start),
-        length.saturating_sub(rows_start as u64),
+        start,
+        rest,
     )
     .with_threads(threads);
-    // The hierarchy stays with the loader; the rows already read start the stream.
     rows.feed_all(&head[rows_start..], &mut file, &io_error)?;
     loader.finish_rows(frames, frame_time, rows)
 }
@@ -714,7 +729,7 @@ impl<'a> Loader<'a> {
         Err(self.expected(what, token))
     }
 
-    /// The motion section after `MOTION`. C++: the second half of `BVH::loadFile`. The article
+    /// C++: the second half of `BVH::loadFile`: the motion section after `MOTION`. The article
     /// allocates `Frames` rows up front and then reads that many rows with fixed strides whatever
     /// the file holds; here the allocation is bounded by what the rest of the file could hold,
     /// each row must be one line with exactly one value per channel, a file that ends early is an

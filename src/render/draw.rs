@@ -2,7 +2,7 @@
 //! on the GL matrix stack.
 
 use crate::pose::{OffsetMode, joint_translation};
-use crate::render::fixed::{FixedFunction, GL_LIGHTING, GL_LINES};
+use crate::render::fixed::{FixedFunction, GL_LIGHTING, GL_LINES, Note};
 use crate::skeleton::{Joint, Skeleton};
 
 /// How joints are drawn. `Points` is the article's picture.
@@ -29,7 +29,7 @@ pub fn draw<G: FixedFunction>(
     mode: OffsetMode,
 ) {
     for root in skeleton.roots() {
-        draw_recursive(gl, skeleton, root, frame, style, mode);
+        draw_recursive(gl, skeleton, root, frame, style, mode, 0);
     }
 }
 
@@ -44,23 +44,10 @@ fn translation(joint: &Joint, frame: Option<&[f32]>, mode: OffsetMode) -> [f32; 
 /// C++: `BVH::drawRecursive`: push, translate, rotate, sphere, children, pop. The same calls in
 /// the same order (the article's "debug 3": translate before rotating). The translation is
 /// `pose::joint_translation`, so the matrix at each joint is `pose`'s world matrix times the view.
+/// Two additions, each one named call: an ASF bone's own axis (`rotate_space_about_axis`), and
+/// skeletons deeper than GL's matrix stack (`push_matrix_or_save`, `pop_matrix_or_restore`).
+/// `depth` is the joint's depth in the tree, 0 at a root.
 pub fn draw_recursive<G: FixedFunction>(
-    gl: &mut G,
-    skeleton: &Skeleton,
-    index: usize,
-    frame: Option<&[f32]>,
-    style: Style,
-    mode: OffsetMode,
-) {
-    draw_at_depth(gl, skeleton, index, frame, style, mode, 0);
-}
-
-/// The GL modelview stack holds at least 32 matrices; below this depth the draw pushes and pops
-/// as the article does, deeper it saves and restores the matrix itself (a 1000-joint chain would
-/// otherwise overflow the stack and draw garbage).
-const GL_STACK_DEPTH: usize = 30;
-
-fn draw_at_depth<G: FixedFunction>(
     gl: &mut G,
     skeleton: &Skeleton,
     index: usize,
@@ -70,12 +57,8 @@ fn draw_at_depth<G: FixedFunction>(
     depth: usize,
 ) {
     let joint = &skeleton.joints[index];
-    let saved = if depth < GL_STACK_DEPTH {
-        gl.push_matrix();
-        None
-    } else {
-        Some(gl.get_modelview())
-    };
+    gl.note(Note::Joint(index));
+    let saved = push_matrix_or_save(gl, depth);
     let [x, y, z] = translation(joint, frame, mode);
     gl.translatef(x, y, z);
     match joint.axis {
@@ -86,23 +69,55 @@ fn draw_at_depth<G: FixedFunction>(
         gl.solid_sphere(1.0, 20, 16);
     }
     if style != Style::Points && !joint.children.is_empty() {
-        gl.disable(GL_LIGHTING);
-        gl.begin(GL_LINES);
-        for &child in &joint.children {
-            let [cx, cy, cz] = translation(&skeleton.joints[child], frame, mode);
-            gl.vertex3f(0.0, 0.0, 0.0);
-            gl.vertex3f(cx, cy, cz);
-        }
-        gl.end();
-        gl.enable(GL_LIGHTING);
+        draw_sticks(gl, skeleton, joint, frame, mode);
     }
     for &child in &joint.children {
-        draw_at_depth(gl, skeleton, child, frame, style, mode, depth + 1);
+        draw_recursive(gl, skeleton, child, frame, style, mode, depth + 1);
     }
+    pop_matrix_or_restore(gl, saved);
+    gl.note(Note::JointEnd);
+}
+
+/// The GL modelview stack holds at least 32 matrices; below this depth the draw pushes and pops
+/// as the article does, deeper it saves and restores the matrix itself (a 1000-joint chain would
+/// otherwise overflow the stack and draw garbage).
+const GL_STACK_DEPTH: usize = 30;
+
+/// `glPushMatrix()` as the article, or below [`GL_STACK_DEPTH`] the matrix read back to restore.
+fn push_matrix_or_save<G: FixedFunction>(gl: &mut G, depth: usize) -> Option<[f32; 16]> {
+    if depth < GL_STACK_DEPTH {
+        gl.push_matrix();
+        None
+    } else {
+        Some(gl.get_modelview())
+    }
+}
+
+/// `glPopMatrix()`, or the matrix [`push_matrix_or_save`] saved.
+fn pop_matrix_or_restore<G: FixedFunction>(gl: &mut G, saved: Option<[f32; 16]>) {
     match saved {
         None => gl.pop_matrix(),
         Some(matrix) => gl.load_matrix(&matrix),
     }
+}
+
+/// The stick figure's lines from a joint to each child, unlit.
+fn draw_sticks<G: FixedFunction>(
+    gl: &mut G,
+    skeleton: &Skeleton,
+    joint: &Joint,
+    frame: Option<&[f32]>,
+    mode: OffsetMode,
+) {
+    gl.disable(GL_LIGHTING);
+    gl.begin(GL_LINES);
+    for &child in &joint.children {
+        let [cx, cy, cz] = translation(&skeleton.joints[child], frame, mode);
+        gl.vertex3f(0.0, 0.0, 0.0);
+        gl.vertex3f(cx, cy, cz);
+    }
+    gl.end();
+    gl.enable(GL_LIGHTING);
 }
 
 /// An ASF bone turns about its own fixed axis C: [`rotate_space`] between C and C⁻¹, the GL calls

@@ -67,6 +67,18 @@ pub trait FixedFunction {
     fn load_matrix(&mut self, m: &[f32; 16]);
     /// Lit triangles from client-side arrays: `glDrawElements(GL_TRIANGLES, …)`.
     fn draw_triangles(&mut self, positions: &[glam::Vec3], normals: &[glam::Vec3], indices: &[u32]);
+    /// What the calls that follow draw, for a reader of the calls (`bvhview trace --explain`);
+    /// GL itself has no such call, and ignores it.
+    fn note(&mut self, _note: Note) {}
+}
+
+/// A mark in the stream of calls: where the draw of a joint starts and ends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Note {
+    /// The calls for joint `index` (of the skeleton being drawn) start.
+    Joint(usize),
+    /// The calls of the joint whose start was marked last (and not yet ended) end.
+    JointEnd,
 }
 
 type Fn0 = unsafe extern "system" fn();

@@ -16,7 +16,9 @@ pub const R: f32 = 200.0;
 /// C++: `float angle = 10`: the camera's start angle around the Y axis, in radians.
 pub const START_ANGLE: f32 = 10.0;
 
-/// Where the camera is: it circles `target` at `distance`, at the target's height.
+/// C++: the globals `R` and `angle` of main.cpp, and the eye `display` computes from them: the
+/// camera circles `target` at `distance`, at the target's height. A value rather than globals, so
+/// `--fit` and the mouse can change it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
     pub angle: f32,

@@ -13,6 +13,36 @@ pub enum Numbers {
     Printf,
 }
 
+/// The language of `--explain`'s notes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Language {
+    #[default]
+    English,
+    /// Traditional Chinese, in the article's terms.
+    Chinese,
+}
+
+/// What `--explain` says about one joint.
+struct JointFacts {
+    name: String,
+    /// Its MOTION columns, and which of them are rotations (in file order).
+    columns: std::ops::Range<usize>,
+    rotation_columns: Vec<(usize, crate::skeleton::Channel)>,
+    position_columns: Vec<(usize, crate::skeleton::Channel)>,
+    offset: glam::Vec3,
+    /// Where its sphere lands, from `pose` (not from the recorded matrices).
+    world: glam::Vec3,
+}
+
+/// The notes `--explain` adds: for the joint being drawn, what each call does and reads.
+struct Explain {
+    language: Language,
+    joints: Vec<JointFacts>,
+    /// The joints whose calls are under way, innermost last, with the rotations and the axis
+    /// matrices (C, then C⁻¹) issued so far.
+    open: Vec<(usize, usize, usize)>,
+}
+
 /// Collects the calls as lines, and follows the modelview matrix (so that a draw that saves it,
 /// for skeletons deeper than the GL matrix stack, records the right values).
 pub struct Recorder {
@@ -20,6 +50,7 @@ pub struct Recorder {
     pub lines: Vec<String>,
     modelview: Vec<glam::DMat4>,
     in_modelview: bool,
+    explain: Option<Explain>,
 }
 
 impl Recorder {
@@ -29,6 +60,53 @@ impl Recorder {
             lines: Vec::new(),
             modelview: vec![glam::DMat4::IDENTITY],
             in_modelview: true,
+            explain: None,
+        }
+    }
+
+    /// A recorder that also explains the draw of `skeleton` at `frame` (`None`: the rest pose):
+    /// each call indented by the depth of the matrix stack, and a note on what it does, which
+    /// joint it belongs to, the MOTION columns it reads (as the article's `pFrame[i]`) and where
+    /// each sphere lands in the world.
+    pub fn explaining(
+        numbers: Numbers,
+        skeleton: &crate::skeleton::Skeleton,
+        frame: Option<&[f32]>,
+        mode: crate::pose::OffsetMode,
+        language: Language,
+    ) -> Recorder {
+        let world = crate::pose::world_positions(skeleton, frame.unwrap_or(&[]), mode);
+        let joints = skeleton
+            .joints
+            .iter()
+            .zip(world)
+            .map(|(joint, world)| {
+                let columns_of = |rotation: bool| {
+                    joint
+                        .channels
+                        .iter()
+                        .enumerate()
+                        .filter(|(_, c)| c.is_rotation() == rotation)
+                        .map(|(i, &c)| (joint.first_channel + i, c))
+                        .collect()
+                };
+                JointFacts {
+                    name: joint.name.clone(),
+                    columns: joint.first_channel..joint.first_channel + joint.channels.len(),
+                    rotation_columns: columns_of(true),
+                    position_columns: columns_of(false),
+                    offset: joint.offset,
+                    world,
+                }
+            })
+            .collect();
+        Recorder {
+            explain: Some(Explain {
+                language,
+                joints,
+                open: Vec::new(),
+            }),
+            ..Recorder::new(numbers)
         }
     }
 
@@ -73,7 +151,99 @@ impl Recorder {
     }
 
     fn call(&mut self, name: &str, arguments: &str) {
-        self.lines.push(format!("{name}({arguments});"));
+        let line = format!("{name}({arguments});");
+        let Some(explain) = &self.explain else {
+            self.lines.push(line);
+            return;
+        };
+        // The matrix stack's depth; a push's own line stays out, a pop's comes back first.
+        let depth = self.modelview.len() - 1 - usize::from(name == "glPushMatrix");
+        let indented = format!("{}{line}", "    ".repeat(depth));
+        let note = self.note_for(name, explain.language);
+        self.lines.push(match note {
+            Some(note) => format!("{indented:<52} // {note}"),
+            None => indented,
+        });
+    }
+
+    /// A number as the trace writes it, for notes.
+    fn number(&self, value: f32) -> String {
+        match self.numbers {
+            Numbers::Apitrace => format_g(value as f64, 7),
+            Numbers::Printf => format_g(value as f64, 6),
+        }
+    }
+
+    fn point(&self, p: glam::Vec3) -> String {
+        format!(
+            "({}, {}, {})",
+            self.number(p.x),
+            self.number(p.y),
+            self.number(p.z)
+        )
+    }
+
+    /// The note for a call of the joint being drawn, if any.
+    fn note_for(&mut self, name: &str, language: Language) -> Option<String> {
+        let zh = language == Language::Chinese;
+        let depth = self.modelview.len() - 1;
+        let explain = self.explain.as_ref()?;
+        let &(index, rotations_done, axes_done) = explain.open.last()?;
+        let joint = &explain.joints[index];
+        let note = match name {
+            "glPushMatrix" if zh => format!("{}:推入矩陣堆疊,深度 {depth}", joint.name),
+            "glPushMatrix" => format!("{}: push, stack depth {depth}", joint.name),
+            "glPopMatrix" if zh => format!("{} 畫完:彈出,回到深度 {depth}", joint.name),
+            "glPopMatrix" => format!("{} done: pop, back to depth {depth}", joint.name),
+            "glTranslatef" => {
+                let offset = self.point(joint.offset);
+                let replaced: Vec<String> = joint
+                    .position_columns
+                    .iter()
+                    .map(|(column, channel)| format!("{channel} = [{column}]"))
+                    .collect();
+                match (replaced.is_empty(), zh) {
+                    (true, true) => format!("偏移 OFFSET {offset}"),
+                    (true, false) => format!("OFFSET {offset}"),
+                    (false, true) => {
+                        format!("偏移 {offset},位移通道取代:{}", replaced.join(", "))
+                    }
+                    (false, false) => {
+                        format!("OFFSET {offset} with {}", replaced.join(", "))
+                    }
+                }
+            }
+            "glRotatef" => {
+                let (column, channel) = *joint.rotation_columns.get(rotations_done)?;
+                let last = explain.open.len() - 1;
+                self.explain.as_mut()?.open[last].1 += 1;
+                if zh {
+                    format!("{channel}:第 [{column}] 欄,即 pFrame[{rotations_done}]")
+                } else {
+                    format!("{channel}: column [{column}], the article's pFrame[{rotations_done}]")
+                }
+            }
+            "glMultMatrixf" => {
+                let last = explain.open.len() - 1;
+                self.explain.as_mut()?.open[last].2 += 1;
+                match (axes_done, zh) {
+                    (0, true) => "骨骼自己的軸 C(ASF)".to_string(),
+                    (_, true) => "C 的反矩陣 C⁻¹".to_string(),
+                    (0, false) => "the bone's own axis C (ASF)".to_string(),
+                    (_, false) => "and C⁻¹: the channels turn about C".to_string(),
+                }
+            }
+            "glutSolidSphere" => {
+                let world = self.point(joint.world);
+                if zh {
+                    format!("{} 的球,世界座標 {world}", joint.name)
+                } else {
+                    format!("{}'s sphere, at {world} in the world", joint.name)
+                }
+            }
+            _ => return None,
+        };
+        Some(note)
     }
 
     /// Applies `m` to the current modelview matrix, if modelview is the current mode.
@@ -282,6 +452,43 @@ impl FixedFunction for Recorder {
     fn normal3f(&mut self, x: f32, y: f32, z: f32) {
         let args = self.floats(&[x, y, z]);
         self.call("glNormal3f", &args);
+    }
+    fn note(&mut self, note: Note) {
+        let Some(explain) = &mut self.explain else {
+            return;
+        };
+        match note {
+            Note::Joint(index) => {
+                explain.open.push((index, 0, 0));
+                let joint = &explain.joints[index];
+                let depth = self.modelview.len() - 1;
+                let columns = if joint.columns.is_empty() {
+                    match explain.language {
+                        Language::Chinese => "沒有 MOTION 欄位".to_string(),
+                        Language::English => "no MOTION columns".to_string(),
+                    }
+                } else {
+                    let (a, b) = (joint.columns.start, joint.columns.end - 1);
+                    let range = if a == b {
+                        format!("[{a}]")
+                    } else {
+                        format!("[{a}]–[{b}]")
+                    };
+                    match explain.language {
+                        Language::Chinese => format!("MOTION 第 {range} 欄"),
+                        Language::English => format!("MOTION columns {range}"),
+                    }
+                };
+                let header = match explain.language {
+                    Language::Chinese => format!("// 節點 {index} {}:{columns}", joint.name),
+                    Language::English => format!("// joint {index}, {}: {columns}", joint.name),
+                };
+                self.lines.push(format!("{}{header}", "    ".repeat(depth)));
+            }
+            Note::JointEnd => {
+                explain.open.pop();
+            }
+        }
     }
     /// freeglut's inner calls (client arrays, 16 strips) collapse into this one line.
     fn solid_sphere(&mut self, radius: f64, slices: i32, stacks: i32) {
