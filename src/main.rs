@@ -227,6 +227,10 @@ struct SnapshotArgs {
     /// Draw a generated skin around the bones, moved by linear blend skinning.
     #[arg(long)]
     skin: bool,
+    /// Draw only the first K joints in the order the recursion reaches them, the last one
+    /// highlighted, with its GL calls written beside (the window's J key).
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
+    step: Option<u64>,
     /// The PNG to write (with --frames: the folder to write into, created if missing).
     #[arg(short, long)]
     output: PathBuf,
@@ -572,6 +576,7 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
     let loaded = load(&args.file, &args.source)?;
     let options = SnapshotOptions {
         skin: args.skin,
+        step: args.step.map(|k| usize::try_from(k).unwrap_or(usize::MAX)),
         frame: args.frame,
         angle: args.view.angle,
         width: args.size.0,
@@ -640,6 +645,7 @@ fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
         style: style.into(),
         offset_mode,
         skin: None,
+        shown: None,
     };
     scene::display(&mut recorder, &view);
     write_text(&recorder.text())?;

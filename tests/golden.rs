@@ -42,6 +42,17 @@ fn cases() -> Vec<Case> {
             },
         ),
         case(
+            "walk__f10__step5__fit__a0.6",
+            "assets/walk.bvh",
+            SnapshotOptions {
+                frame: 10,
+                step: Some(5),
+                fit: true,
+                angle: 0.6,
+                ..base
+            },
+        ),
+        case(
             "bandai_wave__f10",
             "bvh/bandai_dataset-2_wave-left-hand_active_011.bvh",
             SnapshotOptions { frame: 10, ..base },
@@ -150,6 +161,7 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
         style: options.style,
         offset_mode: options.offset_mode,
         skin: None,
+        shown: None,
     };
     scene::display(gl, &view);
     Image {
@@ -162,7 +174,7 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
 #[test]
 fn snapshots_of_repository_files_match_their_golden_pictures() {
     let cases: Vec<Case> = cases().into_iter().filter(in_repository).collect();
-    assert_eq!(cases.len(), 6);
+    assert_eq!(cases.len(), 7);
     check_goldens(cases);
 }
 

@@ -167,6 +167,12 @@ impl FixedFunction for Probe<'_> {
     fn normal3f(&mut self, x: f32, y: f32, z: f32) {
         self.gl.normal3f(x, y, z)
     }
+    fn window_pos(&mut self, x: i32, y: i32) {
+        self.gl.window_pos(x, y)
+    }
+    fn bitmap(&mut self, width: i32, height: i32, advance: f32, bits: &[u8]) {
+        self.gl.bitmap(width, height, advance, bits)
+    }
     fn solid_sphere(&mut self, radius: f64, slices: i32, stacks: i32) {
         self.at_spheres
             .push(self.gl.get_matrix(GL_MODELVIEW_MATRIX));
@@ -225,6 +231,7 @@ fn gl_matrix_stack_equals_pose_world_times_view() {
             style: Style::Points,
             offset_mode: Default::default(),
             skin: None,
+            shown: None,
         };
         bvhview::render::draw::draw(&mut probe, s.skeleton, s.frame, s.style, s.offset_mode);
         let mut worlds = Vec::new();
@@ -293,6 +300,7 @@ fn calls_match_the_articles_trace() {
         style: Style::Points,
         offset_mode: Default::default(),
         skin: None,
+        shown: None,
     };
     scene::display(&mut recorder, &s);
     let expected = std::fs::read_to_string(oracle("trace/tiny_crlf__f1__a10.txt")).unwrap();

@@ -1,5 +1,6 @@
-//! End to end under Xvfb: the viewer opens on a file, W steps a frame, the window's pixels equal
-//! the offscreen snapshot of that frame, and Esc quits. Needs Xvfb, xdotool and xwd
+//! End to end under Xvfb: the viewer opens on a file, W steps a frame, J steps through the
+//! recursion joint by joint (Shift+J back, Esc back to the whole picture), the window's pixels
+//! equal the offscreen snapshot of each state, and Esc quits. Needs Xvfb, xdotool and xwd
 //! (scripts/test.sh installs them).
 
 mod common;
@@ -186,6 +187,43 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
         differing, 0,
         "the window after W differs from the snapshot of frame 1"
     );
+
+    // The recursion one joint at a time: J three times, Shift+J once, then Esc back to the whole
+    // picture; each time the window equals the snapshot of the same step.
+    let stepped = |step: Option<usize>| {
+        bvhview::render::snapshot(
+            &bvh.skeleton,
+            &bvh.motion,
+            &SnapshotOptions {
+                frame: 1,
+                step,
+                ..SnapshotOptions::default()
+            },
+        )
+        .unwrap()
+    };
+    let shows = |what: &str, want: &Image| {
+        let start = Instant::now();
+        loop {
+            let differing = capture(&display, &window).differing_pixels(want);
+            if differing == 0 {
+                return;
+            }
+            assert!(
+                start.elapsed() < Duration::from_secs(10),
+                "{what}: {differing} pixels differ from the snapshot"
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    };
+    for step in 1..=3 {
+        run(&display, "xdotool", &["key", "j"]).expect("key j");
+        shows(&format!("step {step}"), &stepped(Some(step)));
+    }
+    run(&display, "xdotool", &["key", "shift+j"]).expect("key shift+j");
+    shows("back to step 2", &stepped(Some(2)));
+    run(&display, "xdotool", &["key", "Escape"]).expect("key Escape");
+    shows("the whole picture again", &second);
 
     run(&display, "xdotool", &["key", "Escape"]).expect("key Escape");
     let status = wait_for("the viewer to quit on Esc", Duration::from_secs(10), || {

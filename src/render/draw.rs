@@ -28,9 +28,50 @@ pub fn draw<G: FixedFunction>(
     style: Style,
     mode: OffsetMode,
 ) {
-    for root in skeleton.roots() {
-        draw_recursive(gl, skeleton, root, frame, style, mode, 0);
+    draw_pass(gl, &Pass::whole(skeleton, frame, style, mode));
+}
+
+/// One draw of a skeleton: what [`draw`] takes, and how much of the tree to show.
+#[derive(Clone, Copy, Debug)]
+pub struct Pass<'a> {
+    pub skeleton: &'a Skeleton,
+    pub frame: Option<&'a [f32]>,
+    pub style: Style,
+    pub mode: OffsetMode,
+    /// Only the first `shown` joints in pre-order (the order they are drawn in) are drawn, the
+    /// last of them highlighted: the window's step-by-step view of the recursion. `None`: all.
+    pub shown: Option<usize>,
+}
+
+impl<'a> Pass<'a> {
+    /// The whole skeleton, as the article draws it.
+    pub fn whole(
+        skeleton: &'a Skeleton,
+        frame: Option<&'a [f32]>,
+        style: Style,
+        mode: OffsetMode,
+    ) -> Pass<'a> {
+        Pass {
+            skeleton,
+            frame,
+            style,
+            mode,
+            shown: None,
+        }
     }
+}
+
+/// [`draw`] of a [`Pass`]: every root's tree.
+pub fn draw_pass<G: FixedFunction>(gl: &mut G, pass: &Pass) {
+    for root in pass.skeleton.roots() {
+        if is_shown(pass, root) {
+            draw_recursive(gl, pass, root, 0);
+        }
+    }
+}
+
+fn is_shown(pass: &Pass, index: usize) -> bool {
+    pass.shown.is_none_or(|shown| index < shown)
 }
 
 /// The joint's translation for this frame (its OFFSET in the rest pose).
@@ -44,38 +85,44 @@ fn translation(joint: &Joint, frame: Option<&[f32]>, mode: OffsetMode) -> [f32; 
 /// C++: `BVH::drawRecursive`: push, translate, rotate, sphere, children, pop. The same calls in
 /// the same order (the article's "debug 3": translate before rotating). The translation is
 /// `pose::joint_translation`, so the matrix at each joint is `pose`'s world matrix times the view.
-/// Two additions, each one named call: an ASF bone's own axis (`rotate_space_about_axis`), and
-/// skeletons deeper than GL's matrix stack (`push_matrix_or_save`, `pop_matrix_or_restore`).
+/// Additions, each one named call: an ASF bone's own axis (`rotate_space_about_axis`),
+/// skeletons deeper than GL's matrix stack (`push_matrix_or_save`, `pop_matrix_or_restore`),
+/// the stick figure (`draw_sticks`) and the step view's highlight (`highlighted_sphere`).
 /// `depth` is the joint's depth in the tree, 0 at a root.
-pub fn draw_recursive<G: FixedFunction>(
-    gl: &mut G,
-    skeleton: &Skeleton,
-    index: usize,
-    frame: Option<&[f32]>,
-    style: Style,
-    mode: OffsetMode,
-    depth: usize,
-) {
-    let joint = &skeleton.joints[index];
+pub fn draw_recursive<G: FixedFunction>(gl: &mut G, pass: &Pass, index: usize, depth: usize) {
+    let joint = &pass.skeleton.joints[index];
     gl.note(Note::Joint(index));
     let saved = push_matrix_or_save(gl, depth);
-    let [x, y, z] = translation(joint, frame, mode);
+    let [x, y, z] = translation(joint, pass.frame, pass.mode);
     gl.translatef(x, y, z);
     match joint.axis {
-        None => rotate_space(gl, joint, frame),
-        Some(axis) => rotate_space_about_axis(gl, joint, frame, axis),
+        None => rotate_space(gl, joint, pass.frame),
+        Some(axis) => rotate_space_about_axis(gl, joint, pass.frame, axis),
     }
-    if style != Style::Sticks {
+    if pass.shown == Some(index + 1) {
+        highlighted_sphere(gl);
+    } else if pass.style != Style::Sticks {
         gl.solid_sphere(1.0, 20, 16);
     }
-    if style != Style::Points && !joint.children.is_empty() {
-        draw_sticks(gl, skeleton, joint, frame, mode);
+    if pass.style != Style::Points && !joint.children.is_empty() {
+        draw_sticks(gl, pass, joint);
     }
     for &child in &joint.children {
-        draw_recursive(gl, skeleton, child, frame, style, mode, depth + 1);
+        if is_shown(pass, child) {
+            draw_recursive(gl, pass, child, depth + 1);
+        }
     }
     pop_matrix_or_restore(gl, saved);
     gl.note(Note::JointEnd);
+}
+
+/// The joint the step view has just reached: a larger sphere, unlit orange.
+fn highlighted_sphere<G: FixedFunction>(gl: &mut G) {
+    gl.disable(GL_LIGHTING);
+    gl.color3f(1.0, 0.45, 0.1);
+    gl.solid_sphere(2.0, 20, 16);
+    gl.color3f(0.0, 1.0, 0.0);
+    gl.enable(GL_LIGHTING);
 }
 
 /// The GL modelview stack holds at least 32 matrices; below this depth the draw pushes and pops
@@ -101,18 +148,12 @@ fn pop_matrix_or_restore<G: FixedFunction>(gl: &mut G, saved: Option<[f32; 16]>)
     }
 }
 
-/// The stick figure's lines from a joint to each child, unlit.
-fn draw_sticks<G: FixedFunction>(
-    gl: &mut G,
-    skeleton: &Skeleton,
-    joint: &Joint,
-    frame: Option<&[f32]>,
-    mode: OffsetMode,
-) {
+/// The stick figure's lines from a joint to each child shown, unlit.
+fn draw_sticks<G: FixedFunction>(gl: &mut G, pass: &Pass, joint: &Joint) {
     gl.disable(GL_LIGHTING);
     gl.begin(GL_LINES);
-    for &child in &joint.children {
-        let [cx, cy, cz] = translation(&skeleton.joints[child], frame, mode);
+    for &child in joint.children.iter().filter(|&&c| is_shown(pass, c)) {
+        let [cx, cy, cz] = translation(&pass.skeleton.joints[child], pass.frame, pass.mode);
         gl.vertex3f(0.0, 0.0, 0.0);
         gl.vertex3f(cx, cy, cz);
     }

@@ -67,6 +67,12 @@ pub trait FixedFunction {
     fn load_matrix(&mut self, m: &[f32; 16]);
     /// Lit triangles from client-side arrays: `glDrawElements(GL_TRIANGLES, …)`.
     fn draw_triangles(&mut self, positions: &[glam::Vec3], normals: &[glam::Vec3], indices: &[u32]);
+    /// `glWindowPos2i(x, y)`: where the next bitmap goes, in pixels from the bottom left.
+    fn window_pos(&mut self, x: i32, y: i32);
+    /// `glBitmap(width, height, 0, 0, advance, 0, bits)`: one bit per pixel, rows from the bottom
+    /// up, each row whole bytes, most significant bit leftmost. Drawn in the current raster
+    /// colour, then the raster position moves `advance` pixels right.
+    fn bitmap(&mut self, width: i32, height: i32, advance: f32, bits: &[u8]);
     /// What the calls that follow draw, for a reader of the calls (`bvhview trace --explain`);
     /// GL itself has no such call, and ignores it.
     fn note(&mut self, _note: Note) {}
@@ -93,6 +99,8 @@ type FnGetFloatv = unsafe extern "system" fn(u32, *mut f32);
 type FnVertexPointer = unsafe extern "system" fn(i32, u32, i32, *const c_void);
 type FnNormalPointer = unsafe extern "system" fn(u32, i32, *const c_void);
 type FnDrawElements = unsafe extern "system" fn(u32, i32, u32, *const c_void);
+type Fn2i = unsafe extern "system" fn(i32, i32);
+type FnBitmap = unsafe extern "system" fn(i32, i32, f32, f32, f32, f32, *const u8);
 
 /// The GL entry points, loaded once per context.
 pub struct GlTable {
@@ -120,6 +128,8 @@ pub struct GlTable {
     vertex_pointer: FnVertexPointer,
     normal_pointer: FnNormalPointer,
     draw_elements: FnDrawElements,
+    window_pos2i: Fn2i,
+    bitmap: FnBitmap,
     /// glutSolidSphere's geometry for the last (radius, slices, stacks) asked for.
     sphere: Option<Sphere>,
 }
@@ -172,6 +182,8 @@ impl GlTable {
             vertex_pointer: FnVertexPointer = "glVertexPointer",
             normal_pointer: FnNormalPointer = "glNormalPointer",
             draw_elements: FnDrawElements = "glDrawElements",
+            window_pos2i: Fn2i = "glWindowPos2i",
+            bitmap: FnBitmap = "glBitmap",
         );
         let version = table.string(GL_VERSION);
         if !is_compatibility(&version) {
@@ -244,6 +256,21 @@ impl FixedFunction for GlTable {
     // SAFETY (all methods): the pointers were loaded for a compatibility context that is current
     // on this thread whenever these are called, and each call passes the arguments its C
     // signature takes.
+    fn window_pos(&mut self, x: i32, y: i32) {
+        unsafe { (self.window_pos2i)(x, y) }
+    }
+    fn bitmap(&mut self, width: i32, height: i32, advance: f32, bits: &[u8]) {
+        // GL reads ceil(width / 8) bytes for each of `height` rows: a shorter slice draws nothing.
+        let needed = usize::try_from(width.max(0)).unwrap_or(0).div_ceil(8)
+            * usize::try_from(height.max(0)).unwrap_or(0);
+        if bits.len() < needed {
+            return;
+        }
+        unsafe {
+            self.gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
+            (self.bitmap)(width, height, 0.0, 0.0, advance, 0.0, bits.as_ptr());
+        }
+    }
     fn clear_color(&mut self, r: f32, g: f32, b: f32, a: f32) {
         unsafe { self.gl.clear_color(r, g, b, a) }
     }

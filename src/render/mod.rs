@@ -7,6 +7,8 @@ pub mod osmesa;
 pub mod scene;
 pub mod skin_demo;
 pub mod sphere;
+pub mod step;
+pub mod text;
 pub mod trace;
 pub mod window;
 
@@ -117,6 +119,9 @@ pub struct SnapshotOptions {
     pub offset_mode: OffsetMode,
     /// Draw a generated skin around the bones (not the article's picture).
     pub skin: bool,
+    /// Only the first joints in drawing order, the last highlighted, with the step overlay
+    /// (the window's J key; not the article's picture).
+    pub step: Option<usize>,
 }
 
 impl Default for SnapshotOptions {
@@ -130,6 +135,7 @@ impl Default for SnapshotOptions {
             fit: false,
             offset_mode: OffsetMode::Replace,
             skin: false,
+            step: None,
         }
     }
 }
@@ -254,8 +260,20 @@ impl Renderer {
                 style: options.style,
                 offset_mode: options.offset_mode,
                 skin,
+                shown: options.step,
             },
         );
+        if let Some(shown) = options.step {
+            let lines = step::lines(
+                skeleton,
+                frame,
+                options.style,
+                options.offset_mode,
+                shown,
+                step::columns(width),
+            );
+            step::draw_overlay(gl, &lines);
+        }
         Ok(Image {
             width,
             height,

@@ -71,6 +71,9 @@ pub struct Scene<'a> {
     pub offset_mode: OffsetMode,
     /// A skin posed for this frame, drawn lit before the skeleton (`--skin`; not the article's).
     pub skin: Option<&'a crate::render::body::PosedBody>,
+    /// Only the first joints in drawing order, the last highlighted (the step view; not the
+    /// article's). `None`: the whole skeleton.
+    pub shown: Option<usize>,
 }
 
 /// C++: `init()`: black clear colour, depth test, `GL_LIGHT0` at (0, 0, 1, 1) while the modelview
@@ -118,7 +121,11 @@ pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene) {
         gl.draw_triangles(&skin.positions, &skin.normals, &skin.indices);
     }
     if let Some(style) = style {
-        draw::draw(gl, scene.skeleton, scene.frame, style, scene.offset_mode);
+        let pass = draw::Pass {
+            shown: scene.shown,
+            ..draw::Pass::whole(scene.skeleton, scene.frame, style, scene.offset_mode)
+        };
+        draw::draw_pass(gl, &pass);
     }
     gl.begin(GL_QUADS);
     gl.vertex3f(-100.0, -10.0, 100.0);

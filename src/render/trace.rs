@@ -51,6 +51,8 @@ pub struct Recorder {
     modelview: Vec<glam::DMat4>,
     in_modelview: bool,
     explain: Option<Explain>,
+    /// Where each joint's calls start: (joint, index into `lines`).
+    pub joint_starts: Vec<(usize, usize)>,
 }
 
 impl Recorder {
@@ -61,6 +63,7 @@ impl Recorder {
             modelview: vec![glam::DMat4::IDENTITY],
             in_modelview: true,
             explain: None,
+            joint_starts: Vec::new(),
         }
     }
 
@@ -453,7 +456,17 @@ impl FixedFunction for Recorder {
         let args = self.floats(&[x, y, z]);
         self.call("glNormal3f", &args);
     }
+    fn window_pos(&mut self, x: i32, y: i32) {
+        self.call("glWindowPos2i", &format!("{x}, {y}"));
+    }
+    fn bitmap(&mut self, width: i32, height: i32, advance: f32, _bits: &[u8]) {
+        let args = format!("{width}, {height}, 0, 0, {}, 0, glyph", self.float(advance));
+        self.call("glBitmap", &args);
+    }
     fn note(&mut self, note: Note) {
+        if let Note::Joint(index) = note {
+            self.joint_starts.push((index, self.lines.len()));
+        }
         let Some(explain) = &mut self.explain else {
             return;
         };

@@ -293,6 +293,7 @@ pub fn run(skeleton: &Skeleton, motion: &Motion, options: ViewerOptions) -> Resu
         dragging: false,
         running: None,
         error: None,
+        step: None,
         body: None,
         posed: crate::render::body::PosedBody::default(),
         scratch: (Vec::new(), Vec::new()),
@@ -369,6 +370,8 @@ struct Viewer<'a> {
     dragging: bool,
     running: Option<Running>,
     error: Option<Error>,
+    /// The step view: how many joints, in drawing order, are drawn (J, Shift+J; Esc leaves it).
+    step: Option<usize>,
     /// The generated skin, built the first time it is shown.
     body: Option<crate::render::body::Body>,
     posed: crate::render::body::PosedBody,
@@ -436,8 +439,21 @@ impl Viewer<'_> {
             style: self.options.style,
             offset_mode: self.options.offset_mode,
             skin,
+            shown: self.step,
         };
         scene::display(&mut running.gl, &scene);
+        if let Some(shown) = self.step {
+            let (width, _) = running.size;
+            let lines = crate::render::step::lines(
+                self.skeleton,
+                frame,
+                self.options.style,
+                self.options.offset_mode,
+                shown,
+                crate::render::step::columns(width),
+            );
+            crate::render::step::draw_overlay(&mut running.gl, &lines);
+        }
         running
             .surface
             .swap_buffers(&running.context)
@@ -470,7 +486,16 @@ impl Viewer<'_> {
     /// C++: `keyboard`. Returns false to quit.
     fn key(&mut self, key: &Key) -> bool {
         match key {
+            // In the step view, Esc goes back to the whole picture; otherwise it quits.
+            Key::Named(NamedKey::Escape) if self.step.is_some() => self.step = None,
             Key::Named(NamedKey::Escape) => return false,
+            Key::Character(text) if text.as_str() == "J" => {
+                self.step = Some(self.step.map_or(1, |shown| shown.saturating_sub(1).max(1)));
+            }
+            Key::Character(text) if text.as_str() == "j" => {
+                let count = self.skeleton.joints.len().max(1);
+                self.step = Some(self.step.map_or(1, |shown| (shown + 1).min(count)));
+            }
             Key::Named(NamedKey::Space) => {
                 self.playing = !self.playing;
                 self.next_tick = Instant::now() + self.frame_duration();
