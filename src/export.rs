@@ -41,9 +41,10 @@ impl Default for PositionsOptions {
 /// Parses a frame range: `N`, `A..B` (B excluded), `A..=B`, `A..` or `..B`, checked against
 /// `frame_count`. An empty take has one frame, the rest pose.
 pub fn parse_frames(text: &str, frame_count: usize) -> Result<Range<usize>, Error> {
+    let last = frame_count.saturating_sub(1);
     let bad = || {
         Error::Usage(format!(
-            "--frames {text}: expected N, A..B, A..=B, A.. or ..B with frames 0..{frame_count}"
+            "--frames {text}: expected N, A..B (B left out), A..=B, A.. or ..B within frames 0 to {last}"
         ))
     };
     let number = |s: &str| -> Result<usize, Error> { s.trim().parse().map_err(|_| bad()) };
@@ -62,7 +63,12 @@ pub fn parse_frames(text: &str, frame_count: usize) -> Result<Range<usize>, Erro
         let n = number(text)?;
         n..n.checked_add(1).ok_or_else(bad)?
     };
-    if range.start >= range.end || range.end > frame_count {
+    if range.start >= range.end {
+        return Err(Error::Usage(format!(
+            "--frames {text}: no frames: A..B leaves B out (for frame A alone, give A or A..=A)"
+        )));
+    }
+    if range.end > frame_count {
         return Err(bad());
     }
     Ok(range)

@@ -45,8 +45,9 @@ pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
     } else {
         String::new()
     };
+    // Six significant digits for every input: a BVH's `0.0083333` and an AMC's 1/120 alike.
     let time = if (1e-6..1e9).contains(&motion.frame_time) || motion.frame_time == 0.0 {
-        motion.frame_time.to_string()
+        crate::render::trace::format_g(motion.frame_time, 6)
     } else {
         format!("{:e}", motion.frame_time)
     };
@@ -82,7 +83,8 @@ fn rotation_orders(skeleton: &Skeleton) -> String {
     }
     let mut parts: Vec<String> = counts.iter().map(|(k, n)| format!("{k} ×{n}")).collect();
     if other > 0 {
-        parts.push(format!("other ×{other}"));
+        // No rotation, or not exactly three on distinct axes (an ASF bone with one or two dof).
+        parts.push(format!("other ×{other} (not three rotations)"));
     }
     if parts.is_empty() {
         "none".to_string()

@@ -51,5 +51,6 @@ pub fn cores() -> usize {
     *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
 }
 
-/// How the default motion is named in messages.
-pub const DEFAULT_MOTION_NAME: &str = "assets/walk.bvh";
+/// How the default motion is named in messages: it is built into the binary, so no path names
+/// it (assets/walk.bvh exists only in the source).
+pub const DEFAULT_MOTION_NAME: &str = "the bundled walk";

@@ -18,7 +18,8 @@ use std::process::ExitCode;
     name = "bvhview",
     version,
     about = "Load, look at, snapshot and export BVH and ASF/AMC motion capture",
-    args_conflicts_with_subcommands = true
+    args_conflicts_with_subcommands = true,
+    after_help = WINDOW_KEYS
 )]
 struct Cli {
     #[command(subcommand)]
@@ -36,6 +37,9 @@ struct Cli {
     /// Start with a generated skin around the bones (K toggles it).
     #[arg(long)]
     skin: bool,
+    /// Say nothing on stderr about what was written.
+    #[arg(short, long, global = true)]
+    quiet: bool,
 }
 
 /// `--offset-mode`: how a joint's position channels combine with its OFFSET.
@@ -98,6 +102,20 @@ impl From<FormatArg> for Format {
     }
 }
 
+/// The window's keys, for `bvhview --help`.
+const WINDOW_KEYS: &str = "\
+Keys in the window:
+  W             next frame (the article)
+  S             previous frame
+  A / D         turn the camera (the article)
+  Space         play / pause at the file's frame time
+  mouse drag    turn; wheel: zoom
+  F             frame the whole skeleton / back to the article's camera
+  B             stick figure on / off
+  K             generated skin on / off
+  J / Shift+J   step through the recursion one joint at a time (Esc: whole picture)
+  Esc           quit (the article)";
+
 /// Options that come with any input file.
 #[derive(Args, Clone, Debug)]
 struct Source {
@@ -105,7 +123,7 @@ struct Source {
     #[arg(long, value_name = "TAKE.amc")]
     motion: Option<PathBuf>,
     /// Seconds per frame, overriding the file (AMC files have none: default 1/120).
-    #[arg(long, value_name = "SECONDS")]
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     frame_time: Option<f64>,
     /// Refuse input files larger than this (bytes; K, M, G suffixes), before reading them.
     #[arg(long, value_name = "SIZE", default_value = "8G", value_parser = parse_max_size)]
@@ -168,6 +186,7 @@ enum Command {
 
 #[derive(Args)]
 struct PrintArgs {
+    /// A .bvh file, or an .asf skeleton (its motion with --motion).
     file: PathBuf,
     #[command(flatten)]
     source: Source,
@@ -186,19 +205,21 @@ struct InfoArgs {
 
 #[derive(Args)]
 struct PositionsArgs {
+    /// A .bvh file, or an .asf skeleton (its motion with --motion).
     file: PathBuf,
     #[command(flatten)]
     source: Source,
     /// Frames to write: N, A..B (B excluded), A..=B, A.. or ..B (default: all).
     #[arg(long)]
     frames: Option<String>,
+    /// The output format.
     #[arg(long, value_enum, default_value_t)]
     format: FormatArg,
     /// Negate z (right-handed to left-handed, as for Direct3D).
     #[arg(long)]
     left_handed: bool,
     /// Multiply every coordinate (default 1: the file's own units).
-    #[arg(long, default_value_t = 1.0)]
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     scale: f32,
     /// How position channels combine with OFFSET.
     #[arg(long, value_enum, default_value_t)]
@@ -210,6 +231,7 @@ struct PositionsArgs {
 
 #[derive(Args)]
 struct SnapshotArgs {
+    /// A .bvh file, or an .asf skeleton (its motion with --motion).
     file: PathBuf,
     #[command(flatten)]
     source: Source,
@@ -238,6 +260,7 @@ struct SnapshotArgs {
 
 #[derive(Args)]
 struct TraceArgs {
+    /// A .bvh file, or an .asf skeleton (its motion with --motion).
     file: PathBuf,
     #[command(flatten)]
     source: Source,
@@ -281,7 +304,9 @@ enum NumbersArg {
 
 #[derive(Args)]
 struct DiffArgs {
+    /// The first PNG picture.
     first: PathBuf,
+    /// The second PNG picture, of the same size.
     second: PathBuf,
     /// Write the difference: differing pixels red, the rest dimmed.
     #[arg(short, long)]
@@ -303,9 +328,11 @@ struct SkinDemoArgs {
 
 #[derive(Args)]
 struct ConvertArgs {
+    /// A .bvh file, or an .asf skeleton with its motion in --motion.
     input: PathBuf,
     #[command(flatten)]
     source: Source,
+    /// The BVH file to write.
     #[arg(short, long)]
     output: PathBuf,
 }
@@ -338,7 +365,31 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // A mistyped command would be taken for a file name: say what was probably meant instead.
+    if let Some(word) = std::env::args().nth(1)
+        && !word.starts_with('-')
+        && !COMMANDS.contains(&word.as_str())
+        && !Path::new(&word).exists()
+        && input::extension(Path::new(&word)).is_empty()
+        && let Some(command) = meant_command(&word)
+    {
+        eprintln!(
+            "bvhview: '{word}' is neither a file nor a command; did you mean `bvhview {command}`?"
+        );
+        return ExitCode::from(2);
+    }
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        // Help and version go to stdout as clap writes them; mistakes get our one prefix.
+        Err(e) if !e.use_stderr() => e.exit(),
+        Err(e) => {
+            let text = e.render().to_string();
+            let text = text.strip_prefix("error: ").unwrap_or(&text);
+            eprint!("bvhview: {text}");
+            return ExitCode::from(2);
+        }
+    };
+    QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
     let result = match cli.command {
         None => viewer(cli.file, cli.source, cli.style, cli.offset_mode, cli.skin),
         Some(Command::Print(args)) => print(args),
@@ -359,20 +410,84 @@ fn main() -> ExitCode {
     }
 }
 
+/// `-q`: no line about what was written.
+static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// The one line on stderr that says what a command wrote.
+fn wrote(what: std::fmt::Arguments) {
+    if !QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        eprintln!("bvhview: wrote {what}");
+    }
+}
+
+/// Refuses an output whose extension is not one the command writes, before any work.
+fn check_output(path: &Path, formats: &[&str]) -> Result<(), Error> {
+    let extension = input::extension(path);
+    if formats.contains(&extension.as_str()) {
+        return Ok(());
+    }
+    let list: Vec<String> = formats.iter().map(|f| format!(".{f}")).collect();
+    Err(Error::Usage(format!(
+        "-o {}: this command writes {}",
+        path.display(),
+        list.join(" or ")
+    )))
+}
+
+/// The subcommands, for a suggestion when a mistyped one is taken for a file.
+const COMMANDS: &[&str] = &[
+    "print",
+    "info",
+    "positions",
+    "snapshot",
+    "trace",
+    "diff",
+    "skin-demo",
+    "convert",
+];
+
+/// The command `word` was most likely meant to be: a letter or two away from one.
+fn meant_command(word: &str) -> Option<&'static str> {
+    fn distance(a: &str, b: &str) -> usize {
+        let b: Vec<char> = b.chars().collect();
+        let mut row: Vec<usize> = (0..=b.len()).collect();
+        for (i, ca) in a.chars().enumerate() {
+            let mut previous = row[0];
+            row[0] = i + 1;
+            for (j, &cb) in b.iter().enumerate() {
+                let substitute = previous + usize::from(ca != cb);
+                previous = row[j + 1];
+                row[j + 1] = substitute.min(row[j] + 1).min(row[j + 1] + 1);
+            }
+        }
+        row[b.len()]
+    }
+    COMMANDS
+        .iter()
+        .map(|&c| (distance(word, c), c))
+        .filter(|&(d, _)| d <= 2)
+        .min()
+        .map(|(_, c)| c)
+}
+
 /// Loads a file (with its motion) and reports its warnings on stderr.
 fn load(path: &Path, source: &Source) -> Result<Loaded, Error> {
-    let threads = bvhview::cores();
-    let loaded = input::load_checked(
-        path,
-        source.motion.as_deref(),
-        source.frame_time,
-        threads,
-        source.max_size,
-    )?;
+    let loaded = load_quietly(path, source)?;
     for warning in &loaded.warnings {
         eprintln!("bvhview: {}: warning: {warning}", path.display());
     }
     Ok(loaded)
+}
+
+/// Loads a file (with its motion), its warnings left to the caller.
+fn load_quietly(path: &Path, source: &Source) -> Result<Loaded, Error> {
+    input::load_checked(
+        path,
+        source.motion.as_deref(),
+        source.frame_time,
+        bvhview::cores(),
+        source.max_size,
+    )
 }
 
 /// The named file, or the bundled walk; with the name to show.
@@ -383,10 +498,12 @@ fn load_or_default(path: Option<&Path>, source: &Source) -> Result<(String, Load
             if source.motion.is_some() {
                 return Err(Error::Usage("--motion needs an ASF skeleton file".into()));
             }
-            Ok((
-                bvhview::DEFAULT_MOTION_NAME.to_string(),
-                input::default_motion()?,
-            ))
+            input::check_frame_time(source.frame_time)?;
+            let mut walk = input::default_motion()?;
+            if let Some(time) = source.frame_time {
+                walk.motion.frame_time = time;
+            }
+            Ok((bvhview::DEFAULT_MOTION_NAME.to_string(), walk))
         }
     }
 }
@@ -527,12 +644,26 @@ fn info(args: InfoArgs) -> Result<ExitCode, Error> {
     if let Some(dir) = args.file.as_deref().filter(|f| f.is_dir()) {
         return batch(dir, &args.source, offset_mode);
     }
-    let (name, loaded) = load_or_default(args.file.as_deref(), &args.source)?;
+    // The summary lists the file's warnings: they are not said again on stderr.
+    let (name, loaded) = match args.file.as_deref() {
+        Some(path) => (
+            path.display().to_string(),
+            load_quietly(path, &args.source)?,
+        ),
+        None => load_or_default(None, &args.source)?,
+    };
+    let name = match &args.source.motion {
+        Some(take) => format!("{name} + {}", take.display()),
+        None => name,
+    };
     write_text(&bvhview::info::summary(&name, &loaded, offset_mode))?;
     Ok(ExitCode::SUCCESS)
 }
 
 fn positions(args: PositionsArgs) -> Result<ExitCode, Error> {
+    if let Some(output) = &args.output {
+        check_output(output, &["csv", "json"])?;
+    }
     let loaded = load(&args.file, &args.source)?;
     let available = loaded.motion.frame_count().max(1);
     if loaded.motion.frame_count() == 0 {
@@ -565,14 +696,37 @@ fn positions(args: PositionsArgs) -> Result<ExitCode, Error> {
     };
     let output = args.output.as_deref();
     let mut out = open_output(output)?;
-    let result =
-        export::write_positions(&mut out, &loaded.skeleton, &loaded.motion, range, &options)
-            .and_then(|()| out.flush());
+    let result = export::write_positions(
+        &mut out,
+        &loaded.skeleton,
+        &loaded.motion,
+        range.clone(),
+        &options,
+    )
+    .and_then(|()| out.flush());
     finish_write(result, output)?;
+    if let Some(path) = output {
+        let frames = range.len();
+        let points = export::export_points(&loaded.skeleton).len();
+        wrote(format_args!(
+            "{}: {frames} frames × {points} points",
+            path.display()
+        ));
+    }
     Ok(ExitCode::SUCCESS)
 }
 
 fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
+    match &args.frames {
+        None => check_output(&args.output, &["png"])?,
+        Some(_) if !input::extension(&args.output).is_empty() => {
+            return Err(Error::Usage(format!(
+                "-o {}: --frames writes one PNG per frame into a folder; give a folder such as frames/",
+                args.output.display()
+            )));
+        }
+        Some(_) => {}
+    }
     let loaded = load(&args.file, &args.source)?;
     let options = SnapshotOptions {
         skin: args.skin,
@@ -589,6 +743,12 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
     let Some(frames) = &args.frames else {
         let image = bvhview::render::snapshot(&loaded.skeleton, &loaded.motion, &options)?;
         image.write_png(output)?;
+        wrote(format_args!(
+            "{} ({}x{})",
+            output.display(),
+            image.width,
+            image.height
+        ));
         return Ok(ExitCode::SUCCESS);
     };
     let range = export::parse_frames(frames, loaded.motion.frame_count().max(1))?;
@@ -596,6 +756,7 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
     // One offscreen context for the whole sequence.
     let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
     let digits = (range.end.max(1) - 1).to_string().len().max(5);
+    let count = range.len();
     for frame in range {
         let image = renderer.render(
             &loaded.skeleton,
@@ -604,6 +765,7 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         )?;
         image.write_png(&output.join(format!("frame_{frame:0digits$}.png")))?;
     }
+    wrote(format_args!("{count} pictures into {}", output.display()));
     Ok(ExitCode::SUCCESS)
 }
 
@@ -655,6 +817,9 @@ fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
 /// Exits 1 when the pictures differ, 0 when they are the same.
 fn diff(args: DiffArgs) -> Result<ExitCode, Error> {
     use bvhview::render::Image;
+    if let Some(output) = &args.output {
+        check_output(output, &["png"])?;
+    }
     let (a, b) = (
         Image::read_png(&args.first)?,
         Image::read_png(&args.second)?,
@@ -669,6 +834,7 @@ fn diff(args: DiffArgs) -> Result<ExitCode, Error> {
     let total = a.width as usize * a.height as usize;
     if let Some(path) = &args.output {
         a.difference(&b).write_png(path)?;
+        wrote(format_args!("{}", path.display()));
     }
     let percent = differing as f64 * 100.0 / total as f64;
     write_text(&format!(
@@ -684,8 +850,10 @@ fn diff(args: DiffArgs) -> Result<ExitCode, Error> {
 fn skin_demo(args: SkinDemoArgs) -> Result<ExitCode, Error> {
     match &args.output {
         Some(path) => {
+            check_output(path, &["png"])?;
             let (width, height) = args.size;
-            bvhview::render::skin_demo::render(args.bend, width, height)?.write_png(path)?
+            bvhview::render::skin_demo::render(args.bend, width, height)?.write_png(path)?;
+            wrote(format_args!("{} ({width}x{height})", path.display()));
         }
         None => bvhview::render::window::run_skin_demo(args.bend)?,
     }
@@ -693,6 +861,7 @@ fn skin_demo(args: SkinDemoArgs) -> Result<ExitCode, Error> {
 }
 
 fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
+    check_output(&args.output, &["bvh"])?;
     let loaded = load(&args.input, &args.source)?;
     // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
     let (skeleton, motion) = if loaded.skeleton.joints.iter().any(|j| j.axis.is_some()) {
@@ -712,5 +881,11 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
             output.display()
         );
     }
+    wrote(format_args!(
+        "{}: {} joints, {} frames",
+        output.display(),
+        skeleton.joints.iter().filter(|j| !j.end_site).count(),
+        motion.frame_count()
+    ));
     Ok(ExitCode::SUCCESS)
 }

@@ -148,11 +148,11 @@ fn errors_point_at_the_offending_token() {
         ),
         (
             TWO_JOINTS.replace("7 8 9\n-1", "7 8\n-1"),
-            "19:16: frame 1 has 8 values, expected 9 (one per channel)",
+            "19:16: frame 0 has 8 values, expected 9 (one per channel)",
         ),
         (
             TWO_JOINTS.replace("7 8 9\n-1", "7 8 9 10\n-1"),
-            "19:19: frame 1 has more than the 9 values the channels need",
+            "19:19: frame 0 has more than the 9 values the channels need",
         ),
         (
             TWO_JOINTS.replace("-7 -8", "-7 nan"),

@@ -226,7 +226,7 @@ fn blank_lines_anywhere_in_a_big_file_change_only_the_line_numbers() {
 
 #[test]
 fn a_row_with_the_wrong_count_names_its_own_frame_in_any_chunk() {
-    // Rows are 1-numbered in this message. Later chunks are parsed out of order on other threads,
+    // Frames are counted from 0 in this message, as `--frame` counts them. Later chunks are parsed out of order on other threads,
     // and blank lines shift where their rows are placed: neither may change the number.
     let frames = 3 * CHUNK / 30;
     for (newline, blank_every) in [("\n", 0), ("\r\n", 0), ("\r", 0), ("\n", 10)] {
@@ -249,10 +249,7 @@ fn a_row_with_the_wrong_count_names_its_own_frame_in_any_chunk() {
                 }
             }
             let (memory, file) = both(&text);
-            let want = format!(
-                "frame {} has 5 values, expected 6 (one per channel)",
-                row + 1
-            );
+            let want = format!("frame {row} has 5 values, expected 6 (one per channel)");
             for error in [memory.unwrap_err(), file.unwrap_err()] {
                 assert!(
                     error.ends_with(&want),

@@ -111,7 +111,7 @@ fn bad_frame_ranges_and_bad_files_exit_2_with_one_line() {
     let stderr = String::from_utf8(out.stderr).unwrap();
     assert_eq!(
         stderr,
-        "bvhview: --frames 2..9: expected N, A..B, A..=B, A.. or ..B with frames 0..3\n"
+        "bvhview: --frames 2..9: expected N, A..B (B left out), A..=B, A.. or ..B within frames 0 to 2\n"
     );
 
     let broken = data("bvh_malformed/dali_test-invalid-hierarchy1.bvh")
@@ -150,11 +150,8 @@ fn info_reports_counts_timing_orders_and_a_trailer_warning() {
     ] {
         assert!(text.contains(line), "missing {line:?} in\n{text}");
     }
-    let stderr = String::from_utf8(out.stderr).unwrap();
-    assert!(
-        stderr.contains(": warning: 24 extra rows after the 100"),
-        "{stderr}"
-    );
+    // Said once: in the summary, not again on stderr.
+    assert_eq!(String::from_utf8(out.stderr).unwrap(), "");
 }
 
 #[test]
@@ -178,11 +175,7 @@ fn info_reports_counts_timing_orders_and_warnings() {
     ] {
         assert!(text.contains(line), "missing {line:?} in\n{text}");
     }
-    let stderr = String::from_utf8(out.stderr).unwrap();
-    assert!(
-        stderr.contains(": warning: 1 extra row after the 3069"),
-        "{stderr}"
-    );
+    assert_eq!(String::from_utf8(out.stderr).unwrap(), "");
 }
 
 #[test]
@@ -191,7 +184,7 @@ fn info_without_a_file_describes_the_bundled_walk() {
     assert!(out.status.success());
     let text = String::from_utf8(out.stdout).unwrap();
     assert!(
-        text.contains("file:             assets/walk.bvh\n"),
+        text.contains("file:             the bundled walk\n"),
         "{text}"
     );
     assert!(text.contains("frames:           40\n"));

@@ -77,7 +77,8 @@ fn convert_writes_names_with_blanks_safe_and_says_so() {
         String::from_utf8(result.stderr).unwrap(),
         format!(
             "bvhview: {}: joint \"Upper Chest\" written as \"Upper_Chest\" (a BVH name holds no \
-             whitespace or braces)\n",
+             whitespace or braces)\nbvhview: wrote {}: 2 joints, 2 frames\n",
+            out.display(),
             out.display()
         )
     );

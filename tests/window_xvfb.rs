@@ -150,12 +150,12 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
         }
     };
     wait_for(
-        "frame 1/3 in the title",
-        Duration::from_secs(10),
-        title("1/3"),
+        "frame 0 in the title",
+        Duration::from_secs(30),
+        title("0 of 0-2"),
     );
     let first = snapshot(0);
-    let seen = wait_for("the first picture", Duration::from_secs(10), || {
+    let seen = wait_for("the first picture", Duration::from_secs(30), || {
         let image = capture(&display, &window);
         (image.differing_pixels(&first) == 0).then_some(image)
     });
@@ -169,9 +169,9 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     run(&display, "xdotool", &["windowfocus", "--sync", &window]).expect("focus");
     run(&display, "xdotool", &["key", "w"]).expect("key w");
     wait_for(
-        "frame 2/3 in the title",
-        Duration::from_secs(10),
-        title("2/3"),
+        "frame 1 in the title",
+        Duration::from_secs(30),
+        title("1 of 0-2"),
     );
     let second = snapshot(1);
     let start = Instant::now();
@@ -210,7 +210,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
                 return;
             }
             assert!(
-                start.elapsed() < Duration::from_secs(10),
+                start.elapsed() < Duration::from_secs(30),
                 "{what}: {differing} pixels differ from the snapshot"
             );
             std::thread::sleep(Duration::from_millis(50));
@@ -226,7 +226,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     shows("the whole picture again", &second);
 
     run(&display, "xdotool", &["key", "Escape"]).expect("key Escape");
-    let status = wait_for("the viewer to quit on Esc", Duration::from_secs(10), || {
+    let status = wait_for("the viewer to quit on Esc", Duration::from_secs(30), || {
         viewer.0.try_wait().unwrap()
     });
     assert!(status.success(), "exit status {status}");

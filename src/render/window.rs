@@ -383,12 +383,13 @@ impl Viewer<'_> {
         self.motion.frame_count().max(1)
     }
 
+    /// Frames are counted from 0, as `--frame` counts them.
     fn title(&self) -> String {
         format!(
-            "bvhview - {} - frame {}/{}",
+            "bvhview - {} - frame {} of 0-{}",
             self.options.name,
-            self.frame + 1,
-            self.frame_count()
+            self.frame,
+            self.frame_count() - 1
         )
     }
 
@@ -507,10 +508,13 @@ impl Viewer<'_> {
                 "d" => self.turn(-0.1),
                 "f" => self.fit = !self.fit,
                 "k" => self.options.skin = !self.options.skin,
+                // Every style in turn. With the skin on, the skin stands for the spheres, so
+                // only the stick figure over it changes anything: B turns it on and off.
                 "b" => {
-                    self.options.style = match self.options.style {
-                        Style::Points => Style::Both,
-                        _ => Style::Points,
+                    self.options.style = match (self.options.style, self.options.skin) {
+                        (Style::Points, _) => Style::Sticks,
+                        (Style::Sticks, false) => Style::Both,
+                        (Style::Sticks, true) | (Style::Both, _) => Style::Points,
                     }
                 }
                 _ => return true,

@@ -207,9 +207,10 @@ impl Located {
     }
 
     /// The error, once the chunk's first row is known to be row `first_row` (counted from 0) of
-    /// the MOTION section; `width` values make a row.
+    /// the MOTION section; `width` values make a row. Frames are named from 0, as `--frame`
+    /// names them.
     fn into_error(self, source: &str, width: usize, first_row: usize) -> Error {
-        let frame = first_row + self.row_in_chunk + 1;
+        let frame = first_row + self.row_in_chunk;
         let message = match self.what {
             Ok(None) => format!("frame {frame} has more than the {width} values the channels need"),
             Ok(Some(count)) => {
