@@ -109,8 +109,9 @@ Keys in the window:
   S             previous frame
   A / D         turn the camera (the article)
   Space         play / pause at the file's frame time
-  mouse drag    turn; wheel: zoom
+  mouse drag    turn and tilt; Shift+drag or middle drag: pan; wheel: zoom
   F             frame the whole skeleton / back to the article's camera
+  C             the article's camera, as at the start
   B             stick figure on / off
   K             generated skin on / off
   J / Shift+J   step through the recursion one joint at a time (Esc: whole picture)
@@ -808,6 +809,7 @@ fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
         offset_mode,
         skin: None,
         shown: None,
+        sphere_radius: scene::sphere_radius(&camera, fit),
     };
     scene::display(&mut recorder, &view);
     write_text(&recorder.text())?;

@@ -162,6 +162,7 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
         offset_mode: options.offset_mode,
         skin: None,
         shown: None,
+        sphere_radius: 1.0,
     };
     scene::display(gl, &view);
     Image {
@@ -260,4 +261,53 @@ fn skin_demo_matches_its_golden_pictures() {
     );
     // The bottom of the yellow quad stays with bone 1.
     assert_eq!(skinned[0], glam::Vec3::new(-1.0, 0.0, 0.0));
+}
+
+/// With `--fit`, every file's skeleton shows at its middle frame, whatever its units: lit pixels
+/// where the same view without the skeleton has none.
+fn check_fit_shows_every_file(folder: &Path, pairs: &[(&str, &str)]) {
+    let mut inputs: Vec<(PathBuf, Option<PathBuf>)> = files_in(&folder.join("bvh"), "bvh")
+        .into_iter()
+        .map(|path| (path, None))
+        .collect();
+    for (asf, amc) in pairs {
+        let folder = folder.join("asf_amc");
+        inputs.push((folder.join(asf), Some(folder.join(amc))));
+    }
+    for (path, motion) in inputs {
+        let loaded = bvhview::input::load(&path, motion.as_deref(), None).unwrap();
+        let options = SnapshotOptions {
+            frame: loaded.motion.frame_count() / 2,
+            fit: true,
+            ..SnapshotOptions::default()
+        };
+        let picture =
+            bvhview::render::snapshot(&loaded.skeleton, &loaded.motion, &options).unwrap();
+        let figure = picture.differing_pixels(&without_skeleton(&loaded, &options));
+        println!("figure {}: {figure} pixels", path.display());
+        assert!(
+            figure >= 40,
+            "{}: only {figure} pixels show the skeleton",
+            path.display()
+        );
+    }
+}
+
+#[test]
+fn with_fit_every_repository_file_shows_its_skeleton() {
+    check_fit_shows_every_file(&repo_data(""), &[("heiden_12.asf", "heiden_12_02_01.amc")]);
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn with_fit_every_whole_corpus_file_shows_its_skeleton() {
+    check_fit_shows_every_file(
+        &shared_data(""),
+        &[
+            ("heiden_12.asf", "heiden_12_02_01.amc"),
+            ("simchoni_charleston.asf", "simchoni_charleston_1.amc"),
+            ("simchoni_lambada.asf", "simchoni_lambada_1.amc"),
+            ("simchoni_pirouette.asf", "simchoni_pirouette_1.amc"),
+        ],
+    );
 }

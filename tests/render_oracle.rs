@@ -232,6 +232,7 @@ fn gl_matrix_stack_equals_pose_world_times_view() {
             offset_mode: Default::default(),
             skin: None,
             shown: None,
+            sphere_radius: 1.0,
         };
         bvhview::render::draw::draw(&mut probe, s.skeleton, s.frame, s.style, s.offset_mode);
         let mut worlds = Vec::new();
@@ -301,6 +302,7 @@ fn calls_match_the_articles_trace() {
         offset_mode: Default::default(),
         skin: None,
         shown: None,
+        sphere_radius: 1.0,
     };
     scene::display(&mut recorder, &s);
     let expected = std::fs::read_to_string(oracle("trace/tiny_crlf__f1__a10.txt")).unwrap();

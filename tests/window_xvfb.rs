@@ -225,6 +225,42 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     run(&display, "xdotool", &["key", "Escape"]).expect("key Escape");
     shows("the whole picture again", &second);
 
+    // F frames the skeleton (spheres in proportion to it), a drag turns and tilts away from it,
+    // and C goes back to the article's camera.
+    let framed = bvhview::render::snapshot(
+        &bvh.skeleton,
+        &bvh.motion,
+        &SnapshotOptions {
+            frame: 1,
+            fit: true,
+            ..SnapshotOptions::default()
+        },
+    )
+    .unwrap();
+    run(&display, "xdotool", &["key", "f"]).expect("key f");
+    shows("framed with F", &framed);
+    // XTEST, like the keys: no window is named (under Xvfb without a window manager the
+    // window sits at 0, 0).
+    for step in [
+        &["mousemove", "300", "300"][..],
+        &["mousedown", "1"],
+        &["mousemove", "320", "330"],
+        &["mousemove", "340", "360"],
+        &["mouseup", "1"],
+    ] {
+        run(&display, "xdotool", step).expect("the mouse");
+    }
+    let start = Instant::now();
+    while capture(&display, &window).differing_pixels(&framed) == 0 {
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "the drag changed nothing"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    run(&display, "xdotool", &["key", "c"]).expect("key c");
+    shows("the article's camera again with C", &second);
+
     run(&display, "xdotool", &["key", "Escape"]).expect("key Escape");
     let status = wait_for("the viewer to quit on Esc", Duration::from_secs(30), || {
         viewer.0.try_wait().unwrap()

@@ -41,6 +41,9 @@ pub struct Pass<'a> {
     /// Only the first `shown` joints in pre-order (the order they are drawn in) are drawn, the
     /// last of them highlighted: the window's step-by-step view of the recursion. `None`: all.
     pub shown: Option<usize>,
+    /// The spheres' radius: the article's 1, or in proportion to the skeleton in a view that
+    /// frames it.
+    pub sphere_radius: f64,
 }
 
 impl<'a> Pass<'a> {
@@ -57,6 +60,7 @@ impl<'a> Pass<'a> {
             style,
             mode,
             shown: None,
+            sphere_radius: 1.0,
         }
     }
 }
@@ -100,9 +104,9 @@ pub fn draw_recursive<G: FixedFunction>(gl: &mut G, pass: &Pass, index: usize, d
         Some(axis) => rotate_space_about_axis(gl, joint, pass.frame, axis),
     }
     if pass.shown == Some(index + 1) {
-        highlighted_sphere(gl);
+        highlighted_sphere(gl, pass.sphere_radius);
     } else if pass.style != Style::Sticks {
-        gl.solid_sphere(1.0, 20, 16);
+        gl.solid_sphere(pass.sphere_radius, 20, 16);
     }
     if pass.style != Style::Points && !joint.children.is_empty() {
         draw_sticks(gl, pass, joint);
@@ -117,10 +121,10 @@ pub fn draw_recursive<G: FixedFunction>(gl: &mut G, pass: &Pass, index: usize, d
 }
 
 /// The joint the step view has just reached: a larger sphere, unlit orange.
-fn highlighted_sphere<G: FixedFunction>(gl: &mut G) {
+fn highlighted_sphere<G: FixedFunction>(gl: &mut G, radius: f64) {
     gl.disable(GL_LIGHTING);
     gl.color3f(1.0, 0.45, 0.1);
-    gl.solid_sphere(2.0, 20, 16);
+    gl.solid_sphere(2.0 * radius, 20, 16);
     gl.color3f(0.0, 1.0, 0.0);
     gl.enable(GL_LIGHTING);
 }

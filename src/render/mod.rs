@@ -261,6 +261,7 @@ impl Renderer {
                 offset_mode: options.offset_mode,
                 skin,
                 shown: options.step,
+                sphere_radius: scene::sphere_radius(&camera, options.fit),
             },
         );
         if let Some(shown) = options.step {

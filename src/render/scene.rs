@@ -24,6 +24,9 @@ pub struct Camera {
     pub angle: f32,
     pub target: [f32; 3],
     pub distance: f32,
+    /// How far above the target's height the eye looks down, in radians; 0 is the article's
+    /// level camera (the window's vertical drag tilts it).
+    pub pitch: f32,
 }
 
 impl Default for Camera {
@@ -33,6 +36,7 @@ impl Default for Camera {
             angle: START_ANGLE,
             target: [0.0, 20.0, 0.0],
             distance: R,
+            pitch: 0.0,
         }
     }
 }
@@ -41,11 +45,30 @@ impl Camera {
     /// The eye, as the article computes it: `R*cos(angle)` with a float `cos`.
     pub fn eye(&self) -> [f32; 3] {
         let [x, y, z] = self.target;
+        if self.pitch == 0.0 {
+            // Exactly the article's arithmetic, so its picture comes out pixel for pixel.
+            return [
+                x + self.distance * self.angle.cos(),
+                y,
+                z + self.distance * self.angle.sin(),
+            ];
+        }
+        let (up, level) = self.pitch.sin_cos();
         [
-            x + self.distance * self.angle.cos(),
-            y,
-            z + self.distance * self.angle.sin(),
+            x + self.distance * level * self.angle.cos(),
+            y + self.distance * up,
+            z + self.distance * level * self.angle.sin(),
         ]
+    }
+
+    /// Moves the target across the view: `right` and `up` in units of the distance.
+    pub fn pan(&mut self, right: f32, up: f32) {
+        let (sin, cos) = self.angle.sin_cos();
+        // The view's right is across the eye's direction (cos a, 0, sin a), in the ground plane.
+        let step = self.distance;
+        self.target[0] += -sin * right * step;
+        self.target[2] += cos * right * step;
+        self.target[1] += up * step;
     }
 
     /// A camera at `angle` that sees the whole sphere (`center`, `radius`) in the article's 45°
@@ -56,6 +79,7 @@ impl Camera {
             angle,
             target: center,
             distance: (radius.max(1.0) / half_fov.sin()) * 1.1,
+            pitch: 0.0,
         }
     }
 }
@@ -74,6 +98,19 @@ pub struct Scene<'a> {
     /// Only the first joints in drawing order, the last highlighted (the step view; not the
     /// article's). `None`: the whole skeleton.
     pub shown: Option<usize>,
+    /// The spheres' radius (the article's 1; see [`sphere_radius`]).
+    pub sphere_radius: f64,
+}
+
+/// The spheres' radius for a view: the article's 1 at its own camera; in a view that frames the
+/// skeleton, in proportion to it, as 1 is to a 170-unit figure 200 units away, so that a rig in
+/// metres is not one blob and one in CMU's units not big balls.
+pub fn sphere_radius(camera: &Camera, framed: bool) -> f64 {
+    if framed {
+        f64::from(camera.distance) * 0.0042
+    } else {
+        1.0
+    }
 }
 
 /// C++: `init()`: black clear colour, depth test, `GL_LIGHT0` at (0, 0, 1, 1) while the modelview
@@ -123,6 +160,7 @@ pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene) {
     if let Some(style) = style {
         let pass = draw::Pass {
             shown: scene.shown,
+            sphere_radius: scene.sphere_radius,
             ..draw::Pass::whole(scene.skeleton, scene.frame, style, scene.offset_mode)
         };
         draw::draw_pass(gl, &pass);

@@ -290,7 +290,8 @@ pub fn run(skeleton: &Skeleton, motion: &Motion, options: ViewerOptions) -> Resu
         playing: false,
         next_tick: Instant::now(),
         drag_from: None,
-        dragging: false,
+        dragging: None,
+        shift: false,
         running: None,
         error: None,
         step: None,
@@ -366,8 +367,10 @@ struct Viewer<'a> {
     fit: bool,
     playing: bool,
     next_tick: Instant,
-    drag_from: Option<f64>,
-    dragging: bool,
+    drag_from: Option<(f64, f64)>,
+    /// The mouse button held down for a drag, if any.
+    dragging: Option<MouseButton>,
+    shift: bool,
     running: Option<Running>,
     error: Option<Error>,
     /// The step view: how many joints, in drawing order, are drawn (J, Shift+J; Esc leaves it).
@@ -407,18 +410,26 @@ impl Viewer<'_> {
 
     fn redraw(&mut self) -> Result<(), Error> {
         let frame = frame_values(self.motion, self.frame)?;
-        let camera = if self.fit {
-            let mut fitted = camera_for(
+        // The article's camera as turned, tilted, panned and zoomed; with F, the same moves
+        // applied to a camera that frames the skeleton, whose size also sets the spheres'.
+        let (camera, sphere_radius) = if self.fit {
+            let fitted = camera_for(
                 self.skeleton,
                 frame,
                 self.camera.angle,
                 true,
                 self.options.offset_mode,
             );
-            fitted.distance *= self.camera.distance / scene::R;
-            fitted
+            let article = Camera::default();
+            let mut moved = fitted;
+            moved.distance *= self.camera.distance / article.distance;
+            moved.pitch = self.camera.pitch;
+            for axis in 0..3 {
+                moved.target[axis] += self.camera.target[axis] - article.target[axis];
+            }
+            (moved, scene::sphere_radius(&fitted, true))
         } else {
-            self.camera
+            (self.camera, 1.0)
         };
         let title = self.title();
         let skin = if self.options.skin {
@@ -441,6 +452,7 @@ impl Viewer<'_> {
             offset_mode: self.options.offset_mode,
             skin,
             shown: self.step,
+            sphere_radius,
         };
         scene::display(&mut running.gl, &scene);
         if let Some(shown) = self.step {
@@ -506,7 +518,20 @@ impl Viewer<'_> {
                 "s" => self.frame = self.motion.previous_frame(self.frame),
                 "a" => self.turn(0.1),
                 "d" => self.turn(-0.1),
-                "f" => self.fit = !self.fit,
+                // Framing starts from the article's level view at this angle: no zoom, tilt or
+                // pan carries over either way.
+                "f" => {
+                    self.fit = !self.fit;
+                    self.camera = Camera {
+                        angle: self.camera.angle,
+                        ..Camera::default()
+                    };
+                }
+                // Back to the article's camera as the program starts.
+                "c" => {
+                    self.fit = false;
+                    self.camera = Camera::default();
+                }
                 "k" => self.options.skin = !self.options.skin,
                 // Every style in turn. With the skin on, the skin stands for the spheres, so
                 // only the stick figure over it changes anything: B turns it on and off.
@@ -554,20 +579,30 @@ impl ApplicationHandler for Viewer<'_> {
                 }
                 redraw = true;
             }
+            WindowEvent::ModifiersChanged(modifiers) => {
+                self.shift = modifiers.state().shift_key();
+            }
             WindowEvent::MouseInput {
                 state,
-                button: MouseButton::Left,
+                button: button @ (MouseButton::Left | MouseButton::Middle),
                 ..
             } => {
-                self.dragging = state == ElementState::Pressed;
+                self.dragging = (state == ElementState::Pressed).then_some(button);
                 self.drag_from = None;
             }
-            WindowEvent::CursorMoved { position, .. } if self.dragging => {
-                if let Some(from) = self.drag_from {
-                    self.turn(((position.x - from) * 0.01) as f32);
+            WindowEvent::CursorMoved { position, .. } if self.dragging.is_some() => {
+                if let Some((x, y)) = self.drag_from {
+                    let (dx, dy) = ((position.x - x) as f32, (position.y - y) as f32);
+                    // Shift or the middle button pans; otherwise across turns, up and down tilts.
+                    if self.shift || self.dragging == Some(MouseButton::Middle) {
+                        self.camera.pan(-dx * 0.002, dy * 0.002);
+                    } else {
+                        self.turn(dx * 0.01);
+                        self.camera.pitch = (self.camera.pitch + dy * 0.01).clamp(-1.45, 1.45);
+                    }
                     redraw = true;
                 }
-                self.drag_from = Some(position.x);
+                self.drag_from = Some((position.x, position.y));
             }
             WindowEvent::MouseWheel { delta, .. } => {
                 let lines = match delta {
