@@ -59,6 +59,11 @@ pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
     );
     let _ = writeln!(out, "rotation orders:  {}", rotation_orders(skeleton));
     let _ = writeln!(out, "position channels: {}", position_joints(skeleton));
+    let up = match crate::pose::Up::guess(skeleton) {
+        crate::pose::Up::Y => "y",
+        crate::pose::Up::Z => "z (taller along z than along y at rest; the viewer stands it up)",
+    };
+    let _ = writeln!(out, "up axis:          {up}");
     let warnings = warnings(loaded, mode);
     if warnings.is_empty() {
         let _ = writeln!(out, "warnings:         none");

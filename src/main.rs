@@ -4,7 +4,7 @@
 use bvhview::error::Error;
 use bvhview::export::{self, Format, PositionsOptions};
 use bvhview::input::{self, Loaded};
-use bvhview::pose::OffsetMode;
+use bvhview::pose::{OffsetMode, Up};
 use bvhview::render::SnapshotOptions;
 use bvhview::render::draw::Style;
 use bvhview::render::window::ViewerOptions;
@@ -37,6 +37,9 @@ struct Cli {
     /// Start with a generated skin around the bones (K toggles it).
     #[arg(long)]
     skin: bool,
+    /// The file's up axis (default: guessed from the rest pose; O switches the offset mode).
+    #[arg(long, value_enum)]
+    up: Option<UpArg>,
     /// Say nothing on stderr about what was written.
     #[arg(short, long, global = true)]
     quiet: bool,
@@ -112,6 +115,7 @@ Keys in the window:
   mouse drag    turn and tilt; Shift+drag or middle drag: pan; wheel: zoom
   F             frame the whole skeleton / back to the article's camera
   C             the article's camera, as at the start
+  O             position channels replace / are added to OFFSET
   B             stick figure on / off
   K             generated skin on / off
   J / Shift+J   step through the recursion one joint at a time (Esc: whole picture)
@@ -353,6 +357,47 @@ struct View {
     /// How position channels combine with OFFSET.
     #[arg(long, value_enum, default_value_t)]
     offset_mode: OffsetModeArg,
+    /// The file's up axis: z stands a Z-up skeleton up (default: guessed from the rest pose, and
+    /// said when it is z).
+    #[arg(long, value_enum)]
+    up: Option<UpArg>,
+}
+
+/// `--up`.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum UpArg {
+    /// Y up, as BVH files usually are (the article draws every file this way).
+    Y,
+    /// Z up (MakeHuman's files, for example).
+    Z,
+}
+
+/// The up axis to draw `loaded` with: `--up` if given, else the guess, said on stderr when it
+/// is not the usual Y.
+fn resolve_up(arg: Option<UpArg>, loaded: &Loaded, name: &str) -> Up {
+    match arg {
+        Some(UpArg::Y) => Up::Y,
+        Some(UpArg::Z) => Up::Z,
+        None => {
+            let up = Up::guess(&loaded.skeleton);
+            if up == Up::Z {
+                eprintln!(
+                    "bvhview: {name}: stands taller along z than along y at rest: drawn Z-up \
+                     (--up y draws it as written)"
+                );
+            }
+            up
+        }
+    }
+}
+
+/// Says once on stderr when a file looks written for the other offset mode.
+fn warn_offset_mode(loaded: &Loaded, mode: OffsetMode, name: &str) {
+    if let Some(warning) =
+        bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode)
+    {
+        eprintln!("bvhview: {name}: warning: {warning}");
+    }
 }
 
 /// `600x400` → (600, 400).
@@ -392,7 +437,14 @@ fn main() -> ExitCode {
     };
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
     let result = match cli.command {
-        None => viewer(cli.file, cli.source, cli.style, cli.offset_mode, cli.skin),
+        None => viewer(
+            cli.file,
+            cli.source,
+            cli.style,
+            cli.offset_mode,
+            cli.skin,
+            cli.up,
+        ),
         Some(Command::Print(args)) => print(args),
         Some(Command::Info(args)) => info(args),
         Some(Command::Positions(args)) => positions(args),
@@ -617,6 +669,7 @@ fn viewer(
     style: StyleArg,
     offset_mode: OffsetModeArg,
     skin: bool,
+    up: Option<UpArg>,
 ) -> Result<ExitCode, Error> {
     // Say there is no display before loading anything.
     bvhview::render::window::check_environment()?;
@@ -624,11 +677,15 @@ fn viewer(
     let name = Path::new(&name)
         .file_name()
         .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
+    let offset_mode = offset_mode.into();
+    warn_offset_mode(&loaded, offset_mode, &name);
+    let up = resolve_up(up, &loaded, &name);
     let options = ViewerOptions {
         name,
-        offset_mode: offset_mode.into(),
+        offset_mode,
         style: style.into(),
         skin,
+        up,
     };
     bvhview::render::window::run(&loaded.skeleton, &loaded.motion, options)?;
     Ok(ExitCode::SUCCESS)
@@ -729,7 +786,10 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         Some(_) => {}
     }
     let loaded = load(&args.file, &args.source)?;
+    let name = args.file.display().to_string();
+    warn_offset_mode(&loaded, args.view.offset_mode.into(), &name);
     let options = SnapshotOptions {
+        up: resolve_up(args.view.up, &loaded, &name),
         skin: args.skin,
         step: args.step.map(|k| usize::try_from(k).unwrap_or(usize::MAX)),
         frame: args.frame,
@@ -780,9 +840,11 @@ fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
         style,
         fit,
         offset_mode,
+        up,
     } = args.view;
     let offset_mode = offset_mode.into();
-    let camera = bvhview::render::camera_for(&loaded.skeleton, values, angle, fit, offset_mode);
+    let up = resolve_up(up, &loaded, &args.file.display().to_string());
+    let camera = bvhview::render::camera_for(&loaded.skeleton, values, angle, fit, offset_mode, up);
     let numbers = match args.numbers {
         NumbersArg::Printf => Numbers::Printf,
         NumbersArg::Apitrace => Numbers::Apitrace,
@@ -810,6 +872,7 @@ fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
         skin: None,
         shown: None,
         sphere_radius: scene::sphere_radius(&camera, fit),
+        up,
     };
     scene::display(&mut recorder, &view);
     write_text(&recorder.text())?;

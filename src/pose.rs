@@ -19,6 +19,50 @@ pub enum OffsetMode {
     Add,
 }
 
+/// Which world axis points up in a file: BVH's usual Y, or Z as some exporters write.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Up {
+    #[default]
+    Y,
+    Z,
+}
+
+impl Up {
+    /// The guess from the rest pose: Z when the skeleton stands clearly taller along Z than
+    /// along Y (a figure is about as deep as it is wide, and much taller than either). The roots
+    /// are left out: a root's child may be placed far away (Bandai's `joint_Root`), which says
+    /// nothing about which way the body stands.
+    pub fn guess(skeleton: &Skeleton) -> Up {
+        let points = world_positions(skeleton, &[], OffsetMode::Replace);
+        let body: Vec<Vec3> = points
+            .iter()
+            .zip(&skeleton.joints)
+            .filter(|(_, joint)| joint.parent.is_some())
+            .map(|(p, _)| *p)
+            .collect();
+        let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+        for p in &body {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        let size = hi - lo;
+        if body.len() > 1 && size.z > 1.5 * size.y && size.z >= size.x {
+            Up::Z
+        } else {
+            Up::Y
+        }
+    }
+
+    /// The rotation that stands a file with this up axis in the Y-up world the viewer draws:
+    /// none, or -90° about X ((x, y, z) → (x, z, -y)).
+    pub fn to_y_up(self) -> glam::Quat {
+        match self {
+            Up::Y => glam::Quat::IDENTITY,
+            Up::Z => glam::Quat::from_rotation_x(-std::f32::consts::FRAC_PI_2),
+        }
+    }
+}
+
 /// The joint's translation `t` for one frame: its OFFSET with its position channels replacing
 /// (or added to) the matching components. `values` are this joint's channel values.
 pub fn joint_translation(joint: &Joint, values: &[f32], mode: OffsetMode) -> Vec3 {

@@ -471,3 +471,62 @@ fn diff_reads_grey_and_colour_pictures_and_names_bad_files() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// A file that looks written for the other offset mode is said once by `snapshot`; a Z-up file is
+/// stood up and that is said too, unless `--up` says how to draw it.
+#[test]
+fn snapshot_says_once_what_it_guessed_about_conventions() {
+    let file = data("bvh/makehuman_tpose.bvh").display().to_string();
+    let dir = std::env::temp_dir().join(format!("bvhview-conventions-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let picture = |name: &str| dir.join(name).display().to_string();
+    let (guessed, upright, lying) = (picture("g.png"), picture("z.png"), picture("y.png"));
+    let out = bvhview(&["snapshot", &file, "--fit", "-q", "-o", &guessed]);
+    assert!(out.status.success());
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(
+        stderr
+            .matches("looks written for `--offset-mode add`")
+            .count(),
+        1,
+        "{stderr}"
+    );
+    assert_eq!(
+        stderr
+            .matches("drawn Z-up (--up y draws it as written)")
+            .count(),
+        1,
+        "{stderr}"
+    );
+    let out = bvhview(&[
+        "snapshot",
+        &file,
+        "--fit",
+        "-q",
+        "--offset-mode",
+        "add",
+        "--up",
+        "z",
+        "-o",
+        &upright,
+    ]);
+    assert_eq!(String::from_utf8(out.stderr).unwrap(), "");
+    let out = bvhview(&[
+        "snapshot",
+        &file,
+        "--fit",
+        "-q",
+        "--offset-mode",
+        "add",
+        "--up",
+        "y",
+        "-o",
+        &lying,
+    ]);
+    assert_eq!(String::from_utf8(out.stderr).unwrap(), "");
+    let read = |path: &str| bvhview::render::Image::read_png(std::path::Path::new(path)).unwrap();
+    assert!(read(&upright).differing_pixels(&read(&lying)) > 1000);
+    let info = String::from_utf8(bvhview(&["info", &file]).stdout).unwrap();
+    assert!(info.contains("up axis:          z ("), "{info}");
+    std::fs::remove_dir_all(dir).unwrap();
+}

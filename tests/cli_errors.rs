@@ -39,7 +39,17 @@ fn bvhview_unprivileged(args: &[&str]) -> Output {
     } else {
         Command::new(env!("CARGO_BIN_EXE_bvhview"))
     };
-    command.args(args).output().unwrap()
+    command.args(args);
+    // Another test thread forking while the copy was open for writing keeps that descriptor
+    // in its child for a moment; running the copy then fails with ETXTBSY. Try again.
+    for _ in 0..50 {
+        let out = command.output().unwrap();
+        if !String::from_utf8_lossy(&out.stderr).contains("Text file busy") {
+            return out;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    command.output().unwrap()
 }
 
 fn one_line(out: &Output, code: i32, want: &str) {

@@ -148,6 +148,7 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
         options.angle,
         options.fit,
         options.offset_mode,
+        options.up,
     );
     let mut renderer = bvhview::render::Renderer::new(options.width, options.height).unwrap();
     let context = renderer.context();
@@ -163,6 +164,7 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
         skin: None,
         shown: None,
         sphere_radius: 1.0,
+        up: bvhview::pose::Up::Y,
     };
     scene::display(gl, &view);
     Image {

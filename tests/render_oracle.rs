@@ -233,6 +233,7 @@ fn gl_matrix_stack_equals_pose_world_times_view() {
             skin: None,
             shown: None,
             sphere_radius: 1.0,
+            up: bvhview::pose::Up::Y,
         };
         bvhview::render::draw::draw(&mut probe, s.skeleton, s.frame, s.style, s.offset_mode);
         let mut worlds = Vec::new();
@@ -303,6 +304,7 @@ fn calls_match_the_articles_trace() {
         skin: None,
         shown: None,
         sphere_radius: 1.0,
+        up: bvhview::pose::Up::Y,
     };
     scene::display(&mut recorder, &s);
     let expected = std::fs::read_to_string(oracle("trace/tiny_crlf__f1__a10.txt")).unwrap();

@@ -261,6 +261,16 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     run(&display, "xdotool", &["key", "c"]).expect("key c");
     shows("the article's camera again with C", &second);
 
+    // O switches the offset mode, and the title says so.
+    run(&display, "xdotool", &["key", "o"]).expect("key o");
+    wait_for(
+        "the offset mode in the title",
+        Duration::from_secs(30),
+        title("1 of 0-2 - position channels added to OFFSET"),
+    );
+    run(&display, "xdotool", &["key", "o"]).expect("key o");
+    wait_for("the title back", Duration::from_secs(30), title("1 of 0-2"));
+
     run(&display, "xdotool", &["key", "Escape"]).expect("key Escape");
     let status = wait_for("the viewer to quit on Esc", Duration::from_secs(30), || {
         viewer.0.try_wait().unwrap()

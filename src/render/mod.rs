@@ -14,7 +14,7 @@ pub mod window;
 
 use crate::error::Error;
 use crate::motion::Motion;
-use crate::pose::{OffsetMode, world_positions};
+use crate::pose::{OffsetMode, Up, world_positions};
 use crate::skeleton::Skeleton;
 use draw::Style;
 use scene::{Camera, Scene};
@@ -122,6 +122,8 @@ pub struct SnapshotOptions {
     /// Only the first joints in drawing order, the last highlighted, with the step overlay
     /// (the window's J key; not the article's picture).
     pub step: Option<usize>,
+    /// The file's up axis: Z stands the skeleton up (`--up`; the article draws files as written).
+    pub up: Up,
 }
 
 impl Default for SnapshotOptions {
@@ -136,6 +138,7 @@ impl Default for SnapshotOptions {
             offset_mode: OffsetMode::Replace,
             skin: false,
             step: None,
+            up: Up::Y,
         }
     }
 }
@@ -147,6 +150,7 @@ pub fn camera_for(
     angle: f32,
     fit: bool,
     mode: OffsetMode,
+    up: Up,
 ) -> Camera {
     if !fit {
         return Camera {
@@ -154,7 +158,12 @@ pub fn camera_for(
             ..Camera::default()
         };
     }
-    let points = world_positions(skeleton, frame.unwrap_or(&[]), mode);
+    // Framed as drawn: a Z-up file stood up first.
+    let stand = up.to_y_up();
+    let points: Vec<glam::Vec3> = world_positions(skeleton, frame.unwrap_or(&[]), mode)
+        .into_iter()
+        .map(|p| stand * p)
+        .collect();
     let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
     for p in &points {
         lo = lo.min(*p);
@@ -233,6 +242,7 @@ impl Renderer {
             options.angle,
             options.fit,
             options.offset_mode,
+            options.up,
         );
         let skin = if options.skin {
             let mode = options.offset_mode;
@@ -261,6 +271,7 @@ impl Renderer {
                 offset_mode: options.offset_mode,
                 skin,
                 shown: options.step,
+                up: options.up,
                 sphere_radius: scene::sphere_radius(&camera, options.fit),
             },
         );

@@ -100,6 +100,8 @@ pub struct Scene<'a> {
     pub shown: Option<usize>,
     /// The spheres' radius (the article's 1; see [`sphere_radius`]).
     pub sphere_radius: f64,
+    /// The file's up axis; a Z-up file is turned to stand (the floor stays where it is).
+    pub up: crate::pose::Up,
 }
 
 /// The spheres' radius for a view: the article's 1 at its own camera; in a view that frames the
@@ -154,6 +156,12 @@ pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene) {
         (Some(_), Style::Points) => None,
         (Some(_), _) => Some(Style::Sticks),
     };
+    // A Z-up file turned to stand in the article's Y-up world; nothing changes for Y-up files.
+    let stand_up = scene.up == crate::pose::Up::Z;
+    if stand_up {
+        gl.push_matrix();
+        gl.rotatef(-90.0, 1.0, 0.0, 0.0);
+    }
     if let Some(skin) = scene.skin {
         gl.draw_triangles(&skin.positions, &skin.normals, &skin.indices);
     }
@@ -164,6 +172,9 @@ pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene) {
             ..draw::Pass::whole(scene.skeleton, scene.frame, style, scene.offset_mode)
         };
         draw::draw_pass(gl, &pass);
+    }
+    if stand_up {
+        gl.pop_matrix();
     }
     gl.begin(GL_QUADS);
     gl.vertex3f(-100.0, -10.0, 100.0);

@@ -270,6 +270,8 @@ pub struct ViewerOptions {
     pub style: Style,
     /// Start with the generated skin (K toggles it).
     pub skin: bool,
+    /// The file's up axis (a Z-up file is stood up).
+    pub up: crate::pose::Up,
 }
 
 /// C++: `main` in main.cpp: a 600×600 window whose display, reshape and keyboard functions are
@@ -388,8 +390,12 @@ impl Viewer<'_> {
 
     /// Frames are counted from 0, as `--frame` counts them.
     fn title(&self) -> String {
+        let mode = match self.options.offset_mode {
+            OffsetMode::Replace => "",
+            OffsetMode::Add => " - position channels added to OFFSET",
+        };
         format!(
-            "bvhview - {} - frame {} of 0-{}",
+            "bvhview - {} - frame {} of 0-{}{mode}",
             self.options.name,
             self.frame,
             self.frame_count() - 1
@@ -419,6 +425,7 @@ impl Viewer<'_> {
                 self.camera.angle,
                 true,
                 self.options.offset_mode,
+                self.options.up,
             );
             let article = Camera::default();
             let mut moved = fitted;
@@ -453,6 +460,7 @@ impl Viewer<'_> {
             skin,
             shown: self.step,
             sphere_radius,
+            up: self.options.up,
         };
         scene::display(&mut running.gl, &scene);
         if let Some(shown) = self.step {
@@ -526,6 +534,15 @@ impl Viewer<'_> {
                         angle: self.camera.angle,
                         ..Camera::default()
                     };
+                }
+                // The other offset mode (position channels replace or add to OFFSET); the skin is
+                // made again for it.
+                "o" => {
+                    self.options.offset_mode = match self.options.offset_mode {
+                        OffsetMode::Replace => OffsetMode::Add,
+                        OffsetMode::Add => OffsetMode::Replace,
+                    };
+                    self.body = None;
                 }
                 // Back to the article's camera as the program starts.
                 "c" => {
