@@ -235,3 +235,69 @@ fn max_size_bounds_what_is_read_from_any_path() {
     one_line(&out, 2, "zero.amc: more than --max-size 65536 bytes");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// What a newcomer's first mistakes get: one line each, in one style, exit code 2.
+#[test]
+fn first_mistakes_get_one_clear_line() {
+    let file = tiny();
+    for (args, want) in [
+        (
+            vec!["positions", file.as_str(), "--frames", "1..1"],
+            "--frames 1..1: no frames: A..B leaves B out (for frame A alone, give A or A..=A)",
+        ),
+        (
+            vec!["info", file.as_str(), "--frame-time", "-1"],
+            "--frame-time -1: expected seconds per frame, above 0",
+        ),
+        (
+            vec!["snapshto", file.as_str()],
+            "'snapshto' is neither a file nor a command; did you mean `bvhview snapshot`?",
+        ),
+        (
+            vec!["snapshot", file.as_str(), "-o", "out.jpg"],
+            "-o out.jpg: this command writes .png",
+        ),
+        (
+            vec!["positions", file.as_str(), "-o", "out.txt"],
+            "-o out.txt: this command writes .csv or .json",
+        ),
+        (
+            vec![
+                "snapshot",
+                file.as_str(),
+                "--frames",
+                "0..2",
+                "-o",
+                "out.png",
+            ],
+            "-o out.png: --frames writes one PNG per frame into a folder",
+        ),
+        (
+            vec!["info", "--bogus"],
+            "unexpected argument '--bogus' found",
+        ),
+    ] {
+        let out = bvhview(&args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.starts_with("bvhview: "), "{args:?}: {stderr}");
+        assert!(stderr.contains(want), "{args:?}: {stderr}");
+        assert!(!stderr.contains("error:"), "{args:?}: {stderr}");
+    }
+}
+
+/// Every write ends with one line saying what was written; -q silences it.
+#[test]
+fn writes_say_what_they_wrote_unless_quiet() {
+    let out_path = scratch("said.png");
+    let path = out_path.to_str().unwrap();
+    let out = bvhview(&["snapshot", &tiny(), "--size", "64x48", "-o", path]);
+    assert!(out.status.success());
+    assert_eq!(
+        String::from_utf8(out.stderr).unwrap(),
+        format!("bvhview: wrote {path} (64x48)\n")
+    );
+    let quiet = bvhview(&["snapshot", &tiny(), "--size", "64x48", "-q", "-o", path]);
+    assert!(quiet.status.success() && quiet.stderr.is_empty());
+    std::fs::remove_file(out_path).unwrap();
+}

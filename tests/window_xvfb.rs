@@ -4,6 +4,7 @@
 //! (scripts/test.sh installs them).
 
 mod common;
+use bvhview::render::draw::Style;
 use bvhview::render::{Image, SnapshotOptions};
 use common::*;
 use std::path::Path;
@@ -260,6 +261,22 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     }
     run(&display, "xdotool", &["key", "c"]).expect("key c");
     shows("the article's camera again with C", &second);
+
+    // B cycles the styles: sticks, both, back to the article's spheres.
+    for style in [Style::Sticks, Style::Both, Style::Points] {
+        run(&display, "xdotool", &["key", "b"]).expect("key b");
+        let want = bvhview::render::snapshot(
+            &bvh.skeleton,
+            &bvh.motion,
+            &SnapshotOptions {
+                frame: 1,
+                style,
+                ..SnapshotOptions::default()
+            },
+        )
+        .unwrap();
+        shows(&format!("{style:?} after B"), &want);
+    }
 
     // O switches the offset mode, and the title says so.
     run(&display, "xdotool", &["key", "o"]).expect("key o");
