@@ -50,6 +50,8 @@ pub fn draw_lines<G: FixedFunction>(gl: &mut G, lines: &[String], colour: [f32; 
             gl.bitmap(GLYPH, GLYPH, GLYPH as f32, &glyph(c));
         }
     }
+    // Back to the state the article's init leaves: its green (the stick figure's colour), lit.
+    gl.color3f(0.0, 1.0, 0.0);
     gl.enable(GL_LIGHTING);
 }
 
