@@ -15,3 +15,5 @@ $bvhview diff docs/xsens_seed002.png tests/oracle/refs/xsens_seed002_crlf_trail_
 # Skinning: seed 001's demo, and a generated skin on a BVH skeleton.
 $bvhview skin-demo --bend 30,45 -o docs/skin_demo.png
 $bvhview snapshot tests/data/bvh/bvh11_131_01.bvh --frame 400 --skin --fit --angle 1.2 --size 400x400 -o docs/skin_cmu.png
+# An animation: the whole walk cycle as a GIF.
+$bvhview snapshot assets/walk.bvh --frames 0..40 --style both --fit --angle 0.6 --size 240x240 -o docs/walk.gif

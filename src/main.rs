@@ -258,7 +258,11 @@ struct SnapshotArgs {
     /// highlighted, with its GL calls written beside (the window's J key).
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
     step: Option<u64>,
-    /// The PNG to write (with --frames: the folder to write into, created if missing).
+    /// Frames per second of an animated output (default: the file's rate, at most 50 for GIF).
+    #[arg(long, requires = "frames")]
+    fps: Option<f64>,
+    /// The PNG to write; with --frames an animated .gif, .apng or .png, or a folder to write one
+    /// PNG per frame into (created if missing).
     #[arg(short, long)]
     output: PathBuf,
 }
@@ -485,6 +489,42 @@ fn check_output(path: &Path, formats: &[&str]) -> Result<(), Error> {
         path.display(),
         list.join(" or ")
     )))
+}
+
+/// A progress bar on stderr while a long write runs, when stderr is a terminal.
+struct Progress {
+    total: usize,
+    on_terminal: bool,
+}
+
+impl Progress {
+    fn new(total: usize) -> Progress {
+        use std::io::IsTerminal;
+        Progress {
+            total,
+            on_terminal: io::stderr().is_terminal()
+                && !QUIET.load(std::sync::atomic::Ordering::Relaxed),
+        }
+    }
+
+    fn show(&self, done: usize) {
+        if self.on_terminal {
+            let width = 30;
+            let filled = done * width / self.total.max(1);
+            eprint!(
+                "\r[{}{}] {done}/{}",
+                "#".repeat(filled),
+                "-".repeat(width - filled),
+                self.total
+            );
+        }
+    }
+
+    fn done(&self) {
+        if self.on_terminal {
+            eprint!("\r\x1b[2K");
+        }
+    }
 }
 
 /// The subcommands, for a suggestion when a mistyped one is taken for a file.
@@ -775,15 +815,24 @@ fn positions(args: PositionsArgs) -> Result<ExitCode, Error> {
 }
 
 fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
+    use bvhview::render::animation;
+    let animated = animation::Format::of(&args.output);
     match &args.frames {
         None => check_output(&args.output, &["png"])?,
-        Some(_) if !input::extension(&args.output).is_empty() => {
+        Some(_) if animated.is_none() && !input::extension(&args.output).is_empty() => {
             return Err(Error::Usage(format!(
-                "-o {}: --frames writes one PNG per frame into a folder; give a folder such as frames/",
+                "-o {}: --frames writes an animated .gif, .apng or .png, or one PNG per frame into a folder such as frames/",
                 args.output.display()
             )));
         }
         Some(_) => {}
+    }
+    if let Some(fps) = args.fps
+        && !(fps.is_finite() && fps > 0.0)
+    {
+        return Err(Error::Usage(format!(
+            "--fps {fps}: expected frames per second, above 0"
+        )));
     }
     let loaded = load(&args.file, &args.source)?;
     let name = args.file.display().to_string();
@@ -813,6 +862,31 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         return Ok(ExitCode::SUCCESS);
     };
     let range = export::parse_frames(frames, loaded.motion.frame_count().max(1))?;
+    if let Some(format) = animated {
+        let fps = args
+            .fps
+            .unwrap_or_else(|| animation::default_fps(loaded.motion.frame_time, format));
+        let shown = animation::sampled_frames(range, loaded.motion.frame_time, fps);
+        let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
+        let progress = Progress::new(shown.len());
+        let pictures = shown.iter().enumerate().map(|(i, &frame)| {
+            progress.show(i + 1);
+            renderer.render(
+                &loaded.skeleton,
+                &loaded.motion,
+                &SnapshotOptions { frame, ..options },
+            )
+        });
+        let size = (options.width, options.height);
+        animation::write(output, format, size, fps, pictures, shown.len())?;
+        progress.done();
+        wrote(format_args!(
+            "{}: {} frames at {fps:.3} per second",
+            output.display(),
+            shown.len()
+        ));
+        return Ok(ExitCode::SUCCESS);
+    }
     std::fs::create_dir_all(output).map_err(|e| Error::output(output, e))?;
     // One offscreen context for the whole sequence.
     let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;

@@ -530,3 +530,90 @@ fn snapshot_says_once_what_it_guessed_about_conventions() {
     assert!(info.contains("up axis:          z ("), "{info}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `snapshot --frames` into .apng (lossless: each frame is the snapshot of that frame) and .gif
+/// (a palette: the same frames, counted and timed), at the file's rate or `--fps`.
+#[test]
+fn animated_snapshots_hold_the_frames_at_their_rate() {
+    let dir = std::env::temp_dir().join(format!("bvhview-anim-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let apng = dir.join("walk.apng");
+    let out = bvhview(&[
+        "snapshot",
+        &tiny(),
+        "--frames",
+        "0..3",
+        "--size",
+        "96x64",
+        "-o",
+        apng.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(
+        String::from_utf8(out.stderr).unwrap(),
+        format!(
+            "bvhview: wrote {}: 3 frames at 30.000 per second\n",
+            apng.display()
+        )
+    );
+    let decoder = png::Decoder::new(std::io::BufReader::new(std::fs::File::open(&apng).unwrap()));
+    let mut reader = decoder.read_info().unwrap();
+    let control = reader.info().animation_control().unwrap();
+    assert_eq!((control.num_frames, control.num_plays), (3, 0));
+    let bvh = bvhview::bvh::load_file(&oracle("inputs/tiny_crlf.bvh")).unwrap();
+    for frame in 0..3 {
+        let mut buffer = vec![0; reader.output_buffer_size().unwrap()];
+        reader.next_frame(&mut buffer).unwrap();
+        let fc = reader.info().frame_control().unwrap();
+        assert_eq!((fc.delay_num, fc.delay_den), (33, 1000));
+        let want = bvhview::render::snapshot(
+            &bvh.skeleton,
+            &bvh.motion,
+            &bvhview::render::SnapshotOptions {
+                frame,
+                width: 96,
+                height: 64,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert!(buffer == want.rgb, "frame {frame}");
+    }
+
+    let gif = dir.join("walk.gif");
+    let out = bvhview(&[
+        "snapshot",
+        &tiny(),
+        "--frames",
+        "0..3",
+        "--fps",
+        "10",
+        "--size",
+        "96x64",
+        "-q",
+        "-o",
+        gif.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut options = gif::DecodeOptions::new();
+    options.set_color_output(gif::ColorOutput::RGBA);
+    let mut decoder = options
+        .read_info(std::fs::File::open(&gif).unwrap())
+        .unwrap();
+    let mut delays = Vec::new();
+    while let Some(frame) = decoder.read_next_frame().unwrap() {
+        assert_eq!((frame.width, frame.height), (96, 64));
+        delays.push(frame.delay);
+    }
+    // Three frames at 30 fps shown at 10: one picture of a tenth of a second.
+    assert_eq!(delays, vec![10]);
+    std::fs::remove_dir_all(dir).unwrap();
+}

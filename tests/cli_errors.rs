@@ -268,9 +268,9 @@ fn first_mistakes_get_one_clear_line() {
                 "--frames",
                 "0..2",
                 "-o",
-                "out.png",
+                "out.txt",
             ],
-            "-o out.png: --frames writes one PNG per frame into a folder",
+            "-o out.txt: --frames writes an animated .gif, .apng or .png, or one PNG per frame",
         ),
         (
             vec!["info", "--bogus"],

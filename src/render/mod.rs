@@ -1,5 +1,6 @@
 //! Drawing: the article's fixed-function renderer, offscreen (OSMesa) and in a window.
 
+pub mod animation;
 pub mod body;
 pub mod draw;
 pub mod fixed;

@@ -1,0 +1,175 @@
+//! A take as one animated picture: GIF (the gif crate) or APNG (the png crate), frames drawn by
+//! the same offscreen renderer as `snapshot`. Written to a temporary file beside the output and
+//! renamed at the end, so a failure never leaves half a picture under the output's name.
+
+use crate::error::Error;
+use crate::render::Image;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+
+/// The animated formats `snapshot --frames` writes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Gif,
+    /// Animated PNG (`.apng`, or `.png` with `--frames`).
+    Apng,
+}
+
+impl Format {
+    /// The format an output name asks for, if animated.
+    pub fn of(path: &Path) -> Option<Format> {
+        match crate::input::extension(path).as_str() {
+            "gif" => Some(Format::Gif),
+            "apng" | "png" => Some(Format::Apng),
+            _ => None,
+        }
+    }
+}
+
+/// Browsers show GIF frames shorter than 20 ms slower than asked, so GIFs play at most this fast.
+pub const GIF_MAX_FPS: f64 = 50.0;
+
+/// The rate an animation plays at when none is asked for: the file's own (30 when the file has
+/// no frame time), at most [`GIF_MAX_FPS`] for a GIF.
+pub fn default_fps(frame_time: f64, format: Format) -> f64 {
+    let rate = if frame_time > 0.0 && frame_time.is_finite() {
+        1.0 / frame_time
+    } else {
+        30.0
+    };
+    match format {
+        Format::Gif => rate.min(GIF_MAX_FPS),
+        Format::Apng => rate,
+    }
+}
+
+/// The take's frames an animation at `fps` shows: for each of its ticks from the start of
+/// `range`, the frame at that time (so a slower rate skips frames, a faster one repeats them).
+pub fn sampled_frames(range: Range<usize>, frame_time: f64, fps: f64) -> Vec<usize> {
+    if range.is_empty() {
+        return Vec::new();
+    }
+    if !(frame_time > 0.0 && frame_time.is_finite() && fps > 0.0) {
+        return range.collect();
+    }
+    let duration = range.len() as f64 * frame_time;
+    let ticks = ((duration * fps).round() as usize).max(1);
+    (0..ticks)
+        .map(|tick| {
+            let offset = (tick as f64 / fps / frame_time + 1e-9).floor() as usize;
+            (range.start + offset).min(range.end - 1)
+        })
+        .collect()
+}
+
+/// A file beside `path` that becomes `path` only when complete.
+struct Partial {
+    temporary: PathBuf,
+    path: PathBuf,
+}
+
+impl Partial {
+    fn new(path: &Path) -> Partial {
+        let name = path
+            .file_name()
+            .map_or("out".into(), |n| n.to_string_lossy());
+        let temporary = path.with_file_name(format!(".{name}.{}.partial", std::process::id()));
+        Partial {
+            temporary,
+            path: path.to_path_buf(),
+        }
+    }
+
+    fn create(&self) -> Result<std::io::BufWriter<std::fs::File>, Error> {
+        let file =
+            std::fs::File::create(&self.temporary).map_err(|e| Error::output(&self.path, e))?;
+        Ok(std::io::BufWriter::new(file))
+    }
+
+    fn finish(self) -> Result<(), Error> {
+        std::fs::rename(&self.temporary, &self.path).map_err(|e| Error::output(&self.path, e))
+    }
+}
+
+impl Drop for Partial {
+    fn drop(&mut self) {
+        // Still here after an error: nothing under the output's name, nothing left beside it.
+        let _ = std::fs::remove_file(&self.temporary);
+    }
+}
+
+/// Writes the pictures `frames` yields as one animation at `fps`, looping.
+pub fn write(
+    path: &Path,
+    format: Format,
+    (width, height): (u32, u32),
+    fps: f64,
+    frames: impl Iterator<Item = Result<Image, Error>>,
+    count: usize,
+) -> Result<(), Error> {
+    let partial = Partial::new(path);
+    let out = partial.create()?;
+    let encoding =
+        |e: &dyn std::fmt::Display| Error::output(path, std::io::Error::other(e.to_string()));
+    match format {
+        Format::Gif => {
+            let (w, h) = (
+                u16::try_from(width)
+                    .map_err(|_| Error::Usage("a GIF is at most 65535 wide".into()))?,
+                u16::try_from(height)
+                    .map_err(|_| Error::Usage("a GIF is at most 65535 high".into()))?,
+            );
+            let mut encoder = gif::Encoder::new(out, w, h, &[]).map_err(|e| encoding(&e))?;
+            encoder
+                .set_repeat(gif::Repeat::Infinite)
+                .map_err(|e| encoding(&e))?;
+            // GIF counts delays in hundredths of a second.
+            let delay = (100.0 / fps).round().clamp(2.0, 65535.0) as u16;
+            for image in frames {
+                let image = image?;
+                let mut frame = gif::Frame::from_rgb_speed(w, h, &image.rgb, 10);
+                frame.delay = delay;
+                encoder.write_frame(&frame).map_err(|e| encoding(&e))?;
+            }
+            encoder.into_inner().map_err(|e| encoding(&e))?;
+        }
+        Format::Apng => {
+            let mut encoder = png::Encoder::new(out, width, height);
+            encoder.set_color(png::ColorType::Rgb);
+            encoder.set_depth(png::BitDepth::Eight);
+            let count = u32::try_from(count.max(1)).unwrap_or(u32::MAX);
+            encoder.set_animated(count, 0).map_err(|e| encoding(&e))?;
+            // The delay as a fraction of a second: 1000 / (1000 · fps).
+            let delay = (1000.0 / fps).round().clamp(1.0, 65535.0) as u16;
+            encoder
+                .set_frame_delay(delay, 1000)
+                .map_err(|e| encoding(&e))?;
+            let mut writer = encoder.write_header().map_err(|e| encoding(&e))?;
+            for image in frames {
+                let image = image?;
+                writer
+                    .write_image_data(&image.rgb)
+                    .map_err(|e| encoding(&e))?;
+            }
+            writer.finish().map_err(|e| encoding(&e))?;
+        }
+    }
+    partial.finish()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn frames_are_sampled_by_time() {
+        // 120 fps shown at 30: every fourth frame.
+        assert_eq!(sampled_frames(0..12, 1.0 / 120.0, 30.0), vec![0, 4, 8]);
+        // 30 fps shown at 60: each frame twice.
+        assert_eq!(sampled_frames(2..4, 1.0 / 30.0, 60.0), vec![2, 2, 3, 3]);
+        // The file's own rate: every frame.
+        assert_eq!(sampled_frames(0..5, 0.04, 25.0), vec![0, 1, 2, 3, 4]);
+        assert_eq!(default_fps(1.0 / 120.0, Format::Gif), GIF_MAX_FPS);
+        assert_eq!(default_fps(1.0 / 120.0, Format::Apng), 120.0);
+    }
+}
