@@ -216,10 +216,7 @@ impl Motion {
         let threads = bvhview::cores().clamp(1, frames.len().div_ceil(PIECE).max(1));
         bvhview::parallel::on_threads(threads, || {
             loop {
-                let next = pieces
-                    .lock()
-                    .unwrap_or_else(PoisonError::into_inner)
-                    .next();
+                let next = pieces.lock().unwrap_or_else(PoisonError::into_inner).next();
                 let Some((frames, out)) = next else {
                     return;
                 };
@@ -468,7 +465,9 @@ impl Motion {
         let frames = self.selected_frames(frames)?;
         let values = py.detach(|| self.matrices_of(&frames));
         let joints = self.loaded.skeleton.joints.len();
-        values.into_pyarray(py).reshape([frames.len(), joints, 4, 4])
+        values
+            .into_pyarray(py)
+            .reshape([frames.len(), joints, 4, 4])
     }
 
     /// Writes the take as BVH (the extension must be .bvh). ASF bone axes are baked into ZYX
