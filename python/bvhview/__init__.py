@@ -8,6 +8,9 @@ Loading, forward kinematics and writing are bvhview's Rust code; the GIL is rele
 they run.
 """
 
+# Every result is a numpy array: import numpy with the package, not on the first array made.
+import numpy as _numpy  # noqa: F401
+
 from ._bvhview import Motion, ParseError, load, load_many
 
 __all__ = ["Motion", "ParseError", "load", "load_many"]
