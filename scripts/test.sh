@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Installs what the tests need (Debian packages when run as root), then runs every test.
-# The README's test command; .ci/run calls it too.
+# Installs what the tests need (Debian packages when run as root), then runs every test: cargo's,
+# then the Python package's pytest suite (python/). The README's test command; .ci/run calls it too.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -47,6 +47,54 @@ grep '^drift ' "$log" | awk '{ if ($3 > 0) n++ } END { printf "golden pictures: 
 # One closing line for the whole run: the sum over every test binary.
 summary=$(awk '/^test result:/ { p += $4; f += $6; i += $8 } END { printf "%d %d %d", p, f, i }' "$log")
 read -r passed failed ignored <<<"$summary"
+
+# The Python package: pip installs pytest's needs and the package (built by maturin with the
+# pinned pyo3/numpy crates), then pytest compares it with the CLI just built. As root pip installs
+# for the whole interpreter; otherwise for the user.
+python=${PYTHON:-python3}
+python_needs=(maturin==1.16.0 pytest==9.2.0 numpy==2.4.6)
+pip_scope=()
+[ "$(id -u)" = 0 ] || pip_scope=(--user)
+pylog=$(mktemp)
+trap 'rm -f "$log" "$pylog"' EXIT
+python_failed=0
+if ! command -v "$python" >/dev/null; then
+    echo "python: $python not found: the Python package needs Python 3.11 with pip (or set PYTHON)" >&2
+    python_failed=1
+elif ! "$python" -m pip --version >/dev/null 2>&1; then
+    echo "python: '$python -m pip' is not available: install pip for $python (Debian: apt-get install python3-pip), or set PYTHON to a Python with pip" >&2
+    python_failed=1
+elif ! "$python" -m pip install -q --disable-pip-version-check "${pip_scope[@]}" "${python_needs[@]}"; then
+    echo "python: pip could not install ${python_needs[*]}" >&2
+    python_failed=1
+# The crate's build shares the root's target folder; no build isolation: maturin is installed.
+elif ! CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$PWD/target}" "$python" -m pip install -q --disable-pip-version-check \
+        "${pip_scope[@]}" --no-build-isolation --no-deps --force-reinstall ./python; then
+    echo "python: building and installing the package (pip install ./python) failed" >&2
+    python_failed=1
+else
+    # The CLI cargo test has just built: pytest compares the package with it.
+    cli="${CARGO_TARGET_DIR:-target}/debug/bvhview"
+    [ -x "$cli" ] && export BVHVIEW_CLI="$cli"
+    "$python" -m pytest python/tests -q -rs 2>&1 | tee "$pylog" || python_failed=1
+fi
+# pytest's closing line: "3 failed, 86 passed, 1 skipped, 2 errors in 1.2s" (any order).
+read -r py_passed py_failed py_skipped <<<"$(tail -n 1 "$pylog" | awk '{
+    for (k = 2; k <= NF; k++) {
+        word = $k; sub(/,$/, "", word)
+        if (word == "passed") p = $(k - 1)
+        if (word == "failed" || word == "error" || word == "errors") f += $(k - 1)
+        if (word == "skipped") s = $(k - 1)
+    }
+} END { printf "%d %d %d", p, f, s }')"
+if [ "$python_failed" -ne 0 ] && [ "$py_failed" -eq 0 ]; then
+    py_failed=1  # the package did not build or pytest did not finish: count it, not silence it
+fi
+echo "pytest: $py_passed passed, $py_failed failed, $py_skipped skipped"
+passed=$((passed + py_passed))
+failed=$((failed + py_failed))
+ignored=$((ignored + py_skipped))
+[ "$python_failed" -eq 0 ] || status=1
 echo "all tests: $passed passed, $failed failed, $ignored ignored"
 if [ "$passed" -eq 0 ]; then
     echo "no test ran" >&2

@@ -1,0 +1,88 @@
+"""Stubs of the native module; `bvhview` re-exports every name."""
+
+import os
+from typing import Literal, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+PathLike = Union[str, os.PathLike[str]]
+# None for every frame, one frame (negative counts from the end), a slice, or frame numbers.
+Frames = Union[None, int, slice, Sequence[int], npt.NDArray[np.integer]]
+OffsetMode = Literal["replace", "add"]
+
+class ParseError(ValueError):
+    """A malformed file: `str(error)` is `path:line:column: message`."""
+
+    path: str
+    line: int
+    column: int
+    message: str
+
+class Motion:
+    """A loaded take: skeleton, MOTION values, forward kinematics. Immutable."""
+
+    @property
+    def path(self) -> str: ...
+    @property
+    def motion_path(self) -> str | None: ...
+    @property
+    def offset_mode(self) -> OffsetMode: ...
+    @property
+    def joint_names(self) -> list[str]: ...
+    @property
+    def parents(self) -> npt.NDArray[np.int32]:
+        """Parent of each joint, -1 for a root."""
+    @property
+    def end_sites(self) -> npt.NDArray[np.bool_]:
+        """True for the End Sites."""
+    @property
+    def offsets(self) -> npt.NDArray[np.float32]:
+        """joints x 3."""
+    @property
+    def channels(self) -> list[list[str]]:
+        """Each joint's channel names in file order."""
+    @property
+    def rotation_orders(self) -> list[str | None]:
+        """Each joint's rotation axes in file order ("ZXY"), or None."""
+    @property
+    def frame_time(self) -> float: ...
+    @property
+    def frame_count(self) -> int: ...
+    @property
+    def channel_count(self) -> int: ...
+    @property
+    def warnings(self) -> list[str]: ...
+    @property
+    def values(self) -> npt.NDArray[np.float32]:
+        """frames x channels, a read-only view of the loaded data (no copy)."""
+    @property
+    def point_names(self) -> list[str]:
+        """The CLI's names for the exported points (End Sites as `<parent>_End`)."""
+    @property
+    def point_joints(self) -> npt.NDArray[np.int32]:
+        """The joint of each point: `positions()[:, point_joints]` is the CLI's export."""
+    def positions(self, frames: Frames = None) -> npt.NDArray[np.float32]:
+        """frames x joints x 3 world positions; a take without frames has its rest pose."""
+    def world_matrices(self, frames: Frames = None) -> npt.NDArray[np.float32]:
+        """frames x joints x 4 x 4 world matrices, [row, column], translation in column 3."""
+    def save(self, path: PathLike) -> None:
+        """Writes BVH (.bvh only)."""
+    def __len__(self) -> int: ...
+
+def load(
+    path: PathLike,
+    motion: PathLike | None = None,
+    offset_mode: OffsetMode = "replace",
+    frame_time: float | None = None,
+) -> Motion:
+    """A .bvh file, or an .asf skeleton with `motion` its .amc take."""
+
+def load_many(
+    paths: Sequence[Union[PathLike, Tuple[PathLike, PathLike]]],
+    offset_mode: OffsetMode = "replace",
+    frame_time: float | None = None,
+    errors: Literal["raise", "return"] = "raise",
+) -> list[Motion]:
+    """Every path (or (asf, amc) pair) loaded on all cores, in order. With errors="return",
+    a failed entry is its exception instead."""

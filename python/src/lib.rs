@@ -1,0 +1,637 @@
+//! The native half of the Python package `bvhview`: a thin layer over the `bvhview` crate.
+//!
+//! Loading and forward kinematics are the crate's own (`input::load_checked`, `pose::FkPlan`,
+//! `pose::world_matrices`, `bvh::writer::write_bvh`); this file only moves their results into
+//! numpy arrays and their errors into Python exceptions. The GIL is released for every load and
+//! every computation, so Python threads run meanwhile.
+
+use bvhview::error::Error;
+use bvhview::input::{self, Loaded};
+use bvhview::pose::{self, FkPlan, FkScratch, LANES, OffsetMode};
+use glam::{Mat4, Vec3};
+use numpy::ndarray::ArrayView2;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayMethods};
+use pyo3::create_exception;
+use pyo3::exceptions::{
+    PyFileNotFoundError, PyIsADirectoryError, PyOSError, PyPermissionError, PyRuntimeError,
+    PyValueError,
+};
+use pyo3::prelude::*;
+use pyo3::types::{PySlice, PySliceMethods, PyTuple};
+use std::io::{self, Write};
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, PoisonError};
+
+create_exception!(
+    bvhview,
+    ParseError,
+    PyValueError,
+    "A malformed file. The message is `path:line:column: what was expected, what was found`; \
+     the attributes `path`, `line`, `column` and `message` hold its parts."
+);
+
+/// Every error of the crate as the Python exception a Python user expects: a malformed file is a
+/// `ParseError` (a `ValueError`), a missing file a `FileNotFoundError`, other I/O an `OSError`,
+/// a request that cannot be met a `ValueError`.
+fn to_python(py: Python<'_>, error: Error) -> PyErr {
+    let text = error.to_string();
+    match error {
+        Error::Parse {
+            path,
+            line,
+            column,
+            message,
+        } => {
+            let exception = ParseError::new_err(text);
+            let value = exception.value(py);
+            let set = || -> PyResult<()> {
+                value.setattr("path", path)?;
+                value.setattr("line", line)?;
+                value.setattr("column", column)?;
+                value.setattr("message", message)
+            };
+            if let Err(failure) = set() {
+                return failure;
+            }
+            exception
+        }
+        Error::Io { path, source } | Error::Output { path, source } => {
+            os_error(&path, &source, &text)
+        }
+        Error::Usage(_) => PyValueError::new_err(text),
+        Error::Environment(_) => PyRuntimeError::new_err(text),
+    }
+}
+
+/// An `OSError` of the subclass Python itself would raise, with `errno`, `strerror` and
+/// `filename` set when the OS gave a number.
+fn os_error(path: &Path, source: &io::Error, text: &str) -> PyErr {
+    let filename = path.display().to_string();
+    // The crate's text starts with the path; `filename` holds it already.
+    let reason = text
+        .strip_prefix(&format!("{filename}: "))
+        .unwrap_or(text)
+        .to_string();
+    macro_rules! raise {
+        ($class:ty) => {
+            match source.raw_os_error() {
+                Some(errno) => <$class>::new_err((errno, reason, filename)),
+                None => <$class>::new_err(text.to_string()),
+            }
+        };
+    }
+    match source.kind() {
+        io::ErrorKind::NotFound => raise!(PyFileNotFoundError),
+        io::ErrorKind::PermissionDenied => raise!(PyPermissionError),
+        io::ErrorKind::IsADirectory => raise!(PyIsADirectoryError),
+        _ => raise!(PyOSError),
+    }
+}
+
+fn parse_offset_mode(text: &str) -> PyResult<OffsetMode> {
+    match text {
+        "replace" => Ok(OffsetMode::Replace),
+        "add" => Ok(OffsetMode::Add),
+        other => Err(PyValueError::new_err(format!(
+            "offset_mode={other:?}: expected \"replace\" (position channels replace the OFFSET, \
+             as Blender and bvhio) or \"add\" (added to it, as three.js)"
+        ))),
+    }
+}
+
+fn offset_mode_name(mode: OffsetMode) -> &'static str {
+    match mode {
+        OffsetMode::Replace => "replace",
+        OffsetMode::Add => "add",
+    }
+}
+
+/// One thing to load: a BVH file, or an ASF skeleton with an optional AMC motion.
+#[derive(Clone, Debug)]
+struct Item {
+    path: PathBuf,
+    motion: Option<PathBuf>,
+}
+
+/// Loads one item with the crate's checks, on `threads` threads. A folder is refused as the OS
+/// refuses to read one, so that Python sees an `IsADirectoryError`.
+fn load_item(item: &Item, frame_time: Option<f64>, threads: usize) -> Result<Loaded, Error> {
+    for path in std::iter::once(&item.path).chain(&item.motion) {
+        if path.is_dir() {
+            return Err(Error::io(path, io::ErrorKind::IsADirectory.into()));
+        }
+    }
+    input::load_checked(
+        &item.path,
+        item.motion.as_deref(),
+        frame_time,
+        threads,
+        input::DEFAULT_MAX_SIZE,
+    )
+}
+
+/// A loaded take: the skeleton, the MOTION values, and forward kinematics on them.
+///
+/// Frozen: nothing changes after loading, so `values` can be a view of the loaded data (no
+/// copy) and computations can read it without the GIL.
+#[pyclass(frozen, module = "bvhview", name = "Motion")]
+struct Motion {
+    loaded: Loaded,
+    item: Item,
+    offset_mode: OffsetMode,
+}
+
+/// Frames computed per piece of work: small enough to share a take among the cores, large
+/// enough that taking a piece costs nothing next to computing it.
+const PIECE: usize = 1024;
+
+impl Motion {
+    /// Frames `positions` and `world_matrices` can compute: every frame, or the rest pose as
+    /// frame 0 of a take without frames (as the CLI's `positions` does).
+    fn available_frames(&self) -> usize {
+        self.loaded.motion.frame_count().max(1)
+    }
+
+    /// The frame numbers `frames` selects: None (all), an int (negative counts from the end),
+    /// a slice, or a sequence of ints (a list, a range, a numpy array).
+    fn selected_frames(&self, frames: Option<&Bound<'_, PyAny>>) -> PyResult<Vec<usize>> {
+        let count = self.available_frames();
+        let Some(frames) = frames else {
+            return Ok((0..count).collect());
+        };
+        if let Ok(slice) = frames.cast::<PySlice>() {
+            let indices = slice.indices(isize::try_from(count).unwrap_or(isize::MAX))?;
+            let mut selected = Vec::with_capacity(indices.slicelength);
+            let mut frame = indices.start;
+            for _ in 0..indices.slicelength {
+                selected.push(frame as usize);
+                frame += indices.step;
+            }
+            return Ok(selected);
+        }
+        let numbers: Vec<isize> = match frames.extract::<isize>() {
+            Ok(one) => vec![one],
+            Err(_) => frames.extract().map_err(|_| {
+                PyValueError::new_err(format!(
+                    "frames={}: expected None, an int, a slice or a sequence of ints",
+                    frames
+                        .repr()
+                        .map_or_else(|_| "?".to_string(), |r| r.to_string())
+                ))
+            })?,
+        };
+        numbers
+            .into_iter()
+            .map(|number| {
+                let frame = if number < 0 {
+                    number + count as isize
+                } else {
+                    number
+                };
+                usize::try_from(frame)
+                    .ok()
+                    .filter(|&frame| frame < count)
+                    .ok_or_else(|| {
+                        PyValueError::new_err(format!(
+                            "frame {number} is out of range: the take has frames 0..{count}"
+                        ))
+                    })
+            })
+            .collect()
+    }
+
+    /// `per_frame` floats of every frame in `frames`, computed by `compute(frames, out)` on
+    /// every core, piece by piece, each piece straight into its place in the result.
+    fn per_frame_floats(
+        frames: &[usize],
+        per_frame: usize,
+        compute: impl Fn(&[usize], &mut [f32]) + Sync,
+    ) -> Vec<f32> {
+        let mut result = vec![0.0f32; frames.len() * per_frame];
+        let pieces = Mutex::new(
+            frames
+                .chunks(PIECE)
+                .zip(result.chunks_mut((PIECE * per_frame).max(1))),
+        );
+        let threads = bvhview::cores().clamp(1, frames.len().div_ceil(PIECE).max(1));
+        bvhview::parallel::on_threads(threads, || {
+            loop {
+                let next = pieces.lock().unwrap_or_else(PoisonError::into_inner).next();
+                let Some((frames, out)) = next else {
+                    return;
+                };
+                compute(frames, out);
+            }
+        });
+        result
+    }
+
+    /// World positions of every joint for `frames`: `frames × joints × 3` floats.
+    fn positions_of(&self, frames: &[usize]) -> Vec<f32> {
+        let skeleton = &self.loaded.skeleton;
+        let motion = &self.loaded.motion;
+        let joints = skeleton.joints.len();
+        if motion.frame_count() == 0 {
+            // The rest pose: frame 0 is the only one there is.
+            let rest = pose::world_positions(skeleton, &[], self.offset_mode);
+            return frames.iter().flat_map(|_| flatten(&rest)).collect();
+        }
+        let plan = FkPlan::new(skeleton, self.offset_mode);
+        Self::per_frame_floats(frames, joints * 3, |frames, out| {
+            let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
+            let mut rows: Vec<&[f32]> = Vec::with_capacity(LANES);
+            for (batch, out) in frames
+                .chunks(LANES)
+                .zip(out.chunks_mut((LANES * joints * 3).max(1)))
+            {
+                rows.clear();
+                rows.extend(batch.iter().map(|&frame| motion.frame(frame)));
+                // Eight frames side by side, one per vector lane.
+                plan.positions_of_frames(&rows, &mut points, &mut scratch);
+                for (slot, point) in out.chunks_exact_mut(3).zip(&points) {
+                    slot.copy_from_slice(&point.to_array());
+                }
+            }
+        })
+    }
+
+    /// World matrices of every joint for `frames`, row-major: `frames × joints × 4 × 4`.
+    fn matrices_of(&self, frames: &[usize]) -> Vec<f32> {
+        let skeleton = &self.loaded.skeleton;
+        let motion = &self.loaded.motion;
+        let joints = skeleton.joints.len();
+        Self::per_frame_floats(frames, joints * 16, |frames, out| {
+            let mut matrices = Vec::with_capacity(joints);
+            for (&frame, out) in frames.iter().zip(out.chunks_mut((joints * 16).max(1))) {
+                let row = if motion.frame_count() == 0 {
+                    &[][..]
+                } else {
+                    motion.frame(frame)
+                };
+                pose::world_matrices(skeleton, row, self.offset_mode, &mut matrices);
+                for (slot, matrix) in out.chunks_exact_mut(16).zip(&matrices) {
+                    slot.copy_from_slice(&row_major(matrix));
+                }
+            }
+        })
+    }
+}
+
+fn flatten(points: &[Vec3]) -> impl Iterator<Item = f32> + '_ {
+    points.iter().flat_map(|p| p.to_array())
+}
+
+/// glam keeps columns; numpy users index `[row, column]`, translation in the last column.
+fn row_major(matrix: &Mat4) -> [f32; 16] {
+    matrix.transpose().to_cols_array()
+}
+
+#[pymethods]
+impl Motion {
+    /// The file loaded (for ASF/AMC, the skeleton).
+    #[getter]
+    fn path(&self) -> String {
+        self.item.path.display().to_string()
+    }
+
+    /// The AMC motion file, or None.
+    #[getter]
+    fn motion_path(&self) -> Option<String> {
+        self.item.motion.as_ref().map(|p| p.display().to_string())
+    }
+
+    /// "replace" or "add": how position channels combine with OFFSETs in `positions` and
+    /// `world_matrices`.
+    #[getter]
+    fn offset_mode(&self) -> &'static str {
+        offset_mode_name(self.offset_mode)
+    }
+
+    /// Every joint's name in file order (pre-order), End Sites included under their own name
+    /// (usually "Site"; `point_names` gives them as `<parent>_End`).
+    #[getter]
+    fn joint_names(&self) -> Vec<String> {
+        self.loaded
+            .skeleton
+            .joints
+            .iter()
+            .map(|j| j.name.clone())
+            .collect()
+    }
+
+    /// Parent index of every joint, -1 for a root (int32).
+    #[getter]
+    fn parents<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i32>> {
+        let parents: Vec<i32> = self
+            .loaded
+            .skeleton
+            .joints
+            .iter()
+            .map(|j| j.parent.map_or(-1, |p| p as i32))
+            .collect();
+        parents.into_pyarray(py)
+    }
+
+    /// True for the End Sites (bool, one per joint).
+    #[getter]
+    fn end_sites<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<bool>> {
+        let flags: Vec<bool> = self
+            .loaded
+            .skeleton
+            .joints
+            .iter()
+            .map(|j| j.end_site)
+            .collect();
+        flags.into_pyarray(py)
+    }
+
+    /// Every joint's OFFSET (joints × 3, float32).
+    #[getter]
+    fn offsets<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let joints = &self.loaded.skeleton.joints;
+        let offsets: Vec<f32> = joints.iter().flat_map(|j| j.offset.to_array()).collect();
+        offsets.into_pyarray(py).reshape([joints.len(), 3])
+    }
+
+    /// Every joint's channel names in file order ("Xposition", …, "Zrotation"); [] for End Sites.
+    #[getter]
+    fn channels(&self) -> Vec<Vec<&'static str>> {
+        self.loaded
+            .skeleton
+            .joints
+            .iter()
+            .map(|j| j.channels.iter().map(|c| c.name()).collect())
+            .collect()
+    }
+
+    /// Every joint's rotation order as its three axes in file order ("ZXY"), or None for a joint
+    /// without exactly three rotation channels on distinct axes.
+    #[getter]
+    fn rotation_orders(&self) -> Vec<Option<String>> {
+        self.loaded
+            .skeleton
+            .joints
+            .iter()
+            .map(|j| j.rotation_order.map(|o| o.letters().to_ascii_uppercase()))
+            .collect()
+    }
+
+    /// Seconds per frame.
+    #[getter]
+    fn frame_time(&self) -> f64 {
+        self.loaded.motion.frame_time
+    }
+
+    #[getter]
+    fn frame_count(&self) -> usize {
+        self.loaded.motion.frame_count()
+    }
+
+    /// Values per frame: the columns of `values`.
+    #[getter]
+    fn channel_count(&self) -> usize {
+        self.loaded.motion.channels
+    }
+
+    /// What loaded but deserves a word (rows beyond the Frames count, …).
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        self.loaded.warnings.clone()
+    }
+
+    /// The MOTION values, frames × channels (float32), read-only. A view of the loaded data, not
+    /// a copy: it keeps this Motion alive.
+    #[getter]
+    fn values<'py>(slf: &Bound<'py, Self>) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let motion = &slf.get().loaded.motion;
+        let view = ArrayView2::from_shape((motion.frame_count(), motion.channels), &motion.data)
+            .map_err(|e| PyRuntimeError::new_err(format!("values: {e}")))?;
+        // SAFETY: the array's base is this Motion, which owns `data` for as long as the array
+        // lives, and a frozen Motion never changes it. The array is made read-only below, so
+        // numpy never writes into Rust's memory either.
+        let array = unsafe { PyArray2::borrow_from_array(&view, slf.clone().into_any()) };
+        array
+            .try_readwrite()
+            .map_err(|e| PyRuntimeError::new_err(format!("values: {e}")))?
+            .make_nonwriteable();
+        Ok(array)
+    }
+
+    /// The names the CLI's `positions` export gives its points: joints by name, End Sites as
+    /// `<parent>_End`; for ASF, the root and each bone's end point named by the bone.
+    #[getter]
+    fn point_names(&self) -> Vec<String> {
+        bvhview::export::export_points(&self.loaded.skeleton)
+            .into_iter()
+            .map(|(name, _)| name)
+            .collect()
+    }
+
+    /// For each of `point_names`, the joint whose position it is (int32):
+    /// `positions()[:, point_joints]` is the CLI's export.
+    #[getter]
+    fn point_joints<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i32>> {
+        let joints: Vec<i32> = bvhview::export::export_points(&self.loaded.skeleton)
+            .into_iter()
+            .map(|(_, joint)| joint as i32)
+            .collect();
+        joints.into_pyarray(py)
+    }
+
+    /// World position of every joint and End Site (see `end_sites`) for the frames selected:
+    /// frames × joints × 3, float32. `frames`: None for all, an int, a slice or a sequence of
+    /// ints. A take without frames has one: its rest pose.
+    #[pyo3(signature = (frames=None))]
+    fn positions<'py>(
+        &self,
+        py: Python<'py>,
+        frames: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArray3<f32>>> {
+        let frames = self.selected_frames(frames)?;
+        let values = py.detach(|| self.positions_of(&frames));
+        let joints = self.loaded.skeleton.joints.len();
+        values.into_pyarray(py).reshape([frames.len(), joints, 3])
+    }
+
+    /// World matrix of every joint for the frames selected: frames × joints × 4 × 4, float32,
+    /// `[frame, joint, row, column]` with the translation in column 3. `frames` as in
+    /// `positions`.
+    #[pyo3(signature = (frames=None))]
+    fn world_matrices<'py>(
+        &self,
+        py: Python<'py>,
+        frames: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArray4<f32>>> {
+        let frames = self.selected_frames(frames)?;
+        let values = py.detach(|| self.matrices_of(&frames));
+        let joints = self.loaded.skeleton.joints.len();
+        values
+            .into_pyarray(py)
+            .reshape([frames.len(), joints, 4, 4])
+    }
+
+    /// Writes the take as BVH (the extension must be .bvh). ASF bone axes are baked into ZYX
+    /// rotation channels, as `bvhview convert` does; names with whitespace or braces are
+    /// written with `_`.
+    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        let extension = input::extension(&path);
+        if extension != "bvh" {
+            return Err(PyValueError::new_err(format!(
+                "{}: save writes .bvh files, not '{extension}'",
+                path.display()
+            )));
+        }
+        py.detach(|| self.write_bvh(&path))
+            .map_err(|e| to_python(py, e))
+    }
+
+    fn __len__(&self) -> usize {
+        self.loaded.motion.frame_count()
+    }
+
+    fn __repr__(&self) -> String {
+        let skeleton = &self.loaded.skeleton;
+        let end_sites = skeleton.end_site_count();
+        format!(
+            "<bvhview.Motion {:?}: {} joints + {} End Sites, {} channels, {} frames at {} s>",
+            self.path(),
+            skeleton.joints.len() - end_sites,
+            end_sites,
+            self.loaded.motion.channels,
+            self.loaded.motion.frame_count(),
+            self.loaded.motion.frame_time
+        )
+    }
+}
+
+impl Motion {
+    fn write_bvh(&self, path: &Path) -> Result<(), Error> {
+        let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+        // BVH has no fixed bone axis.
+        let baked = skeleton
+            .joints
+            .iter()
+            .any(|j| j.axis.is_some())
+            .then(|| bvhview::edit::bake_axes(skeleton, motion));
+        let (skeleton, motion) = baked.as_ref().map_or((skeleton, motion), |(s, m)| (s, m));
+        let file = std::fs::File::create(path).map_err(|e| Error::output(path, e))?;
+        let mut out = io::BufWriter::new(file);
+        bvhview::bvh::writer::write_bvh(&mut out, skeleton, motion)
+            .and_then(|()| out.flush())
+            .map_err(|e| Error::output(path, e))
+    }
+}
+
+/// Loads a .bvh file, or an .asf skeleton with `motion` its .amc take (an .asf alone gives the
+/// rest pose). `offset_mode`: "replace" (default) or "add"; `frame_time` overrides the file's
+/// (AMC files have none: 1/120 s is the default).
+#[pyfunction]
+#[pyo3(signature = (path, motion=None, offset_mode="replace", frame_time=None))]
+fn load(
+    py: Python<'_>,
+    path: PathBuf,
+    motion: Option<PathBuf>,
+    offset_mode: &str,
+    frame_time: Option<f64>,
+) -> PyResult<Motion> {
+    let offset_mode = parse_offset_mode(offset_mode)?;
+    let item = Item { path, motion };
+    let loaded = py
+        .detach(|| load_item(&item, frame_time, bvhview::cores()))
+        .map_err(|e| to_python(py, e))?;
+    Ok(Motion {
+        loaded,
+        item,
+        offset_mode,
+    })
+}
+
+/// One entry of `load_many`: a path, or an (asf, amc) pair.
+fn item_of(entry: &Bound<'_, PyAny>) -> PyResult<Item> {
+    if let Ok(pair) = entry.cast::<PyTuple>() {
+        let (path, motion): (PathBuf, PathBuf) = pair.extract()?;
+        return Ok(Item {
+            path,
+            motion: Some(motion),
+        });
+    }
+    Ok(Item {
+        path: entry.extract()?,
+        motion: None,
+    })
+}
+
+/// Loads every entry (a path, or an (asf, amc) pair) on all cores, in list order.
+/// `errors="raise"` raises the first failure in list order; `errors="return"` puts the exception
+/// in the failed entry's place instead.
+#[pyfunction]
+#[pyo3(signature = (paths, offset_mode="replace", frame_time=None, errors="raise"))]
+fn load_many(
+    py: Python<'_>,
+    paths: &Bound<'_, PyAny>,
+    offset_mode: &str,
+    frame_time: Option<f64>,
+    errors: &str,
+) -> PyResult<Vec<Py<PyAny>>> {
+    let offset_mode = parse_offset_mode(offset_mode)?;
+    let return_errors = match errors {
+        "raise" => false,
+        "return" => true,
+        other => {
+            return Err(PyValueError::new_err(format!(
+                "errors={other:?}: expected \"raise\" or \"return\""
+            )));
+        }
+    };
+    let items = paths
+        .try_iter()?
+        .map(|entry| item_of(&entry?))
+        .collect::<PyResult<Vec<Item>>>()?;
+    let results = py.detach(|| {
+        let cores = bvhview::cores();
+        // Many files: one core each. Fewer files than cores: each parses on a share of them.
+        let threads_per_file = (cores / items.len().max(1)).max(1);
+        let mut results = Vec::with_capacity(items.len());
+        bvhview::parallel::map_in_order(
+            items.len(),
+            cores,
+            2 * cores,
+            |index| load_item(&items[index], frame_time, threads_per_file),
+            |_, result| {
+                results.push(result);
+                true
+            },
+        );
+        results
+    });
+    let mut loaded = Vec::with_capacity(items.len());
+    for (item, result) in items.into_iter().zip(results) {
+        match result {
+            Ok(take) => loaded.push(
+                Motion {
+                    loaded: take,
+                    item,
+                    offset_mode,
+                }
+                .into_pyobject(py)?
+                .into_any()
+                .unbind(),
+            ),
+            Err(error) if return_errors => {
+                loaded.push(to_python(py, error).into_value(py).into_any())
+            }
+            Err(error) => return Err(to_python(py, error)),
+        }
+    }
+    Ok(loaded)
+}
+
+/// Load BVH and ASF/AMC motion capture into numpy arrays (bvhview's Rust loader and FK).
+#[pymodule]
+fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
+    module.add_function(wrap_pyfunction!(load, module)?)?;
+    module.add_function(wrap_pyfunction!(load_many, module)?)?;
+    module.add_class::<Motion>()?;
+    module.add("ParseError", module.py().get_type::<ParseError>())?;
+    Ok(())
+}

@@ -1,0 +1,441 @@
+"""The Python package against the Rust CLI and against plain Python, on the repository's real files."""
+
+import re
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import bvhview
+from conftest import (
+    DATA,
+    EDGE,
+    REPO,
+    CliFailed,
+    cli_positions,
+    files,
+    plain_bvh_rows,
+    whole_corpus_or_skip,
+)
+
+BVH_FILES = files(DATA / "bvh", ".bvh")
+ASF = DATA / "asf_amc" / "heiden_12.asf"
+AMC = DATA / "asf_amc" / "heiden_12_02_01.amc"
+
+
+def ids(paths):
+    return [p.name for p in paths]
+
+
+def assert_same_positions(take: bvhview.Motion, names: list[str], expected: np.ndarray) -> None:
+    """The CLI prints each float in its shortest round-trip form, so its points read back to the
+    very floats the library computed: equal, not merely close."""
+    assert take.point_names == names
+    got = take.positions()[:, take.point_joints]
+    assert got.shape == expected.shape
+    np.testing.assert_array_equal(got, expected)
+
+
+# Positions: the same floats as the CLI's export.
+
+
+@pytest.mark.parametrize("path", BVH_FILES, ids=ids(BVH_FILES))
+def test_positions_equal_the_cli_on_every_repository_file(cli, path):
+    names, expected = cli_positions(cli, path)
+    take = bvhview.load(path)
+    assert_same_positions(take, names, expected)
+    # BVH points are every joint in order, End Sites named <parent>_End.
+    assert list(take.point_joints) == list(range(len(take.joint_names)))
+    for index in np.flatnonzero(take.end_sites):
+        parent = take.joint_names[take.parents[index]]
+        assert take.point_names[index] == f"{parent}_End"
+
+
+def test_positions_equal_the_cli_on_the_asf_amc_pair(cli):
+    names, expected = cli_positions(cli, ASF, "--motion", str(AMC))
+    take = bvhview.load(ASF, motion=AMC)
+    assert take.frame_count == expected.shape[0] > 0
+    assert take.frame_time == pytest.approx(1 / 120)
+    assert take.motion_path == str(AMC)
+    assert_same_positions(take, names, expected)
+
+
+@pytest.mark.parametrize(
+    "path",
+    [EDGE / "position_channels_non_root.bvh", DATA / "bvh" / "makehuman_walk1.bvh"],
+    ids=lambda p: p.name,
+)
+def test_offset_mode_add_equals_the_cli(cli, path):
+    names, expected = cli_positions(cli, path, "--offset-mode", "add")
+    added = bvhview.load(path, offset_mode="add")
+    assert added.offset_mode == "add"
+    assert_same_positions(added, names, expected)
+    replaced = bvhview.load(path)
+    assert not np.array_equal(added.positions(), replaced.positions())
+
+
+def test_a_file_without_frames_gives_its_rest_pose(cli):
+    path = EDGE / "no_motion.bvh"
+    take = bvhview.load(path)
+    assert take.frame_count == 0 == len(take)
+    assert take.values.shape == (0, take.channel_count)
+    names, expected = cli_positions(cli, path)
+    assert_same_positions(take, names, expected)
+    assert take.positions().shape == (1, len(take.joint_names), 3)
+    # The rest pose is the sum of OFFSETs down the tree.
+    rest = np.zeros((len(take.parents), 3), dtype=np.float32)
+    for joint, parent in enumerate(take.parents):
+        rest[joint] = take.offsets[joint] + (rest[parent] if parent >= 0 else 0)
+    np.testing.assert_allclose(take.positions()[0], rest, rtol=0, atol=1e-4)
+
+
+def test_whole_corpus_positions_equal_the_cli_or_fail_alike(cli):
+    shared = whole_corpus_or_skip()
+    items = [(path, None) for path in files(shared / "bvh", ".bvh")]
+    asf_amc = shared / "asf_amc"
+    for amc in files(asf_amc, ".amc"):
+        skeleton = max(
+            (asf for asf in files(asf_amc, ".asf") if amc.stem.startswith(asf.stem)),
+            key=lambda asf: len(asf.stem),
+        )
+        items.append((skeleton, amc))
+    for path, motion in items:
+        extra = ["--motion", str(motion)] if motion else []
+        try:
+            names, expected = cli_positions(cli, path, *extra)
+        except CliFailed as failure:
+            with pytest.raises(bvhview.ParseError) as raised:
+                bvhview.load(path, motion=motion)
+            assert str(raised.value) == str(failure), path
+            continue
+        assert_same_positions(bvhview.load(path, motion=motion), names, expected)
+
+
+# Values: the MOTION rows as plain Python reads them.
+
+
+@pytest.mark.parametrize(
+    "path",
+    [
+        EDGE / "article_base_crlf.bvh",  # CRLF
+        DATA / "bvh" / "bvhanim_test_simple.bvh",
+        DATA / "bvh" / "opencollar_run.bvh",  # lone CR line ends
+        DATA / "bvh" / "opencollar_oc_stand_boy01.bvh",  # rows beyond Frames
+        EDGE / "short_numbers.bvh",
+    ]
+    + BVH_FILES,
+    ids=lambda p: p.name,
+)
+def test_values_equal_a_plain_python_parse_of_the_rows(path):
+    frames, frame_time, rows = plain_bvh_rows(path)
+    take = bvhview.load(path)
+    assert take.frame_count == frames
+    assert take.frame_time == frame_time
+    # float() is the correctly rounded double; float32 then rounds it as the article's
+    # (float)atof does.
+    expected = np.array(rows, dtype=np.float64).astype(np.float32).reshape(frames, -1)
+    assert take.values.dtype == np.float32
+    np.testing.assert_array_equal(take.values, expected)
+    assert sum(len(c) for c in take.channels) == take.channel_count == expected.shape[1]
+
+
+def test_values_are_a_read_only_view_not_a_copy():
+    take = bvhview.load(DATA / "bvh" / "assimp_01_01.bvh")
+    first, second = take.values, take.values
+    assert np.shares_memory(first, second)
+    assert first.base is take
+    assert not first.flags.writeable
+    with pytest.raises(ValueError):
+        first[0, 0] = 1.0
+    with pytest.raises(ValueError):
+        first.flags.writeable = True
+    # The view keeps the take alive.
+    values = bvhview.load(DATA / "bvh" / "bvhanim_test_simple.bvh").values
+    assert values.shape == (2, 9) and values[1, 8] == values[1, 8]
+
+
+# The skeleton's description.
+
+
+def test_skeleton_arrays_describe_the_file():
+    take = bvhview.load(DATA / "bvh" / "bvhanim_test_simple.bvh")
+    assert take.joint_names == ["Base", "End", "Site"]
+    assert take.parents.dtype == np.int32
+    assert list(take.parents) == [-1, 0, 1]
+    assert list(take.end_sites) == [False, False, True]
+    assert take.offsets.shape == (3, 3) and take.offsets.dtype == np.float32
+    assert take.channels == [
+        ["Xposition", "Yposition", "Zposition", "Zrotation", "Xrotation", "Yrotation"],
+        ["Zrotation", "Xrotation", "Yrotation"],
+        [],
+    ]
+    assert take.rotation_orders == ["ZXY", "ZXY", None]
+    assert take.warnings == []
+    assert "2 frames" in repr(take)
+
+
+def test_rotation_orders_match_the_cli_info(cli):
+    path = DATA / "bvh" / "opencollar_oc_stand_boy01.bvh"
+    info = subprocess.run([str(cli), "info", str(path)], capture_output=True, check=True).stdout.decode()
+    line = next(l for l in info.splitlines() if l.startswith("rotation orders:"))
+    counts = dict(
+        (order, int(count)) for order, count in re.findall(r"([XYZ]{3}) ×(\d+)", line)
+    )
+    take = bvhview.load(path)
+    orders = [o for o in take.rotation_orders if o is not None]
+    assert {o: orders.count(o) for o in set(orders)} == counts
+    assert len(take.warnings) == 1 and "extra rows" in take.warnings[0]
+
+
+# World matrices.
+
+
+@pytest.mark.parametrize(
+    "path", [DATA / "bvh" / "bvh11_131_01.bvh", DATA / "bvh" / "makehuman_dance1.bvh"], ids=lambda p: p.name
+)
+def test_world_matrices_carry_the_positions_and_rigid_rotations(path):
+    take = bvhview.load(path)
+    matrices = take.world_matrices()
+    positions = take.positions()
+    assert matrices.shape == (take.frame_count, len(take.joint_names), 4, 4)
+    assert matrices.dtype == np.float32
+    size = np.ptp(positions.reshape(-1, 3), axis=0).max()
+    np.testing.assert_allclose(matrices[..., :3, 3], positions, rtol=0, atol=1e-4 * size)
+    np.testing.assert_array_equal(matrices[..., 3, :], np.broadcast_to([0, 0, 0, 1], matrices[..., 3, :].shape))
+    rotations = matrices[..., :3, :3].astype(np.float64)
+    identity = np.einsum("...ij,...kj->...ik", rotations, rotations)
+    np.testing.assert_allclose(identity, np.broadcast_to(np.eye(3), identity.shape), atol=1e-4)
+
+
+def test_world_matrices_of_the_asf_take_match_its_positions():
+    take = bvhview.load(ASF, motion=AMC)
+    np.testing.assert_allclose(
+        take.world_matrices(slice(0, 50))[..., :3, 3], take.positions(slice(0, 50)), atol=1e-3
+    )
+
+
+# Frame selection.
+
+
+def test_frames_select_like_numpy():
+    take = bvhview.load(DATA / "bvh" / "bvhparser_walk_01.bvh")
+    every = take.positions()
+    count = take.frame_count
+    for frames, expected in [
+        (3, every[[3]]),
+        (-1, every[[-1]]),
+        (slice(10, 40, 3), every[10:40:3]),
+        (slice(None, None, -7), every[::-7]),
+        ([5, 0, 5], every[[5, 0, 5]]),
+        (np.arange(count - 9, count), every[count - 9 :]),
+        (range(2, 20, 9), every[2:20:9]),
+        ([], every[:0]),
+    ]:
+        np.testing.assert_array_equal(take.positions(frames), expected)
+        assert take.world_matrices(frames).shape[0] == expected.shape[0]
+    for bad in [count, -count - 1, "3", [0, 1.5], 2.0]:
+        with pytest.raises(ValueError):
+            take.positions(bad)
+        with pytest.raises(ValueError):
+            take.world_matrices(bad)
+
+
+# Errors: exact places, the exceptions Python users expect, never a panic.
+
+# The expected messages are the Rust tests' own table, read from tests/bvh_errors.rs.
+MALFORMED = re.findall(
+    r'\(\s*"([^"]+\.bvh)",\s*(?:Some\(\s*"((?:[^"\\]|\\.)*)"\s*\)|None)',
+    (REPO / "tests" / "bvh_errors.rs").read_text(),
+)
+
+
+def test_the_error_table_was_read():
+    assert len(MALFORMED) == len(files(DATA / "bvh_malformed", ".bvh")) == 10
+    assert ("dali_test-invalid-hierarchy1.bvh", "3:3: expected '{' after 'root', found 'OFFSET'") in MALFORMED
+
+
+@pytest.mark.parametrize("name,expected", MALFORMED, ids=[m[0] for m in MALFORMED])
+def test_malformed_files_raise_parse_error_with_line_and_column(name, expected):
+    path = DATA / "bvh_malformed" / name
+    if not expected:
+        assert len(bvhview.load(path).joint_names) == 3
+        return
+    with pytest.raises(bvhview.ParseError) as raised:
+        bvhview.load(path)
+    error = raised.value
+    line, column, message = expected.split(":", 2)
+    assert isinstance(error, ValueError)
+    assert str(error) == f"{path}:{expected}"
+    assert error.path == str(path)
+    assert (error.line, error.column) == (int(line), int(column))
+    assert error.message == message.strip()
+
+
+def test_dali_hierarchy1_breaks_at_line_3_column_3():
+    with pytest.raises(bvhview.ParseError, match=r":3:3: expected '\{' after 'root'") as raised:
+        bvhview.load(DATA / "bvh_malformed" / "dali_test-invalid-hierarchy1.bvh")
+    assert (raised.value.line, raised.value.column) == (3, 3)
+
+
+def test_a_malformed_amc_raises_parse_error_with_its_place(tmp_path):
+    broken = tmp_path / "broken.amc"
+    lines = AMC.read_text().splitlines()
+    # The first data line of frame 1 gets one value too many.
+    index = next(i for i, l in enumerate(lines) if l.strip() == "1") + 1
+    lines[index] += " 7"
+    broken.write_text("\n".join(lines) + "\n")
+    with pytest.raises(bvhview.ParseError) as raised:
+        bvhview.load(ASF, motion=broken)
+    assert raised.value.path == str(broken)
+    assert raised.value.line == index + 1
+    assert raised.value.column > 1
+
+
+def test_missing_files_raise_file_not_found(tmp_path):
+    missing = tmp_path / "nothing.bvh"
+    with pytest.raises(FileNotFoundError) as raised:
+        bvhview.load(missing)
+    assert raised.value.filename == str(missing)
+    assert "no such file" in str(raised.value)
+    with pytest.raises(FileNotFoundError):
+        bvhview.load(ASF, motion=tmp_path / "nothing.amc")
+    with pytest.raises(FileNotFoundError):
+        bvhview.load_many([DATA / "bvh" / "bvhio_example.bvh", missing])
+
+
+def test_usage_errors_raise_value_error(tmp_path):
+    notes = tmp_path / "notes.txt"
+    notes.write_text("hello")
+    path = DATA / "bvh" / "bvhio_example.bvh"
+    for call in [
+        lambda: bvhview.load(path, offset_mode="sideways"),
+        lambda: bvhview.load(notes),
+        lambda: bvhview.load(AMC),
+        lambda: bvhview.load(path, motion=AMC),
+        lambda: bvhview.load(ASF, motion=path),
+        lambda: bvhview.load(path, frame_time=0),
+        lambda: bvhview.load_many([path], errors="ignore"),
+        lambda: bvhview.load(path).save(tmp_path / "out.txt"),
+    ]:
+        with pytest.raises(ValueError) as raised:
+            call()
+        assert not isinstance(raised.value, bvhview.ParseError)
+    with pytest.raises(IsADirectoryError):
+        bvhview.load(tmp_path)
+    with pytest.raises(TypeError):
+        bvhview.load(42)
+
+
+def test_an_unwritable_output_raises_os_error(tmp_path):
+    take = bvhview.load(DATA / "bvh" / "bvhio_example.bvh")
+    with pytest.raises(FileNotFoundError):
+        take.save(tmp_path / "no" / "such" / "out.bvh")
+    folder = tmp_path / "folder.bvh"
+    folder.mkdir()
+    with pytest.raises(IsADirectoryError):
+        take.save(folder)
+
+
+def test_truncated_and_flipped_bytes_raise_python_errors_only(tmp_path):
+    """A sweep of damaged copies of a real file: each loads or raises ParseError, never anything
+    else (a panic would surface as pyo3's PanicException, a BaseException)."""
+    original = (DATA / "bvh" / "bvhparser_simple.bvh").read_bytes()
+    damaged = tmp_path / "damaged.bvh"
+    for cut in range(0, len(original), 37):
+        for variant in (original[:cut], original[:cut] + b"{" + original[cut + 1 :]):
+            damaged.write_bytes(variant)
+            try:
+                take = bvhview.load(damaged)
+            except bvhview.ParseError as error:
+                assert error.line >= 1 and error.column >= 1
+            else:
+                take.positions()
+                take.world_matrices()
+
+
+# Many files at once.
+
+
+def test_load_many_loads_the_whole_folder_in_order():
+    takes = bvhview.load_many(BVH_FILES)
+    assert [t.path for t in takes] == [str(p) for p in BVH_FILES]
+    for take, path in zip(takes, BVH_FILES):
+        alone = bvhview.load(path)
+        assert take.joint_names == alone.joint_names
+        np.testing.assert_array_equal(take.values, alone.values)
+        np.testing.assert_array_equal(take.positions(), alone.positions())
+
+
+def test_load_many_takes_pairs_and_returns_errors_when_asked():
+    malformed = DATA / "bvh_malformed" / "dali_test-invalid-hierarchy4.bvh"
+    entries = [BVH_FILES[0], (ASF, AMC), malformed, str(BVH_FILES[1])]
+    with pytest.raises(bvhview.ParseError, match=r":11:7: "):
+        bvhview.load_many(entries)
+    takes = bvhview.load_many(entries, errors="return", offset_mode="add")
+    assert isinstance(takes[2], bvhview.ParseError) and takes[2].line == 11
+    assert takes[1].motion_path == str(AMC) and takes[1].frame_count > 0
+    assert all(t.offset_mode == "add" for i, t in enumerate(takes) if i != 2)
+    assert bvhview.load_many([]) == []
+
+
+def test_python_threads_run_while_a_take_loads_and_computes(tmp_path):
+    """The GIL is released: while one thread is inside load() and world_matrices(), another keeps
+    running Python for most of that time, not just for one switch interval (5 ms)."""
+    source = (DATA / "bvh" / "bvhparser_walk_01.bvh").read_text()
+    head, rows = source.split("Frame Time: .0083333\n")
+    frames = rows.splitlines() * 200
+    head = head.replace("Frames: 344", f"Frames: {len(frames)}")
+    big = tmp_path / "big.bvh"
+    big.write_text(f"{head}Frame Time: .0083333\n" + "\n".join(frames) + "\n")
+
+    inside = threading.Event()
+    done = threading.Event()
+    call = {}
+
+    def work():
+        inside.set()
+        started = time.perf_counter()
+        bvhview.load(big).world_matrices()
+        call["seconds"] = time.perf_counter() - started
+        done.set()
+
+    worker = threading.Thread(target=work)
+    worker.start()
+    inside.wait()
+    first = last = time.perf_counter()
+    while not done.is_set():
+        last = time.perf_counter()
+    worker.join()
+    assert call["seconds"] > 0.05, "the work is too short to tell"
+    assert last - first > 0.5 * call["seconds"]
+
+
+# Saving.
+
+
+@pytest.mark.parametrize("path", BVH_FILES, ids=ids(BVH_FILES))
+def test_save_round_trips_every_repository_file(tmp_path, path):
+    take = bvhview.load(path)
+    out = tmp_path / "copy.bvh"
+    take.save(out)
+    back = bvhview.load(out)
+    # Names with whitespace are written with "_".
+    assert back.joint_names == [re.sub(r"[\s{}]", "_", n) or "unnamed" for n in take.joint_names]
+    assert back.channels == take.channels
+    assert back.frame_time == take.frame_time
+    np.testing.assert_array_equal(back.parents, take.parents)
+    np.testing.assert_array_equal(back.offsets, take.offsets)
+    np.testing.assert_array_equal(back.values, take.values)
+    np.testing.assert_array_equal(back.positions(), take.positions())
+
+
+def test_save_bakes_asf_axes_and_keeps_the_positions(tmp_path):
+    take = bvhview.load(ASF, motion=AMC)
+    out = tmp_path / "walk.bvh"
+    take.save(str(out))
+    back = bvhview.load(out)
+    before = take.positions()
+    height = np.ptp(before[0], axis=0).max()
+    np.testing.assert_allclose(back.positions(), before, rtol=0, atol=1e-4 * height)
