@@ -17,3 +17,6 @@ $bvhview skin-demo --bend 30,45 -o docs/skin_demo.png
 $bvhview snapshot tests/data/bvh/bvh11_131_01.bvh --frame 400 --skin --fit --angle 1.2 --size 400x400 -o docs/skin_cmu.png
 # An animation: the whole walk cycle as a GIF.
 $bvhview snapshot assets/walk.bvh --frames 0..40 --style both --fit --angle 0.6 --size 240x240 -o docs/walk.gif
+# The HUD (I, --hud) and the step view of the recursion (J, --step).
+$bvhview snapshot assets/walk.bvh --frame 10 --fit --angle 0.6 --style both --hud -q -o docs/walk_hud.png
+$bvhview snapshot assets/walk.bvh --frame 10 --fit --angle 0.6 --step 5 -q -o docs/walk_step.png

@@ -116,6 +116,7 @@ Keys in the window:
   F             frame the whole skeleton / back to the article's camera
   C             the article's camera, as at the start
   O             position channels replace / are added to OFFSET
+  I / H         the HUD / the help on and off
   B             stick figure on / off
   K             generated skin on / off
   J / Shift+J   step through the recursion one joint at a time (Esc: whole picture)
@@ -258,6 +259,10 @@ struct SnapshotArgs {
     /// highlighted, with its GL calls written beside (the window's J key).
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
     step: Option<u64>,
+    /// Write the HUD top left: the file, the frame, its time, the rate and the display mode
+    /// (the window's I key).
+    #[arg(long)]
+    hud: bool,
     /// Frames per second of an animated output (default: the file's rate, at most 50 for GIF).
     #[arg(long, requires = "frames")]
     fps: Option<f64>,
@@ -837,6 +842,10 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
     let loaded = load(&args.file, &args.source)?;
     let name = args.file.display().to_string();
     warn_offset_mode(&loaded, args.view.offset_mode.into(), &name);
+    let short_name = args
+        .file
+        .file_name()
+        .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
     let options = SnapshotOptions {
         up: resolve_up(args.view.up, &loaded, &name),
         skin: args.skin,
@@ -850,8 +859,36 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         offset_mode: args.view.offset_mode.into(),
     };
     let output = &args.output;
+    let warning =
+        bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, options.offset_mode);
+    let hud_lines = |frame: usize| -> Vec<String> {
+        if !args.hud {
+            return Vec::new();
+        }
+        bvhview::render::hud::Hud {
+            name: &short_name,
+            frame,
+            frames: loaded.motion.frame_count(),
+            frame_time: loaded.motion.frame_time,
+            playing: false,
+            speed: 1.0,
+            style: options.style,
+            skin: options.skin,
+            fit: options.fit,
+            offset_mode: options.offset_mode,
+            other_mode_likely: warning.is_some(),
+        }
+        .lines(bvhview::render::step::columns(options.width))
+    };
     let Some(frames) = &args.frames else {
-        let image = bvhview::render::snapshot(&loaded.skeleton, &loaded.motion, &options)?;
+        bvhview::render::frame_values(&loaded.motion, options.frame)?;
+        let image = bvhview::render::Renderer::new(options.width, options.height)?
+            .render_with_text(
+                &loaded.skeleton,
+                &loaded.motion,
+                &options,
+                &hud_lines(options.frame),
+            )?;
         image.write_png(output)?;
         wrote(format_args!(
             "{} ({}x{})",
@@ -871,10 +908,11 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         let progress = Progress::new(shown.len());
         let pictures = shown.iter().enumerate().map(|(i, &frame)| {
             progress.show(i + 1);
-            renderer.render(
+            renderer.render_with_text(
                 &loaded.skeleton,
                 &loaded.motion,
                 &SnapshotOptions { frame, ..options },
+                &hud_lines(frame),
             )
         });
         let size = (options.width, options.height);
@@ -893,10 +931,11 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
     let digits = (range.end.max(1) - 1).to_string().len().max(5);
     let count = range.len();
     for frame in range {
-        let image = renderer.render(
+        let image = renderer.render_with_text(
             &loaded.skeleton,
             &loaded.motion,
             &SnapshotOptions { frame, ..options },
+            &hud_lines(frame),
         )?;
         image.write_png(&output.join(format!("frame_{frame:0digits$}.png")))?;
     }

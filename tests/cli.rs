@@ -617,3 +617,32 @@ fn animated_snapshots_hold_the_frames_at_their_rate() {
     assert_eq!(delays, vec![10]);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `snapshot --hud` writes the HUD top left (pinned picture); without it the picture is the
+/// article's, unchanged.
+#[test]
+fn snapshot_hud_is_pinned_and_opt_in() {
+    let dir = std::env::temp_dir().join(format!("bvhview-hudpin-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (with, without) = (dir.join("with.png"), dir.join("without.png"));
+    let input = tiny();
+    for (path, extra) in [(&with, Some("--hud")), (&without, None)] {
+        let mut args = vec!["snapshot", input.as_str(), "--frame", "1", "-q"];
+        args.extend(extra);
+        args.extend(["-o", path.to_str().unwrap()]);
+        assert!(bvhview(&args).status.success());
+    }
+    let read = |p: &std::path::Path| bvhview::render::Image::read_png(p).unwrap();
+    let golden = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/snapshots/tiny_crlf__f1__hud.png");
+    if std::env::var_os("BVHVIEW_BLESS").is_some() {
+        std::fs::copy(&with, &golden).unwrap();
+    }
+    let differing = read(&with).differing_pixels(&read(&golden));
+    println!("drift tiny_crlf__f1__hud: {differing} of 360000 pixels differ (at most 360)");
+    assert!(differing <= 360, "{differing}");
+    let article = read(&oracle("refs/tiny_crlf__f1__a10__600x600.png"));
+    assert_eq!(read(&without).differing_pixels(&article), 0);
+    assert!(read(&with).differing_pixels(&article) > 1000);
+    std::fs::remove_dir_all(dir).unwrap();
+}

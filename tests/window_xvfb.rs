@@ -288,6 +288,41 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     run(&display, "xdotool", &["key", "o"]).expect("key o");
     wait_for("the title back", Duration::from_secs(30), title("1 of 0-2"));
 
+    // I shows the HUD: the picture `snapshot --hud` writes for the same state. H shows the help
+    // instead, and both go away again.
+    let hud_png = std::env::temp_dir().join(format!("bvhview-hud-{}.png", std::process::id()));
+    let made = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .args([
+            "snapshot",
+            input.to_str().unwrap(),
+            "--frame",
+            "1",
+            "--hud",
+            "-q",
+            "-o",
+        ])
+        .arg(&hud_png)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let with_hud = Image::read_png(&hud_png).unwrap();
+    std::fs::remove_file(&hud_png).unwrap();
+    run(&display, "xdotool", &["key", "i"]).expect("key i");
+    shows("the HUD after I", &with_hud);
+    run(&display, "xdotool", &["key", "h"]).expect("key h");
+    let start = Instant::now();
+    while capture(&display, &window).differing_pixels(&with_hud) == 0 {
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "H changed nothing"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    run(&display, "xdotool", &["key", "h"]).expect("key h");
+    shows("the HUD again after H", &with_hud);
+    run(&display, "xdotool", &["key", "i"]).expect("key i");
+    shows("no HUD after I again", &second);
+
     run(&display, "xdotool", &["key", "Escape"]).expect("key Escape");
     let status = wait_for("the viewer to quit on Esc", Duration::from_secs(30), || {
         viewer.0.try_wait().unwrap()

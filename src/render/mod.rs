@@ -4,6 +4,7 @@ pub mod animation;
 pub mod body;
 pub mod draw;
 pub mod fixed;
+pub mod hud;
 pub mod osmesa;
 pub mod scene;
 pub mod skin_demo;
@@ -229,6 +230,18 @@ impl Renderer {
         motion: &Motion,
         options: &SnapshotOptions,
     ) -> Result<Image, Error> {
+        self.render_with_text(skeleton, motion, options, &[])
+    }
+
+    /// [`Renderer::render`] with `lines` of text top left (the HUD or the help; none draws the
+    /// picture [`Renderer::render`] draws).
+    pub fn render_with_text(
+        &mut self,
+        skeleton: &Skeleton,
+        motion: &Motion,
+        options: &SnapshotOptions,
+        lines: &[String],
+    ) -> Result<Image, Error> {
         let (width, height) = self.context.size();
         if (options.width, options.height) != (width, height) {
             return Err(Error::Usage(
@@ -286,6 +299,9 @@ impl Renderer {
                 step::columns(width),
             );
             step::draw_overlay(gl, &lines);
+        }
+        if !lines.is_empty() {
+            hud::draw(gl, height, lines);
         }
         Ok(Image {
             width,

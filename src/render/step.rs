@@ -64,9 +64,9 @@ pub fn lines(
         .collect()
 }
 
-/// Draws the overlay of [`lines`], in white.
+/// Draws the overlay of [`lines`], in white, bottom left.
 pub fn draw_overlay<G: FixedFunction>(gl: &mut G, lines: &[String]) {
-    text::draw_lines(gl, lines, [1.0, 1.0, 1.0]);
+    text::draw_lines(gl, 0, text::Corner::BottomLeft, lines, [1.0, 1.0, 1.0]);
 }
 
 /// How many characters fit across a picture `width` pixels wide.

@@ -37,14 +37,32 @@ pub fn glyph(c: char) -> [u8; 32] {
     bits
 }
 
-/// Draws `lines` in the bottom-left corner of a picture (the last line lowest), in `colour`,
-/// unlit; the lighting is switched back on after (the scene draws lit). The article's camera
-/// shows the skeleton in the upper half, so text there would hide it.
-pub fn draw_lines<G: FixedFunction>(gl: &mut G, lines: &[String], colour: [f32; 3]) {
+/// Where on the picture a block of lines goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Corner {
+    /// Bottom left, the last line lowest: the step view (the article's camera shows the skeleton
+    /// in the upper half).
+    BottomLeft,
+    /// Top left, the first line highest: the HUD and the help.
+    TopLeft,
+}
+
+/// Draws `lines` in a corner of a picture `height` pixels high, in `colour`, unlit; the lighting
+/// is switched back on after (the scene draws lit).
+pub fn draw_lines<G: FixedFunction>(
+    gl: &mut G,
+    height: u32,
+    corner: Corner,
+    lines: &[String],
+    colour: [f32; 3],
+) {
     gl.disable(GL_LIGHTING);
     gl.color3f(colour[0], colour[1], colour[2]);
     for (i, line) in lines.iter().enumerate() {
-        let baseline = 8 + LINE * (lines.len() - 1 - i) as i32;
+        let baseline = match corner {
+            Corner::BottomLeft => 8 + LINE * (lines.len() - 1 - i) as i32,
+            Corner::TopLeft => height as i32 - 8 - LINE * (i as i32 + 1),
+        };
         gl.window_pos(8, baseline);
         for c in line.chars() {
             gl.bitmap(GLYPH, GLYPH, GLYPH as f32, &glyph(c));

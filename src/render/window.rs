@@ -297,6 +297,8 @@ pub fn run(skeleton: &Skeleton, motion: &Motion, options: ViewerOptions) -> Resu
         running: None,
         error: None,
         step: None,
+        hud: false,
+        help: false,
         body: None,
         posed: crate::render::body::PosedBody::default(),
         scratch: (Vec::new(), Vec::new()),
@@ -377,6 +379,9 @@ struct Viewer<'a> {
     error: Option<Error>,
     /// The step view: how many joints, in drawing order, are drawn (J, Shift+J; Esc leaves it).
     step: Option<usize>,
+    /// The HUD (I) and the help (H), top left; the help takes the HUD's place while shown.
+    hud: bool,
+    help: bool,
     /// The generated skin, built the first time it is shown.
     body: Option<crate::render::body::Body>,
     posed: crate::render::body::PosedBody,
@@ -463,8 +468,36 @@ impl Viewer<'_> {
             up: self.options.up,
         };
         scene::display(&mut running.gl, &scene);
+        let (width, height) = running.size;
+        let top_left = if self.help {
+            crate::render::hud::help_lines()
+        } else if self.hud {
+            let warning = crate::info::offset_mode_warning(
+                self.skeleton,
+                self.motion,
+                self.options.offset_mode,
+            );
+            crate::render::hud::Hud {
+                name: &self.options.name,
+                frame: self.frame,
+                frames: self.motion.frame_count(),
+                frame_time: self.motion.frame_time,
+                playing: self.playing,
+                speed: 1.0,
+                style: self.options.style,
+                skin: self.options.skin,
+                fit: self.fit,
+                offset_mode: self.options.offset_mode,
+                other_mode_likely: warning.is_some(),
+            }
+            .lines(crate::render::step::columns(width))
+        } else {
+            Vec::new()
+        };
+        if !top_left.is_empty() {
+            crate::render::hud::draw(&mut running.gl, height, &top_left);
+        }
         if let Some(shown) = self.step {
-            let (width, _) = running.size;
             let lines = crate::render::step::lines(
                 self.skeleton,
                 frame,
@@ -528,6 +561,8 @@ impl Viewer<'_> {
                 "d" => self.turn(-0.1),
                 // Framing starts from the article's level view at this angle: no zoom, tilt or
                 // pan carries over either way.
+                "i" => self.hud = !self.hud,
+                "h" => self.help = !self.help,
                 "f" => {
                     self.fit = !self.fit;
                     self.camera = Camera {

@@ -1,0 +1,111 @@
+//! The HUD (I in the window, `snapshot --hud`) and the help (H): text on top of the picture,
+//! top left, never part of the article's picture.
+
+use crate::pose::OffsetMode;
+use crate::render::draw::Style;
+use crate::render::fixed::FixedFunction;
+use crate::render::text::{self, Corner};
+
+/// What the HUD reports.
+#[derive(Clone, Debug)]
+pub struct Hud<'a> {
+    /// The file's name (without its folder).
+    pub name: &'a str,
+    /// The frame shown, and how many there are (0 for a rest pose).
+    pub frame: usize,
+    pub frames: usize,
+    pub frame_time: f64,
+    pub playing: bool,
+    /// Playback speed, 1 for the file's own rate.
+    pub speed: f64,
+    pub style: Style,
+    pub skin: bool,
+    pub fit: bool,
+    pub offset_mode: OffsetMode,
+    /// Whether the file looks written for the other offset mode (said, with the key to switch).
+    pub other_mode_likely: bool,
+}
+
+impl Hud<'_> {
+    /// The HUD's lines, at most `columns` characters each.
+    pub fn lines(&self, columns: usize) -> Vec<String> {
+        let rate = if self.frame_time > 0.0 {
+            format!("{:.2} frames/s", 1.0 / self.frame_time)
+        } else {
+            "no frame time".to_string()
+        };
+        let frames = if self.frames == 0 {
+            "rest pose (no frames)".to_string()
+        } else {
+            format!("frame {} of 0-{}", self.frame, self.frames - 1)
+        };
+        let style = match (self.style, self.skin) {
+            (Style::Points, false) => "spheres",
+            (Style::Sticks, false) => "stick figure",
+            (Style::Both, false) => "spheres and sticks",
+            (Style::Points, true) => "skin",
+            (_, true) => "skin and sticks",
+        };
+        let camera = if self.fit {
+            "framed"
+        } else {
+            "the article's camera"
+        };
+        let mode = match self.offset_mode {
+            OffsetMode::Replace => "positions replace OFFSET",
+            OffsetMode::Add => "positions added to OFFSET",
+        };
+        let mut lines = vec![
+            self.name.to_string(),
+            frames,
+            format!("{:.3} s, {rate}", self.frame as f64 * self.frame_time),
+            format!(
+                "{} at {}x",
+                if self.playing { "playing" } else { "paused" },
+                trim_number(self.speed)
+            ),
+            format!("{style}, {camera}"),
+            mode.to_string(),
+        ];
+        if self.other_mode_likely {
+            lines.push("looks written for the other mode (O)".to_string());
+        }
+        lines.push("H: keys".to_string());
+        lines
+            .into_iter()
+            .map(|line| line.chars().take(columns).collect())
+            .collect()
+    }
+}
+
+fn trim_number(value: f64) -> String {
+    let text = format!("{value:.2}");
+    text.trim_end_matches('0').trim_end_matches('.').to_string()
+}
+
+/// The help overlay: every key of the window.
+pub fn help_lines() -> Vec<String> {
+    [
+        "W / S      next / previous frame",
+        "A / D      turn the camera",
+        "Space      play / pause",
+        "drag       turn and tilt",
+        "Shift+drag pan; wheel: zoom",
+        "F          frame the skeleton",
+        "C          the article's camera",
+        "B          next style",
+        "K          skin on / off",
+        "O          offset mode",
+        "J/Shift+J  step the recursion",
+        "I          HUD on / off",
+        "H          this help",
+        "Esc        quit",
+    ]
+    .map(str::to_string)
+    .to_vec()
+}
+
+/// Draws `lines` top left on a picture `height` pixels high, in white.
+pub fn draw<G: FixedFunction>(gl: &mut G, height: u32, lines: &[String]) {
+    text::draw_lines(gl, height, Corner::TopLeft, lines, [1.0, 1.0, 1.0]);
+}
