@@ -346,6 +346,16 @@ struct ConvertArgs {
     input: PathBuf,
     #[command(flatten)]
     source: Source,
+    /// Keep only these frames: N, A..B (B left out), A..=B, A.. or ..B (applied first).
+    #[arg(long)]
+    frames: Option<String>,
+    /// Resample to this many frames per second: rotations slerped, positions interpolated
+    /// (applied second; any ratio, such as 120 to 100).
+    #[arg(long)]
+    fps: Option<f64>,
+    /// Multiply every length, OFFSETs and position channels (applied third).
+    #[arg(long, allow_negative_numbers = true)]
+    scale: Option<f32>,
     /// The BVH file to write.
     #[arg(short, long)]
     output: PathBuf,
@@ -1040,7 +1050,33 @@ fn skin_demo(args: SkinDemoArgs) -> Result<ExitCode, Error> {
 
 fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
     check_output(&args.output, &["bvh"])?;
-    let loaded = load(&args.input, &args.source)?;
+    if let Some(fps) = args.fps
+        && !(fps.is_finite() && fps > 0.0)
+    {
+        return Err(Error::Usage(format!(
+            "--fps {fps}: expected frames per second, above 0"
+        )));
+    }
+    if let Some(factor) = args.scale
+        && !(factor.is_finite() && factor != 0.0)
+    {
+        return Err(Error::Usage(format!(
+            "--scale {factor}: expected a finite number other than 0"
+        )));
+    }
+    let mut loaded = load(&args.input, &args.source)?;
+    // The edits, in this order: trim, resample, scale.
+    if let Some(frames) = &args.frames {
+        let range = export::parse_frames(frames, loaded.motion.frame_count())?;
+        loaded.motion = bvhview::edit::trim(&loaded.motion, range);
+    }
+    if let Some(fps) = args.fps {
+        loaded.motion = bvhview::edit::resample(&loaded.skeleton, &loaded.motion, fps);
+    }
+    if let Some(factor) = args.scale {
+        (loaded.skeleton, loaded.motion) =
+            bvhview::edit::scale(&loaded.skeleton, &loaded.motion, factor);
+    }
     // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
     let (skeleton, motion) = if loaded.skeleton.joints.iter().any(|j| j.axis.is_some()) {
         bvhview::edit::bake_axes(&loaded.skeleton, &loaded.motion)

@@ -87,3 +87,38 @@ fn convert_writes_names_with_blanks_safe_and_says_so() {
     std::fs::remove_file(input).unwrap();
     std::fs::remove_file(out).unwrap();
 }
+
+/// `convert --frames --fps --scale`: trimmed, resampled (every second frame of a doubled rate is
+/// an original frame, to float precision), scaled; world positions scale with it.
+#[test]
+fn convert_edits_trim_resample_and_scale() {
+    let dir = std::env::temp_dir();
+    let out = dir.join(format!("bvhview-edits-{}.bvh", std::process::id()));
+    let input = data("bvh/bvh11_131_01.bvh");
+    let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("convert")
+        .arg(&input)
+        .args([
+            "--frames", "10..20", "--fps", "240", "--scale", "2", "-q", "-o",
+        ])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let original = bvhview::bvh::load_file(&input).unwrap();
+    let edited = bvhview::bvh::load_file(&out).unwrap();
+    std::fs::remove_file(&out).unwrap();
+    // Ten frames at 120 span 9/120 s: 19 frames at 240.
+    assert_eq!(edited.motion.frame_count(), 19);
+    assert_eq!(edited.motion.frame_time, 1.0 / 240.0);
+    let mode = bvhview::pose::OffsetMode::Replace;
+    for k in 0..10 {
+        let want =
+            bvhview::pose::world_positions(&original.skeleton, original.motion.frame(10 + k), mode);
+        let got =
+            bvhview::pose::world_positions(&edited.skeleton, edited.motion.frame(2 * k), mode);
+        for (w, g) in want.iter().zip(&got) {
+            assert!((*w * 2.0).distance(*g) < 1e-3, "frame {k}: {w} vs {g}");
+        }
+    }
+}
