@@ -119,7 +119,8 @@ fn euler_order(order: RotationOrder) -> EulerRot {
 pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Motion {
     let frames = motion.frame_count();
     let width = motion.channels;
-    if frames < 2 || !(motion.frame_time > 0.0) || !(fps > 0.0) {
+    let timed = motion.frame_time > 0.0 && motion.frame_time.is_finite();
+    if frames < 2 || !timed || fps.is_nan() || fps <= 0.0 {
         return Motion::new(1.0 / fps, width, frames, motion.data.clone());
     }
     let span = (frames - 1) as f64 * motion.frame_time;
