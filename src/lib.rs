@@ -22,6 +22,7 @@ pub mod info;
 pub mod input;
 pub mod lines;
 pub mod motion;
+pub mod output;
 pub mod parallel;
 pub mod pose;
 pub mod render;

@@ -616,18 +616,49 @@ fn load_or_default(path: Option<&Path>, source: &Source) -> Result<(String, Load
     }
 }
 
-/// Opens the output (a file, or stdout when none is named). It may be written from any thread.
-fn open_output(path: Option<&Path>) -> Result<Box<dyn Write + Send>, Error> {
+/// Where a command writes: standard output, or a file that appears whole or not at all. It may
+/// be written from any thread.
+enum Output {
+    Stdout(BufWriter<io::Stdout>),
+    File(bvhview::output::AtomicFile),
+}
+
+impl Write for Output {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        match self {
+            Output::Stdout(out) => out.write(bytes),
+            Output::File(out) => out.write(bytes),
+        }
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        match self {
+            Output::Stdout(out) => out.flush(),
+            Output::File(out) => out.flush(),
+        }
+    }
+}
+
+/// Opens the output (a file, or stdout when none is named).
+fn open_output(path: Option<&Path>) -> Result<Output, Error> {
     Ok(match path {
-        Some(path) => Box::new(BufWriter::new(
-            std::fs::File::create(path).map_err(|e| Error::output(path, e))?,
-        )),
-        None => Box::new(BufWriter::new(io::stdout())),
+        Some(path) => Output::File(bvhview::output::AtomicFile::create(path)?),
+        None => Output::Stdout(BufWriter::new(io::stdout())),
     })
 }
 
-/// A write error on stdout that is a closed pipe (`| head`) ends quietly; others are reported.
-fn finish_write(result: io::Result<()>, path: Option<&Path>) -> Result<(), Error> {
+/// Ends a write: a file takes its name only if everything was written; a write error on stdout
+/// that is a closed pipe (`| head`) ends quietly; others are reported.
+fn finish_write(out: Output, result: io::Result<()>, path: Option<&Path>) -> Result<(), Error> {
+    let result = match out {
+        Output::Stdout(mut out) => result.and_then(|()| out.flush()),
+        // Dropped uncommitted on an error: the temporary file goes, nothing takes the name.
+        Output::File(file) => return written(result, path).and_then(|()| file.commit()),
+    };
+    written(result, path)
+}
+
+/// The error a failed write is reported as.
+fn written(result: io::Result<()>, path: Option<&Path>) -> Result<(), Error> {
     match result {
         Ok(()) => Ok(()),
         Err(e) if path.is_none() && e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
@@ -638,10 +669,8 @@ fn finish_write(result: io::Result<()>, path: Option<&Path>) -> Result<(), Error
 
 fn write_text(text: &str) -> Result<(), Error> {
     let mut out = open_output(None)?;
-    finish_write(
-        out.write_all(text.as_bytes()).and_then(|()| out.flush()),
-        None,
-    )
+    let result = out.write_all(text.as_bytes());
+    finish_write(out, result, None)
 }
 
 /// `bvhview info DIR`: one line per file, in path order, a progress bar on a terminal, and a
@@ -817,7 +846,7 @@ fn positions(args: PositionsArgs) -> Result<ExitCode, Error> {
         &options,
     )
     .and_then(|()| out.flush());
-    finish_write(result, output)?;
+    finish_write(out, result, output)?;
     if let Some(path) = output {
         let frames = range.len();
         let points = export::export_points(&loaded.skeleton).len();
@@ -1085,9 +1114,8 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
     };
     let output = &args.output;
     let mut out = open_output(Some(output))?;
-    let result =
-        bvhview::bvh::writer::write_bvh(&mut out, &skeleton, &motion).and_then(|()| out.flush());
-    finish_write(result, Some(output))?;
+    let result = bvhview::bvh::writer::write_bvh(&mut out, &skeleton, &motion);
+    finish_write(out, result, Some(output))?;
     for (name, written) in bvhview::bvh::writer::renamed(&skeleton) {
         eprintln!(
             "bvhview: {}: joint {name:?} written as {written:?} (a BVH name holds no \

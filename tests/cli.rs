@@ -424,6 +424,23 @@ fn positions_that_are_not_finite_are_refused() {
              (the offsets, the values or --scale overflow)\n"
         );
     }
+    // To a file: refused before the end, so nothing appears under its name or beside it.
+    let dir = std::env::temp_dir().join(format!("bvhview-refused-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("out.csv");
+    let out = bvhview(&[
+        "positions",
+        path.to_str().unwrap(),
+        "-o",
+        csv.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        0,
+        "a file was left"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
     std::fs::remove_file(path).unwrap();
     let scaled = bvhview(&["positions", &tiny(), "--scale", "1e38"]);
     assert_eq!(scaled.status.code(), Some(2));

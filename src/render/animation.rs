@@ -1,11 +1,10 @@
 //! A take as one animated picture: GIF (the gif crate) or APNG (the png crate), frames drawn by
-//! the same offscreen renderer as `snapshot`. Written to a temporary file beside the output and
-//! renamed at the end, so a failure never leaves half a picture under the output's name.
+//! the same offscreen renderer as `snapshot`, written whole or not at all ([`crate::output`]).
 
 use crate::error::Error;
 use crate::render::Image;
 use std::ops::Range;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The animated formats `snapshot --frames` writes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -62,42 +61,6 @@ pub fn sampled_frames(range: Range<usize>, frame_time: f64, fps: f64) -> Vec<usi
         .collect()
 }
 
-/// A file beside `path` that becomes `path` only when complete.
-struct Partial {
-    temporary: PathBuf,
-    path: PathBuf,
-}
-
-impl Partial {
-    fn new(path: &Path) -> Partial {
-        let name = path
-            .file_name()
-            .map_or("out".into(), |n| n.to_string_lossy());
-        let temporary = path.with_file_name(format!(".{name}.{}.partial", std::process::id()));
-        Partial {
-            temporary,
-            path: path.to_path_buf(),
-        }
-    }
-
-    fn create(&self) -> Result<std::io::BufWriter<std::fs::File>, Error> {
-        let file =
-            std::fs::File::create(&self.temporary).map_err(|e| Error::output(&self.path, e))?;
-        Ok(std::io::BufWriter::new(file))
-    }
-
-    fn finish(self) -> Result<(), Error> {
-        std::fs::rename(&self.temporary, &self.path).map_err(|e| Error::output(&self.path, e))
-    }
-}
-
-impl Drop for Partial {
-    fn drop(&mut self) {
-        // Still here after an error: nothing under the output's name, nothing left beside it.
-        let _ = std::fs::remove_file(&self.temporary);
-    }
-}
-
 /// Writes the pictures `frames` yields as one animation at `fps`, looping.
 pub fn write(
     path: &Path,
@@ -107,8 +70,8 @@ pub fn write(
     frames: impl Iterator<Item = Result<Image, Error>>,
     count: usize,
 ) -> Result<(), Error> {
-    let partial = Partial::new(path);
-    let out = partial.create()?;
+    let mut file = crate::output::AtomicFile::create(path)?;
+    let out = &mut file;
     let encoding =
         |e: &dyn std::fmt::Display| Error::output(path, std::io::Error::other(e.to_string()));
     match format {
@@ -154,7 +117,7 @@ pub fn write(
             writer.finish().map_err(|e| encoding(&e))?;
         }
     }
-    partial.finish()
+    file.commit()
 }
 
 #[cfg(test)]

@@ -31,9 +31,10 @@ pub struct Image {
 }
 
 impl Image {
+    /// Writes the picture as PNG, whole or not at all.
     pub fn write_png(&self, path: &Path) -> Result<(), Error> {
-        let file = std::fs::File::create(path).map_err(|e| Error::output(path, e))?;
-        let mut encoder = png::Encoder::new(std::io::BufWriter::new(file), self.width, self.height);
+        let mut file = crate::output::AtomicFile::create(path)?;
+        let mut encoder = png::Encoder::new(&mut file, self.width, self.height);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
         // Whatever goes wrong while encoding is a failure to write the output (exit code 1).
@@ -43,7 +44,8 @@ impl Image {
         };
         let mut writer = encoder.write_header().map_err(io_error)?;
         writer.write_image_data(&self.rgb).map_err(io_error)?;
-        writer.finish().map_err(io_error)
+        writer.finish().map_err(io_error)?;
+        file.commit()
     }
 
     pub fn read_png(path: &Path) -> Result<Image, Error> {

@@ -1,0 +1,85 @@
+//! Files written whole or not at all: the bytes go to a temporary file beside the output, which
+//! takes the output's name only once everything is written. An error (or a panic) removes the
+//! temporary file; nothing is ever left half-written under the output's name.
+
+use crate::error::Error;
+use std::io::{BufWriter, Write};
+use std::path::{Path, PathBuf};
+
+/// An output file being written; [`AtomicFile::commit`] gives it its name.
+pub struct AtomicFile {
+    temporary: PathBuf,
+    path: PathBuf,
+    writer: Option<BufWriter<std::fs::File>>,
+}
+
+impl AtomicFile {
+    /// Starts writing `path` (its folder must exist).
+    pub fn create(path: &Path) -> Result<AtomicFile, Error> {
+        let name = path
+            .file_name()
+            .map_or("out".into(), |n| n.to_string_lossy());
+        let temporary = path.with_file_name(format!(".{name}.{}.partial", std::process::id()));
+        let file = std::fs::File::create(&temporary).map_err(|e| Error::output(path, e))?;
+        Ok(AtomicFile {
+            temporary,
+            path: path.to_path_buf(),
+            writer: Some(BufWriter::new(file)),
+        })
+    }
+
+    /// Flushes and renames the file to its name.
+    pub fn commit(mut self) -> Result<(), Error> {
+        let writer = self.writer.take().expect("committed once");
+        let file = writer
+            .into_inner()
+            .map_err(|e| Error::output(&self.path, e.into_error()))?;
+        file.sync_all().map_err(|e| Error::output(&self.path, e))?;
+        drop(file);
+        std::fs::rename(&self.temporary, &self.path).map_err(|e| Error::output(&self.path, e))
+    }
+}
+
+impl Write for AtomicFile {
+    fn write(&mut self, bytes: &[u8]) -> std::io::Result<usize> {
+        self.writer.as_mut().expect("not committed").write(bytes)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        self.writer.as_mut().expect("not committed").flush()
+    }
+}
+
+impl Drop for AtomicFile {
+    fn drop(&mut self) {
+        if self.writer.take().is_some() {
+            let _ = std::fs::remove_file(&self.temporary);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_output_appears_whole_or_not_at_all() {
+        let dir = std::env::temp_dir().join(format!("bvhview-atomic-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("out.csv");
+        let mut file = AtomicFile::create(&path).unwrap();
+        file.write_all(b"half").unwrap();
+        assert!(!path.exists(), "nothing under the name while writing");
+        drop(file);
+        assert!(!path.exists());
+        assert_eq!(
+            std::fs::read_dir(&dir).unwrap().count(),
+            0,
+            "no temporary left"
+        );
+        let mut file = AtomicFile::create(&path).unwrap();
+        file.write_all(b"whole").unwrap();
+        file.commit().unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"whole");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+}
