@@ -160,6 +160,257 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Motion {
     Motion::new(1.0 / fps, width, count, data)
 }
 
+/// The name a joint takes in the mirror image: Left and Right exchanged, as the common rigs
+/// write them (`LeftArm`, `leftArm`, `L_Arm`, `Arm_L`, `Arm.L`, `lhumerus`/`rhumerus` in CMU's
+/// ASF, `mixamorig:LeftHand`); `None` when the name has no side.
+pub fn mirrored_name(name: &str) -> Option<String> {
+    for (from, to) in [
+        ("Left", "Right"),
+        ("Right", "Left"),
+        ("left", "right"),
+        ("right", "left"),
+        ("LEFT", "RIGHT"),
+        ("RIGHT", "LEFT"),
+    ] {
+        if name.contains(from) {
+            return Some(name.replacen(from, to, 1));
+        }
+    }
+    for (from, to) in [
+        ("_L", "_R"),
+        ("_R", "_L"),
+        (".L", ".R"),
+        (".R", ".L"),
+        ("_l", "_r"),
+        ("_r", "_l"),
+        (".l", ".r"),
+        (".r", ".l"),
+    ] {
+        if let Some(stem) = name.strip_suffix(from) {
+            return Some(format!("{stem}{to}"));
+        }
+    }
+    for (from, to) in [("L_", "R_"), ("R_", "L_"), ("l_", "r_"), ("r_", "l_")] {
+        if let Some(rest) = name.strip_prefix(from) {
+            return Some(format!("{to}{rest}"));
+        }
+    }
+    // CMU's ASF bones: lhumerus, rfemur, lclavicle … (a single l or r before a known part).
+    const PARTS: [&str; 13] = [
+        "hipjoint", "femur", "tibia", "foot", "toes", "clavicle", "humerus", "radius", "wrist",
+        "hand", "fingers", "thumb", "shoulder",
+    ];
+    for part in PARTS {
+        if name.len() == part.len() + 1 && name.ends_with(part) {
+            match name.as_bytes()[0] {
+                b'l' => return Some(format!("r{part}")),
+                b'r' => return Some(format!("l{part}")),
+                _ => {}
+            }
+        }
+    }
+    None
+}
+
+/// The mirror image across the YZ plane (x → −x), with Left and Right exchanged in the names, so
+/// a left-handed wave becomes a right-handed one on the same skeleton. OFFSETs and position
+/// channels negate x; a rotation reflected through that plane keeps its angle about X and
+/// negates its angles about Y and Z.
+pub fn mirror(skeleton: &Skeleton, motion: &Motion) -> (Skeleton, Motion) {
+    let mut mirrored = skeleton.clone();
+    for joint in &mut mirrored.joints {
+        joint.offset.x = -joint.offset.x;
+        if let Some(name) = mirrored_name(&joint.name) {
+            joint.name = name;
+        }
+    }
+    let negated: Vec<usize> = skeleton
+        .joints
+        .iter()
+        .flat_map(|joint| {
+            joint
+                .channels
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| {
+                    matches!(
+                        c,
+                        Channel::Xposition | Channel::Yrotation | Channel::Zrotation
+                    )
+                })
+                .map(move |(i, _)| joint.first_channel + i)
+        })
+        .collect();
+    let mut data = motion.data.clone();
+    if motion.channels > 0 {
+        for row in data.chunks_mut(motion.channels) {
+            for &column in &negated {
+                row[column] = -row[column];
+            }
+        }
+    }
+    let frames = motion.frame_count();
+    (
+        mirrored,
+        Motion::new(motion.frame_time, motion.channels, frames, data),
+    )
+}
+
+/// The ground plane's axes for an up axis: (the two across, the one up).
+fn plane(up: crate::pose::Up) -> ([usize; 2], usize) {
+    match up {
+        crate::pose::Up::Y => ([0, 2], 1),
+        crate::pose::Up::Z => ([0, 1], 2),
+    }
+}
+
+/// The roots' travel across the ground removed: every frame's root position in the ground plane
+/// is its first frame's, so the figure moves where it stands.
+pub fn in_place(skeleton: &Skeleton, motion: &Motion, up: crate::pose::Up) -> Motion {
+    let (across, _) = plane(up);
+    let mut data = motion.data.clone();
+    if motion.frame_count() == 0 || motion.channels == 0 {
+        return motion.clone();
+    }
+    for root in skeleton.roots() {
+        let joint = &skeleton.joints[root];
+        for (i, channel) in joint.channels.iter().enumerate() {
+            if channel.is_position() && across.contains(&channel.axis()) {
+                let column = joint.first_channel + i;
+                let first = motion.frame(0)[column];
+                for row in data.chunks_mut(motion.channels) {
+                    row[column] = first;
+                }
+            }
+        }
+    }
+    Motion::new(
+        motion.frame_time,
+        motion.channels,
+        motion.frame_count(),
+        data,
+    )
+}
+
+/// The take moved up or down so that its lowest point, over every joint and frame, is at 0.
+/// The roots' up position channel carries the move (their OFFSET when they have none).
+pub fn ground(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mode: crate::pose::OffsetMode,
+    up: crate::pose::Up,
+) -> (Skeleton, Motion) {
+    let (_, axis) = plane(up);
+    let mut lowest = f32::INFINITY;
+    let frames = motion.frame_count();
+    for frame in 0..frames.max(1) {
+        let row = if frames == 0 {
+            &[][..]
+        } else {
+            motion.frame(frame)
+        };
+        for p in crate::pose::world_positions(skeleton, row, mode) {
+            lowest = lowest.min(p[axis]);
+        }
+    }
+    let mut grounded = skeleton.clone();
+    let mut data = motion.data.clone();
+    if !lowest.is_finite() {
+        return (grounded, motion.clone());
+    }
+    for root in skeleton.roots() {
+        let joint = &skeleton.joints[root];
+        let channel = joint
+            .channels
+            .iter()
+            .position(|c| c.is_position() && c.axis() == axis);
+        match (channel, frames) {
+            (Some(i), 1..) => {
+                for row in data.chunks_mut(motion.channels) {
+                    row[joint.first_channel + i] -= lowest;
+                }
+            }
+            _ => grounded.joints[root].offset[axis] -= lowest,
+        }
+    }
+    (
+        grounded,
+        Motion::new(motion.frame_time, motion.channels, frames, data),
+    )
+}
+
+/// The take turned from one up axis to another, so that it loads the same way in the other
+/// convention: every OFFSET and position turned by the rotation Q between them, every joint's
+/// rotation R replaced by Q·R·Q⁻¹ in the joint's own channel order. The world positions come
+/// out turned by Q.
+pub fn reorient(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    from: crate::pose::Up,
+    to: crate::pose::Up,
+) -> Result<(Skeleton, Motion), crate::Error> {
+    if from == to {
+        return Ok((skeleton.clone(), motion.clone()));
+    }
+    // Into Y-up from `from`, then out of Y-up into `to`.
+    let turn = to.to_y_up().inverse() * from.to_y_up();
+    let mut turned = skeleton.clone();
+    for joint in &mut turned.joints {
+        joint.offset = turn * joint.offset;
+        let positions = joint.channels.iter().filter(|c| c.is_position()).count();
+        let rotations = joint.channels.iter().filter(|c| c.is_rotation()).count();
+        if (positions != 0 && positions != 3) || (rotations != 0 && joint.rotation_order.is_none())
+        {
+            return Err(crate::Error::Usage(format!(
+                "--up: '{}' has channels that cannot be turned to another axis (it needs three \
+                 position channels or none, and three rotations on distinct axes or none)",
+                joint.name
+            )));
+        }
+    }
+    let mut data = motion.data.clone();
+    if motion.channels > 0 {
+        for row in data.chunks_mut(motion.channels) {
+            let original = row.to_vec();
+            for joint in &skeleton.joints {
+                let values = joint.values(&original);
+                let columns = |position: bool| {
+                    joint
+                        .channels
+                        .iter()
+                        .enumerate()
+                        .filter(move |(_, c)| c.is_position() == position)
+                        .map(|(i, &c)| (joint.first_channel + i, c.axis()))
+                        .collect::<Vec<_>>()
+                };
+                let positions = columns(true);
+                if !positions.is_empty() {
+                    let mut p = glam::Vec3::ZERO;
+                    for &(column, axis) in &positions {
+                        p[axis] = original[column];
+                    }
+                    let p = turn * p;
+                    for &(column, axis) in &positions {
+                        row[column] = p[axis];
+                    }
+                }
+                if let Some(order) = joint.rotation_order {
+                    let r = Quat::from_mat4(&crate::pose::channel_rotations(joint, values));
+                    let (a, b, c) = (turn * r * turn.inverse()).to_euler(euler_order(order));
+                    for (&(column, _), angle) in columns(false).iter().zip([a, b, c]) {
+                        row[column] = angle.to_degrees();
+                    }
+                }
+            }
+        }
+    }
+    let frames = motion.frame_count();
+    Ok((
+        turned,
+        Motion::new(motion.frame_time, motion.channels, frames, data),
+    ))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -205,5 +456,96 @@ mod tests {
         assert_eq!(skeleton.joints[1].offset, glam::Vec3::new(0.0, 5.0, 0.0));
         assert_eq!(&motion.frame(2)[..6], [4.0, 2.0, -2.0, 0.0, 0.0, 0.0]);
         assert_eq!(motion.frame(2)[6], 80.0);
+    }
+
+    #[test]
+    fn mirroring_swaps_sides_and_reflects_by_hand_worked_values() {
+        for (name, want) in [
+            ("LeftArm", Some("RightArm")),
+            ("mixamorig:RightHand", Some("mixamorig:LeftHand")),
+            ("upperarm_l", Some("upperarm_r")),
+            ("Arm.R", Some("Arm.L")),
+            ("L_Knee", Some("R_Knee")),
+            ("lhumerus", Some("rhumerus")),
+            ("Hips", None),
+            ("lowerback", None),
+        ] {
+            assert_eq!(mirrored_name(name).as_deref(), want, "{name}");
+        }
+        let text = TWO_FRAMES
+            .replace("JOINT Chest", "JOINT LeftArm")
+            .replace("OFFSET 0 10 0", "OFFSET 3 10 0");
+        let bvh = take(&text);
+        let (skeleton, motion) = mirror(&bvh.skeleton, &bvh.motion);
+        assert_eq!(skeleton.joints[1].name, "RightArm");
+        assert_eq!(skeleton.joints[1].offset, glam::Vec3::new(-3.0, 10.0, 0.0));
+        // Root position x negated; Z and Y rotations negated, X kept.
+        assert_eq!(
+            motion.frame(1),
+            [-4.0, 2.0, -2.0, -0.0, 0.0, -0.0, -40.0, 0.0, -0.0]
+        );
+        // The mirror image: every world position with x negated.
+        let mode = crate::pose::OffsetMode::Replace;
+        let before = crate::pose::world_positions(&bvh.skeleton, bvh.motion.frame(2), mode);
+        let after = crate::pose::world_positions(&skeleton, motion.frame(2), mode);
+        for (b, a) in before.iter().zip(&after) {
+            assert!(
+                glam::Vec3::new(-b.x, b.y, b.z).abs_diff_eq(*a, 1e-4),
+                "{b} {a}"
+            );
+        }
+    }
+
+    #[test]
+    fn in_place_and_ground_by_hand_worked_values() {
+        let bvh = take(TWO_FRAMES);
+        let still = in_place(&bvh.skeleton, &bvh.motion, crate::pose::Up::Y);
+        // x and z stay at frame 0's (0, 0); y keeps moving.
+        assert_eq!(&still.frame(2)[..3], [0.0, 4.0, 0.0]);
+        // The lowest point is the root at frame 0 (y 0) once the chest bends down: lift the
+        // chain so that its lowest joint sits at 0.
+        let bent = take(&TWO_FRAMES.replace("8 4 -4 0 0 0 80 0 0", "8 4 -4 0 0 0 180 0 0"));
+        let mode = crate::pose::OffsetMode::Replace;
+        let (skeleton, motion) = ground(&bent.skeleton, &bent.motion, mode, crate::pose::Up::Y);
+        // Frame 2: root at y 4, chest at 14, the site 5 below the chest (turned 180°): 9. Frame
+        // 0: root at 0, the lowest anywhere. So nothing moves.
+        assert_eq!(motion.frame(2)[1], 4.0);
+        let lifted = take(&TWO_FRAMES.replace("0 0 0 0 0 0 0 0 0\n4", "0 -7 0 0 0 0 0 0 0\n4"));
+        let (_, motion) = ground(&lifted.skeleton, &lifted.motion, mode, crate::pose::Up::Y);
+        // The root at -7 on frame 0 is the lowest point: every frame's y rises by 7.
+        assert_eq!([motion.frame(0)[1], motion.frame(1)[1]], [0.0, 9.0]);
+        assert_eq!(skeleton.joints[0].offset, glam::Vec3::ZERO);
+    }
+
+    #[test]
+    fn reorienting_turns_every_world_position() {
+        let bvh = take(TWO_FRAMES);
+        let (skeleton, motion) = reorient(
+            &bvh.skeleton,
+            &bvh.motion,
+            crate::pose::Up::Y,
+            crate::pose::Up::Z,
+        )
+        .unwrap();
+        // Y-up to Z-up: (x, y, z) becomes (x, -z, y).
+        assert_eq!(skeleton.joints[1].offset, glam::Vec3::new(0.0, 0.0, 10.0));
+        let mode = crate::pose::OffsetMode::Replace;
+        for frame in 0..3 {
+            let before = crate::pose::world_positions(&bvh.skeleton, bvh.motion.frame(frame), mode);
+            let after = crate::pose::world_positions(&skeleton, motion.frame(frame), mode);
+            for (b, a) in before.iter().zip(&after) {
+                assert!(
+                    glam::Vec3::new(b.x, -b.z, b.y).abs_diff_eq(*a, 1e-4),
+                    "{b} {a}"
+                );
+            }
+        }
+        let (back, motion_back) =
+            reorient(&skeleton, &motion, crate::pose::Up::Z, crate::pose::Up::Y).unwrap();
+        let again = crate::pose::world_positions(&back, motion_back.frame(2), mode);
+        let original = crate::pose::world_positions(&bvh.skeleton, bvh.motion.frame(2), mode);
+        for (a, o) in again.iter().zip(&original) {
+            assert!(a.abs_diff_eq(*o, 1e-4));
+        }
     }
 }

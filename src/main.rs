@@ -356,6 +356,18 @@ struct ConvertArgs {
     /// Multiply every length, OFFSETs and position channels (applied third).
     #[arg(long, allow_negative_numbers = true)]
     scale: Option<f32>,
+    /// Turn the take to this up axis, from the one guessed from its rest pose (fourth).
+    #[arg(long, value_enum)]
+    up: Option<UpArg>,
+    /// The mirror image: x negated, Left and Right exchanged in the names (fifth).
+    #[arg(long)]
+    mirror: bool,
+    /// Remove the roots' travel across the ground (sixth).
+    #[arg(long)]
+    in_place: bool,
+    /// Move the take up or down so that its lowest point is at 0 (last).
+    #[arg(long)]
+    ground: bool,
     /// The BVH file to write.
     #[arg(short, long)]
     output: PathBuf,
@@ -1094,7 +1106,7 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
         )));
     }
     let mut loaded = load(&args.input, &args.source)?;
-    // The edits, in this order: trim, resample, scale.
+    // The edits, in this order: trim, resample, scale, up axis, mirror, in place, ground.
     if let Some(frames) = &args.frames {
         let range = export::parse_frames(frames, loaded.motion.frame_count())?;
         loaded.motion = bvhview::edit::trim(&loaded.motion, range);
@@ -1105,6 +1117,26 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
     if let Some(factor) = args.scale {
         (loaded.skeleton, loaded.motion) =
             bvhview::edit::scale(&loaded.skeleton, &loaded.motion, factor);
+    }
+    let mut up = Up::guess(&loaded.skeleton);
+    if let Some(target) = args.up {
+        let target = match target {
+            UpArg::Y => Up::Y,
+            UpArg::Z => Up::Z,
+        };
+        (loaded.skeleton, loaded.motion) =
+            bvhview::edit::reorient(&loaded.skeleton, &loaded.motion, up, target)?;
+        up = target;
+    }
+    if args.mirror {
+        (loaded.skeleton, loaded.motion) = bvhview::edit::mirror(&loaded.skeleton, &loaded.motion);
+    }
+    if args.in_place {
+        loaded.motion = bvhview::edit::in_place(&loaded.skeleton, &loaded.motion, up);
+    }
+    if args.ground {
+        (loaded.skeleton, loaded.motion) =
+            bvhview::edit::ground(&loaded.skeleton, &loaded.motion, OffsetMode::Replace, up);
     }
     // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
     let (skeleton, motion) = if loaded.skeleton.joints.iter().any(|j| j.axis.is_some()) {

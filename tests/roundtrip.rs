@@ -122,3 +122,77 @@ fn convert_edits_trim_resample_and_scale() {
         }
     }
 }
+
+/// `convert --up y --mirror --in-place --ground` on MakeHuman's Z-up walk: the result is guessed
+/// Y-up, stands where the viewer stood the original, is its mirror image, does not travel, and
+/// its lowest point over the take is at 0.
+#[test]
+fn convert_edits_up_mirror_in_place_and_ground() {
+    let out = std::env::temp_dir().join(format!("bvhview-edits2-{}.bvh", std::process::id()));
+    let input = data("bvh/makehuman_walk1.bvh");
+    let run = |extra: &[&str]| {
+        let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+            .arg("convert")
+            .arg(&input)
+            .args(extra)
+            .args(["-q", "-o"])
+            .arg(&out)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        let loaded = bvhview::bvh::load_file(&out).unwrap();
+        std::fs::remove_file(&out).unwrap();
+        loaded
+    };
+    let original = bvhview::bvh::load_file(&input).unwrap();
+    let mode = bvhview::pose::OffsetMode::Replace;
+    let upright = run(&["--up", "y"]);
+    assert_eq!(
+        bvhview::pose::Up::guess(&upright.skeleton),
+        bvhview::pose::Up::Y
+    );
+    let stand = bvhview::pose::Up::Z.to_y_up();
+    for frame in [0, 7, 13] {
+        let before =
+            bvhview::pose::world_positions(&original.skeleton, original.motion.frame(frame), mode);
+        let after =
+            bvhview::pose::world_positions(&upright.skeleton, upright.motion.frame(frame), mode);
+        for (b, a) in before.iter().zip(&after) {
+            assert!((stand * *b).abs_diff_eq(*a, 1e-4), "frame {frame}: {b} {a}");
+        }
+    }
+    let edited = run(&["--up", "y", "--mirror", "--in-place", "--ground"]);
+    let mut lowest = f32::MAX;
+    let mut roots = Vec::new();
+    for frame in 0..edited.motion.frame_count() {
+        let points =
+            bvhview::pose::world_positions(&edited.skeleton, edited.motion.frame(frame), mode);
+        lowest = points.iter().fold(lowest, |l, p| l.min(p.y));
+        roots.push((points[0].x, points[0].z));
+    }
+    assert!(lowest.abs() < 1e-4, "lowest {lowest}");
+    assert!(roots.iter().all(|&r| r == roots[0]), "{roots:?}");
+    let names: Vec<&str> = edited
+        .skeleton
+        .joints
+        .iter()
+        .map(|j| j.name.as_str())
+        .collect();
+    let original_names: Vec<&str> = original
+        .skeleton
+        .joints
+        .iter()
+        .map(|j| j.name.as_str())
+        .collect();
+    let left = original_names
+        .iter()
+        .position(|n| {
+            n.contains(".L") || n.contains("_L") || n.contains("Left") || n.ends_with("_l")
+        })
+        .expect("a left joint");
+    assert_ne!(
+        names[left], original_names[left],
+        "sides exchanged: {}",
+        original_names[left]
+    );
+}
