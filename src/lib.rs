@@ -18,6 +18,7 @@ pub mod bvh;
 pub mod edit;
 pub mod error;
 pub mod export;
+pub mod gltf;
 pub mod info;
 pub mod input;
 pub mod lines;

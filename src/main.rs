@@ -368,7 +368,13 @@ struct ConvertArgs {
     /// Move the take up or down so that its lowest point is at 0 (last).
     #[arg(long)]
     ground: bool,
-    /// The BVH file to write.
+    /// How position channels combine with OFFSET (in a glTF output's translations).
+    #[arg(long, value_enum, default_value_t)]
+    offset_mode: OffsetModeArg,
+    /// glTF only: add the viewer's generated skin as a mesh skinned to the joints.
+    #[arg(long)]
+    skin: bool,
+    /// The file to write: .bvh, or glTF as .glb (binary) or .gltf (text, data inline).
     #[arg(short, long)]
     output: PathBuf,
 }
@@ -1090,7 +1096,12 @@ fn skin_demo(args: SkinDemoArgs) -> Result<ExitCode, Error> {
 }
 
 fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
-    check_output(&args.output, &["bvh"])?;
+    check_output(&args.output, &["bvh", "glb", "gltf"])?;
+    if args.skin && input::extension(&args.output) == "bvh" {
+        return Err(Error::Usage(
+            "--skin needs a glTF output (.glb or .gltf); a BVH file has no mesh".into(),
+        ));
+    }
     if let Some(fps) = args.fps
         && !(fps.is_finite() && fps > 0.0)
     {
@@ -1138,13 +1149,37 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
         (loaded.skeleton, loaded.motion) =
             bvhview::edit::ground(&loaded.skeleton, &loaded.motion, OffsetMode::Replace, up);
     }
+    let output = &args.output;
+    let container = match input::extension(output).as_str() {
+        "glb" => Some(bvhview::gltf::Container::Glb),
+        "gltf" => Some(bvhview::gltf::Container::Gltf),
+        _ => None,
+    };
+    if let Some(container) = container {
+        let bytes = bvhview::gltf::to_gltf(
+            &loaded.skeleton,
+            &loaded.motion,
+            args.offset_mode.into(),
+            container,
+            args.skin,
+        )?;
+        let mut out = open_output(Some(output))?;
+        let result = out.write_all(&bytes);
+        finish_write(out, result, Some(output))?;
+        wrote(format_args!(
+            "{}: {} nodes, {} frames",
+            output.display(),
+            loaded.skeleton.joints.len(),
+            loaded.motion.frame_count()
+        ));
+        return Ok(ExitCode::SUCCESS);
+    }
     // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
     let (skeleton, motion) = if loaded.skeleton.joints.iter().any(|j| j.axis.is_some()) {
         bvhview::edit::bake_axes(&loaded.skeleton, &loaded.motion)
     } else {
         (loaded.skeleton, loaded.motion)
     };
-    let output = &args.output;
     let mut out = open_output(Some(output))?;
     let result = bvhview::bvh::writer::write_bvh(&mut out, &skeleton, &motion);
     finish_write(out, result, Some(output))?;

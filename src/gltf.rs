@@ -1,0 +1,427 @@
+//! glTF 2.0 out (`bvhview convert IN -o OUT.glb|.gltf`): one node per joint and End Site in
+//! pre-order, the OFFSET as each node's translation, and one animation: a single time accessor
+//! (frame i at i × Frame Time, reckoned in f64), a rotation track per joint with rotation
+//! channels (the channels' product in file order as a unit quaternion; an ASF bone's C·R·C⁻¹),
+//! and a translation track per joint with position channels (bvhview's offset mode). With a skin,
+//! the viewer's generated skin as a mesh bound to the joint nodes. Built with the gltf-json crate.
+
+use crate::error::Error;
+use crate::export::export_name;
+use crate::motion::Motion;
+use crate::pose::{OffsetMode, joint_translation, local_rotation};
+use crate::render::body::Body;
+use crate::skeleton::Skeleton;
+use gltf_json as json;
+use json::validation::{Checked, USize64};
+
+/// Which container: a binary `.glb`, or a `.gltf` text file with its buffer inline (base64).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Container {
+    Glb,
+    Gltf,
+}
+
+/// The binary data and the accessors that read it.
+struct Data {
+    bytes: Vec<u8>,
+    root: json::Root,
+    buffer: json::Index<json::Buffer>,
+}
+
+impl Data {
+    /// Appends floats as one view and an accessor of `count` elements of `kind`.
+    fn accessor(
+        &mut self,
+        values: &[f32],
+        count: usize,
+        kind: json::accessor::Type,
+        min_max: Option<(Vec<f32>, Vec<f32>)>,
+        target: Option<json::buffer::Target>,
+    ) -> json::Index<json::Accessor> {
+        let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+        let bounds = min_max.map(|(min, max)| (json::Value::from(min), json::Value::from(max)));
+        self.raw_accessor(
+            &bytes,
+            json::accessor::ComponentType::F32,
+            count,
+            kind,
+            bounds,
+            target,
+        )
+    }
+
+    /// Appends `bytes` (4-byte aligned) as one view and an accessor over it.
+    fn raw_accessor(
+        &mut self,
+        bytes: &[u8],
+        component: json::accessor::ComponentType,
+        count: usize,
+        kind: json::accessor::Type,
+        bounds: Option<(json::Value, json::Value)>,
+        target: Option<json::buffer::Target>,
+    ) -> json::Index<json::Accessor> {
+        while !self.bytes.len().is_multiple_of(4) {
+            self.bytes.push(0);
+        }
+        let offset = self.bytes.len();
+        self.bytes.extend_from_slice(bytes);
+        let view = self.root.push(json::buffer::View {
+            buffer: self.buffer,
+            byte_length: USize64::from(bytes.len()),
+            byte_offset: Some(USize64::from(offset)),
+            byte_stride: None,
+            extensions: Default::default(),
+            extras: Default::default(),
+            name: None,
+            target: target.map(Checked::Valid),
+        });
+        let (min, max) = match bounds {
+            Some((min, max)) => (Some(min), Some(max)),
+            None => (None, None),
+        };
+        self.root.push(json::Accessor {
+            buffer_view: Some(view),
+            byte_offset: None,
+            count: USize64::from(count),
+            component_type: Checked::Valid(json::accessor::GenericComponentType(component)),
+            extensions: Default::default(),
+            extras: Default::default(),
+            type_: Checked::Valid(kind),
+            min,
+            max,
+            name: None,
+            normalized: false,
+            sparse: None,
+        })
+    }
+
+    /// The generated skin (`render::body`) as a mesh on a root node, bound to every joint node
+    /// by a glTF skin whose inverse bind matrices are the body's own.
+    fn skin(&mut self, skeleton: &Skeleton, mode: OffsetMode) -> Result<(), Error> {
+        let joints = skeleton.joints.len();
+        if joints > usize::from(u16::MAX) {
+            return Err(Error::Usage(format!(
+                "cannot write a glTF skin for {joints} joints: at most {} fit",
+                u16::MAX
+            )));
+        }
+        let body = Body::new(skeleton, mode);
+        let vertices = &body.skin.vertices;
+        if vertices.is_empty() || body.indices.is_empty() {
+            return Err(Error::Usage(
+                "cannot write a glTF skin: the skeleton has no bone long enough to wrap".into(),
+            ));
+        }
+        let count = vertices.len();
+        let positions: Vec<f32> = vertices
+            .iter()
+            .flat_map(|v| v.position.to_array())
+            .collect();
+        let (lo, hi) = vertices.iter().fold(
+            (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)),
+            |(lo, hi), v| (lo.min(v.position), hi.max(v.position)),
+        );
+        let array = Some(json::buffer::Target::ArrayBuffer);
+        let position = self.accessor(
+            &positions,
+            count,
+            json::accessor::Type::Vec3,
+            Some((lo.to_array().to_vec(), hi.to_array().to_vec())),
+            array,
+        );
+        let normals: Vec<f32> = vertices
+            .iter()
+            .flat_map(|v| v.normal.normalize().to_array())
+            .collect();
+        let normal = self.accessor(&normals, count, json::accessor::Type::Vec3, None, array);
+        // Unused influence slots get joint 0 with weight 0, as the format asks.
+        let joint_bytes: Vec<u8> = vertices
+            .iter()
+            .flat_map(|v| v.influences.iter())
+            .flat_map(|&(bone, weight)| {
+                let bone = if weight > 0.0 { bone as u16 } else { 0 };
+                bone.to_le_bytes()
+            })
+            .collect();
+        let joints_0 = self.raw_accessor(
+            &joint_bytes,
+            json::accessor::ComponentType::U16,
+            count,
+            json::accessor::Type::Vec4,
+            None,
+            array,
+        );
+        let weights: Vec<f32> = vertices
+            .iter()
+            .flat_map(|v| v.influences.iter().map(|&(_, weight)| weight))
+            .collect();
+        let weights_0 = self.accessor(&weights, count, json::accessor::Type::Vec4, None, array);
+        let index_bytes: Vec<u8> = body.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
+        let indices = self.raw_accessor(
+            &index_bytes,
+            json::accessor::ComponentType::U32,
+            body.indices.len(),
+            json::accessor::Type::Scalar,
+            None,
+            Some(json::buffer::Target::ElementArrayBuffer),
+        );
+        let inverse: Vec<f32> = body
+            .skin
+            .inverse_bind
+            .iter()
+            .flat_map(|m| m.to_cols_array())
+            .collect();
+        let inverse_bind = self.accessor(&inverse, joints, json::accessor::Type::Mat4, None, None);
+        let attributes = [
+            (json::mesh::Semantic::Positions, position),
+            (json::mesh::Semantic::Normals, normal),
+            (json::mesh::Semantic::Joints(0), joints_0),
+            (json::mesh::Semantic::Weights(0), weights_0),
+        ]
+        .into_iter()
+        .map(|(semantic, accessor)| (Checked::Valid(semantic), accessor))
+        .collect();
+        let mesh = self.root.push(json::Mesh {
+            extensions: Default::default(),
+            extras: Default::default(),
+            name: Some("skin".to_string()),
+            primitives: vec![json::mesh::Primitive {
+                attributes,
+                extensions: Default::default(),
+                extras: Default::default(),
+                indices: Some(indices),
+                material: None,
+                mode: Checked::Valid(json::mesh::Mode::Triangles),
+                targets: None,
+            }],
+            weights: None,
+        });
+        let skin = self.root.push(json::Skin {
+            extensions: Default::default(),
+            extras: Default::default(),
+            inverse_bind_matrices: Some(inverse_bind),
+            joints: (0..joints).map(|j| json::Index::new(j as u32)).collect(),
+            name: Some("skin".to_string()),
+            skeleton: None,
+        });
+        let node = self.root.push(json::Node {
+            name: Some("skin".to_string()),
+            mesh: Some(mesh),
+            skin: Some(skin),
+            ..Default::default()
+        });
+        if let Some(scene) = self.root.scenes.first_mut() {
+            scene.nodes.push(node);
+        }
+        Ok(())
+    }
+}
+
+/// The skeleton and its motion as glTF: the bytes of the `.glb` or `.gltf` file.
+pub fn to_gltf(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mode: OffsetMode,
+    container: Container,
+    with_skin: bool,
+) -> Result<Vec<u8>, Error> {
+    let mut data = Data {
+        bytes: Vec::new(),
+        root: json::Root::default(),
+        buffer: json::Index::new(0),
+    };
+    data.root.asset.generator = Some(format!("bvhview {}", env!("CARGO_PKG_VERSION")));
+    data.buffer = data.root.push(json::Buffer {
+        byte_length: USize64(0),
+        extensions: Default::default(),
+        extras: Default::default(),
+        name: None,
+        uri: None,
+    });
+    // Nodes in pre-order, so a joint's index is its node's.
+    for (index, joint) in skeleton.joints.iter().enumerate() {
+        let children = joint
+            .children
+            .iter()
+            .map(|&c| json::Index::new(c as u32))
+            .collect::<Vec<_>>();
+        data.root.push(json::Node {
+            name: Some(export_name(skeleton, index)),
+            translation: Some(joint.offset.to_array()),
+            children: (!children.is_empty()).then_some(children),
+            ..Default::default()
+        });
+    }
+    let roots = skeleton
+        .roots()
+        .map(|r| json::Index::new(r as u32))
+        .collect();
+    let scene = data.root.push(json::Scene {
+        extensions: Default::default(),
+        extras: Default::default(),
+        name: None,
+        nodes: roots,
+    });
+    data.root.scene = Some(scene);
+    if with_skin {
+        data.skin(skeleton, mode)?;
+    }
+
+    let frames = motion.frame_count();
+    if frames > 0 {
+        let times: Vec<f32> = (0..frames)
+            .map(|i| (i as f64 * motion.frame_time) as f32)
+            .collect();
+        let last = *times.last().expect("frames > 0");
+        let time = data.accessor(
+            &times,
+            frames,
+            json::accessor::Type::Scalar,
+            Some((vec![0.0], vec![last])),
+            None,
+        );
+        let mut channels = Vec::new();
+        let mut samplers = Vec::new();
+        let mut track = |data: &mut Data, node: usize, values: Vec<f32>, rotation: bool| {
+            let (kind, property) = if rotation {
+                (
+                    json::accessor::Type::Vec4,
+                    json::animation::Property::Rotation,
+                )
+            } else {
+                (
+                    json::accessor::Type::Vec3,
+                    json::animation::Property::Translation,
+                )
+            };
+            let output = data.accessor(&values, frames, kind, None, None);
+            samplers.push(json::animation::Sampler {
+                extensions: Default::default(),
+                extras: Default::default(),
+                input: time,
+                interpolation: Checked::Valid(json::animation::Interpolation::Linear),
+                output,
+            });
+            channels.push(json::animation::Channel {
+                sampler: json::Index::new(samplers.len() as u32 - 1),
+                target: json::animation::Target {
+                    extensions: Default::default(),
+                    extras: Default::default(),
+                    node: json::Index::new(node as u32),
+                    path: Checked::Valid(property),
+                },
+                extensions: Default::default(),
+                extras: Default::default(),
+            });
+        };
+        for (index, joint) in skeleton.joints.iter().enumerate() {
+            if joint.channels.iter().any(|c| c.is_rotation()) {
+                let mut values = Vec::with_capacity(frames * 4);
+                for frame in 0..frames {
+                    let matrix = local_rotation(joint, joint.values(motion.frame(frame)));
+                    let q = glam::Quat::from_mat4(&matrix).normalize();
+                    values.extend(q.to_array());
+                }
+                track(&mut data, index, values, true);
+            }
+            if joint.channels.iter().any(|c| c.is_position()) {
+                let mut values = Vec::with_capacity(frames * 3);
+                for frame in 0..frames {
+                    let t = joint_translation(joint, joint.values(motion.frame(frame)), mode);
+                    values.extend(t.to_array());
+                }
+                track(&mut data, index, values, false);
+            }
+        }
+        if !channels.is_empty() {
+            data.root.push(json::Animation {
+                extensions: Default::default(),
+                extras: Default::default(),
+                channels,
+                name: Some("take".to_string()),
+                samplers,
+            });
+        }
+    }
+    // Every value is finite (the loader refuses the rest), so the JSON is valid.
+    while !data.bytes.len().is_multiple_of(4) {
+        data.bytes.push(0);
+    }
+    let length = data.bytes.len();
+    data.root.buffers[0].byte_length = USize64::from(length);
+    if length == 0 {
+        // No data at all (a rest pose): no buffer either.
+        data.root.buffers.clear();
+    }
+    let serialised = |root: &json::Root| {
+        root.to_vec()
+            .map_err(|e| Error::Usage(format!("cannot write glTF: {e}")))
+    };
+    match container {
+        Container::Gltf => {
+            if length > 0 {
+                data.root.buffers[0].uri = Some(format!(
+                    "data:application/octet-stream;base64,{}",
+                    base64(&data.bytes)
+                ));
+            }
+            serialised(&data.root)
+        }
+        Container::Glb => {
+            let mut text = serialised(&data.root)?;
+            while !text.len().is_multiple_of(4) {
+                text.push(b' ');
+            }
+            let total = 12 + 8 + text.len() + if length > 0 { 8 + length } else { 0 };
+            let mut out = Vec::with_capacity(total);
+            out.extend_from_slice(b"glTF");
+            out.extend_from_slice(&2u32.to_le_bytes());
+            out.extend_from_slice(&(total as u32).to_le_bytes());
+            out.extend_from_slice(&(text.len() as u32).to_le_bytes());
+            out.extend_from_slice(b"JSON");
+            out.extend_from_slice(&text);
+            if length > 0 {
+                out.extend_from_slice(&(length as u32).to_le_bytes());
+                out.extend_from_slice(b"BIN\0");
+                out.extend_from_slice(&data.bytes);
+            }
+            Ok(out)
+        }
+    }
+}
+
+/// Standard base64 with padding, for a `.gltf` file's inline buffer.
+fn base64(bytes: &[u8]) -> String {
+    const ALPHABET: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for group in bytes.chunks(3) {
+        let b = [
+            group[0],
+            *group.get(1).unwrap_or(&0),
+            *group.get(2).unwrap_or(&0),
+        ];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for k in 0..4 {
+            if k <= group.len() {
+                out.push(ALPHABET[(n >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_is_the_standard_alphabet_with_padding() {
+        assert_eq!(base64(b""), "");
+        assert_eq!(base64(b"f"), "Zg==");
+        assert_eq!(base64(b"fo"), "Zm8=");
+        assert_eq!(base64(b"foo"), "Zm9v");
+        assert_eq!(base64(b"foobar"), "Zm9vYmFy");
+    }
+}
