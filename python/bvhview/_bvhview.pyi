@@ -67,7 +67,7 @@ class Motion:
     def world_matrices(self, frames: Frames = None) -> npt.NDArray[np.float32]:
         """frames x joints x 4 x 4 world matrices, [row, column], translation in column 3."""
     def save(self, path: PathLike) -> None:
-        """Writes BVH (.bvh only)."""
+        """Writes BVH (.bvh) or glTF (.glb binary, .gltf text), as `bvhview convert` does."""
     def __len__(self) -> int: ...
 
 def load(

@@ -7,6 +7,7 @@
 
 use bvhview::error::Error;
 use bvhview::input::{self, Loaded};
+use bvhview::output::AtomicFile;
 use bvhview::pose::{self, FkPlan, FkScratch, LANES, OffsetMode};
 use glam::{Mat4, Vec3};
 use numpy::ndarray::ArrayView2;
@@ -470,19 +471,28 @@ impl Motion {
             .reshape([frames.len(), joints, 4, 4])
     }
 
-    /// Writes the take as BVH (the extension must be .bvh). ASF bone axes are baked into ZYX
-    /// rotation channels, as `bvhview convert` does; names with whitespace or braces are
-    /// written with `_`.
+    /// Writes the take as BVH (.bvh) or glTF (.glb binary, .gltf text), as `bvhview convert`
+    /// does: for BVH, ASF bone axes are baked into ZYX rotation channels and names with
+    /// whitespace or braces are written with `_`; glTF gets one node per joint and End Site and
+    /// the take's offset mode. The file takes its name only when complete.
     fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         let extension = input::extension(&path);
-        if extension != "bvh" {
-            return Err(PyValueError::new_err(format!(
-                "{}: save writes .bvh files, not '{extension}'",
-                path.display()
-            )));
-        }
-        py.detach(|| self.write_bvh(&path))
-            .map_err(|e| to_python(py, e))
+        let container = match extension.as_str() {
+            "bvh" => None,
+            "glb" => Some(bvhview::gltf::Container::Glb),
+            "gltf" => Some(bvhview::gltf::Container::Gltf),
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "{}: save writes .bvh, .glb or .gltf files, not '{extension}'",
+                    path.display()
+                )));
+            }
+        };
+        py.detach(|| match container {
+            None => self.write_bvh(&path),
+            Some(container) => self.write_gltf(&path, container),
+        })
+        .map_err(|e| to_python(py, e))
     }
 
     fn __len__(&self) -> usize {
@@ -514,11 +524,23 @@ impl Motion {
             .any(|j| j.axis.is_some())
             .then(|| bvhview::edit::bake_axes(skeleton, motion));
         let (skeleton, motion) = baked.as_ref().map_or((skeleton, motion), |(s, m)| (s, m));
-        let file = std::fs::File::create(path).map_err(|e| Error::output(path, e))?;
-        let mut out = io::BufWriter::new(file);
+        let mut out = AtomicFile::create(path)?;
         bvhview::bvh::writer::write_bvh(&mut out, skeleton, motion)
-            .and_then(|()| out.flush())
-            .map_err(|e| Error::output(path, e))
+            .map_err(|e| Error::output(path, e))?;
+        out.commit()
+    }
+
+    fn write_gltf(&self, path: &Path, container: bvhview::gltf::Container) -> Result<(), Error> {
+        let bytes = bvhview::gltf::to_gltf(
+            &self.loaded.skeleton,
+            &self.loaded.motion,
+            self.offset_mode,
+            container,
+            false,
+        )?;
+        let mut out = AtomicFile::create(path)?;
+        out.write_all(&bytes).map_err(|e| Error::output(path, e))?;
+        out.commit()
     }
 }
 
