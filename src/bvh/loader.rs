@@ -57,12 +57,36 @@ pub fn load_file(path: &Path) -> Result<Bvh, Error> {
 /// [`load_file`] parsing on at most `threads` threads (1 when many files load at once), reading
 /// no more than `max_size` bytes from the path, whatever it is (a file, a pipe, a device).
 pub fn load_file_with(path: &Path, threads: usize, max_size: u64) -> Result<Bvh, Error> {
+    load_file_streaming_over(path, threads, max_size, WHOLE_FILE)
+}
+
+/// Files up to this size are read whole and parsed where they lie; larger ones stream through
+/// chunk buffers, so memory stays at about the values' size however large the file is.
+pub const WHOLE_FILE: u64 = 16 << 20;
+
+/// [`load_file_with`], streaming every file larger than `whole_file` bytes (tests give 0 to
+/// stream small files too).
+pub fn load_file_streaming_over(
+    path: &Path,
+    threads: usize,
+    max_size: u64,
+    whole_file: u64,
+) -> Result<Bvh, Error> {
     let io_error = |e| Error::io(path, e);
     let source = path.display().to_string();
     // fopen.
     let file = std::fs::File::open(path).map_err(io_error)?;
-    let length = file.metadata().map_err(io_error)?.len();
+    let metadata = file.metadata().map_err(io_error)?;
+    let length = metadata.len();
     let mut file = crate::input::Bounded::new(file, max_size);
+    // Not a pipe or a device: their length says nothing about what they hold.
+    if metadata.is_file() && length <= whole_file {
+        // One read of the whole file, the article's fread.
+        use std::io::Read;
+        let mut all = Vec::with_capacity(length as usize + 1);
+        file.read_to_end(&mut all).map_err(io_error)?;
+        return load_bytes_with_threads(&all, &source, threads);
+    }
     // fread: the hierarchy and the MOTION header; the rows stay in the file for now. A file
     // without rows is read whole and loaded from memory.
     let (head, rows_start) =
@@ -313,8 +337,7 @@ fn load_bytes_with_threads(text: &[u8], source: &str, threads: usize) -> Result<
         (text.len() - start) as u64,
     )
     .with_threads(threads);
-    let in_memory = |e| Error::io(std::path::Path::new(source), e);
-    rows.feed_all(&[], &mut &text[start..], &in_memory)?;
+    rows.feed_all_in_memory(&text[start..])?;
     loader.finish_rows(frames, frame_time, rows)
 }
 

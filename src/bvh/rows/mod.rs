@@ -58,10 +58,12 @@ impl Room {
 unsafe impl Send for Room {}
 unsafe impl Sync for Room {}
 
-/// A chunk handed to a thread: its text is in the thread's buffer.
+/// A chunk handed to a thread: its text is in the thread's buffer, or at `range` of the text
+/// held in memory.
 struct Job {
     index: usize,
     length: usize,
+    range: Option<std::ops::Range<usize>>,
     /// Where its text starts.
     line: usize,
     column: usize,
@@ -84,9 +86,16 @@ struct Chunk {
     rest: Option<(Vec<u8>, usize, usize)>,
 }
 
+/// Where the rows come from: a reader, read a chunk at a time into each thread's buffer, or text
+/// already in memory, which the threads parse where it lies.
+enum Source<'a> {
+    Reader(&'a mut (dyn Read + Send)),
+    Memory { text: &'a [u8], at: usize },
+}
+
 /// The reading side shared by the threads of `RowParser::feed_placed`.
 struct Stream<'a> {
-    input: &'a mut (dyn Read + Send),
+    input: Source<'a>,
     /// Text read after the last chunk handed out.
     carry: Vec<u8>,
     end_of_input: bool,
@@ -111,6 +120,27 @@ impl Stream<'_> {
         if self.stop {
             return None;
         }
+        if let Source::Memory { text, at } = &mut self.input {
+            let (text, start): (&[u8], usize) = (text, *at);
+            let rest = &text[start..];
+            // Up to a chunk, cut after its last line end; a longer line makes the window grow.
+            let mut window = self.chunk.min(rest.len());
+            let cut = loop {
+                if window == rest.len() {
+                    break window;
+                }
+                match last_line_end(&rest[..window]) {
+                    Some(cut) => break cut,
+                    None => window = (window * 2).min(rest.len()),
+                }
+            };
+            *at = start + cut;
+            self.end_of_input = start + cut == text.len();
+            return self.place(Some(start..start + cut), &rest[..cut]);
+        }
+        let Source::Reader(input) = &mut self.input else {
+            unreachable!("memory is handled above")
+        };
         let mut filled = self.carry.len();
         if buffer.len() < filled * 2 {
             buffer.resize(filled * 2, 0);
@@ -118,7 +148,7 @@ impl Stream<'_> {
         buffer[..filled].copy_from_slice(&self.carry);
         let cut = loop {
             while !self.end_of_input && filled < self.chunk.min(buffer.len()) {
-                match self.input.read(&mut buffer[filled..]) {
+                match input.read(&mut buffer[filled..]) {
                     Ok(0) => self.end_of_input = true,
                     Ok(read) => filled += read,
                     Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
@@ -139,15 +169,23 @@ impl Stream<'_> {
         };
         self.carry.clear();
         self.carry.extend_from_slice(&buffer[cut..filled]);
+        self.place(None, &buffer[..cut])
+    }
+
+    /// Places the chunk `text` (at `range` of the memory if it is there): counts its lines,
+    /// which bound its rows.
+    fn place(&mut self, range: Option<std::ops::Range<usize>>, text: &[u8]) -> Option<Job> {
+        let cut = text.len();
         if cut == 0 {
             self.stop = true;
             return None;
         }
-        let (breaks, since) = count_lines(&buffer[..cut]);
+        let (breaks, since) = count_lines(text);
         let bound = breaks + usize::from(since > 0);
         let job = Job {
             index: self.next_index,
             length: cut,
+            range,
             line: self.line,
             column: self.column,
             placed: self.placed,
@@ -366,7 +404,7 @@ impl RowParser {
     ) -> Result<(), Error> {
         let mut carry = carry.to_vec();
         if self.width > 0 && self.rows == 0 {
-            let (rest, after) = self.feed_placed(carry, input, io_error)?;
+            let (rest, after, _) = self.feed_placed(Source::Reader(input), carry, io_error)?;
             carry = after;
             if let Some((text, line, column)) = rest {
                 (self.line, self.column) = (line, column);
@@ -376,16 +414,39 @@ impl RowParser {
         self.feed_in_order(carry, input, io_error)
     }
 
+    /// [`RowParser::feed_all`] for text already in memory: the threads parse it where it lies,
+    /// with no copy and no buffer of their own.
+    pub fn feed_all_in_memory(&mut self, text: &[u8]) -> Result<(), Error> {
+        // Memory is never read through a reader, so no read can fail.
+        let source = self.source.clone();
+        let never = move |e| Error::io(std::path::Path::new(&source), e);
+        let mut rest_of_text: &[u8] = text;
+        if self.width > 0 && self.rows == 0 {
+            let source = Source::Memory { text, at: 0 };
+            let (rest, _, at) = self.feed_placed(source, Vec::new(), &never)?;
+            if let Some((rest, line, column)) = rest {
+                (self.line, self.column) = (line, column);
+                self.feed(&rest)?;
+            }
+            rest_of_text = &text[at..];
+        }
+        self.feed_in_order(rest_of_text.to_vec(), &mut std::io::empty(), &never)
+    }
+
     /// The parallel pass of [`RowParser::feed_all`]: the rows placed by line counts. Returns the
     /// text left in the last chunk (beyond the rows placed, with its line and column) and the
     /// text read after the last chunk.
     #[allow(clippy::type_complexity)]
     fn feed_placed(
         &mut self,
+        input: Source<'_>,
         carry: Vec<u8>,
-        input: &mut (dyn Read + Send),
         io_error: &dyn Fn(std::io::Error) -> Error,
-    ) -> Result<(Option<(Vec<u8>, usize, usize)>, Vec<u8>), Error> {
+    ) -> Result<(Option<(Vec<u8>, usize, usize)>, Vec<u8>, usize), Error> {
+        let memory = match input {
+            Source::Memory { text, .. } => Some(text),
+            Source::Reader(_) => None,
+        };
         let width = self.width;
         let room_rows =
             (self.frames.min(usize::MAX as u64) as usize).min(self.data.capacity() / width);
@@ -406,12 +467,18 @@ impl RowParser {
         let done = std::sync::Mutex::new(Vec::<Chunk>::new());
         let chunk_size = self.chunk;
         let work = || {
-            let mut buffer = vec![0u8; chunk_size + chunk_size / 4];
+            let mut buffer = match memory {
+                Some(_) => Vec::new(),
+                None => vec![0u8; chunk_size + chunk_size / 4],
+            };
             loop {
                 let Some(job) = lock(&stream).next_chunk(&mut buffer) else {
                     return;
                 };
-                let text = &buffer[..job.length];
+                let text = match (memory, &job.range) {
+                    (Some(memory), Some(range)) => &memory[range.clone()],
+                    _ => &buffer[..job.length],
+                };
                 // SAFETY: each job's stretch starts where the previous job's ends and all of them
                 // end by `room_rows`, inside the capacity; the result is not touched until every
                 // worker has ended.
@@ -477,7 +544,11 @@ impl RowParser {
         unsafe { self.data.set_len(rows * width) };
         self.rows = rows as u64;
         (self.line, self.column) = (stream.line, stream.column);
-        Ok((rest, stream.carry))
+        let at = match stream.input {
+            Source::Memory { at, .. } => at,
+            Source::Reader(_) => 0,
+        };
+        Ok((rest, stream.carry, at))
     }
 
     /// The rest of the rows in order, one chunk at a time.
