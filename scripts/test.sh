@@ -95,6 +95,32 @@ passed=$((passed + py_passed))
 failed=$((failed + py_failed))
 ignored=$((ignored + py_skipped))
 [ "$python_failed" -eq 0 ] || status=1
+
+# Independent consumers of the glTF export. The Khronos validator (node; installed when missing)
+# checks every corpus take; each file counts as a test. Blender is large and is not installed
+# here: when it is present, it imports five takes and compares joint positions (tests/blender).
+cli="${CARGO_TARGET_DIR:-target}/debug/bvhview"
+gltf_log=$(mktemp)
+trap 'rm -f "$log" "$pylog" "$gltf_log"' EXIT
+scripts/check_gltf.sh "$cli" >"$gltf_log" 2>&1 || status=1
+grep -v ': 0 errors' "$gltf_log" || true
+read -r gltf_files gltf_failed <<<"$(awk '/^gltf-validator:/ { print $2, $4 }' "$gltf_log")"
+gltf_files=${gltf_files:-0}
+gltf_failed=${gltf_failed:-1}
+passed=$((passed + gltf_files - gltf_failed))
+failed=$((failed + gltf_failed))
+if command -v blender >/dev/null; then
+    blender_log=$(mktemp)
+    bash tests/blender/run_checks.sh "$cli" "$(mktemp -d)" 2>&1 | tee "$blender_log" || status=1
+    read -r blender_checked blender_failed <<<"$(awk '/^files checked:/ { print $3, $5 }' "$blender_log")"
+    echo "blender: ${blender_checked:-0} files checked, ${blender_failed:-1} failed"
+    passed=$((passed + ${blender_checked:-0} - ${blender_failed:-0}))
+    failed=$((failed + ${blender_failed:-1}))
+    rm -f "$blender_log"
+else
+    echo "blender: not installed, the Blender import check is skipped (apt-get install blender python3-numpy)"
+    ignored=$((ignored + 1))
+fi
 echo "all tests: $passed passed, $failed failed, $ignored ignored"
 if [ "$passed" -eq 0 ]; then
     echo "no test ran" >&2
