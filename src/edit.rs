@@ -160,39 +160,37 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Motion {
     Motion::new(1.0 / fps, width, count, data)
 }
 
-/// The name a joint takes in the mirror image: Left and Right exchanged, as the common rigs
-/// write them (`LeftArm`, `leftArm`, `L_Arm`, `Arm_L`, `Arm.L`, `lhumerus`/`rhumerus` in CMU's
-/// ASF, `mixamorig:LeftHand`); `None` when the name has no side.
-pub fn mirrored_name(name: &str) -> Option<String> {
-    for (from, to) in [
-        ("Left", "Right"),
-        ("Right", "Left"),
-        ("left", "right"),
-        ("right", "left"),
-        ("LEFT", "RIGHT"),
-        ("RIGHT", "LEFT"),
-    ] {
-        if name.contains(from) {
-            return Some(name.replacen(from, to, 1));
+/// Which side of the body a joint is on, by its name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Side {
+    Left,
+    Right,
+}
+
+/// The side a name marks and the name with the other side's mark, as the common rigs write them
+/// (`LeftArm`, `leftArm`, `L_Arm`, `Arm_L`, `Arm.L`, `lhumerus`/`rhumerus` in CMU's ASF,
+/// `mixamorig:LeftHand`); `None` when the name has no side.
+pub fn name_side(name: &str) -> Option<(Side, String)> {
+    let sides = |left: bool| if left { Side::Left } else { Side::Right };
+    for (left, right) in [("Left", "Right"), ("left", "right"), ("LEFT", "RIGHT")] {
+        for (from, to, is_left) in [(left, right, true), (right, left, false)] {
+            if name.contains(from) {
+                return Some((sides(is_left), name.replacen(from, to, 1)));
+            }
         }
     }
-    for (from, to) in [
-        ("_L", "_R"),
-        ("_R", "_L"),
-        (".L", ".R"),
-        (".R", ".L"),
-        ("_l", "_r"),
-        ("_r", "_l"),
-        (".l", ".r"),
-        (".r", ".l"),
-    ] {
-        if let Some(stem) = name.strip_suffix(from) {
-            return Some(format!("{stem}{to}"));
+    for (left, right) in [("_L", "_R"), (".L", ".R"), ("_l", "_r"), (".l", ".r")] {
+        for (from, to, is_left) in [(left, right, true), (right, left, false)] {
+            if let Some(stem) = name.strip_suffix(from) {
+                return Some((sides(is_left), format!("{stem}{to}")));
+            }
         }
     }
-    for (from, to) in [("L_", "R_"), ("R_", "L_"), ("l_", "r_"), ("r_", "l_")] {
-        if let Some(rest) = name.strip_prefix(from) {
-            return Some(format!("{to}{rest}"));
+    for (left, right) in [("L_", "R_"), ("l_", "r_")] {
+        for (from, to, is_left) in [(left, right, true), (right, left, false)] {
+            if let Some(rest) = name.strip_prefix(from) {
+                return Some((sides(is_left), format!("{to}{rest}")));
+            }
         }
     }
     // CMU's ASF bones: lhumerus, rfemur, lclavicle … (a single l or r before a known part).
@@ -203,13 +201,19 @@ pub fn mirrored_name(name: &str) -> Option<String> {
     for part in PARTS {
         if name.len() == part.len() + 1 && name.ends_with(part) {
             match name.as_bytes()[0] {
-                b'l' => return Some(format!("r{part}")),
-                b'r' => return Some(format!("l{part}")),
+                b'l' => return Some((Side::Left, format!("r{part}"))),
+                b'r' => return Some((Side::Right, format!("l{part}"))),
                 _ => {}
             }
         }
     }
     None
+}
+
+/// The name a joint takes in the mirror image: Left and Right exchanged (see [`name_side`]);
+/// `None` when the name has no side.
+pub fn mirrored_name(name: &str) -> Option<String> {
+    name_side(name).map(|(_, mirrored)| mirrored)
 }
 
 /// The mirror image across the YZ plane (x → −x), with Left and Right exchanged in the names, so

@@ -59,11 +59,22 @@ pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
     );
     let _ = writeln!(out, "rotation orders:  {}", rotation_orders(skeleton));
     let _ = writeln!(out, "position channels: {}", position_joints(skeleton));
-    let up = match crate::pose::Up::guess(skeleton) {
+    let up_axis = crate::pose::Up::guess(skeleton);
+    let up = match up_axis {
         crate::pose::Up::Y => "y",
         crate::pose::Up::Z => "z (taller along z than along y at rest; the viewer stands it up)",
     };
     let _ = writeln!(out, "up axis:          {up}");
+    let height = crate::pose::standing_height(skeleton, up_axis);
+    let units = crate::pose::Units::guess(height);
+    let _ = writeln!(
+        out,
+        "units:            {} (a guess: the rest pose stands {} tall, {} m in {})",
+        units.name,
+        readable(f64::from(height), 3),
+        readable(f64::from(height * units.metres), 2),
+        units.name
+    );
     let warnings = warnings(loaded, mode);
     if warnings.is_empty() {
         let _ = writeln!(out, "warnings:         none");

@@ -5,9 +5,9 @@ use bvhview::error::Error;
 use bvhview::export::{self, Format, PositionsOptions};
 use bvhview::input::{self, Loaded};
 use bvhview::pose::{OffsetMode, Up};
-use bvhview::render::SnapshotOptions;
 use bvhview::render::draw::Style;
 use bvhview::render::window::ViewerOptions;
+use bvhview::render::{Look, Overlay, SnapshotOptions};
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
@@ -37,6 +37,9 @@ struct Cli {
     /// Start with a generated skin around the bones (K toggles it).
     #[arg(long)]
     skin: bool,
+    /// Start in the studio look (V switches).
+    #[arg(long, value_enum, default_value_t)]
+    look: LookArg,
     /// The file's up axis (default: guessed from the rest pose; O switches the offset mode).
     #[arg(long, value_enum)]
     up: Option<UpArg>,
@@ -82,6 +85,26 @@ impl From<StyleArg> for Style {
             StyleArg::Points => Style::Points,
             StyleArg::Sticks => Style::Sticks,
             StyleArg::Both => Style::Both,
+        }
+    }
+}
+
+/// `--look`: the article's picture, or the studio's.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+enum LookArg {
+    /// The article's picture: black, grey spheres, its camera and floor.
+    #[default]
+    Article,
+    /// A grid floor at the take's lowest point, shadows, bones coloured by side (left blue,
+    /// right orange), a camera that frames the whole take.
+    Studio,
+}
+
+impl From<LookArg> for Look {
+    fn from(arg: LookArg) -> Look {
+        match arg {
+            LookArg::Article => Look::Article,
+            LookArg::Studio => Look::Studio,
         }
     }
 }
@@ -259,10 +282,19 @@ struct SnapshotArgs {
     /// highlighted, with its GL calls written beside (the window's J key).
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
     step: Option<u64>,
-    /// Write the HUD top left: the file, the frame, its time, the rate and the display mode
-    /// (the window's I key).
+    /// Write the HUD top left (the file, the frame, its time, the rate, the display mode) and
+    /// the timeline along the bottom (the window's I key).
     #[arg(long)]
     hud: bool,
+    /// The studio look: grid floor, shadows, bones coloured by side, the take framed.
+    #[arg(long, value_enum, default_value_t)]
+    look: LookArg,
+    /// With --look studio, the camera follows the root (the window's T key).
+    #[arg(long)]
+    follow: bool,
+    /// Write each joint's name beside it (the window's N key).
+    #[arg(long)]
+    names: bool,
     /// Frames per second of an animated output (default: the file's rate, at most 50 for GIF).
     #[arg(long, requires = "frames")]
     fps: Option<f64>,
@@ -481,6 +513,7 @@ fn main() -> ExitCode {
             cli.offset_mode,
             cli.skin,
             cli.up,
+            cli.look,
         ),
         Some(Command::Print(args)) => print(args),
         Some(Command::Info(args)) => info(args),
@@ -772,6 +805,7 @@ fn viewer(
     offset_mode: OffsetModeArg,
     skin: bool,
     up: Option<UpArg>,
+    look: LookArg,
 ) -> Result<ExitCode, Error> {
     // Say there is no display before loading anything.
     bvhview::render::window::check_environment()?;
@@ -788,6 +822,7 @@ fn viewer(
         style: style.into(),
         skin,
         up,
+        look: look.into(),
     };
     bvhview::render::window::run(&loaded.skeleton, &loaded.motion, options)?;
     Ok(ExitCode::SUCCESS)
@@ -914,37 +949,48 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         style: args.view.style.into(),
         fit: args.view.fit,
         offset_mode: args.view.offset_mode.into(),
+        look: args.look.into(),
+        follow: args.follow,
     };
     let output = &args.output;
     let warning =
         bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, options.offset_mode);
-    let hud_lines = |frame: usize| -> Vec<String> {
+    let overlay = |frame: usize| -> Overlay {
+        let mut overlay = Overlay {
+            names: args.names,
+            ..Overlay::default()
+        };
         if !args.hud {
-            return Vec::new();
+            return overlay;
         }
-        bvhview::render::hud::Hud {
+        overlay.timeline = Some((frame, loaded.motion.frame_count().max(1)));
+        overlay.lines = bvhview::render::hud::Hud {
             name: &short_name,
             frame,
             frames: loaded.motion.frame_count(),
             frame_time: loaded.motion.frame_time,
             playing: false,
             speed: 1.0,
+            looping: true,
+            look: options.look,
+            follow: options.follow,
             style: options.style,
             skin: options.skin,
             fit: options.fit,
             offset_mode: options.offset_mode,
             other_mode_likely: warning.is_some(),
         }
-        .lines(bvhview::render::step::columns(options.width))
+        .lines(bvhview::render::step::columns(options.width));
+        overlay
     };
     let Some(frames) = &args.frames else {
         bvhview::render::frame_values(&loaded.motion, options.frame)?;
         let image = bvhview::render::Renderer::new(options.width, options.height)?
-            .render_with_text(
+            .render_with_overlay(
                 &loaded.skeleton,
                 &loaded.motion,
                 &options,
-                &hud_lines(options.frame),
+                &overlay(options.frame),
             )?;
         image.write_png(output)?;
         wrote(format_args!(
@@ -965,11 +1011,11 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         let progress = Progress::new(shown.len());
         let pictures = shown.iter().enumerate().map(|(i, &frame)| {
             progress.show(i + 1);
-            renderer.render_with_text(
+            renderer.render_with_overlay(
                 &loaded.skeleton,
                 &loaded.motion,
                 &SnapshotOptions { frame, ..options },
-                &hud_lines(frame),
+                &overlay(frame),
             )
         });
         let size = (options.width, options.height);
@@ -988,11 +1034,11 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
     let digits = (range.end.max(1) - 1).to_string().len().max(5);
     let count = range.len();
     for frame in range {
-        let image = renderer.render_with_text(
+        let image = renderer.render_with_overlay(
             &loaded.skeleton,
             &loaded.motion,
             &SnapshotOptions { frame, ..options },
-            &hud_lines(frame),
+            &overlay(frame),
         )?;
         image.write_png(&output.join(format!("frame_{frame:0digits$}.png")))?;
     }
@@ -1043,6 +1089,8 @@ fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
         shown: None,
         sphere_radius: scene::sphere_radius(&camera, fit),
         up,
+        origin: [0.0; 3],
+        stage: None,
     };
     scene::display(&mut recorder, &view);
     write_text(&recorder.text())?;

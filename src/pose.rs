@@ -63,6 +63,63 @@ impl Up {
     }
 }
 
+/// The units a file's lengths look written in, guessed from how tall its skeleton stands.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Units {
+    pub name: &'static str,
+    /// Metres per unit of the file.
+    pub metres: f32,
+}
+
+impl Units {
+    /// The units in which `height` (the rest pose's, standing) comes nearest to a person's
+    /// 1.7 m, by ratio: metres, decimetres (MakeHuman's), centimetres, millimetres or inches.
+    /// Tiny rigs in metres read as metres, Second Life's (about 72 tall) as inches.
+    pub fn guess(height: f32) -> Units {
+        const CANDIDATES: [Units; 5] = [
+            Units {
+                name: "metres",
+                metres: 1.0,
+            },
+            Units {
+                name: "decimetres",
+                metres: 0.1,
+            },
+            Units {
+                name: "centimetres",
+                metres: 0.01,
+            },
+            Units {
+                name: "millimetres",
+                metres: 0.001,
+            },
+            Units {
+                name: "inches",
+                metres: 0.0254,
+            },
+        ];
+        let off = |units: &Units| (height.max(1e-6) * units.metres / 1.7).ln().abs();
+        CANDIDATES
+            .into_iter()
+            .min_by(|a, b| off(a).total_cmp(&off(b)))
+            .expect("five candidates")
+    }
+}
+
+/// How tall the skeleton stands in its rest pose, along the up axis (roots left out, as in
+/// [`Up::guess`]).
+pub fn standing_height(skeleton: &Skeleton, up: Up) -> f32 {
+    let stand = up.to_y_up();
+    let points = world_positions(skeleton, &[], OffsetMode::Replace);
+    let ys = points
+        .iter()
+        .zip(&skeleton.joints)
+        .filter(|(_, joint)| joint.parent.is_some())
+        .map(|(p, _)| (stand * *p).y);
+    let (lo, hi) = ys.fold((f32::MAX, f32::MIN), |(lo, hi), y| (lo.min(y), hi.max(y)));
+    if lo > hi { 0.0 } else { hi - lo }
+}
+
 /// The joint's translation `t` for one frame: its OFFSET with its position channels replacing
 /// (or added to) the matching components. `values` are this joint's channel values.
 pub fn joint_translation(joint: &Joint, values: &[f32], mode: OffsetMode) -> Vec3 {

@@ -663,3 +663,72 @@ fn snapshot_hud_is_pinned_and_opt_in() {
     assert!(read(&with).differing_pixels(&article) > 1000);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `snapshot --names` writes each joint's name beside it (pinned picture), over the picture the
+/// same options draw without it.
+#[test]
+fn snapshot_names_are_pinned_and_opt_in() {
+    let dir = std::env::temp_dir().join(format!("bvhview-namespin-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (with, without) = (dir.join("with.png"), dir.join("without.png"));
+    let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
+    for (path, extra) in [(&with, Some("--names")), (&without, None)] {
+        let mut args = vec![
+            "snapshot",
+            walk.to_str().unwrap(),
+            "--frame",
+            "10",
+            "--fit",
+            "--angle",
+            "0.6",
+            "--style",
+            "both",
+            "-q",
+        ];
+        args.extend(extra);
+        args.extend(["-o", path.to_str().unwrap()]);
+        assert!(bvhview(&args).status.success());
+    }
+    let read = |p: &std::path::Path| bvhview::render::Image::read_png(p).unwrap();
+    let golden = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/snapshots/walk__f10__names__both__fit__a0.6.png");
+    if std::env::var_os("BVHVIEW_BLESS").is_some() {
+        std::fs::copy(&with, &golden).unwrap();
+    }
+    let differing = read(&with).differing_pixels(&read(&golden));
+    println!(
+        "drift walk__f10__names__both__fit__a0.6: {differing} of 360000 pixels differ (at most 360)"
+    );
+    assert!(differing <= 360, "{differing}");
+    // The names add only text: the figure's own golden picture is what is drawn without them.
+    let plain = read(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/snapshots/walk__f10__both__fit__a0.6.png"
+    )));
+    assert_eq!(read(&without).differing_pixels(&plain), 0);
+    assert!(read(&with).differing_pixels(&plain) > 1000);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `info` says which units the skeleton's height suggests.
+#[test]
+fn info_guesses_the_units_from_the_height() {
+    for (file, line) in [
+        (
+            "bvh/makehuman_walk1.bvh",
+            "units:            decimetres (a guess: the rest pose stands 16.363 tall, 1.64 m in decimetres)",
+        ),
+        (
+            "bvh/bvhpython_test_freebvh.bvh",
+            "units:            centimetres (a guess: the rest pose stands 178.430 tall, 1.78 m in centimetres)",
+        ),
+        (
+            "bvh/opencollar_run.bvh",
+            "units:            inches (a guess: the rest pose stands 71.592 tall, 1.82 m in inches)",
+        ),
+    ] {
+        let out = bvhview(&["info", data(file).to_str().unwrap()]);
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.lines().any(|l| l == line), "{file}:\n{text}");
+    }
+}

@@ -5,7 +5,7 @@
 mod common;
 use bvhview::pose::OffsetMode;
 use bvhview::render::scene::{self, Scene};
-use bvhview::render::{Image, SnapshotOptions, draw::Style};
+use bvhview::render::{Image, Look, SnapshotOptions, draw::Style};
 use common::*;
 use std::path::{Path, PathBuf};
 
@@ -106,6 +106,39 @@ fn cases() -> Vec<Case> {
                 ..base
             },
         ),
+        case(
+            "walk__f10__studio__both",
+            "assets/walk.bvh",
+            SnapshotOptions {
+                frame: 10,
+                style: Style::Both,
+                look: Look::Studio,
+                ..base
+            },
+        ),
+        case(
+            "makehuman_walk1__f7__studio__zup__a0.6",
+            "bvh/makehuman_walk1.bvh",
+            SnapshotOptions {
+                frame: 7,
+                style: Style::Both,
+                look: Look::Studio,
+                up: bvhview::pose::Up::Z,
+                angle: 0.6,
+                ..base
+            },
+        ),
+        case(
+            "bvh11__f400__studio__follow__a1.2",
+            "bvh/bvh11_131_01.bvh",
+            SnapshotOptions {
+                frame: 400,
+                look: Look::Studio,
+                follow: true,
+                angle: 1.2,
+                ..base
+            },
+        ),
         Case {
             motion: Some("asf_amc/simchoni_charleston_1.amc"),
             ..case(
@@ -139,16 +172,26 @@ fn in_repository(case: &Case) -> bool {
     own(case.input) && case.motion.is_none_or(own)
 }
 
-/// The same view with an empty skeleton: background and floor only.
+/// The same view with an empty skeleton: background and floor (in the studio look, the take's
+/// grid) only.
 fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> Image {
     let frame = bvhview::render::frame_values(&bvh.motion, options.frame).unwrap();
-    let camera = bvhview::render::camera_for(
+    let stage = (options.look == Look::Studio).then(|| {
+        bvhview::render::studio::Stage::new(
+            &bvh.skeleton,
+            &bvh.motion,
+            options.offset_mode,
+            options.up,
+        )
+    });
+    let (camera, _) = bvhview::render::view_camera(
         &bvh.skeleton,
         frame,
         options.angle,
         options.fit,
         options.offset_mode,
         options.up,
+        stage.as_ref().map(|stage| (stage, options.follow)),
     );
     let mut renderer = bvhview::render::Renderer::new(options.width, options.height).unwrap();
     let context = renderer.context();
@@ -165,6 +208,8 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
         shown: None,
         sphere_radius: 1.0,
         up: bvhview::pose::Up::Y,
+        origin: [0.0; 3],
+        stage: stage.as_ref(),
     };
     scene::display(gl, &view);
     Image {
@@ -177,7 +222,7 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
 #[test]
 fn snapshots_of_repository_files_match_their_golden_pictures() {
     let cases: Vec<Case> = cases().into_iter().filter(in_repository).collect();
-    assert_eq!(cases.len(), 7);
+    assert_eq!(cases.len(), 10);
     check_goldens(cases);
 }
 

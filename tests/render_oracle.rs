@@ -119,6 +119,9 @@ impl FixedFunction for Probe<'_> {
     fn lightfv(&mut self, l: u32, p: u32, v: [f32; 4]) {
         self.gl.lightfv(l, p, v)
     }
+    fn materialfv(&mut self, p: u32, v: [f32; 4]) {
+        self.gl.materialfv(p, v)
+    }
     fn line_width(&mut self, w: f32) {
         self.gl.line_width(w)
     }
@@ -169,6 +172,9 @@ impl FixedFunction for Probe<'_> {
     }
     fn window_pos(&mut self, x: i32, y: i32) {
         self.gl.window_pos(x, y)
+    }
+    fn raster_pos(&mut self, x: f32, y: f32, z: f32) {
+        self.gl.raster_pos(x, y, z)
     }
     fn bitmap(&mut self, width: i32, height: i32, advance: f32, bits: &[u8]) {
         self.gl.bitmap(width, height, advance, bits)
@@ -234,6 +240,8 @@ fn gl_matrix_stack_equals_pose_world_times_view() {
             shown: None,
             sphere_radius: 1.0,
             up: bvhview::pose::Up::Y,
+            origin: [0.0; 3],
+            stage: None,
         };
         bvhview::render::draw::draw(&mut probe, s.skeleton, s.frame, s.style, s.offset_mode);
         let mut worlds = Vec::new();
@@ -305,6 +313,8 @@ fn calls_match_the_articles_trace() {
         shown: None,
         sphere_radius: 1.0,
         up: bvhview::pose::Up::Y,
+        origin: [0.0; 3],
+        stage: None,
     };
     scene::display(&mut recorder, &s);
     let expected = std::fs::read_to_string(oracle("trace/tiny_crlf__f1__a10.txt")).unwrap();

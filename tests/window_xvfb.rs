@@ -1,6 +1,7 @@
 //! End to end under Xvfb: the viewer opens on a file, W steps a frame, J steps through the
-//! recursion joint by joint (Shift+J back, Esc back to the whole picture), the window's pixels
-//! equal the offscreen snapshot of each state, and Esc quits. Needs Xvfb, xdotool and xwd
+//! recursion joint by joint (Shift+J back, Esc back to the whole picture), F, C, B, O, I and H,
+//! Home and End, the timeline clicked and dragged, +, -, L, V, T and N; the window's pixels equal
+//! the offscreen snapshot of each state, and Esc quits. Needs Xvfb, xdotool and xwd
 //! (scripts/test.sh installs them).
 
 mod common;
@@ -322,6 +323,133 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     shows("the HUD again after H", &with_hud);
     run(&display, "xdotool", &["key", "i"]).expect("key i");
     shows("no HUD after I again", &second);
+
+    // The same pictures as `snapshot` with the same options, to within 0.1% of the pixels.
+    let cli_snapshot = |args: &[&str]| {
+        let png = std::env::temp_dir().join(format!(
+            "bvhview-window-{}-{}.png",
+            std::process::id(),
+            args.join("_").replace(['/', ' '], "")
+        ));
+        let made = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+            .arg("snapshot")
+            .arg(&input)
+            .args(args)
+            .args(["-q", "-o"])
+            .arg(&png)
+            .status()
+            .unwrap();
+        assert!(made.success(), "snapshot {args:?}");
+        let image = Image::read_png(&png).unwrap();
+        std::fs::remove_file(&png).unwrap();
+        image
+    };
+    let close_to = |what: &str, want: &Image| {
+        let start = Instant::now();
+        loop {
+            let seen = capture(&display, &window);
+            let differing = seen.differing_pixels(want);
+            if differing * 1000 <= (want.width * want.height) as usize {
+                return;
+            }
+            if start.elapsed() > Duration::from_secs(29) {
+                let _ = seen.write_png(&std::env::temp_dir().join("bvhview-window-seen.png"));
+                let _ = want.write_png(&std::env::temp_dir().join("bvhview-window-want.png"));
+            }
+            assert!(
+                start.elapsed() < Duration::from_secs(30),
+                "{what}: {differing} pixels differ from the snapshot"
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    };
+    let changes = |what: &str, from: &Image| {
+        let start = Instant::now();
+        while capture(&display, &window).differing_pixels(from) == 0 {
+            assert!(
+                start.elapsed() < Duration::from_secs(30),
+                "{what} changed nothing"
+            );
+            std::thread::sleep(Duration::from_millis(50));
+        }
+    };
+    let key = |name: &str| {
+        run(&display, "xdotool", &["key", name]).unwrap_or_else(|| panic!("key {name}"));
+    };
+    let mouse = |steps: &[&[&str]]| {
+        for step in steps {
+            run(&display, "xdotool", step).expect("the mouse");
+        }
+    };
+
+    // End and Home jump to the last and the first frame.
+    key("End");
+    wait_for(
+        "End: the last frame",
+        Duration::from_secs(30),
+        title("2 of 0-2"),
+    );
+    key("Home");
+    wait_for(
+        "Home: the first frame",
+        Duration::from_secs(30),
+        title("0 of 0-2"),
+    );
+
+    // With the HUD, the timeline: a click at its right end seeks to the last frame, a drag back
+    // to its left end to the first. The bar runs from x 12 to 588, 10 to 22 pixels up.
+    key("i");
+    close_to("the HUD at frame 0", &cli_snapshot(&["--hud"]));
+    mouse(&[&["mousemove", "588", "584"], &["click", "1"]]);
+    wait_for(
+        "a click on the timeline",
+        Duration::from_secs(30),
+        title("2 of 0-2"),
+    );
+    close_to(
+        "the HUD at frame 2",
+        &cli_snapshot(&["--hud", "--frame", "2"]),
+    );
+    mouse(&[
+        &["mousemove", "588", "584"],
+        &["mousedown", "1"],
+        &["mousemove", "300", "590"],
+        &["mousemove", "0", "560"],
+        &["mouseup", "1"],
+    ]);
+    wait_for(
+        "a drag along the timeline",
+        Duration::from_secs(30),
+        title("0 of 0-2"),
+    );
+    let hud_first = cli_snapshot(&["--hud"]);
+    close_to("the HUD at frame 0 again", &hud_first);
+
+    // + and - change the speed on the HUD and back; L turns the loop off and on.
+    key("plus");
+    changes("+", &hud_first);
+    key("minus");
+    close_to("- after +", &hud_first);
+    key("l");
+    changes("L", &hud_first);
+    key("l");
+    close_to("L twice", &hud_first);
+    key("i");
+
+    // V: the studio look; T: its camera follows the root; N: the joint names.
+    key("v");
+    close_to("the studio look", &cli_snapshot(&["--look", "studio"]));
+    key("t");
+    close_to(
+        "the studio look following the root",
+        &cli_snapshot(&["--look", "studio", "--follow"]),
+    );
+    key("t");
+    key("v");
+    key("n");
+    close_to("the joint names", &cli_snapshot(&["--names"]));
+    key("n");
+    close_to("no names again", &cli_snapshot(&[]));
 
     run(&display, "xdotool", &["key", "Escape"]).expect("key Escape");
     let status = wait_for("the viewer to quit on Esc", Duration::from_secs(30), || {

@@ -44,6 +44,9 @@ pub struct Pass<'a> {
     /// The spheres' radius: the article's 1, or in proportion to the skeleton in a view that
     /// frames it.
     pub sphere_radius: f64,
+    /// A colour per joint for its sphere and the sticks to its children (the studio look, with
+    /// `GL_COLOR_MATERIAL` on); `None`, the article's: no colour calls at all.
+    pub colours: Option<&'a [[f32; 3]]>,
 }
 
 impl<'a> Pass<'a> {
@@ -61,6 +64,7 @@ impl<'a> Pass<'a> {
             mode,
             shown: None,
             sphere_radius: 1.0,
+            colours: None,
         }
     }
 }
@@ -102,6 +106,10 @@ pub fn draw_recursive<G: FixedFunction>(gl: &mut G, pass: &Pass, index: usize, d
     match joint.axis {
         None => rotate_space(gl, joint, pass.frame),
         Some(axis) => rotate_space_about_axis(gl, joint, pass.frame, axis),
+    }
+    if let Some(colours) = pass.colours {
+        let [r, g, b] = colours[index];
+        gl.color3f(r, g, b);
     }
     if pass.shown == Some(index + 1) {
         highlighted_sphere(gl, pass.sphere_radius);
@@ -157,6 +165,10 @@ fn draw_sticks<G: FixedFunction>(gl: &mut G, pass: &Pass, joint: &Joint) {
     gl.disable(GL_LIGHTING);
     gl.begin(GL_LINES);
     for &child in joint.children.iter().filter(|&&c| is_shown(pass, c)) {
+        if let Some(colours) = pass.colours {
+            let [r, g, b] = colours[child];
+            gl.color3f(r, g, b);
+        }
         let [cx, cy, cz] = translation(&pass.skeleton.joints[child], pass.frame, pass.mode);
         gl.vertex3f(0.0, 0.0, 0.0);
         gl.vertex3f(cx, cy, cz);

@@ -15,6 +15,10 @@ pub const GL_PROJECTION: u32 = 0x1701;
 pub const GL_MODELVIEW_MATRIX: u32 = 0x0BA6;
 pub const GL_PROJECTION_MATRIX: u32 = 0x0BA7;
 pub const GL_LIGHTING: u32 = 0x0B50;
+pub const GL_COLOR_MATERIAL: u32 = 0x0B57;
+pub const GL_FRONT_AND_BACK: u32 = 0x0408;
+pub const GL_AMBIENT: u32 = 0x1200;
+pub const GL_DIFFUSE: u32 = 0x1201;
 pub const GL_LIGHT0: u32 = 0x4000;
 pub const GL_POSITION: u32 = 0x1203;
 pub const GL_DEPTH_TEST: u32 = 0x0B71;
@@ -43,6 +47,8 @@ pub trait FixedFunction {
     fn enable(&mut self, cap: u32);
     fn disable(&mut self, cap: u32);
     fn lightfv(&mut self, light: u32, pname: u32, params: [f32; 4]);
+    /// `glMaterialfv(GL_FRONT_AND_BACK, pname, params)`.
+    fn materialfv(&mut self, pname: u32, params: [f32; 4]);
     fn line_width(&mut self, width: f32);
     fn color3f(&mut self, r: f32, g: f32, b: f32);
     fn viewport(&mut self, x: i32, y: i32, width: i32, height: i32);
@@ -69,6 +75,9 @@ pub trait FixedFunction {
     fn draw_triangles(&mut self, positions: &[glam::Vec3], normals: &[glam::Vec3], indices: &[u32]);
     /// `glWindowPos2i(x, y)`: where the next bitmap goes, in pixels from the bottom left.
     fn window_pos(&mut self, x: i32, y: i32);
+    /// `glRasterPos3f(x, y, z)`: where the next bitmap goes, a point carried through the
+    /// modelview and projection matrices (and coloured as a vertex would be).
+    fn raster_pos(&mut self, x: f32, y: f32, z: f32);
     /// `glBitmap(width, height, 0, 0, advance, 0, bits)`: one bit per pixel, rows from the bottom
     /// up, each row whole bytes, most significant bit leftmost. Drawn in the current raster
     /// colour, then the raster position moves `advance` pixels right.
@@ -107,6 +116,7 @@ pub struct GlTable {
     /// The calls glow has (clear, enable, viewport, strings, read-back).
     pub gl: glow::Context,
     lightfv: FnLightfv,
+    materialfv: FnLightfv,
     color3f: Fn3f,
     matrix_mode: FnU32,
     load_identity: Fn0,
@@ -129,6 +139,7 @@ pub struct GlTable {
     normal_pointer: FnNormalPointer,
     draw_elements: FnDrawElements,
     window_pos2i: Fn2i,
+    raster_pos3f: Fn3f,
     bitmap: FnBitmap,
     /// glutSolidSphere's geometry for the last (radius, slices, stacks) asked for.
     sphere: Option<Sphere>,
@@ -161,6 +172,7 @@ impl GlTable {
             gl,
             loader,
             lightfv: FnLightfv = "glLightfv",
+            materialfv: FnLightfv = "glMaterialfv",
             color3f: Fn3f = "glColor3f",
             matrix_mode: FnU32 = "glMatrixMode",
             load_identity: Fn0 = "glLoadIdentity",
@@ -183,6 +195,7 @@ impl GlTable {
             normal_pointer: FnNormalPointer = "glNormalPointer",
             draw_elements: FnDrawElements = "glDrawElements",
             window_pos2i: Fn2i = "glWindowPos2i",
+            raster_pos3f: Fn3f = "glRasterPos3f",
             bitmap: FnBitmap = "glBitmap",
         );
         let version = table.string(GL_VERSION);
@@ -259,6 +272,9 @@ impl FixedFunction for GlTable {
     fn window_pos(&mut self, x: i32, y: i32) {
         unsafe { (self.window_pos2i)(x, y) }
     }
+    fn raster_pos(&mut self, x: f32, y: f32, z: f32) {
+        unsafe { (self.raster_pos3f)(x, y, z) }
+    }
     fn bitmap(&mut self, width: i32, height: i32, advance: f32, bits: &[u8]) {
         // GL reads ceil(width / 8) bytes for each of `height` rows: a shorter slice draws nothing.
         let needed = usize::try_from(width.max(0)).unwrap_or(0).div_ceil(8)
@@ -285,6 +301,9 @@ impl FixedFunction for GlTable {
     }
     fn lightfv(&mut self, light: u32, pname: u32, params: [f32; 4]) {
         unsafe { (self.lightfv)(light, pname, params.as_ptr()) }
+    }
+    fn materialfv(&mut self, pname: u32, params: [f32; 4]) {
+        unsafe { (self.materialfv)(GL_FRONT_AND_BACK, pname, params.as_ptr()) }
     }
     fn line_width(&mut self, width: f32) {
         unsafe { self.gl.line_width(width) }

@@ -16,8 +16,12 @@ pub struct Hud<'a> {
     pub frames: usize,
     pub frame_time: f64,
     pub playing: bool,
-    /// Playback speed, 1 for the file's own rate.
+    /// Playback speed, 1 for the file's own rate, and whether playback wraps at the end.
     pub speed: f64,
+    pub looping: bool,
+    /// The studio look, and whether its camera follows the root.
+    pub look: crate::render::Look,
+    pub follow: bool,
     pub style: Style,
     pub skin: bool,
     pub fit: bool,
@@ -46,10 +50,11 @@ impl Hud<'_> {
             (Style::Points, true) => "skin",
             (_, true) => "skin and sticks",
         };
-        let camera = if self.fit {
-            "framed"
-        } else {
-            "the article's camera"
+        let camera = match (self.look, self.follow, self.fit) {
+            (crate::render::Look::Studio, true, _) => "studio, following the root",
+            (crate::render::Look::Studio, false, _) => "studio",
+            (_, _, true) => "framed",
+            _ => "the article's camera",
         };
         let mode = match self.offset_mode {
             OffsetMode::Replace => "positions replace OFFSET",
@@ -60,9 +65,10 @@ impl Hud<'_> {
             frames,
             format!("{:.3} s, {rate}", self.frame as f64 * self.frame_time),
             format!(
-                "{} at {}x",
+                "{} at {}x, loop {}",
                 if self.playing { "playing" } else { "paused" },
-                trim_number(self.speed)
+                trim_number(self.speed),
+                if self.looping { "on" } else { "off" }
             ),
             format!("{style}, {camera}"),
             mode.to_string(),
@@ -89,11 +95,18 @@ pub fn help_lines() -> Vec<String> {
         "W / S      next / previous frame",
         "A / D      turn the camera",
         "Space      play / pause",
+        "Home / End first / last frame",
+        "+ / -      faster / slower",
+        "L          loop on / off",
+        "click bar  seek (with the HUD)",
         "drag       turn and tilt",
         "Shift+drag pan; wheel: zoom",
         "F          frame the skeleton",
         "C          the article's camera",
         "B          next style",
+        "V          studio look",
+        "T          follow the root",
+        "N          joint names",
         "K          skin on / off",
         "O          offset mode",
         "J/Shift+J  step the recursion",

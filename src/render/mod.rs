@@ -5,12 +5,15 @@ pub mod body;
 pub mod draw;
 pub mod fixed;
 pub mod hud;
+pub mod names;
 pub mod osmesa;
 pub mod scene;
 pub mod skin_demo;
 pub mod sphere;
 pub mod step;
+pub mod studio;
 pub mod text;
+pub mod timeline;
 pub mod trace;
 pub mod window;
 
@@ -128,6 +131,89 @@ pub struct SnapshotOptions {
     pub step: Option<usize>,
     /// The file's up axis: Z stands the skeleton up (`--up`; the article draws files as written).
     pub up: Up,
+    /// The article's look or the studio's (`--look studio`).
+    pub look: Look,
+    /// In the studio look, the camera follows the root (the window's T).
+    pub follow: bool,
+}
+
+/// How the picture looks: the article's (the default) or the studio's, opt-in.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Look {
+    #[default]
+    Article,
+    Studio,
+}
+
+/// What is drawn over the scene; none of it is the article's picture.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Overlay {
+    /// Lines of text top left: the HUD's, or the help's.
+    pub lines: Vec<String>,
+    /// The timeline along the bottom (with the HUD): the frame shown, and how many there are.
+    pub timeline: Option<(usize, usize)>,
+    /// Each joint's name beside it (N).
+    pub names: bool,
+}
+
+/// Draws `overlay` and the step view's text over a scene just displayed, in the order the window
+/// and `snapshot` share: names, the step view, the top-left lines, the timeline (not in the step
+/// view, whose text takes the bottom).
+pub fn draw_overlay<G: fixed::FixedFunction>(
+    gl: &mut G,
+    scene: &Scene,
+    (width, height): (u32, u32),
+    overlay: &Overlay,
+) {
+    if overlay.names {
+        names::draw(gl, scene);
+    }
+    if let Some(shown) = scene.shown {
+        let lines = step::lines(
+            scene.skeleton,
+            scene.frame,
+            scene.style,
+            scene.offset_mode,
+            shown,
+            step::columns(width),
+        );
+        step::draw_overlay(gl, &lines);
+    }
+    if !overlay.lines.is_empty() {
+        hud::draw(gl, height, &overlay.lines);
+    }
+    if let (Some((frame, frames)), None) = (overlay.timeline, scene.shown) {
+        timeline::draw(gl, width, height, frame, frames);
+    }
+}
+
+/// The camera a view starts from, and its spheres' radius: the article's (at `angle`), one that
+/// frames the skeleton (`fit`), or the studio's (framing the whole take, or following the root).
+pub fn view_camera(
+    skeleton: &Skeleton,
+    frame: Option<&[f32]>,
+    angle: f32,
+    fit: bool,
+    mode: OffsetMode,
+    up: Up,
+    studio: Option<(&studio::Stage, bool)>,
+) -> (Camera, f64) {
+    match studio {
+        Some((stage, follow)) => {
+            let root = follow
+                .then(|| skeleton.roots().next())
+                .flatten()
+                .map(|root| {
+                    let points = world_positions(skeleton, frame.unwrap_or(&[]), mode);
+                    up.to_y_up() * points[root]
+                });
+            (stage.camera(angle, root), stage.sphere_radius())
+        }
+        None => {
+            let camera = camera_for(skeleton, frame, angle, fit, mode, up);
+            (camera, scene::sphere_radius(&camera, fit))
+        }
+    }
 }
 
 impl Default for SnapshotOptions {
@@ -143,6 +229,8 @@ impl Default for SnapshotOptions {
             skin: false,
             step: None,
             up: Up::Y,
+            look: Look::Article,
+            follow: false,
         }
     }
 }
@@ -211,6 +299,8 @@ pub struct Renderer {
     body: Option<(Skeleton, OffsetMode, body::Body)>,
     posed: body::PosedBody,
     scratch: (Vec<glam::Mat4>, Vec<glam::Mat4>),
+    /// The studio look's stage, with what it was made for (skeleton, mode, up, frame count).
+    stage: Option<(Skeleton, OffsetMode, Up, usize, studio::Stage)>,
 }
 
 impl Renderer {
@@ -222,6 +312,7 @@ impl Renderer {
             body: None,
             posed: body::PosedBody::default(),
             scratch: (Vec::new(), Vec::new()),
+            stage: None,
         })
     }
 
@@ -232,17 +323,17 @@ impl Renderer {
         motion: &Motion,
         options: &SnapshotOptions,
     ) -> Result<Image, Error> {
-        self.render_with_text(skeleton, motion, options, &[])
+        self.render_with_overlay(skeleton, motion, options, &Overlay::default())
     }
 
-    /// [`Renderer::render`] with `lines` of text top left (the HUD or the help; none draws the
-    /// picture [`Renderer::render`] draws).
-    pub fn render_with_text(
+    /// [`Renderer::render`] with `overlay` on top (an empty one draws the picture
+    /// [`Renderer::render`] draws).
+    pub fn render_with_overlay(
         &mut self,
         skeleton: &Skeleton,
         motion: &Motion,
         options: &SnapshotOptions,
-        lines: &[String],
+        overlay: &Overlay,
     ) -> Result<Image, Error> {
         let (width, height) = self.context.size();
         if (options.width, options.height) != (width, height) {
@@ -252,13 +343,28 @@ impl Renderer {
         }
         self.context.make_current()?;
         let frame = frame_values(motion, options.frame)?;
-        let camera = camera_for(
+        let stage = if options.look == Look::Studio {
+            let key = (options.offset_mode, options.up, motion.frame_count());
+            if self
+                .stage
+                .as_ref()
+                .is_none_or(|(s, m, u, n, _)| (*m, *u, *n) != key || s != skeleton)
+            {
+                let stage = studio::Stage::new(skeleton, motion, options.offset_mode, options.up);
+                self.stage = Some((skeleton.clone(), key.0, key.1, key.2, stage));
+            }
+            self.stage.as_ref().map(|(_, _, _, _, stage)| stage)
+        } else {
+            None
+        };
+        let (camera, sphere_radius) = view_camera(
             skeleton,
             frame,
             options.angle,
             options.fit,
             options.offset_mode,
             options.up,
+            stage.map(|stage| (stage, options.follow)),
         );
         let skin = if options.skin {
             let mode = options.offset_mode;
@@ -277,34 +383,21 @@ impl Renderer {
         };
         let gl = &mut self.context.gl;
         scene::reshape(gl, width, height, &camera);
-        scene::display(
-            gl,
-            &Scene {
-                skeleton,
-                frame,
-                camera,
-                style: options.style,
-                offset_mode: options.offset_mode,
-                skin,
-                shown: options.step,
-                up: options.up,
-                sphere_radius: scene::sphere_radius(&camera, options.fit),
-            },
-        );
-        if let Some(shown) = options.step {
-            let lines = step::lines(
-                skeleton,
-                frame,
-                options.style,
-                options.offset_mode,
-                shown,
-                step::columns(width),
-            );
-            step::draw_overlay(gl, &lines);
-        }
-        if !lines.is_empty() {
-            hud::draw(gl, height, lines);
-        }
+        let scene = Scene {
+            skeleton,
+            frame,
+            camera,
+            style: options.style,
+            offset_mode: options.offset_mode,
+            skin,
+            shown: options.step,
+            up: options.up,
+            sphere_radius,
+            origin: [0.0; 3],
+            stage,
+        };
+        scene::display(gl, &scene);
+        draw_overlay(gl, &scene, (width, height), overlay);
         Ok(Image {
             width,
             height,

@@ -102,6 +102,10 @@ pub struct Scene<'a> {
     pub sphere_radius: f64,
     /// The file's up axis; a Z-up file is turned to stand (the floor stays where it is).
     pub up: crate::pose::Up,
+    /// Where the take stands: moved along x beside the others when several are shown.
+    pub origin: [f32; 3],
+    /// The studio look, with what it knows of the take; `None` is the article's picture.
+    pub stage: Option<&'a crate::render::studio::Stage>,
 }
 
 /// The spheres' radius for a view: the article's 1 at its own camera; in a view that frames the
@@ -147,9 +151,30 @@ pub fn reshape<G: FixedFunction>(gl: &mut G, width: u32, height: u32, camera: &C
 /// draw the skeleton, then the floor quad at y = −10, which has no `glNormal` and so is lit with
 /// the current normal like a wall facing +Z.
 pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene) {
+    if let Some(stage) = scene.stage {
+        crate::render::studio::display(gl, scene, stage);
+        return;
+    }
     gl.clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     gl.load_identity();
     look_at(gl, scene.camera.eye(), scene.camera.target, [0.0, 1.0, 0.0]);
+    draw_take(gl, scene);
+    gl.begin(GL_QUADS);
+    gl.vertex3f(-100.0, -10.0, 100.0);
+    gl.vertex3f(100.0, -10.0, 100.0);
+    gl.vertex3f(100.0, -10.0, -100.0);
+    gl.vertex3f(-100.0, -10.0, -100.0);
+    gl.end();
+}
+
+/// The figure of `display`, under the camera already set: the skin and the style asked for, at
+/// the take's place (no calls at all for the article's one take at the origin).
+pub fn draw_take<G: FixedFunction>(gl: &mut G, scene: &Scene) {
+    let moved = scene.origin != [0.0; 3];
+    if moved {
+        gl.push_matrix();
+        gl.translatef(scene.origin[0], scene.origin[1], scene.origin[2]);
+    }
     // With a skin, the skin takes the spheres' place (the stick figure, if asked for, stays).
     let style = match (scene.skin, scene.style) {
         (None, style) => Some(style),
@@ -176,12 +201,9 @@ pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene) {
     if stand_up {
         gl.pop_matrix();
     }
-    gl.begin(GL_QUADS);
-    gl.vertex3f(-100.0, -10.0, 100.0);
-    gl.vertex3f(100.0, -10.0, 100.0);
-    gl.vertex3f(100.0, -10.0, -100.0);
-    gl.vertex3f(-100.0, -10.0, -100.0);
-    gl.end();
+    if moved {
+        gl.pop_matrix();
+    }
 }
 
 fn normalize(v: &mut [f32; 3]) {

@@ -37,6 +37,27 @@ pub fn glyph(c: char) -> [u8; 32] {
     bits
 }
 
+/// A glyph at the font's own size, 8×8 (joint names, which must not hide the figure): 8 rows of
+/// one byte, bottom row first, most significant bit leftmost.
+pub fn small_glyph(c: char) -> [u8; 8] {
+    let rows = font8x8::BASIC_FONTS
+        .get(c)
+        .or_else(|| font8x8::BASIC_FONTS.get('?'))
+        .unwrap_or([0; 8]);
+    let mut bits = [0u8; 8];
+    for (row, &pattern) in rows.iter().enumerate() {
+        bits[7 - row] = pattern.reverse_bits();
+    }
+    bits
+}
+
+/// Draws `text` in small glyphs at the raster position already set, which moves on as it goes.
+pub fn draw_small<G: FixedFunction>(gl: &mut G, text: &str) {
+    for c in text.chars() {
+        gl.bitmap(8, 8, 8.0, &small_glyph(c));
+    }
+}
+
 /// Where on the picture a block of lines goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Corner {
@@ -92,5 +113,17 @@ mod tests {
             }
         }
         assert_eq!(glyph('\u{2603}'), glyph('?'));
+    }
+
+    #[test]
+    fn a_small_glyph_is_its_font_pattern_upside_down_and_mirrored() {
+        let rows = font8x8::BASIC_FONTS.get('L').unwrap();
+        let bits = small_glyph('L');
+        for (row, &pattern) in rows.iter().enumerate() {
+            for x in 0..8 {
+                let on = pattern & (1 << x) != 0;
+                assert_eq!(bits[7 - row] & (0x80 >> x) != 0, on, "row {row} x {x}");
+            }
+        }
     }
 }

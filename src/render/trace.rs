@@ -344,6 +344,13 @@ impl FixedFunction for Recorder {
         );
         self.call("glLightfv", &args);
     }
+    fn materialfv(&mut self, pname: u32, params: [f32; 4]) {
+        let args = format!(
+            "GL_FRONT_AND_BACK, 0x{pname:04X}, {{{}}}",
+            self.floats(&params)
+        );
+        self.call("glMaterialfv", &args);
+    }
     fn line_width(&mut self, width: f32) {
         let args = self.float(width);
         self.call("glLineWidth", &args);
@@ -458,6 +465,10 @@ impl FixedFunction for Recorder {
     }
     fn window_pos(&mut self, x: i32, y: i32) {
         self.call("glWindowPos2i", &format!("{x}, {y}"));
+    }
+    fn raster_pos(&mut self, x: f32, y: f32, z: f32) {
+        let args = format!("{}, {}, {}", self.float(x), self.float(y), self.float(z));
+        self.call("glRasterPos3f", &args);
     }
     fn bitmap(&mut self, width: i32, height: i32, advance: f32, _bits: &[u8]) {
         let args = format!("{width}, {height}, 0, 0, {}, 0, glyph", self.float(advance));

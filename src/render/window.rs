@@ -13,7 +13,9 @@ use crate::pose::OffsetMode;
 use crate::render::draw::Style;
 use crate::render::fixed::GlTable;
 use crate::render::scene::{self, Camera, Scene};
-use crate::render::{camera_for, frame_values};
+use crate::render::studio::Stage;
+use crate::render::timeline::Bar;
+use crate::render::{Look, Overlay, frame_values, view_camera};
 use crate::skeleton::Skeleton;
 use glutin::config::{ConfigTemplateBuilder, GlConfig};
 use glutin::context::{ContextAttributesBuilder, GlProfile, PossiblyCurrentContext};
@@ -272,7 +274,12 @@ pub struct ViewerOptions {
     pub skin: bool,
     /// The file's up axis (a Z-up file is stood up).
     pub up: crate::pose::Up,
+    /// The article's look or the studio's (V switches).
+    pub look: Look,
 }
+
+/// Playback speeds `+` and `-` step through.
+const SPEEDS: [f64; 9] = [0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0];
 
 /// C++: `main` in main.cpp: a 600×600 window whose display, reshape and keyboard functions are
 /// the article's. GLUT's main loop becomes winit's; the file is loaded by the caller, not in
@@ -299,6 +306,13 @@ pub fn run(skeleton: &Skeleton, motion: &Motion, options: ViewerOptions) -> Resu
         step: None,
         hud: false,
         help: false,
+        names: false,
+        speed: 1.0,
+        looping: true,
+        follow: false,
+        stage: None,
+        cursor: (0.0, 0.0),
+        seeking: false,
         body: None,
         posed: crate::render::body::PosedBody::default(),
         scratch: (Vec::new(), Vec::new()),
@@ -382,6 +396,18 @@ struct Viewer<'a> {
     /// The HUD (I) and the help (H), top left; the help takes the HUD's place while shown.
     hud: bool,
     help: bool,
+    /// Joint names beside the joints (N).
+    names: bool,
+    /// Playback speed (`+`, `-`) and whether playback wraps at the end (L).
+    speed: f64,
+    looping: bool,
+    /// In the studio look, the camera follows the root (T).
+    follow: bool,
+    /// The studio look's stage, made the first time it is shown (again after O).
+    stage: Option<Stage>,
+    /// Where the mouse is, and whether a press on the timeline is seeking.
+    cursor: (f64, f64),
+    seeking: bool,
     /// The generated skin, built the first time it is shown.
     body: Option<crate::render::body::Body>,
     posed: crate::render::body::PosedBody,
@@ -407,8 +433,23 @@ impl Viewer<'_> {
         )
     }
 
+    /// How long each frame shows at the playback speed.
     fn frame_duration(&self) -> Duration {
-        playback_step(self.motion.frame_time)
+        playback_step(self.motion.frame_time / self.speed)
+    }
+
+    /// The next speed up or down the list.
+    fn change_speed(&mut self, faster: bool) {
+        let at = SPEEDS
+            .iter()
+            .position(|&s| s >= self.speed)
+            .unwrap_or(SPEEDS.len() - 1);
+        let at = if faster {
+            (at + 1).min(SPEEDS.len() - 1)
+        } else {
+            at.saturating_sub(1)
+        };
+        self.speed = SPEEDS[at];
     }
 
     fn create(&mut self, event_loop: &ActiveEventLoop) -> Result<Running, Error> {
@@ -421,25 +462,39 @@ impl Viewer<'_> {
 
     fn redraw(&mut self) -> Result<(), Error> {
         let frame = frame_values(self.motion, self.frame)?;
-        // The article's camera as turned, tilted, panned and zoomed; with F, the same moves
-        // applied to a camera that frames the skeleton, whose size also sets the spheres'.
-        let (camera, sphere_radius) = if self.fit {
-            let fitted = camera_for(
+        if self.options.look == Look::Studio && self.stage.is_none() {
+            self.stage = Some(Stage::new(
+                self.skeleton,
+                self.motion,
+                self.options.offset_mode,
+                self.options.up,
+            ));
+        }
+        let stage = match self.options.look {
+            Look::Studio => self.stage.as_ref(),
+            Look::Article => None,
+        };
+        // The article's camera as turned, tilted, panned and zoomed; with F or the studio look,
+        // the same moves applied to the camera `snapshot` starts from, whose size also sets the
+        // spheres'.
+        let (camera, sphere_radius) = if self.fit || stage.is_some() {
+            let (start, radius) = view_camera(
                 self.skeleton,
                 frame,
                 self.camera.angle,
-                true,
+                self.fit,
                 self.options.offset_mode,
                 self.options.up,
+                stage.map(|stage| (stage, self.follow)),
             );
             let article = Camera::default();
-            let mut moved = fitted;
+            let mut moved = start;
             moved.distance *= self.camera.distance / article.distance;
-            moved.pitch = self.camera.pitch;
+            moved.pitch = start.pitch + self.camera.pitch;
             for axis in 0..3 {
                 moved.target[axis] += self.camera.target[axis] - article.target[axis];
             }
-            (moved, scene::sphere_radius(&fitted, true))
+            (moved, radius)
         } else {
             (self.camera, 1.0)
         };
@@ -466,10 +521,13 @@ impl Viewer<'_> {
             shown: self.step,
             sphere_radius,
             up: self.options.up,
+            origin: [0.0; 3],
+            stage,
         };
+        // The projection follows the window's size; reshape also runs on every resize.
         scene::display(&mut running.gl, &scene);
         let (width, height) = running.size;
-        let top_left = if self.help {
+        let lines = if self.help {
             crate::render::hud::help_lines()
         } else if self.hud {
             let warning = crate::info::offset_mode_warning(
@@ -483,7 +541,10 @@ impl Viewer<'_> {
                 frames: self.motion.frame_count(),
                 frame_time: self.motion.frame_time,
                 playing: self.playing,
-                speed: 1.0,
+                speed: self.speed,
+                looping: self.looping,
+                look: self.options.look,
+                follow: self.follow,
                 style: self.options.style,
                 skin: self.options.skin,
                 fit: self.fit,
@@ -494,20 +555,14 @@ impl Viewer<'_> {
         } else {
             Vec::new()
         };
-        if !top_left.is_empty() {
-            crate::render::hud::draw(&mut running.gl, height, &top_left);
-        }
-        if let Some(shown) = self.step {
-            let lines = crate::render::step::lines(
-                self.skeleton,
-                frame,
-                self.options.style,
-                self.options.offset_mode,
-                shown,
-                crate::render::step::columns(width),
-            );
-            crate::render::step::draw_overlay(&mut running.gl, &lines);
-        }
+        let overlay = Overlay {
+            lines,
+            timeline: self
+                .hud
+                .then_some((self.frame, self.motion.frame_count().max(1))),
+            names: self.names,
+        };
+        crate::render::draw_overlay(&mut running.gl, &scene, (width, height), &overlay);
         running
             .surface
             .swap_buffers(&running.context)
@@ -526,6 +581,24 @@ impl Viewer<'_> {
         running.surface.resize(&running.context, w, h);
         running.size = (w.get(), h.get());
         scene::reshape(&mut running.gl, w.get(), h.get(), &self.camera);
+    }
+
+    /// The frame under the mouse on the timeline (shown with the HUD, not in the step view);
+    /// `along`: anywhere across, as a drag that started on the bar counts.
+    fn bar_frame(&self, along: bool) -> Option<usize> {
+        let running = self.running.as_ref()?;
+        if !self.hud || self.step.is_some() {
+            return None;
+        }
+        let (width, height) = running.size;
+        let bar = Bar::new(width);
+        let frames = self.motion.frame_count().max(1);
+        let (x, y) = self.cursor;
+        if along {
+            Some(bar.frame_along(x, frames))
+        } else {
+            bar.frame_at(x, y, height, frames)
+        }
     }
 
     fn turn(&mut self, radians: f32) {
@@ -552,8 +625,16 @@ impl Viewer<'_> {
             }
             Key::Named(NamedKey::Space) => {
                 self.playing = !self.playing;
+                // Without loop, playing from the last frame starts again from the first.
+                if self.playing && !self.looping && self.frame + 1 >= self.frame_count() {
+                    self.frame = 0;
+                }
                 self.next_tick = Instant::now() + self.frame_duration();
             }
+            Key::Named(NamedKey::Home) => self.frame = 0,
+            Key::Named(NamedKey::End) => self.frame = self.frame_count() - 1,
+            Key::Character(text) if matches!(text.as_str(), "+" | "=") => self.change_speed(true),
+            Key::Character(text) if matches!(text.as_str(), "-" | "_") => self.change_speed(false),
             Key::Character(text) => match text.to_ascii_lowercase().as_str() {
                 "w" => self.frame = self.motion.next_frame(self.frame),
                 "s" => self.frame = self.motion.previous_frame(self.frame),
@@ -563,6 +644,20 @@ impl Viewer<'_> {
                 // pan carries over either way.
                 "i" => self.hud = !self.hud,
                 "h" => self.help = !self.help,
+                "n" => self.names = !self.names,
+                "l" => self.looping = !self.looping,
+                "t" => self.follow = !self.follow,
+                // The studio look and back; the camera starts again from the look's own.
+                "v" => {
+                    self.options.look = match self.options.look {
+                        Look::Article => Look::Studio,
+                        Look::Studio => Look::Article,
+                    };
+                    self.camera = Camera {
+                        angle: self.camera.angle,
+                        ..Camera::default()
+                    };
+                }
                 "f" => {
                     self.fit = !self.fit;
                     self.camera = Camera {
@@ -578,6 +673,7 @@ impl Viewer<'_> {
                         OffsetMode::Add => OffsetMode::Replace,
                     };
                     self.body = None;
+                    self.stage = None;
                 }
                 // Back to the article's camera as the program starts.
                 "c" => {
@@ -639,10 +735,34 @@ impl ApplicationHandler for Viewer<'_> {
                 button: button @ (MouseButton::Left | MouseButton::Middle),
                 ..
             } => {
-                self.dragging = (state == ElementState::Pressed).then_some(button);
+                let pressed = state == ElementState::Pressed;
+                // A press on the timeline seeks, and so does the drag that follows it.
+                let on_bar = self.bar_frame(false);
+                if pressed && button == MouseButton::Left && on_bar.is_some() {
+                    self.seeking = true;
+                    self.frame = on_bar.unwrap_or(self.frame);
+                    redraw = true;
+                } else {
+                    self.seeking = false;
+                    self.dragging = pressed.then_some(button);
+                }
+                if !pressed {
+                    self.seeking = false;
+                }
                 self.drag_from = None;
             }
+            WindowEvent::CursorMoved { position, .. } if self.seeking => {
+                self.cursor = (position.x, position.y);
+                if let Some(frame) = self.bar_frame(true) {
+                    self.frame = frame;
+                    redraw = true;
+                }
+            }
+            WindowEvent::CursorMoved { position, .. } if self.dragging.is_none() => {
+                self.cursor = (position.x, position.y);
+            }
             WindowEvent::CursorMoved { position, .. } if self.dragging.is_some() => {
+                self.cursor = (position.x, position.y);
                 if let Some((x, y)) = self.drag_from {
                     let (dx, dy) = ((position.x - x) as f32, (position.y - y) as f32);
                     // Shift or the middle button pans; otherwise across turns, up and down tilts.
@@ -683,7 +803,16 @@ impl ApplicationHandler for Viewer<'_> {
             let (frames, later) = frames_due(now - self.next_tick, self.frame_duration());
             self.next_tick += later;
             let count = self.motion.frame_count().max(1) as u64;
-            self.frame = ((self.frame as u64 + frames % count) % count) as usize;
+            if self.looping {
+                self.frame = ((self.frame as u64 + frames % count) % count) as usize;
+            } else {
+                // Without loop, playback stops at the last frame.
+                let last = count - 1;
+                self.frame = (self.frame as u64).saturating_add(frames).min(last) as usize;
+                if self.frame as u64 == last {
+                    self.playing = false;
+                }
+            }
             if let Some(running) = &self.running {
                 running.window.request_redraw();
             }

@@ -1,0 +1,288 @@
+//! The studio look (`--look studio`, V in the window): a dark backdrop, a grid floor at the
+//! take's lowest point, the figure's shadow cast straight down onto it, bones and joints coloured
+//! by side (left blue, right orange, centre grey), and a camera that frames the whole take, or
+//! follows the root (T). Its sizes come from the skeleton: the grid's squares are half a metre in
+//! the units the skeleton's height suggests. None of it is the article's picture, which stays the
+//! default.
+
+use crate::edit::{Side, name_side};
+use crate::motion::Motion;
+use crate::pose::{FkPlan, FkScratch, OffsetMode, Units, Up, standing_height};
+use crate::render::draw::{self, Style};
+use crate::render::fixed::*;
+use crate::render::scene::{Camera, Scene, look_at};
+use crate::skeleton::Skeleton;
+use glam::Vec3;
+
+/// How far above the level the studio camera looks down, in radians.
+pub const PITCH: f32 = 0.3;
+
+/// Everything the look needs to know about one take, worked out once.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stage {
+    pub units: Units,
+    /// The rest pose's standing height, in the file's units.
+    pub height: f32,
+    /// The lowest point of the whole take, standing: where the floor goes.
+    pub floor: f32,
+    /// The grid's spacing (half a metre) and extent: x from, x to, z from, z to, each a multiple
+    /// of the spacing.
+    pub spacing: f32,
+    pub grid: [f32; 4],
+    /// A sphere around every joint of every frame: what the camera frames.
+    pub center: Vec3,
+    pub radius: f32,
+    /// Each joint's colour, by the side its name (or its parent's) says.
+    pub colours: Vec<[f32; 3]>,
+}
+
+/// The direction the shadow's light shines in: down, and across to +x and −z.
+const LIGHT: Vec3 = Vec3::new(0.45, -1.0, -0.3);
+
+const LEFT: [f32; 3] = [0.35, 0.6, 1.0];
+const RIGHT: [f32; 3] = [1.0, 0.55, 0.25];
+const CENTRE: [f32; 3] = [0.82, 0.82, 0.8];
+
+impl Stage {
+    pub fn new(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode, up: Up) -> Stage {
+        let stand = up.to_y_up();
+        let height = standing_height(skeleton, up);
+        let units = Units::guess(height);
+        let plan = FkPlan::new(skeleton, mode);
+        let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
+        let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+        let mut take = |frame: &[f32]| {
+            plan.positions(frame, &mut points, &mut scratch);
+            for p in &points {
+                let p = stand * *p;
+                lo = lo.min(p);
+                hi = hi.max(p);
+            }
+        };
+        if motion.frame_count() == 0 {
+            take(&[]);
+        } else {
+            for frame in 0..motion.frame_count() {
+                take(motion.frame(frame));
+            }
+        }
+        if lo.x > hi.x {
+            (lo, hi) = (Vec3::ZERO, Vec3::ZERO);
+        }
+        let center = (lo + hi) * 0.5;
+        let radius = ((hi - lo).length() * 0.5).max(height * 0.5).max(1e-3);
+        let spacing = 0.5 / units.metres;
+        // A metre of floor beyond the take on every side, on whole squares.
+        let margin = 1.0 / units.metres;
+        let snap_down = |v: f32| (v / spacing).floor() * spacing;
+        let snap_up = |v: f32| (v / spacing).ceil() * spacing;
+        let grid = [
+            snap_down(lo.x - margin),
+            snap_up(hi.x + margin),
+            snap_down(lo.z - margin),
+            snap_up(hi.z + margin),
+        ];
+        Stage {
+            units,
+            height,
+            floor: lo.y,
+            spacing,
+            grid,
+            center,
+            radius,
+            colours: side_colours(skeleton),
+        }
+    }
+
+    /// The spheres' radius: in proportion to the figure.
+    pub fn sphere_radius(&self) -> f64 {
+        f64::from(self.height.max(1e-3)) * 0.012
+    }
+
+    /// The camera at `angle`: framing the whole take from a little above, or with `root` (the
+    /// root's position this frame, standing) following it at a figure's framing distance.
+    pub fn camera(&self, angle: f32, root: Option<Vec3>) -> Camera {
+        let half_fov = 22.5f32.to_radians();
+        match root {
+            None => Camera {
+                angle,
+                target: self.center.to_array(),
+                distance: self.radius / half_fov.sin() * 1.1,
+                pitch: PITCH,
+            },
+            Some(root) => Camera {
+                angle,
+                target: [root.x, self.floor + self.height * 0.5, root.z],
+                distance: self.height * 0.75 / half_fov.sin() * 1.1,
+                pitch: PITCH,
+            },
+        }
+    }
+}
+
+/// Each joint's colour: its own name's side, else its parent's (so a hand's fingers follow it),
+/// else the centre's.
+pub fn side_colours(skeleton: &Skeleton) -> Vec<[f32; 3]> {
+    let mut sides: Vec<Option<Side>> = Vec::with_capacity(skeleton.joints.len());
+    for joint in &skeleton.joints {
+        // Joints come in pre-order: a parent's side is known before its children's.
+        let own = name_side(&joint.name).map(|(side, _)| side);
+        sides.push(own.or_else(|| joint.parent.and_then(|p| sides[p])));
+    }
+    sides
+        .into_iter()
+        .map(|side| match side {
+            Some(Side::Left) => LEFT,
+            Some(Side::Right) => RIGHT,
+            None => CENTRE,
+        })
+        .collect()
+}
+
+/// The look's `display()`: backdrop, grid, shadow, then the figure lit in its colours. Leaves
+/// the state the article's `init` set (black clear colour, lighting on, its green).
+pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage) {
+    gl.clear_color(0.12, 0.13, 0.16, 0.0);
+    gl.clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    gl.clear_color(0.0, 0.0, 0.0, 0.0);
+    gl.load_identity();
+    look_at(gl, scene.camera.eye(), scene.camera.target, [0.0, 1.0, 0.0]);
+    let origin = Vec3::from_array(scene.origin);
+
+    gl.disable(GL_LIGHTING);
+    gl.line_width(1.0);
+    gl.color3f(0.3, 0.32, 0.38);
+    gl.begin(GL_LINES);
+    let [x0, x1, z0, z1] = stage.grid;
+    let y = stage.floor;
+    let lines = |from: f32, to: f32| {
+        let count = ((to - from) / stage.spacing).round().max(0.0) as usize;
+        (0..=count).map(move |i| from + i as f32 * stage.spacing)
+    };
+    for x in lines(x0, x1) {
+        gl.vertex3f(origin.x + x, y, origin.z + z0);
+        gl.vertex3f(origin.x + x, y, origin.z + z1);
+    }
+    for z in lines(z0, z1) {
+        gl.vertex3f(origin.x + x0, y, origin.z + z);
+        gl.vertex3f(origin.x + x1, y, origin.z + z);
+    }
+    gl.end();
+
+    // The shadow: every bone cast onto the floor, just above the grid, by a light high up to one
+    // side (a point p lands at p − d·(p.y − floor)/d.y, d the light's direction).
+    let stand = scene.up.to_y_up();
+    let points: Vec<Vec3> = crate::pose::world_positions(
+        scene.skeleton,
+        scene.frame.unwrap_or(&[]),
+        scene.offset_mode,
+    )
+    .into_iter()
+    .map(|p| stand * p + origin)
+    .collect();
+    let shadow_y = stage.floor + stage.height * 0.002;
+    let cast = |p: Vec3| {
+        let along = (p.y - stage.floor) / LIGHT.y;
+        [p.x - LIGHT.x * along, shadow_y, p.z - LIGHT.z * along]
+    };
+    gl.line_width(4.0);
+    gl.color3f(0.05, 0.05, 0.07);
+    gl.begin(GL_LINES);
+    for (index, joint) in scene.skeleton.joints.iter().enumerate() {
+        for &child in &joint.children {
+            for [x, y, z] in [cast(points[index]), cast(points[child])] {
+                gl.vertex3f(x, y, z);
+            }
+        }
+    }
+    gl.end();
+    gl.line_width(3.0);
+
+    gl.enable(GL_LIGHTING);
+    gl.enable(GL_COLOR_MATERIAL);
+    gl.push_matrix();
+    gl.translatef(origin.x, origin.y, origin.z);
+    if scene.up == Up::Z {
+        gl.rotatef(-90.0, 1.0, 0.0, 0.0);
+    }
+    if let Some(skin) = scene.skin {
+        gl.color3f(0.78, 0.74, 0.7);
+        gl.draw_triangles(&skin.positions, &skin.normals, &skin.indices);
+    }
+    let style = match (scene.skin, scene.style) {
+        (None, style) => Some(style),
+        (Some(_), Style::Points) => None,
+        (Some(_), _) => Some(Style::Sticks),
+    };
+    if let Some(style) = style {
+        let pass = draw::Pass {
+            shown: scene.shown,
+            sphere_radius: scene.sphere_radius,
+            colours: Some(&stage.colours),
+            ..draw::Pass::whole(scene.skeleton, scene.frame, style, scene.offset_mode)
+        };
+        draw::draw_pass(gl, &pass);
+    }
+    gl.pop_matrix();
+    gl.disable(GL_COLOR_MATERIAL);
+    // Colour material left the last colour in the material: back to GL's defaults, which the
+    // article's grey spheres are lit with.
+    gl.materialfv(GL_AMBIENT, [0.2, 0.2, 0.2, 1.0]);
+    gl.materialfv(GL_DIFFUSE, [0.8, 0.8, 0.8, 1.0]);
+    gl.color3f(0.0, 1.0, 0.0);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn units_are_guessed_from_the_height() {
+        assert_eq!(Units::guess(170.0).name, "centimetres");
+        assert_eq!(Units::guess(1.75).name, "metres");
+        assert_eq!(Units::guess(16.4).name, "decimetres");
+        assert_eq!(Units::guess(1700.0).name, "millimetres");
+        assert_eq!(Units::guess(68.0).name, "inches");
+        // CMU's takes stand about 25 units tall: 2.5 m in decimetres is nearer to a person than
+        // 0.66 m in inches.
+        assert_eq!(Units::guess(26.0).name, "decimetres");
+    }
+
+    #[test]
+    fn sides_come_from_names_and_pass_to_children() {
+        let text = "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+                    JOINT LeftArm\n{\nOFFSET 1 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+                    JOINT Finger1\n{\nOFFSET 1 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+                    End Site\n{\nOFFSET 1 0 0\n}\n}\n}\n\
+                    JOINT rhumerus\n{\nOFFSET -1 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+                    End Site\n{\nOFFSET -1 0 0\n}\n}\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n\
+                    0 0 0 0 0 0 0 0 0 0 0 0\n";
+        let bvh = crate::bvh::load_bytes(text.as_bytes(), "t.bvh").unwrap();
+        assert_eq!(
+            side_colours(&bvh.skeleton),
+            vec![CENTRE, LEFT, LEFT, LEFT, RIGHT, RIGHT]
+        );
+    }
+
+    #[test]
+    fn the_stage_holds_the_whole_take() {
+        // A figure 180 units tall (so centimetres) walking from x = 0 to x = 300, its feet
+        // dipping to y = -5 in the second frame.
+        let text = "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\n\
+                    CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n\
+                    JOINT Head\n{\nOFFSET 0 80 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+                    End Site\n{\nOFFSET 0 10 0\n}\n}\n\
+                    JOINT Foot\n{\nOFFSET 0 -80 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+                    End Site\n{\nOFFSET 0 -10 0\n}\n}\n}\nMOTION\nFrames: 2\nFrame Time: 0.1\n\
+                    0 90 0 0 0 0 0 0 0 0 0 0\n300 85 0 0 0 0 0 0 0 0 0 0\n";
+        let bvh = crate::bvh::load_bytes(text.as_bytes(), "t.bvh").unwrap();
+        let stage = Stage::new(&bvh.skeleton, &bvh.motion, OffsetMode::Replace, Up::Y);
+        assert_eq!(stage.height, 180.0);
+        assert_eq!(stage.units.name, "centimetres");
+        assert_eq!(stage.floor, -5.0);
+        assert_eq!(stage.spacing, 50.0);
+        // x from 0 to 300 and z 0, with a metre (100) beyond, on 50-unit squares.
+        assert_eq!(stage.grid, [-100.0, 400.0, -100.0, 100.0]);
+        assert_eq!(stage.center, Vec3::new(150.0, 87.5, 0.0));
+    }
+}
