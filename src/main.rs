@@ -6,6 +6,7 @@ use bvhview::export::{self, Format, PositionsOptions};
 use bvhview::input::{self, Loaded};
 use bvhview::pose::{OffsetMode, Up};
 use bvhview::render::draw::Style;
+use bvhview::render::paint::{Clock, Shown};
 use bvhview::render::window::ViewerOptions;
 use bvhview::render::{Look, Overlay, SnapshotOptions};
 use clap::{Args, Parser, Subcommand, ValueEnum};
@@ -24,8 +25,9 @@ use std::process::ExitCode;
 struct Cli {
     #[command(subcommand)]
     command: Option<Command>,
-    /// A .bvh file, or an .asf skeleton, to show in a window (default: the bundled walk).
-    file: Option<PathBuf>,
+    /// A .bvh file, or an .asf skeleton, to show in a window (default: the bundled walk);
+    /// several files stand side by side on one timeline.
+    files: Vec<PathBuf>,
     #[command(flatten)]
     source: Source,
     /// Start with the stick figure (B toggles it).
@@ -134,15 +136,23 @@ Keys in the window:
   W             next frame (the article)
   S             previous frame
   A / D         turn the camera (the article)
-  Space         play / pause at the file's frame time
+  Space         play / pause in real time at the files' frame time
+  Home / End    first / last frame
+  + / -         play faster / slower (0.1x to 4x)
+  L             loop on / off
   mouse drag    turn and tilt; Shift+drag or middle drag: pan; wheel: zoom
   F             frame the whole skeleton / back to the article's camera
   C             the article's camera, as at the start
+  V             the studio look on / off; T: its camera follows the root
   O             position channels replace / are added to OFFSET
-  I / H         the HUD / the help on and off
-  B             stick figure on / off
+  I / H         the HUD and timeline (click or drag on it to seek) / the help on and off
+  N             joint names on / off
+  B             next style: spheres, stick figure, both
   K             generated skin on / off
   J / Shift+J   step through the recursion one joint at a time (Esc: whole picture)
+  R             load the files again (a file that no longer loads keeps its last picture)
+  P             write the picture shown to NAME_frameNNNNN.png
+  drop a file   add it beside the others
   Esc           quit (the article)";
 
 /// Options that come with any input file.
@@ -260,8 +270,10 @@ struct PositionsArgs {
 
 #[derive(Args)]
 struct SnapshotArgs {
-    /// A .bvh file, or an .asf skeleton (its motion with --motion).
-    file: PathBuf,
+    /// A .bvh file, or an .asf skeleton (its motion with --motion); several files stand side
+    /// by side on one timeline.
+    #[arg(required = true, num_args = 1..)]
+    files: Vec<PathBuf>,
     #[command(flatten)]
     source: Source,
     /// Frame to draw, from 0.
@@ -414,9 +426,10 @@ struct ConvertArgs {
 /// How a drawing command looks at the skeleton.
 #[derive(Args, Clone, Copy, Debug)]
 struct View {
-    /// Camera angle around the Y axis in radians (the article starts at 10).
-    #[arg(long, default_value_t = bvhview::render::scene::START_ANGLE, allow_negative_numbers = true)]
-    angle: f32,
+    /// Camera angle around the Y axis in radians (default: the article's 10; with several
+    /// files 1.5708, looking at them side by side along x).
+    #[arg(long, allow_negative_numbers = true)]
+    angle: Option<f32>,
     /// Spheres (the article), the stick figure, or both.
     #[arg(long, value_enum, default_value_t)]
     style: StyleArg,
@@ -507,7 +520,7 @@ fn main() -> ExitCode {
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
     let result = match cli.command {
         None => viewer(
-            cli.file,
+            cli.files,
             cli.source,
             cli.style,
             cli.offset_mode,
@@ -799,7 +812,7 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
 
 /// The window on a file (or the bundled walk).
 fn viewer(
-    file: Option<PathBuf>,
+    files: Vec<PathBuf>,
     source: Source,
     style: StyleArg,
     offset_mode: OffsetModeArg,
@@ -807,24 +820,47 @@ fn viewer(
     up: Option<UpArg>,
     look: LookArg,
 ) -> Result<ExitCode, Error> {
+    use bvhview::render::window::{TakeSource, ViewerTake};
     // Say there is no display before loading anything.
     bvhview::render::window::check_environment()?;
-    let (name, loaded) = load_or_default(file.as_deref(), &source)?;
-    let name = Path::new(&name)
-        .file_name()
-        .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
+    if files.len() > 1 && source.motion.is_some() {
+        return Err(Error::Usage(
+            "--motion goes with one ASF skeleton; to show an ASF/AMC take beside others, convert it to BVH first".into(),
+        ));
+    }
     let offset_mode = offset_mode.into();
-    warn_offset_mode(&loaded, offset_mode, &name);
-    let up = resolve_up(up, &loaded, &name);
+    let mut takes = Vec::with_capacity(files.len().max(1));
+    if files.is_empty() {
+        let (name, loaded) = load_or_default(None, &source)?;
+        let up = resolve_up(up, &loaded, &name);
+        takes.push(ViewerTake {
+            name,
+            source: None,
+            loaded,
+            up,
+        });
+    }
+    for path in files {
+        let take_source = TakeSource {
+            path: path.clone(),
+            motion: source.motion.clone(),
+            frame_time: source.frame_time,
+            max_size: source.max_size,
+        };
+        let mut take = ViewerTake::from_source(take_source)?;
+        let name = path.display().to_string();
+        warn_offset_mode(&take.loaded, offset_mode, &name);
+        take.up = resolve_up(up, &take.loaded, &name);
+        takes.push(take);
+    }
     let options = ViewerOptions {
-        name,
         offset_mode,
         style: style.into(),
         skin,
-        up,
         look: look.into(),
+        quiet: QUIET.load(std::sync::atomic::Ordering::Relaxed),
     };
-    bvhview::render::window::run(&loaded.skeleton, &loaded.motion, options)?;
+    bvhview::render::window::run(takes, options)?;
     Ok(ExitCode::SUCCESS)
 }
 
@@ -931,31 +967,52 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
             "--fps {fps}: expected frames per second, above 0"
         )));
     }
-    let loaded = load(&args.file, &args.source)?;
-    let name = args.file.display().to_string();
-    warn_offset_mode(&loaded, args.view.offset_mode.into(), &name);
-    let short_name = args
-        .file
-        .file_name()
-        .map_or(name.clone(), |n| n.to_string_lossy().into_owned());
+    if args.files.len() > 1 && args.source.motion.is_some() {
+        return Err(Error::Usage(
+            "--motion goes with one ASF skeleton; to show an ASF/AMC take beside others, convert it to BVH first".into(),
+        ));
+    }
+    let mode: OffsetMode = args.view.offset_mode.into();
+    let mut takes = Vec::with_capacity(args.files.len());
+    for file in &args.files {
+        let loaded = load(file, &args.source)?;
+        let name = file.display().to_string();
+        warn_offset_mode(&loaded, mode, &name);
+        let up = resolve_up(args.view.up, &loaded, &name);
+        takes.push((short_name(file), loaded, up));
+    }
+    let shown: Vec<Shown> = takes
+        .iter()
+        .map(|(_, loaded, up)| Shown {
+            skeleton: &loaded.skeleton,
+            motion: &loaded.motion,
+            up: *up,
+        })
+        .collect();
+    let clock = Clock::new(&shown.iter().map(|t| t.motion).collect::<Vec<_>>());
     let options = SnapshotOptions {
-        up: resolve_up(args.view.up, &loaded, &name),
+        up: shown[0].up,
         skin: args.skin,
         step: args.step.map(|k| usize::try_from(k).unwrap_or(usize::MAX)),
         frame: args.frame,
-        angle: args.view.angle,
+        angle: args
+            .view
+            .angle
+            .unwrap_or_else(|| bvhview::render::paint::start_angle(args.files.len())),
         width: args.size.0,
         height: args.size.1,
         style: args.view.style.into(),
         fit: args.view.fit,
-        offset_mode: args.view.offset_mode.into(),
+        offset_mode: mode,
         look: args.look.into(),
         follow: args.follow,
     };
     let output = &args.output;
-    let warning =
-        bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, options.offset_mode);
-    let overlay = |frame: usize| -> Overlay {
+    let other_mode_likely = takes.iter().any(|(_, loaded, _)| {
+        bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode).is_some()
+    });
+    let several = takes.len() > 1;
+    let overlay = |tick: usize| -> Overlay {
         let mut overlay = Overlay {
             names: args.names,
             ..Overlay::default()
@@ -963,12 +1020,21 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         if !args.hud {
             return overlay;
         }
-        overlay.timeline = Some((frame, loaded.motion.frame_count().max(1)));
+        overlay.timeline = Some((tick, clock.count));
+        if several {
+            overlay.labels = takes.iter().map(|(name, _, _)| name.clone()).collect();
+        }
         overlay.lines = bvhview::render::hud::Hud {
-            name: &short_name,
-            frame,
-            frames: loaded.motion.frame_count(),
-            frame_time: loaded.motion.frame_time,
+            takes: takes
+                .iter()
+                .map(|(name, loaded, _)| bvhview::render::hud::HudTake {
+                    name,
+                    frame: clock.frame_of(&loaded.motion, tick),
+                    frames: loaded.motion.frame_count(),
+                    frame_time: loaded.motion.frame_time,
+                })
+                .collect(),
+            time: clock.seconds(tick),
             playing: false,
             speed: 1.0,
             looping: true,
@@ -978,20 +1044,17 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
             skin: options.skin,
             fit: options.fit,
             offset_mode: options.offset_mode,
-            other_mode_likely: warning.is_some(),
+            other_mode_likely,
         }
         .lines(bvhview::render::step::columns(options.width));
         overlay
     };
     let Some(frames) = &args.frames else {
-        bvhview::render::frame_values(&loaded.motion, options.frame)?;
-        let image = bvhview::render::Renderer::new(options.width, options.height)?
-            .render_with_overlay(
-                &loaded.skeleton,
-                &loaded.motion,
-                &options,
-                &overlay(options.frame),
-            )?;
+        let image = bvhview::render::Renderer::new(options.width, options.height)?.render_all(
+            &shown,
+            &options,
+            &overlay(options.frame),
+        )?;
         image.write_png(output)?;
         wrote(format_args!(
             "{} ({}x{})",
@@ -1001,30 +1064,29 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         ));
         return Ok(ExitCode::SUCCESS);
     };
-    let range = export::parse_frames(frames, loaded.motion.frame_count().max(1))?;
+    let range = export::parse_frames(frames, clock.count)?;
     if let Some(format) = animated {
         let fps = args
             .fps
-            .unwrap_or_else(|| animation::default_fps(loaded.motion.frame_time, format));
-        let shown = animation::sampled_frames(range, loaded.motion.frame_time, fps);
+            .unwrap_or_else(|| animation::default_fps(clock.step, format));
+        let ticks = animation::sampled_frames(range, clock.step, fps);
         let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
-        let progress = Progress::new(shown.len());
-        let pictures = shown.iter().enumerate().map(|(i, &frame)| {
+        let progress = Progress::new(ticks.len());
+        let pictures = ticks.iter().enumerate().map(|(i, &frame)| {
             progress.show(i + 1);
-            renderer.render_with_overlay(
-                &loaded.skeleton,
-                &loaded.motion,
+            renderer.render_all(
+                &shown,
                 &SnapshotOptions { frame, ..options },
                 &overlay(frame),
             )
         });
         let size = (options.width, options.height);
-        animation::write(output, format, size, fps, pictures, shown.len())?;
+        animation::write(output, format, size, fps, pictures, ticks.len())?;
         progress.done();
         wrote(format_args!(
             "{}: {} frames at {fps:.3} per second",
             output.display(),
-            shown.len()
+            ticks.len()
         ));
         return Ok(ExitCode::SUCCESS);
     }
@@ -1034,9 +1096,8 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
     let digits = (range.end.max(1) - 1).to_string().len().max(5);
     let count = range.len();
     for frame in range {
-        let image = renderer.render_with_overlay(
-            &loaded.skeleton,
-            &loaded.motion,
+        let image = renderer.render_all(
+            &shown,
             &SnapshotOptions { frame, ..options },
             &overlay(frame),
         )?;
@@ -1044,6 +1105,14 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
     }
     wrote(format_args!("{count} pictures into {}", output.display()));
     Ok(ExitCode::SUCCESS)
+}
+
+/// A path's file name, for titles and the HUD.
+fn short_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
 }
 
 fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
@@ -1060,6 +1129,7 @@ fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
     } = args.view;
     let offset_mode = offset_mode.into();
     let up = resolve_up(up, &loaded, &args.file.display().to_string());
+    let angle = angle.unwrap_or(scene::START_ANGLE);
     let camera = bvhview::render::camera_for(&loaded.skeleton, values, angle, fit, offset_mode, up);
     let numbers = match args.numbers {
         NumbersArg::Printf => Numbers::Printf,
@@ -1091,6 +1161,7 @@ fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
         up,
         origin: [0.0; 3],
         stage: None,
+        colours: None,
     };
     scene::display(&mut recorder, &view);
     write_text(&recorder.text())?;

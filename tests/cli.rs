@@ -732,3 +732,94 @@ fn info_guesses_the_units_from_the_height() {
         assert!(text.lines().any(|l| l == line), "{file}:\n{text}");
     }
 }
+
+/// Two files side by side on one timeline (pinned picture): each at its own frame for the time,
+/// labelled with the HUD; a frame past both takes' ends is refused.
+#[test]
+fn snapshot_of_two_takes_side_by_side_is_pinned() {
+    let dir = std::env::temp_dir().join(format!("bvhview-twopin-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("two.png");
+    let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
+    let free = data("bvh/bvhpython_test_freebvh.bvh");
+    let run = |frame: &str| {
+        bvhview(&[
+            "snapshot",
+            walk.to_str().unwrap(),
+            free.to_str().unwrap(),
+            "--frame",
+            frame,
+            "--look",
+            "studio",
+            "--style",
+            "both",
+            "--hud",
+            "-q",
+            "-o",
+            out.to_str().unwrap(),
+        ])
+    };
+    assert!(run("20").status.success());
+    let read = |p: &std::path::Path| bvhview::render::Image::read_png(p).unwrap();
+    let golden = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/snapshots/two_takes__walk_freebvh__f20__studio__both__hud.png");
+    if std::env::var_os("BVHVIEW_BLESS").is_some() {
+        std::fs::copy(&out, &golden).unwrap();
+    }
+    let differing = read(&out).differing_pixels(&read(&golden));
+    println!(
+        "drift two_takes__walk_freebvh__f20__studio__both__hud: {differing} of 360000 pixels differ (at most 360)"
+    );
+    assert!(differing <= 360, "{differing}");
+    // Both at 30 frames per second: the walk's 40 frames and the other's 69 make 69 frames.
+    let past = run("69");
+    assert_eq!(past.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&past.stderr),
+        "bvhview: --frame 69: the takes together have frames 0 to 68 (at 0.033333 s each)\n"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// `bvhview --help` and the window's help overlay (H) name every key the window reads.
+#[test]
+fn help_and_the_help_overlay_list_every_window_key() {
+    let out = bvhview(&["--help"]);
+    assert!(out.status.success());
+    let help = String::from_utf8_lossy(&out.stdout).to_string();
+    let overlay = bvhview::render::hud::help_lines().join("\n");
+    for key in [
+        "W ",
+        "S ",
+        "A / D",
+        "Space",
+        "Home / End",
+        "+ / -",
+        "L ",
+        "F ",
+        "C ",
+        "V ",
+        "T",
+        "O ",
+        "I ",
+        "H",
+        "N ",
+        "B ",
+        "K ",
+        "J/Shift+J",
+        "R ",
+        "P ",
+        "drop",
+        "Esc",
+    ] {
+        let compact = |text: &str| text.replace(" / Shift+J", "/Shift+J");
+        assert!(
+            compact(&help).contains(key),
+            "--help lacks {key:?}:\n{help}"
+        );
+        assert!(
+            overlay.contains(key),
+            "the overlay lacks {key:?}:\n{overlay}"
+        );
+    }
+}

@@ -184,15 +184,27 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
             options.up,
         )
     });
-    let (camera, _) = bvhview::render::view_camera(
-        &bvh.skeleton,
-        frame,
-        options.angle,
-        options.fit,
-        options.offset_mode,
-        options.up,
-        stage.as_ref().map(|stage| (stage, options.follow)),
-    );
+    let camera = match &stage {
+        Some(stage) => {
+            let root = options.follow.then(|| {
+                let points = bvhview::pose::world_positions(
+                    &bvh.skeleton,
+                    frame.unwrap_or(&[]),
+                    options.offset_mode,
+                );
+                options.up.to_y_up() * points[0]
+            });
+            stage.camera(options.angle, root)
+        }
+        None => bvhview::render::camera_for(
+            &bvh.skeleton,
+            frame,
+            options.angle,
+            options.fit,
+            options.offset_mode,
+            options.up,
+        ),
+    };
     let mut renderer = bvhview::render::Renderer::new(options.width, options.height).unwrap();
     let context = renderer.context();
     let empty = bvhview::Skeleton::default();
@@ -210,6 +222,7 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
         up: bvhview::pose::Up::Y,
         origin: [0.0; 3],
         stage: stage.as_ref(),
+        colours: None,
     };
     scene::display(gl, &view);
     Image {

@@ -242,6 +242,7 @@ fn gl_matrix_stack_equals_pose_world_times_view() {
             up: bvhview::pose::Up::Y,
             origin: [0.0; 3],
             stage: None,
+            colours: None,
         };
         bvhview::render::draw::draw(&mut probe, s.skeleton, s.frame, s.style, s.offset_mode);
         let mut worlds = Vec::new();
@@ -315,6 +316,7 @@ fn calls_match_the_articles_trace() {
         up: bvhview::pose::Up::Y,
         origin: [0.0; 3],
         stage: None,
+        colours: None,
     };
     scene::display(&mut recorder, &s);
     let expected = std::fs::read_to_string(oracle("trace/tiny_crlf__f1__a10.txt")).unwrap();

@@ -6,17 +6,26 @@ use crate::render::draw::Style;
 use crate::render::fixed::FixedFunction;
 use crate::render::text::{self, Corner};
 
-/// What the HUD reports.
+/// One take on the HUD.
 #[derive(Clone, Debug)]
-pub struct Hud<'a> {
+pub struct HudTake<'a> {
     /// The file's name (without its folder).
     pub name: &'a str,
     /// The frame shown, and how many there are (0 for a rest pose).
     pub frame: usize,
     pub frames: usize,
     pub frame_time: f64,
+}
+
+/// What the HUD reports.
+#[derive(Clone, Debug)]
+pub struct Hud<'a> {
+    /// The takes shown (one, or several side by side).
+    pub takes: Vec<HudTake<'a>>,
+    /// Seconds into the timeline.
+    pub time: f64,
     pub playing: bool,
-    /// Playback speed, 1 for the file's own rate, and whether playback wraps at the end.
+    /// Playback speed, 1 for the files' own rate, and whether playback wraps at the end.
     pub speed: f64,
     pub looping: bool,
     /// The studio look, and whether its camera follows the root.
@@ -26,22 +35,50 @@ pub struct Hud<'a> {
     pub skin: bool,
     pub fit: bool,
     pub offset_mode: OffsetMode,
-    /// Whether the file looks written for the other offset mode (said, with the key to switch).
+    /// Whether a file looks written for the other offset mode (said, with the key to switch).
     pub other_mode_likely: bool,
+}
+
+fn frames_text(take: &HudTake) -> String {
+    if take.frames == 0 {
+        "rest pose (no frames)".to_string()
+    } else {
+        format!("frame {} of 0-{}", take.frame, take.frames - 1)
+    }
+}
+
+fn rate_text(frame_time: f64) -> String {
+    if frame_time > 0.0 {
+        format!("{:.2} frames/s", 1.0 / frame_time)
+    } else {
+        "no frame time".to_string()
+    }
 }
 
 impl Hud<'_> {
     /// The HUD's lines, at most `columns` characters each.
     pub fn lines(&self, columns: usize) -> Vec<String> {
-        let rate = if self.frame_time > 0.0 {
-            format!("{:.2} frames/s", 1.0 / self.frame_time)
-        } else {
-            "no frame time".to_string()
-        };
-        let frames = if self.frames == 0 {
-            "rest pose (no frames)".to_string()
-        } else {
-            format!("frame {} of 0-{}", self.frame, self.frames - 1)
+        let mut lines = match &self.takes[..] {
+            [take] => vec![
+                take.name.to_string(),
+                frames_text(take),
+                format!("{:.3} s, {}", self.time, rate_text(take.frame_time)),
+            ],
+            takes => {
+                let mut lines: Vec<String> = takes
+                    .iter()
+                    .map(|t| {
+                        format!(
+                            "{}: {}, {}",
+                            t.name,
+                            frames_text(t),
+                            rate_text(t.frame_time)
+                        )
+                    })
+                    .collect();
+                lines.push(format!("{:.3} s", self.time));
+                lines
+            }
         };
         let style = match (self.style, self.skin) {
             (Style::Points, false) => "spheres",
@@ -60,10 +97,7 @@ impl Hud<'_> {
             OffsetMode::Replace => "positions replace OFFSET",
             OffsetMode::Add => "positions added to OFFSET",
         };
-        let mut lines = vec![
-            self.name.to_string(),
-            frames,
-            format!("{:.3} s, {rate}", self.frame as f64 * self.frame_time),
+        lines.extend([
             format!(
                 "{} at {}x, loop {}",
                 if self.playing { "playing" } else { "paused" },
@@ -72,7 +106,7 @@ impl Hud<'_> {
             ),
             format!("{style}, {camera}"),
             mode.to_string(),
-        ];
+        ]);
         if self.other_mode_likely {
             lines.push("looks written for the other mode (O)".to_string());
         }
@@ -107,6 +141,9 @@ pub fn help_lines() -> Vec<String> {
         "V          studio look",
         "T          follow the root",
         "N          joint names",
+        "R          reload the files",
+        "P          write this picture",
+        "drop       add a file",
         "K          skin on / off",
         "O          offset mode",
         "J/Shift+J  step the recursion",

@@ -7,6 +7,7 @@ pub mod fixed;
 pub mod hud;
 pub mod names;
 pub mod osmesa;
+pub mod paint;
 pub mod scene;
 pub mod skin_demo;
 pub mod sphere;
@@ -78,6 +79,17 @@ impl Image {
             height: info.height,
             rgb,
         })
+    }
+
+    /// A picture from GL's RGBA rows, which run from the bottom up.
+    pub fn from_rgba_bottom_up(width: u32, height: u32, rgba: &[u8]) -> Image {
+        let mut rgb = Vec::with_capacity(width as usize * height as usize * 3);
+        for row in rgba.chunks_exact(width.max(1) as usize * 4).rev() {
+            for pixel in row.chunks_exact(4) {
+                rgb.extend_from_slice(&pixel[..3]);
+            }
+        }
+        Image { width, height, rgb }
     }
 
     /// A picture of where two pictures differ: differing pixels red, the others a dim copy.
@@ -154,21 +166,30 @@ pub struct Overlay {
     pub timeline: Option<(usize, usize)>,
     /// Each joint's name beside it (N).
     pub names: bool,
+    /// A label over each take (its file's name, with the HUD when several are shown).
+    pub labels: Vec<String>,
 }
 
-/// Draws `overlay` and the step view's text over a scene just displayed, in the order the window
-/// and `snapshot` share: names, the step view, the top-left lines, the timeline (not in the step
-/// view, whose text takes the bottom).
+/// Draws `overlay` and the step view's text over scenes just displayed, in the order the window
+/// and `snapshot` share: names, labels, the step view (the first take's), the top-left lines, the
+/// timeline (not in the step view, whose text takes the bottom).
 pub fn draw_overlay<G: fixed::FixedFunction>(
     gl: &mut G,
-    scene: &Scene,
+    scenes: &[Scene],
     (width, height): (u32, u32),
     overlay: &Overlay,
 ) {
     if overlay.names {
-        names::draw(gl, scene);
+        for scene in scenes {
+            names::draw(gl, scene);
+        }
     }
-    if let Some(shown) = scene.shown {
+    for (scene, label) in scenes.iter().zip(&overlay.labels) {
+        names::label(gl, scene, label);
+    }
+    if let Some(scene) = scenes.first()
+        && let Some(shown) = scene.shown
+    {
         let lines = step::lines(
             scene.skeleton,
             scene.frame,
@@ -182,37 +203,9 @@ pub fn draw_overlay<G: fixed::FixedFunction>(
     if !overlay.lines.is_empty() {
         hud::draw(gl, height, &overlay.lines);
     }
-    if let (Some((frame, frames)), None) = (overlay.timeline, scene.shown) {
+    let stepping = scenes.first().is_some_and(|s| s.shown.is_some());
+    if let (Some((frame, frames)), false) = (overlay.timeline, stepping) {
         timeline::draw(gl, width, height, frame, frames);
-    }
-}
-
-/// The camera a view starts from, and its spheres' radius: the article's (at `angle`), one that
-/// frames the skeleton (`fit`), or the studio's (framing the whole take, or following the root).
-pub fn view_camera(
-    skeleton: &Skeleton,
-    frame: Option<&[f32]>,
-    angle: f32,
-    fit: bool,
-    mode: OffsetMode,
-    up: Up,
-    studio: Option<(&studio::Stage, bool)>,
-) -> (Camera, f64) {
-    match studio {
-        Some((stage, follow)) => {
-            let root = follow
-                .then(|| skeleton.roots().next())
-                .flatten()
-                .map(|root| {
-                    let points = world_positions(skeleton, frame.unwrap_or(&[]), mode);
-                    up.to_y_up() * points[root]
-                });
-            (stage.camera(angle, root), stage.sphere_radius())
-        }
-        None => {
-            let camera = camera_for(skeleton, frame, angle, fit, mode, up);
-            (camera, scene::sphere_radius(&camera, fit))
-        }
     }
 }
 
@@ -256,17 +249,7 @@ pub fn camera_for(
         .into_iter()
         .map(|p| stand * p)
         .collect();
-    let (mut lo, mut hi) = (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN));
-    for p in &points {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    let center = (lo + hi) * 0.5;
-    let radius = points
-        .iter()
-        .map(|p| p.distance(center))
-        .fold(0.0, f32::max);
-    Camera::framing(center.to_array(), radius, angle)
+    paint::framing(&points, angle)
 }
 
 /// C++: `BVH::setCurrentFrame`: the MOTION row `index`. The article only `assert`s the range
@@ -294,13 +277,7 @@ pub fn frame_values(motion: &Motion, index: usize) -> Result<Option<&[f32]>, Err
 /// Renders frames offscreen with one context, reused for every picture.
 pub struct Renderer {
     context: osmesa::OsMesa,
-    /// The skin last built, with the skeleton and offset mode it was built for (compared by
-    /// value: another skeleton may later live at the same address).
-    body: Option<(Skeleton, OffsetMode, body::Body)>,
-    posed: body::PosedBody,
-    scratch: (Vec<glam::Mat4>, Vec<glam::Mat4>),
-    /// The studio look's stage, with what it was made for (skeleton, mode, up, frame count).
-    stage: Option<(Skeleton, OffsetMode, Up, usize, studio::Stage)>,
+    painter: paint::Painter,
 }
 
 impl Renderer {
@@ -309,10 +286,7 @@ impl Renderer {
         scene::init(&mut context.gl);
         Ok(Renderer {
             context,
-            body: None,
-            posed: body::PosedBody::default(),
-            scratch: (Vec::new(), Vec::new()),
-            stage: None,
+            painter: paint::Painter::default(),
         })
     }
 
@@ -335,6 +309,22 @@ impl Renderer {
         options: &SnapshotOptions,
         overlay: &Overlay,
     ) -> Result<Image, Error> {
+        let take = paint::Shown {
+            skeleton,
+            motion,
+            up: options.up,
+        };
+        self.render_all(&[take], options, overlay)
+    }
+
+    /// Several takes side by side on one timeline (`options.frame` is its tick, see
+    /// [`paint::Clock`]), with `overlay` on top; one take is [`Renderer::render_with_overlay`].
+    pub fn render_all(
+        &mut self,
+        takes: &[paint::Shown],
+        options: &SnapshotOptions,
+        overlay: &Overlay,
+    ) -> Result<Image, Error> {
         let (width, height) = self.context.size();
         if (options.width, options.height) != (width, height) {
             return Err(Error::Usage(
@@ -342,62 +332,8 @@ impl Renderer {
             ));
         }
         self.context.make_current()?;
-        let frame = frame_values(motion, options.frame)?;
-        let stage = if options.look == Look::Studio {
-            let key = (options.offset_mode, options.up, motion.frame_count());
-            if self
-                .stage
-                .as_ref()
-                .is_none_or(|(s, m, u, n, _)| (*m, *u, *n) != key || s != skeleton)
-            {
-                let stage = studio::Stage::new(skeleton, motion, options.offset_mode, options.up);
-                self.stage = Some((skeleton.clone(), key.0, key.1, key.2, stage));
-            }
-            self.stage.as_ref().map(|(_, _, _, _, stage)| stage)
-        } else {
-            None
-        };
-        let (camera, sphere_radius) = view_camera(
-            skeleton,
-            frame,
-            options.angle,
-            options.fit,
-            options.offset_mode,
-            options.up,
-            stage.map(|stage| (stage, options.follow)),
-        );
-        let skin = if options.skin {
-            let mode = options.offset_mode;
-            if self
-                .body
-                .as_ref()
-                .is_none_or(|(s, m, _)| *m != mode || s != skeleton)
-            {
-                self.body = Some((skeleton.clone(), mode, body::Body::new(skeleton, mode)));
-            }
-            let (_, _, body) = self.body.as_ref().expect("built above");
-            body.pose(skeleton, frame, &mut self.posed, &mut self.scratch);
-            Some(&self.posed)
-        } else {
-            None
-        };
-        let gl = &mut self.context.gl;
-        scene::reshape(gl, width, height, &camera);
-        let scene = Scene {
-            skeleton,
-            frame,
-            camera,
-            style: options.style,
-            offset_mode: options.offset_mode,
-            skin,
-            shown: options.step,
-            up: options.up,
-            sphere_radius,
-            origin: [0.0; 3],
-            stage,
-        };
-        scene::display(gl, &scene);
-        draw_overlay(gl, &scene, (width, height), overlay);
+        self.painter
+            .paint(&mut self.context.gl, takes, options, overlay, None)?;
         Ok(Image {
             width,
             height,

@@ -133,15 +133,8 @@ impl OsMesa {
 
     /// The picture drawn so far, as RGB rows from the top down.
     pub fn read_rgb(&self) -> Vec<u8> {
-        let (w, h) = (self.width as usize, self.height as usize);
-        let rgba = self.gl.read_rgba(w, h);
-        let mut rgb = Vec::with_capacity(w * h * 3);
-        for row in rgba.chunks_exact(w * 4).rev() {
-            for pixel in row.chunks_exact(4) {
-                rgb.extend_from_slice(&pixel[..3]);
-            }
-        }
-        rgb
+        let rgba = self.gl.read_rgba(self.width as usize, self.height as usize);
+        crate::render::Image::from_rgba_bottom_up(self.width, self.height, &rgba).rgb
     }
 }
 

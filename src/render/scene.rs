@@ -104,8 +104,10 @@ pub struct Scene<'a> {
     pub up: crate::pose::Up,
     /// Where the take stands: moved along x beside the others when several are shown.
     pub origin: [f32; 3],
-    /// The studio look, with what it knows of the take; `None` is the article's picture.
+    /// The studio look, with what it knows of the takes; `None` is the article's picture.
     pub stage: Option<&'a crate::render::studio::Stage>,
+    /// A colour per joint (the studio look's sides); `None` draws without colour calls.
+    pub colours: Option<&'a [[f32; 3]]>,
 }
 
 /// The spheres' radius for a view: the article's 1 at its own camera; in a view that frames the
@@ -151,14 +153,26 @@ pub fn reshape<G: FixedFunction>(gl: &mut G, width: u32, height: u32, camera: &C
 /// draw the skeleton, then the floor quad at y = −10, which has no `glNormal` and so is lit with
 /// the current normal like a wall facing +Z.
 pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene) {
-    if let Some(stage) = scene.stage {
-        crate::render::studio::display(gl, scene, stage);
+    display_all(gl, std::slice::from_ref(scene));
+}
+
+/// [`display`] for several takes side by side, each scene one take, under the first one's
+/// camera: the article's calls for each take in turn, then its floor once (or the studio look's
+/// picture when the scenes have a stage).
+pub fn display_all<G: FixedFunction>(gl: &mut G, scenes: &[Scene]) {
+    let Some(first) = scenes.first() else {
+        return;
+    };
+    if let Some(stage) = first.stage {
+        crate::render::studio::display(gl, scenes, stage);
         return;
     }
     gl.clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     gl.load_identity();
-    look_at(gl, scene.camera.eye(), scene.camera.target, [0.0, 1.0, 0.0]);
-    draw_take(gl, scene);
+    look_at(gl, first.camera.eye(), first.camera.target, [0.0, 1.0, 0.0]);
+    for scene in scenes {
+        draw_take(gl, scene);
+    }
     gl.begin(GL_QUADS);
     gl.vertex3f(-100.0, -10.0, 100.0);
     gl.vertex3f(100.0, -10.0, 100.0);

@@ -32,8 +32,6 @@ pub struct Stage {
     /// A sphere around every joint of every frame: what the camera frames.
     pub center: Vec3,
     pub radius: f32,
-    /// Each joint's colour, by the side its name (or its parent's) says.
-    pub colours: Vec<[f32; 3]>,
 }
 
 /// The direction the shadow's light shines in: down, and across to +x and −z.
@@ -43,28 +41,49 @@ const LEFT: [f32; 3] = [0.35, 0.6, 1.0];
 const RIGHT: [f32; 3] = [1.0, 0.55, 0.25];
 const CENTRE: [f32; 3] = [0.82, 0.82, 0.8];
 
+/// The lowest and highest corner of a box around every joint of every frame of a take, stood up
+/// (the rest pose for a take without frames).
+pub fn take_extent(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode, up: Up) -> (Vec3, Vec3) {
+    let stand = up.to_y_up();
+    let plan = FkPlan::new(skeleton, mode);
+    let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
+    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+    let mut take = |frame: &[f32]| {
+        plan.positions(frame, &mut points, &mut scratch);
+        for p in &points {
+            let p = stand * *p;
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    };
+    if motion.frame_count() == 0 {
+        take(&[]);
+    } else {
+        for frame in 0..motion.frame_count() {
+            take(motion.frame(frame));
+        }
+    }
+    if lo.x > hi.x {
+        (Vec3::ZERO, Vec3::ZERO)
+    } else {
+        (lo, hi)
+    }
+}
+
 impl Stage {
     pub fn new(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode, up: Up) -> Stage {
-        let stand = up.to_y_up();
-        let height = standing_height(skeleton, up);
+        let extent = take_extent(skeleton, motion, mode, up);
+        Stage::around(&[(extent, Vec3::ZERO)], standing_height(skeleton, up))
+    }
+
+    /// The stage under several takes, each with its extent and where it stands; `height` is the
+    /// tallest one's (it sets the units and the sizes).
+    pub fn around(takes: &[((Vec3, Vec3), Vec3)], height: f32) -> Stage {
         let units = Units::guess(height);
-        let plan = FkPlan::new(skeleton, mode);
-        let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
         let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-        let mut take = |frame: &[f32]| {
-            plan.positions(frame, &mut points, &mut scratch);
-            for p in &points {
-                let p = stand * *p;
-                lo = lo.min(p);
-                hi = hi.max(p);
-            }
-        };
-        if motion.frame_count() == 0 {
-            take(&[]);
-        } else {
-            for frame in 0..motion.frame_count() {
-                take(motion.frame(frame));
-            }
+        for &((take_lo, take_hi), origin) in takes {
+            lo = lo.min(take_lo + origin);
+            hi = hi.max(take_hi + origin);
         }
         if lo.x > hi.x {
             (lo, hi) = (Vec3::ZERO, Vec3::ZERO);
@@ -72,7 +91,7 @@ impl Stage {
         let center = (lo + hi) * 0.5;
         let radius = ((hi - lo).length() * 0.5).max(height * 0.5).max(1e-3);
         let spacing = 0.5 / units.metres;
-        // A metre of floor beyond the take on every side, on whole squares.
+        // A metre of floor beyond the takes on every side, on whole squares.
         let margin = 1.0 / units.metres;
         let snap_down = |v: f32| (v / spacing).floor() * spacing;
         let snap_up = |v: f32| (v / spacing).ceil() * spacing;
@@ -90,7 +109,6 @@ impl Stage {
             grid,
             center,
             radius,
-            colours: side_colours(skeleton),
         }
     }
 
@@ -139,15 +157,19 @@ pub fn side_colours(skeleton: &Skeleton) -> Vec<[f32; 3]> {
         .collect()
 }
 
-/// The look's `display()`: backdrop, grid, shadow, then the figure lit in its colours. Leaves
-/// the state the article's `init` set (black clear colour, lighting on, its green).
-pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage) {
+/// The look's `display()` for one or more takes side by side (each scene one take; the first
+/// one's camera for all): backdrop, grid, then each take's shadow and figure, lit in its colours.
+/// Leaves the state the article's `init` set (black clear colour, lighting on, its green, GL's
+/// default material).
+pub fn display<G: FixedFunction>(gl: &mut G, scenes: &[Scene], stage: &Stage) {
+    let Some(first) = scenes.first() else {
+        return;
+    };
     gl.clear_color(0.12, 0.13, 0.16, 0.0);
     gl.clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     gl.clear_color(0.0, 0.0, 0.0, 0.0);
     gl.load_identity();
-    look_at(gl, scene.camera.eye(), scene.camera.target, [0.0, 1.0, 0.0]);
-    let origin = Vec3::from_array(scene.origin);
+    look_at(gl, first.camera.eye(), first.camera.target, [0.0, 1.0, 0.0]);
 
     gl.disable(GL_LIGHTING);
     gl.line_width(1.0);
@@ -160,18 +182,37 @@ pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage) {
         (0..=count).map(move |i| from + i as f32 * stage.spacing)
     };
     for x in lines(x0, x1) {
-        gl.vertex3f(origin.x + x, y, origin.z + z0);
-        gl.vertex3f(origin.x + x, y, origin.z + z1);
+        gl.vertex3f(x, y, z0);
+        gl.vertex3f(x, y, z1);
     }
     for z in lines(z0, z1) {
-        gl.vertex3f(origin.x + x0, y, origin.z + z);
-        gl.vertex3f(origin.x + x1, y, origin.z + z);
+        gl.vertex3f(x0, y, z);
+        gl.vertex3f(x1, y, z);
     }
     gl.end();
+    for scene in scenes {
+        shadow(gl, scene, stage);
+    }
+    gl.line_width(3.0);
 
-    // The shadow: every bone cast onto the floor, just above the grid, by a light high up to one
-    // side (a point p lands at p − d·(p.y − floor)/d.y, d the light's direction).
+    gl.enable(GL_LIGHTING);
+    gl.enable(GL_COLOR_MATERIAL);
+    for scene in scenes {
+        figure(gl, scene);
+    }
+    gl.disable(GL_COLOR_MATERIAL);
+    // Colour material left the last colour in the material: back to GL's defaults, which the
+    // article's grey spheres are lit with.
+    gl.materialfv(GL_AMBIENT, [0.2, 0.2, 0.2, 1.0]);
+    gl.materialfv(GL_DIFFUSE, [0.8, 0.8, 0.8, 1.0]);
+    gl.color3f(0.0, 1.0, 0.0);
+}
+
+/// Every bone cast onto the floor, just above the grid, by a light high up to one side (a point
+/// p lands at p − d·(p.y − floor)/d.y, d the light's direction). Unlit, line width 4.
+fn shadow<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage) {
     let stand = scene.up.to_y_up();
+    let origin = Vec3::from_array(scene.origin);
     let points: Vec<Vec3> = crate::pose::world_positions(
         scene.skeleton,
         scene.frame.unwrap_or(&[]),
@@ -196,12 +237,12 @@ pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage) {
         }
     }
     gl.end();
-    gl.line_width(3.0);
+}
 
-    gl.enable(GL_LIGHTING);
-    gl.enable(GL_COLOR_MATERIAL);
+/// The take's skin and skeleton at its place, in its colours (colour material on).
+fn figure<G: FixedFunction>(gl: &mut G, scene: &Scene) {
     gl.push_matrix();
-    gl.translatef(origin.x, origin.y, origin.z);
+    gl.translatef(scene.origin[0], scene.origin[1], scene.origin[2]);
     if scene.up == Up::Z {
         gl.rotatef(-90.0, 1.0, 0.0, 0.0);
     }
@@ -218,18 +259,12 @@ pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage) {
         let pass = draw::Pass {
             shown: scene.shown,
             sphere_radius: scene.sphere_radius,
-            colours: Some(&stage.colours),
+            colours: scene.colours,
             ..draw::Pass::whole(scene.skeleton, scene.frame, style, scene.offset_mode)
         };
         draw::draw_pass(gl, &pass);
     }
     gl.pop_matrix();
-    gl.disable(GL_COLOR_MATERIAL);
-    // Colour material left the last colour in the material: back to GL's defaults, which the
-    // article's grey spheres are lit with.
-    gl.materialfv(GL_AMBIENT, [0.2, 0.2, 0.2, 1.0]);
-    gl.materialfv(GL_DIFFUSE, [0.8, 0.8, 0.8, 1.0]);
-    gl.color3f(0.0, 1.0, 0.0);
 }
 
 #[cfg(test)]
@@ -284,5 +319,12 @@ mod tests {
         // x from 0 to 300 and z 0, with a metre (100) beyond, on 50-unit squares.
         assert_eq!(stage.grid, [-100.0, 400.0, -100.0, 100.0]);
         assert_eq!(stage.center, Vec3::new(150.0, 87.5, 0.0));
+        // Beside a second take 400 along x, the stage covers both.
+        let extent = take_extent(&bvh.skeleton, &bvh.motion, OffsetMode::Replace, Up::Y);
+        let both = Stage::around(
+            &[(extent, Vec3::ZERO), (extent, Vec3::new(400.0, 0.0, 0.0))],
+            180.0,
+        );
+        assert_eq!(both.grid, [-100.0, 800.0, -100.0, 100.0]);
     }
 }

@@ -8,15 +8,15 @@
 //! toggles the stick figure, K the generated skin.
 
 use crate::error::Error;
+use crate::input::Loaded;
 use crate::motion::Motion;
 use crate::pose::OffsetMode;
 use crate::render::draw::Style;
 use crate::render::fixed::GlTable;
-use crate::render::scene::{self, Camera, Scene};
-use crate::render::studio::Stage;
+use crate::render::paint::{Clock, Painter, Shown};
+use crate::render::scene::{self, Camera};
 use crate::render::timeline::Bar;
-use crate::render::{Look, Overlay, frame_values, view_camera};
-use crate::skeleton::Skeleton;
+use crate::render::{Look, Overlay, SnapshotOptions};
 use glutin::config::{ConfigTemplateBuilder, GlConfig};
 use glutin::context::{ContextAttributesBuilder, GlProfile, PossiblyCurrentContext};
 use glutin::display::{GetGlDisplay, GlDisplay};
@@ -26,6 +26,7 @@ use glutin_winit::{DisplayBuilder, GlWindow};
 use raw_window_handle::HasWindowHandle;
 use std::f32::consts::TAU;
 use std::num::NonZeroU32;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -266,35 +267,94 @@ impl ApplicationHandler for SkinDemo {
 /// How the window starts.
 #[derive(Clone, Debug)]
 pub struct ViewerOptions {
-    /// Shown in the title.
-    pub name: String,
     pub offset_mode: OffsetMode,
     pub style: Style,
     /// Start with the generated skin (K toggles it).
     pub skin: bool,
-    /// The file's up axis (a Z-up file is stood up).
-    pub up: crate::pose::Up,
     /// The article's look or the studio's (V switches).
     pub look: Look,
+    /// Say nothing on stderr about pictures written (P).
+    pub quiet: bool,
 }
 
 /// Playback speeds `+` and `-` step through.
 const SPEEDS: [f64; 9] = [0.1, 0.25, 0.5, 0.75, 1.0, 1.5, 2.0, 3.0, 4.0];
 
+/// Where a take was loaded from, to load it again (R).
+#[derive(Clone, Debug)]
+pub struct TakeSource {
+    pub path: PathBuf,
+    /// The AMC of an ASF skeleton.
+    pub motion: Option<PathBuf>,
+    pub frame_time: Option<f64>,
+    pub max_size: u64,
+}
+
+impl TakeSource {
+    fn load(&self) -> Result<Loaded, Error> {
+        crate::input::load_checked(
+            &self.path,
+            self.motion.as_deref(),
+            self.frame_time,
+            crate::cores(),
+            self.max_size,
+        )
+    }
+}
+
+/// One take in the window.
+#[derive(Clone, Debug)]
+pub struct ViewerTake {
+    /// Its file's name, for the title and the HUD.
+    pub name: String,
+    /// Where it came from; `None` for the bundled walk, which R leaves as it is.
+    pub source: Option<TakeSource>,
+    pub loaded: Loaded,
+    /// Its up axis (a Z-up take is stood up).
+    pub up: crate::pose::Up,
+}
+
+impl ViewerTake {
+    /// A take loaded from `source`, its up axis guessed, its warnings said on stderr.
+    pub fn from_source(source: TakeSource) -> Result<ViewerTake, Error> {
+        let loaded = source.load()?;
+        for warning in &loaded.warnings {
+            eprintln!("bvhview: {}: warning: {warning}", source.path.display());
+        }
+        let name = source.path.file_name().map_or_else(
+            || source.path.display().to_string(),
+            |n| n.to_string_lossy().into_owned(),
+        );
+        Ok(ViewerTake {
+            name,
+            up: crate::pose::Up::guess(&loaded.skeleton),
+            source: Some(source),
+            loaded,
+        })
+    }
+}
+
 /// C++: `main` in main.cpp: a 600×600 window whose display, reshape and keyboard functions are
-/// the article's. GLUT's main loop becomes winit's; the file is loaded by the caller, not in
-/// `init`, so a bad file is reported before any window opens.
-pub fn run(skeleton: &Skeleton, motion: &Motion, options: ViewerOptions) -> Result<(), Error> {
+/// the article's. GLUT's main loop becomes winit's; the files are loaded by the caller, not in
+/// `init`, so a bad file is reported before any window opens. Several takes stand side by side
+/// on one timeline; files dropped on the window join them.
+pub fn run(takes: Vec<ViewerTake>, options: ViewerOptions) -> Result<(), Error> {
     check_environment()?;
+    if takes.is_empty() {
+        return Err(Error::Usage("nothing to show".into()));
+    }
     let event_loop = quietly(EventLoop::new)
         .and_then(|r| r.map_err(|e| e.to_string()))
         .map_err(|e| Error::Environment(format!("cannot open the X display: {e}")))?;
+    let start = Camera {
+        angle: crate::render::paint::start_angle(takes.len()),
+        ..Camera::default()
+    };
     let mut app = Viewer {
-        skeleton,
-        motion,
+        takes,
         options,
         frame: 0,
-        camera: Camera::default(),
+        camera: start,
         fit: false,
         playing: false,
         next_tick: Instant::now(),
@@ -310,12 +370,10 @@ pub fn run(skeleton: &Skeleton, motion: &Motion, options: ViewerOptions) -> Resu
         speed: 1.0,
         looping: true,
         follow: false,
-        stage: None,
         cursor: (0.0, 0.0),
         seeking: false,
-        body: None,
-        posed: crate::render::body::PosedBody::default(),
-        scratch: (Vec::new(), Vec::new()),
+        problem: None,
+        painter: Painter::default(),
     };
     event_loop
         .run_app(&mut app)
@@ -376,10 +434,10 @@ struct Running {
     window: Window,
 }
 
-struct Viewer<'a> {
-    skeleton: &'a Skeleton,
-    motion: &'a Motion,
+struct Viewer {
+    takes: Vec<ViewerTake>,
     options: ViewerOptions,
+    /// The tick of the takes' shared timeline ([`Clock`]): with one take, its frame.
     frame: usize,
     camera: Camera,
     fit: bool,
@@ -401,41 +459,49 @@ struct Viewer<'a> {
     /// Playback speed (`+`, `-`) and whether playback wraps at the end (L).
     speed: f64,
     looping: bool,
-    /// In the studio look, the camera follows the root (T).
+    /// In the studio look, the camera follows the first take's root (T).
     follow: bool,
-    /// The studio look's stage, made the first time it is shown (again after O).
-    stage: Option<Stage>,
     /// Where the mouse is, and whether a press on the timeline is seeking.
     cursor: (f64, f64),
     seeking: bool,
-    /// The generated skin, built the first time it is shown.
-    body: Option<crate::render::body::Body>,
-    posed: crate::render::body::PosedBody,
-    scratch: (Vec<glam::Mat4>, Vec<glam::Mat4>),
+    /// The last reload's or drop's error, shown top left until the next one succeeds.
+    problem: Option<String>,
+    painter: Painter,
 }
 
-impl Viewer<'_> {
-    fn frame_count(&self) -> usize {
-        self.motion.frame_count().max(1)
+impl Viewer {
+    fn clock(&self) -> Clock {
+        let motions: Vec<&Motion> = self.takes.iter().map(|t| &t.loaded.motion).collect();
+        Clock::new(&motions)
     }
 
-    /// Frames are counted from 0, as `--frame` counts them.
+    fn frame_count(&self) -> usize {
+        self.clock().count
+    }
+
+    /// Frames are counted from 0, as `--frame` counts them; with several takes, the time.
     fn title(&self) -> String {
         let mode = match self.options.offset_mode {
             OffsetMode::Replace => "",
             OffsetMode::Add => " - position channels added to OFFSET",
         };
-        format!(
-            "bvhview - {} - frame {} of 0-{}{mode}",
-            self.options.name,
-            self.frame,
-            self.frame_count() - 1
-        )
+        let names: Vec<&str> = self.takes.iter().map(|t| t.name.as_str()).collect();
+        let clock = self.clock();
+        let at = if self.takes.len() == 1 {
+            format!("frame {} of 0-{}", self.frame, clock.count - 1)
+        } else {
+            format!(
+                "{:.3} s of {:.3} s",
+                clock.seconds(self.frame),
+                clock.seconds(clock.count - 1)
+            )
+        };
+        format!("bvhview - {} - {at}{mode}", names.join(" + "))
     }
 
-    /// How long each frame shows at the playback speed.
+    /// How long each tick shows at the playback speed.
     fn frame_duration(&self) -> Duration {
-        playback_step(self.motion.frame_time / self.speed)
+        playback_step(self.clock().step / self.speed)
     }
 
     /// The next speed up or down the list.
@@ -460,86 +526,37 @@ impl Viewer<'_> {
         Ok(running)
     }
 
-    fn redraw(&mut self) -> Result<(), Error> {
-        let frame = frame_values(self.motion, self.frame)?;
-        if self.options.look == Look::Studio && self.stage.is_none() {
-            self.stage = Some(Stage::new(
-                self.skeleton,
-                self.motion,
-                self.options.offset_mode,
-                self.options.up,
-            ));
+    /// The HUD's lines (or the help's), with the last reload's error first.
+    fn top_left(&self, width: u32) -> Vec<String> {
+        let mut lines = Vec::new();
+        if let Some(problem) = &self.problem {
+            lines.push(problem.clone());
         }
-        let stage = match self.options.look {
-            Look::Studio => self.stage.as_ref(),
-            Look::Article => None,
-        };
-        // The article's camera as turned, tilted, panned and zoomed; with F or the studio look,
-        // the same moves applied to the camera `snapshot` starts from, whose size also sets the
-        // spheres'.
-        let (camera, sphere_radius) = if self.fit || stage.is_some() {
-            let (start, radius) = view_camera(
-                self.skeleton,
-                frame,
-                self.camera.angle,
-                self.fit,
-                self.options.offset_mode,
-                self.options.up,
-                stage.map(|stage| (stage, self.follow)),
-            );
-            let article = Camera::default();
-            let mut moved = start;
-            moved.distance *= self.camera.distance / article.distance;
-            moved.pitch = start.pitch + self.camera.pitch;
-            for axis in 0..3 {
-                moved.target[axis] += self.camera.target[axis] - article.target[axis];
-            }
-            (moved, radius)
-        } else {
-            (self.camera, 1.0)
-        };
-        let title = self.title();
-        let skin = if self.options.skin {
-            let body = self.body.get_or_insert_with(|| {
-                crate::render::body::Body::new(self.skeleton, self.options.offset_mode)
-            });
-            body.pose(self.skeleton, frame, &mut self.posed, &mut self.scratch);
-            Some(&self.posed)
-        } else {
-            None
-        };
-        let Some(running) = self.running.as_mut() else {
-            return Ok(());
-        };
-        let scene = Scene {
-            skeleton: self.skeleton,
-            frame,
-            camera,
-            style: self.options.style,
-            offset_mode: self.options.offset_mode,
-            skin,
-            shown: self.step,
-            sphere_radius,
-            up: self.options.up,
-            origin: [0.0; 3],
-            stage,
-        };
-        // The projection follows the window's size; reshape also runs on every resize.
-        scene::display(&mut running.gl, &scene);
-        let (width, height) = running.size;
-        let lines = if self.help {
-            crate::render::hud::help_lines()
+        if self.help {
+            lines.extend(crate::render::hud::help_lines());
         } else if self.hud {
-            let warning = crate::info::offset_mode_warning(
-                self.skeleton,
-                self.motion,
-                self.options.offset_mode,
-            );
-            crate::render::hud::Hud {
-                name: &self.options.name,
-                frame: self.frame,
-                frames: self.motion.frame_count(),
-                frame_time: self.motion.frame_time,
+            let clock = self.clock();
+            let takes = self
+                .takes
+                .iter()
+                .map(|t| crate::render::hud::HudTake {
+                    name: &t.name,
+                    frame: clock.frame_of(&t.loaded.motion, self.frame),
+                    frames: t.loaded.motion.frame_count(),
+                    frame_time: t.loaded.motion.frame_time,
+                })
+                .collect();
+            let other_mode_likely = self.takes.iter().any(|t| {
+                crate::info::offset_mode_warning(
+                    &t.loaded.skeleton,
+                    &t.loaded.motion,
+                    self.options.offset_mode,
+                )
+                .is_some()
+            });
+            let hud = crate::render::hud::Hud {
+                takes,
+                time: clock.seconds(self.frame),
                 playing: self.playing,
                 speed: self.speed,
                 looping: self.looping,
@@ -549,26 +566,142 @@ impl Viewer<'_> {
                 skin: self.options.skin,
                 fit: self.fit,
                 offset_mode: self.options.offset_mode,
-                other_mode_likely: warning.is_some(),
-            }
-            .lines(crate::render::step::columns(width))
-        } else {
-            Vec::new()
+                other_mode_likely,
+            };
+            lines.extend(hud.lines(crate::render::step::columns(width)));
+        }
+        lines
+    }
+
+    /// Paints the picture into the window's back buffer (`snapshot`'s picture for the same
+    /// state), without presenting it.
+    fn paint(&mut self) -> Result<(u32, u32), Error> {
+        let Some(running) = self.running.as_ref() else {
+            return Ok((0, 0));
         };
+        let (width, height) = running.size;
+        let first_up = self.takes[0].up;
+        let options = SnapshotOptions {
+            frame: self.frame,
+            angle: self.camera.angle,
+            width,
+            height,
+            style: self.options.style,
+            fit: self.fit,
+            offset_mode: self.options.offset_mode,
+            skin: self.options.skin,
+            step: self.step,
+            up: first_up,
+            look: self.options.look,
+            follow: self.follow,
+        };
+        let several = self.takes.len() > 1;
         let overlay = Overlay {
-            lines,
-            timeline: self
-                .hud
-                .then_some((self.frame, self.motion.frame_count().max(1))),
+            lines: self.top_left(width),
+            timeline: self.hud.then_some((self.frame, self.frame_count())),
             names: self.names,
+            labels: if self.hud && several {
+                self.takes.iter().map(|t| t.name.clone()).collect()
+            } else {
+                Vec::new()
+            },
         };
-        crate::render::draw_overlay(&mut running.gl, &scene, (width, height), &overlay);
+        let shown: Vec<Shown> = self
+            .takes
+            .iter()
+            .map(|t| Shown {
+                skeleton: &t.loaded.skeleton,
+                motion: &t.loaded.motion,
+                up: t.up,
+            })
+            .collect();
+        let running = self.running.as_mut().expect("checked above");
+        self.painter.paint(
+            &mut running.gl,
+            &shown,
+            &options,
+            &overlay,
+            Some(&self.camera),
+        )?;
+        Ok((width, height))
+    }
+
+    fn redraw(&mut self) -> Result<(), Error> {
+        self.paint()?;
+        let title = self.title();
+        let Some(running) = self.running.as_mut() else {
+            return Ok(());
+        };
         running
             .surface
             .swap_buffers(&running.context)
             .map_err(|e| Error::Environment(format!("cannot present the picture: {e}")))?;
         running.window.set_title(&title);
         Ok(())
+    }
+
+    /// P: the picture as shown, written to `<first file>_frame<N>.png` in the working folder.
+    fn write_picture(&mut self) -> Result<(), Error> {
+        let (width, height) = self.paint()?;
+        let Some(running) = self.running.as_ref() else {
+            return Ok(());
+        };
+        let rgba = running.gl.read_rgba(width as usize, height as usize);
+        let image = crate::render::Image::from_rgba_bottom_up(width, height, &rgba);
+        let stem = Path::new(&self.takes[0].name)
+            .file_stem()
+            .map_or("bvhview".into(), |s| s.to_string_lossy().into_owned());
+        let path = PathBuf::from(format!("{stem}_frame{:05}.png", self.frame));
+        image.write_png(&path)?;
+        if !self.options.quiet {
+            eprintln!("bvhview: wrote {} ({width}x{height})", path.display());
+        }
+        Ok(())
+    }
+
+    /// R: every take loaded again from its file. A file that no longer loads keeps its last good
+    /// take, and its error is shown until a reload succeeds.
+    fn reload(&mut self) {
+        let mut problems = Vec::new();
+        for take in &mut self.takes {
+            let Some(source) = &take.source else {
+                continue;
+            };
+            match source.load() {
+                Ok(loaded) => take.loaded = loaded,
+                Err(error) => problems.push(error.to_string()),
+            }
+        }
+        self.after_change(problems);
+    }
+
+    /// A file dropped on the window joins the takes.
+    fn add(&mut self, path: PathBuf) {
+        let source = TakeSource {
+            path,
+            motion: None,
+            frame_time: None,
+            max_size: crate::input::DEFAULT_MAX_SIZE,
+        };
+        let problems = match ViewerTake::from_source(source) {
+            Ok(take) => {
+                self.takes.push(take);
+                Vec::new()
+            }
+            Err(error) => vec![error.to_string()],
+        };
+        self.after_change(problems);
+    }
+
+    fn after_change(&mut self, problems: Vec<String>) {
+        for problem in &problems {
+            eprintln!("bvhview: {problem}");
+        }
+        self.problem = problems.into_iter().next();
+        self.painter.forget();
+        self.frame = self.frame.min(self.frame_count() - 1);
+        let joints = self.takes[0].loaded.skeleton.joints.len().max(1);
+        self.step = self.step.map(|shown| shown.min(joints));
     }
 
     fn resize(&mut self, size: PhysicalSize<u32>) {
@@ -592,7 +725,7 @@ impl Viewer<'_> {
         }
         let (width, height) = running.size;
         let bar = Bar::new(width);
-        let frames = self.motion.frame_count().max(1);
+        let frames = self.frame_count();
         let (x, y) = self.cursor;
         if along {
             Some(bar.frame_along(x, frames))
@@ -612,6 +745,7 @@ impl Viewer<'_> {
 
     /// C++: `keyboard`. Returns false to quit.
     fn key(&mut self, key: &Key) -> bool {
+        let count = self.frame_count();
         match key {
             // In the step view, Esc goes back to the whole picture; otherwise it quits.
             Key::Named(NamedKey::Escape) if self.step.is_some() => self.step = None,
@@ -620,33 +754,38 @@ impl Viewer<'_> {
                 self.step = Some(self.step.map_or(1, |shown| shown.saturating_sub(1).max(1)));
             }
             Key::Character(text) if text.as_str() == "j" => {
-                let count = self.skeleton.joints.len().max(1);
-                self.step = Some(self.step.map_or(1, |shown| (shown + 1).min(count)));
+                let joints = self.takes[0].loaded.skeleton.joints.len().max(1);
+                self.step = Some(self.step.map_or(1, |shown| (shown + 1).min(joints)));
             }
             Key::Named(NamedKey::Space) => {
                 self.playing = !self.playing;
                 // Without loop, playing from the last frame starts again from the first.
-                if self.playing && !self.looping && self.frame + 1 >= self.frame_count() {
+                if self.playing && !self.looping && self.frame + 1 >= count {
                     self.frame = 0;
                 }
                 self.next_tick = Instant::now() + self.frame_duration();
             }
             Key::Named(NamedKey::Home) => self.frame = 0,
-            Key::Named(NamedKey::End) => self.frame = self.frame_count() - 1,
+            Key::Named(NamedKey::End) => self.frame = count - 1,
             Key::Character(text) if matches!(text.as_str(), "+" | "=") => self.change_speed(true),
             Key::Character(text) if matches!(text.as_str(), "-" | "_") => self.change_speed(false),
             Key::Character(text) => match text.to_ascii_lowercase().as_str() {
-                "w" => self.frame = self.motion.next_frame(self.frame),
-                "s" => self.frame = self.motion.previous_frame(self.frame),
+                "w" => self.frame = (self.frame + 1) % count,
+                "s" => self.frame = (self.frame + count - 1) % count,
                 "a" => self.turn(0.1),
                 "d" => self.turn(-0.1),
-                // Framing starts from the article's level view at this angle: no zoom, tilt or
-                // pan carries over either way.
                 "i" => self.hud = !self.hud,
                 "h" => self.help = !self.help,
                 "n" => self.names = !self.names,
                 "l" => self.looping = !self.looping,
                 "t" => self.follow = !self.follow,
+                "r" => self.reload(),
+                "p" => {
+                    if let Err(error) = self.write_picture() {
+                        eprintln!("bvhview: {error}");
+                        self.problem = Some(error.to_string());
+                    }
+                }
                 // The studio look and back; the camera starts again from the look's own.
                 "v" => {
                     self.options.look = match self.options.look {
@@ -658,6 +797,8 @@ impl Viewer<'_> {
                         ..Camera::default()
                     };
                 }
+                // Framing starts from the article's level view at this angle: no zoom, tilt or
+                // pan carries over either way.
                 "f" => {
                     self.fit = !self.fit;
                     self.camera = Camera {
@@ -665,20 +806,22 @@ impl Viewer<'_> {
                         ..Camera::default()
                     };
                 }
-                // The other offset mode (position channels replace or add to OFFSET); the skin is
-                // made again for it.
+                // The other offset mode (position channels replace or add to OFFSET); skins and
+                // the stage are made again for it.
                 "o" => {
                     self.options.offset_mode = match self.options.offset_mode {
                         OffsetMode::Replace => OffsetMode::Add,
                         OffsetMode::Add => OffsetMode::Replace,
                     };
-                    self.body = None;
-                    self.stage = None;
+                    self.painter.forget();
                 }
-                // Back to the article's camera as the program starts.
+                // Back to the camera the program starts with (the article's for one take).
                 "c" => {
                     self.fit = false;
-                    self.camera = Camera::default();
+                    self.camera = Camera {
+                        angle: crate::render::paint::start_angle(self.takes.len()),
+                        ..Camera::default()
+                    };
                 }
                 "k" => self.options.skin = !self.options.skin,
                 // Every style in turn. With the skin on, the skin stands for the spheres, so
@@ -698,7 +841,7 @@ impl Viewer<'_> {
     }
 }
 
-impl ApplicationHandler for Viewer<'_> {
+impl ApplicationHandler for Viewer {
     fn resumed(&mut self, event_loop: &ActiveEventLoop) {
         if self.running.is_some() {
             return;
@@ -721,6 +864,10 @@ impl ApplicationHandler for Viewer<'_> {
                     event_loop.exit();
                 }
             }
+            WindowEvent::DroppedFile(path) => {
+                self.add(path);
+                redraw = true;
+            }
             WindowEvent::KeyboardInput { event, .. } if event.state == ElementState::Pressed => {
                 if !self.key(&event.logical_key) {
                     event_loop.exit();
@@ -738,13 +885,16 @@ impl ApplicationHandler for Viewer<'_> {
                 let pressed = state == ElementState::Pressed;
                 // A press on the timeline seeks, and so does the drag that follows it.
                 let on_bar = self.bar_frame(false);
-                if pressed && button == MouseButton::Left && on_bar.is_some() {
-                    self.seeking = true;
-                    self.frame = on_bar.unwrap_or(self.frame);
-                    redraw = true;
-                } else {
-                    self.seeking = false;
-                    self.dragging = pressed.then_some(button);
+                match on_bar {
+                    Some(frame) if pressed && button == MouseButton::Left => {
+                        self.seeking = true;
+                        self.frame = frame;
+                        redraw = true;
+                    }
+                    _ => {
+                        self.seeking = false;
+                        self.dragging = pressed.then_some(button);
+                    }
                 }
                 if !pressed {
                     self.seeking = false;
@@ -758,11 +908,11 @@ impl ApplicationHandler for Viewer<'_> {
                     redraw = true;
                 }
             }
-            WindowEvent::CursorMoved { position, .. } if self.dragging.is_none() => {
+            WindowEvent::CursorMoved { position, .. } => {
                 self.cursor = (position.x, position.y);
-            }
-            WindowEvent::CursorMoved { position, .. } if self.dragging.is_some() => {
-                self.cursor = (position.x, position.y);
+                if self.dragging.is_none() {
+                    return;
+                }
                 if let Some((x, y)) = self.drag_from {
                     let (dx, dy) = ((position.x - x) as f32, (position.y - y) as f32);
                     // Shift or the middle button pans; otherwise across turns, up and down tilts.
@@ -799,10 +949,10 @@ impl ApplicationHandler for Viewer<'_> {
         }
         let now = Instant::now();
         if now >= self.next_tick {
-            // Keep to the file's rate; after a stall, skip ahead rather than rush.
+            // Keep to the takes' time; after a stall, skip ahead rather than rush.
             let (frames, later) = frames_due(now - self.next_tick, self.frame_duration());
             self.next_tick += later;
-            let count = self.motion.frame_count().max(1) as u64;
+            let count = self.frame_count() as u64;
             if self.looping {
                 self.frame = ((self.frame as u64 + frames % count) % count) as usize;
             } else {

@@ -1,0 +1,388 @@
+//! One picture of one or more takes, worked out the same way for the window and for `snapshot`:
+//! which frame of each take the timeline is at, where each take stands, the camera, the skins,
+//! then the article's `reshape` and `display` and the overlay. The window and `snapshot` both
+//! call [`Painter::paint`], so the window shows what `snapshot` writes.
+
+use crate::error::Error;
+use crate::motion::Motion;
+use crate::pose::{OffsetMode, Up, standing_height, world_positions};
+use crate::render::body::{Body, PosedBody};
+use crate::render::fixed::FixedFunction;
+use crate::render::scene::{self, Camera, Scene};
+use crate::render::studio::{self, Stage, take_extent};
+use crate::render::{Look, Overlay, SnapshotOptions, draw_overlay, frame_values};
+use crate::skeleton::Skeleton;
+use glam::Vec3;
+
+/// One take to show.
+#[derive(Clone, Copy, Debug)]
+pub struct Shown<'a> {
+    pub skeleton: &'a Skeleton,
+    pub motion: &'a Motion,
+    /// Its up axis (a Z-up take is stood up).
+    pub up: Up,
+}
+
+/// One timeline for several takes, each at its own Frame Time. It ticks at the finest Frame Time
+/// among them and runs to the last frame of the longest; each take shows the frame its own clock
+/// has reached at a tick. With one take a tick is simply its frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Clock {
+    /// Seconds per tick.
+    pub step: f64,
+    /// Ticks, 1 at least.
+    pub count: usize,
+    single: bool,
+}
+
+/// A frame time playback can count with: the file's, or 1/30 s when it is not above 0.
+fn usable(frame_time: f64) -> f64 {
+    if frame_time > 0.0 && frame_time.is_finite() {
+        frame_time
+    } else {
+        1.0 / 30.0
+    }
+}
+
+impl Clock {
+    pub fn new(motions: &[&Motion]) -> Clock {
+        if let [motion] = motions {
+            return Clock {
+                step: usable(motion.frame_time),
+                count: motion.frame_count().max(1),
+                single: true,
+            };
+        }
+        let step = motions
+            .iter()
+            .map(|m| usable(m.frame_time))
+            .fold(f64::INFINITY, f64::min);
+        let step = if step.is_finite() { step } else { 1.0 / 30.0 };
+        let span = motions
+            .iter()
+            .map(|m| (m.frame_count().max(1) - 1) as f64 * usable(m.frame_time))
+            .fold(0.0, f64::max);
+        // Ticks to reach the last frame of the longest take (the small slack absorbs rounding).
+        let count = (span / step + 1e-6).floor().min(u32::MAX as f64) as usize + 1;
+        Clock {
+            step,
+            count,
+            single: false,
+        }
+    }
+
+    /// Seconds at a tick.
+    pub fn seconds(&self, tick: usize) -> f64 {
+        tick as f64 * self.step
+    }
+
+    /// The frame `motion` shows at `tick`: the last one its clock has reached, held at its end.
+    pub fn frame_of(&self, motion: &Motion, tick: usize) -> usize {
+        let last = motion.frame_count().max(1) - 1;
+        if self.single {
+            return tick;
+        }
+        let reached = (self.seconds(tick) / usable(motion.frame_time) + 1e-6).floor();
+        (reached.min(last as f64)) as usize
+    }
+}
+
+/// Where each take stands: one take at the origin (the article's picture); several side by side
+/// along x in the order given, each moved so that its box over the whole take starts a quarter
+/// of the tallest one's height after the previous one's ends, the row centred on x = 0.
+pub fn side_by_side(extents: &[(Vec3, Vec3)], tallest: f32) -> Vec<Vec3> {
+    if extents.len() <= 1 {
+        return vec![Vec3::ZERO; extents.len()];
+    }
+    let gap = tallest * 0.25;
+    let mut origins = Vec::with_capacity(extents.len());
+    let mut cursor = 0.0f32;
+    for (lo, hi) in extents {
+        origins.push(Vec3::new(cursor - lo.x, 0.0, 0.0));
+        cursor += hi.x - lo.x + gap;
+    }
+    let width = cursor - gap;
+    for origin in &mut origins {
+        origin.x -= width * 0.5;
+    }
+    origins
+}
+
+/// The camera's start angle: the article's for one take; for several, 90° (the eye on +z), which
+/// sees takes standing side by side along x across the picture.
+pub fn start_angle(takes: usize) -> f32 {
+    if takes > 1 {
+        std::f32::consts::FRAC_PI_2
+    } else {
+        scene::START_ANGLE
+    }
+}
+
+/// What the painter works out once for a set of takes: their boxes, places and the stage.
+#[derive(Clone, Debug)]
+struct Layout {
+    /// What it was worked out for: each take's skeleton and motion addresses and sizes, the
+    /// offset mode and up axes (the caller calls [`Painter::forget`] when takes are replaced).
+    key: Vec<(usize, usize, usize, usize, Up)>,
+    mode: OffsetMode,
+    origins: Vec<Vec3>,
+    stage: Option<Stage>,
+    colours: Vec<Vec<[f32; 3]>>,
+}
+
+/// Draws pictures of takes, keeping what is costly to work out (skins, the stage, the places)
+/// from one picture to the next.
+#[derive(Default)]
+pub struct Painter {
+    layout: Option<Layout>,
+    /// Each take's skin, made the first time it is shown.
+    bodies: Vec<Option<Body>>,
+    posed: Vec<PosedBody>,
+    scratch: (Vec<glam::Mat4>, Vec<glam::Mat4>),
+}
+
+impl Painter {
+    /// Forgets everything worked out: the takes or how they are drawn have changed.
+    pub fn forget(&mut self) {
+        self.layout = None;
+        self.bodies.clear();
+    }
+
+    fn layout(&mut self, takes: &[Shown], mode: OffsetMode, studio_look: bool) -> &Layout {
+        let key: Vec<_> = takes
+            .iter()
+            .map(|t| {
+                (
+                    t.skeleton as *const Skeleton as usize,
+                    t.motion as *const Motion as usize,
+                    t.skeleton.joints.len(),
+                    t.motion.frame_count(),
+                    t.up,
+                )
+            })
+            .collect();
+        let fresh = self
+            .layout
+            .as_ref()
+            .is_some_and(|l| l.key == key && l.mode == mode && l.stage.is_some() == studio_look);
+        if !fresh {
+            self.bodies.clear();
+            // One take stands where it is: its box is only needed for the studio's stage.
+            let extents: Vec<(Vec3, Vec3)> = if takes.len() > 1 || studio_look {
+                takes
+                    .iter()
+                    .map(|t| take_extent(t.skeleton, t.motion, mode, t.up))
+                    .collect()
+            } else {
+                vec![(Vec3::ZERO, Vec3::ZERO)]
+            };
+            let tallest = takes
+                .iter()
+                .map(|t| standing_height(t.skeleton, t.up))
+                .fold(0.0, f32::max);
+            let origins = side_by_side(&extents, tallest);
+            let stage = studio_look.then(|| {
+                let placed: Vec<_> = extents.iter().copied().zip(origins.clone()).collect();
+                Stage::around(&placed, tallest)
+            });
+            let colours = takes
+                .iter()
+                .map(|t| studio::side_colours(t.skeleton))
+                .collect();
+            self.layout = Some(Layout {
+                key,
+                mode,
+                origins,
+                stage,
+                colours,
+            });
+        }
+        self.layout.as_ref().expect("made above")
+    }
+
+    /// Draws `takes` at tick `options.frame` of their [`Clock`] into the current context of
+    /// `gl`, `options.width × options.height` pixels, with `overlay` on top. `moved`: the
+    /// window's camera (the article's as the user turned, tilted, panned and zoomed it); in a
+    /// framed or studio view the same moves apply to the camera `snapshot` starts from, so with
+    /// none the window draws what `snapshot` writes.
+    pub fn paint<G: FixedFunction>(
+        &mut self,
+        gl: &mut G,
+        takes: &[Shown],
+        options: &SnapshotOptions,
+        overlay: &Overlay,
+        moved: Option<&Camera>,
+    ) -> Result<(), Error> {
+        let clock = Clock::new(&takes.iter().map(|t| t.motion).collect::<Vec<_>>());
+        if takes.len() > 1 && options.frame >= clock.count {
+            return Err(Error::Usage(format!(
+                "--frame {}: the takes together have frames 0 to {} (at {} s each)",
+                options.frame,
+                clock.count - 1,
+                clock.step
+            )));
+        }
+        let mut frames = Vec::with_capacity(takes.len());
+        for take in takes {
+            frames.push(frame_values(
+                take.motion,
+                clock.frame_of(take.motion, options.frame),
+            )?);
+        }
+        let mode = options.offset_mode;
+        let studio_look = options.look == Look::Studio;
+        let layout = self.layout(takes, mode, studio_look).clone();
+        let Some(first) = takes.first() else {
+            return Ok(());
+        };
+        let (mut camera, sphere_radius) = match &layout.stage {
+            Some(stage) => {
+                let root = options
+                    .follow
+                    .then(|| first.skeleton.roots().next())
+                    .flatten()
+                    .map(|root| {
+                        let points =
+                            world_positions(first.skeleton, frames[0].unwrap_or(&[]), mode);
+                        first.up.to_y_up() * points[root] + layout.origins[0]
+                    });
+                (stage.camera(options.angle, root), stage.sphere_radius())
+            }
+            None => {
+                let camera = if options.fit {
+                    let points: Vec<Vec3> = takes
+                        .iter()
+                        .zip(&frames)
+                        .zip(&layout.origins)
+                        .flat_map(|((take, frame), origin)| {
+                            let stand = take.up.to_y_up();
+                            world_positions(take.skeleton, frame.unwrap_or(&[]), mode)
+                                .into_iter()
+                                .map(move |p| stand * p + *origin)
+                        })
+                        .collect();
+                    framing(&points, options.angle)
+                } else {
+                    Camera {
+                        angle: options.angle,
+                        ..Camera::default()
+                    }
+                };
+                (camera, scene::sphere_radius(&camera, options.fit))
+            }
+        };
+        if let Some(moved) = moved {
+            if options.fit || studio_look {
+                let article = Camera::default();
+                camera.angle = moved.angle;
+                camera.distance *= moved.distance / article.distance;
+                camera.pitch += moved.pitch;
+                for axis in 0..3 {
+                    camera.target[axis] += moved.target[axis] - article.target[axis];
+                }
+                // The studio camera turns with the window's angle about its own target.
+            } else {
+                camera = *moved;
+            }
+        }
+        if options.skin {
+            self.bodies.resize_with(takes.len(), || None);
+            self.posed.resize_with(takes.len(), PosedBody::default);
+            for (index, take) in takes.iter().enumerate() {
+                let body = self.bodies[index].get_or_insert_with(|| Body::new(take.skeleton, mode));
+                body.pose(
+                    take.skeleton,
+                    frames[index],
+                    &mut self.posed[index],
+                    &mut self.scratch,
+                );
+            }
+        }
+        let scenes: Vec<Scene> = takes
+            .iter()
+            .enumerate()
+            .map(|(index, take)| Scene {
+                skeleton: take.skeleton,
+                frame: frames[index],
+                camera,
+                style: options.style,
+                offset_mode: mode,
+                skin: options.skin.then(|| &self.posed[index]),
+                // The step view follows the first take's recursion.
+                shown: if index == 0 { options.step } else { None },
+                sphere_radius,
+                up: take.up,
+                origin: layout.origins[index].to_array(),
+                stage: layout.stage.as_ref(),
+                colours: layout
+                    .stage
+                    .as_ref()
+                    .map(|_| layout.colours[index].as_slice()),
+            })
+            .collect();
+        scene::reshape(gl, options.width, options.height, &camera);
+        scene::display_all(gl, &scenes);
+        draw_overlay(gl, &scenes, (options.width, options.height), overlay);
+        Ok(())
+    }
+}
+
+/// A camera at `angle` that sees every point (the article's 45° field of view).
+pub fn framing(points: &[Vec3], angle: f32) -> Camera {
+    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+    for p in points {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    if points.is_empty() {
+        (lo, hi) = (Vec3::ZERO, Vec3::ZERO);
+    }
+    let center = (lo + hi) * 0.5;
+    let radius = points
+        .iter()
+        .map(|p| p.distance(center))
+        .fold(0.0, f32::max);
+    Camera::framing(center.to_array(), radius, angle)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_clock_for_takes_at_different_rates() {
+        // 5 frames at 1/30 s (to 0.1333 s) and 3 frames at 1/120 s (to 0.01667 s).
+        let slow = Motion::new(1.0 / 30.0, 1, 5, vec![0.0; 5]);
+        let fast = Motion::new(1.0 / 120.0, 1, 3, vec![0.0; 3]);
+        let clock = Clock::new(&[&slow, &fast]);
+        assert_eq!(clock.step, 1.0 / 120.0);
+        // The slow take's last frame is at 4/30 s = 16 ticks of 1/120 s.
+        assert_eq!(clock.count, 17);
+        assert_eq!(clock.frame_of(&slow, 0), 0);
+        assert_eq!(clock.frame_of(&slow, 3), 0);
+        assert_eq!(clock.frame_of(&slow, 4), 1);
+        assert_eq!(clock.frame_of(&slow, 16), 4);
+        assert_eq!(clock.frame_of(&fast, 2), 2);
+        // The short take holds its last frame.
+        assert_eq!(clock.frame_of(&fast, 16), 2);
+        // One take: a tick is its frame, whatever its frame time.
+        let odd = Motion::new(0.0, 1, 4, vec![0.0; 4]);
+        let alone = Clock::new(&[&odd]);
+        assert_eq!((alone.count, alone.frame_of(&odd, 3)), (4, 3));
+    }
+
+    #[test]
+    fn takes_stand_side_by_side_centred() {
+        let boxes = [
+            (Vec3::new(-10.0, 0.0, 0.0), Vec3::new(10.0, 1.0, 0.0)),
+            (Vec3::new(100.0, 0.0, 0.0), Vec3::new(140.0, 1.0, 0.0)),
+        ];
+        // 20 wide, a gap of 25 (a quarter of 100), 40 wide: 85 in all, from -42.5 to 42.5.
+        let origins = side_by_side(&boxes, 100.0);
+        assert_eq!(origins[0], Vec3::new(-32.5, 0.0, 0.0));
+        assert_eq!(origins[1], Vec3::new(-97.5, 0.0, 0.0));
+        assert_eq!(boxes[0].0.x + origins[0].x, -42.5);
+        assert_eq!(boxes[1].1.x + origins[1].x, 42.5);
+        assert_eq!(side_by_side(&boxes[..1], 100.0), vec![Vec3::ZERO]);
+    }
+}
