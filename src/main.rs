@@ -518,6 +518,8 @@ fn main() -> ExitCode {
         }
     };
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
+    // Ctrl-C leaves no half-written output behind.
+    bvhview::output::remove_partials_on_interrupt();
     let result = match cli.command {
         None => viewer(
             cli.files,

@@ -1,10 +1,34 @@
 //! Files written whole or not at all: the bytes go to a temporary file beside the output, which
 //! takes the output's name only once everything is written. An error (or a panic) removes the
-//! temporary file; nothing is ever left half-written under the output's name.
+//! temporary file; nothing is ever left half-written under the output's name. A program that
+//! calls [`remove_partials_on_interrupt`] (the CLI does; a library must not take Ctrl-C from its
+//! host, Python for one) also removes them on Ctrl-C.
 
 use crate::error::Error;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, PoisonError};
+
+/// The temporary files being written, for the Ctrl-C handler.
+static PARTIAL: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn partial() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+    PARTIAL.lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+/// On Ctrl-C (SIGINT, SIGTERM, SIGHUP), every temporary file still being written is removed and
+/// the process exits with status 130, as a shell reports an interrupted command.
+pub fn remove_partials_on_interrupt() {
+    // The handler runs on a thread of its own (ctrlc's), so it may lock and remove files.
+    let _ = ctrlc::set_handler(|| {
+        let left: Vec<PathBuf> = partial().drain(..).collect();
+        for path in &left {
+            let _ = std::fs::remove_file(path);
+        }
+        eprintln!("bvhview: interrupted; no output was left half-written");
+        std::process::exit(130);
+    });
+}
 
 /// An output file being written; [`AtomicFile::commit`] gives it its name.
 pub struct AtomicFile {
@@ -21,6 +45,7 @@ impl AtomicFile {
             .map_or("out".into(), |n| n.to_string_lossy());
         let temporary = path.with_file_name(format!(".{name}.{}.partial", std::process::id()));
         let file = std::fs::File::create(&temporary).map_err(|e| Error::output(path, e))?;
+        partial().push(temporary.clone());
         Ok(AtomicFile {
             temporary,
             path: path.to_path_buf(),
@@ -36,7 +61,13 @@ impl AtomicFile {
             .map_err(|e| Error::output(&self.path, e.into_error()))?;
         file.sync_all().map_err(|e| Error::output(&self.path, e))?;
         drop(file);
-        std::fs::rename(&self.temporary, &self.path).map_err(|e| Error::output(&self.path, e))
+        let renamed =
+            std::fs::rename(&self.temporary, &self.path).map_err(|e| Error::output(&self.path, e));
+        if renamed.is_err() {
+            let _ = std::fs::remove_file(&self.temporary);
+        }
+        partial().retain(|p| *p != self.temporary);
+        renamed
     }
 }
 
@@ -53,6 +84,7 @@ impl Drop for AtomicFile {
     fn drop(&mut self) {
         if self.writer.take().is_some() {
             let _ = std::fs::remove_file(&self.temporary);
+            partial().retain(|p| *p != self.temporary);
         }
     }
 }

@@ -823,3 +823,63 @@ fn help_and_the_help_overlay_list_every_window_key() {
         );
     }
 }
+
+/// Ctrl-C while an animated picture is being written: the hidden temporary is removed, nothing
+/// appears under the output's name, and the exit status is 130.
+#[test]
+fn an_interrupted_write_leaves_nothing() {
+    let dir = std::env::temp_dir().join(format!("bvhview-interrupt-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("walk.gif");
+    let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
+    // Many large frames, so that the write is still going when the signal comes.
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .args([
+            "snapshot",
+            walk.to_str().unwrap(),
+            "--frames",
+            "0..40",
+            "--size",
+            "1200x1200",
+        ])
+        .args(["--fps", "30", "-q", "-o"])
+        .arg(&out)
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let started = std::time::Instant::now();
+    let partial = loop {
+        let found = std::fs::read_dir(&dir)
+            .unwrap()
+            .filter_map(|e| e.ok())
+            .map(|e| e.path())
+            .find(|p| p.to_string_lossy().ends_with(".partial"));
+        if let Some(found) = found {
+            break found;
+        }
+        assert!(
+            started.elapsed() < std::time::Duration::from_secs(60),
+            "no temporary appeared"
+        );
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "finished before the signal"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(5));
+    };
+    let killed = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(killed.success());
+    let output = child.wait_with_output().unwrap();
+    assert_eq!(output.status.code(), Some(130));
+    assert_eq!(
+        String::from_utf8_lossy(&output.stderr),
+        "bvhview: interrupted; no output was left half-written\n"
+    );
+    assert!(!partial.exists(), "{} was left", partial.display());
+    assert!(!out.exists());
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
+    std::fs::remove_dir_all(dir).unwrap();
+}
