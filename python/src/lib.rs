@@ -613,18 +613,31 @@ fn load_many(
         let cores = bvhview::cores();
         // Many files: one core each. Fewer files than cores: each parses on a share of them.
         let threads_per_file = (cores / items.len().max(1)).max(1);
-        let mut results = Vec::with_capacity(items.len());
+        // Largest first, so that no core is left with a big file at the end while the others
+        // wait; the results go back in the order given.
+        let size = |item: &Item| {
+            std::iter::once(&item.path)
+                .chain(&item.motion)
+                .map(|p| std::fs::metadata(p).map_or(0, |m| m.len()))
+                .sum::<u64>()
+        };
+        let mut order: Vec<usize> = (0..items.len()).collect();
+        order.sort_by_key(|&index| std::cmp::Reverse(size(&items[index])));
+        let mut slots: Vec<Option<Result<Loaded, Error>>> = (0..items.len()).map(|_| None).collect();
         bvhview::parallel::map_in_order(
             items.len(),
             cores,
             2 * cores,
-            |index| load_item(&items[index], frame_time, threads_per_file),
-            |_, result| {
-                results.push(result);
+            |turn| load_item(&items[order[turn]], frame_time, threads_per_file),
+            |turn, result| {
+                slots[order[turn]] = Some(result);
                 true
             },
         );
-        results
+        slots
+            .into_iter()
+            .map(|slot| slot.expect("every file was loaded or failed"))
+            .collect::<Vec<_>>()
     });
     let mut loaded = Vec::with_capacity(items.len());
     for (item, result) in items.into_iter().zip(results) {
