@@ -98,7 +98,8 @@ ignored=$((ignored + py_skipped))
 
 # Independent consumers of the glTF export. The Khronos validator (node; installed when missing)
 # checks every corpus take; each file counts as a test. Blender is large and is not installed
-# here: when it is present, it imports five takes and compares joint positions (tests/blender).
+# here: when it is present, it imports five takes and compares joint positions, and checks the
+# convert edits Blender's importer can also make (tests/blender).
 cli="${CARGO_TARGET_DIR:-target}/debug/bvhview"
 gltf_log=$(mktemp)
 trap 'rm -f "$log" "$pylog" "$gltf_log"' EXIT
@@ -116,6 +117,12 @@ if command -v blender >/dev/null; then
     echo "blender: ${blender_checked:-0} files checked, ${blender_failed:-1} failed"
     passed=$((passed + ${blender_checked:-0} - ${blender_failed:-0}))
     failed=$((failed + ${blender_failed:-1}))
+    # convert's edits against the same operations in Blender's BVH importer.
+    bash tests/blender/run_edit_checks.sh "$cli" "$(mktemp -d)" 2>&1 | tee "$blender_log" || status=1
+    read -r edit_checks edit_failed <<<"$(awk '/^edit checks:/ { print $3, $5 }' "$blender_log")"
+    echo "blender: ${edit_checks:-0} edit checks, ${edit_failed:-1} failed"
+    passed=$((passed + ${edit_checks:-0} - ${edit_failed:-0}))
+    failed=$((failed + ${edit_failed:-1}))
     rm -f "$blender_log"
 else
     echo "blender: not installed, the Blender import check is skipped (apt-get install blender python3-numpy)"
