@@ -883,3 +883,47 @@ fn an_interrupted_write_leaves_nothing() {
     assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 0);
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// A take without frames beside one with frames, in the studio look and as an animation: the
+/// rest pose stands still while the other plays.
+#[test]
+fn a_rest_pose_beside_a_take_draws_in_every_look() {
+    let dir = std::env::temp_dir().join(format!("bvhview-restbeside-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let rest = dir.join("rest.bvh");
+    std::fs::write(
+        &rest,
+        "HIERARCHY\nROOT Hips\n{\n OFFSET 0 0 0\n CHANNELS 3 Zrotation Xrotation Yrotation\n \
+         End Site\n {\n  OFFSET 0 10 0\n }\n}\nMOTION\nFrames: 0\nFrame Time: 0.1\n",
+    )
+    .unwrap();
+    let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
+    for (look, out) in [
+        ("article", "a.png"),
+        ("studio", "s.png"),
+        ("studio", "s.gif"),
+    ] {
+        let out = dir.join(out);
+        let mut args = vec![
+            "snapshot",
+            rest.to_str().unwrap(),
+            walk.to_str().unwrap(),
+            "--look",
+            look,
+            "--hud",
+            "-q",
+        ];
+        if out.extension().is_some_and(|e| e == "gif") {
+            args.extend(["--frames", "0..3", "--size", "64x64"]);
+        }
+        args.extend(["-o", out.to_str().unwrap()]);
+        let result = bvhview(&args);
+        assert!(
+            result.status.success(),
+            "{look} {}: {}",
+            out.display(),
+            String::from_utf8_lossy(&result.stderr)
+        );
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -57,7 +57,12 @@ pub fn take_extent(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode, up: U
         }
     };
     if motion.frame_count() == 0 {
-        take(&[]);
+        // The rest pose: no row for the plan to read.
+        for p in crate::pose::world_positions(skeleton, &[], mode) {
+            let p = stand * p;
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
     } else {
         for frame in 0..motion.frame_count() {
             take(motion.frame(frame));
@@ -281,6 +286,15 @@ mod tests {
         // CMU's takes stand about 25 units tall: 2.5 m in decimetres is nearer to a person than
         // 0.66 m in inches.
         assert_eq!(Units::guess(26.0).name, "decimetres");
+    }
+
+    #[test]
+    fn a_rest_pose_has_a_stage_too() {
+        let text = "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+                    End Site\n{\nOFFSET 0 170 0\n}\n}\nMOTION\nFrames: 0\nFrame Time: 0.1\n";
+        let bvh = crate::bvh::load_bytes(text.as_bytes(), "t.bvh").unwrap();
+        let extent = take_extent(&bvh.skeleton, &bvh.motion, OffsetMode::Replace, Up::Y);
+        assert_eq!(extent, (Vec3::ZERO, Vec3::new(0.0, 170.0, 0.0)));
     }
 
     #[test]
