@@ -346,35 +346,7 @@ pub fn run(takes: Vec<ViewerTake>, options: ViewerOptions) -> Result<(), Error> 
     let event_loop = quietly(EventLoop::new)
         .and_then(|r| r.map_err(|e| e.to_string()))
         .map_err(|e| Error::Environment(format!("cannot open the X display: {e}")))?;
-    let start = Camera {
-        angle: crate::render::paint::start_angle(takes.len()),
-        ..Camera::default()
-    };
-    let mut app = Viewer {
-        takes,
-        options,
-        frame: 0,
-        camera: start,
-        fit: false,
-        playing: false,
-        next_tick: Instant::now(),
-        drag_from: None,
-        dragging: None,
-        shift: false,
-        running: None,
-        error: None,
-        step: None,
-        hud: false,
-        help: false,
-        names: false,
-        speed: 1.0,
-        looping: true,
-        follow: false,
-        cursor: (0.0, 0.0),
-        seeking: false,
-        problem: None,
-        painter: Painter::default(),
-    };
+    let mut app = Viewer::new(takes, options);
     event_loop
         .run_app(&mut app)
         .map_err(|e| Error::Environment(format!("the window's event loop failed: {e}")))?;
@@ -470,6 +442,38 @@ struct Viewer {
 }
 
 impl Viewer {
+    fn new(takes: Vec<ViewerTake>, options: ViewerOptions) -> Viewer {
+        let start = Camera {
+            angle: crate::render::paint::start_angle(takes.len()),
+            ..Camera::default()
+        };
+        Viewer {
+            takes,
+            options,
+            frame: 0,
+            camera: start,
+            fit: false,
+            playing: false,
+            next_tick: Instant::now(),
+            drag_from: None,
+            dragging: None,
+            shift: false,
+            running: None,
+            error: None,
+            step: None,
+            hud: false,
+            help: false,
+            names: false,
+            speed: 1.0,
+            looping: true,
+            follow: false,
+            cursor: (0.0, 0.0),
+            seeking: false,
+            problem: None,
+            painter: Painter::default(),
+        }
+    }
+
     fn clock(&self) -> Clock {
         let motions: Vec<&Motion> = self.takes.iter().map(|t| &t.loaded.motion).collect();
         Clock::new(&motions)
@@ -974,6 +978,71 @@ impl ApplicationHandler for Viewer {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn viewer_on(path: &Path) -> Viewer {
+        let source = TakeSource {
+            path: path.to_path_buf(),
+            motion: None,
+            frame_time: None,
+            max_size: u64::MAX,
+        };
+        let options = ViewerOptions {
+            offset_mode: OffsetMode::Replace,
+            style: Style::Points,
+            skin: false,
+            look: Look::Article,
+            quiet: true,
+        };
+        Viewer::new(vec![ViewerTake::from_source(source).unwrap()], options)
+    }
+
+    /// A file dropped on the window joins the takes; one that does not load is reported and
+    /// changes nothing. R loads every file again, and keeps the last good take of a broken one.
+    /// (No window is needed: these are the handlers the window's events call.)
+    #[test]
+    fn dropped_files_join_and_reloads_keep_the_last_good_take() {
+        let dir = std::env::temp_dir().join(format!("bvhview-drop-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let take = |frames: usize| {
+            let mut text = String::from(
+                "HIERARCHY\nROOT Hips\n{\n OFFSET 0 0 0\n CHANNELS 3 Zrotation Xrotation \
+                 Yrotation\n End Site\n {\n  OFFSET 0 10 0\n }\n}\nMOTION\n",
+            );
+            text += &format!("Frames: {frames}\nFrame Time: 0.1\n");
+            text += &"0 0 0\n".repeat(frames);
+            text
+        };
+        let first = dir.join("first.bvh");
+        let second = dir.join("second.bvh");
+        std::fs::write(&first, take(3)).unwrap();
+        std::fs::write(&second, take(5)).unwrap();
+        let mut viewer = viewer_on(&first);
+        assert_eq!(viewer.frame_count(), 3);
+        viewer.add(second.clone());
+        assert_eq!(viewer.takes.len(), 2);
+        assert_eq!(viewer.problem, None);
+        assert_eq!(viewer.frame_count(), 5);
+        assert_eq!(
+            viewer.title(),
+            "bvhview - first.bvh + second.bvh - 0.000 s of 0.400 s"
+        );
+        viewer.add(dir.join("missing.bvh"));
+        assert_eq!(viewer.takes.len(), 2);
+        assert!(viewer.problem.as_deref().unwrap().contains("missing.bvh"));
+
+        viewer.frame = 4;
+        std::fs::write(&second, take(2)).unwrap();
+        viewer.reload();
+        assert_eq!(viewer.problem, None);
+        assert_eq!(viewer.takes[1].loaded.motion.frame_count(), 2);
+        // The timeline got shorter: the frame shown stays on it.
+        assert_eq!((viewer.frame_count(), viewer.frame), (3, 2));
+        std::fs::write(&second, "HIERARCHY\nROOT Hips\n{\n").unwrap();
+        viewer.reload();
+        assert!(viewer.problem.as_deref().unwrap().contains("second.bvh:"));
+        assert_eq!(viewer.takes[1].loaded.motion.frame_count(), 2);
+        std::fs::remove_dir_all(dir).unwrap();
+    }
 
     #[test]
     fn any_frame_time_plays_at_a_bounded_rate() {
