@@ -286,3 +286,59 @@ fn unusual_and_malformed_motion_headers_stream_to_the_same_result() {
     assert_eq!(memory.unwrap_err(), want);
     assert_eq!(file.unwrap_err(), want);
 }
+
+/// A pipe has no length up front: it streams in whole chunks, and a last row without a line end
+/// or a row longer than a chunk still arrives (a pipe once read one byte per chunk and never
+/// finished a line cut by the header's read).
+#[test]
+fn a_named_pipe_loads_the_same_as_the_file() {
+    let dir = std::env::temp_dir().join(format!("bvhview-fifo-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    // 3000 rows, the last without its line end.
+    let rows = take(3000, 0, "\n").trim_end().to_string();
+    // One row of 6 + 3 × 200 000 values: well over a chunk on one line.
+    let children: String = (0..200_000)
+        .map(|j| {
+            format!(
+                "\tJOINT j{j}\n\t{{\n\t\tOFFSET 0 1 0\n\t\tCHANNELS 3 Zrotation Xrotation \
+                 Yrotation\n\t\tEnd Site\n\t\t{{\n\t\t\tOFFSET 0 1 0\n\t\t}}\n\t}}\n"
+            )
+        })
+        .collect();
+    let mut wide = HEAD.replacen("\tEnd Site", &format!("{children}\tEnd Site"), 1);
+    wide.push_str("Frames: 1\nFrame Time: 0.01\n1 2 3 4 5 6");
+    for j in 0..200_000 {
+        wide.push_str(&format!(" {}.5 -1.25 0", j % 90));
+    }
+    wide.push('\n');
+    assert!(wide.len() - wide.rfind("0.01").unwrap() > CHUNK);
+    for (what, text) in [("rows", rows), ("one long row", wide)] {
+        let fifo = dir.join("take.bvh");
+        let _ = std::fs::remove_file(&fifo);
+        let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+        assert!(made.unwrap().success());
+        let writer = {
+            let (fifo, text) = (fifo.clone(), text.clone());
+            std::thread::spawn(move || std::fs::write(fifo, text).unwrap())
+        };
+        let from_pipe = bvhview::bvh::load_file(&fifo).unwrap_or_else(|e| panic!("{what}: {e}"));
+        writer.join().unwrap();
+        let from_memory = bvhview::bvh::load_bytes(text.as_bytes(), "t.bvh").unwrap();
+        assert!(from_pipe.motion.frame_count() > 0, "{what}");
+        assert_eq!(from_pipe.skeleton, from_memory.skeleton, "{what}");
+        assert_eq!(from_pipe.motion, from_memory.motion, "{what}");
+        // A regular file streamed through chunks (as one over 16 MB is) grows for the long row too.
+        let file = dir.join("file.bvh");
+        std::fs::write(&file, &text).unwrap();
+        for threads in [1, 2] {
+            let streamed =
+                bvhview::bvh::loader::load_file_streaming_over(&file, threads, u64::MAX, 0)
+                    .unwrap_or_else(|e| panic!("{what}: {e}"));
+            assert_eq!(
+                streamed.motion, from_memory.motion,
+                "{what}, {threads} threads"
+            );
+        }
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}

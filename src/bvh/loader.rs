@@ -121,7 +121,11 @@ pub fn load_file_streaming_over(
     };
     // The row loop: the row engine reads what was read already, then the rest of the file.
     let start = line_column(&head, rows_start);
-    let rest = length.saturating_sub(rows_start as u64);
+    let rest = if metadata.is_file() {
+        length.saturating_sub(rows_start as u64)
+    } else {
+        super::rows::UNKNOWN_ROOM
+    };
     let mut rows = RowParser::new(
         &source,
         frames,

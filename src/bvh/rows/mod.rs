@@ -19,6 +19,12 @@ pub const CHUNK: usize = 1 << 20;
 /// The smallest chunk: a small input is cut into about eight chunks, but not smaller ones.
 const SMALLEST_CHUNK: usize = 64 * 1024;
 
+/// The `room` of an input whose length is not known up front (a pipe, a device).
+pub const UNKNOWN_ROOM: u64 = u64::MAX;
+
+/// Values reserved up front for an input of unknown length (64 MB of `f32`).
+const UNKNOWN_ROOM_VALUES: u64 = 16 << 20;
+
 mod number;
 mod scan;
 
@@ -146,8 +152,10 @@ impl Stream<'_> {
             buffer.resize(filled * 2, 0);
         }
         buffer[..filled].copy_from_slice(&self.carry);
+        // A chunk's worth, or after a line that did not fit, the whole grown buffer.
+        let mut wanted = self.chunk.min(buffer.len());
         let cut = loop {
-            while !self.end_of_input && filled < self.chunk.min(buffer.len()) {
+            while !self.end_of_input && filled < wanted {
                 match input.read(&mut buffer[filled..]) {
                     Ok(0) => self.end_of_input = true,
                     Ok(read) => filled += read,
@@ -164,7 +172,10 @@ impl Stream<'_> {
             }
             match last_line_end(&buffer[..filled]) {
                 Some(cut) => break cut,
-                None => buffer.resize(buffer.len() * 2, 0),
+                None => {
+                    buffer.resize(buffer.len().max(1) * 2, 0);
+                    wanted = buffer.len();
+                }
             }
         };
         self.carry.clear();
@@ -291,7 +302,8 @@ pub struct RowParser {
 
 impl RowParser {
     /// The first chunk starts at `(start_line, start_column)`; `room` is the bytes left in the input,
-    /// which bounds the allocation whatever `Frames:` says.
+    /// which bounds the allocation whatever `Frames:` says, or [`UNKNOWN_ROOM`] for a pipe or a
+    /// device, whose length says nothing.
     pub fn new(
         source: &str,
         frames: u64,
@@ -301,7 +313,12 @@ impl RowParser {
         room: u64,
     ) -> RowParser {
         // Each value takes at least two bytes ("0 "), so no more than this can be in the file.
-        let possible = room / 2 + 1;
+        // Of an input of unknown length only a first stretch is reserved; the rest grows as read.
+        let possible = if room == UNKNOWN_ROOM {
+            UNKNOWN_ROOM_VALUES
+        } else {
+            room / 2 + 1
+        };
         let wanted = frames.saturating_mul(width as u64).min(possible);
         let threads = crate::cores().clamp(1, 8);
         let data = Vec::with_capacity(wanted as usize);
@@ -319,7 +336,7 @@ impl RowParser {
             threads,
             chunk: (room / 8)
                 .clamp(SMALLEST_CHUNK as u64, CHUNK as u64)
-                .min(room + 1) as usize,
+                .min(room.saturating_add(1)) as usize,
             input_left: room,
             rows_moved: 0,
         }
@@ -561,9 +578,12 @@ impl RowParser {
         let mut buffer = carry;
         let mut filled = buffer.len();
         buffer.resize((self.chunk + self.chunk / 4).max(filled * 2), 0);
+        // Read at least this far before looking for a line end: a chunk, or after a line that
+        // did not fit, the whole grown buffer.
+        let mut wanted = self.chunk.min(buffer.len());
         loop {
             let mut end_of_input = false;
-            while filled < self.chunk.min(buffer.len()) {
+            while filled < wanted {
                 let read = input.read(&mut buffer[filled..]).map_err(io_error)?;
                 if read == 0 {
                     end_of_input = true;
@@ -579,9 +599,13 @@ impl RowParser {
                     self.feed(&buffer[..cut])?;
                     buffer.copy_within(cut..filled, 0);
                     filled -= cut;
+                    wanted = self.chunk.min(buffer.len()).max(1);
                 }
-                // A line longer than the buffer: make room and read on.
-                None => buffer.resize(buffer.len() * 2, 0),
+                // A line longer than what was read: make room and read on.
+                None => {
+                    buffer.resize(buffer.len() * 2, 0);
+                    wanted = buffer.len();
+                }
             }
         }
     }
