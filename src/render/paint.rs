@@ -62,8 +62,9 @@ impl Clock {
             .iter()
             .map(|m| (m.frame_count().max(1) - 1) as f64 * usable(m.frame_time))
             .fold(0.0, f64::max);
-        // Ticks to reach the last frame of the longest take (the small slack absorbs rounding).
-        let count = (span / step + 1e-6).floor().min(u32::MAX as f64) as usize + 1;
+        // Ticks to reach the last frame of every take: the first tick at or past the longest
+        // span (the small slack absorbs rounding when the span is a whole number of ticks).
+        let count = (span / step - 1e-6).ceil().clamp(0.0, u32::MAX as f64) as usize + 1;
         Clock {
             step,
             count,
@@ -365,6 +366,14 @@ mod tests {
         assert_eq!(clock.frame_of(&fast, 2), 2);
         // The short take holds its last frame.
         assert_eq!(clock.frame_of(&fast, 16), 2);
+        // A span that is not a whole number of ticks: 3 frames at 0.05 s end at 0.1 s, between
+        // ticks 3 and 4 of 0.03 s; the clock runs to tick 4, where the last frame shows.
+        let twentieth = Motion::new(0.05, 1, 3, vec![0.0; 3]);
+        let thirtieth = Motion::new(0.03, 1, 2, vec![0.0; 2]);
+        let clock = Clock::new(&[&twentieth, &thirtieth]);
+        assert_eq!(clock.count, 5);
+        assert_eq!(clock.frame_of(&twentieth, 3), 1);
+        assert_eq!(clock.frame_of(&twentieth, 4), 2);
         // One take: a tick is its frame, whatever its frame time.
         let odd = Motion::new(0.0, 1, 4, vec![0.0; 4]);
         let alone = Clock::new(&[&odd]);
