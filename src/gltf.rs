@@ -272,6 +272,20 @@ pub fn to_gltf(
         let times: Vec<f32> = (0..frames)
             .map(|i| (i as f64 * motion.frame_time) as f32)
             .collect();
+        // glTF wants keyframe times that rise strictly: a frame time of 0 (which BVH allows) or
+        // one too small for f32 at the take's length cannot be written as it is.
+        if let Some(i) = times
+            .windows(2)
+            .position(|w| !(w[1] > w[0] && w[1].is_finite()))
+        {
+            return Err(Error::Usage(format!(
+                "cannot write glTF: with a frame time of {} s frames {i} and {} fall at the same \
+                 time ({} s); give the take its rate with --frame-time SECONDS",
+                motion.frame_time,
+                i + 1,
+                times[i + 1]
+            )));
+        }
         let last = *times.last().expect("frames > 0");
         let time = data.accessor(
             &times,

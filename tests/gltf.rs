@@ -487,3 +487,38 @@ fn skin_needs_a_gltf_output() {
         "bvhview: --skin needs a glTF output (.glb or .gltf); a BVH file has no mesh\n"
     );
 }
+
+/// BVH allows `Frame Time: 0`; glTF's keyframe times must rise, so such a take is refused with
+/// the option that fixes it, nothing is written, and with `--frame-time` it converts. One frame
+/// needs no rate.
+#[test]
+fn a_zero_frame_time_is_refused_until_given() {
+    let file = temp("still.bvh");
+    let text = |frames: usize| {
+        format!(
+            "HIERARCHY\nROOT Hips\n{{\n OFFSET 0 1 0\n CHANNELS 3 Zrotation Xrotation Yrotation\n \
+             End Site\n {{\n  OFFSET 0 2 0\n }}\n}}\nMOTION\nFrames: {frames}\nFrame Time: 0\n{}",
+            "0 0 0\n".repeat(frames)
+        )
+    };
+    std::fs::write(&file, text(3)).unwrap();
+    let output = temp("still.glb");
+    let out = bvhview(&[
+        "convert",
+        file.to_str().unwrap(),
+        "-o",
+        output.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        "bvhview: cannot write glTF: with a frame time of 0 s frames 0 and 1 fall at the same \
+         time (0 s); give the take its rate with --frame-time SECONDS\n"
+    );
+    assert!(!output.exists());
+    let gltf = convert(&[file.to_str().unwrap(), "--frame-time", "0.04"], &output);
+    check_times(&gltf, 3, 0.04);
+    std::fs::write(&file, text(1)).unwrap();
+    let gltf = convert(&[file.to_str().unwrap()], &temp("one.glb"));
+    check_times(&gltf, 1, 0.0);
+}
