@@ -26,7 +26,10 @@ pub fn remove_partials_on_interrupt() {
             let _ = std::fs::remove_file(path);
         }
         eprintln!("bvhview: interrupted; no output was left half-written");
-        std::process::exit(130);
+        // `_exit`, not `process::exit`: the exit handlers of the GL libraries must not run while
+        // the main thread may still be drawing with them (that crashed with SIGSEGV).
+        // SAFETY: ends the process at once; nothing after it runs.
+        unsafe { libc::_exit(130) }
     });
 }
 

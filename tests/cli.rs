@@ -828,7 +828,15 @@ fn help_and_the_help_overlay_list_every_window_key() {
 /// appears under the output's name, and the exit status is 130.
 #[test]
 fn an_interrupted_write_leaves_nothing() {
-    let dir = std::env::temp_dir().join(format!("bvhview-interrupt-{}", std::process::id()));
+    // Ctrl-C, and what a service manager or a closed terminal sends.
+    for signal in ["INT", "TERM", "HUP"] {
+        interrupt_a_write(signal);
+    }
+}
+
+fn interrupt_a_write(signal: &str) {
+    let dir =
+        std::env::temp_dir().join(format!("bvhview-interrupt-{signal}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("walk.gif");
     let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
@@ -868,12 +876,12 @@ fn an_interrupted_write_leaves_nothing() {
         std::thread::sleep(std::time::Duration::from_millis(5));
     };
     let killed = std::process::Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
+        .args([&format!("-{signal}"), &child.id().to_string()])
         .status()
         .unwrap();
     assert!(killed.success());
     let output = child.wait_with_output().unwrap();
-    assert_eq!(output.status.code(), Some(130));
+    assert_eq!(output.status.code(), Some(130), "SIG{signal}");
     assert_eq!(
         String::from_utf8_lossy(&output.stderr),
         "bvhview: interrupted; no output was left half-written\n"
