@@ -20,3 +20,10 @@ $bvhview snapshot assets/walk.bvh --frames 0..40 --style both --fit --angle 0.6 
 # The HUD (I, --hud) and the step view of the recursion (J, --step).
 $bvhview snapshot assets/walk.bvh --frame 10 --fit --angle 0.6 --style both --hud -q -o docs/walk_hud.png
 $bvhview snapshot assets/walk.bvh --frame 10 --fit --angle 0.6 --step 5 -q -o docs/walk_step.png
+# The studio look, joint names, two takes side by side, and the studio look animated.
+$bvhview snapshot assets/walk.bvh --frame 10 --look studio --style both -q -o docs/studio.png
+$bvhview snapshot assets/walk.bvh --frame 10 --fit --angle 0.6 --style both --names -q -o docs/names.png
+$bvhview snapshot assets/walk.bvh tests/data/bvh/bvhpython_test_freebvh.bvh \
+    --frame 20 --look studio --style both --hud -q -o docs/two_takes.png
+$bvhview snapshot tests/data/bvh/bvhpython_test_freebvh.bvh --frames 0..69 --look studio --style both \
+    --size 300x300 -q -o docs/studio.gif

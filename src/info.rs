@@ -67,14 +67,21 @@ pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
     let _ = writeln!(out, "up axis:          {up}");
     let height = crate::pose::standing_height(skeleton, up_axis);
     let units = crate::pose::Units::guess(height);
-    let _ = writeln!(
-        out,
-        "units:            {} (a guess: the rest pose stands {} tall, {} m in {})",
-        units.name,
-        readable(f64::from(height), 3),
-        readable(f64::from(height * units.metres), 2),
-        units.name
-    );
+    if height > 1e-6 {
+        let _ = writeln!(
+            out,
+            "units:            {} (a guess: the rest pose stands {} tall, {} m in {})",
+            units.name,
+            readable(f64::from(height), 3),
+            readable(f64::from(height * units.metres), 2),
+            units.name
+        );
+    } else {
+        let _ = writeln!(
+            out,
+            "units:            unknown (the rest pose has no height along the up axis)"
+        );
+    }
     let warnings = warnings(loaded, mode);
     if warnings.is_empty() {
         let _ = writeln!(out, "warnings:         none");

@@ -64,16 +64,15 @@ impl Hud<'_> {
                 frames_text(take),
                 format!("{:.3} s, {}", self.time, rate_text(take.frame_time)),
             ],
+            // A name and its frame on lines of their own: one line held both and lost its end.
             takes => {
                 let mut lines: Vec<String> = takes
                     .iter()
-                    .map(|t| {
-                        format!(
-                            "{}: {}, {}",
-                            t.name,
-                            frames_text(t),
-                            rate_text(t.frame_time)
-                        )
+                    .flat_map(|t| {
+                        [
+                            t.name.to_string(),
+                            format!("  {}, {}", frames_text(t), rate_text(t.frame_time)),
+                        ]
                     })
                     .collect();
                 lines.push(format!("{:.3} s", self.time));

@@ -35,6 +35,10 @@ pub struct Clock {
     single: bool,
 }
 
+/// How far apart (relatively) two takes' clocks may be and still count as one: frame times are
+/// often written to five or six digits.
+const SLACK: f64 = 1e-4;
+
 /// A frame time playback can count with: the file's, or 1/30 s when it is not above 0.
 fn usable(frame_time: f64) -> f64 {
     if frame_time > 0.0 && frame_time.is_finite() {
@@ -63,8 +67,13 @@ impl Clock {
             .map(|m| (m.frame_count().max(1) - 1) as f64 * usable(m.frame_time))
             .fold(0.0, f64::max);
         // Ticks to reach the last frame of every take: the first tick at or past the longest
-        // span (the small slack absorbs rounding when the span is a whole number of ticks).
-        let count = (span / step - 1e-6).ceil().clamp(0.0, u32::MAX as f64) as usize + 1;
+        // span. Frame times written to a few digits (0.033333 beside 0.0333333) differ by a
+        // little: within SLACK of a whole tick counts as on it.
+        let ticks = span / step;
+        let count = (ticks * (1.0 - SLACK) - 1e-6)
+            .ceil()
+            .clamp(0.0, u32::MAX as f64) as usize
+            + 1;
         Clock {
             step,
             count,
@@ -83,7 +92,8 @@ impl Clock {
         if self.single {
             return tick;
         }
-        let reached = (self.seconds(tick) / usable(motion.frame_time) + 1e-6).floor();
+        let reached =
+            (self.seconds(tick) / usable(motion.frame_time) * (1.0 + SLACK) + 1e-6).floor();
         (reached.min(last as f64)) as usize
     }
 }
@@ -374,6 +384,16 @@ mod tests {
         assert_eq!(clock.count, 5);
         assert_eq!(clock.frame_of(&twentieth, 3), 1);
         assert_eq!(clock.frame_of(&twentieth, 4), 2);
+        // 30 frames per second written two ways: one clock of 69 ticks, each tick the same
+        // frame of both.
+        let short = Motion::new(0.033333, 1, 69, vec![0.0; 69]);
+        let long = Motion::new(0.0333333, 1, 69, vec![0.0; 69]);
+        let clock = Clock::new(&[&short, &long]);
+        assert_eq!(clock.count, 69);
+        for tick in [1, 20, 68] {
+            assert_eq!(clock.frame_of(&short, tick), tick);
+            assert_eq!(clock.frame_of(&long, tick), tick);
+        }
         // One take: a tick is its frame, whatever its frame time.
         let odd = Motion::new(0.0, 1, 4, vec![0.0; 4]);
         let alone = Clock::new(&[&odd]);

@@ -137,11 +137,16 @@ pub fn init<G: FixedFunction>(gl: &mut G) {
 
 /// C++: `reshape(w, h)`: viewport, a 45° perspective from 1 to 1000, and a modelview that
 /// `display` replaces at once (the article looks at the origin here; kept so the calls match).
+/// What changed: a camera more than 200 units away or less than 20 widens the planes with it.
 pub fn reshape<G: FixedFunction>(gl: &mut G, width: u32, height: u32, camera: &Camera) {
     gl.viewport(0, 0, width as i32, height as i32);
     gl.matrix_mode(GL_PROJECTION);
     gl.load_identity();
-    perspective(gl, 45.0, width as f64 / height.max(1) as f64, 1.0, 1000.0);
+    // The article's planes around its camera (200 away); a camera framing a rig in millimetres
+    // stands thousands of units away and one in metres a few, so their planes follow it.
+    let distance = f64::from(camera.distance);
+    let (near, far) = (1.0f64.min(distance / 20.0), 1000.0f64.max(distance * 5.0));
+    perspective(gl, 45.0, width as f64 / height.max(1) as f64, near, far);
     gl.matrix_mode(GL_MODELVIEW);
     gl.load_identity();
     let [x, _, z] = camera.eye();

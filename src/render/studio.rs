@@ -75,6 +75,9 @@ pub fn take_extent(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode, up: U
     }
 }
 
+/// The studio grid's squares widen beyond this many along either axis.
+const MOST_GRID_LINES: f32 = 200.0;
+
 impl Stage {
     pub fn new(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode, up: Up) -> Stage {
         let extent = take_extent(skeleton, motion, mode, up);
@@ -84,7 +87,6 @@ impl Stage {
     /// The stage under several takes, each with its extent and where it stands; `height` is the
     /// tallest one's (it sets the units and the sizes).
     pub fn around(takes: &[((Vec3, Vec3), Vec3)], height: f32) -> Stage {
-        let units = Units::guess(height);
         let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
         for &((take_lo, take_hi), origin) in takes {
             lo = lo.min(take_lo + origin);
@@ -93,11 +95,26 @@ impl Stage {
         if lo.x > hi.x {
             (lo, hi) = (Vec3::ZERO, Vec3::ZERO);
         }
+        // A skeleton with no height along the up axis (one joint, or lying flat) is sized by its
+        // extent instead, and a single point by one unit, so that its spheres still show.
+        let height = if height > 1e-6 {
+            height
+        } else {
+            let across = (hi - lo).length();
+            if across > 1e-6 { across } else { 1.0 }
+        };
+        let units = Units::guess(height);
         let center = (lo + hi) * 0.5;
         let radius = ((hi - lo).length() * 0.5).max(height * 0.5).max(1e-3);
-        let spacing = 0.5 / units.metres;
-        // A metre of floor beyond the takes on every side, on whole squares.
+        // A metre of floor beyond the takes on every side, on whole squares of half a metre;
+        // squares ten times as wide for each tenfold beyond MOST_GRID_LINES along either axis
+        // (a take that travels kilometres gets a coarser grid, not millions of lines).
         let margin = 1.0 / units.metres;
+        let mut spacing = 0.5 / units.metres;
+        let travel = (hi.x - lo.x).max(hi.z - lo.z) + 2.0 * margin;
+        while travel / spacing > MOST_GRID_LINES && spacing.is_finite() {
+            spacing *= 10.0;
+        }
         let snap_down = |v: f32| (v / spacing).floor() * spacing;
         let snap_up = |v: f32| (v / spacing).ceil() * spacing;
         let grid = [
@@ -314,6 +331,24 @@ mod tests {
     }
 
     #[test]
+    fn a_skeleton_without_height_is_sized_by_its_extent() {
+        // One joint whose End Site lies along x: no height along y.
+        let flat = "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+                    End Site\n{\nOFFSET 40 0 0\n}\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0\n";
+        let bvh = crate::bvh::load_bytes(flat.as_bytes(), "t.bvh").unwrap();
+        assert_eq!(standing_height(&bvh.skeleton, Up::Y), 0.0);
+        let stage = Stage::new(&bvh.skeleton, &bvh.motion, OffsetMode::Replace, Up::Y);
+        assert_eq!(stage.height, 40.0);
+        assert_eq!(stage.sphere_radius(), 40.0 * 0.012);
+        // A single point: one unit.
+        let point = "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
+                     }\nMOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0\n";
+        let bvh = crate::bvh::load_bytes(point.as_bytes(), "t.bvh").unwrap();
+        let stage = Stage::new(&bvh.skeleton, &bvh.motion, OffsetMode::Replace, Up::Y);
+        assert_eq!((stage.height, stage.radius), (1.0, 0.5));
+    }
+
+    #[test]
     fn the_stage_holds_the_whole_take() {
         // A figure 180 units tall (so centimetres) walking from x = 0 to x = 300, its feet
         // dipping to y = -5 in the second frame.
@@ -340,5 +375,16 @@ mod tests {
             180.0,
         );
         assert_eq!(both.grid, [-100.0, 800.0, -100.0, 100.0]);
+        // A take that travels 2 km (200 000 cm): squares of 50 m, 42 lines along x instead of
+        // over 4000.
+        let far = Stage::around(
+            &[(
+                (Vec3::new(0.0, 0.0, 0.0), Vec3::new(200_000.0, 180.0, 0.0)),
+                Vec3::ZERO,
+            )],
+            180.0,
+        );
+        assert_eq!(far.spacing, 5000.0);
+        assert_eq!(far.grid, [-5000.0, 205_000.0, -5000.0, 5000.0]);
     }
 }
