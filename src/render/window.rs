@@ -375,14 +375,22 @@ fn quietly<T>(f: impl FnOnce() -> T) -> Result<T, String> {
     })
 }
 
-/// How long playback shows each frame: the file's Frame Time, kept between 1 ms and an hour so
-/// that any value a file holds (0, 1e-300, 1e300) plays without a panic or a busy loop; 1/30 s
-/// when the file gives none.
+/// How long playback shows each frame: the file's Frame Time, kept between 1 ns and an hour so
+/// that any value a file holds (0, 1e-300, 1e300) plays without a panic; 1/30 s when the file
+/// gives none. Ticks shorter than the window wakes ([`next_wake`]) are stepped several at a time.
 fn playback_step(frame_time: f64) -> Duration {
     if !(frame_time > 0.0 && frame_time.is_finite()) {
         return Duration::from_secs_f64(1.0 / 30.0);
     }
-    Duration::from_secs_f64(frame_time.clamp(0.001, 3600.0))
+    Duration::from_secs_f64(frame_time.clamp(1e-9, 3600.0))
+}
+
+/// The window wakes at most this often while playing: no busy loop, whatever the frame rate.
+const SHORTEST_WAKE: Duration = Duration::from_millis(1);
+
+/// When to wake next: when the next tick is due, but not sooner than [`SHORTEST_WAKE`] from now.
+fn next_wake(now: Instant, next_tick: Instant) -> Instant {
+    next_tick.max(now + SHORTEST_WAKE)
 }
 
 /// When a frame was due `late` ago and frames last `step`: how many frames to step (at least
@@ -971,7 +979,7 @@ impl ApplicationHandler for Viewer {
                 running.window.request_redraw();
             }
         }
-        event_loop.set_control_flow(ControlFlow::WaitUntil(self.next_tick));
+        event_loop.set_control_flow(ControlFlow::WaitUntil(next_wake(now, self.next_tick)));
     }
 }
 
@@ -1048,7 +1056,7 @@ mod tests {
     fn any_frame_time_plays_at_a_bounded_rate() {
         assert_eq!(playback_step(0.01), Duration::from_millis(10));
         assert_eq!(playback_step(1e300), Duration::from_secs(3600));
-        assert_eq!(playback_step(1e-300), Duration::from_millis(1));
+        assert_eq!(playback_step(1e-300), Duration::from_nanos(1));
         for odd in [0.0, -1.0, f64::NAN, f64::INFINITY] {
             assert_eq!(playback_step(odd), Duration::from_secs_f64(1.0 / 30.0));
         }
@@ -1063,5 +1071,30 @@ mod tests {
         let (frames, later) = frames_due(Duration::from_secs(86_400), Duration::from_millis(1));
         assert_eq!(frames, 86_400_001);
         assert_eq!(later, Duration::from_millis(86_400_001));
+    }
+
+    /// 4000 ticks a second (a 1000 Hz take at 4×) keep real time although the window wakes
+    /// at most every millisecond: one simulated second steps 4000 ticks.
+    #[test]
+    fn ticks_shorter_than_a_wake_keep_real_time() {
+        for (frame_time, speed, expected) in [(0.001, 4.0, 4000), (1.0 / 120.0, 1.0, 120)] {
+            let tick = playback_step(frame_time / speed);
+            let start = Instant::now();
+            let (mut now, mut next_tick, mut ticks) = (start, start + tick, 0u64);
+            while now <= start + Duration::from_secs(1) {
+                if now >= next_tick {
+                    let (frames, later) = frames_due(now - next_tick, tick);
+                    next_tick += later;
+                    ticks += frames;
+                }
+                let wake = next_wake(now, next_tick);
+                assert!(wake - now >= SHORTEST_WAKE);
+                now = wake;
+            }
+            assert!(
+                ticks.abs_diff(expected) <= 1,
+                "{frame_time} at {speed}x: {ticks}"
+            );
+        }
     }
 }
