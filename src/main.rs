@@ -456,10 +456,18 @@ enum UpArg {
 
 /// The up axis to draw `loaded` with: `--up` if given, else the guess, said on stderr when it
 /// is not the usual Y.
+impl From<UpArg> for Up {
+    fn from(arg: UpArg) -> Up {
+        match arg {
+            UpArg::Y => Up::Y,
+            UpArg::Z => Up::Z,
+        }
+    }
+}
+
 fn resolve_up(arg: Option<UpArg>, loaded: &Loaded, name: &str) -> Up {
     match arg {
-        Some(UpArg::Y) => Up::Y,
-        Some(UpArg::Z) => Up::Z,
+        Some(arg) => arg.into(),
         None => {
             let up = Up::guess(&loaded.skeleton);
             if up == Up::Z {
@@ -834,12 +842,12 @@ fn viewer(
     let mut takes = Vec::with_capacity(files.len().max(1));
     if files.is_empty() {
         let (name, loaded) = load_or_default(None, &source)?;
-        let up = resolve_up(up, &loaded, &name);
         takes.push(ViewerTake {
+            up: resolve_up(up, &loaded, &name),
+            up_asked: up.map(Up::from),
             name,
             source: None,
             loaded,
-            up,
         });
     }
     for path in files {
@@ -853,6 +861,7 @@ fn viewer(
         let name = path.display().to_string();
         warn_offset_mode(&take.loaded, offset_mode, &name);
         take.up = resolve_up(up, &take.loaded, &name);
+        take.up_asked = up.map(Up::from);
         takes.push(take);
     }
     let options = ViewerOptions {
@@ -1252,10 +1261,7 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
     }
     let mut up = Up::guess(&loaded.skeleton);
     if let Some(target) = args.up {
-        let target = match target {
-            UpArg::Y => Up::Y,
-            UpArg::Z => Up::Z,
-        };
+        let target = target.into();
         (loaded.skeleton, loaded.motion) =
             bvhview::edit::reorient(&loaded.skeleton, &loaded.motion, up, target)?;
         up = target;

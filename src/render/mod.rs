@@ -193,8 +193,8 @@ pub fn draw_overlay<G: fixed::FixedFunction>(
         let lines = step::lines(
             scene.skeleton,
             scene.frame,
-            scene.style,
-            scene.offset_mode,
+            (scene.style, scene.offset_mode),
+            scene.sphere_radius,
             shown,
             step::columns(width),
         );

@@ -10,12 +10,12 @@ use crate::render::trace::{Numbers, Recorder};
 use crate::skeleton::Skeleton;
 
 /// The overlay's lines for the step that has drawn `shown` joints (1 to the joint count), at
-/// most `columns` characters each.
+/// most `columns` characters each; the spheres are `sphere_radius` as in the picture.
 pub fn lines(
     skeleton: &Skeleton,
     frame: Option<&[f32]>,
-    style: Style,
-    mode: OffsetMode,
+    (style, mode): (Style, OffsetMode),
+    sphere_radius: f64,
     shown: usize,
     columns: usize,
 ) -> Vec<String> {
@@ -39,9 +39,10 @@ pub fn lines(
         "its GL calls:".to_string(),
     ];
     // The calls the draw makes for this joint, up to its sphere: recorded, not retold.
-    let mut recorder = Recorder::new(Numbers::Apitrace);
+    let mut recorder = Recorder::new(Numbers::Short);
     let pass = Pass {
         shown: Some(shown),
+        sphere_radius,
         ..Pass::whole(skeleton, frame, style, mode)
     };
     draw::draw_pass(&mut recorder, &pass);

@@ -251,8 +251,10 @@ fn shadow<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage) {
     gl.line_width(4.0);
     gl.color3f(0.05, 0.05, 0.07);
     gl.begin(GL_LINES);
+    // Stepping through the recursion (J) shows the first `shown` joints: so does the shadow.
+    let shown = scene.shown.unwrap_or(usize::MAX);
     for (index, joint) in scene.skeleton.joints.iter().enumerate() {
-        for &child in &joint.children {
+        for &child in joint.children.iter().filter(|&&c| c < shown) {
             for [x, y, z] in [cast(points[index]), cast(points[child])] {
                 gl.vertex3f(x, y, z);
             }

@@ -11,6 +11,9 @@ pub enum Numbers {
     Apitrace,
     /// As C's `printf("%f")`: six decimals (`glTranslatef(0.000000, 84.730759, 0.000000)`).
     Printf,
+    /// As apitrace, but doubles to seven digits as floats are: short enough to read on the
+    /// picture (the step view's listing).
+    Short,
 }
 
 /// The language of `--explain`'s notes.
@@ -125,7 +128,7 @@ impl Recorder {
 
     fn float(&self, value: f32) -> String {
         match self.numbers {
-            Numbers::Apitrace => format_g(value as f64, 7),
+            Numbers::Apitrace | Numbers::Short => format_g(value as f64, 7),
             Numbers::Printf => format!("{:.6}", value as f64),
         }
     }
@@ -133,6 +136,7 @@ impl Recorder {
     fn double(&self, value: f64) -> String {
         match self.numbers {
             Numbers::Apitrace => format_g(value, 16),
+            Numbers::Short => format_g(value, 7),
             Numbers::Printf => format!("{value:.6}"),
         }
     }
@@ -172,7 +176,7 @@ impl Recorder {
     /// A number as the trace writes it, for notes.
     fn number(&self, value: f32) -> String {
         match self.numbers {
-            Numbers::Apitrace => format_g(value as f64, 7),
+            Numbers::Apitrace | Numbers::Short => format_g(value as f64, 7),
             Numbers::Printf => format_g(value as f64, 6),
         }
     }

@@ -312,6 +312,8 @@ pub struct ViewerTake {
     pub loaded: Loaded,
     /// Its up axis (a Z-up take is stood up).
     pub up: crate::pose::Up,
+    /// The up axis `--up` asked for; without it, R guesses again from what it reads.
+    pub up_asked: Option<crate::pose::Up>,
 }
 
 impl ViewerTake {
@@ -328,6 +330,7 @@ impl ViewerTake {
         Ok(ViewerTake {
             name,
             up: crate::pose::Up::guess(&loaded.skeleton),
+            up_asked: None,
             source: Some(source),
             loaded,
         })
@@ -680,7 +683,12 @@ impl Viewer {
                 continue;
             };
             match source.load() {
-                Ok(loaded) => take.loaded = loaded,
+                Ok(loaded) => {
+                    take.up = take
+                        .up_asked
+                        .unwrap_or_else(|| crate::pose::Up::guess(&loaded.skeleton));
+                    take.loaded = loaded;
+                }
                 Err(error) => problems.push(error.to_string()),
             }
         }
@@ -1045,6 +1053,15 @@ mod tests {
         assert_eq!(viewer.takes[1].loaded.motion.frame_count(), 2);
         // The timeline got shorter: the frame shown stays on it.
         assert_eq!((viewer.frame_count(), viewer.frame), (3, 2));
+        // Rewritten to stand along z: the reload guesses its up axis again.
+        assert_eq!(viewer.takes[1].up, crate::pose::Up::Y);
+        let standing_along_z = "HIERARCHY\nROOT Hips\n{\n OFFSET 0 0 0\n CHANNELS 3 Zrotation \
+             Xrotation Yrotation\n JOINT Spine\n {\n  OFFSET 0 0 10\n  CHANNELS 3 Zrotation \
+             Xrotation Yrotation\n  End Site\n  {\n   OFFSET 0 0 10\n  }\n }\n}\nMOTION\n\
+             Frames: 2\nFrame Time: 0.1\n0 0 0 0 0 0\n0 0 0 0 0 0\n";
+        std::fs::write(&second, standing_along_z).unwrap();
+        viewer.reload();
+        assert_eq!(viewer.takes[1].up, crate::pose::Up::Z);
         std::fs::write(&second, "HIERARCHY\nROOT Hips\n{\n").unwrap();
         viewer.reload();
         assert!(viewer.problem.as_deref().unwrap().contains("second.bvh:"));
