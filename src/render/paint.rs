@@ -35,8 +35,8 @@ pub struct Clock {
     single: bool,
 }
 
-/// How far apart (relatively) two takes' clocks may be and still count as one: frame times are
-/// often written to five or six digits.
+/// How far apart (relatively) two frame times may be and still count as one: frame times are
+/// often written to five or six digits (0.033333 beside 0.0333333).
 const SLACK: f64 = 1e-4;
 
 /// A frame time playback can count with: the file's, or 1/30 s when it is not above 0.
@@ -45,6 +45,19 @@ fn usable(frame_time: f64) -> f64 {
         frame_time
     } else {
         1.0 / 30.0
+    }
+}
+
+/// Ticks of `step` seconds per frame of `frame_time` (1 or more, `step` being the finest): a whole
+/// number when it is one to within [`SLACK`], so that takes at the same rate written two ways keep
+/// the same frame at every tick, however long they run.
+fn ticks_per_frame(frame_time: f64, step: f64) -> f64 {
+    let ratio = usable(frame_time) / step;
+    let whole = ratio.round();
+    if (ratio - whole).abs() <= ratio * SLACK {
+        whole
+    } else {
+        ratio
     }
 }
 
@@ -62,18 +75,15 @@ impl Clock {
             .map(|m| usable(m.frame_time))
             .fold(f64::INFINITY, f64::min);
         let step = if step.is_finite() { step } else { 1.0 / 30.0 };
-        let span = motions
+        // Ticks to reach the last frame of every take: the first tick at or past its end.
+        let last_tick = motions
             .iter()
-            .map(|m| (m.frame_count().max(1) - 1) as f64 * usable(m.frame_time))
+            .map(|m| {
+                let last = (m.frame_count().max(1) - 1) as f64;
+                (last * ticks_per_frame(m.frame_time, step) - 1e-9).ceil()
+            })
             .fold(0.0, f64::max);
-        // Ticks to reach the last frame of every take: the first tick at or past the longest
-        // span. Frame times written to a few digits (0.033333 beside 0.0333333) differ by a
-        // little: within SLACK of a whole tick counts as on it.
-        let ticks = span / step;
-        let count = (ticks * (1.0 - SLACK) - 1e-6)
-            .ceil()
-            .clamp(0.0, u32::MAX as f64) as usize
-            + 1;
+        let count = last_tick.clamp(0.0, u32::MAX as f64) as usize + 1;
         Clock {
             step,
             count,
@@ -92,8 +102,7 @@ impl Clock {
         if self.single {
             return tick;
         }
-        let reached =
-            (self.seconds(tick) / usable(motion.frame_time) * (1.0 + SLACK) + 1e-6).floor();
+        let reached = (tick as f64 / ticks_per_frame(motion.frame_time, self.step) + 1e-9).floor();
         (reached.min(last as f64)) as usize
     }
 }
@@ -394,6 +403,24 @@ mod tests {
             assert_eq!(clock.frame_of(&short, tick), tick);
             assert_eq!(clock.frame_of(&long, tick), tick);
         }
+        // And after an hour of them: still the same frame, the last one reached at the end.
+        let hour = 108_000;
+        let short = Motion::new(0.033333, 1, hour, vec![0.0; hour]);
+        let long = Motion::new(0.0333333, 1, hour, vec![0.0; hour]);
+        let clock = Clock::new(&[&short, &long]);
+        assert_eq!(clock.count, hour);
+        for tick in [10_000, 54_321, hour - 1] {
+            assert_eq!(clock.frame_of(&short, tick), tick);
+            assert_eq!(clock.frame_of(&long, tick), tick);
+        }
+        // 120 Hz beside 50 Hz (2.4 ticks a frame): an hour of each ends on the same tick.
+        let fast = Motion::new(1.0 / 120.0, 1, 432_000, vec![0.0; 432_000]);
+        let slow = Motion::new(0.02, 1, 180_000, vec![0.0; 180_000]);
+        let clock = Clock::new(&[&fast, &slow]);
+        assert_eq!(clock.count, 432_000);
+        assert_eq!(clock.frame_of(&slow, 431_999), 179_999);
+        assert_eq!(clock.frame_of(&slow, 431_998), 179_999);
+        assert_eq!(clock.frame_of(&slow, 431_997), 179_998);
         // One take: a tick is its frame, whatever its frame time.
         let odd = Motion::new(0.0, 1, 4, vec![0.0; 4]);
         let alone = Clock::new(&[&odd]);
