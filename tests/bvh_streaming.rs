@@ -327,7 +327,7 @@ fn a_named_pipe_loads_the_same_as_the_file() {
         assert!(from_pipe.motion.frame_count() > 0, "{what}");
         assert_eq!(from_pipe.skeleton, from_memory.skeleton, "{what}");
         assert_eq!(from_pipe.motion, from_memory.motion, "{what}");
-        // A regular file streamed through chunks (as one over 16 MB is) grows for the long row too.
+        // A regular file streamed through chunks (as one over 64 KB is) grows for the long row too.
         let file = dir.join("file.bvh");
         std::fs::write(&file, &text).unwrap();
         for threads in [1, 2] {

@@ -1,5 +1,9 @@
 //! `cargo run --release -p bvhview-bench -- BIG.bvh [--quick]`: throughput of loading (bvhview
 //! and bvh_anim 0.4 on the same bytes), forward kinematics, CSV export and offscreen drawing.
+//!
+//! `cargo run --release -p bvhview-bench -- --folder DIR`: load + world positions of every .bvh
+//! file of a folder, the first pass of a fresh process against the best of later passes, with
+//! the page faults of each: what a cold process pays that a warm one does not.
 
 use std::time::{Duration, Instant};
 
@@ -20,8 +24,97 @@ fn mb_per_s(bytes: usize, time: Duration) -> f64 {
     bytes as f64 / 1e6 / time.as_secs_f64()
 }
 
+/// Minor page faults of this process so far (each first write to a fresh page is one).
+fn page_faults() -> i64 {
+    // SAFETY: getrusage only writes the struct it is given.
+    unsafe {
+        let mut usage: libc::rusage = std::mem::zeroed();
+        libc::getrusage(libc::RUSAGE_SELF, &mut usage);
+        usage.ru_minflt
+    }
+}
+
+/// One pass over `files`: load on every core (as `bvhview.load` does), then positions of every
+/// frame on one core, kept until the pass ends (as a script keeping its arrays would). Returns
+/// load time, positions time and page faults.
+fn folder_pass(files: &[std::path::PathBuf]) -> (Duration, Duration, i64) {
+    use bvhview::pose::{FkPlan, FkScratch, LANES, OffsetMode};
+    let (mut load, mut positions) = (Duration::ZERO, Duration::ZERO);
+    let faults = page_faults();
+    let mut kept = Vec::new();
+    for file in files {
+        let start = Instant::now();
+        let loaded = bvhview::input::load_checked(file, None, None, bvhview::cores(), u64::MAX)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let loaded_at = Instant::now();
+        let plan = FkPlan::new(&loaded.skeleton, OffsetMode::Replace);
+        let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
+        let mut out =
+            Vec::with_capacity(loaded.motion.frame_count() * loaded.skeleton.joints.len());
+        let frames: Vec<usize> = (0..loaded.motion.frame_count()).collect();
+        for batch in frames.chunks(LANES) {
+            let rows: Vec<&[f32]> = batch.iter().map(|&f| loaded.motion.frame(f)).collect();
+            plan.positions_of_frames(&rows, &mut points, &mut scratch);
+            out.extend_from_slice(&points);
+        }
+        positions += loaded_at.elapsed();
+        load += loaded_at - start;
+        kept.push((loaded, out));
+    }
+    (load, positions, page_faults() - faults)
+}
+
+fn folder(dir: &str) {
+    let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
+        .unwrap_or_else(|e| panic!("{dir}: {e}"))
+        .filter_map(|entry| entry.ok().map(|e| e.path()))
+        .filter(|path| {
+            path.extension()
+                .is_some_and(|e| e.eq_ignore_ascii_case("bvh"))
+        })
+        .collect();
+    files.sort();
+    let bytes: u64 = files
+        .iter()
+        .filter_map(|f| f.metadata().ok())
+        .map(|m| m.len())
+        .sum();
+    println!(
+        "folder: {dir} ({} files, {:.1} MB), {} cores",
+        files.len(),
+        bytes as f64 / 1e6,
+        bvhview::cores()
+    );
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    let (load, positions, faults) = folder_pass(&files);
+    println!(
+        "first pass (fresh process): load {:.2} ms + positions {:.2} ms = {:.2} ms, {faults} page faults",
+        ms(load),
+        ms(positions),
+        ms(load + positions)
+    );
+    let later = (0..10)
+        .map(|_| folder_pass(&files))
+        .min_by_key(|(l, p, _)| *l + *p);
+    let (load, positions, faults) = later.expect("ten passes");
+    println!(
+        "best of 10 later passes:   load {:.2} ms + positions {:.2} ms = {:.2} ms, {faults} page faults",
+        ms(load),
+        ms(positions),
+        ms(load + positions)
+    );
+}
+
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
+    if let Some(at) = args.iter().position(|a| a == "--folder") {
+        let Some(dir) = args.get(at + 1) else {
+            eprintln!("usage: bvhview-bench --folder DIR");
+            std::process::exit(2);
+        };
+        folder(dir);
+        return;
+    }
     let Some(path) = args.iter().find(|a| !a.starts_with("--")) else {
         eprintln!(
             "usage: bvhview-bench BIG.bvh [--quick]   (make one: cargo run --release --example make_big -- SOURCE.bvh BIG.bvh 100)"
