@@ -4,6 +4,7 @@
 use crate::pose::OffsetMode;
 use crate::render::draw::Style;
 use crate::render::fixed::FixedFunction;
+use crate::render::pixels::{self, Rect};
 use crate::render::text::{self, Corner};
 
 /// One take on the HUD.
@@ -154,7 +155,31 @@ pub fn help_lines() -> Vec<String> {
     .to_vec()
 }
 
-/// Draws `lines` top left on a picture `height` pixels high, in white.
-pub fn draw<G: FixedFunction>(gl: &mut G, height: u32, lines: &[String]) {
+/// The colour behind the HUD's lines: near black, so white text reads over bright bones, a take's
+/// label or the studio grid.
+const BACKING: [f32; 3] = [0.05, 0.05, 0.07];
+
+/// Draws `lines` top left on a picture `width × height`, in white, each on a dark band as wide as
+/// its text.
+pub fn draw<G: FixedFunction>(gl: &mut G, (width, height): (u32, u32), lines: &[String]) {
+    let bands: Vec<_> = lines
+        .iter()
+        .enumerate()
+        .filter(|(_, line)| !line.is_empty())
+        .map(|(i, line)| (BACKING, band(height, i, line.chars().count())))
+        .collect();
+    pixels::fill(gl, (width, height), &bands);
     text::draw_lines(gl, height, Corner::TopLeft, lines, [1.0, 1.0, 1.0]);
+}
+
+/// The band behind top-left line `index` of `chars` glyphs: the glyphs' cells and the gap below
+/// them, with 4 pixels to each side, so the bands of consecutive lines meet.
+fn band(height: u32, index: usize, chars: usize) -> Rect {
+    let baseline = height as i32 - 8 - text::LINE * (index as i32 + 1);
+    Rect {
+        left: 4.0,
+        right: (8 + text::GLYPH * chars as i32 + 4) as f32,
+        bottom: (baseline - (text::LINE - text::GLYPH)) as f32,
+        top: (baseline + text::GLYPH) as f32,
+    }
 }

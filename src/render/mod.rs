@@ -8,6 +8,7 @@ pub mod hud;
 pub mod names;
 pub mod osmesa;
 pub mod paint;
+pub mod pixels;
 pub mod scene;
 pub mod skin_demo;
 pub mod sphere;
@@ -201,7 +202,7 @@ pub fn draw_overlay<G: fixed::FixedFunction>(
         step::draw_overlay(gl, &lines);
     }
     if !overlay.lines.is_empty() {
-        hud::draw(gl, height, &overlay.lines);
+        hud::draw(gl, (width, height), &overlay.lines);
     }
     let stepping = scenes.first().is_some_and(|s| s.shown.is_some());
     if let (Some((frame, frames)), false) = (overlay.timeline, stepping) {

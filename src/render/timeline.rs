@@ -1,9 +1,8 @@
 //! The timeline, shown with the HUD: a bar along the bottom of the picture, filled up to the frame
 //! shown, with a mark at it. In the window a click or a drag on the bar seeks. Not the article's.
 
-use crate::render::fixed::{
-    FixedFunction, GL_DEPTH_TEST, GL_LIGHTING, GL_MODELVIEW, GL_PROJECTION, GL_QUADS,
-};
+use crate::render::fixed::FixedFunction;
+use crate::render::pixels::{self, Rect};
 
 /// Pixels of slack above and below the bar that still count as a click on it.
 const SLACK: f32 = 8.0;
@@ -63,62 +62,34 @@ impl Bar {
 }
 
 /// Draws the bar for frame `frame` of `frames` on a picture `width × height`, unlit and over
-/// everything; leaves the GL state as the scene expects it (lit, depth-tested, the article's
-/// green, the projection and modelview as they were).
+/// everything (see [`pixels::fill`]).
 pub fn draw<G: FixedFunction>(gl: &mut G, width: u32, height: u32, frame: usize, frames: usize) {
     let bar = Bar::new(width);
-    gl.disable(GL_LIGHTING);
-    gl.disable(GL_DEPTH_TEST);
-    gl.matrix_mode(GL_PROJECTION);
-    gl.push_matrix();
-    gl.load_identity();
-    // glOrtho(0, width, 0, height, -1, 1): one unit per pixel from the bottom-left corner.
-    let (w, h) = (f64::from(width.max(1)), f64::from(height.max(1)));
-    #[rustfmt::skip]
-    let ortho = [
-        2.0 / w, 0.0, 0.0, 0.0,
-        0.0, 2.0 / h, 0.0, 0.0,
-        0.0, 0.0, -1.0, 0.0,
-        -1.0, -1.0, 0.0, 1.0,
-    ];
-    gl.mult_matrixd(&ortho);
-    gl.matrix_mode(GL_MODELVIEW);
-    gl.push_matrix();
-    gl.load_identity();
     let mark = bar.x_of(frame, frames);
-    let quad = |gl: &mut G, colour: [f32; 3], left: f32, right: f32, bottom: f32, top: f32| {
-        gl.color3f(colour[0], colour[1], colour[2]);
-        gl.begin(GL_QUADS);
-        gl.vertex3f(left, bottom, 0.0);
-        gl.vertex3f(right, bottom, 0.0);
-        gl.vertex3f(right, top, 0.0);
-        gl.vertex3f(left, top, 0.0);
-        gl.end();
+    let rect = |left, right, bottom, top| Rect {
+        left,
+        right,
+        bottom,
+        top,
     };
-    quad(
+    pixels::fill(
         gl,
-        [0.25, 0.25, 0.28],
-        bar.left,
-        bar.right,
-        bar.bottom,
-        bar.top,
+        (width, height),
+        &[
+            (
+                [0.25, 0.25, 0.28],
+                rect(bar.left, bar.right, bar.bottom, bar.top),
+            ),
+            (
+                [0.45, 0.55, 0.75],
+                rect(bar.left, mark, bar.bottom, bar.top),
+            ),
+            (
+                [1.0, 1.0, 1.0],
+                rect(mark - 2.0, mark + 2.0, bar.bottom - 4.0, bar.top + 4.0),
+            ),
+        ],
     );
-    quad(gl, [0.45, 0.55, 0.75], bar.left, mark, bar.bottom, bar.top);
-    quad(
-        gl,
-        [1.0, 1.0, 1.0],
-        mark - 2.0,
-        mark + 2.0,
-        bar.bottom - 4.0,
-        bar.top + 4.0,
-    );
-    gl.pop_matrix();
-    gl.matrix_mode(GL_PROJECTION);
-    gl.pop_matrix();
-    gl.matrix_mode(GL_MODELVIEW);
-    gl.color3f(0.0, 1.0, 0.0);
-    gl.enable(GL_DEPTH_TEST);
-    gl.enable(GL_LIGHTING);
 }
 
 #[cfg(test)]
