@@ -608,14 +608,21 @@ impl FkPlan {
     #[inline(always)]
     fn lanes_impl(&self, frames: &[&[f32]], out: &mut Vec<Vec3>, scratch: &mut FkScratch) {
         // A short batch repeats its last frame in the spare lanes.
-        let frame = |l: usize| frames[l.min(frames.len() - 1)];
-        // Every rotation's half angle, then all their sines and cosines in one vector loop.
+        let rows: [&[f32]; LANES] = std::array::from_fn(|l| frames[l.min(frames.len() - 1)]);
+        let frame = |l: usize| rows[l];
+        // Every rotation's half angle, then all their sines and cosines in one vector loop. The
+        // angles are gathered into a buffer of the right size by index: extending it value by
+        // value cost as much as the sines and cosines.
         let n = self.rotation_columns.len() * LANES;
-        scratch.half_angles.clear();
-        for &column in &self.rotation_columns {
-            scratch
-                .half_angles
-                .extend((0..LANES).map(|l| frame(l)[column] * 0.5));
+        scratch.half_angles.resize(n, 0.0);
+        for (lanes, &column) in scratch
+            .half_angles
+            .chunks_exact_mut(LANES)
+            .zip(&self.rotation_columns)
+        {
+            for (value, row) in lanes.iter_mut().zip(&rows) {
+                *value = row[column] * 0.5;
+            }
         }
         scratch.sin.resize(n, 0.0);
         scratch.cos.resize(n, 0.0);
