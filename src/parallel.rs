@@ -1,23 +1,173 @@
 //! One way to share work among the cores, for every part that does: the row reader, the
 //! positions export, `info FOLDER` and the FK benchmark. Workers take the next piece of work
 //! until none is left; results go on in the pieces' order.
+//!
+//! The helper threads are started once and kept: starting a thread costs about 50 µs here, as
+//! much as loading a 50 KB file, and a script loading a folder file by file would pay it twice
+//! per file (load, then positions).
 
 use std::collections::BTreeMap;
 use std::sync::{Condvar, Mutex, PoisonError};
 
-/// Runs `worker` on `threads` threads, this one among them, and returns when every one has
-/// returned. Each worker takes its own work from whatever state they share.
+/// Runs `worker` on up to `threads` threads, this one among them, and returns when every one
+/// has returned. Each worker takes its own work from whatever state they share, so however many
+/// of them run, this thread's alone would do it all: helpers that are busy elsewhere (another
+/// call, a nested one) when it ends are not waited for, and their turn is called off.
+///
+/// A panic in any worker is raised here once every worker has returned.
 pub fn on_threads(threads: usize, worker: impl Fn() + Sync) {
     if threads <= 1 {
         worker();
         return;
     }
-    std::thread::scope(|scope| {
-        for _ in 1..threads {
-            scope.spawn(&worker);
-        }
-        worker();
+    pool::run(threads - 1, &worker);
+}
+
+/// The kept helper threads and the calls waiting for them.
+mod pool {
+    use std::any::Any;
+    use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
+    use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
+
+    /// A worker whose borrowed data outlives it: [`run`] does not return (or unwind) while any
+    /// helper still runs it.
+    type Job = *const (dyn Fn() + Sync + 'static);
+
+    /// A call of [`run`]: turns not yet taken by a helper, and helpers running it.
+    struct Call {
+        id: u64,
+        job: Job,
+        turns: usize,
+        running: usize,
+        panic: Option<Box<dyn Any + Send>>,
+    }
+
+    struct State {
+        calls: Vec<Call>,
+        next_id: u64,
+        helpers: usize,
+        idle: usize,
+    }
+
+    // SAFETY: a `Job` is only called while its `run` waits, and the worker is `Sync`.
+    unsafe impl Send for State {}
+
+    static STATE: Mutex<State> = Mutex::new(State {
+        calls: Vec::new(),
+        next_id: 0,
+        helpers: 0,
+        idle: 0,
     });
+    /// Helpers wait here for a turn.
+    static WORK: Condvar = Condvar::new();
+    /// Callers wait here for their running helpers to return.
+    static FINISHED: Condvar = Condvar::new();
+    /// No more helpers than this, whatever is asked.
+    const MOST_HELPERS: usize = 63;
+
+    fn state() -> MutexGuard<'static, State> {
+        STATE.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Offers `helpers` turns at `worker`, runs it here too, then waits for the helpers that
+    /// took a turn and calls off the rest.
+    pub(super) fn run(helpers: usize, worker: &(dyn Fn() + Sync)) {
+        let helpers = helpers.min(MOST_HELPERS);
+        // SAFETY: only the lifetime is erased; `Finish` below keeps this frame alive until no
+        // helper runs the worker, on return and on unwinding alike.
+        let job: Job = unsafe {
+            std::mem::transmute::<*const (dyn Fn() + Sync + '_), Job>(worker as *const _)
+        };
+        let id = {
+            let mut state = state();
+            let id = state.next_id;
+            state.next_id += 1;
+            state.calls.push(Call {
+                id,
+                job,
+                turns: helpers,
+                running: 0,
+                panic: None,
+            });
+            // Start the helpers missing; wake as many waiting ones as there are turns.
+            while state.helpers < helpers {
+                if std::thread::Builder::new()
+                    .name("bvhview-helper".into())
+                    .spawn(helper)
+                    .is_err()
+                {
+                    break; // no helper, no harm: this thread does the work
+                }
+                state.helpers += 1;
+                state.idle += 1;
+            }
+            for _ in 0..helpers.min(state.idle) {
+                WORK.notify_one();
+            }
+            id
+        };
+        let finish = Finish(id);
+        worker();
+        drop(finish);
+    }
+
+    /// Ends a call: calls off its turns not taken, waits for its running helpers and raises
+    /// a panic one of them had.
+    struct Finish(u64);
+
+    impl Drop for Finish {
+        fn drop(&mut self) {
+            let mut state = state();
+            let call = loop {
+                let i = (state.calls.iter())
+                    .position(|c| c.id == self.0)
+                    .expect("only the caller removes its call");
+                state.calls[i].turns = 0;
+                if state.calls[i].running == 0 {
+                    break state.calls.swap_remove(i);
+                }
+                state = FINISHED.wait(state).unwrap_or_else(PoisonError::into_inner);
+            };
+            drop(state);
+            if let Some(panic) = call.panic
+                && !std::thread::panicking()
+            {
+                resume_unwind(panic);
+            }
+        }
+    }
+
+    /// A helper's life: take a turn at a call, run it, wait for the next.
+    fn helper() {
+        let mut state = state();
+        loop {
+            let Some(call) = state.calls.iter_mut().find(|c| c.turns > 0) else {
+                state = WORK.wait(state).unwrap_or_else(PoisonError::into_inner);
+                continue;
+            };
+            call.turns -= 1;
+            call.running += 1;
+            let (id, job) = (call.id, call.job);
+            state.idle -= 1;
+            drop(state);
+            // SAFETY: the call's `run` waits for `running` to drop to zero before it returns.
+            let outcome = catch_unwind(AssertUnwindSafe(|| unsafe { (*job)() }));
+            state = self::state();
+            state.idle += 1;
+            let call = state
+                .calls
+                .iter_mut()
+                .find(|c| c.id == id)
+                .expect("a call stays listed while a helper runs it");
+            call.running -= 1;
+            if let Err(panic) = outcome {
+                call.panic.get_or_insert(panic);
+            }
+            if call.running == 0 {
+                FINISHED.notify_all();
+            }
+        }
+    }
 }
 
 /// What the workers of [`map_in_order`] share.
@@ -112,6 +262,80 @@ mod tests {
             let want: Vec<(usize, usize)> = (0..50).map(|i| (i, i * i)).collect();
             assert_eq!(seen, want, "{threads} threads");
         }
+    }
+
+    /// Runs `pieces` pieces of `work` through `on_threads`, each once; returns the threads seen.
+    fn share(threads: usize, pieces: usize, work: impl Fn(usize) + Sync) -> usize {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        let next = AtomicUsize::new(0);
+        let seen = Mutex::new(std::collections::HashSet::new());
+        on_threads(threads, || {
+            loop {
+                let piece = next.fetch_add(1, Ordering::Relaxed);
+                if piece >= pieces {
+                    return;
+                }
+                seen.lock().unwrap().insert(std::thread::current().id());
+                work(piece);
+            }
+        });
+        assert!(next.into_inner() >= pieces);
+        seen.into_inner().unwrap().len()
+    }
+
+    #[test]
+    fn kept_helpers_share_the_work() {
+        // Pieces long enough for a helper to wake and take some.
+        let pause = std::time::Duration::from_millis(20);
+        let threads = share(3, 8, |_| std::thread::sleep(pause));
+        assert!((2..=3).contains(&threads), "{threads} threads ran");
+    }
+
+    #[test]
+    fn nested_and_concurrent_calls_each_do_all_their_work() {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        let done = AtomicUsize::new(0);
+        std::thread::scope(|scope| {
+            for _ in 0..4 {
+                scope.spawn(|| {
+                    share(4, 16, |_| {
+                        share(3, 5, |_| {
+                            done.fetch_add(1, Ordering::Relaxed);
+                        });
+                    });
+                });
+            }
+        });
+        assert_eq!(done.into_inner(), 4 * 16 * 5);
+    }
+
+    #[test]
+    fn a_helpers_panic_reaches_the_caller_after_every_worker_returned() {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        let running = AtomicUsize::new(0);
+        let caller = std::thread::current().id();
+        let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            share(2, 6, |_| {
+                running.fetch_add(1, Ordering::SeqCst);
+                std::thread::sleep(std::time::Duration::from_millis(10));
+                let helper = std::thread::current().id() != caller;
+                running.fetch_sub(1, Ordering::SeqCst);
+                assert!(!helper, "a helper's piece");
+            });
+        }));
+        let message = *outcome
+            .expect_err("the panic is raised")
+            .downcast::<&str>()
+            .unwrap();
+        assert_eq!(message, "a helper's piece");
+        assert_eq!(
+            running.into_inner(),
+            0,
+            "a worker still ran when the call returned"
+        );
+        // The helper lived through its panic: the next call is shared again.
+        let pause = std::time::Duration::from_millis(20);
+        assert_eq!(share(2, 8, |_| std::thread::sleep(pause)), 2);
     }
 
     #[test]

@@ -142,9 +142,17 @@ struct Motion {
     offset_mode: OffsetMode,
 }
 
-/// Frames computed per piece of work: small enough to share a take among the cores, large
-/// enough that taking a piece costs nothing next to computing it.
-const PIECE: usize = 1024;
+/// Joint transforms computed per piece of work (some 50 µs of it): small enough to share a
+/// take of a thousand frames among the cores, large enough that taking a piece and waking a
+/// helper cost little next to computing it.
+const PIECE_TRANSFORMS: usize = 8192;
+
+/// Frames per piece for a skeleton of `joints`: whole batches of [`LANES`] frames.
+fn piece_frames(joints: usize) -> usize {
+    (PIECE_TRANSFORMS / joints.max(1))
+        .next_multiple_of(LANES)
+        .clamp(LANES, 1024)
+}
 
 impl Motion {
     /// Frames `positions` and `world_matrices` can compute: every frame, or the rest pose as
@@ -201,20 +209,23 @@ impl Motion {
             .collect()
     }
 
-    /// `per_frame` floats of every frame in `frames`, computed by `compute(frames, out)` on
-    /// every core, piece by piece, each piece straight into its place in the result.
+    /// `per_frame` floats of every frame in `frames` (of a skeleton of `joints`), computed by
+    /// `compute(frames, out)` on every core, piece by piece, each piece straight into its place
+    /// in the result.
     fn per_frame_floats(
         frames: &[usize],
+        joints: usize,
         per_frame: usize,
         compute: impl Fn(&[usize], &mut [f32]) + Sync,
     ) -> Vec<f32> {
         let mut result = vec![0.0f32; frames.len() * per_frame];
+        let piece = piece_frames(joints);
         let pieces = Mutex::new(
             frames
-                .chunks(PIECE)
-                .zip(result.chunks_mut((PIECE * per_frame).max(1))),
+                .chunks(piece)
+                .zip(result.chunks_mut((piece * per_frame).max(1))),
         );
-        let threads = bvhview::cores().clamp(1, frames.len().div_ceil(PIECE).max(1));
+        let threads = bvhview::cores().clamp(1, frames.len().div_ceil(piece).max(1));
         bvhview::parallel::on_threads(threads, || {
             loop {
                 let next = pieces.lock().unwrap_or_else(PoisonError::into_inner).next();
@@ -238,7 +249,7 @@ impl Motion {
             return frames.iter().flat_map(|_| flatten(&rest)).collect();
         }
         let plan = FkPlan::new(skeleton, self.offset_mode);
-        Self::per_frame_floats(frames, joints * 3, |frames, out| {
+        Self::per_frame_floats(frames, joints, joints * 3, |frames, out| {
             let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
             let mut rows: Vec<&[f32]> = Vec::with_capacity(LANES);
             for (batch, out) in frames
@@ -261,7 +272,7 @@ impl Motion {
         let skeleton = &self.loaded.skeleton;
         let motion = &self.loaded.motion;
         let joints = skeleton.joints.len();
-        Self::per_frame_floats(frames, joints * 16, |frames, out| {
+        Self::per_frame_floats(frames, joints, joints * 16, |frames, out| {
             let mut matrices = Vec::with_capacity(joints);
             for (&frame, out) in frames.iter().zip(out.chunks_mut((joints * 16).max(1))) {
                 let row = if motion.frame_count() == 0 {

@@ -99,6 +99,35 @@ enum Source<'a> {
     Memory { text: &'a [u8], at: usize },
 }
 
+thread_local! {
+    /// This thread's chunk buffer between loads: a new one would cost a page fault for every
+    /// 4 KB of it when first read into, each load again.
+    static KEPT_BUFFER: std::cell::Cell<Vec<u8>> = const { std::cell::Cell::new(Vec::new()) };
+}
+
+/// Buffers grown larger than this by a long line are not kept.
+const MOST_KEPT: usize = 2 * CHUNK;
+
+/// This thread's kept chunk buffer, at least `length` bytes long.
+fn kept_buffer(length: usize) -> Vec<u8> {
+    let mut buffer = KEPT_BUFFER.take();
+    if buffer.len() < length {
+        buffer.resize(length, 0);
+    }
+    buffer
+}
+
+/// Gives a chunk buffer back to its thread when the worker ends, however it ends.
+struct KeptBuffer(Vec<u8>);
+
+impl Drop for KeptBuffer {
+    fn drop(&mut self) {
+        if self.0.capacity() > 0 && self.0.capacity() <= MOST_KEPT {
+            KEPT_BUFFER.set(std::mem::take(&mut self.0));
+        }
+    }
+}
+
 /// The reading side shared by the threads of `RowParser::feed_placed`.
 struct Stream<'a> {
     input: Source<'a>,
@@ -484,17 +513,17 @@ impl RowParser {
         let done = std::sync::Mutex::new(Vec::<Chunk>::new());
         let chunk_size = self.chunk;
         let work = || {
-            let mut buffer = match memory {
+            let mut buffer = KeptBuffer(match memory {
                 Some(_) => Vec::new(),
-                None => vec![0u8; chunk_size + chunk_size / 4],
-            };
+                None => kept_buffer(chunk_size + chunk_size / 4),
+            });
             loop {
-                let Some(job) = lock(&stream).next_chunk(&mut buffer) else {
+                let Some(job) = lock(&stream).next_chunk(&mut buffer.0) else {
                     return;
                 };
                 let text = match (memory, &job.range) {
                     (Some(memory), Some(range)) => &memory[range.clone()],
-                    _ => &buffer[..job.length],
+                    _ => &buffer.0[..job.length],
                 };
                 // SAFETY: each job's stretch starts where the previous job's ends and all of them
                 // end by `room_rows`, inside the capacity; the result is not touched until every
