@@ -27,6 +27,8 @@ const UNKNOWN_ROOM_VALUES: u64 = 16 << 20;
 
 mod number;
 mod scan;
+#[cfg(target_arch = "x86_64")]
+mod wide;
 
 use number::is_blank;
 pub use number::parse_number;

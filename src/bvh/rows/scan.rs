@@ -2,6 +2,8 @@
 //! visited as bits, each number checked with a few mask operations.
 
 use super::number::{eight_digits, is_blank, parse_number, read_decimal};
+#[cfg(target_arch = "x86_64")]
+use super::wide::Wide;
 use crate::lines::is_line_end;
 
 /// What went wrong in a row, at a byte offset of the part being parsed.
@@ -13,6 +15,15 @@ pub(super) enum Problem {
     TooFew(usize, usize),
     /// This word is not a finite number.
     NotANumber(usize, usize),
+}
+
+impl Problem {
+    /// Where the problem is: where parsing stops.
+    fn start(self) -> usize {
+        match self {
+            Problem::TooMany(at) | Problem::TooFew(at, _) | Problem::NotANumber(at, _) => at,
+        }
+    }
 }
 
 /// The result of parsing one part of a chunk.
@@ -27,12 +38,20 @@ pub(super) struct Part {
 /// Where parsed values go.
 pub(super) trait Sink {
     fn push(&mut self, value: f32);
+
+    /// Eight values at once.
+    fn push_eight(&mut self, values: &[f32; 8]);
 }
 
 impl Sink for Vec<f32> {
     #[inline(always)]
     fn push(&mut self, value: f32) {
         Vec::push(self, value)
+    }
+
+    #[inline(always)]
+    fn push_eight(&mut self, values: &[f32; 8]) {
+        self.extend_from_slice(values)
     }
 }
 
@@ -49,6 +68,15 @@ impl Sink for SliceSink<'_> {
         // and indexing stops it.
         self.room[self.written].write(value);
         self.written += 1;
+    }
+
+    #[inline(always)]
+    fn push_eight(&mut self, values: &[f32; 8]) {
+        let room = &mut self.room[self.written..self.written + 8];
+        for (slot, &value) in room.iter_mut().zip(values) {
+            slot.write(value);
+        }
+        self.written += 8;
     }
 }
 
@@ -104,6 +132,12 @@ impl Block {
         block
     }
 
+    /// 1 when byte `i` is '-', else 0.
+    #[inline(always)]
+    pub(super) fn minus_at(&self, i: usize) -> usize {
+        (self.minus >> i) as usize & 1
+    }
+
     #[cfg(not(target_arch = "x86_64"))]
     #[inline(always)]
     fn of_64(bytes: &[u8; 64]) -> Block {
@@ -120,7 +154,7 @@ impl Block {
 }
 
 /// 10⁻⁰ to 10⁻⁷, each rounded to the nearest double.
-const INV_POW10_F64: [f64; 8] = [1e0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7];
+pub(super) const INV_POW10_F64: [f64; 8] = [1e0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7];
 
 /// `digits / 10^scale` as `(float)atof` reads it, for `digits < 10⁷` and `scale ≤ 7`.
 ///
@@ -148,7 +182,7 @@ pub(super) fn read_short_number(
     i: usize,
 ) -> Option<f32> {
     const LOW: u64 = 0x0101_0101_0101_0101;
-    let negative = (block.minus >> i) as usize & 1;
+    let negative = block.minus_at(i);
     let body_length = length - negative;
     let body_mask = (1u64 << body_length.min(63)) - 1;
     let body = ((block.digit | block.dot) >> i) >> negative;
@@ -208,7 +242,109 @@ pub(super) fn word_end(text: &[u8], at: usize) -> usize {
 /// the bits of word starts and line ends are then visited in order. So where the next number
 /// starts never waits for the previous one to be read, and a number's shape is checked with a few
 /// mask operations. A window ends before a word that runs past it, which starts the next window.
+///
+/// Where the CPU has AVX-512, numbers are queued and read eight at a time ([`Wide`]), with the
+/// same results.
 pub(super) fn parse_rows<S: Sink>(text: &[u8], width: usize, limit: usize, out: &mut S) -> Part {
+    #[cfg(target_arch = "x86_64")]
+    if super::wide::available() {
+        // SAFETY: the CPU has just been found to have what `Wide` needs.
+        return unsafe { parse_rows_wide(text, width, limit, out) };
+    }
+    parse_rows_with(text, width, limit, out, &mut OneByOne)
+}
+
+/// [`parse_rows`] compiled for AVX-512, reading through [`Wide`].
+///
+/// # Safety
+/// The CPU must have what [`super::wide::available`] checks.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f,avx512bw,avx512cd")]
+unsafe fn parse_rows_wide<S: Sink>(text: &[u8], width: usize, limit: usize, out: &mut S) -> Part {
+    parse_rows_with(text, width, limit, out, &mut WideReader(Wide::default()))
+}
+
+/// How the row loop reads the numbers it finds: at once, or queued and read in a batch.
+trait NumberReader {
+    /// Reads (or queues) the word at `at`, `length` bytes long, at bit `i` of `block`.
+    fn number<S: Sink>(
+        &mut self,
+        text: &[u8],
+        at: usize,
+        length: usize,
+        block: &Block,
+        i: usize,
+        out: &mut S,
+    ) -> Result<(), Problem>;
+
+    /// Reads every queued word; the row loop calls it before it counts a row or stops.
+    fn flush<S: Sink>(&mut self, text: &[u8], out: &mut S) -> Result<(), Problem>;
+}
+
+/// Each number read where it is found.
+struct OneByOne;
+
+impl NumberReader for OneByOne {
+    #[inline(always)]
+    fn number<S: Sink>(
+        &mut self,
+        text: &[u8],
+        at: usize,
+        length: usize,
+        block: &Block,
+        i: usize,
+        out: &mut S,
+    ) -> Result<(), Problem> {
+        let value = match read_short_number(text, at, length, block, i) {
+            Some(value) => value,
+            None => read_any_number(text, at)?,
+        };
+        out.push(value);
+        Ok(())
+    }
+
+    #[inline(always)]
+    fn flush<S: Sink>(&mut self, _: &[u8], _: &mut S) -> Result<(), Problem> {
+        Ok(())
+    }
+}
+
+/// Numbers queued and read eight at a time; only made where the CPU can run [`Wide`].
+#[cfg(target_arch = "x86_64")]
+struct WideReader(Wide);
+
+#[cfg(target_arch = "x86_64")]
+impl NumberReader for WideReader {
+    #[inline(always)]
+    fn number<S: Sink>(
+        &mut self,
+        text: &[u8],
+        at: usize,
+        length: usize,
+        block: &Block,
+        i: usize,
+        out: &mut S,
+    ) -> Result<(), Problem> {
+        // SAFETY: a `WideReader` is only made by `parse_rows_wide`, whose caller checked the CPU.
+        unsafe { self.0.number(text, at, length, block, i, out) }
+    }
+
+    #[inline(always)]
+    fn flush<S: Sink>(&mut self, text: &[u8], out: &mut S) -> Result<(), Problem> {
+        // SAFETY: as in `number`.
+        unsafe { self.0.flush(text, out) }
+    }
+}
+
+/// [`parse_rows`] reading numbers through `reader`.
+#[inline(always)]
+fn parse_rows_with<S: Sink, R: NumberReader>(
+    text: &[u8],
+    width: usize,
+    limit: usize,
+    out: &mut S,
+    reader: &mut R,
+) -> Part {
     let stopped = |rows, problem, end| Part { rows, problem, end };
     if limit == 0 {
         return stopped(0, None, 0);
@@ -228,6 +364,9 @@ pub(super) fn parse_rows<S: Sink>(text: &[u8], width: usize, limit: usize, out: 
         };
         if advance == 0 {
             // One word fills the window (it starts here: every window starts after whitespace).
+            if let Err(problem) = reader.flush(text, out) {
+                return stopped(rows, Some((rows, problem)), problem.start());
+            }
             if values == width {
                 return stopped(rows, Some((rows, Problem::TooMany(base))), base);
             }
@@ -248,6 +387,9 @@ pub(super) fn parse_rows<S: Sink>(text: &[u8], width: usize, limit: usize, out: 
             events &= events - 1;
             let at = base + i;
             if line_ends >> i & 1 != 0 {
+                if let Err(problem) = reader.flush(text, out) {
+                    return stopped(rows, Some((rows, problem)), problem.start());
+                }
                 if values == width {
                     rows += 1;
                     values = 0;
@@ -260,21 +402,24 @@ pub(super) fn parse_rows<S: Sink>(text: &[u8], width: usize, limit: usize, out: 
                 continue;
             }
             if values == width {
-                return stopped(rows, Some((rows, Problem::TooMany(at))), at);
+                // A word queued before this one may be the first problem.
+                let problem = reader
+                    .flush(text, out)
+                    .err()
+                    .unwrap_or(Problem::TooMany(at));
+                return stopped(rows, Some((rows, problem)), problem.start());
             }
             let length = (block.whitespace >> i).trailing_zeros() as usize;
-            let value = match read_short_number(text, at, length, &block, i) {
-                Some(value) => value,
-                None => match read_any_number(text, at) {
-                    Ok(value) => value,
-                    Err(problem) => return stopped(rows, Some((rows, problem)), at),
-                },
-            };
-            out.push(value);
+            if let Err(problem) = reader.number(text, at, length, &block, i, out) {
+                return stopped(rows, Some((rows, problem)), problem.start());
+            }
             values += 1;
         }
         after_whitespace = (block.whitespace >> (advance - 1)) & 1;
         base += advance;
+    }
+    if let Err(problem) = reader.flush(text, out) {
+        return stopped(rows, Some((rows, problem)), problem.start());
     }
     if values == width {
         rows += 1;
@@ -292,6 +437,27 @@ pub(super) fn parse_rows<S: Sink>(text: &[u8], width: usize, limit: usize, out: 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// [`super::parse_rows`] one number at a time and, where the CPU has the lanes, eight at a
+    /// time, which must agree in everything: rows, problem, where parsing stopped, and values.
+    fn parse_rows(text: &[u8], width: usize, limit: usize, out: &mut Vec<f32>) -> Part {
+        let part = parse_rows_with(text, width, limit, out, &mut OneByOne);
+        #[cfg(target_arch = "x86_64")]
+        if super::super::wide::available() {
+            let mut wide_out = Vec::new();
+            // SAFETY: the CPU has just been found to have the lanes.
+            let wide = unsafe { parse_rows_wide(text, width, limit, &mut wide_out) };
+            let text = String::from_utf8_lossy(text);
+            assert_eq!(
+                (wide.rows, wide.end, format!("{:?}", wide.problem)),
+                (part.rows, part.end, format!("{:?}", part.problem)),
+                "{text:?}"
+            );
+            let bits = |values: &[f32]| values.iter().map(|v| v.to_bits()).collect::<Vec<_>>();
+            assert_eq!(bits(&wide_out), bits(out), "{text:?}");
+        }
+        part
+    }
 
     /// What `(float)atof(word)` gives: the nearest double, then the nearest float.
     fn reference(word: &str) -> f32 {
@@ -371,6 +537,47 @@ mod tests {
             let part = parse_rows(row.as_bytes(), 2, 1, &mut out);
             assert!(part.problem.is_none(), "{word}");
             assert_eq!(out[0].to_bits(), want.to_bits(), "{word}");
+        }
+    }
+
+    #[test]
+    fn every_shape_of_short_word_reads_as_atof_at_the_text_end_and_before_more() {
+        // Bodies of 0 to 9 bytes, a dot at every place or none, with or without '-': the shapes
+        // the lanes read or refuse, read where the eight bytes after a word run past the text
+        // and where they hold the next words.
+        let mut seed: u64 = 0x853C_49E6_748F_EA9B;
+        for length in 0..=9 {
+            for dot in (0..=length).map(Some).chain([None]) {
+                for sign in ["", "-"] {
+                    for _ in 0..40 {
+                        let mut body: Vec<u8> = (0..length)
+                            .map(|_| {
+                                seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1);
+                                b'0' + (seed >> 60) as u8 % 10
+                            })
+                            .collect();
+                        if let Some(dot) = dot {
+                            body.insert(dot, b'.');
+                        }
+                        let word = format!("{sign}{}", String::from_utf8(body).unwrap());
+                        if word.is_empty() {
+                            continue;
+                        }
+                        let want = word.parse::<f64>().ok().map(|v| (v as f32).to_bits());
+                        for text in [
+                            word.clone(),
+                            format!("{word}\n"),
+                            format!("{word} 7.25 -1\n"),
+                        ] {
+                            let width = text.split_whitespace().count().max(1);
+                            let mut out = Vec::new();
+                            let part = parse_rows(text.as_bytes(), width, 1, &mut out);
+                            let got = part.problem.is_none().then(|| out[0].to_bits());
+                            assert_eq!(got, want, "{text:?}");
+                        }
+                    }
+                }
+            }
         }
     }
 
