@@ -1,7 +1,7 @@
 //! Files larger than the loader's chunks: values, errors and warnings are exactly those of a
-//! small file, whatever the line endings, through `load_bytes`, through `load_file` (which reads
-//! files this size whole) and streamed through chunk buffers, on one thread and on several
-//! whatever the machine's core count.
+//! small file, whatever the line endings, through `load_bytes`, through `load_file` (which streams
+//! files this size through chunk buffers), and read whole into memory however large, on one
+//! thread and on several whatever the machine's core count.
 
 use bvhview::bvh::rows::CHUNK;
 
@@ -38,16 +38,16 @@ fn both(
     };
     let from_file = bvhview::bvh::load_file(&path)
         .map_err(|e| e.to_string().replace(&path.display().to_string(), "t.bvh"));
-    // Streamed through chunk buffers even though the file is small enough to be read whole.
-    let stream = |threads: usize| {
-        bvhview::bvh::loader::load_file_streaming_over(&path, threads, u64::MAX, 0)
+    // Read whole into memory, however large the file, and parsed where it lies.
+    let whole = |threads: usize| {
+        bvhview::bvh::loader::load_file_streaming_over(&path, threads, u64::MAX, u64::MAX)
             .map_err(|e| e.to_string().replace(&path.display().to_string(), "t.bvh"))
     };
     // The same on one thread and on four, whatever this machine's core count makes the default,
-    // read whole or streamed.
+    // streamed or read whole.
     for (threads, result) in [1, 4]
         .into_iter()
-        .flat_map(|threads| [(threads, load(threads)), (threads, stream(threads))])
+        .flat_map(|threads| [(threads, load(threads)), (threads, whole(threads))])
     {
         match (&from_file, result) {
             (Ok(a), Ok(b)) => {

@@ -24,20 +24,42 @@ fn mb_per_s(bytes: usize, time: Duration) -> f64 {
     bytes as f64 / 1e6 / time.as_secs_f64()
 }
 
-/// Minor page faults of this process so far (each first write to a fresh page is one).
-fn page_faults() -> i64 {
+/// Minor page faults of this process so far (each first write to a fresh page is one); `None`
+/// where the system does not count them for us.
+#[cfg(unix)]
+fn page_faults() -> Option<i64> {
     // SAFETY: getrusage only writes the struct it is given.
     unsafe {
         let mut usage: libc::rusage = std::mem::zeroed();
-        libc::getrusage(libc::RUSAGE_SELF, &mut usage);
-        usage.ru_minflt
+        (libc::getrusage(libc::RUSAGE_SELF, &mut usage) == 0).then_some(usage.ru_minflt)
     }
+}
+
+#[cfg(not(unix))]
+fn page_faults() -> Option<i64> {
+    None
+}
+
+/// Prints what is wrong and how the bench is called, and exits 2.
+fn usage_error(message: &str) -> ! {
+    eprintln!(
+        "bvhview-bench: {message}\n\
+         usage: bvhview-bench BIG.bvh [--quick]   (make one: cargo run --release --example make_big -- SOURCE.bvh BIG.bvh 100)\n\
+         \x20      bvhview-bench --folder DIR"
+    );
+    std::process::exit(2);
+}
+
+/// Prints an error about the input and exits 1.
+fn input_error(message: impl std::fmt::Display) -> ! {
+    eprintln!("bvhview-bench: {message}");
+    std::process::exit(1);
 }
 
 /// One pass over `files`: load on every core (as `bvhview.load` does), then positions of every
 /// frame on one core, kept until the pass ends (as a script keeping its arrays would). Returns
 /// load time, positions time and page faults.
-fn folder_pass(files: &[std::path::PathBuf]) -> (Duration, Duration, i64) {
+fn folder_pass(files: &[std::path::PathBuf]) -> (Duration, Duration, Option<i64>) {
     use bvhview::pose::{FkPlan, FkScratch, LANES, OffsetMode};
     let (mut load, mut positions) = (Duration::ZERO, Duration::ZERO);
     let faults = page_faults();
@@ -45,7 +67,7 @@ fn folder_pass(files: &[std::path::PathBuf]) -> (Duration, Duration, i64) {
     for file in files {
         let start = Instant::now();
         let loaded = bvhview::input::load_checked(file, None, None, bvhview::cores(), u64::MAX)
-            .unwrap_or_else(|e| panic!("{e}"));
+            .unwrap_or_else(|e| input_error(e));
         let loaded_at = Instant::now();
         let plan = FkPlan::new(&loaded.skeleton, OffsetMode::Replace);
         let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
@@ -61,12 +83,15 @@ fn folder_pass(files: &[std::path::PathBuf]) -> (Duration, Duration, i64) {
         load += loaded_at - start;
         kept.push((loaded, out));
     }
-    (load, positions, page_faults() - faults)
+    let faults = page_faults()
+        .zip(faults)
+        .map(|(after, before)| after - before);
+    (load, positions, faults)
 }
 
 fn folder(dir: &str) {
     let mut files: Vec<std::path::PathBuf> = std::fs::read_dir(dir)
-        .unwrap_or_else(|e| panic!("{dir}: {e}"))
+        .unwrap_or_else(|e| input_error(format!("{dir}: {e}")))
         .filter_map(|entry| entry.ok().map(|e| e.path()))
         .filter(|path| {
             path.extension()
@@ -85,45 +110,67 @@ fn folder(dir: &str) {
         bytes as f64 / 1e6,
         bvhview::cores()
     );
+    if files.is_empty() {
+        input_error(format!("{dir}: no .bvh file in it"));
+    }
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    let counted = |faults: Option<i64>| {
+        faults.map_or("page faults not counted here".into(), |n| {
+            format!("{n} page faults")
+        })
+    };
     let (load, positions, faults) = folder_pass(&files);
     println!(
-        "first pass (fresh process): load {:.2} ms + positions {:.2} ms = {:.2} ms, {faults} page faults",
+        "first pass (fresh process): load {:.2} ms + positions {:.2} ms = {:.2} ms, {}",
         ms(load),
         ms(positions),
-        ms(load + positions)
+        ms(load + positions),
+        counted(faults)
     );
     let later = (0..10)
         .map(|_| folder_pass(&files))
         .min_by_key(|(l, p, _)| *l + *p);
     let (load, positions, faults) = later.expect("ten passes");
     println!(
-        "best of 10 later passes:   load {:.2} ms + positions {:.2} ms = {:.2} ms, {faults} page faults",
+        "best of 10 later passes:   load {:.2} ms + positions {:.2} ms = {:.2} ms, {}",
         ms(load),
         ms(positions),
-        ms(load + positions)
+        ms(load + positions),
+        counted(faults)
     );
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).collect();
-    if let Some(at) = args.iter().position(|a| a == "--folder") {
-        let Some(dir) = args.get(at + 1) else {
-            eprintln!("usage: bvhview-bench --folder DIR");
-            std::process::exit(2);
-        };
-        folder(dir);
-        return;
+    let (mut folder_dir, mut file, mut quick) = (None, None, false);
+    let mut args = std::env::args().skip(1);
+    while let Some(arg) = args.next() {
+        match arg.as_str() {
+            "--folder" => match args.next() {
+                Some(dir) if !dir.starts_with("--") => folder_dir = Some(dir),
+                _ => usage_error("--folder needs a folder"),
+            },
+            "--quick" => quick = true,
+            option if option.starts_with("--") => usage_error(&format!("no option {option}")),
+            _ if file.is_some() => usage_error("one BIG.bvh at a time"),
+            _ => file = Some(arg),
+        }
     }
-    let Some(path) = args.iter().find(|a| !a.starts_with("--")) else {
-        eprintln!(
-            "usage: bvhview-bench BIG.bvh [--quick]   (make one: cargo run --release --example make_big -- SOURCE.bvh BIG.bvh 100)"
-        );
-        std::process::exit(2);
-    };
-    let quick = args.iter().any(|a| a == "--quick");
+    match (folder_dir, file) {
+        (Some(_), Some(path)) => usage_error(&format!("--folder or {path}, not both")),
+        (Some(_), None) if quick => usage_error("--quick is for BIG.bvh, not --folder"),
+        (Some(dir), None) => folder(&dir),
+        (None, Some(path)) => big(&path, quick),
+        (None, None) => usage_error("no file given"),
+    }
+}
+
+/// Every throughput of the bench on one big file.
+fn big(path: &str, quick: bool) {
     let runs = if quick { 2 } else { 7 };
-    let bytes = std::fs::read(path).expect("the file reads");
+    let bytes = std::fs::read(path).unwrap_or_else(|e| input_error(format!("{path}: {e}")));
+    if let Err(e) = bvhview::bvh::load_bytes(&bytes, path) {
+        input_error(e);
+    }
     let size = bytes.len();
     println!(
         "file: {path} ({:.1} MB), {} cores",

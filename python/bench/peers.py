@@ -11,8 +11,9 @@ table says so. A file a tool cannot load is counted, with the error's type.
 Each worker waits --settle seconds after its import before timing anything: importing numpy
 starts OpenBLAS threads that spin on the cores for about a tenth of a second, and work timed in
 that window (a few milliseconds for bvhview on the folder) measures the spinning, not the tool.
-Every tool is run --repeat times and its fastest run counts, except a tool whose run takes
-longer than --repeat-under seconds, which runs once.
+Every tool is run --repeat times and its fastest run counts, except a tool whose load +
+positions (the measured total, extrapolation included) come to more than --repeat-under seconds
+in a run, or whose run failed: it runs once.
 """
 
 import argparse
@@ -240,9 +241,12 @@ def main():
     parser.add_argument("--repeat", type=int, default=3,
                         help="runs of each tool; the fastest counts")
     parser.add_argument("--repeat-under", type=float, default=10,
-                        help="a tool whose run takes longer than this many seconds runs once")
+                        help="a tool whose load + positions take longer than this many seconds "
+                             "in a run runs once")
     parser.add_argument("--json", type=Path, help="also write every figure here")
     args = parser.parse_args()
+    if args.repeat < 1:
+        parser.error("--repeat must be at least 1")
     if args.worker:
         return worker(args.worker, [Path(p) for p in args.paths], args.budget, args.settle)
 

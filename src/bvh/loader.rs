@@ -62,10 +62,11 @@ pub fn load_file_with(path: &Path, threads: usize, max_size: u64) -> Result<Bvh,
 
 /// Files up to this size (one smallest chunk) are read whole and parsed where they lie; larger
 /// ones stream through chunk buffers, so memory stays at about the values' size however large the
-/// file is. Streaming is also the faster way in a fresh process: every page of a new buffer the
-/// size of the file costs a page fault on its first write (0.5–2 µs each on the 2-vCPU VM of the
-/// README's measurements), while chunk buffers are a few and reused. A 5 MB file's first load
-/// there: 3.6–4.5 ms streamed, 5.4–7.7 ms read whole; loads after the first: 2.3 ms either way.
+/// file is. Streaming is also the faster way in a fresh process: every 4 KB page of a new buffer
+/// the size of the file costs a page fault on its first write, while each thread keeps its chunk
+/// buffer from load to load. A 5 MB file's first load on the 2-vCPU VM of the README's
+/// measurements: 3.6–4.5 ms streamed, 5.4–7.7 ms read whole; loads after the first: 2.3 ms
+/// either way.
 pub const WHOLE_FILE: u64 = 64 << 10;
 
 /// [`load_file_with`], streaming every file larger than `whole_file` bytes (tests give 0 to

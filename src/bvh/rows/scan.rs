@@ -160,10 +160,11 @@ pub(super) const INV_POW10_F64: [f64; 8] = [1e0, 1e-1, 1e-2, 1e-3, 1e-4, 1e-5, 1
 ///
 /// `atof` gives the double nearest the quotient, then the cast rounds that to a float. Here the
 /// quotient is a product with the rounded reciprocal (a multiplication is several times cheaper
-/// than a division): that double lies within 2⁻⁵² of the quotient, relative, and a quotient of a
-/// 7-digit integer by 10^scale is never that close to a midpoint between two floats (its distance
-/// is at least 2⁻⁴⁸ of the value, or zero when the quotient is itself a float), so both round to
-/// the same float. A test checks all 80 million cases.
+/// than a division). The reciprocal and the product are each rounded once, so the product lies
+/// within 2⁻⁵² (and a term of 2⁻¹⁰⁶) of the quotient, relative. Both doubles round to the same
+/// float unless the quotient lies that close to a midpoint between two floats, and none does: a
+/// quotient that is a binary fraction has at most 24 significant bits, so it is a float itself,
+/// and for every other one the test of all 80 million (digits, scale) cases shows it.
 #[inline(always)]
 pub(super) fn short_decimal(digits: u32, scale: usize) -> f32 {
     (f64::from(digits) * INV_POW10_F64[scale]) as f32
