@@ -116,11 +116,12 @@ impl Wide {
             out.push_eight(&values);
             return Ok(());
         }
-        for (k, (&value, &start)) in values.iter().zip(&self.starts).take(queued).enumerate() {
+        #[allow(clippy::needless_range_loop)]
+        for k in 0..queued {
             if read >> k & 1 != 0 {
-                out.push(value);
+                out.push(values[k]);
             } else {
-                out.push(read_any_number(text, start)?);
+                out.push(read_any_number(text, self.starts[k])?);
             }
         }
         Ok(())
