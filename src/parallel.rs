@@ -47,6 +47,9 @@ mod pool {
         next_id: u64,
         helpers: usize,
         idle: usize,
+        /// The process the helpers were started in: a child made by `fork` (Python's
+        /// multiprocessing does) has none of them and starts its own.
+        process: u32,
     }
 
     // SAFETY: a `Job` is only called while its `run` waits, and the worker is `Sync`.
@@ -57,6 +60,7 @@ mod pool {
         next_id: 0,
         helpers: 0,
         idle: 0,
+        process: 0,
     });
     /// Helpers wait here for a turn.
     static WORK: Condvar = Condvar::new();
@@ -80,6 +84,11 @@ mod pool {
         };
         let id = {
             let mut state = state();
+            let process = std::process::id();
+            if state.process != process {
+                (state.helpers, state.idle, state.process) = (0, 0, process);
+                state.calls.clear();
+            }
             let id = state.next_id;
             state.next_id += 1;
             state.calls.push(Call {

@@ -412,6 +412,35 @@ def test_python_threads_run_while_a_take_loads_and_computes(tmp_path):
     assert last - first > 0.5 * call["seconds"]
 
 
+def test_a_forked_child_loads_and_computes_as_its_parent():
+    """Python's multiprocessing forks by default on Linux: the child has none of the parent's
+    helper threads, yet loads and computes the same values, on threads of its own, without
+    waiting on helpers that are not there."""
+    import os
+
+    path = DATA / "bvh" / "assimp_01_01.bvh"
+    take = bvhview.load(path)
+    want = take.positions()
+    child = os.fork()
+    if child == 0:
+        same = False
+        try:
+            again = bvhview.load(path)
+            same = np.array_equal(again.values, take.values) and np.array_equal(
+                again.positions(), want
+            )
+        finally:
+            os._exit(0 if same else 1)
+    deadline = time.monotonic() + 60
+    while (ended := os.waitpid(child, os.WNOHANG)) == (0, 0):
+        if time.monotonic() > deadline:
+            os.kill(child, 9)
+            os.waitpid(child, 0)
+            pytest.fail("the forked child did not finish in 60 s")
+        time.sleep(0.01)
+    assert os.waitstatus_to_exitcode(ended[1]) == 0
+
+
 # Saving.
 
 

@@ -101,31 +101,32 @@ enum Source<'a> {
     Memory { text: &'a [u8], at: usize },
 }
 
-thread_local! {
-    /// This thread's chunk buffer between loads: a new one would cost a page fault for every
-    /// 4 KB of it when first read into, each load again.
-    static KEPT_BUFFER: std::cell::Cell<Vec<u8>> = const { std::cell::Cell::new(Vec::new()) };
-}
+/// Chunk buffers between loads, one per core at most: a new buffer would cost a page fault for
+/// every 4 KB of it when first read into, each load again.
+static KEPT_BUFFERS: std::sync::Mutex<Vec<Vec<u8>>> = std::sync::Mutex::new(Vec::new());
 
 /// Buffers grown larger than this by a long line are not kept.
 const MOST_KEPT: usize = 2 * CHUNK;
 
-/// This thread's kept chunk buffer, at least `length` bytes long.
+/// A kept chunk buffer (or a new one), at least `length` bytes long.
 fn kept_buffer(length: usize) -> Vec<u8> {
-    let mut buffer = KEPT_BUFFER.take();
+    let mut buffer = lock(&KEPT_BUFFERS).pop().unwrap_or_default();
     if buffer.len() < length {
         buffer.resize(length, 0);
     }
     buffer
 }
 
-/// Gives a chunk buffer back to its thread when the worker ends, however it ends.
+/// Gives a chunk buffer back to be kept when the worker ends, however it ends.
 struct KeptBuffer(Vec<u8>);
 
 impl Drop for KeptBuffer {
     fn drop(&mut self) {
         if self.0.capacity() > 0 && self.0.capacity() <= MOST_KEPT {
-            KEPT_BUFFER.set(std::mem::take(&mut self.0));
+            let mut kept = lock(&KEPT_BUFFERS);
+            if kept.len() < crate::cores().min(8) {
+                kept.push(std::mem::take(&mut self.0));
+            }
         }
     }
 }
