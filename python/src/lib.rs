@@ -675,6 +675,14 @@ fn load_many(
 /// Load BVH and ASF/AMC motion capture into numpy arrays (bvhview's Rust loader and FK).
 #[pymodule]
 fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
+    // One-time setup done at import, as a C extension's `import_array()` in its module init:
+    // numpy's C API, the numpy crate's shared borrow flags and the owner type of arrays made
+    // from Rust vectors (each fetched on first use otherwise), and the core count (which reads
+    // the cgroup's CPU limits): some 0.6 ms the first load and arrays would pay otherwise.
+    let empty = numpy::PyArray1::<f32>::zeros(module.py(), 0, false);
+    drop(empty.try_readwrite());
+    Vec::<f32>::new().into_pyarray(module.py());
+    bvhview::cores();
     module.add_function(wrap_pyfunction!(load, module)?)?;
     module.add_function(wrap_pyfunction!(load_many, module)?)?;
     module.add_class::<Motion>()?;
