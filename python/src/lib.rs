@@ -634,7 +634,8 @@ fn load_many(
         };
         let mut order: Vec<usize> = (0..items.len()).collect();
         order.sort_by_key(|&index| std::cmp::Reverse(size(&items[index])));
-        let mut slots: Vec<Option<Result<Loaded, Error>>> = (0..items.len()).map(|_| None).collect();
+        let mut slots: Vec<Option<Result<Loaded, Error>>> =
+            (0..items.len()).map(|_| None).collect();
         bvhview::parallel::map_in_order(
             items.len(),
             cores,
