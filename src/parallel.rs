@@ -7,7 +7,54 @@
 //! per file (load, then positions).
 
 use std::collections::BTreeMap;
+use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
+use std::sync::atomic::{AtomicPtr, Ordering};
 use std::sync::{Condvar, Mutex, PoisonError};
+
+/// A value of which each process has its own. A child made by `fork` (Python's multiprocessing
+/// does) has only the thread that forked: a lock another thread of the parent held at that
+/// moment stays locked in the child for good, and threads the value counts on are not there.
+/// So the child starts a fresh value, and the parent's copy is left as it is.
+pub(crate) struct PerProcess<T: 'static> {
+    /// The process that made the value, and the value. Never freed once published, so a
+    /// reference to it lives as long as the program.
+    current: AtomicPtr<(u32, T)>,
+    make: fn() -> T,
+}
+
+impl<T: Send + Sync + 'static> PerProcess<T> {
+    pub(crate) const fn new(make: fn() -> T) -> Self {
+        PerProcess {
+            current: AtomicPtr::new(std::ptr::null_mut()),
+            make,
+        }
+    }
+
+    /// This process's value, made on first use.
+    pub(crate) fn get(&self) -> &'static T {
+        let process = std::process::id();
+        loop {
+            let seen = self.current.load(Ordering::Acquire);
+            // SAFETY: a published pointer came from `Box::into_raw` and is never freed.
+            if let Some((made_in, value)) = unsafe { seen.as_ref() }
+                && *made_in == process
+            {
+                return value;
+            }
+            let fresh = Box::into_raw(Box::new((process, (self.make)())));
+            match (self.current).compare_exchange(seen, fresh, Ordering::AcqRel, Ordering::Acquire)
+            {
+                // The value replaced, if any, is a parent's: it is left alone (leaked), since
+                // a lock in it may be held by a thread that is not in this process.
+                // SAFETY: just published, never freed.
+                Ok(_) => return unsafe { &(*fresh).1 },
+                // Another thread of this process published first: use its value.
+                // SAFETY: `fresh` was never shared.
+                Err(_) => drop(unsafe { Box::from_raw(fresh) }),
+            }
+        }
+    }
+}
 
 /// Runs `worker` on up to `threads` threads, this one among them, and returns when every one
 /// has returned. Each worker takes its own work from whatever state they share, so however many
@@ -25,6 +72,7 @@ pub fn on_threads(threads: usize, worker: impl Fn() + Sync) {
 
 /// The kept helper threads and the calls waiting for them.
 mod pool {
+    use super::PerProcess;
     use std::any::Any;
     use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
     use std::sync::{Condvar, Mutex, MutexGuard, PoisonError};
@@ -47,30 +95,39 @@ mod pool {
         next_id: u64,
         helpers: usize,
         idle: usize,
-        /// The process the helpers were started in: a child made by `fork` (Python's
-        /// multiprocessing does) has none of them and starts its own.
-        process: u32,
     }
 
     // SAFETY: a `Job` is only called while its `run` waits, and the worker is `Sync`.
     unsafe impl Send for State {}
 
-    static STATE: Mutex<State> = Mutex::new(State {
-        calls: Vec::new(),
-        next_id: 0,
-        helpers: 0,
-        idle: 0,
-        process: 0,
+    /// The helpers of a process: a child made by `fork` has none of its parent's, and starts
+    /// its own.
+    struct Pool {
+        state: Mutex<State>,
+        /// Helpers wait here for a turn.
+        work: Condvar,
+        /// Callers wait here for their running helpers to return.
+        finished: Condvar,
+    }
+
+    static POOL: PerProcess<Pool> = PerProcess::new(|| Pool {
+        state: Mutex::new(State {
+            calls: Vec::new(),
+            next_id: 0,
+            helpers: 0,
+            idle: 0,
+        }),
+        work: Condvar::new(),
+        finished: Condvar::new(),
     });
-    /// Helpers wait here for a turn.
-    static WORK: Condvar = Condvar::new();
-    /// Callers wait here for their running helpers to return.
-    static FINISHED: Condvar = Condvar::new();
+
     /// No more helpers than this, whatever is asked.
     const MOST_HELPERS: usize = 63;
 
-    fn state() -> MutexGuard<'static, State> {
-        STATE.lock().unwrap_or_else(PoisonError::into_inner)
+    impl Pool {
+        fn state(&self) -> MutexGuard<'_, State> {
+            self.state.lock().unwrap_or_else(PoisonError::into_inner)
+        }
     }
 
     /// Offers `helpers` turns at `worker`, runs it here too, then waits for the helpers that
@@ -82,13 +139,9 @@ mod pool {
         let job: Job = unsafe {
             std::mem::transmute::<*const (dyn Fn() + Sync + '_), Job>(worker as *const _)
         };
+        let pool = POOL.get();
         let id = {
-            let mut state = state();
-            let process = std::process::id();
-            if state.process != process {
-                (state.helpers, state.idle, state.process) = (0, 0, process);
-                state.calls.clear();
-            }
+            let mut state = pool.state();
             let id = state.next_id;
             state.next_id += 1;
             state.calls.push(Call {
@@ -102,7 +155,7 @@ mod pool {
             while state.helpers < helpers {
                 if std::thread::Builder::new()
                     .name("bvhview-helper".into())
-                    .spawn(helper)
+                    .spawn(|| helper(pool))
                     .is_err()
                 {
                     break; // no helper, no harm: this thread does the work
@@ -111,31 +164,36 @@ mod pool {
                 state.idle += 1;
             }
             for _ in 0..helpers.min(state.idle) {
-                WORK.notify_one();
+                pool.work.notify_one();
             }
             id
         };
-        let finish = Finish(id);
+        let finish = Finish { pool, id };
         worker();
         drop(finish);
     }
 
     /// Ends a call: calls off its turns not taken, waits for its running helpers and raises
     /// a panic one of them had.
-    struct Finish(u64);
+    struct Finish {
+        pool: &'static Pool,
+        id: u64,
+    }
 
     impl Drop for Finish {
         fn drop(&mut self) {
-            let mut state = state();
+            let mut state = self.pool.state();
             let call = loop {
                 let i = (state.calls.iter())
-                    .position(|c| c.id == self.0)
+                    .position(|c| c.id == self.id)
                     .expect("only the caller removes its call");
                 state.calls[i].turns = 0;
                 if state.calls[i].running == 0 {
                     break state.calls.swap_remove(i);
                 }
-                state = FINISHED.wait(state).unwrap_or_else(PoisonError::into_inner);
+                state = (self.pool.finished)
+                    .wait(state)
+                    .unwrap_or_else(PoisonError::into_inner);
             };
             drop(state);
             if let Some(panic) = call.panic
@@ -147,11 +205,14 @@ mod pool {
     }
 
     /// A helper's life: take a turn at a call, run it, wait for the next.
-    fn helper() {
-        let mut state = state();
+    fn helper(pool: &'static Pool) {
+        let mut state = pool.state();
         loop {
             let Some(call) = state.calls.iter_mut().find(|c| c.turns > 0) else {
-                state = WORK.wait(state).unwrap_or_else(PoisonError::into_inner);
+                state = pool
+                    .work
+                    .wait(state)
+                    .unwrap_or_else(PoisonError::into_inner);
                 continue;
             };
             call.turns -= 1;
@@ -161,7 +222,7 @@ mod pool {
             drop(state);
             // SAFETY: the call's `run` waits for `running` to drop to zero before it returns.
             let outcome = catch_unwind(AssertUnwindSafe(|| unsafe { (*job)() }));
-            state = self::state();
+            state = pool.state();
             state.idle += 1;
             let call = state
                 .calls
@@ -173,7 +234,7 @@ mod pool {
                 call.panic.get_or_insert(panic);
             }
             if call.running == 0 {
-                FINISHED.notify_all();
+                pool.finished.notify_all();
             }
         }
     }
@@ -194,7 +255,8 @@ struct Order<R, D> {
 /// and hands the results to `done(i, result)` in index order: each as soon as it and every
 /// earlier one are ready, so output can stream while later pieces are computed. No more than
 /// `ahead` results wait for an earlier one (workers pause instead), which bounds the memory
-/// however slow one piece is. `done` returns false to stop: no further piece is started.
+/// however slow one piece is. `done` returns false to stop: no further piece is started. A panic
+/// in `map` or `done` stops the rest too and is raised here.
 pub fn map_in_order<R: Send>(
     count: usize,
     threads: usize,
@@ -212,7 +274,7 @@ pub fn map_in_order<R: Send>(
     });
     let turn = Condvar::new();
     let lock = || state.lock().unwrap_or_else(PoisonError::into_inner);
-    on_threads(threads.clamp(1, count.max(1)), || {
+    let take_pieces = || {
         loop {
             let index = {
                 let mut order = lock();
@@ -242,6 +304,15 @@ pub fn map_in_order<R: Send>(
                 }
             }
             turn.notify_all();
+        }
+    };
+    on_threads(threads.clamp(1, count.max(1)), || {
+        // A worker that panics (in `map` or in `done`) stops the others, which would otherwise
+        // wait for its result for good; `on_threads` raises the panic once they have returned.
+        if let Err(panic) = catch_unwind(AssertUnwindSafe(take_pieces)) {
+            lock().stopped = true;
+            turn.notify_all();
+            resume_unwind(panic);
         }
     });
 }
@@ -345,6 +416,47 @@ mod tests {
         // The helper lived through its panic: the next call is shared again.
         let pause = std::time::Duration::from_millis(20);
         assert_eq!(share(2, 8, |_| std::thread::sleep(pause)), 2);
+    }
+
+    /// Runs `call` on a thread of its own: Some(whether it panicked), or None if it had not
+    /// returned after 20 s.
+    fn panicked_within_20_s(call: impl FnOnce() + Send + 'static) -> Option<bool> {
+        let (sender, receiver) = std::sync::mpsc::channel();
+        std::thread::spawn(move || {
+            let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(call));
+            let _ = sender.send(outcome.is_err());
+        });
+        receiver
+            .recv_timeout(std::time::Duration::from_secs(20))
+            .ok()
+    }
+
+    #[test]
+    fn a_panic_in_map_or_done_is_raised_and_stops_the_other_workers() {
+        let pause = std::time::Duration::from_millis(50);
+        for threads in [1, 2, 4] {
+            // The piece that panics is slow, so the others fill the room ahead and wait for it.
+            let in_map = panicked_within_20_s(move || {
+                map_in_order(
+                    100,
+                    threads,
+                    2,
+                    |i| {
+                        if i == 0 {
+                            std::thread::sleep(pause);
+                            panic!("piece 0");
+                        }
+                        i
+                    },
+                    |_, _| true,
+                )
+            });
+            assert_eq!(in_map, Some(true), "map, {threads} threads");
+            let in_done = panicked_within_20_s(move || {
+                map_in_order(100, threads, 2, |i| i, |i, _| i != 3 || panic!("result 3"))
+            });
+            assert_eq!(in_done, Some(true), "done, {threads} threads");
+        }
     }
 
     #[test]

@@ -441,6 +441,45 @@ def test_a_forked_child_loads_and_computes_as_its_parent():
     assert os.waitstatus_to_exitcode(ended[1]) == 0
 
 
+def test_children_forked_while_another_thread_loads_do_not_hang():
+    """A thread that forks while another is inside a load (the GIL is released there) gives a
+    child in which that thread's locks stay held for good: the child must not wait for them."""
+    import os
+    import signal
+
+    small = DATA / "bvh" / "bvhparser_walk_01.bvh"  # several chunks: two threads, two buffers
+    want = bvhview.load(small).positions()
+    stop = threading.Event()
+
+    def busy():
+        while not stop.is_set():
+            bvhview.load(small).positions()
+
+    worker = threading.Thread(target=busy)
+    worker.start()
+    forked = hung = wrong = 0
+    try:
+        while forked < 200 and not hung:
+            forked += 1
+            child = os.fork()
+            if child == 0:
+                same = False
+                try:
+                    signal.alarm(10)
+                    same = np.array_equal(bvhview.load(small).positions(), want)
+                finally:
+                    os._exit(0 if same else 1)
+            _, status = os.waitpid(child, 0)
+            if os.WIFSIGNALED(status):
+                hung += 1
+            elif os.waitstatus_to_exitcode(status) != 0:
+                wrong += 1
+    finally:
+        stop.set()
+        worker.join()
+    assert (hung, wrong) == (0, 0), f"of {forked} children"
+
+
 # Saving.
 
 

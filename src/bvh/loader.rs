@@ -63,8 +63,8 @@ pub fn load_file_with(path: &Path, threads: usize, max_size: u64) -> Result<Bvh,
 /// Files up to this size (one smallest chunk) are read whole and parsed where they lie; larger
 /// ones stream through chunk buffers, so memory stays at about the values' size however large the
 /// file is. Streaming is also the faster way in a fresh process: every 4 KB page of a new buffer
-/// the size of the file costs a page fault on its first write, while each thread keeps its chunk
-/// buffer from load to load. A 5 MB file's first load on the 2-vCPU VM of the README's
+/// the size of the file costs a page fault on its first write, while chunk buffers are kept from
+/// load to load. A 5 MB file's first load on the 2-vCPU VM of the README's
 /// measurements: 3.6–4.5 ms streamed, 5.4–7.7 ms read whole; loads after the first: 2.3 ms
 /// either way.
 pub const WHOLE_FILE: u64 = 64 << 10;

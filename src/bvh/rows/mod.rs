@@ -101,16 +101,19 @@ enum Source<'a> {
     Memory { text: &'a [u8], at: usize },
 }
 
-/// Chunk buffers between loads, one per core at most: a new buffer would cost a page fault for
-/// every 4 KB of it when first read into, each load again.
-static KEPT_BUFFERS: std::sync::Mutex<Vec<Vec<u8>>> = std::sync::Mutex::new(Vec::new());
+/// Chunk buffers between loads, as many as the threads one load uses at most (a core each, up
+/// to eight): a new buffer would cost a page fault for every 4 KB of it when first read into,
+/// each load again. Each process has its own: a child forked while a parent's thread held the
+/// lock would wait for it for good.
+static KEPT_BUFFERS: crate::parallel::PerProcess<std::sync::Mutex<Vec<Vec<u8>>>> =
+    crate::parallel::PerProcess::new(|| std::sync::Mutex::new(Vec::new()));
 
 /// Buffers grown larger than this by a long line are not kept.
 const MOST_KEPT: usize = 2 * CHUNK;
 
 /// A kept chunk buffer (or a new one), at least `length` bytes long.
 fn kept_buffer(length: usize) -> Vec<u8> {
-    let mut buffer = lock(&KEPT_BUFFERS).pop().unwrap_or_default();
+    let mut buffer = lock(KEPT_BUFFERS.get()).pop().unwrap_or_default();
     if buffer.len() < length {
         buffer.resize(length, 0);
     }
@@ -123,8 +126,8 @@ struct KeptBuffer(Vec<u8>);
 impl Drop for KeptBuffer {
     fn drop(&mut self) {
         if self.0.capacity() > 0 && self.0.capacity() <= MOST_KEPT {
-            let mut kept = lock(&KEPT_BUFFERS);
-            if kept.len() < crate::cores().min(8) {
+            let mut kept = lock(KEPT_BUFFERS.get());
+            if kept.len() < crate::cores().clamp(1, 8) {
                 kept.push(std::mem::take(&mut self.0));
             }
         }
