@@ -5,15 +5,18 @@
 //! host, Python for one) also removes them on Ctrl-C.
 
 use crate::error::Error;
+use crate::parallel::PerProcess;
 use std::io::{BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, PoisonError};
 
-/// The temporary files being written, for the Ctrl-C handler.
-static PARTIAL: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+/// The temporary files being written, for the Ctrl-C handler. Each process has its own: a child
+/// forked while its parent's thread was writing (Python's `save` releases the GIL) would wait
+/// for good for the lock that thread held, and the parent's files are not the child's.
+static PARTIAL: PerProcess<Mutex<Vec<PathBuf>>> = PerProcess::new(|| Mutex::new(Vec::new()));
 
 fn partial() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
-    PARTIAL.lock().unwrap_or_else(PoisonError::into_inner)
+    PARTIAL.get().lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 /// On Ctrl-C (SIGINT, SIGTERM, SIGHUP), every temporary file still being written is removed and

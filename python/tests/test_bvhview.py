@@ -441,9 +441,10 @@ def test_a_forked_child_loads_and_computes_as_its_parent():
     assert os.waitstatus_to_exitcode(ended[1]) == 0
 
 
-def test_children_forked_while_another_thread_loads_do_not_hang():
-    """A thread that forks while another is inside a load (the GIL is released there) gives a
-    child in which that thread's locks stay held for good: the child must not wait for them."""
+def test_children_forked_while_another_thread_loads_and_saves_do_not_hang(tmp_path):
+    """A thread that forks while another is inside a load or a save (the GIL is released there)
+    gives a child in which that thread's locks stay held for good: the child must not wait for
+    them."""
     import os
     import signal
 
@@ -453,7 +454,9 @@ def test_children_forked_while_another_thread_loads_do_not_hang():
 
     def busy():
         while not stop.is_set():
-            bvhview.load(small).positions()
+            take = bvhview.load(small)
+            take.positions()
+            take.save(tmp_path / "busy.bvh")
 
     worker = threading.Thread(target=busy)
     worker.start()
@@ -466,7 +469,12 @@ def test_children_forked_while_another_thread_loads_do_not_hang():
                 same = False
                 try:
                     signal.alarm(10)
-                    same = np.array_equal(bvhview.load(small).positions(), want)
+                    take = bvhview.load(small)
+                    take.save(tmp_path / "child.bvh")
+                    again = bvhview.load(tmp_path / "child.bvh")
+                    same = np.array_equal(take.positions(), want) and np.array_equal(
+                        again.values, take.values
+                    )
                 finally:
                     os._exit(0 if same else 1)
             _, status = os.waitpid(child, 0)
