@@ -47,10 +47,20 @@ pub use skeleton::{Channel, Joint, RotationOrder, Skeleton};
 pub const DEFAULT_MOTION: &[u8] = include_bytes!("../assets/walk.bvh");
 
 /// Threads to parse and export with: the machine's cores, asked once (the answer comes from
-/// cgroup files, too slow to read for every small file).
+/// cgroup files, too slow to read for every small file). Kept in an atomic, not a `OnceLock`: a
+/// child forked while another thread was asking would wait for that thread's answer for good.
 pub fn cores() -> usize {
-    static CORES: std::sync::OnceLock<usize> = std::sync::OnceLock::new();
-    *CORES.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static CORES: AtomicUsize = AtomicUsize::new(0);
+    match CORES.load(Ordering::Relaxed) {
+        0 => {
+            // Two threads asking at once both ask; they get the same answer.
+            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+            CORES.store(cores, Ordering::Relaxed);
+            cores
+        }
+        known => known,
+    }
 }
 
 /// How the default motion is named in messages: it is built into the binary, so no path names

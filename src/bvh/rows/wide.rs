@@ -9,14 +9,12 @@ use super::scan::{Block, Problem, Sink, read_any_number};
 
 use std::arch::x86_64::*;
 
-/// Whether this CPU can run [`Wide`]: checked once.
+/// Whether this CPU can run [`Wide`]. The standard library asks the CPU once and keeps the
+/// answer in atomics, without a lock that a child forked mid-question would wait on.
 pub(super) fn available() -> bool {
-    static AVAILABLE: std::sync::OnceLock<bool> = std::sync::OnceLock::new();
-    *AVAILABLE.get_or_init(|| {
-        std::arch::is_x86_feature_detected!("avx512f")
-            && std::arch::is_x86_feature_detected!("avx512bw")
-            && std::arch::is_x86_feature_detected!("avx512cd")
-    })
+    std::arch::is_x86_feature_detected!("avx512f")
+        && std::arch::is_x86_feature_detected!("avx512bw")
+        && std::arch::is_x86_feature_detected!("avx512cd")
 }
 
 /// Words waiting to be read, eight at a time. The bodies are gathered in a vector register, not
