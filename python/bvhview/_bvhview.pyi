@@ -1,15 +1,18 @@
 """Stubs of the native module; `bvhview` re-exports every name."""
 
 import os
-from typing import Literal, Sequence, Tuple, Union
+from typing import Literal, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
 
-PathLike = Union[str, os.PathLike[str]]
+__all__ = ["load", "load_many", "Motion", "ParseError"]
+
+# Names of the stubs alone (the leading underscore says they are not in the module).
+_PathLike = Union[str, os.PathLike[str]]
 # None for every frame, one frame (negative counts from the end), a slice, or frame numbers.
-Frames = Union[None, int, slice, Sequence[int], npt.NDArray[np.integer]]
-OffsetMode = Literal["replace", "add"]
+_Frames = Union[None, int, slice, Sequence[int], npt.NDArray[np.integer]]
+_OffsetMode = Literal["replace", "add"]
 
 class ParseError(ValueError):
     """A malformed file: `str(error)` is `path:line:column: message`."""
@@ -19,6 +22,7 @@ class ParseError(ValueError):
     column: int
     message: str
 
+@final
 class Motion:
     """A loaded take: skeleton, MOTION values, forward kinematics. Immutable."""
 
@@ -27,7 +31,7 @@ class Motion:
     @property
     def motion_path(self) -> str | None: ...
     @property
-    def offset_mode(self) -> OffsetMode: ...
+    def offset_mode(self) -> _OffsetMode: ...
     @property
     def joint_names(self) -> list[str]: ...
     @property
@@ -62,25 +66,25 @@ class Motion:
     @property
     def point_joints(self) -> npt.NDArray[np.int32]:
         """The joint of each point: `positions()[:, point_joints]` is the CLI's export."""
-    def positions(self, frames: Frames = None) -> npt.NDArray[np.float32]:
+    def positions(self, frames: _Frames = None) -> npt.NDArray[np.float32]:
         """frames x joints x 3 world positions; a take without frames has its rest pose."""
-    def world_matrices(self, frames: Frames = None) -> npt.NDArray[np.float32]:
+    def world_matrices(self, frames: _Frames = None) -> npt.NDArray[np.float32]:
         """frames x joints x 4 x 4 world matrices, [row, column], translation in column 3."""
-    def save(self, path: PathLike) -> None:
+    def save(self, path: _PathLike) -> None:
         """Writes BVH (.bvh) or glTF (.glb binary, .gltf text), as `bvhview convert` does."""
     def __len__(self) -> int: ...
 
 def load(
-    path: PathLike,
-    motion: PathLike | None = None,
-    offset_mode: OffsetMode = "replace",
+    path: _PathLike,
+    motion: _PathLike | None = None,
+    offset_mode: _OffsetMode = "replace",
     frame_time: float | None = None,
 ) -> Motion:
     """A .bvh file, or an .asf skeleton with `motion` its .amc take."""
 
 def load_many(
-    paths: Sequence[Union[PathLike, Tuple[PathLike, PathLike]]],
-    offset_mode: OffsetMode = "replace",
+    paths: Sequence[Union[_PathLike, Tuple[_PathLike, _PathLike]]],
+    offset_mode: _OffsetMode = "replace",
     frame_time: float | None = None,
     errors: Literal["raise", "return"] = "raise",
 ) -> list[Motion]:

@@ -488,6 +488,19 @@ def test_children_forked_while_another_thread_loads_and_saves_do_not_hang(tmp_pa
     assert (hung, wrong) == (0, 0), f"of {forked} children"
 
 
+def test_the_stubs_name_every_public_name_with_its_signature():
+    """mypy's stubtest compares `_bvhview.pyi` with the module as built: a name, property or
+    argument missing from the stubs (or only in them) fails."""
+    pytest.importorskip("mypy")
+    import sys
+
+    run = subprocess.run(
+        [sys.executable, "-m", "mypy.stubtest", "bvhview"], capture_output=True, text=True
+    )
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "Success: no issues found" in run.stdout
+
+
 # Saving.
 
 
