@@ -8,18 +8,55 @@
 
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
-use std::sync::atomic::{AtomicPtr, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicU64, Ordering};
 use std::sync::{Condvar, Mutex, PoisonError};
 
 /// A value of which each process has its own. A child made by `fork` (Python's multiprocessing
 /// does) has only the thread that forked: a lock another thread of the parent held at that
 /// moment stays locked in the child for good, and threads the value counts on are not there.
 /// So the child starts a fresh value, and the parent's copy is left as it is.
-pub(crate) struct PerProcess<T: 'static> {
+pub(crate) struct PerProcess<T: Send + Sync + 'static> {
     /// The process that made the value, and the value. Never freed once published, so a
     /// reference to it lives as long as the program.
-    current: AtomicPtr<(u32, T)>,
+    current: AtomicPtr<(Process, T)>,
     make: fn() -> T,
+}
+
+/// Which process this is: its id, and how many forks made it. The id alone could name an
+/// ancestor's value once ids wrap round (or in a new pid namespace); the count tells them apart.
+#[derive(Clone, Copy, PartialEq)]
+struct Process {
+    id: u32,
+    forks: u64,
+}
+
+/// Forks since the first `PerProcess` value, counted in the child by a fork handler (which
+/// every descendant inherits).
+static FORKS: AtomicU64 = AtomicU64::new(0);
+
+impl Process {
+    fn this() -> Process {
+        Process {
+            id: std::process::id(),
+            forks: FORKS.load(Ordering::Acquire),
+        }
+    }
+}
+
+/// Counts forks from the first value on; no value exists before, so none was copied uncounted.
+fn count_forks() {
+    #[cfg(unix)]
+    {
+        static COUNTING: AtomicBool = AtomicBool::new(false);
+        extern "C" fn forked() {
+            FORKS.fetch_add(1, Ordering::AcqRel);
+        }
+        if !COUNTING.swap(true, Ordering::AcqRel) {
+            // SAFETY: registers a handler that only bumps an atomic, which is safe in a child.
+            // Should it fail (no memory), the process id still tells most children apart.
+            unsafe { libc::pthread_atfork(None, None, Some(forked)) };
+        }
+    }
 }
 
 impl<T: Send + Sync + 'static> PerProcess<T> {
@@ -32,7 +69,7 @@ impl<T: Send + Sync + 'static> PerProcess<T> {
 
     /// This process's value, made on first use.
     pub(crate) fn get(&self) -> &'static T {
-        let process = std::process::id();
+        let process = Process::this();
         loop {
             let seen = self.current.load(Ordering::Acquire);
             // SAFETY: a published pointer came from `Box::into_raw` and is never freed.
@@ -41,11 +78,12 @@ impl<T: Send + Sync + 'static> PerProcess<T> {
             {
                 return value;
             }
+            count_forks();
             let fresh = Box::into_raw(Box::new((process, (self.make)())));
             match (self.current).compare_exchange(seen, fresh, Ordering::AcqRel, Ordering::Acquire)
             {
-                // The value replaced, if any, is a parent's: it is left alone (leaked), since
-                // a lock in it may be held by a thread that is not in this process.
+                // The value replaced, if any, is an ancestor's: it is left alone (leaked),
+                // since a lock in it may be held by a thread that is not in this process.
                 // SAFETY: just published, never freed.
                 Ok(_) => return unsafe { &(*fresh).1 },
                 // Another thread of this process published first: use its value.
@@ -457,6 +495,40 @@ mod tests {
             });
             assert_eq!(in_done, Some(true), "done, {threads} threads");
         }
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_forked_child_counts_the_fork_and_makes_its_own_value() {
+        static VALUE: PerProcess<Mutex<u32>> = PerProcess::new(|| Mutex::new(7));
+        let parents = VALUE.get();
+        *parents.lock().unwrap() = 8;
+        let forks = FORKS.load(Ordering::Acquire);
+        // Held across the fork, as a busy thread would hold it: the child must not wait for it.
+        let held = parents.lock().unwrap();
+        // SAFETY: the child only reads atomics and locks a fresh mutex, then `_exit`s; an alarm
+        // ends it should it wait.
+        let child = unsafe { libc::fork() };
+        assert!(child >= 0, "fork failed");
+        if child == 0 {
+            unsafe { libc::alarm(10) };
+            let own = VALUE.get();
+            let fine = FORKS.load(Ordering::Acquire) == forks + 1
+                && !std::ptr::eq(own, parents)
+                && *own.lock().unwrap() == 7;
+            unsafe { libc::_exit(if fine { 0 } else { 1 }) };
+        }
+        drop(held);
+        let mut status = 0;
+        assert_eq!(unsafe { libc::waitpid(child, &mut status, 0) }, child);
+        assert!(
+            libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
+            "the child waited or saw its parent's value (status {status:#x})"
+        );
+        assert!(
+            std::ptr::eq(VALUE.get(), parents),
+            "the parent keeps its own"
+        );
     }
 
     #[test]
