@@ -488,6 +488,36 @@ def test_children_forked_while_another_thread_loads_and_saves_do_not_hang(tmp_pa
     assert (hung, wrong) == (0, 0), f"of {forked} children"
 
 
+def _positions_of(path):
+    return bvhview.load(path).positions()
+
+
+def test_a_multiprocessing_pool_of_forked_workers_computes_what_the_parent_does():
+    """The way scripts share a folder among processes: the parent has loaded (so it has helper
+    threads and kept buffers), a thread of it keeps loading, and forked workers load too."""
+    import multiprocessing
+
+    paths = BVH_FILES[:6]
+    want = [_positions_of(path) for path in paths]
+    stop = threading.Event()
+
+    def busy():
+        while not stop.is_set():
+            _positions_of(paths[0])
+
+    worker = threading.Thread(target=busy)
+    worker.start()
+    try:
+        with multiprocessing.get_context("fork").Pool(2) as pool:
+            got = pool.map_async(_positions_of, paths).get(timeout=60)
+    finally:
+        stop.set()
+        worker.join()
+    assert len(got) == len(want)
+    for path, one, other in zip(paths, got, want):
+        assert np.array_equal(one, other), path.name
+
+
 def test_the_stubs_name_every_public_name_with_its_signature():
     """mypy's stubtest compares `_bvhview.pyi` with the module as built: a name, property or
     argument missing from the stubs (or only in them) fails."""
