@@ -74,12 +74,43 @@ fn start_xvfb() -> (Guard, String) {
         .spawn()
         .expect("Xvfb runs (apt-get install xvfb)");
     let guard = Guard(child);
+    // The socket appears before the server answers: wait for an answer.
     wait_for("Xvfb", Duration::from_secs(20), || {
         Path::new(&format!("/tmp/.X11-unix/X{number}"))
             .exists()
-            .then_some(())
+            .then(|| run(&display, "xdotool", &["getdisplaygeometry"]))
+            .flatten()
     });
     (guard, display)
+}
+
+/// Starts the viewer on `display` with `args` in `folder`; what it prints on stderr goes to a
+/// file there, for [`wait_for_window`]'s message.
+fn start_viewer(display: &str, folder: &Path, args: &[&Path]) -> (Guard, std::path::PathBuf) {
+    let log = folder.join("viewer-stderr.txt");
+    let viewer = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .args(args)
+        .current_dir(folder)
+        .env("DISPLAY", display)
+        .env_remove("WAYLAND_DISPLAY")
+        .stdout(Stdio::null())
+        .stderr(std::fs::File::create(&log).unwrap())
+        .spawn()
+        .unwrap();
+    (Guard(viewer), log)
+}
+
+/// The id of the viewer's window, found by its title (an xdotool pattern). A viewer that ends
+/// before its window shows fails the test at once, with its status and what it printed.
+fn wait_for_window(viewer: &mut Guard, log: &Path, display: &str, title: &str) -> String {
+    wait_for("the window", Duration::from_secs(30), || {
+        if let Some(status) = viewer.0.try_wait().unwrap() {
+            let printed = std::fs::read_to_string(log).unwrap_or_default();
+            panic!("the viewer ended ({status}) before its window showed:\n{printed}");
+        }
+        run(display, "xdotool", &["search", "--name", title])
+            .and_then(|ids| ids.lines().next().map(str::to_string))
+    })
 }
 
 /// The window's pixels, read with `xwd` (32-bit ZPixmap, masks from the header).
@@ -131,23 +162,15 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     };
 
     let (_xvfb, display) = start_xvfb();
-    let viewer = Command::new(env!("CARGO_BIN_EXE_bvhview"))
-        .arg(&input)
-        .env("DISPLAY", &display)
-        .env_remove("WAYLAND_DISPLAY")
-        .stdout(Stdio::null())
-        .stderr(Stdio::piped())
-        .spawn()
-        .unwrap();
-    let mut viewer = Guard(viewer);
-    let window = wait_for("the window", Duration::from_secs(30), || {
-        run(
-            &display,
-            "xdotool",
-            &["search", "--name", "^bvhview - tiny_crlf.bvh - frame"],
-        )
-        .and_then(|ids| ids.lines().next().map(str::to_string))
-    });
+    let folder = std::env::temp_dir().join(format!("bvhview-window-one-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).unwrap();
+    let (mut viewer, log) = start_viewer(&display, &folder, &[&input]);
+    let window = wait_for_window(
+        &mut viewer,
+        &log,
+        &display,
+        "^bvhview - tiny_crlf.bvh - frame",
+    );
     let title = |frame: &str| {
         let want = format!("bvhview - tiny_crlf.bvh - frame {frame}");
         let display = display.clone();
@@ -463,6 +486,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
         viewer.0.try_wait().unwrap()
     });
     assert!(status.success(), "exit status {status}");
+    std::fs::remove_dir_all(&folder).unwrap();
 }
 
 /// Two takes side by side on one timeline equal `snapshot` of both; R loads the files again (an
@@ -493,24 +517,13 @@ fn viewer_shows_takes_side_by_side_reloads_and_writes_pictures() {
     };
 
     let (_xvfb, display) = start_xvfb();
-    let viewer = Command::new(env!("CARGO_BIN_EXE_bvhview"))
-        .args([&first, &second])
-        .current_dir(&dir)
-        .env("DISPLAY", &display)
-        .env_remove("WAYLAND_DISPLAY")
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .unwrap();
-    let mut viewer = Guard(viewer);
-    let window = wait_for("the window", Duration::from_secs(30), || {
-        run(
-            &display,
-            "xdotool",
-            &["search", "--name", "^bvhview - first.bvh \\+ second.bvh - "],
-        )
-        .and_then(|ids| ids.lines().next().map(str::to_string))
-    });
+    let (mut viewer, log) = start_viewer(&display, &dir, &[&first, &second]);
+    let window = wait_for_window(
+        &mut viewer,
+        &log,
+        &display,
+        "^bvhview - first.bvh \\+ second.bvh - ",
+    );
     let close_to = |what: &str, want: &Image| {
         let start = Instant::now();
         loop {
