@@ -12,11 +12,19 @@ use std::path::Path;
 use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
-/// Kills the child when the test ends, however it ends.
+/// Ends the child when the test ends, however it ends: SIGTERM first, so that Xvfb removes its
+/// lock file and socket (killed outright it left them, and after 140 runs no display number
+/// was free), then SIGKILL if it is still there after 5 s.
 struct Guard(Child);
 
 impl Drop for Guard {
     fn drop(&mut self) {
+        // SAFETY: signals our own child, which has not been waited for yet.
+        unsafe { libc::kill(self.0.id() as libc::pid_t, libc::SIGTERM) };
+        let start = Instant::now();
+        while matches!(self.0.try_wait(), Ok(None)) && start.elapsed() < Duration::from_secs(5) {
+            std::thread::sleep(Duration::from_millis(20));
+        }
         let _ = self.0.kill();
         let _ = self.0.wait();
     }
@@ -55,8 +63,16 @@ fn one_at_a_time() -> std::sync::MutexGuard<'static, ()> {
 fn start_xvfb() -> (Guard, String) {
     let number = (60..200)
         .find(|n| {
-            !Path::new(&format!("/tmp/.X11-unix/X{n}")).exists()
-                && !Path::new(&format!("/tmp/.X{n}-lock")).exists()
+            let (socket, lock) = (format!("/tmp/.X11-unix/X{n}"), format!("/tmp/.X{n}-lock"));
+            // A lock whose server is gone (killed before it could clean up) frees the number.
+            let server = std::fs::read_to_string(&lock)
+                .ok()
+                .and_then(|pid| pid.trim().parse::<u32>().ok());
+            if server.is_some_and(|pid| !Path::new(&format!("/proc/{pid}")).exists()) {
+                let _ = std::fs::remove_file(&lock);
+                let _ = std::fs::remove_file(&socket);
+            }
+            !Path::new(&socket).exists() && !Path::new(&lock).exists()
         })
         .expect("a free X display number");
     let display = format!(":{number}");
@@ -111,6 +127,34 @@ fn wait_for_window(viewer: &mut Guard, log: &Path, display: &str, title: &str) -
         run(display, "xdotool", &["search", "--name", title])
             .and_then(|ids| ids.lines().next().map(str::to_string))
     })
+}
+
+/// Focuses the window and makes sure typed keys reach it before the keys whose effect a test
+/// checks: with both cores busy the first key after the focus was now and then lost (2 of 20
+/// runs). End and Home change nothing when pressed again, so each is pressed until the title
+/// ends with `last`, then with `first`.
+fn focus_until_keys_arrive(display: &str, window: &str, last: &str, first: &str) {
+    let titled = |end: &str| {
+        run(display, "xdotool", &["getwindowname", window]).is_some_and(|t| t.ends_with(end))
+    };
+    for (key, end) in [("End", last), ("Home", first)] {
+        let start = Instant::now();
+        loop {
+            run(display, "xdotool", &["windowfocus", "--sync", window]).expect("focus");
+            run(display, "xdotool", &["key", key]).unwrap_or_else(|| panic!("key {key}"));
+            let pressed = Instant::now();
+            while !titled(end) && pressed.elapsed() < Duration::from_secs(3) {
+                std::thread::sleep(Duration::from_millis(50));
+            }
+            if titled(end) {
+                break;
+            }
+            assert!(
+                start.elapsed() < Duration::from_secs(60),
+                "{key} never reached the window"
+            );
+        }
+    }
 }
 
 /// The window's pixels, read with `xwd` (32-bit ZPixmap, masks from the header).
@@ -198,7 +242,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     );
 
     // winit reads keys through XInput2, which ignores synthetic events: focus, then type (XTEST).
-    run(&display, "xdotool", &["windowfocus", "--sync", &window]).expect("focus");
+    focus_until_keys_arrive(&display, &window, "frame 2 of 0-2", "frame 0 of 0-2");
     run(&display, "xdotool", &["key", "w"]).expect("key w");
     wait_for(
         "frame 1 in the title",
@@ -544,7 +588,12 @@ fn viewer_shows_takes_side_by_side_reloads_and_writes_pictures() {
         }
     };
     close_to("two takes", &snapshot(&[&first, &second], &[]));
-    run(&display, "xdotool", &["windowfocus", "--sync", &window]).expect("focus");
+    focus_until_keys_arrive(
+        &display,
+        &window,
+        "0.067 s of 0.067 s",
+        "0.000 s of 0.067 s",
+    );
     run(&display, "xdotool", &["key", "i"]).expect("key i");
     close_to(
         "two takes with the HUD and labels",
