@@ -1,5 +1,6 @@
 """The Python package against the Rust CLI and against plain Python, on the repository's real files."""
 
+import contextlib
 import re
 import subprocess
 import threading
@@ -412,80 +413,86 @@ def test_python_threads_run_while_a_take_loads_and_computes(tmp_path):
     assert last - first > 0.5 * call["seconds"]
 
 
+def _in_forked_child(check, seconds=60):
+    """Runs `check()` in a child made by `os.fork` and says how it ended: "ok" (it returned
+    true), "wrong" (false, or it raised) or "hung" (still running after `seconds`)."""
+    import os
+    import signal
+
+    child = os.fork()
+    if child == 0:
+        fine = False
+        try:
+            signal.alarm(seconds)
+            fine = bool(check())
+        finally:
+            os._exit(0 if fine else 1)
+    _, status = os.waitpid(child, 0)
+    if os.WIFSIGNALED(status):
+        return "hung"
+    return "ok" if os.waitstatus_to_exitcode(status) == 0 else "wrong"
+
+
+@contextlib.contextmanager
+def _while_a_thread_repeats(work):
+    """Runs `work()` over and over on another thread for as long as the block lasts."""
+    stop = threading.Event()
+
+    def repeat():
+        while not stop.is_set():
+            work()
+
+    thread = threading.Thread(target=repeat)
+    thread.start()
+    try:
+        yield
+    finally:
+        stop.set()
+        thread.join()
+
+
 def test_a_forked_child_loads_and_computes_as_its_parent():
     """Python's multiprocessing forks by default on Linux: the child has none of the parent's
     helper threads, yet loads and computes the same values, on threads of its own, without
     waiting on helpers that are not there."""
-    import os
-
     path = DATA / "bvh" / "assimp_01_01.bvh"
     take = bvhview.load(path)
     want = take.positions()
-    child = os.fork()
-    if child == 0:
-        same = False
-        try:
-            again = bvhview.load(path)
-            same = np.array_equal(again.values, take.values) and np.array_equal(
-                again.positions(), want
-            )
-        finally:
-            os._exit(0 if same else 1)
-    deadline = time.monotonic() + 60
-    while (ended := os.waitpid(child, os.WNOHANG)) == (0, 0):
-        if time.monotonic() > deadline:
-            os.kill(child, 9)
-            os.waitpid(child, 0)
-            pytest.fail("the forked child did not finish in 60 s")
-        time.sleep(0.01)
-    assert os.waitstatus_to_exitcode(ended[1]) == 0
+
+    def same_again():
+        again = bvhview.load(path)
+        return np.array_equal(again.values, take.values) and np.array_equal(
+            again.positions(), want
+        )
+
+    assert _in_forked_child(same_again) == "ok"
 
 
 def test_children_forked_while_another_thread_loads_and_saves_do_not_hang(tmp_path):
     """A thread that forks while another is inside a load or a save (the GIL is released there)
     gives a child in which that thread's locks stay held for good: the child must not wait for
     them."""
-    import os
-    import signal
-
     small = DATA / "bvh" / "bvhparser_walk_01.bvh"  # several chunks: two threads, two buffers
     want = bvhview.load(small).positions()
-    stop = threading.Event()
 
-    def busy():
-        while not stop.is_set():
-            take = bvhview.load(small)
-            take.positions()
-            take.save(tmp_path / "busy.bvh")
+    def load_compute_save():
+        take = bvhview.load(small)
+        take.positions()
+        take.save(tmp_path / "busy.bvh")
 
-    worker = threading.Thread(target=busy)
-    worker.start()
-    forked = hung = wrong = 0
-    try:
-        while forked < 200 and not hung:
-            forked += 1
-            child = os.fork()
-            if child == 0:
-                same = False
-                try:
-                    signal.alarm(10)
-                    take = bvhview.load(small)
-                    take.save(tmp_path / "child.bvh")
-                    again = bvhview.load(tmp_path / "child.bvh")
-                    same = np.array_equal(take.positions(), want) and np.array_equal(
-                        again.values, take.values
-                    )
-                finally:
-                    os._exit(0 if same else 1)
-            _, status = os.waitpid(child, 0)
-            if os.WIFSIGNALED(status):
-                hung += 1
-            elif os.waitstatus_to_exitcode(status) != 0:
-                wrong += 1
-    finally:
-        stop.set()
-        worker.join()
-    assert (hung, wrong) == (0, 0), f"of {forked} children"
+    def same_in_the_child():
+        take = bvhview.load(small)
+        take.save(tmp_path / "child.bvh")
+        again = bvhview.load(tmp_path / "child.bvh")
+        return np.array_equal(take.positions(), want) and np.array_equal(
+            again.values, take.values
+        )
+
+    endings = []
+    with _while_a_thread_repeats(load_compute_save):
+        while len(endings) < 200 and "hung" not in endings:
+            endings.append(_in_forked_child(same_in_the_child, seconds=10))
+    assert (endings.count("hung"), endings.count("wrong")) == (0, 0), f"of {len(endings)} children"
 
 
 def _positions_of(path):
@@ -499,20 +506,9 @@ def test_a_multiprocessing_pool_of_forked_workers_computes_what_the_parent_does(
 
     paths = BVH_FILES[:6]
     want = [_positions_of(path) for path in paths]
-    stop = threading.Event()
-
-    def busy():
-        while not stop.is_set():
-            _positions_of(paths[0])
-
-    worker = threading.Thread(target=busy)
-    worker.start()
-    try:
+    with _while_a_thread_repeats(lambda: _positions_of(paths[0])):
         with multiprocessing.get_context("fork").Pool(2) as pool:
             got = pool.map_async(_positions_of, paths).get(timeout=60)
-    finally:
-        stop.set()
-        worker.join()
     assert len(got) == len(want)
     for path, one, other in zip(paths, got, want):
         assert np.array_equal(one, other), path.name
