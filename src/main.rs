@@ -526,8 +526,8 @@ fn main() -> ExitCode {
         }
     };
     QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
-    // Ctrl-C leaves no half-written output behind.
-    bvhview::output::remove_partials_on_interrupt();
+    // Ctrl-C, kill or a closed terminal leave no half-written output behind.
+    bvhview::output::remove_partials_on_signal();
     let result = match cli.command {
         None => viewer(
             cli.files,
@@ -567,9 +567,13 @@ fn wrote(what: std::fmt::Arguments) {
 }
 
 /// Refuses an output whose extension is not one the command writes, before any work.
+/// A FIFO or a character device (`/dev/stdout`) is taken whatever its name: it is written to.
 fn check_output(path: &Path, formats: &[&str]) -> Result<(), Error> {
+    use std::os::unix::fs::FileTypeExt;
     let extension = input::extension(path);
-    if formats.contains(&extension.as_str()) {
+    let special = std::fs::metadata(path)
+        .is_ok_and(|m| m.file_type().is_fifo() || m.file_type().is_char_device());
+    if special || formats.contains(&extension.as_str()) {
         return Ok(());
     }
     let list: Vec<String> = formats.iter().map(|f| format!(".{f}")).collect();

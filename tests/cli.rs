@@ -825,16 +825,21 @@ fn help_and_the_help_overlay_list_every_window_key() {
 }
 
 /// Ctrl-C while an animated picture is being written: the hidden temporary is removed, nothing
-/// appears under the output's name, and the exit status is 130.
+/// appears under the output's name, and the exit status is 128 + the signal (issue 26, row 11:
+/// it was 130 for every signal).
 #[test]
 fn an_interrupted_write_leaves_nothing() {
     // Ctrl-C, and what a service manager or a closed terminal sends.
-    for signal in ["INT", "TERM", "HUP"] {
-        interrupt_a_write(signal);
+    for (signal, status, what) in [
+        ("INT", 130, "interrupted"),
+        ("TERM", 143, "terminated"),
+        ("HUP", 129, "hung up"),
+    ] {
+        interrupt_a_write(signal, status, what);
     }
 }
 
-fn interrupt_a_write(signal: &str) {
+fn interrupt_a_write(signal: &str, status: i32, what: &str) {
     let dir =
         std::env::temp_dir().join(format!("bvhview-interrupt-{signal}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -881,10 +886,10 @@ fn interrupt_a_write(signal: &str) {
         .unwrap();
     assert!(killed.success());
     let output = child.wait_with_output().unwrap();
-    assert_eq!(output.status.code(), Some(130), "SIG{signal}");
+    assert_eq!(output.status.code(), Some(status), "SIG{signal}");
     assert_eq!(
         String::from_utf8_lossy(&output.stderr),
-        "bvhview: interrupted; no output was left half-written\n"
+        format!("bvhview: {what}; no output was left half-written\n")
     );
     assert!(!partial.exists(), "{} was left", partial.display());
     assert!(!out.exists());
@@ -985,5 +990,33 @@ fn a_rig_in_millimetres_or_metres_draws_like_one_in_centimetres() {
         let differing = picture.differing_pixels(&original);
         assert!(differing <= allowed, "x{scale}: {differing} pixels differ");
     }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// Issue 26, row 3: `-o` onto a FIFO writes into it (a reader gets the CSV) and leaves it a
+/// FIFO; onto a device, the device stays. Both used to be replaced by a regular file.
+#[test]
+fn an_output_that_is_a_fifo_or_a_device_is_written_to() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = std::env::temp_dir().join(format!("bvhview-fifo-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let fifo = dir.join("out.csv");
+    let made = Command::new("mkfifo").arg(&fifo).status().unwrap();
+    assert!(made.success());
+    let reader = {
+        let fifo = fifo.clone();
+        std::thread::spawn(move || std::fs::read(fifo).unwrap())
+    };
+    let written = bvhview(&["positions", &tiny(), "-q", "-o", fifo.to_str().unwrap()]);
+    assert!(written.status.success(), "{written:?}");
+    let received = reader.join().unwrap();
+    let expected = bvhview(&["positions", &tiny()]);
+    assert_eq!(received, expected.stdout);
+    assert!(std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
+    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "nothing beside it");
+    let null = bvhview(&["positions", &tiny(), "-q", "-o", "/dev/null"]);
+    assert!(null.status.success(), "{null:?}");
+    assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
     std::fs::remove_dir_all(dir).unwrap();
 }
