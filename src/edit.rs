@@ -1,5 +1,8 @@
-//! Edits that map a skeleton and its motion to new ones.
+//! Edits that map a skeleton and its motion to new ones. Every edit whose arithmetic can leave
+//! the 32-bit range (a scale, a difference, a turn of huge values) checks its result with
+//! [`finite`] and refuses it rather than hand on an infinity no file can hold.
 
+use crate::error::Error;
 use crate::motion::Motion;
 use crate::pose::local_rotation;
 use crate::skeleton::{Channel, RotationOrder, Skeleton};
@@ -9,7 +12,7 @@ use glam::{EulerRot, Quat};
 /// Each joint with an axis or with rotation channels gets `Zrotation Yrotation Xrotation` holding
 /// the Euler angles of C · M · C⁻¹ (M for the root includes its orientation); position channels
 /// stay as they are. World positions are unchanged up to float rounding.
-pub fn bake_axes(skeleton: &Skeleton, motion: &Motion) -> (Skeleton, Motion) {
+pub fn bake_axes(skeleton: &Skeleton, motion: &Motion) -> Result<(Skeleton, Motion), Error> {
     let mut baked = Skeleton {
         joints: Vec::with_capacity(skeleton.joints.len()),
         source: skeleton.source,
@@ -53,10 +56,23 @@ pub fn bake_axes(skeleton: &Skeleton, motion: &Motion) -> (Skeleton, Motion) {
             }
         }
     }
-    (
+    finite(
+        "baking the bone axes",
         baked,
         Motion::new(motion.frame_time, channels, frames, data),
     )
+}
+
+/// The edited take, or an error naming the edit when a value in it is not finite (an OFFSET or
+/// a MOTION value past ±3.4e38 as a 32-bit float).
+pub fn finite(edit: &str, skeleton: Skeleton, motion: Motion) -> Result<(Skeleton, Motion), Error> {
+    let offsets = skeleton.joints.iter().all(|j| j.offset.is_finite());
+    if !offsets || !motion.data.iter().all(|v| v.is_finite()) {
+        return Err(Error::Usage(format!(
+            "{edit} gives values too large for a 32-bit float; nothing was written"
+        )));
+    }
+    Ok((skeleton, motion))
 }
 
 /// Only the frames in `range` (already checked against the take).
@@ -67,7 +83,11 @@ pub fn trim(motion: &Motion, range: std::ops::Range<usize>) -> Motion {
 }
 
 /// Every length times `factor`: the OFFSETs and the position channels' values.
-pub fn scale(skeleton: &Skeleton, motion: &Motion, factor: f32) -> (Skeleton, Motion) {
+pub fn scale(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    factor: f32,
+) -> Result<(Skeleton, Motion), Error> {
     let mut scaled = skeleton.clone();
     let mut data = motion.data.clone();
     for joint in &mut scaled.joints {
@@ -93,7 +113,8 @@ pub fn scale(skeleton: &Skeleton, motion: &Motion, factor: f32) -> (Skeleton, Mo
         }
     }
     let frames = motion.frame_count();
-    (
+    finite(
+        &format!("--scale {}", crate::limits::show(factor)),
         scaled,
         Motion::new(motion.frame_time, motion.channels, frames, data),
     )
@@ -116,13 +137,17 @@ fn euler_order(order: RotationOrder) -> EulerRot {
 /// last frame, its rotations the spherical interpolation (slerp) of the two frames around it and
 /// its positions their linear interpolation. Joints whose rotations are not three channels on
 /// distinct axes (an ASF bone with one or two dof) have their angles interpolated linearly.
-pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Motion {
+/// The rate is checked by [`crate::limits::fps`], the number of frames made by
+/// [`crate::limits::resampled_frames`].
+pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion, Error> {
+    crate::limits::fps(fps, false)?;
     let frames = motion.frame_count();
     let width = motion.channels;
     let timed = motion.frame_time > 0.0 && motion.frame_time.is_finite();
-    if frames < 2 || !timed || fps.is_nan() || fps <= 0.0 {
-        return Motion::new(1.0 / fps, width, frames, motion.data.clone());
+    if frames < 2 || !timed {
+        return Ok(Motion::new(1.0 / fps, width, frames, motion.data.clone()));
     }
+    crate::limits::resampled_frames(frames - 1, motion.frame_time, fps, width)?;
     let span = (frames - 1) as f64 * motion.frame_time;
     // A little slack: frame times are written with few digits (.0083333 for 1/120).
     let count = (span * fps + 1e-3).floor() as usize + 1;
@@ -157,7 +182,7 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Motion {
             }
         }
     }
-    Motion::new(1.0 / fps, width, count, data)
+    Ok(Motion::new(1.0 / fps, width, count, data))
 }
 
 /// Which side of the body a joint is on, by its name.
@@ -270,6 +295,7 @@ fn plane(up: crate::pose::Up) -> ([usize; 2], usize) {
 
 /// The roots' travel across the ground removed: every frame's root position in the ground plane
 /// is its first frame's, so the figure moves where it stands.
+/// Only the root's values change, to values the take already holds: nothing can overflow.
 pub fn in_place(skeleton: &Skeleton, motion: &Motion, up: crate::pose::Up) -> Motion {
     let (across, _) = plane(up);
     let mut data = motion.data.clone();
@@ -303,7 +329,7 @@ pub fn ground(
     motion: &Motion,
     mode: crate::pose::OffsetMode,
     up: crate::pose::Up,
-) -> (Skeleton, Motion) {
+) -> Result<(Skeleton, Motion), Error> {
     let (_, axis) = plane(up);
     let mut lowest = f32::INFINITY;
     let frames = motion.frame_count();
@@ -320,7 +346,7 @@ pub fn ground(
     let mut grounded = skeleton.clone();
     let mut data = motion.data.clone();
     if !lowest.is_finite() {
-        return (grounded, motion.clone());
+        return finite("--ground", grounded, motion.clone());
     }
     for root in skeleton.roots() {
         let joint = &skeleton.joints[root];
@@ -337,7 +363,8 @@ pub fn ground(
             _ => grounded.joints[root].offset[axis] -= lowest,
         }
     }
-    (
+    finite(
+        "--ground",
         grounded,
         Motion::new(motion.frame_time, motion.channels, frames, data),
     )
@@ -352,7 +379,7 @@ pub fn reorient(
     motion: &Motion,
     from: crate::pose::Up,
     to: crate::pose::Up,
-) -> Result<(Skeleton, Motion), crate::Error> {
+) -> Result<(Skeleton, Motion), Error> {
     if from == to {
         return Ok((skeleton.clone(), motion.clone()));
     }
@@ -365,7 +392,7 @@ pub fn reorient(
         let rotations = joint.channels.iter().filter(|c| c.is_rotation()).count();
         if (positions != 0 && positions != 3) || (rotations != 0 && joint.rotation_order.is_none())
         {
-            return Err(crate::Error::Usage(format!(
+            return Err(Error::Usage(format!(
                 "--up: '{}' has channels that cannot be turned to another axis (it needs three \
                  position channels or none, and three rotations on distinct axes or none)",
                 joint.name
@@ -409,10 +436,11 @@ pub fn reorient(
         }
     }
     let frames = motion.frame_count();
-    Ok((
+    finite(
+        "--up",
         turned,
         Motion::new(motion.frame_time, motion.channels, frames, data),
-    ))
+    )
 }
 
 #[cfg(test)]
@@ -432,7 +460,7 @@ mod tests {
     fn resampling_interpolates_by_hand_worked_values() {
         let bvh = take(TWO_FRAMES);
         // 2 fps to 4: a frame halfway between each pair.
-        let doubled = resample(&bvh.skeleton, &bvh.motion, 4.0);
+        let doubled = resample(&bvh.skeleton, &bvh.motion, 4.0).unwrap();
         assert_eq!(doubled.frame_count(), 5);
         assert_eq!(doubled.frame_time, 0.25);
         let middle = doubled.frame(1);
@@ -443,7 +471,7 @@ mod tests {
         );
         assert_eq!(doubled.frame(4), bvh.motion.frame(2));
         // 2 fps to 1.6 (a ratio of 0.8): frames at 0, 0.625 and 1.25 s.
-        let slower = resample(&bvh.skeleton, &bvh.motion, 1.6);
+        let slower = resample(&bvh.skeleton, &bvh.motion, 1.6).unwrap();
         assert_eq!(slower.frame_count(), 2);
         let second = slower.frame(1);
         assert!((second[0] - 5.0).abs() < 1e-5, "{second:?}");
@@ -456,7 +484,7 @@ mod tests {
         let trimmed = trim(&bvh.motion, 1..3);
         assert_eq!(trimmed.frame_count(), 2);
         assert_eq!(trimmed.frame(0), bvh.motion.frame(1));
-        let (skeleton, motion) = scale(&bvh.skeleton, &bvh.motion, 0.5);
+        let (skeleton, motion) = scale(&bvh.skeleton, &bvh.motion, 0.5).unwrap();
         assert_eq!(skeleton.joints[1].offset, glam::Vec3::new(0.0, 5.0, 0.0));
         assert_eq!(&motion.frame(2)[..6], [4.0, 2.0, -2.0, 0.0, 0.0, 0.0]);
         assert_eq!(motion.frame(2)[6], 80.0);
@@ -510,12 +538,14 @@ mod tests {
         // chain so that its lowest joint sits at 0.
         let bent = take(&TWO_FRAMES.replace("8 4 -4 0 0 0 80 0 0", "8 4 -4 0 0 0 180 0 0"));
         let mode = crate::pose::OffsetMode::Replace;
-        let (skeleton, motion) = ground(&bent.skeleton, &bent.motion, mode, crate::pose::Up::Y);
+        let (skeleton, motion) =
+            ground(&bent.skeleton, &bent.motion, mode, crate::pose::Up::Y).unwrap();
         // Frame 2: root at y 4, chest at 14, the site 5 below the chest (turned 180°): 9. Frame
         // 0: root at 0, the lowest anywhere. So nothing moves.
         assert_eq!(motion.frame(2)[1], 4.0);
         let lifted = take(&TWO_FRAMES.replace("0 0 0 0 0 0 0 0 0\n4", "0 -7 0 0 0 0 0 0 0\n4"));
-        let (_, motion) = ground(&lifted.skeleton, &lifted.motion, mode, crate::pose::Up::Y);
+        let (_, motion) =
+            ground(&lifted.skeleton, &lifted.motion, mode, crate::pose::Up::Y).unwrap();
         // The root at -7 on frame 0 is the lowest point: every frame's y rises by 7.
         assert_eq!([motion.frame(0)[1], motion.frame(1)[1]], [0.0, 9.0]);
         assert_eq!(skeleton.joints[0].offset, glam::Vec3::ZERO);

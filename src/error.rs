@@ -21,6 +21,8 @@ pub enum Error {
     Usage(String),
     /// The machine lacks something (a display, a library): not the input's fault.
     Environment(String),
+    /// More memory than the machine gives was asked for (Python's `MemoryError`).
+    Memory(String),
 }
 
 impl Error {
@@ -42,7 +44,7 @@ impl Error {
     pub fn exit_code(&self) -> i32 {
         match self {
             Error::Parse { .. } | Error::Usage(_) => 2,
-            Error::Environment(_) | Error::Output { .. } => 1,
+            Error::Environment(_) | Error::Memory(_) | Error::Output { .. } => 1,
             // A missing or unreadable input is the caller's input; the rest is the machine's.
             Error::Io { source, .. } => match source.kind() {
                 io::ErrorKind::NotFound
@@ -86,7 +88,9 @@ impl fmt::Display for Error {
                     _ => write!(f, "cannot write {}: {}", path.display(), io_message(source)),
                 }
             }
-            Error::Usage(message) | Error::Environment(message) => f.write_str(message),
+            Error::Usage(message) | Error::Environment(message) | Error::Memory(message) => {
+                f.write_str(message)
+            }
         }
     }
 }

@@ -26,6 +26,9 @@ struct Data {
     bytes: Vec<u8>,
     root: json::Root,
     buffer: json::Index<json::Buffer>,
+    /// What the first value that is not finite belonged to: glTF (JSON) has no infinity, and
+    /// a reader refuses the file.
+    not_finite: Option<&'static str>,
 }
 
 impl Data {
@@ -38,6 +41,9 @@ impl Data {
         min_max: Option<(Vec<f32>, Vec<f32>)>,
         target: Option<json::buffer::Target>,
     ) -> json::Index<json::Accessor> {
+        if self.not_finite.is_none() && !values.iter().all(|v| v.is_finite()) {
+            self.not_finite = Some("an animation or skin value");
+        }
         let bytes: Vec<u8> = values.iter().flat_map(|v| v.to_le_bytes()).collect();
         let bounds = min_max.map(|(min, max)| (json::Value::from(min), json::Value::from(max)));
         self.raw_accessor(
@@ -229,6 +235,7 @@ pub fn to_gltf(
         bytes: Vec::new(),
         root: json::Root::default(),
         buffer: json::Index::new(0),
+        not_finite: None,
     };
     data.root.asset.generator = Some(format!("bvhview {}", env!("CARGO_PKG_VERSION")));
     data.buffer = data.root.push(json::Buffer {
@@ -240,6 +247,9 @@ pub fn to_gltf(
     });
     // Nodes in pre-order, so a joint's index is its node's.
     for (index, joint) in skeleton.joints.iter().enumerate() {
+        if !joint.offset.is_finite() {
+            data.not_finite.get_or_insert("an OFFSET");
+        }
         let children = joint
             .children
             .iter()
@@ -357,7 +367,13 @@ pub fn to_gltf(
             });
         }
     }
-    // Every value is finite (the loader refuses the rest), so the JSON is valid.
+    // JSON has no infinity: a take whose values overflow 32-bit floats is refused, not written
+    // with `null`s that no reader loads.
+    if let Some(what) = data.not_finite {
+        return Err(Error::Usage(format!(
+            "cannot write glTF: {what} is not finite (too large for a 32-bit float)"
+        )));
+    }
     while !data.bytes.len().is_multiple_of(4) {
         data.bytes.push(0);
     }

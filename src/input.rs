@@ -36,15 +36,25 @@ pub const DEFAULT_MAX_SIZE: u64 = 8 << 30;
 pub struct Bounded<R> {
     inner: R,
     left: u64,
-    max_size: u64,
+    /// What is said past the limit.
+    too_large: String,
 }
 
 impl<R: std::io::Read> Bounded<R> {
     pub fn new(inner: R, max_size: u64) -> Bounded<R> {
+        Bounded::saying(
+            inner,
+            max_size,
+            format!("more than --max-size {max_size} bytes"),
+        )
+    }
+
+    /// Fails past `limit` bytes with `too_large` as the message.
+    pub fn saying(inner: R, limit: u64, too_large: String) -> Bounded<R> {
         Bounded {
             inner,
-            left: max_size,
-            max_size,
+            left: limit,
+            too_large,
         }
     }
 }
@@ -61,7 +71,7 @@ impl<R: std::io::Read> std::io::Read for Bounded<R> {
                 0 => Ok(0),
                 _ => Err(std::io::Error::new(
                     std::io::ErrorKind::FileTooLarge,
-                    format!("more than --max-size {} bytes", self.max_size),
+                    self.too_large.clone(),
                 )),
             };
         }
@@ -76,12 +86,34 @@ impl<R: std::io::Read> std::io::Read for Bounded<R> {
 
 /// The whole of `path`, refused past `max_size` bytes.
 pub fn read_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
+    read_within(
+        path,
+        max_size,
+        format!("more than --max-size {max_size} bytes"),
+    )
+}
+
+/// The whole of an ASF skeleton: refused past `max_size` or [`crate::limits::MAX_HEADER_BYTES`],
+/// so that a link to /dev/zero is not read for gigabytes.
+pub fn read_skeleton_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
+    let limit = crate::limits::MAX_HEADER_BYTES as u64;
+    if max_size < limit {
+        return read_file(path, max_size);
+    }
+    read_within(
+        path,
+        limit,
+        format!("more than {} MiB: not an ASF skeleton", limit >> 20),
+    )
+}
+
+fn read_within(path: &Path, limit: u64, too_large: String) -> Result<Vec<u8>, Error> {
     use std::io::Read;
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     // Room for the whole file at once (reading in doubling steps could hold twice its size).
-    let length = file.metadata().map_or(0, |m| m.len()).min(max_size);
+    let length = file.metadata().map_or(0, |m| m.len()).min(limit);
     let mut bytes = Vec::with_capacity(usize::try_from(length).unwrap_or(0).saturating_add(1));
-    Bounded::new(file, max_size)
+    Bounded::saying(file, limit, too_large)
         .read_to_end(&mut bytes)
         .map_err(|e| Error::io(path, e))?;
     Ok(bytes)
@@ -106,16 +138,6 @@ pub fn check_file(path: &Path, max_size: u64) -> Result<(), Error> {
     Ok(())
 }
 
-/// Fails unless a `--frame-time` is a finite number of seconds above 0.
-pub fn check_frame_time(frame_time: Option<f64>) -> Result<(), Error> {
-    match frame_time {
-        Some(time) if !(time.is_finite() && time > 0.0) => Err(Error::Usage(format!(
-            "--frame-time {time}: expected seconds per frame, above 0"
-        ))),
-        _ => Ok(()),
-    }
-}
-
 /// [`load`] parsing a BVH on at most `threads` threads and refusing files larger than `max_size`
 /// bytes before reading them.
 pub fn load_checked(
@@ -129,7 +151,7 @@ pub fn load_checked(
     if let Some(motion) = motion {
         check_file(motion, max_size)?;
     }
-    check_frame_time(frame_time)?;
+    crate::limits::frame_time_option(frame_time)?;
     match extension(path).as_str() {
         "asf" => {
             let asf = acclaim::load_asf(path, max_size)?;

@@ -21,6 +21,7 @@ pub mod export;
 pub mod gltf;
 pub mod info;
 pub mod input;
+pub mod limits;
 pub mod lines;
 pub mod motion;
 pub mod output;

@@ -496,7 +496,7 @@ fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;
     let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    bvhview::render::osmesa::check_size(w, h).map_err(|e| e.to_string())?;
+    bvhview::limits::picture_size(w, h).map_err(|e| e.to_string())?;
     Ok((w, h))
 }
 
@@ -684,7 +684,7 @@ fn load_or_default(path: Option<&Path>, source: &Source) -> Result<(String, Load
             if source.motion.is_some() {
                 return Err(Error::Usage("--motion needs an ASF skeleton file".into()));
             }
-            input::check_frame_time(source.frame_time)?;
+            bvhview::limits::frame_time_option(source.frame_time)?;
             let mut walk = input::default_motion()?;
             if let Some(time) = source.frame_time {
                 walk.motion.frame_time = time;
@@ -771,7 +771,7 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
             motion.display()
         )));
     }
-    input::check_frame_time(source.frame_time)?;
+    bvhview::limits::frame_time_option(source.frame_time)?;
     let settings = bvhview::batch::Settings {
         frame_time: source.frame_time,
         max_size: source.max_size,
@@ -975,12 +975,8 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         }
         Some(_) => {}
     }
-    if let Some(fps) = args.fps
-        && !(fps.is_finite() && fps > 0.0)
-    {
-        return Err(Error::Usage(format!(
-            "--fps {fps}: expected frames per second, above 0"
-        )));
+    if let Some(fps) = args.fps {
+        bvhview::limits::fps(fps, animated == Some(animation::Format::Gif))?;
     }
     if args.files.len() > 1 && args.source.motion.is_some() {
         return Err(Error::Usage(
@@ -1084,7 +1080,7 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         let fps = args
             .fps
             .unwrap_or_else(|| animation::default_fps(clock.step, format));
-        let ticks = animation::sampled_frames(range, clock.step, fps);
+        let ticks = animation::sampled_frames(range, clock.step, fps)?;
         let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
         let progress = Progress::new(ticks.len());
         let pictures = ticks.iter().enumerate().map(|(i, &frame)| {
@@ -1236,12 +1232,8 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
             "--skin needs a glTF output (.glb or .gltf); a BVH file has no mesh".into(),
         ));
     }
-    if let Some(fps) = args.fps
-        && !(fps.is_finite() && fps > 0.0)
-    {
-        return Err(Error::Usage(format!(
-            "--fps {fps}: expected frames per second, above 0"
-        )));
+    if let Some(fps) = args.fps {
+        bvhview::limits::fps(fps, false)?;
     }
     if let Some(factor) = args.scale
         && !(factor.is_finite() && factor != 0.0)
@@ -1257,11 +1249,11 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
         loaded.motion = bvhview::edit::trim(&loaded.motion, range);
     }
     if let Some(fps) = args.fps {
-        loaded.motion = bvhview::edit::resample(&loaded.skeleton, &loaded.motion, fps);
+        loaded.motion = bvhview::edit::resample(&loaded.skeleton, &loaded.motion, fps)?;
     }
     if let Some(factor) = args.scale {
         (loaded.skeleton, loaded.motion) =
-            bvhview::edit::scale(&loaded.skeleton, &loaded.motion, factor);
+            bvhview::edit::scale(&loaded.skeleton, &loaded.motion, factor)?;
     }
     let mut up = Up::guess(&loaded.skeleton);
     if let Some(target) = args.up {
@@ -1278,7 +1270,7 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
     }
     if args.ground {
         (loaded.skeleton, loaded.motion) =
-            bvhview::edit::ground(&loaded.skeleton, &loaded.motion, OffsetMode::Replace, up);
+            bvhview::edit::ground(&loaded.skeleton, &loaded.motion, OffsetMode::Replace, up)?;
     }
     let output = &args.output;
     let container = match input::extension(output).as_str() {
@@ -1307,10 +1299,12 @@ fn convert(args: ConvertArgs) -> Result<ExitCode, Error> {
     }
     // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
     let (skeleton, motion) = if loaded.skeleton.joints.iter().any(|j| j.axis.is_some()) {
-        bvhview::edit::bake_axes(&loaded.skeleton, &loaded.motion)
+        bvhview::edit::bake_axes(&loaded.skeleton, &loaded.motion)?
     } else {
         (loaded.skeleton, loaded.motion)
     };
+    // Refused before the output is opened: a take that cannot be written leaves no file.
+    bvhview::bvh::writer::check(&skeleton, &motion)?;
     let mut out = open_output(Some(output))?;
     let result = bvhview::bvh::writer::write_bvh(&mut out, &skeleton, &motion);
     finish_write(out, result, Some(output))?;

@@ -69,7 +69,7 @@ enum Writer {
         /// Where the rename goes: the output, or the file its symbolic links lead to.
         target: PathBuf,
         /// The file being replaced, whose mode and owner the new one keeps.
-        old: Option<Metadata>,
+        old: Option<Box<Metadata>>,
     },
     /// A FIFO or a character device: there is nothing to replace, it is written to.
     Direct(BufWriter<File>),
@@ -116,17 +116,21 @@ impl AtomicFile {
                 // A new file gets the mode any new file gets (0666 less the umask); one that
                 // replaces another stays private until it takes the old one's mode.
                 let mode = if old.is_some() { 0o600 } else { 0o666 };
+                // Held while the file is made and listed, so that a signal in between finds it
+                // listed (the handler waits for the lock).
+                let mut partial = partial();
                 let temporary = tempfile::Builder::new()
                     .prefix(&format!(".{name}."))
                     .suffix(".partial")
                     .permissions(std::fs::Permissions::from_mode(mode))
                     .tempfile_in(folder)
                     .map_err(|e| Error::output(path, e))?;
-                partial().push(temporary.path().to_path_buf());
+                partial.push(temporary.path().to_path_buf());
+                drop(partial);
                 Writer::Replace {
                     temporary: BufWriter::new(temporary),
                     target,
-                    old,
+                    old: old.map(Box::new),
                 }
             }
         };
@@ -149,7 +153,7 @@ impl AtomicFile {
             } => {
                 let temporary = temporary.into_inner().map_err(|e| failed(e.into_error()))?;
                 let kept = partial_path(&temporary);
-                let result = finish(temporary, &target, old.as_ref()).map_err(failed);
+                let result = finish(temporary, &target, old.as_deref()).map_err(failed);
                 partial().retain(|p| *p != kept);
                 result
             }
@@ -418,7 +422,11 @@ mod tests {
                 });
             }
         });
-        assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "no temporary left");
+        assert_eq!(
+            std::fs::read_dir(&dir).unwrap().count(),
+            1,
+            "no temporary left"
+        );
         std::fs::remove_dir_all(dir).unwrap();
     }
 }

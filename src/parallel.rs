@@ -511,15 +511,18 @@ mod tests {
         let child = unsafe { libc::fork() };
         assert!(child >= 0, "fork failed");
         if child == 0 {
+            // SAFETY: alarm has no preconditions.
             unsafe { libc::alarm(10) };
             let own = VALUE.get();
             let fine = FORKS.load(Ordering::Acquire) == forks + 1
                 && !std::ptr::eq(own, parents)
                 && *own.lock().unwrap() == 7;
+            // SAFETY: ends the child at once, running nothing of the parent's.
             unsafe { libc::_exit(if fine { 0 } else { 1 }) };
         }
         drop(held);
         let mut status = 0;
+        // SAFETY: waits for the child forked above; `status` is a valid int to write.
         assert_eq!(unsafe { libc::waitpid(child, &mut status, 0) }, child);
         assert!(
             libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,

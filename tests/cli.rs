@@ -325,17 +325,30 @@ fn snapshot_frames_writes_a_sequence_equal_to_single_snapshots() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// A tiny frame time loads and prints readably; a frame time past an hour is refused where it
+/// stands (issue 26: `Frame Time: 1e308` made an animation panic).
 #[test]
 fn absurd_frame_times_load_and_print_readably() {
     let base = std::fs::read_to_string(edge("article_base_crlf.bvh")).unwrap();
-    for (time, want_time, want_duration) in [
-        (
-            "1e300",
-            "1e300 s (1.000e-300 frames per second)",
-            "2.000e300 s",
+    let path = std::env::temp_dir().join(format!("bvhview-time-huge-{}.bvh", std::process::id()));
+    std::fs::write(
+        &path,
+        base.replace("Frame Time: 0.033333", "Frame Time: 1e300"),
+    )
+    .unwrap();
+    let out = bvhview(&["info", path.to_str().unwrap()]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.ends_with(
+            "expected the frame time (seconds, a number from 0 to 3600), found '1e300'\n"
         ),
-        ("1e-320", "1e-320 s (inf frames per second)", "2.000e-320 s"),
-    ] {
+        "{stderr}"
+    );
+    std::fs::remove_file(path).unwrap();
+    for (time, want_time, want_duration) in
+        [("1e-320", "1e-320 s (inf frames per second)", "2.000e-320 s")]
+    {
         let path =
             std::env::temp_dir().join(format!("bvhview-time-{time}-{}.bvh", std::process::id()));
         std::fs::write(
@@ -398,7 +411,7 @@ fn info_on_a_folder_honours_max_size_frame_time_and_offset_mode() {
     assert_eq!(bad.status.code(), Some(2));
     assert_eq!(
         String::from_utf8(bad.stderr).unwrap(),
-        "bvhview: --frame-time 0: expected seconds per frame, above 0\n"
+        "bvhview: --frame-time 0: expected seconds per frame, above 0 and at most 3600\n"
     );
 }
 
@@ -1013,10 +1026,24 @@ fn an_output_that_is_a_fifo_or_a_device_is_written_to() {
     let received = reader.join().unwrap();
     let expected = bvhview(&["positions", &tiny()]);
     assert_eq!(received, expected.stdout);
-    assert!(std::fs::symlink_metadata(&fifo).unwrap().file_type().is_fifo());
-    assert_eq!(std::fs::read_dir(&dir).unwrap().count(), 1, "nothing beside it");
+    assert!(
+        std::fs::symlink_metadata(&fifo)
+            .unwrap()
+            .file_type()
+            .is_fifo()
+    );
+    assert_eq!(
+        std::fs::read_dir(&dir).unwrap().count(),
+        1,
+        "nothing beside it"
+    );
     let null = bvhview(&["positions", &tiny(), "-q", "-o", "/dev/null"]);
     assert!(null.status.success(), "{null:?}");
-    assert!(std::fs::metadata("/dev/null").unwrap().file_type().is_char_device());
+    assert!(
+        std::fs::metadata("/dev/null")
+            .unwrap()
+            .file_type()
+            .is_char_device()
+    );
     std::fs::remove_dir_all(dir).unwrap();
 }

@@ -53,11 +53,14 @@ fn a_child_forked_while_other_threads_load_still_loads() {
         let child = unsafe { libc::fork() };
         assert!(child >= 0, "fork failed");
         if child == 0 {
+            // SAFETY: alarm has no preconditions.
             unsafe { libc::alarm(10) };
             let same = load_streamed(&file) == want;
+            // SAFETY: ends the child at once, running nothing of the parent's.
             unsafe { libc::_exit(if same { 0 } else { 1 }) };
         }
         let mut status = 0;
+        // SAFETY: waits for the child forked above; `status` is a valid int to write.
         assert_eq!(unsafe { libc::waitpid(child, &mut status, 0) }, child);
         if libc::WIFSIGNALED(status) {
             hung += 1;

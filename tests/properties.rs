@@ -112,7 +112,7 @@ proptest! {
 
     #[test]
     fn written_files_load_back_identically((skeleton, motion) in skeleton_and_motion()) {
-        let text = bvhview::bvh::writer::to_string(&skeleton, &motion);
+        let text = bvhview::bvh::writer::to_string(&skeleton, &motion).unwrap();
         let loaded = bvhview::bvh::load_bytes(text.as_bytes(), "random.bvh")
             .map_err(|e| TestCaseError::fail(format!("{e}\n{text}")))?;
         prop_assert_eq!(loaded.motion.frame_count(), motion.frame_count());

@@ -18,7 +18,7 @@ fn every_whole_corpus_file_round_trips_exactly() {
 fn check_round_trips(folder: &std::path::Path) {
     for path in files_in(folder, "bvh") {
         let original = bvhview::bvh::load_file(&path).unwrap();
-        let text = bvhview::bvh::writer::to_string(&original.skeleton, &original.motion);
+        let text = bvhview::bvh::writer::to_string(&original.skeleton, &original.motion).unwrap();
         let again = bvhview::bvh::load_bytes(text.as_bytes(), "written.bvh")
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
         assert_eq!(again.skeleton, original.skeleton, "{}", path.display());

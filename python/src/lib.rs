@@ -14,8 +14,8 @@ use numpy::ndarray::ArrayView2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayMethods};
 use pyo3::create_exception;
 use pyo3::exceptions::{
-    PyFileNotFoundError, PyIsADirectoryError, PyOSError, PyPermissionError, PyRuntimeError,
-    PyValueError,
+    PyFileNotFoundError, PyIsADirectoryError, PyMemoryError, PyOSError, PyPermissionError,
+    PyRuntimeError, PyValueError,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PySlice, PySliceMethods, PyTuple};
@@ -60,6 +60,7 @@ fn to_python(py: Python<'_>, error: Error) -> PyErr {
             os_error(&path, &source, &text)
         }
         Error::Usage(_) => PyValueError::new_err(text),
+        Error::Memory(_) => PyMemoryError::new_err(text),
         Error::Environment(_) => PyRuntimeError::new_err(text),
     }
 }
@@ -217,8 +218,9 @@ impl Motion {
         joints: usize,
         per_frame: usize,
         compute: impl Fn(&[usize], &mut [f32]) + Sync,
-    ) -> Vec<f32> {
-        let mut result = vec![0.0f32; frames.len() * per_frame];
+    ) -> Result<Vec<f32>, Error> {
+        let mut result =
+            bvhview::limits::zeroed_floats(frames.len().saturating_mul(per_frame), "the result")?;
         let piece = piece_frames(joints);
         let pieces = Mutex::new(
             frames
@@ -235,18 +237,26 @@ impl Motion {
                 compute(frames, out);
             }
         });
-        result
+        Ok(result)
     }
 
     /// World positions of every joint for `frames`: `frames × joints × 3` floats.
-    fn positions_of(&self, frames: &[usize]) -> Vec<f32> {
+    fn positions_of(&self, frames: &[usize]) -> Result<Vec<f32>, Error> {
         let skeleton = &self.loaded.skeleton;
         let motion = &self.loaded.motion;
         let joints = skeleton.joints.len();
         if motion.frame_count() == 0 {
             // The rest pose: frame 0 is the only one there is.
             let rest = pose::world_positions(skeleton, &[], self.offset_mode);
-            return frames.iter().flat_map(|_| flatten(&rest)).collect();
+            let rest: Vec<f32> = flatten(&rest).collect();
+            let mut out = bvhview::limits::zeroed_floats(
+                frames.len().saturating_mul(rest.len()),
+                "the result",
+            )?;
+            for slot in out.chunks_exact_mut(rest.len().max(1)) {
+                slot.copy_from_slice(&rest);
+            }
+            return Ok(out);
         }
         let plan = FkPlan::new(skeleton, self.offset_mode);
         Self::per_frame_floats(frames, joints, joints * 3, |frames, out| {
@@ -268,7 +278,7 @@ impl Motion {
     }
 
     /// World matrices of every joint for `frames`, row-major: `frames × joints × 4 × 4`.
-    fn matrices_of(&self, frames: &[usize]) -> Vec<f32> {
+    fn matrices_of(&self, frames: &[usize]) -> Result<Vec<f32>, Error> {
         let skeleton = &self.loaded.skeleton;
         let motion = &self.loaded.motion;
         let joints = skeleton.joints.len();
@@ -460,7 +470,9 @@ impl Motion {
         frames: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray3<f32>>> {
         let frames = self.selected_frames(frames)?;
-        let values = py.detach(|| self.positions_of(&frames));
+        let values = py
+            .detach(|| self.positions_of(&frames))
+            .map_err(|e| to_python(py, e))?;
         let joints = self.loaded.skeleton.joints.len();
         values.into_pyarray(py).reshape([frames.len(), joints, 3])
     }
@@ -475,7 +487,9 @@ impl Motion {
         frames: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyArray4<f32>>> {
         let frames = self.selected_frames(frames)?;
-        let values = py.detach(|| self.matrices_of(&frames));
+        let values = py
+            .detach(|| self.matrices_of(&frames))
+            .map_err(|e| to_python(py, e))?;
         let joints = self.loaded.skeleton.joints.len();
         values
             .into_pyarray(py)
@@ -533,8 +547,11 @@ impl Motion {
             .joints
             .iter()
             .any(|j| j.axis.is_some())
-            .then(|| bvhview::edit::bake_axes(skeleton, motion));
+            .then(|| bvhview::edit::bake_axes(skeleton, motion))
+            .transpose()?;
         let (skeleton, motion) = baked.as_ref().map_or((skeleton, motion), |(s, m)| (s, m));
+        // Refused before the file is opened: nothing is written (a ValueError).
+        bvhview::bvh::writer::check(skeleton, motion)?;
         let mut out = AtomicFile::create(path)?;
         bvhview::bvh::writer::write_bvh(&mut out, skeleton, motion)
             .map_err(|e| Error::output(path, e))?;

@@ -6,6 +6,7 @@
 use super::text::{Word, error_at, expected, expected_after, lines, number};
 use super::{axis_rotation, bone_joint};
 use crate::error::Error;
+use crate::limits::MAX_DEPTH;
 use crate::skeleton::{Channel, Joint, RotationOrder, Skeleton, Source};
 use glam::Vec3;
 use std::path::Path;
@@ -104,7 +105,7 @@ pub struct Asf {
 
 /// Reads an ASF file; reading stops with an error past `max_size` bytes.
 pub fn load_asf(path: &Path, max_size: u64) -> Result<Asf, Error> {
-    let bytes = crate::input::read_file(path, max_size)?;
+    let bytes = crate::input::read_skeleton_file(path, max_size)?;
     parse_asf(
         &String::from_utf8_lossy(&bytes),
         &path.display().to_string(),
@@ -300,6 +301,20 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
     if !units.degrees {
         to_degrees(&mut root, &mut bones);
     }
+    for bone in &bones {
+        // Each number fits a 32-bit float; their product must too.
+        if !bone_vector(bone).is_finite() {
+            return Err(error_at(
+                source,
+                bone.line,
+                1,
+                format!(
+                    "bone '{}': direction × length is too large for a 32-bit float",
+                    bone.name
+                ),
+            ));
+        }
+    }
     let (root_children, children, warnings) = build_tree(source, &bones, &names, &hierarchy)?;
     Ok(Asf {
         units,
@@ -451,6 +466,8 @@ fn bonedata_line(
         if word.is("root") {
             return Err(expected(source, word, "a bone name other than 'root'"));
         }
+        crate::limits::name(word.text.len())
+            .map_err(|why| error_at(source, word.line, word.column, why))?;
         bone.name = word.text.to_string();
     } else if first.is("direction") {
         bone.direction = three(source, line, "direction")?;
@@ -619,7 +636,7 @@ fn build_tree(
     let mut stack: Vec<(usize, usize)> = root_children.iter().map(|&b| (b, 1)).collect();
     while let Some((bone, depth)) = stack.pop() {
         reached[bone] = true;
-        if depth > crate::bvh::loader::MAX_DEPTH {
+        if depth > MAX_DEPTH {
             let word = hierarchy
                 .iter()
                 .flat_map(|l| l[1..].iter())
@@ -629,10 +646,7 @@ fn build_tree(
                 source,
                 word.line,
                 word.column,
-                format!(
-                    "bones nest deeper than {} levels",
-                    crate::bvh::loader::MAX_DEPTH
-                ),
+                format!("bones nest deeper than {MAX_DEPTH} levels"),
             ));
         }
         stack.extend(children[bone].iter().map(|&c| (c, depth + 1)));

@@ -118,10 +118,10 @@ pub(crate) fn expected_after(source: &str, line: &[Word<'_>], what: &str) -> Err
     )
 }
 
-/// A finite number.
+/// A number that is finite as the 32-bit float the skeleton keeps.
 pub(crate) fn number(source: &str, word: &Word<'_>, what: &str) -> Result<f64, Error> {
     match word.text.parse::<f64>() {
-        Ok(value) if value.is_finite() => Ok(value),
+        Ok(value) if (value as f32).is_finite() => Ok(value),
         _ => Err(expected(source, word, what)),
     }
 }

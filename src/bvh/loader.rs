@@ -10,14 +10,12 @@
 
 use super::rows::{RowParser, parse_number};
 use crate::error::Error;
+use crate::limits::MAX_DEPTH;
 use crate::lines::{is_line_end, line_column};
 use crate::motion::Motion;
 use crate::skeleton::{Channel, Joint, RotationOrder, Skeleton};
 use glam::Vec3;
 use std::path::Path;
-
-/// Deepest nesting of joints the loader accepts; deeper files are refused, not a stack overflow.
-pub const MAX_DEPTH: usize = 1000;
 
 /// C++: `class BVH`: a loaded file. The article keeps the loader's state (`p`, `father`,
 /// `currentNode`) and the viewer's (`currentFrame`, `pFrame`) in the same object; here the loader
@@ -97,6 +95,9 @@ pub fn load_file_streaming_over(
     let (head, rows_start) =
         read_head(&mut file, length, &mut HeaderScan::default()).map_err(io_error)?;
     let Some(rows_start) = rows_start else {
+        if head.len() > crate::limits::MAX_HEADER_BYTES {
+            return Err(header_too_long(&head, &source));
+        }
         return load_bytes_with_threads(&head, &source, threads);
     };
     // Check HIERARCHY, then the cursor loop: one `process_*` per keyword, then Frames and
@@ -171,6 +172,34 @@ fn read_head(
         }
         if let Some(start) = scan.rows_start(&head) {
             return Ok((head, Some(start)));
+        }
+        if head.len() > crate::limits::MAX_HEADER_BYTES {
+            return Ok((head, None));
+        }
+    }
+}
+
+/// The error for a file whose rows do not begin within [`crate::limits::MAX_HEADER_BYTES`]: the
+/// loader's own where the bytes read so far are already wrong (a link to /dev/zero fails at
+/// 1:1), else one at the point where reading stopped.
+fn header_too_long(head: &[u8], source: &str) -> Error {
+    match Loader::new(head, source).load() {
+        Err(error @ Error::Parse { line, column, .. })
+            if (line, column) != line_column(head, head.len()) =>
+        {
+            error
+        }
+        _ => {
+            let (line, column) = line_column(head, head.len());
+            Error::Parse {
+                path: source.to_string(),
+                line,
+                column,
+                message: format!(
+                    "no MOTION rows within the first {} MiB; a hierarchy is never this long",
+                    crate::limits::MAX_HEADER_BYTES >> 20
+                ),
+            }
         }
     }
 }
@@ -515,8 +544,9 @@ impl<'a> Loader<'a> {
 
     /// C++: `BVH::newNode`. The article copies bytes up to the line feed into a 24-byte array and
     /// drops the last one, assuming it is a carriage return. Here the name is the rest of the
-    /// line, trimmed, of any length: names may hold spaces, ':' or '.'. A `{` written at the end
-    /// of the same line is left for the main loop.
+    /// line, trimmed, of up to [`crate::limits::MAX_NAME_BYTES`] bytes (a longer one is damage,
+    /// refused rather than repeated on every line of an export): names may hold spaces, ':' or
+    /// '.'. A `{` written at the end of the same line is left for the main loop.
     fn new_node(&mut self, keyword: Token<'_>, end_site: bool) -> Result<usize, Error> {
         while self.p < self.text.len() && matches!(self.text[self.p], b' ' | b'\t') {
             self.p += 1;
@@ -530,7 +560,11 @@ impl<'a> Loader<'a> {
             line = &line[..brace];
             self.p = start + brace;
         }
-        let name = String::from_utf8_lossy(line.trim_ascii()).into_owned();
+        let name = line.trim_ascii();
+        if let Err(why) = crate::limits::name(name.len()) {
+            return Err(self.error_at(start, why));
+        }
+        let name = String::from_utf8_lossy(name).into_owned();
         if name.is_empty() {
             let what = if end_site {
                 "'Site' after End".to_string()
@@ -787,9 +821,13 @@ impl<'a> Loader<'a> {
             .and_then(|t| std::str::from_utf8(t.text).ok())
             .and_then(|s| s.parse::<f64>().ok())
         {
-            Some(time) if time.is_finite() && time >= 0.0 => time,
+            Some(time) if crate::limits::frame_time_in_file(time) => time,
             _ => {
-                return Err(self.expected("the frame time (seconds, a number ≥ 0)", time_token));
+                let what = format!(
+                    "the frame time (seconds, a number from 0 to {})",
+                    crate::limits::MAX_FRAME_TIME
+                );
+                return Err(self.expected(&what, time_token));
             }
         };
         self.finish_line("end of line after the frame time")?;

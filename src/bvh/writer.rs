@@ -1,6 +1,8 @@
 //! Skeleton + Motion back to BVH text. The article has no writer; this one writes what any BVH
 //! reader accepts: tab indentation, LF line ends, one frame per line.
 
+use crate::error::Error;
+use crate::limits::{MAX_DEPTH, MAX_NAME_BYTES};
 use crate::motion::Motion;
 use crate::skeleton::Skeleton;
 use std::borrow::Cow;
@@ -35,10 +37,64 @@ pub fn renamed(skeleton: &Skeleton) -> Vec<(String, String)> {
         .collect()
 }
 
+/// Whether the take can be written as a BVH file that loads back (bvhview's loader and others):
+/// every number finite, the frame time one a loader accepts, names and nesting within
+/// [`crate::limits`]. Called before anything is written, so a take that cannot be written
+/// leaves no file.
+pub fn check(skeleton: &Skeleton, motion: &Motion) -> Result<(), Error> {
+    let refuse = |why: String| Err(Error::Usage(format!("cannot write BVH: {why}")));
+    if let Some(joint) = skeleton.joints.iter().find(|j| !j.offset.is_finite()) {
+        return refuse(format!("the OFFSET of '{}' is not finite", joint.name));
+    }
+    if let Some(at) = motion.data.iter().position(|v| !v.is_finite()) {
+        let channels = motion.channels.max(1);
+        return refuse(format!(
+            "frame {}, column {} is not finite",
+            at / channels,
+            at % channels
+        ));
+    }
+    if !crate::limits::frame_time_in_file(motion.frame_time) {
+        return refuse(format!(
+            "a frame time of {} s (a loader reads 0 to {} s)",
+            motion.frame_time,
+            crate::limits::MAX_FRAME_TIME
+        ));
+    }
+    if let Some(joint) = skeleton
+        .joints
+        .iter()
+        .find(|j| safe_name(&j.name).len() > MAX_NAME_BYTES)
+    {
+        return refuse(format!(
+            "a joint name of {} bytes (a loader reads at most {MAX_NAME_BYTES})",
+            joint.name.len()
+        ));
+    }
+    // The loader counts the joints open around each new one (the root has none).
+    let mut depth = vec![0usize; skeleton.joints.len()];
+    for (index, joint) in skeleton.joints.iter().enumerate() {
+        if let Some(parent) = joint.parent {
+            depth[index] = depth[parent] + 1;
+        }
+        if depth[index] >= MAX_DEPTH {
+            return refuse(format!(
+                "'{}' nests {} levels deep; a BVH loader reads at most {MAX_DEPTH}",
+                joint.name,
+                depth[index] + 1
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Writes `skeleton` and `motion` as BVH. Numbers are written in their shortest form that reads
 /// back to the same `f32`, so a load of the output gives exactly the values that were written.
-/// Names pass through [`safe_name`], so the loader reads back every file this writes.
+/// Names pass through [`safe_name`], so the loader reads back every file this writes. A take
+/// that fails [`check`] is refused (`InvalidInput`) before a byte is written.
 pub fn write_bvh<W: Write>(out: &mut W, skeleton: &Skeleton, motion: &Motion) -> io::Result<()> {
+    check(skeleton, motion)
+        .map_err(|e| io::Error::new(io::ErrorKind::InvalidInput, e.to_string()))?;
     writeln!(out, "HIERARCHY")?;
     for root in skeleton.roots() {
         write_joint(out, skeleton, root, 0)?;
@@ -61,11 +117,12 @@ pub fn write_bvh<W: Write>(out: &mut W, skeleton: &Skeleton, motion: &Motion) ->
     Ok(())
 }
 
-/// The whole file as a string.
-pub fn to_string(skeleton: &Skeleton, motion: &Motion) -> String {
+/// The whole file as a string, or why it cannot be written ([`check`]).
+pub fn to_string(skeleton: &Skeleton, motion: &Motion) -> Result<String, Error> {
+    check(skeleton, motion)?;
     let mut bytes = Vec::new();
-    write_bvh(&mut bytes, skeleton, motion).expect("writing to memory cannot fail");
-    String::from_utf8(bytes).expect("the writer only writes UTF-8")
+    write_bvh(&mut bytes, skeleton, motion).expect("writing to memory cannot fail once checked");
+    Ok(String::from_utf8(bytes).expect("the writer only writes UTF-8"))
 }
 
 fn push_number(line: &mut String, value: f32) {
@@ -131,7 +188,7 @@ mod tests {
             skeleton.joints.push(joint);
         }
         let motion = Motion::new(0.5, names.len(), 1, vec![1.0; names.len()]);
-        let text = to_string(&skeleton, &motion);
+        let text = to_string(&skeleton, &motion).unwrap();
         let loaded = crate::bvh::load_bytes(text.as_bytes(), "t.bvh").unwrap();
         let read: Vec<&str> = loaded
             .skeleton

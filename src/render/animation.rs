@@ -2,6 +2,7 @@
 //! the same offscreen renderer as `snapshot`, written whole or not at all ([`crate::output`]).
 
 use crate::error::Error;
+use crate::limits::GIF_MAX_FPS;
 use crate::render::Image;
 use std::ops::Range;
 use std::path::Path;
@@ -25,9 +26,6 @@ impl Format {
     }
 }
 
-/// Browsers show GIF frames shorter than 20 ms slower than asked, so GIFs play at most this fast.
-pub const GIF_MAX_FPS: f64 = 50.0;
-
 /// The rate an animation plays at when none is asked for: the file's own (30 when the file has
 /// no frame time), at most [`GIF_MAX_FPS`] for a GIF.
 pub fn default_fps(frame_time: f64, format: Format) -> f64 {
@@ -44,21 +42,22 @@ pub fn default_fps(frame_time: f64, format: Format) -> f64 {
 
 /// The take's frames an animation at `fps` shows: for each of its ticks from the start of
 /// `range`, the frame at that time (so a slower rate skips frames, a faster one repeats them).
-pub fn sampled_frames(range: Range<usize>, frame_time: f64, fps: f64) -> Vec<usize> {
+/// Refused past [`crate::limits::MAX_ANIMATION_FRAMES`].
+pub fn sampled_frames(range: Range<usize>, frame_time: f64, fps: f64) -> Result<Vec<usize>, Error> {
     if range.is_empty() {
-        return Vec::new();
+        return Ok(Vec::new());
     }
     if !(frame_time > 0.0 && frame_time.is_finite() && fps > 0.0) {
-        return range.collect();
+        crate::limits::animation_frames(range.len(), 1.0, 1.0)?;
+        return Ok(range.collect());
     }
-    let duration = range.len() as f64 * frame_time;
-    let ticks = ((duration * fps).round() as usize).max(1);
-    (0..ticks)
+    let ticks = crate::limits::animation_frames(range.len(), frame_time, fps)?;
+    Ok((0..ticks)
         .map(|tick| {
             let offset = (tick as f64 / fps / frame_time + 1e-9).floor() as usize;
             (range.start + offset).min(range.end - 1)
         })
-        .collect()
+        .collect())
 }
 
 /// Writes the pictures `frames` yields as one animation at `fps`, looping.
@@ -127,11 +126,20 @@ mod tests {
     #[test]
     fn frames_are_sampled_by_time() {
         // 120 fps shown at 30: every fourth frame.
-        assert_eq!(sampled_frames(0..12, 1.0 / 120.0, 30.0), vec![0, 4, 8]);
+        assert_eq!(
+            sampled_frames(0..12, 1.0 / 120.0, 30.0).unwrap(),
+            vec![0, 4, 8]
+        );
         // 30 fps shown at 60: each frame twice.
-        assert_eq!(sampled_frames(2..4, 1.0 / 30.0, 60.0), vec![2, 2, 3, 3]);
+        assert_eq!(
+            sampled_frames(2..4, 1.0 / 30.0, 60.0).unwrap(),
+            vec![2, 2, 3, 3]
+        );
         // The file's own rate: every frame.
-        assert_eq!(sampled_frames(0..5, 0.04, 25.0), vec![0, 1, 2, 3, 4]);
+        assert_eq!(
+            sampled_frames(0..5, 0.04, 25.0).unwrap(),
+            vec![0, 1, 2, 3, 4]
+        );
         assert_eq!(default_fps(1.0 / 120.0, Format::Gif), GIF_MAX_FPS);
         assert_eq!(default_fps(1.0 / 120.0, Format::Apng), 120.0);
     }

@@ -165,8 +165,14 @@ impl GlTable {
     /// Loads every entry point with `loader`, then checks that the context is one where the
     /// fixed-function calls exist: Mesa's loaders return non-null even for names they do not
     /// have, so the version string is the only honest answer.
-    pub fn load(mut loader: impl FnMut(&CStr) -> *const c_void) -> Result<GlTable, Error> {
-        // SAFETY: the loader belongs to a context that is current on this thread.
+    ///
+    /// # Safety
+    ///
+    /// `loader` must return, for each name, null or the address of that GL function of a
+    /// context that is current on this thread and stays current while the table is used: every
+    /// method of the table calls through these addresses.
+    pub unsafe fn load(mut loader: impl FnMut(&CStr) -> *const c_void) -> Result<GlTable, Error> {
+        // SAFETY: the caller promises that the loader's addresses are this context's functions.
         let gl = unsafe { glow::Context::from_loader_function_cstr(&mut loader) };
         let table = load_all!(
             gl,
@@ -270,9 +276,11 @@ impl FixedFunction for GlTable {
     // on this thread whenever these are called, and each call passes the arguments its C
     // signature takes.
     fn window_pos(&mut self, x: i32, y: i32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.window_pos2i)(x, y) }
     }
     fn raster_pos(&mut self, x: f32, y: f32, z: f32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.raster_pos3f)(x, y, z) }
     }
     fn bitmap(&mut self, width: i32, height: i32, advance: f32, bits: &[u8]) {
@@ -282,75 +290,98 @@ impl FixedFunction for GlTable {
         if bits.len() < needed {
             return;
         }
+        // SAFETY: the current context's entry points (see the impl); `bits` holds the rows GL reads (checked above).
         unsafe {
             self.gl.pixel_store_i32(glow::UNPACK_ALIGNMENT, 1);
             (self.bitmap)(width, height, 0.0, 0.0, advance, 0.0, bits.as_ptr());
         }
     }
     fn clear_color(&mut self, r: f32, g: f32, b: f32, a: f32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { self.gl.clear_color(r, g, b, a) }
     }
     fn clear(&mut self, mask: u32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { self.gl.clear(mask) }
     }
     fn enable(&mut self, cap: u32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { self.gl.enable(cap) }
     }
     fn disable(&mut self, cap: u32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { self.gl.disable(cap) }
     }
     fn lightfv(&mut self, light: u32, pname: u32, params: [f32; 4]) {
+        // SAFETY: the current context's entry point (see the impl); `params` holds the 4 floats it reads.
         unsafe { (self.lightfv)(light, pname, params.as_ptr()) }
     }
     fn materialfv(&mut self, pname: u32, params: [f32; 4]) {
+        // SAFETY: the current context's entry point (see the impl); `params` holds the 4 floats it reads.
         unsafe { (self.materialfv)(GL_FRONT_AND_BACK, pname, params.as_ptr()) }
     }
     fn line_width(&mut self, width: f32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { self.gl.line_width(width) }
     }
     fn color3f(&mut self, r: f32, g: f32, b: f32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.color3f)(r, g, b) }
     }
     fn viewport(&mut self, x: i32, y: i32, width: i32, height: i32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { self.gl.viewport(x, y, width, height) }
     }
     fn matrix_mode(&mut self, mode: u32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.matrix_mode)(mode) }
     }
     fn load_identity(&mut self) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.load_identity)() }
     }
     fn mult_matrixf(&mut self, m: &[f32; 16]) {
+        // SAFETY: the current context's entry point (see the impl); `m` holds the 16 values it reads.
         unsafe { (self.mult_matrixf)(m.as_ptr()) }
     }
     fn mult_matrixd(&mut self, m: &[f64; 16]) {
+        // SAFETY: the current context's entry point (see the impl); `m` holds the 16 values it reads.
         unsafe { (self.mult_matrixd)(m.as_ptr()) }
     }
     fn push_matrix(&mut self) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.push_matrix)() }
     }
     fn pop_matrix(&mut self) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.pop_matrix)() }
     }
     fn translatef(&mut self, x: f32, y: f32, z: f32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.translatef)(x, y, z) }
     }
     fn translated(&mut self, x: f64, y: f64, z: f64) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.translated)(x, y, z) }
     }
     fn rotatef(&mut self, angle: f32, x: f32, y: f32, z: f32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.rotatef)(angle, x, y, z) }
     }
     fn begin(&mut self, mode: u32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.begin)(mode) }
     }
     fn end(&mut self) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.end)() }
     }
     fn vertex3f(&mut self, x: f32, y: f32, z: f32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.vertex3f)(x, y, z) }
     }
     fn normal3f(&mut self, x: f32, y: f32, z: f32) {
+        // SAFETY: the current context's entry point (see the impl), arguments by value.
         unsafe { (self.normal3f)(x, y, z) }
     }
 
@@ -376,6 +407,7 @@ impl FixedFunction for GlTable {
             return;
         }
         // Vec3 is three packed f32s, as glVertexPointer(3, GL_FLOAT, 0) and glNormalPointer read.
+        // SAFETY: the current context's entry points (see the impl), with the arguments their C signatures take.
         unsafe {
             (self.enable_client_state)(GL_VERTEX_ARRAY);
             (self.enable_client_state)(GL_NORMAL_ARRAY);
@@ -409,6 +441,7 @@ impl FixedFunction for GlTable {
         }
         let sphere = self.sphere.as_ref().expect("built above");
         let strip = sphere.strip_len();
+        // SAFETY: the current context's entry points (see the impl), with the arguments their C signatures take.
         unsafe {
             (self.enable_client_state)(GL_VERTEX_ARRAY);
             (self.enable_client_state)(GL_NORMAL_ARRAY);
@@ -441,21 +474,22 @@ mod tests {
         let _context = OsMesa::new(8, 8).unwrap();
         // SAFETY: the same library the context came from; its symbol has this signature.
         let library = unsafe { libloading::Library::new(LIBRARY) }.unwrap();
+        // SAFETY: OSMesaGetProcAddress has this signature in the library loaded above.
         let get_proc = unsafe {
             *library
                 .get::<GetProcAddress>(b"OSMesaGetProcAddress\0")
                 .unwrap()
         };
-        let error = GlTable::load(|name: &CStr| {
+        let loader = |name: &CStr| {
             if name.to_bytes() == b"glLightfv" {
                 std::ptr::null()
             } else {
                 // SAFETY: a NUL-terminated name.
                 unsafe { get_proc(name.as_ptr()) }
             }
-        })
-        .err()
-        .unwrap();
+        };
+        // SAFETY: the context made above is current on this thread; the table is not used.
+        let error = unsafe { GlTable::load(loader) }.err().unwrap();
         assert_eq!(error.to_string(), "OpenGL has no glLightfv");
         assert_eq!(error.exit_code(), 1);
     }

@@ -33,7 +33,7 @@ impl OsMesa {
     /// A context with a 24-bit depth buffer and no multisampling (the article's window on
     /// llvmpipe), current on this thread, with a `width × height` buffer.
     pub fn new(width: u32, height: u32) -> Result<OsMesa, Error> {
-        check_size(width, height)?;
+        crate::limits::picture_size(width, height)?;
         // SAFETY: loading Mesa's OSMesa runs its initialisers, which have no preconditions.
         let library = unsafe { Library::new(LIBRARY) }.map_err(|e| {
             Error::Environment(format!(
@@ -83,10 +83,13 @@ impl OsMesa {
                 "OSMesa could not make its context current".into(),
             ));
         }
-        let gl = GlTable::load(|name: &CStr| {
+        let loader = |name: &CStr| {
             // SAFETY: a NUL-terminated name; OSMesa returns null or the entry point.
             unsafe { get_proc(name.as_ptr()) }
-        });
+        };
+        // SAFETY: OSMesa's addresses belong to the context made current above, which stays
+        // current on this thread while the OsMesa value (and the table in it) lives.
+        let gl = unsafe { GlTable::load(loader) };
         let gl = match gl {
             Ok(gl) => gl,
             Err(e) => {
@@ -143,14 +146,4 @@ impl Drop for OsMesa {
         // SAFETY: the context was created by this library and is destroyed once.
         unsafe { (self.destroy)(self.context) };
     }
-}
-
-/// Sizes a context and a PNG can have.
-pub fn check_size(width: u32, height: u32) -> Result<(), Error> {
-    if width == 0 || height == 0 || width > 16384 || height > 16384 {
-        return Err(Error::Usage(format!(
-            "--size {width}x{height}: width and height must be 1 to 16384"
-        )));
-    }
-    Ok(())
 }

@@ -131,7 +131,9 @@ fn open_gl_window(
     let context = context
         .make_current(&surface)
         .map_err(|e| failed("make the OpenGL context current", &e))?;
-    let gl = GlTable::load(|name| display.get_proc_address(name))?;
+    // SAFETY: the display's addresses belong to the context made current just above, which
+    // the window keeps current on this thread while it draws with the table.
+    let gl = unsafe { GlTable::load(|name| display.get_proc_address(name)) }?;
     let size = window.inner_size();
     Ok(Running {
         window,

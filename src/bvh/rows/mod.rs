@@ -64,6 +64,7 @@ impl Room {
 
 // SAFETY: the threads write disjoint stretches; see `RowParser::feed_placed`.
 unsafe impl Send for Room {}
+// SAFETY: as for Send: shared only to hand each thread its own stretch.
 unsafe impl Sync for Room {}
 
 /// A chunk handed to a thread: its text is in the thread's buffer, or at `range` of the text
@@ -579,7 +580,8 @@ impl RowParser {
                 return Err(problem.into_error(&self.source, width, rows));
             }
             // What `set_len` below relies on: the chunk's rows were all written.
-            debug_assert!(chunk.written >= chunk.rows * width, "chunk {}", chunk.index);
+            // Checked in release builds too: a wrong count here would expose uninitialised memory.
+            assert!(chunk.written >= chunk.rows * width, "chunk {}", chunk.index);
             if chunk.placed != rows {
                 self.rows_moved += chunk.rows;
                 self.data.spare_capacity_mut().copy_within(
@@ -590,7 +592,7 @@ impl RowParser {
             rows += chunk.rows;
             rest = chunk.rest.or(rest);
         }
-        debug_assert!(rows * width <= self.data.capacity());
+        assert!(rows * width <= self.data.capacity());
         // SAFETY: the first `rows` rows of the spare room were written by the workers (each
         // wrote its rows front to back from its place) and moved down to follow each other.
         unsafe { self.data.set_len(rows * width) };

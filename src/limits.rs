@@ -1,0 +1,203 @@
+//! The limits every count, rate and size is held to, checked once where it enters: from a file
+//! (the BVH and ASF/AMC loaders), from an option (the CLI), or from Python. One function per kind,
+//! so that every path refuses the same things with the same words, and nothing a file or an
+//! option says can make bvhview panic, abort, or render or allocate without end.
+
+use crate::error::Error;
+
+/// Deepest nesting of joints the loaders accept (and the BVH writer writes): deeper files are
+/// refused, not a stack overflow in the recursions that walk the tree.
+pub const MAX_DEPTH: usize = 1000;
+
+/// Longest joint or bone name, in bytes. Real names are under 64; a longer one is damage, and
+/// every frame of a `positions` export repeats it.
+pub const MAX_NAME_BYTES: usize = 1024;
+
+/// Most bytes before the MOTION rows (the hierarchy and the MOTION header), and the most an
+/// ASF skeleton may hold. A 1000-joint hierarchy is about 100 KB; past this, a file that is not
+/// BVH at all (a link to /dev/zero) stops being read.
+pub const MAX_HEADER_BYTES: usize = 64 << 20;
+
+/// Longest frame time, in seconds, from a file or `--frame-time`: an hour per frame.
+pub const MAX_FRAME_TIME: f64 = 3600.0;
+
+/// Slowest and fastest rates, in frames per second, for `--fps` (animations and resampling).
+/// An APNG delay counts thousandths of a second.
+pub const MIN_FPS: f64 = 0.01;
+pub const MAX_FPS: f64 = 1000.0;
+
+/// Browsers show GIF frames shorter than 20 ms slower than asked, so a GIF plays at most this
+/// fast (its delays count hundredths of a second).
+pub const GIF_MAX_FPS: f64 = 50.0;
+
+/// Most frames an animated picture holds (33 minutes at 50 per second); each is drawn.
+pub const MAX_ANIMATION_FRAMES: usize = 100_000;
+
+/// Most values (frames × channels) an edit may make: 4 GB of f32, as much as a 15 GB BVH holds.
+pub const MAX_GENERATED_VALUES: u64 = 1 << 30;
+
+/// A number as a message shows it: `1e300`, not three hundred digits.
+pub fn show<T>(value: T) -> String
+where
+    T: Copy + Into<f64> + std::fmt::Display + std::fmt::LowerExp,
+{
+    let size = value.into().abs();
+    if size >= 1e6 || (size < 1e-4 && size > 0.0) {
+        format!("{value:e}")
+    } else {
+        format!("{value}")
+    }
+}
+
+/// A name's length, or what is wrong with it.
+pub fn name(bytes: usize) -> Result<(), String> {
+    if bytes > MAX_NAME_BYTES {
+        return Err(format!(
+            "a name of {bytes} bytes; names are at most {MAX_NAME_BYTES} bytes"
+        ));
+    }
+    Ok(())
+}
+
+/// Whether a frame time read from a file is one bvhview accepts: finite, 0 (some exporters
+/// write it) to [`MAX_FRAME_TIME`].
+pub fn frame_time_in_file(seconds: f64) -> bool {
+    (0.0..=MAX_FRAME_TIME).contains(&seconds)
+}
+
+/// `--frame-time` (or Python's `frame_time=`): seconds per frame, above 0, at most
+/// [`MAX_FRAME_TIME`].
+pub fn frame_time_option(seconds: Option<f64>) -> Result<(), Error> {
+    match seconds {
+        Some(time) if !(time > 0.0 && time <= MAX_FRAME_TIME) => Err(Error::Usage(format!(
+            "--frame-time {}: expected seconds per frame, above 0 and at most {MAX_FRAME_TIME}",
+            show(time)
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// `--fps`: frames per second from [`MIN_FPS`] to [`MAX_FPS`] (to [`GIF_MAX_FPS`] for a GIF).
+pub fn fps(fps: f64, gif: bool) -> Result<f64, Error> {
+    let most = if gif { GIF_MAX_FPS } else { MAX_FPS };
+    if !(MIN_FPS..=most).contains(&fps) {
+        let why = if gif {
+            " (a GIF plays at most 50 frames per second; .apng plays faster)"
+        } else {
+            ""
+        };
+        return Err(Error::Usage(format!(
+            "--fps {}: expected frames per second from {MIN_FPS} to {most}{why}",
+            show(fps)
+        )));
+    }
+    Ok(fps)
+}
+
+/// How many frames `frames` frames of `frame_time` seconds make at `fps`, refused past `most`.
+fn frames_at(frames: usize, frame_time: f64, fps: f64, most: u64) -> Result<usize, Error> {
+    let count = (frames as f64 * frame_time * fps).round().max(1.0);
+    if !(count.is_finite() && count <= most as f64) {
+        return Err(Error::Usage(format!(
+            "{frames} frames of {} s at {} per second make {} frames; at most {most} can be made",
+            show(frame_time),
+            show(fps),
+            show(count)
+        )));
+    }
+    Ok(count as usize)
+}
+
+/// Frames an animation of `frames` frames at `fps` holds, at most [`MAX_ANIMATION_FRAMES`].
+pub fn animation_frames(frames: usize, frame_time: f64, fps: f64) -> Result<usize, Error> {
+    frames_at(frames, frame_time, fps, MAX_ANIMATION_FRAMES as u64)
+}
+
+/// Frames a take of `frames` frames resampled to `fps` holds, its values (× `channels`) at
+/// most [`MAX_GENERATED_VALUES`].
+pub fn resampled_frames(
+    frames: usize,
+    frame_time: f64,
+    fps: f64,
+    channels: usize,
+) -> Result<usize, Error> {
+    frames_at(
+        frames,
+        frame_time,
+        fps,
+        MAX_GENERATED_VALUES / channels.max(1) as u64,
+    )
+}
+
+/// A picture's size: 1 to 16384 pixels each way.
+pub fn picture_size(width: u32, height: u32) -> Result<(), Error> {
+    if width == 0 || height == 0 || width > 16384 || height > 16384 {
+        return Err(Error::Usage(format!(
+            "--size {width}x{height}: width and height must be 1 to 16384"
+        )));
+    }
+    Ok(())
+}
+
+/// `count` zeros to fill, or [`Error::Memory`] where `vec!` would abort the process: a count
+/// that overflows, or more memory than the machine will give.
+pub fn zeroed_floats(count: usize, what: &str) -> Result<Vec<f32>, Error> {
+    let too_much = || {
+        Error::Memory(format!(
+            "{what}: {count} values ({:.1} GB) do not fit in memory",
+            count as f64 * 4.0 / 1e9
+        ))
+    };
+    let bytes = count.checked_mul(4).ok_or_else(too_much)?;
+    // More than the machine has is refused whatever the kernel's overcommit setting would say.
+    // SAFETY: sysconf only reads system values.
+    let (pages, page) = unsafe {
+        (
+            libc::sysconf(libc::_SC_PHYS_PAGES),
+            libc::sysconf(libc::_SC_PAGESIZE),
+        )
+    };
+    if pages > 0 && page > 0 && bytes as u128 > pages as u128 * page as u128 {
+        return Err(too_much());
+    }
+    // Asked first without touching the memory, so that a refusal is an error, not an abort;
+    // then `vec!`, which gets zeroed pages from the system without writing them.
+    let mut probe: Vec<f32> = Vec::new();
+    probe.try_reserve_exact(count).map_err(|_| too_much())?;
+    drop(probe);
+    Ok(vec![0.0; count])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rates_and_counts_are_refused_past_their_limits() {
+        assert!(fps(f64::NAN, false).is_err());
+        assert!(fps(1e300, false).is_err());
+        assert!(fps(60.0, true).is_err());
+        assert_eq!(fps(60.0, false).unwrap(), 60.0);
+        // Issue 26, row 4: `Frame Time: 1e308`, `--fps 1e300` and `--fps 1e7` on two frames.
+        assert!(animation_frames(100, 1e308, 30.0).is_err());
+        assert!(animation_frames(100, 0.01, 1e300).is_err());
+        assert!(animation_frames(2, 1.0 / 30.0, 1e7).is_err());
+        assert_eq!(animation_frames(12, 1.0 / 120.0, 30.0).unwrap(), 3);
+        assert!(resampled_frames(1000, 3600.0, 1000.0, 100).is_err());
+        assert_eq!(resampled_frames(120, 1.0 / 120.0, 30.0, 100).unwrap(), 30);
+        assert!(!frame_time_in_file(1e308));
+        assert!(frame_time_in_file(0.0));
+        assert!(frame_time_option(Some(0.0)).is_err());
+        assert!(name(MAX_NAME_BYTES + 1).is_err());
+        assert!(name(MAX_NAME_BYTES).is_ok());
+    }
+
+    /// Issue 26, row 7: 243 GB of matrices is a `MemoryError`, not an abort.
+    #[test]
+    fn an_allocation_the_machine_cannot_give_is_an_error() {
+        let error = zeroed_floats(100_000_000 * 38 * 16, "world_matrices").unwrap_err();
+        assert!(matches!(error, Error::Memory(_)), "{error}");
+        assert!(zeroed_floats(usize::MAX, "x").is_err());
+        assert_eq!(zeroed_floats(3, "x").unwrap(), vec![0.0; 3]);
+    }
+}
