@@ -10,7 +10,7 @@ PACKAGES=(
     libosmesa6
     libx11-6 libx11-xcb1 libxcb1 libxcursor1 libxi6 libxkbcommon-x11-0
     libgl1 libglx-mesa0 libgl1-mesa-dri libegl1 libegl-mesa0
-    xvfb xauth xdotool x11-apps
+    xvfb xauth xdotool x11-apps opencc
 )
 
 missing=()
@@ -44,6 +44,8 @@ status=0
 # --show-output: the golden-picture tests print how many pixels drifted even when they pass.
 cargo test --all-targets --locked --no-fail-fast -- --show-output "${test_args[@]}" 2>&1 | tee "$log" || status=$?
 grep '^drift ' "$log" | awk '{ if ($3 > 0) n++ } END { printf "golden pictures: %d compared, %d with any pixel drift\n", NR, n }' || true
+# Machines differ: say whether the AVX-512 row reader was compared with the plain one here.
+grep -m1 '^row reader: ' "$log" || echo "row reader: the AVX-512 check did not run"
 # One closing line for the whole run: the sum over every test binary.
 summary=$(awk '/^test result:/ { p += $4; f += $6; i += $8 } END { printf "%d %d %d", p, f, i }' "$log")
 read -r passed failed ignored <<<"$summary"

@@ -9,7 +9,7 @@ use bvhview::render::draw::Style;
 use bvhview::render::paint::{Clock, Shown};
 use bvhview::render::window::ViewerOptions;
 use bvhview::render::{Look, Overlay, SnapshotOptions};
-use clap::{Args, Parser, Subcommand, ValueEnum};
+use clap::{Args, CommandFactory, FromArgMatches, Parser, Subcommand, ValueEnum};
 use std::io::{self, BufWriter, Write};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -514,7 +514,17 @@ fn main() -> ExitCode {
         );
         return ExitCode::from(2);
     }
-    let cli = match Cli::try_parse() {
+    // `--version` also names the row reader this machine runs (machines differ).
+    let long_version = format!(
+        "{}\nrow reader: {}",
+        env!("CARGO_PKG_VERSION"),
+        bvhview::bvh::rows::row_reader()
+    );
+    let parsed = Cli::command()
+        .long_version(&*Box::leak(long_version.into_boxed_str()))
+        .try_get_matches()
+        .and_then(|matches| Cli::from_arg_matches(&matches));
+    let cli = match parsed {
         Ok(cli) => cli,
         // Help and version go to stdout as clap writes them; mistakes get our one prefix.
         Err(e) if !e.use_stderr() => e.exit(),

@@ -1039,3 +1039,20 @@ fn an_output_that_is_a_fifo_or_a_device_is_written_to() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `--version` names the row reader this machine runs (issue 26: machines differ, and one
+/// without AVX-512 never runs rows/wide.rs).
+#[test]
+fn version_names_the_row_reader() {
+    let out = bvhview(&["--version"]);
+    assert!(out.status.success());
+    let text = String::from_utf8(out.stdout).unwrap();
+    let reader = bvhview::bvh::rows::row_reader();
+    assert_eq!(
+        text,
+        format!(
+            "bvhview {}\nrow reader: {reader}\n",
+            env!("CARGO_PKG_VERSION")
+        )
+    );
+}

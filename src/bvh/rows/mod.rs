@@ -32,6 +32,16 @@ mod wide;
 
 use number::is_blank;
 pub use number::parse_number;
+
+/// Which reader the MOTION rows go through on this machine, in words (`bvhview --version` says
+/// it): machines differ, and one without AVX-512 never runs `rows/wide.rs`.
+pub fn row_reader() -> &'static str {
+    #[cfg(target_arch = "x86_64")]
+    if wide::available() {
+        return "AVX-512, eight numbers at a time (rows/wide.rs)";
+    }
+    "one number at a time (rows/scan.rs); this CPU has no AVX-512, so rows/wide.rs never runs"
+}
 use scan::{Problem, SliceSink, parse_rows};
 
 /// The last place a chunk may end: after an LF, or after a CR that is not the buffer's last byte

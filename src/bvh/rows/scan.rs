@@ -460,6 +460,25 @@ mod tests {
         part
     }
 
+    /// Says in the test run's output whether the comparisons with the AVX-512 reader ran here
+    /// (`scripts/test.sh` repeats the line at the end), and checks one row both ways.
+    #[test]
+    fn say_whether_the_avx512_comparisons_ran() {
+        let mut out = Vec::new();
+        let part = parse_rows(b"1.5 -2.25 3e2 0.125 7 8 9 10 11\n", 9, 1, &mut out);
+        assert_eq!(part.rows, 1);
+        assert_eq!(out, [1.5, -2.25, 300.0, 0.125, 7.0, 8.0, 9.0, 10.0, 11.0]);
+        #[cfg(target_arch = "x86_64")]
+        let ran = super::super::wide::available();
+        #[cfg(not(target_arch = "x86_64"))]
+        let ran = false;
+        if ran {
+            println!("row reader: AVX-512 comparisons ran (rows/wide.rs against rows/scan.rs)");
+        } else {
+            println!("row reader: AVX-512 comparisons skipped: this CPU has no AVX-512");
+        }
+    }
+
     /// What `(float)atof(word)` gives: the nearest double, then the nearest float.
     fn reference(word: &str) -> f32 {
         word.parse::<f64>().unwrap() as f32
