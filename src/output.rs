@@ -92,10 +92,13 @@ impl AtomicFile {
                     .map_err(|e| Error::output(path, e))?;
                 Writer::Direct(BufWriter::new(file))
             }
+            Some(m) if m.is_dir() => {
+                // As the OS says it (Python raises IsADirectoryError).
+                let error = io::Error::new(io::ErrorKind::IsADirectory, "is a folder");
+                return Err(Error::output(path, error));
+            }
             Some(m) if !m.is_file() => {
-                let what = if m.is_dir() {
-                    "a folder"
-                } else if m.file_type().is_block_device() {
+                let what = if m.file_type().is_block_device() {
                     "a block device"
                 } else {
                     "a socket"

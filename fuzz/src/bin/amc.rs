@@ -10,7 +10,7 @@ fn main() {
             if motion.frame_count() > 0 {
                 let _ = bvhview::pose::world_positions(&skeleton, motion.frame(0), Default::default());
             }
-            let _ = bvhview::acclaim::bake_axes(&skeleton, &motion);
+            let _ = bvhview::edit::bake_axes(&skeleton, &motion);
         }
     });
 }
