@@ -575,3 +575,55 @@ def test_save_refuses_an_unknown_extension(tmp_path):
     with pytest.raises(ValueError, match=r"save writes \.bvh, \.glb or \.gltf files, not 'fbx'"):
         take.save(tmp_path / "x.fbx")
     assert list(tmp_path.iterdir()) == []
+
+
+# Issue 26: outputs nobody can hijack or corrupt, inputs that cannot abort the process.
+
+
+def test_saves_of_one_path_from_two_threads_each_leave_a_whole_file(tmp_path):
+    """Row 2: the temporary name was the process id, shared by threads: one save found its
+    temporary renamed away (FileNotFoundError) and the file left did not load."""
+    take = bvhview.load(DATA / "bvh" / "bvhio_example.bvh")
+    out = tmp_path / "same.bvh"
+    failures = []
+
+    def save_often():
+        try:
+            for _ in range(40):
+                take.save(out)
+        except Exception as error:  # noqa: BLE001 - any failure is the finding
+            failures.append(error)
+
+    threads = [threading.Thread(target=save_often) for _ in range(4)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    assert failures == []
+    again = bvhview.load(out)
+    np.testing.assert_array_equal(again.values, take.values)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["same.bvh"]
+
+
+def test_a_result_larger_than_memory_is_a_memory_error():
+    """Row 7: 10**8 frames of world matrices (243 GB) aborted the process; numpy raises
+    MemoryError for such an array, and so does bvhview."""
+    take = bvhview.load(DATA / "bvh" / "bvhio_example.bvh")
+    with pytest.raises(MemoryError):
+        take.world_matrices(np.zeros(10**8, int))
+    # The process goes on.
+    assert take.world_matrices([0]).shape == (1, len(take.joint_names), 4, 4)
+
+
+def test_a_take_whose_values_overflow_is_refused_before_anything_is_written(tmp_path):
+    """Point 2: an ASF bone of length 1e30 along 1e30 loads as nothing (its offset is not a
+    32-bit number), and a file that cannot be written leaves no file."""
+    asf = tmp_path / "huge.asf"
+    asf.write_text(
+        ":version 1.10\n:units\n  length 1\n  angle deg\n:root\n  order TX TY TZ RX RY RZ\n"
+        "  axis XYZ\n  position 0 0 0\n  orientation 0 0 0\n:bonedata\n  begin\n    id 1\n"
+        "    name a\n    direction 0 1e30 0\n    length 1e30\n    axis 0 0 0 XYZ\n    dof rx\n"
+        "  end\n:hierarchy\n  begin\n    root a\n  end\n"
+    )
+    with pytest.raises(bvhview.ParseError, match="too large for a 32-bit float"):
+        bvhview.load(asf)
