@@ -195,7 +195,12 @@ pub fn load_checked(
                     amc.display()
                 )));
             }
-            let mut file = bvh::loader::load_file_with(path, threads, max_size)?;
+            let settings = bvh::loader::Settings {
+                threads,
+                max_size,
+                ..Default::default()
+            };
+            let mut file = bvh::load_file(path, settings)?;
             if let Some(time) = frame_time {
                 file.motion.frame_time = time;
             }

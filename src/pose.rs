@@ -791,7 +791,8 @@ mod fast_tests {
         ]
         .iter()
         .map(|name| {
-            let bvh = crate::bvh::load_file(&data.join("bvh").join(name)).unwrap();
+            let bvh =
+                crate::bvh::load_file(&data.join("bvh").join(name), Default::default()).unwrap();
             (name.to_string(), bvh.skeleton, bvh.motion)
         })
         .collect();

@@ -243,7 +243,7 @@ fn check_pairs(folder: &std::path::Path, pairs: &[(&str, &str, usize)]) {
             .status()
             .unwrap();
         assert!(status.success());
-        let bvh = bvhview::bvh::load_file(&out).unwrap();
+        let bvh = bvhview::bvh::load_file(&out, Default::default()).unwrap();
         std::fs::remove_file(&out).unwrap();
         assert_eq!(bvh.motion.frame_count(), loaded.motion.frame_count());
         assert!(bvh.skeleton.joints.iter().all(|j| j.axis.is_none()));

@@ -194,7 +194,9 @@ fn long_names_are_kept_whole_and_cut_only_by_print() {
 #[test]
 fn frames_larger_than_the_rows_is_an_error_at_the_end_of_the_file() {
     let path = edge("frames_more_than_rows.bvh");
-    let error = bvhview::bvh::load_file(&path).err().unwrap();
+    let error = bvhview::bvh::load_file(&path, Default::default())
+        .err()
+        .unwrap();
     assert_eq!(
         error.to_string(),
         format!(

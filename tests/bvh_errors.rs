@@ -62,7 +62,7 @@ fn check_malformed(folder: &std::path::Path) {
     );
     for (name, expected) in MALFORMED {
         let path = folder.join(name);
-        let result = bvhview::bvh::load_file(&path);
+        let result = bvhview::bvh::load_file(&path, Default::default());
         match (expected, result) {
             (Some(message), Err(error)) => {
                 assert_eq!(error.to_string(), format!("{}:{message}", path.display()));
@@ -73,7 +73,10 @@ fn check_malformed(folder: &std::path::Path) {
             (None, Err(e)) => panic!("{e}"),
         }
     }
-    let extra = bvhview::bvh::load_file(&folder.join("dali_test-invalid-motion1.bvh"));
+    let extra = bvhview::bvh::load_file(
+        &folder.join("dali_test-invalid-motion1.bvh"),
+        Default::default(),
+    );
     let extra = extra.unwrap();
     assert_eq!(extra.motion.frame_count(), 1);
     assert_eq!(extra.warnings.len(), 1);

@@ -18,7 +18,8 @@ fn every_whole_corpus_file_loads_with_consistent_shape() {
 
 fn check_shapes(folder: &std::path::Path) {
     for path in files_in(folder, "bvh") {
-        let bvh = bvhview::bvh::load_file(&path).unwrap_or_else(|e| panic!("{e}"));
+        let bvh =
+            bvhview::bvh::load_file(&path, Default::default()).unwrap_or_else(|e| panic!("{e}"));
         let skeleton = &bvh.skeleton;
         assert!(!skeleton.joints.is_empty(), "{}", path.display());
         assert_eq!(

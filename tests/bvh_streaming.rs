@@ -33,15 +33,28 @@ fn both(
     let path = std::env::temp_dir().join(format!("bvhview-stream-{}-{n}.bvh", std::process::id()));
     std::fs::write(&path, text).unwrap();
     let load = |threads: usize| {
-        bvhview::bvh::loader::load_file_with(&path, threads, u64::MAX)
-            .map_err(|e| e.to_string().replace(&path.display().to_string(), "t.bvh"))
+        bvhview::bvh::load_file(
+            &path,
+            bvhview::bvh::loader::Settings {
+                threads,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| e.to_string().replace(&path.display().to_string(), "t.bvh"))
     };
-    let from_file = bvhview::bvh::load_file(&path)
+    let from_file = bvhview::bvh::load_file(&path, Default::default())
         .map_err(|e| e.to_string().replace(&path.display().to_string(), "t.bvh"));
     // Read whole into memory, however large the file, and parsed where it lies.
     let whole = |threads: usize| {
-        bvhview::bvh::loader::load_file_streaming_over(&path, threads, u64::MAX, u64::MAX)
-            .map_err(|e| e.to_string().replace(&path.display().to_string(), "t.bvh"))
+        bvhview::bvh::load_file(
+            &path,
+            bvhview::bvh::loader::Settings {
+                threads,
+                first_read: 1 << 30,
+                ..Default::default()
+            },
+        )
+        .map_err(|e| e.to_string().replace(&path.display().to_string(), "t.bvh"))
     };
     // The same on one thread and on four, whatever this machine's core count makes the default,
     // streamed or read whole.
@@ -321,7 +334,8 @@ fn a_named_pipe_loads_the_same_as_the_file() {
             let (fifo, text) = (fifo.clone(), text.clone());
             std::thread::spawn(move || std::fs::write(fifo, text).unwrap())
         };
-        let from_pipe = bvhview::bvh::load_file(&fifo).unwrap_or_else(|e| panic!("{what}: {e}"));
+        let from_pipe = bvhview::bvh::load_file(&fifo, Default::default())
+            .unwrap_or_else(|e| panic!("{what}: {e}"));
         writer.join().unwrap();
         let from_memory = bvhview::bvh::load_bytes(text.as_bytes(), "t.bvh").unwrap();
         assert!(from_pipe.motion.frame_count() > 0, "{what}");
@@ -331,9 +345,15 @@ fn a_named_pipe_loads_the_same_as_the_file() {
         let file = dir.join("file.bvh");
         std::fs::write(&file, &text).unwrap();
         for threads in [1, 2] {
-            let streamed =
-                bvhview::bvh::loader::load_file_streaming_over(&file, threads, u64::MAX, 0)
-                    .unwrap_or_else(|e| panic!("{what}: {e}"));
+            let streamed = bvhview::bvh::load_file(
+                &file,
+                bvhview::bvh::loader::Settings {
+                    threads,
+                    first_read: 1,
+                    ..Default::default()
+                },
+            )
+            .unwrap_or_else(|e| panic!("{what}: {e}"));
             assert_eq!(
                 streamed.motion, from_memory.motion,
                 "{what}, {threads} threads"

@@ -586,7 +586,7 @@ fn animated_snapshots_hold_the_frames_at_their_rate() {
     let mut reader = decoder.read_info().unwrap();
     let control = reader.info().animation_control().unwrap();
     assert_eq!((control.num_frames, control.num_plays), (3, 0));
-    let bvh = bvhview::bvh::load_file(&oracle("inputs/tiny_crlf.bvh")).unwrap();
+    let bvh = bvhview::bvh::load_file(&oracle("inputs/tiny_crlf.bvh"), Default::default()).unwrap();
     for frame in 0..3 {
         let mut buffer = vec![0; reader.output_buffer_size().unwrap()];
         reader.next_frame(&mut buffer).unwrap();

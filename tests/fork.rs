@@ -15,10 +15,17 @@ fn data(name: &str) -> PathBuf {
 
 /// Streams `path` through chunk buffers (kept between loads) on two threads (kept helpers).
 fn load_streamed(path: &Path) -> Vec<f32> {
-    bvhview::bvh::loader::load_file_streaming_over(path, 2, u64::MAX, 0)
-        .expect("loads")
-        .motion
-        .data
+    bvhview::bvh::load_file(
+        path,
+        bvhview::bvh::loader::Settings {
+            threads: 2,
+            first_read: 1,
+            ..Default::default()
+        },
+    )
+    .expect("loads")
+    .motion
+    .data
 }
 
 #[test]

@@ -26,7 +26,7 @@ fn snapshots_match_the_articles_pictures() {
     for line in manifest.lines().skip(1) {
         let f: Vec<&str> = line.split('\t').collect();
         let (file, input, frame, angle, width, height) = (f[0], f[1], f[2], f[3], f[4], f[5]);
-        let bvh = bvhview::bvh::load_file(&oracle_input(input)).unwrap();
+        let bvh = bvhview::bvh::load_file(&oracle_input(input), Default::default()).unwrap();
         let options = SnapshotOptions {
             frame: frame.parse().unwrap(),
             angle: angle.parse().unwrap(),
@@ -217,7 +217,7 @@ fn gl_matrix_stack_equals_pose_world_times_view() {
         } else {
             oracle_input(name)
         };
-        let bvh = bvhview::bvh::load_file(&path).unwrap();
+        let bvh = bvhview::bvh::load_file(&path, Default::default()).unwrap();
         let mut renderer = Renderer::new(64, 64).unwrap();
         let gl = &mut renderer.context().gl;
         let camera = Camera::default();
@@ -262,7 +262,7 @@ fn gl_matrix_stack_equals_pose_world_times_view() {
 /// `--style` and `--fit` change the picture; the default stays the article's.
 #[test]
 fn sticks_and_fit_are_opt_in() {
-    let bvh = bvhview::bvh::load_file(&oracle_input("tiny_crlf.bvh")).unwrap();
+    let bvh = bvhview::bvh::load_file(&oracle_input("tiny_crlf.bvh"), Default::default()).unwrap();
     let base = SnapshotOptions {
         frame: 1,
         ..SnapshotOptions::default()
@@ -299,7 +299,7 @@ fn sticks_and_fit_are_opt_in() {
 #[test]
 fn calls_match_the_articles_trace() {
     use bvhview::render::trace::{Numbers, Recorder};
-    let bvh = bvhview::bvh::load_file(&oracle_input("tiny_crlf.bvh")).unwrap();
+    let bvh = bvhview::bvh::load_file(&oracle_input("tiny_crlf.bvh"), Default::default()).unwrap();
     let mut recorder = Recorder::new(Numbers::Apitrace);
     let camera = Camera::default();
     scene::init(&mut recorder);

@@ -17,7 +17,7 @@ fn every_whole_corpus_file_round_trips_exactly() {
 
 fn check_round_trips(folder: &std::path::Path) {
     for path in files_in(folder, "bvh") {
-        let original = bvhview::bvh::load_file(&path).unwrap();
+        let original = bvhview::bvh::load_file(&path, Default::default()).unwrap();
         let text = bvhview::bvh::writer::to_string(&original.skeleton, &original.motion).unwrap();
         let again = bvhview::bvh::load_bytes(text.as_bytes(), "written.bvh")
             .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
@@ -47,8 +47,8 @@ fn convert_command_writes_a_loadable_file() {
         .status()
         .unwrap();
     assert!(status.success());
-    let written = bvhview::bvh::load_file(&out).unwrap();
-    let original = bvhview::bvh::load_file(&input).unwrap();
+    let written = bvhview::bvh::load_file(&out, Default::default()).unwrap();
+    let original = bvhview::bvh::load_file(&input, Default::default()).unwrap();
     assert_eq!(written.skeleton, original.skeleton);
     assert_eq!(written.motion, original.motion);
     let text = std::fs::read_to_string(&out).unwrap();
@@ -82,7 +82,7 @@ fn convert_writes_names_with_blanks_safe_and_says_so() {
             out.display()
         )
     );
-    let written = bvhview::bvh::load_file(&out).unwrap();
+    let written = bvhview::bvh::load_file(&out, Default::default()).unwrap();
     assert_eq!(written.skeleton.joints[1].name, "Upper_Chest");
     std::fs::remove_file(input).unwrap();
     std::fs::remove_file(out).unwrap();
@@ -105,8 +105,8 @@ fn convert_edits_trim_resample_and_scale() {
         .status()
         .unwrap();
     assert!(status.success());
-    let original = bvhview::bvh::load_file(&input).unwrap();
-    let edited = bvhview::bvh::load_file(&out).unwrap();
+    let original = bvhview::bvh::load_file(&input, Default::default()).unwrap();
+    let edited = bvhview::bvh::load_file(&out, Default::default()).unwrap();
     std::fs::remove_file(&out).unwrap();
     // Ten frames at 120 span 9/120 s: 19 frames at 240.
     assert_eq!(edited.motion.frame_count(), 19);
@@ -140,11 +140,11 @@ fn convert_edits_up_mirror_in_place_and_ground() {
             .status()
             .unwrap();
         assert!(status.success());
-        let loaded = bvhview::bvh::load_file(&out).unwrap();
+        let loaded = bvhview::bvh::load_file(&out, Default::default()).unwrap();
         std::fs::remove_file(&out).unwrap();
         loaded
     };
-    let original = bvhview::bvh::load_file(&input).unwrap();
+    let original = bvhview::bvh::load_file(&input, Default::default()).unwrap();
     let mode = bvhview::pose::OffsetMode::Replace;
     let upright = run(&["--up", "y"]);
     assert_eq!(

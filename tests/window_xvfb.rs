@@ -213,7 +213,7 @@ fn capture(display: &str, window: &str) -> Image {
 fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     let _alone = one_at_a_time();
     let input = oracle("inputs/tiny_crlf.bvh");
-    let bvh = bvhview::bvh::load_file(&input).unwrap();
+    let bvh = bvhview::bvh::load_file(&input, Default::default()).unwrap();
     let snapshot = |frame| {
         bvhview::render::snapshot(
             &bvh.skeleton,

@@ -180,11 +180,17 @@ fn big(path: &str, quick: bool) {
 
     // Loading.
     let (t_file, bvh) = best(runs, || {
-        bvhview::bvh::load_file(std::path::Path::new(path)).expect("loads")
+        bvhview::bvh::load_file(std::path::Path::new(path), Default::default()).expect("loads")
     });
     let (t_one, _) = best(runs, || {
-        bvhview::bvh::loader::load_file_with(std::path::Path::new(path), 1, u64::MAX)
-            .expect("loads")
+        bvhview::bvh::load_file(
+            std::path::Path::new(path),
+            bvhview::bvh::loader::Settings {
+                threads: 1,
+                ..Default::default()
+            },
+        )
+        .expect("loads")
     });
     let (t_bytes, _) = best(runs, || {
         bvhview::bvh::load_bytes(&bytes, path).expect("loads")
@@ -258,7 +264,7 @@ fn big(path: &str, quick: bool) {
         ("CMU 31 joints", "assimp_01_01.bvh"),
         ("MakeHuman 173 joints", "makehuman_tpose.bvh"),
     ] {
-        let rig = match bvhview::bvh::load_file(&data.join(file)) {
+        let rig = match bvhview::bvh::load_file(&data.join(file), Default::default()) {
             Ok(rig) => rig,
             Err(e) => {
                 println!("draw {name}: skipped ({e})");

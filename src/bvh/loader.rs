@@ -6,15 +6,19 @@
 //! Here every step reads a whitespace-separated token, so spaces, tabs, LF, CRLF, lone CR, blank
 //! lines and numbers of any width or with exponents all read the same. Every mismatch becomes an
 //! [`Error::Parse`] with the line and column of the offending token instead of a crash or a tree
-//! built from garbage.
+//! built from garbage. And the article reads the whole file into its buffer before `p` moves;
+//! here the buffer fills from the file as `p` advances, so that only the hierarchy and the first
+//! rows are in memory when the row loop starts, and the rows stream from the file.
 
-use super::rows::{RowParser, parse_number};
+use super::rows::{self, RowParser, parse_number};
 use crate::error::Error;
-use crate::limits::MAX_DEPTH;
+use crate::limits::{MAX_DEPTH, MAX_HEADER_BYTES};
 use crate::lines::{is_line_end, line_column};
 use crate::motion::Motion;
 use crate::skeleton::{Channel, Joint, RotationOrder, Skeleton};
 use glam::Vec3;
+use std::borrow::Cow;
+use std::io::Read;
 use std::path::Path;
 
 /// C++: `class BVH`: a loaded file. The article keeps the loader's state (`p`, `father`,
@@ -42,410 +46,187 @@ impl Default for Bvh {
     }
 }
 
-/// C++: `BVH::loadFile`, in the article's steps: open the file, read it, check that it starts with
-/// `HIERARCHY`, move a cursor over the hierarchy dispatching each keyword to its `process_*`, then
-/// read `Frames`, `Frame Time` and the rows. Those steps are [`load_file_with`]'s, in that order.
-/// What changed: the rows, the bulk of a file, are not read into one buffer first but streamed
-/// to every core by the row engine in [`super::rows`]; every mismatch is an error with its line
-/// and column.
-pub fn load_file(path: &Path) -> Result<Bvh, Error> {
-    load_file_with(path, crate::cores(), u64::MAX)
+/// What the article's `loadFile` has no say in: how many threads read the rows, how large a
+/// file may be, how much the first read takes, and which row reader runs.
+#[derive(Clone, Copy, Debug)]
+pub struct Settings {
+    /// Threads the row engine may use (1 when many files load at once).
+    pub threads: usize,
+    /// Bytes read from the path at most, whatever it is (a file, a pipe, a device).
+    pub max_size: u64,
+    /// Bytes the cursor's first read takes; it reads more as it needs them. A file this small is
+    /// read whole and its rows are parsed where they lie; a larger one streams (tests give tiny
+    /// values to stream small files too).
+    pub first_read: usize,
+    /// The row engine, or the article's plain loop (`rows::read_rows_simple`).
+    pub rows: RowReader,
 }
 
-/// [`load_file`] parsing on at most `threads` threads (1 when many files load at once), reading
-/// no more than `max_size` bytes from the path, whatever it is (a file, a pipe, a device).
-pub fn load_file_with(path: &Path, threads: usize, max_size: u64) -> Result<Bvh, Error> {
-    load_file_streaming_over(path, threads, max_size, WHOLE_FILE)
-}
-
-/// Files up to this size (one smallest chunk) are read whole and parsed where they lie; larger
-/// ones stream through chunk buffers, so memory stays at about the values' size however large the
-/// file is. Streaming is also the faster way in a fresh process: every 4 KB page of a new buffer
-/// the size of the file costs a page fault on its first write, while chunk buffers are kept from
-/// load to load. A 5 MB file's first load on the 2-vCPU VM of the README's
-/// measurements: 3.6–4.5 ms streamed, 5.4–7.7 ms read whole; loads after the first: 2.3 ms
-/// either way.
-pub const WHOLE_FILE: u64 = 64 << 10;
-
-/// [`load_file_with`], streaming every file larger than `whole_file` bytes (tests give 0 to
-/// stream small files too).
-pub fn load_file_streaming_over(
-    path: &Path,
-    threads: usize,
-    max_size: u64,
-    whole_file: u64,
-) -> Result<Bvh, Error> {
-    let io_error = |e| Error::io(path, e);
-    let source = path.display().to_string();
-    // fopen.
-    let file = std::fs::File::open(path).map_err(io_error)?;
-    let metadata = file.metadata().map_err(io_error)?;
-    let length = metadata.len();
-    let mut file = crate::input::Bounded::new(file, max_size);
-    // Not a pipe or a device: their length says nothing about what they hold.
-    if metadata.is_file() && length <= whole_file {
-        // One read of the whole file, the article's fread.
-        use std::io::Read;
-        let mut all = Vec::with_capacity(length as usize + 1);
-        file.read_to_end(&mut all).map_err(io_error)?;
-        return load_bytes_with_threads(&all, &source, threads);
+impl Default for Settings {
+    /// Every core, no size limit, 64 KB first, the engine.
+    fn default() -> Settings {
+        Settings {
+            threads: crate::cores(),
+            max_size: u64::MAX,
+            first_read: 64 << 10,
+            rows: RowReader::Engine,
+        }
     }
-    // fread: the hierarchy and the MOTION header; the rows stay in the file for now. A file
-    // without rows is read whole and loaded from memory.
-    let (head, rows_start) =
-        read_head(&mut file, length, &mut HeaderScan::default()).map_err(io_error)?;
-    let Some(rows_start) = rows_start else {
-        if head.len() > crate::limits::MAX_HEADER_BYTES {
-            return Err(header_too_long(&head, &source));
-        }
-        return load_bytes_with_threads(&head, &source, threads);
-    };
-    // Check HIERARCHY, then the cursor loop: one `process_*` per keyword, then Frames and
-    // Frame Time (`Loader::load`).
-    let mut loader = Loader::new(&head[..rows_start], &source);
-    let header = match loader.load() {
-        Ok(header) => header,
-        // The hierarchy ended where the cut did: something in it only looked like the motion
-        // header (a joint named MOTION). Read it all the slow way. Any other error is the file's.
-        Err(Error::Parse { line, column, .. })
-            if (line, column) == line_column(&head, rows_start) =>
-        {
-            use std::io::Read;
-            let mut all = head;
-            file.read_to_end(&mut all).map_err(io_error)?;
-            return load_bytes_with_threads(&all, &source, threads);
-        }
-        Err(error) => return Err(error),
-    };
-    let Header::Motion {
-        frames,
-        frame_time,
-        frames_line,
-    } = header
-    else {
-        unreachable!("the header was cut after its Frame Time line");
-    };
-    // The row loop: the row engine reads what was read already, then the rest of the file.
-    let start = line_column(&head, rows_start);
-    let rest = if metadata.is_file() {
-        length.saturating_sub(rows_start as u64)
-    } else {
-        super::rows::UNKNOWN_ROOM
-    };
-    let mut rows = RowParser::new(
-        &source,
-        frames,
-        loader.channel_count,
-        frames_line,
-        start,
-        rest,
-    )
-    .with_threads(threads);
-    rows.feed_all(&head[rows_start..], &mut file, &io_error)?;
-    loader.finish_rows(frames, frame_time, rows)
 }
 
-/// Reads the start of `input` (`length` bytes, as far as is known) until [`HeaderScan`] finds
-/// where the rows begin, or to the end. Each read doubles what is held, so however often the scan
-/// looks again, it looks at no more than about twice the bytes read.
-fn read_head(
-    input: &mut impl std::io::Read,
-    length: u64,
-    scan: &mut HeaderScan,
-) -> std::io::Result<(Vec<u8>, Option<usize>)> {
-    let mut head = Vec::new();
+/// Which reader the row loop runs; both give the same values and errors.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum RowReader {
+    /// [`RowParser`]: on every core, as the file streams in.
+    #[default]
+    Engine,
+    /// [`rows::read_rows_simple`]: the article's loop, one line and one word at a time.
+    Simple,
+}
+
+/// What [`load_file`] reads: a file by its path, or bytes already in memory with a name for the
+/// error messages.
+#[derive(Clone, Copy, Debug)]
+pub enum Input<'a> {
+    Path(&'a Path),
+    Bytes(&'a [u8], &'a str),
+}
+
+impl<'a> From<&'a Path> for Input<'a> {
+    fn from(path: &'a Path) -> Input<'a> {
+        Input::Path(path)
+    }
+}
+
+impl<'a> From<&'a std::path::PathBuf> for Input<'a> {
+    fn from(path: &'a std::path::PathBuf) -> Input<'a> {
+        Input::Path(path)
+    }
+}
+
+/// C++: `BVH::loadFile`, in the article's steps and order: open the file and read it; check that
+/// it starts with `HIERARCHY`; move the cursor over the hierarchy, dispatching each keyword to
+/// its `process_*`, until `MOTION`; read `Frames:` and `Frame Time:`; then the rows. What changed,
+/// step by step:
+/// - read: the article reads the whole file into `buffer`; here the cursor's buffer fills from
+///   the file as `p` advances (`Loader::token`), and the row loop streams the rest.
+/// - the root: the article reads ROOT apart, at fixed offsets, with three position channels
+///   assumed; here ROOT goes through `process_joint` like any joint, so any joint may have
+///   position channels and a file may hold several roots.
+/// - `counter`, the article's count of open braces, ends the loop at the root's `}`; here the
+///   stack `father` is the count, and the loop ends at `MOTION` (or at the end of a file
+///   without one: a skeleton with no frames).
+/// - `Frames:` and `Frame Time:` are words read with or without a space before the colon, not
+///   bytes at fixed distances (`p += 8`, `p += 12`).
+/// - the row loop: one call, `Loader::read_rows`; see [`rows::read_rows_simple`] for the
+///   article's loop in plain Rust beside the engine that runs.
+pub fn load_file<'a>(input: impl Into<Input<'a>>, settings: Settings) -> Result<Bvh, Error> {
+    // fopen, and the first fread.
+    let mut bvh = Loader::open(input.into(), settings)?;
+    // Is the file a BVH? It starts with HIERARCHY.
+    bvh.process_hierarchy()?;
+    // The hierarchy, keyword by keyword, until MOTION.
     loop {
-        let before = head.len();
-        // One byte more than the rest of the file, so that its end is seen without a second read.
-        let rest = length.saturating_sub(before as u64).saturating_add(1);
-        let more = (before.max(64 * 1024) as u64).min(rest.max(4096)) as usize;
-        head.resize(before + more, 0);
-        let read = loop {
-            match input.read(&mut head[before..]) {
-                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-                result => break result?,
-            }
-        };
-        head.truncate(before + read);
-        if read == 0 {
-            return Ok((head, None));
-        }
-        if let Some(start) = scan.rows_start(&head) {
-            return Ok((head, Some(start)));
-        }
-        if head.len() > crate::limits::MAX_HEADER_BYTES {
-            return Ok((head, None));
+        match bvh.next_keyword()? {
+            Keyword::LeftBrace(brace) => bvh.process_left_brace(brace)?,
+            Keyword::RightBrace(brace) => bvh.process_right_brace(brace)?,
+            Keyword::Joint(keyword) => bvh.process_joint(keyword)?,
+            Keyword::End(keyword) => bvh.process_end(keyword)?,
+            Keyword::Offset(keyword) => bvh.process_offset(keyword)?,
+            Keyword::Channels(keyword) => bvh.process_channels(keyword)?,
+            Keyword::Motion => break,
+            // A hierarchy without a MOTION section: a skeleton with zero frames.
+            Keyword::EndOfFile => return Ok(bvh.finish(0, 0.0, (Vec::new(), Vec::new()))),
         }
     }
-}
-
-/// The error for a file whose rows do not begin within [`crate::limits::MAX_HEADER_BYTES`]: the
-/// loader's own where the bytes read so far are already wrong (a link to /dev/zero fails at
-/// 1:1), else one at the point where reading stopped.
-fn header_too_long(head: &[u8], source: &str) -> Error {
-    match Loader::new(head, source).load() {
-        Err(error @ Error::Parse { line, column, .. })
-            if (line, column) != line_column(head, head.len()) =>
-        {
-            error
-        }
-        _ => {
-            let (line, column) = line_column(head, head.len());
-            Error::Parse {
-                path: source.to_string(),
-                line,
-                column,
-                message: format!(
-                    "no MOTION rows within the first {} MiB; a hierarchy is never this long",
-                    crate::limits::MAX_HEADER_BYTES >> 20
-                ),
-            }
-        }
-    }
-}
-
-/// Finds where the MOTION rows begin while the head of a file streams in: the start of the line
-/// after `MOTION`, `Frames: N` and `Frame Time: T`, read word by word as the loader reads them.
-/// It settles what it has seen: a later call starts at the last `MOTION` whose header was cut
-/// short by the end of the bytes, or where the last search for `MOTION` ended.
-#[derive(Default)]
-struct HeaderScan {
-    /// No `MOTION` that matters starts before this.
-    from: usize,
-    /// Bytes looked at so far, counting looks again (what the tests bound).
-    scanned: usize,
-}
-
-/// What followed a `MOTION`.
-enum AfterMotion {
-    /// The rows begin here.
-    Rows(usize),
-    /// The bytes ended first.
-    CutShort,
-    /// Not a MOTION header (a joint's name, or a malformed header the loader will report).
-    Other,
-}
-
-impl HeaderScan {
-    fn rows_start(&mut self, head: &[u8]) -> Option<usize> {
-        loop {
-            let motion = self.find_motion(head)?;
-            match self.after_motion(head, motion + 6) {
-                AfterMotion::Rows(start) => return Some(start),
-                AfterMotion::CutShort => {
-                    self.from = motion;
-                    return None;
-                }
-                AfterMotion::Other => self.from = motion + 6,
-            }
-        }
-    }
-
-    /// The next word `MOTION` (any case) from `self.from`, standing alone between separators.
-    /// When there is none yet, `self.from` moves to where one could still start.
-    fn find_motion(&mut self, head: &[u8]) -> Option<usize> {
-        let mut at = self.from;
-        while at + 6 <= head.len() {
-            self.scanned += 1;
-            if head[at..at + 6].eq_ignore_ascii_case(b"MOTION")
-                && (at == 0 || is_space(head[at - 1]) || head[at - 1] == b'}')
-            {
-                match head.get(at + 6) {
-                    Some(&b) if is_space(b) => return Some(at),
-                    Some(_) => {}
-                    // Undecided until the next byte arrives.
-                    None => break,
-                }
-            }
-            at += 1;
-        }
-        self.from = at;
-        None
-    }
-
-    /// Reads `Frames: N Frame Time: T` and the end of that line from `at`, as `Loader::load_motion`
-    /// reads them.
-    fn after_motion(&mut self, head: &[u8], mut at: usize) -> AfterMotion {
-        let mut words: Vec<&[u8]> = Vec::with_capacity(8);
-        loop {
-            while at < head.len() && is_space(head[at]) {
-                at += 1;
-                self.scanned += 1;
-            }
-            let start = at;
-            while at < head.len() && !is_space(head[at]) {
-                at += 1;
-                self.scanned += 1;
-            }
-            if at == head.len() {
-                return AfterMotion::CutShort;
-            }
-            words.push(&head[start..at]);
-            match motion_header(&words) {
-                Some(true) => break,
-                Some(false) => return AfterMotion::Other,
-                None => {}
-            }
-        }
-        // Only blanks may follow on the line; the rows start on the next one.
-        while at < head.len() && matches!(head[at], b' ' | b'\t') {
-            at += 1;
-            self.scanned += 1;
-        }
-        match (head.get(at), head.get(at + 1)) {
-            (None, _) | (Some(b'\r'), None) => AfterMotion::CutShort,
-            (Some(b'\r' | b'\n'), _) => AfterMotion::Rows(next_line_start(head, at)),
-            _ => AfterMotion::Other,
-        }
-    }
-}
-
-/// Whether `words`, read after MOTION, are a whole `Frames: N Frame Time: T` header the loader
-/// accepts (`Some(true)`), cannot become one (`Some(false)`), or may with more words (`None`).
-fn motion_header(words: &[&[u8]]) -> Option<bool> {
-    // `Label:`, or `Label` then `:`; moves `i` past it.
-    fn label(words: &[&[u8]], i: &mut usize, text: &str) -> Option<bool> {
-        let word = words.get(*i)?;
-        if word.eq_ignore_ascii_case(format!("{text}:").as_bytes()) {
-            *i += 1;
-            return Some(true);
-        }
-        if !word.eq_ignore_ascii_case(text.as_bytes()) {
-            return Some(false);
-        }
-        let colon = words.get(*i + 1)?;
-        *i += 2;
-        Some(*colon == b":")
-    }
-    let text = |word: &[u8]| std::str::from_utf8(word).ok().map(str::to_string);
-    let mut i = 0;
-    if !label(words, &mut i, "Frames")? {
-        return Some(false);
-    }
-    if text(words.get(i)?)
-        .and_then(|f| f.parse::<u64>().ok())
-        .is_none()
-    {
-        return Some(false);
-    }
-    i += 1;
-    if !words.get(i)?.eq_ignore_ascii_case(b"Frame") {
-        return Some(false);
-    }
-    i += 1;
-    if !label(words, &mut i, "Time")? {
-        return Some(false);
-    }
-    let time = text(words.get(i)?).and_then(|t| t.parse::<f64>().ok());
-    Some(time.is_some_and(|t| t.is_finite() && t >= 0.0) && i + 1 == words.len())
-}
-
-/// Where the line after the one that ends at `at` starts (past CR LF, LF or CR).
-fn next_line_start(text: &[u8], at: usize) -> usize {
-    match (text.get(at), text.get(at + 1)) {
-        (Some(b'\r'), Some(b'\n')) => at + 2,
-        (Some(b'\r' | b'\n'), _) => at + 1,
-        _ => at,
-    }
+    // Frames: and Frame Time:.
+    let (frames, frames_line) = bvh.process_frames()?;
+    let frame_time = bvh.process_frame_time()?;
+    // The row loop: Frames rows of one value per channel.
+    let rows = bvh.read_rows(frames, frames_line, settings)?;
+    Ok(bvh.finish(frames, frame_time, rows))
 }
 
 /// Parses BVH text. `source` names the input in error messages (`source:line:column: …`).
 pub fn load_bytes(text: &[u8], source: &str) -> Result<Bvh, Error> {
-    load_bytes_with_threads(text, source, crate::cores())
+    load_file(Input::Bytes(text, source), Settings::default())
 }
 
-fn load_bytes_with_threads(text: &[u8], source: &str, threads: usize) -> Result<Bvh, Error> {
-    let mut loader = Loader::new(text, source);
-    let (frames, frame_time, frames_line) = match loader.load()? {
-        Header::NoMotion => return Ok(loader.finish(0, 0.0, Vec::new())),
-        Header::Motion {
-            frames,
-            frame_time,
-            frames_line,
-        } => (frames, frame_time, frames_line),
-    };
-    // The rows start on the line after the frame time's.
-    let start = next_line_start(text, loader.p);
-    let mut rows = RowParser::new(
-        source,
-        frames,
-        loader.channel_count,
-        frames_line,
-        line_column(text, start),
-        (text.len() - start) as u64,
-    )
-    .with_threads(threads);
-    rows.feed_all_in_memory(&text[start..])?;
-    loader.finish_rows(frames, frame_time, rows)
-}
-
-/// How the hierarchy part ended.
-enum Header {
-    /// The file ends after the hierarchy: a skeleton without frames.
-    NoMotion,
-    /// `Frames:` and `Frame Time:` were read; the rows start at the loader's position.
-    Motion {
-        frames: u64,
-        frame_time: f64,
-        frames_line: usize,
-    },
-}
-
-/// A word of the file and the byte offset where it starts.
+/// A word of the file: where it starts and ends in the cursor's buffer.
 #[derive(Clone, Copy)]
-struct Token<'a> {
-    text: &'a [u8],
+struct Token {
     at: usize,
+    end: usize,
 }
 
-impl Token<'_> {
-    fn is(&self, keyword: &str) -> bool {
-        self.text.eq_ignore_ascii_case(keyword.as_bytes())
-    }
+/// What the hierarchy loop dispatches on.
+enum Keyword {
+    LeftBrace(Token),
+    RightBrace(Token),
+    /// `ROOT` with no joint open, or `JOINT`.
+    Joint(Token),
+    /// `End` (of `End Site`).
+    End(Token),
+    Offset(Token),
+    Channels(Token),
+    Motion,
+    EndOfFile,
 }
 
 fn is_space(byte: u8) -> bool {
     matches!(byte, b' ' | b'\t' | b'\r' | b'\n' | 0x0B | 0x0C)
 }
 
-/// How a found token is quoted in an error message.
-fn describe(token: Option<Token<'_>>) -> String {
-    match token {
-        None => "end of file".to_string(),
-        Some(token) => {
-            let text = String::from_utf8_lossy(token.text);
-            if text.chars().count() > 40 {
-                let short: String = text.chars().take(40).collect();
-                format!("'{short}…'")
-            } else {
-                format!("'{text}'")
-            }
-        }
-    }
-}
-
+/// The loader's state: the article's `p` over `buffer`, `father` and `currentNode`, and the
+/// joints read so far.
 struct Loader<'a> {
-    text: &'a [u8],
-    /// C++: `unsigned char *p`, the read position.
+    /// C++: `buffer`: everything read so far. Borrowed for bytes in memory; owned and growing for
+    /// a file, whose reads append to it.
+    text: Cow<'a, [u8]>,
+    /// C++: `unsigned char *p`, the read position in `text`.
     p: usize,
-    source: &'a str,
+    /// The rest of the file, `None` once it has all been read (or for bytes in memory).
+    file: Option<crate::input::Bounded<std::fs::File>>,
+    /// The file's length when it is a regular file (a pipe's says nothing).
+    length: Option<u64>,
+    /// Bytes the next read of the file takes (each read doubles it).
+    next_read: usize,
+    /// Whether reading stopped at [`MAX_HEADER_BYTES`] with the hierarchy unfinished.
+    cut: bool,
+    source: String,
     joints: Vec<Joint>,
     has_offset: Vec<bool>,
     /// C++: `stack<BVHJoint*> father`: the joints whose `{` is open, innermost last.
     father: Vec<usize>,
     /// C++: `currentNode`: the joint the next `{`, OFFSET or CHANNELS belongs to.
     current_node: Option<usize>,
-    /// A joint whose name was read and whose `{` must come next, with its keyword's offset.
-    awaiting_brace: Option<(usize, usize)>,
+    /// A joint whose name was read and whose `{` must come next.
+    awaiting_brace: Option<usize>,
     channel_count: usize,
-    warnings: Vec<String>,
 }
 
 impl<'a> Loader<'a> {
-    fn new(text: &'a [u8], source: &'a str) -> Loader<'a> {
-        Loader {
+    /// C++: `fopen` and `fread`: the file opened, its first `first_read` bytes in the buffer.
+    fn open(input: Input<'a>, settings: Settings) -> Result<Loader<'a>, Error> {
+        let (text, file, length, source) = match input {
+            Input::Bytes(text, source) => (Cow::Borrowed(text), None, None, source.to_string()),
+            Input::Path(path) => {
+                let io_error = |e| Error::io(path, e);
+                let file = std::fs::File::open(path).map_err(io_error)?;
+                let metadata = file.metadata().map_err(io_error)?;
+                let length = metadata.is_file().then(|| metadata.len());
+                let file = crate::input::Bounded::new(file, settings.max_size);
+                let source = path.display().to_string();
+                (Cow::Owned(Vec::new()), Some(file), length, source)
+            }
+        };
+        let mut loader = Loader {
             text,
             p: 0,
+            file,
+            length,
+            next_read: settings.first_read.max(1),
+            cut: false,
             source,
             joints: Vec::new(),
             has_offset: Vec::new(),
@@ -453,35 +234,78 @@ impl<'a> Loader<'a> {
             current_node: None,
             awaiting_brace: None,
             channel_count: 0,
-            warnings: Vec::new(),
-        }
+        };
+        loader.read_more()?;
+        Ok(loader)
     }
 
-    /// The loaded file, once its rows are read.
-    fn finish(self, frames: u64, frame_time: f64, data: Vec<f32>) -> Bvh {
-        let motion = Motion::new(frame_time, self.channel_count, frames as usize, data);
-        Bvh {
-            skeleton: Skeleton {
-                joints: self.joints,
-                ..Skeleton::default()
-            },
-            motion,
-            warnings: self.warnings,
+    /// C++: `fread`, a piece at a time: appends the next piece of the file to the buffer.
+    /// Returns whether anything was added (nothing at the end of the file, for bytes in memory,
+    /// or past [`MAX_HEADER_BYTES`], where a hierarchy has never reached).
+    fn read_more(&mut self) -> Result<bool, Error> {
+        let Some(file) = self.file.as_mut() else {
+            return Ok(false);
+        };
+        let Cow::Owned(buffer) = &mut self.text else {
+            unreachable!("a file's buffer is owned");
+        };
+        if buffer.len() >= MAX_HEADER_BYTES {
+            self.cut = true;
+            return Ok(false);
         }
+        let before = buffer.len();
+        // A small file whole in one read: its length, and one byte more to see its end.
+        let wanted = match self.length {
+            Some(length) if length as usize - before.min(length as usize) < self.next_read => {
+                length as usize - before.min(length as usize) + 1
+            }
+            _ => self.next_read,
+        }
+        .min(MAX_HEADER_BYTES - before);
+        buffer.resize(before + wanted, 0);
+        let read = loop {
+            match file.read(&mut buffer[before..]) {
+                Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+                result => break result,
+            }
+        };
+        let read = match read {
+            Ok(read) => read,
+            Err(e) => {
+                buffer.truncate(before);
+                return Err(Error::io(Path::new(&self.source), e));
+            }
+        };
+        buffer.truncate(before + read);
+        self.next_read = self.next_read.saturating_mul(2);
+        if read == 0 {
+            self.file = None;
+        }
+        Ok(read > 0)
     }
 
-    /// The loaded file once every chunk of rows was fed: the rows' check, values and warnings.
-    fn finish_rows(self, frames: u64, frame_time: f64, rows: RowParser) -> Result<Bvh, Error> {
-        let (data, warnings) = rows.finish()?;
-        let mut bvh = self.finish(frames, frame_time, data);
-        bvh.warnings.extend(warnings);
-        Ok(bvh)
+    /// Whether the buffer holds a byte at `at`, reading more of the file if it must.
+    fn has(&mut self, at: usize) -> Result<bool, Error> {
+        while at >= self.text.len() {
+            if !self.read_more()? {
+                return Ok(false);
+            }
+        }
+        Ok(true)
+    }
+
+    fn word(&self, token: Token) -> &[u8] {
+        &self.text[token.at..token.end]
+    }
+
+    fn is(&self, token: Token, keyword: &str) -> bool {
+        self.word(token).eq_ignore_ascii_case(keyword.as_bytes())
     }
 
     fn error_at(&self, offset: usize, message: String) -> Error {
-        let (line, column) = line_column(self.text, offset);
+        let (line, column) = line_column(&self.text, offset);
         Error::Parse {
-            path: self.source.to_string(),
+            path: self.source.clone(),
             line,
             column,
             message,
@@ -489,42 +313,53 @@ impl<'a> Loader<'a> {
     }
 
     /// An error at `found` (or at the end of the file) saying what was expected there.
-    fn expected(&self, what: &str, found: Option<Token<'_>>) -> Error {
+    fn expected(&self, what: &str, found: Option<Token>) -> Error {
         let at = found.map_or(self.text.len(), |t| t.at);
-        self.error_at(at, format!("expected {what}, found {}", describe(found)))
-    }
-
-    fn skip_space(&mut self) {
-        while self.p < self.text.len() && is_space(self.text[self.p]) {
-            self.p += 1;
-        }
+        let found = match found {
+            None if self.cut => format!(
+                "no MOTION within the first {} MiB (no hierarchy is this long)",
+                MAX_HEADER_BYTES >> 20
+            ),
+            None => "end of file".to_string(),
+            Some(token) => {
+                let text = String::from_utf8_lossy(self.word(token));
+                if text.chars().count() > 40 {
+                    let short: String = text.chars().take(40).collect();
+                    format!("'{short}…'")
+                } else {
+                    format!("'{text}'")
+                }
+            }
+        };
+        self.error_at(at, format!("expected {what}, found {found}"))
     }
 
     /// The next word; `{` and `}` are words of their own even when written against a name.
-    fn token(&mut self) -> Option<Token<'a>> {
-        self.skip_space();
+    fn token(&mut self) -> Result<Option<Token>, Error> {
+        while self.has(self.p)? && is_space(self.text[self.p]) {
+            self.p += 1;
+        }
         let start = self.p;
-        let text = self.text;
-        match text.get(start) {
-            None => return None,
-            Some(b'{') | Some(b'}') => self.p += 1,
-            Some(_) => {
-                while self.p < text.len()
-                    && !is_space(text[self.p])
-                    && text[self.p] != b'{'
-                    && text[self.p] != b'}'
-                {
-                    self.p += 1;
-                }
+        if !self.has(start)? {
+            return Ok(None);
+        }
+        if matches!(self.text[start], b'{' | b'}') {
+            self.p += 1;
+        } else {
+            while self.has(self.p)?
+                && !is_space(self.text[self.p])
+                && !matches!(self.text[self.p], b'{' | b'}')
+            {
+                self.p += 1;
             }
         }
-        Some(Token {
-            text: &text[start..self.p],
+        Ok(Some(Token {
             at: start,
-        })
+            end: self.p,
+        }))
     }
 
-    fn peek_token(&mut self) -> Option<Token<'a>> {
+    fn peek_token(&mut self) -> Result<Option<Token>, Error> {
         let saved = self.p;
         let token = self.token();
         self.p = saved;
@@ -532,13 +367,82 @@ impl<'a> Loader<'a> {
     }
 
     fn number(&mut self, what: &str) -> Result<f32, Error> {
-        let token = self.token();
-        match token {
-            Some(t) => match parse_number(t.text) {
-                Some(value) => Ok(value),
-                None => Err(self.expected(what, token)),
-            },
-            None => Err(self.expected(what, None)),
+        let token = self.token()?;
+        match token.and_then(|t| parse_number(self.word(t))) {
+            Some(value) => Ok(value),
+            None => Err(self.expected(what, token)),
+        }
+    }
+
+    /// C++: the check of the first nine bytes against `"HIERARCHY"`. A UTF-8 byte-order mark
+    /// and blank lines may come first.
+    fn process_hierarchy(&mut self) -> Result<(), Error> {
+        if self.has(2)? && self.text.starts_with(b"\xEF\xBB\xBF") {
+            self.p = 3;
+        }
+        let header = self.token()?;
+        if !header.is_some_and(|t| self.is(t, "HIERARCHY")) {
+            return Err(self.expected("HIERARCHY", header));
+        }
+        Ok(())
+    }
+
+    /// C++: the `switch (*p)` of `loadFile`'s loop: the next keyword, if it may come here. The
+    /// article dispatches on the first byte (`'J'`, `'O'`, …) and treats anything else as the
+    /// end of the hierarchy; here the whole word is read, and a word out of place is an error
+    /// that says what may come instead.
+    fn next_keyword(&mut self) -> Result<Keyword, Error> {
+        let token = self.token()?;
+        if let Some(joint) = self.awaiting_brace
+            && token.is_none_or(|t| self.word(t) != b"{")
+        {
+            let what = format!("'{{' after '{}'", self.joints[joint].name);
+            return Err(self.expected(&what, token));
+        }
+        let Some(t) = token else {
+            return match self.open_joint() {
+                Some(open) => {
+                    let what = format!("'}}' to close '{}'", self.joints[open].name);
+                    Err(self.expected(&what, None))
+                }
+                None if self.joints.is_empty() => Err(self.expected("ROOT", None)),
+                None => Ok(Keyword::EndOfFile),
+            };
+        };
+        let open = self.open_joint();
+        let in_end_site = open.is_some_and(|j| self.joints[j].end_site);
+        Ok(match self.word(t) {
+            b"{" => Keyword::LeftBrace(t),
+            b"}" => Keyword::RightBrace(t),
+            _ if self.is(t, "ROOT") && open.is_none() => Keyword::Joint(t),
+            _ if self.is(t, "JOINT") && !in_end_site => Keyword::Joint(t),
+            _ if self.is(t, "End") && open.is_some() && !in_end_site => Keyword::End(t),
+            _ if self.is(t, "OFFSET") && open.is_some() => Keyword::Offset(t),
+            _ if self.is(t, "CHANNELS") && open.is_some() && !in_end_site => Keyword::Channels(t),
+            _ if self.is(t, "MOTION") && open.is_none() && !self.joints.is_empty() => {
+                Keyword::Motion
+            }
+            _ if self.is(t, "MOTION") && !in_end_site && open.is_some() => {
+                let name = &self.joints[open.unwrap_or_default()].name;
+                let what = format!("'}}' to close '{name}' before MOTION");
+                return Err(self.expected(&what, Some(t)));
+            }
+            _ => return Err(self.expected(self.expectation(), Some(t))),
+        })
+    }
+
+    /// The joint whose `{` is open innermost, if any.
+    fn open_joint(&self) -> Option<usize> {
+        self.father.last().copied()
+    }
+
+    /// What may come next, for error messages.
+    fn expectation(&self) -> &'static str {
+        match self.open_joint() {
+            None if self.joints.is_empty() => "ROOT",
+            None => "ROOT or MOTION",
+            Some(j) if self.joints[j].end_site => "OFFSET or '}' in End Site",
+            Some(_) => "OFFSET, CHANNELS, JOINT, End Site or '}'",
         }
     }
 
@@ -546,13 +450,14 @@ impl<'a> Loader<'a> {
     /// drops the last one, assuming it is a carriage return. Here the name is the rest of the
     /// line, trimmed, of up to [`crate::limits::MAX_NAME_BYTES`] bytes (a longer one is damage,
     /// refused rather than repeated on every line of an export): names may hold spaces, ':' or
-    /// '.'. A `{` written at the end of the same line is left for the main loop.
-    fn new_node(&mut self, keyword: Token<'_>, end_site: bool) -> Result<usize, Error> {
-        while self.p < self.text.len() && matches!(self.text[self.p], b' ' | b'\t') {
+    /// '.'. A `{` written at the end of the same line is left for the main loop. The article's
+    /// `addChild` (16 children at most, unchecked) is the push onto the parent's `children`.
+    fn new_node(&mut self, keyword: Token, end_site: bool) -> Result<usize, Error> {
+        while self.has(self.p)? && matches!(self.text[self.p], b' ' | b'\t') {
             self.p += 1;
         }
         let start = self.p;
-        while self.p < self.text.len() && !is_line_end(self.text[self.p]) {
+        while self.has(self.p)? && !is_line_end(self.text[self.p]) {
             self.p += 1;
         }
         let mut line = &self.text[start..self.p];
@@ -569,10 +474,8 @@ impl<'a> Loader<'a> {
             let what = if end_site {
                 "'Site' after End".to_string()
             } else {
-                format!(
-                    "a joint name after {}",
-                    String::from_utf8_lossy(keyword.text)
-                )
+                let keyword = String::from_utf8_lossy(self.word(keyword));
+                format!("a joint name after {keyword}")
             };
             return Err(self.error_at(start, format!("expected {what}, found end of line")));
         }
@@ -592,85 +495,13 @@ impl<'a> Loader<'a> {
         if let Some(parent) = parent {
             self.joints[parent].children.push(index);
         }
-        self.awaiting_brace = Some((index, keyword.at));
+        self.awaiting_brace = Some(index);
         Ok(index)
     }
 
-    /// The joint whose `{` is open innermost, if any.
-    fn open_joint(&self) -> Option<usize> {
-        self.father.last().copied()
-    }
-
-    /// What may come next, for error messages.
-    fn expectation(&self) -> &'static str {
-        match self.open_joint() {
-            None if self.joints.is_empty() => "ROOT",
-            None => "ROOT or MOTION",
-            Some(j) if self.joints[j].end_site => "OFFSET or '}' in End Site",
-            Some(_) => "OFFSET, CHANNELS, JOINT, End Site or '}'",
-        }
-    }
-
-    /// C++: the body of `BVH::loadFile`: check the header, then read the hierarchy token by token,
-    /// then the motion. The article treats ROOT apart (it skips to fixed offsets for its OFFSET
-    /// and assumes three position channels first); here ROOT is a joint like the others, so
-    /// position channels may sit on any joint, in any order, and a root written `JOINT` loads.
-    fn load(&mut self) -> Result<Header, Error> {
-        if self.text.starts_with(b"\xEF\xBB\xBF") {
-            self.p = 3;
-        }
-        let header = self.token();
-        if !header.is_some_and(|t| t.is("HIERARCHY")) {
-            return Err(self.expected("HIERARCHY", header));
-        }
-        loop {
-            let token = self.token();
-            if let Some((joint, _)) = self.awaiting_brace
-                && token.is_none_or(|t| t.text != b"{")
-            {
-                let what = format!("'{{' after '{}'", self.joints[joint].name);
-                return Err(self.expected(&what, token));
-            }
-            let Some(t) = token else {
-                return match self.open_joint() {
-                    Some(open) => {
-                        let what = format!("'}}' to close '{}'", self.joints[open].name);
-                        Err(self.expected(&what, None))
-                    }
-                    None if self.joints.is_empty() => Err(self.expected("ROOT", None)),
-                    // A hierarchy without a MOTION section: a skeleton with zero frames.
-                    None => Ok(Header::NoMotion),
-                };
-            };
-            let in_end_site = self.open_joint().is_some_and(|j| self.joints[j].end_site);
-            match t.text {
-                b"{" => self.process_left_brace(t)?,
-                b"}" => self.process_right_brace(t)?,
-                _ if t.is("ROOT") && self.open_joint().is_none() => self.process_joint(t)?,
-                _ if t.is("JOINT") && !in_end_site => self.process_joint(t)?,
-                _ if t.is("End") && self.open_joint().is_some() && !in_end_site => {
-                    self.process_end(t)?
-                }
-                _ if t.is("OFFSET") && self.open_joint().is_some() => self.process_offset(t)?,
-                _ if t.is("CHANNELS") && self.open_joint().is_some() && !in_end_site => {
-                    self.process_channels(t)?
-                }
-                _ if t.is("MOTION") && self.open_joint().is_none() && !self.joints.is_empty() => {
-                    return self.load_motion();
-                }
-                _ if t.is("MOTION") && !in_end_site && self.open_joint().is_some() => {
-                    let open = self.open_joint().unwrap_or_default();
-                    let what = format!("'}}' to close '{}' before MOTION", self.joints[open].name);
-                    return Err(self.expected(&what, Some(t)));
-                }
-                _ => return Err(self.expected(self.expectation(), Some(t))),
-            }
-        }
-    }
-
     /// C++: `BVH::processLeftBrace`: the joint just named becomes the top of the stack.
-    fn process_left_brace(&mut self, brace: Token<'_>) -> Result<(), Error> {
-        let Some((joint, _)) = self.awaiting_brace.take() else {
+    fn process_left_brace(&mut self, brace: Token) -> Result<(), Error> {
+        let Some(joint) = self.awaiting_brace.take() else {
             return Err(self.expected(self.expectation(), Some(brace)));
         };
         self.father.push(joint);
@@ -682,7 +513,7 @@ impl<'a> Loader<'a> {
     /// article pops without looking (its "debug 1"); here a `}` with nothing open, or closing a
     /// joint that never had an OFFSET, is an error. A `JOINT Site` with `CHANNELS 0` and no
     /// children, as some exporters write End Sites, is recorded as the End Site it is.
-    fn process_right_brace(&mut self, brace: Token<'_>) -> Result<(), Error> {
+    fn process_right_brace(&mut self, brace: Token) -> Result<(), Error> {
         let Some(joint) = self.father.pop() else {
             return Err(self.expected(self.expectation(), Some(brace)));
         };
@@ -704,7 +535,7 @@ impl<'a> Loader<'a> {
 
     /// C++: `BVH::processJoint`: a child of the current joint (or a new root), named by the rest
     /// of the line. The article's 16-child array and its `assert` become a `Vec`.
-    fn process_joint(&mut self, keyword: Token<'_>) -> Result<(), Error> {
+    fn process_joint(&mut self, keyword: Token) -> Result<(), Error> {
         let joint = self.new_node(keyword, false)?;
         self.current_node = Some(joint);
         Ok(())
@@ -712,14 +543,14 @@ impl<'a> Loader<'a> {
 
     /// C++: `BVH::processEnd`: like a joint, but without channels. The article skips four bytes
     /// and keeps the rest of the line (`Site`) as the name; so does this.
-    fn process_end(&mut self, keyword: Token<'_>) -> Result<(), Error> {
+    fn process_end(&mut self, keyword: Token) -> Result<(), Error> {
         let joint = self.new_node(keyword, true)?;
         self.current_node = Some(joint);
         Ok(())
     }
 
     /// C++: `BVH::processOffset`: three numbers, separated by any whitespace.
-    fn process_offset(&mut self, keyword: Token<'_>) -> Result<(), Error> {
+    fn process_offset(&mut self, keyword: Token) -> Result<(), Error> {
         let joint = self
             .current_node
             .expect("OFFSET is only dispatched inside a joint");
@@ -740,7 +571,7 @@ impl<'a> Loader<'a> {
     /// C++: `BVH::processChannels`. The article skips to the rotation names at fixed distances and
     /// keeps only their order; here every channel name is read and kept in file order, positions
     /// included, so the draw and the FK can apply them exactly as listed.
-    fn process_channels(&mut self, keyword: Token<'_>) -> Result<(), Error> {
+    fn process_channels(&mut self, keyword: Token) -> Result<(), Error> {
         let joint = self
             .current_node
             .expect("CHANNELS is only dispatched inside a joint");
@@ -748,9 +579,9 @@ impl<'a> Loader<'a> {
             let name = &self.joints[joint].name;
             return Err(self.error_at(keyword.at, format!("second CHANNELS in '{name}'")));
         }
-        let count_token = self.token();
+        let count_token = self.token()?;
         let count: usize = match count_token
-            .and_then(|t| std::str::from_utf8(t.text).ok())
+            .and_then(|t| std::str::from_utf8(self.word(t)).ok())
             .and_then(|s| s.parse().ok())
         {
             Some(count) => count,
@@ -758,8 +589,13 @@ impl<'a> Loader<'a> {
         };
         let mut channels = Vec::new();
         for _ in 0..count {
-            let token = self.token();
-            match token.and_then(|t| std::str::from_utf8(t.text).ok().and_then(Channel::parse)) {
+            let token = self.token()?;
+            let channel = token.and_then(|t| {
+                std::str::from_utf8(self.word(t))
+                    .ok()
+                    .and_then(Channel::parse)
+            });
+            match channel {
                 Some(channel) => channels.push(channel),
                 None => {
                     let what = format!(
@@ -780,45 +616,45 @@ impl<'a> Loader<'a> {
 
     /// `Frames:` and `Frame Time:` may be written with the colon apart (`Frames :`).
     fn label(&mut self, word: &str, what: &str) -> Result<(), Error> {
-        let token = self.token();
+        let token = self.token()?;
         let Some(t) = token else {
             return Err(self.expected(what, None));
         };
-        let with_colon = format!("{word}:");
-        if t.is(&with_colon) {
+        if self.is(t, &format!("{word}:")) {
             return Ok(());
         }
-        if t.is(word) && self.peek_token().is_some_and(|n| n.text == b":") {
-            self.token();
+        if self.is(t, word) && self.peek_token()?.is_some_and(|n| self.word(n) == b":") {
+            self.token()?;
             return Ok(());
         }
         Err(self.expected(what, token))
     }
 
-    /// C++: the second half of `BVH::loadFile`: the motion section after `MOTION`. The article
-    /// allocates `Frames` rows up front and then reads that many rows with fixed strides whatever
-    /// the file holds; here the allocation is bounded by what the rest of the file could hold,
-    /// each row must be one line with exactly one value per channel, a file that ends early is an
-    /// error, and rows beyond the count are ignored with a warning.
-    fn load_motion(&mut self) -> Result<Header, Error> {
+    /// C++: `frameCount = (unsigned)atoi(p)` after `Frames:`: the count, and its line (for the
+    /// rows' messages).
+    fn process_frames(&mut self) -> Result<(u64, usize), Error> {
         self.label("Frames", "'Frames:'")?;
-        let frames_token = self.token();
-        let frames: u64 = match frames_token
-            .and_then(|t| std::str::from_utf8(t.text).ok())
-            .and_then(|s| s.parse().ok())
-        {
-            Some(frames) => frames,
-            None => return Err(self.expected("the number of frames", frames_token)),
-        };
-        let frames_at = frames_token.map_or(0, |t| t.at);
-        let frame_word = self.token();
-        if !frame_word.is_some_and(|t| t.is("Frame")) {
+        let token = self.token()?;
+        let frames = token
+            .and_then(|t| std::str::from_utf8(self.word(t)).ok())
+            .and_then(|s| s.parse::<u64>().ok());
+        match (frames, token) {
+            (Some(frames), Some(t)) => Ok((frames, line_column(&self.text, t.at).0)),
+            _ => Err(self.expected("the number of frames", token)),
+        }
+    }
+
+    /// C++: `frameTime = (float)atof(p)` after `Frame Time:`, kept as a double here; then the
+    /// rest of its line must be blank, as the rows start on the next one.
+    fn process_frame_time(&mut self) -> Result<f64, Error> {
+        let frame_word = self.token()?;
+        if !frame_word.is_some_and(|t| self.is(t, "Frame")) {
             return Err(self.expected("'Frame Time:'", frame_word));
         }
         self.label("Time", "'Frame Time:'")?;
-        let time_token = self.token();
-        let frame_time = match time_token
-            .and_then(|t| std::str::from_utf8(t.text).ok())
+        let token = self.token()?;
+        let frame_time = match token
+            .and_then(|t| std::str::from_utf8(self.word(t)).ok())
             .and_then(|s| s.parse::<f64>().ok())
         {
             Some(time) if crate::limits::frame_time_in_file(time) => time,
@@ -827,28 +663,92 @@ impl<'a> Loader<'a> {
                     "the frame time (seconds, a number from 0 to {})",
                     crate::limits::MAX_FRAME_TIME
                 );
-                return Err(self.expected(&what, time_token));
+                return Err(self.expected(&what, token));
             }
         };
-        self.finish_line("end of line after the frame time")?;
-        let (frames_line, _) = line_column(self.text, frames_at);
-        Ok(Header::Motion {
-            frames,
-            frame_time,
-            frames_line,
-        })
-    }
-
-    /// Requires that nothing but spaces follows on the current line.
-    fn finish_line(&mut self, what: &str) -> Result<(), Error> {
-        while self.p < self.text.len() && matches!(self.text[self.p], b' ' | b'\t') {
+        while self.has(self.p)? && matches!(self.text[self.p], b' ' | b'\t') {
             self.p += 1;
         }
-        if self.p < self.text.len() && !is_line_end(self.text[self.p]) {
-            let token = self.peek_token();
-            return Err(self.expected(what, token));
+        if self.has(self.p)? && !is_line_end(self.text[self.p]) {
+            let token = self.peek_token()?;
+            return Err(self.expected("end of line after the frame time", token));
         }
-        Ok(())
+        // Past the line end (CR LF is one): the rows start on the next line.
+        if self.has(self.p)? {
+            let crlf = self.text[self.p] == b'\r'
+                && self.has(self.p + 1)?
+                && self.text[self.p + 1] == b'\n';
+            self.p += 1 + usize::from(crlf);
+        }
+        Ok(frame_time)
+    }
+
+    /// C++: the row loop at the end of `loadFile` (`for i < frameCount, for j < dataCount`):
+    /// `frames` rows of one value per channel, from the cursor's position on. The engine
+    /// ([`RowParser`]) reads what the buffer holds, then streams the rest of the file on every
+    /// core; [`rows::read_rows_simple`] is the article's loop in plain Rust, the same values and
+    /// errors (a test proves it). The article allocates `frameCount` rows first, whatever the file
+    /// holds; here no more is reserved than the rest of the file could hold.
+    fn read_rows(
+        &mut self,
+        frames: u64,
+        frames_line: usize,
+        settings: Settings,
+    ) -> Result<(Vec<f32>, Vec<String>), Error> {
+        let start = line_column(&self.text, self.p);
+        let width = self.channel_count;
+        if self
+            .length
+            .is_some_and(|length| self.text.len() as u64 >= length)
+        {
+            // Read to its length: one more read sees the end, and the rows are all in memory.
+            self.read_more()?;
+        }
+        if settings.rows == RowReader::Simple {
+            if let (Some(file), Cow::Owned(buffer)) = (self.file.as_mut(), &mut self.text) {
+                file.read_to_end(buffer)
+                    .map_err(|e| Error::io(Path::new(&self.source), e))?;
+            }
+            let text = &self.text[self.p..];
+            return rows::read_rows_simple(text, &self.source, (frames, frames_line), width, start);
+        }
+        let carry = &self.text[self.p..];
+        let room = match (&self.file, self.length) {
+            (None, _) => carry.len() as u64,
+            (Some(_), Some(length)) => {
+                length.saturating_sub(self.text.len() as u64) + carry.len() as u64
+            }
+            (Some(_), None) => rows::UNKNOWN_ROOM,
+        };
+        let mut parser = RowParser::new(&self.source, frames, width, frames_line, start, room)
+            .with_threads(settings.threads);
+        match self.file.as_mut() {
+            // Read whole: the rows are parsed where they lie.
+            None => parser.feed_all_in_memory(carry)?,
+            Some(file) => {
+                let path = Path::new(&self.source);
+                parser.feed_all(carry, file, &|e| Error::io(path, e))?;
+            }
+        }
+        parser.finish()
+    }
+
+    /// The loaded file.
+    fn finish(
+        self,
+        frames: u64,
+        frame_time: f64,
+        (data, warnings): (Vec<f32>, Vec<String>),
+    ) -> Bvh {
+        let motion = Motion::new(frame_time, self.channel_count, frames as usize, data);
+        Bvh {
+            skeleton: Skeleton {
+                joints: self.joints,
+                ..Skeleton::default()
+            },
+            motion,
+            warnings,
+        }
     }
 }
 
@@ -869,65 +769,31 @@ mod tests {
         text.into_bytes()
     }
 
-    /// What `read_head` settles on, and the bytes the scan looked at, for `bytes` read in pieces.
-    fn scan(bytes: &[u8]) -> (Option<usize>, usize, usize) {
-        let mut scan = HeaderScan::default();
-        let (head, start) = read_head(&mut &bytes[..], bytes.len() as u64, &mut scan).unwrap();
-        (start, head.len(), scan.scanned)
-    }
-
+    /// The cursor reads a file a piece at a time: however small the pieces, the file loads as it
+    /// does from memory, and a joint named MOTION is a joint (nothing scans ahead for MOTION).
     #[test]
-    fn the_header_scan_looks_at_each_byte_a_bounded_number_of_times() {
-        let rows = 600_000; // about 8 MB
-        // Legal spellings the loader accepts: found in the first piece read.
-        for header in [
-            "MOTION\nFrames: 600000\nFrame  Time: 0.01\n",
-            "MOTION\r\nFrames :\t600000\r\nFRAME TIME : 0.01\r\n",
-        ] {
-            let bytes = file_with(header, rows);
-            let (start, held, scanned) = scan(&bytes);
-            let start = start.expect(header);
-            assert_eq!(&bytes[start..start + 7], b"0 1.5 -", "{header:?}");
-            assert!(
-                held <= 64 * 1024 && scanned <= held,
-                "{header:?}: {scanned}"
-            );
-        }
-        // Malformed, or MOTION followed by a long run of blank lines: every byte is read, and the
-        // scan looks at each a few times at most (it used to look again at everything after
-        // MOTION for every 64 KB read).
-        let blank_lines = "\n".repeat(8 << 20);
-        for header in [
-            "MOTION\nFrames: 600000\nFrameTime: 0.01\n".to_string(),
-            format!("MOTION{blank_lines}Frames: 600000\nFrame Time: 0.01\n"),
-        ] {
-            let bytes = file_with(&header, rows);
-            let (start, held, scanned) = scan(&bytes);
-            assert!(held >= 8 << 20);
-            assert!(
-                scanned <= 3 * bytes.len(),
-                "{} bytes, scanned {scanned}",
-                bytes.len()
-            );
-            if header.contains("FrameTime") {
-                assert_eq!(start, None);
-                assert_eq!(held, bytes.len());
-            } else {
-                assert_eq!(&bytes[start.unwrap()..][..7], b"0 1.5 -");
-            }
-        }
-    }
-
-    #[test]
-    fn a_joint_named_motion_is_not_the_header() {
-        let bytes = file_with("MOTION\nFrames: 2\nFrame Time: 0.5\n", 2);
-        let named = String::from_utf8(bytes)
+    fn a_file_read_in_small_pieces_loads_as_from_memory() {
+        let dir = std::env::temp_dir().join(format!("bvhview-pieces-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let plain = file_with("MOTION\r\nFrames :\t3\r\nFRAME TIME : 0.01\r\n", 3);
+        let named = String::from_utf8(plain.clone())
             .unwrap()
             .replace("ROOT Hips", "ROOT MOTION");
-        let (start, _, _) = scan(named.as_bytes());
-        assert_eq!(
-            &named.as_bytes()[start.unwrap()..],
-            b"0 1.5 -2.25\n1 1.5 -2.25\n"
-        );
+        for (name, bytes) in [("plain.bvh", plain), ("named.bvh", named.into_bytes())] {
+            let path = dir.join(name);
+            std::fs::write(&path, &bytes).unwrap();
+            let memory = load_bytes(&bytes, &path.display().to_string()).unwrap();
+            for first_read in [1, 2, 3, 7, 64, 1 << 16] {
+                let settings = Settings {
+                    first_read,
+                    ..Settings::default()
+                };
+                let file = load_file(&path, settings).unwrap();
+                assert_eq!(file.motion, memory.motion, "{name}, {first_read}");
+                assert_eq!(file.skeleton.joints.len(), 2);
+                assert_eq!(file.skeleton.joints[0].name, memory.skeleton.joints[0].name);
+            }
+        }
+        std::fs::remove_dir_all(dir).unwrap();
     }
 }

@@ -63,7 +63,7 @@ pub fn files_in(dir: &Path, ext: &str) -> Vec<PathBuf> {
 }
 
 pub fn load_path(path: &Path) -> bvhview::bvh::Bvh {
-    bvhview::bvh::load_file(path).unwrap_or_else(|e| panic!("{e}"))
+    bvhview::bvh::load_file(path, Default::default()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 pub fn load(relative: &str) -> bvhview::bvh::Bvh {

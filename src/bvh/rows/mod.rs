@@ -5,9 +5,12 @@
 //! held whole), the cores take the pieces in turn and parse them without a `String` per number,
 //! and every error still names its exact line and column.
 //!
-//! Three parts: `number` reads one number as `(float)atof` does; `scan` finds the numbers of a
-//! piece of text, row by row, 64 bytes at a time; this module feeds the pieces to the cores and
-//! puts their rows in order ([`RowParser`]).
+//! Two readers give the same values, bit for bit, and the same errors (a test runs both on every
+//! file): [`read_rows_simple`], the article's few lines in plain Rust, one line and one word at a
+//! time, which a student reads beside the article; and the engine, which the loader runs:
+//! `number` reads one number as `(float)atof` does; `scan` finds the numbers of a piece of text,
+//! row by row, 64 bytes at a time; this module feeds the pieces to the cores and puts their rows
+//! in order ([`RowParser`]).
 
 use crate::error::Error;
 use crate::lines::{advance, count_lines, is_line_end};
@@ -27,11 +30,13 @@ const UNKNOWN_ROOM_VALUES: u64 = 16 << 20;
 
 mod number;
 mod scan;
+mod simple;
 #[cfg(target_arch = "x86_64")]
 mod wide;
 
 use number::is_blank;
 pub use number::parse_number;
+pub use simple::read_rows_simple;
 
 /// Which reader the MOTION rows go through on this machine, in words (`bvhview --version` says
 /// it): machines differ, and one without AVX-512 never runs `rows/wide.rs`.
@@ -659,40 +664,71 @@ impl RowParser {
 
     /// Checks that every frame arrived; returns the values and the warnings.
     pub fn finish(self) -> Result<(Vec<f32>, Vec<String>), Error> {
-        if self.width == 0 {
-            if self.frames > self.line_ends {
-                return Err(Error::Parse {
-                    path: self.source,
-                    line: self.line,
-                    column: self.column,
-                    message: format!(
-                        "Frames: {} (line {}) but only {} lines follow",
-                        self.frames, self.frames_line, self.line_ends
-                    ),
-                });
-            }
-            return Ok((Vec::new(), Vec::new()));
+        let ending = Ending {
+            rows: if self.width == 0 {
+                self.line_ends
+            } else {
+                self.rows
+            },
+            at: (self.line, self.column),
+            extra: self.extra,
+        };
+        ending.check(&self.source, self.frames, self.frames_line, self.width)?;
+        Ok((self.data, ending.warnings(self.frames, self.frames_line)))
+    }
+}
+
+/// How the rows ended, as both readers report it: rows read (lines, for a skeleton without
+/// channels), the place where the text ended, and the rows beyond `Frames:` (the first one's
+/// line, how many).
+struct Ending {
+    rows: u64,
+    at: (usize, usize),
+    extra: Option<(usize, usize)>,
+}
+
+impl Ending {
+    /// An error at the end of the text when fewer than `frames` rows came.
+    fn check(
+        &self,
+        source: &str,
+        frames: u64,
+        frames_line: usize,
+        width: usize,
+    ) -> Result<(), Error> {
+        if self.rows >= frames {
+            return Ok(());
         }
-        if self.rows < self.frames {
-            return Err(Error::Parse {
-                path: self.source,
-                line: self.line,
-                column: self.column,
-                message: format!(
-                    "expected {} frames as Frames: says (line {}), found {}: the file ends",
-                    self.frames, self.frames_line, self.rows
-                ),
-            });
-        }
-        let mut warnings = Vec::new();
-        if let Some((line, count)) = self.extra {
-            let rows = if count == 1 { "row" } else { "rows" };
-            warnings.push(format!(
-                "{count} extra {rows} after the {} announced by Frames: (line {}) ignored, from line {line} on",
-                self.frames, self.frames_line
-            ));
-        }
-        Ok((self.data, warnings))
+        let message = if width == 0 {
+            format!(
+                "Frames: {frames} (line {frames_line}) but only {} lines follow",
+                self.rows
+            )
+        } else {
+            format!(
+                "expected {frames} frames as Frames: says (line {frames_line}), found {}: the file ends",
+                self.rows
+            )
+        };
+        Err(Error::Parse {
+            path: source.to_string(),
+            line: self.at.0,
+            column: self.at.1,
+            message,
+        })
+    }
+
+    /// The warning about rows beyond `Frames:`, if any.
+    fn warnings(&self, frames: u64, frames_line: usize) -> Vec<String> {
+        self.extra
+            .map(|(line, count)| {
+                let rows = if count == 1 { "row" } else { "rows" };
+                format!(
+                    "{count} extra {rows} after the {frames} announced by Frames: (line {frames_line}) ignored, from line {line} on"
+                )
+            })
+            .into_iter()
+            .collect()
     }
 }
 
