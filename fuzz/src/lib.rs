@@ -20,7 +20,10 @@ pub fn edited(choice: u8, skeleton: Skeleton, motion: Motion) -> Option<(Skeleto
         let factor = [1e38f32, 1e-30, -3.5, 1e20][usize::from(choice >> 4) % 4];
         (skeleton, motion) = bvhview::edit::scale(&skeleton, &motion, factor).ok()?;
     }
-    if choice & 2 != 0 {
+    // Resampled only where that makes few frames: an hour-long frame time at 7.5 per second
+    // makes tens of thousands, which is right but slow (the limits are tested elsewhere).
+    let duration = motion.frame_count() as f64 * motion.frame_time;
+    if choice & 2 != 0 && duration * 7.5 < 2000.0 {
         motion = bvhview::edit::resample(&skeleton, &motion, 7.5).ok()?;
     }
     if choice & 4 != 0 {
