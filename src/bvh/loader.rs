@@ -214,7 +214,7 @@ impl<'a> Loader<'a> {
                 let io_error = |e| Error::io(path, e);
                 let file = std::fs::File::open(path).map_err(io_error)?;
                 let metadata = file.metadata().map_err(io_error)?;
-                let length = metadata.is_file().then(|| metadata.len());
+                let length = metadata.is_file().then_some(metadata.len());
                 let file = crate::input::Bounded::new(file, settings.max_size);
                 let source = path.display().to_string();
                 (Cow::Owned(Vec::new()), Some(file), length, source)
