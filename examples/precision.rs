@@ -55,12 +55,13 @@ fn main() {
         let mut position_worst = 0f64;
         let mut size = 0f64;
         for frame in 0..frames {
-            let single = world_positions(
+            let single =
+                world_positions(&bvh.skeleton, bvh.motion.frame(frame), OffsetMode::Replace);
+            let double = fk64(
                 &bvh.skeleton,
-                bvh.motion.frame(frame),
-                OffsetMode::Replace,
+                &offsets,
+                &rows[frame * channels..][..channels],
             );
-            let double = fk64(&bvh.skeleton, &offsets, &rows[frame * channels..][..channels]);
             if frame == 0 {
                 let (lo, hi) = double.iter().fold(
                     (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
@@ -98,7 +99,12 @@ fn numbers(text: &str) -> (Vec<DVec3>, Vec<f64>) {
     let mut offsets = Vec::new();
     while let Some(word) = words.next() {
         if word == "OFFSET" {
-            let mut next = || words.next().and_then(|w| w.parse::<f64>().ok()).unwrap_or(f64::NAN);
+            let mut next = || {
+                words
+                    .next()
+                    .and_then(|w| w.parse::<f64>().ok())
+                    .unwrap_or(f64::NAN)
+            };
             offsets.push(DVec3::new(next(), next(), next()));
         }
     }

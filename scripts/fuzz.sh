@@ -1,12 +1,15 @@
 #!/usr/bin/env bash
-# Fuzz one loader with AFL++ through cargo-afl (stable Rust).
-#   scripts/fuzz.sh bvh|asf|amc [EXECUTIONS] [WORKDIR]      (default 10000000, /tmp/bvhview-fuzz)
-# Seeds come from the repository's corpus (tests/data) at run time (files up to 4 KB whole, the first 2 KB of larger
-# ones, cut at a line end: small inputs run faster) and are
-# written under WORKDIR, never into the project. Crashes land in WORKDIR/TARGET/out/default/crashes.
+# Fuzz one loader or writer with AFL++ through cargo-afl (stable Rust).
+#   scripts/fuzz.sh TARGET [EXECUTIONS] [WORKDIR]      (default 10000000, /tmp/bvhview-fuzz)
+# TARGET: the loaders bvh, asf, amc; the writers write_bvh, write_gltf, write_positions.
+# Seeds come from the repository's corpus at run time and are written under WORKDIR, never into
+# the project. Loaders: tests/data (files up to 4 KB whole, the first 2 KB of larger ones, cut at
+# a line end: small inputs run faster). Writers: the small whole BVH files of tests/edge,
+# tests/oracle/inputs and tests/data, each behind a few first bytes (the byte picks the edits,
+# fuzz/src/lib.rs). Crashes land in WORKDIR/TARGET/out/default/crashes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-target=${1:?usage: scripts/fuzz.sh bvh|asf|amc [EXECUTIONS] [WORKDIR]}
+target=${1:?usage: scripts/fuzz.sh bvh|asf|amc|write_bvh|write_gltf|write_positions [EXECUTIONS] [WORKDIR]}
 executions=${2:-10000000}
 work=${3:-/tmp/bvhview-fuzz}/$target
 data=tests/data
@@ -24,6 +27,13 @@ case "$target" in
     bvh) for f in "$data"/bvh/*.bvh "$data"/bvh_malformed/*.bvh; do seed "$f"; done ;;
     asf) for f in "$data"/asf_amc/*.asf; do seed "$f"; done ;;
     amc) for f in "$data"/asf_amc/*.amc; do seed "$f"; done ;;
+    write_bvh|write_gltf|write_positions)
+        for f in tests/edge/*.bvh tests/oracle/inputs/*.bvh "$data"/bvh/*.bvh; do
+            [ "$(stat -c %s "$f")" -le 4096 ] || continue
+            for choice in 00 01 02 04 08 0b 41 83 c5 f1; do
+                { printf "\\x$choice"; cat "$f"; } > "$work/in/$choice-$(basename "$f")"
+            done
+        done ;;
     *) echo "unknown target $target" >&2; exit 2 ;;
 esac
 find "$work/in" -size 0 -delete
