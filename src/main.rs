@@ -92,7 +92,7 @@ impl From<StyleArg> for Style {
 }
 
 /// `--look`: the article's picture, or the studio's.
-#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
 enum LookArg {
     /// The article's picture: black, grey spheres, its camera and floor.
     #[default]
@@ -454,8 +454,6 @@ enum UpArg {
     Z,
 }
 
-/// The up axis to draw `loaded` with: `--up` if given, else the guess, said on stderr when it
-/// is not the usual Y.
 impl From<UpArg> for Up {
     fn from(arg: UpArg) -> Up {
         match arg {
@@ -465,20 +463,26 @@ impl From<UpArg> for Up {
     }
 }
 
-fn resolve_up(arg: Option<UpArg>, loaded: &Loaded, name: &str) -> Up {
-    match arg {
-        Some(arg) => arg.into(),
-        None => {
-            let up = Up::guess(&loaded.skeleton);
-            if up == Up::Z {
-                eprintln!(
-                    "bvhview: {name}: stands taller along z than along y at rest: drawn Z-up \
-                     (--up y draws it as written)"
-                );
-            }
-            up
+/// The up axis to draw `loaded` with: `--up` if given. Otherwise the article's view draws every
+/// file as written, Y up, as the article's program does; a view that frames the take (`--fit`,
+/// `--look studio`: `framed`) stands it up by the guess from its rest pose. Either way a file
+/// that stands along z is said once on stderr, with what stands it up or draws it as written.
+fn resolve_up(arg: Option<UpArg>, loaded: &Loaded, name: &str, framed: bool) -> Up {
+    if let Some(arg) = arg {
+        return arg.into();
+    }
+    let guess = Up::guess(&loaded.skeleton);
+    if guess == Up::Z {
+        if framed {
+            eprintln!(
+                "bvhview: {name}: stands taller along z than along y at rest: drawn Z-up \
+                 (--up y draws it as written)"
+            );
+        } else {
+            eprintln!("bvhview: {name}: {}", bvhview::render::hud::LYING_HINT);
         }
     }
+    if framed { guess } else { Up::Y }
 }
 
 /// Says once on stderr when a file looks written for the other offset mode.
@@ -856,8 +860,9 @@ fn viewer(
     let mut takes = Vec::with_capacity(files.len().max(1));
     if files.is_empty() {
         let (name, loaded) = load_or_default(None, &source)?;
+        resolve_up(up, &loaded, &name, look == LookArg::Studio);
         takes.push(ViewerTake {
-            up: resolve_up(up, &loaded, &name),
+            up: up.map_or_else(|| Up::guess(&loaded.skeleton), Up::from),
             up_asked: up.map(Up::from),
             name,
             source: None,
@@ -874,7 +879,8 @@ fn viewer(
         let mut take = ViewerTake::from_source(take_source)?;
         let name = path.display().to_string();
         warn_offset_mode(&take.loaded, offset_mode, &name);
-        take.up = resolve_up(up, &take.loaded, &name);
+        resolve_up(up, &take.loaded, &name, look == LookArg::Studio);
+        take.up = up.map_or_else(|| Up::guess(&take.loaded.skeleton), Up::from);
         take.up_asked = up.map(Up::from);
         takes.push(take);
     }
@@ -994,12 +1000,13 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         ));
     }
     let mode: OffsetMode = args.view.offset_mode.into();
+    let framed_view = args.view.fit || args.look == LookArg::Studio;
     let mut takes = Vec::with_capacity(args.files.len());
     for file in &args.files {
         let loaded = load(file, &args.source)?;
         let name = file.display().to_string();
         warn_offset_mode(&loaded, mode, &name);
-        let up = resolve_up(args.view.up, &loaded, &name);
+        let up = resolve_up(args.view.up, &loaded, &name, framed_view);
         takes.push((short_name(file), loaded, up));
     }
     let shown: Vec<Shown> = takes
@@ -1033,6 +1040,11 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
         bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode).is_some()
     });
     let several = takes.len() > 1;
+    let lying_along_z = args.view.up.is_none()
+        && !framed_view
+        && takes
+            .iter()
+            .any(|(_, loaded, _)| Up::guess(&loaded.skeleton) == Up::Z);
     let overlay = |tick: usize| -> Overlay {
         let mut overlay = Overlay {
             names: args.names,
@@ -1066,6 +1078,7 @@ fn snapshot(args: SnapshotArgs) -> Result<ExitCode, Error> {
             fit: options.fit,
             offset_mode: options.offset_mode,
             other_mode_likely,
+            lying_along_z,
         }
         .lines(bvhview::render::step::columns(options.width));
         overlay
@@ -1149,7 +1162,7 @@ fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
         up,
     } = args.view;
     let offset_mode = offset_mode.into();
-    let up = resolve_up(up, &loaded, &args.file.display().to_string());
+    let up = resolve_up(up, &loaded, &args.file.display().to_string(), fit);
     let angle = angle.unwrap_or(scene::START_ANGLE);
     let camera = bvhview::render::camera_for(&loaded.skeleton, values, angle, fit, offset_mode, up);
     let numbers = match args.numbers {

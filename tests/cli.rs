@@ -1056,3 +1056,73 @@ fn version_names_the_row_reader() {
         )
     );
 }
+
+/// Issue 25: the article's picture for every file, by default. Each repository file's default
+/// snapshot is the one made with the guess off (`--up y`, every file as written, as the
+/// article's program draws it); a file that stands along z says so once, with what stands it up
+/// (stderr, and the HUD when shown).
+#[test]
+fn the_default_view_is_the_article_picture_for_every_file() {
+    let dir = std::env::temp_dir().join(format!("bvhview-default-view-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let mut inputs: Vec<Vec<String>> = std::fs::read_dir(repo_data("bvh"))
+        .unwrap()
+        .map(|e| vec![e.unwrap().path().display().to_string()])
+        .filter(|p| p[0].ends_with(".bvh"))
+        .collect();
+    inputs.sort();
+    inputs.push(vec![
+        repo_data("asf_amc/heiden_12.asf").display().to_string(),
+        "--motion".into(),
+        repo_data("asf_amc/heiden_12_02_01.amc")
+            .display()
+            .to_string(),
+    ]);
+    let mut lying = 0;
+    for (i, input) in inputs.iter().enumerate() {
+        let shot = |extra: &[&str], name: &str| {
+            let path = dir.join(format!("{i}-{name}.png"));
+            let mut args: Vec<&str> = vec!["snapshot"];
+            args.extend(input.iter().map(String::as_str));
+            let size = if extra.contains(&"--hud") {
+                "400x400"
+            } else {
+                "96x96"
+            };
+            args.extend(["--frame", "0", "--size", size, "-q", "-o"]);
+            args.push(path.to_str().unwrap());
+            args.extend(extra);
+            let out = bvhview(&args);
+            assert!(out.status.success(), "{input:?}: {out:?}");
+            let picture = bvhview::render::Image::read_png(&path).unwrap();
+            (picture, String::from_utf8(out.stderr).unwrap())
+        };
+        let (default, said) = shot(&[], "default");
+        let (as_written, _) = shot(&["--up", "y"], "y");
+        assert_eq!(default.differing_pixels(&as_written), 0, "{input:?}");
+        let stands_along_z = {
+            let loaded = bvhview::input::load(
+                std::path::Path::new(&input[0]),
+                input.get(2).map(std::path::Path::new),
+                None,
+            )
+            .unwrap();
+            bvhview::pose::Up::guess(&loaded.skeleton) == bvhview::pose::Up::Z
+        };
+        let hint = "drawn as written, as the article draws every file (--up z or --look studio stands it up; V in the window)";
+        assert_eq!(
+            said.matches(hint).count(),
+            usize::from(stands_along_z),
+            "{input:?}: {said}"
+        );
+        if stands_along_z {
+            lying += 1;
+            // The same figure as written; asked for with --up y, the HUD has no hint to give.
+            let (with_hint, _) = shot(&["--hud"], "hud");
+            let (without, _) = shot(&["--hud", "--up", "y"], "hud-y");
+            assert!(with_hint.differing_pixels(&without) > 0, "{input:?}");
+        }
+    }
+    assert!(lying >= 1, "no repository file stands along z");
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -38,7 +38,15 @@ pub struct Hud<'a> {
     pub offset_mode: OffsetMode,
     /// Whether a file looks written for the other offset mode (said, with the key to switch).
     pub other_mode_likely: bool,
+    /// Whether a file that stands along z is drawn as written (the article's view): said, with
+    /// what stands it up.
+    pub lying_along_z: bool,
 }
+
+/// What the article's view says of a file whose rest pose stands along z: it is drawn as
+/// written, as the article draws every file, and what stands it up.
+pub const LYING_HINT: &str = "stands taller along z than along y at rest: drawn as written, as \
+     the article draws every file (--up z or --look studio stands it up; V in the window)";
 
 fn frames_text(take: &HudTake) -> String {
     if take.frames == 0 {
@@ -109,6 +117,9 @@ impl Hud<'_> {
         ]);
         if self.other_mode_likely {
             lines.push("looks written for the other mode (O)".to_string());
+        }
+        if self.lying_along_z {
+            lines.push("stands along z: V stands it up".to_string());
         }
         lines.push("H: keys".to_string());
         lines

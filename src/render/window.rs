@@ -312,7 +312,8 @@ pub struct ViewerTake {
     /// Where it came from; `None` for the bundled walk, which R leaves as it is.
     pub source: Option<TakeSource>,
     pub loaded: Loaded,
-    /// Its up axis (a Z-up take is stood up).
+    /// Its up axis, asked for or guessed from the rest pose: a Z-up take is stood up in a view
+    /// that frames it (see `Viewer::drawn_up`); the article's view draws it as written.
     pub up: crate::pose::Up,
     /// The up axis `--up` asked for; without it, R guesses again from what it reads.
     pub up_asked: Option<crate::pose::Up>,
@@ -584,10 +585,26 @@ impl Viewer {
                 fit: self.fit,
                 offset_mode: self.options.offset_mode,
                 other_mode_likely,
+                lying_along_z: self
+                    .takes
+                    .iter()
+                    .any(|t| t.up == crate::pose::Up::Z && self.drawn_up(t) == crate::pose::Up::Y),
             };
             lines.extend(hud.lines(crate::render::step::columns(width)));
         }
         lines
+    }
+
+    /// The up axis a take is drawn with: the one asked for (`--up`); otherwise in the article's
+    /// view as written (Y up, the article's picture for every file), and in a view that frames
+    /// the takes (F, the studio look) the one guessed from the rest pose.
+    fn drawn_up(&self, take: &ViewerTake) -> crate::pose::Up {
+        let framed = self.fit || self.options.look == Look::Studio;
+        match take.up_asked {
+            Some(up) => up,
+            None if framed => take.up,
+            None => crate::pose::Up::Y,
+        }
     }
 
     /// Paints the picture into the window's back buffer (`snapshot`'s picture for the same
@@ -597,7 +614,7 @@ impl Viewer {
             return Ok((0, 0));
         };
         let (width, height) = running.size;
-        let first_up = self.takes[0].up;
+        let first_up = self.drawn_up(&self.takes[0]);
         let options = SnapshotOptions {
             frame: self.frame,
             angle: self.camera.angle,
@@ -629,7 +646,7 @@ impl Viewer {
             .map(|t| Shown {
                 skeleton: &t.loaded.skeleton,
                 motion: &t.loaded.motion,
-                up: t.up,
+                up: self.drawn_up(t),
             })
             .collect();
         let running = self.running.as_mut().expect("checked above");
