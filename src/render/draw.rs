@@ -69,17 +69,34 @@ impl<'a> Pass<'a> {
     }
 }
 
-/// [`draw`] of a [`Pass`]: every root's tree.
+/// [`draw`] of a [`Pass`]: every root's tree. The step view's partial tree wraps the call: the
+/// recursion runs over a copy of the skeleton cut to the joints shown.
 pub fn draw_pass<G: FixedFunction>(gl: &mut G, pass: &Pass) {
-    for root in pass.skeleton.roots() {
-        if is_shown(pass, root) {
-            draw_recursive(gl, pass, root, 0);
+    let cut;
+    let pass = match pass.shown {
+        Some(shown) if shown < pass.skeleton.joints.len() => {
+            cut = first_joints(pass.skeleton, shown);
+            &Pass {
+                skeleton: &cut,
+                ..*pass
+            }
         }
+        _ => pass,
+    };
+    for root in pass.skeleton.roots() {
+        draw_recursive(gl, pass, root, 0);
     }
 }
 
-fn is_shown(pass: &Pass, index: usize) -> bool {
-    pass.shown.is_none_or(|shown| index < shown)
+/// The first `shown` joints in pre-order (the order the recursion reaches them), each keeping
+/// only its children among them.
+fn first_joints(skeleton: &Skeleton, shown: usize) -> Skeleton {
+    let mut cut = skeleton.clone();
+    cut.joints.truncate(shown);
+    for joint in &mut cut.joints {
+        joint.children.retain(|&child| child < shown);
+    }
+    cut
 }
 
 /// The joint's translation for this frame (its OFFSET in the rest pose).
@@ -90,23 +107,45 @@ fn translation(joint: &Joint, frame: Option<&[f32]>, mode: OffsetMode) -> [f32; 
     }
 }
 
-/// C++: `BVH::drawRecursive`: push, translate, rotate, sphere, children, pop. The same calls in
-/// the same order (the article's "debug 3": translate before rotating). The translation is
-/// `pose::joint_translation`, so the matrix at each joint is `pose`'s world matrix times the view.
-/// Additions, each one named call: an ASF bone's own axis (`rotate_space_about_axis`),
-/// skeletons deeper than GL's matrix stack (`push_matrix_or_save`, `pop_matrix_or_restore`),
-/// the stick figure (`draw_sticks`) and the step view's highlight (`highlighted_sphere`).
-/// `depth` is the joint's depth in the tree, 0 at a root.
+/// C++: `BVH::drawRecursive`, statement by statement:
+///
+/// ```c
+/// glPushMatrix();
+/// glTranslatef(r->x, r->y, r->z);
+/// roateSpace(r->flags);
+/// glutSolidSphere(1.0f, 20, 16);
+/// for (int i = 0; i < r->childNum; i++) drawRecursive(r->getChild(i));
+/// glPopMatrix();
+/// ```
+///
+/// The same calls in the same order (the article's "debug 3": translate before rotating). What
+/// changed: the translation is `pose::joint_translation` (the OFFSET, with any position channels
+/// of this joint), so the matrix at each joint is `pose`'s world matrix times the view; a
+/// skeleton deeper than GL's matrix stack saves and restores the matrix itself
+/// (`push_matrix_or_save`, `pop_matrix_or_restore`); `rotate_space` also turns an ASF bone about
+/// its own axis; and the sphere is `draw_joint`, which is the article's sphere in its picture
+/// and where a pass adds colours, the stick figure or the step view's highlight. `depth` is the
+/// joint's depth in the tree, 0 at a root. The notes mark each joint's calls for
+/// `bvhview trace --explain`; GL ignores them.
 pub fn draw_recursive<G: FixedFunction>(gl: &mut G, pass: &Pass, index: usize, depth: usize) {
     let joint = &pass.skeleton.joints[index];
     gl.note(Note::Joint(index));
     let saved = push_matrix_or_save(gl, depth);
     let [x, y, z] = translation(joint, pass.frame, pass.mode);
     gl.translatef(x, y, z);
-    match joint.axis {
-        None => rotate_space(gl, joint, pass.frame),
-        Some(axis) => rotate_space_about_axis(gl, joint, pass.frame, axis),
+    rotate_space(gl, joint, pass.frame);
+    draw_joint(gl, pass, index);
+    for &child in &joint.children {
+        draw_recursive(gl, pass, child, depth + 1);
     }
+    pop_matrix_or_restore(gl, saved);
+    gl.note(Note::JointEnd);
+}
+
+/// The article's `glutSolidSphere(1.0f, 20, 16)` at a joint (of the pass's radius), and what a
+/// pass draws around it: the joint's colour (the studio look), the step view's highlight
+/// instead of the sphere, no sphere for the stick figure alone, the sticks to its children.
+fn draw_joint<G: FixedFunction>(gl: &mut G, pass: &Pass, index: usize) {
     if let Some(colours) = pass.colours {
         let [r, g, b] = colours[index];
         gl.color3f(r, g, b);
@@ -116,16 +155,10 @@ pub fn draw_recursive<G: FixedFunction>(gl: &mut G, pass: &Pass, index: usize, d
     } else if pass.style != Style::Sticks {
         gl.solid_sphere(pass.sphere_radius, 20, 16);
     }
+    let joint = &pass.skeleton.joints[index];
     if pass.style != Style::Points && !joint.children.is_empty() {
         draw_sticks(gl, pass, joint);
     }
-    for &child in &joint.children {
-        if is_shown(pass, child) {
-            draw_recursive(gl, pass, child, depth + 1);
-        }
-    }
-    pop_matrix_or_restore(gl, saved);
-    gl.note(Note::JointEnd);
 }
 
 /// The joint the step view has just reached: a larger sphere, unlit orange.
@@ -164,7 +197,7 @@ fn pop_matrix_or_restore<G: FixedFunction>(gl: &mut G, saved: Option<[f32; 16]>)
 fn draw_sticks<G: FixedFunction>(gl: &mut G, pass: &Pass, joint: &Joint) {
     gl.disable(GL_LIGHTING);
     gl.begin(GL_LINES);
-    for &child in joint.children.iter().filter(|&&c| is_shown(pass, c)) {
+    for &child in &joint.children {
         if let Some(colours) = pass.colours {
             let [r, g, b] = colours[child];
             gl.color3f(r, g, b);
@@ -177,8 +210,21 @@ fn draw_sticks<G: FixedFunction>(gl: &mut G, pass: &Pass, joint: &Joint) {
     gl.enable(GL_LIGHTING);
 }
 
-/// An ASF bone turns about its own fixed axis C: [`rotate_space`] between C and C⁻¹, the GL calls
-/// for [`crate::pose::local_rotation`]. BVH joints have no axis and never come here.
+/// C++: `BVH::roateSpace` (sic). The article switches over its six flags and issues three
+/// `glRotatef` in that order, then advances `pFrame` by three unless the joint is an End Site
+/// (its "debug 2"). Here one `glRotatef` per rotation channel in file order gives the same calls
+/// for those six orders and also handles any other layout; each joint's columns are its own, so
+/// there is no shared cursor to advance. An ASF bone turns about its own axis
+/// (`rotate_space_about_axis`); BVH joints have none.
+pub fn rotate_space<G: FixedFunction>(gl: &mut G, joint: &Joint, frame: Option<&[f32]>) {
+    match joint.axis {
+        None => rotate_channels(gl, joint, frame),
+        Some(axis) => rotate_space_about_axis(gl, joint, frame, axis),
+    }
+}
+
+/// An ASF bone turns about its own fixed axis C: its channels' rotations between C and C⁻¹, the
+/// GL calls for [`crate::pose::local_rotation`].
 fn rotate_space_about_axis<G: FixedFunction>(
     gl: &mut G,
     joint: &Joint,
@@ -186,16 +232,12 @@ fn rotate_space_about_axis<G: FixedFunction>(
     axis: glam::Quat,
 ) {
     gl.mult_matrixf(&glam::Mat4::from_quat(axis).to_cols_array());
-    rotate_space(gl, joint, frame);
+    rotate_channels(gl, joint, frame);
     gl.mult_matrixf(&glam::Mat4::from_quat(axis.inverse()).to_cols_array());
 }
 
-/// C++: `BVH::roateSpace` (sic). The article switches over its six flags and issues three
-/// `glRotatef` in that order, then advances `pFrame` by three unless the joint is an End Site
-/// (its "debug 2"). Here one `glRotatef` per rotation channel in file order gives the same calls
-/// for those six orders and also handles any other layout; each joint's columns are its own, so
-/// there is no shared cursor to advance.
-pub fn rotate_space<G: FixedFunction>(gl: &mut G, joint: &Joint, frame: Option<&[f32]>) {
+/// One `glRotatef` per rotation channel, in file order.
+fn rotate_channels<G: FixedFunction>(gl: &mut G, joint: &Joint, frame: Option<&[f32]>) {
     let values = frame.map(|f| joint.values(f));
     for (i, channel) in joint.channels.iter().enumerate() {
         if !channel.is_rotation() {
