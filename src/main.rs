@@ -581,12 +581,15 @@ fn wrote(what: std::fmt::Arguments) {
 }
 
 /// Refuses an output whose extension is not one the command writes, before any work.
-/// A FIFO or a character device (`/dev/stdout`) is taken whatever its name: it is written to.
+/// A FIFO, a character device or a path under /dev or /proc (`/dev/stdout`, `/dev/fd/3`) is
+/// taken whatever its name: it is written to where it is.
 fn check_output(path: &Path, formats: &[&str]) -> Result<(), Error> {
     use std::os::unix::fs::FileTypeExt;
     let extension = input::extension(path);
-    let special = std::fs::metadata(path)
-        .is_ok_and(|m| m.file_type().is_fifo() || m.file_type().is_char_device());
+    let special = path.starts_with("/dev")
+        || path.starts_with("/proc")
+        || std::fs::metadata(path)
+            .is_ok_and(|m| m.file_type().is_fifo() || m.file_type().is_char_device());
     if special || formats.contains(&extension.as_str()) {
         return Ok(());
     }

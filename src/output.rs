@@ -27,18 +27,25 @@ fn partial() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
 }
 
 /// On SIGINT, SIGTERM or SIGHUP, every temporary file still being written is removed and the
-/// process exits with 128 + the signal's number, as a shell reports a command a signal ended
-/// (130 for Ctrl-C, 143 for `kill`, 129 for a closed terminal).
+/// process ends by that signal, as it would have without the cleanup: a shell reports 128 + its
+/// number (130 for Ctrl-C, 143 for `kill`, 129 for a closed terminal), and a shell loop around
+/// bvhview stops on Ctrl-C. A signal the process started with ignored (`nohup`, a background job
+/// of a script) stays ignored.
 pub fn remove_partials_on_signal() {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
-    let Ok(mut signals) = signal_hook::iterator::Signals::new([SIGINT, SIGTERM, SIGHUP]) else {
+    let wanted: Vec<i32> = [SIGINT, SIGTERM, SIGHUP]
+        .into_iter()
+        .filter(|&signal| !ignored_at_start(signal))
+        .collect();
+    let Ok(mut signals) = signal_hook::iterator::Signals::new(&wanted) else {
         return;
     };
     // The signals arrive on a thread of its own, so it may lock and remove files.
     std::thread::spawn(move || {
         if let Some(signal) = signals.forever().next() {
-            let left: Vec<PathBuf> = partial().drain(..).collect();
-            for path in &left {
+            // Held to the end: no new temporary file can be made after the cleanup.
+            let mut partial = partial();
+            for path in partial.drain(..) {
                 let _ = std::fs::remove_file(path);
             }
             let what = match signal {
@@ -47,12 +54,23 @@ pub fn remove_partials_on_signal() {
                 _ => "hung up",
             };
             eprintln!("bvhview: {what}; no output was left half-written");
-            // `_exit`, not `process::exit`: the exit handlers of the GL libraries must not run
-            // while the main thread may still be drawing with them (that crashed with SIGSEGV).
-            // SAFETY: ends the process at once; nothing after it runs.
+            // The default action, which ends the process at once: no exit handler runs (the GL
+            // libraries' must not while the main thread may still be drawing with them).
+            let _ = signal_hook::low_level::emulate_default_handler(signal);
+            // SAFETY: ends the process at once, should the default action not have.
             unsafe { libc::_exit(128 + signal) }
         }
     });
+}
+
+/// Whether `signal` was ignored when the process started (`nohup` ignores SIGHUP).
+fn ignored_at_start(signal: i32) -> bool {
+    // SAFETY: sigaction with a null new action only reads the current one into `old`.
+    unsafe {
+        let mut old: libc::sigaction = std::mem::zeroed();
+        libc::sigaction(signal, std::ptr::null(), &mut old) == 0
+            && old.sa_sigaction == libc::SIG_IGN
+    }
 }
 
 /// An output file being written; [`AtomicFile::commit`] finishes it.
@@ -63,6 +81,9 @@ pub struct AtomicFile {
 }
 
 enum Writer {
+    /// A FIFO or a device, opened at the first write (`true`: a regular file, truncated first):
+    /// opening a FIFO waits for its reader, which should not stop a refusal that comes before.
+    Pending(bool),
     /// A regular file (or none yet): a temporary file beside it takes its name at the end.
     Replace {
         temporary: BufWriter<NamedTempFile>,
@@ -78,6 +99,20 @@ enum Writer {
 impl AtomicFile {
     /// Starts writing `path` (its folder must exist).
     pub fn create(path: &Path) -> Result<AtomicFile, Error> {
+        // What the path leads to, links followed as the kernel follows them: a FIFO or a device
+        // is opened as named (`/dev/stdout` leads through /proc to a pipe that has no path).
+        match std::fs::metadata(path) {
+            Ok(m) if m.file_type().is_fifo() || m.file_type().is_char_device() => {
+                return Ok(AtomicFile::direct(path, false));
+            }
+            // `-o /dev/stdout` with stdout sent to a file: written in place, as `cp` does; the
+            // file the shell opened keeps its name.
+            Ok(m) if m.is_file() && is_system_alias(path) => {
+                return Ok(AtomicFile::direct(path, true));
+            }
+            _ => {}
+        }
+        refuse_planted_folders(path)?;
         let target = follow_links(path)?;
         let old = match std::fs::metadata(&target) {
             Ok(metadata) => Some(metadata),
@@ -85,13 +120,6 @@ impl AtomicFile {
             Err(e) => return Err(Error::output(path, e)),
         };
         let writer = match &old {
-            Some(m) if m.file_type().is_fifo() || m.file_type().is_char_device() => {
-                let file = std::fs::OpenOptions::new()
-                    .write(true)
-                    .open(&target)
-                    .map_err(|e| Error::output(path, e))?;
-                Writer::Direct(BufWriter::new(file))
-            }
             Some(m) if m.is_dir() => {
                 // As the OS says it (Python raises IsADirectoryError).
                 let error = io::Error::new(io::ErrorKind::IsADirectory, "is a folder");
@@ -109,13 +137,20 @@ impl AtomicFile {
                 )));
             }
             _ => {
-                let folder = match target.parent() {
-                    Some(folder) if !folder.as_os_str().is_empty() => folder,
-                    _ => Path::new("."),
-                };
+                let folder = folder_of(&target);
+                if let Some(old) = &old {
+                    refuse_planted_file(path, old, folder)?;
+                }
+                // The temporary name holds the output's, cut so that it stays within the
+                // 255 bytes a name may have.
                 let name = target
                     .file_name()
                     .map_or("out".into(), |n| n.to_string_lossy());
+                let mut cut = name.len().min(200);
+                while !name.is_char_boundary(cut) {
+                    cut -= 1;
+                }
+                let name = &name[..cut];
                 // A new file gets the mode any new file gets (0666 less the umask); one that
                 // replaces another stays private until it takes the old one's mode.
                 let mode = if old.is_some() { 0o600 } else { 0o666 };
@@ -128,6 +163,7 @@ impl AtomicFile {
                     .permissions(std::fs::Permissions::from_mode(mode))
                     .tempfile_in(folder)
                     .map_err(|e| Error::output(path, e))?;
+                // Made under the lock, and listed before it is let go.
                 partial.push(temporary.path().to_path_buf());
                 drop(partial);
                 Writer::Replace {
@@ -143,25 +179,97 @@ impl AtomicFile {
         })
     }
 
+    /// A FIFO, a device, or (`truncate`) a regular file reached through /dev or /proc: written
+    /// to where it is.
+    fn direct(path: &Path, truncate: bool) -> AtomicFile {
+        AtomicFile {
+            path: path.to_path_buf(),
+            writer: Some(Writer::Pending(truncate)),
+        }
+    }
+
     /// Flushes the file and gives it its name (with the old file's mode and owner).
     pub fn commit(mut self) -> Result<(), Error> {
         let path = self.path.clone();
         let failed = |e: io::Error| Error::output(&path, e);
+        // Nothing was written to a FIFO or device: opened and closed all the same, so that its
+        // reader sees the (empty) output end.
+        if matches!(self.writer, Some(Writer::Pending(_))) {
+            self.writer().map_err(&failed)?;
+        }
         match self.writer.take().expect("committed once") {
+            Writer::Pending(_) => unreachable!("opened above"),
             Writer::Direct(mut writer) => writer.flush().map_err(failed),
             Writer::Replace {
                 temporary,
                 target,
                 old,
             } => {
-                let temporary = temporary.into_inner().map_err(|e| failed(e.into_error()))?;
-                let kept = partial_path(&temporary);
-                let result = finish(temporary, &target, old.as_deref()).map_err(failed);
+                let kept = partial_path(temporary.get_ref());
+                let result = match temporary.into_inner() {
+                    Ok(temporary) => finish(temporary, &target, old.as_deref()).map_err(failed),
+                    Err(e) => Err(failed(e.into_error())),
+                };
                 partial().retain(|p| *p != kept);
                 result
             }
         }
     }
+}
+
+/// Whether `path` names a file through the system's own links (`/dev/stdout`, `/dev/fd/3`,
+/// `/proc/self/fd/1`): whatever it leads to, it is written in place.
+fn is_system_alias(path: &Path) -> bool {
+    path.starts_with("/dev") || path.starts_with("/proc")
+}
+
+/// The folder `path` is in (`.` for a bare name).
+fn folder_of(path: &Path) -> &Path {
+    match path.parent() {
+        Some(folder) if !folder.as_os_str().is_empty() => folder,
+        _ => Path::new("."),
+    }
+}
+
+/// Whether a folder is shared and sticky (/tmp): anyone may create files in it, but only their
+/// owner (or the folder's) may replace them.
+fn sticky_and_shared(folder: &Metadata) -> bool {
+    folder.mode() & 0o1002 == 0o1002
+}
+
+fn my_uid() -> u32 {
+    // SAFETY: geteuid has no preconditions and cannot fail.
+    unsafe { libc::geteuid() }
+}
+
+/// `fs.protected_regular`: in a sticky, shared folder, a file that belongs to neither whoever
+/// writes nor the folder's owner is not replaced (root would otherwise hand its output, with
+/// the planted file's owner and set-id bits, to whoever planted it).
+fn refuse_planted_file(path: &Path, old: &Metadata, folder: &Path) -> Result<(), Error> {
+    let folder = std::fs::metadata(folder).map_err(|e| Error::output(path, e))?;
+    if sticky_and_shared(&folder) && old.uid() != my_uid() && old.uid() != folder.uid() {
+        return Err(Error::Usage(format!(
+            "-o {}: belongs to another user (uid {}) in a shared folder; not replaced",
+            path.display(),
+            old.uid()
+        )));
+    }
+    Ok(())
+}
+
+/// The folders on the way to `path`: a link among them that another user planted in a sticky
+/// shared folder is not followed (as for the output itself, see [`refuse_planted_link`]).
+fn refuse_planted_folders(path: &Path) -> Result<(), Error> {
+    let mut ancestors: Vec<&Path> = path.ancestors().skip(1).collect();
+    ancestors.reverse();
+    for folder in ancestors.into_iter().filter(|a| !a.as_os_str().is_empty()) {
+        if let Ok(metadata) = std::fs::symlink_metadata(folder)
+            && metadata.file_type().is_symlink()
+        {
+            refuse_planted_link(path, folder, &metadata, folder_of(folder))?;
+        }
+    }
+    Ok(())
 }
 
 fn partial_path(temporary: &NamedTempFile) -> PathBuf {
@@ -175,6 +283,8 @@ fn finish(temporary: NamedTempFile, target: &Path, old: Option<&Metadata>) -> io
     file.sync_all()?;
     if let Some(old) = old {
         let ours = file.metadata()?;
+        // The set-id bits are not kept: the new content is not the program they were set for.
+        let mode = old.mode() & 0o1777;
         if (ours.uid(), ours.gid()) != (old.uid(), old.gid()) {
             // Only root may give a file away; anyone else keeps what the file would get
             // anyway, as `sed -i` does.
@@ -184,12 +294,10 @@ fn finish(temporary: NamedTempFile, target: &Path, old: Option<&Metadata>) -> io
             }
         }
         // After the owner: a change of owner clears the set-id bits.
-        file.set_permissions(std::fs::Permissions::from_mode(old.mode() & 0o7777))?;
+        file.set_permissions(std::fs::Permissions::from_mode(mode))?;
     }
     temporary.persist(target).map_err(|e| e.error)?;
-    if let Some(folder) = target.parent().filter(|f| !f.as_os_str().is_empty())
-        && let Ok(folder) = File::open(folder)
-    {
+    if let Ok(folder) = File::open(folder_of(target)) {
         // The rename is durable once the folder is: a crash now leaves the old or the new file.
         let _ = folder.sync_all();
     }
@@ -218,10 +326,7 @@ fn follow_links(path: &Path) -> Result<PathBuf, Error> {
         if !metadata.file_type().is_symlink() {
             return Ok(current);
         }
-        let folder = match current.parent() {
-            Some(folder) if !folder.as_os_str().is_empty() => folder.to_path_buf(),
-            _ => PathBuf::from("."),
-        };
+        let folder = folder_of(&current).to_path_buf();
         refuse_planted_link(path, &current, &metadata, &folder)?;
         let link = std::fs::read_link(&current).map_err(|e| Error::output(path, e))?;
         current = folder.join(link);
@@ -241,10 +346,7 @@ fn refuse_planted_link(
     folder: &Path,
 ) -> Result<(), Error> {
     let folder = std::fs::metadata(folder).map_err(|e| Error::output(path, e))?;
-    let sticky_and_shared = folder.mode() & 0o1002 == 0o1002;
-    // SAFETY: geteuid has no preconditions and cannot fail.
-    let me = unsafe { libc::geteuid() };
-    if sticky_and_shared && metadata.uid() != me && metadata.uid() != folder.uid() {
+    if sticky_and_shared(&folder) && metadata.uid() != my_uid() && metadata.uid() != folder.uid() {
         return Err(Error::Usage(format!(
             "-o {}: {} is a symbolic link another user (uid {}) made in a shared folder; \
              not followed",
@@ -256,17 +358,34 @@ fn refuse_planted_link(
     Ok(())
 }
 
+impl AtomicFile {
+    /// The writer, a pending FIFO or device opened now.
+    fn writer(&mut self) -> io::Result<&mut Writer> {
+        let writer = self.writer.as_mut().expect("not committed");
+        if let Writer::Pending(truncate) = *writer {
+            let file = std::fs::OpenOptions::new()
+                .write(true)
+                .truncate(truncate)
+                .open(&self.path)?;
+            *writer = Writer::Direct(BufWriter::new(file));
+        }
+        Ok(writer)
+    }
+}
+
 impl Write for AtomicFile {
     fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
-        match self.writer.as_mut().expect("not committed") {
+        match self.writer()? {
             Writer::Replace { temporary, .. } => temporary.write(bytes),
             Writer::Direct(writer) => writer.write(bytes),
+            Writer::Pending(_) => unreachable!("opened by writer()"),
         }
     }
     fn flush(&mut self) -> io::Result<()> {
-        match self.writer.as_mut().expect("not committed") {
+        match self.writer()? {
             Writer::Replace { temporary, .. } => temporary.flush(),
             Writer::Direct(writer) => writer.flush(),
+            Writer::Pending(_) => unreachable!("opened by writer()"),
         }
     }
 }
@@ -338,7 +457,7 @@ mod tests {
         );
         let names = |f: &AtomicFile| match f.writer.as_ref().unwrap() {
             Writer::Replace { temporary, .. } => temporary.get_ref().path().to_path_buf(),
-            Writer::Direct(_) => unreachable!(),
+            Writer::Direct(_) | Writer::Pending(_) => unreachable!(),
         };
         assert_ne!(names(&a), names(&b));
         drop((a, b));
@@ -391,6 +510,51 @@ mod tests {
         let metadata = std::fs::metadata(&path).unwrap();
         assert_eq!((metadata.uid(), metadata.gid()), (1234, 2345));
         std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// A name of 240 bytes (`touch` makes it): the temporary name is cut to fit.
+    #[test]
+    fn a_long_output_name_is_written() {
+        let dir = folder("long-name");
+        let path = dir.join(format!("{}.csv", "a".repeat(240)));
+        write(&path, b"long").unwrap();
+        assert_eq!(std::fs::read(&path).unwrap(), b"long");
+        std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    /// In a sticky shared folder (/tmp), root does not replace a file another user planted (it
+    /// would hand its output, set-id bits and all, to that user), nor follow a planted folder
+    /// link; the set-id bits of a file it may replace are not kept.
+    #[test]
+    fn root_does_not_replace_what_another_user_planted_in_a_shared_folder() {
+        if my_uid() != 0 {
+            eprintln!("not root: another user's files need root to make");
+            return;
+        }
+        let dir = folder("sticky");
+        std::fs::set_permissions(&dir, std::fs::Permissions::from_mode(0o1777)).unwrap();
+        let planted = dir.join("theirs.csv");
+        std::fs::write(&planted, b"theirs").unwrap();
+        std::fs::set_permissions(&planted, std::fs::Permissions::from_mode(0o4755)).unwrap();
+        std::os::unix::fs::chown(&planted, Some(1234), Some(1234)).unwrap();
+        let error = write(&planted, b"root's").unwrap_err().to_string();
+        assert!(error.contains("belongs to another user (uid 1234)"), "{error}");
+        assert_eq!(std::fs::read(&planted).unwrap(), b"theirs");
+        let elsewhere = folder("sticky-target");
+        let link = dir.join("dl");
+        std::os::unix::fs::symlink(&elsewhere, &link).unwrap();
+        std::os::unix::fs::lchown(&link, Some(1234), Some(1234)).unwrap();
+        let error = write(&link.join("x.csv"), b"x").unwrap_err().to_string();
+        assert!(error.contains("a symbolic link another user (uid 1234) made"), "{error}");
+        assert!(!elsewhere.join("x.csv").exists());
+        // Root's own set-uid file: replaced, without the bit.
+        let own = dir.join("own.csv");
+        std::fs::write(&own, b"old").unwrap();
+        std::fs::set_permissions(&own, std::fs::Permissions::from_mode(0o4755)).unwrap();
+        write(&own, b"new").unwrap();
+        assert_eq!(std::fs::metadata(&own).unwrap().mode() & 0o7777, 0o755);
+        std::fs::remove_dir_all(dir).unwrap();
+        std::fs::remove_dir_all(elsewhere).unwrap();
     }
 
     /// Issue 26, row 3: a character device is written to, not replaced.

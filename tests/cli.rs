@@ -830,21 +830,22 @@ fn help_and_the_help_overlay_list_every_window_key() {
 }
 
 /// Ctrl-C while an animated picture is being written: the hidden temporary is removed, nothing
-/// appears under the output's name, and the exit status is 128 + the signal (issue 26, row 11:
-/// it was 130 for every signal).
+/// appears under the output's name, and the process ends by the signal itself, which a shell
+/// reports as 128 + its number (issue 26, row 11: it was 130 for every signal).
 #[test]
 fn an_interrupted_write_leaves_nothing() {
     // Ctrl-C, and what a service manager or a closed terminal sends.
-    for (signal, status, what) in [
-        ("INT", 130, "interrupted"),
-        ("TERM", 143, "terminated"),
-        ("HUP", 129, "hung up"),
+    for (signal, number, what) in [
+        ("INT", 2, "interrupted"),
+        ("TERM", 15, "terminated"),
+        ("HUP", 1, "hung up"),
     ] {
-        interrupt_a_write(signal, status, what);
+        interrupt_a_write(signal, number, what);
     }
 }
 
-fn interrupt_a_write(signal: &str, status: i32, what: &str) {
+fn interrupt_a_write(signal: &str, number: i32, what: &str) {
+    use std::os::unix::process::ExitStatusExt;
     let dir =
         std::env::temp_dir().join(format!("bvhview-interrupt-{signal}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
@@ -891,7 +892,7 @@ fn interrupt_a_write(signal: &str, status: i32, what: &str) {
         .unwrap();
     assert!(killed.success());
     let output = child.wait_with_output().unwrap();
-    assert_eq!(output.status.code(), Some(status), "SIG{signal}");
+    assert_eq!(output.status.signal(), Some(number), "SIG{signal}");
     assert_eq!(
         String::from_utf8_lossy(&output.stderr),
         format!("bvhview: {what}; no output was left half-written\n")
@@ -1124,5 +1125,34 @@ fn the_default_view_is_the_article_picture_for_every_file() {
         }
     }
     assert!(lying >= 1, "no repository file stands along z");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A shell sees 128 + the signal, and `nohup` keeps SIGHUP ignored (issue 26 review: signal
+/// handling replaced an inherited SIG_IGN, so `nohup bvhview …` died on hang-up).
+#[test]
+fn a_shell_sees_128_plus_the_signal_and_nohup_is_kept() {
+    let bin = env!("CARGO_BIN_EXE_bvhview");
+    let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
+    let dir = std::env::temp_dir().join(format!("bvhview-nohup-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("walk.gif");
+    let script = format!(
+        "{{trap}} '{bin}' snapshot '{walk}' --frames 0..40 --size 1000x1000 --fps 30 -q -o '{out}' & \
+         pid=$!; while [ -z \"$(ls -A '{dir}')\" ]; do sleep 0.01; done; kill -HUP $pid; wait $pid; echo $?",
+        walk = walk.display(),
+        out = out.display(),
+        dir = dir.display()
+    );
+    let run = |trap: &str| {
+        let script = script.replace("{trap}", trap);
+        let output = Command::new("sh").arg("-c").arg(script).output().unwrap();
+        String::from_utf8(output.stdout).unwrap().trim().to_string()
+    };
+    assert_eq!(run(""), "129");
+    assert!(!out.exists());
+    // As `nohup` starts it: SIGHUP ignored; it finishes its work.
+    assert_eq!(run("trap '' HUP;"), "0");
+    assert!(out.exists());
     std::fs::remove_dir_all(dir).unwrap();
 }
