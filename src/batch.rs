@@ -38,6 +38,11 @@ pub fn collect(dir: &Path) -> Result<Vec<Item>, Error> {
                 folders.push(path.clone());
                 continue;
             }
+            // A FIFO or a device named like a take would wait for a writer for good, or read
+            // without end: a folder's takes are its regular files (links to them included).
+            if !path.is_file() {
+                continue;
+            }
             match extension(path).as_str() {
                 "bvh" => items.push(Item {
                     path: path.clone(),

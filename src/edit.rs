@@ -151,7 +151,13 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion
     let span = (frames - 1) as f64 * motion.frame_time;
     // A little slack: frame times are written with few digits (.0083333 for 1/120).
     let count = (span * fps + 1e-3).floor() as usize + 1;
-    let mut data = Vec::with_capacity(count * width);
+    let mut data = Vec::new();
+    data.try_reserve_exact(count * width).map_err(|_| {
+        Error::Memory(format!(
+            "--fps {}: {count} frames of {width} values do not fit in memory",
+            crate::limits::show(fps)
+        ))
+    })?;
     for i in 0..count {
         let at = (i as f64 / fps) / motion.frame_time;
         let a = (at.floor() as usize).min(frames - 1);
@@ -160,7 +166,14 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion
         let (row_a, row_b) = (motion.frame(a), motion.frame(b));
         let start = data.len();
         // Linear first (positions, and angles without a rotation order); slerp replaces the rest.
-        data.extend(row_a.iter().zip(row_b).map(|(&x, &y)| x + (y - x) * w));
+        // In f64, so that values near the f32 limit do not overflow on the way (inf · 0).
+        let w64 = f64::from(w);
+        data.extend(
+            row_a
+                .iter()
+                .zip(row_b)
+                .map(|(&x, &y)| (f64::from(x) * (1.0 - w64) + f64::from(y) * w64) as f32),
+        );
         for joint in &skeleton.joints {
             let Some(order) = joint.rotation_order else {
                 continue;
@@ -182,7 +195,13 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion
             }
         }
     }
-    Ok(Motion::new(1.0 / fps, width, count, data))
+    let motion = Motion::new(1.0 / fps, width, count, data);
+    finite(
+        &format!("--fps {}", crate::limits::show(fps)),
+        skeleton.clone(),
+        motion,
+    )
+    .map(|(_, m)| m)
 }
 
 /// Which side of the body a joint is on, by its name.
@@ -385,9 +404,25 @@ pub fn reorient(
     }
     // Into Y-up from `from`, then out of Y-up into `to`.
     let turn = to.to_y_up().inverse() * from.to_y_up();
+    // A quarter turn moves each axis onto another, maybe negated: exactly, with no rounding
+    // and no overflow on the way (a product with the quaternion does both).
+    let axes = glam::Mat3::from_quat(turn)
+        .to_cols_array_2d()
+        .map(|c| c.map(f32::round));
+    let exactly = |v: glam::Vec3| {
+        let mut out = glam::Vec3::ZERO;
+        for (column, &value) in axes.iter().zip(&v.to_array()) {
+            for (row, &sign) in column.iter().enumerate() {
+                if sign != 0.0 {
+                    out[row] = sign * value;
+                }
+            }
+        }
+        out
+    };
     let mut turned = skeleton.clone();
     for joint in &mut turned.joints {
-        joint.offset = turn * joint.offset;
+        joint.offset = exactly(joint.offset);
         let positions = joint.channels.iter().filter(|c| c.is_position()).count();
         let rotations = joint.channels.iter().filter(|c| c.is_rotation()).count();
         if (positions != 0 && positions != 3) || (rotations != 0 && joint.rotation_order.is_none())
@@ -420,7 +455,7 @@ pub fn reorient(
                     for &(column, axis) in &positions {
                         p[axis] = original[column];
                     }
-                    let p = turn * p;
+                    let p = exactly(p);
                     for &(column, axis) in &positions {
                         row[column] = p[axis];
                     }

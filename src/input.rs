@@ -107,16 +107,32 @@ pub fn read_skeleton_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> 
     )
 }
 
+/// The whole file, read a megabyte at a time and refused at its first NUL byte: ASF and AMC are
+/// text, so a link to /dev/zero or a binary file fails at once instead of at the size limit.
 fn read_within(path: &Path, limit: u64, too_large: String) -> Result<Vec<u8>, Error> {
     use std::io::Read;
     let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     // Room for the whole file at once (reading in doubling steps could hold twice its size).
     let length = file.metadata().map_or(0, |m| m.len()).min(limit);
     let mut bytes = Vec::with_capacity(usize::try_from(length).unwrap_or(0).saturating_add(1));
-    Bounded::saying(file, limit, too_large)
-        .read_to_end(&mut bytes)
-        .map_err(|e| Error::io(path, e))?;
-    Ok(bytes)
+    let mut input = Bounded::saying(file, limit, too_large);
+    loop {
+        let before = bytes.len();
+        let read = (&mut input)
+            .take(1 << 20)
+            .read_to_end(&mut bytes)
+            .map_err(|e| Error::io(path, e))?;
+        if let Some(at) = bytes[before..].iter().position(|&b| b == 0) {
+            let message = format!("not a text file: a NUL byte at byte {}", before + at);
+            return Err(Error::io(
+                path,
+                std::io::Error::new(std::io::ErrorKind::InvalidData, message),
+            ));
+        }
+        if read == 0 {
+            return Ok(bytes);
+        }
+    }
 }
 
 /// Fails unless `path` is a readable file of at most `max_size` bytes.

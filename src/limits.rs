@@ -21,6 +21,10 @@ pub const MAX_HEADER_BYTES: usize = 64 << 20;
 /// Longest frame time, in seconds, from a file or `--frame-time`: an hour per frame.
 pub const MAX_FRAME_TIME: f64 = 3600.0;
 
+/// Shortest frame time other than 0 (which some exporters write for "unknown"): a microsecond,
+/// a million frames per second. Below it the rate is not a number a picture can play at.
+pub const MIN_FRAME_TIME: f64 = 1e-6;
+
 /// Slowest and fastest rates, in frames per second, for `--fps` (animations and resampling).
 /// An APNG delay counts thousandths of a second.
 pub const MIN_FPS: f64 = 0.01;
@@ -33,8 +37,8 @@ pub const GIF_MAX_FPS: f64 = 50.0;
 /// Most frames an animated picture holds (33 minutes at 50 per second); each is drawn.
 pub const MAX_ANIMATION_FRAMES: usize = 100_000;
 
-/// Most values (frames × channels) an edit may make: 4 GB of f32, as much as a 15 GB BVH holds.
-pub const MAX_GENERATED_VALUES: u64 = 1 << 30;
+/// Most values (frames × channels) an edit may make: 1 GiB of f32, a BVH file of about 2 GB.
+pub const MAX_GENERATED_VALUES: u64 = 1 << 28;
 
 /// A number as a message shows it: `1e300`, not three hundred digits.
 pub fn show<T>(value: T) -> String
@@ -59,20 +63,23 @@ pub fn name(bytes: usize) -> Result<(), String> {
     Ok(())
 }
 
-/// Whether a frame time read from a file is one bvhview accepts: finite, 0 (some exporters
-/// write it) to [`MAX_FRAME_TIME`].
+/// Whether a frame time read from a file is one bvhview accepts: 0 (some exporters write it),
+/// or [`MIN_FRAME_TIME`] to [`MAX_FRAME_TIME`].
 pub fn frame_time_in_file(seconds: f64) -> bool {
-    (0.0..=MAX_FRAME_TIME).contains(&seconds)
+    seconds == 0.0 || (MIN_FRAME_TIME..=MAX_FRAME_TIME).contains(&seconds)
 }
 
 /// `--frame-time` (or Python's `frame_time=`): seconds per frame, above 0, at most
 /// [`MAX_FRAME_TIME`].
 pub fn frame_time_option(seconds: Option<f64>) -> Result<(), Error> {
     match seconds {
-        Some(time) if !(time > 0.0 && time <= MAX_FRAME_TIME) => Err(Error::Usage(format!(
-            "--frame-time {}: expected seconds per frame, above 0 and at most {MAX_FRAME_TIME}",
-            show(time)
-        ))),
+        Some(time) if !(MIN_FRAME_TIME..=MAX_FRAME_TIME).contains(&time) => {
+            Err(Error::Usage(format!(
+                "--frame-time {}: expected seconds per frame, from {} to {MAX_FRAME_TIME}",
+                show(time),
+                show(MIN_FRAME_TIME)
+            )))
+        }
         _ => Ok(()),
     }
 }
@@ -129,14 +136,35 @@ pub fn resampled_frames(
     )
 }
 
-/// A picture's size: 1 to 16384 pixels each way.
+/// Most pixels a picture may have: 8192 × 8192 (its buffers take about 800 MB).
+pub const MAX_PICTURE_PIXELS: u64 = 8192 * 8192;
+
+/// A picture's size: 1 to 16384 pixels each way, at most [`MAX_PICTURE_PIXELS`] in all.
 pub fn picture_size(width: u32, height: u32) -> Result<(), Error> {
     if width == 0 || height == 0 || width > 16384 || height > 16384 {
         return Err(Error::Usage(format!(
             "--size {width}x{height}: width and height must be 1 to 16384"
         )));
     }
+    if u64::from(width) * u64::from(height) > MAX_PICTURE_PIXELS {
+        return Err(Error::Usage(format!(
+            "--size {width}x{height}: at most {MAX_PICTURE_PIXELS} pixels (8192x8192)"
+        )));
+    }
     Ok(())
+}
+
+/// `count` zero bytes, or [`Error::Memory`] where `vec!` would abort the process.
+pub fn zeroed_bytes(count: usize, what: &str) -> Result<Vec<u8>, Error> {
+    let mut probe: Vec<u8> = Vec::new();
+    probe.try_reserve_exact(count).map_err(|_| {
+        Error::Memory(format!(
+            "{what}: {:.1} GB do not fit in memory",
+            count as f64 / 1e9
+        ))
+    })?;
+    drop(probe);
+    Ok(vec![0; count])
 }
 
 /// `count` zeros to fill, or [`Error::Memory`] where `vec!` would abort the process: a count

@@ -538,14 +538,20 @@ mod tests {
         std::fs::set_permissions(&planted, std::fs::Permissions::from_mode(0o4755)).unwrap();
         std::os::unix::fs::chown(&planted, Some(1234), Some(1234)).unwrap();
         let error = write(&planted, b"root's").unwrap_err().to_string();
-        assert!(error.contains("belongs to another user (uid 1234)"), "{error}");
+        assert!(
+            error.contains("belongs to another user (uid 1234)"),
+            "{error}"
+        );
         assert_eq!(std::fs::read(&planted).unwrap(), b"theirs");
         let elsewhere = folder("sticky-target");
         let link = dir.join("dl");
         std::os::unix::fs::symlink(&elsewhere, &link).unwrap();
         std::os::unix::fs::lchown(&link, Some(1234), Some(1234)).unwrap();
         let error = write(&link.join("x.csv"), b"x").unwrap_err().to_string();
-        assert!(error.contains("a symbolic link another user (uid 1234) made"), "{error}");
+        assert!(
+            error.contains("a symbolic link another user (uid 1234) made"),
+            "{error}"
+        );
         assert!(!elsewhere.join("x.csv").exists());
         // Root's own set-uid file: replaced, without the bit.
         let own = dir.join("own.csv");

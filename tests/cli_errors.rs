@@ -247,7 +247,7 @@ fn first_mistakes_get_one_clear_line() {
         ),
         (
             vec!["info", file.as_str(), "--frame-time", "-1"],
-            "--frame-time -1: expected seconds per frame, above 0 and at most 3600",
+            "--frame-time -1: expected seconds per frame, from 1e-6 to 3600",
         ),
         (
             vec!["snapshto", file.as_str()],

@@ -465,11 +465,11 @@ impl<'a> Loader<'a> {
             line = &line[..brace];
             self.p = start + brace;
         }
-        let name = line.trim_ascii();
+        // Counted as kept: bytes that are not UTF-8 become U+FFFD, three bytes each.
+        let name = String::from_utf8_lossy(line.trim_ascii()).into_owned();
         if let Err(why) = crate::limits::name(name.len()) {
             return Err(self.error_at(start, why));
         }
-        let name = String::from_utf8_lossy(name).into_owned();
         if name.is_empty() {
             let what = if end_site {
                 "'Site' after End".to_string()
@@ -660,7 +660,8 @@ impl<'a> Loader<'a> {
             Some(time) if crate::limits::frame_time_in_file(time) => time,
             _ => {
                 let what = format!(
-                    "the frame time (seconds, a number from 0 to {})",
+                    "the frame time (seconds: 0, or {} to {})",
+                    crate::limits::show(crate::limits::MIN_FRAME_TIME),
                     crate::limits::MAX_FRAME_TIME
                 );
                 return Err(self.expected(&what, token));

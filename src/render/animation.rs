@@ -34,9 +34,10 @@ pub fn default_fps(frame_time: f64, format: Format) -> f64 {
     } else {
         30.0
     };
+    // Within what `--fps` takes: an hour-long frame plays for 100 s.
     match format {
-        Format::Gif => rate.min(GIF_MAX_FPS),
-        Format::Apng => rate,
+        Format::Gif => rate.clamp(crate::limits::MIN_FPS, GIF_MAX_FPS),
+        Format::Apng => rate.clamp(crate::limits::MIN_FPS, crate::limits::MAX_FPS),
     }
 }
 
@@ -102,9 +103,14 @@ pub fn write(
             let count = u32::try_from(count.max(1)).unwrap_or(u32::MAX);
             encoder.set_animated(count, 0).map_err(|e| encoding(&e))?;
             // The delay as a fraction of a second: 1000 / (1000 · fps).
-            let delay = (1000.0 / fps).round().clamp(1.0, 65535.0) as u16;
+            // Thousandths of a second where they fit (65.5 s), whole seconds for slower rates.
+            let (delay, unit) = if 1000.0 / fps <= 65535.0 {
+                ((1000.0 / fps).round().max(1.0) as u16, 1000)
+            } else {
+                ((1.0 / fps).round().clamp(1.0, 65535.0) as u16, 1)
+            };
             encoder
-                .set_frame_delay(delay, 1000)
+                .set_frame_delay(delay, unit)
                 .map_err(|e| encoding(&e))?;
             let mut writer = encoder.write_header().map_err(|e| encoding(&e))?;
             for image in frames {

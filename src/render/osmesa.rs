@@ -65,7 +65,16 @@ impl OsMesa {
                 "OSMesa could not create a context".into(),
             ));
         }
-        let mut buffer = vec![0u8; width as usize * height as usize * 4];
+        let buffer =
+            crate::limits::zeroed_bytes(width as usize * height as usize * 4, "the picture");
+        let mut buffer = match buffer {
+            Ok(buffer) => buffer,
+            Err(e) => {
+                // SAFETY: the context was created above and is not used again.
+                unsafe { destroy(context) };
+                return Err(e);
+            }
+        };
         // SAFETY: the buffer holds width × height RGBA bytes and lives as long as the context.
         let current = unsafe {
             make_current(
