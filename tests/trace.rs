@@ -131,3 +131,41 @@ fn explain_annotates_the_same_calls_in_both_languages() {
         }
     }
 }
+
+/// Issue 25: where a joint's own columns are not the ones the article's `pFrame` reads
+/// (position channels on a joint other than the root), `--explain` says which column the
+/// article reads instead, warns once that the article misreads the file, numbers End Sites as
+/// `info` does (they are not joints), and says whether position channels replace the OFFSET or
+/// are added to it.
+#[test]
+fn explain_says_where_the_articles_pframe_points() {
+    let input = edge("position_channels_non_root.bvh").display().to_string();
+    let snapshots = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
+    for (lang, golden) in [
+        ("en", "trace_explain_position_channels_non_root__f1.txt"),
+        ("zh", "trace_explain_zh_position_channels_non_root__f1.txt"),
+    ] {
+        let explained = trace(&[&input, "--frame", "1", "--explain", "--lang", lang]);
+        assert_eq!(
+            explained,
+            std::fs::read_to_string(snapshots.join(golden)).unwrap(),
+            "{lang}"
+        );
+        assert_eq!(
+            explained.matches("// note: ").count() + explained.matches("// 注意：").count(),
+            1
+        );
+    }
+    let english = trace(&[&input, "--frame", "1", "--explain"]);
+    assert!(english.contains(
+        "// Zrotation: column [9]; the article's pFrame[0] is column [6], another channel's value"
+    ));
+    assert!(english.contains("// End Site of Chest: no MOTION columns"));
+    let added = trace(&[&input, "--frame", "1", "--explain", "--offset-mode", "add"]);
+    assert!(
+        added.contains("OFFSET (0, 15, 0) plus Xposition = [6], Yposition = [7], Zposition = [8]")
+    );
+    // A file the article reads as it is: no note.
+    let tiny = oracle("inputs/tiny_crlf.bvh").display().to_string();
+    assert!(!trace(&[&tiny, "--explain"]).contains("// note: "));
+}

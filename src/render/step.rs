@@ -38,24 +38,20 @@ pub fn lines(
         columns_read,
         "its GL calls:".to_string(),
     ];
-    // The calls the draw makes for this joint, up to its sphere: recorded, not retold.
+    // The calls the draw makes for this joint, up to its sphere: recorded, not retold, from
+    // the whole picture (the article's calls: its sphere, not the step view's highlight).
     let mut recorder = Recorder::new(Numbers::Short);
     let pass = Pass {
-        shown: Some(shown),
         sphere_radius,
         ..Pass::whole(skeleton, frame, style, mode)
     };
     draw::draw_pass(&mut recorder, &pass);
     if let Some(&(_, start)) = recorder.joint_starts.iter().find(|(j, _)| *j == current) {
-        // The highlight's own calls (lighting off, a colour) are not the article's: left out.
         let through_sphere = recorder.lines[start..]
             .iter()
             .position(|l| l.starts_with("glutSolidSphere"))
             .map_or(recorder.lines.len(), |i| start + i + 1);
-        let calls = recorder.lines[start..through_sphere]
-            .iter()
-            .filter(|l| !l.contains("GL_LIGHTING") && !l.starts_with("glColor3f"));
-        for call in calls.take(8) {
+        for call in recorder.lines[start..through_sphere].iter().take(8) {
             out.push(format!(" {call}"));
         }
     }

@@ -28,6 +28,11 @@ pub enum Language {
 /// What `--explain` says about one joint.
 struct JointFacts {
     name: String,
+    /// How `info` counts it: the n-th joint (End Sites apart), or the End Site of its parent.
+    label: Label,
+    /// The column the article's `pFrame` points at when it turns this joint: 3 past the root's
+    /// positions, 3 more for each joint before it that is not an End Site.
+    article_column: usize,
     /// Its MOTION columns, and which of them are rotations (in file order).
     columns: std::ops::Range<usize>,
     rotation_columns: Vec<(usize, crate::skeleton::Channel)>,
@@ -37,10 +42,67 @@ struct JointFacts {
     world: glam::Vec3,
 }
 
+/// Why the article's program cannot load a file, as far as its skeleton shows (its bytes, line
+/// ends and number widths aside): the cases its `loadFile` and `addChild` fail or misread.
+enum ArticleCannot {
+    /// `jointCount == 1`: `loadFile` returns false for a skeleton of one joint.
+    OneJoint,
+    /// More than 16 children: `child[CHILDSIZE]` overflows (the assert checks 24).
+    Children(String, usize),
+    /// Channels other than the root's three positions and three rotations, or another joint's
+    /// three rotations: `pFrame` reads other columns from there on.
+    Channels(String),
+}
+
+impl ArticleCannot {
+    fn of(skeleton: &crate::skeleton::Skeleton) -> Option<ArticleCannot> {
+        let joints: Vec<_> = skeleton.joints.iter().filter(|j| !j.end_site).collect();
+        if joints.len() == 1 {
+            return Some(ArticleCannot::OneJoint);
+        }
+        if let Some(joint) = skeleton.joints.iter().find(|j| j.children.len() > 16) {
+            return Some(ArticleCannot::Children(
+                joint.name.clone(),
+                joint.children.len(),
+            ));
+        }
+        let layout = |joint: &&crate::skeleton::Joint| {
+            let rotations = joint.channels.iter().filter(|c| c.is_rotation()).count();
+            let positions_first = joint.channels.iter().take(3).all(|c| c.is_position());
+            match joint.parent {
+                None => joint.channels.len() == 6 && positions_first && rotations == 3,
+                Some(_) => joint.channels.len() == 3 && rotations == 3,
+            }
+        };
+        let odd = joints.iter().find(|j| !layout(j))?;
+        Some(ArticleCannot::Channels(odd.name.clone()))
+    }
+
+    fn note(&self, language: Language) -> String {
+        match (self, language) {
+            (ArticleCannot::OneJoint, Language::English) => "// note: the article's program cannot load this file (a skeleton of one joint: loadFile returns false when jointCount == 1); the calls below are bvhview's".to_string(),
+            (ArticleCannot::OneJoint, Language::Chinese) => "// 注意：原文的程式無法載入這個檔案（只有一個關節：jointCount == 1 時 loadFile 傳回 false）；以下是 bvhview 的呼叫".to_string(),
+            (ArticleCannot::Children(name, n), Language::English) => format!("// note: the article's program cannot load this file ('{name}' has {n} children; its child array holds 16); the calls below are bvhview's"),
+            (ArticleCannot::Children(name, n), Language::Chinese) => format!("// 注意：原文的程式無法載入這個檔案（'{name}' 有 {n} 個子關節，它的陣列只放得下 16 個）；以下是 bvhview 的呼叫"),
+            (ArticleCannot::Channels(name), Language::English) => format!("// note: the article's program misreads this file (the channels of '{name}' are not the three positions and three rotations of a root, or the three rotations of a joint: from there its pFrame reads other columns); the calls below are bvhview's"),
+            (ArticleCannot::Channels(name), Language::Chinese) => format!("// 注意：原文的程式會讀錯這個檔案（'{name}' 的通道不是根關節的三個位置加三個旋轉，也不是一般關節的三個旋轉：從那裡起它的 pFrame 讀到別的欄）；以下是 bvhview 的呼叫"),
+        }
+    }
+}
+
+/// A joint as `info` counts it.
+enum Label {
+    Joint(usize),
+    EndSiteOf(String),
+}
+
 /// The notes `--explain` adds: for the joint being drawn, what each call does and reads.
 struct Explain {
     language: Language,
+    mode: crate::pose::OffsetMode,
     joints: Vec<JointFacts>,
+    /// Why the article's program cannot load the file, said once before the first joint.
+    article_cannot: Option<ArticleCannot>,
     /// The joints whose calls are under way, innermost last, with the rotations and the axis
     /// matrices (C, then C⁻¹) issued so far.
     open: Vec<(usize, usize, usize)>,
@@ -82,11 +144,23 @@ impl Recorder {
         language: Language,
     ) -> Recorder {
         let world = crate::pose::world_positions(skeleton, frame.unwrap_or(&[]), mode);
+        // Pre-order: a joint's number and the article's `pFrame` follow the joints before it.
+        let mut joints_before = 0;
         let joints = skeleton
             .joints
             .iter()
             .zip(world)
             .map(|(joint, world)| {
+                let article_column = 3 + 3 * joints_before;
+                let label = if joint.end_site {
+                    let parent = joint
+                        .parent
+                        .map_or("", |p| skeleton.joints[p].name.as_str());
+                    Label::EndSiteOf(parent.to_string())
+                } else {
+                    joints_before += 1;
+                    Label::Joint(joints_before - 1)
+                };
                 let columns_of = |rotation: bool| {
                     joint
                         .channels
@@ -98,6 +172,8 @@ impl Recorder {
                 };
                 JointFacts {
                     name: joint.name.clone(),
+                    label,
+                    article_column,
                     columns: joint.first_channel..joint.first_channel + joint.channels.len(),
                     rotation_columns: columns_of(true),
                     position_columns: columns_of(false),
@@ -109,7 +185,9 @@ impl Recorder {
         Recorder {
             explain: Some(Explain {
                 language,
+                mode,
                 joints,
+                article_cannot: ArticleCannot::of(skeleton),
                 open: Vec::new(),
             }),
             ..Recorder::new(numbers)
@@ -198,9 +276,9 @@ impl Recorder {
         let &(index, rotations_done, axes_done) = explain.open.last()?;
         let joint = &explain.joints[index];
         let note = match name {
-            "glPushMatrix" if zh => format!("{}:推入矩陣堆疊,深度 {depth}", joint.name),
+            "glPushMatrix" if zh => format!("{}：推入矩陣堆疊，深度 {depth}", joint.name),
             "glPushMatrix" => format!("{}: push, stack depth {depth}", joint.name),
-            "glPopMatrix" if zh => format!("{} 畫完:彈出,回到深度 {depth}", joint.name),
+            "glPopMatrix" if zh => format!("{} 畫完：彈出，回到深度 {depth}", joint.name),
             "glPopMatrix" => format!("{} done: pop, back to depth {depth}", joint.name),
             "glTranslatef" => {
                 let offset = self.point(joint.offset);
@@ -209,32 +287,43 @@ impl Recorder {
                     .iter()
                     .map(|(column, channel)| format!("{channel} = [{column}]"))
                     .collect();
-                match (replaced.is_empty(), zh) {
-                    (true, true) => format!("偏移 OFFSET {offset}"),
-                    (true, false) => format!("OFFSET {offset}"),
-                    (false, true) => {
-                        format!("偏移 {offset},位移通道取代:{}", replaced.join(", "))
+                let add = explain.mode == crate::pose::OffsetMode::Add;
+                let replaced = replaced.join(", ");
+                match (replaced.is_empty(), add, zh) {
+                    (true, _, true) => format!("OFFSET {offset}"),
+                    (true, _, false) => format!("OFFSET {offset}"),
+                    (false, false, true) => {
+                        format!("OFFSET {offset}，位置通道取代其分量：{replaced}")
                     }
-                    (false, false) => {
-                        format!("OFFSET {offset} with {}", replaced.join(", "))
-                    }
+                    (false, true, true) => format!("OFFSET {offset}，加上位置通道：{replaced}"),
+                    (false, false, false) => format!("OFFSET {offset}, replaced by {replaced}"),
+                    (false, true, false) => format!("OFFSET {offset} plus {replaced}"),
                 }
             }
             "glRotatef" => {
                 let (column, channel) = *joint.rotation_columns.get(rotations_done)?;
+                let article = joint.article_column + rotations_done;
                 let last = explain.open.len() - 1;
                 self.explain.as_mut()?.open[last].1 += 1;
-                if zh {
-                    format!("{channel}:第 [{column}] 欄,即 pFrame[{rotations_done}]")
-                } else {
-                    format!("{channel}: column [{column}], the article's pFrame[{rotations_done}]")
+                let i = rotations_done;
+                match (article == column, zh) {
+                    (true, true) => format!("{channel}：第 [{column}] 欄，即 pFrame[{i}]"),
+                    (true, false) => {
+                        format!("{channel}: column [{column}], the article's pFrame[{i}]")
+                    }
+                    (false, true) => format!(
+                        "{channel}：第 [{column}] 欄；原文的 pFrame[{i}] 卻是第 [{article}] 欄，另一個通道的值"
+                    ),
+                    (false, false) => format!(
+                        "{channel}: column [{column}]; the article's pFrame[{i}] is column [{article}], another channel's value"
+                    ),
                 }
             }
             "glMultMatrixf" => {
                 let last = explain.open.len() - 1;
                 self.explain.as_mut()?.open[last].2 += 1;
                 match (axes_done, zh) {
-                    (0, true) => "骨骼自己的軸 C(ASF)".to_string(),
+                    (0, true) => "骨骼自己的軸 C（ASF）".to_string(),
                     (_, true) => "C 的反矩陣 C⁻¹".to_string(),
                     (0, false) => "the bone's own axis C (ASF)".to_string(),
                     (_, false) => "and C⁻¹: the channels turn about C".to_string(),
@@ -243,7 +332,7 @@ impl Recorder {
             "glutSolidSphere" => {
                 let world = self.point(joint.world);
                 if zh {
-                    format!("{} 的球,世界座標 {world}", joint.name)
+                    format!("{} 的球，世界座標 {world}", joint.name)
                 } else {
                     format!("{}'s sphere, at {world} in the world", joint.name)
                 }
@@ -488,8 +577,13 @@ impl FixedFunction for Recorder {
         match note {
             Note::Joint(index) => {
                 explain.open.push((index, 0, 0));
-                let joint = &explain.joints[index];
                 let depth = self.modelview.len() - 1;
+                // Said once, before the first joint.
+                if let Some(cannot) = explain.article_cannot.take() {
+                    let line = cannot.note(explain.language);
+                    self.lines.push(format!("{}{line}", "    ".repeat(depth)));
+                }
+                let joint = &explain.joints[index];
                 let columns = if joint.columns.is_empty() {
                     match explain.language {
                         Language::Chinese => "沒有 MOTION 欄位".to_string(),
@@ -507,9 +601,19 @@ impl FixedFunction for Recorder {
                         Language::English => format!("MOTION columns {range}"),
                     }
                 };
-                let header = match explain.language {
-                    Language::Chinese => format!("// 節點 {index} {}:{columns}", joint.name),
-                    Language::English => format!("// joint {index}, {}: {columns}", joint.name),
+                let header = match (&joint.label, explain.language) {
+                    (Label::Joint(n), Language::Chinese) => {
+                        format!("// 關節 {n} {}：{columns}", joint.name)
+                    }
+                    (Label::Joint(n), Language::English) => {
+                        format!("// joint {n}, {}: {columns}", joint.name)
+                    }
+                    (Label::EndSiteOf(parent), Language::Chinese) => {
+                        format!("// {parent} 的 End Site：{columns}")
+                    }
+                    (Label::EndSiteOf(parent), Language::English) => {
+                        format!("// End Site of {parent}: {columns}")
+                    }
                 };
                 self.lines.push(format!("{}{header}", "    ".repeat(depth)));
             }
