@@ -130,6 +130,20 @@ else
     echo "blender: not installed, the Blender import check is skipped (apt-get install blender python3-numpy)"
     ignored=$((ignored + 1))
 fi
+# The docs build without a warning, public and private items (TEACHING.md links the private
+# process_* functions); each build counts as a test.
+for doc_args in "--no-deps" "--no-deps --document-private-items"; do
+    # shellcheck disable=SC2086
+    if RUSTDOCFLAGS="-D warnings" cargo doc --locked $doc_args >/dev/null 2>"$log"; then
+        echo "cargo doc $doc_args: no warnings"
+        passed=$((passed + 1))
+    else
+        cat "$log" >&2
+        echo "cargo doc $doc_args: failed" >&2
+        failed=$((failed + 1))
+        status=1
+    fi
+done
 echo "all tests: $passed passed, $failed failed, $ignored ignored"
 if [ "$passed" -eq 0 ]; then
     echo "no test ran" >&2

@@ -95,12 +95,20 @@ impl fmt::Display for Error {
     }
 }
 
-/// The OS's message without Rust's "(os error N)" suffix.
+/// The OS's message without Rust's "(os error N)" suffix, begun in lower case as the rest of
+/// bvhview's messages are ("File name too long" → "file name too long").
 fn io_message(error: &io::Error) -> String {
     let text = error.to_string();
-    match text.find(" (os error") {
-        Some(cut) => text[..cut].to_string(),
-        None => text,
+    let text = match text.find(" (os error") {
+        Some(cut) => &text[..cut],
+        None => &text,
+    };
+    let mut chars = text.chars();
+    match (chars.next(), chars.next()) {
+        (Some(first), Some(second)) if first.is_ascii_uppercase() && second.is_ascii_lowercase() => {
+            format!("{}{}", first.to_ascii_lowercase(), &text[1..])
+        }
+        _ => text.to_string(),
     }
 }
 

@@ -61,7 +61,7 @@ pub(super) fn digit_run(text: &[u8], p: usize) -> Option<(u64, usize)> {
 
 /// One number, as the article reads it with `(float)atof(p)`: the nearest double, rounded to a
 /// float; `None` unless the whole word is a finite number. The usual shape goes through
-/// [`read_decimal`]; anything else (exponents, long mantissas) through the standard library's
+/// `read_decimal`; anything else (exponents, long mantissas) through the standard library's
 /// parser, which gives the same answer.
 pub fn parse_number(word: &[u8]) -> Option<f32> {
     if let Some((value, end)) = read_decimal(word, 0)
