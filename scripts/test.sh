@@ -144,6 +144,13 @@ for doc_args in "--no-deps" "--no-deps --document-private-items"; do
         status=1
     fi
 done
+# No two modules of src/ use each other, however indirectly (one check).
+if python3 scripts/import_graph.py --quiet; then
+    passed=$((passed + 1))
+else
+    failed=$((failed + 1))
+    status=1
+fi
 echo "all tests: $passed passed, $failed failed, $ignored ignored"
 if [ "$passed" -eq 0 ]; then
     echo "no test ran" >&2

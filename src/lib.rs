@@ -27,6 +27,7 @@ pub mod motion;
 pub mod output;
 pub mod parallel;
 pub mod pose;
+pub mod read;
 pub mod render;
 pub mod skeleton;
 pub mod skin;

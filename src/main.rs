@@ -1197,7 +1197,6 @@ fn trace(args: TraceArgs) -> Result<ExitCode, Error> {
         sphere_radius: scene::sphere_radius(&camera, fit),
         up,
         origin: [0.0; 3],
-        stage: None,
         colours: None,
     };
     scene::display(&mut recorder, &view);

@@ -241,7 +241,6 @@ fn gl_matrix_stack_equals_pose_world_times_view() {
             sphere_radius: 1.0,
             up: bvhview::pose::Up::Y,
             origin: [0.0; 3],
-            stage: None,
             colours: None,
         };
         bvhview::render::draw::draw(&mut probe, s.skeleton, s.frame, s.style, s.offset_mode);
@@ -315,7 +314,6 @@ fn calls_match_the_articles_trace() {
         sphere_radius: 1.0,
         up: bvhview::pose::Up::Y,
         origin: [0.0; 3],
-        stage: None,
         colours: None,
     };
     scene::display(&mut recorder, &s);

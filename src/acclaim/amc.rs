@@ -21,7 +21,7 @@ pub fn load_amc(
     degrees: bool,
     frame_time: f64,
 ) -> Result<Motion, Error> {
-    let bytes = crate::input::read_file(path, max_size)?;
+    let bytes = crate::read::read_file(path, max_size)?;
     parse_amc(
         &String::from_utf8_lossy(&bytes),
         &path.display().to_string(),

@@ -105,7 +105,7 @@ pub struct Asf {
 
 /// Reads an ASF file; reading stops with an error past `max_size` bytes.
 pub fn load_asf(path: &Path, max_size: u64) -> Result<Asf, Error> {
-    let bytes = crate::input::read_skeleton_file(path, max_size)?;
+    let bytes = crate::read::read_skeleton_file(path, max_size)?;
     parse_asf(
         &String::from_utf8_lossy(&bytes),
         &path.display().to_string(),

@@ -186,7 +186,7 @@ struct Loader<'a> {
     /// C++: `unsigned char *p`, the read position in `text`.
     p: usize,
     /// The rest of the file, `None` once it has all been read (or for bytes in memory).
-    file: Option<crate::input::Bounded<std::fs::File>>,
+    file: Option<crate::read::Bounded<std::fs::File>>,
     /// The file's length when it is a regular file (a pipe's says nothing).
     length: Option<u64>,
     /// Bytes the next read of the file takes (each read doubles it).
@@ -215,7 +215,7 @@ impl<'a> Loader<'a> {
                 let file = std::fs::File::open(path).map_err(io_error)?;
                 let metadata = file.metadata().map_err(io_error)?;
                 let length = metadata.is_file().then_some(metadata.len());
-                let file = crate::input::Bounded::new(file, settings.max_size);
+                let file = crate::read::Bounded::new(file, settings.max_size);
                 let source = path.display().to_string();
                 (Cow::Owned(Vec::new()), Some(file), length, source)
             }

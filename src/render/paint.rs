@@ -333,7 +333,6 @@ impl Painter {
                 sphere_radius,
                 up: take.up,
                 origin: layout.origins[index].to_array(),
-                stage: layout.stage.as_ref(),
                 colours: layout
                     .stage
                     .as_ref()
@@ -341,7 +340,11 @@ impl Painter {
             })
             .collect();
         scene::reshape(gl, options.width, options.height, &camera);
-        scene::display_all(gl, &scenes);
+        // The article's picture, or the studio look's.
+        match layout.stage.as_ref() {
+            Some(stage) => studio::display(gl, &scenes, stage),
+            None => scene::display_all(gl, &scenes),
+        }
         draw_overlay(gl, &scenes, (options.width, options.height), overlay);
         Ok(())
     }

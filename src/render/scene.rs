@@ -104,8 +104,6 @@ pub struct Scene<'a> {
     pub up: crate::pose::Up,
     /// Where the take stands: moved along x beside the others when several are shown.
     pub origin: [f32; 3],
-    /// The studio look, with what it knows of the takes; `None` is the article's picture.
-    pub stage: Option<&'a crate::render::studio::Stage>,
     /// A colour per joint (the studio look's sides); `None` draws without colour calls.
     pub colours: Option<&'a [[f32; 3]]>,
 }
@@ -162,16 +160,12 @@ pub fn display<G: FixedFunction>(gl: &mut G, scene: &Scene) {
 }
 
 /// [`display`] for several takes side by side, each scene one take, under the first one's
-/// camera: the article's calls for each take in turn, then its floor once (or the studio look's
-/// picture when the scenes have a stage).
+/// camera: the article's calls for each take in turn, then its floor once. (The studio look is
+/// `studio::display`; the painter picks one or the other.)
 pub fn display_all<G: FixedFunction>(gl: &mut G, scenes: &[Scene]) {
     let Some(first) = scenes.first() else {
         return;
     };
-    if let Some(stage) = first.stage {
-        crate::render::studio::display(gl, scenes, stage);
-        return;
-    }
     gl.clear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
     gl.load_identity();
     look_at(gl, first.camera.eye(), first.camera.target, [0.0, 1.0, 0.0]);

@@ -33,6 +33,7 @@ mod scan;
 mod simple;
 #[cfg(target_arch = "x86_64")]
 mod wide;
+mod words;
 
 use number::is_blank;
 pub use number::parse_number;
@@ -47,7 +48,8 @@ pub fn row_reader() -> &'static str {
     }
     "one number at a time (rows/scan.rs); this CPU has no AVX-512, so rows/wide.rs never runs"
 }
-use scan::{Problem, SliceSink, parse_rows};
+use scan::parse_rows;
+use words::{Problem, SliceSink};
 
 /// The last place a chunk may end: after an LF, or after a CR that is not the buffer's last byte
 /// (it might be followed by an LF in the next read). `None` if there is none.

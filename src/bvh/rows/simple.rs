@@ -1,6 +1,6 @@
 //! C++: the row loop at the end of `BVH::loadFile`, in plain Rust.
 
-use super::scan::Problem;
+use super::words::Problem;
 use super::{Ending, Located, is_blank, parse_number};
 use crate::error::Error;
 use crate::lines::{advance, count_lines, is_line_end};

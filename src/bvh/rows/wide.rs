@@ -1,11 +1,11 @@
 //! Eight short numbers read at once with AVX-512: the same arithmetic as
-//! [`super::scan::read_short_number`], one number per 64-bit lane.
+//! [`super::words::read_short_number`], one number per 64-bit lane.
 //!
 //! Reading a number one at a time takes some forty instructions, most of them for its shape
 //! (sign, dot, digit count) and the digits' value; in vector lanes eight of them share each
 //! instruction. The row loop only finds where each word starts and queues its first eight bytes.
 
-use super::scan::{Block, Problem, Sink, read_any_number};
+use super::words::{Block, Problem, Sink, read_any_number};
 
 use std::arch::x86_64::*;
 
@@ -184,7 +184,7 @@ fn read_eight(text: __m512i, lengths: u64, negative: u8) -> ([f32; 8], u8) {
     // float; the sign flipped before rounding, which rounds symmetrically.
     let whole = _mm512_cvtepi32_pd(_mm512_cvtepi64_epi32(whole));
     // SAFETY: the table holds eight doubles.
-    let inverse = unsafe { _mm512_loadu_pd(super::scan::INV_POW10_F64.as_ptr()) };
+    let inverse = unsafe { _mm512_loadu_pd(super::words::INV_POW10_F64.as_ptr()) };
     let product = _mm512_mul_pd(whole, _mm512_permutexvar_pd(scale, inverse));
     let signed = _mm512_mask_xor_epi64(
         _mm512_castpd_si512(product),

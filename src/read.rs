@@ -1,0 +1,109 @@
+//! Reading input files within the limits: a reader that stops at a size, and whole text files
+//! (ASF, AMC) refused at their first NUL byte. The loaders use it; `input` picks the loader.
+
+use crate::error::Error;
+use std::path::Path;
+
+/// A reader that fails once more than `max_size` bytes come out of `inner`: a size check that
+/// also holds for what has no size up front (a pipe, a device such as /dev/zero).
+pub struct Bounded<R> {
+    inner: R,
+    left: u64,
+    /// What is said past the limit.
+    too_large: String,
+}
+
+impl<R: std::io::Read> Bounded<R> {
+    pub fn new(inner: R, max_size: u64) -> Bounded<R> {
+        Bounded::saying(
+            inner,
+            max_size,
+            format!("more than --max-size {max_size} bytes"),
+        )
+    }
+
+    /// Fails past `limit` bytes with `too_large` as the message.
+    pub fn saying(inner: R, limit: u64, too_large: String) -> Bounded<R> {
+        Bounded {
+            inner,
+            left: limit,
+            too_large,
+        }
+    }
+}
+
+impl<R: std::io::Read> std::io::Read for Bounded<R> {
+    fn read(&mut self, buffer: &mut [u8]) -> std::io::Result<usize> {
+        if buffer.is_empty() {
+            return Ok(0);
+        }
+        if self.left == 0 {
+            // At the limit: one byte more is one too many.
+            let mut probe = [0u8; 1];
+            return match self.inner.read(&mut probe)? {
+                0 => Ok(0),
+                _ => Err(std::io::Error::new(
+                    std::io::ErrorKind::FileTooLarge,
+                    self.too_large.clone(),
+                )),
+            };
+        }
+        let room = buffer
+            .len()
+            .min(usize::try_from(self.left).unwrap_or(usize::MAX));
+        let read = self.inner.read(&mut buffer[..room])?;
+        self.left -= read as u64;
+        Ok(read)
+    }
+}
+
+/// The whole of `path`, refused past `max_size` bytes.
+pub fn read_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
+    read_within(
+        path,
+        max_size,
+        format!("more than --max-size {max_size} bytes"),
+    )
+}
+
+/// The whole of an ASF skeleton: refused past `max_size` or [`crate::limits::MAX_HEADER_BYTES`],
+/// so that a link to /dev/zero is not read for gigabytes.
+pub fn read_skeleton_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
+    let limit = crate::limits::MAX_HEADER_BYTES as u64;
+    if max_size < limit {
+        return read_file(path, max_size);
+    }
+    read_within(
+        path,
+        limit,
+        format!("more than {} MiB: not an ASF skeleton", limit >> 20),
+    )
+}
+
+/// The whole file, read a megabyte at a time and refused at its first NUL byte: ASF and AMC are
+/// text, so a link to /dev/zero or a binary file fails at once instead of at the size limit.
+fn read_within(path: &Path, limit: u64, too_large: String) -> Result<Vec<u8>, Error> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    // Room for the whole file at once (reading in doubling steps could hold twice its size).
+    let length = file.metadata().map_or(0, |m| m.len()).min(limit);
+    let mut bytes = Vec::with_capacity(usize::try_from(length).unwrap_or(0).saturating_add(1));
+    let mut input = Bounded::saying(file, limit, too_large);
+    loop {
+        let before = bytes.len();
+        let read = (&mut input)
+            .take(1 << 20)
+            .read_to_end(&mut bytes)
+            .map_err(|e| Error::io(path, e))?;
+        if let Some(at) = bytes[before..].iter().position(|&b| b == 0) {
+            let message = format!("not a text file: a NUL byte at byte {}", before + at);
+            return Err(Error::io(
+                path,
+                std::io::Error::new(std::io::ErrorKind::InvalidData, message),
+            ));
+        }
+        if read == 0 {
+            return Ok(bytes);
+        }
+    }
+}
