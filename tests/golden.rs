@@ -221,10 +221,12 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
         sphere_radius: 1.0,
         up: bvhview::pose::Up::Y,
         origin: [0.0; 3],
-        stage: stage.as_ref(),
         colours: None,
     };
-    scene::display(gl, &view);
+    match stage.as_ref() {
+        Some(stage) => bvhview::render::studio::display(gl, std::slice::from_ref(&view), stage),
+        None => scene::display(gl, &view),
+    }
     Image {
         width: options.width,
         height: options.height,
