@@ -1,0 +1,108 @@
+//! `bvhview info`: a take summed up, or every take under a folder, one line each.
+
+use super::*;
+
+#[derive(Args)]
+pub(crate) struct InfoArgs {
+    /// The file or folder (default: the bundled walk).
+    file: Option<PathBuf>,
+    #[command(flatten)]
+    source: Source,
+    /// How position channels combine with OFFSET (checked by the warnings).
+    #[arg(long, value_enum, default_value_t)]
+    offset_mode: OffsetModeArg,
+}
+
+pub(crate) fn run(args: InfoArgs) -> Result<ExitCode, Error> {
+    let offset_mode = args.offset_mode.into();
+    if let Some(dir) = args.file.as_deref().filter(|f| f.is_dir()) {
+        return batch(dir, &args.source, offset_mode);
+    }
+    // The summary lists the file's warnings: they are not said again on stderr.
+    let (name, loaded) = match args.file.as_deref() {
+        Some(path) => (
+            path.display().to_string(),
+            load_quietly(path, &args.source)?,
+        ),
+        None => load_or_default(None, &args.source)?,
+    };
+    let name = match &args.source.motion {
+        Some(take) => format!("{name} + {}", take.display()),
+        None => name,
+    };
+    write_text(&bvhview::info::summary(&name, &loaded, offset_mode))?;
+    Ok(ExitCode::SUCCESS)
+}
+
+/// `bvhview info DIR`: one line per file, in path order, a progress bar on a terminal, and a
+/// summary. Exits 2 if any file failed.
+fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCode, Error> {
+    use std::io::IsTerminal;
+    let started = std::time::Instant::now();
+    let items = bvhview::batch::collect(dir)?;
+    if items.is_empty() {
+        return Err(Error::Usage(format!(
+            "{}: no .bvh, .asf or .amc files",
+            dir.display()
+        )));
+    }
+    let threads = bvhview::cores();
+    let progress = io::stderr().is_terminal();
+    if let Some(motion) = &source.motion {
+        return Err(Error::Usage(format!(
+            "--motion {}: a folder pairs each AMC with its ASF itself",
+            motion.display()
+        )));
+    }
+    bvhview::limits::frame_time_option(source.frame_time)?;
+    let settings = bvhview::batch::Settings {
+        frame_time: source.frame_time,
+        max_size: source.max_size,
+        offset_mode,
+    };
+    let outcomes = bvhview::batch::run(items, threads, settings, |outcome, finished, total| {
+        let line = match &outcome.result {
+            Ok(text) => {
+                let name = match &outcome.item.motion {
+                    Some(amc) => format!("{} + {}", outcome.item.path.display(), amc.display()),
+                    None => outcome.item.path.display().to_string(),
+                };
+                format!("ok     {name}: {text}")
+            }
+            Err(error) => format!("error  {error}"),
+        };
+        if progress {
+            eprint!("\r\x1b[2K");
+        }
+        let mut out = io::stdout().lock();
+        let _ = writeln!(out, "{line}");
+        let _ = out.flush();
+        if progress {
+            let width = 30;
+            let filled = finished * width / total.max(1);
+            eprint!(
+                "\r[{}{}] {finished}/{total}",
+                "#".repeat(filled),
+                "-".repeat(width - filled)
+            );
+        }
+    });
+    if progress {
+        eprint!("\r\x1b[2K");
+    }
+    let failed = outcomes.iter().filter(|o| o.result.is_err()).count();
+    let bytes: u64 = outcomes.iter().map(|o| o.bytes).sum();
+    let seconds = started.elapsed().as_secs_f64();
+    println!(
+        "{} files: {} ok, {failed} failed; {:.1} MB in {seconds:.2} s ({:.0} MB/s)",
+        outcomes.len(),
+        outcomes.len() - failed,
+        bytes as f64 / 1e6,
+        bytes as f64 / 1e6 / seconds.max(1e-9)
+    );
+    Ok(if failed > 0 {
+        ExitCode::from(2)
+    } else {
+        ExitCode::SUCCESS
+    })
+}

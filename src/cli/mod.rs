@@ -1,0 +1,376 @@
+//! The command line's shared plumbing: the options every command that reads a take has, loading
+//! with them, where a command writes and how it says so. Each command lives in its own file,
+//! its arguments beside its body (`print.rs`, `info.rs`, …); `main.rs` only dispatches.
+
+pub(crate) mod convert;
+pub(crate) mod diff;
+pub(crate) mod info;
+pub(crate) mod positions;
+pub(crate) mod print;
+pub(crate) mod skin_demo;
+pub(crate) mod snapshot;
+pub(crate) mod trace;
+pub(crate) mod viewer;
+
+pub(crate) use bvhview::error::Error;
+pub(crate) use bvhview::export;
+pub(crate) use bvhview::input::{self, Loaded};
+pub(crate) use bvhview::pose::{OffsetMode, Up};
+pub(crate) use bvhview::render::Look;
+pub(crate) use bvhview::render::draw::Style;
+pub(crate) use clap::{Args, ValueEnum};
+pub(crate) use std::io::{self, BufWriter, Write};
+pub(crate) use std::path::{Path, PathBuf};
+pub(crate) use std::process::ExitCode;
+
+/// `--offset-mode`: how a joint's position channels combine with its OFFSET.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+pub(crate) enum OffsetModeArg {
+    /// Position channels replace the matching OFFSET components (the article, Blender, bvhio).
+    #[default]
+    Replace,
+    /// Position channels are added to the OFFSET (three.js).
+    Add,
+}
+
+impl From<OffsetModeArg> for OffsetMode {
+    fn from(arg: OffsetModeArg) -> OffsetMode {
+        match arg {
+            OffsetModeArg::Replace => OffsetMode::Replace,
+            OffsetModeArg::Add => OffsetMode::Add,
+        }
+    }
+}
+
+/// `--style`: how joints are drawn.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+pub(crate) enum StyleArg {
+    /// A sphere per joint and End Site (the article).
+    #[default]
+    Points,
+    /// A line from each joint to each child, unlit, green.
+    Sticks,
+    /// Both.
+    Both,
+}
+
+impl From<StyleArg> for Style {
+    fn from(arg: StyleArg) -> Style {
+        match arg {
+            StyleArg::Points => Style::Points,
+            StyleArg::Sticks => Style::Sticks,
+            StyleArg::Both => Style::Both,
+        }
+    }
+}
+
+/// `--look`: the article's picture, or the studio's.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub(crate) enum LookArg {
+    /// The article's picture: black, grey spheres, its camera and floor.
+    #[default]
+    Article,
+    /// A grid floor at the take's lowest point, shadows, bones coloured by side (left blue,
+    /// right orange), a camera that frames the whole take.
+    Studio,
+}
+
+impl From<LookArg> for Look {
+    fn from(arg: LookArg) -> Look {
+        match arg {
+            LookArg::Article => Look::Article,
+            LookArg::Studio => Look::Studio,
+        }
+    }
+}
+
+/// Options that come with any input file.
+#[derive(Args, Clone, Debug)]
+pub(crate) struct Source {
+    /// The AMC motion for an ASF skeleton (without it: the rest pose).
+    #[arg(long, value_name = "TAKE.amc")]
+    motion: Option<PathBuf>,
+    /// Seconds per frame, overriding the file (AMC files have none: default 1/120).
+    #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
+    frame_time: Option<f64>,
+    /// Refuse input files larger than this (bytes; K, M, G suffixes), before reading them.
+    #[arg(long, value_name = "SIZE", default_value = "8G", value_parser = parse_max_size)]
+    max_size: u64,
+}
+
+/// `8G` → 8 GiB; plain numbers are bytes.
+pub(crate) fn parse_max_size(text: &str) -> Result<u64, String> {
+    let bad = || format!("expected a size such as 500M or 8G, found '{text}'");
+    let (number, unit) = match text.trim().char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => (&text.trim()[..i], c.to_ascii_uppercase()),
+        _ => (text.trim(), 'B'),
+    };
+    let shift = match unit {
+        'B' => 0,
+        'K' => 10,
+        'M' => 20,
+        'G' => 30,
+        'T' => 40,
+        _ => return Err(bad()),
+    };
+    let value: u64 = number.parse().map_err(|_| bad())?;
+    value.checked_mul(1 << shift).ok_or_else(bad)
+}
+
+/// How a drawing command looks at the skeleton.
+#[derive(Args, Clone, Copy, Debug)]
+pub(crate) struct View {
+    /// Camera angle around the Y axis in radians (default: the article's 10; with several
+    /// files 1.5708, looking at them side by side along x).
+    #[arg(long, allow_negative_numbers = true)]
+    angle: Option<f32>,
+    /// Spheres (the article), the stick figure, or both.
+    #[arg(long, value_enum, default_value_t)]
+    style: StyleArg,
+    /// Frame the skeleton instead of using the article's fixed camera.
+    #[arg(long)]
+    fit: bool,
+    /// How position channels combine with OFFSET.
+    #[arg(long, value_enum, default_value_t)]
+    offset_mode: OffsetModeArg,
+    /// The file's up axis: z stands a Z-up skeleton up (default: guessed from the rest pose, and
+    /// said when it is z).
+    #[arg(long, value_enum)]
+    up: Option<UpArg>,
+}
+
+/// `--up`.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub(crate) enum UpArg {
+    /// Y up, as BVH files usually are (the article draws every file this way).
+    Y,
+    /// Z up (MakeHuman's files, for example).
+    Z,
+}
+
+impl From<UpArg> for Up {
+    fn from(arg: UpArg) -> Up {
+        match arg {
+            UpArg::Y => Up::Y,
+            UpArg::Z => Up::Z,
+        }
+    }
+}
+
+/// The up axis to draw `loaded` with: `--up` if given. Otherwise the article's view draws every
+/// file as written, Y up, as the article's program does; a view that frames the take (`--fit`,
+/// `--look studio`: `framed`) stands it up by the guess from its rest pose. Either way a file
+/// that stands along z is said once on stderr, with what stands it up or draws it as written.
+pub(crate) fn resolve_up(arg: Option<UpArg>, loaded: &Loaded, name: &str, framed: bool) -> Up {
+    if let Some(arg) = arg {
+        return arg.into();
+    }
+    let guess = Up::guess(&loaded.skeleton);
+    if guess == Up::Z {
+        if framed {
+            eprintln!(
+                "bvhview: {name}: stands taller along z than along y at rest: drawn Z-up \
+                 (--up y draws it as written)"
+            );
+        } else {
+            eprintln!("bvhview: {name}: {}", bvhview::render::hud::LYING_HINT);
+        }
+    }
+    if framed { guess } else { Up::Y }
+}
+
+/// Says once on stderr when a file looks written for the other offset mode.
+pub(crate) fn warn_offset_mode(loaded: &Loaded, mode: OffsetMode, name: &str) {
+    if let Some(warning) =
+        bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode)
+    {
+        eprintln!("bvhview: {name}: warning: {warning}");
+    }
+}
+
+/// `600x400` → (600, 400).
+pub(crate) fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("expected WIDTHxHEIGHT such as 600x600, found '{text}'");
+    let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
+    let w: u32 = w.trim().parse().map_err(|_| bad())?;
+    let h: u32 = h.trim().parse().map_err(|_| bad())?;
+    bvhview::limits::picture_size(w, h).map_err(|e| e.to_string())?;
+    Ok((w, h))
+}
+
+/// `-q`: no line about what was written.
+pub(crate) static QUIET: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// The one line on stderr that says what a command wrote.
+pub(crate) fn wrote(what: std::fmt::Arguments) {
+    if !QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        eprintln!("bvhview: wrote {what}");
+    }
+}
+
+/// Refuses an output whose extension is not one the command writes, before any work.
+/// A FIFO, a character device or a path under /dev or /proc (`/dev/stdout`, `/dev/fd/3`) is
+/// taken whatever its name: it is written to where it is.
+pub(crate) fn check_output(path: &Path, formats: &[&str]) -> Result<(), Error> {
+    use std::os::unix::fs::FileTypeExt;
+    let extension = input::extension(path);
+    let special = path.starts_with("/dev")
+        || path.starts_with("/proc")
+        || std::fs::metadata(path)
+            .is_ok_and(|m| m.file_type().is_fifo() || m.file_type().is_char_device());
+    if special || formats.contains(&extension.as_str()) {
+        return Ok(());
+    }
+    let list: Vec<String> = formats.iter().map(|f| format!(".{f}")).collect();
+    Err(Error::Usage(format!(
+        "-o {}: this command writes {}",
+        path.display(),
+        list.join(" or ")
+    )))
+}
+
+/// A progress bar on stderr while a long write runs, when stderr is a terminal.
+pub(crate) struct Progress {
+    total: usize,
+    on_terminal: bool,
+}
+
+impl Progress {
+    fn new(total: usize) -> Progress {
+        use std::io::IsTerminal;
+        Progress {
+            total,
+            on_terminal: io::stderr().is_terminal()
+                && !QUIET.load(std::sync::atomic::Ordering::Relaxed),
+        }
+    }
+
+    fn show(&self, done: usize) {
+        if self.on_terminal {
+            let width = 30;
+            let filled = done * width / self.total.max(1);
+            eprint!(
+                "\r[{}{}] {done}/{}",
+                "#".repeat(filled),
+                "-".repeat(width - filled),
+                self.total
+            );
+        }
+    }
+
+    fn done(&self) {
+        if self.on_terminal {
+            eprint!("\r\x1b[2K");
+        }
+    }
+}
+
+/// Loads a file (with its motion) and reports its warnings on stderr.
+pub(crate) fn load(path: &Path, source: &Source) -> Result<Loaded, Error> {
+    let loaded = load_quietly(path, source)?;
+    for warning in &loaded.warnings {
+        eprintln!("bvhview: {}: warning: {warning}", path.display());
+    }
+    Ok(loaded)
+}
+
+/// Loads a file (with its motion), its warnings left to the caller.
+pub(crate) fn load_quietly(path: &Path, source: &Source) -> Result<Loaded, Error> {
+    input::load_checked(
+        path,
+        source.motion.as_deref(),
+        source.frame_time,
+        bvhview::cores(),
+        source.max_size,
+    )
+}
+
+/// The named file, or the bundled walk; with the name to show.
+pub(crate) fn load_or_default(
+    path: Option<&Path>,
+    source: &Source,
+) -> Result<(String, Loaded), Error> {
+    match path {
+        Some(path) => Ok((path.display().to_string(), load(path, source)?)),
+        None => {
+            if source.motion.is_some() {
+                return Err(Error::Usage("--motion needs an ASF skeleton file".into()));
+            }
+            bvhview::limits::frame_time_option(source.frame_time)?;
+            let mut walk = input::default_motion()?;
+            if let Some(time) = source.frame_time {
+                walk.motion.frame_time = time;
+            }
+            Ok((bvhview::DEFAULT_MOTION_NAME.to_string(), walk))
+        }
+    }
+}
+
+/// Where a command writes: standard output, or a file that appears whole or not at all. It may
+/// be written from any thread.
+pub(crate) enum Output {
+    Stdout(BufWriter<io::Stdout>),
+    File(bvhview::output::AtomicFile),
+}
+
+impl Write for Output {
+    fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
+        match self {
+            Output::Stdout(out) => out.write(bytes),
+            Output::File(out) => out.write(bytes),
+        }
+    }
+    fn flush(&mut self) -> io::Result<()> {
+        match self {
+            Output::Stdout(out) => out.flush(),
+            Output::File(out) => out.flush(),
+        }
+    }
+}
+
+/// Opens the output (a file, or stdout when none is named).
+pub(crate) fn open_output(path: Option<&Path>) -> Result<Output, Error> {
+    Ok(match path {
+        Some(path) => Output::File(bvhview::output::AtomicFile::create(path)?),
+        None => Output::Stdout(BufWriter::new(io::stdout())),
+    })
+}
+
+/// Ends a write: a file takes its name only if everything was written; a write error on stdout
+/// that is a closed pipe (`| head`) ends quietly; others are reported.
+pub(crate) fn finish_write(
+    out: Output,
+    result: io::Result<()>,
+    path: Option<&Path>,
+) -> Result<(), Error> {
+    let result = match out {
+        Output::Stdout(mut out) => result.and_then(|()| out.flush()),
+        // Dropped uncommitted on an error: the temporary file goes, nothing takes the name.
+        Output::File(file) => return written(result, path).and_then(|()| file.commit()),
+    };
+    written(result, path)
+}
+
+/// The error a failed write is reported as.
+pub(crate) fn written(result: io::Result<()>, path: Option<&Path>) -> Result<(), Error> {
+    match result {
+        Ok(()) => Ok(()),
+        Err(e) if path.is_none() && e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) if export::not_finite(&e).is_some() => Err(Error::Usage(e.to_string())),
+        Err(e) => Err(Error::output(path.unwrap_or(Path::new("<stdout>")), e)),
+    }
+}
+
+pub(crate) fn write_text(text: &str) -> Result<(), Error> {
+    let mut out = open_output(None)?;
+    let result = out.write_all(text.as_bytes());
+    finish_write(out, result, None)
+}
+
+/// A path's file name, for titles and the HUD.
+pub(crate) fn short_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}

@@ -1,0 +1,105 @@
+//! `bvhview positions`: the world position of every joint and End Site, per frame, as CSV or JSON.
+
+use super::*;
+use bvhview::export::{Format, PositionsOptions};
+
+/// `--format` of `positions`.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+enum FormatArg {
+    /// `frame,joint,x,y,z`, one joint per line.
+    #[default]
+    Csv,
+    /// `{"frame_time":…,"joints":[…],"frames":[{"frame":0,"positions":[[x,y,z],…]},…]}`.
+    Json,
+}
+
+impl From<FormatArg> for Format {
+    fn from(arg: FormatArg) -> Format {
+        match arg {
+            FormatArg::Csv => Format::Csv,
+            FormatArg::Json => Format::Json,
+        }
+    }
+}
+
+#[derive(Args)]
+pub(crate) struct PositionsArgs {
+    /// A .bvh file, or an .asf skeleton (its motion with --motion).
+    file: PathBuf,
+    #[command(flatten)]
+    source: Source,
+    /// Frames to write: N, A..B (B excluded), A..=B, A.. or ..B (default: all).
+    #[arg(long)]
+    frames: Option<String>,
+    /// The output format.
+    #[arg(long, value_enum, default_value_t)]
+    format: FormatArg,
+    /// Negate z (right-handed to left-handed, as for Direct3D).
+    #[arg(long)]
+    left_handed: bool,
+    /// Multiply every coordinate (default 1: the file's own units).
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    scale: f32,
+    /// How position channels combine with OFFSET.
+    #[arg(long, value_enum, default_value_t)]
+    offset_mode: OffsetModeArg,
+    /// Output file (default: standard output).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+pub(crate) fn run(args: PositionsArgs) -> Result<ExitCode, Error> {
+    if let Some(output) = &args.output {
+        check_output(output, &["csv", "json"])?;
+    }
+    let loaded = load(&args.file, &args.source)?;
+    let available = loaded.motion.frame_count().max(1);
+    if loaded.motion.frame_count() == 0 {
+        eprintln!(
+            "bvhview: {}: no frames; writing the rest pose",
+            args.file.display()
+        );
+    }
+    let range = match &args.frames {
+        Some(text) => export::parse_frames(text, available)?,
+        None => 0..available,
+    };
+    let scale = args.scale;
+    if !(scale.is_finite() && scale != 0.0) {
+        return Err(Error::Usage(format!(
+            "--scale {scale}: expected a finite number other than 0"
+        )));
+    }
+    let offset_mode = args.offset_mode.into();
+    if let Some(warning) =
+        bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, offset_mode)
+    {
+        eprintln!("bvhview: {}: warning: {warning}", args.file.display());
+    }
+    let options = PositionsOptions {
+        format: args.format.into(),
+        offset_mode,
+        left_handed: args.left_handed,
+        scale,
+    };
+    let output = args.output.as_deref();
+    let mut out = open_output(output)?;
+    let result = export::write_positions(
+        &mut out,
+        &loaded.skeleton,
+        &loaded.motion,
+        range.clone(),
+        &options,
+    )
+    .and_then(|()| out.flush());
+    finish_write(out, result, output)?;
+    if let Some(path) = output {
+        let frames = range.len();
+        let points = export::export_points(&loaded.skeleton).len();
+        wrote(format_args!(
+            "{}: {frames} frames × {points} points",
+            path.display()
+        ));
+    }
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,17 @@
+//! `bvhview print`: the joint tree exactly as the article's `BVH::print()` prints it.
+
+use super::*;
+
+#[derive(Args)]
+pub(crate) struct PrintArgs {
+    /// A .bvh file, or an .asf skeleton (its motion with --motion).
+    file: PathBuf,
+    #[command(flatten)]
+    source: Source,
+}
+
+pub(crate) fn run(args: PrintArgs) -> Result<ExitCode, Error> {
+    let loaded = load(&args.file, &args.source)?;
+    write_text(&bvhview::bvh::print::print(&loaded.skeleton))?;
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,216 @@
+//! `bvhview snapshot`: a frame drawn offscreen as PNG, or a sequence as GIF, APNG or PNGs.
+
+use super::*;
+use bvhview::render::paint::{Clock, Shown};
+use bvhview::render::{Overlay, SnapshotOptions};
+
+#[derive(Args)]
+pub(crate) struct SnapshotArgs {
+    /// A .bvh file, or an .asf skeleton (its motion with --motion); several files stand side
+    /// by side on one timeline.
+    #[arg(required = true, num_args = 1..)]
+    files: Vec<PathBuf>,
+    #[command(flatten)]
+    source: Source,
+    /// Frame to draw, from 0.
+    #[arg(long, default_value_t = 0, conflicts_with = "frames")]
+    frame: usize,
+    /// A sequence instead: N, A..B, A..=B, A.. or ..B, written as OUT/frame_NNNNN.png.
+    #[arg(long)]
+    frames: Option<String>,
+    #[command(flatten)]
+    view: View,
+    /// Picture size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "600x600", value_parser = parse_size)]
+    size: (u32, u32),
+    /// Draw a generated skin around the bones, moved by linear blend skinning.
+    #[arg(long)]
+    skin: bool,
+    /// Draw only the first K joints in the order the recursion reaches them, the last one
+    /// highlighted, with its GL calls written beside (the window's J key).
+    #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
+    step: Option<u64>,
+    /// Write the HUD top left (the file, the frame, its time, the rate, the display mode) and
+    /// the timeline along the bottom (the window's I key).
+    #[arg(long)]
+    hud: bool,
+    /// The studio look: grid floor, shadows, bones coloured by side, the take framed.
+    #[arg(long, value_enum, default_value_t)]
+    look: LookArg,
+    /// With --look studio, the camera follows the root (the window's T key).
+    #[arg(long)]
+    follow: bool,
+    /// Write each joint's name beside it (the window's N key).
+    #[arg(long)]
+    names: bool,
+    /// Frames per second of an animated output (default: the file's rate, at most 50 for GIF).
+    #[arg(long, requires = "frames")]
+    fps: Option<f64>,
+    /// The PNG to write; with --frames an animated .gif, .apng or .png, or a folder to write one
+    /// PNG per frame into (created if missing).
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
+    use bvhview::render::animation;
+    let animated = animation::Format::of(&args.output);
+    match &args.frames {
+        None => check_output(&args.output, &["png"])?,
+        Some(_) if animated.is_none() && !input::extension(&args.output).is_empty() => {
+            return Err(Error::Usage(format!(
+                "-o {}: --frames writes an animated .gif, .apng or .png, or one PNG per frame into a folder such as frames/",
+                args.output.display()
+            )));
+        }
+        Some(_) => {}
+    }
+    if let Some(fps) = args.fps {
+        bvhview::limits::fps(fps, animated == Some(animation::Format::Gif))?;
+    }
+    if args.files.len() > 1 && args.source.motion.is_some() {
+        return Err(Error::Usage(
+            "--motion goes with one ASF skeleton; to show an ASF/AMC take beside others, convert it to BVH first".into(),
+        ));
+    }
+    let mode: OffsetMode = args.view.offset_mode.into();
+    let framed_view = args.view.fit || args.look == LookArg::Studio;
+    let mut takes = Vec::with_capacity(args.files.len());
+    for file in &args.files {
+        let loaded = load(file, &args.source)?;
+        let name = file.display().to_string();
+        warn_offset_mode(&loaded, mode, &name);
+        let up = resolve_up(args.view.up, &loaded, &name, framed_view);
+        takes.push((short_name(file), loaded, up));
+    }
+    let shown: Vec<Shown> = takes
+        .iter()
+        .map(|(_, loaded, up)| Shown {
+            skeleton: &loaded.skeleton,
+            motion: &loaded.motion,
+            up: *up,
+        })
+        .collect();
+    let clock = Clock::new(&shown.iter().map(|t| t.motion).collect::<Vec<_>>());
+    let options = SnapshotOptions {
+        up: shown[0].up,
+        skin: args.skin,
+        step: args.step.map(|k| usize::try_from(k).unwrap_or(usize::MAX)),
+        frame: args.frame,
+        angle: args
+            .view
+            .angle
+            .unwrap_or_else(|| bvhview::render::paint::start_angle(args.files.len())),
+        width: args.size.0,
+        height: args.size.1,
+        style: args.view.style.into(),
+        fit: args.view.fit,
+        offset_mode: mode,
+        look: args.look.into(),
+        follow: args.follow,
+    };
+    let output = &args.output;
+    let other_mode_likely = takes.iter().any(|(_, loaded, _)| {
+        bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode).is_some()
+    });
+    let several = takes.len() > 1;
+    let lying_along_z = args.view.up.is_none()
+        && !framed_view
+        && takes
+            .iter()
+            .any(|(_, loaded, _)| Up::guess(&loaded.skeleton) == Up::Z);
+    let overlay = |tick: usize| -> Overlay {
+        let mut overlay = Overlay {
+            names: args.names,
+            ..Overlay::default()
+        };
+        if !args.hud {
+            return overlay;
+        }
+        overlay.timeline = Some((tick, clock.count));
+        if several {
+            overlay.labels = takes.iter().map(|(name, _, _)| name.clone()).collect();
+        }
+        overlay.lines = bvhview::render::hud::Hud {
+            takes: takes
+                .iter()
+                .map(|(name, loaded, _)| bvhview::render::hud::HudTake {
+                    name,
+                    frame: clock.frame_of(&loaded.motion, tick),
+                    frames: loaded.motion.frame_count(),
+                    frame_time: loaded.motion.frame_time,
+                })
+                .collect(),
+            time: clock.seconds(tick),
+            playing: false,
+            speed: 1.0,
+            looping: true,
+            look: options.look,
+            follow: options.follow,
+            style: options.style,
+            skin: options.skin,
+            fit: options.fit,
+            offset_mode: options.offset_mode,
+            other_mode_likely,
+            lying_along_z,
+        }
+        .lines(bvhview::render::step::columns(options.width));
+        overlay
+    };
+    let Some(frames) = &args.frames else {
+        let image = bvhview::render::Renderer::new(options.width, options.height)?.render_all(
+            &shown,
+            &options,
+            &overlay(options.frame),
+        )?;
+        image.write_png(output)?;
+        wrote(format_args!(
+            "{} ({}x{})",
+            output.display(),
+            image.width,
+            image.height
+        ));
+        return Ok(ExitCode::SUCCESS);
+    };
+    let range = export::parse_frames(frames, clock.count)?;
+    if let Some(format) = animated {
+        let fps = args
+            .fps
+            .unwrap_or_else(|| animation::default_fps(clock.step, format));
+        let ticks = animation::sampled_frames(range, clock.step, fps)?;
+        let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
+        let progress = Progress::new(ticks.len());
+        let pictures = ticks.iter().enumerate().map(|(i, &frame)| {
+            progress.show(i + 1);
+            renderer.render_all(
+                &shown,
+                &SnapshotOptions { frame, ..options },
+                &overlay(frame),
+            )
+        });
+        let size = (options.width, options.height);
+        animation::write(output, format, size, fps, pictures, ticks.len())?;
+        progress.done();
+        wrote(format_args!(
+            "{}: {} frames at {fps:.3} per second",
+            output.display(),
+            ticks.len()
+        ));
+        return Ok(ExitCode::SUCCESS);
+    }
+    std::fs::create_dir_all(output).map_err(|e| Error::output(output, e))?;
+    // One offscreen context for the whole sequence.
+    let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
+    let digits = (range.end.max(1) - 1).to_string().len().max(5);
+    let count = range.len();
+    for frame in range {
+        let image = renderer.render_all(
+            &shown,
+            &SnapshotOptions { frame, ..options },
+            &overlay(frame),
+        )?;
+        image.write_png(&output.join(format!("frame_{frame:0digits$}.png")))?;
+    }
+    wrote(format_args!("{count} pictures into {}", output.display()));
+    Ok(ExitCode::SUCCESS)
+}

@@ -1,0 +1,99 @@
+//! `bvhview trace`: the GL calls one `display()` makes, in C, optionally explained.
+
+use super::*;
+
+#[derive(Args)]
+pub(crate) struct TraceArgs {
+    /// A .bvh file, or an .asf skeleton (its motion with --motion).
+    file: PathBuf,
+    #[command(flatten)]
+    source: Source,
+    /// Frame to draw, from 0.
+    #[arg(long, default_value_t = 0)]
+    frame: usize,
+    #[command(flatten)]
+    view: View,
+    /// Indent each call by the depth of the matrix stack and say what it does: the joint, the
+    /// MOTION columns it reads (the article's pFrame), where each sphere lands.
+    #[arg(long)]
+    explain: bool,
+    /// The language of --explain's notes.
+    #[arg(long, value_enum, default_value_t, requires = "explain")]
+    lang: LanguageArg,
+    /// How numbers are written: printf's %f (the article's code), or apitrace's %g with the
+    /// whole run from init() on, to diff against a recording of the article's program.
+    #[arg(long, value_enum, default_value_t)]
+    numbers: NumbersArg,
+}
+
+/// `--lang` of `trace --explain`.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+enum LanguageArg {
+    /// English.
+    #[default]
+    En,
+    /// Traditional Chinese, in the article's terms.
+    Zh,
+}
+
+/// `--numbers` of `trace`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+enum NumbersArg {
+    /// printf's %f, six decimals: display() only.
+    #[default]
+    Printf,
+    /// apitrace's %.7g / %.16g, from init() through display().
+    Apitrace,
+}
+
+pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
+    use bvhview::render::scene::{self, Scene};
+    use bvhview::render::trace::{Language, Numbers, Recorder};
+    let loaded = load(&args.file, &args.source)?;
+    let values = bvhview::render::frame_values(&loaded.motion, args.frame)?;
+    let View {
+        angle,
+        style,
+        fit,
+        offset_mode,
+        up,
+    } = args.view;
+    let offset_mode = offset_mode.into();
+    let up = resolve_up(up, &loaded, &args.file.display().to_string(), fit);
+    let angle = angle.unwrap_or(scene::START_ANGLE);
+    let camera = bvhview::render::camera_for(&loaded.skeleton, values, angle, fit, offset_mode, up);
+    let numbers = match args.numbers {
+        NumbersArg::Printf => Numbers::Printf,
+        NumbersArg::Apitrace => Numbers::Apitrace,
+    };
+    let language = match args.lang {
+        LanguageArg::En => Language::English,
+        LanguageArg::Zh => Language::Chinese,
+    };
+    let mut recorder = if args.explain {
+        Recorder::explaining(numbers, &loaded.skeleton, values, offset_mode, language)
+    } else {
+        Recorder::new(numbers)
+    };
+    if args.numbers == NumbersArg::Apitrace {
+        // What a recording of the article's program holds: init, reshape, then display.
+        scene::init(&mut recorder);
+        scene::reshape(&mut recorder, 600, 600, &camera);
+    }
+    let view = Scene {
+        skeleton: &loaded.skeleton,
+        frame: values,
+        camera,
+        style: style.into(),
+        offset_mode,
+        skin: None,
+        shown: None,
+        sphere_radius: scene::sphere_radius(&camera, fit),
+        up,
+        origin: [0.0; 3],
+        colours: None,
+    };
+    scene::display(&mut recorder, &view);
+    write_text(&recorder.text())?;
+    Ok(ExitCode::SUCCESS)
+}

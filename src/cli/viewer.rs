@@ -1,0 +1,113 @@
+//! `bvhview [FILES]`: the window, on the files or the bundled walk.
+
+use super::*;
+use bvhview::render::window::ViewerOptions;
+
+/// The window's keys, for `bvhview --help`.
+pub(crate) const WINDOW_KEYS: &str = "\
+Keys in the window:
+  W             next frame (the article)
+  S             previous frame
+  A / D         turn the camera (the article)
+  Space         play / pause in real time at the files' frame time
+  Home / End    first / last frame
+  + / -         play faster / slower (0.1x to 4x)
+  L             loop on / off
+  mouse drag    turn and tilt; Shift+drag or middle drag: pan; wheel: zoom
+  F             frame the whole skeleton / back to the article's camera
+  C             the article's camera, as at the start
+  V             the studio look on / off; T: its camera follows the root
+  O             position channels replace / are added to OFFSET
+  I / H         the HUD and timeline (click or drag on it to seek) / the help on and off
+  N             joint names on / off
+  B             next style: spheres, stick figure, both
+  K             generated skin on / off
+  J / Shift+J   step through the recursion one joint at a time (Esc: whole picture)
+  R             load the files again (a file that no longer loads keeps its last picture)
+  P             write the picture shown to NAME_frameNNNNN.png
+  drop a file   add it beside the others
+  Esc           quit (the article)";
+
+/// What `bvhview` takes without a command: the files to show and how.
+#[derive(Args)]
+pub(crate) struct ViewerArgs {
+    /// A .bvh file, or an .asf skeleton, to show in a window (default: the bundled walk);
+    /// several files stand side by side on one timeline.
+    files: Vec<PathBuf>,
+    #[command(flatten)]
+    source: Source,
+    /// Start with the stick figure (B toggles it).
+    #[arg(long, value_enum, default_value_t)]
+    style: StyleArg,
+    /// How position channels combine with OFFSET.
+    #[arg(long, value_enum, default_value_t)]
+    offset_mode: OffsetModeArg,
+    /// Start with a generated skin around the bones (K toggles it).
+    #[arg(long)]
+    skin: bool,
+    /// Start in the studio look (V switches).
+    #[arg(long, value_enum, default_value_t)]
+    look: LookArg,
+    /// The file's up axis (default: as written in the article's view, guessed from the rest pose
+    /// in a framed or studio view; O switches the offset mode).
+    #[arg(long, value_enum)]
+    up: Option<UpArg>,
+}
+
+/// The window on a file (or the bundled walk).
+pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
+    use bvhview::render::window::{TakeSource, ViewerTake};
+    let ViewerArgs {
+        files,
+        source,
+        style,
+        offset_mode,
+        skin,
+        look,
+        up,
+    } = args;
+    // Say there is no display before loading anything.
+    bvhview::render::window::check_environment()?;
+    if files.len() > 1 && source.motion.is_some() {
+        return Err(Error::Usage(
+            "--motion goes with one ASF skeleton; to show an ASF/AMC take beside others, convert it to BVH first".into(),
+        ));
+    }
+    let offset_mode = offset_mode.into();
+    let mut takes = Vec::with_capacity(files.len().max(1));
+    if files.is_empty() {
+        let (name, loaded) = load_or_default(None, &source)?;
+        resolve_up(up, &loaded, &name, look == LookArg::Studio);
+        takes.push(ViewerTake {
+            up: up.map_or_else(|| Up::guess(&loaded.skeleton), Up::from),
+            up_asked: up.map(Up::from),
+            name,
+            source: None,
+            loaded,
+        });
+    }
+    for path in files {
+        let take_source = TakeSource {
+            path: path.clone(),
+            motion: source.motion.clone(),
+            frame_time: source.frame_time,
+            max_size: source.max_size,
+        };
+        let mut take = ViewerTake::from_source(take_source)?;
+        let name = path.display().to_string();
+        warn_offset_mode(&take.loaded, offset_mode, &name);
+        resolve_up(up, &take.loaded, &name, look == LookArg::Studio);
+        take.up = up.map_or_else(|| Up::guess(&take.loaded.skeleton), Up::from);
+        take.up_asked = up.map(Up::from);
+        takes.push(take);
+    }
+    let options = ViewerOptions {
+        offset_mode,
+        style: style.into(),
+        skin,
+        look: look.into(),
+        quiet: QUIET.load(std::sync::atomic::Ordering::Relaxed),
+    };
+    bvhview::render::window::run(takes, options)?;
+    Ok(ExitCode::SUCCESS)
+}
