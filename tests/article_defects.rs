@@ -291,3 +291,247 @@ fn joint_site_with_channels_0_is_an_end_site_and_takes_no_columns() {
     assert_eq!(joints[3].first_channel, 9);
     assert_eq!(joints[3].values(bvh.motion.frame(1)), [70.0, 0.0, 0.0]);
 }
+
+// Issue 25: five more defects of the article's loader, each with its input in tests/edge, and
+// the smaller ones the chapter gives a sentence each.
+
+/// A skeleton of the root alone (Hips and its End Site, six columns): the article's `loadFile`
+/// returns false when `jointCount == 1`, after its `clear()` has deleted row pointers it never
+/// set. Here it loads like any other file, and `trace --explain` says the article cannot.
+#[test]
+fn a_skeleton_of_the_root_alone_loads() {
+    let bvh = load_edge("root_only.bvh");
+    let joints = &bvh.skeleton.joints;
+    let names: Vec<&str> = joints.iter().map(|j| j.name.as_str()).collect();
+    assert_eq!(names, ["Hips", "Site"]);
+    assert_eq!(joints[0].channels, ROOT_CHANNELS);
+    assert!(joints[1].end_site);
+    assert_eq!(bvh.skeleton.channel_count(), 6);
+    assert_eq!(bvh.motion.frame_count(), 2);
+    assert_eq!(bvh.motion.frame(1), &ROW_1[..6]);
+    assert_eq!(
+        print_of("root_only.bvh"),
+        "Hips : 0.000000,0.000000,0.000000 -3- zxy\n -Site : 0.000000,20.000000,0.000000 -0- \n"
+    );
+    // The End Site: (0, 20, 0) turned by Rz(10) · Rx(20) · Ry(30), then moved to (5, 30, -3).
+    let want = add(
+        [5.0, 30.0, -3.0],
+        rotate_zxy(10.0, 20.0, 30.0, [0.0, 20.0, 0.0]),
+    );
+    let site = world_positions(&bvh.skeleton, bvh.motion.frame(1), OffsetMode::Replace)[1];
+    let want = Vec3::new(want[0] as f32, want[1] as f32, want[2] as f32);
+    assert!(site.abs_diff_eq(want, 1e-4), "{site} vs {want}");
+    let file = edge("root_only.bvh");
+    let out = bvhview(&["positions", file.to_str().unwrap(), "--frames", "1"]);
+    assert!(out.status.success());
+    assert_eq!(
+        String::from_utf8(out.stdout).unwrap(),
+        "frame,joint,x,y,z\n1,Hips,5,30,-3\n1,Hips_End,1.7364817,48.50833,3.8404026\n"
+    );
+    let out = bvhview(&["trace", file.to_str().unwrap(), "--explain"]);
+    let trace = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(
+        trace
+            .matches(
+                "// note: the article's program cannot load this file (a skeleton of one joint: \
+                 loadFile returns false when jointCount == 1)"
+            )
+            .count(),
+        1
+    );
+}
+
+/// `Yrotation Yrotation Xrotation` on the root: the article's `getFlags` sums to 2 + 4 + 4 − 10
+/// = 0, the flags of an End Site, so `roateSpace` turns Hips by nothing and leaves `pFrame` where
+/// it is: Chest then reads Hips's three rotation columns. Here Hips turns as written (about Y,
+/// Y, then X) and Chest reads its own columns.
+#[test]
+fn rotation_letters_whose_flags_sum_to_0_turn_as_written() {
+    let bvh = load_edge("rotation_flags_0.bvh");
+    let joints = &bvh.skeleton.joints;
+    assert_eq!(
+        joints[0].channels,
+        [
+            Channel::Xposition,
+            Channel::Yposition,
+            Channel::Zposition,
+            Channel::Yrotation,
+            Channel::Yrotation,
+            Channel::Xrotation,
+        ]
+    );
+    assert_eq!(joints[0].rotation_order, None);
+    assert_eq!(joints[1].first_channel, 6);
+    assert_eq!(joints[1].values(bvh.motion.frame(1)), [-40.0, 50.0, 60.0]);
+    // The same print as the article's: no order for Hips.
+    assert_eq!(
+        print_of("rotation_flags_0.bvh"),
+        "Hips : 0.000000,0.000000,0.000000 -0- \n \
+         -Chest : 0.000000,15.000000,0.000000 -3- zxy\n \
+         - -Site : 0.000000,20.000000,0.000000 -0- \n"
+    );
+    let out = bvhview(&[
+        "trace",
+        edge("rotation_flags_0.bvh").to_str().unwrap(),
+        "--frame",
+        "1",
+    ]);
+    let trace = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = trace.lines().collect();
+    // Between the camera (4 lines) and the floor (6 lines): the skeleton's calls.
+    assert_eq!(
+        lines[4..lines.len() - 6],
+        [
+            "glPushMatrix();",
+            "glTranslatef(5.000000, 30.000000, -3.000000);",
+            "glRotatef(10.000000, 0.000000, 1.000000, 0.000000);",
+            "glRotatef(20.000000, 0.000000, 1.000000, 0.000000);",
+            "glRotatef(30.000000, 1.000000, 0.000000, 0.000000);",
+            "glutSolidSphere(1.000000, 20, 16);",
+            "glPushMatrix();",
+            "glTranslatef(0.000000, 15.000000, 0.000000);",
+            "glRotatef(-40.000000, 0.000000, 0.000000, 1.000000);",
+            "glRotatef(50.000000, 1.000000, 0.000000, 0.000000);",
+            "glRotatef(60.000000, 0.000000, 1.000000, 0.000000);",
+            "glutSolidSphere(1.000000, 20, 16);",
+            "glPushMatrix();",
+            "glTranslatef(0.000000, 20.000000, 0.000000);",
+            "glutSolidSphere(1.000000, 20, 16);",
+            "glPopMatrix();",
+            "glPopMatrix();",
+            "glPopMatrix();",
+        ]
+    );
+}
+
+/// `tests/oracle/inputs/tiny_crlf.bvh` with each `{` written at the end of its JOINT line: the
+/// article's `newNode` takes the brace into the name (`Chest {`), its brace counter reaches 0
+/// early, and `loadFile` returns true with 4 of the 12 joints and End Sites (then 0 frames, from
+/// an `F` inside an OFFSET). Here it is the same model as tiny_crlf.bvh.
+#[test]
+fn a_brace_on_the_joint_line_reads_as_on_its_own_line() {
+    let tiny = load_path(&oracle("inputs/tiny_crlf.bvh"));
+    let braces = load_edge("brace_on_joint_line.bvh");
+    assert_eq!(braces.skeleton, tiny.skeleton);
+    assert_eq!(braces.motion, tiny.motion);
+    assert_eq!(braces.skeleton.joints.len(), 12);
+    assert!(braces.skeleton.joints.iter().all(|j| !j.name.contains('{')));
+    assert_eq!(
+        print_of("brace_on_joint_line.bvh"),
+        std::fs::read_to_string(oracle("print/tiny_crlf.txt")).unwrap()
+    );
+}
+
+/// `Frames: -1` and `Frames: 4294967295` (what the article's `(unsigned)atoi` makes of -1): the
+/// article allocates 4294967295 row pointers, 32 GiB, before it reads a row, and dies of
+/// `bad_alloc`. Here -1 is not a frame count, and a count past the rows is an error at the end of
+/// the file; neither allocates by the count (an allocation of 4294967295 rows of 9 floats would
+/// abort this test).
+#[test]
+fn frames_minus_one_or_huge_is_an_error_not_an_allocation() {
+    for (file, message) in [
+        (
+            "frames_minus_one.bvh",
+            ":17:9: expected the number of frames, found '-1'",
+        ),
+        (
+            "frames_huge.bvh",
+            ":21:1: expected 4294967295 frames as Frames: says (line 17), found 2: the file ends",
+        ),
+    ] {
+        let path = edge(file);
+        let error = bvhview::bvh::load_file(&path, Default::default())
+            .err()
+            .unwrap();
+        assert_eq!(error.to_string(), format!("{}{message}", path.display()));
+        assert_eq!(error.exit_code(), 2);
+        let out = bvhview(&["info", path.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2), "{file}");
+        assert!(out.stdout.is_empty(), "{file}");
+        assert_eq!(
+            String::from_utf8(out.stderr).unwrap(),
+            format!("bvhview: {}{message}\n", path.display())
+        );
+    }
+}
+
+/// A UTF-8 byte-order mark, or a blank line, before HIERARCHY: the article compares the first
+/// nine bytes with "HIERARCHY", returns false, and its `init` prints the null root. Here both
+/// load as the control file does.
+#[test]
+fn a_byte_order_mark_or_a_blank_line_before_hierarchy_loads_the_same() {
+    let base = load_edge("article_base_crlf.bvh");
+    for file in ["bom.bvh", "blank_line_before_hierarchy.bvh"] {
+        let bytes = std::fs::read(edge(file)).unwrap();
+        assert!(bytes.starts_with(b"\xEF\xBB\xBFHIERARCHY") || bytes.starts_with(b"\r\nHIERARCHY"));
+        let bvh = load_edge(file);
+        assert_eq!(bvh.skeleton, base.skeleton, "{file}");
+        assert_eq!(bvh.motion, base.motion, "{file}");
+        assert_eq!(print_of(file), print_of("article_base_crlf.bvh"), "{file}");
+    }
+}
+
+/// The article steps 8 bytes from the `F` of `Frames:` and 12 from that of `Frame Time:` before
+/// `atoi`/`atof`, which skip blanks: it needs at least one blank after each colon (`Frames:12`
+/// reads 2, `Frames:2` reads 0). Here the labels are words, with any blanks around the colon,
+/// but a blank after it: `Frames:2` is refused.
+#[test]
+fn frames_and_frame_time_are_words_with_any_blanks() {
+    let control = std::fs::read_to_string(edge("article_base_crlf.bvh")).unwrap();
+    let base = load_edge("article_base_crlf.bvh");
+    for (from, to) in [
+        ("Frames: 2", "Frames :\t2"),
+        ("Frames: 2", "Frames:    2"),
+        ("Frame Time: 0.033333", "Frame Time:\t\t0.033333"),
+        ("Frame Time: 0.033333", "Frame Time : 0.033333"),
+    ] {
+        let bvh = load_text(&control.replace(from, to)).unwrap();
+        assert_eq!(bvh.motion, base.motion, "{to}");
+    }
+    assert_eq!(
+        error_text(&control.replace("Frames: 2", "Frames:2")),
+        "t.bvh:17:1: expected 'Frames:', found 'Frames:2'"
+    );
+}
+
+/// The article's `reshape` divides the width by the height; bvhview's pictures are at least one
+/// pixel high (its window skips a resize to zero, and `reshape` divides by at least 1).
+#[test]
+fn a_picture_zero_pixels_high_is_refused() {
+    let out = bvhview(&[
+        "snapshot",
+        edge("article_base_crlf.bvh").to_str().unwrap(),
+        "--size",
+        "600x0",
+        "-o",
+        std::env::temp_dir()
+            .join("bvhview-zero-high.png")
+            .to_str()
+            .unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8(out.stderr)
+            .unwrap()
+            .contains("--size 600x0: width and height must be 1 to 16384")
+    );
+}
+
+/// The article returns early from `loadFile` without `fclose` on every failed load. Here a
+/// failed load closes its file: 200 failures leave the process's open files as they were (give
+/// or take what the tests running beside this one open).
+#[cfg(target_os = "linux")]
+#[test]
+fn a_failed_load_closes_its_file() {
+    let open = || std::fs::read_dir("/proc/self/fd").unwrap().count();
+    let path = edge("frames_minus_one.bvh");
+    let before = open();
+    for _ in 0..200 {
+        assert!(bvhview::bvh::load_file(&path, Default::default()).is_err());
+    }
+    let after = open();
+    assert!(
+        after < before + 50,
+        "{before} open files before, {after} after"
+    );
+}
