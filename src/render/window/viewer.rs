@@ -7,23 +7,17 @@
 //! time, S goes back a frame, a mouse drag orbits, the wheel zooms, F frames the skeleton, B
 //! toggles the stick figure, K the generated skin.
 
+use super::gl::*;
 use crate::error::Error;
 use crate::input::Loaded;
 use crate::motion::Motion;
 use crate::pose::OffsetMode;
 use crate::render::draw::Style;
-use crate::render::fixed::GlTable;
 use crate::render::paint::{Clock, Painter, Shown};
 use crate::render::scene::{self, Camera};
 use crate::render::timeline::Bar;
 use crate::render::{Look, Overlay, SnapshotOptions};
-use glutin::config::{ConfigTemplateBuilder, GlConfig};
-use glutin::context::{ContextAttributesBuilder, GlProfile, PossiblyCurrentContext};
-use glutin::display::{GetGlDisplay, GlDisplay};
-use glutin::prelude::{GlSurface, NotCurrentGlContext};
-use glutin::surface::{Surface, WindowSurface};
-use glutin_winit::{DisplayBuilder, GlWindow};
-use raw_window_handle::HasWindowHandle;
+use glutin::prelude::GlSurface;
 use std::f32::consts::TAU;
 use std::num::NonZeroU32;
 use std::path::{Path, PathBuf};
@@ -33,238 +27,7 @@ use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
 use winit::keyboard::{Key, NamedKey};
-use winit::window::{Window, WindowId};
-
-/// C++: `glutInitWindowSize(600, 600)`.
-pub const WINDOW_SIZE: u32 = 600;
-
-/// Shared libraries the window needs, with the Debian package of each.
-const X_LIBRARIES: &[(&str, &str)] = &[
-    ("libX11.so.6", "libx11-6"),
-    ("libX11-xcb.so.1", "libx11-xcb1"),
-    ("libxcb.so.1", "libxcb1"),
-    ("libxkbcommon-x11.so.0", "libxkbcommon-x11-0"),
-    ("libXcursor.so.1", "libxcursor1"),
-    ("libXi.so.6", "libxi6"),
-    ("libGL.so.1", "libgl1 libglx-mesa0 libgl1-mesa-dri"),
-];
-
-/// Fails with one clear line when there is no display to open a window on, or when the X
-/// libraries winit loads at run time are missing (without libxkbcommon-x11 it panics).
-pub fn check_environment() -> Result<(), Error> {
-    let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
-    if !set("DISPLAY") {
-        let why = if set("WAYLAND_DISPLAY") {
-            "WAYLAND_DISPLAY is set but DISPLAY is not, and bvhview's window needs X11 (XWayland)"
-        } else {
-            "neither DISPLAY nor WAYLAND_DISPLAY is set"
-        };
-        return Err(Error::Environment(format!(
-            "no display to open a window on: {why}. `bvhview snapshot FILE -o out.png` draws \
-             without one"
-        )));
-    }
-    let missing: Vec<&str> = X_LIBRARIES
-        .iter()
-        // SAFETY: these are the system's X and GL libraries, whose initialisers are safe to run.
-        .filter(|(library, _)| unsafe { libloading::Library::new(library) }.is_err())
-        .map(|&(_, package)| package)
-        .collect();
-    if !missing.is_empty() {
-        return Err(Error::Environment(format!(
-            "the window needs X11 and OpenGL libraries that are missing; install them with: \
-             apt-get install {}",
-            missing.join(" ")
-        )));
-    }
-    Ok(())
-}
-
-/// A window of `width × height` with a current compatibility-profile context (a depth buffer, no
-/// multisampling: the article's GLUT_DOUBLE | GLUT_RGBA | GLUT_DEPTH) and its GL table.
-fn open_gl_window(
-    event_loop: &ActiveEventLoop,
-    title: String,
-    width: u32,
-    height: u32,
-) -> Result<Running, Error> {
-    let failed =
-        |what: &str, e: &dyn std::fmt::Display| Error::Environment(format!("cannot {what}: {e}"));
-    let attributes = Window::default_attributes()
-        .with_title(title)
-        .with_inner_size(PhysicalSize::new(width, height));
-    let template = ConfigTemplateBuilder::new().with_depth_size(24);
-    let (window, config) = DisplayBuilder::new()
-        .with_window_attributes(Some(attributes))
-        .build(event_loop, template, |configs| {
-            // glutin calls this with at least one configuration.
-            configs
-                .max_by_key(|c| {
-                    (
-                        c.num_samples() == 0,
-                        c.depth_size() == 24,
-                        c.alpha_size() == 8,
-                    )
-                })
-                .expect("glutin offers at least one configuration")
-        })
-        .map_err(|e| failed("find an OpenGL configuration", &e))?;
-    let window = window.ok_or_else(|| Error::Environment("no window was created".into()))?;
-    let handle = window
-        .window_handle()
-        .map_err(|e| failed("get the window handle", &e))?
-        .as_raw();
-    let display = config.display();
-    let attributes = ContextAttributesBuilder::new()
-        .with_profile(GlProfile::Compatibility)
-        .build(Some(handle));
-    // SAFETY: the handle belongs to the window, which outlives the context and the surface
-    // (`Running` drops the window last).
-    let context = unsafe { display.create_context(&config, &attributes) }
-        .map_err(|e| failed("create an OpenGL context", &e))?;
-    let surface_attributes = window
-        .build_surface_attributes(Default::default())
-        .map_err(|e| failed("describe the window surface", &e))?;
-    // SAFETY: as above.
-    let surface = unsafe { display.create_window_surface(&config, &surface_attributes) }
-        .map_err(|e| failed("create the window surface", &e))?;
-    let context = context
-        .make_current(&surface)
-        .map_err(|e| failed("make the OpenGL context current", &e))?;
-    // SAFETY: the display's addresses belong to the context made current just above, which
-    // the window keeps current on this thread while it draws with the table.
-    let gl = unsafe { GlTable::load(|name| display.get_proc_address(name)) }?;
-    let size = window.inner_size();
-    Ok(Running {
-        window,
-        surface,
-        context,
-        gl,
-        size: (size.width.max(1), size.height.max(1)),
-    })
-}
-
-/// A window just opened is kept and drawn; if it could not be opened, the error is kept and the
-/// event loop ends.
-fn keep_or_exit(
-    event_loop: &ActiveEventLoop,
-    opened: Result<Running, Error>,
-    running: &mut Option<Running>,
-    error: &mut Option<Error>,
-) {
-    match opened {
-        Ok(window) => {
-            window.window.request_redraw();
-            *running = Some(window);
-        }
-        Err(e) => {
-            *error = Some(e);
-            event_loop.exit();
-        }
-    }
-}
-
-/// Seed 001's demo in a window: a right-button drag bends the second bone about Y (up and down)
-/// and Z (left and right); Esc quits.
-pub fn run_skin_demo(bend: (f32, f32)) -> Result<(), Error> {
-    check_environment()?;
-    let event_loop = quietly(EventLoop::new)
-        .and_then(|r| r.map_err(|e| e.to_string()))
-        .map_err(|e| Error::Environment(format!("cannot open the X display: {e}")))?;
-    let mut app = SkinDemo {
-        bend,
-        drag: None,
-        dragging: false,
-        running: None,
-        error: None,
-    };
-    event_loop
-        .run_app(&mut app)
-        .map_err(|e| Error::Environment(format!("the window's event loop failed: {e}")))?;
-    app.error.map_or(Ok(()), Err)
-}
-
-struct SkinDemo {
-    bend: (f32, f32),
-    drag: Option<(f64, f64)>,
-    dragging: bool,
-    running: Option<Running>,
-    error: Option<Error>,
-}
-
-impl SkinDemo {
-    fn title(&self) -> String {
-        format!(
-            "bvhview skin-demo - bend Y {:.0}°, Z {:.0}° (right-drag)",
-            self.bend.0, self.bend.1
-        )
-    }
-}
-
-impl ApplicationHandler for SkinDemo {
-    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
-        if self.running.is_some() {
-            return;
-        }
-        let (width, height) = crate::render::skin_demo::SIZE;
-        let opened = open_gl_window(event_loop, self.title(), width, height);
-        keep_or_exit(event_loop, opened, &mut self.running, &mut self.error);
-    }
-
-    fn window_event(&mut self, event_loop: &ActiveEventLoop, _: WindowId, event: WindowEvent) {
-        let title = self.title();
-        let Some(running) = self.running.as_mut() else {
-            return;
-        };
-        match event {
-            WindowEvent::CloseRequested => event_loop.exit(),
-            WindowEvent::KeyboardInput { event, .. }
-                if event.state == ElementState::Pressed
-                    && event.logical_key == Key::Named(NamedKey::Escape) =>
-            {
-                event_loop.exit()
-            }
-            WindowEvent::Resized(size) => {
-                if let (Some(w), Some(h)) =
-                    (NonZeroU32::new(size.width), NonZeroU32::new(size.height))
-                {
-                    running.surface.resize(&running.context, w, h);
-                    running.size = (w.get(), h.get());
-                }
-                running.window.request_redraw();
-            }
-            WindowEvent::MouseInput {
-                state,
-                button: MouseButton::Right,
-                ..
-            } => {
-                self.dragging = state == ElementState::Pressed;
-                self.drag = None;
-            }
-            WindowEvent::CursorMoved { position, .. } if self.dragging => {
-                if let Some((x, y)) = self.drag {
-                    // As seed 001: one degree per pixel; Z follows x, Y follows y.
-                    self.bend.1 += (position.x - x) as f32;
-                    self.bend.0 -= (position.y - y) as f32;
-                    running.window.request_redraw();
-                }
-                self.drag = Some((position.x, position.y));
-            }
-            WindowEvent::RedrawRequested => {
-                let (width, height) = running.size;
-                crate::render::skin_demo::draw(&mut running.gl, self.bend, width, height);
-                if let Err(e) = running.surface.swap_buffers(&running.context) {
-                    self.error = Some(Error::Environment(format!(
-                        "cannot present the picture: {e}"
-                    )));
-                    event_loop.exit();
-                }
-                running.window.set_title(&title);
-            }
-            _ => {}
-        }
-    }
-}
+use winit::window::WindowId;
 
 /// How the window starts.
 #[derive(Clone, Debug)]
@@ -362,25 +125,6 @@ pub fn run(takes: Vec<ViewerTake>, options: ViewerOptions) -> Result<(), Error> 
     }
 }
 
-/// Runs `f`, turning a panic into an error message instead of a backtrace with source paths.
-fn quietly<T>(f: impl FnOnce() -> T) -> Result<T, String> {
-    let hook = std::panic::take_hook();
-    std::panic::set_hook(Box::new(|_| {}));
-    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(f));
-    std::panic::set_hook(hook);
-    result.map_err(|panic| {
-        let text = panic
-            .downcast_ref::<String>()
-            .cloned()
-            .or_else(|| panic.downcast_ref::<&str>().map(|s| s.to_string()))
-            .unwrap_or_else(|| "unknown failure".into());
-        format!(
-            "{text} (the X libraries may be missing: apt-get install libx11-6 libx11-xcb1 \
-             libxcb1 libxkbcommon-x11-0 libxcursor1 libxi6 libgl1 libglx-mesa0 libgl1-mesa-dri)"
-        )
-    })
-}
-
 /// How long playback shows each frame: the file's Frame Time, kept between 1 ns and an hour so
 /// that any value a file holds (0, 1e-300, 1e300) plays without a panic; 1/30 s when the file
 /// gives none. Ticks shorter than the window wakes ([`next_wake`]) are stepped several at a time.
@@ -406,18 +150,6 @@ fn frames_due(late: Duration, step: Duration) -> (u64, Duration) {
     let frames = late.as_nanos() / step_nanos + 1;
     let later = Duration::from_nanos(u64::try_from(frames * step_nanos).unwrap_or(u64::MAX));
     (u64::try_from(frames).unwrap_or(u64::MAX), later)
-}
-
-/// The window, its surface and its context, once the event loop has started.
-///
-/// Fields drop in the order they are declared, and glutin requires the surface (and the context
-/// drawing into it) to go before the window they were made for: keep `window` last.
-struct Running {
-    gl: GlTable,
-    surface: Surface<WindowSurface>,
-    context: PossiblyCurrentContext,
-    size: (u32, u32),
-    window: Window,
 }
 
 struct Viewer {

@@ -1,0 +1,11 @@
+//! The window: a GL context on a winit window (glutin, compatibility profile), and the two
+//! programs that run in it, the viewer (`viewer.rs`, the article's `main` and `keyboard`) and
+//! the skinning demo (`skin_demo.rs`, seed 001).
+
+mod gl;
+mod skin_demo;
+mod viewer;
+
+pub use gl::{WINDOW_SIZE, check_environment};
+pub use skin_demo::run_skin_demo;
+pub use viewer::{TakeSource, ViewerOptions, ViewerTake, run};
