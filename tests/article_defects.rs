@@ -494,6 +494,20 @@ fn frames_and_frame_time_are_words_with_any_blanks() {
     );
 }
 
+/// The article's buffer holds no 0 byte after the file, yet its loop looks for one to find the
+/// end: on the control file cut after `End Site` (`head -n 10`) it reads past the buffer. Here
+/// the end of the file is where its bytes end.
+#[test]
+fn a_file_cut_in_the_hierarchy_ends_at_its_last_byte() {
+    let control = std::fs::read_to_string(edge("article_base_crlf.bvh")).unwrap();
+    let cut: String = control.split_inclusive('\n').take(10).collect();
+    assert!(cut.ends_with("\t\tEnd Site\r\n"));
+    assert_eq!(
+        error_text(&cut),
+        "t.bvh:11:1: expected '{' after 'Site', found end of file"
+    );
+}
+
 /// The article's `reshape` divides the width by the height; bvhview's pictures are at least one
 /// pixel high (its window skips a resize to zero, and `reshape` divides by at least 1).
 #[test]
