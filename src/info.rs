@@ -62,7 +62,9 @@ pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
     let up_axis = crate::pose::Up::guess(skeleton);
     let up = match up_axis {
         crate::pose::Up::Y => "y",
-        crate::pose::Up::Z => "z (taller along z than along y at rest; the viewer stands it up)",
+        crate::pose::Up::Z => {
+            "z (taller along z than along y at rest; drawn as written in the article's view, stood up by --up z, --fit or the studio look)"
+        }
     };
     let _ = writeln!(out, "up axis:          {up}");
     let height = crate::pose::standing_height(skeleton, up_axis);

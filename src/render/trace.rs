@@ -31,8 +31,10 @@ struct JointFacts {
     /// How `info` counts it: the n-th joint (End Sites apart), or the End Site of its parent.
     label: Label,
     /// The column the article's `pFrame` points at when it turns this joint: 3 past the root's
-    /// positions, 3 more for each joint before it that is not an End Site.
+    /// positions, 3 more for each joint before it whose flags are not 0.
     article_column: usize,
+    /// Whether the article turns it at all (its flags are not 0).
+    article_turns: bool,
     /// Its MOTION columns, and which of them are rotations (in file order).
     columns: std::ops::Range<usize>,
     rotation_columns: Vec<(usize, crate::skeleton::Channel)>,
@@ -52,6 +54,9 @@ enum ArticleCannot {
     /// Channels other than the root's three positions and three rotations, or another joint's
     /// three rotations: `pFrame` reads other columns from there on.
     Channels(String),
+    /// Rotation letters whose flags sum to 0 (`Yrotation Yrotation Xrotation`): the joint is
+    /// taken for an End Site, not turned, and `pFrame` does not move on.
+    Flags(String),
 }
 
 impl ArticleCannot {
@@ -74,8 +79,16 @@ impl ArticleCannot {
                 Some(_) => joint.channels.len() == 3 && rotations == 3,
             }
         };
-        let odd = joints.iter().find(|j| !layout(j))?;
-        Some(ArticleCannot::Channels(odd.name.clone()))
+        // A joint whose letters make flags 0 does not move pFrame on: everything after reads
+        // another joint's columns.
+        let odd = joints
+            .iter()
+            .find(|j| !layout(j) || article_flags(j) == 0)?;
+        Some(if layout(odd) {
+            ArticleCannot::Flags(odd.name.clone())
+        } else {
+            ArticleCannot::Channels(odd.name.clone())
+        })
     }
 
     fn note(&self, language: Language) -> String {
@@ -85,9 +98,31 @@ impl ArticleCannot {
             (ArticleCannot::Children(name, n), Language::English) => format!("// note: the article's program cannot load this file ('{name}' has {n} children; its child array holds 16); the calls below are bvhview's"),
             (ArticleCannot::Children(name, n), Language::Chinese) => format!("// 注意：原文的程式無法載入這個檔案（'{name}' 有 {n} 個子關節，它的陣列只放得下 16 個）；以下是 bvhview 的呼叫"),
             (ArticleCannot::Channels(name), Language::English) => format!("// note: the article's program misreads this file (the channels of '{name}' are not the three positions and three rotations of a root, or the three rotations of a joint: from there its pFrame reads other columns); the calls below are bvhview's"),
+            (ArticleCannot::Flags(name), Language::English) => format!("// note: the article's program misreads this file (the rotation letters of '{name}' make its flags 0: it is not turned, and pFrame stays, so every later joint reads other columns); the calls below are bvhview's"),
+            (ArticleCannot::Flags(name), Language::Chinese) => format!("// 注意：原文的程式會讀錯這個檔案（'{name}' 的旋轉字母使 flags 為 0：它不轉，pFrame 也不前進，之後每個關節都讀到別的欄）；以下是 bvhview 的呼叫"),
             (ArticleCannot::Channels(name), Language::Chinese) => format!("// 注意：原文的程式會讀錯這個檔案（'{name}' 的通道不是根關節的三個位置加三個旋轉，也不是一般關節的三個旋轉：從那裡起它的 pFrame 讀到別的欄）；以下是 bvhview 的呼叫"),
         }
     }
+}
+
+/// C++: `BVH::getFlags`: the article's code for a joint's rotation order, from the letters of
+/// its (root: last; others: first) three channels, X = 1, Y = 2, Z = 3, weighted 1, 2 and 4,
+/// less 10: `ZYX` is 1 … `XYZ` is 7, and a repeated letter can make 0 (`Y Y X`), which the
+/// article takes for an End Site. End Sites have no CHANNELS line: 0.
+fn article_flags(joint: &crate::skeleton::Joint) -> i32 {
+    if joint.end_site || joint.channels.len() < 3 {
+        return 0;
+    }
+    let letters = match joint.parent {
+        None => &joint.channels[joint.channels.len() - 3..],
+        Some(_) => &joint.channels[..3],
+    };
+    letters
+        .iter()
+        .zip([1, 2, 4])
+        .map(|(channel, weight)| (channel.axis() as i32 + 1) * weight)
+        .sum::<i32>()
+        - 10
 }
 
 /// A joint as `info` counts it.
@@ -146,12 +181,17 @@ impl Recorder {
         let world = crate::pose::world_positions(skeleton, frame.unwrap_or(&[]), mode);
         // Pre-order: a joint's number and the article's `pFrame` follow the joints before it.
         let mut joints_before = 0;
+        let mut turned_before = 0;
         let joints = skeleton
             .joints
             .iter()
             .zip(world)
             .map(|(joint, world)| {
-                let article_column = 3 + 3 * joints_before;
+                // The article's pFrame moves on by 3 after a joint only when its flags are not 0.
+                let article_column = 3 + 3 * turned_before;
+                if article_flags(joint) != 0 {
+                    turned_before += 1;
+                }
                 let label = if joint.end_site {
                     let parent = joint
                         .parent
@@ -174,6 +214,7 @@ impl Recorder {
                     name: joint.name.clone(),
                     label,
                     article_column,
+                    article_turns: article_flags(joint) != 0,
                     columns: joint.first_channel..joint.first_channel + joint.channels.len(),
                     rotation_columns: columns_of(true),
                     position_columns: columns_of(false),
@@ -303,9 +344,19 @@ impl Recorder {
             "glRotatef" => {
                 let (column, channel) = *joint.rotation_columns.get(rotations_done)?;
                 let article = joint.article_column + rotations_done;
+                let turns = joint.article_turns;
                 let last = explain.open.len() - 1;
                 self.explain.as_mut()?.open[last].1 += 1;
                 let i = rotations_done;
+                if !turns {
+                    return Some(if zh {
+                        format!("{channel}：第 [{column}] 欄；原文不轉這個關節（它的 flags 是 0）")
+                    } else {
+                        format!(
+                            "{channel}: column [{column}]; the article does not turn this joint (its flags are 0)"
+                        )
+                    });
+                }
                 match (article == column, zh) {
                     (true, true) => format!("{channel}：第 [{column}] 欄，即 pFrame[{i}]"),
                     (true, false) => {
