@@ -1146,3 +1146,35 @@ fn a_shell_sees_128_plus_the_signal_and_nohup_is_kept() {
     assert!(out.exists());
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `-o x.json` without `--format` writes JSON, not CSV under a .json name; `--format` still
+/// decides when given.
+#[test]
+fn positions_to_a_json_name_write_json() {
+    let dir = std::env::temp_dir().join(format!("bvhview-json-name-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = dir.join("p.json");
+    let out = bvhview(&["positions", &tiny(), "-q", "-o", json.to_str().unwrap()]);
+    assert!(out.status.success(), "{out:?}");
+    assert!(
+        std::fs::read_to_string(&json)
+            .unwrap()
+            .starts_with("{\"frame_time\":")
+    );
+    let out = bvhview(&[
+        "positions",
+        &tiny(),
+        "--format",
+        "csv",
+        "-q",
+        "-o",
+        json.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    assert!(
+        std::fs::read_to_string(&json)
+            .unwrap()
+            .starts_with("frame,joint,x,y,z")
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -225,7 +225,7 @@ def main():
     )
     parser.add_argument("--worker", help=argparse.SUPPRESS)
     parser.add_argument("paths", nargs="*", help=argparse.SUPPRESS)
-    parser.add_argument("--big", type=Path, help="the 100 MB file of the bench (see README)")
+    parser.add_argument("--big", type=Path, help="the 100 MB file of the bench (see docs/PERFORMANCE.md)")
     parser.add_argument("--folder", type=Path, help="a folder of real .bvh files")
     parser.add_argument("--tools", default=",".join(TOOLS), help="of: " + ", ".join(TOOLS))
     parser.add_argument("--python", default=sys.executable, help="the Python with the tools")

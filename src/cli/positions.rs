@@ -31,9 +31,9 @@ pub(crate) struct PositionsArgs {
     /// Frames to write: N, A..B (B excluded), A..=B, A.. or ..B (default: all).
     #[arg(long)]
     frames: Option<String>,
-    /// The output format.
-    #[arg(long, value_enum, default_value_t)]
-    format: FormatArg,
+    /// The output format (default: JSON for an output named .json, else CSV).
+    #[arg(long, value_enum)]
+    format: Option<FormatArg>,
     /// Negate z (right-handed to left-handed, as for Direct3D).
     #[arg(long)]
     left_handed: bool,
@@ -77,7 +77,13 @@ pub(crate) fn run(args: PositionsArgs) -> Result<ExitCode, Error> {
         eprintln!("bvhview: {}: warning: {warning}", args.file.display());
     }
     let options = PositionsOptions {
-        format: args.format.into(),
+        format: args
+            .format
+            .unwrap_or_else(|| match args.output.as_deref().map(input::extension) {
+                Some(extension) if extension == "json" => FormatArg::Json,
+                _ => FormatArg::Csv,
+            })
+            .into(),
         offset_mode,
         left_handed: args.left_handed,
         scale,
