@@ -486,3 +486,41 @@ fn review_findings_stay_fixed() {
     );
     assert!(!png.exists());
 }
+
+/// Issue 27, row 10: `--frames` into a folder whose parent is missing is refused, as a file in a
+/// missing folder is (it made every missing folder); the folder itself may be new.
+#[test]
+fn a_frame_folder_in_a_missing_folder_is_refused() {
+    let missing = scratch("no/such/dir/");
+    let out = bvhview(&[
+        "snapshot",
+        &walk(),
+        "--frames",
+        "0..2",
+        "--size",
+        "64x64",
+        "-o",
+        missing.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(1), "{out:?}");
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("does not exist"),
+        "{out:?}"
+    );
+    assert!(!scratch("no").exists());
+    let new = scratch("frames-new");
+    let _ = std::fs::remove_dir_all(&new);
+    let out = bvhview(&[
+        "snapshot",
+        &walk(),
+        "--frames",
+        "0..2",
+        "--size",
+        "64x64",
+        "-q",
+        "-o",
+        new.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    assert_eq!(std::fs::read_dir(&new).unwrap().count(), 2);
+}

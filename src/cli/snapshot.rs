@@ -47,7 +47,7 @@ pub(crate) struct SnapshotArgs {
     #[arg(long, requires = "frames")]
     fps: Option<f64>,
     /// The PNG to write; with --frames an animated .gif, .apng or .png, or a folder to write one
-    /// PNG per frame into (created if missing).
+    /// PNG per frame into (created if missing; the folder it is in must exist).
     #[arg(short, long)]
     output: PathBuf,
 }
@@ -198,7 +198,11 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         ));
         return Ok(ExitCode::SUCCESS);
     }
-    std::fs::create_dir_all(output).map_err(|e| Error::output(output, e))?;
+    // The folder itself may be new, as a file may; the folders it is in must exist (a missing
+    // one is refused as it is for `-o /no/such/x.png`).
+    if !output.is_dir() {
+        std::fs::create_dir(output).map_err(|e| Error::output(output, e))?;
+    }
     // One offscreen context for the whole sequence.
     let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
     let digits = (range.end.max(1) - 1).to_string().len().max(5);

@@ -20,7 +20,7 @@ use crate::render::{Look, Overlay, SnapshotOptions};
 use glutin::prelude::GlSurface;
 use std::f32::consts::TAU;
 use std::num::NonZeroU32;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
@@ -406,6 +406,20 @@ impl Viewer {
         Ok(())
     }
 
+    /// Where P writes: `<first file's stem>_frame<N>.png`, `walk_frame<N>.png` for the bundled
+    /// walk (its shown name, "the bundled walk", is no file name).
+    fn picture_name(&self) -> PathBuf {
+        let take = &self.takes[0];
+        let stem = match &take.source {
+            Some(source) => source
+                .path
+                .file_stem()
+                .map_or("bvhview".into(), |s| s.to_string_lossy().into_owned()),
+            None => "walk".to_string(),
+        };
+        PathBuf::from(format!("{stem}_frame{:05}.png", self.frame))
+    }
+
     /// P: the picture as shown, written to `<first file>_frame<N>.png` in the working folder.
     fn write_picture(&mut self) -> Result<(), Error> {
         let (width, height) = self.paint()?;
@@ -414,10 +428,7 @@ impl Viewer {
         };
         let rgba = running.gl.read_rgba(width as usize, height as usize);
         let image = crate::render::Image::from_rgba_bottom_up(width, height, &rgba);
-        let stem = Path::new(&self.takes[0].name)
-            .file_stem()
-            .map_or("bvhview".into(), |s| s.to_string_lossy().into_owned());
-        let path = PathBuf::from(format!("{stem}_frame{:05}.png", self.frame));
+        let path = self.picture_name();
         image.write_png(&path)?;
         if !self.options.quiet {
             eprintln!("bvhview: wrote {} ({width}x{height})", path.display());
@@ -745,6 +756,7 @@ impl ApplicationHandler for Viewer {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::path::Path;
 
     fn viewer_on(path: &Path) -> Viewer {
         let source = TakeSource {
@@ -761,6 +773,35 @@ mod tests {
             quiet: true,
         };
         Viewer::new(vec![ViewerTake::from_source(source).unwrap()], options)
+    }
+
+    /// P names its picture after the first file, and after the walk for the bundled walk (issue
+    /// 27: it wrote `the bundled walk_frame00020.png`).
+    #[test]
+    fn p_names_the_picture_after_the_file_or_the_walk() {
+        let walk = ViewerTake {
+            name: crate::DEFAULT_MOTION_NAME.to_string(),
+            source: None,
+            loaded: crate::input::default_motion().unwrap(),
+            up: crate::pose::Up::Y,
+            up_asked: None,
+        };
+        let options = ViewerOptions {
+            offset_mode: OffsetMode::Replace,
+            style: Style::Points,
+            skin: false,
+            look: Look::Article,
+            quiet: true,
+        };
+        let mut viewer = Viewer::new(vec![walk], options);
+        viewer.frame = 20;
+        assert_eq!(viewer.picture_name(), PathBuf::from("walk_frame00020.png"));
+        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/oracle/inputs/tiny_crlf.bvh");
+        let viewer = viewer_on(&file);
+        assert_eq!(
+            viewer.picture_name(),
+            PathBuf::from("tiny_crlf_frame00000.png")
+        );
     }
 
     /// A file dropped on the window joins the takes; one that does not load is reported and
