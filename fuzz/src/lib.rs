@@ -3,6 +3,15 @@
 
 use bvhview::{Motion, Skeleton};
 
+/// What the writer targets start from: the choice byte, and the take the BVH loader makes of
+/// the rest after the edits it picks; `None` when the loader or an edit refuses.
+pub fn edited_take(data: &[u8]) -> Option<(u8, Skeleton, Motion)> {
+    let (choice, bytes) = split(data);
+    let bvh = bvhview::bvh::load_bytes(bytes, "fuzz.bvh").ok()?;
+    let (skeleton, motion) = edited(choice, bvh.skeleton, bvh.motion)?;
+    Some((choice, skeleton, motion))
+}
+
 /// The choice byte and the file's bytes.
 pub fn split(data: &[u8]) -> (u8, &[u8]) {
     match data.split_first() {

@@ -1,15 +1,11 @@
 //! The glTF writer, fed what the BVH loader makes of any bytes after an edit the first byte
 //! picks: whatever it writes must be JSON that glTF's own schema crate reads back, with no
 //! `null` where a number belongs.
-use bvhview_fuzz::{edited, split};
+use bvhview_fuzz::edited_take;
 
 fn main() {
     afl::fuzz!(|data: &[u8]| {
-        let (choice, bytes) = split(data);
-        let Ok(bvh) = bvhview::bvh::load_bytes(bytes, "fuzz.bvh") else {
-            return;
-        };
-        let Some((skeleton, motion)) = edited(choice, bvh.skeleton, bvh.motion) else {
+        let Some((choice, skeleton, motion)) = edited_take(data) else {
             return;
         };
         let mode = if choice & 0x80 != 0 {

@@ -758,6 +758,17 @@ mod tests {
     use super::*;
     use std::path::Path;
 
+    /// The window's defaults, saying nothing of pictures written.
+    fn quiet_options() -> ViewerOptions {
+        ViewerOptions {
+            offset_mode: OffsetMode::Replace,
+            style: Style::Points,
+            skin: false,
+            look: Look::Article,
+            quiet: true,
+        }
+    }
+
     fn viewer_on(path: &Path) -> Viewer {
         let source = TakeSource {
             path: path.to_path_buf(),
@@ -765,14 +776,7 @@ mod tests {
             frame_time: None,
             max_size: u64::MAX,
         };
-        let options = ViewerOptions {
-            offset_mode: OffsetMode::Replace,
-            style: Style::Points,
-            skin: false,
-            look: Look::Article,
-            quiet: true,
-        };
-        Viewer::new(vec![ViewerTake::from_source(source).unwrap()], options)
+        Viewer::new(vec![ViewerTake::from_source(source).unwrap()], quiet_options())
     }
 
     /// P names its picture after the first file, and after the walk for the bundled walk (issue
@@ -786,14 +790,7 @@ mod tests {
             up: crate::pose::Up::Y,
             up_asked: None,
         };
-        let options = ViewerOptions {
-            offset_mode: OffsetMode::Replace,
-            style: Style::Points,
-            skin: false,
-            look: Look::Article,
-            quiet: true,
-        };
-        let mut viewer = Viewer::new(vec![walk], options);
+        let mut viewer = Viewer::new(vec![walk], quiet_options());
         viewer.frame = 20;
         assert_eq!(viewer.picture_name(), PathBuf::from("walk_frame00020.png"));
         let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/oracle/inputs/tiny_crlf.bvh");
