@@ -10,7 +10,11 @@ fn main() {
         };
         let mut written = Vec::new();
         match bvhview::bvh::writer::write_bvh(&mut written, &skeleton, &motion) {
-            Err(_) => assert!(written.is_empty(), "a refused take wrote {} bytes", written.len()),
+            Err(_) => assert!(
+                written.is_empty(),
+                "a refused take wrote {} bytes",
+                written.len()
+            ),
             Ok(()) => {
                 let back = bvhview::bvh::load_bytes(&written, "written.bvh")
                     .unwrap_or_else(|e| panic!("the writer wrote a file its loader refuses: {e}"));
@@ -18,7 +22,10 @@ fn main() {
                 let bits = |v: &[f32]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                 assert_eq!(bits(&back.motion.data), bits(&motion.data));
                 for (a, b) in back.skeleton.joints.iter().zip(&skeleton.joints) {
-                    assert_eq!(a.offset.to_array().map(f32::to_bits), b.offset.to_array().map(f32::to_bits));
+                    assert_eq!(
+                        a.offset.to_array().map(f32::to_bits),
+                        b.offset.to_array().map(f32::to_bits)
+                    );
                     assert_eq!(a.channels, b.channels);
                 }
             }

@@ -14,7 +14,9 @@ fn main() {
             bvhview::pose::OffsetMode::Replace
         };
         let container = bvhview::gltf::Container::Gltf;
-        if let Ok(bytes) = bvhview::gltf::to_gltf(&skeleton, &motion, mode, container, choice & 0x40 != 0) {
+        if let Ok(bytes) =
+            bvhview::gltf::to_gltf(&skeleton, &motion, mode, container, choice & 0x40 != 0)
+        {
             let root = gltf_json::Root::from_slice(&bytes)
                 .unwrap_or_else(|e| panic!("the glTF written does not read back: {e}"));
             assert_eq!(root.nodes.len() >= skeleton.joints.len(), true);

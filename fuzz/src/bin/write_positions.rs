@@ -12,7 +12,11 @@ fn main() {
         };
         let frames = bvh.motion.frame_count().max(1);
         let options = PositionsOptions {
-            format: if choice & 1 == 0 { Format::Csv } else { Format::Json },
+            format: if choice & 1 == 0 {
+                Format::Csv
+            } else {
+                Format::Json
+            },
             offset_mode: if choice & 2 == 0 {
                 bvhview::pose::OffsetMode::Replace
             } else {
@@ -23,9 +27,19 @@ fn main() {
         };
         let mut out = Vec::new();
         let points = bvhview::export::export_points(&bvh.skeleton).len();
-        match bvhview::export::write_positions(&mut out, &bvh.skeleton, &bvh.motion, 0..frames, &options) {
+        match bvhview::export::write_positions(
+            &mut out,
+            &bvh.skeleton,
+            &bvh.motion,
+            0..frames,
+            &options,
+        ) {
             // A refusal comes before the header of a short take; a long one may have begun.
-            Err(_) => assert!(frames > 2048 || out.is_empty(), "a refused short export wrote {} bytes", out.len()),
+            Err(_) => assert!(
+                frames > 2048 || out.is_empty(),
+                "a refused short export wrote {} bytes",
+                out.len()
+            ),
             Ok(()) => {
                 let text = String::from_utf8(out).expect("the export is UTF-8");
                 match options.format {
@@ -37,7 +51,8 @@ fn main() {
                             let fields: Vec<&str> = line.rsplitn(4, ',').collect();
                             assert_eq!(fields.len(), 4, "{line}");
                             for number in &fields[..3] {
-                                let value: f32 = number.parse().unwrap_or_else(|_| panic!("{line}"));
+                                let value: f32 =
+                                    number.parse().unwrap_or_else(|_| panic!("{line}"));
                                 assert!(value.is_finite(), "{line}");
                             }
                             rows += 1;

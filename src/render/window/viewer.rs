@@ -776,7 +776,10 @@ mod tests {
             frame_time: None,
             max_size: u64::MAX,
         };
-        Viewer::new(vec![ViewerTake::from_source(source).unwrap()], quiet_options())
+        Viewer::new(
+            vec![ViewerTake::from_source(source).unwrap()],
+            quiet_options(),
+        )
     }
 
     /// P names its picture after the first file, and after the walk for the bundled walk (issue
