@@ -223,6 +223,14 @@ fn is_system_alias(path: &Path) -> bool {
     path.starts_with("/dev") || path.starts_with("/proc")
 }
 
+/// Whether [`AtomicFile::create`] writes `path` where it is rather than replacing it: a FIFO, a
+/// character device, or a path through /dev or /proc. Its name says nothing of its format.
+pub fn written_in_place(path: &Path) -> bool {
+    is_system_alias(path)
+        || std::fs::metadata(path)
+            .is_ok_and(|m| m.file_type().is_fifo() || m.file_type().is_char_device())
+}
+
 /// The folder `path` is in (`.` for a bare name).
 fn folder_of(path: &Path) -> &Path {
     match path.parent() {

@@ -212,13 +212,8 @@ pub(crate) fn wrote(what: std::fmt::Arguments) {
 /// A FIFO, a character device or a path under /dev or /proc (`/dev/stdout`, `/dev/fd/3`) is
 /// taken whatever its name: it is written to where it is.
 pub(crate) fn check_output(path: &Path, formats: &[&str]) -> Result<(), Error> {
-    use std::os::unix::fs::FileTypeExt;
     let extension = input::extension(path);
-    let special = path.starts_with("/dev")
-        || path.starts_with("/proc")
-        || std::fs::metadata(path)
-            .is_ok_and(|m| m.file_type().is_fifo() || m.file_type().is_char_device());
-    if special || formats.contains(&extension.as_str()) {
+    if bvhview::output::written_in_place(path) || formats.contains(&extension.as_str()) {
         return Ok(());
     }
     let list: Vec<String> = formats.iter().map(|f| format!(".{f}")).collect();
