@@ -106,7 +106,8 @@ fn frames_at(frames: usize, frame_time: f64, fps: f64, most: u64) -> Result<usiz
     let count = (frames as f64 * frame_time * fps).round().max(1.0);
     if !(count.is_finite() && count <= most as f64) {
         return Err(Error::Usage(format!(
-            "{frames} frames of {} s at {} per second make {} frames; at most {most} can be made",
+            "{} of {} s at {} per second make {} frames; at most {most} can be made",
+            crate::error::counted(frames, "frame"),
             show(frame_time),
             show(fps),
             show(count)

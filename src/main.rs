@@ -35,7 +35,8 @@ enum Command {
     Info(cli::info::InfoArgs),
     /// Write the world position of every joint and End Site (ASF: every bone's end) per frame.
     Positions(cli::positions::PositionsArgs),
-    /// Draw one frame offscreen (no display needed) and write it as PNG.
+    /// Draw offscreen (no display needed): one frame as PNG, or with --frames a sequence as an
+    /// animated GIF or APNG, or as one PNG per frame in a folder.
     Snapshot(cli::snapshot::SnapshotArgs),
     /// Print the GL calls one display() makes for a frame, in C, one per line.
     Trace(cli::trace::TraceArgs),
@@ -45,7 +46,8 @@ enum Command {
     /// The two-bone, three-quad linear blend skinning demo: in a window (right-drag bends the
     /// second bone), or offscreen with -o.
     SkinDemo(cli::skin_demo::SkinDemoArgs),
-    /// Write a file (BVH, or ASF + AMC) as BVH.
+    /// Write a take (BVH, or ASF + AMC) as BVH or glTF (.glb, .gltf), trimmed, resampled,
+    /// scaled, turned, mirrored, in place or grounded on the way if asked.
     Convert(cli::convert::ConvertArgs),
 }
 

@@ -478,3 +478,103 @@ fn every_command_takes_an_asf_amc_pair() {
     );
     std::fs::remove_file(picture).unwrap();
 }
+
+// Issue 27 row 11: Acclaim's `direction` is a unit vector and `length` the bone's length. A file
+// whose directions are longer drew blown up ("stands 496588.812 tall"), without a word.
+#[test]
+fn directions_that_are_not_unit_vectors_are_normalised_with_one_warning() {
+    let asf = edge("asf_direction_not_unit.asf");
+    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .args(["positions", asf.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    assert_eq!(
+        String::from_utf8(out.stdout).unwrap(),
+        "frame,joint,x,y,z\n0,root,0,0,0\n0,spine,0,4,0\n0,head,0,4,1\n",
+        "spine is its length 4 long, head 1"
+    );
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.starts_with(&format!(
+            "bvhview: {}: warning: 2 bones' directions are not unit vectors (the first, 'spine' \
+             at line 16, is 1000 long): normalised (each bone's length is its 'length')\n",
+            asf.display()
+        )),
+        "{stderr}"
+    );
+
+    // One bone off: named alone. Rounding in the last printed digits is not worth a word.
+    let one = parse_asf(
+        &SMALL_ASF.replace("direction 0 1 0", "direction 0 0.5 0"),
+        "t.asf",
+    )
+    .unwrap();
+    assert_eq!(one.bones[1].direction, [0.0, 1.0, 0.0]);
+    assert_eq!(
+        one.warnings,
+        [
+            "bone 'b' (line 22): direction is 0.5 long, not a unit vector: normalised (the bone's \
+          length is its 'length')"
+        ]
+    );
+    let rounded = parse_asf(
+        &SMALL_ASF.replace("direction 0 1 0", "direction 0 0.99999 0"),
+        "t.asf",
+    )
+    .unwrap();
+    assert_eq!(rounded.bones[1].direction, [0.0, 0.99999, 0.0]);
+    assert!(rounded.warnings.is_empty());
+    // Components far below or above 1 are scaled, not squared into 0 or infinity.
+    let tiny = parse_asf(
+        &SMALL_ASF.replace("direction 0 1 0", "direction 0 1e-200 0"),
+        "t.asf",
+    )
+    .unwrap();
+    assert_eq!(tiny.bones[1].direction, [0.0, 1.0, 0.0]);
+}
+
+#[test]
+fn a_direction_of_zero_length_is_an_error_at_its_line_and_column() {
+    assert_eq!(
+        asf_error(&SMALL_ASF.replace("direction 0 1 0", "direction 0 0.0 -0")),
+        "t.asf:25:15: expected a direction along the bone (a unit vector), found '0 0.0 -0'"
+    );
+}
+
+// Issue 27 row 12: CMU names a subject's skeleton `07.asf` and its takes `07_05.amc`; a take
+// without its skeleton is listed as such, not failed.
+#[test]
+fn info_on_a_folder_pairs_takes_by_cmu_subject_and_notes_unpaired_ones() {
+    let dir = std::env::temp_dir().join(format!("bvhview-cmu-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("lone")).unwrap();
+    std::fs::copy(data("asf_amc/heiden_12.asf"), dir.join("07.asf")).unwrap();
+    let take = data("asf_amc/heiden_12_02_01.amc");
+    std::fs::copy(&take, dir.join("07_05.amc")).unwrap();
+    std::fs::copy(&take, dir.join("12_01.amc")).unwrap();
+    std::fs::copy(&take, dir.join("lone/walk.amc")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .args(["info", dir.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let text = String::from_utf8(out.stdout).unwrap();
+    let d = dir.display();
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        lines[..3],
+        [
+            format!("ok     {d}/07.asf + {d}/07_05.amc: 31 joints, 343 frames, 2.9 s"),
+            format!("note   {d}/12_01.amc: unpaired: no skeleton (12.asf) in its folder"),
+            format!("note   {d}/lone/walk.amc: unpaired: no skeleton (walk.asf) in its folder"),
+        ],
+        "{text}"
+    );
+    assert!(
+        lines[3].starts_with("3 files: 1 ok, 2 unpaired, 0 failed; "),
+        "{}",
+        lines[3]
+    );
+    assert_eq!(out.status.code(), Some(0), "{text}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

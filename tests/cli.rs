@@ -374,7 +374,7 @@ fn info_on_a_folder_honours_max_size_frame_time_and_offset_mode() {
     assert!(line(&slow, "opencollar_run").ends_with(": 20 joints, 31 frames, 15.5 s"));
 
     let add = text(&["info", &dir, "--offset-mode", "add"]);
-    assert!(line(&add, "makehuman_tpose").ends_with(": 173 joints, 1 frames, 0.0 s"));
+    assert!(line(&add, "makehuman_tpose").ends_with(": 173 joints, 1 frame, 0.0 s"));
 
     let small = text(&["info", &dir, "--max-size", "100K"]);
     assert_eq!(

@@ -130,10 +130,10 @@ pub fn parse_amc(
                 line_no,
                 column,
                 format!(
-                    "'{}' has {} dof in the ASF, found {} values",
+                    "'{}' has {} dof in the ASF, found {}",
                     map.name,
                     map.slots.len(),
-                    values.len()
+                    crate::error::counted(values.len(), "value")
                 ),
             ));
         }

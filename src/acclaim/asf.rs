@@ -301,6 +301,7 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
     if !units.degrees {
         to_degrees(&mut root, &mut bones);
     }
+    let mut warnings: Vec<String> = normalise_directions(&mut bones).into_iter().collect();
     for bone in &bones {
         // Each number fits a 32-bit float; their product must too.
         if !bone_vector(bone).is_finite() {
@@ -315,7 +316,8 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
             ));
         }
     }
-    let (root_children, children, warnings) = build_tree(source, &bones, &names, &hierarchy)?;
+    let (root_children, children, tree_warnings) = build_tree(source, &bones, &names, &hierarchy)?;
+    warnings.extend(tree_warnings);
     Ok(Asf {
         units,
         root,
@@ -323,6 +325,40 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
         root_children,
         children,
         warnings,
+    })
+}
+
+/// How far a direction's length may be from 1 and still be taken as written: files print six
+/// digits or so, and rescaling those would move every position by rounding noise.
+const UNIT_TOLERANCE: f64 = 1e-3;
+
+/// Makes every bone's direction a unit vector, as Acclaim defines it (the bone's length is its
+/// `length`), and says so once: a file with scaled directions draws blown up otherwise.
+fn normalise_directions(bones: &mut [Bone]) -> Option<String> {
+    let mut changed: Vec<(&str, usize, f64)> = Vec::new();
+    for bone in bones.iter_mut() {
+        // Scaled by the largest component first, so that tiny or huge components neither
+        // underflow nor overflow on the way to the length.
+        let largest = bone.direction.iter().fold(0.0_f64, |m, d| m.max(d.abs()));
+        let scaled = bone.direction.map(|d| d / largest);
+        let length_of_scaled = scaled.iter().map(|d| d * d).sum::<f64>().sqrt();
+        let length = largest * length_of_scaled;
+        if (length - 1.0).abs() > UNIT_TOLERANCE {
+            bone.direction = scaled.map(|d| d / length_of_scaled);
+            changed.push((&bone.name, bone.line, length));
+        }
+    }
+    let (name, line, length) = *changed.first()?;
+    let length = length as f32;
+    Some(match changed.len() {
+        1 => format!(
+            "bone '{name}' (line {line}): direction is {length} long, not a unit vector: \
+             normalised (the bone's length is its 'length')"
+        ),
+        n => format!(
+            "{n} bones' directions are not unit vectors (the first, '{name}' at line {line}, is \
+             {length} long): normalised (each bone's length is its 'length')"
+        ),
     })
 }
 
@@ -470,7 +506,19 @@ fn bonedata_line(
             .map_err(|why| error_at(source, word.line, word.column, why))?;
         bone.name = word.text.to_string();
     } else if first.is("direction") {
-        bone.direction = three(source, line, "direction")?;
+        let direction = three(source, line, "direction")?;
+        if direction.iter().all(|&d| d == 0.0) {
+            return Err(error_at(
+                source,
+                line[1].line,
+                line[1].column,
+                format!(
+                    "expected a direction along the bone (a unit vector), found '{} {} {}'",
+                    line[1].text, line[2].text, line[3].text
+                ),
+            ));
+        }
+        bone.direction = direction;
     } else if first.is("length") {
         let word = line
             .get(1)

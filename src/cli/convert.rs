@@ -18,7 +18,7 @@ pub(crate) struct ConvertArgs {
     /// Multiply every length, OFFSETs and position channels (applied third).
     #[arg(long, allow_negative_numbers = true)]
     scale: Option<f32>,
-    /// Turn the take to this up axis, from the one guessed from its rest pose (fourth).
+    /// Turn the take to this up axis from its own, as `info` guesses it (fourth).
     #[arg(long, value_enum)]
     up: Option<UpArg>,
     /// The mirror image: x negated, Left and Right exchanged in the names (fifth).
@@ -106,10 +106,10 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         let result = out.write_all(&bytes);
         finish_write(out, result, Some(output))?;
         wrote(format_args!(
-            "{}: {} nodes, {} frames",
+            "{}: {}, {}",
             output.display(),
-            loaded.skeleton.joints.len(),
-            loaded.motion.frame_count()
+            bvhview::error::counted(loaded.skeleton.joints.len(), "node"),
+            bvhview::error::counted(loaded.motion.frame_count(), "frame")
         ));
         return Ok(ExitCode::SUCCESS);
     }
@@ -132,10 +132,13 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         );
     }
     wrote(format_args!(
-        "{}: {} joints, {} frames",
+        "{}: {}, {}",
         output.display(),
-        skeleton.joints.iter().filter(|j| !j.end_site).count(),
-        motion.frame_count()
+        bvhview::error::counted(
+            skeleton.joints.iter().filter(|j| !j.end_site).count(),
+            "joint"
+        ),
+        bvhview::error::counted(motion.frame_count(), "frame")
     ));
     Ok(ExitCode::SUCCESS)
 }

@@ -36,8 +36,10 @@ pub(crate) fn run(args: DiffArgs) -> Result<ExitCode, Error> {
         wrote(format_args!("{}", path.display()));
     }
     let percent = differing as f64 * 100.0 / total as f64;
+    let verb = if differing == 1 { "differs" } else { "differ" };
     write_text(&format!(
-        "{differing} of {total} pixels differ ({percent:.3}%)\n"
+        "{differing} of {} {verb} ({percent:.3}%)\n",
+        bvhview::error::counted(total, "pixel")
     ))?;
     Ok(if differing > 0 {
         ExitCode::from(1)

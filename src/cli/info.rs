@@ -35,7 +35,7 @@ pub(crate) fn run(args: InfoArgs) -> Result<ExitCode, Error> {
 }
 
 /// `bvhview info DIR`: one line per file, in path order, a progress bar on a terminal, and a
-/// summary. Exits 2 if any file failed.
+/// summary. Exits 2 if any file failed (an unpaired AMC is a note, not a failure).
 fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCode, Error> {
     use std::io::IsTerminal;
     let started = std::time::Instant::now();
@@ -62,13 +62,19 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
     };
     let outcomes = bvhview::batch::run(items, threads, settings, |outcome, finished, total| {
         let line = match &outcome.result {
-            Ok(text) => {
+            Ok(Some(text)) => {
                 let name = match &outcome.item.motion {
                     Some(amc) => format!("{} + {}", outcome.item.path.display(), amc.display()),
                     None => outcome.item.path.display().to_string(),
                 };
                 format!("ok     {name}: {text}")
             }
+            // Motion without a skeleton is not a broken file: said, not counted as a failure.
+            Ok(None) => format!(
+                "note   {}: unpaired: no skeleton ({}) in its folder",
+                outcome.item.path.display(),
+                outcome.item.wanted_skeleton()
+            ),
             Err(error) => format!("error  {error}"),
         };
         if progress {
@@ -91,12 +97,21 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
         eprint!("\r\x1b[2K");
     }
     let failed = outcomes.iter().filter(|o| o.result.is_err()).count();
+    let unpaired = outcomes
+        .iter()
+        .filter(|o| matches!(o.result, Ok(None)))
+        .count();
     let bytes: u64 = outcomes.iter().map(|o| o.bytes).sum();
     let seconds = started.elapsed().as_secs_f64();
+    let unpaired_part = if unpaired > 0 {
+        format!(", {unpaired} unpaired")
+    } else {
+        String::new()
+    };
     println!(
-        "{} files: {} ok, {failed} failed; {:.1} MB in {seconds:.2} s ({:.0} MB/s)",
-        outcomes.len(),
-        outcomes.len() - failed,
+        "{}: {} ok{unpaired_part}, {failed} failed; {:.1} MB in {seconds:.2} s ({:.0} MB/s)",
+        bvhview::error::counted(outcomes.len(), "file"),
+        outcomes.len() - failed - unpaired,
         bytes as f64 / 1e6,
         bytes as f64 / 1e6 / seconds.max(1e-9)
     );

@@ -103,8 +103,10 @@ pub(crate) fn run(args: PositionsArgs) -> Result<ExitCode, Error> {
         let frames = range.len();
         let points = export::export_points(&loaded.skeleton).len();
         wrote(format_args!(
-            "{}: {frames} frames × {points} points",
-            path.display()
+            "{}: {} × {}",
+            path.display(),
+            bvhview::error::counted(frames, "frame"),
+            bvhview::error::counted(points, "point")
         ));
     }
     Ok(ExitCode::SUCCESS)

@@ -15,7 +15,8 @@ pub(crate) struct SnapshotArgs {
     /// Frame to draw, from 0.
     #[arg(long, default_value_t = 0, conflicts_with = "frames")]
     frame: usize,
-    /// A sequence instead: N, A..B, A..=B, A.. or ..B, written as OUT/frame_NNNNN.png.
+    /// A sequence instead: N, A..B (B left out), A..=B, A.. or ..B, written as -o says: an
+    /// animated .gif, .apng or .png, or OUT/frame_NNNNN.png into a folder.
     #[arg(long)]
     frames: Option<String>,
     #[command(flatten)]
@@ -43,8 +44,9 @@ pub(crate) struct SnapshotArgs {
     /// Write each joint's name beside it (the window's N key).
     #[arg(long)]
     names: bool,
-    /// Frames per second of an animated output (default: the file's rate, at most 50 for GIF).
-    #[arg(long, requires = "frames")]
+    /// Frames per second of an animated output, with --frames (default: the file's rate, at
+    /// most 50 for GIF).
+    #[arg(long)]
     fps: Option<f64>,
     /// The PNG to write; with --frames an animated .gif, .apng or .png, or a folder to write one
     /// PNG per frame into (created if missing; the folder it is in must exist).
@@ -52,9 +54,45 @@ pub(crate) struct SnapshotArgs {
     output: PathBuf,
 }
 
+/// Refuses the options that only a sequence (`--frames`) gives a meaning to, before any work:
+/// an animated output asked for with one frame, and `--fps` where no animation is written.
+fn check_sequence_options(
+    args: &SnapshotArgs,
+    animated: Option<bvhview::render::animation::Format>,
+) -> Result<(), Error> {
+    let output = args.output.display();
+    let format = match input::extension(&args.output).as_str() {
+        "gif" => Some("a GIF"),
+        "apng" => Some("an APNG"),
+        _ => None,
+    };
+    if args.frames.is_none()
+        && let Some(format) = format
+    {
+        return Err(Error::Usage(format!(
+            "-o {output}: {format} needs --frames A..B (one frame is written as .png)"
+        )));
+    }
+    if args.fps.is_some() {
+        if args.frames.is_none() {
+            return Err(Error::Usage(
+                "--fps needs --frames A..B: it is the rate of an animated .gif, .apng or .png"
+                    .into(),
+            ));
+        }
+        if animated.is_none() {
+            return Err(Error::Usage(format!(
+                "--fps is the rate of an animation; -o {output} is a folder of PNGs, which has none"
+            )));
+        }
+    }
+    Ok(())
+}
+
 pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     use bvhview::render::animation;
     let animated = animation::Format::of(&args.output);
+    check_sequence_options(&args, animated)?;
     match &args.frames {
         None => check_output(&args.output, &["png"])?,
         Some(_) if animated.is_none() && !input::extension(&args.output).is_empty() => {
@@ -192,9 +230,9 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         animation::write(output, format, size, fps, pictures, ticks.len())?;
         progress.done();
         wrote(format_args!(
-            "{}: {} frames at {fps:.3} per second",
+            "{}: {} at {fps:.3} per second",
             output.display(),
-            ticks.len()
+            bvhview::error::counted(ticks.len(), "frame")
         ));
         return Ok(ExitCode::SUCCESS);
     }
@@ -215,6 +253,10 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         )?;
         image.write_png(&output.join(format!("frame_{frame:0digits$}.png")))?;
     }
-    wrote(format_args!("{count} pictures into {}", output.display()));
+    wrote(format_args!(
+        "{} into {}",
+        bvhview::error::counted(count, "picture"),
+        output.display()
+    ));
     Ok(ExitCode::SUCCESS)
 }

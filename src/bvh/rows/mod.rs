@@ -12,7 +12,7 @@
 //! row by row, 64 bytes at a time; this module feeds the pieces to the cores and puts their rows
 //! in order ([`RowParser`]).
 
-use crate::error::Error;
+use crate::error::{Error, counted};
 use crate::lines::{advance, count_lines, is_line_end};
 use std::io::Read;
 
@@ -314,10 +314,14 @@ impl Located {
     fn into_error(self, source: &str, width: usize, first_row: usize) -> Error {
         let frame = first_row + self.row_in_chunk;
         let message = match self.what {
-            Ok(None) => format!("frame {frame} has more than the {width} values the channels need"),
-            Ok(Some(count)) => {
-                format!("frame {frame} has {count} values, expected {width} (one per channel)")
-            }
+            Ok(None) => format!(
+                "frame {frame} has more than the {} the channels need",
+                counted(width, "value")
+            ),
+            Ok(Some(count)) => format!(
+                "frame {frame} has {}, expected {width} (one per channel)",
+                counted(count, "value")
+            ),
             Err(word) => format!("expected a finite number, found '{word}'"),
         };
         Error::Parse {
@@ -703,12 +707,14 @@ impl Ending {
         }
         let message = if width == 0 {
             format!(
-                "Frames: {frames} (line {frames_line}) but only {} lines follow",
-                self.rows
+                "Frames: {frames} (line {frames_line}) but only {} {}",
+                counted(self.rows, "line"),
+                if self.rows == 1 { "follows" } else { "follow" }
             )
         } else {
             format!(
-                "expected {frames} frames as Frames: says (line {frames_line}), found {}: the file ends",
+                "expected {} as Frames: says (line {frames_line}), found {}: the file ends",
+                counted(frames, "frame"),
                 self.rows
             )
         };
