@@ -59,29 +59,15 @@ pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
     );
     let _ = writeln!(out, "rotation orders:  {}", rotation_orders(skeleton));
     let _ = writeln!(out, "position channels: {}", position_joints(skeleton));
-    let up_axis = crate::pose::Up::guess(skeleton);
-    let up = match up_axis {
-        crate::pose::Up::Y => "y",
-        crate::pose::Up::Z => {
-            "z (taller along z than along y at rest; drawn as written in the article's view, stood up by --up z, --fit or the studio look)"
-        }
-    };
-    let _ = writeln!(out, "up axis:          {up}");
-    let height = crate::pose::standing_height(skeleton, up_axis);
-    let units = crate::pose::Units::guess(height);
-    if height > 1e-6 {
-        let _ = writeln!(
-            out,
-            "units:            {} (a guess: the rest pose stands {} tall, {} m in {})",
-            units.name,
-            readable(f64::from(height), 3),
-            readable(f64::from(height * units.metres), 2),
-            units.name
-        );
+    // Guessed from the motion; the article's view still draws the file as written.
+    let stance = loaded.stance(mode);
+    let _ = writeln!(out, "up axis:          {}", stance.up_text());
+    if stance.size > 1e-6 {
+        let _ = writeln!(out, "units:            {}", stance.units_text());
     } else {
         let _ = writeln!(
             out,
-            "units:            unknown (the rest pose has no height along the up axis)"
+            "units:            unknown (every point of the figure is in one place)"
         );
     }
     let warnings = warnings(loaded, mode);

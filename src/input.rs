@@ -13,6 +13,15 @@ pub struct Loaded {
     pub skeleton: Skeleton,
     pub motion: Motion,
     pub warnings: Vec<String>,
+    /// The units the file states (an ASF's `:units length`), if any.
+    pub stated_units: Option<crate::pose::Units>,
+}
+
+impl Loaded {
+    /// How the take stands (up axis, units, height), guessed from its motion in `mode`.
+    pub fn stance(&self, mode: crate::pose::OffsetMode) -> crate::stance::Stance {
+        crate::stance::Stance::guess(&self.skeleton, &self.motion, mode, self.stated_units)
+    }
 }
 
 /// A path's extension in lower case (`TAKE.BVH` → `bvh`), empty when it has none.
@@ -93,6 +102,7 @@ pub fn load_checked(
                 skeleton,
                 motion,
                 warnings: asf.warnings,
+                stated_units: crate::stance::asf_units(asf.units.length),
             })
         }
         "amc" => Err(Error::Usage(format!(
@@ -120,6 +130,7 @@ pub fn load_checked(
                 skeleton: file.skeleton,
                 motion: file.motion,
                 warnings: file.warnings,
+                stated_units: None,
             })
         }
         other => Err(Error::Usage(format!(
@@ -136,5 +147,6 @@ pub fn default_motion() -> Result<Loaded, Error> {
         skeleton: file.skeleton,
         motion: file.motion,
         warnings: file.warnings,
+        stated_units: None,
     })
 }

@@ -31,6 +31,7 @@ pub mod read;
 pub mod render;
 pub mod skeleton;
 pub mod skin;
+pub mod stance;
 
 /// The article side by side with this crate: TEACHING.md.
 #[doc = include_str!("../TEACHING.md")]

@@ -76,6 +76,13 @@ impl Units {
     /// 1.7 m, by ratio: metres, decimetres (MakeHuman's), centimetres, millimetres or inches.
     /// Tiny rigs in metres read as metres, Second Life's (about 72 tall) as inches.
     pub fn guess(height: f32) -> Units {
+        Units::guess_with_sureness(height).0
+    }
+
+    /// [`Units::guess`], and how sure it is: sure when the size is within a third of 1.7 m in
+    /// those units and clearly nearer than in any other, likely within ×1.8, else unsure.
+    pub fn guess_with_sureness(height: f32) -> (Units, crate::stance::Sureness) {
+        use crate::stance::Sureness;
         const CANDIDATES: [Units; 5] = [
             Units {
                 name: "metres",
@@ -99,25 +106,18 @@ impl Units {
             },
         ];
         let off = |units: &Units| (height.max(1e-6) * units.metres / 1.7).ln().abs();
-        CANDIDATES
-            .into_iter()
-            .min_by(|a, b| off(a).total_cmp(&off(b)))
-            .expect("five candidates")
+        let mut ranked = CANDIDATES;
+        ranked.sort_by(|a, b| off(a).total_cmp(&off(b)));
+        let (best, next) = (off(&ranked[0]), off(&ranked[1]));
+        let sureness = if best < 1.35f32.ln() && next - best > 0.5 {
+            Sureness::Sure
+        } else if best < 1.8f32.ln() {
+            Sureness::Likely
+        } else {
+            Sureness::Unsure
+        };
+        (ranked[0], sureness)
     }
-}
-
-/// How tall the skeleton stands in its rest pose, along the up axis (roots left out, as in
-/// [`Up::guess`]).
-pub fn standing_height(skeleton: &Skeleton, up: Up) -> f32 {
-    let stand = up.to_y_up();
-    let points = world_positions(skeleton, &[], OffsetMode::Replace);
-    let ys = points
-        .iter()
-        .zip(&skeleton.joints)
-        .filter(|(_, joint)| joint.parent.is_some())
-        .map(|(p, _)| (stand * *p).y);
-    let (lo, hi) = ys.fold((f32::MAX, f32::MIN), |(lo, hi), y| (lo.min(y), hi.max(y)));
-    if lo > hi { 0.0 } else { hi - lo }
 }
 
 /// The joint's translation `t` for one frame: its OFFSET with its position channels replacing

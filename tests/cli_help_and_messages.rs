@@ -86,10 +86,9 @@ fn snapshot_and_convert_help_name_every_format_they_write() {
 }
 
 #[test]
-#[ignore = "the --up text lives in src/cli/viewer.rs and the View struct, which the up-axis work \
-            rewrites; un-ignore when it lands"]
 fn up_help_says_what_up_does_and_nothing_else() {
-    let up = "The file's up axis (default: guessed from the motion; `info` prints the guess)";
+    let up = "The file's up axis (default: guessed from the motion in a framed or studio view, as \
+              written in the article's view; `info` prints the guess)";
     for args in [
         &["--help"][..],
         &["snapshot", "--help"],

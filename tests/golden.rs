@@ -175,7 +175,6 @@ fn in_repository(case: &Case) -> bool {
 /// The same view with an empty skeleton: background and floor (in the studio look, the take's
 /// grid) only.
 fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> Image {
-    let frame = bvhview::render::frame_values(&bvh.motion, options.frame).unwrap();
     let stage = (options.look == Look::Studio).then(|| {
         bvhview::render::studio::Stage::new(
             &bvh.skeleton,
@@ -184,27 +183,7 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
             options.up,
         )
     });
-    let camera = match &stage {
-        Some(stage) => {
-            let root = options.follow.then(|| {
-                let points = bvhview::pose::world_positions(
-                    &bvh.skeleton,
-                    frame.unwrap_or(&[]),
-                    options.offset_mode,
-                );
-                options.up.to_y_up() * points[0]
-            });
-            stage.camera(options.angle, root)
-        }
-        None => bvhview::render::camera_for(
-            &bvh.skeleton,
-            frame,
-            options.angle,
-            options.fit,
-            options.offset_mode,
-            options.up,
-        ),
-    };
+    let camera = bvhview::render::camera_for(&bvh.skeleton, &bvh.motion, options).unwrap();
     let mut renderer = bvhview::render::Renderer::new(options.width, options.height).unwrap();
     let context = renderer.context();
     let empty = bvhview::Skeleton::default();
@@ -221,10 +200,13 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
         sphere_radius: 1.0,
         up: bvhview::pose::Up::Y,
         origin: [0.0; 3],
+        scale: 1.0,
         colours: None,
     };
     match stage.as_ref() {
-        Some(stage) => bvhview::render::studio::display(gl, std::slice::from_ref(&view), stage),
+        Some(stage) => {
+            bvhview::render::studio::display(gl, std::slice::from_ref(&view), stage, options.height)
+        }
         None => scene::display(gl, &view),
     }
     Image {

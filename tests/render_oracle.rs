@@ -241,6 +241,7 @@ fn gl_matrix_stack_equals_pose_world_times_view() {
             sphere_radius: 1.0,
             up: bvhview::pose::Up::Y,
             origin: [0.0; 3],
+            scale: 1.0,
             colours: None,
         };
         bvhview::render::draw::draw(&mut probe, s.skeleton, s.frame, s.style, s.offset_mode);
@@ -314,6 +315,7 @@ fn calls_match_the_articles_trace() {
         sphere_radius: 1.0,
         up: bvhview::pose::Up::Y,
         origin: [0.0; 3],
+        scale: 1.0,
         colours: None,
     };
     scene::display(&mut recorder, &s);

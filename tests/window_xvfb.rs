@@ -236,7 +236,9 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
         "^bvhview - tiny_crlf.bvh - frame",
     );
     let title = |frame: &str| {
-        let want = format!("bvhview - tiny_crlf.bvh - frame {frame}");
+        // The article's view ends its title with how to see more (issue 27 row 15).
+        let want =
+            format!("bvhview - tiny_crlf.bvh - frame {frame} - F frames it, V studio, H keys");
         let display = display.clone();
         let window = window.clone();
         move || {

@@ -71,7 +71,8 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         (loaded.skeleton, loaded.motion) =
             bvhview::edit::scale(&loaded.skeleton, &loaded.motion, factor)?;
     }
-    let mut up = Up::guess(&loaded.skeleton);
+    // The take's up axis as guessed from its motion (scaling changes no axis).
+    let mut up = loaded.stance(OffsetMode::Replace).up;
     if let Some(target) = args.up {
         let target = target.into();
         (loaded.skeleton, loaded.motion) =

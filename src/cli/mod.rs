@@ -120,23 +120,53 @@ pub(crate) fn parse_max_size(text: &str) -> Result<u64, String> {
 /// How a drawing command looks at the skeleton.
 #[derive(Args, Clone, Copy, Debug)]
 pub(crate) struct View {
-    /// Camera angle around the Y axis in radians (default: the article's 10; with several
-    /// files 1.5708, looking at them side by side along x).
+    /// Camera angle around the Y axis in radians (default: the article's 10; 1.5708 when
+    /// several files stand side by side along x).
     #[arg(long, allow_negative_numbers = true)]
     angle: Option<f32>,
-    /// Spheres (the article), the stick figure, or both.
-    #[arg(long, value_enum, default_value_t)]
-    style: StyleArg,
-    /// Frame the skeleton instead of using the article's fixed camera.
-    #[arg(long)]
-    fit: bool,
+    /// Spheres (the article's), the stick figure, or both (default: spheres; both in the
+    /// studio look).
+    #[arg(long, value_enum)]
+    style: Option<StyleArg>,
+    /// Frame the figure instead of using the article's fixed camera: the pose shown (`--fit`,
+    /// `--fit pose`) or every frame of the take (`--fit take`).
+    #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "pose", require_equals = false)]
+    fit: Option<FitArg>,
     /// How position channels combine with OFFSET.
     #[arg(long, value_enum, default_value_t)]
     offset_mode: OffsetModeArg,
-    /// The file's up axis: z stands a Z-up skeleton up (default: guessed from the rest pose, and
-    /// said when it is z).
+    /// The file's up axis (default: guessed from the motion in a framed or studio view, as
+    /// written in the article's view; `info` prints the guess).
     #[arg(long, value_enum)]
     up: Option<UpArg>,
+    /// With several files, keep each at its true size (lengths converted by the units guessed
+    /// for each); by default they are scaled to the first one's height.
+    #[arg(long)]
+    true_scale: bool,
+}
+
+/// `--fit`: what the framed camera keeps in the picture.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub(crate) enum FitArg {
+    /// The pose shown, followed from frame to frame.
+    Pose,
+    /// Every joint of every frame: the take's whole path, from a camera that stays put.
+    Take,
+}
+
+impl View {
+    pub(crate) fn style_for(&self, look: LookArg) -> Style {
+        style_for(self.style, look)
+    }
+}
+
+/// The style asked for, or the look's own: spheres in the article's, both in the studio's.
+pub(crate) fn style_for(style: Option<StyleArg>, look: LookArg) -> Style {
+    match (style, look) {
+        (Some(style), _) => style.into(),
+        (None, LookArg::Article) => Style::Points,
+        (None, LookArg::Studio) => Style::Both,
+    }
 }
 
 /// `--up`.
@@ -159,24 +189,28 @@ impl From<UpArg> for Up {
 
 /// The up axis to draw `loaded` with: `--up` if given. Otherwise the article's view draws every
 /// file as written, Y up, as the article's program does; a view that frames the take (`--fit`,
-/// `--look studio`: `framed`) stands it up by the guess from its rest pose. Either way a file
-/// that stands along z is said once on stderr, with what stands it up or draws it as written.
-pub(crate) fn resolve_up(arg: Option<UpArg>, loaded: &Loaded, name: &str, framed: bool) -> Up {
+/// `--look studio`: `framed`) stands it up by the guess from its motion. Either way a file that
+/// stands along z is said once on stderr, with what stands it up or draws it as written.
+pub(crate) fn resolve_up(
+    arg: Option<UpArg>,
+    stance: &bvhview::stance::Stance,
+    name: &str,
+    framed: bool,
+) -> Up {
     if let Some(arg) = arg {
         return arg.into();
     }
-    let guess = Up::guess(&loaded.skeleton);
-    if guess == Up::Z {
+    if stance.up == Up::Z {
         if framed {
             eprintln!(
-                "bvhview: {name}: stands taller along z than along y at rest: drawn Z-up \
-                 (--up y draws it as written)"
+                "bvhview: {name}: stands along z in its motion: drawn Z-up (--up y draws it as \
+                 written)"
             );
         } else {
             eprintln!("bvhview: {name}: {}", bvhview::render::hud::LYING_HINT);
         }
     }
-    if framed { guess } else { Up::Y }
+    if framed { stance.up } else { Up::Y }
 }
 
 /// Says once on stderr when a file looks written for the other offset mode.

@@ -112,21 +112,23 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         ));
     }
     let mode: OffsetMode = args.view.offset_mode.into();
-    let framed_view = args.view.fit || args.look == LookArg::Studio;
+    let framed_view = args.view.fit.is_some() || args.look == LookArg::Studio;
     let mut takes = Vec::with_capacity(args.files.len());
     for file in &args.files {
         let loaded = load(file, &args.source)?;
         let name = file.display().to_string();
         warn_offset_mode(&loaded, mode, &name);
-        let up = resolve_up(args.view.up, &loaded, &name, framed_view);
-        takes.push((short_name(file), loaded, up));
+        let stance = loaded.stance(mode);
+        let up = resolve_up(args.view.up, &stance, &name, framed_view);
+        takes.push((short_name(file), loaded, up, stance));
     }
     let shown: Vec<Shown> = takes
         .iter()
-        .map(|(_, loaded, up)| Shown {
+        .map(|(_, loaded, up, stance)| Shown {
             skeleton: &loaded.skeleton,
             motion: &loaded.motion,
             up: *up,
+            stance: *stance,
         })
         .collect();
     let clock = Clock::new(&shown.iter().map(|t| t.motion).collect::<Vec<_>>());
@@ -141,22 +143,22 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
             .unwrap_or_else(|| bvhview::render::paint::start_angle(args.files.len())),
         width: args.size.0,
         height: args.size.1,
-        style: args.view.style.into(),
-        fit: args.view.fit,
+        style: args.view.style_for(args.look),
+        fit: args.view.fit.is_some(),
         offset_mode: mode,
         look: args.look.into(),
         follow: args.follow,
+        whole_take: args.view.fit == Some(FitArg::Take),
+        true_scale: args.view.true_scale,
     };
     let output = &args.output;
-    let other_mode_likely = takes.iter().any(|(_, loaded, _)| {
+    let other_mode_likely = takes.iter().any(|(_, loaded, _, _)| {
         bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode).is_some()
     });
     let several = takes.len() > 1;
     let lying_along_z = args.view.up.is_none()
         && !framed_view
-        && takes
-            .iter()
-            .any(|(_, loaded, _)| Up::guess(&loaded.skeleton) == Up::Z);
+        && takes.iter().any(|(_, _, _, stance)| stance.up == Up::Z);
     let overlay = |tick: usize| -> Overlay {
         let mut overlay = Overlay {
             names: args.names,
@@ -167,12 +169,12 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         }
         overlay.timeline = Some((tick, clock.count));
         if several {
-            overlay.labels = takes.iter().map(|(name, _, _)| name.clone()).collect();
+            overlay.labels = takes.iter().map(|(name, ..)| name.clone()).collect();
         }
         overlay.lines = bvhview::render::hud::Hud {
             takes: takes
                 .iter()
-                .map(|(name, loaded, _)| bvhview::render::hud::HudTake {
+                .map(|(name, loaded, ..)| bvhview::render::hud::HudTake {
                     name,
                     frame: clock.frame_of(&loaded.motion, tick),
                     frames: loaded.motion.frame_count(),
@@ -192,7 +194,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
             other_mode_likely,
             lying_along_z,
         }
-        .lines(bvhview::render::step::columns(options.width));
+        .lines((options.width, options.height));
         overlay
     };
     let Some(frames) = &args.frames else {

@@ -57,11 +57,24 @@ pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
         fit,
         offset_mode,
         up,
+        ..
     } = args.view;
     let offset_mode = offset_mode.into();
-    let up = resolve_up(up, &loaded, &args.file.display().to_string(), fit);
+    let fit = fit.is_some();
+    let stance = loaded.stance(offset_mode);
+    let up = resolve_up(up, &stance, &args.file.display().to_string(), fit);
     let angle = angle.unwrap_or(scene::START_ANGLE);
-    let camera = bvhview::render::camera_for(&loaded.skeleton, values, angle, fit, offset_mode, up);
+    let style = style.map_or(Style::Points, Style::from);
+    let options = bvhview::render::SnapshotOptions {
+        frame: args.frame,
+        angle,
+        style,
+        fit,
+        offset_mode,
+        up,
+        ..Default::default()
+    };
+    let camera = bvhview::render::camera_for(&loaded.skeleton, &loaded.motion, &options)?;
     let numbers = match args.numbers {
         NumbersArg::Printf => Numbers::Printf,
         NumbersArg::Apitrace => Numbers::Apitrace,
@@ -84,13 +97,14 @@ pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
         skeleton: &loaded.skeleton,
         frame: values,
         camera,
-        style: style.into(),
+        style,
         offset_mode,
         skin: None,
         shown: None,
         sphere_radius: scene::sphere_radius(&camera, fit),
         up,
         origin: [0.0; 3],
+        scale: 1.0,
         colours: None,
     };
     scene::display(&mut recorder, &view);

@@ -36,9 +36,10 @@ pub(crate) struct ViewerArgs {
     files: Vec<PathBuf>,
     #[command(flatten)]
     source: Source,
-    /// Start with the stick figure (B toggles it).
-    #[arg(long, value_enum, default_value_t)]
-    style: StyleArg,
+    /// Spheres (the article's), the stick figure, or both (B switches; default: spheres, both
+    /// in the studio look).
+    #[arg(long, value_enum)]
+    style: Option<StyleArg>,
     /// How position channels combine with OFFSET.
     #[arg(long, value_enum, default_value_t)]
     offset_mode: OffsetModeArg,
@@ -48,8 +49,12 @@ pub(crate) struct ViewerArgs {
     /// Start in the studio look (V switches).
     #[arg(long, value_enum, default_value_t)]
     look: LookArg,
-    /// The file's up axis (default: as written in the article's view, guessed from the rest pose
-    /// in a framed or studio view; O switches the offset mode).
+    /// With several files, keep each at its true size (lengths converted by the units guessed
+    /// for each); by default they are scaled to the first one's height.
+    #[arg(long)]
+    true_scale: bool,
+    /// The file's up axis (default: guessed from the motion in a framed or studio view, as
+    /// written in the article's view; `info` prints the guess).
     #[arg(long, value_enum)]
     up: Option<UpArg>,
 }
@@ -64,6 +69,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         offset_mode,
         skin,
         look,
+        true_scale,
         up,
     } = args;
     // Say there is no display before loading anything.
@@ -77,9 +83,11 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
     let mut takes = Vec::with_capacity(files.len().max(1));
     if files.is_empty() {
         let (name, loaded) = load_or_default(None, &source)?;
-        resolve_up(up, &loaded, &name, look == LookArg::Studio);
+        let stance = loaded.stance(offset_mode);
+        resolve_up(up, &stance, &name, look == LookArg::Studio);
         takes.push(ViewerTake {
-            up: up.map_or_else(|| Up::guess(&loaded.skeleton), Up::from),
+            up: up.map_or(stance.up, Up::from),
+            stance,
             up_asked: up.map(Up::from),
             name,
             source: None,
@@ -93,20 +101,21 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
             frame_time: source.frame_time,
             max_size: source.max_size,
         };
-        let mut take = ViewerTake::from_source(take_source)?;
+        let mut take = ViewerTake::from_source(take_source, offset_mode)?;
         let name = path.display().to_string();
         warn_offset_mode(&take.loaded, offset_mode, &name);
-        resolve_up(up, &take.loaded, &name, look == LookArg::Studio);
-        take.up = up.map_or_else(|| Up::guess(&take.loaded.skeleton), Up::from);
+        resolve_up(up, &take.stance, &name, look == LookArg::Studio);
+        take.up = up.map_or(take.stance.up, Up::from);
         take.up_asked = up.map(Up::from);
         takes.push(take);
     }
     let options = ViewerOptions {
         offset_mode,
-        style: style.into(),
+        style: style_for(style, look),
         skin,
         look: look.into(),
         quiet: QUIET.load(std::sync::atomic::Ordering::Relaxed),
+        true_scale,
     };
     bvhview::render::window::run(takes, options)?;
     Ok(ExitCode::SUCCESS)

@@ -5,7 +5,7 @@ use crate::pose::OffsetMode;
 use crate::render::draw::Style;
 use crate::render::fixed::FixedFunction;
 use crate::render::pixels::{self, Rect};
-use crate::render::text::{self, Corner};
+use crate::render::text::{self, Corner, Font};
 
 /// One take on the HUD.
 #[derive(Clone, Debug)]
@@ -45,46 +45,160 @@ pub struct Hud<'a> {
 
 /// What the article's view says of a file whose rest pose stands along z: it is drawn as
 /// written, as the article draws every file, and what stands it up.
-pub const LYING_HINT: &str = "stands taller along z than along y at rest: drawn as written, as \
-     the article draws every file (--up z or --look studio stands it up; V in the window)";
+pub const LYING_HINT: &str = "stands along z in its motion: drawn as written, as the article \
+     draws every file (--up z or --look studio stands it up; V in the window)";
 
-fn frames_text(take: &HudTake) -> String {
+fn frames_text(take: &HudTake) -> (String, String) {
     if take.frames == 0 {
-        "rest pose (no frames)".to_string()
+        ("rest pose (no frames)".to_string(), "rest pose".to_string())
     } else {
-        format!("frame {} of 0-{}", take.frame, take.frames - 1)
+        (
+            format!("frame {} of 0-{}", take.frame, take.frames - 1),
+            format!("frame {}/{}", take.frame, take.frames - 1),
+        )
     }
 }
 
-fn rate_text(frame_time: f64) -> String {
+fn rate_text(frame_time: f64) -> (String, String) {
     if frame_time > 0.0 {
-        format!("{:.2} frames/s", 1.0 / frame_time)
+        (
+            format!("{:.2} frames/s", 1.0 / frame_time),
+            format!("{}/s", trim_number(1.0 / frame_time)),
+        )
     } else {
-        "no frame time".to_string()
+        ("no frame time".to_string(), "no rate".to_string())
+    }
+}
+
+/// One line of text over the picture before it is fitted to it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Line {
+    /// Lines of a higher rank go first when the picture is too short for all (0: never).
+    pub rank: u8,
+    /// What it says, and its short form for a narrow picture.
+    pub long: String,
+    pub short: String,
+    /// A file's name: shortened in the middle rather than wrapped.
+    pub name: bool,
+}
+
+impl Line {
+    pub fn text(rank: u8, long: impl Into<String>, short: impl Into<String>) -> Line {
+        Line {
+            rank,
+            long: long.into(),
+            short: short.into(),
+            name: false,
+        }
+    }
+
+    pub fn name(rank: u8, name: &str) -> Line {
+        Line {
+            rank,
+            long: name.to_string(),
+            short: name.to_string(),
+            name: true,
+        }
+    }
+}
+
+/// How many of the HUD's lines a picture `height` pixels high has room for: a third of it, and
+/// two at least.
+pub fn most_lines(height: u32, font: Font) -> usize {
+    (((height as i32 / 3) - 8) / font.line).max(2) as usize
+}
+
+/// `lines` fitted to a `width × height` picture in its font (see [`Font::for_picture`]): each in
+/// its long form where it fits, else its short one, else wrapped between words (names shortened
+/// in the middle), never cut mid-word; the highest ranks left out while they exceed `room` lines.
+pub fn fit(lines: &[Line], (width, height): (u32, u32), room: usize) -> Vec<String> {
+    let font = Font::for_picture(width, height);
+    let columns = font.columns(width);
+    let shaped: Vec<Vec<String>> = lines
+        .iter()
+        .map(|line| {
+            if line.name {
+                vec![text::shorten_middle(&line.long, columns)]
+            } else if line.long.chars().count() <= columns {
+                vec![line.long.clone()]
+            } else if line.short.chars().count() <= columns {
+                vec![line.short.clone()]
+            } else {
+                text::wrap(&line.short, columns)
+            }
+        })
+        .collect();
+    let mut kept: Vec<bool> = vec![true; lines.len()];
+    let count = |kept: &[bool]| -> usize {
+        shaped
+            .iter()
+            .zip(kept)
+            .filter(|(_, k)| **k)
+            .map(|(s, _)| s.len())
+            .sum()
+    };
+    while count(&kept) > room {
+        // The last line of the highest rank left goes first.
+        let drop = (0..lines.len())
+            .filter(|&i| kept[i] && lines[i].rank > 0)
+            .max_by_key(|&i| (lines[i].rank, i));
+        match drop {
+            Some(i) => kept[i] = false,
+            None => break,
+        }
+    }
+    shaped
+        .into_iter()
+        .zip(kept)
+        .filter(|(_, k)| *k)
+        .flat_map(|(s, _)| s)
+        .collect()
+}
+
+/// Pixels along the top that `lines` HUD lines cover in `font`, with a gap below them.
+pub fn reserved_height(lines: usize, font: Font) -> f32 {
+    if lines == 0 {
+        0.0
+    } else {
+        (8 + font.line * lines as i32 + (font.line - font.cell) + 6) as f32
     }
 }
 
 impl Hud<'_> {
-    /// The HUD's lines, at most `columns` characters each.
-    pub fn lines(&self, columns: usize) -> Vec<String> {
+    /// The HUD's lines before they are fitted to a picture.
+    pub fn items(&self) -> Vec<Line> {
         let mut lines = match &self.takes[..] {
-            [take] => vec![
-                take.name.to_string(),
-                frames_text(take),
-                format!("{:.3} s, {}", self.time, rate_text(take.frame_time)),
-            ],
+            [take] => {
+                let (frames, frames_short) = frames_text(take);
+                let (rate, rate_short) = rate_text(take.frame_time);
+                vec![
+                    Line::name(0, take.name),
+                    Line::text(0, frames, frames_short),
+                    Line::text(
+                        1,
+                        format!("{:.3} s, {rate}", self.time),
+                        format!("{:.2} s {rate_short}", self.time),
+                    ),
+                ]
+            }
             // A name and its frame on lines of their own: one line held both and lost its end.
             takes => {
-                let mut lines: Vec<String> = takes
-                    .iter()
-                    .flat_map(|t| {
-                        [
-                            t.name.to_string(),
-                            format!("  {}, {}", frames_text(t), rate_text(t.frame_time)),
-                        ]
-                    })
-                    .collect();
-                lines.push(format!("{:.3} s", self.time));
+                let mut lines: Vec<Line> = Vec::new();
+                for (index, t) in takes.iter().enumerate() {
+                    let (frames, frames_short) = frames_text(t);
+                    let (rate, _) = rate_text(t.frame_time);
+                    lines.push(Line::name(0, t.name));
+                    lines.push(Line::text(
+                        if index == 0 { 0 } else { 1 },
+                        format!("  {frames}, {rate}"),
+                        format!("  {frames_short}"),
+                    ));
+                }
+                lines.push(Line::text(
+                    1,
+                    format!("{:.3} s", self.time),
+                    format!("{:.2} s", self.time),
+                ));
                 lines
             }
         };
@@ -101,31 +215,44 @@ impl Hud<'_> {
             (_, _, true) => "framed",
             _ => "the article's camera",
         };
-        let mode = match self.offset_mode {
-            OffsetMode::Replace => "positions replace OFFSET",
-            OffsetMode::Add => "positions added to OFFSET",
+        let (mode, mode_short) = match self.offset_mode {
+            OffsetMode::Replace => ("positions replace OFFSET", "replace OFFSET"),
+            OffsetMode::Add => ("positions added to OFFSET", "add to OFFSET"),
         };
+        let playing = if self.playing { "playing" } else { "paused" };
+        let speed = trim_number(self.speed);
+        let looping = if self.looping { "on" } else { "off" };
         lines.extend([
-            format!(
-                "{} at {}x, loop {}",
-                if self.playing { "playing" } else { "paused" },
-                trim_number(self.speed),
-                if self.looping { "on" } else { "off" }
+            Line::text(
+                3,
+                format!("{playing} at {speed}x, loop {looping}"),
+                format!("{playing} {speed}x, loop {looping}"),
             ),
-            format!("{style}, {camera}"),
-            mode.to_string(),
+            Line::text(
+                4,
+                format!("{style}, {camera}"),
+                format!("{style}, {camera}"),
+            ),
+            Line::text(5, mode, mode_short),
         ]);
         if self.other_mode_likely {
-            lines.push("looks written for the other mode (O)".to_string());
+            lines.push(Line::text(
+                2,
+                "looks written for the other mode (O)",
+                "other mode? (O)",
+            ));
         }
         if self.lying_along_z {
-            lines.push("stands along z: V stands it up".to_string());
+            lines.push(Line::text(2, "stands along z: V stands it up", "z up: V"));
         }
-        lines.push("H: keys".to_string());
+        lines.push(Line::text(6, "H: keys", "H: keys"));
         lines
-            .into_iter()
-            .map(|line| line.chars().take(columns).collect())
-            .collect()
+    }
+
+    /// The HUD's lines fitted to a `width × height` picture.
+    pub fn lines(&self, size: (u32, u32)) -> Vec<String> {
+        let font = Font::for_picture(size.0, size.1);
+        fit(&self.items(), size, most_lines(size.1, font))
     }
 }
 
@@ -166,6 +293,17 @@ pub fn help_lines() -> Vec<String> {
     .to_vec()
 }
 
+/// The help's lines fitted to a `width × height` picture: as many as its height holds.
+pub fn help_fitted(size: (u32, u32)) -> Vec<String> {
+    let font = Font::for_picture(size.0, size.1);
+    let lines: Vec<Line> = help_lines()
+        .into_iter()
+        .map(|line| Line::text(1, line.clone(), line))
+        .collect();
+    let room = ((size.1 as i32 - 16) / font.line).max(1) as usize;
+    fit(&lines, size, room)
+}
+
 /// The colour behind the HUD's lines: near black, so white text reads over bright bones, a take's
 /// label or the studio grid.
 const BACKING: [f32; 3] = [0.05, 0.05, 0.07];
@@ -173,24 +311,25 @@ const BACKING: [f32; 3] = [0.05, 0.05, 0.07];
 /// Draws `lines` top left on a picture `width × height`, in white, each on a dark band as wide as
 /// its text.
 pub fn draw<G: FixedFunction>(gl: &mut G, (width, height): (u32, u32), lines: &[String]) {
+    let font = Font::for_picture(width, height);
     let bands: Vec<_> = lines
         .iter()
         .enumerate()
         .filter(|(_, line)| !line.is_empty())
-        .map(|(i, line)| (BACKING, band(height, i, line.chars().count())))
+        .map(|(i, line)| (BACKING, band(height, i, line.chars().count(), font)))
         .collect();
     pixels::fill(gl, (width, height), &bands);
-    text::draw_lines(gl, height, Corner::TopLeft, lines, [1.0, 1.0, 1.0]);
+    text::draw_lines_in(gl, height, Corner::TopLeft, lines, [1.0, 1.0, 1.0], font);
 }
 
 /// The band behind top-left line `index` of `chars` glyphs: the glyphs' cells and the gap below
 /// them, with 4 pixels to each side, so the bands of consecutive lines meet.
-fn band(height: u32, index: usize, chars: usize) -> Rect {
-    let baseline = height as i32 - 8 - text::LINE * (index as i32 + 1);
+fn band(height: u32, index: usize, chars: usize, font: Font) -> Rect {
+    let baseline = height as i32 - 8 - font.line * (index as i32 + 1);
     Rect {
         left: 4.0,
-        right: (8 + text::GLYPH * chars as i32 + 4) as f32,
-        bottom: (baseline - (text::LINE - text::GLYPH)) as f32,
-        top: (baseline + text::GLYPH) as f32,
+        right: (8 + font.cell * chars as i32 + 4) as f32,
+        bottom: (baseline - (font.line - font.cell)) as f32,
+        top: (baseline + font.cell) as f32,
     }
 }

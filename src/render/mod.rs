@@ -4,6 +4,7 @@ pub mod animation;
 pub mod body;
 pub mod draw;
 pub mod fixed;
+pub mod framing;
 pub mod hud;
 pub mod names;
 pub mod osmesa;
@@ -21,7 +22,7 @@ pub mod window;
 
 use crate::error::Error;
 use crate::motion::Motion;
-use crate::pose::{OffsetMode, Up, world_positions};
+use crate::pose::{OffsetMode, Up};
 use crate::skeleton::Skeleton;
 use draw::Style;
 use scene::{Camera, Scene};
@@ -148,6 +149,12 @@ pub struct SnapshotOptions {
     pub look: Look,
     /// In the studio look, the camera follows the root (the window's T).
     pub follow: bool,
+    /// A framed view (`--fit`, the studio look) keeps every frame of the take in view from a
+    /// camera that stays put (`--fit take`), instead of following the pose shown.
+    pub whole_take: bool,
+    /// Several takes at their true sizes (by the units guessed for each) instead of scaled to
+    /// the first one's height.
+    pub true_scale: bool,
 }
 
 /// How the picture looks: the article's (the default) or the studio's, opt-in.
@@ -185,8 +192,10 @@ pub fn draw_overlay<G: fixed::FixedFunction>(
             names::draw(gl, scene);
         }
     }
-    for (scene, label) in scenes.iter().zip(&overlay.labels) {
-        names::label(gl, scene, label);
+    if !overlay.labels.is_empty() {
+        let font = text::Font::for_picture(width, height);
+        let below = height as f32 - hud::reserved_height(overlay.lines.len(), font);
+        names::labels(gl, scenes, &overlay.labels, (width, height), below);
     }
     if let Some(scene) = scenes.first()
         && let Some(shown) = scene.shown
@@ -225,32 +234,26 @@ impl Default for SnapshotOptions {
             up: Up::Y,
             look: Look::Article,
             follow: false,
+            whole_take: false,
+            true_scale: false,
         }
     }
 }
 
-/// The camera for a frame: the article's, or one that frames the skeleton (from `pose`'s FK).
+/// The camera `snapshot` draws one take with for `options` (no overlay): the article's, or one
+/// that frames the figure.
 pub fn camera_for(
     skeleton: &Skeleton,
-    frame: Option<&[f32]>,
-    angle: f32,
-    fit: bool,
-    mode: OffsetMode,
-    up: Up,
-) -> Camera {
-    if !fit {
-        return Camera {
-            angle,
-            ..Camera::default()
-        };
-    }
-    // Framed as drawn: a Z-up file stood up first.
-    let stand = up.to_y_up();
-    let points: Vec<glam::Vec3> = world_positions(skeleton, frame.unwrap_or(&[]), mode)
-        .into_iter()
-        .map(|p| stand * p)
-        .collect();
-    paint::framing(&points, angle)
+    motion: &Motion,
+    options: &SnapshotOptions,
+) -> Result<Camera, Error> {
+    let take = paint::Shown {
+        skeleton,
+        motion,
+        up: options.up,
+        stance: crate::stance::Stance::guess(skeleton, motion, options.offset_mode, None),
+    };
+    paint::Painter::default().camera(&[take], options, &Overlay::default(), None)
 }
 
 /// C++: `BVH::setCurrentFrame`: the MOTION row `index`. The article only `assert`s the range
@@ -314,6 +317,7 @@ impl Renderer {
             skeleton,
             motion,
             up: options.up,
+            stance: crate::stance::Stance::guess(skeleton, motion, options.offset_mode, None),
         };
         self.render_all(&[take], options, overlay)
     }

@@ -5,13 +5,15 @@
 
 use crate::error::Error;
 use crate::motion::Motion;
-use crate::pose::{OffsetMode, Up, standing_height, world_positions};
+use crate::pose::{OffsetMode, Up, world_positions};
 use crate::render::body::{Body, PosedBody};
 use crate::render::fixed::FixedFunction;
+use crate::render::framing::{self, Room};
 use crate::render::scene::{self, Camera, Scene};
 use crate::render::studio::{self, Stage, take_extent};
 use crate::render::{Look, Overlay, SnapshotOptions, draw_overlay, frame_values};
 use crate::skeleton::Skeleton;
+use crate::stance::Stance;
 use glam::Vec3;
 
 /// One take to show.
@@ -21,6 +23,9 @@ pub struct Shown<'a> {
     pub motion: &'a Motion,
     /// Its up axis (a Z-up take is stood up).
     pub up: Up,
+    /// How it stands, as guessed from its motion: its height and units size the studio and
+    /// scale several takes to one height.
+    pub stance: Stance,
 }
 
 /// One timeline for several takes, each at its own Frame Time. It ticks at the finest Frame Time
@@ -109,16 +114,18 @@ impl Clock {
 
 /// Where each take stands: one take at the origin (the article's picture); several side by side
 /// along x in the order given, each moved so that its box over the whole take starts a quarter
-/// of the tallest one's height after the previous one's ends, the row centred on x = 0.
+/// of the tallest one's height after the previous one's ends, the row centred on x = 0, and
+/// each one's lowest point at the first one's (they stand on one floor).
 pub fn side_by_side(extents: &[(Vec3, Vec3)], tallest: f32) -> Vec<Vec3> {
     if extents.len() <= 1 {
         return vec![Vec3::ZERO; extents.len()];
     }
     let gap = tallest * 0.25;
+    let floor = extents[0].0.y;
     let mut origins = Vec::with_capacity(extents.len());
     let mut cursor = 0.0f32;
     for (lo, hi) in extents {
-        origins.push(Vec3::new(cursor - lo.x, 0.0, 0.0));
+        origins.push(Vec3::new(cursor - lo.x, floor - lo.y, 0.0));
         cursor += hi.x - lo.x + gap;
     }
     let width = cursor - gap;
@@ -145,6 +152,13 @@ struct Layout {
     /// offset mode and up axes (the caller calls [`Painter::forget`] when takes are replaced).
     key: Vec<(usize, usize, usize, usize, Up)>,
     mode: OffsetMode,
+    true_scale: bool,
+    /// Each take's box over all its frames (scaled and stood up, before it is moved to its
+    /// place), when a view needs it.
+    extents: Vec<(Vec3, Vec3)>,
+    /// Each take's scale (the first's is 1) and height standing, in the first take's units.
+    scales: Vec<f32>,
+    heights: Vec<f32>,
     origins: Vec<Vec3>,
     stage: Option<Stage>,
     colours: Vec<Vec<[f32; 3]>>,
@@ -168,7 +182,8 @@ impl Painter {
         self.bodies.clear();
     }
 
-    fn layout(&mut self, takes: &[Shown], mode: OffsetMode, studio_look: bool) -> &Layout {
+    fn layout(&mut self, takes: &[Shown], options: &SnapshotOptions, studio_look: bool) -> &Layout {
+        let mode = options.offset_mode;
         let key: Vec<_> = takes
             .iter()
             .map(|t| {
@@ -181,29 +196,46 @@ impl Painter {
                 )
             })
             .collect();
-        let fresh = self
-            .layout
-            .as_ref()
-            .is_some_and(|l| l.key == key && l.mode == mode && l.stage.is_some() == studio_look);
+        let boxes_needed = takes.len() > 1 || studio_look || options.whole_take;
+        let fresh = self.layout.as_ref().is_some_and(|l| {
+            l.key == key
+                && l.mode == mode
+                && l.true_scale == options.true_scale
+                && l.stage.is_some() == studio_look
+                && (!boxes_needed || l.extents.len() == takes.len())
+        });
         if !fresh {
             self.bodies.clear();
-            // One take stands where it is: its box is only needed for the studio's stage.
-            let extents: Vec<(Vec3, Vec3)> = if takes.len() > 1 || studio_look {
+            let own_heights: Vec<f32> = takes.iter().map(|t| t.stance.height_along(t.up)).collect();
+            let scales = take_scales(takes, &own_heights, options.true_scale);
+            let heights: Vec<f32> = own_heights
+                .iter()
+                .zip(&scales)
+                .map(|(h, s)| h * s)
+                .collect();
+            // One take stands where it is: its box is only needed for the stage or `--fit take`.
+            let extents: Vec<(Vec3, Vec3)> = if boxes_needed {
                 takes
                     .iter()
-                    .map(|t| take_extent(t.skeleton, t.motion, mode, t.up))
+                    .zip(&scales)
+                    .map(|(t, &scale)| {
+                        let (lo, hi) = take_extent(t.skeleton, t.motion, mode, t.up);
+                        (lo * scale, hi * scale)
+                    })
                     .collect()
             } else {
-                vec![(Vec3::ZERO, Vec3::ZERO)]
+                Vec::new()
             };
-            let tallest = takes
-                .iter()
-                .map(|t| standing_height(t.skeleton, t.up))
-                .fold(0.0, f32::max);
-            let origins = side_by_side(&extents, tallest);
+            let tallest = heights.iter().copied().fold(0.0, f32::max);
+            let origins = if takes.len() > 1 {
+                side_by_side(&extents, tallest)
+            } else {
+                vec![Vec3::ZERO; takes.len()]
+            };
             let stage = studio_look.then(|| {
                 let placed: Vec<_> = extents.iter().copied().zip(origins.clone()).collect();
-                Stage::around(&placed, tallest)
+                let units = takes.first().map(|t| t.stance.units);
+                Stage::around(&placed, tallest, units)
             });
             let colours = takes
                 .iter()
@@ -212,12 +244,31 @@ impl Painter {
             self.layout = Some(Layout {
                 key,
                 mode,
+                true_scale: options.true_scale,
+                extents,
+                scales,
+                heights,
                 origins,
                 stage,
                 colours,
             });
         }
         self.layout.as_ref().expect("made above")
+    }
+
+    /// The camera [`Painter::paint`] draws `takes` with, for the same arguments.
+    pub fn camera(
+        &mut self,
+        takes: &[Shown],
+        options: &SnapshotOptions,
+        overlay: &Overlay,
+        moved: Option<&Camera>,
+    ) -> Result<Camera, Error> {
+        let frames = frames_at(takes, options)?;
+        let layout = self
+            .layout(takes, options, options.look == Look::Studio)
+            .clone();
+        Ok(camera_of(&layout, takes, &frames, options, overlay, moved))
     }
 
     /// Draws `takes` at tick `options.frame` of their [`Clock`] into the current context of
@@ -233,78 +284,21 @@ impl Painter {
         overlay: &Overlay,
         moved: Option<&Camera>,
     ) -> Result<(), Error> {
-        let clock = Clock::new(&takes.iter().map(|t| t.motion).collect::<Vec<_>>());
-        if takes.len() > 1 && options.frame >= clock.count {
-            return Err(Error::Usage(format!(
-                "--frame {}: the takes together have frames 0 to {} (at {} s each)",
-                options.frame,
-                clock.count - 1,
-                clock.step
-            )));
-        }
-        let mut frames = Vec::with_capacity(takes.len());
-        for take in takes {
-            frames.push(frame_values(
-                take.motion,
-                clock.frame_of(take.motion, options.frame),
-            )?);
-        }
+        let frames = frames_at(takes, options)?;
         let mode = options.offset_mode;
         let studio_look = options.look == Look::Studio;
-        let layout = self.layout(takes, mode, studio_look).clone();
-        let Some(first) = takes.first() else {
+        let layout = self.layout(takes, options, studio_look).clone();
+        if takes.is_empty() {
             return Ok(());
-        };
-        let (mut camera, sphere_radius) = match &layout.stage {
-            Some(stage) => {
-                let root = options
-                    .follow
-                    .then(|| first.skeleton.roots().next())
-                    .flatten()
-                    .map(|root| {
-                        let points =
-                            world_positions(first.skeleton, frames[0].unwrap_or(&[]), mode);
-                        first.up.to_y_up() * points[root] + layout.origins[0]
-                    });
-                (stage.camera(options.angle, root), stage.sphere_radius())
-            }
-            None => {
-                let camera = if options.fit {
-                    let points: Vec<Vec3> = takes
-                        .iter()
-                        .zip(&frames)
-                        .zip(&layout.origins)
-                        .flat_map(|((take, frame), origin)| {
-                            let stand = take.up.to_y_up();
-                            world_positions(take.skeleton, frame.unwrap_or(&[]), mode)
-                                .into_iter()
-                                .map(move |p| stand * p + *origin)
-                        })
-                        .collect();
-                    framing(&points, options.angle)
-                } else {
-                    Camera {
-                        angle: options.angle,
-                        ..Camera::default()
-                    }
-                };
-                (camera, scene::sphere_radius(&camera, options.fit))
-            }
-        };
-        if let Some(moved) = moved {
-            if options.fit || studio_look {
-                let article = Camera::default();
-                camera.angle = moved.angle;
-                camera.distance *= moved.distance / article.distance;
-                camera.pitch += moved.pitch;
-                for axis in 0..3 {
-                    camera.target[axis] += moved.target[axis] - article.target[axis];
-                }
-                // The studio camera turns with the window's angle about its own target.
-            } else {
-                camera = *moved;
-            }
         }
+        let framed = options.fit || studio_look;
+        let camera = camera_of(&layout, takes, &frames, options, overlay, moved);
+        // Sizes follow the figure: the studio's from its height, a framed view's from the
+        // camera's distance, the article's its own 1.
+        let sphere_radius = match &layout.stage {
+            Some(stage) => stage.sphere_radius(),
+            None => scene::sphere_radius(&camera, framed),
+        };
         if options.skin {
             self.bodies.resize_with(takes.len(), || None);
             self.posed.resize_with(takes.len(), PosedBody::default);
@@ -330,9 +324,11 @@ impl Painter {
                 skin: options.skin.then(|| &self.posed[index]),
                 // The step view follows the first take's recursion.
                 shown: if index == 0 { options.step } else { None },
-                sphere_radius,
+                // Drawn under the take's scale: the same size on the picture for every take.
+                sphere_radius: sphere_radius / f64::from(layout.scales[index]),
                 up: take.up,
                 origin: layout.origins[index].to_array(),
+                scale: layout.scales[index],
                 colours: layout
                     .stage
                     .as_ref()
@@ -342,12 +338,195 @@ impl Painter {
         scene::reshape(gl, options.width, options.height, &camera);
         // The article's picture, or the studio look's.
         match layout.stage.as_ref() {
-            Some(stage) => studio::display(gl, &scenes, stage),
+            Some(stage) => studio::display(gl, &scenes, stage, options.height),
             None => scene::display_all(gl, &scenes),
         }
         draw_overlay(gl, &scenes, (options.width, options.height), overlay);
         Ok(())
     }
+}
+
+/// Each take's MOTION row at tick `options.frame` of their [`Clock`].
+fn frames_at<'a>(
+    takes: &[Shown<'a>],
+    options: &SnapshotOptions,
+) -> Result<Vec<Option<&'a [f32]>>, Error> {
+    let clock = Clock::new(&takes.iter().map(|t| t.motion).collect::<Vec<_>>());
+    if takes.len() > 1 && options.frame >= clock.count {
+        return Err(Error::Usage(format!(
+            "--frame {}: the takes together have frames 0 to {} (at {} s each)",
+            options.frame,
+            clock.count - 1,
+            clock.step
+        )));
+    }
+    let mut frames = Vec::with_capacity(takes.len());
+    for take in takes {
+        frames.push(frame_values(
+            take.motion,
+            clock.frame_of(take.motion, options.frame),
+        )?);
+    }
+    Ok(frames)
+}
+
+/// The camera for a picture: the article's (as the window moved it), or one that frames the
+/// pose shown (or the whole take) in the room the overlay leaves, or follows the root.
+fn camera_of(
+    layout: &Layout,
+    takes: &[Shown],
+    frames: &[Option<&[f32]>],
+    options: &SnapshotOptions,
+    overlay: &Overlay,
+    moved: Option<&Camera>,
+) -> Camera {
+    let mode = options.offset_mode;
+    let studio_look = options.look == Look::Studio;
+    let Some(first) = takes.first() else {
+        return Camera::default();
+    };
+    let size = (options.width, options.height);
+    // Where each take's points are drawn: stood up, scaled, moved to its place.
+    let placed = |index: usize, p: Vec3| {
+        takes[index].up.to_y_up() * p * layout.scales[index] + layout.origins[index]
+    };
+    let framed = options.fit || studio_look;
+    let follow_root = studio_look && options.follow;
+    let mut camera = if framed && !follow_root {
+        let room = figure_room(overlay, size, options.step.is_some());
+        let pitch = if studio_look { studio::PITCH } else { 0.0 };
+        let points = if options.whole_take {
+            take_corners(layout)
+        } else {
+            pose_points(takes, frames, mode, layout, &placed)
+        };
+        framing::fit(&points, options.angle, pitch, size, room)
+    } else if let (true, Some(stage)) = (follow_root, &layout.stage) {
+        let root = first.skeleton.roots().next().map(|root| {
+            let points = world_positions(first.skeleton, frames[0].unwrap_or(&[]), mode);
+            placed(0, points[root])
+        });
+        stage.camera(options.angle, root)
+    } else {
+        Camera {
+            angle: options.angle,
+            ..Camera::default()
+        }
+    };
+    if let Some(moved) = moved {
+        if options.fit || studio_look {
+            let article = Camera::default();
+            camera.angle = moved.angle;
+            camera.distance *= moved.distance / article.distance;
+            camera.pitch += moved.pitch;
+            for axis in 0..3 {
+                camera.target[axis] += moved.target[axis] - article.target[axis];
+            }
+            // The studio camera turns with the window's angle about its own target.
+        } else {
+            camera = *moved;
+        }
+    }
+    camera
+}
+
+/// Each take's scale: 1 for the first; the others to the first one's height, or with
+/// `true_scale` by their units (a take in metres beside one in centimetres is 100 times larger).
+fn take_scales(takes: &[Shown], heights: &[f32], true_scale: bool) -> Vec<f32> {
+    let Some(first) = takes.first() else {
+        return Vec::new();
+    };
+    takes
+        .iter()
+        .zip(heights)
+        .enumerate()
+        .map(|(index, (take, &height))| {
+            let scale = if index == 0 {
+                1.0
+            } else if true_scale {
+                take.stance.units.metres / first.stance.units.metres
+            } else {
+                heights[0] / height
+            };
+            if scale.is_finite() && scale > 0.0 {
+                scale
+            } else {
+                1.0
+            }
+        })
+        .collect()
+}
+
+/// Pixels kept free along the top for each take's label, over the HUD's lines.
+pub const LABEL_ROOM: f32 = 14.0;
+
+/// The part of the picture a framed figure may use: below the HUD's lines and the labels, above
+/// the timeline (the step view's text, which takes the bottom, leaves it be).
+pub fn figure_room(overlay: &Overlay, (width, height): (u32, u32), stepping: bool) -> Room {
+    let font = crate::render::text::Font::for_picture(width, height);
+    let mut top = crate::render::hud::reserved_height(overlay.lines.len(), font);
+    if !overlay.labels.is_empty() {
+        top += LABEL_ROOM;
+    }
+    let bottom = if overlay.timeline.is_some() && !stepping {
+        crate::render::timeline::Bar::for_picture(width, height).room()
+    } else {
+        0.0
+    };
+    Room::below(width, height, top, bottom)
+}
+
+/// The corners of every take's box over all its frames, at its place: what `--fit take` keeps
+/// in view.
+fn take_corners(layout: &Layout) -> Vec<Vec3> {
+    layout
+        .extents
+        .iter()
+        .zip(&layout.origins)
+        .flat_map(|(&(lo, hi), &origin)| {
+            (0..8).map(move |corner| {
+                let pick = |bit: usize, axis: usize| {
+                    if corner & bit == 0 {
+                        lo[axis]
+                    } else {
+                        hi[axis]
+                    }
+                };
+                Vec3::new(pick(1, 0), pick(2, 1), pick(4, 2)) + origin
+            })
+        })
+        .collect()
+}
+
+/// The points a framed view keeps in the picture for the pose shown: every joint of every take
+/// at its place, and a column as tall as the take's standing figure from its lowest point, so
+/// that the camera keeps its distance while the figure crouches or lies down.
+fn pose_points(
+    takes: &[Shown],
+    frames: &[Option<&[f32]>],
+    mode: OffsetMode,
+    layout: &Layout,
+    placed: &dyn Fn(usize, Vec3) -> Vec3,
+) -> Vec<Vec3> {
+    let mut points = Vec::new();
+    for (index, take) in takes.iter().enumerate() {
+        let start = points.len();
+        for p in world_positions(take.skeleton, frames[index].unwrap_or(&[]), mode) {
+            points.push(placed(index, p));
+        }
+        let pose = &points[start..];
+        let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+        for p in pose.iter().filter(|p| p.is_finite()) {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        if lo.x <= hi.x {
+            let middle = (lo + hi) * 0.5;
+            let column = Vec3::new(middle.x, lo.y + layout.heights[index], middle.z);
+            points.push(column);
+        }
+    }
+    points
 }
 
 /// A camera at `angle` that sees every point (the article's 45° field of view).

@@ -104,8 +104,34 @@ pub struct Scene<'a> {
     pub up: crate::pose::Up,
     /// Where the take stands: moved along x beside the others when several are shown.
     pub origin: [f32; 3],
+    /// How much larger the take is drawn than written (several takes to one height); 1 alone.
+    pub scale: f32,
     /// A colour per joint (the studio look's sides); `None` draws without colour calls.
     pub colours: Option<&'a [[f32; 3]]>,
+}
+
+impl Scene<'_> {
+    /// Where a point of the take (as the file places it) is drawn: stood up, scaled, moved to
+    /// the take's place.
+    pub fn place(&self, point: glam::Vec3) -> glam::Vec3 {
+        self.up.to_y_up() * point * self.scale + glam::Vec3::from_array(self.origin)
+    }
+}
+
+/// Scales the modelview by `scale` (several takes at one height), with normals kept unit length
+/// for the lighting; nothing for 1.
+pub fn scale_take<G: FixedFunction>(gl: &mut G, scale: f32) {
+    if scale != 1.0 {
+        #[rustfmt::skip]
+        let m = [
+            scale, 0.0, 0.0, 0.0,
+            0.0, scale, 0.0, 0.0,
+            0.0, 0.0, scale, 0.0,
+            0.0, 0.0, 0.0, 1.0,
+        ];
+        gl.mult_matrixf(&m);
+        gl.enable(GL_NORMALIZE);
+    }
 }
 
 /// The spheres' radius for a view: the article's 1 at its own camera; in a view that frames the
@@ -183,10 +209,11 @@ pub fn display_all<G: FixedFunction>(gl: &mut G, scenes: &[Scene]) {
 /// The figure of `display`, under the camera already set: the skin and the style asked for, at
 /// the take's place (no calls at all for the article's one take at the origin).
 pub fn draw_take<G: FixedFunction>(gl: &mut G, scene: &Scene) {
-    let moved = scene.origin != [0.0; 3];
+    let moved = scene.origin != [0.0; 3] || scene.scale != 1.0;
     if moved {
         gl.push_matrix();
         gl.translatef(scene.origin[0], scene.origin[1], scene.origin[2]);
+        scale_take(gl, scene.scale);
     }
     // With a skin, the skin takes the spheres' place (the stick figure, if asked for, stays).
     let style = match (scene.skin, scene.style) {
@@ -216,6 +243,7 @@ pub fn draw_take<G: FixedFunction>(gl: &mut G, scene: &Scene) {
     }
     if moved {
         gl.pop_matrix();
+        gl.disable(GL_NORMALIZE);
     }
 }
 

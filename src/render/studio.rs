@@ -7,7 +7,7 @@
 
 use crate::edit::{Side, name_side};
 use crate::motion::Motion;
-use crate::pose::{FkPlan, FkScratch, OffsetMode, Units, Up, standing_height};
+use crate::pose::{FkPlan, FkScratch, OffsetMode, Units, Up};
 use crate::render::draw::{self, Style};
 use crate::render::fixed::*;
 use crate::render::scene::{Camera, Scene, look_at};
@@ -79,14 +79,21 @@ pub fn take_extent(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode, up: U
 const MOST_GRID_LINES: f32 = 200.0;
 
 impl Stage {
+    /// The stage under one take, its height and units guessed from its motion.
     pub fn new(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode, up: Up) -> Stage {
         let extent = take_extent(skeleton, motion, mode, up);
-        Stage::around(&[(extent, Vec3::ZERO)], standing_height(skeleton, up))
+        let stance = crate::stance::Stance::guess(skeleton, motion, mode, None);
+        Stage::around(
+            &[(extent, Vec3::ZERO)],
+            stance.height_along(up),
+            Some(stance.units),
+        )
     }
 
     /// The stage under several takes, each with its extent and where it stands; `height` is the
-    /// tallest one's (it sets the units and the sizes).
-    pub fn around(takes: &[((Vec3, Vec3), Vec3)], height: f32) -> Stage {
+    /// tallest one's (it sets the sizes) and `units` the first one's (the grid's squares are
+    /// half a metre in them; guessed from `height` when not given).
+    pub fn around(takes: &[((Vec3, Vec3), Vec3)], height: f32, units: Option<Units>) -> Stage {
         let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
         for &((take_lo, take_hi), origin) in takes {
             lo = lo.min(take_lo + origin);
@@ -103,7 +110,7 @@ impl Stage {
             let across = (hi - lo).length();
             if across > 1e-6 { across } else { 1.0 }
         };
-        let units = Units::guess(height);
+        let units = units.unwrap_or_else(|| Units::guess(height));
         let center = (lo + hi) * 0.5;
         let radius = ((hi - lo).length() * 0.5).max(height * 0.5).max(1e-3);
         // A metre of floor beyond the takes on every side, on whole squares of half a metre;
@@ -183,7 +190,7 @@ pub fn side_colours(skeleton: &Skeleton) -> Vec<[f32; 3]> {
 /// one's camera for all): backdrop, grid, then each take's shadow and figure, lit in its colours.
 /// Leaves the state the article's `init` set (black clear colour, lighting on, its green, GL's
 /// default material).
-pub fn display<G: FixedFunction>(gl: &mut G, scenes: &[Scene], stage: &Stage) {
+pub fn display<G: FixedFunction>(gl: &mut G, scenes: &[Scene], stage: &Stage, picture_height: u32) {
     let Some(first) = scenes.first() else {
         return;
     };
@@ -212,10 +219,13 @@ pub fn display<G: FixedFunction>(gl: &mut G, scenes: &[Scene], stage: &Stage) {
         gl.vertex3f(x1, y, z);
     }
     gl.end();
+    // Sticks and shadows as thick on the picture as the figure is tall on it: 3 pixels at the
+    // article's 600, at least 1.
+    let line_width = (picture_height as f32 / 200.0).clamp(1.0, 8.0);
     for scene in scenes {
-        shadow(gl, scene, stage);
+        shadow(gl, scene, stage, line_width);
     }
-    gl.line_width(3.0);
+    gl.line_width(line_width);
 
     gl.enable(GL_LIGHTING);
     gl.enable(GL_COLOR_MATERIAL);
@@ -223,6 +233,7 @@ pub fn display<G: FixedFunction>(gl: &mut G, scenes: &[Scene], stage: &Stage) {
         figure(gl, scene);
     }
     gl.disable(GL_COLOR_MATERIAL);
+    gl.line_width(3.0);
     // Colour material left the last colour in the material: back to GL's defaults, which the
     // article's grey spheres are lit with.
     gl.materialfv(GL_AMBIENT, [0.2, 0.2, 0.2, 1.0]);
@@ -232,23 +243,21 @@ pub fn display<G: FixedFunction>(gl: &mut G, scenes: &[Scene], stage: &Stage) {
 
 /// Every bone cast onto the floor, just above the grid, by a light high up to one side (a point
 /// p lands at p − d·(p.y − floor)/d.y, d the light's direction). Unlit, line width 4.
-fn shadow<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage) {
-    let stand = scene.up.to_y_up();
-    let origin = Vec3::from_array(scene.origin);
+fn shadow<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage, line_width: f32) {
     let points: Vec<Vec3> = crate::pose::world_positions(
         scene.skeleton,
         scene.frame.unwrap_or(&[]),
         scene.offset_mode,
     )
     .into_iter()
-    .map(|p| stand * p + origin)
+    .map(|p| scene.place(p))
     .collect();
     let shadow_y = stage.floor + stage.height * 0.002;
     let cast = |p: Vec3| {
         let along = (p.y - stage.floor) / LIGHT.y;
         [p.x - LIGHT.x * along, shadow_y, p.z - LIGHT.z * along]
     };
-    gl.line_width(4.0);
+    gl.line_width(line_width * 4.0 / 3.0);
     gl.color3f(0.05, 0.05, 0.07);
     gl.begin(GL_LINES);
     // Stepping through the recursion (J) shows the first `shown` joints: so does the shadow.
@@ -267,6 +276,7 @@ fn shadow<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage) {
 fn figure<G: FixedFunction>(gl: &mut G, scene: &Scene) {
     gl.push_matrix();
     gl.translatef(scene.origin[0], scene.origin[1], scene.origin[2]);
+    crate::render::scene::scale_take(gl, scene.scale);
     if scene.up == Up::Z {
         gl.rotatef(-90.0, 1.0, 0.0, 0.0);
     }
@@ -289,6 +299,7 @@ fn figure<G: FixedFunction>(gl: &mut G, scene: &Scene) {
         draw::draw_pass(gl, &pass);
     }
     gl.pop_matrix();
+    gl.disable(GL_NORMALIZE);
 }
 
 #[cfg(test)]
@@ -338,7 +349,6 @@ mod tests {
         let flat = "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 3 Zrotation Xrotation Yrotation\n\
                     End Site\n{\nOFFSET 40 0 0\n}\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n0 0 0\n";
         let bvh = crate::bvh::load_bytes(flat.as_bytes(), "t.bvh").unwrap();
-        assert_eq!(standing_height(&bvh.skeleton, Up::Y), 0.0);
         let stage = Stage::new(&bvh.skeleton, &bvh.motion, OffsetMode::Replace, Up::Y);
         assert_eq!(stage.height, 40.0);
         assert_eq!(stage.sphere_radius(), 40.0 * 0.012);
@@ -375,6 +385,7 @@ mod tests {
         let both = Stage::around(
             &[(extent, Vec3::ZERO), (extent, Vec3::new(400.0, 0.0, 0.0))],
             180.0,
+            None,
         );
         assert_eq!(both.grid, [-100.0, 800.0, -100.0, 100.0]);
         // A take that travels 2 km (200 000 cm): squares of 50 m, 42 lines along x instead of
@@ -385,6 +396,7 @@ mod tests {
                 Vec3::ZERO,
             )],
             180.0,
+            None,
         );
         assert_eq!(far.spacing, 5000.0);
         assert_eq!(far.grid, [-5000.0, 205_000.0, -5000.0, 5000.0]);

@@ -58,6 +58,88 @@ pub fn draw_small<G: FixedFunction>(gl: &mut G, text: &str) {
     }
 }
 
+/// The size text is drawn at on a picture: the doubled 16-pixel glyphs that read at the
+/// article's 600×600, or the font's own 8 pixels on a small picture, where the big ones would
+/// cover it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Font {
+    /// Pixels per glyph cell, and per line.
+    pub cell: i32,
+    pub line: i32,
+}
+
+impl Font {
+    pub const BIG: Font = Font {
+        cell: GLYPH,
+        line: LINE,
+    };
+    pub const SMALL: Font = Font { cell: 8, line: 10 };
+
+    /// Big glyphs from 400×320 up, small ones below.
+    pub fn for_picture(width: u32, height: u32) -> Font {
+        if width >= 400 && height >= 320 {
+            Font::BIG
+        } else {
+            Font::SMALL
+        }
+    }
+
+    /// Characters that fit across `pixels`, with 8 pixels of margin on the left and 4 on the
+    /// right (the HUD's band).
+    pub fn columns(self, pixels: u32) -> usize {
+        ((pixels as i32 - 12) / self.cell).max(1) as usize
+    }
+}
+
+/// `text` in at most `columns` characters: whole, or its start and end with `...` between (a
+/// long file name keeps what tells it apart: its start and its extension).
+pub fn shorten_middle(text: &str, columns: usize) -> String {
+    let chars: Vec<char> = text.chars().collect();
+    if chars.len() <= columns {
+        return text.to_string();
+    }
+    if columns <= 3 {
+        return chars[..columns].iter().collect();
+    }
+    let keep = columns - 3;
+    let tail = keep / 2;
+    let head = keep - tail;
+    let mut out: String = chars[..head].iter().collect();
+    out.push_str("...");
+    out.extend(&chars[chars.len() - tail..]);
+    out
+}
+
+/// `text` broken between words into lines of at most `columns` characters, each after the first
+/// indented by two spaces; a word longer than a line is shortened in the middle.
+pub fn wrap(text: &str, columns: usize) -> Vec<String> {
+    let mut lines: Vec<String> = Vec::new();
+    let mut line = String::new();
+    for word in text.split(' ').filter(|w| !w.is_empty()) {
+        let indent = if lines.is_empty() { 0 } else { 2 };
+        let used = line.chars().count();
+        let room = columns.saturating_sub(indent).max(1);
+        if used > 0 && used + 1 + word.chars().count() <= room {
+            line.push(' ');
+            line.push_str(word);
+            continue;
+        }
+        if used > 0 {
+            lines.push(std::mem::take(&mut line));
+        }
+        let indent = if lines.is_empty() { 0 } else { 2 };
+        line = shorten_middle(word, columns.saturating_sub(indent).max(1));
+    }
+    if !line.is_empty() || lines.is_empty() {
+        lines.push(line);
+    }
+    lines
+        .into_iter()
+        .enumerate()
+        .map(|(i, l)| if i == 0 { l } else { format!("  {l}") })
+        .collect()
+}
+
 /// Where on the picture a block of lines goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Corner {
@@ -77,16 +159,32 @@ pub fn draw_lines<G: FixedFunction>(
     lines: &[String],
     colour: [f32; 3],
 ) {
+    draw_lines_in(gl, height, corner, lines, colour, Font::BIG);
+}
+
+/// [`draw_lines`] in `font`.
+pub fn draw_lines_in<G: FixedFunction>(
+    gl: &mut G,
+    height: u32,
+    corner: Corner,
+    lines: &[String],
+    colour: [f32; 3],
+    font: Font,
+) {
     gl.disable(GL_LIGHTING);
     gl.color3f(colour[0], colour[1], colour[2]);
     for (i, line) in lines.iter().enumerate() {
         let baseline = match corner {
-            Corner::BottomLeft => 8 + LINE * (lines.len() - 1 - i) as i32,
-            Corner::TopLeft => height as i32 - 8 - LINE * (i as i32 + 1),
+            Corner::BottomLeft => 8 + font.line * (lines.len() - 1 - i) as i32,
+            Corner::TopLeft => height as i32 - 8 - font.line * (i as i32 + 1),
         };
         gl.window_pos(8, baseline);
         for c in line.chars() {
-            gl.bitmap(GLYPH, GLYPH, GLYPH as f32, &glyph(c));
+            if font == Font::BIG {
+                gl.bitmap(GLYPH, GLYPH, GLYPH as f32, &glyph(c));
+            } else {
+                gl.bitmap(8, 8, 8.0, &small_glyph(c));
+            }
         }
     }
     // Back to the state the article's init leaves: its green (the stick figure's colour), lit.
@@ -113,6 +211,24 @@ mod tests {
             }
         }
         assert_eq!(glyph('\u{2603}'), glyph('?'));
+    }
+
+    #[test]
+    fn long_text_is_shortened_in_the_middle_and_wrapped_between_words() {
+        assert_eq!(shorten_middle("short.bvh", 20), "short.bvh");
+        let name = "amcbvhviewer_bvh2amc_bvh_animation.bvh";
+        let short = shorten_middle(name, 20);
+        assert_eq!(short, "amcbvhvie...tion.bvh");
+        assert_eq!(short.chars().count(), 20);
+        assert_eq!(
+            wrap("looks written for the other mode (O)", 16),
+            ["looks written", "  for the other", "  mode (O)"]
+        );
+        for line in wrap("a very long sentence that must never be cut in a word", 12) {
+            assert!(line.chars().count() <= 12, "{line}");
+        }
+        // A word longer than a line is shortened, not cut.
+        assert_eq!(wrap(name, 12), ["amcbv....bvh"]);
     }
 
     #[test]

@@ -29,6 +29,28 @@ impl Bar {
         }
     }
 
+    /// The bar on a `width × height` picture: [`Bar::new`]'s, or on a picture that takes the
+    /// HUD's small font (see `text::Font::for_picture`), a thinner one lower down, 6 pixels
+    /// high and 6 up, so that the figure keeps its room.
+    pub fn for_picture(width: u32, height: u32) -> Bar {
+        let bar = Bar::new(width);
+        if crate::render::text::Font::for_picture(width, height) == crate::render::text::Font::BIG {
+            bar
+        } else {
+            Bar {
+                left: 6.0,
+                right: (width as f32 - 6.0).max(7.0),
+                bottom: 6.0,
+                top: 12.0,
+            }
+        }
+    }
+
+    /// Pixels along the bottom the bar and its mark cover, with a gap above.
+    pub fn room(&self) -> f32 {
+        self.top + 8.0
+    }
+
     /// Where frame `frame` of `frames` sits along the bar: the first at the left end, the last at
     /// the right.
     pub fn x_of(&self, frame: usize, frames: usize) -> f32 {
@@ -64,7 +86,7 @@ impl Bar {
 /// Draws the bar for frame `frame` of `frames` on a picture `width × height`, unlit and over
 /// everything (see [`pixels::fill`]).
 pub fn draw<G: FixedFunction>(gl: &mut G, width: u32, height: u32, frame: usize, frames: usize) {
-    let bar = Bar::new(width);
+    let bar = Bar::for_picture(width, height);
     let mark = bar.x_of(frame, frames);
     let rect = |left, right, bottom, top| Rect {
         left,

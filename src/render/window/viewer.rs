@@ -40,6 +40,8 @@ pub struct ViewerOptions {
     pub look: Look,
     /// Say nothing on stderr about pictures written (P).
     pub quiet: bool,
+    /// Several takes at their true sizes instead of the first one's height (`--true-scale`).
+    pub true_scale: bool,
 }
 
 /// Playback speeds `+` and `-` step through.
@@ -75,16 +77,18 @@ pub struct ViewerTake {
     /// Where it came from; `None` for the bundled walk, which R leaves as it is.
     pub source: Option<TakeSource>,
     pub loaded: Loaded,
-    /// Its up axis, asked for or guessed from the rest pose: a Z-up take is stood up in a view
+    /// Its up axis, asked for or guessed from the motion: a Z-up take is stood up in a view
     /// that frames it (see `Viewer::drawn_up`); the article's view draws it as written.
     pub up: crate::pose::Up,
+    /// How it stands, guessed from its motion (its height and units size the studio).
+    pub stance: crate::stance::Stance,
     /// The up axis `--up` asked for; without it, R guesses again from what it reads.
     pub up_asked: Option<crate::pose::Up>,
 }
 
 impl ViewerTake {
     /// A take loaded from `source`, its up axis guessed, its warnings said on stderr.
-    pub fn from_source(source: TakeSource) -> Result<ViewerTake, Error> {
+    pub fn from_source(source: TakeSource, mode: OffsetMode) -> Result<ViewerTake, Error> {
         let loaded = source.load()?;
         for warning in &loaded.warnings {
             eprintln!("bvhview: {}: warning: {warning}", source.path.display());
@@ -93,9 +97,11 @@ impl ViewerTake {
             || source.path.display().to_string(),
             |n| n.to_string_lossy().into_owned(),
         );
+        let stance = loaded.stance(mode);
         Ok(ViewerTake {
             name,
-            up: crate::pose::Up::guess(&loaded.skeleton),
+            up: stance.up,
+            stance,
             up_asked: None,
             source: Some(source),
             loaded,
@@ -246,7 +252,14 @@ impl Viewer {
                 clock.seconds(clock.count - 1)
             )
         };
-        format!("bvhview - {} - {at}{mode}", names.join(" + "))
+        // The article's view stays the article's picture; the title says how to see more of
+        // a take it leaves empty or cut off.
+        let hint = if self.options.look == Look::Article && !self.fit {
+            " - F frames it, V studio, H keys"
+        } else {
+            ""
+        };
+        format!("bvhview - {} - {at}{mode}{hint}", names.join(" + "))
     }
 
     /// How long each tick shows at the playback speed.
@@ -277,13 +290,19 @@ impl Viewer {
     }
 
     /// The HUD's lines (or the help's), with the last reload's error first.
-    fn top_left(&self, width: u32) -> Vec<String> {
+    fn top_left(&self, size: (u32, u32)) -> Vec<String> {
+        use crate::render::hud::{self, Line};
         let mut lines = Vec::new();
         if let Some(problem) = &self.problem {
-            lines.push(problem.clone());
+            // The reload's error, wrapped to the picture: it matters more than any HUD line.
+            lines.extend(hud::fit(
+                &[Line::text(0, problem, problem)],
+                size,
+                usize::MAX,
+            ));
         }
         if self.help {
-            lines.extend(crate::render::hud::help_lines());
+            lines.extend(hud::help_fitted(size));
         } else if self.hud {
             let clock = self.clock();
             let takes = self
@@ -322,14 +341,14 @@ impl Viewer {
                     .iter()
                     .any(|t| t.up == crate::pose::Up::Z && self.drawn_up(t) == crate::pose::Up::Y),
             };
-            lines.extend(hud.lines(crate::render::step::columns(width)));
+            lines.extend(hud.lines(size));
         }
         lines
     }
 
     /// The up axis a take is drawn with: the one asked for (`--up`); otherwise in the article's
     /// view as written (Y up, the article's picture for every file), and in a view that frames
-    /// the takes (F, the studio look) the one guessed from the rest pose.
+    /// the takes (F, the studio look) the one guessed from the motion.
     fn drawn_up(&self, take: &ViewerTake) -> crate::pose::Up {
         let framed = self.fit || self.options.look == Look::Studio;
         match take.up_asked {
@@ -339,14 +358,9 @@ impl Viewer {
         }
     }
 
-    /// Paints the picture into the window's back buffer (`snapshot`'s picture for the same
-    /// state), without presenting it.
-    fn paint(&mut self) -> Result<(u32, u32), Error> {
-        let Some(running) = self.running.as_ref() else {
-            return Ok((0, 0));
-        };
-        let (width, height) = running.size;
-        let first_up = self.drawn_up(&self.takes[0]);
+    /// What a `width × height` picture of the window shows: `snapshot`'s options and overlay
+    /// for the window's state.
+    fn picture(&self, (width, height): (u32, u32)) -> (SnapshotOptions, Overlay) {
         let options = SnapshotOptions {
             frame: self.frame,
             angle: self.camera.angle,
@@ -357,13 +371,15 @@ impl Viewer {
             offset_mode: self.options.offset_mode,
             skin: self.options.skin,
             step: self.step,
-            up: first_up,
+            up: self.drawn_up(&self.takes[0]),
             look: self.options.look,
             follow: self.follow,
+            whole_take: false,
+            true_scale: self.options.true_scale,
         };
         let several = self.takes.len() > 1;
         let overlay = Overlay {
-            lines: self.top_left(width),
+            lines: self.top_left((width, height)),
             timeline: self.hud.then_some((self.frame, self.frame_count())),
             names: self.names,
             labels: if self.hud && several {
@@ -372,15 +388,37 @@ impl Viewer {
                 Vec::new()
             },
         };
-        let shown: Vec<Shown> = self
-            .takes
+        (options, overlay)
+    }
+
+    /// The takes as the painter draws them, with the up axes they are drawn with.
+    fn shown<'a>(takes: &'a [ViewerTake], ups: &[crate::pose::Up]) -> Vec<Shown<'a>> {
+        takes
             .iter()
-            .map(|t| Shown {
+            .zip(ups)
+            .map(|(t, &up)| Shown {
                 skeleton: &t.loaded.skeleton,
                 motion: &t.loaded.motion,
-                up: self.drawn_up(t),
+                up,
+                stance: t.stance,
             })
-            .collect();
+            .collect()
+    }
+
+    fn drawn_ups(&self) -> Vec<crate::pose::Up> {
+        self.takes.iter().map(|t| self.drawn_up(t)).collect()
+    }
+
+    /// Paints the picture into the window's back buffer (`snapshot`'s picture for the same
+    /// state), without presenting it.
+    fn paint(&mut self) -> Result<(u32, u32), Error> {
+        let Some(running) = self.running.as_ref() else {
+            return Ok((0, 0));
+        };
+        let size = running.size;
+        let (options, overlay) = self.picture(size);
+        let ups = self.drawn_ups();
+        let shown = Viewer::shown(&self.takes, &ups);
         let running = self.running.as_mut().expect("checked above");
         self.painter.paint(
             &mut running.gl,
@@ -389,7 +427,7 @@ impl Viewer {
             &overlay,
             Some(&self.camera),
         )?;
-        Ok((width, height))
+        Ok(size)
     }
 
     fn redraw(&mut self) -> Result<(), Error> {
@@ -446,9 +484,8 @@ impl Viewer {
             };
             match source.load() {
                 Ok(loaded) => {
-                    take.up = take
-                        .up_asked
-                        .unwrap_or_else(|| crate::pose::Up::guess(&loaded.skeleton));
+                    take.stance = loaded.stance(self.options.offset_mode);
+                    take.up = take.up_asked.unwrap_or(take.stance.up);
                     take.loaded = loaded;
                 }
                 Err(error) => problems.push(error.to_string()),
@@ -465,7 +502,7 @@ impl Viewer {
             frame_time: None,
             max_size: crate::input::DEFAULT_MAX_SIZE,
         };
-        let problems = match ViewerTake::from_source(source) {
+        let problems = match ViewerTake::from_source(source, self.options.offset_mode) {
             Ok(take) => {
                 self.takes.push(take);
                 Vec::new()
@@ -506,7 +543,7 @@ impl Viewer {
             return None;
         }
         let (width, height) = running.size;
-        let bar = Bar::new(width);
+        let bar = Bar::for_picture(width, height);
         let frames = self.frame_count();
         let (x, y) = self.cursor;
         if along {
@@ -574,6 +611,13 @@ impl Viewer {
                         Look::Article => Look::Studio,
                         Look::Studio => Look::Article,
                     };
+                    // The studio draws sticks with the spheres; back in the article's look,
+                    // its spheres alone.
+                    self.options.style = match (self.options.look, self.options.style) {
+                        (Look::Studio, Style::Points) => Style::Both,
+                        (Look::Article, Style::Both) => Style::Points,
+                        (_, style) => style,
+                    };
                     self.camera = Camera {
                         angle: self.camera.angle,
                         ..Camera::default()
@@ -597,9 +641,12 @@ impl Viewer {
                     };
                     self.painter.forget();
                 }
-                // Back to the camera the program starts with (the article's for one take).
+                // Back to the camera the program starts with (the article's for one take); in
+                // the studio look, the studio's start camera: no turn, tilt, pan, zoom or
+                // following left.
                 "c" => {
                     self.fit = false;
+                    self.follow = false;
                     self.camera = Camera {
                         angle: crate::render::paint::start_angle(self.takes.len()),
                         ..Camera::default()
@@ -766,6 +813,7 @@ mod tests {
             skin: false,
             look: Look::Article,
             quiet: true,
+            true_scale: false,
         }
     }
 
@@ -777,7 +825,7 @@ mod tests {
             max_size: u64::MAX,
         };
         Viewer::new(
-            vec![ViewerTake::from_source(source).unwrap()],
+            vec![ViewerTake::from_source(source, OffsetMode::Replace).unwrap()],
             quiet_options(),
         )
     }
@@ -786,14 +834,7 @@ mod tests {
     /// 27: it wrote `the bundled walk_frame00020.png`).
     #[test]
     fn p_names_the_picture_after_the_file_or_the_walk() {
-        let walk = ViewerTake {
-            name: crate::DEFAULT_MOTION_NAME.to_string(),
-            source: None,
-            loaded: crate::input::default_motion().unwrap(),
-            up: crate::pose::Up::Y,
-            up_asked: None,
-        };
-        let mut viewer = Viewer::new(vec![walk], quiet_options());
+        let mut viewer = walk_viewer();
         viewer.frame = 20;
         assert_eq!(viewer.picture_name(), PathBuf::from("walk_frame00020.png"));
         let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/oracle/inputs/tiny_crlf.bvh");
@@ -807,6 +848,74 @@ mod tests {
     /// A file dropped on the window joins the takes; one that does not load is reported and
     /// changes nothing. R loads every file again, and keeps the last good take of a broken one.
     /// (No window is needed: these are the handlers the window's events call.)
+    fn walk_viewer() -> Viewer {
+        let loaded = crate::input::default_motion().unwrap();
+        let walk = ViewerTake {
+            name: crate::DEFAULT_MOTION_NAME.to_string(),
+            source: None,
+            up: crate::pose::Up::Y,
+            stance: loaded.stance(OffsetMode::Replace),
+            loaded,
+            up_asked: None,
+        };
+        Viewer::new(vec![walk], quiet_options())
+    }
+
+    /// The camera the window would draw with at 600×600.
+    fn camera_drawn(viewer: &Viewer) -> Camera {
+        let (options, overlay) = viewer.picture((600, 600));
+        let ups = viewer.drawn_ups();
+        crate::render::paint::Painter::default()
+            .camera(
+                &Viewer::shown(&viewer.takes, &ups),
+                &options,
+                &overlay,
+                Some(&viewer.camera),
+            )
+            .unwrap()
+    }
+
+    /// Issue 27 row 16: C in the studio look did nothing visible after T; it resets that view's
+    /// camera (turn, zoom, following) and stays in the look.
+    #[test]
+    fn c_resets_the_studio_camera_too() {
+        let mut viewer = walk_viewer();
+        let press = |viewer: &mut Viewer, key: &str| {
+            viewer.key(&Key::Character(key.into()));
+        };
+        press(&mut viewer, "v");
+        viewer.frame = 30;
+        let start = camera_drawn(&viewer);
+        press(&mut viewer, "a");
+        press(&mut viewer, "t");
+        viewer.camera.distance *= 0.5;
+        assert_ne!(camera_drawn(&viewer), start);
+        press(&mut viewer, "c");
+        assert_eq!(viewer.options.look, Look::Studio);
+        assert_eq!(camera_drawn(&viewer), start);
+    }
+
+    /// Issue 27 row 15: the article's view says in the title how to frame a take it leaves
+    /// empty or cut off; its picture stays the article's.
+    #[test]
+    fn the_article_view_says_how_to_see_more_in_its_title() {
+        let mut viewer = walk_viewer();
+        assert!(
+            viewer.title().ends_with(" - F frames it, V studio, H keys"),
+            "{}",
+            viewer.title()
+        );
+        viewer.key(&Key::Character("v".into()));
+        assert!(!viewer.title().contains("F frames it"));
+        assert_eq!(
+            viewer.options.style,
+            Style::Both,
+            "the studio draws sticks with spheres"
+        );
+        viewer.key(&Key::Character("v".into()));
+        assert_eq!(viewer.options.style, Style::Points);
+    }
+
     #[test]
     fn dropped_files_join_and_reloads_keep_the_last_good_take() {
         let dir = std::env::temp_dir().join(format!("bvhview-drop-{}", std::process::id()));
@@ -832,7 +941,7 @@ mod tests {
         assert_eq!(viewer.frame_count(), 5);
         assert_eq!(
             viewer.title(),
-            "bvhview - first.bvh + second.bvh - 0.000 s of 0.400 s"
+            "bvhview - first.bvh + second.bvh - 0.000 s of 0.400 s - F frames it, V studio, H keys"
         );
         viewer.add(dir.join("missing.bvh"));
         assert_eq!(viewer.takes.len(), 2);

@@ -1,0 +1,330 @@
+//! How a take stands: which axis is up, what unit its lengths are written in and how tall the
+//! figure is, guessed from its motion (the joints' spread and the root's path over a sample of
+//! its frames), or from its rest pose when it has no frames. A rest pose alone misleads: some
+//! exporters lay it along x (LaFAN1, Rokoko), others stand it along y and turn the root to z.
+//!
+//! Nothing here changes the article's picture, which draws every file as written; the studio
+//! look, `--fit`, `info` and the edits use the guess, and `--up` overrides it.
+
+use crate::motion::Motion;
+use crate::pose::{FkPlan, FkScratch, OffsetMode, Units, Up, world_positions};
+use crate::skeleton::Skeleton;
+use glam::Vec3;
+
+/// At most this many frames, evenly spread over the take, are looked at.
+const SAMPLED_POSES: usize = 64;
+
+/// The spread along one axis must be this many times the other's for the guess to be likely,
+/// and [`SURE`] times for it to be sure.
+const LIKELY: f32 = 1.25;
+const SURE: f32 = 2.0;
+
+/// How much a guess is worth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Sureness {
+    /// The file says so (an ASF's `:units`), or the skeleton is one whose units are known.
+    Stated,
+    Sure,
+    Likely,
+    /// A convention rather than evidence (BVH's Y up when the figure tells nothing).
+    Unsure,
+}
+
+impl Sureness {
+    pub fn word(self) -> &'static str {
+        match self {
+            Sureness::Stated => "stated",
+            Sureness::Sure => "sure",
+            Sureness::Likely => "likely",
+            Sureness::Unsure => "unsure",
+        }
+    }
+}
+
+/// What the units guess rests on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UnitsBasis {
+    /// The ASF's `:units length` (CMU's 0.45: lengths in 1/0.45 inch).
+    Asf,
+    /// A skeleton known by its joints' names (CMU's, as cgspeed converted it to BVH).
+    CmuSkeleton,
+    /// The figure's size, nearest a person's 1.7 m.
+    Size,
+}
+
+/// CMU's lengths: 1/0.45 inch, about 5.64 cm (their ASF files say `length 0.45`; cgspeed's BVH
+/// conversions keep the lengths).
+pub const CMU_UNITS: Units = Units {
+    name: "CMU units (1/0.45 inch)",
+    metres: 0.0254 / 0.45,
+};
+
+/// The guess for one take.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stance {
+    pub up: Up,
+    pub up_sureness: Sureness,
+    /// Whether the root's path decided the up axis (the figure's spread did not).
+    pub up_by_path: bool,
+    /// The figure's spread along x, y and z (the median over the poses looked at), in the file's
+    /// units, as the file is written.
+    pub spread: Vec3,
+    /// How far the root travels along x, y and z over the poses looked at.
+    pub root_travel: Vec3,
+    pub units: Units,
+    pub units_sureness: Sureness,
+    pub units_basis: UnitsBasis,
+    /// How tall the figure stands along its up axis (the median over the poses), in file units.
+    pub height: f32,
+    /// The figure's size the units come from: its largest spread, in motion or at rest.
+    pub size: f32,
+    /// Frames looked at (0: the rest pose).
+    pub poses: usize,
+    /// The offset mode the poses were computed in: the one asked for, or the other when the
+    /// file clearly looks written for it (otherwise its bones collapse and say nothing).
+    pub mode: OffsetMode,
+}
+
+/// The spread of `points` along each axis (max − min), and the box's low corner.
+fn spread(points: impl Iterator<Item = Vec3>) -> Option<(Vec3, Vec3)> {
+    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+    for p in points {
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    (lo.x <= hi.x).then(|| (hi - lo, lo))
+}
+
+fn median(values: &mut [f32]) -> f32 {
+    if values.is_empty() {
+        return 0.0;
+    }
+    values.sort_by(f32::total_cmp);
+    values[values.len() / 2]
+}
+
+/// Whether the skeleton is CMU's (its hip joints are named as CMU's ASF files name them, which
+/// cgspeed's BVH conversions keep).
+fn is_cmu_skeleton(skeleton: &Skeleton) -> bool {
+    let has = |name: &str| {
+        skeleton
+            .joints
+            .iter()
+            .any(|j| j.name.eq_ignore_ascii_case(name))
+    };
+    (has("LHipJoint") && has("RHipJoint")) || (has("lhipjoint") && has("lfemur"))
+}
+
+impl Stance {
+    /// The guess for `skeleton` with `motion`, its poses computed in `mode` (or the other mode
+    /// when the file looks written for it). `stated`: units the file states (an ASF's).
+    pub fn guess(
+        skeleton: &Skeleton,
+        motion: &Motion,
+        mode: OffsetMode,
+        stated: Option<Units>,
+    ) -> Stance {
+        let mode = if crate::info::offset_mode_warning(skeleton, motion, mode).is_some() {
+            match mode {
+                OffsetMode::Replace => OffsetMode::Add,
+                OffsetMode::Add => OffsetMode::Replace,
+            }
+        } else {
+            mode
+        };
+        // The body: every point but the roots (a root may stand far from the figure, as
+        // Bandai's joint_Root does on the floor), unless that leaves nothing.
+        let body: Vec<usize> = {
+            let children: Vec<usize> = (0..skeleton.joints.len())
+                .filter(|&i| skeleton.joints[i].parent.is_some())
+                .collect();
+            if children.len() > 1 {
+                children
+            } else {
+                (0..skeleton.joints.len()).collect()
+            }
+        };
+        let root = skeleton.roots().next();
+        let rest = world_positions(skeleton, &[], mode);
+        let rest_spread = spread(body.iter().map(|&i| rest[i])).map_or(Vec3::ZERO, |(s, _)| s);
+
+        let frames = motion.frame_count();
+        let sampled: Vec<usize> = if frames <= SAMPLED_POSES {
+            (0..frames).collect()
+        } else {
+            (0..SAMPLED_POSES)
+                .map(|i| i * (frames - 1) / (SAMPLED_POSES - 1))
+                .collect()
+        };
+        let mut spreads: Vec<Vec3> = Vec::with_capacity(sampled.len().max(1));
+        let (mut path_lo, mut path_hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
+        if sampled.is_empty() {
+            spreads.push(rest_spread);
+        } else {
+            let plan = FkPlan::new(skeleton, mode);
+            let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
+            for &frame in &sampled {
+                plan.positions(motion.frame(frame), &mut points, &mut scratch);
+                let finite = |p: &Vec3| p.is_finite();
+                if let Some((s, _)) = spread(body.iter().map(|&i| points[i]).filter(finite)) {
+                    spreads.push(s);
+                }
+                if let Some(root) = root.filter(|&r| points[r].is_finite()) {
+                    path_lo = path_lo.min(points[root]);
+                    path_hi = path_hi.max(points[root]);
+                }
+            }
+        }
+        let root_travel = if path_lo.x <= path_hi.x {
+            path_hi - path_lo
+        } else {
+            Vec3::ZERO
+        };
+        let axis_median =
+            |axis: usize| median(&mut spreads.iter().map(|s| s[axis]).collect::<Vec<_>>());
+        let spread = Vec3::new(axis_median(0), axis_median(1), axis_median(2));
+        let largest = median(&mut spreads.iter().map(|s| s.max_element()).collect::<Vec<_>>());
+        let size = largest.max(rest_spread.max_element());
+
+        // Up: the axis the figure spreads along most of y and z; when neither clearly wins, the
+        // one the root travels along least, if it travels; else BVH's Y.
+        let (y, z) = (spread.y, spread.z);
+        let (mut up, mut up_sureness, mut up_by_path) = (Up::Y, Sureness::Unsure, false);
+        if y.max(z) > 1e-6 {
+            let ratio = y.max(z) / y.min(z).max(1e-6);
+            if ratio >= LIKELY {
+                up = if z > y { Up::Z } else { Up::Y };
+                up_sureness = if ratio >= SURE {
+                    Sureness::Sure
+                } else {
+                    Sureness::Likely
+                };
+            } else {
+                let (ty, tz) = (root_travel.y, root_travel.z);
+                if ty.max(tz) >= 0.5 * size && ty.max(tz) >= SURE * ty.min(tz) {
+                    up = if ty > tz { Up::Z } else { Up::Y };
+                    up_sureness = Sureness::Likely;
+                    up_by_path = true;
+                }
+            }
+        }
+        let height = median(
+            &mut spreads
+                .iter()
+                .map(|s| match up {
+                    Up::Y => s.y,
+                    Up::Z => s.z,
+                })
+                .collect::<Vec<_>>(),
+        );
+
+        let (units, units_sureness, units_basis) = match stated {
+            Some(units) => (units, Sureness::Stated, UnitsBasis::Asf),
+            None if is_cmu_skeleton(skeleton)
+                && (1.0..=2.4).contains(&(size * CMU_UNITS.metres)) =>
+            {
+                (CMU_UNITS, Sureness::Stated, UnitsBasis::CmuSkeleton)
+            }
+            None => {
+                let (units, sureness) = Units::guess_with_sureness(size);
+                (units, sureness, UnitsBasis::Size)
+            }
+        };
+        Stance {
+            up,
+            up_sureness,
+            up_by_path,
+            spread,
+            root_travel,
+            units,
+            units_sureness,
+            units_basis,
+            height,
+            size,
+            poses: sampled.len(),
+            mode,
+        }
+    }
+
+    /// The figure's height standing, in the file's units: the guess's, or the rest pose's
+    /// spread along `up` when `--up` overrides the guess.
+    pub fn height_along(&self, up: Up) -> f32 {
+        if up == self.up {
+            self.height
+        } else {
+            match up {
+                Up::Y => self.spread.y,
+                Up::Z => self.spread.z,
+            }
+        }
+    }
+
+    /// `info`'s line on the up axis: the guess and what it rests on.
+    pub fn up_text(&self) -> String {
+        let axis = match self.up {
+            Up::Y => "y",
+            Up::Z => "z",
+        };
+        let poses = self.poses_text();
+        let why = if self.up_by_path {
+            format!(
+                "the root travels {} along y and {} along z over {poses}",
+                short(self.root_travel.y),
+                short(self.root_travel.z)
+            )
+        } else if self.up_sureness == Sureness::Unsure {
+            format!(
+                "the figure spreads {} along y and {} along z over {poses}: BVH's usual y",
+                short(self.spread.y),
+                short(self.spread.z)
+            )
+        } else {
+            format!(
+                "the figure spreads {} along y and {} along z over {poses}",
+                short(self.spread.y),
+                short(self.spread.z)
+            )
+        };
+        format!("{axis} ({}: {why})", self.up_sureness.word())
+    }
+
+    /// `info`'s line on the units: the guess, what it rests on and the height it gives.
+    pub fn units_text(&self) -> String {
+        let why = match self.units_basis {
+            UnitsBasis::Asf => "the ASF's :units".to_string(),
+            UnitsBasis::CmuSkeleton => "CMU's skeleton (LHipJoint, RHipJoint)".to_string(),
+            UnitsBasis::Size => format!("the figure spans {}", short(self.size)),
+        };
+        format!(
+            "{} ({}: {why}; it stands {} tall, {} m)",
+            self.units.name,
+            self.units_sureness.word(),
+            short(self.height),
+            short(self.height * self.units.metres)
+        )
+    }
+
+    fn poses_text(&self) -> String {
+        match self.poses {
+            0 => "the rest pose".to_string(),
+            1 => "1 frame".to_string(),
+            n => format!("{n} frames"),
+        }
+    }
+}
+
+/// A length with three significant digits.
+fn short(value: f32) -> String {
+    let value = f64::from(value);
+    if value == 0.0 || !value.is_finite() {
+        return format!("{value}");
+    }
+    let digits = (2 - value.abs().log10().floor() as i32).max(0) as usize;
+    format!("{value:.digits$}")
+}
+
+/// Units an ASF's `:units length` states: CMU's 0.45 (lengths in 1/0.45 inch). Other values
+/// are left to the size guess: the Acclaim format does not say what a length of 1 is.
+pub fn asf_units(length: f64) -> Option<Units> {
+    ((length - 0.45).abs() < 1e-9).then_some(CMU_UNITS)
+}
