@@ -27,3 +27,9 @@ $bvhview snapshot assets/walk.bvh tests/data/bvh/bvhpython_test_freebvh.bvh \
     --frame 20 --look studio --style both --hud -q -o docs/two_takes.png
 $bvhview snapshot tests/data/bvh/bvhpython_test_freebvh.bvh --frames 0..69 --look studio --style both \
     --size 300x300 -q -o docs/studio.gif
+# Three takes in three units (CMU's, inches, centimetres) scaled to one height, and the HUD fitted
+# to a small picture.
+$bvhview snapshot tests/data/bvh/bvh11_131_01.bvh tests/data/bvh/opencollar_run.bvh \
+    tests/data/bvh/bvhpython_test_freebvh.bvh --frame 30 --look studio --hud -q -o docs/three_units.png
+$bvhview snapshot tests/data/bvh/animateddrawings_rokoko_jesse_dance.bvh --frame 500 --look studio \
+    --hud --size 240x240 -q -o docs/hud_240.png

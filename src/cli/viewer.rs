@@ -14,8 +14,8 @@ Keys in the window:
   + / -         play faster / slower (0.1x to 4x)
   L             loop on / off
   mouse drag    turn and tilt; Shift+drag or middle drag: pan; wheel: zoom
-  F             frame the whole skeleton / back to the article's camera
-  C             the article's camera, as at the start
+  F             frame the pose shown / back to the article's camera
+  C             the camera as at the start (the article's, or the studio's in the studio look)
   V             the studio look on / off; T: its camera follows the root
   O             position channels replace / are added to OFFSET
   I / H         the HUD and timeline (click or drag on it to seek) / the help on and off

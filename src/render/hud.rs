@@ -187,9 +187,11 @@ impl Hud<'_> {
                 for (index, t) in takes.iter().enumerate() {
                     let (frames, frames_short) = frames_text(t);
                     let (rate, _) = rate_text(t.frame_time);
-                    lines.push(Line::name(0, t.name));
+                    // The first take's lines stay on any picture; the others' go before the
+                    // time when the picture is short (their labels still name them).
+                    lines.push(Line::name(if index == 0 { 0 } else { 1 }, t.name));
                     lines.push(Line::text(
-                        if index == 0 { 0 } else { 1 },
+                        if index == 0 { 0 } else { 2 },
                         format!("  {frames}, {rate}"),
                         format!("  {frames_short}"),
                     ));
@@ -273,8 +275,8 @@ pub fn help_lines() -> Vec<String> {
         "click bar  seek (with the HUD)",
         "drag       turn and tilt",
         "Shift+drag pan; wheel: zoom",
-        "F          frame the skeleton",
-        "C          the article's camera",
+        "F          frame the pose",
+        "C          the start camera",
         "B          next style",
         "V          studio look",
         "T          follow the root",
@@ -312,14 +314,23 @@ const BACKING: [f32; 3] = [0.05, 0.05, 0.07];
 /// its text.
 pub fn draw<G: FixedFunction>(gl: &mut G, (width, height): (u32, u32), lines: &[String]) {
     let font = Font::for_picture(width, height);
-    let bands: Vec<_> = lines
-        .iter()
-        .enumerate()
-        .filter(|(_, line)| !line.is_empty())
-        .map(|(i, line)| (BACKING, band(height, i, line.chars().count(), font)))
+    let bands: Vec<_> = bands((width, height), lines)
+        .into_iter()
+        .map(|band| (BACKING, band))
         .collect();
     pixels::fill(gl, (width, height), &bands);
     text::draw_lines_in(gl, height, Corner::TopLeft, lines, [1.0, 1.0, 1.0], font);
+}
+
+/// Where `lines` go on a `width × height` picture: the band behind each one that is not empty.
+pub fn bands((width, height): (u32, u32), lines: &[String]) -> Vec<Rect> {
+    let font = Font::for_picture(width, height);
+    lines
+        .iter()
+        .enumerate()
+        .filter(|(_, line)| !line.is_empty())
+        .map(|(i, line)| band(height, i, line.chars().count(), font))
+        .collect()
 }
 
 /// The band behind top-left line `index` of `chars` glyphs: the glyphs' cells and the gap below

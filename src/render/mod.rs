@@ -193,9 +193,8 @@ pub fn draw_overlay<G: fixed::FixedFunction>(
         }
     }
     if !overlay.labels.is_empty() {
-        let font = text::Font::for_picture(width, height);
-        let below = height as f32 - hud::reserved_height(overlay.lines.len(), font);
-        names::labels(gl, scenes, &overlay.labels, (width, height), below);
+        let taken = hud::bands((width, height), &overlay.lines);
+        names::labels(gl, scenes, &overlay.labels, (width, height), &taken);
     }
     if let Some(scene) = scenes.first()
         && let Some(shown) = scene.shown

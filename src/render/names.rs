@@ -3,6 +3,7 @@
 
 use crate::pose::world_positions;
 use crate::render::fixed::{FixedFunction, GL_DEPTH_TEST, GL_LIGHTING};
+use crate::render::pixels::Rect;
 use crate::render::scene::Scene;
 use crate::render::{framing, text};
 
@@ -32,15 +33,16 @@ pub fn draw<G: FixedFunction>(gl: &mut G, scene: &Scene) {
 }
 
 /// Writes each take's label (its file's name) centred just above its highest joint, in white,
-/// over everything: shortened in the middle to the room between its neighbours, and kept under
-/// `below` (pixels from the bottom: the HUD's lowest line) and inside the picture, so that no
-/// label covers other text.
+/// over everything, where it covers no other text: not the HUD's lines (`taken`, in pixels from
+/// the bottom-left corner) nor another label. A label that would is moved down a line at a time,
+/// then shortened in the middle to the room between its neighbours; it always stays inside the
+/// picture.
 pub fn labels<G: FixedFunction>(
     gl: &mut G,
     scenes: &[Scene],
     labels: &[String],
     (width, height): (u32, u32),
-    below: f32,
+    taken: &[Rect],
 ) {
     let Some(first) = scenes.first() else {
         return;
@@ -62,29 +64,59 @@ pub fn labels<G: FixedFunction>(
             framing::project(&matrix, top, width, height)
         })
         .collect();
-    gl.disable(GL_LIGHTING);
-    gl.disable(GL_DEPTH_TEST);
-    gl.color3f(1.0, 1.0, 1.0);
+    let mut placed: Vec<Rect> = taken.to_vec();
+    let mut drawn: Vec<(i32, i32, String)> = Vec::new();
     for (index, (anchor, label)) in anchors.iter().zip(labels).enumerate() {
         let Some((x, y)) = *anchor else {
             continue;
         };
-        // The room: up to half-way to the nearest neighbour on either side, less a gap.
-        let room = anchors
+        // The nearest neighbour along x: a label as wide as twice that distance fits when the
+        // two sit on different lines, one as wide as the distance always fits beside it.
+        let nearest = anchors
             .iter()
             .enumerate()
-            .filter(|&(other, a)| other != index && a.is_some())
-            .map(|(_, a)| (a.map_or(f32::MAX, |(ax, _)| (ax - x).abs()) - 8.0).max(8.0))
+            .filter(|&(other, _)| other != index)
+            .filter_map(|(_, a)| a.map(|(ax, _)| (ax - x).abs()))
             .fold(width as f32, f32::min);
-        let columns = ((room / 8.0) as usize).clamp(1, (width as usize / 8).max(1));
-        let text = text::shorten_middle(label, columns);
-        let wide = (text.chars().count() * 8) as f32;
-        let left = (x - wide / 2.0).clamp(2.0, (width as f32 - wide - 2.0).max(2.0));
-        let bottom = (y + 6.0).min(below - 10.0).max(2.0);
-        gl.window_pos(left as i32, bottom as i32);
+        let most = (width as usize / 8).saturating_sub(1).max(1);
+        let wide = (((2.0 * nearest - 8.0) / 8.0).max(1.0) as usize).min(most);
+        let narrow = (((nearest - 8.0) / 8.0).max(1.0) as usize).min(most);
+        let spot = |columns: usize, drop: f32| -> (Rect, String) {
+            let text = text::shorten_middle(label, columns);
+            let across = (text.chars().count() * 8) as f32;
+            let left = (x - across / 2.0).clamp(2.0, (width as f32 - across - 2.0).max(2.0));
+            let bottom = ((y + 6.0).min(height as f32 - 10.0) - drop).max(2.0);
+            let rect = Rect {
+                left,
+                right: left + across,
+                bottom,
+                top: bottom + 8.0,
+            };
+            (rect, text)
+        };
+        let free = |rect: &Rect| !placed.iter().any(|r| overlap(r, rect));
+        let choice = [wide, narrow]
+            .into_iter()
+            .flat_map(|columns| (0..40).map(move |step| (columns, step as f32 * 10.0)))
+            .map(|(columns, drop)| spot(columns, drop))
+            .find(|(rect, _)| free(rect))
+            .unwrap_or_else(|| spot(narrow, 0.0));
+        placed.push(choice.0);
+        drawn.push((choice.0.left as i32, choice.0.bottom as i32, choice.1));
+    }
+    gl.disable(GL_LIGHTING);
+    gl.disable(GL_DEPTH_TEST);
+    gl.color3f(1.0, 1.0, 1.0);
+    for (left, bottom, text) in drawn {
+        gl.window_pos(left, bottom);
         text::draw_small(gl, &text);
     }
     gl.color3f(0.0, 1.0, 0.0);
     gl.enable(GL_DEPTH_TEST);
     gl.enable(GL_LIGHTING);
+}
+
+/// Whether two rectangles share any pixel.
+fn overlap(a: &Rect, b: &Rect) -> bool {
+    a.left < b.right && b.left < a.right && a.bottom < b.top && b.bottom < a.top
 }

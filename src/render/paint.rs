@@ -206,7 +206,19 @@ impl Painter {
         });
         if !fresh {
             self.bodies.clear();
-            let own_heights: Vec<f32> = takes.iter().map(|t| t.stance.height_along(t.up)).collect();
+            // A take guessed in the other offset mode (written for it) is drawn collapsed in
+            // this one: its standing height says nothing of what is drawn, so its pose alone
+            // is framed and its box sizes the stage.
+            let own_heights: Vec<f32> = takes
+                .iter()
+                .map(|t| {
+                    if t.stance.mode == mode {
+                        t.stance.height_along(t.up)
+                    } else {
+                        0.0
+                    }
+                })
+                .collect();
             let scales = take_scales(takes, &own_heights, options.true_scale);
             let heights: Vec<f32> = own_heights
                 .iter()

@@ -92,13 +92,15 @@ impl Font {
 }
 
 /// `text` in at most `columns` characters: whole, or its start and end with `...` between (a
-/// long file name keeps what tells it apart: its start and its extension).
+/// long file name keeps what tells it apart: its start and its extension); in 5 or fewer, its
+/// start.
 pub fn shorten_middle(text: &str, columns: usize) -> String {
     let chars: Vec<char> = text.chars().collect();
     if chars.len() <= columns {
         return text.to_string();
     }
-    if columns <= 3 {
+    // Too narrow for a start, `...` and an end to say more than a plain start.
+    if columns <= 5 {
         return chars[..columns].iter().collect();
     }
     let keep = columns - 3;
