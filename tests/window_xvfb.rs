@@ -153,10 +153,10 @@ fn open_viewer(display: &str, folder: &Path, args: &[&Path], title: &str) -> (Gu
 /// Focuses the window and makes sure typed keys reach it before the keys whose effect a test
 /// checks: with both cores busy the first key after the focus was now and then lost (2 of 20
 /// runs). End and Home change nothing when pressed again, so each is pressed until the title
-/// ends with `last`, then with `first`.
+/// says `last`, then `first` (the article's view ends it with a hint, so `contains`).
 fn focus_until_keys_arrive(display: &str, window: &str, last: &str, first: &str) {
     let titled = |end: &str| {
-        run(display, "xdotool", &["getwindowname", window]).is_some_and(|t| t.ends_with(end))
+        run(display, "xdotool", &["getwindowname", window]).is_some_and(|t| t.contains(end))
     };
     for (key, end) in [("End", last), ("Home", first)] {
         let start = Instant::now();
@@ -637,8 +637,9 @@ fn viewer_shows_takes_side_by_side_reloads_and_writes_pictures() {
     loop {
         let seen = capture(&display, &window);
         let differing = seen.differing_pixels(&after_edit);
-        // Only the text differs: the takes are drawn as before.
-        if differing > 200 && differing * 20 < 360_000 {
+        // Only the text differs: the takes are drawn as before. The error is wrapped between
+        // words onto up to three lines of 18 pixels across the picture (9 % of it).
+        if differing > 200 && differing * 10 < 360_000 {
             break;
         }
         assert!(

@@ -916,6 +916,33 @@ mod tests {
         assert_eq!(viewer.options.style, Style::Points);
     }
 
+    /// Issue 27 row 7: a reload's error is wrapped between words to any picture, never cut.
+    #[test]
+    fn a_reload_error_is_wrapped_to_the_picture() {
+        let mut viewer = walk_viewer();
+        viewer.hud = true;
+        let error = "tests/data/bvh/a_take_with_a_rather_long_file_name.bvh:12:5: expected a \
+                     number after OFFSET, found 'x'";
+        viewer.problem = Some(error.to_string());
+        for size in [(160, 120), (240, 240), (600, 600)] {
+            let font = crate::render::text::Font::for_picture(size.0, size.1);
+            let lines = viewer.top_left(size);
+            assert!(
+                lines
+                    .iter()
+                    .all(|l| l.chars().count() <= font.columns(size.0)),
+                "{size:?}: {lines:?}"
+            );
+            let shown: Vec<&str> = lines.iter().flat_map(|l| l.split_whitespace()).collect();
+            for word in "expected a number after OFFSET, found 'x'".split(' ') {
+                assert!(
+                    shown.contains(&word),
+                    "{size:?}: '{word}' not whole in {lines:?}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn dropped_files_join_and_reloads_keep_the_last_good_take() {
         let dir = std::env::temp_dir().join(format!("bvhview-drop-{}", std::process::id()));
