@@ -128,38 +128,7 @@ pub fn offset_mode_warning(
     motion: &Motion,
     mode: OffsetMode,
 ) -> Option<String> {
-    if motion.frame_count() == 0 {
-        return None;
-    }
-    let frame = motion.frame(0);
-    let mut candidates = 0;
-    let mut matching = 0;
-    for joint in skeleton.joints.iter().filter(|j| j.parent.is_some()) {
-        let values = joint.values(frame);
-        let positions: Vec<(usize, f32)> = joint
-            .channels
-            .iter()
-            .zip(values)
-            .filter(|(c, _)| c.is_position())
-            .map(|(c, &v)| (c.axis(), v))
-            .collect();
-        if positions.is_empty() || joint.offset.length() < 1e-3 {
-            continue;
-        }
-        candidates += 1;
-        let looks_other = match mode {
-            OffsetMode::Replace => positions.iter().all(|&(_, v)| v.abs() <= 1e-4),
-            OffsetMode::Add => positions.iter().all(|&(axis, v)| {
-                (v - joint.offset[axis]).abs() <= 1e-4 * joint.offset.length().max(1.0)
-            }),
-        };
-        if looks_other {
-            matching += 1;
-        }
-    }
-    if candidates == 0 || matching * 10 < candidates * 9 {
-        return None;
-    }
+    let (matching, candidates) = crate::pose::written_for_other_mode(skeleton, motion, mode)?;
     Some(match mode {
         OffsetMode::Replace => format!(
             "{matching} of {candidates} non-root joints with position channels have them all 0 at \

@@ -14,7 +14,7 @@ pub struct Loaded {
     pub motion: Motion,
     pub warnings: Vec<String>,
     /// The units the file states (an ASF's `:units length`), if any.
-    pub stated_units: Option<crate::pose::Units>,
+    pub stated_units: Option<crate::stance::Units>,
 }
 
 impl Loaded {

@@ -63,61 +63,48 @@ impl Up {
     }
 }
 
-/// The units a file's lengths look written in, guessed from how tall its skeleton stands.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Units {
-    pub name: &'static str,
-    /// Metres per unit of the file.
-    pub metres: f32,
-}
-
-impl Units {
-    /// The units in which `height` (the rest pose's, standing) comes nearest to a person's
-    /// 1.7 m, by ratio: metres, decimetres (MakeHuman's), centimetres, millimetres or inches.
-    /// Tiny rigs in metres read as metres, Second Life's (about 72 tall) as inches.
-    pub fn guess(height: f32) -> Units {
-        Units::guess_with_sureness(height).0
+/// Whether the non-root position channels look written for the other offset mode than `mode`:
+/// under `Replace`, nine in ten or more of them are all zero at frame 0 while their OFFSETs are
+/// not (MakeHuman's files, which mean "added to OFFSET"); under `Add`, they equal their OFFSETs.
+/// `Some((matching, candidates))` when they do (`info` words the warning).
+pub fn written_for_other_mode(
+    skeleton: &Skeleton,
+    motion: &crate::motion::Motion,
+    mode: OffsetMode,
+) -> Option<(usize, usize)> {
+    if motion.frame_count() == 0 {
+        return None;
     }
-
-    /// [`Units::guess`], and how sure it is: sure when the size is within a third of 1.7 m in
-    /// those units and clearly nearer than in any other, likely within ×1.8, else unsure.
-    pub fn guess_with_sureness(height: f32) -> (Units, crate::stance::Sureness) {
-        use crate::stance::Sureness;
-        const CANDIDATES: [Units; 5] = [
-            Units {
-                name: "metres",
-                metres: 1.0,
-            },
-            Units {
-                name: "decimetres",
-                metres: 0.1,
-            },
-            Units {
-                name: "centimetres",
-                metres: 0.01,
-            },
-            Units {
-                name: "millimetres",
-                metres: 0.001,
-            },
-            Units {
-                name: "inches",
-                metres: 0.0254,
-            },
-        ];
-        let off = |units: &Units| (height.max(1e-6) * units.metres / 1.7).ln().abs();
-        let mut ranked = CANDIDATES;
-        ranked.sort_by(|a, b| off(a).total_cmp(&off(b)));
-        let (best, next) = (off(&ranked[0]), off(&ranked[1]));
-        let sureness = if best < 1.35f32.ln() && next - best > 0.5 {
-            Sureness::Sure
-        } else if best < 1.8f32.ln() {
-            Sureness::Likely
-        } else {
-            Sureness::Unsure
+    let frame = motion.frame(0);
+    let mut candidates = 0;
+    let mut matching = 0;
+    for joint in skeleton.joints.iter().filter(|j| j.parent.is_some()) {
+        let values = joint.values(frame);
+        let positions: Vec<(usize, f32)> = joint
+            .channels
+            .iter()
+            .zip(values)
+            .filter(|(c, _)| c.is_position())
+            .map(|(c, &v)| (c.axis(), v))
+            .collect();
+        if positions.is_empty() || joint.offset.length() < 1e-3 {
+            continue;
+        }
+        candidates += 1;
+        let looks_other = match mode {
+            OffsetMode::Replace => positions.iter().all(|&(_, v)| v.abs() <= 1e-4),
+            OffsetMode::Add => positions.iter().all(|&(axis, v)| {
+                (v - joint.offset[axis]).abs() <= 1e-4 * joint.offset.length().max(1.0)
+            }),
         };
-        (ranked[0], sureness)
+        if looks_other {
+            matching += 1;
+        }
     }
+    if candidates == 0 || matching * 10 < candidates * 9 {
+        return None;
+    }
+    Some((matching, candidates))
 }
 
 /// The joint's translation `t` for one frame: its OFFSET with its position channels replacing

@@ -7,7 +7,7 @@
 //! look, `--fit`, `info` and the edits use the guess, and `--up` overrides it.
 
 use crate::motion::Motion;
-use crate::pose::{FkPlan, FkScratch, OffsetMode, Units, Up, world_positions};
+use crate::pose::{FkPlan, FkScratch, OffsetMode, Up, world_positions};
 use crate::skeleton::Skeleton;
 use glam::Vec3;
 
@@ -50,6 +50,62 @@ pub enum UnitsBasis {
     CmuSkeleton,
     /// The figure's size, nearest a person's 1.7 m.
     Size,
+}
+
+/// The units a file's lengths look written in, guessed from how tall its skeleton stands.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Units {
+    pub name: &'static str,
+    /// Metres per unit of the file.
+    pub metres: f32,
+}
+
+impl Units {
+    /// The units in which `height` (the rest pose's, standing) comes nearest to a person's
+    /// 1.7 m, by ratio: metres, decimetres (MakeHuman's), centimetres, millimetres or inches.
+    /// Tiny rigs in metres read as metres, Second Life's (about 72 tall) as inches.
+    pub fn guess(height: f32) -> Units {
+        Units::guess_with_sureness(height).0
+    }
+
+    /// [`Units::guess`], and how sure it is: sure when the size is within a third of 1.7 m in
+    /// those units and clearly nearer than in any other, likely within ×1.8, else unsure.
+    pub fn guess_with_sureness(height: f32) -> (Units, Sureness) {
+        const CANDIDATES: [Units; 5] = [
+            Units {
+                name: "metres",
+                metres: 1.0,
+            },
+            Units {
+                name: "decimetres",
+                metres: 0.1,
+            },
+            Units {
+                name: "centimetres",
+                metres: 0.01,
+            },
+            Units {
+                name: "millimetres",
+                metres: 0.001,
+            },
+            Units {
+                name: "inches",
+                metres: 0.0254,
+            },
+        ];
+        let off = |units: &Units| (height.max(1e-6) * units.metres / 1.7).ln().abs();
+        let mut ranked = CANDIDATES;
+        ranked.sort_by(|a, b| off(a).total_cmp(&off(b)));
+        let (best, next) = (off(&ranked[0]), off(&ranked[1]));
+        let sureness = if best < 1.35f32.ln() && next - best > 0.5 {
+            Sureness::Sure
+        } else if best < 1.8f32.ln() {
+            Sureness::Likely
+        } else {
+            Sureness::Unsure
+        };
+        (ranked[0], sureness)
+    }
 }
 
 /// CMU's lengths: 1/0.45 inch, about 5.64 cm (their ASF files say `length 0.45`; cgspeed's BVH
@@ -124,7 +180,7 @@ impl Stance {
         mode: OffsetMode,
         stated: Option<Units>,
     ) -> Stance {
-        let mode = if crate::info::offset_mode_warning(skeleton, motion, mode).is_some() {
+        let mode = if crate::pose::written_for_other_mode(skeleton, motion, mode).is_some() {
             match mode {
                 OffsetMode::Replace => OffsetMode::Add,
                 OffsetMode::Add => OffsetMode::Replace,

@@ -7,11 +7,12 @@
 
 use crate::edit::{Side, name_side};
 use crate::motion::Motion;
-use crate::pose::{FkPlan, FkScratch, OffsetMode, Units, Up};
+use crate::pose::{FkPlan, FkScratch, OffsetMode, Up};
 use crate::render::draw::{self, Style};
 use crate::render::fixed::*;
 use crate::render::scene::{Camera, Scene, look_at};
 use crate::skeleton::Skeleton;
+use crate::stance::Units;
 use glam::Vec3;
 
 /// How far above the level the studio camera looks down, in radians.
