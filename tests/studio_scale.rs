@@ -124,3 +124,37 @@ fn several_takes_stand_at_one_height_unless_true_scale() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `--fit take` keeps every joint of every frame in view from a camera that stays put; `--fit`
+/// (the pose) follows the figure.
+#[test]
+fn fit_take_frames_the_whole_path_from_one_camera() {
+    use bvhview::render::{SnapshotOptions, camera_for, framing};
+    let walk = bvhview::input::default_motion().unwrap();
+    let (skeleton, motion) = (&walk.skeleton, &walk.motion);
+    let camera = |frame: usize, whole_take: bool| {
+        let options = SnapshotOptions {
+            frame,
+            fit: true,
+            whole_take,
+            ..SnapshotOptions::default()
+        };
+        camera_for(skeleton, motion, &options).unwrap()
+    };
+    let last = motion.frame_count() - 1;
+    let still = camera(0, true);
+    assert_eq!(still, camera(last, true));
+    assert_ne!(camera(0, false), camera(last, false));
+    let matrix = framing::view_projection(&still, 600, 600);
+    for frame in 0..=last {
+        let points =
+            bvhview::pose::world_positions(skeleton, motion.frame(frame), Default::default());
+        for p in points {
+            let (x, y) = framing::project(&matrix, p, 600, 600).expect("in front of the eye");
+            assert!(
+                (0.0..=600.0).contains(&x) && (0.0..=600.0).contains(&y),
+                "{frame}: {x},{y}"
+            );
+        }
+    }
+}
