@@ -83,7 +83,7 @@ fn skeleton_for(amc_stem: &str, asfs: &[&PathBuf]) -> Option<usize> {
 }
 
 /// Every item under `dir` (subfolders too), in path order. An AMC pairs with an ASF in its
-/// folder as [`skeleton_for`] says; an AMC with none is listed unpaired; an ASF no AMC uses is
+/// folder as `skeleton_for` says; an AMC with none is listed unpaired; an ASF no AMC uses is
 /// listed alone (its rest pose).
 pub fn collect(dir: &Path) -> Result<Vec<Item>, Error> {
     let mut items = Vec::new();

@@ -115,7 +115,7 @@ fn pixel_box(camera: &Camera, points: &[Vec3], (width, height): (u32, u32)) -> O
 const FILL: f32 = 0.9;
 
 /// A camera at `angle` and `pitch` that shows every point inside `room`, as large as fits (the
-/// box of the points fills [`FILL`] of the room along its tighter side, centred in it). Found by
+/// box of the points fills 90 % (`FILL`) of the room along its tighter side, centred in it). Found by
 /// projecting the points and correcting the distance and the target a few times: a perspective
 /// view has no closed form for the box of a set of points.
 pub fn fit(points: &[Vec3], angle: f32, pitch: f32, size: (u32, u32), room: Room) -> Camera {
