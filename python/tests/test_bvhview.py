@@ -616,13 +616,14 @@ def test_a_result_larger_than_memory_is_a_memory_error():
 
 
 def test_a_take_whose_values_overflow_is_refused_before_anything_is_written(tmp_path):
-    """Point 2: an ASF bone of length 1e39 loads as nothing (its direction is normalised, and
-    its offset is not a 32-bit number), and a file that cannot be written leaves no file."""
+    """Point 2: an ASF bone of length 3.4e38 along a direction 1.0009 long (used as written:
+    within 1e-3 of unit) loads as nothing (its offset is not a 32-bit number), and a file that
+    cannot be written leaves no file."""
     asf = tmp_path / "huge.asf"
     asf.write_text(
         ":version 1.10\n:units\n  length 1\n  angle deg\n:root\n  order TX TY TZ RX RY RZ\n"
         "  axis XYZ\n  position 0 0 0\n  orientation 0 0 0\n:bonedata\n  begin\n    id 1\n"
-        "    name a\n    direction 0 1e30 0\n    length 1e39\n    axis 0 0 0 XYZ\n    dof rx\n"
+        "    name a\n    direction 0 1.0009 0\n    length 3.4e38\n    axis 0 0 0 XYZ\n    dof rx\n"
         "  end\n:hierarchy\n  begin\n    root a\n  end\n"
     )
     with pytest.raises(bvhview.ParseError, match="too large for a 32-bit float"):
