@@ -61,8 +61,9 @@ pub struct Units {
 }
 
 impl Units {
-    /// The units in which `height` (the rest pose's, standing) comes nearest to a person's
-    /// 1.7 m, by ratio: metres, decimetres (MakeHuman's), centimetres, millimetres or inches.
+    /// The units in which a figure of size `height` (its largest spread, see [`Stance::size`])
+    /// comes nearest to a person's 1.7 m, by ratio: metres, decimetres (MakeHuman's),
+    /// centimetres, millimetres or inches.
     /// Tiny rigs in metres read as metres, Second Life's (about 72 tall) as inches.
     pub fn guess(height: f32) -> Units {
         Units::guess_with_sureness(height).0
@@ -302,8 +303,8 @@ impl Stance {
         }
     }
 
-    /// The figure's height standing, in the file's units: the guess's, or the rest pose's
-    /// spread along `up` when `--up` overrides the guess.
+    /// The figure's height standing, in the file's units: the guess's, or, when `--up` asks for
+    /// the other axis, the figure's spread along it (the median over the frames looked at).
     pub fn height_along(&self, up: Up) -> f32 {
         if up == self.up {
             self.height

@@ -1,5 +1,6 @@
 //! Issue 27, point 5: every take drawn with `snapshot --fit --look studio --hud` at its first,
-//! middle and last frame shows its whole figure inside the picture, clear of the HUD, and at
+//! middle and last frame (and at the middle one with `--follow`) shows its whole figure inside
+//! the picture, clear of the HUD, and at
 //! least a third of the picture tall. Measured on the pictures `bvhview` writes, from the colours of their pixels: the
 //! studio's backdrop, grid and shadows are each one flat colour, so whatever else lies outside
 //! the HUD's lines and the timeline is the figure.
@@ -107,12 +108,22 @@ fn census(label: &str, takes: &[(PathBuf, Option<PathBuf>)]) {
             .to_string_lossy()
             .into_owned();
         let mut row = format!("census {name:48}");
-        for frame in [0, last / 2, last] {
+        // The first, middle and last frames framed on the pose, and the middle one again with
+        // the camera following the root (T, `--follow`).
+        for (frame, follow) in [
+            (0, false),
+            (last / 2, false),
+            (last, false),
+            (last / 2, true),
+        ] {
             let out = dir.join("census.png");
             let mut command = Command::new(exe);
             command.arg("snapshot").arg(file);
             if let Some(motion) = motion {
                 command.arg("--motion").arg(motion);
+            }
+            if follow {
+                command.arg("--follow");
             }
             let status = command
                 .args(["--fit", "--look", "studio", "--hud", "-q", "--frame"])
@@ -134,7 +145,8 @@ fn census(label: &str, takes: &[(PathBuf, Option<PathBuf>)]) {
             let share = tall as f32 / image.height as f32;
             smallest = smallest.min(share);
             row.push_str(&format!(
-                "  f{frame}: {:3.0}% tall, {:3.0}% wide",
+                "  f{frame}{}: {:3.0}% tall, {:3.0}% wide",
+                if follow { " follow" } else { "" },
                 share * 100.0,
                 wide as f32 / image.width as f32 * 100.0
             ));

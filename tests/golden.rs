@@ -183,7 +183,8 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
             options.up,
         )
     });
-    let camera = bvhview::render::camera_for(&bvh.skeleton, &bvh.motion, options).unwrap();
+    let stance = bvh.stance(options.offset_mode);
+    let camera = bvhview::render::camera_for(&bvh.skeleton, &bvh.motion, stance, options).unwrap();
     let mut renderer = bvhview::render::Renderer::new(options.width, options.height).unwrap();
     let context = renderer.context();
     let empty = bvhview::Skeleton::default();

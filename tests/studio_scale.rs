@@ -125,7 +125,7 @@ fn several_takes_stand_at_one_height_unless_true_scale() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// `--fit take` keeps every joint of every frame in view from a camera that stays put; `--fit`
+/// `--fit=take` keeps every joint of every frame in view from a camera that stays put; `--fit`
 /// (the pose) follows the figure.
 #[test]
 fn fit_take_frames_the_whole_path_from_one_camera() {
@@ -139,7 +139,7 @@ fn fit_take_frames_the_whole_path_from_one_camera() {
             whole_take,
             ..SnapshotOptions::default()
         };
-        camera_for(skeleton, motion, &options).unwrap()
+        camera_for(skeleton, motion, walk.stance(options.offset_mode), &options).unwrap()
     };
     let last = motion.frame_count() - 1;
     let still = camera(0, true);
@@ -157,4 +157,23 @@ fn fit_take_frames_the_whole_path_from_one_camera() {
             );
         }
     }
+}
+
+/// `--fit` takes no word after it: the file that follows is the file (`--fit=take` names the
+/// other framing).
+#[test]
+fn fit_is_a_flag_before_a_file() {
+    let dir = scratch("fit-flag");
+    let walk = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
+    let walk = walk.to_str().unwrap();
+    for fit in ["--fit", "--fit=pose", "--fit=take"] {
+        let out = dir.join("fit.png");
+        let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+            .args(["snapshot", fit, walk, "-q", "-o"])
+            .arg(&out)
+            .status()
+            .unwrap();
+        assert!(status.success(), "{fit}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
 }

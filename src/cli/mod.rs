@@ -129,8 +129,8 @@ pub(crate) struct View {
     #[arg(long, value_enum)]
     style: Option<StyleArg>,
     /// Frame the figure instead of using the article's fixed camera: the pose shown (`--fit`,
-    /// `--fit pose`) or every frame of the take (`--fit take`).
-    #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "pose", require_equals = false)]
+    /// `--fit=pose`) or every frame of the take (`--fit=take`).
+    #[arg(long, value_enum, num_args = 0..=1, default_missing_value = "pose", require_equals = true)]
     fit: Option<FitArg>,
     /// How position channels combine with OFFSET.
     #[arg(long, value_enum, default_value_t)]

@@ -60,6 +60,7 @@ pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
         ..
     } = args.view;
     let offset_mode = offset_mode.into();
+    let whole_take = fit == Some(FitArg::Take);
     let fit = fit.is_some();
     let stance = loaded.stance(offset_mode);
     let up = resolve_up(up, &stance, &args.file.display().to_string(), fit);
@@ -72,9 +73,10 @@ pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
         fit,
         offset_mode,
         up,
+        whole_take,
         ..Default::default()
     };
-    let camera = bvhview::render::camera_for(&loaded.skeleton, &loaded.motion, &options)?;
+    let camera = bvhview::render::camera_for(&loaded.skeleton, &loaded.motion, stance, &options)?;
     let numbers = match args.numbers {
         NumbersArg::Printf => Numbers::Printf,
         NumbersArg::Apitrace => Numbers::Apitrace,

@@ -116,6 +116,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         look: look.into(),
         quiet: QUIET.load(std::sync::atomic::Ordering::Relaxed),
         true_scale,
+        style_chosen: style.is_some(),
     };
     bvhview::render::window::run(takes, options)?;
     Ok(ExitCode::SUCCESS)

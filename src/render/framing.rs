@@ -128,7 +128,14 @@ pub fn fit(points: &[Vec3], angle: f32, pitch: f32, size: (u32, u32), room: Room
         (lo, hi) = (Vec3::ZERO, Vec3::ZERO);
     }
     let center = (lo + hi) * 0.5;
-    let radius = ((hi - lo).length() * 0.5).max(1e-3);
+    // Points all in one place have no size to frame: a unit around them, as the article's
+    // sphere of radius 1 would need.
+    let across = (hi - lo).length();
+    let radius = if across > 1e-6 {
+        (across * 0.5).max(center.length() * 1e-4)
+    } else {
+        1.0
+    };
     let points: Vec<Vec3> = points.iter().copied().filter(|p| p.is_finite()).collect();
     let half_fov = 22.5f32.to_radians();
     // Far enough that the bounding sphere is in view whatever the angle: every point in front.
@@ -138,20 +145,34 @@ pub fn fit(points: &[Vec3], angle: f32, pitch: f32, size: (u32, u32), room: Room
         distance: radius / half_fov.sin() * 1.1,
         pitch,
     };
-    if points.is_empty() {
+    if points.is_empty() || across <= 1e-6 {
         return camera;
     }
     let (width, height) = (size.0.max(1), size.1.max(1));
     let room_w = (room.right - room.left).max(1.0);
     let room_h = (room.top - room.bottom).max(1.0);
-    for _ in 0..8 {
+    let inside = |seen: &Room| {
+        seen.left >= room.left
+            && seen.right <= room.right
+            && seen.bottom >= room.bottom
+            && seen.top <= room.top
+    };
+    // Eight rounds of sizing and centring, then (rarely needed) rounds that centre and step back
+    // until every point is in the room: the corrections converge from either side.
+    for round in 0..40 {
         let Some(seen) = pixel_box(&camera, &points, (width, height)) else {
             camera.distance *= 1.5;
             continue;
         };
         let seen_w = (seen.right - seen.left).max(1e-3);
         let seen_h = (seen.top - seen.bottom).max(1e-3);
-        let zoom = (seen_w / (room_w * FILL)).max(seen_h / (room_h * FILL));
+        let zoom = if round < 8 {
+            (seen_w / (room_w * FILL)).max(seen_h / (room_h * FILL))
+        } else if inside(&seen) {
+            break;
+        } else {
+            1.05
+        };
         // Move the target so that the box's centre goes to the room's: a pixel at the target's
         // depth is 2·d·tan(fov/2)/height world units.
         let per_pixel = 2.0 * camera.distance * half_fov.tan() / height as f32;
@@ -166,20 +187,6 @@ pub fn fit(points: &[Vec3], angle: f32, pitch: f32, size: (u32, u32), room: Room
         let moved = target - right * dx - up * dy;
         camera.target = moved.to_array();
         camera.distance *= zoom.clamp(0.25, 4.0);
-    }
-    // The corrections converge from either side: make sure the last one left every point in.
-    for _ in 0..20 {
-        match pixel_box(&camera, &points, (width, height)) {
-            Some(seen)
-                if seen.left >= room.left
-                    && seen.right <= room.right
-                    && seen.bottom >= room.bottom
-                    && seen.top <= room.top =>
-            {
-                break;
-            }
-            _ => camera.distance *= 1.05,
-        }
     }
     camera
 }
@@ -211,6 +218,35 @@ mod tests {
                 assert!(tall > 0.8 * 420.0, "{angle} {pitch}: {tall}");
             }
         }
+    }
+
+    #[test]
+    fn points_in_one_place_keep_a_unit_around_them() {
+        let points = [Vec3::new(100.0, 50.0, 0.0); 3];
+        let camera = fit(
+            &points,
+            10.0,
+            0.0,
+            (600, 600),
+            Room::below(600, 600, 0.0, 0.0),
+        );
+        assert!(camera.distance > 2.0, "{camera:?}");
+        assert_eq!(camera.target, [100.0, 50.0, 0.0]);
+    }
+
+    #[test]
+    fn a_room_low_in_the_picture_still_holds_every_point() {
+        let points: Vec<Vec3> = (0..=10)
+            .map(|i| Vec3::new(0.0, i as f32 * 17.0, 0.0))
+            .collect();
+        // 160×120 with the top 80 pixels taken: a room 40 high, below the middle.
+        let room = Room::below(160, 120, 80.0, 0.0);
+        let camera = fit(&points, 0.5, 0.3, (160, 120), room);
+        let seen = pixel_box(&camera, &points, (160, 120)).unwrap();
+        assert!(
+            seen.bottom >= room.bottom && seen.top <= room.top,
+            "{seen:?} {room:?}"
+        );
     }
 
     #[test]

@@ -150,7 +150,7 @@ pub struct SnapshotOptions {
     /// In the studio look, the camera follows the root (the window's T).
     pub follow: bool,
     /// A framed view (`--fit`, the studio look) keeps every frame of the take in view from a
-    /// camera that stays put (`--fit take`), instead of following the pose shown.
+    /// camera that stays put (`--fit=take`), instead of following the pose shown.
     pub whole_take: bool,
     /// Several takes at their true sizes (by the units guessed for each) instead of scaled to
     /// the first one's height.
@@ -193,8 +193,27 @@ pub fn draw_overlay<G: fixed::FixedFunction>(
         }
     }
     if !overlay.labels.is_empty() {
-        let taken = hud::bands((width, height), &overlay.lines);
-        names::labels(gl, scenes, &overlay.labels, (width, height), &taken);
+        // Labels keep clear of the HUD's lines and stay above the timeline.
+        let mut taken = hud::bands((width, height), &overlay.lines);
+        let stepping = scenes.first().is_some_and(|s| s.shown.is_some());
+        let mut lowest = 2.0;
+        if overlay.timeline.is_some() && !stepping {
+            let bar = timeline::Bar::for_picture(width, height);
+            lowest = bar.room();
+            taken.push(pixels::Rect {
+                left: 0.0,
+                right: width as f32,
+                bottom: 0.0,
+                top: bar.room(),
+            });
+        }
+        names::labels(
+            gl,
+            scenes,
+            &overlay.labels,
+            (width, height),
+            (&taken, lowest),
+        );
     }
     if let Some(scene) = scenes.first()
         && let Some(shown) = scene.shown
@@ -240,17 +259,18 @@ impl Default for SnapshotOptions {
 }
 
 /// The camera `snapshot` draws one take with for `options` (no overlay): the article's, or one
-/// that frames the figure.
+/// that frames the figure; `stance` is the take's (`Loaded::stance`, which knows an ASF's units).
 pub fn camera_for(
     skeleton: &Skeleton,
     motion: &Motion,
+    stance: crate::stance::Stance,
     options: &SnapshotOptions,
 ) -> Result<Camera, Error> {
     let take = paint::Shown {
         skeleton,
         motion,
         up: options.up,
-        stance: crate::stance::Stance::guess(skeleton, motion, options.offset_mode, None),
+        stance,
     };
     paint::Painter::default().camera(&[take], options, &Overlay::default(), None)
 }
@@ -304,7 +324,8 @@ impl Renderer {
     }
 
     /// [`Renderer::render`] with `overlay` on top (an empty one draws the picture
-    /// [`Renderer::render`] draws).
+    /// [`Renderer::render`] draws). The take's units are guessed from its figure; for an ASF's
+    /// stated units, call [`Renderer::render_all`] with its `Loaded::stance`.
     pub fn render_with_overlay(
         &mut self,
         skeleton: &Skeleton,

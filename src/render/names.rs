@@ -33,16 +33,16 @@ pub fn draw<G: FixedFunction>(gl: &mut G, scene: &Scene) {
 }
 
 /// Writes each take's label (its file's name) centred just above its highest joint, in white,
-/// over everything, where it covers no other text: not the HUD's lines (`taken`, in pixels from
-/// the bottom-left corner) nor another label. A label that would is moved down a line at a time,
-/// then shortened in the middle to the room between its neighbours; it always stays inside the
-/// picture.
+/// over everything, where it covers no other text: not the HUD's lines or the timeline (`taken`,
+/// in pixels from the bottom-left corner) nor another label. A label that would is moved down a
+/// line at a time, no lower than `lowest`, then shortened in the middle to the room between its
+/// neighbours; it always stays inside the picture.
 pub fn labels<G: FixedFunction>(
     gl: &mut G,
     scenes: &[Scene],
     labels: &[String],
     (width, height): (u32, u32),
-    taken: &[Rect],
+    (taken, lowest): (&[Rect], f32),
 ) {
     let Some(first) = scenes.first() else {
         return;
@@ -85,7 +85,7 @@ pub fn labels<G: FixedFunction>(
             let text = text::shorten_middle(label, columns);
             let across = (text.chars().count() * 8) as f32;
             let left = (x - across / 2.0).clamp(2.0, (width as f32 - across - 2.0).max(2.0));
-            let bottom = ((y + 6.0).min(height as f32 - 10.0) - drop).max(2.0);
+            let bottom = ((y + 6.0).min(height as f32 - 10.0) - drop).max(lowest);
             let rect = Rect {
                 left,
                 right: left + across,

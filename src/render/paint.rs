@@ -206,9 +206,9 @@ impl Painter {
         });
         if !fresh {
             self.bodies.clear();
-            // A take guessed in the other offset mode (written for it) is drawn collapsed in
-            // this one: its standing height says nothing of what is drawn, so its pose alone
-            // is framed and its box sizes the stage.
+            // A take whose stance was guessed in the other offset mode (it looks written for
+            // that one) is drawn collapsed in this one: its standing height says nothing of what
+            // is drawn, so its pose alone is framed and its box sizes the stage.
             let own_heights: Vec<f32> = takes
                 .iter()
                 .map(|t| {
@@ -225,7 +225,7 @@ impl Painter {
                 .zip(&scales)
                 .map(|(h, s)| h * s)
                 .collect();
-            // One take stands where it is: its box is only needed for the stage or `--fit take`.
+            // One take stands where it is: its box is only needed for the stage or `--fit=take`.
             let extents: Vec<(Vec3, Vec3)> = if boxes_needed {
                 takes
                     .iter()
@@ -404,21 +404,37 @@ fn camera_of(
     };
     let framed = options.fit || studio_look;
     let follow_root = studio_look && options.follow;
-    let mut camera = if framed && !follow_root {
-        let room = figure_room(overlay, size, options.step.is_some());
-        let pitch = if studio_look { studio::PITCH } else { 0.0 };
+    let room = figure_room(overlay, size, options.step.is_some());
+    let pitch = if studio_look { studio::PITCH } else { 0.0 };
+    let mut camera = if let (true, Some(stage)) = (follow_root, &layout.stage) {
+        // Following the root: a box as wide and deep as the figure is tall around the root, from
+        // the floor up, framed in the room with the pose (which may reach beyond it); the camera
+        // keeps its distance as the figure moves.
+        let root = first.skeleton.roots().next().map_or(Vec3::ZERO, |root| {
+            let points = world_positions(first.skeleton, frames[0].unwrap_or(&[]), mode);
+            placed(0, points[root])
+        });
+        let half = stage.height * 0.5;
+        let mut points: Vec<Vec3> = (0..8)
+            .map(|corner| {
+                let side = |bit: usize| if corner & bit == 0 { -half } else { half };
+                let y = if corner & 2 == 0 {
+                    stage.floor
+                } else {
+                    stage.floor + stage.height
+                };
+                Vec3::new(root.x + side(1), y, root.z + side(4))
+            })
+            .collect();
+        points.extend(pose_points(takes, frames, mode, layout, &placed));
+        framing::fit(&points, options.angle, pitch, size, room)
+    } else if framed {
         let points = if options.whole_take {
             take_corners(layout)
         } else {
             pose_points(takes, frames, mode, layout, &placed)
         };
         framing::fit(&points, options.angle, pitch, size, room)
-    } else if let (true, Some(stage)) = (follow_root, &layout.stage) {
-        let root = first.skeleton.roots().next().map(|root| {
-            let points = world_positions(first.skeleton, frames[0].unwrap_or(&[]), mode);
-            placed(0, points[root])
-        });
-        stage.camera(options.angle, root)
     } else {
         Camera {
             angle: options.angle,
@@ -488,7 +504,7 @@ pub fn figure_room(overlay: &Overlay, (width, height): (u32, u32), stepping: boo
     Room::below(width, height, top, bottom)
 }
 
-/// The corners of every take's box over all its frames, at its place: what `--fit take` keeps
+/// The corners of every take's box over all its frames, at its place: what `--fit=take` keeps
 /// in view.
 fn take_corners(layout: &Layout) -> Vec<Vec3> {
     layout
@@ -539,24 +555,6 @@ fn pose_points(
         }
     }
     points
-}
-
-/// A camera at `angle` that sees every point (the article's 45° field of view).
-pub fn framing(points: &[Vec3], angle: f32) -> Camera {
-    let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
-    for p in points {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    if points.is_empty() {
-        (lo, hi) = (Vec3::ZERO, Vec3::ZERO);
-    }
-    let center = (lo + hi) * 0.5;
-    let radius = points
-        .iter()
-        .map(|p| p.distance(center))
-        .fold(0.0, f32::max);
-    Camera::framing(center.to_array(), radius, angle)
 }
 
 #[cfg(test)]

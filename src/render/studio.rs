@@ -1,7 +1,7 @@
 //! The studio look (`--look studio`, V in the window): a dark backdrop, a grid floor at the
 //! take's lowest point, the figure's shadow cast straight down onto it, bones and joints coloured
-//! by side (left blue, right orange, centre grey), and a camera that frames the whole take, or
-//! follows the root (T). Its sizes come from the skeleton: the grid's squares are half a metre in
+//! by side (left blue, right orange, centre grey), sticks with the spheres, and a camera that
+//! frames the pose shown, or follows the root (T), below the HUD (`paint`). Its sizes come from the skeleton: the grid's squares are half a metre in
 //! the units the skeleton's height suggests. None of it is the article's picture, which stays the
 //! default.
 
@@ -10,7 +10,7 @@ use crate::motion::Motion;
 use crate::pose::{FkPlan, FkScratch, OffsetMode, Up};
 use crate::render::draw::{self, Style};
 use crate::render::fixed::*;
-use crate::render::scene::{Camera, Scene, look_at};
+use crate::render::scene::{Scene, look_at};
 use crate::skeleton::Skeleton;
 use crate::stance::Units;
 use glam::Vec3;
@@ -145,26 +145,6 @@ impl Stage {
     /// The spheres' radius: in proportion to the figure.
     pub fn sphere_radius(&self) -> f64 {
         f64::from(self.height.max(1e-3)) * 0.012
-    }
-
-    /// The camera at `angle`: framing the whole take from a little above, or with `root` (the
-    /// root's position this frame, standing) following it at a figure's framing distance.
-    pub fn camera(&self, angle: f32, root: Option<Vec3>) -> Camera {
-        let half_fov = 22.5f32.to_radians();
-        match root {
-            None => Camera {
-                angle,
-                target: self.center.to_array(),
-                distance: self.radius / half_fov.sin() * 1.1,
-                pitch: PITCH,
-            },
-            Some(root) => Camera {
-                angle,
-                target: [root.x, self.floor + self.height * 0.5, root.z],
-                distance: self.height * 0.75 / half_fov.sin() * 1.1,
-                pitch: PITCH,
-            },
-        }
     }
 }
 

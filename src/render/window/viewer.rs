@@ -42,6 +42,8 @@ pub struct ViewerOptions {
     pub quiet: bool,
     /// Several takes at their true sizes instead of the first one's height (`--true-scale`).
     pub true_scale: bool,
+    /// Whether `style` was asked for (`--style`, or B since): V then leaves it as it is.
+    pub style_chosen: bool,
 }
 
 /// Playback speeds `+` and `-` step through.
@@ -612,12 +614,13 @@ impl Viewer {
                         Look::Studio => Look::Article,
                     };
                     // The studio draws sticks with the spheres; back in the article's look,
-                    // its spheres alone.
-                    self.options.style = match (self.options.look, self.options.style) {
-                        (Look::Studio, Style::Points) => Style::Both,
-                        (Look::Article, Style::Both) => Style::Points,
-                        (_, style) => style,
-                    };
+                    // its spheres alone; a style asked for (`--style`, B) stays.
+                    if !self.options.style_chosen {
+                        self.options.style = match self.options.look {
+                            Look::Studio => Style::Both,
+                            Look::Article => Style::Points,
+                        };
+                    }
                     self.camera = Camera {
                         angle: self.camera.angle,
                         ..Camera::default()
@@ -639,6 +642,11 @@ impl Viewer {
                         OffsetMode::Replace => OffsetMode::Add,
                         OffsetMode::Add => OffsetMode::Replace,
                     };
+                    // Each take's stance as drawn in the new mode (its height sizes the view).
+                    for take in &mut self.takes {
+                        take.stance = take.loaded.stance(self.options.offset_mode);
+                        take.up = take.up_asked.unwrap_or(take.stance.up);
+                    }
                     self.painter.forget();
                 }
                 // Back to the camera the program starts with (the article's for one take); in
@@ -656,6 +664,7 @@ impl Viewer {
                 // Every style in turn. With the skin on, the skin stands for the spheres, so
                 // only the stick figure over it changes anything: B turns it on and off.
                 "b" => {
+                    self.options.style_chosen = true;
                     self.options.style = match (self.options.style, self.options.skin) {
                         (Style::Points, _) => Style::Sticks,
                         (Style::Sticks, false) => Style::Both,
@@ -814,6 +823,7 @@ mod tests {
             look: Look::Article,
             quiet: true,
             true_scale: false,
+            style_chosen: false,
         }
     }
 
@@ -914,6 +924,25 @@ mod tests {
         );
         viewer.key(&Key::Character("v".into()));
         assert_eq!(viewer.options.style, Style::Points);
+        // A style asked for stays through V.
+        viewer.key(&Key::Character("b".into()));
+        assert_eq!(viewer.options.style, Style::Sticks);
+        for _ in 0..2 {
+            viewer.key(&Key::Character("v".into()));
+            assert_eq!(viewer.options.style, Style::Sticks);
+        }
+    }
+
+    /// O works each take's stance out again in the new mode (its height sizes framed views).
+    #[test]
+    fn o_guesses_each_stance_again_in_the_new_mode() {
+        let mut viewer = walk_viewer();
+        let before = viewer.takes[0].stance;
+        viewer.key(&Key::Character("o".into()));
+        assert_eq!(viewer.options.offset_mode, OffsetMode::Add);
+        assert_eq!(viewer.takes[0].stance.mode, OffsetMode::Add);
+        viewer.key(&Key::Character("o".into()));
+        assert_eq!(viewer.takes[0].stance, before);
     }
 
     /// Issue 27 row 7: a reload's error is wrapped between words to any picture, never cut.
