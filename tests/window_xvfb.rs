@@ -532,13 +532,17 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     close_to("L twice", &hud_first);
     key("i");
 
-    // V: the studio look; T: its camera follows the root; N: the joint names.
+    // V: the studio look; T: its camera follows the root; N: the joint names. B chose the
+    // spheres above, so the studio keeps them (without a choice it draws sticks too).
     key("v");
-    close_to("the studio look", &cli_snapshot(&["--look", "studio"]));
+    close_to(
+        "the studio look",
+        &cli_snapshot(&["--look", "studio", "--style", "points"]),
+    );
     key("t");
     close_to(
         "the studio look following the root",
-        &cli_snapshot(&["--look", "studio", "--follow"]),
+        &cli_snapshot(&["--look", "studio", "--style", "points", "--follow"]),
     );
     key("t");
     key("v");
