@@ -1,8 +1,9 @@
 //! Writes a big BVH file by repeating the MOTION rows of a real one, for benchmarks.
 //!
 //! `cargo run --release --example make_big -- SOURCE.bvh OUT.bvh [MEGABYTES]` (default 100).
-//! The hierarchy is copied byte for byte; the rows are repeated in order until the file reaches
-//! the size, and `Frames:` is set to the number of rows written.
+//! The hierarchy is copied byte for byte; the rows are repeated in order, each with its trailing
+//! blanks and the file's line ending, until the file reaches the size, and `Frames:` is set to the
+//! number of rows written.
 
 use std::io::{BufWriter, Write};
 
@@ -37,8 +38,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let rows: Vec<&[u8]> = text[line_end(time)..]
         .split(|&b| b == b'\n' || b == b'\r')
-        .map(|r| r.trim_ascii())
-        .filter(|r| !r.is_empty())
+        // A blank after the last number stays: the article's loader needs it (`p += 8`, then
+        // on to the next blank, then over CR LF).
+        .map(|r| r.trim_ascii_start())
+        .filter(|r| !r.trim_ascii().is_empty())
         .collect();
     if rows.is_empty() {
         return Err("no MOTION rows to repeat".into());

@@ -1,5 +1,8 @@
-//! `cargo run --release -p bvhview-bench -- BIG.bvh [--quick]`: throughput of loading (bvhview
-//! and bvh_anim 0.4 on the same bytes), forward kinematics, CSV export and offscreen drawing.
+//! `cargo run --release -p bvhview-bench -- BIG.bvh [--quick] [--rounds N] [--no-avx512]
+//! [--article PROGRAM]`: loading the same file with bvhview (one thread and every thread),
+//! bvh_anim 0.4, a naive reader (split on whitespace, fast-float2) and the article's own loader
+//! (built from its text by `bench/article.py`), interleaved round-robin, median and fastest of
+//! each; then forward kinematics, CSV export and offscreen drawing.
 //!
 //! `cargo run --release -p bvhview-bench -- --folder DIR`: load + world positions of every .bvh
 //! file of a folder, the first pass of a fresh process against the best of later passes, with
@@ -44,7 +47,8 @@ fn page_faults() -> Option<i64> {
 fn usage_error(message: &str) -> ! {
     eprintln!(
         "bvhview-bench: {message}\n\
-         usage: bvhview-bench BIG.bvh [--quick]   (make one: cargo run --release --example make_big -- SOURCE.bvh BIG.bvh 100)\n\
+         usage: bvhview-bench BIG.bvh [--quick] [--rounds N] [--no-avx512] [--article PROGRAM]\n\
+         \x20      (make BIG.bvh: cargo run --release --example make_big -- SOURCE.bvh BIG.bvh 100)\n\
          \x20      bvhview-bench --folder DIR"
     );
     std::process::exit(2);
@@ -142,6 +146,7 @@ fn folder(dir: &str) {
 
 fn main() {
     let (mut folder_dir, mut file, mut quick) = (None, None, false);
+    let mut load = LoadOptions::default();
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
         match arg.as_str() {
@@ -150,6 +155,15 @@ fn main() {
                 _ => usage_error("--folder needs a folder"),
             },
             "--quick" => quick = true,
+            "--no-avx512" => bvhview::bvh::rows::read_one_at_a_time(true),
+            "--rounds" => match args.next().and_then(|n| n.parse().ok()) {
+                Some(n) if n > 0 => load.rounds = Some(n),
+                _ => usage_error("--rounds needs a number of rounds above 0"),
+            },
+            "--article" => match args.next() {
+                Some(program) => load.article = Some(program),
+                None => usage_error("--article needs the program bench/article.py built"),
+            },
             option if option.starts_with("--") => usage_error(&format!("no option {option}")),
             _ if file.is_some() => usage_error("one BIG.bvh at a time"),
             _ => file = Some(arg),
@@ -159,13 +173,13 @@ fn main() {
         (Some(_), Some(path)) => usage_error(&format!("--folder or {path}, not both")),
         (Some(_), None) if quick => usage_error("--quick is for BIG.bvh, not --folder"),
         (Some(dir), None) => folder(&dir),
-        (None, Some(path)) => big(&path, quick),
+        (None, Some(path)) => big(&path, quick, &load),
         (None, None) => usage_error("no file given"),
     }
 }
 
 /// Every throughput of the bench on one big file.
-fn big(path: &str, quick: bool) {
+fn big(path: &str, quick: bool, load: &LoadOptions) {
     let runs = if quick { 2 } else { 7 };
     let bytes = std::fs::read(path).unwrap_or_else(|e| input_error(format!("{path}: {e}")));
     if let Err(e) = bvhview::bvh::load_bytes(&bytes, path) {
@@ -177,56 +191,13 @@ fn big(path: &str, quick: bool) {
         size as f64 / 1e6,
         std::thread::available_parallelism().map_or(1, |n| n.get())
     );
+    println!("cpu: {}", cpu_description());
+    println!("row reader: {}", bvhview::bvh::rows::row_reader());
 
-    // Loading.
-    let (t_file, bvh) = best(runs, || {
-        bvhview::bvh::load_file(std::path::Path::new(path), Default::default()).expect("loads")
-    });
-    let (t_one, _) = best(runs, || {
-        bvhview::bvh::load_file(
-            std::path::Path::new(path),
-            bvhview::bvh::loader::Settings {
-                threads: 1,
-                ..Default::default()
-            },
-        )
-        .expect("loads")
-    });
-    let (t_bytes, _) = best(runs, || {
-        bvhview::bvh::load_bytes(&bytes, path).expect("loads")
-    });
+    // Loading, every tool in turn in each round.
+    let bvh = compare_loaders(path, &bytes, quick, load);
     let joints = bvh.skeleton.joints.len();
     let frames = bvh.motion.frame_count();
-    println!(
-        "load_file   (from the page cache): {:8.1} ms  {:7.1} MB/s",
-        t_file.as_secs_f64() * 1e3,
-        mb_per_s(size, t_file)
-    );
-    println!(
-        "load_file   on one thread:         {:8.1} ms  {:7.1} MB/s",
-        t_one.as_secs_f64() * 1e3,
-        mb_per_s(size, t_one)
-    );
-    println!(
-        "load_bytes  (from memory):         {:8.1} ms  {:7.1} MB/s",
-        t_bytes.as_secs_f64() * 1e3,
-        mb_per_s(size, t_bytes)
-    );
-    let text = std::str::from_utf8(&bytes).expect("UTF-8");
-    let anim_runs = if quick { 1 } else { 3 };
-    let (t_anim, anim) = best(anim_runs, || {
-        bvh_anim::from_str(text).expect("bvh_anim loads")
-    });
-    println!(
-        "bvh_anim 0.4 from_str:             {:8.1} ms  {:7.1} MB/s",
-        t_anim.as_secs_f64() * 1e3,
-        mb_per_s(size, t_anim)
-    );
-    drop(anim);
-    println!(
-        "bvhview / bvh_anim:                {:8.1}x",
-        t_anim.as_secs_f64() / t_file.as_secs_f64()
-    );
 
     // Forward kinematics: world position of every joint on every frame.
     let (t_fk, checksum) = best(runs, || {
@@ -257,6 +228,9 @@ fn big(path: &str, quick: bool) {
         mb_per_s(written, t_csv),
         written as f64 / 1e6
     );
+
+    // A sequence of pictures (`snapshot --frames`) against the article's display() alone.
+    compare_sequences(quick);
 
     // Drawing, offscreen at the article's 600×600.
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/bvh");
@@ -323,4 +297,351 @@ fn big(path: &str, quick: bool) {
             1.0 / skinned.as_secs_f64()
         );
     }
+}
+
+/// What the load comparison runs besides the file.
+#[derive(Default)]
+struct LoadOptions {
+    /// Rounds of every tool in turn (default 7, 3 with --quick).
+    rounds: Option<usize>,
+    /// The article's loader (default: built by `bench/article.py` from the article's text beside
+    /// the checkout): it prints the seconds its `loadFile` took.
+    article: Option<String>,
+}
+
+/// The CPU's model and the vector extensions the row reader cares about, from /proc/cpuinfo.
+fn cpu_description() -> String {
+    let info = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let field = |name: &str| {
+        info.lines()
+            .find(|l| l.starts_with(name))
+            .and_then(|l| l.split_once(':'))
+            .map(|(_, v)| v.trim().to_string())
+            .unwrap_or_default()
+    };
+    let flags = field("flags");
+    let wanted = [
+        "avx2",
+        "avx512f",
+        "avx512bw",
+        "avx512cd",
+        "avx512vl",
+        "avx512vbmi",
+    ];
+    let present: Vec<&str> = wanted
+        .into_iter()
+        .filter(|f| flags.split(' ').any(|x| x == *f))
+        .collect();
+    let absent: Vec<&str> = wanted
+        .into_iter()
+        .filter(|f| !flags.split(' ').any(|x| x == *f))
+        .collect();
+    format!(
+        "{}; has {}; lacks {}",
+        field("model name"),
+        present.join(" "),
+        if absent.is_empty() {
+            "none of those".to_string()
+        } else {
+            absent.join(" ")
+        }
+    )
+}
+
+/// The naive floor: the MOTION text split on whitespace, each word parsed by fast-float2, no
+/// checks beyond that. Returns the values read.
+fn naive_floor(bytes: &[u8]) -> Vec<f32> {
+    let text = std::str::from_utf8(bytes).expect("UTF-8");
+    let at = text.find("Frame Time:").expect("a MOTION section");
+    let rows = &text[at..];
+    let rows = &rows[rows.find('\n').map_or(rows.len(), |n| n + 1)..];
+    let mut values = Vec::with_capacity(rows.len() / 7);
+    for word in rows.split_ascii_whitespace() {
+        values.push(fast_float2::parse::<f32, _>(word).expect("a number"));
+    }
+    values
+}
+
+/// The article's loader, built by `bench/article.py` from the article's text beside the checkout
+/// (`../shared/seeds/000_*.txt`), into a temporary folder; `None` when the text is not there or
+/// the build fails (said on stderr).
+fn build_article() -> Option<String> {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let seeds = root.join("../shared/seeds");
+    let seed = std::fs::read_dir(&seeds)
+        .ok()?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .find(|p| {
+            p.file_name()
+                .is_some_and(|n| n.to_string_lossy().starts_with("000_"))
+        })?;
+    let out = std::env::temp_dir().join(format!("bvhview-article-{}", std::process::id()));
+    let built = std::process::Command::new("python3")
+        .arg(root.join("bench/article.py"))
+        .arg(&seed)
+        .arg(&out)
+        .output();
+    match built {
+        Ok(built) if built.status.success() => {
+            Some(String::from_utf8_lossy(&built.stdout).trim().to_string())
+        }
+        Ok(built) => {
+            eprintln!(
+                "bvhview-bench: building the article's loader failed: {}",
+                String::from_utf8_lossy(&built.stderr)
+            );
+            None
+        }
+        Err(e) => {
+            eprintln!("bvhview-bench: python3 bench/article.py: {e}");
+            None
+        }
+    }
+}
+
+/// One load by the article's program: the seconds it reports for `loadFile`, or what it printed
+/// instead (it loads only the layout it was written for: CR LF, a blank after each row…).
+fn try_article(program: &str, path: &str) -> Result<Duration, String> {
+    let out = std::process::Command::new(program)
+        .arg(path)
+        .output()
+        .map_err(|e| format!("{program}: {e}"))?;
+    let text = String::from_utf8_lossy(&out.stdout);
+    text.lines()
+        .find_map(|l| l.strip_prefix("loadFile seconds: "))
+        .and_then(|v| v.trim().parse().ok())
+        .map(Duration::from_secs_f64)
+        .ok_or_else(|| text.trim().replace('\n', " "))
+}
+
+fn article_seconds(program: &str, path: &str) -> Duration {
+    try_article(program, path).unwrap_or_else(|e| input_error(e))
+}
+
+/// The median and the fastest of some timings.
+fn median_and_min(times: &mut [Duration]) -> (Duration, Duration) {
+    times.sort();
+    (times[times.len() / 2], times[0])
+}
+
+/// Loads `path` with every tool, one after the other in each round, and prints each tool's
+/// median and fastest time, then bvhview's ratios thread for thread (its one thread against
+/// each tool, all of which read on one thread) and on all threads. Returns bvhview's take.
+fn compare_loaders(
+    path: &str,
+    bytes: &[u8],
+    quick: bool,
+    options: &LoadOptions,
+) -> bvhview::bvh::Bvh {
+    let rounds = options.rounds.unwrap_or(if quick { 3 } else { 7 });
+    let cores = bvhview::cores();
+    let file = std::path::Path::new(path);
+    let one = bvhview::bvh::loader::Settings {
+        threads: 1,
+        ..Default::default()
+    };
+    let article = options.article.clone().or_else(build_article);
+    let article = article.filter(|program| match try_article(program, path) {
+        Ok(_) => true,
+        Err(said) => {
+            println!("(the article's loadFile cannot read this file: {said})");
+            false
+        }
+    });
+    type Tool<'a> = (&'a str, bool, Box<dyn FnMut() -> Duration + 'a>);
+    let timed = |f: &mut dyn FnMut()| {
+        let start = Instant::now();
+        f();
+        start.elapsed()
+    };
+    let mut tools: Vec<Tool> = vec![
+        (
+            "bvhview, 1 thread",
+            true,
+            Box::new(move || {
+                timed(&mut || drop(bvhview::bvh::load_file(file, one).expect("loads")))
+            }),
+        ),
+        (
+            "bvhview, all threads",
+            false,
+            Box::new(move || {
+                timed(&mut || {
+                    drop(bvhview::bvh::load_file(file, Default::default()).expect("loads"))
+                })
+            }),
+        ),
+        (
+            "bvh_anim 0.4, 1 thread",
+            true,
+            Box::new(move || {
+                timed(&mut || {
+                    let text = std::fs::read_to_string(file).expect("reads");
+                    drop(bvh_anim::from_str(&text).expect("bvh_anim loads"));
+                })
+            }),
+        ),
+        (
+            "naive floor, 1 thread",
+            true,
+            Box::new(move || {
+                timed(&mut || {
+                    let bytes = std::fs::read(file).expect("reads");
+                    drop(naive_floor(&bytes));
+                })
+            }),
+        ),
+    ];
+    if let Some(program) = &article {
+        tools.push((
+            "the article's loadFile, 1 thread",
+            true,
+            Box::new(move || article_seconds(program, path)),
+        ));
+    }
+    // Both read every value of the file.
+    let ours = bvhview::bvh::load_bytes(bytes, path).expect("loads");
+    assert_eq!(
+        naive_floor(bytes).len(),
+        ours.motion.data.len(),
+        "the floor reads every value"
+    );
+    let mut times: Vec<Vec<Duration>> = vec![Vec::new(); tools.len()];
+    for _ in 0..rounds {
+        for (index, (_, _, run)) in tools.iter_mut().enumerate() {
+            times[index].push(run());
+        }
+    }
+    println!("load, {rounds} rounds of every tool in turn ({cores} cores; median and fastest):");
+    let medians: Vec<(Duration, Duration)> = times.iter_mut().map(|t| median_and_min(t)).collect();
+    for ((name, _, _), (median, min)) in tools.iter().zip(&medians) {
+        println!(
+            "  {name:34} median {:8.1} ms {:7.1} MB/s   fastest {:8.1} ms {:7.1} MB/s",
+            median.as_secs_f64() * 1e3,
+            mb_per_s(bytes.len(), *median),
+            min.as_secs_f64() * 1e3,
+            mb_per_s(bytes.len(), *min)
+        );
+    }
+    let ratio = |ours: usize, theirs: usize| {
+        (
+            medians[theirs].0.as_secs_f64() / medians[ours].0.as_secs_f64(),
+            medians[theirs].1.as_secs_f64() / medians[ours].1.as_secs_f64(),
+        )
+    };
+    for (index, (name, single, _)) in tools.iter().enumerate().skip(2) {
+        if *single {
+            let (m1, f1) = ratio(0, index);
+            let (ma, fa) = ratio(1, index);
+            println!(
+                "  bvhview / {name}: thread for thread {m1:.2}x (fastest {f1:.2}x); all {cores} threads {ma:.2}x (fastest {fa:.2}x)"
+            );
+        }
+    }
+    ours
+}
+
+/// `snapshot --frames 0..N` of the CMU take at 600×600 into PNG files (drawn here, encoded and
+/// written on the other core) against the article's `display()` of the same frames on the same
+/// Mesa (its GL calls as the port issues them, then glFinish: what its window waits for),
+/// interleaved round-robin. Per frame, median and fastest of the rounds.
+fn compare_sequences(quick: bool) {
+    use bvhview::render::scene::{self, Camera, Scene};
+    use bvhview::render::{Renderer, SnapshotOptions, animation, paint::Shown};
+    let file =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/bvh/assimp_01_01.bvh");
+    let Ok(take) = bvhview::input::load(&file, None, None) else {
+        println!("sequence: skipped (no {})", file.display());
+        return;
+    };
+    let (rounds, count) = if quick { (3, 50) } else { (7, 200) };
+    let out = std::env::temp_dir().join(format!("bvhview-bench-frames-{}", std::process::id()));
+    std::fs::create_dir_all(&out).expect("a temporary folder");
+    let mut renderer = Renderer::new(600, 600).expect("OSMesa (apt-get install libosmesa6)");
+    let stance = take.stance(Default::default());
+    let shown = [Shown {
+        skeleton: &take.skeleton,
+        motion: &take.motion,
+        up: Default::default(),
+        stance,
+    }];
+    let mut sequence = || {
+        let start = Instant::now();
+        animation::overlapped(
+            count,
+            |frame| {
+                renderer.render_all(
+                    &shown,
+                    &SnapshotOptions {
+                        frame,
+                        ..SnapshotOptions::default()
+                    },
+                    &Default::default(),
+                )
+            },
+            |pictures| {
+                for (i, picture) in pictures.enumerate() {
+                    picture?.write_png(&out.join(format!("frame_{i:05}.png")))?;
+                }
+                Ok(())
+            },
+        )
+        .expect("writes");
+        start.elapsed() / count as u32
+    };
+    let mut article = Renderer::new(600, 600).expect("OSMesa");
+    let mut display = || {
+        let gl = &mut article.context().gl;
+        scene::init(gl);
+        let camera = Camera::default();
+        let start = Instant::now();
+        for frame in 0..count {
+            scene::reshape(gl, 600, 600, &camera);
+            let view = Scene {
+                skeleton: &take.skeleton,
+                frame: Some(take.motion.frame(frame)),
+                camera,
+                style: bvhview::render::draw::Style::Points,
+                offset_mode: Default::default(),
+                skin: None,
+                shown: None,
+                sphere_radius: 1.0,
+                up: Default::default(),
+                origin: [0.0; 3],
+                scale: 1.0,
+                colours: None,
+            };
+            scene::display(gl, &view);
+            // SAFETY: the context is current on this thread.
+            unsafe { glow::HasContext::finish(&gl.gl) };
+        }
+        start.elapsed() / count as u32
+    };
+    let (mut ours, mut theirs) = (Vec::new(), Vec::new());
+    for _ in 0..rounds {
+        ours.push(sequence());
+        theirs.push(display());
+    }
+    std::fs::remove_dir_all(&out).ok();
+    let (om, of) = median_and_min(&mut ours);
+    let (tm, tf) = median_and_min(&mut theirs);
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    println!(
+        "sequence of {count} frames, CMU, 600×600, {rounds} rounds in turn (per frame, median and fastest):"
+    );
+    println!(
+        "  snapshot --frames into PNGs        median {:6.2} ms   fastest {:6.2} ms",
+        ms(om),
+        ms(of)
+    );
+    println!(
+        "  the article's display() + glFinish median {:6.2} ms   fastest {:6.2} ms",
+        ms(tm),
+        ms(tf)
+    );
+    println!(
+        "  snapshot / display(): {:.2} (fastest {:.2}); at most 1 is the goal",
+        ms(om) / ms(tm),
+        ms(of) / ms(tf)
+    );
 }

@@ -220,16 +220,21 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         let ticks = animation::sampled_frames(range, clock.step, fps)?;
         let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
         let progress = Progress::new(ticks.len());
-        let pictures = ticks.iter().enumerate().map(|(i, &frame)| {
-            progress.show(i + 1);
-            renderer.render_all(
-                &shown,
-                &SnapshotOptions { frame, ..options },
-                &overlay(frame),
-            )
-        });
         let size = (options.width, options.height);
-        animation::write(output, format, size, fps, pictures, ticks.len())?;
+        // Each picture is encoded on another core while the next one is drawn.
+        animation::overlapped(
+            ticks.len(),
+            |i| {
+                progress.show(i + 1);
+                let frame = ticks[i];
+                renderer.render_all(
+                    &shown,
+                    &SnapshotOptions { frame, ..options },
+                    &overlay(frame),
+                )
+            },
+            |pictures| animation::write(output, format, size, fps, pictures, ticks.len()),
+        )?;
         progress.done();
         wrote(format_args!(
             "{}: {} at {fps:.3} per second",
@@ -247,14 +252,26 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
     let digits = (range.end.max(1) - 1).to_string().len().max(5);
     let count = range.len();
-    for frame in range {
-        let image = renderer.render_all(
-            &shown,
-            &SnapshotOptions { frame, ..options },
-            &overlay(frame),
-        )?;
-        image.write_png(&output.join(format!("frame_{frame:0digits$}.png")))?;
-    }
+    let first = range.start;
+    let name = |frame: usize| output.join(format!("frame_{frame:0digits$}.png"));
+    // Each picture is encoded and written on another core while the next one is drawn.
+    animation::overlapped(
+        count,
+        |i| {
+            let frame = first + i;
+            renderer.render_all(
+                &shown,
+                &SnapshotOptions { frame, ..options },
+                &overlay(frame),
+            )
+        },
+        |pictures| {
+            for (i, picture) in pictures.enumerate() {
+                picture?.write_png(&name(first + i))?;
+            }
+            Ok(())
+        },
+    )?;
     wrote(format_args!(
         "{} into {}",
         bvhview::error::counted(count, "picture"),

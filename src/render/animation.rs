@@ -62,6 +62,34 @@ pub fn sampled_frames(range: Range<usize>, frame_time: f64, fps: f64) -> Result<
 }
 
 /// Writes the pictures `frames` yields as one animation at `fps`, looping.
+/// Draws `count` pictures on this thread (the GL context's) while another thread encodes and
+/// writes them (`write`, given the pictures in order): the two overlap, so a sequence costs
+/// about the larger of drawing and encoding per frame, not their sum. The first error either
+/// side meets ends both.
+pub fn overlapped<T: Send>(
+    count: usize,
+    mut draw: impl FnMut(usize) -> Result<Image, Error>,
+    write: impl FnOnce(std::sync::mpsc::IntoIter<Result<Image, Error>>) -> Result<T, Error> + Send,
+) -> Result<T, Error> {
+    // Two pictures in flight: enough to keep both threads busy, little memory.
+    let (sender, receiver) = std::sync::mpsc::sync_channel::<Result<Image, Error>>(2);
+    std::thread::scope(|scope| {
+        let writer = scope.spawn(move || write(receiver.into_iter()));
+        for index in 0..count {
+            let picture = draw(index);
+            let failed = picture.is_err();
+            // A writer that stopped (an error of its own) no longer listens: its error counts.
+            if sender.send(picture).is_err() || failed {
+                break;
+            }
+        }
+        drop(sender);
+        writer
+            .join()
+            .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
+    })
+}
+
 pub fn write(
     path: &Path,
     format: Format,
@@ -100,6 +128,8 @@ pub fn write(
             let mut encoder = png::Encoder::new(out, width, height);
             encoder.set_color(png::ColorType::Rgb);
             encoder.set_depth(png::BitDepth::Eight);
+            // As for a still PNG: fdeflate's fast level, the same pixels.
+            encoder.set_compression(png::Compression::Fast);
             let count = u32::try_from(count.max(1)).unwrap_or(u32::MAX);
             encoder.set_animated(count, 0).map_err(|e| encoding(&e))?;
             // The delay as a fraction of a second: 1000 / (1000 · fps).
@@ -128,6 +158,67 @@ pub fn write(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    fn picture(shade: u8) -> Image {
+        Image {
+            width: 1,
+            height: 1,
+            rgb: vec![shade; 3],
+        }
+    }
+
+    #[test]
+    fn overlapped_writes_every_picture_in_order_and_stops_at_the_first_error() {
+        // In order, all of them.
+        let shades = overlapped(
+            50,
+            |i| Ok(picture(i as u8)),
+            |pictures| {
+                pictures
+                    .map(|p| p.map(|p| p.rgb[0]))
+                    .collect::<Result<Vec<_>, _>>()
+            },
+        )
+        .unwrap();
+        assert_eq!(shades, (0..50).collect::<Vec<u8>>());
+        // A drawing error ends the sequence and is the result; nothing is drawn after it.
+        let mut drawn = 0;
+        let error = overlapped(
+            50,
+            |i| {
+                drawn += 1;
+                if i == 7 {
+                    Err(Error::Usage("frame 7".into()))
+                } else {
+                    Ok(picture(0))
+                }
+            },
+            |pictures| {
+                pictures
+                    .map(|p| p.map(|_| ()))
+                    .collect::<Result<Vec<_>, _>>()
+            },
+        )
+        .unwrap_err();
+        assert_eq!(error.to_string(), "frame 7");
+        assert_eq!(drawn, 8);
+        // A writing error stops the drawing soon after (two pictures in flight at most).
+        let mut drawn = 0;
+        let error = overlapped(
+            1000,
+            |_| {
+                drawn += 1;
+                Ok(picture(0))
+            },
+            |mut pictures| -> Result<(), Error> {
+                pictures.next();
+                Err(Error::Usage("disk full".into()))
+            },
+        )
+        .unwrap_err();
+        assert_eq!(error.to_string(), "disk full");
+        assert!(drawn < 1000, "{drawn}");
+    }
 
     #[test]
     fn frames_are_sampled_by_time() {

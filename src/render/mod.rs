@@ -43,6 +43,9 @@ impl Image {
         let mut encoder = png::Encoder::new(&mut file, self.width, self.height);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
+        // fdeflate's fast level: a third of the time of the default for files a little larger
+        // (the pixels are the same).
+        encoder.set_compression(png::Compression::Fast);
         // Whatever goes wrong while encoding is a failure to write the output (exit code 1).
         let io_error = |e: png::EncodingError| match e {
             png::EncodingError::IoError(e) => Error::output(path, e),

@@ -145,8 +145,12 @@ impl OsMesa {
 
     /// The picture drawn so far, as RGB rows from the top down.
     pub fn read_rgb(&self) -> Vec<u8> {
-        let rgba = self.gl.read_rgba(self.width as usize, self.height as usize);
-        crate::render::Image::from_rgba_bottom_up(self.width, self.height, &rgba).rgb
+        // OSMesa draws into our own buffer (bottom row first): once GL has finished, the picture
+        // is read from there, flipped and stripped of alpha in one pass, without glReadPixels'
+        // copy into a second buffer.
+        // SAFETY: this context is current on this thread (every drawing call needs it).
+        unsafe { glow::HasContext::finish(&self.gl.gl) };
+        crate::render::Image::from_rgba_bottom_up(self.width, self.height, &self.buffer).rgb
     }
 }
 

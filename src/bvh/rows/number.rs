@@ -60,9 +60,9 @@ pub(super) fn digit_run(text: &[u8], p: usize) -> Option<(u64, usize)> {
 }
 
 /// One number, as the article reads it with `(float)atof(p)`: the nearest double, rounded to a
-/// float; `None` unless the whole word is a finite number. The usual shape goes through
-/// `read_decimal`; anything else (exponents, long mantissas) through the standard library's
-/// parser, which gives the same answer.
+/// float; `None` unless the whole word is a finite number. The usual shapes go through
+/// `read_decimal`; anything else (long mantissas, exponents past 10^±22 from the mantissa)
+/// through the standard library's parser, which gives the same answer.
 pub fn parse_number(word: &[u8]) -> Option<f32> {
     if let Some((value, end)) = read_decimal(word, 0)
         && end == word.len()
@@ -73,10 +73,11 @@ pub fn parse_number(word: &[u8]) -> Option<f32> {
     value.is_finite().then_some(value)
 }
 
-/// The usual MOTION number at `p`, `[-+]digits[.digits]` with 1 to 15 digits and followed by a
-/// blank, a line end or the end of `text`: its value (rounded exactly as `(float)atof` rounds,
-/// by Clinger's fast path: the mantissa is exact below 2^53 and the scale at most 15) and where
-/// it ends. `None` for anything else, which the caller hands to the standard parser.
+/// The usual MOTION number at `p`, `[-+]digits[.digits][(e|E)[-+]digits]` with 1 to 15 mantissa
+/// digits and followed by a blank, a line end or the end of `text`: its value (rounded exactly
+/// as `(float)atof` rounds, by Clinger's fast path: the mantissa is exact below 2^53 and the
+/// power of ten, at most 10^22, is exact too, so one multiplication or division rounds once)
+/// and where it ends. `None` for anything else, which the caller hands to the standard parser.
 #[inline(always)]
 pub(super) fn read_decimal(text: &[u8], mut p: usize) -> Option<(f32, usize)> {
     let negative = *text.get(p)? == b'-';
@@ -112,8 +113,40 @@ pub(super) fn read_decimal(text: &[u8], mut p: usize) -> Option<(f32, usize)> {
         scale = p - fraction_start;
         digits += scale;
     }
+    // Exporters that write `%g` (Bandai-Namco's, Blender's for tiny values) add an exponent.
+    let mut exponent: i64 = 0;
+    if matches!(text.get(p), Some(b'e' | b'E')) {
+        p += 1;
+        let negative_exponent = text.get(p) == Some(&b'-');
+        p += usize::from(negative_exponent || text.get(p) == Some(&b'+'));
+        let exponent_start = p;
+        while let Some(&c) = text.get(p).filter(|c| c.is_ascii_digit()) {
+            // Past 10^4 the value is far outside a float either way: the slow path decides.
+            exponent = (exponent * 10 + i64::from(c - b'0')).min(10_000);
+            p += 1;
+        }
+        if p == exponent_start {
+            return None;
+        }
+        if negative_exponent {
+            exponent = -exponent;
+        }
+    }
     let ends = p == text.len() || is_blank(text[p]) || is_line_end(text[p]);
-    (ends && digits > 0 && digits <= 15).then(|| (decimal_to_f32(mantissa, scale, negative), p))
+    if !ends || digits == 0 || digits > 15 {
+        return None;
+    }
+    let power = exponent - scale as i64;
+    let value = match power {
+        0..=22 => {
+            // Both factors exact (the mantissa below 2^53): the product rounds once.
+            let magnitude = (mantissa as i64 as f64 * POW10[power as usize]) as f32;
+            if negative { -magnitude } else { magnitude }
+        }
+        -22..=-1 => decimal_to_f32(mantissa, (-power) as usize, negative),
+        _ => return None,
+    };
+    Some((value, p))
 }
 
 /// The value of eight decimal digits, one per byte, the most significant in the lowest byte.

@@ -208,8 +208,8 @@ pub(super) fn read_short_number(
     ))
 }
 
-/// A number in any form `(float)atof` takes, or the problem with the word at `at`.
-#[cold]
+/// A number in any form `(float)atof` takes, or the problem with the word at `at`: the words the
+/// eight-byte path leaves (exponents, long ones), common in some files, so not marked cold.
 #[inline(never)]
 pub(super) fn read_any_number(text: &[u8], at: usize) -> Result<f32, Problem> {
     if let Some((value, _)) = read_decimal(text, at) {
