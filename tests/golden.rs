@@ -356,3 +356,41 @@ fn with_fit_every_whole_corpus_file_shows_its_skeleton() {
         ],
     );
 }
+
+/// The sequence path (`Renderer::render_frame`, the buffer handed over and turned into a picture
+/// elsewhere, then drawn into again) gives the pictures `render_all` gives, frame after frame.
+#[test]
+fn frames_drawn_for_a_sequence_equal_single_pictures() {
+    let take = bvhview::input::load(&repo_data("bvh/bvh11_131_01.bvh"), None, None).unwrap();
+    let shown = [bvhview::render::paint::Shown {
+        skeleton: &take.skeleton,
+        motion: &take.motion,
+        up: bvhview::pose::Up::Y,
+        stance: take.stance(OffsetMode::Replace),
+    }];
+    let mut sequence = bvhview::render::Renderer::new(200, 150).unwrap();
+    let mut single = bvhview::render::Renderer::new(200, 150).unwrap();
+    let mut spare = None;
+    for (frame, look) in [
+        (0, Look::Article),
+        (5, Look::Studio),
+        (400, Look::Article),
+        (9, Look::Studio),
+    ] {
+        let options = SnapshotOptions {
+            frame,
+            look,
+            width: 200,
+            height: 150,
+            ..SnapshotOptions::default()
+        };
+        let overlay = bvhview::render::Overlay::default();
+        let drawn = sequence
+            .render_frame(&shown, &options, &overlay, spare.take())
+            .unwrap();
+        let (picture, buffer) = drawn.into_image();
+        spare = Some(buffer);
+        let want = single.render_all(&shown, &options, &overlay).unwrap();
+        assert_eq!(picture.differing_pixels(&want), 0, "frame {frame}");
+    }
+}

@@ -567,17 +567,14 @@ fn compare_sequences(quick: bool) {
     }];
     let mut sequence = || {
         let start = Instant::now();
-        animation::overlapped(
+        animation::drawn_and_written(
             count,
-            |frame| {
-                renderer.render_all(
-                    &shown,
-                    &SnapshotOptions {
-                        frame,
-                        ..SnapshotOptions::default()
-                    },
-                    &Default::default(),
-                )
+            |frame, spare| {
+                let options = SnapshotOptions {
+                    frame,
+                    ..SnapshotOptions::default()
+                };
+                renderer.render_frame(&shown, &options, &Default::default(), spare)
             },
             |pictures| {
                 for (i, picture) in pictures.enumerate() {

@@ -222,16 +222,13 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         let progress = Progress::new(ticks.len());
         let size = (options.width, options.height);
         // Each picture is encoded on another core while the next one is drawn.
-        animation::overlapped(
+        animation::drawn_and_written(
             ticks.len(),
-            |i| {
+            |i, spare| {
                 progress.show(i + 1);
                 let frame = ticks[i];
-                renderer.render_all(
-                    &shown,
-                    &SnapshotOptions { frame, ..options },
-                    &overlay(frame),
-                )
+                let options = SnapshotOptions { frame, ..options };
+                renderer.render_frame(&shown, &options, &overlay(frame), spare)
             },
             |pictures| animation::write(output, format, size, fps, pictures, ticks.len()),
         )?;
@@ -255,15 +252,12 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     let first = range.start;
     let name = |frame: usize| output.join(format!("frame_{frame:0digits$}.png"));
     // Each picture is encoded and written on another core while the next one is drawn.
-    animation::overlapped(
+    animation::drawn_and_written(
         count,
-        |i| {
+        |i, spare| {
             let frame = first + i;
-            renderer.render_all(
-                &shown,
-                &SnapshotOptions { frame, ..options },
-                &overlay(frame),
-            )
+            let options = SnapshotOptions { frame, ..options };
+            renderer.render_frame(&shown, &options, &overlay(frame), spare)
         },
         |pictures| {
             for (i, picture) in pictures.enumerate() {

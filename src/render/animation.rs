@@ -3,7 +3,7 @@
 
 use crate::error::Error;
 use crate::limits::GIF_MAX_FPS;
-use crate::render::Image;
+use crate::render::{Frame, Image};
 use std::ops::Range;
 use std::path::Path;
 
@@ -66,13 +66,13 @@ pub fn sampled_frames(range: Range<usize>, frame_time: f64, fps: f64) -> Result<
 /// writes them (`write`, given the pictures in order): the two overlap, so a sequence costs
 /// about the larger of drawing and encoding per frame, not their sum. The first error either
 /// side meets ends both.
-pub fn overlapped<T: Send>(
+pub fn overlapped<P: Send, T: Send>(
     count: usize,
-    mut draw: impl FnMut(usize) -> Result<Image, Error>,
-    write: impl FnOnce(std::sync::mpsc::IntoIter<Result<Image, Error>>) -> Result<T, Error> + Send,
+    mut draw: impl FnMut(usize) -> Result<P, Error>,
+    write: impl FnOnce(std::sync::mpsc::IntoIter<Result<P, Error>>) -> Result<T, Error> + Send,
 ) -> Result<T, Error> {
     // Two pictures in flight: enough to keep both threads busy, little memory.
-    let (sender, receiver) = std::sync::mpsc::sync_channel::<Result<Image, Error>>(2);
+    let (sender, receiver) = std::sync::mpsc::sync_channel::<Result<P, Error>>(2);
     std::thread::scope(|scope| {
         let writer = scope.spawn(move || write(receiver.into_iter()));
         for index in 0..count {
@@ -88,6 +88,30 @@ pub fn overlapped<T: Send>(
             .join()
             .unwrap_or_else(|panic| std::panic::resume_unwind(panic))
     })
+}
+
+/// [`overlapped`] for pictures drawn by [`crate::render::Renderer::render_frame`]: each is
+/// turned into an [`Image`] (flipped, alpha dropped) on the writing thread, which then hands its
+/// buffer back for a later frame to be drawn into; `draw` gets that buffer when one is back.
+pub fn drawn_and_written<T: Send>(
+    count: usize,
+    mut draw: impl FnMut(usize, Option<Vec<u8>>) -> Result<Frame, Error>,
+    write: impl FnOnce(&mut dyn Iterator<Item = Result<Image, Error>>) -> Result<T, Error> + Send,
+) -> Result<T, Error> {
+    let (spares, recycled) = std::sync::mpsc::channel();
+    overlapped(
+        count,
+        |index| draw(index, recycled.try_recv().ok()),
+        move |frames| {
+            let mut pictures = frames.map(|frame| {
+                let (image, buffer) = frame?.into_image();
+                // The drawing thread may have ended: then the buffer is simply dropped.
+                let _ = spares.send(buffer);
+                Ok(image)
+            });
+            write(&mut pictures)
+        },
+    )
 }
 
 pub fn write(

@@ -129,6 +129,22 @@ impl Image {
     }
 }
 
+/// A picture as GL draws it: RGBA rows from the bottom up (see [`Renderer::render_frame`]).
+#[derive(Debug)]
+pub struct Frame {
+    pub width: u32,
+    pub height: u32,
+    pub rgba: Vec<u8>,
+}
+
+impl Frame {
+    /// The picture, and the buffer back for the next frame to be drawn into.
+    pub fn into_image(self) -> (Image, Vec<u8>) {
+        let image = Image::from_rgba_bottom_up(self.width, self.height, &self.rgba);
+        (image, self.rgba)
+    }
+}
+
 /// What a snapshot shows.
 #[derive(Clone, Copy, Debug)]
 pub struct SnapshotOptions {
@@ -353,6 +369,46 @@ impl Renderer {
         options: &SnapshotOptions,
         overlay: &Overlay,
     ) -> Result<Image, Error> {
+        self.paint(takes, options, overlay)?;
+        let (width, height) = self.context.size();
+        Ok(Image {
+            width,
+            height,
+            rgb: self.context.read_rgb(),
+        })
+    }
+
+    /// [`Renderer::render_all`] for a sequence: the picture as GL left it ([`Frame`], turned
+    /// into an [`Image`] by whoever encodes it, on another thread), drawn into `spare` (a buffer
+    /// an earlier frame handed back, or a new one) so that the next frame need not wait for it.
+    pub fn render_frame(
+        &mut self,
+        takes: &[paint::Shown],
+        options: &SnapshotOptions,
+        overlay: &Overlay,
+        spare: Option<Vec<u8>>,
+    ) -> Result<Frame, Error> {
+        self.paint(takes, options, overlay)?;
+        let (width, height) = self.context.size();
+        let spare = match spare {
+            Some(spare) => spare,
+            None => {
+                crate::limits::zeroed_bytes(width as usize * height as usize * 4, "the picture")?
+            }
+        };
+        Ok(Frame {
+            width,
+            height,
+            rgba: self.context.swap_buffer(spare)?,
+        })
+    }
+
+    fn paint(
+        &mut self,
+        takes: &[paint::Shown],
+        options: &SnapshotOptions,
+        overlay: &Overlay,
+    ) -> Result<(), Error> {
         let (width, height) = self.context.size();
         if (options.width, options.height) != (width, height) {
             return Err(Error::Usage(
@@ -361,12 +417,7 @@ impl Renderer {
         }
         self.context.make_current()?;
         self.painter
-            .paint(&mut self.context.gl, takes, options, overlay, None)?;
-        Ok(Image {
-            width,
-            height,
-            rgb: self.context.read_rgb(),
-        })
+            .paint(&mut self.context.gl, takes, options, overlay, None)
     }
 
     /// The GL context, for tests that query its state.

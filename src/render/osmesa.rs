@@ -143,6 +143,25 @@ impl OsMesa {
         Ok(())
     }
 
+    /// Hands over the buffer holding the picture drawn so far (RGBA rows from the bottom up)
+    /// and draws on into `spare` from now on, which must be as large. The next frame is drawn
+    /// while the last one is encoded elsewhere, without a copy.
+    pub fn swap_buffer(&mut self, spare: Vec<u8>) -> Result<Vec<u8>, Error> {
+        if spare.len() != self.buffer.len() {
+            return Err(Error::Usage(format!(
+                "a picture buffer of {} bytes for a {}x{} context",
+                spare.len(),
+                self.width,
+                self.height
+            )));
+        }
+        // SAFETY: this context is current on this thread (every drawing call needs it).
+        unsafe { glow::HasContext::finish(&self.gl.gl) };
+        let drawn = std::mem::replace(&mut self.buffer, spare);
+        self.make_current()?;
+        Ok(drawn)
+    }
+
     /// The picture drawn so far, as RGB rows from the top down.
     pub fn read_rgb(&self) -> Vec<u8> {
         // OSMesa draws into our own buffer (bottom row first): once GL has finished, the picture
