@@ -88,10 +88,32 @@ impl Image {
 
     /// A picture from GL's RGBA rows, which run from the bottom up.
     pub fn from_rgba_bottom_up(width: u32, height: u32, rgba: &[u8]) -> Image {
-        let mut rgb = Vec::with_capacity(width as usize * height as usize * 3);
-        for row in rgba.chunks_exact(width.max(1) as usize * 4).rev() {
-            for pixel in row.chunks_exact(4) {
-                rgb.extend_from_slice(&pixel[..3]);
+        let row_in = width.max(1) as usize * 4;
+        let rows = (rgba.len() / row_in).min(height as usize);
+        let mut rgb = vec![0; rows * width as usize * 3];
+        // Row by row into a picture already the right size, four pixels at a time: sixteen
+        // bytes of RGBA in three 32-bit words, twelve bytes of RGB out (a sequence turns every
+        // frame's 1.4 MB this way).
+        for (out, row) in rgb
+            .chunks_exact_mut(width.max(1) as usize * 3)
+            .zip(rgba.chunks_exact(row_in).take(rows).rev())
+        {
+            let mut to = out.chunks_exact_mut(12);
+            let mut from = row.chunks_exact(16);
+            for (to, from) in (&mut to).zip(&mut from) {
+                let word =
+                    |i: usize| u32::from_le_bytes([from[i], from[i + 1], from[i + 2], from[i + 3]]);
+                let (p0, p1, p2, p3) = (word(0), word(4), word(8), word(12));
+                to[0..4].copy_from_slice(&(p0 & 0xFF_FFFF | p1 << 24).to_le_bytes());
+                to[4..8].copy_from_slice(&((p1 >> 8) & 0xFFFF | p2 << 16).to_le_bytes());
+                to[8..12].copy_from_slice(&((p2 >> 16) & 0xFF | p3 << 8).to_le_bytes());
+            }
+            for (to, pixel) in to
+                .into_remainder()
+                .chunks_exact_mut(3)
+                .zip(from.remainder().chunks_exact(4))
+            {
+                to.copy_from_slice(&pixel[..3]);
             }
         }
         Image { width, height, rgb }
@@ -434,4 +456,33 @@ pub fn snapshot(
 ) -> Result<Image, Error> {
     frame_values(motion, options.frame)?;
     Renderer::new(options.width, options.height)?.render(skeleton, motion, options)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Four pixels at a time gives what one pixel at a time gives, rows flipped, alpha dropped,
+    /// for every width's remainder.
+    #[test]
+    fn rgba_rows_turn_into_rgb_top_down() {
+        let mut seed = 7u32;
+        for width in 1..=11u32 {
+            for height in 1..=3u32 {
+                let rgba: Vec<u8> = (0..width * height * 4)
+                    .map(|_| {
+                        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                        (seed >> 24) as u8
+                    })
+                    .collect();
+                let mut want = Vec::new();
+                for row in rgba.chunks_exact(width as usize * 4).rev() {
+                    for pixel in row.chunks_exact(4) {
+                        want.extend_from_slice(&pixel[..3]);
+                    }
+                }
+                assert_eq!(Image::from_rgba_bottom_up(width, height, &rgba).rgb, want);
+            }
+        }
+    }
 }
