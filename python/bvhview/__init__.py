@@ -11,6 +11,6 @@ they run.
 # Every result is a numpy array: import numpy with the package, not on the first array made.
 import numpy as _numpy  # noqa: F401
 
-from ._bvhview import Motion, ParseError, load, load_many
+from ._bvhview import Motion, ParseError, __version__, load, load_many
 
-__all__ = ["Motion", "ParseError", "load", "load_many"]
+__all__ = ["Motion", "ParseError", "__version__", "load", "load_many"]

@@ -6,7 +6,7 @@ from typing import Literal, Sequence, Tuple, Union, final
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["load", "load_many", "Motion", "ParseError"]
+__all__ = ["load", "load_many", "Motion", "ParseError", "__version__"]
 
 # Names of the stubs alone (the leading underscore says they are not in the module).
 _PathLike = Union[str, os.PathLike[str]]
@@ -33,7 +33,12 @@ class Motion:
     @property
     def offset_mode(self) -> _OffsetMode: ...
     @property
-    def joint_names(self) -> list[str]: ...
+    def joint_names(self) -> list[str]:
+        """Every joint in file order, End Sites as `<parent>_End`."""
+    def index(self, name: str) -> int:
+        """The index of the joint named `name` in `joint_names`; ValueError if none."""
+    def children(self, index: int) -> list[int]:
+        """The indices of a joint's children, in file order."""
     @property
     def parents(self) -> npt.NDArray[np.int32]:
         """Parent of each joint, -1 for a root."""
@@ -52,11 +57,27 @@ class Motion:
     @property
     def frame_time(self) -> float: ...
     @property
+    def fps(self) -> float | None:
+        """1 / frame_time, or None when the Frame Time is not above 0."""
+    @property
+    def duration(self) -> float:
+        """Seconds: frames x frame_time."""
+    @property
+    def up_axis(self) -> Literal["y", "z"]:
+        """The up axis guessed from the motion, as `bvhview info` prints it."""
+    @property
+    def units(self) -> str:
+        """The units guessed from the motion (or stated by an ASF): "centimetres", …"""
+    @property
+    def metres_per_unit(self) -> float:
+        """Metres per unit of the file's lengths, by `units`."""
+    @property
     def frame_count(self) -> int: ...
     @property
     def channel_count(self) -> int: ...
     @property
-    def warnings(self) -> list[str]: ...
+    def warnings(self) -> list[str]:
+        """What the CLI warns of: the loader's warnings and the offset-mode guess."""
     @property
     def values(self) -> npt.NDArray[np.float32]:
         """frames x channels, a read-only view of the loaded data (no copy)."""
@@ -74,6 +95,8 @@ class Motion:
         """Writes BVH (.bvh) or glTF (.glb binary, .gltf text), as `bvhview convert` does."""
     def __len__(self) -> int: ...
 
+__version__: str
+
 def load(
     path: _PathLike,
     motion: _PathLike | None = None,
@@ -83,10 +106,11 @@ def load(
     """A .bvh file, or an .asf skeleton with `motion` its .amc take."""
 
 def load_many(
-    paths: Sequence[Union[_PathLike, Tuple[_PathLike, _PathLike]]],
+    paths: _PathLike | Sequence[Union[_PathLike, Tuple[_PathLike, _PathLike]]],
     offset_mode: _OffsetMode = "replace",
     frame_time: float | None = None,
     errors: Literal["raise", "return"] = "raise",
 ) -> list[Motion]:
-    """Every path (or (asf, amc) pair) loaded on all cores, in order. With errors="return",
-    a failed entry is its exception instead."""
+    """Every path (or (asf, amc) pair) loaded on all cores, in order; a folder: every BVH file
+    and ASF/AMC pair under it, in path order. With errors="return", a failed entry is its
+    exception instead."""

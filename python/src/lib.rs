@@ -14,7 +14,8 @@ use numpy::ndarray::ArrayView2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayMethods};
 use pyo3::create_exception;
 use pyo3::exceptions::{
-    PyFileNotFoundError, PyIsADirectoryError, PyMemoryError, PyOSError, PyPermissionError,
+    PyFileNotFoundError, PyIndexError, PyIsADirectoryError, PyMemoryError, PyOSError,
+    PyPermissionError,
     PyRuntimeError, PyValueError,
 };
 use pyo3::prelude::*;
@@ -329,16 +330,73 @@ impl Motion {
         offset_mode_name(self.offset_mode)
     }
 
-    /// Every joint's name in file order (pre-order), End Sites included under their own name
-    /// (usually "Site"; `point_names` gives them as `<parent>_End`).
+    /// Every joint's name in file order (pre-order), End Sites as the CLI names them,
+    /// `<parent>_End` (a file calls them all "Site").
     #[getter]
     fn joint_names(&self) -> Vec<String> {
-        self.loaded
-            .skeleton
-            .joints
-            .iter()
-            .map(|j| j.name.clone())
+        let skeleton = &self.loaded.skeleton;
+        (0..skeleton.joints.len())
+            .map(|index| bvhview::export::export_name(skeleton, index))
             .collect()
+    }
+
+    /// The index of the joint named `name` (an End Site as `<parent>_End`), as in
+    /// `joint_names`; ValueError when there is none.
+    fn index(&self, name: &str) -> PyResult<usize> {
+        let skeleton = &self.loaded.skeleton;
+        (0..skeleton.joints.len())
+            .find(|&index| bvhview::export::export_name(skeleton, index) == name)
+            .ok_or_else(|| PyValueError::new_err(format!("no joint named {name:?}")))
+    }
+
+    /// The indices of joint `index`'s children, in file order; IndexError past the last joint.
+    fn children(&self, index: usize) -> PyResult<Vec<usize>> {
+        let joints = &self.loaded.skeleton.joints;
+        joints
+            .get(index)
+            .map(|joint| joint.children.clone())
+            .ok_or_else(|| {
+                PyIndexError::new_err(format!(
+                    "joint {index}: the take has joints 0 to {}",
+                    joints.len().saturating_sub(1)
+                ))
+            })
+    }
+
+    /// Frames per second (1 / `frame_time`), or None when the Frame Time is not above 0.
+    #[getter]
+    fn fps(&self) -> Option<f64> {
+        let time = self.loaded.motion.frame_time;
+        (time > 0.0).then(|| 1.0 / time)
+    }
+
+    /// Seconds the take lasts: frames × `frame_time`.
+    #[getter]
+    fn duration(&self) -> f64 {
+        self.loaded.motion.duration()
+    }
+
+    /// The up axis guessed from the motion, "y" or "z", as `bvhview info` prints it.
+    #[getter]
+    fn up_axis(&self) -> &'static str {
+        match self.loaded.stance(self.offset_mode).up {
+            pose::Up::Y => "y",
+            pose::Up::Z => "z",
+        }
+    }
+
+    /// The units the lengths look written in ("centimetres", "inches", "CMU units (1/0.45
+    /// inch)"…), guessed from the motion or stated by an ASF, as `bvhview info` prints them.
+    #[getter]
+    fn units(&self) -> &'static str {
+        self.loaded.stance(self.offset_mode).units.name
+    }
+
+    /// Metres per unit of the file's lengths, by `units`: `positions() * metres_per_unit` is
+    /// in metres.
+    #[getter]
+    fn metres_per_unit(&self) -> f32 {
+        self.loaded.stance(self.offset_mode).units.metres
     }
 
     /// Parent index of every joint, -1 for a root (int32).
@@ -415,10 +473,11 @@ impl Motion {
         self.loaded.motion.channels
     }
 
-    /// What loaded but deserves a word (rows beyond the Frames count, …).
+    /// What loaded but deserves a word (rows beyond the Frames count, a file that looks written
+    /// for the other offset mode, …): what the CLI warns of.
     #[getter]
     fn warnings(&self) -> Vec<String> {
-        self.loaded.warnings.clone()
+        bvhview::info::warnings(&self.loaded, self.offset_mode)
     }
 
     /// The MOTION values, frames × channels (float32), read-only. A view of the loaded data, not
@@ -611,9 +670,35 @@ fn item_of(entry: &Bound<'_, PyAny>) -> PyResult<Item> {
     })
 }
 
-/// Loads every entry (a path, or an (asf, amc) pair) on all cores, in list order.
-/// `errors="raise"` raises the first failure in list order; `errors="return"` puts the exception
-/// in the failed entry's place instead.
+/// The entries `load_many` was given: a folder's takes (every BVH file and ASF/AMC pair under it,
+/// in path order, as `bvhview info DIR` finds them; an AMC without a skeleton is left out), a
+/// single file, or a list of paths and (asf, amc) pairs.
+fn items_of(paths: &Bound<'_, PyAny>) -> PyResult<Vec<Item>> {
+    // A str or os.PathLike is one path: not a sequence of one-letter paths.
+    if let Ok(path) = paths.extract::<PathBuf>() {
+        if path.is_dir() {
+            let found = bvhview::batch::collect(&path)
+                .map_err(|e| PyOSError::new_err(e.to_string()))?;
+            return Ok(found
+                .into_iter()
+                .filter(|item| !item.is_unpaired_motion())
+                .map(|item| Item {
+                    path: item.path,
+                    motion: item.motion,
+                })
+                .collect());
+        }
+        return Ok(vec![Item { path, motion: None }]);
+    }
+    paths
+        .try_iter()?
+        .map(|entry| item_of(&entry?))
+        .collect()
+}
+
+/// Loads every entry (a path, or an (asf, amc) pair) on all cores, in list order; given a
+/// folder, every take under it in path order. `errors="raise"` raises the first failure in
+/// list order; `errors="return"` puts the exception in the failed entry's place instead.
 #[pyfunction]
 #[pyo3(signature = (paths, offset_mode="replace", frame_time=None, errors="raise"))]
 fn load_many(
@@ -633,10 +718,7 @@ fn load_many(
             )));
         }
     };
-    let items = paths
-        .try_iter()?
-        .map(|entry| item_of(&entry?))
-        .collect::<PyResult<Vec<Item>>>()?;
+    let items = items_of(paths)?;
     let results = py.detach(|| {
         let cores = bvhview::cores();
         // Many files: one core each. Fewer files than cores: each parses on a share of them.
@@ -701,6 +783,7 @@ fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
     drop(empty.try_readwrite());
     Vec::<f32>::new().into_pyarray(module.py());
     bvhview::cores();
+    module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     module.add_function(wrap_pyfunction!(load, module)?)?;
     module.add_function(wrap_pyfunction!(load_many, module)?)?;
     module.add_class::<Motion>()?;

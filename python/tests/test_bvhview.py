@@ -162,7 +162,8 @@ def test_values_are_a_read_only_view_not_a_copy():
 
 def test_skeleton_arrays_describe_the_file():
     take = bvhview.load(DATA / "bvh" / "bvhanim_test_simple.bvh")
-    assert take.joint_names == ["Base", "End", "Site"]
+    # End Sites named as the CLI names them (a file calls them all "Site").
+    assert take.joint_names == ["Base", "End", "End_End"]
     assert take.parents.dtype == np.int32
     assert list(take.parents) == [-1, 0, 1]
     assert list(take.end_sites) == [False, False, True]
@@ -628,3 +629,66 @@ def test_a_take_whose_values_overflow_is_refused_before_anything_is_written(tmp_
     )
     with pytest.raises(bvhview.ParseError, match="too large for a 32-bit float"):
         bvhview.load(asf)
+
+
+# Issue 28, point 1 (first part): what a motion-ML user asks a take.
+
+
+def test_a_take_says_its_rate_length_axis_and_units_as_the_cli_does(cli):
+    walk = bvhview.load(REPO / "assets" / "walk.bvh")
+    assert walk.fps == pytest.approx(1 / walk.frame_time)
+    assert walk.duration == pytest.approx(walk.frame_count * walk.frame_time)
+    info = subprocess.run(
+        [str(cli), "info", str(REPO / "assets" / "walk.bvh")], capture_output=True, text=True
+    )
+    assert info.returncode == 0, info.stderr
+    assert f"up axis:          {walk.up_axis} (" in info.stdout
+    assert f"units:            {walk.units} (" in info.stdout
+    assert (walk.up_axis, walk.units, walk.metres_per_unit) == ("y", "centimetres", pytest.approx(0.01))
+    makehuman = bvhview.load(DATA / "bvh" / "makehuman_walk1.bvh")
+    assert (makehuman.up_axis, makehuman.units) == ("z", "decimetres")
+    cmu = bvhview.load(ASF, AMC)
+    assert cmu.units == "CMU units (1/0.45 inch)"
+    assert cmu.metres_per_unit == pytest.approx(0.0254 / 0.45)
+    assert isinstance(bvhview.__version__, str) and bvhview.__version__.count(".") == 2
+
+
+def test_joints_are_found_by_name_and_their_children_listed():
+    take = bvhview.load(DATA / "bvh" / "bvhio_example.bvh")
+    names = take.joint_names
+    assert len(set(names)) == len(names), "every name unique, End Sites included"
+    for index, name in enumerate(names):
+        assert take.index(name) == index
+        assert take.children(index) == [i for i, p in enumerate(take.parents) if p == index]
+    with pytest.raises(ValueError, match="no joint named"):
+        take.index("Site")
+    with pytest.raises(IndexError):
+        take.children(len(names))
+    assert take.point_names == [names[j] for j in take.point_joints]
+
+
+def test_warnings_say_what_the_cli_warns_of():
+    # MakeHuman's T-pose is written for the add mode: the CLI says so, and so does the take.
+    take = bvhview.load(DATA / "bvh" / "makehuman_tpose.bvh")
+    assert any("--offset-mode add" in w for w in take.warnings), take.warnings
+    added = bvhview.load(DATA / "bvh" / "makehuman_tpose.bvh", offset_mode="add")
+    assert not any("offset-mode" in w for w in added.warnings), added.warnings
+
+
+def test_load_many_takes_a_folder_whole(tmp_path):
+    # A string is one path, not a list of one-letter paths.
+    takes = bvhview.load_many(str(DATA / "bvh"))
+    assert [t.path for t in takes] == [str(p) for p in BVH_FILES]
+    # ASF/AMC pairs by CMU's subject numbers; an AMC without a skeleton is left out.
+    (tmp_path / "deep").mkdir()
+    for name, source in [("07.asf", ASF), ("07_05.amc", AMC), ("08_01.amc", AMC)]:
+        (tmp_path / "deep" / name).write_bytes(source.read_bytes())
+    (tmp_path / "a.bvh").write_bytes((DATA / "bvh" / "bvhio_example.bvh").read_bytes())
+    takes = bvhview.load_many(tmp_path)
+    assert [(t.path, t.motion_path) for t in takes] == [
+        (str(tmp_path / "a.bvh"), None),
+        (str(tmp_path / "deep" / "07.asf"), str(tmp_path / "deep" / "07_05.amc")),
+    ]
+    # One file given alone is a list of one.
+    (one,) = bvhview.load_many(DATA / "bvh" / "bvhio_example.bvh")
+    assert one.frame_count == takes[0].frame_count
