@@ -15,8 +15,7 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayMethods}
 use pyo3::create_exception;
 use pyo3::exceptions::{
     PyFileNotFoundError, PyIndexError, PyIsADirectoryError, PyMemoryError, PyOSError,
-    PyPermissionError,
-    PyRuntimeError, PyValueError,
+    PyPermissionError, PyRuntimeError, PyValueError,
 };
 use pyo3::prelude::*;
 use pyo3::types::{PySlice, PySliceMethods, PyTuple};
@@ -677,8 +676,8 @@ fn items_of(paths: &Bound<'_, PyAny>) -> PyResult<Vec<Item>> {
     // A str or os.PathLike is one path: not a sequence of one-letter paths.
     if let Ok(path) = paths.extract::<PathBuf>() {
         if path.is_dir() {
-            let found = bvhview::batch::collect(&path)
-                .map_err(|e| PyOSError::new_err(e.to_string()))?;
+            let found =
+                bvhview::batch::collect(&path).map_err(|e| PyOSError::new_err(e.to_string()))?;
             return Ok(found
                 .into_iter()
                 .filter(|item| !item.is_unpaired_motion())
@@ -690,10 +689,7 @@ fn items_of(paths: &Bound<'_, PyAny>) -> PyResult<Vec<Item>> {
         }
         return Ok(vec![Item { path, motion: None }]);
     }
-    paths
-        .try_iter()?
-        .map(|entry| item_of(&entry?))
-        .collect()
+    paths.try_iter()?.map(|entry| item_of(&entry?)).collect()
 }
 
 /// Loads every entry (a path, or an (asf, amc) pair) on all cores, in list order; given a
