@@ -6,7 +6,7 @@ from typing import Literal, Sequence, Tuple, Union, final
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["load", "load_many", "Motion", "ParseError", "__version__"]
+__all__ = ["load", "load_many", "Motion", "ParseError", "__version__", "_from_state"]
 
 # Names of the stubs alone (the leading underscore says they are not in the module).
 _PathLike = Union[str, os.PathLike[str]]
@@ -114,3 +114,6 @@ def load_many(
     """Every path (or (asf, amc) pair) loaded on all cores, in order; a folder: every BVH file
     and ASF/AMC pair under it, in path order. With errors="return", a failed entry is its
     exception instead."""
+
+def _from_state(state: tuple[object, ...]) -> Motion:
+    """A take from its pickled state (what `pickle` calls; not for calling directly)."""

@@ -578,6 +578,13 @@ impl Motion {
         .map_err(|e| to_python(py, e))
     }
 
+    /// Pickling (multiprocessing, Dask, Ray): the take itself travels, skeleton and values,
+    /// not its path, so a worker on another machine needs no copy of the file.
+    fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (State,))> {
+        let rebuild = py.import("bvhview._bvhview")?.getattr("_from_state")?;
+        Ok((rebuild, (self.state(),)))
+    }
+
     fn __len__(&self) -> usize {
         self.loaded.motion.frame_count()
     }
@@ -651,6 +658,148 @@ fn load(
         loaded,
         item,
         offset_mode,
+    })
+}
+
+/// A joint as pickled: name, parent (-1 for a root), OFFSET, channel names, End Site or not,
+/// its fixed axis (an ASF bone's, as x, y, z, w) if any.
+type JointState = (String, i64, [f32; 3], Vec<String>, bool, Option<[f32; 4]>);
+
+/// A take as pickled: a format number, path, AMC path, offset mode, warnings, whether the
+/// skeleton is an ASF's, whether it stated CMU's units, the joints, the Frame Time, the values
+/// per frame and the values (float32, little-endian bytes).
+type State = (
+    u32,
+    String,
+    Option<String>,
+    String,
+    Vec<String>,
+    bool,
+    bool,
+    Vec<JointState>,
+    f64,
+    usize,
+    Vec<u8>,
+);
+
+/// The version of `State` this module writes and reads.
+const STATE_FORMAT: u32 = 1;
+
+impl Motion {
+    fn state(&self) -> State {
+        let skeleton = &self.loaded.skeleton;
+        let joints = skeleton
+            .joints
+            .iter()
+            .map(|j| {
+                (
+                    j.name.clone(),
+                    j.parent.map_or(-1, |p| p as i64),
+                    j.offset.to_array(),
+                    j.channels.iter().map(|c| c.name().to_string()).collect(),
+                    j.end_site,
+                    j.axis.map(|q| q.to_array()),
+                )
+            })
+            .collect();
+        let motion = &self.loaded.motion;
+        (
+            STATE_FORMAT,
+            self.item.path.display().to_string(),
+            self.item.motion.as_ref().map(|p| p.display().to_string()),
+            offset_mode_name(self.offset_mode).to_string(),
+            self.loaded.warnings.clone(),
+            skeleton.source == bvhview::skeleton::Source::Acclaim,
+            self.loaded.stated_units.is_some(),
+            joints,
+            motion.frame_time,
+            motion.channels,
+            motion.data.iter().flat_map(|v| v.to_le_bytes()).collect(),
+        )
+    }
+}
+
+/// A take from its pickled state (see `Motion.__reduce__`).
+#[pyfunction]
+fn _from_state(state: State) -> PyResult<Motion> {
+    let (
+        format,
+        path,
+        motion_path,
+        mode,
+        warnings,
+        acclaim,
+        cmu_units,
+        joints,
+        frame_time,
+        channels,
+        data,
+    ) = state;
+    let bad = |what: &str| PyValueError::new_err(format!("not a pickled bvhview.Motion: {what}"));
+    if format != STATE_FORMAT {
+        return Err(bad(&format!(
+            "format {format}, this bvhview reads {STATE_FORMAT}"
+        )));
+    }
+    let mut skeleton = bvhview::Skeleton {
+        joints: Vec::with_capacity(joints.len()),
+        source: if acclaim {
+            bvhview::skeleton::Source::Acclaim
+        } else {
+            bvhview::skeleton::Source::Bvh
+        },
+    };
+    let mut first_channel = 0;
+    for (index, (name, parent, offset, names, end_site, axis)) in joints.into_iter().enumerate() {
+        let parent = match parent {
+            -1 => None,
+            p if p >= 0 && (p as usize) < index => Some(p as usize),
+            _ => return Err(bad("a parent after its child")),
+        };
+        let mut joint = bvhview::Joint::new(name, parent);
+        joint.offset = Vec3::from_array(offset);
+        joint.channels = names
+            .iter()
+            .map(|n| bvhview::Channel::parse(n).ok_or_else(|| bad("a channel name")))
+            .collect::<PyResult<_>>()?;
+        joint.rotation_order = bvhview::RotationOrder::get_flags(&joint.channels);
+        joint.first_channel = first_channel;
+        first_channel += joint.channels.len();
+        joint.end_site = end_site;
+        joint.axis = axis.map(glam::Quat::from_array);
+        if let Some(parent) = parent {
+            skeleton.joints[parent].children.push(index);
+        }
+        skeleton.joints.push(joint);
+    }
+    if first_channel != channels
+        || data.len() % 4 != 0
+        || (channels > 0 && data.len() / 4 % channels != 0)
+    {
+        return Err(bad("values that do not fit the channels"));
+    }
+    let values: Vec<f32> = data
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    let frames = if channels == 0 {
+        0
+    } else {
+        values.len() / channels
+    };
+    let loaded = Loaded {
+        skeleton,
+        motion: bvhview::Motion::new(frame_time, channels, frames, values),
+        warnings,
+        stated_units: cmu_units.then_some(bvhview::stance::CMU_UNITS),
+    };
+    Ok(Motion {
+        loaded,
+        item: Item {
+            path: PathBuf::from(path),
+            motion: motion_path.map(PathBuf::from),
+        },
+        offset_mode: parse_offset_mode(&mode)?,
     })
 }
 
@@ -782,6 +931,7 @@ fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     module.add_function(wrap_pyfunction!(load, module)?)?;
     module.add_function(wrap_pyfunction!(load_many, module)?)?;
+    module.add_function(wrap_pyfunction!(_from_state, module)?)?;
     module.add_class::<Motion>()?;
     module.add("ParseError", module.py().get_type::<ParseError>())?;
     Ok(())

@@ -692,3 +692,41 @@ def test_load_many_takes_a_folder_whole(tmp_path):
     # One file given alone is a list of one.
     (one,) = bvhview.load_many(DATA / "bvh" / "bvhio_example.bvh")
     assert one.frame_count == takes[0].frame_count
+
+
+def test_a_take_pickles_whole_and_comes_back_equal():
+    """multiprocessing, Dask and Ray pickle what they send: the skeleton and the values travel,
+    not the path, and the take that arrives computes the same floats."""
+    import pickle
+
+    for take in [bvhview.load(p) for p in BVH_FILES[:4]] + [
+        bvhview.load(ASF, AMC),
+        bvhview.load(DATA / "bvh" / "makehuman_tpose.bvh", offset_mode="add"),
+    ]:
+        back = pickle.loads(pickle.dumps(take))
+        assert type(back) is bvhview.Motion
+        for field in ["path", "motion_path", "offset_mode", "joint_names", "channels",
+                      "rotation_orders", "frame_time", "frame_count", "warnings", "units",
+                      "up_axis", "point_names"]:
+            assert getattr(back, field) == getattr(take, field), field
+        for field in ["parents", "end_sites", "offsets", "values", "point_joints"]:
+            np.testing.assert_array_equal(getattr(back, field), getattr(take, field))
+        np.testing.assert_array_equal(back.positions(), take.positions())
+        np.testing.assert_array_equal(back.world_matrices([0]), take.world_matrices([0]))
+    with pytest.raises(ValueError, match="not a pickled bvhview.Motion"):
+        bvhview._bvhview._from_state((99, "", None, "replace", [], False, False, [], 0.1, 0, b""))
+
+
+def _frames_of(take):
+    return take.frame_count, take.positions()[-1]
+
+
+def test_takes_travel_to_worker_processes():
+    import multiprocessing
+
+    takes = bvhview.load_many(BVH_FILES[:3])
+    with multiprocessing.get_context("spawn").Pool(2) as pool:
+        got = pool.map(_frames_of, takes, chunksize=1)
+    for take, (count, last) in zip(takes, got):
+        assert count == take.frame_count
+        np.testing.assert_array_equal(last, take.positions()[-1])
