@@ -774,6 +774,7 @@ fn _from_state(state: State) -> PyResult<Motion> {
     }
     if first_channel != channels
         || data.len() % 4 != 0
+        || (channels == 0 && !data.is_empty())
         || (channels > 0 && data.len() / 4 % channels != 0)
     {
         return Err(bad("values that do not fit the channels"));
@@ -782,11 +783,7 @@ fn _from_state(state: State) -> PyResult<Motion> {
         .chunks_exact(4)
         .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
         .collect();
-    let frames = if channels == 0 {
-        0
-    } else {
-        values.len() / channels
-    };
+    let frames = values.len().checked_div(channels).unwrap_or(0);
     let loaded = Loaded {
         skeleton,
         motion: bvhview::Motion::new(frame_time, channels, frames, values),
