@@ -91,6 +91,20 @@ class Motion:
         """frames x joints x 3 world positions; a take without frames has its rest pose."""
     def world_matrices(self, frames: _Frames = None) -> npt.NDArray[np.float32]:
         """frames x joints x 4 x 4 world matrices, [row, column], translation in column 3."""
+    def trim(self, start: int | None = None, stop: int | None = None) -> Motion:
+        """Frames start to stop (stop left out, negatives from the end): `convert --frames`."""
+    def resample(self, fps: float) -> Motion:
+        """The take at any positive rate: `convert --fps`."""
+    def scale(self, factor: float) -> Motion:
+        """Every length times factor: `convert --scale`."""
+    def mirror(self) -> Motion:
+        """Left and right swapped: `convert --mirror`."""
+    def to_up(self, axis: Literal["y", "z"]) -> Motion:
+        """Turned to stand along axis from the guessed up axis: `convert --up`."""
+    def in_place(self) -> Motion:
+        """The root kept over its place along the floor: `convert --in-place`."""
+    def ground(self) -> Motion:
+        """Lowest point moved to 0: `convert --ground`."""
     def save(self, path: _PathLike) -> None:
         """Writes BVH (.bvh) or glTF (.glb binary, .gltf text), as `bvhview convert` does."""
     def __len__(self) -> int: ...

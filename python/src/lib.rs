@@ -578,6 +578,87 @@ impl Motion {
         .map_err(|e| to_python(py, e))
     }
 
+    /// Frames `start` to `stop` (stop left out; negative counts from the end, as a slice
+    /// does), as `bvhview convert --frames` keeps them: a new take.
+    #[pyo3(signature = (start=None, stop=None))]
+    fn trim(&self, start: Option<isize>, stop: Option<isize>) -> Motion {
+        let count = self.loaded.motion.frame_count() as isize;
+        let at = |bound: Option<isize>, default: isize| {
+            let bound = bound.unwrap_or(default);
+            (if bound < 0 { bound + count } else { bound }).clamp(0, count) as usize
+        };
+        let (start, stop) = (at(start, 0), at(stop, count));
+        let motion = bvhview::edit::trim(&self.loaded.motion, start..stop.max(start));
+        self.edited(self.loaded.skeleton.clone(), motion, true)
+    }
+
+    /// The take at `fps` frames per second (any positive rate), as `convert --fps` makes it.
+    fn resample(&self, py: Python<'_>, fps: f64) -> PyResult<Motion> {
+        bvhview::limits::fps(fps, false).map_err(|e| to_python(py, e))?;
+        let motion = bvhview::edit::resample(&self.loaded.skeleton, &self.loaded.motion, fps)
+            .map_err(|e| to_python(py, e))?;
+        Ok(self.edited(self.loaded.skeleton.clone(), motion, true))
+    }
+
+    /// Every length times `factor` (OFFSETs and position channels), as `convert --scale`.
+    fn scale(&self, py: Python<'_>, factor: f32) -> PyResult<Motion> {
+        if !(factor.is_finite() && factor != 0.0) {
+            return Err(PyValueError::new_err(format!(
+                "scale {factor}: expected a finite number other than 0"
+            )));
+        }
+        let (skeleton, motion) =
+            bvhview::edit::scale(&self.loaded.skeleton, &self.loaded.motion, factor)
+                .map_err(|e| to_python(py, e))?;
+        // The units an ASF stated hold no longer.
+        Ok(self.edited(skeleton, motion, factor == 1.0))
+    }
+
+    /// Left and right swapped (names and motion), as `convert --mirror`.
+    fn mirror(&self) -> Motion {
+        let (skeleton, motion) = bvhview::edit::mirror(&self.loaded.skeleton, &self.loaded.motion);
+        self.edited(skeleton, motion, true)
+    }
+
+    /// The take turned to stand along `axis` ("y" or "z") from the up axis guessed from its
+    /// motion, as `convert --up`.
+    fn to_up(&self, py: Python<'_>, axis: &str) -> PyResult<Motion> {
+        let target = match axis {
+            "y" => pose::Up::Y,
+            "z" => pose::Up::Z,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "axis={other:?}: expected \"y\" or \"z\""
+                )));
+            }
+        };
+        let up = self.loaded.stance(OffsetMode::Replace).up;
+        let (skeleton, motion) =
+            bvhview::edit::reorient(&self.loaded.skeleton, &self.loaded.motion, up, target)
+                .map_err(|e| to_python(py, e))?;
+        Ok(self.edited(skeleton, motion, true))
+    }
+
+    /// The root kept over its first frame's place along the floor, as `convert --in-place`.
+    fn in_place(&self) -> Motion {
+        let up = self.loaded.stance(OffsetMode::Replace).up;
+        let motion = bvhview::edit::in_place(&self.loaded.skeleton, &self.loaded.motion, up);
+        self.edited(self.loaded.skeleton.clone(), motion, true)
+    }
+
+    /// The take moved up or down so that its lowest point is at 0, as `convert --ground`.
+    fn ground(&self, py: Python<'_>) -> PyResult<Motion> {
+        let up = self.loaded.stance(OffsetMode::Replace).up;
+        let (skeleton, motion) = bvhview::edit::ground(
+            &self.loaded.skeleton,
+            &self.loaded.motion,
+            OffsetMode::Replace,
+            up,
+        )
+        .map_err(|e| to_python(py, e))?;
+        Ok(self.edited(skeleton, motion, true))
+    }
+
     /// Pickling (multiprocessing, Dask, Ray): the take itself travels, skeleton and values,
     /// not its path, so a worker on another machine needs no copy of the file.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (State,))> {
@@ -686,6 +767,29 @@ type State = (
 const STATE_FORMAT: u32 = 1;
 
 impl Motion {
+    /// A new take from this one's edit: the same path, offset mode and loader warnings;
+    /// `same_lengths`: whether units an ASF stated still hold.
+    fn edited(
+        &self,
+        skeleton: bvhview::Skeleton,
+        motion: bvhview::Motion,
+        same_lengths: bool,
+    ) -> Motion {
+        Motion {
+            loaded: Loaded {
+                skeleton,
+                motion,
+                warnings: self.loaded.warnings.clone(),
+                stated_units: self.loaded.stated_units.filter(|_| same_lengths),
+            },
+            item: Item {
+                path: self.item.path.clone(),
+                motion: self.item.motion.clone(),
+            },
+            offset_mode: self.offset_mode,
+        }
+    }
+
     fn state(&self) -> State {
         let skeleton = &self.loaded.skeleton;
         let joints = skeleton

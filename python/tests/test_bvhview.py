@@ -730,3 +730,43 @@ def test_takes_travel_to_worker_processes():
     for take, (count, last) in zip(takes, got):
         assert count == take.frame_count
         np.testing.assert_array_equal(last, take.positions()[-1])
+
+
+@pytest.mark.parametrize(
+    "edit, flags",
+    [
+        (lambda t: t.trim(2, 10), ["--frames", "2..10"]),
+        # The walk has 40 frames: the last five.
+        (lambda t: t.trim(-5), ["--frames", "35.."]),
+        (lambda t: t.resample(24), ["--fps", "24"]),
+        (lambda t: t.resample(47.3), ["--fps", "47.3"]),
+        (lambda t: t.scale(0.01), ["--scale", "0.01"]),
+        (lambda t: t.mirror(), ["--mirror"]),
+        (lambda t: t.to_up("z"), ["--up", "z"]),
+        (lambda t: t.in_place(), ["--in-place"]),
+        (lambda t: t.ground(), ["--ground"]),
+    ],
+    ids=[
+        "trim", "trim-end", "resample", "resample-odd", "scale", "mirror", "to_up", "in_place",
+        "ground",
+    ],
+)
+def test_edits_as_methods_are_the_cli_edits(cli, tmp_path, edit, flags):
+    """Each method is `convert`'s edit: the take it returns has the very floats `convert`
+    writes."""
+    source = REPO / "assets" / "walk.bvh"
+    out = tmp_path / "edited.bvh"
+    run = subprocess.run(
+        [str(cli), "convert", str(source), *flags, "-q", "-o", str(out)],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 0, run.stderr
+    ours = edit(bvhview.load(source))
+    theirs = bvhview.load(out)
+    assert ours.frame_count == theirs.frame_count
+    assert ours.frame_time == pytest.approx(theirs.frame_time)
+    np.testing.assert_array_equal(ours.values, theirs.values)
+    np.testing.assert_array_equal(ours.positions(), theirs.positions())
+    # A new take each time: the source is unchanged.
+    assert bvhview.load(source).frame_count == 40
