@@ -87,6 +87,21 @@ class Motion:
     @property
     def point_joints(self) -> npt.NDArray[np.int32]:
         """The joint of each point: `positions()[:, point_joints]` is the CLI's export."""
+    @property
+    def channel_names(self) -> list[str]:
+        """One per column of `values`: `Hips_Xposition`, …"""
+    @property
+    def first_channels(self) -> npt.NDArray[np.int32]:
+        """Each joint's first column in `values`, -1 for a joint without channels."""
+    def local_matrices(self, frames: _Frames = None) -> npt.NDArray[np.float32]:
+        """frames x joints x 4 x 4 local transforms (`T · R`), [row, column]."""
+    def local_rotations(
+        self, frames: _Frames = None, kind: Literal["quat", "matrix", "6d", "euler"] = "quat"
+    ) -> npt.NDArray[np.float32]:
+        """Local rotations: quat (w, x, y, z), matrix 3x3, 6d (first two columns), euler (the
+        rotation channels in file order, degrees)."""
+    def root_translations(self, frames: _Frames = None) -> npt.NDArray[np.float32]:
+        """frames x 3: the first root's translation."""
     def positions(self, frames: _Frames = None) -> npt.NDArray[np.float32]:
         """frames x joints x 3 world positions; a take without frames has its rest pose."""
     def world_matrices(self, frames: _Frames = None) -> npt.NDArray[np.float32]:

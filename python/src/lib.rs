@@ -278,6 +278,34 @@ impl Motion {
     }
 
     /// World matrices of every joint for `frames`, row-major: `frames × joints × 4 × 4`.
+    /// `per_joint` floats for every joint of every frame selected, from the joint and its
+    /// channel values (none for a take without frames: its rest pose), on every core.
+    fn per_joint_of(
+        &self,
+        frames: &[usize],
+        per_joint: usize,
+        compute: impl Fn(&bvhview::Joint, &[f32], &mut [f32]) + Sync,
+    ) -> Result<Vec<f32>, Error> {
+        let skeleton = &self.loaded.skeleton;
+        let motion = &self.loaded.motion;
+        let joints = skeleton.joints.len();
+        Self::per_frame_floats(frames, joints, joints * per_joint, |frames, out| {
+            for (&frame, out) in frames
+                .iter()
+                .zip(out.chunks_mut((joints * per_joint).max(1)))
+            {
+                for (joint, slot) in skeleton.joints.iter().zip(out.chunks_exact_mut(per_joint)) {
+                    let values = if motion.frame_count() == 0 {
+                        &[][..]
+                    } else {
+                        joint.values(motion.frame(frame))
+                    };
+                    compute(joint, values, slot);
+                }
+            }
+        })
+    }
+
     fn matrices_of(&self, frames: &[usize]) -> Result<Vec<f32>, Error> {
         let skeleton = &self.loaded.skeleton;
         let motion = &self.loaded.motion;
@@ -533,6 +561,170 @@ impl Motion {
             .map_err(|e| to_python(py, e))?;
         let joints = self.loaded.skeleton.joints.len();
         values.into_pyarray(py).reshape([frames.len(), joints, 3])
+    }
+
+    /// Every joint's local transform for the frames selected, as FK multiplies them:
+    /// `T(t) · R1 · R2 · R3` (ASF bones `T · C · R · C⁻¹`), frames × joints × 4 × 4, float32,
+    /// `[row, column]`; `world_matrices` is their product down the tree.
+    #[pyo3(signature = (frames=None))]
+    fn local_matrices<'py>(
+        &self,
+        py: Python<'py>,
+        frames: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArray4<f32>>> {
+        let frames = self.selected_frames(frames)?;
+        let mode = self.offset_mode;
+        let values = py
+            .detach(|| {
+                self.per_joint_of(&frames, 16, |joint, values, out| {
+                    let local = if values.is_empty() {
+                        Mat4::from_translation(joint.offset)
+                    } else {
+                        pose::local_matrix(joint, values, mode)
+                    };
+                    out.copy_from_slice(&row_major(&local));
+                })
+            })
+            .map_err(|e| to_python(py, e))?;
+        let joints = self.loaded.skeleton.joints.len();
+        values
+            .into_pyarray(py)
+            .reshape([frames.len(), joints, 4, 4])
+    }
+
+    /// Every joint's local rotation for the frames selected (the `R` of `local_matrices`):
+    /// `kind="quat"` frames × joints × 4 as (w, x, y, z), w ≥ 0; `"matrix"` × 3 × 3
+    /// `[row, column]`; `"6d"` × 6, the matrix's first two columns one after the other (Zhou
+    /// et al. 2019);
+    /// `"euler"` × 3, the joint's rotation channels in its file order, in degrees (0 where it has
+    /// fewer than three). End Sites and joints without rotation channels: the identity.
+    #[pyo3(signature = (frames=None, kind="quat"))]
+    fn local_rotations<'py>(
+        &self,
+        py: Python<'py>,
+        frames: Option<&Bound<'py, PyAny>>,
+        kind: &str,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let frames = self.selected_frames(frames)?;
+        let per_joint = match kind {
+            "quat" => 4,
+            "matrix" => 9,
+            "6d" => 6,
+            "euler" => 3,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "kind={other:?}: expected \"quat\", \"matrix\", \"6d\" or \"euler\""
+                )));
+            }
+        };
+        let values = py
+            .detach(|| {
+                self.per_joint_of(&frames, per_joint, |joint, values, out| {
+                    if kind == "euler" {
+                        let angles = joint
+                            .channels
+                            .iter()
+                            .zip(values)
+                            .filter(|(c, _)| c.is_rotation())
+                            .map(|(_, &v)| v);
+                        for (slot, angle) in out.iter_mut().zip(angles) {
+                            *slot = angle;
+                        }
+                        return;
+                    }
+                    let rotation = if values.is_empty() {
+                        Mat4::IDENTITY
+                    } else {
+                        pose::local_rotation(joint, values)
+                    };
+                    let m = glam::Mat3::from_mat4(rotation);
+                    match kind {
+                        "quat" => {
+                            let q = glam::Quat::from_mat3(&m).normalize();
+                            let q = if q.w < 0.0 { -q } else { q };
+                            out.copy_from_slice(&[q.w, q.x, q.y, q.z]);
+                        }
+                        "matrix" => out.copy_from_slice(&m.transpose().to_cols_array()),
+                        _ => {
+                            let (a, b) = (m.x_axis, m.y_axis);
+                            out.copy_from_slice(&[a.x, a.y, a.z, b.x, b.y, b.z]);
+                        }
+                    }
+                })
+            })
+            .map_err(|e| to_python(py, e))?;
+        let joints = self.loaded.skeleton.joints.len();
+        let array = values.into_pyarray(py);
+        Ok(match kind {
+            "matrix" => array.reshape([frames.len(), joints, 3, 3])?.into_any(),
+            _ => array.reshape([frames.len(), joints, per_joint])?.into_any(),
+        })
+    }
+
+    /// The first root's translation for the frames selected (its OFFSET with its position
+    /// channels, in the offset mode), frames × 3, float32.
+    #[pyo3(signature = (frames=None))]
+    fn root_translations<'py>(
+        &self,
+        py: Python<'py>,
+        frames: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyArray2<f32>>> {
+        let frames = self.selected_frames(frames)?;
+        let skeleton = &self.loaded.skeleton;
+        let motion = &self.loaded.motion;
+        let root = skeleton.roots().next();
+        let mut out = Vec::with_capacity(frames.len() * 3);
+        for &frame in &frames {
+            let t = match root {
+                None => Vec3::ZERO,
+                Some(root) if motion.frame_count() == 0 => skeleton.joints[root].offset,
+                Some(root) => {
+                    let joint = &skeleton.joints[root];
+                    pose::joint_translation(
+                        joint,
+                        joint.values(motion.frame(frame)),
+                        self.offset_mode,
+                    )
+                }
+            };
+            out.extend(t.to_array());
+        }
+        out.into_pyarray(py).reshape([frames.len(), 3])
+    }
+
+    /// One name per column of `values`: the joint's name and the channel's, `Hips_Xposition`.
+    #[getter]
+    fn channel_names(&self) -> Vec<String> {
+        self.loaded
+            .skeleton
+            .joints
+            .iter()
+            .flat_map(|j| {
+                j.channels
+                    .iter()
+                    .map(move |c| format!("{}_{}", j.name, c.name()))
+            })
+            .collect()
+    }
+
+    /// Each joint's first column in `values` (int32; its channels follow in file order), -1 for
+    /// a joint without channels: `values[:, first_channels[j]:first_channels[j] + len(channels[j])]`.
+    #[getter]
+    fn first_channels<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i32>> {
+        let columns: Vec<i32> = self
+            .loaded
+            .skeleton
+            .joints
+            .iter()
+            .map(|j| {
+                if j.channels.is_empty() {
+                    -1
+                } else {
+                    j.first_channel as i32
+                }
+            })
+            .collect();
+        columns.into_pyarray(py)
     }
 
     /// World matrix of every joint for the frames selected: frames × joints × 4 × 4, float32,

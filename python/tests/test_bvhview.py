@@ -770,3 +770,51 @@ def test_edits_as_methods_are_the_cli_edits(cli, tmp_path, edit, flags):
     np.testing.assert_array_equal(ours.positions(), theirs.positions())
     # A new take each time: the source is unchanged.
     assert bvhview.load(source).frame_count == 40
+
+
+@pytest.mark.parametrize("path", BVH_FILES + [ASF], ids=ids(BVH_FILES) + ["heiden_12.asf"])
+def test_local_transforms_multiply_down_the_tree_to_the_world_ones(path):
+    """local_matrices, multiplied parent by parent, are world_matrices; every rotation kind says
+    the same rotation; the Euler angles are the rotation channels; the root's translation is the
+    translation of its local matrix."""
+    take = bvhview.load(path, AMC) if path == ASF else bvhview.load(path)
+    frames = [0, take.frame_count - 1] if take.frame_count else None
+    local = take.local_matrices(frames).astype(np.float64)
+    world = take.world_matrices(frames)
+    product = np.empty_like(local)
+    for j, parent in enumerate(take.parents):
+        product[:, j] = local[:, j] if parent < 0 else product[:, parent] @ local[:, j]
+    scale = max(1.0, float(np.abs(world[..., :3, 3]).max()))
+    np.testing.assert_allclose(product, world, atol=1e-4 * scale)
+    matrix = take.local_rotations(frames, kind="matrix")
+    np.testing.assert_allclose(matrix, local[..., :3, :3], atol=1e-5)
+    w, x, y, z = np.moveaxis(take.local_rotations(frames, kind="quat").astype(np.float64), -1, 0)
+    from_quat = np.stack(
+        [
+            np.stack([1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)], -1),
+            np.stack([2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)], -1),
+            np.stack([2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)], -1),
+        ],
+        -2,
+    )
+    np.testing.assert_allclose(from_quat, matrix, atol=1e-5)
+    six = take.local_rotations(frames, kind="6d")
+    np.testing.assert_allclose(six[..., :3], matrix[..., :, 0], atol=1e-6)
+    np.testing.assert_allclose(six[..., 3:], matrix[..., :, 1], atol=1e-6)
+    euler = take.local_rotations(frames, kind="euler")
+    assert len(take.channel_names) == take.channel_count
+    for j, names in enumerate(take.channels):
+        first = take.first_channels[j]
+        if not names:
+            assert first == -1
+            continue
+        rotations = [k for k, n in enumerate(names) if n.endswith("rotation")]
+        if take.frame_count and rotations:
+            want = take.values[frames][:, [first + k for k in rotations]]
+            np.testing.assert_array_equal(euler[:, j, : len(rotations)], want)
+        for k, n in enumerate(names):
+            assert take.channel_names[first + k] == f"{take.joint_names[j]}_{n}"
+    root = int(np.flatnonzero(take.parents < 0)[0])
+    np.testing.assert_array_equal(take.root_translations(frames), take.local_matrices(frames)[:, root, :3, 3])
+    with pytest.raises(ValueError, match="kind="):
+        take.local_rotations(kind="axis-angle")
