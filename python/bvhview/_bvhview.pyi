@@ -120,6 +120,16 @@ class Motion:
         """The root kept over its place along the floor: `convert --in-place`."""
     def ground(self) -> Motion:
         """Lowest point moved to 0: `convert --ground`."""
+    @staticmethod
+    def from_arrays(
+        template: Motion,
+        rotations: npt.ArrayLike,
+        root_translations: npt.ArrayLike | None = None,
+        fps: float | None = None,
+        kind: Literal["quat", "matrix", "6d", "euler"] | None = None,
+    ) -> Motion:
+        """A take on template's skeleton from local rotations (as `local_rotations` gives them,
+        the kind told by their shape) and the first root's translations; save() writes it."""
     def save(self, path: _PathLike) -> None:
         """Writes BVH (.bvh) or glTF (.glb binary, .gltf text), as `bvhview convert` does."""
     def __len__(self) -> int: ...

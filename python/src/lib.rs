@@ -11,7 +11,9 @@ use bvhview::output::AtomicFile;
 use bvhview::pose::{self, FkPlan, FkScratch, LANES, OffsetMode};
 use glam::{Mat4, Vec3};
 use numpy::ndarray::ArrayView2;
-use numpy::{IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayMethods};
+use numpy::{
+    IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayMethods, PyUntypedArrayMethods,
+};
 use pyo3::create_exception;
 use pyo3::exceptions::{
     PyFileNotFoundError, PyIndexError, PyIsADirectoryError, PyMemoryError, PyOSError,
@@ -851,6 +853,131 @@ impl Motion {
         Ok(self.edited(skeleton, motion, true))
     }
 
+    /// A take built from arrays on `template`'s skeleton (a Motion), to save as BVH or glTF:
+    /// `rotations`, every joint's local rotation per frame, as `local_rotations` gives them:
+    /// frames × joints × 4 (quat, w x y z), × 3 × 3 (matrix), × 6 (6d) or × 3 (euler: each
+    /// joint's rotation channels in file order, degrees), the kind told by the shape or `kind`;
+    /// `root_translations` (frames × 3) for the first root; `fps` (default: the template's).
+    /// Other position channels keep the template's values (its last frame's past its end).
+    #[staticmethod]
+    #[pyo3(signature = (template, rotations, root_translations=None, fps=None, kind=None))]
+    fn from_arrays(
+        template: &Motion,
+        rotations: numpy::PyArrayLikeDyn<'_, f32, numpy::AllowTypeChange>,
+        root_translations: Option<numpy::PyArrayLike2<'_, f32, numpy::AllowTypeChange>>,
+        fps: Option<f64>,
+        kind: Option<&str>,
+    ) -> PyResult<Motion> {
+        let skeleton = &template.loaded.skeleton;
+        let joints = skeleton.joints.len();
+        let shape = rotations.shape().to_vec();
+        let kind = match (kind, &shape[..]) {
+            (Some(kind @ ("quat" | "matrix" | "6d" | "euler")), _) => kind,
+            (Some(other), _) => {
+                return Err(PyValueError::new_err(format!(
+                    "kind={other:?}: expected \"quat\", \"matrix\", \"6d\" or \"euler\""
+                )));
+            }
+            (None, [_, _, 4]) => "quat",
+            (None, [_, _, 3, 3]) => "matrix",
+            (None, [_, _, 6]) => "6d",
+            (None, [_, _, 3]) => "euler",
+            (None, _) => {
+                return Err(PyValueError::new_err(format!(
+                    "rotations of shape {shape:?}: expected frames x joints x 4, 3x3, 6 or 3"
+                )));
+            }
+        };
+        let per_joint = match kind {
+            "quat" => 4,
+            "matrix" => 9,
+            "6d" => 6,
+            _ => 3,
+        };
+        if shape.len() < 2
+            || shape[1] != joints
+            || shape[2..].iter().product::<usize>() != per_joint
+        {
+            return Err(PyValueError::new_err(format!(
+                "rotations of shape {shape:?}: the template has {joints} joints, and {kind} takes {per_joint} numbers each"
+            )));
+        }
+        let frames = shape[0];
+        // In C order whatever the strides (a slice or a transposed array is fine).
+        let rotations: Vec<f32> = rotations.as_array().iter().copied().collect();
+        let translations = match &root_translations {
+            Some(t) if t.shape() != [frames, 3] => {
+                return Err(PyValueError::new_err(format!(
+                    "root_translations of shape {:?}: expected {frames} x 3",
+                    t.shape()
+                )));
+            }
+            Some(t) => Some(t.as_array().iter().copied().collect::<Vec<f32>>()),
+            None => None,
+        };
+        let frame_time = match fps {
+            Some(fps) if fps > 0.0 && fps.is_finite() => 1.0 / fps,
+            Some(fps) => {
+                return Err(PyValueError::new_err(format!(
+                    "fps={fps}: expected a rate above 0"
+                )));
+            }
+            None => template.loaded.motion.frame_time,
+        };
+        let old = &template.loaded.motion;
+        let channels = old.channels;
+        let root = skeleton.roots().next();
+        let mut data = Vec::with_capacity(frames * channels);
+        for frame in 0..frames {
+            let start = data.len();
+            // Position channels the arrays do not give: the template's.
+            if old.frame_count() > 0 {
+                data.extend_from_slice(old.frame(frame.min(old.frame_count() - 1)));
+            } else {
+                for joint in &skeleton.joints {
+                    data.extend(joint.channels.iter().map(|c| {
+                        match (c.is_position(), template.offset_mode) {
+                            (true, OffsetMode::Replace) => joint.offset[c.axis()],
+                            _ => 0.0,
+                        }
+                    }));
+                }
+            }
+            let row = &mut data[start..];
+            for (index, joint) in skeleton.joints.iter().enumerate() {
+                let numbers = &rotations[(frame * joints + index) * per_joint..][..per_joint];
+                let values =
+                    &mut row[joint.first_channel..joint.first_channel + joint.channels.len()];
+                if Some(index) == root
+                    && let Some(t) = &translations
+                {
+                    for (channel, value) in joint.channels.iter().zip(values.iter_mut()) {
+                        if channel.is_position() {
+                            let wanted = t[frame * 3 + channel.axis()];
+                            *value = match template.offset_mode {
+                                OffsetMode::Replace => wanted,
+                                OffsetMode::Add => wanted - joint.offset[channel.axis()],
+                            };
+                        }
+                    }
+                }
+                let angles = channel_angles(joint, kind, numbers);
+                let mut angles = angles.into_iter();
+                for (channel, value) in joint.channels.iter().zip(values.iter_mut()) {
+                    if channel.is_rotation()
+                        && let Some(angle) = angles.next()
+                    {
+                        *value = angle;
+                    }
+                }
+            }
+        }
+        let motion = bvhview::Motion::new(frame_time, channels, frames, data);
+        let mut take = template.edited(skeleton.clone(), motion, true);
+        take.loaded.warnings.clear();
+        Ok(take)
+    }
+
     /// Pickling (multiprocessing, Dask, Ray): the take itself travels, skeleton and values,
     /// not its path, so a worker on another machine needs no copy of the file.
     fn __reduce__<'py>(&self, py: Python<'py>) -> PyResult<(Bound<'py, PyAny>, (State,))> {
@@ -932,6 +1059,64 @@ fn load(
         item,
         offset_mode,
     })
+}
+
+/// The values of `joint`'s rotation channels, in file order and degrees, for a local rotation
+/// given as `kind` (`numbers`: 4, 9, 6 or 3 of them; euler: the channel values themselves).
+fn channel_angles(joint: &bvhview::Joint, kind: &str, numbers: &[f32]) -> Vec<f32> {
+    let axes: Vec<usize> = joint
+        .channels
+        .iter()
+        .filter(|c| c.is_rotation())
+        .map(|c| c.axis())
+        .collect();
+    if axes.is_empty() {
+        return Vec::new();
+    }
+    if kind == "euler" {
+        return numbers.iter().copied().take(axes.len()).collect();
+    }
+    let local = match kind {
+        "quat" => glam::Mat3::from_quat(
+            glam::Quat::from_xyzw(numbers[1], numbers[2], numbers[3], numbers[0]).normalize(),
+        ),
+        "matrix" => glam::Mat3::from_cols_array(numbers.try_into().expect("nine")).transpose(),
+        _ => {
+            // 6d: the first two columns, made orthonormal again (Gram-Schmidt).
+            let a = Vec3::new(numbers[0], numbers[1], numbers[2]).normalize_or_zero();
+            let b = Vec3::new(numbers[3], numbers[4], numbers[5]);
+            let b = (b - a * a.dot(b)).normalize_or_zero();
+            glam::Mat3::from_cols(a, b, a.cross(b))
+        }
+    };
+    // An ASF bone turns about its own axis C: its channels' rotation is C⁻¹ · local · C.
+    let rotation = match joint.axis {
+        Some(c) => glam::Mat3::from_quat(c.inverse()) * local * glam::Mat3::from_quat(c),
+        None => local,
+    };
+    // The channels' axes, then any missing, as one intrinsic sequence: R1 · R2 · R3.
+    let mut order = axes.clone();
+    for axis in 0..3 {
+        if !order.contains(&axis) {
+            order.push(axis);
+        }
+    }
+    let sequence = match order[..3] {
+        [0, 1, 2] => glam::EulerRot::XYZ,
+        [0, 2, 1] => glam::EulerRot::XZY,
+        [1, 0, 2] => glam::EulerRot::YXZ,
+        [1, 2, 0] => glam::EulerRot::YZX,
+        [2, 0, 1] => glam::EulerRot::ZXY,
+        [2, 1, 0] => glam::EulerRot::ZYX,
+        // The same axis twice: no sequence of three distinct axes; left at 0.
+        _ => return vec![0.0; axes.len()],
+    };
+    let (a, b, c) = rotation.to_euler(sequence);
+    [a, b, c]
+        .into_iter()
+        .take(axes.len())
+        .map(f32::to_degrees)
+        .collect()
 }
 
 /// A joint as pickled: name, parent (-1 for a root), OFFSET, channel names, End Site or not,
