@@ -1,7 +1,7 @@
 """Stubs of the native module; `bvhview` re-exports every name."""
 
 import os
-from typing import Literal, Sequence, Tuple, Union, final
+from typing import Any, Literal, Sequence, Tuple, Union, final
 
 import numpy as np
 import numpy.typing as npt
@@ -120,6 +120,9 @@ class Motion:
         """The root kept over its place along the floor: `convert --in-place`."""
     def ground(self) -> Motion:
         """Lowest point moved to 0: `convert --ground`."""
+    def to_dataframe(self, frames: _Frames = None) -> Any:
+        """The values as a pandas DataFrame: a row per frame (index "frame"), a column per
+        channel (`channel_names`). Needs pandas."""
     @staticmethod
     def from_arrays(
         template: Motion,

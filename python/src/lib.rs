@@ -20,7 +20,7 @@ use pyo3::exceptions::{
     PyPermissionError, PyRuntimeError, PyValueError,
 };
 use pyo3::prelude::*;
-use pyo3::types::{PySlice, PySliceMethods, PyTuple};
+use pyo3::types::{IntoPyDict, PySlice, PySliceMethods, PyTuple};
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, PoisonError};
@@ -976,6 +976,49 @@ impl Motion {
         let mut take = template.edited(skeleton.clone(), motion, true);
         take.loaded.warnings.clear();
         Ok(take)
+    }
+
+    /// The MOTION values as a pandas DataFrame: one row per frame (index "frame"), one column
+    /// per channel (`channel_names`), float32; `frames` as in `positions`. Needs pandas.
+    #[pyo3(signature = (frames=None))]
+    fn to_dataframe<'py>(
+        slf: &Bound<'py, Self>,
+        frames: Option<&Bound<'py, PyAny>>,
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let py = slf.py();
+        let pandas = py.import("pandas").map_err(|_| {
+            pyo3::exceptions::PyModuleNotFoundError::new_err(
+                "to_dataframe needs pandas: pip install pandas",
+            )
+        })?;
+        let take = slf.get();
+        let motion = &take.loaded.motion;
+        let selected = if motion.frame_count() == 0 {
+            Vec::new()
+        } else {
+            take.selected_frames(frames)?
+        };
+        let mut values = Vec::with_capacity(selected.len() * motion.channels);
+        for &frame in &selected {
+            values.extend_from_slice(motion.frame(frame));
+        }
+        let array = values
+            .into_pyarray(py)
+            .reshape([selected.len(), motion.channels])?;
+        let index = pandas.call_method(
+            "Index",
+            (selected,),
+            Some(&[("name", "frame")].into_py_dict(py)?),
+        )?;
+        let options = [
+            (
+                "columns",
+                take.channel_names().into_pyobject(py)?.into_any(),
+            ),
+            ("index", index),
+        ]
+        .into_py_dict(py)?;
+        pandas.call_method("DataFrame", (array,), Some(&options))
     }
 
     /// Pickling (multiprocessing, Dask, Ray): the take itself travels, skeleton and values,

@@ -858,3 +858,14 @@ def test_from_arrays_says_what_is_wrong_with_its_arrays():
     rest[..., 0] = 1
     made = bvhview.Motion.from_arrays(take, rest, fps=60)
     assert (made.frame_count, made.fps) == (60, pytest.approx(60))
+
+
+def test_values_as_a_dataframe():
+    pandas = pytest.importorskip("pandas")
+    take = bvhview.load(DATA / "bvh" / "bvhio_example.bvh")
+    frame = take.to_dataframe()
+    assert isinstance(frame, pandas.DataFrame)
+    assert list(frame.columns) == take.channel_names
+    assert frame.index.name == "frame" and list(frame.index) == list(range(take.frame_count))
+    np.testing.assert_array_equal(frame.to_numpy(), take.values)
+    assert list(take.to_dataframe([1]).index) == [1]
