@@ -112,8 +112,12 @@ class Motion:
         """The take at any positive rate: `convert --fps`."""
     def scale(self, factor: float) -> Motion:
         """Every length times factor: `convert --scale`."""
-    def mirror(self) -> Motion:
-        """Left and right swapped: `convert --mirror`."""
+    def mirror(self, names: dict[str, str] | None = None) -> Motion:
+        """Left and right swapped: `convert --mirror`; names: the mirror image's names for the
+        joints listed, instead of the guess."""
+    @property
+    def mirror_names(self) -> dict[str, str]:
+        """The guess mirror() uses: each sided joint's name with the other side's."""
     def to_up(self, axis: Literal["y", "z"]) -> Motion:
         """Turned to stand along axis from the guessed up axis: `convert --up`."""
     def in_place(self) -> Motion:

@@ -808,10 +808,36 @@ impl Motion {
         Ok(self.edited(skeleton, motion, factor == 1.0))
     }
 
-    /// Left and right swapped (names and motion), as `convert --mirror`.
-    fn mirror(&self) -> Motion {
-        let (skeleton, motion) = bvhview::edit::mirror(&self.loaded.skeleton, &self.loaded.motion);
+    /// Left and right swapped (names and motion), as `convert --mirror`. `names`: each joint's
+    /// name in the mirror image, for the joints it lists, instead of the guess (`mirror_names`);
+    /// a joint it leaves out keeps its name.
+    #[pyo3(signature = (names=None))]
+    fn mirror(&self, names: Option<std::collections::HashMap<String, String>>) -> Motion {
+        let (mut skeleton, motion) =
+            bvhview::edit::mirror(&self.loaded.skeleton, &self.loaded.motion);
+        if let Some(names) = names {
+            for (joint, original) in skeleton.joints.iter_mut().zip(&self.loaded.skeleton.joints) {
+                joint.name = names
+                    .get(&original.name)
+                    .cloned()
+                    .unwrap_or_else(|| original.name.clone());
+            }
+        }
         self.edited(skeleton, motion, true)
+    }
+
+    /// The names `mirror()` gives: each joint whose name marks a side (`LeftArm`, `L_Arm`,
+    /// `Arm.L`, CMU's `lhumerus`…), with the other side's name.
+    #[getter]
+    fn mirror_names(&self) -> std::collections::HashMap<String, String> {
+        self.loaded
+            .skeleton
+            .joints
+            .iter()
+            .filter_map(|j| {
+                bvhview::edit::mirrored_name(&j.name).map(|other| (j.name.clone(), other))
+            })
+            .collect()
     }
 
     /// The take turned to stand along `axis` ("y" or "z") from the up axis guessed from its

@@ -869,3 +869,20 @@ def test_values_as_a_dataframe():
     assert frame.index.name == "frame" and list(frame.index) == list(range(take.frame_count))
     np.testing.assert_array_equal(frame.to_numpy(), take.values)
     assert list(take.to_dataframe([1]).index) == [1]
+
+
+def test_mirror_names_are_guessed_and_can_be_given():
+    take = bvhview.load(DATA / "bvh" / "bvhio_example.bvh")
+    guess = take.mirror_names
+    assert guess["LeftCollar"] == "RightCollar" and guess["RightHand"] == "LeftHand"
+    assert "Hips" not in guess
+    mirrored = take.mirror()
+    # Joints renamed by the guess; End Sites follow their parent's new name.
+    for index, name in enumerate(take.joint_names):
+        if not take.end_sites[index]:
+            assert mirrored.joint_names[index] == guess.get(name, name)
+    assert mirrored.joint_names[take.index("LeftCollar")] == "RightCollar"
+    given = take.mirror(names={"LeftCollar": "Collar_B", "RightCollar": "Collar_A"})
+    assert given.joint_names[take.index("LeftCollar")] == "Collar_B"
+    assert given.joint_names[take.index("LeftUpArm")] == "LeftUpArm", "not listed: kept"
+    np.testing.assert_array_equal(given.positions(), mirrored.positions())
