@@ -109,12 +109,12 @@ class Motion:
     def trim(self, start: int | None = None, stop: int | None = None) -> Motion:
         """Frames start to stop (stop left out, negatives from the end): `convert --frames`."""
     def resample(self, fps: float) -> Motion:
-        """The take at any positive rate: `convert --fps`."""
+        """The take at any rate from 0.01 to 1000 fps, whole or not (slerp): `convert --fps`."""
     def scale(self, factor: float) -> Motion:
         """Every length times factor: `convert --scale`."""
     def mirror(self, names: dict[str, str] | None = None) -> Motion:
-        """Left and right swapped: `convert --mirror`; names: the mirror image's names for the
-        joints listed, instead of the guess."""
+        """Left and right swapped: `convert --mirror`, names as `mirror_names` guesses them;
+        `names` overrides the guess for the joints it lists."""
     @property
     def mirror_names(self) -> dict[str, str]:
         """The guess mirror() uses: each sided joint's name with the other side's."""

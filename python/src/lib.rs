@@ -786,12 +786,14 @@ impl Motion {
         self.edited(self.loaded.skeleton.clone(), motion, true)
     }
 
-    /// The take at `fps` frames per second (any positive rate), as `convert --fps` makes it.
+    /// The take at `fps` frames per second (any rate from 0.01 to 1000, whole or not; rotations
+    /// slerped), as `convert --fps` makes it.
     fn resample(&self, py: Python<'_>, fps: f64) -> PyResult<Motion> {
-        bvhview::limits::fps(fps, false).map_err(|e| to_python(py, e))?;
-        let motion = bvhview::edit::resample(&self.loaded.skeleton, &self.loaded.motion, fps)
+        let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+        let motion = py
+            .detach(|| bvhview::edit::resample(skeleton, motion, fps))
             .map_err(|e| to_python(py, e))?;
-        Ok(self.edited(self.loaded.skeleton.clone(), motion, true))
+        Ok(self.edited(skeleton.clone(), motion, true))
     }
 
     /// Every length times `factor` (OFFSETs and position channels), as `convert --scale`.
@@ -801,29 +803,32 @@ impl Motion {
                 "scale {factor}: expected a finite number other than 0"
             )));
         }
-        let (skeleton, motion) =
-            bvhview::edit::scale(&self.loaded.skeleton, &self.loaded.motion, factor)
-                .map_err(|e| to_python(py, e))?;
+        let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+        let (skeleton, motion) = py
+            .detach(|| bvhview::edit::scale(skeleton, motion, factor))
+            .map_err(|e| to_python(py, e))?;
         // The units an ASF stated hold no longer.
         Ok(self.edited(skeleton, motion, factor == 1.0))
     }
 
-    /// Left and right swapped (names and motion), as `convert --mirror`. `names`: each joint's
-    /// name in the mirror image, for the joints it lists, instead of the guess (`mirror_names`);
-    /// a joint it leaves out keeps its name.
+    /// Left and right swapped (names and motion), as `convert --mirror`, the names as
+    /// `mirror_names` guesses them; `names` overrides the guess for the joints it lists.
     #[pyo3(signature = (names=None))]
-    fn mirror(&self, names: Option<std::collections::HashMap<String, String>>) -> Motion {
-        let (mut skeleton, motion) =
-            bvhview::edit::mirror(&self.loaded.skeleton, &self.loaded.motion);
+    fn mirror(
+        &self,
+        py: Python<'_>,
+        names: Option<std::collections::HashMap<String, String>>,
+    ) -> PyResult<Motion> {
+        let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+        let (mut mirrored, motion) = py.detach(|| bvhview::edit::mirror(skeleton, motion));
         if let Some(names) = names {
-            for (joint, original) in skeleton.joints.iter_mut().zip(&self.loaded.skeleton.joints) {
-                joint.name = names
-                    .get(&original.name)
-                    .cloned()
-                    .unwrap_or_else(|| original.name.clone());
+            for (joint, original) in mirrored.joints.iter_mut().zip(&skeleton.joints) {
+                if let Some(name) = names.get(&original.name) {
+                    joint.name = name.clone();
+                }
             }
         }
-        self.edited(skeleton, motion, true)
+        Ok(self.edited(mirrored, motion, true))
     }
 
     /// The names `mirror()` gives: each joint whose name marks a side (`LeftArm`, `L_Arm`,
@@ -840,8 +845,7 @@ impl Motion {
             .collect()
     }
 
-    /// The take turned to stand along `axis` ("y" or "z") from the up axis guessed from its
-    /// motion, as `convert --up`.
+    /// The take turned to stand along `axis` ("y" or "z") from its `up_axis`, as `convert --up`.
     fn to_up(&self, py: Python<'_>, axis: &str) -> PyResult<Motion> {
         let target = match axis {
             "y" => pose::Up::Y,
@@ -852,30 +856,37 @@ impl Motion {
                 )));
             }
         };
-        let up = self.loaded.stance(OffsetMode::Replace).up;
-        let (skeleton, motion) =
-            bvhview::edit::reorient(&self.loaded.skeleton, &self.loaded.motion, up, target)
-                .map_err(|e| to_python(py, e))?;
+        let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+        let (skeleton, motion) = py
+            .detach(|| {
+                let up = self.loaded.stance(self.offset_mode).up;
+                bvhview::edit::reorient(skeleton, motion, up, target)
+            })
+            .map_err(|e| to_python(py, e))?;
         Ok(self.edited(skeleton, motion, true))
     }
 
-    /// The root kept over its first frame's place along the floor, as `convert --in-place`.
-    fn in_place(&self) -> Motion {
-        let up = self.loaded.stance(OffsetMode::Replace).up;
-        let motion = bvhview::edit::in_place(&self.loaded.skeleton, &self.loaded.motion, up);
-        self.edited(self.loaded.skeleton.clone(), motion, true)
+    /// The root kept over its first frame's place along the floor (across its `up_axis`), as
+    /// `convert --in-place`.
+    fn in_place(&self, py: Python<'_>) -> Motion {
+        let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+        let motion = py.detach(|| {
+            let up = self.loaded.stance(self.offset_mode).up;
+            bvhview::edit::in_place(skeleton, motion, up)
+        });
+        self.edited(skeleton.clone(), motion, true)
     }
 
-    /// The take moved up or down so that its lowest point is at 0, as `convert --ground`.
+    /// The take moved along its `up_axis` so that its lowest point, over every joint and frame
+    /// in its offset mode, is at 0, as `convert --ground`.
     fn ground(&self, py: Python<'_>) -> PyResult<Motion> {
-        let up = self.loaded.stance(OffsetMode::Replace).up;
-        let (skeleton, motion) = bvhview::edit::ground(
-            &self.loaded.skeleton,
-            &self.loaded.motion,
-            OffsetMode::Replace,
-            up,
-        )
-        .map_err(|e| to_python(py, e))?;
+        let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+        let (skeleton, motion) = py
+            .detach(|| {
+                let up = self.loaded.stance(self.offset_mode).up;
+                bvhview::edit::ground(skeleton, motion, self.offset_mode, up)
+            })
+            .map_err(|e| to_python(py, e))?;
         Ok(self.edited(skeleton, motion, true))
     }
 
@@ -884,10 +895,13 @@ impl Motion {
     /// frames × joints × 4 (quat, w x y z), × 3 × 3 (matrix), × 6 (6d) or × 3 (euler: each
     /// joint's rotation channels in file order, degrees), the kind told by the shape or `kind`;
     /// `root_translations` (frames × 3) for the first root; `fps` (default: the template's).
-    /// Other position channels keep the template's values (its last frame's past its end).
+    /// Other position channels keep the template's values (its last frame's past its end). A
+    /// joint with fewer than three rotation channels (an ASF bone with one or two degrees of
+    /// freedom) takes the angles of the nearest rotation it can make.
     #[staticmethod]
     #[pyo3(signature = (template, rotations, root_translations=None, fps=None, kind=None))]
     fn from_arrays(
+        py: Python<'_>,
         template: &Motion,
         rotations: numpy::PyArrayLikeDyn<'_, f32, numpy::AllowTypeChange>,
         root_translations: Option<numpy::PyArrayLike2<'_, f32, numpy::AllowTypeChange>>,
@@ -929,8 +943,25 @@ impl Motion {
             )));
         }
         let frames = shape[0];
+        let old = &template.loaded.motion;
+        let channels = old.channels;
+        let values = frames
+            .checked_mul(channels.max(1))
+            .filter(|&n| n as u64 <= bvhview::limits::MAX_GENERATED_VALUES)
+            .ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "{frames} frames of {channels} values: more than a take holds ({} values at most)",
+                    bvhview::limits::MAX_GENERATED_VALUES
+                ))
+            })?;
         // In C order whatever the strides (a slice or a transposed array is fine).
         let rotations: Vec<f32> = rotations.as_array().iter().copied().collect();
+        if let Some(at) = rotations.iter().position(|v| !v.is_finite()) {
+            let (frame, joint) = (at / per_joint / joints, at / per_joint % joints);
+            return Err(PyValueError::new_err(format!(
+                "rotations[{frame}, {joint}] is not a finite number"
+            )));
+        }
         let translations = match &root_translations {
             Some(t) if t.shape() != [frames, 3] => {
                 return Err(PyValueError::new_err(format!(
@@ -941,6 +972,15 @@ impl Motion {
             Some(t) => Some(t.as_array().iter().copied().collect::<Vec<f32>>()),
             None => None,
         };
+        if let Some(at) = translations
+            .as_ref()
+            .and_then(|t| t.iter().position(|v| !v.is_finite()))
+        {
+            return Err(PyValueError::new_err(format!(
+                "root_translations[{}] is not a finite number",
+                at / 3
+            )));
+        }
         let frame_time = match fps {
             Some(fps) if fps > 0.0 && fps.is_finite() => 1.0 / fps,
             Some(fps) => {
@@ -950,54 +990,59 @@ impl Motion {
             }
             None => template.loaded.motion.frame_time,
         };
-        let old = &template.loaded.motion;
-        let channels = old.channels;
         let root = skeleton.roots().next();
-        let mut data = Vec::with_capacity(frames * channels);
-        for frame in 0..frames {
-            let start = data.len();
-            // Position channels the arrays do not give: the template's.
-            if old.frame_count() > 0 {
-                data.extend_from_slice(old.frame(frame.min(old.frame_count() - 1)));
-            } else {
-                for joint in &skeleton.joints {
-                    data.extend(joint.channels.iter().map(|c| {
-                        match (c.is_position(), template.offset_mode) {
-                            (true, OffsetMode::Replace) => joint.offset[c.axis()],
-                            _ => 0.0,
+        let mode = template.offset_mode;
+        let build =
+            || -> Vec<f32> {
+                let mut data = Vec::with_capacity(values);
+                for frame in 0..frames {
+                    let start = data.len();
+                    // Position channels the arrays do not give: the template's.
+                    if old.frame_count() > 0 {
+                        data.extend_from_slice(old.frame(frame.min(old.frame_count() - 1)));
+                    } else {
+                        for joint in &skeleton.joints {
+                            data.extend(joint.channels.iter().map(|c| {
+                                match (c.is_position(), mode) {
+                                    (true, OffsetMode::Replace) => joint.offset[c.axis()],
+                                    _ => 0.0,
+                                }
+                            }));
                         }
-                    }));
-                }
-            }
-            let row = &mut data[start..];
-            for (index, joint) in skeleton.joints.iter().enumerate() {
-                let numbers = &rotations[(frame * joints + index) * per_joint..][..per_joint];
-                let values =
-                    &mut row[joint.first_channel..joint.first_channel + joint.channels.len()];
-                if Some(index) == root
-                    && let Some(t) = &translations
-                {
-                    for (channel, value) in joint.channels.iter().zip(values.iter_mut()) {
-                        if channel.is_position() {
-                            let wanted = t[frame * 3 + channel.axis()];
-                            *value = match template.offset_mode {
-                                OffsetMode::Replace => wanted,
-                                OffsetMode::Add => wanted - joint.offset[channel.axis()],
-                            };
+                    }
+                    let row = &mut data[start..];
+                    for (index, joint) in skeleton.joints.iter().enumerate() {
+                        let numbers =
+                            &rotations[(frame * joints + index) * per_joint..][..per_joint];
+                        let values = &mut row
+                            [joint.first_channel..joint.first_channel + joint.channels.len()];
+                        if Some(index) == root
+                            && let Some(t) = &translations
+                        {
+                            for (channel, value) in joint.channels.iter().zip(values.iter_mut()) {
+                                if channel.is_position() {
+                                    let wanted = t[frame * 3 + channel.axis()];
+                                    *value = match mode {
+                                        OffsetMode::Replace => wanted,
+                                        OffsetMode::Add => wanted - joint.offset[channel.axis()],
+                                    };
+                                }
+                            }
+                        }
+                        let angles = channel_angles(joint, kind, numbers);
+                        let mut angles = angles.into_iter();
+                        for (channel, value) in joint.channels.iter().zip(values.iter_mut()) {
+                            if channel.is_rotation()
+                                && let Some(angle) = angles.next()
+                            {
+                                *value = angle;
+                            }
                         }
                     }
                 }
-                let angles = channel_angles(joint, kind, numbers);
-                let mut angles = angles.into_iter();
-                for (channel, value) in joint.channels.iter().zip(values.iter_mut()) {
-                    if channel.is_rotation()
-                        && let Some(angle) = angles.next()
-                    {
-                        *value = angle;
-                    }
-                }
-            }
-        }
+                data
+            };
+        let data = py.detach(build);
         let motion = bvhview::Motion::new(frame_time, channels, frames, data);
         let mut take = template.edited(skeleton.clone(), motion, true);
         take.loaded.warnings.clear();
@@ -1181,6 +1226,26 @@ fn channel_angles(joint: &bvhview::Joint, kind: &str, numbers: &[f32]) -> Vec<f3
         _ => return vec![0.0; axes.len()],
     };
     let (a, b, c) = rotation.to_euler(sequence);
+    // The same rotation is also (a + π, π − b, c + π): with fewer than three channels the third
+    // angle is dropped, so take the form whose third angle is the smaller (a joint bent past 90°
+    // about its second axis needs the second form).
+    let wrap = |angle: f32| {
+        let pi = std::f32::consts::PI;
+        if angle > pi {
+            angle - 2.0 * pi
+        } else if angle <= -pi {
+            angle + 2.0 * pi
+        } else {
+            angle
+        }
+    };
+    let pi = std::f32::consts::PI;
+    let other = (wrap(a + pi), wrap(pi - b), wrap(c + pi));
+    let (a, b, c) = if axes.len() < 3 && other.2.abs() < c.abs() {
+        other
+    } else {
+        (a, b, c)
+    };
     [a, b, c]
         .into_iter()
         .take(axes.len())
@@ -1299,13 +1364,40 @@ fn _from_state(state: State) -> PyResult<Motion> {
             bvhview::skeleton::Source::Bvh
         },
     };
+    if !bvhview::limits::frame_time_in_file(frame_time) {
+        return Err(bad(&format!("a frame time of {frame_time} s")));
+    }
     let mut first_channel = 0;
     for (index, (name, parent, offset, names, end_site, axis)) in joints.into_iter().enumerate() {
+        // Pre-order: a joint's parent is the joint before it or one of that joint's ancestors.
         let parent = match parent {
             -1 => None,
-            p if p >= 0 && (p as usize) < index => Some(p as usize),
+            p if p >= 0 && (p as usize) < index => {
+                let p = p as usize;
+                let mut line = Some(index - 1);
+                while let Some(at) = line.filter(|&at| at != p) {
+                    line = skeleton.joints[at].parent;
+                }
+                if line.is_none() {
+                    return Err(bad("joints out of pre-order"));
+                }
+                Some(p)
+            }
             _ => return Err(bad("a parent after its child")),
         };
+        if let Some(parent) = parent
+            && skeleton.joints[parent].end_site
+        {
+            return Err(bad("an End Site with children"));
+        }
+        if end_site && !names.is_empty() {
+            return Err(bad("an End Site with channels"));
+        }
+        if !offset.iter().all(|v| v.is_finite())
+            || axis.is_some_and(|q| (glam::Quat::from_array(q).length() - 1.0).abs() > 1e-3)
+        {
+            return Err(bad("an OFFSET or an axis that is not a finite rotation"));
+        }
         let mut joint = bvhview::Joint::new(name, parent);
         joint.offset = Vec3::from_array(offset);
         joint.channels = names

@@ -786,6 +786,8 @@ def test_local_transforms_multiply_down_the_tree_to_the_world_ones(path):
         product[:, j] = local[:, j] if parent < 0 else product[:, parent] @ local[:, j]
     scale = max(1.0, float(np.abs(world[..., :3, 3]).max()))
     np.testing.assert_allclose(product, world, atol=1e-4 * scale)
+    # positions() takes another road (the FK plan's quaternion lanes): the same points.
+    np.testing.assert_allclose(product[..., :3, 3], take.positions(frames), atol=1e-4 * scale)
     matrix = take.local_rotations(frames, kind="matrix")
     np.testing.assert_allclose(matrix, local[..., :3, :3], atol=1e-5)
     w, x, y, z = np.moveaxis(take.local_rotations(frames, kind="quat").astype(np.float64), -1, 0)
@@ -827,8 +829,15 @@ def test_a_take_built_from_its_own_arrays_moves_as_it_did(path, kind, tmp_path):
     within 1e-5 of the figure's size, for every kind; saved as BVH it loads back the same."""
     take = bvhview.load(path, AMC) if path == ASF else bvhview.load(path)
     rotations = take.local_rotations(kind=kind)
+    # A template whose rotation channels hold nothing of the take: every rotation written comes
+    # from the arrays.
+    identity = np.zeros(rotations.shape[:2] + (4,), np.float32)
+    identity[..., 0] = 1
+    blank = bvhview.Motion.from_arrays(take, identity, root_translations=take.root_translations())
+    # (ASF bones turn about their own axes: the identity comes back within float rounding.)
+    assert np.abs(blank.local_rotations(kind="euler")).max() < 1e-3, "the blank holds no angle"
     rebuilt = bvhview.Motion.from_arrays(
-        take, rotations.astype(np.float64), root_translations=take.root_translations(), fps=take.fps
+        blank, rotations.astype(np.float64), root_translations=take.root_translations(), fps=take.fps
     )
     assert rebuilt.frame_count == max(take.frame_count, 1)
     want = take.positions()
@@ -884,5 +893,72 @@ def test_mirror_names_are_guessed_and_can_be_given():
     assert mirrored.joint_names[take.index("LeftCollar")] == "RightCollar"
     given = take.mirror(names={"LeftCollar": "Collar_B", "RightCollar": "Collar_A"})
     assert given.joint_names[take.index("LeftCollar")] == "Collar_B"
-    assert given.joint_names[take.index("LeftUpArm")] == "LeftUpArm", "not listed: kept"
+    assert given.joint_names[take.index("LeftUpArm")] == "RightUpArm", "not listed: the guess"
+    assert given.joint_names[take.index("Hips")] == "Hips"
     np.testing.assert_array_equal(given.positions(), mirrored.positions())
+
+
+def test_ground_and_to_up_work_in_the_takes_own_offset_mode():
+    take = bvhview.load(DATA / "bvh" / "makehuman_tpose.bvh", offset_mode="add")
+    assert take.up_axis == "z"
+    grounded = take.ground()
+    assert float(grounded.positions()[..., 2].min()) == pytest.approx(0, abs=1e-4)
+    assert take.to_up("y").up_axis == "y"
+
+
+def test_a_joint_of_two_channels_bent_past_a_right_angle_comes_back(tmp_path):
+    """A joint with two rotation channels: the angles of its rotation are found again even when
+    it bends past 90 degrees about its second axis."""
+    path = tmp_path / "elbow.bvh"
+    path.write_text(
+        "HIERARCHY\nROOT Root\n{\n OFFSET 0 0 0\n CHANNELS 3 Xposition Yposition Zposition\n"
+        " JOINT Elbow\n {\n  OFFSET 0 10 0\n  CHANNELS 2 Xrotation Zrotation\n"
+        "  End Site\n  {\n   OFFSET 0 10 0\n  }\n }\n}\nMOTION\nFrames: 4\nFrame Time: 0.1\n"
+        "0 0 0 30 120\n0 0 0 -45 -150\n0 0 0 170 95\n0 0 0 10 20\n"
+    )
+    take = bvhview.load(path)
+    for kind in ["quat", "matrix", "6d"]:
+        rebuilt = bvhview.Motion.from_arrays(take, take.local_rotations(kind=kind))
+        np.testing.assert_allclose(rebuilt.positions(), take.positions(), atol=1e-4)
+
+
+@pytest.mark.parametrize(
+    "joints, frame_time, data, said",
+    [
+        ([("a", -1, [0, 0, 0], ["Xrotation"], False, None)], 0.1, b"\0" * 3, "values"),
+        ([("a", -1, [0, 0, 0], ["Xrotation", "Yrotation"], False, None)], 0.1, b"\0" * 12, "values"),
+        ([("a", -1, [0, 0, 0], ["Twist"], False, None)], 0.1, b"", "channel"),
+        ([("a", 1, [0, 0, 0], [], False, None)], 0.1, b"", "parent"),
+        (
+            [
+                ("r", -1, [0, 0, 0], [], False, None),
+                ("a", 0, [0, 0, 0], [], False, None),
+                ("b", 0, [0, 0, 0], [], False, None),
+                ("c", 1, [0, 0, 0], [], False, None),
+            ],
+            0.1,
+            b"",
+            "pre-order",
+        ),
+        ([("a", -1, [0, 0, 0], ["Xrotation"], True, None)], 0.1, b"", "End Site"),
+        ([("a", -1, [float("nan"), 0, 0], [], False, None)], 0.1, b"", "OFFSET"),
+        ([("a", -1, [0, 0, 0], [], False, None)], float("nan"), b"", "frame time"),
+    ],
+)
+def test_a_state_that_no_take_pickles_is_refused(joints, frame_time, data, said):
+    channels = sum(len(j[3]) for j in joints)
+    state = (1, "x.bvh", None, "replace", [], False, False, joints, frame_time, channels, data)
+    with pytest.raises(ValueError, match=said):
+        bvhview._bvhview._from_state(state)
+
+
+def test_from_arrays_refuses_numbers_that_are_not_finite():
+    take = bvhview.load(REPO / "assets" / "walk.bvh")
+    rotations = take.local_rotations([0, 1])
+    rotations[1, 3, 2] = np.nan
+    with pytest.raises(ValueError, match=r"rotations\[1, 3\]"):
+        bvhview.Motion.from_arrays(take, rotations)
+    with pytest.raises(ValueError, match="root_translations"):
+        bvhview.Motion.from_arrays(
+            take, take.local_rotations([0]), root_translations=np.full((1, 3), np.inf)
+        )
