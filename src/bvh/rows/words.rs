@@ -2,7 +2,7 @@
 //! and the eight-lane `wide`): the problems a row can have, where values go, the 64-byte
 //! blocks of classified text, and the reading of one number.
 
-use super::number::{eight_digits, is_blank, parse_number, read_decimal};
+use super::number::{decimal_to_f32, eight_digits, is_blank, parse_number, read_decimal};
 use crate::lines::is_line_end;
 
 /// What went wrong in a row, at a byte offset of the part being parsed.
@@ -160,10 +160,12 @@ pub(super) fn short_decimal(digits: u32, scale: usize) -> f32 {
     (f64::from(digits) * INV_POW10_F64[scale]) as f32
 }
 
-/// The value of `word`, a word of up to 9 bytes ('-', then digits with at most one '.') whose
-/// masks within its block are given from its first byte on; `None` for any other word.
+/// The value of `word`, a word of up to 10 bytes ('-', then up to 7 digits with at most one
+/// '.', or 8 digits and one '.') whose masks within its block are given from its first byte on;
+/// `None` for any other word.
 ///
-/// The value is [`short_decimal`] of the word's digits and scale, with the sign.
+/// The value is [`short_decimal`] of the word's digits and scale, with the sign (for eight
+/// digits, `decimal_to_f32`).
 #[inline(always)]
 pub(super) fn read_short_number(
     text: &[u8],
@@ -181,10 +183,26 @@ pub(super) fn read_short_number(
     let count = body_length - usize::from(dots != 0);
     let p = at + negative;
     let bytes = text.get(p..)?.first_chunk::<8>()?;
-    if body & body_mask != body_mask
-        || dots & dots.wrapping_sub(1) != 0
-        || !(1..=7).contains(&count)
-    {
+    if body & body_mask != body_mask || dots & dots.wrapping_sub(1) != 0 {
+        return None;
+    }
+    if count == 8 && dots != 0 {
+        // Eight digits and a dot, nine bytes (`84.730760`: Xsens's and other six-decimal
+        // files): the ninth byte joins the eight, and the quotient is rounded as `atof` rounds
+        // it by `decimal_to_f32` (`short_decimal`'s proof covers seven digits).
+        let ninth = *text.get(p + 8)?;
+        let word = u64::from_le_bytes(*bytes);
+        let dot_at = dots.trailing_zeros() as usize; // 0 to 8
+        let joined = if dot_at == 8 {
+            word
+        } else {
+            let before = (1u64 << (8 * dot_at)) - 1;
+            (word & before) | ((word >> 8) & !before) | (u64::from(ninth) << 56)
+        };
+        let digits = eight_digits(joined.wrapping_sub(0x30 * LOW));
+        return Some(decimal_to_f32(digits, 8 - dot_at, negative != 0));
+    }
+    if !(1..=7).contains(&count) {
         return None;
     }
     let word = u64::from_le_bytes(*bytes);
