@@ -213,7 +213,8 @@ pub enum Side {
 
 /// The side a name marks and the name with the other side's mark, as the common rigs write them
 /// (`LeftArm`, `leftArm`, `L_Arm`, `Arm_L`, `Arm.L`, `lhumerus`/`rhumerus` in CMU's ASF,
-/// `mixamorig:LeftHand`); `None` when the name has no side.
+/// `lShldr`/`rShldr` in Daz's, Poser's and Second Life's, `mixamorig:LeftHand`); `None` when the
+/// name has no side.
 pub fn name_side(name: &str) -> Option<(Side, String)> {
     let sides = |left: bool| if left { Side::Left } else { Side::Right };
     for (left, right) in [("Left", "Right"), ("left", "right"), ("LEFT", "RIGHT")] {
@@ -236,6 +237,18 @@ pub fn name_side(name: &str) -> Option<(Side, String)> {
                 return Some((sides(is_left), format!("{to}{rest}")));
             }
         }
+    }
+    // Daz's, Poser's and Second Life's: lShldr, rForeArm, lThigh … (a lower-case l or r before
+    // a capital).
+    if let [side @ (b'l' | b'r'), capital, ..] = name.as_bytes()
+        && capital.is_ascii_uppercase()
+    {
+        let (side, other) = if *side == b'l' {
+            (Side::Left, 'r')
+        } else {
+            (Side::Right, 'l')
+        };
+        return Some((side, format!("{other}{}", &name[1..])));
     }
     // CMU's ASF bones: lhumerus, rfemur, lclavicle … (a single l or r before a known part).
     const PARTS: [&str; 13] = [
@@ -534,8 +547,11 @@ mod tests {
             ("Arm.R", Some("Arm.L")),
             ("L_Knee", Some("R_Knee")),
             ("lhumerus", Some("rhumerus")),
+            ("lShldr", Some("rShldr")),
+            ("rForeArm", Some("lForeArm")),
             ("Hips", None),
             ("lowerback", None),
+            ("rotation", None),
         ] {
             assert_eq!(mirrored_name(name).as_deref(), want, "{name}");
         }

@@ -578,7 +578,7 @@ fn compare_sequences(quick: bool) {
             },
             |pictures| {
                 for (i, picture) in pictures.enumerate() {
-                    picture?.write_png(&out.join(format!("frame_{i:05}.png")))?;
+                    picture?.write_png_fast(&out.join(format!("frame_{i:05}.png")))?;
                 }
                 Ok(())
             },

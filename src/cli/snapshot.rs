@@ -261,7 +261,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         },
         |pictures| {
             for (i, picture) in pictures.enumerate() {
-                picture?.write_png(&name(first + i))?;
+                picture?.write_png_fast(&name(first + i))?;
             }
             Ok(())
         },

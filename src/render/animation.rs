@@ -152,7 +152,7 @@ pub fn write(
             let mut encoder = png::Encoder::new(out, width, height);
             encoder.set_color(png::ColorType::Rgb);
             encoder.set_depth(png::BitDepth::Eight);
-            // As for a still PNG: fdeflate's fast level, the same pixels.
+            // As for a sequence of PNGs: fdeflate's fast level, the same pixels.
             encoder.set_compression(png::Compression::Fast);
             let count = u32::try_from(count.max(1)).unwrap_or(u32::MAX);
             encoder.set_animated(count, 0).map_err(|e| encoding(&e))?;
