@@ -122,7 +122,7 @@ pub fn scale(
 
 /// The Euler order of glam that a joint's three rotation channels spell, in file order: the
 /// channels multiply on the right in that order, as glam's intrinsic orders do.
-fn euler_order(order: RotationOrder) -> EulerRot {
+pub fn euler_order(order: RotationOrder) -> EulerRot {
     match order {
         RotationOrder::Zyx => EulerRot::ZYX,
         RotationOrder::Yzx => EulerRot::YZX,

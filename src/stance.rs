@@ -303,6 +303,17 @@ impl Stance {
         }
     }
 
+    /// The guess from the rest pose alone (what a take without frames gets from [`Stance::guess`]).
+    pub fn at_rest(skeleton: &Skeleton, mode: OffsetMode) -> Stance {
+        let channels = skeleton.channel_count();
+        Stance::guess(
+            skeleton,
+            &Motion::new(0.0, channels, 0, Vec::new()),
+            mode,
+            None,
+        )
+    }
+
     /// The figure's height standing, in the file's units: the guess's, or, when `--up` asks for
     /// the other axis, the figure's spread along it (the median over the frames looked at).
     pub fn height_along(&self, up: Up) -> f32 {

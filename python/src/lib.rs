@@ -1215,16 +1215,11 @@ fn channel_angles(joint: &bvhview::Joint, kind: &str, numbers: &[f32]) -> Vec<f3
             order.push(axis);
         }
     }
-    let sequence = match order[..3] {
-        [0, 1, 2] => glam::EulerRot::XYZ,
-        [0, 2, 1] => glam::EulerRot::XZY,
-        [1, 0, 2] => glam::EulerRot::YXZ,
-        [1, 2, 0] => glam::EulerRot::YZX,
-        [2, 0, 1] => glam::EulerRot::ZXY,
-        [2, 1, 0] => glam::EulerRot::ZYX,
+    let Some(order) = bvhview::RotationOrder::from_axes([order[0], order[1], order[2]]) else {
         // The same axis twice: no sequence of three distinct axes; left at 0.
-        _ => return vec![0.0; axes.len()],
+        return vec![0.0; axes.len()];
     };
+    let sequence = bvhview::edit::euler_order(order);
     let (a, b, c) = rotation.to_euler(sequence);
     // The same rotation is also (a + π, π − b, c + π): with fewer than three channels the third
     // angle is dropped, so take the form whose third angle is the smaller (a joint bent past 90°

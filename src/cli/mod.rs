@@ -154,12 +154,6 @@ pub(crate) enum FitArg {
     Take,
 }
 
-impl View {
-    pub(crate) fn style_for(&self, look: LookArg) -> Style {
-        style_for(self.style, look)
-    }
-}
-
 /// The style asked for, or the look's own: spheres in the article's, both in the studio's.
 pub(crate) fn style_for(style: Option<StyleArg>, look: LookArg) -> Style {
     match (style, look) {

@@ -143,7 +143,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
             .unwrap_or_else(|| bvhview::render::paint::start_angle(args.files.len())),
         width: args.size.0,
         height: args.size.1,
-        style: args.view.style_for(args.look),
+        style: style_for(args.view.style, args.look),
         fit: args.view.fit.is_some(),
         offset_mode: mode,
         look: args.look.into(),

@@ -384,12 +384,8 @@ impl Renderer {
         options: &SnapshotOptions,
         overlay: &Overlay,
     ) -> Result<Image, Error> {
-        let take = paint::Shown {
-            skeleton,
-            motion,
-            up: options.up,
-            stance: crate::stance::Stance::guess(skeleton, motion, options.offset_mode, None),
-        };
+        let framed = options.fit || options.look == Look::Studio;
+        let take = paint::Shown::of(skeleton, motion, options.up, options.offset_mode, framed);
         self.render_all(&[take], options, overlay)
     }
 

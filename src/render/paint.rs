@@ -28,6 +28,31 @@ pub struct Shown<'a> {
     pub stance: Stance,
 }
 
+impl<'a> Shown<'a> {
+    /// A take as the file is written (or stood up by `up`), its stance guessed from its motion
+    /// when `framed` (a framed or studio view sizes itself by it), else from its rest pose
+    /// alone: the article's view uses none of it, and a picture per frame should not pay for it.
+    pub fn of(
+        skeleton: &'a Skeleton,
+        motion: &'a Motion,
+        up: Up,
+        mode: OffsetMode,
+        framed: bool,
+    ) -> Self {
+        let stance = if framed {
+            Stance::guess(skeleton, motion, mode, None)
+        } else {
+            Stance::at_rest(skeleton, mode)
+        };
+        Shown {
+            skeleton,
+            motion,
+            up,
+            stance,
+        }
+    }
+}
+
 /// One timeline for several takes, each at its own Frame Time. It ticks at the finest Frame Time
 /// among them and runs to the last frame of the longest; each take shows the frame its own clock
 /// has reached at a tick. With one take a tick is simply its frame.
@@ -400,7 +425,12 @@ fn camera_of(
     let size = (options.width, options.height);
     // Where each take's points are drawn: stood up, scaled, moved to its place.
     let placed = |index: usize, p: Vec3| {
-        takes[index].up.to_y_up() * p * layout.scales[index] + layout.origins[index]
+        scene::place(
+            takes[index].up,
+            layout.scales[index],
+            layout.origins[index],
+            p,
+        )
     };
     let framed = options.fit || studio_look;
     let follow_root = studio_look && options.follow;

@@ -111,11 +111,21 @@ pub struct Scene<'a> {
 }
 
 impl Scene<'_> {
-    /// Where a point of the take (as the file places it) is drawn: stood up, scaled, moved to
-    /// the take's place.
+    /// Where a point of the take (as the file places it) is drawn (see [`place`]).
     pub fn place(&self, point: glam::Vec3) -> glam::Vec3 {
-        self.up.to_y_up() * point * self.scale + glam::Vec3::from_array(self.origin)
+        place(
+            self.up,
+            self.scale,
+            glam::Vec3::from_array(self.origin),
+            point,
+        )
     }
+}
+
+/// Where a point of a take (as the file places it) is drawn: stood up, scaled, moved to the
+/// take's place.
+pub fn place(up: crate::pose::Up, scale: f32, origin: glam::Vec3, point: glam::Vec3) -> glam::Vec3 {
+    up.to_y_up() * point * scale + origin
 }
 
 /// Scales the modelview by `scale` (several takes at one height), with normals kept unit length
