@@ -15,6 +15,7 @@
 pub mod acclaim;
 pub mod batch;
 pub mod bvh;
+pub mod dataset;
 pub mod edit;
 pub mod error;
 pub mod export;

@@ -49,6 +49,10 @@ enum Command {
     /// Write a take (BVH, or ASF + AMC) as BVH or glTF (.glb, .gltf), trimmed, resampled,
     /// scaled, turned, mirrored, in place or grounded on the way if asked.
     Convert(cli::convert::ConvertArgs),
+    /// Compile every take under a folder into training arrays on all cores: one frame rate, Y up,
+    /// metres; positions, rotations, root translations, velocities, foot contacts, as
+    /// manifest.json plus .npy files per skeleton topology. Takes that fail are skipped and listed.
+    Dataset(cli::dataset::DatasetArgs),
 }
 
 fn main() -> ExitCode {
@@ -89,6 +93,7 @@ fn main() -> ExitCode {
         Some(Command::Diff(args)) => cli::diff::run(args),
         Some(Command::SkinDemo(args)) => cli::skin_demo::run(args),
         Some(Command::Convert(args)) => cli::convert::run(args),
+        Some(Command::Dataset(args)) => cli::dataset::run(args),
     };
     match result {
         Ok(code) => code,

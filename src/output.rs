@@ -26,6 +26,17 @@ fn partial() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
     PARTIAL.get().lock().unwrap_or_else(PoisonError::into_inner)
 }
 
+/// A temporary folder being filled (a dataset), removed like a partial file on a signal until
+/// [`finished_folder`] says it has its name.
+pub fn partial_folder(path: &Path) {
+    partial().push(path.to_path_buf());
+}
+
+/// The folder [`partial_folder`] named is finished (renamed) or gone.
+pub fn finished_folder(path: &Path) {
+    partial().retain(|p| p != path);
+}
+
 /// On SIGINT, SIGTERM or SIGHUP, every temporary file still being written is removed and the
 /// process ends by that signal, as it would have without the cleanup: a shell reports 128 + its
 /// number (130 for Ctrl-C, 143 for `kill`, 129 for a closed terminal), and a shell loop around
@@ -46,7 +57,10 @@ pub fn remove_partials_on_signal() {
             // Held to the end: no new temporary file can be made after the cleanup.
             let mut partial = partial();
             for path in partial.drain(..) {
-                let _ = std::fs::remove_file(path);
+                let _ = match path.is_dir() {
+                    true => std::fs::remove_dir_all(path),
+                    false => std::fs::remove_file(path),
+                };
             }
             let what = match signal {
                 SIGINT => "interrupted",

@@ -156,6 +156,89 @@ pub fn local_rotation(joint: &Joint, values: &[f32]) -> Mat4 {
     }
 }
 
+/// How a joint's local rotation is written as numbers (Python's `local_rotations(kind=…)`, the
+/// dataset's `--rotations`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RotationKind {
+    /// (w, x, y, z), w ≥ 0.
+    Quat,
+    /// The 3 × 3 matrix, row after row.
+    Matrix,
+    /// The matrix's first two columns one after the other (Zhou et al. 2019).
+    SixD,
+    /// The joint's rotation channels in its file order, in degrees (0 past the ones it has).
+    Euler,
+}
+
+impl RotationKind {
+    pub const NAMES: &'static str = "\"quat\", \"matrix\", \"6d\" or \"euler\"";
+
+    pub fn parse(text: &str) -> Option<RotationKind> {
+        match text {
+            "quat" => Some(RotationKind::Quat),
+            "matrix" => Some(RotationKind::Matrix),
+            "6d" => Some(RotationKind::SixD),
+            "euler" => Some(RotationKind::Euler),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            RotationKind::Quat => "quat",
+            RotationKind::Matrix => "matrix",
+            RotationKind::SixD => "6d",
+            RotationKind::Euler => "euler",
+        }
+    }
+
+    /// Numbers per rotation.
+    pub fn width(self) -> usize {
+        match self {
+            RotationKind::Quat => 4,
+            RotationKind::Matrix => 9,
+            RotationKind::SixD => 6,
+            RotationKind::Euler => 3,
+        }
+    }
+}
+
+/// `joint`'s local rotation ([`local_rotation`]) for its channel `values` as `kind` numbers, into
+/// `out` (`kind.width()` long). No values (an End Site, the rest pose): the identity.
+pub fn write_rotation(joint: &Joint, values: &[f32], kind: RotationKind, out: &mut [f32]) {
+    if kind == RotationKind::Euler {
+        out.fill(0.0);
+        let angles = joint
+            .channels
+            .iter()
+            .zip(values)
+            .filter(|(c, _)| c.is_rotation())
+            .map(|(_, &v)| v);
+        for (slot, angle) in out.iter_mut().zip(angles) {
+            *slot = angle;
+        }
+        return;
+    }
+    let rotation = if values.is_empty() {
+        Mat4::IDENTITY
+    } else {
+        local_rotation(joint, values)
+    };
+    let m = glam::Mat3::from_mat4(rotation);
+    match kind {
+        RotationKind::Quat => {
+            let q = glam::Quat::from_mat3(&m).normalize();
+            let q = if q.w < 0.0 { -q } else { q };
+            out.copy_from_slice(&[q.w, q.x, q.y, q.z]);
+        }
+        RotationKind::Matrix => out.copy_from_slice(&m.transpose().to_cols_array()),
+        _ => {
+            let (a, b) = (m.x_axis, m.y_axis);
+            out.copy_from_slice(&[a.x, a.y, a.z, b.x, b.y, b.z]);
+        }
+    }
+}
+
 /// `T(t) · R1 · R2 · R3` for one joint, or `T(t) · C · R1 · R2 · R3 · C⁻¹` when the joint has a
 /// fixed axis C (ASF bones); `values` are this joint's channel values.
 pub fn local_matrix(joint: &Joint, values: &[f32], mode: OffsetMode) -> Mat4 {

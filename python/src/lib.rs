@@ -608,50 +608,17 @@ impl Motion {
         kind: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
         let frames = self.selected_frames(frames)?;
-        let per_joint = match kind {
-            "quat" => 4,
-            "matrix" => 9,
-            "6d" => 6,
-            "euler" => 3,
-            other => {
-                return Err(PyValueError::new_err(format!(
-                    "kind={other:?}: expected \"quat\", \"matrix\", \"6d\" or \"euler\""
-                )));
-            }
+        let Some(rotation_kind) = pose::RotationKind::parse(kind) else {
+            return Err(PyValueError::new_err(format!(
+                "kind={kind:?}: expected {}",
+                pose::RotationKind::NAMES
+            )));
         };
+        let per_joint = rotation_kind.width();
         let values = py
             .detach(|| {
                 self.per_joint_of(&frames, per_joint, |joint, values, out| {
-                    if kind == "euler" {
-                        let angles = joint
-                            .channels
-                            .iter()
-                            .zip(values)
-                            .filter(|(c, _)| c.is_rotation())
-                            .map(|(_, &v)| v);
-                        for (slot, angle) in out.iter_mut().zip(angles) {
-                            *slot = angle;
-                        }
-                        return;
-                    }
-                    let rotation = if values.is_empty() {
-                        Mat4::IDENTITY
-                    } else {
-                        pose::local_rotation(joint, values)
-                    };
-                    let m = glam::Mat3::from_mat4(rotation);
-                    match kind {
-                        "quat" => {
-                            let q = glam::Quat::from_mat3(&m).normalize();
-                            let q = if q.w < 0.0 { -q } else { q };
-                            out.copy_from_slice(&[q.w, q.x, q.y, q.z]);
-                        }
-                        "matrix" => out.copy_from_slice(&m.transpose().to_cols_array()),
-                        _ => {
-                            let (a, b) = (m.x_axis, m.y_axis);
-                            out.copy_from_slice(&[a.x, a.y, a.z, b.x, b.y, b.z]);
-                        }
-                    }
+                    pose::write_rotation(joint, values, rotation_kind, out)
                 })
             })
             .map_err(|e| to_python(py, e))?;

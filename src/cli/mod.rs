@@ -3,6 +3,7 @@
 //! its arguments beside its body (`print.rs`, `info.rs`, …); `main.rs` only dispatches.
 
 pub(crate) mod convert;
+pub(crate) mod dataset;
 pub(crate) mod diff;
 pub(crate) mod info;
 pub(crate) mod positions;

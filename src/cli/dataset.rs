@@ -1,0 +1,117 @@
+//! `bvhview dataset`: a folder of takes compiled into training arrays (`bvhview::dataset`).
+
+use super::*;
+use bvhview::dataset::{self, Options};
+use bvhview::pose::RotationKind;
+
+#[derive(Args)]
+pub(crate) struct DatasetArgs {
+    /// The folder of takes (BVH files and ASF/AMC pairs, subfolders too).
+    dir: PathBuf,
+    /// The dataset folder to make (it must not exist, or be empty).
+    #[arg(short, long)]
+    output: PathBuf,
+    /// The one frame rate every clip is resampled to.
+    #[arg(long, default_value_t = 30.0)]
+    fps: f64,
+    /// How local rotations are written.
+    #[arg(long, value_enum, default_value_t)]
+    rotations: RotationsArg,
+    /// Positions relative to the root's place on the floor (x and z) in each frame.
+    #[arg(long)]
+    root_relative: bool,
+    /// A foot point is in contact when it is at most this many metres above its lowest point in
+    /// the take...
+    #[arg(long, default_value_t = 0.05)]
+    contact_height: f32,
+    /// ...and moves slower than this many metres per second.
+    #[arg(long, default_value_t = 0.5)]
+    contact_speed: f32,
+    /// Threads (default: every core).
+    #[arg(long)]
+    threads: Option<usize>,
+    /// Files larger than this many bytes are skipped.
+    #[arg(long, default_value_t = bvhview::input::DEFAULT_MAX_SIZE)]
+    max_size: u64,
+}
+
+/// `--rotations`.
+#[derive(Clone, Copy, Debug, Default, ValueEnum)]
+pub(crate) enum RotationsArg {
+    /// (w, x, y, z), w ≥ 0.
+    Quat,
+    /// 3 × 3 matrices.
+    Matrix,
+    /// The matrix's first two columns (Zhou et al. 2019).
+    #[default]
+    #[value(name = "6d")]
+    SixD,
+    /// Each joint's rotation channels in its file order, degrees.
+    Euler,
+}
+
+impl From<RotationsArg> for RotationKind {
+    fn from(arg: RotationsArg) -> RotationKind {
+        match arg {
+            RotationsArg::Quat => RotationKind::Quat,
+            RotationsArg::Matrix => RotationKind::Matrix,
+            RotationsArg::SixD => RotationKind::SixD,
+            RotationsArg::Euler => RotationKind::Euler,
+        }
+    }
+}
+
+/// Compiles; each skipped take is said on stderr with its `path:line:column`. Exits 2 when no
+/// take could be compiled, 0 otherwise (the manifest lists what was skipped).
+pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
+    let options = Options {
+        fps: args.fps,
+        rotations: args.rotations.into(),
+        root_relative: args.root_relative,
+        contact_height: args.contact_height,
+        contact_speed: args.contact_speed,
+        max_size: args.max_size,
+    };
+    options.check()?;
+    if !args.dir.is_dir() {
+        return Err(Error::Usage(format!(
+            "{}: not a folder",
+            args.dir.display()
+        )));
+    }
+    let items = dataset::takes(&args.dir)?;
+    if items.is_empty() {
+        return Err(Error::Usage(format!(
+            "{}: no .bvh, .asf or .amc files",
+            args.dir.display()
+        )));
+    }
+    let threads = args.threads.unwrap_or_else(bvhview::cores).max(1);
+    let summary = dataset::compile(
+        &args.dir,
+        items,
+        &options,
+        threads,
+        &args.output,
+        |_, error, _, _| {
+            if let Some(error) = error {
+                eprintln!("skipped {error}");
+            }
+        },
+    )?;
+    wrote(format_args!(
+        "{}: {}, {} at {} fps in {}; {} skipped",
+        args.output.display(),
+        bvhview::error::counted(summary.clips, "clip"),
+        bvhview::error::counted(summary.frames, "frame"),
+        bvhview::limits::show(options.fps),
+        bvhview::error::counted(summary.groups, "topology group"),
+        summary.skipped.len()
+    ));
+    Ok(if summary.clips == 0 {
+        eprintln!("bvhview: no take could be compiled");
+        ExitCode::from(2)
+    } else {
+        ExitCode::SUCCESS
+    })
+}

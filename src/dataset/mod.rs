@@ -1,0 +1,419 @@
+//! `bvhview dataset`: every take under a folder turned into training arrays, on every core.
+//!
+//! One take is one unit of work ([`compile_take`]): loaded, turned to Y up and metres by its
+//! guessed [`Stance`](crate::stance::Stance), resampled to one frame rate, then its world
+//! positions, local rotations, root translations, velocities and foot contacts computed. A take
+//! that fails is skipped and reported with its `path:line:column`. [`store`] writes the clips,
+//! grouped by skeleton topology, as `manifest.json` plus one `.npy` file per array; it also
+//! merges datasets compiled in pieces (on a cluster's workers) into the one a single process
+//! would have written, byte for byte.
+
+pub mod store;
+
+use crate::batch::Item;
+use crate::error::Error;
+use crate::pose::{self, FkPlan, FkScratch, OffsetMode, RotationKind, Up};
+use glam::Vec3;
+use std::path::{Path, PathBuf};
+
+/// What every take is turned into.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Options {
+    /// The one frame rate every clip is resampled to.
+    pub fps: f64,
+    /// How rotations are written.
+    pub rotations: RotationKind,
+    /// Positions relative to the root's place on the floor (x and z) in each frame.
+    pub root_relative: bool,
+    /// A foot point is in contact when it is at most this high (metres) above its own lowest
+    /// point in the take…
+    pub contact_height: f32,
+    /// …and moves slower than this (metres per second).
+    pub contact_speed: f32,
+    /// Files larger than this are skipped.
+    pub max_size: u64,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options {
+            fps: 30.0,
+            rotations: RotationKind::SixD,
+            root_relative: false,
+            contact_height: 0.05,
+            contact_speed: 0.5,
+            max_size: crate::input::DEFAULT_MAX_SIZE,
+        }
+    }
+}
+
+impl Options {
+    /// Refuses rates and thresholds no dataset can be made with.
+    pub fn check(&self) -> Result<(), Error> {
+        crate::limits::fps(self.fps, false)?;
+        let positive = |name: &str, value: f32| {
+            if value.is_finite() && value >= 0.0 {
+                Ok(())
+            } else {
+                Err(Error::Usage(format!(
+                    "{name} {value}: expected a finite number of at least 0"
+                )))
+            }
+        };
+        positive("--contact-height", self.contact_height)?;
+        positive("--contact-speed", self.contact_speed)
+    }
+}
+
+/// Where a take came from, as the manifest names it: paths relative to the folder compiled.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Source {
+    pub path: String,
+    pub motion: Option<String>,
+}
+
+impl Source {
+    pub fn of(dir: &Path, item: &Item) -> Source {
+        let relative = |p: &Path| {
+            p.strip_prefix(dir)
+                .unwrap_or(p)
+                .to_string_lossy()
+                .into_owned()
+        };
+        Source {
+            path: relative(&item.path),
+            motion: item.motion.as_deref().map(relative),
+        }
+    }
+}
+
+/// The skeleton a clip's arrays are laid out by; clips with equal topologies share a group.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+pub struct Topology {
+    /// Every point: joints and End Sites (named `<parent>_End`), in file order.
+    pub joints: Vec<String>,
+    /// Each point's parent, -1 for a root.
+    pub parents: Vec<i32>,
+    /// The points that have a rotation (every joint that is not an End Site).
+    pub rotated: Vec<u32>,
+    /// The points foot contacts are given for: those whose name has `foot`, `toe` or `ankle`.
+    pub feet: Vec<u32>,
+}
+
+impl Topology {
+    fn of(skeleton: &crate::Skeleton) -> Topology {
+        let joints: Vec<String> = (0..skeleton.joints.len())
+            .map(|i| crate::export::export_name(skeleton, i))
+            .collect();
+        let feet = joints
+            .iter()
+            .enumerate()
+            .filter(|(_, name)| {
+                let name = name.to_ascii_lowercase();
+                ["foot", "toe", "ankle"].iter().any(|w| name.contains(w))
+            })
+            .map(|(i, _)| i as u32)
+            .collect();
+        Topology {
+            parents: skeleton
+                .joints
+                .iter()
+                .map(|j| j.parent.map_or(-1, |p| p as i32))
+                .collect(),
+            rotated: (0..skeleton.joints.len() as u32)
+                .filter(|&i| !skeleton.joints[i as usize].end_site)
+                .collect(),
+            feet,
+            joints,
+        }
+    }
+}
+
+/// What the manifest says of one clip besides its arrays.
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct About {
+    #[serde(flatten)]
+    pub source: Source,
+    /// The take's own rate and length, before resampling.
+    pub source_fps: f64,
+    pub source_frames: usize,
+    /// The guessed up axis and units the take was turned from.
+    pub up: String,
+    pub units: String,
+    pub metres_per_unit: f32,
+    /// How position channels combined with OFFSETs (the mode the file looks written for).
+    pub offset_mode: String,
+    pub warnings: Vec<String>,
+}
+
+/// One take's arrays, frame after frame (row-major, float32 but for the contacts).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Clip {
+    pub about: About,
+    pub topology: Topology,
+    pub frames: usize,
+    /// frames × points × 3: world positions, Y up, metres (root-relative when asked).
+    pub positions: Vec<f32>,
+    /// frames × rotated × width of the rotation kind: local rotations.
+    pub rotations: Vec<f32>,
+    /// frames × 3: the first root's world position.
+    pub root_translations: Vec<f32>,
+    /// frames × points × 3: world velocities, metres per second.
+    pub velocities: Vec<f32>,
+    /// frames × feet: 1 in contact, 0 not.
+    pub contacts: Vec<u8>,
+}
+
+/// Why a take is not in the dataset.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Skipped {
+    #[serde(flatten)]
+    pub source: Source,
+    pub error: String,
+}
+
+/// Every take under `dir` in path order: BVH files and ASF/AMC pairs (an AMC without a skeleton
+/// and an ASF without motion are listed too, and skipped with a reason).
+pub fn takes(dir: &Path) -> Result<Vec<Item>, Error> {
+    crate::batch::collect(dir)
+}
+
+/// Compiles one take found under `dir` (the folder its manifest path is relative to).
+pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, Error> {
+    let path = &item.path;
+    if item.is_unpaired_motion() {
+        return Err(Error::Usage(format!(
+            "{}: motion without a skeleton ({} is not beside it)",
+            path.display(),
+            item.wanted_skeleton()
+        )));
+    }
+    let loaded =
+        crate::input::load_checked(path, item.motion.as_deref(), None, 1, options.max_size)?;
+    if loaded.motion.frame_count() == 0 {
+        return Err(Error::Usage(format!(
+            "{}: no frames to learn from (a skeleton without motion)",
+            path.display()
+        )));
+    }
+    let mode =
+        match pose::written_for_other_mode(&loaded.skeleton, &loaded.motion, OffsetMode::Replace) {
+            Some(_) => OffsetMode::Add,
+            None => OffsetMode::Replace,
+        };
+    let stance = loaded.stance(mode);
+    let (skeleton, motion) = (&loaded.skeleton, &loaded.motion);
+    let metres = stance.units.metres;
+    let (skeleton, motion) = crate::edit::scale(skeleton, motion, metres)?;
+    let (skeleton, motion) = crate::edit::reorient(&skeleton, &motion, stance.up, Up::Y)?;
+    let source_fps = 1.0 / loaded.motion.frame_time;
+    // Frame times are written with few digits (.0083333 for 1/120): a take already at the rate
+    // keeps its frames.
+    let motion = if (loaded.motion.frame_time * options.fps - 1.0).abs() < 1e-4 {
+        crate::Motion::new(
+            1.0 / options.fps,
+            motion.channels,
+            motion.frame_count(),
+            motion.data,
+        )
+    } else {
+        crate::edit::resample(&skeleton, &motion, options.fps)?
+    };
+    let topology = Topology::of(&skeleton);
+    let frames = motion.frame_count();
+    let points = skeleton.joints.len();
+
+    let plan = FkPlan::new(&skeleton, mode);
+    let mut scratch = FkScratch::default();
+    let mut batch_out = Vec::new();
+    let mut world: Vec<Vec3> = Vec::with_capacity(frames * points);
+    let rows: Vec<&[f32]> = (0..frames).map(|f| motion.frame(f)).collect();
+    for batch in rows.chunks(pose::LANES) {
+        plan.positions_of_frames(batch, &mut batch_out, &mut scratch);
+        world.extend_from_slice(&batch_out);
+    }
+
+    let width = options.rotations.width();
+    let mut rotations = vec![0.0f32; frames * topology.rotated.len() * width];
+    for (f, out) in rotations
+        .chunks_mut(topology.rotated.len() * width)
+        .enumerate()
+    {
+        for (&joint, slot) in topology.rotated.iter().zip(out.chunks_mut(width)) {
+            let joint = &skeleton.joints[joint as usize];
+            pose::write_rotation(joint, joint.values(rows[f]), options.rotations, slot);
+        }
+    }
+
+    let root = skeleton.roots().next().unwrap_or(0);
+    let root_translations: Vec<f32> = world
+        .chunks(points)
+        .flat_map(|pose| pose[root].to_array())
+        .collect();
+    let velocities = velocities(&world, points, options.fps);
+    let contacts = contacts(&world, &velocities, points, &topology.feet, options);
+    let mut positions = world;
+    if options.root_relative {
+        for pose in positions.chunks_mut(points) {
+            let centre = pose[root];
+            for point in pose.iter_mut() {
+                point.x -= centre.x;
+                point.z -= centre.z;
+            }
+        }
+    }
+    let flat = |points: Vec<Vec3>| points.iter().flat_map(|p| p.to_array()).collect();
+    let about = About {
+        source: Source::of(dir, item),
+        source_fps,
+        source_frames: loaded.motion.frame_count(),
+        up: match stance.up {
+            Up::Y => "y",
+            Up::Z => "z",
+        }
+        .to_string(),
+        units: stance.units.name.to_string(),
+        metres_per_unit: metres,
+        offset_mode: match mode {
+            OffsetMode::Replace => "replace",
+            OffsetMode::Add => "add",
+        }
+        .to_string(),
+        warnings: crate::info::warnings(&loaded, OffsetMode::Replace),
+    };
+    Ok(Clip {
+        about,
+        topology,
+        frames,
+        positions: flat(positions),
+        rotations,
+        root_translations,
+        velocities: flat(velocities),
+        contacts,
+    })
+}
+
+/// Each point's velocity in every frame (metres per second): the central difference, one-sided
+/// at the first and last frame, 0 in a take of one frame.
+fn velocities(world: &[Vec3], points: usize, fps: f64) -> Vec<Vec3> {
+    let frames = world.len() / points.max(1);
+    let fps = fps as f32;
+    let at = |f: usize, p: usize| world[f * points + p];
+    let mut out = Vec::with_capacity(world.len());
+    for f in 0..frames {
+        let (before, after) = (f.saturating_sub(1), (f + 1).min(frames - 1));
+        let span = (after - before) as f32;
+        for p in 0..points {
+            out.push(if span == 0.0 {
+                Vec3::ZERO
+            } else {
+                (at(after, p) - at(before, p)) * (fps / span)
+            });
+        }
+    }
+    out
+}
+
+/// Foot contacts: a foot point is in contact in a frame when it is within
+/// `options.contact_height` of its own lowest height in the take and slower than
+/// `options.contact_speed`.
+fn contacts(
+    world: &[Vec3],
+    velocities: &[Vec3],
+    points: usize,
+    feet: &[u32],
+    options: &Options,
+) -> Vec<u8> {
+    let frames = world.len() / points.max(1);
+    let lowest: Vec<f32> = feet
+        .iter()
+        .map(|&p| {
+            (0..frames)
+                .map(|f| world[f * points + p as usize].y)
+                .fold(f32::INFINITY, f32::min)
+        })
+        .collect();
+    let mut out = Vec::with_capacity(frames * feet.len());
+    for f in 0..frames {
+        for (&p, &floor) in feet.iter().zip(&lowest) {
+            let i = f * points + p as usize;
+            let low = world[i].y - floor <= options.contact_height;
+            let still = velocities[i].length() < options.contact_speed;
+            out.push(u8::from(low && still));
+        }
+    }
+    out
+}
+
+/// How a compile went: clips written, takes skipped.
+#[derive(Debug, Default)]
+pub struct Summary {
+    pub clips: usize,
+    pub frames: usize,
+    pub groups: usize,
+    pub skipped: Vec<Skipped>,
+}
+
+/// Compiles `items` (found under `dir`, whose relative paths the manifest gives) on `threads`
+/// threads into the dataset folder `out`, which must not exist or be empty. `done(source, error,
+/// finished, total)` is called for every take in order.
+pub fn compile(
+    dir: &Path,
+    items: Vec<Item>,
+    options: &Options,
+    threads: usize,
+    out: &Path,
+    mut done: impl FnMut(&Source, Option<&str>, usize, usize) + Send,
+) -> Result<Summary, Error> {
+    options.check()?;
+    let mut writer = store::Writer::create(out, options)?;
+    let total = items.len();
+    let mut failure = None;
+    crate::parallel::map_in_order(
+        total,
+        threads,
+        4 * threads.max(1),
+        |index| {
+            let item = &items[index];
+            compile_take(dir, item, options).map_err(|e| Skipped {
+                source: Source::of(dir, item),
+                error: e.to_string(),
+            })
+        },
+        |index, result| {
+            let outcome = match result {
+                Ok(clip) => {
+                    done(&clip.about.source, None, index + 1, total);
+                    writer.add(&clip)
+                }
+                Err(skipped) => {
+                    done(&skipped.source, Some(&skipped.error), index + 1, total);
+                    writer.skip(skipped);
+                    Ok(())
+                }
+            };
+            match outcome {
+                Ok(()) => true,
+                Err(e) => {
+                    failure = Some(e);
+                    false
+                }
+            }
+        },
+    );
+    if let Some(e) = failure {
+        return Err(e);
+    }
+    writer.finish()
+}
+
+/// The items given by paths relative to `dir` (or absolute): `(path, motion)` pairs.
+pub fn items_in(dir: &Path, pairs: &[(PathBuf, Option<PathBuf>)]) -> Vec<Item> {
+    pairs
+        .iter()
+        .map(|(path, motion)| Item {
+            path: dir.join(path),
+            motion: motion.as_ref().map(|m| dir.join(m)),
+        })
+        .collect()
+}
