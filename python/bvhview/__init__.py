@@ -4,13 +4,28 @@
     take = bvhview.load("walk.bvh")
     points = take.positions()          # frames x joints x 3, End Sites included
 
-Loading, forward kinematics and writing are bvhview's Rust code; the GIL is released while
-they run.
+    bvhview.compile_dataset("mocap/", "mocap.ds")          # a folder into training arrays
+    data = bvhview.Dataset("mocap.ds", window=64)          # for torch's DataLoader
+
+Loading, forward kinematics, the dataset compile and writing are bvhview's Rust code; the GIL is
+released while they run. ``bvhview.dask`` compiles a dataset on a Dask cluster.
 """
 
 # Every result is a numpy array: import numpy with the package, not on the first array made.
 import numpy as _numpy  # noqa: F401
 
-from ._bvhview import Motion, ParseError, __version__, load, load_many
+from ._bvhview import Motion, ParseError, __version__, list_takes, load, load_many
+from .dataset import Dataset, compile_dataset, merge_datasets, write_parquet
 
-__all__ = ["Motion", "ParseError", "__version__", "load", "load_many"]
+__all__ = [
+    "Dataset",
+    "Motion",
+    "ParseError",
+    "__version__",
+    "compile_dataset",
+    "list_takes",
+    "load",
+    "load_many",
+    "merge_datasets",
+    "write_parquet",
+]

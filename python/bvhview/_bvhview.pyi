@@ -163,3 +163,22 @@ def load_many(
 
 def _from_state(state: tuple[object, ...]) -> Motion:
     """A take from its pickled state (what `pickle` calls; not for calling directly)."""
+
+def list_takes(folder: _PathLike) -> list[tuple[str, str | None]]:
+    """Every take under folder in path order, as (path, motion) relative to it."""
+
+def _compile_dataset(
+    folder: _PathLike,
+    out: _PathLike,
+    fps: float = 30.0,
+    rotations: str = "6d",
+    root_relative: bool = False,
+    contact_height: float = 0.05,
+    contact_speed: float = 0.5,
+    takes: Sequence[tuple[_PathLike, _PathLike | None]] | None = None,
+    threads: int | None = None,
+) -> tuple[int, int, int, int]:
+    """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped)."""
+
+def _merge_datasets(pieces: Sequence[_PathLike], out: _PathLike) -> tuple[int, int, int, int]:
+    """The native half of bvhview.merge_datasets: (clips, frames, groups, skipped)."""

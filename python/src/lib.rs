@@ -1518,6 +1518,87 @@ fn load_many(
     Ok(loaded)
 }
 
+/// A take as `list_takes` gives it: its path and its AMC's (or None), relative to the folder.
+type TakePaths = (String, Option<String>);
+
+/// Every take under `folder` in path order, as `(path, motion)` relative to it: BVH files and
+/// ASF/AMC pairs (`motion` the AMC), an AMC without a skeleton and an ASF without motion too (a
+/// compile skips and lists them). The list `compile_dataset(takes=…)` takes pieces of.
+#[pyfunction]
+fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePaths>> {
+    let items = py
+        .detach(|| bvhview::dataset::takes(&folder))
+        .map_err(|e| to_python(py, e))?;
+    Ok(items
+        .iter()
+        .map(|item| {
+            let source = bvhview::dataset::Source::of(&folder, item);
+            (source.path, source.motion)
+        })
+        .collect())
+}
+
+/// The native half of `bvhview.compile_dataset` (which adds Parquet): returns (clips, frames,
+/// groups, skipped).
+#[pyfunction]
+#[pyo3(signature = (folder, out, fps=30.0, rotations="6d", root_relative=false,
+    contact_height=0.05, contact_speed=0.5, takes=None, threads=None))]
+#[allow(clippy::too_many_arguments)]
+fn _compile_dataset(
+    py: Python<'_>,
+    folder: PathBuf,
+    out: PathBuf,
+    fps: f64,
+    rotations: &str,
+    root_relative: bool,
+    contact_height: f32,
+    contact_speed: f32,
+    takes: Option<Vec<(PathBuf, Option<PathBuf>)>>,
+    threads: Option<usize>,
+) -> PyResult<(usize, usize, usize, usize)> {
+    let rotations = pose::RotationKind::parse(rotations).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "rotations={rotations:?}: expected {}",
+            pose::RotationKind::NAMES
+        ))
+    })?;
+    let options = bvhview::dataset::Options {
+        fps,
+        rotations,
+        root_relative,
+        contact_height,
+        contact_speed,
+        ..Default::default()
+    };
+    let threads = threads.unwrap_or_else(bvhview::cores).max(1);
+    py.detach(|| {
+        let items = match &takes {
+            Some(pairs) => bvhview::dataset::items_in(&folder, pairs),
+            None => {
+                if !folder.is_dir() {
+                    return Err(Error::Usage(format!("{}: not a folder", folder.display())));
+                }
+                bvhview::dataset::takes(&folder)?
+            }
+        };
+        bvhview::dataset::compile(&folder, items, &options, threads, &out, |_, _, _, _| {})
+    })
+    .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
+    .map_err(|e| to_python(py, e))
+}
+
+/// The native half of `bvhview.merge_datasets`: returns (clips, frames, groups, skipped).
+#[pyfunction]
+fn _merge_datasets(
+    py: Python<'_>,
+    pieces: Vec<PathBuf>,
+    out: PathBuf,
+) -> PyResult<(usize, usize, usize, usize)> {
+    py.detach(|| bvhview::dataset::store::merge(&pieces, &out))
+        .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
+        .map_err(|e| to_python(py, e))
+}
+
 /// Load BVH and ASF/AMC motion capture into numpy arrays (bvhview's Rust loader and FK).
 #[pymodule]
 fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
@@ -1533,6 +1614,9 @@ fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(load, module)?)?;
     module.add_function(wrap_pyfunction!(load_many, module)?)?;
     module.add_function(wrap_pyfunction!(_from_state, module)?)?;
+    module.add_function(wrap_pyfunction!(list_takes, module)?)?;
+    module.add_function(wrap_pyfunction!(_compile_dataset, module)?)?;
+    module.add_function(wrap_pyfunction!(_merge_datasets, module)?)?;
     module.add_class::<Motion>()?;
     module.add("ParseError", module.py().get_type::<ParseError>())?;
     Ok(())

@@ -134,8 +134,8 @@ impl Topology {
 pub struct About {
     #[serde(flatten)]
     pub source: Source,
-    /// The take's own rate and length, before resampling.
-    pub source_fps: f64,
+    /// The take's own frame time (seconds, as the file gives it) and length, before resampling.
+    pub source_frame_time: f64,
     pub source_frames: usize,
     /// The guessed up axis and units the take was turned from.
     pub up: String,
@@ -206,7 +206,6 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
     let metres = stance.units.metres;
     let (skeleton, motion) = crate::edit::scale(skeleton, motion, metres)?;
     let (skeleton, motion) = crate::edit::reorient(&skeleton, &motion, stance.up, Up::Y)?;
-    let source_fps = 1.0 / loaded.motion.frame_time;
     // Frame times are written with few digits (.0083333 for 1/120): a take already at the rate
     // keeps its frames.
     let motion = if (loaded.motion.frame_time * options.fps - 1.0).abs() < 1e-4 {
@@ -265,7 +264,7 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
     let flat = |points: Vec<Vec3>| points.iter().flat_map(|p| p.to_array()).collect();
     let about = About {
         source: Source::of(dir, item),
-        source_fps,
+        source_frame_time: loaded.motion.frame_time,
         source_frames: loaded.motion.frame_count(),
         up: match stance.up {
             Up::Y => "y",

@@ -1,0 +1,231 @@
+"""Datasets of motion for training: a folder of takes compiled into arrays, and read back.
+
+    import bvhview
+    bvhview.compile_dataset("mocap/", "walks.ds", fps=30, rotations="6d")
+    data = bvhview.Dataset("walks.ds", window=64, stride=32)
+    item = data[0]           # dict of numpy arrays: positions (64, joints, 3), rotations, ...
+    mine = data.shard(rank, world_size)
+
+The compile is bvhview's Rust code on every core (the command `bvhview dataset` is the same
+code). The layout on disk is in docs/PYTHON.md.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ._bvhview import _compile_dataset, _merge_datasets
+
+#: The arrays of every group, as the manifest lists them (besides ``offsets``).
+ARRAYS = ("positions", "rotations", "root_translations", "velocities", "foot_contacts")
+
+StrPath = str | os.PathLike[str]
+
+
+def _read_manifest(dataset: StrPath) -> dict[str, Any]:
+    with open(Path(dataset) / "manifest.json", encoding="utf-8") as file:
+        manifest: dict[str, Any] = json.load(file)
+    return manifest
+
+
+def _want_parquet(parquet: bool | None) -> bool:
+    if parquet is False:
+        return False
+    try:
+        import pyarrow  # noqa: F401
+    except ImportError:
+        if parquet:
+            raise ImportError("parquet=True needs pyarrow (pip install pyarrow)") from None
+        return False
+    return True
+
+
+def compile_dataset(
+    folder: StrPath,
+    out: StrPath,
+    *,
+    fps: float = 30.0,
+    rotations: str = "6d",
+    root_relative: bool = False,
+    contact_height: float = 0.05,
+    contact_speed: float = 0.5,
+    takes: Sequence[tuple[str, str | None]] | None = None,
+    threads: int | None = None,
+    parquet: bool | None = None,
+) -> dict[str, Any]:
+    """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
+    them) into the new dataset folder ``out``; returns its manifest.
+
+    Every take is turned to Y up and metres (by its guessed up axis and units), resampled to
+    ``fps``, and written as world ``positions``, local ``rotations`` (``"quat"``, ``"matrix"``,
+    ``"6d"`` or ``"euler"``), ``root_translations``, ``velocities`` (m/s) and ``foot_contacts``
+    (a foot point within ``contact_height`` metres of its lowest point in the take, slower than
+    ``contact_speed`` m/s). A take that fails is skipped and listed in ``manifest["skipped"]``
+    with its ``path:line:column``. ``parquet``: also write ``group_K/frames.parquet`` (default:
+    when pyarrow is installed)."""
+    _compile_dataset(
+        os.fspath(folder),
+        os.fspath(out),
+        fps=fps,
+        rotations=rotations,
+        root_relative=root_relative,
+        contact_height=contact_height,
+        contact_speed=contact_speed,
+        takes=None if takes is None else [(p, m) for p, m in takes],
+        threads=threads,
+    )
+    if _want_parquet(parquet):
+        write_parquet(out)
+    return _read_manifest(out)
+
+
+def merge_datasets(
+    pieces: Sequence[StrPath], out: StrPath, *, parquet: bool | None = None
+) -> dict[str, Any]:
+    """Merge datasets compiled from consecutive pieces of one folder's ``list_takes`` (in
+    order) into ``out``: byte for byte the dataset one ``compile_dataset`` of the whole folder
+    writes. Returns its manifest."""
+    _merge_datasets([os.fspath(p) for p in pieces], os.fspath(out))
+    if _want_parquet(parquet):
+        write_parquet(out)
+    return _read_manifest(out)
+
+
+def write_parquet(dataset: StrPath) -> list[Path]:
+    """Write ``group_K/frames.parquet`` beside each group's arrays: a row per frame with its
+    ``clip`` (index into ``manifest["clips"]``) and ``frame``, and each array's numbers of that
+    frame as a fixed-size list column. Needs pyarrow."""
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    root = Path(dataset)
+    manifest = _read_manifest(root)
+    written = []
+    for k, group in enumerate(manifest["groups"]):
+        clips = [i for i, c in enumerate(manifest["clips"]) if c["group"] == k]
+        frames = np.array([manifest["clips"][i]["frames"] for i in clips], dtype=np.int64)
+        columns: dict[str, Any] = {
+            "clip": pa.array(np.repeat(np.array(clips, dtype=np.int32), frames)),
+            "frame": pa.array(
+                np.concatenate([np.arange(n, dtype=np.int32) for n in frames])
+                if len(frames)
+                else np.zeros(0, np.int32)
+            ),
+        }
+        for name in ARRAYS:
+            array = np.load(root / group["name"] / f"{name}.npy")
+            width = int(np.prod(array.shape[1:]))
+            if width == 0:
+                # A skeleton without feet has no contacts: Arrow has no list of 0 items.
+                continue
+            flat = pa.array(array.reshape(-1))
+            columns[name] = pa.FixedSizeListArray.from_arrays(flat, width)
+        path = root / group["name"] / "frames.parquet"
+        pq.write_table(pa.table(columns), path)
+        written.append(path)
+    return written
+
+
+class Dataset:
+    """A compiled dataset read back as a map-style dataset of numpy arrays (PyTorch's
+    ``DataLoader`` takes it as it is; bvhview never imports torch).
+
+    Item ``i`` is a dict: each array of one window (``window`` frames; a whole clip when
+    ``window`` is None) and ``clip`` (index into ``manifest["clips"]``) and ``start`` (its first
+    frame in the clip). Windows start every ``stride`` frames (default: ``window``); a clip
+    shorter than ``window`` gives none. The arrays are memory-mapped: only the windows read are
+    loaded. ``group`` picks one skeleton topology (its index or name); a dataset with one group
+    needs none."""
+
+    def __init__(
+        self,
+        path: StrPath,
+        window: int | None = None,
+        stride: int | None = None,
+        *,
+        group: int | str | None = None,
+        arrays: Sequence[str] = ARRAYS,
+    ) -> None:
+        self.path = Path(path)
+        self.manifest = _read_manifest(self.path)
+        groups = self.manifest["groups"]
+        if group is None:
+            if len(groups) != 1:
+                listed = ", ".join(f"{g['name']} ({g['clips']} clips)" for g in groups)
+                raise ValueError(
+                    f"{self.path}: {len(groups)} skeleton topologies ({listed}): "
+                    "choose one with group="
+                )
+            index = 0
+        elif isinstance(group, str):
+            names = [g["name"] for g in groups]
+            if group not in names:
+                raise ValueError(f"group={group!r}: expected one of {names}")
+            index = names.index(group)
+        else:
+            if not 0 <= group < len(groups):
+                raise IndexError(f"group={group}: the dataset has {len(groups)}")
+            index = group
+        if window is not None and window < 1:
+            raise ValueError(f"window={window}: expected at least 1 frame")
+        if stride is None:
+            stride = window or 1
+        if stride < 1:
+            raise ValueError(f"stride={stride}: expected at least 1 frame")
+        unknown = [a for a in arrays if a not in ARRAYS]
+        if unknown:
+            raise ValueError(f"arrays={unknown}: expected some of {list(ARRAYS)}")
+        self.group = groups[index]
+        self.window = window
+        self.stride = stride
+        folder = self.path / self.group["name"]
+        self.arrays = {name: np.load(folder / f"{name}.npy", mmap_mode="r") for name in arrays}
+        self.offsets = np.load(folder / "offsets.npy")
+        self.clips = [i for i, c in enumerate(self.manifest["clips"]) if c["group"] == index]
+        windows = []
+        for k, clip in enumerate(self.clips):
+            frames = int(self.offsets[k + 1] - self.offsets[k])
+            if window is None:
+                windows.append((clip, int(self.offsets[k]), 0, frames))
+            else:
+                for start in range(0, frames - window + 1, stride):
+                    windows.append((clip, int(self.offsets[k]), start, window))
+        self._windows = windows
+
+    def __len__(self) -> int:
+        return len(self._windows)
+
+    def __getitem__(self, index: int) -> dict[str, Any]:
+        if not -len(self) <= index < len(self):
+            raise IndexError(f"index {index}: the dataset has {len(self)} items")
+        clip, row, start, length = self._windows[index]
+        item: dict[str, Any] = {
+            name: np.array(array[row + start : row + start + length])
+            for name, array in self.arrays.items()
+        }
+        item["clip"] = clip
+        item["start"] = start
+        return item
+
+    def shard(self, rank: int, world_size: int) -> Dataset:
+        """The items of process ``rank`` among ``world_size`` (every ``world_size``-th item
+        from ``rank`` on, as PyTorch's ``DistributedSampler`` deals them out, without padding):
+        the shards are disjoint and together are the whole dataset."""
+        if world_size < 1 or not 0 <= rank < world_size:
+            raise ValueError(f"rank={rank}, world_size={world_size}: expected 0 <= rank < world_size")
+        shard = object.__new__(Dataset)
+        shard.__dict__.update(self.__dict__)
+        shard._windows = self._windows[rank::world_size]
+        return shard
+
+    def __repr__(self) -> str:
+        return (
+            f"Dataset({str(self.path)!r}, {self.group['name']}: {len(self.clips)} clips, "
+            f"{len(self)} items of {self.window or 'whole clip'} frames)"
+        )
