@@ -54,7 +54,8 @@ read -r passed failed ignored <<<"$summary"
 # pinned pyo3/numpy crates), then pytest compares it with the CLI just built. As root pip installs
 # for the whole interpreter; otherwise for the user.
 python=${PYTHON:-python3}
-python_needs=(maturin==1.16.0 pytest==9.2.0 numpy==2.4.6 mypy==2.4.1 pandas==3.1.1)
+python_needs=(maturin==1.16.0 pytest==9.2.0 numpy==2.4.6 mypy==2.4.1 pandas==3.1.1 pyarrow==26.0.1
+    "dask[distributed]==2026.8.0" pybvh-ml==0.6.0 pybvh==0.8.2)
 pip_scope=()
 [ "$(id -u)" = 0 ] || pip_scope=(--user)
 pylog=$(mktemp)

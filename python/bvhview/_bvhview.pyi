@@ -6,7 +6,17 @@ from typing import Any, Literal, Sequence, Tuple, Union, final
 import numpy as np
 import numpy.typing as npt
 
-__all__ = ["load", "load_many", "Motion", "ParseError", "__version__", "_from_state"]
+__all__ = [
+    "load",
+    "load_many",
+    "list_takes",
+    "Motion",
+    "ParseError",
+    "__version__",
+    "_from_state",
+    "_compile_dataset",
+    "_merge_datasets",
+]
 
 # Names of the stubs alone (the leading underscore says they are not in the module).
 _PathLike = Union[str, os.PathLike[str]]

@@ -38,7 +38,7 @@ def _want_parquet(parquet: bool | None) -> bool:
     if parquet is False:
         return False
     try:
-        import pyarrow  # noqa: F401
+        import pyarrow  # type: ignore[import-untyped,import-not-found,unused-ignore]  # noqa: F401
     except ImportError:
         if parquet:
             raise ImportError("parquet=True needs pyarrow (pip install pyarrow)") from None
@@ -101,8 +101,8 @@ def write_parquet(dataset: StrPath) -> list[Path]:
     """Write ``group_K/frames.parquet`` beside each group's arrays: a row per frame with its
     ``clip`` (index into ``manifest["clips"]``) and ``frame``, and each array's numbers of that
     frame as a fixed-size list column. Needs pyarrow."""
-    import pyarrow as pa
-    import pyarrow.parquet as pq
+    import pyarrow as pa  # type: ignore[import-untyped,import-not-found,unused-ignore]
+    import pyarrow.parquet as pq  # type: ignore[import-untyped,import-not-found,unused-ignore]
 
     root = Path(dataset)
     manifest = _read_manifest(root)
