@@ -66,6 +66,7 @@ const SUBCOMMANDS: &[&str] = &[
     "diff",
     "skin-demo",
     "convert",
+    "dataset",
     "help",
 ];
 
