@@ -578,3 +578,41 @@ fn every_take_of_the_whole_corpus_compiles_standing_in_metres() {
         assert!(range.contains(&tallest), "{path}: {tallest} m");
     }
 }
+
+#[test]
+fn many_skeletons_compile_with_few_files_open() {
+    // Forty takes, each on a skeleton of its own: forty groups of six files. With at most 32
+    // files open at once the compile still succeeds, as it keeps none open between clips.
+    let temp = tempfile::tempdir().unwrap();
+    let takes = temp.path().join("takes");
+    std::fs::create_dir(&takes).unwrap();
+    for k in 0..40 {
+        let text = format!(
+            "HIERARCHY\nROOT Hips{k}\n{{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n  JOINT LeftFoot{k}\n  {{\n    OFFSET 0 -90 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n    End Site\n    {{\n      OFFSET 0 -8 10\n    }}\n  }}\n}}\nMOTION\nFrames: 3\nFrame Time: 0.0333333\n0 98 0 0 0 0 0 0 0\n1 98 0 0 10 0 5 0 0\n2 98 0 0 20 0 10 0 0\n"
+        );
+        std::fs::write(takes.join(format!("take_{k:02}.bvh")), text).unwrap();
+    }
+    let out = temp.path().join("ds");
+    let run = Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -n 32 && exec {} dataset {} -o {}",
+            env!("CARGO_BIN_EXE_bvhview"),
+            takes.display(),
+            out.display()
+        ))
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let manifest = store::read_manifest(&out).unwrap();
+    assert_eq!((manifest.groups.len(), manifest.clips.len()), (40, 40));
+    assert_eq!(
+        manifest.groups[39].topology.joints,
+        ["Hips39", "LeftFoot39", "LeftFoot39_End"]
+    );
+    assert_eq!(manifest.groups[0].topology.feet, [1, 2]);
+}

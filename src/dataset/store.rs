@@ -8,7 +8,7 @@ use crate::error::Error;
 use crate::pose::RotationKind;
 use std::collections::HashMap;
 use std::fs::File;
-use std::io::{self, BufWriter, Read, Seek, Write};
+use std::io::{self, Read, Write};
 use std::path::{Path, PathBuf};
 
 /// What the manifest's `format` says; a reader refuses any other.
@@ -139,9 +139,10 @@ fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
 }
 
 /// An array written frame by frame; its header, which holds the row count, is written last.
+/// The file is opened for each clip and closed after it: a folder of many skeletons would
+/// otherwise hold five files open per skeleton, past the process's limit.
 struct ArrayFile {
     path: PathBuf,
-    file: BufWriter<File>,
     descr: &'static str,
     frame_shape: Vec<usize>,
     rows: usize,
@@ -153,12 +154,9 @@ impl ArrayFile {
         descr: &'static str,
         frame_shape: Vec<usize>,
     ) -> Result<ArrayFile, Error> {
-        let mut file = BufWriter::new(File::create(&path).map_err(|e| Error::output(&path, e))?);
-        file.write_all(&[0; HEADER])
-            .map_err(|e| Error::output(&path, e))?;
+        std::fs::write(&path, [0; HEADER]).map_err(|e| Error::output(&path, e))?;
         Ok(ArrayFile {
             path,
-            file,
             descr,
             frame_shape,
             rows: 0,
@@ -171,26 +169,39 @@ impl ArrayFile {
             .collect()
     }
 
-    fn finish(mut self) -> Result<(), Error> {
+    fn append(&self) -> io::Result<File> {
+        std::fs::OpenOptions::new().append(true).open(&self.path)
+    }
+
+    /// Appends float32 values, converted a piece at a time: one write per piece.
+    fn append_floats(&self, values: &[f32]) -> io::Result<()> {
+        let mut file = self.append()?;
+        let mut bytes = Vec::with_capacity(4 * PIECE.min(values.len()));
+        for piece in values.chunks(PIECE) {
+            bytes.clear();
+            bytes.extend(piece.iter().flat_map(|v| v.to_le_bytes()));
+            file.write_all(&bytes)?;
+        }
+        Ok(())
+    }
+
+    fn append_bytes(&self, values: &[u8]) -> io::Result<()> {
+        self.append()?.write_all(values)
+    }
+
+    fn finish(self) -> Result<(), Error> {
         let header = npy_header(self.descr, &self.shape());
-        let path = self.path.clone();
-        let mut done = || -> io::Result<()> {
-            self.file.flush()?;
-            let file = self.file.get_mut();
-            file.seek(io::SeekFrom::Start(0))?;
+        let done = || -> io::Result<()> {
+            let mut file = std::fs::OpenOptions::new().write(true).open(&self.path)?;
             file.write_all(&header)?;
             file.sync_all()
         };
-        done().map_err(|e| Error::output(&path, e))
+        done().map_err(|e| Error::output(&self.path, e))
     }
 }
 
-fn write_floats(file: &mut ArrayFile, values: &[f32]) -> io::Result<()> {
-    for value in values {
-        file.file.write_all(&value.to_le_bytes())?;
-    }
-    Ok(())
-}
+/// Floats converted to bytes at a time.
+const PIECE: usize = 1 << 16;
 
 /// One group's files while they are written.
 struct OpenGroup {
@@ -283,12 +294,12 @@ impl Writer {
         let [positions, rotations, roots, velocities, contacts] = &mut open.arrays[..] else {
             unreachable!("five arrays per group")
         };
-        let mut written = || -> io::Result<()> {
-            write_floats(positions, &clip.positions)?;
-            write_floats(rotations, &clip.rotations)?;
-            write_floats(roots, &clip.root_translations)?;
-            write_floats(velocities, &clip.velocities)?;
-            contacts.file.write_all(&clip.contacts)
+        let written = || -> io::Result<()> {
+            positions.append_floats(&clip.positions)?;
+            rotations.append_floats(&clip.rotations)?;
+            roots.append_floats(&clip.root_translations)?;
+            velocities.append_floats(&clip.velocities)?;
+            contacts.append_bytes(&clip.contacts)
         };
         written().map_err(|e| Error::output(&self.out, e))?;
         for array in &mut open.arrays {
