@@ -218,3 +218,83 @@ def test_dask_workers_compile_pieces_that_merge_into_the_single_process_dataset(
     assert len(manifest["clips"]) == 20
     # Only the dataset is left: the pieces' folder is gone.
     assert sorted(p.name for p in tmp_path.iterdir()) == ["cluster", "single"]
+
+
+def peer_positions(folder: Path, name: str, target_fps, scratch: Path):
+    """pybvh-ml's world positions of every point (frames × points × 3, the file's units and
+    axes) for one file, and its point names with End Sites named as ours; None when pybvh does
+    not load the file. pybvh-ml packs one skeleton per dataset, so it gets one file at a time."""
+    import glob
+    import warnings
+
+    import pybvh_ml
+
+    out = scratch / f"{name}.{target_fps}.npz"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
+            pybvh_ml.preprocess_directory(
+                folder, out, file_pattern=glob.escape(name), representation="euler",
+                center_root=False, include_positions=True, position_space="node",
+                position_centering="world", skip_errors=False, target_fps=target_fps,
+            )
+        except Exception:  # noqa: BLE001 - pybvh refuses the file: not compared
+            return None
+        data = pybvh_ml.load_preprocessed(out)
+    info = data["skeleton_info"]
+    nodes = list(info["node_names"])
+    parents = [-1] * len(nodes)
+    for child, parent in info["node_edges"]:
+        parents[child] = parent
+    ends = set(info["end_site_indices"] or [])
+    names = [f"{nodes[parents[i]]}_End" if i in ends else n for i, n in enumerate(nodes)]
+    return data["clips"][0]["node_pos"].astype(np.float64), names
+
+
+def compare_with_pybvh_ml(folder: Path, scratch: Path) -> list[str]:
+    """Every BVH file of `folder` both load: our dataset's positions, turned back to the file's
+    units and axes, against pybvh-ml's at the file's own rate (within 1e-5 of the figure's
+    height), and the frame counts both make at 30 fps. Returns the files compared."""
+    pytest.importorskip("pybvh_ml")
+    names = sorted(p.name for p in folder.glob("*.bvh"))
+    at_30 = bvhview.compile_dataset(folder, scratch / "ours30", takes=[(n, None) for n in names], parquet=False)
+    ours_30 = {c["path"]: c for c in at_30["clips"]}
+    compared = []
+    for name in names:
+        if name not in ours_30:
+            continue
+        own_fps = 1.0 / ours_30[name]["source_frame_time"]
+        theirs = peer_positions(folder, name, None, scratch)
+        if theirs is None:
+            continue
+        peer, peer_names = theirs
+        out = scratch / f"ours_{name}"
+        manifest = bvhview.compile_dataset(folder, out, fps=own_fps, takes=[(name, None)], parquet=False)
+        clip = manifest["clips"][0]
+        assert manifest["groups"][0]["joints"] == peer_names, name
+        ours = clip_rows(out, manifest, clip, "positions").astype(np.float64) / clip["metres_per_unit"]
+        if clip["up"] == "z":  # stored as (x, z, -y)
+            ours = np.stack([ours[..., 0], -ours[..., 2], ours[..., 1]], axis=-1)
+        assert ours.shape == peer.shape, name
+        height = float(np.ptp(peer[0], axis=0).max())
+        assert np.abs(ours - peer).max() <= 1e-5 * height, name
+        peer_30 = peer_positions(folder, name, 30.0, scratch)
+        assert peer_30 is not None
+        assert ours_30[name]["frames"] == peer_30[0].shape[0], name
+        compared.append(name)
+    return compared
+
+
+def test_positions_and_frame_counts_agree_with_pybvh_ml_on_the_repository(tmp_path):
+    compared = compare_with_pybvh_ml(DATA / "bvh", tmp_path)
+    # pybvh refuses two of the 17 files (rows past Frames:, position channels on a joint).
+    assert len(compared) == 15, compared
+
+
+def test_positions_and_frame_counts_agree_with_pybvh_ml_on_the_whole_corpus(tmp_path):
+    from conftest import whole_corpus_or_skip
+
+    compared = compare_with_pybvh_ml(whole_corpus_or_skip() / "bvh", tmp_path)
+    # pybvh refuses 6 of the 26: rows past Frames:, a hierarchy opened by JOINT, position
+    # channels on a joint (Bandai's, MakeHuman's T-pose).
+    assert len(compared) == 20, compared
