@@ -32,6 +32,14 @@ pub fn partial_folder(path: &Path) {
     partial().push(path.to_path_buf());
 }
 
+/// Runs `work` (which writes into a folder [`partial_folder`] named) while no signal cleanup can
+/// run: a cleanup that started first keeps it from starting, as the process is ending; one that
+/// comes during it waits for it, then removes the folder with everything `work` made.
+pub fn in_partial_folder<R>(work: impl FnOnce() -> R) -> R {
+    let _held = partial();
+    work()
+}
+
 /// The folder [`partial_folder`] named is finished (renamed) or gone.
 pub fn finished_folder(path: &Path) {
     partial().retain(|p| p != path);

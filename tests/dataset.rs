@@ -61,7 +61,8 @@ fn compile(out: &Path, options: &Options, threads: usize) -> dataset::Summary {
         options,
         threads,
         out,
-        |_, _, _, _| {},
+        true,
+        |_, _, _, _| true,
     )
     .unwrap()
 }
@@ -137,7 +138,8 @@ fn the_repository_compiles_into_groups_whose_arrays_the_manifest_describes() {
             if let Err(bvhview::Error::Parse { line, column, .. }) =
                 bvhview::input::load(&item.path, None, None)
             {
-                let at = format!("{}:{line}:{column}: ", item.path.display());
+                // As the manifest keeps it: relative to the folder compiled.
+                let at = format!("{}:{line}:{column}: ", source.path);
                 assert!(entry.error.starts_with(&at), "{}", entry.error);
             }
         }
@@ -146,7 +148,7 @@ fn the_repository_compiles_into_groups_whose_arrays_the_manifest_describes() {
     assert!(
         manifest.skipped[0]
             .error
-            .starts_with("tests/data/bvh_malformed/dali_test-empty.bvh:1:1: expected HIERARCHY")
+            .starts_with("bvh_malformed/dali_test-empty.bvh:1:1: expected HIERARCHY")
     );
 
     for (k, group) in manifest.groups.iter().enumerate() {
@@ -158,14 +160,16 @@ fn the_repository_compiles_into_groups_whose_arrays_the_manifest_describes() {
         let points = group.topology.joints.len();
         let rotated = group.topology.rotated.len();
         let feet = group.topology.feet.len();
-        let expected: [(&str, &str, Vec<usize>); 6] = [
+        let expected: [(&str, &str, Vec<usize>); 7] = [
             ("positions", "<f4", vec![frames, points, 3]),
             ("rotations", "<f4", vec![frames, rotated, 6]),
             ("root_translations", "<f4", vec![frames, 3]),
             ("velocities", "<f4", vec![frames, points, 3]),
             ("foot_contacts", "|u1", vec![frames, feet]),
             ("offsets", "<i8", vec![members.len() + 1]),
+            ("rest_offsets", "<f4", vec![members.len(), points, 3]),
         ];
+        assert_eq!(group.arrays.len(), expected.len());
         for ((name, descr, shape), entry) in expected.iter().zip(&group.arrays) {
             assert_eq!(entry.name, *name);
             assert_eq!(entry.shape, *shape);
@@ -265,6 +269,38 @@ fn positions_are_the_loaders_fk_in_metres_with_y_up() {
         }
         assert!(height > 1.4 && height < 2.0, "{name}: {height} m tall");
         assert!(worst <= 1e-5 * height, "{name}: {worst} m off");
+
+        // The clip's OFFSETs, turned and scaled the same way, and each joint's channel order.
+        let group = &manifest.groups[clip.group];
+        let index = manifest.clips[..]
+            .iter()
+            .filter(|c| c.group == clip.group)
+            .position(|c| c == clip)
+            .unwrap();
+        let entry = group
+            .arrays
+            .iter()
+            .find(|a| a.name == "rest_offsets")
+            .unwrap();
+        let rest = read_npy(&out.join(&entry.file)).floats();
+        for (p, joint) in loaded.skeleton.joints.iter().enumerate() {
+            let o = joint.offset;
+            let turned = match up {
+                Up::Y => o,
+                Up::Z => glam::Vec3::new(o.x, o.z, -o.y),
+            } * metres;
+            let got = glam::Vec3::from_slice(&rest[(index * points + p) * 3..]);
+            assert!((got - turned).abs().max_element() <= 1e-6, "{name} {p}");
+        }
+        for (slot, &joint) in group.topology.rotated.iter().enumerate() {
+            let letters: String = loaded.skeleton.joints[joint as usize]
+                .channels
+                .iter()
+                .filter(|c| c.is_rotation())
+                .map(|c| c.name().chars().next().unwrap())
+                .collect();
+            assert_eq!(group.topology.rotation_orders[slot], letters);
+        }
     }
 }
 
@@ -393,7 +429,8 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
             &Options::default(),
             1,
             &piece,
-            |_, _, _, _| {},
+            false,
+            |_, _, _, _| true,
         )
         .unwrap();
         pieces.push(piece);
@@ -401,6 +438,34 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
     let merged = temp.path().join("merged");
     store::merge(&pieces, &merged).unwrap();
     same_files(&whole, &merged);
+
+    // Pieces out of order, repeated or overlapping are refused, and nothing is written.
+    for (order, why) in [
+        ([&pieces[3], &pieces[0]], "comes after"),
+        ([&pieces[0], &pieces[0]], "comes after"),
+    ] {
+        let target = temp.path().join("misordered");
+        let given: Vec<PathBuf> = order.iter().map(|p| p.to_path_buf()).collect();
+        let error = store::merge(&given, &target).unwrap_err();
+        assert!(error.to_string().contains(why), "{error}");
+        assert!(!target.exists());
+    }
+
+    // Another spelling of the same folder gives the same bytes (errors name paths relative to it).
+    let absolute = temp.path().join("absolute");
+    let dir = std::fs::canonicalize(DATA).unwrap();
+    let items = dataset::takes(&dir).unwrap();
+    dataset::compile(
+        &dir,
+        items,
+        &Options::default(),
+        2,
+        &absolute,
+        true,
+        |_, _, _, _| true,
+    )
+    .unwrap();
+    same_files(&whole, &absolute);
 
     // Pieces made with other options are refused.
     let other = temp.path().join("other");
@@ -470,7 +535,7 @@ fn the_command_lists_what_it_skipped_and_refuses_what_it_cannot_make() {
         "{stderr}"
     );
     assert!(
-        stderr.contains("20 clips, 2203 frames at 30 fps in 16 topology groups; 8 skipped"),
+        stderr.contains("20 clips, 2203 frames at 30 fps in 17 topology groups; 8 skipped"),
         "{stderr}"
     );
     assert_eq!(
@@ -507,6 +572,7 @@ fn the_command_lists_what_it_skipped_and_refuses_what_it_cannot_make() {
     ]);
     assert_eq!(broken.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&broken.stderr).contains("no take could be compiled"));
+    assert!(!temp.path().join("broken").exists());
 
     for (flag, value) in [
         ("--fps", "0"),
@@ -533,8 +599,16 @@ fn every_take_of_the_whole_corpus_compiles_standing_in_metres() {
     let temp = tempfile::tempdir().unwrap();
     let out = temp.path().join("corpus");
     let items = dataset::takes(corpus).unwrap();
-    let summary =
-        dataset::compile(corpus, items, &Options::default(), 2, &out, |_, _, _, _| {}).unwrap();
+    let summary = dataset::compile(
+        corpus,
+        items,
+        &Options::default(),
+        2,
+        &out,
+        true,
+        |_, _, _, _| true,
+    )
+    .unwrap();
     let manifest = store::read_manifest(&out).unwrap();
     // Only the folder of broken files has takes that fail.
     for skipped in &summary.skipped {
@@ -615,4 +689,44 @@ fn many_skeletons_compile_with_few_files_open() {
         ["Hips39", "LeftFoot39", "LeftFoot39_End"]
     );
     assert_eq!(manifest.groups[0].topology.feet, [1, 2]);
+}
+
+#[test]
+fn takes_without_a_frame_time_or_a_utf8_name_are_skipped_with_the_reason() {
+    use std::os::unix::ffi::OsStrExt;
+    let temp = tempfile::tempdir().unwrap();
+    let takes = temp.path().join("takes");
+    std::fs::create_dir(&takes).unwrap();
+    let walk = std::fs::read_to_string("assets/walk.bvh").unwrap();
+    std::fs::write(takes.join("a_walk.bvh"), &walk).unwrap();
+    let frozen = walk.replacen("Frame Time:", "Frame Time: 0\nX", 1);
+    let frozen = frozen
+        .lines()
+        .filter(|l| !l.starts_with('X'))
+        .collect::<Vec<_>>()
+        .join("\n");
+    std::fs::write(takes.join("b_frozen.bvh"), frozen).unwrap();
+    let latin1 = std::ffi::OsStr::from_bytes(b"c_caf\xe9.bvh");
+    std::fs::write(takes.join(latin1), &walk).unwrap();
+    let out = temp.path().join("ds");
+    let items = dataset::takes(&takes).unwrap();
+    let summary = dataset::compile(
+        &takes,
+        items,
+        &Options::default(),
+        1,
+        &out,
+        true,
+        |_, _, _, _| true,
+    )
+    .unwrap();
+    assert_eq!(summary.clips, 1);
+    let manifest = store::read_manifest(&out).unwrap();
+    let reasons: Vec<&str> = manifest.skipped.iter().map(|s| s.error.as_str()).collect();
+    assert_eq!(reasons.len(), 2, "{reasons:?}");
+    assert!(
+        reasons[0].starts_with("b_frozen.bvh: Frame Time 0: no rate"),
+        "{reasons:?}"
+    );
+    assert!(reasons[1].contains("is not UTF-8"), "{reasons:?}");
 }

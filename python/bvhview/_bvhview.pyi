@@ -1,6 +1,7 @@
 """Stubs of the native module; `bvhview` re-exports every name."""
 
 import os
+import pathlib
 from typing import Any, Literal, Sequence, Tuple, Union, final
 
 import numpy as np
@@ -174,7 +175,7 @@ def load_many(
 def _from_state(state: tuple[object, ...]) -> Motion:
     """A take from its pickled state (what `pickle` calls; not for calling directly)."""
 
-def list_takes(folder: _PathLike) -> list[tuple[str, str | None]]:
+def list_takes(folder: _PathLike) -> list[tuple[pathlib.Path, pathlib.Path | None]]:
     """Every take under folder in path order, as (path, motion) relative to it."""
 
 def _compile_dataset(

@@ -23,7 +23,7 @@ from .dataset import StrPath, merge_datasets
 
 
 def _compile_piece(
-    folder: str, takes: list[tuple[str, str | None]], out: str, options: dict[str, Any]
+    folder: str, takes: list[tuple[StrPath, StrPath | None]], out: str, options: dict[str, Any]
 ) -> str:
     _compile_dataset(folder, out, takes=takes, **options)
     return out
@@ -42,13 +42,18 @@ def compile_dataset(
     ``distributed`` client): the takes, in path order, are cut into ``pieces`` runs (default:
     four per worker thread), each compiled by a worker into a temporary folder beside ``out``,
     then merged. ``options`` are ``compile_dataset``'s (fps, rotations, root_relative,
-    contact_height, contact_speed, threads). Returns the manifest."""
+    contact_height, contact_speed, and threads per piece, default 1). Returns the manifest."""
     if client is None:
         from distributed import get_client
 
         client = get_client()
     folder = os.fspath(folder)
     out_path = Path(out)
+    # Refused before any work, as the merge at the end would refuse it.
+    if out_path.exists() and (not out_path.is_dir() or any(out_path.iterdir())):
+        raise ValueError(f"{out_path}: already exists; a dataset goes into a new (or empty) folder")
+    # Each worker thread compiles a piece at a time: one thread each, unless told otherwise.
+    options.setdefault("threads", 1)
     takes = list_takes(folder)
     if pieces is None:
         threads = sum(client.nthreads().values()) or 1

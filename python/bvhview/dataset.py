@@ -55,7 +55,7 @@ def compile_dataset(
     root_relative: bool = False,
     contact_height: float = 0.05,
     contact_speed: float = 0.5,
-    takes: Sequence[tuple[str, str | None]] | None = None,
+    takes: Sequence[tuple[StrPath, StrPath | None]] | None = None,
     threads: int | None = None,
     parquet: bool | None = None,
 ) -> dict[str, Any]:
@@ -67,8 +67,11 @@ def compile_dataset(
     ``"6d"`` or ``"euler"``), ``root_translations``, ``velocities`` (m/s) and ``foot_contacts``
     (a foot point within ``contact_height`` metres of its lowest point in the take, slower than
     ``contact_speed`` m/s). A take that fails is skipped and listed in ``manifest["skipped"]``
-    with its ``path:line:column``. ``parquet``: also write ``group_K/frames.parquet`` (default:
-    when pyarrow is installed)."""
+    with its ``path:line:column``; a folder of which no take compiles raises ValueError and
+    writes nothing (a piece given as ``takes`` may compile none). ``parquet``: also write
+    ``group_K/frames.parquet`` (default: when pyarrow is installed). Ctrl-C stops the compile
+    between takes, leaving nothing behind; a process killed outright leaves its temporary
+    ``.OUT.*`` folder beside ``out``."""
     _compile_dataset(
         os.fspath(folder),
         os.fspath(out),
@@ -119,7 +122,7 @@ def write_parquet(dataset: StrPath) -> list[Path]:
             ),
         }
         for name in ARRAYS:
-            array = np.load(root / group["name"] / f"{name}.npy")
+            array = np.load(root / group["name"] / f"{name}.npy", mmap_mode="r")
             width = int(np.prod(array.shape[1:]))
             if width == 0:
                 # A skeleton without feet has no contacts: Arrow has no list of 0 items.
@@ -127,7 +130,13 @@ def write_parquet(dataset: StrPath) -> list[Path]:
             flat = pa.array(array.reshape(-1))
             columns[name] = pa.FixedSizeListArray.from_arrays(flat, width)
         path = root / group["name"] / "frames.parquet"
-        pq.write_table(pa.table(columns), path)
+        # Written under another name, then renamed: a reader never sees half a file.
+        partial = path.with_name(f".frames.parquet.{os.getpid()}")
+        try:
+            pq.write_table(pa.table(columns), partial)
+            os.replace(partial, path)
+        finally:
+            partial.unlink(missing_ok=True)
         written.append(path)
     return written
 
@@ -155,6 +164,8 @@ class Dataset:
         self.path = Path(path)
         self.manifest = _read_manifest(self.path)
         groups = self.manifest["groups"]
+        if not groups:
+            raise ValueError(f"{self.path}: the dataset has no clips")
         if group is None:
             if len(groups) != 1:
                 listed = ", ".join(f"{g['name']} ({g['clips']} clips)" for g in groups)
@@ -172,21 +183,22 @@ class Dataset:
             if not 0 <= group < len(groups):
                 raise IndexError(f"group={group}: the dataset has {len(groups)}")
             index = group
-        if window is not None and window < 1:
-            raise ValueError(f"window={window}: expected at least 1 frame")
+        for name, value in (("window", window), ("stride", stride)):
+            if value is not None and (isinstance(value, bool) or not isinstance(value, int) or value < 1):
+                raise ValueError(f"{name}={value!r}: expected a whole number of frames, at least 1")
+        if window is None and stride is not None:
+            raise ValueError(f"stride={stride}: a stride needs a window (without one, items are whole clips)")
         if stride is None:
             stride = window or 1
-        if stride < 1:
-            raise ValueError(f"stride={stride}: expected at least 1 frame")
         unknown = [a for a in arrays if a not in ARRAYS]
         if unknown:
             raise ValueError(f"arrays={unknown}: expected some of {list(ARRAYS)}")
         self.group = groups[index]
         self.window = window
         self.stride = stride
-        folder = self.path / self.group["name"]
-        self.arrays = {name: np.load(folder / f"{name}.npy", mmap_mode="r") for name in arrays}
-        self.offsets = np.load(folder / "offsets.npy")
+        self._names = tuple(arrays)
+        self._open()
+        self.offsets = np.load(self.path / self.group["name"] / "offsets.npy")
         self.clips = [i for i, c in enumerate(self.manifest["clips"]) if c["group"] == index]
         windows = []
         for k, clip in enumerate(self.clips):
@@ -197,6 +209,21 @@ class Dataset:
                 for start in range(0, frames - window + 1, stride):
                     windows.append((clip, int(self.offsets[k]), start, window))
         self._windows = windows
+
+    def _open(self) -> None:
+        folder = self.path / self.group["name"]
+        self.arrays = {name: np.load(folder / f"{name}.npy", mmap_mode="r") for name in self._names}
+
+    def __getstate__(self) -> dict[str, Any]:
+        # A DataLoader worker started by spawn gets the dataset pickled: the memory maps are
+        # opened again there, not copied into the pickle.
+        state = self.__dict__.copy()
+        del state["arrays"]
+        return state
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        self.__dict__.update(state)
+        self._open()
 
     def __len__(self) -> int:
         return len(self._windows)
@@ -213,15 +240,22 @@ class Dataset:
         item["start"] = start
         return item
 
-    def shard(self, rank: int, world_size: int) -> Dataset:
-        """The items of process ``rank`` among ``world_size`` (every ``world_size``-th item
-        from ``rank`` on, as PyTorch's ``DistributedSampler`` deals them out, without padding):
-        the shards are disjoint and together are the whole dataset."""
+    def shard(self, rank: int, world_size: int, *, pad: bool = False) -> Dataset:
+        """The items of process ``rank`` among ``world_size``: every ``world_size``-th item from
+        ``rank`` on, as PyTorch's ``DistributedSampler`` deals them out. Without ``pad`` the
+        shards are disjoint and together the whole dataset, and their lengths may differ by
+        one; with ``pad``, items from the start are dealt again so that every shard has the
+        same length (``DistributedSampler``'s default, which keeps collective operations of
+        distributed training in step)."""
         if world_size < 1 or not 0 <= rank < world_size:
             raise ValueError(f"rank={rank}, world_size={world_size}: expected 0 <= rank < world_size")
+        windows = self._windows
+        if pad and windows:
+            total = -(-len(windows) // world_size) * world_size
+            windows = (windows * (total // len(windows) + 1))[:total]
         shard = object.__new__(Dataset)
         shard.__dict__.update(self.__dict__)
-        shard._windows = self._windows[rank::world_size]
+        shard._windows = windows[rank::world_size]
         return shard
 
     def __repr__(self) -> str:

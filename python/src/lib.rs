@@ -1519,7 +1519,7 @@ fn load_many(
 }
 
 /// A take as `list_takes` gives it: its path and its AMC's (or None), relative to the folder.
-type TakePaths = (String, Option<String>);
+type TakePaths = (PathBuf, Option<PathBuf>);
 
 /// Every take under `folder` in path order, as `(path, motion)` relative to it: BVH files and
 /// ASF/AMC pairs (`motion` the AMC), an AMC without a skeleton and an ASF without motion too (a
@@ -1529,12 +1529,11 @@ fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePaths>> {
     let items = py
         .detach(|| bvhview::dataset::takes(&folder))
         .map_err(|e| to_python(py, e))?;
+    // Paths, not text: a name that is not UTF-8 comes back as Python's os.fsdecode gives it.
+    let relative = |p: &Path| p.strip_prefix(&folder).unwrap_or(p).to_path_buf();
     Ok(items
         .iter()
-        .map(|item| {
-            let source = bvhview::dataset::Source::of(&folder, item);
-            (source.path, source.motion)
-        })
+        .map(|item| (relative(&item.path), item.motion.as_deref().map(relative)))
         .collect())
 }
 
@@ -1571,20 +1570,53 @@ fn _compile_dataset(
         ..Default::default()
     };
     let threads = threads.unwrap_or_else(bvhview::cores).max(1);
-    py.detach(|| {
+    // A compile of a folder must compile something; a piece (`takes` given) may hold only
+    // takes that fail.
+    let require_clips = takes.is_none();
+    let interrupt: Mutex<Option<PyErr>> = Mutex::new(None);
+    let result = py.detach(|| {
         let items = match &takes {
             Some(pairs) => bvhview::dataset::items_in(&folder, pairs),
             None => {
                 if !folder.is_dir() {
                     return Err(Error::Usage(format!("{}: not a folder", folder.display())));
                 }
-                bvhview::dataset::takes(&folder)?
+                let items = bvhview::dataset::takes(&folder)?;
+                if items.is_empty() {
+                    return Err(Error::Usage(format!(
+                        "{}: no .bvh, .asf or .amc files",
+                        folder.display()
+                    )));
+                }
+                items
             }
         };
-        bvhview::dataset::compile(&folder, items, &options, threads, &out, |_, _, _, _| {})
-    })
-    .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
-    .map_err(|e| to_python(py, e))
+        // Ctrl-C stops the compile between takes; its KeyboardInterrupt is raised after.
+        let interrupted = |_: &_, _: Option<&str>, _: usize, _: usize| {
+            Python::attach(|py| match py.check_signals() {
+                Ok(()) => true,
+                Err(raised) => {
+                    *interrupt.lock().unwrap_or_else(PoisonError::into_inner) = Some(raised);
+                    false
+                }
+            })
+        };
+        bvhview::dataset::compile(
+            &folder,
+            items,
+            &options,
+            threads,
+            &out,
+            require_clips,
+            interrupted,
+        )
+    });
+    if let Some(raised) = interrupt.into_inner().unwrap_or_else(PoisonError::into_inner) {
+        return Err(raised);
+    }
+    result
+        .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
+        .map_err(|e| to_python(py, e))
 }
 
 /// The native half of `bvhview.merge_datasets`: returns (clips, frames, groups, skipped).

@@ -53,16 +53,18 @@ def test_the_package_writes_what_the_command_writes(compiled, cli, tmp_path):
         "units": "metres",
     }
     # Skipped takes: each named with its path:line:column, as the command said them.
+    # The manifest names paths relative to the folder, the command's stderr as given.
     for skipped in manifest["skipped"]:
-        assert f"skipped {skipped['error']}" in run.stderr
+        assert f"skipped {DATA}/{skipped['error']}" in run.stderr
     first = manifest["skipped"][0]
     assert first["path"] == "bvh_malformed/dali_test-empty.bvh"
-    assert first["error"] == f"{DATA}/bvh_malformed/dali_test-empty.bvh:1:1: expected HIERARCHY, found end of file"
+    assert first["error"] == "bvh_malformed/dali_test-empty.bvh:1:1: expected HIERARCHY, found end of file"
+    assert manifest["bvhview"] == bvhview.__version__
 
 
 def test_list_takes_is_the_folder_in_path_order_with_asf_amc_pairs():
     takes = bvhview.list_takes(DATA)
-    assert takes[0] == ("asf_amc/heiden_12.asf", "asf_amc/heiden_12_02_01.amc")
+    assert takes[0] == (Path("asf_amc/heiden_12.asf"), Path("asf_amc/heiden_12_02_01.amc"))
     keys = [motion or path for path, motion in takes]
     assert keys == sorted(keys)
     loaded = bvhview.load_many(DATA, errors="return")
@@ -93,8 +95,9 @@ def test_rotations_rebuild_the_positions_by_forward_kinematics_in_numpy(tmp_path
         # the other kinds hold the whole local rotation.
         if kind == "euler" and clip["motion"]:
             continue
-        turned = take.scale(clip["metres_per_unit"]).to_up("y") if clip["up"] == "z" else take.scale(clip["metres_per_unit"])
-        offsets = turned.offsets
+        # The clip's own OFFSETs in metres, Y up, as the dataset keeps them.
+        index = [c for c in manifest["clips"] if c["group"] == clip["group"]].index(clip)
+        offsets = np.load(out / group["name"] / "rest_offsets.npy")[index]
         parents = np.array(group["parents"])
         rotations = clip_rows(out, manifest, clip, "rotations")
         roots = clip_rows(out, manifest, clip, "root_translations")
@@ -120,7 +123,8 @@ def test_rotations_rebuild_the_positions_by_forward_kinematics_in_numpy(tmp_path
             # Each joint's rotation channels in its file order, degrees: R = R1 · R2 · R3.
             m = np.tile(np.eye(3), (frames, len(group["rotated"]), 1, 1))
             for slot, joint in enumerate(group["rotated"]):
-                axes = [c[0] for c in channels[joint] if c.endswith("rotation")]
+                axes = group["rotation_orders"][slot]
+                assert axes == "".join(c[0] for c in channels[joint] if c.endswith("rotation"))
                 for k, axis in enumerate(axes):
                     angle = np.radians(rotations[:, slot, k].astype(np.float64))
                     c, s = np.cos(angle), np.sin(angle)
@@ -145,7 +149,7 @@ def test_rotations_rebuild_the_positions_by_forward_kinematics_in_numpy(tmp_path
 
 def test_windows_strides_shards_and_groups(compiled):
     manifest = json.loads((compiled / "manifest.json").read_text())
-    with pytest.raises(ValueError, match="16 skeleton topologies.*choose one with group="):
+    with pytest.raises(ValueError, match="17 skeleton topologies.*choose one with group="):
         bvhview.Dataset(compiled, window=8)
     group = next(k for k, g in enumerate(manifest["groups"]) if g["clips"] == 3)
     data = bvhview.Dataset(compiled, window=2, stride=1, group=group)
@@ -212,8 +216,10 @@ def test_dask_workers_compile_pieces_that_merge_into_the_single_process_dataset(
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
     ) as cluster, distributed.Client(cluster) as client:
         manifest = bvhview.dask.compile_dataset(DATA, tmp_path / "cluster", client=client, pieces=5)
-        # Each worker compiled pieces; both worked.
         assert len(client.nthreads()) == 2
+        # An existing dataset is refused before any piece is compiled.
+        with pytest.raises(ValueError, match="already exists"):
+            bvhview.dask.compile_dataset(DATA, tmp_path / "single", client=client)
     same_tree(single, tmp_path / "cluster")
     assert len(manifest["clips"]) == 20
     # Only the dataset is left: the pieces' folder is gone.
@@ -298,3 +304,43 @@ def test_positions_and_frame_counts_agree_with_pybvh_ml_on_the_whole_corpus(tmp_
     # pybvh refuses 6 of the 26: rows past Frames:, a hierarchy opened by JOINT, position
     # channels on a joint (Bandai's, MakeHuman's T-pose).
     assert len(compared) == 20, compared
+
+
+def test_datasets_pickle_as_memory_maps_and_refuse_odd_windows(compiled):
+    import pickle
+
+    manifest = json.loads((compiled / "manifest.json").read_text())
+    group = max(range(len(manifest["groups"])), key=lambda k: manifest["groups"][k]["frames"])
+    data = bvhview.Dataset(compiled, window=8, group=group)
+    blob = pickle.dumps(data)
+    # A spawned DataLoader worker gets the paths and windows, and maps the files itself.
+    assert len(blob) < 50_000 < data.arrays["positions"].nbytes
+    again = pickle.loads(blob)
+    assert isinstance(again.arrays["positions"], np.memmap)
+    np.testing.assert_array_equal(again[3]["positions"], data[3]["positions"])
+    for bad in (dict(window=True), dict(window=0), dict(stride=2), dict(window=4, stride=0)):
+        with pytest.raises(ValueError):
+            bvhview.Dataset(compiled, group=group, **bad)
+    # Padded shards are all as long, as DistributedSampler's.
+    shards = [data.shard(rank, 3, pad=True) for rank in range(3)]
+    assert len({len(s) for s in shards}) == 1 and 3 * len(shards[0]) >= len(data)
+
+
+def test_nothing_to_compile_and_pieces_out_of_order_are_refused(tmp_path):
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    with pytest.raises(ValueError, match="no .bvh, .asf or .amc files"):
+        bvhview.compile_dataset(empty, tmp_path / "a")
+    broken = tmp_path / "broken"
+    broken.mkdir()
+    (broken / "x.bvh").write_text("HIERARCHY\nROOT")
+    with pytest.raises(ValueError, match="no take could be compiled"):
+        bvhview.compile_dataset(broken, tmp_path / "b")
+    assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
+    takes = bvhview.list_takes(DATA)
+    first = bvhview.compile_dataset(DATA, tmp_path / "p0", takes=takes[:5], parquet=False)
+    second = bvhview.compile_dataset(DATA, tmp_path / "p1", takes=takes[5:], parquet=False)
+    assert len(first["clips"]) + len(second["clips"]) == 20
+    with pytest.raises(ValueError, match="comes after"):
+        bvhview.merge_datasets([tmp_path / "p1", tmp_path / "p0"], tmp_path / "m")
+    assert not (tmp_path / "m").exists()

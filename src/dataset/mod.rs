@@ -98,6 +98,9 @@ pub struct Topology {
     pub rotated: Vec<u32>,
     /// The points foot contacts are given for: those whose name has `foot`, `toe` or `ankle`.
     pub feet: Vec<u32>,
+    /// Each rotated point's rotation channels in file order (`ZXY`; empty without any): the
+    /// order of its Euler angles, and of the product `R1 · R2 · R3`.
+    pub rotation_orders: Vec<String>,
 }
 
 impl Topology {
@@ -114,17 +117,30 @@ impl Topology {
             })
             .map(|(i, _)| i as u32)
             .collect();
+        let rotated: Vec<u32> = (0..skeleton.joints.len() as u32)
+            .filter(|&i| !skeleton.joints[i as usize].end_site)
+            .collect();
+        let rotation_orders = rotated
+            .iter()
+            .map(|&i| {
+                skeleton.joints[i as usize]
+                    .channels
+                    .iter()
+                    .filter(|c| c.is_rotation())
+                    .map(|c| ["X", "Y", "Z"][c.axis()])
+                    .collect()
+            })
+            .collect();
         Topology {
             parents: skeleton
                 .joints
                 .iter()
                 .map(|j| j.parent.map_or(-1, |p| p as i32))
                 .collect(),
-            rotated: (0..skeleton.joints.len() as u32)
-                .filter(|&i| !skeleton.joints[i as usize].end_site)
-                .collect(),
+            rotated,
             feet,
             joints,
+            rotation_orders,
         }
     }
 }
@@ -162,6 +178,8 @@ pub struct Clip {
     pub velocities: Vec<f32>,
     /// frames × feet: 1 in contact, 0 not.
     pub contacts: Vec<u8>,
+    /// points × 3: each point's OFFSET (metres, Y up).
+    pub rest_offsets: Vec<f32>,
 }
 
 /// Why a take is not in the dataset.
@@ -190,6 +208,21 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
     }
     let loaded =
         crate::input::load_checked(path, item.motion.as_deref(), None, 1, options.max_size)?;
+    for name in std::iter::once(path).chain(&item.motion) {
+        if name.to_str().is_none() {
+            return Err(Error::Usage(format!(
+                "{}: the name is not UTF-8, which the manifest (JSON) cannot hold",
+                name.display()
+            )));
+        }
+    }
+    let frame_time = loaded.motion.frame_time;
+    if !(frame_time > 0.0 && frame_time.is_finite()) {
+        return Err(Error::Usage(format!(
+            "{}: Frame Time {frame_time}: no rate to resample from, nor to take velocities at",
+            path.display()
+        )));
+    }
     if loaded.motion.frame_count() == 0 {
         return Err(Error::Usage(format!(
             "{}: no frames to learn from (a skeleton without motion)",
@@ -278,7 +311,7 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
             OffsetMode::Add => "add",
         }
         .to_string(),
-        warnings: crate::info::warnings(&loaded, OffsetMode::Replace),
+        warnings: crate::info::warnings(&loaded, mode),
     };
     Ok(Clip {
         about,
@@ -289,6 +322,11 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
         root_translations,
         velocities: flat(velocities),
         contacts,
+        rest_offsets: skeleton
+            .joints
+            .iter()
+            .flat_map(|j| j.offset.to_array())
+            .collect(),
     })
 }
 
@@ -355,40 +393,51 @@ pub struct Summary {
 
 /// Compiles `items` (found under `dir`, whose relative paths the manifest gives) on `threads`
 /// threads into the dataset folder `out`, which must not exist or be empty. `done(source, error,
-/// finished, total)` is called for every take in order.
+/// finished, total)` is called for every take in order, with the error as the loader said it;
+/// it returns false to stop (an interrupt), and then nothing is written. With `require_clips`,
+/// a compile of which no take compiled is refused and writes nothing too (a piece of a bigger
+/// compile may have none).
 pub fn compile(
     dir: &Path,
     items: Vec<Item>,
     options: &Options,
     threads: usize,
     out: &Path,
-    mut done: impl FnMut(&Source, Option<&str>, usize, usize) + Send,
+    require_clips: bool,
+    mut done: impl FnMut(&Source, Option<&str>, usize, usize) -> bool + Send,
 ) -> Result<Summary, Error> {
     options.check()?;
     let mut writer = store::Writer::create(out, options)?;
     let total = items.len();
     let mut failure = None;
+    let mut clips = 0;
     crate::parallel::map_in_order(
         total,
         threads,
         4 * threads.max(1),
         |index| {
             let item = &items[index];
-            compile_take(dir, item, options).map_err(|e| Skipped {
-                source: Source::of(dir, item),
-                error: e.to_string(),
-            })
+            compile_take(dir, item, options).map_err(|e| (Source::of(dir, item), e.to_string()))
         },
         |index, result| {
             let outcome = match result {
                 Ok(clip) => {
-                    done(&clip.about.source, None, index + 1, total);
-                    writer.add(&clip)
+                    clips += 1;
+                    match done(&clip.about.source, None, index + 1, total) {
+                        true => writer.add(&clip),
+                        false => Err(Error::Usage("interrupted".to_string())),
+                    }
                 }
-                Err(skipped) => {
-                    done(&skipped.source, Some(&skipped.error), index + 1, total);
-                    writer.skip(skipped);
-                    Ok(())
+                Err((source, error)) => {
+                    let go_on = done(&source, Some(&error), index + 1, total);
+                    writer.skip(Skipped {
+                        error: relative_error(dir, &error),
+                        source,
+                    });
+                    match go_on {
+                        true => Ok(()),
+                        false => Err(Error::Usage("interrupted".to_string())),
+                    }
                 }
             };
             match outcome {
@@ -403,7 +452,25 @@ pub fn compile(
     if let Some(e) = failure {
         return Err(e);
     }
+    if require_clips && clips == 0 {
+        return Err(Error::Usage(format!(
+            "{}: no take could be compiled ({} skipped), so no dataset was written",
+            dir.display(),
+            crate::error::counted(total, "take")
+        )));
+    }
     writer.finish()
+}
+
+/// An error as the manifest keeps it: paths relative to the folder compiled, so that the
+/// manifest is the same however the folder was named (`tests/data`, `/work/tests/data/`).
+fn relative_error(dir: &Path, error: &str) -> String {
+    let prefix = dir.display().to_string();
+    if prefix.is_empty() {
+        return error.to_string();
+    }
+    let prefix = format!("{}/", prefix.trim_end_matches('/'));
+    error.replace(&prefix, "")
 }
 
 /// The items given by paths relative to `dir` (or absolute): `(path, motion)` pairs.

@@ -21,6 +21,8 @@ const HEADER: usize = 128;
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Manifest {
     pub format: String,
+    /// The version that wrote it.
+    pub bvhview: String,
     pub options: Settings,
     pub groups: Vec<Group>,
     pub clips: Vec<ClipEntry>,
@@ -208,6 +210,8 @@ struct OpenGroup {
     arrays: Vec<ArrayFile>,
     starts: Vec<usize>,
     frames: usize,
+    /// Every clip's OFFSETs, clip after clip.
+    rest_offsets: Vec<f32>,
 }
 
 /// A dataset being written: clips in the order they come, each to its topology's group.
@@ -266,6 +270,10 @@ impl Writer {
 
     /// Adds a clip after those added before.
     pub fn add(&mut self, clip: &Clip) -> Result<(), Error> {
+        crate::output::in_partial_folder(|| self.add_files(clip))
+    }
+
+    fn add_files(&mut self, clip: &Clip) -> Result<(), Error> {
         let group = match self.by_topology.get(&clip.topology) {
             Some(&k) => k,
             None => {
@@ -283,6 +291,7 @@ impl Writer {
                     arrays,
                     starts: Vec::new(),
                     frames: 0,
+                    rest_offsets: Vec::new(),
                 });
                 self.by_topology.insert(clip.topology.clone(), k);
                 k
@@ -306,6 +315,7 @@ impl Writer {
         }
         open.starts.push(start);
         open.frames += clip.frames;
+        open.rest_offsets.extend_from_slice(&clip.rest_offsets);
         self.clips.push(ClipEntry {
             about: clip.about.clone(),
             group,
@@ -322,6 +332,13 @@ impl Writer {
 
     /// Writes the offsets and the manifest, and gives the folder its name.
     pub fn finish(mut self) -> Result<Summary, Error> {
+        let made = self.folder().to_path_buf();
+        let result = crate::output::in_partial_folder(|| self.complete());
+        crate::output::finished_folder(&made);
+        result
+    }
+
+    fn complete(&mut self) -> Result<Summary, Error> {
         let mut groups = Vec::new();
         for (k, open) in std::mem::take(&mut self.groups).into_iter().enumerate() {
             let name = format!("group_{k}");
@@ -363,6 +380,20 @@ impl Writer {
                 dtype: "<i8".to_string(),
                 shape: vec![offsets.len()],
             });
+            // Each clip's bone OFFSETs (metres, Y up): with the rotations and root
+            // translations, what forward kinematics needs.
+            let points = open.topology.joints.len();
+            let shape = vec![open.starts.len(), points, 3];
+            let path = self.folder().join(&name).join("rest_offsets.npy");
+            let mut bytes = npy_header("<f4", &shape);
+            bytes.extend(open.rest_offsets.iter().flat_map(|v| v.to_le_bytes()));
+            std::fs::write(&path, bytes).map_err(|e| Error::output(&path, e))?;
+            arrays.push(ArrayEntry {
+                name: "rest_offsets".to_string(),
+                file: format!("{name}/rest_offsets.npy"),
+                dtype: "<f4".to_string(),
+                shape,
+            });
             groups.push(Group {
                 name,
                 topology: open.topology,
@@ -379,6 +410,7 @@ impl Writer {
         };
         let manifest = Manifest {
             format: FORMAT.to_string(),
+            bvhview: env!("CARGO_PKG_VERSION").to_string(),
             options: Settings::of(&self.options),
             groups,
             clips: std::mem::take(&mut self.clips),
@@ -402,13 +434,9 @@ impl Writer {
             Ok(()) => {
                 // Renamed: the folder is the dataset now, not a temporary one to remove.
                 let _ = folder.keep();
-                crate::output::finished_folder(&made);
                 Ok(summary)
             }
-            Err(e) => {
-                crate::output::finished_folder(&made);
-                Err(Error::output(&self.out, e))
-            }
+            Err(e) => Err(Error::output(&self.out, e)),
         }
     }
 }
@@ -498,18 +526,59 @@ pub fn merge(pieces: &[PathBuf], out: &Path) -> Result<Summary, Error> {
             )));
         }
     }
+    // Pieces are consecutive runs of one folder's takes in path order: every take's path comes
+    // after the one before, across pieces too.
+    let mut last: Option<(String, &Path)> = None;
+    for (piece, manifest) in pieces.iter().zip(&manifests) {
+        let mut paths: Vec<String> = manifest
+            .clips
+            .iter()
+            .map(|c| &c.about.source)
+            .chain(manifest.skipped.iter().map(|s| &s.source))
+            .map(|s| s.motion.clone().unwrap_or_else(|| s.path.clone()))
+            .collect();
+        // Path order, as `takes` lists them (by component: `a/b` before `a-b`).
+        paths.sort_by(|a, b| Path::new(a).cmp(Path::new(b)));
+        for path in paths {
+            if let Some((before, where_before)) = &last
+                && Path::new(before) >= Path::new(&path)
+            {
+                return Err(Error::Usage(format!(
+                    "{}: {path} comes after {before} in {}; pieces must be consecutive runs of \
+                     list_takes, given in order, each take in one piece",
+                    piece.display(),
+                    where_before.display()
+                )));
+            }
+            last = Some((path, piece));
+        }
+    }
     let mut writer = Writer::create(out, &options)?;
     for (piece, manifest) in pieces.iter().zip(manifests) {
         let mut data: Vec<Vec<Vec<u8>>> = Vec::new();
-        for group in &manifest.groups {
+        for (k, group) in manifest.groups.iter().enumerate() {
             let arrays = group
                 .arrays
                 .iter()
                 .filter(|a| a.name != "offsets")
-                .map(|a| read_npy(&piece.join(&a.file)))
+                .map(|a| {
+                    // Only the piece's own files, as its writer named them.
+                    let own = a.file.starts_with(&format!("group_{k}/"))
+                        && !a.file.contains("..")
+                        && a.file.matches('/').count() == 1;
+                    if !own {
+                        return Err(Error::Usage(format!(
+                            "{}: the manifest names {:?}, not a file of its own",
+                            piece.display(),
+                            a.file
+                        )));
+                    }
+                    read_npy(&piece.join(&a.file))
+                })
                 .collect::<Result<Vec<_>, Error>>()?;
             data.push(arrays);
         }
+        let mut clip_in_group = vec![0usize; manifest.groups.len()];
         for entry in manifest.clips {
             let group = manifest.groups.get(entry.group).ok_or_else(|| {
                 Error::Usage(format!(
@@ -538,10 +607,23 @@ pub fn merge(pieces: &[PathBuf], out: &Path) -> Result<Summary, Error> {
                     ))
                 })
             };
+            let points = topology.joints.len();
+            let index = clip_in_group[entry.group];
+            clip_in_group[entry.group] += 1;
+            let rest = data[entry.group][5]
+                .get(index * points * 12..(index + 1) * points * 12)
+                .ok_or_else(|| {
+                    Error::Usage(format!(
+                        "{}: {} is shorter than its manifest says",
+                        piece.display(),
+                        group.arrays[6].file
+                    ))
+                })?;
             let clip = Clip {
                 about: entry.about,
                 topology,
                 frames: entry.frames,
+                rest_offsets: floats(rest),
                 positions: floats(slice(0)?),
                 rotations: floats(slice(1)?),
                 root_translations: floats(slice(2)?),
