@@ -1611,7 +1611,10 @@ fn _compile_dataset(
             interrupted,
         )
     });
-    if let Some(raised) = interrupt.into_inner().unwrap_or_else(PoisonError::into_inner) {
+    if let Some(raised) = interrupt
+        .into_inner()
+        .unwrap_or_else(PoisonError::into_inner)
+    {
         return Err(raised);
     }
     result
