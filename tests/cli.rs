@@ -846,20 +846,22 @@ fn interrupt_a_write(signal: &str, number: i32, what: &str) {
     let out = dir.join("walk.gif");
     let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
     // Many large frames, so that the write is still going when the signal comes.
-    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
-        .args([
-            "snapshot",
-            walk.to_str().unwrap(),
-            "--frames",
-            "0..40",
-            "--size",
-            "1200x1200",
-        ])
-        .args(["--fps", "30", "-q", "-o"])
-        .arg(&out)
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .unwrap();
+    let mut child = with_default_signals(&mut std::process::Command::new(env!(
+        "CARGO_BIN_EXE_bvhview"
+    )))
+    .args([
+        "snapshot",
+        walk.to_str().unwrap(),
+        "--frames",
+        "0..40",
+        "--size",
+        "1200x1200",
+    ])
+    .args(["--fps", "30", "-q", "-o"])
+    .arg(&out)
+    .stderr(std::process::Stdio::piped())
+    .spawn()
+    .unwrap();
     let started = std::time::Instant::now();
     let partial = loop {
         let found = std::fs::read_dir(&dir)
@@ -1122,6 +1124,22 @@ fn the_default_view_is_the_article_picture_for_every_file() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// `command` with SIGINT, SIGTERM and SIGHUP at their default actions in its process, whatever
+/// this test run inherited: a run a script started in the background ignores SIGINT, one under
+/// `nohup` ignores SIGHUP, and bvhview rightly keeps a signal ignored that it started with.
+fn with_default_signals(command: &mut Command) -> &mut Command {
+    use std::os::unix::process::CommandExt;
+    // SAFETY: between fork and exec the hook calls only signal(2), which is async-signal-safe.
+    unsafe {
+        command.pre_exec(|| {
+            for signal in [libc::SIGINT, libc::SIGTERM, libc::SIGHUP] {
+                libc::signal(signal, libc::SIG_DFL);
+            }
+            Ok(())
+        })
+    }
+}
+
 /// A shell sees 128 + the signal, and `nohup` keeps SIGHUP ignored (issue 26 review: signal
 /// handling replaced an inherited SIG_IGN, so `nohup bvhview …` died on hang-up).
 #[test]
@@ -1140,7 +1158,11 @@ fn a_shell_sees_128_plus_the_signal_and_nohup_is_kept() {
     );
     let run = |trap: &str| {
         let script = script.replace("{trap}", trap);
-        let output = Command::new("sh").arg("-c").arg(script).output().unwrap();
+        let output = with_default_signals(&mut Command::new("sh"))
+            .arg("-c")
+            .arg(script)
+            .output()
+            .unwrap();
         String::from_utf8(output.stdout).unwrap().trim().to_string()
     };
     assert_eq!(run(""), "129");
