@@ -203,6 +203,25 @@ impl RotationKind {
     }
 }
 
+/// The rotation matrix `kind` numbers stand for, as [`write_rotation`] writes them: a quaternion
+/// normalised, a 6D pair made orthonormal again (Gram-Schmidt). `None` for Euler angles, whose
+/// meaning is the joint's own channel order.
+pub fn rotation_of_numbers(kind: RotationKind, numbers: &[f32]) -> Option<glam::Mat3> {
+    match kind {
+        RotationKind::Quat => Some(glam::Mat3::from_quat(
+            glam::Quat::from_xyzw(numbers[1], numbers[2], numbers[3], numbers[0]).normalize(),
+        )),
+        RotationKind::Matrix => Some(glam::Mat3::from_cols_slice(numbers).transpose()),
+        RotationKind::SixD => {
+            let a = Vec3::new(numbers[0], numbers[1], numbers[2]).normalize_or_zero();
+            let b = Vec3::new(numbers[3], numbers[4], numbers[5]);
+            let b = (b - a * a.dot(b)).normalize_or_zero();
+            Some(glam::Mat3::from_cols(a, b, a.cross(b)))
+        }
+        RotationKind::Euler => None,
+    }
+}
+
 /// `joint`'s local rotation ([`local_rotation`]) for its channel `values` as `kind` numbers, into
 /// `out` (`kind.width()` long). No values (an End Site, the rest pose): the identity.
 pub fn write_rotation(joint: &Joint, values: &[f32], kind: RotationKind, out: &mut [f32]) {

@@ -624,8 +624,8 @@ impl Motion {
             .map_err(|e| to_python(py, e))?;
         let joints = self.loaded.skeleton.joints.len();
         let array = values.into_pyarray(py);
-        Ok(match kind {
-            "matrix" => array.reshape([frames.len(), joints, 3, 3])?.into_any(),
+        Ok(match rotation_kind {
+            pose::RotationKind::Matrix => array.reshape([frames.len(), joints, 3, 3])?.into_any(),
             _ => array.reshape([frames.len(), joints, per_joint])?.into_any(),
         })
     }
@@ -879,34 +879,30 @@ impl Motion {
         let joints = skeleton.joints.len();
         let shape = rotations.shape().to_vec();
         let kind = match (kind, &shape[..]) {
-            (Some(kind @ ("quat" | "matrix" | "6d" | "euler")), _) => kind,
-            (Some(other), _) => {
-                return Err(PyValueError::new_err(format!(
-                    "kind={other:?}: expected \"quat\", \"matrix\", \"6d\" or \"euler\""
-                )));
-            }
-            (None, [_, _, 4]) => "quat",
-            (None, [_, _, 3, 3]) => "matrix",
-            (None, [_, _, 6]) => "6d",
-            (None, [_, _, 3]) => "euler",
+            (Some(text), _) => pose::RotationKind::parse(text).ok_or_else(|| {
+                PyValueError::new_err(format!(
+                    "kind={text:?}: expected {}",
+                    pose::RotationKind::NAMES
+                ))
+            })?,
+            (None, [_, _, 4]) => pose::RotationKind::Quat,
+            (None, [_, _, 3, 3]) => pose::RotationKind::Matrix,
+            (None, [_, _, 6]) => pose::RotationKind::SixD,
+            (None, [_, _, 3]) => pose::RotationKind::Euler,
             (None, _) => {
                 return Err(PyValueError::new_err(format!(
                     "rotations of shape {shape:?}: expected frames x joints x 4, 3x3, 6 or 3"
                 )));
             }
         };
-        let per_joint = match kind {
-            "quat" => 4,
-            "matrix" => 9,
-            "6d" => 6,
-            _ => 3,
-        };
+        let per_joint = kind.width();
         if shape.len() < 2
             || shape[1] != joints
             || shape[2..].iter().product::<usize>() != per_joint
         {
             return Err(PyValueError::new_err(format!(
-                "rotations of shape {shape:?}: the template has {joints} joints, and {kind} takes {per_joint} numbers each"
+                "rotations of shape {shape:?}: the template has {joints} joints, and {} takes {per_joint} numbers each",
+                kind.name()
             )));
         }
         let frames = shape[0];
@@ -1144,7 +1140,7 @@ fn load(
 
 /// The values of `joint`'s rotation channels, in file order and degrees, for a local rotation
 /// given as `kind` (`numbers`: 4, 9, 6 or 3 of them; euler: the channel values themselves).
-fn channel_angles(joint: &bvhview::Joint, kind: &str, numbers: &[f32]) -> Vec<f32> {
+fn channel_angles(joint: &bvhview::Joint, kind: pose::RotationKind, numbers: &[f32]) -> Vec<f32> {
     let axes: Vec<usize> = joint
         .channels
         .iter()
@@ -1154,21 +1150,9 @@ fn channel_angles(joint: &bvhview::Joint, kind: &str, numbers: &[f32]) -> Vec<f3
     if axes.is_empty() {
         return Vec::new();
     }
-    if kind == "euler" {
+    let Some(local) = pose::rotation_of_numbers(kind, numbers) else {
+        // Euler angles are the channel values themselves.
         return numbers.iter().copied().take(axes.len()).collect();
-    }
-    let local = match kind {
-        "quat" => glam::Mat3::from_quat(
-            glam::Quat::from_xyzw(numbers[1], numbers[2], numbers[3], numbers[0]).normalize(),
-        ),
-        "matrix" => glam::Mat3::from_cols_array(numbers.try_into().expect("nine")).transpose(),
-        _ => {
-            // 6d: the first two columns, made orthonormal again (Gram-Schmidt).
-            let a = Vec3::new(numbers[0], numbers[1], numbers[2]).normalize_or_zero();
-            let b = Vec3::new(numbers[3], numbers[4], numbers[5]);
-            let b = (b - a * a.dot(b)).normalize_or_zero();
-            glam::Mat3::from_cols(a, b, a.cross(b))
-        }
     };
     // An ASF bone turns about its own axis C: its channels' rotation is C⁻¹ · local · C.
     let rotation = match joint.axis {
@@ -1577,19 +1561,7 @@ fn _compile_dataset(
     let result = py.detach(|| {
         let items = match &takes {
             Some(pairs) => bvhview::dataset::items_in(&folder, pairs),
-            None => {
-                if !folder.is_dir() {
-                    return Err(Error::Usage(format!("{}: not a folder", folder.display())));
-                }
-                let items = bvhview::dataset::takes(&folder)?;
-                if items.is_empty() {
-                    return Err(Error::Usage(format!(
-                        "{}: no .bvh, .asf or .amc files",
-                        folder.display()
-                    )));
-                }
-                items
-            }
+            None => bvhview::dataset::takes(&folder)?,
         };
         // Ctrl-C stops the compile between takes; its KeyboardInterrupt is raised after.
         let interrupted = |_: &_, _: Option<&str>, _: usize, _: usize| {

@@ -72,20 +72,9 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         contact_speed: args.contact_speed,
         max_size: args.max_size,
     };
+    // Options are checked before the folder is read (`Writer::create` checks them again).
     options.check()?;
-    if !args.dir.is_dir() {
-        return Err(Error::Usage(format!(
-            "{}: not a folder",
-            args.dir.display()
-        )));
-    }
     let items = dataset::takes(&args.dir)?;
-    if items.is_empty() {
-        return Err(Error::Usage(format!(
-            "{}: no .bvh, .asf or .amc files",
-            args.dir.display()
-        )));
-    }
     let threads = args.threads.unwrap_or_else(bvhview::cores).max(1);
     let summary = dataset::compile(
         &args.dir,

@@ -191,9 +191,20 @@ pub struct Skipped {
 }
 
 /// Every take under `dir` in path order: BVH files and ASF/AMC pairs (an AMC without a skeleton
-/// and an ASF without motion are listed too, and skipped with a reason).
+/// and an ASF without motion are listed too, and skipped with a reason). A folder without any
+/// is refused: there is no dataset to make of it.
 pub fn takes(dir: &Path) -> Result<Vec<Item>, Error> {
-    crate::batch::collect(dir)
+    if !dir.is_dir() {
+        return Err(Error::Usage(format!("{}: not a folder", dir.display())));
+    }
+    let items = crate::batch::collect(dir)?;
+    if items.is_empty() {
+        return Err(Error::Usage(format!(
+            "{}: no .bvh, .asf or .amc files",
+            dir.display()
+        )));
+    }
+    Ok(items)
 }
 
 /// Compiles one take found under `dir` (the folder its manifest path is relative to).
@@ -206,8 +217,6 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
             item.wanted_skeleton()
         )));
     }
-    let loaded =
-        crate::input::load_checked(path, item.motion.as_deref(), None, 1, options.max_size)?;
     for name in std::iter::once(path).chain(&item.motion) {
         if name.to_str().is_none() {
             return Err(Error::Usage(format!(
@@ -216,6 +225,8 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
             )));
         }
     }
+    let loaded =
+        crate::input::load_checked(path, item.motion.as_deref(), None, 1, options.max_size)?;
     let frame_time = loaded.motion.frame_time;
     if !(frame_time > 0.0 && frame_time.is_finite()) {
         return Err(Error::Usage(format!(
@@ -406,7 +417,6 @@ pub fn compile(
     require_clips: bool,
     mut done: impl FnMut(&Source, Option<&str>, usize, usize) -> bool + Send,
 ) -> Result<Summary, Error> {
-    options.check()?;
     let mut writer = store::Writer::create(out, options)?;
     let total = items.len();
     let mut failure = None;
