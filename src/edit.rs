@@ -262,60 +262,197 @@ pub enum Side {
     Right,
 }
 
-/// The side a name marks and the name with the other side's mark, as the common rigs write them
-/// (`LeftArm`, `leftArm`, `L_Arm`, `Arm_L`, `Arm.L`, `lhumerus`/`rhumerus` in CMU's ASF,
-/// `lShldr`/`rShldr` in Daz's, Poser's and Second Life's, `mixamorig:LeftHand`); `None` when the
-/// name has no side.
-pub fn name_side(name: &str) -> Option<(Side, String)> {
-    let sides = |left: bool| if left { Side::Left } else { Side::Right };
-    for (left, right) in [("Left", "Right"), ("left", "right"), ("LEFT", "RIGHT")] {
-        for (from, to, is_left) in [(left, right, true), (right, left, false)] {
-            if name.contains(from) {
-                return Some((sides(is_left), name.replacen(from, to, 1)));
-            }
+impl Side {
+    fn other(self) -> Side {
+        match self {
+            Side::Left => Side::Right,
+            Side::Right => Side::Left,
         }
     }
-    for (left, right) in [("_L", "_R"), (".L", ".R"), ("_l", "_r"), (".l", ".r")] {
-        for (from, to, is_left) in [(left, right, true), (right, left, false)] {
-            if let Some(stem) = name.strip_suffix(from) {
-                return Some((sides(is_left), format!("{stem}{to}")));
+}
+
+/// Body parts a single `l` or `r` is written before in lower-case names (CMU's ASF bones
+/// `lhumerus`, `rfemur`; cgspeed's `lhip`, `lknee`, `lelbow`), and that may follow a lower-case
+/// `left`/`right` (`lefthand`).
+const PARTS: [&str; 48] = [
+    "hipjoint",
+    "hip",
+    "femur",
+    "thigh",
+    "upleg",
+    "upperleg",
+    "leg",
+    "knee",
+    "shin",
+    "tibia",
+    "lowerleg",
+    "loleg",
+    "ankle",
+    "foot",
+    "heel",
+    "toes",
+    "toe",
+    "toebase",
+    "ball",
+    "clavicle",
+    "collar",
+    "shoulder",
+    "shldr",
+    "scapula",
+    "humerus",
+    "uparm",
+    "upperarm",
+    "arm",
+    "forearm",
+    "elbow",
+    "radius",
+    "lowerarm",
+    "loarm",
+    "wrist",
+    "hand",
+    "palm",
+    "fingers",
+    "finger",
+    "thumb",
+    "index",
+    "middle",
+    "ring",
+    "pinky",
+    "eye",
+    "buttock",
+    "pectoral",
+    "breast",
+    "metatarsals",
+];
+
+/// Whether `text` is one of [`PARTS`], maybe followed by digits (`lhand`, `rthumb1`).
+fn is_part(text: &str) -> bool {
+    let stem = text.trim_end_matches(|c: char| c.is_ascii_digit());
+    PARTS.contains(&stem.to_ascii_lowercase().as_str())
+}
+
+/// Whether `text` starts with one of [`PARTS`] (`lefthand`, `RIGHTFOOT`).
+fn starts_with_part(text: &str) -> bool {
+    let lower = text.to_ascii_lowercase();
+    PARTS.iter().any(|part| lower.starts_with(part))
+}
+
+/// The characters that separate the words of a name: `mixamorig:LeftArm`, `UpperLeg_L`,
+/// `thigh.L.001`, `Bip01 L Thigh`, `DEF-thigh.L`.
+fn is_separator(c: char) -> bool {
+    matches!(c, '_' | '.' | ':' | '-' | ' ' | '|' | '/')
+}
+
+/// The side a name marks, the byte range of the mark and what the other side writes there.
+fn side_mark(name: &str) -> Option<(Side, std::ops::Range<usize>, String)> {
+    // The words of the name between separators, with their byte offsets.
+    let mut tokens: Vec<(usize, &str)> = Vec::new();
+    let mut start = None;
+    for (i, c) in name.char_indices().chain([(name.len(), '_')]) {
+        match (is_separator(c), start) {
+            (true, Some(s)) => {
+                tokens.push((s, &name[s..i]));
+                start = None;
             }
+            (false, None) => start = Some(i),
+            _ => {}
         }
     }
-    for (left, right) in [("L_", "R_"), ("l_", "r_")] {
-        for (from, to, is_left) in [(left, right, true), (right, left, false)] {
-            if let Some(rest) = name.strip_prefix(from) {
-                return Some((sides(is_left), format!("{to}{rest}")));
-            }
-        }
-    }
-    // Daz's, Poser's and Second Life's: lShldr, rForeArm, lThigh … (a lower-case l or r before
-    // a capital).
-    if let [side @ (b'l' | b'r'), capital, ..] = name.as_bytes()
-        && capital.is_ascii_uppercase()
-    {
-        let (side, other) = if *side == b'l' {
-            (Side::Left, 'r')
-        } else {
-            (Side::Right, 'l')
-        };
-        return Some((side, format!("{other}{}", &name[1..])));
-    }
-    // CMU's ASF bones: lhumerus, rfemur, lclavicle … (a single l or r before a known part).
-    const PARTS: [&str; 13] = [
-        "hipjoint", "femur", "tibia", "foot", "toes", "clavicle", "humerus", "radius", "wrist",
-        "hand", "fingers", "thumb", "shoulder",
+    // 1. The words Left and Right (`LeftUpLeg`, `mixamorig:LeftArm`, `left_hip`, `mHipLeft`,
+    //    `RightUpperLeg`, `LEFT_ARM`), as a word of their own: at the start of a word or after a
+    //    lower-case letter or digit when capitalised, and not running on into a lower-case word
+    //    (`Leftover`, `upright`, `Bright` have no side) unless that word is a body part
+    //    (`lefthand`).
+    const WORDS: [(&str, &str, Side); 6] = [
+        ("Left", "Right", Side::Left),
+        ("left", "right", Side::Left),
+        ("LEFT", "RIGHT", Side::Left),
+        ("Right", "Left", Side::Right),
+        ("right", "left", Side::Right),
+        ("RIGHT", "LEFT", Side::Right),
     ];
-    for part in PARTS {
-        if name.len() == part.len() + 1 && name.ends_with(part) {
-            match name.as_bytes()[0] {
-                b'l' => return Some((Side::Left, format!("r{part}"))),
-                b'r' => return Some((Side::Right, format!("l{part}"))),
-                _ => {}
+    for &(at, token) in &tokens {
+        for (word, other, side) in WORDS {
+            for (i, _) in token.match_indices(word) {
+                let before = token[..i].chars().next_back();
+                let after = &token[i + word.len()..];
+                let capital = word.starts_with(|c: char| c.is_ascii_uppercase());
+                let starts = match before {
+                    None => true,
+                    Some(c) => capital && (c.is_ascii_lowercase() || c.is_ascii_digit()),
+                };
+                let last_lower = word.ends_with(|c: char| c.is_ascii_lowercase());
+                let ends = match after.chars().next() {
+                    None => true,
+                    Some(c) if last_lower => !c.is_ascii_lowercase() || starts_with_part(after),
+                    Some(c) => !c.is_ascii_uppercase() || starts_with_part(after),
+                };
+                if starts && ends {
+                    return Some((side, at + i..at + i + word.len(), other.to_string()));
+                }
             }
+        }
+    }
+    // 2. A word that is a lone L or R (`L_Hip`, `UpperLeg_L`, `thigh.L`, `upperleg01.R`,
+    //    `Bip01 L Thigh`, `Finger_l_01`).
+    for &(at, token) in &tokens {
+        let (side, other) = match token {
+            "L" => (Side::Left, "R"),
+            "l" => (Side::Left, "r"),
+            "R" => (Side::Right, "L"),
+            "r" => (Side::Right, "l"),
+            _ => continue,
+        };
+        return Some((side, at..at + 1, other.to_string()));
+    }
+    // 3. A word that starts with its side's letter: lower case before a capital (Daz's, Poser's
+    //    and Second Life's `lThigh`, `rCollar`, `lShldr`), upper case before a capitalised word
+    //    (CMU's `LHipJoint`, `LThumb`; not `L5`, `LOWER`), or lower case before a body part
+    //    (CMU's ASF `lhumerus`, `lhipjoint`; cgspeed's `lhip`, `lknee`, `lelbow`).
+    for &(at, token) in &tokens {
+        let bytes = token.as_bytes();
+        let Some(&first) = bytes.first() else {
+            continue;
+        };
+        let side = match first {
+            b'l' | b'L' => Side::Left,
+            b'r' | b'R' => Side::Right,
+            _ => continue,
+        };
+        let rest = &token[1..];
+        let marked = if first.is_ascii_lowercase() {
+            (bytes.len() >= 2 && bytes[1].is_ascii_uppercase()) || is_part(rest)
+        } else {
+            bytes.len() >= 3 && bytes[1].is_ascii_uppercase() && bytes[2].is_ascii_lowercase()
+        };
+        if marked {
+            let other = match (side, first.is_ascii_lowercase()) {
+                (Side::Left, true) => "r",
+                (Side::Left, false) => "R",
+                (Side::Right, true) => "l",
+                (Side::Right, false) => "L",
+            };
+            return Some((side, at..at + 1, other.to_string()));
         }
     }
     None
+}
+
+/// The side a name marks and the name with the other side's mark, as the common rigs write them:
+/// CMU (`LHipJoint`, `LeftUpLeg`, `LThumb`; its ASF's `lhipjoint`, `lhumerus`), cgspeed (`lhip`,
+/// `lknee`, `lelbow`, `rhipjoint`), Mixamo (`mixamorig:LeftUpLeg`), LaFAN1 (`LeftUpLeg`), Bandai
+/// (`UpperLeg_L`), Xsens (`RightUpperLeg`), Daz, Poser and Second Life (`lThigh`, `lShldr`,
+/// `rCollar`, `mHipLeft`), Rokoko (`LeftThigh`), SMPL (`left_hip`, `L_Hip`), MakeHuman and
+/// Blender (`upperleg01.R`, `thigh.L`). `None` when the name marks no side (`Hips`, `Spine`,
+/// `Head`, `Neck`, `lowerback`, `upperback`, Xsens's `L5`).
+pub fn name_side(name: &str) -> Option<(Side, String)> {
+    let (side, range, other) = side_mark(name)?;
+    let mut mirrored = String::with_capacity(name.len() + 1);
+    mirrored.push_str(&name[..range.start]);
+    mirrored.push_str(&other);
+    mirrored.push_str(&name[range.end..]);
+    debug_assert!(side_mark(&mirrored).is_some_and(|(s, _, _)| s == side.other()));
+    Some((side, mirrored))
 }
 
 /// The name a joint takes in the mirror image: Left and Right exchanged (see [`name_side`]);
@@ -324,47 +461,312 @@ pub fn mirrored_name(name: &str) -> Option<String> {
     name_side(name).map(|(_, mirrored)| mirrored)
 }
 
-/// The mirror image across the YZ plane (x → −x), with Left and Right exchanged in the names, so
-/// a left-handed wave becomes a right-handed one on the same skeleton. OFFSETs and position
-/// channels negate x; a rotation reflected through that plane keeps its angle about X and
-/// negates its angles about Y and Z.
-pub fn mirror(skeleton: &Skeleton, motion: &Motion) -> (Skeleton, Motion) {
-    let mut mirrored = skeleton.clone();
-    for joint in &mut mirrored.joints {
-        joint.offset.x = -joint.offset.x;
-        if let Some(name) = mirrored_name(&joint.name) {
-            joint.name = name;
+/// How [`mirror`] makes the mirror image.
+#[derive(Clone, Debug, Default)]
+pub struct MirrorOptions {
+    /// Rename instead of swap: every joint reflected where it is, and the names with a side
+    /// given the other side's (`LeftArm` becomes `RightArm`). The default keeps every name and
+    /// the skeleton's topology, and swaps the motion of left and right joints.
+    pub rename: bool,
+    /// Joint name → the name of its other-side counterpart, over the guess for the joints it
+    /// lists (in a swap, both must be joints of the skeleton; when renaming, the new name).
+    pub names: std::collections::HashMap<String, String>,
+}
+
+/// Whether joint `k`'s channels can carry the reflection of joint `j`'s motion, and back:
+/// the same position channels, rotations both of three distinct axes (or the same channels),
+/// and both with or without a bone axis.
+fn swappable(j: &crate::skeleton::Joint, k: &crate::skeleton::Joint) -> bool {
+    let positions = |joint: &crate::skeleton::Joint| -> Vec<Channel> {
+        joint
+            .channels
+            .iter()
+            .copied()
+            .filter(|c| c.is_position())
+            .collect()
+    };
+    j.end_site == k.end_site
+        && j.axis.is_some() == k.axis.is_some()
+        && (j.channels == k.channels
+            || (positions(j) == positions(k)
+                && j.rotation_order.is_some()
+                && k.rotation_order.is_some()
+                && j.channels.len() == k.channels.len()))
+}
+
+/// Each joint's counterpart on the other side of the body (itself for joints on the middle, and
+/// for joints whose counterpart cannot take their motion): the pairs [`name_side`] (or `names`)
+/// guesses, kept when both joints exist, each names the other, their parents are counterparts
+/// too and their channels can carry each other's motion ([`swappable`]). End Sites pair as
+/// their parents do, in order. A name in `names` that is not a joint, or a pair it gives that
+/// cannot swap, is an error.
+pub fn mirror_partners(
+    skeleton: &Skeleton,
+    names: &std::collections::HashMap<String, String>,
+) -> Result<Vec<usize>, Error> {
+    let joints = &skeleton.joints;
+    let mut index = std::collections::HashMap::new();
+    for (i, joint) in joints.iter().enumerate().rev() {
+        if !joint.end_site {
+            index.insert(joint.name.as_str(), i);
         }
     }
-    let negated: Vec<usize> = skeleton
-        .joints
-        .iter()
-        .flat_map(|joint| {
-            joint
-                .channels
+    // The counterparts `names` gives, both ways.
+    let mut given: std::collections::HashMap<usize, usize> = std::collections::HashMap::new();
+    for (from, to) in names {
+        let find = |name: &str| {
+            index.get(name).copied().ok_or_else(|| {
+                Error::Usage(format!(
+                    "mirror names: '{name}' is not a joint of the skeleton (a swap pairs joints \
+                     the skeleton has)"
+                ))
+            })
+        };
+        let (a, b) = (find(from)?, find(to)?);
+        for (x, y) in [(a, b), (b, a)] {
+            if given.get(&x).is_some_and(|&other| other != y) {
+                return Err(Error::Usage(format!(
+                    "mirror names: '{}' is given two counterparts",
+                    joints[x].name
+                )));
+            }
+            given.insert(x, y);
+        }
+    }
+    let guess = |j: usize| -> Option<usize> {
+        if let Some(&k) = given.get(&j) {
+            return Some(k);
+        }
+        let other = mirrored_name(&joints[j].name)?;
+        let k = *index.get(other.as_str())?;
+        // A joint `names` pairs is not anyone else's guess.
+        (!given.contains_key(&k)).then_some(k)
+    };
+    let mut partners: Vec<usize> = (0..joints.len()).collect();
+    for j in 0..joints.len() {
+        if joints[j].end_site || partners[j] != j {
+            continue;
+        }
+        let Some(k) = guess(j) else {
+            continue;
+        };
+        let parents = match (joints[j].parent, joints[k].parent) {
+            (Some(p), Some(q)) => partners[p] == q,
+            (None, None) => true,
+            _ => false,
+        };
+        let ok = k != j && partners[k] == k && guess(k) == Some(j) && parents;
+        if ok && swappable(&joints[j], &joints[k]) {
+            partners[j] = k;
+            partners[k] = j;
+        } else if given.contains_key(&j) {
+            return Err(Error::Usage(format!(
+                "mirror names: '{}' and '{}' cannot swap their motion (their parents are not \
+                 counterparts, or their channels differ)",
+                joints[j].name, joints[k].name
+            )));
+        }
+    }
+    // End Sites: the n-th of one joint's with the n-th of its counterpart's.
+    for j in 0..joints.len() {
+        let k = partners[j];
+        if k <= j || joints[j].end_site {
+            continue;
+        }
+        let ends = |joint: usize| -> Vec<usize> {
+            joints[joint]
+                .children
                 .iter()
-                .enumerate()
-                .filter(|(_, c)| {
-                    matches!(
-                        c,
-                        Channel::Xposition | Channel::Yrotation | Channel::Zrotation
-                    )
-                })
-                .map(move |(i, _)| joint.first_channel + i)
-        })
+                .copied()
+                .filter(|&c| joints[c].end_site)
+                .collect()
+        };
+        let (a, b) = (ends(j), ends(k));
+        if a.len() == b.len() {
+            for (x, y) in a.into_iter().zip(b) {
+                partners[x] = y;
+                partners[y] = x;
+            }
+        }
+    }
+    Ok(partners)
+}
+
+/// The axis (0 = x, 1 = y, 2 = z) across which the body's left and right lie: of the two
+/// axes across the ground (x and z for a take that stands along y as [`crate::stance`] guesses
+/// it, x and y for one along z), the one along which the counterparts that hang from the body's
+/// middle (hips, collars, shoulders: joints whose parent has no counterpart, so a swinging hand
+/// or foot does not count) are further apart, summed over up to 64 frames spread through the
+/// take (the rest pose without frames). X when no joint has a counterpart, or on a tie.
+pub fn lateral_axis(skeleton: &Skeleton, motion: &Motion, partners: &[usize]) -> usize {
+    let middle = |j: usize| {
+        skeleton.joints[j]
+            .parent
+            .is_none_or(|parent| partners[parent] == parent)
+    };
+    let pairs: Vec<(usize, usize)> = partners
+        .iter()
+        .enumerate()
+        .filter(|&(j, &k)| k > j && middle(j))
+        .map(|(j, &k)| (j, k))
         .collect();
+    if pairs.is_empty() {
+        return 0;
+    }
+    let stance =
+        crate::stance::Stance::guess(skeleton, motion, crate::pose::OffsetMode::Replace, None);
+    let across = match stance.up {
+        crate::pose::Up::Y => 2,
+        crate::pose::Up::Z => 1,
+    };
+    let frames = motion.frame_count();
+    let sampled: Vec<Option<usize>> = match frames {
+        0 => vec![None],
+        1..=64 => (0..frames).map(Some).collect(),
+        _ => (0..64).map(|i| Some(i * (frames - 1) / 63)).collect(),
+    };
+    let mut apart = glam::DVec3::ZERO;
+    for frame in sampled {
+        let row = frame.map_or(&[][..], |f| motion.frame(f));
+        let points = crate::pose::world_positions(skeleton, row, stance.mode);
+        for &(j, k) in &pairs {
+            let d = (points[j] - points[k]).abs().as_dvec3();
+            if d.is_finite() {
+                apart += d;
+            }
+        }
+    }
+    if apart[across] > apart.x { across } else { 0 }
+}
+
+/// Whether reflecting across the plane normal to `axis` negates this channel's values:
+/// a position along `axis`, a rotation about either other axis.
+fn reflected(channel: Channel, axis: usize) -> bool {
+    if channel.is_position() {
+        channel.axis() == axis
+    } else {
+        channel.axis() != axis
+    }
+}
+
+/// A rotation reflected across the plane normal to `axis`: its angle about `axis` kept, about
+/// the other two negated.
+fn reflect_quat(q: Quat, axis: usize) -> Quat {
+    let mut v = glam::Vec3::new(q.x, q.y, q.z);
+    for other in 0..3 {
+        if other != axis {
+            v[other] = -v[other];
+        }
+    }
+    Quat::from_xyzw(v.x, v.y, v.z, q.w)
+}
+
+/// The mirror image across the body's sagittal plane: the plane through the origin normal to
+/// its [`lateral_axis`] (x for most takes). By default every joint keeps its name, parent and
+/// channels (a mirrored clip has the topology of the original), its OFFSET becomes its
+/// counterpart's reflected and its motion its counterpart's reflected ([`mirror_partners`]):
+/// the left hand moves as the right one did, seen in a mirror, so every world position is the
+/// counterpart's reflected and `mirror` twice gives the take back. A reflected rotation keeps
+/// its angle about the lateral axis and negates the other two; a position negates its lateral
+/// component. Counterparts whose rotation orders differ have the reflected rotation written in
+/// the joint's own order. With `options.rename`, each joint is reflected where it is and the
+/// names exchange sides instead (`convert --mirror-rename`).
+pub fn mirror(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    options: &MirrorOptions,
+) -> Result<(Skeleton, Motion), Error> {
+    if options.rename {
+        let pairs = mirror_partners(skeleton, &std::collections::HashMap::new())?;
+        let axis = lateral_axis(skeleton, motion, &pairs);
+        let mut renamed = skeleton.clone();
+        for joint in &mut renamed.joints {
+            let name = options
+                .names
+                .get(&joint.name)
+                .cloned()
+                .or_else(|| mirrored_name(&joint.name));
+            if let Some(name) = name {
+                joint.name = name;
+            }
+        }
+        return Ok(reflect(skeleton, &renamed, motion, axis, None));
+    }
+    let partners = mirror_partners(skeleton, &options.names)?;
+    let axis = lateral_axis(skeleton, motion, &partners);
+    Ok(reflect(skeleton, skeleton, motion, axis, Some(&partners)))
+}
+
+/// `skeleton` and `motion` reflected across the plane normal to `axis`, with each joint taking
+/// its partner's OFFSET, bone axis and motion (`partners`; each joint its own when `None`),
+/// on `names`' names.
+fn reflect(
+    skeleton: &Skeleton,
+    names: &Skeleton,
+    motion: &Motion,
+    axis: usize,
+    partners: Option<&[usize]>,
+) -> (Skeleton, Motion) {
+    let partner = |j: usize| partners.map_or(j, |p| p[j]);
+    let mut mirrored = names.clone();
+    for (j, joint) in mirrored.joints.iter_mut().enumerate() {
+        let source = &skeleton.joints[partner(j)];
+        joint.offset = source.offset;
+        joint.offset[axis] = -joint.offset[axis];
+        joint.axis = source.axis.map(|q| reflect_quat(q, axis));
+    }
+    let width = motion.channels;
     let mut data = motion.data.clone();
-    if motion.channels > 0 {
-        for row in data.chunks_mut(motion.channels) {
-            for &column in &negated {
-                row[column] = -row[column];
+    if width > 0 {
+        for (row, out) in motion.data.chunks(width).zip(data.chunks_mut(width)) {
+            for (j, joint) in skeleton.joints.iter().enumerate() {
+                let source = &skeleton.joints[partner(j)];
+                let values = source.values(row);
+                let out = &mut out[joint.first_channel..joint.first_channel + joint.channels.len()];
+                if joint.channels == source.channels {
+                    for ((slot, &value), &channel) in
+                        out.iter_mut().zip(values).zip(&joint.channels)
+                    {
+                        *slot = if reflected(channel, axis) {
+                            -value
+                        } else {
+                            value
+                        };
+                    }
+                    continue;
+                }
+                // Counterparts with the same positions and three rotations in another order.
+                let mut positions = source
+                    .channels
+                    .iter()
+                    .zip(values)
+                    .filter(|(c, _)| c.is_position());
+                let rotation = reflect_quat(
+                    Quat::from_mat4(&crate::pose::channel_rotations(source, values)),
+                    axis,
+                );
+                let order = joint.rotation_order.map_or(EulerRot::ZYX, euler_order);
+                let (a, b, c) = rotation.to_euler(order);
+                let mut angles = [a, b, c].into_iter().map(f32::to_degrees);
+                for (slot, &channel) in out.iter_mut().zip(&joint.channels) {
+                    *slot = if channel.is_position() {
+                        let value = positions.next().map_or(0.0, |(_, &v)| v);
+                        if reflected(channel, axis) {
+                            -value
+                        } else {
+                            value
+                        }
+                    } else {
+                        angles.next().unwrap_or(0.0)
+                    };
+                }
             }
         }
     }
     let frames = motion.frame_count();
     (
         mirrored,
-        Motion::new(motion.frame_time, motion.channels, frames, data),
+        Motion::new(motion.frame_time, width, frames, data),
     )
 }
 
@@ -675,44 +1077,780 @@ mod tests {
         assert_eq!(motion.frame(2)[6], 80.0);
     }
 
-    #[test]
-    fn mirroring_swaps_sides_and_reflects_by_hand_worked_values() {
-        for (name, want) in [
-            ("LeftArm", Some("RightArm")),
-            ("mixamorig:RightHand", Some("mixamorig:LeftHand")),
-            ("upperarm_l", Some("upperarm_r")),
-            ("Arm.R", Some("Arm.L")),
-            ("L_Knee", Some("R_Knee")),
-            ("lhumerus", Some("rhumerus")),
-            ("lShldr", Some("rShldr")),
-            ("rForeArm", Some("lForeArm")),
-            ("Hips", None),
-            ("lowerback", None),
-            ("rotation", None),
-        ] {
-            assert_eq!(mirrored_name(name).as_deref(), want, "{name}");
+    /// Every name of a rig's list that is not in `centre` marks a side, and its mirrored name
+    /// is in the list and marks the other; the names in `centre` mark none; as many left as
+    /// right.
+    fn family(names: &[&str], centre: &[&str]) {
+        let (mut left, mut right) = (0, 0);
+        for &name in names {
+            let guess = name_side(name);
+            if centre.contains(&name) {
+                assert_eq!(guess, None, "{name} has no side");
+                continue;
+            }
+            let (side, other) = guess.unwrap_or_else(|| panic!("{name} has a side"));
+            assert!(
+                names.contains(&other.as_str()),
+                "{name} → {other}: not in the rig"
+            );
+            let (back_side, back) = name_side(&other).unwrap();
+            assert_eq!(
+                (back_side, back.as_str()),
+                (side.other(), name),
+                "{name} → {other}"
+            );
+            match side {
+                Side::Left => left += 1,
+                Side::Right => right += 1,
+            }
         }
-        let text = TWO_FRAMES
-            .replace("JOINT Chest", "JOINT LeftArm")
-            .replace("OFFSET 0 10 0", "OFFSET 3 10 0");
-        let bvh = take(&text);
-        let (skeleton, motion) = mirror(&bvh.skeleton, &bvh.motion);
-        assert_eq!(skeleton.joints[1].name, "RightArm");
-        assert_eq!(skeleton.joints[1].offset, glam::Vec3::new(-3.0, 10.0, 0.0));
-        // Root position x negated; Z and Y rotations negated, X kept.
+        assert_eq!(left, right, "{names:?}");
+        assert!(left > 0);
+    }
+
+    #[test]
+    fn side_names_of_cmu_bvh() {
+        // cgspeed's conversions of CMU's takes (the repository's assimp_01_01.bvh).
+        family(
+            &[
+                "Hips",
+                "LHipJoint",
+                "LeftUpLeg",
+                "LeftLeg",
+                "LeftFoot",
+                "LeftToeBase",
+                "RHipJoint",
+                "RightUpLeg",
+                "RightLeg",
+                "RightFoot",
+                "RightToeBase",
+                "LowerBack",
+                "Spine",
+                "Spine1",
+                "Neck",
+                "Neck1",
+                "Head",
+                "LeftShoulder",
+                "LeftArm",
+                "LeftForeArm",
+                "LeftHand",
+                "LeftFingerBase",
+                "LeftHandIndex1",
+                "LThumb",
+                "RightShoulder",
+                "RightArm",
+                "RightForeArm",
+                "RightHand",
+                "RightFingerBase",
+                "RightHandIndex1",
+                "RThumb",
+            ],
+            &[
+                "Hips",
+                "LowerBack",
+                "Spine",
+                "Spine1",
+                "Neck",
+                "Neck1",
+                "Head",
+            ],
+        );
+    }
+
+    #[test]
+    fn side_names_of_cmu_asf() {
+        family(
+            &[
+                "root",
+                "lhipjoint",
+                "lfemur",
+                "ltibia",
+                "lfoot",
+                "ltoes",
+                "rhipjoint",
+                "rfemur",
+                "rtibia",
+                "rfoot",
+                "rtoes",
+                "lowerback",
+                "upperback",
+                "thorax",
+                "lowerneck",
+                "upperneck",
+                "head",
+                "lclavicle",
+                "lhumerus",
+                "lradius",
+                "lwrist",
+                "lhand",
+                "lfingers",
+                "lthumb",
+                "rclavicle",
+                "rhumerus",
+                "rradius",
+                "rwrist",
+                "rhand",
+                "rfingers",
+                "rthumb",
+            ],
+            &[
+                "root",
+                "lowerback",
+                "upperback",
+                "thorax",
+                "lowerneck",
+                "upperneck",
+                "head",
+            ],
+        );
+    }
+
+    #[test]
+    fn side_names_of_cgspeed() {
+        family(
+            &[
+                "hips",
+                "lhipjoint",
+                "lhip",
+                "lknee",
+                "lankle",
+                "lfoot",
+                "ltoe",
+                "rhipjoint",
+                "rhip",
+                "rknee",
+                "rankle",
+                "rfoot",
+                "rtoe",
+                "lowerback",
+                "upperback",
+                "chest",
+                "neck",
+                "head",
+                "lcollar",
+                "lshoulder",
+                "lelbow",
+                "lwrist",
+                "lhand",
+                "rcollar",
+                "rshoulder",
+                "relbow",
+                "rwrist",
+                "rhand",
+            ],
+            &["hips", "lowerback", "upperback", "chest", "neck", "head"],
+        );
+        // cgspeed's Daz-friendly release.
+        family(
+            &[
+                "hip", "abdomen", "chest", "neck", "head", "leftEye", "rightEye", "rCollar",
+                "rShldr", "rForeArm", "rHand", "rThumb1", "rIndex1", "rMid1", "rRing1", "rPinky1",
+                "lCollar", "lShldr", "lForeArm", "lHand", "lThumb1", "lIndex1", "lMid1", "lRing1",
+                "lPinky1", "rButtock", "rThigh", "rShin", "rFoot", "lButtock", "lThigh", "lShin",
+                "lFoot",
+            ],
+            &["hip", "abdomen", "chest", "neck", "head"],
+        );
+    }
+
+    #[test]
+    fn side_names_of_mixamo() {
+        let names: Vec<String> = [
+            "Hips",
+            "Spine",
+            "Spine1",
+            "Spine2",
+            "Neck",
+            "Head",
+            "HeadTop_End",
+            "LeftShoulder",
+            "LeftArm",
+            "LeftForeArm",
+            "LeftHand",
+            "LeftHandThumb1",
+            "LeftHandIndex1",
+            "LeftHandIndex4",
+            "LeftUpLeg",
+            "LeftLeg",
+            "LeftFoot",
+            "LeftToeBase",
+            "LeftToe_End",
+            "RightShoulder",
+            "RightArm",
+            "RightForeArm",
+            "RightHand",
+            "RightHandThumb1",
+            "RightHandIndex1",
+            "RightHandIndex4",
+            "RightUpLeg",
+            "RightLeg",
+            "RightFoot",
+            "RightToeBase",
+            "RightToe_End",
+        ]
+        .iter()
+        .map(|n| format!("mixamorig:{n}"))
+        .collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        family(
+            &names,
+            &[
+                "mixamorig:Hips",
+                "mixamorig:Spine",
+                "mixamorig:Spine1",
+                "mixamorig:Spine2",
+                "mixamorig:Neck",
+                "mixamorig:Head",
+                "mixamorig:HeadTop_End",
+            ],
+        );
+        assert_eq!(
+            mirrored_name("mixamorig1:LeftHand").as_deref(),
+            Some("mixamorig1:RightHand")
+        );
+        assert_eq!(
+            mirrored_name("Beta:RightUpLeg").as_deref(),
+            Some("Beta:LeftUpLeg")
+        );
+    }
+
+    #[test]
+    fn side_names_of_lafan1() {
+        family(
+            &[
+                "Hips",
+                "LeftUpLeg",
+                "LeftLeg",
+                "LeftFoot",
+                "LeftToe",
+                "RightUpLeg",
+                "RightLeg",
+                "RightFoot",
+                "RightToe",
+                "Spine",
+                "Spine1",
+                "Spine2",
+                "Neck",
+                "Head",
+                "LeftShoulder",
+                "LeftArm",
+                "LeftForeArm",
+                "LeftHand",
+                "RightShoulder",
+                "RightArm",
+                "RightForeArm",
+                "RightHand",
+            ],
+            &["Hips", "Spine", "Spine1", "Spine2", "Neck", "Head"],
+        );
+    }
+
+    #[test]
+    fn side_names_of_bandai() {
+        family(
+            &[
+                "joint_Root",
+                "Hips",
+                "Spine",
+                "Chest",
+                "Neck",
+                "Head",
+                "Shoulder_L",
+                "UpperArm_L",
+                "LowerArm_L",
+                "Hand_L",
+                "Shoulder_R",
+                "UpperArm_R",
+                "LowerArm_R",
+                "Hand_R",
+                "UpperLeg_L",
+                "LowerLeg_L",
+                "Foot_L",
+                "Toes_L",
+                "UpperLeg_R",
+                "LowerLeg_R",
+                "Foot_R",
+                "Toes_R",
+            ],
+            &["joint_Root", "Hips", "Spine", "Chest", "Neck", "Head"],
+        );
+    }
+
+    #[test]
+    fn side_names_of_xsens() {
+        // L5, L3, T12 and T8 are vertebrae, not sides.
+        family(
+            &[
+                "Pelvis",
+                "L5",
+                "L3",
+                "T12",
+                "T8",
+                "Neck",
+                "Head",
+                "RightShoulder",
+                "RightUpperArm",
+                "RightForeArm",
+                "RightHand",
+                "LeftShoulder",
+                "LeftUpperArm",
+                "LeftForeArm",
+                "LeftHand",
+                "RightUpperLeg",
+                "RightLowerLeg",
+                "RightFoot",
+                "RightToe",
+                "LeftUpperLeg",
+                "LeftLowerLeg",
+                "LeftFoot",
+                "LeftToe",
+            ],
+            &["Pelvis", "L5", "L3", "T12", "T8", "Neck", "Head"],
+        );
+    }
+
+    #[test]
+    fn side_names_of_daz_poser_and_second_life() {
+        // Daz Genesis.
+        family(
+            &[
+                "hip",
+                "pelvis",
+                "lThighBend",
+                "lThighTwist",
+                "lShin",
+                "lFoot",
+                "lMetatarsals",
+                "lToe",
+                "rThighBend",
+                "rThighTwist",
+                "rShin",
+                "rFoot",
+                "rMetatarsals",
+                "rToe",
+                "abdomenLower",
+                "abdomenUpper",
+                "chestLower",
+                "chestUpper",
+                "lPectoral",
+                "rPectoral",
+                "lCollar",
+                "lShldrBend",
+                "lShldrTwist",
+                "lForearmBend",
+                "lHand",
+                "lThumb1",
+                "rCollar",
+                "rShldrBend",
+                "rShldrTwist",
+                "rForearmBend",
+                "rHand",
+                "rThumb1",
+                "neckLower",
+                "neckUpper",
+                "head",
+                "lEye",
+                "rEye",
+                "lowerJaw",
+                "upperJaw",
+                "lowerFaceRig",
+            ],
+            &[
+                "hip",
+                "pelvis",
+                "abdomenLower",
+                "abdomenUpper",
+                "chestLower",
+                "chestUpper",
+                "neckLower",
+                "neckUpper",
+                "head",
+                "lowerJaw",
+                "upperJaw",
+                "lowerFaceRig",
+            ],
+        );
+        // Second Life (the repository's opencollar takes), Bento included.
+        family(
+            &[
+                "hip",
+                "abdomen",
+                "chest",
+                "neck",
+                "head",
+                "lCollar",
+                "lShldr",
+                "lForeArm",
+                "lHand",
+                "rCollar",
+                "rShldr",
+                "rForeArm",
+                "rHand",
+                "lThigh",
+                "lShin",
+                "lFoot",
+                "rThigh",
+                "rShin",
+                "rFoot",
+                "mPelvis",
+                "mTorso",
+                "mChest",
+                "mNeck",
+                "mHead",
+                "mHipLeft",
+                "mKneeLeft",
+                "mAnkleLeft",
+                "mHipRight",
+                "mKneeRight",
+                "mAnkleRight",
+                "mCollarLeft",
+                "mShoulderLeft",
+                "mElbowLeft",
+                "mWristLeft",
+                "mCollarRight",
+                "mShoulderRight",
+                "mElbowRight",
+                "mWristRight",
+                "mEyeLeft",
+                "mEyeRight",
+                "mFaceEar1Left",
+                "mFaceEar1Right",
+                "mHandThumb1Left",
+                "mHandThumb1Right",
+                "mFaceNoseCenter",
+                "mFaceJaw",
+            ],
+            &[
+                "hip",
+                "abdomen",
+                "chest",
+                "neck",
+                "head",
+                "mPelvis",
+                "mTorso",
+                "mChest",
+                "mNeck",
+                "mHead",
+                "mFaceNoseCenter",
+                "mFaceJaw",
+            ],
+        );
+    }
+
+    #[test]
+    fn side_names_of_rokoko() {
+        family(
+            &[
+                "Hips",
+                "Spine1",
+                "Spine2",
+                "Spine3",
+                "Spine4",
+                "Neck",
+                "Head",
+                "LeftShoulder",
+                "LeftArm",
+                "LeftForeArm",
+                "LeftHand",
+                "LeftFinger1Metacarpal",
+                "LeftThigh",
+                "LeftShin",
+                "LeftFoot",
+                "LeftToe",
+                "LeftToeEnd",
+                "RightShoulder",
+                "RightArm",
+                "RightForeArm",
+                "RightHand",
+                "RightFinger1Metacarpal",
+                "RightThigh",
+                "RightShin",
+                "RightFoot",
+                "RightToe",
+                "RightToeEnd",
+                "LeftInHandIndex",
+                "RightInHandIndex",
+            ],
+            &[
+                "Hips", "Spine1", "Spine2", "Spine3", "Spine4", "Neck", "Head",
+            ],
+        );
+    }
+
+    #[test]
+    fn side_names_of_smpl() {
+        family(
+            &[
+                "pelvis",
+                "left_hip",
+                "right_hip",
+                "spine1",
+                "left_knee",
+                "right_knee",
+                "spine2",
+                "left_ankle",
+                "right_ankle",
+                "spine3",
+                "left_foot",
+                "right_foot",
+                "neck",
+                "left_collar",
+                "right_collar",
+                "head",
+                "left_shoulder",
+                "right_shoulder",
+                "left_elbow",
+                "right_elbow",
+                "left_wrist",
+                "right_wrist",
+                "left_hand",
+                "right_hand",
+            ],
+            &["pelvis", "spine1", "spine2", "spine3", "neck", "head"],
+        );
+        family(
+            &[
+                "Pelvis",
+                "L_Hip",
+                "R_Hip",
+                "Spine1",
+                "L_Knee",
+                "R_Knee",
+                "Spine2",
+                "L_Ankle",
+                "R_Ankle",
+                "Spine3",
+                "L_Foot",
+                "R_Foot",
+                "Neck",
+                "L_Collar",
+                "R_Collar",
+                "Head",
+                "L_Shoulder",
+                "R_Shoulder",
+                "L_Elbow",
+                "R_Elbow",
+                "L_Wrist",
+                "R_Wrist",
+                "L_Hand",
+                "R_Hand",
+            ],
+            &["Pelvis", "Spine1", "Spine2", "Spine3", "Neck", "Head"],
+        );
+    }
+
+    #[test]
+    fn side_names_of_makehuman_blender_unreal_and_3ds_max() {
+        family(
+            &[
+                "root",
+                "spine05",
+                "pelvis.L",
+                "pelvis.R",
+                "upperleg01.L",
+                "upperleg01.R",
+                "toe1-1.L",
+                "toe1-1.R",
+                "__Eye_L",
+                "__Eye_R",
+                "Clavicle_L",
+                "Clavicle_R",
+                "DEF-thigh.L",
+                "DEF-thigh.R",
+                "thigh.L.001",
+                "thigh.R.001",
+                "thigh_l",
+                "thigh_r",
+                "calf_l",
+                "calf_r",
+                "spine_01",
+                "neck_01",
+                "Bip01 L Thigh",
+                "Bip01 R Thigh",
+                "Bip01 Pelvis",
+                "Bip01 Spine",
+                "LEFT_ARM",
+                "RIGHT_ARM",
+                "lefthand",
+                "righthand",
+            ],
+            &[
+                "root",
+                "spine05",
+                "spine_01",
+                "neck_01",
+                "Bip01 Pelvis",
+                "Bip01 Spine",
+            ],
+        );
+    }
+
+    #[test]
+    fn names_without_a_side() {
+        for name in [
+            "Hips",
+            "Spine",
+            "Head",
+            "Neck",
+            "lowerback",
+            "upperback",
+            "LowerBack",
+            "Chest",
+            "L5",
+            "T8",
+            "rotation",
+            "Root",
+            "ROOT",
+            "RootNode",
+            "Leftover",
+            "upright",
+            "Bright",
+            "Light",
+            "lowerneck",
+            "hip",
+            "ring",
+            "rib",
+            "lip",
+            "Site",
+            "Reference",
+            "LOWER",
+        ] {
+            assert_eq!(name_side(name), None, "{name}");
+        }
+    }
+
+    const ARMS: &str = "HIERARCHY\nROOT Hips\n{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition \
+        Zposition Zrotation Xrotation Yrotation\nJOINT LeftArm\n{\nOFFSET 3 10 0\nCHANNELS 3 \
+        Zrotation Xrotation Yrotation\nEnd Site\n{\nOFFSET 2 0 0\n}\n}\nJOINT RightArm\n{\n\
+        OFFSET -3.5 10 0\nCHANNELS 3 Zrotation Xrotation Yrotation\nEnd Site\n{\nOFFSET -2 0.5 \
+        0\n}\n}\n}\nMOTION\nFrames: 2\nFrame Time: 0.5\n0 0 0 0 0 0 10 20 30 40 50 60\n\
+        4 2 -2 5 6 7 11 21 31 41 51 61\n";
+
+    #[test]
+    fn mirroring_swaps_the_motion_of_left_and_right_by_hand_worked_values() {
+        let bvh = take(ARMS);
+        let options = MirrorOptions::default();
+        let (skeleton, motion) = mirror(&bvh.skeleton, &bvh.motion, &options).unwrap();
+        // Names, parents and channels kept.
+        for (a, b) in skeleton.joints.iter().zip(&bvh.skeleton.joints) {
+            assert_eq!(
+                (&a.name, a.parent, &a.channels),
+                (&b.name, b.parent, &b.channels)
+            );
+        }
+        // Each arm takes the other's OFFSET (and End Site), reflected across x.
+        let offsets: Vec<glam::Vec3> = skeleton.joints.iter().map(|j| j.offset).collect();
+        assert_eq!(
+            offsets,
+            [
+                glam::Vec3::ZERO,
+                glam::Vec3::new(3.5, 10.0, 0.0),
+                glam::Vec3::new(2.0, 0.5, 0.0),
+                glam::Vec3::new(-3.0, 10.0, 0.0),
+                glam::Vec3::new(-2.0, 0.0, 0.0),
+            ]
+        );
+        // The root: x position, Z and Y rotations negated. LeftArm: RightArm's angles with Z
+        // and Y negated, and the other way round.
         assert_eq!(
             motion.frame(1),
-            [-4.0, 2.0, -2.0, -0.0, 0.0, -0.0, -40.0, 0.0, -0.0]
+            [
+                -4.0, 2.0, -2.0, -5.0, 6.0, -7.0, -41.0, 51.0, -61.0, -11.0, 21.0, -31.0
+            ]
         );
-        // The mirror image: every world position with x negated.
+        // Every world position is its counterpart's reflected; twice gives the take back.
         let mode = crate::pose::OffsetMode::Replace;
-        let before = crate::pose::world_positions(&bvh.skeleton, bvh.motion.frame(2), mode);
-        let after = crate::pose::world_positions(&skeleton, motion.frame(2), mode);
-        for (b, a) in before.iter().zip(&after) {
-            assert!(
-                glam::Vec3::new(-b.x, b.y, b.z).abs_diff_eq(*a, 1e-4),
-                "{b} {a}"
-            );
+        let partners = [0, 3, 4, 1, 2];
+        for frame in 0..2 {
+            let before = crate::pose::world_positions(&bvh.skeleton, bvh.motion.frame(frame), mode);
+            let after = crate::pose::world_positions(&skeleton, motion.frame(frame), mode);
+            for (j, a) in after.iter().enumerate() {
+                let b = before[partners[j]];
+                assert!(
+                    glam::Vec3::new(-b.x, b.y, b.z).abs_diff_eq(*a, 1e-4),
+                    "{b} {a}"
+                );
+            }
+        }
+        let (again, back) = mirror(&skeleton, &motion, &options).unwrap();
+        assert_eq!(again, bvh.skeleton);
+        assert_eq!(back, bvh.motion);
+        assert_eq!(
+            mirror_partners(&bvh.skeleton, &Default::default()).unwrap(),
+            partners
+        );
+    }
+
+    #[test]
+    fn mirroring_by_renaming_reflects_each_joint_where_it_is() {
+        let bvh = take(ARMS);
+        let options = MirrorOptions {
+            rename: true,
+            ..Default::default()
+        };
+        let (skeleton, motion) = mirror(&bvh.skeleton, &bvh.motion, &options).unwrap();
+        let names: Vec<&str> = skeleton.joints.iter().map(|j| j.name.as_str()).collect();
+        assert_eq!(names, ["Hips", "RightArm", "Site", "LeftArm", "Site"]);
+        assert_eq!(skeleton.joints[1].offset, glam::Vec3::new(-3.0, 10.0, 0.0));
+        assert_eq!(
+            motion.frame(1),
+            [
+                -4.0, 2.0, -2.0, -5.0, 6.0, -7.0, -11.0, 21.0, -31.0, -41.0, 51.0, -61.0
+            ]
+        );
+        // By name, the same world positions as the swap.
+        let mode = crate::pose::OffsetMode::Replace;
+        let (swapped, swapped_motion) =
+            mirror(&bvh.skeleton, &bvh.motion, &MirrorOptions::default()).unwrap();
+        let a = crate::pose::world_positions(&skeleton, motion.frame(1), mode);
+        let b = crate::pose::world_positions(&swapped, swapped_motion.frame(1), mode);
+        assert!(a[1].abs_diff_eq(b[3], 1e-5) && a[3].abs_diff_eq(b[1], 1e-5));
+    }
+
+    #[test]
+    fn mirror_counterparts_can_be_given_and_mismatches_stay_in_place() {
+        let bvh = take(&ARMS.replace("LeftArm", "ArmA").replace("RightArm", "ArmB"));
+        let none = mirror_partners(&bvh.skeleton, &Default::default()).unwrap();
+        assert_eq!(none, [0, 1, 2, 3, 4]);
+        let names = [("ArmA".to_string(), "ArmB".to_string())].into();
+        assert_eq!(
+            mirror_partners(&bvh.skeleton, &names).unwrap(),
+            [0, 3, 4, 1, 2]
+        );
+        let unknown = [("ArmA".to_string(), "Nobody".to_string())].into();
+        assert!(mirror_partners(&bvh.skeleton, &unknown).is_err());
+        let parent = [("Hips".to_string(), "ArmB".to_string())].into();
+        assert!(mirror_partners(&bvh.skeleton, &parent).is_err());
+        // A counterpart with other channels keeps its own side: nothing swaps.
+        let odd = take(
+            &ARMS
+                .replacen(
+                    "CHANNELS 3 Zrotation Xrotation Yrotation\nEnd Site",
+                    "CHANNELS 2 Zrotation Xrotation\nEnd Site",
+                    1,
+                )
+                .replace("10 20 30 40", "10 20 40")
+                .replace("11 21 31 41", "11 21 41"),
+        );
+        assert_eq!(
+            mirror_partners(&odd.skeleton, &Default::default()).unwrap(),
+            [0, 1, 2, 3, 4]
+        );
+        // Counterparts whose rotation orders differ: the reflected rotation in each one's own
+        // order, the same world positions.
+        let mixed = take(&ARMS.replacen(
+            "CHANNELS 3 Zrotation Xrotation Yrotation\nEnd Site",
+            "CHANNELS 3 Xrotation Yrotation Zrotation\nEnd Site",
+            1,
+        ));
+        let (skeleton, motion) =
+            mirror(&mixed.skeleton, &mixed.motion, &MirrorOptions::default()).unwrap();
+        let mode = crate::pose::OffsetMode::Replace;
+        let before = crate::pose::world_positions(&mixed.skeleton, mixed.motion.frame(1), mode);
+        let after = crate::pose::world_positions(&skeleton, motion.frame(1), mode);
+        for (j, &k) in [0, 3, 4, 1, 2].iter().enumerate() {
+            let b = before[k];
+            assert!(glam::Vec3::new(-b.x, b.y, b.z).abs_diff_eq(after[j], 1e-4));
         }
     }
 

@@ -120,9 +120,9 @@ fn position_joints(skeleton: &Skeleton) -> String {
 }
 
 /// Warns when the non-root position channels look written for the other `--offset-mode`: under
-/// `replace`, nearly all of them are zero at frame 0 while the OFFSETs are not (MakeHuman's
-/// files, which mean "added to OFFSET"); under `add`, they equal the OFFSETs (so adding doubles
-/// every bone).
+/// `replace`, nearly all of them are at or near zero at frame 0 while the OFFSETs are not
+/// (MakeHuman's files, which mean "added to OFFSET"); under `add`, they repeat the OFFSETs (so
+/// adding doubles every bone). See [`crate::pose::written_for_other_mode`].
 pub fn offset_mode_warning(
     skeleton: &Skeleton,
     motion: &Motion,
@@ -131,14 +131,15 @@ pub fn offset_mode_warning(
     let (matching, candidates) = crate::pose::written_for_other_mode(skeleton, motion, mode)?;
     Some(match mode {
         OffsetMode::Replace => format!(
-            "{matching} of {candidates} non-root joints with position channels have them all 0 at \
-             frame 0 while their OFFSETs are not: the file looks written for `--offset-mode add` \
-             (position added to OFFSET); with the default (replace) those bones collapse"
+            "{matching} of {candidates} non-root joints with position channels have them at or \
+             near 0 at frame 0 (within 5% of their OFFSETs' length) while their OFFSETs are not: \
+             the file looks written for `--offset-mode add` (position added to OFFSET); with the \
+             default (replace) those bones collapse"
         ),
         OffsetMode::Add => format!(
             "{matching} of {candidates} non-root joints with position channels repeat their OFFSET \
-             at frame 0: the file looks written for the default `--offset-mode replace`; adding \
-             doubles those bones"
+             at frame 0 (within 5% of its length): the file looks written for the default \
+             `--offset-mode replace`; adding doubles those bones"
         ),
     })
 }

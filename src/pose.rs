@@ -63,10 +63,18 @@ impl Up {
     }
 }
 
-/// Whether the non-root position channels look written for the other offset mode than `mode`:
-/// under `Replace`, nine in ten or more of them are all zero at frame 0 while their OFFSETs are
-/// not (MakeHuman's files, which mean "added to OFFSET"); under `Add`, they equal their OFFSETs.
-/// `Some((matching, candidates))` when they do (`info` words the warning).
+/// How near a position channel's values must be to 0 (or to the OFFSET) to count as "written
+/// for the other mode", as a fraction of the OFFSET's length along the channels' axes.
+pub const OTHER_MODE_NEAR: f32 = 0.05;
+
+/// Whether the non-root position channels look written for the other offset mode than `mode`,
+/// by frame 0. A candidate is a non-root joint with position channels whose OFFSET, along those
+/// channels' axes, is at least 1e-3 long; under `Replace` it looks written for `Add` when its
+/// position values are within 5% of that length of 0 (MakeHuman's files: zeros, or deltas such
+/// as 7e-4 against OFFSETs of 0.33, "added to OFFSET"); under `Add` it looks written for
+/// `Replace` when they are within 5% of the OFFSET (adding would double the bone). Nine in ten
+/// candidates or more must look so. `Some((matching, candidates))` when they do (`info` words
+/// the warning, and [`guessed_mode`] follows it).
 pub fn written_for_other_mode(
     skeleton: &Skeleton,
     motion: &crate::motion::Motion,
@@ -80,22 +88,30 @@ pub fn written_for_other_mode(
     let mut matching = 0;
     for joint in skeleton.joints.iter().filter(|j| j.parent.is_some()) {
         let values = joint.values(frame);
-        let positions: Vec<(usize, f32)> = joint
-            .channels
-            .iter()
-            .zip(values)
-            .filter(|(c, _)| c.is_position())
-            .map(|(c, &v)| (c.axis(), v))
-            .collect();
-        if positions.is_empty() || joint.offset.length() < 1e-3 {
+        // The values on each axis the channels set (the last channel of an axis wins, as in
+        // `joint_translation`), and the OFFSET along the same axes.
+        let mut set = [None; 3];
+        for (channel, &value) in joint.channels.iter().zip(values) {
+            if channel.is_position() {
+                set[channel.axis()] = Some(value);
+            }
+        }
+        let (mut value, mut offset) = (Vec3::ZERO, Vec3::ZERO);
+        for (axis, v) in set.iter().enumerate() {
+            if let Some(v) = v {
+                value[axis] = *v;
+                offset[axis] = joint.offset[axis];
+            }
+        }
+        let length = offset.length();
+        if set.iter().all(Option::is_none) || !(length >= 1e-3 && value.is_finite()) {
             continue;
         }
         candidates += 1;
+        let near = (OTHER_MODE_NEAR * length).max(1e-4);
         let looks_other = match mode {
-            OffsetMode::Replace => positions.iter().all(|&(_, v)| v.abs() <= 1e-4),
-            OffsetMode::Add => positions.iter().all(|&(axis, v)| {
-                (v - joint.offset[axis]).abs() <= 1e-4 * joint.offset.length().max(1.0)
-            }),
+            OffsetMode::Replace => value.length() <= near,
+            OffsetMode::Add => (value - offset).length() <= near,
         };
         if looks_other {
             matching += 1;
@@ -105,6 +121,20 @@ pub fn written_for_other_mode(
         return None;
     }
     Some((matching, candidates))
+}
+
+/// The mode a take looks written for, starting from `mode`: the other one when
+/// [`written_for_other_mode`] says so, else `mode` itself.
+pub fn guessed_mode(
+    skeleton: &Skeleton,
+    motion: &crate::motion::Motion,
+    mode: OffsetMode,
+) -> OffsetMode {
+    match (written_for_other_mode(skeleton, motion, mode), mode) {
+        (None, _) => mode,
+        (Some(_), OffsetMode::Replace) => OffsetMode::Add,
+        (Some(_), OffsetMode::Add) => OffsetMode::Replace,
+    }
 }
 
 /// The joint's translation `t` for one frame: its OFFSET with its position channels replacing

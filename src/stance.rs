@@ -181,14 +181,7 @@ impl Stance {
         mode: OffsetMode,
         stated: Option<Units>,
     ) -> Stance {
-        let mode = if crate::pose::written_for_other_mode(skeleton, motion, mode).is_some() {
-            match mode {
-                OffsetMode::Replace => OffsetMode::Add,
-                OffsetMode::Add => OffsetMode::Replace,
-            }
-        } else {
-            mode
-        };
+        let mode = crate::pose::guessed_mode(skeleton, motion, mode);
         // The body: every point but the roots (a root may stand far from the figure, as
         // Bandai's joint_Root does on the floor), unless that leaves nothing.
         let body: Vec<usize> = {

@@ -184,6 +184,10 @@ fn convert_edits_up_mirror_in_place_and_ground() {
         .iter()
         .map(|j| j.name.as_str())
         .collect();
+    // `--mirror` swaps the sides' motion and keeps every name; `--mirror-rename` exchanges the
+    // names instead.
+    assert_eq!(names, original_names);
+    let renamed = run(&["--up", "y", "--mirror-rename"]);
     let left = original_names
         .iter()
         .position(|n| {
@@ -191,7 +195,7 @@ fn convert_edits_up_mirror_in_place_and_ground() {
         })
         .expect("a left joint");
     assert_ne!(
-        names[left], original_names[left],
+        renamed.skeleton.joints[left].name, original_names[left],
         "sides exchanged: {}",
         original_names[left]
     );

@@ -21,9 +21,14 @@ pub(crate) struct ConvertArgs {
     /// Turn the take to this up axis from its own, as `info` guesses it (fourth).
     #[arg(long, value_enum)]
     up: Option<UpArg>,
-    /// The mirror image: x negated, Left and Right exchanged in the names (fifth).
+    /// The mirror image across the body's middle (fifth): left and right joints swap their
+    /// motion, every name and the skeleton's layout kept.
     #[arg(long)]
     mirror: bool,
+    /// The mirror image made by renaming instead: every joint reflected where it is, Left and
+    /// Right exchanged in the names (the same world positions by name, another joint order).
+    #[arg(long, conflicts_with = "mirror")]
+    mirror_rename: bool,
     /// Remove the roots' travel across the ground (sixth).
     #[arg(long)]
     in_place: bool,
@@ -79,8 +84,13 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
             bvhview::edit::reorient(&loaded.skeleton, &loaded.motion, up, target)?;
         up = target;
     }
-    if args.mirror {
-        (loaded.skeleton, loaded.motion) = bvhview::edit::mirror(&loaded.skeleton, &loaded.motion);
+    if args.mirror || args.mirror_rename {
+        let options = bvhview::edit::MirrorOptions {
+            rename: args.mirror_rename,
+            ..Default::default()
+        };
+        (loaded.skeleton, loaded.motion) =
+            bvhview::edit::mirror(&loaded.skeleton, &loaded.motion, &options)?;
     }
     if args.in_place {
         loaded.motion = bvhview::edit::in_place(&loaded.skeleton, &loaded.motion, up);
