@@ -4,6 +4,7 @@ use crate::input::Loaded;
 use crate::motion::Motion;
 use crate::pose::OffsetMode;
 use crate::skeleton::Skeleton;
+use crate::stance::Stance;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
@@ -18,11 +19,86 @@ pub fn readable(value: f64, decimals: usize) -> String {
     }
 }
 
-/// Every warning `info` gives for a file: the loader's, then the offset-mode guess.
+/// Every warning `info` gives for a file: the loader's, the offset-mode guess, then the size of
+/// a human-like figure.
 pub fn warnings(loaded: &Loaded, mode: OffsetMode) -> Vec<String> {
+    warnings_with(loaded, mode, &loaded.stance(mode))
+}
+
+/// [`warnings`] with the take's stance already guessed.
+fn warnings_with(loaded: &Loaded, mode: OffsetMode, stance: &Stance) -> Vec<String> {
     let mut warnings = loaded.warnings.clone();
     warnings.extend(offset_mode_warning(&loaded.skeleton, &loaded.motion, mode));
+    warnings.extend(size_warning(&loaded.skeleton, stance));
     warnings
+}
+
+/// A person, in metres, spans at least this…
+pub const HUMAN_LEAST: f32 = 0.5;
+/// … and at most this.
+pub const HUMAN_MOST: f32 = 2.5;
+
+/// Words that name an arm's parts and a leg's, in lower case.
+const ARM_WORDS: [&str; 11] = [
+    "arm", "shoulder", "shldr", "clavicle", "collar", "humerus", "elbow", "wrist", "hand",
+    "radius", "forearm",
+];
+const LEG_WORDS: [&str; 10] = [
+    "leg", "thigh", "knee", "foot", "femur", "tibia", "hip", "ankle", "shin", "toe",
+];
+
+/// Whether a skeleton looks like a person's: a joint named as a head, and a left and a right
+/// arm and leg by their names (see [`crate::edit::name_side`]), each side's joint paired with
+/// the other's. `Some` names the joints it goes by (`Head, LeftArm/RightArm, …`).
+pub fn human_like(skeleton: &Skeleton) -> Option<String> {
+    let names: Vec<&str> = skeleton
+        .joints
+        .iter()
+        .filter(|j| !j.end_site)
+        .map(|j| j.name.as_str())
+        .collect();
+    let head = names
+        .iter()
+        .find(|n| n.to_ascii_lowercase().contains("head"))?;
+    let pair = |words: &[&str]| {
+        names.iter().find_map(|&name| {
+            let (side, other) = crate::edit::name_side(name)?;
+            let lower = name.to_ascii_lowercase();
+            let part = words.iter().any(|w| lower.contains(w));
+            (side == crate::edit::Side::Left && part && names.contains(&other.as_str()))
+                .then(|| format!("{name}/{other}"))
+        })
+    };
+    Some(format!(
+        "{head}, {}, {}",
+        pair(&ARM_WORDS)?,
+        pair(&LEG_WORDS)?
+    ))
+}
+
+/// Warns when a human-like skeleton ([`human_like`]), in the units guessed (or stated) for it,
+/// spans less than 0.5 m or more than 2.5 m: the units, or the offset mode, are likely wrong.
+/// The figure's size (its largest spread, standing or lying) is what is compared: a person
+/// lying down stands low but still spans a person's length.
+pub fn size_warning(skeleton: &Skeleton, stance: &Stance) -> Option<String> {
+    let metres = stance.size * stance.units.metres;
+    if !metres.is_finite() || stance.size <= 1e-6 || (HUMAN_LEAST..=HUMAN_MOST).contains(&metres) {
+        return None;
+    }
+    let joints = human_like(skeleton)?;
+    let bound = if metres < HUMAN_LEAST {
+        format!("under the {HUMAN_LEAST} m a person spans at least")
+    } else {
+        format!("over the {HUMAN_MOST} m a person spans at most")
+    };
+    Some(format!(
+        "a human-like skeleton ({joints}) spans {} m in {}, {bound} (it stands {} m tall): the \
+         units or the offset mode may be wrong (`convert --scale` rescales; `--offset-mode` \
+         says how position channels count)",
+        readable(f64::from(metres), 3),
+        stance.units.name,
+        readable(f64::from(stance.height * stance.units.metres), 3),
+    ))
 }
 
 /// A human-readable summary: joints, End Sites, channels, frames, timing, orders, warnings.
@@ -70,7 +146,7 @@ pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
             "units:            unknown (every point of the figure is in one place)"
         );
     }
-    let warnings = warnings(loaded, mode);
+    let warnings = warnings_with(loaded, mode, &stance);
     if warnings.is_empty() {
         let _ = writeln!(out, "warnings:         none");
     } else {

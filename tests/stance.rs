@@ -370,3 +370,192 @@ fn converted_takes_read_back_as_written() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `take` written as a BVH file in `dir`, and what `bvhview info` says of it.
+fn info_of(dir: &Path, name: &str, take: &bvhview::input::Loaded) -> String {
+    let path = dir.join(name);
+    let mut bytes = Vec::new();
+    bvhview::bvh::writer::write_bvh(&mut bytes, &take.skeleton, &take.motion).unwrap();
+    std::fs::write(&path, bytes).unwrap();
+    let info = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("info")
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(info.status.success());
+    String::from_utf8(info.stdout).unwrap()
+}
+
+/// MakeHuman's take with its non-root position channels set by `value(joint, axis)`.
+fn makehuman_with(value: &dyn Fn(usize, usize) -> f32) -> bvhview::input::Loaded {
+    let mut take = bvhview::input::load(&repo_data("bvh/makehuman_tpose.bvh"), None, None).unwrap();
+    let width = take.motion.channels;
+    for (j, joint) in take.skeleton.joints.iter().enumerate() {
+        if joint.parent.is_none() {
+            continue;
+        }
+        for (i, channel) in joint.channels.iter().enumerate() {
+            if channel.is_position() {
+                for row in take.motion.data.chunks_mut(width) {
+                    row[joint.first_channel + i] = value(j, channel.axis());
+                }
+            }
+        }
+    }
+    take
+}
+
+/// Issue 35: MakeHuman takes whose non-root position channels are tiny but not zero (up to 7e-4
+/// against OFFSETs of about 0.33) are written for `--offset-mode add`; read in replace mode
+/// their bones collapse ("stands 2.08 tall, 0.208 m").
+#[test]
+fn tiny_non_root_position_channels_are_read_in_add_mode() {
+    // Deltas of 1e-4 to 7e-4, either sign, never 0.
+    let tiny = |j: usize, axis: usize| {
+        let k = (j * 3 + axis) % 13;
+        let magnitude = 1e-4 + 5e-5 * k as f32;
+        if (j + axis) % 2 == 0 {
+            magnitude
+        } else {
+            -magnitude
+        }
+    };
+    let take = makehuman_with(&tiny);
+    let (skeleton, motion) = (&take.skeleton, &take.motion);
+    let (matching, candidates) =
+        bvhview::pose::written_for_other_mode(skeleton, motion, OffsetMode::Replace)
+            .expect("looks written for add");
+    assert_eq!((matching, candidates), (143, 143));
+    assert_eq!(
+        bvhview::pose::guessed_mode(skeleton, motion, OffsetMode::Replace),
+        OffsetMode::Add
+    );
+    let stance = take.stance(OffsetMode::Replace);
+    assert_eq!(stance.mode, OffsetMode::Add);
+    assert_eq!(stance.units.name, "decimetres");
+    let metres = stance.height * stance.units.metres;
+    assert!((1.6..1.75).contains(&metres), "{metres}");
+
+    let dir = tempfile::tempdir().unwrap();
+    let text = info_of(dir.path(), "tiny.bvh", &take);
+    assert!(
+        text.contains("units:            decimetres (sure:"),
+        "{text}"
+    );
+    assert!(
+        text.contains("looks written for `--offset-mode add`"),
+        "{text}"
+    );
+    assert!(!text.contains("human-like"), "{text}");
+
+    // A file written for replace (channels within 3% of the OFFSETs) stays in replace, and is
+    // said to look so under `--offset-mode add`.
+    let offsets: Vec<glam::Vec3> = take.skeleton.joints.iter().map(|j| j.offset).collect();
+    let near = |j: usize, axis: usize| offsets[j][axis] * if j % 2 == 0 { 1.03 } else { 0.97 };
+    let replace = makehuman_with(&near);
+    let (skeleton, motion) = (&replace.skeleton, &replace.motion);
+    assert_eq!(
+        bvhview::pose::written_for_other_mode(skeleton, motion, OffsetMode::Replace),
+        None
+    );
+    assert!(bvhview::pose::written_for_other_mode(skeleton, motion, OffsetMode::Add).is_some());
+    // Channels a fifth of the OFFSETs long look written for neither.
+    let fifth = |j: usize, axis: usize| offsets[j][axis] * 0.2;
+    let neither = makehuman_with(&fifth);
+    for mode in [OffsetMode::Replace, OffsetMode::Add] {
+        let found = bvhview::pose::written_for_other_mode(&neither.skeleton, &neither.motion, mode);
+        assert_eq!(found, None, "{mode:?}");
+    }
+}
+
+/// Issue 35: `info` warns when a human-like skeleton is under 0.5 m or over 2.5 m in the units
+/// guessed for it (a 0.25 m or 3.9 m "human"), and not for a person's size nor for a skeleton
+/// that is not a person's.
+#[test]
+fn info_warns_of_humans_under_half_a_metre_or_over_two_and_a_half() {
+    let dir = tempfile::tempdir().unwrap();
+    let walk = bvhview::input::default_motion().unwrap();
+    let size = walk.stance(OffsetMode::Replace).size;
+    let text = info_of(dir.path(), "walk.bvh", &walk);
+    assert!(text.contains("warnings:         none"), "{text}");
+    for (metres, what) in [
+        (0.25, "under the 0.5 m"),
+        (3.9, "over the 2.5 m"),
+        (0.45, "under the 0.5 m"),
+    ] {
+        let (skeleton, motion) =
+            bvhview::edit::scale(&walk.skeleton, &walk.motion, metres / size).unwrap();
+        let scaled = bvhview::input::Loaded {
+            skeleton,
+            motion,
+            ..walk.clone()
+        };
+        let stance = scaled.stance(OffsetMode::Replace);
+        assert_eq!(stance.units.name, "metres", "{metres}");
+        let text = info_of(dir.path(), "scaled.bvh", &scaled);
+        let line = text
+            .lines()
+            .find(|l| l.contains("human-like skeleton"))
+            .unwrap_or_else(|| panic!("{metres} m: no warning in {text}"));
+        assert!(line.contains(what), "{line}");
+        assert!(line.contains(&format!("spans {metres:.3} m")), "{line}");
+    }
+    // Within a person's size: none.
+    for metres in [0.6, 1.2, 2.3] {
+        let (skeleton, motion) =
+            bvhview::edit::scale(&walk.skeleton, &walk.motion, metres / size).unwrap();
+        let scaled = bvhview::input::Loaded {
+            skeleton,
+            motion,
+            ..walk.clone()
+        };
+        let warnings = bvhview::info::warnings(&scaled, OffsetMode::Replace);
+        assert!(warnings.is_empty(), "{metres}: {warnings:?}");
+    }
+    // Not a person: a two-joint take 3 m tall says nothing of it.
+    let simple =
+        bvhview::input::load(&repo_data("bvh/bvhanim_test_simple.bvh"), None, None).unwrap();
+    assert_eq!(bvhview::info::human_like(&simple.skeleton), None);
+    let stance = simple.stance(OffsetMode::Replace);
+    assert_eq!(bvhview::info::size_warning(&simple.skeleton, &stance), None);
+}
+
+/// Every person of the repository's takes is human-like, by the names of every family.
+#[test]
+fn the_repository_people_are_human_like() {
+    for file in [
+        "bvh/animateddrawings_rokoko_jesse_dance.bvh",
+        "bvh/assimp_01_01.bvh",
+        "bvh/bvh11_131_01.bvh",
+        "bvh/bvhio_example.bvh",
+        "bvh/bvhparser_simple.bvh",
+        "bvh/bvhparser_walk_01.bvh",
+        "bvh/bvhpython_test_freebvh.bvh",
+        "bvh/bvhpython_test_mocapbank.bvh",
+        "bvh/makehuman_dance1.bvh",
+        "bvh/makehuman_tpose.bvh",
+        "bvh/makehuman_walk1.bvh",
+        "bvh/opencollar_cutie.bvh",
+        "bvh/opencollar_run.bvh",
+        "bvh/opencollar_oc_stand_boy01.bvh",
+    ] {
+        let take = bvhview::input::load(&repo_data(file), None, None).unwrap();
+        let found = bvhview::info::human_like(&take.skeleton);
+        assert!(found.is_some(), "{file}");
+        let stance = take.stance(OffsetMode::Replace);
+        assert_eq!(
+            bvhview::info::size_warning(&take.skeleton, &stance),
+            None,
+            "{file}"
+        );
+    }
+    let asf = bvhview::input::load(
+        &repo_data("asf_amc/heiden_12.asf"),
+        Some(&repo_data("asf_amc/heiden_12_02_01.amc")),
+        None,
+    )
+    .unwrap();
+    assert!(bvhview::info::human_like(&asf.skeleton).is_some());
+    let usd = bvhview::input::load(&repo_data("bvh/usdbvhanim_test_bvh.bvh"), None, None).unwrap();
+    assert_eq!(bvhview::info::human_like(&usd.skeleton), None);
+}
