@@ -158,7 +158,7 @@ impl Resampling {
             return Resampling::Same;
         }
         let k = (1.0 / ratio).round();
-        if k >= 2.0 && k < 1e9 && (ratio * k - 1.0).abs() < SAME_RATE {
+        if (2.0..1e9).contains(&k) && (ratio * k - 1.0).abs() < SAME_RATE {
             return Resampling::EveryKth(k as usize);
         }
         Resampling::Interpolated

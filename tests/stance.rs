@@ -414,7 +414,7 @@ fn tiny_non_root_position_channels_are_read_in_add_mode() {
     let tiny = |j: usize, axis: usize| {
         let k = (j * 3 + axis) % 13;
         let magnitude = 1e-4 + 5e-5 * k as f32;
-        if (j + axis) % 2 == 0 {
+        if (j + axis).is_multiple_of(2) {
             magnitude
         } else {
             -magnitude
@@ -451,7 +451,8 @@ fn tiny_non_root_position_channels_are_read_in_add_mode() {
     // A file written for replace (channels within 3% of the OFFSETs) stays in replace, and is
     // said to look so under `--offset-mode add`.
     let offsets: Vec<glam::Vec3> = take.skeleton.joints.iter().map(|j| j.offset).collect();
-    let near = |j: usize, axis: usize| offsets[j][axis] * if j % 2 == 0 { 1.03 } else { 0.97 };
+    let near =
+        |j: usize, axis: usize| offsets[j][axis] * if j.is_multiple_of(2) { 1.03 } else { 0.97 };
     let replace = makehuman_with(&near);
     let (skeleton, motion) = (&replace.skeleton, &replace.motion);
     assert_eq!(

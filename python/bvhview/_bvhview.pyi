@@ -105,30 +105,37 @@ class Motion:
     def first_channels(self) -> npt.NDArray[np.int32]:
         """Each joint's first column in `values`, -1 for a joint without channels."""
     def local_matrices(self, frames: _Frames = None) -> npt.NDArray[np.float32]:
-        """frames x joints x 4 x 4 local transforms (`T · R`), [row, column]."""
+        """frames x joints x 4 x 4 local transforms (`T · R`), [row, column]; one int for
+        frames: joints x 4 x 4."""
     def local_rotations(
         self, frames: _Frames = None, kind: Literal["quat", "matrix", "6d", "euler"] = "quat"
     ) -> npt.NDArray[np.float32]:
         """Local rotations: quat (w, x, y, z), matrix 3x3, 6d (first two columns), euler (the
-        rotation channels in file order, degrees)."""
+        rotation channels in file order, degrees); one int for frames: no frame axis."""
     def root_translations(self, frames: _Frames = None) -> npt.NDArray[np.float32]:
-        """frames x 3: the first root's translation."""
+        """frames x 3 (3 for one int): the first root's translation."""
     def positions(self, frames: _Frames = None) -> npt.NDArray[np.float32]:
-        """frames x joints x 3 world positions; a take without frames has its rest pose."""
+        """frames x joints x 3 world positions (joints x 3 for one int, as numpy's a[i]); a
+        take without frames has its rest pose."""
     def world_matrices(self, frames: _Frames = None) -> npt.NDArray[np.float32]:
-        """frames x joints x 4 x 4 world matrices, [row, column], translation in column 3."""
+        """frames x joints x 4 x 4 world matrices, [row, column], translation in column 3
+        (joints x 4 x 4 for one int)."""
     def trim(self, start: int | None = None, stop: int | None = None) -> Motion:
         """Frames start to stop (stop left out, negatives from the end): `convert --frames`."""
     def resample(self, fps: float) -> Motion:
-        """The take at any rate from 0.01 to 1000 fps, whole or not (slerp): `convert --fps`."""
+        """The take at any rate from 0.01 to 1000 fps: `convert --fps`. The file's own rate
+        (within 1e-4) keeps every frame and a whole fraction of it (60 to 30) every k-th, bit
+        for bit; other rates slerp."""
     def scale(self, factor: float) -> Motion:
         """Every length times factor: `convert --scale`."""
-    def mirror(self, names: dict[str, str] | None = None) -> Motion:
-        """Left and right swapped: `convert --mirror`, names as `mirror_names` guesses them;
-        `names` overrides the guess for the joints it lists."""
+    def mirror(self, names: dict[str, str] | None = None, *, rename: bool = False) -> Motion:
+        """The mirror image (`convert --mirror`): left and right joints swap their motion,
+        names and topology kept; counterparts as `mirror_names` guesses them, `names` (joint
+        to counterpart) over the guess. rename=True (`--mirror-rename`): each joint reflected
+        where it is and the names exchanged instead (`names` gives the new names)."""
     @property
     def mirror_names(self) -> dict[str, str]:
-        """The guess mirror() uses: each sided joint's name with the other side's."""
+        """The counterparts mirror() swaps: each sided joint's name with its counterpart's."""
     def to_up(self, axis: Literal["y", "z"]) -> Motion:
         """Turned to stand along axis from the guessed up axis: `convert --up`."""
     def in_place(self) -> Motion:

@@ -12,7 +12,7 @@ use bvhview::pose::{self, FkPlan, FkScratch, LANES, OffsetMode};
 use glam::{Mat4, Vec3};
 use numpy::ndarray::ArrayView2;
 use numpy::{
-    IntoPyArray, PyArray1, PyArray2, PyArray3, PyArray4, PyArrayMethods, PyUntypedArrayMethods,
+    IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods,
 };
 use pyo3::create_exception;
 use pyo3::exceptions::{
@@ -205,11 +205,18 @@ impl Motion {
                     .filter(|&frame| frame < count)
                     .ok_or_else(|| {
                         PyValueError::new_err(format!(
-                            "frame {number} is out of range: the take has frames 0..{count}"
+                            "frame {number} is out of range: the take has frames 0 to {}",
+                            count - 1
                         ))
                     })
             })
             .collect()
+    }
+
+    /// Whether `frames` is one int (a Python or numpy integer): the arrays then have no frame
+    /// axis, as `array[i]` has none in numpy.
+    fn one_frame(frames: Option<&Bound<'_, PyAny>>) -> bool {
+        frames.is_some_and(|f| f.cast::<PySlice>().is_err() && f.extract::<isize>().is_ok())
     }
 
     /// `per_frame` floats of every frame in `frames` (of a skeleton of `joints`), computed by
@@ -550,30 +557,39 @@ impl Motion {
 
     /// World position of every joint and End Site (see `end_sites`) for the frames selected:
     /// frames × joints × 3, float32. `frames`: None for all, an int, a slice or a sequence of
-    /// ints. A take without frames has one: its rest pose.
+    /// ints; one int gives joints × 3 (no frame axis, as numpy's `a[i]`). A take without
+    /// frames has one: its rest pose.
     #[pyo3(signature = (frames=None))]
     fn positions<'py>(
         &self,
         py: Python<'py>,
         frames: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyArray3<f32>>> {
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let one = Self::one_frame(frames);
         let frames = self.selected_frames(frames)?;
         let values = py
             .detach(|| self.positions_of(&frames))
             .map_err(|e| to_python(py, e))?;
         let joints = self.loaded.skeleton.joints.len();
-        values.into_pyarray(py).reshape([frames.len(), joints, 3])
+        let array = values.into_pyarray(py);
+        Ok(if one {
+            array.reshape([joints, 3])?.into_any()
+        } else {
+            array.reshape([frames.len(), joints, 3])?.into_any()
+        })
     }
 
     /// Every joint's local transform for the frames selected, as FK multiplies them:
     /// `T(t) · R1 · R2 · R3` (ASF bones `T · C · R · C⁻¹`), frames × joints × 4 × 4, float32,
-    /// `[row, column]`; `world_matrices` is their product down the tree.
+    /// `[row, column]`; `world_matrices` is their product down the tree. One int for `frames`:
+    /// no frame axis.
     #[pyo3(signature = (frames=None))]
     fn local_matrices<'py>(
         &self,
         py: Python<'py>,
         frames: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyArray4<f32>>> {
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let one = Self::one_frame(frames);
         let frames = self.selected_frames(frames)?;
         let mode = self.offset_mode;
         let values = py
@@ -589,9 +605,12 @@ impl Motion {
             })
             .map_err(|e| to_python(py, e))?;
         let joints = self.loaded.skeleton.joints.len();
-        values
-            .into_pyarray(py)
-            .reshape([frames.len(), joints, 4, 4])
+        let array = values.into_pyarray(py);
+        Ok(if one {
+            array.reshape([joints, 4, 4])?.into_any()
+        } else {
+            array.reshape([frames.len(), joints, 4, 4])?.into_any()
+        })
     }
 
     /// Every joint's local rotation for the frames selected (the `R` of `local_matrices`):
@@ -599,7 +618,8 @@ impl Motion {
     /// `[row, column]`; `"6d"` × 6, the matrix's first two columns one after the other (Zhou
     /// et al. 2019);
     /// `"euler"` × 3, the joint's rotation channels in its file order, in degrees (0 where it has
-    /// fewer than three). End Sites and joints without rotation channels: the identity.
+    /// fewer than three). End Sites and joints without rotation channels: the identity. One
+    /// int for `frames`: no frame axis.
     #[pyo3(signature = (frames=None, kind="quat"))]
     fn local_rotations<'py>(
         &self,
@@ -607,6 +627,7 @@ impl Motion {
         frames: Option<&Bound<'py, PyAny>>,
         kind: &str,
     ) -> PyResult<Bound<'py, PyAny>> {
+        let one = Self::one_frame(frames);
         let frames = self.selected_frames(frames)?;
         let Some(rotation_kind) = pose::RotationKind::parse(kind) else {
             return Err(PyValueError::new_err(format!(
@@ -624,20 +645,25 @@ impl Motion {
             .map_err(|e| to_python(py, e))?;
         let joints = self.loaded.skeleton.joints.len();
         let array = values.into_pyarray(py);
-        Ok(match rotation_kind {
-            pose::RotationKind::Matrix => array.reshape([frames.len(), joints, 3, 3])?.into_any(),
-            _ => array.reshape([frames.len(), joints, per_joint])?.into_any(),
+        Ok(match (rotation_kind, one) {
+            (pose::RotationKind::Matrix, false) => {
+                array.reshape([frames.len(), joints, 3, 3])?.into_any()
+            }
+            (pose::RotationKind::Matrix, true) => array.reshape([joints, 3, 3])?.into_any(),
+            (_, false) => array.reshape([frames.len(), joints, per_joint])?.into_any(),
+            (_, true) => array.reshape([joints, per_joint])?.into_any(),
         })
     }
 
     /// The first root's translation for the frames selected (its OFFSET with its position
-    /// channels, in the offset mode), frames × 3, float32.
+    /// channels, in the offset mode), frames × 3, float32 (3 for one int).
     #[pyo3(signature = (frames=None))]
     fn root_translations<'py>(
         &self,
         py: Python<'py>,
         frames: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyArray2<f32>>> {
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let one = Self::one_frame(frames);
         let frames = self.selected_frames(frames)?;
         let skeleton = &self.loaded.skeleton;
         let motion = &self.loaded.motion;
@@ -658,7 +684,12 @@ impl Motion {
             };
             out.extend(t.to_array());
         }
-        out.into_pyarray(py).reshape([frames.len(), 3])
+        let array = out.into_pyarray(py);
+        Ok(if one {
+            array.into_any()
+        } else {
+            array.reshape([frames.len(), 3])?.into_any()
+        })
     }
 
     /// One name per column of `values`: the joint's name and the channel's, `Hips_Xposition`.
@@ -698,21 +729,25 @@ impl Motion {
 
     /// World matrix of every joint for the frames selected: frames × joints × 4 × 4, float32,
     /// `[frame, joint, row, column]` with the translation in column 3. `frames` as in
-    /// `positions`.
+    /// `positions` (one int: joints × 4 × 4).
     #[pyo3(signature = (frames=None))]
     fn world_matrices<'py>(
         &self,
         py: Python<'py>,
         frames: Option<&Bound<'py, PyAny>>,
-    ) -> PyResult<Bound<'py, PyArray4<f32>>> {
+    ) -> PyResult<Bound<'py, PyAny>> {
+        let one = Self::one_frame(frames);
         let frames = self.selected_frames(frames)?;
         let values = py
             .detach(|| self.matrices_of(&frames))
             .map_err(|e| to_python(py, e))?;
         let joints = self.loaded.skeleton.joints.len();
-        values
-            .into_pyarray(py)
-            .reshape([frames.len(), joints, 4, 4])
+        let array = values.into_pyarray(py);
+        Ok(if one {
+            array.reshape([joints, 4, 4])?.into_any()
+        } else {
+            array.reshape([frames.len(), joints, 4, 4])?.into_any()
+        })
     }
 
     /// Writes the take as BVH (.bvh) or glTF (.glb binary, .gltf text), as `bvhview convert`
@@ -778,38 +813,44 @@ impl Motion {
         Ok(self.edited(skeleton, motion, factor == 1.0))
     }
 
-    /// Left and right swapped (names and motion), as `convert --mirror`, the names as
-    /// `mirror_names` guesses them; `names` overrides the guess for the joints it lists.
-    #[pyo3(signature = (names=None))]
+    /// The mirror image, as `convert --mirror`: left and right joints swap their motion
+    /// (reflected across the body's middle) and every name and the skeleton's layout are kept,
+    /// so the clip keeps its dataset group; the counterparts as `mirror_names` guesses them,
+    /// `names` (joint → its counterpart) over the guess for the joints it lists. With
+    /// `rename=True`, as `convert --mirror-rename`: each joint reflected where it is and the
+    /// names exchanged instead (`names` then gives the new names).
+    #[pyo3(signature = (names=None, *, rename=false))]
     fn mirror(
         &self,
         py: Python<'_>,
         names: Option<std::collections::HashMap<String, String>>,
+        rename: bool,
     ) -> PyResult<Motion> {
         let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
-        let (mut mirrored, motion) = py.detach(|| bvhview::edit::mirror(skeleton, motion));
-        if let Some(names) = names {
-            for (joint, original) in mirrored.joints.iter_mut().zip(&skeleton.joints) {
-                if let Some(name) = names.get(&original.name) {
-                    joint.name = name.clone();
-                }
-            }
-        }
+        let options = bvhview::edit::MirrorOptions {
+            rename,
+            names: names.unwrap_or_default(),
+        };
+        let (mirrored, motion) = py
+            .detach(|| bvhview::edit::mirror(skeleton, motion, &options))
+            .map_err(|e| to_python(py, e))?;
         Ok(self.edited(mirrored, motion, true))
     }
 
-    /// The names `mirror()` gives: each joint whose name marks a side (`LeftArm`, `L_Arm`,
-    /// `Arm.L`, CMU's `lhumerus`…), with the other side's name.
+    /// The counterparts `mirror()` swaps: each joint whose name marks a side (`LeftArm`,
+    /// `L_Arm`, `Arm.L`, CMU's `LHipJoint` and `lhumerus`, Daz's `lThigh`…) and whose
+    /// counterpart is in the skeleton, with the counterpart's name.
     #[getter]
-    fn mirror_names(&self) -> std::collections::HashMap<String, String> {
-        self.loaded
-            .skeleton
-            .joints
+    fn mirror_names(&self, py: Python<'_>) -> PyResult<std::collections::HashMap<String, String>> {
+        let joints = &self.loaded.skeleton.joints;
+        let partners = bvhview::edit::mirror_partners(&self.loaded.skeleton, &Default::default())
+            .map_err(|e| to_python(py, e))?;
+        Ok(partners
             .iter()
-            .filter_map(|j| {
-                bvhview::edit::mirrored_name(&j.name).map(|other| (j.name.clone(), other))
-            })
-            .collect()
+            .enumerate()
+            .filter(|&(j, &k)| k != j && !joints[j].end_site)
+            .map(|(j, &k)| (joints[j].name.clone(), joints[k].name.clone()))
+            .collect())
     }
 
     /// The take turned to stand along `axis` ("y" or "z") from its `up_axis`, as `convert --up`.

@@ -226,8 +226,11 @@ def test_frames_select_like_numpy():
     every = take.positions()
     count = take.frame_count
     for frames, expected in [
-        (3, every[[3]]),
-        (-1, every[[-1]]),
+        # One int: no frame axis, as numpy's every[3] (joints x 3).
+        (3, every[3]),
+        (-1, every[-1]),
+        (np.int64(5), every[5]),
+        ([3], every[[3]]),
         (slice(10, 40, 3), every[10:40:3]),
         (slice(None, None, -7), every[::-7]),
         ([5, 0, 5], every[[5, 0, 5]]),
@@ -236,12 +239,24 @@ def test_frames_select_like_numpy():
         ([], every[:0]),
     ]:
         np.testing.assert_array_equal(take.positions(frames), expected)
-        assert take.world_matrices(frames).shape[0] == expected.shape[0]
+        leading = expected.shape[:-2]
+        assert take.world_matrices(frames).shape == (*leading, len(take.joint_names), 4, 4)
+        assert take.local_matrices(frames).shape == (*leading, len(take.joint_names), 4, 4)
+        assert take.root_translations(frames).shape == (*leading, 3)
+        for kind, shape in [("quat", (4,)), ("matrix", (3, 3)), ("6d", (6,)), ("euler", (3,))]:
+            rotations = take.local_rotations(frames, kind=kind)
+            assert rotations.shape == (*leading, len(take.joint_names), *shape)
+    np.testing.assert_array_equal(take.world_matrices(7), take.world_matrices()[7])
+    np.testing.assert_array_equal(take.root_translations(7), take.root_translations()[7])
+    np.testing.assert_array_equal(take.local_rotations(7), take.local_rotations()[7])
     for bad in [count, -count - 1, "3", [0, 1.5], 2.0]:
         with pytest.raises(ValueError):
             take.positions(bad)
         with pytest.raises(ValueError):
             take.world_matrices(bad)
+    # Ranges read as a person reads them: the last frame is in.
+    with pytest.raises(ValueError, match=f"the take has frames 0 to {count - 1}$"):
+        take.positions(count)
 
 
 # Errors: exact places, the exceptions Python users expect, never a panic.
@@ -880,22 +895,56 @@ def test_values_as_a_dataframe():
     assert list(take.to_dataframe([1]).index) == [1]
 
 
-def test_mirror_names_are_guessed_and_can_be_given():
-    take = bvhview.load(DATA / "bvh" / "bvhio_example.bvh")
+def test_mirror_swaps_left_and_right_and_keeps_names():
+    """mirror() keeps every name, parent and channel and swaps the sides' motion: each joint's
+    world position is its counterpart's reflected across x; twice gives the take back;
+    mirror_names is the counterpart map."""
+    take = bvhview.load(DATA / "bvh" / "bvhparser_walk_01.bvh")
     guess = take.mirror_names
-    assert guess["LeftCollar"] == "RightCollar" and guess["RightHand"] == "LeftHand"
-    assert "Hips" not in guess
+    # CMU's names as cgspeed writes them, LHipJoint and LThumb included; Hips has no side.
+    assert guess["LeftUpLeg"] == "RightUpLeg" and guess["RThumb"] == "LThumb"
+    assert guess["LHipJoint"] == "RHipJoint" and "Hips" not in guess and "LowerBack" not in guess
     mirrored = take.mirror()
-    # Joints renamed by the guess; End Sites follow their parent's new name.
+    assert mirrored.joint_names == take.joint_names
+    assert mirrored.channel_names == take.channel_names
+    np.testing.assert_array_equal(mirrored.parents, take.parents)
+    partner = [take.index(guess.get(name, name)) if not take.end_sites[i] else None
+               for i, name in enumerate(take.joint_names)]
+    before, after = take.positions(), mirrored.positions()
+    reflected = before * np.array([-1.0, 1.0, 1.0], dtype=np.float32)
+    for i, k in enumerate(partner):
+        if k is not None:
+            np.testing.assert_allclose(after[:, i], reflected[:, k], atol=1e-3)
+    back = mirrored.mirror()
+    np.testing.assert_array_equal(back.values, take.values)
+    np.testing.assert_array_equal(back.offsets, take.offsets)
+
+
+def test_mirror_renames_when_asked_and_names_can_be_given():
+    take = bvhview.load(DATA / "bvh" / "bvhio_example.bvh")
+    renamed = take.mirror(rename=True)
+    # Joints renamed by the guess where they are; End Sites keep theirs.
     for index, name in enumerate(take.joint_names):
         if not take.end_sites[index]:
-            assert mirrored.joint_names[index] == guess.get(name, name)
-    assert mirrored.joint_names[take.index("LeftCollar")] == "RightCollar"
-    given = take.mirror(names={"LeftCollar": "Collar_B", "RightCollar": "Collar_A"})
+            assert renamed.joint_names[index] == take.mirror_names.get(name, name)
+    assert renamed.joint_names[take.index("LeftCollar")] == "RightCollar"
+    given = take.mirror(names={"LeftCollar": "Collar_B", "RightCollar": "Collar_A"}, rename=True)
     assert given.joint_names[take.index("LeftCollar")] == "Collar_B"
     assert given.joint_names[take.index("LeftUpArm")] == "RightUpArm", "not listed: the guess"
     assert given.joint_names[take.index("Hips")] == "Hips"
-    np.testing.assert_array_equal(given.positions(), mirrored.positions())
+    np.testing.assert_array_equal(given.positions(), renamed.positions())
+    # The same world positions by name as the swap.
+    swapped = take.mirror()
+    np.testing.assert_allclose(
+        renamed.positions()[:, renamed.index("RightHand")],
+        swapped.positions()[:, swapped.index("RightHand")],
+        atol=1e-3,
+    )
+    # In a swap, names are counterparts the skeleton has.
+    with pytest.raises(ValueError, match="not a joint"):
+        take.mirror(names={"LeftCollar": "Collar_B"})
+    odd = take.mirror(names={"LeftCollar": "RightCollar"})
+    np.testing.assert_array_equal(odd.values, swapped.values)
 
 
 def test_ground_and_to_up_work_in_the_takes_own_offset_mode():
