@@ -36,7 +36,11 @@ pub fn edited(choice: u8, skeleton: Skeleton, motion: Motion) -> Option<(Skeleto
         motion = bvhview::edit::resample(&skeleton, &motion, 7.5).ok()?;
     }
     if choice & 4 != 0 {
-        (skeleton, motion) = bvhview::edit::mirror(&skeleton, &motion);
+        let options = bvhview::edit::MirrorOptions {
+            rename: choice & 64 != 0,
+            ..Default::default()
+        };
+        (skeleton, motion) = bvhview::edit::mirror(&skeleton, &motion, &options).ok()?;
     }
     if choice & 8 != 0 {
         use bvhview::pose::Up;
