@@ -168,10 +168,13 @@ pub enum RotationKind {
     SixD,
     /// The joint's rotation channels in its file order, in degrees (0 past the ones it has).
     Euler,
+    /// The rotation vector: the unit axis times the angle in radians (at most π).
+    AxisAngle,
 }
 
 impl RotationKind {
-    pub const NAMES: &'static str = "\"quat\", \"matrix\", \"6d\" or \"euler\"";
+    pub const NAMES: &'static str =
+        "\"quat\", \"matrix\", \"6d\", \"euler\" or \"axis_angle\"";
 
     pub fn parse(text: &str) -> Option<RotationKind> {
         match text {
@@ -179,6 +182,7 @@ impl RotationKind {
             "matrix" => Some(RotationKind::Matrix),
             "6d" => Some(RotationKind::SixD),
             "euler" => Some(RotationKind::Euler),
+            "axis_angle" => Some(RotationKind::AxisAngle),
             _ => None,
         }
     }
@@ -189,6 +193,7 @@ impl RotationKind {
             RotationKind::Matrix => "matrix",
             RotationKind::SixD => "6d",
             RotationKind::Euler => "euler",
+            RotationKind::AxisAngle => "axis_angle",
         }
     }
 
@@ -198,7 +203,7 @@ impl RotationKind {
             RotationKind::Quat => 4,
             RotationKind::Matrix => 9,
             RotationKind::SixD => 6,
-            RotationKind::Euler => 3,
+            RotationKind::Euler | RotationKind::AxisAngle => 3,
         }
     }
 }
@@ -217,6 +222,10 @@ pub fn rotation_of_numbers(kind: RotationKind, numbers: &[f32]) -> Option<glam::
             let b = Vec3::new(numbers[3], numbers[4], numbers[5]);
             let b = (b - a * a.dot(b)).normalize_or_zero();
             Some(glam::Mat3::from_cols(a, b, a.cross(b)))
+        }
+        RotationKind::AxisAngle => {
+            let vector = Vec3::new(numbers[0], numbers[1], numbers[2]);
+            Some(glam::Mat3::from_quat(glam::Quat::from_scaled_axis(vector)))
         }
         RotationKind::Euler => None,
     }
@@ -251,6 +260,12 @@ pub fn write_rotation(joint: &Joint, values: &[f32], kind: RotationKind, out: &m
             out.copy_from_slice(&[q.w, q.x, q.y, q.z]);
         }
         RotationKind::Matrix => out.copy_from_slice(&m.transpose().to_cols_array()),
+        RotationKind::AxisAngle => {
+            // w ≥ 0 keeps the angle in [0, π]: the shorter of the two ways round.
+            let q = glam::Quat::from_mat3(&m).normalize();
+            let q = if q.w < 0.0 { -q } else { q };
+            out.copy_from_slice(&q.to_scaled_axis().to_array());
+        }
         _ => {
             let (a, b) = (m.x_axis, m.y_axis);
             out.copy_from_slice(&[a.x, a.y, a.z, b.x, b.y, b.z]);
