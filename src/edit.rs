@@ -325,24 +325,27 @@ fn plane(up: crate::pose::Up) -> ([usize; 2], usize) {
     }
 }
 
-/// The roots' travel across the ground removed: every frame's root position in the ground plane
-/// is its first frame's, so the figure moves where it stands.
-/// Only the root's values change, to values the take already holds: nothing can overflow.
+/// The travel across the ground removed: the joint that carries it ([`travel_joint_of_take`],
+/// the root in most files, `Hips` under a still root in others) keeps its first frame's place in
+/// the ground plane, so the figure moves where it stands.
+/// Only that joint's values change, to values the take already holds: nothing can overflow.
+///
+/// [`travel_joint_of_take`]: crate::pose::travel_joint_of_take
 pub fn in_place(skeleton: &Skeleton, motion: &Motion, up: crate::pose::Up) -> Motion {
     let (across, _) = plane(up);
     let mut data = motion.data.clone();
     if motion.frame_count() == 0 || motion.channels == 0 {
         return motion.clone();
     }
-    for root in skeleton.roots() {
-        let joint = &skeleton.joints[root];
-        for (i, channel) in joint.channels.iter().enumerate() {
-            if channel.is_position() && across.contains(&channel.axis()) {
-                let column = joint.first_channel + i;
-                let first = motion.frame(0)[column];
-                for row in data.chunks_mut(motion.channels) {
-                    row[column] = first;
-                }
+    let travel =
+        crate::pose::travel_joint_of_take(skeleton, motion, crate::pose::OffsetMode::Replace);
+    let joint = &skeleton.joints[travel];
+    for (i, channel) in joint.channels.iter().enumerate() {
+        if channel.is_position() && across.contains(&channel.axis()) {
+            let column = joint.first_channel + i;
+            let first = motion.frame(0)[column];
+            for row in data.chunks_mut(motion.channels) {
+                row[column] = first;
             }
         }
     }
@@ -493,7 +496,11 @@ pub fn reorient(
 
 /// The values of `joint`'s rotation channels, in file order and degrees, for a local rotation
 /// given as `kind` (`numbers`: 4, 9, 6 or 3 of them; euler: the channel values themselves).
-pub fn channel_angles(joint: &crate::Joint, kind: crate::pose::RotationKind, numbers: &[f32]) -> Vec<f32> {
+pub fn channel_angles(
+    joint: &crate::Joint,
+    kind: crate::pose::RotationKind,
+    numbers: &[f32],
+) -> Vec<f32> {
     let axes: Vec<usize> = joint
         .channels
         .iter()
@@ -551,7 +558,6 @@ pub fn channel_angles(joint: &crate::Joint, kind: crate::pose::RotationKind, num
         .map(f32::to_degrees)
         .collect()
 }
-
 
 #[cfg(test)]
 mod tests {

@@ -59,6 +59,19 @@ pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
     );
     let _ = writeln!(out, "rotation orders:  {}", rotation_orders(skeleton));
     let _ = writeln!(out, "position channels: {}", position_joints(skeleton));
+    if skeleton
+        .joints
+        .iter()
+        .any(|j| j.channels.iter().any(|c| c.is_position()))
+        && motion.frame_count() > 0
+    {
+        let travel = crate::pose::travel_joint_of_take(skeleton, motion, mode);
+        let _ = writeln!(
+            out,
+            "travel:           {} (the joint whose position channels carry the take across the floor)",
+            skeleton.joints[travel].name
+        );
+    }
     // Guessed from the motion; the article's view still draws the file as written.
     let stance = loaded.stance(mode);
     let _ = writeln!(out, "up axis:          {}", stance.up_text());

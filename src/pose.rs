@@ -107,6 +107,49 @@ pub fn written_for_other_mode(
     Some((matching, candidates))
 }
 
+/// The joint whose position channels carry the take's travel across the floor: of the joints
+/// with position channels, the one whose world path strays farthest (x and z) from where it
+/// starts; the first root when none has position channels or none moves. Most files put the
+/// travel on the root; some (Bandai's) on `Hips` under a root that stays put.
+pub fn travel_joint(skeleton: &Skeleton, world: &[Vec3]) -> usize {
+    let points = skeleton.joints.len();
+    let root = skeleton.roots().next().unwrap_or(0);
+    if points == 0 || world.is_empty() {
+        return root;
+    }
+    let mut best = (root, 0.0f32);
+    for (index, joint) in skeleton.joints.iter().enumerate() {
+        if !joint.channels.iter().any(|c| c.is_position()) {
+            continue;
+        }
+        let start = world[index];
+        let reach = world
+            .chunks(points)
+            .map(|pose| (pose[index].x - start.x).hypot(pose[index].z - start.z))
+            .fold(0.0f32, f32::max);
+        // Ties (and rounding-sized differences) go to the joint nearer the top of the file.
+        if reach > best.1 * (1.0 + 1e-4) + 1e-6 {
+            best = (index, reach);
+        }
+    }
+    best.0
+}
+
+/// [`travel_joint`] of a take, judged on at most 64 of its frames spread evenly over it.
+pub fn travel_joint_of_take(
+    skeleton: &Skeleton,
+    motion: &crate::Motion,
+    mode: OffsetMode,
+) -> usize {
+    let frames = motion.frame_count();
+    let step = frames.div_ceil(64).max(1);
+    let mut world = Vec::new();
+    for frame in (0..frames).step_by(step) {
+        world.extend(world_positions(skeleton, motion.frame(frame), mode));
+    }
+    travel_joint(skeleton, &world)
+}
+
 /// The joint's translation `t` for one frame: its OFFSET with its position channels replacing
 /// (or added to) the matching components. `values` are this joint's channel values.
 pub fn joint_translation(joint: &Joint, values: &[f32], mode: OffsetMode) -> Vec3 {
@@ -173,8 +216,7 @@ pub enum RotationKind {
 }
 
 impl RotationKind {
-    pub const NAMES: &'static str =
-        "\"quat\", \"matrix\", \"6d\", \"euler\" or \"axis_angle\"";
+    pub const NAMES: &'static str = "\"quat\", \"matrix\", \"6d\", \"euler\" or \"axis_angle\"";
 
     pub fn parse(text: &str) -> Option<RotationKind> {
         match text {
@@ -229,6 +271,53 @@ pub fn rotation_of_numbers(kind: RotationKind, numbers: &[f32]) -> Option<glam::
         }
         RotationKind::Euler => None,
     }
+}
+
+/// Whether `numbers` stand for a rotation at all: a quaternion of some length (not 0, nor so
+/// small that normalising it loses every digit), a 6D pair of two vectors that are not 0 or
+/// parallel, a matrix whose columns are unit and at right angles within 0.05 and whose
+/// determinant is positive. Every kind's numbers must be finite. Axis-angle and Euler numbers
+/// are any finite numbers.
+pub fn check_rotation_numbers(kind: RotationKind, numbers: &[f32]) -> Result<(), String> {
+    if let Some(value) = numbers.iter().find(|v| !v.is_finite()) {
+        return Err(format!("{value} is not a finite number"));
+    }
+    let tiny = 1e-6f32;
+    match kind {
+        RotationKind::Quat => {
+            let q = glam::Vec4::from_slice(numbers);
+            if !(q.length() >= tiny && q.length_squared().is_normal()) {
+                return Err(format!(
+                    "the quaternion {numbers:?} has length {}: it is no rotation",
+                    q.length()
+                ));
+            }
+        }
+        RotationKind::SixD => {
+            let a = Vec3::from_slice(&numbers[..3]);
+            let b = Vec3::from_slice(&numbers[3..6]);
+            let normal = |v: Vec3| v.length() >= tiny && v.length_squared().is_normal();
+            if !normal(a) || !normal(b) || a.cross(b).length() < tiny * a.length() * b.length() {
+                return Err(format!(
+                    "the 6D pair {numbers:?} has a vector of length 0 or two parallel vectors: it is no rotation"
+                ));
+            }
+        }
+        RotationKind::Matrix => {
+            let m = glam::Mat3::from_cols_slice(numbers).transpose();
+            let off = (m.transpose() * m - glam::Mat3::IDENTITY)
+                .to_cols_array()
+                .iter()
+                .fold(0.0f32, |most, v| most.max(v.abs()));
+            if off > 0.05 || m.determinant() <= 0.0 {
+                return Err(format!(
+                    "the matrix {numbers:?} is not a rotation (columns unit and at right angles                      within 0.05, determinant +1)"
+                ));
+            }
+        }
+        RotationKind::Euler | RotationKind::AxisAngle => {}
+    }
+    Ok(())
 }
 
 /// `joint`'s local rotation ([`local_rotation`]) for its channel `values` as `kind` numbers, into

@@ -368,7 +368,12 @@ fn resampling_velocities_contacts_and_root_relative_frames_follow_their_definiti
     assert_eq!(
         names,
         // Guessed from the rest pose: each leg's ankle and toe tip.
-        ["LeftFoot", "LeftToeBase_End", "RightFoot", "RightToeBase_End"]
+        [
+            "LeftFoot",
+            "LeftToeBase_End",
+            "RightFoot",
+            "RightToeBase_End"
+        ]
     );
     let floor: Vec<f32> = (0..clip.frames)
         .map(|f| {
@@ -476,8 +481,14 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
     for (order, why) in [
         (vec![&pieces[3], &pieces[0]], "are in no piece given"),
         (vec![&pieces[0], &pieces[0]], "which an earlier piece holds"),
-        (vec![&pieces[0], &pieces[3]], "takes 7 to 8 are in no piece given"),
-        (vec![&pieces[0], &pieces[1]], "the rest of the list is missing"),
+        (
+            vec![&pieces[0], &pieces[3]],
+            "takes 7 to 8 are in no piece given",
+        ),
+        (
+            vec![&pieces[0], &pieces[1]],
+            "the rest of the list is missing",
+        ),
         (vec![&even[0], &pieces[3]], "which an earlier piece holds"),
     ] {
         let target = temp.path().join("misordered");
@@ -549,7 +560,8 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
     .unwrap_err();
     assert!(error.to_string().contains("another compile"), "{error}");
     let joined = temp.path().join("joined");
-    let summary = store::merge(&[whole.clone(), asf.clone()], &joined, store::Join::Folders).unwrap();
+    let summary =
+        store::merge(&[whole.clone(), asf.clone()], &joined, store::Join::Folders).unwrap();
     let once = store::read_manifest(&whole).unwrap();
     let asf_manifest = store::read_manifest(&asf).unwrap();
     assert_eq!(summary.clips, once.clips.len() + asf_manifest.clips.len());

@@ -25,6 +25,8 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, PoisonError};
 
+mod datasets;
+
 create_exception!(
     bvhview,
     ParseError,
@@ -32,6 +34,29 @@ create_exception!(
     "A malformed file. The message is `path:line:column: what was expected, what was found`; \
      the attributes `path`, `line`, `column` and `message` hold its parts."
 );
+
+/// Runs an entry point so that no Rust panic reaches Python as pyo3's `PanicException` (a
+/// `BaseException`, which `except Exception` misses): a panic, which is a bug of bvhview's,
+/// becomes a `RuntimeError` that says so. The environment variable `BVHVIEW_PLANT_PANIC`, set to
+/// an entry point's name, plants a panic in it: the tests' switch to prove this.
+fn guard<T>(entry: &str, work: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    let run = || {
+        if std::env::var_os("BVHVIEW_PLANT_PANIC").is_some_and(|name| name == entry) {
+            panic!("a panic planted in {entry} by BVHVIEW_PLANT_PANIC");
+        }
+        work()
+    };
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(run)).unwrap_or_else(|payload| {
+        let what = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "a panic".to_string());
+        Err(PyRuntimeError::new_err(format!(
+            "internal error in bvhview ({entry}): {what}; please report it"
+        )))
+    })
+}
 
 /// Every error of the crate as the Python exception a Python user expects: a malformed file is a
 /// `ParseError` (a `ValueError`), a missing file a `FileNotFoundError`, other I/O an `OSError`,
@@ -1461,10 +1486,11 @@ fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePaths>> {
 }
 
 /// The native half of `bvhview.compile_dataset` (which adds Parquet): returns (clips, frames,
-/// groups, skipped).
+/// groups, skipped as (path, motion, reason) triples). `takes`: a list of its own (relative
+/// paths); `piece`: (index, pieces), the run of the folder's list a Dask worker compiles.
 #[pyfunction]
-#[pyo3(signature = (folder, out, fps=30.0, rotations="6d", root_relative=false,
-    contact_height=0.05, contact_speed=0.5, takes=None, threads=None))]
+#[pyo3(signature = (folder, out, fps=30.0, rotations="6d", root_relative=false, feet=None,
+    contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None))]
 #[allow(clippy::too_many_arguments)]
 fn _compile_dataset(
     py: Python<'_>,
@@ -1473,76 +1499,117 @@ fn _compile_dataset(
     fps: f64,
     rotations: &str,
     root_relative: bool,
+    feet: Option<Vec<String>>,
     contact_height: f32,
     contact_speed: f32,
     takes: Option<Vec<(PathBuf, Option<PathBuf>)>>,
+    piece: Option<(usize, usize)>,
     threads: Option<usize>,
-) -> PyResult<(usize, usize, usize, usize)> {
-    let rotations = pose::RotationKind::parse(rotations).ok_or_else(|| {
-        PyValueError::new_err(format!(
-            "rotations={rotations:?}: expected {}",
-            pose::RotationKind::NAMES
-        ))
-    })?;
-    let options = bvhview::dataset::Options {
-        fps,
-        rotations,
-        root_relative,
-        contact_height,
-        contact_speed,
-        ..Default::default()
-    };
-    let threads = threads.unwrap_or_else(bvhview::cores).max(1);
-    // A compile of a folder must compile something; a piece (`takes` given) may hold only
-    // takes that fail.
-    let require_clips = takes.is_none();
-    let interrupt: Mutex<Option<PyErr>> = Mutex::new(None);
-    let result = py.detach(|| {
-        let items = match &takes {
-            Some(pairs) => bvhview::dataset::items_in(&folder, pairs),
-            None => bvhview::dataset::takes(&folder)?,
+) -> PyResult<(usize, usize, usize, Vec<(String, Option<String>, String)>)> {
+    guard("_compile_dataset", || {
+        let rotations = pose::RotationKind::parse(rotations).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "rotations={rotations:?}: expected {}",
+                pose::RotationKind::NAMES
+            ))
+        })?;
+        let options = bvhview::dataset::Options {
+            fps,
+            rotations,
+            root_relative,
+            feet,
+            contact_height,
+            contact_speed,
+            ..Default::default()
         };
-        // Ctrl-C stops the compile between takes; its KeyboardInterrupt is raised after.
-        let interrupted = |_: &_, _: Option<&str>, _: usize, _: usize| {
-            Python::attach(|py| match py.check_signals() {
-                Ok(()) => true,
-                Err(raised) => {
-                    *interrupt.lock().unwrap_or_else(PoisonError::into_inner) = Some(raised);
-                    false
+        let threads = threads.unwrap_or_else(bvhview::cores).max(1);
+        // A compile of a folder must compile something; a piece may hold only takes that fail.
+        let require_clips = takes.is_none() && piece.is_none();
+        let interrupt: Mutex<Option<PyErr>> = Mutex::new(None);
+        let result = py.detach(|| {
+            let (items, list) = match (&takes, piece) {
+                (Some(_), Some(_)) => {
+                    return Err(Error::Usage(
+                        "takes= and piece= cannot be given together".to_string(),
+                    ));
                 }
-            })
-        };
-        bvhview::dataset::compile(
-            &folder,
-            items,
-            &options,
-            threads,
-            &out,
-            require_clips,
-            interrupted,
-        )
-    });
-    if let Some(raised) = interrupt
-        .into_inner()
-        .unwrap_or_else(PoisonError::into_inner)
-    {
-        return Err(raised);
-    }
-    result
-        .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
-        .map_err(|e| to_python(py, e))
+                (Some(pairs), None) => {
+                    let items = bvhview::dataset::items_in(&folder, pairs);
+                    let list = bvhview::dataset::whole_list(&folder, &items);
+                    (items, list)
+                }
+                (None, Some((index, pieces))) => {
+                    let all = bvhview::dataset::takes(&folder)?;
+                    bvhview::dataset::piece(&folder, all, index, pieces)?
+                }
+                (None, None) => {
+                    let items = bvhview::dataset::takes(&folder)?;
+                    let list = bvhview::dataset::whole_list(&folder, &items);
+                    (items, list)
+                }
+            };
+            // Ctrl-C (or SIGTERM, which the package turns into an exception for the call)
+            // stops the compile between takes; the exception is raised after.
+            let interrupted = |_: &_, _: Option<&str>, _: usize, _: usize| {
+                Python::attach(|py| match py.check_signals() {
+                    Ok(()) => true,
+                    Err(raised) => {
+                        *interrupt.lock().unwrap_or_else(PoisonError::into_inner) = Some(raised);
+                        false
+                    }
+                })
+            };
+            bvhview::dataset::compile(
+                &folder,
+                items,
+                &options,
+                threads,
+                &out,
+                require_clips,
+                list,
+                interrupted,
+            )
+        });
+        if let Some(raised) = interrupt
+            .into_inner()
+            .unwrap_or_else(PoisonError::into_inner)
+        {
+            return Err(raised);
+        }
+        let summary = result.map_err(|e| to_python(py, e))?;
+        let skipped = summary
+            .skipped
+            .into_iter()
+            .map(|s| (s.source.path, s.source.motion, s.error))
+            .collect();
+        Ok((summary.clips, summary.frames, summary.groups, skipped))
+    })
 }
 
 /// The native half of `bvhview.merge_datasets`: returns (clips, frames, groups, skipped).
+/// `join`: "pieces" (of one compile, byte for byte) or "folders" (any, grouped by topology).
 #[pyfunction]
+#[pyo3(signature = (pieces, out, join="pieces"))]
 fn _merge_datasets(
     py: Python<'_>,
     pieces: Vec<PathBuf>,
     out: PathBuf,
+    join: &str,
 ) -> PyResult<(usize, usize, usize, usize)> {
-    py.detach(|| bvhview::dataset::store::merge(&pieces, &out))
-        .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
-        .map_err(|e| to_python(py, e))
+    guard("_merge_datasets", || {
+        let join = match join {
+            "pieces" => bvhview::dataset::store::Join::Pieces,
+            "folders" => bvhview::dataset::store::Join::Folders,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "join={other:?}: expected \"pieces\" or \"folders\""
+                )));
+            }
+        };
+        py.detach(|| bvhview::dataset::store::merge(&pieces, &out, join))
+            .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
+            .map_err(|e| to_python(py, e))
+    })
 }
 
 /// Load BVH and ASF/AMC motion capture into numpy arrays (bvhview's Rust loader and FK).
@@ -1563,6 +1630,8 @@ fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(list_takes, module)?)?;
     module.add_function(wrap_pyfunction!(_compile_dataset, module)?)?;
     module.add_function(wrap_pyfunction!(_merge_datasets, module)?)?;
+    module.add_function(wrap_pyfunction!(datasets::_open_dataset, module)?)?;
+    module.add_function(wrap_pyfunction!(datasets::_dataset_motion, module)?)?;
     module.add_class::<Motion>()?;
     module.add("ParseError", module.py().get_type::<ParseError>())?;
     Ok(())

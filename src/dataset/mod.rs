@@ -9,6 +9,7 @@
 //! would have written, byte for byte.
 
 pub mod read;
+pub mod rebuild;
 pub mod store;
 
 use crate::batch::Item;
@@ -131,7 +132,12 @@ impl Topology {
             .filter(|&i| !skeleton.joints[i as usize].end_site)
             .collect();
         let translated = points
-            .filter(|&i| skeleton.joints[i as usize].channels.iter().any(|c| c.is_position()))
+            .filter(|&i| {
+                skeleton.joints[i as usize]
+                    .channels
+                    .iter()
+                    .any(|c| c.is_position())
+            })
             .collect();
         let rotation_orders = rotated
             .iter()
@@ -230,34 +236,6 @@ fn named_feet(path: &Path, joints: &[String], names: &[String]) -> Result<Vec<u3
     feet.sort_unstable();
     feet.dedup();
     Ok(feet)
-}
-
-/// The joint whose position channels carry the take's travel across the floor: of the joints
-/// with position channels, the one whose world path strays farthest (x and z) from where it
-/// starts; the first root when none has position channels or none moves. Most files put the
-/// travel on the root; some (Bandai's) on `Hips` under a root that stays put.
-pub fn travel_joint(skeleton: &crate::Skeleton, world: &[Vec3]) -> usize {
-    let points = skeleton.joints.len();
-    let root = skeleton.roots().next().unwrap_or(0);
-    if points == 0 || world.is_empty() {
-        return root;
-    }
-    let mut best = (root, 0.0f32);
-    for (index, joint) in skeleton.joints.iter().enumerate() {
-        if !joint.channels.iter().any(|c| c.is_position()) {
-            continue;
-        }
-        let start = world[index];
-        let reach = world
-            .chunks(points)
-            .map(|pose| (pose[index].x - start.x).hypot(pose[index].z - start.z))
-            .fold(0.0f32, f32::max);
-        // Ties (and rounding-sized differences) go to the joint nearer the top of the file.
-        if reach > best.1 * (1.0 + 1e-4) + 1e-6 {
-            best = (index, reach);
-        }
-    }
-    best.0
 }
 
 /// What the manifest says of one clip besides its arrays.
@@ -430,7 +408,7 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
         }
     }
 
-    let travel = travel_joint(&skeleton, &world);
+    let travel = pose::travel_joint(&skeleton, &world);
     let root_translations: Vec<f32> = world
         .chunks(points)
         .flat_map(|pose| pose[travel].to_array())
@@ -529,7 +507,10 @@ fn floor_heights(world: &[Vec3], points: usize, feet: &[u32], reach: usize) -> V
     let mut next = 0;
     for f in 0..frames {
         while next < frames && next <= f + reach {
-            while queue.back().is_some_and(|&b| lowest_foot[b] >= lowest_foot[next]) {
+            while queue
+                .back()
+                .is_some_and(|&b| lowest_foot[b] >= lowest_foot[next])
+            {
                 queue.pop_back();
             }
             queue.push_back(next);
@@ -638,8 +619,14 @@ pub fn compile(
         return Err(e);
     }
     if require_clips && clips == 0 {
+        // Every reason: the caller may not have shown them (Python's compile raises this).
+        let reasons: String = writer
+            .skipped()
+            .iter()
+            .map(|s| format!("\n  {}", s.error))
+            .collect();
         return Err(Error::Usage(format!(
-            "{}: no take could be compiled ({} skipped), so no dataset was written",
+            "{}: no take could be compiled ({} skipped), so no dataset was written:{reasons}",
             dir.display(),
             crate::error::counted(total, "take")
         )));

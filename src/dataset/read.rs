@@ -298,6 +298,9 @@ fn check_manifest(manifest: &Manifest) -> Result<(), String> {
             ));
         }
         check_topology(&group.topology).map_err(|why| format!("{}: {why}", group.name))?;
+        if group.clips == 0 {
+            return Err(format!("{}: a group without clips", group.name));
+        }
         let mut expected: Vec<(String, String, Vec<usize>)> =
             store::layout(&group.topology, options.rotations)
                 .into_iter()
@@ -310,7 +313,11 @@ fn check_manifest(manifest: &Manifest) -> Result<(), String> {
             .clips
             .checked_add(1)
             .ok_or_else(|| format!("{}: {} clips", group.name, group.clips))?;
-        expected.push(("offsets".to_string(), "<i8".to_string(), vec![clips_plus_one]));
+        expected.push((
+            "offsets".to_string(),
+            "<i8".to_string(),
+            vec![clips_plus_one],
+        ));
         expected.push((
             "rest_offsets".to_string(),
             "<f4".to_string(),
@@ -405,10 +412,13 @@ fn check_topology(topology: &super::Topology) -> Result<(), String> {
         }
     }
     let increasing = |name: &str, list: &[u32]| {
-        let ok = list.windows(2).all(|w| w[0] < w[1]) && list.iter().all(|&p| (p as usize) < points);
+        let ok =
+            list.windows(2).all(|w| w[0] < w[1]) && list.iter().all(|&p| (p as usize) < points);
         match ok {
             true => Ok(()),
-            false => Err(format!("{name}: point numbers must increase and be below {points}")),
+            false => Err(format!(
+                "{name}: point numbers must increase and be below {points}"
+            )),
         }
     };
     increasing("rotated", &topology.rotated)?;

@@ -490,6 +490,11 @@ impl Writer {
         self.skipped.push(skipped);
     }
 
+    /// The takes listed as skipped so far.
+    pub fn skipped(&self) -> &[Skipped] {
+        &self.skipped
+    }
+
     /// Writes the offsets and the manifest, and gives the folder its name.
     pub fn finish(mut self) -> Result<Summary, Error> {
         let made = self.folder().to_path_buf();
