@@ -530,3 +530,148 @@ def test_statistics_feet_and_floor(compiled, tmp_path):
     group = named["groups"][cmu["group"]]
     assert [group["joints"][i] for i in group["feet"]] == ["LeftToeBase_End", "RightToeBase_End"]
     assert any("--feet names" in s["error"] for s in named["skipped"])
+
+
+def hostile_cases(good: Path, outside: Path):
+    """(name, how the copy of `good` is changed): every way a downloaded dataset was found to
+    mislead the reader, and more of the same kind."""
+    import shutil
+
+    def manifest_edit(change):
+        def apply(ds: Path) -> None:
+            manifest = json.loads((ds / "manifest.json").read_text())
+            change(manifest)
+            (ds / "manifest.json").write_text(json.dumps(manifest))
+
+        return apply
+
+    def replace_with_link(relative: str, target: Path):
+        def apply(ds: Path) -> None:
+            path = ds / relative
+            if path.is_dir():
+                shutil.rmtree(path)
+            else:
+                path.unlink()
+            path.symlink_to(target)
+
+        return apply
+
+    def npy_edit(name: str, change):
+        def apply(ds: Path) -> None:
+            path = ds / "group_0" / name
+            path.write_bytes(change(path.read_bytes()))
+
+        return apply
+
+    def offsets(values):
+        def change(data: bytes) -> bytes:
+            header = data[:128]
+            return header + np.array(values, dtype="<i8").tobytes()
+
+        return change
+
+    def fifo(ds: Path) -> None:
+        (ds / "manifest.json").unlink()
+        os.mkfifo(ds / "manifest.json")
+
+    def as_float64(data: bytes) -> bytes:
+        array = np.load(__import__("io").BytesIO(data))
+        buffer = __import__("io").BytesIO()
+        np.save(buffer, array.astype(np.float64))
+        return buffer.getvalue()
+
+    def set_clip(field, value):
+        def change(manifest):
+            manifest["clips"][1][field] = value
+
+        return change
+
+    return [
+        ("group named /abs", manifest_edit(lambda m: m["groups"][0].update(name=str(outside)))),
+        ("group named ../", manifest_edit(lambda m: m["groups"][0].update(name="../secret"))),
+        ("array file elsewhere", manifest_edit(lambda m: m["groups"][0]["arrays"][0].update(file="../x.npy"))),
+        ("group folder linked out", replace_with_link("group_0", outside)),
+        ("positions linked out", replace_with_link("group_0/positions.npy", outside / "positions.npy")),
+        ("manifest linked to /dev/zero", replace_with_link("manifest.json", Path("/dev/zero"))),
+        ("manifest a FIFO", fifo),
+        ("offsets past the arrays", npy_edit("offsets.npy", offsets([0, 10**12]))),
+        ("offsets negative", npy_edit("offsets.npy", offsets([-5, 5]))),
+        ("three arrays listed", manifest_edit(lambda m: m["groups"][0].update(arrays=m["groups"][0]["arrays"][:3]))),
+        ("a clip starting at 2**63", manifest_edit(set_clip("start", 2**63))),
+        ("a clip starting at 0 again", manifest_edit(set_clip("start", 0))),
+        ("a clip of group 7", manifest_edit(set_clip("group", 7))),
+        ("more frames than the arrays", manifest_edit(lambda m: m["groups"][0].update(frames=m["groups"][0]["frames"] + 1))),
+        ("positions as float64", npy_edit("positions.npy", as_float64)),
+        ("positions cut short", npy_edit("positions.npy", lambda b: b[:-4])),
+        ("a header of another shape", npy_edit("velocities.npy", lambda b: b.replace(b"'shape': (", b"'shape': (1, ", 1)[:128] + b[128:])),
+        ("a parent after its child", manifest_edit(lambda m: m["groups"][0]["parents"].__setitem__(1, 5))),
+        ("feet out of range", manifest_edit(lambda m: m["groups"][0].update(feet=[10**6]))),
+        ("another format", manifest_edit(lambda m: m.update(format="bvhview-dataset 9"))),
+        ("fps of 1e7", manifest_edit(lambda m: m["options"].update(fps=1e7))),
+        ("skeleton.bvh linked out", replace_with_link("group_0/skeleton.bvh", outside / "skeleton.bvh")),
+        ("manifest not JSON", lambda ds: (ds / "manifest.json").write_text("{\"format\": ")),
+    ]
+
+
+def test_a_dataset_folder_is_untrusted_input(tmp_path):
+    """Each mutation of a good dataset is refused with a ValueError (or OSError for what cannot
+    be opened) by Dataset, merge_datasets and write_parquet, quickly, reading nothing outside
+    the folder and writing nothing anywhere."""
+    import shutil
+    import time
+
+    source = tmp_path / "one"
+    source.mkdir()
+    (source / "walk.bvh").symlink_to(DATA / "bvh" / "assimp_01_01.bvh")
+    (source / "walk_again.bvh").write_bytes((DATA / "bvh" / "assimp_01_01.bvh").read_bytes())
+    good = tmp_path / "good"
+    quietly(source, good)
+    outside = tmp_path / "outside"
+    shutil.copytree(good / "group_0", outside)
+    before = sorted(p.stat().st_mtime_ns for p in outside.iterdir())
+    assert len(bvhview.Dataset(good)) == 2
+    for name, apply in hostile_cases(good, outside):
+        ds = tmp_path / f"case_{name.replace('/', '_').replace(' ', '_')}"
+        shutil.copytree(good, ds, symlinks=True)
+        apply(ds)
+        started = time.monotonic()
+        for attempt in (
+            lambda: bvhview.Dataset(ds),
+            lambda: bvhview.merge_datasets([ds], tmp_path / "merged"),
+            lambda: bvhview.write_parquet(ds),
+        ):
+            with pytest.raises((ValueError, OSError)) as raised:
+                attempt()
+            assert not isinstance(raised.value, bvhview.ParseError) or "manifest.json" in str(raised.value), name
+        assert time.monotonic() - started < 10, name
+        assert not (tmp_path / "merged").exists(), name
+        assert not list(ds.rglob("*.parquet")), name
+    assert sorted(p.stat().st_mtime_ns for p in outside.iterdir()) == before
+    assert not list(outside.glob("*.parquet"))
+
+
+@pytest.mark.parametrize("entry", ["_open_dataset", "_merge_datasets", "_compile_dataset", "_dataset_motion"])
+def test_a_panic_inside_becomes_a_runtime_error(tmp_path, entry):
+    """A Rust panic (a bug) reaches Python as a RuntimeError, which `except Exception` catches,
+    never as pyo3's PanicException (a BaseException)."""
+    good = tmp_path / "good"
+    quietly(DATA / "asf_amc", good)
+    calls = {
+        "_open_dataset": lambda: bvhview.Dataset(good),
+        "_merge_datasets": lambda: bvhview.merge_datasets([good], tmp_path / "m"),
+        "_compile_dataset": lambda: quietly(DATA / "asf_amc", tmp_path / "c"),
+        "_dataset_motion": lambda: None,
+    }
+    data = bvhview.Dataset(good)
+    item = data[0]
+    calls["_dataset_motion"] = lambda: data.to_motion(item["rotations"], item["translations"])
+    os.environ["BVHVIEW_PLANT_PANIC"] = entry
+    try:
+        with pytest.raises(RuntimeError, match=f"internal error in bvhview \\({entry}\\)"):
+            try:
+                calls[entry]()
+            except Exception:
+                raise
+    finally:
+        del os.environ["BVHVIEW_PLANT_PANIC"]
+    assert not (tmp_path / "m").exists() and not (tmp_path / "c").exists()
