@@ -1412,7 +1412,9 @@ fn items_of(paths: &Bound<'_, PyAny>) -> PyResult<Vec<Item>> {
         if path.is_dir() {
             let found =
                 bvhview::batch::collect(&path).map_err(|e| PyOSError::new_err(e.to_string()))?;
+            warn_skipped(paths.py(), &found, 1)?;
             return Ok(found
+                .items
                 .into_iter()
                 .filter(|item| !item.is_unpaired_motion())
                 .map(|item| Item {
@@ -1502,6 +1504,21 @@ fn load_many(
     Ok(loaded)
 }
 
+/// A `UserWarning` for each thing a folder walk skipped (a loop, a folder or file reached again,
+/// a link out of the folder, what is not a regular file or cannot be read), the first
+/// `SKIPS_SAID` one each, then one with how many more; `stacklevel` as `warnings.warn` takes it.
+fn warn_skipped(py: Python<'_>, walk: &bvhview::batch::Walk, stacklevel: u32) -> PyResult<()> {
+    if walk.skipped.is_empty() {
+        return Ok(());
+    }
+    let warnings = py.import("warnings")?;
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    for line in walk.skipped_lines() {
+        warnings.call_method1("warn", (line, &category, stacklevel))?;
+    }
+    Ok(())
+}
+
 /// A take as `list_takes` gives it: its path and its AMC's (or None), relative to the folder.
 type TakePaths = (PathBuf, Option<PathBuf>);
 
@@ -1510,9 +1527,11 @@ type TakePaths = (PathBuf, Option<PathBuf>);
 /// compile skips and lists them). The list `compile_dataset(takes=…)` takes pieces of.
 #[pyfunction]
 fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePaths>> {
-    let items = py
+    let walk = py
         .detach(|| bvhview::dataset::takes(&folder))
         .map_err(|e| to_python(py, e))?;
+    warn_skipped(py, &walk, 1)?;
+    let items = walk.items;
     // Paths, not text: a name that is not UTF-8 comes back as Python's os.fsdecode gives it.
     let relative = |p: &Path| p.strip_prefix(&folder).unwrap_or(p).to_path_buf();
     Ok(items
@@ -1558,10 +1577,14 @@ fn _compile_dataset(
     // takes that fail.
     let require_clips = takes.is_none();
     let interrupt: Mutex<Option<PyErr>> = Mutex::new(None);
+    let mut walk = bvhview::batch::Walk::default();
     let result = py.detach(|| {
         let items = match &takes {
             Some(pairs) => bvhview::dataset::items_in(&folder, pairs),
-            None => bvhview::dataset::takes(&folder)?,
+            None => {
+                walk = bvhview::dataset::takes(&folder)?;
+                std::mem::take(&mut walk.items)
+            }
         };
         // Ctrl-C stops the compile between takes; its KeyboardInterrupt is raised after.
         let interrupted = |_: &_, _: Option<&str>, _: usize, _: usize| {
@@ -1589,6 +1612,8 @@ fn _compile_dataset(
     {
         return Err(raised);
     }
+    // Said from the caller of `bvhview.compile_dataset`.
+    warn_skipped(py, &walk, 2)?;
     result
         .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
         .map_err(|e| to_python(py, e))

@@ -191,20 +191,21 @@ pub struct Skipped {
 }
 
 /// Every take under `dir` in path order: BVH files and ASF/AMC pairs (an AMC without a skeleton
-/// and an ASF without motion are listed too, and skipped with a reason). A folder without any
-/// is refused: there is no dataset to make of it.
-pub fn takes(dir: &Path) -> Result<Vec<Item>, Error> {
+/// and an ASF without motion are listed too, and skipped with a reason), and what the walk left
+/// out ([`crate::batch::collect`]). A folder without any is refused: there is no dataset to make
+/// of it.
+pub fn takes(dir: &Path) -> Result<crate::batch::Walk, Error> {
     if !dir.is_dir() {
         return Err(Error::Usage(format!("{}: not a folder", dir.display())));
     }
-    let items = crate::batch::collect(dir)?;
-    if items.is_empty() {
+    let walk = crate::batch::collect(dir)?;
+    if walk.items.is_empty() {
         return Err(Error::Usage(format!(
             "{}: no .bvh, .asf or .amc files",
             dir.display()
         )));
     }
-    Ok(items)
+    Ok(walk)
 }
 
 /// Compiles one take found under `dir` (the folder its manifest path is relative to).
