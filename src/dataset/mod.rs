@@ -428,7 +428,9 @@ pub fn compile(
         4 * threads.max(1),
         |index| {
             let item = &items[index];
-            compile_take(dir, item, options).map_err(|e| (Source::of(dir, item), e.to_string()))
+            compile_take(dir, item, options)
+                .and_then(|clip| refuse_non_finite(item, clip))
+                .map_err(|e| (Source::of(dir, item), e.to_string()))
         },
         |index, result| {
             let outcome = match result {
@@ -471,6 +473,51 @@ pub fn compile(
         )));
     }
     writer.finish()
+}
+
+/// A clip whose arrays hold a number that is not finite (a take's numbers too large for
+/// float32: `OFFSET 0 3e38 3e38` makes infinite positions) is refused, naming the take, the
+/// array, the frame and the point: no writer writes such numbers.
+fn refuse_non_finite(item: &Item, clip: Clip) -> Result<Clip, Error> {
+    let points = clip.topology.joints.len().max(1);
+    let rotated = clip.topology.rotated.len().max(1);
+    let width = clip.rotations.len() / (clip.frames.max(1) * rotated).max(1);
+    let point = |k: usize| clip.topology.joints.get(k).map_or("?", |n| n.as_str());
+    let arrays: [(&str, &[f32], usize, Option<usize>); 5] = [
+        ("positions", &clip.positions, points * 3, Some(3)),
+        ("rotations", &clip.rotations, rotated * width.max(1), Some(width.max(1))),
+        ("root_translations", &clip.root_translations, 3, None),
+        ("velocities", &clip.velocities, points * 3, Some(3)),
+        ("rest_offsets", &clip.rest_offsets, points * 3, Some(3)),
+    ];
+    for (name, values, per_frame, per_point) in arrays {
+        let Some(at) = values.iter().position(|v| !v.is_finite()) else {
+            continue;
+        };
+        let take = match &item.motion {
+            Some(amc) => format!("{} + {}", item.path.display(), amc.display()),
+            None => item.path.display().to_string(),
+        };
+        let whose = match (name, per_point) {
+            ("rest_offsets", _) => format!("the OFFSET of {}", point(at / 3)),
+            ("rotations", Some(w)) => {
+                let joint = clip.topology.rotated.get(at % per_frame / w);
+                format!(
+                    "frame {}, joint {}",
+                    at / per_frame,
+                    joint.map_or("?", |&j| point(j as usize))
+                )
+            }
+            (_, Some(w)) => format!("frame {}, point {}", at / per_frame, point(at % per_frame / w)),
+            (_, None) => format!("frame {}", at / per_frame),
+        };
+        return Err(Error::Usage(format!(
+            "{take}: {name} overflow: {} at {whose}; the take's numbers are too large for \
+             float32 (its OFFSETs or channel values), so it is not written",
+            values[at]
+        )));
+    }
+    Ok(clip)
 }
 
 /// An error as the manifest keeps it: paths relative to the folder compiled, so that the
