@@ -222,6 +222,62 @@ pub fn rotation_of_numbers(kind: RotationKind, numbers: &[f32]) -> Option<glam::
     }
 }
 
+/// Why `kind` numbers (finite ones) stand for no rotation, if they do not: a quaternion of
+/// (nearly) zero length, which normalises to NaN; a matrix that is not a rotation (columns not
+/// orthonormal within 1e-3, or a reflection); a 6D pair with a zero or parallel column. Euler
+/// angles always make a rotation.
+pub fn rotation_numbers_problem(kind: RotationKind, numbers: &[f32]) -> Option<String> {
+    // Shorter than this, a quaternion or a column is rounding noise, not a direction.
+    const SHORTEST: f64 = 1e-6;
+    const TOLERANCE: f64 = 1e-3;
+    let length = |v: &[f32]| v.iter().map(|&x| f64::from(x).powi(2)).sum::<f64>().sqrt();
+    match kind {
+        RotationKind::Quat => {
+            let length = length(&numbers[..4]);
+            (length < SHORTEST).then(|| {
+                format!("a quaternion of length {length:e} (zero or too small to normalise)")
+            })
+        }
+        RotationKind::Matrix => {
+            let m = |r: usize, c: usize| f64::from(numbers[r * 3 + c]);
+            let mut worst: f64 = 0.0;
+            for a in 0..3 {
+                for b in 0..3 {
+                    let dot: f64 = (0..3).map(|r| m(r, a) * m(r, b)).sum();
+                    let want = if a == b { 1.0 } else { 0.0 };
+                    worst = worst.max((dot - want).abs());
+                }
+            }
+            let det = m(0, 0) * (m(1, 1) * m(2, 2) - m(1, 2) * m(2, 1))
+                - m(0, 1) * (m(1, 0) * m(2, 2) - m(1, 2) * m(2, 0))
+                + m(0, 2) * (m(1, 0) * m(2, 1) - m(1, 1) * m(2, 0));
+            (worst > TOLERANCE || (det - 1.0).abs() > 3.0 * TOLERANCE).then(|| {
+                format!(
+                    "not a rotation matrix (determinant {det:.6}, columns orthonormal only \
+                     within {worst:.2e}; a rotation's are within {TOLERANCE})"
+                )
+            })
+        }
+        RotationKind::SixD => {
+            let a = Vec3::new(numbers[0], numbers[1], numbers[2]).as_dvec3();
+            let b = Vec3::new(numbers[3], numbers[4], numbers[5]).as_dvec3();
+            let (la, lb) = (a.length(), b.length());
+            let apart = if la > 0.0 && lb > 0.0 {
+                a.cross(b).length() / (la * lb)
+            } else {
+                0.0
+            };
+            (la < SHORTEST || lb < SHORTEST || apart < SHORTEST).then(|| {
+                format!(
+                    "a 6D pair whose columns are zero or parallel (lengths {la:e} and {lb:e}): \
+                     no rotation"
+                )
+            })
+        }
+        RotationKind::Euler => None,
+    }
+}
+
 /// `joint`'s local rotation ([`local_rotation`]) for its channel `values` as `kind` numbers, into
 /// `out` (`kind.width()` long). No values (an End Site, the rest pose): the identity.
 pub fn write_rotation(joint: &Joint, values: &[f32], kind: RotationKind, out: &mut [f32]) {

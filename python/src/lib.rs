@@ -944,11 +944,31 @@ impl Motion {
                 at / 3
             )));
         }
+        // Numbers that stand for no rotation would become NaN angles, which `save` refuses
+        // later: refused here, where the caller can see which.
+        for frame in 0..frames {
+            for (index, joint) in skeleton.joints.iter().enumerate() {
+                if !joint.channels.iter().any(|c| c.is_rotation()) {
+                    continue;
+                }
+                let numbers = &rotations[(frame * joints + index) * per_joint..][..per_joint];
+                if let Some(problem) = pose::rotation_numbers_problem(kind, numbers) {
+                    return Err(PyValueError::new_err(format!(
+                        "rotations[{frame}, {index}] ({}): {problem}",
+                        joint.name
+                    )));
+                }
+            }
+        }
+        // The rates `convert --fps` takes: a Motion made at another could not be saved.
         let frame_time = match fps {
-            Some(fps) if fps > 0.0 && fps.is_finite() => 1.0 / fps,
+            Some(fps) if bvhview::limits::fps(fps, false).is_ok() => 1.0 / fps,
             Some(fps) => {
                 return Err(PyValueError::new_err(format!(
-                    "fps={fps}: expected a rate above 0"
+                    "fps={}: expected frames per second from {} to {}",
+                    bvhview::limits::show(fps),
+                    bvhview::limits::show(bvhview::limits::MIN_FPS),
+                    bvhview::limits::show(bvhview::limits::MAX_FPS)
                 )));
             }
             None => template.loaded.motion.frame_time,
@@ -1339,9 +1359,11 @@ fn _from_state(state: State) -> PyResult<Motion> {
         if end_site && !names.is_empty() {
             return Err(bad("an End Site with channels"));
         }
-        if !offset.iter().all(|v| v.is_finite())
-            || axis.is_some_and(|q| (glam::Quat::from_array(q).length() - 1.0).abs() > 1e-3)
-        {
+        // Written so that NaN fails: a NaN length is not within 1e-3 of 1.
+        let unit = |q: [f32; 4]| {
+            q.iter().all(|v| v.is_finite()) && (glam::Quat::from_array(q).length() - 1.0).abs() <= 1e-3
+        };
+        if !offset.iter().all(|v| v.is_finite()) || axis.is_some_and(|q| !unit(q)) {
             return Err(bad("an OFFSET or an axis that is not a finite rotation"));
         }
         let mut joint = bvhview::Joint::new(name, parent);
@@ -1371,6 +1393,9 @@ fn _from_state(state: State) -> PyResult<Motion> {
         .chunks_exact(4)
         .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
         .collect();
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err(bad("a value that is not a finite number"));
+    }
     let frames = values.len().checked_div(channels).unwrap_or(0);
     let loaded = Loaded {
         skeleton,
@@ -1528,7 +1553,7 @@ type TakePaths = (PathBuf, Option<PathBuf>);
 #[pyfunction]
 fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePaths>> {
     let walk = py
-        .detach(|| bvhview::dataset::takes(&folder))
+        .detach(|| bvhview::dataset::walk(&folder))
         .map_err(|e| to_python(py, e))?;
     warn_skipped(py, &walk, 1)?;
     let items = walk.items;
@@ -1582,7 +1607,7 @@ fn _compile_dataset(
         let items = match &takes {
             Some(pairs) => bvhview::dataset::items_in(&folder, pairs),
             None => {
-                walk = bvhview::dataset::takes(&folder)?;
+                walk = bvhview::dataset::walk(&folder)?;
                 std::mem::take(&mut walk.items)
             }
         };

@@ -74,7 +74,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
     };
     // Options are checked before the folder is read (`Writer::create` checks them again).
     options.check()?;
-    let walk = dataset::takes(&args.dir)?;
+    let walk = dataset::walk(&args.dir)?;
     for line in walk.skipped_lines() {
         eprintln!("{line}");
     }

@@ -191,10 +191,16 @@ pub struct Skipped {
 }
 
 /// Every take under `dir` in path order: BVH files and ASF/AMC pairs (an AMC without a skeleton
-/// and an ASF without motion are listed too, and skipped with a reason), and what the walk left
-/// out ([`crate::batch::collect`]). A folder without any is refused: there is no dataset to make
-/// of it.
-pub fn takes(dir: &Path) -> Result<crate::batch::Walk, Error> {
+/// and an ASF without motion are listed too, and skipped with a reason). A folder without any
+/// is refused: there is no dataset to make of it. What the walk left out is dropped here;
+/// [`walk`] keeps it.
+pub fn takes(dir: &Path) -> Result<Vec<Item>, Error> {
+    walk(dir).map(|walk| walk.items)
+}
+
+/// [`takes`], and what the folder walk skipped ([`crate::batch::collect`]: loops, folders and
+/// files reached again, links out of `dir`, what is not a regular file or cannot be read).
+pub fn walk(dir: &Path) -> Result<crate::batch::Walk, Error> {
     if !dir.is_dir() {
         return Err(Error::Usage(format!("{}: not a folder", dir.display())));
     }
