@@ -80,7 +80,9 @@ fn subject_key(stem: &str) -> Option<Key<'_>> {
 fn take_key(stem: &str) -> Option<Key<'_>> {
     let key = subject_key(stem)?;
     let take = key.rest.strip_prefix('_')?;
-    let digits = take.find(|c: char| !c.is_ascii_digit()).unwrap_or(take.len());
+    let digits = take
+        .find(|c: char| !c.is_ascii_digit())
+        .unwrap_or(take.len());
     (digits > 0).then(|| Key {
         rest: &take[digits..],
         ..key
@@ -89,7 +91,8 @@ fn take_key(stem: &str) -> Option<Key<'_>> {
 
 /// Whether a take's key and a skeleton's are the same but for the subject number.
 fn same_scheme(take: &Key, skeleton: &Key) -> bool {
-    take.prefix.eq_ignore_ascii_case(skeleton.prefix) && take.rest.eq_ignore_ascii_case(skeleton.rest)
+    take.prefix.eq_ignore_ascii_case(skeleton.prefix)
+        && take.rest.eq_ignore_ascii_case(skeleton.rest)
 }
 
 /// Whether two subject numbers are the same number (`7` and `07`).
@@ -122,9 +125,8 @@ fn skeleton_for(amc_stem: &str, asfs: &[&PathBuf]) -> Option<usize> {
     let cmu_named = || {
         let take = amc_key.as_ref()?;
         (0..stems.len()).find(|&k| {
-            subject_key(&stems[k]).is_some_and(|asf| {
-                same_scheme(take, &asf) && same_number(take.number, asf.number)
-            })
+            subject_key(&stems[k])
+                .is_some_and(|asf| same_scheme(take, &asf) && same_number(take.number, asf.number))
         })
     };
     let only = || {
@@ -213,7 +215,9 @@ fn unreadable(error: &std::io::Error) -> String {
 }
 
 fn walk_error(error: &walkdir::Error) -> String {
-    error.io_error().map_or_else(|| error.to_string(), unreadable)
+    error
+        .io_error()
+        .map_or_else(|| error.to_string(), unreadable)
 }
 
 /// What a file that is not a regular one is, for the skipped list.
@@ -324,7 +328,11 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
                     Ok(_) => {}
                     Err(e) => {
                         walk.skip_current_dir();
-                        skip(&mut skipped, path, format!("cannot be read: {}", unreadable(&e)));
+                        skip(
+                            &mut skipped,
+                            path,
+                            format!("cannot be read: {}", unreadable(&e)),
+                        );
                         continue;
                     }
                 }
@@ -333,7 +341,11 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
                 Ok(metadata) => identity(&metadata),
                 Err(e) => {
                     walk.skip_current_dir();
-                    skip(&mut skipped, path, format!("cannot be read: {}", walk_error(&e)));
+                    skip(
+                        &mut skipped,
+                        path,
+                        format!("cannot be read: {}", walk_error(&e)),
+                    );
                     continue;
                 }
             };
@@ -350,13 +362,21 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
             continue;
         }
         if !entry.file_type().is_file() {
-            skip(&mut skipped, path, format!("{}, not a take", kind_of(entry.file_type())));
+            skip(
+                &mut skipped,
+                path,
+                format!("{}, not a take", kind_of(entry.file_type())),
+            );
             continue;
         }
         let id = match entry.metadata() {
             Ok(metadata) => identity(&metadata),
             Err(e) => {
-                skip(&mut skipped, path, format!("cannot be read: {}", walk_error(&e)));
+                skip(
+                    &mut skipped,
+                    path,
+                    format!("cannot be read: {}", walk_error(&e)),
+                );
                 continue;
             }
         };
@@ -544,16 +564,31 @@ mod tests {
     #[test]
     fn an_amc_pairs_with_the_asf_named_as_cmu_downloads_name_them() {
         let asfs = ["cmu_07-walk", "cmu_08-walk"];
-        assert_eq!(paired("cmu_07_05-walk", &asfs).as_deref(), Some("cmu_07-walk"));
-        assert_eq!(paired("cmu_08_01-walk", &asfs).as_deref(), Some("cmu_08-walk"));
-        assert_eq!(paired("CMU_7_05-Walk", &asfs).as_deref(), Some("cmu_07-walk"));
-        assert_eq!(paired("07_05-walk", &["07-walk", "08-walk"]).as_deref(), Some("07-walk"));
+        assert_eq!(
+            paired("cmu_07_05-walk", &asfs).as_deref(),
+            Some("cmu_07-walk")
+        );
+        assert_eq!(
+            paired("cmu_08_01-walk", &asfs).as_deref(),
+            Some("cmu_08-walk")
+        );
+        assert_eq!(
+            paired("CMU_7_05-Walk", &asfs).as_deref(),
+            Some("cmu_07-walk")
+        );
+        assert_eq!(
+            paired("07_05-walk", &["07-walk", "08-walk"]).as_deref(),
+            Some("07-walk")
+        );
         assert_eq!(paired("07_05-x", &["run", "07-x"]).as_deref(), Some("07-x"));
         // Another subject named the same way is not this take's skeleton, even alone.
         assert_eq!(paired("cmu_09_01-walk", &["cmu_07-walk"]), None);
         assert_eq!(paired("cmu_09_01-walk", &asfs), None);
         // A skeleton named otherwise, alone in the folder, is still the take's.
-        assert_eq!(paired("cmu_09_01-walk", &["skeleton"]).as_deref(), Some("skeleton"));
+        assert_eq!(
+            paired("cmu_09_01-walk", &["skeleton"]).as_deref(),
+            Some("skeleton")
+        );
         let item = Item {
             path: PathBuf::from("d/cmu_07_05-walk.amc"),
             motion: None,

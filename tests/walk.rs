@@ -81,8 +81,8 @@ fn trapped_folder(temp: &Path) -> PathBuf {
     symlink("sub", dir.join("zsub")).unwrap();
     symlink("a.bvh", dir.join("c.bvh")).unwrap();
     symlink("missing.bvh", dir.join("broken.bvh")).unwrap();
-    let fifo = std::ffi::CString::new(dir.join("f.bvh").into_os_string().into_encoded_bytes())
-        .unwrap();
+    let fifo =
+        std::ffi::CString::new(dir.join("f.bvh").into_os_string().into_encoded_bytes()).unwrap();
     // SAFETY: mkfifo reads the NUL-terminated path `fifo` keeps alive for the call.
     assert_eq!(unsafe { libc::mkfifo(fifo.as_ptr(), 0o644) }, 0);
     dir
@@ -204,7 +204,10 @@ fn info_and_dataset_on_a_looping_folder_end_and_say_what_they_skipped() {
         stderr.contains("skipped takes/root: a link to /, outside takes: not followed"),
         "{stderr}"
     );
-    assert_eq!(stderr.lines().filter(|l| l.starts_with("skipped ")).count(), 8);
+    assert_eq!(
+        stderr.lines().filter(|l| l.starts_with("skipped ")).count(),
+        8
+    );
 
     let out = bvhview(
         &[os("dataset"), os("takes"), os("-o"), os("walk.ds")],
@@ -228,9 +231,17 @@ fn a_folder_pairs_asf_and_amc_as_cmu_downloads_name_them() {
     let dir = temp.path();
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/asf_amc");
     std::fs::copy(data.join("heiden_12.asf"), dir.join("cmu_07-walk.asf")).unwrap();
-    std::fs::copy(data.join("heiden_12_02_01.amc"), dir.join("cmu_07_05-walk.amc")).unwrap();
+    std::fs::copy(
+        data.join("heiden_12_02_01.amc"),
+        dir.join("cmu_07_05-walk.amc"),
+    )
+    .unwrap();
     std::fs::copy(data.join("heiden_12.asf"), dir.join("cmu_08-walk.asf")).unwrap();
-    std::fs::copy(data.join("heiden_12_02_01.amc"), dir.join("cmu_08_01-walk.amc")).unwrap();
+    std::fs::copy(
+        data.join("heiden_12_02_01.amc"),
+        dir.join("cmu_08_01-walk.amc"),
+    )
+    .unwrap();
     let walk = collect(dir);
     let pair = |asf: &str, amc: &str| Item {
         path: dir.join(asf),
@@ -259,7 +270,10 @@ fn a_dataset_with_a_250_byte_name_is_written() {
     std::fs::copy(take(), dir.join("a.bvh")).unwrap();
     let name = format!("{}.ds", "n".repeat(247));
     assert_eq!(name.len(), 250);
-    let out = bvhview(&[os("dataset"), os("takes"), os("-o"), os(&name)], temp.path());
+    let out = bvhview(
+        &[os("dataset"), os("takes"), os("-o"), os(&name)],
+        temp.path(),
+    );
     assert!(
         out.status.success(),
         "{}",
@@ -283,7 +297,10 @@ fn a_dataset_that_cannot_be_made_says_the_real_cause() {
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::copy(take(), dir.join("a.bvh")).unwrap();
     let run = |out: &str| {
-        let out = bvhview(&[os("dataset"), os("takes"), os("-o"), os(out)], temp.path());
+        let out = bvhview(
+            &[os("dataset"), os("takes"), os("-o"), os(out)],
+            temp.path(),
+        );
         assert_eq!(out.status.code(), Some(1));
         String::from_utf8_lossy(&out.stderr).into_owned()
     };

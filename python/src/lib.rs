@@ -1361,7 +1361,8 @@ fn _from_state(state: State) -> PyResult<Motion> {
         }
         // Written so that NaN fails: a NaN length is not within 1e-3 of 1.
         let unit = |q: [f32; 4]| {
-            q.iter().all(|v| v.is_finite()) && (glam::Quat::from_array(q).length() - 1.0).abs() <= 1e-3
+            q.iter().all(|v| v.is_finite())
+                && (glam::Quat::from_array(q).length() - 1.0).abs() <= 1e-3
         };
         if !offset.iter().all(|v| v.is_finite()) || axis.is_some_and(|q| !unit(q)) {
             return Err(bad("an OFFSET or an axis that is not a finite rotation"));

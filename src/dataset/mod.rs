@@ -491,7 +491,12 @@ fn refuse_non_finite(item: &Item, clip: Clip) -> Result<Clip, Error> {
     let point = |k: usize| clip.topology.joints.get(k).map_or("?", |n| n.as_str());
     let arrays: [(&str, &[f32], usize, Option<usize>); 5] = [
         ("positions", &clip.positions, points * 3, Some(3)),
-        ("rotations", &clip.rotations, rotated * width.max(1), Some(width.max(1))),
+        (
+            "rotations",
+            &clip.rotations,
+            rotated * width.max(1),
+            Some(width.max(1)),
+        ),
         ("root_translations", &clip.root_translations, 3, None),
         ("velocities", &clip.velocities, points * 3, Some(3)),
         ("rest_offsets", &clip.rest_offsets, points * 3, Some(3)),
@@ -514,7 +519,11 @@ fn refuse_non_finite(item: &Item, clip: Clip) -> Result<Clip, Error> {
                     joint.map_or("?", |&j| point(j as usize))
                 )
             }
-            (_, Some(w)) => format!("frame {}, point {}", at / per_frame, point(at % per_frame / w)),
+            (_, Some(w)) => format!(
+                "frame {}, point {}",
+                at / per_frame,
+                point(at % per_frame / w)
+            ),
             (_, None) => format!("frame {}", at / per_frame),
         };
         return Err(Error::Usage(format!(
