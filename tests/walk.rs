@@ -176,7 +176,7 @@ fn an_unreadable_subfolder_is_skipped_and_said() {
     let dir = temp.path().join("takes");
     std::fs::create_dir_all(dir.join("locked")).unwrap();
     std::fs::copy(take(), dir.join("a.bvh")).unwrap();
-    std::fs::set_permissions(dir.join("locked"), std::fs::Permissions::from_mode(0)).unwrap();
+    std::fs::set_permissions(dir.join("locked"), std::fs::Permissions::from_mode(0o000)).unwrap();
     let walk = collect(&dir);
     std::fs::set_permissions(dir.join("locked"), std::fs::Permissions::from_mode(0o755)).unwrap();
     assert_eq!(walk.items.len(), 1);

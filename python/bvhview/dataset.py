@@ -169,6 +169,9 @@ def _refuse_link(folder: Path, name: str, dir_fd: int) -> None:
         return
     if stat.S_ISLNK(mode):
         raise ValueError(f"{folder / name}: is a symbolic link; not written or read through")
+    if not stat.S_ISREG(mode):
+        # A FIFO would wait for a writer for good.
+        raise ValueError(f"{folder / name}: not a regular file")
 
 
 def write_parquet(dataset: StrPath) -> list[Path]:

@@ -57,7 +57,8 @@ def in_child(code: str, *args: str) -> dict:
 
 def test_list_takes_on_a_looping_folder_lists_each_take_once_and_warns(tmp_path):
     takes = trapped_folder(tmp_path)
-    result = in_child("result = {'takes': [[str(p), m] for p, m in bvhview.list_takes(sys.argv[1])]}", str(takes))
+    listed = "result = {'takes': [[str(p), m] for p, m in bvhview.list_takes(sys.argv[1])]}"
+    result = in_child(listed, str(takes))
     assert result["takes"] == [["a.bvh", None], [str(Path("sub") / "b.bvh"), None]]
     said = "\n".join(result["warnings"])
     assert "takes/x: a link back to" in said and "(a loop)" in said
@@ -69,7 +70,8 @@ def test_list_takes_on_a_looping_folder_lists_each_take_once_and_warns(tmp_path)
 
 def test_load_many_on_a_looping_folder_loads_each_take_once_and_warns(tmp_path):
     takes = trapped_folder(tmp_path)
-    result = in_child("result = {'paths': [m.path for m in bvhview.load_many(sys.argv[1])]}", str(takes))
+    loaded = "result = {'paths': [m.path for m in bvhview.load_many(sys.argv[1])]}"
+    result = in_child(loaded, str(takes))
     assert result["paths"] == [str(takes / "a.bvh"), str(takes / "sub" / "b.bvh")]
     assert len(result["warnings"]) == 5
 
@@ -191,7 +193,8 @@ def test_from_arrays_refuses_rotations_that_are_none():
     bvhview.Motion.from_arrays(take, quat * 3)
 
     matrix = take.local_rotations([0], kind="matrix")
-    for bad in (np.diag([2.0, 2.0, 2.0]), np.diag([1.0, 1.0, -1.0]), np.zeros((3, 3)), np.ones((3, 3))):
+    scaled, mirrored = np.diag([2.0, 2.0, 2.0]), np.diag([1.0, 1.0, -1.0])
+    for bad in (scaled, mirrored, np.zeros((3, 3)), np.ones((3, 3))):
         rotations = matrix.copy()
         rotations[0, 1] = bad
         with pytest.raises(ValueError, match=r"rotations\[0, 1\] .*not a rotation matrix"):
@@ -226,7 +229,8 @@ def test_from_arrays_at_the_fastest_rate_saves_and_unpickles(tmp_path):
 
 
 def test_unpickling_refuses_nan_axes_and_values():
-    take = bvhview.load(DATA / "asf_amc" / "heiden_12.asf", motion=DATA / "asf_amc" / "heiden_12_02_01.amc")
+    folder = DATA / "asf_amc"
+    take = bvhview.load(folder / "heiden_12.asf", motion=folder / "heiden_12_02_01.amc")
     _, (state,) = take.__reduce__()
     joints = state[7]
     axis_joint = next(k for k, j in enumerate(joints) if j[5] is not None)
