@@ -373,7 +373,7 @@ fn follow_links(path: &Path) -> Result<PathBuf, Error> {
 
 /// `fs.protected_symlinks`: in a sticky, world-writable folder, a link is followed only if it
 /// belongs to whoever follows it or to the folder's owner.
-fn refuse_planted_link(
+pub fn refuse_planted_link(
     path: &Path,
     link: &Path,
     metadata: &Metadata,
