@@ -273,51 +273,60 @@ pub fn rotation_of_numbers(kind: RotationKind, numbers: &[f32]) -> Option<glam::
     }
 }
 
-/// Whether `numbers` stand for a rotation at all: a quaternion of some length (not 0, nor so
-/// small that normalising it loses every digit), a 6D pair of two vectors that are not 0 or
-/// parallel, a matrix whose columns are unit and at right angles within 0.05 and whose
-/// determinant is positive. Every kind's numbers must be finite. Axis-angle and Euler numbers
-/// are any finite numbers.
-pub fn check_rotation_numbers(kind: RotationKind, numbers: &[f32]) -> Result<(), String> {
-    if let Some(value) = numbers.iter().find(|v| !v.is_finite()) {
-        return Err(format!("{value} is not a finite number"));
-    }
-    let tiny = 1e-6f32;
+/// Why `kind` numbers (finite ones) stand for no rotation, if they do not: a quaternion of
+/// (nearly) zero length, which normalises to NaN; a matrix that is not a rotation (columns not
+/// orthonormal within 1e-3, or a reflection); a 6D pair with a zero or parallel column. Euler
+/// angles and rotation vectors always make a rotation.
+pub fn rotation_numbers_problem(kind: RotationKind, numbers: &[f32]) -> Option<String> {
+    // Shorter than this, a quaternion or a column is rounding noise, not a direction.
+    const SHORTEST: f64 = 1e-6;
+    const TOLERANCE: f64 = 1e-3;
+    let length = |v: &[f32]| v.iter().map(|&x| f64::from(x).powi(2)).sum::<f64>().sqrt();
     match kind {
         RotationKind::Quat => {
-            let q = glam::Vec4::from_slice(numbers);
-            if !(q.length() >= tiny && q.length_squared().is_normal()) {
-                return Err(format!(
-                    "the quaternion {numbers:?} has length {}: it is no rotation",
-                    q.length()
-                ));
-            }
-        }
-        RotationKind::SixD => {
-            let a = Vec3::from_slice(&numbers[..3]);
-            let b = Vec3::from_slice(&numbers[3..6]);
-            let normal = |v: Vec3| v.length() >= tiny && v.length_squared().is_normal();
-            if !normal(a) || !normal(b) || a.cross(b).length() < tiny * a.length() * b.length() {
-                return Err(format!(
-                    "the 6D pair {numbers:?} has a vector of length 0 or two parallel vectors: it is no rotation"
-                ));
-            }
+            let length = length(&numbers[..4]);
+            (length < SHORTEST).then(|| {
+                format!("a quaternion of length {length:e} (zero or too small to normalise)")
+            })
         }
         RotationKind::Matrix => {
-            let m = glam::Mat3::from_cols_slice(numbers).transpose();
-            let off = (m.transpose() * m - glam::Mat3::IDENTITY)
-                .to_cols_array()
-                .iter()
-                .fold(0.0f32, |most, v| most.max(v.abs()));
-            if off > 0.05 || m.determinant() <= 0.0 {
-                return Err(format!(
-                    "the matrix {numbers:?} is not a rotation (columns unit and at right angles                      within 0.05, determinant +1)"
-                ));
+            let m = |r: usize, c: usize| f64::from(numbers[r * 3 + c]);
+            let mut worst: f64 = 0.0;
+            for a in 0..3 {
+                for b in 0..3 {
+                    let dot: f64 = (0..3).map(|r| m(r, a) * m(r, b)).sum();
+                    let want = if a == b { 1.0 } else { 0.0 };
+                    worst = worst.max((dot - want).abs());
+                }
             }
+            let det = m(0, 0) * (m(1, 1) * m(2, 2) - m(1, 2) * m(2, 1))
+                - m(0, 1) * (m(1, 0) * m(2, 2) - m(1, 2) * m(2, 0))
+                + m(0, 2) * (m(1, 0) * m(2, 1) - m(1, 1) * m(2, 0));
+            (worst > TOLERANCE || (det - 1.0).abs() > 3.0 * TOLERANCE).then(|| {
+                format!(
+                    "not a rotation matrix (determinant {det:.6}, columns orthonormal only \
+                     within {worst:.2e}; a rotation's are within {TOLERANCE})"
+                )
+            })
         }
-        RotationKind::Euler | RotationKind::AxisAngle => {}
+        RotationKind::SixD => {
+            let a = Vec3::new(numbers[0], numbers[1], numbers[2]).as_dvec3();
+            let b = Vec3::new(numbers[3], numbers[4], numbers[5]).as_dvec3();
+            let (la, lb) = (a.length(), b.length());
+            let apart = if la > 0.0 && lb > 0.0 {
+                a.cross(b).length() / (la * lb)
+            } else {
+                0.0
+            };
+            (la < SHORTEST || lb < SHORTEST || apart < SHORTEST).then(|| {
+                format!(
+                    "a 6D pair whose columns are zero or parallel (lengths {la:e} and {lb:e}): \
+                     no rotation"
+                )
+            })
+        }
+        RotationKind::Euler | RotationKind::AxisAngle => None,
     }
-    Ok(())
 }
 
 /// `joint`'s local rotation ([`local_rotation`]) for its channel `values` as `kind` numbers, into

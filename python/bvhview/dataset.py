@@ -12,11 +12,16 @@ code). The layout on disk is in docs/PYTHON.md.
 
 from __future__ import annotations
 
+import contextlib
 import json
 import mmap
 import os
+import secrets
+import signal
+import stat
+import threading
 import warnings
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -66,6 +71,47 @@ def _read_manifest(dataset: StrPath) -> dict[str, Any]:
     return _checked(dataset)[0]
 
 
+class _Terminated(BaseException):
+    """SIGTERM or SIGHUP arrived during a compile or merge: raised by the handler
+    ``_ended_cleanly`` installs, as Ctrl-C raises KeyboardInterrupt (a BaseException, so that an
+    ``except Exception`` does not swallow it)."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+@contextlib.contextmanager
+def _ended_cleanly() -> Iterator[None]:
+    """SIGTERM and SIGHUP (where Python leaves them at their default, which ends the process at
+    once) stop the work in the block as Ctrl-C does: the compile stops between takes and removes
+    its temporary ``.OUT.*`` folder (a merge or a Parquet file finishes first). The process then
+    ends by the same signal, as it would have without the cleanup. Only Python's main thread can
+    take signals: elsewhere this does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum: int, frame: object) -> None:
+        raise _Terminated(signum)
+
+    installed = {}
+    for number in (signal.SIGTERM, signal.SIGHUP):
+        if signal.getsignal(number) == signal.SIG_DFL:
+            installed[number] = signal.signal(number, stop)
+    try:
+        yield
+    except _Terminated as ended:
+        for number, old in installed.items():
+            signal.signal(number, old)
+        installed.clear()
+        os.kill(os.getpid(), ended.signum)
+        raise SystemExit(128 + ended.signum) from None
+    finally:
+        for number, old in installed.items():
+            signal.signal(number, old)
+
+
 def compile_dataset(
     folder: StrPath,
     out: StrPath,
@@ -94,25 +140,30 @@ def compile_dataset(
     toe, from the rest pose). A take that fails is skipped with its ``path:line:column``; a
     folder of which no take compiles raises ValueError naming every reason, and writes nothing.
     ``parquet``: also write ``group_K/frames.parquet`` (needs pyarrow). Ctrl-C and SIGTERM stop
-    the compile between takes, leaving nothing behind."""
+    the compile between takes, leaving nothing behind (SIGTERM and SIGHUP when Python has them
+    at their default and this runs in the main thread; the process then ends by that signal). A
+    process killed outright (SIGKILL) leaves its temporary ``.OUT.*`` folder beside ``out``.
+    What the folder walk skipped (a loop, a link out of the folder, a take reached twice) is
+    said as a UserWarning each."""
     if parquet:
         _need_pyarrow()
-    _, _, _, skipped = _compile_dataset(
-        os.fspath(folder),
-        os.fspath(out),
-        fps=fps,
-        rotations=rotations,
-        root_relative=root_relative,
-        feet=None if feet is None else [str(f) for f in feet],
-        contact_height=contact_height,
-        contact_speed=contact_speed,
-        takes=None if takes is None else [(p, m) for p, m in takes],
-        threads=threads,
-    )
-    for _, _, reason in skipped:
-        warnings.warn(f"skipped {reason}", SkippedTake, stacklevel=2)
-    if parquet:
-        write_parquet(out)
+    with _ended_cleanly():
+        _, _, _, skipped = _compile_dataset(
+            os.fspath(folder),
+            os.fspath(out),
+            fps=fps,
+            rotations=rotations,
+            root_relative=root_relative,
+            feet=None if feet is None else [str(f) for f in feet],
+            contact_height=contact_height,
+            contact_speed=contact_speed,
+            takes=None if takes is None else [(p, m) for p, m in takes],
+            threads=threads,
+        )
+        for _, _, reason in skipped:
+            warnings.warn(f"skipped {reason}", SkippedTake, stacklevel=2)
+        if parquet:
+            write_parquet(out)
     return _read_manifest(out)
 
 
@@ -133,16 +184,43 @@ def merge_datasets(
     options, their clips one after the other, grouped by skeleton topology."""
     if parquet:
         _need_pyarrow()
-    _merge_datasets([os.fspath(p) for p in pieces], os.fspath(out), join=join)
-    if parquet:
-        write_parquet(out)
+    with _ended_cleanly():
+        _merge_datasets([os.fspath(p) for p in pieces], os.fspath(out), join=join)
+        if parquet:
+            write_parquet(out)
     return _read_manifest(out)
+
+
+def _plain_folder(root: Path, name: object) -> int:
+    """A group's folder opened without following a link (its descriptor): ``name`` must be a
+    plain name of a real folder inside ``root``."""
+    if not isinstance(name, str) or name in ("", ".", "..") or "/" in name or "\0" in name:
+        raise ValueError(f"{root}: group name {name!r} is not a plain folder name")
+    folder = root / name
+    if folder.is_symlink():
+        raise ValueError(f"{folder}: is a symbolic link; a dataset's folders are never followed out")
+    return os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
+
+
+def _refuse_link(folder: Path, name: str, dir_fd: int) -> None:
+    try:
+        mode = os.lstat(name, dir_fd=dir_fd).st_mode
+    except FileNotFoundError:
+        return
+    if stat.S_ISLNK(mode):
+        raise ValueError(f"{folder / name}: is a symbolic link; not written or read through")
+    if not stat.S_ISREG(mode):
+        # A FIFO would wait for a writer for good.
+        raise ValueError(f"{folder / name}: not a regular file")
 
 
 def write_parquet(dataset: StrPath) -> list[Path]:
     """Write ``group_K/frames.parquet`` beside each group's arrays: a row per frame with its
     ``clip`` (index into ``manifest["clips"]``) and ``frame``, and each array's numbers of that
-    frame as a fixed-size list column. Needs pyarrow."""
+    frame as a fixed-size list column. Needs pyarrow. The dataset is read through bvhview's
+    checked reader (a folder or array that is a link is refused, ValueError), a
+    ``frames.parquet`` that is a link or not a regular file is refused, and each file is
+    written under an exclusive random temporary name, then renamed."""
     import pyarrow as pa  # type: ignore[import-untyped,import-not-found,unused-ignore]
     import pyarrow.parquet as pq  # type: ignore[import-untyped,import-not-found,unused-ignore]
 
@@ -150,33 +228,52 @@ def write_parquet(dataset: StrPath) -> list[Path]:
     manifest, mapped, _ = _checked(root)
     written = []
     for k, group in enumerate(manifest["groups"]):
-        clips = [i for i, c in enumerate(manifest["clips"]) if c["group"] == k]
-        frames = np.array([manifest["clips"][i]["frames"] for i in clips], dtype=np.int64)
-        columns: dict[str, Any] = {
-            "clip": pa.array(np.repeat(np.array(clips, dtype=np.int32), frames)),
-            "frame": pa.array(
-                np.concatenate([np.arange(n, dtype=np.int32) for n in frames])
-                if len(frames)
-                else np.zeros(0, np.int32)
-            ),
-        }
-        for name in ARRAYS:
-            array = mapped[k][name]
-            width = int(np.prod(array.shape[1:]))
-            if width == 0:
-                # A skeleton without feet has no contacts: Arrow has no list of 0 items.
-                continue
-            flat = pa.array(array.reshape(-1))
-            columns[name] = pa.FixedSizeListArray.from_arrays(flat, width)
-        path = root / group["name"] / "frames.parquet"
-        # Written under another name, then renamed: a reader never sees half a file.
-        partial = path.with_name(f".frames.parquet.{os.getpid()}")
+        folder = root / str(group["name"])
+        dir_fd = _plain_folder(root, group["name"])
         try:
-            pq.write_table(pa.table(columns), partial)
-            os.replace(partial, path)
+            clips = [i for i, c in enumerate(manifest["clips"]) if c["group"] == k]
+            frames = np.array([manifest["clips"][i]["frames"] for i in clips], dtype=np.int64)
+            columns: dict[str, Any] = {
+                "clip": pa.array(np.repeat(np.array(clips, dtype=np.int32), frames)),
+                "frame": pa.array(
+                    np.concatenate([np.arange(n, dtype=np.int32) for n in frames])
+                    if len(frames)
+                    else np.zeros(0, np.int32)
+                ),
+            }
+            for name in ARRAYS:
+                array = mapped[k][name]
+                width = int(np.prod(array.shape[1:]))
+                if width == 0:
+                    # A skeleton without feet has no contacts: Arrow has no list of 0 items.
+                    continue
+                flat = pa.array(array.reshape(-1))
+                columns[name] = pa.FixedSizeListArray.from_arrays(flat, width)
+            _refuse_link(folder, "frames.parquet", dir_fd)
+            # Written under a random name made exclusively (never through a link planted under
+            # a name guessed in advance), then renamed: a reader never sees half a file.
+            while True:
+                partial = f".frames.parquet.{secrets.token_hex(6)}.partial"
+                try:
+                    fd = os.open(
+                        partial,
+                        os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC,
+                        0o666,
+                        dir_fd=dir_fd,
+                    )
+                    break
+                except FileExistsError:
+                    continue
+            try:
+                with os.fdopen(fd, "wb") as file:
+                    pq.write_table(pa.table(columns), file)
+                os.replace(partial, "frames.parquet", src_dir_fd=dir_fd, dst_dir_fd=dir_fd)
+            finally:
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(partial, dir_fd=dir_fd)
         finally:
-            partial.unlink(missing_ok=True)
-        written.append(path)
+            os.close(dir_fd)
+        written.append(folder / "frames.parquet")
     return written
 
 

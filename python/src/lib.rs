@@ -969,11 +969,31 @@ impl Motion {
                 at / 3
             )));
         }
+        // Numbers that stand for no rotation would become NaN angles, which `save` refuses
+        // later: refused here, where the caller can see which.
+        for frame in 0..frames {
+            for (index, joint) in skeleton.joints.iter().enumerate() {
+                if !joint.channels.iter().any(|c| c.is_rotation()) {
+                    continue;
+                }
+                let numbers = &rotations[(frame * joints + index) * per_joint..][..per_joint];
+                if let Some(problem) = pose::rotation_numbers_problem(kind, numbers) {
+                    return Err(PyValueError::new_err(format!(
+                        "rotations[{frame}, {index}] ({}): {problem}",
+                        joint.name
+                    )));
+                }
+            }
+        }
+        // The rates `convert --fps` takes: a Motion made at another could not be saved.
         let frame_time = match fps {
-            Some(fps) if fps > 0.0 && fps.is_finite() => 1.0 / fps,
+            Some(fps) if bvhview::limits::fps(fps, false).is_ok() => 1.0 / fps,
             Some(fps) => {
                 return Err(PyValueError::new_err(format!(
-                    "fps={fps}: expected a rate above 0"
+                    "fps={}: expected frames per second from {} to {}",
+                    bvhview::limits::show(fps),
+                    bvhview::limits::show(bvhview::limits::MIN_FPS),
+                    bvhview::limits::show(bvhview::limits::MAX_FPS)
                 )));
             }
             None => template.loaded.motion.frame_time,
@@ -1303,9 +1323,12 @@ fn _from_state(state: State) -> PyResult<Motion> {
         if end_site && !names.is_empty() {
             return Err(bad("an End Site with channels"));
         }
-        if !offset.iter().all(|v| v.is_finite())
-            || axis.is_some_and(|q| (glam::Quat::from_array(q).length() - 1.0).abs() > 1e-3)
-        {
+        // Written so that NaN fails: a NaN length is not within 1e-3 of 1.
+        let unit = |q: [f32; 4]| {
+            q.iter().all(|v| v.is_finite())
+                && (glam::Quat::from_array(q).length() - 1.0).abs() <= 1e-3
+        };
+        if !offset.iter().all(|v| v.is_finite()) || axis.is_some_and(|q| !unit(q)) {
             return Err(bad("an OFFSET or an axis that is not a finite rotation"));
         }
         let mut joint = bvhview::Joint::new(name, parent);
@@ -1335,6 +1358,9 @@ fn _from_state(state: State) -> PyResult<Motion> {
         .chunks_exact(4)
         .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
         .collect();
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err(bad("a value that is not a finite number"));
+    }
     let frames = values.len().checked_div(channels).unwrap_or(0);
     let loaded = Loaded {
         skeleton,
@@ -1376,7 +1402,9 @@ fn items_of(paths: &Bound<'_, PyAny>) -> PyResult<Vec<Item>> {
         if path.is_dir() {
             let found =
                 bvhview::batch::collect(&path).map_err(|e| PyOSError::new_err(e.to_string()))?;
+            warn_skipped(paths.py(), &found, 1)?;
             return Ok(found
+                .items
                 .into_iter()
                 .filter(|item| !item.is_unpaired_motion())
                 .map(|item| Item {
@@ -1466,6 +1494,21 @@ fn load_many(
     Ok(loaded)
 }
 
+/// A `UserWarning` for each thing a folder walk skipped (a loop, a folder or file reached again,
+/// a link out of the folder, what is not a regular file or cannot be read), the first
+/// `SKIPS_SAID` one each, then one with how many more; `stacklevel` as `warnings.warn` takes it.
+fn warn_skipped(py: Python<'_>, walk: &bvhview::batch::Walk, stacklevel: u32) -> PyResult<()> {
+    if walk.skipped.is_empty() {
+        return Ok(());
+    }
+    let warnings = py.import("warnings")?;
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    for line in walk.skipped_lines() {
+        warnings.call_method1("warn", (line, &category, stacklevel))?;
+    }
+    Ok(())
+}
+
 /// A take as `list_takes` gives it: its path and its AMC's (or None), relative to the folder.
 type TakePaths = (PathBuf, Option<PathBuf>);
 
@@ -1474,9 +1517,11 @@ type TakePaths = (PathBuf, Option<PathBuf>);
 /// compile skips and lists them). The list `compile_dataset(takes=…)` takes pieces of.
 #[pyfunction]
 fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePaths>> {
-    let items = py
-        .detach(|| bvhview::dataset::takes(&folder))
+    let walk = py
+        .detach(|| bvhview::dataset::walk(&folder))
         .map_err(|e| to_python(py, e))?;
+    warn_skipped(py, &walk, 1)?;
+    let items = walk.items;
     // Paths, not text: a name that is not UTF-8 comes back as Python's os.fsdecode gives it.
     let relative = |p: &Path| p.strip_prefix(&folder).unwrap_or(p).to_path_buf();
     Ok(items
@@ -1526,6 +1571,7 @@ fn _compile_dataset(
         // A compile of a folder must compile something; a piece may hold only takes that fail.
         let require_clips = takes.is_none() && piece.is_none();
         let interrupt: Mutex<Option<PyErr>> = Mutex::new(None);
+        let mut walk = bvhview::batch::Walk::default();
         let result = py.detach(|| {
             let (items, list) = match (&takes, piece) {
                 (Some(_), Some(_)) => {
@@ -1543,7 +1589,8 @@ fn _compile_dataset(
                     bvhview::dataset::piece(&folder, all, index, pieces)?
                 }
                 (None, None) => {
-                    let items = bvhview::dataset::takes(&folder)?;
+                    walk = bvhview::dataset::walk(&folder)?;
+                    let items = std::mem::take(&mut walk.items);
                     let list = bvhview::dataset::whole_list(&folder, &items);
                     (items, list)
                 }
@@ -1576,6 +1623,8 @@ fn _compile_dataset(
         {
             return Err(raised);
         }
+        // Said from the caller of `bvhview.compile_dataset`.
+        warn_skipped(py, &walk, 2)?;
         let summary = result.map_err(|e| to_python(py, e))?;
         let skipped = summary
             .skipped

@@ -84,7 +84,11 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
     };
     // Options are checked before the folder is read (`Writer::create` checks them again).
     options.check()?;
-    let items = dataset::takes(&args.dir)?;
+    let walk = dataset::walk(&args.dir)?;
+    for line in walk.skipped_lines() {
+        eprintln!("{line}");
+    }
+    let items = walk.items;
     let takes = dataset::whole_list(&args.dir, &items);
     let threads = args.threads.unwrap_or_else(bvhview::cores).max(1);
     let summary = dataset::compile(

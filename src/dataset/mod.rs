@@ -293,19 +293,26 @@ pub struct Skipped {
 
 /// Every take under `dir` in path order: BVH files and ASF/AMC pairs (an AMC without a skeleton
 /// and an ASF without motion are listed too, and skipped with a reason). A folder without any
-/// is refused: there is no dataset to make of it.
+/// is refused: there is no dataset to make of it. What the walk left out is dropped here;
+/// [`walk`] keeps it.
 pub fn takes(dir: &Path) -> Result<Vec<Item>, Error> {
+    walk(dir).map(|walk| walk.items)
+}
+
+/// [`takes`], and what the folder walk skipped ([`crate::batch::collect`]: loops, folders and
+/// files reached again, links out of `dir`, what is not a regular file or cannot be read).
+pub fn walk(dir: &Path) -> Result<crate::batch::Walk, Error> {
     if !dir.is_dir() {
         return Err(Error::Usage(format!("{}: not a folder", dir.display())));
     }
-    let items = crate::batch::collect(dir)?;
-    if items.is_empty() {
+    let walk = crate::batch::collect(dir)?;
+    if walk.items.is_empty() {
         return Err(Error::Usage(format!(
             "{}: no .bvh, .asf or .amc files",
             dir.display()
         )));
     }
-    Ok(items)
+    Ok(walk)
 }
 
 /// Compiles one take found under `dir` (the folder its manifest path is relative to).
@@ -583,7 +590,9 @@ pub fn compile(
         4 * threads.max(1),
         |index| {
             let item = &items[index];
-            compile_take(dir, item, options).map_err(|e| (Source::of(dir, item), e.to_string()))
+            compile_take(dir, item, options)
+                .and_then(|clip| refuse_non_finite(item, clip))
+                .map_err(|e| (Source::of(dir, item), e.to_string()))
         },
         |index, result| {
             let outcome = match result {
@@ -632,6 +641,66 @@ pub fn compile(
         )));
     }
     writer.finish()
+}
+
+/// A clip whose arrays hold a number that is not finite (a take's numbers too large for
+/// float32: `OFFSET 0 3e38 3e38` makes infinite positions) is refused, naming the take, the
+/// array, the frame and the point: no writer writes such numbers.
+fn refuse_non_finite(item: &Item, clip: Clip) -> Result<Clip, Error> {
+    let points = clip.topology.joints.len().max(1);
+    let rotated = clip.topology.rotated.len().max(1);
+    let width = clip.rotations.len() / (clip.frames.max(1) * rotated).max(1);
+    let point = |k: usize| clip.topology.joints.get(k).map_or("?", |n| n.as_str());
+    let translated = clip.topology.translated.len();
+    let arrays: [(&str, &[f32], usize, Option<usize>); 6] = [
+        ("positions", &clip.positions, points * 3, Some(3)),
+        (
+            "rotations",
+            &clip.rotations,
+            rotated * width.max(1),
+            Some(width.max(1)),
+        ),
+        ("translations", &clip.translations, translated * 3, Some(3)),
+        ("root_translations", &clip.root_translations, 3, None),
+        ("velocities", &clip.velocities, points * 3, Some(3)),
+        ("rest_offsets", &clip.rest_offsets, points * 3, Some(3)),
+    ];
+    for (name, values, per_frame, per_point) in arrays {
+        let Some(at) = values.iter().position(|v| !v.is_finite()) else {
+            continue;
+        };
+        let take = match &item.motion {
+            Some(amc) => format!("{} + {}", item.path.display(), amc.display()),
+            None => item.path.display().to_string(),
+        };
+        let whose = match (name, per_point) {
+            ("rest_offsets", _) => format!("the OFFSET of {}", point(at / 3)),
+            ("rotations" | "translations", Some(w)) => {
+                let list = match name {
+                    "rotations" => &clip.topology.rotated,
+                    _ => &clip.topology.translated,
+                };
+                let joint = list.get(at % per_frame / w);
+                format!(
+                    "frame {}, joint {}",
+                    at / per_frame,
+                    joint.map_or("?", |&j| point(j as usize))
+                )
+            }
+            (_, Some(w)) => format!(
+                "frame {}, point {}",
+                at / per_frame,
+                point(at % per_frame / w)
+            ),
+            (_, None) => format!("frame {}", at / per_frame),
+        };
+        return Err(Error::Usage(format!(
+            "{take}: {name} overflow: {} at {whose}; the take's numbers are too large for \
+             float32 (its OFFSETs or channel values), so it is not written",
+            values[at]
+        )));
+    }
+    Ok(clip)
 }
 
 /// An error as the manifest keeps it: paths relative to the folder compiled, so that the

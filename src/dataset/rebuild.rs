@@ -84,13 +84,13 @@ pub fn motion_of(
     }
     if arrays.kind != RotationKind::Euler {
         for (at, numbers) in arrays.rotations.chunks_exact(width).enumerate() {
-            crate::pose::check_rotation_numbers(arrays.kind, numbers).map_err(|why| {
-                Error::Usage(format!(
+            if let Some(why) = crate::pose::rotation_numbers_problem(arrays.kind, numbers) {
+                return refuse(format!(
                     "rotations[{}, {}]: {why}",
                     at / rotated.max(1),
                     at % rotated.max(1)
-                ))
-            })?;
+                ));
+            }
         }
     }
     let mut skeleton = skeleton.clone();

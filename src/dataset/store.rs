@@ -342,9 +342,13 @@ pub struct Writer {
 }
 
 impl Writer {
-    /// Starts a dataset at `out`, which must not exist or be an empty folder.
+    /// Starts a dataset at `out`, which must not exist or be an empty folder. As for every
+    /// output (`crate::output`): a link another user planted in a sticky shared folder on the
+    /// way to `out` is refused, the temporary folder beside it has a random name made
+    /// exclusively (`.OUT.XXXXXX`, `OUT` cut to fit a long name), and a failure names its cause.
     pub fn create(out: &Path, options: &Options, takes: Takes) -> Result<Writer, Error> {
         options.check()?;
+        crate::output::refuse_planted_folders(out)?;
         match std::fs::symlink_metadata(out) {
             Err(e) if e.kind() == io::ErrorKind::NotFound => {}
             Err(e) => return Err(Error::output(out, e)),
@@ -365,7 +369,7 @@ impl Writer {
             _ => Path::new("."),
         };
         let folder = tempfile::Builder::new()
-            .prefix(&format!(".{}.", name.to_string_lossy()))
+            .prefix(&crate::output::temporary_prefix(Some(name)))
             .tempdir_in(parent)
             .map_err(|e| Error::output(out, e))?;
         crate::output::partial_folder(folder.path());
