@@ -769,3 +769,33 @@ fn files_of_2_and_4_gib_are_read_to_their_end() {
         std::fs::remove_file(&path).unwrap();
     }
 }
+
+/// The article keeps 22 bytes of a name; bvhview keeps the whole name up to 1024 bytes
+/// (`limits::MAX_NAME_BYTES`, what TEACHING.md's Part 4 says of `new_node`) and refuses a longer
+/// one where it stands.
+#[test]
+fn names_of_up_to_1024_bytes_are_kept_longer_ones_refused() {
+    let control = std::fs::read_to_string(edge("article_base_crlf.bvh")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for length in [1024, 1025] {
+        let name = "N".repeat(length);
+        let path = dir.path().join(format!("name_{length}.bvh"));
+        std::fs::write(&path, control.replace("JOINT Chest", &format!("JOINT {name}"))).unwrap();
+        match bvhview::bvh::load_file(&path, Default::default()) {
+            Ok(bvh) => {
+                assert_eq!(length, 1024);
+                assert_eq!(bvh.skeleton.joints[1].name, name);
+            }
+            Err(error) => {
+                assert_eq!(length, 1025);
+                assert_eq!(
+                    error.to_string(),
+                    format!(
+                        "{}:6:8: a name of 1025 bytes; names are at most 1024 bytes",
+                        path.display()
+                    )
+                );
+            }
+        }
+    }
+}

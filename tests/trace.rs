@@ -382,8 +382,10 @@ fn the_chapters_quote_the_start_of_trace_as_it_prints() {
             else {
                 continue;
             };
-            assert!(lines[i + 1].starts_with("```"), "{chapter}:{}", i + 2);
-            let block: Vec<&str> = lines[i + 2..]
+            // The block follows, after a blank line.
+            let fence = i + 1 + usize::from(lines[i + 1].is_empty());
+            assert!(lines[fence].starts_with("```"), "{chapter}:{}", fence + 1);
+            let block: Vec<&str> = lines[fence + 1..]
                 .iter()
                 .take_while(|l| !l.starts_with("```"))
                 .copied()

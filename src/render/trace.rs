@@ -126,7 +126,7 @@ pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) 
     let why = match verdict {
         Verdict::ReadsAsWritten => {
             if zh {
-                "如實讀入：print 與每一幀的 draw 都和檔案所寫的相同（關節、名字、OFFSET、平移與旋轉）"
+                "如實讀入：print 與每個影格的 draw 都和檔案所寫的相同（關節、名字、OFFSET、平移與旋轉）"
                     .to_string()
             } else {
                 "reads it as written: print and the draw of every frame are what the file says (joints, names, OFFSETs, translations, rotations)".to_string()
@@ -167,12 +167,12 @@ pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) 
                     "a skeleton of one joint and no frames (jointCount == 1)".to_string()
                 }
                 (Rejection::OneJoint, true) => {
-                    "只有一個關節、沒有幀（jointCount == 1）".to_string()
+                    "只有一個關節、沒有影格（jointCount == 1）".to_string()
                 }
             };
             if zh {
                 format!(
-                    "拒絕：{reason}；loadFile 傳回 0（init 接著照樣 print，空的根節點讓它當掉）"
+                    "拒絕：{reason}；loadFile 傳回 0（init 接著照樣 print，空的根關節讓它當掉）"
                 )
             } else {
                 format!(
@@ -185,13 +185,13 @@ pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) 
                 (Step::Header, false) => "the check of the header".to_string(),
                 (Step::Header, true) => "檢查檔頭的迴圈".to_string(),
                 (Step::RootName, false) => "newNode, for the root's name".to_string(),
-                (Step::RootName, true) => "讀根節點名字的 newNode".to_string(),
+                (Step::RootName, true) => "讀根關節名字的 newNode".to_string(),
                 (Step::RootOffset, false) => "the reading of the root's OFFSET".to_string(),
-                (Step::RootOffset, true) => "讀根節點 OFFSET 的步驟".to_string(),
+                (Step::RootOffset, true) => "讀根關節 OFFSET 的步驟".to_string(),
                 (Step::RootChannels, false) => {
                     "the scan for the root's first r (its rotation channels)".to_string()
                 }
-                (Step::RootChannels, true) => "找根節點第一個 r（旋轉通道）的掃描".to_string(),
+                (Step::RootChannels, true) => "找根關節第一個 r（旋轉通道）的掃描".to_string(),
                 (Step::Hierarchy, false) => "the loop over the hierarchy".to_string(),
                 (Step::Hierarchy, true) => "讀層級結構的迴圈".to_string(),
                 (Step::Frames, false) => "the scan for the F of Frames".to_string(),
@@ -199,7 +199,7 @@ pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) 
                 (Step::FrameTime, false) => "the scan for the F of Frame Time".to_string(),
                 (Step::FrameTime, true) => "找 Frame Time 的 F 的掃描".to_string(),
                 (Step::Rows(frame), false) => format!("the row loop, in frame {frame},"),
-                (Step::Rows(frame), true) => format!("讀資料列的迴圈在第 {frame} 幀"),
+                (Step::Rows(frame), true) => format!("讀資料列的迴圈在第 {frame} 個影格"),
             };
             let reason = match (crash, zh) {
                 (Crash::FileLength { length }, false) => format!(
@@ -222,7 +222,7 @@ pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) 
                     "'{parent}' gets a 17th child: child[16] lands on childNum (the assert compares with 24, not 16), and print and draw go astray"
                 ),
                 (Crash::SeventeenthChild { parent }, true) => format!(
-                    "'{parent}' 有第 17 個子節點：child[16] 寫到 childNum 上（assert 比的是 24 而不是 16），print 和 draw 從此出錯"
+                    "'{parent}' 有第 17 個子關節：child[16] 寫到 childNum 上（assert 比的是 24 而不是 16），print 和 draw 從此出錯"
                 ),
                 (Crash::UnsetRows { frames }, false) => format!(
                     "a skeleton of one joint (jointCount == 1): loadFile calls clear(), which deletes {frames} row pointers it never set"
@@ -340,7 +340,7 @@ pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) 
                     format!("its frameCount is {article} where the file has {file} frames")
                 }
                 (Misread::Frames { article, file }, true) => {
-                    format!("它的 frameCount 是 {article}，檔案有 {file} 幀")
+                    format!("它的 frameCount 是 {article}，檔案有 {file} 個影格")
                 }
                 (
                     Misread::Translation {
@@ -364,7 +364,7 @@ pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) 
                     },
                     true,
                 ) => format!(
-                    "第 {frame} 幀把 '{joint}' 平移 {}，檔案的意思是 {}",
+                    "第 {frame} 個影格把 '{joint}' 平移 {}，檔案的意思是 {}",
                     plain(article),
                     plain(file)
                 ),
@@ -407,7 +407,7 @@ pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) 
                             values(file)
                         ),
                         (true, _, true) => format!(
-                            "第 {frame} 幀讓 '{joint}' 繞 {} 軸轉 {}，檔案寫的是 {}",
+                            "第 {frame} 個影格讓 '{joint}' 繞 {} 軸轉 {}，檔案寫的是 {}",
                             axes(article),
                             values(article),
                             values(file)
