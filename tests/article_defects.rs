@@ -780,7 +780,11 @@ fn names_of_up_to_1024_bytes_are_kept_longer_ones_refused() {
     for length in [1024, 1025] {
         let name = "N".repeat(length);
         let path = dir.path().join(format!("name_{length}.bvh"));
-        std::fs::write(&path, control.replace("JOINT Chest", &format!("JOINT {name}"))).unwrap();
+        std::fs::write(
+            &path,
+            control.replace("JOINT Chest", &format!("JOINT {name}")),
+        )
+        .unwrap();
         match bvhview::bvh::load_file(&path, Default::default()) {
             Ok(bvh) => {
                 assert_eq!(length, 1024);

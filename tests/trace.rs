@@ -399,3 +399,80 @@ fn the_chapters_quote_the_start_of_trace_as_it_prints() {
     }
     assert_eq!(checked, 4, "two quotes in each chapter");
 }
+
+/// Every verdict line the chapters quote (a code span or a line of a code block that starts
+/// `// what the article's program does with this file:` or `// 原文的程式對這個檔案：`) is one
+/// that `trace --explain` prints, in that language, for an input of tests/edge,
+/// tests/oracle/inputs or tests/data/bvh, or for a file the chapters' exercises make: `five.bvh`
+/// (Part 1) and the two files of exercise 5.14 (made sparse here, Linux only). A quote that ends in
+/// `…` is the start of one.
+#[test]
+fn the_chapters_quote_verdicts_that_explain_prints() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = tempfile::tempdir().unwrap();
+    let control_path = edge("article_base_crlf.bvh");
+    let control = std::fs::read_to_string(&control_path).unwrap();
+    let mut inputs: Vec<std::path::PathBuf> = Vec::new();
+    let five = dir.path().join("five.bvh");
+    std::fs::write(
+        &five,
+        control.replace("OFFSET 0.00 0.00 0.00", "OFFSET 10.25 20.50 30.75"),
+    )
+    .unwrap();
+    inputs.push(five);
+    #[cfg(target_os = "linux")]
+    for length in [2_500_000_000u64, 4_294_967_803] {
+        use std::os::unix::fs::MetadataExt;
+        let big = dir.path().join(format!("big_{length}.bvh"));
+        std::fs::copy(&control_path, &big).unwrap();
+        let file = std::fs::OpenOptions::new().write(true).open(&big).unwrap();
+        file.set_len(length).unwrap();
+        if file.metadata().unwrap().blocks() * 512 > 1 << 20 {
+            panic!("{}: the file system stores holes", dir.path().display());
+        }
+        inputs.push(big);
+    }
+    for folder in ["tests/edge", "tests/oracle/inputs", "tests/data/bvh"] {
+        for entry in std::fs::read_dir(root.join(folder)).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "bvh") {
+                inputs.push(path);
+            }
+        }
+    }
+    let mut printed = Vec::new();
+    for path in &inputs {
+        for lang in ["en", "zh"] {
+            printed.push(verdict(&path.display().to_string(), lang));
+        }
+    }
+    let starts = [
+        "// what the article's program does with this file:",
+        "// 原文的程式對這個檔案：",
+    ];
+    let mut quoted = 0;
+    for chapter in ["TEACHING.md", "TEACHING.zh-Hant.md"] {
+        let text = std::fs::read_to_string(root.join(chapter)).unwrap();
+        for (number, line) in text.lines().enumerate() {
+            // In a code span, or a whole line of a code block.
+            let mut quotes: Vec<&str> = line.split('`').skip(1).step_by(2).collect();
+            quotes.push(line);
+            for quote in quotes {
+                if !starts.iter().any(|start| quote.starts_with(start)) {
+                    continue;
+                }
+                let found = match quote.strip_suffix('…') {
+                    Some(start) => printed.iter().any(|p| p.starts_with(start)),
+                    None => printed.iter().any(|p| p == quote),
+                };
+                assert!(
+                    found,
+                    "{chapter}:{}: no input makes --explain say\n{quote}",
+                    number + 1
+                );
+                quoted += 1;
+            }
+        }
+    }
+    assert!(quoted >= 20, "{quoted} quotes");
+}
