@@ -96,8 +96,9 @@ fn short_numbers_in_offsets_and_rows_load_the_same() {
     assert_eq!(short.motion, base.motion);
 }
 
-/// The article reads the root's OFFSET in 5-byte steps, which fit only 4-character numbers: it
-/// prints this one as `1.25,0,0.5`. Here the three numbers are read whole.
+/// The article reads the root's OFFSET in 5-byte steps (one more after a step that lands on a
+/// space), which fit only numbers of 4 or 5 characters: it prints this one as `1.25,0,0.5`. Here
+/// the three numbers are read whole.
 #[test]
 fn a_wide_root_offset_is_read_whole() {
     let bvh = load_edge("root_offset_wide.bvh");
