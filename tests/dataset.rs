@@ -62,7 +62,6 @@ fn compile(out: &Path, options: &Options, threads: usize) -> dataset::Summary {
         options,
         threads,
         out,
-        true,
         takes,
         |_, _, _, _| true,
     )
@@ -444,7 +443,6 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
             &Options::default(),
             1,
             &piece,
-            false,
             takes,
             |_, _, _, _| true,
         )
@@ -465,7 +463,6 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
             &Options::default(),
             1,
             &piece,
-            false,
             takes,
             |_, _, _, _| true,
         )
@@ -509,7 +506,6 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
         &Options::default(),
         2,
         &absolute,
-        true,
         takes,
         |_, _, _, _| true,
     )
@@ -547,7 +543,6 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
         &Options::default(),
         2,
         &asf,
-        true,
         takes,
         |_, _, _, _| true,
     )
@@ -692,7 +687,6 @@ fn every_take_of_the_whole_corpus_compiles_standing_in_metres() {
         &Options::default(),
         2,
         &out,
-        true,
         list,
         |_, _, _, _| true,
     )
@@ -805,7 +799,6 @@ fn takes_without_a_frame_time_or_a_utf8_name_are_skipped_with_the_reason() {
         &Options::default(),
         1,
         &out,
-        true,
         list,
         |_, _, _, _| true,
     )

@@ -24,7 +24,7 @@ fn template() -> &'static Path {
             fps: 10.0,
             ..Options::default()
         };
-        dataset::compile(&takes, items, &options, 1, &out, true, list, |_, _, _, _| true).unwrap();
+        dataset::compile(&takes, items, &options, 1, &out, list, |_, _, _, _| true).unwrap();
         (temp, out)
     });
     path
@@ -66,8 +66,11 @@ fn use_it(dataset: &read::Dataset, out: &Path) {
         }
         assert_eq!(files.offsets.last().copied(), Some(group.frames));
     }
-    let merged = store::merge(&[dataset.path.clone()], out, store::Join::Folders);
-    assert!(merged.is_ok() || !out.exists(), "a refused merge writes nothing");
+    let merged = store::merge(std::slice::from_ref(&dataset.path), out, store::Join::Folders);
+    assert!(
+        merged.is_ok() || !out.exists(),
+        "a refused merge writes nothing"
+    );
 }
 
 proptest! {

@@ -1568,8 +1568,6 @@ fn _compile_dataset(
             ..Default::default()
         };
         let threads = threads.unwrap_or_else(bvhview::cores).max(1);
-        // A compile of a folder must compile something; a piece may hold only takes that fail.
-        let require_clips = takes.is_none() && piece.is_none();
         let interrupt: Mutex<Option<PyErr>> = Mutex::new(None);
         let mut walk = bvhview::batch::Walk::default();
         let result = py.detach(|| {
@@ -1612,7 +1610,6 @@ fn _compile_dataset(
                 &options,
                 threads,
                 &out,
-                require_clips,
                 list,
                 interrupted,
             )

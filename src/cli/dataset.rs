@@ -97,7 +97,6 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         &options,
         threads,
         &args.output,
-        true,
         takes,
         |_, error, _, _| {
             if let Some(error) = error {

@@ -68,13 +68,13 @@ impl Options {
         };
         positive("--contact-height", self.contact_height)?;
         positive("--contact-speed", self.contact_speed)?;
-        if let Some(feet) = &self.feet {
-            if feet.is_empty() || feet.iter().any(|name| name.is_empty()) {
-                return Err(Error::Usage(
-                    "--feet: expected point names separated by commas (as the dataset names them)"
-                        .to_string(),
-                ));
-            }
+        if let Some(feet) = &self.feet
+            && (feet.is_empty() || feet.iter().any(|name| name.is_empty()))
+        {
+            return Err(Error::Usage(
+                "--feet: expected point names separated by commas (as the dataset names them)"
+                    .to_string(),
+            ));
         }
         Ok(())
     }
@@ -176,7 +176,7 @@ pub fn guess_feet(skeleton: &crate::Skeleton, rest: &[Vec3]) -> Vec<u32> {
         .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), p| {
             (lo.min(p.y), hi.max(p.y))
         });
-    if !(high > low) {
+    if high.partial_cmp(&low) != Some(std::cmp::Ordering::Greater) {
         return Vec::new();
     }
     let band = low + 0.1 * (high - low);
@@ -567,19 +567,19 @@ pub struct Summary {
 /// Compiles `items` (found under `dir`, whose relative paths the manifest gives) on `threads`
 /// threads into the dataset folder `out`, which must not exist or be empty. `done(source, error,
 /// finished, total)` is called for every take in order, with the error as the loader said it;
-/// it returns false to stop (an interrupt), and then nothing is written. With `require_clips`,
-/// a compile of which no take compiled is refused and writes nothing too (a piece of a bigger
-/// compile may have none).
+/// it returns false to stop (an interrupt), and then nothing is written. `takes` says which run
+/// of which list `items` are ([`whole_list`], [`piece`]): a compile of a whole list of which no
+/// take compiled is refused and writes nothing too (a piece of a bigger compile may have none).
 pub fn compile(
     dir: &Path,
     items: Vec<Item>,
     options: &Options,
     threads: usize,
     out: &Path,
-    require_clips: bool,
     takes: store::Takes,
     mut done: impl FnMut(&Source, Option<&str>, usize, usize) -> bool + Send,
 ) -> Result<Summary, Error> {
+    let require_clips = takes.first == 0 && takes.count == takes.listed;
     let mut writer = store::Writer::create(out, options, takes)?;
     let total = items.len();
     let mut failure = None;

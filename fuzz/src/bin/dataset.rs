@@ -36,9 +36,14 @@ fn main() {
     let template = work.path().join("template");
     let items = dataset::takes(&takes).expect("takes");
     let list = dataset::whole_list(&takes, &items);
-    let options = Options { fps: 10.0, ..Options::default() };
-    dataset::compile(&takes, items, &options, 1, &template, true, list, |_, _, _, _| true)
-        .expect("the template compiles");
+    let options = Options {
+        fps: 10.0,
+        ..Options::default()
+    };
+    dataset::compile(&takes, items, &options, 1, &template, list, |_, _, _, _| {
+        true
+    })
+    .expect("the template compiles");
     let mut round = 0u64;
     afl::fuzz!(|data: &[u8]| {
         round += 1;
