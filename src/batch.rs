@@ -21,7 +21,15 @@ impl Item {
     /// The skeleton an unpaired AMC would have paired with by its name, for the note.
     pub fn wanted_skeleton(&self) -> String {
         let stem = stem(&self.path);
-        format!("{}.asf", subject_number(&stem).unwrap_or(&stem))
+        if let Some(number) = subject_number(&stem) {
+            return format!("{number}.asf");
+        }
+        match take_key(&stem) {
+            Some(key) if !key.rest.starts_with('_') => {
+                format!("{}{}{}.asf", key.prefix, key.number, key.rest)
+            }
+            _ => format!("{stem}.asf"),
+        }
     }
 }
 
@@ -47,6 +55,46 @@ fn subject_number(stem: &str) -> Option<&str> {
     (!number.is_empty() && number.bytes().all(|b| b.is_ascii_digit())).then_some(number)
 }
 
+/// A name cut as CMU's downloads name takes and skeletons: `cmu_` (any text without digits),
+/// the subject number `07`, for a take `_05`, and the rest `-walk`.
+struct Key<'a> {
+    prefix: &'a str,
+    number: &'a str,
+    rest: &'a str,
+}
+
+/// `prefix`, `number` and the rest of a skeleton's name (`cmu_07-walk`).
+fn subject_key(stem: &str) -> Option<Key<'_>> {
+    let start = stem.find(|c: char| c.is_ascii_digit())?;
+    let end = stem[start..]
+        .find(|c: char| !c.is_ascii_digit())
+        .map_or(stem.len(), |k| start + k);
+    Some(Key {
+        prefix: &stem[..start],
+        number: &stem[start..end],
+        rest: &stem[end..],
+    })
+}
+
+/// The same for a take's name (`cmu_07_05-walk`), its take number (`_05`) left out.
+fn take_key(stem: &str) -> Option<Key<'_>> {
+    let key = subject_key(stem)?;
+    let take = key.rest.strip_prefix('_')?;
+    let digits = take
+        .find(|c: char| !c.is_ascii_digit())
+        .unwrap_or(take.len());
+    (digits > 0).then(|| Key {
+        rest: &take[digits..],
+        ..key
+    })
+}
+
+/// Whether a take's key and a skeleton's are the same but for the subject number.
+fn same_scheme(take: &Key, skeleton: &Key) -> bool {
+    take.prefix.eq_ignore_ascii_case(skeleton.prefix)
+        && take.rest.eq_ignore_ascii_case(skeleton.rest)
+}
+
 /// Whether two subject numbers are the same number (`7` and `07`).
 fn same_number(a: &str, b: &str) -> bool {
     a.trim_start_matches('0') == b.trim_start_matches('0')
@@ -55,8 +103,9 @@ fn same_number(a: &str, b: &str) -> bool {
 /// The skeleton among `asfs` (one folder's) that an AMC named `amc_stem` goes with: the ASF of
 /// the same name; else, as CMU names them, the ASF of its subject number (`07.asf` for
 /// `07_05.amc`); else the ASF whose name is the longest start of the AMC's (`heiden_12.asf` for
-/// `heiden_12_02_01.amc`); else the folder's only ASF, unless both are numbered for different
-/// subjects.
+/// `heiden_12_02_01.amc`); else the ASF named as CMU's downloads name it, the take number left
+/// out (`cmu_07-walk.asf` for `cmu_07_05-walk.amc`); else the folder's only ASF, unless both are
+/// numbered for different subjects.
 fn skeleton_for(amc_stem: &str, asfs: &[&PathBuf]) -> Option<usize> {
     let stems: Vec<String> = asfs.iter().map(|asf| stem(asf)).collect();
     let amc_subject = subject_number(amc_stem);
@@ -72,43 +121,285 @@ fn skeleton_for(amc_stem: &str, asfs: &[&PathBuf]) -> Option<usize> {
             .filter(|&k| !numbered(k) && amc_stem.starts_with(stems[k].as_str()))
             .max_by_key(|&k| stems[k].len())
     };
+    let amc_key = take_key(amc_stem);
+    let cmu_named = || {
+        let take = amc_key.as_ref()?;
+        (0..stems.len()).find(|&k| {
+            subject_key(&stems[k])
+                .is_some_and(|asf| same_scheme(take, &asf) && same_number(take.number, asf.number))
+        })
+    };
     let only = || {
-        let other_subject = amc_subject.is_some() && numbered(0);
+        let other_subject = (amc_subject.is_some() && numbered(0))
+            || amc_key
+                .as_ref()
+                .zip(stems.first().and_then(|s| subject_key(s)))
+                .is_some_and(|(take, asf)| same_scheme(take, &asf));
         (stems.len() == 1 && !other_subject).then_some(0)
     };
     same_name
         .or_else(same_subject)
         .or_else(by_prefix)
+        .or_else(cmu_named)
         .or_else(only)
 }
 
-/// Every item under `dir` (subfolders too), in path order. An AMC pairs with an ASF in its
-/// folder as `skeleton_for` says; an AMC with none is listed unpaired; an ASF no AMC uses is
-/// listed alone (its rest pose).
-pub fn collect(dir: &Path) -> Result<Vec<Item>, Error> {
-    let mut items = Vec::new();
-    let mut folders = vec![dir.to_path_buf()];
-    while let Some(folder) = folders.pop() {
-        let mut entries: Vec<PathBuf> = std::fs::read_dir(&folder)
-            .map_err(|e| Error::io(&folder, e))?
-            .filter_map(|entry| entry.ok().map(|e| e.path()))
-            .collect();
-        entries.sort();
-        let asfs: Vec<&PathBuf> = entries
+/// What a folder walk left out, and why: a loop, a folder or file reached again, a link out of
+/// the folder, something that is not a regular file, an entry that cannot be read.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Skip {
+    pub path: PathBuf,
+    pub reason: String,
+}
+
+impl std::fmt::Display for Skip {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.path.display(), self.reason)
+    }
+}
+
+/// A folder's takes ([`collect`]): the items in path order, and what the walk left out.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Walk {
+    pub items: Vec<Item>,
+    pub skipped: Vec<Skip>,
+}
+
+/// Skipped entries said one a line; past these, the rest are counted.
+pub const SKIPS_SAID: usize = 20;
+
+impl Walk {
+    /// What the walk skipped as the CLI says it on stderr: `skipped PATH: why`, one a line for
+    /// the first [`SKIPS_SAID`], then how many more.
+    pub fn skipped_lines(&self) -> Vec<String> {
+        let mut lines: Vec<String> = self
+            .skipped
             .iter()
-            .filter(|p| extension(p) == "asf" && p.is_file())
+            .take(SKIPS_SAID)
+            .map(|skip| format!("skipped {skip}"))
             .collect();
+        if self.skipped.len() > SKIPS_SAID {
+            lines.push(format!(
+                "skipped {} more in the folder walk",
+                self.skipped.len() - SKIPS_SAID
+            ));
+        }
+        lines
+    }
+}
+
+/// A file's or folder's identity: its device and inode.
+fn identity(metadata: &std::fs::Metadata) -> (u64, u64) {
+    use std::os::unix::fs::MetadataExt;
+    (metadata.dev(), metadata.ino())
+}
+
+/// Whether a name is one of a take's (`.bvh`, `.asf`, `.amc`, any case).
+fn is_take_name(path: &Path) -> bool {
+    matches!(extension(path).as_str(), "bvh" | "asf" | "amc")
+}
+
+/// Why an entry cannot be read, as a skipped line says it.
+fn unreadable(error: &std::io::Error) -> String {
+    match error.kind() {
+        std::io::ErrorKind::PermissionDenied => "permission denied".to_string(),
+        std::io::ErrorKind::NotFound => "no such file".to_string(),
+        _ => {
+            let text = error.to_string();
+            match text.find(" (os error") {
+                Some(cut) => text[..cut].to_lowercase(),
+                None => text,
+            }
+        }
+    }
+}
+
+fn walk_error(error: &walkdir::Error) -> String {
+    error
+        .io_error()
+        .map_or_else(|| error.to_string(), unreadable)
+}
+
+/// What a file that is not a regular one is, for the skipped list.
+fn kind_of(file_type: std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if file_type.is_fifo() {
+        "a FIFO"
+    } else if file_type.is_char_device() {
+        "a character device"
+    } else if file_type.is_block_device() {
+        "a block device"
+    } else if file_type.is_socket() {
+        "a socket"
+    } else {
+        "not a regular file"
+    }
+}
+
+/// Every item under `dir` (subfolders too), in path order, and what was skipped. An AMC pairs
+/// with an ASF in its folder as `skeleton_for` says; an AMC with none is listed unpaired; an
+/// ASF no AMC uses is listed alone (its rest pose).
+///
+/// The walk is `walkdir`'s, in name order, with symbolic links followed as a careful tool
+/// follows them: a folder (by device and inode) is walked once, at its first path in path order,
+/// so a link back up (`ln -s . a`) or two links to one folder neither loop nor list a take
+/// twice; a link to a folder outside `dir` (`ln -s / root`) is not followed, as walking all of
+/// it would not end in any useful time; a file reached under two names (links) is listed once,
+/// at its first path; only regular files are takes (a FIFO would wait for a writer for good).
+/// Each of these, and every entry that cannot be read, is in [`Walk::skipped`]. A `dir` that
+/// cannot be read is an error.
+pub fn collect(dir: &Path) -> Result<Walk, Error> {
+    use std::collections::{BTreeMap, HashMap};
+    std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
+    let root = std::fs::canonicalize(dir).map_err(|e| Error::io(dir, e))?;
+    let mut skipped = Vec::new();
+    let skip = |skipped: &mut Vec<Skip>, path: &Path, reason: String| {
+        skipped.push(Skip {
+            path: path.to_path_buf(),
+            reason,
+        })
+    };
+    // Each folder's take files in name order (regular files, each once), for the pairing.
+    let mut folders: BTreeMap<PathBuf, Vec<PathBuf>> = BTreeMap::new();
+    let mut folders_seen: HashMap<(u64, u64), PathBuf> = HashMap::new();
+    let mut files_seen: HashMap<(u64, u64), PathBuf> = HashMap::new();
+    // The ASFs met again under another name: still their folder's skeleton, never listed alone
+    // twice.
+    let mut repeated_asfs: Vec<PathBuf> = Vec::new();
+    let mut walk = walkdir::WalkDir::new(dir)
+        .follow_links(true)
+        .sort_by_file_name()
+        .into_iter();
+    while let Some(next) = walk.next() {
+        let entry = match next {
+            Ok(entry) => entry,
+            Err(error) => {
+                let path = error.path().unwrap_or(dir).to_path_buf();
+                if let Some(ancestor) = error.loop_ancestor() {
+                    let reason = format!(
+                        "a link back to {}, which holds it (a loop): not followed",
+                        ancestor.display()
+                    );
+                    skip(&mut skipped, &path, reason);
+                    continue;
+                }
+                if error.path() == Some(dir) {
+                    let source = error
+                        .into_io_error()
+                        .unwrap_or_else(|| std::io::Error::other("cannot be walked"));
+                    return Err(Error::io(dir, source));
+                }
+                let broken = std::fs::symlink_metadata(&path)
+                    .is_ok_and(|m| m.file_type().is_symlink())
+                    && !path.exists();
+                if broken {
+                    // A broken link that no take's name has is not worth a line.
+                    if is_take_name(&path) {
+                        let reason = match std::fs::read_link(&path) {
+                            Ok(to) => format!("a link to {}, which does not exist", to.display()),
+                            Err(_) => "a link to nothing".to_string(),
+                        };
+                        skip(&mut skipped, &path, reason);
+                    }
+                } else {
+                    let reason = match error.io_error() {
+                        Some(io) => unreadable(io),
+                        None => error.to_string(),
+                    };
+                    skip(&mut skipped, &path, format!("cannot be read: {reason}"));
+                }
+                continue;
+            }
+        };
+        let path = entry.path();
+        if entry.file_type().is_dir() {
+            if entry.depth() > 0 && entry.path_is_symlink() {
+                match std::fs::canonicalize(path) {
+                    Ok(target) if !target.starts_with(&root) => {
+                        walk.skip_current_dir();
+                        let reason = format!(
+                            "a link to {}, outside {}: not followed",
+                            target.display(),
+                            dir.display()
+                        );
+                        skip(&mut skipped, path, reason);
+                        continue;
+                    }
+                    Ok(_) => {}
+                    Err(e) => {
+                        walk.skip_current_dir();
+                        skip(
+                            &mut skipped,
+                            path,
+                            format!("cannot be read: {}", unreadable(&e)),
+                        );
+                        continue;
+                    }
+                }
+            }
+            let id = match entry.metadata() {
+                Ok(metadata) => identity(&metadata),
+                Err(e) => {
+                    walk.skip_current_dir();
+                    skip(
+                        &mut skipped,
+                        path,
+                        format!("cannot be read: {}", walk_error(&e)),
+                    );
+                    continue;
+                }
+            };
+            if let Some(first) = folders_seen.get(&id) {
+                walk.skip_current_dir();
+                let reason = format!("the folder {} again: walked once", first.display());
+                skip(&mut skipped, path, reason);
+                continue;
+            }
+            folders_seen.insert(id, path.to_path_buf());
+            continue;
+        }
+        if !is_take_name(path) {
+            continue;
+        }
+        if !entry.file_type().is_file() {
+            skip(
+                &mut skipped,
+                path,
+                format!("{}, not a take", kind_of(entry.file_type())),
+            );
+            continue;
+        }
+        let id = match entry.metadata() {
+            Ok(metadata) => identity(&metadata),
+            Err(e) => {
+                skip(
+                    &mut skipped,
+                    path,
+                    format!("cannot be read: {}", walk_error(&e)),
+                );
+                continue;
+            }
+        };
+        let folder = path.parent().unwrap_or(dir).to_path_buf();
+        match files_seen.get(&id) {
+            // An ASF is every AMC's in its folder, whatever other name it has elsewhere.
+            Some(_) if extension(path) == "asf" => repeated_asfs.push(path.to_path_buf()),
+            Some(first) => {
+                let reason = format!("the file {} again: listed once", first.display());
+                skip(&mut skipped, path, reason);
+                continue;
+            }
+            None => {
+                files_seen.insert(id, path.to_path_buf());
+            }
+        }
+        folders.entry(folder).or_default().push(path.to_path_buf());
+    }
+    let mut items = Vec::new();
+    for entries in folders.values() {
+        let asfs: Vec<&PathBuf> = entries.iter().filter(|p| extension(p) == "asf").collect();
         let mut used = vec![false; asfs.len()];
-        for path in &entries {
-            if path.is_dir() {
-                folders.push(path.clone());
-                continue;
-            }
-            // A FIFO or a device named like a take would wait for a writer for good, or read
-            // without end: a folder's takes are its regular files (links to them included).
-            if !path.is_file() {
-                continue;
-            }
+        for path in entries {
             match extension(path).as_str() {
                 "bvh" => items.push(Item {
                     path: path.clone(),
@@ -131,7 +422,7 @@ pub fn collect(dir: &Path) -> Result<Vec<Item>, Error> {
             }
         }
         for (asf, used) in asfs.iter().zip(used) {
-            if !used {
+            if !used && !repeated_asfs.contains(asf) {
                 items.push(Item {
                     path: (*asf).clone(),
                     motion: None,
@@ -142,7 +433,7 @@ pub fn collect(dir: &Path) -> Result<Vec<Item>, Error> {
     items.sort_by(|a, b| {
         (a.motion.as_ref().unwrap_or(&a.path)).cmp(b.motion.as_ref().unwrap_or(&b.path))
     });
-    Ok(items)
+    Ok(Walk { items, skipped })
 }
 
 /// What every item is loaded with: the options `info` takes for one file.
@@ -266,6 +557,43 @@ mod tests {
         assert_eq!(paired("08_01", &["07"]), None);
         assert_eq!(paired("12_02", &["07", "walk"]), None);
         assert_eq!(paired("walk", &[]), None);
+    }
+
+    /// Issue 35: CMU's downloads name a subject's skeleton `cmu_07-walk.asf` and its takes
+    /// `cmu_07_05-walk.amc` (`NN-x.asf` with `NN_MM-x.amc`, with or without a prefix).
+    #[test]
+    fn an_amc_pairs_with_the_asf_named_as_cmu_downloads_name_them() {
+        let asfs = ["cmu_07-walk", "cmu_08-walk"];
+        assert_eq!(
+            paired("cmu_07_05-walk", &asfs).as_deref(),
+            Some("cmu_07-walk")
+        );
+        assert_eq!(
+            paired("cmu_08_01-walk", &asfs).as_deref(),
+            Some("cmu_08-walk")
+        );
+        assert_eq!(
+            paired("CMU_7_05-Walk", &asfs).as_deref(),
+            Some("cmu_07-walk")
+        );
+        assert_eq!(
+            paired("07_05-walk", &["07-walk", "08-walk"]).as_deref(),
+            Some("07-walk")
+        );
+        assert_eq!(paired("07_05-x", &["run", "07-x"]).as_deref(), Some("07-x"));
+        // Another subject named the same way is not this take's skeleton, even alone.
+        assert_eq!(paired("cmu_09_01-walk", &["cmu_07-walk"]), None);
+        assert_eq!(paired("cmu_09_01-walk", &asfs), None);
+        // A skeleton named otherwise, alone in the folder, is still the take's.
+        assert_eq!(
+            paired("cmu_09_01-walk", &["skeleton"]).as_deref(),
+            Some("skeleton")
+        );
+        let item = Item {
+            path: PathBuf::from("d/cmu_07_05-walk.amc"),
+            motion: None,
+        };
+        assert_eq!(item.wanted_skeleton(), "cmu_07-walk.asf");
     }
 
     #[test]

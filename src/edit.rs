@@ -778,24 +778,27 @@ fn plane(up: crate::pose::Up) -> ([usize; 2], usize) {
     }
 }
 
-/// The roots' travel across the ground removed: every frame's root position in the ground plane
-/// is its first frame's, so the figure moves where it stands.
-/// Only the root's values change, to values the take already holds: nothing can overflow.
+/// The travel across the ground removed: the joint that carries it ([`travel_joint_of_take`],
+/// the root in most files, `Hips` under a still root in others) keeps its first frame's place in
+/// the ground plane, so the figure moves where it stands.
+/// Only that joint's values change, to values the take already holds: nothing can overflow.
+///
+/// [`travel_joint_of_take`]: crate::pose::travel_joint_of_take
 pub fn in_place(skeleton: &Skeleton, motion: &Motion, up: crate::pose::Up) -> Motion {
     let (across, _) = plane(up);
     let mut data = motion.data.clone();
     if motion.frame_count() == 0 || motion.channels == 0 {
         return motion.clone();
     }
-    for root in skeleton.roots() {
-        let joint = &skeleton.joints[root];
-        for (i, channel) in joint.channels.iter().enumerate() {
-            if channel.is_position() && across.contains(&channel.axis()) {
-                let column = joint.first_channel + i;
-                let first = motion.frame(0)[column];
-                for row in data.chunks_mut(motion.channels) {
-                    row[column] = first;
-                }
+    let travel =
+        crate::pose::travel_joint_of_take(skeleton, motion, crate::pose::OffsetMode::Replace);
+    let joint = &skeleton.joints[travel];
+    for (i, channel) in joint.channels.iter().enumerate() {
+        if channel.is_position() && across.contains(&channel.axis()) {
+            let column = joint.first_channel + i;
+            let first = motion.frame(0)[column];
+            for row in data.chunks_mut(motion.channels) {
+                row[column] = first;
             }
         }
     }
@@ -942,6 +945,71 @@ pub fn reorient(
         turned,
         Motion::new(motion.frame_time, motion.channels, frames, data),
     )
+}
+
+/// The values of `joint`'s rotation channels, in file order and degrees, for a local rotation
+/// given as `kind` (`numbers`: 4, 9, 6 or 3 of them; euler: the channel values themselves).
+pub fn channel_angles(
+    joint: &crate::Joint,
+    kind: crate::pose::RotationKind,
+    numbers: &[f32],
+) -> Vec<f32> {
+    let axes: Vec<usize> = joint
+        .channels
+        .iter()
+        .filter(|c| c.is_rotation())
+        .map(|c| c.axis())
+        .collect();
+    if axes.is_empty() {
+        return Vec::new();
+    }
+    let Some(local) = crate::pose::rotation_of_numbers(kind, numbers) else {
+        // Euler angles are the channel values themselves.
+        return numbers.iter().copied().take(axes.len()).collect();
+    };
+    // An ASF bone turns about its own axis C: its channels' rotation is C⁻¹ · local · C.
+    let rotation = match joint.axis {
+        Some(c) => glam::Mat3::from_quat(c.inverse()) * local * glam::Mat3::from_quat(c),
+        None => local,
+    };
+    // The channels' axes, then any missing, as one intrinsic sequence: R1 · R2 · R3.
+    let mut order = axes.clone();
+    for axis in 0..3 {
+        if !order.contains(&axis) {
+            order.push(axis);
+        }
+    }
+    let Some(order) = RotationOrder::from_axes([order[0], order[1], order[2]]) else {
+        // The same axis twice: no sequence of three distinct axes; left at 0.
+        return vec![0.0; axes.len()];
+    };
+    let sequence = euler_order(order);
+    let (a, b, c) = rotation.to_euler(sequence);
+    // The same rotation is also (a + π, π − b, c + π): with fewer than three channels the third
+    // angle is dropped, so take the form whose third angle is the smaller (a joint bent past 90°
+    // about its second axis needs the second form).
+    let wrap = |angle: f32| {
+        let pi = std::f32::consts::PI;
+        if angle > pi {
+            angle - 2.0 * pi
+        } else if angle <= -pi {
+            angle + 2.0 * pi
+        } else {
+            angle
+        }
+    };
+    let pi = std::f32::consts::PI;
+    let other = (wrap(a + pi), wrap(pi - b), wrap(c + pi));
+    let (a, b, c) = if axes.len() < 3 && other.2.abs() < c.abs() {
+        other
+    } else {
+        (a, b, c)
+    };
+    [a, b, c]
+        .into_iter()
+        .take(axes.len())
+        .map(f32::to_degrees)
+        .collect()
 }
 
 #[cfg(test)]

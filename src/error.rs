@@ -76,6 +76,15 @@ impl fmt::Display for Error {
             Error::Output { path, source } => {
                 let folder = path.parent().filter(|p| !p.as_os_str().is_empty());
                 match (source.kind(), folder) {
+                    // The folder is there, but nothing can be made in it (/proc answers a new
+                    // name with "no such file"): said as such, not as a missing folder.
+                    (io::ErrorKind::NotFound, Some(folder)) if folder.is_dir() => write!(
+                        f,
+                        "cannot write {}: nothing can be created in {} (the system says: {})",
+                        path.display(),
+                        folder.display(),
+                        io_message(source)
+                    ),
                     (io::ErrorKind::NotFound, Some(folder)) => write!(
                         f,
                         "cannot write {}: the folder {} does not exist",

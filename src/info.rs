@@ -135,6 +135,21 @@ pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
     );
     let _ = writeln!(out, "rotation orders:  {}", rotation_orders(skeleton));
     let _ = writeln!(out, "position channels: {}", position_joints(skeleton));
+    // Which of several joints with position channels carries the travel (in_place and the
+    // dataset's root translations follow it); with one, it is that one.
+    let translated = skeleton
+        .joints
+        .iter()
+        .filter(|j| j.channels.iter().any(|c| c.is_position()))
+        .count();
+    if translated > 1 && motion.frame_count() > 0 {
+        let travel = crate::pose::travel_joint_of_take(skeleton, motion, mode);
+        let _ = writeln!(
+            out,
+            "travel:           {} (the joint whose position channels carry the take across the floor)",
+            skeleton.joints[travel].name
+        );
+    }
     // Guessed from the motion; the article's view still draws the file as written.
     let stance = loaded.stance(mode);
     let _ = writeln!(out, "up axis:          {}", stance.up_text());

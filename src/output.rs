@@ -163,16 +163,7 @@ impl AtomicFile {
                 if let Some(old) = &old {
                     refuse_planted_file(path, old, folder)?;
                 }
-                // The temporary name holds the output's, cut so that it stays within the
-                // 255 bytes a name may have.
-                let name = target
-                    .file_name()
-                    .map_or("out".into(), |n| n.to_string_lossy());
-                let mut cut = name.len().min(200);
-                while !name.is_char_boundary(cut) {
-                    cut -= 1;
-                }
-                let name = &name[..cut];
+                let prefix = temporary_prefix(target.file_name());
                 // A new file gets the mode any new file gets (0666 less the umask); one that
                 // replaces another stays private until it takes the old one's mode.
                 let mode = if old.is_some() { 0o600 } else { 0o666 };
@@ -180,7 +171,7 @@ impl AtomicFile {
                 // listed (the handler waits for the lock).
                 let mut partial = partial();
                 let temporary = tempfile::Builder::new()
-                    .prefix(&format!(".{name}."))
+                    .prefix(&prefix)
                     .suffix(".partial")
                     .permissions(std::fs::Permissions::from_mode(mode))
                     .tempfile_in(folder)
@@ -239,6 +230,18 @@ impl AtomicFile {
     }
 }
 
+/// The start of a temporary name beside an output named `name` (a file, or a dataset's folder):
+/// `.NAME.`, the name cut to 200 bytes so that the whole temporary name (with `tempfile`'s six
+/// random characters and a suffix) stays within the 255 bytes a name may have.
+pub fn temporary_prefix(name: Option<&std::ffi::OsStr>) -> String {
+    let name = name.map_or("out".into(), |n| n.to_string_lossy());
+    let mut cut = name.len().min(200);
+    while !name.is_char_boundary(cut) {
+        cut -= 1;
+    }
+    format!(".{}.", &name[..cut])
+}
+
 /// Whether `path` names a file through the system's own links (`/dev/stdout`, `/dev/fd/3`,
 /// `/proc/self/fd/1`): whatever it leads to, it is written in place.
 fn is_system_alias(path: &Path) -> bool {
@@ -288,8 +291,9 @@ fn refuse_planted_file(path: &Path, old: &Metadata, folder: &Path) -> Result<(),
 }
 
 /// The folders on the way to `path`: a link among them that another user planted in a sticky
-/// shared folder is not followed (as for the output itself, see [`refuse_planted_link`]).
-fn refuse_planted_folders(path: &Path) -> Result<(), Error> {
+/// shared folder is not followed (as for the output itself, see [`refuse_planted_link`]). Every
+/// output checks it: files, and a dataset's folder.
+pub fn refuse_planted_folders(path: &Path) -> Result<(), Error> {
     let mut ancestors: Vec<&Path> = path.ancestors().skip(1).collect();
     ancestors.reverse();
     for folder in ancestors.into_iter().filter(|a| !a.as_os_str().is_empty()) {
@@ -369,7 +373,7 @@ fn follow_links(path: &Path) -> Result<PathBuf, Error> {
 
 /// `fs.protected_symlinks`: in a sticky, world-writable folder, a link is followed only if it
 /// belongs to whoever follows it or to the folder's owner.
-fn refuse_planted_link(
+pub fn refuse_planted_link(
     path: &Path,
     link: &Path,
     metadata: &Metadata,

@@ -137,6 +137,49 @@ pub fn guessed_mode(
     }
 }
 
+/// The joint whose position channels carry the take's travel across the floor: of the joints
+/// with position channels, the one whose world path strays farthest (x and z) from where it
+/// starts; the first root when none has position channels or none moves. Most files put the
+/// travel on the root; some (Bandai's) on `Hips` under a root that stays put.
+pub fn travel_joint(skeleton: &Skeleton, world: &[Vec3]) -> usize {
+    let points = skeleton.joints.len();
+    let root = skeleton.roots().next().unwrap_or(0);
+    if points == 0 || world.is_empty() {
+        return root;
+    }
+    let mut best = (root, 0.0f32);
+    for (index, joint) in skeleton.joints.iter().enumerate() {
+        if !joint.channels.iter().any(|c| c.is_position()) {
+            continue;
+        }
+        let start = world[index];
+        let reach = world
+            .chunks(points)
+            .map(|pose| (pose[index].x - start.x).hypot(pose[index].z - start.z))
+            .fold(0.0f32, f32::max);
+        // Ties (and rounding-sized differences) go to the joint nearer the top of the file.
+        if reach > best.1 * (1.0 + 1e-4) + 1e-6 {
+            best = (index, reach);
+        }
+    }
+    best.0
+}
+
+/// [`travel_joint`] of a take, judged on at most 64 of its frames spread evenly over it.
+pub fn travel_joint_of_take(
+    skeleton: &Skeleton,
+    motion: &crate::Motion,
+    mode: OffsetMode,
+) -> usize {
+    let frames = motion.frame_count();
+    let step = frames.div_ceil(64).max(1);
+    let mut world = Vec::new();
+    for frame in (0..frames).step_by(step) {
+        world.extend(world_positions(skeleton, motion.frame(frame), mode));
+    }
+    travel_joint(skeleton, &world)
+}
+
 /// The joint's translation `t` for one frame: its OFFSET with its position channels replacing
 /// (or added to) the matching components. `values` are this joint's channel values.
 pub fn joint_translation(joint: &Joint, values: &[f32], mode: OffsetMode) -> Vec3 {
@@ -198,10 +241,12 @@ pub enum RotationKind {
     SixD,
     /// The joint's rotation channels in its file order, in degrees (0 past the ones it has).
     Euler,
+    /// The rotation vector: the unit axis times the angle in radians (at most π).
+    AxisAngle,
 }
 
 impl RotationKind {
-    pub const NAMES: &'static str = "\"quat\", \"matrix\", \"6d\" or \"euler\"";
+    pub const NAMES: &'static str = "\"quat\", \"matrix\", \"6d\", \"euler\" or \"axis_angle\"";
 
     pub fn parse(text: &str) -> Option<RotationKind> {
         match text {
@@ -209,6 +254,7 @@ impl RotationKind {
             "matrix" => Some(RotationKind::Matrix),
             "6d" => Some(RotationKind::SixD),
             "euler" => Some(RotationKind::Euler),
+            "axis_angle" => Some(RotationKind::AxisAngle),
             _ => None,
         }
     }
@@ -219,6 +265,7 @@ impl RotationKind {
             RotationKind::Matrix => "matrix",
             RotationKind::SixD => "6d",
             RotationKind::Euler => "euler",
+            RotationKind::AxisAngle => "axis_angle",
         }
     }
 
@@ -228,7 +275,7 @@ impl RotationKind {
             RotationKind::Quat => 4,
             RotationKind::Matrix => 9,
             RotationKind::SixD => 6,
-            RotationKind::Euler => 3,
+            RotationKind::Euler | RotationKind::AxisAngle => 3,
         }
     }
 }
@@ -248,7 +295,67 @@ pub fn rotation_of_numbers(kind: RotationKind, numbers: &[f32]) -> Option<glam::
             let b = (b - a * a.dot(b)).normalize_or_zero();
             Some(glam::Mat3::from_cols(a, b, a.cross(b)))
         }
+        RotationKind::AxisAngle => {
+            let vector = Vec3::new(numbers[0], numbers[1], numbers[2]);
+            Some(glam::Mat3::from_quat(glam::Quat::from_scaled_axis(vector)))
+        }
         RotationKind::Euler => None,
+    }
+}
+
+/// Why `kind` numbers (finite ones) stand for no rotation, if they do not: a quaternion of
+/// (nearly) zero length, which normalises to NaN; a matrix that is not a rotation (columns not
+/// orthonormal within 1e-3, or a reflection); a 6D pair with a zero or parallel column. Euler
+/// angles and rotation vectors always make a rotation.
+pub fn rotation_numbers_problem(kind: RotationKind, numbers: &[f32]) -> Option<String> {
+    // Shorter than this, a quaternion or a column is rounding noise, not a direction.
+    const SHORTEST: f64 = 1e-6;
+    const TOLERANCE: f64 = 1e-3;
+    let length = |v: &[f32]| v.iter().map(|&x| f64::from(x).powi(2)).sum::<f64>().sqrt();
+    match kind {
+        RotationKind::Quat => {
+            let length = length(&numbers[..4]);
+            (length < SHORTEST).then(|| {
+                format!("a quaternion of length {length:e} (zero or too small to normalise)")
+            })
+        }
+        RotationKind::Matrix => {
+            let m = |r: usize, c: usize| f64::from(numbers[r * 3 + c]);
+            let mut worst: f64 = 0.0;
+            for a in 0..3 {
+                for b in 0..3 {
+                    let dot: f64 = (0..3).map(|r| m(r, a) * m(r, b)).sum();
+                    let want = if a == b { 1.0 } else { 0.0 };
+                    worst = worst.max((dot - want).abs());
+                }
+            }
+            let det = m(0, 0) * (m(1, 1) * m(2, 2) - m(1, 2) * m(2, 1))
+                - m(0, 1) * (m(1, 0) * m(2, 2) - m(1, 2) * m(2, 0))
+                + m(0, 2) * (m(1, 0) * m(2, 1) - m(1, 1) * m(2, 0));
+            (worst > TOLERANCE || (det - 1.0).abs() > 3.0 * TOLERANCE).then(|| {
+                format!(
+                    "not a rotation matrix (determinant {det:.6}, columns orthonormal only \
+                     within {worst:.2e}; a rotation's are within {TOLERANCE})"
+                )
+            })
+        }
+        RotationKind::SixD => {
+            let a = Vec3::new(numbers[0], numbers[1], numbers[2]).as_dvec3();
+            let b = Vec3::new(numbers[3], numbers[4], numbers[5]).as_dvec3();
+            let (la, lb) = (a.length(), b.length());
+            let apart = if la > 0.0 && lb > 0.0 {
+                a.cross(b).length() / (la * lb)
+            } else {
+                0.0
+            };
+            (la < SHORTEST || lb < SHORTEST || apart < SHORTEST).then(|| {
+                format!(
+                    "a 6D pair whose columns are zero or parallel (lengths {la:e} and {lb:e}): \
+                     no rotation"
+                )
+            })
+        }
+        RotationKind::Euler | RotationKind::AxisAngle => None,
     }
 }
 
@@ -281,6 +388,12 @@ pub fn write_rotation(joint: &Joint, values: &[f32], kind: RotationKind, out: &m
             out.copy_from_slice(&[q.w, q.x, q.y, q.z]);
         }
         RotationKind::Matrix => out.copy_from_slice(&m.transpose().to_cols_array()),
+        RotationKind::AxisAngle => {
+            // w ≥ 0 keeps the angle in [0, π]: the shorter of the two ways round.
+            let q = glam::Quat::from_mat3(&m).normalize();
+            let q = if q.w < 0.0 { -q } else { q };
+            out.copy_from_slice(&q.to_scaled_axis().to_array());
+        }
         _ => {
             let (a, b) = (m.x_axis, m.y_axis);
             out.copy_from_slice(&[a.x, a.y, a.z, b.x, b.y, b.z]);

@@ -96,8 +96,9 @@ fn short_numbers_in_offsets_and_rows_load_the_same() {
     assert_eq!(short.motion, base.motion);
 }
 
-/// The article reads the root's OFFSET in 5-byte steps, which fit only 4-character numbers: it
-/// prints this one as `1.25,0,0.5`. Here the three numbers are read whole.
+/// The article reads the root's OFFSET in 5-byte steps (one more after a step that lands on a
+/// space), which fit only numbers of 4 or 5 characters: it prints this one as `1.25,0,0.5`. Here
+/// the three numbers are read whole.
 #[test]
 fn a_wide_root_offset_is_read_whole() {
     let bvh = load_edge("root_offset_wide.bvh");
@@ -297,7 +298,7 @@ fn joint_site_with_channels_0_is_an_end_site_and_takes_no_columns() {
 
 /// A skeleton of the root alone (Hips and its End Site, six columns): the article's `loadFile`
 /// returns false when `jointCount == 1`, after its `clear()` has deleted row pointers it never
-/// set. Here it loads like any other file, and `trace --explain` says the article cannot.
+/// set. Here it loads like any other file, and `trace --explain` says the article crashes on it.
 #[test]
 fn a_skeleton_of_the_root_alone_loads() {
     let bvh = load_edge("root_only.bvh");
@@ -328,16 +329,11 @@ fn a_skeleton_of_the_root_alone_loads() {
         String::from_utf8(out.stdout).unwrap(),
         "frame,joint,x,y,z\n1,Hips,5,30,-3\n1,Hips_End,1.7364817,48.50833,3.8404026\n"
     );
-    let out = bvhview(&["trace", file.to_str().unwrap(), "--explain"]);
-    let trace = String::from_utf8(out.stdout).unwrap();
+    // The article's program: clear() deletes the two row pointers it never set.
     assert_eq!(
-        trace
-            .matches(
-                "// note: the article's program cannot load this file (a skeleton of one joint: \
-                 loadFile returns false when jointCount == 1)"
-            )
-            .count(),
-        1
+        verdict_of(&file),
+        "// what the article's program does with this file: crashes on it: a skeleton of one \
+         joint (jointCount == 1): loadFile calls clear(), which deletes 2 row pointers it never set"
     );
 }
 
@@ -548,4 +544,263 @@ fn a_failed_load_closes_its_file() {
         after < before + 50,
         "{before} open files before, {after} after"
     );
+}
+
+// Issue 38: four more defects of the article's program, each with an input (two of them made
+// here, gigabytes long but sparse) and what bvhview does instead. tests/edge/README.md records what
+// the rebuilt program does with each; `bvh::article` repeats it, and `trace --explain` says it.
+
+/// The first line of `trace FILE --explain`: what the article's program does with the file.
+fn verdict_of(path: &std::path::Path) -> String {
+    let out = bvhview(&["trace", path.to_str().unwrap(), "--explain"]);
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    stdout.lines().next().unwrap_or_default().to_string()
+}
+
+/// A second ROOT after the first: the article's hierarchy loop ends when the first root's braces
+/// balance, its scans for `Frames` and `Frame Time` stop inside `Prop`'s OFFSET lines (0 frames),
+/// and its `draw` reads row 0 of an empty array. Here both trees load, each reading its own
+/// columns.
+#[test]
+fn two_roots_are_two_trees() {
+    let bvh = load_edge("two_roots.bvh");
+    let skeleton = &bvh.skeleton;
+    assert_eq!(skeleton.roots().count(), 2);
+    let prop = skeleton
+        .joints
+        .iter()
+        .position(|j| j.name == "Prop")
+        .unwrap();
+    assert_eq!(skeleton.joints[prop].parent, None);
+    assert_eq!(skeleton.joints[prop].first_channel, 9);
+    assert_eq!(skeleton.channel_count(), 15);
+    assert_eq!(bvh.motion.frame_count(), 2);
+    assert_eq!(
+        print_of("two_roots.bvh"),
+        "Hips : 0.000000,0.000000,0.000000 -3- zxy\n \
+         -Chest : 0.000000,15.000000,0.000000 -3- zxy\n \
+         - -Site : 0.000000,20.000000,0.000000 -0- \n\
+         Prop : 50.000000,0.000000,0.000000 -3- zxy\n \
+         -Site : 0.000000,10.000000,0.000000 -0- \n"
+    );
+    // Frame 1: Prop at (50, 0, 10), turned 90° about X, so its End Site's (0, 10, 0) points
+    // along +Z; the first tree is the control's.
+    let out = bvhview(&[
+        "positions",
+        edge("two_roots.bvh").to_str().unwrap(),
+        "--frames",
+        "1",
+    ]);
+    let csv = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        csv.contains("\n1,Prop,50,0,10\n1,Prop_End,50,0,20\n"),
+        "{csv}"
+    );
+    let control = world_positions(
+        &load_edge("article_base_crlf.bvh").skeleton,
+        &ROW_1,
+        OffsetMode::Replace,
+    );
+    let both = world_positions(skeleton, bvh.motion.frame(1), OffsetMode::Replace);
+    assert_eq!(both[..3], control[..]);
+    assert!(
+        verdict_of(&edge("two_roots.bvh")).ends_with(
+            "crashes on it: loadFile returns 1 with frameCount 0, and draw reads row 0 of an empty array"
+        )
+    );
+}
+
+/// `Zposition Xposition Yposition` on the root: the article copies columns 0, 1 and 2 into the
+/// root's x, y and z whatever their names, so frame 1 (`5 30 -3`) is drawn at (5, 30, -3). Here
+/// each position channel sets its own axis: (30, -3, 5).
+#[test]
+fn root_position_channels_are_read_in_their_order() {
+    let bvh = load_edge("root_positions_zxy.bvh");
+    assert_eq!(
+        bvh.skeleton.joints[0].channels[..3],
+        [Channel::Zposition, Channel::Xposition, Channel::Yposition]
+    );
+    let positions = world_positions(&bvh.skeleton, bvh.motion.frame(1), OffsetMode::Replace);
+    assert_eq!(positions[0], Vec3::new(30.0, -3.0, 5.0));
+    let file = edge("root_positions_zxy.bvh");
+    let out = bvhview(&["trace", file.to_str().unwrap(), "--frame", "1", "--explain"]);
+    let trace = String::from_utf8(out.stdout).unwrap();
+    assert!(trace.contains(
+        "glTranslatef(30.000000, -3.000000, 5.000000);    // OFFSET (0, 0, 0), replaced by Zposition = [0], Xposition = [1], Yposition = [2]; the article translates by columns [0], [1], [2] as x, y, z: (5, 30, -3)"
+    ), "{trace}");
+    assert!(verdict_of(&file).ends_with(
+        "misreads it: in frame 0 it translates 'Hips' by (0, 30, 0) where the file means (30, 0, 0)"
+    ));
+}
+
+/// The root's rotations before its positions: the article's scan for the first `r` finds them,
+/// but its `p += 30` then lands on `Xposition` (`_X_ _88_ file format error!!`). Here the channels
+/// are read as written: the rows, reordered to match, give the control file's pose.
+#[test]
+fn a_root_with_its_rotations_first_means_the_same() {
+    let base = load_edge("article_base_crlf.bvh");
+    let first = load_edge("root_rotations_first.bvh");
+    assert_eq!(first.skeleton.joints[0].channels[..3], ROOT_CHANNELS[3..]);
+    for frame in 0..2 {
+        assert_eq!(
+            world_positions(
+                &first.skeleton,
+                first.motion.frame(frame),
+                OffsetMode::Replace
+            ),
+            world_positions(
+                &base.skeleton,
+                base.motion.frame(frame),
+                OffsetMode::Replace
+            ),
+            "frame {frame}"
+        );
+    }
+    assert!(
+        verdict_of(&edge("root_rotations_first.bvh"))
+            .contains("rejects it: at line 5, column 43 its dispatcher meets a byte it has no case for and prints _X_ _88_ file format error!!")
+    );
+}
+
+/// `atof` reads the `-1.` of MSVC's NaN text `-1.#IND00` and nothing of `nonsense!`: the article
+/// loads them as -1 and 0. Here a word that is not a finite number is an error at its place.
+#[test]
+fn words_that_are_not_numbers_are_errors() {
+    let path = edge("motion_not_numbers.bvh");
+    let error = bvhview::bvh::load_file(&path, Default::default())
+        .err()
+        .unwrap();
+    assert_eq!(
+        error.to_string(),
+        format!(
+            "{}:20:30: expected a finite number, found '-1.#IND00'",
+            path.display()
+        )
+    );
+    assert_eq!(error.exit_code(), 2);
+    let dir = tempfile::tempdir().unwrap();
+    let only = dir.path().join("nonsense.bvh");
+    let text = std::fs::read(&path).unwrap();
+    let text = String::from_utf8(text)
+        .unwrap()
+        .replace("-1.#IND00", "10.000000");
+    std::fs::write(&only, text).unwrap();
+    let error = bvhview::bvh::load_file(&only, Default::default())
+        .err()
+        .unwrap();
+    assert!(
+        error
+            .to_string()
+            .ends_with(":20:71: expected a finite number, found 'nonsense!'"),
+        "{error}"
+    );
+    assert_eq!(
+        verdict_of(&path),
+        "// what the article's program does with this file: misreads it: atof reads words that are \
+         not numbers, without a word: '-1.#IND00' (line 20, column 30) as -1, 'nonsense!' (line 20, \
+         column 71) as 0"
+    );
+}
+
+/// The control file followed by a hole (zeros the file system does not store), `length` bytes in
+/// all; `None` where the file system stores the zeros (then the test would write gigabytes).
+#[cfg(target_os = "linux")]
+fn sparse_control(dir: &std::path::Path, length: u64) -> Option<std::path::PathBuf> {
+    use std::os::unix::fs::MetadataExt;
+    let path = dir.join(format!("control_then_zeros_{length}.bvh"));
+    std::fs::copy(edge("article_base_crlf.bvh"), &path).unwrap();
+    let file = std::fs::OpenOptions::new().write(true).open(&path).unwrap();
+    file.set_len(length).unwrap();
+    let stored = file.metadata().unwrap().blocks() * 512;
+    if stored > 1 << 20 {
+        drop(file);
+        std::fs::remove_file(&path).unwrap();
+        eprintln!(
+            "{}: the file system stores holes; not testing a {length}-byte file",
+            dir.display()
+        );
+        return None;
+    }
+    Some(path)
+}
+
+/// `int iFileSize` holds the file's length: from 2 GiB on it is negative (`new` throws
+/// `std::bad_alloc`), and from 4 GiB on it wraps (a file of 4 GiB + 507 bytes is read as its first
+/// 507). The files are the control file and a hole, so they cost no disk and are read at once:
+/// bvhview stops at the first zero after the rows, and `bvh::article` reads what the article
+/// would, 507 bytes at most. (Linux; skipped, with a message, where holes are not supported.)
+#[cfg(target_os = "linux")]
+#[test]
+fn files_of_2_and_4_gib_are_read_to_their_end() {
+    let dir = tempfile::tempdir().unwrap();
+    for (length, verdict) in [
+        (
+            2_500_000_000u64,
+            "crashes on it: the file is 2500000000 bytes long, which int iFileSize holds as \
+             -1794967296: new unsigned char[iFileSize] throws std::bad_alloc, and the program aborts",
+        ),
+        (
+            (4u64 << 30) + 507,
+            "misreads it: it reads only the first 507 of the file's 4294967803 bytes: int \
+             iFileSize keeps the length modulo 4 GiB",
+        ),
+    ] {
+        let Some(path) = sparse_control(dir.path(), length) else {
+            continue;
+        };
+        let error = bvhview::bvh::load_file(&path, Default::default())
+            .err()
+            .unwrap();
+        assert_eq!(
+            error.to_string(),
+            format!(
+                "{}:21:1: found a NUL byte after the last frame: from here on the file is not text",
+                path.display()
+            )
+        );
+        let out = bvhview(&["info", path.to_str().unwrap()]);
+        assert_eq!(out.status.code(), Some(2));
+        assert_eq!(
+            verdict_of(&path),
+            format!("// what the article's program does with this file: {verdict}")
+        );
+        // What the article reads of the second file is the control file, whole.
+        let article = bvhview::bvh::article::run_file(&path, None).unwrap();
+        assert_eq!(article.joints.is_some(), length > 1 << 32);
+        std::fs::remove_file(&path).unwrap();
+    }
+}
+
+/// The article keeps 22 bytes of a name; bvhview keeps the whole name up to 1024 bytes
+/// (`limits::MAX_NAME_BYTES`, what TEACHING.md's Part 4 says of `new_node`) and refuses a longer
+/// one where it stands.
+#[test]
+fn names_of_up_to_1024_bytes_are_kept_longer_ones_refused() {
+    let control = std::fs::read_to_string(edge("article_base_crlf.bvh")).unwrap();
+    let dir = tempfile::tempdir().unwrap();
+    for length in [1024, 1025] {
+        let name = "N".repeat(length);
+        let path = dir.path().join(format!("name_{length}.bvh"));
+        std::fs::write(
+            &path,
+            control.replace("JOINT Chest", &format!("JOINT {name}")),
+        )
+        .unwrap();
+        match bvhview::bvh::load_file(&path, Default::default()) {
+            Ok(bvh) => {
+                assert_eq!(length, 1024);
+                assert_eq!(bvh.skeleton.joints[1].name, name);
+            }
+            Err(error) => {
+                assert_eq!(length, 1025);
+                assert_eq!(
+                    error.to_string(),
+                    format!(
+                        "{}:6:8: a name of 1025 bytes; names are at most 1024 bytes",
+                        path.display()
+                    )
+                );
+            }
+        }
+    }
 }

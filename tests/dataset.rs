@@ -55,13 +55,14 @@ impl Npy {
 
 fn compile(out: &Path, options: &Options, threads: usize) -> dataset::Summary {
     let items = dataset::takes(Path::new(DATA)).unwrap();
+    let takes = dataset::whole_list(Path::new(DATA), &items);
     dataset::compile(
         Path::new(DATA),
         items,
         options,
         threads,
         out,
-        true,
+        takes,
         |_, _, _, _| true,
     )
     .unwrap()
@@ -160,9 +161,11 @@ fn the_repository_compiles_into_groups_whose_arrays_the_manifest_describes() {
         let points = group.topology.joints.len();
         let rotated = group.topology.rotated.len();
         let feet = group.topology.feet.len();
-        let expected: [(&str, &str, Vec<usize>); 7] = [
+        let translated = group.topology.translated.len();
+        let expected: [(&str, &str, Vec<usize>); 8] = [
             ("positions", "<f4", vec![frames, points, 3]),
             ("rotations", "<f4", vec![frames, rotated, 6]),
+            ("translations", "<f4", vec![frames, translated, 3]),
             ("root_translations", "<f4", vec![frames, 3]),
             ("velocities", "<f4", vec![frames, points, 3]),
             ("foot_contacts", "|u1", vec![frames, feet]),
@@ -190,7 +193,7 @@ fn the_repository_compiles_into_groups_whose_arrays_the_manifest_describes() {
             assert_eq!(npy.data.len(), shape.iter().product::<usize>() * size);
         }
         // Offsets: each clip's start, then the end.
-        let offsets = read_npy(&out.join(&group.arrays[5].file));
+        let offsets = read_npy(&out.join(&group.arrays[6].file));
         let offsets: Vec<i64> = offsets
             .data
             .chunks_exact(8)
@@ -344,7 +347,8 @@ fn resampling_velocities_contacts_and_root_relative_frames_follow_their_definiti
             );
         }
     }
-    // Contacts: low (within 5 cm of the point's lowest) and slow (under 0.5 m/s).
+    // Contacts: low (within 5 cm of the floor: the lowest foot point within a second, 30
+    // frames, either way) and slow (under 0.5 m/s).
     let contacts = {
         let entry = group
             .arrays
@@ -362,22 +366,26 @@ fn resampling_velocities_contacts_and_root_relative_frames_follow_their_definiti
         .collect();
     assert_eq!(
         names,
+        // Guessed from the rest pose: each leg's ankle and toe tip.
         [
             "LeftFoot",
-            "LeftToeBase",
             "LeftToeBase_End",
             "RightFoot",
-            "RightToeBase",
             "RightToeBase_End"
         ]
     );
+    let floor: Vec<f32> = (0..clip.frames)
+        .map(|f| {
+            (f.saturating_sub(30)..=(f + 30).min(last))
+                .flat_map(|g| feet.iter().map(move |&p| (g, p)))
+                .map(|(g, p)| at(&positions, g, p as usize).y)
+                .fold(f32::MAX, f32::min)
+        })
+        .collect();
     let mut touching = 0;
     for (k, &foot) in feet.iter().enumerate() {
-        let lowest = (0..clip.frames)
-            .map(|f| at(&positions, f, foot as usize).y)
-            .fold(f32::MAX, f32::min);
         for f in 0..clip.frames {
-            let low = at(&positions, f, foot as usize).y - lowest <= 0.05;
+            let low = at(&positions, f, foot as usize).y - floor[f] <= 0.05;
             let slow = at(&velocities, f, foot as usize).length() < 0.5;
             assert_eq!(contacts[f * feet.len() + k], u8::from(low && slow));
             touching += usize::from(low && slow);
@@ -420,33 +428,69 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
     same_files(&whole, &one_thread);
 
     let items = dataset::takes(Path::new(DATA)).unwrap();
+    let whole_list = dataset::whole_list(Path::new(DATA), &items);
     let mut pieces = Vec::new();
     for (k, range) in [0..7, 7..8, 8..8, 8..items.len()].into_iter().enumerate() {
         let piece = temp.path().join(format!("piece_{k}"));
+        let takes = store::Takes {
+            first: range.start,
+            count: range.len(),
+            ..whole_list.clone()
+        };
         dataset::compile(
             Path::new(DATA),
             items[range].to_vec(),
             &Options::default(),
             1,
             &piece,
-            false,
+            takes,
             |_, _, _, _| true,
         )
         .unwrap();
         pieces.push(piece);
     }
     let merged = temp.path().join("merged");
-    store::merge(&pieces, &merged).unwrap();
+    store::merge(&pieces, &merged, store::Join::Pieces).unwrap();
     same_files(&whole, &merged);
+    // dataset::piece cuts the same runs a Dask compile merges.
+    let mut even = Vec::new();
+    for k in 0..3 {
+        let (run, takes) = dataset::piece(Path::new(DATA), items.clone(), k, 3).unwrap();
+        let piece = temp.path().join(format!("even_{k}"));
+        dataset::compile(
+            Path::new(DATA),
+            run,
+            &Options::default(),
+            1,
+            &piece,
+            takes,
+            |_, _, _, _| true,
+        )
+        .unwrap();
+        even.push(piece);
+    }
+    let merged_even = temp.path().join("merged_even");
+    store::merge(&even, &merged_even, store::Join::Pieces).unwrap();
+    same_files(&whole, &merged_even);
 
-    // Pieces out of order, repeated or overlapping are refused, and nothing is written.
+    // Pieces out of order, repeated, overlapping, with a gap or short of the end are refused,
+    // and nothing is written.
     for (order, why) in [
-        ([&pieces[3], &pieces[0]], "comes after"),
-        ([&pieces[0], &pieces[0]], "comes after"),
+        (vec![&pieces[3], &pieces[0]], "are in no piece given"),
+        (vec![&pieces[0], &pieces[0]], "which an earlier piece holds"),
+        (
+            vec![&pieces[0], &pieces[3]],
+            "takes 7 to 8 are in no piece given",
+        ),
+        (
+            vec![&pieces[0], &pieces[1]],
+            "the rest of the list is missing",
+        ),
+        (vec![&even[0], &pieces[3]], "which an earlier piece holds"),
     ] {
         let target = temp.path().join("misordered");
         let given: Vec<PathBuf> = order.iter().map(|p| p.to_path_buf()).collect();
-        let error = store::merge(&given, &target).unwrap_err();
+        let error = store::merge(&given, &target, store::Join::Pieces).unwrap_err();
         assert!(error.to_string().contains(why), "{error}");
         assert!(!target.exists());
     }
@@ -455,13 +499,14 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
     let absolute = temp.path().join("absolute");
     let dir = std::fs::canonicalize(DATA).unwrap();
     let items = dataset::takes(&dir).unwrap();
+    let takes = dataset::whole_list(&dir, &items);
     dataset::compile(
         &dir,
         items,
         &Options::default(),
         2,
         &absolute,
-        true,
+        takes,
         |_, _, _, _| true,
     )
     .unwrap();
@@ -477,9 +522,45 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
         },
         2,
     );
-    let error = store::merge(&[whole.clone(), other], &temp.path().join("mixed")).unwrap_err();
+    let error = store::merge(
+        &[whole.clone(), other],
+        &temp.path().join("mixed"),
+        store::Join::Pieces,
+    )
+    .unwrap_err();
     assert!(error.to_string().contains("other options"), "{error}");
     assert!(!temp.path().join("mixed").exists());
+
+    // A piece of another compile is refused unless folders are joined, which groups by
+    // topology: the repository twice is every clip twice, in as many groups as once.
+    let asf = temp.path().join("asf_only");
+    let asf_dir = Path::new(DATA).join("asf_amc");
+    let asf_items = dataset::takes(&asf_dir).unwrap();
+    let takes = dataset::whole_list(&asf_dir, &asf_items);
+    dataset::compile(
+        &asf_dir,
+        asf_items,
+        &Options::default(),
+        2,
+        &asf,
+        takes,
+        |_, _, _, _| true,
+    )
+    .unwrap();
+    let error = store::merge(
+        &[whole.clone(), asf.clone()],
+        &temp.path().join("joined"),
+        store::Join::Pieces,
+    )
+    .unwrap_err();
+    assert!(error.to_string().contains("another compile"), "{error}");
+    let joined = temp.path().join("joined");
+    let summary =
+        store::merge(&[whole.clone(), asf.clone()], &joined, store::Join::Folders).unwrap();
+    let once = store::read_manifest(&whole).unwrap();
+    let asf_manifest = store::read_manifest(&asf).unwrap();
+    assert_eq!(summary.clips, once.clips.len() + asf_manifest.clips.len());
+    assert_eq!(summary.groups, once.groups.len());
 
     for kind in [
         RotationKind::Quat,
@@ -599,13 +680,14 @@ fn every_take_of_the_whole_corpus_compiles_standing_in_metres() {
     let temp = tempfile::tempdir().unwrap();
     let out = temp.path().join("corpus");
     let items = dataset::takes(corpus).unwrap();
+    let list = dataset::whole_list(corpus, &items);
     let summary = dataset::compile(
         corpus,
         items,
         &Options::default(),
         2,
         &out,
-        true,
+        list,
         |_, _, _, _| true,
     )
     .unwrap();
@@ -710,13 +792,14 @@ fn takes_without_a_frame_time_or_a_utf8_name_are_skipped_with_the_reason() {
     std::fs::write(takes.join(latin1), &walk).unwrap();
     let out = temp.path().join("ds");
     let items = dataset::takes(&takes).unwrap();
+    let list = dataset::whole_list(&takes, &items);
     let summary = dataset::compile(
         &takes,
         items,
         &Options::default(),
         1,
         &out,
-        true,
+        list,
         |_, _, _, _| true,
     )
     .unwrap();

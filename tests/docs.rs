@@ -832,3 +832,60 @@ fn the_parser_joins_lines_and_moves_outputs() {
         [(1, "docs/A.md#x".to_string()), (1, "p.png".to_string())]
     );
 }
+
+/// Every Rust block of the two chapters is the repository's code, line for line (indentation
+/// aside): `load_file`'s body and `draw_recursive` as TEACHING.md shows them beside the article's
+/// `loadFile` and `drawRecursive`. So "the article's statements, in its order", and what else
+/// `draw_recursive` holds (its two `gl.note` calls), are what the code says.
+#[test]
+fn the_chapters_rust_blocks_are_the_code() {
+    let mut sources = Vec::new();
+    let mut stack = vec![root().join("src")];
+    while let Some(dir) = stack.pop() {
+        for entry in fs::read_dir(&dir).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                stack.push(path);
+            } else if path.extension().is_some_and(|e| e == "rs") {
+                let lines: Vec<String> = read(&path)
+                    .lines()
+                    .map(|l| l.trim().to_string())
+                    .filter(|l| !l.is_empty())
+                    .collect();
+                sources.push((path, lines));
+            }
+        }
+    }
+    let mut blocks = 0;
+    for chapter in ["TEACHING.md", "TEACHING.zh-Hant.md"] {
+        let text = read(&root().join(chapter));
+        let mut lines = text.lines().enumerate();
+        while let Some((at, line)) = lines.next() {
+            if line != "```rust" {
+                continue;
+            }
+            let block: Vec<String> = lines
+                .by_ref()
+                .map(|(_, l)| l)
+                .take_while(|l| *l != "```")
+                .map(|l| l.trim().to_string())
+                .filter(|l| !l.is_empty())
+                .collect();
+            let found = sources.iter().any(|(_, code)| {
+                code.windows(block.len())
+                    .any(|window| window == block.as_slice())
+            });
+            assert!(
+                found,
+                "{chapter}:{}: this Rust block is not in src/ as it stands:\n{}",
+                at + 1,
+                block.join("\n")
+            );
+            blocks += 1;
+        }
+    }
+    assert_eq!(
+        blocks, 4,
+        "load_file's body and draw_recursive, in each chapter"
+    );
+}

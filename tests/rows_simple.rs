@@ -88,6 +88,70 @@ fn both_row_loops_agree_on_the_whole_corpus() {
     }
 }
 
+/// Past the last row nothing waits for a whole line (issue 38): a line longer than the engine's
+/// chunks is counted in pieces, once, on its own line, and a NUL byte there stops both readers at
+/// the same place, however far into the line it is.
+#[test]
+fn both_row_loops_agree_past_the_rows_on_long_lines_and_nul_bytes() {
+    let control = std::fs::read(edge("article_base_crlf.bvh")).unwrap();
+    let long = |byte: u8| vec![byte; 3 << 20];
+    let tails: Vec<(&str, Vec<u8>)> = vec![
+        ("a long line", [long(b'x'), b"\r\n1 2\n".to_vec()].concat()),
+        (
+            "a long blank line",
+            [long(b' '), b"y\r\n".to_vec()].concat(),
+        ),
+        (
+            "a long line in CRs",
+            [b"\r".to_vec(), long(b'x'), b"\r\rz".to_vec()].concat(),
+        ),
+        ("a NUL at once", vec![0; 100]),
+        ("a NUL far in", [long(b'x'), vec![0]].concat()),
+        (
+            "a NUL lines on",
+            [b"1 2 3\r\n\r\n".to_vec(), long(b'x'), b"\n \t\0".to_vec()].concat(),
+        ),
+    ];
+    let dir = tempfile::tempdir().unwrap();
+    for (what, tail) in tails {
+        let path = dir.path().join("tail.bvh");
+        std::fs::write(&path, [control.clone(), tail].concat()).unwrap();
+        let outcome = outcome(&path, Settings::default());
+        match what {
+            "a long line" | "a long blank line" => {
+                // Blanks and then a word are one line: one row.
+                let rows = if what == "a long line" {
+                    "2 extra rows"
+                } else {
+                    "1 extra row "
+                };
+                let warnings = &outcome.as_ref().unwrap().2;
+                assert_eq!(warnings.len(), 1, "{what}");
+                assert!(warnings[0].starts_with(rows), "{what}: {warnings:?}");
+                assert!(
+                    warnings[0].ends_with("from line 21 on"),
+                    "{what}: {warnings:?}"
+                );
+            }
+            "a long line in CRs" => {
+                let warnings = &outcome.as_ref().unwrap().2;
+                assert!(
+                    warnings[0].contains("2 extra rows") && warnings[0].ends_with("line 22 on"),
+                    "{warnings:?}"
+                );
+            }
+            _ => assert!(
+                outcome
+                    .as_ref()
+                    .unwrap_err()
+                    .contains("found a NUL byte after the last frame"),
+                "{what}: {outcome:?}"
+            ),
+        }
+        same_both_ways(&path);
+    }
+}
+
 /// One word of a MOTION row: the usual shapes, exponents, signs, and now and then one that is
 /// not a finite number.
 fn word() -> impl Strategy<Value = String> {
@@ -107,7 +171,7 @@ fn rows_text(width: usize) -> impl Strategy<Value = String> {
     let row = prop::collection::vec(word(), width.saturating_sub(1)..=width + 1);
     let line = prop_oneof![
         10 => row.prop_map(|words| words.join(" ")),
-        1 => prop::sample::select(vec!["", " ", "\t \t"]).prop_map(str::to_string),
+        1 => prop::sample::select(vec!["", " ", "\t \t", "\0", " x\0"]).prop_map(str::to_string),
         1 => prop::collection::vec(word(), width..=width).prop_map(|w| format!("\t{}  ", w.join("\t"))),
     ];
     let end = prop::sample::select(vec!["\n", "\r\n", "\r"]);

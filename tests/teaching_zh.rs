@@ -333,3 +333,84 @@ fn prose_hides_code_and_the_articles_words_only() {
         ]
     );
 }
+
+/// `bvhview trace --explain --lang zh`, which the chapter quotes in Part 5 and Part 6, writes its
+/// notes in the same register: OpenCC's s2twp changes none of them (but the ALLOWED cases), and
+/// none holds a mainland word of [`AVOIDED`]. Run on every input of tests/edge and
+/// tests/oracle/inputs, and on the two files of exercise 1.3, so that every kind of note (each
+/// verdict the inputs reach, flags 0 and 4, another axis, the article's root translation) is
+/// seen.
+#[test]
+fn explain_writes_its_chinese_notes_in_taiwans_register() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let dir = tempfile::tempdir().unwrap();
+    let control = std::fs::read_to_string(root.join("tests/edge/article_base_crlf.bvh")).unwrap();
+    let mut inputs = Vec::new();
+    for letters in [
+        "Yrotation Yrotation Yrotation",
+        "Xrotation Xrotation Yrotation",
+    ] {
+        let path = dir.path().join(format!("{}.bvh", &letters[..1]));
+        let text = control.replace(
+            "CHANNELS 3 Zrotation Xrotation Yrotation",
+            &format!("CHANNELS 3 {letters}"),
+        );
+        std::fs::write(&path, text).unwrap();
+        inputs.push(path);
+    }
+    for folder in ["tests/edge", "tests/oracle/inputs"] {
+        for entry in std::fs::read_dir(root.join(folder)).unwrap() {
+            let path = entry.unwrap().path();
+            if path.extension().is_some_and(|e| e == "bvh") {
+                inputs.push(path);
+            }
+        }
+    }
+    let mut notes = std::collections::BTreeSet::new();
+    for path in &inputs {
+        let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+            .args([
+                "trace",
+                path.to_str().unwrap(),
+                "--frame",
+                "0",
+                "--explain",
+                "--lang",
+                "zh",
+            ])
+            .output()
+            .unwrap();
+        for line in String::from_utf8(out.stdout).unwrap().lines() {
+            if let Some((_, note)) = line.split_once("// ") {
+                notes.insert(note.to_string());
+            }
+        }
+    }
+    assert!(notes.len() > 100, "{} notes", notes.len());
+    let notes: Vec<String> = notes.into_iter().collect();
+    let converted = s2twp(&notes.join("\n"));
+    let allow = |line: &str| {
+        ALLOWED.iter().fold(line.to_string(), |s, (ours, theirs)| {
+            s.replace(theirs, ours)
+        })
+    };
+    let changes: Vec<String> = notes
+        .iter()
+        .zip(converted.split('\n'))
+        .filter(|(ours, theirs)| allow(ours) != allow(theirs))
+        .map(|(ours, theirs)| change(ours, theirs))
+        .collect();
+    assert!(
+        changes.is_empty(),
+        "s2twp would change:\n{}",
+        changes.join("\n")
+    );
+    for (word, instead) in AVOIDED {
+        for note in &notes {
+            assert!(
+                !note.contains(word),
+                "'{word}' (write {instead}) in: {note}"
+            );
+        }
+    }
+}

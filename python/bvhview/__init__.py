@@ -15,12 +15,13 @@ released while they run. ``bvhview.dask`` compiles a dataset on a Dask cluster.
 import numpy as _numpy  # noqa: F401
 
 from ._bvhview import Motion, ParseError, __version__, list_takes, load, load_many
-from .dataset import Dataset, compile_dataset, merge_datasets, write_parquet
+from .dataset import Dataset, SkippedTake, compile_dataset, merge_datasets, write_parquet
 
 __all__ = [
     "Dataset",
     "Motion",
     "ParseError",
+    "SkippedTake",
     "__version__",
     "compile_dataset",
     "list_takes",

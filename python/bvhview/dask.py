@@ -22,10 +22,8 @@ from ._bvhview import _compile_dataset, list_takes
 from .dataset import StrPath, merge_datasets
 
 
-def _compile_piece(
-    folder: str, takes: list[tuple[StrPath, StrPath | None]], out: str, options: dict[str, Any]
-) -> str:
-    _compile_dataset(folder, out, takes=takes, **options)
+def _compile_piece(folder: str, index: int, pieces: int, out: str, options: dict[str, Any]) -> str:
+    _compile_dataset(folder, out, piece=(index, pieces), **options)
     return out
 
 
@@ -35,7 +33,7 @@ def compile_dataset(
     *,
     client: Any = None,
     pieces: int | None = None,
-    parquet: bool | None = None,
+    parquet: bool = False,
     **options: Any,
 ) -> dict[str, Any]:
     """``bvhview.compile_dataset`` on the workers of ``client`` (default: the current
@@ -58,13 +56,9 @@ def compile_dataset(
     if pieces is None:
         threads = sum(client.nthreads().values()) or 1
         pieces = 4 * threads
+    # Each worker lists the folder again and compiles its run of the list: piece k of n, as
+    # bvhview cuts it, so that the merge can check that the runs are one list's, whole.
     pieces = max(1, min(pieces, len(takes)))
-    size, extra = divmod(len(takes), pieces)
-    runs, at = [], 0
-    for k in range(pieces):
-        length = size + (1 if k < extra else 0)
-        runs.append(takes[at : at + length])
-        at += length
     parent = out_path.parent if str(out_path.parent) else Path(".")
     work = Path(tempfile.mkdtemp(prefix=f".{out_path.name}.pieces.", dir=parent))
     try:
@@ -72,7 +66,8 @@ def compile_dataset(
         futures = client.map(
             _compile_piece,
             [folder] * pieces,
-            runs,
+            range(pieces),
+            [pieces] * pieces,
             paths,
             [options] * pieces,
             pure=False,

@@ -12,38 +12,104 @@ code). The layout on disk is in docs/PYTHON.md.
 
 from __future__ import annotations
 
+import contextlib
 import json
+import mmap
 import os
-from collections.abc import Sequence
+import secrets
+import signal
+import stat
+import threading
+import warnings
+from collections.abc import Iterator, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from ._bvhview import _compile_dataset, _merge_datasets
+from ._bvhview import Motion, _compile_dataset, _dataset_motion, _merge_datasets, _open_dataset
 
-#: The arrays of every group, as the manifest lists them (besides ``offsets``).
-ARRAYS = ("positions", "rotations", "root_translations", "velocities", "foot_contacts")
+#: The arrays of every group, as the manifest lists them (besides ``offsets`` and
+#: ``rest_offsets``).
+ARRAYS = ("positions", "rotations", "translations", "root_translations", "velocities", "foot_contacts")
 
 StrPath = str | os.PathLike[str]
 
 
-def _read_manifest(dataset: StrPath) -> dict[str, Any]:
-    with open(Path(dataset) / "manifest.json", encoding="utf-8") as file:
-        manifest: dict[str, Any] = json.load(file)
-    return manifest
+class SkippedTake(UserWarning):
+    """A take ``compile_dataset`` could not compile; the message is its ``path:line:column``
+    and reason, as the manifest's ``skipped`` list keeps it."""
 
 
-def _want_parquet(parquet: bool | None) -> bool:
-    if parquet is False:
-        return False
+def _checked(dataset: StrPath) -> tuple[dict[str, Any], list[dict[str, np.ndarray]], list[list[int]]]:
+    """The dataset checked whole by bvhview's reader (which trusts nothing in the folder: no
+    links, only regular files of the sizes their headers and the manifest give, clip ranges in
+    order and inside the arrays), with every array mapped from the very file that was checked."""
+    text, groups, offsets = _open_dataset(os.fspath(dataset))
+    mapped: list[dict[str, np.ndarray]] = []
     try:
-        import pyarrow  # type: ignore[import-untyped,import-not-found,unused-ignore]  # noqa: F401
-    except ImportError:
-        if parquet:
-            raise ImportError("parquet=True needs pyarrow (pip install pyarrow)") from None
-        return False
-    return True
+        for group in groups:
+            arrays = {}
+            for name, fd, dtype, shape in group:
+                size = int(np.prod(shape, dtype=np.int64)) * np.dtype(dtype).itemsize
+                if size == 0:
+                    arrays[name] = np.zeros(shape, dtype=dtype)
+                else:
+                    # The map keeps the file open; the descriptor is closed below either way.
+                    buffer = mmap.mmap(fd, 0, access=mmap.ACCESS_READ)
+                    arrays[name] = np.ndarray(shape, dtype=dtype, buffer=buffer, offset=128)
+            mapped.append(arrays)
+    finally:
+        for group in groups:
+            for _, fd, _, _ in group:
+                os.close(fd)
+    manifest: dict[str, Any] = json.loads(text)
+    return manifest, mapped, offsets
+
+
+def _read_manifest(dataset: StrPath) -> dict[str, Any]:
+    return _checked(dataset)[0]
+
+
+class _Terminated(BaseException):
+    """SIGTERM or SIGHUP arrived during a compile or merge: raised by the handler
+    ``_ended_cleanly`` installs, as Ctrl-C raises KeyboardInterrupt (a BaseException, so that an
+    ``except Exception`` does not swallow it)."""
+
+    def __init__(self, signum: int) -> None:
+        super().__init__(signum)
+        self.signum = signum
+
+
+@contextlib.contextmanager
+def _ended_cleanly() -> Iterator[None]:
+    """SIGTERM and SIGHUP (where Python leaves them at their default, which ends the process at
+    once) stop the work in the block as Ctrl-C does: the compile stops between takes and removes
+    its temporary ``.OUT.*`` folder (a merge or a Parquet file finishes first). The process then
+    ends by the same signal, as it would have without the cleanup. Only Python's main thread can
+    take signals: elsewhere this does nothing."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+
+    def stop(signum: int, frame: object) -> None:
+        raise _Terminated(signum)
+
+    installed = {}
+    for number in (signal.SIGTERM, signal.SIGHUP):
+        if signal.getsignal(number) == signal.SIG_DFL:
+            installed[number] = signal.signal(number, stop)
+    try:
+        yield
+    except _Terminated as ended:
+        for number, old in installed.items():
+            signal.signal(number, old)
+        installed.clear()
+        os.kill(os.getpid(), ended.signum)
+        raise SystemExit(128 + ended.signum) from None
+    finally:
+        for number, old in installed.items():
+            signal.signal(number, old)
 
 
 def compile_dataset(
@@ -53,91 +119,161 @@ def compile_dataset(
     fps: float = 30.0,
     rotations: str = "6d",
     root_relative: bool = False,
+    feet: Sequence[str] | None = None,
     contact_height: float = 0.05,
     contact_speed: float = 0.5,
     takes: Sequence[tuple[StrPath, StrPath | None]] | None = None,
     threads: int | None = None,
-    parquet: bool | None = None,
+    parquet: bool = False,
 ) -> dict[str, Any]:
     """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
-    them) into the new dataset folder ``out``; returns its manifest.
+    them) into the new dataset folder ``out``; returns its manifest, whose ``"skipped"`` lists
+    the takes that could not be compiled (each also warned about as a ``SkippedTake``).
 
     Every take is turned to Y up and metres (by its guessed up axis and units), resampled to
     ``fps``, and written as world ``positions``, local ``rotations`` (``"quat"``, ``"matrix"``,
-    ``"6d"`` or ``"euler"``), ``root_translations``, ``velocities`` (m/s) and ``foot_contacts``
-    (a foot point within ``contact_height`` metres of its lowest point in the take, slower than
-    ``contact_speed`` m/s). A take that fails is skipped and listed in ``manifest["skipped"]``
-    with its ``path:line:column``; a folder of which no take compiles raises ValueError and
-    writes nothing (a piece given as ``takes`` may compile none). ``parquet``: also write
-    ``group_K/frames.parquet`` (default: when pyarrow is installed). Ctrl-C stops the compile
-    between takes, leaving nothing behind; a process killed outright leaves its temporary
-    ``.OUT.*`` folder beside ``out``."""
-    _compile_dataset(
-        os.fspath(folder),
-        os.fspath(out),
-        fps=fps,
-        rotations=rotations,
-        root_relative=root_relative,
-        contact_height=contact_height,
-        contact_speed=contact_speed,
-        takes=None if takes is None else [(p, m) for p, m in takes],
-        threads=threads,
-    )
-    if _want_parquet(parquet):
-        write_parquet(out)
+    ``"6d"``, ``"euler"`` or ``"axis_angle"``), ``translations`` (the local translation of every
+    joint with position channels), ``root_translations`` (the world position of the joint that
+    carries the travel), ``velocities`` (m/s) and ``foot_contacts`` (a foot point within
+    ``contact_height`` metres of the floor, the lowest foot point within a second, and slower
+    than ``contact_speed`` m/s). ``feet`` names the foot points (default: each leg's ankle and
+    toe, from the rest pose). A take that fails is skipped with its ``path:line:column``; a
+    folder of which no take compiles raises ValueError naming every reason, and writes nothing.
+    ``parquet``: also write ``group_K/frames.parquet`` (needs pyarrow). Ctrl-C and SIGTERM stop
+    the compile between takes, leaving nothing behind (SIGTERM and SIGHUP when Python has them
+    at their default and this runs in the main thread; the process then ends by that signal). A
+    process killed outright (SIGKILL) leaves its temporary ``.OUT.*`` folder beside ``out``.
+    What the folder walk skipped (a loop, a link out of the folder, a take reached twice) is
+    said as a UserWarning each."""
+    if parquet:
+        _need_pyarrow()
+    with _ended_cleanly():
+        _, _, _, skipped = _compile_dataset(
+            os.fspath(folder),
+            os.fspath(out),
+            fps=fps,
+            rotations=rotations,
+            root_relative=root_relative,
+            feet=None if feet is None else [str(f) for f in feet],
+            contact_height=contact_height,
+            contact_speed=contact_speed,
+            takes=None if takes is None else [(p, m) for p, m in takes],
+            threads=threads,
+        )
+        for _, _, reason in skipped:
+            warnings.warn(f"skipped {reason}", SkippedTake, stacklevel=2)
+        if parquet:
+            write_parquet(out)
     return _read_manifest(out)
+
+
+def _need_pyarrow() -> None:
+    try:
+        import pyarrow  # type: ignore[import-untyped,import-not-found,unused-ignore]  # noqa: F401
+    except ImportError:
+        raise ImportError("parquet=True needs pyarrow (pip install pyarrow)") from None
 
 
 def merge_datasets(
-    pieces: Sequence[StrPath], out: StrPath, *, parquet: bool | None = None
+    pieces: Sequence[StrPath], out: StrPath, *, join: str = "pieces", parquet: bool = False
 ) -> dict[str, Any]:
-    """Merge datasets compiled from consecutive pieces of one folder's ``list_takes`` (in
-    order) into ``out``: byte for byte the dataset one ``compile_dataset`` of the whole folder
-    writes. Returns its manifest."""
-    _merge_datasets([os.fspath(p) for p in pieces], os.fspath(out))
-    if _want_parquet(parquet):
-        write_parquet(out)
+    """Merge datasets into ``out`` and return its manifest. ``join="pieces"`` (the default):
+    pieces of one compile (``bvhview.dask`` makes them), every take of its list once, given in
+    order, with no gap; the result is byte for byte the dataset one ``compile_dataset`` of the
+    whole folder writes. ``join="folders"``: datasets of any folders made with the same
+    options, their clips one after the other, grouped by skeleton topology."""
+    if parquet:
+        _need_pyarrow()
+    with _ended_cleanly():
+        _merge_datasets([os.fspath(p) for p in pieces], os.fspath(out), join=join)
+        if parquet:
+            write_parquet(out)
     return _read_manifest(out)
+
+
+def _plain_folder(root: Path, name: object) -> int:
+    """A group's folder opened without following a link (its descriptor): ``name`` must be a
+    plain name of a real folder inside ``root``."""
+    if not isinstance(name, str) or name in ("", ".", "..") or "/" in name or "\0" in name:
+        raise ValueError(f"{root}: group name {name!r} is not a plain folder name")
+    folder = root / name
+    if folder.is_symlink():
+        raise ValueError(f"{folder}: is a symbolic link; a dataset's folders are never followed out")
+    return os.open(folder, os.O_RDONLY | os.O_DIRECTORY | os.O_NOFOLLOW)
+
+
+def _refuse_link(folder: Path, name: str, dir_fd: int) -> None:
+    try:
+        mode = os.lstat(name, dir_fd=dir_fd).st_mode
+    except FileNotFoundError:
+        return
+    if stat.S_ISLNK(mode):
+        raise ValueError(f"{folder / name}: is a symbolic link; not written or read through")
+    if not stat.S_ISREG(mode):
+        # A FIFO would wait for a writer for good.
+        raise ValueError(f"{folder / name}: not a regular file")
 
 
 def write_parquet(dataset: StrPath) -> list[Path]:
     """Write ``group_K/frames.parquet`` beside each group's arrays: a row per frame with its
     ``clip`` (index into ``manifest["clips"]``) and ``frame``, and each array's numbers of that
-    frame as a fixed-size list column. Needs pyarrow."""
+    frame as a fixed-size list column. Needs pyarrow. The dataset is read through bvhview's
+    checked reader (a folder or array that is a link is refused, ValueError), a
+    ``frames.parquet`` that is a link or not a regular file is refused, and each file is
+    written under an exclusive random temporary name, then renamed."""
     import pyarrow as pa  # type: ignore[import-untyped,import-not-found,unused-ignore]
     import pyarrow.parquet as pq  # type: ignore[import-untyped,import-not-found,unused-ignore]
 
     root = Path(dataset)
-    manifest = _read_manifest(root)
+    manifest, mapped, _ = _checked(root)
     written = []
     for k, group in enumerate(manifest["groups"]):
-        clips = [i for i, c in enumerate(manifest["clips"]) if c["group"] == k]
-        frames = np.array([manifest["clips"][i]["frames"] for i in clips], dtype=np.int64)
-        columns: dict[str, Any] = {
-            "clip": pa.array(np.repeat(np.array(clips, dtype=np.int32), frames)),
-            "frame": pa.array(
-                np.concatenate([np.arange(n, dtype=np.int32) for n in frames])
-                if len(frames)
-                else np.zeros(0, np.int32)
-            ),
-        }
-        for name in ARRAYS:
-            array = np.load(root / group["name"] / f"{name}.npy", mmap_mode="r")
-            width = int(np.prod(array.shape[1:]))
-            if width == 0:
-                # A skeleton without feet has no contacts: Arrow has no list of 0 items.
-                continue
-            flat = pa.array(array.reshape(-1))
-            columns[name] = pa.FixedSizeListArray.from_arrays(flat, width)
-        path = root / group["name"] / "frames.parquet"
-        # Written under another name, then renamed: a reader never sees half a file.
-        partial = path.with_name(f".frames.parquet.{os.getpid()}")
+        folder = root / str(group["name"])
+        dir_fd = _plain_folder(root, group["name"])
         try:
-            pq.write_table(pa.table(columns), partial)
-            os.replace(partial, path)
+            clips = [i for i, c in enumerate(manifest["clips"]) if c["group"] == k]
+            frames = np.array([manifest["clips"][i]["frames"] for i in clips], dtype=np.int64)
+            columns: dict[str, Any] = {
+                "clip": pa.array(np.repeat(np.array(clips, dtype=np.int32), frames)),
+                "frame": pa.array(
+                    np.concatenate([np.arange(n, dtype=np.int32) for n in frames])
+                    if len(frames)
+                    else np.zeros(0, np.int32)
+                ),
+            }
+            for name in ARRAYS:
+                array = mapped[k][name]
+                width = int(np.prod(array.shape[1:]))
+                if width == 0:
+                    # A skeleton without feet has no contacts: Arrow has no list of 0 items.
+                    continue
+                flat = pa.array(array.reshape(-1))
+                columns[name] = pa.FixedSizeListArray.from_arrays(flat, width)
+            _refuse_link(folder, "frames.parquet", dir_fd)
+            # Written under a random name made exclusively (never through a link planted under
+            # a name guessed in advance), then renamed: a reader never sees half a file.
+            while True:
+                partial = f".frames.parquet.{secrets.token_hex(6)}.partial"
+                try:
+                    fd = os.open(
+                        partial,
+                        os.O_WRONLY | os.O_CREAT | os.O_EXCL | os.O_NOFOLLOW | os.O_CLOEXEC,
+                        0o666,
+                        dir_fd=dir_fd,
+                    )
+                    break
+                except FileExistsError:
+                    continue
+            try:
+                with os.fdopen(fd, "wb") as file:
+                    pq.write_table(pa.table(columns), file)
+                os.replace(partial, "frames.parquet", src_dir_fd=dir_fd, dst_dir_fd=dir_fd)
+            finally:
+                with contextlib.suppress(FileNotFoundError):
+                    os.unlink(partial, dir_fd=dir_fd)
         finally:
-            partial.unlink(missing_ok=True)
-        written.append(path)
+            os.close(dir_fd)
+        written.append(folder / "frames.parquet")
     return written
 
 
@@ -145,12 +281,17 @@ class Dataset:
     """A compiled dataset read back as a map-style dataset of numpy arrays (PyTorch's
     ``DataLoader`` takes it as it is; bvhview never imports torch).
 
+    The folder is checked whole when it is opened, as input from anyone: bvhview's reader
+    refuses links inside it, files that are not regular, names it does not make, ``.npy``
+    headers or sizes that are not what the manifest says, and clip ranges that are out of
+    order or outside the arrays (a ``ValueError`` saying which).
+
     Item ``i`` is a dict: each array of one window (``window`` frames; a whole clip when
     ``window`` is None) and ``clip`` (index into ``manifest["clips"]``) and ``start`` (its first
     frame in the clip). Windows start every ``stride`` frames (default: ``window``); a clip
     shorter than ``window`` gives none. The arrays are memory-mapped: only the windows read are
     loaded. ``group`` picks one skeleton topology (its index or name); a dataset with one group
-    needs none."""
+    needs none. ``rest_offsets`` (clips x points x 3) holds each clip's bone offsets."""
 
     def __init__(
         self,
@@ -162,8 +303,8 @@ class Dataset:
         arrays: Sequence[str] = ARRAYS,
     ) -> None:
         self.path = Path(path)
-        self.manifest = _read_manifest(self.path)
-        groups = self.manifest["groups"]
+        manifest, _, _ = self._load()
+        groups = manifest["groups"]
         if not groups:
             raise ValueError(f"{self.path}: the dataset has no clips")
         if group is None:
@@ -180,7 +321,7 @@ class Dataset:
                 raise ValueError(f"group={group!r}: expected one of {names}")
             index = names.index(group)
         else:
-            if not 0 <= group < len(groups):
+            if isinstance(group, bool) or not 0 <= group < len(groups):
                 raise IndexError(f"group={group}: the dataset has {len(groups)}")
             index = group
         for name, value in (("window", window), ("stride", stride)):
@@ -193,12 +334,11 @@ class Dataset:
         unknown = [a for a in arrays if a not in ARRAYS]
         if unknown:
             raise ValueError(f"arrays={unknown}: expected some of {list(ARRAYS)}")
-        self.group = groups[index]
+        self.index = index
         self.window = window
         self.stride = stride
         self._names = tuple(arrays)
         self._open()
-        self.offsets = np.load(self.path / self.group["name"] / "offsets.npy")
         self.clips = [i for i, c in enumerate(self.manifest["clips"]) if c["group"] == index]
         windows = []
         for k, clip in enumerate(self.clips):
@@ -210,15 +350,23 @@ class Dataset:
                     windows.append((clip, int(self.offsets[k]), start, window))
         self._windows = windows
 
+    def _load(self) -> tuple[dict[str, Any], list[dict[str, np.ndarray]], list[list[int]]]:
+        return _checked(self.path)
+
     def _open(self) -> None:
-        folder = self.path / self.group["name"]
-        self.arrays = {name: np.load(folder / f"{name}.npy", mmap_mode="r") for name in self._names}
+        manifest, mapped, offsets = self._load()
+        self.manifest = manifest
+        self.group = manifest["groups"][self.index]
+        self.arrays = {name: mapped[self.index][name] for name in self._names}
+        self.rest_offsets = mapped[self.index]["rest_offsets"]
+        self.offsets = np.array(offsets[self.index], dtype=np.int64)
 
     def __getstate__(self) -> dict[str, Any]:
-        # A DataLoader worker started by spawn gets the dataset pickled: the memory maps are
-        # opened again there, not copied into the pickle.
+        # A DataLoader worker started by spawn gets the dataset pickled: the folder is checked
+        # and mapped again there, not copied into the pickle.
         state = self.__dict__.copy()
-        del state["arrays"]
+        for opened in ("arrays", "rest_offsets", "manifest", "group", "offsets"):
+            del state[opened]
         return state
 
     def __setstate__(self, state: dict[str, Any]) -> None:
@@ -239,6 +387,52 @@ class Dataset:
         item["clip"] = clip
         item["start"] = start
         return item
+
+    def stats(self, array: str) -> tuple[np.ndarray, np.ndarray]:
+        """The group's mean and standard deviation of ``array`` over every frame, each shaped
+        as one frame of it (a number that never changes has a deviation of 0: add a small
+        epsilon before dividing by it)."""
+        for entry in self.group["stats"]:
+            if entry["name"] == array:
+                shape = next(a["shape"][1:] for a in self.group["arrays"] if a["name"] == array)
+                mean = np.array(entry["mean"], dtype=np.float32).reshape(shape)
+                std = np.array(entry["std"], dtype=np.float32).reshape(shape)
+                return mean, std
+        names = [entry["name"] for entry in self.group["stats"]]
+        raise ValueError(f"array={array!r}: statistics are kept for {names}")
+
+    def to_motion(
+        self,
+        rotations: Any,
+        translations: Any = None,
+        root_translations: Any = None,
+        *,
+        clip: int | None = None,
+        kind: str | None = None,
+        fps: float | None = None,
+    ) -> Motion:
+        """Arrays in this group's layout (a clip's, or a model's output shaped like them) as a
+        ``bvhview.Motion`` on the group's skeleton, to ``save`` as BVH or glTF.
+
+        ``rotations``: frames x rotated joints x the rotation kind's numbers (the dataset's
+        kind unless ``kind`` says another: ``"quat"``, ``"matrix"``, ``"6d"``, ``"euler"``,
+        ``"axis_angle"``). ``translations``: frames x translated joints x 3, the local
+        translations of the joints with position channels; without them those joints stand at
+        their rest offsets, but for ``root_translations`` (frames x 3), the world position of
+        the travel joint when it is a root. ``clip`` (an index into ``manifest["clips"]``) gives
+        the bone lengths and travel joint (default: the group's first clip's); ``fps`` defaults
+        to the dataset's."""
+        as_array = lambda values: None if values is None else np.ascontiguousarray(values, dtype=np.float32)  # noqa: E731
+        return _dataset_motion(
+            os.fspath(self.path),
+            self.index,
+            as_array(rotations),
+            kind or self.manifest["options"]["rotations"],
+            translations=as_array(translations),
+            root_translations=as_array(root_translations),
+            clip=clip,
+            fps=fps,
+        )
 
     def shard(self, rank: int, world_size: int, *, pad: bool = False) -> Dataset:
         """The items of process ``rank`` among ``world_size``: every ``world_size``-th item from

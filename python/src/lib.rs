@@ -25,6 +25,8 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 use std::sync::{Mutex, PoisonError};
 
+mod datasets;
+
 create_exception!(
     bvhview,
     ParseError,
@@ -32,6 +34,29 @@ create_exception!(
     "A malformed file. The message is `path:line:column: what was expected, what was found`; \
      the attributes `path`, `line`, `column` and `message` hold its parts."
 );
+
+/// Runs an entry point so that no Rust panic reaches Python as pyo3's `PanicException` (a
+/// `BaseException`, which `except Exception` misses): a panic, which is a bug of bvhview's,
+/// becomes a `RuntimeError` that says so. The environment variable `BVHVIEW_PLANT_PANIC`, set to
+/// an entry point's name, plants a panic in it: the tests' switch to prove this.
+fn guard<T>(entry: &str, work: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
+    let run = || {
+        if std::env::var_os("BVHVIEW_PLANT_PANIC").is_some_and(|name| name == entry) {
+            panic!("a panic planted in {entry} by BVHVIEW_PLANT_PANIC");
+        }
+        work()
+    };
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(run)).unwrap_or_else(|payload| {
+        let what = payload
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| payload.downcast_ref::<String>().cloned())
+            .unwrap_or_else(|| "a panic".to_string());
+        Err(PyRuntimeError::new_err(format!(
+            "internal error in bvhview ({entry}): {what}; please report it"
+        )))
+    })
+}
 
 /// Every error of the crate as the Python exception a Python user expects: a malformed file is a
 /// `ParseError` (a `ValueError`), a missing file a `FileNotFoundError`, other I/O an `OSError`,
@@ -985,11 +1010,31 @@ impl Motion {
                 at / 3
             )));
         }
+        // Numbers that stand for no rotation would become NaN angles, which `save` refuses
+        // later: refused here, where the caller can see which.
+        for frame in 0..frames {
+            for (index, joint) in skeleton.joints.iter().enumerate() {
+                if !joint.channels.iter().any(|c| c.is_rotation()) {
+                    continue;
+                }
+                let numbers = &rotations[(frame * joints + index) * per_joint..][..per_joint];
+                if let Some(problem) = pose::rotation_numbers_problem(kind, numbers) {
+                    return Err(PyValueError::new_err(format!(
+                        "rotations[{frame}, {index}] ({}): {problem}",
+                        joint.name
+                    )));
+                }
+            }
+        }
+        // The rates `convert --fps` takes: a Motion made at another could not be saved.
         let frame_time = match fps {
-            Some(fps) if fps > 0.0 && fps.is_finite() => 1.0 / fps,
+            Some(fps) if bvhview::limits::fps(fps, false).is_ok() => 1.0 / fps,
             Some(fps) => {
                 return Err(PyValueError::new_err(format!(
-                    "fps={fps}: expected a rate above 0"
+                    "fps={}: expected frames per second from {} to {}",
+                    bvhview::limits::show(fps),
+                    bvhview::limits::show(bvhview::limits::MIN_FPS),
+                    bvhview::limits::show(bvhview::limits::MAX_FPS)
                 )));
             }
             None => template.loaded.motion.frame_time,
@@ -1033,7 +1078,7 @@ impl Motion {
                                 }
                             }
                         }
-                        let angles = channel_angles(joint, kind, numbers);
+                        let angles = bvhview::edit::channel_angles(joint, kind, numbers);
                         let mut angles = angles.into_iter();
                         for (channel, value) in joint.channels.iter().zip(values.iter_mut()) {
                             if channel.is_rotation()
@@ -1179,67 +1224,6 @@ fn load(
     })
 }
 
-/// The values of `joint`'s rotation channels, in file order and degrees, for a local rotation
-/// given as `kind` (`numbers`: 4, 9, 6 or 3 of them; euler: the channel values themselves).
-fn channel_angles(joint: &bvhview::Joint, kind: pose::RotationKind, numbers: &[f32]) -> Vec<f32> {
-    let axes: Vec<usize> = joint
-        .channels
-        .iter()
-        .filter(|c| c.is_rotation())
-        .map(|c| c.axis())
-        .collect();
-    if axes.is_empty() {
-        return Vec::new();
-    }
-    let Some(local) = pose::rotation_of_numbers(kind, numbers) else {
-        // Euler angles are the channel values themselves.
-        return numbers.iter().copied().take(axes.len()).collect();
-    };
-    // An ASF bone turns about its own axis C: its channels' rotation is C⁻¹ · local · C.
-    let rotation = match joint.axis {
-        Some(c) => glam::Mat3::from_quat(c.inverse()) * local * glam::Mat3::from_quat(c),
-        None => local,
-    };
-    // The channels' axes, then any missing, as one intrinsic sequence: R1 · R2 · R3.
-    let mut order = axes.clone();
-    for axis in 0..3 {
-        if !order.contains(&axis) {
-            order.push(axis);
-        }
-    }
-    let Some(order) = bvhview::RotationOrder::from_axes([order[0], order[1], order[2]]) else {
-        // The same axis twice: no sequence of three distinct axes; left at 0.
-        return vec![0.0; axes.len()];
-    };
-    let sequence = bvhview::edit::euler_order(order);
-    let (a, b, c) = rotation.to_euler(sequence);
-    // The same rotation is also (a + π, π − b, c + π): with fewer than three channels the third
-    // angle is dropped, so take the form whose third angle is the smaller (a joint bent past 90°
-    // about its second axis needs the second form).
-    let wrap = |angle: f32| {
-        let pi = std::f32::consts::PI;
-        if angle > pi {
-            angle - 2.0 * pi
-        } else if angle <= -pi {
-            angle + 2.0 * pi
-        } else {
-            angle
-        }
-    };
-    let pi = std::f32::consts::PI;
-    let other = (wrap(a + pi), wrap(pi - b), wrap(c + pi));
-    let (a, b, c) = if axes.len() < 3 && other.2.abs() < c.abs() {
-        other
-    } else {
-        (a, b, c)
-    };
-    [a, b, c]
-        .into_iter()
-        .take(axes.len())
-        .map(f32::to_degrees)
-        .collect()
-}
-
 /// A joint as pickled: name, parent (-1 for a root), OFFSET, channel names, End Site or not,
 /// its fixed axis (an ASF bone's, as x, y, z, w) if any.
 type JointState = (String, i64, [f32; 3], Vec<String>, bool, Option<[f32; 4]>);
@@ -1380,9 +1364,12 @@ fn _from_state(state: State) -> PyResult<Motion> {
         if end_site && !names.is_empty() {
             return Err(bad("an End Site with channels"));
         }
-        if !offset.iter().all(|v| v.is_finite())
-            || axis.is_some_and(|q| (glam::Quat::from_array(q).length() - 1.0).abs() > 1e-3)
-        {
+        // Written so that NaN fails: a NaN length is not within 1e-3 of 1.
+        let unit = |q: [f32; 4]| {
+            q.iter().all(|v| v.is_finite())
+                && (glam::Quat::from_array(q).length() - 1.0).abs() <= 1e-3
+        };
+        if !offset.iter().all(|v| v.is_finite()) || axis.is_some_and(|q| !unit(q)) {
             return Err(bad("an OFFSET or an axis that is not a finite rotation"));
         }
         let mut joint = bvhview::Joint::new(name, parent);
@@ -1412,6 +1399,9 @@ fn _from_state(state: State) -> PyResult<Motion> {
         .chunks_exact(4)
         .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
         .collect();
+    if values.iter().any(|v| !v.is_finite()) {
+        return Err(bad("a value that is not a finite number"));
+    }
     let frames = values.len().checked_div(channels).unwrap_or(0);
     let loaded = Loaded {
         skeleton,
@@ -1453,7 +1443,9 @@ fn items_of(paths: &Bound<'_, PyAny>) -> PyResult<Vec<Item>> {
         if path.is_dir() {
             let found =
                 bvhview::batch::collect(&path).map_err(|e| PyOSError::new_err(e.to_string()))?;
+            warn_skipped(paths.py(), &found, 1)?;
             return Ok(found
+                .items
                 .into_iter()
                 .filter(|item| !item.is_unpaired_motion())
                 .map(|item| Item {
@@ -1543,6 +1535,21 @@ fn load_many(
     Ok(loaded)
 }
 
+/// A `UserWarning` for each thing a folder walk skipped (a loop, a folder or file reached again,
+/// a link out of the folder, what is not a regular file or cannot be read), the first
+/// `SKIPS_SAID` one each, then one with how many more; `stacklevel` as `warnings.warn` takes it.
+fn warn_skipped(py: Python<'_>, walk: &bvhview::batch::Walk, stacklevel: u32) -> PyResult<()> {
+    if walk.skipped.is_empty() {
+        return Ok(());
+    }
+    let warnings = py.import("warnings")?;
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    for line in walk.skipped_lines() {
+        warnings.call_method1("warn", (line, &category, stacklevel))?;
+    }
+    Ok(())
+}
+
 /// A take as `list_takes` gives it: its path and its AMC's (or None), relative to the folder.
 type TakePaths = (PathBuf, Option<PathBuf>);
 
@@ -1551,9 +1558,11 @@ type TakePaths = (PathBuf, Option<PathBuf>);
 /// compile skips and lists them). The list `compile_dataset(takes=…)` takes pieces of.
 #[pyfunction]
 fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePaths>> {
-    let items = py
-        .detach(|| bvhview::dataset::takes(&folder))
+    let walk = py
+        .detach(|| bvhview::dataset::walk(&folder))
         .map_err(|e| to_python(py, e))?;
+    warn_skipped(py, &walk, 1)?;
+    let items = walk.items;
     // Paths, not text: a name that is not UTF-8 comes back as Python's os.fsdecode gives it.
     let relative = |p: &Path| p.strip_prefix(&folder).unwrap_or(p).to_path_buf();
     Ok(items
@@ -1563,10 +1572,11 @@ fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePaths>> {
 }
 
 /// The native half of `bvhview.compile_dataset` (which adds Parquet): returns (clips, frames,
-/// groups, skipped).
+/// groups, skipped as (path, motion, reason) triples). `takes`: a list of its own (relative
+/// paths); `piece`: (index, pieces), the run of the folder's list a Dask worker compiles.
 #[pyfunction]
-#[pyo3(signature = (folder, out, fps=30.0, rotations="6d", root_relative=false,
-    contact_height=0.05, contact_speed=0.5, takes=None, threads=None))]
+#[pyo3(signature = (folder, out, fps=30.0, rotations="6d", root_relative=false, feet=None,
+    contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None))]
 #[allow(clippy::too_many_arguments)]
 fn _compile_dataset(
     py: Python<'_>,
@@ -1575,76 +1585,118 @@ fn _compile_dataset(
     fps: f64,
     rotations: &str,
     root_relative: bool,
+    feet: Option<Vec<String>>,
     contact_height: f32,
     contact_speed: f32,
     takes: Option<Vec<(PathBuf, Option<PathBuf>)>>,
+    piece: Option<(usize, usize)>,
     threads: Option<usize>,
-) -> PyResult<(usize, usize, usize, usize)> {
-    let rotations = pose::RotationKind::parse(rotations).ok_or_else(|| {
-        PyValueError::new_err(format!(
-            "rotations={rotations:?}: expected {}",
-            pose::RotationKind::NAMES
-        ))
-    })?;
-    let options = bvhview::dataset::Options {
-        fps,
-        rotations,
-        root_relative,
-        contact_height,
-        contact_speed,
-        ..Default::default()
-    };
-    let threads = threads.unwrap_or_else(bvhview::cores).max(1);
-    // A compile of a folder must compile something; a piece (`takes` given) may hold only
-    // takes that fail.
-    let require_clips = takes.is_none();
-    let interrupt: Mutex<Option<PyErr>> = Mutex::new(None);
-    let result = py.detach(|| {
-        let items = match &takes {
-            Some(pairs) => bvhview::dataset::items_in(&folder, pairs),
-            None => bvhview::dataset::takes(&folder)?,
+) -> PyResult<(usize, usize, usize, Vec<(String, Option<String>, String)>)> {
+    guard("_compile_dataset", || {
+        let rotations = pose::RotationKind::parse(rotations).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "rotations={rotations:?}: expected {}",
+                pose::RotationKind::NAMES
+            ))
+        })?;
+        let options = bvhview::dataset::Options {
+            fps,
+            rotations,
+            root_relative,
+            feet,
+            contact_height,
+            contact_speed,
+            ..Default::default()
         };
-        // Ctrl-C stops the compile between takes; its KeyboardInterrupt is raised after.
-        let interrupted = |_: &_, _: Option<&str>, _: usize, _: usize| {
-            Python::attach(|py| match py.check_signals() {
-                Ok(()) => true,
-                Err(raised) => {
-                    *interrupt.lock().unwrap_or_else(PoisonError::into_inner) = Some(raised);
-                    false
+        let threads = threads.unwrap_or_else(bvhview::cores).max(1);
+        let interrupt: Mutex<Option<PyErr>> = Mutex::new(None);
+        let mut walk = bvhview::batch::Walk::default();
+        let result = py.detach(|| {
+            let (items, list) = match (&takes, piece) {
+                (Some(_), Some(_)) => {
+                    return Err(Error::Usage(
+                        "takes= and piece= cannot be given together".to_string(),
+                    ));
                 }
-            })
-        };
-        bvhview::dataset::compile(
-            &folder,
-            items,
-            &options,
-            threads,
-            &out,
-            require_clips,
-            interrupted,
-        )
-    });
-    if let Some(raised) = interrupt
-        .into_inner()
-        .unwrap_or_else(PoisonError::into_inner)
-    {
-        return Err(raised);
-    }
-    result
-        .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
-        .map_err(|e| to_python(py, e))
+                (Some(pairs), None) => {
+                    let items = bvhview::dataset::items_in(&folder, pairs);
+                    let list = bvhview::dataset::whole_list(&folder, &items);
+                    (items, list)
+                }
+                (None, Some((index, pieces))) => {
+                    let all = bvhview::dataset::takes(&folder)?;
+                    bvhview::dataset::piece(&folder, all, index, pieces)?
+                }
+                (None, None) => {
+                    walk = bvhview::dataset::walk(&folder)?;
+                    let items = std::mem::take(&mut walk.items);
+                    let list = bvhview::dataset::whole_list(&folder, &items);
+                    (items, list)
+                }
+            };
+            // Ctrl-C (or SIGTERM, which the package turns into an exception for the call)
+            // stops the compile between takes; the exception is raised after.
+            let interrupted = |_: &_, _: Option<&str>, _: usize, _: usize| {
+                Python::attach(|py| match py.check_signals() {
+                    Ok(()) => true,
+                    Err(raised) => {
+                        *interrupt.lock().unwrap_or_else(PoisonError::into_inner) = Some(raised);
+                        false
+                    }
+                })
+            };
+            bvhview::dataset::compile(
+                &folder,
+                items,
+                &options,
+                threads,
+                &out,
+                list,
+                interrupted,
+            )
+        });
+        if let Some(raised) = interrupt
+            .into_inner()
+            .unwrap_or_else(PoisonError::into_inner)
+        {
+            return Err(raised);
+        }
+        // Said from the caller of `bvhview.compile_dataset`.
+        warn_skipped(py, &walk, 2)?;
+        let summary = result.map_err(|e| to_python(py, e))?;
+        let skipped = summary
+            .skipped
+            .into_iter()
+            .map(|s| (s.source.path, s.source.motion, s.error))
+            .collect();
+        Ok((summary.clips, summary.frames, summary.groups, skipped))
+    })
 }
 
 /// The native half of `bvhview.merge_datasets`: returns (clips, frames, groups, skipped).
+/// `join`: "pieces" (of one compile, byte for byte) or "folders" (any, grouped by topology).
 #[pyfunction]
+#[pyo3(signature = (pieces, out, join="pieces"))]
 fn _merge_datasets(
     py: Python<'_>,
     pieces: Vec<PathBuf>,
     out: PathBuf,
+    join: &str,
 ) -> PyResult<(usize, usize, usize, usize)> {
-    py.detach(|| bvhview::dataset::store::merge(&pieces, &out))
-        .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
-        .map_err(|e| to_python(py, e))
+    guard("_merge_datasets", || {
+        let join = match join {
+            "pieces" => bvhview::dataset::store::Join::Pieces,
+            "folders" => bvhview::dataset::store::Join::Folders,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "join={other:?}: expected \"pieces\" or \"folders\""
+                )));
+            }
+        };
+        py.detach(|| bvhview::dataset::store::merge(&pieces, &out, join))
+            .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
+            .map_err(|e| to_python(py, e))
+    })
 }
 
 /// Load BVH and ASF/AMC motion capture into numpy arrays (bvhview's Rust loader and FK).
@@ -1665,6 +1717,8 @@ fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(list_takes, module)?)?;
     module.add_function(wrap_pyfunction!(_compile_dataset, module)?)?;
     module.add_function(wrap_pyfunction!(_merge_datasets, module)?)?;
+    module.add_function(wrap_pyfunction!(datasets::_open_dataset, module)?)?;
+    module.add_function(wrap_pyfunction!(datasets::_dataset_motion, module)?)?;
     module.add_class::<Motion>()?;
     module.add("ParseError", module.py().get_type::<ParseError>())?;
     Ok(())

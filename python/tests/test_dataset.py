@@ -4,21 +4,43 @@ cluster against one process."""
 
 import filecmp
 import json
+import mmap
+import os
+import re
 import subprocess
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 
 import bvhview
-from conftest import DATA
+from conftest import DATA, REPO
 
 
 @pytest.fixture(scope="module")
 def compiled(tmp_path_factory) -> Path:
     out = tmp_path_factory.mktemp("compiled") / "ds"
-    bvhview.compile_dataset(DATA, out, parquet=False)
+    with pytest.warns(bvhview.SkippedTake):
+        bvhview.compile_dataset(DATA, out)
     return out
+
+
+def quietly(*args, **kwargs) -> dict:
+    """compile_dataset without its warnings for skipped takes (the repository holds 8)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", bvhview.SkippedTake)
+        return bvhview.compile_dataset(*args, **kwargs)
+
+
+def fk_example() -> dict:
+    """The numpy FK block of docs/PYTHON.md, run as it is written there."""
+    text = (REPO / "docs" / "PYTHON.md").read_text()
+    marker = "<!-- the numpy FK example: python/tests/test_dataset.py runs this block -->"
+    block = text.split(marker, 1)[1].split("```python\n", 1)[1].split("```", 1)[0]
+    namespace: dict = {}
+    exec(compile(block, "docs/PYTHON.md", "exec"), namespace)
+    return namespace
 
 
 def same_tree(a: Path, b: Path) -> None:
@@ -42,16 +64,19 @@ def test_the_package_writes_what_the_command_writes(compiled, cli, tmp_path):
     assert run.returncode == 0, run.stderr
     same_tree(compiled, out)
     manifest = json.loads((compiled / "manifest.json").read_text())
-    assert manifest["format"] == "bvhview-dataset 1"
+    assert manifest["format"] == "bvhview-dataset 2"
     assert manifest["options"] == {
         "fps": 30.0,
         "rotations": "6d",
         "root_relative": False,
+        "feet": None,
         "contact_height_m": 0.05,
         "contact_speed_m_per_s": 0.5,
+        "floor_window_s": 1.0,
         "up": "y",
         "units": "metres",
     }
+    assert manifest["takes"]["listed"] == manifest["takes"]["count"] == 28
     # Skipped takes: each named with its path:line:column, as the command said them.
     # The manifest names paths relative to the folder, the command's stderr as given.
     for skipped in manifest["skipped"]:
@@ -73,78 +98,193 @@ def test_list_takes_is_the_folder_in_path_order_with_asf_amc_pairs():
     assert all(path in listed for path in loaded_paths)
 
 
-@pytest.mark.parametrize("kind", ["quat", "matrix", "6d", "euler"])
-def test_rotations_rebuild_the_positions_by_forward_kinematics_in_numpy(tmp_path, kind):
-    """The stored local rotations, with the take's offsets in metres and Y up and the root
-    translations, give the stored positions again through FK written here (no bvhview code),
-    within 1e-5 of the figure's height, for every clip of the repository whose only position
-    channels are the root's."""
-    out = tmp_path / kind
-    manifest = bvhview.compile_dataset(DATA, out, rotations=kind, parquet=False)
-    checked = 0
+def check_fk(out: Path, manifest: dict, kind: str) -> int:
+    """Every clip's positions rebuilt by the documented numpy FK from the dataset's arrays
+    alone, within 1e-5 of the figure's height; returns the clips checked."""
+    fk = fk_example()["forward_kinematics"]
+    rest = {g["name"]: np.load(out / g["name"] / "rest_offsets.npy") for g in manifest["groups"]}
     for clip in manifest["clips"]:
         group = manifest["groups"][clip["group"]]
-        source = DATA / clip["path"]
-        take = bvhview.load(source, DATA / clip["motion"] if clip["motion"] else None)
-        channels = take.channels
-        if any(any(c.endswith("position") for c in channels[j]) for j in range(1, len(channels))):
-            continue
-        if take.offset_mode != "replace" or clip["offset_mode"] != "replace":
-            continue
-        # An ASF bone's Euler angles are its AMC values, about the bone's own axes (C · R · C⁻¹):
-        # the other kinds hold the whole local rotation.
-        if kind == "euler" and clip["motion"]:
-            continue
-        # The clip's own OFFSETs in metres, Y up, as the dataset keeps them.
         index = [c for c in manifest["clips"] if c["group"] == clip["group"]].index(clip)
-        offsets = np.load(out / group["name"] / "rest_offsets.npy")[index]
-        parents = np.array(group["parents"])
         rotations = clip_rows(out, manifest, clip, "rotations")
-        roots = clip_rows(out, manifest, clip, "root_translations")
+        translations = clip_rows(out, manifest, clip, "translations")
         positions = clip_rows(out, manifest, clip, "positions")
-        frames = clip["frames"]
-        matrices = np.tile(np.eye(3, dtype=np.float64), (frames, len(parents), 1, 1))
-        if kind == "quat":
-            w, x, y, z = np.moveaxis(rotations.astype(np.float64), -1, 0)
-            m = np.stack(
-                [
-                    1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y),
-                    2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x),
-                    2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y),
-                ],
-                axis=-1,
-            ).reshape(frames, -1, 3, 3)
-        elif kind == "matrix":
-            m = rotations.astype(np.float64)
-        elif kind == "6d":
-            a, b = rotations[..., :3].astype(np.float64), rotations[..., 3:].astype(np.float64)
-            m = np.stack([a, b, np.cross(a, b)], axis=-1)
-        else:
-            # Each joint's rotation channels in its file order, degrees: R = R1 · R2 · R3.
-            m = np.tile(np.eye(3), (frames, len(group["rotated"]), 1, 1))
-            for slot, joint in enumerate(group["rotated"]):
-                axes = group["rotation_orders"][slot]
-                assert axes == "".join(c[0] for c in channels[joint] if c.endswith("rotation"))
-                for k, axis in enumerate(axes):
-                    angle = np.radians(rotations[:, slot, k].astype(np.float64))
-                    c, s = np.cos(angle), np.sin(angle)
-                    r = np.tile(np.eye(3), (frames, 1, 1))
-                    i, j = {"X": (1, 2), "Y": (2, 0), "Z": (0, 1)}[axis]
-                    r[:, i, i], r[:, i, j], r[:, j, i], r[:, j, j] = c, -s, s, c
-                    m[:, slot] = m[:, slot] @ r
-        matrices[:, group["rotated"]] = m
-        world_r = np.zeros_like(matrices)
-        world_t = np.zeros((frames, len(parents), 3))
-        for j, parent in enumerate(parents):
-            if parent < 0:
-                world_r[:, j], world_t[:, j] = matrices[:, j], roots
-            else:
-                world_r[:, j] = world_r[:, parent] @ matrices[:, j]
-                world_t[:, j] = world_t[:, parent] + np.einsum("fij,j->fi", world_r[:, parent], offsets[j])
+        world = fk(group, kind, rotations, translations, rest[group["name"]][index])
         height = np.ptp(positions[..., 1], axis=1).max()
-        assert np.abs(world_t - positions).max() <= 1e-5 * height, clip["path"]
-        checked += 1
-    assert checked >= 12
+        assert np.abs(world - positions).max() <= 1e-5 * height, (clip["path"], kind)
+    return len(manifest["clips"])
+
+
+@pytest.mark.parametrize("kind", ["quat", "matrix", "6d", "euler", "axis_angle"])
+def test_the_arrays_rebuild_the_positions_by_the_documented_numpy_fk(tmp_path, kind):
+    """Rotations, translations and rest offsets alone give the stored positions again through
+    the FK in docs/PYTHON.md (no bvhview code), on every clip of the repository: position
+    channels below the root included."""
+    out = tmp_path / kind
+    manifest = quietly(DATA, out, rotations=kind)
+    assert check_fk(out, manifest, kind) == 20
+
+
+def test_the_whole_corpus_rebuilds_by_numpy_fk(tmp_path):
+    from conftest import whole_corpus_or_skip
+
+    corpus = whole_corpus_or_skip()
+    manifest = quietly(corpus, tmp_path / "corpus")
+    assert check_fk(tmp_path / "corpus", manifest, "6d") == len(manifest["clips"]) >= 30
+
+
+def moving_below_a_static_root(folder: Path) -> None:
+    """Takes whose travel is in joints below the root: Bandai's layout (the root still, `Hips`
+    moving with position channels) and a Neuron-like one (a spine joint sliding)."""
+    folder.mkdir()
+    rows_bandai, rows_neuron = [], []
+    for f in range(90):
+        t = f / 30.0
+        rows_bandai.append(f"0 0 0 0 0 0 {100 * t:.4f} {90 + 2 * np.sin(6 * t):.4f} {5 * t:.4f} {10 * np.sin(t):.4f} {20 * t:.4f} 3 "
+                           f"{30 * np.sin(3 * t):.4f} 0 0 0 0 0")
+        rows_neuron.append(f"{40 * t:.4f} 95 0 0 {15 * t:.4f} 0 0 {3 * np.sin(5 * t):.4f} 10 0 {25 * np.sin(2 * t):.4f} 0 "
+                           f"{10 * np.sin(4 * t):.4f} 5 0")
+    bandai = """HIERARCHY
+ROOT joint_Root
+{
+  OFFSET 0 0 0
+  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
+  JOINT Hips
+  {
+    OFFSET 0 90 0
+    CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation
+    JOINT UpperLeg_L
+    {
+      OFFSET 10 -5 0
+      CHANNELS 3 Zrotation Xrotation Yrotation
+      JOINT LowerLeg_L
+      {
+        OFFSET 0 -42 0
+        CHANNELS 3 Zrotation Xrotation Yrotation
+        End Site
+        {
+          OFFSET 0 -40 0
+        }
+      }
+    }
+  }
+}
+MOTION
+Frames: 90
+Frame Time: 0.0333333
+""" + "\n".join(rows_bandai) + "\n"
+    neuron = """HIERARCHY
+ROOT Hips
+{
+  OFFSET 0 95 0
+  CHANNELS 6 Xposition Yposition Zposition Yrotation Xrotation Zrotation
+  JOINT Spine
+  {
+    OFFSET 0 10 0
+    CHANNELS 6 Xposition Yposition Zposition Yrotation Xrotation Zrotation
+    JOINT Head
+    {
+      OFFSET 0 50 0
+      CHANNELS 3 Yrotation Xrotation Zrotation
+      End Site
+      {
+        OFFSET 0 20 0
+      }
+    }
+  }
+}
+MOTION
+Frames: 90
+Frame Time: 0.0333333
+""" + "\n".join(rows_neuron) + "\n"
+    (folder / "bandai_walk.bvh").write_text(bandai)
+    (folder / "neuron_slide.bvh").write_text(neuron)
+
+
+def test_joints_moving_below_a_static_root_are_in_the_arrays(tmp_path, cli):
+    folder = tmp_path / "takes"
+    moving_below_a_static_root(folder)
+    for kind in ("6d", "quat"):
+        out = tmp_path / f"ds_{kind}"
+        manifest = quietly(folder, out, rotations=kind)
+        assert check_fk(out, manifest, kind) == 2
+    manifest = json.loads((tmp_path / "ds_6d" / "manifest.json").read_text())
+    bandai = next(c for c in manifest["clips"] if c["path"] == "bandai_walk.bvh")
+    # The travel is Hips', which root_translations follow and root-relative frames remove.
+    assert bandai["travel_joint"] == "Hips"
+    roots = clip_rows(tmp_path / "ds_6d", manifest, bandai, "root_translations")
+    assert np.ptp(roots[:, 0]) > 2.5
+    relative = quietly(folder, tmp_path / "relative", root_relative=True)
+    clip = next(c for c in relative["clips"] if c["path"] == "bandai_walk.bvh")
+    positions = clip_rows(tmp_path / "relative", relative, clip, "positions")
+    hips = relative["groups"][clip["group"]]["joints"].index("Hips")
+    assert np.abs(positions[:, hips, [0, 2]]).max() == 0.0
+    # in_place takes the travel from Hips too.
+    take = bvhview.load(folder / "bandai_walk.bvh")
+    still = take.in_place().positions()
+    hips = take.joint_names.index("Hips")
+    assert np.ptp(take.positions()[:, hips, 0]) > 250
+    assert np.ptp(still[:, hips, 0]) < 1e-3 and np.ptp(still[:, hips, 2]) < 1e-3
+    # info names the joint that carries the travel.
+    run = subprocess.run([str(cli), "info", str(folder / "bandai_walk.bvh")], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    assert re.search(r"travel:\s+Hips", run.stdout), run.stdout
+
+
+@pytest.mark.parametrize("kind", ["quat", "matrix", "6d", "euler", "axis_angle"])
+def test_to_motion_saves_takes_that_load_back_to_the_datasets_positions(tmp_path, kind):
+    """compile -> a clip's arrays -> Dataset.to_motion -> save (BVH and glTF for one kind) ->
+    load -> positions within 1e-5 of the height of the dataset's, every clip of a group."""
+    folder = tmp_path / "takes"
+    moving_below_a_static_root(folder)
+    for source in ("bvh/bvh11_131_01.bvh", "bvh/makehuman_walk1.bvh", "asf_amc/heiden_12.asf"):
+        if (DATA / source).exists():
+            (folder / Path(source).name).symlink_to(DATA / source)
+    amc = DATA / "asf_amc" / "heiden_12_02_01.amc"
+    (folder / amc.name).symlink_to(amc)
+    out = tmp_path / "ds"
+    manifest = quietly(folder, out, rotations=kind)
+    checked = 0
+    for g, group in enumerate(manifest["groups"]):
+        data = bvhview.Dataset(out, group=g)
+        for k in range(len(data)):
+            item = data[k]
+            clip = manifest["clips"][item["clip"]]
+            take = data.to_motion(item["rotations"], item["translations"], clip=item["clip"])
+            assert take.frame_count == clip["frames"] and take.fps == pytest.approx(30.0)
+            saved = tmp_path / f"back_{g}_{k}.bvh"
+            take.save(saved)
+            back = bvhview.load(saved).positions()
+            height = np.ptp(item["positions"][..., 1], axis=1).max()
+            assert np.abs(back - item["positions"]).max() <= 1e-5 * height, (clip["path"], kind)
+            if kind == "6d":
+                glb = tmp_path / f"back_{g}_{k}.glb"
+                take.save(glb)
+                assert glb.stat().st_size > 0
+            checked += 1
+    assert checked == len(manifest["clips"]) >= 3
+
+
+def test_to_motion_takes_root_translations_and_refuses_what_is_no_take(compiled, tmp_path):
+    manifest = json.loads((compiled / "manifest.json").read_text())
+    group = next(k for k, g in enumerate(manifest["groups"]) if g["translated"] == [0])
+    data = bvhview.Dataset(compiled, group=group)
+    item = data[0]
+    # Without translations, the root's comes from root_translations (its world position).
+    take = data.to_motion(item["rotations"], root_translations=item["root_translations"], clip=item["clip"])
+    height = np.ptp(item["positions"][..., 1], axis=1).max()
+    assert np.abs(take.positions() - item["positions"]).max() <= 1e-5 * height
+    rotations = item["rotations"].copy()
+    with pytest.raises(ValueError, match="rotations: .* numbers where"):
+        data.to_motion(rotations[:, :-1])
+    rotations[0, 0] = 0.0
+    with pytest.raises(ValueError, match="no rotation"):
+        data.to_motion(rotations)
+    rotations[0, 0] = np.nan
+    with pytest.raises(ValueError, match="not finite"):
+        data.to_motion(rotations)
+    with pytest.raises(ValueError, match="--fps"):
+        data.to_motion(item["rotations"], fps=1e7)
 
 
 def test_windows_strides_shards_and_groups(compiled):
@@ -156,7 +296,9 @@ def test_windows_strides_shards_and_groups(compiled):
     clips = [c for c in manifest["clips"] if c["group"] == group]
     assert len(data) == sum(max(0, c["frames"] - 2 + 1) for c in clips)
     item = data[0]
-    assert set(item) == {"positions", "rotations", "root_translations", "velocities", "foot_contacts", "clip", "start"}
+    assert set(item) == {
+        "positions", "rotations", "translations", "root_translations", "velocities", "foot_contacts", "clip", "start"
+    }
     joints = len(manifest["groups"][group]["joints"])
     assert item["positions"].shape == (2, joints, 3) and item["positions"].dtype == np.float32
     assert item["foot_contacts"].dtype == np.uint8
@@ -187,14 +329,15 @@ def test_parquet_holds_the_arrays_row_per_frame(tmp_path):
     pa = pytest.importorskip("pyarrow")
     pq = pytest.importorskip("pyarrow.parquet")
     out = tmp_path / "ds"
-    manifest = bvhview.compile_dataset(DATA, out)
+    assert not (quietly(DATA, tmp_path / "plain") and (tmp_path / "plain" / "group_0" / "frames.parquet").exists())
+    manifest = quietly(DATA, out, parquet=True)
     assert pa is not None
     for k, group in enumerate(manifest["groups"]):
         table = pq.read_table(out / group["name"] / "frames.parquet")
         assert table.num_rows == group["frames"]
         clips = [i for i, c in enumerate(manifest["clips"]) if c["group"] == k]
         assert sorted(set(table["clip"].to_pylist())) == clips
-        for name in ("positions", "rotations", "velocities", "root_translations", "foot_contacts"):
+        for name in bvhview.dataset.ARRAYS:
             array = np.load(out / group["name"] / f"{name}.npy")
             if array[0].size == 0:
                 assert name not in table.column_names
@@ -202,7 +345,7 @@ def test_parquet_holds_the_arrays_row_per_frame(tmp_path):
             column = np.stack(table[name].to_numpy(zero_copy_only=False))
             np.testing.assert_array_equal(column.reshape(array.shape), array)
     with pytest.raises(ValueError, match="already exists"):
-        bvhview.compile_dataset(DATA, out)
+        quietly(DATA, out)
 
 
 def test_dask_workers_compile_pieces_that_merge_into_the_single_process_dataset(tmp_path):
@@ -211,7 +354,7 @@ def test_dask_workers_compile_pieces_that_merge_into_the_single_process_dataset(
     import bvhview.dask
 
     single = tmp_path / "single"
-    bvhview.compile_dataset(DATA, single, threads=1)
+    quietly(DATA, single, threads=1)
     with distributed.LocalCluster(
         n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
     ) as cluster, distributed.Client(cluster) as client:
@@ -263,7 +406,7 @@ def compare_with_pybvh_ml(folder: Path, scratch: Path) -> list[str]:
     height), and the frame counts both make at 30 fps. Returns the files compared."""
     pytest.importorskip("pybvh_ml")
     names = sorted(p.name for p in folder.glob("*.bvh"))
-    at_30 = bvhview.compile_dataset(folder, scratch / "ours30", takes=[(n, None) for n in names], parquet=False)
+    at_30 = quietly(folder, scratch / "ours30", takes=[(n, None) for n in names])
     ours_30 = {c["path"]: c for c in at_30["clips"]}
     compared = []
     for name in names:
@@ -275,7 +418,7 @@ def compare_with_pybvh_ml(folder: Path, scratch: Path) -> list[str]:
             continue
         peer, peer_names = theirs
         out = scratch / f"ours_{name}"
-        manifest = bvhview.compile_dataset(folder, out, fps=own_fps, takes=[(name, None)], parquet=False)
+        manifest = quietly(folder, out, fps=own_fps, takes=[(name, None)])
         clip = manifest["clips"][0]
         assert manifest["groups"][0]["joints"] == peer_names, name
         ours = clip_rows(out, manifest, clip, "positions").astype(np.float64) / clip["metres_per_unit"]
@@ -316,7 +459,7 @@ def test_datasets_pickle_as_memory_maps_and_refuse_odd_windows(compiled):
     # A spawned DataLoader worker gets the paths and windows, and maps the files itself.
     assert len(blob) < 50_000 < data.arrays["positions"].nbytes
     again = pickle.loads(blob)
-    assert isinstance(again.arrays["positions"], np.memmap)
+    assert isinstance(again.arrays["positions"].base, mmap.mmap)
     np.testing.assert_array_equal(again[3]["positions"], data[3]["positions"])
     for bad in (dict(window=True), dict(window=0), dict(stride=2), dict(window=4, stride=0)):
         with pytest.raises(ValueError):
@@ -326,7 +469,7 @@ def test_datasets_pickle_as_memory_maps_and_refuse_odd_windows(compiled):
     assert len({len(s) for s in shards}) == 1 and 3 * len(shards[0]) >= len(data)
 
 
-def test_nothing_to_compile_and_pieces_out_of_order_are_refused(tmp_path):
+def test_nothing_to_compile_is_refused_with_every_reason_and_pieces_must_be_whole(tmp_path):
     empty = tmp_path / "empty"
     empty.mkdir()
     with pytest.raises(ValueError, match="no .bvh, .asf or .amc files"):
@@ -334,13 +477,201 @@ def test_nothing_to_compile_and_pieces_out_of_order_are_refused(tmp_path):
     broken = tmp_path / "broken"
     broken.mkdir()
     (broken / "x.bvh").write_text("HIERARCHY\nROOT")
-    with pytest.raises(ValueError, match="no take could be compiled"):
+    (broken / "y.bvh").write_text("HIERARCHY\nROOT a\n{\nOFFSET 0 0 0\nCHANNELS 1 Xrotation\n}\nMOTION\nFrames: 1\nFrame Time: 0\n0\n")
+    with pytest.raises(ValueError, match="no take could be compiled") as raised:
         bvhview.compile_dataset(broken, tmp_path / "b")
+    assert "x.bvh:2:5" in str(raised.value) and "y.bvh: Frame Time 0" in str(raised.value)
     assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
+    # Skipped takes are warned about, one warning each, and listed in the manifest.
+    (broken / "z.bvh").symlink_to(DATA / "bvh" / "bvh11_131_01.bvh")
+    with pytest.warns(bvhview.SkippedTake) as caught:
+        manifest = bvhview.compile_dataset(broken, tmp_path / "c")
+    assert len(caught) == 2 and len(manifest["skipped"]) == 2
     takes = bvhview.list_takes(DATA)
-    first = bvhview.compile_dataset(DATA, tmp_path / "p0", takes=takes[:5], parquet=False)
-    second = bvhview.compile_dataset(DATA, tmp_path / "p1", takes=takes[5:], parquet=False)
+    first = quietly(DATA, tmp_path / "p0", takes=takes[:5])
+    second = quietly(DATA, tmp_path / "p1", takes=takes[5:])
     assert len(first["clips"]) + len(second["clips"]) == 20
-    with pytest.raises(ValueError, match="comes after"):
-        bvhview.merge_datasets([tmp_path / "p1", tmp_path / "p0"], tmp_path / "m")
+    # Lists of takes of their own are two compiles: joined as folders, not as pieces.
+    with pytest.raises(ValueError, match="another compile"):
+        bvhview.merge_datasets([tmp_path / "p0", tmp_path / "p1"], tmp_path / "m")
     assert not (tmp_path / "m").exists()
+    joined = bvhview.merge_datasets([tmp_path / "p0", tmp_path / "p1"], tmp_path / "m", join="folders")
+    assert len(joined["clips"]) == 20
+    # Pieces of one compile: a gap or a piece given twice is refused.
+    from bvhview._bvhview import _compile_dataset
+
+    for k in range(3):
+        _compile_dataset(str(DATA), str(tmp_path / f"q{k}"), piece=(k, 3))
+    with pytest.raises(ValueError, match="in no piece given"):
+        bvhview.merge_datasets([tmp_path / "q0", tmp_path / "q2"], tmp_path / "gap")
+    with pytest.raises(ValueError, match="the rest of the list is missing"):
+        bvhview.merge_datasets([tmp_path / "q0", tmp_path / "q1"], tmp_path / "short")
+    with pytest.raises(ValueError, match="an earlier piece holds"):
+        bvhview.merge_datasets([tmp_path / "q0", tmp_path / "q0"], tmp_path / "twice")
+    whole = bvhview.merge_datasets([tmp_path / f"q{k}" for k in range(3)], tmp_path / "whole")
+    assert len(whole["clips"]) == 20
+    assert not any((tmp_path / n).exists() for n in ("gap", "short", "twice"))
+
+
+def test_statistics_feet_and_floor(compiled, tmp_path):
+    manifest = json.loads((compiled / "manifest.json").read_text())
+    group = next(k for k, g in enumerate(manifest["groups"]) if g["clips"] == 3)
+    data = bvhview.Dataset(compiled, group=group)
+    for name in ("positions", "rotations", "velocities"):
+        mean, std = data.stats(name)
+        every = np.load(compiled / data.group["name"] / f"{name}.npy").astype(np.float64)
+        np.testing.assert_allclose(mean, every.mean(axis=0), rtol=1e-5, atol=1e-6)
+        np.testing.assert_allclose(std, every.std(axis=0), rtol=1e-4, atol=1e-6)
+    with pytest.raises(ValueError, match="statistics are kept for"):
+        data.stats("foot_contacts")
+    # Feet named by the user; a name the skeleton lacks skips the take with the reason.
+    named = quietly(DATA / "bvh", tmp_path / "named", feet=["LeftToeBase_End", "RightToeBase_End"])
+    cmu = next(c for c in named["clips"] if c["path"] == "assimp_01_01.bvh")
+    group = named["groups"][cmu["group"]]
+    assert [group["joints"][i] for i in group["feet"]] == ["LeftToeBase_End", "RightToeBase_End"]
+    assert any("--feet names" in s["error"] for s in named["skipped"])
+
+
+def hostile_cases(good: Path, outside: Path):
+    """(name, how the copy of `good` is changed): every way a downloaded dataset was found to
+    mislead the reader, and more of the same kind."""
+    import shutil
+
+    def manifest_edit(change):
+        def apply(ds: Path) -> None:
+            manifest = json.loads((ds / "manifest.json").read_text())
+            change(manifest)
+            (ds / "manifest.json").write_text(json.dumps(manifest))
+
+        return apply
+
+    def replace_with_link(relative: str, target: Path):
+        def apply(ds: Path) -> None:
+            path = ds / relative
+            if path.is_dir():
+                shutil.rmtree(path)
+            else:
+                path.unlink()
+            path.symlink_to(target)
+
+        return apply
+
+    def npy_edit(name: str, change):
+        def apply(ds: Path) -> None:
+            path = ds / "group_0" / name
+            path.write_bytes(change(path.read_bytes()))
+
+        return apply
+
+    def offsets(values):
+        def change(data: bytes) -> bytes:
+            header = data[:128]
+            return header + np.array(values, dtype="<i8").tobytes()
+
+        return change
+
+    def fifo(ds: Path) -> None:
+        (ds / "manifest.json").unlink()
+        os.mkfifo(ds / "manifest.json")
+
+    def as_float64(data: bytes) -> bytes:
+        array = np.load(__import__("io").BytesIO(data))
+        buffer = __import__("io").BytesIO()
+        np.save(buffer, array.astype(np.float64))
+        return buffer.getvalue()
+
+    def set_clip(field, value):
+        def change(manifest):
+            manifest["clips"][1][field] = value
+
+        return change
+
+    return [
+        ("group named /abs", manifest_edit(lambda m: m["groups"][0].update(name=str(outside)))),
+        ("group named ../", manifest_edit(lambda m: m["groups"][0].update(name="../secret"))),
+        ("array file elsewhere", manifest_edit(lambda m: m["groups"][0]["arrays"][0].update(file="../x.npy"))),
+        ("group folder linked out", replace_with_link("group_0", outside)),
+        ("positions linked out", replace_with_link("group_0/positions.npy", outside / "positions.npy")),
+        ("manifest linked to /dev/zero", replace_with_link("manifest.json", Path("/dev/zero"))),
+        ("manifest a FIFO", fifo),
+        ("offsets past the arrays", npy_edit("offsets.npy", offsets([0, 10**12]))),
+        ("offsets negative", npy_edit("offsets.npy", offsets([-5, 5]))),
+        ("three arrays listed", manifest_edit(lambda m: m["groups"][0].update(arrays=m["groups"][0]["arrays"][:3]))),
+        ("a clip starting at 2**63", manifest_edit(set_clip("start", 2**63))),
+        ("a clip starting at 0 again", manifest_edit(set_clip("start", 0))),
+        ("a clip of group 7", manifest_edit(set_clip("group", 7))),
+        ("more frames than the arrays", manifest_edit(lambda m: m["groups"][0].update(frames=m["groups"][0]["frames"] + 1))),
+        ("positions as float64", npy_edit("positions.npy", as_float64)),
+        ("positions cut short", npy_edit("positions.npy", lambda b: b[:-4])),
+        ("a header of another shape", npy_edit("velocities.npy", lambda b: b.replace(b"'shape': (", b"'shape': (1, ", 1)[:128] + b[128:])),
+        ("a parent after its child", manifest_edit(lambda m: m["groups"][0]["parents"].__setitem__(1, 5))),
+        ("feet out of range", manifest_edit(lambda m: m["groups"][0].update(feet=[10**6]))),
+        ("another format", manifest_edit(lambda m: m.update(format="bvhview-dataset 9"))),
+        ("fps of 1e7", manifest_edit(lambda m: m["options"].update(fps=1e7))),
+        ("skeleton.bvh linked out", replace_with_link("group_0/skeleton.bvh", outside / "skeleton.bvh")),
+        ("manifest not JSON", lambda ds: (ds / "manifest.json").write_text("{\"format\": ")),
+    ]
+
+
+def test_a_dataset_folder_is_untrusted_input(tmp_path):
+    """Each mutation of a good dataset is refused with a ValueError (or OSError for what cannot
+    be opened) by Dataset, merge_datasets and write_parquet, quickly, reading nothing outside
+    the folder and writing nothing anywhere."""
+    import shutil
+    import time
+
+    source = tmp_path / "one"
+    source.mkdir()
+    (source / "walk.bvh").symlink_to(DATA / "bvh" / "assimp_01_01.bvh")
+    (source / "walk_again.bvh").write_bytes((DATA / "bvh" / "assimp_01_01.bvh").read_bytes())
+    good = tmp_path / "good"
+    quietly(source, good)
+    outside = tmp_path / "outside"
+    shutil.copytree(good / "group_0", outside)
+    before = sorted(p.stat().st_mtime_ns for p in outside.iterdir())
+    assert len(bvhview.Dataset(good)) == 2
+    for name, apply in hostile_cases(good, outside):
+        ds = tmp_path / f"case_{name.replace('/', '_').replace(' ', '_')}"
+        shutil.copytree(good, ds, symlinks=True)
+        apply(ds)
+        started = time.monotonic()
+        for attempt in (
+            lambda: bvhview.Dataset(ds),
+            lambda: bvhview.merge_datasets([ds], tmp_path / "merged"),
+            lambda: bvhview.write_parquet(ds),
+        ):
+            with pytest.raises((ValueError, OSError)) as raised:
+                attempt()
+            assert not isinstance(raised.value, bvhview.ParseError) or "manifest.json" in str(raised.value), name
+        assert time.monotonic() - started < 10, name
+        assert not (tmp_path / "merged").exists(), name
+        assert not list(ds.rglob("*.parquet")), name
+    assert sorted(p.stat().st_mtime_ns for p in outside.iterdir()) == before
+    assert not list(outside.glob("*.parquet"))
+
+
+@pytest.mark.parametrize("entry", ["_open_dataset", "_merge_datasets", "_compile_dataset", "_dataset_motion"])
+def test_a_panic_inside_becomes_a_runtime_error(tmp_path, entry):
+    """A Rust panic (a bug) reaches Python as a RuntimeError, which `except Exception` catches,
+    never as pyo3's PanicException (a BaseException)."""
+    good = tmp_path / "good"
+    quietly(DATA / "asf_amc", good)
+    calls = {
+        "_open_dataset": lambda: bvhview.Dataset(good),
+        "_merge_datasets": lambda: bvhview.merge_datasets([good], tmp_path / "m"),
+        "_compile_dataset": lambda: quietly(DATA / "asf_amc", tmp_path / "c"),
+        "_dataset_motion": lambda: None,
+    }
+    data = bvhview.Dataset(good)
+    item = data[0]
+    calls["_dataset_motion"] = lambda: data.to_motion(item["rotations"], item["translations"])
+    os.environ["BVHVIEW_PLANT_PANIC"] = entry
+    try:
+        with pytest.raises(RuntimeError, match=f"internal error in bvhview \\({entry}\\)"):
+            try:
+                calls[entry]()
+            except Exception:
+                raise
+    finally:
+        del os.environ["BVHVIEW_PLANT_PANIC"]
+    assert not (tmp_path / "m").exists() and not (tmp_path / "c").exists()

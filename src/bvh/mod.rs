@@ -1,5 +1,6 @@
 //! The article's `BVH` class: loading, printing and writing BVH files.
 
+pub mod article;
 pub mod loader;
 pub mod print;
 pub mod rows;

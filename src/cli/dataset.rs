@@ -20,8 +20,13 @@ pub(crate) struct DatasetArgs {
     /// Positions relative to the root's place on the floor (x and z) in each frame.
     #[arg(long)]
     root_relative: bool,
-    /// A foot point is in contact when it is at most this many metres above its lowest point in
-    /// the take...
+    /// The points foot contacts are given for, by name as the dataset names them (End Sites
+    /// are `<parent>_End`), separated by commas. Default: guessed from the rest pose, the ankle
+    /// and the toe of each leg.
+    #[arg(long, value_delimiter = ',')]
+    feet: Option<Vec<String>>,
+    /// A foot point is in contact when it is at most this many metres above the floor (the
+    /// lowest foot point within a second of the frame)...
     #[arg(long, default_value_t = 0.05)]
     contact_height: f32,
     /// ...and moves slower than this many metres per second.
@@ -48,6 +53,9 @@ pub(crate) enum RotationsArg {
     SixD,
     /// Each joint's rotation channels in its file order, degrees.
     Euler,
+    /// The rotation vector: unit axis times angle in radians.
+    #[value(name = "axis_angle")]
+    AxisAngle,
 }
 
 impl From<RotationsArg> for RotationKind {
@@ -57,6 +65,7 @@ impl From<RotationsArg> for RotationKind {
             RotationsArg::Matrix => RotationKind::Matrix,
             RotationsArg::SixD => RotationKind::SixD,
             RotationsArg::Euler => RotationKind::Euler,
+            RotationsArg::AxisAngle => RotationKind::AxisAngle,
         }
     }
 }
@@ -68,13 +77,19 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         fps: args.fps,
         rotations: args.rotations.into(),
         root_relative: args.root_relative,
+        feet: args.feet,
         contact_height: args.contact_height,
         contact_speed: args.contact_speed,
         max_size: args.max_size,
     };
     // Options are checked before the folder is read (`Writer::create` checks them again).
     options.check()?;
-    let items = dataset::takes(&args.dir)?;
+    let walk = dataset::walk(&args.dir)?;
+    for line in walk.skipped_lines() {
+        eprintln!("{line}");
+    }
+    let items = walk.items;
+    let takes = dataset::whole_list(&args.dir, &items);
     let threads = args.threads.unwrap_or_else(bvhview::cores).max(1);
     let summary = dataset::compile(
         &args.dir,
@@ -82,7 +97,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         &options,
         threads,
         &args.output,
-        true,
+        takes,
         |_, error, _, _| {
             if let Some(error) = error {
                 eprintln!("skipped {error}");

@@ -39,7 +39,11 @@ pub(crate) fn run(args: InfoArgs) -> Result<ExitCode, Error> {
 fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCode, Error> {
     use std::io::IsTerminal;
     let started = std::time::Instant::now();
-    let items = bvhview::batch::collect(dir)?;
+    let walk = bvhview::batch::collect(dir)?;
+    for line in walk.skipped_lines() {
+        eprintln!("{line}");
+    }
+    let items = walk.items;
     if items.is_empty() {
         return Err(Error::Usage(format!(
             "{}: no .bvh, .asf or .amc files",

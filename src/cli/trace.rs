@@ -13,8 +13,10 @@ pub(crate) struct TraceArgs {
     frame: usize,
     #[command(flatten)]
     view: View,
-    /// Indent each call by the depth of the matrix stack and say what it does: the joint, the
-    /// MOTION columns it reads (the article's pFrame), where each sphere lands.
+    /// Say first what the article's program does with the file (reads it as written, misreads
+    /// it, rejects it or crashes on it), then indent each call by the depth of the matrix stack
+    /// and say what it does: the joint, the MOTION columns it reads (the article's pFrame), what
+    /// the article's flags turn, where each sphere lands.
     #[arg(long)]
     explain: bool,
     /// The language of --explain's notes.
@@ -49,7 +51,23 @@ enum NumbersArg {
 pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
     use bvhview::render::scene::{self, Scene};
     use bvhview::render::trace::{Language, Numbers, Recorder};
-    let loaded = load(&args.file, &args.source)?;
+    let language = match args.lang {
+        LanguageArg::En => Language::English,
+        LanguageArg::Zh => Language::Chinese,
+    };
+    let loaded = match load(&args.file, &args.source) {
+        Ok(loaded) => loaded,
+        Err(error) => {
+            // What the article's program does with a file bvhview refuses is still worth a line.
+            if args.explain
+                && let Ok(article) = bvhview::bvh::article::run_file(&args.file, None)
+            {
+                let line = bvhview::render::trace::verdict_line(&article.verdict, language);
+                write_text(&format!("{line}\n"))?;
+            }
+            return Err(error);
+        }
+    };
     let values = bvhview::render::frame_values(&loaded.motion, args.frame)?;
     let View {
         angle,
@@ -81,12 +99,19 @@ pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
         NumbersArg::Printf => Numbers::Printf,
         NumbersArg::Apitrace => Numbers::Apitrace,
     };
-    let language = match args.lang {
-        LanguageArg::En => Language::English,
-        LanguageArg::Zh => Language::Chinese,
-    };
     let mut recorder = if args.explain {
-        Recorder::explaining(numbers, &loaded.skeleton, values, offset_mode, language)
+        // The article's program on the same bytes (an unreadable file: no verdict line).
+        let article =
+            bvhview::bvh::article::run_file(&args.file, Some((&loaded.skeleton, &loaded.motion)))
+                .ok();
+        Recorder::explaining(
+            numbers,
+            &loaded.skeleton,
+            values,
+            offset_mode,
+            language,
+            article.as_ref(),
+        )
     } else {
         Recorder::new(numbers)
     };

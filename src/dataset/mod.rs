@@ -8,6 +8,8 @@
 //! merges datasets compiled in pieces (on a cluster's workers) into the one a single process
 //! would have written, byte for byte.
 
+pub mod read;
+pub mod rebuild;
 pub mod store;
 
 use crate::batch::Item;
@@ -17,7 +19,7 @@ use glam::Vec3;
 use std::path::{Path, PathBuf};
 
 /// What every take is turned into.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct Options {
     /// The one frame rate every clip is resampled to.
     pub fps: f64,
@@ -25,8 +27,11 @@ pub struct Options {
     pub rotations: RotationKind,
     /// Positions relative to the root's place on the floor (x and z) in each frame.
     pub root_relative: bool,
-    /// A foot point is in contact when it is at most this high (metres) above its own lowest
-    /// point in the take…
+    /// The points foot contacts are given for, by name; `None`: guessed from the rest pose
+    /// ([`guess_feet`]).
+    pub feet: Option<Vec<String>>,
+    /// A foot point is in contact when it is at most this high (metres) above the floor
+    /// (the lowest foot point within [`FLOOR_WINDOW_S`] of the frame)…
     pub contact_height: f32,
     /// …and moves slower than this (metres per second).
     pub contact_speed: f32,
@@ -40,6 +45,7 @@ impl Default for Options {
             fps: 30.0,
             rotations: RotationKind::SixD,
             root_relative: false,
+            feet: None,
             contact_height: 0.05,
             contact_speed: 0.5,
             max_size: crate::input::DEFAULT_MAX_SIZE,
@@ -61,7 +67,16 @@ impl Options {
             }
         };
         positive("--contact-height", self.contact_height)?;
-        positive("--contact-speed", self.contact_speed)
+        positive("--contact-speed", self.contact_speed)?;
+        if let Some(feet) = &self.feet
+            && (feet.is_empty() || feet.iter().any(|name| name.is_empty()))
+        {
+            return Err(Error::Usage(
+                "--feet: expected point names separated by commas (as the dataset names them)"
+                    .to_string(),
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -96,7 +111,10 @@ pub struct Topology {
     pub parents: Vec<i32>,
     /// The points that have a rotation (every joint that is not an End Site).
     pub rotated: Vec<u32>,
-    /// The points foot contacts are given for: those whose name has `foot`, `toe` or `ankle`.
+    /// The points whose translation moves: every joint with position channels. The others'
+    /// translations are their rest offsets.
+    pub translated: Vec<u32>,
+    /// The points foot contacts are given for (named by `--feet`, or [`guess_feet`]).
     pub feet: Vec<u32>,
     /// Each rotated point's rotation channels in file order (`ZXY`; empty without any): the
     /// order of its Euler angles, and of the product `R1 · R2 · R3`.
@@ -104,21 +122,22 @@ pub struct Topology {
 }
 
 impl Topology {
-    fn of(skeleton: &crate::Skeleton) -> Topology {
+    fn of(skeleton: &crate::Skeleton, feet: Vec<u32>) -> Topology {
         let joints: Vec<String> = (0..skeleton.joints.len())
             .map(|i| crate::export::export_name(skeleton, i))
             .collect();
-        let feet = joints
-            .iter()
-            .enumerate()
-            .filter(|(_, name)| {
-                let name = name.to_ascii_lowercase();
-                ["foot", "toe", "ankle"].iter().any(|w| name.contains(w))
-            })
-            .map(|(i, _)| i as u32)
-            .collect();
-        let rotated: Vec<u32> = (0..skeleton.joints.len() as u32)
+        let points = 0..skeleton.joints.len() as u32;
+        let rotated: Vec<u32> = points
+            .clone()
             .filter(|&i| !skeleton.joints[i as usize].end_site)
+            .collect();
+        let translated = points
+            .filter(|&i| {
+                skeleton.joints[i as usize]
+                    .channels
+                    .iter()
+                    .any(|c| c.is_position())
+            })
             .collect();
         let rotation_orders = rotated
             .iter()
@@ -138,11 +157,85 @@ impl Topology {
                 .map(|j| j.parent.map_or(-1, |p| p as i32))
                 .collect(),
             rotated,
+            translated,
             feet,
             joints,
             rotation_orders,
         }
     }
+}
+
+/// The feet of a skeleton standing in its rest pose (`rest`: world positions, Y up): at most two
+/// end points per leg. A leg ends in the leaves within the lowest tenth of the figure's height;
+/// the leaves under the same last joint above that band (the knee) are one leg, whose feet are
+/// its ankle (the knee's child on the way down) and the leaf farthest from it across the floor
+/// (the toe). A creature has as many legs as it has; a figure without height has none.
+pub fn guess_feet(skeleton: &crate::Skeleton, rest: &[Vec3]) -> Vec<u32> {
+    let (low, high) = rest
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), p| {
+            (lo.min(p.y), hi.max(p.y))
+        });
+    if high.partial_cmp(&low) != Some(std::cmp::Ordering::Greater) {
+        return Vec::new();
+    }
+    let band = low + 0.1 * (high - low);
+    let is_low = |p: usize| rest[p].y <= band;
+    let mut has_child = vec![false; skeleton.joints.len()];
+    for joint in &skeleton.joints {
+        if let Some(parent) = joint.parent {
+            has_child[parent] = true;
+        }
+    }
+    // (knee, ankle, leaves) in the order the legs' first leaves come.
+    let mut legs: Vec<(usize, usize, Vec<usize>)> = Vec::new();
+    for leaf in (0..skeleton.joints.len()).filter(|&p| !has_child[p] && is_low(p)) {
+        let mut below = leaf;
+        let mut knee = skeleton.joints[leaf].parent;
+        while let Some(k) = knee.filter(|&k| is_low(k)) {
+            below = k;
+            knee = skeleton.joints[k].parent;
+        }
+        // A figure lying on the floor has no knee above the band: no leg.
+        let Some(knee) = knee else { continue };
+        match legs.iter_mut().find(|(k, _, _)| *k == knee) {
+            Some((_, _, leaves)) => leaves.push(leaf),
+            None => legs.push((knee, below, vec![leaf])),
+        }
+    }
+    let across = |a: Vec3, b: Vec3| (a.x - b.x).hypot(a.z - b.z);
+    let mut feet = Vec::new();
+    for (_, ankle, leaves) in legs {
+        feet.push(ankle as u32);
+        let toe = leaves.iter().copied().fold(ankle, |best, leaf| {
+            match across(rest[leaf], rest[ankle]) > across(rest[best], rest[ankle]) {
+                true => leaf,
+                false => best,
+            }
+        });
+        if toe != ankle {
+            feet.push(toe as u32);
+        }
+    }
+    feet.sort_unstable();
+    feet
+}
+
+/// The points `names` names (as the dataset names them), in file order.
+fn named_feet(path: &Path, joints: &[String], names: &[String]) -> Result<Vec<u32>, Error> {
+    let mut feet = Vec::new();
+    for name in names {
+        let index = joints.iter().position(|j| j == name).ok_or_else(|| {
+            Error::Usage(format!(
+                "{}: --feet names {name:?}, which this skeleton does not have",
+                path.display()
+            ))
+        })?;
+        feet.push(index as u32);
+    }
+    feet.sort_unstable();
+    feet.dedup();
+    Ok(feet)
 }
 
 /// What the manifest says of one clip besides its arrays.
@@ -159,6 +252,8 @@ pub struct About {
     pub metres_per_unit: f32,
     /// How position channels combined with OFFSETs (the mode the file looks written for).
     pub offset_mode: String,
+    /// The point whose travel `root_translations` holds and root-relative positions remove.
+    pub travel_joint: String,
     pub warnings: Vec<String>,
 }
 
@@ -172,7 +267,10 @@ pub struct Clip {
     pub positions: Vec<f32>,
     /// frames × rotated × width of the rotation kind: local rotations.
     pub rotations: Vec<f32>,
-    /// frames × 3: the first root's world position.
+    /// frames × translated × 3: the local translation of each point with position channels
+    /// (its OFFSET with the channels combined, metres, Y up).
+    pub translations: Vec<f32>,
+    /// frames × 3: the world position of the travel joint (the root in most files).
     pub root_translations: Vec<f32>,
     /// frames × points × 3: world velocities, metres per second.
     pub velocities: Vec<f32>,
@@ -180,6 +278,9 @@ pub struct Clip {
     pub contacts: Vec<u8>,
     /// points × 3: each point's OFFSET (metres, Y up).
     pub rest_offsets: Vec<f32>,
+    /// The skeleton the arrays are of (metres, Y up), written as its group's `skeleton.bvh`;
+    /// `None` for a clip read back from a dataset, whose group has that file already.
+    pub skeleton: Option<crate::Skeleton>,
 }
 
 /// Why a take is not in the dataset.
@@ -192,19 +293,26 @@ pub struct Skipped {
 
 /// Every take under `dir` in path order: BVH files and ASF/AMC pairs (an AMC without a skeleton
 /// and an ASF without motion are listed too, and skipped with a reason). A folder without any
-/// is refused: there is no dataset to make of it.
+/// is refused: there is no dataset to make of it. What the walk left out is dropped here;
+/// [`walk`] keeps it.
 pub fn takes(dir: &Path) -> Result<Vec<Item>, Error> {
+    walk(dir).map(|walk| walk.items)
+}
+
+/// [`takes`], and what the folder walk skipped ([`crate::batch::collect`]: loops, folders and
+/// files reached again, links out of `dir`, what is not a regular file or cannot be read).
+pub fn walk(dir: &Path) -> Result<crate::batch::Walk, Error> {
     if !dir.is_dir() {
         return Err(Error::Usage(format!("{}: not a folder", dir.display())));
     }
-    let items = crate::batch::collect(dir)?;
-    if items.is_empty() {
+    let walk = crate::batch::collect(dir)?;
+    if walk.items.is_empty() {
         return Err(Error::Usage(format!(
             "{}: no .bvh, .asf or .amc files",
             dir.display()
         )));
     }
-    Ok(items)
+    Ok(walk)
 }
 
 /// Compiles one take found under `dir` (the folder its manifest path is relative to).
@@ -250,6 +358,12 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
     let metres = stance.units.metres;
     let (skeleton, motion) = crate::edit::scale(skeleton, motion, metres)?;
     let (skeleton, motion) = crate::edit::reorient(&skeleton, &motion, stance.up, Up::Y)?;
+    // An ASF bone turns about an axis of its own, which BVH cannot say: baked into plain
+    // channels, so that the group's skeleton is a BVH and Euler angles mean its channels.
+    let (skeleton, motion) = match skeleton.joints.iter().any(|j| j.axis.is_some()) {
+        true => crate::edit::bake_axes(&skeleton, &motion)?,
+        false => (skeleton, motion),
+    };
     // Frame times are written with few digits (.0083333 for 1/120): a take already at the rate
     // keeps its frames.
     let motion = if (loaded.motion.frame_time * options.fps - 1.0).abs() < 1e-4 {
@@ -262,7 +376,6 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
     } else {
         crate::edit::resample(&skeleton, &motion, options.fps)?
     };
-    let topology = Topology::of(&skeleton);
     let frames = motion.frame_count();
     let points = skeleton.joints.len();
 
@@ -276,8 +389,17 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
         world.extend_from_slice(&batch_out);
     }
 
+    let names: Vec<String> = (0..points)
+        .map(|i| crate::export::export_name(&skeleton, i))
+        .collect();
+    let feet = match &options.feet {
+        Some(wanted) => named_feet(path, &names, wanted)?,
+        None => guess_feet(&skeleton, &pose::world_positions(&skeleton, &[], mode)),
+    };
+    let topology = Topology::of(&skeleton, feet);
     let width = options.rotations.width();
     let mut rotations = vec![0.0f32; frames * topology.rotated.len() * width];
+    let mut translations = Vec::with_capacity(frames * topology.translated.len() * 3);
     for (f, out) in rotations
         .chunks_mut(topology.rotated.len() * width)
         .enumerate()
@@ -286,19 +408,24 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
             let joint = &skeleton.joints[joint as usize];
             pose::write_rotation(joint, joint.values(rows[f]), options.rotations, slot);
         }
+        for &joint in &topology.translated {
+            let joint = &skeleton.joints[joint as usize];
+            let t = pose::joint_translation(joint, joint.values(rows[f]), mode);
+            translations.extend_from_slice(&t.to_array());
+        }
     }
 
-    let root = skeleton.roots().next().unwrap_or(0);
+    let travel = pose::travel_joint(&skeleton, &world);
     let root_translations: Vec<f32> = world
         .chunks(points)
-        .flat_map(|pose| pose[root].to_array())
+        .flat_map(|pose| pose[travel].to_array())
         .collect();
     let velocities = velocities(&world, points, options.fps);
     let contacts = contacts(&world, &velocities, points, &topology.feet, options);
     let mut positions = world;
     if options.root_relative {
         for pose in positions.chunks_mut(points) {
-            let centre = pose[root];
+            let centre = pose[travel];
             for point in pose.iter_mut() {
                 point.x -= centre.x;
                 point.z -= centre.z;
@@ -322,14 +449,16 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
             OffsetMode::Add => "add",
         }
         .to_string(),
+        travel_joint: names[travel].clone(),
         warnings: crate::info::warnings(&loaded, mode),
     };
-    Ok(Clip {
+    let clip = Clip {
         about,
         topology,
         frames,
         positions: flat(positions),
         rotations,
+        translations,
         root_translations,
         velocities: flat(velocities),
         contacts,
@@ -338,7 +467,9 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
             .iter()
             .flat_map(|j| j.offset.to_array())
             .collect(),
-    })
+        skeleton: Some(skeleton),
+    };
+    Ok(clip)
 }
 
 /// Each point's velocity in every frame (metres per second): the central difference, one-sided
@@ -362,8 +493,46 @@ fn velocities(world: &[Vec3], points: usize, fps: f64) -> Vec<Vec3> {
     out
 }
 
+/// How far (seconds, each way) the floor under a frame is looked for.
+pub const FLOOR_WINDOW_S: f64 = 1.0;
+
+/// The floor under each frame: the lowest height of any foot point within [`FLOOR_WINDOW_S`]
+/// before or after it. A floor that rises or falls during the take (a ramp, stairs, a drifting
+/// capture) is followed; a window that long holds a step of each foot in a walk.
+fn floor_heights(world: &[Vec3], points: usize, feet: &[u32], reach: usize) -> Vec<f32> {
+    let frames = world.len() / points.max(1);
+    let lowest_foot: Vec<f32> = (0..frames)
+        .map(|f| {
+            feet.iter()
+                .map(|&p| world[f * points + p as usize].y)
+                .fold(f32::INFINITY, f32::min)
+        })
+        .collect();
+    // A sliding minimum: the queue holds frames whose heights increase, the front the lowest.
+    let mut queue = std::collections::VecDeque::new();
+    let mut floor = Vec::with_capacity(frames);
+    let mut next = 0;
+    for f in 0..frames {
+        while next < frames && next <= f + reach {
+            while queue
+                .back()
+                .is_some_and(|&b| lowest_foot[b] >= lowest_foot[next])
+            {
+                queue.pop_back();
+            }
+            queue.push_back(next);
+            next += 1;
+        }
+        while queue.front().is_some_and(|&front| front + reach < f) {
+            queue.pop_front();
+        }
+        floor.push(queue.front().map_or(f32::INFINITY, |&k| lowest_foot[k]));
+    }
+    floor
+}
+
 /// Foot contacts: a foot point is in contact in a frame when it is within
-/// `options.contact_height` of its own lowest height in the take and slower than
+/// `options.contact_height` of the floor under that frame ([`floor_heights`]) and slower than
 /// `options.contact_speed`.
 fn contacts(
     world: &[Vec3],
@@ -372,18 +541,11 @@ fn contacts(
     feet: &[u32],
     options: &Options,
 ) -> Vec<u8> {
-    let frames = world.len() / points.max(1);
-    let lowest: Vec<f32> = feet
-        .iter()
-        .map(|&p| {
-            (0..frames)
-                .map(|f| world[f * points + p as usize].y)
-                .fold(f32::INFINITY, f32::min)
-        })
-        .collect();
-    let mut out = Vec::with_capacity(frames * feet.len());
-    for f in 0..frames {
-        for (&p, &floor) in feet.iter().zip(&lowest) {
+    let reach = (FLOOR_WINDOW_S * options.fps).round() as usize;
+    let floor = floor_heights(world, points, feet, reach);
+    let mut out = Vec::with_capacity(floor.len() * feet.len());
+    for (f, &floor) in floor.iter().enumerate() {
+        for &p in feet {
             let i = f * points + p as usize;
             let low = world[i].y - floor <= options.contact_height;
             let still = velocities[i].length() < options.contact_speed;
@@ -405,19 +567,20 @@ pub struct Summary {
 /// Compiles `items` (found under `dir`, whose relative paths the manifest gives) on `threads`
 /// threads into the dataset folder `out`, which must not exist or be empty. `done(source, error,
 /// finished, total)` is called for every take in order, with the error as the loader said it;
-/// it returns false to stop (an interrupt), and then nothing is written. With `require_clips`,
-/// a compile of which no take compiled is refused and writes nothing too (a piece of a bigger
-/// compile may have none).
+/// it returns false to stop (an interrupt), and then nothing is written. `takes` says which run
+/// of which list `items` are ([`whole_list`], [`piece`]): a compile of a whole list of which no
+/// take compiled is refused and writes nothing too (a piece of a bigger compile may have none).
 pub fn compile(
     dir: &Path,
     items: Vec<Item>,
     options: &Options,
     threads: usize,
     out: &Path,
-    require_clips: bool,
+    takes: store::Takes,
     mut done: impl FnMut(&Source, Option<&str>, usize, usize) -> bool + Send,
 ) -> Result<Summary, Error> {
-    let mut writer = store::Writer::create(out, options)?;
+    let require_clips = takes.first == 0 && takes.count == takes.listed;
+    let mut writer = store::Writer::create(out, options, takes)?;
     let total = items.len();
     let mut failure = None;
     let mut clips = 0;
@@ -427,7 +590,9 @@ pub fn compile(
         4 * threads.max(1),
         |index| {
             let item = &items[index];
-            compile_take(dir, item, options).map_err(|e| (Source::of(dir, item), e.to_string()))
+            compile_take(dir, item, options)
+                .and_then(|clip| refuse_non_finite(item, clip))
+                .map_err(|e| (Source::of(dir, item), e.to_string()))
         },
         |index, result| {
             let outcome = match result {
@@ -463,13 +628,79 @@ pub fn compile(
         return Err(e);
     }
     if require_clips && clips == 0 {
+        // Every reason: the caller may not have shown them (Python's compile raises this).
+        let reasons: String = writer
+            .skipped()
+            .iter()
+            .map(|s| format!("\n  {}", s.error))
+            .collect();
         return Err(Error::Usage(format!(
-            "{}: no take could be compiled ({} skipped), so no dataset was written",
+            "{}: no take could be compiled ({} skipped), so no dataset was written:{reasons}",
             dir.display(),
             crate::error::counted(total, "take")
         )));
     }
     writer.finish()
+}
+
+/// A clip whose arrays hold a number that is not finite (a take's numbers too large for
+/// float32: `OFFSET 0 3e38 3e38` makes infinite positions) is refused, naming the take, the
+/// array, the frame and the point: no writer writes such numbers.
+fn refuse_non_finite(item: &Item, clip: Clip) -> Result<Clip, Error> {
+    let points = clip.topology.joints.len().max(1);
+    let rotated = clip.topology.rotated.len().max(1);
+    let width = clip.rotations.len() / (clip.frames.max(1) * rotated).max(1);
+    let point = |k: usize| clip.topology.joints.get(k).map_or("?", |n| n.as_str());
+    let translated = clip.topology.translated.len();
+    let arrays: [(&str, &[f32], usize, Option<usize>); 6] = [
+        ("positions", &clip.positions, points * 3, Some(3)),
+        (
+            "rotations",
+            &clip.rotations,
+            rotated * width.max(1),
+            Some(width.max(1)),
+        ),
+        ("translations", &clip.translations, translated * 3, Some(3)),
+        ("root_translations", &clip.root_translations, 3, None),
+        ("velocities", &clip.velocities, points * 3, Some(3)),
+        ("rest_offsets", &clip.rest_offsets, points * 3, Some(3)),
+    ];
+    for (name, values, per_frame, per_point) in arrays {
+        let Some(at) = values.iter().position(|v| !v.is_finite()) else {
+            continue;
+        };
+        let take = match &item.motion {
+            Some(amc) => format!("{} + {}", item.path.display(), amc.display()),
+            None => item.path.display().to_string(),
+        };
+        let whose = match (name, per_point) {
+            ("rest_offsets", _) => format!("the OFFSET of {}", point(at / 3)),
+            ("rotations" | "translations", Some(w)) => {
+                let list = match name {
+                    "rotations" => &clip.topology.rotated,
+                    _ => &clip.topology.translated,
+                };
+                let joint = list.get(at % per_frame / w);
+                format!(
+                    "frame {}, joint {}",
+                    at / per_frame,
+                    joint.map_or("?", |&j| point(j as usize))
+                )
+            }
+            (_, Some(w)) => format!(
+                "frame {}, point {}",
+                at / per_frame,
+                point(at % per_frame / w)
+            ),
+            (_, None) => format!("frame {}", at / per_frame),
+        };
+        return Err(Error::Usage(format!(
+            "{take}: {name} overflow: {} at {whose}; the take's numbers are too large for \
+             float32 (its OFFSETs or channel values), so it is not written",
+            values[at]
+        )));
+    }
+    Ok(clip)
 }
 
 /// An error as the manifest keeps it: paths relative to the folder compiled, so that the
@@ -481,6 +712,45 @@ fn relative_error(dir: &Path, error: &str) -> String {
     }
     let prefix = format!("{}/", prefix.trim_end_matches('/'));
     error.replace(&prefix, "")
+}
+
+/// What a compile of all of `items` (found under `dir`) holds: the whole list.
+pub fn whole_list(dir: &Path, items: &[Item]) -> store::Takes {
+    let sources: Vec<Source> = items.iter().map(|item| Source::of(dir, item)).collect();
+    store::Takes {
+        list: store::list_digest(&sources),
+        listed: items.len(),
+        first: 0,
+        count: items.len(),
+    }
+}
+
+/// Piece `index` of `pieces` of the list `items`: consecutive runs in list order, the first
+/// `len % pieces` of them one take longer. [`store::merge`] joins the pieces back.
+pub fn piece(
+    dir: &Path,
+    items: Vec<Item>,
+    index: usize,
+    pieces: usize,
+) -> Result<(Vec<Item>, store::Takes), Error> {
+    if pieces == 0 || index >= pieces {
+        return Err(Error::Usage(format!(
+            "piece {index} of {pieces}: expected 0 <= piece < pieces"
+        )));
+    }
+    let whole = whole_list(dir, &items);
+    let (size, extra) = (items.len() / pieces, items.len() % pieces);
+    let first = index * size + index.min(extra);
+    let count = size + usize::from(index < extra);
+    let run = items.into_iter().skip(first).take(count).collect();
+    Ok((
+        run,
+        store::Takes {
+            first,
+            count,
+            ..whole
+        },
+    ))
 }
 
 /// The items given by paths relative to `dir` (or absolute): `(path, motion)` pairs.

@@ -8,14 +8,14 @@ use crate::error::Error;
 use crate::pose::RotationKind;
 use std::collections::HashMap;
 use std::fs::File;
-use std::io::{self, Read, Write};
+use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 /// What the manifest's `format` says; a reader refuses any other.
-pub const FORMAT: &str = "bvhview-dataset 1";
+pub const FORMAT: &str = "bvhview-dataset 2";
 
 /// Every `.npy` header takes this many bytes (numpy's own writer pads to a multiple of 64).
-const HEADER: usize = 128;
+pub const HEADER: usize = 128;
 
 /// `manifest.json`.
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -24,9 +24,37 @@ pub struct Manifest {
     /// The version that wrote it.
     pub bvhview: String,
     pub options: Settings,
+    /// Which takes of which list this dataset holds (a piece of a compile holds a run of them).
+    pub takes: Takes,
     pub groups: Vec<Group>,
     pub clips: Vec<ClipEntry>,
     pub skipped: Vec<Skipped>,
+}
+
+/// The takes a dataset was compiled from: takes `first..first + count` of a list of `listed`
+/// takes (the folder's, in path order) whose paths hash to `list` ([`list_digest`]). A whole
+/// compile holds all of them; merging pieces needs every take of one list, once, in order.
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub struct Takes {
+    pub list: String,
+    pub listed: usize,
+    pub first: usize,
+    pub count: usize,
+}
+
+/// A name for a list of takes (their paths relative to the folder, in order): 64-bit FNV-1a of
+/// the paths, each ended by a 0 byte, in hex. It tells pieces of one compile from pieces of
+/// another; it is not a guard against anyone forging it.
+pub fn list_digest(sources: &[super::Source]) -> String {
+    let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+    for source in sources {
+        let motion = source.motion.as_deref().unwrap_or("");
+        for byte in [source.path.as_bytes(), &[1], motion.as_bytes(), &[0]].concat() {
+            hash ^= u64::from(byte);
+            hash = hash.wrapping_mul(0x0100_0000_01b3);
+        }
+    }
+    format!("{hash:016x}")
 }
 
 /// The options a dataset was made with, as the manifest records them.
@@ -35,8 +63,11 @@ pub struct Settings {
     pub fps: f64,
     pub rotations: String,
     pub root_relative: bool,
+    pub feet: Option<Vec<String>>,
     pub contact_height_m: f32,
     pub contact_speed_m_per_s: f32,
+    /// The floor under a frame is the lowest foot point within this many seconds of it.
+    pub floor_window_s: f64,
     pub up: String,
     pub units: String,
 }
@@ -47,14 +78,16 @@ impl Settings {
             fps: options.fps,
             rotations: options.rotations.name().to_string(),
             root_relative: options.root_relative,
+            feet: options.feet.clone(),
             contact_height_m: options.contact_height,
             contact_speed_m_per_s: options.contact_speed,
+            floor_window_s: super::FLOOR_WINDOW_S,
             up: "y".to_string(),
             units: "metres".to_string(),
         }
     }
 
-    fn options(&self) -> Result<Options, Error> {
+    pub fn options(&self) -> Result<Options, Error> {
         let rotations = RotationKind::parse(&self.rotations).ok_or_else(|| {
             Error::Usage(format!(
                 "rotations {:?}: not a kind bvhview writes",
@@ -65,6 +98,7 @@ impl Settings {
             fps: self.fps,
             rotations,
             root_relative: self.root_relative,
+            feet: self.feet.clone(),
             contact_height: self.contact_height_m,
             contact_speed: self.contact_speed_m_per_s,
             ..Options::default()
@@ -83,6 +117,80 @@ pub struct Group {
     pub frames: usize,
     /// Each array's file, element type and shape.
     pub arrays: Vec<ArrayEntry>,
+    /// The skeleton as a BVH file of one frame, its rest pose (metres, Y up; the first clip's
+    /// bone lengths): `group_K/skeleton.bvh`.
+    pub skeleton: String,
+    /// Each float array's mean and standard deviation over every frame of the group, per
+    /// number of a frame (in the order of the array's frame shape, flattened): what a model's
+    /// inputs are normalised by. A number that never changes has a deviation of 0.
+    pub stats: Vec<ArrayStats>,
+}
+
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ArrayStats {
+    pub name: String,
+    pub mean: Vec<f32>,
+    pub std: Vec<f32>,
+}
+
+/// Mean and spread of each number of a frame, clip by clip (Chan et al.'s pairwise update, in
+/// f64, in clip order: the same sums however the clips were compiled).
+#[derive(Clone, Debug, Default)]
+struct Moments {
+    count: f64,
+    mean: Vec<f64>,
+    /// Sum of squared differences from the mean.
+    spread: Vec<f64>,
+}
+
+impl Moments {
+    fn add(&mut self, values: &[f32], width: usize) {
+        if width == 0 || values.is_empty() {
+            return;
+        }
+        let rows = (values.len() / width) as f64;
+        let mut mean = vec![0.0f64; width];
+        for row in values.chunks_exact(width) {
+            for (m, &v) in mean.iter_mut().zip(row) {
+                *m += f64::from(v);
+            }
+        }
+        mean.iter_mut().for_each(|m| *m /= rows);
+        let mut spread = vec![0.0f64; width];
+        for row in values.chunks_exact(width) {
+            for ((s, &m), &v) in spread.iter_mut().zip(&mean).zip(row) {
+                *s += (f64::from(v) - m).powi(2);
+            }
+        }
+        if self.count == 0.0 {
+            *self = Moments {
+                count: rows,
+                mean,
+                spread,
+            };
+            return;
+        }
+        let total = self.count + rows;
+        for k in 0..width {
+            let delta = mean[k] - self.mean[k];
+            self.mean[k] += delta * rows / total;
+            self.spread[k] += spread[k] + delta * delta * self.count * rows / total;
+        }
+        self.count = total;
+    }
+
+    fn stats(&self, name: &str, width: usize) -> ArrayStats {
+        let count = self.count.max(1.0);
+        ArrayStats {
+            name: name.to_string(),
+            mean: (0..width)
+                .map(|k| self.mean.get(k).copied().unwrap_or(0.0) as f32)
+                .collect(),
+            std: (0..width)
+                .map(|k| (self.spread.get(k).copied().unwrap_or(0.0) / count).sqrt() as f32)
+                .collect(),
+        }
+    }
 }
 
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -106,11 +214,12 @@ pub struct ClipEntry {
 
 /// The arrays of a group, in the order the manifest lists them: name, element type, and the
 /// shape of one frame.
-fn layout(
+pub fn layout(
     topology: &Topology,
     rotations: RotationKind,
-) -> [(&'static str, &'static str, Vec<usize>); 5] {
+) -> [(&'static str, &'static str, Vec<usize>); 6] {
     let (points, rotated) = (topology.joints.len(), topology.rotated.len());
+    let translated = topology.translated.len();
     let rotation_shape = match rotations {
         RotationKind::Matrix => vec![rotated, 3, 3],
         kind => vec![rotated, kind.width()],
@@ -118,6 +227,7 @@ fn layout(
     [
         ("positions", "<f4", vec![points, 3]),
         ("rotations", "<f4", rotation_shape),
+        ("translations", "<f4", vec![translated, 3]),
         ("root_translations", "<f4", vec![3]),
         ("velocities", "<f4", vec![points, 3]),
         ("foot_contacts", "|u1", vec![topology.feet.len()]),
@@ -125,7 +235,7 @@ fn layout(
 }
 
 /// The `.npy` header (version 1.0) of an array of `descr` with `shape`, [`HEADER`] bytes long.
-fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
+pub fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
     let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
     let shape = match dims.len() {
         1 => format!("({},)", dims[0]),
@@ -212,13 +322,19 @@ struct OpenGroup {
     frames: usize,
     /// Every clip's OFFSETs, clip after clip.
     rest_offsets: Vec<f32>,
+    /// Per float array (positions, rotations, translations, root translations, velocities).
+    moments: Vec<Moments>,
 }
+
+/// The arrays [`Group::stats`] are given for: every float array of [`layout`].
+const STATS_OF: [usize; 5] = [0, 1, 2, 3, 4];
 
 /// A dataset being written: clips in the order they come, each to its topology's group.
 pub struct Writer {
     out: PathBuf,
     folder: Option<tempfile::TempDir>,
     options: Options,
+    takes: Takes,
     groups: Vec<OpenGroup>,
     by_topology: HashMap<Topology, usize>,
     clips: Vec<ClipEntry>,
@@ -226,9 +342,13 @@ pub struct Writer {
 }
 
 impl Writer {
-    /// Starts a dataset at `out`, which must not exist or be an empty folder.
-    pub fn create(out: &Path, options: &Options) -> Result<Writer, Error> {
+    /// Starts a dataset at `out`, which must not exist or be an empty folder. As for every
+    /// output (`crate::output`): a link another user planted in a sticky shared folder on the
+    /// way to `out` is refused, the temporary folder beside it has a random name made
+    /// exclusively (`.OUT.XXXXXX`, `OUT` cut to fit a long name), and a failure names its cause.
+    pub fn create(out: &Path, options: &Options, takes: Takes) -> Result<Writer, Error> {
         options.check()?;
+        crate::output::refuse_planted_folders(out)?;
         match std::fs::symlink_metadata(out) {
             Err(e) if e.kind() == io::ErrorKind::NotFound => {}
             Err(e) => return Err(Error::output(out, e)),
@@ -249,14 +369,15 @@ impl Writer {
             _ => Path::new("."),
         };
         let folder = tempfile::Builder::new()
-            .prefix(&format!(".{}.", name.to_string_lossy()))
+            .prefix(&crate::output::temporary_prefix(Some(name)))
             .tempdir_in(parent)
             .map_err(|e| Error::output(out, e))?;
         crate::output::partial_folder(folder.path());
         Ok(Writer {
             out: out.to_path_buf(),
             folder: Some(folder),
-            options: *options,
+            options: options.clone(),
+            takes,
             groups: Vec::new(),
             by_topology: HashMap::new(),
             clips: Vec::new(),
@@ -268,12 +389,26 @@ impl Writer {
         self.folder.as_ref().expect("open until finished").path()
     }
 
-    /// Adds a clip after those added before.
+    /// Adds a clip after those added before; a clip of a new topology starts its group with its
+    /// skeleton ([`Clip::skeleton`]).
     pub fn add(&mut self, clip: &Clip) -> Result<(), Error> {
-        crate::output::in_partial_folder(|| self.add_files(clip))
+        let skeleton = || match &clip.skeleton {
+            Some(skeleton) => skeleton_bvh(skeleton),
+            None => Err(Error::Usage("a clip without its skeleton".to_string())),
+        };
+        crate::output::in_partial_folder(|| self.add_files(clip, &skeleton))
     }
 
-    fn add_files(&mut self, clip: &Clip) -> Result<(), Error> {
+    /// Adds a clip of a dataset being merged: a new group takes `skeleton` (its piece's).
+    fn add_merged(&mut self, clip: &Clip, skeleton: &str) -> Result<(), Error> {
+        crate::output::in_partial_folder(|| self.add_files(clip, &|| Ok(skeleton.to_string())))
+    }
+
+    fn add_files(
+        &mut self,
+        clip: &Clip,
+        skeleton: &dyn Fn() -> Result<String, Error>,
+    ) -> Result<(), Error> {
         let group = match self.by_topology.get(&clip.topology) {
             Some(&k) => k,
             None => {
@@ -286,12 +421,16 @@ impl Writer {
                         ArrayFile::create(folder.join(format!("{name}.npy")), descr, shape)
                     })
                     .collect::<Result<Vec<_>, Error>>()?;
+                let skeleton = skeleton()?;
+                let path = folder.join("skeleton.bvh");
+                std::fs::write(&path, &skeleton).map_err(|e| Error::output(&path, e))?;
                 self.groups.push(OpenGroup {
                     topology: clip.topology.clone(),
                     arrays,
                     starts: Vec::new(),
                     frames: 0,
                     rest_offsets: Vec::new(),
+                    moments: vec![Moments::default(); STATS_OF.len()],
                 });
                 self.by_topology.insert(clip.topology.clone(), k);
                 k
@@ -299,12 +438,37 @@ impl Writer {
         };
         let open = &mut self.groups[group];
         let start = open.frames;
-        let [positions, rotations, roots, velocities, contacts] = &mut open.arrays[..] else {
-            unreachable!("five arrays per group")
+        let [
+            positions,
+            rotations,
+            translations,
+            roots,
+            velocities,
+            contacts,
+        ] = &mut open.arrays[..]
+        else {
+            unreachable!("six arrays per group")
         };
+        let floats = [
+            &clip.positions,
+            &clip.rotations,
+            &clip.translations,
+            &clip.root_translations,
+            &clip.velocities,
+        ];
+        for (moments, (values, array)) in open.moments.iter_mut().zip(floats.iter().zip([
+            &*positions,
+            &*rotations,
+            &*translations,
+            &*roots,
+            &*velocities,
+        ])) {
+            moments.add(values, array.frame_shape.iter().product());
+        }
         let written = || -> io::Result<()> {
             positions.append_floats(&clip.positions)?;
             rotations.append_floats(&clip.rotations)?;
+            translations.append_floats(&clip.translations)?;
             roots.append_floats(&clip.root_translations)?;
             velocities.append_floats(&clip.velocities)?;
             contacts.append_bytes(&clip.contacts)
@@ -328,6 +492,11 @@ impl Writer {
     /// Lists a take that could not be compiled.
     pub fn skip(&mut self, skipped: Skipped) {
         self.skipped.push(skipped);
+    }
+
+    /// The takes listed as skipped so far.
+    pub fn skipped(&self) -> &[Skipped] {
+        &self.skipped
     }
 
     /// Writes the offsets and the manifest, and gives the folder its name.
@@ -394,12 +563,22 @@ impl Writer {
                 dtype: "<f4".to_string(),
                 shape,
             });
+            let stats = STATS_OF
+                .iter()
+                .zip(&open.moments)
+                .map(|(&k, moments)| {
+                    let array = &arrays[k];
+                    moments.stats(&array.name, array.shape[1..].iter().product())
+                })
+                .collect();
             groups.push(Group {
+                skeleton: format!("{name}/skeleton.bvh"),
                 name,
                 topology: open.topology,
                 clips: open.starts.len(),
                 frames: open.frames,
                 arrays,
+                stats,
             });
         }
         let summary = Summary {
@@ -412,6 +591,7 @@ impl Writer {
             format: FORMAT.to_string(),
             bvhview: env!("CARGO_PKG_VERSION").to_string(),
             options: Settings::of(&self.options),
+            takes: self.takes.clone(),
             groups,
             clips: std::mem::take(&mut self.clips),
             skipped: std::mem::take(&mut self.skipped),
@@ -449,6 +629,22 @@ impl Drop for Writer {
     }
 }
 
+/// A skeleton as `skeleton.bvh`: one frame, its rest pose (position channels hold the OFFSET's
+/// components, rotations 0), so that any BVH reader shows the skeleton the arrays are of.
+pub fn skeleton_bvh(skeleton: &crate::Skeleton) -> Result<String, Error> {
+    let mut rest = Vec::with_capacity(skeleton.channel_count());
+    for joint in &skeleton.joints {
+        for channel in &joint.channels {
+            rest.push(match channel.is_position() {
+                true => joint.offset[channel.axis()],
+                false => 0.0,
+            });
+        }
+    }
+    let motion = crate::Motion::new(1.0 / 30.0, rest.len(), 1, rest);
+    crate::bvh::writer::to_string(skeleton, &motion)
+}
+
 /// Everything written into `folder` reaches the disk before the folder takes its name: one
 /// `syncfs` of its file system, rather than an fsync of each of its files (six per group).
 fn sync_file_system(folder: &Path) -> io::Result<()> {
@@ -461,40 +657,9 @@ fn sync_file_system(folder: &Path) -> io::Result<()> {
     }
 }
 
-/// Reads a dataset's manifest.
+/// Reads a dataset's manifest, checked with every file of the dataset ([`super::read::open`]).
 pub fn read_manifest(dataset: &Path) -> Result<Manifest, Error> {
-    let path = dataset.join("manifest.json");
-    let text = std::fs::read_to_string(&path).map_err(|e| Error::io(&path, e))?;
-    let manifest: Manifest = serde_json::from_str(&text).map_err(|e| Error::Parse {
-        path: path.display().to_string(),
-        line: e.line(),
-        column: e.column(),
-        message: e.to_string(),
-    })?;
-    if manifest.format != FORMAT {
-        return Err(Error::Usage(format!(
-            "{}: format {:?}; this bvhview reads {FORMAT:?}",
-            path.display(),
-            manifest.format
-        )));
-    }
-    Ok(manifest)
-}
-
-/// The data of one of our `.npy` files, past its header.
-fn read_npy(path: &Path) -> Result<Vec<u8>, Error> {
-    let mut bytes = Vec::new();
-    File::open(path)
-        .and_then(|mut f| f.read_to_end(&mut bytes))
-        .map_err(|e| Error::io(path, e))?;
-    let header = bytes
-        .get(8..10)
-        .filter(|_| bytes.starts_with(b"\x93NUMPY"))
-        .map(|b| 10 + u16::from_le_bytes([b[0], b[1]]) as usize)
-        .filter(|&n| n <= bytes.len())
-        .ok_or_else(|| Error::Usage(format!("{}: not a .npy file", path.display())))?;
-    bytes.drain(..header);
-    Ok(bytes)
+    Ok(super::read::open(dataset)?.manifest)
 }
 
 fn floats(bytes: &[u8]) -> Vec<f32> {
@@ -504,32 +669,146 @@ fn floats(bytes: &[u8]) -> Vec<f32> {
         .collect()
 }
 
-/// Merges datasets compiled from consecutive pieces of one folder's takes (in path order) into
-/// `out`: the dataset one compile of all of them would have written, byte for byte.
-pub fn merge(pieces: &[PathBuf], out: &Path) -> Result<Summary, Error> {
-    let manifests = pieces
+/// How [`merge`] joins its pieces.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Join {
+    /// Pieces of one compile: every take of its list once, the pieces given in order, no gap.
+    /// The result is byte for byte the dataset one compile would have written.
+    #[default]
+    Pieces,
+    /// Datasets of any folders made with the same options: clips one after the other, grouped
+    /// by skeleton topology.
+    Folders,
+}
+
+/// Merges datasets into `out`. With [`Join::Pieces`], they are pieces of one compile
+/// (consecutive runs of one folder's takes in path order); with [`Join::Folders`], any datasets
+/// made with the same options.
+pub fn merge(pieces: &[PathBuf], out: &Path, join: Join) -> Result<Summary, Error> {
+    let datasets = pieces
         .iter()
-        .map(|p| read_manifest(p))
+        .map(|p| super::read::open(p))
         .collect::<Result<Vec<_>, Error>>()?;
-    let Some(first) = manifests.first() else {
+    let Some(first) = datasets.first() else {
         return Err(Error::Usage(
             "nothing to merge: no datasets given".to_string(),
         ));
     };
-    let options = first.options.options()?;
-    for (piece, manifest) in pieces.iter().zip(&manifests) {
-        if manifest.options != first.options {
+    let options = first.manifest.options.options()?;
+    for (piece, dataset) in pieces.iter().zip(&datasets) {
+        if dataset.manifest.options != first.manifest.options {
             return Err(Error::Usage(format!(
-                "{}: made with other options than {}; pieces of one dataset share them",
+                "{}: made with other options than {}; datasets are merged only when they share them",
                 piece.display(),
                 pieces[0].display()
             )));
         }
     }
-    // Pieces are consecutive runs of one folder's takes in path order: every take's path comes
-    // after the one before, across pieces too.
+    let takes = match join {
+        Join::Pieces => pieces_in_order(pieces, &datasets)?,
+        Join::Folders => {
+            let digests: Vec<super::Source> = datasets
+                .iter()
+                .map(|d| super::Source {
+                    path: d.manifest.takes.list.clone(),
+                    motion: None,
+                })
+                .collect();
+            let count = datasets.iter().map(|d| d.manifest.takes.count).sum();
+            Takes {
+                list: list_digest(&digests),
+                listed: count,
+                first: 0,
+                count,
+            }
+        }
+    };
+    let mut writer = Writer::create(out, &options, takes)?;
+    for (piece, dataset) in pieces.iter().zip(datasets) {
+        let manifest = &dataset.manifest;
+        let skeletons = (0..manifest.groups.len())
+            .map(|k| dataset.skeleton_text(k))
+            .collect::<Result<Vec<_>, Error>>()?;
+        let mut clip_in_group = vec![0usize; manifest.groups.len()];
+        for entry in &manifest.clips {
+            let group = &manifest.groups[entry.group];
+            let files = &dataset.groups[entry.group];
+            let rows = entry.start..entry.start + entry.frames;
+            let array = |k: usize| files.arrays[k].read_rows(rows.clone());
+            let index = clip_in_group[entry.group];
+            clip_in_group[entry.group] += 1;
+            let rest = files.arrays[7].read_rows(index..index + 1)?;
+            let clip = Clip {
+                about: entry.about.clone(),
+                topology: group.topology.clone(),
+                frames: entry.frames,
+                rest_offsets: floats(&rest),
+                positions: floats(&array(0)?),
+                rotations: floats(&array(1)?),
+                translations: floats(&array(2)?),
+                root_translations: floats(&array(3)?),
+                velocities: floats(&array(4)?),
+                contacts: array(5)?,
+                skeleton: None,
+            };
+            writer
+                .add_merged(&clip, &skeletons[entry.group])
+                .map_err(|e| Error::Usage(format!("{}: {e}", piece.display())))?;
+        }
+        for skipped in &manifest.skipped {
+            writer.skip(skipped.clone());
+        }
+    }
+    writer.finish()
+}
+
+/// Pieces of one compile, checked: one list of takes, its runs given in order, each take once,
+/// none missing. Their paths must come in path order too (a manifest edited by hand would
+/// otherwise merge into a dataset no compile makes).
+fn pieces_in_order(pieces: &[PathBuf], datasets: &[super::read::Dataset]) -> Result<Takes, Error> {
+    let first = &datasets[0].manifest.takes;
+    let mut next = 0usize;
+    for (piece, dataset) in pieces.iter().zip(datasets) {
+        let takes = &dataset.manifest.takes;
+        if takes.list != first.list || takes.listed != first.listed {
+            return Err(Error::Usage(format!(
+                "{}: a piece of another compile than {} (another folder or list of takes);                  to join datasets of different folders, merge them with join=\"folders\"",
+                piece.display(),
+                pieces[0].display()
+            )));
+        }
+        if takes.first != next {
+            let why = match takes.first > next {
+                true => format!("takes {next} to {} are in no piece given", takes.first),
+                false => format!(
+                    "it starts at take {}, which an earlier piece holds",
+                    takes.first
+                ),
+            };
+            return Err(Error::Usage(format!(
+                "{}: {why}; pieces must be consecutive runs of list_takes, given in order,                  each take in one piece",
+                piece.display()
+            )));
+        }
+        next += takes.count;
+        let held = dataset.manifest.clips.len() + dataset.manifest.skipped.len();
+        if held != takes.count {
+            return Err(Error::Usage(format!(
+                "{}: its manifest lists {held} takes where it says it holds {}",
+                piece.display(),
+                takes.count
+            )));
+        }
+    }
+    if next != first.listed {
+        return Err(Error::Usage(format!(
+            "the pieces hold takes 0 to {next} of {}; the rest of the list is missing",
+            first.listed
+        )));
+    }
     let mut last: Option<(String, &Path)> = None;
-    for (piece, manifest) in pieces.iter().zip(&manifests) {
+    for (piece, dataset) in pieces.iter().zip(datasets) {
+        let manifest = &dataset.manifest;
         let mut paths: Vec<String> = manifest
             .clips
             .iter()
@@ -553,90 +832,12 @@ pub fn merge(pieces: &[PathBuf], out: &Path) -> Result<Summary, Error> {
             last = Some((path, piece));
         }
     }
-    let mut writer = Writer::create(out, &options)?;
-    for (piece, manifest) in pieces.iter().zip(manifests) {
-        let mut data: Vec<Vec<Vec<u8>>> = Vec::new();
-        for (k, group) in manifest.groups.iter().enumerate() {
-            let arrays = group
-                .arrays
-                .iter()
-                .filter(|a| a.name != "offsets")
-                .map(|a| {
-                    // Only the piece's own files, as its writer named them.
-                    let own = a.file.starts_with(&format!("group_{k}/"))
-                        && !a.file.contains("..")
-                        && a.file.matches('/').count() == 1;
-                    if !own {
-                        return Err(Error::Usage(format!(
-                            "{}: the manifest names {:?}, not a file of its own",
-                            piece.display(),
-                            a.file
-                        )));
-                    }
-                    read_npy(&piece.join(&a.file))
-                })
-                .collect::<Result<Vec<_>, Error>>()?;
-            data.push(arrays);
-        }
-        let mut clip_in_group = vec![0usize; manifest.groups.len()];
-        for entry in manifest.clips {
-            let group = manifest.groups.get(entry.group).ok_or_else(|| {
-                Error::Usage(format!(
-                    "{}: a clip names group {}, which is not there",
-                    piece.display(),
-                    entry.group
-                ))
-            })?;
-            let topology = group.topology.clone();
-            let per_frame: Vec<usize> = layout(&topology, options.rotations)
-                .iter()
-                .map(|(_, descr, shape)| {
-                    shape.iter().product::<usize>() * if *descr == "|u1" { 1 } else { 4 }
-                })
-                .collect();
-            let slice = |k: usize| -> Result<&[u8], Error> {
-                let (from, to) = (
-                    entry.start * per_frame[k],
-                    (entry.start + entry.frames) * per_frame[k],
-                );
-                data[entry.group][k].get(from..to).ok_or_else(|| {
-                    Error::Usage(format!(
-                        "{}: {} is shorter than its manifest says",
-                        piece.display(),
-                        group.arrays[k].file
-                    ))
-                })
-            };
-            let points = topology.joints.len();
-            let index = clip_in_group[entry.group];
-            clip_in_group[entry.group] += 1;
-            let rest = data[entry.group][5]
-                .get(index * points * 12..(index + 1) * points * 12)
-                .ok_or_else(|| {
-                    Error::Usage(format!(
-                        "{}: {} is shorter than its manifest says",
-                        piece.display(),
-                        group.arrays[6].file
-                    ))
-                })?;
-            let clip = Clip {
-                about: entry.about,
-                topology,
-                frames: entry.frames,
-                rest_offsets: floats(rest),
-                positions: floats(slice(0)?),
-                rotations: floats(slice(1)?),
-                root_translations: floats(slice(2)?),
-                velocities: floats(slice(3)?),
-                contacts: slice(4)?.to_vec(),
-            };
-            writer.add(&clip)?;
-        }
-        for skipped in manifest.skipped {
-            writer.skip(skipped);
-        }
-    }
-    writer.finish()
+    Ok(Takes {
+        list: first.list.clone(),
+        listed: first.listed,
+        first: 0,
+        count: first.listed,
+    })
 }
 
 #[cfg(test)]

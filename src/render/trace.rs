@@ -33,8 +33,13 @@ struct JointFacts {
     /// The column the article's `pFrame` points at when it turns this joint: 3 past the root's
     /// positions, 3 more for each joint before it whose flags are not 0.
     article_column: usize,
-    /// Whether the article turns it at all (its flags are not 0).
-    article_turns: bool,
+    /// The article's flags for it (`getFlags`), and the axes `roateSpace` turns about for them
+    /// (none unless they are 1, 2, 3, 5, 6 or 7).
+    article_flags: u8,
+    article_axes: Option<[usize; 3]>,
+    /// Whether it is the root, and what the article translates it by there (columns 0 to 2 as
+    /// x, y and z) when that is not what its channels say.
+    root_translation: Option<[f32; 3]>,
     /// Its MOTION columns, and which of them are rotations (in file order).
     columns: std::ops::Range<usize>,
     rotation_columns: Vec<(usize, crate::skeleton::Channel)>,
@@ -42,87 +47,390 @@ struct JointFacts {
     offset: glam::Vec3,
     /// Where its sphere lands, from `pose` (not from the recorded matrices).
     world: glam::Vec3,
+    is_root: bool,
 }
 
-/// Why the article's program cannot load a file, as far as its skeleton shows (its bytes, line
-/// ends and number widths aside): the cases its `loadFile` and `addChild` fail or misread.
-enum ArticleCannot {
-    /// `jointCount == 1`: `loadFile` returns false for a skeleton of one joint.
-    OneJoint,
-    /// More than 16 children: `child[CHILDSIZE]` overflows (the assert checks 24).
-    Children(String, usize),
-    /// Channels other than the root's three positions and three rotations, or another joint's
-    /// three rotations: `pFrame` reads other columns from there on.
-    Channels(String),
-    /// Rotation letters whose flags sum to 0 (`Yrotation Yrotation Xrotation`): the joint is
-    /// taken for an End Site, not turned, and `pFrame` does not move on.
-    Flags(String),
-}
-
-impl ArticleCannot {
-    fn of(skeleton: &crate::skeleton::Skeleton) -> Option<ArticleCannot> {
-        let joints: Vec<_> = skeleton.joints.iter().filter(|j| !j.end_site).collect();
-        if joints.len() == 1 {
-            return Some(ArticleCannot::OneJoint);
-        }
-        if let Some(joint) = skeleton.joints.iter().find(|j| j.children.len() > 16) {
-            return Some(ArticleCannot::Children(
-                joint.name.clone(),
-                joint.children.len(),
-            ));
-        }
-        let layout = |joint: &&crate::skeleton::Joint| {
-            let rotations = joint.channels.iter().filter(|c| c.is_rotation()).count();
-            let positions_first = joint.channels.iter().take(3).all(|c| c.is_position());
-            match joint.parent {
-                None => joint.channels.len() == 6 && positions_first && rotations == 3,
-                Some(_) => joint.channels.len() == 3 && rotations == 3,
-            }
-        };
-        // A joint whose letters make flags 0 does not move pFrame on: everything after reads
-        // another joint's columns.
-        let odd = joints
-            .iter()
-            .find(|j| !layout(j) || article_flags(j) == 0)?;
-        Some(if layout(odd) {
-            ArticleCannot::Flags(odd.name.clone())
-        } else {
-            ArticleCannot::Channels(odd.name.clone())
-        })
-    }
-
-    fn note(&self, language: Language) -> String {
-        match (self, language) {
-            (ArticleCannot::OneJoint, Language::English) => "// note: the article's program cannot load this file (a skeleton of one joint: loadFile returns false when jointCount == 1); the calls below are bvhview's".to_string(),
-            (ArticleCannot::OneJoint, Language::Chinese) => "// 注意：原文的程式無法載入這個檔案（只有一個關節：jointCount == 1 時 loadFile 傳回 false）；以下是 bvhview 的呼叫".to_string(),
-            (ArticleCannot::Children(name, n), Language::English) => format!("// note: the article's program cannot load this file ('{name}' has {n} children; its child array holds 16); the calls below are bvhview's"),
-            (ArticleCannot::Children(name, n), Language::Chinese) => format!("// 注意：原文的程式無法載入這個檔案（'{name}' 有 {n} 個子關節，它的陣列只放得下 16 個）；以下是 bvhview 的呼叫"),
-            (ArticleCannot::Channels(name), Language::English) => format!("// note: the article's program misreads this file (the channels of '{name}' are not the three positions and three rotations of a root, or the three rotations of a joint: from there its pFrame reads other columns); the calls below are bvhview's"),
-            (ArticleCannot::Flags(name), Language::English) => format!("// note: the article's program misreads this file (the rotation letters of '{name}' make its flags 0: it is not turned, and pFrame stays, so every later joint reads other columns); the calls below are bvhview's"),
-            (ArticleCannot::Flags(name), Language::Chinese) => format!("// 注意：原文的程式會讀錯這個檔案（'{name}' 的旋轉字母使 flags 為 0：它不轉，pFrame 也不前進，之後每個關節都讀到別的欄）；以下是 bvhview 的呼叫"),
-            (ArticleCannot::Channels(name), Language::Chinese) => format!("// 注意：原文的程式會讀錯這個檔案（'{name}' 的通道不是根關節的三個位置加三個旋轉，也不是一般關節的三個旋轉：從那裡起它的 pFrame 讀到別的欄）；以下是 bvhview 的呼叫"),
+impl JointFacts {
+    /// What the article's flags make of the joint: the flags `print` shows and the axes
+    /// `roateSpace` turns about for them, in order, or that it turns nothing.
+    fn flags_note(&self, language: Language) -> String {
+        let flags = self.article_flags;
+        let zh = language == Language::Chinese;
+        match (self.article_axes, flags, zh) {
+            (Some(axes), _, false) => format!(
+                "the article's flags {flags} ({}): it turns about {}",
+                axis_letters(axes, false).replace(", ", "").to_lowercase(),
+                axis_letters(axes, false)
+            ),
+            (Some(axes), _, true) => format!(
+                "原文的 flags 是 {flags}（{}）：依序繞 {} 軸旋轉",
+                axis_letters(axes, false).replace(", ", "").to_lowercase(),
+                axis_letters(axes, true)
+            ),
+            (None, 0, false) => "the article's flags 0, an End Site's: it turns nothing here and leaves pFrame where it is".to_string(),
+            (None, 0, true) => "原文的 flags 是 0，和 End Site 一樣：這裡不旋轉，pFrame 也不前進".to_string(),
+            (None, _, false) => format!("the article's flags {flags}: roateSpace has no case {flags}, so it turns nothing here, and pFrame still moves on by 3"),
+            (None, _, true) => format!("原文的 flags 是 {flags}：roateSpace 沒有 case {flags}，這裡不旋轉，pFrame 仍前進 3"),
         }
     }
 }
 
-/// C++: `BVH::getFlags`: the article's code for a joint's rotation order, from the letters of
-/// its (root: last; others: first) three channels, X = 1, Y = 2, Z = 3, weighted 1, 2 and 4,
-/// less 10: `ZYX` is 1 … `XYZ` is 7, and a repeated letter can make 0 (`Y Y X`), which the
-/// article takes for an End Site. End Sites have no CHANNELS line: 0.
-fn article_flags(joint: &crate::skeleton::Joint) -> i32 {
+/// C++: `BVH::getFlags`, from a joint's channels as if its CHANNELS line were laid out as the
+/// article needs: the letters of the three channels from the first rotation on (the root: the
+/// article scans to the first `r`) or of the first three (any other joint). End Sites, and joints
+/// with fewer than three channels, get 0.
+fn channel_flags(joint: &crate::skeleton::Joint) -> u8 {
     if joint.end_site || joint.channels.len() < 3 {
         return 0;
     }
-    let letters = match joint.parent {
-        None => &joint.channels[joint.channels.len() - 3..],
-        Some(_) => &joint.channels[..3],
+    let first = match joint.parent {
+        None => joint
+            .channels
+            .iter()
+            .position(|c| c.is_rotation())
+            .unwrap_or(0),
+        Some(_) => 0,
     };
-    letters
-        .iter()
-        .zip([1, 2, 4])
-        .map(|(channel, weight)| (channel.axis() as i32 + 1) * weight)
-        .sum::<i32>()
-        - 10
+    let letters = &joint.channels[first..];
+    if letters.len() < 3 {
+        return 0;
+    }
+    crate::bvh::article::get_flags([0, 1, 2].map(|i| b"XYZ"[letters[i].axis()]))
+}
+
+/// The axis names, in order.
+fn axis_letters(axes: impl IntoIterator<Item = usize>, zh: bool) -> String {
+    let letters: Vec<&str> = axes.into_iter().map(|a| ["X", "Y", "Z"][a]).collect();
+    letters.join(if zh { "、" } else { ", " })
+}
+
+/// A number of a note: as `{}` writes an `f32` (`30`, `-3`, `0.033333`).
+fn plain(values: &[f32]) -> String {
+    let values: Vec<String> = values.iter().map(|v| v.to_string()).collect();
+    format!("({})", values.join(", "))
+}
+
+/// The first line of `--explain`: what the article's program does with the file as a whole, in
+/// one of four words (`reads it as written`, `misreads it`, `rejects it`, `crashes on it`;
+/// `如實讀入`, `讀錯`, `拒絕`, `當掉`), and why.
+pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) -> String {
+    use crate::bvh::article::{Crash, Misread, Rejection, Step, Verdict};
+    let zh = language == Language::Chinese;
+    let at = |place: &crate::bvh::article::Place| {
+        if zh {
+            format!("第 {} 行第 {} 欄", place.line, place.column)
+        } else {
+            format!("line {}, column {}", place.line, place.column)
+        }
+    };
+    let why = match verdict {
+        Verdict::ReadsAsWritten => {
+            if zh {
+                "如實讀入：print 與每個影格的 draw 都和檔案所寫的相同（關節、名字、OFFSET、平移與旋轉）"
+                    .to_string()
+            } else {
+                "reads it as written: print and the draw of every frame are what the file says (joints, names, OFFSETs, translations, rotations)".to_string()
+            }
+        }
+        Verdict::Rejects(rejection) => {
+            let reason = match (rejection, zh) {
+                (Rejection::NotHierarchy, false) => {
+                    "its first nine bytes are not HIERARCHY".to_string()
+                }
+                (Rejection::NotHierarchy, true) => "檔案的前九個位元組不是 HIERARCHY".to_string(),
+                (Rejection::FormatError { byte, at: place }, _) => {
+                    let shown = match byte {
+                        0x21..=0x7E => (*byte as char).to_string(),
+                        _ => format!("\\x{byte:02X}"),
+                    };
+                    let printed = format!("_{shown}_ _{byte}_ file format error!!");
+                    if zh {
+                        format!(
+                            "{}的位元組在分派的 switch 裡沒有對應的 case，它印出 {printed}",
+                            at(place)
+                        )
+                    } else {
+                        format!(
+                            "at {} its dispatcher meets a byte it has no case for and prints {printed}",
+                            at(place)
+                        )
+                    }
+                }
+                (Rejection::Nul { at: place }, false) => format!(
+                    "at {} its dispatcher meets a 0 byte, which it takes for the end of its buffer",
+                    at(place)
+                ),
+                (Rejection::Nul { at: place }, true) => {
+                    format!("{}是一個 0 位元組，它當成緩衝區的結尾", at(place))
+                }
+                (Rejection::OneJoint, false) => {
+                    "a skeleton of one joint and no frames (jointCount == 1)".to_string()
+                }
+                (Rejection::OneJoint, true) => {
+                    "只有一個關節、沒有影格（jointCount == 1）".to_string()
+                }
+            };
+            if zh {
+                format!(
+                    "拒絕：{reason}；loadFile 傳回 0（init 接著照樣 print，空的根關節讓它當掉）"
+                )
+            } else {
+                format!(
+                    "rejects it: {reason}; loadFile returns 0 (init then prints the null root anyway, which crashes)"
+                )
+            }
+        }
+        Verdict::Crashes(crash) => {
+            let step = |step: &Step| match (step, zh) {
+                (Step::Header, false) => "the check of the header".to_string(),
+                (Step::Header, true) => "檢查檔頭的迴圈".to_string(),
+                (Step::RootName, false) => "newNode, for the root's name".to_string(),
+                (Step::RootName, true) => "讀根關節名字的 newNode".to_string(),
+                (Step::RootOffset, false) => "the reading of the root's OFFSET".to_string(),
+                (Step::RootOffset, true) => "讀根關節 OFFSET 的步驟".to_string(),
+                (Step::RootChannels, false) => {
+                    "the scan for the root's first r (its rotation channels)".to_string()
+                }
+                (Step::RootChannels, true) => "找根關節第一個 r（旋轉通道）的掃描".to_string(),
+                (Step::Hierarchy, false) => "the loop over the hierarchy".to_string(),
+                (Step::Hierarchy, true) => "讀層級結構的迴圈".to_string(),
+                (Step::Frames, false) => "the scan for the F of Frames".to_string(),
+                (Step::Frames, true) => "找 Frames 的 F 的掃描".to_string(),
+                (Step::FrameTime, false) => "the scan for the F of Frame Time".to_string(),
+                (Step::FrameTime, true) => "找 Frame Time 的 F 的掃描".to_string(),
+                (Step::Rows(frame), false) => format!("the row loop, in frame {frame},"),
+                (Step::Rows(frame), true) => format!("讀資料列的迴圈在第 {frame} 個影格"),
+            };
+            let reason = match (crash, zh) {
+                (Crash::FileLength { length }, false) => format!(
+                    "the file is {length} bytes long, which int iFileSize holds as {}: new unsigned char[iFileSize] throws std::bad_alloc, and the program aborts",
+                    *length as u32 as i32
+                ),
+                (Crash::FileLength { length }, true) => format!(
+                    "檔案長 {length} 個位元組，int iFileSize 存成 {}：new unsigned char[iFileSize] 丟出 std::bad_alloc，程式中止",
+                    *length as u32 as i32
+                ),
+                (Crash::ReadPast { step: s, at: place }, false) => format!(
+                    "{} reads past the end of its buffer ({}, the end of the file)",
+                    step(s),
+                    at(place)
+                ),
+                (Crash::ReadPast { step: s, at: place }, true) => {
+                    format!("{}讀過了緩衝區的結尾（{}，檔案的結尾）", step(s), at(place))
+                }
+                (Crash::SeventeenthChild { parent }, false) => format!(
+                    "'{parent}' gets a 17th child: child[16] lands on childNum (the assert compares with 24, not 16), and print and draw go astray"
+                ),
+                (Crash::SeventeenthChild { parent }, true) => format!(
+                    "'{parent}' 有第 17 個子關節：child[16] 寫到 childNum 上（assert 比的是 24 而不是 16），print 和 draw 從此出錯"
+                ),
+                (Crash::UnsetRows { frames }, false) => format!(
+                    "a skeleton of one joint (jointCount == 1): loadFile calls clear(), which deletes {frames} row pointers it never set"
+                ),
+                (Crash::UnsetRows { frames }, true) => format!(
+                    "只有一個關節（jointCount == 1）：loadFile 呼叫 clear()，它 delete 了 {frames} 個從未設定的資料列指標"
+                ),
+                (Crash::Allocation { frames }, false) => format!(
+                    "(unsigned)atoi makes Frames: {frames}, and new float*[{frames}] asks for {} bytes before it reads a row: std::bad_alloc, abort",
+                    u64::from(*frames) * 8
+                ),
+                (Crash::Allocation { frames }, true) => format!(
+                    "(unsigned)atoi 把 Frames: 讀成 {frames}，new float*[{frames}] 在讀任何一列之前就要 {} 個位元組：std::bad_alloc，程式中止",
+                    u64::from(*frames) * 8
+                ),
+                (Crash::NoFrames, false) => {
+                    "loadFile returns 1 with frameCount 0, and draw reads row 0 of an empty array"
+                        .to_string()
+                }
+                (Crash::NoFrames, true) => {
+                    "loadFile 傳回 1，但 frameCount 是 0，draw 讀了空陣列的第 0 列".to_string()
+                }
+                (
+                    Crash::RowTooShort {
+                        joint,
+                        column,
+                        width,
+                    },
+                    false,
+                ) => format!(
+                    "draw's pFrame reads column [{column}] for '{joint}', past the end of a row of {width} values (jointCount * 3 + 3)"
+                ),
+                (
+                    Crash::RowTooShort {
+                        joint,
+                        column,
+                        width,
+                    },
+                    true,
+                ) => format!(
+                    "draw 的 pFrame 為 '{joint}' 讀第 [{column}] 欄，超過一列 {width} 個值（jointCount * 3 + 3）的結尾"
+                ),
+            };
+            if zh {
+                format!("當掉：{reason}")
+            } else {
+                format!("crashes on it: {reason}")
+            }
+        }
+        Verdict::Misreads(misread) => {
+            let reason = match (misread, zh) {
+                (Misread::Cut { read, length }, false) => format!(
+                    "it reads only the first {read} of the file's {length} bytes: int iFileSize keeps the length modulo 4 GiB"
+                ),
+                (Misread::Cut { read, length }, true) => format!(
+                    "檔案有 {length} 個位元組，它只讀前 {read} 個：int iFileSize 只留下長度除以 4 GiB 的餘數"
+                ),
+                (Misread::Garbage(words), _) => {
+                    let each: Vec<String> = words
+                        .iter()
+                        .map(|(word, value, place)| {
+                            if zh {
+                                format!("{}的 '{word}' 讀成 {value}", at(place))
+                            } else {
+                                format!("'{word}' ({}) as {value}", at(place))
+                            }
+                        })
+                        .collect();
+                    if zh {
+                        format!("atof 把不是數字的字讀成數字，不發一語：{}", each.join("，"))
+                    } else {
+                        format!(
+                            "atof reads words that are not numbers, without a word: {}",
+                            each.join(", ")
+                        )
+                    }
+                }
+                (Misread::Joints { article, file }, false) => format!(
+                    "its tree holds {article} joints and End Sites where the file has {file}"
+                ),
+                (Misread::Joints { article, file }, true) => {
+                    format!("它的樹只有 {article} 個關節與 End Site，檔案裡有 {file} 個")
+                }
+                (Misread::Name { file, article }, false) => {
+                    format!("it keeps the name '{file}' as '{article}'")
+                }
+                (Misread::Name { file, article }, true) => {
+                    format!("名字 '{file}' 被存成 '{article}'")
+                }
+                (
+                    Misread::Offset {
+                        joint,
+                        article,
+                        file,
+                    },
+                    false,
+                ) => format!(
+                    "it reads the OFFSET of '{joint}' as {} where the file says {}",
+                    plain(article),
+                    plain(file)
+                ),
+                (
+                    Misread::Offset {
+                        joint,
+                        article,
+                        file,
+                    },
+                    true,
+                ) => format!(
+                    "'{joint}' 的 OFFSET 讀成 {}，檔案寫的是 {}",
+                    plain(article),
+                    plain(file)
+                ),
+                (Misread::Frames { article, file }, false) => {
+                    format!("its frameCount is {article} where the file has {file} frames")
+                }
+                (Misread::Frames { article, file }, true) => {
+                    format!("它的 frameCount 是 {article}，檔案有 {file} 個影格")
+                }
+                (
+                    Misread::Translation {
+                        joint,
+                        frame,
+                        article,
+                        file,
+                    },
+                    false,
+                ) => format!(
+                    "in frame {frame} it translates '{joint}' by {} where the file means {}",
+                    plain(article),
+                    plain(file)
+                ),
+                (
+                    Misread::Translation {
+                        joint,
+                        frame,
+                        article,
+                        file,
+                    },
+                    true,
+                ) => format!(
+                    "第 {frame} 個影格把 '{joint}' 平移 {}，檔案的意思是 {}",
+                    plain(article),
+                    plain(file)
+                ),
+                (
+                    Misread::Rotations {
+                        joint,
+                        frame,
+                        article,
+                        file,
+                    },
+                    _,
+                ) => {
+                    let axes = |turns: &[(usize, f32)]| axis_letters(turns.iter().map(|t| t.0), zh);
+                    let values = |turns: &[(usize, f32)]| {
+                        plain(&turns.iter().map(|t| t.1).collect::<Vec<_>>())
+                    };
+                    let same_axes = axes(article) == axes(file);
+                    match (same_axes, article.is_empty(), zh) {
+                        (false, true, false) => format!(
+                            "it does not turn '{joint}' at all, where the file turns it about {}",
+                            axes(file)
+                        ),
+                        (false, true, true) => {
+                            format!("它完全不轉 '{joint}'，檔案要它依序繞 {} 軸旋轉", axes(file))
+                        }
+                        (false, false, false) => format!(
+                            "it turns '{joint}' about {} where the file says {}",
+                            axes(article),
+                            axes(file)
+                        ),
+                        (false, false, true) => format!(
+                            "它讓 '{joint}' 依序繞 {} 軸旋轉，檔案寫的是 {}",
+                            axes(article),
+                            axes(file)
+                        ),
+                        (true, _, false) => format!(
+                            "in frame {frame} it turns '{joint}' by {} about {} where the file says {}",
+                            values(article),
+                            axes(article),
+                            values(file)
+                        ),
+                        (true, _, true) => format!(
+                            "第 {frame} 個影格讓 '{joint}' 繞 {} 軸轉 {}，檔案寫的是 {}",
+                            axes(article),
+                            values(article),
+                            values(file)
+                        ),
+                    }
+                }
+                (Misread::Refused, false) => {
+                    "it loads this file, which bvhview refuses (below)".to_string()
+                }
+                (Misread::Refused, true) => "它載入了 bvhview 拒絕的這個檔案（見下）".to_string(),
+            };
+            if zh {
+                format!("讀錯：{reason}")
+            } else {
+                format!("misreads it: {reason}")
+            }
+        }
+    };
+    if zh {
+        format!("// 原文的程式對這個檔案：{why}")
+    } else {
+        format!("// what the article's program does with this file: {why}")
+    }
 }
 
 /// A joint as `info` counts it.
@@ -136,8 +444,6 @@ struct Explain {
     language: Language,
     mode: crate::pose::OffsetMode,
     joints: Vec<JointFacts>,
-    /// Why the article's program cannot load the file, said once before the first joint.
-    article_cannot: Option<ArticleCannot>,
     /// The joints whose calls are under way, innermost last, with the rotations and the axis
     /// matrices (C, then C⁻¹) issued so far.
     open: Vec<(usize, usize, usize)>,
@@ -168,8 +474,10 @@ impl Recorder {
     }
 
     /// A recorder that also explains the draw of `skeleton` at `frame` (`None`: the rest pose):
-    /// each call indented by the depth of the matrix stack, and a note on what it does, which
-    /// joint it belongs to, the MOTION columns it reads (as the article's `pFrame[i]`) and where
+    /// first what the article's program does with the file as a whole (`article`, from
+    /// [`crate::bvh::article::run_file`]), then each call indented by the depth of the matrix
+    /// stack, with a note on what it does, which joint it belongs to, the MOTION columns it reads
+    /// (as the article's `pFrame[i]`), what the article's flags make of the joint, and where
     /// each sphere lands in the world.
     pub fn explaining(
         numbers: Numbers,
@@ -177,8 +485,24 @@ impl Recorder {
         frame: Option<&[f32]>,
         mode: crate::pose::OffsetMode,
         language: Language,
+        article: Option<&crate::bvh::article::Outcome>,
     ) -> Recorder {
         let world = crate::pose::world_positions(skeleton, frame.unwrap_or(&[]), mode);
+        // The article's flags: from its own tree where it loaded one joint for joint like
+        // bvhview's, else from the channels as if the file were laid out as the article needs.
+        let loaded = article
+            .and_then(|outcome| outcome.joints.as_ref())
+            .filter(|joints| {
+                joints.len() == skeleton.joints.len()
+                    && joints
+                        .iter()
+                        .zip(&skeleton.joints)
+                        .all(|(a, j)| (a.depth == 0) == j.parent.is_none())
+            });
+        let flags: Vec<u8> = match loaded {
+            Some(joints) => joints.iter().map(|j| j.flags).collect(),
+            None => skeleton.joints.iter().map(channel_flags).collect(),
+        };
         // Pre-order: a joint's number and the article's `pFrame` follow the joints before it.
         let mut joints_before = 0;
         let mut turned_before = 0;
@@ -186,10 +510,11 @@ impl Recorder {
             .joints
             .iter()
             .zip(world)
-            .map(|(joint, world)| {
+            .zip(flags)
+            .map(|((joint, world), article_flags)| {
                 // The article's pFrame moves on by 3 after a joint only when its flags are not 0.
                 let article_column = 3 + 3 * turned_before;
-                if article_flags(joint) != 0 {
+                if article_flags != 0 {
                     turned_before += 1;
                 }
                 let label = if joint.end_site {
@@ -210,29 +535,58 @@ impl Recorder {
                         .map(|(i, &c)| (joint.first_channel + i, c))
                         .collect()
                 };
+                // The article's root goes to columns 0, 1 and 2 as x, y and z: said where the
+                // root's first three channels are not Xposition, Yposition, Zposition.
+                let xyz_first = joint
+                    .channels
+                    .iter()
+                    .take(3)
+                    .map(|c| c.is_position().then_some(c.axis()))
+                    .eq([Some(0), Some(1), Some(2)]);
+                let root_translation = match frame {
+                    Some(row) if joint.parent.is_none() && !xyz_first && row.len() >= 3 => {
+                        Some([row[0], row[1], row[2]])
+                    }
+                    _ => None,
+                };
                 JointFacts {
                     name: joint.name.clone(),
                     label,
                     article_column,
-                    article_turns: article_flags(joint) != 0,
+                    article_flags,
+                    article_axes: crate::bvh::article::axes_turned(article_flags),
+                    root_translation,
                     columns: joint.first_channel..joint.first_channel + joint.channels.len(),
                     rotation_columns: columns_of(true),
                     position_columns: columns_of(false),
                     offset: joint.offset,
                     world,
+                    is_root: joint.parent.is_none(),
                 }
             })
             .collect();
-        Recorder {
+        let mut recorder = Recorder {
             explain: Some(Explain {
                 language,
                 mode,
                 joints,
-                article_cannot: ArticleCannot::of(skeleton),
                 open: Vec::new(),
             }),
             ..Recorder::new(numbers)
+        };
+        if let Some(outcome) = article {
+            recorder
+                .lines
+                .push(verdict_line(&outcome.verdict, language));
+            // It never drew: what the notes say of it is what its draw would do.
+            if outcome.joints.is_none() {
+                recorder.lines.push(match language {
+                    Language::English => "// the article's program stops before it draws: the notes below say what its draw would make of each joint's channels".to_string(),
+                    Language::Chinese => "// 原文的程式在 draw 之前就停了：以下的註解說明它的 draw 會怎麼處理每個關節的通道".to_string(),
+                });
+            }
         }
+        recorder
     }
 
     /// All lines, each ending in a newline.
@@ -330,43 +684,85 @@ impl Recorder {
                     .collect();
                 let add = explain.mode == crate::pose::OffsetMode::Add;
                 let replaced = replaced.join(", ");
-                match (replaced.is_empty(), add, zh) {
-                    (true, _, true) => format!("OFFSET {offset}"),
-                    (true, _, false) => format!("OFFSET {offset}"),
+                let ours = match (replaced.is_empty(), add, zh) {
+                    (true, _, _) => format!("OFFSET {offset}"),
                     (false, false, true) => {
                         format!("OFFSET {offset}，位置通道取代其分量：{replaced}")
                     }
                     (false, true, true) => format!("OFFSET {offset}，加上位置通道：{replaced}"),
                     (false, false, false) => format!("OFFSET {offset}, replaced by {replaced}"),
                     (false, true, false) => format!("OFFSET {offset} plus {replaced}"),
+                };
+                // What the article translates by, where it is not that.
+                let article = match (joint.root_translation, zh) {
+                    (Some(row), true) => Some(format!(
+                        "原文把第 [0]、[1]、[2] 欄當作 x、y、z 平移：{}",
+                        plain(&row)
+                    )),
+                    (Some(row), false) => Some(format!(
+                        "the article translates by columns [0], [1], [2] as x, y, z: {}",
+                        plain(&row)
+                    )),
+                    (None, _) if joint.is_root || replaced.is_empty() => None,
+                    (None, true) => Some("原文只用 OFFSET 平移".to_string()),
+                    (None, false) => Some("the article translates by the OFFSET alone".to_string()),
+                };
+                match (article, zh) {
+                    (Some(article), true) => format!("{ours}；{article}"),
+                    (Some(article), false) => format!("{ours}; {article}"),
+                    (None, _) => ours,
                 }
             }
             "glRotatef" => {
                 let (column, channel) = *joint.rotation_columns.get(rotations_done)?;
                 let article = joint.article_column + rotations_done;
-                let turns = joint.article_turns;
+                let (flags, axes) = (joint.article_flags, joint.article_axes);
                 let last = explain.open.len() - 1;
                 self.explain.as_mut()?.open[last].1 += 1;
                 let i = rotations_done;
-                if !turns {
+                let Some(axes) = axes else {
                     return Some(if zh {
-                        format!("{channel}：第 [{column}] 欄；原文不轉這個關節（它的 flags 是 0）")
+                        format!(
+                            "{channel}：第 [{column}] 欄；原文不轉這個關節（它的 flags 是 {flags}）"
+                        )
                     } else {
                         format!(
-                            "{channel}: column [{column}]; the article does not turn this joint (its flags are 0)"
+                            "{channel}: column [{column}]; the article does not turn this joint (its flags are {flags})"
                         )
                     });
-                }
-                match (article == column, zh) {
-                    (true, true) => format!("{channel}：第 [{column}] 欄，即 pFrame[{i}]"),
-                    (true, false) => {
+                };
+                let Some(&axis) = axes.get(i) else {
+                    return Some(if zh {
+                        format!("{channel}：第 [{column}] 欄；原文只轉這個關節三次")
+                    } else {
+                        format!(
+                            "{channel}: column [{column}]; the article turns this joint three times only"
+                        )
+                    });
+                };
+                let letter = ["X", "Y", "Z"][axis];
+                match (axis == channel.axis(), article == column, zh) {
+                    (true, true, true) => format!("{channel}：第 [{column}] 欄，即 pFrame[{i}]"),
+                    (true, true, false) => {
                         format!("{channel}: column [{column}], the article's pFrame[{i}]")
                     }
-                    (false, true) => format!(
+                    (true, false, true) => format!(
                         "{channel}：第 [{column}] 欄；原文的 pFrame[{i}] 卻是第 [{article}] 欄，另一個通道的值"
                     ),
-                    (false, false) => format!(
+                    (true, false, false) => format!(
                         "{channel}: column [{column}]; the article's pFrame[{i}] is column [{article}], another channel's value"
+                    ),
+                    (false, true, true) => format!(
+                        "{channel}：第 [{column}] 欄；原文在這裡繞 {letter} 軸旋轉，用的是同一個 pFrame[{i}]"
+                    ),
+                    (false, true, false) => format!(
+                        "{channel}: column [{column}]; the article turns about {letter} here, by the same pFrame[{i}]"
+                    ),
+                    (false, false, true) => format!(
+                        "{channel}：第 [{column}] 欄；原文在這裡繞 {letter} 軸旋轉，用的是 pFrame[{i}]，即第 [{article}] 欄"
+                    ),
+                    (false, false, false) => format!(
+                        "{channel}: column [{column}]; the article turns about {letter} here, by pFrame[{i}], column [{article}]"
                     ),
                 }
             }
@@ -629,11 +1025,6 @@ impl FixedFunction for Recorder {
             Note::Joint(index) => {
                 explain.open.push((index, 0, 0));
                 let depth = self.modelview.len() - 1;
-                // Said once, before the first joint.
-                if let Some(cannot) = explain.article_cannot.take() {
-                    let line = cannot.note(explain.language);
-                    self.lines.push(format!("{}{line}", "    ".repeat(depth)));
-                }
                 let joint = &explain.joints[index];
                 let columns = if joint.columns.is_empty() {
                     match explain.language {
@@ -652,12 +1043,13 @@ impl FixedFunction for Recorder {
                         Language::English => format!("MOTION columns {range}"),
                     }
                 };
+                let flags = joint.flags_note(explain.language);
                 let header = match (&joint.label, explain.language) {
                     (Label::Joint(n), Language::Chinese) => {
-                        format!("// 關節 {n} {}：{columns}", joint.name)
+                        format!("// 關節 {n} {}：{columns}；{flags}", joint.name)
                     }
                     (Label::Joint(n), Language::English) => {
-                        format!("// joint {n}, {}: {columns}", joint.name)
+                        format!("// joint {n}, {}: {columns}; {flags}", joint.name)
                     }
                     (Label::EndSiteOf(parent), Language::Chinese) => {
                         format!("// {parent} 的 End Site：{columns}")

@@ -362,6 +362,9 @@ pub struct RowParser {
     extra: Option<(usize, usize)>,
     /// Line ends seen, for a skeleton without channels.
     line_ends: u64,
+    /// The text fed last ended inside a line past the rows that is already counted in `extra`
+    /// (past the rows, text is fed without waiting for whole lines).
+    in_extra_line: bool,
     threads: usize,
     /// Bytes read at a time: a megabyte, less for a small input (so that it is still split).
     chunk: usize,
@@ -404,6 +407,7 @@ impl RowParser {
             column: start_column,
             extra: None,
             line_ends: 0,
+            in_extra_line: false,
             threads,
             chunk: (room / 8)
                 .clamp(SMALLEST_CHUNK as u64, CHUNK as u64)
@@ -413,25 +417,38 @@ impl RowParser {
         }
     }
 
-    /// Counts the non-blank lines of `chunk` from `from` on as ignored rows.
-    fn count_extra(&mut self, chunk: &[u8], from: usize) {
+    /// Counts the rows beyond `Frames:` in `chunk` from `from` on: the lines that are not blank.
+    /// A NUL byte among them is an error. `chunk` may end inside a line (past the rows nothing
+    /// waits for a whole line), but not between the CR and the LF of a CR LF.
+    fn count_extra(&mut self, chunk: &[u8], from: usize) -> Result<(), Error> {
         let mut line = self.line + count_lines(&chunk[..from]).0;
         let mut p = from;
+        // The rest of a line counted in the text fed before.
+        let mut counted = std::mem::take(&mut self.in_extra_line) && from == 0;
         while p < chunk.len() {
             let b = chunk[p];
             if b == b'\n' || (b == b'\r' && chunk.get(p + 1) != Some(&b'\n')) {
                 line += 1;
                 p += 1;
+                counted = false;
             } else if is_blank(b) || b == b'\r' {
                 p += 1;
             } else {
-                let entry = self.extra.get_or_insert((line, 0));
-                entry.1 += 1;
+                if !counted {
+                    self.extra.get_or_insert((line, 0)).1 += 1;
+                    counted = true;
+                }
                 while p < chunk.len() && !is_line_end(chunk[p]) {
+                    if chunk[p] == 0 {
+                        let at = advance((self.line, self.column), count_lines(&chunk[..p]));
+                        return Err(nul_after_the_rows(&self.source, at));
+                    }
                     p += 1;
                 }
             }
         }
+        self.in_extra_line = counted;
+        Ok(())
     }
 
     /// Parses on at most `threads` threads (the default is every core).
@@ -440,7 +457,14 @@ impl RowParser {
         self
     }
 
-    /// Parses one chunk that ends at a line end (or at the end of the input).
+    /// Whether every row has been read (or there are no values to read): what comes next is
+    /// only counted.
+    fn past_the_rows(&self) -> bool {
+        self.width == 0 || self.rows >= self.frames
+    }
+
+    /// Parses one chunk that ends at a line end (or at the end of the input; past the rows, it may
+    /// end anywhere but between the CR and the LF of a CR LF).
     pub fn feed(&mut self, chunk: &[u8]) -> Result<(), Error> {
         // Nothing to parse (a file that ends right after `Frame Time:`): no parts to split into.
         if chunk.is_empty() {
@@ -450,7 +474,7 @@ impl RowParser {
         if self.width == 0 {
             self.line_ends += lines.0 as u64;
         } else if self.rows >= self.frames {
-            self.count_extra(chunk, 0);
+            self.count_extra(chunk, 0)?;
         } else {
             self.feed_rows(chunk)?;
         }
@@ -470,7 +494,7 @@ impl RowParser {
             return Err(located.into_error(&self.source, self.width, first_row as usize));
         }
         if part.rows == needed {
-            self.count_extra(chunk, part.end);
+            self.count_extra(chunk, part.end)?;
         }
         Ok(())
     }
@@ -673,6 +697,15 @@ impl RowParser {
                     filled -= cut;
                     wanted = self.chunk.min(buffer.len()).max(1);
                 }
+                // Past the rows, nothing waits for a whole line: what was read is counted now
+                // (all but a last CR, whose LF may come next), and the buffer does not grow.
+                None if self.past_the_rows() && filled > 1 => {
+                    let cut = filled - usize::from(buffer[filled - 1] == b'\r');
+                    self.feed(&buffer[..cut])?;
+                    buffer.copy_within(cut..filled, 0);
+                    filled -= cut;
+                    wanted = self.chunk.min(buffer.len()).max(2);
+                }
                 // A line longer than what was read: make room and read on.
                 None => {
                     buffer.resize(buffer.len() * 2, 0);
@@ -719,6 +752,11 @@ impl Ending {
         if self.rows >= frames {
             return Ok(());
         }
+        Err(self.error(source, frames, frames_line, width))
+    }
+
+    /// The error of a text that ends after `self.rows` rows, fewer than `frames`.
+    fn error(&self, source: &str, frames: u64, frames_line: usize, width: usize) -> Error {
         let message = if width == 0 {
             format!(
                 "Frames: {frames} (line {frames_line}) but only {} {}",
@@ -732,12 +770,12 @@ impl Ending {
                 self.rows
             )
         };
-        Err(Error::Parse {
+        Error::Parse {
             path: source.to_string(),
             line: self.at.0,
             column: self.at.1,
             message,
-        })
+        }
     }
 
     /// The warning about rows beyond `Frames:`, if any.
@@ -751,6 +789,19 @@ impl Ending {
             })
             .into_iter()
             .collect()
+    }
+}
+
+/// A NUL byte after the last row, at `(line, column)`: no text file holds one, and zeros there
+/// are what a file cut short, or one longer than what was written into it, holds. Both readers
+/// stop there, rather than count the rest of the file as rows to ignore.
+fn nul_after_the_rows(source: &str, (line, column): (usize, usize)) -> Error {
+    Error::Parse {
+        path: source.to_string(),
+        line,
+        column,
+        message: "found a NUL byte after the last frame: from here on the file is not text"
+            .to_string(),
     }
 }
 

@@ -1,0 +1,945 @@
+//! The article's program, run on a file's bytes: what its `loadFile`, `print` and `draw` do with
+//! the file, as a whole, in one of four words (`bvhview trace --explain` says it first).
+//!
+//! C++: `BVH::loadFile` and the functions it calls (`newNode`, `getFlags`, `processJoint`,
+//! `processOffset`, `processChannels`, `processEnd`, the braces), then `BVH::print` and
+//! `BVH::draw`, step by step as the article wrote them: its fixed strides (`p += 7`, `p += 5`,
+//! `p += 8`, `p += 30`, `p += 2`), its scans (`while(*p != 'F') p++`), `atof` and `atoi`, its
+//! 16-child array and 24-byte names. Nothing here is bvhview's loader: this module repeats the
+//! article's mistakes on purpose, to say what they do to a given file.
+//!
+//! Where the C++ would read or write memory it does not own, the run stops there: that is a
+//! crash. The program rebuilt with AddressSanitizer stops at exactly such a read; the plain build
+//! may die there (SIGSEGV) or run on with whatever bytes lie beyond. `tests/edge/README.md`
+//! records what the rebuilt program does with every input of `tests/edge` and
+//! `tests/oracle/inputs` and with the repository's files, and `tests/trace.rs` requires this
+//! module to give the same word for each.
+
+use crate::lines::line_column;
+use crate::motion::Motion;
+use crate::skeleton::Skeleton;
+use std::path::Path;
+
+/// What the article's program does with a file, as a whole.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Verdict {
+    /// `loadFile` returns 1, and the tree `print` writes and every frame `draw` draws are what
+    /// the file says: the same joints, names, offsets, translations and rotations.
+    ReadsAsWritten,
+    /// `loadFile` returns 1 and nothing crashes, but something differs from what the file says:
+    /// a number, a name, a joint, a rotation, without a word.
+    Misreads(Misread),
+    /// `loadFile` returns 0 (and `init` then prints the null root anyway, which crashes: that is
+    /// the one defect every rejected file shares).
+    Rejects(Rejection),
+    /// It reads or writes memory it does not own, or aborts, in `loadFile`, `print` or `draw`.
+    Crashes(Crash),
+}
+
+impl Verdict {
+    /// The verdict in four words a test can pin: `reads it as written`, `misreads it`,
+    /// `rejects it`, `crashes on it`.
+    pub fn word(&self) -> &'static str {
+        match self {
+            Verdict::ReadsAsWritten => "reads it as written",
+            Verdict::Misreads(_) => "misreads it",
+            Verdict::Rejects(_) => "rejects it",
+            Verdict::Crashes(_) => "crashes on it",
+        }
+    }
+}
+
+/// A place in the file, 1-based, as bvhview's errors give it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Place {
+    pub line: usize,
+    pub column: usize,
+}
+
+/// Where in `loadFile` a read runs past the end of the buffer.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Step {
+    /// The nine bytes compared with `HIERARCHY`.
+    Header,
+    /// `newNode` for the root, after `p += 7`.
+    RootName,
+    /// The scan for the root's `O` and its OFFSET in 5-byte steps.
+    RootOffset,
+    /// The scan for the first `r` and `getFlags`.
+    RootChannels,
+    /// The `for (running)` loop over the hierarchy.
+    Hierarchy,
+    /// The scan for the `F` of `Frames` and its `atoi`.
+    Frames,
+    /// The scan for the `F` of `Frame Time`, and to the end of its line.
+    FrameTime,
+    /// The row loop, in this frame (from 0).
+    Rows(u32),
+}
+
+/// Why `loadFile` returns 0.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Rejection {
+    /// The first nine bytes are not `HIERARCHY`.
+    NotHierarchy,
+    /// The dispatcher met a byte it has no case for and printed `_%c_ _%d_ file format error!!`.
+    FormatError { byte: u8, at: Place },
+    /// The dispatcher met a 0 byte (`if(*p == 0)`, meant for the end of the buffer).
+    Nul { at: Place },
+    /// `jointCount == 1`: a skeleton of the root alone, with no frames.
+    OneJoint,
+}
+
+/// How the article's program crashes.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Crash {
+    /// `int iFileSize` holds the file's length modulo 4 GiB, and it is negative here:
+    /// `new unsigned char[iFileSize]` throws `std::bad_alloc`, and the program aborts.
+    FileLength { length: u64 },
+    /// A read past the end of its buffer.
+    ReadPast { step: Step, at: Place },
+    /// A 17th child: `child[16]` lands on `childNum` (the assert compares with 24, not 16).
+    SeventeenthChild { parent: String },
+    /// `jointCount == 1`: `loadFile` calls `clear()`, which deletes `frames` row pointers that
+    /// were allocated and never set.
+    UnsetRows { frames: u32 },
+    /// `new float*[frameCount]` asks for more than any machine the program was measured on has,
+    /// before a row is read: `std::bad_alloc`, abort.
+    Allocation { frames: u32 },
+    /// `Frames: 0` (or no number where it looks): `draw` reads row 0 of an empty array.
+    NoFrames,
+    /// `draw`'s `pFrame` reads past the end of a row (`width` values) at this joint.
+    RowTooShort {
+        joint: String,
+        column: usize,
+        width: usize,
+    },
+}
+
+/// What the article's program reads differently from what the file says (the first difference,
+/// in the order `loadFile`, `print` and `draw` meet them).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Misread {
+    /// It reads only the first `read` bytes of a file of `length` (`int iFileSize` keeps the
+    /// length modulo 4 GiB).
+    Cut { read: u64, length: u64 },
+    /// `atof` reads these words, which are not numbers, as these values (up to three).
+    Garbage(Vec<(String, f32, Place)>),
+    /// Its tree holds `article` joints and End Sites where the file has `file`.
+    Joints { article: usize, file: usize },
+    /// It keeps this name as that.
+    Name { file: String, article: String },
+    /// It reads this joint's OFFSET as that.
+    Offset {
+        joint: String,
+        article: [f32; 3],
+        file: [f32; 3],
+    },
+    /// Its `frameCount` against the rows the file has.
+    Frames { article: u32, file: usize },
+    /// In this frame it translates the joint by `article` where the file means `file`.
+    Translation {
+        joint: String,
+        frame: usize,
+        article: [f32; 3],
+        file: [f32; 3],
+    },
+    /// In this frame it turns the joint by these (axis, degrees), where the file says those
+    /// (axes 0, 1, 2 are X, Y, Z).
+    Rotations {
+        joint: String,
+        frame: usize,
+        article: Vec<(usize, f32)>,
+        file: Vec<(usize, f32)>,
+    },
+    /// It loads a file that bvhview refuses, and no more is known.
+    Refused,
+}
+
+/// A joint of the article's tree, as `print` shows it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ArticleJoint {
+    /// The bytes of `name` up to its terminator.
+    pub name: String,
+    pub offset: [f32; 3],
+    pub flags: u8,
+    /// How deep in the tree (the root is 0).
+    pub depth: usize,
+}
+
+/// What the run found: the verdict, and the article's tree in pre-order when `loadFile`
+/// returned 1.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outcome {
+    pub verdict: Verdict,
+    pub joints: Option<Vec<ArticleJoint>>,
+}
+
+/// The axes `roateSpace` turns about for `flags`, in order (0, 1, 2 are X, Y, Z), or none: it
+/// has cases for 1, 2, 3, 5, 6 and 7 only. Every flags but 0 moves `pFrame` on by three.
+pub fn axes_turned(flags: u8) -> Option<[usize; 3]> {
+    match flags {
+        1 => Some([2, 1, 0]),
+        2 => Some([1, 2, 0]),
+        3 => Some([2, 0, 1]),
+        5 => Some([0, 2, 1]),
+        6 => Some([1, 0, 2]),
+        7 => Some([0, 1, 2]),
+        _ => None,
+    }
+}
+
+/// C++: `BVH::getFlags` of three letters (`X`, `Y`, `Z`, or any other byte), as it computes
+/// them: each letter less `'X'` plus 1, weighted 1, 2 and 4, less 10, cut to a byte.
+pub fn get_flags(letters: [u8; 3]) -> u8 {
+    let sum: i32 = letters
+        .iter()
+        .zip([1, 2, 4])
+        .map(|(&letter, weight)| (i32::from(letter) - i32::from(b'X') + 1) * weight)
+        .sum();
+    (sum - 10) as u8
+}
+
+/// The largest `new float*[frameCount]` taken to succeed: 4 GiB of row pointers. Measured: 32 GiB
+/// (`Frames: -1`) throws `std::bad_alloc` on a machine with 23 GB of memory and no swap.
+const LARGEST_ALLOCATION: u64 = 4 << 30;
+
+/// Runs the article's program on the file at `path`: its length as `ftell` gives it, then as
+/// much of it as `int iFileSize` says, read whole as `fread` does. `written` is what bvhview
+/// loads from the same file, if it loads it.
+pub fn run_file(path: &Path, written: Option<(&Skeleton, &Motion)>) -> std::io::Result<Outcome> {
+    use std::io::Read;
+    let file = std::fs::File::open(path)?;
+    let length = file.metadata()?.len();
+    let size = i_file_size(length);
+    let mut bytes = Vec::new();
+    if size > 0 {
+        file.take(size as u64).read_to_end(&mut bytes)?;
+    }
+    Ok(run(&bytes, length, written))
+}
+
+/// `int iFileSize = iEnd - iStart`: the length `ftell` returns, kept in 32 bits.
+fn i_file_size(length: u64) -> i32 {
+    length as u32 as i32
+}
+
+/// Runs the article's program on `bytes`, the start of a file `length` bytes long (all of it, or
+/// at least the first `iFileSize` bytes). `written` is what bvhview loads from the same file.
+pub fn run(bytes: &[u8], length: u64, written: Option<(&Skeleton, &Motion)>) -> Outcome {
+    let size = i_file_size(length);
+    if size < 0 {
+        return Outcome {
+            verdict: Verdict::Crashes(Crash::FileLength { length }),
+            joints: None,
+        };
+    }
+    let buffer = &bytes[..(size as usize).min(bytes.len())];
+    let mut article = Article {
+        buffer,
+        p: 0,
+        nodes: Vec::new(),
+        father: Vec::new(),
+        current: 0,
+        joint_count: 1,
+        garbage: Vec::new(),
+    };
+    let loaded = match article.load_file() {
+        Ok(loaded) => loaded,
+        Err(Stop::Crash(crash)) => {
+            return Outcome {
+                verdict: Verdict::Crashes(crash),
+                joints: None,
+            };
+        }
+        Err(Stop::Reject(rejection)) => {
+            return Outcome {
+                verdict: Verdict::Rejects(rejection),
+                joints: None,
+            };
+        }
+    };
+    let joints = article.pre_order();
+    let verdict = match article.draw(&loaded) {
+        Err(crash) => Verdict::Crashes(crash),
+        Ok(()) => match article.misread(&loaded, &joints, buffer.len() as u64, length, written) {
+            Some(misread) => Verdict::Misreads(misread),
+            None => Verdict::ReadsAsWritten,
+        },
+    };
+    Outcome {
+        verdict,
+        joints: Some(joints),
+    }
+}
+
+/// `class BVHJoint`: what the article keeps of a joint.
+struct Node {
+    name: Vec<u8>,
+    offset: [f32; 3],
+    children: Vec<usize>,
+    flags: u8,
+}
+
+/// Why a run stopped.
+enum Stop {
+    Crash(Crash),
+    Reject(Rejection),
+}
+
+/// The motion `loadFile` read.
+struct Loaded {
+    frames: u32,
+    /// `dataCount`: `jointCount * 3 + 3` values a row.
+    width: usize,
+    rows: Vec<f32>,
+}
+
+/// The article's `BVH` during `loadFile`: the buffer, `p`, the tree, `father`, `currentNode`,
+/// `jointCount`; and the words `atof` read that are not numbers.
+struct Article<'a> {
+    buffer: &'a [u8],
+    p: usize,
+    nodes: Vec<Node>,
+    father: Vec<usize>,
+    current: usize,
+    joint_count: u32,
+    garbage: Vec<(String, f32, Place)>,
+}
+
+impl Article<'_> {
+    fn place(&self, offset: usize) -> Place {
+        let (line, column) = line_column(self.buffer, offset);
+        Place { line, column }
+    }
+
+    /// `*p` in `step`; past the end of the buffer, a crash.
+    fn byte(&self, step: Step) -> Result<u8, Stop> {
+        self.at(self.p, step)
+    }
+
+    fn at(&self, offset: usize, step: Step) -> Result<u8, Stop> {
+        self.buffer.get(offset).copied().ok_or_else(|| {
+            Stop::Crash(Crash::ReadPast {
+                step,
+                at: self.place(self.buffer.len()),
+            })
+        })
+    }
+
+    /// `while(*p != byte) p++;`
+    fn scan_to(&mut self, byte: u8, step: Step) -> Result<(), Stop> {
+        while self.byte(step)? != byte {
+            self.p += 1;
+        }
+        Ok(())
+    }
+
+    /// `while(*p != ' ' && *p != '\t') p++; p++;`
+    fn past_blank(&mut self, step: Step) -> Result<(), Stop> {
+        while !matches!(self.byte(step)?, b' ' | b'\t') {
+            self.p += 1;
+        }
+        self.p += 1;
+        Ok(())
+    }
+
+    /// `while(*p++ != '\n');`
+    fn past_line_end(&mut self, step: Step) -> Result<(), Stop> {
+        self.scan_to(b'\n', step)?;
+        self.p += 1;
+        Ok(())
+    }
+
+    /// `(float)atof((char*)p)`: the longest number at `p` (after any white space), 0 if there is
+    /// none. A word that is not all number is noted: the article reads it without a word.
+    fn atof(&mut self, step: Step) -> Result<f32, Stop> {
+        // atof's reads are not checked by AddressSanitizer, but every caller reads on from here.
+        self.byte(step)?;
+        let text = &self.buffer[self.p..];
+        let (value, used) = c_strtod(text);
+        let value = value as f32;
+        // The word atof starts in: from the first byte that is not white space to the next one
+        // that is.
+        let start = text
+            .iter()
+            .position(|&b| !is_c_space(b))
+            .unwrap_or(text.len());
+        let end = text[start..]
+            .iter()
+            .position(|&b| is_c_space(b))
+            .map_or(text.len(), |n| start + n);
+        if used < end && self.garbage.len() < 3 {
+            let word = String::from_utf8_lossy(&text[start..end]).into_owned();
+            let at = self.place(self.p + start);
+            self.garbage.push((word, value, at));
+        }
+        Ok(value)
+    }
+
+    /// `(unsigned)atoi((char*)p)`: `strtol` in base 10, kept in an `int`. AddressSanitizer checks
+    /// atoi's reads, up to the byte after the number.
+    fn atoi(&self, step: Step) -> Result<u32, Stop> {
+        let text = &self.buffer[self.p.min(self.buffer.len())..];
+        let mut i = 0;
+        while text.get(i).is_some_and(|&b| is_c_space(b)) {
+            i += 1;
+        }
+        let negative = text.get(i) == Some(&b'-');
+        if matches!(text.get(i), Some(b'-' | b'+')) {
+            i += 1;
+        }
+        let mut value: i64 = 0;
+        let mut saturated = false;
+        while let Some(&digit) = text.get(i).filter(|b| b.is_ascii_digit()) {
+            let digit = i64::from(digit - b'0');
+            match value.checked_mul(10).and_then(|v| v.checked_add(digit)) {
+                Some(v) => value = v,
+                None => saturated = true,
+            }
+            i += 1;
+        }
+        // The byte after the number is read too.
+        self.at(self.p + i, step)?;
+        let long = match (saturated, negative) {
+            (true, false) => i64::MAX,
+            (true, true) => i64::MIN,
+            (false, false) => value,
+            (false, true) => -value,
+        };
+        Ok(long as i32 as u32)
+    }
+
+    /// C++: `BVH::newNode`: up to 24 bytes until the line feed; the terminator goes one byte
+    /// before the last byte copied (meant to drop the CR), and `p` skips one more byte.
+    fn new_node(&mut self, step: Step) -> Result<usize, Stop> {
+        let mut name = Vec::new();
+        while name.len() < 24 && self.byte(step)? != b'\n' {
+            name.push(self.buffer[self.p]);
+            self.p += 1;
+        }
+        let copied = name.len().min(23);
+        name.truncate(copied.saturating_sub(1));
+        // printf("%s") stops at the first 0.
+        if let Some(zero) = name.iter().position(|&b| b == 0) {
+            name.truncate(zero);
+        }
+        self.p += 1;
+        self.nodes.push(Node {
+            name,
+            offset: [0.0; 3],
+            children: Vec::new(),
+            flags: 0,
+        });
+        Ok(self.nodes.len() - 1)
+    }
+
+    /// C++: `BVHJoint::addChild`: room for 16 (its assert compares with 24).
+    fn add_child(&mut self, parent: usize, child: usize) -> Result<(), Stop> {
+        if self.nodes[parent].children.len() == 16 {
+            let parent = String::from_utf8_lossy(&self.nodes[parent].name).into_owned();
+            return Err(Stop::Crash(Crash::SeventeenthChild { parent }));
+        }
+        self.nodes[parent].children.push(child);
+        Ok(())
+    }
+
+    /// C++: `BVH::getFlags`: the letters at `p`, `p + 10` and `p + 20`.
+    fn get_flags(&self, step: Step) -> Result<u8, Stop> {
+        Ok(get_flags([
+            self.at(self.p, step)?,
+            self.at(self.p + 10, step)?,
+            self.at(self.p + 20, step)?,
+        ]))
+    }
+
+    /// C++: `BVH::loadFile`, from the header check to the last row.
+    fn load_file(&mut self) -> Result<Loaded, Stop> {
+        for &expected in b"HIERARCHY" {
+            if self.byte(Step::Header)? != expected {
+                return Err(Stop::Reject(Rejection::NotHierarchy));
+            }
+            self.p += 1;
+        }
+        // The root: its name 7 bytes on, its OFFSET in 5-byte steps, its rotation letters at the
+        // first `r` less one.
+        self.p += 7;
+        let root = self.new_node(Step::RootName)?;
+        self.father.push(root);
+        self.current = root;
+        self.scan_to(b'O', Step::RootOffset)?;
+        self.p += 7;
+        let x = self.atof(Step::RootOffset)?;
+        self.p += 5;
+        if self.byte(Step::RootOffset)? == b' ' {
+            self.p += 1;
+        }
+        let y = self.atof(Step::RootOffset)?;
+        self.p += 5;
+        if self.byte(Step::RootOffset)? == b' ' {
+            self.p += 1;
+        }
+        let z = self.atof(Step::RootOffset)?;
+        self.p += 5;
+        self.nodes[root].offset = [x, y, z];
+        self.scan_to(b'r', Step::RootChannels)?;
+        self.p -= 1;
+        self.nodes[root].flags = self.get_flags(Step::RootChannels)?;
+        self.p += 30;
+        // The hierarchy, dispatched on each byte until the braces balance.
+        let mut counter = 1;
+        loop {
+            let byte = self.byte(Step::Hierarchy)?;
+            match byte {
+                0 => {
+                    return Err(Stop::Reject(Rejection::Nul {
+                        at: self.place(self.p),
+                    }));
+                }
+                b'\r' | b'\n' | b' ' | b'\t' => self.p += 1,
+                b'{' => {
+                    self.father.push(self.current);
+                    self.p += 1;
+                    counter += 1;
+                }
+                b'}' => {
+                    // The counter and the stack go together: it never pops an empty stack.
+                    self.father.pop();
+                    if let Some(&top) = self.father.last() {
+                        self.current = top;
+                    }
+                    self.p += 1;
+                    counter -= 1;
+                    if counter == 0 {
+                        break;
+                    }
+                }
+                b'J' => {
+                    self.joint_count += 1;
+                    self.p += 6;
+                    let node = self.new_node(Step::Hierarchy)?;
+                    self.add_child(self.current, node)?;
+                    self.current = node;
+                }
+                b'O' => self.process_offset()?,
+                b'C' => {
+                    self.p += 11;
+                    self.nodes[self.current].flags = self.get_flags(Step::Hierarchy)?;
+                    self.p += 30;
+                }
+                b'E' => {
+                    self.p += 4;
+                    let node = self.new_node(Step::Hierarchy)?;
+                    self.add_child(self.current, node)?;
+                    self.current = node;
+                }
+                _ => {
+                    return Err(Stop::Reject(Rejection::FormatError {
+                        byte,
+                        at: self.place(self.p),
+                    }));
+                }
+            }
+        }
+        // Frames: and Frame Time:, found by their F.
+        self.scan_to(b'F', Step::Frames)?;
+        self.p += 8;
+        let frames = self.atoi(Step::Frames)?;
+        self.scan_to(b'F', Step::FrameTime)?;
+        self.p += 12;
+        self.atof(Step::FrameTime)?;
+        self.past_line_end(Step::FrameTime)?;
+        // frameData = new float*[frameCount], then the check of jointCount.
+        if u64::from(frames) * 8 > LARGEST_ALLOCATION {
+            return Err(Stop::Crash(Crash::Allocation { frames }));
+        }
+        if self.joint_count == 1 {
+            return Err(if frames > 0 {
+                Stop::Crash(Crash::UnsetRows { frames })
+            } else {
+                Stop::Reject(Rejection::OneJoint)
+            });
+        }
+        let width = self.joint_count as usize * 3 + 3;
+        // The row loop. Each value moves p on by at least 9 bytes, so a count larger than the
+        // buffer holds ends in a read past it long before the loop would.
+        let mut rows = Vec::new();
+        for frame in 0..frames {
+            for _ in 0..width {
+                rows.push(self.atof(Step::Rows(frame))?);
+                self.p += 8;
+                self.past_blank(Step::Rows(frame))?;
+            }
+            self.p += 2;
+        }
+        Ok(Loaded {
+            frames,
+            width,
+            rows,
+        })
+    }
+
+    /// C++: `BVH::processOffset`: `p += 7`, then each number 8 bytes on and past the next blank,
+    /// then to the end of the line.
+    fn process_offset(&mut self) -> Result<(), Stop> {
+        let step = Step::Hierarchy;
+        self.p += 7;
+        let x = self.atof(step)?;
+        self.p += 8;
+        self.past_blank(step)?;
+        let y = self.atof(step)?;
+        self.p += 8;
+        self.past_blank(step)?;
+        let z = self.atof(step)?;
+        self.past_line_end(step)?;
+        self.nodes[self.current].offset = [x, y, z];
+        Ok(())
+    }
+
+    /// The tree from the root, in the order `printRecursive` and `drawRecursive` meet it.
+    fn pre_order(&self) -> Vec<ArticleJoint> {
+        let mut out = Vec::new();
+        let mut stack = vec![(0, 0)];
+        while let Some((node, depth)) = stack.pop() {
+            let n = &self.nodes[node];
+            out.push(ArticleJoint {
+                name: String::from_utf8_lossy(&n.name).into_owned(),
+                offset: n.offset,
+                flags: n.flags,
+                depth,
+            });
+            stack.extend(n.children.iter().rev().map(|&c| (c, depth + 1)));
+        }
+        out
+    }
+
+    /// The nodes in pre-order, as indices.
+    fn order(&self) -> Vec<usize> {
+        let mut out = Vec::new();
+        let mut stack = vec![0];
+        while let Some(node) = stack.pop() {
+            out.push(node);
+            stack.extend(self.nodes[node].children.iter().rev());
+        }
+        out
+    }
+
+    /// C++: `BVH::draw` of any frame (every row has the same width): row 0 of no rows is a
+    /// crash, and so is a `pFrame` past the end of the row.
+    fn draw(&self, loaded: &Loaded) -> Result<(), Crash> {
+        if loaded.frames == 0 {
+            return Err(Crash::NoFrames);
+        }
+        let mut p_frame = 3;
+        for node in self.order() {
+            let flags = self.nodes[node].flags;
+            if axes_turned(flags).is_some() && p_frame + 2 >= loaded.width {
+                return Err(Crash::RowTooShort {
+                    joint: String::from_utf8_lossy(&self.nodes[node].name).into_owned(),
+                    column: p_frame,
+                    width: loaded.width,
+                });
+            }
+            if flags != 0 {
+                p_frame += 3;
+            }
+        }
+        Ok(())
+    }
+
+    /// The first thing the article reads or draws otherwise than the file says, if any.
+    fn misread(
+        &self,
+        loaded: &Loaded,
+        joints: &[ArticleJoint],
+        read: u64,
+        length: u64,
+        written: Option<(&Skeleton, &Motion)>,
+    ) -> Option<Misread> {
+        if read < length {
+            return Some(Misread::Cut { read, length });
+        }
+        let garbage = (!self.garbage.is_empty()).then(|| Misread::Garbage(self.garbage.clone()));
+        let Some((skeleton, motion)) = written else {
+            return Some(garbage.unwrap_or(Misread::Refused));
+        };
+        // The tree: the same joints and End Sites, at the same depths, in the same order.
+        let depth = |mut joint: usize| {
+            let mut depth = 0;
+            while let Some(parent) = skeleton.joints[joint].parent {
+                joint = parent;
+                depth += 1;
+            }
+            depth
+        };
+        let same_shape = joints.len() == skeleton.joints.len()
+            && joints.iter().enumerate().all(|(i, j)| j.depth == depth(i));
+        if !same_shape {
+            return Some(Misread::Joints {
+                article: joints.len(),
+                file: skeleton.joints.len(),
+            });
+        }
+        for (article, file) in joints.iter().zip(&skeleton.joints) {
+            if article.name != file.name {
+                return Some(Misread::Name {
+                    file: file.name.clone(),
+                    article: article.name.clone(),
+                });
+            }
+        }
+        for (article, file) in joints.iter().zip(&skeleton.joints) {
+            if article.offset != file.offset.to_array() {
+                return Some(Misread::Offset {
+                    joint: file.name.clone(),
+                    article: article.offset,
+                    file: file.offset.to_array(),
+                });
+            }
+        }
+        if loaded.frames as usize != motion.frame_count() {
+            return Some(Misread::Frames {
+                article: loaded.frames,
+                file: motion.frame_count(),
+            });
+        }
+        // Every frame as draw draws it, against the file's translations and rotations.
+        let order = self.order();
+        for frame in 0..motion.frame_count() {
+            let row = &loaded.rows[frame * loaded.width..(frame + 1) * loaded.width];
+            let values = motion.frame(frame);
+            let mut p_frame = 3;
+            for (&node, (index, file)) in order.iter().zip(skeleton.joints.iter().enumerate()) {
+                let own = &values[file.first_channel..file.first_channel + file.channels.len()];
+                let translation = if index == 0 {
+                    [row[0], row[1], row[2]]
+                } else {
+                    self.nodes[node].offset
+                };
+                let meant =
+                    crate::pose::joint_translation(file, own, crate::pose::OffsetMode::Replace)
+                        .to_array();
+                if translation != meant {
+                    return Some(Misread::Translation {
+                        joint: file.name.clone(),
+                        frame,
+                        article: translation,
+                        file: meant,
+                    });
+                }
+                let flags = self.nodes[node].flags;
+                let turned: Vec<(usize, f32)> = axes_turned(flags)
+                    .map(|axes| (0..3).map(|i| (axes[i], row[p_frame + i])).collect())
+                    .unwrap_or_default();
+                let said: Vec<(usize, f32)> = file
+                    .channels
+                    .iter()
+                    .zip(own)
+                    .filter(|(channel, _)| channel.is_rotation())
+                    .map(|(channel, &value)| (channel.axis(), value))
+                    .collect();
+                if turned != said {
+                    return Some(Misread::Rotations {
+                        joint: file.name.clone(),
+                        frame,
+                        article: turned,
+                        file: said,
+                    });
+                }
+                if flags != 0 {
+                    p_frame += 3;
+                }
+            }
+        }
+        garbage
+    }
+}
+
+/// C's `isspace` in the C locale.
+fn is_c_space(byte: u8) -> bool {
+    matches!(byte, b' ' | b'\t' | b'\n' | b'\r' | 0x0B | 0x0C)
+}
+
+/// C's `strtod` in the C locale: white space, then the longest decimal number, `inf`,
+/// `infinity`, `nan` (with or without `(…)`) or hexadecimal number; its value, rounded as glibc
+/// rounds, and the bytes it used (0 when there is no number: the value is then 0).
+fn c_strtod(text: &[u8]) -> (f64, usize) {
+    let mut i = 0;
+    while text.get(i).is_some_and(|&b| is_c_space(b)) {
+        i += 1;
+    }
+    let sign_at = i;
+    let negative = text.get(i) == Some(&b'-');
+    if matches!(text.get(i), Some(b'-' | b'+')) {
+        i += 1;
+    }
+    let signed = |v: f64| if negative { -v } else { v };
+    let lower = |at: usize, word: &[u8]| {
+        text.len() >= at + word.len()
+            && text[at..at + word.len()]
+                .iter()
+                .zip(word)
+                .all(|(a, b)| a.to_ascii_lowercase() == *b)
+    };
+    if lower(i, b"infinity") {
+        return (signed(f64::INFINITY), i + 8);
+    }
+    if lower(i, b"inf") {
+        return (signed(f64::INFINITY), i + 3);
+    }
+    if lower(i, b"nan") {
+        let mut end = i + 3;
+        if text.get(end) == Some(&b'(') {
+            let close = text[end + 1..]
+                .iter()
+                .position(|&b| !(b.is_ascii_alphanumeric() || b == b'_'));
+            if let Some(n) = close.filter(|&n| text.get(end + 1 + n) == Some(&b')')) {
+                end += n + 2;
+            }
+        }
+        return (f64::NAN, end);
+    }
+    if text.get(i) == Some(&b'0') && matches!(text.get(i + 1), Some(b'x' | b'X')) {
+        if let Some((value, end)) = hexadecimal(text, i + 2) {
+            return (signed(value), end);
+        }
+        // "0x" with no hexadecimal digit after it: the 0 alone.
+        return (signed(0.0), i + 1);
+    }
+    let digits = |mut at: usize| {
+        while text.get(at).is_some_and(u8::is_ascii_digit) {
+            at += 1;
+        }
+        at
+    };
+    let whole = digits(i);
+    let mut end = whole;
+    let mut any = whole > i;
+    if text.get(end) == Some(&b'.') {
+        let fraction = digits(end + 1);
+        any |= fraction > end + 1;
+        if any {
+            end = fraction;
+        }
+    }
+    if !any {
+        return (0.0, 0);
+    }
+    if matches!(text.get(end), Some(b'e' | b'E')) {
+        let mut at = end + 1;
+        if matches!(text.get(at), Some(b'-' | b'+')) {
+            at += 1;
+        }
+        let exponent = digits(at);
+        if exponent > at {
+            end = exponent;
+        }
+    }
+    let number = std::str::from_utf8(&text[sign_at..end]).expect("ASCII");
+    // Rust's parser rounds correctly, as glibc's strtod does; it wants a digit before the dot.
+    let number = number
+        .replacen("-.", "-0.", 1)
+        .replacen("+.", "0.", 1)
+        .trim_start_matches('+')
+        .to_string();
+    let number = if number.starts_with('.') {
+        format!("0{number}")
+    } else {
+        number
+    };
+    (number.parse().unwrap_or(0.0), end)
+}
+
+/// A hexadecimal number after `0x`: digits, an optional fraction and an optional `p` exponent.
+fn hexadecimal(text: &[u8], start: usize) -> Option<(f64, usize)> {
+    let digit = |b: u8| (b as char).to_digit(16);
+    let mut at = start;
+    let mut mantissa = 0f64;
+    let mut scale = 0i32;
+    let mut any = false;
+    while let Some(d) = text.get(at).and_then(|&b| digit(b)) {
+        mantissa = mantissa * 16.0 + f64::from(d);
+        any = true;
+        at += 1;
+    }
+    if text.get(at) == Some(&b'.') {
+        let mut fraction = at + 1;
+        while let Some(d) = text.get(fraction).and_then(|&b| digit(b)) {
+            mantissa = mantissa * 16.0 + f64::from(d);
+            scale -= 4;
+            any = true;
+            fraction += 1;
+        }
+        if any {
+            at = fraction;
+        }
+    }
+    if !any {
+        return None;
+    }
+    if matches!(text.get(at), Some(b'p' | b'P')) {
+        let mut e = at + 1;
+        let negative = text.get(e) == Some(&b'-');
+        if matches!(text.get(e), Some(b'-' | b'+')) {
+            e += 1;
+        }
+        let first = e;
+        let mut exponent = 0i32;
+        while let Some(&b) = text.get(e).filter(|b| b.is_ascii_digit()) {
+            exponent = exponent
+                .saturating_mul(10)
+                .saturating_add(i32::from(b - b'0'));
+            e += 1;
+        }
+        if e > first {
+            scale = scale.saturating_add(if negative { -exponent } else { exponent });
+            at = e;
+        }
+    }
+    Some((mantissa * 2f64.powi(scale), at))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn strtod_reads_the_longest_number_and_stops() {
+        assert_eq!(c_strtod(b"  -1.#IND00 "), (-1.0, 5));
+        assert_eq!(c_strtod(b"nonsense!"), (0.0, 0));
+        assert_eq!(c_strtod(b"0.00 0.00"), (0.0, 4));
+        assert_eq!(c_strtod(b".5e3x"), (500.0, 4));
+        assert_eq!(c_strtod(b"1e"), (1.0, 1));
+        assert_eq!(c_strtod(b"-.25"), (-0.25, 4));
+        assert_eq!(c_strtod(b"0x1p4"), (16.0, 5));
+        assert_eq!(c_strtod(b"INF"), (f64::INFINITY, 3));
+        assert!(c_strtod(b"nan(1)").0.is_nan());
+        assert_eq!(c_strtod(b"nan(1)").1, 6);
+    }
+
+    #[test]
+    fn get_flags_gives_the_articles_numbers() {
+        assert_eq!(get_flags(*b"ZXY"), 3);
+        assert_eq!(get_flags(*b"YYX"), 0);
+        assert_eq!(get_flags(*b"YYY"), 4);
+        assert_eq!(get_flags(*b"XXX"), 253);
+        assert_eq!(get_flags(*b"\n\tl"), 97);
+        assert_eq!(axes_turned(get_flags(*b"XXY")), Some([2, 1, 0]));
+    }
+
+    /// The file's length as `int`: negative from 2 GiB on, and modulo 4 GiB.
+    #[test]
+    fn the_length_is_kept_in_an_int() {
+        assert_eq!(i_file_size(507), 507);
+        assert_eq!(i_file_size(2_500_000_000), -1_794_967_296);
+        assert_eq!(i_file_size((4 << 30) + 507), 507);
+        let control = b"HIERARCHY\r\nROOT Hips\r\n{";
+        let outcome = run(control, 2_500_000_000, None);
+        assert_eq!(
+            outcome.verdict,
+            Verdict::Crashes(Crash::FileLength {
+                length: 2_500_000_000
+            })
+        );
+    }
+}

@@ -1,0 +1,501 @@
+//! A dataset folder read back, trusting nothing in it: a dataset is often downloaded, and its
+//! manifest and files were made by someone else.
+//!
+//! - Every name inside the folder is one bvhview makes (`manifest.json`, `group_K/…npy`,
+//!   `group_K/skeleton.bvh`); the manifest's own file names must be exactly those.
+//! - Each file is opened relative to the folder's descriptor with `O_NOFOLLOW` (a symbolic link
+//!   anywhere inside is refused, so nothing outside the folder is read) and `O_NONBLOCK` (a FIFO
+//!   cannot hang the open), and must be a regular file, whose size is known before it is read.
+//! - Every `.npy` header must be the very bytes bvhview writes for the dtype and shape the
+//!   manifest gives, and every file exactly as long as that shape.
+//! - Clip ranges are checked against the arrays: in order, one after the other, inside them,
+//!   with no arithmetic overflow; `offsets.npy` must say the same.
+//!
+//! What passes is a [`Dataset`]: the manifest and an open handle per file, so that what was
+//! checked is what is read (a file swapped after the check is not the one read).
+
+use super::store::{self, HEADER, Manifest};
+use crate::error::Error;
+use std::ffi::CString;
+use std::fs::File;
+use std::os::fd::{FromRawFd, OwnedFd};
+use std::os::unix::ffi::OsStrExt;
+use std::os::unix::fs::FileExt;
+use std::path::{Path, PathBuf};
+
+/// The largest `manifest.json` read (a dataset of a million clips needs less).
+pub const MAX_MANIFEST: u64 = 1 << 30;
+/// The largest `skeleton.bvh` read.
+pub const MAX_SKELETON: u64 = 64 << 20;
+
+/// A dataset whose every file has been checked, with its files open.
+#[derive(Debug)]
+pub struct Dataset {
+    pub path: PathBuf,
+    pub manifest: Manifest,
+    pub groups: Vec<GroupFiles>,
+}
+
+/// One group's open files, in the manifest's order of arrays.
+#[derive(Debug)]
+pub struct GroupFiles {
+    pub arrays: Vec<ArrayFile>,
+    /// Where each clip starts, and the end (`offsets.npy`, checked).
+    pub offsets: Vec<usize>,
+    pub skeleton: File,
+}
+
+/// An open `.npy` file: its data starts at [`HEADER`].
+#[derive(Debug)]
+pub struct ArrayFile {
+    pub name: String,
+    pub dtype: String,
+    pub shape: Vec<usize>,
+    pub file: File,
+}
+
+impl ArrayFile {
+    /// Bytes per element.
+    pub fn item_size(&self) -> usize {
+        item_size(&self.dtype)
+    }
+
+    /// Bytes per row (one frame; one clip for `rest_offsets`).
+    pub fn row_bytes(&self) -> usize {
+        self.shape[1..].iter().product::<usize>() * self.item_size()
+    }
+
+    /// Rows `rows` of the array, as stored (little-endian).
+    pub fn read_rows(&self, rows: std::ops::Range<usize>) -> Result<Vec<u8>, Error> {
+        let width = self.row_bytes();
+        if rows.end > self.shape[0] || rows.start > rows.end {
+            return Err(Error::Usage(format!(
+                "{}: rows {} to {} of {}",
+                self.name, rows.start, rows.end, self.shape[0]
+            )));
+        }
+        let mut bytes = vec![0u8; (rows.end - rows.start) * width];
+        self.file
+            .read_exact_at(&mut bytes, (HEADER + rows.start * width) as u64)
+            .map_err(|e| Error::Usage(format!("{}: {e}", self.name)))?;
+        Ok(bytes)
+    }
+}
+
+fn item_size(dtype: &str) -> usize {
+    match dtype {
+        "<f4" => 4,
+        "<i8" => 8,
+        _ => 1,
+    }
+}
+
+/// Opens and checks the dataset at `path` (the folder itself may be reached through a link the
+/// user named; nothing inside it may be one).
+pub fn open(path: &Path) -> Result<Dataset, Error> {
+    let refuse = |why: String| Error::Usage(format!("{}: {why}", path.display()));
+    let folder = open_folder(path)?;
+    let manifest_file = open_in(&folder, "manifest.json", false)
+        .map_err(|why| refuse(format!("manifest.json: {why}")))?;
+    let text = read_whole(&manifest_file, MAX_MANIFEST)
+        .map_err(|why| refuse(format!("manifest.json: {why}")))?;
+    let manifest_path = path.join("manifest.json");
+    let manifest: Manifest = serde_json::from_slice(&text).map_err(|e| Error::Parse {
+        path: manifest_path.display().to_string(),
+        line: e.line(),
+        column: e.column(),
+        message: e.to_string(),
+    })?;
+    if manifest.format != store::FORMAT {
+        return Err(refuse(format!(
+            "format {:?}; this bvhview reads {:?}",
+            manifest.format,
+            store::FORMAT
+        )));
+    }
+    check_manifest(&manifest).map_err(refuse)?;
+    let mut groups = Vec::with_capacity(manifest.groups.len());
+    for group in &manifest.groups {
+        let dir = open_in(&folder, &group.name, true)
+            .map_err(|why| refuse(format!("{}: {why}", group.name)))?;
+        let mut arrays = Vec::with_capacity(group.arrays.len());
+        for entry in &group.arrays {
+            let file_name = format!("{}.npy", entry.name);
+            let where_ = |why: String| refuse(format!("{}: {why}", entry.file));
+            let file = open_in(&dir, &file_name, false).map_err(where_)?;
+            let bytes = entry
+                .shape
+                .iter()
+                .try_fold(item_size(&entry.dtype), |n, &d| n.checked_mul(d))
+                .and_then(|n| n.checked_add(HEADER))
+                .ok_or_else(|| where_("its shape overflows".to_string()))?;
+            let size = file.metadata().map_err(|e| where_(e.to_string()))?.len();
+            if size != bytes as u64 {
+                return Err(where_(format!(
+                    "{size} bytes where its dtype and shape {:?} make {bytes}",
+                    entry.shape
+                )));
+            }
+            let mut header = [0u8; HEADER];
+            file.read_exact_at(&mut header, 0)
+                .map_err(|e| where_(e.to_string()))?;
+            if header[..] != store::npy_header(&entry.dtype, &entry.shape)[..] {
+                return Err(where_(format!(
+                    "its .npy header is not the one for {} of shape {:?}",
+                    entry.dtype, entry.shape
+                )));
+            }
+            arrays.push(ArrayFile {
+                name: entry.file.clone(),
+                dtype: entry.dtype.clone(),
+                shape: entry.shape.clone(),
+                file,
+            });
+        }
+        let offsets_file = arrays
+            .iter()
+            .find(|a| a.name.ends_with("/offsets.npy"))
+            .expect("checked: every group lists its offsets");
+        let offsets: Vec<usize> = offsets_file
+            .read_rows(0..offsets_file.shape[0])?
+            .chunks_exact(8)
+            .map(|b| i64::from_le_bytes(b.try_into().expect("8 bytes")))
+            .map(|n| usize::try_from(n).unwrap_or(usize::MAX))
+            .collect();
+        let starts: Vec<usize> = manifest
+            .clips
+            .iter()
+            .filter(|c| manifest.groups[c.group].name == group.name)
+            .map(|c| c.start)
+            .chain(std::iter::once(group.frames))
+            .collect();
+        if offsets != starts {
+            return Err(refuse(format!(
+                "{}/offsets.npy does not give the clips' starts the manifest gives",
+                group.name
+            )));
+        }
+        let skeleton = open_in(&dir, "skeleton.bvh", false)
+            .map_err(|why| refuse(format!("{}: {why}", group.skeleton)))?;
+        groups.push(GroupFiles {
+            arrays,
+            offsets,
+            skeleton,
+        });
+    }
+    Ok(Dataset {
+        path: path.to_path_buf(),
+        manifest,
+        groups,
+    })
+}
+
+impl Dataset {
+    /// The text of group `k`'s `skeleton.bvh`.
+    pub fn skeleton_text(&self, k: usize) -> Result<String, Error> {
+        let file = &self.groups[k].skeleton;
+        let bytes = read_whole(file, MAX_SKELETON).map_err(|why| {
+            Error::Usage(format!(
+                "{}: {}: {why}",
+                self.path.display(),
+                self.manifest.groups[k].skeleton
+            ))
+        })?;
+        String::from_utf8(bytes).map_err(|_| {
+            Error::Usage(format!(
+                "{}: {}: not UTF-8",
+                self.path.display(),
+                self.manifest.groups[k].skeleton
+            ))
+        })
+    }
+
+    /// Group `k`'s skeleton, loaded by the BVH loader (as hostile as any BVH file), checked to
+    /// be the group's topology.
+    pub fn skeleton(&self, k: usize) -> Result<crate::Skeleton, Error> {
+        let text = self.skeleton_text(k)?;
+        let name = format!(
+            "{}/{}",
+            self.path.display(),
+            self.manifest.groups[k].skeleton
+        );
+        let loaded = crate::bvh::loader::load_bytes(text.as_bytes(), &name)?;
+        let skeleton = loaded.skeleton;
+        let topology = &self.manifest.groups[k].topology;
+        let parents: Vec<i32> = skeleton
+            .joints
+            .iter()
+            .map(|j| j.parent.map_or(-1, |p| p as i32))
+            .collect();
+        let rotated: Vec<u32> = (0..skeleton.joints.len() as u32)
+            .filter(|&i| !skeleton.joints[i as usize].end_site)
+            .collect();
+        let translated: Vec<u32> = (0..skeleton.joints.len() as u32)
+            .filter(|&i| {
+                skeleton.joints[i as usize]
+                    .channels
+                    .iter()
+                    .any(|c| c.is_position())
+            })
+            .collect();
+        let orders: Vec<String> = rotated
+            .iter()
+            .map(|&i| {
+                skeleton.joints[i as usize]
+                    .channels
+                    .iter()
+                    .filter(|c| c.is_rotation())
+                    .map(|c| ["X", "Y", "Z"][c.axis()])
+                    .collect()
+            })
+            .collect();
+        if parents != topology.parents
+            || rotated != topology.rotated
+            || translated != topology.translated
+            || orders != topology.rotation_orders
+        {
+            return Err(Error::Usage(format!(
+                "{name}: not the skeleton of its group (its joints, parents or channels differ from the manifest's)"
+            )));
+        }
+        Ok(skeleton)
+    }
+}
+
+/// Everything the manifest says that can be checked without its files.
+fn check_manifest(manifest: &Manifest) -> Result<(), String> {
+    let options = manifest.options.options().map_err(|e| e.to_string())?;
+    crate::limits::fps(options.fps, false).map_err(|e| e.to_string())?;
+    if manifest.options.up != "y" || manifest.options.units != "metres" {
+        return Err("the manifest's up axis or units are not bvhview's (y, metres)".to_string());
+    }
+    let takes = &manifest.takes;
+    if takes
+        .first
+        .checked_add(takes.count)
+        .is_none_or(|end| end > takes.listed)
+    {
+        return Err(format!(
+            "takes {} to {} of a list of {}",
+            takes.first,
+            takes.first.saturating_add(takes.count),
+            takes.listed
+        ));
+    }
+    let mut ends = vec![0usize; manifest.groups.len()];
+    let mut counts = vec![0usize; manifest.groups.len()];
+    for (k, group) in manifest.groups.iter().enumerate() {
+        if group.name != format!("group_{k}") {
+            return Err(format!(
+                "group {k} is named {:?}; bvhview names it group_{k}",
+                group.name
+            ));
+        }
+        if group.skeleton != format!("{}/skeleton.bvh", group.name) {
+            return Err(format!(
+                "{}: its skeleton is named {:?}",
+                group.name, group.skeleton
+            ));
+        }
+        check_topology(&group.topology).map_err(|why| format!("{}: {why}", group.name))?;
+        if group.clips == 0 {
+            return Err(format!("{}: a group without clips", group.name));
+        }
+        let mut expected: Vec<(String, String, Vec<usize>)> =
+            store::layout(&group.topology, options.rotations)
+                .into_iter()
+                .map(|(name, dtype, shape)| {
+                    let shape = std::iter::once(group.frames).chain(shape).collect();
+                    (name.to_string(), dtype.to_string(), shape)
+                })
+                .collect();
+        let clips_plus_one = group
+            .clips
+            .checked_add(1)
+            .ok_or_else(|| format!("{}: {} clips", group.name, group.clips))?;
+        expected.push((
+            "offsets".to_string(),
+            "<i8".to_string(),
+            vec![clips_plus_one],
+        ));
+        expected.push((
+            "rest_offsets".to_string(),
+            "<f4".to_string(),
+            vec![group.clips, group.topology.joints.len(), 3],
+        ));
+        let listed: Vec<(String, String, Vec<usize>)> = group
+            .arrays
+            .iter()
+            .map(|a| (a.name.clone(), a.dtype.clone(), a.shape.clone()))
+            .collect();
+        if listed != expected {
+            return Err(format!(
+                "{}: its arrays (names, dtypes, shapes) are not those its skeleton, frame count \
+                 and rotation kind make",
+                group.name
+            ));
+        }
+        for array in &group.arrays {
+            if array.file != format!("{}/{}.npy", group.name, array.name) {
+                return Err(format!(
+                    "{}: the array {} is named {:?}",
+                    group.name, array.name, array.file
+                ));
+            }
+        }
+        let stats_ok = group.stats.len() == 5
+            && group.stats.iter().zip(&group.arrays).all(|(s, a)| {
+                let width: usize = a.shape[1..].iter().product();
+                s.name == a.name && s.mean.len() == width && s.std.len() == width
+            });
+        if !stats_ok {
+            return Err(format!(
+                "{}: its statistics do not match its arrays",
+                group.name
+            ));
+        }
+    }
+    for (i, clip) in manifest.clips.iter().enumerate() {
+        let k = clip.group;
+        if k >= manifest.groups.len() {
+            return Err(format!("clip {i} names group {k}, which is not there"));
+        }
+        if clip.frames == 0 || clip.start != ends[k] {
+            return Err(format!(
+                "clip {i} ({}) starts at row {} with {} frames; clips of a group follow one \
+                 another from row 0, each with frames",
+                clip.about.source.path, clip.start, clip.frames
+            ));
+        }
+        ends[k] = clip
+            .start
+            .checked_add(clip.frames)
+            .ok_or_else(|| format!("clip {i} ends past any array"))?;
+        counts[k] += 1;
+        let topology = &manifest.groups[k].topology;
+        if topology
+            .joints
+            .iter()
+            .all(|name| *name != clip.about.travel_joint)
+        {
+            return Err(format!(
+                "clip {i}: its travel joint {:?} is not in its skeleton",
+                clip.about.travel_joint
+            ));
+        }
+    }
+    for (k, group) in manifest.groups.iter().enumerate() {
+        if ends[k] != group.frames || counts[k] != group.clips {
+            return Err(format!(
+                "{}: {} clips of {} frames in all, where the manifest's clips give {} of {}",
+                group.name, group.clips, group.frames, counts[k], ends[k]
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn check_topology(topology: &super::Topology) -> Result<(), String> {
+    let points = topology.joints.len();
+    if points == 0 || topology.parents.len() != points {
+        return Err(format!(
+            "{} points with {} parents",
+            points,
+            topology.parents.len()
+        ));
+    }
+    for (i, &parent) in topology.parents.iter().enumerate() {
+        if parent < -1 || parent >= i as i32 {
+            return Err(format!(
+                "point {i} has parent {parent}: a parent comes before its children"
+            ));
+        }
+    }
+    let increasing = |name: &str, list: &[u32]| {
+        let ok =
+            list.windows(2).all(|w| w[0] < w[1]) && list.iter().all(|&p| (p as usize) < points);
+        match ok {
+            true => Ok(()),
+            false => Err(format!(
+                "{name}: point numbers must increase and be below {points}"
+            )),
+        }
+    };
+    increasing("rotated", &topology.rotated)?;
+    increasing("translated", &topology.translated)?;
+    increasing("feet", &topology.feet)?;
+    let orders_ok = topology.rotation_orders.len() == topology.rotated.len()
+        && topology
+            .rotation_orders
+            .iter()
+            .all(|o| o.len() <= 3 && o.bytes().all(|b| matches!(b, b'X' | b'Y' | b'Z')));
+    if !orders_ok {
+        return Err("rotation_orders: one of X, Y, Z (up to three) per rotated point".to_string());
+    }
+    Ok(())
+}
+
+/// The dataset's own folder, as the user named it.
+fn open_folder(path: &Path) -> Result<File, Error> {
+    use std::os::unix::fs::OpenOptionsExt;
+    let folder = std::fs::OpenOptions::new()
+        .read(true)
+        .custom_flags(libc::O_DIRECTORY | libc::O_NONBLOCK)
+        .open(path)
+        .map_err(|e| match e.raw_os_error() {
+            Some(libc::ENOTDIR) => Error::Usage(format!("{}: not a folder", path.display())),
+            _ => Error::io(path, e),
+        })?;
+    Ok(folder)
+}
+
+/// `name` inside `folder`: never through a link, a folder or a regular file as asked.
+fn open_in(folder: &File, name: &str, want_folder: bool) -> Result<File, String> {
+    use std::os::fd::AsRawFd;
+    let plain = !name.is_empty() && name != "." && name != ".." && !name.contains('/');
+    if !plain {
+        return Err(format!("{name:?} is not a plain file name"));
+    }
+    let c_name = CString::new(Path::new(name).as_os_str().as_bytes())
+        .map_err(|_| format!("{name:?} holds a NUL byte"))?;
+    let mut flags = libc::O_RDONLY | libc::O_CLOEXEC | libc::O_NOFOLLOW | libc::O_NONBLOCK;
+    if want_folder {
+        flags |= libc::O_DIRECTORY;
+    }
+    // SAFETY: openat reads the NUL-terminated name and the folder's descriptor, which `folder`
+    // keeps open for the call; the descriptor returned is new and owned by the File below.
+    let fd = unsafe { libc::openat(folder.as_raw_fd(), c_name.as_ptr(), flags) };
+    if fd < 0 {
+        let error = std::io::Error::last_os_error();
+        return Err(match error.raw_os_error() {
+            Some(libc::ELOOP) => "a symbolic link, which a dataset never holds".to_string(),
+            Some(libc::ENOTDIR) if want_folder => "not a folder".to_string(),
+            _ => error.to_string(),
+        });
+    }
+    // SAFETY: `fd` was just returned by openat and is owned by nobody else.
+    let file = File::from(unsafe { OwnedFd::from_raw_fd(fd) });
+    let kind = file.metadata().map_err(|e| e.to_string())?.file_type();
+    match (want_folder, kind.is_dir(), kind.is_file()) {
+        (true, true, _) | (false, _, true) => Ok(file),
+        (true, _, _) => Err("not a folder".to_string()),
+        (false, _, _) => Err("not a regular file".to_string()),
+    }
+}
+
+/// A whole regular file of at most `most` bytes, its size known before it is read.
+fn read_whole(file: &File, most: u64) -> Result<Vec<u8>, String> {
+    let size = file.metadata().map_err(|e| e.to_string())?.len();
+    if size > most {
+        return Err(format!("{size} bytes; at most {most} are read"));
+    }
+    let mut bytes = vec![0u8; size as usize];
+    file.read_exact_at(&mut bytes, 0)
+        .map_err(|e| e.to_string())?;
+    // A file that grew while being read is refused, not read on.
+    let mut more = [0u8; 1];
+    if file.read_at(&mut more, size).map_err(|e| e.to_string())? != 0 {
+        return Err("its size changed while it was read".to_string());
+    }
+    Ok(bytes)
+}

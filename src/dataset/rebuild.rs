@@ -1,0 +1,172 @@
+//! The way back: arrays in a dataset's layout (a clip, or a model's output shaped like one)
+//! turned into a take on the group's skeleton, to save as BVH or glTF.
+
+use super::Topology;
+use crate::error::Error;
+use crate::pose::RotationKind;
+use crate::{Motion, Skeleton};
+
+/// Arrays in the dataset's layout, frame after frame (row-major).
+#[derive(Clone, Copy, Debug)]
+pub struct Arrays<'a> {
+    pub frames: usize,
+    /// frames × rotated × `kind.width()`: each rotated point's local rotation.
+    pub rotations: &'a [f32],
+    pub kind: RotationKind,
+    /// frames × translated × 3: each translated point's local translation. Without them the
+    /// translated points stand at their rest offsets, but for `root_translations`.
+    pub translations: Option<&'a [f32]>,
+    /// frames × 3: the travel joint's world position; used (when `translations` are not given)
+    /// for a travel joint that is a root, whose world position is its translation.
+    pub root_translations: Option<&'a [f32]>,
+}
+
+/// The take `arrays` make on `skeleton` (a group's `skeleton.bvh`, laid out as `topology`),
+/// with `rest` (points × 3) as its OFFSETs when given (a clip's `rest_offsets`), at `fps`.
+/// Position channels hold the whole translation (the replace mode every reader assumes);
+/// rotation channels hold the Euler angles of each rotation in the joint's own channel order.
+pub fn motion_of(
+    skeleton: &Skeleton,
+    topology: &Topology,
+    travel_joint: usize,
+    rest: Option<&[f32]>,
+    arrays: &Arrays,
+    fps: f64,
+) -> Result<(Skeleton, Motion), Error> {
+    let refuse = |why: String| Err(Error::Usage(why));
+    crate::limits::fps(fps, false)?;
+    let points = topology.joints.len();
+    let (rotated, translated) = (topology.rotated.len(), topology.translated.len());
+    let width = arrays.kind.width();
+    let frames = arrays.frames;
+    let shape_of = |name: &str, values: usize, per_frame: usize, shape: String| match frames
+        .checked_mul(per_frame)
+        == Some(values)
+    {
+        true => Ok(()),
+        false => Err(Error::Usage(format!(
+            "{name}: {values} numbers where {frames} frames of {shape} make {}",
+            frames.saturating_mul(per_frame)
+        ))),
+    };
+    if frames == 0 {
+        return refuse("no frames: a take needs at least one".to_string());
+    }
+    let rotation_shape = match arrays.kind {
+        RotationKind::Matrix => format!("{rotated} x 3 x 3"),
+        kind => format!("{rotated} x {}", kind.width()),
+    };
+    shape_of(
+        "rotations",
+        arrays.rotations.len(),
+        rotated * width,
+        rotation_shape,
+    )?;
+    if let Some(t) = arrays.translations {
+        shape_of(
+            "translations",
+            t.len(),
+            translated * 3,
+            format!("{translated} x 3"),
+        )?;
+    }
+    if let Some(t) = arrays.root_translations {
+        shape_of("root_translations", t.len(), 3, "3".to_string())?;
+    }
+    for (name, values) in [
+        ("rotations", Some(arrays.rotations)),
+        ("translations", arrays.translations),
+        ("root_translations", arrays.root_translations),
+    ] {
+        if let Some(at) = values.and_then(|v| v.iter().position(|x| !x.is_finite())) {
+            return refuse(format!("{name}: number {at} is not finite"));
+        }
+    }
+    if arrays.kind != RotationKind::Euler {
+        for (at, numbers) in arrays.rotations.chunks_exact(width).enumerate() {
+            if let Some(why) = crate::pose::rotation_numbers_problem(arrays.kind, numbers) {
+                return refuse(format!(
+                    "rotations[{}, {}]: {why}",
+                    at / rotated.max(1),
+                    at % rotated.max(1)
+                ));
+            }
+        }
+    }
+    let mut skeleton = skeleton.clone();
+    if let Some(rest) = rest {
+        if rest.len() != points * 3 {
+            return refuse(format!(
+                "rest offsets: {} numbers for {points} points",
+                rest.len()
+            ));
+        }
+        for (joint, offset) in skeleton.joints.iter_mut().zip(rest.chunks_exact(3)) {
+            joint.offset = glam::Vec3::from_slice(offset);
+        }
+    }
+    let travel_is_root = skeleton
+        .joints
+        .get(travel_joint)
+        .is_some_and(|j| j.parent.is_none());
+    if arrays.translations.is_none() && arrays.root_translations.is_some() && !travel_is_root {
+        return refuse(format!(
+            "root_translations are the world positions of {:?}, which is not a root: give \
+             translations (frames x {translated} x 3) instead",
+            topology
+                .joints
+                .get(travel_joint)
+                .map_or("?", |n| n.as_str())
+        ));
+    }
+    let channels = skeleton.channel_count();
+    let values = frames
+        .checked_mul(channels)
+        .filter(|&n| n as u64 <= crate::limits::MAX_GENERATED_VALUES)
+        .ok_or_else(|| {
+            Error::Usage(format!(
+                "{frames} frames of {channels} values: more than a take holds"
+            ))
+        })?;
+    let slot_of = |list: &[u32]| {
+        let mut slots = vec![None; points];
+        for (slot, &p) in list.iter().enumerate() {
+            slots[p as usize] = Some(slot);
+        }
+        slots
+    };
+    let (rotation_slot, translation_slot) =
+        (slot_of(&topology.rotated), slot_of(&topology.translated));
+    let mut data = Vec::with_capacity(values);
+    for frame in 0..frames {
+        for (index, joint) in skeleton.joints.iter().enumerate() {
+            let translation = match (arrays.translations, translation_slot[index]) {
+                (Some(t), Some(slot)) => {
+                    glam::Vec3::from_slice(&t[(frame * translated + slot) * 3..][..3])
+                }
+                _ => match arrays.root_translations {
+                    Some(t) if index == travel_joint => {
+                        glam::Vec3::from_slice(&t[frame * 3..][..3])
+                    }
+                    _ => joint.offset,
+                },
+            };
+            let angles = match rotation_slot[index] {
+                Some(slot) => {
+                    let numbers = &arrays.rotations[(frame * rotated + slot) * width..][..width];
+                    crate::edit::channel_angles(joint, arrays.kind, numbers)
+                }
+                None => Vec::new(),
+            };
+            let mut angles = angles.into_iter();
+            for channel in &joint.channels {
+                data.push(match channel.is_position() {
+                    true => translation[channel.axis()],
+                    false => angles.next().unwrap_or(0.0),
+                });
+            }
+        }
+    }
+    let motion = Motion::new(1.0 / fps, channels, frames, data);
+    crate::edit::finite("rebuilding the take", skeleton, motion)
+}
