@@ -17,6 +17,8 @@ __all__ = [
     "_from_state",
     "_compile_dataset",
     "_merge_datasets",
+    "_open_dataset",
+    "_dataset_motion",
 ]
 
 # Names of the stubs alone (the leading underscore says they are not in the module).
@@ -108,7 +110,7 @@ class Motion:
         """frames x joints x 4 x 4 local transforms (`T · R`), [row, column]; one int for
         frames: joints x 4 x 4."""
     def local_rotations(
-        self, frames: _Frames = None, kind: Literal["quat", "matrix", "6d", "euler"] = "quat"
+        self, frames: _Frames = None, kind: Literal["quat", "matrix", "6d", "euler", "axis_angle"] = "quat"
     ) -> npt.NDArray[np.float32]:
         """Local rotations: quat (w, x, y, z), matrix 3x3, 6d (first two columns), euler (the
         rotation channels in file order, degrees); one int for frames: no frame axis."""
@@ -151,7 +153,7 @@ class Motion:
         rotations: npt.ArrayLike,
         root_translations: npt.ArrayLike | None = None,
         fps: float | None = None,
-        kind: Literal["quat", "matrix", "6d", "euler"] | None = None,
+        kind: Literal["quat", "matrix", "6d", "euler", "axis_angle"] | None = None,
     ) -> Motion:
         """A take on template's skeleton from local rotations (as `local_rotations` gives them,
         the kind told by their shape) and the first root's translations; save() writes it."""
@@ -191,12 +193,35 @@ def _compile_dataset(
     fps: float = 30.0,
     rotations: str = "6d",
     root_relative: bool = False,
+    feet: Sequence[str] | None = None,
     contact_height: float = 0.05,
     contact_speed: float = 0.5,
     takes: Sequence[tuple[_PathLike, _PathLike | None]] | None = None,
+    piece: tuple[int, int] | None = None,
     threads: int | None = None,
-) -> tuple[int, int, int, int]:
-    """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped)."""
+) -> tuple[int, int, int, list[tuple[str, str | None, str]]]:
+    """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped takes as
+    (path, motion, reason))."""
 
-def _merge_datasets(pieces: Sequence[_PathLike], out: _PathLike) -> tuple[int, int, int, int]:
+def _merge_datasets(
+    pieces: Sequence[_PathLike], out: _PathLike, join: str = "pieces"
+) -> tuple[int, int, int, int]:
     """The native half of bvhview.merge_datasets: (clips, frames, groups, skipped)."""
+
+def _open_dataset(
+    path: _PathLike,
+) -> tuple[str, list[list[tuple[str, int, str, list[int]]]], list[list[int]]]:
+    """The dataset checked whole: (manifest JSON, per group its arrays as (name, descriptor,
+    dtype, shape), per group its clips' starts and end)."""
+
+def _dataset_motion(
+    path: _PathLike,
+    group: int,
+    rotations: npt.ArrayLike,
+    kind: str,
+    translations: npt.ArrayLike | None = None,
+    root_translations: npt.ArrayLike | None = None,
+    clip: int | None = None,
+    fps: float | None = None,
+) -> Motion:
+    """Arrays in a dataset group's layout as a take on its skeleton."""

@@ -422,11 +422,13 @@ class Dataset:
         the travel joint when it is a root. ``clip`` (an index into ``manifest["clips"]``) gives
         the bone lengths and travel joint (default: the group's first clip's); ``fps`` defaults
         to the dataset's."""
-        as_array = lambda values: None if values is None else np.ascontiguousarray(values, dtype=np.float32)  # noqa: E731
+        def as_array(values: Any) -> np.ndarray | None:
+            return None if values is None else np.ascontiguousarray(values, dtype=np.float32)
+
         return _dataset_motion(
             os.fspath(self.path),
             self.index,
-            as_array(rotations),
+            np.ascontiguousarray(rotations, dtype=np.float32),
             kind or self.manifest["options"]["rotations"],
             translations=as_array(translations),
             root_translations=as_array(root_translations),

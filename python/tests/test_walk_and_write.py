@@ -129,7 +129,7 @@ def test_write_parquet_writes_through_no_planted_link(two_datasets):
         child.unlink()
     group.rmdir()
     os.symlink(theirs / "group_1", group)
-    with pytest.raises(ValueError, match="group_1: is a symbolic link"):
+    with pytest.raises(ValueError, match="group_1: a symbolic link"):
         bvhview.write_parquet(mine)
     assert not (theirs / "group_1" / "frames.parquet").exists()
 
@@ -140,7 +140,7 @@ def test_write_parquet_refuses_group_names_that_are_not_plain(two_datasets):
     for name in ("../theirs.ds/group_0", str(theirs / "group_0"), ".."):
         manifest["groups"][0]["name"] = name
         (mine / "manifest.json").write_text(json.dumps(manifest))
-        with pytest.raises(ValueError, match="not a plain folder name"):
+        with pytest.raises(ValueError, match="bvhview names it group_0"):
             bvhview.write_parquet(mine)
     assert not (theirs / "group_0" / "frames.parquet").exists()
 

@@ -467,8 +467,20 @@ fn open_in(folder: &File, name: &str, want_folder: bool) -> Result<File, String>
     let fd = unsafe { libc::openat(folder.as_raw_fd(), c_name.as_ptr(), flags) };
     if fd < 0 {
         let error = std::io::Error::last_os_error();
+        // SAFETY: a zeroed stat is a valid buffer for fstatat to fill.
+        let mut status: libc::stat = unsafe { std::mem::zeroed() };
+        // SAFETY: fstatat reads the name and the folder's descriptor (both live for the call)
+        // and writes only into `status`.
+        let is_link = unsafe {
+            libc::fstatat(
+                folder.as_raw_fd(),
+                c_name.as_ptr(),
+                &mut status,
+                libc::AT_SYMLINK_NOFOLLOW,
+            ) == 0
+        } && status.st_mode & libc::S_IFMT == libc::S_IFLNK;
         return Err(match error.raw_os_error() {
-            Some(libc::ELOOP) => "a symbolic link, which a dataset never holds".to_string(),
+            _ if is_link => "a symbolic link, which a dataset never holds".to_string(),
             Some(libc::ENOTDIR) if want_folder => "not a folder".to_string(),
             _ => error.to_string(),
         });
