@@ -66,7 +66,11 @@ fn use_it(dataset: &read::Dataset, out: &Path) {
         }
         assert_eq!(files.offsets.last().copied(), Some(group.frames));
     }
-    let merged = store::merge(std::slice::from_ref(&dataset.path), out, store::Join::Folders);
+    let merged = store::merge(
+        std::slice::from_ref(&dataset.path),
+        out,
+        store::Join::Folders,
+    );
     assert!(
         merged.is_ok() || !out.exists(),
         "a refused merge writes nothing"

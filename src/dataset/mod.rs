@@ -364,18 +364,9 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
         true => crate::edit::bake_axes(&skeleton, &motion)?,
         false => (skeleton, motion),
     };
-    // Frame times are written with few digits (.0083333 for 1/120): a take already at the rate
-    // keeps its frames.
-    let motion = if (loaded.motion.frame_time * options.fps - 1.0).abs() < 1e-4 {
-        crate::Motion::new(
-            1.0 / options.fps,
-            motion.channels,
-            motion.frame_count(),
-            motion.data,
-        )
-    } else {
-        crate::edit::resample(&skeleton, &motion, options.fps)?
-    };
+    // At the file's own rate every frame is kept, at a whole fraction of it every k-th, bit for
+    // bit (`edit::resample`, as `convert` and Python resample).
+    let motion = crate::edit::resample(&skeleton, &motion, options.fps)?;
     let frames = motion.frame_count();
     let points = skeleton.joints.len();
 
