@@ -1,19 +1,20 @@
 //! Datasets: the folder of takes compiled (`bvhview::dataset`), read back through the crate's
 //! hardened reader (`dataset::read`), and arrays in a dataset's layout turned back into a take.
 
-use crate::{Item, Motion, guard, to_python};
+use crate::*;
 use bvhview::dataset::{read, rebuild};
-use bvhview::input::Loaded;
-use bvhview::pose::{self, OffsetMode};
-use numpy::PyUntypedArrayMethods;
-use pyo3::exceptions::PyValueError;
-use pyo3::prelude::*;
 use std::os::fd::IntoRawFd;
-use std::path::PathBuf;
 
 /// One array of a checked dataset, as Python maps it: (name, file descriptor, dtype, shape). The
 /// descriptor is the one the check read through: Python maps it and closes it.
-type OpenArray = (String, i32, String, Vec<usize>);
+pub(crate) type OpenArray = (String, i32, String, Vec<usize>);
+
+/// A checked dataset as Python maps it: the manifest's JSON, per group its arrays, per group its
+/// clips' starts and end.
+pub(crate) type OpenDataset = (String, Vec<Vec<OpenArray>>, Vec<Vec<usize>>);
+
+/// A skipped take as Python gets it: its path, its AMC's if any, and why.
+pub(crate) type SkippedTake = (String, Option<String>, String);
 
 /// The native half of `bvhview.Dataset`: the dataset at `path` checked whole (names, links,
 /// file kinds and sizes, `.npy` headers, clip ranges), as (manifest JSON, per group its arrays
@@ -22,7 +23,7 @@ type OpenArray = (String, i32, String, Vec<usize>);
 pub(crate) fn _open_dataset(
     py: Python<'_>,
     path: PathBuf,
-) -> PyResult<(String, Vec<Vec<OpenArray>>, Vec<Vec<usize>>)> {
+) -> PyResult<OpenDataset> {
     guard("_open_dataset", || {
         let opened = py
             .detach(|| read::open(&path))
@@ -92,9 +93,9 @@ pub(crate) fn _dataset_motion(
             .collect();
         let clip = match clip {
             Some(clip) => clip,
-            None => *members.first().ok_or_else(|| {
-                PyValueError::new_err(format!("{} has no clips", entry.name))
-            })?,
+            None => *members
+                .first()
+                .ok_or_else(|| PyValueError::new_err(format!("{} has no clips", entry.name)))?,
         };
         let index = members.iter().position(|&i| i == clip).ok_or_else(|| {
             PyValueError::new_err(format!("clip {clip} is not a clip of {}", entry.name))
@@ -132,7 +133,14 @@ pub(crate) fn _dataset_motion(
         };
         let (skeleton, motion) = py
             .detach(|| {
-                rebuild::motion_of(&skeleton, &entry.topology, travel, Some(&rest), &arrays, fps)
+                rebuild::motion_of(
+                    &skeleton,
+                    &entry.topology,
+                    travel,
+                    Some(&rest),
+                    &arrays,
+                    fps,
+                )
             })
             .map_err(|e| to_python(py, e))?;
         Ok(Motion {
@@ -148,5 +156,167 @@ pub(crate) fn _dataset_motion(
             },
             offset_mode: OffsetMode::Replace,
         })
+    })
+}
+
+/// A `UserWarning` for each thing a folder walk skipped (a loop, a folder or file reached again,
+/// a link out of the folder, what is not a regular file or cannot be read), the first
+/// `SKIPS_SAID` one each, then one with how many more; `stacklevel` as `warnings.warn` takes it.
+pub(crate) fn warn_skipped(
+    py: Python<'_>,
+    walk: &bvhview::batch::Walk,
+    stacklevel: u32,
+) -> PyResult<()> {
+    if walk.skipped.is_empty() {
+        return Ok(());
+    }
+    let warnings = py.import("warnings")?;
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    for line in walk.skipped_lines() {
+        warnings.call_method1("warn", (line, &category, stacklevel))?;
+    }
+    Ok(())
+}
+
+/// A take as `list_takes` gives it: its path and its AMC's (or None), relative to the folder.
+pub(crate) type TakePaths = (PathBuf, Option<PathBuf>);
+
+/// Every take under `folder` in path order, as `(path, motion)` relative to it: BVH files and
+/// ASF/AMC pairs (`motion` the AMC), an AMC without a skeleton and an ASF without motion too (a
+/// compile skips and lists them). The list `compile_dataset(takes=…)` takes pieces of.
+#[pyfunction]
+pub(crate) fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePaths>> {
+    guard("list_takes", || {
+        let walk = py
+            .detach(|| bvhview::dataset::walk(&folder))
+            .map_err(|e| to_python(py, e))?;
+        warn_skipped(py, &walk, 1)?;
+        let items = walk.items;
+        // Paths, not text: a name that is not UTF-8 comes back as Python's os.fsdecode gives it.
+        let relative = |p: &Path| p.strip_prefix(&folder).unwrap_or(p).to_path_buf();
+        Ok(items
+            .iter()
+            .map(|item| (relative(&item.path), item.motion.as_deref().map(relative)))
+            .collect())
+    })
+}
+
+/// The native half of `bvhview.compile_dataset` (which adds Parquet): returns (clips, frames,
+/// groups, skipped as (path, motion, reason) triples). `takes`: a list of its own (relative
+/// paths); `piece`: (index, pieces), the run of the folder's list a Dask worker compiles.
+#[pyfunction]
+#[pyo3(signature = (folder, out, fps=30.0, rotations="6d", root_relative=false, feet=None,
+    contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None))]
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn _compile_dataset(
+    py: Python<'_>,
+    folder: PathBuf,
+    out: PathBuf,
+    fps: f64,
+    rotations: &str,
+    root_relative: bool,
+    feet: Option<Vec<String>>,
+    contact_height: f32,
+    contact_speed: f32,
+    takes: Option<Vec<(PathBuf, Option<PathBuf>)>>,
+    piece: Option<(usize, usize)>,
+    threads: Option<usize>,
+) -> PyResult<(usize, usize, usize, Vec<SkippedTake>)> {
+    guard("_compile_dataset", || {
+        let rotations = pose::RotationKind::parse(rotations).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "rotations={rotations:?}: expected {}",
+                pose::RotationKind::NAMES
+            ))
+        })?;
+        let options = bvhview::dataset::Options {
+            fps,
+            rotations,
+            root_relative,
+            feet,
+            contact_height,
+            contact_speed,
+            ..Default::default()
+        };
+        let threads = threads.unwrap_or_else(bvhview::cores).max(1);
+        let interrupt: Mutex<Option<PyErr>> = Mutex::new(None);
+        let mut walk = bvhview::batch::Walk::default();
+        let result = py.detach(|| {
+            let (items, list) = match (&takes, piece) {
+                (Some(_), Some(_)) => {
+                    return Err(Error::Usage(
+                        "takes= and piece= cannot be given together".to_string(),
+                    ));
+                }
+                (Some(pairs), None) => {
+                    let items = bvhview::dataset::items_in(&folder, pairs);
+                    let list = bvhview::dataset::whole_list(&folder, &items);
+                    (items, list)
+                }
+                (None, Some((index, pieces))) => {
+                    let all = bvhview::dataset::takes(&folder)?;
+                    bvhview::dataset::piece(&folder, all, index, pieces)?
+                }
+                (None, None) => {
+                    walk = bvhview::dataset::walk(&folder)?;
+                    let items = std::mem::take(&mut walk.items);
+                    let list = bvhview::dataset::whole_list(&folder, &items);
+                    (items, list)
+                }
+            };
+            // Ctrl-C (or SIGTERM, which the package turns into an exception for the call)
+            // stops the compile between takes; the exception is raised after.
+            let interrupted = |_: &_, _: Option<&str>, _: usize, _: usize| {
+                Python::attach(|py| match py.check_signals() {
+                    Ok(()) => true,
+                    Err(raised) => {
+                        *interrupt.lock().unwrap_or_else(PoisonError::into_inner) = Some(raised);
+                        false
+                    }
+                })
+            };
+            bvhview::dataset::compile(&folder, items, &options, threads, &out, list, interrupted)
+        });
+        if let Some(raised) = interrupt
+            .into_inner()
+            .unwrap_or_else(PoisonError::into_inner)
+        {
+            return Err(raised);
+        }
+        // Said from the caller of `bvhview.compile_dataset`.
+        warn_skipped(py, &walk, 2)?;
+        let summary = result.map_err(|e| to_python(py, e))?;
+        let skipped = summary
+            .skipped
+            .into_iter()
+            .map(|s| (s.source.path, s.source.motion, s.error))
+            .collect();
+        Ok((summary.clips, summary.frames, summary.groups, skipped))
+    })
+}
+
+/// The native half of `bvhview.merge_datasets`: returns (clips, frames, groups, skipped).
+/// `join`: "pieces" (of one compile, byte for byte) or "folders" (any, grouped by topology).
+#[pyfunction]
+#[pyo3(signature = (pieces, out, join="pieces"))]
+pub(crate) fn _merge_datasets(
+    py: Python<'_>,
+    pieces: Vec<PathBuf>,
+    out: PathBuf,
+    join: &str,
+) -> PyResult<(usize, usize, usize, usize)> {
+    guard("_merge_datasets", || {
+        let join = match join {
+            "pieces" => bvhview::dataset::store::Join::Pieces,
+            "folders" => bvhview::dataset::store::Join::Folders,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "join={other:?}: expected \"pieces\" or \"folders\""
+                )));
+            }
+        };
+        py.detach(|| bvhview::dataset::store::merge(&pieces, &out, join))
+            .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
+            .map_err(|e| to_python(py, e))
     })
 }

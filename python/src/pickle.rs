@@ -1,0 +1,179 @@
+//! Pickling: a take travels whole (skeleton and values), for multiprocessing, Dask and Ray.
+
+use crate::*;
+
+/// A joint as pickled: name, parent (-1 for a root), OFFSET, channel names, End Site or not,
+/// its fixed axis (an ASF bone's, as x, y, z, w) if any.
+pub(crate) type JointState = (String, i64, [f32; 3], Vec<String>, bool, Option<[f32; 4]>);
+
+/// A take as pickled: a format number, path, AMC path, offset mode, warnings, whether the
+/// skeleton is an ASF's, whether it stated CMU's units, the joints, the Frame Time, the values
+/// per frame and the values (float32, little-endian bytes).
+pub(crate) type State = (
+    u32,
+    String,
+    Option<String>,
+    String,
+    Vec<String>,
+    bool,
+    bool,
+    Vec<JointState>,
+    f64,
+    usize,
+    Vec<u8>,
+);
+
+/// The version of `State` this module writes and reads.
+pub(crate) const STATE_FORMAT: u32 = 1;
+
+impl Motion {
+    pub(crate) fn state(&self) -> State {
+        let skeleton = &self.loaded.skeleton;
+        let joints = skeleton
+            .joints
+            .iter()
+            .map(|j| {
+                (
+                    j.name.clone(),
+                    j.parent.map_or(-1, |p| p as i64),
+                    j.offset.to_array(),
+                    j.channels.iter().map(|c| c.name().to_string()).collect(),
+                    j.end_site,
+                    j.axis.map(|q| q.to_array()),
+                )
+            })
+            .collect();
+        let motion = &self.loaded.motion;
+        (
+            STATE_FORMAT,
+            self.item.path.display().to_string(),
+            self.item.motion.as_ref().map(|p| p.display().to_string()),
+            offset_mode_name(self.offset_mode).to_string(),
+            self.loaded.warnings.clone(),
+            skeleton.source == bvhview::skeleton::Source::Acclaim,
+            self.loaded.stated_units.is_some(),
+            joints,
+            motion.frame_time,
+            motion.channels,
+            motion.data.iter().flat_map(|v| v.to_le_bytes()).collect(),
+        )
+    }
+}
+
+/// A take from its pickled state (see `Motion.__reduce__`).
+#[pyfunction]
+pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
+    guard("_from_state", || {
+        let (
+            format,
+            path,
+            motion_path,
+            mode,
+            warnings,
+            acclaim,
+            cmu_units,
+            joints,
+            frame_time,
+            channels,
+            data,
+        ) = state;
+        let bad =
+            |what: &str| PyValueError::new_err(format!("not a pickled bvhview.Motion: {what}"));
+        if format != STATE_FORMAT {
+            return Err(bad(&format!(
+                "format {format}, this bvhview reads {STATE_FORMAT}"
+            )));
+        }
+        let mut skeleton = bvhview::Skeleton {
+            joints: Vec::with_capacity(joints.len()),
+            source: if acclaim {
+                bvhview::skeleton::Source::Acclaim
+            } else {
+                bvhview::skeleton::Source::Bvh
+            },
+        };
+        if !bvhview::limits::frame_time_in_file(frame_time) {
+            return Err(bad(&format!("a frame time of {frame_time} s")));
+        }
+        let mut first_channel = 0;
+        for (index, (name, parent, offset, names, end_site, axis)) in joints.into_iter().enumerate()
+        {
+            // Pre-order: a joint's parent is the joint before it or one of that joint's ancestors.
+            let parent = match parent {
+                -1 => None,
+                p if p >= 0 && (p as usize) < index => {
+                    let p = p as usize;
+                    let mut line = Some(index - 1);
+                    while let Some(at) = line.filter(|&at| at != p) {
+                        line = skeleton.joints[at].parent;
+                    }
+                    if line.is_none() {
+                        return Err(bad("joints out of pre-order"));
+                    }
+                    Some(p)
+                }
+                _ => return Err(bad("a parent after its child")),
+            };
+            if let Some(parent) = parent
+                && skeleton.joints[parent].end_site
+            {
+                return Err(bad("an End Site with children"));
+            }
+            if end_site && !names.is_empty() {
+                return Err(bad("an End Site with channels"));
+            }
+            // Written so that NaN fails: a NaN length is not within 1e-3 of 1.
+            let unit = |q: [f32; 4]| {
+                q.iter().all(|v| v.is_finite())
+                    && (glam::Quat::from_array(q).length() - 1.0).abs() <= 1e-3
+            };
+            if !offset.iter().all(|v| v.is_finite()) || axis.is_some_and(|q| !unit(q)) {
+                return Err(bad("an OFFSET or an axis that is not a finite rotation"));
+            }
+            let mut joint = bvhview::Joint::new(name, parent);
+            joint.offset = Vec3::from_array(offset);
+            joint.channels = names
+                .iter()
+                .map(|n| bvhview::Channel::parse(n).ok_or_else(|| bad("a channel name")))
+                .collect::<PyResult<_>>()?;
+            joint.rotation_order = bvhview::RotationOrder::get_flags(&joint.channels);
+            joint.first_channel = first_channel;
+            first_channel += joint.channels.len();
+            joint.end_site = end_site;
+            joint.axis = axis.map(glam::Quat::from_array);
+            if let Some(parent) = parent {
+                skeleton.joints[parent].children.push(index);
+            }
+            skeleton.joints.push(joint);
+        }
+        if first_channel != channels
+            || data.len() % 4 != 0
+            || (channels == 0 && !data.is_empty())
+            || (channels > 0 && data.len() / 4 % channels != 0)
+        {
+            return Err(bad("values that do not fit the channels"));
+        }
+        let values: Vec<f32> = data
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            .collect();
+        if values.iter().any(|v| !v.is_finite()) {
+            return Err(bad("a value that is not a finite number"));
+        }
+        let frames = values.len().checked_div(channels).unwrap_or(0);
+        let loaded = Loaded {
+            skeleton,
+            motion: bvhview::Motion::new(frame_time, channels, frames, values),
+            warnings,
+            stated_units: cmu_units.then_some(bvhview::stance::CMU_UNITS),
+        };
+        Ok(Motion {
+            loaded,
+            item: Item {
+                path: PathBuf::from(path),
+                motion: motion_path.map(PathBuf::from),
+            },
+            offset_mode: parse_offset_mode(&mode)?,
+        })
+    })
+}
