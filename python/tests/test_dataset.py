@@ -650,7 +650,11 @@ def test_a_dataset_folder_is_untrusted_input(tmp_path):
     assert not list(outside.glob("*.parquet"))
 
 
-@pytest.mark.parametrize("entry", ["_open_dataset", "_merge_datasets", "_compile_dataset", "_dataset_motion"])
+@pytest.mark.parametrize(
+    "entry",
+    ["_open_dataset", "_merge_datasets", "_compile_dataset", "_dataset_motion", "load", "load_many", "positions",
+     "mirror", "from_arrays", "__reduce__", "_from_state", "list_takes"],
+)
 def test_a_panic_inside_becomes_a_runtime_error(tmp_path, entry):
     """A Rust panic (a bug) reaches Python as a RuntimeError, which `except Exception` catches,
     never as pyo3's PanicException (a BaseException)."""
@@ -665,6 +669,20 @@ def test_a_panic_inside_becomes_a_runtime_error(tmp_path, entry):
     data = bvhview.Dataset(good)
     item = data[0]
     calls["_dataset_motion"] = lambda: data.to_motion(item["rotations"], item["translations"])
+    take = bvhview.load(DATA / "bvh" / "assimp_01_01.bvh")
+    import pickle
+
+    blob = pickle.dumps(take)
+    calls.update(
+        load=lambda: bvhview.load(DATA / "bvh" / "assimp_01_01.bvh"),
+        load_many=lambda: bvhview.load_many([DATA / "bvh" / "assimp_01_01.bvh"]),
+        positions=lambda: take.positions(0),
+        mirror=lambda: take.mirror(),
+        from_arrays=lambda: bvhview.Motion.from_arrays(take, take.local_rotations()),
+        __reduce__=lambda: pickle.dumps(take),
+        _from_state=lambda: pickle.loads(blob),
+        list_takes=lambda: bvhview.list_takes(DATA / "asf_amc"),
+    )
     os.environ["BVHVIEW_PLANT_PANIC"] = entry
     try:
         with pytest.raises(RuntimeError, match=f"internal error in bvhview \\({entry}\\)"):
