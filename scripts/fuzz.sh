@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # Fuzz one loader or writer with AFL++ through cargo-afl (stable Rust).
 #   scripts/fuzz.sh TARGET [EXECUTIONS] [WORKDIR]      (default 10000000, /tmp/bvhview-fuzz)
-# TARGET: the loaders bvh, asf, amc; the writers write_bvh, write_gltf, write_positions.
+# TARGET: the loaders bvh, asf, amc; the writers write_bvh, write_gltf, write_positions; the
+# dataset reader and merge, dataset (its seeds: a small dataset's files behind the byte that
+# picks which file they replace).
 # Seeds come from the repository's corpus at run time and are written under WORKDIR, never into
 # the project. Loaders: tests/data (files up to 4 KB whole, the first 2 KB of larger ones, cut at
 # a line end: small inputs run faster). Writers: the small whole BVH files of tests/edge,
@@ -9,7 +11,7 @@
 # fuzz/src/lib.rs). Crashes land in WORKDIR/TARGET/out/default/crashes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-target=${1:?usage: scripts/fuzz.sh bvh|asf|amc|write_bvh|write_gltf|write_positions [EXECUTIONS] [WORKDIR]}
+target=${1:?usage: scripts/fuzz.sh bvh|asf|amc|write_bvh|write_gltf|write_positions|dataset [EXECUTIONS] [WORKDIR]}
 executions=${2:-10000000}
 work=${3:-/tmp/bvhview-fuzz}/$target
 data=tests/data
@@ -33,6 +35,16 @@ case "$target" in
             for choice in 00 01 02 04 08 0b 41 83 c5 f1; do
                 { printf "\\x$choice"; cat "$f"; } > "$work/in/$choice-$(basename "$f")"
             done
+        done ;;
+    dataset)
+        cargo build --release --bin bvhview
+        mkdir -p "$work/takes"
+        cp "$data"/bvh/assimp_01_01.bvh "$work/takes/a.bvh"
+        target/release/bvhview dataset "$work/takes" -o "$work/seed.ds" --fps 10
+        for pick in 0 1 2 3 4; do
+            file=$(echo manifest.json group_0/positions.npy group_0/offsets.npy \
+                group_0/rest_offsets.npy group_0/skeleton.bvh | cut -d' ' -f$((pick + 1)))
+            { printf "\\x0$pick"; head -c 4096 "$work/seed.ds/$file"; } > "$work/in/$pick"
         done ;;
     *) echo "unknown target $target" >&2; exit 2 ;;
 esac
