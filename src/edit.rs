@@ -497,7 +497,7 @@ fn swappable(j: &crate::skeleton::Joint, k: &crate::skeleton::Joint) -> bool {
 /// Each joint's counterpart on the other side of the body (itself for joints on the middle, and
 /// for joints whose counterpart cannot take their motion): the pairs [`name_side`] (or `names`)
 /// guesses, kept when both joints exist, each names the other, their parents are counterparts
-/// too and their channels can carry each other's motion ([`swappable`]). End Sites pair as
+/// too and their channels can carry each other's motion (`swappable`). End Sites pair as
 /// their parents do, in order. A name in `names` that is not a joint, or a pair it gives that
 /// cannot swap, is an error.
 pub fn mirror_partners(

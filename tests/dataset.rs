@@ -2,7 +2,7 @@
 //! arrays, read back from the `.npy` files, checked against the loader and FK, merged from
 //! pieces, and the command's messages and exit codes.
 
-use bvhview::dataset::{self, Options, store};
+use bvhview::dataset::{self, Options, merge, read, store};
 use bvhview::pose::{self, OffsetMode, RotationKind, Up};
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -117,7 +117,7 @@ fn the_repository_compiles_into_groups_whose_arrays_the_manifest_describes() {
     let temp = tempfile::tempdir().unwrap();
     let out = temp.path().join("ds");
     let summary = compile(&out, &Options::default(), 2);
-    let manifest = store::read_manifest(&out).unwrap();
+    let manifest = read::read_manifest(&out).unwrap();
     assert_eq!(manifest.clips.len(), summary.clips);
     assert_eq!(manifest.groups.len(), summary.groups);
 
@@ -234,7 +234,7 @@ fn positions_are_the_loaders_fk_in_metres_with_y_up() {
             ..Options::default()
         };
         compile(&out, &options, 1);
-        let manifest = store::read_manifest(&out).unwrap();
+        let manifest = read::read_manifest(&out).unwrap();
         let clip = manifest
             .clips
             .iter()
@@ -312,7 +312,7 @@ fn resampling_velocities_contacts_and_root_relative_frames_follow_their_definiti
     let temp = tempfile::tempdir().unwrap();
     let plain = temp.path().join("plain");
     compile(&plain, &Options::default(), 2);
-    let manifest = store::read_manifest(&plain).unwrap();
+    let manifest = read::read_manifest(&plain).unwrap();
     for clip in &manifest.clips {
         // Frames at i / 30 s from the first to the last source frame.
         let span = (clip.about.source_frames - 1) as f64 * clip.about.source_frame_time;
@@ -405,7 +405,7 @@ fn resampling_velocities_contacts_and_root_relative_frames_follow_their_definiti
         },
         2,
     );
-    let manifest = store::read_manifest(&relative).unwrap();
+    let manifest = read::read_manifest(&relative).unwrap();
     let moved = clip_rows(&relative, &manifest, name, "positions");
     let roots = clip_rows(&relative, &manifest, name, "root_translations");
     for f in [0, last] {
@@ -450,7 +450,7 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
         pieces.push(piece);
     }
     let merged = temp.path().join("merged");
-    store::merge(&pieces, &merged, store::Join::Pieces).unwrap();
+    merge::merge(&pieces, &merged, merge::Join::Pieces).unwrap();
     same_files(&whole, &merged);
     // dataset::piece cuts the same runs a Dask compile merges.
     let mut even = Vec::new();
@@ -470,7 +470,7 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
         even.push(piece);
     }
     let merged_even = temp.path().join("merged_even");
-    store::merge(&even, &merged_even, store::Join::Pieces).unwrap();
+    merge::merge(&even, &merged_even, merge::Join::Pieces).unwrap();
     same_files(&whole, &merged_even);
 
     // Pieces out of order, repeated, overlapping, with a gap or short of the end are refused,
@@ -490,7 +490,7 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
     ] {
         let target = temp.path().join("misordered");
         let given: Vec<PathBuf> = order.iter().map(|p| p.to_path_buf()).collect();
-        let error = store::merge(&given, &target, store::Join::Pieces).unwrap_err();
+        let error = merge::merge(&given, &target, merge::Join::Pieces).unwrap_err();
         assert!(error.to_string().contains(why), "{error}");
         assert!(!target.exists());
     }
@@ -522,10 +522,10 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
         },
         2,
     );
-    let error = store::merge(
+    let error = merge::merge(
         &[whole.clone(), other],
         &temp.path().join("mixed"),
-        store::Join::Pieces,
+        merge::Join::Pieces,
     )
     .unwrap_err();
     assert!(error.to_string().contains("other options"), "{error}");
@@ -547,18 +547,18 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
         |_, _, _, _| true,
     )
     .unwrap();
-    let error = store::merge(
+    let error = merge::merge(
         &[whole.clone(), asf.clone()],
         &temp.path().join("joined"),
-        store::Join::Pieces,
+        merge::Join::Pieces,
     )
     .unwrap_err();
     assert!(error.to_string().contains("another compile"), "{error}");
     let joined = temp.path().join("joined");
     let summary =
-        store::merge(&[whole.clone(), asf.clone()], &joined, store::Join::Folders).unwrap();
-    let once = store::read_manifest(&whole).unwrap();
-    let asf_manifest = store::read_manifest(&asf).unwrap();
+        merge::merge(&[whole.clone(), asf.clone()], &joined, merge::Join::Folders).unwrap();
+    let once = read::read_manifest(&whole).unwrap();
+    let asf_manifest = read::read_manifest(&asf).unwrap();
     assert_eq!(summary.clips, once.clips.len() + asf_manifest.clips.len());
     assert_eq!(summary.groups, once.groups.len());
 
@@ -576,7 +576,7 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
             },
             2,
         );
-        let manifest = store::read_manifest(&out).unwrap();
+        let manifest = read::read_manifest(&out).unwrap();
         assert_eq!(manifest.options.rotations, kind.name());
         let group = &manifest.groups[0];
         let shape = &group.arrays[1].shape;
@@ -619,10 +619,7 @@ fn the_command_lists_what_it_skipped_and_refuses_what_it_cannot_make() {
         stderr.contains("20 clips, 2203 frames at 30 fps in 17 topology groups; 8 skipped"),
         "{stderr}"
     );
-    assert_eq!(
-        store::read_manifest(&out).unwrap().options.rotations,
-        "quat"
-    );
+    assert_eq!(read::read_manifest(&out).unwrap().options.rotations, "quat");
 
     // A folder that exists and holds something is not replaced.
     let again = bvhview(&["dataset", DATA, "-o", out.to_str().unwrap()]);
@@ -691,7 +688,7 @@ fn every_take_of_the_whole_corpus_compiles_standing_in_metres() {
         |_, _, _, _| true,
     )
     .unwrap();
-    let manifest = store::read_manifest(&out).unwrap();
+    let manifest = read::read_manifest(&out).unwrap();
     // Only the folder of broken files has takes that fail.
     for skipped in &summary.skipped {
         assert!(
@@ -764,7 +761,7 @@ fn many_skeletons_compile_with_few_files_open() {
         "{}",
         String::from_utf8_lossy(&run.stderr)
     );
-    let manifest = store::read_manifest(&out).unwrap();
+    let manifest = read::read_manifest(&out).unwrap();
     assert_eq!((manifest.groups.len(), manifest.clips.len()), (40, 40));
     assert_eq!(
         manifest.groups[39].topology.joints,
@@ -804,7 +801,7 @@ fn takes_without_a_frame_time_or_a_utf8_name_are_skipped_with_the_reason() {
     )
     .unwrap();
     assert_eq!(summary.clips, 1);
-    let manifest = store::read_manifest(&out).unwrap();
+    let manifest = read::read_manifest(&out).unwrap();
     let reasons: Vec<&str> = manifest.skipped.iter().map(|s| s.error.as_str()).collect();
     assert_eq!(reasons.len(), 2, "{reasons:?}");
     assert!(

@@ -2,7 +2,7 @@
 //! and to merge. Whatever the mutation, the answer is a dataset whose every range reads, or an
 //! error; never a panic, a hang, or a merge that writes anything from a refused piece.
 
-use bvhview::dataset::{self, Options, read, store};
+use bvhview::dataset::{self, Options, merge, read};
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 use std::sync::OnceLock;
@@ -66,10 +66,10 @@ fn use_it(dataset: &read::Dataset, out: &Path) {
         }
         assert_eq!(files.offsets.last().copied(), Some(group.frames));
     }
-    let merged = store::merge(
+    let merged = merge::merge(
         std::slice::from_ref(&dataset.path),
         out,
-        store::Join::Folders,
+        merge::Join::Folders,
     );
     assert!(
         merged.is_ok() || !out.exists(),

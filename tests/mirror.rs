@@ -175,7 +175,7 @@ fn a_mirrored_clip_lands_in_its_originals_dataset_group() {
             "{}",
             String::from_utf8_lossy(&run.stderr)
         );
-        let manifest = bvhview::dataset::store::read_manifest(&out).unwrap();
+        let manifest = bvhview::dataset::read::read_manifest(&out).unwrap();
         assert_eq!(manifest.clips.len(), 2);
         manifest.groups.len()
     };

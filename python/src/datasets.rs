@@ -20,10 +20,7 @@ pub(crate) type SkippedTake = (String, Option<String>, String);
 /// file kinds and sizes, `.npy` headers, clip ranges), as (manifest JSON, per group its arrays
 /// open, per group its clips' starts and end).
 #[pyfunction]
-pub(crate) fn _open_dataset(
-    py: Python<'_>,
-    path: PathBuf,
-) -> PyResult<OpenDataset> {
+pub(crate) fn _open_dataset(py: Python<'_>, path: PathBuf) -> PyResult<OpenDataset> {
     guard("_open_dataset", || {
         let opened = py
             .detach(|| read::open(&path))
@@ -307,15 +304,15 @@ pub(crate) fn _merge_datasets(
 ) -> PyResult<(usize, usize, usize, usize)> {
     guard("_merge_datasets", || {
         let join = match join {
-            "pieces" => bvhview::dataset::store::Join::Pieces,
-            "folders" => bvhview::dataset::store::Join::Folders,
+            "pieces" => bvhview::dataset::merge::Join::Pieces,
+            "folders" => bvhview::dataset::merge::Join::Folders,
             other => {
                 return Err(PyValueError::new_err(format!(
                     "join={other:?}: expected \"pieces\" or \"folders\""
                 )));
             }
         };
-        py.detach(|| bvhview::dataset::store::merge(&pieces, &out, join))
+        py.detach(|| bvhview::dataset::merge::merge(&pieces, &out, join))
             .map(|s| (s.clips, s.frames, s.groups, s.skipped.len()))
             .map_err(|e| to_python(py, e))
     })

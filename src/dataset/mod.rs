@@ -8,6 +8,7 @@
 //! merges datasets compiled in pieces (on a cluster's workers) into the one a single process
 //! would have written, byte for byte.
 
+pub mod merge;
 pub mod read;
 pub mod rebuild;
 pub mod store;
@@ -717,7 +718,7 @@ pub fn whole_list(dir: &Path, items: &[Item]) -> store::Takes {
 }
 
 /// Piece `index` of `pieces` of the list `items`: consecutive runs in list order, the first
-/// `len % pieces` of them one take longer. [`store::merge`] joins the pieces back.
+/// `len % pieces` of them one take longer. [`merge::merge`] joins the pieces back.
 pub fn piece(
     dir: &Path,
     items: Vec<Item>,

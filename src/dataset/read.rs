@@ -262,6 +262,11 @@ impl Dataset {
     }
 }
 
+/// Reads a dataset's manifest, checked with every file of the dataset ([`open`]).
+pub fn read_manifest(dataset: &Path) -> Result<Manifest, Error> {
+    Ok(open(dataset)?.manifest)
+}
+
 /// Everything the manifest says that can be checked without its files.
 fn check_manifest(manifest: &Manifest) -> Result<(), String> {
     let options = manifest.options.options().map_err(|e| e.to_string())?;

@@ -2,7 +2,7 @@
 //! of the input replaces (the manifest, an array, the offsets, the skeleton), over a real
 //! dataset compiled at start. The reader must refuse it or give a dataset whose every clip
 //! reads; merge and the way back to a take must answer without a panic.
-use bvhview::dataset::{self, Options, read, store};
+use bvhview::dataset::{self, Options, merge, read};
 use std::path::Path;
 
 const FILES: [&str; 5] = [
@@ -64,7 +64,7 @@ fn main() {
                 let _ = opened.skeleton(k);
             }
             let merged = ds.with_extension("merged");
-            let _ = store::merge(&[ds.clone()], &merged, store::Join::Folders);
+            let _ = merge::merge(&[ds.clone()], &merged, merge::Join::Folders);
             let _ = std::fs::remove_dir_all(&merged);
         }
         let _ = std::fs::remove_dir_all(&ds);
