@@ -78,7 +78,8 @@ pub fn frame_count(start: f64, end: f64, fps: f64, joints: usize) -> Result<usiz
         ));
     }
     let span = (end - start).max(0.0);
-    let frames = (span * fps + 1e-6).floor() + 1.0;
+    // Key times are often f32: 8.275 s at 120 fps is 992.99995 frames past the first.
+    let frames = (span * fps + 1e-3).floor() + 1.0;
     let values = frames * (joints as f64 * 6.0).max(1.0);
     if frames > MAX_FRAMES as f64 || values > crate::limits::MAX_GENERATED_VALUES as f64 {
         return Err(format!(

@@ -3,8 +3,8 @@
 //!
 //! The skeleton is the joints of the file's skins (with the nodes between them), or, in a file
 //! without a skin, every animated node (with the nodes between them). Each animation is a take;
-//! its frames are sampled at the rate of its keys (the shortest even step between them, snapped
-//! to a whole number of frames per second when within 0.1 %), every frame interpolated as the
+//! its frames are sampled at the rate of its keys (the step of evenly spaced keys, else the
+//! shortest step between two), every frame interpolated as the
 //! file says (`STEP`, `LINEAR` with slerp for rotations, `CUBICSPLINE`), and the world matrices
 //! go through [`crate::baked`]. glTF is Y up and in metres, bvhview's own convention: nothing is
 //! converted.
@@ -394,13 +394,9 @@ fn timing(tracks: &[Track]) -> (f64, f64, f64) {
     if start > end {
         return (0.0, 0.0, 30.0);
     }
+    // The step itself, not a rounded rate: bvhview's own export writes `Frame Time: 0.0083333`
+    // as keys 0.0083333 s apart, which are not 1/120 s apart.
     let fps = if step == f64::MAX { 30.0 } else { 1.0 / step };
-    let whole = fps.round();
-    let fps = if whole > 0.0 && (fps - whole).abs() <= 1e-3 * whole {
-        whole
-    } else {
-        fps
-    };
     (start, end, fps)
 }
 
@@ -534,6 +530,20 @@ pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Erro
             up = parent[p];
         }
     }
+    // A bare leaf under a joint (no mesh, no camera, no children: an end point, as bvhview's
+    // own export writes a BVH's End Sites) joins as an End Site.
+    let nodes: Vec<gltf::Node> = document.nodes().collect();
+    for node in &nodes {
+        let i = node.index();
+        if !selected[i]
+            && parent[i].is_some_and(|p| selected[p])
+            && node.children().len() == 0
+            && node.mesh().is_none()
+            && node.camera().is_none()
+        {
+            selected[i] = true;
+        }
+    }
     let mut order: Vec<usize> = (0..count).filter(|&i| selected[i]).collect();
     if order.is_empty() {
         return Err(bad(
@@ -546,7 +556,6 @@ pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Erro
     for (k, &i) in order.iter().enumerate() {
         position[i] = k;
     }
-    let nodes: Vec<gltf::Node> = document.nodes().collect();
     let skeleton_nodes = order
         .iter()
         .enumerate()
