@@ -102,7 +102,7 @@ fn worst_relative(want: &Loaded, got: &Loaded, frames: usize) -> (f32, usize) {
 
 /// (file, joints, end sites, frames, frames per second) as bvhview reads them (joints without
 /// the End Sites, as `info` counts them).
-const UFBX_FILES: [(&str, usize, usize, usize, f64); 26] = [
+const UFBX_FILES: [(&str, usize, usize, usize, f64); 28] = [
     ("blender_279_bone_radius_6100_ascii.fbx", 4, 1, 250, 24.0),
     ("blender_279_bone_radius_7400_binary.fbx", 4, 1, 1, 24.0),
     (
@@ -123,6 +123,8 @@ const UFBX_FILES: [(&str, usize, usize, usize, f64); 26] = [
     ("maya_character_7500_binary.fbx", 49, 13, 120, 24.0),
     ("maya_post_rotate_order_6100_binary.fbx", 2, 0, 120, 24.0),
     ("maya_post_rotate_order_7500_ascii.fbx", 2, 0, 120, 24.0),
+    ("maya_post_rotate_order_7500_binary.fbx", 2, 0, 120, 24.0),
+    ("maya_human_ik_7400_binary.fbx", 62, 0, 120, 24.0),
     ("maya_rotation_order_6100_ascii.fbx", 6, 0, 120, 24.0),
     ("maya_rotation_order_6100_binary.fbx", 6, 0, 120, 24.0),
     ("maya_rotation_order_7500_ascii.fbx", 6, 0, 120, 24.0),
@@ -192,6 +194,10 @@ fn ascii_and_binary_saves_of_one_scene_agree() {
         (
             "maya_post_rotate_order_7500_ascii",
             "maya_post_rotate_order_6100_binary",
+        ),
+        (
+            "maya_post_rotate_order_7500_ascii",
+            "maya_post_rotate_order_7500_binary",
         ),
         ("maya_bone_radius_6100_ascii", "maya_bone_radius_7500_ascii"),
     ] {
