@@ -63,6 +63,10 @@ impl Pose {
 /// Frames beyond this are refused (a take of an hour at 240 Hz is 864,000).
 pub const MAX_FRAMES: usize = 1_000_000;
 
+/// Joints × frames beyond this are refused: 8 M (100 joints for 11 minutes at 120 Hz), whose
+/// local poses take 235 MB while a take is built.
+pub const MAX_JOINT_FRAMES: usize = 1 << 23;
+
 /// The number of frames of a take from `start` to `end` seconds at `fps`, or why not.
 pub fn frame_count(start: f64, end: f64, fps: f64, joints: usize) -> Result<usize, String> {
     if !(start.is_finite() && end.is_finite() && fps.is_finite()) {
@@ -80,12 +84,11 @@ pub fn frame_count(start: f64, end: f64, fps: f64, joints: usize) -> Result<usiz
     let span = (end - start).max(0.0);
     // Key times are often f32: 8.275 s at 120 fps is 992.99995 frames past the first.
     let frames = (span * fps + 1e-3).floor() + 1.0;
-    let values = frames * (joints as f64 * 6.0).max(1.0);
-    if frames > MAX_FRAMES as f64 || values > crate::limits::MAX_GENERATED_VALUES as f64 {
+    let joint_frames = frames * joints.max(1) as f64;
+    if frames > MAX_FRAMES as f64 || joint_frames > MAX_JOINT_FRAMES as f64 {
         return Err(format!(
             "the take lasts {span} s at {fps} fps: {frames} frames of {joints} joints, more than \
-             bvhview reads ({MAX_FRAMES} frames, {} values)",
-            crate::limits::MAX_GENERATED_VALUES
+             bvhview reads ({MAX_FRAMES} frames, {MAX_JOINT_FRAMES} joints × frames)"
         ));
     }
     Ok(frames as usize)
@@ -145,32 +148,53 @@ fn euler_zyx(q: DQuat, previous: Option<[f64; 3]>) -> [f64; 3] {
 }
 
 /// Builds the skeleton and motion. `nodes` are in an order where a parent comes before its
-/// children; `rest` is the world pose of each in the file's rest pose; `frames[f][j]` the world
-/// pose of node `j` in frame `f` (at least one frame: a file without animation passes its rest
-/// pose as its one frame).
+/// children; `rest` is the world pose of each in the file's rest pose; `pose_of(f, out)` fills
+/// `out` with the world pose of every node in frame `f` of `frames` (at least one: a file
+/// without animation passes its rest pose as its one frame). Frames are asked for once each, in
+/// order, and only their local poses are kept (28 bytes a joint and frame).
 pub fn build(
     nodes: &[Node],
     rest: &[Pose],
-    frames: &[Vec<Pose>],
+    frames: usize,
     frame_time: f64,
+    mut pose_of: impl FnMut(usize, &mut Vec<Pose>) -> Result<(), Error>,
 ) -> Result<(Skeleton, Motion), Error> {
     debug_assert_eq!(nodes.len(), rest.len());
     let count = nodes.len();
     let rest_local = locals(nodes, rest);
-    let frame_locals: Vec<Vec<(DQuat, DVec3)>> = frames.iter().map(|w| locals(nodes, w)).collect();
-
+    let mut rotations: Vec<glam::Quat> = Vec::with_capacity(frames * count);
+    let mut translations: Vec<Vec3> = Vec::with_capacity(frames * count);
     // The figure's size, for "the same translation in every frame".
     let (mut low, mut high) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
-    for pose in rest.iter().chain(frames.iter().flatten()) {
+    for pose in rest {
         low = low.min(pose.position);
         high = high.max(pose.position);
     }
-    let size = if count > 0 {
+    let mut world = Vec::with_capacity(count);
+    for f in 0..frames {
+        world.clear();
+        pose_of(f, &mut world)?;
+        if world.len() != count {
+            return Err(Error::Usage(format!(
+                "frame {f} has {} poses for {count} joints",
+                world.len()
+            )));
+        }
+        for pose in &world {
+            low = low.min(pose.position);
+            high = high.max(pose.position);
+        }
+        for (rotation, translation) in locals(nodes, &world) {
+            rotations.push(rotation.as_quat());
+            translations.push(translation.as_vec3());
+        }
+    }
+    let size = if count > 0 && high.cmpge(low).all() {
         (high - low).max_element().max(1e-9)
     } else {
         1.0
     };
-    let tolerance = 1e-6 * size;
+    let tolerance = (1e-6 * size) as f32;
 
     let mut children = vec![Vec::new(); count];
     for (i, node) in nodes.iter().enumerate() {
@@ -183,18 +207,21 @@ pub fn build(
     // For each node: translates (needs position channels) and its OFFSET.
     let mut translates = vec![false; count];
     for i in 0..count {
-        let first = frame_locals.first().map_or(rest_local[i].1, |f| f[i].1);
-        let constant = frame_locals
-            .iter()
-            .all(|f| (f[i].1 - first).abs().max_element() <= tolerance);
+        let first = if frames > 0 {
+            translations[i]
+        } else {
+            rest_local[i].1.as_vec3()
+        };
+        let constant = (0..frames)
+            .all(|f| (translations[f * count + i] - first).abs().max_element() <= tolerance);
         translates[i] = nodes[i].parent.is_none() || !constant;
         let offset = if translates[i] {
-            rest_local[i].1
+            rest_local[i].1.as_vec3()
         } else {
             first
         };
         let mut joint = Joint::new(nodes[i].name.clone(), nodes[i].parent);
-        joint.offset = offset.as_vec3();
+        joint.offset = offset;
         joint.children = children[i].clone();
         joint.end_site = nodes[i].parent.is_some() && children[i].is_empty() && !translates[i];
         if !joint.end_site {
@@ -241,27 +268,24 @@ pub fn build(
     };
     let channels = column;
     let values = frames
-        .len()
         .checked_mul(channels)
         .filter(|&v| v as u64 <= crate::limits::MAX_GENERATED_VALUES)
         .ok_or_else(|| {
             Error::Usage(format!(
-                "{} frames of {channels} channels: more than bvhview reads",
-                frames.len()
+                "{frames} frames of {channels} channels: more than bvhview reads"
             ))
         })?;
     let mut data = Vec::with_capacity(values);
     let mut previous: Vec<Option<[f64; 3]>> = vec![None; count];
-    for local in &frame_locals {
+    for f in 0..frames {
         for &i in &order {
-            let joint = &joints[i];
-            if joint.end_site {
+            if joints[i].end_site {
                 continue;
             }
-            let (rotation, translation) = local[i];
             if translates[i] {
-                data.extend(translation.to_array().map(|v| v as f32));
+                data.extend(translations[f * count + i].to_array());
             }
+            let rotation = rotations[f * count + i].as_dquat();
             let angles = euler_zyx(rotation, previous[i]);
             previous[i] = Some(angles);
             data.extend(angles.map(|v| v as f32));
@@ -272,7 +296,7 @@ pub fn build(
             "the file's transforms give non-finite values (a zero scale or a broken matrix)".into(),
         ));
     }
-    let motion = Motion::new(frame_time, channels, frames.len(), data);
+    let motion = Motion::new(frame_time, channels, frames, data);
     Ok((skeleton, motion))
 }
 
@@ -329,7 +353,11 @@ mod tests {
         };
         let rest = pose(0.0);
         let frames: Vec<Vec<Pose>> = (0..5).map(|f| pose(f as f64 * 0.2)).collect();
-        let (skeleton, motion) = build(&nodes, &rest, &frames, 0.5).unwrap();
+        let (skeleton, motion) = build(&nodes, &rest, frames.len(), 0.5, |f, out| {
+            out.extend_from_slice(&frames[f]);
+            Ok(())
+        })
+        .unwrap();
         assert_eq!(skeleton.joints.len(), 3);
         assert!(skeleton.joints[2].end_site);
         assert_eq!(skeleton.joints[1].channels.len(), 6);

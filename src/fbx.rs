@@ -85,7 +85,7 @@ fn load_options<'a>(bytes: usize) -> ufbx::LoadOpts<'a> {
     }
 }
 
-fn ufbx_error(path: &Path, error: &ufbx::Error) -> Error {
+fn ufbx_error(name: &str, error: &ufbx::Error) -> Error {
     use ufbx::ErrorType as E;
     let what = match error.type_ {
         E::TruncatedFile => "the file is truncated".to_string(),
@@ -106,12 +106,11 @@ fn ufbx_error(path: &Path, error: &ufbx::Error) -> Error {
             }
         }
     };
-    Error::Usage(format!("{}: {what}", path.display()))
+    Error::Usage(format!("{name}: {what}"))
 }
 
-fn read_scene(path: &Path, max_size: u64) -> Result<ufbx::SceneRoot, Error> {
-    let bytes = crate::read::read_binary_file(path, max_size)?;
-    ufbx::load_memory(&bytes, load_options(bytes.len())).map_err(|e| ufbx_error(path, &e))
+fn read_scene(bytes: &[u8], name: &str) -> Result<ufbx::SceneRoot, Error> {
+    ufbx::load_memory(bytes, load_options(bytes.len())).map_err(|e| ufbx_error(name, &e))
 }
 
 fn fps(scene: &ufbx::Scene) -> f64 {
@@ -125,14 +124,20 @@ fn fps(scene: &ufbx::Scene) -> f64 {
 
 /// The takes of an FBX file (its animation stacks), in file order.
 pub fn takes(path: &Path, max_size: u64) -> Result<Vec<TakeInfo>, Error> {
-    let scene = read_scene(path, max_size)?;
+    let bytes = crate::read::read_binary_file(path, max_size)?;
+    takes_of_bytes(&bytes, &path.display().to_string())
+}
+
+/// [`takes`] of a file's bytes, `name` naming it in errors.
+pub fn takes_of_bytes(bytes: &[u8], name: &str) -> Result<Vec<TakeInfo>, Error> {
+    let scene = read_scene(bytes, name)?;
     let fps = fps(&scene);
     scene
         .anim_stacks
         .iter()
         .map(|stack| {
             let frames = baked::frame_count(stack.time_begin, stack.time_end, fps, 1)
-                .map_err(|why| Error::Usage(format!("{}: {why}", path.display())))?;
+                .map_err(|why| Error::Usage(format!("{name}: {why}")))?;
             Ok(TakeInfo {
                 name: stack.element.name.to_string(),
                 frames,
@@ -245,7 +250,7 @@ fn skeleton_nodes(scene: &ufbx::Scene) -> (Vec<usize>, Vec<Option<usize>>, bool)
 }
 
 /// Picks a take by name, or by its index in `info`'s list.
-pub fn pick_take(names: &[String], take: Option<&str>, path: &Path) -> Result<usize, Error> {
+pub fn pick_take(names: &[String], take: Option<&str>, file: &str) -> Result<usize, Error> {
     let Some(take) = take else { return Ok(0) };
     if let Some(i) = names.iter().position(|n| n == take) {
         return Ok(i);
@@ -265,16 +270,20 @@ pub fn pick_take(names: &[String], take: Option<&str>, path: &Path) -> Result<us
             .collect();
         format!("it has {}", quoted.join(", "))
     };
-    Err(Error::Usage(format!(
-        "{}: no take '{take}' ({list})",
-        path.display()
-    )))
+    Err(Error::Usage(format!("{file}: no take '{take}' ({list})")))
 }
 
 /// Reads take `take` (a name or an index; the first when `None`) of the FBX file at `path`.
 pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Error> {
-    let scene = read_scene(path, max_size)?;
-    let bad = |why: String| Error::Usage(format!("{}: {why}", path.display()));
+    let bytes = crate::read::read_binary_file(path, max_size)?;
+    load_bytes(&bytes, &path.display().to_string(), take)
+}
+
+/// [`load`] of a file's bytes, `name` naming it in errors (the fuzz target's entry).
+pub fn load_bytes(bytes: &[u8], name: &str, take: Option<&str>) -> Result<Read, Error> {
+    let path = name;
+    let scene = read_scene(bytes, name)?;
+    let bad = |why: String| Error::Usage(format!("{name}: {why}"));
     let (order, parents, _bones) = skeleton_nodes(&scene);
     if order.is_empty() {
         return Err(bad(
@@ -304,12 +313,15 @@ pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Erro
         .iter()
         .map(|s| s.element.name.to_string())
         .collect();
-    let frames: Vec<Vec<Pose>> = if scene.anim_stacks.is_empty() {
+    let (skeleton, motion) = if scene.anim_stacks.is_empty() {
         if take.is_some() {
             pick_take(&names, take, path)?;
         }
         warnings.push("no animation in the file: its rest pose, as one frame".to_string());
-        vec![rest.clone()]
+        baked::build(&nodes, &rest, 1, 1.0 / fps, |_, out| {
+            out.extend_from_slice(&rest);
+            Ok(())
+        })
     } else {
         let index = pick_take(&names, take, path)?;
         if take.is_none() && names.len() > 1 {
@@ -323,30 +335,30 @@ pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Erro
         let stack = &scene.anim_stacks[index];
         let count =
             baked::frame_count(stack.time_begin, stack.time_end, fps, order.len()).map_err(&bad)?;
-        let mut frames = Vec::with_capacity(count);
-        for f in 0..count {
+        baked::build(&nodes, &rest, count, 1.0 / fps, |f, out| {
             let time = stack.time_begin + f as f64 / fps;
             let options = ufbx::EvaluateOpts {
-                temp_allocator: allocator(0),
-                result_allocator: allocator(0),
+                temp_allocator: allocator(bytes.len()),
+                result_allocator: allocator(bytes.len()),
                 evaluate_skinning: false,
                 evaluate_caches: false,
                 load_external_files: false,
                 ..Default::default()
             };
             let evaluated = ufbx::evaluate_scene(&scene, &stack.anim, time, options)
-                .map_err(|e| ufbx_error(path, &e))?;
-            frames.push(
+                .map_err(|e| ufbx_error(name, &e))?;
+            out.extend(
                 order
                     .iter()
-                    .map(|&i| Pose::of_matrix(&matrix(&evaluated.nodes[i].node_to_world)))
-                    .collect(),
+                    .map(|&i| Pose::of_matrix(&matrix(&evaluated.nodes[i].node_to_world))),
             );
-        }
-        frames
-    };
-    let (skeleton, motion) =
-        baked::build(&nodes, &rest, &frames, 1.0 / fps).map_err(|e| bad(e.to_string()))?;
+            Ok(())
+        })
+    }
+    .map_err(|e| match e {
+        Error::Usage(message) if !message.starts_with(name) => bad(message),
+        other => other,
+    })?;
     Ok(Read {
         skeleton,
         motion,

@@ -23,8 +23,8 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::animation::{Interpolation, Property};
 use std::path::{Path, PathBuf};
 
-fn bad(path: &Path, why: impl std::fmt::Display) -> Error {
-    Error::Usage(format!("{}: {why}", path.display()))
+fn bad(name: &str, why: impl std::fmt::Display) -> Error {
+    Error::Usage(format!("{name}: {why}"))
 }
 
 /// Decodes standard base64 (with or without padding); `None` on any other byte.
@@ -104,14 +104,20 @@ struct File {
     buffers: Vec<Vec<u8>>,
 }
 
+/// The file at `path` and the folder its buffers may come from.
 fn read(path: &Path, max_size: u64) -> Result<File, Error> {
     let bytes = crate::read::read_binary_file(path, max_size)?;
-    let gltf =
-        gltf::Gltf::from_slice(&bytes).map_err(|e| bad(path, format!("not a valid glTF ({e})")))?;
     let folder = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
+    parse(&bytes, &path.display().to_string(), Some(folder), max_size)
+}
+
+/// A glTF or GLB's bytes; buffers in other files only from inside `folder` (none without one).
+fn parse(bytes: &[u8], path: &str, folder: Option<&Path>, max_size: u64) -> Result<File, Error> {
+    let gltf =
+        gltf::Gltf::from_slice(bytes).map_err(|e| bad(path, format!("not a valid glTF ({e})")))?;
     let mut buffers = Vec::new();
     for buffer in gltf.document.buffers() {
         let data = match buffer.source() {
@@ -130,6 +136,10 @@ fn read(path: &Path, max_size: u64) -> Result<File, Error> {
                     .ok_or_else(|| bad(path, "a data: URI with bytes that are not base64"))?
             }
             gltf::buffer::Source::Uri(uri) => {
+                let Some(folder) = folder else {
+                    let why = format!("buffer '{uri}' refused: no folder to read it from");
+                    return Err(bad(path, why));
+                };
                 let file = buffer_path(folder, uri).map_err(|why| bad(path, why))?;
                 crate::read::read_binary_file(&file, max_size)?
             }
@@ -410,6 +420,7 @@ fn animation_name(animation: &gltf::Animation) -> String {
 /// The takes of a glTF file (its animations), in file order.
 pub fn takes(path: &Path, max_size: u64) -> Result<Vec<TakeInfo>, Error> {
     let file = read(path, max_size)?;
+    let path = &path.display().to_string();
     file.gltf
         .document
         .animations()
@@ -446,6 +457,17 @@ fn trs_matrix(trs: &Trs) -> DMat4 {
 /// Reads take `take` (an animation's name or index; the first when `None`) of the glTF at `path`.
 pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Error> {
     let file = read(path, max_size)?;
+    load_file(&file, &path.display().to_string(), take)
+}
+
+/// [`load`] of a GLB's or glTF's bytes alone (buffers inside it or in data: URIs), `name`
+/// naming it in errors (the fuzz target's entry).
+pub fn load_bytes(bytes: &[u8], name: &str, take: Option<&str>) -> Result<Read, Error> {
+    let file = parse(bytes, name, None, bytes.len() as u64)?;
+    load_file(&file, name, take)
+}
+
+fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error> {
     let document = &file.gltf.document;
     let count = document.nodes().len();
     // Parents, refusing shared children and cycles.
@@ -492,7 +514,7 @@ pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Erro
         Some(&animations[index])
     };
     let tracks = match chosen {
-        Some(animation) => tracks(&file, animation).map_err(|why| bad(path, why))?,
+        Some(animation) => tracks(file, animation).map_err(|why| bad(path, why))?,
         None => Vec::new(),
     };
 
@@ -621,16 +643,18 @@ pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Erro
     };
     let rest = world_of(&|n| static_matrices[n]);
     let (start, end, fps) = timing(&tracks);
-    let frames: Vec<Vec<Pose>> = if tracks.is_empty() {
+    let (skeleton, motion) = if tracks.is_empty() {
         warnings.push("no animation in the file: its rest pose, as one frame".to_string());
-        vec![rest.clone()]
+        baked::build(&skeleton_nodes, &rest, 1, 1.0 / fps, |_, out| {
+            out.extend_from_slice(&rest);
+            Ok(())
+        })
     } else {
         let frame_count =
             baked::frame_count(start, end, fps, order.len()).map_err(|why| bad(path, why))?;
         let mut animated: Vec<Option<Trs>> = vec![None; count];
         let mut sample = [0.0f64; 4];
-        let mut frames = Vec::with_capacity(frame_count);
-        for f in 0..frame_count {
+        baked::build(&skeleton_nodes, &rest, frame_count, 1.0 / fps, |f, out| {
             let time = start + f as f64 / fps;
             for slot in animated.iter_mut() {
                 *slot = None;
@@ -647,15 +671,17 @@ pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Erro
                     Property::MorphTargetWeights => {}
                 }
             }
-            frames.push(world_of(&|n| match &animated[n] {
+            out.extend(world_of(&|n| match &animated[n] {
                 Some(trs) => trs_matrix(trs),
                 None => static_matrices[n],
             }));
-        }
-        frames
-    };
-    let (skeleton, motion) =
-        baked::build(&skeleton_nodes, &rest, &frames, 1.0 / fps).map_err(|e| bad(path, e))?;
+            Ok(())
+        })
+    }
+    .map_err(|e| match e {
+        Error::Usage(message) if !message.starts_with(path) => bad(path, message),
+        other => other,
+    })?;
     Ok(Read {
         skeleton,
         motion,
