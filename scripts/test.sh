@@ -55,7 +55,7 @@ read -r passed failed ignored <<<"$summary"
 # for the whole interpreter; otherwise for the user.
 python=${PYTHON:-python3}
 python_needs=(maturin==1.16.0 pytest==9.2.0 numpy==2.4.6 mypy==2.4.1 pandas==3.1.1 pyarrow==26.0.1
-    "dask[distributed]==2026.8.0" pybvh-ml==0.6.0 pybvh==0.8.2)
+    "dask[distributed]==2026.8.0" pybvh-ml==0.6.0 pybvh==0.8.2 bvhio==1.5.4)
 pip_scope=()
 [ "$(id -u)" = 0 ] || pip_scope=(--user)
 pylog=$(mktemp)
