@@ -44,7 +44,8 @@ pub struct TakeInfo {
     pub frame_time: f64,
 }
 
-/// What a reader gives `input`: the take, what it says once, and the file's takes.
+/// What a reader gives `input`: the take and what it says once.
+#[derive(Debug)]
 pub struct Read {
     pub skeleton: Skeleton,
     pub motion: Motion,

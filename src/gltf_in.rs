@@ -104,6 +104,92 @@ struct File {
     buffers: Vec<Vec<u8>>,
 }
 
+/// Refuses what the gltf crate's accessors would panic on instead of saying so: a value it kept
+/// as `Invalid` (an unknown animation path, interpolation, component type or accessor type) and
+/// an index past its list, on every path this reader follows (its validation misses some).
+fn unchecked_values(json: &gltf::json::Root) -> Result<(), String> {
+    use gltf::json::validation::Checked;
+    let within = |what: &str, index: usize, count: usize| {
+        if index < count {
+            Ok(())
+        } else {
+            Err(format!("{what} {index} of {count}"))
+        }
+    };
+    let nodes = json.nodes.len();
+    for (a, animation) in json.animations.iter().enumerate() {
+        for channel in &animation.channels {
+            if matches!(channel.target.path, Checked::Invalid) {
+                return Err(format!(
+                    "animation {a}: a channel with an unknown target path"
+                ));
+            }
+            within("animation target node", channel.target.node.value(), nodes)?;
+            within(
+                "animation sampler",
+                channel.sampler.value(),
+                animation.samplers.len(),
+            )?;
+        }
+        for sampler in &animation.samplers {
+            if matches!(sampler.interpolation, Checked::Invalid) {
+                return Err(format!("animation {a}: an unknown interpolation"));
+            }
+            within(
+                "sampler input accessor",
+                sampler.input.value(),
+                json.accessors.len(),
+            )?;
+            within(
+                "sampler output accessor",
+                sampler.output.value(),
+                json.accessors.len(),
+            )?;
+        }
+    }
+    for (i, accessor) in json.accessors.iter().enumerate() {
+        if matches!(accessor.component_type, Checked::Invalid)
+            || matches!(accessor.type_, Checked::Invalid)
+        {
+            return Err(format!("accessor {i}: an unknown component type or type"));
+        }
+        if let Some(view) = accessor.buffer_view {
+            within(
+                "accessor buffer view",
+                view.value(),
+                json.buffer_views.len(),
+            )?;
+        }
+    }
+    for view in &json.buffer_views {
+        within(
+            "buffer view buffer",
+            view.buffer.value(),
+            json.buffers.len(),
+        )?;
+    }
+    for node in &json.nodes {
+        for child in node.children.iter().flatten() {
+            within("node child", child.value(), nodes)?;
+        }
+        if let Some(mesh) = node.mesh {
+            within("node mesh", mesh.value(), json.meshes.len())?;
+        }
+        if let Some(camera) = node.camera {
+            within("node camera", camera.value(), json.cameras.len())?;
+        }
+        if let Some(skin) = node.skin {
+            within("node skin", skin.value(), json.skins.len())?;
+        }
+    }
+    for skin in &json.skins {
+        for joint in &skin.joints {
+            within("skin joint", joint.value(), nodes)?;
+        }
+    }
+    Ok(())
+}
+
 /// The file at `path` and the folder its buffers may come from.
 fn read(path: &Path, max_size: u64) -> Result<File, Error> {
     let bytes = crate::read::read_binary_file(path, max_size)?;
@@ -118,6 +204,7 @@ fn read(path: &Path, max_size: u64) -> Result<File, Error> {
 fn parse(bytes: &[u8], path: &str, folder: Option<&Path>, max_size: u64) -> Result<File, Error> {
     let gltf =
         gltf::Gltf::from_slice(bytes).map_err(|e| bad(path, format!("not a valid glTF ({e})")))?;
+    unchecked_values(gltf.document.as_json()).map_err(|why| bad(path, why))?;
     let mut buffers = Vec::new();
     for buffer in gltf.document.buffers() {
         let data = match buffer.source() {

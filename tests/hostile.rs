@@ -573,8 +573,9 @@ fn damaged(bytes: &[u8], noise: &mut Noise) -> Vec<u8> {
     out
 }
 
-/// The mutation loop over both readers: 150 damaged copies of each of four files (ASCII and
-/// binary FBX, GLB, glTF JSON with a data: URI). Each either loads (and poses) or is refused with
+/// The mutation loop over both readers: 400 damaged copies (`BVHVIEW_MUTATIONS` sets how many,
+/// `BVHVIEW_MUTATION_SEED` the seed) of each of four files (ASCII and binary FBX, GLB, glTF JSON
+/// with a data: URI). Each either loads (and poses) or is refused with
 /// `name: what`; none panics.
 #[test]
 fn damaged_fbx_and_gltf_are_refused_not_crashed() {
@@ -594,10 +595,16 @@ fn damaged_fbx_and_gltf_are_refused_not_crashed() {
         ("take.glb", glb),
         ("take.gltf", small_gltf().into_bytes()),
     ];
-    let mut noise = Noise(0x9E37_79B9_7F4A_7C15);
+    let setting = |name: &str, default: u64| {
+        std::env::var(name)
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(default)
+    };
+    let mut noise = Noise(setting("BVHVIEW_MUTATION_SEED", 0x9E37_79B9_7F4A_7C15).max(1));
     let (mut loaded, mut refused) = (0, 0);
     for (name, bytes) in &sources {
-        for _ in 0..150 {
+        for _ in 0..setting("BVHVIEW_MUTATIONS", 400) {
             let input = damaged(bytes, &mut noise);
             let result = if name.ends_with(".fbx") {
                 bvhview::fbx::load_bytes(&input, name, None)
