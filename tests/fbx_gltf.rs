@@ -362,3 +362,25 @@ fn fbx_converts_to_a_bvh_that_reads_back() {
     assert_eq!(compared, read.skeleton.joints.len());
     assert!(worst < 1e-5, "{worst}");
 }
+
+#[test]
+fn fbx_converts_to_gltf_keeping_the_skeleton() {
+    let dir = tempfile::tempdir().unwrap();
+    let fbx = data("fbx/bvhpython_test_freebvh.fbx");
+    let glb = dir.path().join("mixamo.glb");
+    let status = bvhview()
+        .args(["convert", "-q"])
+        .arg(&fbx)
+        .arg("-o")
+        .arg(&glb)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let read = load(&fbx);
+    let back = load(&glb);
+    assert_eq!(point_names(&back), point_names(&read));
+    assert_eq!(back.motion.frame_count(), read.motion.frame_count());
+    let (worst, compared) = worst_relative(&read, &back, read.motion.frame_count());
+    assert_eq!(compared, read.skeleton.joints.len());
+    assert!(worst < 1e-5, "{worst}");
+}
