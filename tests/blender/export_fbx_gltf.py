@@ -24,7 +24,8 @@ import sys
 
 import bpy
 
-FRAMES = 60
+# Frames kept; BVHVIEW_FRAMES=0 keeps the whole take (the speed benchmark's large files).
+FRAMES = int(os.environ.get("BVHVIEW_FRAMES", "60")) or 10**9
 
 
 def clear():
