@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Fuzz one loader or writer with AFL++ through cargo-afl (stable Rust).
 #   scripts/fuzz.sh TARGET [EXECUTIONS] [WORKDIR]      (default 10000000, /tmp/bvhview-fuzz)
-# TARGET: the loaders bvh, asf, amc; the writers write_bvh, write_gltf, write_positions; the
-# dataset reader and merge, dataset (its seeds: a small dataset's files behind the byte that
-# picks which file they replace).
+# TARGET: the loaders bvh, asf, amc, fbx, gltf (whole small FBX/glTF/GLB files of tests/data as
+# seeds); the writers write_bvh, write_gltf, write_positions; the dataset reader and merge,
+# dataset (its seeds: a small dataset's files behind the byte that picks which file they replace).
 # Seeds come from the repository's corpus at run time and are written under WORKDIR, never into
 # the project. Loaders: tests/data (files up to 4 KB whole, the first 2 KB of larger ones, cut at
 # a line end: small inputs run faster). Writers: the small whole BVH files of tests/edge,
@@ -11,7 +11,7 @@
 # fuzz/src/lib.rs). Crashes land in WORKDIR/TARGET/out/default/crashes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-target=${1:?usage: scripts/fuzz.sh bvh|asf|amc|write_bvh|write_gltf|write_positions|dataset [EXECUTIONS] [WORKDIR]}
+target=${1:?usage: scripts/fuzz.sh bvh|asf|amc|fbx|gltf|write_bvh|write_gltf|write_positions|dataset [EXECUTIONS] [WORKDIR]}
 executions=${2:-10000000}
 work=${3:-/tmp/bvhview-fuzz}/$target
 data=tests/data
@@ -29,6 +29,11 @@ case "$target" in
     bvh) for f in "$data"/bvh/*.bvh "$data"/bvh_malformed/*.bvh; do seed "$f"; done ;;
     asf) for f in "$data"/asf_amc/*.asf; do seed "$f"; done ;;
     amc) for f in "$data"/asf_amc/*.amc; do seed "$f"; done ;;
+    # Binary formats are not cut (a cut FBX or GLB is only a truncation): the small ones whole.
+    fbx) for f in "$data"/fbx/ufbx/*.fbx; do
+             [ "$(stat -c %s "$f")" -le 40000 ] && cp "$f" "$work/in/"; done ;;
+    gltf) for f in "$data"/gltf/*.glb "$data"/gltf/*.gltf; do
+             [ "$(stat -c %s "$f")" -le 120000 ] && cp "$f" "$work/in/"; done ;;
     write_bvh|write_gltf|write_positions)
         for f in tests/edge/*.bvh tests/oracle/inputs/*.bvh "$data"/bvh/*.bvh; do
             [ "$(stat -c %s "$f")" -le 4096 ] || continue

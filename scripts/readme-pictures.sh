@@ -22,6 +22,7 @@ $bvhview snapshot assets/walk.bvh --frame 10 --fit --angle 0.6 --style both --hu
 $bvhview snapshot assets/walk.bvh --frame 10 --fit --angle 0.6 --step 5 -q -o docs/walk_step.png
 # The studio look, joint names, two takes side by side, and the studio look animated.
 $bvhview snapshot assets/walk.bvh --frame 10 --look studio --style both -q -o docs/studio.png
+$bvhview snapshot tests/data/fbx/bvhpython_test_freebvh.fbx --frame 20 --look studio --size 480x480 -q -o docs/fbx.png
 $bvhview snapshot assets/walk.bvh --frame 10 --fit --angle 0.6 --style both --names -q -o docs/names.png
 $bvhview snapshot assets/walk.bvh tests/data/bvh/bvhpython_test_freebvh.bvh \
     --frame 20 --look studio --style both --hud -q -o docs/two_takes.png

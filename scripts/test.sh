@@ -55,7 +55,7 @@ read -r passed failed ignored <<<"$summary"
 # for the whole interpreter; otherwise for the user.
 python=${PYTHON:-python3}
 python_needs=(maturin==1.16.0 pytest==9.2.0 numpy==2.4.6 mypy==2.4.1 pandas==3.1.1 pyarrow==26.0.1
-    "dask[distributed]==2026.8.0" pybvh-ml==0.6.0 pybvh==0.8.2)
+    "dask[distributed]==2026.8.0" pybvh-ml==0.6.0 pybvh==0.8.2 bvhio==1.5.4)
 pip_scope=()
 [ "$(id -u)" = 0 ] || pip_scope=(--user)
 pylog=$(mktemp)
@@ -121,6 +121,12 @@ if command -v blender >/dev/null; then
     passed=$((passed + ${blender_checked:-0} - ${blender_failed:-0}))
     failed=$((failed + ${blender_failed:-1}))
     # convert's edits against the same operations in Blender's BVH importer.
+    # FBX and glTF test files: Blender's own import against bvhview's reading.
+    bash tests/blender/run_import_checks.sh "$cli" "$(mktemp -d)" 2>&1 | tee "$blender_log" || status=1
+    read -r import_checked import_failed <<<"$(awk '/^import checks:/ { print $3, $5 }' "$blender_log")"
+    echo "blender: ${import_checked:-0} FBX/glTF imports checked, ${import_failed:-1} failed"
+    passed=$((passed + ${import_checked:-0} - ${import_failed:-0}))
+    failed=$((failed + ${import_failed:-1}))
     bash tests/blender/run_edit_checks.sh "$cli" "$(mktemp -d)" 2>&1 | tee "$blender_log" || status=1
     read -r edit_checks edit_failed <<<"$(awk '/^edit checks:/ { print $3, $5 }' "$blender_log")"
     echo "blender: ${edit_checks:-0} edit checks, ${edit_failed:-1} failed"

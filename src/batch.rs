@@ -194,9 +194,12 @@ fn identity(metadata: &std::fs::Metadata) -> (u64, u64) {
     (metadata.dev(), metadata.ino())
 }
 
-/// Whether a name is one of a take's (`.bvh`, `.asf`, `.amc`, any case).
+/// Whether a name is one of a take's (`.bvh`, `.fbx`, `.gltf`, `.glb`, `.asf`, `.amc`, any case).
 fn is_take_name(path: &Path) -> bool {
-    matches!(extension(path).as_str(), "bvh" | "asf" | "amc")
+    matches!(
+        extension(path).as_str(),
+        "bvh" | "fbx" | "gltf" | "glb" | "asf" | "amc"
+    )
 }
 
 /// Why an entry cannot be read, as a skipped line says it.
@@ -401,7 +404,7 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
         let mut used = vec![false; asfs.len()];
         for path in entries {
             match extension(path).as_str() {
-                "bvh" => items.push(Item {
+                "bvh" | "fbx" | "gltf" | "glb" => items.push(Item {
                     path: path.clone(),
                     motion: None,
                 }),

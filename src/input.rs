@@ -1,4 +1,5 @@
-//! What every command reads: a BVH file, or an ASF skeleton with an optional AMC motion.
+//! What every command reads: a BVH, FBX or glTF/GLB file, or an ASF skeleton with an optional AMC
+//! motion.
 
 use crate::acclaim;
 use crate::bvh;
@@ -68,6 +69,41 @@ pub fn load_checked(
     threads: usize,
     max_size: u64,
 ) -> Result<Loaded, Error> {
+    load_take(path, motion, frame_time, threads, max_size, None)
+}
+
+/// Whether bvhview reads files with this (lower-case) extension as takes of their own: `bvh`,
+/// `fbx`, `gltf`, `glb` (an `asf` needs its `amc`).
+pub fn is_take_extension(extension: &str) -> bool {
+    matches!(extension, "bvh" | "fbx" | "gltf" | "glb")
+}
+
+/// Whether a file holds takes that `--take` picks among (FBX animation stacks, glTF animations).
+pub fn has_takes(path: &Path) -> bool {
+    matches!(extension(path).as_str(), "fbx" | "gltf" | "glb")
+}
+
+/// The takes of an FBX or glTF file (name, frames, frame time), in file order; empty for the
+/// formats that hold one take.
+pub fn takes(path: &Path, max_size: u64) -> Result<Vec<crate::fbx::TakeInfo>, Error> {
+    check_file(path, max_size)?;
+    match extension(path).as_str() {
+        "fbx" => crate::fbx::takes(path, max_size),
+        "gltf" | "glb" => crate::gltf_in::takes(path, max_size),
+        _ => Ok(Vec::new()),
+    }
+}
+
+/// [`load_checked`] with the take of a file that holds several (FBX, glTF): `take` is its name
+/// or its index in [`takes`]; `None` reads the first.
+pub fn load_take(
+    path: &Path,
+    motion: Option<&Path>,
+    frame_time: Option<f64>,
+    threads: usize,
+    max_size: u64,
+    take: Option<&str>,
+) -> Result<Loaded, Error> {
     check_file(path, max_size)?;
     if let Some(motion) = motion {
         check_file(motion, max_size)?;
@@ -110,7 +146,38 @@ pub fn load_checked(
             path.display(),
             path.display()
         ))),
+        "fbx" | "gltf" | "glb" => {
+            if let Some(amc) = motion {
+                return Err(Error::Usage(format!(
+                    "--motion {}: only an ASF skeleton takes a motion file",
+                    amc.display()
+                )));
+            }
+            let read = if extension(path) == "fbx" {
+                crate::fbx::load(path, max_size, take)?
+            } else {
+                crate::gltf_in::load(path, max_size, take)?
+            };
+            let mut motion = read.motion;
+            if let Some(time) = frame_time {
+                motion.frame_time = time;
+            }
+            Ok(Loaded {
+                skeleton: read.skeleton,
+                motion,
+                warnings: read.warnings,
+                // Both readers give metres (ufbx converts the FBX's UnitScaleFactor; glTF is
+                // metres by definition); the stance's guess from the figure's size says so.
+                stated_units: None,
+            })
+        }
         "bvh" => {
+            if take.is_some() {
+                return Err(Error::Usage(format!(
+                    "--take: {} holds one take (only FBX and glTF files hold several)",
+                    path.display()
+                )));
+            }
             if let Some(amc) = motion {
                 return Err(Error::Usage(format!(
                     "--motion {}: only an ASF skeleton takes a motion file",
@@ -134,7 +201,7 @@ pub fn load_checked(
             })
         }
         other => Err(Error::Usage(format!(
-            "{}: unknown extension '{other}': bvhview reads .bvh files and .asf skeletons (with --motion .amc)",
+            "{}: unknown extension '{other}': bvhview reads .bvh, .fbx, .gltf and .glb files and .asf skeletons (with --motion .amc)",
             path.display()
         ))),
     }

@@ -13,13 +13,16 @@
 //! TEACHING.zh-Hant.md), which reads the article function by function beside the items here.
 
 pub mod acclaim;
+pub mod baked;
 pub mod batch;
 pub mod bvh;
 pub mod dataset;
 pub mod edit;
 pub mod error;
 pub mod export;
+pub mod fbx;
 pub mod gltf;
+pub mod gltf_in;
 pub mod info;
 pub mod input;
 pub mod limits;

@@ -66,6 +66,23 @@ pub fn read_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     )
 }
 
+/// The whole of a binary file (FBX, GLB, a glTF buffer), refused past `max_size` bytes while
+/// it is read (a link to /dev/zero stops there).
+pub fn read_binary_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
+    use std::io::Read;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let length = file.metadata().map_or(0, |m| m.len()).min(max_size);
+    let mut bytes = Vec::with_capacity(usize::try_from(length).unwrap_or(0).saturating_add(1));
+    Bounded::saying(
+        file,
+        max_size,
+        format!("more than --max-size {max_size} bytes"),
+    )
+    .read_to_end(&mut bytes)
+    .map_err(|e| Error::io(path, e))?;
+    Ok(bytes)
+}
+
 /// The whole of an ASF skeleton: refused past `max_size` or [`crate::limits::MAX_HEADER_BYTES`],
 /// so that a link to /dev/zero is not read for gigabytes.
 pub fn read_skeleton_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {

@@ -526,3 +526,273 @@ fn a_frame_folder_in_a_missing_folder_is_refused() {
     assert!(out.status.success(), "{out:?}");
     assert_eq!(std::fs::read_dir(&new).unwrap().count(), 2);
 }
+
+/// Issue 36: an FBX or glTF reader handed damage. A small deterministic generator (xorshift).
+struct Noise(u64);
+
+impl Noise {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 << 13;
+        self.0 ^= self.0 >> 7;
+        self.0 ^= self.0 << 17;
+        self.0
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n.max(1) as u64) as usize
+    }
+}
+
+/// `bytes` with one kind of damage: cut short, bytes flipped, a 32-bit count made huge, a run of
+/// bytes repeated, or a run removed.
+fn damaged(bytes: &[u8], noise: &mut Noise) -> Vec<u8> {
+    let mut out = bytes.to_vec();
+    let at = noise.below(out.len());
+    match noise.below(5) {
+        0 => out.truncate(at),
+        1 => {
+            for _ in 0..1 + noise.below(8) {
+                let i = noise.below(out.len());
+                out[i] ^= 1 << noise.below(8);
+            }
+        }
+        2 => {
+            let huge = [0xFFu8, 0xFF, 0xFF, 0x7F];
+            let end = (at + 4).min(out.len());
+            out[at..end].copy_from_slice(&huge[..end - at]);
+        }
+        3 => {
+            let end = (at + 1 + noise.below(64)).min(out.len());
+            let run = out[at..end].to_vec();
+            out.splice(at..at, run);
+        }
+        _ => {
+            let end = (at + 1 + noise.below(64)).min(out.len());
+            out.drain(at..end);
+        }
+    }
+    out
+}
+
+/// The mutation loop over both readers: 400 damaged copies (`BVHVIEW_MUTATIONS` sets how many,
+/// `BVHVIEW_MUTATION_SEED` the seed) of each of four files (ASCII and binary FBX, GLB, glTF JSON
+/// with a data: URI). Each either loads (and poses) or is refused with
+/// `name: what`; none panics.
+#[test]
+fn damaged_fbx_and_gltf_are_refused_not_crashed() {
+    let glb = std::fs::read(repo_data("gltf/bvh11_131_01.glb")).unwrap();
+    let sources: Vec<(&str, Vec<u8>)> = vec![
+        (
+            "ascii.fbx",
+            std::fs::read(repo_data("fbx/ufbx/maya_bone_radius_7500_ascii.fbx")).unwrap(),
+        ),
+        (
+            "binary.fbx",
+            std::fs::read(repo_data(
+                "fbx/ufbx/blender_279_bone_radius_7400_binary.fbx",
+            ))
+            .unwrap(),
+        ),
+        ("take.glb", glb),
+        ("take.gltf", small_gltf().into_bytes()),
+    ];
+    let setting = |name: &str, default: u64| {
+        std::env::var(name)
+            .ok()
+            .and_then(|v| v.parse().ok())
+            .unwrap_or(default)
+    };
+    let mut noise = Noise(setting("BVHVIEW_MUTATION_SEED", 0x9E37_79B9_7F4A_7C15).max(1));
+    let (mut loaded, mut refused) = (0, 0);
+    for (name, bytes) in &sources {
+        for _ in 0..setting("BVHVIEW_MUTATIONS", 400) {
+            let input = damaged(bytes, &mut noise);
+            let result = if name.ends_with(".fbx") {
+                bvhview::fbx::load_bytes(&input, name, None)
+            } else {
+                bvhview::gltf_in::load_bytes(&input, name, None)
+            };
+            match result {
+                Ok(read) => {
+                    loaded += 1;
+                    assert!(read.motion.data.iter().all(|v| v.is_finite()));
+                    let last = read.motion.frame_count() - 1;
+                    let _ = bvhview::pose::world_positions(
+                        &read.skeleton,
+                        read.motion.frame(last),
+                        Default::default(),
+                    );
+                }
+                Err(error) => {
+                    refused += 1;
+                    let text = error.to_string();
+                    assert!(text.starts_with(&format!("{name}: ")), "{text}");
+                    assert_eq!(error.exit_code(), 2, "{text}");
+                    assert_eq!(text.lines().count(), 1, "{text}");
+                }
+            }
+        }
+    }
+    assert!(
+        loaded > 0 && refused > 100,
+        "{loaded} loaded, {refused} refused"
+    );
+}
+
+/// A one-node glTF, animated, its buffer in a data: URI: two keys of a translation.
+fn small_gltf() -> String {
+    gltf_with(
+        r#""uri": "data:application/octet-stream;base64,AAAAAAAAgD8AAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAA=""#,
+        "",
+    )
+}
+
+/// A glTF JSON whose one buffer has `source` (a `"uri": …` or nothing) and whose first node
+/// adds `node` (such as `"children": [0],`).
+fn gltf_with(source: &str, node: &str) -> String {
+    format!(
+        r#"{{"asset": {{"version": "2.0"}},
+  "nodes": [{{{node} "name": "root"}}],
+  "buffers": [{{{source}, "byteLength": 32}}],
+  "bufferViews": [{{"buffer": 0, "byteOffset": 0, "byteLength": 8}},
+                  {{"buffer": 0, "byteOffset": 8, "byteLength": 24}}],
+  "accessors": [{{"bufferView": 0, "componentType": 5126, "count": 2, "type": "SCALAR",
+                  "min": [0], "max": [1]}},
+                {{"bufferView": 1, "componentType": 5126, "count": 2, "type": "VEC3"}}],
+  "animations": [{{"name": "slide", "samplers": [{{"input": 0, "output": 1}}],
+                   "channels": [{{"sampler": 0, "target": {{"node": 0, "path": "translation"}}}}]}}]
+}}"#
+    )
+}
+
+/// Point 5: a glTF's buffers come from its folder or a data: URI, nothing else; counts past the
+/// buffer, cycles and broken keys are refused by name; the CLI says `file: what`, exits 2.
+#[test]
+fn hostile_gltf_buffers_and_counts_are_refused() {
+    let folder = scratch("gltf-hostile");
+    std::fs::create_dir_all(&folder).unwrap();
+    std::fs::write(folder.join("inside.bin"), [0u8; 32]).unwrap();
+    let good = folder.join("good.gltf");
+    std::fs::write(&good, small_gltf()).unwrap();
+    let out = bvhview(&["info", good.to_str().unwrap()]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let cases: Vec<(&str, String, &str)> = vec![
+        (
+            "outside.gltf",
+            gltf_with(r#""uri": "../outside.bin""#, ""),
+            "out of the glTF's folder",
+        ),
+        (
+            "absolute.gltf",
+            gltf_with(r#""uri": "/etc/passwd""#, ""),
+            "only files beside the glTF",
+        ),
+        (
+            "network.gltf",
+            gltf_with(r#""uri": "http://example.com/x.bin""#, ""),
+            "only files beside",
+        ),
+        (
+            "encoded.gltf",
+            gltf_with(r#""uri": "%2E%2E/outside.bin""#, ""),
+            "out of the glTF's folder",
+        ),
+        (
+            "bad64.gltf",
+            gltf_with(r#""uri": "data:application/octet-stream;base64,@@@@""#, ""),
+            "not base64",
+        ),
+        (
+            "short.gltf",
+            gltf_with(r#""uri": "data:application/octet-stream;base64,AAAA""#, ""),
+            "fewer than its byteLength",
+        ),
+        (
+            "missing.gltf",
+            gltf_with(r#""uri": "nothere.bin""#, ""),
+            "nothere.bin",
+        ),
+        (
+            "cycle.gltf",
+            gltf_with(r#""uri": "inside.bin""#, r#""children": [0],"#),
+            "more than one parent",
+        ),
+        ("json.gltf", "{\"asset\": ".to_string(), "not a valid glTF"),
+    ];
+    for (name, text, want) in cases {
+        let path = folder.join(name);
+        std::fs::write(&path, text).unwrap();
+        let output = folder.join(format!("{name}.bvh"));
+        let out = bvhview(&[
+            "convert",
+            path.to_str().unwrap(),
+            "-o",
+            output.to_str().unwrap(),
+        ]);
+        refused(&out, want, &output);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            stderr.starts_with(&format!("bvhview: {}: ", path.display())),
+            "{stderr}"
+        );
+    }
+    // An accessor counting a billion keys in a 32-byte buffer, keys that go back in time.
+    let huge = small_gltf().replacen(
+        "\"count\": 2, \"type\": \"SCALAR\"",
+        "\"count\": 1000000000, \"type\": \"SCALAR\"",
+        1,
+    );
+    let error = bvhview::gltf_in::load_bytes(huge.as_bytes(), "huge.gltf", None).unwrap_err();
+    assert!(error.to_string().contains("huge.gltf: "), "{error}");
+    let backwards = gltf_with(
+        r#""uri": "data:application/octet-stream;base64,AACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAA=""#,
+        "",
+    );
+    let error = bvhview::gltf_in::load_bytes(backwards.as_bytes(), "back.gltf", None).unwrap_err();
+    assert!(
+        error.to_string().contains("not finite and increasing"),
+        "{error}"
+    );
+    // A buffer file that is a link out of the folder.
+    let outside = scratch("outside.bin");
+    std::fs::write(&outside, [0u8; 32]).unwrap();
+    let link = folder.join("link.bin");
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink(&outside, &link).unwrap();
+    let linked = folder.join("linked.gltf");
+    std::fs::write(&linked, gltf_with(r#""uri": "link.bin""#, "")).unwrap();
+    let error = bvhview::input::load(&linked, None, None).unwrap_err();
+    assert!(
+        error.to_string().contains("leads out of the glTF's folder"),
+        "{error}"
+    );
+}
+
+/// Point 5 for FBX: a cut file, a file of noise and an FBX header over nothing each get one line
+/// and exit 2.
+#[test]
+fn truncated_and_noise_fbx_are_refused_by_the_cli() {
+    let bytes = std::fs::read(repo_data("fbx/bvh11_131_01.fbx")).unwrap();
+    let mut noise = Noise(7);
+    let cases: Vec<(&str, Vec<u8>)> = vec![
+        ("half.fbx", bytes[..bytes.len() / 2].to_vec()),
+        ("header.fbx", bytes[..27].to_vec()),
+        ("noise.fbx", (0..4096).map(|_| noise.next() as u8).collect()),
+        ("empty.fbx", Vec::new()),
+    ];
+    for (name, input) in cases {
+        let path = scratch(name);
+        std::fs::write(&path, input).unwrap();
+        let output = scratch(&format!("{name}.bvh"));
+        let out = bvhview(&[
+            "convert",
+            path.to_str().unwrap(),
+            "-o",
+            output.to_str().unwrap(),
+        ]);
+        refused(&out, &format!("{}: ", path.display()), &output);
+    }
+}

@@ -30,8 +30,29 @@ pub(crate) fn run(args: InfoArgs) -> Result<ExitCode, Error> {
         Some(take) => format!("{name} + {}", take.display()),
         None => name,
     };
-    write_text(&bvhview::info::summary(&name, &loaded, offset_mode))?;
+    let mut text = bvhview::info::summary(&name, &loaded, offset_mode);
+    if let Some(path) = args.file.as_deref().filter(|p| input::has_takes(p)) {
+        text.push_str(&takes_text(&input::takes(path, args.source.max_size)?));
+    }
+    write_text(&text)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The takes of an FBX or glTF file, one line each, as `--take` picks them.
+fn takes_text(takes: &[bvhview::fbx::TakeInfo]) -> String {
+    if takes.is_empty() {
+        return "takes: none (the file's rest pose)\n".to_string();
+    }
+    let mut text = format!("takes: {} (--take NAME|INDEX)\n", takes.len());
+    for (i, take) in takes.iter().enumerate() {
+        text.push_str(&format!(
+            "  {i}: '{}', {}, {} fps\n",
+            take.name,
+            bvhview::error::counted(take.frames, "frame"),
+            (1.0 / take.frame_time * 1000.0).round() / 1000.0
+        ));
+    }
+    text
 }
 
 /// `bvhview info DIR`: one line per file, in path order, a progress bar on a terminal, and a
@@ -46,7 +67,7 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
     let items = walk.items;
     if items.is_empty() {
         return Err(Error::Usage(format!(
-            "{}: no .bvh, .asf or .amc files",
+            "{}: no .bvh, .fbx, .gltf, .glb, .asf or .amc files",
             dir.display()
         )));
     }

@@ -91,6 +91,10 @@ pub(crate) struct Source {
     /// The AMC motion for an ASF skeleton (without it: the rest pose).
     #[arg(long, value_name = "TAKE.amc")]
     motion: Option<PathBuf>,
+    /// The take of an FBX or glTF file that holds several, by name or by its index in
+    /// `bvhview info` (default: the first).
+    #[arg(long, value_name = "NAME|INDEX")]
+    take: Option<String>,
     /// Seconds per frame, overriding the file (AMC files have none: default 1/120).
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     frame_time: Option<f64>,
@@ -300,12 +304,13 @@ pub(crate) fn load(path: &Path, source: &Source) -> Result<Loaded, Error> {
 
 /// Loads a file (with its motion), its warnings left to the caller.
 pub(crate) fn load_quietly(path: &Path, source: &Source) -> Result<Loaded, Error> {
-    input::load_checked(
+    input::load_take(
         path,
         source.motion.as_deref(),
         source.frame_time,
         bvhview::cores(),
         source.max_size,
+        source.take.as_deref(),
     )
 }
 
@@ -319,6 +324,9 @@ pub(crate) fn load_or_default(
         None => {
             if source.motion.is_some() {
                 return Err(Error::Usage("--motion needs an ASF skeleton file".into()));
+            }
+            if source.take.is_some() {
+                return Err(Error::Usage("--take needs an FBX or glTF file".into()));
             }
             bvhview::limits::frame_time_option(source.frame_time)?;
             let mut walk = input::default_motion()?;

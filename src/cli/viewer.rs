@@ -100,6 +100,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
             motion: source.motion.clone(),
             frame_time: source.frame_time,
             max_size: source.max_size,
+            take: source.take.clone(),
         };
         let mut take = ViewerTake::from_source(take_source, offset_mode)?;
         let name = path.display().to_string();

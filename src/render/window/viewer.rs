@@ -57,16 +57,19 @@ pub struct TakeSource {
     pub motion: Option<PathBuf>,
     pub frame_time: Option<f64>,
     pub max_size: u64,
+    /// The take of an FBX or glTF file (`--take`).
+    pub take: Option<String>,
 }
 
 impl TakeSource {
     fn load(&self) -> Result<Loaded, Error> {
-        crate::input::load_checked(
+        crate::input::load_take(
             &self.path,
             self.motion.as_deref(),
             self.frame_time,
             crate::cores(),
             self.max_size,
+            self.take.as_deref(),
         )
     }
 }
@@ -503,6 +506,7 @@ impl Viewer {
             motion: None,
             frame_time: None,
             max_size: crate::input::DEFAULT_MAX_SIZE,
+            take: None,
         };
         let problems = match ViewerTake::from_source(source, self.options.offset_mode) {
             Ok(take) => {
@@ -833,6 +837,7 @@ mod tests {
             motion: None,
             frame_time: None,
             max_size: u64::MAX,
+            take: None,
         };
         Viewer::new(
             vec![ViewerTake::from_source(source, OffsetMode::Replace).unwrap()],

@@ -1,0 +1,374 @@
+//! A take given as world transforms of named nodes, frame by frame → the `Skeleton` + `Motion` a
+//! BVH loads into (decision 11: every format is one more loader, not one more model).
+//!
+//! The FBX and glTF readers evaluate their scenes themselves (ufbx for FBX: pre/post rotations,
+//! pivots, scale inheritance, unit and axis conversion all included) and hand over, for every
+//! joint and every frame, the joint's world matrix. This module folds whatever made those
+//! matrices into BVH channels so that BVH forward kinematics gives back the same world positions:
+//!
+//! - a joint's world rotation is the rotation part of its world matrix (scale and shear are
+//!   dropped: BVH has none); its local rotation is its parent's world rotation inverted times its
+//!   own, written as `Zrotation Yrotation Xrotation` Euler angles (degrees), pre-rotation, rest
+//!   orientation and animation all in one;
+//! - its local translation is the vector from its parent's world position to its own, in the
+//!   parent's world rotation's frame, so that `parent + R_parent · t` is its world position even
+//!   where the file scales a parent;
+//! - OFFSET is that translation when it stays the same in every frame (no position channels),
+//!   and the rest pose's otherwise, with `Xposition Yposition Zposition` channels carrying it;
+//!   a root always has position channels;
+//! - a leaf that is not a root and does not translate becomes an `End Site` (its rotation moves
+//!   nothing), keeping its name.
+
+use crate::error::Error;
+use crate::motion::Motion;
+use crate::skeleton::{Channel, Joint, RotationOrder, Skeleton};
+use glam::{DMat4, DQuat, DVec3, EulerRot, Vec3};
+
+/// One node of the skeleton to be: its name and its parent among the nodes before it.
+#[derive(Clone, Debug)]
+pub struct Node {
+    pub name: String,
+    pub parent: Option<usize>,
+}
+
+/// World rotation and position of one node in one pose.
+#[derive(Clone, Copy, Debug)]
+pub struct Pose {
+    pub rotation: DQuat,
+    pub position: DVec3,
+}
+
+impl Pose {
+    /// The rotation and translation of a world matrix (its scale and shear dropped).
+    pub fn of_matrix(matrix: &DMat4) -> Pose {
+        let position = matrix.w_axis.truncate();
+        let (x, y, z) = (
+            matrix.x_axis.truncate(),
+            matrix.y_axis.truncate(),
+            matrix.z_axis.truncate(),
+        );
+        // Gram–Schmidt on the scaled axes: the rotation nearest a matrix with scale, also when a
+        // parent's non-uniform scale shears the child; a mirrored matrix keeps its handedness out.
+        let x = x.try_normalize().unwrap_or(DVec3::X);
+        let y = (y - x * x.dot(y)).try_normalize().unwrap_or_else(|| {
+            let z = z.try_normalize().unwrap_or(DVec3::Z);
+            z.cross(x).try_normalize().unwrap_or(DVec3::Y)
+        });
+        let z = x.cross(y);
+        let rotation = DQuat::from_mat3(&glam::DMat3::from_cols(x, y, z)).normalize();
+        Pose { rotation, position }
+    }
+}
+
+/// Frames beyond this are refused (a take of an hour at 240 Hz is 864,000).
+pub const MAX_FRAMES: usize = 1_000_000;
+
+/// Joints × frames beyond this are refused: 8 M (100 joints for 11 minutes at 120 Hz), whose
+/// local poses take 235 MB while a take is built.
+pub const MAX_JOINT_FRAMES: usize = 1 << 23;
+
+/// The number of frames of a take from `start` to `end` seconds at `fps`, or why not.
+pub fn frame_count(start: f64, end: f64, fps: f64, joints: usize) -> Result<usize, String> {
+    if !(start.is_finite() && end.is_finite() && fps.is_finite()) {
+        return Err(format!(
+            "the take's time range ({start} s to {end} s at {fps} fps) is not finite"
+        ));
+    }
+    if !(crate::limits::MIN_FPS..=crate::limits::MAX_FPS).contains(&fps) {
+        return Err(format!(
+            "a frame rate of {fps} fps, outside {}..{}",
+            crate::limits::MIN_FPS,
+            crate::limits::MAX_FPS
+        ));
+    }
+    let span = (end - start).max(0.0);
+    // Key times are often f32: 8.275 s at 120 fps is 992.99995 frames past the first.
+    let frames = (span * fps + 1e-3).floor() + 1.0;
+    let joint_frames = frames * joints.max(1) as f64;
+    if frames > MAX_FRAMES as f64 || joint_frames > MAX_JOINT_FRAMES as f64 {
+        return Err(format!(
+            "the take lasts {span} s at {fps} fps: {frames} frames of {joints} joints, more than \
+             bvhview reads ({MAX_FRAMES} frames, {MAX_JOINT_FRAMES} joints × frames)"
+        ));
+    }
+    Ok(frames as usize)
+}
+
+/// A name as a BVH can carry it: control characters become `_`, an empty name `node<index>`.
+pub fn joint_name(name: &str, index: usize) -> Result<String, String> {
+    let name: String = name
+        .trim()
+        .chars()
+        .map(|c| if c.is_control() { '_' } else { c })
+        .collect();
+    if name.len() > crate::limits::MAX_NAME_BYTES {
+        return Err(format!(
+            "a node name of {} bytes, more than {}",
+            name.len(),
+            crate::limits::MAX_NAME_BYTES
+        ));
+    }
+    Ok(if name.is_empty() {
+        format!("node{index}")
+    } else {
+        name
+    })
+}
+
+/// The pose of every node relative to its parent: (local rotation, local translation).
+fn locals(nodes: &[Node], world: &[Pose]) -> Vec<(DQuat, DVec3)> {
+    nodes
+        .iter()
+        .zip(world)
+        .map(|(node, pose)| match node.parent {
+            None => (pose.rotation, pose.position),
+            Some(p) => {
+                let parent = world[p];
+                let inverse = parent.rotation.inverse();
+                (
+                    (inverse * pose.rotation).normalize(),
+                    inverse * (pose.position - parent.position),
+                )
+            }
+        })
+        .collect()
+}
+
+/// Euler angles in degrees (Z, Y, X) of `q` for `Zrotation Yrotation Xrotation`, each moved by
+/// whole turns to the nearest of `previous`'s, so a converted take does not jump by 360°.
+fn euler_zyx(q: DQuat, previous: Option<[f64; 3]>) -> [f64; 3] {
+    let (z, y, x) = q.to_euler(EulerRot::ZYX);
+    let mut angles = [z.to_degrees(), y.to_degrees(), x.to_degrees()];
+    if let Some(previous) = previous {
+        for (angle, before) in angles.iter_mut().zip(previous) {
+            *angle += ((before - *angle) / 360.0).round() * 360.0;
+        }
+    }
+    angles
+}
+
+/// Builds the skeleton and motion. `nodes` are in an order where a parent comes before its
+/// children; `rest` is the world pose of each in the file's rest pose; `pose_of(f, out)` fills
+/// `out` with the world pose of every node in frame `f` of `frames` (at least one: a file
+/// without animation passes its rest pose as its one frame). Frames are asked for once each, in
+/// order, and only their local poses are kept (28 bytes a joint and frame).
+pub fn build(
+    nodes: &[Node],
+    rest: &[Pose],
+    frames: usize,
+    frame_time: f64,
+    mut pose_of: impl FnMut(usize, &mut Vec<Pose>) -> Result<(), Error>,
+) -> Result<(Skeleton, Motion), Error> {
+    debug_assert_eq!(nodes.len(), rest.len());
+    let count = nodes.len();
+    let rest_local = locals(nodes, rest);
+    let mut rotations: Vec<glam::Quat> = Vec::with_capacity(frames * count);
+    let mut translations: Vec<Vec3> = Vec::with_capacity(frames * count);
+    // The figure's size, for "the same translation in every frame".
+    let (mut low, mut high) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
+    for pose in rest {
+        low = low.min(pose.position);
+        high = high.max(pose.position);
+    }
+    let mut world = Vec::with_capacity(count);
+    for f in 0..frames {
+        world.clear();
+        pose_of(f, &mut world)?;
+        if world.len() != count {
+            return Err(Error::Usage(format!(
+                "frame {f} has {} poses for {count} joints",
+                world.len()
+            )));
+        }
+        for pose in &world {
+            low = low.min(pose.position);
+            high = high.max(pose.position);
+        }
+        for (rotation, translation) in locals(nodes, &world) {
+            rotations.push(rotation.as_quat());
+            translations.push(translation.as_vec3());
+        }
+    }
+    let size = if count > 0 && high.cmpge(low).all() {
+        (high - low).max_element().max(1e-9)
+    } else {
+        1.0
+    };
+    let tolerance = (1e-6 * size) as f32;
+
+    let mut children = vec![Vec::new(); count];
+    for (i, node) in nodes.iter().enumerate() {
+        if let Some(p) = node.parent {
+            children[p].push(i);
+        }
+    }
+
+    let mut joints: Vec<Joint> = Vec::with_capacity(count);
+    // For each node: translates (needs position channels) and its OFFSET.
+    let mut translates = vec![false; count];
+    for i in 0..count {
+        let first = if frames > 0 {
+            translations[i]
+        } else {
+            rest_local[i].1.as_vec3()
+        };
+        let constant = (0..frames)
+            .all(|f| (translations[f * count + i] - first).abs().max_element() <= tolerance);
+        translates[i] = nodes[i].parent.is_none() || !constant;
+        let offset = if translates[i] {
+            rest_local[i].1.as_vec3()
+        } else {
+            first
+        };
+        let mut joint = Joint::new(nodes[i].name.clone(), nodes[i].parent);
+        joint.offset = offset;
+        joint.children = children[i].clone();
+        joint.end_site = nodes[i].parent.is_some() && children[i].is_empty() && !translates[i];
+        if !joint.end_site {
+            if translates[i] {
+                joint
+                    .channels
+                    .extend([Channel::Xposition, Channel::Yposition, Channel::Zposition]);
+            }
+            joint
+                .channels
+                .extend([Channel::Zrotation, Channel::Yrotation, Channel::Xrotation]);
+            joint.rotation_order = Some(RotationOrder::Zyx);
+        }
+        joints.push(joint);
+    }
+    // Pre-order with contiguous channel columns: the nodes come parent first, but a BVH lists a
+    // joint's whole subtree before its next sibling.
+    let mut order = Vec::with_capacity(count);
+    let mut stack: Vec<usize> = (0..count)
+        .filter(|&i| nodes[i].parent.is_none())
+        .rev()
+        .collect();
+    while let Some(i) = stack.pop() {
+        order.push(i);
+        stack.extend(children[i].iter().rev());
+    }
+    let mut new_index = vec![0; count];
+    for (n, &i) in order.iter().enumerate() {
+        new_index[i] = n;
+    }
+    let mut sorted: Vec<Joint> = order.iter().map(|&i| joints[i].clone()).collect();
+    let mut column = 0;
+    for joint in &mut sorted {
+        joint.parent = joint.parent.map(|p| new_index[p]);
+        for child in &mut joint.children {
+            *child = new_index[*child];
+        }
+        joint.first_channel = column;
+        column += joint.channels.len();
+    }
+    let skeleton = Skeleton {
+        joints: sorted,
+        source: crate::skeleton::Source::Bvh,
+    };
+    let channels = column;
+    let values = frames
+        .checked_mul(channels)
+        .filter(|&v| v as u64 <= crate::limits::MAX_GENERATED_VALUES)
+        .ok_or_else(|| {
+            Error::Usage(format!(
+                "{frames} frames of {channels} channels: more than bvhview reads"
+            ))
+        })?;
+    let mut data = Vec::with_capacity(values);
+    let mut previous: Vec<Option<[f64; 3]>> = vec![None; count];
+    for f in 0..frames {
+        for &i in &order {
+            if joints[i].end_site {
+                continue;
+            }
+            if translates[i] {
+                data.extend(translations[f * count + i].to_array());
+            }
+            let rotation = rotations[f * count + i].as_dquat();
+            let angles = euler_zyx(rotation, previous[i]);
+            previous[i] = Some(angles);
+            data.extend(angles.map(|v| v as f32));
+        }
+    }
+    if data.iter().any(|v| !v.is_finite()) {
+        return Err(Error::Usage(
+            "the file's transforms give non-finite values (a zero scale or a broken matrix)".into(),
+        ));
+    }
+    let motion = Motion::new(frame_time, channels, frames, data);
+    Ok((skeleton, motion))
+}
+
+/// The world position of every joint of `skeleton` in frame `f` as BVH FK computes it, in f64
+/// (for tests of the readers against the poses they were built from).
+pub fn world_positions(skeleton: &Skeleton, motion: &Motion, f: usize) -> Vec<Vec3> {
+    crate::pose::world_positions(skeleton, motion.frame(f), crate::pose::OffsetMode::Replace)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn euler_zyx_is_what_the_channels_multiply() {
+        let q = DQuat::from_euler(EulerRot::XYZ, 0.3, -1.1, 2.0);
+        let [z, y, x] = euler_zyx(q, None);
+        let back = DQuat::from_rotation_z(z.to_radians())
+            * DQuat::from_rotation_y(y.to_radians())
+            * DQuat::from_rotation_x(x.to_radians());
+        assert!(back.dot(q).abs() > 1.0 - 1e-12, "{back:?} vs {q:?}");
+    }
+
+    #[test]
+    fn world_positions_come_back_through_bvh_fk() {
+        // A chain of three with a scaled, rotated parent and a translating middle joint.
+        let nodes = vec![
+            Node {
+                name: "root".into(),
+                parent: None,
+            },
+            Node {
+                name: "mid".into(),
+                parent: Some(0),
+            },
+            Node {
+                name: "tip".into(),
+                parent: Some(1),
+            },
+        ];
+        let pose = |t: f64| {
+            let root = DMat4::from_scale_rotation_translation(
+                DVec3::splat(2.0),
+                DQuat::from_rotation_y(t),
+                DVec3::new(t, 1.0, 0.0),
+            );
+            let mid = root
+                * DMat4::from_rotation_translation(
+                    DQuat::from_rotation_x(0.5 * t),
+                    DVec3::new(0.0, 1.0 + t, 0.0),
+                );
+            let tip = mid * DMat4::from_translation(DVec3::new(0.0, 0.0, 1.0));
+            [root, mid, tip].map(|m| Pose::of_matrix(&m)).to_vec()
+        };
+        let rest = pose(0.0);
+        let frames: Vec<Vec<Pose>> = (0..5).map(|f| pose(f as f64 * 0.2)).collect();
+        let (skeleton, motion) = build(&nodes, &rest, frames.len(), 0.5, |f, out| {
+            out.extend_from_slice(&frames[f]);
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(skeleton.joints.len(), 3);
+        assert!(skeleton.joints[2].end_site);
+        assert_eq!(skeleton.joints[1].channels.len(), 6);
+        for (f, frame) in frames.iter().enumerate() {
+            let got = world_positions(&skeleton, &motion, f);
+            for (g, want) in got.iter().zip(frame) {
+                assert!(
+                    (g.as_dvec3() - want.position).length() < 1e-5,
+                    "{g} vs {want:?}"
+                );
+            }
+        }
+    }
+}

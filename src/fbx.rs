@@ -1,0 +1,368 @@
+//! FBX (binary and ASCII, FBX 6 and 7) → the same `Skeleton` + `Motion` a BVH loads into.
+//!
+//! The file is read by ufbx, the C library Blender's own FBX importer (Blender ≥ 4.5) is built
+//! on, with the options that importer uses, so that a take moves here as it does in Blender:
+//!
+//! - `space_conversion = AdjustTransforms`: the file's axes and unit are converted by adjusting
+//!   the nodes' transforms (not by a root transform, not by changing geometry), as Blender does;
+//! - `target_axes` = right-handed Y up (+X right, +Y up, +Z front): bvhview's world. Blender asks
+//!   for its Z up (front −Y); the two differ by one fixed rotation, so the bones move the same;
+//! - `target_unit_meters = 1`: lengths in metres, from the file's `UnitScaleFactor` (Mixamo's
+//!   centimetres become metres), as Blender's importer at its default scale 1.0;
+//! - `pivot_handling = AdjustToRotationPivot` and `geometry_transform_handling = HelperNodes`,
+//!   `inherit_mode_handling = HelperNodes` (Blender's choices): rotation pivots become part of the
+//!   node's translation, and what a bone cannot hold (geometric transforms, Maya's segment scale
+//!   compensation) goes to helper nodes, which this reader skips when it picks joints: their
+//!   effect is in the world matrices it reads;
+//! - nothing else is read: geometry, embedded files and external files are ignored
+//!   (`ignore_geometry`, `ignore_embedded`, `load_external_files = false`), so a file is only
+//!   its nodes and curves.
+//!
+//! Limits (decision 8, a hostile file must not take the machine): ufbx's temporary and result
+//! allocators are capped at 256 MiB + 64 bytes per byte of the file and at 16 M allocations plus
+//! 16 per byte, nodes nest at most [`crate::limits::MAX_DEPTH`] deep, and a take has at most
+//! [`crate::baked::MAX_FRAMES`] frames.
+//!
+//! The skeleton is the file's bones (`LimbNode`s) and the nodes between two of them; a file
+//! without bones gives every animated node instead. Each frame of a take (an animation stack) is
+//! evaluated by ufbx at the scene's own frame rate — every frame, not only at keys — and the
+//! world matrices go through [`crate::baked`], which folds pre/post rotations, rest orientations
+//! and scale into BVH channels that give the same world positions.
+
+use crate::baked::{self, Node, Pose};
+use crate::error::Error;
+use crate::motion::Motion;
+use crate::skeleton::Skeleton;
+use glam::{DMat4, DVec4};
+use std::path::Path;
+
+/// One take of a file: its name, frames and seconds per frame.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TakeInfo {
+    pub name: String,
+    pub frames: usize,
+    pub frame_time: f64,
+}
+
+/// What a reader gives `input`: the take and what it says once.
+#[derive(Debug)]
+pub struct Read {
+    pub skeleton: Skeleton,
+    pub motion: Motion,
+    pub warnings: Vec<String>,
+}
+
+fn allocator(bytes: usize) -> ufbx::AllocatorOpts {
+    ufbx::AllocatorOpts {
+        memory_limit: (256usize << 20).saturating_add(bytes.saturating_mul(64)),
+        allocation_limit: (16usize << 20).saturating_add(bytes.saturating_mul(16)),
+        ..Default::default()
+    }
+}
+
+/// The load options (see the module's documentation for why each).
+fn load_options<'a>(bytes: usize) -> ufbx::LoadOpts<'a> {
+    ufbx::LoadOpts {
+        temp_allocator: allocator(bytes),
+        result_allocator: allocator(bytes),
+        ignore_geometry: true,
+        ignore_embedded: true,
+        load_external_files: false,
+        evaluate_skinning: false,
+        evaluate_caches: false,
+        file_format: ufbx::FileFormat::Fbx,
+        node_depth_limit: crate::limits::MAX_DEPTH as u32,
+        space_conversion: ufbx::SpaceConversion::AdjustTransforms,
+        target_axes: ufbx::CoordinateAxes {
+            right: ufbx::CoordinateAxis::PositiveX,
+            up: ufbx::CoordinateAxis::PositiveY,
+            front: ufbx::CoordinateAxis::PositiveZ,
+        },
+        target_unit_meters: 1.0,
+        pivot_handling: ufbx::PivotHandling::AdjustToRotationPivot,
+        geometry_transform_handling: ufbx::GeometryTransformHandling::HelperNodes,
+        inherit_mode_handling: ufbx::InheritModeHandling::HelperNodes,
+        ..Default::default()
+    }
+}
+
+fn ufbx_error(name: &str, error: &ufbx::Error) -> Error {
+    use ufbx::ErrorType as E;
+    let what = match error.type_ {
+        E::TruncatedFile => "the file is truncated".to_string(),
+        E::EmptyFile => "the file is empty".to_string(),
+        E::UnrecognizedFileFormat => "not an FBX file".to_string(),
+        E::MemoryLimit | E::AllocationLimit | E::OutOfMemory => {
+            "the file asks for more memory than its size allows (damaged or hostile)".to_string()
+        }
+        E::NodeDepthLimit => format!("nodes nest deeper than {} levels", crate::limits::MAX_DEPTH),
+        E::UnsupportedVersion => "an FBX version ufbx does not read".to_string(),
+        _ => {
+            let text: &str = &error.description;
+            let text = text.trim();
+            if text.is_empty() {
+                format!("ufbx cannot read it ({:?})", error.type_)
+            } else {
+                format!("damaged FBX ({text})")
+            }
+        }
+    };
+    Error::Usage(format!("{name}: {what}"))
+}
+
+fn read_scene(bytes: &[u8], name: &str) -> Result<ufbx::SceneRoot, Error> {
+    ufbx::load_memory(bytes, load_options(bytes.len())).map_err(|e| ufbx_error(name, &e))
+}
+
+fn fps(scene: &ufbx::Scene) -> f64 {
+    let fps = scene.settings.frames_per_second;
+    if fps.is_finite() && fps > 0.0 {
+        fps
+    } else {
+        30.0
+    }
+}
+
+/// The takes of an FBX file (its animation stacks), in file order.
+pub fn takes(path: &Path, max_size: u64) -> Result<Vec<TakeInfo>, Error> {
+    let bytes = crate::read::read_binary_file(path, max_size)?;
+    takes_of_bytes(&bytes, &path.display().to_string())
+}
+
+/// [`takes`] of a file's bytes, `name` naming it in errors.
+pub fn takes_of_bytes(bytes: &[u8], name: &str) -> Result<Vec<TakeInfo>, Error> {
+    let scene = read_scene(bytes, name)?;
+    let fps = fps(&scene);
+    scene
+        .anim_stacks
+        .iter()
+        .map(|stack| {
+            let frames = baked::frame_count(stack.time_begin, stack.time_end, fps, 1)
+                .map_err(|why| Error::Usage(format!("{name}: {why}")))?;
+            Ok(TakeInfo {
+                name: stack.element.name.to_string(),
+                frames,
+                frame_time: 1.0 / fps,
+            })
+        })
+        .collect()
+}
+
+fn matrix(m: &ufbx::Matrix) -> DMat4 {
+    DMat4::from_cols(
+        DVec4::new(m.m00, m.m10, m.m20, 0.0),
+        DVec4::new(m.m01, m.m11, m.m21, 0.0),
+        DVec4::new(m.m02, m.m12, m.m22, 0.0),
+        DVec4::new(m.m03, m.m13, m.m23, 1.0),
+    )
+}
+
+fn is_helper(node: &ufbx::Node) -> bool {
+    node.is_scale_helper || node.is_geometry_transform_helper
+}
+
+/// The scene's nodes that make the skeleton, as indices into `scene.nodes`, parents first, with
+/// the parent of each among them.
+fn skeleton_nodes(scene: &ufbx::Scene) -> (Vec<usize>, Vec<Option<usize>>, bool) {
+    let count = scene.nodes.len();
+    let mut seed = vec![false; count];
+    let mut bones = false;
+    for (i, node) in scene.nodes.iter().enumerate() {
+        if node.attrib_type == ufbx::ElementType::Bone && !node.is_root {
+            seed[i] = true;
+            bones = true;
+        }
+    }
+    let mut animated = false;
+    if !bones {
+        for layer in scene.anim_layers.iter() {
+            for prop in layer.anim_props.iter() {
+                let element = &prop.element;
+                if element.type_ == ufbx::ElementType::Node {
+                    let i = element.typed_id as usize;
+                    if i < count && !scene.nodes[i].is_root && !is_helper(&scene.nodes[i]) {
+                        seed[i] = true;
+                        animated = true;
+                    }
+                }
+            }
+        }
+    }
+    if !bones && !animated {
+        // Neither bones nor motion: every node stands as it is (a rest pose).
+        for (i, node) in scene.nodes.iter().enumerate() {
+            seed[i] = !node.is_root && !is_helper(node);
+        }
+    }
+    // Nodes strictly between two seeds join them (the transforms between bones).
+    let mut selected = seed.clone();
+    for i in 0..count {
+        if !seed[i] {
+            continue;
+        }
+        let mut path = Vec::new();
+        let mut up = scene.nodes[i]
+            .parent
+            .as_ref()
+            .map(|p| p.element.typed_id as usize);
+        while let Some(p) = up.filter(|&p| p < count) {
+            if seed[p] {
+                for &between in &path {
+                    selected[between] = true;
+                }
+                break;
+            }
+            let node = &scene.nodes[p];
+            if node.is_root {
+                break;
+            }
+            if !is_helper(node) {
+                path.push(p);
+            }
+            up = node.parent.as_ref().map(|q| q.element.typed_id as usize);
+        }
+    }
+    let mut order: Vec<usize> = (0..count).filter(|&i| selected[i]).collect();
+    order.sort_by_key(|&i| scene.nodes[i].node_depth);
+    let mut position = vec![usize::MAX; count];
+    for (k, &i) in order.iter().enumerate() {
+        position[i] = k;
+    }
+    let parents = order
+        .iter()
+        .map(|&i| {
+            let mut up = scene.nodes[i]
+                .parent
+                .as_ref()
+                .map(|p| p.element.typed_id as usize);
+            while let Some(p) = up.filter(|&p| p < count) {
+                if position[p] != usize::MAX {
+                    return Some(position[p]);
+                }
+                up = scene.nodes[p]
+                    .parent
+                    .as_ref()
+                    .map(|q| q.element.typed_id as usize);
+            }
+            None
+        })
+        .collect();
+    (order, parents, bones)
+}
+
+/// Picks a take by name, or by its index in `info`'s list.
+pub fn pick_take(names: &[String], take: Option<&str>, file: &str) -> Result<usize, Error> {
+    let Some(take) = take else { return Ok(0) };
+    if let Some(i) = names.iter().position(|n| n == take) {
+        return Ok(i);
+    }
+    if let Ok(i) = take.trim().parse::<usize>()
+        && i < names.len()
+    {
+        return Ok(i);
+    }
+    let list = if names.is_empty() {
+        "it has none".to_string()
+    } else {
+        let quoted: Vec<String> = names
+            .iter()
+            .enumerate()
+            .map(|(i, n)| format!("{i} '{n}'"))
+            .collect();
+        format!("it has {}", quoted.join(", "))
+    };
+    Err(Error::Usage(format!("{file}: no take '{take}' ({list})")))
+}
+
+/// Reads take `take` (a name or an index; the first when `None`) of the FBX file at `path`.
+pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Error> {
+    let bytes = crate::read::read_binary_file(path, max_size)?;
+    load_bytes(&bytes, &path.display().to_string(), take)
+}
+
+/// [`load`] of a file's bytes, `name` naming it in errors (the fuzz target's entry).
+pub fn load_bytes(bytes: &[u8], name: &str, take: Option<&str>) -> Result<Read, Error> {
+    let path = name;
+    let scene = read_scene(bytes, name)?;
+    let bad = |why: String| Error::Usage(format!("{name}: {why}"));
+    let (order, parents, _bones) = skeleton_nodes(&scene);
+    if order.is_empty() {
+        return Err(bad(
+            "no skeleton: the file has no node (no bone, no animated node, nothing to stand)"
+                .into(),
+        ));
+    }
+    let nodes = order
+        .iter()
+        .zip(&parents)
+        .enumerate()
+        .map(|(k, (&i, &parent))| {
+            Ok(Node {
+                name: baked::joint_name(&scene.nodes[i].element.name, k).map_err(&bad)?,
+                parent,
+            })
+        })
+        .collect::<Result<Vec<Node>, Error>>()?;
+    let rest: Vec<Pose> = order
+        .iter()
+        .map(|&i| Pose::of_matrix(&matrix(&scene.nodes[i].node_to_world)))
+        .collect();
+    let fps = fps(&scene);
+    let mut warnings = Vec::new();
+    let names: Vec<String> = scene
+        .anim_stacks
+        .iter()
+        .map(|s| s.element.name.to_string())
+        .collect();
+    let (skeleton, motion) = if scene.anim_stacks.is_empty() {
+        if take.is_some() {
+            pick_take(&names, take, path)?;
+        }
+        warnings.push("no animation in the file: its rest pose, as one frame".to_string());
+        baked::build(&nodes, &rest, 1, 1.0 / fps, |_, out| {
+            out.extend_from_slice(&rest);
+            Ok(())
+        })
+    } else {
+        let index = pick_take(&names, take, path)?;
+        if take.is_none() && names.len() > 1 {
+            warnings.push(format!(
+                "{} takes; reading take 0 '{}' (--take NAME|INDEX picks another; `bvhview info` \
+                 lists them)",
+                names.len(),
+                names[0]
+            ));
+        }
+        let stack = &scene.anim_stacks[index];
+        let count =
+            baked::frame_count(stack.time_begin, stack.time_end, fps, order.len()).map_err(&bad)?;
+        baked::build(&nodes, &rest, count, 1.0 / fps, |f, out| {
+            let time = stack.time_begin + f as f64 / fps;
+            let options = ufbx::EvaluateOpts {
+                temp_allocator: allocator(bytes.len()),
+                result_allocator: allocator(bytes.len()),
+                evaluate_skinning: false,
+                evaluate_caches: false,
+                load_external_files: false,
+                ..Default::default()
+            };
+            let evaluated = ufbx::evaluate_scene(&scene, &stack.anim, time, options)
+                .map_err(|e| ufbx_error(name, &e))?;
+            out.extend(
+                order
+                    .iter()
+                    .map(|&i| Pose::of_matrix(&matrix(&evaluated.nodes[i].node_to_world))),
+            );
+            Ok(())
+        })
+    }
+    .map_err(|e| match e {
+        Error::Usage(message) if !message.starts_with(name) => bad(message),
+        other => other,
+    })?;
+    Ok(Read {
+        skeleton,
+        motion,
+        warnings,
+    })
+}
