@@ -422,7 +422,7 @@ pub fn local_rotation_f64(joint: &Joint, values: &[f32]) -> glam::DQuat {
     match joint.axis {
         None => rotation,
         Some(axis) => {
-            let axis = axis.as_dquat();
+            let axis = axis.as_dquat().normalize();
             axis * rotation * axis.inverse()
         }
     }

@@ -276,9 +276,7 @@ fn word_of(name: &str) -> Option<(Option<Side>, Word)> {
         "clavicle" | "collar" | "collarbone" => Word::Collar,
         "shoulder" => Word::Shoulder,
         "arm" | "uparm" | "upperarm" | "uarm" | "humerus" | "shldr" => Word::UpperArm,
-        "forearm" | "loarm" | "lowarm" | "lowerarm" | "radius" | "farm" | "elbow" => {
-            Word::ForeArm
-        }
+        "forearm" | "loarm" | "lowarm" | "lowerarm" | "radius" | "farm" | "elbow" => Word::ForeArm,
         "hand" => Word::Hand,
         "wrist" => Word::Wrist,
         "upleg" | "upperleg" | "thigh" | "femur" | "hip" => Word::Thigh,
@@ -500,7 +498,12 @@ impl Body {
     pub fn roles(&self) -> Vec<(Role, usize)> {
         let mut roles = Vec::new();
         roles.extend(self.hips.map(|j| (Role::Hips, j)));
-        roles.extend(self.spine.iter().enumerate().map(|(n, &j)| (Role::Spine(n), j)));
+        roles.extend(
+            self.spine
+                .iter()
+                .enumerate()
+                .map(|(n, &j)| (Role::Spine(n), j)),
+        );
         roles.extend(self.neck.map(|j| (Role::Neck, j)));
         roles.extend(self.head.map(|j| (Role::Head, j)));
         for side in [Side::Left, Side::Right] {
@@ -739,7 +742,8 @@ impl Map {
     /// then what stays unmapped on either side, as comments.
     pub fn show(&self, source: &Skeleton, target: &Skeleton) -> String {
         let quote = |s: &str| serde_json::to_string(s).unwrap_or_default();
-        let mut text = String::from("# bvhview retarget map: \"source joint\" = \"target joint\"\n");
+        let mut text =
+            String::from("# bvhview retarget map: \"source joint\" = \"target joint\"\n");
         for (t, s) in self.source_of.iter().enumerate() {
             let Some(s) = s else { continue };
             let how = match self.how[t] {
@@ -874,7 +878,9 @@ fn position_of(text: &str, offset: usize) -> (usize, usize) {
 }
 
 fn line_of(text: &str, key: &str) -> usize {
-    text.lines().position(|l| l.contains(key)).map_or(1, |i| i + 1)
+    text.lines()
+        .position(|l| l.contains(key))
+        .map_or(1, |i| i + 1)
 }
 
 /// Reads `SRC=DST`.
@@ -905,8 +911,12 @@ pub struct Ups {
     pub target: Up,
 }
 
+/// [`Up::to_y_up`] in 64-bit floats (the 32-bit quaternion is not of unit length to 64 bits).
 fn to_y_up(up: Up) -> DQuat {
-    up.to_y_up().as_dquat()
+    match up {
+        Up::Y => DQuat::IDENTITY,
+        Up::Z => DQuat::from_rotation_x(-std::f64::consts::FRAC_PI_2),
+    }
 }
 
 /// Nearest mapped joints below `joint`: down each branch to the first mapped one.
@@ -932,10 +942,25 @@ fn subtree_size(skeleton: &Skeleton, joint: usize) -> usize {
         .sum::<usize>()
 }
 
-/// The bone of each mapped target joint that rest alignment turns exactly onto the source's:
-/// to the next mapped joint down its chain (the spine's way at the hips and chest, else the
-/// largest branch). `(target joint, target child)`; the source's are their map.
-pub fn bones(target: &Skeleton, map: &Map) -> Vec<(usize, usize)> {
+/// The bones both skeletons have, one per mapped target joint: to the next mapped joint down
+/// its chain (the spine's way at the hips and chest, else the largest branch), where neither
+/// skeleton's bone has zero length (CMU's `LowerBack` and `Neck` sit where their parents do: its
+/// hips and chest have no bone there). `(target joint, target child)`; the source's are their
+/// map. The bones [`direction_errors`] measures.
+pub fn bones(source: &Skeleton, target: &Skeleton, map: &Map) -> Vec<(usize, usize)> {
+    main_bones(source, target, map)
+        .into_iter()
+        .filter(|&(_, _, direct)| direct)
+        .map(|(t, d, _)| (t, d))
+        .collect()
+}
+
+/// [`bones`], and where a bone has zero length on either skeleton, the chord to the next joint
+/// down the chain that does not (`false`): what rest alignment turns onto the source's.
+fn main_bones(source: &Skeleton, target: &Skeleton, map: &Map) -> Vec<(usize, usize, bool)> {
+    let (mut source_rest, mut target_rest) = (Vec::new(), Vec::new());
+    world_transforms_f64(source, &[], OffsetMode::Replace, &mut source_rest);
+    world_transforms_f64(target, &[], OffsetMode::Replace, &mut target_rest);
     let central: Vec<usize> = map
         .target_body
         .roles()
@@ -943,14 +968,12 @@ pub fn bones(target: &Skeleton, map: &Map) -> Vec<(usize, usize)> {
         .filter(|(r, _)| r.central())
         .map(|(_, j)| j)
         .collect();
-    let mut bones = Vec::new();
-    for (t, s) in map.source_of.iter().enumerate() {
-        let Some(s) = s else { continue };
+    let primary = |t: usize, s: usize| {
         let below: Vec<usize> = mapped_below(target, &map.source_of, t)
             .into_iter()
-            .filter(|&d| map.source_of[d] != Some(*s))
+            .filter(|&d| map.source_of[d] != Some(s))
             .collect();
-        let primary = below
+        below
             .iter()
             .copied()
             .find(|d| central.contains(d))
@@ -959,21 +982,35 @@ pub fn bones(target: &Skeleton, map: &Map) -> Vec<(usize, usize)> {
                     .iter()
                     .copied()
                     .max_by_key(|&d| (subtree_size(target, d), std::cmp::Reverse(d)))
-            });
-        if let Some(d) = primary {
-            bones.push((t, d));
+            })
+    };
+    let mut bones = Vec::new();
+    for (t, s) in map.source_of.iter().enumerate() {
+        let Some(s) = *s else { continue };
+        let mut d = primary(t, s);
+        let mut direct = true;
+        while let Some(next) = d {
+            let Some(sd) = map.source_of[next] else { break };
+            let short = (target_rest[next].1 - target_rest[t].1).length() < 1e-5
+                || (source_rest[sd].1 - source_rest[s].1).length() < 1e-5;
+            if !short {
+                break;
+            }
+            direct = false;
+            d = primary(next, s);
+        }
+        if let Some(d) = d {
+            bones.push((t, d, direct));
         }
     }
     bones
 }
 
-/// Turns `from` onto `to` by the smallest rotation.
+/// Turns `from` onto `to` by the smallest rotation (none when they already agree).
 fn arc(from: DVec3, to: DVec3) -> DQuat {
     let (from, to) = (from.normalize(), to.normalize());
     if from.dot(to) > 1.0 - 1e-15 {
         DQuat::IDENTITY
-    } else if from.dot(to) < -1.0 + 1e-12 {
-        DQuat::from_rotation_arc(from, to)
     } else {
         DQuat::from_rotation_arc(from, to)
     }
@@ -992,8 +1029,10 @@ fn alignments(
     target_rest: &[(DQuat, DVec3)],
 ) -> Vec<DQuat> {
     let (us, ut) = (to_y_up(ups.source), to_y_up(ups.target));
-    let main: std::collections::HashMap<usize, usize> = bones(target, map).into_iter().collect();
-    let _ = source;
+    let main: std::collections::HashMap<usize, usize> = main_bones(source, target, map)
+        .into_iter()
+        .map(|(t, d, _)| (t, d))
+        .collect();
     let mut aligned = vec![DQuat::IDENTITY; target.joints.len()];
     for t in 0..target.joints.len() {
         let base = target.joints[t]
@@ -1037,45 +1076,38 @@ fn alignments(
     aligned
 }
 
-/// How tall the hips stand over the lowest point of the legs at rest, along the body's own up
-/// (hips to neck or head), so that a rest pose lying down measures the same.
+/// How tall the hips stand: the legs' length (thigh to shin to foot, the mean of the two sides
+/// found), which a rest pose lying down or with its bones along x (Bandai's) measures the same
+/// as one standing. Without legs: the spread of the rest pose along the body from the hips.
 fn hip_height(skeleton: &Skeleton, body: &Body, hips: usize, rest: &[(DQuat, DVec3)]) -> f64 {
-    let top = body
-        .neck
-        .or(body.head)
-        .or(body.spine.last().copied())
-        .filter(|&t| t != hips);
-    let up = top
-        .map(|t| rest[t].1 - rest[hips].1)
-        .filter(|v| v.length() > 1e-12)
-        .map_or(DVec3::Y, DVec3::normalize);
-    let legs: Vec<usize> = (0..skeleton.joints.len())
-        .filter(|&j| {
-            [Limb::Thigh]
-                .iter()
-                .flat_map(|&l| [body.limbs[0][l as usize], body.limbs[1][l as usize]])
-                .flatten()
-                .any(|thigh| is_ancestor(skeleton, thigh, j))
-        })
-        .collect();
-    let points: Vec<usize> = if legs.is_empty() {
-        (0..skeleton.joints.len()).collect()
-    } else {
-        legs
-    };
-    let lowest = points
-        .iter()
-        .map(|&j| (rest[j].1 - rest[hips].1).dot(up))
-        .fold(0.0f64, f64::min);
-    -lowest
+    let mut legs = Vec::new();
+    for side in 0..2 {
+        let joint = |limb: Limb| body.limbs[side][limb as usize];
+        if let (Some(thigh), Some(shin), Some(foot)) =
+            (joint(Limb::Thigh), joint(Limb::Shin), joint(Limb::Foot))
+        {
+            legs.push(
+                (rest[shin].1 - rest[thigh].1).length() + (rest[foot].1 - rest[shin].1).length(),
+            );
+        }
+    }
+    if !legs.is_empty() {
+        return legs.iter().sum::<f64>() / legs.len() as f64;
+    }
+    (0..skeleton.joints.len())
+        .map(|j| (rest[j].1 - rest[hips].1).length())
+        .fold(0.0, f64::max)
 }
 
 /// Joints of the legs (everything under a thigh, End Sites too): where the floor is read.
 fn leg_points(skeleton: &Skeleton, body: &Body) -> Vec<usize> {
-    let thighs: Vec<usize> = [body.limbs[0][Limb::Thigh as usize], body.limbs[1][Limb::Thigh as usize]]
-        .into_iter()
-        .flatten()
-        .collect();
+    let thighs: Vec<usize> = [
+        body.limbs[0][Limb::Thigh as usize],
+        body.limbs[1][Limb::Thigh as usize],
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
     (0..skeleton.joints.len())
         .filter(|&j| thighs.iter().any(|&t| is_ancestor(skeleton, t, j)))
         .collect()
@@ -1153,6 +1185,21 @@ pub fn retarget(
         }
         None => 1.0,
     };
+    // Bones whose source chord spans joints the target lacks (CMU's Neck1 between Neck and
+    // Head): the target bone follows the chord each frame, by the smallest turn.
+    let mut follow: Vec<Option<(usize, DVec3)>> = vec![None; target.joints.len()];
+    for (t, d, _) in main_bones(source, target, map) {
+        let (Some(s), Some(sd)) = (map.source_of[t], map.source_of[d]) else {
+            continue;
+        };
+        let mut used = vec![false; source.joints.len()];
+        for u in map.source_of.iter().flatten() {
+            used[*u] = true;
+        }
+        if path_between(source, s, sd).iter().any(|&j| !used[j]) {
+            follow[t] = Some((sd, target_rest[d].1 - target_rest[t].1));
+        }
+    }
     let source_legs = leg_points(source, &map.source_body);
     let target_legs = leg_points(target, &map.target_body);
     let frames = motion.frame_count();
@@ -1174,7 +1221,18 @@ pub fn retarget(
             let rotation = match map.source_of[t] {
                 Some(s) => {
                     let carried = us * world_s[s].0 * us.inverse();
-                    ut_inv * carried * aligned[t] * ut
+                    let rotation = ut_inv * carried * aligned[t] * ut;
+                    match follow[t] {
+                        Some((sd, rest)) => {
+                            let chord = ut_inv * (us * (world_s[sd].1 - world_s[s].1));
+                            if chord.length() > 1e-9 {
+                                arc(rotation * rest, chord) * rotation
+                            } else {
+                                rotation
+                            }
+                        }
+                        None => rotation,
+                    }
                 }
                 None => parent_rotation,
             };
@@ -1228,7 +1286,7 @@ pub fn retarget(
                 Some(order) => {
                     let channel_rotation = match joint.axis {
                         Some(c) => {
-                            let c = c.as_dquat();
+                            let c = c.as_dquat().normalize();
                             c.inverse() * local * c
                         }
                         None => local,
@@ -1281,7 +1339,8 @@ pub fn retarget(
 }
 
 /// The angle in degrees between each bone's world direction in the source and in the
-/// retargeted take, per frame and bone of [`bones`]: the check of rest alignment.
+/// retargeted take: per bone of [`bones`] (in its order), one per frame. The check of
+/// rest alignment; [`quantile`] of them all gives the figures in the guide.
 pub fn direction_errors(
     source: &Skeleton,
     source_motion: &Motion,
@@ -1289,23 +1348,33 @@ pub fn direction_errors(
     target_motion: &Motion,
     map: &Map,
     ups: Ups,
-) -> Vec<f64> {
+) -> Vec<Vec<f64>> {
     let (us, ut) = (to_y_up(ups.source), to_y_up(ups.target));
-    let pairs = bones(target, map);
-    let mut errors = Vec::new();
+    let pairs = bones(source, target, map);
+    let mut errors = vec![Vec::new(); pairs.len()];
     let (mut ws, mut wt) = (Vec::new(), Vec::new());
     let frames = source_motion.frame_count().min(target_motion.frame_count());
     for frame in 0..frames {
-        world_transforms_f64(source, source_motion.frame(frame), OffsetMode::Replace, &mut ws);
-        world_transforms_f64(target, target_motion.frame(frame), OffsetMode::Replace, &mut wt);
-        for &(t, d) in &pairs {
+        world_transforms_f64(
+            source,
+            source_motion.frame(frame),
+            OffsetMode::Replace,
+            &mut ws,
+        );
+        world_transforms_f64(
+            target,
+            target_motion.frame(frame),
+            OffsetMode::Replace,
+            &mut wt,
+        );
+        for (bone, &(t, d)) in pairs.iter().enumerate() {
             let (Some(s), Some(sd)) = (map.source_of[t], map.source_of[d]) else {
                 continue;
             };
             let a = us * (ws[sd].1 - ws[s].1);
             let b = ut * (wt[d].1 - wt[t].1);
             if a.length() > 1e-9 && b.length() > 1e-9 {
-                errors.push(a.angle_between(b).to_degrees());
+                errors[bone].push(a.angle_between(b).to_degrees());
             }
         }
     }
@@ -1314,9 +1383,15 @@ pub fn direction_errors(
 
 /// The foot-skate figure: of the frames where a foot or toe is within 5 cm of the floor (the
 /// take's lowest foot point), the share in which it slides more than 2.5 cm along the floor to
-/// the next frame. `metres` per unit of the file.
-pub fn foot_skate(skeleton: &Skeleton, motion: &Motion, up: Up, metres: f64) -> f64 {
-    let feet = Body::of(skeleton).feet();
+/// the next frame. `feet`: the joints to follow (a retargeted take's mapped feet and toes, and
+/// the source joints they come from, to compare like with like); `metres` per unit of the file.
+pub fn foot_skate(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    feet: &[usize],
+    up: Up,
+    metres: f64,
+) -> f64 {
     if feet.is_empty() || motion.frame_count() < 2 {
         return 0.0;
     }
@@ -1324,8 +1399,13 @@ pub fn foot_skate(skeleton: &Skeleton, motion: &Motion, up: Up, metres: f64) -> 
     let mut world = Vec::new();
     let mut tracks: Vec<Vec<DVec3>> = vec![Vec::new(); feet.len()];
     for frame in 0..motion.frame_count() {
-        world_transforms_f64(skeleton, motion.frame(frame), OffsetMode::Replace, &mut world);
-        for (track, &f) in tracks.iter_mut().zip(&feet) {
+        world_transforms_f64(
+            skeleton,
+            motion.frame(frame),
+            OffsetMode::Replace,
+            &mut world,
+        );
+        for (track, &f) in tracks.iter_mut().zip(feet) {
             track.push(turn * world[f].1 * metres);
         }
     }
@@ -1377,7 +1457,10 @@ mod tests {
         assert_eq!(tokens("mixamorig:LeftUpLeg"), ["left", "up", "leg"]);
         assert_eq!(tokens("LFArm"), ["lf", "arm"]);
         assert_eq!(tokens("LHipJoint"), ["l", "hip", "joint"]);
-        assert_eq!(tokens("DEF-upper_arm.L.001"), ["def", "upper", "arm", "l", "001"]);
+        assert_eq!(
+            tokens("DEF-upper_arm.L.001"),
+            ["def", "upper", "arm", "l", "001"]
+        );
         assert_eq!(tokens("spine.003"), ["spine", "003"]);
     }
 
