@@ -126,6 +126,14 @@ class Motion:
     def mirror(self, names: dict[str, str] | None = None) -> Motion:
         """Left and right swapped: `convert --mirror`, names as `mirror_names` guesses them;
         `names` overrides the guess for the joints it lists."""
+    def retarget(
+        self, target: Motion | str | os.PathLike[str], names: dict[str, str] | None = None
+    ) -> Motion:
+        """This take's motion on another skeleton: `bvhview retarget --onto`. `target`: a Motion,
+        a built-in skeleton's name ("smpl22") or a file; `names` overrides the guessed map
+        ({source joint: target joint}; "" leaves a source joint out)."""
+    def retarget_map(self, target: Motion | str | os.PathLike[str]) -> dict[str, str]:
+        """The map retarget(target) guesses: {source joint: target joint}."""
     @property
     def mirror_names(self) -> dict[str, str]:
         """The guess mirror() uses: each sided joint's name with the other side's."""

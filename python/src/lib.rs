@@ -26,6 +26,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Mutex, PoisonError};
 
 mod datasets;
+mod retarget;
 
 create_exception!(
     bvhview,
@@ -821,6 +822,29 @@ impl Motion {
             }
         }
         Ok(self.edited(mirrored, motion, true))
+    }
+
+    /// The take's motion on another skeleton, as `bvhview retarget` puts it: `target` a Motion,
+    /// a built-in skeleton's name ("smpl22") or a file's path; `names` overrides the guessed
+    /// map ({source joint: target joint}; "" leaves a source joint out). Raises ValueError
+    /// naming the joint when the map cannot stand.
+    #[pyo3(signature = (target, names=None))]
+    fn retarget(
+        &self,
+        py: Python<'_>,
+        target: &Bound<'_, PyAny>,
+        names: Option<std::collections::HashMap<String, String>>,
+    ) -> PyResult<Motion> {
+        guard("retarget", || retarget::retarget(py, self, target, names))
+    }
+
+    /// The joint map `retarget(target)` would guess: {source joint: target joint}.
+    fn retarget_map(
+        &self,
+        py: Python<'_>,
+        target: &Bound<'_, PyAny>,
+    ) -> PyResult<std::collections::HashMap<String, String>> {
+        guard("retarget_map", || retarget::retarget_map(py, self, target))
     }
 
     /// The names `mirror()` gives: each joint whose name marks a side (`LeftArm`, `L_Arm`,
