@@ -904,6 +904,70 @@ pub fn built_in(name: &str) -> Option<(Skeleton, Motion)> {
     Some((file.skeleton, file.motion))
 }
 
+/// A skeleton to retarget onto: a file's or a built-in one, with its up axis and the name to
+/// show in messages (`bvhview retarget --onto`, `dataset --onto`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Target {
+    pub name: String,
+    pub skeleton: Skeleton,
+    pub up: Up,
+}
+
+impl Target {
+    /// `onto` as a file (.bvh, or .asf: only the skeleton is used) when it exists, else a
+    /// built-in skeleton's name (see [`BUILT_IN`]).
+    pub fn load(onto: &str, max_size: u64) -> Result<Target, Error> {
+        let path = std::path::Path::new(onto);
+        if !path.exists() {
+            if let Some((skeleton, motion)) = built_in(onto) {
+                return Ok(Target::new(onto.to_string(), skeleton, &motion));
+            }
+            if crate::input::extension(path).is_empty() {
+                let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
+                return Err(Error::Usage(format!(
+                    "--onto {onto}: neither a file nor a built-in skeleton ({})",
+                    names.join(", ")
+                )));
+            }
+        }
+        let loaded = crate::input::load_checked(path, None, None, crate::cores(), max_size)?;
+        Ok(Target::new(
+            path.display().to_string(),
+            loaded.skeleton,
+            &loaded.motion,
+        ))
+    }
+
+    /// A target whose up axis is its take's, or its rest pose's when it has one frame or none.
+    pub fn new(name: String, skeleton: Skeleton, motion: &Motion) -> Target {
+        let up = if motion.frame_count() > 1 {
+            crate::stance::Stance::guess(&skeleton, motion, OffsetMode::Replace, None).up
+        } else {
+            Up::guess(&skeleton)
+        };
+        Target { name, skeleton, up }
+    }
+
+    /// A take on this skeleton by the guessed map (`pairs` override it), refused with the
+    /// reason when the map cannot stand. `source_name` names the take in messages.
+    pub fn apply(
+        &self,
+        source_name: &str,
+        skeleton: &Skeleton,
+        motion: &Motion,
+        pairs: &[(String, String)],
+    ) -> Result<(Skeleton, Motion), Error> {
+        let mut map = Map::guess(skeleton, &self.skeleton);
+        map.apply(pairs, skeleton, &self.skeleton)?;
+        map.check(source_name, &self.name)?;
+        let ups = Ups {
+            source: crate::stance::Stance::guess(skeleton, motion, OffsetMode::Replace, None).up,
+            target: self.up,
+        };
+        retarget(skeleton, motion, &self.skeleton, &map, ups)
+    }
+}
+
 /// The two skeletons' up axes, as their takes stand.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Ups {
@@ -1113,6 +1177,15 @@ fn leg_points(skeleton: &Skeleton, body: &Body) -> Vec<usize> {
         .collect()
 }
 
+/// How a source's position channels combine with its OFFSETs: as written (MakeHuman's files
+/// mean "added to OFFSET", as the dataset compiler also reads them), else replacing them.
+fn source_offset_mode(source: &Skeleton, motion: &Motion) -> OffsetMode {
+    match crate::pose::written_for_other_mode(source, motion, OffsetMode::Replace) {
+        Some(_) => OffsetMode::Add,
+        None => OffsetMode::Replace,
+    }
+}
+
 /// Of the two Euler forms of a rotation, and their turns by whole circles, the one nearest
 /// `reference` (degrees).
 fn nearest_form(angles: [f64; 3], reference: [f64; 3]) -> [f64; 3] {
@@ -1148,6 +1221,7 @@ pub fn retarget(
     ups: Ups,
 ) -> Result<(Skeleton, Motion), Error> {
     let mode = OffsetMode::Replace;
+    let source_mode = source_offset_mode(source, motion);
     let (us, ut) = (to_y_up(ups.source), to_y_up(ups.target));
     let ut_inv = ut.inverse();
     let mut source_rest = Vec::new();
@@ -1213,7 +1287,7 @@ pub fn retarget(
     let mut world_s = Vec::new();
     let mut world_t: Vec<(DQuat, DVec3)> = vec![(DQuat::IDENTITY, DVec3::ZERO); joints];
     for frame in 0..frames {
-        world_transforms_f64(source, motion.frame(frame), mode, &mut world_s);
+        world_transforms_f64(source, motion.frame(frame), source_mode, &mut world_s);
         for t in 0..joints {
             let joint = &target.joints[t];
             let parent = joint.parent.map(|p| world_t[p]);
@@ -1351,16 +1425,12 @@ pub fn direction_errors(
 ) -> Vec<Vec<f64>> {
     let (us, ut) = (to_y_up(ups.source), to_y_up(ups.target));
     let pairs = bones(source, target, map);
+    let source_mode = source_offset_mode(source, source_motion);
     let mut errors = vec![Vec::new(); pairs.len()];
     let (mut ws, mut wt) = (Vec::new(), Vec::new());
     let frames = source_motion.frame_count().min(target_motion.frame_count());
     for frame in 0..frames {
-        world_transforms_f64(
-            source,
-            source_motion.frame(frame),
-            OffsetMode::Replace,
-            &mut ws,
-        );
+        world_transforms_f64(source, source_motion.frame(frame), source_mode, &mut ws);
         world_transforms_f64(
             target,
             target_motion.frame(frame),

@@ -575,3 +575,63 @@ fn the_command_writes_bvh_and_glb_and_a_shown_map_reads_back() {
     }
     let _ = Vec3::ZERO;
 }
+
+#[test]
+fn a_folder_of_mixed_skeletons_compiles_onto_one_skeleton_as_one_group() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("set");
+    let folder = common::repo_data("bvh");
+    let result = bvhview()
+        .args(["dataset"])
+        .arg(&folder)
+        .arg("-o")
+        .arg(&out)
+        .args(["--onto", "smpl22"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(result.status.success(), "{stderr}");
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let groups = manifest["groups"].as_array().unwrap();
+    assert_eq!(groups.len(), 1, "{stderr}");
+    assert_eq!(groups[0]["joints"][0], "pelvis");
+    // The two 2-joint files have no chain: skipped with the reason.
+    let skipped = manifest["skipped"].as_array().unwrap();
+    assert_eq!(skipped.len(), 2, "{skipped:?}");
+    assert!(stderr.contains("no mappable chain"), "{stderr}");
+    // Every take that compiled: its bones' directions as in the source, within point 4's figures.
+    let target = retarget::Target::load("smpl22", u64::MAX).unwrap();
+    let map_of = |s: &Skeleton| Map::guess(s, &target.skeleton);
+    let mut compiled = 0;
+    for path in common::files_in(&folder, "bvh") {
+        let (skeleton, motion) = take(&path);
+        let Ok((out_skeleton, out)) = target.apply("take", &skeleton, &motion, &[]) else {
+            continue;
+        };
+        compiled += 1;
+        let ups = Ups {
+            source: up_of(&skeleton, &motion),
+            target: target.up,
+        };
+        let errors = retarget::direction_errors(
+            &skeleton,
+            &motion,
+            &out_skeleton,
+            &out,
+            &map_of(&skeleton),
+            ups,
+        )
+        .concat();
+        let (median, p99) = (
+            retarget::quantile(&errors, 0.5),
+            retarget::quantile(&errors, 0.99),
+        );
+        assert!(
+            median <= 5.0 && p99 <= 15.0,
+            "{}: {median}° {p99}°",
+            path.display()
+        );
+    }
+    assert_eq!(compiled, groups[0]["clips"].as_u64().unwrap() as usize);
+}

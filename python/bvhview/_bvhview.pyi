@@ -196,6 +196,7 @@ def _compile_dataset(
     contact_speed: float = 0.5,
     takes: Sequence[tuple[_PathLike, _PathLike | None]] | None = None,
     threads: int | None = None,
+    onto: str | None = None,
 ) -> tuple[int, int, int, int]:
     """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped)."""
 

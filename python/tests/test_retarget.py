@@ -38,3 +38,10 @@ def test_retarget_names_override_and_errors():
         take.retarget(DATA / "bvh" / "bvhanim_test_simple.bvh")
     with pytest.raises(TypeError):
         take.retarget(3)
+
+
+def test_compile_dataset_onto_one_skeleton(tmp_path):
+    with pytest.warns(bvhview.SkippedTake, match="no mappable chain"):
+        manifest = bvhview.compile_dataset(DATA / "bvh", tmp_path / "out", onto="smpl22")
+    assert len(manifest["groups"]) == 1
+    assert manifest["groups"][0]["joints"][0] == "pelvis"

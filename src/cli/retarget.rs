@@ -1,7 +1,7 @@
 //! `bvhview retarget`: one take's motion on another skeleton, written as BVH or glTF.
 
 use super::*;
-use bvhview::retarget::{self, Map, Ups};
+use bvhview::retarget::{self, Map, Target};
 
 #[derive(Args)]
 pub(crate) struct RetargetArgs {
@@ -23,33 +23,6 @@ pub(crate) struct RetargetArgs {
     /// The file to write: .bvh, or glTF as .glb (binary) or .gltf (text, data inline).
     #[arg(short, long)]
     output: Option<PathBuf>,
-}
-
-/// The target skeleton: a file, or a built-in one by name; with the name to show.
-fn load_target(onto: &str, max_size: u64) -> Result<(String, Loaded), Error> {
-    let path = Path::new(onto);
-    if !path.exists()
-        && let Some((skeleton, motion)) = retarget::built_in(onto)
-    {
-        return Ok((
-            onto.to_string(),
-            Loaded {
-                skeleton,
-                motion,
-                warnings: Vec::new(),
-                stated_units: None,
-            },
-        ));
-    }
-    if !path.exists() && input::extension(path).is_empty() {
-        let names: Vec<&str> = retarget::BUILT_IN.iter().map(|(n, _)| *n).collect();
-        return Err(Error::Usage(format!(
-            "--onto {onto}: neither a file nor a built-in skeleton ({})",
-            names.join(", ")
-        )));
-    }
-    let loaded = input::load_checked(path, None, None, bvhview::cores(), max_size)?;
-    Ok((path.display().to_string(), loaded))
 }
 
 /// The `--map` values as pairs, in order: files read, `SRC=DST` split.
@@ -81,35 +54,18 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
     }
     let pairs = map_pairs(&args.map)?;
     let loaded = load(&args.input, &args.source)?;
-    let (target_name, target) = load_target(&args.onto, args.source.max_size)?;
-    let mut map = Map::guess(&loaded.skeleton, &target.skeleton);
-    map.apply(&pairs, &loaded.skeleton, &target.skeleton)?;
+    let target = Target::load(&args.onto, args.source.max_size)?;
+    let source_name = args.input.display().to_string();
     if args.show_map {
+        let mut map = Map::guess(&loaded.skeleton, &target.skeleton);
+        map.apply(&pairs, &loaded.skeleton, &target.skeleton)?;
         write_text(&map.show(&loaded.skeleton, &target.skeleton))?;
+        map.check(&source_name, &target.name)?;
     }
-    map.check(&args.input.display().to_string(), &target_name)?;
     let Some(output) = &args.output else {
         return Ok(ExitCode::SUCCESS);
     };
-    let ups = Ups {
-        source: loaded.stance(OffsetMode::Replace).up,
-        target: target_up(&target),
-    };
-    let (skeleton, motion) = retarget::retarget(
-        &loaded.skeleton,
-        &loaded.motion,
-        &target.skeleton,
-        &map,
-        ups,
-    )?;
+    let (skeleton, motion) =
+        target.apply(&source_name, &loaded.skeleton, &loaded.motion, &pairs)?;
     write_take(output, skeleton, motion)
-}
-
-/// The up axis of the target: its take's, or its rest pose's when it has one frame or none.
-pub(crate) fn target_up(target: &Loaded) -> Up {
-    if target.motion.frame_count() > 1 {
-        target.stance(OffsetMode::Replace).up
-    } else {
-        Up::guess(&target.skeleton)
-    }
 }
