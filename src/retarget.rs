@@ -949,13 +949,15 @@ impl Target {
     }
 
     /// A take on this skeleton by the guessed map (`pairs` override it), refused with the
-    /// reason when the map cannot stand. `source_name` names the take in messages.
+    /// reason when the map cannot stand, on up to `threads` threads. `source_name` names the
+    /// take in messages.
     pub fn apply(
         &self,
         source_name: &str,
         skeleton: &Skeleton,
         motion: &Motion,
         pairs: &[(String, String)],
+        threads: usize,
     ) -> Result<(Skeleton, Motion), Error> {
         let mut map = Map::guess(skeleton, &self.skeleton);
         map.apply(pairs, skeleton, &self.skeleton)?;
@@ -964,7 +966,7 @@ impl Target {
             source: crate::stance::Stance::guess(skeleton, motion, OffsetMode::Replace, None).up,
             target: self.up,
         };
-        retarget(skeleton, motion, &self.skeleton, &map, ups)
+        retarget(skeleton, motion, &self.skeleton, &map, ups, threads)
     }
 }
 
@@ -1212,13 +1214,15 @@ fn nearest_form(angles: [f64; 3], reference: [f64; 3]) -> [f64; 3] {
 }
 
 /// The source's motion on the target skeleton: a take with the target's joints, offsets and
-/// channels, and the source's frames and frame time. See the module's docs for the steps.
+/// channels, and the source's frames and frame time, computed on up to `threads` threads (the
+/// same values on any number). See the module's docs for the steps.
 pub fn retarget(
     source: &Skeleton,
     motion: &Motion,
     target: &Skeleton,
     map: &Map,
     ups: Ups,
+    threads: usize,
 ) -> Result<(Skeleton, Motion), Error> {
     let mode = OffsetMode::Replace;
     let source_mode = source_offset_mode(source, motion);
@@ -1278,122 +1282,185 @@ pub fn retarget(
     let target_legs = leg_points(target, &map.target_body);
     let frames = motion.frame_count();
     let joints = target.joints.len();
-    // Per frame: every target joint's local rotation, and the world offset the carrier moves.
-    let mut locals = vec![DQuat::IDENTITY; frames * joints];
-    let mut moves = vec![DVec3::ZERO; frames];
-    let mut carrier_parent = vec![DQuat::IDENTITY; frames];
-    let mut source_floor = f64::INFINITY;
-    let mut target_floor = f64::INFINITY;
-    let mut world_s = Vec::new();
-    let mut world_t: Vec<(DQuat, DVec3)> = vec![(DQuat::IDENTITY, DVec3::ZERO); joints];
-    for frame in 0..frames {
-        world_transforms_f64(source, motion.frame(frame), source_mode, &mut world_s);
-        for t in 0..joints {
+    let under_carrier: Vec<bool> = (0..joints)
+        .map(|j| carrier.is_some_and(|c| is_ancestor(target, c, j)))
+        .collect();
+    // Of each target joint turning in the same order as its source joint, the source's rotation
+    // columns: its values are the reference for the Euler form written.
+    let reference_columns: Vec<Option<[usize; 3]>> = (0..joints)
+        .map(|t| {
             let joint = &target.joints[t];
-            let parent = joint.parent.map(|p| world_t[p]);
-            let parent_rotation = parent.map_or(DQuat::IDENTITY, |(r, _)| r);
-            let rotation = match map.source_of[t] {
-                Some(s) => {
-                    let carried = us * world_s[s].0 * us.inverse();
-                    let rotation = ut_inv * carried * aligned[t] * ut;
-                    match follow[t] {
-                        Some((sd, rest)) => {
-                            let chord = ut_inv * (us * (world_s[sd].1 - world_s[s].1));
-                            if chord.length() > 1e-9 {
-                                arc(rotation * rest, chord) * rotation
-                            } else {
-                                rotation
+            let s = &source.joints[map.source_of[t]?];
+            if joint.rotation_order.is_none()
+                || s.rotation_order != joint.rotation_order
+                || s.axis != joint.axis
+            {
+                return None;
+            }
+            let columns: Vec<usize> = s
+                .channels
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| c.is_rotation())
+                .map(|(i, _)| s.first_channel + i)
+                .collect();
+            Some([columns[0], columns[1], columns[2]])
+        })
+        .collect();
+    // First, on the cores, a piece of frames at a time: each target joint's rotation channels
+    // in one Euler form (radians turned to degrees), where the carrier moves the hips, and the
+    // lowest leg points of source and target.
+    struct Piece {
+        angles: Vec<[f64; 3]>,
+        moves: Vec<DVec3>,
+        carrier_parent: Vec<DQuat>,
+        source_floor: f64,
+        target_floor: f64,
+    }
+    const PIECE: usize = 512;
+    let compute = |piece: usize| -> Piece {
+        let range = piece * PIECE..((piece + 1) * PIECE).min(frames);
+        let mut out = Piece {
+            angles: Vec::with_capacity(range.len() * joints),
+            moves: Vec::with_capacity(range.len()),
+            carrier_parent: Vec::with_capacity(range.len()),
+            source_floor: f64::INFINITY,
+            target_floor: f64::INFINITY,
+        };
+        let mut world_s = Vec::new();
+        let mut world_t: Vec<(DQuat, DVec3)> = vec![(DQuat::IDENTITY, DVec3::ZERO); joints];
+        for frame in range {
+            world_transforms_f64(source, motion.frame(frame), source_mode, &mut world_s);
+            for t in 0..joints {
+                let joint = &target.joints[t];
+                let parent = joint.parent.map(|p| world_t[p]);
+                let parent_rotation = parent.map_or(DQuat::IDENTITY, |(r, _)| r);
+                let rotation = match map.source_of[t] {
+                    Some(s) => {
+                        let carried = us * world_s[s].0 * us.inverse();
+                        let rotation = ut_inv * carried * aligned[t] * ut;
+                        match follow[t] {
+                            Some((sd, rest)) => {
+                                let chord = ut_inv * (us * (world_s[sd].1 - world_s[s].1));
+                                if chord.length() > 1e-9 {
+                                    arc(rotation * rest, chord) * rotation
+                                } else {
+                                    rotation
+                                }
                             }
+                            None => rotation,
                         }
-                        None => rotation,
+                    }
+                    None => parent_rotation,
+                };
+                let local = parent_rotation.inverse() * rotation;
+                out.angles.push(match joint.rotation_order {
+                    Some(order) => {
+                        let channel_rotation = match joint.axis {
+                            Some(c) => {
+                                let c = c.as_dquat().normalize();
+                                c.inverse() * local * c
+                            }
+                            None => local,
+                        };
+                        let (a, b, c) = channel_rotation.to_euler(euler_order(order));
+                        [a.to_degrees(), b.to_degrees(), c.to_degrees()]
+                    }
+                    None => {
+                        let q = local.as_quat();
+                        let mut angles = [0.0; 3];
+                        let values =
+                            channel_angles(joint, RotationKind::Quat, &[q.w, q.x, q.y, q.z]);
+                        for (angle, value) in angles.iter_mut().zip(values) {
+                            *angle = f64::from(value);
+                        }
+                        angles
+                    }
+                });
+                let position = match parent {
+                    Some((r, p)) => p + r * joint.offset.as_dvec3(),
+                    None => joint.offset.as_dvec3(),
+                };
+                world_t[t] = (rotation, position);
+            }
+            let (mut moved, mut turned) = (DVec3::ZERO, DQuat::IDENTITY);
+            if let (Some((t, s)), Some(carrier)) = (hips, carrier) {
+                let wanted = ut_inv * (ratio * (us * world_s[s].1));
+                moved = wanted - world_t[t].1;
+                turned = target.joints[carrier]
+                    .parent
+                    .map_or(DQuat::IDENTITY, |p| world_t[p].0);
+                for (joint, &under) in world_t.iter_mut().zip(&under_carrier) {
+                    if under {
+                        joint.1 += moved;
                     }
                 }
-                None => parent_rotation,
-            };
-            locals[frame * joints + t] = parent_rotation.inverse() * rotation;
-            let position = match parent {
-                Some((r, p)) => p + r * joint.offset.as_dvec3(),
-                None => joint.offset.as_dvec3(),
-            };
-            world_t[t] = (rotation, position);
-        }
-        if let (Some((t, s)), Some(carrier)) = (hips, carrier) {
-            let wanted = ut_inv * (ratio * (us * world_s[s].1));
-            moves[frame] = wanted - world_t[t].1;
-            carrier_parent[frame] = target.joints[carrier]
-                .parent
-                .map_or(DQuat::IDENTITY, |p| world_t[p].0);
-            for (j, joint) in world_t.iter_mut().enumerate() {
-                if is_ancestor(target, carrier, j) {
-                    joint.1 += moves[frame];
-                }
+            }
+            out.moves.push(moved);
+            out.carrier_parent.push(turned);
+            for &j in &source_legs {
+                out.source_floor = out.source_floor.min((us * world_s[j].1).y);
+            }
+            for &j in &target_legs {
+                out.target_floor = out.target_floor.min((ut * world_t[j].1).y);
             }
         }
-        for &j in &source_legs {
-            source_floor = source_floor.min((us * world_s[j].1).y);
-        }
-        for &j in &target_legs {
-            target_floor = target_floor.min((ut * world_t[j].1).y);
-        }
-    }
+        out
+    };
+    let mut pieces: Vec<Piece> = Vec::with_capacity(frames.div_ceil(PIECE));
+    crate::parallel::map_in_order(
+        frames.div_ceil(PIECE),
+        threads.max(1),
+        threads.max(1) * 4,
+        compute,
+        |_, piece| {
+            pieces.push(piece);
+            true
+        },
+    );
+    let source_floor = pieces
+        .iter()
+        .map(|p| p.source_floor)
+        .fold(f64::INFINITY, f64::min);
+    let target_floor = pieces
+        .iter()
+        .map(|p| p.target_floor)
+        .fold(f64::INFINITY, f64::min);
     // Feet on the floor: the legs' lowest point over the take where the source's is, scaled.
-    if source_floor.is_finite() && target_floor.is_finite() {
-        let lift = ut_inv * DVec3::new(0.0, ratio * source_floor - target_floor, 0.0);
-        for m in &mut moves {
-            *m += lift;
-        }
-    }
-    // Into the target's channels, in its own orders.
+    let lift = if source_floor.is_finite() && target_floor.is_finite() {
+        ut_inv * DVec3::new(0.0, ratio * source_floor - target_floor, 0.0)
+    } else {
+        DVec3::ZERO
+    };
+    // Then, in frame order: of the two Euler forms of each rotation and their turns by whole
+    // circles, the one nearest the source joint's own values when it turns in the same order,
+    // else nearest this joint's previous frame; the carrier's translation.
     let channels = target.channel_count();
     let mut data = vec![0.0f32; frames * channels];
     let mut previous: Vec<[f64; 3]> = vec![[0.0; 3]; joints];
-    for frame in 0..frames {
+    let rows = pieces.iter().flat_map(|p| {
+        p.angles
+            .chunks(joints.max(1))
+            .zip(p.moves.iter().zip(&p.carrier_parent))
+    });
+    for (frame, (angles, (moved, turned))) in rows.enumerate() {
         let row = &mut data[frame * channels..(frame + 1) * channels];
         let source_row = motion.frame(frame);
         for (t, joint) in target.joints.iter().enumerate() {
             let mut translation = joint.offset.as_dvec3();
             if Some(t) == carrier {
-                translation += carrier_parent[frame].inverse() * moves[frame];
+                translation += turned.inverse() * (*moved + lift);
             }
-            let local = locals[frame * joints + t];
-            let angles: Vec<f64> = match joint.rotation_order {
-                Some(order) => {
-                    let channel_rotation = match joint.axis {
-                        Some(c) => {
-                            let c = c.as_dquat().normalize();
-                            c.inverse() * local * c
-                        }
-                        None => local,
-                    };
-                    let (a, b, c) = channel_rotation.to_euler(euler_order(order));
-                    let angles = [a.to_degrees(), b.to_degrees(), c.to_degrees()];
-                    // Nearest the source joint's own values when it turns in the same order,
-                    // else nearest this joint's previous frame.
-                    let reference = map.source_of[t]
-                        .map(|s| &source.joints[s])
-                        .filter(|s| s.rotation_order == Some(order) && s.axis == joint.axis)
-                        .map(|s| {
-                            let values: Vec<f64> = s
-                                .channels
-                                .iter()
-                                .zip(s.values(source_row))
-                                .filter(|(c, _)| c.is_rotation())
-                                .map(|(_, &v)| f64::from(v))
-                                .collect();
-                            [values[0], values[1], values[2]]
-                        })
+            let angles = match joint.rotation_order {
+                Some(_) => {
+                    let reference = reference_columns[t]
+                        .map(|c| c.map(|column| f64::from(source_row[column])))
                         .unwrap_or(previous[t]);
-                    let chosen = nearest_form(angles, reference);
+                    let chosen = nearest_form(angles[t], reference);
                     previous[t] = chosen;
-                    chosen.to_vec()
+                    chosen
                 }
-                None => {
-                    let q = local.as_quat();
-                    channel_angles(joint, RotationKind::Quat, &[q.w, q.x, q.y, q.z])
-                        .into_iter()
-                        .map(f64::from)
-                        .collect()
-                }
+                None => angles[t],
             };
             let mut rotations = angles.into_iter();
             for (i, channel) in joint.channels.iter().enumerate() {

@@ -42,7 +42,7 @@ fn a_take_onto_its_own_skeleton_is_exact() {
             target: up,
         };
         let (out_skeleton, out) =
-            retarget::retarget(&skeleton, &motion, &skeleton, &map, ups).unwrap();
+            retarget::retarget(&skeleton, &motion, &skeleton, &map, ups, 2).unwrap();
         assert_eq!(out_skeleton, skeleton);
         assert_eq!(out.frame_count(), motion.frame_count());
         let worst = motion
@@ -135,7 +135,8 @@ fn a_take_onto_a_renamed_a_posed_larger_copy_keeps_bone_directions_and_path() {
         source: up,
         target: up,
     };
-    let (out_skeleton, out) = retarget::retarget(&skeleton, &motion, &target, &map, ups).unwrap();
+    let (out_skeleton, out) =
+        retarget::retarget(&skeleton, &motion, &target, &map, ups, 2).unwrap();
     let errors: Vec<f64> =
         retarget::direction_errors(&skeleton, &motion, &out_skeleton, &out, &map, ups).concat();
     assert!(errors.len() >= 600 * 20, "{} bones compared", errors.len());
@@ -308,7 +309,7 @@ fn every_naming_family_maps_every_role_onto_the_built_in_skeleton() {
             }
         }
         let ups = Ups::default();
-        let (_, out) = retarget::retarget(&skeleton, &motion, &smpl, &map, ups).unwrap();
+        let (_, out) = retarget::retarget(&skeleton, &motion, &smpl, &map, ups, 1).unwrap();
         assert_eq!(out.frame_count(), 2);
         let errors: Vec<f64> =
             retarget::direction_errors(&skeleton, &motion, &smpl, &out, &map, ups).concat();
@@ -369,7 +370,7 @@ fn real_skeletons_onto_each_other_keep_bone_directions_and_feet() {
                 },
             };
             let (out_skeleton, out) =
-                retarget::retarget(source, motion, target, &map, ups).unwrap();
+                retarget::retarget(source, motion, target, &map, ups, 2).unwrap();
             let errors: Vec<f64> =
                 retarget::direction_errors(source, motion, &out_skeleton, &out, &map, ups).concat();
             let median = retarget::quantile(&errors, 0.5);
@@ -606,7 +607,7 @@ fn a_folder_of_mixed_skeletons_compiles_onto_one_skeleton_as_one_group() {
     let mut compiled = 0;
     for path in common::files_in(&folder, "bvh") {
         let (skeleton, motion) = take(&path);
-        let Ok((out_skeleton, out)) = target.apply("take", &skeleton, &motion, &[]) else {
+        let Ok((out_skeleton, out)) = target.apply("take", &skeleton, &motion, &[], 2) else {
             continue;
         };
         compiled += 1;
@@ -634,4 +635,14 @@ fn a_folder_of_mixed_skeletons_compiles_onto_one_skeleton_as_one_group() {
         );
     }
     assert_eq!(compiled, groups[0]["clips"].as_u64().unwrap() as usize);
+}
+
+#[test]
+fn any_number_of_threads_gives_the_same_values() {
+    let (skeleton, motion) = take(&common::repo_data("bvh/assimp_01_01.bvh"));
+    let target = retarget::Target::load("smpl22", u64::MAX).unwrap();
+    let (_, one) = target.apply("CMU", &skeleton, &motion, &[], 1).unwrap();
+    let (_, three) = target.apply("CMU", &skeleton, &motion, &[], 3).unwrap();
+    assert!(motion.frame_count() > 2 * 512, "several pieces of frames");
+    assert_eq!(one, three);
 }

@@ -39,7 +39,15 @@ pub(crate) fn retarget(
     pairs.sort();
     let name = source.item.path.display().to_string();
     let (skeleton, motion) = py
-        .detach(|| target.apply(&name, &loaded.skeleton, &loaded.motion, &pairs))
+        .detach(|| {
+            target.apply(
+                &name,
+                &loaded.skeleton,
+                &loaded.motion,
+                &pairs,
+                bvhview::cores(),
+            )
+        })
         .map_err(|e| to_python(py, e))?;
     Ok(source.edited(skeleton, motion, false))
 }

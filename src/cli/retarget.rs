@@ -65,7 +65,12 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
     let Some(output) = &args.output else {
         return Ok(ExitCode::SUCCESS);
     };
-    let (skeleton, motion) =
-        target.apply(&source_name, &loaded.skeleton, &loaded.motion, &pairs)?;
+    let (skeleton, motion) = target.apply(
+        &source_name,
+        &loaded.skeleton,
+        &loaded.motion,
+        &pairs,
+        bvhview::cores(),
+    )?;
     write_take(output, skeleton, motion)
 }

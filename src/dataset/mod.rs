@@ -359,6 +359,7 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
                 &loaded.skeleton,
                 &loaded.motion,
                 &[],
+                1,
             )?;
             crate::input::Loaded {
                 skeleton,
