@@ -357,6 +357,150 @@ fn path_between(skeleton: &Skeleton, from: usize, to: usize) -> Vec<usize> {
     Vec::new()
 }
 
+/// Limbs, neck and head from the tree alone, for a skeleton whose names say nothing: the hips
+/// are the first joint with three branches at least three joints long (the largest the spine,
+/// the other two the legs); the chest the first joint up the spine with two such branches (the
+/// arms; the one that goes on upward from the hips, the neck). Down each arm, the hand is the
+/// first joint with two children or more (fingers), else the last; down each leg the last four
+/// joints are thigh, shin, foot and toe (three: no toe). Sides by the rest pose, as BVH faces
+/// +z: left at +x.
+#[allow(clippy::type_complexity)]
+fn limbs_by_tree(
+    skeleton: &Skeleton,
+) -> Option<([[Option<usize>; 8]; 2], Option<usize>, Option<usize>)> {
+    let joints = &skeleton.joints;
+    let count = joints.len();
+    let (mut height, mut size) = (vec![0usize; count], vec![0usize; count]);
+    for j in (0..count).rev() {
+        if joints[j].end_site {
+            continue;
+        }
+        height[j] = 1 + joints[j]
+            .children
+            .iter()
+            .map(|&c| height[c])
+            .max()
+            .unwrap_or(0);
+        size[j] = 1 + joints[j].children.iter().map(|&c| size[c]).sum::<usize>();
+    }
+    let long = |j: usize| -> Vec<usize> {
+        let mut branches: Vec<usize> = joints[j]
+            .children
+            .iter()
+            .copied()
+            .filter(|&c| height[c] >= 3)
+            .collect();
+        branches.sort_by_key(|&c| std::cmp::Reverse(size[c]));
+        branches
+    };
+    let main_path = |from: usize| -> Vec<usize> {
+        let mut path = vec![from];
+        let mut j = from;
+        while let Some(&next) = joints[j]
+            .children
+            .iter()
+            .filter(|&&c| !joints[c].end_site)
+            .max_by_key(|&&c| (size[c], std::cmp::Reverse(c)))
+        {
+            path.push(next);
+            j = next;
+        }
+        path
+    };
+    let mut rest = Vec::new();
+    world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
+    let hips = (0..count).find(|&j| !joints[j].end_site && long(j).len() >= 3)?;
+    let branches = long(hips);
+    let (spine, legs) = (branches[0], [branches[1], branches[2]]);
+    let mut chest = spine;
+    while long(chest).len() < 2 {
+        chest = *main_path(chest).get(1)?;
+    }
+    let up = (rest[chest].1 - rest[hips].1).normalize_or_zero();
+    let mut arms = long(chest);
+    let others: Vec<usize> = joints[chest]
+        .children
+        .iter()
+        .copied()
+        .filter(|c| !joints[*c].end_site)
+        .collect();
+    // The branch that goes on upward is the neck, not an arm.
+    let upward = others.iter().copied().max_by(|&a, &b| {
+        let rise = |c: usize| {
+            let end = *main_path(c).last().unwrap_or(&c);
+            (rest[end].1 - rest[chest].1).normalize_or_zero().dot(up)
+        };
+        rise(a).total_cmp(&rise(b))
+    });
+    if arms.len() > 2 {
+        arms.retain(|&a| Some(a) != upward);
+    }
+    arms.truncate(2);
+    if arms.len() < 2 {
+        return None;
+    }
+    let side_of = |j: usize, of: usize| {
+        if rest[j].1.x - rest[of].1.x >= 0.0 {
+            0
+        } else {
+            1
+        }
+    };
+    let mut limbs = [[None; 8]; 2];
+    for &arm in &arms {
+        let path = main_path(arm);
+        let at = (2..path.len())
+            .find(|&i| {
+                joints[path[i]]
+                    .children
+                    .iter()
+                    .filter(|&&c| !joints[c].end_site)
+                    .count()
+                    >= 2
+            })
+            .unwrap_or(path.len() - 1);
+        if at < 2 {
+            return None;
+        }
+        let side = side_of(path[at], chest);
+        limbs[side][Limb::Hand as usize] = Some(path[at]);
+        limbs[side][Limb::ForeArm as usize] = Some(path[at - 1]);
+        limbs[side][Limb::UpperArm as usize] = Some(path[at - 2]);
+        if at >= 3 {
+            limbs[side][Limb::Clavicle as usize] = Some(path[at - 3]);
+        }
+    }
+    for &leg in &legs {
+        let path = main_path(leg);
+        let n = path.len();
+        let side = side_of(path[n - 1], hips);
+        let (thigh, toe) = if n >= 4 {
+            (n - 4, Some(n - 1))
+        } else {
+            (0, None)
+        };
+        limbs[side][Limb::Thigh as usize] = Some(path[thigh]);
+        limbs[side][Limb::Shin as usize] = Some(path[thigh + 1]);
+        limbs[side][Limb::Foot as usize] = Some(path[thigh + 2]);
+        limbs[side][Limb::Toe as usize] = toe.map(|i| path[i]);
+    }
+    if limbs[0][Limb::Thigh as usize].is_none() || limbs[1][Limb::Thigh as usize].is_none() {
+        return None;
+    }
+    let (neck, head) = match upward.filter(|u| !arms.contains(u)) {
+        Some(u) => {
+            let path = main_path(u);
+            if path.len() >= 2 {
+                (Some(path[0]), path.last().copied())
+            } else {
+                (None, Some(path[0]))
+            }
+        }
+        None => (None, None),
+    };
+    Some((limbs, neck, head))
+}
+
 impl Body {
     /// The roles of a skeleton's joints, from their names and the tree.
     pub fn of(skeleton: &Skeleton) -> Body {
@@ -427,6 +571,17 @@ impl Body {
                 .filter(|&j| words[j].is_some_and(|(_, w)| w == word))
                 .collect()
         };
+        // Names that say nothing of any limb (`J1`, `bone_07`): the tree and the rest pose.
+        let mut tree_neck_head = (None, None);
+        if body
+            .limbs
+            .iter()
+            .all(|side| side.iter().all(Option::is_none))
+            && let Some((limbs, neck, head)) = limbs_by_tree(skeleton)
+        {
+            body.limbs = limbs;
+            tree_neck_head = (neck, head);
+        }
         let limb = |side: usize, limb: Limb| body.limbs[side][limb as usize];
         let pair_of = |a: Limb, b: Limb| {
             let left = limb(0, a).or(limb(0, b))?;
@@ -436,13 +591,14 @@ impl Body {
         // The chest carries both arms; the hips both legs and the spine.
         let chest = pair_of(Limb::Clavicle, Limb::UpperArm);
         let legs = pair_of(Limb::Thigh, Limb::Shin);
-        let mut neck = shallowest(named(Word::Neck));
-        let mut head = shallowest(
+        let mut neck = shallowest(named(Word::Neck)).or(tree_neck_head.0);
+        let head = shallowest(
             named(Word::Head)
                 .into_iter()
                 .filter(|&h| neck.is_none_or(|n| is_ancestor(skeleton, n, h)))
                 .collect(),
         );
+        let mut head = head.or(tree_neck_head.1);
         let hips = match (legs, chest.or(neck).or(head)) {
             (Some(legs), Some(top)) => common_ancestor(skeleton, legs, top),
             (Some(legs), None) => Some(legs),
@@ -485,10 +641,11 @@ impl Body {
                 .copied()
                 .filter(|j| spine_words.contains(j) || Some(*j) == chest)
                 .collect();
-            body.spine = if named_path.is_empty() {
-                path
-            } else {
+            // No spine word on the way (names that say nothing): every joint on it.
+            body.spine = if path.iter().any(|j| spine_words.contains(j)) {
                 named_path
+            } else {
+                path
             };
         }
         body

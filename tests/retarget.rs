@@ -646,3 +646,38 @@ fn any_number_of_threads_gives_the_same_values() {
     assert!(motion.frame_count() > 2 * 512, "several pieces of frames");
     assert_eq!(one, three);
 }
+
+#[test]
+fn a_skeleton_whose_names_say_nothing_maps_by_its_tree() {
+    let (skeleton, motion) = take(&common::repo_data("retarget/cmu.bvh"));
+    let mut anonymous = skeleton.clone();
+    for (i, joint) in anonymous.joints.iter_mut().enumerate() {
+        joint.name = format!("J{i}");
+    }
+    let named = Body::of(&skeleton);
+    let body = Body::of(&anonymous);
+    for (role, joint) in named.roles() {
+        if matches!(role, Role::Spine(_)) {
+            continue;
+        }
+        assert_eq!(body.joint(role), Some(joint), "{role}: {:?}", body.roles());
+    }
+    // And it retargets onto the built-in skeleton as the named one does.
+    let target = retarget::Target::load("smpl22", u64::MAX).unwrap();
+    let (_, from_names) = target.apply("named", &skeleton, &motion, &[], 1).unwrap();
+    let (_, from_tree) = target
+        .apply("anonymous", &anonymous, &motion, &[], 1)
+        .unwrap();
+    let worst = from_names
+        .data
+        .iter()
+        .zip(&from_tree.data)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0f32, f32::max);
+    assert!(
+        worst < 1e-3,
+        "{worst}\n{}\n{}",
+        Map::guess(&skeleton, &target.skeleton).show(&skeleton, &target.skeleton),
+        Map::guess(&anonymous, &target.skeleton).show(&anonymous, &target.skeleton)
+    );
+}
