@@ -16,6 +16,14 @@ fn take(path: &Path) -> (Skeleton, Motion) {
     (loaded.skeleton, loaded.motion)
 }
 
+/// A naming family's sample skeleton, `tests/retarget/FAMILY.bvh` (written for these tests from
+/// the names each family uses; not third-party data, so not in tests/data).
+fn sample(family: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/retarget")
+        .join(format!("{family}.bvh"))
+}
+
 fn up_of(skeleton: &Skeleton, motion: &Motion) -> Up {
     bvhview::stance::Stance::guess(skeleton, motion, OffsetMode::Replace, None).up
 }
@@ -258,7 +266,7 @@ fn every_naming_family_maps_every_role_onto_the_built_in_skeleton() {
         ),
     ];
     for (family, hips, thigh, arm, toe, head) in families {
-        let (skeleton, motion) = take(&common::repo_data(&format!("retarget/{family}.bvh")));
+        let (skeleton, motion) = take(&sample(family));
         let body = Body::of(&skeleton);
         let roles = names(&body, &skeleton);
         let named = |role: &str| {
@@ -426,7 +434,7 @@ fn bvhview() -> Command {
 fn bad_input_exits_2_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out.bvh");
-    let cmu = common::repo_data("retarget/cmu.bvh");
+    let cmu = sample("cmu");
     let json = dir.path().join("bad.json");
     std::fs::write(
         &json,
@@ -649,7 +657,7 @@ fn any_number_of_threads_gives_the_same_values() {
 
 #[test]
 fn a_skeleton_whose_names_say_nothing_maps_by_its_tree() {
-    let (skeleton, motion) = take(&common::repo_data("retarget/cmu.bvh"));
+    let (skeleton, motion) = take(&sample("cmu"));
     let mut anonymous = skeleton.clone();
     for (i, joint) in anonymous.joints.iter_mut().enumerate() {
         joint.name = format!("J{i}");

@@ -27,7 +27,7 @@ def test_retarget_onto_its_own_skeleton_is_exact():
 
 def test_retarget_names_override_and_errors():
     take = bvhview.load(MIXAMO)
-    target = bvhview.load(DATA / "retarget" / "smpl.bvh")
+    target = bvhview.load(DATA.parent / "retarget" / "smpl.bvh")
     out = take.retarget(target, names={"mixamorig:LeftForeArm": ""})
     elbow = out.joint_names.index("left_elbow")
     first = out.first_channels[elbow]
