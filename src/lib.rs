@@ -33,6 +33,7 @@ pub mod parallel;
 pub mod pose;
 pub mod read;
 pub mod render;
+pub mod retarget;
 pub mod skeleton;
 pub mod skin;
 pub mod stance;

@@ -53,6 +53,9 @@ enum Command {
     /// metres; positions, rotations, root translations, velocities, foot contacts, as
     /// manifest.json plus .npy files per skeleton topology. Takes that fail are skipped and listed.
     Dataset(cli::dataset::DatasetArgs),
+    /// Put a take's motion on another skeleton (a file, or the built-in `smpl22`): joints
+    /// matched by role from their names, rest poses aligned, written as BVH or glTF.
+    Retarget(cli::retarget::RetargetArgs),
 }
 
 fn main() -> ExitCode {
@@ -94,6 +97,7 @@ fn main() -> ExitCode {
         Some(Command::SkinDemo(args)) => cli::skin_demo::run(args),
         Some(Command::Convert(args)) => cli::convert::run(args),
         Some(Command::Dataset(args)) => cli::dataset::run(args),
+        Some(Command::Retarget(args)) => cli::retarget::run(args),
     };
     match result {
         Ok(code) => code,

@@ -434,6 +434,68 @@ pub fn world_positions(skeleton: &Skeleton, frame: &[f32], mode: OffsetMode) -> 
     matrices.iter().map(|m| m.w_axis.truncate()).collect()
 }
 
+/// A joint's rotation for one frame in 64-bit floats: the same product as [`local_rotation`]
+/// (`R1 · R2 · R3`, or `C · R1 · R2 · R3 · C⁻¹` with a fixed axis C), for work that carries
+/// rotations from one skeleton to another and back into channels without 32-bit rounding.
+pub fn local_rotation_f64(joint: &Joint, values: &[f32]) -> glam::DQuat {
+    let mut rotation = glam::DQuat::IDENTITY;
+    for (channel, &value) in joint.channels.iter().zip(values) {
+        if channel.is_rotation() {
+            let radians = f64::from(value).to_radians();
+            rotation *= match channel.axis() {
+                0 => glam::DQuat::from_rotation_x(radians),
+                1 => glam::DQuat::from_rotation_y(radians),
+                _ => glam::DQuat::from_rotation_z(radians),
+            };
+        }
+    }
+    match joint.axis {
+        None => rotation,
+        Some(axis) => {
+            let axis = axis.as_dquat().normalize();
+            axis * rotation * axis.inverse()
+        }
+    }
+}
+
+/// [`world_matrices`] in 64-bit floats, as a world rotation and position per joint. An empty
+/// `frame` gives the rest pose (every rotation the identity).
+pub fn world_transforms_f64(
+    skeleton: &Skeleton,
+    frame: &[f32],
+    mode: OffsetMode,
+    out: &mut Vec<(glam::DQuat, glam::DVec3)>,
+) {
+    out.clear();
+    out.reserve(skeleton.joints.len());
+    for joint in &skeleton.joints {
+        let (rotation, translation) = if frame.is_empty() {
+            (glam::DQuat::IDENTITY, joint.offset.as_dvec3())
+        } else {
+            let values = joint.values(frame);
+            let mut t = joint.offset.as_dvec3();
+            for (channel, &value) in joint.channels.iter().zip(values) {
+                if channel.is_position() {
+                    let axis = channel.axis();
+                    match mode {
+                        OffsetMode::Replace => t[axis] = f64::from(value),
+                        OffsetMode::Add => t[axis] += f64::from(value),
+                    }
+                }
+            }
+            (local_rotation_f64(joint, values), t)
+        };
+        let world = match joint.parent {
+            Some(parent) => {
+                let (r, p) = out[parent];
+                (r * rotation, p + r * translation)
+            }
+            None => (rotation, translation),
+        };
+        out.push(world);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

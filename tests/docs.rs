@@ -67,6 +67,7 @@ const SUBCOMMANDS: &[&str] = &[
     "skin-demo",
     "convert",
     "dataset",
+    "retarget",
     "help",
 ];
 

@@ -214,6 +214,28 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
         transforms as f64 / 1e6 / t_fk.as_secs_f64()
     );
 
+    // Retargeting onto the built-in smpl22 (issue 37): FK plus a rotation per joint, on every core,
+    // against loading the same file on every core above.
+    let target = bvhview::retarget::Target::load("smpl22", u64::MAX).expect("built in");
+    let cores = bvhview::cores();
+    let (t_retarget, retargeted) = best(runs.min(3), || {
+        match target.apply("BIG", &bvh.skeleton, &bvh.motion, &[], cores) {
+            Ok((_, motion)) => motion.frame_count(),
+            Err(_) => 0,
+        }
+    });
+    if retargeted > 0 {
+        println!(
+            "retarget onto smpl22:              {:8.1} ms  {:7.1} MB/s of input ({frames} frames, {cores} threads)",
+            t_retarget.as_secs_f64() * 1e3,
+            mb_per_s(size, t_retarget)
+        );
+    } else {
+        println!(
+            "retarget onto smpl22:              skipped: the file's skeleton has no human chain"
+        );
+    }
+
     // CSV export to memory.
     let options = bvhview::export::PositionsOptions::default();
     let (t_csv, written) = best(runs.min(3), || {

@@ -135,6 +135,14 @@ class Motion:
         names and topology kept; counterparts as `mirror_names` guesses them, `names` (joint
         to counterpart) over the guess. rename=True (`--mirror-rename`): each joint reflected
         where it is and the names exchanged instead (`names` gives the new names)."""
+    def retarget(
+        self, target: Motion | str | os.PathLike[str], names: dict[str, str] | None = None
+    ) -> Motion:
+        """This take's motion on another skeleton: `bvhview retarget --onto`. `target`: a Motion,
+        a built-in skeleton's name ("smpl22") or a file; `names` overrides the guessed map
+        ({source joint: target joint}; "" leaves a source joint out)."""
+    def retarget_map(self, target: Motion | str | os.PathLike[str]) -> dict[str, str]:
+        """The map retarget(target) guesses: {source joint: target joint}."""
     @property
     def mirror_names(self) -> dict[str, str]:
         """The counterparts mirror() swaps: each sided joint's name with its counterpart's."""
@@ -199,6 +207,7 @@ def _compile_dataset(
     takes: Sequence[tuple[_PathLike, _PathLike | None]] | None = None,
     piece: tuple[int, int] | None = None,
     threads: int | None = None,
+    onto: str | None = None,
 ) -> tuple[int, int, int, list[tuple[str, str | None, str]]]:
     """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped takes as
     (path, motion, reason))."""

@@ -125,6 +125,7 @@ def compile_dataset(
     takes: Sequence[tuple[StrPath, StrPath | None]] | None = None,
     threads: int | None = None,
     parquet: bool = False,
+    onto: StrPath | None = None,
 ) -> dict[str, Any]:
     """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
     them) into the new dataset folder ``out``; returns its manifest, whose ``"skipped"`` lists
@@ -144,7 +145,9 @@ def compile_dataset(
     at their default and this runs in the main thread; the process then ends by that signal). A
     process killed outright (SIGKILL) leaves its temporary ``.OUT.*`` folder beside ``out``.
     What the folder walk skipped (a loop, a link out of the folder, a take reached twice) is
-    said as a UserWarning each."""
+    said as a UserWarning each. ``onto``: retarget every take onto this skeleton first (a file, or
+    the built-in ``"smpl22"``), as ``Motion.retarget`` does, so the folder makes one group; a take
+    whose map misses a required role is skipped with the reason."""
     if parquet:
         _need_pyarrow()
     with _ended_cleanly():
@@ -159,6 +162,7 @@ def compile_dataset(
             contact_speed=contact_speed,
             takes=None if takes is None else [(p, m) for p, m in takes],
             threads=threads,
+            onto=None if onto is None else os.fspath(onto),
         )
         for _, _, reason in skipped:
             warnings.warn(f"skipped {reason}", SkippedTake, stacklevel=2)

@@ -203,7 +203,7 @@ pub(crate) fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePa
 /// paths); `piece`: (index, pieces), the run of the folder's list a Dask worker compiles.
 #[pyfunction]
 #[pyo3(signature = (folder, out, fps=30.0, rotations="6d", root_relative=false, feet=None,
-    contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None))]
+    contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None, onto=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn _compile_dataset(
     py: Python<'_>,
@@ -218,6 +218,7 @@ pub(crate) fn _compile_dataset(
     takes: Option<Vec<(PathBuf, Option<PathBuf>)>>,
     piece: Option<(usize, usize)>,
     threads: Option<usize>,
+    onto: Option<String>,
 ) -> PyResult<(usize, usize, usize, Vec<SkippedTake>)> {
     guard("_compile_dataset", || {
         let rotations = pose::RotationKind::parse(rotations).ok_or_else(|| {
@@ -233,6 +234,12 @@ pub(crate) fn _compile_dataset(
             feet,
             contact_height,
             contact_speed,
+            onto: onto
+                .map(|onto| {
+                    bvhview::retarget::Target::load(&onto, bvhview::input::DEFAULT_MAX_SIZE)
+                })
+                .transpose()
+                .map_err(|e| to_python(py, e))?,
             ..Default::default()
         };
         let threads = threads.unwrap_or_else(bvhview::cores).max(1);

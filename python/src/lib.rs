@@ -35,6 +35,7 @@ mod datasets;
 mod edits;
 mod motion;
 mod pickle;
+mod retarget;
 
 use arrays::*;
 use datasets::*;

@@ -563,6 +563,33 @@ impl Motion {
         })
     }
 
+    /// The take's motion on another skeleton, as `bvhview retarget` puts it: `target` a Motion,
+    /// a built-in skeleton's name ("smpl22") or a file's path; `names` overrides the guessed
+    /// map ({source joint: target joint}; "" leaves a source joint out). Raises ValueError
+    /// naming the joint when the map cannot stand.
+    #[pyo3(signature = (target, names=None))]
+    fn retarget(
+        &self,
+        py: Python<'_>,
+        target: &Bound<'_, PyAny>,
+        names: Option<std::collections::HashMap<String, String>>,
+    ) -> PyResult<Motion> {
+        guard("retarget", || {
+            crate::retarget::retarget(py, self, target, names)
+        })
+    }
+
+    /// The joint map `retarget(target)` would guess: {source joint: target joint}.
+    fn retarget_map(
+        &self,
+        py: Python<'_>,
+        target: &Bound<'_, PyAny>,
+    ) -> PyResult<std::collections::HashMap<String, String>> {
+        guard("retarget_map", || {
+            crate::retarget::retarget_map(py, self, target)
+        })
+    }
+
     /// The counterparts `mirror()` swaps: each joint whose name marks a side (`LeftArm`,
     /// `L_Arm`, `Arm.L`, CMU's `LHipJoint` and `lhumerus`, Daz's `lThigh`…) and whose
     /// counterpart is in the skeleton, with the counterpart's name.

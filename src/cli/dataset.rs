@@ -38,6 +38,10 @@ pub(crate) struct DatasetArgs {
     /// Files larger than this many bytes are skipped.
     #[arg(long, default_value_t = bvhview::input::DEFAULT_MAX_SIZE)]
     max_size: u64,
+    /// Retarget every take onto this skeleton first (a file, or the built-in `smpl22`), so that
+    /// the folder makes one group; takes whose map misses a required role are skipped.
+    #[arg(long, value_name = "TARGET")]
+    onto: Option<String>,
 }
 
 /// `--rotations`.
@@ -81,6 +85,11 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         contact_height: args.contact_height,
         contact_speed: args.contact_speed,
         max_size: args.max_size,
+        onto: args
+            .onto
+            .as_deref()
+            .map(|onto| bvhview::retarget::Target::load(onto, args.max_size))
+            .transpose()?,
     };
     // Options are checked before the folder is read (`Writer::create` checks them again).
     options.check()?;

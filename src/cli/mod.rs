@@ -8,6 +8,7 @@ pub(crate) mod diff;
 pub(crate) mod info;
 pub(crate) mod positions;
 pub(crate) mod print;
+pub(crate) mod retarget;
 pub(crate) mod skin_demo;
 pub(crate) mod snapshot;
 pub(crate) mod trace;
@@ -405,4 +406,60 @@ pub(crate) fn short_name(path: &Path) -> String {
         || path.display().to_string(),
         |n| n.to_string_lossy().into_owned(),
     )
+}
+
+/// Writes a take as BVH or glTF by the output's extension (.glb, .gltf, else BVH), whole or
+/// not at all, and says what was written: the one way a command that makes a take writes it.
+pub(crate) fn write_take(
+    output: &Path,
+    skeleton: bvhview::Skeleton,
+    motion: bvhview::Motion,
+) -> Result<ExitCode, Error> {
+    let container = match input::extension(output).as_str() {
+        "glb" => Some(bvhview::gltf::Container::Glb),
+        "gltf" => Some(bvhview::gltf::Container::Gltf),
+        _ => None,
+    };
+    if let Some(container) = container {
+        let bytes =
+            bvhview::gltf::to_gltf(&skeleton, &motion, OffsetMode::Replace, container, false)?;
+        let mut out = open_output(Some(output))?;
+        let result = out.write_all(&bytes);
+        finish_write(out, result, Some(output))?;
+        wrote(format_args!(
+            "{}: {}, {}",
+            output.display(),
+            bvhview::error::counted(skeleton.joints.len(), "node"),
+            bvhview::error::counted(motion.frame_count(), "frame")
+        ));
+        return Ok(ExitCode::SUCCESS);
+    }
+    // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
+    let (skeleton, motion) = if skeleton.joints.iter().any(|j| j.axis.is_some()) {
+        bvhview::edit::bake_axes(&skeleton, &motion)?
+    } else {
+        (skeleton, motion)
+    };
+    // Refused before the output is opened: a take that cannot be written leaves no file.
+    bvhview::bvh::writer::check(&skeleton, &motion)?;
+    let mut out = open_output(Some(output))?;
+    let result = bvhview::bvh::writer::write_bvh(&mut out, &skeleton, &motion);
+    finish_write(out, result, Some(output))?;
+    for (name, written) in bvhview::bvh::writer::renamed(&skeleton) {
+        eprintln!(
+            "bvhview: {}: joint {name:?} written as {written:?} (a BVH name holds no \
+             whitespace or braces)",
+            output.display()
+        );
+    }
+    wrote(format_args!(
+        "{}: {}, {}",
+        output.display(),
+        bvhview::error::counted(
+            skeleton.joints.iter().filter(|j| !j.end_site).count(),
+            "joint"
+        ),
+        bvhview::error::counted(motion.frame_count(), "frame")
+    ));
+    Ok(ExitCode::SUCCESS)
 }

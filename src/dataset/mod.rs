@@ -38,6 +38,9 @@ pub struct Options {
     pub contact_speed: f32,
     /// Files larger than this are skipped.
     pub max_size: u64,
+    /// Every take retargeted onto this skeleton first (`--onto`), so a folder of mixed
+    /// skeletons makes one group; a take whose map misses a required role is skipped.
+    pub onto: Option<crate::retarget::Target>,
 }
 
 impl Default for Options {
@@ -50,6 +53,7 @@ impl Default for Options {
             contact_height: 0.05,
             contact_speed: 0.5,
             max_size: crate::input::DEFAULT_MAX_SIZE,
+            onto: None,
         }
     }
 }
@@ -349,12 +353,34 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
             path.display()
         )));
     }
+    let loaded = match &options.onto {
+        Some(target) => {
+            let (skeleton, motion) = target.apply(
+                &path.display().to_string(),
+                &loaded.skeleton,
+                &loaded.motion,
+                &[],
+                1,
+            )?;
+            crate::input::Loaded {
+                skeleton,
+                motion,
+                stated_units: None,
+                ..loaded
+            }
+        }
+        None => loaded,
+    };
     let mode =
         match pose::written_for_other_mode(&loaded.skeleton, &loaded.motion, OffsetMode::Replace) {
             Some(_) => OffsetMode::Add,
             None => OffsetMode::Replace,
         };
-    let stance = loaded.stance(mode);
+    let mut stance = loaded.stance(mode);
+    if let Some(target) = &options.onto {
+        // A retargeted take stands as its target does (one frame says little about it).
+        stance.up = target.up;
+    }
     let (skeleton, motion) = (&loaded.skeleton, &loaded.motion);
     let metres = stance.units.metres;
     let (skeleton, motion) = crate::edit::scale(skeleton, motion, metres)?;

@@ -1,0 +1,76 @@
+//! `bvhview retarget`: one take's motion on another skeleton, written as BVH or glTF.
+
+use super::*;
+use bvhview::retarget::{self, Map, Target};
+
+#[derive(Args)]
+pub(crate) struct RetargetArgs {
+    /// The take to move: a .bvh file, or an .asf skeleton with its motion in --motion.
+    input: PathBuf,
+    #[command(flatten)]
+    source: Source,
+    /// The skeleton to put it on: a .bvh or .asf file (its motion is not used), or a built-in
+    /// skeleton: `smpl22` (the 22 SMPL body joints of HumanML3D and most motion models).
+    #[arg(long, value_name = "TARGET")]
+    onto: String,
+    /// Override the guessed joint map: SRC=DST (a source joint onto a target joint; SRC= leaves
+    /// it out), or a TOML or JSON file of such pairs (what --show-map prints). Repeatable.
+    #[arg(long, value_name = "FILE|SRC=DST")]
+    map: Vec<String>,
+    /// Print the map (as TOML --map reads) and the joints left unmapped, on stdout.
+    #[arg(long)]
+    show_map: bool,
+    /// The file to write: .bvh, or glTF as .glb (binary) or .gltf (text, data inline).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+/// The `--map` values as pairs, in order: files read, `SRC=DST` split.
+fn map_pairs(values: &[String]) -> Result<Vec<(String, String)>, Error> {
+    let mut pairs = Vec::new();
+    for value in values {
+        let path = Path::new(value);
+        if path.is_file() {
+            let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
+            pairs.extend(retarget::parse_map(&text, value)?);
+        } else if let Some(pair) = retarget::parse_pair(value) {
+            pairs.push(pair);
+        } else {
+            return Err(Error::Usage(format!(
+                "--map {value}: expected SRC=DST or a TOML or JSON map file"
+            )));
+        }
+    }
+    Ok(pairs)
+}
+
+pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
+    if let Some(output) = &args.output {
+        check_output(output, &["bvh", "glb", "gltf"])?;
+    } else if !args.show_map {
+        return Err(Error::Usage(
+            "retarget: give -o OUT.bvh|.glb|.gltf, or --show-map to see the map only".into(),
+        ));
+    }
+    let pairs = map_pairs(&args.map)?;
+    let loaded = load(&args.input, &args.source)?;
+    let target = Target::load(&args.onto, args.source.max_size)?;
+    let source_name = args.input.display().to_string();
+    if args.show_map {
+        let mut map = Map::guess(&loaded.skeleton, &target.skeleton);
+        map.apply(&pairs, &loaded.skeleton, &target.skeleton)?;
+        write_text(&map.show(&loaded.skeleton, &target.skeleton))?;
+        map.check(&source_name, &target.name)?;
+    }
+    let Some(output) = &args.output else {
+        return Ok(ExitCode::SUCCESS);
+    };
+    let (skeleton, motion) = target.apply(
+        &source_name,
+        &loaded.skeleton,
+        &loaded.motion,
+        &pairs,
+        bvhview::cores(),
+    )?;
+    write_take(output, skeleton, motion)
+}

@@ -1,0 +1,691 @@
+//! Retargeting (issue 37): A → A exact, A → A′ (renamed, A-pose rest, ×1.3) by bone directions
+//! and the root's path, a sample skeleton per naming family, the real corpus's skeletons onto
+//! each other and onto the built-in one, and bad input from the command line.
+
+mod common;
+
+use bvhview::pose::{OffsetMode, Up};
+use bvhview::retarget::{self, Body, Map, Role, Ups};
+use bvhview::{Motion, Skeleton};
+use glam::{Quat, Vec3};
+use std::path::Path;
+use std::process::Command;
+
+fn take(path: &Path) -> (Skeleton, Motion) {
+    let loaded = bvhview::input::load(path, None, None).unwrap();
+    (loaded.skeleton, loaded.motion)
+}
+
+/// A naming family's sample skeleton, `tests/retarget/FAMILY.bvh` (written for these tests from
+/// the names each family uses; not third-party data, so not in tests/data).
+fn sample(family: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/retarget")
+        .join(format!("{family}.bvh"))
+}
+
+fn up_of(skeleton: &Skeleton, motion: &Motion) -> Up {
+    bvhview::stance::Stance::guess(skeleton, motion, OffsetMode::Replace, None).up
+}
+
+#[test]
+fn a_take_onto_its_own_skeleton_is_exact() {
+    for name in [
+        "bvh/assimp_01_01.bvh",
+        "bvh/bvhpython_test_freebvh.bvh",
+        "bvh/makehuman_walk1.bvh",
+        "bvh/opencollar_run.bvh",
+        "bvh/animateddrawings_rokoko_jesse_dance.bvh",
+    ] {
+        let (skeleton, motion) = take(&common::repo_data(name));
+        let map = Map::guess(&skeleton, &skeleton);
+        for (t, s) in map.source_of.iter().enumerate() {
+            if !skeleton.joints[t].end_site {
+                assert_eq!(*s, Some(t), "{name}: {}", skeleton.joints[t].name);
+            }
+        }
+        let up = up_of(&skeleton, &motion);
+        let ups = Ups {
+            source: up,
+            target: up,
+        };
+        let (out_skeleton, out) =
+            retarget::retarget(&skeleton, &motion, &skeleton, &map, ups, 2).unwrap();
+        assert_eq!(out_skeleton, skeleton);
+        assert_eq!(out.frame_count(), motion.frame_count());
+        let worst = motion
+            .data
+            .iter()
+            .zip(&out.data)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0f32, f32::max);
+        assert!(worst <= 1e-6, "{name}: a value differs by {worst}");
+    }
+}
+
+/// A renamed to Xsens's names (the rest prefixed `Char:`), its arms hanging 45° down at rest
+/// (an A-pose), every bone 1.3 times as long.
+fn a_prime(skeleton: &Skeleton) -> Skeleton {
+    let mut renamed = skeleton.clone();
+    let names = [
+        ("Hips", "Pelvis"),
+        ("LowerBack", "L5"),
+        ("Spine", "L3"),
+        ("Spine1", "T8"),
+        ("Neck", "Neck"),
+        ("Head", "Head"),
+        ("LeftShoulder", "LeftShoulder"),
+        ("LeftArm", "LeftUpperArm"),
+        ("LeftForeArm", "LeftForeArm"),
+        ("LeftHand", "LeftHand"),
+        ("RightShoulder", "RightShoulder"),
+        ("RightArm", "RightUpperArm"),
+        ("RightForeArm", "RightForeArm"),
+        ("RightHand", "RightHand"),
+        ("LeftUpLeg", "LeftUpperLeg"),
+        ("LeftLeg", "LeftLowerLeg"),
+        ("LeftFoot", "LeftFoot"),
+        ("LeftToeBase", "LeftToe"),
+        ("RightUpLeg", "RightUpperLeg"),
+        ("RightLeg", "RightLowerLeg"),
+        ("RightFoot", "RightFoot"),
+        ("RightToeBase", "RightToe"),
+    ];
+    let arms: Vec<(usize, f32)> = skeleton
+        .joints
+        .iter()
+        .enumerate()
+        .filter_map(|(i, j)| match j.name.as_str() {
+            "LeftArm" => Some((i, -45f32)),
+            "RightArm" => Some((i, 45f32)),
+            _ => None,
+        })
+        .collect();
+    let under = |ancestor: usize, mut j: usize| loop {
+        match skeleton.joints[j].parent {
+            Some(p) if p == ancestor => return true,
+            Some(p) => j = p,
+            None => return false,
+        }
+    };
+    for (i, joint) in renamed.joints.iter_mut().enumerate() {
+        if !joint.end_site {
+            joint.name = names
+                .iter()
+                .find(|(from, _)| *from == joint.name)
+                .map_or(format!("Char:{}", joint.name), |(_, to)| to.to_string());
+        }
+        for &(arm, degrees) in &arms {
+            if under(arm, i) {
+                joint.offset = Quat::from_rotation_z(degrees.to_radians()) * joint.offset;
+            }
+        }
+        joint.offset *= 1.3;
+    }
+    renamed
+}
+
+#[test]
+fn a_take_onto_a_renamed_a_posed_larger_copy_keeps_bone_directions_and_path() {
+    let (skeleton, motion) = take(&common::repo_data("bvh/assimp_01_01.bvh"));
+    let motion = bvhview::edit::trim(&motion, 0..600);
+    let target = a_prime(&skeleton);
+    let map = Map::guess(&skeleton, &target);
+    map.check("A", "A'").unwrap();
+    assert_eq!(
+        map.target_body
+            .joint(Role::Hips)
+            .map(|j| &target.joints[j].name[..]),
+        Some("Pelvis")
+    );
+    let up = up_of(&skeleton, &motion);
+    let ups = Ups {
+        source: up,
+        target: up,
+    };
+    let (out_skeleton, out) =
+        retarget::retarget(&skeleton, &motion, &target, &map, ups, 2).unwrap();
+    let errors: Vec<f64> =
+        retarget::direction_errors(&skeleton, &motion, &out_skeleton, &out, &map, ups).concat();
+    assert!(errors.len() >= 600 * 20, "{} bones compared", errors.len());
+    let worst = errors.iter().copied().fold(0.0, f64::max);
+    assert!(worst <= 0.5, "a bone direction is {worst}° off");
+    // Every mapped bone, not only the main ones: each joint's direction to its mapped child.
+    for frame in (0..600).step_by(37) {
+        let a = bvhview::pose::world_positions(&skeleton, motion.frame(frame), OffsetMode::Replace);
+        let b =
+            bvhview::pose::world_positions(&out_skeleton, out.frame(frame), OffsetMode::Replace);
+        for (t, joint) in target.joints.iter().enumerate() {
+            let (Some(p), Some(s), Some(sp)) = (
+                joint.parent,
+                map.source_of[t],
+                joint.parent.and_then(|p| map.source_of[p]),
+            ) else {
+                continue;
+            };
+            let (da, db) = (a[s] - a[sp], b[t] - b[p]);
+            if da.length() > 1e-3 {
+                let angle = da.angle_between(db).to_degrees();
+                assert!(
+                    angle <= 0.5,
+                    "frame {frame}: {} is {angle}° off",
+                    joint.name
+                );
+            }
+        }
+        // The root's path: A's times 1.3.
+        let want = a[0] * 1.3;
+        assert!(
+            (b[0] - want).length() <= 1e-3 * want.length().max(1.0),
+            "frame {frame}: root at {} for {want}",
+            b[0]
+        );
+    }
+}
+
+#[test]
+fn every_naming_family_maps_every_role_onto_the_built_in_skeleton() {
+    let (smpl, _) = retarget::built_in("smpl22").unwrap();
+    let smpl_body = Body::of(&smpl);
+    assert_eq!(smpl.joints.iter().filter(|j| !j.end_site).count(), 22);
+    let names = |body: &Body, skeleton: &Skeleton| -> Vec<(String, String)> {
+        body.roles()
+            .into_iter()
+            .map(|(r, j)| (r.to_string(), skeleton.joints[j].name.clone()))
+            .collect()
+    };
+    // Per family: (file, hips, left thigh, left upper arm, left toe or foot, head).
+    let families = [
+        ("cmu", "Hips", "LeftUpLeg", "LeftArm", "LeftToeBase", "Head"),
+        (
+            "mixamo",
+            "mixamorig:Hips",
+            "mixamorig:LeftUpLeg",
+            "mixamorig:LeftArm",
+            "mixamorig:LeftToeBase",
+            "mixamorig:Head",
+        ),
+        ("lafan1", "Hips", "LeftUpLeg", "LeftArm", "LeftToe", "Head"),
+        (
+            "xsens",
+            "Pelvis",
+            "LeftUpperLeg",
+            "LeftUpperArm",
+            "LeftToe",
+            "Head",
+        ),
+        (
+            "bandai",
+            "Hips",
+            "UpperLeg_L",
+            "UpperArm_L",
+            "Toes_L",
+            "Head",
+        ),
+        ("makehuman", "Root", "UpLeg_L", "UpArm_L", "Toe_L", "Head"),
+        (
+            "daz_poser_secondlife",
+            "hip",
+            "lThigh",
+            "lShldr",
+            "lToe",
+            "head",
+        ),
+        ("rokoko", "Hips", "LeftUpLeg", "LeftArm", "LeftToe", "Head"),
+        (
+            "perception_neuron",
+            "Hips",
+            "LeftUpLeg",
+            "LeftArm",
+            "LeftFoot",
+            "Head",
+        ),
+        (
+            "optitrack",
+            "Skeleton1_Hip",
+            "Skeleton1_LThigh",
+            "Skeleton1_LUArm",
+            "Skeleton1_LToe",
+            "Skeleton1_Head",
+        ),
+        (
+            "smpl",
+            "pelvis",
+            "left_hip",
+            "left_shoulder",
+            "left_foot",
+            "head",
+        ),
+        (
+            "rigify",
+            "DEF-spine",
+            "DEF-thigh.L",
+            "DEF-upper_arm.L",
+            "DEF-toe.L",
+            "DEF-spine.006",
+        ),
+    ];
+    for (family, hips, thigh, arm, toe, head) in families {
+        let (skeleton, motion) = take(&sample(family));
+        let body = Body::of(&skeleton);
+        let roles = names(&body, &skeleton);
+        let named = |role: &str| {
+            roles
+                .iter()
+                .find(|(r, _)| r == role)
+                .map(|(_, n)| n.as_str())
+        };
+        assert_eq!(named("hips"), Some(hips), "{family}: {roles:?}");
+        assert_eq!(named("left thigh"), Some(thigh), "{family}: {roles:?}");
+        assert_eq!(named("left upper arm"), Some(arm), "{family}: {roles:?}");
+        let toe_role = if family == "perception_neuron" {
+            "left foot"
+        } else {
+            "left toe"
+        };
+        assert_eq!(named(toe_role), Some(toe), "{family}: {roles:?}");
+        assert_eq!(named("head"), Some(head), "{family}: {roles:?}");
+        // Every role of both sides' limbs, mirrored: the right side as the left.
+        for limb in [
+            "clavicle",
+            "upper arm",
+            "forearm",
+            "hand",
+            "thigh",
+            "shin",
+            "foot",
+        ] {
+            assert!(
+                named(&format!("left {limb}")).is_some(),
+                "{family}: no left {limb}"
+            );
+            assert!(
+                named(&format!("right {limb}")).is_some(),
+                "{family}: no right {limb}"
+            );
+        }
+        assert!(
+            !body.spine.is_empty() && body.neck.is_some(),
+            "{family}: {roles:?}"
+        );
+        // Onto the built-in skeleton: the chain maps, the take comes out.
+        let map = Map::guess(&skeleton, &smpl);
+        map.check(family, "smpl22").unwrap();
+        for (role, joint) in smpl_body.roles() {
+            if role != Role::Spine(1) && map.source_body.joint(role).is_some() {
+                assert!(map.source_of[joint].is_some(), "{family}: {role} unmapped");
+            }
+        }
+        let ups = Ups::default();
+        let (_, out) = retarget::retarget(&skeleton, &motion, &smpl, &map, ups, 1).unwrap();
+        assert_eq!(out.frame_count(), 2);
+        let errors: Vec<f64> =
+            retarget::direction_errors(&skeleton, &motion, &smpl, &out, &map, ups).concat();
+        let worst = errors.iter().copied().fold(0.0, f64::max);
+        assert!(worst < 0.01, "{family}: a bone {worst}° off");
+    }
+}
+
+/// Source and target of the real-skeleton check, each a take of the corpus.
+const CORPUS: [(&str, &str); 6] = [
+    ("CMU", "bvh/assimp_01_01.bvh"),
+    ("Bandai", "bvh/bandai_dataset-1_dance-short_normal_001.bvh"),
+    ("MakeHuman", "bvh/makehuman_walk1.bvh"),
+    ("Rokoko", "bvh/animateddrawings_rokoko_jesse_dance.bvh"),
+    ("Mixamo", "bvh/bvhpython_test_freebvh.bvh"),
+    ("Second Life", "bvh/opencollar_run.bvh"),
+];
+
+fn metres(skeleton: &Skeleton, motion: &Motion) -> f64 {
+    f64::from(
+        bvhview::stance::Stance::guess(skeleton, motion, OffsetMode::Replace, None)
+            .units
+            .metres,
+    )
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn real_skeletons_onto_each_other_keep_bone_directions_and_feet() {
+    let mut takes: Vec<(&str, Skeleton, Motion)> = CORPUS
+        .iter()
+        .map(|(name, path)| {
+            let (s, m) = take(&common::shared_data(path));
+            // At most 600 frames of each: enough poses, a debug build's time.
+            let frames = m.frame_count().min(600);
+            (*name, s, bvhview::edit::trim(&m, 0..frames))
+        })
+        .collect();
+    let (smpl, smpl_motion) = retarget::built_in("smpl22").unwrap();
+    takes.push(("smpl22", smpl, smpl_motion));
+    println!(
+        "| source | target | bones × frames | median ° | p99 ° | max ° | foot skate source → target |"
+    );
+    println!("|---|---|---:|---:|---:|---:|---|");
+    for (source_name, source, motion) in &takes[..CORPUS.len()] {
+        for (target_name, target, target_motion) in &takes {
+            if source_name == target_name {
+                continue;
+            }
+            let map = Map::guess(source, target);
+            map.check(source_name, target_name).unwrap();
+            let ups = Ups {
+                source: up_of(source, motion),
+                target: if target_motion.frame_count() > 1 {
+                    up_of(target, target_motion)
+                } else {
+                    Up::guess(target)
+                },
+            };
+            let (out_skeleton, out) =
+                retarget::retarget(source, motion, target, &map, ups, 2).unwrap();
+            let errors: Vec<f64> =
+                retarget::direction_errors(source, motion, &out_skeleton, &out, &map, ups).concat();
+            let median = retarget::quantile(&errors, 0.5);
+            let p99 = retarget::quantile(&errors, 0.99);
+            let worst = retarget::quantile(&errors, 1.0);
+            let target_feet: Vec<usize> = map
+                .target_body
+                .feet()
+                .into_iter()
+                .filter(|&f| map.source_of[f].is_some())
+                .collect();
+            let source_feet: Vec<usize> = target_feet
+                .iter()
+                .filter_map(|&f| map.source_of[f])
+                .collect();
+            let skate_source = retarget::foot_skate(
+                source,
+                motion,
+                &source_feet,
+                ups.source,
+                metres(source, motion),
+            );
+            let target_metres = if target_motion.frame_count() > 1 {
+                metres(target, target_motion)
+            } else {
+                metres(target, &out)
+            };
+            let skate_target =
+                retarget::foot_skate(&out_skeleton, &out, &target_feet, ups.target, target_metres);
+            println!(
+                "| {source_name} | {target_name} | {} | {median:.2} | {p99:.2} | {worst:.2} | {:.1} % → {:.1} % |",
+                errors.len(),
+                100.0 * skate_source,
+                100.0 * skate_target
+            );
+            assert!(
+                median <= 5.0 && p99 <= 15.0,
+                "{source_name} → {target_name}: {median}° {p99}°"
+            );
+            assert!(
+                skate_target <= skate_source * 1.1 + 0.005,
+                "{source_name} → {target_name}: foot skate {skate_source} → {skate_target}"
+            );
+        }
+    }
+}
+
+fn bvhview() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_bvhview"))
+}
+
+#[test]
+fn bad_input_exits_2_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out.bvh");
+    let cmu = sample("cmu");
+    let json = dir.path().join("bad.json");
+    std::fs::write(
+        &json,
+        "{\n  \"Hips\": \"pelvis\",\n  \"LeftUpLeg\" \"left_hip\"\n}\n",
+    )
+    .unwrap();
+    let toml = dir.path().join("bad.toml");
+    std::fs::write(&toml, "\"Hips\" = \"pelvis\"\nLeftUpLeg = left_hip\n").unwrap();
+    let two = dir.path().join("two.toml");
+    std::fs::write(
+        &two,
+        "\"LeftUpLeg\" = \"left_hip\"\n\"RightUpLeg\" = \"left_hip\"\n",
+    )
+    .unwrap();
+    let tiny = common::repo_data("bvh/bvhanim_test_simple.bvh");
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec!["--onto".into(), tiny.display().to_string()],
+            "no mappable chain",
+        ),
+        (
+            vec![
+                "--onto".into(),
+                "smpl22".into(),
+                "--map".into(),
+                "Nope=pelvis".into(),
+            ],
+            "\"Nope\"",
+        ),
+        (
+            vec![
+                "--onto".into(),
+                "smpl22".into(),
+                "--map".into(),
+                "Hips=nope".into(),
+            ],
+            "\"nope\"",
+        ),
+        (
+            vec![
+                "--onto".into(),
+                "smpl22".into(),
+                "--map".into(),
+                two.display().to_string(),
+            ],
+            "two source joints",
+        ),
+        (
+            vec![
+                "--onto".into(),
+                "smpl22".into(),
+                "--map".into(),
+                json.display().to_string(),
+            ],
+            "bad.json:3:",
+        ),
+        (
+            vec![
+                "--onto".into(),
+                "smpl22".into(),
+                "--map".into(),
+                toml.display().to_string(),
+            ],
+            "bad.toml:2:",
+        ),
+        (vec!["--onto".into(), "nosuchskeleton".into()], "built-in"),
+    ];
+    for (args, said) in cases {
+        let result = bvhview()
+            .arg("retarget")
+            .arg(&cmu)
+            .args(&args)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&result.stderr);
+        assert_eq!(result.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.contains(said), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?} wrote {}", out.display());
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            3,
+            "{args:?} left a file"
+        );
+    }
+}
+
+#[test]
+fn the_command_writes_bvh_and_glb_and_a_shown_map_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let source = common::repo_data("bvh/bvhpython_test_freebvh.bvh");
+    let shown = bvhview()
+        .args(["retarget"])
+        .arg(&source)
+        .args(["--onto", "smpl22", "--show-map"])
+        .output()
+        .unwrap();
+    assert!(shown.status.success());
+    let text = String::from_utf8(shown.stdout).unwrap();
+    assert!(
+        text.contains("\"mixamorig:LeftUpLeg\" = \"left_hip\"  # left thigh"),
+        "{text}"
+    );
+    let map = dir.path().join("map.toml");
+    std::fs::write(&map, &text).unwrap();
+    for name in ["out.bvh", "out.glb"] {
+        let out = dir.path().join(name);
+        let status = bvhview()
+            .arg("retarget")
+            .arg(&source)
+            .args(["--onto", "smpl22", "--map"])
+            .arg(&map)
+            .arg("-o")
+            .arg(&out)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        assert!(out.exists());
+    }
+    let (skeleton, motion) = take(&dir.path().join("out.bvh"));
+    assert_eq!(skeleton.joints.iter().filter(|j| !j.end_site).count(), 22);
+    assert_eq!(motion.frame_count(), 69);
+    // Unmapping a source joint leaves its target at rest.
+    let out = dir.path().join("unmapped.bvh");
+    let status = bvhview()
+        .arg("retarget")
+        .arg(&source)
+        .args(["--onto", "smpl22", "--map", "mixamorig:LeftForeArm=", "-o"])
+        .arg(&out)
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let (skeleton, motion) = take(&out);
+    let elbow = skeleton
+        .joints
+        .iter()
+        .find(|j| j.name == "left_elbow")
+        .unwrap();
+    for frame in 0..motion.frame_count() {
+        assert!(
+            elbow
+                .values(motion.frame(frame))
+                .iter()
+                .all(|v| v.abs() < 1e-4)
+        );
+    }
+    let _ = Vec3::ZERO;
+}
+
+#[test]
+fn a_folder_of_mixed_skeletons_compiles_onto_one_skeleton_as_one_group() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("set");
+    let folder = common::repo_data("bvh");
+    let result = bvhview()
+        .args(["dataset"])
+        .arg(&folder)
+        .arg("-o")
+        .arg(&out)
+        .args(["--onto", "smpl22"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&result.stderr);
+    assert!(result.status.success(), "{stderr}");
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let groups = manifest["groups"].as_array().unwrap();
+    assert_eq!(groups.len(), 1, "{stderr}");
+    assert_eq!(groups[0]["joints"][0], "pelvis");
+    // The two 2-joint files have no chain: skipped with the reason.
+    let skipped = manifest["skipped"].as_array().unwrap();
+    assert_eq!(skipped.len(), 2, "{skipped:?}");
+    assert!(stderr.contains("no mappable chain"), "{stderr}");
+    // Every take that compiled: its bones' directions as in the source, within point 4's figures.
+    let target = retarget::Target::load("smpl22", u64::MAX).unwrap();
+    let map_of = |s: &Skeleton| Map::guess(s, &target.skeleton);
+    let mut compiled = 0;
+    for path in common::files_in(&folder, "bvh") {
+        let (skeleton, motion) = take(&path);
+        let Ok((out_skeleton, out)) = target.apply("take", &skeleton, &motion, &[], 2) else {
+            continue;
+        };
+        compiled += 1;
+        let ups = Ups {
+            source: up_of(&skeleton, &motion),
+            target: target.up,
+        };
+        let errors = retarget::direction_errors(
+            &skeleton,
+            &motion,
+            &out_skeleton,
+            &out,
+            &map_of(&skeleton),
+            ups,
+        )
+        .concat();
+        let (median, p99) = (
+            retarget::quantile(&errors, 0.5),
+            retarget::quantile(&errors, 0.99),
+        );
+        assert!(
+            median <= 5.0 && p99 <= 15.0,
+            "{}: {median}° {p99}°",
+            path.display()
+        );
+    }
+    assert_eq!(compiled, groups[0]["clips"].as_u64().unwrap() as usize);
+}
+
+#[test]
+fn any_number_of_threads_gives_the_same_values() {
+    let (skeleton, motion) = take(&common::repo_data("bvh/assimp_01_01.bvh"));
+    let target = retarget::Target::load("smpl22", u64::MAX).unwrap();
+    let (_, one) = target.apply("CMU", &skeleton, &motion, &[], 1).unwrap();
+    let (_, three) = target.apply("CMU", &skeleton, &motion, &[], 3).unwrap();
+    assert!(motion.frame_count() > 2 * 512, "several pieces of frames");
+    assert_eq!(one, three);
+}
+
+#[test]
+fn a_skeleton_whose_names_say_nothing_maps_by_its_tree() {
+    let (skeleton, motion) = take(&sample("cmu"));
+    let mut anonymous = skeleton.clone();
+    for (i, joint) in anonymous.joints.iter_mut().enumerate() {
+        joint.name = format!("J{i}");
+    }
+    let named = Body::of(&skeleton);
+    let body = Body::of(&anonymous);
+    for (role, joint) in named.roles() {
+        if matches!(role, Role::Spine(_)) {
+            continue;
+        }
+        assert_eq!(body.joint(role), Some(joint), "{role}: {:?}", body.roles());
+    }
+    // And it retargets onto the built-in skeleton as the named one does.
+    let target = retarget::Target::load("smpl22", u64::MAX).unwrap();
+    let (_, from_names) = target.apply("named", &skeleton, &motion, &[], 1).unwrap();
+    let (_, from_tree) = target
+        .apply("anonymous", &anonymous, &motion, &[], 1)
+        .unwrap();
+    let worst = from_names
+        .data
+        .iter()
+        .zip(&from_tree.data)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0f32, f32::max);
+    assert!(
+        worst < 1e-3,
+        "{worst}\n{}\n{}",
+        Map::guess(&skeleton, &target.skeleton).show(&skeleton, &target.skeleton),
+        Map::guess(&anonymous, &target.skeleton).show(&anonymous, &target.skeleton)
+    );
+}
