@@ -275,13 +275,19 @@ pub fn pick_take(names: &[String], take: Option<&str>, file: &str) -> Result<usi
 }
 
 /// Reads take `take` (a name or an index; the first when `None`) of the FBX file at `path`.
-pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Error> {
+pub fn load(path: &Path, max_size: u64, take: Option<&str>, threads: usize) -> Result<Read, Error> {
     let bytes = crate::read::read_binary_file(path, max_size)?;
-    load_bytes(&bytes, &path.display().to_string(), take)
+    load_bytes(&bytes, &path.display().to_string(), take, threads)
 }
 
 /// [`load`] of a file's bytes, `name` naming it in errors (the fuzz target's entry).
-pub fn load_bytes(bytes: &[u8], name: &str, take: Option<&str>) -> Result<Read, Error> {
+pub fn load_bytes(
+    bytes: &[u8],
+    name: &str,
+    take: Option<&str>,
+    threads: usize,
+) -> Result<Read, Error> {
+    let threads = threads.max(1);
     let path = name;
     let scene = read_scene(bytes, name)?;
     let bad = |why: String| Error::Usage(format!("{name}: {why}"));
@@ -336,23 +342,53 @@ pub fn load_bytes(bytes: &[u8], name: &str, take: Option<&str>) -> Result<Read, 
         let stack = &scene.anim_stacks[index];
         let count =
             baked::frame_count(stack.time_begin, stack.time_end, fps, order.len()).map_err(&bad)?;
-        baked::build(&nodes, &rest, count, 1.0 / fps, |f, out| {
-            let time = stack.time_begin + f as f64 / fps;
+        // One frame: the whole scene evaluated by ufbx at its time, the joints' world matrices.
+        // Only the scene root (`Sync`) and numbers go to the threads: ufbx's element types are not.
+        let (root, begin, memory) = (&scene, stack.time_begin, bytes.len());
+        let evaluate = move |f: usize| -> Result<Vec<Pose>, Error> {
+            let stack = &root.anim_stacks[index];
+            let time = begin + f as f64 / fps;
             let options = ufbx::EvaluateOpts {
-                temp_allocator: allocator(bytes.len()),
-                result_allocator: allocator(bytes.len()),
+                temp_allocator: allocator(memory),
+                result_allocator: allocator(memory),
                 evaluate_skinning: false,
                 evaluate_caches: false,
                 load_external_files: false,
                 ..Default::default()
             };
-            let evaluated = ufbx::evaluate_scene(&scene, &stack.anim, time, options)
+            let evaluated = ufbx::evaluate_scene(root, &stack.anim, time, options)
                 .map_err(|e| ufbx_error(name, &e))?;
-            out.extend(
-                order
-                    .iter()
-                    .map(|&i| Pose::of_matrix(&matrix(&evaluated.nodes[i].node_to_world))),
-            );
+            Ok(order
+                .iter()
+                .map(|&i| Pose::of_matrix(&matrix(&evaluated.nodes[i].node_to_world)))
+                .collect())
+        };
+        // Frames are evaluated on `threads` threads, BLOCK at a time, and handed over in order.
+        const BLOCK: usize = 256;
+        let mut ready: std::collections::VecDeque<Vec<Pose>> = Default::default();
+        let mut next = 0;
+        baked::build(&nodes, &rest, count, 1.0 / fps, |f, out| {
+            if ready.is_empty() {
+                let block = BLOCK.min(count - next);
+                let mut results: Vec<Result<Vec<Pose>, Error>> = Vec::with_capacity(block);
+                crate::parallel::map_in_order(
+                    block,
+                    threads,
+                    2 * threads.max(1),
+                    |k| evaluate(next + k),
+                    |_, result| {
+                        let ok = result.is_ok();
+                        results.push(result);
+                        ok
+                    },
+                );
+                for result in results {
+                    ready.push_back(result?);
+                }
+                next += block;
+            }
+            debug_assert_eq!(f + ready.len(), next);
+            out.extend(ready.pop_front().unwrap_or_default());
             Ok(())
         })
     }
