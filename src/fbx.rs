@@ -25,8 +25,10 @@
 //!
 //! The skeleton is the file's bones (`LimbNode`s) and the nodes between two of them; a file
 //! without bones gives every animated node instead. Each frame of a take (an animation stack) is
-//! evaluated by ufbx at the scene's own frame rate — every frame, not only at keys — and the
-//! world matrices go through [`crate::baked`], which folds pre/post rotations, rest orientations
+//! evaluated by ufbx at the scene's own frame rate — every frame, not only at keys: the joints'
+//! ancestors' local transforms multiplied down where that gives what ufbx's whole-scene
+//! evaluation gives (checked at three frames), else the whole scene — and the world matrices go
+//! through [`crate::baked`], which folds pre/post rotations, rest orientations
 //! and scale into BVH channels that give the same world positions.
 
 use crate::baked::{self, Node, Pose};
@@ -250,6 +252,58 @@ fn skeleton_nodes(scene: &ufbx::Scene) -> (Vec<usize>, Vec<Option<usize>>, bool)
     (order, parents, bones)
 }
 
+/// Every node above and at the joints (the scene's root left out), parents first.
+fn ancestors(scene: &ufbx::Scene, order: &[usize]) -> Vec<usize> {
+    let count = scene.nodes.len();
+    let mut wanted = vec![false; count];
+    for &i in order {
+        let mut up = Some(i);
+        while let Some(n) = up.filter(|&n| n < count && !wanted[n]) {
+            if scene.nodes[n].is_root {
+                break;
+            }
+            wanted[n] = true;
+            up = scene.nodes[n]
+                .parent
+                .as_ref()
+                .map(|p| p.element.typed_id as usize);
+        }
+    }
+    let mut chain: Vec<usize> = (0..count).filter(|&n| wanted[n]).collect();
+    chain.sort_by_key(|&n| scene.nodes[n].node_depth);
+    chain
+}
+
+/// The joints' world poses at `time` from their ancestors' local transforms.
+fn quick_poses(
+    scene: &ufbx::Scene,
+    anim: &ufbx::Anim,
+    chain: &[usize],
+    order: &[usize],
+    time: f64,
+) -> Vec<Pose> {
+    let count = scene.nodes.len();
+    let mut world: Vec<Option<DMat4>> = vec![None; count];
+    for &n in chain {
+        let node = &scene.nodes[n];
+        let local = matrix(&ufbx::transform_to_matrix(&ufbx::evaluate_transform(
+            anim, node, time,
+        )));
+        let above = node
+            .parent
+            .as_ref()
+            .map(|p| p.element.typed_id as usize)
+            .filter(|&p| p < count)
+            .map(|p| world[p].unwrap_or_else(|| matrix(&scene.nodes[p].node_to_world)))
+            .unwrap_or(DMat4::IDENTITY);
+        world[n] = Some(above * local);
+    }
+    order
+        .iter()
+        .map(|&i| Pose::of_matrix(&world[i].unwrap_or(DMat4::IDENTITY)))
+        .collect()
+}
+
 /// Picks a take by name, or by its index in `info`'s list.
 pub fn pick_take(names: &[String], take: Option<&str>, file: &str) -> Result<usize, Error> {
     let Some(take) = take else { return Ok(0) };
@@ -275,13 +329,19 @@ pub fn pick_take(names: &[String], take: Option<&str>, file: &str) -> Result<usi
 }
 
 /// Reads take `take` (a name or an index; the first when `None`) of the FBX file at `path`.
-pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Error> {
+pub fn load(path: &Path, max_size: u64, take: Option<&str>, threads: usize) -> Result<Read, Error> {
     let bytes = crate::read::read_binary_file(path, max_size)?;
-    load_bytes(&bytes, &path.display().to_string(), take)
+    load_bytes(&bytes, &path.display().to_string(), take, threads)
 }
 
 /// [`load`] of a file's bytes, `name` naming it in errors (the fuzz target's entry).
-pub fn load_bytes(bytes: &[u8], name: &str, take: Option<&str>) -> Result<Read, Error> {
+pub fn load_bytes(
+    bytes: &[u8],
+    name: &str,
+    take: Option<&str>,
+    threads: usize,
+) -> Result<Read, Error> {
+    let threads = threads.max(1);
     let path = name;
     let scene = read_scene(bytes, name)?;
     let bad = |why: String| Error::Usage(format!("{name}: {why}"));
@@ -336,23 +396,91 @@ pub fn load_bytes(bytes: &[u8], name: &str, take: Option<&str>) -> Result<Read, 
         let stack = &scene.anim_stacks[index];
         let count =
             baked::frame_count(stack.time_begin, stack.time_end, fps, order.len()).map_err(&bad)?;
-        baked::build(&nodes, &rest, count, 1.0 / fps, |f, out| {
-            let time = stack.time_begin + f as f64 / fps;
+        // One frame: the whole scene evaluated by ufbx at its time, the joints' world matrices.
+        // Only the scene root (`Sync`) and numbers go to the threads: ufbx's element types are not.
+        let (root, begin, memory, joints) = (&scene, stack.time_begin, bytes.len(), &order);
+        let evaluate = move |f: usize| -> Result<Vec<Pose>, Error> {
+            let stack = &root.anim_stacks[index];
+            let time = begin + f as f64 / fps;
             let options = ufbx::EvaluateOpts {
-                temp_allocator: allocator(bytes.len()),
-                result_allocator: allocator(bytes.len()),
+                temp_allocator: allocator(memory),
+                result_allocator: allocator(memory),
                 evaluate_skinning: false,
                 evaluate_caches: false,
                 load_external_files: false,
                 ..Default::default()
             };
-            let evaluated = ufbx::evaluate_scene(&scene, &stack.anim, time, options)
+            let evaluated = ufbx::evaluate_scene(root, &stack.anim, time, options)
                 .map_err(|e| ufbx_error(name, &e))?;
-            out.extend(
-                order
-                    .iter()
-                    .map(|&i| Pose::of_matrix(&matrix(&evaluated.nodes[i].node_to_world))),
-            );
+            Ok(joints
+                .iter()
+                .map(|&i| Pose::of_matrix(&matrix(&evaluated.nodes[i].node_to_world)))
+                .collect())
+        };
+        // The quick way: each node's local transform (ufbx's `evaluate_transform`, adjustments
+        // included) multiplied down from the root, for the joints' ancestors only. Used when it
+        // gives what the whole scene's evaluation gives at the first, middle and last frames
+        // (it would not where ufbx keeps a node's inheritance its own way).
+        let chains = ancestors(&scene, &order);
+        let quick = |f: usize| -> Vec<Pose> {
+            let time = stack.time_begin + f as f64 / fps;
+            quick_poses(&scene, &stack.anim, &chains, &order, time)
+        };
+        let same = |a: &[Pose], b: &[Pose]| {
+            a.iter().zip(b).all(|(p, q)| {
+                let size = 1.0 + p.position.abs().max_element();
+                (p.position - q.position).abs().max_element() <= 1e-9 * size
+                    && p.rotation.dot(q.rotation).abs() >= 1.0 - 1e-12
+            })
+        };
+        let mut fast = true;
+        for f in [0, count / 2, count - 1] {
+            if !same(&quick(f), &evaluate(f)?) {
+                fast = false;
+                break;
+            }
+        }
+        if fast {
+            return baked::build(&nodes, &rest, count, 1.0 / fps, |f, out| {
+                out.extend(quick(f));
+                Ok(())
+            })
+            .map(|(skeleton, motion)| Read {
+                skeleton,
+                motion,
+                warnings,
+            })
+            .map_err(|e| match e {
+                Error::Usage(message) if !message.starts_with(name) => bad(message),
+                other => other,
+            });
+        }
+        // Frames are evaluated on `threads` threads, BLOCK at a time, and handed over in order.
+        const BLOCK: usize = 256;
+        let mut ready: std::collections::VecDeque<Vec<Pose>> = Default::default();
+        let mut next = 0;
+        baked::build(&nodes, &rest, count, 1.0 / fps, |f, out| {
+            if ready.is_empty() {
+                let block = BLOCK.min(count - next);
+                let mut results: Vec<Result<Vec<Pose>, Error>> = Vec::with_capacity(block);
+                crate::parallel::map_in_order(
+                    block,
+                    threads,
+                    2 * threads.max(1),
+                    |k| evaluate(next + k),
+                    |_, result| {
+                        let ok = result.is_ok();
+                        results.push(result);
+                        ok
+                    },
+                );
+                for result in results {
+                    ready.push_back(result?);
+                }
+                next += block;
+            }
+            debug_assert_eq!(f + ready.len(), next);
+            out.extend(ready.pop_front().unwrap_or_default());
             Ok(())
         })
     }

@@ -154,7 +154,7 @@ pub fn load_take(
                 )));
             }
             let read = if extension(path) == "fbx" {
-                crate::fbx::load(path, max_size, take)?
+                crate::fbx::load(path, max_size, take, threads)?
             } else {
                 crate::gltf_in::load(path, max_size, take)?
             };

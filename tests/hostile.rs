@@ -607,7 +607,7 @@ fn damaged_fbx_and_gltf_are_refused_not_crashed() {
         for _ in 0..setting("BVHVIEW_MUTATIONS", 400) {
             let input = damaged(bytes, &mut noise);
             let result = if name.ends_with(".fbx") {
-                bvhview::fbx::load_bytes(&input, name, None)
+                bvhview::fbx::load_bytes(&input, name, None, 1)
             } else {
                 bvhview::gltf_in::load_bytes(&input, name, None)
             };
