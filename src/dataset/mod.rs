@@ -313,7 +313,7 @@ pub fn walk(dir: &Path) -> Result<crate::batch::Walk, Error> {
     let walk = crate::batch::collect(dir)?;
     if walk.items.is_empty() {
         return Err(Error::Usage(format!(
-            "{}: no .bvh, .asf or .amc files",
+            "{}: no takes (.bvh, .asf, .amc, .fbx, .gltf or .glb files)",
             dir.display()
         )));
     }
