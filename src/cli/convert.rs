@@ -99,57 +99,11 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         (loaded.skeleton, loaded.motion) =
             bvhview::edit::ground(&loaded.skeleton, &loaded.motion, OffsetMode::Replace, up)?;
     }
-    let output = &args.output;
-    let container = match input::extension(output).as_str() {
-        "glb" => Some(bvhview::gltf::Container::Glb),
-        "gltf" => Some(bvhview::gltf::Container::Gltf),
-        _ => None,
-    };
-    if let Some(container) = container {
-        let bytes = bvhview::gltf::to_gltf(
-            &loaded.skeleton,
-            &loaded.motion,
-            args.offset_mode.into(),
-            container,
-            args.skin,
-        )?;
-        let mut out = open_output(Some(output))?;
-        let result = out.write_all(&bytes);
-        finish_write(out, result, Some(output))?;
-        wrote(format_args!(
-            "{}: {}, {}",
-            output.display(),
-            bvhview::error::counted(loaded.skeleton.joints.len(), "node"),
-            bvhview::error::counted(loaded.motion.frame_count(), "frame")
-        ));
-        return Ok(ExitCode::SUCCESS);
-    }
-    // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
-    let (skeleton, motion) = if loaded.skeleton.joints.iter().any(|j| j.axis.is_some()) {
-        bvhview::edit::bake_axes(&loaded.skeleton, &loaded.motion)?
-    } else {
-        (loaded.skeleton, loaded.motion)
-    };
-    // Refused before the output is opened: a take that cannot be written leaves no file.
-    bvhview::bvh::writer::check(&skeleton, &motion)?;
-    let mut out = open_output(Some(output))?;
-    let result = bvhview::bvh::writer::write_bvh(&mut out, &skeleton, &motion);
-    finish_write(out, result, Some(output))?;
-    for (name, written) in bvhview::bvh::writer::renamed(&skeleton) {
-        eprintln!(
-            "bvhview: {}: joint {name:?} written as {written:?} (a BVH name holds no \
-             whitespace or braces)",
-            output.display()
-        );
-    }
-    wrote(format_args!(
-        "{}: {}, {}",
-        output.display(),
-        bvhview::error::counted(
-            skeleton.joints.iter().filter(|j| !j.end_site).count(),
-            "joint"
-        ),
-        bvhview::error::counted(motion.frame_count(), "frame")
-    ));
-    Ok(ExitCode::SUCCESS)
+    write_take(
+        &args.output,
+        loaded.skeleton,
+        loaded.motion,
+        args.offset_mode.into(),
+        args.skin,
+    )
 }

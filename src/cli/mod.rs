@@ -410,10 +410,14 @@ pub(crate) fn short_name(path: &Path) -> String {
 
 /// Writes a take as BVH or glTF by the output's extension (.glb, .gltf, else BVH), whole or
 /// not at all, and says what was written: the one way a command that makes a take writes it.
+/// `mode` and `skin` are the glTF writer's (how position channels combine, whether a skin is
+/// generated).
 pub(crate) fn write_take(
     output: &Path,
     skeleton: bvhview::Skeleton,
     motion: bvhview::Motion,
+    mode: OffsetMode,
+    skin: bool,
 ) -> Result<ExitCode, Error> {
     let container = match input::extension(output).as_str() {
         "glb" => Some(bvhview::gltf::Container::Glb),
@@ -421,8 +425,7 @@ pub(crate) fn write_take(
         _ => None,
     };
     if let Some(container) = container {
-        let bytes =
-            bvhview::gltf::to_gltf(&skeleton, &motion, OffsetMode::Replace, container, false)?;
+        let bytes = bvhview::gltf::to_gltf(&skeleton, &motion, mode, container, skin)?;
         let mut out = open_output(Some(output))?;
         let result = out.write_all(&bytes);
         finish_write(out, result, Some(output))?;

@@ -72,5 +72,5 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
         &pairs,
         bvhview::cores(),
     )?;
-    write_take(output, skeleton, motion)
+    write_take(output, skeleton, motion, OffsetMode::Replace, false)
 }

@@ -127,7 +127,7 @@ pub struct Topology {
 }
 
 impl Topology {
-    fn of(skeleton: &crate::Skeleton, feet: Vec<u32>) -> Topology {
+    pub(crate) fn of(skeleton: &crate::Skeleton, feet: Vec<u32>) -> Topology {
         let joints: Vec<String> = (0..skeleton.joints.len())
             .map(|i| crate::export::export_name(skeleton, i))
             .collect();

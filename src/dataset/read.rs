@@ -222,37 +222,12 @@ impl Dataset {
         let loaded = crate::bvh::loader::load_bytes(text.as_bytes(), &name)?;
         let skeleton = loaded.skeleton;
         let topology = &self.manifest.groups[k].topology;
-        let parents: Vec<i32> = skeleton
-            .joints
-            .iter()
-            .map(|j| j.parent.map_or(-1, |p| p as i32))
-            .collect();
-        let rotated: Vec<u32> = (0..skeleton.joints.len() as u32)
-            .filter(|&i| !skeleton.joints[i as usize].end_site)
-            .collect();
-        let translated: Vec<u32> = (0..skeleton.joints.len() as u32)
-            .filter(|&i| {
-                skeleton.joints[i as usize]
-                    .channels
-                    .iter()
-                    .any(|c| c.is_position())
-            })
-            .collect();
-        let orders: Vec<String> = rotated
-            .iter()
-            .map(|&i| {
-                skeleton.joints[i as usize]
-                    .channels
-                    .iter()
-                    .filter(|c| c.is_rotation())
-                    .map(|c| ["X", "Y", "Z"][c.axis()])
-                    .collect()
-            })
-            .collect();
-        if parents != topology.parents
-            || rotated != topology.rotated
-            || translated != topology.translated
-            || orders != topology.rotation_orders
+        // The skeleton's own topology, as the compile made it (feet are the manifest's choice).
+        let own = super::Topology::of(&skeleton, topology.feet.clone());
+        if own.parents != topology.parents
+            || own.rotated != topology.rotated
+            || own.translated != topology.translated
+            || own.rotation_orders != topology.rotation_orders
         {
             return Err(Error::Usage(format!(
                 "{name}: not the skeleton of its group (its joints, parents or channels differ from the manifest's)"
