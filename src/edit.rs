@@ -165,6 +165,55 @@ impl Resampling {
     }
 }
 
+/// Which of a take's frames make each frame of it resampled (see [`resample`]).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Picks {
+    /// Each new frame is the take's frame of that index, bit for bit.
+    Rows(Vec<usize>),
+    /// Each new frame lies between frames `a` and `b`, at `w` (0 to 1) of the way from `a`.
+    Between(Vec<(usize, usize, f32)>),
+}
+
+/// The frames of a take of `frames` frames, `frame_time` seconds each, that make it at `fps`
+/// ([`resample`] says how): the rate checked by [`crate::limits::fps`], the number of new
+/// frames (of `channels` values each) by [`crate::limits::resampled_frames`]. A take of fewer than two frames, or without
+/// a usable frame time, keeps its frames.
+pub fn resample_picks(
+    frames: usize,
+    frame_time: f64,
+    fps: f64,
+    channels: usize,
+) -> Result<Picks, Error> {
+    crate::limits::fps(fps, false)?;
+    let timed = frame_time > 0.0 && frame_time.is_finite();
+    if frames < 2 || !timed {
+        return Ok(Picks::Rows((0..frames).collect()));
+    }
+    match Resampling::of(frame_time, fps) {
+        Resampling::Same => return Ok(Picks::Rows((0..frames).collect())),
+        Resampling::EveryKth(k) => return Ok(Picks::Rows((0..frames).step_by(k).collect())),
+        Resampling::Interpolated => {}
+    }
+    crate::limits::resampled_frames(frames - 1, frame_time, fps, channels)?;
+    let span = (frames - 1) as f64 * frame_time;
+    // A little slack: frame times are written with few digits (.0083333 for 1/120).
+    let count = (span * fps + 1e-3).floor() as usize + 1;
+    let mut between = Vec::new();
+    between.try_reserve_exact(count).map_err(|_| {
+        Error::Memory(format!(
+            "--fps {}: {count} frames do not fit in memory",
+            crate::limits::show(fps)
+        ))
+    })?;
+    between.extend((0..count).map(|i| {
+        let at = (i as f64 / fps) / frame_time;
+        let a = (at.floor() as usize).min(frames - 1);
+        let b = (a + 1).min(frames - 1);
+        (a, b, (at - a as f64).clamp(0.0, 1.0) as f32)
+    }));
+    Ok(Picks::Between(between))
+}
+
 /// The take at `fps` frames per second. When the rate is the file's within [`SAME_RATE`]
 /// (relatively: `|frame_time × fps − 1| < 1e-4`), every frame is kept bit for bit; when the
 /// file's rate is a whole multiple k of `fps` (60 → 30, 240 → 30), frames 0, k, 2k, … are kept
@@ -177,31 +226,18 @@ impl Resampling {
 /// [`crate::limits::resampled_frames`]. `convert --fps`, Python's `Motion.resample` and
 /// `dataset` all resample here.
 pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion, Error> {
-    crate::limits::fps(fps, false)?;
-    let frames = motion.frame_count();
     let width = motion.channels;
-    let timed = motion.frame_time > 0.0 && motion.frame_time.is_finite();
-    if frames < 2 || !timed {
-        return Ok(Motion::new(1.0 / fps, width, frames, motion.data.clone()));
-    }
-    match Resampling::of(motion.frame_time, fps) {
-        Resampling::Same => {
-            return Ok(Motion::new(1.0 / fps, width, frames, motion.data.clone()));
-        }
-        Resampling::EveryKth(k) => {
-            let count = (frames - 1) / k + 1;
-            let mut data = Vec::with_capacity(count * width);
-            for frame in (0..frames).step_by(k) {
-                data.extend_from_slice(motion.frame(frame));
+    let between = match resample_picks(motion.frame_count(), motion.frame_time, fps, width)? {
+        Picks::Rows(rows) => {
+            let mut data = Vec::with_capacity(rows.len() * width);
+            for &row in &rows {
+                data.extend_from_slice(motion.frame(row));
             }
-            return Ok(Motion::new(1.0 / fps, width, count, data));
+            return Ok(Motion::new(1.0 / fps, width, rows.len(), data));
         }
-        Resampling::Interpolated => {}
-    }
-    crate::limits::resampled_frames(frames - 1, motion.frame_time, fps, width)?;
-    let span = (frames - 1) as f64 * motion.frame_time;
-    // A little slack: frame times are written with few digits (.0083333 for 1/120).
-    let count = (span * fps + 1e-3).floor() as usize + 1;
+        Picks::Between(between) => between,
+    };
+    let count = between.len();
     let mut data = Vec::new();
     data.try_reserve_exact(count * width).map_err(|_| {
         Error::Memory(format!(
@@ -209,11 +245,7 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion
             crate::limits::show(fps)
         ))
     })?;
-    for i in 0..count {
-        let at = (i as f64 / fps) / motion.frame_time;
-        let a = (at.floor() as usize).min(frames - 1);
-        let b = (a + 1).min(frames - 1);
-        let w = (at - a as f64).clamp(0.0, 1.0) as f32;
+    for &(a, b, w) in &between {
         let (row_a, row_b) = (motion.frame(a), motion.frame(b));
         let start = data.len();
         // Linear first (positions, and angles without a rotation order); slerp replaces the rest.
@@ -858,6 +890,47 @@ pub fn ground(
     )
 }
 
+/// The turn from one up axis to another, `turn`, which moves each axis onto another (maybe
+/// negated): [`QuarterTurn::apply`] turns a vector exactly, with no rounding and no overflow on
+/// the way (a product with the quaternion does both).
+#[derive(Clone, Copy, Debug)]
+pub struct QuarterTurn {
+    pub turn: Quat,
+    /// Column k: where axis k goes, as signs of 0, 1 or −1.
+    axes: [[f32; 3]; 3],
+}
+
+impl QuarterTurn {
+    pub fn between(from: crate::pose::Up, to: crate::pose::Up) -> QuarterTurn {
+        // Into Y-up from `from`, then out of Y-up into `to`.
+        let turn = to.to_y_up().inverse() * from.to_y_up();
+        let axes = glam::Mat3::from_quat(turn)
+            .to_cols_array_2d()
+            .map(|c| c.map(f32::round));
+        QuarterTurn { turn, axes }
+    }
+
+    /// `v` turned.
+    pub fn apply(&self, v: glam::Vec3) -> glam::Vec3 {
+        let mut out = glam::Vec3::ZERO;
+        for (column, &value) in self.axes.iter().zip(&v.to_array()) {
+            for (row, &sign) in column.iter().enumerate() {
+                if sign != 0.0 {
+                    out[row] = sign * value;
+                }
+            }
+        }
+        out
+    }
+
+    /// `turn · q · turn⁻¹`: the rotation q as seen once everything is turned (its axis turned,
+    /// its angle kept), exactly.
+    pub fn conjugate(&self, q: Quat) -> Quat {
+        let axis = self.apply(glam::Vec3::new(q.x, q.y, q.z));
+        Quat::from_xyzw(axis.x, axis.y, axis.z, q.w)
+    }
+}
+
 /// The take turned from one up axis to another, so that it loads the same way in the other
 /// convention: every OFFSET and position turned by the rotation Q between them, every joint's
 /// rotation R replaced by Q·R·Q⁻¹ in the joint's own channel order. The world positions come
@@ -871,24 +944,8 @@ pub fn reorient(
     if from == to {
         return Ok((skeleton.clone(), motion.clone()));
     }
-    // Into Y-up from `from`, then out of Y-up into `to`.
-    let turn = to.to_y_up().inverse() * from.to_y_up();
-    // A quarter turn moves each axis onto another, maybe negated: exactly, with no rounding
-    // and no overflow on the way (a product with the quaternion does both).
-    let axes = glam::Mat3::from_quat(turn)
-        .to_cols_array_2d()
-        .map(|c| c.map(f32::round));
-    let exactly = |v: glam::Vec3| {
-        let mut out = glam::Vec3::ZERO;
-        for (column, &value) in axes.iter().zip(&v.to_array()) {
-            for (row, &sign) in column.iter().enumerate() {
-                if sign != 0.0 {
-                    out[row] = sign * value;
-                }
-            }
-        }
-        out
-    };
+    let quarter = QuarterTurn::between(from, to);
+    let (turn, exactly) = (quarter.turn, |v| quarter.apply(v));
     let mut turned = skeleton.clone();
     for joint in &mut turned.joints {
         joint.offset = exactly(joint.offset);

@@ -401,6 +401,27 @@ pub fn write_rotation(joint: &Joint, values: &[f32], kind: RotationKind, out: &m
     }
 }
 
+/// A local rotation given as a quaternion, as `kind` numbers (not Euler angles, whose meaning is
+/// a joint's channel order), into `out`: the same numbers [`write_rotation`] writes for it.
+pub fn write_quat(q: glam::Quat, kind: RotationKind, out: &mut [f32]) {
+    // w ≥ 0: one of the two quaternions of each rotation, and an angle in [0, π].
+    let q = q.normalize();
+    let q = if q.w < 0.0 { -q } else { q };
+    match kind {
+        RotationKind::Quat => out.copy_from_slice(&[q.w, q.x, q.y, q.z]),
+        RotationKind::AxisAngle => out.copy_from_slice(&q.to_scaled_axis().to_array()),
+        RotationKind::Matrix => {
+            out.copy_from_slice(&glam::Mat3::from_quat(q).transpose().to_cols_array())
+        }
+        RotationKind::SixD => {
+            let m = glam::Mat3::from_quat(q);
+            let (a, b) = (m.x_axis, m.y_axis);
+            out.copy_from_slice(&[a.x, a.y, a.z, b.x, b.y, b.z]);
+        }
+        RotationKind::Euler => unreachable!("Euler angles need the joint's channel order"),
+    }
+}
+
 /// `T(t) · R1 · R2 · R3` for one joint, or `T(t) · C · R1 · R2 · R3 · C⁻¹` when the joint has a
 /// fixed axis C (ASF bones); `values` are this joint's channel values.
 pub fn local_matrix(joint: &Joint, values: &[f32], mode: OffsetMode) -> Mat4 {
@@ -707,6 +728,14 @@ struct PointLanes {
     z: Lanes,
 }
 
+impl PointLanes {
+    const ORIGIN: PointLanes = PointLanes {
+        x: [0.0; LANES],
+        y: [0.0; LANES],
+        z: [0.0; LANES],
+    };
+}
+
 impl QuatLanes {
     fn splat(q: glam::Quat) -> QuatLanes {
         QuatLanes {
@@ -804,6 +833,8 @@ pub struct FkScratch {
     cos: Vec<f32>,
     rotations: Vec<QuatLanes>,
     points: Vec<PointLanes>,
+    local_rotations: Vec<QuatLanes>,
+    local_points: Vec<PointLanes>,
 }
 
 impl FkPlan {
@@ -901,6 +932,127 @@ impl FkPlan {
 
     #[inline(always)]
     fn lanes_impl(&self, frames: &[&[f32]], out: &mut Vec<Vec3>, scratch: &mut FkScratch) {
+        self.local_lanes(frames, scratch);
+        self.world_lanes(scratch, false);
+        out.clear();
+        let points = &scratch.points[..self.joints.len()];
+        for l in 0..frames.len() {
+            out.extend(points.iter().map(|p| Vec3::new(p.x[l], p.y[l], p.z[l])));
+        }
+    }
+
+    /// Each joint's local rotation and translation for up to [`LANES`] MOTION rows (the first
+    /// half of [`FkPlan::positions_of_frames`]), into `rotations` and `translations`: frame after
+    /// frame, one per joint, the identity where a joint has no rotation channel. A fixed axis C
+    /// (ASF bones) is in the rotation already: `C · R1 · R2 · R3 · C⁻¹`.
+    pub fn locals_of_frames(
+        &self,
+        frames: &[&[f32]],
+        rotations: &mut Vec<glam::Quat>,
+        translations: &mut Vec<Vec3>,
+        scratch: &mut FkScratch,
+    ) {
+        assert!(
+            (1..=LANES).contains(&frames.len()),
+            "1 to {LANES} frames at a time"
+        );
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has just been found to support AVX2.
+            unsafe { self.locals_avx2(frames, scratch) };
+        } else {
+            self.local_lanes(frames, scratch);
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        self.local_lanes(frames, scratch);
+        rotations.clear();
+        translations.clear();
+        let count = self.joints.len();
+        for l in 0..frames.len() {
+            rotations.extend(
+                scratch.local_rotations[..count]
+                    .iter()
+                    .map(|q| glam::Quat::from_xyzw(q.x[l], q.y[l], q.z[l], q.w[l])),
+            );
+            translations.extend(
+                scratch.local_points[..count]
+                    .iter()
+                    .map(|p| Vec3::new(p.x[l], p.y[l], p.z[l])),
+            );
+        }
+    }
+
+    /// World positions from local rotations and translations (the second half of
+    /// [`FkPlan::positions_of_frames`]): `rotations` and `translations` hold up to [`LANES`]
+    /// frames, one per joint of this plan's skeleton each; `out` gets one point per joint, frame
+    /// after frame. Every rotation given is applied, the identity included.
+    pub fn positions_of_locals(
+        &self,
+        rotations: &[glam::Quat],
+        translations: &[Vec3],
+        out: &mut Vec<Vec3>,
+        scratch: &mut FkScratch,
+    ) {
+        let count = self.joints.len();
+        let frames = rotations.len() / count.max(1);
+        assert!(
+            (1..=LANES).contains(&frames)
+                && rotations.len() == frames * count
+                && translations.len() == rotations.len(),
+            "1 to {LANES} frames of every joint at a time"
+        );
+        // A short batch repeats its last frame in the spare lanes.
+        let lane = |l: usize, j: usize| l.min(frames - 1) * count + j;
+        let identity = QuatLanes::splat(glam::Quat::IDENTITY);
+        scratch.local_rotations.resize(count, identity);
+        scratch.local_points.resize(count, PointLanes::ORIGIN);
+        for j in 0..count {
+            let q: [glam::Quat; LANES] = std::array::from_fn(|l| rotations[lane(l, j)]);
+            scratch.local_rotations[j] = QuatLanes {
+                x: q.map(|q| q.x),
+                y: q.map(|q| q.y),
+                z: q.map(|q| q.z),
+                w: q.map(|q| q.w),
+            };
+            let t: [Vec3; LANES] = std::array::from_fn(|l| translations[lane(l, j)]);
+            scratch.local_points[j] = PointLanes {
+                x: t.map(|t| t.x),
+                y: t.map(|t| t.y),
+                z: t.map(|t| t.z),
+            };
+        }
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU has just been found to support AVX2.
+            unsafe { self.world_avx2(scratch) };
+        } else {
+            self.world_lanes(scratch, true);
+        }
+        #[cfg(not(target_arch = "x86_64"))]
+        self.world_lanes(scratch, true);
+        out.clear();
+        let points = &scratch.points[..count];
+        for l in 0..frames {
+            out.extend(points.iter().map(|p| Vec3::new(p.x[l], p.y[l], p.z[l])));
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn locals_avx2(&self, frames: &[&[f32]], scratch: &mut FkScratch) {
+        self.local_lanes(frames, scratch)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn world_avx2(&self, scratch: &mut FkScratch) {
+        self.world_lanes(scratch, true)
+    }
+
+    /// Every joint's local rotation and translation for the rows of one batch, into the
+    /// scratch's `local_rotations` and `local_points`.
+    #[inline(always)]
+    fn local_lanes(&self, frames: &[&[f32]], scratch: &mut FkScratch) {
         // A short batch repeats its last frame in the spare lanes.
         let rows: [&[f32]; LANES] = std::array::from_fn(|l| frames[l.min(frames.len() - 1)]);
         let frame = |l: usize| rows[l];
@@ -923,19 +1075,10 @@ impl FkPlan {
         sin_cos_batch(&scratch.half_angles, &mut scratch.sin, &mut scratch.cos);
         let count = self.joints.len();
         let identity = QuatLanes::splat(glam::Quat::IDENTITY);
-        let origin = PointLanes {
-            x: [0.0; LANES],
-            y: [0.0; LANES],
-            z: [0.0; LANES],
-        };
-        scratch.rotations.resize(count, identity);
-        scratch.points.resize(count, origin);
+        scratch.local_rotations.resize(count, identity);
+        scratch.local_points.resize(count, PointLanes::ORIGIN);
         let sines: &[Lanes] = as_lanes(&scratch.sin);
         let cosines: &[Lanes] = as_lanes(&scratch.cos);
-        let (points, rotations) = (
-            &mut scratch.points[..count],
-            &mut scratch.rotations[..count],
-        );
         for (index, joint) in self.joints.iter().enumerate() {
             let mut t = [joint.offset.x, joint.offset.y, joint.offset.z].map(|v| [v; LANES]);
             for &(axis, column) in &self.position_channels[joint.positions.clone()] {
@@ -946,7 +1089,7 @@ impl FkPlan {
                     }
                 }
             }
-            let t = PointLanes {
+            scratch.local_points[index] = PointLanes {
                 x: t[0],
                 y: t[1],
                 z: t[2],
@@ -968,6 +1111,30 @@ impl FkPlan {
                         .times(QuatLanes::splat(axis.conjugate())),
                 );
             }
+            scratch.local_rotations[index] = rotation.unwrap_or(identity);
+        }
+    }
+
+    /// World rotations and points of every joint from the scratch's local ones, into its
+    /// `rotations` and `points`. A joint without rotation channels takes its parent's rotation
+    /// as it is, unless `every_rotation` says its local one (given from outside) counts too.
+    #[inline(always)]
+    fn world_lanes(&self, scratch: &mut FkScratch, every_rotation: bool) {
+        let count = self.joints.len();
+        let identity = QuatLanes::splat(glam::Quat::IDENTITY);
+        scratch.rotations.resize(count, identity);
+        scratch.points.resize(count, PointLanes::ORIGIN);
+        let (points, rotations) = (
+            &mut scratch.points[..count],
+            &mut scratch.rotations[..count],
+        );
+        let (local_points, local_rotations) = (
+            &scratch.local_points[..count],
+            &scratch.local_rotations[..count],
+        );
+        for (index, joint) in self.joints.iter().enumerate() {
+            let (t, rotation) = (local_points[index], local_rotations[index]);
+            let rotates = every_rotation || !joint.rotations.is_empty();
             let (world_rotation, world_point) = match joint.parent {
                 Some(parent) => {
                     let (parent_rotation, parent_point) = (rotations[parent], points[parent]);
@@ -977,20 +1144,16 @@ impl FkPlan {
                         y: lanes(|l| parent_point.y[l] + moved.y[l]),
                         z: lanes(|l| parent_point.z[l] + moved.z[l]),
                     };
-                    let rotation = match rotation {
-                        Some(r) => parent_rotation.times(r),
-                        None => parent_rotation,
+                    let rotation = match rotates {
+                        true => parent_rotation.times(rotation),
+                        false => parent_rotation,
                     };
                     (rotation, point)
                 }
-                None => (rotation.unwrap_or(identity), t),
+                None => (rotation, t),
             };
             rotations[index] = world_rotation;
             points[index] = world_point;
-        }
-        out.clear();
-        for l in 0..frames.len() {
-            out.extend(points.iter().map(|p| Vec3::new(p.x[l], p.y[l], p.z[l])));
         }
     }
 }

@@ -9,6 +9,7 @@
 //! would have written, byte for byte.
 
 pub mod merge;
+pub mod quaternions;
 pub mod read;
 pub mod rebuild;
 pub mod store;
@@ -320,8 +321,48 @@ pub fn walk(dir: &Path) -> Result<crate::batch::Walk, Error> {
     Ok(walk)
 }
 
-/// Compiles one take found under `dir` (the folder its manifest path is relative to).
+/// Compiles one take found under `dir` (the folder its manifest path is relative to): its
+/// rotations go from the file's channels to quaternions once, and every array is made from them
+/// ([`quaternions::posed`]). The same clip as [`compile_take_plain`], which edits the take step
+/// by step as `convert` does, within float rounding (a test holds them together).
 pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, Error> {
+    let take = prepare(item, options)?;
+    let posed = quaternions::posed(&take, &item.path, options)?;
+    Ok(finish(dir, item, options, take, posed))
+}
+
+/// [`compile_take`] the plain way, step by step with the edits `convert` makes: the take scaled
+/// to metres, turned to Y up, its bone axes baked and resampled (each a pass over its channels,
+/// with Euler angles between), then forward kinematics and each rotation from the channels.
+pub fn compile_take_plain(dir: &Path, item: &Item, options: &Options) -> Result<Clip, Error> {
+    let take = prepare(item, options)?;
+    let posed = posed_plain(&take, &item.path, options)?;
+    Ok(finish(dir, item, options, take, posed))
+}
+
+/// A take loaded and checked for compiling, with the offset mode it is read in and how it
+/// stands.
+pub(crate) struct Prepared {
+    loaded: crate::input::Loaded,
+    mode: OffsetMode,
+    stance: crate::stance::Stance,
+}
+
+/// What a take's frames become: the group's skeleton (metres, Y up, bone axes baked) and, at
+/// the dataset's rate, every point's world position and the rotated and translated joints'
+/// local rotations and translations.
+pub(crate) struct Posed {
+    skeleton: crate::Skeleton,
+    topology: Topology,
+    names: Vec<String>,
+    frames: usize,
+    world: Vec<Vec3>,
+    rotations: Vec<f32>,
+    translations: Vec<f32>,
+}
+
+/// Loads `item` and checks that it can be compiled; retargets it when `options.onto` says so.
+fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
     let path = &item.path;
     if item.is_unpaired_motion() {
         return Err(Error::Usage(format!(
@@ -381,10 +422,37 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
         // A retargeted take stands as its target does (one frame says little about it).
         stance.up = target.up;
     }
-    let (skeleton, motion) = (&loaded.skeleton, &loaded.motion);
-    let metres = stance.units.metres;
-    let (skeleton, motion) = crate::edit::scale(skeleton, motion, metres)?;
-    let (skeleton, motion) = crate::edit::reorient(&skeleton, &motion, stance.up, Up::Y)?;
+    Ok(Prepared {
+        loaded,
+        mode,
+        stance,
+    })
+}
+
+/// The group's topology for `skeleton` (the feet named in `options`, or guessed) and the names
+/// its points are exported by.
+fn topology_of(
+    path: &Path,
+    skeleton: &crate::Skeleton,
+    options: &Options,
+    mode: OffsetMode,
+) -> Result<(Topology, Vec<String>), Error> {
+    let names: Vec<String> = (0..skeleton.joints.len())
+        .map(|i| crate::export::export_name(skeleton, i))
+        .collect();
+    let feet = match &options.feet {
+        Some(wanted) => named_feet(path, &names, wanted)?,
+        None => guess_feet(skeleton, &pose::world_positions(skeleton, &[], mode)),
+    };
+    Ok((Topology::of(skeleton, feet), names))
+}
+
+/// The plain posing of [`compile_take_plain`].
+fn posed_plain(take: &Prepared, path: &Path, options: &Options) -> Result<Posed, Error> {
+    let (skeleton, motion) = (&take.loaded.skeleton, &take.loaded.motion);
+    let mode = take.mode;
+    let (skeleton, motion) = crate::edit::scale(skeleton, motion, take.stance.units.metres)?;
+    let (skeleton, motion) = crate::edit::reorient(&skeleton, &motion, take.stance.up, Up::Y)?;
     // An ASF bone turns about an axis of its own, which BVH cannot say: baked into plain
     // channels, so that the group's skeleton is a BVH and Euler angles mean its channels.
     let (skeleton, motion) = match skeleton.joints.iter().any(|j| j.axis.is_some()) {
@@ -407,14 +475,7 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
         world.extend_from_slice(&batch_out);
     }
 
-    let names: Vec<String> = (0..points)
-        .map(|i| crate::export::export_name(&skeleton, i))
-        .collect();
-    let feet = match &options.feet {
-        Some(wanted) => named_feet(path, &names, wanted)?,
-        None => guess_feet(&skeleton, &pose::world_positions(&skeleton, &[], mode)),
-    };
-    let topology = Topology::of(&skeleton, feet);
+    let (topology, names) = topology_of(path, &skeleton, options, mode)?;
     let width = options.rotations.width();
     let mut rotations = vec![0.0f32; frames * topology.rotated.len() * width];
     let mut translations = Vec::with_capacity(frames * topology.translated.len() * 3);
@@ -432,14 +493,35 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
             translations.extend_from_slice(&t.to_array());
         }
     }
+    drop(rows);
+    Ok(Posed {
+        skeleton,
+        topology,
+        names,
+        frames,
+        world,
+        rotations,
+        translations,
+    })
+}
 
+/// The clip of a posed take: root translations, velocities and foot contacts from the world
+/// positions, and what the manifest says about the take.
+fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Posed) -> Clip {
+    let Posed {
+        skeleton,
+        topology,
+        names,
+        frames,
+        world,
+        rotations,
+        translations,
+    } = posed;
+    let (stance, mode) = (&take.stance, take.mode);
+    let points = skeleton.joints.len();
     let travel = pose::travel_joint(&skeleton, &world);
-    let root_translations: Vec<f32> = world
-        .chunks(points)
-        .flat_map(|pose| pose[travel].to_array())
-        .collect();
-    let velocities = velocities(&world, points, options.fps);
-    let contacts = contacts(&world, &velocities, points, &topology.feet, options);
+    let derived = Derived::of(&world, points, travel, &topology.feet, options);
+    let contacts = contacts(&world, &derived, points, &topology.feet, options);
     let mut positions = world;
     if options.root_relative {
         for pose in positions.chunks_mut(points) {
@@ -450,35 +532,34 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
             }
         }
     }
-    let flat = |points: Vec<Vec3>| points.iter().flat_map(|p| p.to_array()).collect();
     let about = About {
         source: Source::of(dir, item),
-        source_frame_time: loaded.motion.frame_time,
-        source_frames: loaded.motion.frame_count(),
+        source_frame_time: take.loaded.motion.frame_time,
+        source_frames: take.loaded.motion.frame_count(),
         up: match stance.up {
             Up::Y => "y",
             Up::Z => "z",
         }
         .to_string(),
         units: stance.units.name.to_string(),
-        metres_per_unit: metres,
+        metres_per_unit: stance.units.metres,
         offset_mode: match mode {
             OffsetMode::Replace => "replace",
             OffsetMode::Add => "add",
         }
         .to_string(),
         travel_joint: names[travel].clone(),
-        warnings: crate::info::warnings(&loaded, mode),
+        warnings: crate::info::warnings(&take.loaded, mode),
     };
-    let clip = Clip {
+    Clip {
         about,
         topology,
         frames,
-        positions: flat(positions),
+        positions: flat(&positions),
         rotations,
         translations,
-        root_translations,
-        velocities: flat(velocities),
+        root_translations: derived.root_translations,
+        velocities: flat(&derived.velocities),
         contacts,
         rest_offsets: skeleton
             .joints
@@ -486,29 +567,71 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
             .flat_map(|j| j.offset.to_array())
             .collect(),
         skeleton: Some(skeleton),
-    };
-    Ok(clip)
+    }
 }
 
-/// Each point's velocity in every frame (metres per second): the central difference, one-sided
-/// at the first and last frame, 0 in a take of one frame.
-fn velocities(world: &[Vec3], points: usize, fps: f64) -> Vec<Vec3> {
-    let frames = world.len() / points.max(1);
-    let fps = fps as f32;
-    let at = |f: usize, p: usize| world[f * points + p];
-    let mut out = Vec::with_capacity(world.len());
-    for f in 0..frames {
-        let (before, after) = (f.saturating_sub(1), (f + 1).min(frames - 1));
-        let span = (after - before) as f32;
-        for p in 0..points {
-            out.push(if span == 0.0 {
-                Vec3::ZERO
-            } else {
-                (at(after, p) - at(before, p)) * (fps / span)
-            });
-        }
+/// Points as one flat list of coordinates.
+fn flat(points: &[Vec3]) -> Vec<f32> {
+    let mut out = Vec::with_capacity(points.len() * 3);
+    for p in points {
+        out.extend_from_slice(&p.to_array());
     }
     out
+}
+
+/// What one pass over the world positions gives: each point's velocity in every frame (metres
+/// per second: the central difference, one-sided at the first and last frame, 0 in a take of
+/// one frame), the travel joint's path, and the lowest foot point's height in every frame.
+struct Derived {
+    velocities: Vec<Vec3>,
+    root_translations: Vec<f32>,
+    lowest_foot: Vec<f32>,
+}
+
+impl Derived {
+    fn of(
+        world: &[Vec3],
+        points: usize,
+        travel: usize,
+        feet: &[u32],
+        options: &Options,
+    ) -> Derived {
+        let frames = world.len() / points.max(1);
+        let fps = options.fps as f32;
+        let mut derived = Derived {
+            velocities: Vec::with_capacity(world.len()),
+            root_translations: Vec::with_capacity(frames * 3),
+            lowest_foot: Vec::with_capacity(frames),
+        };
+        for f in 0..frames {
+            let (before, after) = (f.saturating_sub(1), (f + 1).min(frames - 1));
+            let span = (after - before) as f32;
+            let pose = &world[f * points..(f + 1) * points];
+            let (from, to) = (
+                &world[before * points..(before + 1) * points],
+                &world[after * points..(after + 1) * points],
+            );
+            if span == 0.0 {
+                derived
+                    .velocities
+                    .extend(std::iter::repeat_n(Vec3::ZERO, points));
+            } else {
+                let rate = fps / span;
+                derived
+                    .velocities
+                    .extend(from.iter().zip(to).map(|(&a, &b)| (b - a) * rate));
+            }
+            derived
+                .root_translations
+                .extend_from_slice(&pose[travel].to_array());
+            derived.lowest_foot.push(
+                feet.iter()
+                    .map(|&p| pose[p as usize].y)
+                    .fold(f32::INFINITY, f32::min),
+            );
+        }
+        derived
+    }
 }
 
 /// How far (seconds, each way) the floor under a frame is looked for.
@@ -517,15 +640,8 @@ pub const FLOOR_WINDOW_S: f64 = 1.0;
 /// The floor under each frame: the lowest height of any foot point within [`FLOOR_WINDOW_S`]
 /// before or after it. A floor that rises or falls during the take (a ramp, stairs, a drifting
 /// capture) is followed; a window that long holds a step of each foot in a walk.
-fn floor_heights(world: &[Vec3], points: usize, feet: &[u32], reach: usize) -> Vec<f32> {
-    let frames = world.len() / points.max(1);
-    let lowest_foot: Vec<f32> = (0..frames)
-        .map(|f| {
-            feet.iter()
-                .map(|&p| world[f * points + p as usize].y)
-                .fold(f32::INFINITY, f32::min)
-        })
-        .collect();
+fn floor_heights(lowest_foot: &[f32], reach: usize) -> Vec<f32> {
+    let frames = lowest_foot.len();
     // A sliding minimum: the queue holds frames whose heights increase, the front the lowest.
     let mut queue = std::collections::VecDeque::new();
     let mut floor = Vec::with_capacity(frames);
@@ -554,19 +670,19 @@ fn floor_heights(world: &[Vec3], points: usize, feet: &[u32], reach: usize) -> V
 /// `options.contact_speed`.
 fn contacts(
     world: &[Vec3],
-    velocities: &[Vec3],
+    derived: &Derived,
     points: usize,
     feet: &[u32],
     options: &Options,
 ) -> Vec<u8> {
     let reach = (FLOOR_WINDOW_S * options.fps).round() as usize;
-    let floor = floor_heights(world, points, feet, reach);
+    let floor = floor_heights(&derived.lowest_foot, reach);
     let mut out = Vec::with_capacity(floor.len() * feet.len());
     for (f, &floor) in floor.iter().enumerate() {
         for &p in feet {
             let i = f * points + p as usize;
             let low = world[i].y - floor <= options.contact_height;
-            let still = velocities[i].length() < options.contact_speed;
+            let still = derived.velocities[i].length() < options.contact_speed;
             out.push(u8::from(low && still));
         }
     }
