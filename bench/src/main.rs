@@ -155,6 +155,10 @@ fn main() {
                 _ => usage_error("--folder needs a folder"),
             },
             "--quick" => quick = true,
+            "--in-process" => match (args.next(), args.next()) {
+                (Some(what), Some(path)) => return in_process(&what, &path),
+                _ => usage_error("--in-process needs info|positions|dataset and a file"),
+            },
             "--no-avx512" => bvhview::bvh::rows::read_one_at_a_time(true),
             "--rounds" => match args.next().and_then(|n| n.parse().ok()) {
                 Some(n) if n > 0 => load.rounds = Some(n),
@@ -218,22 +222,24 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
     // against loading the same file on every core above.
     let target = bvhview::retarget::Target::load("smpl22", u64::MAX).expect("built in");
     let cores = bvhview::cores();
-    let (t_retarget, retargeted) = best(runs.min(3), || {
-        match target.apply("BIG", &bvh.skeleton, &bvh.motion, &[], cores) {
-            Ok((_, motion)) => motion.frame_count(),
-            Err(_) => 0,
+    for threads in [1, cores] {
+        let (t_retarget, retargeted) = best(runs.min(3), || {
+            match target.apply("BIG", &bvh.skeleton, &bvh.motion, &[], threads) {
+                Ok((_, motion)) => motion.frame_count(),
+                Err(_) => 0,
+            }
+        });
+        if retargeted > 0 {
+            println!(
+                "retarget onto smpl22:              {:8.1} ms  {:7.1} MB/s of input ({frames} frames, {threads} threads)",
+                t_retarget.as_secs_f64() * 1e3,
+                mb_per_s(size, t_retarget)
+            );
+        } else {
+            println!(
+                "retarget onto smpl22:              skipped: the file's skeleton has no human chain"
+            );
         }
-    });
-    if retargeted > 0 {
-        println!(
-            "retarget onto smpl22:              {:8.1} ms  {:7.1} MB/s of input ({frames} frames, {cores} threads)",
-            t_retarget.as_secs_f64() * 1e3,
-            mb_per_s(size, t_retarget)
-        );
-    } else {
-        println!(
-            "retarget onto smpl22:              skipped: the file's skeleton has no human chain"
-        );
     }
 
     // CSV export to memory.
@@ -250,6 +256,10 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
         mb_per_s(written, t_csv),
         written as f64 / 1e6
     );
+
+    // The dataset's stages, then each command on one core against the same work in process.
+    dataset_stages(path, if quick { 3 } else { 5 });
+    one_core(path, load.rounds.unwrap_or(if quick { 3 } else { 5 }));
 
     // A sequence of pictures (`snapshot --frames`) against the article's display() alone.
     compare_sequences(quick);
@@ -663,4 +673,195 @@ fn compare_sequences(quick: bool) {
         ms(om) / ms(tm),
         ms(of) / ms(tf)
     );
+}
+
+/// The work of `bvhview info`, `positions -o FILE.csv` and `dataset DIR -o OUT` on the file at
+/// `path`, in this process, timed from the call to its end: `bvhview-bench --in-process WHAT
+/// PATH` prints the seconds. Run under `taskset -c 0` every call has one core and one thread
+/// (the library asks the affinity mask how many cores it has).
+fn in_process(what: &str, path: &str) {
+    let file = std::path::Path::new(path);
+    let scratch = std::env::temp_dir().join(format!("bvhview-bench-{}", std::process::id()));
+    let start = Instant::now();
+    match what {
+        "info" => drop(bvhview::input::load(file, None, None).expect("loads")),
+        "positions" => {
+            let loaded = bvhview::input::load(file, None, None).expect("loads");
+            let frames = loaded.motion.frame_count();
+            let mut out = std::io::BufWriter::with_capacity(
+                1 << 20,
+                std::fs::File::create(&scratch).expect("creates"),
+            );
+            bvhview::export::write_positions(
+                &mut out,
+                &loaded.skeleton,
+                &loaded.motion,
+                0..frames,
+                &Default::default(),
+            )
+            .expect("writes");
+            drop(out);
+        }
+        "dataset" => {
+            let dir = file.parent().expect("a folder");
+            let items = bvhview::dataset::takes(dir).expect("takes");
+            let takes = bvhview::dataset::whole_list(dir, &items);
+            let options = bvhview::dataset::Options::default();
+            bvhview::dataset::compile(dir, items, &options, 1, &scratch, takes, |_, _, _, _| true)
+                .expect("compiles");
+        }
+        _ => usage_error(&format!("--in-process info|positions|dataset, not {what}")),
+    }
+    let took = start.elapsed();
+    let _ = std::fs::remove_file(&scratch);
+    let _ = std::fs::remove_dir_all(&scratch);
+    println!("{}", took.as_secs_f64());
+}
+
+/// One core end to end: each command of the CLI under `taskset -c 0` against the same work in
+/// one process on the same core (`--in-process`), in turn in each round. `dataset` compiles the
+/// folder that holds only `path` (made beside it by the caller: `DIR/big.bvh`).
+fn one_core(path: &str, rounds: usize) {
+    let here = std::env::current_exe().expect("the bench's own path");
+    let cli = here.with_file_name("bvhview");
+    if !cli.exists() {
+        println!(
+            "one core: skipped ({} not built: cargo build --release)",
+            cli.display()
+        );
+        return;
+    }
+    let file = std::path::Path::new(path);
+    let alone = file
+        .parent()
+        .is_some_and(|dir| std::fs::read_dir(dir).map_or(0, |d| d.count()) == 1);
+    let scratch = std::env::temp_dir().join(format!("bvhview-bench-cli-{}", std::process::id()));
+    let csv = scratch.with_extension("csv");
+    let wall = |command: &mut std::process::Command| {
+        let start = Instant::now();
+        let status = command
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .status()
+            .expect("runs");
+        let took = start.elapsed();
+        assert!(status.success(), "{command:?} failed");
+        took
+    };
+    let inside = |what: &str| {
+        let out = std::process::Command::new("taskset")
+            .args(["-c", "0"])
+            .arg(&here)
+            .args(["--in-process", what, path])
+            .output()
+            .expect("runs");
+        let text = String::from_utf8_lossy(&out.stdout);
+        Duration::from_secs_f64(text.trim().parse().expect("seconds"))
+    };
+    let mut works = vec!["info", "positions"];
+    if alone {
+        works.push("dataset");
+    } else {
+        println!("one core: dataset skipped ({path} is not alone in its folder)");
+    }
+    let mut times = vec![(Vec::new(), Vec::new()); works.len()];
+    for _ in 0..rounds {
+        for (k, what) in works.iter().enumerate() {
+            let mut command = std::process::Command::new("taskset");
+            command.args(["-c", "0"]).arg(&cli);
+            match *what {
+                "info" => command.args(["info", path]),
+                "positions" => command.args(["positions", path, "-o"]).arg(&csv),
+                _ => {
+                    let _ = std::fs::remove_dir_all(&scratch);
+                    command
+                        .args(["dataset"])
+                        .arg(file.parent().expect("a folder"))
+                        .arg("-o")
+                        .arg(&scratch)
+                }
+            };
+            times[k].0.push(wall(&mut command));
+            times[k].1.push(inside(what));
+        }
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    let _ = std::fs::remove_file(&csv);
+    println!(
+        "one core (taskset -c 0), {rounds} rounds in turn; the CLI's wall time against the same work in process:"
+    );
+    for (what, (cli, inside)) in works.iter().zip(&mut times) {
+        let (cm, cf) = median_and_min(cli);
+        let (im, imin) = median_and_min(inside);
+        println!(
+            "  {what:10} CLI median {:7.1} ms fastest {:7.1} ms   in process median {:7.1} ms fastest {:7.1} ms   CLI/in process {:.3} (fastest {:.3})",
+            cm.as_secs_f64() * 1e3,
+            cf.as_secs_f64() * 1e3,
+            im.as_secs_f64() * 1e3,
+            imin.as_secs_f64() * 1e3,
+            cm.as_secs_f64() / im.as_secs_f64(),
+            cf.as_secs_f64() / imin.as_secs_f64()
+        );
+    }
+}
+
+/// `dataset` on the file at `path` (alone in its folder) in this process, one thread: each
+/// stage's share of the time (`dataset::compile_take_timed`), writing the files included.
+fn dataset_stages(path: &str, rounds: usize) {
+    let file = std::path::Path::new(path);
+    let dir = file.parent().expect("a folder");
+    let item = bvhview::batch::Item {
+        path: file.to_path_buf(),
+        motion: None,
+    };
+    let options = bvhview::dataset::Options::default();
+    let scratch = std::env::temp_dir().join(format!("bvhview-bench-ds-{}", std::process::id()));
+    let mut runs = Vec::new();
+    for _ in 0..rounds {
+        let (clip, stages) =
+            bvhview::dataset::compile_take_timed(dir, &item, &options).expect("compiles");
+        drop(clip);
+        // The whole compile, files written and synced: writing is what it adds to the stages.
+        let _ = std::fs::remove_dir_all(&scratch);
+        let items = vec![item.clone()];
+        let takes = bvhview::dataset::whole_list(dir, &items);
+        let start = Instant::now();
+        let compiled = bvhview::dataset::compile_take_timed(dir, &item, &options);
+        let summed = start.elapsed();
+        drop(compiled);
+        let start = Instant::now();
+        bvhview::dataset::compile(dir, items, &options, 1, &scratch, takes, |_, _, _, _| true)
+            .expect("compiles");
+        let whole = start.elapsed();
+        runs.push((stages, whole.saturating_sub(summed)));
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+    let size = std::fs::metadata(file).map_or(0, |m| m.len() as usize);
+    // The round whose stages add up to the median total.
+    let total = |(s, w): &(bvhview::dataset::Stages, Duration)| {
+        s.load + s.rotations + s.resample + s.fk + s.kinds + s.derived + *w
+    };
+    runs.sort_by_key(total);
+    let (stages, writing) = runs[runs.len() / 2];
+    let all = total(&(stages, writing));
+    println!(
+        "dataset, one thread, median of {rounds} rounds: {:.1} ms, {:.1} MB/s of input; stage shares:",
+        all.as_secs_f64() * 1e3,
+        mb_per_s(size, all)
+    );
+    for (name, time) in [
+        ("load (read + parse)", stages.load),
+        ("rotations (channels to quaternions)", stages.rotations),
+        ("resample (interpolate, metres, Y up)", stages.resample),
+        ("FK (world positions)", stages.fk),
+        ("rotation kind + translations", stages.kinds),
+        ("derived (path, velocities, contacts)", stages.derived),
+        ("writing (npy files, sync, rename)", writing),
+    ] {
+        println!(
+            "  {name:38} {:8.1} ms {:5.1} %",
+            time.as_secs_f64() * 1e3,
+            100.0 * time.as_secs_f64() / all.as_secs_f64()
+        );
+    }
 }

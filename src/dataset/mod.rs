@@ -326,9 +326,41 @@ pub fn walk(dir: &Path) -> Result<crate::batch::Walk, Error> {
 /// ([`quaternions::posed`]). The same clip as [`compile_take_plain`], which edits the take step
 /// by step as `convert` does, within float rounding (a test holds them together).
 pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, Error> {
+    compile_take_timed(dir, item, options).map(|(clip, _)| clip)
+}
+
+/// How long each stage of [`compile_take`] took, for the benchmark's shares.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Stages {
+    /// Reading and parsing the file (and retargeting it, with `onto`).
+    pub load: std::time::Duration,
+    /// The kept frames' channels to quaternions and translations.
+    pub rotations: std::time::Duration,
+    /// Interpolating, scaling and turning them to the dataset's rate, metres and Y up.
+    pub resample: std::time::Duration,
+    /// World positions from them.
+    pub fk: std::time::Duration,
+    /// The rotations as the kind asked for, and the translations.
+    pub kinds: std::time::Duration,
+    /// Root path, velocities, foot contacts, root-relative positions.
+    pub derived: std::time::Duration,
+}
+
+/// [`compile_take`], and how long each of its stages took.
+pub fn compile_take_timed(
+    dir: &Path,
+    item: &Item,
+    options: &Options,
+) -> Result<(Clip, Stages), Error> {
+    let mut stages = Stages::default();
+    let start = std::time::Instant::now();
     let take = prepare(item, options)?;
-    let posed = quaternions::posed(&take, &item.path, options)?;
-    Ok(finish(dir, item, options, take, posed))
+    stages.load = start.elapsed();
+    let posed = quaternions::posed(&take, &item.path, options, &mut stages)?;
+    let start = std::time::Instant::now();
+    let clip = finish(dir, item, options, take, posed);
+    stages.derived = start.elapsed();
+    Ok((clip, stages))
 }
 
 /// [`compile_take`] the plain way, step by step with the edits `convert` makes: the take scaled

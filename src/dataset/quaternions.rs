@@ -4,7 +4,7 @@
 //! kind are made from them. No Euler angles on the way, and frames the dataset does not keep
 //! are never touched. [`super::compile_take_plain`] makes the same clip step by step.
 
-use super::{Options, Posed, Prepared, topology_of};
+use super::{Options, Posed, Prepared, Stages, topology_of};
 use crate::edit::{Picks, QuarterTurn, euler_order, resample_picks};
 use crate::error::Error;
 use crate::motion::Motion;
@@ -13,7 +13,17 @@ use glam::Vec3;
 use std::path::Path;
 
 /// The posed frames of `take` at `options.fps`.
-pub(crate) fn posed(take: &Prepared, path: &Path, options: &Options) -> Result<Posed, Error> {
+pub(crate) fn posed(
+    take: &Prepared,
+    path: &Path,
+    options: &Options,
+    stages: &mut Stages,
+) -> Result<Posed, Error> {
+    let mut clock = std::time::Instant::now();
+    let mut lap = |stage: &mut std::time::Duration| {
+        *stage += clock.elapsed();
+        clock = std::time::Instant::now();
+    };
     let (source, motion) = (&take.loaded.skeleton, &take.loaded.motion);
     let metres = take.stance.units.metres;
     let turned = take.stance.up != Up::Y;
@@ -79,6 +89,8 @@ pub(crate) fn posed(take: &Prepared, path: &Path, options: &Options) -> Result<P
         local_t.extend_from_slice(&batch_t);
     }
 
+    lap(&mut stages.rotations);
+
     // Each new frame: interpolated where it lies between two, then in metres and Y up.
     let frames = made_of.len();
     let rotates: Vec<bool> = source
@@ -118,6 +130,8 @@ pub(crate) fn posed(take: &Prepared, path: &Path, options: &Options) -> Result<P
         }
     }
 
+    lap(&mut stages.resample);
+
     // World positions, eight frames side by side.
     let plan = FkPlan::new(&skeleton, take.mode);
     let mut world: Vec<Vec3> = Vec::with_capacity(frames * joints);
@@ -129,6 +143,8 @@ pub(crate) fn posed(take: &Prepared, path: &Path, options: &Options) -> Result<P
         plan.positions_of_locals(q, t, &mut points, &mut scratch);
         world.extend_from_slice(&points);
     }
+
+    lap(&mut stages.fk);
 
     // Rotations as asked. Euler angles are the file's own values where a frame is kept as it
     // is; otherwise they are the quaternion's in the joint's own order (its channels' order, or
@@ -185,6 +201,7 @@ pub(crate) fn posed(take: &Prepared, path: &Path, options: &Options) -> Result<P
             translations.extend_from_slice(&out_t[f * joints + j as usize].to_array());
         }
     }
+    lap(&mut stages.kinds);
     Ok(Posed {
         skeleton,
         topology,
