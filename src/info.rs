@@ -26,7 +26,7 @@ pub fn warnings(loaded: &Loaded, mode: OffsetMode) -> Vec<String> {
 }
 
 /// [`warnings`] with the take's stance already guessed.
-fn warnings_with(loaded: &Loaded, mode: OffsetMode, stance: &Stance) -> Vec<String> {
+pub fn warnings_with(loaded: &Loaded, mode: OffsetMode, stance: &Stance) -> Vec<String> {
     let mut warnings = loaded.warnings.clone();
     warnings.extend(offset_mode_warning(&loaded.skeleton, &loaded.motion, mode));
     warnings.extend(size_warning(&loaded.skeleton, stance));

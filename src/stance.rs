@@ -212,17 +212,21 @@ impl Stance {
             spreads.push(rest_spread);
         } else {
             let plan = FkPlan::new(skeleton, mode);
-            let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
-            for &frame in &sampled {
-                plan.positions(motion.frame(frame), &mut points, &mut scratch);
-                let finite = |p: &Vec3| p.is_finite();
-                if let Some((s, _)) = spread(body.iter().map(|&i| points[i]).filter(finite)) {
-                    spreads.push(s);
-                }
-                if let Some(root) = root.filter(|&r| points[r].is_finite()) {
-                    path_lo = path_lo.min(points[root]);
-                    path_hi = path_hi.max(points[root]);
-                }
+            let (mut batch, mut scratch) = (Vec::new(), FkScratch::default());
+            let joints = skeleton.joints.len();
+            // Eight sampled poses side by side, as the FK plan computes them.
+            for frames in sampled.chunks(crate::pose::LANES) {
+                let rows: Vec<&[f32]> = frames.iter().map(|&f| motion.frame(f)).collect();
+                plan.positions_of_frames(&rows, &mut batch, &mut scratch);
+                pose_spreads(
+                    &batch,
+                    joints,
+                    &body,
+                    root,
+                    &mut spreads,
+                    &mut path_lo,
+                    &mut path_hi,
+                );
             }
         }
         let root_travel = if path_lo.x <= path_hi.x {
@@ -388,4 +392,28 @@ fn short(value: f32) -> String {
 /// are left to the size guess: the Acclaim format does not say what a length of 1 is.
 pub fn asf_units(length: f64) -> Option<Units> {
     ((length - 0.45).abs() < 1e-9).then_some(CMU_UNITS)
+}
+
+/// The spread of the body points and the root's place in each pose of `batch` (poses of
+/// `joints` points one after the other), added to the lists; points that are not finite are
+/// left out.
+fn pose_spreads(
+    batch: &[Vec3],
+    joints: usize,
+    body: &[usize],
+    root: Option<usize>,
+    spreads: &mut Vec<Vec3>,
+    path_lo: &mut Vec3,
+    path_hi: &mut Vec3,
+) {
+    for points in batch.chunks(joints.max(1)) {
+        let finite = |p: &Vec3| p.is_finite();
+        if let Some((s, _)) = spread(body.iter().map(|&i| points[i]).filter(finite)) {
+            spreads.push(s);
+        }
+        if let Some(root) = root.filter(|&r| points[r].is_finite()) {
+            *path_lo = path_lo.min(points[root]);
+            *path_hi = path_hi.max(points[root]);
+        }
+    }
 }

@@ -581,7 +581,8 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
         }
         .to_string(),
         travel_joint: names[travel].clone(),
-        warnings: crate::info::warnings(&take.loaded, mode),
+        // The stance guessed once (its up axis is not in any warning).
+        warnings: crate::info::warnings_with(&take.loaded, mode, stance),
     };
     Clip {
         about,
