@@ -46,162 +46,122 @@ pub(crate) fn posed(
     )?;
     let (topology, names) = topology_of(path, &skeleton, options, take.mode)?;
 
-    // Every source frame a new frame is made from, in order, once.
-    let (needed, made_of): (Vec<usize>, Vec<(usize, usize, f32)>) = match &picks {
-        Picks::Rows(rows) => (rows.clone(), (0..rows.len()).map(|k| (k, k, 0.0)).collect()),
-        Picks::Between(between) => {
-            // Rows come in order (b is a or a + 1, and a never goes back), so `needed` stays
-            // sorted and each row is found by a binary search.
-            let mut needed: Vec<usize> = Vec::with_capacity(between.len() + 1);
-            let index = |row: usize, needed: &mut Vec<usize>| {
-                if needed.last().is_none_or(|&last| last < row) {
-                    needed.push(row);
-                }
-                needed.partition_point(|&r| r < row)
-            };
-            let made_of = between
-                .iter()
-                .map(|&(a, b, w)| {
-                    let a = index(a, &mut needed);
-                    (a, index(b, &mut needed), w)
-                })
-                .collect();
-            (needed, made_of)
-        }
+    // The frames each new frame is made from: itself, or the two it lies between.
+    let made_of: Vec<(usize, usize, f32)> = match picks {
+        Picks::Rows(rows) => rows.into_iter().map(|row| (row, row, 0.0)).collect(),
+        Picks::Between(between) => between,
     };
-
-    // The local rotation and translation of every joint in every needed frame, as the file
-    // gives them (its units, its up axis, bone axes in the rotations).
+    let frames = made_of.len();
     let joints = source.joints.len();
     let source_plan = FkPlan::new(source, take.mode);
-    let mut scratch = FkScratch::default();
-    let (mut local_q, mut local_t) = (
-        Vec::with_capacity(needed.len() * joints),
-        Vec::with_capacity(needed.len() * joints),
-    );
-    let (mut batch_q, mut batch_t) = (Vec::new(), Vec::new());
-    let mut rows: Vec<&[f32]> = Vec::with_capacity(LANES);
-    for batch in needed.chunks(LANES) {
-        rows.clear();
-        rows.extend(batch.iter().map(|&f| motion.frame(f)));
-        source_plan.locals_of_frames(&rows, &mut batch_q, &mut batch_t, &mut scratch);
-        local_q.extend_from_slice(&batch_q);
-        local_t.extend_from_slice(&batch_t);
-    }
-
-    lap(&mut stages.rotations);
-
-    // Each new frame: interpolated where it lies between two, then in metres and Y up.
-    let frames = made_of.len();
+    let plan = FkPlan::new(&skeleton, take.mode);
     let rotates: Vec<bool> = source
         .joints
         .iter()
         .map(|j| j.channels.iter().any(|c| c.is_rotation()))
         .collect();
-    let mut out_q = Vec::with_capacity(frames * joints);
-    let mut out_t = Vec::with_capacity(frames * joints);
-    for &(a, b, w) in &made_of {
-        let (qa, ta) = (
-            &local_q[a * joints..][..joints],
-            &local_t[a * joints..][..joints],
-        );
-        let (qb, tb) = (
-            &local_q[b * joints..][..joints],
-            &local_t[b * joints..][..joints],
-        );
-        for j in 0..joints {
-            let mut q = qa[j];
-            let mut t = ta[j];
-            if a != b {
-                if rotates[j] {
-                    q = q.slerp(qb[j], w);
-                }
-                // In f64, so that values near the f32 limit do not overflow on the way (inf · 0).
-                let (w64, from, to) = (f64::from(w), ta[j].as_dvec3(), tb[j].as_dvec3());
-                t = (from * (1.0 - w64) + to * w64).as_vec3();
-            }
-            t *= metres;
-            if turned {
-                q = quarter.conjugate(q);
-                t = quarter.apply(t);
-            }
-            out_q.push(q);
-            out_t.push(t);
-        }
-    }
-
-    lap(&mut stages.resample);
-
-    // World positions, eight frames side by side.
-    let plan = FkPlan::new(&skeleton, take.mode);
-    let mut world: Vec<Vec3> = Vec::with_capacity(frames * joints);
-    let mut points = Vec::new();
-    for (q, t) in out_q
-        .chunks(LANES * joints)
-        .zip(out_t.chunks(LANES * joints))
-    {
-        plan.positions_of_locals(q, t, &mut points, &mut scratch);
-        world.extend_from_slice(&points);
-    }
-
-    lap(&mut stages.fk);
-
-    // Rotations as asked. Euler angles are the file's own values where a frame is kept as it
-    // is; otherwise they are the quaternion's in the joint's own order (its channels' order, or
-    // Z Y X where a bone axis was baked in).
     let kind = options.rotations;
     let width = kind.width();
     let rotated = &topology.rotated;
-    let mut rotations = vec![0.0f32; frames * rotated.len() * width];
+    // Euler angles are the file's own values where a frame is kept as it is.
     let as_is = !turned && !baked;
-    for (f, out) in rotations
-        .chunks_mut(rotated.len().max(1) * width)
-        .enumerate()
-        .take(frames)
-    {
-        let (a, b, w) = made_of[f];
-        for (&j, slot) in rotated.iter().zip(out.chunks_mut(width)) {
-            let j = j as usize;
-            let q = out_q[f * joints + j];
-            if kind != RotationKind::Euler {
-                pose::write_quat(q, kind, slot);
-                continue;
-            }
-            let joint = &skeleton.joints[j];
-            let source_joint = &source.joints[j];
-            let values_a = source_joint.values(motion.frame(needed[a]));
-            match (joint.rotation_order, as_is && a == b) {
-                (_, true) => pose::write_rotation(source_joint, values_a, kind, slot),
-                (Some(order), false) => {
-                    let (x, y, z) = q.to_euler(euler_order(order));
-                    for (value, angle) in slot.iter_mut().zip([x, y, z]) {
-                        *value = angle.to_degrees();
-                    }
-                }
-                (None, false) => {
-                    // Angles without a rotation order (one or two, or an axis twice) are
-                    // interpolated one by one, as `edit::resample` does.
-                    let values_b = source_joint.values(motion.frame(needed[b]));
-                    let angles = |values: &[f32]| {
-                        let mut out = [0.0f32; 3];
-                        pose::write_rotation(source_joint, values, kind, &mut out);
-                        out
-                    };
-                    let (from, to, w) = (angles(values_a), angles(values_b), f64::from(w));
-                    for ((value, x), y) in slot.iter_mut().zip(from).zip(to) {
-                        *value = (f64::from(x) * (1.0 - w) + f64::from(y) * w) as f32;
-                    }
-                }
-            }
-        }
-    }
+    let mut world: Vec<Vec3> = Vec::with_capacity(frames * joints);
+    let mut rotations = Vec::with_capacity(frames * rotated.len() * width);
     let mut translations = Vec::with_capacity(frames * topology.translated.len() * 3);
-    for f in 0..frames {
-        for &j in &topology.translated {
-            translations.extend_from_slice(&out_t[f * joints + j as usize].to_array());
+    let mut scratch = FkScratch::default();
+    let (mut qa, mut ta, mut qb, mut tb) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    let (mut q, mut t, mut points) = (Vec::new(), Vec::new(), Vec::new());
+    let mut rows: Vec<&[f32]> = Vec::with_capacity(LANES);
+    let mut numbers = [0.0f32; 9];
+    // Eight new frames at a time, every stage in turn, so that nothing but the arrays kept
+    // grows with the take.
+    for batch in made_of.chunks(LANES) {
+        // The local rotation and translation of every joint, as the file gives them (its
+        // units, its up axis, bone axes in the rotations).
+        rows.clear();
+        rows.extend(batch.iter().map(|&(a, _, _)| motion.frame(a)));
+        source_plan.locals_of_frames(&rows, &mut qa, &mut ta, &mut scratch);
+        if batch.iter().any(|&(a, b, _)| a != b) {
+            rows.clear();
+            rows.extend(batch.iter().map(|&(_, b, _)| motion.frame(b)));
+            source_plan.locals_of_frames(&rows, &mut qb, &mut tb, &mut scratch);
         }
+        lap(&mut stages.rotations);
+
+        // Interpolated where a frame lies between two, then in metres and Y up.
+        q.clear();
+        t.clear();
+        for (k, &(a, b, w)) in batch.iter().enumerate() {
+            for j in 0..joints {
+                let i = k * joints + j;
+                let (mut rotation, mut translation) = (qa[i], ta[i]);
+                if a != b {
+                    if rotates[j] {
+                        rotation = rotation.slerp(qb[i], w);
+                    }
+                    // In f64, so that values near the f32 limit do not overflow (inf · 0).
+                    let (w, from, to) = (f64::from(w), ta[i].as_dvec3(), tb[i].as_dvec3());
+                    translation = (from * (1.0 - w) + to * w).as_vec3();
+                }
+                translation *= metres;
+                if turned {
+                    rotation = quarter.conjugate(rotation);
+                    translation = quarter.apply(translation);
+                }
+                q.push(rotation);
+                t.push(translation);
+            }
+        }
+        lap(&mut stages.resample);
+
+        plan.positions_of_locals(&q, &t, &mut points, &mut scratch);
+        world.extend_from_slice(&points);
+        lap(&mut stages.fk);
+
+        // Rotations as asked; Euler angles in the joint's own order (its channels' order, or
+        // Z Y X where a bone axis was baked in).
+        for (k, &(a, b, w)) in batch.iter().enumerate() {
+            for &j in rotated {
+                let j = j as usize;
+                let slot = &mut numbers[..width];
+                if kind != RotationKind::Euler {
+                    pose::write_quat(q[k * joints + j], kind, slot);
+                    rotations.extend_from_slice(slot);
+                    continue;
+                }
+                let source_joint = &source.joints[j];
+                let values_a = source_joint.values(motion.frame(a));
+                match (skeleton.joints[j].rotation_order, as_is && a == b) {
+                    (_, true) => pose::write_rotation(source_joint, values_a, kind, slot),
+                    (Some(order), false) => {
+                        let (x, y, z) = q[k * joints + j].to_euler(euler_order(order));
+                        for (value, angle) in slot.iter_mut().zip([x, y, z]) {
+                            *value = angle.to_degrees();
+                        }
+                    }
+                    (None, false) => {
+                        // Angles without a rotation order (one or two, or an axis twice) are
+                        // interpolated one by one, as `edit::resample` does.
+                        let values_b = source_joint.values(motion.frame(b));
+                        let angles = |values: &[f32]| {
+                            let mut out = [0.0f32; 3];
+                            pose::write_rotation(source_joint, values, kind, &mut out);
+                            out
+                        };
+                        let (from, to, w) = (angles(values_a), angles(values_b), f64::from(w));
+                        for ((value, x), y) in slot.iter_mut().zip(from).zip(to) {
+                            *value = (f64::from(x) * (1.0 - w) + f64::from(y) * w) as f32;
+                        }
+                    }
+                }
+                rotations.extend_from_slice(slot);
+            }
+            for &j in &topology.translated {
+                translations.extend_from_slice(&t[k * joints + j as usize].to_array());
+            }
+        }
+        lap(&mut stages.kinds);
     }
-    lap(&mut stages.kinds);
     Ok(Posed {
         skeleton,
         topology,
