@@ -25,7 +25,7 @@ use crate::edit::{Side, channel_angles, euler_order};
 use crate::error::Error;
 use crate::motion::Motion;
 use crate::pose::{OffsetMode, RotationKind, Up, world_transforms_f64};
-use crate::skeleton::Skeleton;
+use crate::skeleton::{Joint, Skeleton};
 use glam::{DQuat, DVec3};
 use std::fmt;
 
@@ -715,6 +715,9 @@ pub enum How {
     Role(Role),
     /// The same name (prefixes and case aside) in both.
     Name,
+    /// The one joint left between two mapped pairs, when the source has one there too (CMU's
+    /// ASF `lhand` and its BVH's `LeftFingerBase`, `upperneck` and `Neck1`).
+    Between,
     /// Given by the user (`--map`, `names=`).
     Given,
 }
@@ -796,6 +799,31 @@ impl Map {
             if let Some(s) = by_name.remove(&bare_name(&joint.name)) {
                 map.source_of[t] = Some(s);
                 map.how[t] = Some(How::Name);
+                used[s] = true;
+            }
+        }
+        // A joint left alone between two mapped pairs takes the one unused source joint
+        // between their sources: the bone it moves is the bone that one moves.
+        for (t, joint) in target.joints.iter().enumerate() {
+            let Some(p) = joint.parent else { continue };
+            if joint.end_site || map.source_of[t].is_some() {
+                continue;
+            }
+            let Some(sp) = map.source_of[p] else { continue };
+            for d in mapped_below(target, &map.source_of, t) {
+                let Some(sd) = map.source_of[d] else { continue };
+                if path_between(target, p, d) != [t] {
+                    continue;
+                }
+                if let [x] = path_between(source, sp, sd)[..]
+                    && !used[x]
+                    && !source.joints[x].end_site
+                {
+                    map.source_of[t] = Some(x);
+                    map.how[t] = Some(How::Between);
+                    used[x] = true;
+                    break;
+                }
             }
         }
         map
@@ -906,6 +934,7 @@ impl Map {
             let how = match self.how[t] {
                 Some(How::Role(role)) => role.to_string(),
                 Some(How::Name) => "same name".to_string(),
+                Some(How::Between) => "between".to_string(),
                 Some(How::Given) => "given".to_string(),
                 None => String::new(),
             };
@@ -1370,6 +1399,97 @@ fn nearest_form(angles: [f64; 3], reference: [f64; 3]) -> [f64; 3] {
     best
 }
 
+/// The turn about unit `axis` that best lays `from` on `to` (the angle between them projected on
+/// the plane across the axis); `None` when either lies along the axis.
+fn hinge_angle(axis: DVec3, from: DVec3, to: DVec3) -> Option<f64> {
+    let from = from - axis * from.dot(axis);
+    let to = to - axis * to.dot(axis);
+    (from.length() > 1e-9 && to.length() > 1e-9)
+        .then(|| axis.dot(from.cross(to)).atan2(from.dot(to)))
+}
+
+/// The channel values of a joint with fewer than three rotation channels (an ASF knee `dof rx`,
+/// a foot `dof rx rz`, a bone without dof) for the local rotation `local` it cannot always take,
+/// and the local rotation those values give. A hinge turns so that its bone (`bone`: at rest,
+/// in the joint's frame) lies as near as it can to where `local` puts it: the bone's direction
+/// projected on the plane the hinge turns in, which is the best a hinge can do. Two channels
+/// `R1 · R2` lay the bone exactly where the direction is within their reach (the second angle
+/// keeps the bone's component along the first axis, the first turns it into place), of the two
+/// solutions the one nearer the Euler decomposition. Without a bone, or where the bone lies
+/// along an axis, the Euler decomposition's angles ([`channel_angles`]).
+fn limited_angles(joint: &Joint, local: DQuat, bone: Option<DVec3>) -> ([f64; 3], DQuat) {
+    let axes: Vec<usize> = joint
+        .channels
+        .iter()
+        .filter(|c| c.is_rotation())
+        .map(|c| c.axis())
+        .collect();
+    let mut angles = [0.0; 3];
+    let q = local.as_quat();
+    for (angle, value) in angles.iter_mut().zip(channel_angles(
+        joint,
+        RotationKind::Quat,
+        &[q.w, q.x, q.y, q.z],
+    )) {
+        *angle = f64::from(value);
+    }
+    let c = joint
+        .axis
+        .map_or(DQuat::IDENTITY, |c| c.as_dquat().normalize());
+    if let Some(bone) = bone.filter(|b| b.length() > 1e-9) {
+        // In the channels' frame: the bone at rest and where `local` puts it.
+        let u = c.inverse() * bone;
+        let w = c.inverse() * (local * bone);
+        let unit = |axis: usize| DVec3::AXES[axis];
+        let about =
+            |axis: usize, degrees: f64| DQuat::from_axis_angle(unit(axis), degrees.to_radians());
+        match axes[..] {
+            [a] => {
+                if let Some(theta) = hinge_angle(unit(a), u, w) {
+                    angles[0] = theta.to_degrees();
+                }
+            }
+            [a1, a2] if a1 != a2 => {
+                let (x1, x2) = (unit(a1), unit(a2));
+                // a1 · R2(β) u = A cos β + B sin β must equal a1 · w.
+                let (along, across) = (x1.dot(u), x1.dot(x2.cross(u)));
+                let reach = along.hypot(across);
+                if reach > 1e-9 {
+                    let phase = across.atan2(along);
+                    let spread = (x1.dot(w) / reach).clamp(-1.0, 1.0).acos();
+                    let near = |b: f64| {
+                        let d = (b.to_degrees() - angles[1]).rem_euclid(360.0);
+                        d.min(360.0 - d)
+                    };
+                    let beta = [phase + spread, phase - spread]
+                        .into_iter()
+                        .min_by(|&x, &y| near(x).total_cmp(&near(y)))
+                        .unwrap_or(phase);
+                    let mut beta = beta.to_degrees();
+                    beta -= 360.0 * ((beta - angles[1]) / 360.0).round();
+                    let turned = about(a2, beta) * u;
+                    if let Some(alpha) = hinge_angle(x1, turned, w) {
+                        angles[0] = alpha.to_degrees();
+                        angles[1] = beta;
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+    // The rotation the values give, as they are written (32-bit).
+    let mut values = Vec::with_capacity(joint.channels.len());
+    let mut rotations = angles.iter();
+    for channel in &joint.channels {
+        values.push(if channel.is_rotation() {
+            rotations.next().copied().unwrap_or(0.0) as f32
+        } else {
+            0.0
+        });
+    }
+    (angles, crate::pose::local_rotation_f64(joint, &values))
+}
+
 /// The source's motion on the target skeleton: a take with the target's joints, offsets and
 /// channels, and the source's frames and frame time, computed on up to `threads` threads (the
 /// same values on any number). See the module's docs for the steps.
@@ -1464,6 +1584,12 @@ pub fn retarget(
             Some([columns[0], columns[1], columns[2]])
         })
         .collect();
+    // Each target joint's main bone at rest, in its own frame (every rest rotation is the
+    // identity): what a joint with fewer than three rotation channels lays where it can.
+    let mut bone_of: Vec<Option<DVec3>> = vec![None; joints];
+    for (t, d, _) in main_bones(source, target, map) {
+        bone_of[t] = Some(target_rest[d].1 - target_rest[t].1);
+    }
     // First, on the cores, a piece of frames at a time: each target joint's rotation channels
     // in one Euler form (radians turned to degrees), where the carrier moves the hips, and the
     // lowest leg points of source and target.
@@ -1510,6 +1636,7 @@ pub fn retarget(
                     }
                     None => parent_rotation,
                 };
+                let mut rotation = rotation;
                 let local = parent_rotation.inverse() * rotation;
                 out.angles.push(match joint.rotation_order {
                     Some(order) => {
@@ -1524,13 +1651,10 @@ pub fn retarget(
                         [a.to_degrees(), b.to_degrees(), c.to_degrees()]
                     }
                     None => {
-                        let q = local.as_quat();
-                        let mut angles = [0.0; 3];
-                        let values =
-                            channel_angles(joint, RotationKind::Quat, &[q.w, q.x, q.y, q.z]);
-                        for (angle, value) in angles.iter_mut().zip(values) {
-                            *angle = f64::from(value);
-                        }
+                        // Fewer than three rotation channels: the rotation the joint can take,
+                        // and its children go on from that one, not from the one asked for.
+                        let (angles, realized) = limited_angles(joint, local, bone_of[t]);
+                        rotation = parent_rotation * realized;
                         angles
                     }
                 });
@@ -1675,6 +1799,71 @@ pub fn direction_errors(
     errors
 }
 
+/// [`direction_errors`] of the part of each bone's direction its target joint can follow: the
+/// whole direction where the joint has three rotation channels; where it has one or two (an ASF
+/// hinge knee `dof rx`, a foot `dof rx rz`), the direction across its first channel's axis, in
+/// the plane that axis turns the bone in (what is along the axis comes from the parent's
+/// rotation and the rest pose, which the hinge cannot change); `None` for a bone whose joint has
+/// no rotation channel (CMU's `lhipjoint`), which follows nothing.
+pub fn followable_errors(
+    source: &Skeleton,
+    source_motion: &Motion,
+    target: &Skeleton,
+    target_motion: &Motion,
+    map: &Map,
+    ups: Ups,
+) -> Vec<Option<Vec<f64>>> {
+    let (us, ut) = (to_y_up(ups.source), to_y_up(ups.target));
+    let pairs = bones(source, target, map);
+    let source_mode = source_offset_mode(source, source_motion);
+    // Per bone: the first rotation channel's axis in the joint's frame, for joints with fewer
+    // than three; `Some(None)` for three.
+    let axes: Vec<Option<Option<DVec3>>> = pairs
+        .iter()
+        .map(|&(t, _)| {
+            let joint = &target.joints[t];
+            if joint.rotation_order.is_some() {
+                return Some(None);
+            }
+            let first = joint.channels.iter().find(|c| c.is_rotation())?;
+            let c = joint
+                .axis
+                .map_or(DQuat::IDENTITY, |c| c.as_dquat().normalize());
+            Some(Some(c * DVec3::AXES[first.axis()]))
+        })
+        .collect();
+    let mut errors: Vec<Option<Vec<f64>>> = axes.iter().map(|a| a.map(|_| Vec::new())).collect();
+    let (mut ws, mut wt) = (Vec::new(), Vec::new());
+    let frames = source_motion.frame_count().min(target_motion.frame_count());
+    for frame in 0..frames {
+        world_transforms_f64(source, source_motion.frame(frame), source_mode, &mut ws);
+        world_transforms_f64(
+            target,
+            target_motion.frame(frame),
+            OffsetMode::Replace,
+            &mut wt,
+        );
+        for (bone, &(t, d)) in pairs.iter().enumerate() {
+            let (Some(s), Some(sd), Some(Some(out))) =
+                (map.source_of[t], map.source_of[d], errors.get_mut(bone))
+            else {
+                continue;
+            };
+            let mut a = us * (ws[sd].1 - ws[s].1);
+            let mut b = ut * (wt[d].1 - wt[t].1);
+            if let Some(Some(axis)) = axes[bone] {
+                let axis = (ut * (wt[t].0 * axis)).normalize();
+                a -= axis * a.dot(axis);
+                b -= axis * b.dot(axis);
+            }
+            if a.length() > 1e-9 && b.length() > 1e-9 {
+                out.push(a.angle_between(b).to_degrees());
+            }
+        }
+    }
+    errors
+}
+
 /// The foot-skate figure: of the frames where a foot or toe is within 5 cm of the floor (the
 /// take's lowest foot point), the share in which it slides more than 2.5 cm along the floor to
 /// the next frame. `feet`: the joints to follow (a retargeted take's mapped feet and toes, and
@@ -1789,5 +1978,74 @@ mod tests {
         ] {
             assert_eq!(role_of(name), want, "{name}");
         }
+    }
+}
+
+#[cfg(test)]
+mod limited {
+    use super::*;
+    use crate::skeleton::Channel;
+
+    /// A joint turning about `axes` inside a fixed axis C (an ASF bone).
+    fn joint(channels: Vec<Channel>, c: DQuat) -> Joint {
+        let mut joint = Joint::new("j".into(), None);
+        joint.channels = channels;
+        joint.axis = Some(c.as_quat());
+        joint
+    }
+
+    /// Rotations spread over the sphere, from a fixed sequence (no randomness in tests).
+    fn rotations() -> impl Iterator<Item = DQuat> {
+        (0..200).map(|k| {
+            let k = f64::from(k);
+            DQuat::from_euler(glam::EulerRot::ZXY, 0.37 * k, 0.61 * k, 0.23 * k)
+        })
+    }
+
+    #[test]
+    fn a_hinge_lays_its_bone_in_its_plane_as_near_as_it_can() {
+        let c = DQuat::from_rotation_z(20f64.to_radians());
+        let knee = joint(vec![Channel::Xrotation], c);
+        let bone = c * DVec3::new(0.0, -1.0, 0.0);
+        let hinge = c * DVec3::X;
+        for local in rotations() {
+            let (angles, realized) = limited_angles(&knee, local, Some(bone));
+            assert_eq!(angles[1..], [0.0, 0.0]);
+            let (got, want) = (realized * bone, local * bone);
+            // In the hinge's plane, the bone points where it is asked to (within the 32-bit
+            // rounding of the written angle).
+            let across = |v: DVec3| (v - hinge * v.dot(hinge)).normalize();
+            assert!(across(got).angle_between(across(want)).to_degrees() < 1e-4);
+            // And no angle of the hinge lays it nearer.
+            for step in 0..360 {
+                let other = c * DQuat::from_rotation_x(f64::from(step).to_radians()) * c.inverse();
+                assert!(
+                    (other * bone).angle_between(want) >= got.angle_between(want) - 1e-6,
+                    "{local:?}: {step}° is nearer"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn two_channels_lay_their_bone_exactly_where_it_is_within_reach() {
+        // A clavicle: `dof ry rz` about its axis, the bone along the axis frame's x.
+        let c = DQuat::from_rotation_z(-15f64.to_radians());
+        let clavicle = joint(vec![Channel::Yrotation, Channel::Zrotation], c);
+        let bone = c * DVec3::new(2.0, 0.0, 0.0);
+        for local in rotations() {
+            let (angles, realized) = limited_angles(&clavicle, local, Some(bone));
+            assert_eq!(angles[2], 0.0);
+            let error = (realized * bone).angle_between(local * bone).to_degrees();
+            assert!(error < 1e-4, "{local:?}: {error}° off");
+        }
+    }
+
+    #[test]
+    fn a_bone_without_rotation_channels_keeps_its_rest() {
+        let hip = joint(Vec::new(), DQuat::IDENTITY);
+        let (angles, realized) = limited_angles(&hip, DQuat::from_rotation_y(1.0), Some(DVec3::X));
+        assert_eq!(angles, [0.0; 3]);
+        assert_eq!(realized, DQuat::IDENTITY);
     }
 }

@@ -781,6 +781,49 @@ fn snapshot_of_two_takes_side_by_side_is_pinned() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
+/// `--overlay` draws several takes one over the other: a take over itself stands exactly where
+/// it stands alone (the same picture, pixel for pixel, the copy hidden under it), where side by
+/// side the two stand apart; with one file it is refused.
+#[test]
+fn snapshot_overlay_draws_takes_where_they_stand() {
+    let dir = std::env::temp_dir().join(format!("bvhview-overlay-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
+    let walk = walk.to_str().unwrap();
+    let picture = |name: &str, extra: &[&str]| {
+        let out = dir.join(name);
+        let mut args = vec![
+            "snapshot", walk, "--frame", "10", "--look", "studio", "--angle", "0.6", "--size",
+            "200x200", "-q", "-o",
+        ];
+        args.push(out.to_str().unwrap());
+        args.extend_from_slice(extra);
+        let result = bvhview(&args);
+        assert!(result.status.success(), "{result:?}");
+        bvhview::render::Image::read_png(&out).unwrap()
+    };
+    let alone = picture("alone.png", &[]);
+    let overlaid = picture("overlaid.png", &[walk, "--overlay"]);
+    let apart = picture("apart.png", &[walk]);
+    assert_eq!(overlaid.differing_pixels(&alone), 0);
+    let moved = apart.differing_pixels(&alone);
+    assert!(moved > 1000, "{moved}");
+    let one = bvhview(&[
+        "snapshot",
+        walk,
+        "--overlay",
+        "-o",
+        dir.join("x.png").to_str().unwrap(),
+    ]);
+    assert_eq!(one.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&one.stderr),
+        "bvhview: --overlay draws several files one over the other: give two files or more\n"
+    );
+    assert!(!dir.join("x.png").exists());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 /// `bvhview --help` and the window's help overlay (H) name every key the window reads.
 #[test]
 fn help_and_the_help_overlay_list_every_window_key() {

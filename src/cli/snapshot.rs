@@ -44,6 +44,11 @@ pub(crate) struct SnapshotArgs {
     /// Write each joint's name beside it (the window's N key).
     #[arg(long)]
     names: bool,
+    /// With several files, draw them one over the other instead of side by side (each where its
+    /// file puts it, on the first one's floor; in the studio look the first in its
+    /// colours, the others paler), so that one camera sees each from the same side.
+    #[arg(long)]
+    overlay: bool,
     /// Frames per second of an animated output, with --frames (default: the file's rate, at
     /// most 50 for GIF).
     #[arg(long)]
@@ -111,6 +116,11 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
             "--motion goes with one ASF skeleton; to show an ASF/AMC take beside others, convert it to BVH first".into(),
         ));
     }
+    if args.overlay && args.files.len() < 2 {
+        return Err(Error::Usage(
+            "--overlay draws several files one over the other: give two files or more".into(),
+        ));
+    }
     let mode: OffsetMode = args.view.offset_mode.into();
     let framed_view = args.view.fit.is_some() || args.look == LookArg::Studio;
     let mut takes = Vec::with_capacity(args.files.len());
@@ -150,6 +160,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         follow: args.follow,
         whole_take: args.view.fit == Some(FitArg::Take),
         true_scale: args.view.true_scale,
+        overlaid: args.overlay,
     };
     let output = &args.output;
     let other_mode_likely = takes.iter().any(|(_, loaded, _, _)| {

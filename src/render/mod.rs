@@ -206,6 +206,10 @@ pub struct SnapshotOptions {
     /// Several takes at their true sizes (by the units guessed for each) instead of scaled to
     /// the first one's height.
     pub true_scale: bool,
+    /// Several takes drawn one over the other (each where its file puts it, on the first one's
+    /// floor) instead of side by side, so that one camera sees each
+    /// from the same side: the first in its colours, each other one paler.
+    pub overlaid: bool,
 }
 
 /// How the picture looks: the article's (the default) or the studio's, opt-in.
@@ -305,6 +309,7 @@ impl Default for SnapshotOptions {
             follow: false,
             whole_take: false,
             true_scale: false,
+            overlaid: false,
         }
     }
 }

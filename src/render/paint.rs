@@ -160,6 +160,23 @@ pub fn side_by_side(extents: &[(Vec3, Vec3)], tallest: f32) -> Vec<Vec3> {
     origins
 }
 
+/// Where each take stands when they are drawn one over the other: where its file puts it (a
+/// retargeted take walks the source's path), its lowest point over the take at the first one's.
+pub fn one_over_other(extents: &[(Vec3, Vec3)]) -> Vec<Vec3> {
+    let Some(&(floor, _)) = extents.first() else {
+        return Vec::new();
+    };
+    extents
+        .iter()
+        .map(|&(lo, _)| Vec3::new(0.0, floor.y - lo.y, 0.0))
+        .collect()
+}
+
+/// A colour halfway to white: the takes drawn over the first one.
+fn paler(colour: [f32; 3]) -> [f32; 3] {
+    colour.map(|c| c + (1.0 - c) * 0.55)
+}
+
 /// The camera's start angle: the article's for one take; for several, 90° (the eye on +z), which
 /// sees takes standing side by side along x across the picture.
 pub fn start_angle(takes: usize) -> f32 {
@@ -178,6 +195,7 @@ struct Layout {
     key: Vec<(usize, usize, usize, usize, Up)>,
     mode: OffsetMode,
     true_scale: bool,
+    overlaid: bool,
     /// Each take's box over all its frames (scaled and stood up, before it is moved to its
     /// place), when a view needs it.
     extents: Vec<(Vec3, Vec3)>,
@@ -226,6 +244,7 @@ impl Painter {
             l.key == key
                 && l.mode == mode
                 && l.true_scale == options.true_scale
+                && l.overlaid == options.overlaid
                 && l.stage.is_some() == studio_look
                 && (!boxes_needed || l.extents.len() == takes.len())
         });
@@ -264,7 +283,9 @@ impl Painter {
                 Vec::new()
             };
             let tallest = heights.iter().copied().fold(0.0, f32::max);
-            let origins = if takes.len() > 1 {
+            let origins = if takes.len() > 1 && options.overlaid {
+                one_over_other(&extents)
+            } else if takes.len() > 1 {
                 side_by_side(&extents, tallest)
             } else {
                 vec![Vec3::ZERO; takes.len()]
@@ -276,12 +297,21 @@ impl Painter {
             });
             let colours = takes
                 .iter()
-                .map(|t| studio::side_colours(t.skeleton))
+                .enumerate()
+                .map(|(index, t)| {
+                    let colours = studio::side_colours(t.skeleton);
+                    if options.overlaid && index > 0 {
+                        colours.into_iter().map(paler).collect()
+                    } else {
+                        colours
+                    }
+                })
                 .collect();
             self.layout = Some(Layout {
                 key,
                 mode,
                 true_scale: options.true_scale,
+                overlaid: options.overlaid,
                 extents,
                 scales,
                 heights,
@@ -662,5 +692,19 @@ mod tests {
         assert_eq!(boxes[0].0.x + origins[0].x, -42.5);
         assert_eq!(boxes[1].1.x + origins[1].x, 42.5);
         assert_eq!(side_by_side(&boxes[..1], 100.0), vec![Vec3::ZERO]);
+    }
+
+    #[test]
+    fn takes_one_over_the_other_share_a_centre_and_a_floor() {
+        let boxes = [
+            (Vec3::new(-10.0, 2.0, -4.0), Vec3::new(10.0, 12.0, 6.0)),
+            (Vec3::new(100.0, -5.0, 0.0), Vec3::new(140.0, 30.0, 20.0)),
+        ];
+        let origins = one_over_other(&boxes);
+        assert_eq!(origins[0], Vec3::ZERO);
+        // Where the file puts it, its floor -5 onto 2.
+        assert_eq!(origins[1], Vec3::new(0.0, 7.0, 0.0));
+        assert_eq!(paler([0.0, 1.0, 0.2]), [0.55, 1.0, 0.64]);
+        assert!(one_over_other(&[]).is_empty());
     }
 }

@@ -381,6 +381,7 @@ impl Viewer {
             follow: self.follow,
             whole_take: false,
             true_scale: self.options.true_scale,
+            overlaid: false,
         };
         let several = self.takes.len() > 1;
         let overlay = Overlay {
