@@ -92,11 +92,11 @@ pub(crate) fn posed(
         q.clear();
         t.clear();
         for (k, &(a, b, w)) in batch.iter().enumerate() {
-            for j in 0..joints {
+            for (j, &rotates) in rotates.iter().enumerate() {
                 let i = k * joints + j;
                 let (mut rotation, mut translation) = (qa[i], ta[i]);
                 if a != b {
-                    if rotates[j] {
+                    if rotates {
                         rotation = rotation.slerp(qb[i], w);
                     }
                     // In f64, so that values near the f32 limit do not overflow (inf · 0).
