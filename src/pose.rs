@@ -434,6 +434,50 @@ pub fn write_quat(q: glam::Quat, kind: RotationKind, out: &mut [f32]) {
     }
 }
 
+/// Every joint's local rotation as `kind` numbers for the MOTION rows `frames` of `motion`, into
+/// `out` (frames × joints × `kind.width()`): what [`write_rotation`] writes joint by joint, made
+/// from the FK plan's quaternions eight frames at a time (Euler angles, which are the channel
+/// values themselves, and a take without frames go joint by joint).
+pub fn write_local_rotations(
+    skeleton: &Skeleton,
+    motion: &crate::motion::Motion,
+    frames: &[usize],
+    kind: RotationKind,
+    out: &mut [f32],
+) {
+    let (joints, width) = (skeleton.joints.len(), kind.width());
+    if joints == 0 {
+        return;
+    }
+    if kind == RotationKind::Euler || motion.frame_count() == 0 {
+        for (&frame, out) in frames.iter().zip(out.chunks_mut(joints * width)) {
+            for (joint, slot) in skeleton.joints.iter().zip(out.chunks_exact_mut(width)) {
+                let values = match motion.frame_count() {
+                    0 => &[][..],
+                    _ => joint.values(motion.frame(frame)),
+                };
+                write_rotation(joint, values, kind, slot);
+            }
+        }
+        return;
+    }
+    let plan = FkPlan::new(skeleton, OffsetMode::Replace);
+    let (mut rotations, mut translations) = (Vec::new(), Vec::new());
+    let mut scratch = FkScratch::default();
+    let mut rows: Vec<&[f32]> = Vec::with_capacity(LANES);
+    for (batch, out) in frames
+        .chunks(LANES)
+        .zip(out.chunks_mut(LANES * joints * width))
+    {
+        rows.clear();
+        rows.extend(batch.iter().map(|&frame| motion.frame(frame)));
+        plan.locals_of_frames(&rows, &mut rotations, &mut translations, &mut scratch);
+        for (&q, slot) in rotations.iter().zip(out.chunks_exact_mut(width)) {
+            write_quat(q, kind, slot);
+        }
+    }
+}
+
 /// `T(t) · R1 · R2 · R3` for one joint, or `T(t) · C · R1 · R2 · R3 · C⁻¹` when the joint has a
 /// fixed axis C (ASF bones); `values` are this joint's channel values.
 pub fn local_matrix(joint: &Joint, values: &[f32], mode: OffsetMode) -> Mat4 {
@@ -1274,6 +1318,49 @@ mod fast_tests {
             );
         }
         assert_eq!(sin_cos_degrees(-180.0), (0.0, -1.0));
+    }
+
+    #[test]
+    fn local_rotations_by_the_plan_match_joint_by_joint_on_real_files() {
+        let mut worst: f32 = 0.0;
+        for entry in std::fs::read_dir("tests/data/bvh").unwrap() {
+            let path = entry.unwrap().path();
+            let Ok(bvh) = crate::bvh::load_file(&path, Default::default()) else {
+                continue;
+            };
+            let (skeleton, motion) = (&bvh.skeleton, &bvh.motion);
+            let frames: Vec<usize> = (0..motion.frame_count()).step_by(7).collect();
+            for kind in [
+                RotationKind::Quat,
+                RotationKind::Matrix,
+                RotationKind::SixD,
+                RotationKind::AxisAngle,
+                RotationKind::Euler,
+            ] {
+                let (joints, width) = (skeleton.joints.len(), kind.width());
+                let mut fast = vec![0.0; frames.len() * joints * width];
+                write_local_rotations(skeleton, motion, &frames, kind, &mut fast);
+                let mut slot = vec![0.0; width];
+                for (k, &frame) in frames.iter().enumerate() {
+                    for (j, joint) in skeleton.joints.iter().enumerate() {
+                        write_rotation(joint, joint.values(motion.frame(frame)), kind, &mut slot);
+                        let got = &fast[(k * joints + j) * width..][..width];
+                        if kind == RotationKind::Euler {
+                            assert_eq!(got, &slot[..], "{}", path.display());
+                            continue;
+                        }
+                        let (a, b) = (
+                            rotation_of_numbers(kind, got).unwrap(),
+                            rotation_of_numbers(kind, &slot).unwrap(),
+                        );
+                        for (x, y) in a.to_cols_array().iter().zip(b.to_cols_array()) {
+                            worst = worst.max((x - y).abs());
+                        }
+                    }
+                }
+            }
+        }
+        assert!(worst < 1e-5, "worst matrix element apart: {worst}");
     }
 
     #[test]

@@ -34,12 +34,20 @@ TOOLS = ["bvhview", "bvhview_many", "bvhio", "bvhtools", "pybvh", "pymo"]
 # They return (points per frame, frames computed, frames in the take).
 
 
+# With --rotations, the tools that give local rotations also compute every joint's local
+# rotation as a quaternion on every frame (bvhview and pybvh; the others have no such call).
+ROTATIONS = os.environ.get("PEERS_ROTATIONS") == "1"
+ROTATING_TOOLS = ["bvhview", "bvhview_many", "pybvh"]
+
+
 def work_bvhview(path, budget):
     import bvhview
 
     take = bvhview.load(path)
     yield "loaded"
     points = take.positions()
+    if ROTATIONS:
+        take.local_rotations(kind="quat")
     yield points.shape[1], points.shape[0], points.shape[0]
 
 
@@ -49,6 +57,8 @@ def work_pybvh(path, budget):
     take = pybvh.read_bvh_file(path, world_up="+y", warn_on_world_up_disagreement=False)
     yield "loaded"
     points = take.node_positions()  # vectorised over frames
+    if ROTATIONS:
+        take.to_quat()  # (root positions, every joint's local quaternion on every frame)
     yield points.shape[1], points.shape[0], points.shape[0]
 
 
@@ -115,6 +125,8 @@ def worker_many(paths):
         else:
             started = time.perf_counter()
             points = take.positions()
+            if ROTATIONS:
+                take.local_rotations(kind="quat")
             record["positions"] = time.perf_counter() - started
             record["points"], record["done"], record["frames"] = (
                 points.shape[1], points.shape[0], points.shape[0])
@@ -244,6 +256,8 @@ def main():
                         help="a tool whose load + positions take longer than this many seconds "
                              "in a run runs once")
     parser.add_argument("--json", type=Path, help="also write every figure here")
+    parser.add_argument("--rotations", action="store_true",
+                        help="positions and local rotations (quaternions): bvhview, pybvh only")
     args = parser.parse_args()
     if args.repeat < 1:
         parser.error("--repeat must be at least 1")
@@ -260,6 +274,14 @@ def main():
     if not sets:
         parser.error("give --big, --folder or both")
     tools = args.tools.split(",")
+    if args.rotations:
+        others = [t for t in tools if t not in ROTATING_TOOLS]
+        if args.tools == ",".join(TOOLS):
+            tools = ROTATING_TOOLS
+        elif others:
+            parser.error(f"--rotations: {', '.join(others)} give no local rotations")
+        # The workers are children: they read it from their environment.
+        os.environ["PEERS_ROTATIONS"] = "1"
 
     print(f"# {time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
           f"{platform.processor() or platform.machine()}, Python {platform.python_version()}")

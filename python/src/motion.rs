@@ -347,11 +347,24 @@ impl Motion {
                 )));
             };
             let per_joint = rotation_kind.width();
+            let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let per_frame = skeleton.joints.len() * per_joint;
             let values = py
                 .detach(|| {
-                    self.per_joint_of(&frames, per_joint, |joint, values, out| {
-                        pose::write_rotation(joint, values, rotation_kind, out)
-                    })
+                    Self::per_frame_floats(
+                        &frames,
+                        skeleton.joints.len(),
+                        per_frame,
+                        |frames, out| {
+                            pose::write_local_rotations(
+                                skeleton,
+                                motion,
+                                frames,
+                                rotation_kind,
+                                out,
+                            )
+                        },
+                    )
                 })
                 .map_err(|e| to_python(py, e))?;
             let joints = self.loaded.skeleton.joints.len();
