@@ -3,8 +3,8 @@
 
     python3 python/bench/dataset_peers.py [FOLDER…] [--rounds 5]
 
-Both tools get the same files (links to every .bvh file under the FOLDERs; default
-../shared/data/bvh when present, else tests/data/bvh): bvhview one folder, pybvh-ml one folder
+Both tools get the same files (links to every .bvh file under the FOLDERs, and copies with
+--copies; default ../shared/data/bvh when present, else tests/data/bvh): bvhview one folder, pybvh-ml one folder
 per skeleton topology in turn (it packs one skeleton per dataset). Both are asked for the same work: rotations
 as 6D, world positions, velocities and foot contacts, resampled to 30 frames per second, errors
 skipped. Each run is a process of its own (its peak RSS is its own getrusage); the time is the
@@ -18,6 +18,7 @@ import argparse
 import json
 import os
 import platform
+import shutil
 import statistics
 import subprocess
 import sys
@@ -100,7 +101,7 @@ def main() -> None:
         "--copies",
         type=int,
         default=1,
-        help="link every file this many times (as a dataset holds many takes of one skeleton)",
+        help="take every file this many times (copies: bvhview lists a file reached by two links once)",
     )
     args = parser.parse_args()
     folders = args.folders or [
@@ -118,7 +119,12 @@ def main() -> None:
                 name = path.name if args.copies == 1 else f"{path.stem}_{copy:03}.bvh"
                 link = flat / name
                 if not link.exists():
-                    link.symlink_to(path.resolve())
+                    # Copies, not links, past the first: bvhview's folder walk lists each file
+                    # once however many links lead to it, so links would not make more work.
+                    if copy == 0:
+                        link.symlink_to(path.resolve())
+                    else:
+                        shutil.copyfile(path, link)
                     size += path.stat().st_size
     takes = len(list(flat.iterdir()))
     # The same files by skeleton topology (names and parents, as bvhview loads them), for
