@@ -439,6 +439,24 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
     Ok(Walk { items, skipped })
 }
 
+/// [`collect`] for a command that makes something of the takes (`dataset`, `convert DIR`): `dir`
+/// must be a folder, and one without any take is refused, as there is nothing to make of it.
+/// What the walk skipped (loops, folders and files reached again, links out of `dir`, what is
+/// not a regular file or cannot be read) is in [`Walk::skipped`].
+pub fn collect_takes(dir: &Path) -> Result<Walk, Error> {
+    if !dir.is_dir() {
+        return Err(Error::Usage(format!("{}: not a folder", dir.display())));
+    }
+    let walk = collect(dir)?;
+    if walk.items.is_empty() {
+        return Err(Error::Usage(format!(
+            "{}: no takes (.bvh, .asf, .amc, .fbx, .gltf or .glb files)",
+            dir.display()
+        )));
+    }
+    Ok(walk)
+}
+
 /// What every item is loaded with: the options `info` takes for one file.
 #[derive(Clone, Copy, Debug)]
 pub struct Settings {
