@@ -226,6 +226,8 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
         |index| convert_one(args, format, &items[index], &names[index]),
         |index, outcome| {
             let take = take_path(&items[index]);
+            // Lines go on a line of their own, the bar drawn again below them.
+            progress.done();
             match outcome {
                 Outcome::Converted(done) => {
                     for warning in &done.warnings {

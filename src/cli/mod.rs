@@ -287,6 +287,7 @@ impl Progress {
         }
     }
 
+    /// Clears the bar: at the end, and before a line is said under it.
     fn done(&self) {
         if self.on_terminal {
             eprint!("\r\x1b[2K");
