@@ -448,3 +448,47 @@ fn to_for_a_file_must_agree_with_its_extension() {
     assert!(agreed.status.success(), "{}", stderr(&agreed));
     assert!(bvhview::input::load(&out, None, None).is_ok());
 }
+
+/// SIGTERM while the takes are being written: the process ends by the signal (a shell says 143)
+/// and leaves neither OUT nor its temporary folder, as `dataset` does.
+#[test]
+fn a_conversion_terminated_midway_leaves_nothing() {
+    use std::os::unix::process::ExitStatusExt;
+    let temp = tempfile::tempdir().unwrap();
+    let out = temp.path().join("out");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("convert")
+        .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data"))
+        .arg("-o")
+        .arg(&out)
+        .args(["--to", "gltf", "--threads", "1"])
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let temporary = || {
+        std::fs::read_dir(temp.path()).unwrap().any(|e| {
+            e.unwrap()
+                .file_name()
+                .to_string_lossy()
+                .starts_with(".out.")
+        })
+    };
+    let started = std::time::Instant::now();
+    while !temporary() {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "it ended before it began writing"
+        );
+        assert!(started.elapsed() < std::time::Duration::from_secs(60));
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    // SAFETY: signals our own child, which has not been waited for yet.
+    unsafe { libc::kill(child.id() as libc::pid_t, libc::SIGTERM) };
+    let status = child.wait().unwrap();
+    assert_eq!(status.signal(), Some(libc::SIGTERM), "{status}");
+    let left: Vec<_> = std::fs::read_dir(temp.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}
