@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Fuzz one loader or writer with AFL++ through cargo-afl (stable Rust).
-#   scripts/fuzz.sh TARGET [EXECUTIONS] [WORKDIR]      (default 10000000, /tmp/bvhview-fuzz)
+#   scripts/fuzz.sh TARGET [EXECUTIONS|SECONDSs] [WORKDIR]   (default 10000000, /tmp/bvhview-fuzz)
+# A limit ending in `s` (`600s`) is a time limit in seconds instead of a count of executions.
 # TARGET: the loaders bvh, asf, amc, fbx, gltf (whole small FBX/glTF/GLB files of tests/data as
 # seeds); the writers write_bvh, write_gltf, write_positions; the dataset reader and merge,
 # dataset (its seeds: a small dataset's files behind the byte that picks which file they replace).
@@ -13,6 +14,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 target=${1:?usage: scripts/fuzz.sh bvh|asf|amc|fbx|gltf|write_bvh|write_gltf|write_positions|dataset [EXECUTIONS] [WORKDIR]}
 executions=${2:-10000000}
+case "$executions" in
+    *s) limit=(-V "${executions%s}") ;;
+    *) limit=(-E "$executions") ;;
+esac
 work=${3:-/tmp/bvhview-fuzz}/$target
 data=tests/data
 
@@ -56,7 +61,7 @@ esac
 find "$work/in" -size 0 -delete
 
 AFL_SKIP_CPUFREQ=1 AFL_I_DONT_CARE_ABOUT_MISSING_CRASHES=1 AFL_NO_UI=1 AFL_NO_AFFINITY=1 \
-    cargo afl fuzz -i "$work/in" -o "$work/out" -E "$executions" -t 1000 "fuzz/target/release/$target" \
+    cargo afl fuzz -i "$work/in" -o "$work/out" "${limit[@]}" -t 1000 "fuzz/target/release/$target" \
     > "$work/afl.log" 2>&1 || true
 stats="$work/out/default/fuzzer_stats"
-echo "$target: $(grep -E '^execs_done' "$stats" | tr -s ' ') ; $(grep -E '^saved_crashes' "$stats" | tr -s ' ') ; $(grep -E '^saved_hangs' "$stats" | tr -s ' ')"
+echo "$target: $(grep -E '^(execs_done|run_time|saved_crashes|saved_hangs|corpus_count)' "$stats" | tr -s ' ' | paste -sd';')"

@@ -5,12 +5,13 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 # Debian packages the tests use: OSMesa for offscreen pictures, the X11/GL libraries the window
-# loads at run time, and Xvfb, xdotool and xwd for the end-to-end window test.
+# loads at run time, Xvfb, xdotool and xwd for the end-to-end window test, and g++ for the
+# article's own program, rebuilt from its text (tests/article_program.rs, with ../shared).
 PACKAGES=(
     libosmesa6
     libx11-6 libx11-xcb1 libxcb1 libxcursor1 libxi6 libxkbcommon-x11-0
     libgl1 libglx-mesa0 libgl1-mesa-dri libegl1 libegl-mesa0
-    xvfb xauth xdotool x11-apps opencc
+    xvfb xauth xdotool x11-apps opencc g++
 )
 
 missing=()

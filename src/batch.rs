@@ -130,12 +130,16 @@ fn skeleton_for(amc_stem: &str, asfs: &[&PathBuf]) -> Option<usize> {
         })
     };
     let only = || {
+        // Only a folder's one ASF pairs so; with none, `numbered(0)` would look past the list.
+        if stems.len() != 1 {
+            return None;
+        }
         let other_subject = (amc_subject.is_some() && numbered(0))
             || amc_key
                 .as_ref()
                 .zip(stems.first().and_then(|s| subject_key(s)))
                 .is_some_and(|(take, asf)| same_scheme(take, &asf));
-        (stems.len() == 1 && !other_subject).then_some(0)
+        (!other_subject).then_some(0)
     };
     same_name
         .or_else(same_subject)
@@ -439,6 +443,24 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
     Ok(Walk { items, skipped })
 }
 
+/// [`collect`] for a command that makes something of the takes (`dataset`, `convert DIR`): `dir`
+/// must be a folder, and one without any take is refused, as there is nothing to make of it.
+/// What the walk skipped (loops, folders and files reached again, links out of `dir`, what is
+/// not a regular file or cannot be read) is in [`Walk::skipped`].
+pub fn collect_takes(dir: &Path) -> Result<Walk, Error> {
+    if !dir.is_dir() {
+        return Err(Error::Usage(format!("{}: not a folder", dir.display())));
+    }
+    let walk = collect(dir)?;
+    if walk.items.is_empty() {
+        return Err(Error::Usage(format!(
+            "{}: no takes (.bvh, .asf, .amc, .fbx, .gltf or .glb files)",
+            dir.display()
+        )));
+    }
+    Ok(walk)
+}
+
 /// What every item is loaded with: the options `info` takes for one file.
 #[derive(Clone, Copy, Debug)]
 pub struct Settings {
@@ -560,6 +582,10 @@ mod tests {
         assert_eq!(paired("08_01", &["07"]), None);
         assert_eq!(paired("12_02", &["07", "walk"]), None);
         assert_eq!(paired("walk", &[]), None);
+        // A numbered take in a folder without any ASF (a panic before: the check for a numbered
+        // only ASF looked at the first of none).
+        assert_eq!(paired("07_01", &[]), None);
+        assert_eq!(paired("cmu_07_05-walk", &[]), None);
     }
 
     /// Issue 35: CMU's downloads name a subject's skeleton `cmu_07-walk.asf` and its takes

@@ -445,6 +445,16 @@ fn tracks(file: &File, animation: &gltf::Animation) -> Result<Vec<Track>, String
                 animation.index()
             ));
         }
+        // glTF 2.0 (animation.sampler.input): `time[0] >= 0`, an error for the Khronos validator.
+        // A key before 0 is a damaged file; read, it would stretch the take back to it (fuzzing
+        // flipped the sign of a 0.5 s take's first key: 495 s, 59,469 frames to evaluate).
+        if times[0] < 0.0 {
+            return Err(format!(
+                "animation {}: a key at {} s, before 0 (glTF's key times start at 0 or later)",
+                animation.index(),
+                times[0]
+            ));
+        }
         tracks.push(Track {
             node: channel.target().node().index(),
             property,

@@ -45,6 +45,99 @@ pub fn finished_folder(path: &Path) {
     partial().retain(|p| p != path);
 }
 
+/// A folder of outputs (a dataset, `convert DIR`'s takes), there whole or not at all, as a file
+/// is: it is filled under a temporary name beside `out` and takes the name when
+/// [`NewFolder::commit`] is called. An error, a panic or a signal before that removes it.
+/// Whatever is written into [`NewFolder::path`] goes through [`in_partial_folder`], so that a
+/// signal's cleanup never races with a file being made there.
+pub struct NewFolder {
+    out: PathBuf,
+    folder: Option<tempfile::TempDir>,
+}
+
+impl NewFolder {
+    /// Starts the folder `out`, which must not exist or be an empty folder (`refusal` ends the
+    /// message that says it does: `a dataset goes into a new (or empty) folder`). As for a file:
+    /// a link another user planted in a sticky shared folder on the way to `out` is refused, the
+    /// temporary folder beside it has a random name made exclusively (`.OUT.XXXXXX`, `OUT` cut to
+    /// fit a long name, mode 0700 until it is whole), and a failure names its cause.
+    pub fn create(out: &Path, refusal: &str) -> Result<NewFolder, Error> {
+        refuse_planted_folders(out)?;
+        match std::fs::symlink_metadata(out) {
+            Err(e) if e.kind() == io::ErrorKind::NotFound => {}
+            Err(e) => return Err(Error::output(out, e)),
+            Ok(m) if m.is_dir() && std::fs::read_dir(out).is_ok_and(|mut d| d.next().is_none()) => {
+            }
+            Ok(_) => {
+                return Err(Error::Usage(format!(
+                    "{}: already exists; {refusal}",
+                    out.display()
+                )));
+            }
+        }
+        let name = out
+            .file_name()
+            .ok_or_else(|| Error::Usage(format!("{}: not a folder name", out.display())))?;
+        let folder = tempfile::Builder::new()
+            .prefix(&temporary_prefix(Some(name)))
+            .tempdir_in(folder_of(out))
+            .map_err(|e| Error::output(out, e))?;
+        partial_folder(folder.path());
+        Ok(NewFolder {
+            out: out.to_path_buf(),
+            folder: Some(folder),
+        })
+    }
+
+    /// Where the folder is being filled.
+    pub fn path(&self) -> &Path {
+        self.folder.as_ref().expect("open until committed").path()
+    }
+
+    /// Gives the folder its name: mode 0755, everything in it on the disk (one `syncfs`), renamed
+    /// to `out`, and the rename made durable. On an error the temporary folder is removed.
+    pub fn commit(mut self) -> Result<(), Error> {
+        let folder = self.folder.take().expect("committed once");
+        let made = folder.path().to_path_buf();
+        let named = in_partial_folder(|| -> io::Result<()> {
+            std::fs::set_permissions(&made, std::fs::Permissions::from_mode(0o755))?;
+            sync_file_system(&made)?;
+            std::fs::rename(&made, &self.out)?;
+            File::open(folder_of(&self.out))?.sync_all()
+        });
+        finished_folder(&made);
+        match named {
+            Ok(()) => {
+                // Renamed: the folder is the output now, not a temporary one to remove.
+                let _ = folder.keep();
+                Ok(())
+            }
+            Err(e) => Err(Error::output(&self.out, e)),
+        }
+    }
+}
+
+impl Drop for NewFolder {
+    fn drop(&mut self) {
+        // Uncommitted: the signal handler forgets it, and `TempDir`'s own drop removes it.
+        if let Some(folder) = &self.folder {
+            finished_folder(folder.path());
+        }
+    }
+}
+
+/// Everything written into `folder` reaches the disk before the folder takes its name: one
+/// `syncfs` of its file system, rather than an fsync of each of its files (six per dataset group).
+fn sync_file_system(folder: &Path) -> io::Result<()> {
+    use std::os::fd::AsRawFd;
+    let folder = File::open(folder)?;
+    // SAFETY: syncfs only reads the descriptor, which `folder` keeps open for the call.
+    match unsafe { libc::syncfs(folder.as_raw_fd()) } {
+        0 => Ok(()),
+        _ => Err(io::Error::last_os_error()),
+    }
+}
+
 /// On SIGINT, SIGTERM or SIGHUP, every temporary file still being written is removed and the
 /// process ends by that signal, as it would have without the cleanup: a shell reports 128 + its
 /// number (130 for Ctrl-C, 143 for `kill`, 129 for a closed terminal), and a shell loop around

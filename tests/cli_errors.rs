@@ -97,13 +97,19 @@ fn a_missing_file_is_bad_input() {
 #[test]
 fn a_folder_where_a_file_is_needed_is_bad_input() {
     let folder = data("bvh").display().to_string();
-    for command in ["print", "positions", "convert", "trace"] {
-        let mut args = vec![command, folder.as_str()];
-        if command == "convert" {
-            args.extend(["-o", "/tmp/x.bvh"]);
-        }
-        one_line(&bvhview(&args), 2, "is a folder, not a file");
+    for command in ["print", "positions", "trace"] {
+        one_line(
+            &bvhview(&[command, folder.as_str()]),
+            2,
+            "is a folder, not a file",
+        );
     }
+    // `convert` takes a folder (tests/convert_folder.rs), with the format its takes go in.
+    one_line(
+        &bvhview(&["convert", folder.as_str(), "-o", "/tmp/x.bvh"]),
+        2,
+        "is a folder: say the format its takes are written in with --to bvh, glb or gltf",
+    );
 }
 
 #[test]

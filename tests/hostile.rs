@@ -771,6 +771,44 @@ fn hostile_gltf_buffers_and_counts_are_refused() {
     );
 }
 
+/// Issue 36, `scripts/fuzz.sh gltf` (10 minutes): its three timeouts, kept here byte for byte as
+/// the bytes they changed in `tests/data/gltf/bvh11_131_01.glb`. Each flips the sign (and some
+/// bits) of the first key time, 1/120 s, to about -495 s: the keys still rise, so the take ran
+/// from -495 s to 0.5 s, 59,469 frames of 32 joints (1.2 s in a release build, over AFL's 1 s;
+/// 12 s in a debug one). glTF's key times start at 0: each is now refused, by name, before a
+/// frame is made.
+#[test]
+fn a_gltf_key_before_0_is_refused_not_stretched_into_minutes() {
+    let seed = std::fs::read(repo_data("gltf/bvh11_131_01.glb")).unwrap();
+    let flips: [&[(usize, u8)]; 3] = [
+        &[(27506, 0xf7), (27507, 0xc3)],
+        &[(27505, 0x77), (27506, 0xf7), (27507, 0xc3), (27508, 0x76)],
+        &[(27506, 0xf7), (27507, 0xc3), (27508, 0x76), (27509, 0x77)],
+    ];
+    for (k, flip) in flips.iter().enumerate() {
+        let mut bytes = seed.clone();
+        for &(at, byte) in flip.iter() {
+            bytes[at] = byte;
+        }
+        let path = scratch(&format!("fuzz-timeout-{k}.glb"));
+        std::fs::write(&path, &bytes).unwrap();
+        let out = bvhview(&["info", path.to_str().unwrap()]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(
+            stderr.starts_with(&format!(
+                "bvhview: {}: animation 0: a key at -49",
+                path.display()
+            )),
+            "{stderr}"
+        );
+        assert!(
+            stderr.contains("s, before 0 (glTF's key times start at 0 or later)"),
+            "{stderr}"
+        );
+    }
+}
+
 /// Point 5 for FBX: a cut file, a file of noise and an FBX header over nothing each get one line
 /// and exit 2.
 #[test]

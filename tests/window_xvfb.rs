@@ -1,7 +1,8 @@
 //! End to end under Xvfb: the viewer opens on a file, W steps a frame, J steps through the
 //! recursion joint by joint (Shift+J back, Esc back to the whole picture), F, C, B, O, I and H,
 //! Home and End, the timeline clicked and dragged, +, -, L, V, T and N; the window's pixels equal
-//! the offscreen snapshot of each state, and Esc quits. Needs Xvfb, xdotool and xwd
+//! the offscreen snapshot of each state, and Esc quits; FBX and GLB takes dropped on it (XDND,
+//! as a file manager drops them) join the take shown. Needs Xvfb, xdotool and xwd
 //! (scripts/test.sh installs them).
 
 mod common;
@@ -669,5 +670,213 @@ fn viewer_shows_takes_side_by_side_reloads_and_writes_pictures() {
         viewer.0.try_wait().unwrap()
     });
     assert!(status.success(), "exit status {status}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+/// Drops `files` on `window` as a file manager does, by the XDND protocol (version 5): a source
+/// window of our own owns the `XdndSelection`, sends `XdndEnter` (offering `text/uri-list`) and
+/// `XdndPosition`, answers the window's request for the selection with the files' `file://`
+/// URIs, and sends `XdndDrop` once the window has accepted and has the list; it returns when the
+/// window says `XdndFinished`, with whether it accepted the drop. xdotool cannot drag files, so
+/// the test is the drag source itself.
+fn drop_files(display: &str, window: &str, files: &[&Path]) -> bool {
+    use x11rb::connection::Connection;
+    use x11rb::protocol::Event;
+    use x11rb::protocol::xproto::{
+        AtomEnum, ClientMessageEvent, ConnectionExt, CreateWindowAux, EventMask, PropMode,
+        SelectionNotifyEvent, WindowClass,
+    };
+    let target: u32 = window.parse().expect("a window id");
+    let (conn, screen) = x11rb::connect(Some(display)).expect("an X connection");
+    let root = conn.setup().roots[screen].root;
+    let atom = |name: &str| {
+        conn.intern_atom(false, name.as_bytes())
+            .unwrap()
+            .reply()
+            .unwrap()
+            .atom
+    };
+    let [
+        aware,
+        enter,
+        position,
+        status,
+        drop,
+        finished,
+        selection,
+        uri_list,
+        copy,
+    ] = [
+        "XdndAware",
+        "XdndEnter",
+        "XdndPosition",
+        "XdndStatus",
+        "XdndDrop",
+        "XdndFinished",
+        "XdndSelection",
+        "text/uri-list",
+        "XdndActionCopy",
+    ]
+    .map(atom);
+    // The window says which XDND versions it speaks: winit's says 5.
+    let version = conn
+        .get_property(false, target, aware, AtomEnum::ATOM, 0, 1)
+        .unwrap()
+        .reply()
+        .unwrap();
+    assert_eq!(version.value32().and_then(|mut v| v.next()), Some(5));
+    let source = conn.generate_id().unwrap();
+    conn.create_window(
+        0,
+        source,
+        root,
+        0,
+        0,
+        1,
+        1,
+        0,
+        WindowClass::INPUT_OUTPUT,
+        0,
+        &CreateWindowAux::new(),
+    )
+    .unwrap();
+    conn.set_selection_owner(source, selection, x11rb::CURRENT_TIME)
+        .unwrap();
+    let send = |kind: u32, data: [u32; 5]| {
+        let message = ClientMessageEvent::new(32, target, kind, data);
+        conn.send_event(false, target, EventMask::NO_EVENT, message)
+            .unwrap();
+        conn.flush().unwrap();
+    };
+    // Version 5 in the high byte; at most three types, listed in the message itself.
+    send(enter, [source, 5 << 24, uri_list, 0, 0]);
+    // The pointer over the middle of the window (root coordinates: no window manager moves it).
+    send(
+        position,
+        [source, 0, (300 << 16) | 300, x11rb::CURRENT_TIME, copy],
+    );
+    let uris: String = files
+        .iter()
+        .map(|f| format!("file://{}\r\n", f.canonicalize().unwrap().display()))
+        .collect();
+    let (mut served, mut accepted, mut dropped) = (false, false, false);
+    let start = Instant::now();
+    loop {
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "the drop did not finish (served {served}, accepted {accepted}, dropped {dropped})"
+        );
+        let Some(event) = conn.poll_for_event().unwrap() else {
+            std::thread::sleep(Duration::from_millis(10));
+            continue;
+        };
+        match event {
+            Event::SelectionRequest(request) if request.target == uri_list => {
+                conn.change_property(
+                    PropMode::REPLACE,
+                    request.requestor,
+                    request.property,
+                    uri_list,
+                    8,
+                    uris.len() as u32,
+                    uris.as_bytes(),
+                )
+                .unwrap();
+                let notify = SelectionNotifyEvent {
+                    response_type: x11rb::protocol::xproto::SELECTION_NOTIFY_EVENT,
+                    sequence: 0,
+                    time: request.time,
+                    requestor: request.requestor,
+                    selection: request.selection,
+                    target: request.target,
+                    property: request.property,
+                };
+                conn.send_event(false, request.requestor, EventMask::NO_EVENT, notify)
+                    .unwrap();
+                conn.flush().unwrap();
+                served = true;
+            }
+            Event::ClientMessage(message) if message.type_ == status => {
+                accepted = message.data.as_data32()[1] & 1 == 1;
+            }
+            Event::ClientMessage(message) if message.type_ == finished => {
+                return message.data.as_data32()[1] & 1 == 1;
+            }
+            _ => {}
+        }
+        // The list reaches the window before the drop: both are sent on this one connection.
+        if served && accepted && !dropped {
+            send(drop, [source, 0, x11rb::CURRENT_TIME, 0, 0]);
+            dropped = true;
+        }
+    }
+}
+
+/// Issue 36: an FBX take and a GLB take dropped on the window join the BVH take shown, as a
+/// dropped BVH does: the title names each, nothing is said on stderr, and the window shows what
+/// `snapshot` draws of the three side by side (at the angle the window started with, one take's).
+#[test]
+fn fbx_and_glb_takes_dropped_on_the_window_join_the_take_shown() {
+    let _alone = one_at_a_time();
+    let dir = std::env::temp_dir().join(format!("bvhview-window-drop-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let bvh = data("bvh/bvh11_131_01.bvh");
+    let fbx = data("fbx/bvh11_131_01.fbx");
+    let glb = data("gltf/bvhpython_test_freebvh.glb");
+    let (_xvfb, display) = start_xvfb();
+    let (mut viewer, window) = open_viewer(
+        &display,
+        &dir,
+        &[&bvh],
+        "^bvhview - bvh11_131_01.bvh - frame 0 ",
+    );
+    let titled = |want: &str| {
+        wait_for(want, Duration::from_secs(30), || {
+            run(&display, "xdotool", &["getwindowname", &window]).filter(|t| t.starts_with(want))
+        })
+    };
+    assert!(
+        drop_files(&display, &window, &[&fbx]),
+        "the FBX drop refused"
+    );
+    titled("bvhview - bvh11_131_01.bvh + bvh11_131_01.fbx - 0.000 s of ");
+    assert!(
+        drop_files(&display, &window, &[&glb]),
+        "the GLB drop refused"
+    );
+    titled("bvhview - bvh11_131_01.bvh + bvh11_131_01.fbx + bvhpython_test_freebvh.glb - ");
+
+    let png = dir.join("want.png");
+    let made = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("snapshot")
+        .args([&bvh, &fbx, &glb])
+        .args(["--angle", "10", "-q", "-o"])
+        .arg(&png)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let want = Image::read_png(&png).unwrap();
+    let start = Instant::now();
+    loop {
+        let seen = capture(&display, &window);
+        let differing = seen.differing_pixels(&want);
+        if differing * 1000 <= (want.width * want.height) as usize {
+            break;
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "the three takes: {differing} pixels differ from the snapshot"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+
+    run(&display, "xdotool", &["windowfocus", "--sync", &window]).expect("focus");
+    run(&display, "xdotool", &["key", "Escape"]).expect("key Escape");
+    let status = wait_for("the viewer to quit on Esc", Duration::from_secs(30), || {
+        viewer.0.try_wait().unwrap()
+    });
+    assert!(status.success(), "exit status {status}");
+    let said = std::fs::read_to_string(dir.join("viewer-stderr.txt")).unwrap();
+    assert!(!said.contains("error"), "{said}");
     std::fs::remove_dir_all(&dir).unwrap();
 }

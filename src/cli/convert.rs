@@ -1,10 +1,15 @@
-//! `bvhview convert`: a take, edited, written as BVH or glTF.
+//! `bvhview convert`: a take, edited, written as BVH or glTF; or every take under a folder, each
+//! edited and written the same way into a new folder that mirrors it.
 
 use super::*;
+use bvhview::batch::Item;
+use std::collections::{HashMap, HashSet};
+use std::ffi::OsString;
 
 #[derive(Args)]
 pub(crate) struct ConvertArgs {
-    /// A .bvh file, or an .asf skeleton with its motion in --motion.
+    /// A take (.bvh, .fbx, .gltf, .glb, or an .asf skeleton with its motion in --motion), or a
+    /// folder: every take under it (subfolders too; ASF/AMC paired as `info DIR` pairs them).
     input: PathBuf,
     #[command(flatten)]
     source: Source,
@@ -41,14 +46,68 @@ pub(crate) struct ConvertArgs {
     /// glTF only: add the viewer's generated skin as a mesh skinned to the joints.
     #[arg(long)]
     skin: bool,
-    /// The file to write: .bvh, or glTF as .glb (binary) or .gltf (text, data inline).
+    /// The format a folder's takes are written in (a file's is its -o extension).
+    #[arg(long, value_enum)]
+    to: Option<TakeFormat>,
+    /// Threads (default: every core): a folder converts one take per thread.
+    #[arg(long)]
+    threads: Option<usize>,
+    /// The file to write: .bvh, or glTF as .glb (binary) or .gltf (text, data inline). For a
+    /// folder, the folder to make (it must not exist, or be empty).
     #[arg(short, long)]
     output: PathBuf,
 }
 
 pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
+    if args.input.is_dir() {
+        return run_folder(&args);
+    }
     check_output(&args.output, &["bvh", "glb", "gltf"])?;
-    if args.skin && input::extension(&args.output) == "bvh" {
+    let format = TakeFormat::of(&args.output);
+    if let Some(to) = args.to
+        && to != format
+        && !bvhview::output::written_in_place(&args.output)
+    {
+        return Err(Error::Usage(format!(
+            "--to {}: -o {} is a .{} file (--to is for a folder; a file is written in the \
+             format its extension names)",
+            to.extension(),
+            args.output.display(),
+            format.extension()
+        )));
+    }
+    let format = args.to.unwrap_or(format);
+    check_options(&args, format)?;
+    let loaded = input::load_take(
+        &args.input,
+        args.source.motion.as_deref(),
+        args.source.frame_time,
+        threads(&args),
+        args.source.max_size,
+        args.source.take.as_deref(),
+    )?;
+    for warning in &loaded.warnings {
+        eprintln!("bvhview: {}: warning: {warning}", args.input.display());
+    }
+    let loaded = edit(&args, loaded)?;
+    write_take(
+        &args.output,
+        format,
+        loaded.skeleton,
+        loaded.motion,
+        args.offset_mode.into(),
+        args.skin,
+    )
+}
+
+/// The threads asked for, at least 1.
+fn threads(args: &ConvertArgs) -> usize {
+    args.threads.unwrap_or_else(bvhview::cores).max(1)
+}
+
+/// Refuses options that could not apply to any take, before anything is read.
+fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
+    if args.skin && format == TakeFormat::Bvh {
         return Err(Error::Usage(
             "--skin needs a glTF output (.glb or .gltf); a BVH file has no mesh".into(),
         ));
@@ -63,8 +122,11 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
             "--scale {factor}: expected a finite number other than 0"
         )));
     }
-    let mut loaded = load(&args.input, &args.source)?;
-    // The edits, in this order: trim, resample, scale, up axis, mirror, in place, ground.
+    Ok(())
+}
+
+/// The edits, in this order: trim, resample, scale, up axis, mirror, in place, ground.
+fn edit(args: &ConvertArgs, mut loaded: Loaded) -> Result<Loaded, Error> {
     if let Some(frames) = &args.frames {
         let range = export::parse_frames(frames, loaded.motion.frame_count())?;
         loaded.motion = bvhview::edit::trim(&loaded.motion, range);
@@ -99,11 +161,351 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         (loaded.skeleton, loaded.motion) =
             bvhview::edit::ground(&loaded.skeleton, &loaded.motion, OffsetMode::Replace, up)?;
     }
-    write_take(
+    Ok(loaded)
+}
+
+/// A take converted in memory, for the folder: what to write and what to say.
+struct Converted {
+    bytes: Vec<u8>,
+    warnings: Vec<String>,
+    renamed: Vec<(String, String)>,
+}
+
+/// What became of one take of a folder.
+enum Outcome {
+    Converted(Converted),
+    /// Not a take that converts (an AMC with no skeleton beside it): said, not a failure.
+    Skipped(String),
+    /// `path: reason`.
+    Failed(String),
+}
+
+/// `convert DIR -o OUT --to FORMAT`: every take under DIR, loaded, edited and written as it
+/// would be alone (the same bytes as `convert TAKE -o OUT/TAKE.FORMAT`), one take per thread,
+/// into the new folder OUT at the take's path under DIR. OUT is made as `dataset` makes its
+/// folder (`bvhview::output::NewFolder`): it must not exist or be empty, is filled under a
+/// temporary name beside it and takes its name at the end, so a run that fails or is
+/// interrupted leaves nothing. A take that fails is said (`failed PATH: reason`) and the others
+/// are still written; the exit code is then 2. Output errors (a full disk) stop the run, with
+/// nothing written.
+fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
+    let dir = &args.input;
+    let format = args.to.ok_or_else(|| {
+        Error::Usage(format!(
+            "{} is a folder: say the format its takes are written in with --to bvh, glb or gltf \
+             (-o names the folder to make)",
+            dir.display()
+        ))
+    })?;
+    check_options(args, format)?;
+    if let Some(motion) = &args.source.motion {
+        return Err(Error::Usage(format!(
+            "--motion {}: a folder pairs each AMC with its ASF itself",
+            motion.display()
+        )));
+    }
+    bvhview::limits::frame_time_option(args.source.frame_time)?;
+    let walk = bvhview::batch::collect_takes(dir)?;
+    for line in walk.skipped_lines() {
+        eprintln!("{line}");
+    }
+    let items = walk.items;
+    let names = output_names(dir, &items, format);
+    let folder = bvhview::output::NewFolder::create(
         &args.output,
-        loaded.skeleton,
-        loaded.motion,
-        args.offset_mode.into(),
-        args.skin,
+        "converted takes go into a new (or empty) folder",
+    )?;
+    let total = items.len();
+    let progress = Progress::new(total);
+    let (mut converted, mut failed, mut skipped) = (0, 0, 0);
+    let mut fatal = None;
+    bvhview::parallel::map_in_order(
+        total,
+        threads(args),
+        4 * threads(args),
+        |index| convert_one(args, format, &items[index], &names[index]),
+        |index, outcome| {
+            let take = take_path(&items[index]);
+            // Lines go on a line of their own, the bar drawn again below them.
+            progress.done();
+            match outcome {
+                Outcome::Converted(done) => {
+                    for warning in &done.warnings {
+                        eprintln!("bvhview: {}: warning: {warning}", take.display());
+                    }
+                    let name = names[index].as_ref().expect("converted takes have a name");
+                    let path = folder.path().join(name);
+                    let written = bvhview::output::in_partial_folder(|| {
+                        if let Some(parent) = path.parent() {
+                            std::fs::create_dir_all(parent)?;
+                        }
+                        std::fs::write(&path, &done.bytes)
+                    });
+                    if let Err(e) = written {
+                        fatal = Some(Error::output(&args.output.join(name), e));
+                        return false;
+                    }
+                    for (joint, written) in &done.renamed {
+                        eprintln!(
+                            "bvhview: {}: joint {joint:?} written as {written:?} (a BVH name \
+                             holds no whitespace or braces)",
+                            args.output.join(name).display()
+                        );
+                    }
+                    converted += 1;
+                }
+                Outcome::Skipped(line) => {
+                    skipped += 1;
+                    eprintln!("skipped {line}");
+                }
+                Outcome::Failed(line) => {
+                    failed += 1;
+                    eprintln!("failed {line}");
+                }
+            }
+            progress.show(index + 1);
+            true
+        },
+    );
+    progress.done();
+    if let Some(error) = fatal {
+        return Err(error);
+    }
+    if converted == 0 {
+        return Err(Error::Usage(format!(
+            "{}: no take could be converted ({} failed, {} skipped), so nothing was written",
+            dir.display(),
+            failed,
+            skipped
+        )));
+    }
+    folder.commit()?;
+    wrote(format_args!(
+        "{}: {} as .{}; {failed} failed, {} skipped",
+        args.output.display(),
+        bvhview::error::counted(converted, "take"),
+        format.extension(),
+        skipped + walk.skipped.len()
+    ));
+    Ok(if failed > 0 {
+        ExitCode::from(2)
+    } else {
+        ExitCode::SUCCESS
+    })
+}
+
+/// The file a take is named by: its AMC for an ASF/AMC pair, else its own.
+fn take_path(item: &Item) -> &Path {
+    item.motion.as_deref().unwrap_or(&item.path)
+}
+
+/// Loads, edits and encodes one take of a folder, on one thread. The take is loaded as
+/// `convert TAKE` loads it: an FBX or glTF file's take is `--take`'s, or its first (the loader
+/// says once that it has several), and a BVH or ASF/AMC take is its only one.
+fn convert_one(
+    args: &ConvertArgs,
+    format: TakeFormat,
+    item: &Item,
+    name: &Result<PathBuf, String>,
+) -> Outcome {
+    let take = take_path(item);
+    // `take: reason`, unless the reason already starts with the file it is about.
+    let failed = |error: String| {
+        let said = [take, item.path.as_path()]
+            .iter()
+            .any(|p| error.starts_with(&p.display().to_string()));
+        match said {
+            true => Outcome::Failed(error),
+            false => Outcome::Failed(format!("{}: {error}", take.display())),
+        }
+    };
+    if item.is_unpaired_motion() {
+        return Outcome::Skipped(format!(
+            "{}: motion without a skeleton ({} is not beside it)",
+            take.display(),
+            item.wanted_skeleton()
+        ));
+    }
+    if let Err(reason) = name {
+        return failed(reason.clone());
+    }
+    let pick = args
+        .source
+        .take
+        .as_deref()
+        .filter(|_| input::has_takes(&item.path));
+    let result = input::load_take(
+        &item.path,
+        item.motion.as_deref(),
+        args.source.frame_time,
+        1,
+        args.source.max_size,
+        pick,
     )
+    .and_then(|loaded| {
+        let warnings = loaded.warnings.clone();
+        let loaded = edit(args, loaded)?;
+        let prepared = Prepared::new(
+            format,
+            loaded.skeleton,
+            loaded.motion,
+            args.offset_mode.into(),
+            args.skin,
+        )?;
+        let mut bytes = Vec::new();
+        prepared
+            .write_to(&mut bytes)
+            .map_err(|e| match export::not_finite(&e) {
+                Some(_) => Error::Usage(e.to_string()),
+                None => Error::output(take, e),
+            })?;
+        Ok(Converted {
+            bytes,
+            warnings,
+            renamed: prepared.renamed(),
+        })
+    });
+    match result {
+        Ok(done) => Outcome::Converted(done),
+        Err(error) => failed(error.to_string()),
+    }
+}
+
+/// Where each take of `items` goes in the output folder: its path under `dir` with the format's
+/// extension (`a/walk.fbx` → `a/walk.bvh`; an ASF/AMC take by its AMC, `07/07_05.bvh`). Two
+/// takes of one folder that would share a name (`walk.bvh` and `walk.fbx`) each keep their own
+/// extension before the new one (`walk.bvh.bvh`, `walk.fbx.bvh`), so no output replaces another.
+/// A name still taken twice, or one that is also a folder of other outputs, is an error for its
+/// take. An unpaired AMC (which is not converted) gets an error too.
+fn output_names(dir: &Path, items: &[Item], format: TakeFormat) -> Vec<Result<PathBuf, String>> {
+    let extension = format.extension();
+    let relative = |item: &Item| {
+        let take = take_path(item);
+        take.strip_prefix(dir)
+            .map(Path::to_path_buf)
+            .unwrap_or_else(|_| take.file_name().map(PathBuf::from).unwrap_or_default())
+    };
+    let short = |item: &Item| relative(item).with_extension(extension);
+    let long = |item: &Item| {
+        let mut name = OsString::from(relative(item));
+        name.push(".");
+        name.push(extension);
+        PathBuf::from(name)
+    };
+    let convertible = |item: &Item| !item.is_unpaired_motion();
+    let mut shorts: HashMap<PathBuf, usize> = HashMap::new();
+    for item in items.iter().filter(|item| convertible(item)) {
+        *shorts.entry(short(item)).or_default() += 1;
+    }
+    let chosen: Vec<Option<PathBuf>> = items
+        .iter()
+        .map(|item| {
+            convertible(item).then(|| {
+                let name = short(item);
+                match shorts[&name] {
+                    1 => name,
+                    _ => long(item),
+                }
+            })
+        })
+        .collect();
+    let mut uses: HashMap<&Path, usize> = HashMap::new();
+    let mut folders: HashSet<&Path> = HashSet::new();
+    for name in chosen.iter().flatten() {
+        *uses.entry(name).or_default() += 1;
+        folders.extend(
+            name.ancestors()
+                .skip(1)
+                .filter(|a| !a.as_os_str().is_empty()),
+        );
+    }
+    chosen
+        .iter()
+        .map(|name| match name {
+            None => Err("motion without a skeleton".to_string()),
+            Some(name) if uses[name.as_path()] > 1 => Err(format!(
+                "its output {} is another take's too (rename one of them)",
+                name.display()
+            )),
+            Some(name) if folders.contains(name.as_path()) => Err(format!(
+                "its output {} is a folder of other outputs (rename the take)",
+                name.display()
+            )),
+            Some(name) => Ok(name.clone()),
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn item(path: &str) -> Item {
+        Item {
+            path: PathBuf::from(path),
+            motion: None,
+        }
+    }
+
+    #[test]
+    fn outputs_mirror_the_folder_and_clashing_names_keep_their_extension() {
+        let items = [
+            item("d/a/walk.bvh"),
+            item("d/a/walk.fbx"),
+            item("d/b/run.glb"),
+            Item {
+                path: PathBuf::from("d/c/07.asf"),
+                motion: Some(PathBuf::from("d/c/07_05.amc")),
+            },
+            item("d/c/12_01.amc"),
+        ];
+        let names = output_names(Path::new("d"), &items, TakeFormat::Bvh);
+        let names: Vec<Result<String, String>> = names
+            .into_iter()
+            .map(|n| n.map(|p| p.display().to_string()))
+            .collect();
+        assert_eq!(
+            names,
+            vec![
+                Ok("a/walk.bvh.bvh".to_string()),
+                Ok("a/walk.fbx.bvh".to_string()),
+                Ok("b/run.bvh".to_string()),
+                Ok("c/07_05.bvh".to_string()),
+                Err("motion without a skeleton".to_string()),
+            ]
+        );
+    }
+
+    #[test]
+    fn an_output_that_is_another_outputs_folder_or_taken_twice_is_refused() {
+        // `x.bvh` the file and `x.bvh/` the folder; `y.fbx.bvh` made twice.
+        let items = [
+            item("d/x.bvh"),
+            item("d/x.bvh/in.bvh"),
+            item("d/y.bvh"),
+            item("d/y.fbx"),
+            item("d/y.fbx.bvh"),
+        ];
+        let names = output_names(Path::new("d"), &items, TakeFormat::Bvh);
+        assert!(
+            names[0]
+                .as_ref()
+                .unwrap_err()
+                .contains("a folder of other outputs")
+        );
+        assert_eq!(names[1].as_deref(), Ok(Path::new("x.bvh/in.bvh")));
+        assert_eq!(names[2].as_deref(), Ok(Path::new("y.bvh.bvh")));
+        assert!(
+            names[3]
+                .as_ref()
+                .unwrap_err()
+                .contains("another take's too")
+        );
+        assert!(
+            names[4]
+                .as_ref()
+                .unwrap_err()
+                .contains("another take's too")
+        );
+    }
 }

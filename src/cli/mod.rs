@@ -287,6 +287,7 @@ impl Progress {
         }
     }
 
+    /// Clears the bar: at the end, and before a line is said under it.
     fn done(&self) {
         if self.on_terminal {
             eprint!("\r\x1b[2K");
@@ -408,61 +409,145 @@ pub(crate) fn short_name(path: &Path) -> String {
     )
 }
 
-/// Writes a take as BVH or glTF by the output's extension (.glb, .gltf, else BVH), whole or
+/// The formats a take is written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub(crate) enum TakeFormat {
+    /// BVH text.
+    Bvh,
+    /// glTF 2.0, binary.
+    Glb,
+    /// glTF 2.0, JSON text with the data inline.
+    Gltf,
+}
+
+impl TakeFormat {
+    /// By a file's extension: `.glb`, `.gltf`, else BVH.
+    pub(crate) fn of(path: &Path) -> TakeFormat {
+        match input::extension(path).as_str() {
+            "glb" => TakeFormat::Glb,
+            "gltf" => TakeFormat::Gltf,
+            _ => TakeFormat::Bvh,
+        }
+    }
+
+    /// The extension its files have.
+    pub(crate) fn extension(self) -> &'static str {
+        match self {
+            TakeFormat::Bvh => "bvh",
+            TakeFormat::Glb => "glb",
+            TakeFormat::Gltf => "gltf",
+        }
+    }
+}
+
+/// A take ready to be written in a format, everything that could refuse it done first, so that a
+/// take that cannot be written leaves no file: glTF encoded; BVH with its ASF axes baked into
+/// the rotation channels and checked (it is written as it streams out). One take, one file:
+/// `convert` and `retarget` write through here, `convert DIR` too.
+pub(crate) struct Prepared {
+    skeleton: bvhview::Skeleton,
+    motion: bvhview::Motion,
+    /// The glTF file; `None` for BVH.
+    gltf: Option<Vec<u8>>,
+}
+
+impl Prepared {
+    /// `mode` and `skin` are the glTF writer's (how position channels combine, whether a skin is
+    /// generated).
+    pub(crate) fn new(
+        format: TakeFormat,
+        skeleton: bvhview::Skeleton,
+        motion: bvhview::Motion,
+        mode: OffsetMode,
+        skin: bool,
+    ) -> Result<Prepared, Error> {
+        let container = match format {
+            TakeFormat::Glb => bvhview::gltf::Container::Glb,
+            TakeFormat::Gltf => bvhview::gltf::Container::Gltf,
+            TakeFormat::Bvh => {
+                // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
+                let (skeleton, motion) = if skeleton.joints.iter().any(|j| j.axis.is_some()) {
+                    bvhview::edit::bake_axes(&skeleton, &motion)?
+                } else {
+                    (skeleton, motion)
+                };
+                bvhview::bvh::writer::check(&skeleton, &motion)?;
+                return Ok(Prepared {
+                    skeleton,
+                    motion,
+                    gltf: None,
+                });
+            }
+        };
+        let bytes = bvhview::gltf::to_gltf(&skeleton, &motion, mode, container, skin)?;
+        Ok(Prepared {
+            skeleton,
+            motion,
+            gltf: Some(bytes),
+        })
+    }
+
+    /// Writes the file.
+    pub(crate) fn write_to(&self, out: &mut impl Write) -> io::Result<()> {
+        match &self.gltf {
+            Some(bytes) => out.write_all(bytes),
+            None => bvhview::bvh::writer::write_bvh(out, &self.skeleton, &self.motion),
+        }
+    }
+
+    /// Joints whose names a BVH file cannot hold, with the names written: (name, written).
+    pub(crate) fn renamed(&self) -> Vec<(String, String)> {
+        match self.gltf {
+            Some(_) => Vec::new(),
+            None => bvhview::bvh::writer::renamed(&self.skeleton),
+        }
+    }
+
+    /// Says on stderr, for the file written at `path`, which joints were renamed.
+    pub(crate) fn say_renamed(&self, path: &Path) {
+        for (name, written) in self.renamed() {
+            eprintln!(
+                "bvhview: {}: joint {name:?} written as {written:?} (a BVH name holds no \
+                 whitespace or braces)",
+                path.display()
+            );
+        }
+    }
+
+    /// What the file holds: `31 joints, 60 frames` (BVH), `32 nodes, 60 frames` (glTF).
+    pub(crate) fn summary(&self) -> String {
+        let (count, what) = match self.gltf {
+            Some(_) => (self.skeleton.joints.len(), "node"),
+            None => (
+                self.skeleton.joints.iter().filter(|j| !j.end_site).count(),
+                "joint",
+            ),
+        };
+        format!(
+            "{}, {}",
+            bvhview::error::counted(count, what),
+            bvhview::error::counted(self.motion.frame_count(), "frame")
+        )
+    }
+}
+
+/// Writes a take to `output` in `format` (as a rule the output's, [`TakeFormat::of`]), whole or
 /// not at all, and says what was written: the one way a command that makes a take writes it.
 /// `mode` and `skin` are the glTF writer's (how position channels combine, whether a skin is
 /// generated).
 pub(crate) fn write_take(
     output: &Path,
+    format: TakeFormat,
     skeleton: bvhview::Skeleton,
     motion: bvhview::Motion,
     mode: OffsetMode,
     skin: bool,
 ) -> Result<ExitCode, Error> {
-    let container = match input::extension(output).as_str() {
-        "glb" => Some(bvhview::gltf::Container::Glb),
-        "gltf" => Some(bvhview::gltf::Container::Gltf),
-        _ => None,
-    };
-    if let Some(container) = container {
-        let bytes = bvhview::gltf::to_gltf(&skeleton, &motion, mode, container, skin)?;
-        let mut out = open_output(Some(output))?;
-        let result = out.write_all(&bytes);
-        finish_write(out, result, Some(output))?;
-        wrote(format_args!(
-            "{}: {}, {}",
-            output.display(),
-            bvhview::error::counted(skeleton.joints.len(), "node"),
-            bvhview::error::counted(motion.frame_count(), "frame")
-        ));
-        return Ok(ExitCode::SUCCESS);
-    }
-    // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
-    let (skeleton, motion) = if skeleton.joints.iter().any(|j| j.axis.is_some()) {
-        bvhview::edit::bake_axes(&skeleton, &motion)?
-    } else {
-        (skeleton, motion)
-    };
-    // Refused before the output is opened: a take that cannot be written leaves no file.
-    bvhview::bvh::writer::check(&skeleton, &motion)?;
+    let prepared = Prepared::new(format, skeleton, motion, mode, skin)?;
     let mut out = open_output(Some(output))?;
-    let result = bvhview::bvh::writer::write_bvh(&mut out, &skeleton, &motion);
+    let result = prepared.write_to(&mut out);
     finish_write(out, result, Some(output))?;
-    for (name, written) in bvhview::bvh::writer::renamed(&skeleton) {
-        eprintln!(
-            "bvhview: {}: joint {name:?} written as {written:?} (a BVH name holds no \
-             whitespace or braces)",
-            output.display()
-        );
-    }
-    wrote(format_args!(
-        "{}: {}, {}",
-        output.display(),
-        bvhview::error::counted(
-            skeleton.joints.iter().filter(|j| !j.end_site).count(),
-            "joint"
-        ),
-        bvhview::error::counted(motion.frame_count(), "frame")
-    ));
+    prepared.say_renamed(output);
+    wrote(format_args!("{}: {}", output.display(), prepared.summary()));
     Ok(ExitCode::SUCCESS)
 }

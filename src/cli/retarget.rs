@@ -72,5 +72,6 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
         &pairs,
         bvhview::cores(),
     )?;
-    write_take(output, skeleton, motion, OffsetMode::Replace, false)
+    let format = TakeFormat::of(output);
+    write_take(output, format, skeleton, motion, OffsetMode::Replace, false)
 }

@@ -305,20 +305,9 @@ pub fn takes(dir: &Path) -> Result<Vec<Item>, Error> {
     walk(dir).map(|walk| walk.items)
 }
 
-/// [`takes`], and what the folder walk skipped ([`crate::batch::collect`]: loops, folders and
-/// files reached again, links out of `dir`, what is not a regular file or cannot be read).
+/// [`takes`], and what the folder walk skipped ([`crate::batch::collect_takes`]).
 pub fn walk(dir: &Path) -> Result<crate::batch::Walk, Error> {
-    if !dir.is_dir() {
-        return Err(Error::Usage(format!("{}: not a folder", dir.display())));
-    }
-    let walk = crate::batch::collect(dir)?;
-    if walk.items.is_empty() {
-        return Err(Error::Usage(format!(
-            "{}: no takes (.bvh, .asf, .amc, .fbx, .gltf or .glb files)",
-            dir.display()
-        )));
-    }
-    Ok(walk)
+    crate::batch::collect_takes(dir)
 }
 
 /// Compiles one take found under `dir` (the folder its manifest path is relative to): its

@@ -332,7 +332,8 @@ const STATS_OF: [usize; 5] = [0, 1, 2, 3, 4];
 /// A dataset being written: clips in the order they come, each to its topology's group.
 pub struct Writer {
     out: PathBuf,
-    folder: Option<tempfile::TempDir>,
+    /// `None` once finished.
+    folder: Option<crate::output::NewFolder>,
     options: Options,
     takes: Takes,
     groups: Vec<OpenGroup>,
@@ -342,37 +343,12 @@ pub struct Writer {
 }
 
 impl Writer {
-    /// Starts a dataset at `out`, which must not exist or be an empty folder. As for every
-    /// output (`crate::output`): a link another user planted in a sticky shared folder on the
-    /// way to `out` is refused, the temporary folder beside it has a random name made
-    /// exclusively (`.OUT.XXXXXX`, `OUT` cut to fit a long name), and a failure names its cause.
+    /// Starts a dataset at `out`, which must not exist or be an empty folder: made as every
+    /// folder of outputs is ([`crate::output::NewFolder`]), under a temporary name beside it.
     pub fn create(out: &Path, options: &Options, takes: Takes) -> Result<Writer, Error> {
         options.check()?;
-        crate::output::refuse_planted_folders(out)?;
-        match std::fs::symlink_metadata(out) {
-            Err(e) if e.kind() == io::ErrorKind::NotFound => {}
-            Err(e) => return Err(Error::output(out, e)),
-            Ok(m) if m.is_dir() && std::fs::read_dir(out).is_ok_and(|mut d| d.next().is_none()) => {
-            }
-            Ok(_) => {
-                return Err(Error::Usage(format!(
-                    "{}: already exists; a dataset goes into a new (or empty) folder",
-                    out.display()
-                )));
-            }
-        }
-        let name = out
-            .file_name()
-            .ok_or_else(|| Error::Usage(format!("{}: not a folder name", out.display())))?;
-        let parent = match out.parent() {
-            Some(p) if !p.as_os_str().is_empty() => p,
-            _ => Path::new("."),
-        };
-        let folder = tempfile::Builder::new()
-            .prefix(&crate::output::temporary_prefix(Some(name)))
-            .tempdir_in(parent)
-            .map_err(|e| Error::output(out, e))?;
-        crate::output::partial_folder(folder.path());
+        let folder =
+            crate::output::NewFolder::create(out, "a dataset goes into a new (or empty) folder")?;
         Ok(Writer {
             out: out.to_path_buf(),
             folder: Some(folder),
@@ -501,10 +477,9 @@ impl Writer {
 
     /// Writes the offsets and the manifest, and gives the folder its name.
     pub fn finish(mut self) -> Result<Summary, Error> {
-        let made = self.folder().to_path_buf();
-        let result = crate::output::in_partial_folder(|| self.complete());
-        crate::output::finished_folder(&made);
-        result
+        let summary = crate::output::in_partial_folder(|| self.complete())?;
+        self.folder.take().expect("open until finished").commit()?;
+        Ok(summary)
     }
 
     fn complete(&mut self) -> Result<Summary, Error> {
@@ -600,32 +575,7 @@ impl Writer {
         let mut text = serde_json::to_string_pretty(&manifest).expect("a manifest serialises");
         text.push('\n');
         std::fs::write(&path, text).map_err(|e| Error::output(&path, e))?;
-        let folder = self.folder.take().expect("open until finished");
-        let made = folder.path().to_path_buf();
-        let named = (|| -> io::Result<()> {
-            use std::os::unix::fs::PermissionsExt;
-            std::fs::set_permissions(&made, std::fs::Permissions::from_mode(0o755))?;
-            sync_file_system(&made)?;
-            std::fs::rename(&made, &self.out)?;
-            let parent = self.out.parent().filter(|p| !p.as_os_str().is_empty());
-            File::open(parent.unwrap_or(Path::new(".")))?.sync_all()
-        })();
-        match named {
-            Ok(()) => {
-                // Renamed: the folder is the dataset now, not a temporary one to remove.
-                let _ = folder.keep();
-                Ok(summary)
-            }
-            Err(e) => Err(Error::output(&self.out, e)),
-        }
-    }
-}
-
-impl Drop for Writer {
-    fn drop(&mut self) {
-        if let Some(folder) = &self.folder {
-            crate::output::finished_folder(folder.path());
-        }
+        Ok(summary)
     }
 }
 
@@ -643,18 +593,6 @@ pub fn skeleton_bvh(skeleton: &crate::Skeleton) -> Result<String, Error> {
     }
     let motion = crate::Motion::new(1.0 / 30.0, rest.len(), 1, rest);
     crate::bvh::writer::to_string(skeleton, &motion)
-}
-
-/// Everything written into `folder` reaches the disk before the folder takes its name: one
-/// `syncfs` of its file system, rather than an fsync of each of its files (six per group).
-fn sync_file_system(folder: &Path) -> io::Result<()> {
-    use std::os::fd::AsRawFd;
-    let folder = File::open(folder)?;
-    // SAFETY: syncfs only reads the descriptor, which `folder` keeps open for the call.
-    match unsafe { libc::syncfs(folder.as_raw_fd()) } {
-        0 => Ok(()),
-        _ => Err(io::Error::last_os_error()),
-    }
 }
 
 #[cfg(test)]
