@@ -276,12 +276,13 @@ impl Default for Shortest {
 
 impl Shortest {
     /// The text of a finite `value` (anything at all for a non-finite one).
-    #[inline]
+    #[inline(always)]
     pub fn format(&mut self, value: f32) -> &[u8] {
         let printed = self.digits.format_finite(value).as_bytes();
         let n = printed.len();
-        // An f32's exponent has one or two digits: a `+` is second or third from the end.
-        if n >= 3 && (printed[n - 2] == b'+' || printed[n - 3] == b'+') {
+        // An f32's exponent has one or two digits: a `+` is second or third from the end (of
+        // `1e+7` at least).
+        if n >= 4 && (printed[n - 2] == b'+' || printed[n - 3] == b'+') {
             let plus = if printed[n - 2] == b'+' { n - 2 } else { n - 3 };
             self.fixed[..plus].copy_from_slice(&printed[..plus]);
             self.fixed[plus..n - 1].copy_from_slice(&printed[plus + 1..]);
