@@ -542,7 +542,7 @@ fn format_block_fast(job: &Job, frames: Range<usize>, spare: Vec<u8>) -> Result<
         bytes: spare,
         at: 0,
     };
-    let mut shortest = Shortest::default();
+    let mut shortest: [Shortest; 3] = Default::default();
     let (mut batch, mut scratch) = (Vec::new(), Fk::default());
     let z_sign = if options.left_handed { -1.0 } else { 1.0 };
     let scale = options.scale;
@@ -604,11 +604,15 @@ fn format_block_fast(job: &Job, frames: Range<usize>, spare: Vec<u8>) -> Result<
                     if !p.is_finite() {
                         return Err(not_finite_at(frame, plain_name, p));
                     }
-                    text.put(shortest.format(p.x));
+                    // All three formatted before any is copied: a copy right after its
+                    // formatting waits for the formatter's stores to reach the cache.
+                    let [sx, sy, sz] = &mut shortest;
+                    let (x, y, z) = (sx.format(p.x), sy.format(p.y), sz.format(p.z * z_sign));
+                    text.put(x);
                     text.byte(b',');
-                    text.put(shortest.format(p.y));
+                    text.put(y);
                     text.byte(b',');
-                    text.put(shortest.format(p.z * z_sign));
+                    text.put(z);
                 }
                 written[i] = from..text.at;
                 text.byte(if json { b']' } else { b'\n' });
