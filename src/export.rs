@@ -507,8 +507,8 @@ fn store<const N: usize>(bytes: &mut [u8], at: usize, piece: [u8; N]) {
 const FLOAT_ROOM: usize = 24;
 
 /// For each point, the point at its joint's parent, if that is one: a joint at a zero offset
-/// without rotation of its own (CMU's `LHipJoint`, `LowerBack`, `LeftFingerBase`: a quarter
-/// of CMU's rows) is where its parent is, and its text is copied rather than formatted again.
+/// (CMU's `LHipJoint`, `LowerBack`, `LeftFingerBase`: a quarter of CMU's rows) is where its
+/// parent is, and where the bits agree its text is copied rather than formatted again.
 fn twins(skeleton: &Skeleton, points: &[(String, usize)]) -> Vec<Option<usize>> {
     let mut point_of = vec![None; skeleton.joints.len()];
     for (i, &(_, joint)) in points.iter().enumerate() {
