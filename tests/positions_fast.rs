@@ -2,7 +2,8 @@
 //! formatter, and `write_positions`, the fast one the CLI runs. Both must write the same bytes
 //! (or refuse with the same error) for every file of the repository, the rest pose, ASF/AMC,
 //! generated names and values, CSV and JSON, with every option. And the float text both use
-//! (`export::Shortest`, from zmij) must be what `ryu` wrote before, for any f32.
+//! (`export::Shortest`, from zmij) must be what `ryu` wrote before: on millions of values here,
+//! on every f32 with `cargo run --release --example every_f32`.
 
 mod common;
 use bvhview::export::{Format, PositionsOptions, Shortest, write_positions, write_positions_plain};
@@ -97,17 +98,6 @@ fn shortest_float_text_is_ryus_on_edges_random_bits_and_a_sweep_of_every_exponen
             same_as_ryu(&mut shortest, f32::from_bits(b));
             same_as_ryu(&mut shortest, -f32::from_bits(b));
         }
-    }
-}
-
-/// Every finite f32 (4.3 billion; minutes in a release build):
-/// `cargo test --release --test positions_fast -- --ignored`.
-#[test]
-#[ignore = "every f32: minutes in a release build"]
-fn shortest_float_text_is_ryus_for_every_f32() {
-    let mut shortest = Shortest::default();
-    for b in 0..=u32::MAX {
-        same_as_ryu(&mut shortest, f32::from_bits(b));
     }
 }
 
@@ -207,6 +197,27 @@ fn fast_and_plain_write_the_same_bytes_for_asf_amc_and_the_rest_pose() {
     let bvh = load_path(&edge("frames_zero.bvh"));
     assert_eq!(bvh.motion.frame_count(), 0);
     same_both_ways("frames_zero", &bvh.skeleton, &bvh.motion);
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn fast_and_plain_write_the_same_bytes_for_every_corpus_take() {
+    for path in files_in(&shared_data("bvh"), "bvh") {
+        let bvh = load_path(&path);
+        same_both_ways(&path.display().to_string(), &bvh.skeleton, &bvh.motion);
+    }
+    let folder = shared_data("asf_amc");
+    for amc in files_in(&folder, "amc") {
+        let name = amc.file_stem().unwrap().to_string_lossy().into_owned();
+        // A take is named after its skeleton: `heiden_12_02_01`, `simchoni_lambada_1`.
+        let asf = files_in(&folder, "asf")
+            .into_iter()
+            .filter(|asf| name.starts_with(&*asf.file_stem().unwrap().to_string_lossy()))
+            .max_by_key(|asf| asf.as_os_str().len())
+            .unwrap_or_else(|| panic!("no skeleton for {name}"));
+        let loaded = bvhview::input::load(&asf, Some(&amc), None).unwrap();
+        same_both_ways(&name, &loaded.skeleton, &loaded.motion);
+    }
 }
 
 /// Names that CSV quotes, names longer than the fast path's short moves, values that print
