@@ -4,8 +4,10 @@ use crate::error::Error;
 use crate::motion::Motion;
 use crate::pose::{FkPlan, FkScratch, LANES, OffsetMode, world_matrices};
 use crate::skeleton::{Skeleton, Source};
+use glam::Vec3;
 use std::io::{self, Write};
 use std::ops::Range;
+use std::sync::Mutex;
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Format {
@@ -135,6 +137,55 @@ pub fn write_positions<W: Write + Send>(
     frames: Range<usize>,
     options: &PositionsOptions,
 ) -> io::Result<()> {
+    write_with(out, skeleton, motion, frames, options, format_block_fast)
+}
+
+/// [`write_positions`] with the plain formatter ([`format_block`]) in place of the fast one:
+/// the reference a test holds the fast one to, byte for byte.
+pub fn write_positions_plain<W: Write + Send>(
+    out: &mut W,
+    skeleton: &Skeleton,
+    motion: &Motion,
+    frames: Range<usize>,
+    options: &PositionsOptions,
+) -> io::Result<()> {
+    write_with(out, skeleton, motion, frames, options, |job, frames, _| {
+        let text = format_block(job, frames)?;
+        let end = text.len();
+        Ok(Block { text, end })
+    })
+}
+
+/// What every block of one export shares.
+struct Job<'a> {
+    skeleton: &'a Skeleton,
+    motion: &'a Motion,
+    plan: FkPlan,
+    points: Vec<(String, usize)>,
+    /// The points' names as CSV fields.
+    names: Vec<String>,
+    /// The first frame written (JSON puts a comma before every later one).
+    first: usize,
+    options: &'a PositionsOptions,
+}
+
+/// A block's text: `text[..end]` (the buffer is longer, and is used again for a later block).
+struct Block {
+    text: Vec<u8>,
+    end: usize,
+}
+
+/// Formats a block of frames into a spare buffer (empty if none is left over).
+type Formatter = fn(&Job, Range<usize>, Vec<u8>) -> Result<Block, NotFinite>;
+
+fn write_with<W: Write + Send>(
+    out: &mut W,
+    skeleton: &Skeleton,
+    motion: &Motion,
+    frames: Range<usize>,
+    options: &PositionsOptions,
+    formatter: Formatter,
+) -> io::Result<()> {
     let points = export_points(skeleton);
     // Held back until the first frames are known to be finite, so that a refused export of a
     // short take writes nothing at all.
@@ -154,10 +205,16 @@ pub fn write_positions<W: Write + Send>(
             write!(header, "],\"frames\":[")?;
         }
     }
-    let names: Vec<String> = points.iter().map(|(name, _)| csv_field(name)).collect();
-    let plan = FkPlan::new(skeleton, options.offset_mode);
+    let job = Job {
+        skeleton,
+        motion,
+        plan: FkPlan::new(skeleton, options.offset_mode),
+        names: points.iter().map(|(name, _)| csv_field(name)).collect(),
+        points,
+        first: frames.start,
+        options,
+    };
     let threads = crate::cores().clamp(1, 8);
-    let first = frames.start;
     // Blocks of frames formatted on every core and written in order as they are ready; a few
     // blocks at most wait for an earlier one.
     let blocks: Vec<Range<usize>> = frames
@@ -165,23 +222,26 @@ pub fn write_positions<W: Write + Send>(
         .step_by(BLOCK)
         .map(|start| start..(start + BLOCK).min(frames.end))
         .collect();
+    // Buffers written out go back here for later blocks: a fresh one costs a page fault every
+    // 4 KB, as much as formatting a tenth of it.
+    let spare: Mutex<Vec<Vec<u8>>> = Mutex::new(Vec::new());
+    let take_spare = || spare.lock().ok().and_then(|mut s| s.pop());
     let mut failure = None;
     crate::parallel::map_in_order(
         blocks.len(),
         threads,
         2 * threads,
-        |k| {
-            let block = blocks[k].clone();
-            format_block(
-                skeleton, &plan, &names, &points, motion, block, first, options,
-            )
-        },
-        |_, text| {
-            let written = text
+        |k| formatter(&job, blocks[k].clone(), take_spare().unwrap_or_default()),
+        |_, block| {
+            let written = block
                 .map_err(|e| io::Error::new(io::ErrorKind::InvalidData, e))
-                .and_then(|text| {
+                .and_then(|block| {
                     out.write_all(&std::mem::take(&mut header))?;
-                    out.write_all(&text)
+                    out.write_all(&block.text[..block.end])?;
+                    if let Ok(mut spare) = spare.lock() {
+                        spare.push(block.text);
+                    }
+                    Ok(())
                 });
             written.map_err(|e| failure = Some(e)).is_ok()
         },
@@ -196,43 +256,117 @@ pub fn write_positions<W: Write + Send>(
     Ok(())
 }
 
-/// Appends a float in its shortest form that reads back to the same value (`ryu`), without
-/// ryu's `.0` on whole numbers, so 30 prints as `30`.
-fn push_float(text: &mut Vec<u8>, buffer: &mut ryu::Buffer, value: f32) {
-    let printed = buffer.format(value);
-    text.extend_from_slice(printed.strip_suffix(".0").unwrap_or(printed).as_bytes());
+/// The shortest text that reads back as the same f32, as `ryu` wrote it (which is what exports
+/// have always held: `1e20`, not `1e+20`), without `.0` on whole numbers, so 30 prints as `30`.
+/// The digits come from `zmij`, twice as fast as `ryu`; a test holds the two equal.
+pub struct Shortest {
+    digits: zmij::Buffer,
+    /// The text of a number whose exponent lost its `+`.
+    fixed: [u8; 24],
+}
+
+impl Default for Shortest {
+    fn default() -> Shortest {
+        Shortest {
+            digits: zmij::Buffer::new(),
+            fixed: [0; 24],
+        }
+    }
+}
+
+impl Shortest {
+    /// The text of a finite `value` (anything at all for a non-finite one).
+    #[inline(always)]
+    pub fn format(&mut self, value: f32) -> &[u8] {
+        let printed = self.digits.format_finite(value).as_bytes();
+        let n = printed.len();
+        // An f32's exponent has one or two digits: a `+` is second or third from the end (of
+        // `1e+7` at least).
+        if n >= 4 && (printed[n - 2] == b'+' || printed[n - 3] == b'+') {
+            let plus = if printed[n - 2] == b'+' { n - 2 } else { n - 3 };
+            self.fixed[..plus].copy_from_slice(&printed[..plus]);
+            self.fixed[plus..n - 1].copy_from_slice(&printed[plus + 1..]);
+            return &self.fixed[..n - 1];
+        }
+        printed.strip_suffix(b".0").unwrap_or(printed)
+    }
+}
+
+/// Appends a float as [`Shortest`] writes it.
+fn push_float(text: &mut Vec<u8>, shortest: &mut Shortest, value: f32) {
+    text.extend_from_slice(shortest.format(value));
+}
+
+/// The refusal of a position that is not finite.
+fn not_finite_at(frame: usize, name: &str, p: Vec3) -> NotFinite {
+    NotFinite(format!(
+        "frame {frame}, {name}: the position ({}, {}, {}) is not a finite number \
+         (the offsets, the values or --scale overflow)",
+        p.x, p.y, p.z
+    ))
+}
+
+/// The world positions of frames `start..end` (at most [`LANES`]), every joint of each in turn
+/// into `batch`; a take without frames has its rest pose as its one frame.
+fn positions_of<'a>(
+    job: &Job<'a>,
+    start: usize,
+    end: usize,
+    batch: &mut Vec<Vec3>,
+    scratch: &mut Fk<'a>,
+) {
+    if job.motion.frame_count() == 0 {
+        // The rest pose: OFFSETs only.
+        world_matrices(
+            job.skeleton,
+            &[],
+            job.options.offset_mode,
+            &mut scratch.matrices,
+        );
+        batch.clear();
+        batch.extend(scratch.matrices.iter().map(|m| m.w_axis.truncate()));
+    } else {
+        // Eight frames at a time, side by side.
+        scratch.rows.clear();
+        scratch
+            .rows
+            .extend((start..end).map(|f| job.motion.frame(f)));
+        job.plan
+            .positions_of_frames(&scratch.rows, batch, &mut scratch.lanes);
+    }
+}
+
+/// What FK needs between batches.
+#[derive(Default)]
+struct Fk<'a> {
+    lanes: FkScratch,
+    matrices: Vec<glam::Mat4>,
+    rows: Vec<&'a [f32]>,
 }
 
 /// The text of `frames`: CSV rows, or JSON frame objects (comma-led except the very first).
-#[allow(clippy::too_many_arguments)]
-fn format_block(
-    skeleton: &Skeleton,
-    plan: &FkPlan,
-    names: &[String],
-    points: &[(String, usize)],
-    motion: &Motion,
-    frames: Range<usize>,
-    first: usize,
-    options: &PositionsOptions,
-) -> Result<Vec<u8>, NotFinite> {
+/// The plain formatter, beside which [`format_block_fast`] is tested.
+fn format_block(job: &Job, frames: Range<usize>) -> Result<Vec<u8>, NotFinite> {
+    let Job {
+        skeleton,
+        motion,
+        points,
+        names,
+        first,
+        options,
+        ..
+    } = job;
     let mut text = Vec::with_capacity(frames.len() * points.len() * 40);
-    let mut buffer = ryu::Buffer::new();
-    let (mut batch, mut scratch, mut matrices) = (Vec::new(), FkScratch::default(), Vec::new());
+    let mut shortest = Shortest::default();
+    let (mut batch, mut scratch) = (Vec::new(), Fk::default());
     let z_sign = if options.left_handed { -1.0 } else { 1.0 };
     let scale = options.scale;
     let joints = skeleton.joints.len();
     for frame in frames.clone() {
         let in_batch = (frame - frames.start) % LANES;
-        if motion.frame_count() == 0 {
-            // The rest pose: OFFSETs only.
-            world_matrices(skeleton, &[], options.offset_mode, &mut matrices);
-            batch = matrices.iter().map(|m| m.w_axis.truncate()).collect();
-        } else if in_batch == 0 {
-            // Eight frames at a time, side by side.
-            let rows: Vec<&[f32]> = (frame..(frame + LANES).min(frames.end))
-                .map(|f| motion.frame(f))
-                .collect();
-            plan.positions_of_frames(&rows, &mut batch, &mut scratch);
+        if motion.frame_count() == 0 || in_batch == 0 {
+            let end = (frame + LANES).min(frames.end);
+            positions_of(job, frame, end, &mut batch, &mut scratch);
         }
         let positions = if motion.frame_count() == 0 {
             &batch[..]
@@ -243,11 +377,7 @@ fn format_block(
         for (name, joint) in points {
             let p = positions[*joint] * scale;
             if !p.is_finite() {
-                return Err(NotFinite(format!(
-                    "frame {frame}, {name}: the position ({}, {}, {}) is not a finite number \
-                     (the offsets, the values or --scale overflow)",
-                    p.x, p.y, p.z
-                )));
+                return Err(not_finite_at(frame, name, p));
             }
         }
         match options.format {
@@ -259,13 +389,13 @@ fn format_block(
                     text.extend_from_slice(name.as_bytes());
                     for value in [p.x, p.y, p.z * z_sign] {
                         text.push(b',');
-                        push_float(&mut text, &mut buffer, value);
+                        push_float(&mut text, &mut shortest, value);
                     }
                     text.push(b'\n');
                 }
             }
             Format::Json => {
-                if frame > first {
+                if frame > *first {
                     text.push(b',');
                 }
                 text.extend_from_slice(format!("{{\"frame\":{frame},\"positions\":[").as_bytes());
@@ -279,7 +409,7 @@ fn format_block(
                         if k > 0 {
                             text.push(b',');
                         }
-                        push_float(&mut text, &mut buffer, value);
+                        push_float(&mut text, &mut shortest, value);
                     }
                     text.push(b']');
                 }
@@ -288,6 +418,214 @@ fn format_block(
         }
     }
     Ok(text)
+}
+
+/// Text written at a cursor into a buffer kept longer than what is written, so that a short
+/// piece goes in as one or two fixed-size moves instead of a call to `memcpy` (a CSV row is
+/// five pieces of 2 to 12 bytes; the calls cost as much as the float formatting saved).
+struct Cursor {
+    bytes: Vec<u8>,
+    at: usize,
+}
+
+impl Cursor {
+    /// Makes sure `n` more bytes fit.
+    fn room(&mut self, n: usize) {
+        if self.at + n > self.bytes.len() {
+            let len = (self.at + n).max(2 * self.bytes.len());
+            self.bytes.resize(len, 0);
+        }
+    }
+
+    #[inline(always)]
+    fn byte(&mut self, byte: u8) {
+        self.bytes[self.at] = byte;
+        self.at += 1;
+    }
+
+    /// Copies `piece` (any length; up to 64 bytes in two to four overlapping moves).
+    #[inline(always)]
+    fn put(&mut self, piece: &[u8]) {
+        let (at, n) = (self.at, piece.len());
+        let out = &mut self.bytes;
+        // Moves of integers, not of byte arrays: the compiler would merge array copies of
+        // different sizes into one call to `memcpy` with the size as an argument.
+        match n {
+            8..=16 => {
+                let (head, tail) = (load::<8>(piece, 0), load::<8>(piece, n - 8));
+                store(out, at, u64::from_le_bytes(head).to_le_bytes());
+                store(out, at + n - 8, u64::from_le_bytes(tail).to_le_bytes());
+            }
+            4..=7 => {
+                let (head, tail) = (load::<4>(piece, 0), load::<4>(piece, n - 4));
+                store(out, at, u32::from_le_bytes(head).to_le_bytes());
+                store(out, at + n - 4, u32::from_le_bytes(tail).to_le_bytes());
+            }
+            1..=3 => {
+                out[at] = piece[0];
+                out[at + n / 2] = piece[n / 2];
+                out[at + n - 1] = piece[n - 1];
+            }
+            0 => {}
+            17..=32 => {
+                let (head, tail) = (load::<16>(piece, 0), load::<16>(piece, n - 16));
+                store(out, at, u128::from_le_bytes(head).to_le_bytes());
+                store(out, at + n - 16, u128::from_le_bytes(tail).to_le_bytes());
+            }
+            _ => out[at..at + n].copy_from_slice(piece),
+        }
+        self.at += n;
+    }
+
+    /// Appends a copy of `earlier` (at most 64 bytes, with 64 bytes of room past the end).
+    #[inline(always)]
+    fn copy_earlier(&mut self, earlier: Range<usize>) {
+        let from = earlier.start;
+        let piece: [u128; 4] =
+            std::array::from_fn(|k| u128::from_le_bytes(load::<16>(&self.bytes, from + 16 * k)));
+        let mut bytes = [0; 64];
+        for (k, part) in piece.iter().enumerate() {
+            store(&mut bytes, 16 * k, part.to_le_bytes());
+        }
+        self.put(&bytes[..earlier.len()]);
+    }
+}
+
+/// The `N` bytes of `bytes` from `at`.
+#[inline(always)]
+fn load<const N: usize>(bytes: &[u8], at: usize) -> [u8; N] {
+    bytes[at..at + N].try_into().expect("N bytes")
+}
+
+/// Writes `piece` into `bytes` at `at`.
+#[inline(always)]
+fn store<const N: usize>(bytes: &mut [u8], at: usize, piece: [u8; N]) {
+    bytes[at..at + N].copy_from_slice(&piece);
+}
+
+/// The longest text [`Shortest`] writes for an f32 (`-0.0000012345678` is 16 bytes), with room.
+const FLOAT_ROOM: usize = 24;
+
+/// For each point, the point at its joint's parent, if that is one: a joint at a zero offset
+/// (CMU's `LHipJoint`, `LowerBack`, `LeftFingerBase`: a quarter of CMU's rows) is where its
+/// parent is, and where the bits agree its text is copied rather than formatted again.
+fn twins(skeleton: &Skeleton, points: &[(String, usize)]) -> Vec<Option<usize>> {
+    let mut point_of = vec![None; skeleton.joints.len()];
+    for (i, &(_, joint)) in points.iter().enumerate() {
+        point_of[joint].get_or_insert(i);
+    }
+    points
+        .iter()
+        .enumerate()
+        .map(|(i, &(_, joint))| {
+            let parent = skeleton.joints[joint].parent?;
+            point_of[parent].filter(|&twin| twin < i)
+        })
+        .collect()
+}
+
+/// [`format_block`], fast: the same bytes (a test compares them on real files with every
+/// option), written into a reused buffer through a [`Cursor`], each position checked as it is
+/// written rather than in a pass of its own, and a point where its parent is (the same bits)
+/// copied from the parent's text.
+fn format_block_fast(job: &Job, frames: Range<usize>, spare: Vec<u8>) -> Result<Block, NotFinite> {
+    let Job {
+        skeleton,
+        motion,
+        points,
+        names,
+        first,
+        options,
+        ..
+    } = job;
+    let mut text = Cursor {
+        bytes: spare,
+        at: 0,
+    };
+    let mut shortest: [Shortest; 3] = Default::default();
+    let (mut batch, mut scratch) = (Vec::new(), Fk::default());
+    let z_sign = if options.left_handed { -1.0 } else { 1.0 };
+    let scale = options.scale;
+    let joints = skeleton.joints.len();
+    let names_len: usize = names.iter().map(String::len).sum();
+    let json = options.format == Format::Json;
+    let twins = twins(skeleton, points);
+    // Where each point's `x,y,z` text is in this frame's rows, for its twins.
+    let mut written = vec![0..0; points.len()];
+    for start in frames.clone().step_by(LANES) {
+        let end = (start + LANES).min(frames.end);
+        positions_of(job, start, end, &mut batch, &mut scratch);
+        for frame in start..end {
+            let positions = if motion.frame_count() == 0 {
+                &batch[..]
+            } else {
+                let in_batch = frame - start;
+                &batch[in_batch * joints..(in_batch + 1) * joints]
+            };
+            let number = frame.to_string();
+            let number = number.as_bytes();
+            // A frame at most: per row the frame number, three floats and five separators (a
+            // JSON row needs less), the names, and JSON's 25 bytes around the frame number;
+            // then room for a copy of 64 bytes past the end.
+            text.room(
+                96 + number.len() + names_len + points.len() * (number.len() + 8 + 3 * FLOAT_ROOM),
+            );
+            if json {
+                if frame > *first {
+                    text.byte(b',');
+                }
+                text.put(b"{\"frame\":");
+                text.put(number);
+                text.put(b",\"positions\":[");
+            }
+            for (i, (name, &(ref plain_name, joint))) in names.iter().zip(points).enumerate() {
+                if json {
+                    if i > 0 {
+                        text.byte(b',');
+                    }
+                    text.byte(b'[');
+                } else {
+                    text.put(number);
+                    text.byte(b',');
+                    text.put(name.as_bytes());
+                    text.byte(b',');
+                }
+                let from = text.at;
+                let position = positions[joint];
+                let twin = twins[i].filter(|&t| {
+                    let there = positions[points[t].1];
+                    position.to_array().map(f32::to_bits) == there.to_array().map(f32::to_bits)
+                });
+                if let Some(twin) = twin {
+                    // The same bits, so the same text (and finite: the twin was checked).
+                    text.copy_earlier(written[twin].clone());
+                } else {
+                    let p = position * scale;
+                    if !p.is_finite() {
+                        return Err(not_finite_at(frame, plain_name, p));
+                    }
+                    // All three formatted before any is copied: a copy right after its
+                    // formatting waits for the formatter's stores to reach the cache.
+                    let [sx, sy, sz] = &mut shortest;
+                    let (x, y, z) = (sx.format(p.x), sy.format(p.y), sz.format(p.z * z_sign));
+                    text.put(x);
+                    text.byte(b',');
+                    text.put(y);
+                    text.byte(b',');
+                    text.put(z);
+                }
+                written[i] = from..text.at;
+                text.byte(if json { b']' } else { b'\n' });
+            }
+            if json {
+                text.put(b"]}");
+            }
+        }
+    }
+    Ok(Block {
+        end: text.at,
+        text: text.bytes,
+    })
 }
 
 /// Quotes a CSV field only when it needs it (names with ',' or '"').

@@ -202,6 +202,9 @@ enum Writer {
     /// A regular file (or none yet): a temporary file beside it takes its name at the end.
     Replace {
         temporary: BufWriter<NamedTempFile>,
+        /// Bytes handed to the file, and how many of them the disk has been asked to take.
+        written: u64,
+        flushing: u64,
         /// Where the rename goes: the output, or the file its symbolic links lead to.
         target: PathBuf,
         /// The file being replaced, whose mode and owner the new one keeps.
@@ -274,6 +277,8 @@ impl AtomicFile {
                 drop(partial);
                 Writer::Replace {
                     temporary: BufWriter::new(temporary),
+                    written: 0,
+                    flushing: 0,
                     target,
                     old: old.map(Box::new),
                 }
@@ -310,6 +315,7 @@ impl AtomicFile {
                 temporary,
                 target,
                 old,
+                ..
             } => {
                 let kept = partial_path(temporary.get_ref());
                 let result = match temporary.into_inner() {
@@ -500,10 +506,49 @@ impl AtomicFile {
     }
 }
 
+/// How much of a file being replaced is written before the disk is asked to take it.
+const WRITEBACK_STEP: u64 = 8 << 20;
+
+/// Asks the disk to take `range` of `file` now, without waiting: the `fsync` before the rename
+/// then finds most of a large output on disk already, instead of writing all of it while the
+/// program waits (a quarter of a second for the 228 MB of a big positions export).
+fn start_writeback(file: &File, range: std::ops::Range<u64>) {
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::fd::AsRawFd;
+        // SAFETY: a hint on an open descriptor; it reads and writes no memory of ours. An
+        // error changes nothing: the fsync writes whatever is left.
+        unsafe {
+            libc::sync_file_range(
+                file.as_raw_fd(),
+                range.start as i64,
+                (range.end - range.start) as i64,
+                libc::SYNC_FILE_RANGE_WRITE,
+            )
+        };
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = (file, range);
+}
+
 impl Write for AtomicFile {
     fn write(&mut self, bytes: &[u8]) -> io::Result<usize> {
         match self.writer()? {
-            Writer::Replace { temporary, .. } => temporary.write(bytes),
+            Writer::Replace {
+                temporary,
+                written,
+                flushing,
+                ..
+            } => {
+                let n = temporary.write(bytes)?;
+                *written += n as u64;
+                if *written - *flushing >= WRITEBACK_STEP {
+                    temporary.flush()?;
+                    start_writeback(temporary.get_ref().as_file(), *flushing..*written);
+                    *flushing = *written;
+                }
+                Ok(n)
+            }
             Writer::Direct(writer) => writer.write(bytes),
             Writer::Pending(_) => unreachable!("opened by writer()"),
         }

@@ -279,13 +279,14 @@ mod pool {
 }
 
 /// What the workers of [`map_in_order`] share.
-struct Order<R, D> {
+struct Order<R> {
     /// The next index to hand out, and the next to hand to `done`.
     claimed: usize,
     emitted: usize,
     /// Results that wait for an earlier one.
     waiting: BTreeMap<usize, R>,
-    done: D,
+    /// A worker is handing results to `done` (one at a time, in order).
+    emitting: bool,
     stopped: bool,
 }
 
@@ -293,8 +294,9 @@ struct Order<R, D> {
 /// and hands the results to `done(i, result)` in index order: each as soon as it and every
 /// earlier one are ready, so output can stream while later pieces are computed. No more than
 /// `ahead` results wait for an earlier one (workers pause instead), which bounds the memory
-/// however slow one piece is. `done` returns false to stop: no further piece is started. A panic
-/// in `map` or `done` stops the rest too and is raised here.
+/// however slow one piece is. `done` runs outside the lock the workers share, so while one
+/// worker writes out a result the others go on computing. `done` returns false to stop: no
+/// further piece is started. A panic in `map` or `done` stops the rest too and is raised here.
 pub fn map_in_order<R: Send>(
     count: usize,
     threads: usize,
@@ -307,9 +309,11 @@ pub fn map_in_order<R: Send>(
         claimed: 0,
         emitted: 0,
         waiting: BTreeMap::new(),
-        done,
+        emitting: false,
         stopped: false,
     });
+    // Only the worker that set `emitting` locks it, so it never waits.
+    let done = Mutex::new(done);
     let turn = Condvar::new();
     let lock = || state.lock().unwrap_or_else(PoisonError::into_inner);
     let take_pieces = || {
@@ -331,17 +335,28 @@ pub fn map_in_order<R: Send>(
             let result = map(index);
             let mut order = lock();
             order.waiting.insert(index, result);
+            if order.emitting {
+                // The worker emitting finds this result when it looks for the next one.
+                continue;
+            }
+            order.emitting = true;
             loop {
                 let next = order.emitted;
                 let Some(result) = order.waiting.remove(&next) else {
                     break;
                 };
+                let stopped = order.stopped;
+                drop(order);
+                let go_on =
+                    stopped || (done.lock().unwrap_or_else(PoisonError::into_inner))(next, result);
+                order = lock();
                 order.emitted += 1;
-                if !order.stopped && !(order.done)(next, result) {
+                if !go_on {
                     order.stopped = true;
                 }
+                turn.notify_all();
             }
-            turn.notify_all();
+            order.emitting = false;
         }
     };
     on_threads(threads.clamp(1, count.max(1)), || {
@@ -379,6 +394,58 @@ mod tests {
             );
             let want: Vec<(usize, usize)> = (0..50).map(|i| (i, i * i)).collect();
             assert_eq!(seen, want, "{threads} threads");
+        }
+    }
+
+    /// Issue 39: `done` (writing a block of the export) must not hold up the other workers.
+    /// Piece 0 waits for piece 1 to start, piece 1 for piece 0's `done` to start, and that
+    /// `done` for piece 2 to start: the thread of piece 1 must be free to take piece 2.
+    #[test]
+    fn other_workers_go_on_while_done_runs() {
+        use std::sync::atomic::AtomicUsize;
+        // How far it got: 1 piece 1 started, 2 piece 0's `done` started, 3 piece 2 started.
+        let stage = AtomicUsize::new(0);
+        let wait_for = |wanted: usize| {
+            let start = std::time::Instant::now();
+            while stage.load(Ordering::SeqCst) < wanted
+                && start.elapsed() < std::time::Duration::from_secs(10)
+            {
+                std::thread::sleep(std::time::Duration::from_millis(1));
+            }
+            stage.load(Ordering::SeqCst) >= wanted
+        };
+        let second_on = Mutex::new(None);
+        let (mut done_on, mut went_on) = (None, false);
+        map_in_order(
+            4,
+            2,
+            3,
+            |i| match i {
+                0 => {
+                    wait_for(1);
+                }
+                1 => {
+                    *second_on.lock().unwrap() = Some(std::thread::current().id());
+                    stage.fetch_max(1, Ordering::SeqCst);
+                    wait_for(2);
+                }
+                2 => {
+                    stage.fetch_max(3, Ordering::SeqCst);
+                }
+                _ => {}
+            },
+            |i, ()| {
+                if i == 0 {
+                    done_on = Some(std::thread::current().id());
+                    stage.fetch_max(2, Ordering::SeqCst);
+                    went_on = wait_for(3);
+                }
+                true
+            },
+        );
+        // Unless one thread did it all (the helper busy with another test's call).
+        if second_on.into_inner().unwrap() != done_on {
+            assert!(went_on, "no piece started while done ran");
         }
     }
 
