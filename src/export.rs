@@ -140,7 +140,7 @@ pub fn write_positions<W: Write + Send>(
     write_with(out, skeleton, motion, frames, options, format_block_fast)
 }
 
-/// [`write_positions`] with the plain formatter ([`format_block`]) in place of the fast one:
+/// [`write_positions`] with the plain formatter (`format_block`) in place of the fast one:
 /// the reference a test holds the fast one to, byte for byte.
 pub fn write_positions_plain<W: Write + Send>(
     out: &mut W,

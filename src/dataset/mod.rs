@@ -312,7 +312,7 @@ pub fn walk(dir: &Path) -> Result<crate::batch::Walk, Error> {
 
 /// Compiles one take found under `dir` (the folder its manifest path is relative to): its
 /// rotations go from the file's channels to quaternions once, and every array is made from them
-/// ([`quaternions::posed`]). The same clip as [`compile_take_plain`], which edits the take step
+/// (the `quaternions` module). The same clip as [`compile_take_plain`], which edits the take step
 /// by step as `convert` does, within float rounding (a test holds them together).
 pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, Error> {
     compile_take_timed(dir, item, options).map(|(clip, _)| clip)
