@@ -350,8 +350,10 @@ struct Track {
 }
 
 impl Track {
-    /// The value at `time`, `width` numbers.
-    fn sample(&self, time: f64, out: &mut [f64]) {
+    /// The value at `time`, `width` numbers. `hint` is the key found by the call before, where
+    /// the search for this one starts: frames are sampled in order, so the key is that one or
+    /// a little after it, and a take is read in one pass over each track's keys.
+    fn sample(&self, time: f64, hint: &mut usize, out: &mut [f64]) {
         let w = self.width;
         let cubic = self.interpolation == Interpolation::CubicSpline;
         let value = |k: usize, i: usize| -> f64 {
@@ -368,12 +370,21 @@ impl Track {
             (0..w).for_each(|i| out[i] = value(n - 1, i));
             return;
         }
-        // The key at or before `time`.
-        let k = self
-            .times
-            .partition_point(|&x| (x as f64) <= time)
-            .saturating_sub(1)
-            .min(n - 2);
+        // The last key at or before `time` (n − 2 at most): from the hint on where it is not
+        // past `time`, else by a binary search.
+        let mut k = (*hint).min(n - 2);
+        if t(k) <= time {
+            while k < n - 2 && t(k + 1) <= time {
+                k += 1;
+            }
+        } else {
+            k = self
+                .times
+                .partition_point(|&x| (x as f64) <= time)
+                .saturating_sub(1)
+                .min(n - 2);
+        }
+        *hint = k;
         let (t0, t1) = (t(k), t(k + 1));
         let dt = t1 - t0;
         let s = if dt > 0.0 {
@@ -751,14 +762,15 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
             baked::frame_count(start, end, fps, order.len()).map_err(|why| bad(path, why))?;
         let mut animated: Vec<Option<Trs>> = vec![None; count];
         let mut sample = [0.0f64; 4];
+        let mut hints = vec![0usize; tracks.len()];
         baked::build(&skeleton_nodes, &rest, frame_count, 1.0 / fps, |f, out| {
             let time = start + f as f64 / fps;
             for slot in animated.iter_mut() {
                 *slot = None;
             }
-            for track in &tracks {
+            for (track, hint) in tracks.iter().zip(hints.iter_mut()) {
                 let trs = animated[track.node].get_or_insert(statics[track.node]);
-                track.sample(time, &mut sample);
+                track.sample(time, hint, &mut sample);
                 match track.property {
                     Property::Translation => trs.0 = DVec3::new(sample[0], sample[1], sample[2]),
                     Property::Scale => trs.2 = DVec3::new(sample[0], sample[1], sample[2]),
