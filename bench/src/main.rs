@@ -686,11 +686,12 @@ fn in_process(what: &str, path: &str) {
     match what {
         "info" => drop(bvhview::input::load(file, None, None).expect("loads")),
         "positions" => {
+            // Written as the CLI writes it: a temporary file, synced, renamed.
             let loaded = bvhview::input::load(file, None, None).expect("loads");
             let frames = loaded.motion.frame_count();
             let mut out = std::io::BufWriter::with_capacity(
                 1 << 20,
-                std::fs::File::create(&scratch).expect("creates"),
+                bvhview::output::AtomicFile::create(&scratch).expect("creates"),
             );
             bvhview::export::write_positions(
                 &mut out,
@@ -700,7 +701,8 @@ fn in_process(what: &str, path: &str) {
                 &Default::default(),
             )
             .expect("writes");
-            drop(out);
+            let file = out.into_inner().map_err(|e| e.into_error()).expect("writes");
+            file.commit().expect("renames");
         }
         "dataset" => {
             let dir = file.parent().expect("a folder");
