@@ -701,7 +701,10 @@ fn in_process(what: &str, path: &str) {
                 &Default::default(),
             )
             .expect("writes");
-            let file = out.into_inner().map_err(|e| e.into_error()).expect("writes");
+            let file = out
+                .into_inner()
+                .map_err(|e| e.into_error())
+                .expect("writes");
             file.commit().expect("renames");
         }
         "dataset" => {
