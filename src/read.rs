@@ -57,33 +57,6 @@ impl<R: std::io::Read> std::io::Read for Bounded<R> {
     }
 }
 
-/// `path` opened for reading as an input. A FIFO nobody writes to would make a plain open wait
-/// for a writer for good: the open does not wait (`O_NONBLOCK`), and reads then wait as usual,
-/// so a pipe being written (`<(…)`) is read whole and a FIFO without a writer reads as empty.
-pub fn open_input(path: &Path) -> std::io::Result<std::fs::File> {
-    let mut options = std::fs::OpenOptions::new();
-    options.read(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        options.custom_flags(libc::O_NONBLOCK);
-    }
-    let file = options.open(path)?;
-    #[cfg(unix)]
-    {
-        use std::os::fd::AsRawFd;
-        let fd = file.as_raw_fd();
-        // SAFETY: fcntl on a descriptor `file` keeps open, with integer flags only.
-        unsafe {
-            let flags = libc::fcntl(fd, libc::F_GETFL);
-            if flags < 0 || libc::fcntl(fd, libc::F_SETFL, flags & !libc::O_NONBLOCK) < 0 {
-                return Err(std::io::Error::last_os_error());
-            }
-        }
-    }
-    Ok(file)
-}
-
 /// The whole of `path`, refused past `max_size` bytes.
 pub fn read_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     read_within(
@@ -97,7 +70,7 @@ pub fn read_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
 /// it is read (a link to /dev/zero stops there).
 pub fn read_binary_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     use std::io::Read;
-    let file = open_input(path).map_err(|e| Error::io(path, e))?;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     let length = file.metadata().map_or(0, |m| m.len()).min(max_size);
     let mut bytes = Vec::with_capacity(usize::try_from(length).unwrap_or(0).saturating_add(1));
     Bounded::saying(
@@ -128,7 +101,7 @@ pub fn read_skeleton_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> 
 /// text, so a link to /dev/zero or a binary file fails at once instead of at the size limit.
 fn read_within(path: &Path, limit: u64, too_large: String) -> Result<Vec<u8>, Error> {
     use std::io::Read;
-    let file = open_input(path).map_err(|e| Error::io(path, e))?;
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
     // Room for the whole file at once (reading in doubling steps could hold twice its size).
     let length = file.metadata().map_or(0, |m| m.len()).min(limit);
     let mut bytes = Vec::with_capacity(usize::try_from(length).unwrap_or(0).saturating_add(1));

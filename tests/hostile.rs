@@ -834,28 +834,3 @@ fn truncated_and_noise_fbx_are_refused_by_the_cli() {
         refused(&out, &format!("{}: ", path.display()), &output);
     }
 }
-
-/// A FIFO named on the command line with nobody writing to it: a clear error at once, not an
-/// open that waits for a writer for good (BVH, GLB and FBX by name).
-#[test]
-fn a_fifo_without_a_writer_is_an_empty_input_not_a_wait() {
-    let dir = tempfile::tempdir().unwrap();
-    for name in ["take.bvh", "take.glb", "take.fbx"] {
-        let fifo = dir.path().join(name);
-        let made = std::process::Command::new("mkfifo")
-            .arg(&fifo)
-            .status()
-            .unwrap();
-        assert!(made.success());
-        let (send, receive) = std::sync::mpsc::channel();
-        let path = fifo.clone();
-        std::thread::spawn(move || {
-            let _ = send.send(bvhview::input::load(&path, None, None).map(|_| ()));
-        });
-        let result = receive
-            .recv_timeout(std::time::Duration::from_secs(20))
-            .unwrap_or_else(|_| panic!("{name}: still waiting for a writer after 20 s"));
-        let error = result.expect_err(name).to_string();
-        assert!(error.starts_with(&fifo.display().to_string()), "{error}");
-    }
-}

@@ -212,7 +212,7 @@ impl<'a> Loader<'a> {
             Input::Bytes(text, source) => (Cow::Borrowed(text), None, None, source.to_string()),
             Input::Path(path) => {
                 let io_error = |e| Error::io(path, e);
-                let file = crate::read::open_input(path).map_err(io_error)?;
+                let file = std::fs::File::open(path).map_err(io_error)?;
                 let metadata = file.metadata().map_err(io_error)?;
                 let length = metadata.is_file().then_some(metadata.len());
                 let file = crate::read::Bounded::new(file, settings.max_size);
