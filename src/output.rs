@@ -512,7 +512,7 @@ const WRITEBACK_STEP: u64 = 8 << 20;
 /// Asks the disk to take `range` of `file` now, without waiting: the `fsync` before the rename
 /// then finds most of a large output on disk already, instead of writing all of it while the
 /// program waits (a quarter of a second for the 228 MB of a big positions export).
-fn start_writeback(file: &File, range: std::ops::Range<u64>) {
+pub(crate) fn start_writeback(file: &File, range: std::ops::Range<u64>) {
     #[cfg(target_os = "linux")]
     {
         use std::os::fd::AsRawFd;

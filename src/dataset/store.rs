@@ -285,20 +285,28 @@ impl ArrayFile {
         std::fs::OpenOptions::new().append(true).open(&self.path)
     }
 
-    /// Appends float32 values, converted a piece at a time: one write per piece.
+    /// Appends float32 values: on a little-endian machine their memory is the file's bytes; on
+    /// another, converted a piece at a time.
     fn append_floats(&self, values: &[f32]) -> io::Result<()> {
         let mut file = self.append()?;
-        let mut bytes = Vec::with_capacity(4 * PIECE.min(values.len()));
-        for piece in values.chunks(PIECE) {
-            bytes.clear();
-            bytes.extend(piece.iter().flat_map(|v| v.to_le_bytes()));
-            file.write_all(&bytes)?;
+        #[cfg(target_endian = "little")]
+        file.write_all(bytemuck::cast_slice(values))?;
+        #[cfg(not(target_endian = "little"))]
+        {
+            let mut bytes = Vec::with_capacity(4 * PIECE.min(values.len()));
+            for piece in values.chunks(PIECE) {
+                bytes.clear();
+                bytes.extend(piece.iter().flat_map(|v| v.to_le_bytes()));
+                file.write_all(&bytes)?;
+            }
         }
-        Ok(())
+        written_back(&file)
     }
 
     fn append_bytes(&self, values: &[u8]) -> io::Result<()> {
-        self.append()?.write_all(values)
+        let mut file = self.append()?;
+        file.write_all(values)?;
+        written_back(&file)
     }
 
     fn finish(self) -> Result<(), Error> {
@@ -311,7 +319,15 @@ impl ArrayFile {
     }
 }
 
+/// The disk is asked to take what was just appended while the next takes compile, so that the
+/// sync before the dataset takes its name finds most of it written.
+fn written_back(file: &File) -> io::Result<()> {
+    crate::output::start_writeback(file, 0..file.metadata()?.len());
+    Ok(())
+}
+
 /// Floats converted to bytes at a time.
+#[cfg(not(target_endian = "little"))]
 const PIECE: usize = 1 << 16;
 
 /// One group's files while they are written.
