@@ -49,6 +49,7 @@ fn usage_error(message: &str) -> ! {
         "bvhview-bench: {message}\n\
          usage: bvhview-bench BIG.bvh [--quick] [--rounds N] [--no-avx512] [--article PROGRAM]\n\
          \x20      (make BIG.bvh: cargo run --release --example make_big -- SOURCE.bvh BIG.bvh 100)\n\
+         \x20      bvhview-bench BIG.bvh --one-core [--rounds N]   (only the one-core rows)\n\
          \x20      bvhview-bench --folder DIR"
     );
     std::process::exit(2);
@@ -145,7 +146,7 @@ fn folder(dir: &str) {
 }
 
 fn main() {
-    let (mut folder_dir, mut file, mut quick) = (None, None, false);
+    let (mut folder_dir, mut file, mut quick, mut only_one_core) = (None, None, false, false);
     let mut load = LoadOptions::default();
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
@@ -155,6 +156,7 @@ fn main() {
                 _ => usage_error("--folder needs a folder"),
             },
             "--quick" => quick = true,
+            "--one-core" => only_one_core = true,
             "--in-process" => match (args.next(), args.next()) {
                 (Some(what), Some(path)) => return in_process(&what, &path),
                 _ => usage_error("--in-process needs info|positions|dataset and a file"),
@@ -176,7 +178,14 @@ fn main() {
     match (folder_dir, file) {
         (Some(_), Some(path)) => usage_error(&format!("--folder or {path}, not both")),
         (Some(_), None) if quick => usage_error("--quick is for BIG.bvh, not --folder"),
-        (Some(dir), None) => folder(&dir),
+        (Some(dir), None) => {
+            folder(&dir);
+            dataset_stages(&dir, load.rounds.unwrap_or(5));
+        }
+        (None, Some(path)) if only_one_core => {
+            println!("cpu: {}", cpu_description());
+            one_core(&path, load.rounds.unwrap_or(5));
+        }
         (None, Some(path)) => big(&path, quick, &load),
         (None, None) => usage_error("no file given"),
     }
@@ -810,36 +819,58 @@ fn one_core(path: &str, rounds: usize) {
     }
 }
 
-/// `dataset` on the file at `path` (alone in its folder) in this process, one thread: each
-/// stage's share of the time (`dataset::compile_take_timed`), writing the files included.
+/// `dataset` in this process, one thread: each stage's share of the time
+/// (`dataset::compile_take_timed`, summed over the takes), writing the files included. `path` is
+/// the file alone in its folder, or a folder of takes.
 fn dataset_stages(path: &str, rounds: usize) {
-    let file = std::path::Path::new(path);
-    let dir = file.parent().expect("a folder");
-    let item = bvhview::batch::Item {
-        path: file.to_path_buf(),
-        motion: None,
+    let path = std::path::Path::new(path);
+    let (dir, items) = if path.is_dir() {
+        let items = bvhview::dataset::takes(path).unwrap_or_else(|e| input_error(e));
+        (path, items)
+    } else {
+        let item = bvhview::batch::Item {
+            path: path.to_path_buf(),
+            motion: None,
+        };
+        (path.parent().expect("a folder"), vec![item])
     };
     let options = bvhview::dataset::Options::default();
     let scratch = std::env::temp_dir().join(format!("bvhview-bench-ds-{}", std::process::id()));
     let mut runs = Vec::new();
     for _ in 0..rounds {
         let start = Instant::now();
-        let (clip, stages) =
-            bvhview::dataset::compile_take_timed(dir, &item, &options).expect("compiles");
-        drop(clip);
+        let mut stages = bvhview::dataset::Stages::default();
+        for item in &items {
+            // A take the dataset skips costs what it took to find that out.
+            if let Ok((clip, of_take)) = bvhview::dataset::compile_take_timed(dir, item, &options) {
+                drop(clip);
+                stages.add(&of_take);
+            }
+        }
         let summed = start.elapsed();
         // The whole compile, files written and synced: writing is what it adds to the stages.
         let _ = std::fs::remove_dir_all(&scratch);
-        let items = vec![item.clone()];
         let takes = bvhview::dataset::whole_list(dir, &items);
         let start = Instant::now();
-        bvhview::dataset::compile(dir, items, &options, 1, &scratch, takes, |_, _, _, _| true)
-            .expect("compiles");
+        bvhview::dataset::compile(
+            dir,
+            items.clone(),
+            &options,
+            1,
+            &scratch,
+            takes,
+            |_, _, _, _| true,
+        )
+        .expect("compiles");
         let whole = start.elapsed();
         runs.push((stages, whole.saturating_sub(summed)));
     }
     let _ = std::fs::remove_dir_all(&scratch);
-    let size = std::fs::metadata(file).map_or(0, |m| m.len() as usize);
+    let size: usize = items
+        .iter()
+        .flat_map(|item| std::iter::once(&item.path).chain(&item.motion))
+        .map(|file| std::fs::metadata(file).map_or(0, |m| m.len() as usize))
+        .sum();
     // The round whose stages add up to the median total.
     let total = |(s, w): &(bvhview::dataset::Stages, Duration)| {
         s.load + s.rotations + s.resample + s.fk + s.kinds + s.derived + *w

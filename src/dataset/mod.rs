@@ -335,6 +335,18 @@ pub struct Stages {
     pub derived: std::time::Duration,
 }
 
+impl Stages {
+    /// Another take's stages added to these.
+    pub fn add(&mut self, other: &Stages) {
+        self.load += other.load;
+        self.rotations += other.rotations;
+        self.resample += other.resample;
+        self.fk += other.fk;
+        self.kinds += other.kinds;
+        self.derived += other.derived;
+    }
+}
+
 /// [`compile_take`], and how long each of its stages took.
 pub fn compile_take_timed(
     dir: &Path,
