@@ -805,16 +805,25 @@ fn one_core(path: &str, rounds: usize) {
         "one core (taskset -c 0), {rounds} rounds in turn; the CLI's wall time against the same work in process:"
     );
     for (what, (cli, inside)) in works.iter().zip(&mut times) {
+        // Each round's CLI run against the in-process run just after it: the pair shares the
+        // machine's state, so the ratio holds when the machine's speed drifts between rounds.
+        let mut ratios: Vec<f64> = cli
+            .iter()
+            .zip(inside.iter())
+            .map(|(c, i)| c.as_secs_f64() / i.as_secs_f64())
+            .collect();
+        ratios.sort_by(f64::total_cmp);
         let (cm, cf) = median_and_min(cli);
         let (im, imin) = median_and_min(inside);
         println!(
-            "  {what:10} CLI median {:7.1} ms fastest {:7.1} ms   in process median {:7.1} ms fastest {:7.1} ms   CLI/in process {:.3} (fastest {:.3})",
+            "  {what:10} CLI median {:7.1} ms fastest {:7.1} ms   in process median {:7.1} ms fastest {:7.1} ms   CLI/in process, pair by pair: median {:.3} (from {:.3} to {:.3})",
             cm.as_secs_f64() * 1e3,
             cf.as_secs_f64() * 1e3,
             im.as_secs_f64() * 1e3,
             imin.as_secs_f64() * 1e3,
-            cm.as_secs_f64() / im.as_secs_f64(),
-            cf.as_secs_f64() / imin.as_secs_f64()
+            ratios[ratios.len() / 2],
+            ratios[0],
+            ratios[ratios.len() - 1]
         );
     }
 }
