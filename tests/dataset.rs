@@ -735,7 +735,8 @@ fn every_take_of_the_whole_corpus_compiles_standing_in_metres() {
 #[test]
 fn many_skeletons_compile_with_few_files_open() {
     // Forty takes, each on a skeleton of its own: forty groups of six files. With at most 32
-    // files open at once the compile still succeeds, as it keeps none open between clips.
+    // files open at once the compile still succeeds, as it keeps only the files of the group
+    // last written open.
     let temp = tempfile::tempdir().unwrap();
     let takes = temp.path().join("takes");
     std::fs::create_dir(&takes).unwrap();
@@ -768,6 +769,60 @@ fn many_skeletons_compile_with_few_files_open() {
         ["Hips39", "LeftFoot39", "LeftFoot39_End"]
     );
     assert_eq!(manifest.groups[0].topology.feet, [1, 2]);
+}
+
+#[test]
+fn a_group_written_again_after_another_keeps_every_row_and_its_header() {
+    // Takes of one skeleton with a take of another between them: the first group's files are
+    // closed (their header written) and opened again. Its arrays must be those of the same
+    // takes compiled without the other between them, byte for byte.
+    let take = |root: &str, lift: u32| {
+        format!(
+            "HIERARCHY\nROOT {root}\n{{\n  OFFSET 0 0 0\n  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n  JOINT Foot\n  {{\n    OFFSET 0 -90 0\n    CHANNELS 3 Zrotation Xrotation Yrotation\n    End Site\n    {{\n      OFFSET 0 -8 10\n    }}\n  }}\n}}\nMOTION\nFrames: 3\nFrame Time: 0.0333333\n0 {lift} 0 0 0 0 0 0 0\n1 {lift} 0 0 10 0 5 0 0\n2 {lift} 0 0 20 0 10 0 0\n"
+        )
+    };
+    let temp = tempfile::tempdir().unwrap();
+    let (between, alone) = (temp.path().join("between"), temp.path().join("alone"));
+    for dir in [&between, &alone] {
+        std::fs::create_dir(dir).unwrap();
+        std::fs::write(dir.join("a.bvh"), take("Hips", 98)).unwrap();
+        std::fs::write(dir.join("c.bvh"), take("Hips", 95)).unwrap();
+    }
+    std::fs::write(between.join("b.bvh"), take("Pelvis", 90)).unwrap();
+    let compiled = |dir: &Path| {
+        let out = dir.with_extension("ds");
+        let items = dataset::takes(dir).unwrap();
+        let takes = dataset::whole_list(dir, &items);
+        dataset::compile(
+            dir,
+            items,
+            &Options::default(),
+            1,
+            &out,
+            takes,
+            |_, _, _, _| true,
+        )
+        .unwrap();
+        out
+    };
+    let (with_b, without) = (compiled(&between), compiled(&alone));
+    let manifest = read::read_manifest(&with_b).unwrap();
+    assert_eq!(manifest.groups.len(), 2);
+    assert_eq!(manifest.groups[0].clips, 2);
+    assert_eq!(manifest.groups[0].topology.joints[0], "Hips");
+    let frames = manifest.groups[0].frames;
+    for array in &manifest.groups[0].arrays {
+        let file = with_b.join(&array.file);
+        assert_eq!(
+            std::fs::read(&file).unwrap(),
+            std::fs::read(without.join(&array.file)).unwrap(),
+            "{}",
+            array.file
+        );
+        if array.name != "offsets" && array.name != "rest_offsets" {
+            assert_eq!(read_npy(&file).shape[0], frames, "{}", array.file);
+        }
+    }
 }
 
 #[test]

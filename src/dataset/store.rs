@@ -250,14 +250,19 @@ pub fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
     header
 }
 
-/// An array written frame by frame; its header, which holds the row count, is written last.
-/// The file is opened for each clip and closed after it: a folder of many skeletons would
-/// otherwise hold five files open per skeleton, past the process's limit.
+/// An array written frame by frame; its header, which holds the row count, is written each
+/// time the file is closed. Only the group being written keeps its files open (each is closed
+/// when a clip of another group comes): a folder of many skeletons would otherwise hold six
+/// files open per skeleton, past the process's limit, and takes of one skeleton often come one
+/// after another.
 struct ArrayFile {
     path: PathBuf,
     descr: &'static str,
     frame_shape: Vec<usize>,
     rows: usize,
+    /// Bytes in the file so far.
+    length: u64,
+    open: Option<File>,
 }
 
 impl ArrayFile {
@@ -266,12 +271,19 @@ impl ArrayFile {
         descr: &'static str,
         frame_shape: Vec<usize>,
     ) -> Result<ArrayFile, Error> {
-        std::fs::write(&path, [0; HEADER]).map_err(|e| Error::output(&path, e))?;
+        let made = || -> io::Result<File> {
+            let mut file = File::create(&path)?;
+            file.write_all(&[0; HEADER])?;
+            Ok(file)
+        };
+        let file = made().map_err(|e| Error::output(&path, e))?;
         Ok(ArrayFile {
             path,
             descr,
             frame_shape,
             rows: 0,
+            length: HEADER as u64,
+            open: Some(file),
         })
     }
 
@@ -281,49 +293,59 @@ impl ArrayFile {
             .collect()
     }
 
-    fn append(&self) -> io::Result<File> {
-        std::fs::OpenOptions::new().append(true).open(&self.path)
+    /// The file, at its end. Not opened to append: the header is written at its start, and
+    /// Linux appends whatever the offset to a file opened so.
+    fn file(&mut self) -> io::Result<&mut File> {
+        use std::io::Seek;
+        match &mut self.open {
+            Some(file) => Ok(file),
+            empty => {
+                let mut file = std::fs::OpenOptions::new().write(true).open(&self.path)?;
+                file.seek(io::SeekFrom::Start(self.length))?;
+                Ok(empty.insert(file))
+            }
+        }
+    }
+
+    /// Writes the header for the rows so far and closes the file: a closed array's header is
+    /// always up to date, and only an open one is written to.
+    fn close(&mut self) -> Result<(), Error> {
+        use std::os::unix::fs::FileExt;
+        let Some(file) = self.open.take() else {
+            return Ok(());
+        };
+        let header = npy_header(self.descr, &self.shape());
+        file.write_all_at(&header, 0)
+            .map_err(|e| Error::output(&self.path, e))
     }
 
     /// Appends float32 values: on a little-endian machine their memory is the file's bytes; on
     /// another, converted a piece at a time.
-    fn append_floats(&self, values: &[f32]) -> io::Result<()> {
-        let mut file = self.append()?;
+    fn append_floats(&mut self, values: &[f32]) -> io::Result<()> {
         #[cfg(target_endian = "little")]
-        file.write_all(bytemuck::cast_slice(values))?;
+        return self.append_bytes(bytemuck::cast_slice(values));
         #[cfg(not(target_endian = "little"))]
         {
             let mut bytes = Vec::with_capacity(4 * PIECE.min(values.len()));
             for piece in values.chunks(PIECE) {
                 bytes.clear();
                 bytes.extend(piece.iter().flat_map(|v| v.to_le_bytes()));
-                file.write_all(&bytes)?;
+                self.append_bytes(&bytes)?;
             }
+            Ok(())
         }
-        written_back(&file)
     }
 
-    fn append_bytes(&self, values: &[u8]) -> io::Result<()> {
-        let mut file = self.append()?;
-        file.write_all(values)?;
-        written_back(&file)
+    /// Appends bytes, and asks the disk to take them now, without waiting: the sync before the
+    /// dataset takes its name then finds most of the arrays written while later takes compiled.
+    fn append_bytes(&mut self, bytes: &[u8]) -> io::Result<()> {
+        let from = self.length;
+        let file = self.file()?;
+        file.write_all(bytes)?;
+        crate::output::start_writeback(file, from..from + bytes.len() as u64);
+        self.length += bytes.len() as u64;
+        Ok(())
     }
-
-    fn finish(self) -> Result<(), Error> {
-        let header = npy_header(self.descr, &self.shape());
-        let done = || -> io::Result<()> {
-            let mut file = std::fs::OpenOptions::new().write(true).open(&self.path)?;
-            file.write_all(&header)
-        };
-        done().map_err(|e| Error::output(&self.path, e))
-    }
-}
-
-/// The disk is asked to take what was just appended while the next takes compile, so that the
-/// sync before the dataset takes its name finds most of it written.
-fn written_back(file: &File) -> io::Result<()> {
-    crate::output::start_writeback(file, 0..file.metadata()?.len());
-    Ok(())
 }
 
 /// Floats converted to bytes at a time.
@@ -353,6 +375,8 @@ pub struct Writer {
     options: Options,
     takes: Takes,
     groups: Vec<OpenGroup>,
+    /// The group whose files are open: the last one a clip was added to.
+    writing: Option<usize>,
     by_topology: HashMap<Topology, usize>,
     clips: Vec<ClipEntry>,
     skipped: Vec<Skipped>,
@@ -371,6 +395,7 @@ impl Writer {
             options: options.clone(),
             takes,
             groups: Vec::new(),
+            writing: None,
             by_topology: HashMap::new(),
             clips: Vec::new(),
             skipped: Vec::new(),
@@ -428,6 +453,13 @@ impl Writer {
                 k
             }
         };
+        if let Some(last) = self.writing.replace(group)
+            && last != group
+        {
+            for array in &mut self.groups[last].arrays {
+                array.close()?;
+            }
+        }
         let open = &mut self.groups[group];
         let start = open.frames;
         let [
@@ -457,7 +489,7 @@ impl Writer {
         ])) {
             moments.add(values, array.frame_shape.iter().product());
         }
-        let written = || -> io::Result<()> {
+        let mut written = || -> io::Result<()> {
             positions.append_floats(&clip.positions)?;
             rotations.append_floats(&clip.rotations)?;
             translations.append_floats(&clip.translations)?;
@@ -520,8 +552,8 @@ impl Writer {
                     shape: a.shape(),
                 })
                 .collect();
-            for array in open.arrays {
-                array.finish()?;
+            for mut array in open.arrays {
+                array.close()?;
             }
             // Where each clip starts, and the end: clip i is rows offsets[i]..offsets[i + 1].
             let offsets: Vec<i64> = open
