@@ -693,7 +693,12 @@ fn in_process(what: &str, path: &str) {
     let scratch = std::env::temp_dir().join(format!("bvhview-bench-{}", std::process::id()));
     let start = Instant::now();
     match what {
-        "info" => drop(bvhview::input::load(file, None, None).expect("loads")),
+        "info" => {
+            // What the CLI prints: the load, then the summary (units, up axis, warnings).
+            let loaded = bvhview::input::load(file, None, None).expect("loads");
+            let summary = bvhview::info::summary(path, &loaded, bvhview::pose::OffsetMode::Replace);
+            std::hint::black_box(summary);
+        }
         "positions" => {
             // Written as the CLI writes it: a temporary file, synced, renamed.
             let loaded = bvhview::input::load(file, None, None).expect("loads");
