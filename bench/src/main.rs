@@ -767,15 +767,22 @@ fn one_core(path: &str, rounds: usize) {
         assert!(status.success(), "{command:?} failed");
         took
     };
+    // The work's own time as the process measures it, and the whole process's (its start and
+    // exit included, as the CLI's are).
     let inside = |what: &str| {
+        let start = Instant::now();
         let out = std::process::Command::new("taskset")
             .args(["-c", "0"])
             .arg(&here)
             .args(["--in-process", what, path])
             .output()
             .expect("runs");
+        let whole = start.elapsed();
         let text = String::from_utf8_lossy(&out.stdout);
-        Duration::from_secs_f64(text.trim().parse().expect("seconds"))
+        (
+            Duration::from_secs_f64(text.trim().parse().expect("seconds")),
+            whole,
+        )
     };
     let mut works = vec!["info", "positions"];
     if alone {
@@ -783,7 +790,7 @@ fn one_core(path: &str, rounds: usize) {
     } else {
         println!("one core: dataset skipped ({path} is not alone in its folder)");
     }
-    let mut times = vec![(Vec::new(), Vec::new()); works.len()];
+    let mut times = vec![(Vec::new(), Vec::new(), Vec::new()); works.len()];
     for _ in 0..rounds {
         for (k, what) in works.iter().enumerate() {
             let mut command = std::process::Command::new("taskset");
@@ -801,7 +808,9 @@ fn one_core(path: &str, rounds: usize) {
                 }
             };
             times[k].0.push(wall(&mut command));
-            times[k].1.push(inside(what));
+            let (own, whole) = inside(what);
+            times[k].1.push(own);
+            times[k].2.push(whole);
         }
     }
     let _ = std::fs::remove_dir_all(&scratch);
@@ -809,26 +818,35 @@ fn one_core(path: &str, rounds: usize) {
     println!(
         "one core (taskset -c 0), {rounds} rounds in turn; the CLI's wall time against the same work in process:"
     );
-    for (what, (cli, inside)) in works.iter().zip(&mut times) {
-        // Each round's CLI run against the in-process run just after it: the pair shares the
-        // machine's state, so the ratio holds when the machine's speed drifts between rounds.
-        let mut ratios: Vec<f64> = cli
+    let pairs = |a: &[Duration], b: &[Duration]| {
+        let mut ratios: Vec<f64> = a
             .iter()
-            .zip(inside.iter())
-            .map(|(c, i)| c.as_secs_f64() / i.as_secs_f64())
+            .zip(b)
+            .map(|(a, b)| a.as_secs_f64() / b.as_secs_f64())
             .collect();
         ratios.sort_by(f64::total_cmp);
+        (
+            ratios[ratios.len() / 2],
+            ratios[0],
+            ratios[ratios.len() - 1],
+        )
+    };
+    for (what, (cli, inside, whole)) in works.iter().zip(&mut times) {
+        // Each round's CLI run against the in-process run just after it: the pair shares the
+        // machine's state, so the ratio holds when the machine's speed drifts between rounds.
+        let (own, own_low, own_high) = pairs(cli, inside);
+        let (all, all_low, all_high) = pairs(cli, whole);
         let (cm, cf) = median_and_min(cli);
         let (im, imin) = median_and_min(inside);
         println!(
-            "  {what:10} CLI median {:7.1} ms fastest {:7.1} ms   in process median {:7.1} ms fastest {:7.1} ms   CLI/in process, pair by pair: median {:.3} (from {:.3} to {:.3})",
+            "  {what:10} CLI median {:7.1} ms fastest {:7.1} ms   in process median {:7.1} ms fastest {:7.1} ms\n  \
+             {:10} CLI/in process, pair by pair: median {own:.3} (from {own_low:.3} to {own_high:.3}); \
+             against the in-process run's whole process (its start and exit too): median {all:.3} (from {all_low:.3} to {all_high:.3})",
             cm.as_secs_f64() * 1e3,
             cf.as_secs_f64() * 1e3,
             im.as_secs_f64() * 1e3,
             imin.as_secs_f64() * 1e3,
-            ratios[ratios.len() / 2],
-            ratios[0],
-            ratios[ratios.len() - 1]
+            ""
         );
     }
 }
