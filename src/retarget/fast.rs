@@ -162,26 +162,35 @@ fn sin_cos(x: &Lanes, sin: &mut Lanes, cos: &mut Lanes) {
     }
 }
 
-/// `atan2(y, x)` as fdlibm's `atan` of |y/x| (reduced about 0, 0.5, 1, 1.5 or ∞), then turned into
-/// the quadrant; signed zeros as libm's. No branches; for finite `y` and `x`.
+/// `atan2(y, x)` as fdlibm's `atan` of |y/x| (reduced about 0, 0.5, 1, 1.5 or ∞, its quotient taken
+/// as one division of |y| and |x|), then turned into the quadrant; signed zeros as libm's. No
+/// branches; for finite `y` and `x`.
 #[inline(always)]
 fn atan2_lane(y: f64, x: f64) -> f64 {
     let (ax, ay) = (x.abs(), y.abs());
-    let a = if ay == 0.0 { 0.0 } else { ay / ax };
-    let far = a >= 39.0 / 16.0;
-    let (c, hi, lo) = if a < 7.0 / 16.0 {
+    // The range of |y/x| (16·|y| against k·|x|: no division needed to pick it).
+    let (y16, zero) = (ay * 16.0, ay == 0.0);
+    let far = !zero && y16 >= ax * 39.0;
+    let (c, hi, lo) = if zero || y16 < ax * 7.0 {
         (0.0, 0.0, 0.0)
-    } else if a < 11.0 / 16.0 {
+    } else if y16 < ax * 11.0 {
         (0.5, ATAN_HI[0], ATAN_LO[0])
-    } else if a < 19.0 / 16.0 {
+    } else if y16 < ax * 19.0 {
         (1.0, ATAN_HI[1], ATAN_LO[1])
     } else if !far {
         (1.5, ATAN_HI[2], ATAN_LO[2])
     } else {
         (0.0, ATAN_HI[3], ATAN_LO[3])
     };
-    // atan(a) = atan(c) + atan((a − c) / (1 + c·a)); about ∞, π/2 + atan(−1/a).
-    let u = if far { -1.0 } else { a - c } / if far { a } else { 1.0 + c * a };
+    // atan(a) = atan(c) + atan((a − c) / (1 + c·a)) for a = |y/x|, in one division; about ∞,
+    // π/2 + atan(−1/a).
+    let u = if zero {
+        0.0
+    } else if far {
+        -ax / ay
+    } else {
+        (ay - c * ax) / (ax + c * ay)
+    };
     let z = u * u;
     let w = z * z;
     let s1 = z * (AT[0] + w * (AT[2] + w * (AT[4] + w * (AT[6] + w * (AT[8] + w * AT[10])))));
@@ -397,6 +406,16 @@ impl Quats {
     }
 }
 
+/// `q · v` for every lane, or `v` itself when `q` is the identity (the same values but for the
+/// sign of a zero).
+#[inline(always)]
+fn turn(q: DQuat, v: &Points) -> Points {
+    match q == DQuat::IDENTITY {
+        true => *v,
+        false => Quats::splat(q).rotate(v),
+    }
+}
+
 /// glam's axis order `(i, j, k)` and parity for an Euler order (its `Order::angle_order`).
 fn axis_order(order: crate::skeleton::RotationOrder) -> (usize, usize, usize, bool) {
     use crate::skeleton::RotationOrder as R;
@@ -456,12 +475,14 @@ struct SourceJoint {
     index: usize,
     parent: Option<usize>,
     offset: DVec3,
-    /// (axis, column) of each position channel.
+    /// (axis, input) of each position channel: where in [`Plan::inputs`] its values are.
     positions: Vec<(usize, usize)>,
     /// Its rotation channels: a range of the plan's rotation list.
     rotations: std::ops::Range<usize>,
     /// An ASF bone's axis C: its rotation is `C · R1 · R2 · R3 · C⁻¹`.
     axis: Option<DQuat>,
+    /// Whether its world position is read (or a descendant's is), not only its rotation.
+    placed: bool,
 }
 
 /// How a target joint's rotation channels are found.
@@ -497,11 +518,13 @@ struct TargetJoint {
     follow: Option<(usize, DVec3)>,
     turn: Turn,
     bone: Option<DVec3>,
-    /// The source's rotation columns whose values pick the Euler form.
+    /// The source's rotation values that pick the Euler form: where in [`Plan::inputs`].
     reference: Option<[usize; 3]>,
     /// Of the joints whose Euler form follows their own previous frame, its place.
     chained: Option<usize>,
     columns: Vec<(usize, Column)>,
+    /// Whether its world position is read (the hips, the legs, their ancestors).
+    placed: bool,
 }
 
 /// The pass compiled for one pair of skeletons and one map.
@@ -511,8 +534,11 @@ struct Plan<'a> {
     mode: OffsetMode,
     source_joints: Vec<SourceJoint>,
     source_count: usize,
-    /// Every rotation channel of the source joints read: (axis, column).
+    /// Every rotation channel of the source joints read: (axis, input).
     rotations: Vec<(usize, usize)>,
+    /// The MOTION columns read (source rotations and positions, the references for the Euler
+    /// form), gathered from the rows once per batch.
+    inputs: Vec<usize>,
     target_joints: Vec<TargetJoint>,
     /// The joints whose Euler form follows their own previous frame.
     chained: Vec<usize>,
@@ -522,6 +548,8 @@ struct Plan<'a> {
 /// Buffers one worker reuses from batch to batch.
 #[derive(Default)]
 struct Scratch {
+    /// The batch's values of [`Plan::inputs`].
+    inputs: Vec<Lanes>,
     half_angles: Vec<Lanes>,
     sin: Vec<Lanes>,
     cos: Vec<Lanes>,
@@ -550,26 +578,42 @@ impl Default for Move {
     }
 }
 
+/// Per joint: whether it is one of `joints` or an ancestor of one.
+fn with_ancestors(skeleton: &Skeleton, joints: impl Iterator<Item = usize>) -> Vec<bool> {
+    let mut marked = vec![false; skeleton.joints.len()];
+    for joint in joints {
+        let mut joint = Some(joint);
+        while let Some(j) = joint.filter(|&j| !marked[j]) {
+            marked[j] = true;
+            joint = skeleton.joints[j].parent;
+        }
+    }
+    marked
+}
+
 impl<'a> Plan<'a> {
     fn new(setup: &'a Setup, source: &Skeleton, target: &'a Skeleton, map: &Map) -> Plan<'a> {
         // The source joints read: mapped ones, the far ends of followed chords, the hips, the
         // leg points, and their ancestors.
-        let mut needed = vec![false; source.joints.len()];
-        let read = map
-            .source_of
-            .iter()
-            .flatten()
-            .copied()
-            .chain(setup.follow.iter().flatten().map(|&(sd, _)| sd))
+        // Of those, the ones whose positions are read: the ends of followed chords, the hips,
+        // the leg points, and their ancestors.
+        let placed_joints: Vec<usize> = (0..target.joints.len())
+            .filter_map(|t| Some((map.source_of[t]?, setup.follow[t]?.0)))
+            .flat_map(|(s, sd)| [s, sd])
             .chain(setup.hips.map(|(_, s)| s))
-            .chain(setup.source_legs.iter().copied());
-        for joint in read {
-            let mut joint = Some(joint);
-            while let Some(j) = joint.filter(|&j| !needed[j]) {
-                needed[j] = true;
-                joint = source.joints[j].parent;
-            }
-        }
+            .chain(setup.source_legs.iter().copied())
+            .collect();
+        let placed = with_ancestors(source, placed_joints.iter().copied());
+        let needed = with_ancestors(
+            source,
+            map.source_of.iter().flatten().copied().chain(placed_joints),
+        );
+        // The MOTION columns read, each gathered once per batch.
+        let mut inputs = Vec::new();
+        let mut input = |column: usize| {
+            inputs.push(column);
+            inputs.len() - 1
+        };
         let mut rotations = Vec::new();
         let source_joints = source
             .joints
@@ -582,9 +626,9 @@ impl<'a> Plan<'a> {
                 for (i, channel) in joint.channels.iter().enumerate() {
                     let column = joint.first_channel + i;
                     if channel.is_rotation() {
-                        rotations.push((channel.axis(), column));
-                    } else if channel.is_position() {
-                        positions.push((channel.axis(), column));
+                        rotations.push((channel.axis(), input(column)));
+                    } else if channel.is_position() && placed[index] {
+                        positions.push((channel.axis(), input(column)));
                     }
                 }
                 SourceJoint {
@@ -594,9 +638,18 @@ impl<'a> Plan<'a> {
                     positions,
                     rotations: first..rotations.len(),
                     axis: joint.axis.map(|c| c.as_dquat().normalize()),
+                    placed: placed[index],
                 }
             })
             .collect();
+        let target_placed = with_ancestors(
+            target,
+            setup
+                .hips
+                .map(|(t, _)| t)
+                .into_iter()
+                .chain(setup.target_legs.iter().copied()),
+        );
         let mut chained = Vec::new();
         let target_joints = target
             .joints
@@ -615,7 +668,7 @@ impl<'a> Plan<'a> {
                         &vec![0.0; joint.channels.len()],
                     )),
                 };
-                let reference = setup.reference_columns[t];
+                let reference = setup.reference_columns[t].map(|c| c.map(&mut input));
                 let follows_itself = joint.rotation_order.is_some() && reference.is_none();
                 if follows_itself {
                     chained.push(t);
@@ -651,6 +704,7 @@ impl<'a> Plan<'a> {
                     reference,
                     chained: follows_itself.then(|| chained.len() - 1),
                     columns,
+                    placed: target_placed[t],
                 }
             })
             .collect();
@@ -661,6 +715,7 @@ impl<'a> Plan<'a> {
             source_joints,
             source_count: source.joints.len(),
             rotations,
+            inputs,
             target_joints,
             chained,
             channels: target.channel_count(),
@@ -670,13 +725,20 @@ impl<'a> Plan<'a> {
     /// World rotation and position of every source joint read, for one batch of rows.
     #[inline(always)]
     fn source_fk(&self, rows: &[&[f32]; LANES], scratch: &mut Scratch) {
+        scratch.inputs.resize(self.inputs.len(), [0.0; LANES]);
+        for (l, row) in rows.iter().enumerate() {
+            for (input, &column) in scratch.inputs.iter_mut().zip(&self.inputs) {
+                input[l] = f64::from(row[column]);
+            }
+        }
         let n = self.rotations.len();
         scratch.half_angles.resize(n, [0.0; LANES]);
         scratch.sin.resize(n, [0.0; LANES]);
         scratch.cos.resize(n, [0.0; LANES]);
-        for (half, &(_, column)) in scratch.half_angles.iter_mut().zip(&self.rotations) {
+        for (half, &(_, input)) in scratch.half_angles.iter_mut().zip(&self.rotations) {
             // glam's from_rotation_x(θ) takes sin and cos of θ · 0.5.
-            *half = lanes(|l| f64::from(rows[l][column]).to_radians() * 0.5);
+            let degrees = &scratch.inputs[input];
+            *half = lanes(|l| degrees[l].to_radians() * 0.5);
         }
         for ((half, sin), cos) in scratch
             .half_angles
@@ -693,9 +755,9 @@ impl<'a> Plan<'a> {
         scratch.source_points.resize(self.source_count, origin);
         for joint in &self.source_joints {
             let mut t = [joint.offset.x, joint.offset.y, joint.offset.z].map(|v| [v; LANES]);
-            for &(axis, column) in &joint.positions {
-                for (l, value) in t[axis].iter_mut().enumerate() {
-                    let written = f64::from(rows[l][column]);
+            for &(axis, input) in &joint.positions {
+                let written = &scratch.inputs[input];
+                for (value, &written) in t[axis].iter_mut().zip(written) {
                     match self.mode {
                         OffsetMode::Replace => *value = written,
                         OffsetMode::Add => *value += written,
@@ -717,10 +779,19 @@ impl<'a> Plan<'a> {
                     .mul(&rotation)
                     .mul(&Quats::splat(c.inverse()));
             }
+            // The plain pass multiplies by a joint's identity rotation too: the same values
+            // (but for the sign of a zero).
+            let turns = !joint.rotations.is_empty() || joint.axis.is_some();
             let (rotation, point) = match joint.parent {
                 Some(p) => {
                     let (r, at) = (&scratch.source_rotations[p], &scratch.source_points[p]);
-                    (r.mul(&rotation), at.add(&r.rotate(&t)))
+                    let rotation = if turns { r.mul(&rotation) } else { *r };
+                    let point = if joint.placed {
+                        at.add(&r.rotate(&t))
+                    } else {
+                        *at
+                    };
+                    (rotation, point)
                 }
                 None => (rotation, t),
             };
@@ -745,13 +816,25 @@ impl<'a> Plan<'a> {
             let parent_rotation = joint
                 .parent
                 .map_or(Quats::IDENTITY, |p| scratch.target_rotations[p]);
+            // The plain pass's products, those by the identity (a Y-up skeleton's turn, a bone
+            // aligned at rest) left out: the same values but for the sign of a zero.
             let mut rotation = match joint.source {
                 Some(s) => {
-                    let carried = us.mul(&scratch.source_rotations[s]).mul(&us_inv);
-                    let mut rotation = ut_inv
-                        .mul(&carried)
-                        .mul(&Quats::splat(joint.aligned))
-                        .mul(&ut);
+                    let world = &scratch.source_rotations[s];
+                    let carried = match setup.us == DQuat::IDENTITY {
+                        true => *world,
+                        false => us.mul(world).mul(&us_inv),
+                    };
+                    let mut rotation = match setup.ut == DQuat::IDENTITY {
+                        true => carried,
+                        false => ut_inv.mul(&carried),
+                    };
+                    if joint.aligned != DQuat::IDENTITY {
+                        rotation = rotation.mul(&Quats::splat(joint.aligned));
+                    }
+                    if setup.ut != DQuat::IDENTITY {
+                        rotation = rotation.mul(&ut);
+                    }
                     if let Some((sd, rest)) = joint.follow {
                         let (near, far) = (&scratch.source_points[s], &scratch.source_points[sd]);
                         for l in 0..LANES {
@@ -766,9 +849,10 @@ impl<'a> Plan<'a> {
                 }
                 None => parent_rotation,
             };
-            let local = parent_rotation.conjugate().mul(&rotation);
+            let local = || parent_rotation.conjugate().mul(&rotation);
             match joint.turn {
                 Turn::Euler { order, axis } => {
+                    let local = local();
                     let channel_rotation = match axis {
                         Some(c) => Quats::splat(c.inverse()).mul(&local).mul(&Quats::splat(c)),
                         None => local,
@@ -778,6 +862,7 @@ impl<'a> Plan<'a> {
                 Turn::Limited => {
                     // Fewer than three rotation channels: the rotation the joint can take, and
                     // its children go on from that one, not from the one asked for.
+                    let local = local();
                     for l in 0..LANES {
                         let (angles, realized) =
                             limited_angles(&self.target.joints[t], local.get(l), joint.bone);
@@ -787,11 +872,15 @@ impl<'a> Plan<'a> {
                         rotation.set(l, parent_rotation.get(l) * realized);
                     }
                 }
-                Turn::Fixed(realized) => rotation = parent_rotation.mul(&Quats::splat(realized)),
+                Turn::Fixed(realized) if realized != DQuat::IDENTITY => {
+                    rotation = parent_rotation.mul(&Quats::splat(realized));
+                }
+                Turn::Fixed(_) => rotation = parent_rotation,
             }
             let position = match joint.parent {
-                Some(p) => scratch.target_points[p]
+                Some(p) if joint.placed => scratch.target_points[p]
                     .add(&scratch.target_rotations[p].rotate(&Points::splat(joint.offset))),
+                Some(p) => scratch.target_points[p],
                 None => Points::splat(joint.offset),
             };
             scratch.target_rotations[t] = rotation;
@@ -815,11 +904,6 @@ impl<'a> Plan<'a> {
         let setup = self.setup;
         let frames = moves.len();
         let (mut source_floor, mut target_floor) = (f64::INFINITY, f64::INFINITY);
-        let (us, ut, ut_inv) = (
-            Quats::splat(setup.us),
-            Quats::splat(setup.ut),
-            Quats::splat(setup.ut_inv),
-        );
         for batch in (0..frames).step_by(LANES) {
             let used = (frames - batch).min(LANES);
             // A short batch repeats its last frame in the spare lanes.
@@ -830,13 +914,13 @@ impl<'a> Plan<'a> {
             // Where the carrier moves the hips, and the legs' lowest points.
             let mut moved = Points::splat(DVec3::ZERO);
             if let (Some((t, s)), Some(carrier)) = (setup.hips, setup.carrier) {
-                let scaled = us.rotate(&scratch.source_points[s]);
+                let scaled = turn(setup.us, &scratch.source_points[s]);
                 let scaled = Points {
                     x: lanes(|l| setup.ratio * scaled.x[l]),
                     y: lanes(|l| setup.ratio * scaled.y[l]),
                     z: lanes(|l| setup.ratio * scaled.z[l]),
                 };
-                let wanted = ut_inv.rotate(&scaled);
+                let wanted = turn(setup.ut_inv, &scaled);
                 let at = &scratch.target_points[t];
                 moved = Points {
                     x: lanes(|l| wanted.x[l] - at.x[l]),
@@ -853,7 +937,7 @@ impl<'a> Plan<'a> {
                 }
             }
             for &j in &setup.source_legs {
-                let y = us.rotate(&scratch.source_points[j]).y;
+                let y = turn(setup.us, &scratch.source_points[j]).y;
                 source_floor = y.iter().fold(source_floor, |a, &b| a.min(b));
             }
             for &j in &setup.target_legs {
@@ -861,7 +945,7 @@ impl<'a> Plan<'a> {
                 if setup.under_carrier[j] {
                     point = point.add(&moved);
                 }
-                let y = ut.rotate(&point).y;
+                let y = turn(setup.ut, &point).y;
                 target_floor = y.iter().fold(target_floor, |a, &b| a.min(b));
             }
             // The channel values, a channel at a time across the lanes, then row by row.
@@ -877,8 +961,8 @@ impl<'a> Plan<'a> {
                         }
                         None
                     }
-                    (Turn::Euler { .. }, Some(columns), _) => {
-                        let reference = columns.map(|c| lanes(|l| f64::from(source_rows[l][c])));
+                    (Turn::Euler { .. }, Some(inputs), _) => {
+                        let reference = inputs.map(|i| scratch.inputs[i]);
                         Some(nearest_forms(raw, &reference))
                     }
                     _ => Some(*raw),
