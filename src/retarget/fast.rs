@@ -406,6 +406,65 @@ impl Quats {
     }
 }
 
+/// The plain pass's turn of a bone onto a source chord (`near` to `far`): `arc(r · rest, chord) · r`
+/// where the chord is longer than 1e-9, else `r`, glam's operations term for term. A lane whose
+/// chord points against the bone (glam's other branch) takes the plain pass's code.
+#[inline(always)]
+fn follow(setup: &Setup, rotation: &Quats, near: &Points, far: &Points, rest: DVec3) -> Quats {
+    let apart = Points {
+        x: lanes(|l| far.x[l] - near.x[l]),
+        y: lanes(|l| far.y[l] - near.y[l]),
+        z: lanes(|l| far.z[l] - near.z[l]),
+    };
+    let chord = turn(setup.ut_inv, &turn(setup.us, &apart));
+    let from = rotation.rotate(&Points::splat(rest));
+    let length =
+        |v: &Points| lanes(|l| (v.x[l] * v.x[l] + v.y[l] * v.y[l] + v.z[l] * v.z[l]).sqrt());
+    let (chord_length, from_length) = (length(&chord), length(&from));
+    let unit = |v: &Points, length: &Lanes| {
+        let recip = lanes(|l| 1.0 / length[l]);
+        Points {
+            x: lanes(|l| v.x[l] * recip[l]),
+            y: lanes(|l| v.y[l] * recip[l]),
+            z: lanes(|l| v.z[l] * recip[l]),
+        }
+    };
+    let (a, b) = (unit(&from, &from_length), unit(&chord, &chord_length));
+    let dot = lanes(|l| a.x[l] * b.x[l] + a.y[l] * b.y[l] + a.z[l] * b.z[l]);
+    // glam's from_rotation_arc: (a × b, 1 + a·b), normalised.
+    let (x, y, z, w) = (
+        lanes(|l| a.y[l] * b.z[l] - b.y[l] * a.z[l]),
+        lanes(|l| a.z[l] * b.x[l] - b.z[l] * a.x[l]),
+        lanes(|l| a.x[l] * b.y[l] - b.x[l] * a.y[l]),
+        lanes(|l| 1.0 + dot[l]),
+    );
+    let recip = lanes(|l| 1.0 / (x[l] * x[l] + y[l] * y[l] + z[l] * z[l] + w[l] * w[l]).sqrt());
+    let arc = Quats {
+        x: lanes(|l| x[l] * recip[l]),
+        y: lanes(|l| y[l] * recip[l]),
+        z: lanes(|l| z[l] * recip[l]),
+        w: lanes(|l| w[l] * recip[l]),
+    };
+    let turned = arc.mul(rotation);
+    // Where the chord is too short, or already along the bone (`arc` gives the identity, and
+    // the identity times `r` is `r` but for the sign of a zero), `r` stays.
+    let moves = mask(|l| chord_length[l] > 1e-9 && dot[l] <= 1.0 - 1e-15);
+    let pick = |t: &Lanes, r: &Lanes| lanes(|l| if moves[l] { t[l] } else { r[l] });
+    let mut out = Quats {
+        x: pick(&turned.x, &rotation.x),
+        y: pick(&turned.y, &rotation.y),
+        z: pick(&turned.z, &rotation.z),
+        w: pick(&turned.w, &rotation.w),
+    };
+    for l in 0..LANES {
+        if moves[l] && dot[l] < -(1.0 - 2.0 * f64::EPSILON) {
+            let r = rotation.get(l);
+            out.set(l, super::arc(r * rest, chord.get(l)) * r);
+        }
+    }
+    out
+}
+
 /// `q · v` for every lane, or `v` itself when `q` is the identity (the same values but for the
 /// sign of a zero).
 #[inline(always)]
@@ -837,13 +896,7 @@ impl<'a> Plan<'a> {
                     }
                     if let Some((sd, rest)) = joint.follow {
                         let (near, far) = (&scratch.source_points[s], &scratch.source_points[sd]);
-                        for l in 0..LANES {
-                            let chord = setup.ut_inv * (setup.us * (far.get(l) - near.get(l)));
-                            if chord.length() > 1e-9 {
-                                let r = rotation.get(l);
-                                rotation.set(l, super::arc(r * rest, chord) * r);
-                            }
-                        }
+                        rotation = follow(setup, &rotation, near, far, rest);
                     }
                     rotation
                 }
