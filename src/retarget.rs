@@ -1507,7 +1507,17 @@ pub fn retarget(
     threads: usize,
 ) -> Result<(Skeleton, Motion), Error> {
     let setup = Setup::new(source, motion, target, map, ups);
-    let data: Vec<f32> = fast::frames(&setup, source, motion, target, map, threads);
+    let (data, finite) = fast::frames(&setup, source, motion, target, map, threads);
+    if finite && target.joints.iter().all(|j| j.offset.is_finite()) {
+        // What `finish` checks, checked already on the cores.
+        let motion = Motion::new(
+            motion.frame_time,
+            target.channel_count(),
+            motion.frame_count(),
+            data,
+        );
+        return Ok((target.clone(), motion));
+    }
     finish(target, motion, data)
 }
 
@@ -1540,11 +1550,12 @@ pub fn retargeted_values(
 ) -> Vec<f64> {
     let setup = Setup::new(source, motion, target, map, ups);
     match fast {
-        true => fast::frames(&setup, source, motion, target, map, threads),
+        true => fast::frames(&setup, source, motion, target, map, threads).0,
         false => plain_frames(&setup, source, motion, target, map, threads),
     }
 }
 
+/// The take, refused when a value is not finite (too large for a 32-bit float).
 fn finish(target: &Skeleton, motion: &Motion, data: Vec<f32>) -> Result<(Skeleton, Motion), Error> {
     crate::edit::finite(
         "retargeting",

@@ -208,3 +208,37 @@ fn the_fast_pass_gives_the_plain_pass_s_values_on_the_whole_corpus() {
     let pairs = compare(&common::shared_data(""));
     assert!(pairs >= 60, "{pairs} pairs");
 }
+
+/// A take whose path does not fit in 32 bits once scaled: both passes refuse it with the same
+/// error, and neither panics.
+#[test]
+fn a_path_too_long_for_32_bits_is_refused_by_both_passes() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/retarget/cmu.bvh");
+    let loaded = bvhview::input::load(&path, None, None).unwrap();
+    let (source, mut motion) = (loaded.skeleton, loaded.motion);
+    let root = &source.joints[0];
+    for frame in 0..motion.frame_count() {
+        for (i, channel) in root.channels.iter().enumerate() {
+            if channel.is_position() {
+                motion.data[frame * motion.channels + root.first_channel + i] = f32::MAX;
+            }
+        }
+    }
+    // The same skeleton, twice as large: the path scales by 2.
+    let mut target = source.clone();
+    for joint in &mut target.joints {
+        joint.offset *= 2.0;
+    }
+    let map = Map::guess(&source, &target);
+    let ups = Ups {
+        source: up_of(&source, &motion),
+        target: up_of(&source, &motion),
+    };
+    let fast = retarget::retarget(&source, &motion, &target, &map, ups, 2).unwrap_err();
+    let plain = retarget::retarget_plain(&source, &motion, &target, &map, ups, 2).unwrap_err();
+    assert_eq!(fast.to_string(), plain.to_string());
+    assert!(
+        fast.to_string().contains("too large for a 32-bit float"),
+        "{fast}"
+    );
+}

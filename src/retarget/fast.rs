@@ -51,11 +51,15 @@ fn mask(mut f: impl FnMut(usize) -> bool) -> [bool; LANES] {
 /// A channel value as written: 32-bit in a take, 64-bit for the test against the plain pass.
 pub(super) trait Value: Copy + Default + Send {
     fn of(value: f64) -> Self;
+    fn is_finite(self) -> bool;
 }
 
 impl Value for f32 {
     fn of(value: f64) -> f32 {
         value as f32
+    }
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
     }
 }
 
@@ -63,54 +67,69 @@ impl Value for f64 {
     fn of(value: f64) -> f64 {
         value
     }
+    fn is_finite(self) -> bool {
+        f64::is_finite(self)
+    }
 }
 
-// fdlibm's kernels: k_sin.c, k_cos.c on [-π/4, π/4]; the first two parts of π/2 (e_rem_pio2.c);
-// s_atan.c's polynomial and atan(0.5), atan(1), atan(1.5), atan(∞) in two parts.
-const S1: f64 = -1.666_666_666_666_663_243_48e-1;
-const S2: f64 = 8.333_333_333_322_489_461_24e-3;
-const S3: f64 = -1.984_126_982_985_794_931_34e-4;
-const S4: f64 = 2.755_731_370_707_006_767_89e-6;
-const S5: f64 = -2.505_076_025_340_686_341_95e-8;
-const S6: f64 = 1.589_690_995_211_550_102_21e-10;
-const C1: f64 = 4.166_666_666_666_660_190_37e-2;
-const C2: f64 = -1.388_888_888_887_410_957_49e-3;
-const C3: f64 = 2.480_158_728_947_672_941_78e-5;
-const C4: f64 = -2.755_731_435_139_066_330_35e-7;
-const C5: f64 = 2.087_572_321_298_174_827_90e-9;
-const C6: f64 = -1.135_964_755_778_819_482_65e-11;
-const PIO2_1: f64 = 1.570_796_326_734_125_614_17;
-const PIO2_2: f64 = 6.077_100_506_303_965_976_60e-11;
-const PIO2_2T: f64 = 2.022_266_248_795_950_631_54e-21;
-const AT: [f64; 11] = [
-    3.333_333_333_333_293_180_27e-1,
-    -1.999_999_999_987_648_324_76e-1,
-    1.428_571_427_250_346_637_11e-1,
-    -1.111_111_040_546_235_578_80e-1,
-    9.090_887_133_436_506_561_96e-2,
-    -7.691_876_205_044_829_994_95e-2,
-    6.661_073_137_387_531_206_69e-2,
-    -5.833_570_133_790_573_486_45e-2,
-    4.976_877_994_615_932_360_17e-2,
-    -3.653_157_274_421_691_552_70e-2,
-    1.628_582_011_536_578_236_23e-2,
-];
-const ATAN_HI: [f64; 4] = [
-    4.636_476_090_008_060_935_15e-1,
-    7.853_981_633_974_482_789_99e-1,
-    9.827_937_232_473_290_540_82e-1,
-    1.570_796_326_794_896_558_00,
-];
-const ATAN_LO: [f64; 4] = [
-    2.269_877_745_296_168_709_24e-17,
-    3.061_616_997_868_383_017_93e-17,
-    1.390_331_103_123_099_845_16e-17,
-    6.123_233_995_736_766_035_87e-17,
-];
-const PI_LO: f64 = 1.224_646_799_147_353_177_2e-16;
+/// Whether every value is finite, by a loop without an early exit (which the compiler
+/// vectorises).
+fn all_finite<T: Value>(values: &[T]) -> bool {
+    values.iter().fold(true, |all, v| all & v.is_finite())
+}
 
-/// Angles (radians) this far from 0 or beyond go to libm: the reduction by two parts of π/2 is
-/// exact for fewer than 2²⁰ quarter turns.
+/// fdlibm's constants: k_sin.c and k_cos.c's polynomials on [-π/4, π/4], the first two parts of
+/// π/2 and the tail (e_rem_pio2.c), s_atan.c's polynomial and atan(0.5), atan(1), atan(1.5),
+/// atan(∞) in two parts, π's tail; digit for digit as its sources print them (each rounds to
+/// the double fdlibm means).
+#[allow(clippy::excessive_precision)]
+mod fdlibm {
+    pub(super) const S1: f64 = -1.666_666_666_666_663_243_48e-1;
+    pub(super) const S2: f64 = 8.333_333_333_322_489_461_24e-3;
+    pub(super) const S3: f64 = -1.984_126_982_985_794_931_34e-4;
+    pub(super) const S4: f64 = 2.755_731_370_707_006_767_89e-6;
+    pub(super) const S5: f64 = -2.505_076_025_340_686_341_95e-8;
+    pub(super) const S6: f64 = 1.589_690_995_211_550_102_21e-10;
+    pub(super) const C1: f64 = 4.166_666_666_666_660_190_37e-2;
+    pub(super) const C2: f64 = -1.388_888_888_887_410_957_49e-3;
+    pub(super) const C3: f64 = 2.480_158_728_947_672_941_78e-5;
+    pub(super) const C4: f64 = -2.755_731_435_139_066_330_35e-7;
+    pub(super) const C5: f64 = 2.087_572_321_298_174_827_90e-9;
+    pub(super) const C6: f64 = -1.135_964_755_778_819_482_65e-11;
+    pub(super) const PIO2_1: f64 = 1.570_796_326_734_125_614_17;
+    pub(super) const PIO2_2: f64 = 6.077_100_506_303_965_976_60e-11;
+    pub(super) const PIO2_2T: f64 = 2.022_266_248_795_950_631_54e-21;
+    pub(super) const AT: [f64; 11] = [
+        3.333_333_333_333_293_180_27e-1,
+        -1.999_999_999_987_648_324_76e-1,
+        1.428_571_427_250_346_637_11e-1,
+        -1.111_111_040_546_235_578_80e-1,
+        9.090_887_133_436_506_561_96e-2,
+        -7.691_876_205_044_829_994_95e-2,
+        6.661_073_137_387_531_206_69e-2,
+        -5.833_570_133_790_573_486_45e-2,
+        4.976_877_994_615_932_360_17e-2,
+        -3.653_157_274_421_691_552_70e-2,
+        1.628_582_011_536_578_236_23e-2,
+    ];
+    pub(super) const ATAN_HI: [f64; 4] = [
+        4.636_476_090_008_060_935_15e-1,
+        std::f64::consts::FRAC_PI_4,
+        9.827_937_232_473_290_540_82e-1,
+        std::f64::consts::FRAC_PI_2,
+    ];
+    pub(super) const ATAN_LO: [f64; 4] = [
+        2.269_877_745_296_168_709_24e-17,
+        3.061_616_997_868_383_017_93e-17,
+        1.390_331_103_123_099_845_16e-17,
+        6.123_233_995_736_766_035_87e-17,
+    ];
+    pub(super) const PI_LO: f64 = 1.224_646_799_147_353_177_2e-16;
+}
+use fdlibm::*;
+
+/// Angles (radians) this far from 0 or beyond go to libm: the reduction by parts of π/2 (33 bits
+/// each) is exact for fewer than 2²⁰ quarter turns.
 const SIN_COS_LIMIT: f64 = 1.0e5;
 
 /// `(sin x, cos x)` by fdlibm's kernels after reducing `x` to [-π/4, π/4]; no branches, so a loop
@@ -126,8 +145,10 @@ fn sin_cos_lane(x: f64) -> (f64, f64) {
     let r = ((x - n * PIO2_1) - n * PIO2_2) - n * PIO2_2T;
     let z = r * r;
     let v = z * r;
-    let sin = r + v * (S1 + z * (S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)))));
-    let rest = z * (C1 + z * (C2 + z * (C3 + z * (C4 + z * (C5 + z * C6)))));
+    // The polynomials by Estrin's scheme: pairs side by side, for shorter chains.
+    let z2 = z * z;
+    let sin = r + v * ((S1 + z * S2) + z2 * ((S3 + z * S4) + z2 * (S5 + z * S6)));
+    let rest = z * ((C1 + z * C2) + z2 * ((C3 + z * C4) + z2 * (C5 + z * C6)));
     let half = 0.5 * z;
     let w = 1.0 - half;
     let cos = w + (((1.0 - w) - half) + z * rest);
@@ -193,8 +214,9 @@ fn atan2_lane(y: f64, x: f64) -> f64 {
     };
     let z = u * u;
     let w = z * z;
-    let s1 = z * (AT[0] + w * (AT[2] + w * (AT[4] + w * (AT[6] + w * (AT[8] + w * AT[10])))));
-    let s2 = w * (AT[1] + w * (AT[3] + w * (AT[5] + w * (AT[7] + w * AT[9]))));
+    let w2 = w * w;
+    let s1 = z * ((AT[0] + w * AT[2]) + w2 * ((AT[4] + w * AT[6]) + w2 * (AT[8] + w * AT[10])));
+    let s2 = w * ((AT[1] + w * AT[3]) + w2 * ((AT[5] + w * AT[7]) + w2 * AT[9]));
     let angle = hi - ((u * (s1 + s2) - lo) - u);
     // x < 0 (or −0 with y = ±0): the far side, π − angle.
     let far_side = x.is_sign_negative() && !(x == 0.0 && y != 0.0);
@@ -669,9 +691,12 @@ impl<'a> Plan<'a> {
         );
         // The MOTION columns read, each gathered once per batch.
         let mut inputs = Vec::new();
+        let mut input_of = std::collections::HashMap::new();
         let mut input = |column: usize| {
-            inputs.push(column);
-            inputs.len() - 1
+            *input_of.entry(column).or_insert_with(|| {
+                inputs.push(column);
+                inputs.len() - 1
+            })
         };
         let mut rotations = Vec::new();
         let source_joints = source
@@ -1097,7 +1122,8 @@ impl<'a> Plan<'a> {
 }
 
 /// Every frame's channel values of the retargeted take, on up to `threads` threads (the same
-/// values on any number).
+/// values on any number), and whether they are all finite (checked on the cores as they are
+/// written).
 pub(super) fn frames<T: Value>(
     setup: &Setup,
     source: &Skeleton,
@@ -1105,7 +1131,7 @@ pub(super) fn frames<T: Value>(
     target: &Skeleton,
     map: &Map,
     threads: usize,
-) -> Vec<T> {
+) -> (Vec<T>, bool) {
     let plan = Plan::new(setup, source, target, map);
     let frames = motion.frame_count();
     let channels = plan.channels;
@@ -1127,10 +1153,10 @@ pub(super) fn frames<T: Value>(
         work.push((first, piece_rows, piece_angles, piece_moves));
     }
     let work = Mutex::new(work.into_iter());
-    let floors = Mutex::new((f64::INFINITY, f64::INFINITY));
+    let floors = Mutex::new((f64::INFINITY, f64::INFINITY, true));
     crate::parallel::on_threads(threads.max(1), || {
         let mut scratch = Scratch::default();
-        let (mut source_floor, mut target_floor) = (f64::INFINITY, f64::INFINITY);
+        let (mut source_floor, mut target_floor, mut finite) = (f64::INFINITY, f64::INFINITY, true);
         loop {
             let next = work.lock().unwrap_or_else(PoisonError::into_inner).next();
             let Some((first, rows, angles, moves)) = next else {
@@ -1139,12 +1165,15 @@ pub(super) fn frames<T: Value>(
             let (s, t) = plan.piece_here(motion, first, rows, angles, moves, &mut scratch);
             source_floor = source_floor.min(s);
             target_floor = target_floor.min(t);
+            finite &= all_finite(rows);
         }
         let mut floors = floors.lock().unwrap_or_else(PoisonError::into_inner);
         floors.0 = floors.0.min(source_floor);
         floors.1 = floors.1.min(target_floor);
+        floors.2 &= finite;
     });
-    let (source_floor, target_floor) = *floors.lock().unwrap_or_else(PoisonError::into_inner);
+    let (source_floor, target_floor, mut finite) =
+        *floors.lock().unwrap_or_else(PoisonError::into_inner);
     let lift = setup.lift(source_floor, target_floor);
     // In frame order: the chained joints' Euler form nearest their previous frame's, and the
     // carrier's translation.
@@ -1157,6 +1186,7 @@ pub(super) fn frames<T: Value>(
             for &(column, what) in &plan.target_joints[t].columns {
                 if let Column::Angle(a) = what {
                     row[column] = T::of(chosen.get(a).copied().unwrap_or(0.0));
+                    finite &= row[column].is_finite();
                 }
             }
         }
@@ -1167,11 +1197,12 @@ pub(super) fn frames<T: Value>(
             for &(column, what) in &plan.target_joints[carrier].columns {
                 if let Column::Carried(axis) = what {
                     row[column] = T::of(translation[axis]);
+                    finite &= row[column].is_finite();
                 }
             }
         }
     }
-    data
+    (data, finite)
 }
 
 #[cfg(test)]
