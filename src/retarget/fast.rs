@@ -1067,6 +1067,45 @@ impl<'a> Plan<'a> {
         (source_floor, target_floor)
     }
 
+    /// A piece's values that waited for the take's floor or for the frames before it: the
+    /// chained joints' Euler forms (nearest `previous`, which it carries on) and the carrier's
+    /// translation. Whether they are finite.
+    fn rest_of_piece<T: Value>(
+        &self,
+        rows: &mut [T],
+        angles: &[[f64; 3]],
+        moves: &[Move],
+        lift: DVec3,
+        previous: &mut [[f64; 3]],
+    ) -> bool {
+        let (channels, width) = (self.channels, self.chained.len());
+        let mut finite = true;
+        for (frame, &Move { moved, turned }) in moves.iter().enumerate() {
+            let row = &mut rows[frame * channels..(frame + 1) * channels];
+            for (slot, &t) in self.chained.iter().enumerate() {
+                let chosen = nearest_form(angles[frame * width + slot], previous[slot]);
+                previous[slot] = chosen;
+                for &(column, what) in &self.target_joints[t].columns {
+                    if let Column::Angle(a) = what {
+                        row[column] = T::of(chosen.get(a).copied().unwrap_or(0.0));
+                        finite &= row[column].is_finite();
+                    }
+                }
+            }
+            if let Some(carrier) = self.setup.carrier {
+                let joint = &self.target_joints[carrier];
+                let translation = joint.offset + turned.inverse() * (moved + lift);
+                for &(column, what) in &joint.columns {
+                    if let Column::Carried(axis) = what {
+                        row[column] = T::of(translation[axis]);
+                        finite &= row[column].is_finite();
+                    }
+                }
+            }
+        }
+        finite
+    }
+
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx512f")]
     fn piece_avx512<T: Value>(
@@ -1134,34 +1173,27 @@ pub(super) fn frames<T: Value>(
 ) -> (Vec<T>, bool) {
     let plan = Plan::new(setup, source, target, map);
     let frames = motion.frame_count();
-    let channels = plan.channels;
-    let width = plan.chained.len();
+    let (channels, width) = (plan.channels, plan.chained.len());
     let mut data = vec![T::default(); frames * channels];
     let mut chained = vec![[0.0; 3]; frames * width];
-    let mut moves = vec![Move::default(); frames];
-    // The pieces, each with its own part of every output.
-    let mut work = Vec::with_capacity(frames.div_ceil(PIECE));
-    let (mut rows, mut angles, mut moved) = (&mut data[..], &mut chained[..], &mut moves[..]);
-    for first in (0..frames).step_by(PIECE) {
-        let count = (frames - first).min(PIECE);
-        let (piece_rows, rest) = std::mem::take(&mut rows).split_at_mut(count * channels);
-        rows = rest;
-        let (piece_angles, rest) = std::mem::take(&mut angles).split_at_mut(count * width);
-        angles = rest;
-        let (piece_moves, rest) = std::mem::take(&mut moved).split_at_mut(count);
-        moved = rest;
-        work.push((first, piece_rows, piece_angles, piece_moves));
-    }
-    let work = Mutex::new(work.into_iter());
+    // Each piece's moves, filled by the worker that computes it.
+    let mut moves: Vec<Vec<Move>> = vec![Vec::new(); frames.div_ceil(PIECE)];
     let floors = Mutex::new((f64::INFINITY, f64::INFINITY, true));
+    let work = Mutex::new(pieces(
+        frames,
+        (&mut data, channels),
+        (&mut chained, width),
+        &mut moves,
+    ));
     crate::parallel::on_threads(threads.max(1), || {
         let mut scratch = Scratch::default();
         let (mut source_floor, mut target_floor, mut finite) = (f64::INFINITY, f64::INFINITY, true);
         loop {
             let next = work.lock().unwrap_or_else(PoisonError::into_inner).next();
-            let Some((first, rows, angles, moves)) = next else {
+            let Some((first, count, rows, angles, moves)) = next else {
                 break;
             };
+            moves.resize(count, Move::default());
             let (s, t) = plan.piece_here(motion, first, rows, angles, moves, &mut scratch);
             source_floor = source_floor.min(s);
             target_floor = target_floor.min(t);
@@ -1172,37 +1204,69 @@ pub(super) fn frames<T: Value>(
         floors.1 = floors.1.min(target_floor);
         floors.2 &= finite;
     });
-    let (source_floor, target_floor, mut finite) =
+    // The pieces' borrows of the outputs end here.
+    drop(work);
+    let (source_floor, target_floor, finite) =
         *floors.lock().unwrap_or_else(PoisonError::into_inner);
     let lift = setup.lift(source_floor, target_floor);
-    // In frame order: the chained joints' Euler form nearest their previous frame's, and the
-    // carrier's translation.
-    let mut previous = vec![[0.0; 3]; width];
-    for frame in 0..frames {
-        let row = &mut data[frame * channels..(frame + 1) * channels];
-        for (slot, &t) in plan.chained.iter().enumerate() {
-            let chosen = nearest_form(chained[frame * width + slot], previous[slot]);
-            previous[slot] = chosen;
-            for &(column, what) in &plan.target_joints[t].columns {
-                if let Column::Angle(a) = what {
-                    row[column] = T::of(chosen.get(a).copied().unwrap_or(0.0));
-                    finite &= row[column].is_finite();
-                }
+    // Then the values that waited: the chained joints' Euler form nearest their previous frame's
+    // (in frame order, so on one thread), and the carrier's translation (on the cores when there
+    // is no chained joint).
+    let work = pieces(
+        frames,
+        (&mut data, channels),
+        (&mut chained, width),
+        &mut moves,
+    );
+    let finite = if width > 0 {
+        let mut previous = vec![[0.0; 3]; width];
+        work.fold(finite, |finite, (_, _, rows, angles, moves)| {
+            finite & plan.rest_of_piece(rows, angles, moves, lift, &mut previous)
+        })
+    } else {
+        let (work, all) = (Mutex::new(work), Mutex::new(finite));
+        crate::parallel::on_threads(threads.max(1), || {
+            let mut finite = true;
+            loop {
+                let next = work.lock().unwrap_or_else(PoisonError::into_inner).next();
+                let Some((_, _, rows, angles, moves)) = next else {
+                    break;
+                };
+                finite &= plan.rest_of_piece(rows, angles, moves, lift, &mut []);
             }
-        }
-        if let Some(carrier) = setup.carrier {
-            let Move { moved, turned } = moves[frame];
-            let translation =
-                plan.target_joints[carrier].offset + turned.inverse() * (moved + lift);
-            for &(column, what) in &plan.target_joints[carrier].columns {
-                if let Column::Carried(axis) = what {
-                    row[column] = T::of(translation[axis]);
-                    finite &= row[column].is_finite();
-                }
-            }
-        }
-    }
+            *all.lock().unwrap_or_else(PoisonError::into_inner) &= finite;
+        });
+        all.into_inner().unwrap_or_else(PoisonError::into_inner)
+    };
     (data, finite)
+}
+
+/// A piece of frames: its first frame, how many, and its part of the rows, of the chained
+/// joints' angles and of the moves.
+type Piece<'a, T> = (
+    usize,
+    usize,
+    &'a mut [T],
+    &'a mut [[f64; 3]],
+    &'a mut Vec<Move>,
+);
+
+/// The pieces of the outputs, in frame order.
+fn pieces<'a, T>(
+    frames: usize,
+    (mut rows, channels): (&'a mut [T], usize),
+    (mut angles, width): (&'a mut [[f64; 3]], usize),
+    moves: &'a mut [Vec<Move>],
+) -> impl Iterator<Item = Piece<'a, T>> {
+    moves.iter_mut().enumerate().map(move |(piece, moves)| {
+        let first = piece * PIECE;
+        let count = (frames - first).min(PIECE);
+        let (piece_rows, rest) = std::mem::take(&mut rows).split_at_mut(count * channels);
+        rows = rest;
+        let (piece_angles, rest) = std::mem::take(&mut angles).split_at_mut(count * width);
+        angles = rest;
+        (first, count, piece_rows, piece_angles, moves)
+    })
 }
 
 #[cfg(test)]
