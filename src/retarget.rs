@@ -19,7 +19,9 @@
 //!    heights and the feet are kept on the source's floor.
 //!
 //! Rotations are carried in 64-bit floats (see [`crate::pose::world_transforms_f64`]), so a take
-//! retargeted onto its own skeleton gives back its own values.
+//! retargeted onto its own skeleton gives back its own values. [`retarget`] runs eight frames side
+//! by side (src/retarget/fast.rs); [`retarget_plain`] is the same work a joint and a frame at a
+//! time, which a test holds it to (tests/retarget_fast.rs).
 
 use crate::edit::{Side, channel_angles, euler_order};
 use crate::error::Error;
@@ -1496,8 +1498,8 @@ fn limited_angles(joint: &Joint, local: DQuat, bone: Option<DVec3>) -> ([f64; 3]
 /// channels, and the source's frames and frame time, computed on up to `threads` threads (the
 /// same values on any number). See the module's docs for the steps.
 ///
-/// The fast path (eight frames at a time, see [`fast`]); [`retarget_plain`] is the same work a
-/// joint and a frame at a time, which a test holds it to.
+/// The fast path (eight frames at a time, src/retarget/fast.rs); [`retarget_plain`] is the same
+/// work a joint and a frame at a time, which a test holds it to.
 pub fn retarget(
     source: &Skeleton,
     motion: &Motion,
