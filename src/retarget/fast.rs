@@ -1347,6 +1347,71 @@ mod tests {
         }
     }
 
+    /// The pass compiled for AVX-512, for AVX2 and for neither (what this CPU has of them): the
+    /// same operations, so the same values, bit for bit; the tests of the values run on one.
+    #[test]
+    fn every_vector_width_gives_the_same_values() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/bvh/bvh11_131_01.bvh");
+        let loaded = crate::input::load(&path, None, None).unwrap();
+        let (source, motion) = (loaded.skeleton, loaded.motion);
+        // The built-in skeleton, one turning in another order, an ASF one (hinges, fixed
+        // axes), and the take's own.
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let targets = [
+            "smpl22".to_string(),
+            root.join("tests/retarget/rokoko.bvh").display().to_string(),
+            root.join("tests/data/asf_amc/heiden_12.asf")
+                .display()
+                .to_string(),
+        ]
+        .map(|name| {
+            super::super::Target::load(&name, u64::MAX)
+                .unwrap()
+                .skeleton
+        });
+        for target in targets.into_iter().chain([source.clone()]) {
+            let map = Map::guess(&source, &target);
+            let up = crate::stance::Stance::guess(&source, &motion, OffsetMode::Replace, None).up;
+            let ups = super::super::Ups {
+                source: up,
+                target: up,
+            };
+            let setup = Setup::new(&source, &motion, &target, &map, ups);
+            let plan = Plan::new(&setup, &source, &target, &map);
+            let frames = motion.frame_count().min(PIECE);
+            let run = |width: &str| {
+                let mut rows = vec![0.0f64; frames * plan.channels];
+                let mut chained = vec![[0.0; 3]; frames * plan.chained.len()];
+                let mut moves = vec![Move::default(); frames];
+                let mut scratch = Scratch::default();
+                let (r, c, m, s) = (&mut rows, &mut chained, &mut moves, &mut scratch);
+                let floors = match width {
+                    #[cfg(target_arch = "x86_64")]
+                    // SAFETY: only where the CPU has been found to support AVX-512F.
+                    "avx512" => unsafe { plan.piece_avx512(&motion, 0, r, c, m, s) },
+                    #[cfg(target_arch = "x86_64")]
+                    // SAFETY: only where the CPU has been found to support AVX2.
+                    "avx2" => unsafe { plan.piece_avx2(&motion, 0, r, c, m, s) },
+                    _ => plan.piece(&motion, 0, r, c, m, s),
+                };
+                let moves: Vec<(DVec3, DQuat)> =
+                    moves.iter().map(|m| (m.moved, m.turned)).collect();
+                (rows, chained, moves, floors)
+            };
+            let plain = run("none");
+            #[cfg(target_arch = "x86_64")]
+            for (width, feature) in [
+                ("avx2", std::arch::is_x86_feature_detected!("avx2")),
+                ("avx512", std::arch::is_x86_feature_detected!("avx512f")),
+            ] {
+                if feature {
+                    assert!(run(width) == plain, "{width}");
+                }
+            }
+        }
+    }
+
     #[test]
     fn euler_angles_are_glam_s() {
         use crate::skeleton::RotationOrder as R;
