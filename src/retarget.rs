@@ -19,7 +19,9 @@
 //!    heights and the feet are kept on the source's floor.
 //!
 //! Rotations are carried in 64-bit floats (see [`crate::pose::world_transforms_f64`]), so a take
-//! retargeted onto its own skeleton gives back its own values.
+//! retargeted onto its own skeleton gives back its own values. [`retarget`] runs eight frames side
+//! by side (src/retarget/fast.rs); [`retarget_plain`] is the same work a joint and a frame at a
+//! time, which a test holds it to (tests/retarget_fast.rs).
 
 use crate::edit::{Side, channel_angles, euler_order};
 use crate::error::Error;
@@ -28,6 +30,8 @@ use crate::pose::{OffsetMode, RotationKind, Up, world_transforms_f64};
 use crate::skeleton::{Joint, Skeleton};
 use glam::{DQuat, DVec3};
 use std::fmt;
+
+mod fast;
 
 /// The part of a limb a joint moves (the joint at the start of that bone).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -1493,6 +1497,9 @@ fn limited_angles(joint: &Joint, local: DQuat, bone: Option<DVec3>) -> ([f64; 3]
 /// The source's motion on the target skeleton: a take with the target's joints, offsets and
 /// channels, and the source's frames and frame time, computed on up to `threads` threads (the
 /// same values on any number). See the module's docs for the steps.
+///
+/// The fast path (eight frames at a time, src/retarget/fast.rs); [`retarget_plain`] is the same
+/// work a joint and a frame at a time, which a test holds it to.
 pub fn retarget(
     source: &Skeleton,
     motion: &Motion,
@@ -1501,95 +1508,238 @@ pub fn retarget(
     ups: Ups,
     threads: usize,
 ) -> Result<(Skeleton, Motion), Error> {
-    let mode = OffsetMode::Replace;
-    let source_mode = source_offset_mode(source, motion);
-    let (us, ut) = (to_y_up(ups.source), to_y_up(ups.target));
-    let ut_inv = ut.inverse();
-    let mut source_rest = Vec::new();
-    let mut target_rest = Vec::new();
-    world_transforms_f64(source, &[], mode, &mut source_rest);
-    world_transforms_f64(target, &[], mode, &mut target_rest);
-    let aligned = alignments(source, target, map, ups, &source_rest, &target_rest);
-    // The hips pair that carries the path: the target's hips if mapped, else its first
-    // mapped joint.
-    let hips_t = map
-        .target_body
-        .hips
-        .filter(|&h| map.source_of[h].is_some())
-        .or_else(|| map.source_of.iter().position(Option::is_some));
-    let hips = hips_t.and_then(|t| Some((t, map.source_of[t]?)));
-    // The joint whose position channels move the hips there: the hips or an ancestor.
-    let carrier = hips_t.and_then(|t| {
-        let mut joint = t;
-        loop {
-            if target.joints[joint]
-                .channels
-                .iter()
-                .any(|c| c.is_position())
-            {
-                return Some(joint);
+    let setup = Setup::new(source, motion, target, map, ups);
+    let (data, finite) = fast::frames(&setup, source, motion, target, map, threads);
+    if finite && target.joints.iter().all(|j| j.offset.is_finite()) {
+        // What `finish` checks, checked already on the cores.
+        let motion = Motion::new(
+            motion.frame_time,
+            target.channel_count(),
+            motion.frame_count(),
+            data,
+        );
+        return Ok((target.clone(), motion));
+    }
+    finish(target, motion, data)
+}
+
+/// [`retarget`] done plainly: glam's 64-bit quaternions and libm's `sin`, `cos` and `atan2`, a
+/// joint and a frame at a time. What the fast path is checked against.
+pub fn retarget_plain(
+    source: &Skeleton,
+    motion: &Motion,
+    target: &Skeleton,
+    map: &Map,
+    ups: Ups,
+    threads: usize,
+) -> Result<(Skeleton, Motion), Error> {
+    let setup = Setup::new(source, motion, target, map, ups);
+    let values = plain_frames(&setup, source, motion, target, map, threads);
+    finish(target, motion, values.iter().map(|&v| v as f32).collect())
+}
+
+/// The channel values [`retarget`] (`fast`) or [`retarget_plain`] computes, before they are
+/// rounded to 32 bits: for the test that holds the two together.
+#[doc(hidden)]
+pub fn retargeted_values(
+    source: &Skeleton,
+    motion: &Motion,
+    target: &Skeleton,
+    map: &Map,
+    ups: Ups,
+    threads: usize,
+    fast: bool,
+) -> Vec<f64> {
+    let setup = Setup::new(source, motion, target, map, ups);
+    match fast {
+        true => fast::frames(&setup, source, motion, target, map, threads).0,
+        false => plain_frames(&setup, source, motion, target, map, threads),
+    }
+}
+
+/// The take, refused when a value is not finite (too large for a 32-bit float).
+fn finish(target: &Skeleton, motion: &Motion, data: Vec<f32>) -> Result<(Skeleton, Motion), Error> {
+    crate::edit::finite(
+        "retargeting",
+        target.clone(),
+        Motion::new(
+            motion.frame_time,
+            target.channel_count(),
+            motion.frame_count(),
+            data,
+        ),
+    )
+}
+
+/// What the pass over the frames needs, worked out once from the skeletons and the map: the
+/// same for the plain and the fast path.
+struct Setup {
+    source_mode: OffsetMode,
+    /// The source's and the target's turn to Y up, and the target's back.
+    us: DQuat,
+    ut: DQuat,
+    ut_inv: DQuat,
+    aligned: Vec<DQuat>,
+    /// The hips pair that carries the path: (target, source).
+    hips: Option<(usize, usize)>,
+    /// The joint whose position channels move the hips there: the hips or an ancestor.
+    carrier: Option<usize>,
+    ratio: f64,
+    /// Per target joint following a source chord: the chord's far source joint, and the bone at
+    /// rest.
+    follow: Vec<Option<(usize, DVec3)>>,
+    source_legs: Vec<usize>,
+    target_legs: Vec<usize>,
+    under_carrier: Vec<bool>,
+    reference_columns: Vec<Option<[usize; 3]>>,
+    bone_of: Vec<Option<DVec3>>,
+}
+
+impl Setup {
+    fn new(source: &Skeleton, motion: &Motion, target: &Skeleton, map: &Map, ups: Ups) -> Setup {
+        let mode = OffsetMode::Replace;
+        let source_mode = source_offset_mode(source, motion);
+        let (us, ut) = (to_y_up(ups.source), to_y_up(ups.target));
+        let ut_inv = ut.inverse();
+        let mut source_rest = Vec::new();
+        let mut target_rest = Vec::new();
+        world_transforms_f64(source, &[], mode, &mut source_rest);
+        world_transforms_f64(target, &[], mode, &mut target_rest);
+        let aligned = alignments(source, target, map, ups, &source_rest, &target_rest);
+        // The hips pair that carries the path: the target's hips if mapped, else its first
+        // mapped joint.
+        let hips_t = map
+            .target_body
+            .hips
+            .filter(|&h| map.source_of[h].is_some())
+            .or_else(|| map.source_of.iter().position(Option::is_some));
+        let hips = hips_t.and_then(|t| Some((t, map.source_of[t]?)));
+        // The joint whose position channels move the hips there: the hips or an ancestor.
+        let carrier = hips_t.and_then(|t| {
+            let mut joint = t;
+            loop {
+                if target.joints[joint]
+                    .channels
+                    .iter()
+                    .any(|c| c.is_position())
+                {
+                    return Some(joint);
+                }
+                joint = target.joints[joint].parent?;
             }
-            joint = target.joints[joint].parent?;
-        }
-    });
-    let ratio = match hips {
-        Some((t, s)) => {
-            let ht = hip_height(target, &map.target_body, t, &target_rest);
-            let hs = hip_height(source, &map.source_body, s, &source_rest);
-            if ht > 1e-9 && hs > 1e-9 { ht / hs } else { 1.0 }
-        }
-        None => 1.0,
-    };
-    // Bones whose source chord spans joints the target lacks (CMU's Neck1 between Neck and
-    // Head): the target bone follows the chord each frame, by the smallest turn.
-    let mut follow: Vec<Option<(usize, DVec3)>> = vec![None; target.joints.len()];
-    for (t, d, _) in main_bones(source, target, map) {
-        let (Some(s), Some(sd)) = (map.source_of[t], map.source_of[d]) else {
-            continue;
+        });
+        let ratio = match hips {
+            Some((t, s)) => {
+                let ht = hip_height(target, &map.target_body, t, &target_rest);
+                let hs = hip_height(source, &map.source_body, s, &source_rest);
+                if ht > 1e-9 && hs > 1e-9 { ht / hs } else { 1.0 }
+            }
+            None => 1.0,
         };
-        let mut used = vec![false; source.joints.len()];
-        for u in map.source_of.iter().flatten() {
-            used[*u] = true;
+        // Bones whose source chord spans joints the target lacks (CMU's Neck1 between Neck and
+        // Head): the target bone follows the chord each frame, by the smallest turn.
+        let mut follow: Vec<Option<(usize, DVec3)>> = vec![None; target.joints.len()];
+        for (t, d, _) in main_bones(source, target, map) {
+            let (Some(s), Some(sd)) = (map.source_of[t], map.source_of[d]) else {
+                continue;
+            };
+            let mut used = vec![false; source.joints.len()];
+            for u in map.source_of.iter().flatten() {
+                used[*u] = true;
+            }
+            if path_between(source, s, sd).iter().any(|&j| !used[j]) {
+                follow[t] = Some((sd, target_rest[d].1 - target_rest[t].1));
+            }
         }
-        if path_between(source, s, sd).iter().any(|&j| !used[j]) {
-            follow[t] = Some((sd, target_rest[d].1 - target_rest[t].1));
+        let source_legs = leg_points(source, &map.source_body);
+        let target_legs = leg_points(target, &map.target_body);
+        let joints = target.joints.len();
+        let under_carrier: Vec<bool> = (0..joints)
+            .map(|j| carrier.is_some_and(|c| is_ancestor(target, c, j)))
+            .collect();
+        // Of each target joint turning in the same order as its source joint, the source's
+        // rotation columns: its values are the reference for the Euler form written.
+        let reference_columns: Vec<Option<[usize; 3]>> = (0..joints)
+            .map(|t| {
+                let joint = &target.joints[t];
+                let s = &source.joints[map.source_of[t]?];
+                if joint.rotation_order.is_none()
+                    || s.rotation_order != joint.rotation_order
+                    || s.axis != joint.axis
+                {
+                    return None;
+                }
+                let columns: Vec<usize> = s
+                    .channels
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, c)| c.is_rotation())
+                    .map(|(i, _)| s.first_channel + i)
+                    .collect();
+                Some([columns[0], columns[1], columns[2]])
+            })
+            .collect();
+        // Each target joint's main bone at rest, in its own frame (every rest rotation is the
+        // identity): what a joint with fewer than three rotation channels lays where it can.
+        let mut bone_of: Vec<Option<DVec3>> = vec![None; joints];
+        for (t, d, _) in main_bones(source, target, map) {
+            bone_of[t] = Some(target_rest[d].1 - target_rest[t].1);
+        }
+        Setup {
+            source_mode,
+            us,
+            ut,
+            ut_inv,
+            aligned,
+            hips,
+            carrier,
+            ratio,
+            follow,
+            source_legs,
+            target_legs,
+            under_carrier,
+            reference_columns,
+            bone_of,
         }
     }
-    let source_legs = leg_points(source, &map.source_body);
-    let target_legs = leg_points(target, &map.target_body);
+
+    /// Feet on the floor: the legs' lowest point over the take where the source's is, scaled.
+    fn lift(&self, source_floor: f64, target_floor: f64) -> DVec3 {
+        if source_floor.is_finite() && target_floor.is_finite() {
+            self.ut_inv * DVec3::new(0.0, self.ratio * source_floor - target_floor, 0.0)
+        } else {
+            DVec3::ZERO
+        }
+    }
+}
+
+/// The plain pass over the frames: every frame's channel values, frame after frame.
+fn plain_frames(
+    setup: &Setup,
+    source: &Skeleton,
+    motion: &Motion,
+    target: &Skeleton,
+    map: &Map,
+    threads: usize,
+) -> Vec<f64> {
+    let Setup {
+        source_mode,
+        us,
+        ut,
+        ut_inv,
+        ref aligned,
+        hips,
+        carrier,
+        ratio,
+        ref follow,
+        ref source_legs,
+        ref target_legs,
+        ref under_carrier,
+        ref reference_columns,
+        ref bone_of,
+    } = *setup;
     let frames = motion.frame_count();
     let joints = target.joints.len();
-    let under_carrier: Vec<bool> = (0..joints)
-        .map(|j| carrier.is_some_and(|c| is_ancestor(target, c, j)))
-        .collect();
-    // Of each target joint turning in the same order as its source joint, the source's rotation
-    // columns: its values are the reference for the Euler form written.
-    let reference_columns: Vec<Option<[usize; 3]>> = (0..joints)
-        .map(|t| {
-            let joint = &target.joints[t];
-            let s = &source.joints[map.source_of[t]?];
-            if joint.rotation_order.is_none()
-                || s.rotation_order != joint.rotation_order
-                || s.axis != joint.axis
-            {
-                return None;
-            }
-            let columns: Vec<usize> = s
-                .channels
-                .iter()
-                .enumerate()
-                .filter(|(_, c)| c.is_rotation())
-                .map(|(i, _)| s.first_channel + i)
-                .collect();
-            Some([columns[0], columns[1], columns[2]])
-        })
-        .collect();
-    // Each target joint's main bone at rest, in its own frame (every rest rotation is the
-    // identity): what a joint with fewer than three rotation channels lays where it can.
-    let mut bone_of: Vec<Option<DVec3>> = vec![None; joints];
-    for (t, d, _) in main_bones(source, target, map) {
-        bone_of[t] = Some(target_rest[d].1 - target_rest[t].1);
-    }
     // First, on the cores, a piece of frames at a time: each target joint's rotation channels
     // in one Euler form (radians turned to degrees), where the carrier moves the hips, and the
     // lowest leg points of source and target.
@@ -1671,7 +1821,7 @@ pub fn retarget(
                 turned = target.joints[carrier]
                     .parent
                     .map_or(DQuat::IDENTITY, |p| world_t[p].0);
-                for (joint, &under) in world_t.iter_mut().zip(&under_carrier) {
+                for (joint, &under) in world_t.iter_mut().zip(under_carrier) {
                     if under {
                         joint.1 += moved;
                     }
@@ -1679,10 +1829,10 @@ pub fn retarget(
             }
             out.moves.push(moved);
             out.carrier_parent.push(turned);
-            for &j in &source_legs {
+            for &j in source_legs {
                 out.source_floor = out.source_floor.min((us * world_s[j].1).y);
             }
-            for &j in &target_legs {
+            for &j in target_legs {
                 out.target_floor = out.target_floor.min((ut * world_t[j].1).y);
             }
         }
@@ -1707,17 +1857,12 @@ pub fn retarget(
         .iter()
         .map(|p| p.target_floor)
         .fold(f64::INFINITY, f64::min);
-    // Feet on the floor: the legs' lowest point over the take where the source's is, scaled.
-    let lift = if source_floor.is_finite() && target_floor.is_finite() {
-        ut_inv * DVec3::new(0.0, ratio * source_floor - target_floor, 0.0)
-    } else {
-        DVec3::ZERO
-    };
+    let lift = setup.lift(source_floor, target_floor);
     // Then, in frame order: of the two Euler forms of each rotation and their turns by whole
     // circles, the one nearest the source joint's own values when it turns in the same order,
     // else nearest this joint's previous frame; the carrier's translation.
     let channels = target.channel_count();
-    let mut data = vec![0.0f32; frames * channels];
+    let mut data = vec![0.0f64; frames * channels];
     let mut previous: Vec<[f64; 3]> = vec![[0.0; 3]; joints];
     let rows = pieces.iter().flat_map(|p| {
         p.angles
@@ -1746,18 +1891,14 @@ pub fn retarget(
             let mut rotations = angles.into_iter();
             for (i, channel) in joint.channels.iter().enumerate() {
                 row[joint.first_channel + i] = if channel.is_position() {
-                    translation[channel.axis()] as f32
+                    translation[channel.axis()]
                 } else {
-                    rotations.next().unwrap_or(0.0) as f32
+                    rotations.next().unwrap_or(0.0)
                 };
             }
         }
     }
-    crate::edit::finite(
-        "retargeting",
-        target.clone(),
-        Motion::new(motion.frame_time, channels, frames, data),
-    )
+    data
 }
 
 /// The angle in degrees between each bone's world direction in the source and in the
