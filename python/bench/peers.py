@@ -212,7 +212,8 @@ def summarise(records, only=None):
         if "path" in r and "error" not in r and (only is None or r["path"] in only)
     ]
     failed = [r for r in records if "error" in r]
-    # A batch load of the whole folder counts whole, whichever files are compared.
+    # A batch load counts whole, whichever files are compared (so load_many is run again on
+    # exactly the files a peer loaded: see main).
     load = sum(r["load"] for r in loaded) + sum(
         r["load"] for r in records if r.get("batch") and r not in loaded)
     # Positions of the frames not computed within the budget, at the rate of those that were.
@@ -307,6 +308,23 @@ def main():
                   f"positions {summary['positions']:.3f} s"
                   f"{' (extrapolated)' if summary['extrapolated'] else ''}, peak RSS {rss:.0f} MB"
                   f"{', ' + failure if failure else ''} {summary['errors'] or ''}", flush=True)
+        if "bvhview_many" in tools:
+            # One load_many call holds the whole batch, so it cannot be cut to the files a peer
+            # loaded afterwards: it runs again on exactly those files, for a like-for-like ratio.
+            for tool in tools:
+                loaded = results[(name, tool)].get("loaded_paths")
+                if tool.startswith("bvhview") or not loaded or len(loaded) == len(paths):
+                    continue
+                same = [Path(p) for p in loaded]
+                best = None
+                for _ in range(args.repeat):
+                    run_ = run_tool("bvhview_many", args.python, same, args.budget, args.settle,
+                                    args.timeout, args.memory_gb)
+                    if best is None or (
+                        not run_[2] and summarise(run_[0])["total"] < summarise(best[0])["total"]
+                    ):
+                        best = run_
+                results[(name, f"bvhview_many on {tool}'s files")] = {"records": best[0]}
         if args.cli.is_file():
             target = paths[0] if len(paths) == 1 else paths[0].parent
             _, _, rss, code = run([str(args.cli), "info", str(target)], args.timeout, args.memory_gb)
@@ -342,8 +360,9 @@ def print_table(sets, tools, results):
             ratio = "1" if tool.startswith("bvhview") else f"{r['total'] / same['total']:,.0f}"
             extra = ""
             if many:
-                bulk = summarise(results[(name, "bvhview_many")]["records"],
-                                 only=set(r["loaded_paths"]))
+                own = results.get((name, f"bvhview_many on {tool}'s files"),
+                                  results[(name, "bvhview_many")])
+                bulk = summarise(own["records"], only=set(r["loaded_paths"]))
                 extra = (" 1 |" if tool.startswith("bvhview")
                          else f" {r['total'] / bulk['total']:,.0f} |")
             print(f"| {name} | {tool} | {loaded} | {r['load']:.3f} | {r['positions']:.3f}{mark} | "
