@@ -227,28 +227,58 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
         transforms as f64 / 1e6 / t_fk.as_secs_f64()
     );
 
-    // Retargeting onto the built-in smpl22 (issue 37): FK plus a rotation per joint, on every core,
-    // against loading the same file on every core above.
+    // Retargeting onto the built-in smpl22 (issue 37): FK plus a rotation per joint, against
+    // loading the same file, thread for thread. Each round loads on one thread, retargets on one
+    // thread, then the same on every thread; ratios are taken round by round.
     let target = bvhview::retarget::Target::load("smpl22", u64::MAX).expect("built in");
     let cores = bvhview::cores();
+    let rounds = load.rounds.unwrap_or(if quick { 3 } else { 5 });
+    let file = std::path::Path::new(path);
+    let retargets = target
+        .apply("BIG", &bvh.skeleton, &bvh.motion, &[], 1)
+        .is_ok();
+    if !retargets {
+        println!("retarget onto smpl22: skipped: the file's skeleton has no human chain");
+    }
     for threads in [1, cores] {
-        let (t_retarget, retargeted) = best(runs.min(3), || {
-            match target.apply("BIG", &bvh.skeleton, &bvh.motion, &[], threads) {
-                Ok((_, motion)) => motion.frame_count(),
-                Err(_) => 0,
-            }
-        });
-        if retargeted > 0 {
-            println!(
-                "retarget onto smpl22:              {:8.1} ms  {:7.1} MB/s of input ({frames} frames, {threads} threads)",
-                t_retarget.as_secs_f64() * 1e3,
-                mb_per_s(size, t_retarget)
-            );
-        } else {
-            println!(
-                "retarget onto smpl22:              skipped: the file's skeleton has no human chain"
-            );
+        if !retargets {
+            break;
         }
+        let settings = bvhview::bvh::loader::Settings {
+            threads,
+            ..Default::default()
+        };
+        let (mut loads, mut moves) = (Vec::new(), Vec::new());
+        for _ in 0..rounds {
+            let start = Instant::now();
+            drop(bvhview::bvh::load_file(file, settings).expect("loads"));
+            loads.push(start.elapsed());
+            let start = Instant::now();
+            let moved = target.apply("BIG", &bvh.skeleton, &bvh.motion, &[], threads);
+            moves.push(start.elapsed());
+            drop(moved);
+        }
+        let mut ratios: Vec<f64> = moves
+            .iter()
+            .zip(&loads)
+            .map(|(m, l)| m.as_secs_f64() / l.as_secs_f64())
+            .collect();
+        ratios.sort_by(f64::total_cmp);
+        let (lm, lf) = median_and_min(&mut loads);
+        let (rm, rf) = median_and_min(&mut moves);
+        println!(
+            "retarget onto smpl22 against load, {threads} thread(s), {rounds} rounds in turn: \
+             load median {:.1} ms (fastest {:.1}), retarget median {:.1} ms (fastest {:.1}, {:.1} MB/s of input); \
+             retarget/load pair by pair: median {:.3} (from {:.3} to {:.3})",
+            lm.as_secs_f64() * 1e3,
+            lf.as_secs_f64() * 1e3,
+            rm.as_secs_f64() * 1e3,
+            rf.as_secs_f64() * 1e3,
+            mb_per_s(size, rm),
+            ratios[ratios.len() / 2],
+            ratios[0],
+            ratios[ratios.len() - 1]
+        );
     }
 
     // CSV export to memory.
