@@ -67,12 +67,28 @@ pub fn bake_axes(skeleton: &Skeleton, motion: &Motion) -> Result<(Skeleton, Moti
 /// a MOTION value past ±3.4e38 as a 32-bit float).
 pub fn finite(edit: &str, skeleton: Skeleton, motion: Motion) -> Result<(Skeleton, Motion), Error> {
     let offsets = skeleton.joints.iter().all(|j| j.offset.is_finite());
-    if !offsets || !motion.data.iter().all(|v| v.is_finite()) {
+    if !offsets || first_non_finite(&motion.data).is_some() {
         return Err(Error::Usage(format!(
             "{edit} gives values too large for a 32-bit float; nothing was written"
         )));
     }
     Ok((skeleton, motion))
+}
+
+/// Where the first NaN or infinity is: blocks without one (nearly always all of them) are
+/// passed over by a test the compiler runs on many floats at once.
+pub fn first_non_finite(values: &[f32]) -> Option<usize> {
+    const BLOCK: usize = 64;
+    values.chunks(BLOCK).enumerate().find_map(|(k, block)| {
+        if block.iter().fold(true, |finite, v| finite & v.is_finite()) {
+            None
+        } else {
+            block
+                .iter()
+                .position(|v| !v.is_finite())
+                .map(|at| k * BLOCK + at)
+        }
+    })
 }
 
 /// Only the frames in `range` (already checked against the take).
@@ -2031,6 +2047,27 @@ mod tests {
         let original = crate::pose::world_positions(&bvh.skeleton, bvh.motion.frame(2), mode);
         for (a, o) in again.iter().zip(&original) {
             assert!(a.abs_diff_eq(*o, 1e-4));
+        }
+    }
+}
+
+#[cfg(test)]
+mod finite_tests {
+    use super::first_non_finite;
+
+    #[test]
+    fn the_first_non_finite_number_is_found_in_any_block() {
+        assert_eq!(first_non_finite(&[]), None);
+        let values = vec![1.5f32; 300];
+        assert_eq!(first_non_finite(&values), None);
+        for at in [0, 1, 63, 64, 65, 127, 128, 299] {
+            for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
+                let mut with = values.clone();
+                with[at] = bad;
+                // A later one does not hide the first.
+                with[299] = f32::NAN;
+                assert_eq!(first_non_finite(&with), Some(at), "{bad} at {at}");
+            }
         }
     }
 }

@@ -46,7 +46,7 @@ pub fn check(skeleton: &Skeleton, motion: &Motion) -> Result<(), Error> {
     if let Some(joint) = skeleton.joints.iter().find(|j| !j.offset.is_finite()) {
         return refuse(format!("the OFFSET of '{}' is not finite", joint.name));
     }
-    if let Some(at) = motion.data.iter().position(|v| !v.is_finite()) {
+    if let Some(at) = crate::edit::first_non_finite(&motion.data) {
         let channels = motion.channels.max(1);
         return refuse(format!(
             "frame {}, column {} is not finite",

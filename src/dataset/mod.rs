@@ -808,22 +808,6 @@ pub fn compile(
     writer.finish()
 }
 
-/// Where the first NaN or infinity is: blocks without one (nearly always all of them) are
-/// passed over by a test the compiler runs on many floats at once.
-fn first_non_finite(values: &[f32]) -> Option<usize> {
-    const BLOCK: usize = 64;
-    values.chunks(BLOCK).enumerate().find_map(|(k, block)| {
-        if block.iter().fold(true, |finite, v| finite & v.is_finite()) {
-            None
-        } else {
-            block
-                .iter()
-                .position(|v| !v.is_finite())
-                .map(|at| k * BLOCK + at)
-        }
-    })
-}
-
 /// A clip whose arrays hold a number that is not finite (a take's numbers too large for
 /// float32: `OFFSET 0 3e38 3e38` makes infinite positions) is refused, naming the take, the
 /// array, the frame and the point: no writer writes such numbers.
@@ -847,7 +831,7 @@ fn refuse_non_finite(item: &Item, clip: Clip) -> Result<Clip, Error> {
         ("rest_offsets", &clip.rest_offsets, points * 3, Some(3)),
     ];
     for (name, values, per_frame, per_point) in arrays {
-        let Some(at) = first_non_finite(values) else {
+        let Some(at) = crate::edit::first_non_finite(values) else {
             continue;
         };
         let take = match &item.motion {
@@ -943,25 +927,4 @@ pub fn items_in(dir: &Path, pairs: &[(PathBuf, Option<PathBuf>)]) -> Vec<Item> {
             motion: motion.as_ref().map(|m| dir.join(m)),
         })
         .collect()
-}
-
-#[cfg(test)]
-mod finite_tests {
-    use super::first_non_finite;
-
-    #[test]
-    fn the_first_non_finite_number_is_found_in_any_block() {
-        assert_eq!(first_non_finite(&[]), None);
-        let values = vec![1.5f32; 300];
-        assert_eq!(first_non_finite(&values), None);
-        for at in [0, 1, 63, 64, 65, 127, 128, 299] {
-            for bad in [f32::NAN, f32::INFINITY, f32::NEG_INFINITY] {
-                let mut with = values.clone();
-                with[at] = bad;
-                // A later one does not hide the first.
-                with[299] = f32::NAN;
-                assert_eq!(first_non_finite(&with), Some(at), "{bad} at {at}");
-            }
-        }
-    }
 }
