@@ -26,6 +26,18 @@ fn partial() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
     PARTIAL.get().lock().unwrap_or_else(PoisonError::into_inner)
 }
 
+/// A test's switch (decision 14: no test waits on the clock): with `BVHVIEW_PLANT_PAUSE=output`
+/// in its environment, a process that has just made a temporary output (a file or a folder)
+/// stops there for good, so that a test can send it a signal at that known point instead of
+/// guessing how long the work takes. Only a signal ends the pause.
+fn planted_pause() {
+    if std::env::var_os("BVHVIEW_PLANT_PAUSE").is_some_and(|point| point == "output") {
+        loop {
+            std::thread::park();
+        }
+    }
+}
+
 /// A temporary folder being filled (a dataset), removed like a partial file on a signal until
 /// [`finished_folder`] says it has its name.
 pub fn partial_folder(path: &Path) {
@@ -83,6 +95,7 @@ impl NewFolder {
             .tempdir_in(folder_of(out))
             .map_err(|e| Error::output(out, e))?;
         partial_folder(folder.path());
+        planted_pause();
         Ok(NewFolder {
             out: out.to_path_buf(),
             folder: Some(folder),
@@ -275,6 +288,7 @@ impl AtomicFile {
                 // Made under the lock, and listed before it is let go.
                 partial.push(temporary.path().to_path_buf());
                 drop(partial);
+                planted_pause();
                 Writer::Replace {
                     temporary: BufWriter::new(temporary),
                     written: 0,

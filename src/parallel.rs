@@ -468,11 +468,40 @@ mod tests {
         seen.into_inner().unwrap().len()
     }
 
+    /// Threads that have started a piece; [`Meeting::arrive`] holds a piece until `wanted` of
+    /// them have (or 20 s have passed), so a test sees the work shared by arrangement, not by
+    /// guessing how long a helper takes to wake (decision 14).
+    struct Meeting {
+        seen: Mutex<std::collections::HashSet<std::thread::ThreadId>>,
+        wanted: usize,
+    }
+
+    impl Meeting {
+        fn new(wanted: usize) -> Meeting {
+            Meeting {
+                seen: Mutex::new(std::collections::HashSet::new()),
+                wanted,
+            }
+        }
+
+        fn arrive(&self) {
+            self.seen
+                .lock()
+                .unwrap()
+                .insert(std::thread::current().id());
+            let start = std::time::Instant::now();
+            while self.seen.lock().unwrap().len() < self.wanted
+                && start.elapsed() < std::time::Duration::from_secs(20)
+            {
+                std::thread::yield_now();
+            }
+        }
+    }
+
     #[test]
     fn kept_helpers_share_the_work() {
-        // Pieces long enough for a helper to wake and take some.
-        let pause = std::time::Duration::from_millis(20);
-        let threads = share(3, 8, |_| std::thread::sleep(pause));
+        let meeting = Meeting::new(2);
+        let threads = share(3, 8, |_| meeting.arrive());
         assert!((2..=3).contains(&threads), "{threads} threads ran");
     }
 
@@ -500,9 +529,10 @@ mod tests {
         let running = AtomicUsize::new(0);
         let caller = std::thread::current().id();
         let outcome = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            let meeting = Meeting::new(2);
             share(2, 6, |_| {
                 running.fetch_add(1, Ordering::SeqCst);
-                std::thread::sleep(std::time::Duration::from_millis(10));
+                meeting.arrive();
                 let helper = std::thread::current().id() != caller;
                 running.fetch_sub(1, Ordering::SeqCst);
                 assert!(!helper, "a helper's piece");
@@ -519,8 +549,8 @@ mod tests {
             "a worker still ran when the call returned"
         );
         // The helper lived through its panic: the next call is shared again.
-        let pause = std::time::Duration::from_millis(20);
-        assert_eq!(share(2, 8, |_| std::thread::sleep(pause)), 2);
+        let meeting = Meeting::new(2);
+        assert_eq!(share(2, 8, |_| meeting.arrive()), 2);
     }
 
     /// Runs `call` on a thread of its own: Some(whether it panicked), or None if it had not

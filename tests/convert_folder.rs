@@ -456,7 +456,10 @@ fn a_conversion_terminated_midway_leaves_nothing() {
     use std::os::unix::process::ExitStatusExt;
     let temp = tempfile::tempdir().unwrap();
     let out = temp.path().join("out");
+    // The planted pause holds the conversion once its temporary folder exists, until the signal
+    // comes (decision 14: no test waits on the clock).
     let mut child = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .env("BVHVIEW_PLANT_PAUSE", "output")
         .arg("convert")
         .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data"))
         .arg("-o")

@@ -270,14 +270,21 @@ pub(crate) fn _compile_dataset(
             };
             // Ctrl-C (or SIGTERM, which the package turns into an exception for the call)
             // stops the compile between takes; the exception is raised after.
-            let interrupted = |_: &_, _: Option<&str>, _: usize, _: usize| {
-                Python::attach(|py| match py.check_signals() {
-                    Ok(()) => true,
+            // With `BVHVIEW_PLANT_PAUSE=_compile_dataset` (a test's switch: no test waits on the
+            // clock) the first check waits there until a signal comes, so that a test signals
+            // the compile at that known point.
+            let mut pause = std::env::var_os("BVHVIEW_PLANT_PAUSE")
+                .is_some_and(|point| point == "_compile_dataset");
+            let interrupted = |_: &_, _: Option<&str>, _: usize, _: usize| loop {
+                let checked = Python::attach(|py| py.check_signals());
+                match checked {
                     Err(raised) => {
                         *interrupt.lock().unwrap_or_else(PoisonError::into_inner) = Some(raised);
-                        false
+                        break false;
                     }
-                })
+                    Ok(()) if !pause => break true,
+                    Ok(()) => std::thread::sleep(std::time::Duration::from_millis(5)),
+                }
             };
             bvhview::dataset::compile(&folder, items, &options, threads, &out, list, interrupted)
         });

@@ -73,6 +73,31 @@ fn guard<T>(entry: &str, work: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
     })
 }
 
+/// A test's switch (decision 14: no test waits on the clock). With `BVHVIEW_PLANT_PAUSE` set to
+/// `entry` and `BVHVIEW_PLANT_FOLDER` to a folder, the entry point, once it has let go of the
+/// GIL, makes `paused` in that folder and waits until `release` appears there: only a thread that
+/// runs Python meanwhile can make it, which proves the GIL let go. Not released within 60 s, the
+/// call fails.
+fn planted_pause_without_the_gil(entry: &str) -> Result<(), Error> {
+    if !std::env::var_os("BVHVIEW_PLANT_PAUSE").is_some_and(|name| name == entry) {
+        return Ok(());
+    }
+    let Some(folder) = std::env::var_os("BVHVIEW_PLANT_FOLDER").map(PathBuf::from) else {
+        return Err(Error::Usage("BVHVIEW_PLANT_PAUSE needs BVHVIEW_PLANT_FOLDER".into()));
+    };
+    std::fs::write(folder.join("paused"), b"").map_err(|e| Error::io(&folder, e))?;
+    let start = std::time::Instant::now();
+    while !folder.join("release").exists() {
+        if start.elapsed() > std::time::Duration::from_secs(60) {
+            return Err(Error::Usage(format!(
+                "the pause planted in {entry} was not released within 60 s"
+            )));
+        }
+        std::thread::sleep(std::time::Duration::from_millis(2));
+    }
+    Ok(())
+}
+
 /// Every error of the crate as the Python exception a Python user expects: a malformed file is a
 /// `ParseError` (a `ValueError`), a missing file a `FileNotFoundError`, other I/O an `OSError`,
 /// a request that cannot be met a `ValueError`.

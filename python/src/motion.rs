@@ -822,7 +822,10 @@ pub(crate) fn load(
         let offset_mode = parse_offset_mode(offset_mode)?;
         let item = Item { path, motion };
         let loaded = py
-            .detach(|| load_item(&item, frame_time, bvhview::cores()))
+            .detach(|| {
+                planted_pause_without_the_gil("load")?;
+                load_item(&item, frame_time, bvhview::cores())
+            })
             .map_err(|e| to_python(py, e))?;
         Ok(Motion {
             loaded,

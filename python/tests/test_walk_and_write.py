@@ -148,10 +148,11 @@ def test_write_parquet_refuses_group_names_that_are_not_plain(two_datasets):
 def test_sigterm_during_compile_dataset_leaves_nothing_behind(tmp_path):
     takes = tmp_path / "takes"
     takes.mkdir()
-    big = DATA / "bvh" / "assimp_01_01.bvh"
-    for k in range(40):
-        (takes / f"t{k:02}.bvh").write_bytes(big.read_bytes())
+    for k in range(3):
+        (takes / f"t{k:02}.bvh").write_bytes((REPO / "assets" / "walk.bvh").read_bytes())
     out = tmp_path / "out.ds"
+    # The planted pause holds the compile after its first take, its temporary folder made, until
+    # a signal comes: the signal arrives mid-compile however fast the machine (decision 14).
     child = subprocess.Popen(
         [
             sys.executable,
@@ -165,13 +166,13 @@ def test_sigterm_during_compile_dataset_leaves_nothing_behind(tmp_path):
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
+        env={**os.environ, "BVHVIEW_PLANT_PAUSE": "_compile_dataset"},
     )
     started = time.monotonic()
     while not any(p.name.startswith(".out.ds.") for p in tmp_path.iterdir()):
         assert child.poll() is None, child.communicate()
         assert time.monotonic() - started < LIMIT, "the compile never started"
         time.sleep(0.02)
-    time.sleep(0.3)
     child.send_signal(signal.SIGTERM)
     stdout, stderr = child.communicate(timeout=LIMIT)
     # Ended by the signal, as without the cleanup, and before the compile finished.
