@@ -251,7 +251,8 @@ fn kind_of(file_type: std::fs::FileType) -> &'static str {
 /// follows them: a folder (by device and inode) is walked once, at its first path in path order,
 /// so a link back up (`ln -s . a`) or two links to one folder neither loop nor list a take
 /// twice; a link to a folder outside `dir` (`ln -s / root`) is not followed, as walking all of
-/// it would not end in any useful time; a file reached under two names (links) is listed once,
+/// it would not end in any useful time, nor is a link to a file outside `dir` (a private file
+/// must not end up in a dataset or its manifest); a file reached under two names (links) is listed once,
 /// at its first path; only regular files are takes (a FIFO would wait for a writer for good).
 /// Each of these, and every entry that cannot be read, is in [`Walk::skipped`]. A `dir` that
 /// cannot be read is an error.
@@ -367,6 +368,27 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
         }
         if !is_take_name(path) {
             continue;
+        }
+        // A link to a file outside `dir` is not followed either: a dataset made to be shared
+        // must not take in (or quote, in a parse error) a private file linked from the folder.
+        if entry.path_is_symlink() {
+            match std::fs::canonicalize(path) {
+                Ok(target) if !target.starts_with(&root) => {
+                    let reason = format!(
+                        "a link to {}, outside {}: not followed",
+                        target.display(),
+                        dir.display()
+                    );
+                    skip(&mut skipped, path, reason);
+                    continue;
+                }
+                Ok(_) => {}
+                Err(e) => {
+                    let reason = format!("cannot be read: {}", unreadable(&e));
+                    skip(&mut skipped, path, reason);
+                    continue;
+                }
+            }
         }
         if !entry.file_type().is_file() {
             skip(

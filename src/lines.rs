@@ -1,6 +1,60 @@
 //! Line ends and line and column numbers, one definition for every reader: a line ends at LF,
 //! CR LF or a lone CR; columns count characters, not bytes.
 
+/// How an error shows a word it found in a file: quoted when it is text, cut to 40 characters
+/// (enough to recognise it, no more of the file); named, never shown, when it is not text (a
+/// control byte, or bytes that are not UTF-8).
+pub fn shown_word(word: &[u8]) -> String {
+    let Ok(text) = std::str::from_utf8(word) else {
+        return "binary data".to_string();
+    };
+    if text.chars().any(|c| c.is_control() && c != '\t') {
+        return "binary data".to_string();
+    }
+    if text.chars().count() > 40 {
+        let short: String = text.chars().take(40).collect();
+        format!("'{short}…'")
+    } else {
+        format!("'{text}'")
+    }
+}
+
+/// How an error shows the first word of a file that does not begin as its format does. Such a
+/// file may be anything (a link to a private file in a dataset folder): its words are its
+/// content, so the word is shown only when it is a misspelling of one of `keywords` (within two
+/// letters' changes, case aside), which is all a user needs to see; otherwise only what kind of
+/// thing it is.
+pub fn shown_first_word(word: &[u8], keywords: &[&str]) -> String {
+    let near = |keyword: &str| {
+        edit_distance(
+            &word.to_ascii_uppercase(),
+            &keyword.to_ascii_uppercase().into_bytes(),
+        ) <= 2
+    };
+    if word.len() <= 40 && keywords.iter().any(|k| near(k)) {
+        return shown_word(word);
+    }
+    match shown_word(word).as_str() {
+        "binary data" => "binary data (not text)".to_string(),
+        _ => "other text".to_string(),
+    }
+}
+
+/// Levenshtein distance between two short byte strings.
+fn edit_distance(a: &[u8], b: &[u8]) -> usize {
+    let mut previous: Vec<usize> = (0..=b.len()).collect();
+    for (i, &x) in a.iter().enumerate() {
+        let mut current = vec![i + 1; b.len() + 1];
+        for (j, &y) in b.iter().enumerate() {
+            current[j + 1] = (previous[j] + usize::from(x != y))
+                .min(previous[j + 1] + 1)
+                .min(current[j] + 1);
+        }
+        previous = current;
+    }
+    previous[b.len()]
+}
+
 /// An LF or a CR.
 pub fn is_line_end(byte: u8) -> bool {
     byte == b'\n' || byte == b'\r'
@@ -73,6 +127,23 @@ pub fn line_column(text: &[u8], offset: usize) -> (usize, usize) {
 
 #[cfg(test)]
 mod tests {
+    /// Issue 44: a file that is not motion text is not quoted; a misspelt keyword is.
+    #[test]
+    fn a_first_word_is_shown_only_when_it_misspells_a_keyword() {
+        let shown = |word: &[u8]| shown_first_word(word, &["HIERARCHY"]);
+        assert_eq!(shown(b"HIERARCHIE"), "'HIERARCHIE'");
+        assert_eq!(shown(b"hierachy"), "'hierachy'");
+        assert_eq!(shown(b"API_KEY=sk-verysecret"), "other text");
+        assert_eq!(shown(b"secret"), "other text");
+        assert_eq!(shown(b"\x00\x01ELF"), "binary data (not text)");
+        assert_eq!(shown(b"\xff\xfe"), "binary data (not text)");
+        assert_eq!(shown_word(b"\x7fELF"), "binary data");
+        assert_eq!(
+            shown_word("x".repeat(50).as_bytes()),
+            format!("'{}…'", "x".repeat(40))
+        );
+    }
+
     use super::*;
 
     /// Counting every byte one by one, as the loaders did before they shared this.

@@ -1253,3 +1253,24 @@ fn positions_to_a_json_name_write_json() {
     );
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// Issue 44: `bvhview info DIR | head -1` ended in a panic ("failed printing to stdout: Broken
+/// pipe", exit 101). A reader that has gone ends the output quietly; the exit code is the one
+/// the files earned. The pipe is closed before bvhview writes, so it is gone at the first line.
+#[test]
+fn info_of_a_folder_into_a_closed_pipe_ends_quietly() {
+    let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bvh");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("info")
+        .arg(&data)
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    let output = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&output.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(!stderr.contains("Broken pipe"), "{stderr}");
+    assert_eq!(output.status.code(), Some(0), "{stderr}");
+}

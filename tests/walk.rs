@@ -148,20 +148,92 @@ fn a_self_link_duplicates_nothing_and_links_back_up_from_deep_do_not_loop() {
     assert_eq!(collect(&link).items.len(), 2);
 }
 
-/// A folder linked from inside the folder walked is walked once, at its first path; two links
-/// to one file outside it are one take.
+/// Two links to one file inside the folder, and a hard link, are one take, kept at its first path.
 #[test]
 fn two_links_to_one_file_are_one_take_kept_at_its_first_path() {
     let temp = tempfile::tempdir().unwrap();
     let dir = temp.path().join("takes");
-    std::fs::create_dir_all(&dir).unwrap();
-    std::fs::copy(take(), temp.path().join("shared.bvh")).unwrap();
-    symlink("../shared.bvh", dir.join("one.bvh")).unwrap();
-    symlink("../shared.bvh", dir.join("two.bvh")).unwrap();
-    std::fs::hard_link(temp.path().join("shared.bvh"), dir.join("zero.bvh")).unwrap();
+    std::fs::create_dir_all(dir.join("real")).unwrap();
+    std::fs::copy(take(), dir.join("real/shared.bvh")).unwrap();
+    symlink("real/shared.bvh", dir.join("one.bvh")).unwrap();
+    symlink("real/shared.bvh", dir.join("two.bvh")).unwrap();
+    std::fs::hard_link(dir.join("real/shared.bvh"), dir.join("zero.bvh")).unwrap();
     let walk = collect(&dir);
     assert_eq!(walk.items, vec![bvh(dir.join("one.bvh"))]);
-    assert_eq!(walk.skipped.len(), 2, "{:?}", walk.skipped);
+    assert_eq!(walk.skipped.len(), 3, "{:?}", walk.skipped);
+}
+
+/// Issue 44: a link to a file outside the folder is not followed, by `info DIR` or `dataset`,
+/// and nothing of that file reaches stderr or the dataset's manifest. Before, the link was
+/// followed and the parse error quoted the private file's first line into `manifest.json`.
+#[test]
+fn a_link_to_a_file_outside_the_folder_is_skipped_and_never_quoted() {
+    let temp = tempfile::tempdir().unwrap();
+    let dir = temp.path().join("takes");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(take(), dir.join("a.bvh")).unwrap();
+    std::fs::write(
+        temp.path().join("secret.env"),
+        "API_KEY=sk-private-0123456789\n",
+    )
+    .unwrap();
+    std::fs::copy(take(), temp.path().join("outside.bvh")).unwrap();
+    symlink("../secret.env", dir.join("leak.bvh")).unwrap();
+    symlink("../outside.bvh", dir.join("other.bvh")).unwrap();
+    let walk = collect(&dir);
+    assert_eq!(walk.items, vec![bvh(dir.join("a.bvh"))]);
+    for name in ["leak.bvh", "other.bvh"] {
+        let skip = walk
+            .skipped
+            .iter()
+            .find(|s| s.path == dir.join(name))
+            .unwrap_or_else(|| panic!("{name}: {:?}", walk.skipped));
+        assert!(skip.reason.contains("outside"), "{}", skip.reason);
+    }
+    let info = bvhview(&[os("info"), os("takes")], temp.path());
+    let dataset = bvhview(
+        &[os("dataset"), os("takes"), os("-o"), os("out.ds")],
+        temp.path(),
+    );
+    assert!(
+        dataset.status.success(),
+        "{}",
+        String::from_utf8_lossy(&dataset.stderr)
+    );
+    let manifest = std::fs::read_to_string(temp.path().join("out.ds/manifest.json")).unwrap();
+    for printed in [
+        String::from_utf8_lossy(&info.stdout).to_string(),
+        String::from_utf8_lossy(&info.stderr).to_string(),
+        String::from_utf8_lossy(&dataset.stderr).to_string(),
+        manifest,
+    ] {
+        assert!(!printed.contains("sk-private"), "{printed}");
+        assert!(!printed.contains("API_KEY"), "{printed}");
+    }
+    assert!(
+        String::from_utf8_lossy(&info.stderr).contains("skipped takes/leak.bvh: a link to"),
+        "{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+}
+
+/// A file that is not motion, given by name, gets an error that shows none of its content.
+#[test]
+fn a_file_that_is_not_motion_is_not_quoted() {
+    let temp = tempfile::tempdir().unwrap();
+    for (name, content) in [
+        ("a.bvh", &b"API_KEY=sk-private-0123456789\n"[..]),
+        ("b.asf", &b"API_KEY=sk-private-0123456789\n"[..]),
+        ("c.bvh", &b"\x7fELF\x02\x01\x01sk-private"[..]),
+    ] {
+        std::fs::write(temp.path().join(name), content).unwrap();
+        let out = bvhview(&[os("info"), os(name)], temp.path());
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains(":1:1: expected "), "{stderr}");
+        assert!(!stderr.contains("sk-private"), "{stderr}");
+        assert!(!stderr.contains("API_KEY"), "{stderr}");
+    }
 }
 
 #[test]

@@ -7,6 +7,7 @@ import json
 import mmap
 import os
 import re
+import shutil
 import subprocess
 import warnings
 from pathlib import Path
@@ -239,9 +240,9 @@ def test_to_motion_saves_takes_that_load_back_to_the_datasets_positions(tmp_path
     moving_below_a_static_root(folder)
     for source in ("bvh/bvh11_131_01.bvh", "bvh/makehuman_walk1.bvh", "asf_amc/heiden_12.asf"):
         if (DATA / source).exists():
-            (folder / Path(source).name).symlink_to(DATA / source)
+            shutil.copyfile(DATA / source, folder / Path(source).name)
     amc = DATA / "asf_amc" / "heiden_12_02_01.amc"
-    (folder / amc.name).symlink_to(amc)
+    shutil.copyfile(amc, folder / amc.name)
     out = tmp_path / "ds"
     manifest = quietly(folder, out, rotations=kind)
     checked = 0
@@ -485,7 +486,7 @@ def test_nothing_to_compile_is_refused_with_every_reason_and_pieces_must_be_whol
     assert "x.bvh:2:5" in str(raised.value) and "y.bvh: Frame Time 0" in str(raised.value)
     assert not (tmp_path / "a").exists() and not (tmp_path / "b").exists()
     # Skipped takes are warned about, one warning each, and listed in the manifest.
-    (broken / "z.bvh").symlink_to(DATA / "bvh" / "bvh11_131_01.bvh")
+    shutil.copyfile(DATA / "bvh" / "bvh11_131_01.bvh", broken / "z.bvh")
     with pytest.warns(bvhview.SkippedTake) as caught:
         manifest = bvhview.compile_dataset(broken, tmp_path / "c")
     assert len(caught) == 2 and len(manifest["skipped"]) == 2
@@ -624,7 +625,7 @@ def test_a_dataset_folder_is_untrusted_input(tmp_path):
 
     source = tmp_path / "one"
     source.mkdir()
-    (source / "walk.bvh").symlink_to(DATA / "bvh" / "assimp_01_01.bvh")
+    (source / "walk.bvh").write_bytes((DATA / "bvh" / "assimp_01_01.bvh").read_bytes())
     (source / "walk_again.bvh").write_bytes((DATA / "bvh" / "assimp_01_01.bvh").read_bytes())
     good = tmp_path / "good"
     quietly(source, good)

@@ -4,7 +4,7 @@
 //! must count up by one, and every bone with a dof must appear once per frame.
 
 use super::asf::ValueMap;
-use super::text::{LineWords, error_at, expected, number};
+use super::text::{LineWords, error_at, expected, expected_at_start, number};
 use crate::error::Error;
 use crate::motion::Motion;
 use std::path::Path;
@@ -72,9 +72,11 @@ pub fn parse_amc(
         Ok(())
     };
 
+    let mut header_seen = false;
     while let Some(line) = lines.next_line() {
         let first = &line[0];
         if first.text.starts_with(':') {
+            header_seen = true;
             if frame_number.is_some() {
                 return Err(expected(source, first, "a bone name or a frame number"));
             }
@@ -105,6 +107,15 @@ pub fn parse_amc(
             continue;
         }
         if frame_number.is_none() {
+            // Nothing of the file was an AMC's yet: it may not be motion at all (issue 44).
+            if !header_seen {
+                return Err(expected_at_start(
+                    source,
+                    first,
+                    "a frame number",
+                    &[":FULLY-SPECIFIED", ":DEGREES", ":RADIANS"],
+                ));
+            }
             return Err(expected(source, first, "a frame number"));
         }
         let Some(bone) = index.get(first.text).copied() else {

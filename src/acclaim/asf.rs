@@ -3,7 +3,7 @@
 //! parent, end). Seed 004's `Read_ASF`; unlike it, any number of bones and frames, keywords in any
 //! case, and an error with the line and column for anything malformed.
 
-use super::text::{Word, error_at, expected, expected_after, lines, number};
+use super::text::{Word, error_at, expected, expected_after, expected_at_start, lines, number};
 use super::{axis_rotation, bone_joint};
 use crate::error::Error;
 use crate::limits::MAX_DEPTH;
@@ -233,7 +233,22 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
             continue;
         }
         match section {
-            Section::None => return Err(expected(source, first, "a section such as :root")),
+            Section::None => {
+                return Err(expected_at_start(
+                    source,
+                    first,
+                    "a section such as :root",
+                    &[
+                        ":version",
+                        ":name",
+                        ":units",
+                        ":documentation",
+                        ":root",
+                        ":bonedata",
+                        ":hierarchy",
+                    ],
+                ));
+            }
             Section::Other => {}
             Section::Units => units_line(source, line, &mut units)?,
             Section::Root => root_line(

@@ -102,7 +102,27 @@ pub(crate) fn expected(source: &str, word: &Word<'_>, what: &str) -> Error {
         source,
         word.line,
         word.column,
-        format!("expected {what}, found '{}'", word.text),
+        format!(
+            "expected {what}, found {}",
+            crate::lines::shown_word(word.text.as_bytes())
+        ),
+    )
+}
+
+/// An error at the first word of a file that does not begin as `keywords` would: the word is
+/// shown only when it misspells one of them ([`crate::lines::shown_first_word`]).
+pub(crate) fn expected_at_start(
+    source: &str,
+    word: &Word<'_>,
+    what: &str,
+    keywords: &[&str],
+) -> Error {
+    let found = crate::lines::shown_first_word(word.text.as_bytes(), keywords);
+    error_at(
+        source,
+        word.line,
+        word.column,
+        format!("expected {what}, found {found}"),
     )
 }
 

@@ -13,7 +13,7 @@
 use super::rows::{self, RowParser, parse_number};
 use crate::error::Error;
 use crate::limits::{MAX_DEPTH, MAX_HEADER_BYTES};
-use crate::lines::{is_line_end, line_column};
+use crate::lines::{is_line_end, line_column, shown_first_word, shown_word};
 use crate::motion::Motion;
 use crate::skeleton::{Channel, Joint, RotationOrder, Skeleton};
 use glam::Vec3;
@@ -321,15 +321,7 @@ impl<'a> Loader<'a> {
                 MAX_HEADER_BYTES >> 20
             ),
             None => "end of file".to_string(),
-            Some(token) => {
-                let text = String::from_utf8_lossy(self.word(token));
-                if text.chars().count() > 40 {
-                    let short: String = text.chars().take(40).collect();
-                    format!("'{short}…'")
-                } else {
-                    format!("'{text}'")
-                }
-            }
+            Some(token) => shown_word(self.word(token)),
         };
         self.error_at(at, format!("expected {what}, found {found}"))
     }
@@ -381,8 +373,16 @@ impl<'a> Loader<'a> {
             self.p = 3;
         }
         let header = self.token()?;
-        if !header.is_some_and(|t| self.is(t, "HIERARCHY")) {
-            return Err(self.expected("HIERARCHY", header));
+        match header {
+            Some(t) if self.is(t, "HIERARCHY") => {}
+            // Not a BVH file, perhaps not motion at all: its first word is shown only when it
+            // misspells HIERARCHY (issue 44: a link to a private file put a line of it in a
+            // dataset's manifest).
+            Some(t) => {
+                let found = shown_first_word(self.word(t), &["HIERARCHY"]);
+                return Err(self.error_at(t.at, format!("expected HIERARCHY, found {found}")));
+            }
+            None => return Err(self.expected("HIERARCHY", header)),
         }
         Ok(())
     }

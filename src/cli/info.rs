@@ -133,13 +133,16 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
     } else {
         String::new()
     };
-    println!(
+    // Written, not println!'d: a reader that has gone (`| head -1`) ends the output quietly.
+    let summary = writeln!(
+        io::stdout().lock(),
         "{}: {} ok{unpaired_part}, {failed} failed; {:.1} MB in {seconds:.2} s ({:.0} MB/s)",
         bvhview::error::counted(outcomes.len(), "file"),
         outcomes.len() - failed - unpaired,
         bytes as f64 / 1e6,
         bytes as f64 / 1e6 / seconds.max(1e-9)
     );
+    super::written(summary, None)?;
     Ok(if failed > 0 {
         ExitCode::from(2)
     } else {
