@@ -66,13 +66,31 @@ pub fn bake_axes(skeleton: &Skeleton, motion: &Motion) -> Result<(Skeleton, Moti
 /// The edited take, or an error naming the edit when a value in it is not finite (an OFFSET or
 /// a MOTION value past ±3.4e38 as a 32-bit float).
 pub fn finite(edit: &str, skeleton: Skeleton, motion: Motion) -> Result<(Skeleton, Motion), Error> {
-    let offsets = skeleton.joints.iter().all(|j| j.offset.is_finite());
-    if !offsets || first_non_finite(&motion.data).is_some() {
-        return Err(Error::Usage(format!(
-            "{edit} gives values too large for a 32-bit float; nothing was written"
-        )));
+    // A NaN was not made by the edit (no edit makes one of finite values): it came in with the
+    // take, and the message says so rather than blame the edit (issue 44: `--scale 1`).
+    let nan = |value: f32| value.is_nan();
+    if let Some(joint) = skeleton.joints.iter().find(|j| !j.offset.is_finite()) {
+        if joint.offset.to_array().into_iter().any(nan) {
+            return Err(Error::Usage(format!(
+                "the OFFSET of joint {:?} is not a number (NaN); nothing was written",
+                joint.name
+            )));
+        }
+    } else if let Some(at) = first_non_finite(&motion.data) {
+        if nan(motion.data[at]) {
+            let channels = motion.channels.max(1);
+            return Err(Error::Usage(format!(
+                "frame {}, value {} is not a number (NaN); nothing was written",
+                at / channels,
+                at % channels + 1
+            )));
+        }
+    } else {
+        return Ok((skeleton, motion));
     }
-    Ok((skeleton, motion))
+    Err(Error::Usage(format!(
+        "{edit} gives values too large for a 32-bit float; nothing was written"
+    )))
 }
 
 /// Where the first NaN or infinity is: blocks without one (nearly always all of them) are
@@ -2053,7 +2071,51 @@ mod tests {
 
 #[cfg(test)]
 mod finite_tests {
-    use super::first_non_finite;
+    use super::{Motion, Skeleton, finite, first_non_finite};
+
+    /// Issue 44: a NaN that came in with the take is named as one, where it is, not blamed on
+    /// the edit ("--scale 1 gives values too large"); an overflow the edit made still is.
+    #[test]
+    fn a_nan_is_named_where_it_is_and_an_overflow_blames_the_edit() {
+        let take = || {
+            let mut root = crate::skeleton::Joint::new("root".into(), None);
+            root.offset = glam::Vec3::ONE;
+            let skeleton = Skeleton {
+                joints: vec![root],
+                source: Default::default(),
+            };
+            (skeleton, Motion::new(1.0 / 30.0, 2, 2, vec![1.0; 4]))
+        };
+        let (mut skeleton, motion) = take();
+        skeleton.joints[0].offset.y = f32::NAN;
+        let error = finite("--scale 1", skeleton, motion)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            error,
+            "the OFFSET of joint \"root\" is not a number (NaN); nothing was written"
+        );
+        let (skeleton, mut motion) = take();
+        motion.data[3] = f32::NAN;
+        let error = finite("--scale 1", skeleton, motion)
+            .unwrap_err()
+            .to_string();
+        assert_eq!(
+            error,
+            "frame 1, value 2 is not a number (NaN); nothing was written"
+        );
+        let (skeleton, mut motion) = take();
+        motion.data[0] = f32::INFINITY;
+        let error = finite("--scale 1e38", skeleton, motion)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            error.starts_with("--scale 1e38 gives values too large"),
+            "{error}"
+        );
+        let (skeleton, motion) = take();
+        assert!(finite("--scale 1", skeleton, motion).is_ok());
+    }
 
     #[test]
     fn the_first_non_finite_number_is_found_in_any_block() {

@@ -207,6 +207,85 @@ pub fn load_take(
     }
 }
 
+/// The format of a take's bytes by how they begin, for standard input, which has no extension:
+/// `HIERARCHY` (after a byte-order mark or blanks) is BVH, `glTF` binary GLB, `{` glTF text,
+/// and FBX's binary magic or an ASCII FBX's `; FBX` comment FBX.
+pub fn format_of_bytes(bytes: &[u8]) -> Option<&'static str> {
+    let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let start = text
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(text.len());
+    let text = &text[start..];
+    if text.len() >= 9 && text[..9].eq_ignore_ascii_case(b"HIERARCHY") {
+        Some("bvh")
+    } else if bytes.starts_with(b"glTF") {
+        Some("glb")
+    } else if text.starts_with(b"{") {
+        Some("gltf")
+    } else if bytes.starts_with(b"Kaydara FBX Binary") || text.starts_with(b"; FBX") {
+        Some("fbx")
+    } else {
+        None
+    }
+}
+
+/// A take from bytes in memory (standard input, `-`): in `format` (`bvh`, `fbx`, `gltf` or
+/// `glb`), or, given none, the one [`format_of_bytes`] tells. `name` is what messages call it;
+/// a glTF read so has no folder, so its buffers must be inside it (GLB or data URIs).
+pub fn load_bytes_as(
+    bytes: &[u8],
+    format: Option<&str>,
+    name: &str,
+    frame_time: Option<f64>,
+    threads: usize,
+    take: Option<&str>,
+) -> Result<Loaded, Error> {
+    crate::limits::frame_time_option(frame_time)?;
+    let format = match format.or_else(|| format_of_bytes(bytes)) {
+        Some(format) => format,
+        None => {
+            return Err(Error::Usage(format!(
+                "{name}: not a take bvhview can tell by its first bytes; name its format with \
+                 --from bvh, fbx, gltf or glb"
+            )));
+        }
+    };
+    let (skeleton, mut motion, warnings) = match format {
+        "bvh" => {
+            if take.is_some() {
+                return Err(Error::Usage(format!(
+                    "--take: {name} is a BVH, which holds one take"
+                )));
+            }
+            let file = bvh::load_bytes(bytes, name)?;
+            (file.skeleton, file.motion, file.warnings)
+        }
+        "fbx" => {
+            let read = crate::fbx::load_bytes(bytes, name, take, threads)?;
+            (read.skeleton, read.motion, read.warnings)
+        }
+        "gltf" | "glb" => {
+            let read = crate::gltf_in::load_bytes(bytes, name, take)?;
+            (read.skeleton, read.motion, read.warnings)
+        }
+        other => {
+            return Err(Error::Usage(format!(
+                "--from {other}: bvhview reads bvh, fbx, gltf or glb from standard input"
+            )));
+        }
+    };
+    if let Some(time) = frame_time {
+        motion.frame_time = time;
+    }
+    Ok(Loaded {
+        skeleton,
+        motion,
+        warnings,
+        stated_units: None,
+    })
+}
+
 /// The bundled walk.
 pub fn default_motion() -> Result<Loaded, Error> {
     let file = bvh::load_bytes(crate::DEFAULT_MOTION, crate::DEFAULT_MOTION_NAME)?;

@@ -12,7 +12,7 @@ use std::process::ExitCode;
 #[command(
     name = "bvhview",
     version,
-    about = "Load, look at, snapshot and export BVH and ASF/AMC motion capture",
+    about = "Load, look at, snapshot and export motion capture: BVH, ASF/AMC, FBX and glTF",
     args_conflicts_with_subcommands = true,
     after_help = cli::viewer::WINDOW_KEYS
 )]
@@ -29,16 +29,31 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Print the joint tree exactly as the article's BVH::print() does.
+    #[command(
+        after_help = "Examples:\n  bvhview print walk.bvh\n  bvhview print character.fbx --take 1\n  bvhview print 07.asf --motion 07_05.amc"
+    )]
     Print(cli::print::PrintArgs),
     /// Summarise a file (joints, channels, frames, timing, rotation orders, warnings), or every
-    /// BVH and ASF/AMC under a folder, one line each, on all cores.
+    /// BVH, ASF/AMC, FBX and glTF take under a folder, one line each, on all cores.
+    #[command(
+        after_help = "Examples:\n  bvhview info walk.bvh\n  bvhview info scene.glb\n  bvhview info mocap/          (every take under it, on all cores)"
+    )]
     Info(cli::info::InfoArgs),
     /// Write the world position of every joint and End Site (ASF: every bone's end) per frame.
+    #[command(
+        after_help = "Examples:\n  bvhview positions walk.bvh -o walk.csv\n  bvhview positions run.fbx --format json -o run.json"
+    )]
     Positions(cli::positions::PositionsArgs),
     /// Draw offscreen (no display needed): one frame as PNG, or with --frames a sequence as an
     /// animated GIF or APNG, or as one PNG per frame in a folder.
+    #[command(
+        after_help = "Examples:\n  bvhview snapshot walk.bvh --frame 10 -o walk.png\n  bvhview snapshot dance.glb --frames 0..120 -o dance.gif"
+    )]
     Snapshot(cli::snapshot::SnapshotArgs),
     /// Print the GL calls one display() makes for a frame, in C, one per line.
+    #[command(
+        after_help = "Examples:\n  bvhview trace walk.bvh --frame 0\n  bvhview trace jump.fbx --frame 5"
+    )]
     Trace(cli::trace::TraceArgs),
     /// Compare two PNG pictures: how many pixels differ (exit 1 if any), and optionally a
     /// picture of where.
@@ -46,16 +61,30 @@ enum Command {
     /// The two-bone, three-quad linear blend skinning demo: in a window (right-drag bends the
     /// second bone), or offscreen with -o.
     SkinDemo(cli::skin_demo::SkinDemoArgs),
-    /// Write a take (BVH, or ASF + AMC) as BVH or glTF (.glb, .gltf), trimmed, resampled,
+    /// Write a take (BVH, ASF + AMC, FBX or glTF) as BVH or glTF (.glb, .gltf), trimmed, resampled,
     /// scaled, turned, mirrored, in place or grounded on the way if asked.
+    #[command(
+        after_help = "Examples:\n  bvhview convert walk.bvh -o walk.glb\n  bvhview convert run.fbx --fps 30 -o run.bvh\n  bvhview convert mocap/ --to gltf -o mocap_gltf/"
+    )]
     Convert(cli::convert::ConvertArgs),
-    /// Compile every take under a folder into training arrays on all cores: one frame rate, Y up,
+    /// Compile every take (BVH, ASF/AMC, FBX, glTF) under a folder into training arrays on all cores: one frame rate, Y up,
     /// metres; positions, rotations, root translations, velocities, foot contacts, as
     /// manifest.json plus .npy files per skeleton topology. Takes that fail are skipped and listed.
+    #[command(
+        after_help = "Examples:\n  bvhview dataset mocap/ -o mocap.ds\n  bvhview dataset mixed/ --onto smpl22 -o mixed.ds"
+    )]
     Dataset(cli::dataset::DatasetArgs),
     /// Put a take's motion on another skeleton (a file, or the built-in `smpl22`): joints
     /// matched by role from their names, rest poses aligned, written as BVH or glTF.
+    #[command(
+        after_help = "Examples:\n  bvhview retarget walk.bvh --onto smpl22 -o walk_smpl.bvh\n  bvhview retarget dance.fbx --onto hero.glb --show-map"
+    )]
     Retarget(cli::retarget::RetargetArgs),
+    /// Write the man page or shell completions on stdout, made from this command's own help.
+    #[command(
+        after_help = "Install them with, for example:\n  bvhview generate man > ~/.local/share/man/man1/bvhview.1\n  bvhview generate complete-bash > ~/.local/share/bash-completion/completions/bvhview\n  bvhview generate complete-zsh > ~/.zfunc/_bvhview\n  bvhview generate complete-fish > ~/.config/fish/completions/bvhview.fish"
+    )]
+    Generate(cli::generate::GenerateArgs),
 }
 
 fn main() -> ExitCode {
@@ -98,6 +127,7 @@ fn main() -> ExitCode {
         Some(Command::Convert(args)) => cli::convert::run(args),
         Some(Command::Dataset(args)) => cli::dataset::run(args),
         Some(Command::Retarget(args)) => cli::retarget::run(args),
+        Some(Command::Generate(args)) => cli::generate::run(args, Cli::command()),
     };
     match result {
         Ok(code) => code,

@@ -858,6 +858,8 @@ impl Map {
                 ))
             })?;
             if dst.is_empty() {
+                // A later "leave out" wins over an earlier pair of the same joint.
+                given.retain(|&(o, _)| o != s);
                 for t in 0..self.source_of.len() {
                     if self.source_of[t] == Some(s) {
                         self.source_of[t] = None;
@@ -1014,10 +1016,10 @@ pub fn parse_map(text: &str, name: &str) -> Result<Vec<(String, String)>, Error>
         message,
     };
     let table: Vec<(String, String)> = if text.trim_start().starts_with('{') {
-        let value: serde_json::Map<String, serde_json::Value> = serde_json::from_str(text)
+        let value: JsonEntries = serde_json::from_str(text)
             .map_err(|e| bad(e.line(), e.column(), format!("not a JSON map: {e}")))?;
         let mut pairs = Vec::new();
-        for (key, value) in value {
+        for (key, value) in value.0 {
             match value {
                 serde_json::Value::String(target) => pairs.push((key, target)),
                 serde_json::Value::Null => pairs.push((key, String::new())),
@@ -1058,6 +1060,37 @@ pub fn parse_map(text: &str, name: &str) -> Result<Vec<(String, String)>, Error>
         pairs
     };
     Ok(table)
+}
+
+/// A JSON map's entries in file order. A key given twice is refused where the second one is
+/// (serde_json's own map would keep the last silently; TOML refuses it too).
+struct JsonEntries(Vec<(String, serde_json::Value)>);
+
+impl<'de> serde::Deserialize<'de> for JsonEntries {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct Entries;
+        impl<'de> serde::de::Visitor<'de> for Entries {
+            type Value = JsonEntries;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("a JSON object of source and target joint names")
+            }
+            fn visit_map<A: serde::de::MapAccess<'de>>(
+                self,
+                mut map: A,
+            ) -> Result<JsonEntries, A::Error> {
+                let mut entries: Vec<(String, serde_json::Value)> = Vec::new();
+                while let Some(key) = map.next_key::<String>()? {
+                    if entries.iter().any(|(k, _)| *k == key) {
+                        return Err(serde::de::Error::custom(format!("{key:?} is given twice")));
+                    }
+                    let value = map.next_value()?;
+                    entries.push((key, value));
+                }
+                Ok(JsonEntries(entries))
+            }
+        }
+        deserializer.deserialize_map(Entries)
+    }
 }
 
 fn position_of(text: &str, offset: usize) -> (usize, usize) {

@@ -208,6 +208,35 @@ fn the_window_without_a_display_says_so_in_one_line() {
              `bvhview snapshot FILE -o out.png` draws without one\n"
         );
     }
+    // Issue 44: the skinning demo points to its own offscreen form, and a display nobody serves
+    // is named without the source path winit's error carries.
+    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("skin-demo")
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert!(
+        stderr.ends_with("`bvhview skin-demo -o out.png` draws without one\n"),
+        "{stderr}"
+    );
+    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg(tiny())
+        .env("DISPLAY", ":55")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8(out.stderr).unwrap();
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.starts_with("bvhview: cannot open the X display \":55\""),
+        "{stderr}"
+    );
+    assert!(
+        !stderr.contains(".rs:") && !stderr.contains("registry"),
+        "{stderr}"
+    );
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
 }
 
 #[test]
@@ -323,6 +352,19 @@ fn snapshot_frames_writes_a_sequence_equal_to_single_snapshots() {
     let a = bvhview::render::Image::read_png(&dir.join("frame_00002.png")).unwrap();
     let b = bvhview::render::Image::read_png(&single).unwrap();
     assert_eq!(a.differing_pixels(&b), 0);
+    // Issue 44: a second run into the folder, now holding pictures, is refused as `convert`
+    // refuses it (it left frame_00003… of a longer earlier run beside the new ones).
+    let again = bvhview(&[
+        "snapshot",
+        &tiny(),
+        "--frames",
+        "0..2",
+        "-o",
+        dir.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&again.stderr);
+    assert_eq!(again.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("already holds files"), "{stderr}");
     std::fs::remove_dir_all(dir).unwrap();
 }
 
@@ -1273,4 +1315,80 @@ fn info_of_a_folder_into_a_closed_pipe_ends_quietly() {
     assert!(!stderr.contains("panicked"), "{stderr}");
     assert!(!stderr.contains("Broken pipe"), "{stderr}");
     assert_eq!(output.status.code(), Some(0), "{stderr}");
+}
+
+/// Runs bvhview with `input` on its standard input.
+fn with_stdin(args: &[&str], input: &[u8]) -> Output {
+    use std::io::Write as _;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .args(args)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut stdin = child.stdin.take().unwrap();
+    let input = input.to_vec();
+    let feeder = std::thread::spawn(move || {
+        let _ = stdin.write_all(&input);
+    });
+    let output = child.wait_with_output().unwrap();
+    feeder.join().unwrap();
+    output
+}
+
+/// Issue 44: `-` reads a take from standard input and writes to standard output, as a user
+/// piping between Unix tools expects; the format comes from --from or --to, or the first bytes.
+#[test]
+fn a_dash_reads_standard_input_and_writes_standard_output() {
+    let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
+    let bytes = std::fs::read(&walk).unwrap();
+    let walk = walk.to_str().unwrap();
+    // info -: the summary of the same take, named <stdin>.
+    let piped = with_stdin(&["info", "-"], &bytes);
+    let named = bvhview(&["info", walk]);
+    assert!(
+        piped.status.success(),
+        "{}",
+        String::from_utf8_lossy(&piped.stderr)
+    );
+    let tail = |o: &Output| {
+        let text = String::from_utf8_lossy(&o.stdout).to_string();
+        text.lines().skip(1).collect::<Vec<_>>().join("\n")
+    };
+    assert_eq!(tail(&piped), tail(&named));
+    // positions - -o -: the same numbers as from the file.
+    let piped = with_stdin(&["positions", "-", "-o", "-"], &bytes);
+    let named = bvhview(&["positions", walk]);
+    assert!(
+        piped.status.success(),
+        "{}",
+        String::from_utf8_lossy(&piped.stderr)
+    );
+    assert_eq!(piped.stdout, named.stdout);
+    // convert - -o - --to glb, then that GLB through standard input again (told by its bytes).
+    let glb = with_stdin(&["convert", "-", "-o", "-", "--to", "glb", "-q"], &bytes);
+    assert!(
+        glb.status.success(),
+        "{}",
+        String::from_utf8_lossy(&glb.stderr)
+    );
+    assert!(glb.stdout.starts_with(b"glTF"));
+    let back = with_stdin(
+        &["convert", "-", "-o", "-", "--to", "bvh", "-q"],
+        &glb.stdout,
+    );
+    assert!(
+        back.status.success(),
+        "{}",
+        String::from_utf8_lossy(&back.stderr)
+    );
+    assert!(back.stdout.starts_with(b"HIERARCHY"));
+    // No --to for standard output, and bytes nothing can tell: one clear line each, exit 2.
+    let untold = with_stdin(&["convert", "-", "-o", "-"], &bytes);
+    assert_eq!(untold.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&untold.stderr).contains("--to bvh, glb or gltf"));
+    let unknown = with_stdin(&["info", "-"], b"just some words\n");
+    assert_eq!(unknown.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&unknown.stderr).contains("--from bvh, fbx, gltf or glb"));
 }

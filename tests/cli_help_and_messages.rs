@@ -52,8 +52,9 @@ fn snapshot_and_convert_help_name_every_format_they_write() {
     );
     assert!(
         top.contains(
-            "convert    Write a take (BVH, or ASF + AMC) as BVH or glTF (.glb, .gltf), trimmed, \
-             resampled, scaled, turned, mirrored, in place or grounded on the way if asked\n"
+            "convert    Write a take (BVH, ASF + AMC, FBX or glTF) as BVH or glTF (.glb, .gltf), \
+             trimmed, resampled, scaled, turned, mirrored, in place or grounded on the way if \
+             asked\n"
         ),
         "{top}"
     );
@@ -260,4 +261,67 @@ fn counts_of_one_are_singular_in_every_message_that_writes_them() {
         )
         .contains("expected 1 frame as Frames: says (line 12), found 0: the file ends"),
     );
+}
+
+/// Issue 44: every command that reads takes names every format it reads (FBX and glTF beside
+/// BVH and ASF/AMC) in its `--help`, with examples after it, as ripgrep's and cargo's do.
+#[test]
+fn every_help_names_every_format_a_command_reads_with_examples() {
+    for command in [
+        "print",
+        "info",
+        "positions",
+        "snapshot",
+        "trace",
+        "convert",
+        "dataset",
+        "retarget",
+    ] {
+        let text = help(&[command, "--help"]);
+        for format in [".bvh", ".fbx", ".gltf", ".glb", ".asf"] {
+            assert!(
+                text.contains(format),
+                "{command} --help lacks {format}:\n{text}"
+            );
+        }
+        assert!(
+            text.contains("Examples:\n  bvhview "),
+            "{command} --help:\n{text}"
+        );
+    }
+    let top = help(&["--help"]);
+    for format in ["BVH", "ASF/AMC", "FBX", "glTF"] {
+        assert!(top.contains(format), "--help lacks {format}:\n{top}");
+    }
+}
+
+/// Issue 44: the man page and the completions are made from the clap command; bash loads the
+/// completions and offers the commands for `bvhview re<TAB>`.
+#[test]
+fn the_man_page_and_completions_are_generated_from_the_command() {
+    let man = help(&["generate", "man"]);
+    assert!(
+        man.starts_with(".ie \\n(.g .ds Aq") || man.contains(".TH bvhview"),
+        "{man}"
+    );
+    for command in ["retarget", "dataset", "convert", "snapshot"] {
+        assert!(man.contains(command), "the man page lacks {command}");
+    }
+    let fish = help(&["generate", "complete-fish"]);
+    assert!(fish.contains("complete -c bvhview"), "{fish}");
+    let zsh = help(&["generate", "complete-zsh"]);
+    assert!(zsh.starts_with("#compdef bvhview"), "{zsh}");
+    let bash = help(&["generate", "complete-bash"]);
+    let script = format!(
+        "{bash}\nCOMP_WORDS=(bvhview re); COMP_CWORD=1; COMP_LINE='bvhview re'; COMP_POINT=10\n\
+         _bvhview bvhview re bvhview\nprintf '%s\\n' \"${{COMPREPLY[@]}}\"\n"
+    );
+    let out = Command::new("bash").arg("-c").arg(script).output().unwrap();
+    let offered = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert_eq!(offered.trim(), "retarget", "{offered}");
 }

@@ -495,3 +495,34 @@ fn a_conversion_terminated_midway_leaves_nothing() {
         .collect();
     assert!(left.is_empty(), "{left:?}");
 }
+
+/// Issue 44: a take named `..bvh` was written to `out/..` ("is a directory", exit 1, nothing
+/// written for any take): `with_extension` turns `..bvh` into `..`.
+#[test]
+fn a_take_named_dot_dot_bvh_converts_beside_the_others() {
+    let temp = tempfile::tempdir().unwrap();
+    let takes = temp.path().join("takes");
+    std::fs::create_dir(&takes).unwrap();
+    let walk = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
+    std::fs::copy(&walk, takes.join("..bvh")).unwrap();
+    std::fs::copy(&walk, takes.join("walk.bvh")).unwrap();
+    let out = temp.path().join("out");
+    for format in ["bvh", "glb"] {
+        let _ = std::fs::remove_dir_all(&out);
+        let run = bvhview(&[
+            "convert".as_ref(),
+            takes.as_os_str(),
+            "-o".as_ref(),
+            out.as_os_str(),
+            "--to".as_ref(),
+            std::ffi::OsStr::new(format),
+        ]);
+        assert!(run.status.success(), "{}", stderr(&run));
+        let mut written: Vec<String> = std::fs::read_dir(&out)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().into_string().unwrap())
+            .collect();
+        written.sort();
+        assert_eq!(written, [format!("..{format}"), format!("walk.{format}")]);
+    }
+}

@@ -765,3 +765,43 @@ fn a_skeleton_whose_names_say_nothing_maps_by_its_tree() {
         Map::guess(&anonymous, &target.skeleton).show(&anonymous, &target.skeleton)
     );
 }
+
+/// Issue 44: a JSON map with a key given twice kept the last silently (TOML refuses it), and
+/// `--map A=b --map A=` ignored the later "leave out".
+#[test]
+fn a_key_given_twice_is_refused_and_a_later_leave_out_wins() {
+    let text = "{\n  \"Hips\": \"pelvis\",\n  \"Spine\": \"spine1\",\n  \"Hips\": \"spine2\"\n}\n";
+    let error = retarget::parse_map(text, "m.json").unwrap_err().to_string();
+    assert!(error.starts_with("m.json:4:"), "{error}");
+    assert!(error.contains("\"Hips\" is given twice"), "{error}");
+
+    let (skeleton, _) = take(&common::repo_data("bvh/assimp_01_01.bvh"));
+    let name = skeleton.joints[1].name.clone();
+    let other = skeleton.joints[2].name.clone();
+    let mut map = Map::guess(&skeleton, &skeleton);
+    let pairs = [(name.clone(), other.clone()), (name.clone(), String::new())];
+    map.apply(&pairs, &skeleton, &skeleton).unwrap();
+    assert!(
+        !map.source_of.contains(&Some(1)),
+        "{name} is still mapped: {:?}",
+        map.source_of
+    );
+}
+
+/// Issue 44: a map file that is not UTF-8 gets its line and column.
+#[test]
+fn a_map_file_that_is_not_utf8_is_refused_at_its_line_and_column() {
+    let temp = tempfile::tempdir().unwrap();
+    let map = temp.path().join("bad.toml");
+    std::fs::write(&map, b"\"Hips\" = \"pelvis\"\n\"Sp\xffine\" = \"spine1\"\n").unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("retarget")
+        .arg(common::repo_data("bvh/assimp_01_01.bvh"))
+        .args(["--onto", "smpl22", "--show-map", "--map"])
+        .arg(&map)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{stderr}");
+    assert!(stderr.contains("bad.toml:2:4: not UTF-8 text"), "{stderr}");
+}

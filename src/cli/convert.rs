@@ -52,20 +52,30 @@ pub(crate) struct ConvertArgs {
     /// Threads (default: every core): a folder converts one take per thread.
     #[arg(long)]
     threads: Option<usize>,
-    /// The file to write: .bvh, or glTF as .glb (binary) or .gltf (text, data inline). For a
-    /// folder, the folder to make (it must not exist, or be empty).
+    /// The file to write: .bvh, or glTF as .glb (binary) or .gltf (text, data inline); `-` is
+    /// standard output, in the format --to names. For a folder, the folder to make (it must not
+    /// exist, or be empty).
     #[arg(short, long)]
     output: PathBuf,
 }
 
 pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
-    if args.input.is_dir() {
+    if !is_stdio(&args.input) && args.input.is_dir() {
         return run_folder(&args);
     }
-    check_output(&args.output, &["bvh", "glb", "gltf"])?;
+    // `-o -`: standard output, in the format --to names (there is no extension to tell it).
+    if is_stdio(&args.output) && args.to.is_none() {
+        return Err(Error::Usage(
+            "-o -: name the format written to standard output with --to bvh, glb or gltf".into(),
+        ));
+    }
+    if !is_stdio(&args.output) {
+        check_output(&args.output, &["bvh", "glb", "gltf"])?;
+    }
     let format = TakeFormat::of(&args.output);
     if let Some(to) = args.to
         && to != format
+        && !is_stdio(&args.output)
         && !bvhview::output::written_in_place(&args.output)
     {
         return Err(Error::Usage(format!(
@@ -78,14 +88,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
     }
     let format = args.to.unwrap_or(format);
     check_options(&args, format)?;
-    let loaded = input::load_take(
-        &args.input,
-        args.source.motion.as_deref(),
-        args.source.frame_time,
-        threads(&args),
-        args.source.max_size,
-        args.source.take.as_deref(),
-    )?;
+    let loaded = load_with_threads(&args.input, &args.source, threads(&args))?;
     for warning in &loaded.warnings {
         eprintln!("bvhview: {}: warning: {warning}", args.input.display());
     }
@@ -207,7 +210,7 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
     bvhview::limits::frame_time_option(args.source.frame_time)?;
     let walk = bvhview::batch::collect_takes(dir)?;
     for line in walk.skipped_lines() {
-        eprintln!("{line}");
+        super::note(format_args!("{line}"));
     }
     let items = walk.items;
     let names = output_names(dir, &items, format);
@@ -256,7 +259,7 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
                 }
                 Outcome::Skipped(line) => {
                     skipped += 1;
-                    eprintln!("skipped {line}");
+                    super::note(format_args!("skipped {line}"));
                 }
                 Outcome::Failed(line) => {
                     failed += 1;
@@ -385,7 +388,14 @@ fn output_names(dir: &Path, items: &[Item], format: TakeFormat) -> Vec<Result<Pa
             .map(Path::to_path_buf)
             .unwrap_or_else(|_| take.file_name().map(PathBuf::from).unwrap_or_default())
     };
-    let short = |item: &Item| relative(item).with_extension(extension);
+    // Not `with_extension`: it turns `..bvh` into `..`, the folder above (issue 44).
+    let short = |item: &Item| {
+        let path = relative(item);
+        let mut name = path.file_stem().unwrap_or_default().to_os_string();
+        name.push(".");
+        name.push(extension);
+        path.with_file_name(name)
+    };
     let long = |item: &Item| {
         let mut name = OsString::from(relative(item));
         name.push(".");

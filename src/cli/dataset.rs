@@ -6,7 +6,7 @@ use bvhview::pose::RotationKind;
 
 #[derive(Args)]
 pub(crate) struct DatasetArgs {
-    /// The folder of takes (BVH files and ASF/AMC pairs, subfolders too).
+    /// The folder of takes (.bvh, .fbx, .gltf, .glb, and .asf/.amc pairs; subfolders too).
     dir: PathBuf,
     /// The dataset folder to make (it must not exist, or be empty).
     #[arg(short, long)]
@@ -95,11 +95,12 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
     options.check()?;
     let walk = dataset::walk(&args.dir)?;
     for line in walk.skipped_lines() {
-        eprintln!("{line}");
+        super::note(format_args!("{line}"));
     }
     let items = walk.items;
     let takes = dataset::whole_list(&args.dir, &items);
     let threads = args.threads.unwrap_or_else(bvhview::cores).max(1);
+    let progress = super::Progress::new(items.len());
     let summary = dataset::compile(
         &args.dir,
         items,
@@ -107,13 +108,17 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         threads,
         &args.output,
         takes,
-        |_, error, _, _| {
+        |_, error, finished, _| {
+            // A line goes on a line of its own, the bar drawn again below it.
+            progress.done();
             if let Some(error) = error {
-                eprintln!("skipped {error}");
+                super::note(format_args!("skipped {error}"));
             }
+            progress.show(finished);
             true
         },
     )?;
+    progress.done();
     wrote(format_args!(
         "{}: {}, {} at {} fps in {}; {} skipped",
         args.output.display(),

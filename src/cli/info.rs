@@ -4,7 +4,8 @@ use super::*;
 
 #[derive(Args)]
 pub(crate) struct InfoArgs {
-    /// The file or folder (default: the bundled walk).
+    /// A take (.bvh, .fbx, .gltf, .glb, or an .asf skeleton with --motion), or a folder of them
+    /// (default: the bundled walk).
     file: Option<PathBuf>,
     #[command(flatten)]
     source: Source,
@@ -58,11 +59,10 @@ fn takes_text(takes: &[bvhview::fbx::TakeInfo]) -> String {
 /// `bvhview info DIR`: one line per file, in path order, a progress bar on a terminal, and a
 /// summary. Exits 2 if any file failed (an unpaired AMC is a note, not a failure).
 fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCode, Error> {
-    use std::io::IsTerminal;
     let started = std::time::Instant::now();
     let walk = bvhview::batch::collect(dir)?;
     for line in walk.skipped_lines() {
-        eprintln!("{line}");
+        super::note(format_args!("{line}"));
     }
     let items = walk.items;
     if items.is_empty() {
@@ -72,7 +72,7 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
         )));
     }
     let threads = bvhview::cores();
-    let progress = io::stderr().is_terminal();
+    let progress = super::Progress::new(items.len());
     if let Some(motion) = &source.motion {
         return Err(Error::Usage(format!(
             "--motion {}: a folder pairs each AMC with its ASF itself",
@@ -85,7 +85,7 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
         max_size: source.max_size,
         offset_mode,
     };
-    let outcomes = bvhview::batch::run(items, threads, settings, |outcome, finished, total| {
+    let outcomes = bvhview::batch::run(items, threads, settings, |outcome, finished, _| {
         let line = match &outcome.result {
             Ok(Some(text)) => {
                 let name = match &outcome.item.motion {
@@ -102,25 +102,13 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
             ),
             Err(error) => format!("error  {error}"),
         };
-        if progress {
-            eprint!("\r\x1b[2K");
-        }
+        progress.done();
         let mut out = io::stdout().lock();
         let _ = writeln!(out, "{line}");
         let _ = out.flush();
-        if progress {
-            let width = 30;
-            let filled = finished * width / total.max(1);
-            eprint!(
-                "\r[{}{}] {finished}/{total}",
-                "#".repeat(filled),
-                "-".repeat(width - filled)
-            );
-        }
+        progress.show(finished);
     });
-    if progress {
-        eprint!("\r\x1b[2K");
-    }
+    progress.done();
     let failed = outcomes.iter().filter(|o| o.result.is_err()).count();
     let unpaired = outcomes
         .iter()

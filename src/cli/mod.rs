@@ -5,6 +5,7 @@
 pub(crate) mod convert;
 pub(crate) mod dataset;
 pub(crate) mod diff;
+pub(crate) mod generate;
 pub(crate) mod info;
 pub(crate) mod positions;
 pub(crate) mod print;
@@ -96,6 +97,10 @@ pub(crate) struct Source {
     /// `bvhview info` (default: the first).
     #[arg(long, value_name = "NAME|INDEX")]
     take: Option<String>,
+    /// The format of a take read from standard input (`-`): bvh, fbx, gltf or glb (default:
+    /// told by its first bytes).
+    #[arg(long, value_name = "FORMAT", value_parser = ["bvh", "fbx", "gltf", "glb"])]
+    from: Option<String>,
     /// Seconds per frame, overriding the file (AMC files have none: default 1/120).
     #[arg(long, value_name = "SECONDS", allow_negative_numbers = true)]
     frame_time: Option<f64>,
@@ -242,6 +247,13 @@ pub(crate) fn wrote(what: std::fmt::Arguments) {
     }
 }
 
+/// A line on stderr that `-q` silences: what a folder walk or a compile skipped.
+pub(crate) fn note(line: std::fmt::Arguments) {
+    if !QUIET.load(std::sync::atomic::Ordering::Relaxed) {
+        eprintln!("{line}");
+    }
+}
+
 /// Refuses an output whose extension is not one the command writes, before any work.
 /// A FIFO, a character device or a path under /dev or /proc (`/dev/stdout`, `/dev/fd/3`) is
 /// taken whatever its name: it is written to where it is.
@@ -306,12 +318,59 @@ pub(crate) fn load(path: &Path, source: &Source) -> Result<Loaded, Error> {
 
 /// Loads a file (with its motion), its warnings left to the caller.
 pub(crate) fn load_quietly(path: &Path, source: &Source) -> Result<Loaded, Error> {
-    input::load_take(
-        path,
-        source.motion.as_deref(),
+    load_with_threads(path, source, bvhview::cores())
+}
+
+/// Whether a path names standard input or output: `-`, as Unix tools take it.
+pub(crate) fn is_stdio(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// [`load_quietly`] on `threads` threads; `-` reads the take from standard input (at most
+/// `--max-size` bytes) in the format `--from` names or its first bytes tell.
+pub(crate) fn load_with_threads(
+    path: &Path,
+    source: &Source,
+    threads: usize,
+) -> Result<Loaded, Error> {
+    if !is_stdio(path) {
+        if source.from.is_some() {
+            return Err(Error::Usage(format!(
+                "--from is for standard input (-); {} is named by its extension",
+                path.display()
+            )));
+        }
+        return input::load_take(
+            path,
+            source.motion.as_deref(),
+            source.frame_time,
+            threads,
+            source.max_size,
+            source.take.as_deref(),
+        );
+    }
+    if let Some(motion) = &source.motion {
+        return Err(Error::Usage(format!(
+            "--motion {}: an ASF skeleton is read from a file, not standard input",
+            motion.display()
+        )));
+    }
+    use std::io::Read as _;
+    let mut bytes = Vec::new();
+    let limit = source.max_size;
+    bvhview::read::Bounded::saying(
+        io::stdin().lock(),
+        limit,
+        format!("more than --max-size {limit} bytes"),
+    )
+    .read_to_end(&mut bytes)
+    .map_err(|e| Error::io(Path::new("<stdin>"), e))?;
+    input::load_bytes_as(
+        &bytes,
+        source.from.as_deref(),
+        "<stdin>",
         source.frame_time,
-        bvhview::cores(),
-        source.max_size,
+        threads,
         source.take.as_deref(),
     )
 }
@@ -544,9 +603,11 @@ pub(crate) fn write_take(
     skin: bool,
 ) -> Result<ExitCode, Error> {
     let prepared = Prepared::new(format, skeleton, motion, mode, skin)?;
-    let mut out = open_output(Some(output))?;
+    // `-o -`: standard output.
+    let path = (!is_stdio(output)).then_some(output);
+    let mut out = open_output(path)?;
     let result = prepared.write_to(&mut out);
-    finish_write(out, result, Some(output))?;
+    finish_write(out, result, path)?;
     prepared.say_renamed(output);
     wrote(format_args!("{}: {}", output.display(), prepared.summary()));
     Ok(ExitCode::SUCCESS)

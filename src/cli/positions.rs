@@ -24,7 +24,7 @@ impl From<FormatArg> for Format {
 
 #[derive(Args)]
 pub(crate) struct PositionsArgs {
-    /// A .bvh file, or an .asf skeleton (its motion with --motion).
+    /// A take: .bvh, .fbx, .gltf or .glb, or an .asf skeleton (its motion with --motion).
     file: PathBuf,
     #[command(flatten)]
     source: Source,
@@ -43,12 +43,16 @@ pub(crate) struct PositionsArgs {
     /// How position channels combine with OFFSET.
     #[arg(long, value_enum, default_value_t)]
     offset_mode: OffsetModeArg,
-    /// Output file (default: standard output).
+    /// Output file (`-` or none: standard output).
     #[arg(short, long)]
     output: Option<PathBuf>,
 }
 
-pub(crate) fn run(args: PositionsArgs) -> Result<ExitCode, Error> {
+pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
+    // `-o -` is standard output, as no -o is.
+    if args.output.as_deref().is_some_and(is_stdio) {
+        args.output = None;
+    }
     if let Some(output) = &args.output {
         check_output(output, &["csv", "json"])?;
     }

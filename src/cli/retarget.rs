@@ -5,11 +5,12 @@ use bvhview::retarget::{self, Map, Target};
 
 #[derive(Args)]
 pub(crate) struct RetargetArgs {
-    /// The take to move: a .bvh file, or an .asf skeleton with its motion in --motion.
+    /// The take to move: .bvh, .fbx, .gltf or .glb, or an .asf skeleton with its motion in
+    /// --motion.
     input: PathBuf,
     #[command(flatten)]
     source: Source,
-    /// The skeleton to put it on: a .bvh or .asf file (its motion is not used), or a built-in
+    /// The skeleton to put it on: a .bvh, .fbx, .gltf, .glb or .asf file (its motion is not used), or a built-in
     /// skeleton: `smpl22` (the 22 SMPL body joints of HumanML3D and most motion models).
     #[arg(long, value_name = "TARGET")]
     onto: String,
@@ -30,9 +31,19 @@ fn map_pairs(values: &[String]) -> Result<Vec<(String, String)>, Error> {
     let mut pairs = Vec::new();
     for value in values {
         let path = Path::new(value);
+        // A regular file only (a FIFO or a device is not a map), read up to 16 MiB.
         if path.is_file() {
-            let text = std::fs::read_to_string(path).map_err(|e| Error::io(path, e))?;
-            pairs.extend(retarget::parse_map(&text, value)?);
+            let bytes = bvhview::read::read_file(path, 16 << 20)?;
+            let text = std::str::from_utf8(&bytes).map_err(|e| {
+                let (line, column) = bvhview::lines::line_column(&bytes, e.valid_up_to());
+                Error::Parse {
+                    path: value.clone(),
+                    line,
+                    column,
+                    message: "not UTF-8 text: a map file is TOML or JSON".to_string(),
+                }
+            })?;
+            pairs.extend(retarget::parse_map(text, value)?);
         } else if let Some(pair) = retarget::parse_pair(value) {
             pairs.push(pair);
         } else {

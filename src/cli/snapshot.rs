@@ -6,8 +6,8 @@ use bvhview::render::{Overlay, SnapshotOptions};
 
 #[derive(Args)]
 pub(crate) struct SnapshotArgs {
-    /// A .bvh file, or an .asf skeleton (its motion with --motion); several files stand side
-    /// by side on one timeline.
+    /// A take: .bvh, .fbx, .gltf or .glb, or an .asf skeleton (its motion with --motion);
+    /// several files stand side by side on one timeline.
     #[arg(required = true, num_args = 1..)]
     files: Vec<PathBuf>,
     #[command(flatten)]
@@ -255,6 +255,13 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     // one is refused as it is for `-o /no/such/x.png`).
     if !output.is_dir() {
         std::fs::create_dir(output).map_err(|e| Error::output(output, e))?;
+    } else if std::fs::read_dir(output).is_ok_and(|mut entries| entries.next().is_some()) {
+        // As `convert DIR` refuses it: pictures of an earlier run left beside these (more
+        // frames then, or other names) would read as one sequence.
+        return Err(Error::Usage(format!(
+            "{}: already holds files; the pictures go into a new (or empty) folder",
+            output.display()
+        )));
     }
     // One offscreen context for the whole sequence.
     let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;

@@ -4,7 +4,7 @@ use super::*;
 
 #[derive(Args)]
 pub(crate) struct TraceArgs {
-    /// A .bvh file, or an .asf skeleton (its motion with --motion).
+    /// A take: .bvh, .fbx, .gltf or .glb, or an .asf skeleton (its motion with --motion).
     file: PathBuf,
     #[command(flatten)]
     source: Source,

@@ -31,8 +31,8 @@ Keys in the window:
 /// What `bvhview` takes without a command: the files to show and how.
 #[derive(Args)]
 pub(crate) struct ViewerArgs {
-    /// A .bvh file, or an .asf skeleton, to show in a window (default: the bundled walk);
-    /// several files stand side by side on one timeline.
+    /// A take (.bvh, .fbx, .gltf, .glb, or an .asf skeleton) to show in a window (default: the
+    /// bundled walk); several files stand side by side on one timeline.
     files: Vec<PathBuf>,
     #[command(flatten)]
     source: Source,
@@ -73,7 +73,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         up,
     } = args;
     // Say there is no display before loading anything.
-    bvhview::render::window::check_environment()?;
+    bvhview::render::window::check_environment(bvhview::render::window::VIEWER_OFFSCREEN)?;
     if files.len() > 1 && source.motion.is_some() {
         return Err(Error::Usage(
             "--motion goes with one ASF skeleton; to show an ASF/AMC take beside others, convert it to BVH first".into(),

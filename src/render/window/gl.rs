@@ -29,9 +29,15 @@ pub(super) const X_LIBRARIES: &[(&str, &str)] = &[
     ("libGL.so.1", "libgl1 libglx-mesa0 libgl1-mesa-dri"),
 ];
 
+/// What draws the viewer's pictures without a display, for the messages.
+pub const VIEWER_OFFSCREEN: &str = "`bvhview snapshot FILE -o out.png`";
+/// What draws the skinning demo without a display.
+pub const SKIN_DEMO_OFFSCREEN: &str = "`bvhview skin-demo -o out.png`";
+
 /// Fails with one clear line when there is no display to open a window on, or when the X
 /// libraries winit loads at run time are missing (without libxkbcommon-x11 it panics).
-pub fn check_environment() -> Result<(), Error> {
+/// `offscreen` names the command that draws the same without a display.
+pub fn check_environment(offscreen: &str) -> Result<(), Error> {
     let set = |name: &str| std::env::var_os(name).is_some_and(|v| !v.is_empty());
     if !set("DISPLAY") {
         let why = if set("WAYLAND_DISPLAY") {
@@ -40,8 +46,7 @@ pub fn check_environment() -> Result<(), Error> {
             "neither DISPLAY nor WAYLAND_DISPLAY is set"
         };
         return Err(Error::Environment(format!(
-            "no display to open a window on: {why}. `bvhview snapshot FILE -o out.png` draws \
-             without one"
+            "no display to open a window on: {why}. {offscreen} draws without one"
         )));
     }
     let missing: Vec<&str> = X_LIBRARIES
@@ -161,6 +166,33 @@ pub(super) fn quietly<T>(f: impl FnOnce() -> T) -> Result<T, String> {
              libxcb1 libxkbcommon-x11-0 libxcursor1 libxi6 libgl1 libglx-mesa0 libgl1-mesa-dri)"
         )
     })
+}
+
+/// winit's event loop on the X display, or one line that says why not: winit's own words
+/// without the source path its errors carry ("os error at …/event_loop.rs:NN:").
+pub(super) fn new_event_loop(offscreen: &str) -> Result<winit::event_loop::EventLoop<()>, Error> {
+    match quietly(winit::event_loop::EventLoop::new) {
+        Ok(Ok(event_loop)) => Ok(event_loop),
+        Ok(Err(e)) => {
+            let text = e.to_string();
+            let said = match text.split_once("os error at ") {
+                Some((before, rest)) => {
+                    format!(
+                        "{before}{}",
+                        rest.split_once(": ").map_or(rest, |(_, why)| why)
+                    )
+                }
+                None => text,
+            };
+            let display = std::env::var("DISPLAY").unwrap_or_default();
+            Err(Error::Environment(format!(
+                "cannot open the X display {display:?}: {said}. {offscreen} draws without one"
+            )))
+        }
+        Err(panicked) => Err(Error::Environment(format!(
+            "cannot open the X display: {panicked}"
+        ))),
+    }
 }
 
 /// The window, its surface and its context, once the event loop has started.

@@ -7,17 +7,15 @@ use glutin::prelude::GlSurface;
 use std::num::NonZeroU32;
 use winit::application::ApplicationHandler;
 use winit::event::{ElementState, MouseButton, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::event_loop::ActiveEventLoop;
 use winit::keyboard::{Key, NamedKey};
 use winit::window::WindowId;
 
 /// Seed 001's demo in a window: a right-button drag bends the second bone about Y (up and down)
 /// and Z (left and right); Esc quits.
 pub fn run_skin_demo(bend: (f32, f32)) -> Result<(), Error> {
-    check_environment()?;
-    let event_loop = quietly(EventLoop::new)
-        .and_then(|r| r.map_err(|e| e.to_string()))
-        .map_err(|e| Error::Environment(format!("cannot open the X display: {e}")))?;
+    check_environment(super::gl::SKIN_DEMO_OFFSCREEN)?;
+    let event_loop = super::gl::new_event_loop(super::gl::SKIN_DEMO_OFFSCREEN)?;
     let mut app = SkinDemo {
         bend,
         drag: None,

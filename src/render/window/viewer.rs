@@ -25,7 +25,7 @@ use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
-use winit::event_loop::{ActiveEventLoop, ControlFlow, EventLoop};
+use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::WindowId;
 
@@ -119,13 +119,11 @@ impl ViewerTake {
 /// `init`, so a bad file is reported before any window opens. Several takes stand side by side
 /// on one timeline; files dropped on the window join them.
 pub fn run(takes: Vec<ViewerTake>, options: ViewerOptions) -> Result<(), Error> {
-    check_environment()?;
+    check_environment(super::gl::VIEWER_OFFSCREEN)?;
     if takes.is_empty() {
         return Err(Error::Usage("nothing to show".into()));
     }
-    let event_loop = quietly(EventLoop::new)
-        .and_then(|r| r.map_err(|e| e.to_string()))
-        .map_err(|e| Error::Environment(format!("cannot open the X display: {e}")))?;
+    let event_loop = super::gl::new_event_loop(super::gl::VIEWER_OFFSCREEN)?;
     let mut app = Viewer::new(takes, options);
     event_loop
         .run_app(&mut app)
