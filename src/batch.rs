@@ -470,8 +470,13 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
 /// What the walk skipped (loops, folders and files reached again, links out of `dir`, what is
 /// not a regular file or cannot be read) is in [`Walk::skipped`].
 pub fn collect_takes(dir: &Path) -> Result<Walk, Error> {
-    if !dir.is_dir() {
-        return Err(Error::Usage(format!("{}: not a folder", dir.display())));
+    // A missing folder is an I/O error (Python's FileNotFoundError), a file a usage one.
+    match std::fs::metadata(dir) {
+        Err(e) => return Err(Error::io(dir, e)),
+        Ok(m) if !m.is_dir() => {
+            return Err(Error::Usage(format!("{}: not a folder", dir.display())));
+        }
+        Ok(_) => {}
     }
     let walk = collect(dir)?;
     if walk.items.is_empty() {

@@ -82,7 +82,7 @@ enum Command {
     Retarget(cli::retarget::RetargetArgs),
     /// Write the man page or shell completions on stdout, made from this command's own help.
     #[command(
-        after_help = "Install them with, for example:\n  bvhview generate man > ~/.local/share/man/man1/bvhview.1\n  bvhview generate complete-bash > ~/.local/share/bash-completion/completions/bvhview\n  bvhview generate complete-zsh > ~/.zfunc/_bvhview\n  bvhview generate complete-fish > ~/.config/fish/completions/bvhview.fish"
+        after_help = "Install them with, for example:\n  bvhview generate man -o ~/.local/share/man/man1/bvhview.1\n  bvhview generate complete-bash -o ~/.local/share/bash-completion/completions/bvhview\n  bvhview generate complete-zsh -o ~/.zfunc/_bvhview\n  bvhview generate complete-fish -o ~/.config/fish/completions/bvhview.fish"
     )]
     Generate(cli::generate::GenerateArgs),
 }

@@ -213,22 +213,30 @@ fn a_file_larger_than_max_size_is_refused_before_reading() {
     );
 }
 
-/// A path with no size up front (here a link to /dev/zero, endless) is read only up to
-/// `--max-size`, for every format.
+/// A path with no size up front (here a link to /proc/self/smaps, a regular file that says it
+/// holds 0 bytes and holds many thousands) is read only up to `--max-size`, for every format. A
+/// device (/dev/zero, endless) is refused by its type before any read (issue 44).
 #[test]
 fn max_size_bounds_what_is_read_from_any_path() {
     let dir = scratch("endless");
     std::fs::create_dir_all(&dir).unwrap();
-    for name in ["zero.bvh", "zero.asf"] {
+    // A BVH stops at its first word, before the limit, quoting none of it.
+    for (name, want) in [
+        (
+            "smaps.bvh",
+            "smaps.bvh:1:1: expected HIERARCHY, found other text",
+        ),
+        ("smaps.asf", "smaps.asf: more than --max-size 1024 bytes"),
+    ] {
         let link = dir.join(name);
         let _ = std::fs::remove_file(&link);
-        std::os::unix::fs::symlink("/dev/zero", &link).unwrap();
+        std::os::unix::fs::symlink("/proc/self/smaps", &link).unwrap();
         let out = bvhview(&["info", link.to_str().unwrap(), "--max-size", "1K"]);
-        one_line(&out, 2, "more than --max-size 1024 bytes");
+        one_line(&out, 2, want);
     }
-    let amc = dir.join("zero.amc");
+    let amc = dir.join("smaps.amc");
     let _ = std::fs::remove_file(&amc);
-    std::os::unix::fs::symlink("/dev/zero", &amc).unwrap();
+    std::os::unix::fs::symlink("/proc/self/smaps", &amc).unwrap();
     let asf = data("asf_amc/heiden_12.asf").display().to_string();
     let out = bvhview(&[
         "info",
@@ -236,9 +244,14 @@ fn max_size_bounds_what_is_read_from_any_path() {
         "--motion",
         amc.to_str().unwrap(),
         "--max-size",
-        "64K",
+        "8K",
     ]);
-    one_line(&out, 2, "zero.amc: more than --max-size 65536 bytes");
+    one_line(&out, 2, "smaps.amc: more than --max-size 8192 bytes");
+    let zero = dir.join("zero.bvh");
+    let _ = std::fs::remove_file(&zero);
+    std::os::unix::fs::symlink("/dev/zero", &zero).unwrap();
+    let out = bvhview(&["info", zero.to_str().unwrap()]);
+    one_line(&out, 2, "zero.bvh: a character device, not a regular file");
     std::fs::remove_dir_all(dir).unwrap();
 }
 

@@ -68,6 +68,7 @@ const SUBCOMMANDS: &[&str] = &[
     "convert",
     "dataset",
     "retarget",
+    "generate",
     "help",
 ];
 

@@ -176,8 +176,12 @@ def load(
     motion: _PathLike | None = None,
     offset_mode: _OffsetMode = "replace",
     frame_time: float | None = None,
+    *,
+    take: str | int | None = None,
 ) -> Motion:
-    """A .bvh file, or an .asf skeleton with `motion` its .amc take."""
+    """A take: a .bvh, .fbx, .gltf or .glb file, or an .asf skeleton with `motion` its .amc
+    take. `take` picks one take of an FBX or glTF file that holds several (its name, or its
+    index as `bvhview info FILE` lists them; default: the first)."""
 
 def load_many(
     paths: _PathLike | Sequence[Union[_PathLike, Tuple[_PathLike, _PathLike]]],

@@ -23,7 +23,7 @@ import threading
 import warnings
 from collections.abc import Iterator, Sequence
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 
@@ -117,7 +117,7 @@ def compile_dataset(
     out: StrPath,
     *,
     fps: float = 30.0,
-    rotations: str = "6d",
+    rotations: Literal["quat", "matrix", "6d", "euler", "axis_angle"] = "6d",
     root_relative: bool = False,
     feet: Sequence[str] | None = None,
     contact_height: float = 0.05,

@@ -31,6 +31,23 @@ pub(crate) fn load_item(
     )
 }
 
+/// `take=` of `load`: a take's name, or its index (as `bvhview info FILE` lists them).
+pub(crate) struct TakeChoice(String);
+
+impl<'py> FromPyObject<'_, 'py> for TakeChoice {
+    type Error = PyErr;
+
+    fn extract(value: Borrowed<'_, 'py, PyAny>) -> PyResult<TakeChoice> {
+        if let Ok(index) = value.extract::<u64>() {
+            return Ok(TakeChoice(index.to_string()));
+        }
+        value
+            .extract::<String>()
+            .map(TakeChoice)
+            .map_err(|_| PyValueError::new_err("take=: expected a take's name or its index"))
+    }
+}
+
 /// A loaded take: the skeleton, the MOTION values, and forward kinematics on them.
 ///
 /// Frozen: nothing changes after loading, so `values` can be a view of the loaded data (no
@@ -806,17 +823,20 @@ impl Motion {
     }
 }
 
-/// Loads a .bvh file, or an .asf skeleton with `motion` its .amc take (an .asf alone gives the
-/// rest pose). `offset_mode`: "replace" (default) or "add"; `frame_time` overrides the file's
-/// (AMC files have none: 1/120 s is the default).
+/// Loads a take: a .bvh, .fbx, .gltf or .glb file, or an .asf skeleton with `motion` its .amc
+/// take (an .asf alone gives the rest pose). `offset_mode`: "replace" (default) or "add";
+/// `frame_time` overrides the file's (AMC files have none: 1/120 s is the default); `take`
+/// picks one take of an FBX or glTF file that holds several, by name or index (default: the
+/// first).
 #[pyfunction]
-#[pyo3(signature = (path, motion=None, offset_mode="replace", frame_time=None))]
+#[pyo3(signature = (path, motion=None, offset_mode="replace", frame_time=None, *, take=None))]
 pub(crate) fn load(
     py: Python<'_>,
     path: PathBuf,
     motion: Option<PathBuf>,
     offset_mode: &str,
     frame_time: Option<f64>,
+    take: Option<TakeChoice>,
 ) -> PyResult<Motion> {
     guard("load", || {
         let offset_mode = parse_offset_mode(offset_mode)?;
@@ -824,7 +844,22 @@ pub(crate) fn load(
         let loaded = py
             .detach(|| {
                 planted_pause_without_the_gil("load")?;
-                load_item(&item, frame_time, bvhview::cores())
+                match &take {
+                    None => load_item(&item, frame_time, bvhview::cores()),
+                    Some(take) => {
+                        if item.path.is_dir() {
+                            return Err(Error::io(&item.path, io::ErrorKind::IsADirectory.into()));
+                        }
+                        input::load_take(
+                            &item.path,
+                            item.motion.as_deref(),
+                            frame_time,
+                            bvhview::cores(),
+                            input::DEFAULT_MAX_SIZE,
+                            Some(&take.0),
+                        )
+                    }
+                }
             })
             .map_err(|e| to_python(py, e))?;
         Ok(Motion {

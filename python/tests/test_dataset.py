@@ -278,6 +278,11 @@ def test_to_motion_takes_root_translations_and_refuses_what_is_no_take(compiled,
     rotations = item["rotations"].copy()
     with pytest.raises(ValueError, match="rotations: .* numbers where"):
         data.to_motion(rotations[:, :-1])
+    # Issue 44: numbers of another kind are named, with the argument that says so.
+    quats = take.local_rotations(kind="quat")[:, : rotations.shape[1]]
+    if manifest["options"]["rotations"] != "quat":
+        with pytest.raises(ValueError, match='they fit quat numbers: name their kind \\(kind="quat"\\)'):
+            data.to_motion(quats)
     rotations[0, 0] = 0.0
     with pytest.raises(ValueError, match="no rotation"):
         data.to_motion(rotations)

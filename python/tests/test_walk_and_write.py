@@ -251,3 +251,18 @@ def test_unpickling_refuses_nan_axes_and_values():
         with pytest.raises(ValueError, match="not a finite number"):
             bvhview._bvhview._from_state(state[:10] + (bytes(values),))
     assert bvhview._bvhview._from_state(state).frame_count == take.frame_count
+
+
+def test_a_missing_folder_is_file_not_found_and_load_picks_a_take(tmp_path):
+    """Issue 44: a missing folder raised ValueError; load() had no take= for FBX and glTF."""
+    with pytest.raises(FileNotFoundError):
+        bvhview.compile_dataset(tmp_path / "nowhere", tmp_path / "out.ds")
+    with pytest.raises(FileNotFoundError):
+        bvhview.list_takes(tmp_path / "nowhere")
+    glb = REPO / "tests" / "data" / "gltf" / "bvh11_131_01.glb"
+    first = bvhview.load(glb)
+    assert np.array_equal(bvhview.load(glb, take=0).positions(), first.positions())
+    with pytest.raises(ValueError, match="take"):
+        bvhview.load(glb, take="no such take")
+    with pytest.raises(ValueError, match="take"):
+        bvhview.load(REPO / "assets" / "walk.bvh", take=0)

@@ -5,8 +5,11 @@ use super::*;
 
 #[derive(Args)]
 pub(crate) struct GenerateArgs {
-    /// What to write on stdout: the man page (roff), or the completions for a shell.
+    /// What to write: the man page (roff), or the completions for a shell.
     what: Generated,
+    /// The file to write (its folders are made if missing; `-` or none: standard output).
+    #[arg(short, long)]
+    output: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -19,7 +22,7 @@ enum Generated {
     CompletePowershell,
 }
 
-/// Writes what was asked for on stdout; a reader that has gone ends it quietly.
+/// Writes what was asked for into `-o` or on stdout; a reader that has gone ends it quietly.
 pub(crate) fn run(args: GenerateArgs, mut command: clap::Command) -> Result<ExitCode, Error> {
     use clap_complete::Shell;
     let mut text = Vec::new();
@@ -39,7 +42,18 @@ pub(crate) fn run(args: GenerateArgs, mut command: clap::Command) -> Result<Exit
     if let Some(shell) = shell {
         clap_complete::generate(shell, &mut command, "bvhview", &mut text);
     }
-    let text = String::from_utf8(text).map_err(|e| Error::Usage(e.to_string()))?;
-    write_text(&text)?;
+    let path = args.output.as_deref().filter(|p| !is_stdio(p));
+    if let Some(folder) = path
+        .and_then(Path::parent)
+        .filter(|f| !f.as_os_str().is_empty())
+    {
+        std::fs::create_dir_all(folder).map_err(|e| Error::output(folder, e))?;
+    }
+    let mut out = open_output(path)?;
+    let result = out.write_all(&text);
+    finish_write(out, result, path)?;
+    if let Some(path) = path {
+        wrote(format_args!("{}", path.display()));
+    }
     Ok(ExitCode::SUCCESS)
 }

@@ -61,7 +61,34 @@ pub fn motion_of(
         arrays.rotations.len(),
         rotated * width,
         rotation_shape,
-    )?;
+    )
+    .map_err(|error| {
+        // Numbers of another kind (quaternions given to a 6D dataset): say which, and how to
+        // name them (issue 44).
+        let fits: Vec<&str> = [
+            RotationKind::Quat,
+            RotationKind::Matrix,
+            RotationKind::SixD,
+            RotationKind::Euler,
+            RotationKind::AxisAngle,
+        ]
+        .into_iter()
+        .filter(|k| {
+            k.width() != width
+                && frames.saturating_mul(rotated).saturating_mul(k.width())
+                    == arrays.rotations.len()
+        })
+        .map(RotationKind::name)
+        .collect();
+        match fits.is_empty() {
+            true => error,
+            false => Error::Usage(format!(
+                "{error}; they fit {} numbers: name their kind (kind=\"{}\")",
+                fits.join(" or "),
+                fits.join("\" or kind=\"")
+            )),
+        }
+    })?;
     if let Some(t) = arrays.translations {
         shape_of(
             "translations",
