@@ -1392,3 +1392,68 @@ fn a_dash_reads_standard_input_and_writes_standard_output() {
     assert_eq!(unknown.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&unknown.stderr).contains("--from bvh, fbx, gltf or glb"));
 }
+
+/// Issue 44: `snapshot --overlay` (and side by side) refused ASF/AMC takes. An .amc right after
+/// its .asf is its motion: the pair stands beside a BVH, and the picture of the pair alone is
+/// the one `--motion` gives.
+#[test]
+fn an_asf_amc_pair_stands_beside_other_takes() {
+    let dir = tempfile::tempdir().unwrap();
+    let asf = repo_data("asf_amc/heiden_12.asf").display().to_string();
+    let amc = repo_data("asf_amc/heiden_12_02_01.amc")
+        .display()
+        .to_string();
+    let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("assets/walk.bvh")
+        .display()
+        .to_string();
+    let out = |name: &str| dir.path().join(name).display().to_string();
+    for args in [
+        vec!["snapshot", &asf, &amc, &walk, "--overlay", "--frame", "5"],
+        vec!["snapshot", &asf, &amc, &walk, "--frame", "5"],
+    ] {
+        let run = bvhview(&[&args[..], &["-q", "-o", &out("both.png")]].concat());
+        assert!(
+            run.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+    }
+    let paired = bvhview(&[
+        "snapshot",
+        &asf,
+        &amc,
+        "--frame",
+        "5",
+        "-q",
+        "-o",
+        &out("pair.png"),
+    ]);
+    let flagged = bvhview(&[
+        "snapshot",
+        &asf,
+        "--motion",
+        &amc,
+        "--frame",
+        "5",
+        "-q",
+        "-o",
+        &out("flag.png"),
+    ]);
+    assert!(paired.status.success() && flagged.status.success());
+    let a = bvhview::render::Image::read_png(std::path::Path::new(&out("pair.png"))).unwrap();
+    let b = bvhview::render::Image::read_png(std::path::Path::new(&out("flag.png"))).unwrap();
+    assert_eq!(a.differing_pixels(&b), 0);
+    let both = bvhview(&[
+        "snapshot",
+        &asf,
+        &amc,
+        "--motion",
+        &amc,
+        "--frame",
+        "5",
+        "-o",
+        &out("x.png"),
+    ]);
+    assert_eq!(both.status.code(), Some(2));
+}

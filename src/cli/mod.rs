@@ -321,6 +321,42 @@ pub(crate) fn load_quietly(path: &Path, source: &Source) -> Result<Loaded, Error
     load_with_threads(path, source, bvhview::cores())
 }
 
+/// The takes of a list of files (the window, `snapshot`), each with its motion: an `.amc` right
+/// after an `.asf` is that skeleton's motion, so ASF/AMC takes stand beside others
+/// (`a.asf a.amc b.bvh`); `--motion` still gives the motion of one ASF alone.
+pub(crate) fn paired_takes(
+    files: &[PathBuf],
+    source: &Source,
+) -> Result<Vec<(PathBuf, Option<PathBuf>)>, Error> {
+    let is = |path: &Path, extension: &str| input::extension(path) == extension;
+    let mut takes = Vec::with_capacity(files.len());
+    let mut k = 0;
+    while k < files.len() {
+        let path = &files[k];
+        if is(path, "asf") && files.get(k + 1).is_some_and(|next| is(next, "amc")) {
+            if source.motion.is_some() {
+                return Err(Error::Usage(format!(
+                    "{}: give its motion once, as the .amc after it or with --motion",
+                    path.display()
+                )));
+            }
+            takes.push((path.clone(), Some(files[k + 1].clone())));
+            k += 2;
+        } else {
+            takes.push((path.clone(), source.motion.clone()));
+            k += 1;
+        }
+    }
+    if takes.len() > 1 && source.motion.is_some() {
+        return Err(Error::Usage(
+            "--motion goes with one ASF skeleton; to show ASF/AMC takes beside others, give \
+             each .amc right after its .asf (a.asf a.amc b.bvh)"
+                .into(),
+        ));
+    }
+    Ok(takes)
+}
+
 /// Whether a path names standard input or output: `-`, as Unix tools take it.
 pub(crate) fn is_stdio(path: &Path) -> bool {
     path.as_os_str() == "-"

@@ -6,8 +6,8 @@ use bvhview::render::{Overlay, SnapshotOptions};
 
 #[derive(Args)]
 pub(crate) struct SnapshotArgs {
-    /// A take: .bvh, .fbx, .gltf or .glb, or an .asf skeleton (its motion with --motion);
-    /// several files stand side by side on one timeline.
+    /// A take: .bvh, .fbx, .gltf or .glb, or an .asf skeleton (its motion with --motion, or
+    /// the .amc right after it); several files stand side by side on one timeline.
     #[arg(required = true, num_args = 1..)]
     files: Vec<PathBuf>,
     #[command(flatten)]
@@ -111,21 +111,21 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     if let Some(fps) = args.fps {
         bvhview::limits::fps(fps, animated == Some(animation::Format::Gif))?;
     }
-    if args.files.len() > 1 && args.source.motion.is_some() {
-        return Err(Error::Usage(
-            "--motion goes with one ASF skeleton; to show an ASF/AMC take beside others, convert it to BVH first".into(),
-        ));
-    }
-    if args.overlay && args.files.len() < 2 {
+    let files = paired_takes(&args.files, &args.source)?;
+    if args.overlay && files.len() < 2 {
         return Err(Error::Usage(
             "--overlay draws several files one over the other: give two files or more".into(),
         ));
     }
     let mode: OffsetMode = args.view.offset_mode.into();
     let framed_view = args.view.fit.is_some() || args.look == LookArg::Studio;
-    let mut takes = Vec::with_capacity(args.files.len());
-    for file in &args.files {
-        let loaded = load(file, &args.source)?;
+    let mut takes = Vec::with_capacity(files.len());
+    for (file, motion) in &files {
+        let source = Source {
+            motion: motion.clone(),
+            ..args.source.clone()
+        };
+        let loaded = load(file, &source)?;
         let name = file.display().to_string();
         warn_offset_mode(&loaded, mode, &name);
         let stance = loaded.stance(mode);
@@ -150,7 +150,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         angle: args
             .view
             .angle
-            .unwrap_or_else(|| bvhview::render::paint::start_angle(args.files.len())),
+            .unwrap_or_else(|| bvhview::render::paint::start_angle(files.len())),
         width: args.size.0,
         height: args.size.1,
         style: style_for(args.view.style, args.look),

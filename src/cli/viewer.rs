@@ -31,8 +31,9 @@ Keys in the window:
 /// What `bvhview` takes without a command: the files to show and how.
 #[derive(Args)]
 pub(crate) struct ViewerArgs {
-    /// A take (.bvh, .fbx, .gltf, .glb, or an .asf skeleton) to show in a window (default: the
-    /// bundled walk); several files stand side by side on one timeline.
+    /// A take (.bvh, .fbx, .gltf, .glb, or an .asf skeleton, its .amc right after it) to show
+    /// in a window (default: the bundled walk); several files stand side by side on one
+    /// timeline.
     files: Vec<PathBuf>,
     #[command(flatten)]
     source: Source,
@@ -74,11 +75,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
     } = args;
     // Say there is no display before loading anything.
     bvhview::render::window::check_environment(bvhview::render::window::VIEWER_OFFSCREEN)?;
-    if files.len() > 1 && source.motion.is_some() {
-        return Err(Error::Usage(
-            "--motion goes with one ASF skeleton; to show an ASF/AMC take beside others, convert it to BVH first".into(),
-        ));
-    }
+    let files = paired_takes(&files, &source)?;
     let offset_mode = offset_mode.into();
     let mut takes = Vec::with_capacity(files.len().max(1));
     if files.is_empty() {
@@ -94,10 +91,10 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
             loaded,
         });
     }
-    for path in files {
+    for (path, motion) in files {
         let take_source = TakeSource {
             path: path.clone(),
-            motion: source.motion.clone(),
+            motion,
             frame_time: source.frame_time,
             max_size: source.max_size,
             take: source.take.clone(),
