@@ -295,3 +295,38 @@ fn hud_pictures_match_their_goldens_at_three_sizes() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// Issue 44: GUIDE's own `snapshot --frame 10 --fit --angle 0.6 --step 5 --size 300x300` drew
+/// the step view's text in the big glyphs: cut at the right, over two thirds of the picture. It
+/// is drawn in the picture's font now: every line whole, clear of the right edge, in the bottom
+/// half.
+#[test]
+fn the_step_text_fits_a_small_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("step.png");
+    let walk = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("snapshot")
+        .arg(&walk)
+        .args(["--frame", "10", "--fit", "--angle", "0.6", "--step", "5"])
+        .args(["--size", "300x300", "-q", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    let picture = Image::read_png(&out).unwrap();
+    let (width, height) = (picture.width as usize, picture.height as usize);
+    // The text is the only pure white in the picture.
+    let white: Vec<(usize, usize)> = (0..height)
+        .flat_map(|y| (0..width).map(move |x| (x, y)))
+        .filter(|&(x, y)| picture.rgb[3 * (y * width + x)..][..3] == [255, 255, 255])
+        .collect();
+    assert!(!white.is_empty(), "no step text drawn");
+    let right = white.iter().map(|p| p.0).max().unwrap();
+    let top = white.iter().map(|p| p.1).min().unwrap();
+    let bottom = white.iter().map(|p| p.1).max().unwrap();
+    assert!(right < width - 4, "the text reaches the right edge ({right} of {width})");
+    // Rows from the top: the text's band is in the bottom half.
+    let band = bottom - top;
+    assert!(band < height / 2, "the text covers {band} of {height} rows");
+}

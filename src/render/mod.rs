@@ -273,15 +273,17 @@ pub fn draw_overlay<G: fixed::FixedFunction>(
     if let Some(scene) = scenes.first()
         && let Some(shown) = scene.shown
     {
+        // Issue 44: at 300x300 the big glyphs ran off the right and covered two thirds of it.
+        let font = text::Font::for_picture(width, height);
         let lines = step::lines(
             scene.skeleton,
             scene.frame,
             (scene.style, scene.offset_mode),
             scene.sphere_radius,
             shown,
-            step::columns(width),
+            step::columns(width, font),
         );
-        step::draw_overlay(gl, &lines);
+        step::draw_overlay(gl, &lines, font);
     }
     if !overlay.lines.is_empty() {
         hud::draw(gl, (width, height), &overlay.lines);

@@ -61,12 +61,13 @@ pub fn lines(
         .collect()
 }
 
-/// Draws the overlay of [`lines`], in white, bottom left.
-pub fn draw_overlay<G: FixedFunction>(gl: &mut G, lines: &[String]) {
-    text::draw_lines(gl, 0, text::Corner::BottomLeft, lines, [1.0, 1.0, 1.0]);
+/// Draws the overlay of [`lines`], in white, bottom left, in `font` (the picture's:
+/// [`text::Font::for_picture`], so that a small picture is not covered by big glyphs).
+pub fn draw_overlay<G: FixedFunction>(gl: &mut G, lines: &[String], font: text::Font) {
+    text::draw_lines_in(gl, 0, text::Corner::BottomLeft, lines, [1.0, 1.0, 1.0], font);
 }
 
-/// How many characters fit across a picture `width` pixels wide.
-pub fn columns(width: u32) -> usize {
-    (width as usize).saturating_sub(16) / text::GLYPH as usize
+/// How many characters of `font` fit across a picture `width` pixels wide.
+pub fn columns(width: u32, font: text::Font) -> usize {
+    (width as usize).saturating_sub(16) / font.cell as usize
 }
