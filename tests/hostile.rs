@@ -1213,3 +1213,102 @@ fn issue44_gltf_frame_rate_is_the_key_step_that_fits_the_most_keys() {
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
 }
 
+/// An FBX of the ufbx test set, `edit`ed, written to `dir/name`.
+fn edited_fbx(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
+    let text =
+        std::fs::read_to_string(repo_data("fbx/ufbx/maya_anim_interpolation_7700_ascii.fbx"))
+            .unwrap();
+    let edited = edit(text.clone());
+    assert_ne!(edited, text, "{name}: the edit changed nothing");
+    let path = dir.join(name);
+    std::fs::write(&path, edited).unwrap();
+    path
+}
+
+/// Its one curve (10 keys, the third `value`) moved from the node's translation X to its
+/// rotation X.
+fn curve_on_rotation(text: String, value: &str) -> String {
+    text.replace(
+        r#"C: "OP",2092758031616,2092763624192, "d|X""#,
+        r#"C: "OP",2092758031616,2092763622944, "d|X""#,
+    )
+    .replace(
+        "a: 0,-2,-4,-6,-8,-10,-12,-14,-16,-14",
+        &format!("a: 0,-2,{value},-6,-8,-10,-12,-14,-16,-14"),
+    )
+}
+
+/// Issue 44, point 5: NaN rotation keys (FBX, glTF) read as no rotation while NaN
+/// translations were refused. Both are refused now, by node and key or time.
+#[test]
+fn issue44_non_finite_rotation_keys_are_refused_by_node_and_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let keys = Keys {
+        node: 0,
+        path: "rotation",
+        times: vec![0.0, 1.0 / 30.0],
+        values: vec![0.0, 0.0, 0.0, 1.0, f32::NAN, 0.0, 0.0, 1.0],
+    };
+    let gltf = write_gltf(dir.path(), "nan", r#"[{"name": "root"}]"#, &[keys], false);
+    let text = load_refused(&gltf);
+    assert!(
+        text.contains(
+            "animation 0: node 0 'root': rotation key 1 (at 0.0333 s) is not a finite number"
+        ),
+        "{text}"
+    );
+    for (name, value, want) in [
+        ("nan.fbx", "nan", "a rotation that is not finite"),
+        ("inf.fbx", "1e999", "a rotation that is not finite"),
+    ] {
+        let fbx = edited_fbx(dir.path(), name, |t| curve_on_rotation(t, value));
+        let text = load_refused(&fbx);
+        assert!(
+            text.contains(&format!("joint 'pCube1', frame 11 (at 0.3667 s): {want}")),
+            "{text}"
+        );
+    }
+    let fbx = edited_fbx(dir.path(), "nan_translation.fbx", |t| {
+        t.replace("a: 0,-2,-4,-6,", "a: 0,-2,nan,-6,")
+    });
+    let text = load_refused(&fbx);
+    assert!(
+        text.contains("joint 'pCube1', frame 11 (at 0.3667 s): a position that is not finite"),
+        "{text}"
+    );
+}
+
+/// Issue 44, point 6: rest offsets past a 32-bit float (FBX `UnitScaleFactor` 1e300; a glTF
+/// node scaled 1e30 with a child at 1e30) loaded, `info` exit 0, positions NaN. Refused at
+/// load, by joint.
+#[test]
+fn issue44_non_finite_rest_offsets_are_refused_by_joint() {
+    let dir = tempfile::tempdir().unwrap();
+    let nodes = r#"[{"name": "root", "scale": [1e30, 1e30, 1e30], "children": [1]},
+                    {"name": "kid", "translation": [1e30, 0, 0]}]"#;
+    let gltf = write_gltf(
+        dir.path(),
+        "huge",
+        nodes,
+        &[slide(0, vec![0.0, 1.0])],
+        false,
+    );
+    let out = bvhview(&["info", gltf.to_str().unwrap()]);
+    refused(
+        &out,
+        "huge.gltf: joint 'kid': its rest pose has a position that is not finite or past a 32-bit float",
+        &dir.path().join("none"),
+    );
+    let fbx = edited_fbx(dir.path(), "unit.fbx", |t| {
+        t.replace(
+            r#""UnitScaleFactor", "double", "Number", "",1"#,
+            r#""UnitScaleFactor", "double", "Number", "",1e300"#,
+        )
+    });
+    let text = load_refused(&fbx);
+    assert!(
+        text.contains("joint 'pCube1': its rest pose has a position that is not finite"),
+        "{text}"
+    );
+}
+
