@@ -1312,3 +1312,41 @@ fn issue44_non_finite_rest_offsets_are_refused_by_joint() {
     );
 }
 
+/// Issue 44, point 7: an FBX take whose LocalStart is after its LocalStop, or that states no
+/// range, loaded as one frame without a word. The first is refused; the second is read over
+/// its keys (0 s to 1.8333 s here: 56 frames at 30 fps), and a warning says so.
+#[test]
+fn issue44_fbx_take_ranges_backwards_are_refused_and_missing_ones_read_over_the_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let stop = "92372316000";
+    let backwards = edited_fbx(dir.path(), "backwards.fbx", |t| {
+        t.replace(
+            &format!(r#"P: "LocalStop", "KTime", "Time", "",{stop}"#),
+            &format!(
+                "P: \"LocalStart\", \"KTime\", \"Time\", \"\",{stop}\n\t\t\tP: \"LocalStop\", \"KTime\", \"Time\", \"\",0"
+            ),
+        )
+    });
+    let text = load_refused(&backwards);
+    assert!(
+        text.contains(
+            "take 'Take 001': its time range runs backwards (LocalStart 2 s is after LocalStop 0 s)"
+        ),
+        "{text}"
+    );
+    let takes = bvhview::input::takes(&backwards, bvhview::input::DEFAULT_MAX_SIZE).unwrap_err();
+    assert!(takes.to_string().contains("runs backwards"), "{takes}");
+    let none = edited_fbx(dir.path(), "no_range.fbx", |t| {
+        t.lines()
+            .filter(|l| !l.contains(stop))
+            .collect::<Vec<_>>()
+            .join("\n")
+    });
+    let loaded = bvhview::input::load(&none, None, None).unwrap();
+    assert_eq!(loaded.motion.frame_count(), 56);
+    let said = loaded.warnings.join("\n");
+    assert!(
+        said.contains("take 'Take 001' states no time range (no LocalStart or LocalStop): read over its keys, 0 s to 1.8333 s"),
+        "{said}"
+    );
+}
