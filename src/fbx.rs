@@ -478,6 +478,23 @@ pub fn load_bytes(
         let (begin, end, said) = stack_range(stack).map_err(&bad)?;
         warnings.extend(said);
         let count = baked::frame_count(begin, end, fps, order.len()).map_err(&bad)?;
+        // Each frame is evaluated: the take's frames × joints are held to the file's size, as a
+        // glTF's are (a 16 KB file whose range says nine hours asked for 960,000 frames).
+        let budget = baked::frame_work_budget(bytes.len() as u64);
+        if (count as u64).saturating_mul(order.len() as u64) > budget {
+            return Err(bad(format!(
+                "take '{}' lasts {} s at {} fps: {} of {}, more than a file of {} bytes is \
+                 read for (frames × joints at most {budget}, {} a byte); refused as damaged or \
+                 hostile",
+                quoted(&stack.element.name),
+                crate::limits::brief(end - begin),
+                crate::limits::brief(fps),
+                crate::error::counted(count, "frame"),
+                crate::error::counted(order.len(), "joint"),
+                bytes.len(),
+                baked::FRAME_WORK_PER_BYTE
+            )));
+        }
         // One frame: the whole scene evaluated by ufbx at its time, the joints' world matrices.
         // Only the scene root (`Sync`) and numbers go to the threads: ufbx's element types are not.
         let (root, memory, joints) = (&scene, bytes.len(), &order);

@@ -4,10 +4,10 @@
 //! The skeleton is the joints of the file's skins (with the nodes between them), or, in a file
 //! without a skin, every animated node (with the nodes between them). Each animation is a take;
 //! its frames are sampled at the rate of its keys (the key step that puts the most keys on a
-//! frame, see [`timing`]; a warning when some keys fall between frames), every frame
-//! interpolated as the file says (`STEP`, `LINEAR` with slerp for rotations, `CUBICSPLINE`), and the world matrices
-//! go through [`crate::baked`]. glTF is Y up and in metres, bvhview's own convention: nothing is
-//! converted.
+//! frame, see `timing`; a warning when some keys fall between frames), every frame interpolated
+//! as the file says (`STEP`, `LINEAR` with slerp for rotations, `CUBICSPLINE`), and the world
+//! matrices go through [`crate::baked`]. glTF is Y up and in metres, bvhview's own convention:
+//! nothing is converted.
 //!
 //! A file is hostile until read: buffers are taken only from the GLB's own chunk, from `data:`
 //! URIs, or from files inside the `.gltf`'s own folder (no absolute path, no `..`, no scheme, no
@@ -16,9 +16,9 @@
 //! [`crate::limits::MAX_WHOLE_FILE_BYTES`]; every accessor's bytes are checked to lie inside its
 //! buffer before they are read, and each is decoded once however many channels share it; an
 //! animation's channels may ask for [`KEY_VALUES_PER_BYTE`] key values per byte of input, and
-//! its frames × (joints + tracks) at most [`FRAME_WORK_PER_BYTE`] per byte (each above a floor),
-//! refused past them before the work; a key that is not a finite number is refused by node, key
-//! and time; the node tree is checked for cycles and shared children.
+//! its frames × (joints + tracks) at most [`baked::FRAME_WORK_PER_BYTE`] per byte (each above
+//! a floor), refused past them before the work; a key that is not a finite number is refused
+//! by node, key and time; the node tree is checked for cycles and shared children.
 
 use crate::baked::{self, Node, Pose};
 use crate::error::Error;
@@ -454,19 +454,6 @@ pub const KEY_VALUES_PER_BYTE: u64 = 16;
 /// Key values any file may ask for, whatever its size.
 pub const KEY_VALUES_FLOOR: u64 = 1 << 20;
 
-/// Frames × (joints + tracks) one byte of input may ask for, above [`FRAME_WORK_FLOOR`]: every
-/// frame samples each track and poses each joint. A file keyed at every frame holds about 20
-/// bytes per joint and frame (about a seventh of a unit of this a byte); one keyed every tenth
-/// frame still fits. A 15.5 KB file keyed 1 ms apart with one key far on asked for a million
-/// frames (13 s). Measured in a debug build, 8.2 M units (2,000 joints × 4,100 frames) take
-/// `info` 9.4 s, and glam's pose arithmetic runs about 6 times faster in a release build: at 2
-/// a byte, a file under 1 MB asks for at most 2.3 M, well under a second in a release build.
-pub const FRAME_WORK_PER_BYTE: u64 = 2;
-
-/// Frames × (joints + tracks) any file may ask for, whatever its size (five minutes of 30
-/// joints at 30 frames per second).
-pub const FRAME_WORK_FLOOR: u64 = 1 << 18;
-
 /// The values of accessor `index` as f32s, `width` per element, decoded once per reader and
 /// shared by every channel that reads it.
 type Decoded = HashMap<(usize, usize), Rc<Vec<f32>>>;
@@ -782,7 +769,7 @@ fn timing(tracks: &[Track]) -> Timing {
 
 /// The frames of a take of `joints` joints and `tracks` tracks sampled as `timing` says, or why
 /// not: past [`baked::frame_count`]'s limits, or more frames × (joints + tracks) than the file's
-/// size allows ([`FRAME_WORK_PER_BYTE`] a byte above [`FRAME_WORK_FLOOR`]).
+/// size allows ([`baked::FRAME_WORK_PER_BYTE`] a byte above [`baked::FRAME_WORK_FLOOR`]).
 fn frames_within(
     timing: &Timing,
     joints: usize,
@@ -791,18 +778,19 @@ fn frames_within(
 ) -> Result<usize, String> {
     let frames = baked::frame_count(timing.start, timing.end, timing.fps, joints)?;
     let work = (frames as u64).saturating_mul((joints + tracks) as u64);
-    let budget = FRAME_WORK_FLOOR.saturating_add(FRAME_WORK_PER_BYTE.saturating_mul(bytes));
+    let budget = baked::frame_work_budget(bytes);
     if work > budget {
         return Err(format!(
             "the take lasts {} s at {} fps: {} of {} and {}, more than a file of {bytes} bytes \
-             is read for (frames × (joints + tracks) at most {}, {FRAME_WORK_PER_BYTE} a byte); \
+             is read for (frames × (joints + tracks) at most {}, {} a byte); \
              refused as damaged or hostile",
             crate::limits::brief(timing.end - timing.start),
             crate::limits::brief(timing.fps),
             crate::error::counted(frames, "frame"),
             crate::error::counted(joints, "joint"),
             crate::error::counted(tracks, "track"),
-            budget
+            budget,
+            baked::FRAME_WORK_PER_BYTE
         ));
     }
     Ok(frames)

@@ -1350,3 +1350,23 @@ fn issue44_fbx_take_ranges_backwards_are_refused_and_missing_ones_read_over_the_
         "{said}"
     );
 }
+
+/// Issue 44, point 3 for FBX: a 16 KB file whose range says nine hours (960,001 frames at 30
+/// fps) had every frame evaluated (2.6 s in a debug build); its frames × joints are now held
+/// to the file's size as a glTF's are, and refused before a frame is evaluated.
+#[test]
+fn issue44_an_fbx_range_longer_than_its_size_allows_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let nine_hours = (46_186_158_000u64 * 32_000).to_string();
+    let long = edited_fbx(dir.path(), "long.fbx", |t| {
+        t.replace("92372316000", &nine_hours)
+    });
+    let text = load_refused(&long);
+    assert!(
+        text.contains(
+            "take 'Take 001' lasts 32000 s at 30 fps: 960001 frames of 1 joint, more than a \
+             file of"
+        ),
+        "{text}"
+    );
+}
