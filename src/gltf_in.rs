@@ -768,26 +768,35 @@ fn timing(tracks: &[Track]) -> Timing {
 }
 
 /// The frames of a take of `joints` joints and `tracks` tracks sampled as `timing` says, or why
-/// not: past [`baked::frame_count`]'s limits, or more frames × (joints + tracks) than the file's
-/// size allows ([`baked::FRAME_WORK_PER_BYTE`] a byte above [`baked::FRAME_WORK_FLOOR`]).
+/// not: past [`baked::frame_count`]'s limits, or more frames × (nodes + tracks) than the file's
+/// size allows ([`baked::FRAME_WORK_PER_BYTE`] a byte above [`baked::FRAME_WORK_FLOOR`]), where
+/// `nodes` are the nodes posed in each frame: the joints and every node above them (a joint
+/// under a chain of 999 nodes costs 1000 products a frame).
 fn frames_within(
     timing: &Timing,
     joints: usize,
+    nodes: usize,
     tracks: usize,
     bytes: u64,
 ) -> Result<usize, String> {
     let frames = baked::frame_count(timing.start, timing.end, timing.fps, joints)?;
-    let work = (frames as u64).saturating_mul((joints + tracks) as u64);
+    let nodes = nodes.max(joints);
+    let work = (frames as u64).saturating_mul((nodes + tracks) as u64);
     let budget = baked::frame_work_budget(bytes);
     if work > budget {
         return Err(format!(
-            "the take lasts {} s at {} fps: {} of {} and {}, more than a file of {bytes} bytes \
-             is read for (frames × (joints + tracks) at most {}, {} a byte); \
-             refused as damaged or hostile",
+            "the take lasts {} s at {} fps: {} of {}{} and {}, more than a file of {bytes} \
+             bytes is read for (frames × (nodes + tracks) at most {}, {} a byte); refused as \
+             damaged or hostile",
             crate::limits::brief(timing.end - timing.start),
             crate::limits::brief(timing.fps),
             crate::error::counted(frames, "frame"),
             crate::error::counted(joints, "joint"),
+            if nodes > joints {
+                format!(" ({nodes} nodes with those above them)")
+            } else {
+                String::new()
+            },
             crate::error::counted(tracks, "track"),
             budget,
             baked::FRAME_WORK_PER_BYTE
@@ -818,7 +827,7 @@ pub fn takes(path: &Path, max_size: u64) -> Result<Vec<TakeInfo>, Error> {
                 .map(|t| t.node)
                 .collect::<std::collections::HashSet<_>>()
                 .len();
-            let frames = frames_within(&timing, joints, tracks.len(), file.bytes)
+            let frames = frames_within(&timing, joints, joints, tracks.len(), file.bytes)
                 .map_err(|why| bad(path, why))?;
             Ok(TakeInfo {
                 name: animation_name(&animation),
@@ -1046,7 +1055,17 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
             Ok(())
         })
     } else {
-        let frame_count = frames_within(&timing, order.len(), tracks.len(), file.bytes)
+        // The nodes posed in each frame: the joints and every node above them.
+        let mut posed = vec![false; count];
+        for &i in &order {
+            let mut up = Some(i);
+            while let Some(n) = up.filter(|&n| !posed[n]) {
+                posed[n] = true;
+                up = parent[n];
+            }
+        }
+        let nodes = posed.iter().filter(|&&p| p).count();
+        let frame_count = frames_within(&timing, order.len(), nodes, tracks.len(), file.bytes)
             .map_err(|why| bad(path, why))?;
         let mut animated: Vec<Option<Trs>> = vec![None; count];
         let mut sample = [0.0f64; 4];

@@ -923,7 +923,14 @@ fn write_gltf(dir: &Path, name: &str, nodes: &str, tracks: &[Keys], shared: bool
 
 /// `input::load`'s error for `path`, checked to be a refusal (exit 2, one line, `path: …`).
 fn load_refused(path: &Path) -> String {
-    let error = bvhview::input::load(path, None, None).unwrap_err();
+    let error = match bvhview::input::load(path, None, None) {
+        Ok(loaded) => panic!(
+            "{}: loaded ({} frames), not refused",
+            path.display(),
+            loaded.motion.frame_count()
+        ),
+        Err(error) => error,
+    };
     let text = error.to_string();
     assert_eq!(error.exit_code(), 2, "{text}");
     assert_eq!(text.lines().count(), 1, "{text}");
@@ -1135,6 +1142,32 @@ fn issue44_gltf_animation_work_is_bounded_by_the_input_size() {
     let text = load_refused(&path);
     assert!(
         text.contains("the take lasts 900 s at 1000 fps: 900001 frames of 1 joint and 1 track, more than a file of"),
+        "{text}"
+    ); // One joint under a chain of 999 nodes, for 400 s at 30 fps: each frame poses all 1000.
+    let mut nodes: Vec<String> = (0..999)
+        .map(|i| format!(r#"{{"name": "n{i}", "children": [{}]}}"#, i + 1))
+        .collect();
+    nodes.push(r#"{"name": "leaf"}"#.to_string());
+    let turn = Keys {
+        node: 999,
+        path: "rotation",
+        times: vec![0.0, 400.0],
+        values: vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+    };
+    let tracks = [slide(999, vec![0.0, 1.0 / 30.0]), turn];
+    let path = write_gltf(
+        dir.path(),
+        "deep",
+        &format!("[{}]", nodes.join(",")),
+        &tracks,
+        false,
+    );
+    let text = load_refused(&path);
+    assert!(
+        text.contains(
+            "the take lasts 400 s at 30 fps: 12001 frames of 1 joint (1000 nodes with those \
+             above them) and 2 tracks, more than a file of"
+        ),
         "{text}"
     );
 }
