@@ -478,23 +478,36 @@ pub fn load_bytes(
         let (begin, end, said) = stack_range(stack).map_err(&bad)?;
         warnings.extend(said);
         let count = baked::frame_count(begin, end, fps, order.len()).map_err(&bad)?;
-        // Each frame is evaluated: the take's frames × joints are held to the file's size, as a
-        // glTF's are (a 16 KB file whose range says nine hours asked for 960,000 frames).
-        let budget = baked::frame_work_budget(bytes.len() as u64);
-        if (count as u64).saturating_mul(order.len() as u64) > budget {
-            return Err(bad(format!(
-                "take '{}' lasts {} s at {} fps: {} of {}, more than a file of {} bytes is \
-                 read for (frames × joints at most {budget}, {} a byte); refused as damaged or \
-                 hostile",
+        // Each frame is evaluated: the take's frames × nodes evaluated are held to the file's
+        // size, as a glTF's are (a 16 KB file whose range says nine hours asked for 960,000
+        // frames). The nodes are the joints' ancestors on the quick way, every node of the scene
+        // on the whole scene's evaluation (checked again before it is taken).
+        let chains = ancestors(&scene, &order);
+        let within = |nodes: usize| -> Result<(), Error> {
+            let budget = baked::frame_work_budget(bytes.len() as u64);
+            let nodes = nodes.max(order.len());
+            if (count as u64).saturating_mul(nodes as u64) <= budget {
+                return Ok(());
+            }
+            Err(bad(format!(
+                "take '{}' lasts {} s at {} fps: {} of {}{}, more than a file of {} bytes is \
+                 read for (frames × nodes evaluated at most {budget}, {} a byte); refused as \
+                 damaged or hostile",
                 quoted(&stack.element.name),
                 crate::limits::brief(end - begin),
                 crate::limits::brief(fps),
                 crate::error::counted(count, "frame"),
                 crate::error::counted(order.len(), "joint"),
+                if nodes > order.len() {
+                    format!(" ({nodes} nodes evaluated)")
+                } else {
+                    String::new()
+                },
                 bytes.len(),
                 baked::FRAME_WORK_PER_BYTE
-            )));
-        }
+            )))
+        };
+        within(chains.len())?;
         // One frame: the whole scene evaluated by ufbx at its time, the joints' world matrices.
         // Only the scene root (`Sync`) and numbers go to the threads: ufbx's element types are not.
         let (root, memory, joints) = (&scene, bytes.len(), &order);
@@ -520,7 +533,6 @@ pub fn load_bytes(
         // included) multiplied down from the root, for the joints' ancestors only. Used when it
         // gives what the whole scene's evaluation gives at the first, middle and last frames
         // (it would not where ufbx keeps a node's inheritance its own way).
-        let chains = ancestors(&scene, &order);
         let quick = |f: usize| -> Vec<Pose> {
             let time = begin + f as f64 / fps;
             quick_poses(&scene, &stack.anim, &chains, &order, time)
@@ -554,6 +566,8 @@ pub fn load_bytes(
                 other => other,
             });
         }
+        // The whole scene is evaluated in each frame: its every node counts.
+        within(scene.nodes.len())?;
         // Frames are evaluated on `threads` threads, BLOCK at a time, and handed over in order.
         const BLOCK: usize = 256;
         let mut ready: std::collections::VecDeque<Vec<Pose>> = Default::default();

@@ -1403,3 +1403,44 @@ fn issue44_an_fbx_range_longer_than_its_size_allows_is_refused() {
         "{text}"
     );
 }
+
+/// Issue 44, point 3 for FBX: the nodes a frame evaluates count, not the joints alone. One
+/// animated node under a chain of 900 empty nodes for 400 s at 30 fps: 12,001 frames, each
+/// posing 901 nodes (11 M transforms from a 70 KB file), is refused by name.
+#[test]
+fn issue44_an_fbx_frame_budget_counts_every_node_evaluated() {
+    let dir = tempfile::tempdir().unwrap();
+    let seconds_400 = (46_186_158_000u64 * 400).to_string();
+    let chain = edited_fbx(dir.path(), "chain.fbx", |t| {
+        let nulls: String = (0..900u64)
+            .map(|i| {
+                format!(
+                    "\tModel: {}, \"Model::n{i}\", \"Null\" {{\n\t\tVersion: 232\n\t}}\n",
+                    9_000_000 + i
+                )
+            })
+            .collect();
+        let links: String = (0..900u64)
+            .map(|i| {
+                let parent = if i == 0 { 0 } else { 9_000_000 + i - 1 };
+                format!("\tC: \"OO\",{},{parent}\n", 9_000_000 + i)
+            })
+            .collect();
+        t.replace("92372316000", &seconds_400)
+            .replace(
+                "\tModel: 2092721204448,",
+                &format!("{nulls}\tModel: 2092721204448,"),
+            )
+            .replace(
+                "\tC: \"OO\",2092721204448,0\n",
+                &format!("{links}\tC: \"OO\",2092721204448,9000899\n"),
+            )
+    });
+    let text = load_refused(&chain);
+    assert!(
+        text.contains(
+            "take 'Take 001' lasts 400 s at 30 fps: 12001 frames of 1 joint (901 nodes evaluated)"
+        ),
+        "{text}"
+    );
+}
