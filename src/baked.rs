@@ -207,7 +207,7 @@ pub fn build(
         if let Some(fault) = pose_fault(pose) {
             return Err(Error::Usage(format!(
                 "joint '{}': its rest pose has {fault}",
-                node.name
+                crate::limits::quoted(&node.name)
             )));
         }
     }
@@ -234,7 +234,7 @@ pub fn build(
             if let Some(fault) = pose_fault(pose) {
                 return Err(Error::Usage(format!(
                     "joint '{}', frame {f} (at {} s): {fault}",
-                    node.name,
+                    crate::limits::quoted(&node.name),
                     crate::limits::brief(f as f64 * frame_time)
                 )));
             }
@@ -280,7 +280,7 @@ pub fn build(
         if !offset.is_finite() {
             return Err(Error::Usage(format!(
                 "joint '{}': a rest offset that is not finite (past a 32-bit float)",
-                nodes[i].name
+                crate::limits::quoted(&nodes[i].name)
             )));
         }
         let mut joint = Joint::new(nodes[i].name.clone(), nodes[i].parent);
@@ -360,7 +360,7 @@ pub fn build(
             .joints
             .iter()
             .find(|j| (j.first_channel..j.first_channel + j.channels.len()).contains(&column))
-            .map_or("?", |j| j.name.as_str());
+            .map_or("?".to_string(), |j| crate::limits::quoted(&j.name));
         return Err(Error::Usage(format!(
             "joint '{joint}', frame {frame}: the file's transforms give a value that is not \
              finite (a zero scale or a broken matrix)"

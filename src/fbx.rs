@@ -128,15 +128,6 @@ fn fps(scene: &ufbx::Scene) -> f64 {
     }
 }
 
-/// A name from the file as a message quotes it: its first 64 characters.
-fn quoted(name: &str) -> String {
-    let mut short: String = name.chars().take(64).collect();
-    if short.len() < name.len() {
-        short.push('…');
-    }
-    short
-}
-
 /// A take's time range in seconds, and what is said about it.
 ///
 /// It is the stack's `LocalStart`..`LocalStop` (else `ReferenceStart`..`ReferenceStop`, else
@@ -145,7 +136,7 @@ fn quoted(name: &str) -> String {
 /// is read over the extent of its keys (the first key of any of its curves to the last), and a
 /// warning says so; without keys, it is one frame at 0.
 fn stack_range(stack: &ufbx::AnimStack) -> Result<(f64, f64, Option<String>), String> {
-    let name = quoted(&stack.element.name);
+    let name = crate::limits::quoted(&stack.element.name);
     let stated = stack.element.props.props.iter().any(|p| {
         let name: &str = &p.name;
         matches!(
@@ -493,7 +484,7 @@ pub fn load_bytes(
                 "take '{}' lasts {} s at {} fps: {} of {}{}, more than a file of {} bytes is \
                  read for (frames × nodes evaluated at most {budget}, {} a byte); refused as \
                  damaged or hostile",
-                quoted(&stack.element.name),
+                crate::limits::quoted(&stack.element.name),
                 crate::limits::brief(end - begin),
                 crate::limits::brief(fps),
                 crate::error::counted(count, "frame"),

@@ -476,10 +476,7 @@ fn decoded(
 /// The name a message gives node `index`: `node 3 'Hips'`.
 fn node_label(document: &gltf::Document, index: usize) -> String {
     match document.nodes().nth(index).and_then(|n| n.name()) {
-        Some(name) => {
-            let short: String = name.chars().take(64).collect();
-            format!("node {index} '{short}'")
-        }
+        Some(name) => format!("node {index} '{}'", crate::limits::quoted(name)),
         None => format!("node {index}"),
     }
 }

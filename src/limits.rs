@@ -68,6 +68,16 @@ pub fn brief(value: f64) -> String {
     }
 }
 
+/// A name from a file as a message quotes it: its first 64 characters, `…` after them when
+/// there are more (an error quotes no more of a file than it needs).
+pub fn quoted(name: &str) -> String {
+    let mut short: String = name.chars().take(64).collect();
+    if short.len() < name.len() {
+        short.push('…');
+    }
+    short
+}
+
 /// A name's length, or what is wrong with it.
 pub fn name(bytes: usize) -> Result<(), String> {
     if bytes > MAX_NAME_BYTES {

@@ -1332,6 +1332,21 @@ fn issue44_non_finite_rest_offsets_are_refused_by_joint() {
         "huge.gltf: joint 'kid': its rest pose has a position that is not finite or past a 32-bit float",
         &dir.path().join("none"),
     );
+    // A name of 1,000 bytes is quoted by its first 64 characters.
+    let long = "K".repeat(1000);
+    let nodes = nodes.replace("\"kid\"", &format!("\"{long}\""));
+    let gltf = write_gltf(
+        dir.path(),
+        "named",
+        &nodes,
+        &[slide(0, vec![0.0, 1.0])],
+        false,
+    );
+    let text = load_refused(&gltf);
+    assert!(
+        text.contains(&format!("joint '{}…': its rest pose", &long[..64])),
+        "{text}"
+    );
     let fbx = edited_fbx(dir.path(), "unit.fbx", |t| {
         t.replace(
             r#""UnitScaleFactor", "double", "Number", "",1"#,
