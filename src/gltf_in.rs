@@ -1113,6 +1113,52 @@ mod tests {
         assert!(base64("a$").is_none());
     }
 
+    fn keyed(times: Vec<f32>) -> Track {
+        let values = Rc::new(vec![0.0; 3 * times.len()]);
+        Track {
+            node: 0,
+            property: Property::Translation,
+            interpolation: Interpolation::Linear,
+            times: Rc::new(times),
+            values,
+            width: 3,
+        }
+    }
+
+    /// The rate is the key step that puts the most keys on a frame, snapped to a common rate;
+    /// what does not fit is said; nothing is refused for a rate.
+    #[test]
+    fn the_rate_is_the_key_step_that_fits_the_most_keys() {
+        let at = |rate: f32, n: usize| (0..n).map(|k| k as f32 / rate).collect::<Vec<f32>>();
+        // Every frame of 30 fps: 30, no warning.
+        let even = timing(&[keyed(at(30.0, 61))]);
+        assert_eq!((even.fps, even.warning.is_none()), (30.0, true));
+        // One odd key 1.5 ms after the last: still 30, said.
+        let mut times = at(30.0, 31);
+        times.push(1.0015);
+        let odd = timing(&[keyed(times)]);
+        assert_eq!(odd.fps, 30.0);
+        assert!(odd.warning.unwrap().starts_with("1 of 32 key times"));
+        // A track at 60 fps beside one at 30: every key is on a frame of 60.
+        let both = timing(&[keyed(at(30.0, 61)), keyed(at(60.0, 121))]);
+        assert_eq!((both.fps, both.warning.is_none()), (60.0, true));
+        // Twenty tracks keyed at their ends only do not outvote one keyed at every frame.
+        let mut tracks: Vec<Track> = (0..20).map(|_| keyed(vec![0.0, 2.0])).collect();
+        tracks.push(keyed(at(30.0, 61)));
+        assert_eq!(timing(&tracks).fps, 30.0);
+        // Keys 0.5 ms apart: 1000 fps, said.
+        let fast = timing(&[keyed((0..100).map(|k| k as f32 * 5e-4).collect())]);
+        assert_eq!(fast.fps, 1000.0);
+        assert!(
+            fast.warning
+                .unwrap()
+                .contains("(2000 fps); sampled at 1000 fps")
+        );
+        // bvhview's own `Frame Time: 0.0083333` keys keep their step (not 1/120 s).
+        let own = timing(&[keyed((0..200).map(|k| k as f32 * 0.0083333).collect())]);
+        assert!((1.0 / own.fps - 0.0083333).abs() < 1e-9, "{}", own.fps);
+    }
+
     #[test]
     fn buffer_paths_stay_in_the_folder() {
         let folder = std::env::temp_dir();
