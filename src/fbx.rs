@@ -21,7 +21,10 @@
 //! Limits (decision 8, a hostile file must not take the machine): ufbx's temporary and result
 //! allocators are capped at 256 MiB + 64 bytes per byte of the file and at 16 M allocations plus
 //! 16 per byte, nodes nest at most [`crate::limits::MAX_DEPTH`] deep, and a take has at most
-//! [`crate::baked::MAX_FRAMES`] frames.
+//! [`crate::baked::MAX_FRAMES`] frames. The file is read whole, so it is refused by its size on
+//! disk past [`crate::limits::MAX_WHOLE_FILE_BYTES`] before a byte is read, and unless it is a
+//! regular file. A take's range is its stack's (refused when it runs backwards), or its keys'
+//! extent with a warning when the stack states none (see `stack_range`).
 //!
 //! The skeleton is the file's bones (`LimbNode`s) and the nodes between two of them; a file
 //! without bones gives every animated node instead. Each frame of a take (an animation stack) is
@@ -125,6 +128,73 @@ fn fps(scene: &ufbx::Scene) -> f64 {
     }
 }
 
+/// A take's time range in seconds, and what is said about it.
+///
+/// It is the stack's `LocalStart`..`LocalStop` (else `ReferenceStart`..`ReferenceStop`, else
+/// the `Takes` section's `LocalTime`, as ufbx reads them). A range that runs backwards (start
+/// after stop) is refused: nothing says which end is meant. A stack that states no range at all
+/// is read over the extent of its keys (the first key of any of its curves to the last), and a
+/// warning says so; without keys, it is one frame at 0.
+fn stack_range(stack: &ufbx::AnimStack) -> Result<(f64, f64, Option<String>), String> {
+    let name = crate::limits::quoted(&stack.element.name);
+    let stated = stack.element.props.props.iter().any(|p| {
+        let name: &str = &p.name;
+        matches!(
+            name,
+            "LocalStart" | "LocalStop" | "ReferenceStart" | "ReferenceStop"
+        )
+    });
+    if stated {
+        let (begin, end) = (stack.time_begin, stack.time_end);
+        if !(begin.is_finite() && end.is_finite()) {
+            return Err(format!("take '{name}': a time range that is not finite"));
+        }
+        if end < begin {
+            return Err(format!(
+                "take '{name}': its time range runs backwards (LocalStart {} s is after \
+                 LocalStop {} s)",
+                crate::limits::brief(begin),
+                crate::limits::brief(end)
+            ));
+        }
+        return Ok((begin, end, None));
+    }
+    let (mut first, mut last) = (f64::MAX, f64::MIN);
+    for layer in stack.layers.iter() {
+        for value in layer.anim_values.iter() {
+            for curve in value.curves.iter().flatten() {
+                let keys = &curve.keyframes;
+                if let (Some(a), Some(b)) = (keys.first(), keys.last())
+                    && a.time.is_finite()
+                    && b.time.is_finite()
+                {
+                    first = first.min(a.time.min(b.time));
+                    last = last.max(a.time.max(b.time));
+                }
+            }
+        }
+    }
+    if first > last {
+        return Ok((
+            0.0,
+            0.0,
+            Some(format!(
+                "take '{name}' states no time range and has no keys: one frame at 0 s"
+            )),
+        ));
+    }
+    Ok((
+        first,
+        last,
+        Some(format!(
+            "take '{name}' states no time range (no LocalStart or LocalStop): read over its \
+             keys, {} s to {} s",
+            crate::limits::brief(first),
+            crate::limits::brief(last)
+        )),
+    ))
+}
+
 /// The takes of an FBX file (its animation stacks), in file order.
 pub fn takes(path: &Path, max_size: u64) -> Result<Vec<TakeInfo>, Error> {
     let bytes = crate::read::read_binary_file(path, max_size)?;
@@ -139,7 +209,9 @@ pub fn takes_of_bytes(bytes: &[u8], name: &str) -> Result<Vec<TakeInfo>, Error> 
         .anim_stacks
         .iter()
         .map(|stack| {
-            let frames = baked::frame_count(stack.time_begin, stack.time_end, fps, 1)
+            let (begin, end, _) =
+                stack_range(stack).map_err(|why| Error::Usage(format!("{name}: {why}")))?;
+            let frames = baked::frame_count(begin, end, fps, 1)
                 .map_err(|why| Error::Usage(format!("{name}: {why}")))?;
             Ok(TakeInfo {
                 name: stack.element.name.to_string(),
@@ -394,11 +466,42 @@ pub fn load_bytes(
             ));
         }
         let stack = &scene.anim_stacks[index];
-        let count =
-            baked::frame_count(stack.time_begin, stack.time_end, fps, order.len()).map_err(&bad)?;
+        let (begin, end, said) = stack_range(stack).map_err(&bad)?;
+        warnings.extend(said);
+        let count = baked::frame_count(begin, end, fps, order.len()).map_err(&bad)?;
+        // Each frame is evaluated: the take's frames × nodes evaluated are held to the file's
+        // size, as a glTF's are (a 16 KB file whose range says nine hours asked for 960,000
+        // frames). The nodes are the joints' ancestors on the quick way, every node of the scene
+        // on the whole scene's evaluation (checked again before it is taken).
+        let chains = ancestors(&scene, &order);
+        let within = |nodes: usize| -> Result<(), Error> {
+            let budget = baked::frame_work_budget(bytes.len() as u64);
+            let nodes = nodes.max(order.len());
+            if (count as u64).saturating_mul(nodes as u64) <= budget {
+                return Ok(());
+            }
+            Err(bad(format!(
+                "take '{}' lasts {} s at {} fps: {} of {}{}, more than a file of {} bytes is \
+                 read for (frames × nodes evaluated at most {budget}, {} a byte); refused as \
+                 damaged or hostile",
+                crate::limits::quoted(&stack.element.name),
+                crate::limits::brief(end - begin),
+                crate::limits::brief(fps),
+                crate::error::counted(count, "frame"),
+                crate::error::counted(order.len(), "joint"),
+                if nodes > order.len() {
+                    format!(" ({nodes} nodes evaluated)")
+                } else {
+                    String::new()
+                },
+                bytes.len(),
+                baked::FRAME_WORK_PER_BYTE
+            )))
+        };
+        within(chains.len())?;
         // One frame: the whole scene evaluated by ufbx at its time, the joints' world matrices.
         // Only the scene root (`Sync`) and numbers go to the threads: ufbx's element types are not.
-        let (root, begin, memory, joints) = (&scene, stack.time_begin, bytes.len(), &order);
+        let (root, memory, joints) = (&scene, bytes.len(), &order);
         let evaluate = move |f: usize| -> Result<Vec<Pose>, Error> {
             let stack = &root.anim_stacks[index];
             let time = begin + f as f64 / fps;
@@ -421,9 +524,8 @@ pub fn load_bytes(
         // included) multiplied down from the root, for the joints' ancestors only. Used when it
         // gives what the whole scene's evaluation gives at the first, middle and last frames
         // (it would not where ufbx keeps a node's inheritance its own way).
-        let chains = ancestors(&scene, &order);
         let quick = |f: usize| -> Vec<Pose> {
-            let time = stack.time_begin + f as f64 / fps;
+            let time = begin + f as f64 / fps;
             quick_poses(&scene, &stack.anim, &chains, &order, time)
         };
         let same = |a: &[Pose], b: &[Pose]| {
@@ -455,6 +557,8 @@ pub fn load_bytes(
                 other => other,
             });
         }
+        // The whole scene is evaluated in each frame: its every node counts.
+        within(scene.nodes.len())?;
         // Frames are evaluated on `threads` threads, BLOCK at a time, and handed over in order.
         const BLOCK: usize = 256;
         let mut ready: std::collections::VecDeque<Vec<Pose>> = Default::default();

@@ -3,17 +3,22 @@
 //!
 //! The skeleton is the joints of the file's skins (with the nodes between them), or, in a file
 //! without a skin, every animated node (with the nodes between them). Each animation is a take;
-//! its frames are sampled at the rate of its keys (the step of evenly spaced keys, else the
-//! shortest step between two), every frame interpolated as the
-//! file says (`STEP`, `LINEAR` with slerp for rotations, `CUBICSPLINE`), and the world matrices
-//! go through [`crate::baked`]. glTF is Y up and in metres, bvhview's own convention: nothing is
-//! converted.
+//! its frames are sampled at the rate of its keys (the key step that puts the most keys on a
+//! frame, see `timing`; a warning when some keys fall between frames), every frame interpolated
+//! as the file says (`STEP`, `LINEAR` with slerp for rotations, `CUBICSPLINE`), and the world
+//! matrices go through [`crate::baked`]. glTF is Y up and in metres, bvhview's own convention:
+//! nothing is converted.
 //!
 //! A file is hostile until read: buffers are taken only from the GLB's own chunk, from `data:`
 //! URIs, or from files inside the `.gltf`'s own folder (no absolute path, no `..`, no scheme, no
-//! symbolic link out), each no larger than `--max-size` and at least as long as the file says;
-//! every accessor's bytes are checked to lie inside its buffer before they are read; the node
-//! tree is checked for cycles and shared children.
+//! symbolic link out), each a regular file (a FIFO, device or socket is refused before a read),
+//! at least as long as its `byteLength` and read only that far, no longer than `--max-size` and
+//! [`crate::limits::MAX_WHOLE_FILE_BYTES`]; every accessor's bytes are checked to lie inside its
+//! buffer before they are read, and each is decoded once however many channels share it; an
+//! animation's channels may ask for [`KEY_VALUES_PER_BYTE`] key values per byte of input, and
+//! its frames × (joints + tracks) at most [`baked::FRAME_WORK_PER_BYTE`] per byte (each above
+//! a floor), refused past them before the work; a key that is not a finite number is refused
+//! by node, key and time; the node tree is checked for cycles and shared children.
 
 use crate::baked::{self, Node, Pose};
 use crate::error::Error;
@@ -21,7 +26,9 @@ use crate::fbx::{Read, TakeInfo, pick_take};
 use glam::{DMat4, DQuat, DVec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::animation::{Interpolation, Property};
+use std::collections::HashMap;
 use std::path::{Path, PathBuf};
+use std::rc::Rc;
 
 fn bad(name: &str, why: impl std::fmt::Display) -> Error {
     Error::Usage(format!("{name}: {why}"))
@@ -102,6 +109,8 @@ fn buffer_path(folder: &Path, uri: &str) -> Result<PathBuf, String> {
 struct File {
     gltf: gltf::Gltf,
     buffers: Vec<Vec<u8>>,
+    /// Bytes read for it: the file's own and its buffers' (what its budgets are counted from).
+    bytes: u64,
 }
 
 /// Refuses what the gltf crate's accessors would panic on instead of saying so: a value it kept
@@ -228,7 +237,10 @@ fn parse(bytes: &[u8], path: &str, folder: Option<&Path>, max_size: u64) -> Resu
                     return Err(bad(path, why));
                 };
                 let file = buffer_path(folder, uri).map_err(|why| bad(path, why))?;
-                crate::read::read_binary_file(&file, max_size)?
+                // Only the buffer's byteLength is read (what lies past it is never used), from a
+                // regular file only: a FIFO, a device or a socket is refused before a read.
+                crate::read::read_file_start(&file, buffer.length() as u64, max_size)
+                    .map_err(|why| bad(path, format!("buffer '{uri}': {why}")))?
             }
         };
         if data.len() < buffer.length() {
@@ -244,7 +256,14 @@ fn parse(bytes: &[u8], path: &str, folder: Option<&Path>, max_size: u64) -> Resu
         }
         buffers.push(data);
     }
-    Ok(File { gltf, buffers })
+    let bytes = buffers.iter().fold(bytes.len() as u64, |sum, b| {
+        sum.saturating_add(b.len() as u64)
+    });
+    Ok(File {
+        gltf,
+        buffers,
+        bytes,
+    })
 }
 
 /// The values of an accessor as f32s, `width` per element, every byte checked to be in range.
@@ -343,9 +362,11 @@ struct Track {
     node: usize,
     property: Property,
     interpolation: Interpolation,
-    times: Vec<f32>,
-    /// `width` values per key (three per key for CUBICSPLINE: in-tangent, value, out-tangent).
-    values: Vec<f32>,
+    /// Key times, shared by every track whose sampler reads the same accessor.
+    times: Rc<Vec<f32>>,
+    /// `width` values per key (three per key for CUBICSPLINE: in-tangent, value, out-tangent),
+    /// shared likewise.
+    values: Rc<Vec<f32>>,
     width: usize,
 }
 
@@ -424,7 +445,74 @@ impl Track {
     }
 }
 
+/// Key values (times and outputs, each key's numbers) that one byte of input may ask the
+/// channels of an animation to read, above [`KEY_VALUES_FLOOR`]. A channel of its own stores each
+/// key in at least 4 bytes; channels that share a sampler read its keys again, each (3,600
+/// channels on one sampler of 56,000 keys: 1e9 values from a 437 KB file).
+pub const KEY_VALUES_PER_BYTE: u64 = 16;
+
+/// Key values any file may ask for, whatever its size.
+pub const KEY_VALUES_FLOOR: u64 = 1 << 20;
+
+/// The values of accessor `index` as f32s, `width` per element, decoded once per reader and
+/// shared by every channel that reads it.
+type Decoded = HashMap<(usize, usize), Rc<Vec<f32>>>;
+
+fn decoded(
+    file: &File,
+    cache: &mut Decoded,
+    accessor: &gltf::Accessor,
+    width: usize,
+) -> Result<Rc<Vec<f32>>, String> {
+    let key = (accessor.index(), width);
+    if let Some(values) = cache.get(&key) {
+        return Ok(values.clone());
+    }
+    let values = Rc::new(accessor_values(file, accessor, width)?);
+    cache.insert(key, values.clone());
+    Ok(values)
+}
+
+/// The name a message gives node `index`: `node 3 'Hips'`.
+fn node_label(document: &gltf::Document, index: usize) -> String {
+    match document.nodes().nth(index).and_then(|n| n.name()) {
+        Some(name) => format!("node {index} '{}'", crate::limits::quoted(name)),
+        None => format!("node {index}"),
+    }
+}
+
 fn tracks(file: &File, animation: &gltf::Animation) -> Result<Vec<Track>, String> {
+    let a = animation.index();
+    // The budget first, from the accessors' counts alone: nothing is decoded for a file that
+    // asks for more than its size allows.
+    let mut asked: u64 = 0;
+    for channel in animation.channels() {
+        let width = match channel.target().property() {
+            Property::Translation | Property::Scale => 3,
+            Property::Rotation => 4,
+            Property::MorphTargetWeights => continue,
+        };
+        let sampler = channel.sampler();
+        let keys = sampler.input().count() as u64;
+        let outputs = (sampler.output().count() as u64).saturating_mul(width);
+        asked = asked.saturating_add(keys.saturating_add(outputs));
+    }
+    let budget = KEY_VALUES_FLOOR.saturating_add(KEY_VALUES_PER_BYTE.saturating_mul(file.bytes));
+    if asked > budget {
+        return Err(format!(
+            "animation {a}: its {} channels ask for {} key values (keys × channels), more than \
+             a file of {} bytes is read for ({budget}: {KEY_VALUES_PER_BYTE} a byte); refused as \
+             damaged or hostile",
+            animation.channels().count(),
+            crate::limits::show(asked as f64),
+            file.bytes
+        ));
+    }
+    let document = &file.gltf.document;
+    let mut cache = Decoded::new();
+    // Input accessors whose times were checked, and output accessors whose values were.
+    let mut times_checked = std::collections::HashSet::new();
+    let mut values_checked = std::collections::HashSet::new();
     let mut tracks = Vec::new();
     for channel in animation.channels() {
         let property = channel.target().property();
@@ -434,8 +522,8 @@ fn tracks(file: &File, animation: &gltf::Animation) -> Result<Vec<Track>, String
             Property::MorphTargetWeights => continue,
         };
         let sampler = channel.sampler();
-        let times = accessor_values(file, &sampler.input(), 1)?;
-        let values = accessor_values(file, &sampler.output(), width)?;
+        let times = decoded(file, &mut cache, &sampler.input(), 1)?;
+        let values = decoded(file, &mut cache, &sampler.output(), width)?;
         let interpolation = sampler.interpolation();
         let per_key = if interpolation == Interpolation::CubicSpline {
             3
@@ -444,30 +532,48 @@ fn tracks(file: &File, animation: &gltf::Animation) -> Result<Vec<Track>, String
         };
         if times.is_empty() || values.len() != times.len() * per_key * width {
             return Err(format!(
-                "animation {}: a sampler with {} keys and {} values",
-                animation.index(),
+                "animation {a}: a sampler with {} keys and {} values",
                 times.len(),
                 values.len() / width
             ));
         }
-        if times.iter().any(|t| !t.is_finite()) || times.windows(2).any(|p| p[1] < p[0]) {
-            return Err(format!(
-                "animation {}: key times that are not finite and increasing",
-                animation.index()
-            ));
+        if times_checked.insert(sampler.input().index()) {
+            if times.iter().any(|t| !t.is_finite()) || times.windows(2).any(|p| p[1] < p[0]) {
+                return Err(format!(
+                    "animation {a}: key times that are not finite and increasing"
+                ));
+            }
+            // glTF 2.0 (animation.sampler.input): `time[0] >= 0`, an error for the Khronos
+            // validator. A key before 0 is a damaged file; read, it would stretch the take back
+            // to it (fuzzing flipped the sign of a 0.5 s take's first key: 495 s, 59,469 frames
+            // to evaluate).
+            if times[0] < 0.0 {
+                return Err(format!(
+                    "animation {a}: a key at {} s, before 0 (glTF's key times start at 0 or later)",
+                    times[0]
+                ));
+            }
         }
-        // glTF 2.0 (animation.sampler.input): `time[0] >= 0`, an error for the Khronos validator.
-        // A key before 0 is a damaged file; read, it would stretch the take back to it (fuzzing
-        // flipped the sign of a 0.5 s take's first key: 495 s, 59,469 frames to evaluate).
-        if times[0] < 0.0 {
+        // A key that is not a number is refused, as a translation's always was by the take's
+        // final check; a rotation's was read as no rotation.
+        let node = channel.target().node().index();
+        if values_checked.insert((sampler.output().index(), sampler.input().index()))
+            && let Some(at) = crate::edit::first_non_finite(&values)
+        {
+            let key = at / width / per_key;
+            let what = match property {
+                Property::Translation => "translation",
+                Property::Rotation => "rotation",
+                _ => "scale",
+            };
             return Err(format!(
-                "animation {}: a key at {} s, before 0 (glTF's key times start at 0 or later)",
-                animation.index(),
-                times[0]
+                "animation {a}: {}: {what} key {key} (at {} s) is not a finite number",
+                node_label(document, node),
+                crate::limits::brief(times[key.min(times.len() - 1)] as f64)
             ));
         }
         tracks.push(Track {
-            node: channel.target().node().index(),
+            node,
             property,
             interpolation,
             times,
@@ -478,44 +584,222 @@ fn tracks(file: &File, animation: &gltf::Animation) -> Result<Vec<Track>, String
     Ok(tracks)
 }
 
-/// The take's start, end and frames per second from its keys.
-fn timing(tracks: &[Track]) -> (f64, f64, f64) {
+/// Common frame rates: a rate found from key steps within [`SNAP`] of one is taken as it.
+const COMMON_RATES: [f64; 24] = [
+    10.0,
+    12.0,
+    15.0,
+    20.0,
+    24000.0 / 1001.0,
+    24.0,
+    25.0,
+    30000.0 / 1001.0,
+    30.0,
+    48.0,
+    50.0,
+    60000.0 / 1001.0,
+    60.0,
+    72.0,
+    90.0,
+    100.0,
+    120.0,
+    144.0,
+    180.0,
+    200.0,
+    240.0,
+    250.0,
+    480.0,
+    1000.0,
+];
+
+/// How near (relative) a measured rate must be to a common one to be taken as it: 1e-6, the
+/// spread of key times written as f32 at a rate, and less than bvhview's own BVH-to-glTF steps
+/// are from a common rate (`Frame Time: 0.0083333` is 4e-6 from 1/120 s; kept as written, so
+/// that sampling at its step lands on its keys).
+const SNAP: f64 = 1e-6;
+
+/// Gaps within this (relative) of the shortest of their group are one step.
+const SAME_STEP: f64 = 5e-3;
+
+/// How many of the most common steps are tried as the take's step.
+const CANDIDATES: usize = 8;
+
+/// A take's sampling: its start and end, the frames per second, and what is said about them.
+struct Timing {
+    start: f64,
+    end: f64,
+    fps: f64,
+    warning: Option<String>,
+}
+
+/// How many of `times` (each list once) fall on a frame of `step` seconds from `start`: within
+/// `slack` seconds, or the rounding of an f32 time.
+fn on_frames(times: &[&[f32]], start: f64, step: f64, slack: f64) -> usize {
+    times
+        .iter()
+        .flat_map(|list| list.iter())
+        .filter(|&&t| {
+            let since = t as f64 - start;
+            let frames = since / step;
+            let slack = slack.max(4.0 * f32::EPSILON as f64 * (t as f64).abs());
+            (frames - frames.round()).abs() * step <= slack
+        })
+        .count()
+}
+
+/// The take's start, end and frame rate from its keys.
+///
+/// The rate is found from the **key steps** of all the take's tracks (each input accessor
+/// once): every gap between two keys (gaps under a microsecond, repeated keys, left out) is
+/// grouped with the gaps within 0.5 % of it; the [`CANDIDATES`] largest groups are tried, each
+/// at the mean of its gaps (a rate within 1e-6 of a common rate, 24, 30000/1001, 30, 60, 120 …,
+/// taken as that rate); the step that puts the most keys on a frame wins, the longer step on a
+/// tie. So one odd key (a key 1.5 ms after a take at 30 fps) does not set the rate, nor do the
+/// long gaps of tracks with a key at each end only. When keys fall between the frames of the
+/// chosen rate, the take is still sampled at it (between keys as the file interpolates) and a
+/// warning says how many do not fit. A rate past [`crate::limits::MAX_FPS`] (keys 0.5 ms apart)
+/// is sampled at 1000 fps with a warning, and one below [`crate::limits::MIN_FPS`] at that: a
+/// file is never refused for a rate it does not state.
+fn timing(tracks: &[Track]) -> Timing {
     let mut start = f64::MAX;
     let mut end = f64::MIN;
-    let mut step = f64::MAX;
+    let mut seen: std::collections::HashSet<*const Vec<f32>> = Default::default();
+    let mut lists: Vec<&[f32]> = Vec::new();
     for track in tracks {
         let n = track.times.len();
         start = start.min(track.times[0] as f64);
         end = end.max(track.times[n - 1] as f64);
-        if n > 1 {
-            // The mean step of a track whose keys are evenly spaced; otherwise its shortest.
-            let mean = (track.times[n - 1] as f64 - track.times[0] as f64) / (n - 1) as f64;
-            let even = track
-                .times
-                .windows(2)
-                .all(|p| ((p[1] - p[0]) as f64 - mean).abs() <= 1e-3 * mean);
-            let this = if even {
-                mean
-            } else {
-                track
-                    .times
-                    .windows(2)
-                    .map(|p| (p[1] - p[0]) as f64)
-                    .filter(|&d| d > 1e-4)
-                    .fold(f64::MAX, f64::min)
-            };
-            if this > 1e-4 {
-                step = step.min(this);
-            }
+        // Tracks sharing one input accessor count its keys once.
+        if seen.insert(Rc::as_ptr(&track.times)) {
+            lists.push(&track.times);
         }
     }
-    if start > end {
-        return (0.0, 0.0, 30.0);
+    let mut gaps: Vec<f64> = lists
+        .iter()
+        .flat_map(|list| list.windows(2).map(|p| p[1] as f64 - p[0] as f64))
+        .filter(|&d| d > 1e-6)
+        .collect();
+    if start > end || gaps.is_empty() {
+        return Timing {
+            start: if start > end { 0.0 } else { start },
+            end: if start > end { 0.0 } else { end },
+            fps: 30.0,
+            warning: None,
+        };
     }
-    // The step itself, not a rounded rate: bvhview's own export writes `Frame Time: 0.0083333`
-    // as keys 0.0083333 s apart, which are not 1/120 s apart.
-    let fps = if step == f64::MAX { 30.0 } else { 1.0 / step };
-    (start, end, fps)
+    gaps.sort_by(f64::total_cmp);
+    // Groups of gaps within SAME_STEP of the group's shortest: (count, mean).
+    let mut groups: Vec<(usize, f64)> = Vec::new();
+    let mut i = 0;
+    while i < gaps.len() {
+        let first = gaps[i];
+        let mut j = i;
+        let mut sum = 0.0;
+        while j < gaps.len() && gaps[j] <= first * (1.0 + SAME_STEP) {
+            sum += gaps[j];
+            j += 1;
+        }
+        groups.push((j - i, sum / (j - i) as f64));
+        i = j;
+    }
+    groups.sort_by(|a, b| b.0.cmp(&a.0).then(b.1.total_cmp(&a.1)));
+    let keys: usize = lists.iter().map(|l| l.len()).sum();
+    // A key fits a frame within a hundredth of the shortest step tried (a hundredth of the
+    // step itself would let a step of minutes fit every key of its first seconds).
+    let slack = 0.01
+        * groups
+            .iter()
+            .take(CANDIDATES)
+            .map(|g| g.1)
+            .fold(f64::MAX, f64::min);
+    let (mut step, mut fitting) = (groups[0].1, 0usize);
+    for &(_, mean) in groups.iter().take(CANDIDATES) {
+        let snapped = COMMON_RATES
+            .iter()
+            .find(|&&rate| (rate * mean - 1.0).abs() <= SNAP)
+            .map_or(mean, |rate| 1.0 / rate);
+        let fit = on_frames(&lists, start, snapped, slack);
+        if fit > fitting || (fit == fitting && snapped > step) {
+            (step, fitting) = (snapped, fit);
+        }
+    }
+    let mut fps = COMMON_RATES
+        .iter()
+        .copied()
+        .find(|&rate| (rate * step - 1.0).abs() <= SNAP)
+        .unwrap_or(1.0 / step);
+    let mut notes = Vec::new();
+    if fps > crate::limits::MAX_FPS {
+        notes.push(format!(
+            "its keys are {} ms apart ({} fps); sampled at {} fps, the fastest bvhview reads",
+            crate::limits::brief(1e3 * step),
+            crate::limits::brief((fps * 10.0).round() / 10.0),
+            crate::limits::MAX_FPS
+        ));
+        fps = crate::limits::MAX_FPS;
+        fitting = keys;
+    } else if fps < crate::limits::MIN_FPS {
+        notes.push(format!(
+            "its keys are {} s apart; sampled at {} fps, the slowest bvhview reads",
+            crate::limits::brief(step),
+            crate::limits::MIN_FPS
+        ));
+        fps = crate::limits::MIN_FPS;
+        fitting = keys;
+    }
+    if fitting < keys {
+        notes.push(format!(
+            "{} of {keys} key times do not fall on a frame at {} fps (the key step that fits \
+             the most keys); frames are sampled at that rate, between keys as the file \
+             interpolates",
+            keys - fitting,
+            crate::limits::brief(fps)
+        ));
+    }
+    Timing {
+        start,
+        end,
+        fps,
+        warning: (!notes.is_empty()).then(|| notes.join("; ")),
+    }
+}
+
+/// The frames of a take of `joints` joints and `tracks` tracks sampled as `timing` says, or why
+/// not: past [`baked::frame_count`]'s limits, or more frames × (nodes + tracks) than the file's
+/// size allows ([`baked::FRAME_WORK_PER_BYTE`] a byte above [`baked::FRAME_WORK_FLOOR`]), where
+/// `nodes` are the nodes posed in each frame: the joints and every node above them (a joint
+/// under a chain of 999 nodes costs 1000 products a frame).
+fn frames_within(
+    timing: &Timing,
+    joints: usize,
+    nodes: usize,
+    tracks: usize,
+    bytes: u64,
+) -> Result<usize, String> {
+    let frames = baked::frame_count(timing.start, timing.end, timing.fps, joints)?;
+    let nodes = nodes.max(joints);
+    let work = (frames as u64).saturating_mul((nodes + tracks) as u64);
+    let budget = baked::frame_work_budget(bytes);
+    if work > budget {
+        return Err(format!(
+            "the take lasts {} s at {} fps: {} of {}{} and {}, more than a file of {bytes} \
+             bytes is read for (frames × (nodes + tracks) at most {}, {} a byte); refused as \
+             damaged or hostile",
+            crate::limits::brief(timing.end - timing.start),
+            crate::limits::brief(timing.fps),
+            crate::error::counted(frames, "frame"),
+            crate::error::counted(joints, "joint"),
+            if nodes > joints {
+                format!(" ({nodes} nodes with those above them)")
+            } else {
+                String::new()
+            },
+            crate::error::counted(tracks, "track"),
+            budget,
+            baked::FRAME_WORK_PER_BYTE
+        ));
+    }
+    Ok(frames)
 }
 
 fn animation_name(animation: &gltf::Animation) -> String {
@@ -534,12 +818,18 @@ pub fn takes(path: &Path, max_size: u64) -> Result<Vec<TakeInfo>, Error> {
         .animations()
         .map(|animation| {
             let tracks = tracks(&file, &animation).map_err(|why| bad(path, why))?;
-            let (start, end, fps) = timing(&tracks);
-            let frames = baked::frame_count(start, end, fps, 1).map_err(|why| bad(path, why))?;
+            let timing = timing(&tracks);
+            let joints = tracks
+                .iter()
+                .map(|t| t.node)
+                .collect::<std::collections::HashSet<_>>()
+                .len();
+            let frames = frames_within(&timing, joints, joints, tracks.len(), file.bytes)
+                .map_err(|why| bad(path, why))?;
             Ok(TakeInfo {
                 name: animation_name(&animation),
                 frames,
-                frame_time: 1.0 / fps,
+                frame_time: 1.0 / timing.fps,
             })
         })
         .collect()
@@ -750,7 +1040,11 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
         out
     };
     let rest = world_of(&|n| static_matrices[n]);
-    let (start, end, fps) = timing(&tracks);
+    let timing = timing(&tracks);
+    let (start, fps) = (timing.start, timing.fps);
+    if let Some(warning) = &timing.warning {
+        warnings.push(warning.clone());
+    }
     let (skeleton, motion) = if tracks.is_empty() {
         warnings.push("no animation in the file: its rest pose, as one frame".to_string());
         baked::build(&skeleton_nodes, &rest, 1, 1.0 / fps, |_, out| {
@@ -758,8 +1052,18 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
             Ok(())
         })
     } else {
-        let frame_count =
-            baked::frame_count(start, end, fps, order.len()).map_err(|why| bad(path, why))?;
+        // The nodes posed in each frame: the joints and every node above them.
+        let mut posed = vec![false; count];
+        for &i in &order {
+            let mut up = Some(i);
+            while let Some(n) = up.filter(|&n| !posed[n]) {
+                posed[n] = true;
+                up = parent[n];
+            }
+        }
+        let nodes = posed.iter().filter(|&&p| p).count();
+        let frame_count = frames_within(&timing, order.len(), nodes, tracks.len(), file.bytes)
+            .map_err(|why| bad(path, why))?;
         let mut animated: Vec<Option<Trs>> = vec![None; count];
         let mut sample = [0.0f64; 4];
         let mut hints = vec![0usize; tracks.len()];
@@ -807,6 +1111,52 @@ mod tests {
         assert_eq!(base64("aGVsbG8=").unwrap(), b"hello");
         assert_eq!(base64("aGVsbG8").unwrap(), b"hello");
         assert!(base64("a$").is_none());
+    }
+
+    fn keyed(times: Vec<f32>) -> Track {
+        let values = Rc::new(vec![0.0; 3 * times.len()]);
+        Track {
+            node: 0,
+            property: Property::Translation,
+            interpolation: Interpolation::Linear,
+            times: Rc::new(times),
+            values,
+            width: 3,
+        }
+    }
+
+    /// The rate is the key step that puts the most keys on a frame, snapped to a common rate;
+    /// what does not fit is said; nothing is refused for a rate.
+    #[test]
+    fn the_rate_is_the_key_step_that_fits_the_most_keys() {
+        let at = |rate: f32, n: usize| (0..n).map(|k| k as f32 / rate).collect::<Vec<f32>>();
+        // Every frame of 30 fps: 30, no warning.
+        let even = timing(&[keyed(at(30.0, 61))]);
+        assert_eq!((even.fps, even.warning.is_none()), (30.0, true));
+        // One odd key 1.5 ms after the last: still 30, said.
+        let mut times = at(30.0, 31);
+        times.push(1.0015);
+        let odd = timing(&[keyed(times)]);
+        assert_eq!(odd.fps, 30.0);
+        assert!(odd.warning.unwrap().starts_with("1 of 32 key times"));
+        // A track at 60 fps beside one at 30: every key is on a frame of 60.
+        let both = timing(&[keyed(at(30.0, 61)), keyed(at(60.0, 121))]);
+        assert_eq!((both.fps, both.warning.is_none()), (60.0, true));
+        // Twenty tracks keyed at their ends only do not outvote one keyed at every frame.
+        let mut tracks: Vec<Track> = (0..20).map(|_| keyed(vec![0.0, 2.0])).collect();
+        tracks.push(keyed(at(30.0, 61)));
+        assert_eq!(timing(&tracks).fps, 30.0);
+        // Keys 0.5 ms apart: 1000 fps, said.
+        let fast = timing(&[keyed((0..100).map(|k| k as f32 * 5e-4).collect())]);
+        assert_eq!(fast.fps, 1000.0);
+        assert!(
+            fast.warning
+                .unwrap()
+                .contains("(2000 fps); sampled at 1000 fps")
+        );
+        // bvhview's own `Frame Time: 0.0083333` keys keep their step (not 1/120 s).
+        let own = timing(&[keyed((0..200).map(|k| k as f32 * 0.0083333).collect())]);
+        assert!((1.0 / own.fps - 0.0083333).abs() < 1e-9, "{}", own.fps);
     }
 
     #[test]

@@ -40,6 +40,11 @@ pub const MAX_ANIMATION_FRAMES: usize = 100_000;
 /// Most values (frames × channels) an edit may make: 1 GiB of f32, a BVH file of about 2 GB.
 pub const MAX_GENERATED_VALUES: u64 = 1 << 28;
 
+/// Most bytes of a file read whole into memory (FBX, GLB, glTF JSON, one glTF buffer): 2 GiB.
+/// Past it a file is refused by its size on disk, before a byte is read (a sparse 6 GB file
+/// takes 4 KB of disk and would take 6 GB of memory).
+pub const MAX_WHOLE_FILE_BYTES: u64 = 2 << 30;
+
 /// A number as a message shows it: `1e300`, not three hundred digits.
 pub fn show<T>(value: T) -> String
 where
@@ -51,6 +56,26 @@ where
     } else {
         format!("{value}")
     }
+}
+
+/// `value` with at most four decimals (`0.3667`, `2000`), for a message.
+pub fn brief(value: f64) -> String {
+    let text = format!("{value:.4}");
+    if text.contains('.') {
+        text.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        text
+    }
+}
+
+/// A name from a file as a message quotes it: its first 64 characters, `…` after them when
+/// there are more (an error quotes no more of a file than it needs).
+pub fn quoted(name: &str) -> String {
+    let mut short: String = name.chars().take(64).collect();
+    if short.len() < name.len() {
+        short.push('…');
+    }
+    short
 }
 
 /// A name's length, or what is wrong with it.

@@ -837,3 +837,628 @@ fn truncated_and_noise_fbx_are_refused_by_the_cli() {
         refused(&out, &format!("{}: ", path.display()), &output);
     }
 }
+
+// Issue 44, "every file a stranger sends": the glTF and FBX readers.
+
+/// One animated property of a glTF made by [`gltf_take`]: its node, path, key times and values.
+struct Keys {
+    node: usize,
+    path: &'static str,
+    times: Vec<f32>,
+    values: Vec<f32>,
+}
+
+/// A glTF JSON of `nodes` (a JSON array) with one animation of `tracks` (all of them on the
+/// first track's sampler when `shared`), its buffer at `uri`; and the buffer's bytes.
+fn gltf_take(nodes: &str, tracks: &[Keys], shared: bool, uri: &str) -> (String, Vec<u8>) {
+    let (mut bin, mut views, mut accessors, mut samplers, mut channels) =
+        (Vec::new(), Vec::new(), Vec::new(), Vec::new(), Vec::new());
+    for (k, track) in tracks.iter().enumerate() {
+        if !shared || k == 0 {
+            let kind = if track.values.len() == 4 * track.times.len() {
+                "VEC4"
+            } else {
+                "VEC3"
+            };
+            for (values, kind) in [(&track.times, "SCALAR"), (&track.values, kind)] {
+                let offset = bin.len();
+                bin.extend(values.iter().flat_map(|v| v.to_le_bytes()));
+                views.push(format!(
+                    r#"{{"buffer": 0, "byteOffset": {offset}, "byteLength": {}}}"#,
+                    4 * values.len()
+                ));
+                let count = if kind == "SCALAR" {
+                    values.len()
+                } else {
+                    track.times.len()
+                };
+                accessors.push(format!(
+                    r#"{{"bufferView": {}, "componentType": 5126, "count": {count}, "type": "{kind}"}}"#,
+                    views.len() - 1
+                ));
+            }
+            samplers.push(format!(
+                r#"{{"input": {}, "output": {}}}"#,
+                accessors.len() - 2,
+                accessors.len() - 1
+            ));
+        }
+        channels.push(format!(
+            r#"{{"sampler": {}, "target": {{"node": {}, "path": "{}"}}}}"#,
+            samplers.len() - 1,
+            track.node,
+            track.path
+        ));
+    }
+    let json = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "nodes": {nodes},
+  "buffers": [{{"uri": "{uri}", "byteLength": {}}}],
+  "bufferViews": [{}], "accessors": [{}],
+  "animations": [{{"name": "take", "samplers": [{}], "channels": [{}]}}]}}"#,
+        bin.len(),
+        views.join(","),
+        accessors.join(","),
+        samplers.join(","),
+        channels.join(",")
+    );
+    (json, bin)
+}
+
+/// A translation of node `node` keyed at `times` (x = the time).
+fn slide(node: usize, times: Vec<f32>) -> Keys {
+    let values = times.iter().flat_map(|&t| [t, 0.0, 0.0]).collect();
+    Keys {
+        node,
+        path: "translation",
+        times,
+        values,
+    }
+}
+
+/// `name.gltf` and `name.bin` in `dir` from [`gltf_take`]; the .gltf's path.
+fn write_gltf(dir: &Path, name: &str, nodes: &str, tracks: &[Keys], shared: bool) -> PathBuf {
+    let (json, bin) = gltf_take(nodes, tracks, shared, &format!("{name}.bin"));
+    std::fs::write(dir.join(format!("{name}.bin")), bin).unwrap();
+    let path = dir.join(format!("{name}.gltf"));
+    std::fs::write(&path, json).unwrap();
+    path
+}
+
+/// `input::load`'s error for `path`, checked to be a refusal (exit 2, one line, `path: …`).
+fn load_refused(path: &Path) -> String {
+    let error = match bvhview::input::load(path, None, None) {
+        Ok(loaded) => panic!(
+            "{}: loaded ({} frames), not refused",
+            path.display(),
+            loaded.motion.frame_count()
+        ),
+        Err(error) => error,
+    };
+    let text = error.to_string();
+    assert_eq!(error.exit_code(), 2, "{text}");
+    assert_eq!(text.lines().count(), 1, "{text}");
+    assert!(text.starts_with(&format!("{}: ", path.display())), "{text}");
+    text
+}
+
+/// `bvhview ARGS` with the address space held to 4 GB where `prlimit` is there (a reader
+/// that allocated a sparse file's size would abort), else plainly.
+fn bvhview_within_4gb(args: &[&str]) -> Output {
+    let bin = env!("CARGO_BIN_EXE_bvhview");
+    let limited = Command::new("prlimit")
+        .arg("--as=4000000000")
+        .arg(bin)
+        .args(args)
+        .output();
+    match limited {
+        Ok(out) => out,
+        Err(_) => bvhview(args),
+    }
+}
+
+/// Issue 44, point 1: a glTF whose buffer is a FIFO waited for a writer for ever; a FIFO named
+/// `.fbx` too. Buffers and files are opened without waiting and refused by their type before a
+/// read. The FIFO's writer is a thread that waits to be let through once the command is done:
+/// a reader that opened the FIFO would get it at once and read nothing (a different message),
+/// so this test fails, not hangs, against such a reader.
+#[test]
+fn issue44_a_buffer_or_file_that_is_not_a_regular_file_is_refused_before_a_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let fifo_answer = |fifo: PathBuf, args: Vec<String>| -> Output {
+        assert!(
+            Command::new("mkfifo")
+                .arg(&fifo)
+                .status()
+                .unwrap()
+                .success()
+        );
+        let writer = {
+            let fifo = fifo.clone();
+            std::thread::spawn(move || drop(std::fs::OpenOptions::new().write(true).open(fifo)))
+        };
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let out = bvhview(&args);
+        // Let the writer through (an open for reading, without waiting, completes its open).
+        use std::os::unix::fs::OpenOptionsExt;
+        let _reader = std::fs::OpenOptions::new()
+            .read(true)
+            .custom_flags(libc::O_NONBLOCK)
+            .open(&fifo)
+            .unwrap();
+        writer.join().unwrap();
+        out
+    };
+    let (json, _) = gltf_take(
+        r#"[{"name": "root"}]"#,
+        &[slide(0, vec![0.0, 1.0])],
+        false,
+        "f.bin",
+    );
+    let gltf = dir.path().join("g.gltf");
+    std::fs::write(&gltf, &json).unwrap();
+    let out = fifo_answer(
+        dir.path().join("f.bin"),
+        vec!["info".into(), gltf.display().to_string()],
+    );
+    refused(
+        &out,
+        &format!(
+            "{}: buffer 'f.bin': a FIFO, not a regular file",
+            gltf.display()
+        ),
+        &dir.path().join("none"),
+    );
+    // A socket beside the glTF.
+    let socket_json = json.replace("f.bin", "s.bin");
+    let socket_gltf = dir.path().join("s.gltf");
+    std::fs::write(&socket_gltf, socket_json).unwrap();
+    let _socket = std::os::unix::net::UnixListener::bind(dir.path().join("s.bin")).unwrap();
+    let text = load_refused(&socket_gltf);
+    assert!(
+        text.contains("buffer 's.bin': a socket, not a regular file"),
+        "{text}"
+    );
+    // The FBX or GLB itself.
+    for name in ["take.fbx", "take.glb"] {
+        let path = dir.path().join(name);
+        let out = fifo_answer(
+            path.clone(),
+            vec!["info".into(), path.display().to_string()],
+        );
+        refused(
+            &out,
+            &format!("{}: a FIFO, not a regular file", path.display()),
+            &dir.path().join("none"),
+        );
+    }
+}
+
+/// Issue 44, point 2: a buffer of 6 GB on disk (sparse) of which 32 bytes are used was read
+/// whole (an abort under a 4 GB address space); a sparse 6 GB `.fbx` asked for 6 GB at once
+/// ("memory allocation of 6000000001 bytes failed", SIGABRT). Now a buffer is read to its
+/// byteLength only (a shorter file is refused), and a file read whole is refused by its size
+/// on disk past 2 GiB, before a byte is read.
+#[test]
+fn issue44_sparse_files_are_read_only_as_far_as_used_or_refused_by_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let take = [slide(0, vec![0.0, 1.0])];
+    let gltf = write_gltf(dir.path(), "sparse", r#"[{"name": "root"}]"#, &take, false);
+    let bin = dir.path().join("sparse.bin");
+    std::fs::File::options()
+        .write(true)
+        .open(&bin)
+        .unwrap()
+        .set_len(6 << 30)
+        .unwrap();
+    let out = bvhview_within_4gb(&["info", gltf.to_str().unwrap()]);
+    assert!(out.status.success(), "{out:?}");
+    assert!(String::from_utf8_lossy(&out.stdout).contains("frames:           2\n"));
+    // A buffer file shorter than its byteLength.
+    let short = write_gltf(dir.path(), "short", r#"[{"name": "root"}]"#, &take, false);
+    std::fs::write(dir.path().join("short.bin"), [0u8; 8]).unwrap();
+    let text = load_refused(&short);
+    assert!(
+        text.contains("buffer 'short.bin': 8 bytes, fewer than its byteLength 32"),
+        "{text}"
+    );
+    // A byteLength of 3 GB over a sparse file that long: refused by the budget, not read.
+    let (json, _) = gltf_take(r#"[{"name": "root"}]"#, &take, false, "sparse.bin");
+    let big = dir.path().join("big.gltf");
+    std::fs::write(
+        &big,
+        json.replace("\"byteLength\": 32}],", "\"byteLength\": 3000000000}],"),
+    )
+    .unwrap();
+    let text = load_refused(&big);
+    assert!(
+        text.contains("buffer 'sparse.bin': 3000000000 bytes, more than the 2 GiB"),
+        "{text}"
+    );
+    // A sparse 6 GB FBX.
+    let fbx = dir.path().join("sparse.fbx");
+    std::fs::copy(repo_data("fbx/bvh11_131_01.fbx"), &fbx).unwrap();
+    std::fs::File::options()
+        .write(true)
+        .open(&fbx)
+        .unwrap()
+        .set_len(6 << 30)
+        .unwrap();
+    let out = bvhview_within_4gb(&["info", fbx.to_str().unwrap()]);
+    refused(
+        &out,
+        &format!(
+            "{}: 6442450944 bytes, more than the 2 GiB bvhview reads of an FBX or glTF file",
+            fbx.display()
+        ),
+        &dir.path().join("none"),
+    );
+}
+
+/// Issue 44, point 3: 3,600 channels on one sampler of 56,000 keys decoded the sampler 3,600
+/// times (3.8 GB, then an abort); keys 1 ms apart with one key at 1,000 s made a million
+/// frames of a 15.5 KB file (13 s). Each accessor is now decoded once, and both asks are
+/// refused by the file's size before the work; a fair share of one sampler still loads.
+#[test]
+fn issue44_gltf_animation_work_is_bounded_by_the_input_size() {
+    let dir = tempfile::tempdir().unwrap();
+    let many = |count: usize| {
+        let children: Vec<String> = (1..count).map(|i| i.to_string()).collect();
+        let mut nodes = vec![format!(
+            r#"{{"name": "root", "children": [{}]}}"#,
+            children.join(",")
+        )];
+        nodes.extend((1..count).map(|i| format!(r#"{{"name": "j{i}"}}"#)));
+        format!("[{}]", nodes.join(","))
+    };
+    let turn = |node: usize, keys: usize| Keys {
+        node,
+        path: "rotation",
+        times: (0..keys).map(|k| k as f32 / 30.0).collect(),
+        values: (0..keys).flat_map(|_| [0.0, 0.0, 0.0, 1.0]).collect(),
+    };
+    let tracks: Vec<Keys> = (0..3600)
+        .map(|n| turn(n, if n == 0 { 56_000 } else { 0 }))
+        .collect();
+    let path = write_gltf(dir.path(), "shared", &many(3600), &tracks, true);
+    let text = load_refused(&path);
+    assert!(
+        text.contains("animation 0: its 3600 channels ask for 1.008e9 key values"),
+        "{text}"
+    );
+    // 200 channels on one sampler of 300 keys: within the budget, one take of 300 frames.
+    let tracks: Vec<Keys> = (0..200)
+        .map(|n| turn(n, if n == 0 { 300 } else { 0 }))
+        .collect();
+    let path = write_gltf(dir.path(), "fair", &many(200), &tracks, true);
+    let loaded = bvhview::input::load(&path, None, None).unwrap();
+    assert_eq!(loaded.motion.frame_count(), 300);
+    // 999 keys 1 ms apart, then one at 900 s.
+    let mut times: Vec<f32> = (0..999).map(|k| k as f32 * 1e-3).collect();
+    times.push(900.0);
+    let path = write_gltf(
+        dir.path(),
+        "long",
+        r#"[{"name": "root"}]"#,
+        &[slide(0, times)],
+        false,
+    );
+    let text = load_refused(&path);
+    assert!(
+        text.contains("the take lasts 900 s at 1000 fps: 900001 frames of 1 joint and 1 track, more than a file of"),
+        "{text}"
+    ); // One joint under a chain of 999 nodes, for 400 s at 30 fps: each frame poses all 1000.
+    let mut nodes: Vec<String> = (0..999)
+        .map(|i| format!(r#"{{"name": "n{i}", "children": [{}]}}"#, i + 1))
+        .collect();
+    nodes.push(r#"{"name": "leaf"}"#.to_string());
+    let turn = Keys {
+        node: 999,
+        path: "rotation",
+        times: vec![0.0, 400.0],
+        values: vec![0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0],
+    };
+    let tracks = [slide(999, vec![0.0, 1.0 / 30.0]), turn];
+    let path = write_gltf(
+        dir.path(),
+        "deep",
+        &format!("[{}]", nodes.join(",")),
+        &tracks,
+        false,
+    );
+    let text = load_refused(&path);
+    assert!(
+        text.contains(
+            "the take lasts 400 s at 30 fps: 12001 frames of 1 joint (1000 nodes with those \
+             above them) and 2 tracks, more than a file of"
+        ),
+        "{text}"
+    );
+}
+
+/// Issue 44, point 4: 31 keys at 30 fps and one 1.5 ms later read as 668 frames at 666.7 fps;
+/// keys 0.5 ms apart refused the file for "a frame rate of 1999.9 fps" it never states. The
+/// rate is the key step that fits the most keys (a warning says when some do not fit); a rate
+/// past 1000 fps is sampled at 1000 with a warning; tracks keyed only at their ends do not
+/// outvote the one keyed at every frame.
+#[test]
+fn issue44_gltf_frame_rate_is_the_key_step_that_fits_the_most_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut times: Vec<f32> = (0..31).map(|k| k as f32 / 30.0).collect();
+    times.push(1.0015);
+    let odd = write_gltf(
+        dir.path(),
+        "odd",
+        r#"[{"name": "root"}]"#,
+        &[slide(0, times)],
+        false,
+    );
+    let loaded = bvhview::input::load(&odd, None, None).unwrap();
+    assert_eq!(loaded.motion.frame_count(), 31);
+    assert_eq!(loaded.motion.frame_time, 1.0 / 30.0);
+    let said = loaded.warnings.join("\n");
+    assert!(
+        said.contains("1 of 32 key times do not fall on a frame at 30 fps"),
+        "{said}"
+    );
+    // `convert` says it on stderr.
+    let out_bvh = dir.path().join("odd.bvh");
+    let out = bvhview(&[
+        "convert",
+        odd.to_str().unwrap(),
+        "-o",
+        out_bvh.to_str().unwrap(),
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    assert!(String::from_utf8_lossy(&out.stderr).contains("do not fall on a frame at 30 fps"));
+    // Keys 0.5 ms apart.
+    let fast = (0..100).map(|k| k as f32 * 5e-4).collect();
+    let fast = write_gltf(
+        dir.path(),
+        "fast",
+        r#"[{"name": "root"}]"#,
+        &[slide(0, fast)],
+        false,
+    );
+    let loaded = bvhview::input::load(&fast, None, None).unwrap();
+    assert_eq!(loaded.motion.frame_time, 1e-3);
+    assert_eq!(loaded.motion.frame_count(), 50);
+    let said = loaded.warnings.join("\n");
+    assert!(
+        said.contains("its keys are 0.5 ms apart (2000 fps); sampled at 1000 fps"),
+        "{said}"
+    );
+    // Twenty nodes keyed at 0 and 2 s only, one at every frame of 30 fps.
+    let children: Vec<String> = (1..21).map(|i| i.to_string()).collect();
+    let mut nodes = vec![format!(
+        r#"{{"name": "root", "children": [{}]}}"#,
+        children.join(",")
+    )];
+    nodes.extend((1..21).map(|i| format!(r#"{{"name": "j{i}"}}"#)));
+    let mut tracks: Vec<Keys> = (1..21).map(|n| slide(n, vec![0.0, 2.0])).collect();
+    tracks.push(slide(0, (0..61).map(|k| k as f32 / 30.0).collect()));
+    let ends = write_gltf(
+        dir.path(),
+        "ends",
+        &format!("[{}]", nodes.join(",")),
+        &tracks,
+        false,
+    );
+    let loaded = bvhview::input::load(&ends, None, None).unwrap();
+    assert_eq!(loaded.motion.frame_count(), 61);
+    assert_eq!(loaded.motion.frame_time, 1.0 / 30.0);
+    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+}
+
+/// An FBX of the ufbx test set, `edit`ed, written to `dir/name`.
+fn edited_fbx(dir: &Path, name: &str, edit: impl Fn(String) -> String) -> PathBuf {
+    let text =
+        std::fs::read_to_string(repo_data("fbx/ufbx/maya_anim_interpolation_7700_ascii.fbx"))
+            .unwrap();
+    let edited = edit(text.clone());
+    assert_ne!(edited, text, "{name}: the edit changed nothing");
+    let path = dir.join(name);
+    std::fs::write(&path, edited).unwrap();
+    path
+}
+
+/// Its one curve (10 keys, the third `value`) moved from the node's translation X to its
+/// rotation X.
+fn curve_on_rotation(text: String, value: &str) -> String {
+    text.replace(
+        r#"C: "OP",2092758031616,2092763624192, "d|X""#,
+        r#"C: "OP",2092758031616,2092763622944, "d|X""#,
+    )
+    .replace(
+        "a: 0,-2,-4,-6,-8,-10,-12,-14,-16,-14",
+        &format!("a: 0,-2,{value},-6,-8,-10,-12,-14,-16,-14"),
+    )
+}
+
+/// Issue 44, point 5: NaN rotation keys (FBX, glTF) read as no rotation while NaN
+/// translations were refused. Both are refused now, by node and key or time.
+#[test]
+fn issue44_non_finite_rotation_keys_are_refused_by_node_and_time() {
+    let dir = tempfile::tempdir().unwrap();
+    let keys = Keys {
+        node: 0,
+        path: "rotation",
+        times: vec![0.0, 1.0 / 30.0],
+        values: vec![0.0, 0.0, 0.0, 1.0, f32::NAN, 0.0, 0.0, 1.0],
+    };
+    let gltf = write_gltf(dir.path(), "nan", r#"[{"name": "root"}]"#, &[keys], false);
+    let text = load_refused(&gltf);
+    assert!(
+        text.contains(
+            "animation 0: node 0 'root': rotation key 1 (at 0.0333 s) is not a finite number"
+        ),
+        "{text}"
+    );
+    for (name, value, want) in [
+        ("nan.fbx", "nan", "a rotation that is not finite"),
+        ("inf.fbx", "1e999", "a rotation that is not finite"),
+    ] {
+        let fbx = edited_fbx(dir.path(), name, |t| curve_on_rotation(t, value));
+        let text = load_refused(&fbx);
+        assert!(
+            text.contains(&format!("joint 'pCube1', frame 11 (at 0.3667 s): {want}")),
+            "{text}"
+        );
+    }
+    let fbx = edited_fbx(dir.path(), "nan_translation.fbx", |t| {
+        t.replace("a: 0,-2,-4,-6,", "a: 0,-2,nan,-6,")
+    });
+    let text = load_refused(&fbx);
+    assert!(
+        text.contains("joint 'pCube1', frame 11 (at 0.3667 s): a position that is not finite"),
+        "{text}"
+    );
+}
+
+/// Issue 44, point 6: rest offsets past a 32-bit float (FBX `UnitScaleFactor` 1e300; a glTF
+/// node scaled 1e30 with a child at 1e30) loaded, `info` exit 0, positions NaN. Refused at
+/// load, by joint.
+#[test]
+fn issue44_non_finite_rest_offsets_are_refused_by_joint() {
+    let dir = tempfile::tempdir().unwrap();
+    let nodes = r#"[{"name": "root", "scale": [1e30, 1e30, 1e30], "children": [1]},
+                    {"name": "kid", "translation": [1e30, 0, 0]}]"#;
+    let gltf = write_gltf(
+        dir.path(),
+        "huge",
+        nodes,
+        &[slide(0, vec![0.0, 1.0])],
+        false,
+    );
+    let out = bvhview(&["info", gltf.to_str().unwrap()]);
+    refused(
+        &out,
+        "huge.gltf: joint 'kid': its rest pose has a position that is not finite or past a 32-bit float",
+        &dir.path().join("none"),
+    );
+    // A name of 1,000 bytes is quoted by its first 64 characters.
+    let long = "K".repeat(1000);
+    let nodes = nodes.replace("\"kid\"", &format!("\"{long}\""));
+    let gltf = write_gltf(
+        dir.path(),
+        "named",
+        &nodes,
+        &[slide(0, vec![0.0, 1.0])],
+        false,
+    );
+    let text = load_refused(&gltf);
+    assert!(
+        text.contains(&format!("joint '{}…': its rest pose", &long[..64])),
+        "{text}"
+    );
+    let fbx = edited_fbx(dir.path(), "unit.fbx", |t| {
+        t.replace(
+            r#""UnitScaleFactor", "double", "Number", "",1"#,
+            r#""UnitScaleFactor", "double", "Number", "",1e300"#,
+        )
+    });
+    let text = load_refused(&fbx);
+    assert!(
+        text.contains("joint 'pCube1': its rest pose has a position that is not finite"),
+        "{text}"
+    );
+}
+
+/// Issue 44, point 7: an FBX take whose LocalStart is after its LocalStop, or that states no
+/// range, loaded as one frame without a word. The first is refused; the second is read over
+/// its keys (0 s to 1.8333 s here: 56 frames at 30 fps), and a warning says so.
+#[test]
+fn issue44_fbx_take_ranges_backwards_are_refused_and_missing_ones_read_over_the_keys() {
+    let dir = tempfile::tempdir().unwrap();
+    let stop = "92372316000";
+    let backwards = edited_fbx(dir.path(), "backwards.fbx", |t| {
+        t.replace(
+            &format!(r#"P: "LocalStop", "KTime", "Time", "",{stop}"#),
+            &format!(
+                "P: \"LocalStart\", \"KTime\", \"Time\", \"\",{stop}\n\t\t\tP: \"LocalStop\", \"KTime\", \"Time\", \"\",0"
+            ),
+        )
+    });
+    let text = load_refused(&backwards);
+    assert!(
+        text.contains(
+            "take 'Take 001': its time range runs backwards (LocalStart 2 s is after LocalStop 0 s)"
+        ),
+        "{text}"
+    );
+    let takes = bvhview::input::takes(&backwards, bvhview::input::DEFAULT_MAX_SIZE).unwrap_err();
+    assert!(takes.to_string().contains("runs backwards"), "{takes}");
+    let none = edited_fbx(dir.path(), "no_range.fbx", |t| {
+        t.lines()
+            .filter(|l| !l.contains(stop))
+            .collect::<Vec<_>>()
+            .join("\n")
+    });
+    let loaded = bvhview::input::load(&none, None, None).unwrap();
+    assert_eq!(loaded.motion.frame_count(), 56);
+    let said = loaded.warnings.join("\n");
+    assert!(
+        said.contains("take 'Take 001' states no time range (no LocalStart or LocalStop): read over its keys, 0 s to 1.8333 s"),
+        "{said}"
+    );
+}
+
+/// Issue 44, point 3 for FBX: a 16 KB file whose range says nine hours (960,001 frames at 30
+/// fps) had every frame evaluated (2.6 s in a debug build); its frames × joints are now held
+/// to the file's size as a glTF's are, and refused before a frame is evaluated.
+#[test]
+fn issue44_an_fbx_range_longer_than_its_size_allows_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let nine_hours = (46_186_158_000u64 * 32_000).to_string();
+    let long = edited_fbx(dir.path(), "long.fbx", |t| {
+        t.replace("92372316000", &nine_hours)
+    });
+    let text = load_refused(&long);
+    assert!(
+        text.contains(
+            "take 'Take 001' lasts 32000 s at 30 fps: 960001 frames of 1 joint, more than a \
+             file of"
+        ),
+        "{text}"
+    );
+}
+
+/// Issue 44, point 3 for FBX: the nodes a frame evaluates count, not the joints alone. One
+/// animated node under a chain of 900 empty nodes for 400 s at 30 fps: 12,001 frames, each
+/// posing 901 nodes (11 M transforms from a 70 KB file), is refused by name.
+#[test]
+fn issue44_an_fbx_frame_budget_counts_every_node_evaluated() {
+    let dir = tempfile::tempdir().unwrap();
+    let seconds_400 = (46_186_158_000u64 * 400).to_string();
+    let chain = edited_fbx(dir.path(), "chain.fbx", |t| {
+        let nulls: String = (0..900u64)
+            .map(|i| {
+                format!(
+                    "\tModel: {}, \"Model::n{i}\", \"Null\" {{\n\t\tVersion: 232\n\t}}\n",
+                    9_000_000 + i
+                )
+            })
+            .collect();
+        let links: String = (0..900u64)
+            .map(|i| {
+                let parent = if i == 0 { 0 } else { 9_000_000 + i - 1 };
+                format!("\tC: \"OO\",{},{parent}\n", 9_000_000 + i)
+            })
+            .collect();
+        t.replace("92372316000", &seconds_400)
+            .replace(
+                "\tModel: 2092721204448,",
+                &format!("{nulls}\tModel: 2092721204448,"),
+            )
+            .replace(
+                "\tC: \"OO\",2092721204448,0\n",
+                &format!("{links}\tC: \"OO\",2092721204448,9000899\n"),
+            )
+    });
+    let text = load_refused(&chain);
+    assert!(
+        text.contains(
+            "take 'Take 001' lasts 400 s at 30 fps: 12001 frames of 1 joint (901 nodes evaluated)"
+        ),
+        "{text}"
+    );
+}
