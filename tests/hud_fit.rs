@@ -313,7 +313,11 @@ fn the_step_text_fits_a_small_picture() {
         .arg(&out)
         .output()
         .unwrap();
-    assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
     let picture = Image::read_png(&out).unwrap();
     let (width, height) = (picture.width as usize, picture.height as usize);
     // The text is the only pure white in the picture.
@@ -325,7 +329,10 @@ fn the_step_text_fits_a_small_picture() {
     let right = white.iter().map(|p| p.0).max().unwrap();
     let top = white.iter().map(|p| p.1).min().unwrap();
     let bottom = white.iter().map(|p| p.1).max().unwrap();
-    assert!(right < width - 4, "the text reaches the right edge ({right} of {width})");
+    assert!(
+        right < width - 4,
+        "the text reaches the right edge ({right} of {width})"
+    );
     // Rows from the top: the text's band is in the bottom half.
     let band = bottom - top;
     assert!(band < height / 2, "the text covers {band} of {height} rows");

@@ -64,7 +64,14 @@ pub fn lines(
 /// Draws the overlay of [`lines`], in white, bottom left, in `font` (the picture's:
 /// [`text::Font::for_picture`], so that a small picture is not covered by big glyphs).
 pub fn draw_overlay<G: FixedFunction>(gl: &mut G, lines: &[String], font: text::Font) {
-    text::draw_lines_in(gl, 0, text::Corner::BottomLeft, lines, [1.0, 1.0, 1.0], font);
+    text::draw_lines_in(
+        gl,
+        0,
+        text::Corner::BottomLeft,
+        lines,
+        [1.0, 1.0, 1.0],
+        font,
+    );
 }
 
 /// How many characters of `font` fit across a picture `width` pixels wide.
