@@ -83,23 +83,30 @@ fn buffer_path(folder: &Path, uri: &str) -> Result<PathBuf, String> {
     let Some(relative) = percent_decode(uri) else {
         return refuse("not a valid URI");
     };
+    if relative.is_empty() {
+        return refuse("an empty URI names no file");
+    }
     if relative.contains(':') || relative.starts_with('/') || relative.starts_with('\\') {
         return refuse("only files beside the glTF, or data: URIs, are read");
     }
     let relative = Path::new(&relative);
-    if relative
-        .components()
-        .any(|c| !matches!(c, std::path::Component::Normal(_)))
-    {
+    // `./x.bin` is beside the file too; `..`, a root or a prefix leads out.
+    if relative.components().any(|c| {
+        !matches!(
+            c,
+            std::path::Component::Normal(_) | std::path::Component::CurDir
+        )
+    }) {
         return refuse("a path out of the glTF's folder");
     }
     let folder_real = folder
         .canonicalize()
         .map_err(|e| format!("buffer '{uri}': the glTF's folder: {e}"))?;
     let file = folder.join(relative);
-    let real = file
-        .canonicalize()
-        .map_err(|e| format!("buffer '{uri}': {}", e.kind()))?;
+    let real = file.canonicalize().map_err(|e| match e.kind() {
+        std::io::ErrorKind::NotFound => format!("buffer '{uri}': no such file beside the glTF"),
+        _ => format!("buffer '{uri}': {}", crate::error::Error::io(&file, e)),
+    })?;
     if !real.starts_with(&folder_real) {
         return refuse("it leads out of the glTF's folder");
     }
@@ -932,6 +939,16 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
             }
         }
     }
+    // No skin and no animation, and nothing but nodes (a rest pose as bvhview writes one, from a
+    // take of 0 frames): the tree is the skeleton, its bare leaves End Sites (issue 44: bvhview
+    // could not read back its own output).
+    let bare = document.meshes().len() == 0 && document.cameras().len() == 0;
+    if !seed.iter().any(|&s| s) && animations.is_empty() && bare {
+        let nodes: Vec<gltf::Node> = document.nodes().collect();
+        for node in &nodes {
+            seed[node.index()] = node.children().len() > 0 || parent[node.index()].is_none();
+        }
+    }
     let mut selected = seed.clone();
     for i in 0..count {
         if !seed[i] {
@@ -1171,5 +1188,13 @@ mod tests {
         ] {
             assert!(buffer_path(&folder, uri).is_err(), "{uri}");
         }
+        // Issue 44: `./x.bin` is beside the file; an empty URI and a missing file say so.
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("x.bin"), [0u8; 4]).unwrap();
+        assert!(buffer_path(dir.path(), "./x.bin").is_ok());
+        let empty = buffer_path(dir.path(), "").unwrap_err();
+        assert!(empty.contains("an empty URI names no file"), "{empty}");
+        let missing = buffer_path(dir.path(), "y.bin").unwrap_err();
+        assert_eq!(missing, "buffer 'y.bin': no such file beside the glTF");
     }
 }

@@ -522,3 +522,42 @@ fn a_zero_frame_time_is_refused_until_given() {
     let gltf = convert(&[file.to_str().unwrap()], &temp("one.glb"));
     check_times(&gltf, 1, 0.0);
 }
+
+/// Issue 44: a take of 0 frames converted to glTF (no animation, no skin) was refused by
+/// `bvhview info` ("no skeleton"): bvhview could not read back its own output. A file of bare
+/// nodes is its tree: the same joints and End Sites, at the same rest offsets.
+#[test]
+fn a_take_of_no_frames_converts_to_gltf_and_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let source = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/edge/frames_zero.bvh");
+    let source = source.to_str().unwrap();
+    for name in ["z.glb", "z.gltf"] {
+        let out = dir.path().join(name);
+        let out = out.to_str().unwrap();
+        let made = bvhview(&["convert", source, "-q", "-o", out]);
+        assert!(
+            made.status.success(),
+            "{}",
+            String::from_utf8_lossy(&made.stderr)
+        );
+        let info = bvhview(&["info", out]);
+        assert!(
+            info.status.success(),
+            "{name}: {}",
+            String::from_utf8_lossy(&info.stderr)
+        );
+        let tree = |path: &str| {
+            let run = bvhview(&["positions", path]);
+            assert!(
+                run.status.success(),
+                "{}",
+                String::from_utf8_lossy(&run.stderr)
+            );
+            String::from_utf8(run.stdout).unwrap()
+        };
+        let (want, got) = (tree(source), tree(out));
+        // The same points at the same places (names and numbers as the CSV writes them).
+        assert_eq!(got.lines().count(), want.lines().count(), "{got}\n{want}");
+        assert_eq!(got.lines().nth(1), want.lines().nth(1), "{got}\n{want}");
+    }
+}
