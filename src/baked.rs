@@ -122,6 +122,35 @@ pub fn frame_count(start: f64, end: f64, fps: f64, joints: usize) -> Result<usiz
     Ok(frames as usize)
 }
 
+/// Makes every joint's name unique, as Blender's importers do: a name met again becomes
+/// `name.001` (`.002`, …, skipping names the file has), so that the BVH written has one joint
+/// per name. Says each renaming, for the take's warnings (issue 44: two joints of one name were
+/// written silently).
+pub fn unique_names(nodes: &mut [Node]) -> Vec<String> {
+    use std::collections::HashSet;
+    let mut taken: HashSet<String> = nodes.iter().map(|n| n.name.clone()).collect();
+    let mut seen: HashSet<String> = HashSet::new();
+    let mut said = Vec::new();
+    for node in nodes.iter_mut() {
+        if seen.insert(node.name.clone()) {
+            continue;
+        }
+        let renamed = (1..)
+            .map(|k| format!("{}.{k:03}", node.name))
+            .find(|candidate| !taken.contains(candidate))
+            .expect("some suffix is free");
+        said.push(format!(
+            "two joints are named '{}': the later one is read as '{}'",
+            crate::limits::quoted(&node.name),
+            crate::limits::quoted(&renamed)
+        ));
+        taken.insert(renamed.clone());
+        seen.insert(renamed.clone());
+        node.name = renamed;
+    }
+    said
+}
+
 /// A name as a BVH can carry it: control characters become `_`, an empty name `node<index>`.
 pub fn joint_name(name: &str, index: usize) -> Result<String, String> {
     let name: String = name
@@ -379,6 +408,22 @@ pub fn world_positions(skeleton: &Skeleton, motion: &Motion, f: usize) -> Vec<Ve
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 44: two nodes of one name become `name` and `name.001` (a name the file has is
+    /// skipped), each renaming said.
+    #[test]
+    fn names_met_again_get_blenders_suffixes() {
+        let node = |name: &str| Node {
+            name: name.to_string(),
+            parent: None,
+        };
+        let mut nodes = vec![node("arm"), node("arm"), node("arm.001"), node("arm")];
+        let said = unique_names(&mut nodes);
+        let names: Vec<&str> = nodes.iter().map(|n| n.name.as_str()).collect();
+        assert_eq!(names, ["arm", "arm.002", "arm.001", "arm.003"]);
+        assert_eq!(said.len(), 2, "{said:?}");
+        assert!(said[0].contains("read as 'arm.002'"), "{said:?}");
+    }
 
     #[test]
     fn euler_zyx_is_what_the_channels_multiply() {

@@ -424,7 +424,7 @@ pub fn load_bytes(
                 .into(),
         ));
     }
-    let nodes = order
+    let mut nodes = order
         .iter()
         .zip(&parents)
         .enumerate()
@@ -435,12 +435,13 @@ pub fn load_bytes(
             })
         })
         .collect::<Result<Vec<Node>, Error>>()?;
+    let renamed = baked::unique_names(&mut nodes);
     let rest: Vec<Pose> = order
         .iter()
         .map(|&i| Pose::of_matrix(&matrix(&scene.nodes[i].node_to_world)))
         .collect();
     let fps = fps(&scene);
-    let mut warnings = Vec::new();
+    let mut warnings = renamed;
     let names: Vec<String> = scene
         .anim_stacks
         .iter()

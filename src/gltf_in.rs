@@ -993,7 +993,7 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
     for (k, &i) in order.iter().enumerate() {
         position[i] = k;
     }
-    let skeleton_nodes = order
+    let mut skeleton_nodes = order
         .iter()
         .enumerate()
         .map(|(k, &i)| {
@@ -1013,6 +1013,7 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
             })
         })
         .collect::<Result<Vec<Node>, Error>>()?;
+    warnings.extend(baked::unique_names(&mut skeleton_nodes));
 
     // Static transforms.
     let statics: Vec<Trs> = nodes

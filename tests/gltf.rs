@@ -561,3 +561,44 @@ fn a_take_of_no_frames_converts_to_gltf_and_reads_back() {
         assert_eq!(got.lines().nth(1), want.lines().nth(1), "{got}\n{want}");
     }
 }
+
+/// Issue 44: two nodes of one name were kept so, and the BVH written had two joints of one
+/// name. The later one is read as `name.001`, as Blender names it, and `info` says so.
+#[test]
+fn two_nodes_of_one_name_are_made_unique_and_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("twins.gltf");
+    std::fs::write(
+        &file,
+        r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],"nodes":[
+            {"name":"root","children":[1,2]},
+            {"name":"arm","translation":[1,0,0],"children":[3]},
+            {"name":"arm","translation":[-1,0,0],"children":[4]},
+            {"name":"hand","translation":[1,0,0]},
+            {"name":"hand","translation":[-1,0,0]}]}"#,
+    )
+    .unwrap();
+    let path = file.to_str().unwrap();
+    let info = bvhview(&["info", path]);
+    let text = String::from_utf8_lossy(&info.stdout);
+    assert!(
+        info.status.success(),
+        "{}",
+        String::from_utf8_lossy(&info.stderr)
+    );
+    assert!(text.contains("'arm.001'"), "{text}");
+    let out = dir.path().join("twins.bvh");
+    let made = bvhview(&["convert", path, "-q", "-o", out.to_str().unwrap()]);
+    assert!(
+        made.status.success(),
+        "{}",
+        String::from_utf8_lossy(&made.stderr)
+    );
+    let bvh = std::fs::read_to_string(&out).unwrap();
+    assert_eq!(
+        bvh.matches("JOINT arm\n").count() + bvh.matches("JOINT arm\r\n").count(),
+        1,
+        "{bvh}"
+    );
+    assert!(bvh.contains("JOINT arm.001"), "{bvh}");
+}
