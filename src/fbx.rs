@@ -235,6 +235,17 @@ fn is_helper(node: &ufbx::Node) -> bool {
     node.is_scale_helper || node.is_geometry_transform_helper
 }
 
+/// A camera, a light or a camera switcher (MotionBuilder's Producer cameras among them) is
+/// never a joint, animated or not (issue 44: a scene without LimbNodes read its cameras as the
+/// skeleton).
+fn is_scenery(node: &ufbx::Node) -> bool {
+    use ufbx::ElementType::{Camera, CameraSwitcher, Light, StereoCamera};
+    matches!(
+        node.attrib_type,
+        Camera | StereoCamera | CameraSwitcher | Light
+    )
+}
+
 /// The scene's nodes that make the skeleton, as indices into `scene.nodes`, parents first, with
 /// the parent of each among them.
 fn skeleton_nodes(scene: &ufbx::Scene) -> (Vec<usize>, Vec<Option<usize>>, bool) {
@@ -254,7 +265,11 @@ fn skeleton_nodes(scene: &ufbx::Scene) -> (Vec<usize>, Vec<Option<usize>>, bool)
                 let element = &prop.element;
                 if element.type_ == ufbx::ElementType::Node {
                     let i = element.typed_id as usize;
-                    if i < count && !scene.nodes[i].is_root && !is_helper(&scene.nodes[i]) {
+                    let joint = scene
+                        .nodes
+                        .get(i)
+                        .filter(|node| !node.is_root && !is_helper(node) && !is_scenery(node));
+                    if joint.is_some() {
                         seed[i] = true;
                         animated = true;
                     }
@@ -265,7 +280,7 @@ fn skeleton_nodes(scene: &ufbx::Scene) -> (Vec<usize>, Vec<Option<usize>>, bool)
     if !bones && !animated {
         // Neither bones nor motion: every node stands as it is (a rest pose).
         for (i, node) in scene.nodes.iter().enumerate() {
-            seed[i] = !node.is_root && !is_helper(node);
+            seed[i] = !node.is_root && !is_helper(node) && !is_scenery(node);
         }
     }
     // Nodes strictly between two seeds join them (the transforms between bones).

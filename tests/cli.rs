@@ -252,7 +252,8 @@ fn info_on_the_repository_folder_lists_every_file_and_sums_up() {
     let lines: Vec<&str> = text.lines().collect();
     // The BVH and ASF/AMC takes, and the FBX and glTF ones (issue 36).
     assert_eq!(lines.len(), 65, "{text}");
-    assert_eq!(lines.iter().filter(|l| l.starts_with("ok ")).count(), 55);
+    // Two FBX files of cameras only have no skeleton (issue 44): 53 of 64 load.
+    assert_eq!(lines.iter().filter(|l| l.starts_with("ok ")).count(), 53);
     assert!(
         lines[0].starts_with("ok     ")
             && lines[0].contains("heiden_12.asf + ")
@@ -267,7 +268,7 @@ fn info_on_the_repository_folder_lists_every_file_and_sums_up() {
             )
     );
     assert!(
-        lines[64].starts_with("64 files: 55 ok, 9 failed; 9.0 MB in "),
+        lines[64].starts_with("64 files: 53 ok, 11 failed; 9.0 MB in "),
         "{}",
         lines[64]
     );
