@@ -22,7 +22,7 @@
 use crate::error::Error;
 use crate::motion::Motion;
 use crate::skeleton::{Channel, Joint, RotationOrder, Skeleton};
-use glam::{DMat4, DQuat, DVec3, EulerRot, Vec3};
+use glam::{DMat4, DQuat, DVec3, Vec3};
 
 /// One node of the skeleton to be: its name and its parent among the nodes before it.
 #[derive(Clone, Debug)]
@@ -191,17 +191,13 @@ fn locals(nodes: &[Node], world: &[Pose]) -> Vec<(DQuat, DVec3)> {
         .collect()
 }
 
-/// Euler angles in degrees (Z, Y, X) of `q` for `Zrotation Yrotation Xrotation`, each moved by
-/// whole turns to the nearest of `previous`'s, so a converted take does not jump by 360°.
+/// Euler angles in degrees (Z, Y, X) of `q` for `Zrotation Yrotation Xrotation`, by the one
+/// exact split ([`crate::euler::split`]: exact at the gimbal lock, where glam's `to_euler` of a
+/// 32-bit quaternion turned a child 25° away), each moved by whole turns to the nearest of
+/// `previous`'s, so a converted take does not jump by 360°.
 fn euler_zyx(q: DQuat, previous: Option<[f64; 3]>) -> [f64; 3] {
-    let (z, y, x) = q.to_euler(EulerRot::ZYX);
-    let mut angles = [z.to_degrees(), y.to_degrees(), x.to_degrees()];
-    if let Some(previous) = previous {
-        for (angle, before) in angles.iter_mut().zip(previous) {
-            *angle += ((before - *angle) / 360.0).round() * 360.0;
-        }
-    }
-    angles
+    let previous = previous.map(|p| p.map(f64::to_radians));
+    crate::euler::split(q, crate::skeleton::RotationOrder::Zyx, previous).map(f64::to_degrees)
 }
 
 /// What is wrong with a world pose, if anything: a rotation that is not finite (NaN or
@@ -427,7 +423,7 @@ mod tests {
 
     #[test]
     fn euler_zyx_is_what_the_channels_multiply() {
-        let q = DQuat::from_euler(EulerRot::XYZ, 0.3, -1.1, 2.0);
+        let q = DQuat::from_euler(glam::EulerRot::XYZ, 0.3, -1.1, 2.0);
         let [z, y, x] = euler_zyx(q, None);
         let back = DQuat::from_rotation_z(z.to_radians())
             * DQuat::from_rotation_y(y.to_radians())

@@ -19,6 +19,7 @@ pub mod bvh;
 pub mod dataset;
 pub mod edit;
 pub mod error;
+pub mod euler;
 pub mod export;
 pub mod fbx;
 pub mod gltf;

@@ -602,3 +602,42 @@ fn two_nodes_of_one_name_are_made_unique_and_said() {
     );
     assert!(bvh.contains("JOINT arm.001"), "{bvh}");
 }
+
+/// Issue 44: a child turned exactly 90° about the middle axis of ZYX (its 32-bit quaternion a
+/// hair off length 1) read as `180 89.99999 180` and stood 25° from where the file has it. The
+/// one exact split (src/euler.rs) keeps it in place, at the lock and beside it.
+#[test]
+fn a_joint_at_the_gimbal_lock_stays_where_the_file_has_it() {
+    use bvhview::pose::{OffsetMode, world_positions};
+    let dir = tempfile::tempdir().unwrap();
+    for middle in [90.0f32, -90.0, 89.99] {
+        let q =
+            Quat::from_rotation_z(25f32.to_radians()) * Quat::from_rotation_y(middle.to_radians());
+        let file = dir.path().join("lock.gltf");
+        std::fs::write(
+            &file,
+            format!(
+                r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[
+                {{"name":"root","children":[1]}},
+                {{"name":"turned","rotation":[{},{},{},{}],"children":[2]}},
+                {{"name":"tip","translation":[0,0,1]}}]}}"#,
+                q.x, q.y, q.z, q.w
+            ),
+        )
+        .unwrap();
+        let take = bvhview::input::load(&file, None, None).unwrap();
+        let points = world_positions(&take.skeleton, take.motion.frame(0), OffsetMode::Replace);
+        let tip = take
+            .skeleton
+            .joints
+            .iter()
+            .position(|j| j.end_site)
+            .unwrap();
+        let want = q * Vec3::Z;
+        assert!(
+            (points[tip] - want).length() < 1e-5,
+            "{middle}°: the tip at {} instead of {want}",
+            points[tip]
+        );
+    }
+}
