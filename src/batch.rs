@@ -227,19 +227,18 @@ fn walk_error(error: &walkdir::Error) -> String {
         .map_or_else(|| error.to_string(), unreadable)
 }
 
-/// What a file that is not a regular one is, for the skipped list.
-fn kind_of(file_type: std::fs::FileType) -> &'static str {
-    use std::os::unix::fs::FileTypeExt;
-    if file_type.is_fifo() {
-        "a FIFO"
-    } else if file_type.is_char_device() {
-        "a character device"
-    } else if file_type.is_block_device() {
-        "a block device"
-    } else if file_type.is_socket() {
-        "a socket"
-    } else {
-        "not a regular file"
+/// Why a link met in the walk of `dir` (whose real path is `root`) is not followed: it leads
+/// out of `dir` (to a folder or a file: walking all of `/` would not end, and a private file must
+/// not end up in a dataset or a message), or it cannot be resolved. `None`: it stays inside.
+fn link_refused(path: &Path, root: &Path, dir: &Path) -> Option<String> {
+    match std::fs::canonicalize(path) {
+        Ok(target) if !target.starts_with(root) => Some(format!(
+            "a link to {}, outside {}: not followed",
+            target.display(),
+            dir.display()
+        )),
+        Ok(_) => None,
+        Err(e) => Some(format!("cannot be read: {}", unreadable(&e))),
     }
 }
 
@@ -321,29 +320,13 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
         };
         let path = entry.path();
         if entry.file_type().is_dir() {
-            if entry.depth() > 0 && entry.path_is_symlink() {
-                match std::fs::canonicalize(path) {
-                    Ok(target) if !target.starts_with(&root) => {
-                        walk.skip_current_dir();
-                        let reason = format!(
-                            "a link to {}, outside {}: not followed",
-                            target.display(),
-                            dir.display()
-                        );
-                        skip(&mut skipped, path, reason);
-                        continue;
-                    }
-                    Ok(_) => {}
-                    Err(e) => {
-                        walk.skip_current_dir();
-                        skip(
-                            &mut skipped,
-                            path,
-                            format!("cannot be read: {}", unreadable(&e)),
-                        );
-                        continue;
-                    }
-                }
+            if entry.depth() > 0
+                && entry.path_is_symlink()
+                && let Some(reason) = link_refused(path, &root, dir)
+            {
+                walk.skip_current_dir();
+                skip(&mut skipped, path, reason);
+                continue;
             }
             let id = match entry.metadata() {
                 Ok(metadata) => identity(&metadata),
@@ -369,32 +352,18 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
         if !is_take_name(path) {
             continue;
         }
-        // A link to a file outside `dir` is not followed either: a dataset made to be shared
-        // must not take in (or quote, in a parse error) a private file linked from the folder.
-        if entry.path_is_symlink() {
-            match std::fs::canonicalize(path) {
-                Ok(target) if !target.starts_with(&root) => {
-                    let reason = format!(
-                        "a link to {}, outside {}: not followed",
-                        target.display(),
-                        dir.display()
-                    );
-                    skip(&mut skipped, path, reason);
-                    continue;
-                }
-                Ok(_) => {}
-                Err(e) => {
-                    let reason = format!("cannot be read: {}", unreadable(&e));
-                    skip(&mut skipped, path, reason);
-                    continue;
-                }
-            }
+        // A link to a file outside `dir` is not followed either (issue 44).
+        if entry.path_is_symlink()
+            && let Some(reason) = link_refused(path, &root, dir)
+        {
+            skip(&mut skipped, path, reason);
+            continue;
         }
         if !entry.file_type().is_file() {
             skip(
                 &mut skipped,
                 path,
-                format!("{}, not a take", kind_of(entry.file_type())),
+                format!("{}, not a take", crate::read::kind_of(&entry.file_type())),
             );
             continue;
         }

@@ -944,8 +944,7 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
     // could not read back its own output).
     let bare = document.meshes().len() == 0 && document.cameras().len() == 0;
     if !seed.iter().any(|&s| s) && animations.is_empty() && bare {
-        let nodes: Vec<gltf::Node> = document.nodes().collect();
-        for node in &nodes {
+        for node in document.nodes() {
             seed[node.index()] = node.children().len() > 0 || parent[node.index()].is_none();
         }
     }

@@ -45,7 +45,6 @@ pub const DEFAULT_MAX_SIZE: u64 = 8 << 30;
 /// or a socket is refused by its type before any read (a FIFO would wait for a writer for good,
 /// /dev/zero never ends); standard input is read as `-`.
 pub fn check_file(path: &Path, max_size: u64) -> Result<(), Error> {
-    use std::os::unix::fs::FileTypeExt;
     let metadata = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if metadata.is_dir() {
         return Err(Error::Usage(format!(
@@ -54,18 +53,7 @@ pub fn check_file(path: &Path, max_size: u64) -> Result<(), Error> {
         )));
     }
     if !metadata.is_file() {
-        let kind = metadata.file_type();
-        let what = if kind.is_fifo() {
-            "a FIFO"
-        } else if kind.is_char_device() {
-            "a character device"
-        } else if kind.is_block_device() {
-            "a block device"
-        } else if kind.is_socket() {
-            "a socket"
-        } else {
-            "not a regular file"
-        };
+        let what = crate::read::kind_of(&metadata.file_type());
         return Err(Error::Usage(format!(
             "{}: {what}, not a regular file; bvhview reads takes from files (`-` reads standard \
              input)",

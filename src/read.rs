@@ -66,8 +66,9 @@ pub fn read_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     )
 }
 
-/// What a path that is not a regular file is, in words.
-fn kind_of(file_type: &std::fs::FileType) -> &'static str {
+/// What a path that is not a regular file is, in words (one wording for every reader and the
+/// folder walk).
+pub(crate) fn kind_of(file_type: &std::fs::FileType) -> &'static str {
     use std::os::unix::fs::FileTypeExt;
     if file_type.is_fifo() {
         "a FIFO"
