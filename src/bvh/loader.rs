@@ -373,18 +373,23 @@ impl<'a> Loader<'a> {
             self.p = 3;
         }
         let header = self.token()?;
-        match header {
-            Some(t) if self.is(t, "HIERARCHY") => {}
-            // Not a BVH file, perhaps not motion at all: its first word is shown only when it
-            // misspells HIERARCHY (issue 44: a link to a private file put a line of it in a
-            // dataset's manifest).
-            Some(t) => {
-                let found = shown_first_word(self.word(t), &["HIERARCHY"]);
-                return Err(self.error_at(t.at, format!("expected HIERARCHY, found {found}")));
-            }
-            None => return Err(self.expected("HIERARCHY", header)),
+        if !header.is_some_and(|t| self.is(t, "HIERARCHY")) {
+            return Err(self.not_a_bvh(header));
         }
         Ok(())
+    }
+
+    /// The error of a file that does not begin with HIERARCHY: not a BVH file, perhaps not
+    /// motion at all, so its first word is shown only when it misspells HIERARCHY (issue 44: a
+    /// link to a private file put a line of it in a dataset's manifest).
+    fn not_a_bvh(&self, header: Option<Token>) -> Error {
+        match header {
+            Some(t) => {
+                let found = shown_first_word(self.word(t), &["HIERARCHY"]);
+                self.error_at(t.at, format!("expected HIERARCHY, found {found}"))
+            }
+            None => self.expected("HIERARCHY", header),
+        }
     }
 
     /// C++: the `switch (*p)` of `loadFile`'s loop: the next keyword, if it may come here. The
