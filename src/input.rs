@@ -252,6 +252,9 @@ pub fn load_bytes_as(
     take: Option<&str>,
 ) -> Result<Loaded, Error> {
     crate::limits::frame_time_option(frame_time)?;
+    if bytes.is_empty() {
+        return Err(Error::Usage(format!("{name}: empty: no take to read")));
+    }
     let format = match format.or_else(|| format_of_bytes(bytes)) {
         Some(format) => format,
         None => {

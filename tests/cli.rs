@@ -1392,6 +1392,9 @@ fn a_dash_reads_standard_input_and_writes_standard_output() {
     let unknown = with_stdin(&["info", "-"], b"just some words\n");
     assert_eq!(unknown.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&unknown.stderr).contains("--from bvh, fbx, gltf or glb"));
+    let empty = with_stdin(&["info", "-"], b"");
+    assert_eq!(empty.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&empty.stderr).contains("<stdin>: empty: no take to read"));
 }
 
 /// Issue 44: `snapshot --overlay` (and side by side) refused ASF/AMC takes. An .amc right after
