@@ -4,7 +4,8 @@
 # A limit ending in `s` (`600s`) is a time limit in seconds instead of a count of executions.
 # TARGET: the loaders bvh, asf, amc, fbx, gltf (whole small FBX/glTF/GLB files of tests/data as
 # seeds); the writers write_bvh, write_gltf, write_positions; the dataset reader and merge,
-# dataset (its seeds: a small dataset's files behind the byte that picks which file they replace).
+# dataset (its seeds: a small dataset's files behind the byte that picks which file they replace);
+# retarget map files, map (its seeds: a TOML and a JSON map between the two takes it retargets).
 # Seeds come from the repository's corpus at run time and are written under WORKDIR, never into
 # the project. Loaders: tests/data (files up to 4 KB whole, the first 2 KB of larger ones, cut at
 # a line end: small inputs run faster). Writers: the small whole BVH files of tests/edge,
@@ -12,7 +13,7 @@
 # fuzz/src/lib.rs). Crashes land in WORKDIR/TARGET/out/default/crashes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-target=${1:?usage: scripts/fuzz.sh bvh|asf|amc|fbx|gltf|write_bvh|write_gltf|write_positions|dataset [EXECUTIONS] [WORKDIR]}
+target=${1:?usage: scripts/fuzz.sh bvh|asf|amc|fbx|gltf|write_bvh|write_gltf|write_positions|dataset|map [EXECUTIONS] [WORKDIR]}
 executions=${2:-10000000}
 case "$executions" in
     *s) limit=(-V "${executions%s}") ;;
@@ -56,6 +57,10 @@ case "$target" in
                 group_0/rest_offsets.npy group_0/skeleton.bvh | cut -d' ' -f$((pick + 1)))
             { printf "\\x0$pick"; head -c 4096 "$work/seed.ds/$file"; } > "$work/in/$pick"
         done ;;
+    map)
+        printf '%s\n' '# bvhview retarget map: "source joint" = "target joint"' \
+            '"Hips" = "hip"  # hips' '"LeftUpLeg" = "lThigh"' '"LThumb" = ""' > "$work/in/map.toml"
+        printf '%s\n' '{"Hips": "hip", "LeftArm": "lShldr", "RThumb": null}' > "$work/in/map.json" ;;
     *) echo "unknown target $target" >&2; exit 2 ;;
 esac
 find "$work/in" -size 0 -delete

@@ -3,10 +3,10 @@
 //! [`finite`] and refuses it rather than hand on an infinity no file can hold.
 
 use crate::error::Error;
+use crate::euler;
 use crate::motion::Motion;
-use crate::pose::local_rotation;
 use crate::skeleton::{Channel, RotationOrder, Skeleton};
-use glam::{EulerRot, Quat};
+use glam::{DQuat, Quat};
 
 /// A BVH-ready copy: every fixed axis baked into the rotation channels, as BVH has no axis.
 /// Each joint with an axis or with rotation channels gets `Zrotation Yrotation Xrotation` holding
@@ -50,9 +50,8 @@ pub fn bake_axes(skeleton: &Skeleton, motion: &Motion) -> Result<(Skeleton, Moti
                 }
             }
             if copy.channels.iter().any(|c| c.is_rotation()) {
-                let rotation = local_rotation(joint, values);
-                let (z, y, x) = Quat::from_mat4(&rotation).to_euler(EulerRot::ZYX);
-                data.extend([z.to_degrees(), y.to_degrees(), x.to_degrees()]);
+                let rotation = crate::pose::local_rotation_f64(joint, values);
+                data.extend(euler::split_degrees(rotation, RotationOrder::Zyx));
             }
         }
     }
@@ -152,19 +151,6 @@ pub fn scale(
         scaled,
         Motion::new(motion.frame_time, motion.channels, frames, data),
     )
-}
-
-/// The Euler order of glam that a joint's three rotation channels spell, in file order: the
-/// channels multiply on the right in that order, as glam's intrinsic orders do.
-pub fn euler_order(order: RotationOrder) -> EulerRot {
-    match order {
-        RotationOrder::Zyx => EulerRot::ZYX,
-        RotationOrder::Yzx => EulerRot::YZX,
-        RotationOrder::Zxy => EulerRot::ZXY,
-        RotationOrder::Xzy => EulerRot::XZY,
-        RotationOrder::Yxz => EulerRot::YXZ,
-        RotationOrder::Xyz => EulerRot::XYZ,
-    }
 }
 
 /// Rates closer than this (relatively) count as equal: frame times are written with few digits
@@ -295,12 +281,9 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion
             let Some(order) = joint.rotation_order else {
                 continue;
             };
-            let quat = |row: &[f32]| {
-                Quat::from_mat4(&crate::pose::channel_rotations(joint, joint.values(row)))
-            };
-            let q = quat(row_a).slerp(quat(row_b), w);
-            let (first, second, third) = q.to_euler(euler_order(order));
-            let angles = [first, second, third].map(f32::to_degrees);
+            let quat = |row: &[f32]| crate::pose::channel_rotations_f64(joint, joint.values(row));
+            let q = quat(row_a).slerp(quat(row_b), w64);
+            let angles = euler::split_degrees(q, order);
             let rotations = joint
                 .channels
                 .iter()
@@ -717,14 +700,14 @@ fn reflected(channel: Channel, axis: usize) -> bool {
 
 /// A rotation reflected across the plane normal to `axis`: its angle about `axis` kept, about
 /// the other two negated.
-fn reflect_quat(q: Quat, axis: usize) -> Quat {
-    let mut v = glam::Vec3::new(q.x, q.y, q.z);
+fn reflect_quat(q: DQuat, axis: usize) -> DQuat {
+    let mut v = glam::DVec3::new(q.x, q.y, q.z);
     for other in 0..3 {
         if other != axis {
             v[other] = -v[other];
         }
     }
-    Quat::from_xyzw(v.x, v.y, v.z, q.w)
+    DQuat::from_xyzw(v.x, v.y, v.z, q.w)
 }
 
 /// The mirror image across the body's sagittal plane: the plane through the origin normal to
@@ -779,7 +762,9 @@ fn reflect(
         let source = &skeleton.joints[partner(j)];
         joint.offset = source.offset;
         joint.offset[axis] = -joint.offset[axis];
-        joint.axis = source.axis.map(|q| reflect_quat(q, axis));
+        joint.axis = source
+            .axis
+            .map(|q| reflect_quat(q.as_dquat(), axis).as_quat());
     }
     let width = motion.channels;
     let mut data = motion.data.clone();
@@ -807,13 +792,10 @@ fn reflect(
                     .iter()
                     .zip(values)
                     .filter(|(c, _)| c.is_position());
-                let rotation = reflect_quat(
-                    Quat::from_mat4(&crate::pose::channel_rotations(source, values)),
-                    axis,
-                );
-                let order = joint.rotation_order.map_or(EulerRot::ZYX, euler_order);
-                let (a, b, c) = rotation.to_euler(order);
-                let mut angles = [a, b, c].into_iter().map(f32::to_degrees);
+                let rotation =
+                    reflect_quat(crate::pose::channel_rotations_f64(source, values), axis);
+                let order = joint.rotation_order.unwrap_or(RotationOrder::Zyx);
+                let mut angles = euler::split_degrees(rotation, order).into_iter();
                 for (slot, &channel) in out.iter_mut().zip(&joint.channels) {
                     *slot = if channel.is_position() {
                         let value = positions.next().map_or(0.0, |(_, &v)| v);
@@ -1021,10 +1003,11 @@ pub fn reorient(
                     }
                 }
                 if let Some(order) = joint.rotation_order {
-                    let r = Quat::from_mat4(&crate::pose::channel_rotations(joint, values));
-                    let (a, b, c) = (turn * r * turn.inverse()).to_euler(euler_order(order));
-                    for (&(column, _), angle) in columns(false).iter().zip([a, b, c]) {
-                        row[column] = angle.to_degrees();
+                    let r = crate::pose::channel_rotations_f64(joint, values);
+                    let turn = turn.as_dquat();
+                    let angles = euler::split_degrees(turn * r * turn.inverse(), order);
+                    for (&(column, _), angle) in columns(false).iter().zip(angles) {
+                        row[column] = angle;
                     }
                 }
             }
@@ -1059,8 +1042,12 @@ pub fn channel_angles(
         return numbers.iter().copied().take(axes.len()).collect();
     };
     // An ASF bone turns about its own axis C: its channels' rotation is C⁻¹ · local · C.
+    let local = DQuat::from_mat3(&local.as_dmat3());
     let rotation = match joint.axis {
-        Some(c) => glam::Mat3::from_quat(c.inverse()) * local * glam::Mat3::from_quat(c),
+        Some(c) => {
+            let c = c.as_dquat().normalize();
+            c.inverse() * local * c
+        }
         None => local,
     };
     // The channels' axes, then any missing, as one intrinsic sequence: R1 · R2 · R3.
@@ -1074,13 +1061,12 @@ pub fn channel_angles(
         // The same axis twice: no sequence of three distinct axes; left at 0.
         return vec![0.0; axes.len()];
     };
-    let sequence = euler_order(order);
-    let (a, b, c) = rotation.to_euler(sequence);
+    let [a, b, c] = euler::split(rotation, order, None);
     // The same rotation is also (a + π, π − b, c + π): with fewer than three channels the third
     // angle is dropped, so take the form whose third angle is the smaller (a joint bent past 90°
     // about its second axis needs the second form).
-    let wrap = |angle: f32| {
-        let pi = std::f32::consts::PI;
+    let pi = std::f64::consts::PI;
+    let wrap = |angle: f64| {
         if angle > pi {
             angle - 2.0 * pi
         } else if angle <= -pi {
@@ -1089,17 +1075,16 @@ pub fn channel_angles(
             angle
         }
     };
-    let pi = std::f32::consts::PI;
-    let other = (wrap(a + pi), wrap(pi - b), wrap(c + pi));
-    let (a, b, c) = if axes.len() < 3 && other.2.abs() < c.abs() {
+    let other = [wrap(a + pi), wrap(pi - b), wrap(c + pi)];
+    let angles = if axes.len() < 3 && other[2].abs() < c.abs() {
         other
     } else {
-        (a, b, c)
+        [a, b, c]
     };
-    [a, b, c]
+    angles
         .into_iter()
         .take(axes.len())
-        .map(f32::to_degrees)
+        .map(|angle| angle.to_degrees() as f32)
         .collect()
 }
 
@@ -1115,6 +1100,53 @@ mod tests {
         Zposition Zrotation Xrotation Yrotation\nJOINT Chest\n{\nOFFSET 0 10 0\nCHANNELS 3 \
         Zrotation Xrotation Yrotation\nEnd Site\n{\nOFFSET 0 5 0\n}\n}\n}\nMOTION\nFrames: 3\n\
         Frame Time: 0.5\n0 0 0 0 0 0 0 0 0\n4 2 -2 0 0 0 40 0 0\n8 4 -4 0 0 0 80 0 0\n";
+
+    /// Every order, at exactly ±90° of its middle axis and at 89.99°: what an edit writes turns
+    /// the joint as the file did (glam's 32-bit `to_euler` was 6e-4 rad off at 89.99°).
+    #[test]
+    fn edits_split_rotations_exactly_at_and_near_the_lock() {
+        use crate::skeleton::RotationOrder as R;
+        let turned = |joint: &crate::Joint, values: &[f32]| {
+            crate::pose::channel_rotations_f64(joint, values)
+        };
+        for order in [R::Zyx, R::Yzx, R::Zxy, R::Xzy, R::Yxz, R::Xyz] {
+            let names: Vec<String> = order
+                .letters()
+                .chars()
+                .map(|c| format!("{}rotation", c.to_ascii_uppercase()))
+                .collect();
+            for middle in [90.0f32, -90.0, 89.99, -89.99] {
+                let row = format!("0 0 0 37 {middle} -121");
+                let text = format!(
+                    "HIERARCHY\nROOT Hips\n{{\nOFFSET 0 0 0\nCHANNELS 6 Xposition Yposition \
+                     Zposition {}\nEnd Site\n{{\nOFFSET 0 1 0\n}}\n}}\nMOTION\nFrames: 2\n\
+                     Frame Time: 0.5\n{row}\n{row}\n",
+                    names.join(" ")
+                );
+                let bvh = take(&text);
+                let joint = &bvh.skeleton.joints[0];
+                let want = turned(joint, bvh.motion.frame(0));
+                let close = |got: DQuat, what: &str| {
+                    let error = 2.0 * got.dot(want).abs().min(1.0).acos();
+                    assert!(error < 2e-6, "{what} {order:?} at {middle}°: {error:e} rad");
+                };
+                let doubled = resample(&bvh.skeleton, &bvh.motion, 4.0).unwrap();
+                close(turned(joint, doubled.frame(1)), "resample");
+                let (w, x, y, z) = (want.w as f32, want.x as f32, want.y as f32, want.z as f32);
+                let numbers = [w, x, y, z];
+                let angles = channel_angles(joint, crate::pose::RotationKind::Quat, &numbers);
+                close(
+                    turned(joint, &[0.0, 0.0, 0.0, angles[0], angles[1], angles[2]]),
+                    "quaternion to angles",
+                );
+                let baked = bake_axes(&bvh.skeleton, &bvh.motion).unwrap();
+                close(
+                    turned(&baked.0.joints[0], baked.1.frame(0)),
+                    "baking the axes",
+                );
+            }
+        }
+    }
 
     #[test]
     fn resampling_interpolates_by_hand_worked_values() {

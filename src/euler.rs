@@ -16,7 +16,7 @@ use glam::{DMat3, DQuat, DVec3};
 /// How far from the lock (the cosine of the middle angle) the third angle is still read off
 /// the rotation; closer, it keeps the previous frame's value (or 0), as only the first and
 /// third together are defined there.
-const LOCK: f64 = 1e-9;
+pub(crate) const LOCK: f64 = 1e-9;
 
 /// The axes of `order` as indices (x 0, y 1, z 2), in file order: the channels multiply as
 /// `R(first) · R(second) · R(third)`.
@@ -31,6 +31,11 @@ pub fn axes(order: RotationOrder) -> [usize; 3] {
     }
 }
 
+/// +1 when axes `i` then `j` turn as x then y do (x y z, y z x, z x y), −1 the other way.
+pub fn handedness(i: usize, j: usize) -> f64 {
+    if (j + 3 - i) % 3 == 1 { 1.0 } else { -1.0 }
+}
+
 /// The angles in radians, in file order, of the channels of `order` that multiply to `q`.
 /// `previous` (the angles of the frame before, if any) keeps the split continuous: each angle
 /// is moved by whole turns to the nearest of the previous one, and at the lock the third angle
@@ -40,9 +45,9 @@ pub fn split(q: DQuat, order: RotationOrder, previous: Option<[f64; 3]>) -> [f64
     let m = DMat3::from_quat(q.normalize());
     // m.col(c)[r] is row r, column c.
     let at = |row: usize, column: usize| m.col(column)[row];
-    // +1 when (i, j, k) turns as (x, y, z) does, −1 when it turns the other way.
-    let sign = if (j + 3 - i) % 3 == 1 { 1.0 } else { -1.0 };
-    let cos_middle = at(i, i).hypot(at(i, j));
+    let sign = handedness(i, j);
+    // Not `hypot`: retargeting's eight-lane copy (src/retarget/fast.rs) computes the same.
+    let cos_middle = (at(i, i) * at(i, i) + at(i, j) * at(i, j)).sqrt();
     let middle = (sign * at(i, k)).atan2(cos_middle);
     let third = if cos_middle > LOCK {
         (-sign * at(i, j)).atan2(at(i, i))
@@ -50,9 +55,11 @@ pub fn split(q: DQuat, order: RotationOrder, previous: Option<[f64; 3]>) -> [f64
         previous.map_or(0.0, |p| p[2])
     };
     // The first angle from the rotation with the third taken off: R(first) · R(second) is
-    // what is left, and its column j is R(first) applied to axis j.
-    let left = m * DMat3::from_axis_angle(unit(k), -third);
-    let first = (sign * left.col(j)[k]).atan2(left.col(j)[j]);
+    // what is left, and its column j is R(first) applied to axis j. Column j of R_k(−third) is
+    // cos(third) along j and sign · sin(third) along i.
+    let (sin, cos) = third.sin_cos();
+    let column = |row: usize| at(row, i) * (sign * sin) + at(row, j) * cos;
+    let first = (sign * column(k)).atan2(column(j));
     let mut angles = [first, middle, third];
     if let Some(previous) = previous {
         let turn = std::f64::consts::TAU;
@@ -61,6 +68,12 @@ pub fn split(q: DQuat, order: RotationOrder, previous: Option<[f64; 3]>) -> [f64
         }
     }
     angles
+}
+
+/// [`split`] as channel values: degrees in file order, rounded to 32 bits only at the end (an
+/// edit's output row).
+pub fn split_degrees(q: DQuat, order: RotationOrder) -> [f32; 3] {
+    split(q, order, None).map(|angle| angle.to_degrees() as f32)
 }
 
 /// The rotation the channels of `order` make with `angles` (radians, file order).

@@ -516,6 +516,18 @@ pub fn world_positions(skeleton: &Skeleton, frame: &[f32], mode: OffsetMode) -> 
 /// rotations from one skeleton to another and back into channels without 32-bit rounding
 /// (retargeting: the module's docs say why 32 bits are not enough, measured).
 pub fn local_rotation_f64(joint: &Joint, values: &[f32]) -> glam::DQuat {
+    let rotation = channel_rotations_f64(joint, values);
+    match joint.axis {
+        None => rotation,
+        Some(axis) => {
+            let axis = axis.as_dquat().normalize();
+            axis * rotation * axis.inverse()
+        }
+    }
+}
+
+/// [`channel_rotations`] in 64-bit floats: `R1 · R2 · R3` of the rotation channels in file order.
+pub fn channel_rotations_f64(joint: &Joint, values: &[f32]) -> glam::DQuat {
     let mut rotation = glam::DQuat::IDENTITY;
     for (channel, &value) in joint.channels.iter().zip(values) {
         if channel.is_rotation() {
@@ -527,13 +539,7 @@ pub fn local_rotation_f64(joint: &Joint, values: &[f32]) -> glam::DQuat {
             };
         }
     }
-    match joint.axis {
-        None => rotation,
-        Some(axis) => {
-            let axis = axis.as_dquat().normalize();
-            axis * rotation * axis.inverse()
-        }
-    }
+    rotation
 }
 
 /// [`world_matrices`] in 64-bit floats, as a world rotation and position per joint. An empty

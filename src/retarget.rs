@@ -23,7 +23,7 @@
 //! by side (src/retarget/fast.rs); [`retarget_plain`] is the same work a joint and a frame at a
 //! time, which a test holds it to (tests/retarget_fast.rs).
 
-use crate::edit::{Side, channel_angles, euler_order};
+use crate::edit::{Side, channel_angles};
 use crate::error::Error;
 use crate::motion::Motion;
 use crate::pose::{OffsetMode, RotationKind, Up, world_transforms_f64};
@@ -1830,8 +1830,7 @@ fn plain_frames(
                             }
                             None => local,
                         };
-                        let (a, b, c) = channel_rotation.to_euler(euler_order(order));
-                        [a.to_degrees(), b.to_degrees(), c.to_degrees()]
+                        crate::euler::split(channel_rotation, order, None).map(f64::to_degrees)
                     }
                     None => {
                         // Fewer than three rotation channels: the rotation the joint can take,

@@ -5,7 +5,7 @@
 //! are never touched. [`super::compile_take_plain`] makes the same clip step by step.
 
 use super::{Options, Posed, Prepared, Stages, topology_of};
-use crate::edit::{Picks, QuarterTurn, euler_order, resample_picks};
+use crate::edit::{Picks, QuarterTurn, resample_picks};
 use crate::error::Error;
 use crate::motion::Motion;
 use crate::pose::{self, FkPlan, FkScratch, LANES, RotationKind, Up};
@@ -134,10 +134,9 @@ pub(crate) fn posed(
                 match (skeleton.joints[j].rotation_order, as_is && a == b) {
                     (_, true) => pose::write_rotation(source_joint, values_a, kind, slot),
                     (Some(order), false) => {
-                        let (x, y, z) = q[k * joints + j].to_euler(euler_order(order));
-                        for (value, angle) in slot.iter_mut().zip([x, y, z]) {
-                            *value = angle.to_degrees();
-                        }
+                        let angles =
+                            crate::euler::split_degrees(q[k * joints + j].as_dquat(), order);
+                        slot[..3].copy_from_slice(&angles);
                     }
                     (None, false) => {
                         // Angles without a rotation order (one or two, or an axis twice) are

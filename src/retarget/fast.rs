@@ -372,12 +372,25 @@ impl Quats {
         }
     }
 
-    /// The Euler angles in degrees of this rotation in the order `(i, j, k, even)`: glam's
-    /// `DQuat::to_euler` (its `DMat3::from_quat`, then `to_euler_angles` for a static,
-    /// non-repeating order) entry for entry.
+    /// The Euler angles in degrees of this rotation with the axes `[i, j, k]` of a rotation order
+    /// (file order) and their `sign` (+1 when they turn as x, y, z do): [`crate::euler::split`]
+    /// with no previous frame, step for step: the matrix of the normalised quaternion (glam's
+    /// `DMat3::from_quat`), the middle angle against the length of the other two, the third
+    /// read off it away from the lock (else 0), the first from the rotation with the third
+    /// taken off.
     #[inline(always)]
-    fn euler_degrees(&self, (i, j, k, even): (usize, usize, usize, bool)) -> [Lanes; 3] {
-        let Quats { x, y, z, w } = self;
+    fn euler_degrees(&self, ([i, j, k], sign): ([usize; 3], f64)) -> [Lanes; 3] {
+        let length = lanes(|l| {
+            let q = self;
+            (q.x[l] * q.x[l] + q.y[l] * q.y[l] + q.z[l] * q.z[l] + q.w[l] * q.w[l]).sqrt()
+        });
+        let unit = Quats {
+            x: lanes(|l| self.x[l] * (1.0 / length[l])),
+            y: lanes(|l| self.y[l] * (1.0 / length[l])),
+            z: lanes(|l| self.z[l] * (1.0 / length[l])),
+            w: lanes(|l| self.w[l] * (1.0 / length[l])),
+        };
+        let Quats { x, y, z, w } = &unit;
         let x2 = lanes(|l| x[l] + x[l]);
         let y2 = lanes(|l| y[l] + y[l]);
         let z2 = lanes(|l| z[l] + z[l]);
@@ -414,17 +427,20 @@ impl Quats {
                 lanes(|l| 1.0 - (xx[l] + yy[l])),
             ],
         ];
-        let cy = lanes(|l| (m[i][i][l] * m[i][i][l] + m[j][i][l] * m[j][i][l]).sqrt());
-        let free = mask(|l| cy[l] > 16.0 * f64::EPSILON);
-        let first = atan2(
-            &lanes(|l| if free[l] { m[k][j][l] } else { -m[j][k][l] }),
-            &lanes(|l| if free[l] { m[k][k][l] } else { m[j][j][l] }),
-        );
-        let second = atan2(&lanes(|l| -m[k][i][l]), &cy);
-        let third = atan2(&m[j][i], &m[i][i]);
+        let cos_middle = lanes(|l| (m[i][i][l] * m[i][i][l] + m[j][i][l] * m[j][i][l]).sqrt());
+        let middle = atan2(&lanes(|l| sign * m[k][i][l]), &cos_middle);
+        let free = mask(|l| cos_middle[l] > crate::euler::LOCK);
+        let third = atan2(&lanes(|l| -sign * m[j][i][l]), &m[i][i]);
         let third = lanes(|l| if free[l] { third[l] } else { 0.0 });
-        let sign = |v: Lanes| lanes(|l| if even { -v[l] } else { v[l] }.to_degrees());
-        [sign(first), sign(second), sign(third)]
+        // Column j of the rotation with the third angle taken off: m · R_k(−third) · e_j.
+        let (mut sin, mut cos) = ([0.0; LANES], [0.0; LANES]);
+        sin_cos(&third, &mut sin, &mut cos);
+        let turned = lanes(|l| sign * sin[l]);
+        let left_k = lanes(|l| m[i][k][l] * turned[l] + m[j][k][l] * cos[l]);
+        let left_j = lanes(|l| m[i][j][l] * turned[l] + m[j][j][l] * cos[l]);
+        let first = atan2(&lanes(|l| sign * left_k[l]), &left_j);
+        let degrees = |v: Lanes| lanes(|l| v[l].to_degrees());
+        [degrees(first), degrees(middle), degrees(third)]
     }
 }
 
@@ -498,16 +514,9 @@ fn turn(q: DQuat, v: &Points) -> Points {
 }
 
 /// glam's axis order `(i, j, k)` and parity for an Euler order (its `Order::angle_order`).
-fn axis_order(order: crate::skeleton::RotationOrder) -> (usize, usize, usize, bool) {
-    use crate::skeleton::RotationOrder as R;
-    match order {
-        R::Zyx => (2, 1, 0, false),
-        R::Yzx => (1, 2, 0, true),
-        R::Zxy => (2, 0, 1, true),
-        R::Xzy => (0, 2, 1, false),
-        R::Yxz => (1, 0, 2, false),
-        R::Xyz => (0, 1, 2, true),
-    }
+fn axis_order(order: crate::skeleton::RotationOrder) -> ([usize; 3], f64) {
+    let [i, j, k] = crate::euler::axes(order);
+    ([i, j, k], crate::euler::handedness(i, j))
 }
 
 /// [`nearest_form`] of every lane: its operations in its order, as one loop over the lanes that
@@ -571,7 +580,7 @@ enum Turn {
     /// Three channels: the Euler angles, in glam's axis order (see [`axis_order`]), of
     /// `C⁻¹ · local · C` (`C` an ASF bone's axis).
     Euler {
-        order: (usize, usize, usize, bool),
+        order: ([usize; 3], f64),
         axis: Option<DQuat>,
     },
     /// One or two: [`limited_angles`], a lane at a time.
@@ -1413,19 +1422,28 @@ mod tests {
     }
 
     #[test]
-    fn euler_angles_are_glam_s() {
+    fn euler_angles_are_the_exact_split_s_at_and_near_the_lock() {
         use crate::skeleton::RotationOrder as R;
         let mut values = numbers(1 << 16);
         let mut next = || values.next().unwrap();
-        for _ in 0..4096 {
+        let quarter = std::f64::consts::FRAC_PI_2;
+        for _ in 0..1024 {
             let q = DQuat::from_xyzw(next(), next(), next(), next()).normalize();
-            // Also rotations at and near gimbal lock, about each axis by 90°.
-            let lock = DQuat::from_rotation_y(std::f64::consts::FRAC_PI_2 + next() * 1e-9);
-            for q in [q, q * lock, lock] {
+            // Rotations at and near the lock of every order (90° about each axis, both ways,
+            // exactly, within 1e-9 and at 89.99°), and a quaternion a hair off length 1.
+            let near = quarter + next() * 1e-9;
+            let mut cases = vec![q, q * 1.0001];
+            for angle in [quarter, -quarter, near, 89.99f64.to_radians()] {
+                for axis in [DVec3::X, DVec3::Y, DVec3::Z] {
+                    let lock = DQuat::from_axis_angle(axis, angle);
+                    cases.extend([lock, q * lock, lock * q]);
+                }
+            }
+            for q in cases {
                 for order in [R::Zyx, R::Yzx, R::Zxy, R::Xzy, R::Yxz, R::Xyz] {
                     let got = Quats::splat(q).euler_degrees(axis_order(order));
-                    let (a, b, c) = q.to_euler(crate::edit::euler_order(order));
-                    for (got, want) in got.iter().zip([a, b, c]) {
+                    let want = crate::euler::split(q, order, None);
+                    for (got, want) in got.iter().zip(want) {
                         assert!(
                             (got[0] - want.to_degrees()).abs() < 1e-9,
                             "{order:?} {q}: {} against {}",
@@ -1433,6 +1451,9 @@ mod tests {
                             want.to_degrees()
                         );
                     }
+                    let angles = got.map(|a| a[0].to_radians());
+                    let back = crate::euler::compose(angles, order);
+                    assert!(back.dot(q.normalize()).abs() > 1.0 - 1e-15, "{order:?} {q}");
                 }
             }
         }
