@@ -116,7 +116,204 @@ fn ufbx_error(name: &str, error: &ufbx::Error) -> Error {
 }
 
 fn read_scene(bytes: &[u8], name: &str) -> Result<ufbx::SceneRoot, Error> {
-    ufbx::load_memory(bytes, load_options(bytes.len())).map_err(|e| ufbx_error(name, &e))
+    if let Some(why) = not_fbx(bytes) {
+        return Err(Error::Usage(format!("{name}: not an FBX file: {why}")));
+    }
+    ufbx::load_memory(bytes, load_options(bytes.len())).map_err(|e| {
+        match (e.type_, records::first_fault(bytes)) {
+            // ufbx says only "Failed to load" of a damaged binary file: say where.
+            (ufbx::ErrorType::Unknown, Some(fault)) => {
+                Error::Usage(format!("{name}: damaged FBX: {fault}"))
+            }
+            _ => ufbx_error(name, &e),
+        }
+    })
+}
+
+/// The magic bytes a binary FBX starts with.
+const BINARY_MAGIC: &[u8] = b"Kaydara FBX Binary";
+
+/// Why `bytes` are neither a binary FBX nor FBX text, if they are not: a binary file starts
+/// with [`BINARY_MAGIC`]; FBX text is `Key: value` lines after `;` comments. Nothing of the file
+/// is quoted (it may be anything).
+fn not_fbx(bytes: &[u8]) -> Option<&'static str> {
+    if bytes.starts_with(BINARY_MAGIC) {
+        return None;
+    }
+    let Ok(text) = std::str::from_utf8(&bytes[..bytes.len().min(4096)])
+        .or_else(|e| std::str::from_utf8(&bytes[..e.valid_up_to()]).map_err(|_| ()))
+    else {
+        return Some("binary data without FBX's header");
+    };
+    if text.contains('\0') {
+        return Some("binary data without FBX's header");
+    }
+    let first = text
+        .lines()
+        .map(str::trim)
+        .find(|line| !line.is_empty() && !line.starts_with(';'));
+    match first {
+        // Only comments so far (or nothing): ufbx says what is missing.
+        None => None,
+        Some(line) => {
+            let key = line.split(':').next().unwrap_or("");
+            let is_key = line.contains(':')
+                && !key.is_empty()
+                && key.chars().all(|c| c.is_ascii_alphanumeric() || c == '_');
+            (!is_key).then_some("text, but not FBX's `Key: value` lines")
+        }
+    }
+}
+
+/// A walk over a binary FBX's records (node headers, property lists, nested lists) that finds
+/// the first one that cannot be: ufbx reports a damaged binary file as "Failed to load" only,
+/// and a user wants to know where. Kept by hand: the record layout is a few lines, and no kept
+/// crate reads FBX's binary structure without also building a scene from it.
+mod records {
+    /// Where the first record that cannot be is, and why, if one is found.
+    pub(super) fn first_fault(bytes: &[u8]) -> Option<String> {
+        if !bytes.starts_with(super::BINARY_MAGIC) || bytes.len() < 27 {
+            return None;
+        }
+        let version = u32::from_le_bytes(bytes[23..27].try_into().ok()?);
+        let wide = version >= 7500;
+        let mut path = Vec::new();
+        list(bytes, 27, bytes.len(), wide, &mut path, 0).err()
+    }
+
+    fn number(bytes: &[u8], at: usize, wide: bool) -> Option<u64> {
+        if wide {
+            Some(u64::from_le_bytes(bytes.get(at..at + 8)?.try_into().ok()?))
+        } else {
+            Some(u32::from_le_bytes(bytes.get(at..at + 4)?.try_into().ok()?).into())
+        }
+    }
+
+    fn inside(path: &[String]) -> String {
+        if path.is_empty() {
+            String::new()
+        } else {
+            format!(" (inside {})", path.join(" › "))
+        }
+    }
+
+    /// The records from `at` up to `end` (a null record ends the list); `Ok` with where the
+    /// list ends.
+    fn list(
+        bytes: &[u8],
+        mut at: usize,
+        end: usize,
+        wide: bool,
+        path: &mut Vec<String>,
+        depth: usize,
+    ) -> Result<usize, String> {
+        let word = if wide { 8 } else { 4 };
+        let header = 3 * word + 1;
+        if depth > crate::limits::MAX_DEPTH {
+            return Err(format!(
+                "records nest deeper than {} levels",
+                crate::limits::MAX_DEPTH
+            ));
+        }
+        loop {
+            let here = inside(path);
+            let (Some(record_end), Some(_count), Some(props_len)) = (
+                number(bytes, at, wide),
+                number(bytes, at + word, wide),
+                number(bytes, at + 2 * word, wide),
+            ) else {
+                return Err(format!(
+                    "the record at byte {at}{here} is cut off by the file's end"
+                ));
+            };
+            if record_end == 0 {
+                return Ok(at + header);
+            }
+            let name_len = usize::from(*bytes.get(at + 3 * word).unwrap_or(&0));
+            let name_at = at + header;
+            let record_end = usize::try_from(record_end).unwrap_or(usize::MAX);
+            if record_end > end {
+                let outer = if path.is_empty() {
+                    "the file"
+                } else {
+                    "its parent"
+                };
+                return Err(format!(
+                    "the record at byte {at}{here} says it ends at byte {record_end}, past the \
+                     end of {outer} at byte {end}"
+                ));
+            }
+            if record_end <= name_at + name_len {
+                return Err(format!(
+                    "the record at byte {at}{here} says it ends at byte {record_end}, before \
+                     its own header does (byte {})",
+                    name_at + name_len
+                ));
+            }
+            let name = String::from_utf8_lossy(&bytes[name_at..name_at + name_len]);
+            let name: String = name.chars().filter(|c| !c.is_control()).take(40).collect();
+            let props_at = name_at + name_len;
+            let props_end = usize::try_from(props_len)
+                .ok()
+                .and_then(|n| props_at.checked_add(n))
+                .filter(|&e| e <= record_end)
+                .ok_or_else(|| {
+                    format!(
+                        "the record \"{name}\" at byte {at}{here} has {props_len} bytes of \
+                         properties, more than the record holds"
+                    )
+                })?;
+            let mut p = props_at;
+            while p < props_end {
+                p = property(bytes, p, props_end)
+                    .map_err(|why| format!("the record \"{name}\" at byte {at}{here}: {why}"))?;
+            }
+            if p != props_end {
+                return Err(format!(
+                    "the record \"{name}\" at byte {at}{here}: its properties end at byte {p}, \
+                     not {props_end} as its header says"
+                ));
+            }
+            if props_end < record_end {
+                path.push(format!("\"{name}\""));
+                let nested_end = list(bytes, props_end, record_end, wide, path, depth + 1)?;
+                path.pop();
+                if nested_end != record_end {
+                    return Err(format!(
+                        "the record \"{name}\" at byte {at}{here}: its children end at byte \
+                         {nested_end}, not {record_end} as its header says"
+                    ));
+                }
+            }
+            at = record_end;
+        }
+    }
+
+    /// One property at `at`; `Ok` with where it ends.
+    fn property(bytes: &[u8], at: usize, end: usize) -> Result<usize, String> {
+        let code = *bytes.get(at).ok_or("cut off")?;
+        let u32_at = |k: usize| -> Result<usize, String> {
+            let field = bytes.get(k..k + 4).ok_or("cut off")?;
+            Ok(u32::from_le_bytes(field.try_into().expect("4 bytes")) as usize)
+        };
+        let next = match code {
+            b'Y' => at + 3,
+            b'C' => at + 2,
+            b'I' | b'F' => at + 5,
+            b'D' | b'L' => at + 9,
+            b'S' | b'R' => at + 5 + u32_at(at + 1)?,
+            b'f' | b'd' | b'l' | b'i' | b'b' => at + 13 + u32_at(at + 9)?,
+            other => {
+                return Err(format!(
+                    "property type byte {other:#04x} at byte {at} is none of FBX's"
+                ));
+            }
+        };
+        if next > end {
+            return Err(format!("the property at byte {at} runs past its record"));
+        }
+        Ok(next)
+    }
 }
 
 fn fps(scene: &ufbx::Scene) -> f64 {
@@ -235,13 +432,25 @@ fn is_helper(node: &ufbx::Node) -> bool {
     node.is_scale_helper || node.is_geometry_transform_helper
 }
 
+/// What the file's node is (a bone, a camera, …). Where ufbx makes a helper for a node (Maya's
+/// segment scale compensation, HumanIK rigs, geometric transforms), it moves the node's
+/// attribute onto the helper: the node's kind is then its helper's (issue 44: the helpers were
+/// read as the bones, named `node<k>`, and the file's bones were lost).
+fn attribute(node: &ufbx::Node) -> ufbx::ElementType {
+    let helpers = [&node.scale_helper, &node.geometry_transform_helper];
+    match (node.attrib_type, helpers.into_iter().flatten().next()) {
+        (ufbx::ElementType::Unknown, Some(helper)) => helper.attrib_type,
+        (kind, _) => kind,
+    }
+}
+
 /// A camera, a light or a camera switcher (MotionBuilder's Producer cameras among them) is
 /// never a joint, animated or not (issue 44: a scene without LimbNodes read its cameras as the
 /// skeleton).
 fn is_scenery(node: &ufbx::Node) -> bool {
     use ufbx::ElementType::{Camera, CameraSwitcher, Light, StereoCamera};
     matches!(
-        node.attrib_type,
+        attribute(node),
         Camera | StereoCamera | CameraSwitcher | Light
     )
 }
@@ -253,7 +462,7 @@ fn skeleton_nodes(scene: &ufbx::Scene) -> (Vec<usize>, Vec<Option<usize>>, bool)
     let mut seed = vec![false; count];
     let mut bones = false;
     for (i, node) in scene.nodes.iter().enumerate() {
-        if node.attrib_type == ufbx::ElementType::Bone && !node.is_root {
+        if attribute(node) == ufbx::ElementType::Bone && !node.is_root && !is_helper(node) {
             seed[i] = true;
             bones = true;
         }

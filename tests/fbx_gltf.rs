@@ -117,12 +117,12 @@ const UFBX_FILES: [(&str, usize, usize, usize, f64); 26] = [
     ("maya_post_rotate_order_6100_binary.fbx", 2, 0, 120, 24.0),
     ("maya_post_rotate_order_7500_ascii.fbx", 2, 0, 120, 24.0),
     ("maya_post_rotate_order_7500_binary.fbx", 2, 0, 120, 24.0),
-    ("maya_human_ik_7400_binary.fbx", 62, 0, 120, 24.0),
+    ("maya_human_ik_7400_binary.fbx", 49, 13, 120, 24.0),
     ("maya_rotation_order_6100_ascii.fbx", 6, 0, 120, 24.0),
     ("maya_rotation_order_6100_binary.fbx", 6, 0, 120, 24.0),
     ("maya_rotation_order_7500_ascii.fbx", 6, 0, 120, 24.0),
     ("maya_rotation_order_7500_binary.fbx", 6, 0, 120, 24.0),
-    ("maya_scale_no_inherit_7700_ascii.fbx", 4, 1, 120, 24.0),
+    ("maya_scale_no_inherit_7700_ascii.fbx", 4, 0, 120, 24.0),
     ("maya_transform_animation_6100_ascii.fbx", 1, 0, 120, 24.0),
     ("maya_transform_animation_6100_binary.fbx", 1, 0, 120, 24.0),
     ("motionbuilder_pivot_7700_ascii.fbx", 1, 0, 151, 30.0),
@@ -200,6 +200,51 @@ fn ascii_and_binary_saves_of_one_scene_agree() {
         let (worst, compared) = worst_relative(&first, &second, frames);
         assert_eq!(compared, first.skeleton.joints.len(), "{a} {b}");
         assert!(worst < 1e-5, "{a} vs {b}: {worst}");
+    }
+}
+
+/// Issue 44: Maya's segment scale compensation makes ufbx add helper nodes and move each bone's
+/// attribute onto its helper; the joints are still the file's bones, named and parented as in
+/// the file. The HumanIK save of Maya's character (a helper above nearly every bone) reads as the
+/// plain save does: the same 49 joints, and every point within 1e-6 of its height on all 120
+/// frames (it was 62 roots, 49 of them `node<k>`).
+#[test]
+fn maya_scale_helpers_are_folded_into_the_files_bones() {
+    let plain = load(&data("fbx/ufbx/maya_character_7500_binary.fbx"));
+    let human_ik = load(&data("fbx/ufbx/maya_human_ik_7400_binary.fbx"));
+    let names = |l: &Loaded| point_names(l);
+    assert_eq!(names(&human_ik), names(&plain));
+    let parents = |l: &Loaded| {
+        l.skeleton
+            .joints
+            .iter()
+            .map(|j| j.parent)
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(parents(&human_ik), parents(&plain));
+    let (worst, compared) = worst_relative(&plain, &human_ik, 120);
+    assert!(
+        compared >= 49 && worst < 1e-6,
+        "{worst} over {compared} points"
+    );
+    for name in [
+        "maya_scale_no_inherit_7700_ascii.fbx",
+        "maya_anim_no_inherit_scale_7700_ascii.fbx",
+    ] {
+        let chain = load(&data("fbx/ufbx").join(name));
+        let joints: Vec<(&str, Option<usize>)> = chain
+            .skeleton
+            .joints
+            .iter()
+            .map(|j| (j.name.as_str(), j.parent))
+            .collect();
+        let want = [
+            ("joint1", None),
+            ("joint2", Some(0)),
+            ("joint3", Some(1)),
+            ("joint4", Some(2)),
+        ];
+        assert_eq!(joints, want, "{name}");
     }
 }
 

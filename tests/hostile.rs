@@ -838,6 +838,49 @@ fn truncated_and_noise_fbx_are_refused_by_the_cli() {
     }
 }
 
+/// Issue 44: ufbx says only "Failed to load" of most damaged binary files; the message says
+/// which record is broken, where, and inside which records. A text file that is not FBX is
+/// called that, not "truncated", and nothing of it is quoted.
+#[test]
+fn a_damaged_fbx_is_refused_with_the_record_and_byte_that_break() {
+    let mut bytes = std::fs::read(repo_data("fbx/bvh11_131_01.fbx")).unwrap();
+    // FBX 7400: the first record, FBXHeaderExtension, at byte 27 (a 13-byte header and its
+    // 18-byte name), holds FBXHeaderVersion at byte 58, whose 16-byte name ends at 87, where its
+    // one property starts with the type byte b'I'.
+    assert_eq!(bytes[87], b'I');
+    bytes[87] = 0xf0;
+    let cases: Vec<(&str, Vec<u8>, &str)> = vec![
+        (
+            "damaged.fbx",
+            bytes,
+            "damaged FBX: the record \"FBXHeaderVersion\" at byte 58 (inside \
+             \"FBXHeaderExtension\"): property type byte 0xf0 at byte 87 is none of FBX's",
+        ),
+        (
+            "text.fbx",
+            b"hello\n".to_vec(),
+            "not an FBX file: text, but not FBX's `Key: value` lines",
+        ),
+        (
+            "binary.fbx",
+            vec![0x00, 0x9f, 0x92, 0x96, 0xff, 0x01],
+            "not an FBX file: binary data without FBX's header",
+        ),
+    ];
+    for (name, input, want) in cases {
+        let path = scratch(name);
+        std::fs::write(&path, input).unwrap();
+        let output = scratch(&format!("{name}.bvh"));
+        let out = bvhview(&[
+            "convert",
+            path.to_str().unwrap(),
+            "-o",
+            output.to_str().unwrap(),
+        ]);
+        refused(&out, &format!("{}: {want}", path.display()), &output);
+    }
+}
+
 // Issue 44, "every file a stranger sends": the glTF and FBX readers.
 
 /// One animated property of a glTF made by [`gltf_take`]: its node, path, key times and values.
