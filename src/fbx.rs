@@ -570,6 +570,19 @@ fn ancestors(scene: &ufbx::Scene, order: &[usize]) -> Vec<usize> {
     chain
 }
 
+/// The turn from a file's own coordinates to bvhview's Y up where the file states no axes (FBX 5
+/// and older have no `GlobalSettings`), else the identity (ufbx has turned the scene already).
+/// ufbx leaves such a scene as it is; Blender's importer (ufbx with Blender's Z up) then shows
+/// the coordinates as Z up, and the files of that time (3ds Max, MotionBuilder 5) were Z up, so
+/// bvhview reads them as Blender does: Z up, front −Y, turned to Y up, front +Z.
+fn unstated_axes_turn(scene: &ufbx::Scene) -> DMat4 {
+    if scene.settings.axes.up == ufbx::CoordinateAxis::Unknown {
+        DMat4::from_rotation_x(-std::f64::consts::FRAC_PI_2)
+    } else {
+        DMat4::IDENTITY
+    }
+}
+
 /// The joints' world poses at `time` from their ancestors' local transforms.
 fn quick_poses(
     scene: &ufbx::Scene,
@@ -594,9 +607,10 @@ fn quick_poses(
             .unwrap_or(DMat4::IDENTITY);
         world[n] = Some(above * local);
     }
+    let turn = unstated_axes_turn(scene);
     order
         .iter()
-        .map(|&i| Pose::of_matrix(&world[i].unwrap_or(DMat4::IDENTITY)))
+        .map(|&i| Pose::of_matrix(&(turn * world[i].unwrap_or(DMat4::IDENTITY))))
         .collect()
 }
 
@@ -660,12 +674,18 @@ pub fn load_bytes(
         })
         .collect::<Result<Vec<Node>, Error>>()?;
     let renamed = baked::unique_names(&mut nodes);
+    let turn = unstated_axes_turn(&scene);
     let rest: Vec<Pose> = order
         .iter()
-        .map(|&i| Pose::of_matrix(&matrix(&scene.nodes[i].node_to_world)))
+        .map(|&i| Pose::of_matrix(&(turn * matrix(&scene.nodes[i].node_to_world))))
         .collect();
     let fps = fps(&scene);
     let mut warnings = renamed;
+    if turn != DMat4::IDENTITY {
+        warnings.push(
+            "the file states no axes (FBX 5 and older): read as Z up, as Blender reads it".into(),
+        );
+    }
     let names: Vec<String> = scene
         .anim_stacks
         .iter()
@@ -742,7 +762,7 @@ pub fn load_bytes(
                 .map_err(|e| ufbx_error(name, &e))?;
             Ok(joints
                 .iter()
-                .map(|&i| Pose::of_matrix(&matrix(&evaluated.nodes[i].node_to_world)))
+                .map(|&i| Pose::of_matrix(&(turn * matrix(&evaluated.nodes[i].node_to_world))))
                 .collect())
         };
         // The quick way: each node's local transform (ufbx's `evaluate_transform`, adjustments

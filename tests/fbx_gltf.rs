@@ -248,6 +248,35 @@ fn maya_scale_helpers_are_folded_into_the_files_bones() {
     }
 }
 
+/// Issue 44: FBX 5 files state no axes; Blender reads their coordinates as its Z up, and so does
+/// bvhview (turned to Y up, front +Z), saying so. 3ds Max 2009's cube stands unturned at frame 0
+/// in the file: here its root turns −90° about x, and it slides along x as in the file.
+#[test]
+fn fbx_5_files_without_axes_read_z_up_as_blender_reads_them() {
+    for name in [
+        "max2009_cube_anim_5800_ascii.fbx",
+        "max2009_cube_anim_5800_binary.fbx",
+    ] {
+        let loaded = load(&data("fbx/ufbx").join(name));
+        assert!(
+            loaded.warnings.iter().any(|w| w.contains("states no axes")),
+            "{name}: {:?}",
+            loaded.warnings
+        );
+        let root = &loaded.skeleton.joints[0];
+        let first = bvhview::pose::local_rotation_f64(root, root.values(loaded.motion.frame(0)));
+        let want = glam::DQuat::from_rotation_x(-std::f64::consts::FRAC_PI_2);
+        assert!(first.dot(want).abs() > 1.0 - 1e-12, "{name}: {first}");
+        let last = loaded.motion.frame(loaded.motion.frame_count() - 1);
+        assert!(
+            (last[0] - 0.7).abs() < 1e-6 && last[1] == 0.0 && last[2] == 0.0,
+            "{last:?}"
+        );
+    }
+    let stated = load(&data("fbx/ufbx/maya_transform_animation_6100_ascii.fbx"));
+    assert!(!stated.warnings.iter().any(|w| w.contains("axes")));
+}
+
 #[test]
 fn a_file_with_several_takes_reads_each_by_name_or_index() {
     let path = data("fbx/ufbx/synthetic_anim_stack_no_props_7100_ascii.fbx");
