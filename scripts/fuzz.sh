@@ -48,10 +48,12 @@ case "$target" in
             done
         done ;;
     dataset)
-        cargo build --release --bin bvhview
+        # Any build of the CLI makes the seed dataset: the one there, else a debug build.
+        cli=target/release/bvhview
+        [ -x "$cli" ] || { cli=target/debug/bvhview; cargo build --bin bvhview; }
         mkdir -p "$work/takes"
         cp "$data"/bvh/assimp_01_01.bvh "$work/takes/a.bvh"
-        target/release/bvhview dataset "$work/takes" -o "$work/seed.ds" --fps 10
+        "$cli" dataset "$work/takes" -o "$work/seed.ds" --fps 10
         for pick in 0 1 2 3 4; do
             file=$(echo manifest.json group_0/positions.npy group_0/offsets.npy \
                 group_0/rest_offsets.npy group_0/skeleton.bvh | cut -d' ' -f$((pick + 1)))

@@ -216,10 +216,38 @@ fn read(path: &Path, max_size: u64) -> Result<File, Error> {
     parse(&bytes, &path.display().to_string(), Some(folder), max_size)
 }
 
+/// How many of the gltf crate's validation errors a message lists (a Draco-compressed file
+/// gives one per accessor and attribute: thousands of characters on one line).
+const SHOWN_VALIDATION_ERRORS: usize = 3;
+
+/// The gltf crate's refusal as one short line: an extension the file requires and bvhview does
+/// not read first (it is the reason), then the first few other validation errors and how many
+/// more there are.
+fn invalid_gltf(error: &gltf::Error) -> String {
+    let gltf::Error::Validation(errors) = error else {
+        return format!("not a valid glTF ({error})");
+    };
+    let (required, other): (Vec<_>, Vec<_>) = errors
+        .iter()
+        .partition(|(_, e)| matches!(e, gltf::json::validation::Error::Unsupported));
+    let mut errors = required;
+    errors.extend(other);
+    let shown: Vec<String> = errors
+        .iter()
+        .take(SHOWN_VALIDATION_ERRORS)
+        .map(|(path, e)| format!("{path}: {e}"))
+        .collect();
+    let more = errors.len().saturating_sub(SHOWN_VALIDATION_ERRORS);
+    let more = match more {
+        0 => String::new(),
+        n => format!("; and {n} more"),
+    };
+    format!("not a valid glTF ({}{more})", shown.join("; "))
+}
+
 /// A glTF or GLB's bytes; buffers in other files only from inside `folder` (none without one).
 fn parse(bytes: &[u8], path: &str, folder: Option<&Path>, max_size: u64) -> Result<File, Error> {
-    let gltf =
-        gltf::Gltf::from_slice(bytes).map_err(|e| bad(path, format!("not a valid glTF ({e})")))?;
+    let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| bad(path, invalid_gltf(&e)))?;
     unchecked_values(gltf.document.as_json()).map_err(|why| bad(path, why))?;
     let mut buffers = Vec::new();
     for buffer in gltf.document.buffers() {

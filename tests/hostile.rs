@@ -881,6 +881,39 @@ fn a_damaged_fbx_is_refused_with_the_record_and_byte_that_break() {
     }
 }
 
+/// Issue 44: a Draco-compressed glTF's refusal was one line of 12,214 characters (an error per
+/// accessor); it names the required extension first, then two more and how many are left.
+#[test]
+fn a_draco_gltf_is_refused_in_one_short_line_naming_the_extension() {
+    let accessors: Vec<String> = (0..300)
+        .map(|_| r#"{"componentType": 5126, "count": 3, "type": "VEC3"}"#.to_string())
+        .collect();
+    let text = format!(
+        r#"{{"asset": {{"version": "2.0"}}, "extensionsUsed": ["KHR_draco_mesh_compression"],
+        "extensionsRequired": ["KHR_draco_mesh_compression"], "nodes": [{{"name": "a"}}],
+        "accessors": [{}]}}"#,
+        accessors.join(", ")
+    );
+    let path = scratch("draco.gltf");
+    std::fs::write(&path, text).unwrap();
+    let output = scratch("draco.bvh");
+    let out = bvhview(&[
+        "convert",
+        path.to_str().unwrap(),
+        "-o",
+        output.to_str().unwrap(),
+    ]);
+    let want = format!(
+        "{}: not a valid glTF (extensionsRequired[0] = \"KHR_draco_mesh_compression\": \
+         Unsupported extension; accessors[0].bufferView: Missing data; accessors[1].bufferView: \
+         Missing data; and 298 more)",
+        path.display()
+    );
+    refused(&out, &want, &output);
+    // The path is a scratch folder's; the rest of the line stays short whatever the file holds.
+    assert!(out.stderr.len() - path.display().to_string().len() < 300);
+}
+
 // Issue 44, "every file a stranger sends": the glTF and FBX readers.
 
 /// One animated property of a glTF made by [`gltf_take`]: its node, path, key times and values.
