@@ -36,6 +36,11 @@ ARRAYS = ("positions", "rotations", "translations", "root_translations", "veloci
 StrPath = str | os.PathLike[str]
 
 
+
+def _clips(count: int) -> str:
+    """`1 clip`, `3 clips`."""
+    return f"{count} clip" if count == 1 else f"{count} clips"
+
 class SkippedTake(UserWarning):
     """A take ``compile_dataset`` could not compile; the message is its ``path:line:column``
     and reason, as the manifest's ``skipped`` list keeps it."""
@@ -313,7 +318,7 @@ class Dataset:
             raise ValueError(f"{self.path}: the dataset has no clips")
         if group is None:
             if len(groups) != 1:
-                listed = ", ".join(f"{g['name']} ({g['clips']} clips)" for g in groups)
+                listed = ", ".join(f"{g['name']} ({_clips(g['clips'])})" for g in groups)
                 raise ValueError(
                     f"{self.path}: {len(groups)} skeleton topologies ({listed}): "
                     "choose one with group="
@@ -460,6 +465,6 @@ class Dataset:
 
     def __repr__(self) -> str:
         return (
-            f"Dataset({str(self.path)!r}, {self.group['name']}: {len(self.clips)} clips, "
+            f"Dataset({str(self.path)!r}, {self.group['name']}: {_clips(len(self.clips))}, "
             f"{len(self)} items of {self.window or 'whole clip'} frames)"
         )

@@ -273,7 +273,7 @@ pub(crate) fn _compile_dataset(
             // With `BVHVIEW_PLANT_PAUSE=_compile_dataset` (a test's switch: no test waits on the
             // clock) the first check waits there until a signal comes, so that a test signals
             // the compile at that known point.
-            let mut pause = std::env::var_os("BVHVIEW_PLANT_PAUSE")
+            let pause = std::env::var_os("BVHVIEW_PLANT_PAUSE")
                 .is_some_and(|point| point == "_compile_dataset");
             let interrupted = |_: &_, _: Option<&str>, _: usize, _: usize| loop {
                 let checked = Python::attach(|py| py.check_signals());

@@ -79,11 +79,13 @@ fn guard<T>(entry: &str, work: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
 /// runs Python meanwhile can make it, which proves the GIL let go. Not released within 60 s, the
 /// call fails.
 fn planted_pause_without_the_gil(entry: &str) -> Result<(), Error> {
-    if !std::env::var_os("BVHVIEW_PLANT_PAUSE").is_some_and(|name| name == entry) {
+    if std::env::var_os("BVHVIEW_PLANT_PAUSE").is_none_or(|name| name != entry) {
         return Ok(());
     }
     let Some(folder) = std::env::var_os("BVHVIEW_PLANT_FOLDER").map(PathBuf::from) else {
-        return Err(Error::Usage("BVHVIEW_PLANT_PAUSE needs BVHVIEW_PLANT_FOLDER".into()));
+        return Err(Error::Usage(
+            "BVHVIEW_PLANT_PAUSE needs BVHVIEW_PLANT_FOLDER".into(),
+        ));
     };
     std::fs::write(folder.join("paused"), b"").map_err(|e| Error::io(&folder, e))?;
     let start = std::time::Instant::now();
@@ -98,11 +100,52 @@ fn planted_pause_without_the_gil(entry: &str) -> Result<(), Error> {
     Ok(())
 }
 
+/// A message of the crate in a Python user's words: the CLI's options become the arguments
+/// of the same names (`--fps 0` → `fps=0`, `--contact-speed` → `contact_speed=`), and the
+/// command an AMC file alone is pointed to becomes the call (issue 44).
+fn python_words(text: &str) -> String {
+    const AMC_ALONE: &str = "bvhview COMMAND SKELETON.asf --motion ";
+    let text = match text.split_once(AMC_ALONE) {
+        Some((before, motion)) => {
+            format!("{before}bvhview.load(\"SKELETON.asf\", motion=\"{motion}\")")
+        }
+        None => text.to_string(),
+    };
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text.as_str();
+    while let Some(at) = rest.find("--") {
+        let (before, flag) = rest.split_at(at);
+        out.push_str(before);
+        let name_len = flag[2..]
+            .find(|c: char| !(c.is_ascii_lowercase() || c == '-'))
+            .unwrap_or(flag.len() - 2);
+        let name = &flag[2..2 + name_len];
+        let starts_word = before.is_empty() || before.ends_with([' ', '(', '`', '\'', '"']);
+        if name.is_empty() || !starts_word {
+            out.push_str("--");
+            rest = &flag[2..];
+            continue;
+        }
+        out.push_str(&name.replace('-', "_"));
+        // `--fps 0` → `fps=0`; `--up:` → `up:`.
+        let after = &flag[2 + name_len..];
+        rest = match after.strip_prefix(' ') {
+            Some(value) if !value.is_empty() => {
+                out.push('=');
+                value
+            }
+            _ => after,
+        };
+    }
+    out.push_str(rest);
+    out
+}
+
 /// Every error of the crate as the Python exception a Python user expects: a malformed file is a
 /// `ParseError` (a `ValueError`), a missing file a `FileNotFoundError`, other I/O an `OSError`,
 /// a request that cannot be met a `ValueError`.
 fn to_python(py: Python<'_>, error: Error) -> PyErr {
-    let text = error.to_string();
+    let text = python_words(&error.to_string());
     match error {
         Error::Parse {
             path,

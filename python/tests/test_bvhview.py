@@ -1004,3 +1004,13 @@ def test_from_arrays_refuses_numbers_that_are_not_finite():
         bvhview.Motion.from_arrays(
             take, take.local_rotations([0]), root_translations=np.full((1, 3), np.inf)
         )
+
+
+def test_errors_name_python_arguments_not_cli_options():
+    """Issue 44: a message says `fps=`, not `--fps`, and an AMC file alone is pointed to the call."""
+    amc = DATA / "asf_amc" / "heiden_12_02_01.amc"
+    with pytest.raises(ValueError, match=r'give its skeleton: bvhview\.load\("SKELETON\.asf", motion=".*heiden_12_02_01\.amc"\)$'):
+        bvhview.load(amc)
+    take = bvhview.load(DATA / "bvh" / "bvh11_131_01.bvh")
+    with pytest.raises(ValueError, match=r"^(?!.*--)fps=0: expected frames per second"):
+        take.resample(0)
