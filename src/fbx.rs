@@ -13,7 +13,10 @@
 //!   `inherit_mode_handling = HelperNodes` (Blender's choices): rotation pivots become part of the
 //!   node's translation, and what a bone cannot hold (geometric transforms, Maya's segment scale
 //!   compensation) goes to helper nodes, which this reader skips when it picks joints: their
-//!   effect is in the world matrices it reads;
+//!   effect is in the world matrices it reads. ufbx moves a node's attribute (its bone) onto
+//!   the helper it makes for it, so a node is a bone when its helper holds one (`attribute`);
+//! - a file that states no axes (FBX 5 and older) is read Z up, as Blender reads it
+//!   (`unstated_axes_turn`);
 //! - nothing else is read: geometry, embedded files and external files are ignored
 //!   (`ignore_geometry`, `ignore_embedded`, `load_external_files = false`), so a file is only
 //!   its nodes and curves.
