@@ -1498,6 +1498,94 @@ fn issue44_an_fbx_range_longer_than_its_size_allows_is_refused() {
     );
 }
 
+/// Maya's layered take (two layers over one node) with its layers, their curve nodes and
+/// curves copied until it has `copies` times as many, and its range stretched to `seconds`.
+fn layered_fbx(dir: &Path, copies: u64, seconds: u64) -> PathBuf {
+    let text =
+        std::fs::read_to_string(repo_data("fbx/ufbx/maya_anim_layers_7500_ascii.fbx")).unwrap();
+    let lines: Vec<&str> = text.lines().collect();
+    let (mut objects, mut ids) = (Vec::new(), Vec::new());
+    let mut i = 0;
+    while i < lines.len() {
+        let kinds = [
+            "\tAnimationLayer: ",
+            "\tAnimationCurveNode: ",
+            "\tAnimationCurve: ",
+        ];
+        if kinds.iter().any(|k| lines[i].starts_with(k)) {
+            let id = lines[i]
+                .split(": ")
+                .nth(1)
+                .unwrap()
+                .split(',')
+                .next()
+                .unwrap();
+            ids.push(id.to_string());
+            let end = i + lines[i..].iter().position(|l| *l == "\t}").unwrap();
+            objects.push(lines[i..=end].join("\n"));
+            i = end + 1;
+        } else {
+            i += 1;
+        }
+    }
+    let links: Vec<&str> = lines
+        .iter()
+        .copied()
+        .filter(|l| l.starts_with("\tC: ") && ids.iter().any(|id| l.contains(id.as_str())))
+        .collect();
+    let (mut more_objects, mut more_links) = (String::new(), String::new());
+    for copy in 1..copies {
+        let renamed = |text: &str| {
+            ids.iter().fold(text.to_string(), |t, id| {
+                t.replace(
+                    id.as_str(),
+                    &(id.parse::<u64>().unwrap() + copy * 1_000_003).to_string(),
+                )
+            })
+        };
+        for object in &objects {
+            more_objects.push_str(&renamed(object));
+            more_objects.push('\n');
+        }
+        for link in &links {
+            more_links.push_str(&renamed(link));
+            more_links.push('\n');
+        }
+    }
+    let stop = (46_186_158_000u64 * seconds).to_string();
+    let edited = text
+        .replacen(
+            "Connections:  {\n",
+            &format!("Connections:  {{\n{more_links}"),
+            1,
+        )
+        .replacen(
+            &format!("{}\n", objects[0]),
+            &format!("{more_objects}{}\n", objects[0]),
+            1,
+        )
+        .replace("230930790000", &stop);
+    let path = dir.join(format!("layers_{copies}.fbx"));
+    std::fs::write(&path, edited).unwrap();
+    path
+}
+
+/// Issue 44: every layer's curves are blended at every frame, so they count in the budget. 40
+/// copies of Maya's three layers (a 568 KB file) over 40,000 s at 24 fps asked for 960,000 frames
+/// of 520 animated values (16 s in a release build); refused by name. The file as Maya saved it
+/// reads.
+#[test]
+fn issue44_an_fbx_frame_budget_counts_every_layers_values() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = load_refused(&layered_fbx(dir.path(), 40, 40_000));
+    assert!(
+        text.contains("960000 frames of 1 joint (") && text.contains(" in 120 layers)"),
+        "{text}"
+    );
+    let loaded = bvhview::input::load(&layered_fbx(dir.path(), 1, 5), None, None).unwrap();
+    assert_eq!(loaded.motion.frame_count(), 120);
+}
+
 /// Issue 44, point 3 for FBX: the nodes a frame evaluates count, not the joints alone. One
 /// animated node under a chain of 900 empty nodes for 400 s at 30 fps: 12,001 frames, each
 /// posing 901 nodes (11 M transforms from a 70 KB file), is refused by name.
@@ -1533,7 +1621,8 @@ fn issue44_an_fbx_frame_budget_counts_every_node_evaluated() {
     let text = load_refused(&chain);
     assert!(
         text.contains(
-            "take 'Take 001' lasts 400 s at 30 fps: 12001 frames of 1 joint (901 nodes evaluated)"
+            "take 'Take 001' lasts 400 s at 30 fps: 12001 frames of 1 joint (901 nodes evaluated, 3 \
+             animated values in 1 layer)"
         ),
         "{text}"
     );
