@@ -216,6 +216,25 @@ fn read(path: &Path, max_size: u64) -> Result<File, Error> {
     parse(&bytes, &path.display().to_string(), Some(folder), max_size)
 }
 
+/// Why a GLB's 12-byte header cannot be, if it cannot: the gltf crate subtracts the header's
+/// size from its length field unchecked (a length under 12 overflowed: a panic in a debug
+/// build, found by fuzzing on 2026-11-28).
+fn bad_glb_header(bytes: &[u8]) -> Option<String> {
+    if !bytes.starts_with(b"glTF") {
+        return None;
+    }
+    let Some(header) = bytes.get(..12) else {
+        return Some(format!(
+            "a GLB of {} bytes, shorter than its 12-byte header",
+            bytes.len()
+        ));
+    };
+    let length = u32::from_le_bytes([header[8], header[9], header[10], header[11]]);
+    (length < 12).then(|| {
+        format!("a GLB header whose length field ({length}) is shorter than the header itself")
+    })
+}
+
 /// How many of the gltf crate's validation errors a message lists (a Draco-compressed file
 /// gives one per accessor and attribute: thousands of characters on one line).
 const SHOWN_VALIDATION_ERRORS: usize = 3;
@@ -247,6 +266,9 @@ fn invalid_gltf(error: &gltf::Error) -> String {
 
 /// A glTF or GLB's bytes; buffers in other files only from inside `folder` (none without one).
 fn parse(bytes: &[u8], path: &str, folder: Option<&Path>, max_size: u64) -> Result<File, Error> {
+    if let Some(why) = bad_glb_header(bytes) {
+        return Err(bad(path, why));
+    }
     let gltf = gltf::Gltf::from_slice(bytes).map_err(|e| bad(path, invalid_gltf(&e)))?;
     unchecked_values(gltf.document.as_json()).map_err(|why| bad(path, why))?;
     let mut buffers = Vec::new();

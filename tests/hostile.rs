@@ -881,6 +881,39 @@ fn a_damaged_fbx_is_refused_with_the_record_and_byte_that_break() {
     }
 }
 
+/// Found by fuzzing (`scripts/fuzz.sh gltf`, 2026-11-28): a 12-byte GLB whose header's length
+/// field is 0 made the gltf crate subtract 12 from it, a panic in a debug build (exit 101) and a
+/// wrapped length in a release one. The input is the fuzzer's, byte for byte.
+#[test]
+fn a_glb_header_shorter_than_itself_is_refused_not_a_panic() {
+    let found = [
+        0x67, 0x6c, 0x54, 0x46, 0xc0, 0x96, 0x01, 0x41, 0x00, 0x00, 0x00, 0x00,
+    ];
+    for (name, bytes, want) in [
+        (
+            "fuzz-crash-0.glb",
+            &found[..],
+            "a GLB header whose length field (0) is shorter than the header itself",
+        ),
+        (
+            "cut.glb",
+            &found[..7],
+            "a GLB of 7 bytes, shorter than its 12-byte header",
+        ),
+    ] {
+        let path = scratch(name);
+        std::fs::write(&path, bytes).unwrap();
+        let output = scratch(&format!("{name}.bvh"));
+        let out = bvhview(&[
+            "convert",
+            path.to_str().unwrap(),
+            "-o",
+            output.to_str().unwrap(),
+        ]);
+        refused(&out, &format!("{}: {want}", path.display()), &output);
+    }
+}
+
 /// Issue 44: a Draco-compressed glTF's refusal was one line of 12,214 characters (an error per
 /// accessor); it names the required extension first, then two more and how many are left.
 #[test]
