@@ -404,7 +404,7 @@ fn the_chapters_quote_the_start_of_trace_as_it_prints() {
 /// `// what the article's program does with this file:` or `// 原文的程式對這個檔案：`) is one
 /// that `trace --explain` prints, in that language, for an input of tests/edge,
 /// tests/oracle/inputs or tests/data/bvh, or for a file the chapters' exercises make: `five.bvh`
-/// (Part 1) and the two files of exercise 5.14 (made sparse here, Linux only). A quote that ends in
+/// (Part 1), the two files of exercise 5.14 (made sparse here, Linux only) and those of 5.15. A quote that ends in
 /// `…` is the start of one.
 #[test]
 fn the_chapters_quote_verdicts_that_explain_prints() {
@@ -420,6 +420,19 @@ fn the_chapters_quote_verdicts_that_explain_prints() {
     )
     .unwrap();
     inputs.push(five);
+    // Exercise 5.15: Chest's OFFSET with a short z, then a short x.
+    for (name, offset) in [
+        ("z.bvh", "OFFSET 0.000000 15.000000 0\r"),
+        ("x.bvh", "OFFSET 0 15.000000 0.000000\r"),
+    ] {
+        let path = dir.path().join(name);
+        std::fs::write(
+            &path,
+            control.replace("OFFSET 0.000000 15.000000 0.000000\r", offset),
+        )
+        .unwrap();
+        inputs.push(path);
+    }
     #[cfg(target_os = "linux")]
     for length in [2_500_000_000u64, 4_294_967_803] {
         use std::os::unix::fs::MetadataExt;
