@@ -293,6 +293,20 @@ fn joint_site_with_channels_0_is_an_end_site_and_takes_no_columns() {
     assert_eq!(joints[3].values(bvh.motion.frame(1)), [70.0, 0.0, 0.0]);
 }
 
+/// Issue 47: a root written `JOINT` (the control file otherwise). The article never checks the
+/// root's keyword; its fixed 7-byte skip for `\r\nROOT ` stops on the blank before the name, so
+/// it names the root `" Hips"` and loads the rest as the control file. Here it is the root,
+/// named as written, with the control file's model.
+#[test]
+fn a_root_written_joint_is_read_as_the_root_it_is() {
+    let control = load_edge("article_base_crlf.bvh");
+    let bvh = load_edge("root_written_joint.bvh");
+    assert_eq!(bvh.skeleton, control.skeleton);
+    assert_eq!(bvh.motion, control.motion);
+    assert_eq!(bvh.skeleton.joints[0].name, "Hips");
+    assert_eq!(bvh.skeleton.joints[0].parent, None);
+}
+
 // Issue 25: five more defects of the article's loader, each with its input in tests/edge, and
 // the smaller ones the chapter gives a sentence each.
 
