@@ -307,6 +307,58 @@ fn a_root_written_joint_is_read_as_the_root_it_is() {
     assert_eq!(bvh.skeleton.joints[0].parent, None);
 }
 
+/// Issue 47: two blanks between Chest's rotation channel names. The article reads its letters 10
+/// and 20 bytes on and lands on blanks, and its 30-byte step on the `n` of `Yrotation` (a format
+/// error). Here the names are words: the control file's model.
+#[test]
+fn blanks_between_channel_names_do_not_matter() {
+    let control = load_edge("article_base_crlf.bvh");
+    let bvh = load_edge("channel_names_two_blanks.bvh");
+    assert_eq!(bvh.skeleton, control.skeleton);
+    assert_eq!(bvh.motion, control.motion);
+}
+
+/// Issue 47: a root with three rotation channels and rows of six numbers. The article counts
+/// `jointCount * 3 + 3` = 9 numbers a row, as if every root had three positions, and reads past
+/// its buffer. Here a row is as wide as the channels: the root stays at its OFFSET and turns.
+#[test]
+fn a_root_with_rotations_only_reads_rows_of_its_own_width() {
+    let bvh = load_edge("root_rotations_only.bvh");
+    assert_eq!(bvh.skeleton.channel_count(), 6);
+    assert_eq!(bvh.motion.frame_count(), 2);
+    assert_eq!(bvh.motion.frame(1), [10.0, 20.0, 30.0, -40.0, 50.0, 60.0]);
+    let root = &bvh.skeleton.joints[0];
+    assert!(root.channels.iter().all(|c| c.is_rotation()));
+    let world = world_positions(&bvh.skeleton, bvh.motion.frame(1), OffsetMode::Replace);
+    assert_eq!(world[0], Vec3::ZERO);
+}
+
+/// Issue 47: `JOINT Chest ` with a blank before the line end. The article keeps the blank in the
+/// name (`"Chest "`); here a name is a word, and the file is the control file.
+#[test]
+fn a_joint_name_ends_at_its_last_letter() {
+    let control = load_edge("article_base_crlf.bvh");
+    let bvh = load_edge("joint_name_trailing_blank.bvh");
+    assert_eq!(bvh.skeleton.joints[1].name, "Chest");
+    assert_eq!(bvh.skeleton, control.skeleton);
+}
+
+/// Issue 47: a bare `JOINT`. The article's `newNode` copies nothing and writes `name[-1]`, and the
+/// file loads with an empty name; here it is refused where the name should be.
+#[test]
+fn a_joint_without_a_name_is_refused_where_the_name_should_be() {
+    let path = edge("joint_without_name.bvh");
+    let error = bvhview::bvh::loader::load_file(&path, Default::default()).unwrap_err();
+    let text = error.to_string();
+    assert!(
+        text.ends_with(
+            "joint_without_name.bvh:6:7: expected a joint name after JOINT, found end of line"
+        ),
+        "{text}"
+    );
+    assert_eq!(error.exit_code(), 2);
+}
+
 // Issue 25: five more defects of the article's loader, each with its input in tests/edge, and
 // the smaller ones the chapter gives a sentence each.
 
