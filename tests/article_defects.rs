@@ -359,6 +359,48 @@ fn a_joint_without_a_name_is_refused_where_the_name_should_be() {
     assert_eq!(error.exit_code(), 2);
 }
 
+/// Issue 47: a chain deeper than GL's modelview stack. The article's loader reads it whole, but
+/// its draw pushes one matrix per joint: at `Chain31` (the 32nd push) the push is ignored, and
+/// `Branch`, drawn after the chain returns, gets an ancestor's matrix. `--explain` says so in
+/// both languages; here every joint stands where forward kinematics puts it.
+#[test]
+fn a_chain_deeper_than_the_gl_stack_misdraws_the_branch_after_it() {
+    let path = edge("chain_36_deep.bvh");
+    let text = path.to_str().unwrap();
+    let first_line = |lang: &str| {
+        let out = bvhview(&["trace", text, "--explain", "--lang", lang]);
+        assert!(out.status.success());
+        String::from_utf8(out.stdout)
+            .unwrap()
+            .lines()
+            .next()
+            .unwrap()
+            .to_string()
+    };
+    assert_eq!(
+        first_line("en"),
+        "// what the article's program does with this file: misreads it: its draw pushes one \
+         matrix per joint and GL's stack holds 32: at 'Chain31' glPushMatrix overflows and is \
+         ignored, the pops after it take the matrices of joints above, and 'Branch' is drawn \
+         from a matrix that is not its own"
+    );
+    assert_eq!(
+        first_line("zh"),
+        "// 原文的程式對這個檔案：讀錯：它的 draw 每個關節推入一個矩陣，GL 的矩陣堆疊只有 32 層：\
+         到了 'Chain31'，glPushMatrix 溢位而被忽略，之後的彈出拿走了上層關節的矩陣，'Branch' \
+         用的不是自己的矩陣"
+    );
+    let bvh = load_edge("chain_36_deep.bvh");
+    let world = world_positions(&bvh.skeleton, bvh.motion.frame(0), OffsetMode::Replace);
+    let branch = bvh
+        .skeleton
+        .joints
+        .iter()
+        .position(|j| j.name == "Branch")
+        .unwrap();
+    assert_eq!(world[branch], Vec3::new(10.0, 30.0, 0.0));
+}
+
 // Issue 25: five more defects of the article's loader, each with its input in tests/edge, and
 // the smaller ones the chapter gives a sentence each.
 

@@ -154,7 +154,19 @@ pub enum Misread {
     },
     /// It loads a file that bvhview refuses, and no more is known.
     Refused,
+    /// Its draw pushes one matrix per joint, and GL's modelview stack holds [`GL_STACK_DEPTH`]:
+    /// at `overflow` (the first joint that deep) `glPushMatrix` overflows and is ignored, the
+    /// pops that follow take matrices of joints above, and `wrong` (a joint, or the floor when
+    /// `None`) is drawn from a matrix that is not its own.
+    MatrixStack {
+        overflow: String,
+        wrong: Option<String>,
+    },
 }
+
+/// The modelview stack depth the article's draw has: GL's minimum, and Mesa's (which drew the
+/// reference pictures) exactly; the identity at the bottom is one of them.
+pub const GL_STACK_DEPTH: usize = 32;
 
 /// A joint of the article's tree, as `print` shows it.
 #[derive(Clone, Debug, PartialEq)]
@@ -751,7 +763,61 @@ impl Article<'_> {
                 }
             }
         }
-        garbage
+        garbage.or_else(|| self.matrix_stack())
+    }
+
+    /// C++: `drawRecursive`'s `glPushMatrix` / `glPopMatrix` against GL's stack of
+    /// [`GL_STACK_DEPTH`] matrices, then `display`'s floor: which matrix each draw uses. A stack
+    /// entry is the matrix of a joint (as `Some(node)`: what its translate and rotate make of its
+    /// parent's), the view (`View`), or one that is no joint's (`Wrong`).
+    fn matrix_stack(&self) -> Option<Misread> {
+        #[derive(Clone, Copy, PartialEq)]
+        enum Matrix {
+            View,
+            Joint(usize),
+            Wrong,
+        }
+        let name = |node: usize| String::from_utf8_lossy(&self.nodes[node].name).into_owned();
+        let mut stack = vec![Matrix::View];
+        let (mut overflow, mut wrong) = (None, None);
+        // (node, its parent's matrix, entering) in draw order, without recursion: a tree as deep
+        // as the file allows.
+        let mut events = vec![(0, Matrix::View, true)];
+        while let Some((node, parent, entering)) = events.pop() {
+            if !entering {
+                // glPopMatrix: GL ignores a pop of the last entry (a stack underflow).
+                if stack.len() > 1 {
+                    stack.pop();
+                }
+                continue;
+            }
+            let top = *stack.last().expect("the stack keeps its bottom entry");
+            if stack.len() < GL_STACK_DEPTH {
+                stack.push(top);
+            } else if overflow.is_none() {
+                overflow = Some(node);
+            }
+            let drawn = if top == parent {
+                Matrix::Joint(node)
+            } else {
+                Matrix::Wrong
+            };
+            *stack.last_mut().expect("the stack keeps its bottom entry") = drawn;
+            if drawn == Matrix::Wrong && wrong.is_none() {
+                wrong = Some(Some(node));
+            }
+            events.push((node, parent, false));
+            for &child in self.nodes[node].children.iter().rev() {
+                events.push((child, Matrix::Joint(node), true));
+            }
+        }
+        if wrong.is_none() && stack.last() != Some(&Matrix::View) {
+            wrong = Some(None);
+        }
+        Some(Misread::MatrixStack {
+            overflow: name(overflow?),
+            wrong: wrong?.map(name),
+        })
     }
 }
 

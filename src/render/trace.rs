@@ -418,6 +418,23 @@ pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) 
                     "it loads this file, which bvhview refuses (below)".to_string()
                 }
                 (Misread::Refused, true) => "它載入了 bvhview 拒絕的這個檔案（見下）".to_string(),
+                (Misread::MatrixStack { overflow, wrong }, false) => format!(
+                    "its draw pushes one matrix per joint and GL's stack holds {}: at '{overflow}' \
+                     glPushMatrix overflows and is ignored, the pops after it take the matrices \
+                     of joints above, and {} is drawn from a matrix that is not its own",
+                    crate::bvh::article::GL_STACK_DEPTH,
+                    wrong
+                        .as_ref()
+                        .map_or("the floor".to_string(), |joint| format!("'{joint}'"))
+                ),
+                (Misread::MatrixStack { overflow, wrong }, true) => format!(
+                    "它的 draw 每個關節推入一個矩陣，GL 的矩陣堆疊只有 {} 層：到了 '{overflow}'，\
+                     glPushMatrix 溢位而被忽略，之後的彈出拿走了上層關節的矩陣，{}用的不是自己的矩陣",
+                    crate::bvh::article::GL_STACK_DEPTH,
+                    wrong
+                        .as_ref()
+                        .map_or("地板".to_string(), |joint| format!("'{joint}' "))
+                ),
             };
             if zh {
                 format!("讀錯：{reason}")
