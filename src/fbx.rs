@@ -732,21 +732,21 @@ pub fn load_bytes(
             if (count as u64).saturating_mul(work) <= budget {
                 return Ok(());
             }
+            let evaluated = format!(
+                "{} evaluated, {} in {}",
+                crate::error::counted(nodes, "node"),
+                crate::error::counted(values, "animated value"),
+                crate::error::counted(stack.layers.len(), "layer")
+            );
             Err(bad(format!(
-                "take '{}' lasts {} s at {} fps: {} of {}{}, more than a file of {} bytes is \
-                 read for (frames × (nodes evaluated + animated values) at most {budget}, {} a \
-                 byte); refused as damaged or hostile",
+                "take '{}' lasts {} s at {} fps: {} of {} ({evaluated}), more than a file of {} \
+                 bytes is read for (frames × (nodes evaluated + animated values) at most \
+                 {budget}, {} a byte); refused as damaged or hostile",
                 crate::limits::quoted(&stack.element.name),
                 crate::limits::brief(end - begin),
                 crate::limits::brief(fps),
                 crate::error::counted(count, "frame"),
                 crate::error::counted(order.len(), "joint"),
-                format!(
-                    " ({} evaluated, {} in {})",
-                    crate::error::counted(nodes, "node"),
-                    crate::error::counted(values, "animated value"),
-                    crate::error::counted(stack.layers.len(), "layer")
-                ),
                 bytes.len(),
                 baked::FRAME_WORK_PER_BYTE
             )))
