@@ -1524,14 +1524,14 @@ fn issue44_an_fbx_range_longer_than_its_size_allows_is_refused() {
     let text = load_refused(&long);
     assert!(
         text.contains(
-            "take 'Take 001' lasts 32000 s at 30 fps: 960001 frames of 1 joint, more than a \
-             file of"
+            "take 'Take 001' lasts 32000 s at 30 fps: 960001 frames of 1 joint (1 node \
+             evaluated, 3 animated values in 1 layer), more than a file of"
         ),
         "{text}"
     );
 }
 
-/// Maya's layered take (two layers over one node) with its layers, their curve nodes and
+/// Maya's layered take (three layers over one node) with its layers, their curve nodes and
 /// curves copied until it has `copies` times as many, and its range stretched to `seconds`.
 fn layered_fbx(dir: &Path, copies: u64, seconds: u64) -> PathBuf {
     let text =
