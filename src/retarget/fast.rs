@@ -513,7 +513,8 @@ fn turn(q: DQuat, v: &Points) -> Points {
     }
 }
 
-/// glam's axis order `(i, j, k)` and parity for an Euler order (its `Order::angle_order`).
+/// The axes of an Euler order in file order, and their handedness, as [`crate::euler::split`]
+/// reads them.
 fn axis_order(order: crate::skeleton::RotationOrder) -> ([usize; 3], f64) {
     let [i, j, k] = crate::euler::axes(order);
     ([i, j, k], crate::euler::handedness(i, j))
@@ -577,7 +578,7 @@ struct SourceJoint {
 
 /// How a target joint's rotation channels are found.
 enum Turn {
-    /// Three channels: the Euler angles, in glam's axis order (see [`axis_order`]), of
+    /// Three channels: the Euler angles, in file order (see [`axis_order`]), of
     /// `C⁻¹ · local · C` (`C` an ASF bone's axis).
     Euler {
         order: ([usize; 3], f64),
