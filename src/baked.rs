@@ -76,8 +76,8 @@ pub const MAX_FRAMES: usize = 1_000_000;
 /// local poses take 235 MB while a take is built.
 pub const MAX_JOINT_FRAMES: usize = 1 << 23;
 
-/// Frames × (joints + tracks) one byte of a glTF may ask for (frames × joints for an FBX, whose
-/// every frame ufbx evaluates), above [`FRAME_WORK_FLOOR`]: every frame samples each track and
+/// Frames × (joints + tracks) one byte of a glTF may ask for (frames × (nodes evaluated + every
+/// layer's animated values) for an FBX, whose every frame ufbx evaluates), above [`FRAME_WORK_FLOOR`]: every frame samples each track and
 /// poses each joint. A file keyed at every frame holds about 20
 /// bytes per joint and frame (about a seventh of a unit of this a byte); one keyed every tenth
 /// frame still fits. A 15.5 KB file keyed 1 ms apart with one key far on asked for a million

@@ -37,6 +37,21 @@ fn refused(out: &Output, want: &str, output: &Path) {
     assert!(!output.exists(), "{} was written", output.display());
 }
 
+/// `bytes` written to a scratch file `name`, then `convert NAME -o NAME.bvh`: refused with one
+/// line that starts with the path and then `want`, and nothing written.
+fn convert_refuses(name: &str, bytes: &[u8], want: &str) {
+    let path = scratch(name);
+    std::fs::write(&path, bytes).unwrap();
+    let output = scratch(&format!("{name}.bvh"));
+    let out = bvhview(&[
+        "convert",
+        path.to_str().unwrap(),
+        "-o",
+        output.to_str().unwrap(),
+    ]);
+    refused(&out, &format!("{}: {want}", path.display()), &output);
+}
+
 /// A one-joint take with two frames and the given frame time and root name.
 fn tiny_take(name: &str, frame_time: &str) -> String {
     format!(
@@ -825,16 +840,7 @@ fn truncated_and_noise_fbx_are_refused_by_the_cli() {
         ("empty.fbx", Vec::new()),
     ];
     for (name, input) in cases {
-        let path = scratch(name);
-        std::fs::write(&path, input).unwrap();
-        let output = scratch(&format!("{name}.bvh"));
-        let out = bvhview(&[
-            "convert",
-            path.to_str().unwrap(),
-            "-o",
-            output.to_str().unwrap(),
-        ]);
-        refused(&out, &format!("{}: ", path.display()), &output);
+        convert_refuses(name, &input, "");
     }
 }
 
@@ -868,16 +874,7 @@ fn a_damaged_fbx_is_refused_with_the_record_and_byte_that_break() {
         ),
     ];
     for (name, input, want) in cases {
-        let path = scratch(name);
-        std::fs::write(&path, input).unwrap();
-        let output = scratch(&format!("{name}.bvh"));
-        let out = bvhview(&[
-            "convert",
-            path.to_str().unwrap(),
-            "-o",
-            output.to_str().unwrap(),
-        ]);
-        refused(&out, &format!("{}: {want}", path.display()), &output);
+        convert_refuses(name, &input, want);
     }
 }
 
@@ -901,16 +898,7 @@ fn a_glb_header_shorter_than_itself_is_refused_not_a_panic() {
             "a GLB of 7 bytes, shorter than its 12-byte header",
         ),
     ] {
-        let path = scratch(name);
-        std::fs::write(&path, bytes).unwrap();
-        let output = scratch(&format!("{name}.bvh"));
-        let out = bvhview(&[
-            "convert",
-            path.to_str().unwrap(),
-            "-o",
-            output.to_str().unwrap(),
-        ]);
-        refused(&out, &format!("{}: {want}", path.display()), &output);
+        convert_refuses(name, bytes, want);
     }
 }
 
