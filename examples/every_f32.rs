@@ -5,7 +5,7 @@
 //! `cargo run --release --example every_f32` prints the count checked, or the first difference
 //! and exits with 1.
 
-use bvhview::export::Shortest;
+use bvhview::positions::Shortest;
 
 fn main() {
     let (mut ours, mut theirs) = (Shortest::default(), ryu::Buffer::new());

@@ -10,7 +10,7 @@
 //!
 //! With `--chain N` it also measures a generated chain of N joints, each turned by every axis.
 
-use bvhview::pose::{OffsetMode, world_positions};
+use bvhview::model::pose::{OffsetMode, world_positions};
 use glam::{DMat4, DVec3};
 
 fn main() {

@@ -3,7 +3,7 @@
 
 mod cli;
 
-use bvhview::error::Error;
+use bvhview::io::error::Error;
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 use std::process::ExitCode;
@@ -114,7 +114,7 @@ fn main() -> ExitCode {
     };
     cli::QUIET.store(cli.quiet, std::sync::atomic::Ordering::Relaxed);
     // Ctrl-C, kill or a closed terminal leave no half-written output behind.
-    bvhview::output::remove_partials_on_signal();
+    bvhview::io::output::remove_partials_on_signal();
     let result = match cli.command {
         None => cli::viewer::run(cli.viewer),
         Some(Command::Print(args)) => cli::print::run(args),
@@ -146,7 +146,7 @@ fn report(error: &Error) -> ExitCode {
 fn mistyped_command() -> Option<ExitCode> {
     let word = std::env::args().nth(1)?;
     let path = std::path::Path::new(&word);
-    if word.starts_with('-') || path.exists() || !bvhview::input::extension(path).is_empty() {
+    if word.starts_with('-') || path.exists() || !bvhview::take::extension(path).is_empty() {
         return None;
     }
     let commands =

@@ -4,7 +4,7 @@
 mod common;
 use bvhview::acclaim::amc::parse_amc;
 use bvhview::acclaim::asf::parse_asf;
-use bvhview::pose::{OffsetMode, world_matrices};
+use bvhview::model::pose::{OffsetMode, world_matrices};
 use common::*;
 use glam::{DMat3, DVec3, Vec3};
 use std::process::Command;
@@ -31,7 +31,7 @@ fn small() -> (bvhview::Skeleton, bvhview::Motion) {
 fn export_positions(skeleton: &bvhview::Skeleton, frame: &[f32]) -> Vec<(String, Vec3)> {
     let mut matrices = Vec::new();
     world_matrices(skeleton, frame, OffsetMode::Replace, &mut matrices);
-    bvhview::export::export_points(skeleton)
+    bvhview::positions::export_points(skeleton)
         .into_iter()
         .map(|(name, joint)| (name, matrices[joint].w_axis.truncate()))
         .collect()
@@ -168,7 +168,7 @@ fn check_fk_against_seed_004(folder: &std::path::Path, takes: &[(&str, &str)]) {
         let asf_path = folder.join(format!("{asf_name}.asf"));
         let amc_path = folder.join(format!("{amc_name}.amc"));
         let asf = bvhview::acclaim::load_asf(&asf_path, u64::MAX).unwrap();
-        let loaded = bvhview::input::load(&asf_path, Some(&amc_path), None).unwrap();
+        let loaded = bvhview::take::load(&asf_path, Some(&amc_path), None).unwrap();
         let amc_text = std::fs::read_to_string(&amc_path).unwrap();
         for n in [1, 50, 300] {
             let expected = seed004_positions(&asf, &amc_frame(&amc_text, n));
@@ -221,7 +221,7 @@ fn check_pairs(folder: &std::path::Path, pairs: &[(&str, &str, usize)]) {
     for &(asf_name, amc_name, frames) in pairs {
         let asf_path = folder.join(format!("{asf_name}.asf"));
         let amc_path = folder.join(format!("{amc_name}.amc"));
-        let loaded = bvhview::input::load(&asf_path, Some(&amc_path), None).unwrap();
+        let loaded = bvhview::take::load(&asf_path, Some(&amc_path), None).unwrap();
         if frames > 0 {
             assert_eq!(loaded.motion.frame_count(), frames, "{amc_name}");
         }
@@ -248,7 +248,8 @@ fn check_pairs(folder: &std::path::Path, pairs: &[(&str, &str, usize)]) {
         assert_eq!(bvh.motion.frame_count(), loaded.motion.frame_count());
         assert!(bvh.skeleton.joints.iter().all(|j| j.axis.is_none()));
 
-        let rest = bvhview::pose::world_positions(&loaded.skeleton, &[], OffsetMode::Replace);
+        let rest =
+            bvhview::model::pose::world_positions(&loaded.skeleton, &[], OffsetMode::Replace);
         let (low, high) = rest
             .iter()
             .fold((f32::MAX, f32::MIN), |(l, h), p| (l.min(p.y), h.max(p.y)));

@@ -3,7 +3,7 @@
 //! control file `article_base_crlf.bvh` (which the article reads) changed in one way only.
 
 mod common;
-use bvhview::pose::{OffsetMode, world_positions};
+use bvhview::model::pose::{OffsetMode, world_positions};
 use bvhview::{Channel, RotationOrder};
 use common::*;
 use glam::Vec3;

@@ -125,7 +125,7 @@ fn the_patched_program_prints_what_the_oracle_printed() {
 /// joint (a row is `jointCount * 3 + 3` values), no more than 16 children (`CHILDSIZE`) and at
 /// least one `JOINT` (`loadFile` refuses a root alone).
 fn the_article_can_read(skeleton: &bvhview::Skeleton) -> bool {
-    use bvhview::skeleton::Channel;
+    use bvhview::model::skeleton::Channel;
     let position_first = [Channel::Xposition, Channel::Yposition, Channel::Zposition];
     let root = &skeleton.joints[0];
     let roots = skeleton
@@ -147,7 +147,7 @@ fn the_article_can_read(skeleton: &bvhview::Skeleton) -> bool {
 }
 
 /// Whether every channel is a rotation.
-fn rotations_only(channels: &[bvhview::skeleton::Channel]) -> bool {
+fn rotations_only(channels: &[bvhview::model::skeleton::Channel]) -> bool {
     channels.iter().all(|c| !c.is_position())
 }
 
@@ -177,7 +177,7 @@ fn the_article_reads_bvh_converted_from_fbx_as_bvhview_does() {
             // A file with no skeleton (tests/fbx_gltf.rs pins which): nothing to read.
             continue;
         }
-        let loaded = bvhview::input::load(&bvh, None, None).unwrap();
+        let loaded = bvhview::take::load(&bvh, None, None).unwrap();
         if !the_article_can_read(&loaded.skeleton) {
             continue;
         }

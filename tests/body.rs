@@ -2,8 +2,8 @@
 //! bone moves rigidly with its joint.
 
 mod common;
-use bvhview::pose::{OffsetMode, world_matrices};
-use bvhview::render::body::{Body, PosedBody};
+use bvhview::model::bone_skin::{Body, PosedBody};
+use bvhview::model::pose::{OffsetMode, world_matrices};
 use common::*;
 
 #[test]

@@ -1187,13 +1187,13 @@ fn the_default_view_is_the_article_picture_for_every_file() {
         let (as_written, _) = shot(&["--up", "y"], "y");
         assert_eq!(default.differing_pixels(&as_written), 0, "{input:?}");
         let stands_along_z = {
-            let loaded = bvhview::input::load(
+            let loaded = bvhview::take::load(
                 std::path::Path::new(&input[0]),
                 input.get(2).map(std::path::Path::new),
                 None,
             )
             .unwrap();
-            bvhview::pose::Up::guess(&loaded.skeleton) == bvhview::pose::Up::Z
+            bvhview::model::pose::Up::guess(&loaded.skeleton) == bvhview::model::pose::Up::Z
         };
         let hint = "drawn as written, as the article draws every file (--up z or --look studio stands it up; V in the window)";
         assert_eq!(

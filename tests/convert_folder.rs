@@ -45,10 +45,10 @@ fn expected_name(relative: &Path, format: &str) -> PathBuf {
 
 /// World positions of every point of every frame, as bits.
 fn position_bits(path: &Path) -> Vec<u32> {
-    let loaded = bvhview::input::load(path, None, None).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = bvhview::take::load(path, None, None).unwrap_or_else(|e| panic!("{e}"));
     let mut bits = Vec::new();
     for f in 0..loaded.motion.frame_count() {
-        let points = bvhview::pose::world_positions(
+        let points = bvhview::model::pose::world_positions(
             &loaded.skeleton,
             loaded.motion.frame(f),
             Default::default(),
@@ -74,7 +74,7 @@ fn folder_equals_takes_alone(format: &str, extra: &[&str]) {
     // The malformed files fail: exit 2, the others still written.
     assert_eq!(folder.status.code(), Some(2), "{said}");
 
-    let takes = bvhview::batch::collect(data).unwrap().items;
+    let takes = bvhview::info::batch::collect(data).unwrap().items;
     assert!(takes.len() > 60, "{} takes", takes.len());
     let mut written = BTreeSet::new();
     let mut failures = 0;
@@ -446,7 +446,7 @@ fn to_for_a_file_must_agree_with_its_extension() {
         "bvh".as_ref(),
     ]);
     assert!(agreed.status.success(), "{}", stderr(&agreed));
-    assert!(bvhview::input::load(&out, None, None).is_ok());
+    assert!(bvhview::take::load(&out, None, None).is_ok());
 }
 
 /// SIGTERM while the takes are being written: the process ends by the signal (a shell says 143)

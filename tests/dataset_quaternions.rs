@@ -4,13 +4,13 @@
 //! take, every rotation kind, a kept rate and an interpolated one.
 
 use bvhview::dataset::{self, Clip, Options};
-use bvhview::pose::RotationKind;
+use bvhview::model::pose::RotationKind;
 use glam::{Mat3, Quat};
 use std::path::Path;
 
 /// The rotation a clip's numbers stand for; Euler angles through the group skeleton's channels.
 fn rotation(clip: &Clip, kind: RotationKind, joint: usize, numbers: &[f32]) -> Mat3 {
-    if let Some(m) = bvhview::pose::rotation_of_numbers(kind, numbers) {
+    if let Some(m) = bvhview::model::pose::rotation_of_numbers(kind, numbers) {
         return m;
     }
     let skeleton = clip.skeleton.as_ref().unwrap();

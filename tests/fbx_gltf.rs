@@ -8,8 +8,8 @@
 //!   of the figure's height of the source BVH's;
 //! - bvhview's own glTF export read back: the take it was written from (1e-5 of the height).
 
-use bvhview::input::{self, Loaded};
-use bvhview::pose::{OffsetMode, world_positions};
+use bvhview::model::pose::{OffsetMode, world_positions};
+use bvhview::take::{self, Loaded};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -20,11 +20,11 @@ fn data(path: &str) -> PathBuf {
 }
 
 fn load(path: &Path) -> Loaded {
-    input::load(path, None, None).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    take::load(path, None, None).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 fn load_take(path: &Path, take: &str) -> Loaded {
-    input::load_take(path, None, None, 1, input::DEFAULT_MAX_SIZE, Some(take))
+    take::load_take(path, None, None, 1, take::DEFAULT_MAX_SIZE, Some(take))
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
@@ -62,7 +62,7 @@ fn point_names(loaded: &Loaded) -> Vec<String> {
 
 /// An End Site at its joint (`OFFSET 0 0 0`, Mixamo's eyes): Blender gives every bone a length,
 /// so its importer moves such a tail 0.1 along the bone's axis and its exports keep it there.
-fn zero_length_end(joint: &bvhview::skeleton::Joint) -> bool {
+fn zero_length_end(joint: &bvhview::model::skeleton::Joint) -> bool {
     joint.end_site && joint.offset.length() < 1e-6
 }
 
@@ -264,7 +264,8 @@ fn fbx_5_files_without_axes_read_z_up_as_blender_reads_them() {
             loaded.warnings
         );
         let root = &loaded.skeleton.joints[0];
-        let first = bvhview::pose::local_rotation_f64(root, root.values(loaded.motion.frame(0)));
+        let first =
+            bvhview::model::pose::local_rotation_f64(root, root.values(loaded.motion.frame(0)));
         let want = glam::DQuat::from_rotation_x(-std::f64::consts::FRAC_PI_2);
         assert!(first.dot(want).abs() > 1.0 - 1e-12, "{name}: {first}");
         let last = loaded.motion.frame(loaded.motion.frame_count() - 1);
@@ -280,7 +281,7 @@ fn fbx_5_files_without_axes_read_z_up_as_blender_reads_them() {
 #[test]
 fn a_file_with_several_takes_reads_each_by_name_or_index() {
     let path = data("fbx/ufbx/synthetic_anim_stack_no_props_7100_ascii.fbx");
-    let takes = input::takes(&path, input::DEFAULT_MAX_SIZE).unwrap();
+    let takes = take::takes(&path, take::DEFAULT_MAX_SIZE).unwrap();
     assert_eq!(takes.len(), 3);
     let first = load(&path);
     assert!(first.warnings.iter().any(|w| w.contains("3 takes")));
@@ -291,7 +292,7 @@ fn a_file_with_several_takes_reads_each_by_name_or_index() {
         assert_eq!(by_name.motion.frame_count(), take.frames, "{}", take.name);
         assert!(by_name.warnings.is_empty(), "{:?}", by_name.warnings);
     }
-    let error = input::load_take(&path, None, None, 1, u64::MAX, Some("nope")).unwrap_err();
+    let error = take::load_take(&path, None, None, 1, u64::MAX, Some("nope")).unwrap_err();
     assert_eq!(error.exit_code(), 2);
     assert!(error.to_string().contains("no take 'nope'"), "{error}");
     let output = bvhview().arg("info").arg(&path).output().unwrap();
@@ -310,7 +311,7 @@ fn a_file_without_a_skeleton_says_so() {
         "blender_402_ortho_scale_unit_7400_binary.fbx",
     ] {
         let path = data("fbx/ufbx").join(name);
-        let error = input::load(&path, None, None).unwrap_err();
+        let error = take::load(&path, None, None).unwrap_err();
         assert!(error.to_string().contains("no skeleton"), "{name}: {error}");
         assert_eq!(error.exit_code(), 2);
     }

@@ -608,7 +608,7 @@ fn two_nodes_of_one_name_are_made_unique_and_said() {
 /// one exact split (src/euler.rs) keeps it in place, at the lock and beside it.
 #[test]
 fn a_joint_at_the_gimbal_lock_stays_where_the_file_has_it() {
-    use bvhview::pose::{OffsetMode, world_positions};
+    use bvhview::model::pose::{OffsetMode, world_positions};
     let dir = tempfile::tempdir().unwrap();
     for middle in [90.0f32, -90.0, 89.99] {
         let q =
@@ -625,7 +625,7 @@ fn a_joint_at_the_gimbal_lock_stays_where_the_file_has_it() {
             ),
         )
         .unwrap();
-        let take = bvhview::input::load(&file, None, None).unwrap();
+        let take = bvhview::take::load(&file, None, None).unwrap();
         let points = world_positions(&take.skeleton, take.motion.frame(0), OffsetMode::Replace);
         let tip = take
             .skeleton

@@ -3,7 +3,7 @@
 //! `BVHVIEW_BLESS=1 cargo test --test golden` rewrites them; look at every one before committing.
 
 mod common;
-use bvhview::pose::OffsetMode;
+use bvhview::model::pose::OffsetMode;
 use bvhview::render::scene::{self, Scene};
 use bvhview::render::{Image, Look, SnapshotOptions, draw::Style};
 use common::*;
@@ -123,7 +123,7 @@ fn cases() -> Vec<Case> {
                 frame: 7,
                 style: Style::Both,
                 look: Look::Studio,
-                up: bvhview::pose::Up::Z,
+                up: bvhview::model::pose::Up::Z,
                 angle: 0.6,
                 ..base
             },
@@ -174,7 +174,7 @@ fn in_repository(case: &Case) -> bool {
 
 /// The same view with an empty skeleton: background and floor (in the studio look, the take's
 /// grid) only.
-fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> Image {
+fn without_skeleton(bvh: &bvhview::take::Loaded, options: &SnapshotOptions) -> Image {
     let stage = (options.look == Look::Studio).then(|| {
         bvhview::render::studio::Stage::new(
             &bvh.skeleton,
@@ -199,7 +199,7 @@ fn without_skeleton(bvh: &bvhview::input::Loaded, options: &SnapshotOptions) -> 
         skin: None,
         shown: None,
         sphere_radius: 1.0,
-        up: bvhview::pose::Up::Y,
+        up: bvhview::model::pose::Up::Y,
         origin: [0.0; 3],
         scale: 1.0,
         colours: None,
@@ -237,7 +237,7 @@ fn check_goldens(cases: Vec<Case>) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
     for case in cases {
         let motion = case.motion.map(input_path);
-        let bvh = bvhview::input::load(&input_path(case.input), motion.as_deref(), None).unwrap();
+        let bvh = bvhview::take::load(&input_path(case.input), motion.as_deref(), None).unwrap();
         let ours = bvhview::render::snapshot(&bvh.skeleton, &bvh.motion, &case.options).unwrap();
         let golden = dir.join(format!("{}.png", case.name));
         if bless {
@@ -320,7 +320,7 @@ fn check_fit_shows_every_file(folder: &Path, pairs: &[(&str, &str)]) {
         inputs.push((folder.join(asf), Some(folder.join(amc))));
     }
     for (path, motion) in inputs {
-        let loaded = bvhview::input::load(&path, motion.as_deref(), None).unwrap();
+        let loaded = bvhview::take::load(&path, motion.as_deref(), None).unwrap();
         let options = SnapshotOptions {
             frame: loaded.motion.frame_count() / 2,
             fit: true,
@@ -361,11 +361,11 @@ fn with_fit_every_whole_corpus_file_shows_its_skeleton() {
 /// elsewhere, then drawn into again) gives the pictures `render_all` gives, frame after frame.
 #[test]
 fn frames_drawn_for_a_sequence_equal_single_pictures() {
-    let take = bvhview::input::load(&repo_data("bvh/bvh11_131_01.bvh"), None, None).unwrap();
+    let take = bvhview::take::load(&repo_data("bvh/bvh11_131_01.bvh"), None, None).unwrap();
     let shown = [bvhview::render::paint::Shown {
         skeleton: &take.skeleton,
         motion: &take.motion,
-        up: bvhview::pose::Up::Y,
+        up: bvhview::model::pose::Up::Y,
         stance: take.stance(OffsetMode::Replace),
     }];
     let mut sequence = bvhview::render::Renderer::new(200, 150).unwrap();

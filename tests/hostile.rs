@@ -627,14 +627,14 @@ fn damaged_fbx_and_gltf_are_refused_not_crashed() {
             let result = if name.ends_with(".fbx") {
                 bvhview::fbx::load_bytes(&input, name, None, 1)
             } else {
-                bvhview::gltf_in::load_bytes(&input, name, None)
+                bvhview::gltf::load_bytes(&input, name, None)
             };
             match result {
                 Ok(read) => {
                     loaded += 1;
                     assert!(read.motion.data.iter().all(|v| v.is_finite()));
                     let last = read.motion.frame_count() - 1;
-                    let _ = bvhview::pose::world_positions(
+                    let _ = bvhview::model::pose::world_positions(
                         &read.skeleton,
                         read.motion.frame(last),
                         Default::default(),
@@ -763,13 +763,13 @@ fn hostile_gltf_buffers_and_counts_are_refused() {
         "\"count\": 1000000000, \"type\": \"SCALAR\"",
         1,
     );
-    let error = bvhview::gltf_in::load_bytes(huge.as_bytes(), "huge.gltf", None).unwrap_err();
+    let error = bvhview::gltf::load_bytes(huge.as_bytes(), "huge.gltf", None).unwrap_err();
     assert!(error.to_string().contains("huge.gltf: "), "{error}");
     let backwards = gltf_with(
         r#""uri": "data:application/octet-stream;base64,AACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAA=""#,
         "",
     );
-    let error = bvhview::gltf_in::load_bytes(backwards.as_bytes(), "back.gltf", None).unwrap_err();
+    let error = bvhview::gltf::load_bytes(backwards.as_bytes(), "back.gltf", None).unwrap_err();
     assert!(
         error.to_string().contains("not finite and increasing"),
         "{error}"
@@ -782,7 +782,7 @@ fn hostile_gltf_buffers_and_counts_are_refused() {
     std::os::unix::fs::symlink(&outside, &link).unwrap();
     let linked = folder.join("linked.gltf");
     std::fs::write(&linked, gltf_with(r#""uri": "link.bin""#, "")).unwrap();
-    let error = bvhview::input::load(&linked, None, None).unwrap_err();
+    let error = bvhview::take::load(&linked, None, None).unwrap_err();
     assert!(
         error.to_string().contains("leads out of the glTF's folder"),
         "{error}"
@@ -1023,7 +1023,7 @@ fn write_gltf(dir: &Path, name: &str, nodes: &str, tracks: &[Keys], shared: bool
 
 /// `input::load`'s error for `path`, checked to be a refusal (exit 2, one line, `path: …`).
 fn load_refused(path: &Path) -> String {
-    let error = match bvhview::input::load(path, None, None) {
+    let error = match bvhview::take::load(path, None, None) {
         Ok(loaded) => panic!(
             "{}: loaded ({} frames), not refused",
             path.display(),
@@ -1227,7 +1227,7 @@ fn issue44_gltf_animation_work_is_bounded_by_the_input_size() {
         .map(|n| turn(n, if n == 0 { 300 } else { 0 }))
         .collect();
     let path = write_gltf(dir.path(), "fair", &many(200), &tracks, true);
-    let loaded = bvhview::input::load(&path, None, None).unwrap();
+    let loaded = bvhview::take::load(&path, None, None).unwrap();
     assert_eq!(loaded.motion.frame_count(), 300);
     // 999 keys 1 ms apart, then one at 900 s.
     let mut times: Vec<f32> = (0..999).map(|k| k as f32 * 1e-3).collect();
@@ -1289,7 +1289,7 @@ fn issue44_gltf_frame_rate_is_the_key_step_that_fits_the_most_keys() {
         &[slide(0, times)],
         false,
     );
-    let loaded = bvhview::input::load(&odd, None, None).unwrap();
+    let loaded = bvhview::take::load(&odd, None, None).unwrap();
     assert_eq!(loaded.motion.frame_count(), 31);
     assert_eq!(loaded.motion.frame_time, 1.0 / 30.0);
     let said = loaded.warnings.join("\n");
@@ -1316,7 +1316,7 @@ fn issue44_gltf_frame_rate_is_the_key_step_that_fits_the_most_keys() {
         &[slide(0, fast)],
         false,
     );
-    let loaded = bvhview::input::load(&fast, None, None).unwrap();
+    let loaded = bvhview::take::load(&fast, None, None).unwrap();
     assert_eq!(loaded.motion.frame_time, 1e-3);
     assert_eq!(loaded.motion.frame_count(), 50);
     let said = loaded.warnings.join("\n");
@@ -1340,7 +1340,7 @@ fn issue44_gltf_frame_rate_is_the_key_step_that_fits_the_most_keys() {
         &tracks,
         false,
     );
-    let loaded = bvhview::input::load(&ends, None, None).unwrap();
+    let loaded = bvhview::take::load(&ends, None, None).unwrap();
     assert_eq!(loaded.motion.frame_count(), 61);
     assert_eq!(loaded.motion.frame_time, 1.0 / 30.0);
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
@@ -1482,7 +1482,7 @@ fn issue44_fbx_take_ranges_backwards_are_refused_and_missing_ones_read_over_the_
         ),
         "{text}"
     );
-    let takes = bvhview::input::takes(&backwards, bvhview::input::DEFAULT_MAX_SIZE).unwrap_err();
+    let takes = bvhview::take::takes(&backwards, bvhview::take::DEFAULT_MAX_SIZE).unwrap_err();
     assert!(takes.to_string().contains("runs backwards"), "{takes}");
     let none = edited_fbx(dir.path(), "no_range.fbx", |t| {
         t.lines()
@@ -1490,7 +1490,7 @@ fn issue44_fbx_take_ranges_backwards_are_refused_and_missing_ones_read_over_the_
             .collect::<Vec<_>>()
             .join("\n")
     });
-    let loaded = bvhview::input::load(&none, None, None).unwrap();
+    let loaded = bvhview::take::load(&none, None, None).unwrap();
     assert_eq!(loaded.motion.frame_count(), 56);
     let said = loaded.warnings.join("\n");
     assert!(
@@ -1603,7 +1603,7 @@ fn issue44_an_fbx_frame_budget_counts_every_layers_values() {
         text.contains("960000 frames of 1 joint (") && text.contains(" in 120 layers)"),
         "{text}"
     );
-    let loaded = bvhview::input::load(&layered_fbx(dir.path(), 1, 5), None, None).unwrap();
+    let loaded = bvhview::take::load(&layered_fbx(dir.path(), 1, 5), None, None).unwrap();
     assert_eq!(loaded.motion.frame_count(), 120);
 }
 

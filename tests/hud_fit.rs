@@ -4,7 +4,7 @@
 
 mod common;
 
-use bvhview::pose::OffsetMode;
+use bvhview::model::pose::OffsetMode;
 use bvhview::render::hud::{self, Hud, HudTake};
 use bvhview::render::paint::{Painter, Shown};
 use bvhview::render::text::Font;
@@ -145,7 +145,7 @@ fn runs(text: &str) -> Vec<Run> {
     runs
 }
 
-fn three_takes() -> Vec<(String, bvhview::input::Loaded)> {
+fn three_takes() -> Vec<(String, bvhview::take::Loaded)> {
     [
         "bvh/bvh11_131_01.bvh",
         "bvh/opencollar_run.bvh",
@@ -160,7 +160,7 @@ fn three_takes() -> Vec<(String, bvhview::input::Loaded)> {
             .into_owned();
         (
             name,
-            bvhview::input::load(&repo_data(f), None, None).unwrap(),
+            bvhview::take::load(&repo_data(f), None, None).unwrap(),
         )
     })
     .collect()
@@ -174,7 +174,7 @@ fn labels_never_overlap_other_text() {
         .map(|(_, l)| Shown {
             skeleton: &l.skeleton,
             motion: &l.motion,
-            up: bvhview::pose::Up::Y,
+            up: bvhview::model::pose::Up::Y,
             stance: l.stance(OffsetMode::Replace),
         })
         .collect();

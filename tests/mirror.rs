@@ -6,7 +6,7 @@
 mod common;
 
 use bvhview::edit::{MirrorOptions, lateral_axis, mirror, mirror_partners, name_side};
-use bvhview::pose::{OffsetMode, guessed_mode, world_positions};
+use bvhview::model::pose::{OffsetMode, guessed_mode, world_positions};
 use common::repo_data;
 use std::path::Path;
 use std::process::Command;
@@ -35,15 +35,15 @@ const TAKES: &[(&str, Option<&str>, usize)] = &[
     ("bvh/bvhio_example.bvh", None, 14),
 ];
 
-fn load(file: &str, motion: Option<&str>) -> bvhview::input::Loaded {
+fn load(file: &str, motion: Option<&str>) -> bvhview::take::Loaded {
     let motion = motion.map(repo_data);
-    bvhview::input::load(&repo_data(file), motion.as_deref(), None).unwrap()
+    bvhview::take::load(&repo_data(file), motion.as_deref(), None).unwrap()
 }
 
 /// The mirror of one take: every joint whose name marks a side finds its counterpart (`sided`
 /// of them when given), names, parents and channels are kept, every world position is its
 /// counterpart's reflected (within 1e-5 of the figure's size) and twice gives the take back.
-fn check(file: &str, take: &bvhview::input::Loaded, sided: Option<usize>) {
+fn check(file: &str, take: &bvhview::take::Loaded, sided: Option<usize>) {
     let (skeleton, motion) = (&take.skeleton, &take.motion);
     let partners = mirror_partners(skeleton, &Default::default()).unwrap();
     let named = skeleton
@@ -116,7 +116,7 @@ fn mirrored_takes_are_their_counterparts_reflected_and_mirror_twice_gives_them_b
 #[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
 fn every_take_of_the_corpus_mirrors() {
     for path in common::files_in(&common::shared_data("bvh"), "bvh") {
-        let take = bvhview::input::load(&path, None, None).unwrap();
+        let take = bvhview::take::load(&path, None, None).unwrap();
         check(&path.display().to_string(), &take, None);
     }
     let folder = common::shared_data("asf_amc");
@@ -130,7 +130,7 @@ fn every_take_of_the_corpus_mirrors() {
                 name.starts_with(&format!("{}_", asf.file_stem().unwrap().to_str().unwrap()))
             })
             .unwrap();
-        let take = bvhview::input::load(skeleton, Some(&amc), None).unwrap();
+        let take = bvhview::take::load(skeleton, Some(&amc), None).unwrap();
         check(name, &take, Some(24));
     }
 }
@@ -183,8 +183,8 @@ fn a_mirrored_clip_lands_in_its_originals_dataset_group() {
 
     // The mirrored file, loaded back, is the mirror image of the original (as written: six
     // decimals).
-    let a = bvhview::input::load(&original, None, None).unwrap();
-    let b = bvhview::input::load(&takes.join("walk_mirrored.bvh"), None, None).unwrap();
+    let a = bvhview::take::load(&original, None, None).unwrap();
+    let b = bvhview::take::load(&takes.join("walk_mirrored.bvh"), None, None).unwrap();
     let partners = mirror_partners(&a.skeleton, &Default::default()).unwrap();
     let mode = OffsetMode::Replace;
     for frame in [0, 100, 343] {

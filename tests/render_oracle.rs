@@ -239,14 +239,14 @@ fn gl_matrix_stack_equals_pose_world_times_view() {
             skin: None,
             shown: None,
             sphere_radius: 1.0,
-            up: bvhview::pose::Up::Y,
+            up: bvhview::model::pose::Up::Y,
             origin: [0.0; 3],
             scale: 1.0,
             colours: None,
         };
         bvhview::render::draw::draw(&mut probe, s.skeleton, s.frame, s.style, s.offset_mode);
         let mut worlds = Vec::new();
-        bvhview::pose::world_matrices(&bvh.skeleton, frame, Default::default(), &mut worlds);
+        bvhview::model::pose::world_matrices(&bvh.skeleton, frame, Default::default(), &mut worlds);
         assert_eq!(probe.at_spheres.len(), worlds.len());
         for (i, (gl_matrix, world)) in probe.at_spheres.iter().zip(&worlds).enumerate() {
             let expected = view * *world;
@@ -313,7 +313,7 @@ fn calls_match_the_articles_trace() {
         skin: None,
         shown: None,
         sphere_radius: 1.0,
-        up: bvhview::pose::Up::Y,
+        up: bvhview::model::pose::Up::Y,
         origin: [0.0; 3],
         scale: 1.0,
         colours: None,

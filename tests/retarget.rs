@@ -4,7 +4,7 @@
 
 mod common;
 
-use bvhview::pose::{OffsetMode, Up};
+use bvhview::model::pose::{OffsetMode, Up};
 use bvhview::retarget::{self, Body, Map, Role, Ups};
 use bvhview::{Motion, Skeleton};
 use glam::{Quat, Vec3};
@@ -12,7 +12,7 @@ use std::path::Path;
 use std::process::Command;
 
 fn take(path: &Path) -> (Skeleton, Motion) {
-    let loaded = bvhview::input::load(path, None, None).unwrap();
+    let loaded = bvhview::take::load(path, None, None).unwrap();
     (loaded.skeleton, loaded.motion)
 }
 
@@ -25,7 +25,7 @@ fn sample(family: &str) -> std::path::PathBuf {
 }
 
 fn up_of(skeleton: &Skeleton, motion: &Motion) -> Up {
-    bvhview::stance::Stance::guess(skeleton, motion, OffsetMode::Replace, None).up
+    bvhview::model::stance::Stance::guess(skeleton, motion, OffsetMode::Replace, None).up
 }
 
 #[test]
@@ -67,7 +67,7 @@ fn a_take_onto_its_own_skeleton_is_exact() {
 /// joints give back their own values too, as the three-channel ones do.
 #[test]
 fn an_asf_take_with_hinges_onto_its_own_skeleton_is_exact() {
-    let loaded = bvhview::input::load(
+    let loaded = bvhview::take::load(
         &common::repo_data("asf_amc/heiden_12.asf"),
         Some(&common::repo_data("asf_amc/heiden_12_02_01.amc")),
         None,
@@ -187,9 +187,16 @@ fn a_take_onto_a_renamed_a_posed_larger_copy_keeps_bone_directions_and_path() {
     assert!(worst <= 0.5, "a bone direction is {worst}° off");
     // Every mapped bone, not only the main ones: each joint's direction to its mapped child.
     for frame in (0..600).step_by(37) {
-        let a = bvhview::pose::world_positions(&skeleton, motion.frame(frame), OffsetMode::Replace);
-        let b =
-            bvhview::pose::world_positions(&out_skeleton, out.frame(frame), OffsetMode::Replace);
+        let a = bvhview::model::pose::world_positions(
+            &skeleton,
+            motion.frame(frame),
+            OffsetMode::Replace,
+        );
+        let b = bvhview::model::pose::world_positions(
+            &out_skeleton,
+            out.frame(frame),
+            OffsetMode::Replace,
+        );
         for (t, joint) in target.joints.iter().enumerate() {
             let (Some(p), Some(s), Some(sp)) = (
                 joint.parent,
@@ -393,7 +400,7 @@ const CORPUS: [(&str, &str, Option<&str>); 8] = [
 
 fn metres(skeleton: &Skeleton, motion: &Motion) -> f64 {
     f64::from(
-        bvhview::stance::Stance::guess(skeleton, motion, OffsetMode::Replace, None)
+        bvhview::model::stance::Stance::guess(skeleton, motion, OffsetMode::Replace, None)
             .units
             .metres,
     )
@@ -407,7 +414,7 @@ fn real_skeletons_onto_each_other_keep_bone_directions_and_feet() {
         .map(|(name, path, amc)| {
             let amc = amc.map(common::shared_data);
             let loaded =
-                bvhview::input::load(&common::shared_data(path), amc.as_deref(), None).unwrap();
+                bvhview::take::load(&common::shared_data(path), amc.as_deref(), None).unwrap();
             let (s, m) = (loaded.skeleton, loaded.motion);
             // At most 600 frames of each: enough poses, a debug build's time.
             let frames = m.frame_count().min(600);

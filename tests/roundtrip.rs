@@ -111,12 +111,18 @@ fn convert_edits_trim_resample_and_scale() {
     // Ten frames at 120 span 9/120 s: 19 frames at 240.
     assert_eq!(edited.motion.frame_count(), 19);
     assert_eq!(edited.motion.frame_time, 1.0 / 240.0);
-    let mode = bvhview::pose::OffsetMode::Replace;
+    let mode = bvhview::model::pose::OffsetMode::Replace;
     for k in 0..10 {
-        let want =
-            bvhview::pose::world_positions(&original.skeleton, original.motion.frame(10 + k), mode);
-        let got =
-            bvhview::pose::world_positions(&edited.skeleton, edited.motion.frame(2 * k), mode);
+        let want = bvhview::model::pose::world_positions(
+            &original.skeleton,
+            original.motion.frame(10 + k),
+            mode,
+        );
+        let got = bvhview::model::pose::world_positions(
+            &edited.skeleton,
+            edited.motion.frame(2 * k),
+            mode,
+        );
         for (w, g) in want.iter().zip(&got) {
             assert!((*w * 2.0).distance(*g) < 1e-3, "frame {k}: {w} vs {g}");
         }
@@ -145,18 +151,24 @@ fn convert_edits_up_mirror_in_place_and_ground() {
         loaded
     };
     let original = bvhview::bvh::load_file(&input, Default::default()).unwrap();
-    let mode = bvhview::pose::OffsetMode::Replace;
+    let mode = bvhview::model::pose::OffsetMode::Replace;
     let upright = run(&["--up", "y"]);
     assert_eq!(
-        bvhview::pose::Up::guess(&upright.skeleton),
-        bvhview::pose::Up::Y
+        bvhview::model::pose::Up::guess(&upright.skeleton),
+        bvhview::model::pose::Up::Y
     );
-    let stand = bvhview::pose::Up::Z.to_y_up();
+    let stand = bvhview::model::pose::Up::Z.to_y_up();
     for frame in [0, 7, 13] {
-        let before =
-            bvhview::pose::world_positions(&original.skeleton, original.motion.frame(frame), mode);
-        let after =
-            bvhview::pose::world_positions(&upright.skeleton, upright.motion.frame(frame), mode);
+        let before = bvhview::model::pose::world_positions(
+            &original.skeleton,
+            original.motion.frame(frame),
+            mode,
+        );
+        let after = bvhview::model::pose::world_positions(
+            &upright.skeleton,
+            upright.motion.frame(frame),
+            mode,
+        );
         for (b, a) in before.iter().zip(&after) {
             assert!((stand * *b).abs_diff_eq(*a, 1e-4), "frame {frame}: {b} {a}");
         }
@@ -165,8 +177,11 @@ fn convert_edits_up_mirror_in_place_and_ground() {
     let mut lowest = f32::MAX;
     let mut roots = Vec::new();
     for frame in 0..edited.motion.frame_count() {
-        let points =
-            bvhview::pose::world_positions(&edited.skeleton, edited.motion.frame(frame), mode);
+        let points = bvhview::model::pose::world_positions(
+            &edited.skeleton,
+            edited.motion.frame(frame),
+            mode,
+        );
         lowest = points.iter().fold(lowest, |l, p| l.min(p.y));
         roots.push((points[0].x, points[0].z));
     }

@@ -4,7 +4,7 @@
 
 mod common;
 
-use bvhview::pose::{OffsetMode, Up};
+use bvhview::model::pose::{OffsetMode, Up};
 use common::{repo_data, shared_data};
 use std::path::{Path, PathBuf};
 
@@ -231,7 +231,7 @@ const EXPECTED: &[(&str, Option<&str>, Up, &str, &str)] = &[
 ];
 
 fn check(file: &Path, motion: Option<&Path>, up: Up, units: &str, source: &str) {
-    let loaded = bvhview::input::load(file, motion, None).unwrap();
+    let loaded = bvhview::take::load(file, motion, None).unwrap();
     let stance = loaded.stance(OffsetMode::Replace);
     assert_eq!(
         (stance.up, stance.units.name),
@@ -268,7 +268,7 @@ fn the_repository_takes_read_right() {
     let checked = check_all(&|f| repo_data(f), false);
     assert!(checked >= 18, "only {checked} repository takes checked");
     // The bundled walk: made by examples/make_walk.rs in centimetres, Y up.
-    let walk = bvhview::input::default_motion().unwrap();
+    let walk = bvhview::take::default_motion().unwrap();
     let stance = walk.stance(OffsetMode::Replace);
     assert_eq!((stance.up, stance.units.name), (Up::Y, "centimetres"));
 }
@@ -310,7 +310,7 @@ fn rest_poses_that_mislead_read_right_from_the_motion() {
         "centimetres",
         "hand-written",
     );
-    let loaded = bvhview::input::load(&dir.join("rest_y_motion_z.bvh"), None, None).unwrap();
+    let loaded = bvhview::take::load(&dir.join("rest_y_motion_z.bvh"), None, None).unwrap();
     assert_eq!(
         Up::guess(&loaded.skeleton),
         Up::Y,
@@ -372,7 +372,7 @@ fn converted_takes_read_back_as_written() {
 }
 
 /// `take` written as a BVH file in `dir`, and what `bvhview info` says of it.
-fn info_of(dir: &Path, name: &str, take: &bvhview::input::Loaded) -> String {
+fn info_of(dir: &Path, name: &str, take: &bvhview::take::Loaded) -> String {
     let path = dir.join(name);
     let mut bytes = Vec::new();
     bvhview::bvh::writer::write_bvh(&mut bytes, &take.skeleton, &take.motion).unwrap();
@@ -387,8 +387,8 @@ fn info_of(dir: &Path, name: &str, take: &bvhview::input::Loaded) -> String {
 }
 
 /// MakeHuman's take with its non-root position channels set by `value(joint, axis)`.
-fn makehuman_with(value: &dyn Fn(usize, usize) -> f32) -> bvhview::input::Loaded {
-    let mut take = bvhview::input::load(&repo_data("bvh/makehuman_tpose.bvh"), None, None).unwrap();
+fn makehuman_with(value: &dyn Fn(usize, usize) -> f32) -> bvhview::take::Loaded {
+    let mut take = bvhview::take::load(&repo_data("bvh/makehuman_tpose.bvh"), None, None).unwrap();
     let width = take.motion.channels;
     for (j, joint) in take.skeleton.joints.iter().enumerate() {
         if joint.parent.is_none() {
@@ -423,11 +423,11 @@ fn tiny_non_root_position_channels_are_read_in_add_mode() {
     let take = makehuman_with(&tiny);
     let (skeleton, motion) = (&take.skeleton, &take.motion);
     let (matching, candidates) =
-        bvhview::pose::written_for_other_mode(skeleton, motion, OffsetMode::Replace)
+        bvhview::model::pose::written_for_other_mode(skeleton, motion, OffsetMode::Replace)
             .expect("looks written for add");
     assert_eq!((matching, candidates), (143, 143));
     assert_eq!(
-        bvhview::pose::guessed_mode(skeleton, motion, OffsetMode::Replace),
+        bvhview::model::pose::guessed_mode(skeleton, motion, OffsetMode::Replace),
         OffsetMode::Add
     );
     let stance = take.stance(OffsetMode::Replace);
@@ -456,15 +456,18 @@ fn tiny_non_root_position_channels_are_read_in_add_mode() {
     let replace = makehuman_with(&near);
     let (skeleton, motion) = (&replace.skeleton, &replace.motion);
     assert_eq!(
-        bvhview::pose::written_for_other_mode(skeleton, motion, OffsetMode::Replace),
+        bvhview::model::pose::written_for_other_mode(skeleton, motion, OffsetMode::Replace),
         None
     );
-    assert!(bvhview::pose::written_for_other_mode(skeleton, motion, OffsetMode::Add).is_some());
+    assert!(
+        bvhview::model::pose::written_for_other_mode(skeleton, motion, OffsetMode::Add).is_some()
+    );
     // Channels a fifth of the OFFSETs long look written for neither.
     let fifth = |j: usize, axis: usize| offsets[j][axis] * 0.2;
     let neither = makehuman_with(&fifth);
     for mode in [OffsetMode::Replace, OffsetMode::Add] {
-        let found = bvhview::pose::written_for_other_mode(&neither.skeleton, &neither.motion, mode);
+        let found =
+            bvhview::model::pose::written_for_other_mode(&neither.skeleton, &neither.motion, mode);
         assert_eq!(found, None, "{mode:?}");
     }
 }
@@ -475,7 +478,7 @@ fn tiny_non_root_position_channels_are_read_in_add_mode() {
 #[test]
 fn info_warns_of_humans_under_half_a_metre_or_over_two_and_a_half() {
     let dir = tempfile::tempdir().unwrap();
-    let walk = bvhview::input::default_motion().unwrap();
+    let walk = bvhview::take::default_motion().unwrap();
     let size = walk.stance(OffsetMode::Replace).size;
     let text = info_of(dir.path(), "walk.bvh", &walk);
     assert!(text.contains("warnings:         none"), "{text}");
@@ -486,7 +489,7 @@ fn info_warns_of_humans_under_half_a_metre_or_over_two_and_a_half() {
     ] {
         let (skeleton, motion) =
             bvhview::edit::scale(&walk.skeleton, &walk.motion, metres / size).unwrap();
-        let scaled = bvhview::input::Loaded {
+        let scaled = bvhview::take::Loaded {
             skeleton,
             motion,
             ..walk.clone()
@@ -505,7 +508,7 @@ fn info_warns_of_humans_under_half_a_metre_or_over_two_and_a_half() {
     for metres in [0.6, 1.2, 2.3] {
         let (skeleton, motion) =
             bvhview::edit::scale(&walk.skeleton, &walk.motion, metres / size).unwrap();
-        let scaled = bvhview::input::Loaded {
+        let scaled = bvhview::take::Loaded {
             skeleton,
             motion,
             ..walk.clone()
@@ -515,7 +518,7 @@ fn info_warns_of_humans_under_half_a_metre_or_over_two_and_a_half() {
     }
     // Not a person: a two-joint take 3 m tall says nothing of it.
     let simple =
-        bvhview::input::load(&repo_data("bvh/bvhanim_test_simple.bvh"), None, None).unwrap();
+        bvhview::take::load(&repo_data("bvh/bvhanim_test_simple.bvh"), None, None).unwrap();
     assert_eq!(bvhview::info::human_like(&simple.skeleton), None);
     let stance = simple.stance(OffsetMode::Replace);
     assert_eq!(bvhview::info::size_warning(&simple.skeleton, &stance), None);
@@ -540,7 +543,7 @@ fn the_repository_people_are_human_like() {
         "bvh/opencollar_run.bvh",
         "bvh/opencollar_oc_stand_boy01.bvh",
     ] {
-        let take = bvhview::input::load(&repo_data(file), None, None).unwrap();
+        let take = bvhview::take::load(&repo_data(file), None, None).unwrap();
         let found = bvhview::info::human_like(&take.skeleton);
         assert!(found.is_some(), "{file}");
         let stance = take.stance(OffsetMode::Replace);
@@ -550,13 +553,13 @@ fn the_repository_people_are_human_like() {
             "{file}"
         );
     }
-    let asf = bvhview::input::load(
+    let asf = bvhview::take::load(
         &repo_data("asf_amc/heiden_12.asf"),
         Some(&repo_data("asf_amc/heiden_12_02_01.amc")),
         None,
     )
     .unwrap();
     assert!(bvhview::info::human_like(&asf.skeleton).is_some());
-    let usd = bvhview::input::load(&repo_data("bvh/usdbvhanim_test_bvh.bvh"), None, None).unwrap();
+    let usd = bvhview::take::load(&repo_data("bvh/usdbvhanim_test_bvh.bvh"), None, None).unwrap();
     assert_eq!(bvhview::info::human_like(&usd.skeleton), None);
 }

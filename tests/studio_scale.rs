@@ -130,7 +130,7 @@ fn several_takes_stand_at_one_height_unless_true_scale() {
 #[test]
 fn fit_take_frames_the_whole_path_from_one_camera() {
     use bvhview::render::{SnapshotOptions, camera_for, framing};
-    let walk = bvhview::input::default_motion().unwrap();
+    let walk = bvhview::take::default_motion().unwrap();
     let (skeleton, motion) = (&walk.skeleton, &walk.motion);
     let camera = |frame: usize, whole_take: bool| {
         let options = SnapshotOptions {
@@ -147,8 +147,11 @@ fn fit_take_frames_the_whole_path_from_one_camera() {
     assert_ne!(camera(0, false), camera(last, false));
     let matrix = framing::view_projection(&still, 600, 600);
     for frame in 0..=last {
-        let points =
-            bvhview::pose::world_positions(skeleton, motion.frame(frame), Default::default());
+        let points = bvhview::model::pose::world_positions(
+            skeleton,
+            motion.frame(frame),
+            Default::default(),
+        );
         for p in points {
             let (x, y) = framing::project(&matrix, p, 600, 600).expect("in front of the eye");
             assert!(

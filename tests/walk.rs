@@ -1,10 +1,10 @@
-//! Issue 35, "Writing and walking": folder walks (`bvhview::batch::collect`, `info DIR`,
+//! Issue 35, "Writing and walking": folder walks (`bvhview::info::batch::collect`, `info DIR`,
 //! `dataset`) on folders with symbolic-link loops, links out, links to one file or folder twice,
 //! FIFOs and broken links; CMU's ASF/AMC names; and `dataset -o`'s output rules (long names,
 //! a folder that takes no new name, links planted in shared folders, numbers that overflow).
 //! Every walk runs under a time limit, so that a walk that loops again fails instead of hanging.
 
-use bvhview::batch::{self, Item, Walk};
+use bvhview::info::batch::{self, Item, Walk};
 use std::os::unix::fs::symlink;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output, Stdio};

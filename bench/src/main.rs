@@ -65,14 +65,15 @@ fn input_error(message: impl std::fmt::Display) -> ! {
 /// frame on one core, kept until the pass ends (as a script keeping its arrays would). Returns
 /// load time, positions time and page faults.
 fn folder_pass(files: &[std::path::PathBuf]) -> (Duration, Duration, Option<i64>) {
-    use bvhview::pose::{FkPlan, FkScratch, LANES, OffsetMode};
+    use bvhview::model::pose::{FkPlan, FkScratch, LANES, OffsetMode};
     let (mut load, mut positions) = (Duration::ZERO, Duration::ZERO);
     let faults = page_faults();
     let mut kept = Vec::new();
     for file in files {
         let start = Instant::now();
-        let loaded = bvhview::input::load_checked(file, None, None, bvhview::cores(), u64::MAX)
-            .unwrap_or_else(|e| input_error(e));
+        let loaded =
+            bvhview::take::load_checked(file, None, None, bvhview::io::parallel::cores(), u64::MAX)
+                .unwrap_or_else(|e| input_error(e));
         let loaded_at = Instant::now();
         let plan = FkPlan::new(&loaded.skeleton, OffsetMode::Replace);
         let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
@@ -113,7 +114,7 @@ fn folder(dir: &str) {
         "folder: {dir} ({} files, {:.1} MB), {} cores",
         files.len(),
         bytes as f64 / 1e6,
-        bvhview::cores()
+        bvhview::io::parallel::cores()
     );
     if files.is_empty() {
         input_error(format!("{dir}: no .bvh file in it"));
@@ -214,10 +215,10 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
 
     // Forward kinematics: world position of every joint on every frame.
     let (t_fk, checksum) = best(runs, || {
-        bvhview::pose::positions_all_frames(
+        bvhview::model::pose::positions_all_frames(
             &bvh.skeleton,
             &bvh.motion,
-            bvhview::pose::OffsetMode::Replace,
+            bvhview::model::pose::OffsetMode::Replace,
         )
     });
     let transforms = joints * frames;
@@ -231,7 +232,7 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
     // loading the same file, thread for thread. Each round loads on one thread, retargets on one
     // thread, then the same on every thread; ratios are taken round by round.
     let target = bvhview::retarget::Target::load("smpl22", u64::MAX).expect("built in");
-    let cores = bvhview::cores();
+    let cores = bvhview::io::parallel::cores();
     let rounds = load.rounds.unwrap_or(if quick { 3 } else { 5 });
     let file = std::path::Path::new(path);
     let retargets = target
@@ -282,11 +283,17 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
     }
 
     // CSV export to memory.
-    let options = bvhview::export::PositionsOptions::default();
+    let options = bvhview::positions::PositionsOptions::default();
     let (t_csv, written) = best(runs.min(3), || {
         let mut out = Vec::with_capacity(1 << 30);
-        bvhview::export::write_positions(&mut out, &bvh.skeleton, &bvh.motion, 0..frames, &options)
-            .expect("writes");
+        bvhview::positions::write_positions(
+            &mut out,
+            &bvh.skeleton,
+            &bvh.motion,
+            0..frames,
+            &options,
+        )
+        .expect("writes");
         out.len()
     });
     println!(
@@ -342,10 +349,12 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
         );
 
         // The generated skin: posing it (FK + linear blend skinning) alone, then the whole frame.
-        let body =
-            bvhview::render::body::Body::new(&rig.skeleton, bvhview::pose::OffsetMode::Replace);
+        let body = bvhview::model::bone_skin::Body::new(
+            &rig.skeleton,
+            bvhview::model::pose::OffsetMode::Replace,
+        );
         let (mut posed, mut scratch) = (
-            bvhview::render::body::PosedBody::default(),
+            bvhview::model::bone_skin::PosedBody::default(),
             (Vec::new(), Vec::new()),
         );
         let poses = if quick { 50 } else { 500 };
@@ -505,7 +514,7 @@ fn compare_loaders(
     options: &LoadOptions,
 ) -> bvhview::bvh::Bvh {
     let rounds = options.rounds.unwrap_or(if quick { 3 } else { 7 });
-    let cores = bvhview::cores();
+    let cores = bvhview::io::parallel::cores();
     let file = std::path::Path::new(path);
     let one = bvhview::bvh::loader::Settings {
         threads: 1,
@@ -621,7 +630,7 @@ fn compare_sequences(quick: bool) {
     use bvhview::render::{Renderer, SnapshotOptions, animation, paint::Shown};
     let file =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/bvh/assimp_01_01.bvh");
-    let Ok(take) = bvhview::input::load(&file, None, None) else {
+    let Ok(take) = bvhview::take::load(&file, None, None) else {
         println!("sequence: skipped (no {})", file.display());
         return;
     };
@@ -725,19 +734,20 @@ fn in_process(what: &str, path: &str) {
     match what {
         "info" => {
             // What the CLI prints: the load, then the summary (units, up axis, warnings).
-            let loaded = bvhview::input::load(file, None, None).expect("loads");
-            let summary = bvhview::info::summary(path, &loaded, bvhview::pose::OffsetMode::Replace);
+            let loaded = bvhview::take::load(file, None, None).expect("loads");
+            let summary =
+                bvhview::info::summary(path, &loaded, bvhview::model::pose::OffsetMode::Replace);
             std::hint::black_box(summary);
         }
         "positions" => {
             // Written as the CLI writes it: a temporary file, synced, renamed.
-            let loaded = bvhview::input::load(file, None, None).expect("loads");
+            let loaded = bvhview::take::load(file, None, None).expect("loads");
             let frames = loaded.motion.frame_count();
             let mut out = std::io::BufWriter::with_capacity(
                 1 << 20,
-                bvhview::output::AtomicFile::create(&scratch).expect("creates"),
+                bvhview::io::output::AtomicFile::create(&scratch).expect("creates"),
             );
-            bvhview::export::write_positions(
+            bvhview::positions::write_positions(
                 &mut out,
                 &loaded.skeleton,
                 &loaded.motion,
@@ -895,7 +905,7 @@ fn dataset_stages(path: &str, rounds: usize) {
         let items = bvhview::dataset::takes(path).unwrap_or_else(|e| input_error(e));
         (path, items)
     } else {
-        let item = bvhview::batch::Item {
+        let item = bvhview::info::batch::Item {
             path: path.to_path_buf(),
             motion: None,
         };

@@ -43,7 +43,7 @@ pub fn edited(choice: u8, skeleton: Skeleton, motion: Motion) -> Option<(Skeleto
         (skeleton, motion) = bvhview::edit::mirror(&skeleton, &motion, &options).ok()?;
     }
     if choice & 8 != 0 {
-        use bvhview::pose::Up;
+        use bvhview::model::pose::Up;
         (skeleton, motion) = bvhview::edit::reorient(&skeleton, &motion, Up::Y, Up::Z).ok()?;
     }
     Some((skeleton, motion))

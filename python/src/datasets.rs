@@ -161,7 +161,7 @@ pub(crate) fn _dataset_motion(
 /// `SKIPS_SAID` one each, then one with how many more; `stacklevel` as `warnings.warn` takes it.
 pub(crate) fn warn_skipped(
     py: Python<'_>,
-    walk: &bvhview::batch::Walk,
+    walk: &bvhview::info::batch::Walk,
     stacklevel: u32,
 ) -> PyResult<()> {
     if walk.skipped.is_empty() {
@@ -236,15 +236,15 @@ pub(crate) fn _compile_dataset(
             contact_speed,
             onto: onto
                 .map(|onto| {
-                    bvhview::retarget::Target::load(&onto, bvhview::input::DEFAULT_MAX_SIZE)
+                    bvhview::retarget::Target::load(&onto, bvhview::take::DEFAULT_MAX_SIZE)
                 })
                 .transpose()
                 .map_err(|e| to_python(py, e))?,
             ..Default::default()
         };
-        let threads = threads.unwrap_or_else(bvhview::cores).max(1);
+        let threads = threads.unwrap_or_else(bvhview::io::parallel::cores).max(1);
         let interrupt: Mutex<Option<PyErr>> = Mutex::new(None);
-        let mut walk = bvhview::batch::Walk::default();
+        let mut walk = bvhview::info::batch::Walk::default();
         let result = py.detach(|| {
             let (items, list) = match (&takes, piece) {
                 (Some(_), Some(_)) => {

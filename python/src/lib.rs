@@ -1,6 +1,6 @@
 //! The native half of the Python package `bvhview`: a thin layer over the `bvhview` crate.
 //!
-//! Loading and forward kinematics are the crate's own (`input::load_checked`, `pose::FkPlan`,
+//! Loading and forward kinematics are the crate's own (`take::load_checked`, `pose::FkPlan`,
 //! `pose::world_matrices`, `bvh::writer::write_bvh`); this crate only moves their results into
 //! numpy arrays and their errors into Python exceptions. The GIL is released for every load and
 //! every computation, so Python threads run meanwhile. By concern, as `src/` is:
@@ -12,10 +12,10 @@
 //! - here: the module, errors as Python exceptions, and [`guard`], which every entry point runs
 //!   in so that no panic reaches Python.
 
-use bvhview::error::Error;
-use bvhview::input::{self, Loaded};
-use bvhview::output::AtomicFile;
-use bvhview::pose::{self, FkPlan, FkScratch, LANES, OffsetMode};
+use bvhview::io::error::Error;
+use bvhview::take::{self, Loaded};
+use bvhview::io::output::AtomicFile;
+use bvhview::model::pose::{self, FkPlan, FkScratch, LANES, OffsetMode};
 use glam::{Mat4, Vec3};
 use numpy::ndarray::ArrayView2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};
@@ -228,7 +228,7 @@ fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
     let empty = numpy::PyArray1::<f32>::zeros(module.py(), 0, false);
     drop(empty.try_readwrite());
     Vec::<f32>::new().into_pyarray(module.py());
-    bvhview::cores();
+    bvhview::io::parallel::cores();
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     module.add_function(wrap_pyfunction!(load, module)?)?;
     module.add_function(wrap_pyfunction!(load_many, module)?)?;

@@ -22,12 +22,12 @@ pub(crate) fn load_item(
             return Err(Error::io(path, io::ErrorKind::IsADirectory.into()));
         }
     }
-    input::load_checked(
+    take::load_checked(
         &item.path,
         item.motion.as_deref(),
         frame_time,
         threads,
-        input::DEFAULT_MAX_SIZE,
+        take::DEFAULT_MAX_SIZE,
     )
 }
 
@@ -86,7 +86,7 @@ impl Motion {
     fn joint_names(&self) -> Vec<String> {
         let skeleton = &self.loaded.skeleton;
         (0..skeleton.joints.len())
-            .map(|index| bvhview::export::export_name(skeleton, index))
+            .map(|index| bvhview::model::skeleton::export_name(skeleton, index))
             .collect()
     }
 
@@ -96,7 +96,7 @@ impl Motion {
         guard("index", || {
             let skeleton = &self.loaded.skeleton;
             (0..skeleton.joints.len())
-                .find(|&index| bvhview::export::export_name(skeleton, index) == name)
+                .find(|&index| bvhview::model::skeleton::export_name(skeleton, index) == name)
                 .ok_or_else(|| PyValueError::new_err(format!("no joint named {name:?}")))
         })
     }
@@ -261,7 +261,7 @@ impl Motion {
     /// `<parent>_End`; for ASF, the root and each bone's end point named by the bone.
     #[getter]
     fn point_names(&self) -> Vec<String> {
-        bvhview::export::export_points(&self.loaded.skeleton)
+        bvhview::positions::export_points(&self.loaded.skeleton)
             .into_iter()
             .map(|(name, _)| name)
             .collect()
@@ -271,7 +271,7 @@ impl Motion {
     /// `positions()[:, point_joints]` is the CLI's export.
     #[getter]
     fn point_joints<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<i32>> {
-        let joints: Vec<i32> = bvhview::export::export_points(&self.loaded.skeleton)
+        let joints: Vec<i32> = bvhview::positions::export_points(&self.loaded.skeleton)
             .into_iter()
             .map(|(_, joint)| joint as i32)
             .collect();
@@ -502,7 +502,7 @@ impl Motion {
     /// the take's offset mode. The file takes its name only when complete.
     fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         guard("save", || {
-            let extension = input::extension(&path);
+            let extension = take::extension(&path);
             let container = match extension.as_str() {
                 "bvh" => None,
                 "glb" => Some(bvhview::gltf::Container::Glb),
@@ -845,17 +845,17 @@ pub(crate) fn load(
             .detach(|| {
                 planted_pause_without_the_gil("load")?;
                 match &take {
-                    None => load_item(&item, frame_time, bvhview::cores()),
+                    None => load_item(&item, frame_time, bvhview::io::parallel::cores()),
                     Some(take) => {
                         if item.path.is_dir() {
                             return Err(Error::io(&item.path, io::ErrorKind::IsADirectory.into()));
                         }
-                        input::load_take(
+                        take::load_take(
                             &item.path,
                             item.motion.as_deref(),
                             frame_time,
-                            bvhview::cores(),
-                            input::DEFAULT_MAX_SIZE,
+                            bvhview::io::parallel::cores(),
+                            take::DEFAULT_MAX_SIZE,
                             Some(&take.0),
                         )
                     }
@@ -893,7 +893,7 @@ pub(crate) fn items_of(paths: &Bound<'_, PyAny>) -> PyResult<Vec<Item>> {
     if let Ok(path) = paths.extract::<PathBuf>() {
         if path.is_dir() {
             let found =
-                bvhview::batch::collect(&path).map_err(|e| PyOSError::new_err(e.to_string()))?;
+                bvhview::info::batch::collect(&path).map_err(|e| PyOSError::new_err(e.to_string()))?;
             warn_skipped(paths.py(), &found, 1)?;
             return Ok(found
                 .items
@@ -935,7 +935,7 @@ pub(crate) fn load_many(
         };
         let items = items_of(paths)?;
         let results = py.detach(|| {
-            let cores = bvhview::cores();
+            let cores = bvhview::io::parallel::cores();
             // Many files: one core each. Fewer files than cores: each parses on a share of them.
             let threads_per_file = (cores / items.len().max(1)).max(1);
             // Largest first, so that no core is left with a big file at the end while the others
@@ -950,7 +950,7 @@ pub(crate) fn load_many(
             order.sort_by_key(|&index| std::cmp::Reverse(size(&items[index])));
             let mut slots: Vec<Option<Result<Loaded, Error>>> =
                 (0..items.len()).map(|_| None).collect();
-            bvhview::parallel::map_in_order(
+            bvhview::io::parallel::map_in_order(
                 items.len(),
                 cores,
                 2 * cores,

@@ -50,7 +50,7 @@ impl Motion {
             self.item.motion.as_ref().map(|p| p.display().to_string()),
             offset_mode_name(self.offset_mode).to_string(),
             self.loaded.warnings.clone(),
-            skeleton.source == bvhview::skeleton::Source::Acclaim,
+            skeleton.source == bvhview::model::skeleton::Source::Acclaim,
             self.loaded.stated_units.is_some(),
             joints,
             motion.frame_time,
@@ -87,12 +87,12 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
         let mut skeleton = bvhview::Skeleton {
             joints: Vec::with_capacity(joints.len()),
             source: if acclaim {
-                bvhview::skeleton::Source::Acclaim
+                bvhview::model::skeleton::Source::Acclaim
             } else {
-                bvhview::skeleton::Source::Bvh
+                bvhview::model::skeleton::Source::Bvh
             },
         };
-        if !bvhview::limits::frame_time_in_file(frame_time) {
+        if !bvhview::io::limits::frame_time_in_file(frame_time) {
             return Err(bad(&format!("a frame time of {frame_time} s")));
         }
         let mut first_channel = 0;
@@ -165,7 +165,7 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
             skeleton,
             motion: bvhview::Motion::new(frame_time, channels, frames, values),
             warnings,
-            stated_units: cmu_units.then_some(bvhview::stance::CMU_UNITS),
+            stated_units: cmu_units.then_some(bvhview::model::stance::CMU_UNITS),
         };
         Ok(Motion {
             loaded,

@@ -21,7 +21,7 @@ fn target_of(py: Python<'_>, target: &Bound<'_, PyAny>) -> PyResult<Target> {
         ));
     };
     let name = path.to_string_lossy().into_owned();
-    py.detach(|| Target::load(&name, bvhview::input::DEFAULT_MAX_SIZE))
+    py.detach(|| Target::load(&name, bvhview::take::DEFAULT_MAX_SIZE))
         .map_err(|e| to_python(py, e))
 }
 
@@ -45,7 +45,7 @@ pub(crate) fn retarget(
                 &loaded.skeleton,
                 &loaded.motion,
                 &pairs,
-                bvhview::cores(),
+                bvhview::io::parallel::cores(),
             )
         })
         .map_err(|e| to_python(py, e))?;

@@ -5,8 +5,8 @@
 
 use super::asf::ValueMap;
 use super::text::{LineWords, error_at, expected, expected_at_start, number};
-use crate::error::Error;
-use crate::motion::Motion;
+use crate::io::error::Error;
+use crate::model::motion::Motion;
 use std::path::Path;
 
 /// Reads an AMC file into a Motion for the skeleton whose value maps `maps` describe
@@ -21,7 +21,7 @@ pub fn load_amc(
     degrees: bool,
     frame_time: f64,
 ) -> Result<Motion, Error> {
-    let bytes = crate::read::read_file(path, max_size)?;
+    let bytes = crate::io::read::read_file(path, max_size)?;
     parse_amc(
         &String::from_utf8_lossy(&bytes),
         &path.display().to_string(),
@@ -144,7 +144,7 @@ pub fn parse_amc(
                     "'{}' has {} dof in the ASF, found {}",
                     map.name,
                     map.slots.len(),
-                    crate::error::counted(values.len(), "value")
+                    crate::io::error::counted(values.len(), "value")
                 ),
             ));
         }

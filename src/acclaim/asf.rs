@@ -5,9 +5,9 @@
 
 use super::text::{Word, error_at, expected, expected_after, expected_at_start, lines, number};
 use super::{axis_rotation, bone_joint};
-use crate::error::Error;
-use crate::limits::MAX_DEPTH;
-use crate::skeleton::{Channel, Joint, RotationOrder, Skeleton, Source};
+use crate::io::error::Error;
+use crate::io::limits::MAX_DEPTH;
+use crate::model::skeleton::{Channel, Joint, RotationOrder, Skeleton, Source};
 use glam::Vec3;
 use std::path::Path;
 
@@ -105,7 +105,7 @@ pub struct Asf {
 
 /// Reads an ASF file; reading stops with an error past `max_size` bytes.
 pub fn load_asf(path: &Path, max_size: u64) -> Result<Asf, Error> {
-    let bytes = crate::read::read_skeleton_file(path, max_size)?;
+    let bytes = crate::io::read::read_skeleton_file(path, max_size)?;
     parse_asf(
         &String::from_utf8_lossy(&bytes),
         &path.display().to_string(),
@@ -517,7 +517,7 @@ fn bonedata_line(
         if word.is("root") {
             return Err(expected(source, word, "a bone name other than 'root'"));
         }
-        crate::limits::name(word.text.len())
+        crate::io::limits::name(word.text.len())
             .map_err(|why| error_at(source, word.line, word.column, why))?;
         bone.name = word.text.to_string();
     } else if first.is("direction") {

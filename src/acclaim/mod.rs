@@ -19,7 +19,7 @@ mod text;
 pub use amc::load_amc;
 pub use asf::{Asf, load_asf};
 
-use crate::skeleton::Joint;
+use crate::model::skeleton::Joint;
 use glam::Quat;
 
 /// CMU captures at 120 frames per second; AMC files do not say.

@@ -1,7 +1,7 @@
 //! Lines of words with their line and column, for the ASF and AMC readers: '#' starts a comment,
 //! lines end at LF, CRLF or a lone CR, words are separated by any whitespace.
 
-use crate::error::Error;
+use crate::io::error::Error;
 
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct Word<'a> {
@@ -104,20 +104,20 @@ pub(crate) fn expected(source: &str, word: &Word<'_>, what: &str) -> Error {
         word.column,
         format!(
             "expected {what}, found {}",
-            crate::lines::shown_word(word.text.as_bytes())
+            crate::io::lines::shown_word(word.text.as_bytes())
         ),
     )
 }
 
 /// An error at the first word of a file that does not begin as `keywords` would: the word is
-/// shown only when it misspells one of them ([`crate::lines::shown_first_word`]).
+/// shown only when it misspells one of them ([`crate::io::lines::shown_first_word`]).
 pub(crate) fn expected_at_start(
     source: &str,
     word: &Word<'_>,
     what: &str,
     keywords: &[&str],
 ) -> Error {
-    let found = crate::lines::shown_first_word(word.text.as_bytes(), keywords);
+    let found = crate::io::lines::shown_first_word(word.text.as_bytes(), keywords);
     error_at(
         source,
         word.line,

@@ -15,9 +15,9 @@
 //! `tests/oracle/inputs` and with the repository's files, and `tests/trace.rs` requires this
 //! module to give the same word for each.
 
-use crate::lines::line_column;
-use crate::motion::Motion;
-use crate::skeleton::Skeleton;
+use crate::io::lines::line_column;
+use crate::model::motion::Motion;
+use crate::model::skeleton::Skeleton;
 use std::path::Path;
 
 /// What the article's program does with a file, as a whole.
@@ -728,9 +728,12 @@ impl Article<'_> {
                 } else {
                     self.nodes[node].offset
                 };
-                let meant =
-                    crate::pose::joint_translation(file, own, crate::pose::OffsetMode::Replace)
-                        .to_array();
+                let meant = crate::model::pose::joint_translation(
+                    file,
+                    own,
+                    crate::model::pose::OffsetMode::Replace,
+                )
+                .to_array();
                 if translation != meant {
                     return Some(Misread::Translation {
                         joint: file.name.clone(),

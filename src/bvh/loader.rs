@@ -11,11 +11,11 @@
 //! rows are in memory when the row loop starts, and the rows stream from the file.
 
 use super::rows::{self, RowParser, parse_number};
-use crate::error::Error;
-use crate::limits::{MAX_DEPTH, MAX_HEADER_BYTES};
-use crate::lines::{is_line_end, line_column, shown_first_word, shown_word};
-use crate::motion::Motion;
-use crate::skeleton::{Channel, Joint, RotationOrder, Skeleton};
+use crate::io::error::Error;
+use crate::io::limits::{MAX_DEPTH, MAX_HEADER_BYTES};
+use crate::io::lines::{is_line_end, line_column, shown_first_word, shown_word};
+use crate::model::motion::Motion;
+use crate::model::skeleton::{Channel, Joint, RotationOrder, Skeleton};
 use glam::Vec3;
 use std::borrow::Cow;
 use std::io::Read;
@@ -66,7 +66,7 @@ impl Default for Settings {
     /// Every core, no size limit, 64 KB first, the engine.
     fn default() -> Settings {
         Settings {
-            threads: crate::cores(),
+            threads: crate::io::parallel::cores(),
             max_size: u64::MAX,
             first_read: 64 << 10,
             rows: RowReader::Engine,
@@ -186,7 +186,7 @@ struct Loader<'a> {
     /// C++: `unsigned char *p`, the read position in `text`.
     p: usize,
     /// The rest of the file, `None` once it has all been read (or for bytes in memory).
-    file: Option<crate::read::Bounded<std::fs::File>>,
+    file: Option<crate::io::read::Bounded<std::fs::File>>,
     /// The file's length when it is a regular file (a pipe's says nothing).
     length: Option<u64>,
     /// Bytes the next read of the file takes (each read doubles it).
@@ -215,7 +215,7 @@ impl<'a> Loader<'a> {
                 let file = std::fs::File::open(path).map_err(io_error)?;
                 let metadata = file.metadata().map_err(io_error)?;
                 let length = metadata.is_file().then_some(metadata.len());
-                let file = crate::read::Bounded::new(file, settings.max_size);
+                let file = crate::io::read::Bounded::new(file, settings.max_size);
                 let source = path.display().to_string();
                 (Cow::Owned(Vec::new()), Some(file), length, source)
             }
@@ -453,7 +453,7 @@ impl<'a> Loader<'a> {
 
     /// C++: `BVH::newNode`. The article copies bytes up to the line feed into a 24-byte array and
     /// drops the last one, assuming it is a carriage return. Here the name is the rest of the
-    /// line, trimmed, of up to [`crate::limits::MAX_NAME_BYTES`] bytes (a longer one is damage,
+    /// line, trimmed, of up to [`crate::io::limits::MAX_NAME_BYTES`] bytes (a longer one is damage,
     /// refused rather than repeated on every line of an export): names may hold spaces, ':' or
     /// '.'. A `{` written at the end of the same line is left for the main loop. The article's
     /// `addChild` (16 children at most, unchecked) is the push onto the parent's `children`.
@@ -472,7 +472,7 @@ impl<'a> Loader<'a> {
         }
         // Counted as kept: bytes that are not UTF-8 become U+FFFD, three bytes each.
         let name = String::from_utf8_lossy(line.trim_ascii()).into_owned();
-        if let Err(why) = crate::limits::name(name.len()) {
+        if let Err(why) = crate::io::limits::name(name.len()) {
             return Err(self.error_at(start, why));
         }
         if name.is_empty() {
@@ -662,12 +662,12 @@ impl<'a> Loader<'a> {
             .and_then(|t| std::str::from_utf8(self.word(t)).ok())
             .and_then(|s| s.parse::<f64>().ok())
         {
-            Some(time) if crate::limits::frame_time_in_file(time) => time,
+            Some(time) if crate::io::limits::frame_time_in_file(time) => time,
             _ => {
                 let what = format!(
                     "the frame time (seconds: 0, or {} to {})",
-                    crate::limits::show(crate::limits::MIN_FRAME_TIME),
-                    crate::limits::MAX_FRAME_TIME
+                    crate::io::limits::show(crate::io::limits::MIN_FRAME_TIME),
+                    crate::io::limits::MAX_FRAME_TIME
                 );
                 return Err(self.expected(&what, token));
             }

@@ -1,6 +1,6 @@
 //! C++: `BVH::print` and `BVH::printRecursive`: the loaded tree, one joint per line.
 
-use crate::skeleton::Skeleton;
+use crate::model::skeleton::Skeleton;
 use std::fmt::Write;
 
 /// The longest name `print` writes, in bytes. The article's `newNode` keeps at most 22 bytes of a

@@ -1,10 +1,10 @@
 //! Skeleton + Motion back to BVH text. The article has no writer; this one writes what any BVH
 //! reader accepts: tab indentation, LF line ends, one frame per line.
 
-use crate::error::Error;
-use crate::limits::{MAX_DEPTH, MAX_NAME_BYTES};
-use crate::motion::Motion;
-use crate::skeleton::Skeleton;
+use crate::io::error::Error;
+use crate::io::limits::{MAX_DEPTH, MAX_NAME_BYTES};
+use crate::model::motion::Motion;
+use crate::model::skeleton::Skeleton;
 use std::borrow::Cow;
 use std::io::{self, Write};
 
@@ -39,7 +39,7 @@ pub fn renamed(skeleton: &Skeleton) -> Vec<(String, String)> {
 
 /// Whether the take can be written as a BVH file that loads back (bvhview's loader and others):
 /// every number finite, the frame time one a loader accepts, names and nesting within
-/// [`crate::limits`]. Called before anything is written, so a take that cannot be written
+/// [`crate::io::limits`]. Called before anything is written, so a take that cannot be written
 /// leaves no file.
 pub fn check(skeleton: &Skeleton, motion: &Motion) -> Result<(), Error> {
     let refuse = |why: String| Err(Error::Usage(format!("cannot write BVH: {why}")));
@@ -54,11 +54,11 @@ pub fn check(skeleton: &Skeleton, motion: &Motion) -> Result<(), Error> {
             at % channels
         ));
     }
-    if !crate::limits::frame_time_in_file(motion.frame_time) {
+    if !crate::io::limits::frame_time_in_file(motion.frame_time) {
         return refuse(format!(
             "a frame time of {} s (a loader reads 0 to {} s)",
             motion.frame_time,
-            crate::limits::MAX_FRAME_TIME
+            crate::io::limits::MAX_FRAME_TIME
         ));
     }
     if let Some(joint) = skeleton
@@ -171,7 +171,7 @@ fn write_joint<W: Write>(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::skeleton::{Channel, Joint};
+    use crate::model::skeleton::{Channel, Joint};
 
     /// Names the loader would refuse or read differently are written safe, and the file loads.
     #[test]

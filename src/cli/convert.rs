@@ -2,7 +2,7 @@
 //! edited and written the same way into a new folder that mirrors it.
 
 use super::*;
-use bvhview::batch::Item;
+use bvhview::info::batch::Item;
 use std::collections::{HashMap, HashSet};
 use std::ffi::OsString;
 
@@ -76,7 +76,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
     if let Some(to) = args.to
         && to != format
         && !is_stdio(&args.output)
-        && !bvhview::output::written_in_place(&args.output)
+        && !bvhview::io::output::written_in_place(&args.output)
     {
         return Err(Error::Usage(format!(
             "--to {}: -o {} is a .{} file (--to is for a folder; a file is written in the \
@@ -105,7 +105,9 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
 
 /// The threads asked for, at least 1.
 fn threads(args: &ConvertArgs) -> usize {
-    args.threads.unwrap_or_else(bvhview::cores).max(1)
+    args.threads
+        .unwrap_or_else(bvhview::io::parallel::cores)
+        .max(1)
 }
 
 /// Refuses options that could not apply to any take, before anything is read.
@@ -116,7 +118,7 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
         ));
     }
     if let Some(fps) = args.fps {
-        bvhview::limits::fps(fps, false)?;
+        bvhview::io::limits::fps(fps, false)?;
     }
     if let Some(factor) = args.scale
         && !(factor.is_finite() && factor != 0.0)
@@ -131,7 +133,7 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
 /// The edits, in this order: trim, resample, scale, up axis, mirror, in place, ground.
 fn edit(args: &ConvertArgs, mut loaded: Loaded) -> Result<Loaded, Error> {
     if let Some(frames) = &args.frames {
-        let range = export::parse_frames(frames, loaded.motion.frame_count())?;
+        let range = bvhview::positions::parse_frames(frames, loaded.motion.frame_count())?;
         loaded.motion = bvhview::edit::trim(&loaded.motion, range);
     }
     if let Some(fps) = args.fps {
@@ -186,7 +188,7 @@ enum Outcome {
 /// `convert DIR -o OUT --to FORMAT`: every take under DIR, loaded, edited and written as it
 /// would be alone (the same bytes as `convert TAKE -o OUT/TAKE.FORMAT`), one take per thread,
 /// into the new folder OUT at the take's path under DIR. OUT is made as `dataset` makes its
-/// folder (`bvhview::output::NewFolder`): it must not exist or be empty, is filled under a
+/// folder (`bvhview::io::output::NewFolder`): it must not exist or be empty, is filled under a
 /// temporary name beside it and takes its name at the end, so a run that fails or is
 /// interrupted leaves nothing. A take that fails is said (`failed PATH: reason`) and the others
 /// are still written; the exit code is then 2. Output errors (a full disk) stop the run, with
@@ -207,14 +209,14 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
             motion.display()
         )));
     }
-    bvhview::limits::frame_time_option(args.source.frame_time)?;
-    let walk = bvhview::batch::collect_takes(dir)?;
+    bvhview::io::limits::frame_time_option(args.source.frame_time)?;
+    let walk = bvhview::info::batch::collect_takes(dir)?;
     for line in walk.skipped_lines() {
         super::note(format_args!("{line}"));
     }
     let items = walk.items;
     let names = output_names(dir, &items, format);
-    let folder = bvhview::output::NewFolder::create(
+    let folder = bvhview::io::output::NewFolder::create(
         &args.output,
         "converted takes go into a new (or empty) folder",
     )?;
@@ -222,7 +224,7 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
     let progress = Progress::new(total);
     let (mut converted, mut failed, mut skipped) = (0, 0, 0);
     let mut fatal = None;
-    bvhview::parallel::map_in_order(
+    bvhview::io::parallel::map_in_order(
         total,
         threads(args),
         4 * threads(args),
@@ -238,7 +240,7 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
                     }
                     let name = names[index].as_ref().expect("converted takes have a name");
                     let path = folder.path().join(name);
-                    let written = bvhview::output::in_partial_folder(|| {
+                    let written = bvhview::io::output::in_partial_folder(|| {
                         if let Some(parent) = path.parent() {
                             std::fs::create_dir_all(parent)?;
                         }
@@ -286,7 +288,7 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
     wrote(format_args!(
         "{}: {} as .{}; {failed} failed, {} skipped",
         args.output.display(),
-        bvhview::error::counted(converted, "take"),
+        bvhview::io::error::counted(converted, "take"),
         format.extension(),
         skipped + walk.skipped.len()
     ));
@@ -336,8 +338,8 @@ fn convert_one(
         .source
         .take
         .as_deref()
-        .filter(|_| input::has_takes(&item.path));
-    let result = input::load_take(
+        .filter(|_| take::has_takes(&item.path));
+    let result = take::load_take(
         &item.path,
         item.motion.as_deref(),
         args.source.frame_time,
@@ -358,7 +360,7 @@ fn convert_one(
         let mut bytes = Vec::new();
         prepared
             .write_to(&mut bytes)
-            .map_err(|e| match export::not_finite(&e) {
+            .map_err(|e| match bvhview::positions::not_finite(&e) {
                 Some(_) => Error::Usage(e.to_string()),
                 None => Error::output(take, e),
             })?;

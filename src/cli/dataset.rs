@@ -2,7 +2,7 @@
 
 use super::*;
 use bvhview::dataset::{self, Options};
-use bvhview::pose::RotationKind;
+use bvhview::model::pose::RotationKind;
 
 #[derive(Args)]
 pub(crate) struct DatasetArgs {
@@ -36,7 +36,7 @@ pub(crate) struct DatasetArgs {
     #[arg(long)]
     threads: Option<usize>,
     /// Files larger than this many bytes are skipped.
-    #[arg(long, default_value_t = bvhview::input::DEFAULT_MAX_SIZE)]
+    #[arg(long, default_value_t = bvhview::take::DEFAULT_MAX_SIZE)]
     max_size: u64,
     /// Retarget every take onto this skeleton first (a file, or the built-in `smpl22`), so that
     /// the folder makes one group; takes whose map misses a required role are skipped.
@@ -99,7 +99,10 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
     }
     let items = walk.items;
     let takes = dataset::whole_list(&args.dir, &items);
-    let threads = args.threads.unwrap_or_else(bvhview::cores).max(1);
+    let threads = args
+        .threads
+        .unwrap_or_else(bvhview::io::parallel::cores)
+        .max(1);
     let progress = super::Progress::new(items.len());
     let summary = dataset::compile(
         &args.dir,
@@ -122,10 +125,10 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
     wrote(format_args!(
         "{}: {}, {} at {} fps in {}; {} skipped",
         args.output.display(),
-        bvhview::error::counted(summary.clips, "clip"),
-        bvhview::error::counted(summary.frames, "frame"),
-        bvhview::limits::show(options.fps),
-        bvhview::error::counted(summary.groups, "topology group"),
+        bvhview::io::error::counted(summary.clips, "clip"),
+        bvhview::io::error::counted(summary.frames, "frame"),
+        bvhview::io::limits::show(options.fps),
+        bvhview::io::error::counted(summary.groups, "topology group"),
         summary.skipped.len()
     ));
     Ok(ExitCode::SUCCESS)

@@ -39,7 +39,7 @@ pub(crate) fn run(args: DiffArgs) -> Result<ExitCode, Error> {
     let verb = if differing == 1 { "differs" } else { "differ" };
     write_text(&format!(
         "{differing} of {} {verb} ({percent:.3}%)\n",
-        bvhview::error::counted(total, "pixel")
+        bvhview::io::error::counted(total, "pixel")
     ))?;
     Ok(if differing > 0 {
         ExitCode::from(1)

@@ -15,12 +15,11 @@ pub(crate) mod snapshot;
 pub(crate) mod trace;
 pub(crate) mod viewer;
 
-pub(crate) use bvhview::error::Error;
-pub(crate) use bvhview::export;
-pub(crate) use bvhview::input::{self, Loaded};
-pub(crate) use bvhview::pose::{OffsetMode, Up};
+pub(crate) use bvhview::io::error::Error;
+pub(crate) use bvhview::model::pose::{OffsetMode, Up};
 pub(crate) use bvhview::render::Look;
 pub(crate) use bvhview::render::draw::Style;
+pub(crate) use bvhview::take::{self, Loaded};
 pub(crate) use clap::{Args, ValueEnum};
 pub(crate) use std::io::{self, BufWriter, Write};
 pub(crate) use std::path::{Path, PathBuf};
@@ -198,7 +197,7 @@ impl From<UpArg> for Up {
 /// stands along z is said once on stderr, with what stands it up or draws it as written.
 pub(crate) fn resolve_up(
     arg: Option<UpArg>,
-    stance: &bvhview::stance::Stance,
+    stance: &bvhview::model::stance::Stance,
     name: &str,
     framed: bool,
 ) -> Up {
@@ -233,7 +232,7 @@ pub(crate) fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;
     let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    bvhview::limits::picture_size(w, h).map_err(|e| e.to_string())?;
+    bvhview::io::limits::picture_size(w, h).map_err(|e| e.to_string())?;
     Ok((w, h))
 }
 
@@ -258,8 +257,8 @@ pub(crate) fn note(line: std::fmt::Arguments) {
 /// A FIFO, a character device or a path under /dev or /proc (`/dev/stdout`, `/dev/fd/3`) is
 /// taken whatever its name: it is written to where it is.
 pub(crate) fn check_output(path: &Path, formats: &[&str]) -> Result<(), Error> {
-    let extension = input::extension(path);
-    if bvhview::output::written_in_place(path) || formats.contains(&extension.as_str()) {
+    let extension = take::extension(path);
+    if bvhview::io::output::written_in_place(path) || formats.contains(&extension.as_str()) {
         return Ok(());
     }
     let list: Vec<String> = formats.iter().map(|f| format!(".{f}")).collect();
@@ -318,7 +317,7 @@ pub(crate) fn load(path: &Path, source: &Source) -> Result<Loaded, Error> {
 
 /// Loads a file (with its motion), its warnings left to the caller.
 pub(crate) fn load_quietly(path: &Path, source: &Source) -> Result<Loaded, Error> {
-    load_with_threads(path, source, bvhview::cores())
+    load_with_threads(path, source, bvhview::io::parallel::cores())
 }
 
 /// The takes of a list of files (the window, `snapshot`), each with its motion: an `.amc` right
@@ -328,7 +327,7 @@ pub(crate) fn paired_takes(
     files: &[PathBuf],
     source: &Source,
 ) -> Result<Vec<(PathBuf, Option<PathBuf>)>, Error> {
-    let is = |path: &Path, extension: &str| input::extension(path) == extension;
+    let is = |path: &Path, extension: &str| take::extension(path) == extension;
     let mut takes = Vec::with_capacity(files.len());
     let mut k = 0;
     while k < files.len() {
@@ -376,7 +375,7 @@ pub(crate) fn load_with_threads(
                 path.display()
             )));
         }
-        return input::load_take(
+        return take::load_take(
             path,
             source.motion.as_deref(),
             source.frame_time,
@@ -394,14 +393,14 @@ pub(crate) fn load_with_threads(
     use std::io::Read as _;
     let mut bytes = Vec::new();
     let limit = source.max_size;
-    bvhview::read::Bounded::saying(
+    bvhview::io::read::Bounded::saying(
         io::stdin().lock(),
         limit,
         format!("more than --max-size {limit} bytes"),
     )
     .read_to_end(&mut bytes)
     .map_err(|e| Error::io(Path::new("<stdin>"), e))?;
-    input::load_bytes_as(
+    take::load_bytes_as(
         &bytes,
         source.from.as_deref(),
         "<stdin>",
@@ -425,8 +424,8 @@ pub(crate) fn load_or_default(
             if source.take.is_some() {
                 return Err(Error::Usage("--take needs an FBX or glTF file".into()));
             }
-            bvhview::limits::frame_time_option(source.frame_time)?;
-            let mut walk = input::default_motion()?;
+            bvhview::io::limits::frame_time_option(source.frame_time)?;
+            let mut walk = take::default_motion()?;
             if let Some(time) = source.frame_time {
                 walk.motion.frame_time = time;
             }
@@ -439,7 +438,7 @@ pub(crate) fn load_or_default(
 /// be written from any thread.
 pub(crate) enum Output {
     Stdout(BufWriter<io::Stdout>),
-    File(bvhview::output::AtomicFile),
+    File(bvhview::io::output::AtomicFile),
 }
 
 impl Write for Output {
@@ -460,7 +459,7 @@ impl Write for Output {
 /// Opens the output (a file, or stdout when none is named).
 pub(crate) fn open_output(path: Option<&Path>) -> Result<Output, Error> {
     Ok(match path {
-        Some(path) => Output::File(bvhview::output::AtomicFile::create(path)?),
+        Some(path) => Output::File(bvhview::io::output::AtomicFile::create(path)?),
         None => Output::Stdout(BufWriter::new(io::stdout())),
     })
 }
@@ -485,7 +484,7 @@ pub(crate) fn written(result: io::Result<()>, path: Option<&Path>) -> Result<(),
     match result {
         Ok(()) => Ok(()),
         Err(e) if path.is_none() && e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) if export::not_finite(&e).is_some() => Err(Error::Usage(e.to_string())),
+        Err(e) if bvhview::positions::not_finite(&e).is_some() => Err(Error::Usage(e.to_string())),
         Err(e) => Err(Error::output(path.unwrap_or(Path::new("<stdout>")), e)),
     }
 }
@@ -518,7 +517,7 @@ pub(crate) enum TakeFormat {
 impl TakeFormat {
     /// By a file's extension: `.glb`, `.gltf`, else BVH.
     pub(crate) fn of(path: &Path) -> TakeFormat {
-        match input::extension(path).as_str() {
+        match take::extension(path).as_str() {
             "glb" => TakeFormat::Glb,
             "gltf" => TakeFormat::Gltf,
             _ => TakeFormat::Bvh,
@@ -620,8 +619,8 @@ impl Prepared {
         };
         format!(
             "{}, {}",
-            bvhview::error::counted(count, what),
-            bvhview::error::counted(self.motion.frame_count(), "frame")
+            bvhview::io::error::counted(count, what),
+            bvhview::io::error::counted(self.motion.frame_count(), "frame")
         )
     }
 }

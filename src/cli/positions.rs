@@ -1,7 +1,7 @@
 //! `bvhview positions`: the world position of every joint and End Site, per frame, as CSV or JSON.
 
 use super::*;
-use bvhview::export::{Format, PositionsOptions};
+use bvhview::positions::{Format, PositionsOptions};
 
 /// `--format` of `positions`.
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]
@@ -65,7 +65,7 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
         );
     }
     let range = match &args.frames {
-        Some(text) => export::parse_frames(text, available)?,
+        Some(text) => bvhview::positions::parse_frames(text, available)?,
         None => 0..available,
     };
     let scale = args.scale;
@@ -83,7 +83,7 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
     let options = PositionsOptions {
         format: args
             .format
-            .unwrap_or_else(|| match args.output.as_deref().map(input::extension) {
+            .unwrap_or_else(|| match args.output.as_deref().map(take::extension) {
                 Some(extension) if extension == "json" => FormatArg::Json,
                 _ => FormatArg::Csv,
             })
@@ -94,7 +94,7 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
     };
     let output = args.output.as_deref();
     let mut out = open_output(output)?;
-    let result = export::write_positions(
+    let result = bvhview::positions::write_positions(
         &mut out,
         &loaded.skeleton,
         &loaded.motion,
@@ -105,12 +105,12 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
     finish_write(out, result, output)?;
     if let Some(path) = output {
         let frames = range.len();
-        let points = export::export_points(&loaded.skeleton).len();
+        let points = bvhview::positions::export_points(&loaded.skeleton).len();
         wrote(format_args!(
             "{}: {} × {}",
             path.display(),
-            bvhview::error::counted(frames, "frame"),
-            bvhview::error::counted(points, "point")
+            bvhview::io::error::counted(frames, "frame"),
+            bvhview::io::error::counted(points, "point")
         ));
     }
     Ok(ExitCode::SUCCESS)

@@ -66,7 +66,7 @@ fn check_sequence_options(
     animated: Option<bvhview::render::animation::Format>,
 ) -> Result<(), Error> {
     let output = args.output.display();
-    let format = match input::extension(&args.output).as_str() {
+    let format = match take::extension(&args.output).as_str() {
         "gif" => Some("a GIF"),
         "apng" => Some("an APNG"),
         _ => None,
@@ -100,7 +100,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     check_sequence_options(&args, animated)?;
     match &args.frames {
         None => check_output(&args.output, &["png"])?,
-        Some(_) if animated.is_none() && !input::extension(&args.output).is_empty() => {
+        Some(_) if animated.is_none() && !take::extension(&args.output).is_empty() => {
             return Err(Error::Usage(format!(
                 "-o {}: --frames writes an animated .gif, .apng or .png, or one PNG per frame into a folder such as frames/",
                 args.output.display()
@@ -109,7 +109,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         Some(_) => {}
     }
     if let Some(fps) = args.fps {
-        bvhview::limits::fps(fps, animated == Some(animation::Format::Gif))?;
+        bvhview::io::limits::fps(fps, animated == Some(animation::Format::Gif))?;
     }
     let files = paired_takes(&args.files, &args.source)?;
     if args.overlay && files.len() < 2 {
@@ -223,7 +223,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         ));
         return Ok(ExitCode::SUCCESS);
     };
-    let range = export::parse_frames(frames, clock.count)?;
+    let range = bvhview::positions::parse_frames(frames, clock.count)?;
     if let Some(format) = animated {
         let fps = args
             .fps
@@ -247,7 +247,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         wrote(format_args!(
             "{}: {} at {fps:.3} per second",
             output.display(),
-            bvhview::error::counted(ticks.len(), "frame")
+            bvhview::io::error::counted(ticks.len(), "frame")
         ));
         return Ok(ExitCode::SUCCESS);
     }
@@ -286,7 +286,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     )?;
     wrote(format_args!(
         "{} into {}",
-        bvhview::error::counted(count, "picture"),
+        bvhview::io::error::counted(count, "picture"),
         output.display()
     ));
     Ok(ExitCode::SUCCESS)

@@ -6,7 +6,7 @@
 use super::read::open;
 use super::store::{Takes, Writer, list_digest};
 use super::{Clip, Summary};
-use crate::error::Error;
+use crate::io::error::Error;
 use std::path::{Path, PathBuf};
 
 fn floats(bytes: &[u8]) -> Vec<f32> {

@@ -1,7 +1,7 @@
 //! `bvhview dataset`: every take under a folder turned into training arrays, on every core.
 //!
 //! One take is one unit of work ([`compile_take`]): loaded, turned to Y up and metres by its
-//! guessed [`Stance`](crate::stance::Stance), resampled to one frame rate, then its world
+//! guessed [`Stance`](crate::model::stance::Stance), resampled to one frame rate, then its world
 //! positions, local rotations, root translations, velocities and foot contacts computed. A take
 //! that fails is skipped and reported with its `path:line:column`. [`store`] writes the clips,
 //! grouped by skeleton topology, as `manifest.json` plus one `.npy` file per array; it also
@@ -14,9 +14,9 @@ pub mod read;
 pub mod rebuild;
 pub mod store;
 
-use crate::batch::Item;
-use crate::error::Error;
-use crate::pose::{self, FkPlan, FkScratch, OffsetMode, RotationKind, Up};
+use crate::info::batch::Item;
+use crate::io::error::Error;
+use crate::model::pose::{self, FkPlan, FkScratch, OffsetMode, RotationKind, Up};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
@@ -53,7 +53,7 @@ impl Default for Options {
             feet: None,
             contact_height: 0.05,
             contact_speed: 0.5,
-            max_size: crate::input::DEFAULT_MAX_SIZE,
+            max_size: crate::take::DEFAULT_MAX_SIZE,
             onto: None,
         }
     }
@@ -62,7 +62,7 @@ impl Default for Options {
 impl Options {
     /// Refuses rates and thresholds no dataset can be made with.
     pub fn check(&self) -> Result<(), Error> {
-        crate::limits::fps(self.fps, false)?;
+        crate::io::limits::fps(self.fps, false)?;
         let positive = |name: &str, value: f32| {
             if value.is_finite() && value >= 0.0 {
                 Ok(())
@@ -130,7 +130,7 @@ pub struct Topology {
 impl Topology {
     pub(crate) fn of(skeleton: &crate::Skeleton, feet: Vec<u32>) -> Topology {
         let joints: Vec<String> = (0..skeleton.joints.len())
-            .map(|i| crate::export::export_name(skeleton, i))
+            .map(|i| crate::model::skeleton::export_name(skeleton, i))
             .collect();
         let points = 0..skeleton.joints.len() as u32;
         let rotated: Vec<u32> = points
@@ -305,9 +305,9 @@ pub fn takes(dir: &Path) -> Result<Vec<Item>, Error> {
     walk(dir).map(|walk| walk.items)
 }
 
-/// [`takes`], and what the folder walk skipped ([`crate::batch::collect_takes`]).
-pub fn walk(dir: &Path) -> Result<crate::batch::Walk, Error> {
-    crate::batch::collect_takes(dir)
+/// [`takes`], and what the folder walk skipped ([`crate::info::batch::collect_takes`]).
+pub fn walk(dir: &Path) -> Result<crate::info::batch::Walk, Error> {
+    crate::info::batch::collect_takes(dir)
 }
 
 /// Compiles one take found under `dir` (the folder its manifest path is relative to): its
@@ -376,9 +376,9 @@ pub fn compile_take_plain(dir: &Path, item: &Item, options: &Options) -> Result<
 /// A take loaded and checked for compiling, with the offset mode it is read in and how it
 /// stands.
 pub(crate) struct Prepared {
-    loaded: crate::input::Loaded,
+    loaded: crate::take::Loaded,
     mode: OffsetMode,
-    stance: crate::stance::Stance,
+    stance: crate::model::stance::Stance,
 }
 
 /// What a take's frames become: the group's skeleton (metres, Y up, bone axes baked) and, at
@@ -413,7 +413,7 @@ fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
         }
     }
     let loaded =
-        crate::input::load_checked(path, item.motion.as_deref(), None, 1, options.max_size)?;
+        crate::take::load_checked(path, item.motion.as_deref(), None, 1, options.max_size)?;
     let frame_time = loaded.motion.frame_time;
     if !(frame_time > 0.0 && frame_time.is_finite()) {
         return Err(Error::Usage(format!(
@@ -436,7 +436,7 @@ fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
                 &[],
                 1,
             )?;
-            crate::input::Loaded {
+            crate::take::Loaded {
                 skeleton,
                 motion,
                 stated_units: None,
@@ -471,7 +471,7 @@ fn topology_of(
     mode: OffsetMode,
 ) -> Result<(Topology, Vec<String>), Error> {
     let names: Vec<String> = (0..skeleton.joints.len())
-        .map(|i| crate::export::export_name(skeleton, i))
+        .map(|i| crate::model::skeleton::export_name(skeleton, i))
         .collect();
     let feet = match &options.feet {
         Some(wanted) => named_feet(path, &names, wanted)?,
@@ -749,7 +749,7 @@ pub fn compile(
     let total = items.len();
     let mut failure = None;
     let mut clips = 0;
-    crate::parallel::map_in_order(
+    crate::io::parallel::map_in_order(
         total,
         threads,
         4 * threads.max(1),
@@ -802,7 +802,7 @@ pub fn compile(
         return Err(Error::Usage(format!(
             "{}: no take could be compiled ({} skipped), so no dataset was written:{reasons}",
             dir.display(),
-            crate::error::counted(total, "take")
+            crate::io::error::counted(total, "take")
         )));
     }
     writer.finish()

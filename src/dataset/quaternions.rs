@@ -6,9 +6,9 @@
 
 use super::{Options, Posed, Prepared, Stages, topology_of};
 use crate::edit::{Picks, QuarterTurn, resample_picks};
-use crate::error::Error;
-use crate::motion::Motion;
-use crate::pose::{self, FkPlan, FkScratch, LANES, RotationKind, Up};
+use crate::io::error::Error;
+use crate::model::motion::Motion;
+use crate::model::pose::{self, FkPlan, FkScratch, LANES, RotationKind, Up};
 use glam::Vec3;
 use std::path::Path;
 
@@ -135,7 +135,7 @@ pub(crate) fn posed(
                     (_, true) => pose::write_rotation(source_joint, values_a, kind, slot),
                     (Some(order), false) => {
                         let angles =
-                            crate::euler::split_degrees(q[k * joints + j].as_dquat(), order);
+                            crate::model::euler::split_degrees(q[k * joints + j].as_dquat(), order);
                         slot[..3].copy_from_slice(&angles);
                     }
                     (None, false) => {

@@ -2,8 +2,8 @@
 //! turned into a take on the group's skeleton, to save as BVH or glTF.
 
 use super::Topology;
-use crate::error::Error;
-use crate::pose::RotationKind;
+use crate::io::error::Error;
+use crate::model::pose::RotationKind;
 use crate::{Motion, Skeleton};
 
 /// Arrays in the dataset's layout, frame after frame (row-major).
@@ -34,7 +34,7 @@ pub fn motion_of(
     fps: f64,
 ) -> Result<(Skeleton, Motion), Error> {
     let refuse = |why: String| Err(Error::Usage(why));
-    crate::limits::fps(fps, false)?;
+    crate::io::limits::fps(fps, false)?;
     let points = topology.joints.len();
     let (rotated, translated) = (topology.rotated.len(), topology.translated.len());
     let width = arrays.kind.width();
@@ -111,7 +111,7 @@ pub fn motion_of(
     }
     if arrays.kind != RotationKind::Euler {
         for (at, numbers) in arrays.rotations.chunks_exact(width).enumerate() {
-            if let Some(why) = crate::pose::rotation_numbers_problem(arrays.kind, numbers) {
+            if let Some(why) = crate::model::pose::rotation_numbers_problem(arrays.kind, numbers) {
                 return refuse(format!(
                     "rotations[{}, {}]: {why}",
                     at / rotated.max(1),
@@ -149,7 +149,7 @@ pub fn motion_of(
     let channels = skeleton.channel_count();
     let values = frames
         .checked_mul(channels)
-        .filter(|&n| n as u64 <= crate::limits::MAX_GENERATED_VALUES)
+        .filter(|&n| n as u64 <= crate::io::limits::MAX_GENERATED_VALUES)
         .ok_or_else(|| {
             Error::Usage(format!(
                 "{frames} frames of {channels} values: more than a take holds"

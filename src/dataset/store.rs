@@ -4,8 +4,8 @@
 //! `out` and renamed at the end, so a dataset is there whole or not at all.
 
 use super::{About, Clip, Options, Skipped, Summary, Topology};
-use crate::error::Error;
-use crate::pose::RotationKind;
+use crate::io::error::Error;
+use crate::model::pose::RotationKind;
 use std::collections::HashMap;
 use std::fs::File;
 use std::io::{self, Write};
@@ -342,7 +342,7 @@ impl ArrayFile {
         let from = self.length;
         let file = self.file()?;
         file.write_all(bytes)?;
-        crate::output::start_writeback(file, from..from + bytes.len() as u64);
+        crate::io::output::start_writeback(file, from..from + bytes.len() as u64);
         self.length += bytes.len() as u64;
         Ok(())
     }
@@ -371,7 +371,7 @@ const STATS_OF: [usize; 5] = [0, 1, 2, 3, 4];
 pub struct Writer {
     out: PathBuf,
     /// `None` once finished.
-    folder: Option<crate::output::NewFolder>,
+    folder: Option<crate::io::output::NewFolder>,
     options: Options,
     takes: Takes,
     groups: Vec<OpenGroup>,
@@ -384,11 +384,13 @@ pub struct Writer {
 
 impl Writer {
     /// Starts a dataset at `out`, which must not exist or be an empty folder: made as every
-    /// folder of outputs is ([`crate::output::NewFolder`]), under a temporary name beside it.
+    /// folder of outputs is ([`crate::io::output::NewFolder`]), under a temporary name beside it.
     pub fn create(out: &Path, options: &Options, takes: Takes) -> Result<Writer, Error> {
         options.check()?;
-        let folder =
-            crate::output::NewFolder::create(out, "a dataset goes into a new (or empty) folder")?;
+        let folder = crate::io::output::NewFolder::create(
+            out,
+            "a dataset goes into a new (or empty) folder",
+        )?;
         Ok(Writer {
             out: out.to_path_buf(),
             folder: Some(folder),
@@ -413,12 +415,12 @@ impl Writer {
             Some(skeleton) => skeleton_bvh(skeleton),
             None => Err(Error::Usage("a clip without its skeleton".to_string())),
         };
-        crate::output::in_partial_folder(|| self.add_files(clip, &skeleton))
+        crate::io::output::in_partial_folder(|| self.add_files(clip, &skeleton))
     }
 
     /// Adds a clip of a dataset being merged: a new group takes `skeleton` (its piece's).
     pub(super) fn add_merged(&mut self, clip: &Clip, skeleton: &str) -> Result<(), Error> {
-        crate::output::in_partial_folder(|| self.add_files(clip, &|| Ok(skeleton.to_string())))
+        crate::io::output::in_partial_folder(|| self.add_files(clip, &|| Ok(skeleton.to_string())))
     }
 
     fn add_files(
@@ -525,7 +527,7 @@ impl Writer {
 
     /// Writes the offsets and the manifest, and gives the folder its name.
     pub fn finish(mut self) -> Result<Summary, Error> {
-        let summary = crate::output::in_partial_folder(|| self.complete())?;
+        let summary = crate::io::output::in_partial_folder(|| self.complete())?;
         self.folder.take().expect("open until finished").commit()?;
         Ok(summary)
     }

@@ -1,9 +1,9 @@
 //! C++: `BVH::draw`, `BVH::drawRecursive`, `BVH::roateSpace`: the skeleton drawn down the tree
 //! on the GL matrix stack.
 
-use crate::pose::{OffsetMode, joint_translation};
+use crate::model::pose::{OffsetMode, joint_translation};
+use crate::model::skeleton::{Joint, Skeleton};
 use crate::render::fixed::{FixedFunction, GL_LIGHTING, GL_LINES, Note};
-use crate::skeleton::{Joint, Skeleton};
 
 /// How joints are drawn. `Points` is the article's picture.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -224,7 +224,7 @@ pub fn rotate_space<G: FixedFunction>(gl: &mut G, joint: &Joint, frame: Option<&
 }
 
 /// An ASF bone turns about its own fixed axis C: its channels' rotations between C and C⁻¹, the
-/// GL calls for [`crate::pose::local_rotation`].
+/// GL calls for [`crate::model::pose::local_rotation`].
 fn rotate_space_about_axis<G: FixedFunction>(
     gl: &mut G,
     joint: &Joint,

@@ -5,7 +5,7 @@
 //! The scene and the draw code call GL only through the [`FixedFunction`] trait, so the same code
 //! can render or be recorded.
 
-use crate::error::Error;
+use crate::io::error::Error;
 use crate::render::sphere::Sphere;
 use glow::HasContext;
 use std::ffi::{CStr, c_void};

@@ -1,7 +1,7 @@
 //! The HUD (I in the window, `snapshot --hud`) and the help (H): text on top of the picture,
 //! top left, never part of the article's picture.
 
-use crate::pose::OffsetMode;
+use crate::model::pose::OffsetMode;
 use crate::render::draw::Style;
 use crate::render::fixed::FixedFunction;
 use crate::render::pixels::{self, Rect};

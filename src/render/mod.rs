@@ -1,7 +1,6 @@
 //! Drawing: the article's fixed-function renderer, offscreen (OSMesa) and in a window.
 
 pub mod animation;
-pub mod body;
 pub mod draw;
 pub mod fixed;
 pub mod framing;
@@ -20,10 +19,10 @@ pub mod timeline;
 pub mod trace;
 pub mod window;
 
-use crate::error::Error;
-use crate::motion::Motion;
-use crate::pose::{OffsetMode, Up};
-use crate::skeleton::Skeleton;
+use crate::io::error::Error;
+use crate::model::motion::Motion;
+use crate::model::pose::{OffsetMode, Up};
+use crate::model::skeleton::Skeleton;
 use draw::Style;
 use scene::{Camera, Scene};
 use std::path::Path;
@@ -51,7 +50,7 @@ impl Image {
     }
 
     fn write_png_at(&self, path: &Path, compression: png::Compression) -> Result<(), Error> {
-        let mut file = crate::output::AtomicFile::create(path)?;
+        let mut file = crate::io::output::AtomicFile::create(path)?;
         let mut encoder = png::Encoder::new(&mut file, self.width, self.height);
         encoder.set_color(png::ColorType::Rgb);
         encoder.set_depth(png::BitDepth::Eight);
@@ -321,7 +320,7 @@ impl Default for SnapshotOptions {
 pub fn camera_for(
     skeleton: &Skeleton,
     motion: &Motion,
-    stance: crate::stance::Stance,
+    stance: crate::model::stance::Stance,
     options: &SnapshotOptions,
 ) -> Result<Camera, Error> {
     let take = paint::Shown {
@@ -427,9 +426,10 @@ impl Renderer {
         let (width, height) = self.context.size();
         let spare = match spare {
             Some(spare) => spare,
-            None => {
-                crate::limits::zeroed_bytes(width as usize * height as usize * 4, "the picture")?
-            }
+            None => crate::io::limits::zeroed_bytes(
+                width as usize * height as usize * 4,
+                "the picture",
+            )?,
         };
         Ok(Frame {
             width,

@@ -1,7 +1,7 @@
 //! Joint names beside the joints (N in the window, `snapshot --names`), drawn over whatever the
 //! style drew, in the HUD's font at its own 8-pixel size. Not the article's.
 
-use crate::pose::world_positions;
+use crate::model::pose::world_positions;
 use crate::render::fixed::{FixedFunction, GL_DEPTH_TEST, GL_LIGHTING};
 use crate::render::pixels::Rect;
 use crate::render::scene::Scene;

@@ -3,17 +3,17 @@
 //! then the article's `reshape` and `display` and the overlay. The window and `snapshot` both
 //! call [`Painter::paint`], so the window shows what `snapshot` writes.
 
-use crate::error::Error;
-use crate::motion::Motion;
-use crate::pose::{OffsetMode, Up, world_positions};
-use crate::render::body::{Body, PosedBody};
+use crate::io::error::Error;
+use crate::model::bone_skin::{Body, PosedBody};
+use crate::model::motion::Motion;
+use crate::model::pose::{OffsetMode, Up, world_positions};
+use crate::model::skeleton::Skeleton;
+use crate::model::stance::Stance;
 use crate::render::fixed::FixedFunction;
 use crate::render::framing::{self, Room};
 use crate::render::scene::{self, Camera, Scene};
 use crate::render::studio::{self, Stage, take_extent};
 use crate::render::{Look, Overlay, SnapshotOptions, draw_overlay, frame_values};
-use crate::skeleton::Skeleton;
-use crate::stance::Stance;
 use glam::Vec3;
 
 /// One take to show.

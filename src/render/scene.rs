@@ -6,10 +6,10 @@
 //! `gluLookAt` builds its matrix in floats and then calls `glTranslated`, and `gluPerspective`
 //! builds its matrix in doubles for `glMultMatrixd`.
 
-use crate::pose::OffsetMode;
+use crate::model::pose::OffsetMode;
+use crate::model::skeleton::Skeleton;
 use crate::render::draw::{self, Style};
 use crate::render::fixed::*;
-use crate::skeleton::Skeleton;
 
 /// C++: `float R = 200.0f`: the camera's distance from the point it looks at.
 pub const R: f32 = 200.0;
@@ -94,14 +94,14 @@ pub struct Scene<'a> {
     pub style: Style,
     pub offset_mode: OffsetMode,
     /// A skin posed for this frame, drawn lit before the skeleton (`--skin`; not the article's).
-    pub skin: Option<&'a crate::render::body::PosedBody>,
+    pub skin: Option<&'a crate::model::bone_skin::PosedBody>,
     /// Only the first joints in drawing order, the last highlighted (the step view; not the
     /// article's). `None`: the whole skeleton.
     pub shown: Option<usize>,
     /// The spheres' radius (the article's 1; see [`sphere_radius`]).
     pub sphere_radius: f64,
     /// The file's up axis; a Z-up file is turned to stand (the floor stays where it is).
-    pub up: crate::pose::Up,
+    pub up: crate::model::pose::Up,
     /// Where the take stands: moved along x beside the others when several are shown.
     pub origin: [f32; 3],
     /// How much larger the take is drawn than written (several takes to one height); 1 alone.
@@ -124,7 +124,12 @@ impl Scene<'_> {
 
 /// Where a point of a take (as the file places it) is drawn: stood up, scaled, moved to the
 /// take's place.
-pub fn place(up: crate::pose::Up, scale: f32, origin: glam::Vec3, point: glam::Vec3) -> glam::Vec3 {
+pub fn place(
+    up: crate::model::pose::Up,
+    scale: f32,
+    origin: glam::Vec3,
+    point: glam::Vec3,
+) -> glam::Vec3 {
     up.to_y_up() * point * scale + origin
 }
 
@@ -232,7 +237,7 @@ pub fn draw_take<G: FixedFunction>(gl: &mut G, scene: &Scene) {
         (Some(_), _) => Some(Style::Sticks),
     };
     // A Z-up file turned to stand in the article's Y-up world; nothing changes for Y-up files.
-    let stand_up = scene.up == crate::pose::Up::Z;
+    let stand_up = scene.up == crate::model::pose::Up::Z;
     if stand_up {
         gl.push_matrix();
         gl.rotatef(-90.0, 1.0, 0.0, 0.0);

@@ -4,11 +4,11 @@
 //! smoothly when bone 2 turns. Drawn as the demo draws it: line loops for the quads and a
 //! wireframe shape per bone, over a blue-grey background, 15 units from the camera.
 
+use crate::model::skin::{Skin, SkinVertex};
 use crate::render::fixed::{
     FixedFunction, GL_COLOR_BUFFER_BIT, GL_DEPTH_BUFFER_BIT, GL_LINE_LOOP, GL_LINE_STRIP,
     GL_MODELVIEW, GL_PROJECTION,
 };
-use crate::skin::{Skin, SkinVertex};
 use glam::{Mat4, Vec3};
 
 /// The demo's window size.

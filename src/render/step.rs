@@ -2,12 +2,12 @@
 //! joints in the order `drawRecursive` reaches them, the last one highlighted, and beside the
 //! picture which joint that is, how deep the matrix stack is, and the GL calls that drew it.
 
-use crate::pose::OffsetMode;
+use crate::model::pose::OffsetMode;
+use crate::model::skeleton::Skeleton;
 use crate::render::draw::{self, Pass, Style};
 use crate::render::fixed::FixedFunction;
 use crate::render::text;
 use crate::render::trace::{Numbers, Recorder};
-use crate::skeleton::Skeleton;
 
 /// The overlay's lines for the step that has drawn `shown` joints (1 to the joint count), at
 /// most `columns` characters each; the spheres are `sphere_radius` as in the picture.

@@ -6,13 +6,13 @@
 //! default.
 
 use crate::edit::{Side, name_side};
-use crate::motion::Motion;
-use crate::pose::{FkPlan, FkScratch, OffsetMode, Up};
+use crate::model::motion::Motion;
+use crate::model::pose::{FkPlan, FkScratch, OffsetMode, Up};
+use crate::model::skeleton::Skeleton;
+use crate::model::stance::Units;
 use crate::render::draw::{self, Style};
 use crate::render::fixed::*;
 use crate::render::scene::{Scene, look_at};
-use crate::skeleton::Skeleton;
-use crate::stance::Units;
 use glam::Vec3;
 
 /// How far above the level the studio camera looks down, in radians.
@@ -59,7 +59,7 @@ pub fn take_extent(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode, up: U
     };
     if motion.frame_count() == 0 {
         // The rest pose: no row for the plan to read.
-        for p in crate::pose::world_positions(skeleton, &[], mode) {
+        for p in crate::model::pose::world_positions(skeleton, &[], mode) {
             let p = stand * p;
             lo = lo.min(p);
             hi = hi.max(p);
@@ -83,7 +83,7 @@ impl Stage {
     /// The stage under one take, its height and units guessed from its motion.
     pub fn new(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode, up: Up) -> Stage {
         let extent = take_extent(skeleton, motion, mode, up);
-        let stance = crate::stance::Stance::guess(skeleton, motion, mode, None);
+        let stance = crate::model::stance::Stance::guess(skeleton, motion, mode, None);
         Stage::around(
             &[(extent, Vec3::ZERO)],
             stance.height_along(up),
@@ -225,7 +225,7 @@ pub fn display<G: FixedFunction>(gl: &mut G, scenes: &[Scene], stage: &Stage, pi
 /// Every bone cast onto the floor, just above the grid, by a light high up to one side (a point
 /// p lands at p − d·(p.y − floor)/d.y, d the light's direction). Unlit, line width 4.
 fn shadow<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage, line_width: f32) {
-    let points: Vec<Vec3> = crate::pose::world_positions(
+    let points: Vec<Vec3> = crate::model::pose::world_positions(
         scene.skeleton,
         scene.frame.unwrap_or(&[]),
         scene.offset_mode,

@@ -42,8 +42,8 @@ struct JointFacts {
     root_translation: Option<[f32; 3]>,
     /// Its MOTION columns, and which of them are rotations (in file order).
     columns: std::ops::Range<usize>,
-    rotation_columns: Vec<(usize, crate::skeleton::Channel)>,
-    position_columns: Vec<(usize, crate::skeleton::Channel)>,
+    rotation_columns: Vec<(usize, crate::model::skeleton::Channel)>,
+    position_columns: Vec<(usize, crate::model::skeleton::Channel)>,
     offset: glam::Vec3,
     /// Where its sphere lands, from `pose` (not from the recorded matrices).
     world: glam::Vec3,
@@ -79,7 +79,7 @@ impl JointFacts {
 /// article needs: the letters of the three channels from the first rotation on (the root: the
 /// article scans to the first `r`) or of the first three (any other joint). End Sites, and joints
 /// with fewer than three channels, get 0.
-fn channel_flags(joint: &crate::skeleton::Joint) -> u8 {
+fn channel_flags(joint: &crate::model::skeleton::Joint) -> u8 {
     if joint.end_site || joint.channels.len() < 3 {
         return 0;
     }
@@ -459,7 +459,7 @@ enum Label {
 /// The notes `--explain` adds: for the joint being drawn, what each call does and reads.
 struct Explain {
     language: Language,
-    mode: crate::pose::OffsetMode,
+    mode: crate::model::pose::OffsetMode,
     joints: Vec<JointFacts>,
     /// The joints whose calls are under way, innermost last, with the rotations and the axis
     /// matrices (C, then C⁻¹) issued so far.
@@ -498,13 +498,13 @@ impl Recorder {
     /// each sphere lands in the world.
     pub fn explaining(
         numbers: Numbers,
-        skeleton: &crate::skeleton::Skeleton,
+        skeleton: &crate::model::skeleton::Skeleton,
         frame: Option<&[f32]>,
-        mode: crate::pose::OffsetMode,
+        mode: crate::model::pose::OffsetMode,
         language: Language,
         article: Option<&crate::bvh::article::Outcome>,
     ) -> Recorder {
-        let world = crate::pose::world_positions(skeleton, frame.unwrap_or(&[]), mode);
+        let world = crate::model::pose::world_positions(skeleton, frame.unwrap_or(&[]), mode);
         // The article's flags: from its own tree where it loaded one joint for joint like
         // bvhview's, else from the channels as if the file were laid out as the article needs.
         let loaded = article
@@ -699,7 +699,7 @@ impl Recorder {
                     .iter()
                     .map(|(column, channel)| format!("{channel} = [{column}]"))
                     .collect();
-                let add = explain.mode == crate::pose::OffsetMode::Add;
+                let add = explain.mode == crate::model::pose::OffsetMode::Add;
                 let replaced = replaced.join(", ");
                 let ours = match (replaced.is_empty(), add, zh) {
                     (true, _, _) => format!("OFFSET {offset}"),

@@ -14,9 +14,9 @@
 //! for one pass in frame order).
 
 use super::{Map, Setup, limited_angles, nearest_form};
-use crate::motion::Motion;
-use crate::pose::OffsetMode;
-use crate::skeleton::Skeleton;
+use crate::model::motion::Motion;
+use crate::model::pose::OffsetMode;
+use crate::model::skeleton::Skeleton;
 use glam::{DQuat, DVec3};
 use std::sync::{Mutex, PoisonError};
 
@@ -373,7 +373,7 @@ impl Quats {
     }
 
     /// The Euler angles in degrees of this rotation with the axes `[i, j, k]` of a rotation order
-    /// (file order) and their `sign` (+1 when they turn as x, y, z do): [`crate::euler::split`]
+    /// (file order) and their `sign` (+1 when they turn as x, y, z do): [`crate::model::euler::split`]
     /// with no previous frame, step for step: the matrix of the normalised quaternion (glam's
     /// `DMat3::from_quat`), the middle angle against the length of the other two, the third
     /// read off it away from the lock (else 0), the first from the rotation with the third
@@ -429,7 +429,7 @@ impl Quats {
         ];
         let cos_middle = lanes(|l| (m[i][i][l] * m[i][i][l] + m[j][i][l] * m[j][i][l]).sqrt());
         let middle = atan2(&lanes(|l| sign * m[k][i][l]), &cos_middle);
-        let free = mask(|l| cos_middle[l] > crate::euler::LOCK);
+        let free = mask(|l| cos_middle[l] > crate::model::euler::LOCK);
         let third = atan2(&lanes(|l| -sign * m[j][i][l]), &m[i][i]);
         let third = lanes(|l| if free[l] { third[l] } else { 0.0 });
         // Column j of the rotation with the third angle taken off: m · R_k(−third) · e_j.
@@ -513,11 +513,11 @@ fn turn(q: DQuat, v: &Points) -> Points {
     }
 }
 
-/// The axes of an Euler order in file order, and their handedness, as [`crate::euler::split`]
+/// The axes of an Euler order in file order, and their handedness, as [`crate::model::euler::split`]
 /// reads them.
-fn axis_order(order: crate::skeleton::RotationOrder) -> ([usize; 3], f64) {
-    let [i, j, k] = crate::euler::axes(order);
-    ([i, j, k], crate::euler::handedness(i, j))
+fn axis_order(order: crate::model::skeleton::RotationOrder) -> ([usize; 3], f64) {
+    let [i, j, k] = crate::model::euler::axes(order);
+    ([i, j, k], crate::model::euler::handedness(i, j))
 }
 
 /// [`nearest_form`] of every lane: its operations in its order, as one loop over the lanes that
@@ -757,7 +757,7 @@ impl<'a> Plan<'a> {
                         axis: joint.axis.map(|c| c.as_dquat().normalize()),
                     },
                     None if rotation_channels > 0 => Turn::Limited,
-                    None => Turn::Fixed(crate::pose::local_rotation_f64(
+                    None => Turn::Fixed(crate::model::pose::local_rotation_f64(
                         joint,
                         &vec![0.0; joint.channels.len()],
                     )),
@@ -1195,7 +1195,7 @@ pub(super) fn frames<T: Value>(
         (&mut chained, width),
         &mut moves,
     ));
-    crate::parallel::on_threads(threads.max(1), || {
+    crate::io::parallel::on_threads(threads.max(1), || {
         let mut scratch = Scratch::default();
         let (mut source_floor, mut target_floor, mut finite) = (f64::INFINITY, f64::INFINITY, true);
         loop {
@@ -1235,7 +1235,7 @@ pub(super) fn frames<T: Value>(
         })
     } else {
         let (work, all) = (Mutex::new(work), Mutex::new(finite));
-        crate::parallel::on_threads(threads.max(1), || {
+        crate::io::parallel::on_threads(threads.max(1), || {
             let mut finite = true;
             loop {
                 let next = work.lock().unwrap_or_else(PoisonError::into_inner).next();
@@ -1363,7 +1363,7 @@ mod tests {
     fn every_vector_width_gives_the_same_values() {
         let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("tests/data/bvh/bvh11_131_01.bvh");
-        let loaded = crate::input::load(&path, None, None).unwrap();
+        let loaded = crate::take::load(&path, None, None).unwrap();
         let (source, motion) = (loaded.skeleton, loaded.motion);
         // The built-in skeleton, one turning in another order, an ASF one (hinges, fixed
         // axes), and the take's own.
@@ -1382,7 +1382,8 @@ mod tests {
         });
         for target in targets.into_iter().chain([source.clone()]) {
             let map = Map::guess(&source, &target);
-            let up = crate::stance::Stance::guess(&source, &motion, OffsetMode::Replace, None).up;
+            let up =
+                crate::model::stance::Stance::guess(&source, &motion, OffsetMode::Replace, None).up;
             let ups = super::super::Ups {
                 source: up,
                 target: up,
@@ -1424,7 +1425,7 @@ mod tests {
 
     #[test]
     fn euler_angles_are_the_exact_split_s_at_and_near_the_lock() {
-        use crate::skeleton::RotationOrder as R;
+        use crate::model::skeleton::RotationOrder as R;
         let mut values = numbers(1 << 16);
         let mut next = || values.next().unwrap();
         let quarter = std::f64::consts::FRAC_PI_2;
@@ -1443,7 +1444,7 @@ mod tests {
             for q in cases {
                 for order in [R::Zyx, R::Yzx, R::Zxy, R::Xzy, R::Yxz, R::Xyz] {
                     let got = Quats::splat(q).euler_degrees(axis_order(order));
-                    let want = crate::euler::split(q, order, None);
+                    let want = crate::model::euler::split(q, order, None);
                     for (got, want) in got.iter().zip(want) {
                         assert!(
                             (got[0] - want.to_degrees()).abs() < 1e-9,
@@ -1453,7 +1454,7 @@ mod tests {
                         );
                     }
                     let angles = got.map(|a| a[0].to_radians());
-                    let back = crate::euler::compose(angles, order);
+                    let back = crate::model::euler::compose(angles, order);
                     assert!(back.dot(q.normalize()).abs() > 1.0 - 1e-15, "{order:?} {q}");
                 }
             }

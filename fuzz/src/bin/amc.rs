@@ -12,7 +12,7 @@ fn main() {
         {
             if motion.frame_count() > 0 {
                 let _ =
-                    bvhview::pose::world_positions(&skeleton, motion.frame(0), Default::default());
+                    bvhview::model::pose::world_positions(&skeleton, motion.frame(0), Default::default());
             }
             let _ = bvhview::edit::bake_axes(&skeleton, &motion);
         }

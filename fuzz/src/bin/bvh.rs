@@ -6,7 +6,7 @@ fn main() {
             let _ = bvhview::bvh::print::print(&bvh.skeleton);
             let _ = bvhview::bvh::writer::to_string(&bvh.skeleton, &bvh.motion);
             if bvh.motion.frame_count() > 0 {
-                let _ = bvhview::pose::world_positions(
+                let _ = bvhview::model::pose::world_positions(
                     &bvh.skeleton,
                     bvh.motion.frame(0),
                     Default::default(),

@@ -4,7 +4,7 @@ fn main() {
     afl::fuzz!(|data: &[u8]| {
         if let Ok(read) = bvhview::fbx::load_bytes(data, "fuzz.fbx", None, 1) {
             let last = read.motion.frame_count().saturating_sub(1);
-            let _ = bvhview::pose::world_positions(
+            let _ = bvhview::model::pose::world_positions(
                 &read.skeleton,
                 read.motion.frame(last),
                 Default::default(),

@@ -2,9 +2,9 @@
 //! must return a take or an error, never panic or hang; a take must pose and write as BVH.
 fn main() {
     afl::fuzz!(|data: &[u8]| {
-        if let Ok(read) = bvhview::gltf_in::load_bytes(data, "fuzz.glb", None) {
+        if let Ok(read) = bvhview::gltf::load_bytes(data, "fuzz.glb", None) {
             let last = read.motion.frame_count().saturating_sub(1);
-            let _ = bvhview::pose::world_positions(
+            let _ = bvhview::model::pose::world_positions(
                 &read.skeleton,
                 read.motion.frame(last),
                 Default::default(),

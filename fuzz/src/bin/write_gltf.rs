@@ -9,9 +9,9 @@ fn main() {
             return;
         };
         let mode = if choice & 0x80 != 0 {
-            bvhview::pose::OffsetMode::Add
+            bvhview::model::pose::OffsetMode::Add
         } else {
-            bvhview::pose::OffsetMode::Replace
+            bvhview::model::pose::OffsetMode::Replace
         };
         let container = bvhview::gltf::Container::Gltf;
         if let Ok(bytes) =

@@ -1,7 +1,7 @@
 //! The positions export (CSV and JSON), fed what the BVH loader makes of any bytes: whatever it
 //! writes must parse back, every number finite, one row per frame and point; whatever it
 //! refuses must be refused before the header.
-use bvhview::export::{Format, PositionsOptions};
+use bvhview::positions::{Format, PositionsOptions};
 use bvhview_fuzz::split;
 
 fn main() {
@@ -18,16 +18,16 @@ fn main() {
                 Format::Json
             },
             offset_mode: if choice & 2 == 0 {
-                bvhview::pose::OffsetMode::Replace
+                bvhview::model::pose::OffsetMode::Replace
             } else {
-                bvhview::pose::OffsetMode::Add
+                bvhview::model::pose::OffsetMode::Add
             },
             left_handed: choice & 4 != 0,
             scale: [1.0, 100.0, 1e30, -0.001][usize::from(choice >> 3) % 4],
         };
         let mut out = Vec::new();
-        let points = bvhview::export::export_points(&bvh.skeleton).len();
-        match bvhview::export::write_positions(
+        let points = bvhview::positions::export_points(&bvh.skeleton).len();
+        match bvhview::positions::write_positions(
             &mut out,
             &bvh.skeleton,
             &bvh.motion,

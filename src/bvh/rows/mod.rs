@@ -12,8 +12,8 @@
 //! row by row, 64 bytes at a time; this module feeds the pieces to the cores and puts their rows
 //! in order ([`RowParser`]).
 
-use crate::error::{Error, counted};
-use crate::lines::{advance, count_lines, is_line_end};
+use crate::io::error::{Error, counted};
+use crate::io::lines::{advance, count_lines, is_line_end};
 use std::io::Read;
 
 /// Bytes of MOTION text handed to the parser at a time.
@@ -137,8 +137,8 @@ enum Source<'a> {
 /// to eight): a new buffer would cost a page fault for every 4 KB of it when first read into,
 /// each load again. Each process has its own: a child forked while a parent's thread held the
 /// lock would wait for it for good.
-static KEPT_BUFFERS: crate::parallel::PerProcess<std::sync::Mutex<Vec<Vec<u8>>>> =
-    crate::parallel::PerProcess::new(|| std::sync::Mutex::new(Vec::new()));
+static KEPT_BUFFERS: crate::io::parallel::PerProcess<std::sync::Mutex<Vec<Vec<u8>>>> =
+    crate::io::parallel::PerProcess::new(|| std::sync::Mutex::new(Vec::new()));
 
 /// Buffers grown larger than this by a long line are not kept.
 const MOST_KEPT: usize = 2 * CHUNK;
@@ -159,7 +159,7 @@ impl Drop for KeptBuffer {
     fn drop(&mut self) {
         if self.0.capacity() > 0 && self.0.capacity() <= MOST_KEPT {
             let mut kept = lock(KEPT_BUFFERS.get());
-            if kept.len() < crate::cores().clamp(1, 8) {
+            if kept.len() < crate::io::parallel::cores().clamp(1, 8) {
                 kept.push(std::mem::take(&mut self.0));
             }
         }
@@ -394,7 +394,7 @@ impl RowParser {
             room / 2 + 1
         };
         let wanted = frames.saturating_mul(width as u64).min(possible);
-        let threads = crate::cores().clamp(1, 8);
+        let threads = crate::io::parallel::cores().clamp(1, 8);
         let data = Vec::with_capacity(wanted as usize);
         RowParser {
             source: source.to_string(),
@@ -623,7 +623,7 @@ impl RowParser {
         let threads = self
             .threads
             .min(1 + (self.input_left / self.chunk as u64) as usize);
-        crate::parallel::on_threads(threads, work);
+        crate::io::parallel::on_threads(threads, work);
         let stream = stream.into_inner().unwrap_or_else(|e| e.into_inner());
         if let Some(error) = stream.error {
             return Err(io_error(error));

@@ -1,6 +1,6 @@
 //! Reading one number as the article's `(float)atof` does, exactly and fast.
 
-use crate::lines::is_line_end;
+use crate::io::lines::is_line_end;
 
 pub(super) fn is_blank(byte: u8) -> bool {
     matches!(byte, b' ' | b'\t' | 0x0B | 0x0C)

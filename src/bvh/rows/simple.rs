@@ -2,8 +2,8 @@
 
 use super::words::Problem;
 use super::{Ending, Located, is_blank, nul_after_the_rows, parse_number};
-use crate::error::Error;
-use crate::lines::{advance, count_lines, is_line_end};
+use crate::io::error::Error;
+use crate::io::lines::{advance, count_lines, is_line_end};
 
 /// C++: the row loop of `BVH::loadFile`:
 ///

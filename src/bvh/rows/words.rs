@@ -3,7 +3,7 @@
 //! blocks of classified text, and the reading of one number.
 
 use super::number::{decimal_to_f32, eight_digits, is_blank, parse_number, read_decimal};
-use crate::lines::is_line_end;
+use crate::io::lines::is_line_end;
 
 /// What went wrong in a row, at a byte offset of the part being parsed.
 #[derive(Clone, Copy, Debug)]

@@ -2,7 +2,7 @@
 //! glutin (no multisampling), what the machine must have for it, and the shared event-loop
 //! plumbing of the viewer and the skinning demo.
 
-use crate::error::Error;
+use crate::io::error::Error;
 use crate::render::fixed::GlTable;
 use glutin::config::{ConfigTemplateBuilder, GlConfig};
 use glutin::context::{ContextAttributesBuilder, GlProfile, PossiblyCurrentContext};

@@ -2,7 +2,7 @@
 //! drag bends the second bone.
 
 use super::gl::*;
-use crate::error::Error;
+use crate::io::error::Error;
 use glutin::prelude::GlSurface;
 use std::num::NonZeroU32;
 use winit::application::ApplicationHandler;

@@ -8,15 +8,15 @@
 //! toggles the stick figure, K the generated skin.
 
 use super::gl::*;
-use crate::error::Error;
-use crate::input::Loaded;
-use crate::motion::Motion;
-use crate::pose::OffsetMode;
+use crate::io::error::Error;
+use crate::model::motion::Motion;
+use crate::model::pose::OffsetMode;
 use crate::render::draw::Style;
 use crate::render::paint::{Clock, Painter, Shown};
 use crate::render::scene::{self, Camera};
 use crate::render::timeline::Bar;
 use crate::render::{Look, Overlay, SnapshotOptions};
+use crate::take::Loaded;
 use glutin::prelude::GlSurface;
 use std::f32::consts::TAU;
 use std::num::NonZeroU32;
@@ -63,11 +63,11 @@ pub struct TakeSource {
 
 impl TakeSource {
     fn load(&self) -> Result<Loaded, Error> {
-        crate::input::load_take(
+        crate::take::load_take(
             &self.path,
             self.motion.as_deref(),
             self.frame_time,
-            crate::cores(),
+            crate::io::parallel::cores(),
             self.max_size,
             self.take.as_deref(),
         )
@@ -84,11 +84,11 @@ pub struct ViewerTake {
     pub loaded: Loaded,
     /// Its up axis, asked for or guessed from the motion: a Z-up take is stood up in a view
     /// that frames it (see `Viewer::drawn_up`); the article's view draws it as written.
-    pub up: crate::pose::Up,
+    pub up: crate::model::pose::Up,
     /// How it stands, guessed from its motion (its height and units size the studio).
-    pub stance: crate::stance::Stance,
+    pub stance: crate::model::stance::Stance,
     /// The up axis `--up` asked for; without it, R guesses again from what it reads.
-    pub up_asked: Option<crate::pose::Up>,
+    pub up_asked: Option<crate::model::pose::Up>,
 }
 
 impl ViewerTake {
@@ -339,10 +339,10 @@ impl Viewer {
                 fit: self.fit,
                 offset_mode: self.options.offset_mode,
                 other_mode_likely,
-                lying_along_z: self
-                    .takes
-                    .iter()
-                    .any(|t| t.up == crate::pose::Up::Z && self.drawn_up(t) == crate::pose::Up::Y),
+                lying_along_z: self.takes.iter().any(|t| {
+                    t.up == crate::model::pose::Up::Z
+                        && self.drawn_up(t) == crate::model::pose::Up::Y
+                }),
             };
             lines.extend(hud.lines(size));
         }
@@ -352,12 +352,12 @@ impl Viewer {
     /// The up axis a take is drawn with: the one asked for (`--up`); otherwise in the article's
     /// view as written (Y up, the article's picture for every file), and in a view that frames
     /// the takes (F, the studio look) the one guessed from the motion.
-    fn drawn_up(&self, take: &ViewerTake) -> crate::pose::Up {
+    fn drawn_up(&self, take: &ViewerTake) -> crate::model::pose::Up {
         let framed = self.fit || self.options.look == Look::Studio;
         match take.up_asked {
             Some(up) => up,
             None if framed => take.up,
-            None => crate::pose::Up::Y,
+            None => crate::model::pose::Up::Y,
         }
     }
 
@@ -396,7 +396,7 @@ impl Viewer {
     }
 
     /// The takes as the painter draws them, with the up axes they are drawn with.
-    fn shown<'a>(takes: &'a [ViewerTake], ups: &[crate::pose::Up]) -> Vec<Shown<'a>> {
+    fn shown<'a>(takes: &'a [ViewerTake], ups: &[crate::model::pose::Up]) -> Vec<Shown<'a>> {
         takes
             .iter()
             .zip(ups)
@@ -409,7 +409,7 @@ impl Viewer {
             .collect()
     }
 
-    fn drawn_ups(&self) -> Vec<crate::pose::Up> {
+    fn drawn_ups(&self) -> Vec<crate::model::pose::Up> {
         self.takes.iter().map(|t| self.drawn_up(t)).collect()
     }
 
@@ -504,7 +504,7 @@ impl Viewer {
             path,
             motion: None,
             frame_time: None,
-            max_size: crate::input::DEFAULT_MAX_SIZE,
+            max_size: crate::take::DEFAULT_MAX_SIZE,
             take: None,
         };
         let problems = match ViewerTake::from_source(source, self.options.offset_mode) {
@@ -863,11 +863,11 @@ mod tests {
     /// changes nothing. R loads every file again, and keeps the last good take of a broken one.
     /// (No window is needed: these are the handlers the window's events call.)
     fn walk_viewer() -> Viewer {
-        let loaded = crate::input::default_motion().unwrap();
+        let loaded = crate::take::default_motion().unwrap();
         let walk = ViewerTake {
             name: crate::DEFAULT_MOTION_NAME.to_string(),
             source: None,
-            up: crate::pose::Up::Y,
+            up: crate::model::pose::Up::Y,
             stance: loaded.stance(OffsetMode::Replace),
             loaded,
             up_asked: None,
@@ -1015,14 +1015,14 @@ mod tests {
         // The timeline got shorter: the frame shown stays on it.
         assert_eq!((viewer.frame_count(), viewer.frame), (3, 2));
         // Rewritten to stand along z: the reload guesses its up axis again.
-        assert_eq!(viewer.takes[1].up, crate::pose::Up::Y);
+        assert_eq!(viewer.takes[1].up, crate::model::pose::Up::Y);
         let standing_along_z = "HIERARCHY\nROOT Hips\n{\n OFFSET 0 0 0\n CHANNELS 3 Zrotation \
              Xrotation Yrotation\n JOINT Spine\n {\n  OFFSET 0 0 10\n  CHANNELS 3 Zrotation \
              Xrotation Yrotation\n  End Site\n  {\n   OFFSET 0 0 10\n  }\n }\n}\nMOTION\n\
              Frames: 2\nFrame Time: 0.1\n0 0 0 0 0 0\n0 0 0 0 0 0\n";
         std::fs::write(&second, standing_along_z).unwrap();
         viewer.reload();
-        assert_eq!(viewer.takes[1].up, crate::pose::Up::Z);
+        assert_eq!(viewer.takes[1].up, crate::model::pose::Up::Z);
         std::fs::write(&second, "HIERARCHY\nROOT Hips\n{\n").unwrap();
         viewer.reload();
         assert!(viewer.problem.as_deref().unwrap().contains("second.bvh:"));

@@ -17,7 +17,7 @@
 //! 32-bit path cannot meet the test and stays the one everything else uses (speed, and the
 //! picture's exact GL product); a unit test below holds the two to the same positions.
 
-use crate::skeleton::{Channel, Joint, Skeleton};
+use crate::model::skeleton::{Channel, Joint, Skeleton};
 use glam::{Mat4, Vec3};
 
 /// How a joint's position channels combine with its OFFSET.
@@ -89,7 +89,7 @@ pub const OTHER_MODE_NEAR: f32 = 0.05;
 /// the warning, and [`guessed_mode`] follows it).
 pub fn written_for_other_mode(
     skeleton: &Skeleton,
-    motion: &crate::motion::Motion,
+    motion: &crate::model::motion::Motion,
     mode: OffsetMode,
 ) -> Option<(usize, usize)> {
     if motion.frame_count() == 0 {
@@ -139,7 +139,7 @@ pub fn written_for_other_mode(
 /// [`written_for_other_mode`] says so, else `mode` itself.
 pub fn guessed_mode(
     skeleton: &Skeleton,
-    motion: &crate::motion::Motion,
+    motion: &crate::model::motion::Motion,
     mode: OffsetMode,
 ) -> OffsetMode {
     match (written_for_other_mode(skeleton, motion, mode), mode) {
@@ -440,7 +440,7 @@ pub fn write_quat(q: glam::Quat, kind: RotationKind, out: &mut [f32]) {
 /// values themselves, and a take without frames go joint by joint).
 pub fn write_local_rotations(
     skeleton: &Skeleton,
-    motion: &crate::motion::Motion,
+    motion: &crate::model::motion::Motion,
     frames: &[usize],
     kind: RotationKind,
     out: &mut [f32],
@@ -584,7 +584,7 @@ pub fn world_transforms_f64(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::skeleton::Channel::*;
+    use crate::model::skeleton::Channel::*;
 
     fn joint(offset: Vec3, channels: Vec<Channel>) -> Joint {
         let mut joint = Joint::new("j".into(), None);
@@ -1259,7 +1259,7 @@ fn as_lanes(values: &[f32]) -> &[Lanes] {
 /// work cannot be skipped, and as a checksum).
 pub fn positions_all_frames(
     skeleton: &Skeleton,
-    motion: &crate::motion::Motion,
+    motion: &crate::model::motion::Motion,
     mode: OffsetMode,
 ) -> f64 {
     let plan = FkPlan::new(skeleton, mode);
@@ -1267,10 +1267,10 @@ pub fn positions_all_frames(
     // Pieces of a few thousand frames, taken in turn by every core.
     const PIECE: usize = 4096;
     let mut total = 0.0f64;
-    crate::parallel::map_in_order(
+    crate::io::parallel::map_in_order(
         frames.div_ceil(PIECE),
-        crate::cores(),
-        2 * crate::cores(),
+        crate::io::parallel::cores(),
+        2 * crate::io::parallel::cores(),
         |piece| {
             let (mut out, mut scratch) = (Vec::new(), FkScratch::default());
             let mut sum = 0.0f64;
@@ -1374,7 +1374,7 @@ mod fast_tests {
         // The repository's own corpus: mixed orders, position channels on 143 joints, CR endings,
         // and a CMU ASF/AMC pair whose bones turn about their own axes (the C·R·C⁻¹ step).
         let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
-        let mut inputs: Vec<(String, Skeleton, crate::motion::Motion)> = [
+        let mut inputs: Vec<(String, Skeleton, crate::model::motion::Motion)> = [
             "bvh11_131_01.bvh",
             "makehuman_tpose.bvh",
             "opencollar_run.bvh",
@@ -1388,7 +1388,7 @@ mod fast_tests {
         .collect();
         let asf = data.join("asf_amc/heiden_12.asf");
         let amc = data.join("asf_amc/heiden_12_02_01.amc");
-        let cmu = crate::input::load(&asf, Some(&amc), None).unwrap();
+        let cmu = crate::take::load(&asf, Some(&amc), None).unwrap();
         let turned = cmu.skeleton.joints.iter().filter(|j| {
             j.axis
                 .is_some_and(|a| a.angle_between(glam::Quat::IDENTITY) > 0.1)

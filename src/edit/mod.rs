@@ -2,10 +2,10 @@
 //! the 32-bit range (a scale, a difference, a turn of huge values) checks its result with
 //! [`finite`] and refuses it rather than hand on an infinity no file can hold.
 
-use crate::error::Error;
-use crate::euler;
-use crate::motion::Motion;
-use crate::skeleton::{Channel, RotationOrder, Skeleton};
+use crate::io::error::Error;
+use crate::model::euler;
+use crate::model::motion::Motion;
+use crate::model::skeleton::{Channel, RotationOrder, Skeleton};
 use glam::{DQuat, Quat};
 
 /// A BVH-ready copy: every fixed axis baked into the rotation channels, as BVH has no axis.
@@ -50,7 +50,7 @@ pub fn bake_axes(skeleton: &Skeleton, motion: &Motion) -> Result<(Skeleton, Moti
                 }
             }
             if copy.channels.iter().any(|c| c.is_rotation()) {
-                let rotation = crate::pose::local_rotation_f64(joint, values);
+                let rotation = crate::model::pose::local_rotation_f64(joint, values);
                 data.extend(euler::split_degrees(rotation, RotationOrder::Zyx));
             }
         }
@@ -147,7 +147,7 @@ pub fn scale(
     }
     let frames = motion.frame_count();
     finite(
-        &format!("--scale {}", crate::limits::show(factor)),
+        &format!("--scale {}", crate::io::limits::show(factor)),
         scaled,
         Motion::new(motion.frame_time, motion.channels, frames, data),
     )
@@ -195,8 +195,8 @@ pub enum Picks {
 }
 
 /// The frames of a take of `frames` frames, `frame_time` seconds each, that make it at `fps`
-/// ([`resample`] says how): the rate checked by [`crate::limits::fps`], the number of new
-/// frames (of `channels` values each) by [`crate::limits::resampled_frames`]. A take of fewer than two frames, or without
+/// ([`resample`] says how): the rate checked by [`crate::io::limits::fps`], the number of new
+/// frames (of `channels` values each) by [`crate::io::limits::resampled_frames`]. A take of fewer than two frames, or without
 /// a usable frame time, keeps its frames.
 pub fn resample_picks(
     frames: usize,
@@ -204,7 +204,7 @@ pub fn resample_picks(
     fps: f64,
     channels: usize,
 ) -> Result<Picks, Error> {
-    crate::limits::fps(fps, false)?;
+    crate::io::limits::fps(fps, false)?;
     let timed = frame_time > 0.0 && frame_time.is_finite();
     if frames < 2 || !timed {
         return Ok(Picks::Rows((0..frames).collect()));
@@ -214,7 +214,7 @@ pub fn resample_picks(
         Resampling::EveryKth(k) => return Ok(Picks::Rows((0..frames).step_by(k).collect())),
         Resampling::Interpolated => {}
     }
-    crate::limits::resampled_frames(frames - 1, frame_time, fps, channels)?;
+    crate::io::limits::resampled_frames(frames - 1, frame_time, fps, channels)?;
     let span = (frames - 1) as f64 * frame_time;
     // A little slack: frame times are written with few digits (.0083333 for 1/120).
     let count = (span * fps + 1e-3).floor() as usize + 1;
@@ -222,7 +222,7 @@ pub fn resample_picks(
     between.try_reserve_exact(count).map_err(|_| {
         Error::Memory(format!(
             "--fps {}: {count} frames do not fit in memory",
-            crate::limits::show(fps)
+            crate::io::limits::show(fps)
         ))
     })?;
     between.extend((0..count).map(|i| {
@@ -242,8 +242,8 @@ pub fn resample_picks(
 /// interpolation (slerp) of the two frames around it and its positions their linear
 /// interpolation; joints whose rotations are not three channels on distinct axes (an ASF bone
 /// with one or two dof) have their angles interpolated linearly. The new take's frame time is
-/// 1 / fps. The rate is checked by [`crate::limits::fps`], the number of frames made by
-/// [`crate::limits::resampled_frames`]. `convert --fps`, Python's `Motion.resample` and
+/// 1 / fps. The rate is checked by [`crate::io::limits::fps`], the number of frames made by
+/// [`crate::io::limits::resampled_frames`]. `convert --fps`, Python's `Motion.resample` and
 /// `dataset` all resample here.
 pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion, Error> {
     let width = motion.channels;
@@ -262,7 +262,7 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion
     data.try_reserve_exact(count * width).map_err(|_| {
         Error::Memory(format!(
             "--fps {}: {count} frames of {width} values do not fit in memory",
-            crate::limits::show(fps)
+            crate::io::limits::show(fps)
         ))
     })?;
     for &(a, b, w) in &between {
@@ -281,7 +281,8 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion
             let Some(order) = joint.rotation_order else {
                 continue;
             };
-            let quat = |row: &[f32]| crate::pose::channel_rotations_f64(joint, joint.values(row));
+            let quat =
+                |row: &[f32]| crate::model::pose::channel_rotations_f64(joint, joint.values(row));
             let q = quat(row_a).slerp(quat(row_b), w64);
             let angles = euler::split_degrees(q, order);
             let rotations = joint
@@ -297,7 +298,7 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion
     }
     let motion = Motion::new(1.0 / fps, width, count, data);
     finite(
-        &format!("--fps {}", crate::limits::show(fps)),
+        &format!("--fps {}", crate::io::limits::show(fps)),
         skeleton.clone(),
         motion,
     )
@@ -525,8 +526,8 @@ pub struct MirrorOptions {
 /// Whether joint `k`'s channels can carry the reflection of joint `j`'s motion, and back:
 /// the same position channels, rotations both of three distinct axes (or the same channels),
 /// and both with or without a bone axis.
-fn swappable(j: &crate::skeleton::Joint, k: &crate::skeleton::Joint) -> bool {
-    let positions = |joint: &crate::skeleton::Joint| -> Vec<Channel> {
+fn swappable(j: &crate::model::skeleton::Joint, k: &crate::model::skeleton::Joint) -> bool {
+    let positions = |joint: &crate::model::skeleton::Joint| -> Vec<Channel> {
         joint
             .channels
             .iter()
@@ -642,7 +643,7 @@ pub fn mirror_partners(
 }
 
 /// The axis (0 = x, 1 = y, 2 = z) across which the body's left and right lie: of the two
-/// axes across the ground (x and z for a take that stands along y as [`crate::stance`] guesses
+/// axes across the ground (x and z for a take that stands along y as [`crate::model::stance`] guesses
 /// it, x and y for one along z), the one along which the counterparts that hang from the body's
 /// middle (hips, collars, shoulders: joints whose parent has no counterpart, so a swinging hand
 /// or foot does not count) are further apart, summed over up to 64 frames spread through the
@@ -662,11 +663,15 @@ pub fn lateral_axis(skeleton: &Skeleton, motion: &Motion, partners: &[usize]) ->
     if pairs.is_empty() {
         return 0;
     }
-    let stance =
-        crate::stance::Stance::guess(skeleton, motion, crate::pose::OffsetMode::Replace, None);
+    let stance = crate::model::stance::Stance::guess(
+        skeleton,
+        motion,
+        crate::model::pose::OffsetMode::Replace,
+        None,
+    );
     let across = match stance.up {
-        crate::pose::Up::Y => 2,
-        crate::pose::Up::Z => 1,
+        crate::model::pose::Up::Y => 2,
+        crate::model::pose::Up::Z => 1,
     };
     let frames = motion.frame_count();
     let sampled: Vec<Option<usize>> = match frames {
@@ -677,7 +682,7 @@ pub fn lateral_axis(skeleton: &Skeleton, motion: &Motion, partners: &[usize]) ->
     let mut apart = glam::DVec3::ZERO;
     for frame in sampled {
         let row = frame.map_or(&[][..], |f| motion.frame(f));
-        let points = crate::pose::world_positions(skeleton, row, stance.mode);
+        let points = crate::model::pose::world_positions(skeleton, row, stance.mode);
         for &(j, k) in &pairs {
             let d = (points[j] - points[k]).abs().as_dvec3();
             if d.is_finite() {
@@ -792,8 +797,10 @@ fn reflect(
                     .iter()
                     .zip(values)
                     .filter(|(c, _)| c.is_position());
-                let rotation =
-                    reflect_quat(crate::pose::channel_rotations_f64(source, values), axis);
+                let rotation = reflect_quat(
+                    crate::model::pose::channel_rotations_f64(source, values),
+                    axis,
+                );
                 let order = joint.rotation_order.unwrap_or(RotationOrder::Zyx);
                 let mut angles = euler::split_degrees(rotation, order).into_iter();
                 for (slot, &channel) in out.iter_mut().zip(&joint.channels) {
@@ -819,10 +826,10 @@ fn reflect(
 }
 
 /// The ground plane's axes for an up axis: (the two across, the one up).
-fn plane(up: crate::pose::Up) -> ([usize; 2], usize) {
+fn plane(up: crate::model::pose::Up) -> ([usize; 2], usize) {
     match up {
-        crate::pose::Up::Y => ([0, 2], 1),
-        crate::pose::Up::Z => ([0, 1], 2),
+        crate::model::pose::Up::Y => ([0, 2], 1),
+        crate::model::pose::Up::Z => ([0, 1], 2),
     }
 }
 
@@ -831,15 +838,18 @@ fn plane(up: crate::pose::Up) -> ([usize; 2], usize) {
 /// the ground plane, so the figure moves where it stands.
 /// Only that joint's values change, to values the take already holds: nothing can overflow.
 ///
-/// [`travel_joint_of_take`]: crate::pose::travel_joint_of_take
-pub fn in_place(skeleton: &Skeleton, motion: &Motion, up: crate::pose::Up) -> Motion {
+/// [`travel_joint_of_take`]: crate::model::pose::travel_joint_of_take
+pub fn in_place(skeleton: &Skeleton, motion: &Motion, up: crate::model::pose::Up) -> Motion {
     let (across, _) = plane(up);
     let mut data = motion.data.clone();
     if motion.frame_count() == 0 || motion.channels == 0 {
         return motion.clone();
     }
-    let travel =
-        crate::pose::travel_joint_of_take(skeleton, motion, crate::pose::OffsetMode::Replace);
+    let travel = crate::model::pose::travel_joint_of_take(
+        skeleton,
+        motion,
+        crate::model::pose::OffsetMode::Replace,
+    );
     let joint = &skeleton.joints[travel];
     for (i, channel) in joint.channels.iter().enumerate() {
         if channel.is_position() && across.contains(&channel.axis()) {
@@ -863,8 +873,8 @@ pub fn in_place(skeleton: &Skeleton, motion: &Motion, up: crate::pose::Up) -> Mo
 pub fn ground(
     skeleton: &Skeleton,
     motion: &Motion,
-    mode: crate::pose::OffsetMode,
-    up: crate::pose::Up,
+    mode: crate::model::pose::OffsetMode,
+    up: crate::model::pose::Up,
 ) -> Result<(Skeleton, Motion), Error> {
     let (_, axis) = plane(up);
     let mut lowest = f32::INFINITY;
@@ -875,7 +885,7 @@ pub fn ground(
         } else {
             motion.frame(frame)
         };
-        for p in crate::pose::world_positions(skeleton, row, mode) {
+        for p in crate::model::pose::world_positions(skeleton, row, mode) {
             lowest = lowest.min(p[axis]);
         }
     }
@@ -917,7 +927,7 @@ pub struct QuarterTurn {
 }
 
 impl QuarterTurn {
-    pub fn between(from: crate::pose::Up, to: crate::pose::Up) -> QuarterTurn {
+    pub fn between(from: crate::model::pose::Up, to: crate::model::pose::Up) -> QuarterTurn {
         // Into Y-up from `from`, then out of Y-up into `to`.
         let turn = to.to_y_up().inverse() * from.to_y_up();
         let axes = glam::Mat3::from_quat(turn)
@@ -954,8 +964,8 @@ impl QuarterTurn {
 pub fn reorient(
     skeleton: &Skeleton,
     motion: &Motion,
-    from: crate::pose::Up,
-    to: crate::pose::Up,
+    from: crate::model::pose::Up,
+    to: crate::model::pose::Up,
 ) -> Result<(Skeleton, Motion), Error> {
     if from == to {
         return Ok((skeleton.clone(), motion.clone()));
@@ -1003,7 +1013,7 @@ pub fn reorient(
                     }
                 }
                 if let Some(order) = joint.rotation_order {
-                    let r = crate::pose::channel_rotations_f64(joint, values);
+                    let r = crate::model::pose::channel_rotations_f64(joint, values);
                     let turn = turn.as_dquat();
                     let angles = euler::split_degrees(turn * r * turn.inverse(), order);
                     for (&(column, _), angle) in columns(false).iter().zip(angles) {
@@ -1025,7 +1035,7 @@ pub fn reorient(
 /// given as `kind` (`numbers`: 4, 9, 6 or 3 of them; euler: the channel values themselves).
 pub fn channel_angles(
     joint: &crate::Joint,
-    kind: crate::pose::RotationKind,
+    kind: crate::model::pose::RotationKind,
     numbers: &[f32],
 ) -> Vec<f32> {
     let axes: Vec<usize> = joint
@@ -1037,7 +1047,7 @@ pub fn channel_angles(
     if axes.is_empty() {
         return Vec::new();
     }
-    let Some(local) = crate::pose::rotation_of_numbers(kind, numbers) else {
+    let Some(local) = crate::model::pose::rotation_of_numbers(kind, numbers) else {
         // Euler angles are the channel values themselves.
         return numbers.iter().copied().take(axes.len()).collect();
     };
@@ -1105,9 +1115,9 @@ mod tests {
     /// the joint as the file did (glam's 32-bit `to_euler` was 6e-4 rad off at 89.99°).
     #[test]
     fn edits_split_rotations_exactly_at_and_near_the_lock() {
-        use crate::skeleton::RotationOrder as R;
+        use crate::model::skeleton::RotationOrder as R;
         let turned = |joint: &crate::Joint, values: &[f32]| {
-            crate::pose::channel_rotations_f64(joint, values)
+            crate::model::pose::channel_rotations_f64(joint, values)
         };
         for order in [R::Zyx, R::Yzx, R::Zxy, R::Xzy, R::Yxz, R::Xyz] {
             let names: Vec<String> = order
@@ -1134,7 +1144,8 @@ mod tests {
                 close(turned(joint, doubled.frame(1)), "resample");
                 let (w, x, y, z) = (want.w as f32, want.x as f32, want.y as f32, want.z as f32);
                 let numbers = [w, x, y, z];
-                let angles = channel_angles(joint, crate::pose::RotationKind::Quat, &numbers);
+                let angles =
+                    channel_angles(joint, crate::model::pose::RotationKind::Quat, &numbers);
                 close(
                     turned(joint, &[0.0, 0.0, 0.0, angles[0], angles[1], angles[2]]),
                     "quaternion to angles",
@@ -1950,11 +1961,12 @@ mod tests {
             ]
         );
         // Every world position is its counterpart's reflected; twice gives the take back.
-        let mode = crate::pose::OffsetMode::Replace;
+        let mode = crate::model::pose::OffsetMode::Replace;
         let partners = [0, 3, 4, 1, 2];
         for frame in 0..2 {
-            let before = crate::pose::world_positions(&bvh.skeleton, bvh.motion.frame(frame), mode);
-            let after = crate::pose::world_positions(&skeleton, motion.frame(frame), mode);
+            let before =
+                crate::model::pose::world_positions(&bvh.skeleton, bvh.motion.frame(frame), mode);
+            let after = crate::model::pose::world_positions(&skeleton, motion.frame(frame), mode);
             for (j, a) in after.iter().enumerate() {
                 let b = before[partners[j]];
                 assert!(
@@ -1990,11 +2002,11 @@ mod tests {
             ]
         );
         // By name, the same world positions as the swap.
-        let mode = crate::pose::OffsetMode::Replace;
+        let mode = crate::model::pose::OffsetMode::Replace;
         let (swapped, swapped_motion) =
             mirror(&bvh.skeleton, &bvh.motion, &MirrorOptions::default()).unwrap();
-        let a = crate::pose::world_positions(&skeleton, motion.frame(1), mode);
-        let b = crate::pose::world_positions(&swapped, swapped_motion.frame(1), mode);
+        let a = crate::model::pose::world_positions(&skeleton, motion.frame(1), mode);
+        let b = crate::model::pose::world_positions(&swapped, swapped_motion.frame(1), mode);
         assert!(a[1].abs_diff_eq(b[3], 1e-5) && a[3].abs_diff_eq(b[1], 1e-5));
     }
 
@@ -2036,9 +2048,10 @@ mod tests {
         ));
         let (skeleton, motion) =
             mirror(&mixed.skeleton, &mixed.motion, &MirrorOptions::default()).unwrap();
-        let mode = crate::pose::OffsetMode::Replace;
-        let before = crate::pose::world_positions(&mixed.skeleton, mixed.motion.frame(1), mode);
-        let after = crate::pose::world_positions(&skeleton, motion.frame(1), mode);
+        let mode = crate::model::pose::OffsetMode::Replace;
+        let before =
+            crate::model::pose::world_positions(&mixed.skeleton, mixed.motion.frame(1), mode);
+        let after = crate::model::pose::world_positions(&skeleton, motion.frame(1), mode);
         for (j, &k) in [0, 3, 4, 1, 2].iter().enumerate() {
             let b = before[k];
             assert!(glam::Vec3::new(-b.x, b.y, b.z).abs_diff_eq(after[j], 1e-4));
@@ -2048,21 +2061,31 @@ mod tests {
     #[test]
     fn in_place_and_ground_by_hand_worked_values() {
         let bvh = take(TWO_FRAMES);
-        let still = in_place(&bvh.skeleton, &bvh.motion, crate::pose::Up::Y);
+        let still = in_place(&bvh.skeleton, &bvh.motion, crate::model::pose::Up::Y);
         // x and z stay at frame 0's (0, 0); y keeps moving.
         assert_eq!(&still.frame(2)[..3], [0.0, 4.0, 0.0]);
         // The lowest point is the root at frame 0 (y 0) once the chest bends down: lift the
         // chain so that its lowest joint sits at 0.
         let bent = take(&TWO_FRAMES.replace("8 4 -4 0 0 0 80 0 0", "8 4 -4 0 0 0 180 0 0"));
-        let mode = crate::pose::OffsetMode::Replace;
-        let (skeleton, motion) =
-            ground(&bent.skeleton, &bent.motion, mode, crate::pose::Up::Y).unwrap();
+        let mode = crate::model::pose::OffsetMode::Replace;
+        let (skeleton, motion) = ground(
+            &bent.skeleton,
+            &bent.motion,
+            mode,
+            crate::model::pose::Up::Y,
+        )
+        .unwrap();
         // Frame 2: root at y 4, chest at 14, the site 5 below the chest (turned 180°): 9. Frame
         // 0: root at 0, the lowest anywhere. So nothing moves.
         assert_eq!(motion.frame(2)[1], 4.0);
         let lifted = take(&TWO_FRAMES.replace("0 0 0 0 0 0 0 0 0\n4", "0 -7 0 0 0 0 0 0 0\n4"));
-        let (_, motion) =
-            ground(&lifted.skeleton, &lifted.motion, mode, crate::pose::Up::Y).unwrap();
+        let (_, motion) = ground(
+            &lifted.skeleton,
+            &lifted.motion,
+            mode,
+            crate::model::pose::Up::Y,
+        )
+        .unwrap();
         // The root at -7 on frame 0 is the lowest point: every frame's y rises by 7.
         assert_eq!([motion.frame(0)[1], motion.frame(1)[1]], [0.0, 9.0]);
         assert_eq!(skeleton.joints[0].offset, glam::Vec3::ZERO);
@@ -2074,16 +2097,17 @@ mod tests {
         let (skeleton, motion) = reorient(
             &bvh.skeleton,
             &bvh.motion,
-            crate::pose::Up::Y,
-            crate::pose::Up::Z,
+            crate::model::pose::Up::Y,
+            crate::model::pose::Up::Z,
         )
         .unwrap();
         // Y-up to Z-up: (x, y, z) becomes (x, -z, y).
         assert_eq!(skeleton.joints[1].offset, glam::Vec3::new(0.0, 0.0, 10.0));
-        let mode = crate::pose::OffsetMode::Replace;
+        let mode = crate::model::pose::OffsetMode::Replace;
         for frame in 0..3 {
-            let before = crate::pose::world_positions(&bvh.skeleton, bvh.motion.frame(frame), mode);
-            let after = crate::pose::world_positions(&skeleton, motion.frame(frame), mode);
+            let before =
+                crate::model::pose::world_positions(&bvh.skeleton, bvh.motion.frame(frame), mode);
+            let after = crate::model::pose::world_positions(&skeleton, motion.frame(frame), mode);
             for (b, a) in before.iter().zip(&after) {
                 assert!(
                     glam::Vec3::new(b.x, -b.z, b.y).abs_diff_eq(*a, 1e-4),
@@ -2091,10 +2115,16 @@ mod tests {
                 );
             }
         }
-        let (back, motion_back) =
-            reorient(&skeleton, &motion, crate::pose::Up::Z, crate::pose::Up::Y).unwrap();
-        let again = crate::pose::world_positions(&back, motion_back.frame(2), mode);
-        let original = crate::pose::world_positions(&bvh.skeleton, bvh.motion.frame(2), mode);
+        let (back, motion_back) = reorient(
+            &skeleton,
+            &motion,
+            crate::model::pose::Up::Z,
+            crate::model::pose::Up::Y,
+        )
+        .unwrap();
+        let again = crate::model::pose::world_positions(&back, motion_back.frame(2), mode);
+        let original =
+            crate::model::pose::world_positions(&bvh.skeleton, bvh.motion.frame(2), mode);
         for (a, o) in again.iter().zip(&original) {
             assert!(a.abs_diff_eq(*o, 1e-4));
         }
@@ -2110,7 +2140,7 @@ mod finite_tests {
     #[test]
     fn a_nan_is_named_where_it_is_and_an_overflow_blames_the_edit() {
         let take = || {
-            let mut root = crate::skeleton::Joint::new("root".into(), None);
+            let mut root = crate::model::skeleton::Joint::new("root".into(), None);
             root.offset = glam::Vec3::ONE;
             let skeleton = Skeleton {
                 joints: vec![root],

@@ -6,9 +6,9 @@
 //! Nothing here changes the article's picture, which draws every file as written; the studio
 //! look, `--fit`, `info` and the edits use the guess, and `--up` overrides it.
 
-use crate::motion::Motion;
-use crate::pose::{FkPlan, FkScratch, OffsetMode, Up, world_positions};
-use crate::skeleton::Skeleton;
+use crate::model::motion::Motion;
+use crate::model::pose::{FkPlan, FkScratch, OffsetMode, Up, world_positions};
+use crate::model::skeleton::Skeleton;
 use glam::Vec3;
 
 /// At most this many frames, evenly spread over the take, are looked at.
@@ -181,7 +181,7 @@ impl Stance {
         mode: OffsetMode,
         stated: Option<Units>,
     ) -> Stance {
-        let mode = crate::pose::guessed_mode(skeleton, motion, mode);
+        let mode = crate::model::pose::guessed_mode(skeleton, motion, mode);
         // The body: every point but the roots (a root may stand far from the figure, as
         // Bandai's joint_Root does on the floor), unless that leaves nothing.
         let body: Vec<usize> = {
@@ -215,7 +215,7 @@ impl Stance {
             let (mut batch, mut scratch) = (Vec::new(), FkScratch::default());
             let joints = skeleton.joints.len();
             // Eight sampled poses side by side, as the FK plan computes them.
-            for frames in sampled.chunks(crate::pose::LANES) {
+            for frames in sampled.chunks(crate::model::pose::LANES) {
                 let rows: Vec<&[f32]> = frames.iter().map(|&f| motion.frame(f)).collect();
                 plan.positions_of_frames(&rows, &mut batch, &mut scratch);
                 pose_spreads(

@@ -18,16 +18,16 @@
 //!    Unmapped joints keep their rest rotation; the hips' path is scaled by the ratio of hip
 //!    heights and the feet are kept on the source's floor.
 //!
-//! Rotations are carried in 64-bit floats (see [`crate::pose::world_transforms_f64`]), so a take
+//! Rotations are carried in 64-bit floats (see [`crate::model::pose::world_transforms_f64`]), so a take
 //! retargeted onto its own skeleton gives back its own values. [`retarget`] runs eight frames side
 //! by side (src/retarget/fast.rs); [`retarget_plain`] is the same work a joint and a frame at a
 //! time, which a test holds it to (tests/retarget_fast.rs).
 
 use crate::edit::{Side, channel_angles};
-use crate::error::Error;
-use crate::motion::Motion;
-use crate::pose::{OffsetMode, RotationKind, Up, world_transforms_f64};
-use crate::skeleton::{Joint, Skeleton};
+use crate::io::error::Error;
+use crate::model::motion::Motion;
+use crate::model::pose::{OffsetMode, RotationKind, Up, world_transforms_f64};
+use crate::model::skeleton::{Joint, Skeleton};
 use glam::{DQuat, DVec3};
 use std::fmt;
 
@@ -1116,7 +1116,7 @@ pub fn parse_pair(text: &str) -> Option<(String, String)> {
 
 /// The built-in target skeletons: `smpl22`, the 22 body joints of SMPL in the layout of
 /// HumanML3D, AMASS and most text-to-motion models, in centimetres, T-pose, Y up, facing +z.
-pub const BUILT_IN: &[(&str, &[u8])] = &[("smpl22", include_bytes!("../assets/smpl22.bvh"))];
+pub const BUILT_IN: &[(&str, &[u8])] = &[("smpl22", include_bytes!("../../assets/smpl22.bvh"))];
 
 /// A built-in skeleton by name (see [`BUILT_IN`]), with its one rest frame.
 pub fn built_in(name: &str) -> Option<(Skeleton, Motion)> {
@@ -1145,7 +1145,7 @@ impl Target {
             if let Some((skeleton, motion)) = built_in(onto) {
                 return Ok(Target::new(onto.to_string(), skeleton, &motion));
             }
-            if crate::input::extension(path).is_empty() {
+            if crate::take::extension(path).is_empty() {
                 let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
                 return Err(Error::Usage(format!(
                     "--onto {onto}: neither a file nor a built-in skeleton ({})",
@@ -1153,7 +1153,8 @@ impl Target {
                 )));
             }
         }
-        let loaded = crate::input::load_checked(path, None, None, crate::cores(), max_size)?;
+        let loaded =
+            crate::take::load_checked(path, None, None, crate::io::parallel::cores(), max_size)?;
         Ok(Target::new(
             path.display().to_string(),
             loaded.skeleton,
@@ -1164,7 +1165,7 @@ impl Target {
     /// A target whose up axis is its take's, or its rest pose's when it has one frame or none.
     pub fn new(name: String, skeleton: Skeleton, motion: &Motion) -> Target {
         let up = if motion.frame_count() > 1 {
-            crate::stance::Stance::guess(&skeleton, motion, OffsetMode::Replace, None).up
+            crate::model::stance::Stance::guess(&skeleton, motion, OffsetMode::Replace, None).up
         } else {
             Up::guess(&skeleton)
         };
@@ -1186,7 +1187,13 @@ impl Target {
         map.apply(pairs, skeleton, &self.skeleton)?;
         map.check(source_name, &self.name)?;
         let ups = Ups {
-            source: crate::stance::Stance::guess(skeleton, motion, OffsetMode::Replace, None).up,
+            source: crate::model::stance::Stance::guess(
+                skeleton,
+                motion,
+                OffsetMode::Replace,
+                None,
+            )
+            .up,
             target: self.up,
         };
         retarget(skeleton, motion, &self.skeleton, &map, ups, threads)
@@ -1405,7 +1412,7 @@ fn leg_points(skeleton: &Skeleton, body: &Body) -> Vec<usize> {
 /// How a source's position channels combine with its OFFSETs: as written (MakeHuman's files
 /// mean "added to OFFSET", as the dataset compiler also reads them), else replacing them.
 fn source_offset_mode(source: &Skeleton, motion: &Motion) -> OffsetMode {
-    match crate::pose::written_for_other_mode(source, motion, OffsetMode::Replace) {
+    match crate::model::pose::written_for_other_mode(source, motion, OffsetMode::Replace) {
         Some(_) => OffsetMode::Add,
         None => OffsetMode::Replace,
     }
@@ -1524,7 +1531,10 @@ fn limited_angles(joint: &Joint, local: DQuat, bone: Option<DVec3>) -> ([f64; 3]
             0.0
         });
     }
-    (angles, crate::pose::local_rotation_f64(joint, &values))
+    (
+        angles,
+        crate::model::pose::local_rotation_f64(joint, &values),
+    )
 }
 
 /// The source's motion on the target skeleton: a take with the target's joints, offsets and
@@ -1830,7 +1840,8 @@ fn plain_frames(
                             }
                             None => local,
                         };
-                        crate::euler::split(channel_rotation, order, None).map(f64::to_degrees)
+                        crate::model::euler::split(channel_rotation, order, None)
+                            .map(f64::to_degrees)
                     }
                     None => {
                         // Fewer than three rotation channels: the rotation the joint can take,
@@ -1871,7 +1882,7 @@ fn plain_frames(
         out
     };
     let mut pieces: Vec<Piece> = Vec::with_capacity(frames.div_ceil(PIECE));
-    crate::parallel::map_in_order(
+    crate::io::parallel::map_in_order(
         frames.div_ceil(PIECE),
         threads.max(1),
         threads.max(1) * 4,
@@ -2157,7 +2168,7 @@ mod tests {
 #[cfg(test)]
 mod limited {
     use super::*;
-    use crate::skeleton::Channel;
+    use crate::model::skeleton::Channel;
 
     /// A joint turning about `axes` inside a fixed axis C (an ASF bone).
     fn joint(channels: Vec<Channel>, c: DQuat) -> Joint {

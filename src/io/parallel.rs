@@ -6,6 +6,23 @@
 //! much as loading a 50 KB file, and a script loading a folder file by file would pay it twice
 //! per file (load, then positions).
 
+/// Threads to parse and export with: the machine's cores, asked once (the answer comes from
+/// cgroup files, too slow to read for every small file). Kept in an atomic, not a `OnceLock`: a
+/// child forked while another thread was asking would wait for that thread's answer for good.
+pub fn cores() -> usize {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    static CORES: AtomicUsize = AtomicUsize::new(0);
+    match CORES.load(Ordering::Relaxed) {
+        0 => {
+            // Two threads asking at once both ask; they get the same answer.
+            let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+            CORES.store(cores, Ordering::Relaxed);
+            cores
+        }
+        known => known,
+    }
+}
+
 use std::collections::BTreeMap;
 use std::panic::{AssertUnwindSafe, catch_unwind, resume_unwind};
 use std::sync::atomic::{AtomicBool, AtomicPtr, AtomicU64, Ordering};

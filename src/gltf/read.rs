@@ -6,23 +6,23 @@
 //! its frames are sampled at the rate of its keys (the key step that puts the most keys on a
 //! frame, see `timing`; a warning when some keys fall between frames), every frame interpolated
 //! as the file says (`STEP`, `LINEAR` with slerp for rotations, `CUBICSPLINE`), and the world
-//! matrices go through [`crate::baked`]. glTF is Y up and in metres, bvhview's own convention:
+//! matrices go through [`crate::model::baked`]. glTF is Y up and in metres, bvhview's own convention:
 //! nothing is converted.
 //!
 //! A file is hostile until read: buffers are taken only from the GLB's own chunk, from `data:`
 //! URIs, or from files inside the `.gltf`'s own folder (no absolute path, no `..`, no scheme, no
 //! symbolic link out), each a regular file (a FIFO, device or socket is refused before a read),
 //! at least as long as its `byteLength` and read only that far, no longer than `--max-size` and
-//! [`crate::limits::MAX_WHOLE_FILE_BYTES`]; every accessor's bytes are checked to lie inside its
+//! [`crate::io::limits::MAX_WHOLE_FILE_BYTES`]; every accessor's bytes are checked to lie inside its
 //! buffer before they are read, and each is decoded once however many channels share it; an
 //! animation's channels may ask for [`KEY_VALUES_PER_BYTE`] key values per byte of input, and
 //! its frames × (joints + tracks) at most [`baked::FRAME_WORK_PER_BYTE`] per byte (each above
 //! a floor), refused past them before the work; a key that is not a finite number is refused
 //! by node, key and time; the node tree is checked for cycles and shared children.
 
-use crate::baked::{self, Node, Pose};
-use crate::error::Error;
-use crate::fbx::{Read, TakeInfo, pick_take};
+use crate::io::error::Error;
+use crate::model::baked::{self, Node, Pose};
+use crate::model::reading::{Read, TakeInfo, pick_take};
 use glam::{DMat4, DQuat, DVec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::animation::{Interpolation, Property};
@@ -105,7 +105,7 @@ fn buffer_path(folder: &Path, uri: &str) -> Result<PathBuf, String> {
     let file = folder.join(relative);
     let real = file.canonicalize().map_err(|e| match e.kind() {
         std::io::ErrorKind::NotFound => format!("buffer '{uri}': no such file beside the glTF"),
-        _ => format!("buffer '{uri}': {}", crate::error::Error::io(&file, e)),
+        _ => format!("buffer '{uri}': {}", crate::io::error::Error::io(&file, e)),
     })?;
     if !real.starts_with(&folder_real) {
         return refuse("it leads out of the glTF's folder");
@@ -208,7 +208,7 @@ fn unchecked_values(json: &gltf::json::Root) -> Result<(), String> {
 
 /// The file at `path` and the folder its buffers may come from.
 fn read(path: &Path, max_size: u64) -> Result<File, Error> {
-    let bytes = crate::read::read_binary_file(path, max_size)?;
+    let bytes = crate::io::read::read_binary_file(path, max_size)?;
     let folder = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -296,7 +296,7 @@ fn parse(bytes: &[u8], path: &str, folder: Option<&Path>, max_size: u64) -> Resu
                 let file = buffer_path(folder, uri).map_err(|why| bad(path, why))?;
                 // Only the buffer's byteLength is read (what lies past it is never used), from a
                 // regular file only: a FIFO, a device or a socket is refused before a read.
-                crate::read::read_file_start(&file, buffer.length() as u64, max_size)
+                crate::io::read::read_file_start(&file, buffer.length() as u64, max_size)
                     .map_err(|why| bad(path, format!("buffer '{uri}': {why}")))?
             }
         };
@@ -533,7 +533,7 @@ fn decoded(
 /// The name a message gives node `index`: `node 3 'Hips'`.
 fn node_label(document: &gltf::Document, index: usize) -> String {
     match document.nodes().nth(index).and_then(|n| n.name()) {
-        Some(name) => format!("node {index} '{}'", crate::limits::quoted(name)),
+        Some(name) => format!("node {index} '{}'", crate::io::limits::quoted(name)),
         None => format!("node {index}"),
     }
 }
@@ -561,7 +561,7 @@ fn tracks(file: &File, animation: &gltf::Animation) -> Result<Vec<Track>, String
              a file of {} bytes is read for ({budget}: {KEY_VALUES_PER_BYTE} a byte); refused as \
              damaged or hostile",
             animation.channels().count(),
-            crate::limits::show(asked as f64),
+            crate::io::limits::show(asked as f64),
             file.bytes
         ));
     }
@@ -626,7 +626,7 @@ fn tracks(file: &File, animation: &gltf::Animation) -> Result<Vec<Track>, String
             return Err(format!(
                 "animation {a}: {}: {what} key {key} (at {} s) is not a finite number",
                 node_label(document, node),
-                crate::limits::brief(times[key.min(times.len() - 1)] as f64)
+                crate::io::limits::brief(times[key.min(times.len() - 1)] as f64)
             ));
         }
         tracks.push(Track {
@@ -714,8 +714,8 @@ fn on_frames(times: &[&[f32]], start: f64, step: f64, slack: f64) -> usize {
 /// tie. So one odd key (a key 1.5 ms after a take at 30 fps) does not set the rate, nor do the
 /// long gaps of tracks with a key at each end only. When keys fall between the frames of the
 /// chosen rate, the take is still sampled at it (between keys as the file interpolates) and a
-/// warning says how many do not fit. A rate past [`crate::limits::MAX_FPS`] (keys 0.5 ms apart)
-/// is sampled at 1000 fps with a warning, and one below [`crate::limits::MIN_FPS`] at that: a
+/// warning says how many do not fit. A rate past [`crate::io::limits::MAX_FPS`] (keys 0.5 ms apart)
+/// is sampled at 1000 fps with a warning, and one below [`crate::io::limits::MIN_FPS`] at that: a
 /// file is never refused for a rate it does not state.
 fn timing(tracks: &[Track]) -> Timing {
     let mut start = f64::MAX;
@@ -786,22 +786,22 @@ fn timing(tracks: &[Track]) -> Timing {
         .find(|&rate| (rate * step - 1.0).abs() <= SNAP)
         .unwrap_or(1.0 / step);
     let mut notes = Vec::new();
-    if fps > crate::limits::MAX_FPS {
+    if fps > crate::io::limits::MAX_FPS {
         notes.push(format!(
             "its keys are {} ms apart ({} fps); sampled at {} fps, the fastest bvhview reads",
-            crate::limits::brief(1e3 * step),
-            crate::limits::brief((fps * 10.0).round() / 10.0),
-            crate::limits::MAX_FPS
+            crate::io::limits::brief(1e3 * step),
+            crate::io::limits::brief((fps * 10.0).round() / 10.0),
+            crate::io::limits::MAX_FPS
         ));
-        fps = crate::limits::MAX_FPS;
+        fps = crate::io::limits::MAX_FPS;
         fitting = keys;
-    } else if fps < crate::limits::MIN_FPS {
+    } else if fps < crate::io::limits::MIN_FPS {
         notes.push(format!(
             "its keys are {} s apart; sampled at {} fps, the slowest bvhview reads",
-            crate::limits::brief(step),
-            crate::limits::MIN_FPS
+            crate::io::limits::brief(step),
+            crate::io::limits::MIN_FPS
         ));
-        fps = crate::limits::MIN_FPS;
+        fps = crate::io::limits::MIN_FPS;
         fitting = keys;
     }
     if fitting < keys {
@@ -810,7 +810,7 @@ fn timing(tracks: &[Track]) -> Timing {
              the most keys); frames are sampled at that rate, between keys as the file \
              interpolates",
             keys - fitting,
-            crate::limits::brief(fps)
+            crate::io::limits::brief(fps)
         ));
     }
     Timing {
@@ -842,16 +842,16 @@ fn frames_within(
             "the take lasts {} s at {} fps: {} of {}{} and {}, more than a file of {bytes} \
              bytes is read for (frames × (nodes + tracks) at most {}, {} a byte); refused as \
              damaged or hostile",
-            crate::limits::brief(timing.end - timing.start),
-            crate::limits::brief(timing.fps),
-            crate::error::counted(frames, "frame"),
-            crate::error::counted(joints, "joint"),
+            crate::io::limits::brief(timing.end - timing.start),
+            crate::io::limits::brief(timing.fps),
+            crate::io::error::counted(frames, "frame"),
+            crate::io::error::counted(joints, "joint"),
             if nodes > joints {
                 format!(" ({nodes} nodes with those above them)")
             } else {
                 String::new()
             },
-            crate::error::counted(tracks, "track"),
+            crate::io::error::counted(tracks, "track"),
             budget,
             baked::FRAME_WORK_PER_BYTE
         ));
@@ -941,7 +941,7 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
         let mut up = parent[i];
         while let Some(p) = up {
             *d += 1;
-            if *d > count || *d > crate::limits::MAX_DEPTH {
+            if *d > count || *d > crate::io::limits::MAX_DEPTH {
                 return Err(bad(path, "the node tree has a cycle or nests too deep"));
             }
             up = parent[p];

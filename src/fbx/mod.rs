@@ -23,9 +23,9 @@
 //!
 //! Limits (decision 8, a hostile file must not take the machine): ufbx's temporary and result
 //! allocators are capped at 256 MiB + 64 bytes per byte of the file and at 16 M allocations plus
-//! 16 per byte, nodes nest at most [`crate::limits::MAX_DEPTH`] deep, and a take has at most
-//! [`crate::baked::MAX_FRAMES`] frames. The file is read whole, so it is refused by its size on
-//! disk past [`crate::limits::MAX_WHOLE_FILE_BYTES`] before a byte is read, and unless it is a
+//! 16 per byte, nodes nest at most [`crate::io::limits::MAX_DEPTH`] deep, and a take has at most
+//! [`crate::model::baked::MAX_FRAMES`] frames. The file is read whole, so it is refused by its size on
+//! disk past [`crate::io::limits::MAX_WHOLE_FILE_BYTES`] before a byte is read, and unless it is a
 //! regular file. A take's range is its stack's (refused when it runs backwards), or its keys'
 //! extent with a warning when the stack states none (see `stack_range`).
 //!
@@ -34,31 +34,14 @@
 //! evaluated by ufbx at the scene's own frame rate — every frame, not only at keys: the joints'
 //! ancestors' local transforms multiplied down where that gives what ufbx's whole-scene
 //! evaluation gives (checked at three frames), else the whole scene — and the world matrices go
-//! through [`crate::baked`], which folds pre/post rotations, rest orientations
+//! through [`crate::model::baked`], which folds pre/post rotations, rest orientations
 //! and scale into BVH channels that give the same world positions.
 
-use crate::baked::{self, Node, Pose};
-use crate::error::Error;
-use crate::motion::Motion;
-use crate::skeleton::Skeleton;
+use crate::io::error::Error;
+use crate::model::baked::{self, Node, Pose};
+use crate::model::reading::{Read, TakeInfo, pick_take};
 use glam::{DMat4, DVec4};
 use std::path::Path;
-
-/// One take of a file: its name, frames and seconds per frame.
-#[derive(Clone, Debug, PartialEq)]
-pub struct TakeInfo {
-    pub name: String,
-    pub frames: usize,
-    pub frame_time: f64,
-}
-
-/// What a reader gives `input`: the take and what it says once.
-#[derive(Debug)]
-pub struct Read {
-    pub skeleton: Skeleton,
-    pub motion: Motion,
-    pub warnings: Vec<String>,
-}
 
 fn allocator(bytes: usize) -> ufbx::AllocatorOpts {
     ufbx::AllocatorOpts {
@@ -79,7 +62,7 @@ fn load_options<'a>(bytes: usize) -> ufbx::LoadOpts<'a> {
         evaluate_skinning: false,
         evaluate_caches: false,
         file_format: ufbx::FileFormat::Fbx,
-        node_depth_limit: crate::limits::MAX_DEPTH as u32,
+        node_depth_limit: crate::io::limits::MAX_DEPTH as u32,
         space_conversion: ufbx::SpaceConversion::AdjustTransforms,
         target_axes: ufbx::CoordinateAxes {
             right: ufbx::CoordinateAxis::PositiveX,
@@ -103,7 +86,10 @@ fn ufbx_error(name: &str, error: &ufbx::Error) -> Error {
         E::MemoryLimit | E::AllocationLimit | E::OutOfMemory => {
             "the file asks for more memory than its size allows (damaged or hostile)".to_string()
         }
-        E::NodeDepthLimit => format!("nodes nest deeper than {} levels", crate::limits::MAX_DEPTH),
+        E::NodeDepthLimit => format!(
+            "nodes nest deeper than {} levels",
+            crate::io::limits::MAX_DEPTH
+        ),
         E::UnsupportedVersion => "an FBX version ufbx does not read".to_string(),
         _ => {
             let text: &str = &error.description;
@@ -212,10 +198,10 @@ mod records {
     ) -> Result<usize, String> {
         let word = if wide { 8 } else { 4 };
         let header = 3 * word + 1;
-        if depth > crate::limits::MAX_DEPTH {
+        if depth > crate::io::limits::MAX_DEPTH {
             return Err(format!(
                 "records nest deeper than {} levels",
-                crate::limits::MAX_DEPTH
+                crate::io::limits::MAX_DEPTH
             ));
         }
         loop {
@@ -336,7 +322,7 @@ fn fps(scene: &ufbx::Scene) -> f64 {
 /// is read over the extent of its keys (the first key of any of its curves to the last), and a
 /// warning says so; without keys, it is one frame at 0.
 fn stack_range(stack: &ufbx::AnimStack) -> Result<(f64, f64, Option<String>), String> {
-    let name = crate::limits::quoted(&stack.element.name);
+    let name = crate::io::limits::quoted(&stack.element.name);
     let stated = stack.element.props.props.iter().any(|p| {
         let name: &str = &p.name;
         matches!(
@@ -353,8 +339,8 @@ fn stack_range(stack: &ufbx::AnimStack) -> Result<(f64, f64, Option<String>), St
             return Err(format!(
                 "take '{name}': its time range runs backwards (LocalStart {} s is after \
                  LocalStop {} s)",
-                crate::limits::brief(begin),
-                crate::limits::brief(end)
+                crate::io::limits::brief(begin),
+                crate::io::limits::brief(end)
             ));
         }
         return Ok((begin, end, None));
@@ -389,15 +375,15 @@ fn stack_range(stack: &ufbx::AnimStack) -> Result<(f64, f64, Option<String>), St
         Some(format!(
             "take '{name}' states no time range (no LocalStart or LocalStop): read over its \
              keys, {} s to {} s",
-            crate::limits::brief(first),
-            crate::limits::brief(last)
+            crate::io::limits::brief(first),
+            crate::io::limits::brief(last)
         )),
     ))
 }
 
 /// The takes of an FBX file (its animation stacks), in file order.
 pub fn takes(path: &Path, max_size: u64) -> Result<Vec<TakeInfo>, Error> {
-    let bytes = crate::read::read_binary_file(path, max_size)?;
+    let bytes = crate::io::read::read_binary_file(path, max_size)?;
     takes_of_bytes(&bytes, &path.display().to_string())
 }
 
@@ -617,33 +603,9 @@ fn quick_poses(
         .collect()
 }
 
-/// Picks a take by name, or by its index in `info`'s list.
-pub fn pick_take(names: &[String], take: Option<&str>, file: &str) -> Result<usize, Error> {
-    let Some(take) = take else { return Ok(0) };
-    if let Some(i) = names.iter().position(|n| n == take) {
-        return Ok(i);
-    }
-    if let Ok(i) = take.trim().parse::<usize>()
-        && i < names.len()
-    {
-        return Ok(i);
-    }
-    let list = if names.is_empty() {
-        "it has none".to_string()
-    } else {
-        let quoted: Vec<String> = names
-            .iter()
-            .enumerate()
-            .map(|(i, n)| format!("{i} '{n}'"))
-            .collect();
-        format!("it has {}", quoted.join(", "))
-    };
-    Err(Error::Usage(format!("{file}: no take '{take}' ({list})")))
-}
-
 /// Reads take `take` (a name or an index; the first when `None`) of the FBX file at `path`.
 pub fn load(path: &Path, max_size: u64, take: Option<&str>, threads: usize) -> Result<Read, Error> {
-    let bytes = crate::read::read_binary_file(path, max_size)?;
+    let bytes = crate::io::read::read_binary_file(path, max_size)?;
     load_bytes(&bytes, &path.display().to_string(), take, threads)
 }
 
@@ -734,19 +696,19 @@ pub fn load_bytes(
             }
             let evaluated = format!(
                 "{} evaluated, {} in {}",
-                crate::error::counted(nodes, "node"),
-                crate::error::counted(values, "animated value"),
-                crate::error::counted(stack.layers.len(), "layer")
+                crate::io::error::counted(nodes, "node"),
+                crate::io::error::counted(values, "animated value"),
+                crate::io::error::counted(stack.layers.len(), "layer")
             );
             Err(bad(format!(
                 "take '{}' lasts {} s at {} fps: {} of {} ({evaluated}), more than a file of {} \
                  bytes is read for (frames × (nodes evaluated + animated values) at most \
                  {budget}, {} a byte); refused as damaged or hostile",
-                crate::limits::quoted(&stack.element.name),
-                crate::limits::brief(end - begin),
-                crate::limits::brief(fps),
-                crate::error::counted(count, "frame"),
-                crate::error::counted(order.len(), "joint"),
+                crate::io::limits::quoted(&stack.element.name),
+                crate::io::limits::brief(end - begin),
+                crate::io::limits::brief(fps),
+                crate::io::error::counted(count, "frame"),
+                crate::io::error::counted(order.len(), "joint"),
                 bytes.len(),
                 baked::FRAME_WORK_PER_BYTE
             )))
@@ -820,7 +782,7 @@ pub fn load_bytes(
             if ready.is_empty() {
                 let block = BLOCK.min(count - next);
                 let mut results: Vec<Result<Vec<Pose>, Error>> = Vec::with_capacity(block);
-                crate::parallel::map_in_order(
+                crate::io::parallel::map_in_order(
                     block,
                     threads,
                     2 * threads.max(1),

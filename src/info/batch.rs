@@ -1,7 +1,7 @@
 //! `bvhview info DIR`: every BVH file and ASF/AMC pair under a folder, loaded on every core.
 
-use crate::error::Error;
-use crate::input::{self, extension};
+use crate::io::error::Error;
+use crate::take::{self, extension};
 use std::path::{Path, PathBuf};
 
 /// One thing to load: a BVH file, an ASF with its AMC, an ASF alone, or an AMC without an ASF.
@@ -363,7 +363,10 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
             skip(
                 &mut skipped,
                 path,
-                format!("{}, not a take", crate::read::kind_of(&entry.file_type())),
+                format!(
+                    "{}, not a take",
+                    crate::io::read::kind_of(&entry.file_type())
+                ),
             );
             continue;
         }
@@ -465,21 +468,21 @@ pub struct Settings {
     /// Files larger than this are refused.
     pub max_size: u64,
     /// The convention the offset-mode warning is judged against.
-    pub offset_mode: crate::pose::OffsetMode,
+    pub offset_mode: crate::model::pose::OffsetMode,
 }
 
 impl Default for Settings {
     fn default() -> Settings {
         Settings {
             frame_time: None,
-            max_size: input::DEFAULT_MAX_SIZE,
-            offset_mode: crate::pose::OffsetMode::default(),
+            max_size: take::DEFAULT_MAX_SIZE,
+            offset_mode: crate::model::pose::OffsetMode::default(),
         }
     }
 }
 
 /// The line printed for a loaded item; its warnings are those `info FILE` lists.
-fn describe(loaded: &input::Loaded, offset_mode: crate::pose::OffsetMode) -> String {
+fn describe(loaded: &take::Loaded, offset_mode: crate::model::pose::OffsetMode) -> String {
     let joints = loaded
         .skeleton
         .joints
@@ -489,15 +492,15 @@ fn describe(loaded: &input::Loaded, offset_mode: crate::pose::OffsetMode) -> Str
     let frames = loaded.motion.frame_count();
     let mut line = format!(
         "{}, {}, {} s",
-        crate::error::counted(joints, "joint"),
-        crate::error::counted(frames, "frame"),
+        crate::io::error::counted(joints, "joint"),
+        crate::io::error::counted(frames, "frame"),
         crate::info::readable(loaded.motion.duration(), 1)
     );
     let warnings = crate::info::warnings(loaded, offset_mode);
     if !warnings.is_empty() {
         line.push_str(&format!(
             " ({})",
-            crate::error::counted(warnings.len(), "warning")
+            crate::io::error::counted(warnings.len(), "warning")
         ));
     }
     line
@@ -513,7 +516,7 @@ pub fn run(
 ) -> Vec<Outcome> {
     let total = items.len();
     let mut outcomes = Vec::with_capacity(total);
-    crate::parallel::map_in_order(
+    crate::io::parallel::map_in_order(
         total,
         threads,
         4 * threads.max(1),
@@ -524,7 +527,7 @@ pub fn run(
             let result = if item.is_unpaired_motion() {
                 Ok(None)
             } else {
-                input::load_checked(
+                take::load_checked(
                     &item.path,
                     item.motion.as_deref(),
                     settings.frame_time,

@@ -8,8 +8,8 @@
 //! [`remove_partials_on_signal`] (the CLI does; a library must not take signals from its host,
 //! Python for one) also removes them when it is interrupted or terminated.
 
-use crate::error::Error;
-use crate::parallel::PerProcess;
+use crate::io::error::Error;
+use crate::io::parallel::PerProcess;
 use std::fs::{File, Metadata};
 use std::io::{self, BufWriter, Write};
 use std::os::unix::fs::{FileTypeExt, MetadataExt, PermissionsExt};

@@ -1,9 +1,10 @@
 //! World positions of every joint and End Site per frame, as CSV or JSON (`bvhview positions`).
 
-use crate::error::Error;
-use crate::motion::Motion;
-use crate::pose::{FkPlan, FkScratch, LANES, OffsetMode, world_matrices};
-use crate::skeleton::{Skeleton, Source};
+use crate::io::error::Error;
+use crate::model::motion::Motion;
+use crate::model::pose::{FkPlan, FkScratch, LANES, OffsetMode, world_matrices};
+use crate::model::skeleton::export_name;
+use crate::model::skeleton::{Skeleton, Source};
 use glam::Vec3;
 use std::io::{self, Write};
 use std::ops::Range;
@@ -93,15 +94,6 @@ impl std::error::Error for NotFinite {}
 /// The [`NotFinite`] inside an error of [`write_positions`], if that is what it is.
 pub fn not_finite(error: &io::Error) -> Option<&NotFinite> {
     error.get_ref()?.downcast_ref::<NotFinite>()
-}
-
-/// The name an export uses for a joint: its own, or `<parent>_End` for an End Site.
-pub fn export_name(skeleton: &Skeleton, index: usize) -> String {
-    let joint = &skeleton.joints[index];
-    match (joint.end_site, joint.parent) {
-        (true, Some(parent)) => format!("{}_End", skeleton.joints[parent].name),
-        _ => joint.name.clone(),
-    }
 }
 
 /// The points an export lists, as (name, joint whose world position it is). BVH: every joint
@@ -214,7 +206,7 @@ fn write_with<W: Write + Send>(
         first: frames.start,
         options,
     };
-    let threads = crate::cores().clamp(1, 8);
+    let threads = crate::io::parallel::cores().clamp(1, 8);
     // Blocks of frames formatted on every core and written in order as they are ready; a few
     // blocks at most wait for an earlier one.
     let blocks: Vec<Range<usize>> = frames
@@ -227,7 +219,7 @@ fn write_with<W: Write + Send>(
     let spare: Mutex<Vec<Vec<u8>>> = Mutex::new(Vec::new());
     let take_spare = || spare.lock().ok().and_then(|mut s| s.pop());
     let mut failure = None;
-    crate::parallel::map_in_order(
+    crate::io::parallel::map_in_order(
         blocks.len(),
         threads,
         2 * threads,

@@ -3,7 +3,7 @@
 //! so that every path refuses the same things with the same words, and nothing a file or an
 //! option says can make bvhview panic, abort, or render or allocate without end.
 
-use crate::error::Error;
+use crate::io::error::Error;
 
 /// Deepest nesting of joints the loaders accept (and the BVH writer writes): deeper files are
 /// refused, not a stack overflow in the recursions that walk the tree.
@@ -132,7 +132,7 @@ fn frames_at(frames: usize, frame_time: f64, fps: f64, most: u64) -> Result<usiz
     if !(count.is_finite() && count <= most as f64) {
         return Err(Error::Usage(format!(
             "{} of {} s at {} per second make {} frames; at most {most} can be made",
-            crate::error::counted(frames, "frame"),
+            crate::io::error::counted(frames, "frame"),
             show(frame_time),
             show(fps),
             show(count)

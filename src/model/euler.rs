@@ -10,7 +10,7 @@
 //! (never `asin`), and the first angle is solved from the rotation with the third already
 //! removed, so the three angles multiply back to the rotation whatever the middle one is.
 
-use crate::skeleton::RotationOrder;
+use crate::model::skeleton::RotationOrder;
 use glam::{DMat3, DQuat, DVec3};
 
 /// How far from the lock (the cosine of the middle angle) the third angle is still read off

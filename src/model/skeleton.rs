@@ -218,3 +218,12 @@ impl Skeleton {
         self.joints.iter().filter(|j| j.end_site).count()
     }
 }
+
+/// The name an export uses for a joint: its own, or `<parent>_End` for an End Site.
+pub fn export_name(skeleton: &Skeleton, index: usize) -> String {
+    let joint = &skeleton.joints[index];
+    match (joint.end_site, joint.parent) {
+        (true, Some(parent)) => format!("{}_End", skeleton.joints[parent].name),
+        _ => joint.name.clone(),
+    }
+}

@@ -3,9 +3,9 @@
 //! parent bone, along the last quarter with the child, half and half where they meet, so elbows
 //! bend smoothly. Every frame, `skin.rs` moves it with the bones' world matrices from `pose`.
 
-use crate::pose::{OffsetMode, world_matrices};
-use crate::skeleton::Skeleton;
-use crate::skin::{Skin, SkinVertex};
+use crate::model::pose::{OffsetMode, world_matrices};
+use crate::model::skeleton::Skeleton;
+use crate::model::skin::{Skin, SkinVertex};
 use glam::{Mat4, Vec3};
 
 const SIDES: usize = 10;

@@ -1,10 +1,12 @@
 //! `bvhview info`: what a file holds, in a few lines.
 
-use crate::input::Loaded;
-use crate::motion::Motion;
-use crate::pose::OffsetMode;
-use crate::skeleton::Skeleton;
-use crate::stance::Stance;
+pub mod batch;
+
+use crate::model::motion::Motion;
+use crate::model::pose::OffsetMode;
+use crate::model::skeleton::Skeleton;
+use crate::model::stance::Stance;
+use crate::take::Loaded;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
@@ -143,7 +145,7 @@ pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
         .filter(|j| j.channels.iter().any(|c| c.is_position()))
         .count();
     if translated > 1 && motion.frame_count() > 0 {
-        let travel = crate::pose::travel_joint_of_take(skeleton, motion, mode);
+        let travel = crate::model::pose::travel_joint_of_take(skeleton, motion, mode);
         let _ = writeln!(
             out,
             "travel:           {} (the joint whose position channels carry the take across the floor)",
@@ -213,13 +215,14 @@ fn position_joints(skeleton: &Skeleton) -> String {
 /// Warns when the non-root position channels look written for the other `--offset-mode`: under
 /// `replace`, nearly all of them are at or near zero at frame 0 while the OFFSETs are not
 /// (MakeHuman's files, which mean "added to OFFSET"); under `add`, they repeat the OFFSETs (so
-/// adding doubles every bone). See [`crate::pose::written_for_other_mode`].
+/// adding doubles every bone). See [`crate::model::pose::written_for_other_mode`].
 pub fn offset_mode_warning(
     skeleton: &Skeleton,
     motion: &Motion,
     mode: OffsetMode,
 ) -> Option<String> {
-    let (matching, candidates) = crate::pose::written_for_other_mode(skeleton, motion, mode)?;
+    let (matching, candidates) =
+        crate::model::pose::written_for_other_mode(skeleton, motion, mode)?;
     Some(match mode {
         OffsetMode::Replace => format!(
             "{matching} of {candidates} non-root joints with position channels have them at or \

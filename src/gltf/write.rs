@@ -5,12 +5,12 @@
 //! and a translation track per joint with position channels (bvhview's offset mode). With a skin,
 //! the viewer's generated skin as a mesh bound to the joint nodes. Built with the gltf-json crate.
 
-use crate::error::Error;
-use crate::export::export_name;
-use crate::motion::Motion;
-use crate::pose::{OffsetMode, joint_translation, local_rotation};
-use crate::render::body::Body;
-use crate::skeleton::Skeleton;
+use crate::io::error::Error;
+use crate::model::bone_skin::Body;
+use crate::model::motion::Motion;
+use crate::model::pose::{OffsetMode, joint_translation, local_rotation};
+use crate::model::skeleton::Skeleton;
+use crate::model::skeleton::export_name;
 use gltf_json as json;
 use json::validation::{Checked, USize64};
 
@@ -291,9 +291,9 @@ pub fn to_gltf(
             return Err(Error::Usage(format!(
                 "cannot write glTF: with a frame time of {} s frames {i} and {} fall at the same \
                  time ({} s); give the take its rate with --frame-time SECONDS",
-                crate::limits::show(motion.frame_time),
+                crate::io::limits::show(motion.frame_time),
                 i + 1,
-                crate::limits::show(times[i + 1])
+                crate::io::limits::show(times[i + 1])
             )));
         }
         let last = *times.last().expect("frames > 0");

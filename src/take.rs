@@ -3,9 +3,9 @@
 
 use crate::acclaim;
 use crate::bvh;
-use crate::error::Error;
-use crate::motion::Motion;
-use crate::skeleton::Skeleton;
+use crate::io::error::Error;
+use crate::model::motion::Motion;
+use crate::model::skeleton::Skeleton;
 use std::path::Path;
 
 /// A skeleton and its motion, from whichever format.
@@ -15,13 +15,13 @@ pub struct Loaded {
     pub motion: Motion,
     pub warnings: Vec<String>,
     /// The units the file states (an ASF's `:units length`), if any.
-    pub stated_units: Option<crate::stance::Units>,
+    pub stated_units: Option<crate::model::stance::Units>,
 }
 
 impl Loaded {
     /// How the take stands (up axis, units, height), guessed from its motion in `mode`.
-    pub fn stance(&self, mode: crate::pose::OffsetMode) -> crate::stance::Stance {
-        crate::stance::Stance::guess(&self.skeleton, &self.motion, mode, self.stated_units)
+    pub fn stance(&self, mode: crate::model::pose::OffsetMode) -> crate::model::stance::Stance {
+        crate::model::stance::Stance::guess(&self.skeleton, &self.motion, mode, self.stated_units)
     }
 }
 
@@ -35,7 +35,13 @@ pub fn extension(path: &Path) -> String {
 /// Loads `path` (`.bvh`, or `.asf` with `motion` an `.amc`). `frame_time` overrides the file's
 /// (AMC has none: CMU's 120 Hz is the default).
 pub fn load(path: &Path, motion: Option<&Path>, frame_time: Option<f64>) -> Result<Loaded, Error> {
-    load_checked(path, motion, frame_time, crate::cores(), DEFAULT_MAX_SIZE)
+    load_checked(
+        path,
+        motion,
+        frame_time,
+        crate::io::parallel::cores(),
+        DEFAULT_MAX_SIZE,
+    )
 }
 
 /// Files larger than this are refused unless `--max-size` says otherwise (8 GiB).
@@ -53,7 +59,7 @@ pub fn check_file(path: &Path, max_size: u64) -> Result<(), Error> {
         )));
     }
     if !metadata.is_file() {
-        let what = crate::read::kind_of(&metadata.file_type());
+        let what = crate::io::read::kind_of(&metadata.file_type());
         return Err(Error::Usage(format!(
             "{}: {what}, not a regular file; bvhview reads takes from files (`-` reads standard \
              input)",
@@ -95,11 +101,11 @@ pub fn has_takes(path: &Path) -> bool {
 
 /// The takes of an FBX or glTF file (name, frames, frame time), in file order; empty for the
 /// formats that hold one take.
-pub fn takes(path: &Path, max_size: u64) -> Result<Vec<crate::fbx::TakeInfo>, Error> {
+pub fn takes(path: &Path, max_size: u64) -> Result<Vec<crate::model::reading::TakeInfo>, Error> {
     check_file(path, max_size)?;
     match extension(path).as_str() {
         "fbx" => crate::fbx::takes(path, max_size),
-        "gltf" | "glb" => crate::gltf_in::takes(path, max_size),
+        "gltf" | "glb" => crate::gltf::takes(path, max_size),
         _ => Ok(Vec::new()),
     }
 }
@@ -118,7 +124,7 @@ pub fn load_take(
     if let Some(motion) = motion {
         check_file(motion, max_size)?;
     }
-    crate::limits::frame_time_option(frame_time)?;
+    crate::io::limits::frame_time_option(frame_time)?;
     match extension(path).as_str() {
         "asf" => {
             let asf = acclaim::load_asf(path, max_size)?;
@@ -148,7 +154,7 @@ pub fn load_take(
                 skeleton,
                 motion,
                 warnings: asf.warnings,
-                stated_units: crate::stance::asf_units(asf.units.length),
+                stated_units: crate::model::stance::asf_units(asf.units.length),
             })
         }
         "amc" => Err(Error::Usage(format!(
@@ -166,7 +172,7 @@ pub fn load_take(
             let read = if extension(path) == "fbx" {
                 crate::fbx::load(path, max_size, take, threads)?
             } else {
-                crate::gltf_in::load(path, max_size, take)?
+                crate::gltf::load(path, max_size, take)?
             };
             let mut motion = read.motion;
             if let Some(time) = frame_time {
@@ -251,7 +257,7 @@ pub fn load_bytes_as(
     threads: usize,
     take: Option<&str>,
 ) -> Result<Loaded, Error> {
-    crate::limits::frame_time_option(frame_time)?;
+    crate::io::limits::frame_time_option(frame_time)?;
     if bytes.is_empty() {
         return Err(Error::Usage(format!("{name}: empty: no take to read")));
     }
@@ -279,7 +285,7 @@ pub fn load_bytes_as(
             (read.skeleton, read.motion, read.warnings)
         }
         "gltf" | "glb" => {
-            let read = crate::gltf_in::load_bytes(bytes, name, take)?;
+            let read = crate::gltf::load_bytes(bytes, name, take)?;
             (read.skeleton, read.motion, read.warnings)
         }
         other => {

@@ -1,7 +1,7 @@
 //! Reading input files within the limits: a reader that stops at a size, and whole text files
 //! (ASF, AMC) refused at their first NUL byte. The loaders use it; `input` picks the loader.
 
-use crate::error::Error;
+use crate::io::error::Error;
 use std::path::Path;
 
 /// A reader that fails once more than `max_size` bytes come out of `inner`: a size check that
@@ -136,7 +136,7 @@ fn read_start(file: std::fs::File, length: u64) -> std::io::Result<Vec<u8>> {
 }
 
 /// The whole of a binary file (FBX, GLB, glTF JSON), refused before any read unless it is a
-/// regular file of at most `max_size` and [`crate::limits::MAX_WHOLE_FILE_BYTES`] bytes: these
+/// regular file of at most `max_size` and [`crate::io::limits::MAX_WHOLE_FILE_BYTES`] bytes: these
 /// readers hold the whole file in memory, so its size on disk (a sparse file of 6 GB takes 4 KB)
 /// is what is checked, never what a read gets to.
 pub fn read_binary_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
@@ -148,7 +148,7 @@ pub fn read_binary_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
 
 /// Why a file of `length` bytes is not read whole, if it is not.
 fn whole_file_size(length: u64, max_size: u64) -> Result<(), String> {
-    let budget = crate::limits::MAX_WHOLE_FILE_BYTES;
+    let budget = crate::io::limits::MAX_WHOLE_FILE_BYTES;
     if length > max_size {
         return Err(format!("{length} bytes, more than --max-size {max_size}"));
     }
@@ -165,9 +165,9 @@ fn whole_file_size(length: u64, max_size: u64) -> Result<(), String> {
 /// The first `length` bytes of the regular file at `path` (a glTF buffer of `byteLength`
 /// bytes: what lies past it is never read), or why not, in words without the path: not a
 /// regular file, shorter than `length`, or `length` past `max_size` or
-/// [`crate::limits::MAX_WHOLE_FILE_BYTES`].
+/// [`crate::io::limits::MAX_WHOLE_FILE_BYTES`].
 pub fn read_file_start(path: &Path, length: u64, max_size: u64) -> Result<Vec<u8>, String> {
-    let said = |e: std::io::Error| crate::error::Error::io(path, e).to_string();
+    let said = |e: std::io::Error| crate::io::error::Error::io(path, e).to_string();
     let (file, size) = open_regular(path).map_err(|e| {
         let text = said(e);
         // The path is the caller's to say; keep what follows it.
@@ -185,10 +185,10 @@ pub fn read_file_start(path: &Path, length: u64, max_size: u64) -> Result<Vec<u8
     })
 }
 
-/// The whole of an ASF skeleton: refused past `max_size` or [`crate::limits::MAX_HEADER_BYTES`],
+/// The whole of an ASF skeleton: refused past `max_size` or [`crate::io::limits::MAX_HEADER_BYTES`],
 /// so that a link to /dev/zero is not read for gigabytes.
 pub fn read_skeleton_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
-    let limit = crate::limits::MAX_HEADER_BYTES as u64;
+    let limit = crate::io::limits::MAX_HEADER_BYTES as u64;
     if max_size < limit {
         return read_file(path, max_size);
     }
