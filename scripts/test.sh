@@ -44,6 +44,16 @@ trap 'rm -f "$log"' EXIT
 status=0
 # --show-output: the golden-picture tests print how many pixels drifted even when they pass.
 cargo test --all-targets --locked --no-fail-fast -- --show-output "${test_args[@]}" 2>&1 | tee "$log" || status=$?
+# The examples in the docs (`--all-targets` leaves doctests out).
+cargo test --doc --locked --no-fail-fast 2>&1 | tee -a "$log" || status=$?
+# The builds without the default features that matter: the library and CLI with neither the
+# window, FBX nor glTF, and with FBX alone. Tests that need a feature say so (Cargo.toml,
+# `#[cfg(feature = …)]`); the rest run on each build.
+for features in "--no-default-features" "--no-default-features --features fbx"; do
+    echo "cargo test $features"
+    # shellcheck disable=SC2086
+    cargo test $features --locked --no-fail-fast 2>&1 | tee -a "$log" || status=$?
+done
 grep '^drift ' "$log" | awk '{ if ($3 > 0) n++ } END { printf "golden pictures: %d compared, %d with any pixel drift\n", NR, n }' || true
 # Machines differ: say whether the AVX-512 row reader was compared with the plain one here.
 grep -m1 '^row reader: ' "$log" || echo "row reader: the AVX-512 check did not run"

@@ -191,6 +191,7 @@ fn info_without_a_file_describes_the_bundled_walk() {
     assert!(text.contains("rotation orders:  YXZ ×23\n"));
 }
 
+#[cfg(feature = "window")]
 #[test]
 fn the_window_without_a_display_says_so_in_one_line() {
     for args in [&[][..], &[tiny().as_str()][..]] {
@@ -239,6 +240,7 @@ fn the_window_without_a_display_says_so_in_one_line() {
     assert_eq!(stderr.lines().count(), 1, "{stderr}");
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 #[test]
 fn info_on_the_repository_folder_lists_every_file_and_sums_up() {
     let dir = repo_data("").display().to_string();
@@ -1338,6 +1340,7 @@ fn with_stdin(args: &[&str], input: &[u8]) -> Output {
     output
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44: `-` reads a take from standard input and writes to standard output, as a user
 /// piping between Unix tools expects; the format comes from --from or --to, or the first bytes.
 #[test]

@@ -152,16 +152,19 @@ fn every_take_of_the_corpus_converts_to_bvh_as_it_converts_alone() {
     folder_equals_takes_alone("bvh", &[]);
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 #[test]
 fn every_take_of_the_corpus_converts_to_glb_with_edits_as_it_converts_alone() {
     folder_equals_takes_alone("glb", &["--fps", "24", "--up", "y"]);
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 #[test]
 fn every_take_of_the_corpus_converts_to_gltf_on_one_thread_as_alone() {
     folder_equals_takes_alone("gltf", &["--threads", "1", "--scale", "2", "--ground"]);
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// A folder of a multi-take FBX and a BVH: without `--take` the FBX gives its first take and
 /// says it has several, as `convert FBX` alone does; `--take` picks the same take of every FBX
 /// and glTF file, and BVH files, which hold one, convert as they are.
@@ -449,6 +452,7 @@ fn to_for_a_file_must_agree_with_its_extension() {
     assert!(bvhview::take::load(&out, None, None).is_ok());
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// SIGTERM while the takes are being written: the process ends by the signal (a shell says 143)
 /// and leaves neither OUT nor its temporary folder, as `dataset` does.
 #[test]
@@ -496,6 +500,7 @@ fn a_conversion_terminated_midway_leaves_nothing() {
     assert!(left.is_empty(), "{left:?}");
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44: a take named `..bvh` was written to `out/..` ("is a directory", exit 1, nothing
 /// written for any take): `with_extension` turns `..bvh` into `..`.
 #[test]

@@ -112,6 +112,7 @@ fn walk_count(dir: &Path) -> usize {
         .sum()
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 #[test]
 fn the_repository_compiles_into_groups_whose_arrays_the_manifest_describes() {
     let temp = tempfile::tempdir().unwrap();
@@ -595,6 +596,7 @@ fn bvhview(args: &[&str]) -> std::process::Output {
         .unwrap()
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 #[test]
 fn the_command_lists_what_it_skipped_and_refuses_what_it_cannot_make() {
     let temp = tempfile::tempdir().unwrap();

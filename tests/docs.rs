@@ -731,6 +731,7 @@ fn run_doc(doc: &Path) -> Report {
     report
 }
 
+#[cfg(all(feature = "window", feature = "fbx", feature = "gltf"))]
 #[test]
 fn every_command_in_the_docs_runs() {
     let docs = command_docs();
@@ -863,7 +864,9 @@ fn the_chapters_rust_blocks_are_the_code() {
         let text = read(&root().join(chapter));
         let mut lines = text.lines().enumerate();
         while let Some((at, line)) = lines.next() {
-            if line != "```rust" {
+            // `ignore`: the excerpts are parts of src/, not programs; rustdoc reads the
+            // chapters as the `teaching` modules' docs and would run them.
+            if line != "```rust,ignore" {
                 continue;
             }
             let block: Vec<String> = lines

@@ -591,6 +591,7 @@ fn damaged(bytes: &[u8], noise: &mut Noise) -> Vec<u8> {
     out
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// The mutation loop over both readers: 400 damaged copies (`BVHVIEW_MUTATIONS` sets how many,
 /// `BVHVIEW_MUTATION_SEED` the seed) of each of four files (ASCII and binary FBX, GLB, glTF JSON
 /// with a data: URI). Each either loads (and poses) or is refused with
@@ -682,6 +683,7 @@ fn gltf_with(source: &str, node: &str) -> String {
     )
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Point 5: a glTF's buffers come from its folder or a data: URI, nothing else; counts past the
 /// buffer, cycles and broken keys are refused by name; the CLI says `file: what`, exits 2.
 #[test]
@@ -789,6 +791,7 @@ fn hostile_gltf_buffers_and_counts_are_refused() {
     );
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 36, `scripts/fuzz.sh gltf` (10 minutes): its three timeouts, kept here byte for byte as
 /// the bytes they changed in `tests/data/gltf/bvh11_131_01.glb`. Each flips the sign (and some
 /// bits) of the first key time, 1/120 s, to about -495 s: the keys still rise, so the take ran
@@ -844,6 +847,7 @@ fn truncated_and_noise_fbx_are_refused_by_the_cli() {
     }
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44: ufbx says only "Failed to load" of most damaged binary files; the message says
 /// which record is broken, where, and inside which records. A text file that is not FBX is
 /// called that, not "truncated", and nothing of it is quoted.
@@ -878,6 +882,7 @@ fn a_damaged_fbx_is_refused_with_the_record_and_byte_that_break() {
     }
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Found by fuzzing (`scripts/fuzz.sh gltf`, 2026-11-28): a 12-byte GLB whose header's length
 /// field is 0 made the gltf crate subtract 12 from it, a panic in a debug build (exit 101) and a
 /// wrapped length in a release one. The input is the fuzzer's, byte for byte.
@@ -902,6 +907,7 @@ fn a_glb_header_shorter_than_itself_is_refused_not_a_panic() {
     }
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44: a Draco-compressed glTF's refusal was one line of 12,214 characters (an error per
 /// accessor); it names the required extension first, then two more and how many are left.
 #[test]
@@ -1053,6 +1059,7 @@ fn bvhview_within_4gb(args: &[&str]) -> Output {
     }
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44, point 1: a glTF whose buffer is a FIFO waited for a writer for ever; a FIFO named
 /// `.fbx` too. Buffers and files are opened without waiting and refused by their type before a
 /// read. The FIFO's writer is a thread that waits to be let through once the command is done:
@@ -1130,6 +1137,7 @@ fn issue44_a_buffer_or_file_that_is_not_a_regular_file_is_refused_before_a_read(
     }
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44, point 2: a buffer of 6 GB on disk (sparse) of which 32 bytes are used was read
 /// whole (an abort under a 4 GB address space); a sparse 6 GB `.fbx` asked for 6 GB at once
 /// ("memory allocation of 6000000001 bytes failed", SIGABRT). Now a buffer is read to its
@@ -1191,6 +1199,7 @@ fn issue44_sparse_files_are_read_only_as_far_as_used_or_refused_by_size() {
     );
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44, point 3: 3,600 channels on one sampler of 56,000 keys decoded the sampler 3,600
 /// times (3.8 GB, then an abort); keys 1 ms apart with one key at 1,000 s made a million
 /// frames of a 15.5 KB file (13 s). Each accessor is now decoded once, and both asks are
@@ -1272,6 +1281,7 @@ fn issue44_gltf_animation_work_is_bounded_by_the_input_size() {
     );
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44, point 4: 31 keys at 30 fps and one 1.5 ms later read as 668 frames at 666.7 fps;
 /// keys 0.5 ms apart refused the file for "a frame rate of 1999.9 fps" it never states. The
 /// rate is the key step that fits the most keys (a warning says when some do not fit); a rate
@@ -1371,6 +1381,7 @@ fn curve_on_rotation(text: String, value: &str) -> String {
     )
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44, point 5: NaN rotation keys (FBX, glTF) read as no rotation while NaN
 /// translations were refused. Both are refused now, by node and key or time.
 #[test]
@@ -1411,6 +1422,7 @@ fn issue44_non_finite_rotation_keys_are_refused_by_node_and_time() {
     );
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44, point 6: rest offsets past a 32-bit float (FBX `UnitScaleFactor` 1e300; a glTF
 /// node scaled 1e30 with a child at 1e30) loaded, `info` exit 0, positions NaN. Refused at
 /// load, by joint.
@@ -1460,6 +1472,7 @@ fn issue44_non_finite_rest_offsets_are_refused_by_joint() {
     );
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44, point 7: an FBX take whose LocalStart is after its LocalStop, or that states no
 /// range, loaded as one frame without a word. The first is refused; the second is read over
 /// its keys (0 s to 1.8333 s here: 56 frames at 30 fps), and a warning says so.
@@ -1499,6 +1512,7 @@ fn issue44_fbx_take_ranges_backwards_are_refused_and_missing_ones_read_over_the_
     );
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44, point 3 for FBX: a 16 KB file whose range says nine hours (960,001 frames at 30
 /// fps) had every frame evaluated (2.6 s in a debug build); its frames × joints are now held
 /// to the file's size as a glTF's are, and refused before a frame is evaluated.
@@ -1591,6 +1605,7 @@ fn layered_fbx(dir: &Path, copies: u64, seconds: u64) -> PathBuf {
     path
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44: every layer's curves are blended at every frame, so they count in the budget. 40
 /// copies of Maya's three layers (a 568 KB file) over 40,000 s at 24 fps asked for 960,000 frames
 /// of 520 animated values (16 s in a release build); refused by name. The file as Maya saved it
@@ -1607,6 +1622,7 @@ fn issue44_an_fbx_frame_budget_counts_every_layers_values() {
     assert_eq!(loaded.motion.frame_count(), 120);
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 /// Issue 44, point 3 for FBX: the nodes a frame evaluates count, not the joints alone. One
 /// animated node under a chain of 900 empty nodes for 400 s at 30 fps: 12,001 frames, each
 /// posing 901 nodes (11 M transforms from a 70 KB file), is refused by name.

@@ -606,6 +606,7 @@ fn bad_input_exits_2_and_writes_nothing() {
     }
 }
 
+#[cfg(all(feature = "fbx", feature = "gltf"))]
 #[test]
 fn the_command_writes_bvh_and_glb_and_a_shown_map_reads_back() {
     let dir = tempfile::tempdir().unwrap();

@@ -35,7 +35,14 @@ pub(crate) fn run(args: SkinDemoArgs) -> Result<ExitCode, Error> {
             bvhview::render::skin_demo::render(args.bend, width, height)?.write_png(path)?;
             wrote(format_args!("{} ({width}x{height})", path.display()));
         }
+        #[cfg(feature = "window")]
         None => bvhview::render::window::run_skin_demo(args.bend)?,
+        #[cfg(not(feature = "window"))]
+        None => {
+            return Err(bvhview::render::without_window(
+                bvhview::render::SKIN_DEMO_OFFSCREEN,
+            ));
+        }
     }
     Ok(ExitCode::SUCCESS)
 }

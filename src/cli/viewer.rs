@@ -1,7 +1,6 @@
 //! `bvhview [FILES]`: the window, on the files or the bundled walk.
 
 use super::*;
-use bvhview::render::window::ViewerOptions;
 
 /// The window's keys, for `bvhview --help`.
 pub(crate) const WINDOW_KEYS: &str = "\
@@ -60,9 +59,18 @@ pub(crate) struct ViewerArgs {
     up: Option<UpArg>,
 }
 
+/// The window on a file (or the bundled walk): a build without the `window` feature has none.
+#[cfg(not(feature = "window"))]
+pub(crate) fn run(_: ViewerArgs) -> Result<ExitCode, Error> {
+    Err(bvhview::render::without_window(
+        bvhview::render::VIEWER_OFFSCREEN,
+    ))
+}
+
 /// The window on a file (or the bundled walk).
+#[cfg(feature = "window")]
 pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
-    use bvhview::render::window::{TakeSource, ViewerTake};
+    use bvhview::render::window::{TakeSource, ViewerOptions, ViewerTake};
     let ViewerArgs {
         files,
         source,

@@ -5,6 +5,7 @@
 //! and a translation track per joint with position channels (bvhview's offset mode). With a skin,
 //! the viewer's generated skin as a mesh bound to the joint nodes. Built with the gltf-json crate.
 
+use super::Container;
 use crate::io::error::Error;
 use crate::model::bone_skin::Body;
 use crate::model::motion::Motion;
@@ -13,13 +14,6 @@ use crate::model::skeleton::Skeleton;
 use crate::model::skeleton::export_name;
 use gltf_json as json;
 use json::validation::{Checked, USize64};
-
-/// Which container: a binary `.glb`, or a `.gltf` text file with its buffer inline (base64).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Container {
-    Glb,
-    Gltf,
-}
 
 /// The binary data and the accessors that read it.
 struct Data {

@@ -17,7 +17,21 @@ pub mod studio;
 pub mod text;
 pub mod timeline;
 pub mod trace;
+#[cfg(feature = "window")]
 pub mod window;
+
+/// What draws the viewer's pictures without a display, for the messages.
+pub const VIEWER_OFFSCREEN: &str = "`bvhview snapshot FILE -o out.png`";
+/// What draws the skinning demo without a display.
+pub const SKIN_DEMO_OFFSCREEN: &str = "`bvhview skin-demo -o out.png`";
+
+/// Why a build without the window feature opens none, and what draws without one.
+pub fn without_window(offscreen: &str) -> Error {
+    Error::Environment(format!(
+        "this bvhview was built without its window (cargo feature `window`). {offscreen} draws \
+         without one"
+    ))
+}
 
 use crate::io::error::Error;
 use crate::model::motion::Motion;

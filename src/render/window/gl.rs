@@ -29,10 +29,7 @@ pub(super) const X_LIBRARIES: &[(&str, &str)] = &[
     ("libGL.so.1", "libgl1 libglx-mesa0 libgl1-mesa-dri"),
 ];
 
-/// What draws the viewer's pictures without a display, for the messages.
-pub const VIEWER_OFFSCREEN: &str = "`bvhview snapshot FILE -o out.png`";
-/// What draws the skinning demo without a display.
-pub const SKIN_DEMO_OFFSCREEN: &str = "`bvhview skin-demo -o out.png`";
+pub use crate::render::{SKIN_DEMO_OFFSCREEN, VIEWER_OFFSCREEN};
 
 /// Fails with one clear line when there is no display to open a window on, or when the X
 /// libraries winit loads at run time are missing (without libxkbcommon-x11 it panics).
