@@ -1,4 +1,9 @@
 //! The command line: positions, info, exit codes and messages.
+// Helpers of the tests a build without every feature leaves out.
+#![cfg_attr(
+    not(all(feature = "window", feature = "fbx", feature = "gltf")),
+    allow(dead_code, unused_imports)
+)]
 
 mod common;
 use common::*;

@@ -1,6 +1,11 @@
 //! `bvhview dataset` and `bvhview::dataset`: the repository's takes compiled into training
 //! arrays, read back from the `.npy` files, checked against the loader and FK, merged from
 //! pieces, and the command's messages and exit codes.
+// Helpers of the tests a build without every feature leaves out.
+#![cfg_attr(
+    not(all(feature = "window", feature = "fbx", feature = "gltf")),
+    allow(dead_code, unused_imports)
+)]
 
 use bvhview::dataset::{self, Options, merge, read, store};
 use bvhview::model::pose::{self, OffsetMode, RotationKind, Up};

@@ -1,6 +1,11 @@
 //! Hostile inputs and options (issue 26): counts, rates, sizes and names from a file or an option
 //! that once panicked, aborted, rendered without end or wrote a file nothing could read. Each
 //! now gets one line on stderr, exit 2, and no output file.
+// Helpers of the tests a build without every feature leaves out.
+#![cfg_attr(
+    not(all(feature = "window", feature = "fbx", feature = "gltf")),
+    allow(dead_code, unused_imports)
+)]
 
 mod common;
 use common::*;
