@@ -1,5 +1,27 @@
 //! bvhview: load, look at, snapshot and export motion capture (BVH, ASF/AMC, FBX, glTF).
 //!
+//! ```
+//! use bvhview::Take;
+//!
+//! # fn main() -> Result<(), bvhview::Error> {
+//! // Any format, by its extension: .bvh, .fbx, .gltf, .glb, .asf (+ .amc).
+//! let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+//! println!("{} frames at {} fps", take.frame_count(), take.fps());
+//!
+//! // World positions of every joint and End Site at frame 10, named as exports name them.
+//! let names = take.point_names();
+//! let points = take.positions(10).expect("the take has a frame 10");
+//! println!("{} is at {}", names[0], points[0]);
+//!
+//! // The first two seconds on the 22-joint SMPL skeleton, saved as glTF.
+//! let smpl = take.trim(0..240).retarget("smpl22")?;
+//! let folder = tempfile::tempdir().expect("a scratch folder");
+//! # #[cfg(feature = "gltf")] // a build without glTF writes BVH only
+//! smpl.save(folder.path().join("walk_on_smpl.glb"))?;
+//! # Ok(())
+//! # }
+//! ```
+//!
 //! The heart is a port of a well-known C++/GLUT teaching program (a BVH loader with a byte cursor
 //! and a brace stack, a recursive fixed-function draw). Its names and structure are kept so the
 //! two can be read side by side: every item that ports an article function starts its docs with
@@ -14,7 +36,7 @@
 //!
 //! - formats, one folder each: [`bvh`] (the article's loader, its row reader, the writer and
 //!   the tree print), [`acclaim`] (ASF/AMC), [`fbx`], [`gltf`] (read and write);
-//! - [`take`]: any format opened by its extension; [`positions`]: world positions out as CSV
+//! - [`take`] ([`Take`]): any format opened by its extension, saved, edited; [`positions`]: world positions out as CSV
 //!   or JSON; [`info`]: what a take holds, and a folder of takes summarised;
 //! - [`model`]: the skeleton, the motion, forward kinematics ([`model::pose`]), how a take
 //!   stands, the one exact Euler split, skinning;
@@ -47,6 +69,7 @@ pub mod teaching_zh_hant {}
 pub use io::error::Error;
 pub use model::motion::Motion;
 pub use model::skeleton::{Channel, Joint, RotationOrder, Skeleton};
+pub use take::{OpenOptions, Take};
 
 /// The default motion shown when no file is given: a short walk on the skeleton printed in the
 /// article's companion text about MOTION rows, made by `examples/make_walk.rs`.

@@ -1,27 +1,392 @@
-//! What every command reads: a BVH, FBX or glTF/GLB file, or an ASF skeleton with an optional AMC
-//! motion.
+//! The front door: a take (a skeleton, its motion, its rate and where it came from) opened from
+//! any format by its extension, saved as BVH or glTF, and the operations on it one call away.
+//!
+//! ```
+//! use bvhview::take::Take;
+//!
+//! # fn main() -> Result<(), bvhview::Error> {
+//! let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+//! assert_eq!(take.frame_count(), 344);
+//! // Every joint and End Site, named as the exports name them (`Head_End`).
+//! let names = take.point_names();
+//! let at = |name: &str| names.iter().position(|n| n == name).unwrap();
+//! let points = take.positions(10).unwrap();
+//! assert!(points[at("Head_End")].y > points[at("Hips")].y, "the head is above the hips");
+//! assert!(take.positions(344).is_none(), "frames past the end are None");
+//! # Ok(())
+//! # }
+//! ```
 
 use crate::acclaim;
 use crate::bvh;
 use crate::io::error::Error;
 use crate::model::motion::Motion;
+use crate::model::pose::OffsetMode;
 use crate::model::skeleton::Skeleton;
 use std::path::Path;
 
-/// A skeleton and its motion, from whichever format.
+/// The format a take was read from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Bvh,
+    /// An ASF skeleton with its AMC motion (CMU's Acclaim format).
+    AsfAmc,
+    Fbx,
+    /// glTF 2.0, `.gltf` or `.glb`.
+    Gltf,
+}
+
+impl Format {
+    /// The format a file of this (lower-case) extension holds: `bvh`, `asf`/`amc`, `fbx`,
+    /// `gltf`/`glb`.
+    pub fn of_extension(extension: &str) -> Option<Format> {
+        match extension {
+            "bvh" => Some(Format::Bvh),
+            "asf" | "amc" => Some(Format::AsfAmc),
+            "fbx" => Some(Format::Fbx),
+            "gltf" | "glb" => Some(Format::Gltf),
+            _ => None,
+        }
+    }
+}
+
+/// A skeleton and its motion, from whichever format, with what the file said once and where it
+/// came from. Python's `bvhview.Motion` is this type; its methods have the same names.
 #[derive(Clone, Debug)]
-pub struct Loaded {
+pub struct Take {
     pub skeleton: Skeleton,
     pub motion: Motion,
     pub warnings: Vec<String>,
     /// The units the file states (an ASF's `:units length`), if any.
     pub stated_units: Option<crate::model::stance::Units>,
+    /// What messages call it: its path, or "the bundled walk".
+    pub name: String,
+    /// The format it was read from; `None` for a take made in memory.
+    pub format: Option<Format>,
+    /// The take chosen in a file that holds several (an FBX stack, a glTF animation), by name.
+    pub take: Option<String>,
+    /// How position channels meet the OFFSET in [`Take::positions`], [`Take::ground`] and a
+    /// glTF save: replace it (the article's reading, the default) or add to it.
+    pub offset_mode: OffsetMode,
 }
 
-impl Loaded {
+impl Take {
+    /// A take made in memory, called `name`: no format, no warnings, no stated units, the
+    /// article's offset mode.
+    pub fn new(skeleton: Skeleton, motion: Motion, name: impl Into<String>) -> Take {
+        Take {
+            skeleton,
+            motion,
+            warnings: Vec::new(),
+            stated_units: None,
+            name: name.into(),
+            format: None,
+            take: None,
+            offset_mode: OffsetMode::Replace,
+        }
+    }
+
+    /// A take read from a file of `format`, with what the file said once.
+    fn read(
+        skeleton: Skeleton,
+        motion: Motion,
+        warnings: Vec<String>,
+        format: Format,
+        name: String,
+    ) -> Take {
+        Take {
+            warnings,
+            format: Some(format),
+            ..Take::new(skeleton, motion, name)
+        }
+    }
+
     /// How the take stands (up axis, units, height), guessed from its motion in `mode`.
-    pub fn stance(&self, mode: crate::model::pose::OffsetMode) -> crate::model::stance::Stance {
+    pub fn stance(&self, mode: OffsetMode) -> crate::model::stance::Stance {
         crate::model::stance::Stance::guess(&self.skeleton, &self.motion, mode, self.stated_units)
+    }
+
+    /// Opens a take by its file's extension: `.bvh`, `.fbx`, `.gltf`, `.glb`, or an `.asf`
+    /// skeleton in its rest pose (its motion through [`OpenOptions::motion`]). An FBX or glTF
+    /// file's first take; [`OpenOptions::take`] picks another.
+    pub fn open(path: impl AsRef<Path>) -> Result<Take, Error> {
+        OpenOptions::new().open(path)
+    }
+
+    /// Opens a take with options.
+    ///
+    /// ```
+    /// use bvhview::take::{OpenOptions, Take};
+    ///
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// let options = OpenOptions::new().motion("tests/data/asf_amc/heiden_12_02_01.amc");
+    /// let take = Take::open_with("tests/data/asf_amc/heiden_12.asf", &options)?;
+    /// assert_eq!(take.format, Some(bvhview::take::Format::AsfAmc));
+    /// assert!(take.frame_count() > 0);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn open_with(path: impl AsRef<Path>, options: &OpenOptions) -> Result<Take, Error> {
+        options.open(path)
+    }
+
+    /// Writes the take by the extension of `path`: `.bvh`, or glTF as `.glb` (binary) or
+    /// `.gltf` (text, data inline). The file is written whole or not at all.
+    ///
+    /// ```
+    /// use bvhview::take::Take;
+    ///
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// let folder = tempfile::tempdir().unwrap();
+    /// let take = Take::open("tests/data/bvh/bvhparser_simple.bvh")?;
+    /// let copy = folder.path().join("copy.bvh");
+    /// take.save(&copy)?;
+    /// assert_eq!(Take::open(&copy)?.motion, take.motion);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn save(&self, path: impl AsRef<Path>) -> Result<(), Error> {
+        use std::io::Write;
+        let path = path.as_ref();
+        let bytes = match extension(path).as_str() {
+            "bvh" => self.bvh_text()?.into_bytes(),
+            "glb" => self.gltf(crate::gltf::Container::Glb)?,
+            "gltf" => self.gltf(crate::gltf::Container::Gltf)?,
+            other => {
+                return Err(Error::Usage(format!(
+                    "{}: save writes .bvh, .glb or .gltf files, not '{other}'",
+                    path.display()
+                )));
+            }
+        };
+        let mut out = crate::io::output::AtomicFile::create(path)?;
+        out.write_all(&bytes).map_err(|e| Error::output(path, e))?;
+        out.commit()
+    }
+
+    /// The take as BVH text. A skeleton with fixed bone axes (ASF) has them baked into its
+    /// rotations first: BVH has none.
+    pub fn bvh_text(&self) -> Result<String, Error> {
+        let (skeleton, motion) = (&self.skeleton, &self.motion);
+        let baked = skeleton
+            .joints
+            .iter()
+            .any(|j| j.axis.is_some())
+            .then(|| crate::edit::bake_axes(skeleton, motion))
+            .transpose()?;
+        let (skeleton, motion) = baked.as_ref().map_or((skeleton, motion), |(s, m)| (s, m));
+        crate::bvh::writer::to_string(skeleton, motion)
+    }
+
+    /// The take as the bytes of a glTF file (no skin).
+    pub fn gltf(&self, container: crate::gltf::Container) -> Result<Vec<u8>, Error> {
+        crate::gltf::to_gltf(
+            &self.skeleton,
+            &self.motion,
+            self.offset_mode,
+            container,
+            false,
+        )
+    }
+
+    /// Frames in the take.
+    pub fn frame_count(&self) -> usize {
+        self.motion.frame_count()
+    }
+
+    /// Seconds per frame.
+    pub fn frame_time(&self) -> f64 {
+        self.motion.frame_time
+    }
+
+    /// Frames per second (1 / frame time).
+    pub fn fps(&self) -> f64 {
+        1.0 / self.motion.frame_time
+    }
+
+    /// The channel values of frame `index`, in file order; `None` past the last frame.
+    pub fn frame(&self, index: usize) -> Option<&[f32]> {
+        self.motion.get(index)
+    }
+
+    /// The names of the points [`Take::positions`] gives, as every export names them: each
+    /// joint, and each End Site as `<parent>_End` (ASF: the root, then each bone's end).
+    pub fn point_names(&self) -> Vec<String> {
+        crate::positions::export_points(&self.skeleton)
+            .into_iter()
+            .map(|(name, _)| name)
+            .collect()
+    }
+
+    /// The world position of every point at frame `index` (forward kinematics, in the
+    /// take's own units and axes), in [`Take::point_names`]' order; `None` past the last frame.
+    pub fn positions(&self, index: usize) -> Option<Vec<glam::Vec3>> {
+        let frame = self.frame(index)?;
+        let joints = crate::model::pose::world_positions(&self.skeleton, frame, self.offset_mode);
+        Some(
+            crate::positions::export_points(&self.skeleton)
+                .into_iter()
+                .map(|(_, joint)| joints[joint])
+                .collect(),
+        )
+    }
+
+    /// The take with `skeleton` and `motion` from an edit: the same name, format and warnings;
+    /// the units a file stated kept only when the edit kept every length.
+    pub fn edited(&self, skeleton: Skeleton, motion: Motion, same_lengths: bool) -> Take {
+        Take {
+            skeleton,
+            motion,
+            warnings: self.warnings.clone(),
+            stated_units: self.stated_units.filter(|_| same_lengths),
+            name: self.name.clone(),
+            format: self.format,
+            take: self.take.clone(),
+            offset_mode: self.offset_mode,
+        }
+    }
+
+    /// Frames `range` of the take (clamped to the frames there are).
+    pub fn trim(&self, range: std::ops::Range<usize>) -> Take {
+        let count = self.frame_count();
+        let range = range.start.min(count)..range.end.clamp(range.start.min(count), count);
+        self.edited(
+            self.skeleton.clone(),
+            crate::edit::trim(&self.motion, range),
+            true,
+        )
+    }
+
+    /// Every length (offsets and translations) times `factor`.
+    pub fn scale(&self, factor: f32) -> Result<Take, Error> {
+        let (skeleton, motion) = crate::edit::scale(&self.skeleton, &self.motion, factor)?;
+        Ok(self.edited(skeleton, motion, factor == 1.0))
+    }
+
+    /// The take at `fps` frames per second (rotations interpolated on the sphere).
+    pub fn resample(&self, fps: f64) -> Result<Take, Error> {
+        let motion = crate::edit::resample(&self.skeleton, &self.motion, fps)?;
+        Ok(self.edited(self.skeleton.clone(), motion, true))
+    }
+
+    /// Left and right swapped: each side's joints move as the other side's did, reflected.
+    pub fn mirror(&self) -> Result<Take, Error> {
+        let options = crate::edit::MirrorOptions::default();
+        let (skeleton, motion) = crate::edit::mirror(&self.skeleton, &self.motion, &options)?;
+        Ok(self.edited(skeleton, motion, true))
+    }
+
+    /// The root's travel over the floor taken out (its height kept).
+    pub fn in_place(&self) -> Take {
+        let up = self.stance(self.offset_mode).up;
+        let motion = crate::edit::in_place(&self.skeleton, &self.motion, up);
+        self.edited(self.skeleton.clone(), motion, true)
+    }
+
+    /// The take moved up or down so that its lowest point over all frames is on the floor.
+    pub fn ground(&self) -> Result<Take, Error> {
+        let up = self.stance(self.offset_mode).up;
+        let (skeleton, motion) =
+            crate::edit::ground(&self.skeleton, &self.motion, self.offset_mode, up)?;
+        Ok(self.edited(skeleton, motion, true))
+    }
+
+    /// The take's motion on another skeleton: `onto` is a file (.bvh, .fbx, .gltf, .glb, .asf;
+    /// its skeleton only) or a built-in skeleton's name (`smpl22`). Joints are matched by role
+    /// from their names, as `bvhview retarget` matches them.
+    ///
+    /// ```
+    /// use bvhview::take::Take;
+    ///
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?.trim(0..30);
+    /// let smpl = take.retarget("smpl22")?;
+    /// assert_eq!(smpl.frame_count(), 30);
+    /// assert!(smpl.point_names().iter().any(|n| n == "left_knee"));
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn retarget(&self, onto: &str) -> Result<Take, Error> {
+        let target = crate::retarget::Target::load(onto, DEFAULT_MAX_SIZE)?;
+        let (skeleton, motion) = target.apply(
+            &self.name,
+            &self.skeleton,
+            &self.motion,
+            &[],
+            crate::io::parallel::cores(),
+        )?;
+        let name = format!("{} on {}", self.name, target.name);
+        Ok(Take::new(skeleton, motion, name))
+    }
+}
+
+/// How to open a take: options for [`Take::open_with`], each with a default, set in a chain.
+#[derive(Clone, Debug, Default)]
+pub struct OpenOptions {
+    motion: Option<std::path::PathBuf>,
+    take: Option<String>,
+    frame_time: Option<f64>,
+    max_size: Option<u64>,
+    threads: Option<usize>,
+    offset_mode: Option<OffsetMode>,
+}
+
+impl OpenOptions {
+    /// The defaults: an FBX or glTF file's first take, the file's own rate, files up to
+    /// [`DEFAULT_MAX_SIZE`], every core, the article's offset mode.
+    pub fn new() -> OpenOptions {
+        OpenOptions::default()
+    }
+
+    /// The AMC motion of an ASF skeleton.
+    pub fn motion(mut self, amc: impl AsRef<Path>) -> OpenOptions {
+        self.motion = Some(amc.as_ref().to_path_buf());
+        self
+    }
+
+    /// The take of an FBX or glTF file that holds several: its name, or its index in
+    /// [`takes`].
+    pub fn take(mut self, take: impl Into<String>) -> OpenOptions {
+        self.take = Some(take.into());
+        self
+    }
+
+    /// Seconds per frame, over the file's (AMC files state none: 1/120 by default).
+    pub fn frame_time(mut self, seconds: f64) -> OpenOptions {
+        self.frame_time = Some(seconds);
+        self
+    }
+
+    /// Refuse files larger than this many bytes, before reading them.
+    pub fn max_size(mut self, bytes: u64) -> OpenOptions {
+        self.max_size = Some(bytes);
+        self
+    }
+
+    /// Threads to read with (a BVH's rows, an FBX's frames).
+    pub fn threads(mut self, threads: usize) -> OpenOptions {
+        self.threads = Some(threads);
+        self
+    }
+
+    /// How position channels meet the OFFSET: replace it (the default) or add to it.
+    pub fn offset_mode(mut self, mode: OffsetMode) -> OpenOptions {
+        self.offset_mode = Some(mode);
+        self
+    }
+
+    /// Opens the take at `path` with these options.
+    pub fn open(&self, path: impl AsRef<Path>) -> Result<Take, Error> {
+        let mut take = load_take(
+            path.as_ref(),
+            self.motion.as_deref(),
+            self.frame_time,
+            self.threads.unwrap_or_else(crate::io::parallel::cores),
+            self.max_size.unwrap_or(DEFAULT_MAX_SIZE),
+            self.take.as_deref(),
+        )?;
+        take.offset_mode = self.offset_mode.unwrap_or(OffsetMode::Replace);
+        Ok(take)
     }
 }
 
@@ -34,7 +399,7 @@ pub fn extension(path: &Path) -> String {
 
 /// Loads `path` (`.bvh`, or `.asf` with `motion` an `.amc`). `frame_time` overrides the file's
 /// (AMC has none: CMU's 120 Hz is the default).
-pub fn load(path: &Path, motion: Option<&Path>, frame_time: Option<f64>) -> Result<Loaded, Error> {
+pub fn load(path: &Path, motion: Option<&Path>, frame_time: Option<f64>) -> Result<Take, Error> {
     load_checked(
         path,
         motion,
@@ -84,7 +449,7 @@ pub fn load_checked(
     frame_time: Option<f64>,
     threads: usize,
     max_size: u64,
-) -> Result<Loaded, Error> {
+) -> Result<Take, Error> {
     load_take(path, motion, frame_time, threads, max_size, None)
 }
 
@@ -119,7 +484,7 @@ pub fn load_take(
     threads: usize,
     max_size: u64,
     take: Option<&str>,
-) -> Result<Loaded, Error> {
+) -> Result<Take, Error> {
     check_file(path, max_size)?;
     if let Some(motion) = motion {
         check_file(motion, max_size)?;
@@ -150,11 +515,15 @@ pub fn load_take(
                 }
                 None => Motion::new(frame_time, channels, 0, Vec::new()),
             };
-            Ok(Loaded {
-                skeleton,
-                motion,
-                warnings: asf.warnings,
+            Ok(Take {
                 stated_units: crate::model::stance::asf_units(asf.units.length),
+                ..Take::read(
+                    skeleton,
+                    motion,
+                    asf.warnings,
+                    Format::AsfAmc,
+                    path.display().to_string(),
+                )
             })
         }
         "amc" => Err(Error::Usage(format!(
@@ -169,22 +538,29 @@ pub fn load_take(
                     amc.display()
                 )));
             }
-            let read = if extension(path) == "fbx" {
-                crate::fbx::load(path, max_size, take, threads)?
+            let (read, format) = if extension(path) == "fbx" {
+                (
+                    crate::fbx::load(path, max_size, take, threads)?,
+                    Format::Fbx,
+                )
             } else {
-                crate::gltf::load(path, max_size, take)?
+                (crate::gltf::load(path, max_size, take)?, Format::Gltf)
             };
             let mut motion = read.motion;
             if let Some(time) = frame_time {
                 motion.frame_time = time;
             }
-            Ok(Loaded {
-                skeleton: read.skeleton,
-                motion,
-                warnings: read.warnings,
-                // Both readers give metres (ufbx converts the FBX's UnitScaleFactor; glTF is
-                // metres by definition); the stance's guess from the figure's size says so.
-                stated_units: None,
+            // Both readers give metres (ufbx converts the FBX's UnitScaleFactor; glTF is
+            // metres by definition); the stance's guess from the figure's size says so.
+            Ok(Take {
+                take: read.take,
+                ..Take::read(
+                    read.skeleton,
+                    motion,
+                    read.warnings,
+                    format,
+                    path.display().to_string(),
+                )
             })
         }
         "bvh" => {
@@ -209,12 +585,13 @@ pub fn load_take(
             if let Some(time) = frame_time {
                 file.motion.frame_time = time;
             }
-            Ok(Loaded {
-                skeleton: file.skeleton,
-                motion: file.motion,
-                warnings: file.warnings,
-                stated_units: None,
-            })
+            Ok(Take::read(
+                file.skeleton,
+                file.motion,
+                file.warnings,
+                Format::Bvh,
+                path.display().to_string(),
+            ))
         }
         other => Err(Error::Usage(format!(
             "{}: unknown extension '{other}': bvhview reads .bvh, .fbx, .gltf and .glb files and .asf skeletons (with --motion .amc)",
@@ -256,7 +633,7 @@ pub fn load_bytes_as(
     frame_time: Option<f64>,
     threads: usize,
     take: Option<&str>,
-) -> Result<Loaded, Error> {
+) -> Result<Take, Error> {
     crate::io::limits::frame_time_option(frame_time)?;
     if bytes.is_empty() {
         return Err(Error::Usage(format!("{name}: empty: no take to read")));
@@ -270,7 +647,7 @@ pub fn load_bytes_as(
             )));
         }
     };
-    let (skeleton, mut motion, warnings) = match format {
+    let (read, format) = match format {
         "bvh" => {
             if take.is_some() {
                 return Err(Error::Usage(format!(
@@ -278,40 +655,49 @@ pub fn load_bytes_as(
                 )));
             }
             let file = bvh::load_bytes(bytes, name)?;
-            (file.skeleton, file.motion, file.warnings)
+            let read = crate::model::reading::Read {
+                skeleton: file.skeleton,
+                motion: file.motion,
+                warnings: file.warnings,
+                take: None,
+            };
+            (read, Format::Bvh)
         }
-        "fbx" => {
-            let read = crate::fbx::load_bytes(bytes, name, take, threads)?;
-            (read.skeleton, read.motion, read.warnings)
-        }
-        "gltf" | "glb" => {
-            let read = crate::gltf::load_bytes(bytes, name, take)?;
-            (read.skeleton, read.motion, read.warnings)
-        }
+        "fbx" => (
+            crate::fbx::load_bytes(bytes, name, take, threads)?,
+            Format::Fbx,
+        ),
+        "gltf" | "glb" => (crate::gltf::load_bytes(bytes, name, take)?, Format::Gltf),
         other => {
             return Err(Error::Usage(format!(
                 "--from {other}: bvhview reads bvh, fbx, gltf or glb from standard input"
             )));
         }
     };
+    let mut motion = read.motion;
     if let Some(time) = frame_time {
         motion.frame_time = time;
     }
-    Ok(Loaded {
-        skeleton,
-        motion,
-        warnings,
-        stated_units: None,
+    Ok(Take {
+        take: read.take,
+        ..Take::read(
+            read.skeleton,
+            motion,
+            read.warnings,
+            format,
+            name.to_string(),
+        )
     })
 }
 
 /// The bundled walk.
-pub fn default_motion() -> Result<Loaded, Error> {
+pub fn default_motion() -> Result<Take, Error> {
     let file = bvh::load_bytes(crate::DEFAULT_MOTION, crate::DEFAULT_MOTION_NAME)?;
-    Ok(Loaded {
-        skeleton: file.skeleton,
-        motion: file.motion,
-        warnings: file.warnings,
-        stated_units: None,
-    })
+    Ok(Take::read(
+        file.skeleton,
+        file.motion,
+        file.warnings,
+        Format::Bvh,
+        crate::DEFAULT_MOTION_NAME.to_string(),
+    ))
 }

@@ -9,7 +9,7 @@
 //! - bvhview's own glTF export read back: the take it was written from (1e-5 of the height).
 
 use bvhview::model::pose::{OffsetMode, world_positions};
-use bvhview::take::{self, Loaded};
+use bvhview::take::{self, Take};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -19,11 +19,11 @@ fn data(path: &str) -> PathBuf {
         .join(path)
 }
 
-fn load(path: &Path) -> Loaded {
+fn load(path: &Path) -> Take {
     take::load(path, None, None).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
-fn load_take(path: &Path, take: &str) -> Loaded {
+fn load_take(path: &Path, take: &str) -> Take {
     take::load_take(path, None, None, 1, take::DEFAULT_MAX_SIZE, Some(take))
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
@@ -33,7 +33,7 @@ fn bvhview() -> Command {
 }
 
 /// The spread of frame 0's joints along their widest axis.
-fn height(loaded: &Loaded) -> f32 {
+fn height(loaded: &Take) -> f32 {
     let points = world_positions(
         &loaded.skeleton,
         loaded.motion.frame(0),
@@ -49,7 +49,7 @@ fn height(loaded: &Loaded) -> f32 {
 
 /// Name of each point as bvhview's exports name them: joints by name, End Sites `<parent>_End`
 /// (a source BVH's End Site and an FBX leaf bone `<parent>_end` meet there).
-fn point_names(loaded: &Loaded) -> Vec<String> {
+fn point_names(loaded: &Take) -> Vec<String> {
     let joints = &loaded.skeleton.joints;
     joints
         .iter()
@@ -70,7 +70,7 @@ fn zero_length_end(joint: &bvhview::model::skeleton::Joint) -> bool {
 /// an End Site of `got` also by its own name, as a leaf joint of a glTF skin, which Blender's
 /// exporter writes without the bone's tail), divided by `want`'s height; and how many points
 /// were compared.
-fn worst_relative(want: &Loaded, got: &Loaded, frames: usize) -> (f32, usize) {
+fn worst_relative(want: &Take, got: &Take, frames: usize) -> (f32, usize) {
     let want_names = point_names(want);
     let got_names = point_names(got);
     let pairs: Vec<(usize, usize)> = want_names
@@ -212,9 +212,9 @@ fn ascii_and_binary_saves_of_one_scene_agree() {
 fn maya_scale_helpers_are_folded_into_the_files_bones() {
     let plain = load(&data("fbx/ufbx/maya_character_7500_binary.fbx"));
     let human_ik = load(&data("fbx/ufbx/maya_human_ik_7400_binary.fbx"));
-    let names = |l: &Loaded| point_names(l);
+    let names = |l: &Take| point_names(l);
     assert_eq!(names(&human_ik), names(&plain));
-    let parents = |l: &Loaded| {
+    let parents = |l: &Take| {
         l.skeleton
             .joints
             .iter()

@@ -174,7 +174,7 @@ fn in_repository(case: &Case) -> bool {
 
 /// The same view with an empty skeleton: background and floor (in the studio look, the take's
 /// grid) only.
-fn without_skeleton(bvh: &bvhview::take::Loaded, options: &SnapshotOptions) -> Image {
+fn without_skeleton(bvh: &bvhview::take::Take, options: &SnapshotOptions) -> Image {
     let stage = (options.look == Look::Studio).then(|| {
         bvhview::render::studio::Stage::new(
             &bvh.skeleton,

@@ -145,7 +145,7 @@ fn runs(text: &str) -> Vec<Run> {
     runs
 }
 
-fn three_takes() -> Vec<(String, bvhview::take::Loaded)> {
+fn three_takes() -> Vec<(String, bvhview::take::Take)> {
     [
         "bvh/bvh11_131_01.bvh",
         "bvh/opencollar_run.bvh",

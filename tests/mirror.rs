@@ -35,7 +35,7 @@ const TAKES: &[(&str, Option<&str>, usize)] = &[
     ("bvh/bvhio_example.bvh", None, 14),
 ];
 
-fn load(file: &str, motion: Option<&str>) -> bvhview::take::Loaded {
+fn load(file: &str, motion: Option<&str>) -> bvhview::take::Take {
     let motion = motion.map(repo_data);
     bvhview::take::load(&repo_data(file), motion.as_deref(), None).unwrap()
 }
@@ -43,7 +43,7 @@ fn load(file: &str, motion: Option<&str>) -> bvhview::take::Loaded {
 /// The mirror of one take: every joint whose name marks a side finds its counterpart (`sided`
 /// of them when given), names, parents and channels are kept, every world position is its
 /// counterpart's reflected (within 1e-5 of the figure's size) and twice gives the take back.
-fn check(file: &str, take: &bvhview::take::Loaded, sided: Option<usize>) {
+fn check(file: &str, take: &bvhview::take::Take, sided: Option<usize>) {
     let (skeleton, motion) = (&take.skeleton, &take.motion);
     let partners = mirror_partners(skeleton, &Default::default()).unwrap();
     let named = skeleton

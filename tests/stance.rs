@@ -372,7 +372,7 @@ fn converted_takes_read_back_as_written() {
 }
 
 /// `take` written as a BVH file in `dir`, and what `bvhview info` says of it.
-fn info_of(dir: &Path, name: &str, take: &bvhview::take::Loaded) -> String {
+fn info_of(dir: &Path, name: &str, take: &bvhview::take::Take) -> String {
     let path = dir.join(name);
     let mut bytes = Vec::new();
     bvhview::bvh::writer::write_bvh(&mut bytes, &take.skeleton, &take.motion).unwrap();
@@ -387,7 +387,7 @@ fn info_of(dir: &Path, name: &str, take: &bvhview::take::Loaded) -> String {
 }
 
 /// MakeHuman's take with its non-root position channels set by `value(joint, axis)`.
-fn makehuman_with(value: &dyn Fn(usize, usize) -> f32) -> bvhview::take::Loaded {
+fn makehuman_with(value: &dyn Fn(usize, usize) -> f32) -> bvhview::take::Take {
     let mut take = bvhview::take::load(&repo_data("bvh/makehuman_tpose.bvh"), None, None).unwrap();
     let width = take.motion.channels;
     for (j, joint) in take.skeleton.joints.iter().enumerate() {
@@ -489,7 +489,7 @@ fn info_warns_of_humans_under_half_a_metre_or_over_two_and_a_half() {
     ] {
         let (skeleton, motion) =
             bvhview::edit::scale(&walk.skeleton, &walk.motion, metres / size).unwrap();
-        let scaled = bvhview::take::Loaded {
+        let scaled = bvhview::take::Take {
             skeleton,
             motion,
             ..walk.clone()
@@ -508,7 +508,7 @@ fn info_warns_of_humans_under_half_a_metre_or_over_two_and_a_half() {
     for metres in [0.6, 1.2, 2.3] {
         let (skeleton, motion) =
             bvhview::edit::scale(&walk.skeleton, &walk.motion, metres / size).unwrap();
-        let scaled = bvhview::take::Loaded {
+        let scaled = bvhview::take::Take {
             skeleton,
             motion,
             ..walk.clone()

@@ -141,12 +141,7 @@ pub(crate) fn _dataset_motion(
             })
             .map_err(|e| to_python(py, e))?;
         Ok(Motion {
-            loaded: Loaded {
-                skeleton,
-                motion,
-                warnings: Vec::new(),
-                stated_units: None,
-            },
+            loaded: Take::new(skeleton, motion, path.join(&entry.skeleton).display().to_string()),
             item: Item {
                 path: path.join(&entry.skeleton),
                 motion: None,

@@ -13,12 +13,7 @@ impl Motion {
         same_lengths: bool,
     ) -> Motion {
         Motion {
-            loaded: Loaded {
-                skeleton,
-                motion,
-                warnings: self.loaded.warnings.clone(),
-                stated_units: self.loaded.stated_units.filter(|_| same_lengths),
-            },
+            loaded: self.loaded.edited(skeleton, motion, same_lengths),
             item: Item {
                 path: self.item.path.clone(),
                 motion: self.item.motion.clone(),

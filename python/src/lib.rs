@@ -13,7 +13,7 @@
 //!   in so that no panic reaches Python.
 
 use bvhview::io::error::Error;
-use bvhview::take::{self, Loaded};
+use bvhview::take::{self, Take};
 use bvhview::io::output::AtomicFile;
 use bvhview::model::pose::{self, FkPlan, FkScratch, LANES, OffsetMode};
 use glam::{Mat4, Vec3};

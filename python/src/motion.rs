@@ -16,7 +16,7 @@ pub(crate) fn load_item(
     item: &Item,
     frame_time: Option<f64>,
     threads: usize,
-) -> Result<Loaded, Error> {
+) -> Result<Take, Error> {
     for path in std::iter::once(&item.path).chain(&item.motion) {
         if path.is_dir() {
             return Err(Error::io(path, io::ErrorKind::IsADirectory.into()));
@@ -54,7 +54,7 @@ impl<'py> FromPyObject<'_, 'py> for TakeChoice {
 /// copy) and computations can read it without the GIL.
 #[pyclass(frozen, module = "bvhview", name = "Motion")]
 pub(crate) struct Motion {
-    pub(crate) loaded: Loaded,
+    pub(crate) loaded: Take,
     pub(crate) item: Item,
     pub(crate) offset_mode: OffsetMode,
 }
@@ -788,19 +788,10 @@ impl Motion {
 
 impl Motion {
     pub(crate) fn write_bvh(&self, path: &Path) -> Result<(), Error> {
-        let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
-        // BVH has no fixed bone axis.
-        let baked = skeleton
-            .joints
-            .iter()
-            .any(|j| j.axis.is_some())
-            .then(|| bvhview::edit::bake_axes(skeleton, motion))
-            .transpose()?;
-        let (skeleton, motion) = baked.as_ref().map_or((skeleton, motion), |(s, m)| (s, m));
         // Refused before the file is opened: nothing is written (a ValueError).
-        bvhview::bvh::writer::check(skeleton, motion)?;
+        let text = self.loaded.bvh_text()?;
         let mut out = AtomicFile::create(path)?;
-        bvhview::bvh::writer::write_bvh(&mut out, skeleton, motion)
+        out.write_all(text.as_bytes())
             .map_err(|e| Error::output(path, e))?;
         out.commit()
     }
@@ -948,7 +939,7 @@ pub(crate) fn load_many(
             };
             let mut order: Vec<usize> = (0..items.len()).collect();
             order.sort_by_key(|&index| std::cmp::Reverse(size(&items[index])));
-            let mut slots: Vec<Option<Result<Loaded, Error>>> =
+            let mut slots: Vec<Option<Result<Take, Error>>> =
                 (0..items.len()).map(|_| None).collect();
             bvhview::io::parallel::map_in_order(
                 items.len(),

@@ -161,11 +161,15 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
             return Err(bad("a value that is not a finite number"));
         }
         let frames = values.len().checked_div(channels).unwrap_or(0);
-        let loaded = Loaded {
-            skeleton,
-            motion: bvhview::Motion::new(frame_time, channels, frames, values),
+        let loaded = Take {
             warnings,
             stated_units: cmu_units.then_some(bvhview::model::stance::CMU_UNITS),
+            format: take::Format::of_extension(&take::extension(Path::new(&path))),
+            ..Take::new(
+                skeleton,
+                bvhview::Motion::new(frame_time, channels, frames, values),
+                path.clone(),
+            )
         };
         Ok(Motion {
             loaded,

@@ -131,7 +131,7 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
 }
 
 /// The edits, in this order: trim, resample, scale, up axis, mirror, in place, ground.
-fn edit(args: &ConvertArgs, mut loaded: Loaded) -> Result<Loaded, Error> {
+fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
     if let Some(frames) = &args.frames {
         let range = bvhview::positions::parse_frames(frames, loaded.motion.frame_count())?;
         loaded.motion = bvhview::edit::trim(&loaded.motion, range);

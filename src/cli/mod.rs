@@ -19,7 +19,7 @@ pub(crate) use bvhview::io::error::Error;
 pub(crate) use bvhview::model::pose::{OffsetMode, Up};
 pub(crate) use bvhview::render::Look;
 pub(crate) use bvhview::render::draw::Style;
-pub(crate) use bvhview::take::{self, Loaded};
+pub(crate) use bvhview::take::{self, Take};
 pub(crate) use clap::{Args, ValueEnum};
 pub(crate) use std::io::{self, BufWriter, Write};
 pub(crate) use std::path::{Path, PathBuf};
@@ -218,7 +218,7 @@ pub(crate) fn resolve_up(
 }
 
 /// Says once on stderr when a file looks written for the other offset mode.
-pub(crate) fn warn_offset_mode(loaded: &Loaded, mode: OffsetMode, name: &str) {
+pub(crate) fn warn_offset_mode(loaded: &Take, mode: OffsetMode, name: &str) {
     if let Some(warning) =
         bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode)
     {
@@ -307,7 +307,7 @@ impl Progress {
 }
 
 /// Loads a file (with its motion) and reports its warnings on stderr.
-pub(crate) fn load(path: &Path, source: &Source) -> Result<Loaded, Error> {
+pub(crate) fn load(path: &Path, source: &Source) -> Result<Take, Error> {
     let loaded = load_quietly(path, source)?;
     for warning in &loaded.warnings {
         eprintln!("bvhview: {}: warning: {warning}", path.display());
@@ -316,7 +316,7 @@ pub(crate) fn load(path: &Path, source: &Source) -> Result<Loaded, Error> {
 }
 
 /// Loads a file (with its motion), its warnings left to the caller.
-pub(crate) fn load_quietly(path: &Path, source: &Source) -> Result<Loaded, Error> {
+pub(crate) fn load_quietly(path: &Path, source: &Source) -> Result<Take, Error> {
     load_with_threads(path, source, bvhview::io::parallel::cores())
 }
 
@@ -367,7 +367,7 @@ pub(crate) fn load_with_threads(
     path: &Path,
     source: &Source,
     threads: usize,
-) -> Result<Loaded, Error> {
+) -> Result<Take, Error> {
     if !is_stdio(path) {
         if source.from.is_some() {
             return Err(Error::Usage(format!(
@@ -414,7 +414,7 @@ pub(crate) fn load_with_threads(
 pub(crate) fn load_or_default(
     path: Option<&Path>,
     source: &Source,
-) -> Result<(String, Loaded), Error> {
+) -> Result<(String, Take), Error> {
     match path {
         Some(path) => Ok((path.display().to_string(), load(path, source)?)),
         None => {

@@ -376,7 +376,7 @@ pub fn compile_take_plain(dir: &Path, item: &Item, options: &Options) -> Result<
 /// A take loaded and checked for compiling, with the offset mode it is read in and how it
 /// stands.
 pub(crate) struct Prepared {
-    loaded: crate::take::Loaded,
+    loaded: crate::take::Take,
     mode: OffsetMode,
     stance: crate::model::stance::Stance,
 }
@@ -436,7 +436,7 @@ fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
                 &[],
                 1,
             )?;
-            crate::take::Loaded {
+            crate::take::Take {
                 skeleton,
                 motion,
                 stated_units: None,

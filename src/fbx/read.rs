@@ -505,6 +505,7 @@ pub fn load_bytes(
         .iter()
         .map(|s| s.element.name.to_string())
         .collect();
+    let mut chosen: Option<String> = None;
     let (skeleton, motion) = if scene.anim_stacks.is_empty() {
         if take.is_some() {
             pick_take(&names, take, path)?;
@@ -524,6 +525,7 @@ pub fn load_bytes(
                 names[0]
             ));
         }
+        chosen = Some(names[index].clone());
         let stack = &scene.anim_stacks[index];
         let (begin, end, said) = stack_range(stack).map_err(&bad)?;
         warnings.extend(said);
@@ -615,6 +617,7 @@ pub fn load_bytes(
                 skeleton,
                 motion,
                 warnings,
+                take: chosen,
             })
             .map_err(|e| match e {
                 Error::Usage(message) if !message.starts_with(name) => bad(message),
@@ -660,5 +663,6 @@ pub fn load_bytes(
         skeleton,
         motion,
         warnings,
+        take: chosen,
     })
 }

@@ -951,6 +951,7 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
     let animations: Vec<gltf::Animation> = document.animations().collect();
     let names: Vec<String> = animations.iter().map(animation_name).collect();
     let mut warnings = Vec::new();
+    let mut take_name = None;
     let chosen = if animations.is_empty() {
         if take.is_some() {
             pick_take(&names, take, path)?;
@@ -966,6 +967,7 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
                 names[0]
             ));
         }
+        take_name = Some(names[index].clone());
         Some(&animations[index])
     };
     let tracks = match chosen {
@@ -1166,6 +1168,7 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
         skeleton,
         motion,
         warnings,
+        take: take_name,
     })
 }
 

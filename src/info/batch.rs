@@ -482,7 +482,7 @@ impl Default for Settings {
 }
 
 /// The line printed for a loaded item; its warnings are those `info FILE` lists.
-fn describe(loaded: &take::Loaded, offset_mode: crate::model::pose::OffsetMode) -> String {
+fn describe(loaded: &take::Take, offset_mode: crate::model::pose::OffsetMode) -> String {
     let joints = loaded
         .skeleton
         .joints

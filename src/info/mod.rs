@@ -6,7 +6,7 @@ use crate::model::motion::Motion;
 use crate::model::pose::OffsetMode;
 use crate::model::skeleton::Skeleton;
 use crate::model::stance::Stance;
-use crate::take::Loaded;
+use crate::take::Take;
 use std::collections::BTreeMap;
 use std::fmt::Write;
 
@@ -23,12 +23,12 @@ pub fn readable(value: f64, decimals: usize) -> String {
 
 /// Every warning `info` gives for a file: the loader's, the offset-mode guess, then the size of
 /// a human-like figure.
-pub fn warnings(loaded: &Loaded, mode: OffsetMode) -> Vec<String> {
+pub fn warnings(loaded: &Take, mode: OffsetMode) -> Vec<String> {
     warnings_with(loaded, mode, &loaded.stance(mode))
 }
 
 /// [`warnings`] with the take's stance already guessed.
-pub fn warnings_with(loaded: &Loaded, mode: OffsetMode, stance: &Stance) -> Vec<String> {
+pub fn warnings_with(loaded: &Take, mode: OffsetMode, stance: &Stance) -> Vec<String> {
     let mut warnings = loaded.warnings.clone();
     warnings.extend(offset_mode_warning(&loaded.skeleton, &loaded.motion, mode));
     warnings.extend(size_warning(&loaded.skeleton, stance));
@@ -104,7 +104,7 @@ pub fn size_warning(skeleton: &Skeleton, stance: &Stance) -> Option<String> {
 }
 
 /// A human-readable summary: joints, End Sites, channels, frames, timing, orders, warnings.
-pub fn summary(name: &str, loaded: &Loaded, mode: OffsetMode) -> String {
+pub fn summary(name: &str, loaded: &Take, mode: OffsetMode) -> String {
     let skeleton = &loaded.skeleton;
     let motion = &loaded.motion;
     let end_sites = skeleton.end_site_count();

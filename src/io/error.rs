@@ -4,6 +4,19 @@ use std::fmt;
 use std::io;
 use std::path::{Path, PathBuf};
 
+/// What went wrong, and where: a broken file says its `file:line:column`.
+///
+/// ```
+/// use bvhview::{Error, Take};
+///
+/// let folder = tempfile::tempdir().unwrap();
+/// let path = folder.path().join("broken.bvh");
+/// std::fs::write(&path, "HIERARCHY\nROOT Hips\n{\n  OFFSET 0 0 x\n").unwrap();
+/// match Take::open(&path) {
+///     Err(Error::Parse { line, column, .. }) => assert_eq!((line, column), (4, 14)),
+///     other => panic!("expected a parse error, got {other:?}"),
+/// }
+/// ```
 #[derive(Debug)]
 pub enum Error {
     /// The input is malformed: `path:line:column: message`.

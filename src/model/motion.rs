@@ -4,6 +4,16 @@
 //! the rows contiguous and costs one allocation.
 
 /// C++: `BVH::frameData`, `frameCount` and `frameTime`: the rows of the MOTION section.
+///
+/// ```
+/// use bvhview::Motion;
+///
+/// // Two frames of three channels, at 30 frames per second.
+/// let motion = Motion::new(1.0 / 30.0, 3, 2, vec![0.0, 1.0, 2.0, 10.0, 11.0, 12.0]);
+/// assert_eq!(motion.get(1), Some(&[10.0, 11.0, 12.0][..]));
+/// assert_eq!(motion.get(2), None);
+/// assert_eq!(motion.next_frame(1), 0, "the article's W wraps to the first frame");
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Motion {
     /// Seconds per frame, as the file's `Frame Time:` says.
@@ -34,6 +44,11 @@ impl Motion {
     /// The values of frame `index` (C++: `frameData[index]`). Panics if `index` is out of range.
     pub fn frame(&self, index: usize) -> &[f32] {
         &self.data[index * self.channels..(index + 1) * self.channels]
+    }
+
+    /// The values of frame `index`, or `None` past the last frame.
+    pub fn get(&self, index: usize) -> Option<&[f32]> {
+        (index < self.frames).then(|| self.frame(index))
     }
 
     /// C++: `BVH::addFrame`: the frame after `current`, back to 0 after the last (the article

@@ -19,6 +19,8 @@ pub struct Read {
     pub skeleton: Skeleton,
     pub motion: Motion,
     pub warnings: Vec<String>,
+    /// The take read, by name, when the file holds takes (none: its rest pose).
+    pub take: Option<String>,
 }
 
 /// Picks a take by name, or by its index in `info`'s list.

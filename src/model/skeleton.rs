@@ -193,6 +193,22 @@ pub enum Source {
 }
 
 /// All joints of a file in pre-order (a parent always comes before its children).
+///
+/// ```
+/// use bvhview::Take;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let skeleton = Take::open("tests/data/bvh/bvhparser_simple.bvh")?.skeleton;
+/// let root = skeleton.roots().next().unwrap();
+/// println!("{} has {} children", skeleton.joints[root].name, skeleton.joints[root].children.len());
+/// for joint in &skeleton.joints {
+///     if let Some(parent) = joint.parent {
+///         assert!(skeleton.joints[parent].children.iter().any(|&c| skeleton.joints[c].name == joint.name));
+///     }
+/// }
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Skeleton {
     pub joints: Vec<Joint>,

@@ -330,7 +330,7 @@ impl Default for SnapshotOptions {
 }
 
 /// The camera `snapshot` draws one take with for `options` (no overlay): the article's, or one
-/// that frames the figure; `stance` is the take's (`Loaded::stance`, which knows an ASF's units).
+/// that frames the figure; `stance` is the take's (`Take::stance`, which knows an ASF's units).
 pub fn camera_for(
     skeleton: &Skeleton,
     motion: &Motion,
@@ -396,7 +396,7 @@ impl Renderer {
 
     /// [`Renderer::render`] with `overlay` on top (an empty one draws the picture
     /// [`Renderer::render`] draws). The take's units are guessed from its figure; for an ASF's
-    /// stated units, call [`Renderer::render_all`] with its `Loaded::stance`.
+    /// stated units, call [`Renderer::render_all`] with its `Take::stance`.
     pub fn render_with_overlay(
         &mut self,
         skeleton: &Skeleton,

@@ -16,7 +16,7 @@ use crate::render::paint::{Clock, Painter, Shown};
 use crate::render::scene::{self, Camera};
 use crate::render::timeline::Bar;
 use crate::render::{Look, Overlay, SnapshotOptions};
-use crate::take::Loaded;
+use crate::take::Take;
 use glutin::prelude::GlSurface;
 use std::f32::consts::TAU;
 use std::num::NonZeroU32;
@@ -62,7 +62,7 @@ pub struct TakeSource {
 }
 
 impl TakeSource {
-    fn load(&self) -> Result<Loaded, Error> {
+    fn load(&self) -> Result<Take, Error> {
         crate::take::load_take(
             &self.path,
             self.motion.as_deref(),
@@ -81,7 +81,7 @@ pub struct ViewerTake {
     pub name: String,
     /// Where it came from; `None` for the bundled walk, which R leaves as it is.
     pub source: Option<TakeSource>,
-    pub loaded: Loaded,
+    pub loaded: Take,
     /// Its up axis, asked for or guessed from the motion: a Z-up take is stood up in a view
     /// that frames it (see `Viewer::drawn_up`); the article's view draws it as written.
     pub up: crate::model::pose::Up,
