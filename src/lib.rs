@@ -14,7 +14,7 @@
 //! println!("{} is at {}", names[0], points[0]);
 //!
 //! // The first two seconds on the 22-joint SMPL skeleton, saved as glTF.
-//! let smpl = take.trim(0..240).retarget("smpl22")?;
+//! let smpl = bvhview::retarget::onto(&take.trim(0..240), "smpl22")?;
 //! let folder = tempfile::tempdir().expect("a scratch folder");
 //! # #[cfg(feature = "gltf")] // a build without glTF writes BVH only
 //! smpl.save(folder.path().join("walk_on_smpl.glb"))?;
@@ -36,7 +36,8 @@
 //!
 //! - formats, one folder each: [`bvh`] (the article's loader, its row reader, the writer and
 //!   the tree print), [`acclaim`] (ASF/AMC), [`fbx`], [`gltf`] (read and write);
-//! - [`take`] ([`Take`]): any format opened by its extension, saved, edited; [`positions`]: world positions out as CSV
+//! - [`take`] ([`Take`]): any format opened by its extension, saved, edited (retargeted by
+//!   [`retarget::onto`]); [`positions`]: world positions out as CSV
 //!   or JSON; [`info`]: what a take holds, and a folder of takes summarised;
 //! - [`model`]: the skeleton, the motion, forward kinematics ([`model::pose`]), how a take
 //!   stands, the one exact Euler split, skinning;

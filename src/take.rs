@@ -290,34 +290,6 @@ impl Take {
             crate::edit::ground(&self.skeleton, &self.motion, self.offset_mode, up)?;
         Ok(self.edited(skeleton, motion, true))
     }
-
-    /// The take's motion on another skeleton: `onto` is a file (.bvh, .fbx, .gltf, .glb, .asf;
-    /// its skeleton only) or a built-in skeleton's name (`smpl22`). Joints are matched by role
-    /// from their names, as `bvhview retarget` matches them.
-    ///
-    /// ```
-    /// use bvhview::take::Take;
-    ///
-    /// # fn main() -> Result<(), bvhview::Error> {
-    /// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?.trim(0..30);
-    /// let smpl = take.retarget("smpl22")?;
-    /// assert_eq!(smpl.frame_count(), 30);
-    /// assert!(smpl.point_names().iter().any(|n| n == "left_knee"));
-    /// # Ok(())
-    /// # }
-    /// ```
-    pub fn retarget(&self, onto: &str) -> Result<Take, Error> {
-        let target = crate::retarget::Target::load(onto, DEFAULT_MAX_SIZE)?;
-        let (skeleton, motion) = target.apply(
-            &self.name,
-            &self.skeleton,
-            &self.motion,
-            &[],
-            crate::io::parallel::cores(),
-        )?;
-        let name = format!("{} on {}", self.name, target.name);
-        Ok(Take::new(skeleton, motion, name))
-    }
 }
 
 /// How to open a take: options for [`Take::open_with`], each with a default, set in a chain.

@@ -37,6 +37,7 @@
 //! through [`crate::model::baked`], which folds pre/post rotations, rest orientations
 //! and scale into BVH channels that give the same world positions.
 
+use super::records::BINARY_MAGIC;
 use crate::io::error::Error;
 use crate::model::baked::{self, Node, Pose};
 use crate::model::reading::{Read, TakeInfo, pick_take};
@@ -118,9 +119,6 @@ fn read_scene(bytes: &[u8], name: &str) -> Result<ufbx::SceneRoot, Error> {
         }
     })
 }
-
-/// The magic bytes a binary FBX starts with.
-pub(super) const BINARY_MAGIC: &[u8] = b"Kaydara FBX Binary";
 
 /// Why `bytes` are neither a binary FBX nor FBX text, if they are not: a binary file starts
 /// with [`BINARY_MAGIC`]; FBX text is `Key: value` lines after `;` comments. Nothing of the file

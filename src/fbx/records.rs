@@ -3,9 +3,12 @@
 //! and a user wants to know where. Kept by hand: the record layout is a few lines, and no kept
 //! crate reads FBX's binary structure without also building a scene from it.
 
+/// How a binary FBX begins.
+pub(super) const BINARY_MAGIC: &[u8] = b"Kaydara FBX Binary";
+
 /// Where the first record that cannot be is, and why, if one is found.
 pub(super) fn first_fault(bytes: &[u8]) -> Option<String> {
-    if !bytes.starts_with(super::read::BINARY_MAGIC) || bytes.len() < 27 {
+    if !bytes.starts_with(BINARY_MAGIC) || bytes.len() < 27 {
         return None;
     }
     let version = u32::from_le_bytes(bytes[23..27].try_into().ok()?);

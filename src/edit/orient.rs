@@ -1,0 +1,288 @@
+//! Where a take stands: its travel taken out (in place), its lowest point on the floor
+//! (ground), and a quarter turn from one up axis to another (reorient).
+
+use super::*;
+
+/// The ground plane's axes for an up axis: (the two across, the one up).
+fn plane(up: crate::model::pose::Up) -> ([usize; 2], usize) {
+    match up {
+        crate::model::pose::Up::Y => ([0, 2], 1),
+        crate::model::pose::Up::Z => ([0, 1], 2),
+    }
+}
+
+/// The travel across the ground removed: the joint that carries it ([`travel_joint_of_take`],
+/// the root in most files, `Hips` under a still root in others) keeps its first frame's place in
+/// the ground plane, so the figure moves where it stands.
+/// Only that joint's values change, to values the take already holds: nothing can overflow.
+///
+/// [`travel_joint_of_take`]: crate::model::pose::travel_joint_of_take
+pub fn in_place(skeleton: &Skeleton, motion: &Motion, up: crate::model::pose::Up) -> Motion {
+    let (across, _) = plane(up);
+    let mut data = motion.data.clone();
+    if motion.frame_count() == 0 || motion.channels == 0 {
+        return motion.clone();
+    }
+    let travel = crate::model::pose::travel_joint_of_take(
+        skeleton,
+        motion,
+        crate::model::pose::OffsetMode::Replace,
+    );
+    let joint = &skeleton.joints[travel];
+    for (i, channel) in joint.channels.iter().enumerate() {
+        if channel.is_position() && across.contains(&channel.axis()) {
+            let column = joint.first_channel + i;
+            let first = motion.frame(0)[column];
+            for row in data.chunks_mut(motion.channels) {
+                row[column] = first;
+            }
+        }
+    }
+    Motion::new(
+        motion.frame_time,
+        motion.channels,
+        motion.frame_count(),
+        data,
+    )
+}
+
+/// The take moved up or down so that its lowest point, over every joint and frame, is at 0.
+/// The roots' up position channel carries the move (their OFFSET when they have none).
+pub fn ground(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mode: crate::model::pose::OffsetMode,
+    up: crate::model::pose::Up,
+) -> Result<(Skeleton, Motion), Error> {
+    let (_, axis) = plane(up);
+    let mut lowest = f32::INFINITY;
+    let frames = motion.frame_count();
+    for frame in 0..frames.max(1) {
+        let row = if frames == 0 {
+            &[][..]
+        } else {
+            motion.frame(frame)
+        };
+        for p in crate::model::pose::world_positions(skeleton, row, mode) {
+            lowest = lowest.min(p[axis]);
+        }
+    }
+    let mut grounded = skeleton.clone();
+    let mut data = motion.data.clone();
+    if !lowest.is_finite() {
+        return finite("--ground", grounded, motion.clone());
+    }
+    for root in skeleton.roots() {
+        let joint = &skeleton.joints[root];
+        let channel = joint
+            .channels
+            .iter()
+            .position(|c| c.is_position() && c.axis() == axis);
+        match (channel, frames) {
+            (Some(i), 1..) => {
+                for row in data.chunks_mut(motion.channels) {
+                    row[joint.first_channel + i] -= lowest;
+                }
+            }
+            _ => grounded.joints[root].offset[axis] -= lowest,
+        }
+    }
+    finite(
+        "--ground",
+        grounded,
+        Motion::new(motion.frame_time, motion.channels, frames, data),
+    )
+}
+
+/// The turn from one up axis to another, `turn`, which moves each axis onto another (maybe
+/// negated): [`QuarterTurn::apply`] turns a vector exactly, with no rounding and no overflow on
+/// the way (a product with the quaternion does both).
+#[derive(Clone, Copy, Debug)]
+pub struct QuarterTurn {
+    pub turn: Quat,
+    /// Column k: where axis k goes, as signs of 0, 1 or −1.
+    axes: [[f32; 3]; 3],
+}
+
+impl QuarterTurn {
+    pub fn between(from: crate::model::pose::Up, to: crate::model::pose::Up) -> QuarterTurn {
+        // Into Y-up from `from`, then out of Y-up into `to`.
+        let turn = to.to_y_up().inverse() * from.to_y_up();
+        let axes = glam::Mat3::from_quat(turn)
+            .to_cols_array_2d()
+            .map(|c| c.map(f32::round));
+        QuarterTurn { turn, axes }
+    }
+
+    /// `v` turned.
+    pub fn apply(&self, v: glam::Vec3) -> glam::Vec3 {
+        let mut out = glam::Vec3::ZERO;
+        for (column, &value) in self.axes.iter().zip(&v.to_array()) {
+            for (row, &sign) in column.iter().enumerate() {
+                if sign != 0.0 {
+                    out[row] = sign * value;
+                }
+            }
+        }
+        out
+    }
+
+    /// `turn · q · turn⁻¹`: the rotation q as seen once everything is turned (its axis turned,
+    /// its angle kept), exactly.
+    pub fn conjugate(&self, q: Quat) -> Quat {
+        let axis = self.apply(glam::Vec3::new(q.x, q.y, q.z));
+        Quat::from_xyzw(axis.x, axis.y, axis.z, q.w)
+    }
+}
+
+/// The take turned from one up axis to another, so that it loads the same way in the other
+/// convention: every OFFSET and position turned by the rotation Q between them, every joint's
+/// rotation R replaced by Q·R·Q⁻¹ in the joint's own channel order. The world positions come
+/// out turned by Q.
+pub fn reorient(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    from: crate::model::pose::Up,
+    to: crate::model::pose::Up,
+) -> Result<(Skeleton, Motion), Error> {
+    if from == to {
+        return Ok((skeleton.clone(), motion.clone()));
+    }
+    let quarter = QuarterTurn::between(from, to);
+    let (turn, exactly) = (quarter.turn, |v| quarter.apply(v));
+    let mut turned = skeleton.clone();
+    for joint in &mut turned.joints {
+        joint.offset = exactly(joint.offset);
+        let positions = joint.channels.iter().filter(|c| c.is_position()).count();
+        let rotations = joint.channels.iter().filter(|c| c.is_rotation()).count();
+        if (positions != 0 && positions != 3) || (rotations != 0 && joint.rotation_order.is_none())
+        {
+            return Err(Error::Usage(format!(
+                "--up: '{}' has channels that cannot be turned to another axis (it needs three \
+                 position channels or none, and three rotations on distinct axes or none)",
+                joint.name
+            )));
+        }
+    }
+    let mut data = motion.data.clone();
+    if motion.channels > 0 {
+        for row in data.chunks_mut(motion.channels) {
+            let original = row.to_vec();
+            for joint in &skeleton.joints {
+                let values = joint.values(&original);
+                let columns = |position: bool| {
+                    joint
+                        .channels
+                        .iter()
+                        .enumerate()
+                        .filter(move |(_, c)| c.is_position() == position)
+                        .map(|(i, &c)| (joint.first_channel + i, c.axis()))
+                        .collect::<Vec<_>>()
+                };
+                let positions = columns(true);
+                if !positions.is_empty() {
+                    let mut p = glam::Vec3::ZERO;
+                    for &(column, axis) in &positions {
+                        p[axis] = original[column];
+                    }
+                    let p = exactly(p);
+                    for &(column, axis) in &positions {
+                        row[column] = p[axis];
+                    }
+                }
+                if let Some(order) = joint.rotation_order {
+                    let r = crate::model::pose::channel_rotations_f64(joint, values);
+                    let turn = turn.as_dquat();
+                    let angles = euler::split_degrees(turn * r * turn.inverse(), order);
+                    for (&(column, _), angle) in columns(false).iter().zip(angles) {
+                        row[column] = angle;
+                    }
+                }
+            }
+        }
+    }
+    let frames = motion.frame_count();
+    finite(
+        "--up",
+        turned,
+        Motion::new(motion.frame_time, motion.channels, frames, data),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::edit::testing::*;
+
+    #[test]
+    fn in_place_and_ground_by_hand_worked_values() {
+        let bvh = take(TWO_FRAMES);
+        let still = in_place(&bvh.skeleton, &bvh.motion, crate::model::pose::Up::Y);
+        // x and z stay at frame 0's (0, 0); y keeps moving.
+        assert_eq!(&still.frame(2)[..3], [0.0, 4.0, 0.0]);
+        // The lowest point is the root at frame 0 (y 0) once the chest bends down: lift the
+        // chain so that its lowest joint sits at 0.
+        let bent = take(&TWO_FRAMES.replace("8 4 -4 0 0 0 80 0 0", "8 4 -4 0 0 0 180 0 0"));
+        let mode = crate::model::pose::OffsetMode::Replace;
+        let (skeleton, motion) = ground(
+            &bent.skeleton,
+            &bent.motion,
+            mode,
+            crate::model::pose::Up::Y,
+        )
+        .unwrap();
+        // Frame 2: root at y 4, chest at 14, the site 5 below the chest (turned 180°): 9. Frame
+        // 0: root at 0, the lowest anywhere. So nothing moves.
+        assert_eq!(motion.frame(2)[1], 4.0);
+        let lifted = take(&TWO_FRAMES.replace("0 0 0 0 0 0 0 0 0\n4", "0 -7 0 0 0 0 0 0 0\n4"));
+        let (_, motion) = ground(
+            &lifted.skeleton,
+            &lifted.motion,
+            mode,
+            crate::model::pose::Up::Y,
+        )
+        .unwrap();
+        // The root at -7 on frame 0 is the lowest point: every frame's y rises by 7.
+        assert_eq!([motion.frame(0)[1], motion.frame(1)[1]], [0.0, 9.0]);
+        assert_eq!(skeleton.joints[0].offset, glam::Vec3::ZERO);
+    }
+
+    #[test]
+    fn reorienting_turns_every_world_position() {
+        let bvh = take(TWO_FRAMES);
+        let (skeleton, motion) = reorient(
+            &bvh.skeleton,
+            &bvh.motion,
+            crate::model::pose::Up::Y,
+            crate::model::pose::Up::Z,
+        )
+        .unwrap();
+        // Y-up to Z-up: (x, y, z) becomes (x, -z, y).
+        assert_eq!(skeleton.joints[1].offset, glam::Vec3::new(0.0, 0.0, 10.0));
+        let mode = crate::model::pose::OffsetMode::Replace;
+        for frame in 0..3 {
+            let before =
+                crate::model::pose::world_positions(&bvh.skeleton, bvh.motion.frame(frame), mode);
+            let after = crate::model::pose::world_positions(&skeleton, motion.frame(frame), mode);
+            for (b, a) in before.iter().zip(&after) {
+                assert!(
+                    glam::Vec3::new(b.x, -b.z, b.y).abs_diff_eq(*a, 1e-4),
+                    "{b} {a}"
+                );
+            }
+        }
+        let (back, motion_back) = reorient(
+            &skeleton,
+            &motion,
+            crate::model::pose::Up::Z,
+            crate::model::pose::Up::Y,
+        )
+        .unwrap();
+        let again = crate::model::pose::world_positions(&back, motion_back.frame(2), mode);
+        let original =
+            crate::model::pose::world_positions(&bvh.skeleton, bvh.motion.frame(2), mode);
+        for (a, o) in again.iter().zip(&original) {
+            assert!(a.abs_diff_eq(*o, 1e-4));
+        }
+    }
+}

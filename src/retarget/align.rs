@@ -1,0 +1,231 @@
+//! Rest alignment: which bones drive which, the turn that puts the target's rest bones onto
+//! the source's, and the heights the hips' path is scaled by.
+
+use super::*;
+
+/// The two skeletons' up axes, as their takes stand.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Ups {
+    pub source: Up,
+    pub target: Up,
+}
+
+/// [`Up::to_y_up`] in 64-bit floats (the 32-bit quaternion is not of unit length to 64 bits).
+pub(super) fn to_y_up(up: Up) -> DQuat {
+    match up {
+        Up::Y => DQuat::IDENTITY,
+        Up::Z => DQuat::from_rotation_x(-std::f64::consts::FRAC_PI_2),
+    }
+}
+
+/// Nearest mapped joints below `joint`: down each branch to the first mapped one.
+pub(super) fn mapped_below(skeleton: &Skeleton, map: &[Option<usize>], joint: usize) -> Vec<usize> {
+    let mut found = Vec::new();
+    let mut stack: Vec<usize> = skeleton.joints[joint].children.clone();
+    while let Some(j) = stack.pop() {
+        if map[j].is_some() {
+            found.push(j);
+        } else {
+            stack.extend(skeleton.joints[j].children.iter().copied());
+        }
+    }
+    found.sort_unstable();
+    found
+}
+
+pub(super) fn subtree_size(skeleton: &Skeleton, joint: usize) -> usize {
+    1 + skeleton.joints[joint]
+        .children
+        .iter()
+        .map(|&c| subtree_size(skeleton, c))
+        .sum::<usize>()
+}
+
+/// The bones both skeletons have, one per mapped target joint: to the next mapped joint down
+/// its chain (the spine's way at the hips and chest, else the largest branch), where neither
+/// skeleton's bone has zero length (CMU's `LowerBack` and `Neck` sit where their parents do: its
+/// hips and chest have no bone there). `(target joint, target child)`; the source's are their
+/// map. The bones [`direction_errors`] measures.
+pub fn bones(source: &Skeleton, target: &Skeleton, map: &Map) -> Vec<(usize, usize)> {
+    main_bones(source, target, map)
+        .into_iter()
+        .filter(|&(_, _, direct)| direct)
+        .map(|(t, d, _)| (t, d))
+        .collect()
+}
+
+/// [`bones`], and where a bone has zero length on either skeleton, the chord to the next joint
+/// down the chain that does not (`false`): what rest alignment turns onto the source's.
+pub(super) fn main_bones(
+    source: &Skeleton,
+    target: &Skeleton,
+    map: &Map,
+) -> Vec<(usize, usize, bool)> {
+    let (mut source_rest, mut target_rest) = (Vec::new(), Vec::new());
+    world_transforms_f64(source, &[], OffsetMode::Replace, &mut source_rest);
+    world_transforms_f64(target, &[], OffsetMode::Replace, &mut target_rest);
+    let central: Vec<usize> = map
+        .target_body
+        .roles()
+        .into_iter()
+        .filter(|(r, _)| r.central())
+        .map(|(_, j)| j)
+        .collect();
+    let primary = |t: usize, s: usize| {
+        let below: Vec<usize> = mapped_below(target, &map.source_of, t)
+            .into_iter()
+            .filter(|&d| map.source_of[d] != Some(s))
+            .collect();
+        below
+            .iter()
+            .copied()
+            .find(|d| central.contains(d))
+            .or_else(|| {
+                below
+                    .iter()
+                    .copied()
+                    .max_by_key(|&d| (subtree_size(target, d), std::cmp::Reverse(d)))
+            })
+    };
+    let mut bones = Vec::new();
+    for (t, s) in map.source_of.iter().enumerate() {
+        let Some(s) = *s else { continue };
+        let mut d = primary(t, s);
+        let mut direct = true;
+        while let Some(next) = d {
+            let Some(sd) = map.source_of[next] else { break };
+            let short = (target_rest[next].1 - target_rest[t].1).length() < 1e-5
+                || (source_rest[sd].1 - source_rest[s].1).length() < 1e-5;
+            if !short {
+                break;
+            }
+            direct = false;
+            d = primary(next, s);
+        }
+        if let Some(d) = d {
+            bones.push((t, d, direct));
+        }
+    }
+    bones
+}
+
+/// Turns `from` onto `to` by the smallest rotation (none when they already agree).
+pub(super) fn arc(from: DVec3, to: DVec3) -> DQuat {
+    let (from, to) = (from.normalize(), to.normalize());
+    if from.dot(to) > 1.0 - 1e-15 {
+        DQuat::IDENTITY
+    } else {
+        DQuat::from_rotation_arc(from, to)
+    }
+}
+
+/// Per target joint, the rotation A (in a Y-up world) that turns the target's rest bones onto
+/// the source's: the parent's, then the smallest turn of the main bone onto the source's, then
+/// a twist about it that best lays the other bones (the hips' legs, the chest's clavicles) on
+/// theirs.
+pub(super) fn alignments(
+    source: &Skeleton,
+    target: &Skeleton,
+    map: &Map,
+    ups: Ups,
+    source_rest: &[(DQuat, DVec3)],
+    target_rest: &[(DQuat, DVec3)],
+) -> Vec<DQuat> {
+    let (us, ut) = (to_y_up(ups.source), to_y_up(ups.target));
+    let main: std::collections::HashMap<usize, usize> = main_bones(source, target, map)
+        .into_iter()
+        .map(|(t, d, _)| (t, d))
+        .collect();
+    let mut aligned = vec![DQuat::IDENTITY; target.joints.len()];
+    for t in 0..target.joints.len() {
+        let base = target.joints[t]
+            .parent
+            .map_or(DQuat::IDENTITY, |p| aligned[p]);
+        let Some(s) = map.source_of[t] else {
+            aligned[t] = base;
+            continue;
+        };
+        let vectors = |d: usize| {
+            let ds = map.source_of[d]?;
+            let tv = ut * (target_rest[d].1 - target_rest[t].1);
+            let sv = us * (source_rest[ds].1 - source_rest[s].1);
+            (tv.length() > 1e-9 && sv.length() > 1e-9).then_some((tv, sv))
+        };
+        let Some((tv, sv)) = main.get(&t).and_then(|&d| vectors(d)) else {
+            aligned[t] = base;
+            continue;
+        };
+        let swung = arc(base * tv, sv) * base;
+        let axis = sv.normalize();
+        let (mut sin, mut cos) = (0.0, 0.0);
+        for d in mapped_below(target, &map.source_of, t) {
+            if Some(&d) == main.get(&t) || map.source_of[d] == Some(s) {
+                continue;
+            }
+            let Some((tv, sv)) = vectors(d) else { continue };
+            let a = swung * tv;
+            let a = a - axis * a.dot(axis);
+            let b = sv - axis * sv.dot(axis);
+            sin += a.cross(b).dot(axis);
+            cos += a.dot(b);
+        }
+        let twist = if sin.abs() > 1e-12 * cos.abs().max(1e-300) {
+            DQuat::from_axis_angle(axis, sin.atan2(cos))
+        } else {
+            DQuat::IDENTITY
+        };
+        aligned[t] = twist * swung;
+    }
+    aligned
+}
+
+/// How tall the hips stand: the legs' length (thigh to shin to foot, the mean of the two sides
+/// found), which a rest pose lying down or with its bones along x (Bandai's) measures the same
+/// as one standing. Without legs: the spread of the rest pose along the body from the hips.
+pub(super) fn hip_height(
+    skeleton: &Skeleton,
+    body: &Body,
+    hips: usize,
+    rest: &[(DQuat, DVec3)],
+) -> f64 {
+    let mut legs = Vec::new();
+    for side in 0..2 {
+        let joint = |limb: Limb| body.limbs[side][limb as usize];
+        if let (Some(thigh), Some(shin), Some(foot)) =
+            (joint(Limb::Thigh), joint(Limb::Shin), joint(Limb::Foot))
+        {
+            legs.push(
+                (rest[shin].1 - rest[thigh].1).length() + (rest[foot].1 - rest[shin].1).length(),
+            );
+        }
+    }
+    if !legs.is_empty() {
+        return legs.iter().sum::<f64>() / legs.len() as f64;
+    }
+    (0..skeleton.joints.len())
+        .map(|j| (rest[j].1 - rest[hips].1).length())
+        .fold(0.0, f64::max)
+}
+
+/// Joints of the legs (everything under a thigh, End Sites too): where the floor is read.
+pub(super) fn leg_points(skeleton: &Skeleton, body: &Body) -> Vec<usize> {
+    let thighs: Vec<usize> = [
+        body.limbs[0][Limb::Thigh as usize],
+        body.limbs[1][Limb::Thigh as usize],
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    (0..skeleton.joints.len())
+        .filter(|&j| thighs.iter().any(|&t| is_ancestor(skeleton, t, j)))
+        .collect()
+}
+
+/// How a source's position channels combine with its OFFSETs: as written (MakeHuman's files
+/// mean "added to OFFSET", as the dataset compiler also reads them), else replacing them.
+pub(super) fn source_offset_mode(source: &Skeleton, motion: &Motion) -> OffsetMode {
+    match crate::model::pose::written_for_other_mode(source, motion, OffsetMode::Replace) {
+        Some(_) => OffsetMode::Add,
+        None => OffsetMode::Replace,
+    }
+}

@@ -1,0 +1,410 @@
+//! The roles of a skeleton's joints (hips, spine, neck, head, and per side the limbs), read
+//! from their names and, where names say less, from the tree.
+
+use super::*;
+
+/// A skeleton's joints by role: what [`Map::guess`] pairs.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Body {
+    pub hips: Option<usize>,
+    /// From the hips up.
+    pub spine: Vec<usize>,
+    pub neck: Option<usize>,
+    pub head: Option<usize>,
+    /// `[left, right]`, each in [`Limb`] order: clavicle, upper arm, forearm, hand, thigh, shin,
+    /// foot, toe.
+    pub limbs: [[Option<usize>; 8]; 2],
+}
+
+pub(super) fn side_index(side: Side) -> usize {
+    match side {
+        Side::Left => 0,
+        Side::Right => 1,
+    }
+}
+
+pub(super) fn depth(skeleton: &Skeleton, mut joint: usize) -> usize {
+    let mut depth = 0;
+    while let Some(parent) = skeleton.joints[joint].parent {
+        joint = parent;
+        depth += 1;
+    }
+    depth
+}
+
+pub(super) fn is_ancestor(skeleton: &Skeleton, ancestor: usize, mut joint: usize) -> bool {
+    loop {
+        if joint == ancestor {
+            return true;
+        }
+        match skeleton.joints[joint].parent {
+            Some(parent) => joint = parent,
+            None => return false,
+        }
+    }
+}
+
+pub(super) fn common_ancestor(skeleton: &Skeleton, a: usize, b: usize) -> Option<usize> {
+    let mut joint = a;
+    loop {
+        if is_ancestor(skeleton, joint, b) {
+            return Some(joint);
+        }
+        joint = skeleton.joints[joint].parent?;
+    }
+}
+
+/// Joints from `from` (left out) down to `to` (left out), in order; empty unless `from` is an
+/// ancestor of `to`.
+pub(super) fn path_between(skeleton: &Skeleton, from: usize, to: usize) -> Vec<usize> {
+    let mut path = Vec::new();
+    let mut joint = to;
+    while let Some(parent) = skeleton.joints[joint].parent {
+        if parent == from {
+            path.reverse();
+            return path;
+        }
+        path.push(parent);
+        joint = parent;
+    }
+    Vec::new()
+}
+
+/// Limbs, neck and head from the tree alone, for a skeleton whose names say nothing: the hips
+/// are the first joint with three branches at least three joints long (the largest the spine,
+/// the other two the legs); the chest the first joint up the spine with two such branches (the
+/// arms; the one that goes on upward from the hips, the neck). Down each arm, the hand is the
+/// first joint with two children or more (fingers), else the last; down each leg the last four
+/// joints are thigh, shin, foot and toe (three: no toe). Sides by the rest pose, as BVH faces
+/// +z: left at +x.
+#[allow(clippy::type_complexity)]
+pub(super) fn limbs_by_tree(
+    skeleton: &Skeleton,
+) -> Option<([[Option<usize>; 8]; 2], Option<usize>, Option<usize>)> {
+    let joints = &skeleton.joints;
+    let count = joints.len();
+    let (mut height, mut size) = (vec![0usize; count], vec![0usize; count]);
+    for j in (0..count).rev() {
+        if joints[j].end_site {
+            continue;
+        }
+        height[j] = 1 + joints[j]
+            .children
+            .iter()
+            .map(|&c| height[c])
+            .max()
+            .unwrap_or(0);
+        size[j] = 1 + joints[j].children.iter().map(|&c| size[c]).sum::<usize>();
+    }
+    let long = |j: usize| -> Vec<usize> {
+        let mut branches: Vec<usize> = joints[j]
+            .children
+            .iter()
+            .copied()
+            .filter(|&c| height[c] >= 3)
+            .collect();
+        branches.sort_by_key(|&c| std::cmp::Reverse(size[c]));
+        branches
+    };
+    let main_path = |from: usize| -> Vec<usize> {
+        let mut path = vec![from];
+        let mut j = from;
+        while let Some(&next) = joints[j]
+            .children
+            .iter()
+            .filter(|&&c| !joints[c].end_site)
+            .max_by_key(|&&c| (size[c], std::cmp::Reverse(c)))
+        {
+            path.push(next);
+            j = next;
+        }
+        path
+    };
+    let mut rest = Vec::new();
+    world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
+    let hips = (0..count).find(|&j| !joints[j].end_site && long(j).len() >= 3)?;
+    let branches = long(hips);
+    let (spine, legs) = (branches[0], [branches[1], branches[2]]);
+    let mut chest = spine;
+    while long(chest).len() < 2 {
+        chest = *main_path(chest).get(1)?;
+    }
+    let up = (rest[chest].1 - rest[hips].1).normalize_or_zero();
+    let mut arms = long(chest);
+    let others: Vec<usize> = joints[chest]
+        .children
+        .iter()
+        .copied()
+        .filter(|c| !joints[*c].end_site)
+        .collect();
+    // The branch that goes on upward is the neck, not an arm.
+    let upward = others.iter().copied().max_by(|&a, &b| {
+        let rise = |c: usize| {
+            let end = *main_path(c).last().unwrap_or(&c);
+            (rest[end].1 - rest[chest].1).normalize_or_zero().dot(up)
+        };
+        rise(a).total_cmp(&rise(b))
+    });
+    if arms.len() > 2 {
+        arms.retain(|&a| Some(a) != upward);
+    }
+    arms.truncate(2);
+    if arms.len() < 2 {
+        return None;
+    }
+    let side_of = |j: usize, of: usize| {
+        if rest[j].1.x - rest[of].1.x >= 0.0 {
+            0
+        } else {
+            1
+        }
+    };
+    let mut limbs = [[None; 8]; 2];
+    for &arm in &arms {
+        let path = main_path(arm);
+        let at = (2..path.len())
+            .find(|&i| {
+                joints[path[i]]
+                    .children
+                    .iter()
+                    .filter(|&&c| !joints[c].end_site)
+                    .count()
+                    >= 2
+            })
+            .unwrap_or(path.len() - 1);
+        if at < 2 {
+            return None;
+        }
+        let side = side_of(path[at], chest);
+        limbs[side][Limb::Hand as usize] = Some(path[at]);
+        limbs[side][Limb::ForeArm as usize] = Some(path[at - 1]);
+        limbs[side][Limb::UpperArm as usize] = Some(path[at - 2]);
+        if at >= 3 {
+            limbs[side][Limb::Clavicle as usize] = Some(path[at - 3]);
+        }
+    }
+    for &leg in &legs {
+        let path = main_path(leg);
+        let n = path.len();
+        let side = side_of(path[n - 1], hips);
+        let (thigh, toe) = if n >= 4 {
+            (n - 4, Some(n - 1))
+        } else {
+            (0, None)
+        };
+        limbs[side][Limb::Thigh as usize] = Some(path[thigh]);
+        limbs[side][Limb::Shin as usize] = Some(path[thigh + 1]);
+        limbs[side][Limb::Foot as usize] = Some(path[thigh + 2]);
+        limbs[side][Limb::Toe as usize] = toe.map(|i| path[i]);
+    }
+    if limbs[0][Limb::Thigh as usize].is_none() || limbs[1][Limb::Thigh as usize].is_none() {
+        return None;
+    }
+    let (neck, head) = match upward.filter(|u| !arms.contains(u)) {
+        Some(u) => {
+            let path = main_path(u);
+            if path.len() >= 2 {
+                (Some(path[0]), path.last().copied())
+            } else {
+                (None, Some(path[0]))
+            }
+        }
+        None => (None, None),
+    };
+    Some((limbs, neck, head))
+}
+
+impl Body {
+    /// The roles of a skeleton's joints, from their names and the tree.
+    pub fn of(skeleton: &Skeleton) -> Body {
+        let joints = &skeleton.joints;
+        let words: Vec<Option<(Option<Side>, Word)>> = joints
+            .iter()
+            .map(|j| if j.end_site { None } else { word_of(&j.name) })
+            .collect();
+        let has = |side: Side, want: &[Word]| {
+            words
+                .iter()
+                .flatten()
+                .any(|&(s, w)| s == Some(side) && want.contains(&w))
+        };
+        // The shallowest joint of each role, words read in the light of the rest of the side.
+        let mut body = Body::default();
+        let shallowest = |candidates: Vec<usize>| {
+            candidates
+                .into_iter()
+                .min_by_key(|&j| (depth(skeleton, j), j))
+        };
+        for side in [Side::Left, Side::Right] {
+            let limb_of = |word: Word| -> Option<Limb> {
+                Some(match word {
+                    Word::Collar => Limb::Clavicle,
+                    Word::Shoulder => {
+                        if has(side, &[Word::Collar]) || !has(side, &[Word::UpperArm]) {
+                            Limb::UpperArm
+                        } else {
+                            Limb::Clavicle
+                        }
+                    }
+                    Word::UpperArm => Limb::UpperArm,
+                    Word::ForeArm => Limb::ForeArm,
+                    Word::Hand | Word::Wrist => Limb::Hand,
+                    Word::Thigh => Limb::Thigh,
+                    Word::Leg => {
+                        if has(side, &[Word::Thigh]) {
+                            Limb::Shin
+                        } else {
+                            Limb::Thigh
+                        }
+                    }
+                    Word::Shin => Limb::Shin,
+                    Word::Foot => {
+                        if has(side, &[Word::Ankle]) {
+                            Limb::Toe
+                        } else {
+                            Limb::Foot
+                        }
+                    }
+                    Word::Ankle => Limb::Foot,
+                    Word::Toe => Limb::Toe,
+                    _ => return None,
+                })
+            };
+            for (slot, limb) in LIMBS.iter().enumerate() {
+                let candidates = (0..joints.len())
+                    .filter(|&j| {
+                        words[j].is_some_and(|(s, w)| s == Some(side) && limb_of(w) == Some(*limb))
+                    })
+                    .collect();
+                body.limbs[side_index(side)][slot] = shallowest(candidates);
+            }
+        }
+        let named = |word: Word| -> Vec<usize> {
+            (0..joints.len())
+                .filter(|&j| words[j].is_some_and(|(_, w)| w == word))
+                .collect()
+        };
+        // Names that say nothing of any limb (`J1`, `bone_07`): the tree and the rest pose.
+        let mut tree_neck_head = (None, None);
+        if body
+            .limbs
+            .iter()
+            .all(|side| side.iter().all(Option::is_none))
+            && let Some((limbs, neck, head)) = limbs_by_tree(skeleton)
+        {
+            body.limbs = limbs;
+            tree_neck_head = (neck, head);
+        }
+        let limb = |side: usize, limb: Limb| body.limbs[side][limb as usize];
+        let pair_of = |a: Limb, b: Limb| {
+            let left = limb(0, a).or(limb(0, b))?;
+            let right = limb(1, a).or(limb(1, b))?;
+            common_ancestor(skeleton, left, right)
+        };
+        // The chest carries both arms; the hips both legs and the spine.
+        let chest = pair_of(Limb::Clavicle, Limb::UpperArm);
+        let legs = pair_of(Limb::Thigh, Limb::Shin);
+        let mut neck = shallowest(named(Word::Neck)).or(tree_neck_head.0);
+        let head = shallowest(
+            named(Word::Head)
+                .into_iter()
+                .filter(|&h| neck.is_none_or(|n| is_ancestor(skeleton, n, h)))
+                .collect(),
+        );
+        let mut head = head.or(tree_neck_head.1);
+        let hips = match (legs, chest.or(neck).or(head)) {
+            (Some(legs), Some(top)) => common_ancestor(skeleton, legs, top),
+            (Some(legs), None) => Some(legs),
+            _ => shallowest(named(Word::Hips)).or(skeleton.roots().next()),
+        };
+        let Some(hips) = hips else {
+            return body;
+        };
+        body.hips = Some(hips);
+        // Rigify names no neck or head: the spine words above the chest are them.
+        if head.is_none()
+            && let Some(chest) = chest
+        {
+            let above: Vec<usize> = named(Word::Spine)
+                .into_iter()
+                .filter(|&j| j != chest && is_ancestor(skeleton, chest, j))
+                .collect();
+            if let Some(&last) = above.iter().max_by_key(|&&j| depth(skeleton, j)) {
+                head = Some(last);
+                if neck.is_none() {
+                    neck = above
+                        .iter()
+                        .copied()
+                        .filter(|&j| j != last)
+                        .min_by_key(|&j| depth(skeleton, j));
+                }
+            }
+        }
+        body.neck = neck.filter(|&n| n != hips && is_ancestor(skeleton, hips, n));
+        body.head = head.filter(|&h| h != hips && is_ancestor(skeleton, hips, h));
+        let top = body.neck.or(body.head).or(chest.filter(|&c| c != hips));
+        if let Some(top) = top {
+            let mut path = path_between(skeleton, hips, top);
+            if Some(top) == chest && body.neck.is_none() && body.head.is_none() {
+                path.push(top);
+            }
+            let spine_words = named(Word::Spine);
+            let named_path: Vec<usize> = path
+                .iter()
+                .copied()
+                .filter(|j| spine_words.contains(j) || Some(*j) == chest)
+                .collect();
+            // No spine word on the way (names that say nothing): every joint on it.
+            body.spine = if path.iter().any(|j| spine_words.contains(j)) {
+                named_path
+            } else {
+                path
+            };
+        }
+        body
+    }
+
+    /// Every role found, with its joint.
+    pub fn roles(&self) -> Vec<(Role, usize)> {
+        let mut roles = Vec::new();
+        roles.extend(self.hips.map(|j| (Role::Hips, j)));
+        roles.extend(
+            self.spine
+                .iter()
+                .enumerate()
+                .map(|(n, &j)| (Role::Spine(n), j)),
+        );
+        roles.extend(self.neck.map(|j| (Role::Neck, j)));
+        roles.extend(self.head.map(|j| (Role::Head, j)));
+        for side in [Side::Left, Side::Right] {
+            for (slot, &limb) in LIMBS.iter().enumerate() {
+                if let Some(j) = self.limbs[side_index(side)][slot] {
+                    roles.push((Role::Limb(side, limb), j));
+                }
+            }
+        }
+        roles
+    }
+
+    /// The joint of `role`, if found.
+    pub fn joint(&self, role: Role) -> Option<usize> {
+        match role {
+            Role::Hips => self.hips,
+            Role::Spine(n) => self.spine.get(n).copied(),
+            Role::Neck => self.neck,
+            Role::Head => self.head,
+            Role::Limb(side, limb) => self.limbs[side_index(side)][limb as usize],
+        }
+    }
+
+    /// The feet and toes found, for the floor and the foot-skate figure.
+    pub fn feet(&self) -> Vec<usize> {
+        let mut feet = Vec::new();
+        for side in 0..2 {
+            for limb in [Limb::Foot, Limb::Toe] {
+                feet.extend(self.limbs[side][limb as usize]);
+            }
+        }
+        feet
+    }
+}

@@ -1,0 +1,340 @@
+//! The plain pass: one joint and one frame at a time, the reference the eight-lane pass
+//! (`fast.rs`) is held to.
+
+use super::*;
+
+/// What the pass over the frames needs, worked out once from the skeletons and the map: the
+/// same for the plain and the fast path.
+pub(super) struct Setup {
+    pub(super) source_mode: OffsetMode,
+    /// The source's and the target's turn to Y up, and the target's back.
+    pub(super) us: DQuat,
+    pub(super) ut: DQuat,
+    pub(super) ut_inv: DQuat,
+    pub(super) aligned: Vec<DQuat>,
+    /// The hips pair that carries the path: (target, source).
+    pub(super) hips: Option<(usize, usize)>,
+    /// The joint whose position channels move the hips there: the hips or an ancestor.
+    pub(super) carrier: Option<usize>,
+    pub(super) ratio: f64,
+    /// Per target joint following a source chord: the chord's far source joint, and the bone at
+    /// rest.
+    pub(super) follow: Vec<Option<(usize, DVec3)>>,
+    pub(super) source_legs: Vec<usize>,
+    pub(super) target_legs: Vec<usize>,
+    pub(super) under_carrier: Vec<bool>,
+    pub(super) reference_columns: Vec<Option<[usize; 3]>>,
+    pub(super) bone_of: Vec<Option<DVec3>>,
+}
+
+impl Setup {
+    pub(super) fn new(
+        source: &Skeleton,
+        motion: &Motion,
+        target: &Skeleton,
+        map: &Map,
+        ups: Ups,
+    ) -> Setup {
+        let mode = OffsetMode::Replace;
+        let source_mode = source_offset_mode(source, motion);
+        let (us, ut) = (to_y_up(ups.source), to_y_up(ups.target));
+        let ut_inv = ut.inverse();
+        let mut source_rest = Vec::new();
+        let mut target_rest = Vec::new();
+        world_transforms_f64(source, &[], mode, &mut source_rest);
+        world_transforms_f64(target, &[], mode, &mut target_rest);
+        let aligned = alignments(source, target, map, ups, &source_rest, &target_rest);
+        // The hips pair that carries the path: the target's hips if mapped, else its first
+        // mapped joint.
+        let hips_t = map
+            .target_body
+            .hips
+            .filter(|&h| map.source_of[h].is_some())
+            .or_else(|| map.source_of.iter().position(Option::is_some));
+        let hips = hips_t.and_then(|t| Some((t, map.source_of[t]?)));
+        // The joint whose position channels move the hips there: the hips or an ancestor.
+        let carrier = hips_t.and_then(|t| {
+            let mut joint = t;
+            loop {
+                if target.joints[joint]
+                    .channels
+                    .iter()
+                    .any(|c| c.is_position())
+                {
+                    return Some(joint);
+                }
+                joint = target.joints[joint].parent?;
+            }
+        });
+        let ratio = match hips {
+            Some((t, s)) => {
+                let ht = hip_height(target, &map.target_body, t, &target_rest);
+                let hs = hip_height(source, &map.source_body, s, &source_rest);
+                if ht > 1e-9 && hs > 1e-9 { ht / hs } else { 1.0 }
+            }
+            None => 1.0,
+        };
+        // Bones whose source chord spans joints the target lacks (CMU's Neck1 between Neck and
+        // Head): the target bone follows the chord each frame, by the smallest turn.
+        let mut follow: Vec<Option<(usize, DVec3)>> = vec![None; target.joints.len()];
+        for (t, d, _) in main_bones(source, target, map) {
+            let (Some(s), Some(sd)) = (map.source_of[t], map.source_of[d]) else {
+                continue;
+            };
+            let mut used = vec![false; source.joints.len()];
+            for u in map.source_of.iter().flatten() {
+                used[*u] = true;
+            }
+            if path_between(source, s, sd).iter().any(|&j| !used[j]) {
+                follow[t] = Some((sd, target_rest[d].1 - target_rest[t].1));
+            }
+        }
+        let source_legs = leg_points(source, &map.source_body);
+        let target_legs = leg_points(target, &map.target_body);
+        let joints = target.joints.len();
+        let under_carrier: Vec<bool> = (0..joints)
+            .map(|j| carrier.is_some_and(|c| is_ancestor(target, c, j)))
+            .collect();
+        // Of each target joint turning in the same order as its source joint, the source's
+        // rotation columns: its values are the reference for the Euler form written.
+        let reference_columns: Vec<Option<[usize; 3]>> = (0..joints)
+            .map(|t| {
+                let joint = &target.joints[t];
+                let s = &source.joints[map.source_of[t]?];
+                if joint.rotation_order.is_none()
+                    || s.rotation_order != joint.rotation_order
+                    || s.axis != joint.axis
+                {
+                    return None;
+                }
+                let columns: Vec<usize> = s
+                    .channels
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, c)| c.is_rotation())
+                    .map(|(i, _)| s.first_channel + i)
+                    .collect();
+                Some([columns[0], columns[1], columns[2]])
+            })
+            .collect();
+        // Each target joint's main bone at rest, in its own frame (every rest rotation is the
+        // identity): what a joint with fewer than three rotation channels lays where it can.
+        let mut bone_of: Vec<Option<DVec3>> = vec![None; joints];
+        for (t, d, _) in main_bones(source, target, map) {
+            bone_of[t] = Some(target_rest[d].1 - target_rest[t].1);
+        }
+        Setup {
+            source_mode,
+            us,
+            ut,
+            ut_inv,
+            aligned,
+            hips,
+            carrier,
+            ratio,
+            follow,
+            source_legs,
+            target_legs,
+            under_carrier,
+            reference_columns,
+            bone_of,
+        }
+    }
+
+    /// Feet on the floor: the legs' lowest point over the take where the source's is, scaled.
+    pub(super) fn lift(&self, source_floor: f64, target_floor: f64) -> DVec3 {
+        if source_floor.is_finite() && target_floor.is_finite() {
+            self.ut_inv * DVec3::new(0.0, self.ratio * source_floor - target_floor, 0.0)
+        } else {
+            DVec3::ZERO
+        }
+    }
+}
+
+/// The plain pass over the frames: every frame's channel values, frame after frame.
+pub(super) fn plain_frames(
+    setup: &Setup,
+    source: &Skeleton,
+    motion: &Motion,
+    target: &Skeleton,
+    map: &Map,
+    threads: usize,
+) -> Vec<f64> {
+    let Setup {
+        source_mode,
+        us,
+        ut,
+        ut_inv,
+        ref aligned,
+        hips,
+        carrier,
+        ratio,
+        ref follow,
+        ref source_legs,
+        ref target_legs,
+        ref under_carrier,
+        ref reference_columns,
+        ref bone_of,
+    } = *setup;
+    let frames = motion.frame_count();
+    let joints = target.joints.len();
+    // First, on the cores, a piece of frames at a time: each target joint's rotation channels
+    // in one Euler form (radians turned to degrees), where the carrier moves the hips, and the
+    // lowest leg points of source and target.
+    struct Piece {
+        angles: Vec<[f64; 3]>,
+        moves: Vec<DVec3>,
+        carrier_parent: Vec<DQuat>,
+        source_floor: f64,
+        target_floor: f64,
+    }
+    const PIECE: usize = 512;
+    let compute = |piece: usize| -> Piece {
+        let range = piece * PIECE..((piece + 1) * PIECE).min(frames);
+        let mut out = Piece {
+            angles: Vec::with_capacity(range.len() * joints),
+            moves: Vec::with_capacity(range.len()),
+            carrier_parent: Vec::with_capacity(range.len()),
+            source_floor: f64::INFINITY,
+            target_floor: f64::INFINITY,
+        };
+        let mut world_s = Vec::new();
+        let mut world_t: Vec<(DQuat, DVec3)> = vec![(DQuat::IDENTITY, DVec3::ZERO); joints];
+        for frame in range {
+            world_transforms_f64(source, motion.frame(frame), source_mode, &mut world_s);
+            for t in 0..joints {
+                let joint = &target.joints[t];
+                let parent = joint.parent.map(|p| world_t[p]);
+                let parent_rotation = parent.map_or(DQuat::IDENTITY, |(r, _)| r);
+                let rotation = match map.source_of[t] {
+                    Some(s) => {
+                        let carried = us * world_s[s].0 * us.inverse();
+                        let rotation = ut_inv * carried * aligned[t] * ut;
+                        match follow[t] {
+                            Some((sd, rest)) => {
+                                let chord = ut_inv * (us * (world_s[sd].1 - world_s[s].1));
+                                if chord.length() > 1e-9 {
+                                    arc(rotation * rest, chord) * rotation
+                                } else {
+                                    rotation
+                                }
+                            }
+                            None => rotation,
+                        }
+                    }
+                    None => parent_rotation,
+                };
+                let mut rotation = rotation;
+                let local = parent_rotation.inverse() * rotation;
+                out.angles.push(match joint.rotation_order {
+                    Some(order) => {
+                        let channel_rotation = match joint.axis {
+                            Some(c) => {
+                                let c = c.as_dquat().normalize();
+                                c.inverse() * local * c
+                            }
+                            None => local,
+                        };
+                        crate::model::euler::split(channel_rotation, order, None)
+                            .map(f64::to_degrees)
+                    }
+                    None => {
+                        // Fewer than three rotation channels: the rotation the joint can take,
+                        // and its children go on from that one, not from the one asked for.
+                        let (angles, realized) = limited_angles(joint, local, bone_of[t]);
+                        rotation = parent_rotation * realized;
+                        angles
+                    }
+                });
+                let position = match parent {
+                    Some((r, p)) => p + r * joint.offset.as_dvec3(),
+                    None => joint.offset.as_dvec3(),
+                };
+                world_t[t] = (rotation, position);
+            }
+            let (mut moved, mut turned) = (DVec3::ZERO, DQuat::IDENTITY);
+            if let (Some((t, s)), Some(carrier)) = (hips, carrier) {
+                let wanted = ut_inv * (ratio * (us * world_s[s].1));
+                moved = wanted - world_t[t].1;
+                turned = target.joints[carrier]
+                    .parent
+                    .map_or(DQuat::IDENTITY, |p| world_t[p].0);
+                for (joint, &under) in world_t.iter_mut().zip(under_carrier) {
+                    if under {
+                        joint.1 += moved;
+                    }
+                }
+            }
+            out.moves.push(moved);
+            out.carrier_parent.push(turned);
+            for &j in source_legs {
+                out.source_floor = out.source_floor.min((us * world_s[j].1).y);
+            }
+            for &j in target_legs {
+                out.target_floor = out.target_floor.min((ut * world_t[j].1).y);
+            }
+        }
+        out
+    };
+    let mut pieces: Vec<Piece> = Vec::with_capacity(frames.div_ceil(PIECE));
+    crate::io::parallel::map_in_order(
+        frames.div_ceil(PIECE),
+        threads.max(1),
+        threads.max(1) * 4,
+        compute,
+        |_, piece| {
+            pieces.push(piece);
+            true
+        },
+    );
+    let source_floor = pieces
+        .iter()
+        .map(|p| p.source_floor)
+        .fold(f64::INFINITY, f64::min);
+    let target_floor = pieces
+        .iter()
+        .map(|p| p.target_floor)
+        .fold(f64::INFINITY, f64::min);
+    let lift = setup.lift(source_floor, target_floor);
+    // Then, in frame order: of the two Euler forms of each rotation and their turns by whole
+    // circles, the one nearest the source joint's own values when it turns in the same order,
+    // else nearest this joint's previous frame; the carrier's translation.
+    let channels = target.channel_count();
+    let mut data = vec![0.0f64; frames * channels];
+    let mut previous: Vec<[f64; 3]> = vec![[0.0; 3]; joints];
+    let rows = pieces.iter().flat_map(|p| {
+        p.angles
+            .chunks(joints.max(1))
+            .zip(p.moves.iter().zip(&p.carrier_parent))
+    });
+    for (frame, (angles, (moved, turned))) in rows.enumerate() {
+        let row = &mut data[frame * channels..(frame + 1) * channels];
+        let source_row = motion.frame(frame);
+        for (t, joint) in target.joints.iter().enumerate() {
+            let mut translation = joint.offset.as_dvec3();
+            if Some(t) == carrier {
+                translation += turned.inverse() * (*moved + lift);
+            }
+            let angles = match joint.rotation_order {
+                Some(_) => {
+                    let reference = reference_columns[t]
+                        .map(|c| c.map(|column| f64::from(source_row[column])))
+                        .unwrap_or(previous[t]);
+                    let chosen = nearest_form(angles[t], reference);
+                    previous[t] = chosen;
+                    chosen
+                }
+                None => angles[t],
+            };
+            let mut rotations = angles.into_iter();
+            for (i, channel) in joint.channels.iter().enumerate() {
+                row[joint.first_channel + i] = if channel.is_position() {
+                    translation[channel.axis()]
+                } else {
+                    rotations.next().unwrap_or(0.0)
+                };
+            }
+        }
+    }
+    data
+}

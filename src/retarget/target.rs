@@ -1,0 +1,89 @@
+//! The skeleton a take is put on: a file, or a built-in skeleton (`smpl22`).
+
+use super::*;
+
+/// The built-in target skeletons: `smpl22`, the 22 body joints of SMPL in the layout of
+/// HumanML3D, AMASS and most text-to-motion models, in centimetres, T-pose, Y up, facing +z.
+pub const BUILT_IN: &[(&str, &[u8])] = &[("smpl22", include_bytes!("../../assets/smpl22.bvh"))];
+
+/// A built-in skeleton by name (see [`BUILT_IN`]), with its one rest frame.
+pub fn built_in(name: &str) -> Option<(Skeleton, Motion)> {
+    let (_, bytes) = BUILT_IN
+        .iter()
+        .find(|(n, _)| n.eq_ignore_ascii_case(name))?;
+    let file = crate::bvh::load_bytes(bytes, name).ok()?;
+    Some((file.skeleton, file.motion))
+}
+
+/// A skeleton to retarget onto: a file's or a built-in one, with its up axis and the name to
+/// show in messages (`bvhview retarget --onto`, `dataset --onto`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Target {
+    pub name: String,
+    pub skeleton: Skeleton,
+    pub up: Up,
+}
+
+impl Target {
+    /// `onto` as a file (.bvh, or .asf: only the skeleton is used) when it exists, else a
+    /// built-in skeleton's name (see [`BUILT_IN`]).
+    pub fn load(onto: &str, max_size: u64) -> Result<Target, Error> {
+        let path = std::path::Path::new(onto);
+        if !path.exists() {
+            if let Some((skeleton, motion)) = built_in(onto) {
+                return Ok(Target::new(onto.to_string(), skeleton, &motion));
+            }
+            if crate::take::extension(path).is_empty() {
+                let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
+                return Err(Error::Usage(format!(
+                    "--onto {onto}: neither a file nor a built-in skeleton ({})",
+                    names.join(", ")
+                )));
+            }
+        }
+        let loaded =
+            crate::take::load_checked(path, None, None, crate::io::parallel::cores(), max_size)?;
+        Ok(Target::new(
+            path.display().to_string(),
+            loaded.skeleton,
+            &loaded.motion,
+        ))
+    }
+
+    /// A target whose up axis is its take's, or its rest pose's when it has one frame or none.
+    pub fn new(name: String, skeleton: Skeleton, motion: &Motion) -> Target {
+        let up = if motion.frame_count() > 1 {
+            crate::model::stance::Stance::guess(&skeleton, motion, OffsetMode::Replace, None).up
+        } else {
+            Up::guess(&skeleton)
+        };
+        Target { name, skeleton, up }
+    }
+
+    /// A take on this skeleton by the guessed map (`pairs` override it), refused with the
+    /// reason when the map cannot stand, on up to `threads` threads. `source_name` names the
+    /// take in messages.
+    pub fn apply(
+        &self,
+        source_name: &str,
+        skeleton: &Skeleton,
+        motion: &Motion,
+        pairs: &[(String, String)],
+        threads: usize,
+    ) -> Result<(Skeleton, Motion), Error> {
+        let mut map = Map::guess(skeleton, &self.skeleton);
+        map.apply(pairs, skeleton, &self.skeleton)?;
+        map.check(source_name, &self.name)?;
+        let ups = Ups {
+            source: crate::model::stance::Stance::guess(
+                skeleton,
+                motion,
+                OffsetMode::Replace,
+                None,
+            )
+            .up,
+            target: self.up,
+        };
+        retarget(skeleton, motion, &self.skeleton, &map, ups, threads)
+    }
+}
