@@ -33,12 +33,14 @@ use std::sync::{Mutex, PoisonError};
 mod arrays;
 mod datasets;
 mod edits;
+mod loading;
 mod motion;
 mod pickle;
 mod retarget;
 
 use arrays::*;
 use datasets::*;
+use loading::*;
 use motion::*;
 use pickle::*;
 

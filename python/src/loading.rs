@@ -1,0 +1,214 @@
+//! Loading takes into `Motion`s: what to load (a file, or an ASF with its AMC), which take of a
+//! file that holds several, and `load` / `load_many`.
+
+use crate::*;
+
+/// One thing to load: a BVH file, or an ASF skeleton with an optional AMC motion.
+#[derive(Clone, Debug)]
+pub(crate) struct Item {
+    pub(crate) path: PathBuf,
+    pub(crate) motion: Option<PathBuf>,
+}
+
+/// Loads one item with the crate's checks, on `threads` threads. A folder is refused as the OS
+/// refuses to read one, so that Python sees an `IsADirectoryError`.
+pub(crate) fn load_item(
+    item: &Item,
+    frame_time: Option<f64>,
+    threads: usize,
+) -> Result<Take, Error> {
+    for path in std::iter::once(&item.path).chain(&item.motion) {
+        if path.is_dir() {
+            return Err(Error::io(path, io::ErrorKind::IsADirectory.into()));
+        }
+    }
+    take::load_checked(
+        &item.path,
+        item.motion.as_deref(),
+        frame_time,
+        threads,
+        take::DEFAULT_MAX_SIZE,
+    )
+}
+
+/// `take=` of `load`: a take's name, or its index (as `bvhview info FILE` lists them).
+pub(crate) struct TakeChoice(String);
+
+impl<'py> FromPyObject<'_, 'py> for TakeChoice {
+    type Error = PyErr;
+
+    fn extract(value: Borrowed<'_, 'py, PyAny>) -> PyResult<TakeChoice> {
+        if let Ok(index) = value.extract::<u64>() {
+            return Ok(TakeChoice(index.to_string()));
+        }
+        value
+            .extract::<String>()
+            .map(TakeChoice)
+            .map_err(|_| PyValueError::new_err("take=: expected a take's name or its index"))
+    }
+}
+
+/// Loads a take: a .bvh, .fbx, .gltf or .glb file, or an .asf skeleton with `motion` its .amc
+/// take (an .asf alone gives the rest pose). `offset_mode`: "replace" (default) or "add";
+/// `frame_time` overrides the file's (AMC files have none: 1/120 s is the default); `take`
+/// picks one take of an FBX or glTF file that holds several, by name or index (default: the
+/// first).
+#[pyfunction]
+#[pyo3(signature = (path, motion=None, offset_mode="replace", frame_time=None, *, take=None))]
+pub(crate) fn load(
+    py: Python<'_>,
+    path: PathBuf,
+    motion: Option<PathBuf>,
+    offset_mode: &str,
+    frame_time: Option<f64>,
+    take: Option<TakeChoice>,
+) -> PyResult<Motion> {
+    guard("load", || {
+        let offset_mode = parse_offset_mode(offset_mode)?;
+        let item = Item { path, motion };
+        let loaded = py
+            .detach(|| {
+                planted_pause_without_the_gil("load")?;
+                match &take {
+                    None => load_item(&item, frame_time, bvhview::io::parallel::cores()),
+                    Some(take) => {
+                        if item.path.is_dir() {
+                            return Err(Error::io(&item.path, io::ErrorKind::IsADirectory.into()));
+                        }
+                        take::load_take(
+                            &item.path,
+                            item.motion.as_deref(),
+                            frame_time,
+                            bvhview::io::parallel::cores(),
+                            take::DEFAULT_MAX_SIZE,
+                            Some(&take.0),
+                        )
+                    }
+                }
+            })
+            .map_err(|e| to_python(py, e))?;
+        Ok(Motion {
+            loaded,
+            item,
+            offset_mode,
+        })
+    })
+}
+
+/// One entry of `load_many`: a path, or an (asf, amc) pair.
+pub(crate) fn item_of(entry: &Bound<'_, PyAny>) -> PyResult<Item> {
+    if let Ok(pair) = entry.cast::<PyTuple>() {
+        let (path, motion): (PathBuf, PathBuf) = pair.extract()?;
+        return Ok(Item {
+            path,
+            motion: Some(motion),
+        });
+    }
+    Ok(Item {
+        path: entry.extract()?,
+        motion: None,
+    })
+}
+
+/// The entries `load_many` was given: a folder's takes (every BVH file and ASF/AMC pair under it,
+/// in path order, as `bvhview info DIR` finds them; an AMC without a skeleton is left out), a
+/// single file, or a list of paths and (asf, amc) pairs.
+pub(crate) fn items_of(paths: &Bound<'_, PyAny>) -> PyResult<Vec<Item>> {
+    // A str or os.PathLike is one path: not a sequence of one-letter paths.
+    if let Ok(path) = paths.extract::<PathBuf>() {
+        if path.is_dir() {
+            let found =
+                bvhview::info::batch::collect(&path).map_err(|e| PyOSError::new_err(e.to_string()))?;
+            warn_skipped(paths.py(), &found, 1)?;
+            return Ok(found
+                .items
+                .into_iter()
+                .filter(|item| !item.is_unpaired_motion())
+                .map(|item| Item {
+                    path: item.path,
+                    motion: item.motion,
+                })
+                .collect());
+        }
+        return Ok(vec![Item { path, motion: None }]);
+    }
+    paths.try_iter()?.map(|entry| item_of(&entry?)).collect()
+}
+
+/// Loads every entry (a path, or an (asf, amc) pair) on all cores, in list order; given a
+/// folder, every take under it in path order. `errors="raise"` raises the first failure in
+/// list order; `errors="return"` puts the exception in the failed entry's place instead.
+#[pyfunction]
+#[pyo3(signature = (paths, offset_mode="replace", frame_time=None, errors="raise"))]
+pub(crate) fn load_many(
+    py: Python<'_>,
+    paths: &Bound<'_, PyAny>,
+    offset_mode: &str,
+    frame_time: Option<f64>,
+    errors: &str,
+) -> PyResult<Vec<Py<PyAny>>> {
+    guard("load_many", || {
+        let offset_mode = parse_offset_mode(offset_mode)?;
+        let return_errors = match errors {
+            "raise" => false,
+            "return" => true,
+            other => {
+                return Err(PyValueError::new_err(format!(
+                    "errors={other:?}: expected \"raise\" or \"return\""
+                )));
+            }
+        };
+        let items = items_of(paths)?;
+        let results = py.detach(|| {
+            let cores = bvhview::io::parallel::cores();
+            // Many files: one core each. Fewer files than cores: each parses on a share of them.
+            let threads_per_file = (cores / items.len().max(1)).max(1);
+            // Largest first, so that no core is left with a big file at the end while the others
+            // wait; the results go back in the order given.
+            let size = |item: &Item| {
+                std::iter::once(&item.path)
+                    .chain(&item.motion)
+                    .map(|p| std::fs::metadata(p).map_or(0, |m| m.len()))
+                    .sum::<u64>()
+            };
+            let mut order: Vec<usize> = (0..items.len()).collect();
+            order.sort_by_key(|&index| std::cmp::Reverse(size(&items[index])));
+            let mut slots: Vec<Option<Result<Take, Error>>> =
+                (0..items.len()).map(|_| None).collect();
+            bvhview::io::parallel::map_in_order(
+                items.len(),
+                cores,
+                2 * cores,
+                |turn| load_item(&items[order[turn]], frame_time, threads_per_file),
+                |turn, result| {
+                    slots[order[turn]] = Some(result);
+                    true
+                },
+            );
+            slots
+                .into_iter()
+                .map(|slot| slot.expect("every file was loaded or failed"))
+                .collect::<Vec<_>>()
+        });
+        let mut loaded = Vec::with_capacity(items.len());
+        for (item, result) in items.into_iter().zip(results) {
+            match result {
+                Ok(take) => loaded.push(
+                    Motion {
+                        loaded: take,
+                        item,
+                        offset_mode,
+                    }
+                    .into_pyobject(py)?
+                    .into_any()
+                    .unbind(),
+                ),
+                Err(error) if return_errors => {
+                    loaded.push(to_python(py, error).into_value(py).into_any())
+                }
+                Err(error) => return Err(to_python(py, error)),
+            }
+        }
+        Ok(loaded)
+    })
+}
