@@ -1,0 +1,434 @@
+//! glTF 2.0 (`.gltf` with its buffers, or `.glb`) → the same `Skeleton` + `Motion` a BVH loads
+//! into. The writer is [`crate::gltf`]; this is the reader beside it.
+//!
+//! The skeleton is the joints of the file's skins (with the nodes between them), or, in a file
+//! without a skin, every animated node (with the nodes between them). Each animation is a take;
+//! its frames are sampled at the rate of its keys (the key step that puts the most keys on a
+//! frame, see `timing`; a warning when some keys fall between frames), every frame interpolated
+//! as the file says (`STEP`, `LINEAR` with slerp for rotations, `CUBICSPLINE`), and the world
+//! matrices go through [`crate::model::baked`]. glTF is Y up and in metres, bvhview's own convention:
+//! nothing is converted.
+//!
+//! A file is hostile until read: buffers are taken only from the GLB's own chunk, from `data:`
+//! URIs, or from files inside the `.gltf`'s own folder (no absolute path, no `..`, no scheme, no
+//! symbolic link out), each a regular file (a FIFO, device or socket is refused before a read),
+//! at least as long as its `byteLength` and read only that far, no longer than `--max-size` and
+//! [`crate::io::limits::MAX_WHOLE_FILE_BYTES`]; every accessor's bytes are checked to lie inside its
+//! buffer before they are read, and each is decoded once however many channels share it; an
+//! animation's channels may ask for [`KEY_VALUES_PER_BYTE`] key values per byte of input, and
+//! its frames × (joints + tracks) at most [`baked::FRAME_WORK_PER_BYTE`] per byte (each above
+//! a floor), refused past them before the work; a key that is not a finite number is refused
+//! by node, key and time; the node tree is checked for cycles and shared children.
+
+use crate::io::error::Error;
+use crate::model::baked::{self, Node, Pose};
+use crate::model::reading::{Read, TakeInfo, pick_take};
+use glam::{DMat4, DQuat, DVec3};
+use gltf::accessor::{DataType, Dimensions};
+use gltf::animation::{Interpolation, Property};
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+
+mod file;
+mod tracks;
+
+use file::*;
+pub use tracks::*;
+
+fn bad(name: &str, why: impl std::fmt::Display) -> Error {
+    Error::Usage(format!("{name}: {why}"))
+}
+
+fn animation_name(animation: &gltf::Animation) -> String {
+    animation
+        .name()
+        .map(str::to_string)
+        .unwrap_or_else(|| format!("animation{}", animation.index()))
+}
+
+/// The takes of a glTF file (its animations), in file order.
+pub fn takes(path: &Path, max_size: u64) -> Result<Vec<TakeInfo>, Error> {
+    let file = read(path, max_size)?;
+    let path = &path.display().to_string();
+    file.gltf
+        .document
+        .animations()
+        .map(|animation| {
+            let tracks = tracks(&file, &animation).map_err(|why| bad(path, why))?;
+            let timing = timing(&tracks);
+            let joints = tracks
+                .iter()
+                .map(|t| t.node)
+                .collect::<std::collections::HashSet<_>>()
+                .len();
+            let frames = frames_within(&timing, joints, joints, tracks.len(), file.bytes)
+                .map_err(|why| bad(path, why))?;
+            Ok(TakeInfo {
+                name: animation_name(&animation),
+                frames,
+                frame_time: 1.0 / timing.fps,
+            })
+        })
+        .collect()
+}
+
+/// `q` normalized; the identity when it has no length (or is not finite).
+fn unit(q: DQuat) -> DQuat {
+    let length = q.length();
+    if length.is_finite() && length > 1e-12 {
+        q / length
+    } else {
+        DQuat::IDENTITY
+    }
+}
+
+/// Local translation, rotation, scale of every node (its static transform).
+type Trs = (DVec3, DQuat, DVec3);
+
+fn trs_matrix(trs: &Trs) -> DMat4 {
+    DMat4::from_scale_rotation_translation(trs.2, trs.1, trs.0)
+}
+
+/// Reads take `take` (an animation's name or index; the first when `None`) of the glTF at `path`.
+pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Error> {
+    let file = read(path, max_size)?;
+    load_file(&file, &path.display().to_string(), take)
+}
+
+/// [`load`] of a GLB's or glTF's bytes alone (buffers inside it or in data: URIs), `name`
+/// naming it in errors (the fuzz target's entry).
+pub fn load_bytes(bytes: &[u8], name: &str, take: Option<&str>) -> Result<Read, Error> {
+    let file = parse(bytes, name, None, bytes.len() as u64)?;
+    load_file(&file, name, take)
+}
+
+fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error> {
+    let document = &file.gltf.document;
+    let count = document.nodes().len();
+    // Parents, refusing shared children and cycles.
+    let mut parent = vec![None; count];
+    for node in document.nodes() {
+        for child in node.children() {
+            let c = child.index();
+            if parent[c].is_some() || c == node.index() {
+                return Err(bad(path, format!("node {c} has more than one parent")));
+            }
+            parent[c] = Some(node.index());
+        }
+    }
+    let mut depth = vec![0usize; count];
+    for (i, d) in depth.iter_mut().enumerate() {
+        let mut up = parent[i];
+        while let Some(p) = up {
+            *d += 1;
+            if *d > count || *d > crate::io::limits::MAX_DEPTH {
+                return Err(bad(path, "the node tree has a cycle or nests too deep"));
+            }
+            up = parent[p];
+        }
+    }
+
+    let animations: Vec<gltf::Animation> = document.animations().collect();
+    let names: Vec<String> = animations.iter().map(animation_name).collect();
+    let mut warnings = Vec::new();
+    let mut take_name = None;
+    let chosen = if animations.is_empty() {
+        if take.is_some() {
+            pick_take(&names, take, path)?;
+        }
+        None
+    } else {
+        let index = pick_take(&names, take, path)?;
+        if take.is_none() && names.len() > 1 {
+            warnings.push(format!(
+                "{} takes; reading take 0 '{}' (--take NAME|INDEX picks another; `bvhview info` \
+                 lists them)",
+                names.len(),
+                names[0]
+            ));
+        }
+        take_name = Some(names[index].clone());
+        Some(&animations[index])
+    };
+    let tracks = match chosen {
+        Some(animation) => tracks(file, animation).map_err(|why| bad(path, why))?,
+        None => Vec::new(),
+    };
+
+    // The skeleton: skin joints, else every node any animation moves; and the nodes between.
+    let mut seed = vec![false; count];
+    for skin in document.skins() {
+        for joint in skin.joints() {
+            seed[joint.index()] = true;
+        }
+    }
+    if !seed.iter().any(|&s| s) {
+        for animation in &animations {
+            for channel in animation.channels() {
+                if channel.target().property() != Property::MorphTargetWeights {
+                    seed[channel.target().node().index()] = true;
+                }
+            }
+        }
+    }
+    // No skin and no animation, and nothing but nodes (a rest pose as bvhview writes one, from a
+    // take of 0 frames): the tree is the skeleton, its bare leaves End Sites (issue 44: bvhview
+    // could not read back its own output).
+    let bare = document.meshes().len() == 0 && document.cameras().len() == 0;
+    if !seed.iter().any(|&s| s) && animations.is_empty() && bare {
+        for node in document.nodes() {
+            seed[node.index()] = node.children().len() > 0 || parent[node.index()].is_none();
+        }
+    }
+    let mut selected = seed.clone();
+    for i in 0..count {
+        if !seed[i] {
+            continue;
+        }
+        let mut between = Vec::new();
+        let mut up = parent[i];
+        while let Some(p) = up {
+            if seed[p] {
+                for &b in &between {
+                    selected[b] = true;
+                }
+                break;
+            }
+            between.push(p);
+            up = parent[p];
+        }
+    }
+    // A bare leaf under a joint (no mesh, no camera, no children: an end point, as bvhview's
+    // own export writes a BVH's End Sites) joins as an End Site.
+    let nodes: Vec<gltf::Node> = document.nodes().collect();
+    for node in &nodes {
+        let i = node.index();
+        if !selected[i]
+            && parent[i].is_some_and(|p| selected[p])
+            && node.children().len() == 0
+            && node.mesh().is_none()
+            && node.camera().is_none()
+        {
+            selected[i] = true;
+        }
+    }
+    let mut order: Vec<usize> = (0..count).filter(|&i| selected[i]).collect();
+    if order.is_empty() {
+        return Err(bad(
+            path,
+            "no skeleton: the file has no skin and no animated node",
+        ));
+    }
+    order.sort_by_key(|&i| depth[i]);
+    let mut position = vec![usize::MAX; count];
+    for (k, &i) in order.iter().enumerate() {
+        position[i] = k;
+    }
+    let mut skeleton_nodes = order
+        .iter()
+        .enumerate()
+        .map(|(k, &i)| {
+            let mut up = parent[i];
+            let mut joint_parent = None;
+            while let Some(p) = up {
+                if position[p] != usize::MAX {
+                    joint_parent = Some(position[p]);
+                    break;
+                }
+                up = parent[p];
+            }
+            let name = nodes[i].name().unwrap_or("");
+            Ok(Node {
+                name: baked::joint_name(name, k).map_err(|why| bad(path, why))?,
+                parent: joint_parent,
+            })
+        })
+        .collect::<Result<Vec<Node>, Error>>()?;
+    warnings.extend(baked::unique_names(&mut skeleton_nodes));
+
+    // Static transforms.
+    let statics: Vec<Trs> = nodes
+        .iter()
+        .map(|node| {
+            let (t, r, s) = node.transform().decomposed();
+            let r = DQuat::from_xyzw(r[0] as f64, r[1] as f64, r[2] as f64, r[3] as f64);
+            (
+                DVec3::from(t.map(|v| v as f64)),
+                unit(r),
+                DVec3::from(s.map(|v| v as f64)),
+            )
+        })
+        .collect();
+    let static_matrices: Vec<DMat4> = nodes
+        .iter()
+        .map(|node| {
+            let m = node.transform().matrix();
+            DMat4::from_cols_array_2d(&m.map(|c| c.map(|v| v as f64)))
+        })
+        .collect();
+    // World matrices of the selected nodes, from local matrices of all nodes.
+    let world_of = |local: &dyn Fn(usize) -> DMat4| -> Vec<Pose> {
+        let mut cache: Vec<Option<DMat4>> = vec![None; count];
+        let mut out = Vec::with_capacity(order.len());
+        for &i in &order {
+            let mut chain = Vec::new();
+            let mut up = Some(i);
+            while let Some(n) = up {
+                if cache[n].is_some() {
+                    break;
+                }
+                chain.push(n);
+                up = parent[n];
+            }
+            for &n in chain.iter().rev() {
+                let above = parent[n].and_then(|p| cache[p]).unwrap_or(DMat4::IDENTITY);
+                cache[n] = Some(above * local(n));
+            }
+            out.push(Pose::of_matrix(&cache[i].unwrap_or(DMat4::IDENTITY)));
+        }
+        out
+    };
+    let rest = world_of(&|n| static_matrices[n]);
+    let timing = timing(&tracks);
+    let (start, fps) = (timing.start, timing.fps);
+    if let Some(warning) = &timing.warning {
+        warnings.push(warning.clone());
+    }
+    let (skeleton, motion) = if tracks.is_empty() {
+        warnings.push("no animation in the file: its rest pose, as one frame".to_string());
+        baked::build(&skeleton_nodes, &rest, 1, 1.0 / fps, |_, out| {
+            out.extend_from_slice(&rest);
+            Ok(())
+        })
+    } else {
+        // The nodes posed in each frame: the joints and every node above them.
+        let mut posed = vec![false; count];
+        for &i in &order {
+            let mut up = Some(i);
+            while let Some(n) = up.filter(|&n| !posed[n]) {
+                posed[n] = true;
+                up = parent[n];
+            }
+        }
+        let nodes = posed.iter().filter(|&&p| p).count();
+        let frame_count = frames_within(&timing, order.len(), nodes, tracks.len(), file.bytes)
+            .map_err(|why| bad(path, why))?;
+        let mut animated: Vec<Option<Trs>> = vec![None; count];
+        let mut sample = [0.0f64; 4];
+        let mut hints = vec![0usize; tracks.len()];
+        baked::build(&skeleton_nodes, &rest, frame_count, 1.0 / fps, |f, out| {
+            let time = start + f as f64 / fps;
+            for slot in animated.iter_mut() {
+                *slot = None;
+            }
+            for (track, hint) in tracks.iter().zip(hints.iter_mut()) {
+                let trs = animated[track.node].get_or_insert(statics[track.node]);
+                track.sample(time, hint, &mut sample);
+                match track.property {
+                    Property::Translation => trs.0 = DVec3::new(sample[0], sample[1], sample[2]),
+                    Property::Scale => trs.2 = DVec3::new(sample[0], sample[1], sample[2]),
+                    Property::Rotation => {
+                        trs.1 = unit(DQuat::from_xyzw(sample[0], sample[1], sample[2], sample[3]))
+                    }
+                    Property::MorphTargetWeights => {}
+                }
+            }
+            out.extend(world_of(&|n| match &animated[n] {
+                Some(trs) => trs_matrix(trs),
+                None => static_matrices[n],
+            }));
+            Ok(())
+        })
+    }
+    .map_err(|e| match e {
+        Error::Usage(message) if !message.starts_with(path) => bad(path, message),
+        other => other,
+    })?;
+    Ok(Read {
+        skeleton,
+        motion,
+        warnings,
+        take: take_name,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_decodes() {
+        assert_eq!(base64("aGVsbG8=").unwrap(), b"hello");
+        assert_eq!(base64("aGVsbG8").unwrap(), b"hello");
+        assert!(base64("a$").is_none());
+    }
+
+    fn keyed(times: Vec<f32>) -> Track {
+        let values = Rc::new(vec![0.0; 3 * times.len()]);
+        Track {
+            node: 0,
+            property: Property::Translation,
+            interpolation: Interpolation::Linear,
+            times: Rc::new(times),
+            values,
+            width: 3,
+        }
+    }
+
+    /// The rate is the key step that puts the most keys on a frame, snapped to a common rate;
+    /// what does not fit is said; nothing is refused for a rate.
+    #[test]
+    fn the_rate_is_the_key_step_that_fits_the_most_keys() {
+        let at = |rate: f32, n: usize| (0..n).map(|k| k as f32 / rate).collect::<Vec<f32>>();
+        // Every frame of 30 fps: 30, no warning.
+        let even = timing(&[keyed(at(30.0, 61))]);
+        assert_eq!((even.fps, even.warning.is_none()), (30.0, true));
+        // One odd key 1.5 ms after the last: still 30, said.
+        let mut times = at(30.0, 31);
+        times.push(1.0015);
+        let odd = timing(&[keyed(times)]);
+        assert_eq!(odd.fps, 30.0);
+        assert!(odd.warning.unwrap().starts_with("1 of 32 key times"));
+        // A track at 60 fps beside one at 30: every key is on a frame of 60.
+        let both = timing(&[keyed(at(30.0, 61)), keyed(at(60.0, 121))]);
+        assert_eq!((both.fps, both.warning.is_none()), (60.0, true));
+        // Twenty tracks keyed at their ends only do not outvote one keyed at every frame.
+        let mut tracks: Vec<Track> = (0..20).map(|_| keyed(vec![0.0, 2.0])).collect();
+        tracks.push(keyed(at(30.0, 61)));
+        assert_eq!(timing(&tracks).fps, 30.0);
+        // Keys 0.5 ms apart: 1000 fps, said.
+        let fast = timing(&[keyed((0..100).map(|k| k as f32 * 5e-4).collect())]);
+        assert_eq!(fast.fps, 1000.0);
+        assert!(
+            fast.warning
+                .unwrap()
+                .contains("(2000 fps); sampled at 1000 fps")
+        );
+        // bvhview's own `Frame Time: 0.0083333` keys keep their step (not 1/120 s).
+        let own = timing(&[keyed((0..200).map(|k| k as f32 * 0.0083333).collect())]);
+        assert!((1.0 / own.fps - 0.0083333).abs() < 1e-9, "{}", own.fps);
+    }
+
+    #[test]
+    fn buffer_paths_stay_in_the_folder() {
+        let folder = std::env::temp_dir();
+        for uri in [
+            "/etc/passwd",
+            "../x.bin",
+            "http://host/x.bin",
+            "a/../../x",
+            "file:///x",
+        ] {
+            assert!(buffer_path(&folder, uri).is_err(), "{uri}");
+        }
+        // Issue 44: `./x.bin` is beside the file; an empty URI and a missing file say so.
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("x.bin"), [0u8; 4]).unwrap();
+        assert!(buffer_path(dir.path(), "./x.bin").is_ok());
+        let empty = buffer_path(dir.path(), "").unwrap_err();
+        assert!(empty.contains("an empty URI names no file"), "{empty}");
+        let missing = buffer_path(dir.path(), "y.bin").unwrap_err();
+        assert_eq!(missing, "buffer 'y.bin': no such file beside the glTF");
+    }
+}
