@@ -20,6 +20,12 @@ use crate::model::pose::{self, FkPlan, FkScratch, OffsetMode, RotationKind, Up};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
 
+mod feet;
+mod floor;
+
+pub use feet::*;
+pub use floor::*;
+
 /// What every take is turned into.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
@@ -169,79 +175,6 @@ impl Topology {
             rotation_orders,
         }
     }
-}
-
-/// The feet of a skeleton standing in its rest pose (`rest`: world positions, Y up): at most two
-/// end points per leg. A leg ends in the leaves within the lowest tenth of the figure's height;
-/// the leaves under the same last joint above that band (the knee) are one leg, whose feet are
-/// its ankle (the knee's child on the way down) and the leaf farthest from it across the floor
-/// (the toe). A creature has as many legs as it has; a figure without height has none.
-pub fn guess_feet(skeleton: &crate::Skeleton, rest: &[Vec3]) -> Vec<u32> {
-    let (low, high) = rest
-        .iter()
-        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), p| {
-            (lo.min(p.y), hi.max(p.y))
-        });
-    if high.partial_cmp(&low) != Some(std::cmp::Ordering::Greater) {
-        return Vec::new();
-    }
-    let band = low + 0.1 * (high - low);
-    let is_low = |p: usize| rest[p].y <= band;
-    let mut has_child = vec![false; skeleton.joints.len()];
-    for joint in &skeleton.joints {
-        if let Some(parent) = joint.parent {
-            has_child[parent] = true;
-        }
-    }
-    // (knee, ankle, leaves) in the order the legs' first leaves come.
-    let mut legs: Vec<(usize, usize, Vec<usize>)> = Vec::new();
-    for leaf in (0..skeleton.joints.len()).filter(|&p| !has_child[p] && is_low(p)) {
-        let mut below = leaf;
-        let mut knee = skeleton.joints[leaf].parent;
-        while let Some(k) = knee.filter(|&k| is_low(k)) {
-            below = k;
-            knee = skeleton.joints[k].parent;
-        }
-        // A figure lying on the floor has no knee above the band: no leg.
-        let Some(knee) = knee else { continue };
-        match legs.iter_mut().find(|(k, _, _)| *k == knee) {
-            Some((_, _, leaves)) => leaves.push(leaf),
-            None => legs.push((knee, below, vec![leaf])),
-        }
-    }
-    let across = |a: Vec3, b: Vec3| (a.x - b.x).hypot(a.z - b.z);
-    let mut feet = Vec::new();
-    for (_, ankle, leaves) in legs {
-        feet.push(ankle as u32);
-        let toe = leaves.iter().copied().fold(ankle, |best, leaf| {
-            match across(rest[leaf], rest[ankle]) > across(rest[best], rest[ankle]) {
-                true => leaf,
-                false => best,
-            }
-        });
-        if toe != ankle {
-            feet.push(toe as u32);
-        }
-    }
-    feet.sort_unstable();
-    feet
-}
-
-/// The points `names` names (as the dataset names them), in file order.
-fn named_feet(path: &Path, joints: &[String], names: &[String]) -> Result<Vec<u32>, Error> {
-    let mut feet = Vec::new();
-    for name in names {
-        let index = joints.iter().position(|j| j == name).ok_or_else(|| {
-            Error::Usage(format!(
-                "{}: --feet names {name:?}, which this skeleton does not have",
-                path.display()
-            ))
-        })?;
-        feet.push(index as u32);
-    }
-    feet.sort_unstable();
-    feet.dedup();
-    Ok(feet)
 }
 
 /// What the manifest says of one clip besides its arrays.
@@ -663,61 +596,6 @@ impl Derived {
         }
         derived
     }
-}
-
-/// How far (seconds, each way) the floor under a frame is looked for.
-pub const FLOOR_WINDOW_S: f64 = 1.0;
-
-/// The floor under each frame: the lowest height of any foot point within [`FLOOR_WINDOW_S`]
-/// before or after it. A floor that rises or falls during the take (a ramp, stairs, a drifting
-/// capture) is followed; a window that long holds a step of each foot in a walk.
-fn floor_heights(lowest_foot: &[f32], reach: usize) -> Vec<f32> {
-    let frames = lowest_foot.len();
-    // A sliding minimum: the queue holds frames whose heights increase, the front the lowest.
-    let mut queue = std::collections::VecDeque::new();
-    let mut floor = Vec::with_capacity(frames);
-    let mut next = 0;
-    for f in 0..frames {
-        while next < frames && next <= f + reach {
-            while queue
-                .back()
-                .is_some_and(|&b| lowest_foot[b] >= lowest_foot[next])
-            {
-                queue.pop_back();
-            }
-            queue.push_back(next);
-            next += 1;
-        }
-        while queue.front().is_some_and(|&front| front + reach < f) {
-            queue.pop_front();
-        }
-        floor.push(queue.front().map_or(f32::INFINITY, |&k| lowest_foot[k]));
-    }
-    floor
-}
-
-/// Foot contacts: a foot point is in contact in a frame when it is within
-/// `options.contact_height` of the floor under that frame ([`floor_heights`]) and slower than
-/// `options.contact_speed`.
-fn contacts(
-    world: &[Vec3],
-    derived: &Derived,
-    points: usize,
-    feet: &[u32],
-    options: &Options,
-) -> Vec<u8> {
-    let reach = (FLOOR_WINDOW_S * options.fps).round() as usize;
-    let floor = floor_heights(&derived.lowest_foot, reach);
-    let mut out = Vec::with_capacity(floor.len() * feet.len());
-    for (f, &floor) in floor.iter().enumerate() {
-        for &p in feet {
-            let i = f * points + p as usize;
-            let low = world[i].y - floor <= options.contact_height;
-            let still = derived.velocities[i].length() < options.contact_speed;
-            out.push(u8::from(low && still));
-        }
-    }
-    out
 }
 
 /// How a compile went: clips written, takes skipped.
