@@ -43,7 +43,9 @@
 //!   stands, the one exact Euler split, skinning;
 //! - operations on motion: [`edit`], [`retarget`], [`dataset`];
 //! - [`render`]: the article's fixed-function picture, its overlays, the window, offscreen;
-//! - [`io`]: the plumbing (errors, bounded reads, atomic outputs, limits, cores).
+//! - `io`: the plumbing (errors, bounded reads, atomic outputs, limits, cores), public for the
+//!   command line, the Python package and the tests, and not part of the API: [`Error`] is
+//!   re-exported here.
 
 pub mod acclaim;
 pub mod bvh;
@@ -52,6 +54,9 @@ pub mod edit;
 pub mod fbx;
 pub mod gltf;
 pub mod info;
+// The plumbing is public for the command line, the Python package and the tests, which are
+// other crates; it is not part of the API and is left out of its docs.
+#[doc(hidden)]
 pub mod io;
 pub mod model;
 pub mod positions;

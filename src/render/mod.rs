@@ -1,23 +1,39 @@
 //! Drawing: the article's fixed-function renderer, offscreen (OSMesa) and in a window.
+//!
+//! The article's picture is [`scene`] and [`draw`]; [`snapshot`] draws it offscreen. The
+//! layers drawn on top (HUD, timeline, studio look, names, the step view), the offscreen
+//! context and the window are public for the command line and the tests only, and left out
+//! of these docs.
 
 pub mod animation;
 pub mod draw;
 pub mod fixed;
 pub mod framing;
+#[doc(hidden)]
 pub mod hud;
+#[doc(hidden)]
 pub mod names;
+#[doc(hidden)]
 pub mod osmesa;
+#[doc(hidden)]
 pub mod paint;
+#[doc(hidden)]
 pub mod pixels;
 pub mod scene;
+#[doc(hidden)]
 pub mod skin_demo;
 pub mod sphere;
+#[doc(hidden)]
 pub mod step;
+#[doc(hidden)]
 pub mod studio;
+#[doc(hidden)]
 pub mod text;
+#[doc(hidden)]
 pub mod timeline;
 pub mod trace;
 #[cfg(feature = "window")]
+#[doc(hidden)]
 pub mod window;
 
 /// What draws the viewer's pictures without a display, for the messages.
