@@ -49,10 +49,13 @@ cargo test --doc --locked --no-fail-fast 2>&1 | tee -a "$log" || status=$?
 # The builds without the default features that matter: the library and CLI with neither the
 # window, FBX nor glTF, and with FBX alone. Tests that need a feature say so (Cargo.toml,
 # `#[cfg(feature = …)]`); the rest run on each build.
+# Their own target folder: the binary the checks below run (pytest, the glTF validator) stays
+# the one with every feature.
+features_target="${CARGO_TARGET_DIR:-target}/features"
 for features in "--no-default-features" "--no-default-features --features fbx"; do
     echo "cargo test $features"
     # shellcheck disable=SC2086
-    cargo test $features --locked --no-fail-fast 2>&1 | tee -a "$log" || status=$?
+    cargo test $features --locked --no-fail-fast --target-dir "$features_target" 2>&1 | tee -a "$log" || status=$?
 done
 grep '^drift ' "$log" | awk '{ if ($3 > 0) n++ } END { printf "golden pictures: %d compared, %d with any pixel drift\n", NR, n }' || true
 # Machines differ: say whether the AVX-512 row reader was compared with the plain one here.

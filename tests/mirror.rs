@@ -5,7 +5,8 @@
 
 mod common;
 
-use bvhview::edit::{MirrorOptions, lateral_axis, mirror, mirror_partners, name_side};
+use bvhview::edit::{MirrorOptions, lateral_axis, mirror, mirror_partners};
+use bvhview::model::body::name_side;
 use bvhview::model::pose::{OffsetMode, guessed_mode, world_positions};
 use common::repo_data;
 use std::path::Path;

@@ -9,8 +9,9 @@
 
 mod common;
 
+use bvhview::model::body::{Body, Role};
 use bvhview::model::pose::{OffsetMode, Up};
-use bvhview::retarget::{self, Body, Map, Role, Ups};
+use bvhview::retarget::{self, Map, Ups};
 use bvhview::{Motion, Skeleton};
 use glam::{Quat, Vec3};
 use std::path::Path;

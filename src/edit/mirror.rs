@@ -37,7 +37,7 @@ fn swappable(j: &crate::model::skeleton::Joint, k: &crate::model::skeleton::Join
 }
 
 /// Each joint's counterpart on the other side of the body (itself for joints on the middle, and
-/// for joints whose counterpart cannot take their motion): the pairs [`name_side`] (or `names`)
+/// for joints whose counterpart cannot take their motion): the pairs [`crate::model::body::name_side`] (or `names`)
 /// guesses, kept when both joints exist, each names the other, their parents are counterparts
 /// too and their channels can carry each other's motion (`swappable`). End Sites pair as
 /// their parents do, in order. A name in `names` that is not a joint, or a pair it gives that

@@ -3,6 +3,7 @@
 //! [`finite()`] and refuses it rather than hand on an infinity no file can hold.
 
 use crate::io::error::Error;
+use crate::model::body::mirrored_name;
 use crate::model::euler;
 use crate::model::motion::Motion;
 use crate::model::skeleton::{Channel, RotationOrder, Skeleton};
@@ -14,7 +15,6 @@ mod mirror;
 mod orient;
 mod resample;
 mod scale;
-mod sides;
 #[cfg(test)]
 mod testing;
 
@@ -24,4 +24,3 @@ pub use mirror::*;
 pub use orient::*;
 pub use resample::*;
 pub use scale::*;
-pub use sides::*;

@@ -50,7 +50,7 @@ const LEG_WORDS: [&str; 10] = [
 ];
 
 /// Whether a skeleton looks like a person's: a joint named as a head, and a left and a right
-/// arm and leg by their names (see [`crate::edit::name_side`]), each side's joint paired with
+/// arm and leg by their names (see [`crate::model::body::name_side`]), each side's joint paired with
 /// the other's. `Some` names the joints it goes by (`Head, LeftArm/RightArm, …`).
 pub fn human_like(skeleton: &Skeleton) -> Option<String> {
     let names: Vec<&str> = skeleton
@@ -64,10 +64,10 @@ pub fn human_like(skeleton: &Skeleton) -> Option<String> {
         .find(|n| n.to_ascii_lowercase().contains("head"))?;
     let pair = |words: &[&str]| {
         names.iter().find_map(|&name| {
-            let (side, other) = crate::edit::name_side(name)?;
+            let (side, other) = crate::model::body::name_side(name)?;
             let lower = name.to_ascii_lowercase();
             let part = words.iter().any(|w| lower.contains(w));
-            (side == crate::edit::Side::Left && part && names.contains(&other.as_str()))
+            (side == crate::model::body::Side::Left && part && names.contains(&other.as_str()))
                 .then(|| format!("{name}/{other}"))
         })
     };

@@ -4,6 +4,7 @@
 //! transforms.
 
 pub mod baked;
+pub mod body;
 pub mod bone_skin;
 pub mod euler;
 pub mod motion;

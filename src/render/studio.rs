@@ -5,7 +5,7 @@
 //! the units the skeleton's height suggests. None of it is the article's picture, which stays the
 //! default.
 
-use crate::edit::{Side, name_side};
+use crate::model::body::{Side, name_side};
 use crate::model::motion::Motion;
 use crate::model::pose::{FkPlan, FkScratch, OffsetMode, Up};
 use crate::model::skeleton::Skeleton;

@@ -23,33 +23,29 @@
 //! by side (src/retarget/fast.rs); [`retarget_plain`] is the same work a joint and a frame at a
 //! time, which a test holds it to (tests/retarget_fast.rs).
 
-use crate::edit::{Side, channel_angles};
+use crate::edit::channel_angles;
 use crate::io::error::Error;
+use crate::model::body::*;
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, RotationKind, Up, world_transforms_f64};
 use crate::model::skeleton::{Joint, Skeleton};
 use crate::take::Take;
 use glam::{DQuat, DVec3};
-use std::fmt;
 
 mod align;
-mod body;
 mod fast;
 mod hinge;
 mod map;
 mod map_file;
 mod measure;
-mod names;
 mod plain;
 mod target;
 
 pub use align::*;
-pub use body::*;
 use hinge::*;
 pub use map::*;
 pub use map_file::*;
 pub use measure::*;
-pub use names::*;
 use plain::*;
 pub use target::*;
 

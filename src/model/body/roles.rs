@@ -3,7 +3,7 @@
 
 use super::*;
 
-/// A skeleton's joints by role: what [`Map::guess`] pairs.
+/// A skeleton's joints by role: what [`crate::retarget::Map::guess`] pairs.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Body {
     pub hips: Option<usize>,
@@ -32,7 +32,7 @@ pub(super) fn depth(skeleton: &Skeleton, mut joint: usize) -> usize {
     depth
 }
 
-pub(super) fn is_ancestor(skeleton: &Skeleton, ancestor: usize, mut joint: usize) -> bool {
+pub(crate) fn is_ancestor(skeleton: &Skeleton, ancestor: usize, mut joint: usize) -> bool {
     loop {
         if joint == ancestor {
             return true;
@@ -56,7 +56,7 @@ pub(super) fn common_ancestor(skeleton: &Skeleton, a: usize, b: usize) -> Option
 
 /// Joints from `from` (left out) down to `to` (left out), in order; empty unless `from` is an
 /// ancestor of `to`.
-pub(super) fn path_between(skeleton: &Skeleton, from: usize, to: usize) -> Vec<usize> {
+pub(crate) fn path_between(skeleton: &Skeleton, from: usize, to: usize) -> Vec<usize> {
     let mut path = Vec::new();
     let mut joint = to;
     while let Some(parent) = skeleton.joints[joint].parent {

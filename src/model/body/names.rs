@@ -55,7 +55,7 @@ pub enum Role {
 
 impl Role {
     /// Whether the role lies on the chain hips → spine → neck → head.
-    pub(super) fn central(self) -> bool {
+    pub(crate) fn central(self) -> bool {
         matches!(self, Role::Spine(_) | Role::Neck | Role::Head)
     }
 }

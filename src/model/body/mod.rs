@@ -1,0 +1,16 @@
+//! The reading of the body: which joints are the hips, the spine, the neck and head, and per
+//! side the limbs, from joint names ([`names`], [`sides`]) and from the tree ([`roles`]). Every
+//! part of bvhview that asks what a joint is (retargeting, mirroring, `info`, the viewer's
+//! names) asks here.
+
+use crate::model::pose::{OffsetMode, world_transforms_f64};
+use crate::model::skeleton::Skeleton;
+use std::fmt;
+
+pub mod names;
+pub mod roles;
+pub mod sides;
+
+pub use names::*;
+pub use roles::*;
+pub use sides::*;
