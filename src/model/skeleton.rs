@@ -8,6 +8,14 @@ use glam::{Quat, Vec3};
 use std::fmt;
 
 /// One MOTION column's meaning, as written in a CHANNELS line.
+///
+/// ```
+/// use bvhview::Channel;
+///
+/// assert_eq!(Channel::Zrotation.name(), "Zrotation");
+/// assert_eq!(Channel::Zrotation.axis(), 2);
+/// assert!(!Channel::Xposition.is_rotation());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Channel {
     Xposition,
@@ -77,6 +85,14 @@ impl fmt::Display for Channel {
 /// `BVHJoint::flags`: the order of a joint's three rotation channels. The article packs the three
 /// axis letters into one number (`getFlags`); the discriminants keep its values so `print` writes
 /// the same digits.
+///
+/// ```
+/// use bvhview::{Channel, RotationOrder};
+///
+/// let channels = [Channel::Xposition, Channel::Zrotation, Channel::Xrotation, Channel::Yrotation];
+/// let order = RotationOrder::get_flags(&channels).unwrap();
+/// assert_eq!((order.letters(), order.flag()), ("zxy", 3)); // the article's ZXY = 3
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum RotationOrder {
     Zyx = 1,
@@ -144,6 +160,18 @@ impl RotationOrder {
 /// C++: `class BVHJoint`: a joint or End Site. `x, y, z` become `offset`; `flags` becomes
 /// `channels` (all of them, in file order) plus `rotation_order`; the 16-slot child array becomes
 /// `children` with no limit, and the 24-byte name a `String`.
+///
+/// ```
+/// use bvhview::Take;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_simple.bvh")?;
+/// let root = &take.skeleton.joints[0];
+/// assert_eq!(root.parent, None);
+/// assert!(root.channels.len() >= 3);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Joint {
     pub name: String,
