@@ -485,7 +485,7 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
     } = posed;
     let (stance, mode) = (&take.stance, take.mode);
     let points = skeleton.joints.len();
-    let travel = pose::travel_joint(&skeleton, &world);
+    let travel = crate::model::body::travel_joint(&skeleton, &world);
     let derived = Derived::of(&world, points, travel, &topology.feet, options);
     let contacts = contacts(&world, &derived, points, &topology.feet, options);
     let mut positions = world;

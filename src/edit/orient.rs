@@ -16,14 +16,14 @@ fn plane(up: crate::model::pose::Up) -> ([usize; 2], usize) {
 /// the ground plane, so the figure moves where it stands.
 /// Only that joint's values change, to values the take already holds: nothing can overflow.
 ///
-/// [`travel_joint_of_take`]: crate::model::pose::travel_joint_of_take
+/// [`travel_joint_of_take`]: crate::model::body::travel_joint_of_take
 pub fn in_place(skeleton: &Skeleton, motion: &Motion, up: crate::model::pose::Up) -> Motion {
     let (across, _) = plane(up);
     let mut data = motion.data.clone();
     if motion.frame_count() == 0 || motion.channels == 0 {
         return motion.clone();
     }
-    let travel = crate::model::pose::travel_joint_of_take(
+    let travel = crate::model::body::travel_joint_of_take(
         skeleton,
         motion,
         crate::model::pose::OffsetMode::Replace,

@@ -145,7 +145,7 @@ pub fn summary(name: &str, loaded: &Take, mode: OffsetMode) -> String {
         .filter(|j| j.channels.iter().any(|c| c.is_position()))
         .count();
     if translated > 1 && motion.frame_count() > 0 {
-        let travel = crate::model::pose::travel_joint_of_take(skeleton, motion, mode);
+        let travel = crate::model::body::travel_joint_of_take(skeleton, motion, mode);
         let _ = writeln!(
             out,
             "travel:           {} (the joint whose position channels carry the take across the floor)",

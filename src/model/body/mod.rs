@@ -1,5 +1,6 @@
 //! The reading of the body: which joints are the hips, the spine, the neck and head, and per
-//! side the limbs, from joint names ([`names`], [`sides`]) and from the tree ([`roles`]). Every
+//! side the limbs, from joint names ([`names`], [`sides`]) and from the tree ([`roles`]), and
+//! the joint that carries the travel ([`travel`]). Every
 //! part of bvhview that asks what a joint is (retargeting, mirroring, `info`, the viewer's
 //! names) asks here.
 
@@ -10,7 +11,9 @@ use std::fmt;
 pub mod names;
 pub mod roles;
 pub mod sides;
+pub mod travel;
 
 pub use names::*;
 pub use roles::*;
 pub use sides::*;
+pub use travel::*;
