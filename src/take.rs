@@ -167,14 +167,10 @@ impl Take {
     /// The take as BVH text. A skeleton with fixed bone axes (ASF) has them baked into its
     /// rotations first: BVH has none.
     pub fn bvh_text(&self) -> Result<String, Error> {
-        let (skeleton, motion) = (&self.skeleton, &self.motion);
-        let baked = skeleton
-            .joints
-            .iter()
-            .any(|j| j.axis.is_some())
-            .then(|| crate::edit::bake_axes(skeleton, motion))
-            .transpose()?;
-        let (skeleton, motion) = baked.as_ref().map_or((skeleton, motion), |(s, m)| (s, m));
+        let baked = crate::edit::baked_for_bvh(&self.skeleton, &self.motion)?;
+        let (skeleton, motion) = baked
+            .as_ref()
+            .map_or((&self.skeleton, &self.motion), |(s, m)| (s, m));
         crate::bvh::writer::to_string(skeleton, motion)
     }
 

@@ -560,11 +560,8 @@ impl Prepared {
             TakeFormat::Gltf => bvhview::gltf::Container::Gltf,
             TakeFormat::Bvh => {
                 // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
-                let (skeleton, motion) = if skeleton.joints.iter().any(|j| j.axis.is_some()) {
-                    bvhview::edit::bake_axes(&skeleton, &motion)?
-                } else {
-                    (skeleton, motion)
-                };
+                let (skeleton, motion) =
+                    bvhview::edit::baked_for_bvh(&skeleton, &motion)?.unwrap_or((skeleton, motion));
                 bvhview::bvh::writer::check(&skeleton, &motion)?;
                 return Ok(Prepared {
                     skeleton,

@@ -124,6 +124,20 @@ pub fn channel_angles(
         .collect()
 }
 
+/// The take as BVH can hold it: `None` when no joint has a fixed bone axis (the take is
+/// BVH-ready as it is), else [`bake_axes`]' copy. Every BVH writer goes through here.
+pub fn baked_for_bvh(
+    skeleton: &Skeleton,
+    motion: &Motion,
+) -> Result<Option<(Skeleton, Motion)>, Error> {
+    skeleton
+        .joints
+        .iter()
+        .any(|j| j.axis.is_some())
+        .then(|| bake_axes(skeleton, motion))
+        .transpose()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -40,7 +40,7 @@
 use super::records::BINARY_MAGIC;
 use crate::io::error::Error;
 use crate::model::baked::{self, Node, Pose};
-use crate::model::reading::{Read, TakeInfo, pick_take};
+use crate::model::reading::{Read, TakeInfo, choose_take, pick_take};
 use glam::{DMat4, DVec4};
 use std::path::Path;
 
@@ -514,16 +514,8 @@ pub fn load_bytes(
             Ok(())
         })
     } else {
-        let index = pick_take(&names, take, path)?;
-        if take.is_none() && names.len() > 1 {
-            warnings.push(format!(
-                "{} takes; reading take 0 '{}' (--take NAME|INDEX picks another; `bvhview info` \
-                 lists them)",
-                names.len(),
-                names[0]
-            ));
-        }
-        chosen = Some(names[index].clone());
+        let (index, stack_name) = choose_take(&names, take, path, &mut warnings)?;
+        chosen = Some(stack_name);
         let stack = &scene.anim_stacks[index];
         let (begin, end, said) = stack_range(stack).map_err(&bad)?;
         warnings.extend(said);

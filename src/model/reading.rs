@@ -46,3 +46,24 @@ pub fn pick_take(names: &[String], take: Option<&str>, file: &str) -> Result<usi
     };
     Err(Error::Usage(format!("{file}: no take '{take}' ({list})")))
 }
+
+/// [`pick_take`] for a file whose takes are `names` (at least one): the index and name of the
+/// take read, and, when none was asked for and there are several, a warning naming the first
+/// and how to pick another.
+pub fn choose_take(
+    names: &[String],
+    take: Option<&str>,
+    file: &str,
+    warnings: &mut Vec<String>,
+) -> Result<(usize, String), Error> {
+    let index = pick_take(names, take, file)?;
+    if take.is_none() && names.len() > 1 {
+        warnings.push(format!(
+            "{} takes; reading take 0 '{}' (--take NAME|INDEX picks another; `bvhview info` \
+             lists them)",
+            names.len(),
+            names[0]
+        ));
+    }
+    Ok((index, names[index].clone()))
+}

@@ -22,7 +22,7 @@
 
 use crate::io::error::Error;
 use crate::model::baked::{self, Node, Pose};
-use crate::model::reading::{Read, TakeInfo, pick_take};
+use crate::model::reading::{Read, TakeInfo, choose_take, pick_take};
 use glam::{DMat4, DQuat, DVec3};
 use gltf::accessor::{DataType, Dimensions};
 use gltf::animation::{Interpolation, Property};
@@ -139,16 +139,8 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
         }
         None
     } else {
-        let index = pick_take(&names, take, path)?;
-        if take.is_none() && names.len() > 1 {
-            warnings.push(format!(
-                "{} takes; reading take 0 '{}' (--take NAME|INDEX picks another; `bvhview info` \
-                 lists them)",
-                names.len(),
-                names[0]
-            ));
-        }
-        take_name = Some(names[index].clone());
+        let (index, name) = choose_take(&names, take, path, &mut warnings)?;
+        take_name = Some(name);
         Some(&animations[index])
     };
     let tracks = match chosen {
