@@ -49,16 +49,20 @@
 
 pub mod acclaim;
 pub mod bvh;
+// The command line, in the library so that its plumbing stays private; `src/main.rs` calls
+// `cli::main`. Not part of the API.
+#[doc(hidden)]
+pub mod cli;
 pub mod dataset;
 pub mod edit;
 pub mod fbx;
 pub mod gltf;
 pub mod info;
-// The plumbing is public for the command line, the Python package and the tests, which are
-// other crates; it is not part of the API and is left out of its docs.
-#[doc(hidden)]
-pub mod io;
+// The plumbing (errors, bounded reads, atomic outputs, limits, cores): private to the crate.
+pub(crate) mod io;
 pub mod model;
+#[doc(hidden)]
+pub mod plumbing;
 pub mod positions;
 pub mod render;
 pub mod retarget;
@@ -73,6 +77,8 @@ pub mod teaching {}
 pub mod teaching_zh_hant {}
 
 pub use io::error::Error;
+/// The limits every count, rate and size is held to (what bvhview refuses, and where).
+pub use io::limits;
 pub use model::motion::Motion;
 pub use model::skeleton::{Channel, Joint, RotationOrder, Skeleton};
 pub use take::{OpenOptions, Take};

@@ -457,7 +457,7 @@ pub fn load_take(
     if let Some(motion) = motion {
         check_file(motion, max_size)?;
     }
-    crate::io::limits::frame_time_option(frame_time)?;
+    crate::limits::frame_time_option(frame_time)?;
     match extension(path).as_str() {
         "asf" => {
             let asf = acclaim::load_asf(path, max_size)?;
@@ -602,7 +602,7 @@ pub fn load_bytes_as(
     threads: usize,
     take: Option<&str>,
 ) -> Result<Take, Error> {
-    crate::io::limits::frame_time_option(frame_time)?;
+    crate::limits::frame_time_option(frame_time)?;
     if bytes.is_empty() {
         return Err(Error::Usage(format!("{name}: empty: no take to read")));
     }

@@ -222,7 +222,7 @@ fn a_file_that_ends_early_names_the_frames_line() {
 
 #[test]
 fn nesting_deeper_than_the_limit_is_an_error() {
-    let depth = bvhview::io::limits::MAX_DEPTH + 1;
+    let depth = bvhview::limits::MAX_DEPTH + 1;
     let mut text = String::from("HIERARCHY\n");
     for i in 0..depth {
         text.push_str(&format!("JOINT j{i}\n{{\nOFFSET 0 1 0\n"));

@@ -42,7 +42,7 @@ fn a_child_forked_while_other_threads_load_still_loads() {
                 while !STOP.load(Ordering::Relaxed) {
                     if kind == 0 {
                         // Short calls: the helper pool's lock is taken and released all the time.
-                        bvhview::io::parallel::on_threads(2, || {});
+                        bvhview::plumbing::on_threads(2, || {});
                     } else {
                         load_streamed(&file);
                     }

@@ -90,15 +90,15 @@ impl Motion {
         compute: impl Fn(&[usize], &mut [f32]) + Sync,
     ) -> Result<Vec<f32>, Error> {
         let mut result =
-            bvhview::io::limits::zeroed_floats(frames.len().saturating_mul(per_frame), "the result")?;
+            bvhview::limits::zeroed_floats(frames.len().saturating_mul(per_frame), "the result")?;
         let piece = piece_frames(joints);
         let pieces = Mutex::new(
             frames
                 .chunks(piece)
                 .zip(result.chunks_mut((piece * per_frame).max(1))),
         );
-        let threads = bvhview::io::parallel::cores().clamp(1, frames.len().div_ceil(piece).max(1));
-        bvhview::io::parallel::on_threads(threads, || {
+        let threads = bvhview::plumbing::cores().clamp(1, frames.len().div_ceil(piece).max(1));
+        bvhview::plumbing::on_threads(threads, || {
             loop {
                 let next = pieces.lock().unwrap_or_else(PoisonError::into_inner).next();
                 let Some((frames, out)) = next else {
@@ -119,7 +119,7 @@ impl Motion {
             // The rest pose: frame 0 is the only one there is.
             let rest = pose::world_positions(skeleton, &[], self.offset_mode);
             let rest: Vec<f32> = flatten(&rest).collect();
-            let mut out = bvhview::io::limits::zeroed_floats(
+            let mut out = bvhview::limits::zeroed_floats(
                 frames.len().saturating_mul(rest.len()),
                 "the result",
             )?;

@@ -237,7 +237,7 @@ pub(crate) fn _compile_dataset(
                 .map_err(|e| to_python(py, e))?,
             ..Default::default()
         };
-        let threads = threads.unwrap_or_else(bvhview::io::parallel::cores).max(1);
+        let threads = threads.unwrap_or_else(bvhview::plumbing::cores).max(1);
         let interrupt: Mutex<Option<PyErr>> = Mutex::new(None);
         let mut walk = bvhview::info::batch::Walk::default();
         let result = py.detach(|| {

@@ -64,11 +64,11 @@ pub(crate) fn from_arrays(
     let channels = old.channels;
     let values = frames
         .checked_mul(channels.max(1))
-        .filter(|&n| n as u64 <= bvhview::io::limits::MAX_GENERATED_VALUES)
+        .filter(|&n| n as u64 <= bvhview::limits::MAX_GENERATED_VALUES)
         .ok_or_else(|| {
             PyValueError::new_err(format!(
                 "{frames} frames of {channels} values: more than a take holds ({} values at most)",
-                bvhview::io::limits::MAX_GENERATED_VALUES
+                bvhview::limits::MAX_GENERATED_VALUES
             ))
         })?;
     // In C order whatever the strides (a slice or a transposed array is fine).
@@ -116,13 +116,13 @@ pub(crate) fn from_arrays(
     }
     // The rates `convert --fps` takes: a Motion made at another could not be saved.
     let frame_time = match fps {
-        Some(fps) if bvhview::io::limits::fps(fps, false).is_ok() => 1.0 / fps,
+        Some(fps) if bvhview::limits::fps(fps, false).is_ok() => 1.0 / fps,
         Some(fps) => {
             return Err(PyValueError::new_err(format!(
                 "fps={}: expected frames per second from {} to {}",
-                bvhview::io::limits::show(fps),
-                bvhview::io::limits::show(bvhview::io::limits::MIN_FPS),
-                bvhview::io::limits::show(bvhview::io::limits::MAX_FPS)
+                bvhview::limits::show(fps),
+                bvhview::limits::show(bvhview::limits::MIN_FPS),
+                bvhview::limits::show(bvhview::limits::MAX_FPS)
             )));
         }
         None => template.loaded.motion.frame_time,

@@ -12,9 +12,9 @@
 //! - here: the module, errors as Python exceptions, and [`guard`], which every entry point runs
 //!   in so that no panic reaches Python.
 
-use bvhview::io::error::Error;
+use bvhview::Error;
 use bvhview::take::{self, Take};
-use bvhview::io::output::AtomicFile;
+use bvhview::plumbing::AtomicFile;
 use bvhview::model::pose::{self, FkPlan, FkScratch, LANES, OffsetMode};
 use glam::{Mat4, Vec3};
 use numpy::ndarray::ArrayView2;
@@ -230,7 +230,7 @@ fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
     let empty = numpy::PyArray1::<f32>::zeros(module.py(), 0, false);
     drop(empty.try_readwrite());
     Vec::<f32>::new().into_pyarray(module.py());
-    bvhview::io::parallel::cores();
+    bvhview::plumbing::cores();
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     module.add_function(wrap_pyfunction!(load, module)?)?;
     module.add_function(wrap_pyfunction!(load_many, module)?)?;

@@ -70,7 +70,7 @@ pub(crate) fn load(
             .detach(|| {
                 planted_pause_without_the_gil("load")?;
                 match &take {
-                    None => load_item(&item, frame_time, bvhview::io::parallel::cores()),
+                    None => load_item(&item, frame_time, bvhview::plumbing::cores()),
                     Some(take) => {
                         if item.path.is_dir() {
                             return Err(Error::io(&item.path, io::ErrorKind::IsADirectory.into()));
@@ -79,7 +79,7 @@ pub(crate) fn load(
                             &item.path,
                             item.motion.as_deref(),
                             frame_time,
-                            bvhview::io::parallel::cores(),
+                            bvhview::plumbing::cores(),
                             take::DEFAULT_MAX_SIZE,
                             Some(&take.0),
                         )
@@ -160,7 +160,7 @@ pub(crate) fn load_many(
         };
         let items = items_of(paths)?;
         let results = py.detach(|| {
-            let cores = bvhview::io::parallel::cores();
+            let cores = bvhview::plumbing::cores();
             // Many files: one core each. Fewer files than cores: each parses on a share of them.
             let threads_per_file = (cores / items.len().max(1)).max(1);
             // Largest first, so that no core is left with a big file at the end while the others
@@ -175,7 +175,7 @@ pub(crate) fn load_many(
             order.sort_by_key(|&index| std::cmp::Reverse(size(&items[index])));
             let mut slots: Vec<Option<Result<Take, Error>>> =
                 (0..items.len()).map(|_| None).collect();
-            bvhview::io::parallel::map_in_order(
+            bvhview::plumbing::map_in_order(
                 items.len(),
                 cores,
                 2 * cores,

@@ -92,7 +92,7 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
                 bvhview::model::skeleton::Source::Bvh
             },
         };
-        if !bvhview::io::limits::frame_time_in_file(frame_time) {
+        if !bvhview::limits::frame_time_in_file(frame_time) {
             return Err(bad(&format!("a frame time of {frame_time} s")));
         }
         let mut first_channel = 0;

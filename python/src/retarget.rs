@@ -45,7 +45,7 @@ pub(crate) fn retarget(
                 &loaded.skeleton,
                 &loaded.motion,
                 &pairs,
-                bvhview::io::parallel::cores(),
+                bvhview::plumbing::cores(),
             )
         })
         .map_err(|e| to_python(py, e))?;

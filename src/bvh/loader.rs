@@ -12,8 +12,8 @@
 
 use super::rows::{self, RowParser, parse_number};
 use crate::io::error::Error;
-use crate::io::limits::{MAX_DEPTH, MAX_HEADER_BYTES};
 use crate::io::lines::{is_line_end, line_column, shown_first_word, shown_word};
+use crate::limits::{MAX_DEPTH, MAX_HEADER_BYTES};
 use crate::model::motion::Motion;
 use crate::model::skeleton::{Channel, Joint, RotationOrder, Skeleton};
 use glam::Vec3;
@@ -453,7 +453,7 @@ impl<'a> Loader<'a> {
 
     /// C++: `BVH::newNode`. The article copies bytes up to the line feed into a 24-byte array and
     /// drops the last one, assuming it is a carriage return. Here the name is the rest of the
-    /// line, trimmed, of up to [`crate::io::limits::MAX_NAME_BYTES`] bytes (a longer one is damage,
+    /// line, trimmed, of up to [`crate::limits::MAX_NAME_BYTES`] bytes (a longer one is damage,
     /// refused rather than repeated on every line of an export): names may hold spaces, ':' or
     /// '.'. A `{` written at the end of the same line is left for the main loop. The article's
     /// `addChild` (16 children at most, unchecked) is the push onto the parent's `children`.
@@ -472,7 +472,7 @@ impl<'a> Loader<'a> {
         }
         // Counted as kept: bytes that are not UTF-8 become U+FFFD, three bytes each.
         let name = String::from_utf8_lossy(line.trim_ascii()).into_owned();
-        if let Err(why) = crate::io::limits::name(name.len()) {
+        if let Err(why) = crate::limits::name(name.len()) {
             return Err(self.error_at(start, why));
         }
         if name.is_empty() {
@@ -662,12 +662,12 @@ impl<'a> Loader<'a> {
             .and_then(|t| std::str::from_utf8(self.word(t)).ok())
             .and_then(|s| s.parse::<f64>().ok())
         {
-            Some(time) if crate::io::limits::frame_time_in_file(time) => time,
+            Some(time) if crate::limits::frame_time_in_file(time) => time,
             _ => {
                 let what = format!(
                     "the frame time (seconds: 0, or {} to {})",
-                    crate::io::limits::show(crate::io::limits::MIN_FRAME_TIME),
-                    crate::io::limits::MAX_FRAME_TIME
+                    crate::limits::show(crate::limits::MIN_FRAME_TIME),
+                    crate::limits::MAX_FRAME_TIME
                 );
                 return Err(self.expected(&what, token));
             }

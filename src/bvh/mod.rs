@@ -1,5 +1,6 @@
 //! The article's `BVH` class: loading, printing and writing BVH files.
 
+#[doc(hidden)] // what the original program does with a file: `print --explain` and the tests
 pub mod article;
 pub mod loader;
 pub mod print;

@@ -2,7 +2,7 @@
 //! reader accepts: tab indentation, LF line ends, one frame per line.
 
 use crate::io::error::Error;
-use crate::io::limits::{MAX_DEPTH, MAX_NAME_BYTES};
+use crate::limits::{MAX_DEPTH, MAX_NAME_BYTES};
 use crate::model::motion::Motion;
 use crate::model::skeleton::Skeleton;
 use std::borrow::Cow;
@@ -39,7 +39,7 @@ pub fn renamed(skeleton: &Skeleton) -> Vec<(String, String)> {
 
 /// Whether the take can be written as a BVH file that loads back (bvhview's loader and others):
 /// every number finite, the frame time one a loader accepts, names and nesting within
-/// [`crate::io::limits`]. Called before anything is written, so a take that cannot be written
+/// [`crate::limits`]. Called before anything is written, so a take that cannot be written
 /// leaves no file.
 pub fn check(skeleton: &Skeleton, motion: &Motion) -> Result<(), Error> {
     let refuse = |why: String| Err(Error::Usage(format!("cannot write BVH: {why}")));
@@ -54,11 +54,11 @@ pub fn check(skeleton: &Skeleton, motion: &Motion) -> Result<(), Error> {
             at % channels
         ));
     }
-    if !crate::io::limits::frame_time_in_file(motion.frame_time) {
+    if !crate::limits::frame_time_in_file(motion.frame_time) {
         return refuse(format!(
             "a frame time of {} s (a loader reads 0 to {} s)",
             motion.frame_time,
-            crate::io::limits::MAX_FRAME_TIME
+            crate::limits::MAX_FRAME_TIME
         ));
     }
     if let Some(joint) = skeleton

@@ -2,7 +2,7 @@
 //! edited and written the same way into a new folder that mirrors it.
 
 use super::*;
-use bvhview::info::batch::Item;
+use crate::info::batch::Item;
 use std::collections::{HashMap, HashSet};
 use std::ffi::OsString;
 
@@ -76,7 +76,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
     if let Some(to) = args.to
         && to != format
         && !is_stdio(&args.output)
-        && !bvhview::io::output::written_in_place(&args.output)
+        && !crate::io::output::written_in_place(&args.output)
     {
         return Err(Error::Usage(format!(
             "--to {}: -o {} is a .{} file (--to is for a folder; a file is written in the \
@@ -106,7 +106,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
 /// The threads asked for, at least 1.
 fn threads(args: &ConvertArgs) -> usize {
     args.threads
-        .unwrap_or_else(bvhview::io::parallel::cores)
+        .unwrap_or_else(crate::io::parallel::cores)
         .max(1)
 }
 
@@ -118,7 +118,7 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
         ));
     }
     if let Some(fps) = args.fps {
-        bvhview::io::limits::fps(fps, false)?;
+        crate::limits::fps(fps, false)?;
     }
     if let Some(factor) = args.scale
         && !(factor.is_finite() && factor != 0.0)
@@ -133,38 +133,38 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
 /// The edits, in this order: trim, resample, scale, up axis, mirror, in place, ground.
 fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
     if let Some(frames) = &args.frames {
-        let range = bvhview::positions::parse_frames(frames, loaded.motion.frame_count())?;
-        loaded.motion = bvhview::edit::trim(&loaded.motion, range);
+        let range = crate::positions::parse_frames(frames, loaded.motion.frame_count())?;
+        loaded.motion = crate::edit::trim(&loaded.motion, range);
     }
     if let Some(fps) = args.fps {
-        loaded.motion = bvhview::edit::resample(&loaded.skeleton, &loaded.motion, fps)?;
+        loaded.motion = crate::edit::resample(&loaded.skeleton, &loaded.motion, fps)?;
     }
     if let Some(factor) = args.scale {
         (loaded.skeleton, loaded.motion) =
-            bvhview::edit::scale(&loaded.skeleton, &loaded.motion, factor)?;
+            crate::edit::scale(&loaded.skeleton, &loaded.motion, factor)?;
     }
     // The take's up axis as guessed from its motion (scaling changes no axis).
     let mut up = loaded.stance(OffsetMode::Replace).up;
     if let Some(target) = args.up {
         let target = target.into();
         (loaded.skeleton, loaded.motion) =
-            bvhview::edit::reorient(&loaded.skeleton, &loaded.motion, up, target)?;
+            crate::edit::reorient(&loaded.skeleton, &loaded.motion, up, target)?;
         up = target;
     }
     if args.mirror || args.mirror_rename {
-        let options = bvhview::edit::MirrorOptions {
+        let options = crate::edit::MirrorOptions {
             rename: args.mirror_rename,
             ..Default::default()
         };
         (loaded.skeleton, loaded.motion) =
-            bvhview::edit::mirror(&loaded.skeleton, &loaded.motion, &options)?;
+            crate::edit::mirror(&loaded.skeleton, &loaded.motion, &options)?;
     }
     if args.in_place {
-        loaded.motion = bvhview::edit::in_place(&loaded.skeleton, &loaded.motion, up);
+        loaded.motion = crate::edit::in_place(&loaded.skeleton, &loaded.motion, up);
     }
     if args.ground {
         (loaded.skeleton, loaded.motion) =
-            bvhview::edit::ground(&loaded.skeleton, &loaded.motion, OffsetMode::Replace, up)?;
+            crate::edit::ground(&loaded.skeleton, &loaded.motion, OffsetMode::Replace, up)?;
     }
     Ok(loaded)
 }
@@ -188,7 +188,7 @@ enum Outcome {
 /// `convert DIR -o OUT --to FORMAT`: every take under DIR, loaded, edited and written as it
 /// would be alone (the same bytes as `convert TAKE -o OUT/TAKE.FORMAT`), one take per thread,
 /// into the new folder OUT at the take's path under DIR. OUT is made as `dataset` makes its
-/// folder (`bvhview::io::output::NewFolder`): it must not exist or be empty, is filled under a
+/// folder (`crate::io::output::NewFolder`): it must not exist or be empty, is filled under a
 /// temporary name beside it and takes its name at the end, so a run that fails or is
 /// interrupted leaves nothing. A take that fails is said (`failed PATH: reason`) and the others
 /// are still written; the exit code is then 2. Output errors (a full disk) stop the run, with
@@ -209,14 +209,14 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
             motion.display()
         )));
     }
-    bvhview::io::limits::frame_time_option(args.source.frame_time)?;
-    let walk = bvhview::info::batch::collect_takes(dir)?;
+    crate::limits::frame_time_option(args.source.frame_time)?;
+    let walk = crate::info::batch::collect_takes(dir)?;
     for line in walk.skipped_lines() {
         super::note(format_args!("{line}"));
     }
     let items = walk.items;
     let names = output_names(dir, &items, format);
-    let folder = bvhview::io::output::NewFolder::create(
+    let folder = crate::io::output::NewFolder::create(
         &args.output,
         "converted takes go into a new (or empty) folder",
     )?;
@@ -224,7 +224,7 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
     let progress = Progress::new(total);
     let (mut converted, mut failed, mut skipped) = (0, 0, 0);
     let mut fatal = None;
-    bvhview::io::parallel::map_in_order(
+    crate::io::parallel::map_in_order(
         total,
         threads(args),
         4 * threads(args),
@@ -240,7 +240,7 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
                     }
                     let name = names[index].as_ref().expect("converted takes have a name");
                     let path = folder.path().join(name);
-                    let written = bvhview::io::output::in_partial_folder(|| {
+                    let written = crate::io::output::in_partial_folder(|| {
                         if let Some(parent) = path.parent() {
                             std::fs::create_dir_all(parent)?;
                         }
@@ -288,7 +288,7 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
     wrote(format_args!(
         "{}: {} as .{}; {failed} failed, {} skipped",
         args.output.display(),
-        bvhview::io::error::counted(converted, "take"),
+        crate::io::error::counted(converted, "take"),
         format.extension(),
         skipped + walk.skipped.len()
     ));
@@ -360,7 +360,7 @@ fn convert_one(
         let mut bytes = Vec::new();
         prepared
             .write_to(&mut bytes)
-            .map_err(|e| match bvhview::positions::not_finite(&e) {
+            .map_err(|e| match crate::positions::not_finite(&e) {
                 Some(_) => Error::Usage(e.to_string()),
                 None => Error::output(take, e),
             })?;

@@ -1,8 +1,8 @@
-//! `bvhview dataset`: a folder of takes compiled into training arrays (`bvhview::dataset`).
+//! `bvhview dataset`: a folder of takes compiled into training arrays (`crate::dataset`).
 
 use super::*;
-use bvhview::dataset::{self, Options};
-use bvhview::model::pose::RotationKind;
+use crate::dataset::{self, Options};
+use crate::model::pose::RotationKind;
 
 #[derive(Args)]
 pub(crate) struct DatasetArgs {
@@ -36,7 +36,7 @@ pub(crate) struct DatasetArgs {
     #[arg(long)]
     threads: Option<usize>,
     /// Files larger than this many bytes are skipped.
-    #[arg(long, default_value_t = bvhview::take::DEFAULT_MAX_SIZE)]
+    #[arg(long, default_value_t = crate::take::DEFAULT_MAX_SIZE)]
     max_size: u64,
     /// Retarget every take onto this skeleton first (a file, or the built-in `smpl22`), so that
     /// the folder makes one group; takes whose map misses a required role are skipped.
@@ -88,7 +88,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         onto: args
             .onto
             .as_deref()
-            .map(|onto| bvhview::retarget::Target::load(onto, args.max_size))
+            .map(|onto| crate::retarget::Target::load(onto, args.max_size))
             .transpose()?,
     };
     // Options are checked before the folder is read (`Writer::create` checks them again).
@@ -101,7 +101,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
     let takes = dataset::whole_list(&args.dir, &items);
     let threads = args
         .threads
-        .unwrap_or_else(bvhview::io::parallel::cores)
+        .unwrap_or_else(crate::io::parallel::cores)
         .max(1);
     let progress = super::Progress::new(items.len());
     let summary = dataset::compile(
@@ -125,10 +125,10 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
     wrote(format_args!(
         "{}: {}, {} at {} fps in {}; {} skipped",
         args.output.display(),
-        bvhview::io::error::counted(summary.clips, "clip"),
-        bvhview::io::error::counted(summary.frames, "frame"),
-        bvhview::io::limits::show(options.fps),
-        bvhview::io::error::counted(summary.groups, "topology group"),
+        crate::io::error::counted(summary.clips, "clip"),
+        crate::io::error::counted(summary.frames, "frame"),
+        crate::limits::show(options.fps),
+        crate::io::error::counted(summary.groups, "topology group"),
         summary.skipped.len()
     ));
     Ok(ExitCode::SUCCESS)

@@ -15,7 +15,7 @@ pub(crate) struct DiffArgs {
 
 /// Exits 1 when the pictures differ, 0 when they are the same.
 pub(crate) fn run(args: DiffArgs) -> Result<ExitCode, Error> {
-    use bvhview::render::Image;
+    use crate::render::Image;
     if let Some(output) = &args.output {
         check_output(output, &["png"])?;
     }
@@ -39,7 +39,7 @@ pub(crate) fn run(args: DiffArgs) -> Result<ExitCode, Error> {
     let verb = if differing == 1 { "differs" } else { "differ" };
     write_text(&format!(
         "{differing} of {} {verb} ({percent:.3}%)\n",
-        bvhview::io::error::counted(total, "pixel")
+        crate::io::error::counted(total, "pixel")
     ))?;
     Ok(if differing > 0 {
         ExitCode::from(1)

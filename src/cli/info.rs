@@ -31,7 +31,7 @@ pub(crate) fn run(args: InfoArgs) -> Result<ExitCode, Error> {
         Some(take) => format!("{name} + {}", take.display()),
         None => name,
     };
-    let mut text = bvhview::info::summary(&name, &loaded, offset_mode);
+    let mut text = crate::info::summary(&name, &loaded, offset_mode);
     if let Some(path) = args.file.as_deref().filter(|p| take::has_takes(p)) {
         text.push_str(&takes_text(&take::takes(path, args.source.max_size)?));
     }
@@ -40,7 +40,7 @@ pub(crate) fn run(args: InfoArgs) -> Result<ExitCode, Error> {
 }
 
 /// The takes of an FBX or glTF file, one line each, as `--take` picks them.
-fn takes_text(takes: &[bvhview::model::reading::TakeInfo]) -> String {
+fn takes_text(takes: &[crate::model::reading::TakeInfo]) -> String {
     if takes.is_empty() {
         return "takes: none (the file's rest pose)\n".to_string();
     }
@@ -49,7 +49,7 @@ fn takes_text(takes: &[bvhview::model::reading::TakeInfo]) -> String {
         text.push_str(&format!(
             "  {i}: '{}', {}, {} fps\n",
             take.name,
-            bvhview::io::error::counted(take.frames, "frame"),
+            crate::io::error::counted(take.frames, "frame"),
             (1.0 / take.frame_time * 1000.0).round() / 1000.0
         ));
     }
@@ -60,7 +60,7 @@ fn takes_text(takes: &[bvhview::model::reading::TakeInfo]) -> String {
 /// summary. Exits 2 if any file failed (an unpaired AMC is a note, not a failure).
 fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCode, Error> {
     let started = std::time::Instant::now();
-    let walk = bvhview::info::batch::collect(dir)?;
+    let walk = crate::info::batch::collect(dir)?;
     for line in walk.skipped_lines() {
         super::note(format_args!("{line}"));
     }
@@ -71,7 +71,7 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
             dir.display()
         )));
     }
-    let threads = bvhview::io::parallel::cores();
+    let threads = crate::io::parallel::cores();
     let progress = super::Progress::new(items.len());
     if let Some(motion) = &source.motion {
         return Err(Error::Usage(format!(
@@ -79,13 +79,13 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
             motion.display()
         )));
     }
-    bvhview::io::limits::frame_time_option(source.frame_time)?;
-    let settings = bvhview::info::batch::Settings {
+    crate::limits::frame_time_option(source.frame_time)?;
+    let settings = crate::info::batch::Settings {
         frame_time: source.frame_time,
         max_size: source.max_size,
         offset_mode,
     };
-    let outcomes = bvhview::info::batch::run(items, threads, settings, |outcome, finished, _| {
+    let outcomes = crate::info::batch::run(items, threads, settings, |outcome, finished, _| {
         let line = match &outcome.result {
             Ok(Some(text)) => {
                 let name = match &outcome.item.motion {
@@ -125,7 +125,7 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
     let summary = writeln!(
         io::stdout().lock(),
         "{}: {} ok{unpaired_part}, {failed} failed; {:.1} MB in {seconds:.2} s ({:.0} MB/s)",
-        bvhview::io::error::counted(outcomes.len(), "file"),
+        crate::io::error::counted(outcomes.len(), "file"),
         outcomes.len() - failed - unpaired,
         bytes as f64 / 1e6,
         bytes as f64 / 1e6 / seconds.max(1e-9)

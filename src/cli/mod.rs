@@ -1,6 +1,11 @@
 //! The command line's shared plumbing: the options every command that reads a take has, loading
 //! with them, where a command writes and how it says so. Each command lives in its own file,
-//! its arguments beside its body (`print.rs`, `info.rs`, …); `main.rs` only dispatches.
+//! its arguments beside its body (`print.rs`, `info.rs`, …); `command.rs` builds the clap
+//! command and dispatches. It lives in the library so the plumbing it shares with the readers
+//! stays `pub(crate)`; `src/main.rs` only calls [`main`].
+
+mod command;
+pub use command::main;
 
 pub(crate) mod convert;
 pub(crate) mod dataset;
@@ -15,11 +20,11 @@ pub(crate) mod snapshot;
 pub(crate) mod trace;
 pub(crate) mod viewer;
 
-pub(crate) use bvhview::io::error::Error;
-pub(crate) use bvhview::model::pose::{OffsetMode, Up};
-pub(crate) use bvhview::render::Look;
-pub(crate) use bvhview::render::draw::Style;
-pub(crate) use bvhview::take::{self, Take};
+pub(crate) use crate::io::error::Error;
+pub(crate) use crate::model::pose::{OffsetMode, Up};
+pub(crate) use crate::render::Look;
+pub(crate) use crate::render::draw::Style;
+pub(crate) use crate::take::{self, Take};
 pub(crate) use clap::{Args, ValueEnum};
 pub(crate) use std::io::{self, BufWriter, Write};
 pub(crate) use std::path::{Path, PathBuf};
@@ -197,7 +202,7 @@ impl From<UpArg> for Up {
 /// stands along z is said once on stderr, with what stands it up or draws it as written.
 pub(crate) fn resolve_up(
     arg: Option<UpArg>,
-    stance: &bvhview::model::stance::Stance,
+    stance: &crate::model::stance::Stance,
     name: &str,
     framed: bool,
 ) -> Up {
@@ -211,7 +216,7 @@ pub(crate) fn resolve_up(
                  written)"
             );
         } else {
-            eprintln!("bvhview: {name}: {}", bvhview::render::hud::LYING_HINT);
+            eprintln!("bvhview: {name}: {}", crate::render::hud::LYING_HINT);
         }
     }
     if framed { stance.up } else { Up::Y }
@@ -219,8 +224,7 @@ pub(crate) fn resolve_up(
 
 /// Says once on stderr when a file looks written for the other offset mode.
 pub(crate) fn warn_offset_mode(loaded: &Take, mode: OffsetMode, name: &str) {
-    if let Some(warning) =
-        bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode)
+    if let Some(warning) = crate::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode)
     {
         eprintln!("bvhview: {name}: warning: {warning}");
     }
@@ -232,7 +236,7 @@ pub(crate) fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;
     let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    bvhview::io::limits::picture_size(w, h).map_err(|e| e.to_string())?;
+    crate::limits::picture_size(w, h).map_err(|e| e.to_string())?;
     Ok((w, h))
 }
 
@@ -258,7 +262,7 @@ pub(crate) fn note(line: std::fmt::Arguments) {
 /// taken whatever its name: it is written to where it is.
 pub(crate) fn check_output(path: &Path, formats: &[&str]) -> Result<(), Error> {
     let extension = take::extension(path);
-    if bvhview::io::output::written_in_place(path) || formats.contains(&extension.as_str()) {
+    if crate::io::output::written_in_place(path) || formats.contains(&extension.as_str()) {
         return Ok(());
     }
     let list: Vec<String> = formats.iter().map(|f| format!(".{f}")).collect();
@@ -317,7 +321,7 @@ pub(crate) fn load(path: &Path, source: &Source) -> Result<Take, Error> {
 
 /// Loads a file (with its motion), its warnings left to the caller.
 pub(crate) fn load_quietly(path: &Path, source: &Source) -> Result<Take, Error> {
-    load_with_threads(path, source, bvhview::io::parallel::cores())
+    load_with_threads(path, source, crate::io::parallel::cores())
 }
 
 /// The takes of a list of files (the window, `snapshot`), each with its motion: an `.amc` right
@@ -393,7 +397,7 @@ pub(crate) fn load_with_threads(
     use std::io::Read as _;
     let mut bytes = Vec::new();
     let limit = source.max_size;
-    bvhview::io::read::Bounded::saying(
+    crate::io::read::Bounded::saying(
         io::stdin().lock(),
         limit,
         format!("more than --max-size {limit} bytes"),
@@ -424,12 +428,12 @@ pub(crate) fn load_or_default(
             if source.take.is_some() {
                 return Err(Error::Usage("--take needs an FBX or glTF file".into()));
             }
-            bvhview::io::limits::frame_time_option(source.frame_time)?;
+            crate::limits::frame_time_option(source.frame_time)?;
             let mut walk = take::default_motion()?;
             if let Some(time) = source.frame_time {
                 walk.motion.frame_time = time;
             }
-            Ok((bvhview::DEFAULT_MOTION_NAME.to_string(), walk))
+            Ok((crate::DEFAULT_MOTION_NAME.to_string(), walk))
         }
     }
 }
@@ -438,7 +442,7 @@ pub(crate) fn load_or_default(
 /// be written from any thread.
 pub(crate) enum Output {
     Stdout(BufWriter<io::Stdout>),
-    File(bvhview::io::output::AtomicFile),
+    File(crate::io::output::AtomicFile),
 }
 
 impl Write for Output {
@@ -459,7 +463,7 @@ impl Write for Output {
 /// Opens the output (a file, or stdout when none is named).
 pub(crate) fn open_output(path: Option<&Path>) -> Result<Output, Error> {
     Ok(match path {
-        Some(path) => Output::File(bvhview::io::output::AtomicFile::create(path)?),
+        Some(path) => Output::File(crate::io::output::AtomicFile::create(path)?),
         None => Output::Stdout(BufWriter::new(io::stdout())),
     })
 }
@@ -484,7 +488,7 @@ pub(crate) fn written(result: io::Result<()>, path: Option<&Path>) -> Result<(),
     match result {
         Ok(()) => Ok(()),
         Err(e) if path.is_none() && e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) if bvhview::positions::not_finite(&e).is_some() => Err(Error::Usage(e.to_string())),
+        Err(e) if crate::positions::not_finite(&e).is_some() => Err(Error::Usage(e.to_string())),
         Err(e) => Err(Error::output(path.unwrap_or(Path::new("<stdout>")), e)),
     }
 }
@@ -539,8 +543,8 @@ impl TakeFormat {
 /// the rotation channels and checked (it is written as it streams out). One take, one file:
 /// `convert` and `retarget` write through here, `convert DIR` too.
 pub(crate) struct Prepared {
-    skeleton: bvhview::Skeleton,
-    motion: bvhview::Motion,
+    skeleton: crate::Skeleton,
+    motion: crate::Motion,
     /// The glTF file; `None` for BVH.
     gltf: Option<Vec<u8>>,
 }
@@ -550,19 +554,19 @@ impl Prepared {
     /// generated).
     pub(crate) fn new(
         format: TakeFormat,
-        skeleton: bvhview::Skeleton,
-        motion: bvhview::Motion,
+        skeleton: crate::Skeleton,
+        motion: crate::Motion,
         mode: OffsetMode,
         skin: bool,
     ) -> Result<Prepared, Error> {
         let container = match format {
-            TakeFormat::Glb => bvhview::gltf::Container::Glb,
-            TakeFormat::Gltf => bvhview::gltf::Container::Gltf,
+            TakeFormat::Glb => crate::gltf::Container::Glb,
+            TakeFormat::Gltf => crate::gltf::Container::Gltf,
             TakeFormat::Bvh => {
                 // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
                 let (skeleton, motion) =
-                    bvhview::edit::baked_for_bvh(&skeleton, &motion)?.unwrap_or((skeleton, motion));
-                bvhview::bvh::writer::check(&skeleton, &motion)?;
+                    crate::edit::baked_for_bvh(&skeleton, &motion)?.unwrap_or((skeleton, motion));
+                crate::bvh::writer::check(&skeleton, &motion)?;
                 return Ok(Prepared {
                     skeleton,
                     motion,
@@ -570,7 +574,7 @@ impl Prepared {
                 });
             }
         };
-        let bytes = bvhview::gltf::to_gltf(&skeleton, &motion, mode, container, skin)?;
+        let bytes = crate::gltf::to_gltf(&skeleton, &motion, mode, container, skin)?;
         Ok(Prepared {
             skeleton,
             motion,
@@ -582,7 +586,7 @@ impl Prepared {
     pub(crate) fn write_to(&self, out: &mut impl Write) -> io::Result<()> {
         match &self.gltf {
             Some(bytes) => out.write_all(bytes),
-            None => bvhview::bvh::writer::write_bvh(out, &self.skeleton, &self.motion),
+            None => crate::bvh::writer::write_bvh(out, &self.skeleton, &self.motion),
         }
     }
 
@@ -590,7 +594,7 @@ impl Prepared {
     pub(crate) fn renamed(&self) -> Vec<(String, String)> {
         match self.gltf {
             Some(_) => Vec::new(),
-            None => bvhview::bvh::writer::renamed(&self.skeleton),
+            None => crate::bvh::writer::renamed(&self.skeleton),
         }
     }
 
@@ -616,8 +620,8 @@ impl Prepared {
         };
         format!(
             "{}, {}",
-            bvhview::io::error::counted(count, what),
-            bvhview::io::error::counted(self.motion.frame_count(), "frame")
+            crate::io::error::counted(count, what),
+            crate::io::error::counted(self.motion.frame_count(), "frame")
         )
     }
 }
@@ -629,8 +633,8 @@ impl Prepared {
 pub(crate) fn write_take(
     output: &Path,
     format: TakeFormat,
-    skeleton: bvhview::Skeleton,
-    motion: bvhview::Motion,
+    skeleton: crate::Skeleton,
+    motion: crate::Motion,
     mode: OffsetMode,
     skin: bool,
 ) -> Result<ExitCode, Error> {

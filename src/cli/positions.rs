@@ -1,7 +1,7 @@
 //! `bvhview positions`: the world position of every joint and End Site, per frame, as CSV or JSON.
 
 use super::*;
-use bvhview::positions::{Format, PositionsOptions};
+use crate::positions::{Format, PositionsOptions};
 
 /// `--format` of `positions`.
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]
@@ -65,7 +65,7 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
         );
     }
     let range = match &args.frames {
-        Some(text) => bvhview::positions::parse_frames(text, available)?,
+        Some(text) => crate::positions::parse_frames(text, available)?,
         None => 0..available,
     };
     let scale = args.scale;
@@ -76,7 +76,7 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
     }
     let offset_mode = args.offset_mode.into();
     if let Some(warning) =
-        bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, offset_mode)
+        crate::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, offset_mode)
     {
         eprintln!("bvhview: {}: warning: {warning}", args.file.display());
     }
@@ -94,7 +94,7 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
     };
     let output = args.output.as_deref();
     let mut out = open_output(output)?;
-    let result = bvhview::positions::write_positions(
+    let result = crate::positions::write_positions(
         &mut out,
         &loaded.skeleton,
         &loaded.motion,
@@ -105,12 +105,12 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
     finish_write(out, result, output)?;
     if let Some(path) = output {
         let frames = range.len();
-        let points = bvhview::positions::export_points(&loaded.skeleton).len();
+        let points = crate::positions::export_points(&loaded.skeleton).len();
         wrote(format_args!(
             "{}: {} × {}",
             path.display(),
-            bvhview::io::error::counted(frames, "frame"),
-            bvhview::io::error::counted(points, "point")
+            crate::io::error::counted(frames, "frame"),
+            crate::io::error::counted(points, "point")
         ));
     }
     Ok(ExitCode::SUCCESS)

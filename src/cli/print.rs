@@ -12,6 +12,6 @@ pub(crate) struct PrintArgs {
 
 pub(crate) fn run(args: PrintArgs) -> Result<ExitCode, Error> {
     let loaded = load(&args.file, &args.source)?;
-    write_text(&bvhview::bvh::print::print(&loaded.skeleton))?;
+    write_text(&crate::bvh::print::print(&loaded.skeleton))?;
     Ok(ExitCode::SUCCESS)
 }

@@ -1,7 +1,7 @@
 //! `bvhview retarget`: one take's motion on another skeleton, written as BVH or glTF.
 
 use super::*;
-use bvhview::retarget::{self, Map, Target};
+use crate::retarget::{self, Map, Target};
 
 #[derive(Args)]
 pub(crate) struct RetargetArgs {
@@ -33,9 +33,9 @@ fn map_pairs(values: &[String]) -> Result<Vec<(String, String)>, Error> {
         let path = Path::new(value);
         // A regular file only (a FIFO or a device is not a map), read up to 16 MiB.
         if path.is_file() {
-            let bytes = bvhview::io::read::read_file(path, 16 << 20)?;
+            let bytes = crate::io::read::read_file(path, 16 << 20)?;
             let text = std::str::from_utf8(&bytes).map_err(|e| {
-                let (line, column) = bvhview::io::lines::line_column(&bytes, e.valid_up_to());
+                let (line, column) = crate::io::lines::line_column(&bytes, e.valid_up_to());
                 Error::Parse {
                     path: value.clone(),
                     line,
@@ -81,7 +81,7 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
         &loaded.skeleton,
         &loaded.motion,
         &pairs,
-        bvhview::io::parallel::cores(),
+        crate::io::parallel::cores(),
     )?;
     let format = TakeFormat::of(output);
     write_take(output, format, skeleton, motion, OffsetMode::Replace, false)

@@ -32,15 +32,15 @@ pub(crate) fn run(args: SkinDemoArgs) -> Result<ExitCode, Error> {
         Some(path) => {
             check_output(path, &["png"])?;
             let (width, height) = args.size;
-            bvhview::render::skin_demo::render(args.bend, width, height)?.write_png(path)?;
+            crate::render::skin_demo::render(args.bend, width, height)?.write_png(path)?;
             wrote(format_args!("{} ({width}x{height})", path.display()));
         }
         #[cfg(feature = "window")]
-        None => bvhview::render::window::run_skin_demo(args.bend)?,
+        None => crate::render::window::run_skin_demo(args.bend)?,
         #[cfg(not(feature = "window"))]
         None => {
-            return Err(bvhview::render::without_window(
-                bvhview::render::SKIN_DEMO_OFFSCREEN,
+            return Err(crate::render::without_window(
+                crate::render::SKIN_DEMO_OFFSCREEN,
             ));
         }
     }

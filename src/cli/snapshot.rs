@@ -1,8 +1,8 @@
 //! `bvhview snapshot`: a frame drawn offscreen as PNG, or a sequence as GIF, APNG or PNGs.
 
 use super::*;
-use bvhview::render::paint::{Clock, Shown};
-use bvhview::render::{Overlay, SnapshotOptions};
+use crate::render::paint::{Clock, Shown};
+use crate::render::{Overlay, SnapshotOptions};
 
 #[derive(Args)]
 pub(crate) struct SnapshotArgs {
@@ -63,7 +63,7 @@ pub(crate) struct SnapshotArgs {
 /// an animated output asked for with one frame, and `--fps` where no animation is written.
 fn check_sequence_options(
     args: &SnapshotArgs,
-    animated: Option<bvhview::render::animation::Format>,
+    animated: Option<crate::render::animation::Format>,
 ) -> Result<(), Error> {
     let output = args.output.display();
     let format = match take::extension(&args.output).as_str() {
@@ -95,7 +95,7 @@ fn check_sequence_options(
 }
 
 pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
-    use bvhview::render::animation;
+    use crate::render::animation;
     let animated = animation::Format::of(&args.output);
     check_sequence_options(&args, animated)?;
     match &args.frames {
@@ -109,7 +109,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         Some(_) => {}
     }
     if let Some(fps) = args.fps {
-        bvhview::io::limits::fps(fps, animated == Some(animation::Format::Gif))?;
+        crate::limits::fps(fps, animated == Some(animation::Format::Gif))?;
     }
     let files = paired_takes(&args.files, &args.source)?;
     if args.overlay && files.len() < 2 {
@@ -150,7 +150,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         angle: args
             .view
             .angle
-            .unwrap_or_else(|| bvhview::render::paint::start_angle(files.len())),
+            .unwrap_or_else(|| crate::render::paint::start_angle(files.len())),
         width: args.size.0,
         height: args.size.1,
         style: style_for(args.view.style, args.look),
@@ -164,7 +164,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     };
     let output = &args.output;
     let other_mode_likely = takes.iter().any(|(_, loaded, _, _)| {
-        bvhview::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode).is_some()
+        crate::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode).is_some()
     });
     let several = takes.len() > 1;
     let lying_along_z = args.view.up.is_none()
@@ -182,10 +182,10 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         if several {
             overlay.labels = takes.iter().map(|(name, ..)| name.clone()).collect();
         }
-        overlay.lines = bvhview::render::hud::Hud {
+        overlay.lines = crate::render::hud::Hud {
             takes: takes
                 .iter()
-                .map(|(name, loaded, ..)| bvhview::render::hud::HudTake {
+                .map(|(name, loaded, ..)| crate::render::hud::HudTake {
                     name,
                     frame: clock.frame_of(&loaded.motion, tick),
                     frames: loaded.motion.frame_count(),
@@ -209,7 +209,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         overlay
     };
     let Some(frames) = &args.frames else {
-        let image = bvhview::render::Renderer::new(options.width, options.height)?.render_all(
+        let image = crate::render::Renderer::new(options.width, options.height)?.render_all(
             &shown,
             &options,
             &overlay(options.frame),
@@ -223,13 +223,13 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         ));
         return Ok(ExitCode::SUCCESS);
     };
-    let range = bvhview::positions::parse_frames(frames, clock.count)?;
+    let range = crate::positions::parse_frames(frames, clock.count)?;
     if let Some(format) = animated {
         let fps = args
             .fps
             .unwrap_or_else(|| animation::default_fps(clock.step, format));
         let ticks = animation::sampled_frames(range, clock.step, fps)?;
-        let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
+        let mut renderer = crate::render::Renderer::new(options.width, options.height)?;
         let progress = Progress::new(ticks.len());
         let size = (options.width, options.height);
         // Each picture is encoded on another core while the next one is drawn.
@@ -247,7 +247,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         wrote(format_args!(
             "{}: {} at {fps:.3} per second",
             output.display(),
-            bvhview::io::error::counted(ticks.len(), "frame")
+            crate::io::error::counted(ticks.len(), "frame")
         ));
         return Ok(ExitCode::SUCCESS);
     }
@@ -264,7 +264,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         )));
     }
     // One offscreen context for the whole sequence.
-    let mut renderer = bvhview::render::Renderer::new(options.width, options.height)?;
+    let mut renderer = crate::render::Renderer::new(options.width, options.height)?;
     let digits = (range.end.max(1) - 1).to_string().len().max(5);
     let count = range.len();
     let first = range.start;
@@ -286,7 +286,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     )?;
     wrote(format_args!(
         "{} into {}",
-        bvhview::io::error::counted(count, "picture"),
+        crate::io::error::counted(count, "picture"),
         output.display()
     ));
     Ok(ExitCode::SUCCESS)

@@ -49,8 +49,8 @@ enum NumbersArg {
 }
 
 pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
-    use bvhview::render::scene::{self, Scene};
-    use bvhview::render::trace::{Language, Numbers, Recorder};
+    use crate::render::scene::{self, Scene};
+    use crate::render::trace::{Language, Numbers, Recorder};
     let language = match args.lang {
         LanguageArg::En => Language::English,
         LanguageArg::Zh => Language::Chinese,
@@ -60,15 +60,15 @@ pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
         Err(error) => {
             // What the article's program does with a file bvhview refuses is still worth a line.
             if args.explain
-                && let Ok(article) = bvhview::bvh::article::run_file(&args.file, None)
+                && let Ok(article) = crate::bvh::article::run_file(&args.file, None)
             {
-                let line = bvhview::render::trace::verdict_line(&article.verdict, language);
+                let line = crate::render::trace::verdict_line(&article.verdict, language);
                 write_text(&format!("{line}\n"))?;
             }
             return Err(error);
         }
     };
-    let values = bvhview::render::frame_values(&loaded.motion, args.frame)?;
+    let values = crate::render::frame_values(&loaded.motion, args.frame)?;
     let View {
         angle,
         style,
@@ -84,7 +84,7 @@ pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
     let up = resolve_up(up, &stance, &args.file.display().to_string(), fit);
     let angle = angle.unwrap_or(scene::START_ANGLE);
     let style = style.map_or(Style::Points, Style::from);
-    let options = bvhview::render::SnapshotOptions {
+    let options = crate::render::SnapshotOptions {
         frame: args.frame,
         angle,
         style,
@@ -94,7 +94,7 @@ pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
         whole_take,
         ..Default::default()
     };
-    let camera = bvhview::render::camera_for(&loaded.skeleton, &loaded.motion, stance, &options)?;
+    let camera = crate::render::camera_for(&loaded.skeleton, &loaded.motion, stance, &options)?;
     let numbers = match args.numbers {
         NumbersArg::Printf => Numbers::Printf,
         NumbersArg::Apitrace => Numbers::Apitrace,
@@ -102,7 +102,7 @@ pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
     let mut recorder = if args.explain {
         // The article's program on the same bytes (an unreadable file: no verdict line).
         let article =
-            bvhview::bvh::article::run_file(&args.file, Some((&loaded.skeleton, &loaded.motion)))
+            crate::bvh::article::run_file(&args.file, Some((&loaded.skeleton, &loaded.motion)))
                 .ok();
         Recorder::explaining(
             numbers,

@@ -62,15 +62,15 @@ pub(crate) struct ViewerArgs {
 /// The window on a file (or the bundled walk): a build without the `window` feature has none.
 #[cfg(not(feature = "window"))]
 pub(crate) fn run(_: ViewerArgs) -> Result<ExitCode, Error> {
-    Err(bvhview::render::without_window(
-        bvhview::render::VIEWER_OFFSCREEN,
+    Err(crate::render::without_window(
+        crate::render::VIEWER_OFFSCREEN,
     ))
 }
 
 /// The window on a file (or the bundled walk).
 #[cfg(feature = "window")]
 pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
-    use bvhview::render::window::{TakeSource, ViewerOptions, ViewerTake};
+    use crate::render::window::{TakeSource, ViewerOptions, ViewerTake};
     let ViewerArgs {
         files,
         source,
@@ -82,7 +82,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         up,
     } = args;
     // Say there is no display before loading anything.
-    bvhview::render::window::check_environment(bvhview::render::window::VIEWER_OFFSCREEN)?;
+    crate::render::window::check_environment(crate::render::window::VIEWER_OFFSCREEN)?;
     let files = paired_takes(&files, &source)?;
     let offset_mode = offset_mode.into();
     let mut takes = Vec::with_capacity(files.len().max(1));
@@ -124,6 +124,6 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         true_scale,
         style_chosen: style.is_some(),
     };
-    bvhview::render::window::run(takes, options)?;
+    crate::render::window::run(takes, options)?;
     Ok(ExitCode::SUCCESS)
 }

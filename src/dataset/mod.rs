@@ -12,6 +12,7 @@ pub mod merge;
 pub mod quaternions;
 pub mod read;
 pub mod rebuild;
+#[doc(hidden)] // the writer behind `compile`; its manifest types, for the tests
 pub mod store;
 
 use crate::info::batch::Item;
@@ -68,7 +69,7 @@ impl Default for Options {
 impl Options {
     /// Refuses rates and thresholds no dataset can be made with.
     pub fn check(&self) -> Result<(), Error> {
-        crate::io::limits::fps(self.fps, false)?;
+        crate::limits::fps(self.fps, false)?;
         let positive = |name: &str, value: f32| {
             if value.is_finite() && value >= 0.0 {
                 Ok(())

@@ -245,7 +245,7 @@ pub fn read_manifest(dataset: &Path) -> Result<Manifest, Error> {
 /// Everything the manifest says that can be checked without its files.
 fn check_manifest(manifest: &Manifest) -> Result<(), String> {
     let options = manifest.options.options().map_err(|e| e.to_string())?;
-    crate::io::limits::fps(options.fps, false).map_err(|e| e.to_string())?;
+    crate::limits::fps(options.fps, false).map_err(|e| e.to_string())?;
     if manifest.options.up != "y" || manifest.options.units != "metres" {
         return Err("the manifest's up axis or units are not bvhview's (y, metres)".to_string());
     }

@@ -34,7 +34,7 @@ pub fn motion_of(
     fps: f64,
 ) -> Result<(Skeleton, Motion), Error> {
     let refuse = |why: String| Err(Error::Usage(why));
-    crate::io::limits::fps(fps, false)?;
+    crate::limits::fps(fps, false)?;
     let points = topology.joints.len();
     let (rotated, translated) = (topology.rotated.len(), topology.translated.len());
     let width = arrays.kind.width();
@@ -149,7 +149,7 @@ pub fn motion_of(
     let channels = skeleton.channel_count();
     let values = frames
         .checked_mul(channels)
-        .filter(|&n| n as u64 <= crate::io::limits::MAX_GENERATED_VALUES)
+        .filter(|&n| n as u64 <= crate::limits::MAX_GENERATED_VALUES)
         .ok_or_else(|| {
             Error::Usage(format!(
                 "{frames} frames of {channels} values: more than a take holds"

@@ -45,8 +45,8 @@ pub enum Picks {
 }
 
 /// The frames of a take of `frames` frames, `frame_time` seconds each, that make it at `fps`
-/// ([`resample()`] says how): the rate checked by [`crate::io::limits::fps`], the number of new
-/// frames (of `channels` values each) by [`crate::io::limits::resampled_frames`]. A take of fewer than two frames, or without
+/// ([`resample()`] says how): the rate checked by [`crate::limits::fps`], the number of new
+/// frames (of `channels` values each) by [`crate::limits::resampled_frames`]. A take of fewer than two frames, or without
 /// a usable frame time, keeps its frames.
 pub fn resample_picks(
     frames: usize,
@@ -54,7 +54,7 @@ pub fn resample_picks(
     fps: f64,
     channels: usize,
 ) -> Result<Picks, Error> {
-    crate::io::limits::fps(fps, false)?;
+    crate::limits::fps(fps, false)?;
     let timed = frame_time > 0.0 && frame_time.is_finite();
     if frames < 2 || !timed {
         return Ok(Picks::Rows((0..frames).collect()));
@@ -64,7 +64,7 @@ pub fn resample_picks(
         Resampling::EveryKth(k) => return Ok(Picks::Rows((0..frames).step_by(k).collect())),
         Resampling::Interpolated => {}
     }
-    crate::io::limits::resampled_frames(frames - 1, frame_time, fps, channels)?;
+    crate::limits::resampled_frames(frames - 1, frame_time, fps, channels)?;
     let span = (frames - 1) as f64 * frame_time;
     // A little slack: frame times are written with few digits (.0083333 for 1/120).
     let count = (span * fps + 1e-3).floor() as usize + 1;
@@ -72,7 +72,7 @@ pub fn resample_picks(
     between.try_reserve_exact(count).map_err(|_| {
         Error::Memory(format!(
             "--fps {}: {count} frames do not fit in memory",
-            crate::io::limits::show(fps)
+            crate::limits::show(fps)
         ))
     })?;
     between.extend((0..count).map(|i| {
@@ -92,8 +92,8 @@ pub fn resample_picks(
 /// interpolation (slerp) of the two frames around it and its positions their linear
 /// interpolation; joints whose rotations are not three channels on distinct axes (an ASF bone
 /// with one or two dof) have their angles interpolated linearly. The new take's frame time is
-/// 1 / fps. The rate is checked by [`crate::io::limits::fps`], the number of frames made by
-/// [`crate::io::limits::resampled_frames`]. `convert --fps`, Python's `Motion.resample` and
+/// 1 / fps. The rate is checked by [`crate::limits::fps`], the number of frames made by
+/// [`crate::limits::resampled_frames`]. `convert --fps`, Python's `Motion.resample` and
 /// `dataset` all resample here.
 pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion, Error> {
     let width = motion.channels;
@@ -112,7 +112,7 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion
     data.try_reserve_exact(count * width).map_err(|_| {
         Error::Memory(format!(
             "--fps {}: {count} frames of {width} values do not fit in memory",
-            crate::io::limits::show(fps)
+            crate::limits::show(fps)
         ))
     })?;
     for &(a, b, w) in &between {
@@ -148,7 +148,7 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion
     }
     let motion = Motion::new(1.0 / fps, width, count, data);
     finite(
-        &format!("--fps {}", crate::io::limits::show(fps)),
+        &format!("--fps {}", crate::limits::show(fps)),
         skeleton.clone(),
         motion,
     )

@@ -41,7 +41,7 @@ pub fn scale(
     }
     let frames = motion.frame_count();
     finite(
-        &format!("--scale {}", crate::io::limits::show(factor)),
+        &format!("--scale {}", crate::limits::show(factor)),
         scaled,
         Motion::new(motion.frame_time, motion.channels, frames, data),
     )

@@ -23,9 +23,9 @@
 //!
 //! Limits (decision 8, a hostile file must not take the machine): ufbx's temporary and result
 //! allocators are capped at 256 MiB + 64 bytes per byte of the file and at 16 M allocations plus
-//! 16 per byte, nodes nest at most [`crate::io::limits::MAX_DEPTH`] deep, and a take has at most
-//! [`crate::model::baked::MAX_FRAMES`] frames. The file is read whole, so it is refused by its size on
-//! disk past [`crate::io::limits::MAX_WHOLE_FILE_BYTES`] before a byte is read, and unless it is a
+//! 16 per byte, nodes nest at most [`crate::limits::MAX_DEPTH`] deep, and a take has at most
+//! `model::baked::MAX_FRAMES` frames. The file is read whole, so it is refused by its size on
+//! disk past [`crate::limits::MAX_WHOLE_FILE_BYTES`] before a byte is read, and unless it is a
 //! regular file. A take's range is its stack's (refused when it runs backwards), or its keys'
 //! extent with a warning when the stack states none (see `stack_range`).
 //!
@@ -34,7 +34,7 @@
 //! evaluated by ufbx at the scene's own frame rate — every frame, not only at keys: the joints'
 //! ancestors' local transforms multiplied down where that gives what ufbx's whole-scene
 //! evaluation gives (checked at three frames), else the whole scene — and the world matrices go
-//! through [`crate::model::baked`], which folds pre/post rotations, rest orientations
+//! through `model::baked`, which folds pre/post rotations, rest orientations
 //! and scale into BVH channels that give the same world positions.
 
 use super::records::BINARY_MAGIC;
@@ -63,7 +63,7 @@ fn load_options<'a>(bytes: usize) -> ufbx::LoadOpts<'a> {
         evaluate_skinning: false,
         evaluate_caches: false,
         file_format: ufbx::FileFormat::Fbx,
-        node_depth_limit: crate::io::limits::MAX_DEPTH as u32,
+        node_depth_limit: crate::limits::MAX_DEPTH as u32,
         space_conversion: ufbx::SpaceConversion::AdjustTransforms,
         target_axes: ufbx::CoordinateAxes {
             right: ufbx::CoordinateAxis::PositiveX,
@@ -87,10 +87,7 @@ fn ufbx_error(name: &str, error: &ufbx::Error) -> Error {
         E::MemoryLimit | E::AllocationLimit | E::OutOfMemory => {
             "the file asks for more memory than its size allows (damaged or hostile)".to_string()
         }
-        E::NodeDepthLimit => format!(
-            "nodes nest deeper than {} levels",
-            crate::io::limits::MAX_DEPTH
-        ),
+        E::NodeDepthLimit => format!("nodes nest deeper than {} levels", crate::limits::MAX_DEPTH),
         E::UnsupportedVersion => "an FBX version ufbx does not read".to_string(),
         _ => {
             let text: &str = &error.description;
@@ -169,7 +166,7 @@ fn fps(scene: &ufbx::Scene) -> f64 {
 /// is read over the extent of its keys (the first key of any of its curves to the last), and a
 /// warning says so; without keys, it is one frame at 0.
 fn stack_range(stack: &ufbx::AnimStack) -> Result<(f64, f64, Option<String>), String> {
-    let name = crate::io::limits::quoted(&stack.element.name);
+    let name = crate::limits::quoted(&stack.element.name);
     let stated = stack.element.props.props.iter().any(|p| {
         let name: &str = &p.name;
         matches!(
@@ -186,8 +183,8 @@ fn stack_range(stack: &ufbx::AnimStack) -> Result<(f64, f64, Option<String>), St
             return Err(format!(
                 "take '{name}': its time range runs backwards (LocalStart {} s is after \
                  LocalStop {} s)",
-                crate::io::limits::brief(begin),
-                crate::io::limits::brief(end)
+                crate::limits::brief(begin),
+                crate::limits::brief(end)
             ));
         }
         return Ok((begin, end, None));
@@ -222,15 +219,15 @@ fn stack_range(stack: &ufbx::AnimStack) -> Result<(f64, f64, Option<String>), St
         Some(format!(
             "take '{name}' states no time range (no LocalStart or LocalStop): read over its \
              keys, {} s to {} s",
-            crate::io::limits::brief(first),
-            crate::io::limits::brief(last)
+            crate::limits::brief(first),
+            crate::limits::brief(last)
         )),
     ))
 }
 
 /// The takes of an FBX file (its animation stacks), in file order.
 pub fn takes(path: &Path, max_size: u64) -> Result<Vec<TakeInfo>, Error> {
-    let bytes = crate::io::read::read_binary_file(path, max_size)?;
+    let bytes = crate::io::whole::read_binary_file(path, max_size)?;
     takes_of_bytes(&bytes, &path.display().to_string())
 }
 
@@ -452,7 +449,7 @@ fn quick_poses(
 
 /// Reads take `take` (a name or an index; the first when `None`) of the FBX file at `path`.
 pub fn load(path: &Path, max_size: u64, take: Option<&str>, threads: usize) -> Result<Read, Error> {
-    let bytes = crate::io::read::read_binary_file(path, max_size)?;
+    let bytes = crate::io::whole::read_binary_file(path, max_size)?;
     load_bytes(&bytes, &path.display().to_string(), take, threads)
 }
 
@@ -545,9 +542,9 @@ pub fn load_bytes(
                 "take '{}' lasts {} s at {} fps: {} of {} ({evaluated}), more than a file of {} \
                  bytes is read for (frames × (nodes evaluated + animated values) at most \
                  {budget}, {} a byte); refused as damaged or hostile",
-                crate::io::limits::quoted(&stack.element.name),
-                crate::io::limits::brief(end - begin),
-                crate::io::limits::brief(fps),
+                crate::limits::quoted(&stack.element.name),
+                crate::limits::brief(end - begin),
+                crate::limits::brief(fps),
                 crate::io::error::counted(count, "frame"),
                 crate::io::error::counted(order.len(), "joint"),
                 bytes.len(),

@@ -45,10 +45,10 @@ fn list(
 ) -> Result<usize, String> {
     let word = if wide { 8 } else { 4 };
     let header = 3 * word + 1;
-    if depth > crate::io::limits::MAX_DEPTH {
+    if depth > crate::limits::MAX_DEPTH {
         return Err(format!(
             "records nest deeper than {} levels",
-            crate::io::limits::MAX_DEPTH
+            crate::limits::MAX_DEPTH
         ));
     }
     loop {

@@ -285,9 +285,9 @@ pub fn to_gltf(
             return Err(Error::Usage(format!(
                 "cannot write glTF: with a frame time of {} s frames {i} and {} fall at the same \
                  time ({} s); give the take its rate with --frame-time SECONDS",
-                crate::io::limits::show(motion.frame_time),
+                crate::limits::show(motion.frame_time),
                 i + 1,
-                crate::io::limits::show(times[i + 1])
+                crate::limits::show(times[i + 1])
             )));
         }
         let last = *times.last().expect("frames > 0");

@@ -1,5 +1,6 @@
 //! `bvhview info`: what a file holds, in a few lines.
 
+#[doc(hidden)] // the walk and the batch, for the command line and the Python package
 pub mod batch;
 
 use crate::model::motion::Motion;

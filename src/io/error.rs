@@ -138,8 +138,6 @@ fn io_message(error: &io::Error) -> String {
 
 impl std::error::Error for Error {}
 
-pub use crate::io::lines::line_column;
-
 /// A count with its noun, singular for 1 (`1 frame`, `0 frames`, `2 frames`); every noun counted
 /// in messages takes a plain `s`.
 pub fn counted(count: impl fmt::Display, noun: &str) -> String {

@@ -1,6 +1,8 @@
 //! The plumbing every reader, writer and command stands on: errors, bounded reads, line
-//! numbers, atomic outputs, limits, and the cores. It uses nothing above it.
+//! numbers, atomic outputs and the cores, and the limits (public as `crate::limits`). It uses nothing above it.
 
+// Only a build without FBX or glTF refuses their files.
+#[cfg(not(all(feature = "fbx", feature = "gltf")))]
 pub mod absent;
 pub mod error;
 pub mod limits;
@@ -8,3 +10,5 @@ pub mod lines;
 pub mod output;
 pub mod parallel;
 pub mod read;
+#[cfg(any(feature = "fbx", feature = "gltf"))]
+pub mod whole;

@@ -1,5 +1,5 @@
 //! Reading input files within the limits: a reader that stops at a size, and whole text files
-//! (ASF, AMC) refused at their first NUL byte. The loaders use it; `input` picks the loader.
+//! (ASF, AMC) refused at their first NUL byte; whole binary files are `whole`.
 
 use crate::io::error::Error;
 use std::path::Path;
@@ -83,106 +83,6 @@ pub(crate) fn kind_of(file_type: &std::fs::FileType) -> &'static str {
     } else {
         "not a regular file"
     }
-}
-
-/// `path` opened for reading, and its length, refused (before any read) unless it is a regular
-/// file: it is opened with `O_NONBLOCK`, so that opening a FIFO does not wait for a writer, and
-/// the opened handle's type is what is checked (no race between a look and the open). The error
-/// says what the path is instead: `a FIFO, not a regular file (…)`.
-pub fn open_regular(path: &Path) -> std::io::Result<(std::fs::File, u64)> {
-    use std::os::unix::fs::OpenOptionsExt;
-    let refuse = |kind: &str| {
-        std::io::Error::new(
-            std::io::ErrorKind::InvalidData,
-            format!("{kind}, not a regular file (bvhview reads only regular files)"),
-        )
-    };
-    let file = match std::fs::OpenOptions::new()
-        .read(true)
-        .custom_flags(libc::O_NONBLOCK)
-        .open(path)
-    {
-        Ok(file) => file,
-        // A socket cannot be opened at all (ENXIO): say what it is.
-        Err(error) if error.raw_os_error() == Some(libc::ENXIO) => {
-            return Err(match std::fs::metadata(path) {
-                Ok(metadata) if !metadata.is_file() => refuse(kind_of(&metadata.file_type())),
-                _ => error,
-            });
-        }
-        Err(error) => return Err(error),
-    };
-    let metadata = file.metadata()?;
-    if !metadata.is_file() {
-        return Err(refuse(kind_of(&metadata.file_type())));
-    }
-    Ok((file, metadata.len()))
-}
-
-/// Exactly `length` bytes from the start of `file`, their room asked for first so that a
-/// refusal is an error, not an abort; fewer when the file shrinks while it is read.
-fn read_start(file: std::fs::File, length: u64) -> std::io::Result<Vec<u8>> {
-    use std::io::Read;
-    let room = usize::try_from(length).unwrap_or(usize::MAX);
-    let mut bytes = Vec::new();
-    bytes.try_reserve_exact(room).map_err(|_| {
-        std::io::Error::new(
-            std::io::ErrorKind::OutOfMemory,
-            format!("{length} bytes do not fit in memory"),
-        )
-    })?;
-    file.take(length).read_to_end(&mut bytes)?;
-    Ok(bytes)
-}
-
-/// The whole of a binary file (FBX, GLB, glTF JSON), refused before any read unless it is a
-/// regular file of at most `max_size` and [`crate::io::limits::MAX_WHOLE_FILE_BYTES`] bytes: these
-/// readers hold the whole file in memory, so its size on disk (a sparse file of 6 GB takes 4 KB)
-/// is what is checked, never what a read gets to.
-pub fn read_binary_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
-    let (file, length) = open_regular(path).map_err(|e| Error::io(path, e))?;
-    whole_file_size(length, max_size)
-        .map_err(|why| Error::Usage(format!("{}: {why}", path.display())))?;
-    read_start(file, length).map_err(|e| Error::io(path, e))
-}
-
-/// Why a file of `length` bytes is not read whole, if it is not.
-fn whole_file_size(length: u64, max_size: u64) -> Result<(), String> {
-    let budget = crate::io::limits::MAX_WHOLE_FILE_BYTES;
-    if length > max_size {
-        return Err(format!("{length} bytes, more than --max-size {max_size}"));
-    }
-    if length > budget {
-        return Err(format!(
-            "{length} bytes, more than the {} GiB bvhview reads of an FBX or glTF file (read whole \
-             into memory); not read",
-            budget >> 30
-        ));
-    }
-    Ok(())
-}
-
-/// The first `length` bytes of the regular file at `path` (a glTF buffer of `byteLength`
-/// bytes: what lies past it is never read), or why not, in words without the path: not a
-/// regular file, shorter than `length`, or `length` past `max_size` or
-/// [`crate::io::limits::MAX_WHOLE_FILE_BYTES`].
-pub fn read_file_start(path: &Path, length: u64, max_size: u64) -> Result<Vec<u8>, String> {
-    let said = |e: std::io::Error| crate::io::error::Error::io(path, e).to_string();
-    let (file, size) = open_regular(path).map_err(|e| {
-        let text = said(e);
-        // The path is the caller's to say; keep what follows it.
-        let prefix = format!("{}: ", path.display());
-        text.strip_prefix(&prefix).unwrap_or(&text).to_string()
-    })?;
-    whole_file_size(length, max_size)?;
-    if size < length {
-        return Err(format!("{size} bytes, fewer than its byteLength {length}"));
-    }
-    read_start(file, length).map_err(|e| {
-        let text = said(e);
-        let prefix = format!("{}: ", path.display());
-        text.strip_prefix(&prefix).unwrap_or(&text).to_string()
-    })
 }
 
 /// The whole of an ASF skeleton: refused past `max_size` or [`crate::io::limits::MAX_HEADER_BYTES`],

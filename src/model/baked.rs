@@ -102,11 +102,11 @@ pub fn frame_count(start: f64, end: f64, fps: f64, joints: usize) -> Result<usiz
             "the take's time range ({start} s to {end} s at {fps} fps) is not finite"
         ));
     }
-    if !(crate::io::limits::MIN_FPS..=crate::io::limits::MAX_FPS).contains(&fps) {
+    if !(crate::limits::MIN_FPS..=crate::limits::MAX_FPS).contains(&fps) {
         return Err(format!(
             "a frame rate of {fps} fps, outside {}..{}",
-            crate::io::limits::MIN_FPS,
-            crate::io::limits::MAX_FPS
+            crate::limits::MIN_FPS,
+            crate::limits::MAX_FPS
         ));
     }
     let span = (end - start).max(0.0);
@@ -141,8 +141,8 @@ pub fn unique_names(nodes: &mut [Node]) -> Vec<String> {
             .expect("some suffix is free");
         said.push(format!(
             "two joints are named '{}': the later one is read as '{}'",
-            crate::io::limits::quoted(&node.name),
-            crate::io::limits::quoted(&renamed)
+            crate::limits::quoted(&node.name),
+            crate::limits::quoted(&renamed)
         ));
         taken.insert(renamed.clone());
         seen.insert(renamed.clone());
@@ -158,11 +158,11 @@ pub fn joint_name(name: &str, index: usize) -> Result<String, String> {
         .chars()
         .map(|c| if c.is_control() { '_' } else { c })
         .collect();
-    if name.len() > crate::io::limits::MAX_NAME_BYTES {
+    if name.len() > crate::limits::MAX_NAME_BYTES {
         return Err(format!(
             "a node name of {} bytes, more than {}",
             name.len(),
-            crate::io::limits::MAX_NAME_BYTES
+            crate::limits::MAX_NAME_BYTES
         ));
     }
     Ok(if name.is_empty() {
@@ -233,7 +233,7 @@ pub fn build(
         if let Some(fault) = pose_fault(pose) {
             return Err(Error::Usage(format!(
                 "joint '{}': its rest pose has {fault}",
-                crate::io::limits::quoted(&node.name)
+                crate::limits::quoted(&node.name)
             )));
         }
     }
@@ -260,8 +260,8 @@ pub fn build(
             if let Some(fault) = pose_fault(pose) {
                 return Err(Error::Usage(format!(
                     "joint '{}', frame {f} (at {} s): {fault}",
-                    crate::io::limits::quoted(&node.name),
-                    crate::io::limits::brief(f as f64 * frame_time)
+                    crate::limits::quoted(&node.name),
+                    crate::limits::brief(f as f64 * frame_time)
                 )));
             }
             low = low.min(pose.position);
@@ -306,7 +306,7 @@ pub fn build(
         if !offset.is_finite() {
             return Err(Error::Usage(format!(
                 "joint '{}': a rest offset that is not finite (past a 32-bit float)",
-                crate::io::limits::quoted(&nodes[i].name)
+                crate::limits::quoted(&nodes[i].name)
             )));
         }
         let mut joint = Joint::new(nodes[i].name.clone(), nodes[i].parent);
@@ -358,7 +358,7 @@ pub fn build(
     let channels = column;
     let values = frames
         .checked_mul(channels)
-        .filter(|&v| v as u64 <= crate::io::limits::MAX_GENERATED_VALUES)
+        .filter(|&v| v as u64 <= crate::limits::MAX_GENERATED_VALUES)
         .ok_or_else(|| {
             Error::Usage(format!(
                 "{frames} frames of {channels} channels: more than bvhview reads"
@@ -386,7 +386,7 @@ pub fn build(
             .joints
             .iter()
             .find(|j| (j.first_channel..j.first_channel + j.channels.len()).contains(&column))
-            .map_or("?".to_string(), |j| crate::io::limits::quoted(&j.name));
+            .map_or("?".to_string(), |j| crate::limits::quoted(&j.name));
         return Err(Error::Usage(format!(
             "joint '{joint}', frame {frame}: the file's transforms give a value that is not \
              finite (a zero scale or a broken matrix)"
@@ -398,6 +398,7 @@ pub fn build(
 
 /// The world position of every joint of `skeleton` in frame `f` as BVH FK computes it, in f64
 /// (for tests of the readers against the poses they were built from).
+#[cfg(test)]
 pub fn world_positions(skeleton: &Skeleton, motion: &Motion, f: usize) -> Vec<Vec3> {
     crate::model::pose::world_positions(
         skeleton,

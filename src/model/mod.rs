@@ -3,8 +3,10 @@
 //! linear blend skinning; what a format's reader hands over, and a take built from world
 //! transforms.
 
-pub mod baked;
+#[cfg(any(feature = "fbx", feature = "gltf"))]
+pub(crate) mod baked;
 pub mod body;
+#[doc(hidden)] // the generated skin the `body` look draws, for the tests
 pub mod bone_skin;
 pub mod euler;
 pub mod motion;

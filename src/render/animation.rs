@@ -1,8 +1,8 @@
 //! A take as one animated picture: GIF (the gif crate) or APNG (the png crate), frames drawn by
-//! the same offscreen renderer as `snapshot`, written whole or not at all ([`crate::io::output`]).
+//! the same offscreen renderer as `snapshot`, written whole or not at all (`io::output`).
 
 use crate::io::error::Error;
-use crate::io::limits::GIF_MAX_FPS;
+use crate::limits::GIF_MAX_FPS;
 use crate::render::{Frame, Image};
 use std::ops::Range;
 use std::path::Path;
@@ -36,23 +36,23 @@ pub fn default_fps(frame_time: f64, format: Format) -> f64 {
     };
     // Within what `--fps` takes: an hour-long frame plays for 100 s.
     match format {
-        Format::Gif => rate.clamp(crate::io::limits::MIN_FPS, GIF_MAX_FPS),
-        Format::Apng => rate.clamp(crate::io::limits::MIN_FPS, crate::io::limits::MAX_FPS),
+        Format::Gif => rate.clamp(crate::limits::MIN_FPS, GIF_MAX_FPS),
+        Format::Apng => rate.clamp(crate::limits::MIN_FPS, crate::limits::MAX_FPS),
     }
 }
 
 /// The take's frames an animation at `fps` shows: for each of its ticks from the start of
 /// `range`, the frame at that time (so a slower rate skips frames, a faster one repeats them).
-/// Refused past [`crate::io::limits::MAX_ANIMATION_FRAMES`].
+/// Refused past [`crate::limits::MAX_ANIMATION_FRAMES`].
 pub fn sampled_frames(range: Range<usize>, frame_time: f64, fps: f64) -> Result<Vec<usize>, Error> {
     if range.is_empty() {
         return Ok(Vec::new());
     }
     if !(frame_time > 0.0 && frame_time.is_finite() && fps > 0.0) {
-        crate::io::limits::animation_frames(range.len(), 1.0, 1.0)?;
+        crate::limits::animation_frames(range.len(), 1.0, 1.0)?;
         return Ok(range.collect());
     }
-    let ticks = crate::io::limits::animation_frames(range.len(), frame_time, fps)?;
+    let ticks = crate::limits::animation_frames(range.len(), frame_time, fps)?;
     Ok((0..ticks)
         .map(|tick| {
             let offset = (tick as f64 / fps / frame_time + 1e-9).floor() as usize;

@@ -1,30 +1,27 @@
 //! Drawing: the article's fixed-function renderer, offscreen (OSMesa) and in a window.
 //!
 //! The article's picture is [`scene`] and [`draw`]; [`snapshot`] draws it offscreen. The
-//! layers drawn on top (HUD, timeline, studio look, names, the step view), the offscreen
-//! context and the window are public for the command line and the tests only, and left out
-//! of these docs.
+//! layers drawn on top (names, the step view), the offscreen context and the window are
+//! private to the crate; the HUD, timeline, studio look and paint are public for the tests
+//! only, and left out of these docs.
 
 pub mod animation;
 pub mod draw;
+#[doc(hidden)] // the GL state machine the picture is traced and checked with, for the tests
 pub mod fixed;
 pub mod framing;
 #[doc(hidden)]
 pub mod hud;
-#[doc(hidden)]
-pub mod names;
-#[doc(hidden)]
-pub mod osmesa;
+pub(crate) mod names;
+pub(crate) mod osmesa;
 #[doc(hidden)]
 pub mod paint;
-#[doc(hidden)]
-pub mod pixels;
+pub(crate) mod pixels;
 pub mod scene;
 #[doc(hidden)]
 pub mod skin_demo;
 pub mod sphere;
-#[doc(hidden)]
-pub mod step;
+pub(crate) mod step;
 #[doc(hidden)]
 pub mod studio;
 #[doc(hidden)]
@@ -33,8 +30,7 @@ pub mod text;
 pub mod timeline;
 pub mod trace;
 #[cfg(feature = "window")]
-#[doc(hidden)]
-pub mod window;
+pub(crate) mod window;
 
 /// What draws the viewer's pictures without a display, for the messages.
 pub const VIEWER_OFFSCREEN: &str = "`bvhview snapshot FILE -o out.png`";
@@ -456,10 +452,9 @@ impl Renderer {
         let (width, height) = self.context.size();
         let spare = match spare {
             Some(spare) => spare,
-            None => crate::io::limits::zeroed_bytes(
-                width as usize * height as usize * 4,
-                "the picture",
-            )?,
+            None => {
+                crate::limits::zeroed_bytes(width as usize * height as usize * 4, "the picture")?
+            }
         };
         Ok(Frame {
             width,

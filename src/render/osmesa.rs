@@ -33,7 +33,7 @@ impl OsMesa {
     /// A context with a 24-bit depth buffer and no multisampling (the article's window on
     /// llvmpipe), current on this thread, with a `width × height` buffer.
     pub fn new(width: u32, height: u32) -> Result<OsMesa, Error> {
-        crate::io::limits::picture_size(width, height)?;
+        crate::limits::picture_size(width, height)?;
         // SAFETY: loading Mesa's OSMesa runs its initialisers, which have no preconditions.
         let library = unsafe { Library::new(LIBRARY) }.map_err(|e| {
             Error::Environment(format!(
@@ -66,7 +66,7 @@ impl OsMesa {
             ));
         }
         let buffer =
-            crate::io::limits::zeroed_bytes(width as usize * height as usize * 4, "the picture");
+            crate::limits::zeroed_bytes(width as usize * height as usize * 4, "the picture");
         let mut buffer = match buffer {
             Ok(buffer) => buffer,
             Err(e) => {

@@ -84,7 +84,7 @@ impl Bar {
 }
 
 /// Draws the bar for frame `frame` of `frames` on a picture `width × height`, unlit and over
-/// everything (see [`pixels::fill`]).
+/// everything (see `pixels::fill`).
 pub fn draw<G: FixedFunction>(gl: &mut G, width: u32, height: u32, frame: usize, frames: usize) {
     let bar = Bar::for_picture(width, height);
     let mark = bar.x_of(frame, frames);

@@ -6,7 +6,7 @@
 use super::text::{Word, error_at, expected, expected_after, expected_at_start, lines, number};
 use super::{axis_rotation, bone_joint};
 use crate::io::error::Error;
-use crate::io::limits::MAX_DEPTH;
+use crate::limits::MAX_DEPTH;
 use crate::model::skeleton::{Channel, Joint, RotationOrder, Skeleton, Source};
 use glam::Vec3;
 use std::path::Path;
@@ -521,7 +521,7 @@ fn bonedata_line(
         if word.is("root") {
             return Err(expected(source, word, "a bone name other than 'root'"));
         }
-        crate::io::limits::name(word.text.len())
+        crate::limits::name(word.text.len())
             .map_err(|why| error_at(source, word.line, word.column, why))?;
         bone.name = word.text.to_string();
     } else if first.is("direction") {

@@ -177,7 +177,7 @@ pub(super) fn unchecked_values(json: &gltf::json::Root) -> Result<(), String> {
 
 /// The file at `path` and the folder its buffers may come from.
 pub(super) fn read(path: &Path, max_size: u64) -> Result<File, Error> {
-    let bytes = crate::io::read::read_binary_file(path, max_size)?;
+    let bytes = crate::io::whole::read_binary_file(path, max_size)?;
     let folder = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -270,7 +270,7 @@ pub(super) fn parse(
                 let file = buffer_path(folder, uri).map_err(|why| bad(path, why))?;
                 // Only the buffer's byteLength is read (what lies past it is never used), from a
                 // regular file only: a FIFO, a device or a socket is refused before a read.
-                crate::io::read::read_file_start(&file, buffer.length() as u64, max_size)
+                crate::io::whole::read_file_start(&file, buffer.length() as u64, max_size)
                     .map_err(|why| bad(path, format!("buffer '{uri}': {why}")))?
             }
         };

@@ -6,17 +6,17 @@
 //! its frames are sampled at the rate of its keys (the key step that puts the most keys on a
 //! frame, see `timing`; a warning when some keys fall between frames), every frame interpolated
 //! as the file says (`STEP`, `LINEAR` with slerp for rotations, `CUBICSPLINE`), and the world
-//! matrices go through [`crate::model::baked`]. glTF is Y up and in metres, bvhview's own convention:
+//! matrices go through `model::baked`. glTF is Y up and in metres, bvhview's own convention:
 //! nothing is converted.
 //!
 //! A file is hostile until read: buffers are taken only from the GLB's own chunk, from `data:`
 //! URIs, or from files inside the `.gltf`'s own folder (no absolute path, no `..`, no scheme, no
 //! symbolic link out), each a regular file (a FIFO, device or socket is refused before a read),
 //! at least as long as its `byteLength` and read only that far, no longer than `--max-size` and
-//! [`crate::io::limits::MAX_WHOLE_FILE_BYTES`]; every accessor's bytes are checked to lie inside its
+//! [`crate::limits::MAX_WHOLE_FILE_BYTES`]; every accessor's bytes are checked to lie inside its
 //! buffer before they are read, and each is decoded once however many channels share it; an
 //! animation's channels may ask for [`KEY_VALUES_PER_BYTE`] key values per byte of input, and
-//! its frames × (joints + tracks) at most [`baked::FRAME_WORK_PER_BYTE`] per byte (each above
+//! its frames × (joints + tracks) at most `baked::FRAME_WORK_PER_BYTE` per byte (each above
 //! a floor), refused past them before the work; a key that is not a finite number is refused
 //! by node, key and time; the node tree is checked for cycles and shared children.
 
@@ -122,7 +122,7 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
         let mut up = parent[i];
         while let Some(p) = up {
             *d += 1;
-            if *d > count || *d > crate::io::limits::MAX_DEPTH {
+            if *d > count || *d > crate::limits::MAX_DEPTH {
                 return Err(bad(path, "the node tree has a cycle or nests too deep"));
             }
             up = parent[p];

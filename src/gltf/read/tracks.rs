@@ -122,7 +122,7 @@ pub(super) fn decoded(
 /// The name a message gives node `index`: `node 3 'Hips'`.
 pub(super) fn node_label(document: &gltf::Document, index: usize) -> String {
     match document.nodes().nth(index).and_then(|n| n.name()) {
-        Some(name) => format!("node {index} '{}'", crate::io::limits::quoted(name)),
+        Some(name) => format!("node {index} '{}'", crate::limits::quoted(name)),
         None => format!("node {index}"),
     }
 }
@@ -150,7 +150,7 @@ pub(super) fn tracks(file: &File, animation: &gltf::Animation) -> Result<Vec<Tra
              a file of {} bytes is read for ({budget}: {KEY_VALUES_PER_BYTE} a byte); refused as \
              damaged or hostile",
             animation.channels().count(),
-            crate::io::limits::show(asked as f64),
+            crate::limits::show(asked as f64),
             file.bytes
         ));
     }
@@ -215,7 +215,7 @@ pub(super) fn tracks(file: &File, animation: &gltf::Animation) -> Result<Vec<Tra
             return Err(format!(
                 "animation {a}: {}: {what} key {key} (at {} s) is not a finite number",
                 node_label(document, node),
-                crate::io::limits::brief(times[key.min(times.len() - 1)] as f64)
+                crate::limits::brief(times[key.min(times.len() - 1)] as f64)
             ));
         }
         tracks.push(Track {
@@ -303,8 +303,8 @@ pub(super) fn on_frames(times: &[&[f32]], start: f64, step: f64, slack: f64) -> 
 /// tie. So one odd key (a key 1.5 ms after a take at 30 fps) does not set the rate, nor do the
 /// long gaps of tracks with a key at each end only. When keys fall between the frames of the
 /// chosen rate, the take is still sampled at it (between keys as the file interpolates) and a
-/// warning says how many do not fit. A rate past [`crate::io::limits::MAX_FPS`] (keys 0.5 ms apart)
-/// is sampled at 1000 fps with a warning, and one below [`crate::io::limits::MIN_FPS`] at that: a
+/// warning says how many do not fit. A rate past [`crate::limits::MAX_FPS`] (keys 0.5 ms apart)
+/// is sampled at 1000 fps with a warning, and one below [`crate::limits::MIN_FPS`] at that: a
 /// file is never refused for a rate it does not state.
 pub(super) fn timing(tracks: &[Track]) -> Timing {
     let mut start = f64::MAX;
@@ -375,22 +375,22 @@ pub(super) fn timing(tracks: &[Track]) -> Timing {
         .find(|&rate| (rate * step - 1.0).abs() <= SNAP)
         .unwrap_or(1.0 / step);
     let mut notes = Vec::new();
-    if fps > crate::io::limits::MAX_FPS {
+    if fps > crate::limits::MAX_FPS {
         notes.push(format!(
             "its keys are {} ms apart ({} fps); sampled at {} fps, the fastest bvhview reads",
-            crate::io::limits::brief(1e3 * step),
-            crate::io::limits::brief((fps * 10.0).round() / 10.0),
-            crate::io::limits::MAX_FPS
+            crate::limits::brief(1e3 * step),
+            crate::limits::brief((fps * 10.0).round() / 10.0),
+            crate::limits::MAX_FPS
         ));
-        fps = crate::io::limits::MAX_FPS;
+        fps = crate::limits::MAX_FPS;
         fitting = keys;
-    } else if fps < crate::io::limits::MIN_FPS {
+    } else if fps < crate::limits::MIN_FPS {
         notes.push(format!(
             "its keys are {} s apart; sampled at {} fps, the slowest bvhview reads",
-            crate::io::limits::brief(step),
-            crate::io::limits::MIN_FPS
+            crate::limits::brief(step),
+            crate::limits::MIN_FPS
         ));
-        fps = crate::io::limits::MIN_FPS;
+        fps = crate::limits::MIN_FPS;
         fitting = keys;
     }
     if fitting < keys {
@@ -399,7 +399,7 @@ pub(super) fn timing(tracks: &[Track]) -> Timing {
              the most keys); frames are sampled at that rate, between keys as the file \
              interpolates",
             keys - fitting,
-            crate::io::limits::brief(fps)
+            crate::limits::brief(fps)
         ));
     }
     Timing {
@@ -431,8 +431,8 @@ pub(super) fn frames_within(
             "the take lasts {} s at {} fps: {} of {}{} and {}, more than a file of {bytes} \
              bytes is read for (frames × (nodes + tracks) at most {}, {} a byte); refused as \
              damaged or hostile",
-            crate::io::limits::brief(timing.end - timing.start),
-            crate::io::limits::brief(timing.fps),
+            crate::limits::brief(timing.end - timing.start),
+            crate::limits::brief(timing.fps),
             crate::io::error::counted(frames, "frame"),
             crate::io::error::counted(joints, "joint"),
             if nodes > joints {

@@ -6,6 +6,6 @@ mod gl;
 mod skin_demo;
 mod viewer;
 
-pub use gl::{SKIN_DEMO_OFFSCREEN, VIEWER_OFFSCREEN, WINDOW_SIZE, check_environment};
+pub use gl::{VIEWER_OFFSCREEN, check_environment};
 pub use skin_demo::run_skin_demo;
 pub use viewer::{TakeSource, ViewerOptions, ViewerTake, run};
