@@ -26,9 +26,25 @@ use std::path::Path;
 /// state lives in a private `Loader` for the length of one load, and the current frame belongs to
 /// whoever shows the file. `clear` and `deleteRecursive` have no counterpart: loading returns a
 /// new value, and dropping it frees every joint.
+///
+/// ```
+/// use bvhview::bvh::load_bytes;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let text = b"HIERARCHY\nROOT Hips\n{\n OFFSET 0 0 0\n CHANNELS 3 Xposition Yposition Zposition\n \
+///     End Site\n {\n  OFFSET 0 10 0\n }\n}\nMOTION\nFrames: 2\nFrame Time: 0.5\n0 1 2\n3 4 5\n";
+/// let bvh = load_bytes(text, "inline")?;
+/// assert_eq!(bvh.skeleton.joints.len(), 2); // Hips and its End Site
+/// assert_eq!(bvh.motion.frame(1), [3.0, 4.0, 5.0]);
+/// assert!(bvh.warnings.is_empty());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug)]
 pub struct Bvh {
+    /// The HIERARCHY section: every joint and End Site in file order.
     pub skeleton: Skeleton,
+    /// The MOTION section: the frame time and the rows.
     pub motion: Motion,
     /// Things that were accepted but deserve a word (e.g. rows beyond the Frames count).
     pub warnings: Vec<String>,
@@ -48,6 +64,21 @@ impl Default for Bvh {
 
 /// What the article's `loadFile` has no say in: how many threads read the rows, how large a
 /// file may be, how much the first read takes, and which row reader runs.
+///
+/// ```
+/// use bvhview::bvh::{load_file, loader::Settings};
+/// use std::path::Path;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let settings = Settings { threads: 1, max_size: 1 << 20, ..Settings::default() };
+/// let bvh = load_file(Path::new("tests/oracle/inputs/tiny_crlf.bvh"), settings)?;
+/// assert_eq!(bvh.motion.frame_count(), 3);
+/// // Past `max_size`, reading stops with an error.
+/// let small = Settings { max_size: 100, ..settings };
+/// assert!(load_file(Path::new("tests/oracle/inputs/tiny_crlf.bvh"), small).is_err());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct Settings {
     /// Threads the row engine may use (1 when many files load at once).
@@ -75,6 +106,19 @@ impl Default for Settings {
 }
 
 /// Which reader the row loop runs; both give the same values and errors.
+///
+/// ```
+/// use bvhview::bvh::{load_file, loader::{RowReader, Settings}};
+/// use std::path::Path;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let path = Path::new("tests/data/bvh/bvhparser_walk_01.bvh");
+/// let engine = load_file(path, Settings::default())?;
+/// let simple = load_file(path, Settings { rows: RowReader::Simple, ..Settings::default() })?;
+/// assert_eq!(engine.motion, simple.motion);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum RowReader {
     /// [`RowParser`]: on every core, as the file streams in.
@@ -86,9 +130,28 @@ pub enum RowReader {
 
 /// What [`load_file`] reads: a file by its path, or bytes already in memory with a name for the
 /// error messages.
+///
+/// ```
+/// use bvhview::bvh::{load_file, loader::{Input, Settings}};
+/// use std::path::Path;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let path = Path::new("tests/oracle/inputs/tiny_crlf.bvh");
+/// let bytes = std::fs::read(path).unwrap();
+/// let from_file = load_file(Input::Path(path), Settings::default())?;
+/// let from_memory = load_file(Input::Bytes(&bytes, "tiny"), Settings::default())?;
+/// assert_eq!(from_file.skeleton, from_memory.skeleton);
+/// // Errors name the input as given.
+/// let error = load_file(Input::Bytes(b"HIERARCHY\nROOT", "tiny"), Settings::default());
+/// assert!(error.unwrap_err().to_string().starts_with("tiny:"));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub enum Input<'a> {
+    /// A file (or a pipe, or a device) read from its path.
     Path(&'a Path),
+    /// Bytes in memory, and the name errors give them.
     Bytes(&'a [u8], &'a str),
 }
 

@@ -29,28 +29,96 @@ pub const MAX_MANIFEST: u64 = 1 << 30;
 pub const MAX_SKELETON: u64 = 64 << 20;
 
 /// A dataset whose every file has been checked, with its files open.
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// use bvhview::dataset::{self, Options};
+///
+/// // A dataset of one take.
+/// let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// let (takes, out) = (dataset::takes(folder.path())?, folder.path().join("dataset"));
+/// let list = dataset::whole_list(folder.path(), &takes);
+/// dataset::compile(folder.path(), takes, &Options::default(), 1, &out, list, |_, _, _, _| true)?;
+///
+/// let dataset = dataset::read::open(&out)?;
+/// assert_eq!(dataset.manifest.clips.len(), 1);
+/// assert_eq!(dataset.groups.len(), dataset.manifest.groups.len());
+/// assert_eq!(dataset.skeleton(0)?.joints.len(), 38); // the walk's joints and End Sites
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug)]
 pub struct Dataset {
+    /// The folder, as given to [`open`].
     pub path: PathBuf,
+    /// `manifest.json`, checked against the files.
     pub manifest: Manifest,
+    /// Each group's files, in the manifest's order of groups.
     pub groups: Vec<GroupFiles>,
 }
 
 /// One group's open files, in the manifest's order of arrays.
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # use bvhview::dataset::{self, Options};
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// # let (takes, out) = (dataset::takes(folder.path())?, folder.path().join("dataset"));
+/// # let list = dataset::whole_list(folder.path(), &takes);
+/// # dataset::compile(folder.path(), takes, &Options::default(), 1, &out, list, |_, _, _, _| true)?;
+/// // `out` is the dataset of one take: the walk, resampled to 86 frames at 30 fps.
+/// let dataset = bvhview::dataset::read::open(&out)?;
+/// let group = &dataset.groups[0];
+/// assert_eq!(group.offsets, [0, 86]); // where the one clip starts, and the end
+/// assert_eq!(group.arrays.len(), dataset.manifest.groups[0].arrays.len());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug)]
 pub struct GroupFiles {
+    /// The group's `.npy` files, opened and checked.
     pub arrays: Vec<ArrayFile>,
     /// Where each clip starts, and the end (`offsets.npy`, checked).
     pub offsets: Vec<usize>,
+    /// `skeleton.bvh`: the group's skeleton, in its rest pose.
     pub skeleton: File,
 }
 
 /// An open `.npy` file: its data starts at [`HEADER`].
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # use bvhview::dataset::{self, Options};
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// # let (takes, out) = (dataset::takes(folder.path())?, folder.path().join("dataset"));
+/// # let list = dataset::whole_list(folder.path(), &takes);
+/// # dataset::compile(folder.path(), takes, &Options::default(), 1, &out, list, |_, _, _, _| true)?;
+/// let dataset = bvhview::dataset::read::open(&out)?;
+/// let arrays = &dataset.groups[0].arrays;
+/// let positions = arrays.iter().find(|a| a.name == "group_0/positions.npy").unwrap();
+/// // 86 frames of 38 points (joints and End Sites), x y z each.
+/// assert_eq!(positions.dtype, "<f4");
+/// assert_eq!(positions.shape, [86, 38, 3]);
+/// let first = positions.read_rows(0..1)?;
+/// assert_eq!(first.len(), positions.row_bytes());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug)]
 pub struct ArrayFile {
+    /// The file's path inside the dataset (`group_0/positions.npy`), as errors name it.
     pub name: String,
+    /// numpy's type string: `<f4` (32-bit floats), `<i8` (64-bit integers) or `|u1` (bytes).
     pub dtype: String,
+    /// The array's shape; the first number counts rows.
     pub shape: Vec<usize>,
+    /// The open file, checked against `dtype` and `shape`.
     pub file: File,
 }
 

@@ -7,11 +7,42 @@ use crate::model::pose::RotationKind;
 use crate::{Motion, Skeleton};
 
 /// Arrays in the dataset's layout, frame after frame (row-major).
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # use bvhview::dataset::{self, Options};
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// # let (takes, out) = (dataset::takes(folder.path())?, folder.path().join("dataset"));
+/// # let list = dataset::whole_list(folder.path(), &takes);
+/// # dataset::compile(folder.path(), takes, &Options::default(), 1, &out, list, |_, _, _, _| true)?;
+/// use bvhview::dataset::rebuild::{Arrays, motion_of};
+/// use bvhview::model::pose::RotationKind;
+///
+/// // `out` is a dataset of one clip (the walk, 86 frames at 30 fps, 6D rotations).
+/// let dataset = dataset::read::open(&out)?;
+/// let file = &dataset.groups[0].arrays[1];
+/// assert_eq!(file.name, "group_0/rotations.npy");
+/// let bytes = file.read_rows(0..86)?;
+/// let rotations: Vec<f32> =
+///     bytes.chunks_exact(4).map(|b| f32::from_le_bytes(b.try_into().unwrap())).collect();
+/// let kind = RotationKind::SixD;
+/// let (translations, root_translations) = (None, None); // the rest offsets, and the root's
+/// let arrays = Arrays { frames: 86, rotations: &rotations, kind, translations, root_translations };
+/// let topology = &dataset.manifest.groups[0].topology;
+/// let (skeleton, motion) = motion_of(&dataset.skeleton(0)?, topology, 0, None, &arrays, 30.0)?;
+/// assert_eq!((motion.frame_count(), skeleton.joints.len()), (86, 38));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct Arrays<'a> {
+    /// How many frames the arrays hold.
     pub frames: usize,
     /// frames × rotated × `kind.width()`: each rotated point's local rotation.
     pub rotations: &'a [f32],
+    /// How `rotations` writes each rotation as numbers.
     pub kind: RotationKind,
     /// frames × translated × 3: each translated point's local translation. Without them the
     /// translated points stand at their rest offsets, but for `root_translations`.

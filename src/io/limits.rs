@@ -28,6 +28,7 @@ pub const MIN_FRAME_TIME: f64 = 1e-6;
 /// Slowest and fastest rates, in frames per second, for `--fps` (animations and resampling).
 /// An APNG delay counts thousandths of a second.
 pub const MIN_FPS: f64 = 0.01;
+/// Fastest rate, in frames per second, for `--fps`: a thousandth of a second per frame.
 pub const MAX_FPS: f64 = 1000.0;
 
 /// Browsers show GIF frames shorter than 20 ms slower than asked, so a GIF plays at most this

@@ -6,18 +6,50 @@ use crate::model::motion::Motion;
 use crate::model::skeleton::Skeleton;
 
 /// One take of a file: its name, frames and seconds per frame.
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # #[cfg(feature = "gltf")]
+/// # {
+/// let path = std::path::Path::new("tests/data/gltf/bvh11_131_01.glb");
+/// let takes = bvhview::gltf::takes(path, 1 << 30)?;
+/// assert_eq!(takes.len(), 1);
+/// assert_eq!((takes[0].name.as_str(), takes[0].frames), ("bvh11_131_01", 60));
+/// # }
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct TakeInfo {
+    /// The take's name in the file (an FBX animation stack, a glTF animation).
     pub name: String,
+    /// How many frames it holds.
     pub frames: usize,
+    /// Seconds per frame.
     pub frame_time: f64,
 }
 
 /// What a reader gives [`crate::take`]: the take and what it says once.
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # #[cfg(feature = "gltf")]
+/// # {
+/// let path = std::path::Path::new("tests/data/gltf/bvh11_131_01.glb");
+/// let read = bvhview::gltf::load(path, 1 << 30, None)?;
+/// assert_eq!(read.motion.frame_count(), 60);
+/// assert_eq!(read.take.as_deref(), Some("bvh11_131_01"));
+/// # }
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug)]
 pub struct Read {
+    /// The skeleton, joints in pre-order.
     pub skeleton: Skeleton,
+    /// The take's frames, one column per channel of `skeleton`.
     pub motion: Motion,
+    /// Things that were accepted but deserve a word, each said once.
     pub warnings: Vec<String>,
     /// The take read, by name, when the file holds takes (none: its rest pose).
     pub take: Option<String>,

@@ -5,10 +5,28 @@ use super::*;
 
 /// Where one AMC line's values go: the joint's first MOTION column, and per value the channel
 /// slot (relative to it) it fills.
+///
+/// ```
+/// use bvhview::acclaim::load_asf;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let asf = load_asf("tests/data/asf_amc/heiden_12.asf".as_ref(), 1 << 20)?;
+/// let (skeleton, maps) = asf.to_skeleton();
+/// assert_eq!((maps[0].name.as_str(), maps[0].first_channel), ("root", 0));
+/// // `order TX TY TZ RX RY RZ`: translations in order, then rotations reversed.
+/// assert_eq!(maps[0].slots, [0, 1, 2, 5, 4, 3]);
+/// assert_eq!(maps[0].rotations, [false, false, false, true, true, true]);
+/// assert_eq!(skeleton.joints[0].name, "root");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct ValueMap {
+    /// The AMC line's name: `root` or a bone's.
     pub name: String,
+    /// The joint's first column in a MOTION row.
     pub first_channel: usize,
+    /// Per value, the channel slot it fills, counted from `first_channel`.
     pub slots: Vec<usize>,
     /// Per value: a rotation (converted from radians when the file uses them) or a translation.
     pub rotations: Vec<bool>,

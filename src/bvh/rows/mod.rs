@@ -192,6 +192,21 @@ impl Located {
 }
 
 /// Collects `frames` rows of `width` values from text fed in line-aligned chunks.
+///
+/// ```
+/// use bvhview::bvh::rows::RowParser;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// // Two rows of three values, starting at line 4 column 1 (`Frames:` is on line 2).
+/// let text = b"1 2 3\n4 5 6\n";
+/// let mut parser = RowParser::new("inline", 2, 3, 2, (4, 1), text.len() as u64);
+/// parser.feed(text)?;
+/// let (values, warnings) = parser.finish()?;
+/// assert_eq!(values, [1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+/// assert!(warnings.is_empty());
+/// # Ok(())
+/// # }
+/// ```
 pub struct RowParser {
     source: String,
     frames: u64,
