@@ -136,11 +136,16 @@ class Motion:
         to counterpart) over the guess. rename=True (`--mirror-rename`): each joint reflected
         where it is and the names exchanged instead (`names` gives the new names)."""
     def retarget(
-        self, target: Motion | str | os.PathLike[str], names: dict[str, str] | None = None
+        self,
+        target: Motion | str | os.PathLike[str],
+        names: dict[str, str] | None = None,
+        *,
+        any_body: bool = False,
     ) -> Motion:
         """This take's motion on another skeleton: `bvhview retarget --onto`. `target`: a Motion,
         a built-in skeleton's name ("smpl22") or a file; `names` overrides the guessed map
-        ({source joint: target joint}; "" leaves a source joint out)."""
+        ({source joint: target joint}; "" leaves a source joint out). A body that does not
+        stand on two legs is refused onto one that does unless `any_body`."""
     def retarget_map(self, target: Motion | str | os.PathLike[str]) -> dict[str, str]:
         """The map retarget(target) guesses: {source joint: target joint}."""
     @property
@@ -212,6 +217,8 @@ def _compile_dataset(
     piece: tuple[int, int] | None = None,
     threads: int | None = None,
     onto: str | None = None,
+    ground: bool = False,
+    quat_continuous: bool = False,
 ) -> tuple[int, int, int, list[tuple[str, str | None, str]]]:
     """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped takes as
     (path, motion, reason))."""

@@ -131,6 +131,8 @@ def compile_dataset(
     threads: int | None = None,
     parquet: bool = False,
     onto: StrPath | None = None,
+    ground: bool = False,
+    quat_continuous: bool = False,
 ) -> dict[str, Any]:
     """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
     them) into the new dataset folder ``out``; returns its manifest, whose ``"skipped"`` lists
@@ -143,7 +145,12 @@ def compile_dataset(
     carries the travel), ``velocities`` (m/s) and ``foot_contacts`` (a foot point within
     ``contact_height`` metres of the floor, the lowest foot point within a second, and slower
     than ``contact_speed`` m/s). ``feet`` names the foot points (default: each leg's ankle and
-    toe, from the rest pose). A take that fails is skipped with its ``path:line:column``; a
+    toe as the reading of the body finds them, ``info``'s ``body:`` line; a body without two
+    feet gets the rest pose's lowest points, with a warning in the manifest). ``ground``: each
+    clip's lowest foot point over the clip on y = 0. ``quat_continuous`` (with ``rotations=
+    "quat"``): each frame's quaternion sign chosen against the previous frame's, so that they
+    run continuously along time; by default every quaternion has w ≥ 0 and may flip sign between
+    neighbouring frames. A take that fails is skipped with its ``path:line:column``; a
     folder of which no take compiles raises ValueError naming every reason, and writes nothing.
     ``parquet``: also write ``group_K/frames.parquet`` (needs pyarrow). Ctrl-C and SIGTERM stop
     the compile between takes, leaving nothing behind (SIGTERM and SIGHUP when Python has them
@@ -168,6 +175,8 @@ def compile_dataset(
             takes=None if takes is None else [(p, m) for p, m in takes],
             threads=threads,
             onto=None if onto is None else os.fspath(onto),
+            ground=ground,
+            quat_continuous=quat_continuous,
         )
         for _, _, reason in skipped:
             warnings.warn(f"skipped {reason}", SkippedTake, stacklevel=2)

@@ -198,7 +198,8 @@ pub(crate) fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePa
 /// paths); `piece`: (index, pieces), the run of the folder's list a Dask worker compiles.
 #[pyfunction]
 #[pyo3(signature = (folder, out, fps=30.0, rotations="6d", root_relative=false, feet=None,
-    contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None, onto=None))]
+    contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None, onto=None,
+    ground=false, quat_continuous=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn _compile_dataset(
     py: Python<'_>,
@@ -214,6 +215,8 @@ pub(crate) fn _compile_dataset(
     piece: Option<(usize, usize)>,
     threads: Option<usize>,
     onto: Option<String>,
+    ground: bool,
+    quat_continuous: bool,
 ) -> PyResult<(usize, usize, usize, Vec<SkippedTake>)> {
     guard("_compile_dataset", || {
         let rotations = pose::RotationKind::parse(rotations).ok_or_else(|| {
@@ -229,6 +232,8 @@ pub(crate) fn _compile_dataset(
             feet,
             contact_height,
             contact_speed,
+            ground,
+            quat_continuous,
             onto: onto
                 .map(|onto| {
                     bvhview::retarget::Target::load(&onto, bvhview::take::DEFAULT_MAX_SIZE)

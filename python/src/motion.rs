@@ -551,16 +551,18 @@ impl Motion {
     /// The take's motion on another skeleton, as `bvhview retarget` puts it: `target` a Motion,
     /// a built-in skeleton's name ("smpl22") or a file's path; `names` overrides the guessed
     /// map ({source joint: target joint}; "" leaves a source joint out). Raises ValueError
-    /// naming the joint when the map cannot stand.
-    #[pyo3(signature = (target, names=None))]
+    /// naming the joint when the map cannot stand, and for a body that does not stand on two
+    /// legs onto one that does unless `any_body`.
+    #[pyo3(signature = (target, names=None, *, any_body=false))]
     fn retarget(
         &self,
         py: Python<'_>,
         target: &Bound<'_, PyAny>,
         names: Option<std::collections::HashMap<String, String>>,
+        any_body: bool,
     ) -> PyResult<Motion> {
         guard("retarget", || {
-            crate::retarget::retarget(py, self, target, names)
+            crate::retarget::retarget(py, self, target, names, any_body)
         })
     }
 

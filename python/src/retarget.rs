@@ -25,13 +25,15 @@ fn target_of(py: Python<'_>, target: &Bound<'_, PyAny>) -> PyResult<Target> {
         .map_err(|e| to_python(py, e))
 }
 
-/// `source.retarget(target, names)`: the guessed map overridden by `names` (source joint →
-/// target joint; "" leaves a source joint out), checked, then the motion carried over.
+/// `source.retarget(target, names, any_body)`: the guessed map overridden by `names` (source
+/// joint → target joint; "" leaves a source joint out), checked (a body that does not stand on
+/// two legs is refused onto one that does unless `any_body`), then the motion carried over.
 pub(crate) fn retarget(
     py: Python<'_>,
     source: &Motion,
     target: &Bound<'_, PyAny>,
     names: Option<HashMap<String, String>>,
+    any_body: bool,
 ) -> PyResult<Motion> {
     let target = target_of(py, target)?;
     let loaded = &source.loaded;
@@ -40,7 +42,10 @@ pub(crate) fn retarget(
     let name = source.item.path.display().to_string();
     let (skeleton, motion) = py
         .detach(|| {
-            target.apply(
+            if !any_body {
+                target.check_body(&name, &loaded.skeleton, &loaded.motion)?;
+            }
+            target.apply_any_body(
                 &name,
                 &loaded.skeleton,
                 &loaded.motion,

@@ -21,8 +21,9 @@ pub(crate) struct DatasetArgs {
     #[arg(long)]
     root_relative: bool,
     /// The points foot contacts are given for, by name as the dataset names them (End Sites
-    /// are `<parent>_End`), separated by commas. Default: guessed from the rest pose, the ankle
-    /// and the toe of each leg.
+    /// are `<parent>_End`), separated by commas. Default: the ankle and the toe of each leg, as
+    /// `info`'s `body:` line reads them (a body without two feet: guessed from the rest pose,
+    /// with a warning).
     #[arg(long, value_delimiter = ',')]
     feet: Option<Vec<String>>,
     /// A foot point is in contact when it is at most this many metres above the floor (the
@@ -32,6 +33,13 @@ pub(crate) struct DatasetArgs {
     /// ...and moves slower than this many metres per second.
     #[arg(long, default_value_t = 0.5)]
     contact_speed: f32,
+    /// Put each clip's lowest foot point (over the whole clip) on y = 0.
+    #[arg(long)]
+    ground: bool,
+    /// With --rotations quat: choose each frame's quaternion sign against the previous frame's,
+    /// so that they run continuously along time (default: w ≥ 0 in every frame).
+    #[arg(long)]
+    quat_continuous: bool,
     /// Threads (default: every core).
     #[arg(long)]
     threads: Option<usize>,
@@ -84,6 +92,8 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         feet: args.feet,
         contact_height: args.contact_height,
         contact_speed: args.contact_speed,
+        ground: args.ground,
+        quat_continuous: args.quat_continuous,
         max_size: args.max_size,
         onto: args
             .onto

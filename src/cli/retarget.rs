@@ -18,6 +18,10 @@ pub(crate) struct RetargetArgs {
     /// it out), or a TOML or JSON file of such pairs (what --show-map prints). Repeatable.
     #[arg(long, value_name = "FILE|SRC=DST")]
     map: Vec<String>,
+    /// Retarget a body that does not stand on two legs (a quadruped with human joint names)
+    /// onto one that does, which is refused otherwise.
+    #[arg(long)]
+    any_body: bool,
     /// Print the map (as TOML --map reads) and the joints left unmapped, on stdout.
     #[arg(long)]
     show_map: bool,
@@ -76,7 +80,10 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
     let Some(output) = &args.output else {
         return Ok(ExitCode::SUCCESS);
     };
-    let (skeleton, motion) = target.apply(
+    if !args.any_body {
+        target.check_body(&source_name, &loaded.skeleton, &loaded.motion)?;
+    }
+    let (skeleton, motion) = target.apply_any_body(
         &source_name,
         &loaded.skeleton,
         &loaded.motion,

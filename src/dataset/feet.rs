@@ -3,7 +3,8 @@
 
 use super::*;
 
-/// The feet of a skeleton standing in its rest pose (`rest`: world positions, Y up): at most two
+/// The feet of a skeleton standing in its rest pose, for a body whose legs the reading does not
+/// find (`rest`: world positions, Y up): at most two
 /// end points per leg. A leg ends in the leaves within the lowest tenth of the figure's height;
 /// the leaves under the same last joint above that band (the knee) are one leg, whose feet are
 /// its ankle (the knee's child on the way down) and the leaf farthest from it across the floor
@@ -57,6 +58,18 @@ pub fn guess_feet(skeleton: &crate::Skeleton, rest: &[Vec3]) -> Vec<u32> {
     }
     feet.sort_unstable();
     feet
+}
+
+/// The foot points of `skeleton`: the ankle and toe of each leg the reading of the body finds,
+/// else (a body without two feet: a creature, a torso) the rest-pose guess; `true` when guessed.
+pub(super) fn feet_of(skeleton: &crate::Skeleton, mode: OffsetMode) -> (Vec<u32>, bool) {
+    let read = crate::model::body::Body::of(skeleton).foot_points(skeleton);
+    if read.is_empty() {
+        let rest = pose::world_positions(skeleton, &[], mode);
+        (guess_feet(skeleton, &rest), true)
+    } else {
+        (read.into_iter().map(|p| p as u32).collect(), false)
+    }
 }
 
 /// The points `names` names (as the dataset names them), in file order.

@@ -36,8 +36,9 @@ pub struct Options {
     pub rotations: RotationKind,
     /// Positions relative to the root's place on the floor (x and z) in each frame.
     pub root_relative: bool,
-    /// The points foot contacts are given for, by name; `None`: guessed from the rest pose
-    /// ([`guess_feet`]).
+    /// The points foot contacts are given for, by name; `None`: the ankle and toe of each leg
+    /// as the reading of the body finds them ([`crate::model::body::Body::foot_points`]), or,
+    /// for a body without two feet, guessed from the rest pose ([`guess_feet`]) with a warning.
     pub feet: Option<Vec<String>>,
     /// A foot point is in contact when it is at most this high (metres) above the floor
     /// (the lowest foot point within [`FLOOR_WINDOW_S`] of the frame)…
@@ -49,6 +50,14 @@ pub struct Options {
     /// Every take retargeted onto this skeleton first (`--onto`), so a folder of mixed
     /// skeletons makes one group; a take whose map misses a required role is skipped.
     pub onto: Option<crate::retarget::Target>,
+    /// Each clip moved up or down so that its lowest foot point over the whole clip is on
+    /// y = 0 (`--ground`); positions, root translations and the roots' translations alike.
+    pub ground: bool,
+    /// With `rotations` quaternions: each frame's sign chosen against the previous frame's
+    /// (`q` or `-q`, whichever is nearer), so that a joint's quaternions run continuously along
+    /// time (`--quat-continuous`). Off: each has w ≥ 0, frame by frame, and may flip sign
+    /// between neighbouring frames where w crosses 0.
+    pub quat_continuous: bool,
 }
 
 impl Default for Options {
@@ -60,6 +69,8 @@ impl Default for Options {
             feet: None,
             contact_height: 0.05,
             contact_speed: 0.5,
+            ground: false,
+            quat_continuous: false,
             max_size: crate::take::DEFAULT_MAX_SIZE,
             onto: None,
         }
@@ -81,6 +92,13 @@ impl Options {
         };
         positive("--contact-height", self.contact_height)?;
         positive("--contact-speed", self.contact_speed)?;
+        if self.quat_continuous && self.rotations != RotationKind::Quat {
+            return Err(Error::Usage(format!(
+                "--quat-continuous: only quaternions have a sign to choose (--rotations quat), \
+                 not {}",
+                self.rotations.name()
+            )));
+        }
         if let Some(feet) = &self.feet
             && (feet.is_empty() || feet.iter().any(|name| name.is_empty()))
         {
@@ -409,7 +427,7 @@ fn topology_of(
         .collect();
     let feet = match &options.feet {
         Some(wanted) => named_feet(path, &names, wanted)?,
-        None => guess_feet(skeleton, &pose::world_positions(skeleton, &[], mode)),
+        None => feet_of(skeleton, mode).0,
     };
     Ok((Topology::of(skeleton, feet), names))
 }
@@ -472,6 +490,64 @@ fn posed_plain(take: &Prepared, path: &Path, options: &Options) -> Result<Posed,
     })
 }
 
+/// Moves a posed clip up or down so that its lowest foot point over the whole clip (its lowest
+/// point, without feet) is on y = 0: every world position, and the translation of every root
+/// (a root's translation is where it is in the world; a child's is relative to its parent).
+fn ground(
+    skeleton: &crate::Skeleton,
+    topology: &Topology,
+    world: &mut [Vec3],
+    translations: &mut [f32],
+) {
+    let points = skeleton.joints.len().max(1);
+    let lowest = world
+        .chunks(points)
+        .flat_map(|pose| {
+            let feet = topology.feet.iter().map(|&p| pose[p as usize].y);
+            let all = pose.iter().map(|p| p.y);
+            if topology.feet.is_empty() {
+                all.collect::<Vec<f32>>()
+            } else {
+                feet.collect()
+            }
+        })
+        .fold(f32::INFINITY, f32::min);
+    if !lowest.is_finite() {
+        return;
+    }
+    for point in world.iter_mut() {
+        point.y -= lowest;
+    }
+    let translated = topology.translated.len().max(1);
+    for frame in translations.chunks_mut(translated * 3) {
+        for (k, &joint) in topology.translated.iter().enumerate() {
+            if skeleton.joints[joint as usize].parent.is_none() {
+                frame[k * 3 + 1] -= lowest;
+            }
+        }
+    }
+}
+
+/// Each joint's quaternions (w, x, y, z per frame, `rotated` joints per frame) made continuous
+/// along time: a frame's quaternion is negated where it points away from the previous frame's
+/// (the same rotation either way).
+fn continuous_quaternions(rotations: &mut [f32], rotated: usize) {
+    let stride = rotated * 4;
+    if stride == 0 {
+        return;
+    }
+    for f in 1..rotations.len() / stride {
+        let (before, after) = rotations.split_at_mut(f * stride);
+        let previous = &before[(f - 1) * stride..];
+        for (q, p) in after[..stride].chunks_mut(4).zip(previous.chunks(4)) {
+            let dot: f32 = q.iter().zip(p).map(|(a, b)| a * b).sum();
+            if dot < 0.0 {
+                q.iter_mut().for_each(|v| *v = -*v);
+            }
+        }
+    }
+}
+
 /// The clip of a posed take: root translations, velocities and foot contacts from the world
 /// positions, and what the manifest says about the take.
 fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Posed) -> Clip {
@@ -480,12 +556,18 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
         topology,
         names,
         frames,
-        world,
-        rotations,
-        translations,
+        mut world,
+        mut rotations,
+        mut translations,
     } = posed;
     let (stance, mode) = (&take.stance, take.mode);
     let points = skeleton.joints.len();
+    if options.ground {
+        ground(&skeleton, &topology, &mut world, &mut translations);
+    }
+    if options.quat_continuous && options.rotations == RotationKind::Quat {
+        continuous_quaternions(&mut rotations, topology.rotated.len());
+    }
     let travel = crate::model::body::travel_joint(&skeleton, &world);
     let derived = Derived::of(&world, points, travel, &topology.feet, options);
     let contacts = contacts(&world, &derived, points, &topology.feet, options);
@@ -517,7 +599,26 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
         .to_string(),
         travel_joint: names[travel].clone(),
         // The stance guessed once (its up axis is not in any warning).
-        warnings: crate::info::warnings_with(&take.loaded, mode, stance),
+        warnings: {
+            let mut warnings = crate::info::warnings_with(&take.loaded, mode, stance);
+            if options.feet.is_none() && feet_of(&skeleton, mode).1 {
+                let feet: Vec<&str> = topology
+                    .feet
+                    .iter()
+                    .map(|&p| names[p as usize].as_str())
+                    .collect();
+                warnings.push(format!(
+                    "feet: no ankle read below each leg; contacts are for points guessed from \
+                     the rest pose ({}); name them with --feet",
+                    if feet.is_empty() {
+                        "none found".to_string()
+                    } else {
+                        feet.join(", ")
+                    }
+                ));
+            }
+            warnings
+        },
     };
     Clip {
         about,

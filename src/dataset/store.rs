@@ -70,6 +70,13 @@ pub struct Settings {
     pub floor_window_s: f64,
     pub up: String,
     pub units: String,
+    /// Each clip's lowest foot point put on y = 0 (`--ground`); absent in older manifests.
+    #[serde(default)]
+    pub ground: bool,
+    /// Quaternions' signs chosen against the previous frame's (`--quat-continuous`); absent in
+    /// older manifests.
+    #[serde(default)]
+    pub quat_continuous: bool,
 }
 
 impl Settings {
@@ -84,6 +91,8 @@ impl Settings {
             floor_window_s: super::FLOOR_WINDOW_S,
             up: "y".to_string(),
             units: "metres".to_string(),
+            ground: options.ground,
+            quat_continuous: options.quat_continuous,
         }
     }
 
@@ -101,6 +110,8 @@ impl Settings {
             feet: self.feet.clone(),
             contact_height: self.contact_height_m,
             contact_speed: self.contact_speed_m_per_s,
+            ground: self.ground,
+            quat_continuous: self.quat_continuous,
             ..Options::default()
         })
     }

@@ -33,7 +33,21 @@ pub fn warnings_with(loaded: &Take, mode: OffsetMode, stance: &Stance) -> Vec<St
     let mut warnings = loaded.warnings.clone();
     warnings.extend(offset_mode_warning(&loaded.skeleton, &loaded.motion, mode));
     warnings.extend(size_warning(&loaded.skeleton, stance));
+    warnings.extend(body_warnings(&loaded.skeleton, &loaded.motion, mode));
     warnings
+}
+
+/// The reading of the body's doubts, one warning each, for a skeleton read as a body at all
+/// (a limb, a neck or a head found): a chain of three joints is not a body with no legs.
+pub fn body_warnings(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode) -> Vec<String> {
+    let body = crate::model::body::Body::of(skeleton);
+    if !body.is_a_body() {
+        return Vec::new();
+    }
+    body.doubts(skeleton, motion, mode)
+        .into_iter()
+        .map(|doubt| format!("body: {doubt}"))
+        .collect()
 }
 
 /// A person, in metres, spans at least this…
@@ -153,6 +167,13 @@ pub fn summary(name: &str, loaded: &Take, mode: OffsetMode) -> String {
             skeleton.joints[travel].name
         );
     }
+    let body = crate::model::body::Body::of(skeleton);
+    let reading = if body.is_a_body() {
+        body.summary(skeleton)
+    } else {
+        "none read (no limb, neck or head, by name or by the tree)".to_string()
+    };
+    let _ = writeln!(out, "body:             {reading}");
     // Guessed from the motion; the article's view still draws the file as written.
     let stance = loaded.stance(mode);
     let _ = writeln!(out, "up axis:          {}", stance.up_text());

@@ -63,7 +63,54 @@ impl Target {
     /// A take on this skeleton by the guessed map (`pairs` override it), refused with the
     /// reason when the map cannot stand, on up to `threads` threads. `source_name` names the
     /// take in messages.
+    ///
+    /// A take whose body does not stand on two legs (a quadruped rigged with 3ds Max Biped's
+    /// human names) is refused onto a target that does, with the reason; [`Target::apply_any_body`]
+    /// retargets it anyway.
     pub fn apply(
+        &self,
+        source_name: &str,
+        skeleton: &Skeleton,
+        motion: &Motion,
+        pairs: &[(String, String)],
+        threads: usize,
+    ) -> Result<(Skeleton, Motion), Error> {
+        self.check_body(source_name, skeleton, motion)?;
+        self.apply_any_body(source_name, skeleton, motion, pairs, threads)
+    }
+
+    /// Fails when the take's body does not stand on two legs (its reading's
+    /// [`Doubt::NotBiped`]) and this target's does: the limbs would be carried over as a
+    /// person's (a front leg as an arm), which no map fixes.
+    pub fn check_body(
+        &self,
+        source_name: &str,
+        skeleton: &Skeleton,
+        motion: &Motion,
+    ) -> Result<(), Error> {
+        let two_legged = |skeleton: &Skeleton, motion: &Motion| {
+            Body::of(skeleton)
+                .doubts(skeleton, motion, OffsetMode::Replace)
+                .into_iter()
+                .find(|d| matches!(d, Doubt::NotBiped(_) | Doubt::NoTwoLegs))
+        };
+        let target_doubt = two_legged(
+            &self.skeleton,
+            &Motion::new(1.0, self.skeleton.channel_count(), 0, Vec::new()),
+        );
+        match two_legged(skeleton, motion) {
+            Some(Doubt::NotBiped(why)) if target_doubt.is_none() => Err(Error::Usage(format!(
+                "{source_name}: not a two-legged body ({why}), and {} is one: its limbs would \
+                 be carried over as a person's; --any-body (Python: any_body=True) retargets \
+                 it anyway",
+                self.name
+            ))),
+            _ => Ok(()),
+        }
+    }
+
+    /// [`Target::apply`] without the body check: any body onto any target.
+    pub fn apply_any_body(
         &self,
         source_name: &str,
         skeleton: &Skeleton,

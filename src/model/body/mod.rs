@@ -1,6 +1,7 @@
 //! The reading of the body: which joints are the hips, the spine, the neck and head, and per
 //! side the limbs, from joint names ([`names`], [`sides`]) and from the tree ([`roles`]), and
-//! the joint that carries the travel ([`travel`]). Every
+//! the joint that carries the travel ([`travel`]), the foot points ([`feet`]), and what the
+//! reading is sure of ([`verdict`]). Every
 //! part of bvhview that asks what a joint is (retargeting, mirroring, `info`, the viewer's
 //! names) asks here.
 
@@ -8,12 +9,15 @@ use crate::model::pose::{OffsetMode, world_transforms_f64};
 use crate::model::skeleton::Skeleton;
 use std::fmt;
 
+pub mod feet;
 pub mod names;
 pub mod roles;
 pub mod sides;
 pub mod travel;
+pub mod verdict;
 
 pub use names::*;
 pub use roles::*;
 pub use sides::*;
 pub use travel::*;
+pub use verdict::*;

@@ -96,6 +96,9 @@ pub(super) enum Word {
     Shin,
     /// The toe where the side also has an ankle (SMPL's `left_foot`), else the foot.
     Foot,
+    /// The thigh where the side has no other thigh (cgspeed's lowercase CMU: `lbuttock` above
+    /// `lknee`), else a helper above the thigh (Daz: `lButtock` above `lThigh`).
+    Buttock,
     Ankle,
     Toe,
 }
@@ -156,16 +159,21 @@ pub(super) const NOT_PARTS: [&str; 12] = [
     "end", "top", "nub", "site", "tip", "twist", "roll", "ik", "pole", "ctrl", "helper", "share",
 ];
 
-/// Body-part words CMU's ASF glues to a side letter (`lhumerus`, `rfemur`).
-pub(super) const GLUED: [&str; 22] = [
+/// Body-part words glued to a side letter: CMU's ASF (`lhumerus`, `rfemur`) and cgspeed's
+/// lowercase conversions of it (`lbuttock`, `lknee`, `lelbow`, `lankle`).
+pub(super) const GLUED: [&str; 27] = [
     "femur", "tibia", "foot", "toes", "toe", "clavicle", "humerus", "radius", "wrist", "hand",
     "hipjoint", "shldr", "thigh", "shin", "collar", "forearm", "uparm", "upleg", "loarm", "loleg",
-    "shoulder", "hip",
+    "shoulder", "hip", "knee", "elbow", "ankle", "buttock", "calf",
 ];
 
 /// The side and word a joint's name says, if it names a body part.
 pub(super) fn word_of(name: &str) -> Option<(Option<Side>, Word)> {
     let bare = name.rsplit([':', '|']).next().unwrap_or(name);
+    // MakeHuman's helpers (`__UpLeg_L`, `__LeftShoulder`) sit above the bones they name.
+    if bare.starts_with("__") {
+        return None;
+    }
     // Xsens's vertebrae: L5, L3, T12, T8.
     if bare.len() >= 2
         && matches!(bare.as_bytes()[0], b'L' | b'T' | b'C')
@@ -258,6 +266,7 @@ pub(super) fn word_of(name: &str) -> Option<(Option<Side>, Word)> {
         "loleg" | "lowleg" | "lowerleg" | "shin" | "tibia" | "knee" | "calf" => Word::Shin,
         "foot" => Word::Foot,
         "ankle" => Word::Ankle,
+        "buttock" => Word::Buttock,
         "toe" | "toes" | "toebase" | "ball" => Word::Toe,
         _ => return None,
     };
@@ -311,6 +320,22 @@ mod tests {
             ("mHipLeft", Some((Some(Left), Word::Thigh))),
             ("hip", Some((None, Word::Hips))),
             ("joint_Root", Some((None, Word::Hips))),
+            // cgspeed's lowercase CMU.
+            ("lhipjoint", None),
+            ("lbuttock", Some((Some(Left), Word::Buttock))),
+            ("lknee", Some((Some(Left), Word::Shin))),
+            ("rankle", Some((Some(Right), Word::Ankle))),
+            ("lelbow", Some((Some(Left), Word::ForeArm))),
+            ("lwrist", Some((Some(Left), Word::Wrist))),
+            // 3ds Max Biped.
+            ("Bip01 Pelvis", Some((None, Word::Hips))),
+            ("Bip01 L Calf", Some((Some(Left), Word::Shin))),
+            ("Bip01 R Toe0", Some((Some(Right), Word::Toe))),
+            ("Bip01 L Finger0", None),
+            ("Bip01 HeadNub", None),
+            // MakeHuman's helpers.
+            ("__UpLeg_L", None),
+            ("__LeftShoulder", None),
             ("Skeleton1_LShin", Some((Some(Left), Word::Shin))),
         ] {
             assert_eq!(role_of(name), want, "{name}");

@@ -14,6 +14,8 @@ pub struct Body {
     /// `[left, right]`, each in [`Limb`] order: clavicle, upper arm, forearm, hand, thigh, shin,
     /// foot, toe.
     pub limbs: [[Option<usize>; 8]; 2],
+    /// The limbs were read from the tree and the rest pose: the names said nothing of any.
+    pub from_tree: bool,
 }
 
 pub(super) fn side_index(side: Side) -> usize {
@@ -230,10 +232,12 @@ impl Body {
         };
         // The shallowest joint of each role, words read in the light of the rest of the side.
         let mut body = Body::default();
+        // Among joints at one depth, the first by name: MakeHuman's five toes give `toe1-1`
+        // on both sides, whatever order the file lists them in.
         let shallowest = |candidates: Vec<usize>| {
             candidates
                 .into_iter()
-                .min_by_key(|&j| (depth(skeleton, j), j))
+                .min_by_key(|&j| (depth(skeleton, j), joints[j].name.as_str(), j))
         };
         for side in [Side::Left, Side::Right] {
             let limb_of = |word: Word| -> Option<Limb> {
@@ -266,6 +270,8 @@ impl Body {
                         }
                     }
                     Word::Ankle => Limb::Foot,
+                    Word::Buttock if has(side, &[Word::Thigh]) => return None,
+                    Word::Buttock => Limb::Thigh,
                     Word::Toe => Limb::Toe,
                     _ => return None,
                 })
@@ -293,6 +299,7 @@ impl Body {
             && let Some((limbs, neck, head)) = limbs_by_tree(skeleton)
         {
             body.limbs = limbs;
+            body.from_tree = true;
             tree_neck_head = (neck, head);
         }
         let limb = |side: usize, limb: Limb| body.limbs[side][limb as usize];

@@ -1,0 +1,37 @@
+//! The foot points: per leg the ankle and the toe, read down the leg chain (never "the lowest
+//! points", which found shoulders, hand tips and fingers on real rigs).
+
+use super::*;
+
+impl Body {
+    /// The ankle and the toe of each leg the reading found, in joint order: the toe is the
+    /// joint named or read as the toe, else the end of the chain below the ankle (its End Site,
+    /// where the file has one). Empty unless both legs reach an ankle: a body without two feet
+    /// has its contacts refused or guessed elsewhere, and said so.
+    pub fn foot_points(&self, skeleton: &Skeleton) -> Vec<usize> {
+        let mut points = Vec::new();
+        for side in 0..2 {
+            let Some(ankle) = self.limbs[side][Limb::Foot as usize] else {
+                return Vec::new();
+            };
+            points.push(ankle);
+            let toe = self.limbs[side][Limb::Toe as usize]
+                .filter(|&t| t != ankle && is_ancestor(skeleton, ankle, t))
+                .or_else(|| chain_end_below(skeleton, ankle));
+            points.extend(toe);
+        }
+        points.sort_unstable();
+        points.dedup();
+        points
+    }
+}
+
+/// The last joint of the chain below `joint`, following its first child each time; `None` when
+/// it has no child.
+fn chain_end_below(skeleton: &Skeleton, joint: usize) -> Option<usize> {
+    let mut at = *skeleton.joints[joint].children.first()?;
+    while let Some(&next) = skeleton.joints[at].children.first() {
+        at = next;
+    }
+    Some(at)
+}

@@ -1,0 +1,628 @@
+//! One reading of the body (issue 46): the whole reading of each naming family's sample
+//! skeleton (tests/body/, made by `tests/body/make.py`, and the repository's real files), the
+//! doubts said when it is weak, a four-legged body refused onto a person, and the dataset's feet,
+//! `--ground` and `--quat-continuous`.
+
+mod common;
+
+use bvhview::Take;
+use bvhview::model::body::{Body, Doubt};
+use bvhview::model::pose::OffsetMode;
+use std::process::Command;
+
+/// Each file and its reading, as `info`'s `body:` line says it (split at `; `).
+const READINGS: &[(&str, &[&str])] = &[
+    (
+        "tests/body/bandai.bvh",
+        &[
+            "from names; ",
+            "hips Hips; ",
+            "spine Spine Chest; ",
+            "neck Neck; ",
+            "head Head; ",
+            "left arm Shoulder_L > UpperArm_L > LowerArm_L > Hand_L; ",
+            "left leg UpperLeg_L > LowerLeg_L > Foot_L > Toes_L; ",
+            "right arm Shoulder_R > UpperArm_R > LowerArm_R > Hand_R; ",
+            "right leg UpperLeg_R > LowerLeg_R > Foot_R > Toes_R; ",
+            "feet Foot_L Toes_L Foot_R Toes_R",
+        ],
+    ),
+    (
+        "tests/body/biped_elephant.bvh",
+        &[
+            "from names; ",
+            "hips Bip01 Pelvis; ",
+            "spine Bip01 Spine Bip01 Spine1; ",
+            "neck Bip01 Neck; ",
+            "head Bip01 Head; ",
+            "left arm Bip01 L Clavicle > Bip01 L UpperArm > Bip01 L Forearm > Bip01 L Hand; ",
+            "left leg Bip01 L Thigh > Bip01 L Calf > Bip01 L Foot > none; ",
+            "right arm Bip01 R Clavicle > Bip01 R UpperArm > Bip01 R Forearm > Bip01 R Hand; ",
+            "right leg Bip01 R Thigh > Bip01 R Calf > Bip01 R Foot > none; ",
+            "feet Bip01 L Foot Bip01 L Foot_End Bip01 R Foot Bip01 R Foot_End",
+        ],
+    ),
+    (
+        "tests/body/biped_human.bvh",
+        &[
+            "from names; ",
+            "hips Bip01 Pelvis; ",
+            "spine Bip01 Spine Bip01 Spine1 Bip01 Spine2; ",
+            "neck Bip01 Neck; ",
+            "head Bip01 Head; ",
+            "left arm Bip01 L Clavicle > Bip01 L UpperArm > Bip01 L Forearm > Bip01 L Hand; ",
+            "left leg Bip01 L Thigh > Bip01 L Calf > Bip01 L Foot > Bip01 L Toe0; ",
+            "right arm Bip01 R Clavicle > Bip01 R UpperArm > Bip01 R Forearm > Bip01 R Hand; ",
+            "right leg Bip01 R Thigh > Bip01 R Calf > Bip01 R Foot > Bip01 R Toe0; ",
+            "feet Bip01 L Foot Bip01 L Toe0 Bip01 R Foot Bip01 R Toe0",
+        ],
+    ),
+    (
+        "tests/body/cgspeed_daz.bvh",
+        &[
+            "from names; ",
+            "hips hip; ",
+            "spine abdomen chest; ",
+            "neck neck; ",
+            "head head; ",
+            "left arm lCollar > lShldr > lForeArm > lHand; ",
+            "left leg lThigh > lShin > lFoot > none; ",
+            "right arm rCollar > rShldr > rForeArm > rHand; ",
+            "right leg rThigh > rShin > rFoot > none; ",
+            "feet lFoot lFoot_End rFoot rFoot_End",
+        ],
+    ),
+    (
+        "tests/body/cgspeed_lowercase.bvh",
+        &[
+            "from names; ",
+            "hips hip; ",
+            "spine lowerback upperback thorax; ",
+            "neck lowerneck; ",
+            "head head; ",
+            "left arm lclavicle > lshoulder > lelbow > lwrist; ",
+            "left leg lbuttock > lknee > lankle > ltoe; ",
+            "right arm rclavicle > rshoulder > relbow > rwrist; ",
+            "right leg rbuttock > rknee > rankle > rtoe; ",
+            "feet lankle ltoe rankle rtoe",
+        ],
+    ),
+    (
+        "tests/body/cmu_motionbuilder.bvh",
+        &[
+            "from names; ",
+            "hips Hips; ",
+            "spine LowerBack Spine Spine1; ",
+            "neck Neck; ",
+            "head Head; ",
+            "left arm LeftShoulder > LeftArm > LeftForeArm > LeftHand; ",
+            "left leg LeftUpLeg > LeftLeg > LeftFoot > LeftToeBase; ",
+            "right arm RightShoulder > RightArm > RightForeArm > RightHand; ",
+            "right leg RightUpLeg > RightLeg > RightFoot > RightToeBase; ",
+            "feet LeftFoot LeftToeBase RightFoot RightToeBase",
+        ],
+    ),
+    (
+        "tests/body/lafan1.bvh",
+        &[
+            "from names; ",
+            "hips Hips; ",
+            "spine Spine Spine1 Spine2; ",
+            "neck Neck; ",
+            "head Head; ",
+            "left arm LeftShoulder > LeftArm > LeftForeArm > LeftHand; ",
+            "left leg LeftUpLeg > LeftLeg > LeftFoot > LeftToe; ",
+            "right arm RightShoulder > RightArm > RightForeArm > RightHand; ",
+            "right leg RightUpLeg > RightLeg > RightFoot > RightToe; ",
+            "feet LeftFoot LeftToe RightFoot RightToe",
+        ],
+    ),
+    (
+        "tests/body/mixamo.bvh",
+        &[
+            "from names; ",
+            "hips mixamorig:Hips; ",
+            "spine mixamorig:Spine mixamorig:Spine1 mixamorig:Spine2; ",
+            "neck mixamorig:Neck; ",
+            "head mixamorig:Head; ",
+            "left arm mixamorig:LeftShoulder > mixamorig:LeftArm > mixamorig:LeftForeArm > mixamorig:LeftHand; ",
+            "left leg mixamorig:LeftUpLeg > mixamorig:LeftLeg > mixamorig:LeftFoot > mixamorig:LeftToeBase; ",
+            "right arm mixamorig:RightShoulder > mixamorig:RightArm > mixamorig:RightForeArm > mixamorig:RightHand; ",
+            "right leg mixamorig:RightUpLeg > mixamorig:RightLeg > mixamorig:RightFoot > mixamorig:RightToeBase; ",
+            "feet mixamorig:LeftFoot mixamorig:LeftToeBase mixamorig:RightFoot mixamorig:RightToeBase",
+        ],
+    ),
+    (
+        "tests/body/rigify.bvh",
+        &[
+            "from names; ",
+            "hips DEF-spine; ",
+            "spine DEF-spine.001 DEF-spine.002 DEF-spine.003; ",
+            "neck DEF-spine.004; ",
+            "head DEF-spine.006; ",
+            "left arm DEF-shoulder.L > DEF-upper_arm.L > DEF-forearm.L > DEF-hand.L; ",
+            "left leg DEF-thigh.L > DEF-shin.L > DEF-foot.L > DEF-toe.L; ",
+            "right arm DEF-shoulder.R > DEF-upper_arm.R > DEF-forearm.R > DEF-hand.R; ",
+            "right leg DEF-thigh.R > DEF-shin.R > DEF-foot.R > DEF-toe.R; ",
+            "feet DEF-foot.L DEF-toe.L DEF-foot.R DEF-toe.R",
+        ],
+    ),
+    (
+        "tests/body/second_life.bvh",
+        &[
+            "from names; ",
+            "hips mPelvis; ",
+            "spine mTorso mChest; ",
+            "neck mNeck; ",
+            "head mHead; ",
+            "left arm mCollarLeft > mShoulderLeft > mElbowLeft > mWristLeft; ",
+            "left leg mHipLeft > mKneeLeft > mAnkleLeft > none; ",
+            "right arm mCollarRight > mShoulderRight > mElbowRight > mWristRight; ",
+            "right leg mHipRight > mKneeRight > mAnkleRight > none; ",
+            "feet mAnkleLeft mAnkleLeft_End mAnkleRight mAnkleRight_End",
+        ],
+    ),
+    (
+        "tests/body/smpl.bvh",
+        &[
+            "from names; ",
+            "hips pelvis; ",
+            "spine spine1 spine2 spine3; ",
+            "neck neck; ",
+            "head head; ",
+            "left arm left_collar > left_shoulder > left_elbow > left_wrist; ",
+            "left leg left_hip > left_knee > left_ankle > left_foot; ",
+            "right arm right_collar > right_shoulder > right_elbow > right_wrist; ",
+            "right leg right_hip > right_knee > right_ankle > right_foot; ",
+            "feet left_ankle left_foot right_ankle right_foot",
+        ],
+    ),
+    (
+        "tests/body/xsens.bvh",
+        &[
+            "from names; ",
+            "hips Hips; ",
+            "spine Chest Chest2 Chest3 Chest4; ",
+            "neck Neck; ",
+            "head Head; ",
+            "left arm LeftCollar > LeftShoulder > LeftElbow > LeftWrist; ",
+            "left leg LeftHip > LeftKnee > LeftAnkle > LeftToe; ",
+            "right arm RightCollar > RightShoulder > RightElbow > RightWrist; ",
+            "right leg RightHip > RightKnee > RightAnkle > RightToe; ",
+            "feet LeftAnkle LeftToe RightAnkle RightToe",
+        ],
+    ),
+    (
+        "tests/data/bvh/makehuman_walk1.bvh",
+        &[
+            "from names; ",
+            "hips Root; ",
+            "spine Spine1 Spine2 Spine3; ",
+            "neck Neck; ",
+            "head Head; ",
+            "left arm Clavicle_L > UpArm_L > LoArm_L > Hand_L; ",
+            "left leg UpLeg_L > LoLeg_L > Foot_L > Toe_L; ",
+            "right arm Clavicle_R > UpArm_R > LoArm_R > Hand_R; ",
+            "right leg UpLeg_R > LoLeg_R > Foot_R > Toe_R; ",
+            "feet Foot_L Toe_L Foot_R Toe_R",
+        ],
+    ),
+    (
+        "tests/data/bvh/makehuman_tpose.bvh",
+        &[
+            "from names; ",
+            "hips root; ",
+            "spine spine05 spine04 spine03 spine02 spine01; ",
+            "neck neck01; ",
+            "head head; ",
+            "left arm clavicle.L > shoulder01.L > lowerarm01.L > wrist.L; ",
+            "left leg upperleg01.L > lowerleg01.L > foot.L > toe1-1.L; ",
+            "right arm clavicle.R > shoulder01.R > lowerarm01.R > wrist.R; ",
+            "right leg upperleg01.R > lowerleg01.R > foot.R > toe1-1.R; ",
+            "feet foot.R toe1-1.R foot.L toe1-1.L",
+        ],
+    ),
+    (
+        "tests/data/asf_amc/heiden_12.asf",
+        &[
+            "from names; ",
+            "hips root; ",
+            "spine lowerback upperback thorax; ",
+            "neck lowerneck; ",
+            "head head; ",
+            "left arm lclavicle > lhumerus > lradius > lwrist; ",
+            "left leg lfemur > ltibia > lfoot > ltoes; ",
+            "right arm rclavicle > rhumerus > rradius > rwrist; ",
+            "right leg rfemur > rtibia > rfoot > rtoes; ",
+            "feet lfoot ltoes rfoot rtoes",
+        ],
+    ),
+    (
+        "tests/data/bvh/bvh11_131_01.bvh",
+        &[
+            "from names; ",
+            "hips Hips; ",
+            "spine lowerback Chest Chest2; ",
+            "neck lowerneck; ",
+            "head Head; ",
+            "left arm LeftCollar > LeftShoulder > LeftElbow > LeftWrist; ",
+            "left leg LeftHip > LeftKnee > LeftAnkle > LeftToe; ",
+            "right arm RightCollar > RightShoulder > RightElbow > RightWrist; ",
+            "right leg RightHip > RightKnee > RightAnkle > RightToe; ",
+            "feet LeftAnkle LeftToe RightAnkle RightToe",
+        ],
+    ),
+    (
+        "tests/data/bvh/opencollar_cutie.bvh",
+        &[
+            "from names; ",
+            "hips hip; ",
+            "spine mSpine1 mSpine2 abdomen mSpine3 mSpine4 chest; ",
+            "neck neck; ",
+            "head head; ",
+            "left arm lCollar > lShldr > lForeArm > lHand; ",
+            "left leg lThigh > lShin > lFoot > none; ",
+            "right arm rCollar > rShldr > rForeArm > rHand; ",
+            "right leg rThigh > rShin > rFoot > none; ",
+            "feet rFoot rFoot_End lFoot lFoot_End",
+        ],
+    ),
+];
+
+fn bvhview() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_bvhview"))
+}
+
+#[test]
+fn every_family_is_read_whole() {
+    for (path, parts) in READINGS {
+        let take = Take::open(path).unwrap();
+        let body = Body::of(&take.skeleton);
+        assert_eq!(body.summary(&take.skeleton), parts.concat(), "{path}");
+        // Every family's sample is a person standing: nothing is doubted.
+        if !path.contains("elephant") {
+            assert_eq!(
+                body.doubts(&take.skeleton, &take.motion, OffsetMode::Replace),
+                Vec::new(),
+                "{path}"
+            );
+        }
+        // `info` says the same line.
+        let out = bvhview().args(["info", path]).output().unwrap();
+        let text = String::from_utf8(out.stdout).unwrap();
+        assert!(
+            text.lines()
+                .any(|l| l.strip_prefix("body:").map(str::trim) == Some(&parts.concat()[..])),
+            "{path}: {text}"
+        );
+    }
+}
+
+#[test]
+fn a_four_legged_body_is_said_and_refused_onto_a_person_unless_insisted() {
+    let path = "tests/body/biped_elephant.bvh";
+    let take = Take::open(path).unwrap();
+    let doubts = Body::of(&take.skeleton).doubts(&take.skeleton, &take.motion, OffsetMode::Replace);
+    assert_eq!(
+        doubts,
+        [Doubt::NotBiped(
+            "its head lies 80° from the legs' up; four-legged?".to_string()
+        )]
+    );
+    let info = bvhview().args(["info", path]).output().unwrap();
+    let text = String::from_utf8(info.stdout).unwrap();
+    assert!(
+        text.contains(
+            "  - body: not a two-legged body: its head lies 80° from the legs' up; four-legged?\n"
+        ),
+        "{text}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("on_smpl.bvh");
+    let refused = bvhview()
+        .args(["retarget", path, "--onto", "smpl22", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8(refused.stderr).unwrap(),
+        "bvhview: tests/body/biped_elephant.bvh: not a two-legged body (its head lies 80° from \
+         the legs' up; four-legged?), and smpl22 is one: its limbs would be carried over as a \
+         person's; --any-body (Python: any_body=True) retargets it anyway\n"
+    );
+    assert!(!out.exists());
+    let insisted = bvhview()
+        .args([
+            "retarget",
+            path,
+            "--onto",
+            "smpl22",
+            "--any-body",
+            "-q",
+            "-o",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(insisted.status.code(), Some(0));
+    assert_eq!(Take::open(&out).unwrap().skeleton.joints.len(), 22 + 5);
+    // A person onto a person is never asked.
+    let person = bvhview()
+        .args([
+            "retarget",
+            "tests/body/biped_human.bvh",
+            "--onto",
+            "smpl22",
+            "-q",
+            "-o",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(person.status.code(), Some(0), "{:?}", person);
+}
+
+/// Joints as `(name, parent, offset)`, one frame of zeros.
+fn skeleton_text(joints: &[(&str, Option<&str>, [f32; 3])]) -> String {
+    fn emit(
+        joints: &[(&str, Option<&str>, [f32; 3])],
+        at: usize,
+        depth: usize,
+        out: &mut String,
+        channels: &mut usize,
+    ) {
+        let (name, parent, [x, y, z]) = joints[at];
+        let pad = "  ".repeat(depth);
+        let kind = if parent.is_none() { "ROOT" } else { "JOINT" };
+        out.push_str(&format!(
+            "{pad}{kind} {name}\n{pad}{{\n{pad}  OFFSET {x} {y} {z}\n"
+        ));
+        if parent.is_none() {
+            out.push_str(&format!(
+                "{pad}  CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation\n"
+            ));
+            *channels += 6;
+        } else {
+            out.push_str(&format!(
+                "{pad}  CHANNELS 3 Zrotation Xrotation Yrotation\n"
+            ));
+            *channels += 3;
+        }
+        let children: Vec<usize> = (0..joints.len())
+            .filter(|&c| joints[c].1 == Some(name))
+            .collect();
+        if children.is_empty() {
+            out.push_str(&format!(
+                "{pad}  End Site\n{pad}  {{\n{pad}    OFFSET 0 -5 0\n{pad}  }}\n"
+            ));
+        }
+        for c in children {
+            emit(joints, c, depth + 1, out, channels);
+        }
+        out.push_str(&format!("{pad}}}\n"));
+    }
+    let mut text = String::from("HIERARCHY\n");
+    let mut channels = 0;
+    emit(joints, 0, 0, &mut text, &mut channels);
+    text.push_str("MOTION\nFrames: 1\nFrame Time: 0.04\n");
+    text.push_str(&vec!["0"; channels].join(" "));
+    text.push('\n');
+    text
+}
+
+#[test]
+fn a_weak_reading_names_what_is_missing() {
+    // One leg, and a left arm without a right one.
+    let text = skeleton_text(&[
+        ("Hips", None, [0.0, 95.0, 0.0]),
+        ("LeftUpLeg", Some("Hips"), [10.0, 0.0, 0.0]),
+        ("LeftLeg", Some("LeftUpLeg"), [0.0, -42.0, 0.0]),
+        ("LeftFoot", Some("LeftLeg"), [0.0, -42.0, 0.0]),
+        ("Spine", Some("Hips"), [0.0, 20.0, 0.0]),
+        ("Head", Some("Spine"), [0.0, 40.0, 0.0]),
+        ("LeftArm", Some("Spine"), [15.0, 30.0, 0.0]),
+        ("LeftForeArm", Some("LeftArm"), [25.0, 0.0, 0.0]),
+    ]);
+    let take = bvhview::bvh::load_bytes(text.as_bytes(), "one_leg.bvh").unwrap();
+    let body = Body::of(&take.skeleton);
+    let said: Vec<String> = body
+        .doubts(&take.skeleton, &take.motion, OffsetMode::Replace)
+        .iter()
+        .map(ToString::to_string)
+        .collect();
+    assert_eq!(
+        said,
+        [
+            "no two legs read (thigh and shin on each side)",
+            "sides undecided: a left upper arm but no right upper arm",
+            "sides undecided: a left forearm but no right forearm",
+            "sides undecided: a left thigh but no right thigh",
+            "sides undecided: a left shin but no right shin",
+            "sides undecided: a left foot but no right foot",
+        ]
+    );
+    assert_eq!(body.foot_points(&take.skeleton), Vec::<usize>::new());
+}
+
+/// The clips of every take in `files` (name, text), compiled with `options`, by file name.
+fn compile(
+    files: &[(&str, String)],
+    options: &bvhview::dataset::Options,
+) -> Vec<(String, bvhview::dataset::Clip)> {
+    let dir = tempfile::tempdir().unwrap();
+    for (name, text) in files {
+        std::fs::write(dir.path().join(name), text).unwrap();
+    }
+    let mut clips: Vec<(String, bvhview::dataset::Clip)> = bvhview::dataset::takes(dir.path())
+        .unwrap()
+        .iter()
+        .map(|item| {
+            let name = item
+                .path
+                .file_name()
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
+            (
+                name,
+                bvhview::dataset::compile_take(dir.path(), item, options).unwrap(),
+            )
+        })
+        .collect();
+    clips.sort_by(|a, b| a.0.cmp(&b.0));
+    clips
+}
+
+#[test]
+fn dataset_feet_come_from_the_legs_and_a_body_without_them_is_said() {
+    let read = |path: &str| std::fs::read_to_string(path).unwrap();
+    let clips = compile(
+        &[
+            ("lafan1.bvh", read("tests/body/lafan1.bvh")),
+            ("second_life.bvh", read("tests/body/second_life.bvh")),
+            ("simple.bvh", read("tests/data/bvh/bvhanim_test_simple.bvh")),
+        ],
+        &bvhview::dataset::Options::default(),
+    );
+    let feet = |clip: &bvhview::dataset::Clip| -> Vec<String> {
+        clip.topology
+            .feet
+            .iter()
+            .map(|&p| clip.topology.joints[p as usize].clone())
+            .collect()
+    };
+    assert_eq!(
+        feet(&clips[0].1),
+        ["LeftFoot", "LeftToe", "RightFoot", "RightToe"]
+    );
+    // No toe joint: the End Site below the ankle.
+    assert_eq!(
+        feet(&clips[1].1),
+        [
+            "mAnkleLeft",
+            "mAnkleLeft_End",
+            "mAnkleRight",
+            "mAnkleRight_End"
+        ]
+    );
+    assert!(
+        clips[0].1.about.warnings.is_empty(),
+        "{:?}",
+        clips[0].1.about.warnings
+    );
+    assert_eq!(feet(&clips[2].1), Vec::<String>::new());
+    assert_eq!(
+        clips[2].1.about.warnings,
+        [
+            "feet: no ankle read below each leg; contacts are for points guessed from the rest \
+          pose (none found); name them with --feet"
+        ]
+    );
+}
+
+/// A walk-in-place take on the LaFAN1 sample whose hips sink 30 cm below the floor and turn
+/// about y from 150° through 180° to 210° (a quaternion's w crosses 0 at 180°).
+fn sunk_and_turning() -> String {
+    let text = std::fs::read_to_string("tests/body/lafan1.bvh").unwrap();
+    let (head, rows) = text.split_once("MOTION\n").unwrap();
+    let zero_row = rows.lines().nth(2).unwrap();
+    let values: Vec<&str> = zero_row.split(' ').collect();
+    let mut out = format!("{head}MOTION\nFrames: 7\nFrame Time: 0.0333333\n");
+    for f in 0..7 {
+        let mut row: Vec<String> = values.iter().map(|v| v.to_string()).collect();
+        row[1] = format!("{}", 95.0 - 30.0);
+        row[5] = format!("{}", 150.0 + 10.0 * f as f32);
+        out.push_str(&row.join(" "));
+        out.push('\n');
+    }
+    out
+}
+
+#[test]
+fn ground_puts_the_lowest_foot_on_the_floor_and_moves_the_root_with_it() {
+    let files = [("sunk.bvh", sunk_and_turning())];
+    let plain = &compile(&files, &bvhview::dataset::Options::default())[0].1;
+    let options = bvhview::dataset::Options {
+        ground: true,
+        ..Default::default()
+    };
+    let grounded = &compile(&files, &options)[0].1;
+    let points = grounded.topology.joints.len();
+    let lowest_foot = |clip: &bvhview::dataset::Clip| {
+        (0..clip.frames)
+            .flat_map(|f| {
+                clip.topology
+                    .feet
+                    .iter()
+                    .map(move |&p| (f * points + p as usize) * 3 + 1)
+            })
+            .map(|i| clip.positions[i])
+            .fold(f32::INFINITY, f32::min)
+    };
+    // The toe tips sit 0.3 m under y = 0 before.
+    assert!(
+        (lowest_foot(plain) + 0.3).abs() < 1e-5,
+        "{}",
+        lowest_foot(plain)
+    );
+    assert_eq!(lowest_foot(grounded), 0.0);
+    // The root's translation is its world position, grounded alike; its x and z are untouched.
+    for f in 0..grounded.frames {
+        let position = &grounded.positions[f * points * 3..f * points * 3 + 3];
+        let translation = &grounded.translations[f * 3..f * 3 + 3];
+        assert_eq!(position, translation, "frame {f}");
+        assert_eq!(plain.translations[f * 3], translation[0]);
+        assert_eq!(plain.translations[f * 3 + 2], translation[2]);
+    }
+}
+
+#[test]
+fn quat_continuous_keeps_each_joints_sign_along_time() {
+    let files = [("turning.bvh", sunk_and_turning())];
+    let flips = |clip: &bvhview::dataset::Clip| {
+        let width = clip.topology.rotated.len() * 4;
+        let rows: Vec<&[f32]> = clip.rotations.chunks(width).collect();
+        rows.windows(2)
+            .flat_map(|w| {
+                w[0].chunks(4)
+                    .zip(w[1].chunks(4))
+                    .map(|(a, b)| a.iter().zip(b).map(|(x, y)| x * y).sum::<f32>())
+            })
+            .filter(|&dot| dot < 0.0)
+            .count()
+    };
+    let quat = bvhview::dataset::Options {
+        rotations: bvhview::model::pose::RotationKind::Quat,
+        ..Default::default()
+    };
+    let signed = &compile(&files, &quat)[0].1;
+    let continuous_options = bvhview::dataset::Options {
+        quat_continuous: true,
+        ..quat.clone()
+    };
+    let continuous = &compile(&files, &continuous_options)[0].1;
+    // w ≥ 0 frame by frame flips the hips' sign where the turn passes 180°.
+    assert_eq!(flips(signed), 1);
+    assert_eq!(flips(continuous), 0);
+    // The same rotations: each quaternion is the other or its negation.
+    for (a, b) in signed
+        .rotations
+        .chunks(4)
+        .zip(continuous.rotations.chunks(4))
+    {
+        assert!(
+            a == b || a.iter().zip(b).all(|(x, y)| *x == -*y),
+            "{a:?} {b:?}"
+        );
+    }
+    // Asked of a kind without a sign, it is refused by name.
+    let six_d = bvhview::dataset::Options {
+        quat_continuous: true,
+        ..Default::default()
+    };
+    assert_eq!(
+        six_d.check().unwrap_err().to_string(),
+        "--quat-continuous: only quaternions have a sign to choose (--rotations quat), not 6d"
+    );
+}
