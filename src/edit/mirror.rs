@@ -4,6 +4,22 @@
 use super::*;
 
 /// How [`mirror()`] makes the mirror image.
+///
+/// ```
+/// use bvhview::{Take, edit::{MirrorOptions, mirror}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// let options = MirrorOptions { rename: true, ..MirrorOptions::default() };
+/// let (skeleton, _motion) = mirror(&take.skeleton, &take.motion, &options)?;
+/// let arm = take.skeleton.joints.iter().position(|j| j.name == "LeftArm").unwrap();
+/// assert_eq!(skeleton.joints[arm].name, "RightArm"); // reflected where it is, renamed
+/// // The default swaps: every name kept, left and right exchange their motion.
+/// let (swapped, _) = mirror(&take.skeleton, &take.motion, &MirrorOptions::default())?;
+/// assert_eq!(swapped.joints[arm].name, "LeftArm");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, Default)]
 pub struct MirrorOptions {
     /// Rename instead of swap: every joint reflected where it is, and the names with a side

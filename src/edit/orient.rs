@@ -97,14 +97,26 @@ pub fn ground(
 /// The turn from one up axis to another, `turn`, which moves each axis onto another (maybe
 /// negated): [`QuarterTurn::apply`] turns a vector exactly, with no rounding and no overflow on
 /// the way (a product with the quaternion does both).
+///
+/// ```
+/// use bvhview::{edit::QuarterTurn, model::pose::Up};
+/// use glam::Vec3;
+///
+/// let turn = QuarterTurn::between(Up::Z, Up::Y);
+/// assert_eq!(turn.apply(Vec3::Z), Vec3::Y); // up stays up
+/// assert_eq!(turn.apply(Vec3::new(1.0, 2.0, 3.0)), Vec3::new(1.0, 3.0, -2.0));
+/// assert!((turn.turn * Vec3::Z).abs_diff_eq(Vec3::Y, 1e-6)); // the quaternion, rounded
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct QuarterTurn {
+    /// The turn as a quaternion (for rotations; [`QuarterTurn::apply`] turns vectors exactly).
     pub turn: Quat,
     /// Column k: where axis k goes, as signs of 0, 1 or −1.
     axes: [[f32; 3]; 3],
 }
 
 impl QuarterTurn {
+    /// The turn that takes a take standing along `from` to one standing along `to`.
     pub fn between(from: crate::model::pose::Up, to: crate::model::pose::Up) -> QuarterTurn {
         // Into Y-up from `from`, then out of Y-up into `to`.
         let turn = to.to_y_up().inverse() * from.to_y_up();

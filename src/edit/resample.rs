@@ -8,6 +8,14 @@ use super::*;
 pub const SAME_RATE: f64 = 1e-4;
 
 /// How `resample` makes a take at `fps` from one of `frame_time` seconds a frame.
+///
+/// ```
+/// use bvhview::edit::Resampling;
+///
+/// assert_eq!(Resampling::of(0.033333, 30.0), Resampling::Same); // 1/30 written with 6 digits
+/// assert_eq!(Resampling::of(1.0 / 120.0, 30.0), Resampling::EveryKth(4));
+/// assert_eq!(Resampling::of(1.0 / 30.0, 24.0), Resampling::Interpolated);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Resampling {
     /// The rate is the file's (within [`SAME_RATE`]): every frame kept, bit for bit.
@@ -36,6 +44,19 @@ impl Resampling {
 }
 
 /// Which of a take's frames make each frame of it resampled (see [`resample()`]).
+///
+/// ```
+/// use bvhview::edit::{Picks, resample_picks};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// // 5 frames at 120 fps to 60: every other frame, as it is.
+/// assert_eq!(resample_picks(5, 1.0 / 120.0, 60.0, 3)?, Picks::Rows(vec![0, 2, 4]));
+/// // 3 frames at 2 fps to 4: new frames halfway between.
+/// let Picks::Between(between) = resample_picks(3, 0.5, 4.0, 3)? else { panic!() };
+/// assert_eq!(between[1], (0, 1, 0.5));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub enum Picks {
     /// Each new frame is the take's frame of that index, bit for bit.

@@ -55,41 +55,23 @@ pub const HUMAN_LEAST: f32 = 0.5;
 /// … and at most this.
 pub const HUMAN_MOST: f32 = 2.5;
 
-/// Words that name an arm's parts and a leg's, in lower case.
-const ARM_WORDS: [&str; 11] = [
-    "arm", "shoulder", "shldr", "clavicle", "collar", "humerus", "elbow", "wrist", "hand",
-    "radius", "forearm",
-];
-const LEG_WORDS: [&str; 10] = [
-    "leg", "thigh", "knee", "foot", "femur", "tibia", "hip", "ankle", "shin", "toe",
-];
-
-/// Whether a skeleton looks like a person's: a joint named as a head, and a left and a right
-/// arm and leg by their names (see [`crate::model::body::name_side`]), each side's joint paired with
-/// the other's. `Some` names the joints it goes by (`Head, LeftArm/RightArm, …`).
+/// Whether a skeleton looks like a person's, by the reading of the body
+/// ([`crate::model::body::Body`]): a head, and a left and a right upper arm and thigh. `Some`
+/// names the joints it goes by (`Head, LeftArm/RightArm, LeftUpLeg/RightUpLeg`).
 pub fn human_like(skeleton: &Skeleton) -> Option<String> {
-    let names: Vec<&str> = skeleton
-        .joints
-        .iter()
-        .filter(|j| !j.end_site)
-        .map(|j| j.name.as_str())
-        .collect();
-    let head = names
-        .iter()
-        .find(|n| n.to_ascii_lowercase().contains("head"))?;
-    let pair = |words: &[&str]| {
-        names.iter().find_map(|&name| {
-            let (side, other) = crate::model::body::name_side(name)?;
-            let lower = name.to_ascii_lowercase();
-            let part = words.iter().any(|w| lower.contains(w));
-            (side == crate::model::body::Side::Left && part && names.contains(&other.as_str()))
-                .then(|| format!("{name}/{other}"))
-        })
+    use crate::model::body::{Body, Limb, Role, Side};
+    let body = Body::of(skeleton);
+    let name = |joint: usize| skeleton.joints[joint].name.as_str();
+    let pair = |limb: Limb| -> Option<String> {
+        let left = body.joint(Role::Limb(Side::Left, limb))?;
+        let right = body.joint(Role::Limb(Side::Right, limb))?;
+        Some(format!("{}/{}", name(left), name(right)))
     };
     Some(format!(
-        "{head}, {}, {}",
-        pair(&ARM_WORDS)?,
-        pair(&LEG_WORDS)?
+        "{}, {}, {}",
+        name(body.head?),
+        pair(Limb::UpperArm)?,
+        pair(Limb::Thigh)?
     ))
 }
 

@@ -8,9 +8,20 @@ use glam::{Mat4, Vec3};
 pub const MAX_INFLUENCES: usize = 4;
 
 /// A vertex in the bind pose and the bones that move it.
+///
+/// ```
+/// use bvhview::model::skin::SkinVertex;
+/// use glam::Vec3;
+///
+/// // Weights are scaled to sum to 1, strongest first; a weight of 0 is dropped.
+/// let vertex = SkinVertex::new(Vec3::X, Vec3::Y, &[(0, 1.0), (3, 3.0), (5, 0.0)]);
+/// assert_eq!(vertex.influences, [(3, 0.75), (0, 0.25), (0, 0.0), (0, 0.0)]);
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct SkinVertex {
+    /// Where the vertex is in the bind pose.
     pub position: Vec3,
+    /// Its unit normal in the bind pose.
     pub normal: Vec3,
     /// (bone, weight), weights summing to 1; unused slots have weight 0.
     pub influences: [(u32, f32); MAX_INFLUENCES],
@@ -45,8 +56,23 @@ impl SkinVertex {
 }
 
 /// A skin bound to a set of bones.
+///
+/// ```
+/// use bvhview::model::skin::{Skin, SkinVertex};
+/// use glam::{Mat4, Vec3};
+///
+/// // One vertex on bone 0, bound where the bone stands at x = 1.
+/// let vertex = SkinVertex::new(Vec3::new(1.0, 1.0, 0.0), Vec3::Y, &[(0, 1.0)]);
+/// let skin = Skin::new(vec![vertex], &[Mat4::from_translation(Vec3::X)]);
+/// // The bone moves up by 2: the vertex follows.
+/// let (mut bones, mut positions, mut normals) = (Vec::new(), Vec::new(), Vec::new());
+/// skin.bone_matrices(&[Mat4::from_translation(Vec3::new(1.0, 2.0, 0.0))], &mut bones);
+/// skin.deform(&bones, &mut positions, &mut normals);
+/// assert_eq!((positions[0], normals[0]), (Vec3::new(1.0, 3.0, 0.0), Vec3::Y));
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Skin {
+    /// The skin's vertices in the bind pose.
     pub vertices: Vec<SkinVertex>,
     /// Aᵢ⁻¹ for every bone.
     pub inverse_bind: Vec<Mat4>,

@@ -79,6 +79,20 @@ pub(super) struct PlannedJoint {
 
 /// Forward kinematics compiled for one skeleton: the same products as [`world_matrices`], kept
 /// as quaternion + translation, for exporting every frame of long takes fast.
+///
+/// ```
+/// use bvhview::{Take, model::pose::{FkPlan, FkScratch, OffsetMode, world_positions}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+/// let plan = FkPlan::new(&take.skeleton, OffsetMode::Replace);
+/// let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
+/// plan.positions(take.motion.frame(10), &mut points, &mut scratch);
+/// let slow = world_positions(&take.skeleton, take.motion.frame(10), OffsetMode::Replace);
+/// assert!(points.iter().zip(&slow).all(|(a, b)| a.abs_diff_eq(*b, 1e-3)));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug)]
 pub struct FkPlan {
     pub(super) joints: Vec<PlannedJoint>,
@@ -214,6 +228,24 @@ impl QuatLanes {
 }
 
 /// Buffers one thread reuses from batch to batch.
+///
+/// ```
+/// use bvhview::{Take, model::pose::{FkPlan, FkScratch, LANES, OffsetMode}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+/// let plan = FkPlan::new(&take.skeleton, OffsetMode::Replace);
+/// // One scratch for the whole take: its buffers grow once and are reused.
+/// let (mut scratch, mut points, mut count) = (FkScratch::default(), Vec::new(), 0);
+/// let frames: Vec<&[f32]> = (0..take.frame_count()).map(|i| take.motion.frame(i)).collect();
+/// for batch in frames.chunks(LANES) {
+///     plan.positions_of_frames(batch, &mut points, &mut scratch);
+///     count += points.len();
+/// }
+/// assert_eq!(count, take.frame_count() * take.skeleton.joints.len());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, Default)]
 pub struct FkScratch {
     pub(super) half_angles: Vec<f32>,
@@ -226,6 +258,7 @@ pub struct FkScratch {
 }
 
 impl FkPlan {
+    /// The plan for `skeleton`, its position channels read in `mode`.
     pub fn new(skeleton: &Skeleton, mode: OffsetMode) -> FkPlan {
         let mut rotation_columns = Vec::new();
         let mut rotation_axes = Vec::new();

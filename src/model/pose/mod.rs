@@ -27,6 +27,23 @@ pub use lanes::*;
 pub use rotations::*;
 
 /// How a joint's position channels combine with its OFFSET.
+///
+/// ```
+/// use bvhview::{bvh::load_bytes, model::pose::{OffsetMode, world_positions}};
+/// use glam::Vec3;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let text = b"HIERARCHY\nROOT Hips\n{\n OFFSET 0 10 0\n CHANNELS 3 Xposition Yposition Zposition\n \
+///     End Site\n {\n  OFFSET 0 5 0\n }\n}\nMOTION\nFrames: 1\nFrame Time: 0.1\n1 2 3\n";
+/// let bvh = load_bytes(text, "inline")?;
+/// let frame = bvh.motion.frame(0);
+/// let replaced = world_positions(&bvh.skeleton, frame, OffsetMode::Replace);
+/// assert_eq!(replaced[0], Vec3::new(1.0, 2.0, 3.0)); // the OFFSET's 10 is replaced
+/// let added = world_positions(&bvh.skeleton, frame, OffsetMode::Add);
+/// assert_eq!(added[0], Vec3::new(1.0, 12.0, 3.0));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum OffsetMode {
     /// Position channels replace the matching OFFSET components (the article's
@@ -38,10 +55,25 @@ pub enum OffsetMode {
 }
 
 /// Which world axis points up in a file: BVH's usual Y, or Z as some exporters write.
+///
+/// ```
+/// use bvhview::{Take, model::pose::Up};
+/// use glam::Vec3;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+/// assert_eq!(Up::guess(&take.skeleton), Up::Y);
+/// // The turn that makes a Z-up take stand along Y.
+/// assert!((Up::Z.to_y_up() * Vec3::Z).abs_diff_eq(Vec3::Y, 1e-6));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Up {
+    /// Y up: BVH's usual convention.
     #[default]
     Y,
+    /// Z up, as some exporters write.
     Z,
 }
 

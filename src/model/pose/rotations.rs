@@ -5,6 +5,15 @@ use super::*;
 
 /// How a joint's local rotation is written as numbers (Python's `local_rotations(kind=…)`, the
 /// dataset's `--rotations`).
+///
+/// ```
+/// use bvhview::model::pose::RotationKind;
+///
+/// let kind = RotationKind::parse("6d").unwrap();
+/// assert_eq!((kind, kind.width(), kind.name()), (RotationKind::SixD, 6, "6d"));
+/// assert_eq!(RotationKind::Matrix.width(), 9);
+/// assert_eq!(RotationKind::parse("euler_zxy"), None);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RotationKind {
     /// (w, x, y, z), w ≥ 0.
@@ -20,8 +29,11 @@ pub enum RotationKind {
 }
 
 impl RotationKind {
+    /// Every name [`RotationKind::parse`] takes, as messages list them.
     pub const NAMES: &'static str = "\"quat\", \"matrix\", \"6d\", \"euler\" or \"axis_angle\"";
 
+    /// The kind a name means (`quat`, `matrix`, `6d`, `euler`, `axis_angle`); `None` for any
+    /// other text.
     pub fn parse(text: &str) -> Option<RotationKind> {
         match text {
             "quat" => Some(RotationKind::Quat),
@@ -33,6 +45,7 @@ impl RotationKind {
         }
     }
 
+    /// The name [`RotationKind::parse`] reads back.
     pub fn name(self) -> &'static str {
         match self {
             RotationKind::Quat => "quat",
