@@ -26,6 +26,7 @@ pub struct Motion {
 }
 
 impl Motion {
+    /// `frames` rows of `channels` values, row after row in `data`, `frame_time` seconds apart.
     pub fn new(frame_time: f64, channels: usize, frames: usize, data: Vec<f32>) -> Motion {
         debug_assert_eq!(data.len(), frames * channels);
         Motion {

@@ -18,11 +18,17 @@ use std::fmt;
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Channel {
+    /// A translation along X.
     Xposition,
+    /// A translation along Y.
     Yposition,
+    /// A translation along Z.
     Zposition,
+    /// A rotation about X, in degrees.
     Xrotation,
+    /// A rotation about Y, in degrees.
     Yrotation,
+    /// A rotation about Z, in degrees.
     Zrotation,
 }
 
@@ -63,6 +69,7 @@ impl Channel {
         }
     }
 
+    /// Whether the channel is an angle (`Xrotation`, `Yrotation`, `Zrotation`).
     pub fn is_rotation(self) -> bool {
         matches!(
             self,
@@ -70,6 +77,7 @@ impl Channel {
         )
     }
 
+    /// Whether the channel is a translation (`Xposition`, `Yposition`, `Zposition`).
     pub fn is_position(self) -> bool {
         !self.is_rotation()
     }
@@ -95,11 +103,17 @@ impl fmt::Display for Channel {
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum RotationOrder {
+    /// `Zrotation Yrotation Xrotation`: the article's `ZYX = 1`.
     Zyx = 1,
+    /// `Yrotation Zrotation Xrotation`: `YZX = 2`.
     Yzx = 2,
+    /// `Zrotation Xrotation Yrotation`: `ZXY = 3`.
     Zxy = 3,
+    /// `Xrotation Zrotation Yrotation`: `XZY = 5`.
     Xzy = 5,
+    /// `Yrotation Xrotation Zrotation`: `YXZ = 6`.
     Yxz = 6,
+    /// `Xrotation Yrotation Zrotation`: `XYZ = 7`.
     Xyz = 7,
 }
 
@@ -174,15 +188,22 @@ impl RotationOrder {
 /// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Joint {
+    /// The name after `ROOT` or `JOINT` (exports call an End Site `<parent>_End`).
     pub name: String,
+    /// The parent joint's index; `None` for a root.
     pub parent: Option<usize>,
+    /// The children's indices, in file order.
     pub children: Vec<usize>,
+    /// C++: `x, y, z`: the OFFSET from the parent, in file units.
     pub offset: Vec3,
+    /// The CHANNELS, in file order (empty for an End Site).
     pub channels: Vec<Channel>,
     /// Index of this joint's first column in a MOTION row.
     pub first_channel: usize,
     /// Written `End Site` (or, by some exporters, `JOINT Site` with `CHANNELS 0` and no children).
     pub end_site: bool,
+    /// The order of the three rotation channels; `None` unless the joint has exactly three, on
+    /// distinct axes.
     pub rotation_order: Option<RotationOrder>,
     /// A fixed rotation C around the channels' rotation: local = T · C · R · C⁻¹. ASF bones have
     /// one (their `axis`); BVH joints never do.
@@ -190,6 +211,8 @@ pub struct Joint {
 }
 
 impl Joint {
+    /// A joint called `name` under `parent`, at the parent's origin, with no channels, children
+    /// or axis.
     pub fn new(name: String, parent: Option<usize>) -> Joint {
         Joint {
             name,
@@ -211,6 +234,20 @@ impl Joint {
 }
 
 /// Where a skeleton came from, which decides how its points are named in exports.
+///
+/// ```
+/// use bvhview::{Take, model::skeleton::Source};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let bvh = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// assert_eq!(bvh.skeleton.source, Source::Bvh);
+/// assert!(bvh.point_names().contains(&"Neck_End".to_string()));
+/// let asf = Take::open("tests/data/asf_amc/heiden_12.asf")?;
+/// assert_eq!(asf.skeleton.source, Source::Acclaim);
+/// assert!(asf.point_names().contains(&"lfemur".to_string())); // the femur's end point
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Source {
     /// Joints are named; End Sites are `<parent>_End`.
@@ -239,7 +276,9 @@ pub enum Source {
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Skeleton {
+    /// Every joint and End Site, a parent before its children.
     pub joints: Vec<Joint>,
+    /// The format it was read from, for how exports name its points.
     pub source: Source,
 }
 
@@ -258,6 +297,7 @@ impl Skeleton {
             .map(|(i, _)| i)
     }
 
+    /// How many of the joints are End Sites.
     pub fn end_site_count(&self) -> usize {
         self.joints.iter().filter(|j| j.end_site).count()
     }

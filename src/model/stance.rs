@@ -20,17 +20,28 @@ const LIKELY: f32 = 1.25;
 const SURE: f32 = 2.0;
 
 /// How much a guess is worth.
+///
+/// ```
+/// use bvhview::model::stance::{Sureness, Units};
+///
+/// let (units, sureness) = Units::guess_with_sureness(175.0); // a person, in centimetres
+/// assert_eq!((units.name, sureness.word()), ("centimetres", "sure"));
+/// assert_eq!(Units::guess_with_sureness(6.0).1, Sureness::Unsure); // 6 what?
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Sureness {
     /// The file says so (an ASF's `:units`), or the skeleton is one whose units are known.
     Stated,
+    /// The evidence is clear: one answer well ahead of the others.
     Sure,
+    /// The evidence leans one way, not by much.
     Likely,
     /// A convention rather than evidence (BVH's Y up when the figure tells nothing).
     Unsure,
 }
 
 impl Sureness {
+    /// How messages and `info` say it: `stated`, `sure`, `likely` or `unsure`.
     pub fn word(self) -> &'static str {
         match self {
             Sureness::Stated => "stated",
@@ -42,6 +53,18 @@ impl Sureness {
 }
 
 /// What the units guess rests on.
+///
+/// ```
+/// use bvhview::{Take, model::{pose::OffsetMode, stance::{Sureness, UnitsBasis}}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let asf = Take::open("tests/data/asf_amc/heiden_12.asf")?.stance(OffsetMode::Replace);
+/// assert_eq!((asf.units_basis, asf.units_sureness), (UnitsBasis::Asf, Sureness::Stated));
+/// let bvh = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?.stance(OffsetMode::Replace);
+/// assert_eq!(bvh.units_basis, UnitsBasis::Size);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum UnitsBasis {
     /// The ASF's `:units length` (CMU's 0.45: lengths in 1/0.45 inch).
@@ -53,8 +76,17 @@ pub enum UnitsBasis {
 }
 
 /// The units a file's lengths look written in, guessed from how tall its skeleton stands.
+///
+/// ```
+/// use bvhview::model::stance::Units;
+///
+/// assert_eq!(Units::guess(1.8).name, "metres");
+/// assert_eq!(Units::guess(72.0).name, "inches"); // a Second Life avatar
+/// assert_eq!(Units::guess(1700.0).metres, 0.001);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Units {
+    /// What messages call them (`centimetres`).
     pub name: &'static str,
     /// Metres per unit of the file.
     pub metres: f32,
@@ -117,9 +149,25 @@ pub const CMU_UNITS: Units = Units {
 };
 
 /// The guess for one take.
+///
+/// ```
+/// use bvhview::{Take, model::{pose::{OffsetMode, Up}, stance::Stance}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+/// let stance: Stance = take.stance(OffsetMode::Replace);
+/// assert_eq!(stance.up, Up::Y);
+/// assert_eq!(stance.units.name, "CMU units (1/0.45 inch)"); // CMU's skeleton, known by name
+/// assert_eq!(stance.poses, 64); // frames looked at
+/// assert!(stance.height > 0.0 && stance.height <= stance.size);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stance {
+    /// The axis the figure stands along.
     pub up: Up,
+    /// How sure the up axis is.
     pub up_sureness: Sureness,
     /// Whether the root's path decided the up axis (the figure's spread did not).
     pub up_by_path: bool,
@@ -128,8 +176,11 @@ pub struct Stance {
     pub spread: Vec3,
     /// How far the root travels along x, y and z over the poses looked at.
     pub root_travel: Vec3,
+    /// The units the lengths look written in.
     pub units: Units,
+    /// How sure the units are.
     pub units_sureness: Sureness,
+    /// What the units guess rests on.
     pub units_basis: UnitsBasis,
     /// How tall the figure stands along its up axis (the median over the poses), in file units.
     pub height: f32,
