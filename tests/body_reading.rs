@@ -626,3 +626,43 @@ fn quat_continuous_keeps_each_joints_sign_along_time() {
         "--quat-continuous: only quaternions have a sign to choose (--rotations quat), not 6d"
     );
 }
+
+/// The lowest of the reading's foot points over a take.
+fn lowest_foot(take: &Take) -> f32 {
+    let feet = Body::of(&take.skeleton).foot_points(&take.skeleton);
+    (0..take.frame_count())
+        .flat_map(|f| {
+            let world = bvhview::model::pose::world_positions(
+                &take.skeleton,
+                take.motion.frame(f),
+                OffsetMode::Replace,
+            );
+            feet.iter().map(move |&p| world[p].y).collect::<Vec<f32>>()
+        })
+        .fold(f32::INFINITY, f32::min)
+}
+
+#[test]
+fn a_retargeted_take_stands_on_its_own_feet_where_the_source_stood() {
+    // The LaFAN1 sample with each toe's End Site 4 cm under the toe joint: the source's lowest
+    // leg point is a tip the SMPL sample does not have. Legs of one length: no scaling.
+    let text = std::fs::read_to_string("tests/body/lafan1.bvh")
+        .unwrap()
+        .replace("OFFSET 0 0 6\n", "OFFSET 0 -4 6\n");
+    assert_eq!(text.matches("OFFSET 0 -4 6").count(), 2);
+    let dir = tempfile::tempdir().unwrap();
+    let (source, out) = (dir.path().join("tiptoe.bvh"), dir.path().join("on_smpl.bvh"));
+    std::fs::write(&source, text).unwrap();
+    let run = bvhview()
+        .arg("retarget")
+        .arg(&source)
+        .args(["--onto", "tests/body/smpl.bvh", "-q", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.success(), "{run:?}");
+    let (source, target) = (Take::open(&source).unwrap(), Take::open(&out).unwrap());
+    assert_eq!(lowest_foot(&source), 0.0);
+    // Before issue 46 the target's toes went where the source's tips were: 4 cm under.
+    assert!(lowest_foot(&target).abs() < 1e-4, "{}", lowest_foot(&target));
+}

@@ -207,8 +207,15 @@ pub(super) fn hip_height(
         .fold(0.0, f64::max)
 }
 
-/// Joints of the legs (everything under a thigh, End Sites too): where the floor is read.
-pub(super) fn leg_points(skeleton: &Skeleton, body: &Body) -> Vec<usize> {
+/// Where the floor is read: the foot points of the reading of the body (each leg's ankle and
+/// toe), so that the target's own feet stand where the source's stood; a source's toe tip the
+/// target does not have would sink the target's feet by its height. Without two feet: every
+/// joint of the legs (everything under a thigh, End Sites too).
+pub(super) fn floor_points(skeleton: &Skeleton, body: &Body) -> Vec<usize> {
+    let feet = body.foot_points(skeleton);
+    if !feet.is_empty() {
+        return feet;
+    }
     let thighs: Vec<usize> = [
         body.limbs[0][Limb::Thigh as usize],
         body.limbs[1][Limb::Thigh as usize],

@@ -89,8 +89,8 @@ impl Setup {
                 follow[t] = Some((sd, target_rest[d].1 - target_rest[t].1));
             }
         }
-        let source_legs = leg_points(source, &map.source_body);
-        let target_legs = leg_points(target, &map.target_body);
+        let source_legs = floor_points(source, &map.source_body);
+        let target_legs = floor_points(target, &map.target_body);
         let joints = target.joints.len();
         let under_carrier: Vec<bool> = (0..joints)
             .map(|j| carrier.is_some_and(|c| is_ancestor(target, c, j)))
@@ -141,7 +141,8 @@ impl Setup {
         }
     }
 
-    /// Feet on the floor: the legs' lowest point over the take where the source's is, scaled.
+    /// Feet on the floor: the target's lowest foot point over the take where the source's is,
+    /// scaled.
     pub(super) fn lift(&self, source_floor: f64, target_floor: f64) -> DVec3 {
         if source_floor.is_finite() && target_floor.is_finite() {
             self.ut_inv * DVec3::new(0.0, self.ratio * source_floor - target_floor, 0.0)
