@@ -651,7 +651,10 @@ fn a_retargeted_take_stands_on_its_own_feet_where_the_source_stood() {
         .replace("OFFSET 0 0 6\n", "OFFSET 0 -4 6\n");
     assert_eq!(text.matches("OFFSET 0 -4 6").count(), 2);
     let dir = tempfile::tempdir().unwrap();
-    let (source, out) = (dir.path().join("tiptoe.bvh"), dir.path().join("on_smpl.bvh"));
+    let (source, out) = (
+        dir.path().join("tiptoe.bvh"),
+        dir.path().join("on_smpl.bvh"),
+    );
     std::fs::write(&source, text).unwrap();
     let run = bvhview()
         .arg("retarget")
@@ -664,5 +667,9 @@ fn a_retargeted_take_stands_on_its_own_feet_where_the_source_stood() {
     let (source, target) = (Take::open(&source).unwrap(), Take::open(&out).unwrap());
     assert_eq!(lowest_foot(&source), 0.0);
     // Before issue 46 the target's toes went where the source's tips were: 4 cm under.
-    assert!(lowest_foot(&target).abs() < 1e-4, "{}", lowest_foot(&target));
+    assert!(
+        lowest_foot(&target).abs() < 1e-4,
+        "{}",
+        lowest_foot(&target)
+    );
 }
