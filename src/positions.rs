@@ -10,6 +10,21 @@ use std::io::{self, Write};
 use std::ops::Range;
 use std::sync::Mutex;
 
+/// The text a positions export writes.
+///
+/// ```
+/// use bvhview::{Take, positions::{Format, PositionsOptions, write_positions}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// let options = PositionsOptions { format: Format::Json, ..PositionsOptions::default() };
+/// let mut json = Vec::new();
+/// write_positions(&mut json, &take.skeleton, &take.motion, 0..1, &options).unwrap();
+/// assert!(json.starts_with(b"{\"frame_time\":"));
+/// assert_eq!(PositionsOptions::default().format, Format::Csv);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Format {
     /// `frame,joint,x,y,z`, one joint per line.
@@ -20,9 +35,28 @@ pub enum Format {
 }
 
 /// Options of a positions export.
+///
+/// ```
+/// use bvhview::{Take, positions::{PositionsOptions, write_positions}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// // Frame 0 in metres from centimetres, z negated for a left-handed engine.
+/// let options = PositionsOptions { scale: 0.01, left_handed: true, ..Default::default() };
+/// let mut csv = Vec::new();
+/// write_positions(&mut csv, &take.skeleton, &take.motion, 0..1, &options).unwrap();
+/// let text = String::from_utf8(csv).unwrap();
+/// assert_eq!(text.lines().next(), Some("frame,joint,x,y,z"));
+/// // The root 30 units up: 0.3 m as the nearest f32 prints, z (0) negated.
+/// assert_eq!(text.lines().nth(1), Some("0,Hips,0,0.29999998,-0"));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug)]
 pub struct PositionsOptions {
+    /// CSV or JSON.
     pub format: Format,
+    /// How position channels meet the OFFSET.
     pub offset_mode: OffsetMode,
     /// Negate z, turning the right-handed BVH frame into a left-handed one (Direct3D).
     pub left_handed: bool,
@@ -80,6 +114,20 @@ pub fn parse_frames(text: &str, frame_count: usize) -> Result<Range<usize>, Erro
 /// A position that is not a finite number (offsets and values near the float limit, or a large
 /// `--scale`, overflow): the export stops rather than write `inf` or `NaN`, which CSV and JSON
 /// readers refuse. It travels inside the `io::Error` that [`write_positions`] returns.
+///
+/// ```
+/// use bvhview::{Take, positions::{PositionsOptions, not_finite, write_positions}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// let options = PositionsOptions { scale: f32::MAX, ..Default::default() };
+/// let mut out = Vec::new();
+/// let error = write_positions(&mut out, &take.skeleton, &take.motion, 0..1, &options).unwrap_err();
+/// let why = not_finite(&error).expect("a position overflowed");
+/// assert!(why.to_string().starts_with("frame 0, Hips: the position (0, inf, 0) is not a finite"));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug)]
 pub struct NotFinite(pub String);
 
@@ -251,6 +299,16 @@ fn write_with<W: Write + Send>(
 /// The shortest text that reads back as the same f32, as `ryu` wrote it (which is what exports
 /// have always held: `1e20`, not `1e+20`), without `.0` on whole numbers, so 30 prints as `30`.
 /// The digits come from `zmij`, twice as fast as `ryu`; a test holds the two equal.
+///
+/// ```
+/// use bvhview::positions::Shortest;
+///
+/// let mut shortest = Shortest::default();
+/// assert_eq!(shortest.format(30.0), b"30");
+/// assert_eq!(shortest.format(0.1), b"0.1");
+/// assert_eq!(shortest.format(1e20), b"1e20");
+/// assert_eq!(shortest.format(-2.5e-7), b"-2.5e-7");
+/// ```
 pub struct Shortest {
     digits: zmij::Buffer,
     /// The text of a number whose exponent lost its `+`.

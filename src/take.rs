@@ -26,11 +26,25 @@ use crate::model::skeleton::Skeleton;
 use std::path::Path;
 
 /// The format a take was read from.
+///
+/// ```
+/// use bvhview::take::{Format, Take};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// assert_eq!(Format::of_extension("glb"), Some(Format::Gltf));
+/// assert_eq!(Format::of_extension("amc"), Some(Format::AsfAmc));
+/// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// assert_eq!(take.format, Some(Format::Bvh));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
+    /// BVH (Biovision Hierarchy): `.bvh`.
     Bvh,
     /// An ASF skeleton with its AMC motion (CMU's Acclaim format).
     AsfAmc,
+    /// Autodesk FBX, binary or ASCII: `.fbx`.
     Fbx,
     /// glTF 2.0, `.gltf` or `.glb`.
     Gltf,
@@ -54,8 +68,11 @@ impl Format {
 /// came from. Python's `bvhview.Motion` is this type; its methods have the same names.
 #[derive(Clone, Debug)]
 pub struct Take {
+    /// The joints, in pre-order.
     pub skeleton: Skeleton,
+    /// The frames, one column per channel of `skeleton`.
     pub motion: Motion,
+    /// What the file said once: things accepted that deserve a word.
     pub warnings: Vec<String>,
     /// The units the file states (an ASF's `:units length`), if any.
     pub stated_units: Option<crate::model::stance::Units>,
@@ -289,6 +306,19 @@ impl Take {
 }
 
 /// How to open a take: options for [`Take::open_with`], each with a default, set in a chain.
+///
+/// ```
+/// use bvhview::{OpenOptions, model::pose::OffsetMode};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let options = OpenOptions::new().frame_time(0.5).threads(1).offset_mode(OffsetMode::Add);
+/// let take = options.open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// assert_eq!((take.fps(), take.offset_mode), (2.0, OffsetMode::Add));
+/// // Files larger than `max_size` are refused before they are read.
+/// assert!(OpenOptions::new().max_size(100).open("tests/oracle/inputs/tiny_crlf.bvh").is_err());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, Default)]
 pub struct OpenOptions {
     motion: Option<std::path::PathBuf>,

@@ -21,15 +21,29 @@ use std::path::{Path, PathBuf};
 pub enum Error {
     /// The input is malformed: `path:line:column: message`.
     Parse {
+        /// The input's name: its path, or the name given to bytes in memory.
         path: String,
+        /// The line, from 1.
         line: usize,
+        /// The column, from 1.
         column: usize,
+        /// What was expected and what was found.
         message: String,
     },
     /// An input file could not be read.
-    Io { path: PathBuf, source: io::Error },
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// Why the system could not read it.
+        source: io::Error,
+    },
     /// An output file could not be written.
-    Output { path: PathBuf, source: io::Error },
+    Output {
+        /// The file.
+        path: PathBuf,
+        /// Why the system could not write it.
+        source: io::Error,
+    },
     /// Anything else the user asked for that cannot be done (a frame out of range, a bad option).
     Usage(String),
     /// The machine lacks something (a display, a library): not the input's fault.
@@ -39,6 +53,7 @@ pub enum Error {
 }
 
 impl Error {
+    /// [`Error::Io`]: `path` could not be read.
     pub fn io(path: &Path, source: io::Error) -> Error {
         Error::Io {
             path: path.to_path_buf(),
@@ -46,6 +61,7 @@ impl Error {
         }
     }
 
+    /// [`Error::Output`]: `path` could not be written.
     pub fn output(path: &Path, source: io::Error) -> Error {
         Error::Output {
             path: path.to_path_buf(),

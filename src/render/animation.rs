@@ -8,8 +8,27 @@ use std::ops::Range;
 use std::path::Path;
 
 /// The animated formats `snapshot --frames` writes.
+///
+/// ```
+/// use bvhview::render::{Image, animation::{Format, default_fps, write}};
+/// use std::path::Path;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// assert_eq!(Format::of(Path::new("walk.gif")), Some(Format::Gif));
+/// assert_eq!(Format::of(Path::new("walk.jpg")), None);
+/// assert_eq!(default_fps(1.0 / 120.0, Format::Gif), 50.0); // a GIF plays at most this fast
+/// // Two 1 × 1 pictures, black then white, as a GIF at 10 fps.
+/// let pictures = [0, 255].map(|shade| Ok(Image { width: 1, height: 1, rgb: vec![shade; 3] }));
+/// let folder = tempfile::tempdir().unwrap();
+/// let path = folder.path().join("blink.gif");
+/// write(&path, Format::Gif, (1, 1), 10.0, pictures.into_iter(), 2)?;
+/// assert!(std::fs::read(&path).unwrap().starts_with(b"GIF89a"));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
+    /// GIF (`.gif`): 256 colours a frame, delays in hundredths of a second.
     Gif,
     /// Animated PNG (`.apng`, or `.png` with `--frames`).
     Apng,
@@ -114,6 +133,8 @@ pub fn drawn_and_written<T: Send>(
     )
 }
 
+/// Writes `count` pictures of `width × height` from `frames` to `path` as one looping
+/// animation in `format` at `fps`, whole or not at all.
 pub fn write(
     path: &Path,
     format: Format,

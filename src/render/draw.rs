@@ -6,6 +6,26 @@ use crate::model::skeleton::{Joint, Skeleton};
 use crate::render::fixed::{FixedFunction, GL_LIGHTING, GL_LINES, Note};
 
 /// How joints are drawn. `Points` is the article's picture.
+///
+/// ```
+/// use bvhview::model::pose::OffsetMode;
+/// use bvhview::render::{draw::{Style, draw}, trace::{Numbers, Recorder}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = bvhview::Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// let calls = |style| {
+///     let mut gl = Recorder::new(Numbers::Printf);
+///     draw(&mut gl, &take.skeleton, None, style, OffsetMode::Replace);
+///     let spheres = gl.lines.iter().filter(|l| l.starts_with("glutSolidSphere")).count();
+///     let lines = gl.lines.iter().filter(|l| l.starts_with("glBegin(GL_LINES)")).count();
+///     (spheres, lines)
+/// };
+/// assert_eq!(calls(Style::Points), (12, 0)); // a sphere per joint and End Site
+/// assert_eq!(calls(Style::Sticks), (0, 7)); // lines from each of the 7 joints to its children
+/// assert_eq!(calls(Style::Both), (12, 7));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Style {
     /// A sphere per joint and End Site (the article).
@@ -32,11 +52,31 @@ pub fn draw<G: FixedFunction>(
 }
 
 /// One draw of a skeleton: what [`draw`] takes, and how much of the tree to show.
+///
+/// ```
+/// use bvhview::model::pose::OffsetMode;
+/// use bvhview::render::{draw::{Pass, Style, draw_pass}, trace::{Numbers, Recorder}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = bvhview::Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// let whole = Pass::whole(&take.skeleton, None, Style::Points, OffsetMode::Replace);
+/// // The window's step view: the first three joints drawn, the third highlighted.
+/// let step = Pass { shown: Some(3), ..whole };
+/// let mut gl = Recorder::new(Numbers::Printf);
+/// draw_pass(&mut gl, &step);
+/// assert_eq!(gl.lines.iter().filter(|l| l.starts_with("glutSolidSphere")).count(), 3);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct Pass<'a> {
+    /// The skeleton drawn.
     pub skeleton: &'a Skeleton,
+    /// The MOTION row drawn; `None` draws the rest pose.
     pub frame: Option<&'a [f32]>,
+    /// Spheres, sticks or both.
     pub style: Style,
+    /// How position channels meet the OFFSET.
     pub mode: OffsetMode,
     /// Only the first `shown` joints in pre-order (the order they are drawn in) are drawn, the
     /// last of them highlighted: the window's step-by-step view of the recursion. `None`: all.

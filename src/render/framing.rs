@@ -7,11 +7,26 @@ use crate::render::scene::Camera;
 use glam::{Mat4, Vec3, Vec4Swizzles};
 
 /// The part of a picture a framed figure may use, in pixels from the bottom-left corner.
+///
+/// ```
+/// use bvhview::render::framing::Room;
+///
+/// // A 600 × 400 picture with a 40-pixel HUD on top and a 20-pixel timeline below.
+/// let room = Room::below(600, 400, 40.0, 20.0);
+/// assert_eq!(room, Room { left: 0.0, right: 600.0, bottom: 20.0, top: 360.0 });
+/// // Too small to keep both: a third of the height stays free.
+/// let tiny = Room::below(60, 30, 20.0, 20.0);
+/// assert_eq!(tiny.top - tiny.bottom, 10.0);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Room {
+    /// The left edge, in pixels from the left.
     pub left: f32,
+    /// The right edge, in pixels from the left.
     pub right: f32,
+    /// The bottom edge, in pixels from the bottom.
     pub bottom: f32,
+    /// The top edge, in pixels from the bottom.
     pub top: f32,
 }
 

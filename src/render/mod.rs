@@ -54,10 +54,29 @@ use scene::{Camera, Scene};
 use std::path::Path;
 
 /// An RGB picture, rows from the top down.
+///
+/// ```
+/// use bvhview::{Take, render::{Image, SnapshotOptions, snapshot}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// let options = SnapshotOptions { width: 64, height: 48, ..SnapshotOptions::default() };
+/// let image = snapshot(&take.skeleton, &take.motion, &options)?;
+/// assert_eq!((image.width, image.height, image.rgb.len()), (64, 48, 64 * 48 * 3));
+/// let folder = tempfile::tempdir().unwrap();
+/// let path = folder.path().join("tiny.png");
+/// image.write_png(&path)?;
+/// assert_eq!(Image::read_png(&path)?, image);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Image {
+    /// Pixels across.
     pub width: u32,
+    /// Pixels down.
     pub height: u32,
+    /// Red, green, blue per pixel, a byte each, row after row from the top.
     pub rgb: Vec<u8>,
 }
 
@@ -92,6 +111,8 @@ impl Image {
         file.commit()
     }
 
+    /// Reads a PNG file of any colour type as RGB (grey repeated, alpha dropped, 16 bits cut
+    /// to 8).
     pub fn read_png(path: &Path) -> Result<Image, Error> {
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
         let bad = |e: png::DecodingError| Error::Usage(format!("{}: {e}", path.display()));
@@ -187,10 +208,30 @@ impl Image {
 }
 
 /// A picture as GL draws it: RGBA rows from the bottom up (see [`Renderer::render_frame`]).
+///
+/// ```
+/// use bvhview::{Take, render::{Overlay, Renderer, SnapshotOptions, paint::Shown}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// let options = SnapshotOptions { width: 32, height: 32, ..SnapshotOptions::default() };
+/// let shown = Shown::of(&take.skeleton, &take.motion, options.up, options.offset_mode, false);
+/// let mut renderer = Renderer::new(32, 32)?;
+/// let frame = renderer.render_frame(&[shown], &options, &Overlay::default(), None)?;
+/// assert_eq!(frame.rgba.len(), 32 * 32 * 4);
+/// let (image, spare) = frame.into_image(); // the buffer back, for the next frame
+/// assert_eq!(image, renderer.render(&take.skeleton, &take.motion, &options)?);
+/// assert_eq!(spare.len(), 32 * 32 * 4);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug)]
 pub struct Frame {
+    /// Pixels across.
     pub width: u32,
+    /// Pixels down.
     pub height: u32,
+    /// Red, green, blue, alpha per pixel, row after row from the bottom.
     pub rgba: Vec<u8>,
 }
 
@@ -203,16 +244,40 @@ impl Frame {
 }
 
 /// What a snapshot shows.
+///
+/// ```
+/// use bvhview::{Take, render::{SnapshotOptions, draw::Style, snapshot}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+/// // Frame 10 as a stick figure, framed by the camera, 80 × 60.
+/// let options = SnapshotOptions {
+///     frame: 10, style: Style::Sticks, fit: true, width: 80, height: 60,
+///     ..SnapshotOptions::default()
+/// };
+/// let image = snapshot(&take.skeleton, &take.motion, &options)?;
+/// assert_eq!((image.width, image.height), (80, 60));
+/// // Past the last frame is an error, not a picture.
+/// let past = SnapshotOptions { frame: 344, ..options };
+/// assert!(snapshot(&take.skeleton, &take.motion, &past).is_err());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct SnapshotOptions {
+    /// The MOTION row drawn (0 for a take without frames: its rest pose).
     pub frame: usize,
     /// Camera angle in radians (the article's `angle`; it starts at 10).
     pub angle: f32,
+    /// The picture's width in pixels.
     pub width: u32,
+    /// The picture's height in pixels.
     pub height: u32,
+    /// Spheres, sticks or both.
     pub style: Style,
     /// Frame the skeleton instead of the article's fixed camera.
     pub fit: bool,
+    /// How position channels meet the OFFSET.
     pub offset_mode: OffsetMode,
     /// Draw a generated skin around the bones (not the article's picture).
     pub skin: bool,
@@ -238,14 +303,47 @@ pub struct SnapshotOptions {
 }
 
 /// How the picture looks: the article's (the default) or the studio's, opt-in.
+///
+/// ```
+/// use bvhview::{Take, render::{Look, SnapshotOptions, snapshot}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// let article = SnapshotOptions { width: 64, height: 64, ..SnapshotOptions::default() };
+/// assert_eq!(article.look, Look::Article);
+/// let studio = SnapshotOptions { look: Look::Studio, ..article };
+/// let a = snapshot(&take.skeleton, &take.motion, &article)?;
+/// let s = snapshot(&take.skeleton, &take.motion, &studio)?;
+/// assert!(a.differing_pixels(&s) > 0);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Look {
+    /// The article's picture: its fixed camera, light and floor.
     #[default]
     Article,
+    /// A framed figure on a studio floor, its sides in colours (`--look studio`).
     Studio,
 }
 
 /// What is drawn over the scene; none of it is the article's picture.
+///
+/// ```
+/// use bvhview::{Take, render::{Overlay, Renderer, SnapshotOptions}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// let options = SnapshotOptions { width: 200, height: 100, ..SnapshotOptions::default() };
+/// let mut renderer = Renderer::new(200, 100)?;
+/// let plain = renderer.render(&take.skeleton, &take.motion, &options)?;
+/// let lines = vec!["frame 0".to_string()];
+/// let overlay = Overlay { lines, timeline: Some((0, 3)), ..Overlay::default() };
+/// let hud = renderer.render_with_overlay(&take.skeleton, &take.motion, &options, &overlay)?;
+/// assert!(hud.differing_pixels(&plain) > 0);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Overlay {
     /// Lines of text top left: the HUD's, or the help's.
@@ -381,12 +479,31 @@ pub fn frame_values(motion: &Motion, index: usize) -> Result<Option<&[f32]>, Err
 }
 
 /// Renders frames offscreen with one context, reused for every picture.
+///
+/// ```
+/// use bvhview::{Take, render::{Renderer, SnapshotOptions}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+/// let mut renderer = Renderer::new(64, 64)?; // one context for every frame
+/// let options = SnapshotOptions { width: 64, height: 64, ..SnapshotOptions::default() };
+/// let first = renderer.render(&take.skeleton, &take.motion, &options)?;
+/// let options = SnapshotOptions { frame: 100, ..options };
+/// let later = renderer.render(&take.skeleton, &take.motion, &options)?;
+/// assert!(first.differing_pixels(&later) > 0, "the figure moved");
+/// // It draws at the size it was made with.
+/// assert!(renderer.render(&take.skeleton, &take.motion, &SnapshotOptions::default()).is_err());
+/// # Ok(())
+/// # }
+/// ```
 pub struct Renderer {
     context: osmesa::OsMesa,
     painter: paint::Painter,
 }
 
 impl Renderer {
+    /// An offscreen context (OSMesa) drawing `width × height` pictures, set up as the
+    /// article's `init` sets its window.
     pub fn new(width: u32, height: u32) -> Result<Renderer, Error> {
         let mut context = osmesa::OsMesa::new(width, height)?;
         scene::init(&mut context.gl);

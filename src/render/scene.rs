@@ -19,10 +19,23 @@ pub const START_ANGLE: f32 = 10.0;
 /// C++: the globals `R` and `angle` of main.cpp, and the eye `display` computes from them: the
 /// camera circles `target` at `distance`, at the target's height. A value rather than globals, so
 /// `--fit` and the mouse can change it.
+///
+/// ```
+/// use bvhview::render::scene::Camera;
+///
+/// let camera = Camera { angle: 0.0, ..Camera::default() }; // the article's, turned to angle 0
+/// assert_eq!(camera.eye(), [200.0, 20.0, 0.0]); // R away along x, at the target's height
+/// // One that sees a sphere of radius 100 around the origin.
+/// let framing = Camera::framing([0.0; 3], 100.0, 0.0);
+/// assert!(framing.distance > 100.0 / 22.5f32.to_radians().sin());
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Camera {
+    /// C++: `angle`: where the eye is around the target, in radians about the Y axis.
     pub angle: f32,
+    /// The point looked at.
     pub target: [f32; 3],
+    /// C++: `R`: how far the eye is from the target.
     pub distance: f32,
     /// How far above the target's height the eye looks down, in radians; 0 is the article's
     /// level camera (the window's vertical drag tilts it).
@@ -85,13 +98,36 @@ impl Camera {
 }
 
 /// What one `display()` draws.
+///
+/// ```
+/// use bvhview::model::pose::{OffsetMode, Up};
+/// use bvhview::render::{draw::Style, scene::{self, Camera, Scene}, trace::{Numbers, Recorder}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = bvhview::Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// let view = Scene {
+///     skeleton: &take.skeleton, frame: Some(take.motion.frame(0)), camera: Camera::default(),
+///     style: Style::Points, offset_mode: OffsetMode::Replace, skin: None, shown: None,
+///     sphere_radius: 1.0, up: Up::Y, origin: [0.0; 3], scale: 1.0, colours: None,
+/// };
+/// let mut gl = Recorder::new(Numbers::Apitrace);
+/// scene::display(&mut gl, &view); // the article's `display`, traced
+/// assert_eq!(gl.lines[0], "glClear(GL_DEPTH_BUFFER_BIT | GL_COLOR_BUFFER_BIT);");
+/// assert_eq!(gl.lines.iter().filter(|l| l.starts_with("glutSolidSphere")).count(), 12);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug)]
 pub struct Scene<'a> {
+    /// The skeleton drawn.
     pub skeleton: &'a Skeleton,
     /// The MOTION row to draw; `None` draws the rest pose.
     pub frame: Option<&'a [f32]>,
+    /// Where the eye is and what it looks at.
     pub camera: Camera,
+    /// Spheres, sticks or both.
     pub style: Style,
+    /// How position channels meet the OFFSET.
     pub offset_mode: OffsetMode,
     /// A skin posed for this frame, drawn lit before the skeleton (`--skin`; not the article's).
     pub skin: Option<&'a crate::model::bone_skin::PosedBody>,

@@ -7,10 +7,22 @@
 //! built once and drawn as often as needed.
 
 /// Vertex positions, normals and strip indices of one sphere.
+///
+/// ```
+/// use bvhview::render::sphere::Sphere;
+///
+/// let sphere = Sphere::new(1.0, 20, 16); // the article's glutSolidSphere(1, 20, 16)
+/// assert_eq!(sphere.positions.len(), (20 * 15 + 2) * 3); // two poles and 15 rings of 20
+/// assert_eq!(sphere.indices.len(), 16 * sphere.strip_len());
+/// assert_eq!(&sphere.positions[..3], &[0.0, 0.0, 1.0]); // the north pole first
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sphere {
+    /// The radius.
     pub radius: f32,
+    /// Divisions around the Z axis (like lines of longitude).
     pub slices: usize,
+    /// Divisions along the Z axis (like lines of latitude).
     pub stacks: usize,
     /// `x, y, z` per vertex.
     pub positions: Vec<f32>,

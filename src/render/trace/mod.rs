@@ -9,6 +9,24 @@ mod verdict;
 pub use verdict::*;
 
 /// How numbers are written.
+///
+/// ```
+/// use bvhview::model::pose::OffsetMode;
+/// use bvhview::render::{draw::{Style, draw}, trace::{Numbers, Recorder}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = bvhview::Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// let frame = Some(take.motion.frame(1));
+/// let mut printf = Recorder::new(Numbers::Printf);
+/// draw(&mut printf, &take.skeleton, frame, Style::Points, OffsetMode::Replace);
+/// let mut apitrace = Recorder::new(Numbers::Apitrace);
+/// draw(&mut apitrace, &take.skeleton, frame, Style::Points, OffsetMode::Replace);
+/// // The root moved to its frame-1 position.
+/// assert_eq!(printf.lines[1], "glTranslatef(5.000000, 30.000000, -3.000000);");
+/// assert_eq!(apitrace.lines[1], "glTranslatef(5, 30, -3);");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Numbers {
     /// As apitrace dumps them: `%.7g` for floats, `%.16g` for doubles (tests/oracle/trace).
@@ -21,8 +39,28 @@ pub enum Numbers {
 }
 
 /// The language of `--explain`'s notes.
+///
+/// ```
+/// use bvhview::model::pose::OffsetMode;
+/// use bvhview::render::{draw::{Style, draw}, trace::{Language, Numbers, Recorder}};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = bvhview::Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// let (frame, mode) = (Some(take.motion.frame(1)), OffsetMode::Replace);
+/// let explained = |language| {
+///     let mut gl = Recorder::explaining(Numbers::Printf, &take.skeleton, frame, mode, language, None);
+///     draw(&mut gl, &take.skeleton, frame, Style::Points, mode);
+///     gl
+/// };
+/// let (english, chinese) = (explained(Language::English), explained(Language::Chinese));
+/// assert!(english.lines[1].ends_with("// Hips: push, stack depth 1"));
+/// assert!(chinese.lines[1].ends_with("// Hips：推入矩陣堆疊，深度 1"));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum Language {
+    /// English.
     #[default]
     English,
     /// Traditional Chinese, in the article's terms.
@@ -132,8 +170,19 @@ struct Explain {
 
 /// Collects the calls as lines, and follows the modelview matrix (so that a draw that saves it,
 /// for skeletons deeper than the GL matrix stack, records the right values).
+///
+/// ```
+/// use bvhview::render::{scene, trace::{Numbers, Recorder}};
+///
+/// let mut recorder = Recorder::new(Numbers::Apitrace);
+/// scene::init(&mut recorder); // the article's `init`, one line of C per call
+/// assert_eq!(recorder.lines[0], "glClearColor(0, 0, 0, 0);");
+/// assert!(recorder.text().ends_with(";\n"));
+/// ```
 pub struct Recorder {
+    /// How the lines write numbers.
     pub numbers: Numbers,
+    /// One line of C per call, in order (with `--explain`'s notes between them).
     pub lines: Vec<String>,
     modelview: Vec<glam::DMat4>,
     in_modelview: bool,
@@ -143,6 +192,7 @@ pub struct Recorder {
 }
 
 impl Recorder {
+    /// A recorder with no lines yet, the modelview matrix the identity.
     pub fn new(numbers: Numbers) -> Recorder {
         Recorder {
             numbers,
