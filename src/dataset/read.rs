@@ -84,7 +84,7 @@ pub struct GroupFiles {
     pub arrays: Vec<ArrayFile>,
     /// Where each clip starts, and the end (`offsets.npy`, checked).
     pub offsets: Vec<usize>,
-    /// `skeleton.bvh`: the group's skeleton, in its rest pose.
+    /// `skeleton.bvh`: the group's skeleton as a BVH file of one frame, its rest pose.
     pub skeleton: File,
 }
 

@@ -88,7 +88,7 @@ impl Dof {
 pub struct Units {
     /// `mass`: the mass unit (1 when the file does not say).
     pub mass: f64,
-    /// `length`: the file's lengths are multiplied by this much (1 when the file does not say).
+    /// `length`: the length unit the file states (CMU's `0.45`; 1 when the file does not say).
     pub length: f64,
     /// `angle deg` (true) or `angle rad`.
     pub degrees: bool,
