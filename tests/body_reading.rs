@@ -54,6 +54,8 @@ const READINGS: &[(&str, &[&str])] = &[
             "left leg Bip01 L Thigh > Bip01 L Calf > Bip01 L Foot > Bip01 L Toe0; ",
             "right arm Bip01 R Clavicle > Bip01 R UpperArm > Bip01 R Forearm > Bip01 R Hand; ",
             "right leg Bip01 R Thigh > Bip01 R Calf > Bip01 R Foot > Bip01 R Toe0; ",
+            "left fingers thumb Bip01 L Finger0; ",
+            "right fingers thumb Bip01 R Finger0; ",
             "feet Bip01 L Foot Bip01 L Toe0 Bip01 R Foot Bip01 R Toe0",
         ],
     ),
@@ -69,6 +71,8 @@ const READINGS: &[(&str, &[&str])] = &[
             "left leg lThigh > lShin > lFoot > none; ",
             "right arm rCollar > rShldr > rForeArm > rHand; ",
             "right leg rThigh > rShin > rFoot > none; ",
+            "left fingers thumb lThumb1, index lIndex1; ",
+            "right fingers thumb rThumb1, index rIndex1; ",
             "feet lFoot lFoot_End rFoot rFoot_End",
         ],
     ),
@@ -99,6 +103,8 @@ const READINGS: &[(&str, &[&str])] = &[
             "left leg LeftUpLeg > LeftLeg > LeftFoot > LeftToeBase; ",
             "right arm RightShoulder > RightArm > RightForeArm > RightHand; ",
             "right leg RightUpLeg > RightLeg > RightFoot > RightToeBase; ",
+            "left fingers thumb LThumb, index LeftHandIndex1; ",
+            "right fingers thumb RThumb, index RightHandIndex1; ",
             "feet LeftFoot LeftToeBase RightFoot RightToeBase",
         ],
     ),
@@ -129,6 +135,8 @@ const READINGS: &[(&str, &[&str])] = &[
             "left leg mixamorig:LeftUpLeg > mixamorig:LeftLeg > mixamorig:LeftFoot > mixamorig:LeftToeBase; ",
             "right arm mixamorig:RightShoulder > mixamorig:RightArm > mixamorig:RightForeArm > mixamorig:RightHand; ",
             "right leg mixamorig:RightUpLeg > mixamorig:RightLeg > mixamorig:RightFoot > mixamorig:RightToeBase; ",
+            "left fingers thumb mixamorig:LeftHandThumb1, index mixamorig:LeftHandIndex1; ",
+            "right fingers thumb mixamorig:RightHandThumb1, index mixamorig:RightHandIndex1; ",
             "feet mixamorig:LeftFoot mixamorig:LeftToeBase mixamorig:RightFoot mixamorig:RightToeBase",
         ],
     ),
@@ -204,6 +212,8 @@ const READINGS: &[(&str, &[&str])] = &[
             "left leg UpLeg_L > LoLeg_L > Foot_L > Toe_L; ",
             "right arm Clavicle_R > UpArm_R > LoArm_R > Hand_R; ",
             "right leg UpLeg_R > LoLeg_R > Foot_R > Toe_R; ",
+            "left fingers thumb Thumb1_L Thumb2_L Thumb3_L, index Index1_L Index2_L Index3_L, middle Middle1_L Middle2_L Middle3_L, ring Ring1_L Ring2_L Ring3_L, pinky Pinky1_L Pinky2_L Pinky3_L; ",
+            "right fingers thumb Thumb1_R Thumb2_R Thumb3_R, index Index1_R Index2_R Index3_R, middle Middle1_R Middle2_R Middle3_R, ring Ring1_R Ring2_R Ring3_R, pinky Pinky1_R Pinky2_R Pinky3_R; ",
             "feet Foot_L Toe_L Foot_R Toe_R",
         ],
     ),
@@ -219,6 +229,8 @@ const READINGS: &[(&str, &[&str])] = &[
             "left leg upperleg01.L > lowerleg01.L > foot.L > toe1-1.L; ",
             "right arm clavicle.R > shoulder01.R > lowerarm01.R > wrist.R; ",
             "right leg upperleg01.R > lowerleg01.R > foot.R > toe1-1.R; ",
+            "left fingers thumb finger1-1.L finger1-2.L finger1-3.L, index finger2-1.L finger2-2.L finger2-3.L, middle finger3-1.L finger3-2.L finger3-3.L, ring finger4-1.L finger4-2.L finger4-3.L, pinky finger5-1.L finger5-2.L finger5-3.L; ",
+            "right fingers thumb finger1-1.R finger1-2.R finger1-3.R, index finger2-1.R finger2-2.R finger2-3.R, middle finger3-1.R finger3-2.R finger3-3.R, ring finger4-1.R finger4-2.R finger4-3.R, pinky finger5-1.R finger5-2.R finger5-3.R; ",
             "feet foot.R toe1-1.R foot.L toe1-1.L",
         ],
     ),
@@ -234,6 +246,8 @@ const READINGS: &[(&str, &[&str])] = &[
             "left leg lfemur > ltibia > lfoot > ltoes; ",
             "right arm rclavicle > rhumerus > rradius > rwrist; ",
             "right leg rfemur > rtibia > rfoot > rtoes; ",
+            "left fingers thumb lthumb, index lfingers; ",
+            "right fingers thumb rthumb, index rfingers; ",
             "feet lfoot ltoes rfoot rtoes",
         ],
     ),
@@ -249,6 +263,8 @@ const READINGS: &[(&str, &[&str])] = &[
             "left leg LeftHip > LeftKnee > LeftAnkle > LeftToe; ",
             "right arm RightCollar > RightShoulder > RightElbow > RightWrist; ",
             "right leg RightHip > RightKnee > RightAnkle > RightToe; ",
+            "left fingers thumb LThumb; ",
+            "right fingers thumb RThumb; ",
             "feet LeftAnkle LeftToe RightAnkle RightToe",
         ],
     ),
@@ -264,6 +280,8 @@ const READINGS: &[(&str, &[&str])] = &[
             "left leg lThigh > lShin > lFoot > none; ",
             "right arm rCollar > rShldr > rForeArm > rHand; ",
             "right leg rThigh > rShin > rFoot > none; ",
+            "left fingers thumb mHandThumb1Left mHandThumb2Left mHandThumb3Left, index mHandIndex1Left mHandIndex2Left mHandIndex3Left, middle mHandMiddle1Left mHandMiddle2Left mHandMiddle3Left, ring mHandRing1Left mHandRing2Left mHandRing3Left, pinky mHandPinky1Left mHandPinky2Left mHandPinky3Left; ",
+            "right fingers thumb mHandThumb1Right mHandThumb2Right mHandThumb3Right, index mHandIndex1Right mHandIndex2Right mHandIndex3Right, middle mHandMiddle1Right mHandMiddle2Right mHandMiddle3Right, ring mHandRing1Right mHandRing2Right mHandRing3Right, pinky mHandPinky1Right mHandPinky2Right mHandPinky3Right; ",
             "feet rFoot rFoot_End lFoot lFoot_End",
         ],
     ),
@@ -672,4 +690,70 @@ fn a_retargeted_take_stands_on_its_own_feet_where_the_source_stood() {
         "{}",
         lowest_foot(&target)
     );
+}
+
+#[test]
+fn fingers_are_carried_by_role_between_families() {
+    use bvhview::model::body::{Role, Side};
+    use bvhview::retarget::{self, Map, Target, Ups};
+    // Mixamo's fingers (LeftHandIndex1…) onto MakeHuman's (Index1_L…): no name in common.
+    let source = Take::open("tests/data/bvh/bvhpython_test_freebvh.bvh").unwrap();
+    let target = Target::load("tests/data/bvh/makehuman_walk1.bvh", u64::MAX).unwrap();
+    let map = Map::guess(&source.skeleton, &target.skeleton);
+    let name = |t: usize| target.skeleton.joints[t].name.as_str();
+    let source_name = |t: usize| {
+        source.skeleton.joints[map.source_of[t].unwrap()]
+            .name
+            .as_str()
+    };
+    let index = map
+        .target_body
+        .joint(Role::Finger(Side::Left, 1, 0))
+        .unwrap();
+    assert_eq!(
+        (source_name(index), name(index)),
+        ("mixamorig:LeftHandIndex1", "Index1_L")
+    );
+    let fingers: Vec<usize> = (0..5)
+        .flat_map(|f| (0..3).map(move |b| (f, b)))
+        .flat_map(|(f, b)| [Side::Left, Side::Right].map(|s| Role::Finger(s, f, b)))
+        .filter_map(|role| map.target_body.joint(role))
+        .collect();
+    assert_eq!(fingers.len(), 30);
+    assert!(fingers.iter().all(|&t| map.source_of[t].is_some()));
+    // Each finger bone's direction follows the source's, as the arms' do.
+    let ups = Ups {
+        source: source.stance(OffsetMode::Replace).up,
+        target: target.up,
+    };
+    let finger_errors = |out: &(bvhview::Skeleton, bvhview::Motion)| -> Vec<f64> {
+        let errors =
+            retarget::direction_errors(&source.skeleton, &source.motion, &out.0, &out.1, &map, ups);
+        retarget::bones(&source.skeleton, &target.skeleton, &map)
+            .iter()
+            .zip(errors)
+            .filter(|((t, _), _)| fingers.contains(t))
+            .flat_map(|(_, e)| e)
+            .collect()
+    };
+    let median = |mut e: Vec<f64>| {
+        e.sort_by(f64::total_cmp);
+        e[e.len() / 2]
+    };
+    let mapped = target
+        .apply("mixamo", &source.skeleton, &source.motion, &[], 2)
+        .unwrap();
+    let by_role = median(finger_errors(&mapped));
+    // The fingers left out, as they were before the reading knew them: straight at rest.
+    let left_out: Vec<(String, String)> = fingers
+        .iter()
+        .map(|&t| (source_name(t).to_string(), String::new()))
+        .collect();
+    let unmapped = target
+        .apply("mixamo", &source.skeleton, &source.motion, &left_out, 2)
+        .unwrap();
+    let at_rest = median(finger_errors(&unmapped));
+    assert!(by_role < 1.0, "fingers by role: median {by_role}°");
+    assert!(at_rest > 10.0, "fingers at rest: median {at_rest}°");
+    println!("finger direction error, median: by role {by_role:.2}°, left at rest {at_rest:.2}°");
 }

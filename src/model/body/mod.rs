@@ -10,12 +10,14 @@ use crate::model::skeleton::Skeleton;
 use std::fmt;
 
 pub mod feet;
+pub mod fingers;
 pub mod names;
 pub mod roles;
 pub mod sides;
 pub mod travel;
 pub mod verdict;
 
+pub use fingers::FINGERS;
 pub use names::*;
 pub use roles::*;
 pub use sides::*;

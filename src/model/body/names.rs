@@ -51,6 +51,9 @@ pub enum Role {
     Neck,
     Head,
     Limb(Side, Limb),
+    /// A finger's bone: the finger (0 thumb … 4 pinky, see [`super::FINGERS`]) and the bone
+    /// from the hand out (0, 1, 2).
+    Finger(Side, u8, u8),
 }
 
 impl Role {
@@ -70,6 +73,11 @@ impl fmt::Display for Role {
             Role::Limb(side, limb) => {
                 let side = if *side == Side::Left { "left" } else { "right" };
                 write!(f, "{side} {}", limb.name())
+            }
+            Role::Finger(side, finger, bone) => {
+                let side = if *side == Side::Left { "left" } else { "right" };
+                let finger = super::FINGERS.get(*finger as usize).unwrap_or(&"finger");
+                write!(f, "{side} {finger} {}", bone + 1)
             }
         }
     }

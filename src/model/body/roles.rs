@@ -14,6 +14,9 @@ pub struct Body {
     /// `[left, right]`, each in [`Limb`] order: clavicle, upper arm, forearm, hand, thigh, shin,
     /// foot, toe.
     pub limbs: [[Option<usize>; 8]; 2],
+    /// `[left, right]` × [`FINGERS`] (thumb, index, middle, ring, pinky) × up to three bones
+    /// from the hand out, read from names under each hand.
+    pub fingers: [[[Option<usize>; 3]; 5]; 2],
     /// The limbs were read from the tree and the rest pose: the names said nothing of any.
     pub from_tree: bool,
 }
@@ -368,6 +371,7 @@ impl Body {
                 path
             };
         }
+        body.read_fingers(skeleton);
         body
     }
 
@@ -390,6 +394,9 @@ impl Body {
                 }
             }
         }
+        for (side, finger, bone, j) in self.finger_roles() {
+            roles.push((Role::Finger(side, finger as u8, bone as u8), j));
+        }
         roles
     }
 
@@ -401,6 +408,9 @@ impl Body {
             Role::Neck => self.neck,
             Role::Head => self.head,
             Role::Limb(side, limb) => self.limbs[side_index(side)][limb as usize],
+            Role::Finger(side, finger, bone) => *self.fingers[side_index(side)]
+                .get(finger as usize)?
+                .get(bone as usize)?,
         }
     }
 

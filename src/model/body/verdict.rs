@@ -137,7 +137,8 @@ impl Body {
     }
 
     /// The reading in one line, joints by the names exports use: `from names` or `from the
-    /// tree`, then hips, spine, neck, head, each arm and leg from the body out, and the feet.
+    /// tree`, then hips, spine, neck, head, each arm and leg from the body out, each hand's
+    /// fingers (where any was read), and the feet.
     pub fn summary(&self, skeleton: &Skeleton) -> String {
         let name = |j: usize| export_name(skeleton, j);
         let or_none = |j: Option<usize>| j.map_or("none".to_string(), name);
@@ -166,6 +167,20 @@ impl Body {
                 let chain: Vec<String> =
                     slots.map(|slot| or_none(self.limbs[side][slot])).collect();
                 parts.push(format!("{word} {part} {}", chain.join(" > ")));
+            }
+        }
+        for (side, word) in [(0, "left"), (1, "right")] {
+            let fingers: Vec<String> = self.fingers[side]
+                .iter()
+                .zip(FINGERS)
+                .filter(|(bones, _)| bones.iter().any(Option::is_some))
+                .map(|(bones, finger)| {
+                    let bones: Vec<String> = bones.iter().flatten().map(|&j| name(j)).collect();
+                    format!("{finger} {}", bones.join(" "))
+                })
+                .collect();
+            if !fingers.is_empty() {
+                parts.push(format!("{word} fingers {}", fingers.join(", ")));
             }
         }
         let feet: Vec<String> = self.foot_points(skeleton).into_iter().map(name).collect();
