@@ -60,23 +60,6 @@ const READINGS: &[(&str, &[&str])] = &[
         ],
     ),
     (
-        "tests/body/cgspeed_daz.bvh",
-        &[
-            "from names; ",
-            "hips hip; ",
-            "spine abdomen chest; ",
-            "neck neck; ",
-            "head head; ",
-            "left arm lCollar > lShldr > lForeArm > lHand; ",
-            "left leg lThigh > lShin > lFoot > none; ",
-            "right arm rCollar > rShldr > rForeArm > rHand; ",
-            "right leg rThigh > rShin > rFoot > none; ",
-            "left fingers thumb lThumb1, index lIndex1; ",
-            "right fingers thumb rThumb1, index rIndex1; ",
-            "feet lFoot lFoot_End rFoot rFoot_End",
-        ],
-    ),
-    (
         "tests/body/cgspeed_lowercase.bvh",
         &[
             "from names; ",
@@ -92,7 +75,7 @@ const READINGS: &[(&str, &[&str])] = &[
         ],
     ),
     (
-        "tests/body/cmu_motionbuilder.bvh",
+        "tests/body/cmu.bvh",
         &[
             "from names; ",
             "hips Hips; ",
@@ -103,9 +86,22 @@ const READINGS: &[(&str, &[&str])] = &[
             "left leg LeftUpLeg > LeftLeg > LeftFoot > LeftToeBase; ",
             "right arm RightShoulder > RightArm > RightForeArm > RightHand; ",
             "right leg RightUpLeg > RightLeg > RightFoot > RightToeBase; ",
-            "left fingers thumb LThumb, index LeftHandIndex1; ",
-            "right fingers thumb RThumb, index RightHandIndex1; ",
             "feet LeftFoot LeftToeBase RightFoot RightToeBase",
+        ],
+    ),
+    (
+        "tests/body/daz_poser_secondlife.bvh",
+        &[
+            "from names; ",
+            "hips hip; ",
+            "spine abdomen chest; ",
+            "neck neck; ",
+            "head head; ",
+            "left arm lCollar > lShldr > lForeArm > lHand; ",
+            "left leg lThigh > lShin > lFoot > lToe; ",
+            "right arm rCollar > rShldr > rForeArm > rHand; ",
+            "right leg rThigh > rShin > rFoot > rToe; ",
+            "feet lFoot lToe rFoot rToe",
         ],
     ),
     (
@@ -124,6 +120,21 @@ const READINGS: &[(&str, &[&str])] = &[
         ],
     ),
     (
+        "tests/body/makehuman.bvh",
+        &[
+            "from names; ",
+            "hips Root; ",
+            "spine Spine1 Spine2 Spine3; ",
+            "neck Neck; ",
+            "head Head; ",
+            "left arm Clavicle_L > UpArm_L > LoArm_L > Hand_L; ",
+            "left leg UpLeg_L > LoLeg_L > Foot_L > Toe_L; ",
+            "right arm Clavicle_R > UpArm_R > LoArm_R > Hand_R; ",
+            "right leg UpLeg_R > LoLeg_R > Foot_R > Toe_R; ",
+            "feet Foot_L Toe_L Foot_R Toe_R",
+        ],
+    ),
+    (
         "tests/body/mixamo.bvh",
         &[
             "from names; ",
@@ -135,9 +146,37 @@ const READINGS: &[(&str, &[&str])] = &[
             "left leg mixamorig:LeftUpLeg > mixamorig:LeftLeg > mixamorig:LeftFoot > mixamorig:LeftToeBase; ",
             "right arm mixamorig:RightShoulder > mixamorig:RightArm > mixamorig:RightForeArm > mixamorig:RightHand; ",
             "right leg mixamorig:RightUpLeg > mixamorig:RightLeg > mixamorig:RightFoot > mixamorig:RightToeBase; ",
-            "left fingers thumb mixamorig:LeftHandThumb1, index mixamorig:LeftHandIndex1; ",
-            "right fingers thumb mixamorig:RightHandThumb1, index mixamorig:RightHandIndex1; ",
             "feet mixamorig:LeftFoot mixamorig:LeftToeBase mixamorig:RightFoot mixamorig:RightToeBase",
+        ],
+    ),
+    (
+        "tests/body/optitrack.bvh",
+        &[
+            "from names; ",
+            "hips Skeleton1_Hip; ",
+            "spine Skeleton1_Ab Skeleton1_Chest; ",
+            "neck Skeleton1_Neck; ",
+            "head Skeleton1_Head; ",
+            "left arm Skeleton1_LShoulder > Skeleton1_LUArm > Skeleton1_LFArm > Skeleton1_LHand; ",
+            "left leg Skeleton1_LThigh > Skeleton1_LShin > Skeleton1_LFoot > Skeleton1_LToe; ",
+            "right arm Skeleton1_RShoulder > Skeleton1_RUArm > Skeleton1_RFArm > Skeleton1_RHand; ",
+            "right leg Skeleton1_RThigh > Skeleton1_RShin > Skeleton1_RFoot > Skeleton1_RToe; ",
+            "feet Skeleton1_LFoot Skeleton1_LToe Skeleton1_RFoot Skeleton1_RToe",
+        ],
+    ),
+    (
+        "tests/body/perception_neuron.bvh",
+        &[
+            "from names; ",
+            "hips Hips; ",
+            "spine Spine Spine1 Spine2; ",
+            "neck Neck; ",
+            "head Head; ",
+            "left arm LeftShoulder > LeftArm > LeftForeArm > LeftHand; ",
+            "left leg LeftUpLeg > LeftLeg > LeftFoot > none; ",
+            "right arm RightShoulder > RightArm > RightForeArm > RightHand; ",
+            "right leg RightUpLeg > RightLeg > RightFoot > none; ",
+            "feet LeftFoot LeftFoot_End RightFoot RightFoot_End",
         ],
     ),
     (
@@ -156,18 +195,18 @@ const READINGS: &[(&str, &[&str])] = &[
         ],
     ),
     (
-        "tests/body/second_life.bvh",
+        "tests/body/rokoko.bvh",
         &[
             "from names; ",
-            "hips mPelvis; ",
-            "spine mTorso mChest; ",
-            "neck mNeck; ",
-            "head mHead; ",
-            "left arm mCollarLeft > mShoulderLeft > mElbowLeft > mWristLeft; ",
-            "left leg mHipLeft > mKneeLeft > mAnkleLeft > none; ",
-            "right arm mCollarRight > mShoulderRight > mElbowRight > mWristRight; ",
-            "right leg mHipRight > mKneeRight > mAnkleRight > none; ",
-            "feet mAnkleLeft mAnkleLeft_End mAnkleRight mAnkleRight_End",
+            "hips Hips; ",
+            "spine Spine Spine1 Spine2 Spine3; ",
+            "neck Neck; ",
+            "head Head; ",
+            "left arm LeftShoulder > LeftArm > LeftForeArm > LeftHand; ",
+            "left leg LeftUpLeg > LeftLeg > LeftFoot > LeftToe; ",
+            "right arm RightShoulder > RightArm > RightForeArm > RightHand; ",
+            "right leg RightUpLeg > RightLeg > RightFoot > RightToe; ",
+            "feet LeftFoot LeftToe RightFoot RightToe",
         ],
     ),
     (
@@ -189,15 +228,15 @@ const READINGS: &[(&str, &[&str])] = &[
         "tests/body/xsens.bvh",
         &[
             "from names; ",
-            "hips Hips; ",
-            "spine Chest Chest2 Chest3 Chest4; ",
+            "hips Pelvis; ",
+            "spine L5 L3 T12 T8; ",
             "neck Neck; ",
             "head Head; ",
-            "left arm LeftCollar > LeftShoulder > LeftElbow > LeftWrist; ",
-            "left leg LeftHip > LeftKnee > LeftAnkle > LeftToe; ",
-            "right arm RightCollar > RightShoulder > RightElbow > RightWrist; ",
-            "right leg RightHip > RightKnee > RightAnkle > RightToe; ",
-            "feet LeftAnkle LeftToe RightAnkle RightToe",
+            "left arm LeftShoulder > LeftUpperArm > LeftForeArm > LeftHand; ",
+            "left leg LeftUpperLeg > LeftLowerLeg > LeftFoot > LeftToe; ",
+            "right arm RightShoulder > RightUpperArm > RightForeArm > RightHand; ",
+            "right leg RightUpperLeg > RightLowerLeg > RightFoot > RightToe; ",
+            "feet LeftFoot LeftToe RightFoot RightToe",
         ],
     ),
     (
@@ -283,6 +322,23 @@ const READINGS: &[(&str, &[&str])] = &[
             "left fingers thumb mHandThumb1Left mHandThumb2Left mHandThumb3Left, index mHandIndex1Left mHandIndex2Left mHandIndex3Left, middle mHandMiddle1Left mHandMiddle2Left mHandMiddle3Left, ring mHandRing1Left mHandRing2Left mHandRing3Left, pinky mHandPinky1Left mHandPinky2Left mHandPinky3Left; ",
             "right fingers thumb mHandThumb1Right mHandThumb2Right mHandThumb3Right, index mHandIndex1Right mHandIndex2Right mHandIndex3Right, middle mHandMiddle1Right mHandMiddle2Right mHandMiddle3Right, ring mHandRing1Right mHandRing2Right mHandRing3Right, pinky mHandPinky1Right mHandPinky2Right mHandPinky3Right; ",
             "feet rFoot rFoot_End lFoot lFoot_End",
+        ],
+    ),
+    (
+        "tests/data/bvh/assimp_01_01.bvh",
+        &[
+            "from names; ",
+            "hips Hips; ",
+            "spine LowerBack Spine Spine1; ",
+            "neck Neck; ",
+            "head Head; ",
+            "left arm LeftShoulder > LeftArm > LeftForeArm > LeftHand; ",
+            "left leg LeftUpLeg > LeftLeg > LeftFoot > LeftToeBase; ",
+            "right arm RightShoulder > RightArm > RightForeArm > RightHand; ",
+            "right leg RightUpLeg > RightLeg > RightFoot > RightToeBase; ",
+            "left fingers thumb LThumb; ",
+            "right fingers thumb RThumb; ",
+            "feet LeftFoot LeftToeBase RightFoot RightToeBase",
         ],
     ),
 ];
@@ -498,7 +554,10 @@ fn dataset_feet_come_from_the_legs_and_a_body_without_them_is_said() {
     let clips = compile(
         &[
             ("lafan1.bvh", read("tests/body/lafan1.bvh")),
-            ("second_life.bvh", read("tests/body/second_life.bvh")),
+            (
+                "perception_neuron.bvh",
+                read("tests/body/perception_neuron.bvh"),
+            ),
             ("simple.bvh", read("tests/data/bvh/bvhanim_test_simple.bvh")),
         ],
         &bvhview::dataset::Options::default(),
@@ -517,12 +576,7 @@ fn dataset_feet_come_from_the_legs_and_a_body_without_them_is_said() {
     // No toe joint: the End Site below the ankle.
     assert_eq!(
         feet(&clips[1].1),
-        [
-            "mAnkleLeft",
-            "mAnkleLeft_End",
-            "mAnkleRight",
-            "mAnkleRight_End"
-        ]
+        ["LeftFoot", "LeftFoot_End", "RightFoot", "RightFoot_End"]
     );
     assert!(
         clips[0].1.about.warnings.is_empty(),
@@ -539,7 +593,7 @@ fn dataset_feet_come_from_the_legs_and_a_body_without_them_is_said() {
     );
 }
 
-/// A walk-in-place take on the LaFAN1 sample whose hips sink 30 cm below the floor and turn
+/// A take on the LaFAN1 sample whose hips sink 30 cm below the floor and turn
 /// about y from 150° through 180° to 210° (a quaternion's w crosses 0 at 180°).
 fn sunk_and_turning() -> String {
     let text = std::fs::read_to_string("tests/body/lafan1.bvh").unwrap();
@@ -550,7 +604,8 @@ fn sunk_and_turning() -> String {
     for f in 0..7 {
         let mut row: Vec<String> = values.iter().map(|v| v.to_string()).collect();
         row[1] = format!("{}", 95.0 - 30.0);
-        row[5] = format!("{}", 150.0 + 10.0 * f as f32);
+        // The root's channels: X Y Z position, then Z, Y, X rotation.
+        row[4] = format!("{}", 150.0 + 10.0 * f as f32);
         out.push_str(&row.join(" "));
         out.push('\n');
     }
@@ -578,9 +633,9 @@ fn ground_puts_the_lowest_foot_on_the_floor_and_moves_the_root_with_it() {
             .map(|i| clip.positions[i])
             .fold(f32::INFINITY, f32::min)
     };
-    // The toe tips sit 0.3 m under y = 0 before.
+    // The toes sit 1 cm over the hips' 95 cm: sunk 30 cm, 0.29 m under y = 0 before.
     assert!(
-        (lowest_foot(plain) + 0.3).abs() < 1e-5,
+        (lowest_foot(plain) + 0.29).abs() < 1e-5,
         "{}",
         lowest_foot(plain)
     );
@@ -666,8 +721,11 @@ fn a_retargeted_take_stands_on_its_own_feet_where_the_source_stood() {
     // leg point is a tip the SMPL sample does not have. Legs of one length: no scaling.
     let text = std::fs::read_to_string("tests/body/lafan1.bvh")
         .unwrap()
-        .replace("OFFSET 0 0 6\n", "OFFSET 0 -4 6\n");
-    assert_eq!(text.matches("OFFSET 0 -4 6").count(), 2);
+        .replace("OFFSET 0 0 5\n", "OFFSET 0 -4 5\n")
+        // Its toes 1 cm over y = 0 at rest: lowered onto it.
+        .replace("\n0 95 0 ", "\n0 94 0 ")
+        .replace("\n2 95 1 ", "\n2 94 1 ");
+    assert_eq!(text.matches("OFFSET 0 -4 5").count(), 2);
     let dir = tempfile::tempdir().unwrap();
     let (source, out) = (
         dir.path().join("tiptoe.bvh"),

@@ -22,11 +22,11 @@ fn take(path: &Path) -> (Skeleton, Motion) {
     (loaded.skeleton, loaded.motion)
 }
 
-/// A naming family's sample skeleton, `tests/retarget/FAMILY.bvh` (written for these tests from
+/// A naming family's sample skeleton, `tests/body/FAMILY.bvh` (written for these tests from
 /// the names each family uses; not third-party data, so not in tests/data).
 fn sample(family: &str) -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("tests/retarget")
+        .join("tests/body")
         .join(format!("{family}.bvh"))
 }
 

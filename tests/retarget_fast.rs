@@ -78,7 +78,7 @@ fn targets() -> Vec<(String, Skeleton, Up)> {
     targets.push((asf.name, asf.skeleton, asf.up));
     for family in ["rokoko", "daz_poser_secondlife", "bandai", "makehuman"] {
         let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("tests/retarget")
+            .join("tests/body")
             .join(format!("{family}.bvh"));
         let target = retarget::Target::load(&path.display().to_string(), u64::MAX).unwrap();
         targets.push((target.name, target.skeleton, target.up));
@@ -213,7 +213,7 @@ fn the_fast_pass_gives_the_plain_pass_s_values_on_the_whole_corpus() {
 /// error, and neither panics.
 #[test]
 fn a_path_too_long_for_32_bits_is_refused_by_both_passes() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/retarget/cmu.bvh");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/body/cmu.bvh");
     let loaded = bvhview::take::load(&path, None, None).unwrap();
     let (source, mut motion) = (loaded.skeleton, loaded.motion);
     let root = &source.joints[0];

@@ -1,7 +1,9 @@
 #!/usr/bin/env python3
-"""Writes the sample skeletons of tests/body/: one per naming family, hand-made (names as each
-tool writes them, a human's proportions in centimetres, Y up, facing +Z, left at +X), one frame
-of zeros. `tests/body.rs` asserts bvhview's whole reading of each. Run from tests/body/."""
+"""Writes three of the sample skeletons of tests/body/ (the others are written by hand): cgspeed's
+lowercase conversion of CMU, a person and an elephant rigged with 3ds Max Biped's names. Names as
+each tool writes them, a human's proportions in centimetres, Y up, facing +Z, left at +X, one
+frame of zeros. `tests/body_reading.rs` asserts bvhview's whole reading of each. Run from
+tests/body/."""
 
 # Where each part sits in the rest pose (left side; the right mirrors x).
 AT = {
@@ -118,60 +120,17 @@ def human(names, extra=()):
 
 
 FAMILIES = {
-    "mixamo": dict(hips="mixamorig:Hips", spine0="mixamorig:Spine", spine1="mixamorig:Spine1",
-                   spine2="mixamorig:Spine2", neck="mixamorig:Neck", head="mixamorig:Head",
-                   chest_slot="spine2", clavicle="mixamorig:{side}Shoulder", upperarm="mixamorig:{side}Arm",
-                   forearm="mixamorig:{side}ForeArm", hand="mixamorig:{side}Hand",
-                   finger="mixamorig:{side}HandIndex1", thumb="mixamorig:{side}HandThumb1",
-                   thigh="mixamorig:{side}UpLeg", shin="mixamorig:{side}Leg",
-                   ankle="mixamorig:{side}Foot", toe="mixamorig:{side}ToeBase"),
-    "lafan1": dict(hips="Hips", spine0="Spine", spine1="Spine1", spine2="Spine2", neck="Neck",
-                   head="Head", chest_slot="spine2", clavicle="{side}Shoulder", upperarm="{side}Arm",
-                   forearm="{side}ForeArm", hand="{side}Hand", thigh="{side}UpLeg", shin="{side}Leg",
-                   ankle="{side}Foot", toe="{side}Toe"),
-    "cmu_motionbuilder": dict(hips="Hips", spine0="LowerBack", spine1="Spine", spine2="Spine1",
-                              neck="Neck", neck1="Neck1", head="Head", chest_slot="spine2",
-                              clavicle="{side}Shoulder", upperarm="{side}Arm", forearm="{side}ForeArm",
-                              hand="{side}Hand", finger="{side}HandIndex1", thumb="{S}Thumb",
-                              hiphelper="{S}HipJoint", thigh="{side}UpLeg", shin="{side}Leg",
-                              ankle="{side}Foot", toe="{side}ToeBase"),
     "cgspeed_lowercase": dict(hips="hip", spine0="lowerback", spine1="upperback", spine2="thorax",
                               neck="lowerneck", neck1="upperneck", head="head", chest_slot="spine2",
                               clavicle="{s}clavicle", upperarm="{s}shoulder", forearm="{s}elbow",
                               hand="{s}wrist", hiphelper="{s}hipjoint", thigh="{s}buttock",
                               shin="{s}knee", ankle="{s}ankle", toe="{s}toe"),
-    "cgspeed_daz": dict(hips="hip", spine0="abdomen", spine1="chest", neck="neck", head="head",
-                        chest_slot="spine1", clavicle="{s}Collar", upperarm="{s}Shldr",
-                        forearm="{s}ForeArm", hand="{s}Hand", finger="{s}Index1", thumb="{s}Thumb1",
-                        hiphelper="{s}Buttock", thigh="{s}Thigh", shin="{s}Shin", ankle="{s}Foot"),
     "biped_human": dict(root="Bip01", hips="Bip01 Pelvis", spine0="Bip01 Spine", spine1="Bip01 Spine1",
                         spine2="Bip01 Spine2", neck="Bip01 Neck", head="Bip01 Head", chest_slot="spine2",
                         clavicle="Bip01 {S} Clavicle", upperarm="Bip01 {S} UpperArm",
                         forearm="Bip01 {S} Forearm", hand="Bip01 {S} Hand", finger="Bip01 {S} Finger0",
                         thigh="Bip01 {S} Thigh", shin="Bip01 {S} Calf", ankle="Bip01 {S} Foot",
                         toe="Bip01 {S} Toe0"),
-    "xsens": dict(hips="Hips", spine0="Chest", spine1="Chest2", spine2="Chest3", spine3="Chest4",
-                  neck="Neck", head="Head", clavicle="{side}Collar", upperarm="{side}Shoulder",
-                  forearm="{side}Elbow", hand="{side}Wrist", thigh="{side}Hip", shin="{side}Knee",
-                  ankle="{side}Ankle", toe="{side}Toe"),
-    "bandai": dict(root="joint_Root", hips="Hips", spine0="Spine", spine1="Chest", neck="Neck",
-                   head="Head", chest_slot="spine1", clavicle="Shoulder_{S}", upperarm="UpperArm_{S}",
-                   forearm="LowerArm_{S}", hand="Hand_{S}", thigh="UpperLeg_{S}", shin="LowerLeg_{S}",
-                   ankle="Foot_{S}", toe="Toes_{S}"),
-    "smpl": dict(hips="pelvis", spine0="spine1", spine1="spine2", spine2="spine3", neck="neck",
-                 head="head", chest_slot="spine2", clavicle="{lside}_collar",
-                 upperarm="{lside}_shoulder", forearm="{lside}_elbow", hand="{lside}_wrist",
-                 thigh="{lside}_hip", shin="{lside}_knee", ankle="{lside}_ankle", toe="{lside}_foot"),
-    "rigify": dict(hips="DEF-spine", spine0="DEF-spine.001", spine1="DEF-spine.002",
-                   spine2="DEF-spine.003", neck="DEF-spine.004", neck1="DEF-spine.005",
-                   head="DEF-spine.006", chest_slot="spine2", clavicle="DEF-shoulder.{S}",
-                   upperarm="DEF-upper_arm.{S}", forearm="DEF-forearm.{S}", hand="DEF-hand.{S}",
-                   thigh="DEF-thigh.{S}", shin="DEF-shin.{S}", ankle="DEF-foot.{S}",
-                   toe="DEF-toe.{S}"),
-    "second_life": dict(hips="mPelvis", spine0="mTorso", spine1="mChest", neck="mNeck",
-                        head="mHead", chest_slot="spine1", clavicle="mCollar{side}",
-                        upperarm="mShoulder{side}", forearm="mElbow{side}", hand="mWrist{side}",
-                        thigh="mHip{side}", shin="mKnee{side}", ankle="mAnkle{side}"),
 }
 
 

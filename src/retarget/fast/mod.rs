@@ -313,7 +313,7 @@ mod tests {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
         let targets = [
             "smpl22".to_string(),
-            root.join("tests/retarget/rokoko.bvh").display().to_string(),
+            root.join("tests/body/rokoko.bvh").display().to_string(),
             root.join("tests/data/asf_amc/heiden_12.asf")
                 .display()
                 .to_string(),
