@@ -403,7 +403,7 @@ fn a_four_legged_body_is_said_and_refused_onto_a_person_unless_insisted() {
         String::from_utf8(refused.stderr).unwrap(),
         "bvhview: tests/body/biped_elephant.bvh: not a two-legged body (its head lies 80° from \
          the legs' up; four-legged?), and smpl22 is one: its limbs would be carried over as a \
-         person's; --any-body (Python: any_body=True) retargets it anyway\n"
+         person's; `--any-body` retargets it anyway\n"
     );
     assert!(!out.exists());
     let insisted = bvhview()
@@ -814,4 +814,74 @@ fn fingers_are_carried_by_role_between_families() {
     assert!(by_role < 1.0, "fingers by role: median {by_role}°");
     assert!(at_rest > 10.0, "fingers at rest: median {at_rest}°");
     println!("finger direction error, median: by role {by_role:.2}°, left at rest {at_rest:.2}°");
+}
+
+#[test]
+fn a_dataset_onto_one_skeleton_takes_a_map_and_records_both() {
+    let dir = tempfile::tempdir().unwrap();
+    let takes = dir.path().join("takes");
+    std::fs::create_dir(&takes).unwrap();
+    for family in ["lafan1", "mixamo"] {
+        std::fs::copy(
+            format!("tests/body/{family}.bvh"),
+            takes.join(format!("{family}.bvh")),
+        )
+        .unwrap();
+    }
+    let (onto, plain) = (dir.path().join("onto"), dir.path().join("plain"));
+    let run = bvhview()
+        .arg("dataset")
+        .arg(&takes)
+        .args(["--onto", "smpl22", "--map", "LeftToe=", "-o"])
+        .arg(&onto)
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(0), "{run:?}");
+    let manifest = bvhview::dataset::read::read_manifest(&onto).unwrap();
+    assert_eq!(manifest.options.onto.as_deref(), Some("smpl22"));
+    assert_eq!(
+        manifest.options.map,
+        [("LeftToe".to_string(), String::new())]
+    );
+    // The pair names a LaFAN1 joint: Mixamo's take has none of that name and is skipped.
+    assert_eq!(manifest.clips.len(), 1);
+    assert_eq!(manifest.clips[0].about.source.path, "lafan1.bvh");
+    assert_eq!(manifest.skipped.len(), 1);
+    assert!(
+        manifest.skipped[0]
+            .error
+            .starts_with("map: the source has no joint named \"LeftToe\""),
+        "{}",
+        manifest.skipped[0].error
+    );
+    // A dataset made onto a skeleton does not merge with one made without.
+    let run = bvhview()
+        .arg("dataset")
+        .arg(&takes)
+        .arg("-o")
+        .arg(&plain)
+        .arg("-q")
+        .output()
+        .unwrap();
+    assert!(run.status.success());
+    let merged = bvhview::dataset::merge::merge(
+        &[onto.clone(), plain.clone()],
+        &dir.path().join("merged"),
+        bvhview::dataset::merge::Join::Folders,
+    );
+    assert!(
+        merged
+            .unwrap_err()
+            .to_string()
+            .contains("made with other options than"),
+    );
+    // --map alone is refused by clap, before any take is read.
+    let alone = bvhview()
+        .arg("dataset")
+        .arg(&takes)
+        .args(["--map", "LeftToe=", "-o"])
+        .arg(dir.path().join("never"))
+        .output()
+        .unwrap();
+    assert_eq!(alone.status.code(), Some(2));
 }

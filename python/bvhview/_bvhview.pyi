@@ -219,6 +219,7 @@ def _compile_dataset(
     onto: str | None = None,
     ground: bool = False,
     quat_continuous: bool = False,
+    names: dict[str, str] | None = None,
 ) -> tuple[int, int, int, list[tuple[str, str | None, str]]]:
     """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped takes as
     (path, motion, reason))."""

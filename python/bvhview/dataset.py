@@ -133,6 +133,7 @@ def compile_dataset(
     onto: StrPath | None = None,
     ground: bool = False,
     quat_continuous: bool = False,
+    names: dict[str, str] | None = None,
 ) -> dict[str, Any]:
     """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
     them) into the new dataset folder ``out``; returns its manifest, whose ``"skipped"`` lists
@@ -159,7 +160,10 @@ def compile_dataset(
     What the folder walk skipped (a loop, a link out of the folder, a take reached twice) is
     said as a UserWarning each. ``onto``: retarget every take onto this skeleton first (a file, or
     the built-in ``"smpl22"``), as ``Motion.retarget`` does, so the folder makes one group; a take
-    whose map misses a required role is skipped with the reason."""
+    whose map misses a required role is skipped with the reason; ``names`` overrides every take's
+    guessed map as ``Motion.retarget``'s does ({source joint: target joint}, ``""`` leaves one
+    out). The manifest records ``onto`` and ``names``; ``merge_datasets`` refuses datasets made
+    with other ones."""
     if parquet:
         _need_pyarrow()
     with _ended_cleanly():
@@ -177,6 +181,7 @@ def compile_dataset(
             onto=None if onto is None else os.fspath(onto),
             ground=ground,
             quat_continuous=quat_continuous,
+            names=names,
         )
         for _, _, reason in skipped:
             warnings.warn(f"skipped {reason}", SkippedTake, stacklevel=2)

@@ -199,7 +199,7 @@ pub(crate) fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePa
 #[pyfunction]
 #[pyo3(signature = (folder, out, fps=30.0, rotations="6d", root_relative=false, feet=None,
     contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None, onto=None,
-    ground=false, quat_continuous=false))]
+    ground=false, quat_continuous=false, names=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn _compile_dataset(
     py: Python<'_>,
@@ -217,8 +217,14 @@ pub(crate) fn _compile_dataset(
     onto: Option<String>,
     ground: bool,
     quat_continuous: bool,
+    names: Option<std::collections::HashMap<String, String>>,
 ) -> PyResult<(usize, usize, usize, Vec<SkippedTake>)> {
     guard("_compile_dataset", || {
+        if names.is_some() && onto.is_none() {
+            return Err(PyValueError::new_err(
+                "names= needs onto=: its pairs name joints of the skeleton every take is put on",
+            ));
+        }
         let rotations = pose::RotationKind::parse(rotations).ok_or_else(|| {
             PyValueError::new_err(format!(
                 "rotations={rotations:?}: expected {}",
@@ -234,6 +240,11 @@ pub(crate) fn _compile_dataset(
             contact_speed,
             ground,
             quat_continuous,
+            map: {
+                let mut pairs: Vec<(String, String)> = names.unwrap_or_default().into_iter().collect();
+                pairs.sort();
+                pairs
+            },
             onto: onto
                 .map(|onto| {
                     bvhview::retarget::Target::load(&onto, bvhview::take::DEFAULT_MAX_SIZE)

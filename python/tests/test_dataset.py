@@ -76,6 +76,10 @@ def test_the_package_writes_what_the_command_writes(compiled, cli, tmp_path):
         "floor_window_s": 1.0,
         "up": "y",
         "units": "metres",
+        "ground": False,
+        "quat_continuous": False,
+        "onto": None,
+        "map": [],
     }
     assert manifest["takes"]["listed"] == manifest["takes"]["count"] == 64
     # Skipped takes: each named with its path:line:column, as the command said them.

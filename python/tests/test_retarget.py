@@ -27,7 +27,7 @@ def test_retarget_onto_its_own_skeleton_is_exact():
 
 def test_retarget_names_override_and_errors():
     take = bvhview.load(MIXAMO)
-    target = bvhview.load(DATA.parent / "retarget" / "smpl.bvh")
+    target = bvhview.load(DATA.parent / "body" / "smpl.bvh")
     out = take.retarget(target, names={"mixamorig:LeftForeArm": ""})
     elbow = out.joint_names.index("left_elbow")
     first = out.first_channels[elbow]
@@ -45,3 +45,39 @@ def test_compile_dataset_onto_one_skeleton(tmp_path):
         manifest = bvhview.compile_dataset(DATA / "bvh", tmp_path / "out", onto="smpl22")
     assert len(manifest["groups"]) == 1
     assert manifest["groups"][0]["joints"][0] == "pelvis"
+
+
+BODY = DATA.parent / "body"
+
+
+def test_a_four_legged_body_is_refused_onto_a_person_unless_insisted():
+    elephant = bvhview.load(BODY / "biped_elephant.bvh")
+    with pytest.raises(ValueError, match="not a two-legged body .* `any_body` retargets it anyway"):
+        elephant.retarget("smpl22")
+    assert elephant.retarget("smpl22", any_body=True).joint_names[0] == "pelvis"
+    # cgspeed's lowercase CMU names read as a person: onto itself, exactly.
+    lowercase = bvhview.load(BODY / "cgspeed_lowercase.bvh")
+    assert np.abs(lowercase.retarget(lowercase).values - lowercase.values).max() <= 1e-6
+
+
+def test_compile_dataset_grounds_and_keeps_quaternions_continuous(tmp_path):
+    manifest = bvhview.compile_dataset(
+        DATA / "bvh",
+        tmp_path / "out",
+        rotations="quat",
+        ground=True,
+        quat_continuous=True,
+        takes=[("bvhparser_walk_01.bvh", None)],
+    )
+    assert manifest["options"]["ground"] is True
+    assert manifest["options"]["quat_continuous"] is True
+    group = manifest["groups"][0]
+    positions = np.load(tmp_path / "out" / group["name"] / "positions.npy")
+    feet = group["feet"]
+    assert [group["joints"][i] for i in feet] == ["LeftFoot", "LeftToeBase", "RightFoot", "RightToeBase"]
+    assert positions[:, feet, 1].min() == 0.0
+    rotations = np.load(tmp_path / "out" / group["name"] / "rotations.npy")
+    dots = (rotations[1:] * rotations[:-1]).sum(-1)
+    assert (dots >= 0).all()
+    with pytest.raises(ValueError, match="quat-continuous"):
+        bvhview.compile_dataset(DATA / "bvh", tmp_path / "six_d", quat_continuous=True)

@@ -50,6 +50,10 @@ pub(crate) struct DatasetArgs {
     /// the folder makes one group; takes whose map misses a required role are skipped.
     #[arg(long, value_name = "TARGET")]
     onto: Option<String>,
+    /// With --onto: override every take's guessed joint map, as `retarget --map` does: SRC=DST
+    /// (SRC= leaves a source joint out), or a TOML or JSON file of such pairs. Repeatable.
+    #[arg(long, value_name = "FILE|SRC=DST", requires = "onto")]
+    map: Vec<String>,
 }
 
 /// `--rotations`.
@@ -94,6 +98,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         contact_speed: args.contact_speed,
         ground: args.ground,
         quat_continuous: args.quat_continuous,
+        map: super::retarget::map_pairs(&args.map)?,
         max_size: args.max_size,
         onto: args
             .onto

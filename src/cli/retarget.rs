@@ -31,7 +31,7 @@ pub(crate) struct RetargetArgs {
 }
 
 /// The `--map` values as pairs, in order: files read, `SRC=DST` split.
-fn map_pairs(values: &[String]) -> Result<Vec<(String, String)>, Error> {
+pub(crate) fn map_pairs(values: &[String]) -> Result<Vec<(String, String)>, Error> {
     let mut pairs = Vec::new();
     for value in values {
         let path = Path::new(value);

@@ -90,6 +90,7 @@ pub fn merge(pieces: &[PathBuf], out: &Path, join: Join) -> Result<Summary, Erro
         }
     };
     let mut writer = Writer::create(out, &options, takes)?;
+    writer.keep_settings(first.manifest.options.clone());
     for (piece, dataset) in pieces.iter().zip(datasets) {
         let manifest = &dataset.manifest;
         let skeletons = (0..manifest.groups.len())

@@ -28,6 +28,26 @@ pub use feet::*;
 pub use floor::*;
 
 /// What every take is turned into.
+///
+/// ```
+/// use bvhview::dataset::{self, Options};
+/// use bvhview::model::pose::RotationKind;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// // `folder` holds walk.bvh, a copy of tests/data/bvh/bvhparser_walk_01.bvh.
+/// let takes = dataset::takes(folder.path())?;
+/// let options = Options { fps: 60.0, rotations: RotationKind::Quat, ..Options::default() };
+/// options.check()?;
+/// let clip = dataset::compile_take(folder.path(), &takes[0], &options)?;
+/// assert_eq!(clip.frames, 172);
+/// assert_eq!(clip.rotations.len(), clip.frames * clip.topology.rotated.len() * 4);
+/// assert!(Options { fps: 0.0, ..Options::default() }.check().is_err());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Options {
     /// The one frame rate every clip is resampled to.
@@ -50,6 +70,10 @@ pub struct Options {
     /// Every take retargeted onto this skeleton first (`--onto`), so a folder of mixed
     /// skeletons makes one group; a take whose map misses a required role is skipped.
     pub onto: Option<crate::retarget::Target>,
+    /// With `onto`: `SRC = DST` pairs over every take's guessed map (`--map`), as `retarget
+    /// --map` gives them (`SRC =` with an empty target leaves a source joint out). A take that
+    /// has no joint a pair names is skipped with the reason.
+    pub map: Vec<(String, String)>,
     /// Each clip moved up or down so that its lowest foot point over the whole clip is on
     /// y = 0 (`--ground`); positions, root translations and the roots' translations alike.
     pub ground: bool,
@@ -71,6 +95,7 @@ impl Default for Options {
             contact_speed: 0.5,
             ground: false,
             quat_continuous: false,
+            map: Vec::new(),
             max_size: crate::take::DEFAULT_MAX_SIZE,
             onto: None,
         }
@@ -92,6 +117,12 @@ impl Options {
         };
         positive("--contact-height", self.contact_height)?;
         positive("--contact-speed", self.contact_speed)?;
+        if !self.map.is_empty() && self.onto.is_none() {
+            return Err(Error::Usage(
+                "`--map` needs `--onto`: its pairs name joints of the skeleton every take is put on"
+                    .to_string(),
+            ));
+        }
         if self.quat_continuous && self.rotations != RotationKind::Quat {
             return Err(Error::Usage(format!(
                 "--quat-continuous: only quaternions have a sign to choose (--rotations quat), \
@@ -112,13 +143,33 @@ impl Options {
 }
 
 /// Where a take came from, as the manifest names it: paths relative to the folder compiled.
+///
+/// ```
+/// use bvhview::dataset::{self, Options, Source};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// // `folder` holds walk.bvh, a copy of tests/data/bvh/bvhparser_walk_01.bvh.
+/// let takes = dataset::takes(folder.path())?;
+/// let source = Source::of(folder.path(), &takes[0]);
+/// assert_eq!(source, Source { path: "walk.bvh".to_string(), motion: None });
+/// let clip = dataset::compile_take(folder.path(), &takes[0], &Options::default())?;
+/// assert_eq!(clip.about.source, source);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Source {
+    /// The file loaded: a BVH, or the ASF of an ASF/AMC pair.
     pub path: String,
+    /// The AMC an ASF was paired with; `None` for a BVH.
     pub motion: Option<String>,
 }
 
 impl Source {
+    /// Where `item` came from, its paths made relative to `dir` (kept whole when outside it).
     pub fn of(dir: &Path, item: &Item) -> Source {
         let relative = |p: &Path| {
             p.strip_prefix(dir)
@@ -134,6 +185,26 @@ impl Source {
 }
 
 /// The skeleton a clip's arrays are laid out by; clips with equal topologies share a group.
+///
+/// ```
+/// use bvhview::dataset::{self, Options};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// // `folder` holds walk.bvh, a copy of tests/data/bvh/bvhparser_walk_01.bvh.
+/// let takes = dataset::takes(folder.path())?;
+/// let topology = dataset::compile_take(folder.path(), &takes[0], &Options::default())?.topology;
+/// assert_eq!((topology.joints[0].as_str(), topology.parents[0]), ("Hips", -1));
+/// assert_eq!(topology.translated, [0]); // only the root has position channels
+/// assert_eq!(topology.rotation_orders[0], "ZYX");
+/// let name = |&p: &u32| topology.joints[p as usize].as_str();
+/// let feet: Vec<&str> = topology.feet.iter().map(name).collect();
+/// assert_eq!(feet, ["LeftFoot", "LeftToeBase", "RightFoot", "RightToeBase"]);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub struct Topology {
     /// Every point: joints and End Sites (named `<parent>_End`), in file order.
@@ -197,29 +268,73 @@ impl Topology {
 }
 
 /// What the manifest says of one clip besides its arrays.
+///
+/// ```
+/// use bvhview::dataset::{self, Options};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// // `folder` holds walk.bvh, a copy of tests/data/bvh/bvhparser_walk_01.bvh.
+/// let takes = dataset::takes(folder.path())?;
+/// let about = dataset::compile_take(folder.path(), &takes[0], &Options::default())?.about;
+/// assert_eq!((about.source.path.as_str(), about.source_frames), ("walk.bvh", 344));
+/// assert_eq!((about.up.as_str(), about.units.as_str()), ("y", "CMU units (1/0.45 inch)"));
+/// assert_eq!(about.travel_joint, "Hips");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct About {
+    /// The take's file (and its AMC), relative to the folder compiled.
     #[serde(flatten)]
     pub source: Source,
     /// The take's own frame time (seconds, as the file gives it) and length, before resampling.
     pub source_frame_time: f64,
+    /// The take's number of frames, before resampling.
     pub source_frames: usize,
     /// The guessed up axis and units the take was turned from.
     pub up: String,
+    /// The guessed units' name (`metres`, `centimetres`, `inches`, `CMU units (1/0.45 inch)`…).
     pub units: String,
+    /// Metres in one of those units: what every length was multiplied by.
     pub metres_per_unit: f32,
     /// How position channels combined with OFFSETs (the mode the file looks written for).
     pub offset_mode: String,
     /// The point whose travel `root_translations` holds and root-relative positions remove.
     pub travel_joint: String,
+    /// The take's warnings as `info` gives them, and one when its foot points were guessed
+    /// from the rest pose.
     pub warnings: Vec<String>,
 }
 
 /// One take's arrays, frame after frame (row-major, float32 but for the contacts).
+///
+/// ```
+/// use bvhview::dataset::{self, Options};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// // `folder` holds walk.bvh, a copy of tests/data/bvh/bvhparser_walk_01.bvh.
+/// let takes = dataset::takes(folder.path())?;
+/// let clip = dataset::compile_take(folder.path(), &takes[0], &Options::default())?;
+/// let points = clip.topology.joints.len();
+/// assert_eq!((clip.frames, points), (86, 38)); // 344 frames at 120 fps, resampled to 30
+/// assert_eq!(clip.positions.len(), clip.frames * points * 3);
+/// assert_eq!(clip.contacts.len(), clip.frames * clip.topology.feet.len());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Clip {
+    /// What the manifest says of the clip.
     pub about: About,
+    /// The skeleton the arrays are laid out by: the key of the clip's group.
     pub topology: Topology,
+    /// Frames at the dataset's rate.
     pub frames: usize,
     /// frames × points × 3: world positions, Y up, metres (root-relative when asked).
     pub positions: Vec<f32>,
@@ -242,10 +357,33 @@ pub struct Clip {
 }
 
 /// Why a take is not in the dataset.
+///
+/// ```
+/// use bvhview::dataset::{self, Options};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// // `folder` holds walk.bvh, a copy of tests/data/bvh/bvhparser_walk_01.bvh.
+/// # std::fs::write(folder.path().join("broken.bvh"), "HIERARCHY\nROOT Hips\n").unwrap();
+/// // and broken.bvh, whose hierarchy stops after its root's name.
+/// let (takes, out) = (dataset::takes(folder.path())?, folder.path().join("dataset"));
+/// let list = dataset::whole_list(folder.path(), &takes);
+/// let (dir, options) = (folder.path(), Options::default());
+/// let summary = dataset::compile(dir, takes, &options, 1, &out, list, |_, _, _, _| true)?;
+/// let skipped = &summary.skipped[0];
+/// assert_eq!(skipped.source.path, "broken.bvh");
+/// assert_eq!(skipped.error, "broken.bvh:3:1: expected '{' after 'Hips', found end of file");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub struct Skipped {
+    /// The take that failed.
     #[serde(flatten)]
     pub source: Source,
+    /// The error it failed with, paths in it relative to the folder compiled.
     pub error: String,
 }
 
@@ -271,6 +409,26 @@ pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, 
 }
 
 /// How long each stage of [`compile_take`] took, for the benchmark's shares.
+///
+/// ```
+/// use bvhview::dataset::{self, Options, Stages};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// // `folder` holds walk.bvh, a copy of tests/data/bvh/bvhparser_walk_01.bvh.
+/// let takes = dataset::takes(folder.path())?;
+/// let options = Options::default();
+/// let (clip, stages) = dataset::compile_take_timed(folder.path(), &takes[0], &options)?;
+/// assert_eq!(clip.frames, 86);
+/// let mut total = Stages::default();
+/// total.add(&stages);
+/// total.add(&stages);
+/// assert_eq!(total.fk, stages.fk * 2);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Stages {
     /// Reading and parsing the file (and retargeting it, with `onto`).
@@ -385,7 +543,7 @@ fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
                 &path.display().to_string(),
                 &loaded.skeleton,
                 &loaded.motion,
-                &[],
+                &options.map,
                 1,
             )?;
             crate::take::Take {
@@ -701,11 +859,35 @@ impl Derived {
 }
 
 /// How a compile went: clips written, takes skipped.
+///
+/// ```
+/// use bvhview::dataset::{self, Options};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// // `folder` holds walk.bvh, a copy of tests/data/bvh/bvhparser_walk_01.bvh.
+/// # std::fs::write(folder.path().join("broken.bvh"), "HIERARCHY\nROOT Hips\n").unwrap();
+/// // and broken.bvh, whose hierarchy stops after its root's name.
+/// let (takes, out) = (dataset::takes(folder.path())?, folder.path().join("dataset"));
+/// let list = dataset::whole_list(folder.path(), &takes);
+/// let (dir, options) = (folder.path(), Options::default());
+/// let summary = dataset::compile(dir, takes, &options, 1, &out, list, |_, _, _, _| true)?;
+/// assert_eq!((summary.clips, summary.frames, summary.groups), (1, 86, 1));
+/// assert_eq!(summary.skipped.len(), 1);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Debug, Default)]
 pub struct Summary {
+    /// Clips written.
     pub clips: usize,
+    /// Frames in all the clips written, at the dataset's rate.
     pub frames: usize,
+    /// Groups written: one per topology.
     pub groups: usize,
+    /// The takes that failed, in list order, with why.
     pub skipped: Vec<Skipped>,
 }
 

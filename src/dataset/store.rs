@@ -77,6 +77,13 @@ pub struct Settings {
     /// older manifests.
     #[serde(default)]
     pub quat_continuous: bool,
+    /// The skeleton every take was retargeted onto (`--onto`: a built-in name or the file as
+    /// given); absent in older manifests.
+    #[serde(default)]
+    pub onto: Option<String>,
+    /// The `SRC = DST` pairs over every take's guessed map (`--map`, with `--onto`).
+    #[serde(default)]
+    pub map: Vec<(String, String)>,
 }
 
 impl Settings {
@@ -93,6 +100,8 @@ impl Settings {
             units: "metres".to_string(),
             ground: options.ground,
             quat_continuous: options.quat_continuous,
+            onto: options.onto.as_ref().map(|target| target.name.clone()),
+            map: options.map.clone(),
         }
     }
 
@@ -112,6 +121,7 @@ impl Settings {
             contact_speed: self.contact_speed_m_per_s,
             ground: self.ground,
             quat_continuous: self.quat_continuous,
+            map: self.map.clone(),
             ..Options::default()
         })
     }
@@ -384,6 +394,9 @@ pub struct Writer {
     /// `None` once finished.
     folder: Option<crate::io::output::NewFolder>,
     options: Options,
+    /// What the manifest says of the options: a merge keeps its datasets' (their `onto` is a
+    /// name, not a skeleton to load again).
+    settings: Settings,
     takes: Takes,
     groups: Vec<OpenGroup>,
     /// The group whose files are open: the last one a clip was added to.
@@ -406,6 +419,7 @@ impl Writer {
             out: out.to_path_buf(),
             folder: Some(folder),
             options: options.clone(),
+            settings: Settings::of(options),
             takes,
             groups: Vec::new(),
             writing: None,
@@ -413,6 +427,11 @@ impl Writer {
             clips: Vec::new(),
             skipped: Vec::new(),
         })
+    }
+
+    /// The options the manifest records, as the datasets a merge joins recorded them.
+    pub(crate) fn keep_settings(&mut self, settings: Settings) {
+        self.settings = settings;
     }
 
     fn folder(&self) -> &Path {
@@ -626,7 +645,7 @@ impl Writer {
         let manifest = Manifest {
             format: FORMAT.to_string(),
             bvhview: env!("CARGO_PKG_VERSION").to_string(),
-            options: Settings::of(&self.options),
+            options: self.settings.clone(),
             takes: self.takes.clone(),
             groups,
             clips: std::mem::take(&mut self.clips),

@@ -17,10 +17,29 @@ pub fn built_in(name: &str) -> Option<(Skeleton, Motion)> {
 
 /// A skeleton to retarget onto: a file's or a built-in one, with its up axis and the name to
 /// show in messages (`bvhview retarget --onto`, `dataset --onto`).
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::retarget::Target;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let target = Target::load("smpl22", u64::MAX)?;
+/// assert_eq!(target.name, "smpl22");
+/// assert_eq!(target.skeleton.joints[0].name, "pelvis");
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?.trim(0..30);
+/// let (skeleton, motion) = target.apply("walk", &take.skeleton, &take.motion, &[], 1)?;
+/// assert_eq!(skeleton, target.skeleton);
+/// assert_eq!(motion.frame_count(), 30);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Target {
+    /// The name messages give it: the file's path, or the built-in skeleton's name.
     pub name: String,
+    /// The skeleton takes are put on.
     pub skeleton: Skeleton,
+    /// Its up axis: its take's guessed stance's, or its rest pose's (see [`Target::new`]).
     pub up: Up,
 }
 
@@ -101,8 +120,7 @@ impl Target {
         match two_legged(skeleton, motion) {
             Some(Doubt::NotBiped(why)) if target_doubt.is_none() => Err(Error::Usage(format!(
                 "{source_name}: not a two-legged body ({why}), and {} is one: its limbs would \
-                 be carried over as a person's; --any-body (Python: any_body=True) retargets \
-                 it anyway",
+                 be carried over as a person's; `--any-body` retargets it anyway",
                 self.name
             ))),
             _ => Ok(()),
