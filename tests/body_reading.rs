@@ -840,7 +840,7 @@ fn a_dataset_onto_one_skeleton_takes_a_map_and_records_both() {
     let manifest = bvhview::dataset::read::read_manifest(&onto).unwrap();
     assert_eq!(manifest.options.onto.as_deref(), Some("smpl22"));
     assert_eq!(
-        manifest.options.map,
+        manifest.options.map.all,
         [("LeftToe".to_string(), String::new())]
     );
     // The pair names a LaFAN1 joint: Mixamo's take has none of that name and is skipped.
@@ -884,4 +884,67 @@ fn a_dataset_onto_one_skeleton_takes_a_map_and_records_both() {
         .output()
         .unwrap();
     assert_eq!(alone.status.code(), Some(2));
+}
+
+#[test]
+fn one_map_file_serves_a_folder_of_mixed_rigs_by_fingerprint() {
+    let dir = tempfile::tempdir().unwrap();
+    let takes = dir.path().join("takes");
+    std::fs::create_dir(&takes).unwrap();
+    let mut map = String::from("# each rig's left toe left out\n");
+    for (family, toe) in [("lafan1", "LeftToe"), ("mixamo", "mixamorig:LeftToeBase")] {
+        let path = format!("tests/body/{family}.bvh");
+        std::fs::copy(&path, takes.join(format!("{family}.bvh"))).unwrap();
+        // The fingerprint `info` prints.
+        let info = bvhview().args(["info", &path]).output().unwrap();
+        let text = String::from_utf8(info.stdout).unwrap();
+        let fingerprint = text
+            .lines()
+            .find_map(|l| l.strip_prefix("fingerprint:"))
+            .unwrap()
+            .trim()
+            .to_string();
+        assert_eq!(
+            fingerprint,
+            Take::open(&path).unwrap().skeleton.fingerprint()
+        );
+        map.push_str(&format!("[skeleton.{fingerprint}]\n\"{toe}\" = \"\"\n"));
+    }
+    let map_file = dir.path().join("map.toml");
+    std::fs::write(&map_file, &map).unwrap();
+    let out = dir.path().join("ds");
+    let run = bvhview()
+        .arg("dataset")
+        .arg(&takes)
+        .args(["--onto", "smpl22", "-q", "--map"])
+        .arg(&map_file)
+        .arg("-o")
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(0), "{run:?}");
+    let manifest = bvhview::dataset::read::read_manifest(&out).unwrap();
+    // Each take took its own rig's pair: none is skipped.
+    assert_eq!(manifest.clips.len(), 2);
+    assert!(manifest.skipped.is_empty(), "{:?}", manifest.skipped);
+    assert_eq!(manifest.options.map.by_skeleton.len(), 2);
+    // The same pairs given for every skeleton skip both takes, each lacking the other's joint.
+    let flat = dir.path().join("flat");
+    let run = bvhview()
+        .arg("dataset")
+        .arg(&takes)
+        .args([
+            "--onto",
+            "smpl22",
+            "-q",
+            "--map",
+            "LeftToe=",
+            "--map",
+            "mixamorig:LeftToeBase=",
+            "-o",
+        ])
+        .arg(&flat)
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(2), "{run:?}");
 }

@@ -243,7 +243,7 @@ pub(crate) fn _compile_dataset(
             map: {
                 let mut pairs: Vec<(String, String)> = names.unwrap_or_default().into_iter().collect();
                 pairs.sort();
-                pairs
+                bvhview::retarget::MapPairs::from_pairs(pairs)
             },
             onto: onto
                 .map(|onto| {

@@ -79,7 +79,7 @@ def test_the_package_writes_what_the_command_writes(compiled, cli, tmp_path):
         "ground": False,
         "quat_continuous": False,
         "onto": None,
-        "map": [],
+        "map": {"all": [], "by_skeleton": []},
     }
     assert manifest["takes"]["listed"] == manifest["takes"]["count"] == 64
     # Skipped takes: each named with its path:line:column, as the command said them.

@@ -15,7 +15,8 @@ pub(crate) struct RetargetArgs {
     #[arg(long, value_name = "TARGET")]
     onto: String,
     /// Override the guessed joint map: SRC=DST (a source joint onto a target joint; SRC= leaves
-    /// it out), or a TOML or JSON file of such pairs (what --show-map prints). Repeatable.
+    /// it out), or a TOML or JSON file of such pairs (what --show-map prints; pairs for one
+    /// skeleton under `[skeleton.FINGERPRINT]`, as `info` prints it). Repeatable.
     #[arg(long, value_name = "FILE|SRC=DST")]
     map: Vec<String>,
     /// Retarget a body that does not stand on two legs (a quadruped with human joint names)
@@ -30,9 +31,10 @@ pub(crate) struct RetargetArgs {
     output: Option<PathBuf>,
 }
 
-/// The `--map` values as pairs, in order: files read, `SRC=DST` split.
-pub(crate) fn map_pairs(values: &[String]) -> Result<Vec<(String, String)>, Error> {
-    let mut pairs = Vec::new();
+/// The `--map` values as pairs, in order: files read (their `[skeleton.…]` sections kept for
+/// the skeleton they name), `SRC=DST` split.
+pub(crate) fn map_pairs(values: &[String]) -> Result<retarget::MapPairs, Error> {
+    let mut pairs = retarget::MapPairs::default();
     for value in values {
         let path = Path::new(value);
         // A regular file only (a FIFO or a device is not a map), read up to 16 MiB.
@@ -47,9 +49,9 @@ pub(crate) fn map_pairs(values: &[String]) -> Result<Vec<(String, String)>, Erro
                     message: "not UTF-8 text: a map file is TOML or JSON".to_string(),
                 }
             })?;
-            pairs.extend(retarget::parse_map(text, value)?);
+            pairs.extend(retarget::parse_map_pairs(text, value)?);
         } else if let Some(pair) = retarget::parse_pair(value) {
-            pairs.push(pair);
+            pairs.all.push(pair);
         } else {
             return Err(Error::Usage(format!(
                 "--map {value}: expected SRC=DST or a TOML or JSON map file"
@@ -67,8 +69,8 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
             "retarget: give -o OUT.bvh|.glb|.gltf, or --show-map to see the map only".into(),
         ));
     }
-    let pairs = map_pairs(&args.map)?;
     let loaded = load(&args.input, &args.source)?;
+    let pairs = map_pairs(&args.map)?.for_skeleton(&loaded.skeleton);
     let target = Target::load(&args.onto, args.source.max_size)?;
     let source_name = args.input.display().to_string();
     if args.show_map {

@@ -71,9 +71,10 @@ pub struct Options {
     /// skeletons makes one group; a take whose map misses a required role is skipped.
     pub onto: Option<crate::retarget::Target>,
     /// With `onto`: `SRC = DST` pairs over every take's guessed map (`--map`), as `retarget
-    /// --map` gives them (`SRC =` with an empty target leaves a source joint out). A take that
-    /// has no joint a pair names is skipped with the reason.
-    pub map: Vec<(String, String)>,
+    /// --map` gives them (`SRC =` with an empty target leaves a source joint out); pairs for one
+    /// skeleton apply to the takes of that skeleton only. A take that has no joint a pair for
+    /// it names is skipped with the reason.
+    pub map: crate::retarget::MapPairs,
     /// Each clip moved up or down so that its lowest foot point over the whole clip is on
     /// y = 0 (`--ground`); positions, root translations and the roots' translations alike.
     pub ground: bool,
@@ -95,7 +96,7 @@ impl Default for Options {
             contact_speed: 0.5,
             ground: false,
             quat_continuous: false,
-            map: Vec::new(),
+            map: crate::retarget::MapPairs::default(),
             max_size: crate::take::DEFAULT_MAX_SIZE,
             onto: None,
         }
@@ -543,7 +544,7 @@ fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
                 &path.display().to_string(),
                 &loaded.skeleton,
                 &loaded.motion,
-                &options.map,
+                &options.map.for_skeleton(&loaded.skeleton),
                 1,
             )?;
             crate::take::Take {

@@ -81,9 +81,10 @@ pub struct Settings {
     /// given); absent in older manifests.
     #[serde(default)]
     pub onto: Option<String>,
-    /// The `SRC = DST` pairs over every take's guessed map (`--map`, with `--onto`).
+    /// The `SRC = DST` pairs over every take's guessed map (`--map`, with `--onto`): for every
+    /// skeleton, and for one skeleton by its fingerprint.
     #[serde(default)]
-    pub map: Vec<(String, String)>,
+    pub map: crate::retarget::MapPairs,
 }
 
 impl Settings {

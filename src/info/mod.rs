@@ -156,6 +156,8 @@ pub fn summary(name: &str, loaded: &Take, mode: OffsetMode) -> String {
         "none read (no limb, neck or head, by name or by the tree)".to_string()
     };
     let _ = writeln!(out, "body:             {reading}");
+    // What a map file's `[skeleton.<fingerprint>]` pairs are keyed by.
+    let _ = writeln!(out, "fingerprint:      {}", skeleton.fingerprint());
     // Guessed from the motion; the article's view still draws the file as written.
     let stance = loaded.stance(mode);
     let _ = writeln!(out, "up axis:          {}", stance.up_text());

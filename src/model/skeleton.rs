@@ -288,6 +288,38 @@ impl Skeleton {
         self.joints.iter().map(|j| j.channels.len()).sum()
     }
 
+    /// A short name for this skeleton's shape, the same in every run, build and machine: 12
+    /// hex digits of a 64-bit FNV-1a hash of every joint's name and parent, in file order.
+    /// `info` prints it; a map file keys one skeleton's pairs by it (`[skeleton.<fingerprint>]`).
+    ///
+    /// ```
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// let walk = bvhview::Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+    /// let fingerprint = walk.skeleton.fingerprint();
+    /// assert_eq!(fingerprint.len(), 12);
+    /// // Motion, offsets and channels aside, the same joints give the same fingerprint.
+    /// assert_eq!(walk.trim(0..2).skeleton.fingerprint(), fingerprint);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn fingerprint(&self) -> String {
+        // FNV-1a, written out: std's hashers may change between releases, and eight lines do
+        // not need a crate.
+        let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
+        let mut eat = |bytes: &[u8]| {
+            for &b in bytes {
+                hash ^= u64::from(b);
+                hash = hash.wrapping_mul(0x0100_0000_01b3);
+            }
+        };
+        for joint in &self.joints {
+            eat(joint.name.as_bytes());
+            eat(&[0]);
+            eat(&joint.parent.map_or(u64::MAX, |p| p as u64).to_le_bytes());
+        }
+        format!("{:012x}", hash >> 16)
+    }
+
     /// Indices of joints without a parent (BVH files usually have one).
     pub fn roots(&self) -> impl Iterator<Item = usize> + '_ {
         self.joints

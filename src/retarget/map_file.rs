@@ -2,33 +2,125 @@
 
 use super::*;
 
-/// Reads a map file: JSON (`{"source": "target", …}`) or TOML (`"source" = "target"` lines,
-/// what `--show-map` prints). An error names the file, line and column.
+/// Pairs over a guessed map (`SRC = DST`, an empty DST leaving a source joint out): those for
+/// every skeleton, and those for one skeleton only, keyed by its
+/// [`fingerprint`](crate::Skeleton::fingerprint), so that one map file serves a folder of
+/// mixed rigs.
+///
+/// ```
+/// use bvhview::retarget::{MapPairs, parse_map_pairs};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let walk = bvhview::Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+/// let text = format!(
+///     "\"LeftToeBase\" = \"\"\n[skeleton.{}]\n\"RightToeBase\" = \"\"\n[skeleton.000000000000]\n\"x\" = \"y\"\n",
+///     walk.skeleton.fingerprint()
+/// );
+/// let pairs: MapPairs = parse_map_pairs(&text, "map.toml")?;
+/// let for_walk: Vec<&str> = pairs.for_skeleton(&walk.skeleton).iter().map(|(s, _)| s.as_str()).collect();
+/// assert_eq!(for_walk, ["LeftToeBase", "RightToeBase"]);
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct MapPairs {
+    /// Pairs for every skeleton, in order (later ones win).
+    pub all: Vec<(String, String)>,
+    /// Pairs for one skeleton, by fingerprint, after `all`.
+    pub by_skeleton: Vec<(String, Vec<(String, String)>)>,
+}
+
+impl MapPairs {
+    /// Pairs for every skeleton only.
+    pub fn from_pairs(all: Vec<(String, String)>) -> MapPairs {
+        MapPairs {
+            all,
+            by_skeleton: Vec::new(),
+        }
+    }
+
+    /// Whether there is no pair at all.
+    pub fn is_empty(&self) -> bool {
+        self.all.is_empty() && self.by_skeleton.iter().all(|(_, pairs)| pairs.is_empty())
+    }
+
+    /// Adds `other`'s pairs after these.
+    pub fn extend(&mut self, other: MapPairs) {
+        self.all.extend(other.all);
+        self.by_skeleton.extend(other.by_skeleton);
+    }
+
+    /// The pairs that apply to `skeleton`: those for every skeleton, then those under its
+    /// fingerprint.
+    pub fn for_skeleton(&self, skeleton: &Skeleton) -> Vec<(String, String)> {
+        let fingerprint = skeleton.fingerprint();
+        let mut pairs = self.all.clone();
+        for (key, own) in &self.by_skeleton {
+            if *key == fingerprint {
+                pairs.extend(own.iter().cloned());
+            }
+        }
+        pairs
+    }
+}
+
+/// Reads a map file of pairs for every skeleton only (see [`parse_map_pairs`]); a file with
+/// `[skeleton.…]` sections is refused here.
 pub fn parse_map(text: &str, name: &str) -> Result<Vec<(String, String)>, Error> {
+    let pairs = parse_map_pairs(text, name)?;
+    if !pairs.by_skeleton.is_empty() {
+        return Err(Error::Usage(format!(
+            "{name}: pairs for one skeleton ([skeleton.…]) are read where a take's skeleton is known"
+        )));
+    }
+    Ok(pairs.all)
+}
+
+/// Reads a map file: JSON (`{"source": "target", …}`) or TOML (`"source" = "target"` lines,
+/// what `--show-map` prints), with pairs for one skeleton under `skeleton.<fingerprint>`
+/// (TOML `[skeleton.3f2a…]` sections; JSON `"skeleton": {"3f2a…": {…}}`), the fingerprint
+/// `bvhview info` prints. An error names the file, line and column.
+pub fn parse_map_pairs(text: &str, name: &str) -> Result<MapPairs, Error> {
     let bad = |line: usize, column: usize, message: String| Error::Parse {
         path: name.to_string(),
         line,
         column,
         message,
     };
-    let table: Vec<(String, String)> = if text.trim_start().starts_with('{') {
+    let mut out = MapPairs::default();
+    if text.trim_start().starts_with('{') {
         let value: JsonEntries = serde_json::from_str(text)
             .map_err(|e| bad(e.line(), e.column(), format!("not a JSON map: {e}")))?;
-        let mut pairs = Vec::new();
+        let pair = |key: String, value: serde_json::Value| match value {
+            serde_json::Value::String(target) => Ok((key, target)),
+            serde_json::Value::Null => Ok((key, String::new())),
+            other => Err(bad(
+                line_of(text, &key),
+                1,
+                format!("{key:?}: expected a target joint's name, found {other}"),
+            )),
+        };
         for (key, value) in value.0 {
             match value {
-                serde_json::Value::String(target) => pairs.push((key, target)),
-                serde_json::Value::Null => pairs.push((key, String::new())),
-                other => {
-                    return Err(bad(
-                        line_of(text, &key),
-                        1,
-                        format!("{key:?}: expected a target joint's name, found {other}"),
-                    ));
+                serde_json::Value::Object(skeletons) if key == "skeleton" => {
+                    for (fingerprint, pairs) in skeletons {
+                        let serde_json::Value::Object(pairs) = pairs else {
+                            return Err(bad(
+                                line_of(text, &fingerprint),
+                                1,
+                                format!("skeleton {fingerprint:?}: expected an object of pairs"),
+                            ));
+                        };
+                        let pairs = pairs
+                            .into_iter()
+                            .map(|(k, v)| pair(k, v))
+                            .collect::<Result<Vec<_>, Error>>()?;
+                        out.by_skeleton.push((fingerprint, pairs));
+                    }
                 }
+                value => out.all.push(pair(key, value)?),
             }
         }
-        pairs
     } else {
         let value: toml::Table = toml::from_str(text).map_err(|e| {
             let (line, column) = e
@@ -37,25 +129,40 @@ pub fn parse_map(text: &str, name: &str) -> Result<Vec<(String, String)>, Error>
                 .unwrap_or((1, 1));
             bad(line, column, format!("not a TOML map: {}", e.message()))
         })?;
-        let mut pairs = Vec::new();
+        let pair = |key: String, value: toml::Value| match value {
+            toml::Value::String(target) => Ok((key, target)),
+            other => Err(bad(
+                line_of(text, &key),
+                1,
+                format!(
+                    "{key:?}: expected a target joint's name in quotes, found {}",
+                    other.type_str()
+                ),
+            )),
+        };
         for (key, value) in value {
             match value {
-                toml::Value::String(target) => pairs.push((key, target)),
-                other => {
-                    return Err(bad(
-                        line_of(text, &key),
-                        1,
-                        format!(
-                            "{key:?}: expected a target joint's name in quotes, found {}",
-                            other.type_str()
-                        ),
-                    ));
+                toml::Value::Table(skeletons) if key == "skeleton" => {
+                    for (fingerprint, pairs) in skeletons {
+                        let toml::Value::Table(pairs) = pairs else {
+                            return Err(bad(
+                                line_of(text, &fingerprint),
+                                1,
+                                format!("skeleton.{fingerprint}: expected a table of pairs"),
+                            ));
+                        };
+                        let pairs = pairs
+                            .into_iter()
+                            .map(|(k, v)| pair(k, v))
+                            .collect::<Result<Vec<_>, Error>>()?;
+                        out.by_skeleton.push((fingerprint, pairs));
+                    }
                 }
+                value => out.all.push(pair(key, value)?),
             }
         }
-        pairs
-    };
-    Ok(table)
+    }
+    Ok(out)
 }
 
 /// A JSON map's entries in file order. A key given twice is refused where the second one is
