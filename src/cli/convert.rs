@@ -34,7 +34,11 @@ pub(crate) struct ConvertArgs {
     /// Right exchanged in the names (the same world positions by name, another joint order).
     #[arg(long, conflicts_with = "mirror")]
     mirror_rename: bool,
-    /// Remove the roots' travel across the ground (sixth).
+    /// Hold each planted foot where it landed (two-bone IK on thigh and shin), and say how far
+    /// the ankles slid during their contacts before and after (sixth).
+    #[arg(long)]
+    lock_feet: bool,
+    /// Remove the roots' travel across the ground (seventh).
     #[arg(long)]
     in_place: bool,
     /// Move the take up or down so that its lowest point is at 0 (last).
@@ -130,7 +134,8 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
     Ok(())
 }
 
-/// The edits, in this order: trim, resample, scale, up axis, mirror, in place, ground.
+/// The edits, in this order: trim, resample, scale, up axis, mirror, lock feet, in place,
+/// ground.
 fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
     if let Some(frames) = &args.frames {
         let range = crate::positions::parse_frames(frames, loaded.motion.frame_count())?;
@@ -158,6 +163,19 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
         };
         (loaded.skeleton, loaded.motion) =
             crate::edit::mirror(&loaded.skeleton, &loaded.motion, &options)?;
+    }
+    if args.lock_feet {
+        let metres = f64::from(loaded.stance(OffsetMode::Replace).units.metres);
+        let (motion, locked) = crate::edit::lock_feet(
+            &loaded.skeleton,
+            &loaded.motion,
+            OffsetMode::Replace,
+            up,
+            metres,
+            &crate::edit::LockFeet::default(),
+        )?;
+        super::note(format_args!("feet locked: {}", locked.summary(&loaded.skeleton)));
+        loaded.motion = motion;
     }
     if args.in_place {
         loaded.motion = crate::edit::in_place(&loaded.skeleton, &loaded.motion, up);

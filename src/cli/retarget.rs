@@ -23,6 +23,10 @@ pub(crate) struct RetargetArgs {
     /// onto one that does, which is refused otherwise.
     #[arg(long)]
     any_body: bool,
+    /// Hold each planted foot of the result where it landed (as `convert --lock-feet`), and say
+    /// how far the ankles slid during their contacts before and after.
+    #[arg(long)]
+    lock_feet: bool,
     /// Print the map (as TOML --map reads) and the joints left unmapped, on stdout.
     #[arg(long)]
     show_map: bool,
@@ -92,6 +96,22 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
         &pairs,
         crate::io::parallel::cores(),
     )?;
+    let motion = if args.lock_feet {
+        let take = Take::new(skeleton.clone(), motion.clone(), target.name.clone());
+        let stance = take.stance(OffsetMode::Replace);
+        let (motion, locked) = crate::edit::lock_feet(
+            &skeleton,
+            &motion,
+            OffsetMode::Replace,
+            stance.up,
+            f64::from(stance.units.metres),
+            &crate::edit::LockFeet::default(),
+        )?;
+        super::note(format_args!("feet locked: {}", locked.summary(&skeleton)));
+        motion
+    } else {
+        motion
+    };
     let format = TakeFormat::of(output);
     write_take(output, format, skeleton, motion, OffsetMode::Replace, false)
 }

@@ -11,6 +11,7 @@ use glam::{DQuat, Quat};
 
 mod angles;
 mod finite;
+mod lock_feet;
 mod mirror;
 mod orient;
 mod resample;
@@ -20,6 +21,7 @@ mod testing;
 
 pub use angles::*;
 pub use finite::*;
+pub use lock_feet::*;
 pub use mirror::*;
 pub use orient::*;
 pub use resample::*;

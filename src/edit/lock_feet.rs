@@ -1,0 +1,322 @@
+//! Foot locking: while a foot is planted, its ankle stays where it landed, by two-bone IK on the
+//! thigh and shin the reading of the body finds; the foot keeps its world orientation, and no
+//! bone changes length (only rotation channels are written).
+
+use super::*;
+use crate::model::body::{Body, Limb};
+use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
+use glam::DVec3;
+
+/// How feet are locked: when a foot counts as planted, and how the lock lets go.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LockFeet {
+    /// An ankle is planted when it is at most this high (metres) above the lowest it comes
+    /// within a second of the frame…
+    pub contact_height: f64,
+    /// …and moves slower than this (metres per second), as the dataset's contacts are read.
+    pub contact_speed: f64,
+    /// Frames over which the lock lets go after a contact, so the ankle does not jump.
+    pub blend_frames: usize,
+}
+
+impl Default for LockFeet {
+    fn default() -> LockFeet {
+        LockFeet {
+            contact_height: 0.05,
+            contact_speed: 0.5,
+            blend_frames: 4,
+        }
+    }
+}
+
+/// What locking did to one foot.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FootLocked {
+    /// The ankle joint.
+    pub ankle: usize,
+    /// How many contacts were locked.
+    pub contacts: usize,
+    /// How far the ankle slid along the floor during them (metres, frame to frame), before…
+    pub sliding_before: f64,
+    /// …and after.
+    pub sliding_after: f64,
+    /// The farthest the ankle strays along the floor from where it landed, after (metres).
+    pub drift_after: f64,
+}
+
+/// What locking did, per foot locked, and why a leg was not.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct FeetLocked {
+    /// Each foot locked.
+    pub feet: Vec<FootLocked>,
+    /// Why a leg was left as it was (no thigh, shin and ankle in a chain, a hinge).
+    pub notes: Vec<String>,
+}
+
+impl FeetLocked {
+    /// The figure `convert --lock-feet` prints: contacts, and the sliding before and after.
+    pub fn summary(&self, skeleton: &Skeleton) -> String {
+        let mut parts: Vec<String> = self
+            .feet
+            .iter()
+            .map(|foot| {
+                format!(
+                    "{}: {}, sliding {:.1} cm → {:.1} cm, farthest from where it landed {:.1} cm",
+                    skeleton.joints[foot.ankle].name,
+                    crate::io::error::counted(foot.contacts, "contact"),
+                    foot.sliding_before * 100.0,
+                    foot.sliding_after * 100.0,
+                    foot.drift_after * 100.0
+                )
+            })
+            .collect();
+        parts.extend(self.notes.iter().cloned());
+        parts.join("; ")
+    }
+}
+
+/// One leg: thigh, shin and ankle, each the parent of the next.
+struct Leg {
+    thigh: usize,
+    shin: usize,
+    ankle: usize,
+}
+
+/// The legs of `body` that can be locked, and why the others cannot.
+fn legs(skeleton: &Skeleton, body: &Body) -> (Vec<Leg>, Vec<String>) {
+    let (mut legs, mut notes) = (Vec::new(), Vec::new());
+    for (side, word) in [(0, "left"), (1, "right")] {
+        let limb = |l: Limb| body.limbs[side][l as usize];
+        let (Some(thigh), Some(shin), Some(ankle)) =
+            (limb(Limb::Thigh), limb(Limb::Shin), limb(Limb::Foot))
+        else {
+            notes.push(format!(
+                "{word} leg not locked: no thigh, shin and ankle read"
+            ));
+            continue;
+        };
+        let joints = &skeleton.joints;
+        if joints[shin].parent != Some(thigh) || joints[ankle].parent != Some(shin) {
+            notes.push(format!(
+                "{word} leg not locked: joints between {} and {}",
+                joints[thigh].name, joints[ankle].name
+            ));
+            continue;
+        }
+        let free = |j: usize| joints[j].rotation_order.is_some() && joints[j].axis.is_none();
+        if ![thigh, shin, ankle].into_iter().all(free) {
+            notes.push(format!(
+                "{word} leg not locked: a joint without three rotation channels of its own (an ASF bone's axis or hinge)"
+            ));
+            continue;
+        }
+        legs.push(Leg { thigh, shin, ankle });
+    }
+    (legs, notes)
+}
+
+/// The shortest rotation taking direction `from` onto `to` (identity for a zero vector).
+fn turn_onto(from: DVec3, to: DVec3) -> DQuat {
+    match (from.try_normalize(), to.try_normalize()) {
+        (Some(a), Some(b)) => DQuat::from_rotation_arc(a, b),
+        _ => DQuat::IDENTITY,
+    }
+}
+
+/// `motion` with each planted ankle held where it landed (see the module docs). `up` and
+/// `metres` (per unit) are the take's stance; `mode` its offset mode.
+pub fn lock_feet(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mode: OffsetMode,
+    up: Up,
+    metres: f64,
+    options: &LockFeet,
+) -> Result<(Motion, FeetLocked), Error> {
+    let body = Body::of(skeleton);
+    let (legs, notes) = legs(skeleton, &body);
+    let mut report = FeetLocked {
+        feet: Vec::new(),
+        notes,
+    };
+    let frames = motion.frame_count();
+    let mut data = motion.data.clone();
+    if legs.is_empty() || frames < 2 || !metres.is_finite() || metres <= 0.0 {
+        return Ok((motion.clone(), report));
+    }
+    let up = match up {
+        Up::Y => DVec3::Y,
+        Up::Z => DVec3::Z,
+    };
+    let flat = |v: DVec3| v - up * v.dot(up);
+    let world: Vec<Vec<(DQuat, DVec3)>> = (0..frames)
+        .map(|f| {
+            let mut out = Vec::new();
+            world_transforms_f64(skeleton, motion.frame(f), mode, &mut out);
+            out
+        })
+        .collect();
+    // Over how many frames each way an ankle's lowest height is looked for: a second.
+    let reach = (1.0 / motion.frame_time).round().max(1.0) as usize;
+    let (height, speed) = (
+        options.contact_height / metres,
+        options.contact_speed / metres,
+    );
+    let channels = motion.channels;
+    let mut intervals: Vec<(usize, Vec<(usize, usize)>)> = Vec::new();
+    for leg in &legs {
+        let at = |f: usize| world[f][leg.ankle].1;
+        // Planted: near the lowest this ankle comes within a second (its heel on the floor,
+        // wherever the floor is), and slow.
+        let heights: Vec<f64> = (0..frames).map(|f| at(f).dot(up)).collect();
+        let planted: Vec<bool> = (0..frames)
+            .map(|f| {
+                let (a, b) = (f.saturating_sub(1), (f + 1).min(frames - 1));
+                let velocity =
+                    (at(b) - at(a)).length() / ((b - a).max(1) as f64 * motion.frame_time);
+                let floor = heights[f.saturating_sub(reach)..(f + reach + 1).min(frames)]
+                    .iter()
+                    .copied()
+                    .fold(f64::INFINITY, f64::min);
+                heights[f] - floor <= height && velocity < speed
+            })
+            .collect();
+        // Where each frame's ankle is held, and how firmly (1 in a contact, less as it lets go).
+        let mut hold: Vec<Option<(DVec3, f64)>> = vec![None; frames];
+        let mut contacts = Vec::new();
+        let mut f = 0;
+        while f < frames {
+            if !planted[f] {
+                f += 1;
+                continue;
+            }
+            let start = f;
+            while f < frames && planted[f] {
+                f += 1;
+            }
+            if f - start < 2 {
+                continue;
+            }
+            let landed = flat(at(start));
+            // The lock lets go where the leg could no longer reach where the foot landed: the
+            // foot is lifting (the contact's last frames, the hips already moving on).
+            let reaches = |g: usize| {
+                let w = &world[g];
+                let length = (w[leg.shin].1 - w[leg.thigh].1).length()
+                    + (w[leg.ankle].1 - w[leg.shin].1).length();
+                let wanted = landed + up * at(g).dot(up);
+                (wanted - w[leg.thigh].1).length() < 0.999 * length
+            };
+            let end = (start..f).find(|&g| !reaches(g)).unwrap_or(f);
+            if end - start < 2 {
+                continue;
+            }
+            contacts.push((start, end));
+            for held in &mut hold[start..end] {
+                *held = Some((landed, 1.0));
+            }
+            for k in 1..=options.blend_frames {
+                let g = end + k - 1;
+                if g >= frames || (g >= f && planted[g]) {
+                    break;
+                }
+                let weight = 1.0 - k as f64 / (options.blend_frames + 1) as f64;
+                hold[g] = Some((landed, weight));
+            }
+        }
+        for f in 0..frames {
+            let Some((landed, weight)) = hold[f] else {
+                continue;
+            };
+            let w = &world[f];
+            let (hip, knee, ankle) = (w[leg.thigh].1, w[leg.shin].1, w[leg.ankle].1);
+            let wanted = ankle + (landed - flat(ankle)) * weight;
+            let (l1, l2) = ((knee - hip).length(), (ankle - knee).length());
+            let reach_to = wanted - hip;
+            let Some(direction) = reach_to.try_normalize() else {
+                continue;
+            };
+            let d = reach_to
+                .length()
+                .clamp((l1 - l2).abs() + 1e-9, l1 + l2 - 1e-9);
+            // The knee stays in the plane it bends in now.
+            let bend = (knee - hip) - direction * (knee - hip).dot(direction);
+            let Some(pole) = bend.try_normalize() else {
+                continue;
+            };
+            let along = (l1 * l1 - l2 * l2 + d * d) / (2.0 * d);
+            let new_knee =
+                hip + direction * along + pole * (l1 * l1 - along * along).max(0.0).sqrt();
+            let new_ankle = hip + direction * d;
+            let thigh_turn = turn_onto(knee - hip, new_knee - hip);
+            let moved_ankle = new_knee + thigh_turn * (ankle - knee);
+            let shin_turn = turn_onto(moved_ankle - new_knee, new_ankle - new_knee);
+            let thigh_world = thigh_turn * w[leg.thigh].0;
+            let shin_world = shin_turn * thigh_turn * w[leg.shin].0;
+            let parent = skeleton.joints[leg.thigh]
+                .parent
+                .map_or(DQuat::IDENTITY, |p| w[p].0);
+            let row = &mut data[f * channels..(f + 1) * channels];
+            for (joint, local) in [
+                (leg.thigh, parent.inverse() * thigh_world),
+                (leg.shin, thigh_world.inverse() * shin_world),
+                (leg.ankle, shin_world.inverse() * w[leg.ankle].0),
+            ] {
+                let joint = &skeleton.joints[joint];
+                let Some(order) = joint.rotation_order else {
+                    continue;
+                };
+                let values = joint.values(motion.frame(f));
+                let rotations: Vec<usize> = joint
+                    .channels
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, c)| c.is_rotation())
+                    .map(|(i, _)| i)
+                    .collect();
+                let previous = [0, 1, 2].map(|k| f64::from(values[rotations[k]]).to_radians());
+                let angles = euler::split(local, order, Some(previous));
+                for (k, &i) in rotations.iter().enumerate() {
+                    row[joint.first_channel + i] = angles[k].to_degrees() as f32;
+                }
+            }
+        }
+        intervals.push((leg.ankle, contacts));
+    }
+    let (_, locked) = finite(
+        "--lock-feet",
+        skeleton.clone(),
+        Motion::new(motion.frame_time, channels, frames, data),
+    )?;
+    // How far each ankle slides along the floor during its contacts, before and after, and
+    // the farthest it strays from where it landed.
+    let sliding = |motion: &Motion, ankle: usize, contacts: &[(usize, usize)]| {
+        let mut world = Vec::new();
+        let (mut total, mut farthest) = (0.0f64, 0.0f64);
+        for &(start, end) in contacts {
+            let mut path = Vec::with_capacity(end - start);
+            for f in start..end {
+                world_transforms_f64(skeleton, motion.frame(f), mode, &mut world);
+                path.push(flat(world[ankle].1));
+            }
+            total += path.windows(2).map(|w| (w[1] - w[0]).length()).sum::<f64>();
+            farthest = path
+                .iter()
+                .map(|p| (*p - path[0]).length())
+                .fold(farthest, f64::max);
+        }
+        (total * metres, farthest * metres)
+    };
+    for (ankle, contacts) in &intervals {
+        let (before, _) = sliding(motion, *ankle, contacts);
+        let (after, drift) = sliding(&locked, *ankle, contacts);
+        report.feet.push(FootLocked {
+            ankle: *ankle,
+            contacts: contacts.len(),
+            sliding_before: before,
+            sliding_after: after,
+            drift_after: drift,
+        });
+    }
+    Ok((locked, report))
+}
