@@ -4,9 +4,31 @@
 use super::*;
 
 /// The two skeletons' up axes, as their takes stand.
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::model::pose::{OffsetMode, Up};
+/// use bvhview::model::stance::Stance;
+/// use bvhview::retarget::{self, Map, Target, Ups};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?.trim(0..30);
+/// let target = Target::load("smpl22", u64::MAX)?;
+/// let source = Stance::guess(&take.skeleton, &take.motion, OffsetMode::Replace, None).up;
+/// let ups = Ups { source, target: target.up };
+/// assert_eq!(ups, Ups { source: Up::Y, target: Up::Y });
+/// let map = Map::guess(&take.skeleton, &target.skeleton);
+/// let (source, motion) = (&take.skeleton, &take.motion);
+/// let (_, motion) = retarget::retarget(source, motion, &target.skeleton, &map, ups, 1)?;
+/// assert_eq!(motion.frame_count(), 30);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Ups {
+    /// The up axis of the take being retargeted.
     pub source: Up,
+    /// The up axis of the skeleton it is put on.
     pub target: Up,
 }
 

@@ -17,8 +17,26 @@ pub const REQUIRED: [Role; 9] = [
 ];
 
 /// How a target joint came to its source joint.
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::model::body::{Limb, Role, Side};
+/// use bvhview::retarget::{How, Map, Target};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+/// let smpl = Target::load("smpl22", u64::MAX)?.skeleton;
+/// let mut map = Map::guess(&take.skeleton, &smpl);
+/// let knee = smpl.joints.iter().position(|j| j.name == "left_knee").unwrap();
+/// assert_eq!(map.how[knee], Some(How::Role(Role::Limb(Side::Left, Limb::Shin))));
+/// map.apply(&[("LeftUpLeg".into(), "left_knee".into())], &take.skeleton, &smpl)?;
+/// assert_eq!(map.how[knee], Some(How::Given));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum How {
+    /// The joint has this role in both skeletons' readings.
     Role(Role),
     /// The same name (prefixes and case aside) in both.
     Name,
@@ -30,13 +48,31 @@ pub enum How {
 }
 
 /// Which source joint drives each target joint.
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::retarget::{Map, Target};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+/// let target = Target::load("smpl22", u64::MAX)?;
+/// let map = Map::guess(&take.skeleton, &target.skeleton);
+/// let elbow = target.skeleton.joints.iter().position(|j| j.name == "left_elbow").unwrap();
+/// let source = map.source_of[elbow].unwrap();
+/// assert_eq!(take.skeleton.joints[source].name, "LeftForeArm");
+/// map.check("walk", &target.name)?; // every required role is mapped
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Map {
     /// One entry per target joint: the source joint it takes its rotation from.
     pub source_of: Vec<Option<usize>>,
+    /// One entry per target joint: how its source joint was found (`None`: unmapped).
     pub how: Vec<Option<How>>,
     /// The roles of the two skeletons, as guessed.
     pub source_body: Body,
+    /// The target skeleton's roles, as guessed.
     pub target_body: Body,
 }
 

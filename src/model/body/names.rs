@@ -4,15 +4,38 @@
 use super::*;
 
 /// The part of a limb a joint moves (the joint at the start of that bone).
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::model::body::{Body, Limb, Role, Side};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/body/lafan1.bvh")?;
+/// let body = Body::of(&take.skeleton);
+/// let shin = body.joint(Role::Limb(Side::Left, Limb::Shin)).unwrap();
+/// assert_eq!(take.skeleton.joints[shin].name, "LeftLeg"); // LaFAN1's word for the shin
+/// assert_eq!(body.limbs[0][Limb::Shin as usize], Some(shin)); // `limbs` is in `Limb` order
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Limb {
+    /// The collarbone, from the chest out to the shoulder (a shoulder joint where a family
+    /// also names an upper arm).
     Clavicle,
+    /// The arm from the shoulder to the elbow.
     UpperArm,
+    /// The arm from the elbow to the wrist.
     ForeArm,
+    /// The hand, from the wrist.
     Hand,
+    /// The leg from the hip to the knee.
     Thigh,
+    /// The leg from the knee to the ankle.
     Shin,
+    /// The foot, from the ankle.
     Foot,
+    /// The toes, from the ball of the foot.
     Toe,
 }
 
@@ -43,13 +66,32 @@ impl Limb {
 }
 
 /// What a joint is in a human body.
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::model::body::{Body, Role};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/body/lafan1.bvh")?;
+/// let roles = Body::of(&take.skeleton).roles();
+/// let (role, joint) = roles[1];
+/// assert_eq!(role, Role::Spine(0));
+/// assert_eq!(role.to_string(), "spine 1");
+/// assert_eq!(take.skeleton.joints[joint].name, "Spine");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Role {
+    /// The joint where the legs and the spine part: the root of the body.
     Hips,
     /// The n-th joint of the spine chain above the hips, from 0.
     Spine(usize),
+    /// The neck's joint, between the top of the spine and the head.
     Neck,
+    /// The head's joint, at the top of the neck.
     Head,
+    /// One part of an arm or a leg on one side.
     Limb(Side, Limb),
     /// A finger's bone: the finger (0 thumb … 4 pinky, see [`super::FINGERS`]) and the bone
     /// from the hand out (0, 1, 2).

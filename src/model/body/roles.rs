@@ -4,12 +4,31 @@
 use super::*;
 
 /// A skeleton's joints by role: what [`crate::retarget::Map::guess`] pairs.
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::model::body::Body;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/body/lafan1.bvh")?;
+/// let body = Body::of(&take.skeleton);
+/// let summary = body.summary(&take.skeleton);
+/// assert!(summary.starts_with("from names; hips Hips; spine Spine Spine1 Spine2; neck Neck"));
+/// let name = |&j: &usize| take.skeleton.joints[j].name.as_str();
+/// let feet: Vec<&str> = body.foot_points(&take.skeleton).iter().map(name).collect();
+/// assert_eq!(feet, ["LeftFoot", "LeftToe", "RightFoot", "RightToe"]);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Body {
+    /// The hips joint (where the legs and the spine part), if one was read.
     pub hips: Option<usize>,
     /// From the hips up.
     pub spine: Vec<usize>,
+    /// The neck joint, if one was read.
     pub neck: Option<usize>,
+    /// The head joint, if one was read.
     pub head: Option<usize>,
     /// `[left, right]`, each in [`Limb`] order: clavicle, upper arm, forearm, hand, thigh, shin,
     /// foot, toe.

@@ -9,6 +9,22 @@ use glam::DVec3;
 
 /// A doubt about a reading, said as a warning (or, onto a human target, as the reason a take is
 /// refused).
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::model::body::{Body, Doubt};
+/// use bvhview::model::pose::OffsetMode;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// // A quadruped rigged with 3ds Max Biped's human names.
+/// let take = Take::open("tests/body/biped_elephant.bvh")?;
+/// let doubts = Body::of(&take.skeleton).doubts(&take.skeleton, &take.motion, OffsetMode::Replace);
+/// assert!(matches!(doubts.as_slice(), [Doubt::NotBiped(_)]));
+/// let said = doubts[0].to_string();
+/// assert_eq!(said, "not a two-legged body: its head lies 80° from the legs' up; four-legged?");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub enum Doubt {
     /// Fewer than two legs (thigh and shin on each side) were read.

@@ -2,9 +2,25 @@
 //! for every naming family the corpus holds.
 
 /// Which side of the body a joint is on, by its name.
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::model::body::{Body, Limb, Role, Side};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+/// let body = Body::of(&take.skeleton);
+/// let name = |side| &take.skeleton.joints[body.joint(Role::Limb(side, Limb::Hand)).unwrap()].name;
+/// assert_eq!((name(Side::Left).as_str(), name(Side::Right).as_str()), ("LeftHand", "RightHand"));
+/// assert_eq!(Role::Limb(Side::Right, Limb::UpperArm).to_string(), "right upper arm");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Side {
+    /// The body's own left (the performer's, not the viewer's); first in `[left, right]` pairs.
     Left,
+    /// The body's own right; second in `[left, right]` pairs.
     Right,
 }
 
