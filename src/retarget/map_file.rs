@@ -17,8 +17,9 @@ use super::*;
 ///     walk.skeleton.fingerprint()
 /// );
 /// let pairs: MapPairs = parse_map_pairs(&text, "map.toml")?;
-/// let for_walk: Vec<&str> = pairs.for_skeleton(&walk.skeleton).iter().map(|(s, _)| s.as_str()).collect();
-/// assert_eq!(for_walk, ["LeftToeBase", "RightToeBase"]);
+/// let for_walk = pairs.for_skeleton(&walk.skeleton);
+/// let sources: Vec<&str> = for_walk.iter().map(|(s, _)| s.as_str()).collect();
+/// assert_eq!(sources, ["LeftToeBase", "RightToeBase"]);
 /// # Ok(())
 /// # }
 /// ```
