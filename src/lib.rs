@@ -47,6 +47,8 @@
 //!   command line, the Python package and the tests, and not part of the API: [`Error`] is
 //!   re-exported here.
 
+#![warn(missing_docs)]
+
 pub mod acclaim;
 pub mod bvh;
 // The command line, in the library so that its plumbing stays private; `src/main.rs` calls

@@ -157,6 +157,9 @@ class Motion:
         """The root kept over its place along the floor: `convert --in-place`."""
     def ground(self) -> Motion:
         """Lowest point moved to 0: `convert --ground`."""
+    def lock_feet(self) -> Motion:
+        """Each planted foot held where it landed (two-bone IK on thigh and shin): `convert
+        --lock-feet`."""
     def to_dataframe(self, frames: _Frames = None) -> Any:
         """The values as a pandas DataFrame: a row per frame (index "frame"), a column per
         channel (`channel_names`). Needs pandas."""
@@ -220,6 +223,7 @@ def _compile_dataset(
     ground: bool = False,
     quat_continuous: bool = False,
     names: dict[str, str] | None = None,
+    lock_feet: bool = False,
 ) -> tuple[int, int, int, list[tuple[str, str | None, str]]]:
     """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped takes as
     (path, motion, reason))."""

@@ -134,6 +134,7 @@ def compile_dataset(
     ground: bool = False,
     quat_continuous: bool = False,
     names: dict[str, str] | None = None,
+    lock_feet: bool = False,
 ) -> dict[str, Any]:
     """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
     them) into the new dataset folder ``out``; returns its manifest, whose ``"skipped"`` lists
@@ -151,7 +152,8 @@ def compile_dataset(
     clip's lowest foot point over the clip on y = 0. ``quat_continuous`` (with ``rotations=
     "quat"``): each frame's quaternion sign chosen against the previous frame's, so that they
     run continuously along time; by default every quaternion has w ≥ 0 and may flip sign between
-    neighbouring frames. A take that fails is skipped with its ``path:line:column``; a
+    neighbouring frames. ``lock_feet``: each take's planted feet held where they landed first,
+    as ``bvhview convert --lock-feet`` holds them. A take that fails is skipped with its ``path:line:column``; a
     folder of which no take compiles raises ValueError naming every reason, and writes nothing.
     ``parquet``: also write ``group_K/frames.parquet`` (needs pyarrow). Ctrl-C and SIGTERM stop
     the compile between takes, leaving nothing behind (SIGTERM and SIGHUP when Python has them
@@ -182,6 +184,7 @@ def compile_dataset(
             ground=ground,
             quat_continuous=quat_continuous,
             names=names,
+            lock_feet=lock_feet,
         )
         for _, _, reason in skipped:
             warnings.warn(f"skipped {reason}", SkippedTake, stacklevel=2)

@@ -199,7 +199,7 @@ pub(crate) fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePa
 #[pyfunction]
 #[pyo3(signature = (folder, out, fps=30.0, rotations="6d", root_relative=false, feet=None,
     contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None, onto=None,
-    ground=false, quat_continuous=false, names=None))]
+    ground=false, quat_continuous=false, names=None, lock_feet=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn _compile_dataset(
     py: Python<'_>,
@@ -218,6 +218,7 @@ pub(crate) fn _compile_dataset(
     ground: bool,
     quat_continuous: bool,
     names: Option<std::collections::HashMap<String, String>>,
+    lock_feet: bool,
 ) -> PyResult<(usize, usize, usize, Vec<SkippedTake>)> {
     guard("_compile_dataset", || {
         if names.is_some() && onto.is_none() {
@@ -240,6 +241,7 @@ pub(crate) fn _compile_dataset(
             contact_speed,
             ground,
             quat_continuous,
+            lock_feet,
             map: {
                 let mut pairs: Vec<(String, String)> = names.unwrap_or_default().into_iter().collect();
                 pairs.sort();

@@ -632,6 +632,30 @@ impl Motion {
         })
     }
 
+    /// The take with each planted foot held where it landed, as `convert --lock-feet`: two-bone
+    /// IK on thigh and shin during each contact, the foot's orientation and every bone's length
+    /// kept.
+    fn lock_feet(&self, py: Python<'_>) -> PyResult<Motion> {
+        guard("lock_feet", || {
+            let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let motion = py
+                .detach(|| {
+                    let stance = self.loaded.stance(self.offset_mode);
+                    bvhview::edit::lock_feet(
+                        skeleton,
+                        motion,
+                        self.offset_mode,
+                        stance.up,
+                        f64::from(stance.units.metres),
+                        &bvhview::edit::LockFeet::default(),
+                    )
+                })
+                .map_err(|e| to_python(py, e))?
+                .0;
+            Ok(self.edited(skeleton.clone(), motion, true))
+        })
+    }
+
     /// The take moved along its `up_axis` so that its lowest point, over every joint and frame
     /// in its offset mode, is at 0, as `convert --ground`.
     fn ground(&self, py: Python<'_>) -> PyResult<Motion> {

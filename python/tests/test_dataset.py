@@ -79,6 +79,7 @@ def test_the_package_writes_what_the_command_writes(compiled, cli, tmp_path):
         "ground": False,
         "quat_continuous": False,
         "onto": None,
+        "lock_feet": False,
         "map": {"all": [], "by_skeleton": []},
     }
     assert manifest["takes"]["listed"] == manifest["takes"]["count"] == 64
@@ -299,7 +300,7 @@ def test_to_motion_takes_root_translations_and_refuses_what_is_no_take(compiled,
 
 def test_windows_strides_shards_and_groups(compiled):
     manifest = json.loads((compiled / "manifest.json").read_text())
-    with pytest.raises(ValueError, match="33 skeleton topologies.*choose one with group="):
+    with pytest.raises(ValueError, match="32 skeleton topologies.*choose one with group="):
         bvhview.Dataset(compiled, window=8)
     group = next(k for k, g in enumerate(manifest["groups"]) if g["clips"] == 3)
     data = bvhview.Dataset(compiled, window=2, stride=1, group=group)

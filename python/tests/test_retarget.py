@@ -1,6 +1,8 @@
 """Motion.retarget (issue 37): the same take as `bvhview retarget`, exact onto its own
 skeleton, overridable by names, errors as ValueError."""
 
+import subprocess
+
 import numpy as np
 import pytest
 
@@ -81,3 +83,26 @@ def test_compile_dataset_grounds_and_keeps_quaternions_continuous(tmp_path):
     assert (dots >= 0).all()
     with pytest.raises(ValueError, match="quat-continuous"):
         bvhview.compile_dataset(DATA / "bvh", tmp_path / "six_d", quat_continuous=True)
+
+
+def test_lock_feet_holds_planted_ankles_as_the_command_does(cli, tmp_path):
+    path = DATA / "bvh" / "bvh11_131_01.bvh"
+    take = bvhview.load(path)
+    locked = take.lock_feet()
+    assert locked.values.shape == take.values.shape
+    # Only the legs' rotation channels change.
+    changed = np.nonzero(np.any(locked.values != take.values, axis=0))[0]
+    joints = {take.channel_names[c].rsplit(".", 1)[0] for c in changed}
+    assert joints == {"LeftHip", "LeftKnee", "LeftAnkle", "RightHip", "RightKnee", "RightAnkle"}
+    out = tmp_path / "locked.bvh"
+    run = subprocess.run(
+        [str(cli), "convert", str(path), "--lock-feet", "-q", "-o", str(out)],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 0, run.stderr
+    assert np.abs(bvhview.load(out).values - locked.values).max() < 1e-3
+    manifest = bvhview.compile_dataset(
+        DATA / "bvh", tmp_path / "ds", lock_feet=True, takes=[("bvh11_131_01.bvh", None)]
+    )
+    assert manifest["options"]["lock_feet"] is True

@@ -36,6 +36,9 @@ pub(crate) struct DatasetArgs {
     /// Put each clip's lowest foot point (over the whole clip) on y = 0.
     #[arg(long)]
     ground: bool,
+    /// Hold each take's planted feet where they landed first (as `convert --lock-feet`).
+    #[arg(long)]
+    lock_feet: bool,
     /// With --rotations quat: choose each frame's quaternion sign against the previous frame's,
     /// so that they run continuously along time (default: w ≥ 0 in every frame).
     #[arg(long)]
@@ -98,6 +101,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         contact_speed: args.contact_speed,
         ground: args.ground,
         quat_continuous: args.quat_continuous,
+        lock_feet: args.lock_feet,
         map: super::retarget::map_pairs(&args.map)?,
         max_size: args.max_size,
         onto: args

@@ -83,6 +83,9 @@ pub struct Options {
     /// time (`--quat-continuous`). Off: each has w ≥ 0, frame by frame, and may flip sign
     /// between neighbouring frames where w crosses 0.
     pub quat_continuous: bool,
+    /// Each take's planted feet held where they landed first (`--lock-feet`, as `convert
+    /// --lock-feet` holds them).
+    pub lock_feet: bool,
 }
 
 impl Default for Options {
@@ -96,6 +99,7 @@ impl Default for Options {
             contact_speed: 0.5,
             ground: false,
             quat_continuous: false,
+            lock_feet: false,
             map: crate::retarget::MapPairs::default(),
             max_size: crate::take::DEFAULT_MAX_SIZE,
             onto: None,
@@ -565,6 +569,19 @@ fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
     if let Some(target) = &options.onto {
         // A retargeted take stands as its target does (one frame says little about it).
         stance.up = target.up;
+    }
+    let mut loaded = loaded;
+    if options.lock_feet {
+        // Planted feet held where they landed (`convert --lock-feet`), before any posing.
+        let (motion, _) = crate::edit::lock_feet(
+            &loaded.skeleton,
+            &loaded.motion,
+            mode,
+            stance.up,
+            f64::from(stance.units.metres),
+            &crate::edit::LockFeet::default(),
+        )?;
+        loaded.motion = motion;
     }
     Ok(Prepared {
         loaded,

@@ -81,6 +81,9 @@ pub struct Settings {
     /// given); absent in older manifests.
     #[serde(default)]
     pub onto: Option<String>,
+    /// Each take's planted feet held where they landed first (`--lock-feet`).
+    #[serde(default)]
+    pub lock_feet: bool,
     /// The `SRC = DST` pairs over every take's guessed map (`--map`, with `--onto`): for every
     /// skeleton, and for one skeleton by its fingerprint.
     #[serde(default)]
@@ -102,6 +105,7 @@ impl Settings {
             ground: options.ground,
             quat_continuous: options.quat_continuous,
             onto: options.onto.as_ref().map(|target| target.name.clone()),
+            lock_feet: options.lock_feet,
             map: options.map.clone(),
         }
     }
@@ -122,6 +126,7 @@ impl Settings {
             contact_speed: self.contact_speed_m_per_s,
             ground: self.ground,
             quat_continuous: self.quat_continuous,
+            lock_feet: self.lock_feet,
             map: self.map.clone(),
             ..Options::default()
         })

@@ -7,7 +7,33 @@ use crate::model::body::{Body, Limb};
 use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
 use glam::DVec3;
 
-/// How feet are locked: when a foot counts as planted, and how the lock lets go.
+/// How feet are locked: when a foot counts as planted, and how the lock lets go; what locking
+/// did to one foot ([`FootLocked`]) and to the take ([`FeetLocked`]).
+///
+/// ```
+/// use bvhview::edit::{LockFeet, lock_feet};
+/// use bvhview::model::pose::OffsetMode;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = bvhview::Take::open("tests/data/bvh/bvh11_131_01.bvh")?;
+/// let stance = take.stance(OffsetMode::Replace);
+/// let options = LockFeet { blend_frames: 4, ..LockFeet::default() };
+/// let (locked, report) = lock_feet(
+///     &take.skeleton,
+///     &take.motion,
+///     OffsetMode::Replace,
+///     stance.up,
+///     f64::from(stance.units.metres),
+///     &options,
+/// )?;
+/// assert_eq!(locked.frame_count(), take.frame_count());
+/// let left = report.feet[0];
+/// assert_eq!((take.skeleton.joints[left.ankle].name.as_str(), left.contacts), ("LeftAnkle", 11));
+/// assert!(left.drift_after < 0.001 && left.sliding_before > 0.4);
+/// assert!(report.summary(&take.skeleton).starts_with("LeftAnkle: 11 contacts, sliding 46.7 cm"));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LockFeet {
     /// An ankle is planted when it is at most this high (metres) above the lowest it comes
@@ -29,7 +55,12 @@ impl Default for LockFeet {
     }
 }
 
-/// What locking did to one foot.
+/// What locking did to one foot (the example on [`LockFeet`] reads one).
+///
+/// ```
+/// let foot = bvhview::edit::FootLocked { ankle: 3, contacts: 2, ..Default::default() };
+/// assert_eq!((foot.sliding_before, foot.drift_after), (0.0, 0.0));
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct FootLocked {
     /// The ankle joint.
@@ -44,7 +75,14 @@ pub struct FootLocked {
     pub drift_after: f64,
 }
 
-/// What locking did, per foot locked, and why a leg was not.
+/// What locking did, per foot locked, and why a leg was not (the example on [`LockFeet`]
+/// prints one).
+///
+/// ```
+/// let none = bvhview::edit::FeetLocked::default();
+/// let walk = bvhview::Take::open("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// assert_eq!(none.summary(&walk.skeleton), "");
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FeetLocked {
     /// Each foot locked.
