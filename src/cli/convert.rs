@@ -174,7 +174,10 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
             metres,
             &crate::edit::LockFeet::default(),
         )?;
-        super::note(format_args!("feet locked: {}", locked.summary(&loaded.skeleton)));
+        super::note(format_args!(
+            "feet locked: {}",
+            locked.summary(&loaded.skeleton)
+        ));
         loaded.motion = motion;
     }
     if args.in_place {
