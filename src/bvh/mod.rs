@@ -3,6 +3,7 @@
 #[doc(hidden)] // what the original program does with a file: `print --explain` and the tests
 pub mod article;
 pub mod loader;
+mod options;
 pub mod print;
 pub mod rows;
 pub mod writer;

@@ -1,4 +1,5 @@
-//! The floor under a take over a sliding window, and when each foot touches it.
+//! The floor under a take over a sliding window, when each foot touches it, and a clip put on
+//! it (`--ground`).
 
 use super::*;
 
@@ -55,4 +56,42 @@ pub(super) fn contacts(
         }
     }
     out
+}
+
+/// Moves a posed clip up or down so that its lowest foot point over the whole clip (its lowest
+/// point, without feet) is on y = 0: every world position, and the translation of every root
+/// (a root's translation is where it is in the world; a child's is relative to its parent).
+pub(super) fn ground(
+    skeleton: &crate::Skeleton,
+    topology: &Topology,
+    world: &mut [Vec3],
+    translations: &mut [f32],
+) {
+    let points = skeleton.joints.len().max(1);
+    let lowest = world
+        .chunks(points)
+        .flat_map(|pose| {
+            let feet = topology.feet.iter().map(|&p| pose[p as usize].y);
+            let all = pose.iter().map(|p| p.y);
+            if topology.feet.is_empty() {
+                all.collect::<Vec<f32>>()
+            } else {
+                feet.collect()
+            }
+        })
+        .fold(f32::INFINITY, f32::min);
+    if !lowest.is_finite() {
+        return;
+    }
+    for point in world.iter_mut() {
+        point.y -= lowest;
+    }
+    let translated = topology.translated.len().max(1);
+    for frame in translations.chunks_mut(translated * 3) {
+        for (k, &joint) in topology.translated.iter().enumerate() {
+            if skeleton.joints[joint as usize].parent.is_none() {
+                frame[k * 3 + 1] -= lowest;
+            }
+        }
+    }
 }

@@ -1,0 +1,123 @@
+//! What every take is turned into: the compile's options, checked before any take is read.
+
+use super::*;
+
+/// What every take is turned into.
+///
+/// ```
+/// use bvhview::dataset::{self, Options};
+/// use bvhview::model::pose::RotationKind;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// // `folder` holds walk.bvh, a copy of tests/data/bvh/bvhparser_walk_01.bvh.
+/// let takes = dataset::takes(folder.path())?;
+/// let options = Options { fps: 60.0, rotations: RotationKind::Quat, ..Options::default() };
+/// options.check()?;
+/// let clip = dataset::compile_take(folder.path(), &takes[0], &options)?;
+/// assert_eq!(clip.frames, 172);
+/// assert_eq!(clip.rotations.len(), clip.frames * clip.topology.rotated.len() * 4);
+/// assert!(Options { fps: 0.0, ..Options::default() }.check().is_err());
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Options {
+    /// The one frame rate every clip is resampled to.
+    pub fps: f64,
+    /// How rotations are written.
+    pub rotations: RotationKind,
+    /// Positions relative to the root's place on the floor (x and z) in each frame.
+    pub root_relative: bool,
+    /// The points foot contacts are given for, by name; `None`: the ankle and toe of each leg
+    /// as the reading of the body finds them ([`crate::model::body::Body::foot_points`]), or,
+    /// for a body without two feet, guessed from the rest pose ([`guess_feet`]) with a warning.
+    pub feet: Option<Vec<String>>,
+    /// A foot point is in contact when it is at most this high (metres) above the floor
+    /// (the lowest foot point within [`FLOOR_WINDOW_S`] of the frame)…
+    pub contact_height: f32,
+    /// …and moves slower than this (metres per second).
+    pub contact_speed: f32,
+    /// Files larger than this are skipped.
+    pub max_size: u64,
+    /// Every take retargeted onto this skeleton first (`--onto`), so a folder of mixed
+    /// skeletons makes one group; a take whose map misses a required role is skipped.
+    pub onto: Option<crate::retarget::Target>,
+    /// With `onto`: `SRC = DST` pairs over every take's guessed map (`--map`), as `retarget
+    /// --map` gives them (`SRC =` with an empty target leaves a source joint out); pairs for one
+    /// skeleton apply to the takes of that skeleton only. A take that has no joint a pair for
+    /// it names is skipped with the reason.
+    pub map: crate::retarget::MapPairs,
+    /// Each clip moved up or down so that its lowest foot point over the whole clip is on
+    /// y = 0 (`--ground`); positions, root translations and the roots' translations alike.
+    pub ground: bool,
+    /// With `rotations` quaternions: each frame's sign chosen against the previous frame's
+    /// (`q` or `-q`, whichever is nearer), so that a joint's quaternions run continuously along
+    /// time (`--quat-continuous`). Off: each has w ≥ 0, frame by frame, and may flip sign
+    /// between neighbouring frames where w crosses 0.
+    pub quat_continuous: bool,
+    /// Each take's planted feet held where they landed first (`--lock-feet`, as `convert
+    /// --lock-feet` holds them).
+    pub lock_feet: bool,
+}
+
+impl Default for Options {
+    fn default() -> Options {
+        Options {
+            fps: 30.0,
+            rotations: RotationKind::SixD,
+            root_relative: false,
+            feet: None,
+            contact_height: 0.05,
+            contact_speed: 0.5,
+            ground: false,
+            quat_continuous: false,
+            lock_feet: false,
+            map: crate::retarget::MapPairs::default(),
+            max_size: crate::take::DEFAULT_MAX_SIZE,
+            onto: None,
+        }
+    }
+}
+
+impl Options {
+    /// Refuses rates and thresholds no dataset can be made with.
+    pub fn check(&self) -> Result<(), Error> {
+        crate::limits::fps(self.fps, false)?;
+        let positive = |name: &str, value: f32| {
+            if value.is_finite() && value >= 0.0 {
+                Ok(())
+            } else {
+                Err(Error::Usage(format!(
+                    "{name} {value}: expected a finite number of at least 0"
+                )))
+            }
+        };
+        positive("--contact-height", self.contact_height)?;
+        positive("--contact-speed", self.contact_speed)?;
+        if !self.map.is_empty() && self.onto.is_none() {
+            return Err(Error::Usage(
+                "`--map` needs `--onto`: its pairs name joints of the skeleton every take is put on"
+                    .to_string(),
+            ));
+        }
+        if self.quat_continuous && self.rotations != RotationKind::Quat {
+            return Err(Error::Usage(format!(
+                "--quat-continuous: only quaternions have a sign to choose (--rotations quat), \
+                 not {}",
+                self.rotations.name()
+            )));
+        }
+        if let Some(feet) = &self.feet
+            && (feet.is_empty() || feet.iter().any(|name| name.is_empty()))
+        {
+            return Err(Error::Usage(
+                "--feet: expected point names separated by commas (as the dataset names them)"
+                    .to_string(),
+            ));
+        }
+        Ok(())
+    }
+}
