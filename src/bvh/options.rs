@@ -63,15 +63,15 @@ impl Default for Settings {
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum RowReader {
-    /// [`RowParser`]: on every core, as the file streams in.
+    /// [`RowParser`](super::rows::RowParser): on every core, as the file streams in.
     #[default]
     Engine,
     /// [`super::rows::read_rows_simple`]: the article's loop, one line and one word at a time.
     Simple,
 }
 
-/// What [`load_file`] reads: a file by its path, or bytes already in memory with a name for the
-/// error messages.
+/// What [`load_file`](super::load_file) reads: a file by its path, or bytes already in memory
+/// with a name for the error messages.
 ///
 /// ```
 /// use bvhview::bvh::{load_file, loader::{Input, Settings}};
