@@ -138,14 +138,15 @@ class Motion:
     def retarget(
         self,
         target: Motion | str | os.PathLike[str],
-        names: dict[str, str] | None = None,
+        names: dict[str, str] | str | os.PathLike[str] | None = None,
         *,
         any_body: bool = False,
     ) -> Motion:
         """This take's motion on another skeleton: `bvhview retarget --onto`. `target`: a Motion,
         a built-in skeleton's name ("smpl22") or a file; `names` overrides the guessed map
-        ({source joint: target joint}; "" leaves a source joint out). A body that does not
-        stand on two legs is refused onto one that does unless `any_body`."""
+        ({source joint: target joint}; "" leaves a source joint out), or is a map file's path
+        (`--map FILE`, `[skeleton.FINGERPRINT]` sections too). A body that does not stand on two
+        legs is refused onto one that does unless `any_body`."""
     def retarget_map(self, target: Motion | str | os.PathLike[str]) -> dict[str, str]:
         """The map retarget(target) guesses: {source joint: target joint}."""
     @property
@@ -222,7 +223,7 @@ def _compile_dataset(
     onto: str | None = None,
     ground: bool = False,
     quat_continuous: bool = False,
-    names: dict[str, str] | None = None,
+    names: dict[str, str] | str | os.PathLike[str] | None = None,
     lock_feet: bool = False,
 ) -> tuple[int, int, int, list[tuple[str, str | None, str]]]:
     """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped takes as

@@ -133,7 +133,7 @@ def compile_dataset(
     onto: StrPath | None = None,
     ground: bool = False,
     quat_continuous: bool = False,
-    names: dict[str, str] | None = None,
+    names: dict[str, str] | StrPath | None = None,
     lock_feet: bool = False,
 ) -> dict[str, Any]:
     """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
@@ -164,7 +164,8 @@ def compile_dataset(
     the built-in ``"smpl22"``), as ``Motion.retarget`` does, so the folder makes one group; a take
     whose map misses a required role is skipped with the reason; ``names`` overrides every take's
     guessed map as ``Motion.retarget``'s does ({source joint: target joint}, ``""`` leaves one
-    out). The manifest records ``onto`` and ``names``; ``merge_datasets`` refuses datasets made
+    out), or is a map file's path, whose ``[skeleton.FINGERPRINT]`` pairs apply to the takes of
+    that skeleton only (``bvhview info`` prints the fingerprint). The manifest records ``onto`` and ``names``; ``merge_datasets`` refuses datasets made
     with other ones."""
     if parquet:
         _need_pyarrow()
@@ -183,7 +184,7 @@ def compile_dataset(
             onto=None if onto is None else os.fspath(onto),
             ground=ground,
             quat_continuous=quat_continuous,
-            names=names,
+            names=names if names is None or isinstance(names, dict) else os.fspath(names),
             lock_feet=lock_feet,
         )
         for _, _, reason in skipped:

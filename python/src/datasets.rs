@@ -217,7 +217,7 @@ pub(crate) fn _compile_dataset(
     onto: Option<String>,
     ground: bool,
     quat_continuous: bool,
-    names: Option<std::collections::HashMap<String, String>>,
+    names: Option<Bound<'_, PyAny>>,
     lock_feet: bool,
 ) -> PyResult<(usize, usize, usize, Vec<SkippedTake>)> {
     guard("_compile_dataset", || {
@@ -242,11 +242,7 @@ pub(crate) fn _compile_dataset(
             ground,
             quat_continuous,
             lock_feet,
-            map: {
-                let mut pairs: Vec<(String, String)> = names.unwrap_or_default().into_iter().collect();
-                pairs.sort();
-                bvhview::retarget::MapPairs::from_pairs(pairs)
-            },
+            map: crate::retarget::map_pairs_of(py, names.as_ref())?,
             onto: onto
                 .map(|onto| {
                     bvhview::retarget::Target::load(&onto, bvhview::take::DEFAULT_MAX_SIZE)

@@ -550,7 +550,8 @@ impl Motion {
 
     /// The take's motion on another skeleton, as `bvhview retarget` puts it: `target` a Motion,
     /// a built-in skeleton's name ("smpl22") or a file's path; `names` overrides the guessed
-    /// map ({source joint: target joint}; "" leaves a source joint out). Raises ValueError
+    /// map ({source joint: target joint}; "" leaves a source joint out), or is a map file's path
+    /// (as `--map FILE` reads it, `[skeleton.FINGERPRINT]` sections too). Raises ValueError
     /// naming the joint when the map cannot stand, and for a body that does not stand on two
     /// legs onto one that does unless `any_body`.
     #[pyo3(signature = (target, names=None, *, any_body=false))]
@@ -558,11 +559,11 @@ impl Motion {
         &self,
         py: Python<'_>,
         target: &Bound<'_, PyAny>,
-        names: Option<std::collections::HashMap<String, String>>,
+        names: Option<Bound<'_, PyAny>>,
         any_body: bool,
     ) -> PyResult<Motion> {
         guard("retarget", || {
-            crate::retarget::retarget(py, self, target, names, any_body)
+            crate::retarget::retarget(py, self, target, names.as_ref(), any_body)
         })
     }
 

@@ -1,8 +1,8 @@
 //! `Motion.retarget`: the take's motion on another skeleton (see the crate's `retarget`).
 
 use crate::{Motion, to_python};
-use bvhview::retarget::{Map, Target};
-use pyo3::exceptions::PyTypeError;
+use bvhview::retarget::{Map, MapPairs, Target};
+use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -25,20 +25,56 @@ fn target_of(py: Python<'_>, target: &Bound<'_, PyAny>) -> PyResult<Target> {
         .map_err(|e| to_python(py, e))
 }
 
-/// `source.retarget(target, names, any_body)`: the guessed map overridden by `names` (source
-/// joint → target joint; "" leaves a source joint out), checked (a body that does not stand on
-/// two legs is refused onto one that does unless `any_body`), then the motion carried over.
+/// `names=` as pairs over a guessed map: a dict {source joint: target joint} ("" leaves a source
+/// joint out), or a map file's path (TOML or JSON, as `bvhview retarget --map FILE` reads it,
+/// with its `[skeleton.FINGERPRINT]` sections).
+pub(crate) fn map_pairs_of(py: Python<'_>, names: Option<&Bound<'_, PyAny>>) -> PyResult<MapPairs> {
+    let Some(names) = names else {
+        return Ok(MapPairs::default());
+    };
+    if let Ok(dict) = names.extract::<HashMap<String, String>>() {
+        let mut pairs: Vec<(String, String)> = dict.into_iter().collect();
+        pairs.sort();
+        return Ok(MapPairs::from_pairs(pairs));
+    }
+    let Ok(path) = names.extract::<PathBuf>() else {
+        return Err(PyTypeError::new_err(
+            "names: expected a dict {source joint: target joint} or a map file's path",
+        ));
+    };
+    let shown = path.display().to_string();
+    // A regular file of at most 16 MiB (a FIFO or a device is not a map), as the CLI reads one.
+    let text = match std::fs::metadata(&path) {
+        Ok(meta) if meta.is_file() && meta.len() <= 16 << 20 => std::fs::read(&path)
+            .map_err(|e| pyo3::exceptions::PyOSError::new_err(format!("{shown}: {e}")))?,
+        Ok(_) => {
+            return Err(PyValueError::new_err(format!(
+                "names={shown:?}: not a regular file of at most 16 MiB"
+            )));
+        }
+        Err(e) => {
+            return Err(pyo3::exceptions::PyFileNotFoundError::new_err(format!("{shown}: {e}")));
+        }
+    };
+    let text = String::from_utf8(text).map_err(|_| {
+        PyValueError::new_err(format!("{shown}: not UTF-8 text: a map file is TOML or JSON"))
+    })?;
+    bvhview::retarget::parse_map_pairs(&text, &shown).map_err(|e| to_python(py, e))
+}
+
+/// `source.retarget(target, names, any_body)`: the guessed map overridden by `names` (a dict or
+/// a map file, [`map_pairs_of`]), checked (a body that does not stand on two legs is refused
+/// onto one that does unless `any_body`), then the motion carried over.
 pub(crate) fn retarget(
     py: Python<'_>,
     source: &Motion,
     target: &Bound<'_, PyAny>,
-    names: Option<HashMap<String, String>>,
+    names: Option<&Bound<'_, PyAny>>,
     any_body: bool,
 ) -> PyResult<Motion> {
     let target = target_of(py, target)?;
     let loaded = &source.loaded;
-    let mut pairs: Vec<(String, String)> = names.unwrap_or_default().into_iter().collect();
-    pairs.sort();
+    let pairs = map_pairs_of(py, names)?.for_skeleton(&loaded.skeleton);
     let name = source.item.path.display().to_string();
     let (skeleton, motion) = py
         .detach(|| {

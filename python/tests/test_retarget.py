@@ -106,3 +106,30 @@ def test_lock_feet_holds_planted_ankles_as_the_command_does(cli, tmp_path):
         DATA / "bvh", tmp_path / "ds", lock_feet=True, takes=[("bvh11_131_01.bvh", None)]
     )
     assert manifest["options"]["lock_feet"] is True
+
+
+def test_one_map_file_per_rig_from_python(cli, tmp_path):
+    lafan1, mixamo = BODY / "lafan1.bvh", BODY / "mixamo.bvh"
+    fingerprints = {}
+    for path in (lafan1, mixamo):
+        info = subprocess.run([str(cli), "info", str(path)], capture_output=True, text=True).stdout
+        fingerprints[path] = next(l.split()[1] for l in info.splitlines() if l.startswith("fingerprint:"))
+    map_file = tmp_path / "rigs.toml"
+    map_file.write_text(
+        f'[skeleton.{fingerprints[lafan1]}]\n"LeftToe" = ""\n'
+        f'[skeleton.{fingerprints[mixamo]}]\n"mixamorig:LeftToeBase" = ""\n'
+    )
+    # Each take takes its own rig's pair: the left toe left at rest.
+    for path, toe in ((lafan1, "LeftToe"), (mixamo, "mixamorig:LeftToeBase")):
+        take = bvhview.load(path)
+        assert take.retarget_map("smpl22")[toe] == "left_foot"
+        out = take.retarget("smpl22", names=map_file)
+        foot = out.joint_names.index("left_foot")
+        first = out.first_channels[foot]
+        assert np.abs(out.values[:, first : first + 3]).max() < 1e-4
+    (tmp_path / "takes").mkdir()
+    for path in (lafan1, mixamo):
+        (tmp_path / "takes" / path.name).write_bytes(path.read_bytes())
+    manifest = bvhview.compile_dataset(tmp_path / "takes", tmp_path / "ds", onto="smpl22", names=map_file)
+    assert len(manifest["clips"]) == 2 and manifest["skipped"] == []
+    assert len(manifest["options"]["map"]["by_skeleton"]) == 2
