@@ -353,8 +353,8 @@ fn resampling_velocities_contacts_and_root_relative_frames_follow_their_definiti
             );
         }
     }
-    // Contacts: low (within 5 cm of the floor: the lowest foot point within a second, 30
-    // frames, either way) and slow (under 0.5 m/s).
+    // Contacts: low (within 5 cm of the point's own floor: the lowest it comes within a
+    // second, 30 frames, either way) and slow (under 0.5 m/s).
     let contacts = {
         let entry = group
             .arrays
@@ -375,20 +375,23 @@ fn resampling_velocities_contacts_and_root_relative_frames_follow_their_definiti
         // The reading of the body (issue 46): each leg's ankle and toe joint.
         ["LeftFoot", "LeftToeBase", "RightFoot", "RightToeBase"]
     );
-    let floor: Vec<f32> = (0..clip.frames)
-        .map(|f| {
-            (f.saturating_sub(30)..=(f + 30).min(last))
-                .flat_map(|g| feet.iter().map(move |&p| (g, p)))
-                .map(|(g, p)| at(&positions, g, p as usize).y)
-                .fold(f32::MAX, f32::min)
-        })
-        .collect();
+    // Each foot point's own floor: the lowest it comes within 30 frames either way (a heel
+    // rests higher than a toe tip).
+    let floor = |f: usize, p: usize| {
+        (f.saturating_sub(30)..=(f + 30).min(last))
+            .map(|g| at(&positions, g, p).y)
+            .fold(f32::MAX, f32::min)
+    };
     let mut touching = 0;
     for (k, &foot) in feet.iter().enumerate() {
         for f in 0..clip.frames {
-            let low = at(&positions, f, foot as usize).y - floor[f] <= 0.05;
+            let low = at(&positions, f, foot as usize).y - floor(f, foot as usize) <= 0.05;
             let slow = at(&velocities, f, foot as usize).length() < 0.5;
-            assert_eq!(contacts[f * feet.len() + k], u8::from(low && slow));
+            assert_eq!(
+                contacts[f * feet.len() + k],
+                u8::from(low && slow),
+                "{k} {f}"
+            );
             touching += usize::from(low && slow);
         }
     }

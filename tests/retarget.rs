@@ -430,9 +430,9 @@ fn real_skeletons_onto_each_other_keep_bone_directions_and_feet() {
     let (smpl, smpl_motion) = retarget::built_in("smpl22").unwrap();
     takes.push(("smpl22", smpl, smpl_motion));
     println!(
-        "| source | target | bones × frames | median ° | p99 ° | max ° | followed: median ° | p99 ° | foot skate source → target |"
+        "| source | target | bones × frames | median ° | p99 ° | max ° | followed: median ° | p99 ° | hips path off | floor off | planted ankles slide, leg lengths: source → target (contacts) | with --lock-feet |"
     );
-    println!("|---|---|---:|---:|---:|---:|---:|---:|---|");
+    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|");
     for (source_name, source, motion) in &takes[..CORPUS.len()] {
         for (target_name, target, target_motion) in &takes {
             if source_name == target_name {
@@ -468,21 +468,13 @@ fn real_skeletons_onto_each_other_keep_bone_directions_and_feet() {
             if !target_name.starts_with("CMU ASF") {
                 assert_eq!(followable, errors, "{source_name} → {target_name}");
             }
-            let target_feet: Vec<usize> = map
-                .target_body
-                .feet()
-                .into_iter()
-                .filter(|&f| map.source_of[f].is_some())
-                .collect();
-            let source_feet: Vec<usize> = target_feet
-                .iter()
-                .filter_map(|&f| map.source_of[f])
-                .collect();
-            let skate_source = retarget::foot_skate(
+            let stand = retarget::standing(
                 source,
                 motion,
-                &source_feet,
-                ups.source,
+                &out_skeleton,
+                &out,
+                &map,
+                ups,
                 metres(source, motion),
             );
             let target_metres = if target_motion.frame_count() > 1 {
@@ -490,26 +482,53 @@ fn real_skeletons_onto_each_other_keep_bone_directions_and_feet() {
             } else {
                 metres(target, &out)
             };
-            let skate_target =
-                retarget::foot_skate(&out_skeleton, &out, &target_feet, ups.target, target_metres);
+            let expected_path = stand.ratio * stand.source_path;
+            let path_error = (stand.target_path - expected_path).abs() / expected_path.max(1e-6);
+            let source_take = bvhview::Take::new(source.clone(), motion.clone(), *source_name);
+            let (locked, _) =
+                retarget::lock_feet_from_source(&source_take, &out_skeleton, &out).unwrap();
+            let stand_locked = retarget::standing(
+                source,
+                motion,
+                &out_skeleton,
+                &locked,
+                &map,
+                ups,
+                metres(source, motion),
+            );
+            let floor_error = (stand.target_floor - stand.ratio * stand.source_floor).abs();
             println!(
-                "| {source_name} | {target_name} | {} | {median:.2} | {p99:.2} | {worst:.2} | {followed_median:.2} | {followed_p99:.2} | {:.1} % → {:.1} % |",
+                "| {source_name} | {target_name} | {} | {median:.2} | {p99:.2} | {worst:.2} | {followed_median:.2} | {followed_p99:.2} | {:.2} % | {:.1} mm | {:.3} → {:.3} ({}) | {:.3} |",
                 errors.len(),
-                100.0 * skate_source,
-                100.0 * skate_target
+                100.0 * path_error,
+                1000.0 * floor_error * target_metres,
+                stand.source_sliding,
+                stand.target_sliding,
+                stand.contacts,
+                stand_locked.target_sliding,
             );
             assert!(
                 followed_median <= 5.0 && followed_p99 <= 15.0,
                 "{source_name} → {target_name}: {followed_median}° {followed_p99}°"
             );
-            // A hinge knee cannot put the foot where the source's is (the direction off its
-            // plane stays): the ASF targets' feet slide more. ASF sources' skate figures are
-            // shown too, not yet held to the figure (the charleston take reads 0 % in the
-            // source, see docs/GUIDE.md#retarget).
-            let hinged = target_name.starts_with("CMU ASF") || source_name.starts_with("CMU ASF");
+            // The hips travel the source's path scaled by the legs; the target's feet stand on
+            // the source's floor by their own foot points.
             assert!(
-                hinged || skate_target <= skate_source * 1.1 + 0.005,
-                "{source_name} → {target_name}: foot skate {skate_source} → {skate_target}"
+                path_error <= 0.02,
+                "{source_name} → {target_name}: path {stand:?}"
+            );
+            assert!(
+                floor_error * target_metres <= 0.005,
+                "{source_name} → {target_name}: floor {stand:?}"
+            );
+            // Rotations carried onto legs of other proportions move planted feet (a wider
+            // pelvis turning, a longer shin): shown, not held. With `--lock-feet` they slide no
+            // farther than the source's, for their size. A hinge knee (CMU's ASF) cannot be
+            // locked by turning thigh and shin freely: shown only.
+            let hinged = target_name.starts_with("CMU ASF");
+            assert!(
+                hinged || stand_locked.target_sliding <= stand.source_sliding * 1.1 + 0.01,
+                "{source_name} → {target_name}: planted feet slide {stand_locked:?}"
             );
         }
     }

@@ -97,16 +97,7 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
         crate::io::parallel::cores(),
     )?;
     let motion = if args.lock_feet {
-        let take = Take::new(skeleton.clone(), motion.clone(), target.name.clone());
-        let stance = take.stance(OffsetMode::Replace);
-        let (motion, locked) = crate::edit::lock_feet(
-            &skeleton,
-            &motion,
-            OffsetMode::Replace,
-            stance.up,
-            f64::from(stance.units.metres),
-            &crate::edit::LockFeet::default(),
-        )?;
+        let (motion, locked) = crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?;
         super::note(format_args!("feet locked: {}", locked.summary(&skeleton)));
         motion
     } else {

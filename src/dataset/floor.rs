@@ -1,61 +1,33 @@
-//! The floor under a take over a sliding window, when each foot touches it, and a clip put on
-//! it (`--ground`).
+//! When each foot touches the floor (the reading of the body's contacts), and a clip put on the
+//! floor (`--ground`).
 
 use super::*;
+use crate::model::body::contact::Planting;
+use glam::DVec3;
 
-/// How far (seconds, each way) the floor under a frame is looked for.
-pub const FLOOR_WINDOW_S: f64 = 1.0;
-
-/// The floor under each frame: the lowest height of any foot point within [`FLOOR_WINDOW_S`]
-/// before or after it. A floor that rises or falls during the take (a ramp, stairs, a drifting
-/// capture) is followed; a window that long holds a step of each foot in a walk.
-pub(super) fn floor_heights(lowest_foot: &[f32], reach: usize) -> Vec<f32> {
-    let frames = lowest_foot.len();
-    // A sliding minimum: the queue holds frames whose heights increase, the front the lowest.
-    let mut queue = std::collections::VecDeque::new();
-    let mut floor = Vec::with_capacity(frames);
-    let mut next = 0;
-    for f in 0..frames {
-        while next < frames && next <= f + reach {
-            while queue
-                .back()
-                .is_some_and(|&b| lowest_foot[b] >= lowest_foot[next])
-            {
-                queue.pop_back();
-            }
-            queue.push_back(next);
-            next += 1;
-        }
-        while queue.front().is_some_and(|&front| front + reach < f) {
-            queue.pop_front();
-        }
-        floor.push(queue.front().map_or(f32::INFINITY, |&k| lowest_foot[k]));
-    }
-    floor
-}
-
-/// Foot contacts: a foot point is in contact in a frame when it is within
-/// `options.contact_height` of the floor under that frame ([`floor_heights`]) and slower than
-/// `options.contact_speed`.
-pub(super) fn contacts(
-    world: &[Vec3],
-    derived: &Derived,
-    points: usize,
-    feet: &[u32],
-    options: &Options,
-) -> Vec<u8> {
-    let reach = (FLOOR_WINDOW_S * options.fps).round() as usize;
-    let floor = floor_heights(&derived.lowest_foot, reach);
-    let mut out = Vec::with_capacity(floor.len() * feet.len());
-    for (f, &floor) in floor.iter().enumerate() {
-        for &p in feet {
-            let i = f * points + p as usize;
-            let low = world[i].y - floor <= options.contact_height;
-            let still = derived.velocities[i].length() < options.contact_speed;
-            out.push(u8::from(low && still));
-        }
-    }
-    out
+/// Foot contacts, per frame and foot point: planted as the reading of the body reads it
+/// ([`crate::model::body::contact`]: within `options.contact_height` of the lowest that point
+/// comes within a second each way, and slower than `options.contact_speed`), the same reading
+/// foot locking asks.
+pub(super) fn contacts(world: &[Vec3], points: usize, feet: &[u32], options: &Options) -> Vec<u8> {
+    let frames = world.len() / points.max(1);
+    let planting = Planting {
+        height: f64::from(options.contact_height),
+        speed: f64::from(options.contact_speed),
+        ..Planting::default()
+    };
+    let planted: Vec<Vec<bool>> = feet
+        .iter()
+        .map(|&p| {
+            let track: Vec<DVec3> = (0..frames)
+                .map(|f| world[f * points + p as usize].as_dvec3())
+                .collect();
+            planting.frames(&track, DVec3::Y, 1.0 / options.fps)
+        })
+        .collect();
+    (0..frames)
+        .flat_map(|f| planted.iter().map(move |foot| u8::from(foot[f])))
+        .collect()
 }
 
 /// Moves a posed clip up or down so that its lowest foot point over the whole clip (its lowest

@@ -30,7 +30,7 @@ mod options;
 pub use clip::*;
 use continuity::continuous_quaternions;
 pub use feet::*;
-pub use floor::*;
+use floor::*;
 pub use options::*;
 
 /// Every take under `dir` in path order: BVH files and ASF/AMC pairs (an AMC without a skeleton
@@ -192,6 +192,11 @@ fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
                 &options.map.for_skeleton(&loaded.skeleton),
                 1,
             )?;
+            // Planted feet held where they landed, during the source's contacts.
+            let motion = match options.lock_feet {
+                true => crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?.0,
+                false => motion,
+            };
             crate::take::Take {
                 skeleton,
                 motion,
@@ -212,7 +217,7 @@ fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
         stance.up = target.up;
     }
     let mut loaded = loaded;
-    if options.lock_feet {
+    if options.lock_feet && options.onto.is_none() {
         // Planted feet held where they landed (`convert --lock-feet`), before any posing.
         let (motion, _) = crate::edit::lock_feet(
             &loaded.skeleton,
@@ -328,8 +333,8 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
         continuous_quaternions(&mut rotations, topology.rotated.len());
     }
     let travel = crate::model::body::travel_joint(&skeleton, &world);
-    let derived = Derived::of(&world, points, travel, &topology.feet, options);
-    let contacts = contacts(&world, &derived, points, &topology.feet, options);
+    let derived = Derived::of(&world, points, travel, options);
+    let contacts = contacts(&world, points, &topology.feet, options);
     let mut positions = world;
     if options.root_relative {
         for pose in positions.chunks_mut(points) {
@@ -406,27 +411,19 @@ fn flat(points: Vec<Vec3>) -> Vec<f32> {
 
 /// What one pass over the world positions gives: each point's velocity in every frame (metres
 /// per second: the central difference, one-sided at the first and last frame, 0 in a take of
-/// one frame), the travel joint's path, and the lowest foot point's height in every frame.
+/// one frame) and the travel joint's path.
 struct Derived {
     velocities: Vec<Vec3>,
     root_translations: Vec<f32>,
-    lowest_foot: Vec<f32>,
 }
 
 impl Derived {
-    fn of(
-        world: &[Vec3],
-        points: usize,
-        travel: usize,
-        feet: &[u32],
-        options: &Options,
-    ) -> Derived {
+    fn of(world: &[Vec3], points: usize, travel: usize, options: &Options) -> Derived {
         let frames = world.len() / points.max(1);
         let fps = options.fps as f32;
         let mut derived = Derived {
             velocities: Vec::with_capacity(world.len()),
             root_translations: Vec::with_capacity(frames * 3),
-            lowest_foot: Vec::with_capacity(frames),
         };
         for f in 0..frames {
             let (before, after) = (f.saturating_sub(1), (f + 1).min(frames - 1));
@@ -449,11 +446,6 @@ impl Derived {
             derived
                 .root_translations
                 .extend_from_slice(&pose[travel].to_array());
-            derived.lowest_foot.push(
-                feet.iter()
-                    .map(|&p| pose[p as usize].y)
-                    .fold(f32::INFINITY, f32::min),
-            );
         }
         derived
     }

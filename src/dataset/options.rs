@@ -35,8 +35,9 @@ pub struct Options {
     /// as the reading of the body finds them ([`crate::model::body::Body::foot_points`]), or,
     /// for a body without two feet, guessed from the rest pose ([`guess_feet`]) with a warning.
     pub feet: Option<Vec<String>>,
-    /// A foot point is in contact when it is at most this high (metres) above the floor
-    /// (the lowest foot point within [`FLOOR_WINDOW_S`] of the frame)…
+    /// A foot point is in contact when it is at most this high (metres) above its own floor
+    /// (the lowest it comes within a second each way: the reading of the body's contacts,
+    /// [`crate::model::body::contact`])…
     pub contact_height: f32,
     /// …and moves slower than this (metres per second).
     pub contact_speed: f32,

@@ -66,7 +66,7 @@ pub struct Settings {
     pub feet: Option<Vec<String>>,
     pub contact_height_m: f32,
     pub contact_speed_m_per_s: f32,
-    /// The floor under a frame is the lowest foot point within this many seconds of it.
+    /// A foot point's own floor is the lowest it comes within this many seconds each way.
     pub floor_window_s: f64,
     pub up: String,
     pub units: String,
@@ -99,7 +99,7 @@ impl Settings {
             feet: options.feet.clone(),
             contact_height_m: options.contact_height,
             contact_speed_m_per_s: options.contact_speed,
-            floor_window_s: super::FLOOR_WINDOW_S,
+            floor_window_s: crate::model::body::contact::Planting::default().window,
             up: "y".to_string(),
             units: "metres".to_string(),
             ground: options.ground,

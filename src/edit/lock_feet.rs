@@ -3,6 +3,7 @@
 //! bone changes length (only rotation channels are written).
 
 use super::*;
+use crate::model::body::contact::{Planting, sliding};
 use crate::model::body::{Body, Limb};
 use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
 use glam::DVec3;
@@ -36,11 +37,9 @@ use glam::DVec3;
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LockFeet {
-    /// An ankle is planted when it is at most this high (metres) above the lowest it comes
-    /// within a second of the frame…
-    pub contact_height: f64,
-    /// …and moves slower than this (metres per second), as the dataset's contacts are read.
-    pub contact_speed: f64,
+    /// When an ankle is planted: the reading of the body's contacts
+    /// ([`crate::model::body::contact`]), the same as the dataset's.
+    pub planting: Planting,
     /// Frames over which the lock lets go after a contact, so the ankle does not jump.
     pub blend_frames: usize,
 }
@@ -48,8 +47,7 @@ pub struct LockFeet {
 impl Default for LockFeet {
     fn default() -> LockFeet {
         LockFeet {
-            contact_height: 0.05,
-            contact_speed: 0.5,
+            planting: Planting::default(),
             blend_frames: 4,
         }
     }
@@ -115,6 +113,8 @@ impl FeetLocked {
 
 /// One leg: thigh, shin and ankle, each the parent of the next.
 struct Leg {
+    /// 0 left, 1 right.
+    side: usize,
     thigh: usize,
     shin: usize,
     ankle: usize,
@@ -148,7 +148,12 @@ fn legs(skeleton: &Skeleton, body: &Body) -> (Vec<Leg>, Vec<String>) {
             ));
             continue;
         }
-        legs.push(Leg { thigh, shin, ankle });
+        legs.push(Leg {
+            side,
+            thigh,
+            shin,
+            ankle,
+        });
     }
     (legs, notes)
 }
@@ -170,6 +175,20 @@ pub fn lock_feet(
     up: Up,
     metres: f64,
     options: &LockFeet,
+) -> Result<(Motion, FeetLocked), Error> {
+    lock_feet_when(skeleton, motion, mode, (up, metres), options, None)
+}
+
+/// [`lock_feet`] during contacts read elsewhere: `planted[side]` (0 left, 1 right) per frame,
+/// as [`Body::planted_ankles`] reads them on a retarget's source (the retargeted take's own
+/// feet may slide, so its own reading misses contacts). `None`: read on `motion` itself.
+pub fn lock_feet_when(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mode: OffsetMode,
+    (up, metres): (Up, f64),
+    options: &LockFeet,
+    planted: Option<&[Vec<bool>; 2]>,
 ) -> Result<(Motion, FeetLocked), Error> {
     let body = Body::of(skeleton);
     let (legs, notes) = legs(skeleton, &body);
@@ -194,47 +213,20 @@ pub fn lock_feet(
             out
         })
         .collect();
-    // Over how many frames each way an ankle's lowest height is looked for: a second.
-    let reach = (1.0 / motion.frame_time).round().max(1.0) as usize;
-    let (height, speed) = (
-        options.contact_height / metres,
-        options.contact_speed / metres,
-    );
     let channels = motion.channels;
-    let mut intervals: Vec<(usize, Vec<(usize, usize)>)> = Vec::new();
+    let mut intervals: Vec<(usize, Vec<std::ops::Range<usize>>)> = Vec::new();
     for leg in &legs {
         let at = |f: usize| world[f][leg.ankle].1;
-        // Planted: near the lowest this ankle comes within a second (its heel on the floor,
-        // wherever the floor is), and slow.
-        let heights: Vec<f64> = (0..frames).map(|f| at(f).dot(up)).collect();
-        let planted: Vec<bool> = (0..frames)
-            .map(|f| {
-                let (a, b) = (f.saturating_sub(1), (f + 1).min(frames - 1));
-                let velocity =
-                    (at(b) - at(a)).length() / ((b - a).max(1) as f64 * motion.frame_time);
-                let floor = heights[f.saturating_sub(reach)..(f + reach + 1).min(frames)]
-                    .iter()
-                    .copied()
-                    .fold(f64::INFINITY, f64::min);
-                heights[f] - floor <= height && velocity < speed
-            })
-            .collect();
+        let track: Vec<DVec3> = (0..frames).map(|f| at(f) * metres).collect();
+        let planted = match planted {
+            Some(sides) if sides[leg.side].len() == frames => sides[leg.side].clone(),
+            _ => options.planting.frames(&track, up, motion.frame_time),
+        };
         // Where each frame's ankle is held, and how firmly (1 in a contact, less as it lets go).
         let mut hold: Vec<Option<(DVec3, f64)>> = vec![None; frames];
         let mut contacts = Vec::new();
-        let mut f = 0;
-        while f < frames {
-            if !planted[f] {
-                f += 1;
-                continue;
-            }
-            let start = f;
-            while f < frames && planted[f] {
-                f += 1;
-            }
-            if f - start < 2 {
-                continue;
-            }
+        for run in Planting::contacts(&planted) {
+            let (start, f) = (run.start, run.end);
             let landed = flat(at(start));
             // The lock lets go where the leg could no longer reach where the foot landed: the
             // foot is lifting (the contact's last frames, the hips already moving on).
@@ -249,7 +241,7 @@ pub fn lock_feet(
             if end - start < 2 {
                 continue;
             }
-            contacts.push((start, end));
+            contacts.push(start..end);
             for held in &mut hold[start..end] {
                 *held = Some((landed, 1.0));
             }
@@ -328,26 +320,19 @@ pub fn lock_feet(
     )?;
     // How far each ankle slides along the floor during its contacts, before and after, and
     // the farthest it strays from where it landed.
-    let sliding = |motion: &Motion, ankle: usize, contacts: &[(usize, usize)]| {
+    let slid = |motion: &Motion, ankle: usize, contacts: &[std::ops::Range<usize>]| {
         let mut world = Vec::new();
-        let (mut total, mut farthest) = (0.0f64, 0.0f64);
-        for &(start, end) in contacts {
-            let mut path = Vec::with_capacity(end - start);
-            for f in start..end {
+        let track: Vec<DVec3> = (0..frames)
+            .map(|f| {
                 world_transforms_f64(skeleton, motion.frame(f), mode, &mut world);
-                path.push(flat(world[ankle].1));
-            }
-            total += path.windows(2).map(|w| (w[1] - w[0]).length()).sum::<f64>();
-            farthest = path
-                .iter()
-                .map(|p| (*p - path[0]).length())
-                .fold(farthest, f64::max);
-        }
-        (total * metres, farthest * metres)
+                world[ankle].1 * metres
+            })
+            .collect();
+        sliding(&track, up, contacts)
     };
     for (ankle, contacts) in &intervals {
-        let (before, _) = sliding(motion, *ankle, contacts);
-        let (after, drift) = sliding(&locked, *ankle, contacts);
+        let (before, _) = slid(motion, *ankle, contacts);
+        let (after, drift) = slid(&locked, *ankle, contacts);
         report.feet.push(FootLocked {
             ankle: *ankle,
             contacts: contacts.len(),

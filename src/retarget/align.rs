@@ -201,32 +201,19 @@ pub(super) fn alignments(
     aligned
 }
 
-/// How tall the hips stand: the legs' length (thigh to shin to foot, the mean of the two sides
-/// found), which a rest pose lying down or with its bones along x (Bandai's) measures the same
-/// as one standing. Without legs: the spread of the rest pose along the body from the hips.
+/// How tall the hips stand: the legs' length ([`Body::leg_length`]). Without legs: the spread
+/// of the rest pose along the body from the hips.
 pub(super) fn hip_height(
     skeleton: &Skeleton,
     body: &Body,
     hips: usize,
     rest: &[(DQuat, DVec3)],
 ) -> f64 {
-    let mut legs = Vec::new();
-    for side in 0..2 {
-        let joint = |limb: Limb| body.limbs[side][limb as usize];
-        if let (Some(thigh), Some(shin), Some(foot)) =
-            (joint(Limb::Thigh), joint(Limb::Shin), joint(Limb::Foot))
-        {
-            legs.push(
-                (rest[shin].1 - rest[thigh].1).length() + (rest[foot].1 - rest[shin].1).length(),
-            );
-        }
-    }
-    if !legs.is_empty() {
-        return legs.iter().sum::<f64>() / legs.len() as f64;
-    }
-    (0..skeleton.joints.len())
-        .map(|j| (rest[j].1 - rest[hips].1).length())
-        .fold(0.0, f64::max)
+    body.leg_length(rest).unwrap_or_else(|| {
+        (0..skeleton.joints.len())
+            .map(|j| (rest[j].1 - rest[hips].1).length())
+            .fold(0.0, f64::max)
+    })
 }
 
 /// Where the floor is read: the foot points of the reading of the body (each leg's ankle and

@@ -1,7 +1,9 @@
 //! Measures of a retarget: how far limb directions are from the source's, how far the
-//! followable joints are, and how far planted feet slide.
+//! followable joints are, and how the retargeted take stands and travels (the hips' path, the
+//! floor, how far planted feet slide).
 
 use super::*;
+use crate::model::body::contact::{Planting, sliding};
 
 /// The angle in degrees between each bone's world direction in the source and in the
 /// retargeted take: per bone of [`bones`] (in its order), one per frame. The check of
@@ -107,56 +109,126 @@ pub fn followable_errors(
     errors
 }
 
-/// The foot-skate figure: of the frames where a foot or toe is within 5 cm of the floor (the
-/// take's lowest foot point), the share in which it slides more than 2.5 cm along the floor to
-/// the next frame. `feet`: the joints to follow (a retargeted take's mapped feet and toes, and
-/// the source joints they come from, to compare like with like); `metres` per unit of the file.
-pub fn foot_skate(
-    skeleton: &Skeleton,
-    motion: &Motion,
-    feet: &[usize],
-    up: Up,
-    metres: f64,
-) -> f64 {
-    if feet.is_empty() || motion.frame_count() < 2 {
-        return 0.0;
-    }
-    let turn = to_y_up(up);
-    let mut world = Vec::new();
-    let mut tracks: Vec<Vec<DVec3>> = vec![Vec::new(); feet.len()];
-    for frame in 0..motion.frame_count() {
-        world_transforms_f64(
-            skeleton,
-            motion.frame(frame),
-            OffsetMode::Replace,
-            &mut world,
-        );
-        for (track, &f) in tracks.iter_mut().zip(feet) {
-            track.push(turn * world[f].1 * metres);
-        }
-    }
-    let floor = tracks
+/// How a retargeted take stands and travels beside its source, each take in its own file's
+/// units turned y-up: what [`standing`] measures.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Standing {
+    /// The target's legs over the source's (the retarget's scale of the hips' path and floor).
+    pub ratio: f64,
+    /// The hips' path along the floor in the source, summed frame to frame.
+    pub source_path: f64,
+    /// The same in the target ([`Standing::ratio`] times the source's, when it is right).
+    pub target_path: f64,
+    /// The lowest height of the source's foot points ([`Body::foot_points`]: its own ankles
+    /// and toes, mapped or not) over the take.
+    pub source_floor: f64,
+    /// The same of the target's own foot points (the ratio times the source's: the target's
+    /// feet on the source's floor).
+    pub target_floor: f64,
+    /// How far planted feet slide, each take in its own legs' lengths: for each target ankle
+    /// the map carries, its path along the floor during the contacts the reading of the body
+    /// finds on the source's ankle ([`crate::model::body::contact`]), summed over the feet. The
+    /// same frames on both sides, and a figure a taller target does not inflate. (Ankles, not
+    /// toes: what `--lock-feet` holds.)
+    pub source_sliding: f64,
+    /// The same of the target's foot points.
+    pub target_sliding: f64,
+    /// The contacts those figures are taken over.
+    pub contacts: usize,
+}
+
+/// [`Standing`] of `target_motion`, retargeted from `source_motion` by `map`. `source_metres`:
+/// metres per unit of the source's file, for the contacts' thresholds.
+pub fn standing(
+    source: &Skeleton,
+    source_motion: &Motion,
+    target: &Skeleton,
+    target_motion: &Motion,
+    map: &Map,
+    ups: Ups,
+    source_metres: f64,
+) -> Standing {
+    let (us, ut) = (to_y_up(ups.source), to_y_up(ups.target));
+    let source_mode = source_offset_mode(source, source_motion);
+    let (mut rest_s, mut rest_t) = (Vec::new(), Vec::new());
+    world_transforms_f64(source, &[], OffsetMode::Replace, &mut rest_s);
+    world_transforms_f64(target, &[], OffsetMode::Replace, &mut rest_t);
+    let hips = map
+        .target_body
+        .hips
+        .and_then(|t| Some((t, map.source_of[t]?)));
+    let (legs_s, legs_t) = match hips {
+        Some((t, s)) => (
+            hip_height(source, &map.source_body, s, &rest_s),
+            hip_height(target, &map.target_body, t, &rest_t),
+        ),
+        None => (1.0, 1.0),
+    };
+    let feet: Vec<(usize, usize)> = map
+        .target_body
+        .limbs
         .iter()
-        .flatten()
-        .map(|p| p.y)
-        .fold(f64::INFINITY, f64::min);
-    let (mut near, mut sliding) = (0usize, 0usize);
-    for track in &tracks {
-        for pair in track.windows(2) {
-            if pair[0].y - floor < 0.05 {
-                near += 1;
-                let step = DVec3::new(pair[1].x - pair[0].x, 0.0, pair[1].z - pair[0].z);
-                if step.length() > 0.025 {
-                    sliding += 1;
-                }
-            }
+        .filter_map(|limb| limb[Limb::Foot as usize])
+        .filter_map(|t| Some((map.source_of[t]?, t)))
+        .collect();
+    let (floor_s, floor_t) = (
+        map.source_body.foot_points(source),
+        map.target_body.foot_points(target),
+    );
+    let (mut source_floor, mut target_floor) = (f64::INFINITY, f64::INFINITY);
+    let frames = source_motion.frame_count().min(target_motion.frame_count());
+    let mut hips_s = Vec::with_capacity(frames);
+    let mut hips_t = Vec::with_capacity(frames);
+    let mut tracks_s = vec![Vec::with_capacity(frames); feet.len()];
+    let mut tracks_t = vec![Vec::with_capacity(frames); feet.len()];
+    let (mut ws, mut wt) = (Vec::new(), Vec::new());
+    for frame in 0..frames {
+        world_transforms_f64(source, source_motion.frame(frame), source_mode, &mut ws);
+        world_transforms_f64(
+            target,
+            target_motion.frame(frame),
+            OffsetMode::Replace,
+            &mut wt,
+        );
+        if let Some((t, s)) = hips {
+            hips_s.push(us * ws[s].1);
+            hips_t.push(ut * wt[t].1);
+        }
+        for &s in &floor_s {
+            source_floor = source_floor.min((us * ws[s].1).y);
+        }
+        for &t in &floor_t {
+            target_floor = target_floor.min((ut * wt[t].1).y);
+        }
+        for (k, &(s, t)) in feet.iter().enumerate() {
+            tracks_s[k].push(us * ws[s].1);
+            tracks_t[k].push(ut * wt[t].1);
         }
     }
-    if near == 0 {
-        0.0
-    } else {
-        sliding as f64 / near as f64
+    let path = |track: &[DVec3]| {
+        track
+            .windows(2)
+            .map(|w| DVec3::new(w[1].x - w[0].x, 0.0, w[1].z - w[0].z).length())
+            .sum::<f64>()
+    };
+    let planting = Planting::default();
+    let mut standing = Standing {
+        ratio: legs_t / legs_s,
+        source_path: path(&hips_s),
+        target_path: path(&hips_t),
+        source_floor,
+        target_floor,
+        ..Standing::default()
+    };
+    for (track_s, track_t) in tracks_s.iter().zip(&tracks_t) {
+        let metres: Vec<DVec3> = track_s.iter().map(|&p| p * source_metres).collect();
+        let planted = planting.frames(&metres, DVec3::Y, source_motion.frame_time);
+        let contacts = Planting::contacts(&planted);
+        standing.contacts += contacts.len();
+        standing.source_sliding += sliding(track_s, DVec3::Y, &contacts).0 / legs_s;
+        standing.target_sliding += sliding(track_t, DVec3::Y, &contacts).0 / legs_t;
     }
+    standing
 }
 
 /// The value at fraction `q` (0 to 1) of sorted `values`.

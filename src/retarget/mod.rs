@@ -112,6 +112,50 @@ pub fn retargeted_values(
     }
 }
 
+/// `out` (`source` retargeted onto `target`) with its planted feet locked (`--lock-feet`,
+/// [`crate::edit::lock_feet`]) during the contacts of the source's ankles
+/// ([`Body::planted_ankles`]), not its own: the source says when a foot is planted, while the
+/// retargeted feet, on legs of other proportions, may slide enough that their own reading
+/// misses the contact. Each take stands as [`Take::stance`] guesses (up, metres per unit).
+///
+/// ```
+/// use bvhview::Take;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let source = Take::open("tests/data/bvh/bvh11_131_01.bvh")?;
+/// let smpl = bvhview::retarget::onto(&source, "smpl22")?;
+/// let (locked, report) =
+///     bvhview::retarget::lock_feet_from_source(&source, &smpl.skeleton, &smpl.motion)?;
+/// assert_eq!(locked.frame_count(), source.frame_count());
+/// assert!(report.feet.iter().all(|foot| foot.drift_after < 0.01));
+/// # Ok(())
+/// # }
+/// ```
+pub fn lock_feet_from_source(
+    source: &Take,
+    target: &Skeleton,
+    out: &Motion,
+) -> Result<(Motion, crate::edit::FeetLocked), Error> {
+    let source_mode = source_offset_mode(&source.skeleton, &source.motion);
+    let source_stance = source.stance(source_mode);
+    let planted = Body::of(&source.skeleton).planted_ankles(
+        &source.skeleton,
+        &source.motion,
+        source_mode,
+        (source_stance.up, f64::from(source_stance.units.metres)),
+        &crate::edit::LockFeet::default().planting,
+    );
+    let target_stance = crate::model::stance::Stance::guess(target, out, OffsetMode::Replace, None);
+    crate::edit::lock_feet_when(
+        target,
+        out,
+        OffsetMode::Replace,
+        (target_stance.up, f64::from(target_stance.units.metres)),
+        &crate::edit::LockFeet::default(),
+        Some(&planted),
+    )
+}
+
 /// The take, refused when a value is not finite (too large for a 32-bit float).
 fn finish(target: &Skeleton, motion: &Motion, data: Vec<f32>) -> Result<(Skeleton, Motion), Error> {
     crate::edit::finite(

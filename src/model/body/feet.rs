@@ -1,5 +1,5 @@
 //! The foot points: per leg the ankle and the toe, read down the leg chain (never "the lowest
-//! points", which found shoulders, hand tips and fingers on real rigs).
+//! points", which found shoulders, hand tips and fingers on real rigs), and the legs' length.
 
 use super::*;
 
@@ -23,6 +23,29 @@ impl Body {
         points.sort_unstable();
         points.dedup();
         points
+    }
+
+    /// The legs' length in the pose `world` (each joint's world rotation and position): thigh
+    /// to shin to ankle, the mean of the sides found; a rest pose lying down or with its bones
+    /// along x (Bandai's) measures the same as one standing. `None` without a leg down to an
+    /// ankle.
+    pub fn leg_length(&self, world: &[(glam::DQuat, glam::DVec3)]) -> Option<f64> {
+        let legs: Vec<f64> = self
+            .limbs
+            .iter()
+            .filter_map(|limb| {
+                let (thigh, shin, ankle) = (
+                    limb[Limb::Thigh as usize]?,
+                    limb[Limb::Shin as usize]?,
+                    limb[Limb::Foot as usize]?,
+                );
+                Some(
+                    (world[shin].1 - world[thigh].1).length()
+                        + (world[ankle].1 - world[shin].1).length(),
+                )
+            })
+            .collect();
+        (!legs.is_empty()).then(|| legs.iter().sum::<f64>() / legs.len() as f64)
     }
 }
 

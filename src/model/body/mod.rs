@@ -1,7 +1,7 @@
 //! The reading of the body: which joints are the hips, the spine, the neck and head, and per
 //! side the limbs, from joint names ([`names`], [`sides`]) and from the tree ([`roles`]), and
-//! the joint that carries the travel ([`travel`]), the foot points ([`feet`]), and what the
-//! reading is sure of ([`verdict`]). Every
+//! the joint that carries the travel ([`travel`]), the foot points and legs' length ([`feet`]),
+//! when a foot is planted ([`contact`]), and what the reading is sure of ([`verdict`]). Every
 //! part of bvhview that asks what a joint is (retargeting, mirroring, `info`, the viewer's
 //! names) asks here.
 
@@ -9,6 +9,7 @@ use crate::model::pose::{OffsetMode, world_transforms_f64};
 use crate::model::skeleton::Skeleton;
 use std::fmt;
 
+pub mod contact;
 pub mod feet;
 pub mod fingers;
 pub mod names;
