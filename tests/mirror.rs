@@ -206,3 +206,75 @@ fn a_mirrored_clip_lands_in_its_originals_dataset_group() {
     convert("--mirror-rename", &renamed.join("walk_renamed.bvh"));
     assert_eq!(groups(&renamed, "renamed.ds"), 2);
 }
+
+/// `convert --mirror --mirror-names` reads counterparts as pairs or from a map file, whose
+/// `[skeleton.FINGERPRINT]` sections apply to that skeleton only: thighs renamed so that no side
+/// shows (`ThighA`, `ThighB`) swap when named, and a section for another skeleton, which names a
+/// joint this one has not, is left aside.
+#[test]
+fn mirror_names_come_as_pairs_or_from_a_map_file_per_skeleton() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(repo_data("bvh/bvhio_example.bvh"))
+        .unwrap()
+        .replace("JOINT LeftUpLeg", "JOINT ThighA")
+        .replace("JOINT RightUpLeg", "JOINT ThighB");
+    let input = dir.path().join("renamed.bvh");
+    std::fs::write(&input, &text).unwrap();
+    let skeleton = bvhview::take::load(&input, None, None).unwrap().skeleton;
+    let map = dir.path().join("sides.toml");
+    std::fs::write(
+        &map,
+        format!(
+            "[skeleton.000000000000]\n\"ThighA\" = \"Nowhere\"\n\n[skeleton.{}]\n\"ThighA\" = \"ThighB\"\n",
+            skeleton.fingerprint()
+        ),
+    )
+    .unwrap();
+    let run = |extra: &[&str], name: &str| {
+        let out = dir.path().join(name);
+        let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+            .arg("convert")
+            .arg(&input)
+            .arg("--mirror")
+            .args(extra)
+            .arg("-o")
+            .arg(&out)
+            .output()
+            .unwrap();
+        assert!(
+            status.status.success(),
+            "{extra:?}: {}",
+            String::from_utf8_lossy(&status.stderr)
+        );
+        std::fs::read(out).unwrap()
+    };
+    let guessed = run(&[], "guessed.bvh");
+    let paired = run(&["--mirror-names", "ThighA=ThighB"], "paired.bvh");
+    let from_file = run(&["--mirror-names", map.to_str().unwrap()], "file.bvh");
+    assert_eq!(paired, from_file);
+    assert_ne!(paired, guessed);
+    // The thighs swapped: the mirrored take's ThighA moves as ThighB did, reflected, so
+    // mirroring twice with the same names gives the take back.
+    let twice = {
+        let once = dir.path().join("file.bvh");
+        let out = dir.path().join("twice.bvh");
+        let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+            .args([
+                "convert",
+                once.to_str().unwrap(),
+                "--mirror",
+                "--mirror-names",
+                "ThighA=ThighB",
+                "-o",
+            ])
+            .arg(&out)
+            .status()
+            .unwrap();
+        assert!(status.success());
+        bvhview::take::load(&out, None, None).unwrap().motion
+    };
+    let original = bvhview::take::load(&input, None, None).unwrap().motion;
+    for (a, b) in twice.data.iter().zip(&original.data) {
+        assert!((a - b).abs() < 1e-3, "{a} {b}");
+    }
+}

@@ -374,6 +374,128 @@ fn every_naming_family_maps_every_role_onto_the_built_in_skeleton() {
     }
 }
 
+/// LaFAN1's sample skeleton with position channels on its left forearm, moved 3 units a frame
+/// along its parent's x while every joint turns: a joint other than the root that translates
+/// (as Perception Neuron and Rigify takes do).
+fn forearm_that_translates() -> (Skeleton, Motion) {
+    let text = std::fs::read_to_string(sample("lafan1")).unwrap();
+    let mut lines: Vec<String> = text.lines().map(str::to_string).collect();
+    let at = lines
+        .iter()
+        .position(|l| l.trim() == "JOINT LeftForeArm")
+        .unwrap();
+    let channels = lines[at + 1..]
+        .iter()
+        .position(|l| l.trim().starts_with("CHANNELS"))
+        .unwrap()
+        + at
+        + 1;
+    lines[channels] =
+        "CHANNELS 6 Xposition Yposition Zposition Zrotation Yrotation Xrotation".to_string();
+    let motion_at = lines.iter().position(|l| l.trim() == "MOTION").unwrap();
+    let hierarchy = lines[..motion_at].join("\n");
+    let count: usize = lines[..motion_at]
+        .iter()
+        .filter_map(|l| l.trim().strip_prefix("CHANNELS "))
+        .map(|l| {
+            l.split_whitespace()
+                .next()
+                .unwrap()
+                .parse::<usize>()
+                .unwrap()
+        })
+        .sum();
+    let rest = format!(
+        "{hierarchy}\nMOTION\nFrames: 1\nFrame Time: 0.0333333\n{}\n",
+        vec!["0"; count].join(" ")
+    );
+    let skeleton = bvhview::bvh::loader::load_bytes(rest.as_bytes(), "forearm")
+        .unwrap()
+        .skeleton;
+    let forearm = skeleton
+        .joints
+        .iter()
+        .find(|j| j.name == "LeftForeArm")
+        .unwrap();
+    let (first, offset) = (forearm.first_channel, forearm.offset);
+    let frames = 20;
+    let mut data = Vec::with_capacity(frames * count);
+    for f in 0..frames {
+        for c in 0..count {
+            let value = match c {
+                0 => 2.0 * f as f32,
+                1 => 95.0,
+                2 => f as f32,
+                _ if c == first => offset.x + 3.0 * f as f32,
+                _ if c == first + 1 => offset.y,
+                _ if c == first + 2 => offset.z + 0.5 * f as f32,
+                _ => 20.0 * ((f * 7 + c * 3) as f32 * 0.1).sin(),
+            };
+            data.push(value);
+        }
+    }
+    (skeleton, Motion::new(1.0 / 30.0, count, frames, data))
+}
+
+#[test]
+fn position_channels_on_any_joint_are_carried_and_scaled() {
+    use bvhview::model::pose::world_transforms_f64;
+    let (skeleton, motion) = forearm_that_translates();
+    let world = |skeleton: &Skeleton, motion: &Motion, f: usize| {
+        let mut out = Vec::new();
+        world_transforms_f64(skeleton, motion.frame(f), OffsetMode::Replace, &mut out);
+        out
+    };
+    let hand = skeleton
+        .joints
+        .iter()
+        .position(|j| j.name == "LeftHand")
+        .unwrap();
+    let hand_end = skeleton.joints[hand].children[0];
+    // Onto itself: every joint where it was (the hand's tip had been 4.75 units off when the
+    // forearm's translation was dropped).
+    let map = Map::guess(&skeleton, &skeleton);
+    let ups = Ups::default();
+    let (out_skeleton, out) =
+        retarget::retarget(&skeleton, &motion, &skeleton, &map, ups, 2).unwrap();
+    for f in 0..motion.frame_count() {
+        let (a, b) = (world(&skeleton, &motion, f), world(&out_skeleton, &out, f));
+        for j in 0..a.len() {
+            assert!((a[j].1 - b[j].1).length() < 1e-3, "frame {f}, joint {j}");
+        }
+    }
+    let moved = (world(&skeleton, &motion, 19)[hand_end].1
+        - world(&skeleton, &motion, 0)[hand_end].1)
+        .length();
+    assert!(moved > 40.0, "{moved}");
+    // Onto the same skeleton twice as big: every joint twice as far from the origin, the
+    // forearm's translation too.
+    let (big, _) = bvhview::edit::scale(&skeleton, &motion, 2.0).unwrap();
+    let map = Map::guess(&skeleton, &big);
+    let (big_skeleton, big_out) =
+        retarget::retarget(&skeleton, &motion, &big, &map, ups, 2).unwrap();
+    for f in 0..motion.frame_count() {
+        let (a, b) = (
+            world(&skeleton, &motion, f),
+            world(&big_skeleton, &big_out, f),
+        );
+        for j in 0..a.len() {
+            assert!(
+                (a[j].1 * 2.0 - b[j].1).length() < 2e-3,
+                "frame {f}, joint {j}: {} {}",
+                a[j].1 * 2.0,
+                b[j].1
+            );
+        }
+    }
+    // The fast pass is the plain one.
+    let fast = retarget::retargeted_values(&skeleton, &motion, &big, &map, ups, 2, true);
+    let plain = retarget::retargeted_values(&skeleton, &motion, &big, &map, ups, 2, false);
+    for (a, b) in fast.iter().zip(&plain) {
+        assert!((a - b).abs() <= 1e-9 * b.abs().max(1.0), "{a} {b}");
+    }
+}
+
 /// Source and target of the real-skeleton check, each a take of the corpus (an ASF with its
 /// AMC). The corpus holds no LaFAN1 or Xsens take (docs/GUIDE.md#retarget says which files
 /// were checked).

@@ -525,21 +525,23 @@ impl Motion {
     /// The mirror image, as `convert --mirror`: left and right joints swap their motion
     /// (reflected across the body's middle) and every name and the skeleton's layout are kept,
     /// so the clip keeps its dataset group; the counterparts as `mirror_names` guesses them,
-    /// `names` (joint → its counterpart) over the guess for the joints it lists. With
+    /// `names` (joint → its counterpart, or a map file's path as `--mirror-names FILE` reads
+    /// it, `[skeleton.FINGERPRINT]` sections too) over the guess for the joints it lists. With
     /// `rename=True`, as `convert --mirror-rename`: each joint reflected where it is and the
     /// names exchanged instead (`names` then gives the new names).
     #[pyo3(signature = (names=None, *, rename=false))]
     fn mirror(
         &self,
         py: Python<'_>,
-        names: Option<std::collections::HashMap<String, String>>,
+        names: Option<Bound<'_, PyAny>>,
         rename: bool,
     ) -> PyResult<Motion> {
         guard("mirror", || {
             let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let names = crate::retarget::map_pairs_of(py, names.as_ref())?;
             let options = bvhview::edit::MirrorOptions {
                 rename,
-                names: names.unwrap_or_default(),
+                names: names.for_skeleton(skeleton).into_iter().collect(),
             };
             let (mirrored, motion) = py
                 .detach(|| bvhview::edit::mirror(skeleton, motion, &options))

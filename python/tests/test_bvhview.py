@@ -940,6 +940,19 @@ def test_mirror_renames_when_asked_and_names_can_be_given():
     np.testing.assert_array_equal(odd.values, swapped.values)
 
 
+def test_mirror_reads_names_from_a_map_file_per_skeleton(tmp_path):
+    """names= may be a map file's path, as `convert --mirror-names FILE` reads it: a
+    [skeleton.FINGERPRINT] section applies to that skeleton only."""
+    take = bvhview.load(DATA / "bvh" / "bvhio_example.bvh")
+    swapped = take.mirror()
+    path = tmp_path / "sides.toml"
+    path.write_text('"LeftCollar" = "RightCollar"\n\n'
+                    '[skeleton.000000000000]\n"LeftCollar" = "Nowhere"\n')
+    np.testing.assert_array_equal(take.mirror(names=str(path)).values, swapped.values)
+    with pytest.raises(ValueError, match="Nowhere"):
+        take.mirror(names={"LeftCollar": "Nowhere"})
+
+
 def test_ground_and_to_up_work_in_the_takes_own_offset_mode():
     take = bvhview.load(DATA / "bvh" / "makehuman_tpose.bvh", offset_mode="add")
     assert take.up_axis == "z"

@@ -34,6 +34,12 @@ pub(crate) struct ConvertArgs {
     /// Right exchanged in the names (the same world positions by name, another joint order).
     #[arg(long, conflicts_with = "mirror")]
     mirror_rename: bool,
+    /// With --mirror: counterparts over the guess, LEFT=RIGHT (both joints of the skeleton), or
+    /// a TOML or JSON file of such pairs (a map file as `retarget --map` reads it: its
+    /// `[skeleton.FINGERPRINT]` sections apply to that skeleton only). With --mirror-rename:
+    /// OLD=NEW names.
+    #[arg(long = "mirror-names", value_name = "PAIR|FILE")]
+    mirror_names: Vec<String>,
     /// Hold each planted foot where it landed (two-bone IK on thigh and shin), and say how far
     /// the ankles slid during their contacts before and after (sixth).
     #[arg(long)]
@@ -159,7 +165,10 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
     if args.mirror || args.mirror_rename {
         let options = crate::edit::MirrorOptions {
             rename: args.mirror_rename,
-            ..Default::default()
+            names: super::retarget::map_pairs(&args.mirror_names)?
+                .for_skeleton(&loaded.skeleton)
+                .into_iter()
+                .collect(),
         };
         (loaded.skeleton, loaded.motion) =
             crate::edit::mirror(&loaded.skeleton, &loaded.motion, &options)?;

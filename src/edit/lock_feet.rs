@@ -179,7 +179,7 @@ pub fn lock_feet(
     lock_feet_when(skeleton, motion, mode, (up, metres), options, None)
 }
 
-/// [`lock_feet`] during contacts read elsewhere: `planted[side]` (0 left, 1 right) per frame,
+/// [`lock_feet()`] during contacts read elsewhere: `planted[side]` (0 left, 1 right) per frame,
 /// as [`Body::planted_ankles`] reads them on a retarget's source (the retargeted take's own
 /// feet may slide, so its own reading misses contacts). `None`: read on `motion` itself.
 pub fn lock_feet_when(

@@ -25,6 +25,11 @@ pub(super) struct Setup {
     pub(super) under_carrier: Vec<bool>,
     pub(super) reference_columns: Vec<Option<[usize; 3]>>,
     pub(super) bone_of: Vec<Option<DVec3>>,
+    /// Per target joint that carries its source joint's translation: that source joint. A
+    /// mapped joint other than the carrier, with position channels, whose source joint has
+    /// position channels and a parent: what they move it from its OFFSET, in the world, is
+    /// scaled by the ratio and written into its own channels.
+    pub(super) translated: Vec<Option<usize>>,
 }
 
 impl Setup {
@@ -123,6 +128,18 @@ impl Setup {
         for (t, d, _) in main_bones(source, target, map) {
             bone_of[t] = Some(target_rest[d].1 - target_rest[t].1);
         }
+        let moves = |joint: &Joint| joint.channels.iter().any(|c| c.is_position());
+        let translated: Vec<Option<usize>> = (0..joints)
+            .map(|t| {
+                let s = map.source_of[t]?;
+                let carries = Some(t) != carrier
+                    && target.joints[t].parent.is_some()
+                    && moves(&target.joints[t])
+                    && moves(&source.joints[s])
+                    && source.joints[s].parent.is_some();
+                carries.then_some(s)
+            })
+            .collect();
         Setup {
             source_mode,
             us,
@@ -138,7 +155,17 @@ impl Setup {
             under_carrier,
             reference_columns,
             bone_of,
+            translated,
         }
+    }
+
+    /// How far a source joint's position channels move it from its OFFSET (`offset`), in the
+    /// world where its parent is `parent` (world rotation and position) and it is `at`; scaled
+    /// by the ratio and turned into the target's axes: the world move of the target joint that
+    /// carries it.
+    pub(super) fn carried_move(&self, offset: DVec3, parent: (DQuat, DVec3), at: DVec3) -> DVec3 {
+        let rest_place = parent.1 + parent.0 * offset;
+        self.ut_inv * (self.us * ((at - rest_place) * self.ratio))
     }
 
     /// Feet on the floor: the target's lowest foot point over the take where the source's is,
@@ -176,6 +203,7 @@ pub(super) fn plain_frames(
         ref under_carrier,
         ref reference_columns,
         ref bone_of,
+        ref translated,
     } = *setup;
     let frames = motion.frame_count();
     let joints = target.joints.len();
@@ -184,6 +212,8 @@ pub(super) fn plain_frames(
     // lowest leg points of source and target.
     struct Piece {
         angles: Vec<[f64; 3]>,
+        /// Per frame, the translation of each target joint in `translated` order.
+        translations: Vec<DVec3>,
         moves: Vec<DVec3>,
         carrier_parent: Vec<DQuat>,
         source_floor: f64,
@@ -194,6 +224,7 @@ pub(super) fn plain_frames(
         let range = piece * PIECE..((piece + 1) * PIECE).min(frames);
         let mut out = Piece {
             angles: Vec::with_capacity(range.len() * joints),
+            translations: Vec::new(),
             moves: Vec::with_capacity(range.len()),
             carrier_parent: Vec::with_capacity(range.len()),
             source_floor: f64::INFINITY,
@@ -247,9 +278,18 @@ pub(super) fn plain_frames(
                         angles
                     }
                 });
-                let position = match parent {
-                    Some((r, p)) => p + r * joint.offset.as_dvec3(),
-                    None => joint.offset.as_dvec3(),
+                let position = match (parent, translated[t]) {
+                    (Some((r, p)), Some(s)) => {
+                        let from = &source.joints[s];
+                        let parent = world_s[from.parent.unwrap_or(s)];
+                        let moved =
+                            setup.carried_move(from.offset.as_dvec3(), parent, world_s[s].1);
+                        out.translations
+                            .push(joint.offset.as_dvec3() + r.inverse() * moved);
+                        p + r * joint.offset.as_dvec3() + moved
+                    }
+                    (Some((r, p)), None) => p + r * joint.offset.as_dvec3(),
+                    (None, _) => joint.offset.as_dvec3(),
                 };
                 world_t[t] = (rotation, position);
             }
@@ -303,18 +343,25 @@ pub(super) fn plain_frames(
     let channels = target.channel_count();
     let mut data = vec![0.0f64; frames * channels];
     let mut previous: Vec<[f64; 3]> = vec![[0.0; 3]; joints];
+    let carrying = translated.iter().flatten().count();
     let rows = pieces.iter().flat_map(|p| {
         p.angles
             .chunks(joints.max(1))
             .zip(p.moves.iter().zip(&p.carrier_parent))
+            .enumerate()
+            .map(|(f, row)| (row, &p.translations[f * carrying..(f + 1) * carrying]))
     });
-    for (frame, (angles, (moved, turned))) in rows.enumerate() {
+    for (frame, ((angles, (moved, turned)), carried)) in rows.enumerate() {
         let row = &mut data[frame * channels..(frame + 1) * channels];
         let source_row = motion.frame(frame);
+        let mut carried = carried.iter();
         for (t, joint) in target.joints.iter().enumerate() {
             let mut translation = joint.offset.as_dvec3();
             if Some(t) == carrier {
                 translation += turned.inverse() * (*moved + lift);
+            }
+            if translated[t].is_some() {
+                translation = carried.next().copied().unwrap_or(translation);
             }
             let angles = match joint.rotation_order {
                 Some(_) => {

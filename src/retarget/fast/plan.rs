@@ -41,6 +41,8 @@ pub(super) enum Column {
     Offset(f64),
     /// The carrier's translation along this axis, written last.
     Carried(usize),
+    /// Its source joint's translation carried ([`Setup::translated`]), along this axis.
+    Translated(usize),
 }
 
 pub(super) struct TargetJoint {
@@ -58,6 +60,8 @@ pub(super) struct TargetJoint {
     pub(super) columns: Vec<(usize, Column)>,
     /// Whether its world position is read (the hips, the legs, their ancestors).
     pub(super) placed: bool,
+    /// The source joint whose translation it carries ([`Setup::translated`]).
+    pub(super) translated: Option<usize>,
 }
 
 /// The pass compiled for one pair of skeletons and one map.
@@ -66,6 +70,8 @@ pub(super) struct Plan<'a> {
     pub(super) target: &'a Skeleton,
     pub(super) mode: OffsetMode,
     pub(super) source_joints: Vec<SourceJoint>,
+    /// Per source joint, its place in `source_joints` (0 for one not read).
+    pub(super) source_joints_by_index: Vec<usize>,
     pub(super) source_count: usize,
     /// Every rotation channel of the source joints read: (axis, input).
     pub(super) rotations: Vec<(usize, usize)>,
@@ -91,6 +97,8 @@ pub(super) struct Scratch {
     pub(super) target_rotations: Vec<Quats>,
     pub(super) target_points: Vec<Points>,
     pub(super) angles: Vec<[Lanes; 3]>,
+    /// The translation of each target joint that carries one (OFFSET + the carried move).
+    pub(super) translations: Vec<Points>,
     /// One batch's channel values, channel after channel.
     pub(super) values: Vec<Lanes>,
 }
@@ -143,6 +151,7 @@ impl<'a> Plan<'a> {
             .flat_map(|(s, sd)| [s, sd])
             .chain(setup.hips.map(|(_, s)| s))
             .chain(setup.source_legs.iter().copied())
+            .chain(setup.translated.iter().flatten().copied())
             .collect();
         let placed = with_ancestors(source, placed_joints.iter().copied());
         let needed = with_ancestors(
@@ -159,7 +168,7 @@ impl<'a> Plan<'a> {
             })
         };
         let mut rotations = Vec::new();
-        let source_joints = source
+        let source_joints: Vec<SourceJoint> = source
             .joints
             .iter()
             .enumerate()
@@ -227,6 +236,8 @@ impl<'a> Plan<'a> {
                         if channel.is_position() {
                             if Some(t) == setup.carrier {
                                 (column, Column::Carried(channel.axis()))
+                            } else if setup.translated[t].is_some() {
+                                (column, Column::Translated(channel.axis()))
                             } else {
                                 let offset = joint.offset.as_dvec3();
                                 (column, Column::Offset(offset[channel.axis()]))
@@ -249,14 +260,20 @@ impl<'a> Plan<'a> {
                     chained: follows_itself.then(|| chained.len() - 1),
                     columns,
                     placed: target_placed[t],
+                    translated: setup.translated[t],
                 }
             })
             .collect();
+        let mut source_joints_by_index = vec![0; source.joints.len()];
+        for (k, joint) in source_joints.iter().enumerate() {
+            source_joints_by_index[joint.index] = k;
+        }
         Plan {
             setup,
             target,
             mode: setup.source_mode,
             source_joints,
+            source_joints_by_index,
             source_count: source.joints.len(),
             rotations,
             inputs,
@@ -356,6 +373,7 @@ impl<'a> Plan<'a> {
         scratch.target_rotations.resize(count, Quats::IDENTITY);
         scratch.target_points.resize(count, origin);
         scratch.angles.resize(count, [[0.0; LANES]; 3]);
+        scratch.translations.resize(count, origin);
         for (t, joint) in self.target_joints.iter().enumerate() {
             let parent_rotation = joint
                 .parent
@@ -415,12 +433,36 @@ impl<'a> Plan<'a> {
                 }
                 Turn::Fixed(_) => rotation = parent_rotation,
             }
-            let position = match joint.parent {
+            let mut position = match joint.parent {
                 Some(p) if joint.placed => scratch.target_points[p]
                     .add(&scratch.target_rotations[p].rotate(&Points::splat(joint.offset))),
                 Some(p) => scratch.target_points[p],
                 None => Points::splat(joint.offset),
             };
+            if let (Some(s), Some(p)) = (joint.translated, joint.parent) {
+                // The plain pass's arithmetic, a lane at a time (few joints carry any).
+                let from = self.source_joints_by_index[s];
+                let parent_s = self.source_joints[from].parent.unwrap_or(s);
+                let offset_s = self.source_joints[from].offset;
+                let mut translation = Points::splat(joint.offset);
+                for l in 0..LANES {
+                    let moved = setup.carried_move(
+                        offset_s,
+                        (
+                            scratch.source_rotations[parent_s].get(l),
+                            scratch.source_points[parent_s].get(l),
+                        ),
+                        scratch.source_points[s].get(l),
+                    );
+                    let r = scratch.target_rotations[p].get(l);
+                    translation.set(l, joint.offset + r.inverse() * moved);
+                    if joint.placed {
+                        let at = scratch.target_points[p].get(l) + r * joint.offset + moved;
+                        position.set(l, at);
+                    }
+                }
+                scratch.translations[t] = translation;
+            }
             scratch.target_rotations[t] = rotation;
             scratch.target_points[t] = position;
         }
@@ -511,6 +553,10 @@ impl<'a> Plan<'a> {
                             scratch.values[column] = angles.get(a).copied().unwrap_or_default();
                         }
                         (Column::Offset(value), _) => scratch.values[column] = [value; LANES],
+                        (Column::Translated(axis), _) => {
+                            let at = &scratch.translations[t];
+                            scratch.values[column] = [at.x, at.y, at.z][axis];
+                        }
                         // Written in frame order after all pieces.
                         _ => {}
                     }

@@ -32,6 +32,10 @@ impl Points {
         DVec3::new(self.x[l], self.y[l], self.z[l])
     }
 
+    pub(super) fn set(&mut self, l: usize, v: DVec3) {
+        (self.x[l], self.y[l], self.z[l]) = (v.x, v.y, v.z);
+    }
+
     #[inline(always)]
     pub(super) fn add(&self, b: &Points) -> Points {
         Points {
