@@ -281,6 +281,22 @@ fn every_naming_family_maps_every_role_onto_the_built_in_skeleton() {
         ),
         ("rokoko", "Hips", "LeftUpLeg", "LeftArm", "LeftToe", "Head"),
         (
+            "cgspeed_lowercase",
+            "hip",
+            "lbuttock",
+            "lshoulder",
+            "ltoe",
+            "head",
+        ),
+        (
+            "biped_human",
+            "Bip01 Pelvis",
+            "Bip01 L Thigh",
+            "Bip01 L UpperArm",
+            "Bip01 L Toe0",
+            "Bip01 Head",
+        ),
+        (
             "perception_neuron",
             "Hips",
             "LeftUpLeg",
@@ -366,11 +382,33 @@ fn every_naming_family_maps_every_role_onto_the_built_in_skeleton() {
         }
         let ups = Ups::default();
         let (_, out) = retarget::retarget(&skeleton, &motion, &smpl, &map, ups, 1).unwrap();
-        assert_eq!(out.frame_count(), 2);
+        assert_eq!(out.frame_count(), motion.frame_count());
         let errors: Vec<f64> =
             retarget::direction_errors(&skeleton, &motion, &smpl, &out, &map, ups).concat();
         let worst = errors.iter().copied().fold(0.0, f64::max);
         assert!(worst < 0.01, "{family}: a bone {worst}° off");
+        // And a CMU walk onto the family's skeleton: the thighs stay apart (cgspeed's
+        // lowercase CMU had both on one point), the path scaled by the legs.
+        let (walk, walk_motion) = take(&common::repo_data("bvh/bvhparser_walk_01.bvh"));
+        let walk_motion = bvhview::edit::trim(&walk_motion, 0..120);
+        let map = Map::guess(&walk, &skeleton);
+        map.check("walk", family).unwrap();
+        let ups = Ups {
+            source: up_of(&walk, &walk_motion),
+            target: Up::guess(&skeleton),
+        };
+        let (out_skeleton, out) =
+            retarget::retarget(&walk, &walk_motion, &skeleton, &map, ups, 1).unwrap();
+        let stand = retarget::standing(&walk, &walk_motion, &out_skeleton, &out, &map, ups, 0.056);
+        // Not 1 everywhere: where hip bones lead from the hips to the thighs (cgspeed's
+        // `lhipjoint`), they take the source's hip bones' directions, and the width follows
+        // (0.83 of the rest's from a CMU walk).
+        assert!(stand.pelvis > 0.8, "{family}: {stand:?}");
+        let expected = stand.ratio * stand.source_path;
+        assert!(
+            (stand.target_path - expected).abs() <= 0.02 * expected,
+            "{family}: {stand:?}"
+        );
     }
 }
 
@@ -552,9 +590,9 @@ fn real_skeletons_onto_each_other_keep_bone_directions_and_feet() {
     let (smpl, smpl_motion) = retarget::built_in("smpl22").unwrap();
     takes.push(("smpl22", smpl, smpl_motion));
     println!(
-        "| source | target | bones × frames | median ° | p99 ° | max ° | followed: median ° | p99 ° | hips path off | floor off | planted ankles slide, leg lengths: source → target (contacts) | with --lock-feet |"
+        "| source | target | bones × frames | median ° | p99 ° | max ° | followed: median ° | p99 ° | hips path off | floor off | pelvis width kept | planted ankles slide, leg lengths: source → target (contacts) | with --lock-feet |"
     );
-    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|");
+    println!("|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---|---:|");
     for (source_name, source, motion) in &takes[..CORPUS.len()] {
         for (target_name, target, target_motion) in &takes {
             if source_name == target_name {
@@ -620,10 +658,11 @@ fn real_skeletons_onto_each_other_keep_bone_directions_and_feet() {
             );
             let floor_error = (stand.target_floor - stand.ratio * stand.source_floor).abs();
             println!(
-                "| {source_name} | {target_name} | {} | {median:.2} | {p99:.2} | {worst:.2} | {followed_median:.2} | {followed_p99:.2} | {:.2} % | {:.1} mm | {:.3} → {:.3} ({}) | {:.3} |",
+                "| {source_name} | {target_name} | {} | {median:.2} | {p99:.2} | {worst:.2} | {followed_median:.2} | {followed_p99:.2} | {:.2} % | {:.1} mm | {:.4} | {:.3} → {:.3} ({}) | {:.3} |",
                 errors.len(),
                 100.0 * path_error,
                 1000.0 * floor_error * target_metres,
+                stand.pelvis,
                 stand.source_sliding,
                 stand.target_sliding,
                 stand.contacts,
@@ -642,6 +681,12 @@ fn real_skeletons_onto_each_other_keep_bone_directions_and_feet() {
             assert!(
                 floor_error * target_metres <= 0.005,
                 "{source_name} → {target_name}: floor {stand:?}"
+            );
+            // No pelvis collapse: the thighs stay as far apart as at rest (1.0000 on every
+            // pair of the corpus).
+            assert!(
+                stand.pelvis > 0.8,
+                "{source_name} → {target_name}: pelvis {stand:?}"
             );
             // Rotations carried onto legs of other proportions move planted feet (a wider
             // pelvis turning, a longer shin): shown, not held. With `--lock-feet` they slide no

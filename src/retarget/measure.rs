@@ -135,6 +135,10 @@ pub struct Standing {
     pub target_sliding: f64,
     /// The contacts those figures are taken over.
     pub contacts: usize,
+    /// The least, over the frames, of the target's thigh-to-thigh distance over its rest
+    /// distance: 1 when the pelvis keeps its width (a map that put both thighs on one source
+    /// joint collapsed it to 0); 1 without two thighs.
+    pub pelvis: f64,
 }
 
 /// [`Standing`] of `target_motion`, retargeted from `source_motion` by `map`. `source_metres`:
@@ -171,6 +175,17 @@ pub fn standing(
         .filter_map(|limb| limb[Limb::Foot as usize])
         .filter_map(|t| Some((map.source_of[t]?, t)))
         .collect();
+    let thighs: Vec<usize> = map
+        .target_body
+        .limbs
+        .iter()
+        .filter_map(|limb| limb[Limb::Thigh as usize])
+        .collect();
+    let mut pelvis = 1.0f64;
+    let rest_width = match thighs[..] {
+        [a, b] => (rest_t[a].1 - rest_t[b].1).length(),
+        _ => 0.0,
+    };
     let (floor_s, floor_t) = (
         map.source_body.foot_points(source),
         map.target_body.foot_points(target),
@@ -193,6 +208,10 @@ pub fn standing(
         if let Some((t, s)) = hips {
             hips_s.push(us * ws[s].1);
             hips_t.push(ut * wt[t].1);
+        }
+        if let ([a, b], true) = (&thighs[..], rest_width > 0.0) {
+            let (a, b) = (*a, *b);
+            pelvis = pelvis.min((wt[a].1 - wt[b].1).length() / rest_width);
         }
         for &s in &floor_s {
             source_floor = source_floor.min((us * ws[s].1).y);
@@ -218,6 +237,7 @@ pub fn standing(
         target_path: path(&hips_t),
         source_floor,
         target_floor,
+        pelvis,
         ..Standing::default()
     };
     for (track_s, track_t) in tracks_s.iter().zip(&tracks_t) {
