@@ -526,6 +526,25 @@ fn position_channels_on_any_joint_are_carried_and_scaled() {
             );
         }
     }
+    // Onto a skeleton whose forearm has no position channels (smpl22's `left_elbow`), the
+    // move cannot be carried: said, not dropped in silence. Onto itself nothing is said.
+    let smpl = retarget::Target::load("smpl22", u64::MAX).unwrap();
+    let said = smpl
+        .uncarried_translations(&skeleton, &motion, &[])
+        .unwrap();
+    assert_eq!(said.len(), 1, "{said:?}");
+    assert!(
+        said[0].starts_with("LeftForeArm's position channels move it up to 57.")
+            && said[0]
+                .ends_with("left_elbow has no position channels, so that move is not carried"),
+        "{said:?}"
+    );
+    let own = retarget::Target::new("own".into(), skeleton.clone(), &motion);
+    assert!(
+        own.uncarried_translations(&skeleton, &motion, &[])
+            .unwrap()
+            .is_empty()
+    );
     // The fast pass is the plain one.
     let fast = retarget::retargeted_values(&skeleton, &motion, &big, &map, ups, 2, true);
     let plain = retarget::retargeted_values(&skeleton, &motion, &big, &map, ups, 2, false);

@@ -96,6 +96,9 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
         &pairs,
         crate::io::parallel::cores(),
     )?;
+    for warning in target.uncarried_translations(&loaded.skeleton, &loaded.motion, &pairs)? {
+        eprintln!("bvhview: {source_name}: warning: {warning}");
+    }
     let motion = if args.lock_feet {
         let (motion, locked) = crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?;
         super::note(format_args!("feet locked: {}", locked.summary(&skeleton)));

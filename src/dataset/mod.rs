@@ -135,6 +135,8 @@ pub(crate) struct Prepared {
     loaded: crate::take::Take,
     mode: OffsetMode,
     stance: crate::model::stance::Stance,
+    /// What `--onto` could not carry (the manifest's warnings).
+    uncarried: Vec<String>,
 }
 
 /// What a take's frames become: the group's skeleton (metres, Y up, bone axes baked) and, at
@@ -183,13 +185,16 @@ fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
             path.display()
         )));
     }
+    let mut uncarried = Vec::new();
     let loaded = match &options.onto {
         Some(target) => {
+            let pairs = options.map.for_skeleton(&loaded.skeleton);
+            uncarried = target.uncarried_translations(&loaded.skeleton, &loaded.motion, &pairs)?;
             let (skeleton, motion) = target.apply(
                 &path.display().to_string(),
                 &loaded.skeleton,
                 &loaded.motion,
-                &options.map.for_skeleton(&loaded.skeleton),
+                &pairs,
                 1,
             )?;
             // Planted feet held where they landed, during the source's contacts.
@@ -233,6 +238,7 @@ fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
         loaded,
         mode,
         stance,
+        uncarried,
     })
 }
 
@@ -365,6 +371,7 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
         // The stance guessed once (its up axis is not in any warning).
         warnings: {
             let mut warnings = crate::info::warnings_with(&take.loaded, mode, stance);
+            warnings.extend(take.uncarried.iter().cloned());
             if options.feet.is_none() && feet_of(&skeleton, mode).1 {
                 let feet: Vec<&str> = topology
                     .feet

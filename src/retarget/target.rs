@@ -127,6 +127,64 @@ impl Target {
         }
     }
 
+    /// What retargeting the take onto this target by the same map as [`Target::apply`] cannot
+    /// carry, said in words: each mapped source joint (not the hips, nor above them) whose
+    /// position channels move it from its OFFSET, by more than 1e-4 of the legs' length on
+    /// some frame, onto a target joint without position channels, which keeps its OFFSET.
+    pub fn uncarried_translations(
+        &self,
+        skeleton: &Skeleton,
+        motion: &Motion,
+        pairs: &[(String, String)],
+    ) -> Result<Vec<String>, Error> {
+        let mut map = Map::guess(skeleton, &self.skeleton);
+        map.apply(pairs, skeleton, &self.skeleton)?;
+        let moves = |joint: &Joint| joint.channels.iter().any(|c| c.is_position());
+        let hips = map.source_body.hips;
+        let candidates: Vec<(usize, usize)> = (0..self.skeleton.joints.len())
+            .filter_map(|t| Some((map.source_of[t]?, t)))
+            .filter(|&(s, t)| {
+                let joint = &skeleton.joints[s];
+                moves(joint)
+                    && !moves(&self.skeleton.joints[t])
+                    && joint.parent.is_some()
+                    && !hips.is_some_and(|h| is_ancestor(skeleton, s, h))
+            })
+            .collect();
+        if candidates.is_empty() {
+            return Ok(Vec::new());
+        }
+        let mode = source_offset_mode(skeleton, motion);
+        let mut rest = Vec::new();
+        world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
+        let legs = map.source_body.leg_length(&rest).unwrap_or(1.0);
+        let mut farthest = vec![0.0f64; candidates.len()];
+        let mut world = Vec::new();
+        for frame in 0..motion.frame_count() {
+            world_transforms_f64(skeleton, motion.frame(frame), mode, &mut world);
+            for (far, &(s, _)) in farthest.iter_mut().zip(&candidates) {
+                let joint = &skeleton.joints[s];
+                let (rotation, at) = world[joint.parent.unwrap_or(s)];
+                let moved = world[s].1 - (at + rotation * joint.offset.as_dvec3());
+                *far = far.max(moved.length());
+            }
+        }
+        Ok(candidates
+            .iter()
+            .zip(farthest)
+            .filter(|&(_, far)| far > 1e-4 * legs)
+            .map(|(&(s, t), far)| {
+                format!(
+                    "{}'s position channels move it up to {far:.4} from its OFFSET ({:.1} % of \
+                     the legs' length); {} has no position channels, so that move is not carried",
+                    skeleton.joints[s].name,
+                    100.0 * far / legs,
+                    self.skeleton.joints[t].name
+                )
+            })
+            .collect())
+    }
+
     /// [`Target::apply`] without the body check: any body onto any target.
     pub fn apply_any_body(
         &self,
