@@ -948,3 +948,51 @@ fn one_map_file_serves_a_folder_of_mixed_rigs_by_fingerprint() {
         .unwrap();
     assert_eq!(run.status.code(), Some(2), "{run:?}");
 }
+
+/// `convert --ground` stands a take on its soles: each ankle and what is below it. The LaFAN1
+/// sample with each toe's End Site 4 units under the toe joint: the tips touch y = 0 (the toe
+/// joints, the reading's foot points, stand 4 above), and the figure's hands, lowered below
+/// the feet in a squat, do not decide the floor.
+#[test]
+fn grounding_stands_the_soles_on_the_floor() {
+    let text = std::fs::read_to_string("tests/body/lafan1.bvh")
+        .unwrap()
+        .replace("OFFSET 0 0 5\n", "OFFSET 0 -4 5\n")
+        .replacen("OFFSET 9 0 0\n", "OFFSET 9 -200 0\n", 1);
+    let take = bvhview::bvh::load_bytes(text.as_bytes(), "lafan1").unwrap();
+    let skeleton = take.skeleton;
+    let body = Body::of(&skeleton);
+    let soles = body.sole_points(&skeleton);
+    let named: Vec<&str> = soles
+        .iter()
+        .map(|&j| skeleton.joints[j].name.as_str())
+        .collect();
+    assert_eq!(
+        named.iter().filter(|n| **n == "Site").count(),
+        2,
+        "{named:?}"
+    );
+    assert_eq!(soles.len(), 6, "{named:?}");
+    // The left hand's tip 200 units down, far below the feet, is not the floor.
+    let (grounded, motion) = bvhview::edit::ground(
+        &skeleton,
+        &take.motion,
+        OffsetMode::Replace,
+        bvhview::model::pose::Up::Y,
+    )
+    .unwrap();
+    let mut lowest_sole = f32::INFINITY;
+    let mut lowest_toe = f32::INFINITY;
+    let feet = body.foot_points(&grounded);
+    for f in 0..motion.frame_count() {
+        let world =
+            bvhview::model::pose::world_positions(&grounded, motion.frame(f), OffsetMode::Replace);
+        lowest_sole = soles
+            .iter()
+            .map(|&j| world[j].y)
+            .fold(lowest_sole, f32::min);
+        lowest_toe = feet.iter().map(|&j| world[j].y).fold(lowest_toe, f32::min);
+    }
+    assert!(lowest_sole.abs() < 1e-4, "{lowest_sole}");
+    assert!((lowest_toe - 4.0).abs() < 1e-3, "{lowest_toe}");
+}

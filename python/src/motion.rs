@@ -659,8 +659,9 @@ impl Motion {
         })
     }
 
-    /// The take moved along its `up_axis` so that its lowest point, over every joint and frame
-    /// in its offset mode, is at 0, as `convert --ground`.
+    /// The take moved along its `up_axis` so that the lowest point of its soles over the take
+    /// (each leg's ankle and what is below it; every joint for a body without two feet), in its
+    /// offset mode, is at 0, as `convert --ground`.
     fn ground(&self, py: Python<'_>) -> PyResult<Motion> {
         guard("ground", || {
             let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);

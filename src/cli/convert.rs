@@ -47,7 +47,9 @@ pub(crate) struct ConvertArgs {
     /// Remove the roots' travel across the ground (seventh).
     #[arg(long)]
     in_place: bool,
-    /// Move the take up or down so that its lowest point is at 0 (last).
+    /// Move the take up or down so that the lowest point of its soles (each leg's ankle and
+    /// what is below it, as `info`'s `body:` line reads the legs; its lowest point without two
+    /// feet) is at 0 (last).
     #[arg(long)]
     ground: bool,
     /// How position channels combine with OFFSET (in a glTF output's translations).

@@ -30,25 +30,32 @@ pub(super) fn contacts(world: &[Vec3], points: usize, feet: &[u32], options: &Op
         .collect()
 }
 
-/// Moves a posed clip up or down so that its lowest foot point over the whole clip (its lowest
-/// point, without feet) is on y = 0: every world position, and the translation of every root
-/// (a root's translation is where it is in the world; a child's is relative to its parent).
+/// Moves a posed clip up or down so that the lowest point of its soles over the whole clip is
+/// on y = 0 (each leg's ankle and everything below it, as `convert --ground` stands a take:
+/// [`crate::model::body::Body::sole_points`]; the feet `--feet` names, when it names them; its
+/// lowest point, without feet): every world position, and the translation of every root (a
+/// root's translation is where it is in the world; a child's is relative to its parent).
 pub(super) fn ground(
     skeleton: &crate::Skeleton,
     topology: &Topology,
+    named_feet: bool,
     world: &mut [Vec3],
     translations: &mut [f32],
 ) {
     let points = skeleton.joints.len().max(1);
+    let soles = crate::model::body::Body::of(skeleton).sole_points(skeleton);
+    let standing: Vec<usize> = match (named_feet, soles.is_empty()) {
+        (false, false) => soles,
+        _ => topology.feet.iter().map(|&p| p as usize).collect(),
+    };
     let lowest = world
         .chunks(points)
         .flat_map(|pose| {
-            let feet = topology.feet.iter().map(|&p| pose[p as usize].y);
             let all = pose.iter().map(|p| p.y);
-            if topology.feet.is_empty() {
+            if standing.is_empty() {
                 all.collect::<Vec<f32>>()
             } else {
-                feet.collect()
+                standing.iter().map(|&p| pose[p].y).collect()
             }
         })
         .fold(f32::INFINITY, f32::min);

@@ -333,7 +333,13 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
     let (stance, mode) = (&take.stance, take.mode);
     let points = skeleton.joints.len();
     if options.ground {
-        ground(&skeleton, &topology, &mut world, &mut translations);
+        ground(
+            &skeleton,
+            &topology,
+            options.feet.is_some(),
+            &mut world,
+            &mut translations,
+        );
     }
     if options.quat_continuous && options.rotations == RotationKind::Quat {
         continuous_quaternions(&mut rotations, topology.rotated.len());

@@ -46,8 +46,11 @@ pub fn in_place(skeleton: &Skeleton, motion: &Motion, up: crate::model::pose::Up
     )
 }
 
-/// The take moved up or down so that its lowest point, over every joint and frame, is at 0.
-/// The roots' up position channel carries the move (their OFFSET when they have none).
+/// The take moved up or down so that the lowest point of its soles over the take (each leg's
+/// ankle and everything below it, toe tips too, as the reading of the body finds them:
+/// [`crate::model::body::Body::sole_points`]) is at 0: the feet on the floor, as `dataset
+/// --ground` stands them. A body without two feet: its lowest point, over every joint and frame. The roots' up position
+/// channel carries the move (their OFFSET when they have none).
 pub fn ground(
     skeleton: &Skeleton,
     motion: &Motion,
@@ -55,6 +58,7 @@ pub fn ground(
     up: crate::model::pose::Up,
 ) -> Result<(Skeleton, Motion), Error> {
     let (_, axis) = plane(up);
+    let feet = crate::model::body::Body::of(skeleton).sole_points(skeleton);
     let mut lowest = f32::INFINITY;
     let frames = motion.frame_count();
     for frame in 0..frames.max(1) {
@@ -63,8 +67,11 @@ pub fn ground(
         } else {
             motion.frame(frame)
         };
-        for p in crate::model::pose::world_positions(skeleton, row, mode) {
-            lowest = lowest.min(p[axis]);
+        let points = crate::model::pose::world_positions(skeleton, row, mode);
+        for (j, p) in points.iter().enumerate() {
+            if feet.is_empty() || feet.binary_search(&j).is_ok() {
+                lowest = lowest.min(p[axis]);
+            }
         }
     }
     let mut grounded = skeleton.clone();

@@ -25,6 +25,24 @@ impl Body {
         points
     }
 
+    /// The soles: each leg's ankle and every point below it (toes, their End Sites), in
+    /// joint order; what stands on the floor when a take is grounded (`convert --ground`,
+    /// `dataset --ground`), so that no toe tip sinks under it. Empty unless both legs reach an
+    /// ankle.
+    pub fn sole_points(&self, skeleton: &Skeleton) -> Vec<usize> {
+        let ankles: Vec<usize> = self
+            .limbs
+            .iter()
+            .filter_map(|limb| limb[Limb::Foot as usize])
+            .collect();
+        if ankles.len() < 2 {
+            return Vec::new();
+        }
+        (0..skeleton.joints.len())
+            .filter(|&j| ankles.iter().any(|&a| is_ancestor(skeleton, a, j)))
+            .collect()
+    }
+
     /// The legs' length in the pose `world` (each joint's world rotation and position): thigh
     /// to shin to ankle, the mean of the sides found; a rest pose lying down or with its bones
     /// along x (Bandai's) measures the same as one standing. `None` without a leg down to an
