@@ -68,6 +68,7 @@ pub mod plumbing;
 pub mod positions;
 pub mod render;
 pub mod retarget;
+pub mod solve;
 pub mod take;
 
 /// The article side by side with this crate: TEACHING.md.

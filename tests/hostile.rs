@@ -1197,7 +1197,7 @@ fn issue44_sparse_files_are_read_only_as_far_as_used_or_refused_by_size() {
     refused(
         &out,
         &format!(
-            "{}: 6442450944 bytes, more than the 2 GiB bvhview reads of an FBX or glTF file",
+            "{}: 6442450944 bytes, more than the 2 GiB bvhview reads of a binary file (FBX, glTF, .npy: read whole into memory); not read",
             fbx.display()
         ),
         &dir.path().join("none"),

@@ -675,6 +675,28 @@ impl Motion {
         })
     }
 
+    /// A take on `skeleton` (a Motion, a built-in skeleton's name such as "smpl22", or a file's
+    /// path) whose joints stand where `positions` (frames × joints × 3: a motion model's or a
+    /// pose estimator's output) puts them, as `bvhview solve` makes it: each bone laid along the
+    /// data's, the skeleton's lengths kept, the path scaled by the legs. `joints`: the
+    /// positions' joint names in order (a list, or a layout's name: "smpl22", the same as
+    /// "humanml3d"); 22 joints without it are read in SMPL's order. `up`: the positions' up axis
+    /// ("y" or "z") when it is not the skeleton's.
+    #[staticmethod]
+    #[pyo3(signature = (positions, skeleton, *, joints=None, fps, up=None))]
+    fn from_positions(
+        py: Python<'_>,
+        positions: numpy::PyArrayLike3<'_, f64, numpy::AllowTypeChange>,
+        skeleton: &Bound<'_, PyAny>,
+        joints: Option<Bound<'_, PyAny>>,
+        fps: f64,
+        up: Option<&str>,
+    ) -> PyResult<Motion> {
+        guard("from_positions", || {
+            crate::retarget::from_positions(py, positions, skeleton, joints.as_ref(), fps, up)
+        })
+    }
+
     /// A take built from arrays on `template`'s skeleton (a Motion), to save as BVH or glTF:
     /// `rotations`, every joint's local rotation per frame, as `local_rotations` gives them:
     /// frames × joints × 4 (quat, w x y z), × 3 × 3 (matrix), × 6 (6d) or × 3 (euler: each

@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use std::path::PathBuf;
 
 /// The target skeleton: a Motion, a built-in skeleton's name (`"smpl22"`) or a file's path.
-fn target_of(py: Python<'_>, target: &Bound<'_, PyAny>) -> PyResult<Target> {
+pub(crate) fn target_of(py: Python<'_>, target: &Bound<'_, PyAny>) -> PyResult<Target> {
     if let Ok(motion) = target.cast::<Motion>() {
         let motion = motion.get();
         let loaded = &motion.loaded;
@@ -114,4 +114,84 @@ pub(crate) fn retarget_map(
             ))
         })
         .collect())
+}
+
+/// `Motion.from_positions`: joint positions (frames × joints × 3) as a take on a skeleton.
+pub(crate) fn from_positions(
+    py: Python<'_>,
+    positions: numpy::PyArrayLike3<'_, f64, numpy::AllowTypeChange>,
+    skeleton: &Bound<'_, PyAny>,
+    joints: Option<&Bound<'_, PyAny>>,
+    fps: f64,
+    up: Option<&str>,
+) -> PyResult<Motion> {
+    use pyo3::exceptions::PyValueError;
+    if !(fps > 0.0 && fps.is_finite() && fps <= 1000.0) {
+        return Err(PyValueError::new_err(format!(
+            "fps={fps}: expected frames per second from above 0 to 1000"
+        )));
+    }
+    let up = match up {
+        None => None,
+        Some("y") | Some("Y") => Some(bvhview::model::pose::Up::Y),
+        Some("z") | Some("Z") => Some(bvhview::model::pose::Up::Z),
+        Some(other) => {
+            return Err(PyValueError::new_err(format!(
+                "up={other:?}: expected \"y\" or \"z\""
+            )));
+        }
+    };
+    let shape = positions.as_array().shape().to_vec();
+    if shape.len() != 3 || shape[2] != 3 || shape[0] == 0 || shape[1] == 0 {
+        return Err(PyValueError::new_err(format!(
+            "positions of shape {shape:?}: expected frames × joints × 3"
+        )));
+    }
+    let names: Vec<String> = match joints {
+        None if shape[1] == 22 => bvhview::solve::joint_names("smpl22"),
+        None => {
+            return Err(PyValueError::new_err(format!(
+                "{} joints a frame: name them with joints= (a list of names, or \"smpl22\")",
+                shape[1]
+            )));
+        }
+        Some(given) => match given.extract::<String>() {
+            Ok(spec) => bvhview::solve::joint_names(&spec),
+            Err(_) => given.extract::<Vec<String>>().map_err(|_| {
+                PyTypeError::new_err("joints: expected a list of names or a layout's name")
+            })?,
+        },
+    };
+    if names.len() != shape[1] {
+        return Err(PyValueError::new_err(format!(
+            "positions have {} joints a frame, and joints= names {}",
+            shape[1],
+            names.len()
+        )));
+    }
+    let values = positions.as_array();
+    let points: Vec<glam::DVec3> = values
+        .outer_iter()
+        .flat_map(|frame| {
+            frame
+                .outer_iter()
+                .map(|p| glam::DVec3::new(p[0], p[1], p[2]))
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    let target = target_of(py, skeleton)?;
+    let positions = bvhview::solve::Positions::new(names, points, 1.0 / fps)
+        .map_err(|e| to_python(py, e))?;
+    let (motion, _) = py
+        .detach(|| bvhview::solve::solve(&target.skeleton, &positions, up))
+        .map_err(|e| to_python(py, e))?;
+    let name = format!("positions on {}", target.name);
+    Ok(Motion {
+        loaded: bvhview::Take::new(target.skeleton, motion, name.clone()),
+        item: crate::loading::Item {
+            path: PathBuf::from(name),
+            motion: None,
+        },
+        offset_mode: bvhview::model::pose::OffsetMode::Replace,
+    })
 }

@@ -133,3 +133,33 @@ def test_one_map_file_per_rig_from_python(cli, tmp_path):
     manifest = bvhview.compile_dataset(tmp_path / "takes", tmp_path / "ds", onto="smpl22", names=map_file)
     assert len(manifest["clips"]) == 2 and manifest["skipped"] == []
     assert len(manifest["options"]["map"]["by_skeleton"]) == 2
+
+
+SMPL22_ORDER = ["pelvis", "left_hip", "right_hip", "spine1", "left_knee", "right_knee", "spine2",
+                "left_ankle", "right_ankle", "spine3", "left_foot", "right_foot", "neck",
+                "left_collar", "right_collar", "head", "left_shoulder", "right_shoulder",
+                "left_elbow", "right_elbow", "left_wrist", "right_wrist"]
+
+
+def test_from_positions_solves_a_models_joints_back_onto_smpl22():
+    """Motion.from_positions, as `bvhview solve`: a walk's 22 joints on smpl22, in SMPL's order
+    and in metres as HumanML3D keeps them, solved back onto smpl22 stand where they stood."""
+    walk = bvhview.load(DATA / "bvh" / "bvhparser_walk_01.bvh").trim(0, 90)
+    smpl = walk.retarget("smpl22")
+    points = smpl.positions()
+    order = [smpl.index(name) for name in SMPL22_ORDER]
+    joints = points[:, order] / 100.0
+    solved = bvhview.Motion.from_positions(joints, "smpl22", fps=120)
+    assert solved.frame_count == 90 and solved.fps == pytest.approx(120)
+    np.testing.assert_allclose(solved.positions()[:, order], points[:, order], atol=2e-3)
+    # Named in another order: the same take.
+    shuffled = list(reversed(range(22)))
+    again = bvhview.Motion.from_positions(
+        joints[:, shuffled], smpl, joints=[SMPL22_ORDER[k] for k in shuffled], fps=120)
+    np.testing.assert_allclose(again.values, solved.values, atol=1e-3)
+    with pytest.raises(ValueError, match="5 joints a frame"):
+        bvhview.Motion.from_positions(joints[:, :5], "smpl22", fps=20)
+    with pytest.raises(ValueError, match="not a finite position"):
+        bad = joints.copy()
+        bad[3, 4, 1] = np.nan
+        bvhview.Motion.from_positions(bad, "smpl22", fps=20)

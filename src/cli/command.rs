@@ -79,6 +79,13 @@ enum Command {
         after_help = "Examples:\n  bvhview retarget walk.bvh --onto smpl22 -o walk_smpl.bvh\n  bvhview retarget dance.fbx --onto hero.glb --show-map"
     )]
     Retarget(cli::retarget::RetargetArgs),
+    /// Turn joint positions (frames × joints × 3: a motion model's output, a pose estimator's,
+    /// HumanML3D's joints) into a take on a skeleton: rotations in its own channels, each bone
+    /// laid along the data's, written as BVH or glTF.
+    #[command(after_help = "Examples:
+  bvhview solve sample.npy --onto smpl22 --fps 20 -o sample.bvh
+  bvhview solve walk.csv --onto walk.bvh --fps 120 -o back.bvh")]
+    Solve(cli::solve::SolveArgs),
     /// Write the man page or shell completions on stdout, made from this command's own help.
     #[command(
         after_help = "Install them with, for example:\n  bvhview generate man -o ~/.local/share/man/man1/bvhview.1\n  bvhview generate complete-bash -o ~/.local/share/bash-completion/completions/bvhview\n  bvhview generate complete-zsh -o ~/.zfunc/_bvhview\n  bvhview generate complete-fish -o ~/.config/fish/completions/bvhview.fish"
@@ -127,6 +134,7 @@ pub fn main() -> ExitCode {
         Some(Command::Convert(args)) => cli::convert::run(args),
         Some(Command::Dataset(args)) => cli::dataset::run(args),
         Some(Command::Retarget(args)) => cli::retarget::run(args),
+        Some(Command::Solve(args)) => cli::solve::run(args),
         Some(Command::Generate(args)) => cli::generate::run(args, Cli::command()),
     };
     match result {

@@ -17,6 +17,7 @@ pub(crate) mod print;
 pub(crate) mod retarget;
 pub(crate) mod skin_demo;
 pub(crate) mod snapshot;
+pub(crate) mod solve;
 pub(crate) mod trace;
 pub(crate) mod viewer;
 

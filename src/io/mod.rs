@@ -10,5 +10,4 @@ pub mod lines;
 pub mod output;
 pub mod parallel;
 pub mod read;
-#[cfg(any(feature = "fbx", feature = "gltf"))]
 pub mod whole;

@@ -1,5 +1,5 @@
-//! Whole binary files (FBX, GLB, glTF JSON and buffers) read into memory, refused by their size
-//! on disk before a byte is read. Only the FBX and glTF readers use them.
+//! Whole binary files (FBX, GLB, glTF JSON and buffers, NumPy positions) read into memory,
+//! refused by their size on disk before a byte is read.
 
 use crate::io::error::Error;
 use crate::io::read::kind_of;
@@ -55,7 +55,7 @@ fn read_start(file: std::fs::File, length: u64) -> std::io::Result<Vec<u8>> {
     Ok(bytes)
 }
 
-/// The whole of a binary file (FBX, GLB, glTF JSON), refused before any read unless it is a
+/// The whole of a binary file (FBX, GLB, glTF JSON, `.npy`), refused before any read unless it is a
 /// regular file of at most `max_size` and [`crate::io::limits::MAX_WHOLE_FILE_BYTES`] bytes: these
 /// readers hold the whole file in memory, so its size on disk (a sparse file of 6 GB takes 4 KB)
 /// is what is checked, never what a read gets to.
@@ -74,8 +74,8 @@ fn whole_file_size(length: u64, max_size: u64) -> Result<(), String> {
     }
     if length > budget {
         return Err(format!(
-            "{length} bytes, more than the {} GiB bvhview reads of an FBX or glTF file (read whole \
-             into memory); not read",
+            "{length} bytes, more than the {} GiB bvhview reads of a binary file (FBX, glTF, .npy: \
+             read whole into memory); not read",
             budget >> 30
         ));
     }

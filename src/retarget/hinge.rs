@@ -46,7 +46,7 @@ pub(super) fn hinge_angle(axis: DVec3, from: DVec3, to: DVec3) -> Option<f64> {
 /// keeps the bone's component along the first axis, the first turns it into place), of the two
 /// solutions the one nearer the Euler decomposition. Without a bone, or where the bone lies
 /// along an axis, the Euler decomposition's angles ([`channel_angles`]).
-pub(super) fn limited_angles(
+pub(crate) fn limited_angles(
     joint: &Joint,
     local: DQuat,
     bone: Option<DVec3>,

@@ -42,6 +42,7 @@ mod plain;
 mod target;
 
 pub use align::*;
+pub(crate) use hinge::limited_angles;
 use hinge::*;
 pub use map::*;
 pub use map_file::*;

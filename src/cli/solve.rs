@@ -1,0 +1,69 @@
+//! `bvhview solve`: joint positions (a model's output, a pose estimator's) as a take on a
+//! skeleton, written as BVH or glTF.
+
+use super::*;
+use crate::retarget::Target;
+
+#[derive(Args)]
+pub(crate) struct SolveArgs {
+    /// The positions: an .npy of frames × joints × 3 (float32 or float64), or the .csv `bvhview
+    /// positions` writes.
+    input: PathBuf,
+    /// The skeleton to solve onto: a .bvh, .fbx, .gltf, .glb or .asf file (its motion is not
+    /// used), or the built-in `smpl22`.
+    #[arg(long, value_name = "SKELETON")]
+    onto: String,
+    /// The .npy's joints in order: a layout (`smpl22`, the same as `humanml3d`: SMPL's 22 joints
+    /// in SMPL's order), or names separated by commas. Without it, 22 joints are read in SMPL's
+    /// order (and said).
+    #[arg(long, value_name = "LAYOUT|A,B,…")]
+    joints: Option<String>,
+    /// Frames per second of the positions (neither an .npy nor the CSV holds it; HumanML3D's
+    /// are 20).
+    #[arg(long)]
+    fps: f64,
+    /// The positions' up axis, when it is not the skeleton's (HumanML3D's is y).
+    #[arg(long, value_enum)]
+    up: Option<UpArg>,
+    /// Refuse inputs larger than this (K, M, G suffixes).
+    #[arg(long, value_name = "SIZE", default_value = "8G", value_parser = parse_max_size)]
+    max_size: u64,
+    /// The file to write: .bvh, or glTF as .glb (binary) or .gltf (text, data inline).
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
+    check_output(&args.output, &["bvh", "glb", "gltf"])?;
+    if !(args.fps > 0.0 && args.fps.is_finite() && args.fps <= 1000.0) {
+        return Err(Error::Usage(format!(
+            "--fps {}: frames per second from above 0 to 1000",
+            args.fps
+        )));
+    }
+    let (positions, layout_note) = crate::solve::read_positions(
+        &args.input,
+        args.joints.as_deref(),
+        1.0 / args.fps,
+        args.max_size,
+    )?;
+    if let Some(layout_note) = layout_note {
+        eprintln!("bvhview: {layout_note}");
+    }
+    let target = Target::load(&args.onto, args.max_size)?;
+    let (motion, solved) =
+        crate::solve::solve(&target.skeleton, &positions, args.up.map(Up::from))?;
+    for note in &solved.notes {
+        eprintln!("bvhview: {}: warning: {note}", target.name);
+    }
+    note(format_args!("solved: {}", solved.summary(&target.skeleton)));
+    let format = TakeFormat::of(&args.output);
+    write_take(
+        &args.output,
+        format,
+        target.skeleton,
+        motion,
+        OffsetMode::Replace,
+        false,
+    )
+}

@@ -1,0 +1,336 @@
+//! Reading joint positions: a NumPy `.npy` array of frames × joints × 3 (float32 or float64,
+//! either byte order, C or Fortran order, as numpy writes them; read by the `npyz` crate), or
+//! the CSV `bvhview positions` writes (`frame,joint,x,y,z`, a row per joint and frame).
+
+use super::{Positions, SMPL22_ORDER};
+use crate::io::error::Error;
+use glam::DVec3;
+use std::path::Path;
+
+/// The joint names `spec` gives: a layout's (`smpl22`, or `humanml3d`, the same order), or
+/// names separated by commas.
+///
+/// ```
+/// let names = bvhview::solve::joint_names("humanml3d");
+/// assert_eq!((names.len(), names[1].as_str()), (22, "left_hip"));
+/// assert_eq!(bvhview::solve::joint_names("Hips, LeftUpLeg"), ["Hips", "LeftUpLeg"]);
+/// ```
+pub fn joint_names(spec: &str) -> Vec<String> {
+    match spec.trim().to_ascii_lowercase().as_str() {
+        "smpl22" | "humanml3d" | "smpl" => SMPL22_ORDER.iter().map(|n| n.to_string()).collect(),
+        _ => spec
+            .split(',')
+            .map(|n| n.trim().to_string())
+            .filter(|n| !n.is_empty())
+            .collect(),
+    }
+}
+
+/// The positions in `path` (`.npy` or `.csv`), `frame_time` seconds apart. An `.npy` holds no
+/// names: `joints` gives them ([`joint_names`]), and 22 joints without it are read in SMPL's
+/// order, which the second value says; a CSV names its own and `joints` is refused with it.
+pub fn read_positions(
+    path: &Path,
+    joints: Option<&str>,
+    frame_time: f64,
+    max_size: u64,
+) -> Result<(Positions, Option<String>), Error> {
+    let shown = path.display().to_string();
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .unwrap_or("")
+        .to_ascii_lowercase();
+    match extension.as_str() {
+        "npy" => {
+            let bytes = crate::io::whole::read_binary_file(path, max_size)?;
+            let (joint_count, points) = read_npy(&bytes, &shown)?;
+            let (names, note) = match joints {
+                Some(spec) => (joint_names(spec), None),
+                None if joint_count == 22 => (
+                    joint_names("smpl22"),
+                    Some(format!(
+                        "{shown}: 22 unnamed joints read in SMPL's order (pelvis, left_hip, \
+                         right_hip, …; --joints names them otherwise)"
+                    )),
+                ),
+                None => {
+                    return Err(Error::Usage(format!(
+                        "{shown}: {joint_count} unnamed joints a frame: name them in order with \
+                         --joints A,B,… (or --joints smpl22 for SMPL's 22)"
+                    )));
+                }
+            };
+            if names.len() != joint_count {
+                return Err(Error::Usage(format!(
+                    "{shown}: {joint_count} joints a frame, and --joints names {}",
+                    names.len()
+                )));
+            }
+            let positions = Positions::new(names, points, frame_time)
+                .map_err(|e| Error::Usage(format!("{shown}: {e}")))?;
+            Ok((positions, note))
+        }
+        "csv" => {
+            if joints.is_some() {
+                return Err(Error::Usage(format!(
+                    "{shown}: a CSV names its joints; --joints is for an .npy"
+                )));
+            }
+            let bytes = crate::io::read::read_file(path, max_size)?;
+            let text = std::str::from_utf8(&bytes)
+                .map_err(|_| Error::Usage(format!("{shown}: not UTF-8 text")))?;
+            let (names, points) = read_csv(text, &shown)?;
+            let positions = Positions::new(names, points, frame_time)
+                .map_err(|e| Error::Usage(format!("{shown}: {e}")))?;
+            Ok((positions, None))
+        }
+        _ => Err(Error::Usage(format!(
+            "{shown}: positions are read from .npy (frames × joints × 3) or the .csv `bvhview \
+             positions` writes"
+        ))),
+    }
+}
+
+/// An `.npy` of frames × joints × 3 (or joints × 3: one frame): the joints a frame and every
+/// position, frame after frame.
+pub fn read_npy(bytes: &[u8], shown: &str) -> Result<(usize, Vec<DVec3>), Error> {
+    let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
+    let file = npyz::NpyFile::new(bytes).map_err(|e| refuse(format!("not an .npy array: {e}")))?;
+    let shape: Vec<u64> = file.shape().to_vec();
+    let (frames, joints) = match shape[..] {
+        [frames, joints, 3] => (frames, joints),
+        [joints, 3] => (1, joints),
+        _ => {
+            return Err(refuse(format!(
+                "shape {shape:?}: expected frames × joints × 3"
+            )));
+        }
+    };
+    // Checked before anything is read: a header may promise more than the file holds (its
+    // data starts after the header's length, 2 bytes long in version 1, 4 after).
+    let data_start = match bytes.get(6) {
+        Some(1) => 10 + u64::from(u16::from_le_bytes([bytes[8], bytes[9]])),
+        _ => bytes.get(8..12).map_or(0, |b| {
+            12 + u64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        }),
+    };
+    let data_bytes = (bytes.len() as u64).saturating_sub(data_start);
+    let count = frames
+        .checked_mul(joints)
+        .and_then(|n| n.checked_mul(3))
+        .filter(|&n| n.saturating_mul(4) <= data_bytes)
+        .ok_or_else(|| refuse(format!("shape {shape:?}: more than the file holds")))?;
+    if frames == 0 || joints == 0 {
+        return Err(refuse(format!("shape {shape:?}: no positions")));
+    }
+    let fortran = file.order() == npyz::Order::Fortran;
+    let dtype = file.dtype().descr();
+    let values: Vec<f64> = match file.try_data::<f64>() {
+        Ok(data) => data.collect::<std::io::Result<_>>(),
+        Err(file) => match file.try_data::<f32>() {
+            Ok(data) => data
+                .map(|v| v.map(f64::from))
+                .collect::<std::io::Result<_>>(),
+            Err(_) => {
+                return Err(refuse(format!(
+                    "dtype {dtype}: positions are float32 or float64"
+                )));
+            }
+        },
+    }
+    .map_err(|e| refuse(format!("the data: {e}")))?;
+    if values.len() as u64 != count {
+        return Err(refuse(format!(
+            "{} values for shape {shape:?}",
+            values.len()
+        )));
+    }
+    let (frames, joints) = (frames as usize, joints as usize);
+    let value = |f: usize, j: usize, c: usize| match fortran {
+        false => values[(f * joints + j) * 3 + c],
+        true => values[f + frames * (j + joints * c)],
+    };
+    let points = (0..frames)
+        .flat_map(|f| (0..joints).map(move |j| (f, j)))
+        .map(|(f, j)| DVec3::new(value(f, j, 0), value(f, j, 1), value(f, j, 2)))
+        .collect();
+    Ok((joints, points))
+}
+
+/// The CSV `bvhview positions` writes: a header `frame,joint,x,y,z`, then for frame 0, 1, …
+/// a row per joint, the same joints in the same order in every frame.
+pub fn read_csv(text: &str, shown: &str) -> Result<(Vec<String>, Vec<DVec3>), Error> {
+    let at = |line: usize, why: String| Error::Usage(format!("{shown}:{line}: {why}"));
+    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
+    match lines.next() {
+        Some((_, header)) if header.trim_end() == "frame,joint,x,y,z" => {}
+        _ => {
+            return Err(at(
+                1,
+                "expected the header frame,joint,x,y,z (the CSV `bvhview positions` writes)".into(),
+            ));
+        }
+    }
+    let mut names: Vec<String> = Vec::new();
+    let mut points = Vec::new();
+    let (mut frame, mut joint) = (0usize, 0usize);
+    for (number, line) in lines {
+        if line.trim().is_empty() {
+            continue;
+        }
+        let fields = split_csv(line).map_err(|why| at(number, why))?;
+        let [f, name, x, y, z] = &fields[..] else {
+            return Err(at(number, format!("{} fields, expected 5", fields.len())));
+        };
+        let f: usize = f
+            .parse()
+            .map_err(|_| at(number, format!("frame {f:?}: not a frame number")))?;
+        let number_of = |v: &str| {
+            v.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .ok_or_else(|| at(number, format!("{v:?}: not a finite number")))
+        };
+        let point = DVec3::new(number_of(x)?, number_of(y)?, number_of(z)?);
+        if f == 0 && frame == 0 {
+            names.push(name.clone());
+        } else {
+            if f == frame + 1 && joint == names.len() {
+                (frame, joint) = (f, 0);
+            }
+            if f != frame || names.get(joint) != Some(name) {
+                return Err(at(
+                    number,
+                    format!(
+                        "frame {f}, joint {name:?}: expected frame {frame}, joint {:?} (every \
+                         frame lists the same joints in the same order)",
+                        names
+                            .get(joint)
+                            .map_or("(none: the frame is complete)", |n| n)
+                    ),
+                ));
+            }
+        }
+        joint += 1;
+        points.push(point);
+    }
+    if names.is_empty() {
+        return Err(at(2, "no positions".into()));
+    }
+    if joint != names.len() {
+        return Err(Error::Usage(format!(
+            "{shown}: the last frame ({frame}) lists {joint} of its {} joints",
+            names.len()
+        )));
+    }
+    Ok((names, points))
+}
+
+/// One CSV row's fields (quotes as `bvhview positions` writes them: a field in double quotes,
+/// a quote inside doubled).
+fn split_csv(line: &str) -> Result<Vec<String>, String> {
+    let mut fields = Vec::new();
+    let mut chars = line.trim_end_matches('\r').chars().peekable();
+    loop {
+        let mut field = String::new();
+        if chars.peek() == Some(&'"') {
+            chars.next();
+            loop {
+                match chars.next() {
+                    Some('"') if chars.peek() == Some(&'"') => {
+                        chars.next();
+                        field.push('"');
+                    }
+                    Some('"') => break,
+                    Some(c) => field.push(c),
+                    None => return Err("a quoted field is not closed".into()),
+                }
+            }
+            match chars.next() {
+                None => {
+                    fields.push(field);
+                    return Ok(fields);
+                }
+                Some(',') => fields.push(field),
+                Some(c) => return Err(format!("{c:?} after a quoted field")),
+            }
+        } else {
+            loop {
+                match chars.next() {
+                    None => {
+                        fields.push(field);
+                        return Ok(fields);
+                    }
+                    Some(',') => break,
+                    Some(c) => field.push(c),
+                }
+            }
+            fields.push(field);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_csv_reads_back_its_joints_and_refuses_a_frame_out_of_order() {
+        let text = "frame,joint,x,y,z\n0,Hips,0,1,2\n0,\"Left, Arm\",3,4,5\n1,Hips,6,7,8\n1,\"Left, Arm\",9,10,11\n";
+        let (names, points) = read_csv(text, "t.csv").unwrap();
+        assert_eq!(names, ["Hips", "Left, Arm"]);
+        assert_eq!(points[3], DVec3::new(9.0, 10.0, 11.0));
+        let bad = "frame,joint,x,y,z\n0,Hips,0,1,2\n0,Arm,3,4,5\n1,Arm,6,7,8\n";
+        assert_eq!(
+            read_csv(bad, "t.csv").unwrap_err().to_string(),
+            "t.csv:4: frame 1, joint \"Arm\": expected frame 1, joint \"Hips\" (every frame lists \
+             the same joints in the same order)"
+        );
+    }
+
+    #[test]
+    fn an_npy_in_either_order_and_width_reads_the_same() {
+        // numpy's own bytes for np.arange(12, dtype='<f8').reshape(2, 2, 3), and the same array
+        // saved Fortran-ordered as float32.
+        let header = |descr: &str, fortran: bool| {
+            let dict = format!(
+                "{{'descr': '{descr}', 'fortran_order': {}, 'shape': (2, 2, 3), }}",
+                if fortran { "True" } else { "False" }
+            );
+            let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+            let padded = (10 + dict.len() + 1).div_ceil(64) * 64;
+            let length = padded - 10;
+            bytes.extend_from_slice(&(length as u16).to_le_bytes());
+            bytes.extend_from_slice(dict.as_bytes());
+            bytes.resize(padded - 1, b' ');
+            bytes.push(b'\n');
+            bytes
+        };
+        let mut c_order = header("<f8", false);
+        for v in 0..12 {
+            c_order.extend_from_slice(&f64::from(v).to_le_bytes());
+        }
+        let mut f_order = header("<f4", true);
+        for c in 0..3 {
+            for j in 0..2 {
+                for f in 0..2 {
+                    f_order.extend_from_slice(&(((f * 2 + j) * 3 + c) as f32).to_le_bytes());
+                }
+            }
+        }
+        let a = read_npy(&c_order, "c.npy").unwrap();
+        let b = read_npy(&f_order, "f.npy").unwrap();
+        assert_eq!(a, b);
+        assert_eq!(a.1[3], DVec3::new(9.0, 10.0, 11.0));
+        // A header promising more than the file holds is refused before anything is read.
+        let mut short = header("<f8", false);
+        short.extend_from_slice(&[0; 16]);
+        assert!(
+            read_npy(&short, "s.npy")
+                .unwrap_err()
+                .to_string()
+                .contains("more than the file holds")
+        );
+    }
+}

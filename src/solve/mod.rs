@@ -1,0 +1,632 @@
+//! Joint positions to rotations (`bvhview solve`, Python `Motion.from_positions`): what a pose
+//! estimator or a text-to-motion model outputs, frames × joints × 3, becomes a take on a
+//! skeleton, in the skeleton's own channels and rotation orders.
+//!
+//! Each joint of the skeleton the data names turns so that the bones to its nearest named
+//! joints below it point where the data's do: with one such bone, by the smallest turn from
+//! where its parent carries it (the twist stays its parent's, so it is continuous over time);
+//! with several (the hips: both thighs and the spine; the chest: the neck and both clavicles),
+//! by the rotation that best lays them all (Horn's quaternion method), which lays each exactly
+//! when the data's shape is the skeleton's. Joints the data does not name keep their rest
+//! rotation. Bone lengths are the skeleton's: where the data's differ, directions are kept. The
+//! root moves the shallowest named joint to where the data puts it, scaled by the skeleton's
+//! legs over the data's (as retargeting scales a path).
+
+pub mod input;
+
+pub use input::*;
+
+use crate::io::error::Error;
+use crate::model::body::Body;
+use crate::model::motion::Motion;
+use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
+use crate::model::skeleton::Skeleton;
+use glam::{DQuat, DVec3};
+
+/// SMPL's 22 body joints in SMPL's order (HumanML3D's `new_joints/*.npy`, AMASS, most
+/// text-to-motion models), by the names of the built-in `smpl22` skeleton: the layout an
+/// unnamed array of 22 joints is read in.
+pub const SMPL22_ORDER: [&str; 22] = [
+    "pelvis",
+    "left_hip",
+    "right_hip",
+    "spine1",
+    "left_knee",
+    "right_knee",
+    "spine2",
+    "left_ankle",
+    "right_ankle",
+    "spine3",
+    "left_foot",
+    "right_foot",
+    "neck",
+    "left_collar",
+    "right_collar",
+    "head",
+    "left_shoulder",
+    "right_shoulder",
+    "left_elbow",
+    "right_elbow",
+    "left_wrist",
+    "right_wrist",
+];
+
+/// Joint positions over frames: what [`solve`] reads.
+///
+/// ```
+/// use bvhview::solve::{Positions, SMPL22_ORDER};
+/// use glam::DVec3;
+///
+/// let positions = Positions::new(
+///     SMPL22_ORDER.iter().map(|n| n.to_string()).collect(),
+///     vec![DVec3::ZERO; 22 * 3],
+///     1.0 / 20.0,
+/// ).unwrap();
+/// assert_eq!(positions.frames(), 3);
+/// assert_eq!(positions.at(2, 21), DVec3::ZERO);
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Positions {
+    /// Each point's name (a joint of the skeleton solved onto, or of a layout).
+    pub names: Vec<String>,
+    /// Frame after frame, each point's position.
+    pub points: Vec<DVec3>,
+    /// Seconds between frames.
+    pub frame_time: f64,
+}
+
+impl Positions {
+    /// Positions of `names.len()` points a frame; refused when `points` is not a whole number
+    /// of frames, a name repeats, a value is not finite or the frame time is not positive.
+    pub fn new(
+        names: Vec<String>,
+        points: Vec<DVec3>,
+        frame_time: f64,
+    ) -> Result<Positions, Error> {
+        let refuse = |why: String| Err(Error::Usage(format!("positions: {why}")));
+        if names.is_empty() || !points.len().is_multiple_of(names.len()) {
+            return refuse(format!(
+                "{} points are not whole frames of {} joints",
+                points.len(),
+                names.len()
+            ));
+        }
+        let mut seen = std::collections::HashSet::new();
+        if let Some(name) = names.iter().find(|n| !seen.insert(n.as_str())) {
+            return refuse(format!("the joint {name:?} is named twice"));
+        }
+        if let Some(at) = points.iter().position(|p| !p.is_finite()) {
+            return refuse(format!(
+                "frame {}, joint {:?}: not a finite position",
+                at / names.len(),
+                names[at % names.len()]
+            ));
+        }
+        if !(frame_time > 0.0 && frame_time.is_finite()) {
+            return refuse(format!("frame time {frame_time}: not a positive number"));
+        }
+        Ok(Positions {
+            names,
+            points,
+            frame_time,
+        })
+    }
+
+    /// How many frames.
+    pub fn frames(&self) -> usize {
+        self.points.len() / self.names.len().max(1)
+    }
+
+    /// Point `point`'s position in frame `frame`.
+    pub fn at(&self, frame: usize, point: usize) -> DVec3 {
+        self.points[frame * self.names.len() + point]
+    }
+}
+
+/// What [`solve`] did: which joints it matched, how it scaled, how near the solved take comes
+/// to the data.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Solved {
+    /// The skeleton's legs over the data's (1 without legs in both): what the root's path is
+    /// multiplied by.
+    pub scale: f64,
+    /// Per skeleton point the data names (joint or End Site, in skeleton order): the point, and
+    /// the farthest the solved take puts it from where the data does (scaled, in the
+    /// skeleton's units), over every frame.
+    pub errors: Vec<(usize, f64)>,
+    /// Data points the skeleton has no point of that name for, left out.
+    pub unmatched: Vec<String>,
+    /// What could not be done as asked (a root without position channels; a joint that turns
+    /// about fewer than three axes).
+    pub notes: Vec<String>,
+}
+
+impl Solved {
+    /// The figure `bvhview solve` prints: the matched joints, the worst one and the scale.
+    pub fn summary(&self, skeleton: &Skeleton) -> String {
+        let worst = self.errors.iter().copied().fold(
+            None,
+            |worst: Option<(usize, f64)>, (j, e)| match worst {
+                Some((_, w)) if w >= e => worst,
+                _ => Some((j, e)),
+            },
+        );
+        let mut text = format!(
+            "{} joints matched, path ×{:.4}",
+            self.errors.len(),
+            self.scale
+        );
+        if let Some((j, e)) = worst {
+            text += &format!(
+                "; farthest from the data: {} by {e:.4}",
+                crate::model::skeleton::export_name(skeleton, j)
+            );
+        }
+        if !self.unmatched.is_empty() {
+            text += &format!("; not in the skeleton: {}", self.unmatched.join(", "));
+        }
+        text
+    }
+}
+
+/// The take on `skeleton` whose joints stand where `positions` puts them (see the module docs),
+/// the positions' `up` axis turned to the skeleton's (`None`: the skeleton's own). Refused when
+/// no joint or fewer than two of the data's names are the skeleton's.
+///
+/// ```
+/// use bvhview::Take;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// // A walk's own joint positions solved back onto its skeleton: the same positions.
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?.trim(0..20);
+/// let names = take.point_names();
+/// let mut points = Vec::new();
+/// for f in 0..take.frame_count() {
+///     points.extend(take.positions(f).unwrap().iter().map(|p| p.as_dvec3()));
+/// }
+/// let positions = bvhview::solve::Positions::new(names, points, take.motion.frame_time)?;
+/// let (motion, solved) = bvhview::solve::solve(&take.skeleton, &positions, None)?;
+/// assert_eq!(motion.frame_count(), 20);
+/// assert!(solved.errors.iter().all(|&(_, e)| e < 1e-3), "{solved:?}");
+/// # Ok(())
+/// # }
+/// ```
+pub fn solve(
+    skeleton: &Skeleton,
+    positions: &Positions,
+    up: Option<Up>,
+) -> Result<(Motion, Solved), Error> {
+    let count = skeleton.joints.len();
+    let names: Vec<String> = (0..count)
+        .map(|j| crate::model::skeleton::export_name(skeleton, j))
+        .collect();
+    // Each skeleton point's data point: by name as exports write it (`LeftToeBase_End` for an
+    // End Site), else by the joint's own name, case aside.
+    let mut data_of: Vec<Option<usize>> = vec![None; count];
+    let mut unmatched = Vec::new();
+    for (k, name) in positions.names.iter().enumerate() {
+        let found = names.iter().position(|n| n == name).or_else(|| {
+            names
+                .iter()
+                .position(|n| n.eq_ignore_ascii_case(name))
+                .filter(|&j| data_of[j].is_none())
+        });
+        match found {
+            Some(j) if data_of[j].is_none() => data_of[j] = Some(k),
+            _ => unmatched.push(name.clone()),
+        }
+    }
+    let matched = data_of.iter().flatten().count();
+    if matched < 2 {
+        return Err(Error::Usage(format!(
+            "positions: {matched} of their {} joints are joints of the skeleton (its joints: \
+             {}); name them as the skeleton does, or give the layout (--joints smpl22)",
+            positions.names.len(),
+            names.iter().take(8).cloned().collect::<Vec<_>>().join(", ")
+        )));
+    }
+    let mut rest = Vec::new();
+    world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
+    // The data turned to the skeleton's up axis.
+    let skeleton_up = Up::guess(skeleton);
+    let turn = match up {
+        Some(up) if up != skeleton_up => {
+            skeleton_up.to_y_up().as_dquat().inverse() * up.to_y_up().as_dquat()
+        }
+        _ => DQuat::IDENTITY,
+    };
+    let frames = positions.frames();
+    let data = |frame: usize, joint: usize| -> Option<DVec3> {
+        data_of[joint].map(|k| turn * positions.at(frame, k))
+    };
+    // Per named joint, the named joints it turns towards and those bones at rest: the nearest
+    // named joints below it, past any that stand where it stands at rest (CMU's `LHipJoint`
+    // at the hips: the hips then turn towards the thighs beyond).
+    let targets: Vec<Vec<(usize, DVec3)>> = (0..count)
+        .map(|j| match data_of[j] {
+            Some(_) => targets_of(skeleton, j, &data_of, &rest),
+            None => Vec::new(),
+        })
+        .collect();
+    let scale = scale_of(skeleton, &rest, &data_of, positions, turn);
+    let mut notes = Vec::new();
+    let limited: Vec<bool> = skeleton
+        .joints
+        .iter()
+        .map(|j| !j.end_site && j.rotation_order.is_none())
+        .collect();
+    for (j, joint) in skeleton.joints.iter().enumerate() {
+        if limited[j] && joint.channels.iter().any(|c| c.is_rotation()) && !targets[j].is_empty() {
+            notes.push(format!(
+                "{} turns about fewer than three axes: its bones lie as near the data's as it can",
+                joint.name
+            ));
+        }
+    }
+    // What carries the path: the joint with position channels nearest above the hips (or the
+    // shallowest named joint), which moves that joint to where the data puts it, scaled.
+    // Joints with position channels above it that the data names are put where it says (a
+    // root above the hips, Bandai's `joint_Root`); every other keeps its OFFSET, so bones keep
+    // the skeleton's lengths.
+    let moves = |j: usize| skeleton.joints[j].channels.iter().any(|c| c.is_position());
+    let hips = Body::of(skeleton)
+        .hips
+        .filter(|&h| data_of[h].is_some())
+        .or_else(|| {
+            skeleton
+                .roots()
+                .find_map(|root| shallowest_named(skeleton, root, &data_of))
+        });
+    let carrier = hips.and_then(|h| {
+        let mut at = Some(h);
+        while let Some(j) = at {
+            if moves(j) {
+                return Some(j);
+            }
+            at = skeleton.joints[j].parent;
+        }
+        None
+    });
+    if carrier.is_none() {
+        notes.push(format!(
+            "no joint at or above {} has position channels: the take does not travel",
+            hips.map_or("the hips", |h| skeleton.joints[h].name.as_str())
+        ));
+    }
+    let placed: Vec<bool> = (0..count)
+        .map(|j| {
+            moves(j)
+                && data_of[j].is_some()
+                && carrier
+                    .is_some_and(|c| c != j && crate::model::body::is_ancestor(skeleton, j, c))
+        })
+        .collect();
+    let channels = skeleton.channel_count();
+    let mut data_out = vec![0.0f32; frames * channels];
+    let mut world: Vec<DQuat> = vec![DQuat::IDENTITY; count];
+    let mut at: Vec<DVec3> = vec![DVec3::ZERO; count];
+    let mut previous: Vec<Option<[f64; 3]>> = vec![None; count];
+    for f in 0..frames {
+        let row = &mut data_out[f * channels..(f + 1) * channels];
+        for (j, joint) in skeleton.joints.iter().enumerate() {
+            let parent = joint.parent.map_or(DQuat::IDENTITY, |p| world[p]);
+            let wanted = match data(f, j) {
+                Some(at) if !targets[j].is_empty() => {
+                    let pairs: Vec<(DVec3, DVec3)> = targets[j]
+                        .iter()
+                        .filter_map(|&(d, bone)| {
+                            let to = data(f, d)? - at;
+                            (to.length() > 1e-9 && bone.length() > 1e-9).then_some((bone, to))
+                        })
+                        .collect();
+                    match pairs[..] {
+                        [] => parent,
+                        [(bone, to)] => {
+                            DQuat::from_rotation_arc((parent * bone).normalize(), to.normalize())
+                                * parent
+                        }
+                        _ => best_rotation(&pairs),
+                    }
+                }
+                _ => parent,
+            };
+            let mut local = (parent.inverse() * wanted).normalize();
+            if !joint.end_site {
+                let angles = match joint.rotation_order {
+                    Some(order) => {
+                        let channel = match joint.axis {
+                            Some(c) => {
+                                let c = c.as_dquat().normalize();
+                                c.inverse() * local * c
+                            }
+                            None => local,
+                        };
+                        let angles = crate::model::euler::split(channel, order, previous[j]);
+                        previous[j] = Some(angles);
+                        angles
+                    }
+                    None => {
+                        let bone = targets[j].first().map(|&(_, b)| b);
+                        let (angles, realized) =
+                            crate::retarget::limited_angles(joint, local, bone);
+                        local = realized;
+                        angles
+                    }
+                };
+                let mut rotations = angles.into_iter();
+                for (i, channel) in joint.channels.iter().enumerate() {
+                    row[joint.first_channel + i] = if channel.is_position() {
+                        joint.offset[channel.axis()]
+                    } else {
+                        rotations.next().unwrap_or(0.0).to_degrees() as f32
+                    };
+                }
+            }
+            world[j] = parent * local;
+        }
+        // Then the translations, top down: the carrier's and those of the joints placed above
+        // it; the others' position channels keep their OFFSET.
+        for (j, joint) in skeleton.joints.iter().enumerate() {
+            let (parent_rotation, parent_at) = joint
+                .parent
+                .map_or((DQuat::IDENTITY, DVec3::ZERO), |p| (world[p], at[p]));
+            let rest_translation = match joint.parent {
+                Some(p) => rest[j].1 - rest[p].1,
+                None => rest[j].1,
+            };
+            let translation = if placed[j] {
+                data(f, j).map(|to| parent_rotation.inverse() * (to * scale - parent_at))
+            } else if Some(j) == carrier {
+                hips.and_then(|h| {
+                    let to = data(f, h)?;
+                    // Where the hips stand from the carrier: the bones between, turned.
+                    let mut below = DVec3::ZERO;
+                    let mut k = h;
+                    while k != j {
+                        let p = skeleton.joints[k].parent?;
+                        below += world[p] * (rest[k].1 - rest[p].1);
+                        k = p;
+                    }
+                    Some(parent_rotation.inverse() * (to * scale - below - parent_at))
+                })
+            } else {
+                None
+            };
+            at[j] = parent_at + parent_rotation * translation.unwrap_or(rest_translation);
+            if let Some(translation) = translation {
+                for (i, channel) in joint.channels.iter().enumerate() {
+                    if channel.is_position() {
+                        row[joint.first_channel + i] = translation[channel.axis()] as f32;
+                    }
+                }
+            }
+        }
+    }
+    let (skeleton_checked, motion) = crate::edit::finite(
+        "solve",
+        skeleton.clone(),
+        Motion::new(positions.frame_time, channels, frames, data_out),
+    )?;
+    // How near the solved take comes to the data.
+    let mut errors: Vec<(usize, f64)> = (0..count)
+        .filter(|&j| data_of[j].is_some())
+        .map(|j| (j, 0.0))
+        .collect();
+    let mut posed = Vec::new();
+    for f in 0..frames {
+        world_transforms_f64(
+            &skeleton_checked,
+            motion.frame(f),
+            OffsetMode::Replace,
+            &mut posed,
+        );
+        for (j, error) in errors.iter_mut() {
+            if let Some(at) = data(f, *j) {
+                *error = error.max((posed[*j].1 - at * scale).length());
+            }
+        }
+    }
+    Ok((
+        motion,
+        Solved {
+            scale,
+            errors,
+            unmatched,
+            notes,
+        },
+    ))
+}
+
+/// The named joints `j` turns towards (see where it is called), in file order.
+fn targets_of(
+    skeleton: &Skeleton,
+    j: usize,
+    data_of: &[Option<usize>],
+    rest: &[(DQuat, DVec3)],
+) -> Vec<(usize, DVec3)> {
+    let mut out = Vec::new();
+    let mut stack: Vec<usize> = skeleton.joints[j].children.iter().rev().copied().collect();
+    while let Some(c) = stack.pop() {
+        let bone = rest[c].1 - rest[j].1;
+        if data_of[c].is_some() && bone.length() > 1e-9 {
+            out.push((c, bone));
+        } else {
+            stack.extend(skeleton.joints[c].children.iter().rev().copied());
+        }
+    }
+    out
+}
+
+/// The shallowest joint the data names at or below `root` (breadth first).
+fn shallowest_named(skeleton: &Skeleton, root: usize, data_of: &[Option<usize>]) -> Option<usize> {
+    let mut level = vec![root];
+    while !level.is_empty() {
+        if let Some(&j) = level.iter().find(|&&j| data_of[j].is_some()) {
+            return Some(j);
+        }
+        level = level
+            .iter()
+            .flat_map(|&j| skeleton.joints[j].children.iter().copied())
+            .collect();
+    }
+    None
+}
+
+/// The skeleton's legs over the data's (the median over the frames), else over the named
+/// bones' lengths summed; 1 when neither can be measured.
+fn scale_of(
+    skeleton: &Skeleton,
+    rest: &[(DQuat, DVec3)],
+    data_of: &[Option<usize>],
+    positions: &Positions,
+    turn: DQuat,
+) -> f64 {
+    let body = Body::of(skeleton);
+    let frames = positions.frames();
+    let at = |f: usize, j: usize| data_of[j].map(|k| turn * positions.at(f, k));
+    if let Some(legs) = body.leg_length(rest) {
+        let mut measured: Vec<f64> = (0..frames)
+            .filter_map(|f| {
+                let sides: Vec<f64> = body
+                    .limbs
+                    .iter()
+                    .filter_map(|limb| {
+                        use crate::model::body::Limb;
+                        let (t, s, a) = (
+                            at(f, limb[Limb::Thigh as usize]?)?,
+                            at(f, limb[Limb::Shin as usize]?)?,
+                            at(f, limb[Limb::Foot as usize]?)?,
+                        );
+                        Some((s - t).length() + (a - s).length())
+                    })
+                    .collect();
+                (!sides.is_empty()).then(|| sides.iter().sum::<f64>() / sides.len() as f64)
+            })
+            .collect();
+        if !measured.is_empty() {
+            measured.sort_by(f64::total_cmp);
+            let median = measured[measured.len() / 2];
+            if median > 1e-9 {
+                return legs / median;
+            }
+        }
+    }
+    // Without legs: every named bone (a joint to its nearest named ancestor) in the first frame.
+    let (mut skeleton_total, mut data_total) = (0.0, 0.0);
+    for j in 0..skeleton.joints.len() {
+        let mut at_parent = skeleton.joints[j].parent;
+        while let Some(p) = at_parent.filter(|&p| data_of[p].is_none()) {
+            at_parent = skeleton.joints[p].parent;
+        }
+        if let (Some(p), Some(a), Some(b)) = (at_parent, at(0, j), at_parent.and_then(|p| at(0, p)))
+        {
+            skeleton_total += (rest[j].1 - rest[p].1).length();
+            data_total += (a - b).length();
+        }
+    }
+    if data_total > 1e-9 && skeleton_total > 1e-9 {
+        skeleton_total / data_total
+    } else {
+        1.0
+    }
+}
+
+/// The rotation that best turns each `from` onto its `to` (unit directions, equal weights):
+/// Horn's quaternion method, the eigenvector of the largest eigenvalue of a symmetric 4 × 4
+/// matrix. Exact when the directions agree with one rotation.
+pub(crate) fn best_rotation(pairs: &[(DVec3, DVec3)]) -> DQuat {
+    // S[a][b] = Σ from_a · to_b.
+    let mut s = [[0.0f64; 3]; 3];
+    for &(from, to) in pairs {
+        let (from, to) = (from.normalize(), to.normalize());
+        for a in 0..3 {
+            for b in 0..3 {
+                s[a][b] += from[a] * to[b];
+            }
+        }
+    }
+    let [[xx, xy, xz], [yx, yy, yz], [zx, zy, zz]] = s;
+    let n = [
+        [xx + yy + zz, yz - zy, zx - xz, xy - yx],
+        [yz - zy, xx - yy - zz, xy + yx, zx + xz],
+        [zx - xz, xy + yx, -xx + yy - zz, yz + zy],
+        [xy - yx, zx + xz, yz + zy, -xx - yy + zz],
+    ];
+    let [w, x, y, z] = largest_eigenvector(n);
+    DQuat::from_xyzw(x, y, z, w).normalize()
+}
+
+/// The eigenvector of the largest eigenvalue of a symmetric 4 × 4 matrix, by cyclic Jacobi
+/// rotations (exact to rounding for these sizes in a few sweeps).
+fn largest_eigenvector(mut a: [[f64; 4]; 4]) -> [f64; 4] {
+    let mut v = [[0.0f64; 4]; 4];
+    for (i, row) in v.iter_mut().enumerate() {
+        row[i] = 1.0;
+    }
+    for _ in 0..32 {
+        let off: f64 = (0..4)
+            .flat_map(|p| ((p + 1)..4).map(move |q| (p, q)))
+            .map(|(p, q)| a[p][q] * a[p][q])
+            .sum();
+        if off < 1e-30 {
+            break;
+        }
+        for p in 0..4 {
+            for q in (p + 1)..4 {
+                if a[p][q].abs() < 1e-300 {
+                    continue;
+                }
+                let theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
+                let t = theta.signum() / (theta.abs() + (theta * theta + 1.0).sqrt());
+                let t = if theta == 0.0 { 1.0 } else { t };
+                let c = 1.0 / (t * t + 1.0).sqrt();
+                let s = t * c;
+                for row in a.iter_mut() {
+                    let (akp, akq) = (row[p], row[q]);
+                    row[p] = c * akp - s * akq;
+                    row[q] = s * akp + c * akq;
+                }
+                let (row_p, row_q) = (a[p], a[q]);
+                for k in 0..4 {
+                    a[p][k] = c * row_p[k] - s * row_q[k];
+                    a[q][k] = s * row_p[k] + c * row_q[k];
+                }
+                for row in v.iter_mut() {
+                    let (vp, vq) = (row[p], row[q]);
+                    row[p] = c * vp - s * vq;
+                    row[q] = s * vp + c * vq;
+                }
+            }
+        }
+    }
+    let best = (0..4)
+        .max_by(|&i, &j| a[i][i].total_cmp(&a[j][j]))
+        .unwrap_or(0);
+    [v[0][best], v[1][best], v[2][best], v[3][best]]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_best_rotation_recovers_a_rotation_from_three_directions() {
+        let turn = DQuat::from_euler(glam::EulerRot::YXZ, 1.1, -0.4, 2.7);
+        let from = [
+            DVec3::X,
+            DVec3::new(0.3, 1.0, -0.2),
+            DVec3::new(-0.5, -0.1, 0.9),
+        ];
+        let pairs: Vec<(DVec3, DVec3)> = from.iter().map(|&f| (f, turn * f)).collect();
+        let found = best_rotation(&pairs);
+        for &(f, t) in &pairs {
+            assert!((found * f - t).length() < 1e-12, "{} {}", found * f, t);
+        }
+        // Two directions fix it too; a half turn is found as well as a small one.
+        let half = DQuat::from_axis_angle(DVec3::Y, std::f64::consts::PI);
+        let pairs = [(DVec3::X, half * DVec3::X), (DVec3::Z, half * DVec3::Z)];
+        let found = best_rotation(&pairs);
+        assert!((found * DVec3::X - half * DVec3::X).length() < 1e-12);
+        assert!((found * DVec3::Z - half * DVec3::Z).length() < 1e-12);
+    }
+}
