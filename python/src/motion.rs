@@ -659,6 +659,19 @@ impl Motion {
         })
     }
 
+    /// The take with its jitter smoothed, as `convert --smooth HZ`: a zero-phase low-pass at
+    /// `hz` (below half the frame rate) on every position channel and every joint's rotation
+    /// (a sign-continuous quaternion path, renormalised). ValueError for a cutoff out of range.
+    fn smooth(&self, py: Python<'_>, hz: f64) -> PyResult<Motion> {
+        guard("smooth", || {
+            let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let motion = py
+                .detach(|| bvhview::edit::smooth(skeleton, motion, hz))
+                .map_err(|e| to_python(py, e))?;
+            Ok(self.edited(skeleton.clone(), motion, true))
+        })
+    }
+
     /// The take moved along its `up_axis` so that the lowest point of its soles over the take
     /// (each leg's ankle and what is below it; every joint for a body without two feet), in its
     /// offset mode, is at 0, as `convert --ground`.
@@ -681,9 +694,11 @@ impl Motion {
     /// data's, the skeleton's lengths kept, the path scaled by the legs. `joints`: the
     /// positions' joint names in order (a list, or a layout's name: "smpl22", the same as
     /// "humanml3d"); 22 joints without it are read in SMPL's order. `up`: the positions' up axis
-    /// ("y" or "z") when it is not the skeleton's.
+    /// ("y" or "z") when it is not the skeleton's. `smooth`: a cutoff in Hz for jittery input,
+    /// as `smooth()`.
     #[staticmethod]
-    #[pyo3(signature = (positions, skeleton, *, joints=None, fps, up=None))]
+    #[pyo3(signature = (positions, skeleton, *, joints=None, fps, up=None, smooth=None))]
+    #[allow(clippy::too_many_arguments)]
     fn from_positions(
         py: Python<'_>,
         positions: numpy::PyArrayLike3<'_, f64, numpy::AllowTypeChange>,
@@ -691,9 +706,15 @@ impl Motion {
         joints: Option<Bound<'_, PyAny>>,
         fps: f64,
         up: Option<&str>,
+        smooth: Option<f64>,
     ) -> PyResult<Motion> {
         guard("from_positions", || {
-            crate::retarget::from_positions(py, positions, skeleton, joints.as_ref(), fps, up)
+            let solved =
+                crate::retarget::from_positions(py, positions, skeleton, joints.as_ref(), fps, up)?;
+            match smooth {
+                Some(hz) => solved.smooth(py, hz),
+                None => Ok(solved),
+            }
         })
     }
 

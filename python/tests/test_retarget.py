@@ -163,3 +163,22 @@ def test_from_positions_solves_a_models_joints_back_onto_smpl22():
         bad = joints.copy()
         bad[3, 4, 1] = np.nan
         bvhview.Motion.from_positions(bad, "smpl22", fps=20)
+
+
+def test_smooth_cuts_jitter_and_keeps_the_take():
+    """smooth(hz), as `convert --smooth`, and from_positions(smooth=): a walk's joints with
+    jitter added come back nearer the clean ones."""
+    # From frame 10 on: the file's first frame is a T-pose, a jump any low-pass spreads.
+    walk = bvhview.load(DATA / "bvh" / "bvhparser_walk_01.bvh").trim(10, None)
+    clean = walk.positions()
+    rng = np.random.default_rng(48)
+    noisy_points = clean + rng.uniform(-0.2, 0.2, clean.shape).astype(np.float32)
+    names = walk.joint_names  # End Sites as exports name them, LeftToeBase_End
+    raw = bvhview.Motion.from_positions(noisy_points, walk, joints=names, fps=walk.fps)
+    smooth = bvhview.Motion.from_positions(
+        noisy_points, walk, joints=names, fps=walk.fps, smooth=6)
+    error = lambda m: float(np.linalg.norm(m.positions() - clean, axis=-1).mean())
+    assert error(smooth) <= 0.5 * error(raw)
+    np.testing.assert_allclose(walk.smooth(6).positions(), clean, atol=1.0)
+    with pytest.raises(ValueError, match="below half the frame rate"):
+        walk.smooth(61)

@@ -16,6 +16,11 @@ pub(crate) struct ConvertArgs {
     /// Keep only these frames: N, A..B (B left out), A..=B, A.. or ..B (applied first).
     #[arg(long)]
     frames: Option<String>,
+    /// Smooth jitter: a zero-phase low-pass at this cutoff in Hz on every position channel and
+    /// every joint's rotation (as a quaternion path), below half the frame rate (applied right
+    /// after --frames, at the take's own rate).
+    #[arg(long, value_name = "HZ")]
+    smooth: Option<f64>,
     /// Resample to this many frames per second: rotations slerped, positions interpolated
     /// (applied second; any ratio, such as 120 to 100).
     #[arg(long)]
@@ -142,12 +147,15 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
     Ok(())
 }
 
-/// The edits, in this order: trim, resample, scale, up axis, mirror, lock feet, in place,
-/// ground.
+/// The edits, in this order: trim, smooth, resample, scale, up axis, mirror, lock feet, in
+/// place, ground.
 fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
     if let Some(frames) = &args.frames {
         let range = crate::positions::parse_frames(frames, loaded.motion.frame_count())?;
         loaded.motion = crate::edit::trim(&loaded.motion, range);
+    }
+    if let Some(cutoff) = args.smooth {
+        loaded.motion = crate::edit::smooth(&loaded.skeleton, &loaded.motion, cutoff)?;
     }
     if let Some(fps) = args.fps {
         loaded.motion = crate::edit::resample(&loaded.skeleton, &loaded.motion, fps)?;

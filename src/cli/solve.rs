@@ -25,6 +25,10 @@ pub(crate) struct SolveArgs {
     /// The positions' up axis, when it is not the skeleton's (HumanML3D's is y).
     #[arg(long, value_enum)]
     up: Option<UpArg>,
+    /// Smooth jittery positions (a pose estimator's): a zero-phase low-pass at this cutoff in
+    /// Hz on the solved root path and rotations, as `convert --smooth`.
+    #[arg(long, value_name = "HZ")]
+    smooth: Option<f64>,
     /// Refuse inputs larger than this (K, M, G suffixes).
     #[arg(long, value_name = "SIZE", default_value = "8G", value_parser = parse_max_size)]
     max_size: u64,
@@ -53,6 +57,10 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
     let target = Target::load(&args.onto, args.max_size)?;
     let (motion, solved) =
         crate::solve::solve(&target.skeleton, &positions, args.up.map(Up::from))?;
+    let motion = match args.smooth {
+        Some(cutoff) => crate::edit::smooth(&target.skeleton, &motion, cutoff)?,
+        None => motion,
+    };
     for note in &solved.notes {
         eprintln!("bvhview: {}: warning: {note}", target.name);
     }

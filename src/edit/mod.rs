@@ -16,6 +16,7 @@ mod mirror;
 mod orient;
 mod resample;
 mod scale;
+mod smooth;
 #[cfg(test)]
 mod testing;
 
@@ -26,3 +27,4 @@ pub use mirror::*;
 pub use orient::*;
 pub use resample::*;
 pub use scale::*;
+pub use smooth::*;
