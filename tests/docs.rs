@@ -73,6 +73,7 @@ const SUBCOMMANDS: &[&str] = &[
     "convert",
     "dataset",
     "retarget",
+    "solve",
     "generate",
     "help",
 ];
