@@ -282,6 +282,58 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
         );
     }
 
+    // Joint positions back to rotations (issue 48): the take's 22 joints on smpl22, as a
+    // motion model outputs them, solved back onto smpl22 on one thread, in turn with
+    // retargeting the take there on one thread, round by round.
+    if retargets {
+        use bvhview::model::pose::{OffsetMode, world_transforms_f64};
+        let (smpl, moved) = target
+            .apply("BIG", &bvh.skeleton, &bvh.motion, &[], 1)
+            .expect("retargets");
+        let names: Vec<String> = (0..smpl.joints.len())
+            .map(|j| bvhview::model::skeleton::export_name(&smpl, j))
+            .collect();
+        let order: Vec<usize> = bvhview::solve::SMPL22_ORDER
+            .iter()
+            .map(|n| names.iter().position(|m| m == n).expect("smpl22 names"))
+            .collect();
+        let mut points = Vec::with_capacity(moved.frame_count() * order.len());
+        let mut world = Vec::new();
+        for f in 0..moved.frame_count() {
+            world_transforms_f64(&smpl, moved.frame(f), OffsetMode::Replace, &mut world);
+            points.extend(order.iter().map(|&j| world[j].1));
+        }
+        let positions = bvhview::solve::Positions::new(
+            bvhview::solve::joint_names("smpl22"),
+            points,
+            moved.frame_time,
+        )
+        .expect("finite positions");
+        let (mut solves, mut moves) = (Vec::new(), Vec::new());
+        for _ in 0..rounds {
+            let start = Instant::now();
+            drop(target.apply("BIG", &bvh.skeleton, &bvh.motion, &[], 1));
+            moves.push(start.elapsed());
+            let start = Instant::now();
+            drop(bvhview::solve::solve(&smpl, &positions, None).expect("solves"));
+            solves.push(start.elapsed());
+        }
+        let (sm, sf) = median_and_min(&mut solves);
+        let (rm, rf) = median_and_min(&mut moves);
+        let frames = moved.frame_count() as f64;
+        println!(
+            "solve 22 joints onto smpl22, 1 thread, {rounds} rounds in turn with retarget: \
+             solve median {:.1} ms (fastest {:.1}), {:.0} frames/s per core (fastest {:.0}); \
+             retarget median {:.1} ms (fastest {:.1})",
+            sm.as_secs_f64() * 1e3,
+            sf.as_secs_f64() * 1e3,
+            frames / sm.as_secs_f64(),
+            frames / sf.as_secs_f64(),
+            rm.as_secs_f64() * 1e3,
+            rf.as_secs_f64() * 1e3,
+        );
+    }
+
     // CSV export to memory.
     let options = bvhview::positions::PositionsOptions::default();
     let (t_csv, written) = best(runs.min(3), || {

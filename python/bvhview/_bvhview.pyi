@@ -130,10 +130,15 @@ class Motion:
         for bit; other rates slerp."""
     def scale(self, factor: float) -> Motion:
         """Every length times factor: `convert --scale`."""
-    def mirror(self, names: dict[str, str] | None = None, *, rename: bool = False) -> Motion:
+    def mirror(
+        self,
+        names: dict[str, str] | str | os.PathLike[str] | None = None,
+        *,
+        rename: bool = False,
+    ) -> Motion:
         """The mirror image (`convert --mirror`): left and right joints swap their motion,
         names and topology kept; counterparts as `mirror_names` guesses them, `names` (joint
-        to counterpart) over the guess. rename=True (`--mirror-rename`): each joint reflected
+        to counterpart, or a map file's path as `--mirror-names FILE` reads it) over the guess. rename=True (`--mirror-rename`): each joint reflected
         where it is and the names exchanged instead (`names` gives the new names)."""
     def retarget(
         self,
@@ -157,7 +162,11 @@ class Motion:
     def in_place(self) -> Motion:
         """The root kept over its place along the floor: `convert --in-place`."""
     def ground(self) -> Motion:
-        """Lowest point moved to 0: `convert --ground`."""
+        """The lowest point of the soles (each ankle and what is below it) moved to 0:
+        `convert --ground`."""
+    def smooth(self, hz: float) -> Motion:
+        """Jitter smoothed: a zero-phase low-pass at hz (below half the frame rate) on every
+        position channel and joint rotation: `convert --smooth`."""
     def lock_feet(self) -> Motion:
         """Each planted foot held where it landed (two-bone IK on thigh and shin): `convert
         --lock-feet`."""
@@ -174,6 +183,19 @@ class Motion:
     ) -> Motion:
         """A take on template's skeleton from local rotations (as `local_rotations` gives them,
         the kind told by their shape) and the first root's translations; save() writes it."""
+    @staticmethod
+    def from_positions(
+        positions: npt.ArrayLike,
+        skeleton: Motion | str | os.PathLike[str],
+        *,
+        joints: list[str] | str | None = None,
+        fps: float,
+        up: Literal["y", "z"] | None = None,
+        smooth: float | None = None,
+    ) -> Motion:
+        """Joint positions (frames x joints x 3) as a take on skeleton (a Motion, "smpl22" or a
+        file's path): `bvhview solve`. joints: their names in order, or "smpl22"/"humanml3d";
+        22 joints without it are read in SMPL's order."""
     def save(self, path: _PathLike) -> None:
         """Writes BVH (.bvh) or glTF (.glb binary, .gltf text), as `bvhview convert` does."""
     def __len__(self) -> int: ...

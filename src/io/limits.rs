@@ -41,10 +41,9 @@ pub const MAX_ANIMATION_FRAMES: usize = 100_000;
 /// Most values (frames × channels) an edit may make: 1 GiB of f32, a BVH file of about 2 GB.
 pub const MAX_GENERATED_VALUES: u64 = 1 << 28;
 
-/// Most bytes of a file read whole into memory (FBX, GLB, glTF JSON, one glTF buffer): 2 GiB.
-/// Past it a file is refused by its size on disk, before a byte is read (a sparse 6 GB file
-/// takes 4 KB of disk and would take 6 GB of memory).
-#[cfg(any(feature = "fbx", feature = "gltf"))]
+/// Most bytes of a file read whole into memory (FBX, GLB, glTF JSON, one glTF buffer, an `.npy`
+/// of positions): 2 GiB. Past it a file is refused by its size on disk, before a byte is read
+/// (a sparse 6 GB file takes 4 KB of disk and would take 6 GB of memory).
 pub const MAX_WHOLE_FILE_BYTES: u64 = 2 << 30;
 
 /// A number as a message shows it: `1e300`, not three hundred digits.

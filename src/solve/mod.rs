@@ -305,6 +305,8 @@ pub fn solve(
     let mut data_out = vec![0.0f32; frames * channels];
     let mut world: Vec<DQuat> = vec![DQuat::IDENTITY; count];
     let mut at: Vec<DVec3> = vec![DVec3::ZERO; count];
+    // One joint's bones and the data's, reused from joint to joint.
+    let mut pairs: Vec<(DVec3, DVec3)> = Vec::new();
     let mut previous: Vec<Option<[f64; 3]>> = vec![None; count];
     for f in 0..frames {
         let row = &mut data_out[f * channels..(f + 1) * channels];
@@ -312,13 +314,11 @@ pub fn solve(
             let parent = joint.parent.map_or(DQuat::IDENTITY, |p| world[p]);
             let wanted = match data(f, j) {
                 Some(at) if !targets[j].is_empty() => {
-                    let pairs: Vec<(DVec3, DVec3)> = targets[j]
-                        .iter()
-                        .filter_map(|&(d, bone)| {
-                            let to = data(f, d)? - at;
-                            (to.length() > 1e-9 && bone.length() > 1e-9).then_some((bone, to))
-                        })
-                        .collect();
+                    pairs.clear();
+                    pairs.extend(targets[j].iter().filter_map(|&(d, bone)| {
+                        let to = data(f, d)? - at;
+                        (to.length() > 1e-9 && bone.length() > 1e-9).then_some((bone, to))
+                    }));
                     match pairs[..] {
                         [] => parent,
                         [(bone, to)] => {
