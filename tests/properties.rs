@@ -235,3 +235,45 @@ proptest! {
         }
     }
 }
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
+
+    /// `bvhview solve`'s readers (issue 48): an `.npy` or a positions CSV with any bytes
+    /// changed, cut or added never panics; what reads is solved onto smpl22 without a panic.
+    #[test]
+    fn damaged_positions_never_panic(damage in damage(), csv in any::<bool>()) {
+        static FILES: std::sync::OnceLock<(Vec<u8>, Vec<u8>)> = std::sync::OnceLock::new();
+        let (npy, text) = FILES.get_or_init(|| {
+            let npy = std::fs::read("tests/solve/walk_smpl22.npy").unwrap();
+            let mut text = String::from("frame,joint,x,y,z\n");
+            for f in 0..3 {
+                for (j, name) in bvhview::solve::SMPL22_ORDER.iter().enumerate() {
+                    text += &format!("{f},{name},{j},{}.5,-{f}\n", j % 7);
+                }
+            }
+            (npy, text.into_bytes())
+        });
+        let bytes = apply(if csv { text.clone() } else { npy.clone() }, &damage);
+        let read = if csv {
+            std::str::from_utf8(&bytes)
+                .ok()
+                .and_then(|t| bvhview::solve::read_csv(t, "damaged.csv").ok())
+        } else {
+            bvhview::solve::read_npy(&bytes, "damaged.npy")
+                .ok()
+                .map(|(joints, points)| {
+                    let names = (0..joints).map(|j| {
+                        bvhview::solve::SMPL22_ORDER.get(j).map_or(format!("j{j}"), |n| n.to_string())
+                    });
+                    (names.collect(), points)
+                })
+        };
+        if let Some((names, points)) = read
+            && let Ok(positions) = bvhview::solve::Positions::new(names, points, 0.05)
+        {
+            let (smpl, _) = bvhview::retarget::built_in("smpl22").unwrap();
+            let _ = bvhview::solve::solve(&smpl, &positions, None);
+        }
+    }
+}

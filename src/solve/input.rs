@@ -77,7 +77,9 @@ pub fn read_positions(
                     "{shown}: a CSV names its joints; --joints is for an .npy"
                 )));
             }
-            let bytes = crate::io::read::read_file(path, max_size)?;
+            // Read whole, as an .npy is: within the same budget.
+            let budget = max_size.min(crate::io::limits::MAX_WHOLE_FILE_BYTES);
+            let bytes = crate::io::read::read_file(path, budget)?;
             let text = std::str::from_utf8(&bytes)
                 .map_err(|_| Error::Usage(format!("{shown}: not UTF-8 text")))?;
             let (names, points) = read_csv(text, &shown)?;

@@ -302,6 +302,14 @@ pub fn solve(
         })
         .collect();
     let channels = skeleton.channel_count();
+    let values = (frames as u64).saturating_mul(channels as u64);
+    if values > crate::io::limits::MAX_GENERATED_VALUES {
+        return Err(Error::Usage(format!(
+            "positions: {frames} frames × {channels} channels are {values} values, more than the \
+             {} bvhview makes in one take",
+            crate::io::limits::MAX_GENERATED_VALUES
+        )));
+    }
     let mut data_out = vec![0.0f32; frames * channels];
     let mut world: Vec<DQuat> = vec![DQuat::IDENTITY; count];
     let mut at: Vec<DVec3> = vec![DVec3::ZERO; count];
