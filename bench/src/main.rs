@@ -72,7 +72,7 @@ fn folder_pass(files: &[std::path::PathBuf]) -> (Duration, Duration, Option<i64>
     for file in files {
         let start = Instant::now();
         let loaded =
-            bvhview::take::load_checked(file, None, None, bvhview::io::parallel::cores(), u64::MAX)
+            bvhview::take::load_checked(file, None, None, bvhview::plumbing::cores(), u64::MAX)
                 .unwrap_or_else(|e| input_error(e));
         let loaded_at = Instant::now();
         let plan = FkPlan::new(&loaded.skeleton, OffsetMode::Replace);
@@ -114,7 +114,7 @@ fn folder(dir: &str) {
         "folder: {dir} ({} files, {:.1} MB), {} cores",
         files.len(),
         bytes as f64 / 1e6,
-        bvhview::io::parallel::cores()
+        bvhview::plumbing::cores()
     );
     if files.is_empty() {
         input_error(format!("{dir}: no .bvh file in it"));
@@ -232,7 +232,7 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
     // loading the same file, thread for thread. Each round loads on one thread, retargets on one
     // thread, then the same on every thread; ratios are taken round by round.
     let target = bvhview::retarget::Target::load("smpl22", u64::MAX).expect("built in");
-    let cores = bvhview::io::parallel::cores();
+    let cores = bvhview::plumbing::cores();
     let rounds = load.rounds.unwrap_or(if quick { 3 } else { 5 });
     let file = std::path::Path::new(path);
     let retargets = target
@@ -566,7 +566,7 @@ fn compare_loaders(
     options: &LoadOptions,
 ) -> bvhview::bvh::Bvh {
     let rounds = options.rounds.unwrap_or(if quick { 3 } else { 7 });
-    let cores = bvhview::io::parallel::cores();
+    let cores = bvhview::plumbing::cores();
     let file = std::path::Path::new(path);
     let one = bvhview::bvh::loader::Settings {
         threads: 1,
@@ -797,7 +797,7 @@ fn in_process(what: &str, path: &str) {
             let frames = loaded.motion.frame_count();
             let mut out = std::io::BufWriter::with_capacity(
                 1 << 20,
-                bvhview::io::output::AtomicFile::create(&scratch).expect("creates"),
+                bvhview::plumbing::AtomicFile::create(&scratch).expect("creates"),
             );
             bvhview::positions::write_positions(
                 &mut out,
