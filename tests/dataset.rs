@@ -353,8 +353,8 @@ fn resampling_velocities_contacts_and_root_relative_frames_follow_their_definiti
             );
         }
     }
-    // Contacts: low (within 5 cm of the point's own floor: the lowest it comes within a
-    // second, 30 frames, either way) and slow (under 0.5 m/s).
+    // Contacts: low (within 5 cm of where the point rests on the ground the feet stand on
+    // within a second, 30 frames, either way) and slow (under 0.5 m/s).
     let contacts = {
         let entry = group
             .arrays
@@ -375,17 +375,27 @@ fn resampling_velocities_contacts_and_root_relative_frames_follow_their_definiti
         // The reading of the body (issue 46): each leg's ankle and toe joint.
         ["LeftFoot", "LeftToeBase", "RightFoot", "RightToeBase"]
     );
-    // Each foot point's own floor: the lowest it comes within 30 frames either way (a heel
-    // rests higher than a toe tip).
-    let floor = |f: usize, p: usize| {
+    // The ground under a frame: the lowest any foot point comes within 30 frames either way;
+    // where each point rests on it: its least height above it over the clip, at most 12 cm.
+    let lowest_foot = |g: usize| {
+        feet.iter()
+            .map(|&p| at(&positions, g, p as usize).y)
+            .fold(f32::MAX, f32::min)
+    };
+    let ground = |f: usize| {
         (f.saturating_sub(30)..=(f + 30).min(last))
-            .map(|g| at(&positions, g, p).y)
+            .map(lowest_foot)
             .fold(f32::MAX, f32::min)
     };
     let mut touching = 0;
     for (k, &foot) in feet.iter().enumerate() {
+        let height = |f: usize| at(&positions, f, foot as usize).y - ground(f);
+        let rests = (0..clip.frames)
+            .map(height)
+            .fold(f32::MAX, f32::min)
+            .min(0.12);
         for f in 0..clip.frames {
-            let low = at(&positions, f, foot as usize).y - floor(f, foot as usize) <= 0.05;
+            let low = height(f) - rests <= 0.05;
             let slow = at(&velocities, f, foot as usize).length() < 0.5;
             assert_eq!(
                 contacts[f * feet.len() + k],

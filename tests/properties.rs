@@ -273,7 +273,7 @@ proptest! {
             && let Ok(positions) = bvhview::solve::Positions::new(names, points, 0.05)
         {
             let (smpl, _) = bvhview::retarget::built_in("smpl22").unwrap();
-            let _ = bvhview::solve::solve(&smpl, &positions, None);
+            let _ = bvhview::solve::solve(&smpl, bvhview::model::pose::Up::Y, &positions, None);
         }
     }
 }

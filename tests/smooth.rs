@@ -95,7 +95,13 @@ fn smoothing_a_solve_of_noisy_positions_halves_its_error_at_least() {
     let positions =
         bvhview::solve::Positions::new(take.point_names(), jittered, take.motion.frame_time)
             .unwrap();
-    let (solved, _) = bvhview::solve::solve(&take.skeleton, &positions, None).unwrap();
+    let (solved, _) = bvhview::solve::solve(
+        &take.skeleton,
+        bvhview::model::pose::Up::guess(&take.skeleton),
+        &positions,
+        None,
+    )
+    .unwrap();
     let before = mean_distance(&points(&take.skeleton, &solved), &clean);
     let smooth = bvhview::edit::smooth(&take.skeleton, &solved, 6.0).unwrap();
     let after = mean_distance(&points(&take.skeleton, &smooth), &clean);

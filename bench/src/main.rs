@@ -315,7 +315,7 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
             drop(target.apply("BIG", &bvh.skeleton, &bvh.motion, &[], 1));
             moves.push(start.elapsed());
             let start = Instant::now();
-            drop(bvhview::solve::solve(&smpl, &positions, None).expect("solves"));
+            drop(bvhview::solve::solve(&smpl, target.up, &positions, None).expect("solves"));
             solves.push(start.elapsed());
         }
         let (sm, sf) = median_and_min(&mut solves);

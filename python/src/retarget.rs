@@ -182,9 +182,22 @@ pub(crate) fn from_positions(
     let target = target_of(py, skeleton)?;
     let positions = bvhview::solve::Positions::new(names, points, 1.0 / fps)
         .map_err(|e| to_python(py, e))?;
-    let (motion, _) = py
-        .detach(|| bvhview::solve::solve(&target.skeleton, &positions, up))
+    let (motion, solved) = py
+        .detach(|| bvhview::solve::solve(&target.skeleton, target.up, &positions, up))
         .map_err(|e| to_python(py, e))?;
+    // What was not used is said, as the CLI says it: a misspelt name leaves a joint at rest.
+    let warnings = py.import("warnings")?;
+    if !solved.unmatched.is_empty() {
+        let text = format!(
+            "from_positions: not joints of {}, left out: {}",
+            target.name,
+            solved.unmatched.join(", ")
+        );
+        warnings.call_method1("warn", (text,))?;
+    }
+    for note in &solved.notes {
+        warnings.call_method1("warn", (format!("from_positions: {note}"),))?;
+    }
     let name = format!("positions on {}", target.name);
     Ok(Motion {
         loaded: bvhview::Take::new(target.skeleton, motion, name.clone()),

@@ -55,8 +55,12 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         eprintln!("bvhview: {layout_note}");
     }
     let target = Target::load(&args.onto, args.max_size)?;
-    let (motion, solved) =
-        crate::solve::solve(&target.skeleton, &positions, args.up.map(Up::from))?;
+    let (motion, solved) = crate::solve::solve(
+        &target.skeleton,
+        target.up,
+        &positions,
+        args.up.map(Up::from),
+    )?;
     let motion = match args.smooth {
         Some(cutoff) => crate::edit::smooth(&target.skeleton, &motion, cutoff)?,
         None => motion,
@@ -64,7 +68,15 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
     for note in &solved.notes {
         eprintln!("bvhview: {}: warning: {note}", target.name);
     }
-    note(format_args!("solved: {}", solved.summary(&target.skeleton)));
+    let smoothed = if args.smooth.is_some() {
+        " (before --smooth)"
+    } else {
+        ""
+    };
+    note(format_args!(
+        "solved: {}{smoothed}",
+        solved.summary(&target.skeleton)
+    ));
     let format = TakeFormat::of(&args.output);
     write_take(
         &args.output,

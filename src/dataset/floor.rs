@@ -6,9 +6,9 @@ use crate::model::body::contact::Planting;
 use glam::DVec3;
 
 /// Foot contacts, per frame and foot point: planted as the reading of the body reads it
-/// ([`crate::model::body::contact`]: within `options.contact_height` of the lowest that point
-/// comes within a second each way, and slower than `options.contact_speed`), the same reading
-/// foot locking asks.
+/// ([`crate::model::body::contact`]: within `options.contact_height` of where the point rests
+/// on the ground the feet stand on within a second each way, and slower than
+/// `options.contact_speed`), the same reading foot locking asks.
 pub(super) fn contacts(world: &[Vec3], points: usize, feet: &[u32], options: &Options) -> Vec<u8> {
     let frames = world.len() / points.max(1);
     let planting = Planting {
@@ -16,15 +16,15 @@ pub(super) fn contacts(world: &[Vec3], points: usize, feet: &[u32], options: &Op
         speed: f64::from(options.contact_speed),
         ..Planting::default()
     };
-    let planted: Vec<Vec<bool>> = feet
+    let tracks: Vec<Vec<DVec3>> = feet
         .iter()
         .map(|&p| {
-            let track: Vec<DVec3> = (0..frames)
+            (0..frames)
                 .map(|f| world[f * points + p as usize].as_dvec3())
-                .collect();
-            planting.frames(&track, DVec3::Y, 1.0 / options.fps)
+                .collect()
         })
         .collect();
+    let planted = planting.frames_of(&tracks, DVec3::Y, 1.0 / options.fps);
     (0..frames)
         .flat_map(|f| planted.iter().map(move |foot| u8::from(foot[f])))
         .collect()

@@ -82,6 +82,12 @@ pub fn zero_phase(values: &[f64], cutoff: f64, frame_time: f64) -> Vec<f64> {
 /// ```
 pub fn smooth(skeleton: &Skeleton, motion: &Motion, cutoff: f64) -> Result<Motion, Error> {
     let frames = motion.frame_count();
+    if !(motion.frame_time > 0.0 && motion.frame_time.is_finite()) {
+        return Err(Error::Usage(format!(
+            "--smooth: Frame Time {}: no rate to filter at",
+            motion.frame_time
+        )));
+    }
     let nyquist = 0.5 / motion.frame_time;
     if !(cutoff > 0.0 && cutoff < nyquist) {
         return Err(Error::Usage(format!(
@@ -101,7 +107,15 @@ pub fn smooth(skeleton: &Skeleton, motion: &Motion, cutoff: f64) -> Result<Motio
         // with one or two degrees of freedom), one by one.
         for (i, channel) in joint.channels.iter().enumerate() {
             if channel.is_position() || joint.rotation_order.is_none() {
-                let smooth = zero_phase(&column(first + i), cutoff, motion.frame_time);
+                let mut values = column(first + i);
+                if channel.is_rotation() {
+                    // Unwrapped first: a hinge crossing ±180° is not averaged through 0.
+                    for f in 1..values.len() {
+                        let turns = ((values[f] - values[f - 1]) / 360.0).round();
+                        values[f] -= 360.0 * turns;
+                    }
+                }
+                let smooth = zero_phase(&values, cutoff, motion.frame_time);
                 for (f, value) in smooth.into_iter().enumerate() {
                     data[f * channels + first + i] = value as f32;
                 }

@@ -161,12 +161,19 @@ pub fn standing(
         .target_body
         .hips
         .and_then(|t| Some((t, map.source_of[t]?)));
+    // As the retarget scales: legs over legs, 1 where either cannot be measured (the sliding
+    // figures are then in each file's own units).
     let (legs_s, legs_t) = match hips {
         Some((t, s)) => (
             hip_height(source, &map.source_body, s, &rest_s),
             hip_height(target, &map.target_body, t, &rest_t),
         ),
         None => (1.0, 1.0),
+    };
+    let (legs_s, legs_t) = if legs_s > 1e-9 && legs_t > 1e-9 {
+        (legs_s, legs_t)
+    } else {
+        (1.0, 1.0)
     };
     let feet: Vec<(usize, usize)> = map
         .target_body
@@ -240,10 +247,13 @@ pub fn standing(
         pelvis,
         ..Standing::default()
     };
-    for (track_s, track_t) in tracks_s.iter().zip(&tracks_t) {
-        let metres: Vec<DVec3> = track_s.iter().map(|&p| p * source_metres).collect();
-        let planted = planting.frames(&metres, DVec3::Y, source_motion.frame_time);
-        let contacts = Planting::contacts(&planted);
+    let in_metres: Vec<Vec<DVec3>> = tracks_s
+        .iter()
+        .map(|track| track.iter().map(|&p| p * source_metres).collect())
+        .collect();
+    let planted_all = planting.frames_of(&in_metres, DVec3::Y, source_motion.frame_time);
+    for ((track_s, track_t), planted) in tracks_s.iter().zip(&tracks_t).zip(&planted_all) {
+        let contacts = Planting::contacts(planted);
         standing.contacts += contacts.len();
         standing.source_sliding += sliding(track_s, DVec3::Y, &contacts).0 / legs_s;
         standing.target_sliding += sliding(track_t, DVec3::Y, &contacts).0 / legs_t;

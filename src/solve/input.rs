@@ -160,8 +160,9 @@ pub fn read_npy(bytes: &[u8], shown: &str) -> Result<(usize, Vec<DVec3>), Error>
     Ok((joints, points))
 }
 
-/// The CSV `bvhview positions` writes: a header `frame,joint,x,y,z`, then for frame 0, 1, …
-/// a row per joint, the same joints in the same order in every frame.
+/// The CSV `bvhview positions` writes: a header `frame,joint,x,y,z`, then for frame N, N + 1,
+/// … (from the first row's, 0 unless `--frames` chose others) a row per joint, the same joints
+/// in the same order in every frame.
 pub fn read_csv(text: &str, shown: &str) -> Result<(Vec<String>, Vec<DVec3>), Error> {
     let at = |line: usize, why: String| Error::Usage(format!("{shown}:{line}: {why}"));
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
@@ -177,6 +178,7 @@ pub fn read_csv(text: &str, shown: &str) -> Result<(Vec<String>, Vec<DVec3>), Er
     let mut names: Vec<String> = Vec::new();
     let mut points = Vec::new();
     let (mut frame, mut joint) = (0usize, 0usize);
+    let mut first_frame: Option<usize> = None;
     for (number, line) in lines {
         if line.trim().is_empty() {
             continue;
@@ -188,6 +190,9 @@ pub fn read_csv(text: &str, shown: &str) -> Result<(Vec<String>, Vec<DVec3>), Er
         let f: usize = f
             .parse()
             .map_err(|_| at(number, format!("frame {f:?}: not a frame number")))?;
+        if first_frame.is_none() {
+            frame = f;
+        }
         let number_of = |v: &str| {
             v.parse::<f64>()
                 .ok()
@@ -195,7 +200,8 @@ pub fn read_csv(text: &str, shown: &str) -> Result<(Vec<String>, Vec<DVec3>), Er
                 .ok_or_else(|| at(number, format!("{v:?}: not a finite number")))
         };
         let point = DVec3::new(number_of(x)?, number_of(y)?, number_of(z)?);
-        if f == 0 && frame == 0 {
+        let start = *first_frame.get_or_insert(f);
+        if f == start && frame == start {
             names.push(name.clone());
         } else {
             if f == frame + 1 && joint == names.len() {
@@ -283,6 +289,11 @@ mod tests {
         let (names, points) = read_csv(text, "t.csv").unwrap();
         assert_eq!(names, ["Hips", "Left, Arm"]);
         assert_eq!(points[3], DVec3::new(9.0, 10.0, 11.0));
+        // `positions --frames 100..102` writes frames 100 and 101.
+        let later =
+            "frame,joint,x,y,z\n100,Hips,0,1,2\n100,Arm,3,4,5\n101,Hips,6,7,8\n101,Arm,9,10,11\n";
+        let (names, points) = read_csv(later, "t.csv").unwrap();
+        assert_eq!((names.len(), points.len()), (2, 4));
         let bad = "frame,joint,x,y,z\n0,Hips,0,1,2\n0,Arm,3,4,5\n1,Arm,6,7,8\n";
         assert_eq!(
             read_csv(bad, "t.csv").unwrap_err().to_string(),

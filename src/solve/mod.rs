@@ -169,9 +169,10 @@ impl Solved {
     }
 }
 
-/// The take on `skeleton` whose joints stand where `positions` puts them (see the module docs),
-/// the positions' `up` axis turned to the skeleton's (`None`: the skeleton's own). Refused when
-/// no joint or fewer than two of the data's names are the skeleton's.
+/// The take on `skeleton` (standing along `skeleton_up`, as [`crate::retarget::Target`] reads
+/// it) whose joints stand where `positions` puts them (see the module docs), the positions'
+/// `up` axis turned to the skeleton's (`None`: the skeleton's own). Refused when fewer than
+/// two of the data's names are the skeleton's.
 ///
 /// ```
 /// use bvhview::Take;
@@ -185,7 +186,8 @@ impl Solved {
 ///     points.extend(take.positions(f).unwrap().iter().map(|p| p.as_dvec3()));
 /// }
 /// let positions = bvhview::solve::Positions::new(names, points, take.motion.frame_time)?;
-/// let (motion, solved) = bvhview::solve::solve(&take.skeleton, &positions, None)?;
+/// let up = take.stance(bvhview::model::pose::OffsetMode::Replace).up;
+/// let (motion, solved) = bvhview::solve::solve(&take.skeleton, up, &positions, None)?;
 /// assert_eq!(motion.frame_count(), 20);
 /// assert!(solved.errors.iter().all(|&(_, e)| e < 1e-3), "{solved:?}");
 /// # Ok(())
@@ -193,6 +195,7 @@ impl Solved {
 /// ```
 pub fn solve(
     skeleton: &Skeleton,
+    skeleton_up: Up,
     positions: &Positions,
     up: Option<Up>,
 ) -> Result<(Motion, Solved), Error> {
@@ -228,7 +231,6 @@ pub fn solve(
     let mut rest = Vec::new();
     world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
     // The data turned to the skeleton's up axis.
-    let skeleton_up = Up::guess(skeleton);
     let turn = match up {
         Some(up) if up != skeleton_up => {
             skeleton_up.to_y_up().as_dquat().inverse() * up.to_y_up().as_dquat()
@@ -330,8 +332,11 @@ pub fn solve(
                     match pairs[..] {
                         [] => parent,
                         [(bone, to)] => {
-                            DQuat::from_rotation_arc((parent * bone).normalize(), to.normalize())
-                                * parent
+                            let swung = DQuat::from_rotation_arc(
+                                (parent * bone).normalize(),
+                                to.normalize(),
+                            ) * parent;
+                            hinge_twist(skeleton, &targets, j, swung, to, |d| data(f, d))
                         }
                         _ => best_rotation(&pairs),
                     }
@@ -355,10 +360,11 @@ pub fn solve(
                     }
                     None => {
                         let bone = targets[j].first().map(|&(_, b)| b);
+                        // In degrees already, as the channels take them: back to radians here.
                         let (angles, realized) =
                             crate::retarget::limited_angles(joint, local, bone);
                         local = realized;
-                        angles
+                        angles.map(f64::to_radians)
                     }
                 };
                 let mut rotations = angles.into_iter();
@@ -443,6 +449,55 @@ pub fn solve(
             notes,
         },
     ))
+}
+
+/// `wanted` (joint `j`'s world rotation, laying its one bone along `to`) turned about that
+/// bone so that, where the joint it turns towards is a hinge (one rotation channel: an ASF knee
+/// or elbow), the hinge's axis is across the plane the data bends in there: a hinge cannot
+/// leave its plane, so only the twist of the bone above it lets it reach the data. Of the two
+/// twists that do, the smaller.
+fn hinge_twist(
+    skeleton: &Skeleton,
+    targets: &[Vec<(usize, DVec3)>],
+    j: usize,
+    wanted: DQuat,
+    to: DVec3,
+    data: impl Fn(usize) -> Option<DVec3>,
+) -> DQuat {
+    let Some(&(d, _)) = targets[j].first() else {
+        return wanted;
+    };
+    let hinge = &skeleton.joints[d];
+    let axes: Vec<usize> = hinge
+        .channels
+        .iter()
+        .filter(|c| c.is_rotation())
+        .map(|c| c.axis())
+        .collect();
+    let ([axis], Some(&(below, _))) = (&axes[..], targets[d].first()) else {
+        return wanted;
+    };
+    let (Some(at), Some(next)) = (data(d), data(below)) else {
+        return wanted;
+    };
+    let bone = to.normalize();
+    let Some(across) = bone.cross(next - at).try_normalize() else {
+        // The limb straight: any plane holds it.
+        return wanted;
+    };
+    let local_axis = hinge
+        .axis
+        .map_or(DQuat::IDENTITY, |c| c.as_dquat().normalize())
+        * DVec3::AXES[*axis];
+    let now = wanted * local_axis;
+    let now = now - bone * now.dot(bone);
+    let Some(now) = now.try_normalize() else {
+        return wanted;
+    };
+    let turn = |goal: DVec3| bone.dot(now.cross(goal)).atan2(now.dot(goal));
+    let (a, b) = (turn(across), turn(-across));
+    let angle = if a.abs() <= b.abs() { a } else { b };
+    DQuat::from_axis_angle(bone, angle) * wanted
 }
 
 /// The named joints `j` turns towards (see where it is called), in file order.

@@ -1,10 +1,10 @@
 //! When a foot point is planted: the one reading of foot contacts, asked by the dataset's
 //! contacts, foot locking (`--lock-feet`) and retargeting's sliding figure.
 //!
-//! A point is planted in a frame when it is within [`Planting::height`] of the lowest it comes
-//! within [`Planting::window`] seconds each way (its own floor: a heel rests higher than a toe
-//! tip, and a floor that rises or falls is followed) and moves slower than
-//! [`Planting::speed`] (the central difference, one-sided at the ends).
+//! A point is planted in a frame when it is within [`Planting::height`] of where it rests on the
+//! ground (the lowest the feet come within [`Planting::window`] seconds each way, plus the
+//! point's least height above it over the take: a heel rests higher than a toe tip) and moves
+//! slower than [`Planting::speed`] (the central difference, one-sided at the ends).
 
 use super::{Body, Limb};
 use crate::model::motion::Motion;
@@ -34,45 +34,81 @@ pub struct Planting {
     pub height: f64,
     /// …and slower than this (metres per second)…
     pub speed: f64,
-    /// …where its own floor is the lowest it comes within this many seconds each way.
+    /// …where the ground under a frame is the lowest the points come within this many seconds
+    /// each way…
     pub window: f64,
+    /// …and a point rests on it at most this high (metres: an ankle above the sole), however
+    /// high it stays over a take: a foot that never comes down is not planted.
+    pub rests_at_most: f64,
 }
 
 impl Default for Planting {
-    /// 5 cm, 0.5 m/s, a second each way (a window that holds a step of each foot in a walk).
+    /// 5 cm, 0.5 m/s, a second each way (a window that holds a step of each foot in a walk), an
+    /// ankle at most 12 cm above the sole.
     fn default() -> Planting {
         Planting {
             height: 0.05,
             speed: 0.5,
             window: 1.0,
+            rests_at_most: 0.12,
         }
     }
 }
 
 impl Planting {
     /// Per frame, whether a point following `track` (metres; `up` a unit vector; frames
-    /// `frame_time` seconds apart) is planted.
+    /// `frame_time` seconds apart) is planted: [`Planting::frames_of`] of that point alone.
     pub fn frames(&self, track: &[DVec3], up: DVec3, frame_time: f64) -> Vec<bool> {
-        let frames = track.len();
+        self.frames_of(std::slice::from_ref(&track.to_vec()), up, frame_time)
+            .pop()
+            .unwrap_or_default()
+    }
+
+    /// Per point of `tracks` (each its positions over the same frames, metres) and frame,
+    /// whether it is planted: within [`Planting::height`] of where it rests on the ground, and
+    /// slower than [`Planting::speed`]. The ground under a frame is the lowest any of the points
+    /// comes within [`Planting::window`] seconds each way; where a point rests is its least
+    /// height above that ground over the take (a heel rests higher than a toe tip), at most
+    /// [`Planting::rests_at_most`]. So a foot held still in the air, as in a balance on one leg,
+    /// is not planted, and a floor that rises or falls is followed.
+    pub fn frames_of(&self, tracks: &[Vec<DVec3>], up: DVec3, frame_time: f64) -> Vec<Vec<bool>> {
+        let frames = tracks.iter().map(Vec::len).min().unwrap_or(0);
         if frames == 0 {
-            return Vec::new();
+            return vec![Vec::new(); tracks.len()];
         }
-        let heights: Vec<f64> = track.iter().map(|p| p.dot(up)).collect();
+        let heights: Vec<Vec<f64>> = tracks
+            .iter()
+            .map(|track| track[..frames].iter().map(|p| p.dot(up)).collect())
+            .collect();
+        let lowest: Vec<f64> = (0..frames)
+            .map(|f| heights.iter().map(|h| h[f]).fold(f64::INFINITY, f64::min))
+            .collect();
         let reach = if frame_time > 0.0 {
             (self.window / frame_time).round().max(1.0) as usize
         } else {
             frames
         };
-        let floor = sliding_minimum(&heights, reach);
-        (0..frames)
-            .map(|f| {
-                let (before, after) = (f.saturating_sub(1), (f + 1).min(frames - 1));
-                let speed = if after > before && frame_time > 0.0 {
-                    (track[after] - track[before]).length() / ((after - before) as f64 * frame_time)
-                } else {
-                    0.0
-                };
-                heights[f] - floor[f] <= self.height && speed < self.speed
+        let ground = sliding_minimum(&lowest, reach);
+        tracks
+            .iter()
+            .zip(&heights)
+            .map(|(track, heights)| {
+                let rests = (0..frames)
+                    .map(|f| heights[f] - ground[f])
+                    .fold(f64::INFINITY, f64::min)
+                    .min(self.rests_at_most);
+                (0..frames)
+                    .map(|f| {
+                        let (before, after) = (f.saturating_sub(1), (f + 1).min(frames - 1));
+                        let speed = if after > before && frame_time > 0.0 {
+                            (track[after] - track[before]).length()
+                                / ((after - before) as f64 * frame_time)
+                        } else {
+                            0.0
+                        };
+                        heights[f] - ground[f] - rests <= self.height && speed < self.speed
+                    })
+                    .collect()
             })
             .collect()
     }
@@ -126,7 +162,15 @@ impl Body {
                 }
             }
         }
-        tracks.map(|track| planting.frames(&track, up, motion.frame_time))
+        // Read together, so that each is measured against the ground both stand on.
+        let present: Vec<Vec<DVec3>> = tracks.iter().filter(|t| !t.is_empty()).cloned().collect();
+        let mut read = planting
+            .frames_of(&present, up, motion.frame_time)
+            .into_iter();
+        tracks.map(|track| match track.is_empty() {
+            true => Vec::new(),
+            false => read.next().unwrap_or_default(),
+        })
     }
 }
 
@@ -205,6 +249,17 @@ mod tests {
                 .collect();
             assert_eq!(sliding_minimum(&values, reach), expected, "reach {reach}");
         }
+    }
+
+    #[test]
+    fn a_foot_held_still_in_the_air_is_not_planted() {
+        // One foot stands (ankle 8 cm up, toe tip 2 cm), the other is held 25 cm up, all still.
+        let still = |y: f64| vec![DVec3::new(0.0, y, 0.0); 90];
+        let tracks = [still(0.08), still(0.02), still(0.30), still(0.25)];
+        let planted = Planting::default().frames_of(&tracks, DVec3::Y, 1.0 / 30.0);
+        let all = |k: usize, value: bool| planted[k].iter().all(|&p| p == value);
+        assert!(all(0, true) && all(1, true), "the standing foot");
+        assert!(all(2, false) && all(3, false), "the raised foot");
     }
 
     #[test]
