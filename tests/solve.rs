@@ -331,3 +331,70 @@ fn the_command_line_solves_an_npy_in_smpl_order_and_metres() {
         assert!(stderr.contains(said), "{said}: {stderr}");
     }
 }
+
+/// Issue 48, point 3: HumanML3D's own processed pair (tests/humanml3d, MIT): its 263-value
+/// vectors recovered as its `recover_from_ric` does give its processed positions back within
+/// 1e-4 m on every joint and frame; `solve --from humanml3d` puts them on `smpl22`.
+#[test]
+fn humanml3d_vectors_recover_its_own_positions() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/humanml3d");
+    let vectors_bytes = std::fs::read(root.join("new_joint_vecs_012314.npy")).unwrap();
+    let vectors = bvhview::solve::humanml3d::read_vectors(&vectors_bytes, "vecs").unwrap();
+    let recovered = bvhview::solve::humanml3d::recover_from_ric(&vectors).unwrap();
+    let joints_bytes = std::fs::read(root.join("new_joints_012314.npy")).unwrap();
+    let (count, positions) = bvhview::solve::read_npy(&joints_bytes, "joints").unwrap();
+    assert_eq!((count, positions.len()), (22, 170 * 22));
+    let worst = recovered
+        .iter()
+        .zip(&positions)
+        .map(|(a, b)| (*a - *b).length())
+        .fold(0.0, f64::max);
+    println!("HumanML3D 012314: recovered within {worst:e} m of its processed positions");
+    assert!(worst < 1e-4, "{worst}");
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("h.bvh");
+    let run = bvhview()
+        .args([
+            "solve",
+            root.join("new_joint_vecs_012314.npy").to_str().unwrap(),
+        ])
+        .args([
+            "--from",
+            "humanml3d",
+            "--onto",
+            "smpl22",
+            "--fps",
+            "20",
+            "-o",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let take = Take::open(&out).unwrap();
+    assert_eq!(take.frame_count(), 170);
+    // A wrong width is refused.
+    let run = bvhview()
+        .args([
+            "solve",
+            root.join("new_joints_012314.npy").to_str().unwrap(),
+        ])
+        .args([
+            "--from",
+            "humanml3d",
+            "--onto",
+            "smpl22",
+            "--fps",
+            "20",
+            "-o",
+        ])
+        .arg(dir.path().join("x.bvh"))
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("expected frames × 263"));
+}

@@ -196,6 +196,15 @@ class Motion:
         """Joint positions (frames x joints x 3) as a take on skeleton (a Motion, "smpl22" or a
         file's path): `bvhview solve`. joints: their names in order, or "smpl22"/"humanml3d";
         22 joints without it are read in SMPL's order."""
+    @staticmethod
+    def from_humanml3d(
+        vectors: npt.ArrayLike,
+        skeleton: Motion | str | os.PathLike[str] | None = None,
+        *,
+        fps: float = 20.0,
+    ) -> Motion:
+        """A take from HumanML3D's 263-value vectors (frames x 263): `bvhview solve --from
+        humanml3d`. skeleton: default "smpl22"."""
     def save(self, path: _PathLike) -> None:
         """Writes BVH (.bvh) or glTF (.glb binary, .gltf text), as `bvhview convert` does."""
     def __len__(self) -> int: ...

@@ -718,6 +718,25 @@ impl Motion {
         })
     }
 
+    /// A take on `skeleton` (default "smpl22") from HumanML3D's 263-value feature vectors
+    /// (frames × 263, its `new_joint_vecs`), as `bvhview solve --from humanml3d`: the joint
+    /// positions its own `recover_from_ric` gives, then `from_positions`. `fps`: 20, as
+    /// HumanML3D's.
+    #[staticmethod]
+    #[pyo3(signature = (vectors, skeleton=None, *, fps=20.0))]
+    fn from_humanml3d(
+        py: Python<'_>,
+        vectors: numpy::PyArrayLike2<'_, f32, numpy::AllowTypeChange>,
+        skeleton: Option<Bound<'_, PyAny>>,
+        fps: f64,
+    ) -> PyResult<Motion> {
+        guard("from_humanml3d", || {
+            let smpl = pyo3::types::PyString::new(py, "smpl22").into_any();
+            let skeleton = skeleton.unwrap_or(smpl);
+            crate::retarget::from_humanml3d(py, vectors, &skeleton, fps)
+        })
+    }
+
     /// A take built from arrays on `template`'s skeleton (a Motion), to save as BVH or glTF:
     /// `rotations`, every joint's local rotation per frame, as `local_rotations` gives them:
     /// frames × joints × 4 (quat, w x y z), × 3 × 3 (matrix), × 6 (6d) or × 3 (euler: each

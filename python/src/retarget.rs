@@ -208,3 +208,31 @@ pub(crate) fn from_positions(
         offset_mode: bvhview::model::pose::OffsetMode::Replace,
     })
 }
+
+/// `Motion.from_humanml3d`: HumanML3D's feature vectors (frames × 263) recovered to joint
+/// positions as its `recover_from_ric` does, then solved onto a skeleton.
+pub(crate) fn from_humanml3d(
+    py: Python<'_>,
+    vectors: numpy::PyArrayLike2<'_, f32, numpy::AllowTypeChange>,
+    skeleton: &Bound<'_, PyAny>,
+    fps: f64,
+) -> PyResult<Motion> {
+    let array = vectors.as_array();
+    let shape = array.shape().to_vec();
+    if shape[1] != bvhview::solve::humanml3d::WIDTH || shape[0] == 0 {
+        return Err(PyValueError::new_err(format!(
+            "vectors of shape {shape:?}: expected frames × {}",
+            bvhview::solve::humanml3d::WIDTH
+        )));
+    }
+    let values: Vec<f32> = array.iter().copied().collect();
+    let points =
+        bvhview::solve::humanml3d::recover_from_ric(&values).map_err(|e| to_python(py, e))?;
+    let positions: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
+    let frames = shape[0];
+    let array = numpy::ndarray::Array3::from_shape_vec((frames, 22, 3), positions)
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let array = numpy::PyArray3::from_owned_array(py, array);
+    let like: numpy::PyArrayLike3<'_, f64, numpy::AllowTypeChange> = array.extract()?;
+    from_positions(py, like, skeleton, None, fps, None)
+}

@@ -182,3 +182,23 @@ def test_smooth_cuts_jitter_and_keeps_the_take():
     np.testing.assert_allclose(walk.smooth(6).positions(), clean, atol=1.0)
     with pytest.raises(ValueError, match="below half the frame rate"):
         walk.smooth(61)
+
+
+def test_from_humanml3d_recovers_its_own_positions():
+    """Motion.from_humanml3d, as `solve --from humanml3d`: HumanML3D's own pair (tests/humanml3d)
+    recovered and solved onto smpl22, each bone along the recovered positions' bones."""
+    root = DATA.parent / "humanml3d"
+    vectors = np.load(root / "new_joint_vecs_012314.npy")
+    joints = np.load(root / "new_joints_012314.npy")
+    take = bvhview.Motion.from_humanml3d(vectors)
+    assert take.frame_count == 170 and take.fps == pytest.approx(20)
+    points = take.positions()
+    order = [take.index(name) for name in SMPL22_ORDER]
+    # smpl22's bones are not HumanML3D's: their directions agree, within a degree.
+    for parent, child in [(1, 4), (4, 7), (16, 18), (18, 20)]:
+        a = points[:, order[child]] - points[:, order[parent]]
+        b = joints[:, child] - joints[:, parent]
+        cos = (a * b).sum(-1) / np.linalg.norm(a, axis=-1) / np.linalg.norm(b, axis=-1)
+        assert float(cos.min()) > np.cos(np.radians(1.0))
+    with pytest.raises(ValueError, match="263"):
+        bvhview.Motion.from_humanml3d(vectors[:, :200])

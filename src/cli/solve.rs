@@ -13,6 +13,11 @@ pub(crate) struct SolveArgs {
     /// used), or the built-in `smpl22`.
     #[arg(long, value_name = "SKELETON")]
     onto: String,
+    /// What the input holds: joint positions (the default), or HumanML3D's 263-value feature
+    /// vectors (frames × 263 .npy, `new_joint_vecs`), recovered to positions as HumanML3D's
+    /// `recover_from_ric` does.
+    #[arg(long = "from", value_enum, default_value_t = SolveFrom::Positions)]
+    from: SolveFrom,
     /// The .npy's joints in order: a layout (`smpl22`, the same as `humanml3d`: SMPL's 22 joints
     /// in SMPL's order), or names separated by commas. Without it, 22 joints are read in SMPL's
     /// order (and said).
@@ -37,6 +42,15 @@ pub(crate) struct SolveArgs {
     output: PathBuf,
 }
 
+/// What `solve` reads.
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub(crate) enum SolveFrom {
+    /// Joint positions: an .npy of frames × joints × 3, or the positions CSV.
+    Positions,
+    /// HumanML3D's feature vectors: an .npy of frames × 263.
+    Humanml3d,
+}
+
 pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
     check_output(&args.output, &["bvh", "glb", "gltf"])?;
     if !(args.fps > 0.0 && args.fps.is_finite() && args.fps <= 1000.0) {
@@ -45,12 +59,35 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
             args.fps
         )));
     }
-    let (positions, layout_note) = crate::solve::read_positions(
-        &args.input,
-        args.joints.as_deref(),
-        1.0 / args.fps,
-        args.max_size,
-    )?;
+    let (positions, layout_note) = match args.from {
+        SolveFrom::Positions => crate::solve::read_positions(
+            &args.input,
+            args.joints.as_deref(),
+            1.0 / args.fps,
+            args.max_size,
+        )?,
+        SolveFrom::Humanml3d => {
+            if args.joints.is_some() {
+                return Err(Error::Usage(
+                    "--from humanml3d: its 22 joints are SMPL's, in SMPL's order; --joints is for \
+                     positions"
+                        .into(),
+                ));
+            }
+            let shown = args.input.display().to_string();
+            let bytes = crate::io::whole::read_binary_file(&args.input, args.max_size)?;
+            let vectors = crate::solve::humanml3d::read_vectors(&bytes, &shown)?;
+            let points = crate::solve::humanml3d::recover_from_ric(&vectors)
+                .map_err(|e| Error::Usage(format!("{shown}: {e}")))?;
+            let positions = crate::solve::Positions::new(
+                crate::solve::joint_names("smpl22"),
+                points,
+                1.0 / args.fps,
+            )
+            .map_err(|e| Error::Usage(format!("{shown}: {e}")))?;
+            (positions, None)
+        }
+    };
     if let Some(layout_note) = layout_note {
         eprintln!("bvhview: {layout_note}");
     }

@@ -160,6 +160,72 @@ pub fn read_npy(bytes: &[u8], shown: &str) -> Result<(usize, Vec<DVec3>), Error>
     Ok((joints, points))
 }
 
+/// An `.npy` of rows of `width` values each (frames × width; HumanML3D's feature vectors), as
+/// numbers: the rows and the values, row after row.
+pub fn read_npy_rows(bytes: &[u8], shown: &str, width: usize) -> Result<(usize, Vec<f64>), Error> {
+    let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
+    let file = npyz::NpyFile::new(bytes).map_err(|e| refuse(format!("not an .npy array: {e}")))?;
+    let shape: Vec<u64> = file.shape().to_vec();
+    let [rows, columns] = shape[..] else {
+        return Err(refuse(format!(
+            "shape {shape:?}: expected frames × {width}"
+        )));
+    };
+    if columns != width as u64 {
+        return Err(refuse(format!(
+            "shape {shape:?}: expected frames × {width}"
+        )));
+    }
+    let data_bytes = (bytes.len() as u64).saturating_sub(data_start(bytes));
+    rows.checked_mul(columns)
+        .filter(|&n| n.saturating_mul(4) <= data_bytes)
+        .ok_or_else(|| refuse(format!("shape {shape:?}: more than the file holds")))?;
+    let fortran = file.order() == npyz::Order::Fortran;
+    let values = numbers(file, shown)?;
+    let rows = rows as usize;
+    let ordered = match fortran {
+        false => values,
+        true => (0..rows)
+            .flat_map(|r| (0..width).map(move |c| (r, c)))
+            .map(|(r, c)| values[r + rows * c])
+            .collect(),
+    };
+    Ok((rows, ordered))
+}
+
+/// Where an `.npy`'s data starts: after its header, whose length takes 2 bytes in version 1
+/// and 4 after.
+fn data_start(bytes: &[u8]) -> u64 {
+    match bytes.get(6) {
+        Some(1) => bytes
+            .get(8..10)
+            .map_or(0, |b| 10 + u64::from(u16::from_le_bytes([b[0], b[1]]))),
+        _ => bytes.get(8..12).map_or(0, |b| {
+            12 + u64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        }),
+    }
+}
+
+/// Every value of an `.npy` of float64 or float32, as stored.
+fn numbers(file: npyz::NpyFile<&[u8]>, shown: &str) -> Result<Vec<f64>, Error> {
+    let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
+    let dtype = file.dtype().descr();
+    match file.try_data::<f64>() {
+        Ok(data) => data.collect::<std::io::Result<_>>(),
+        Err(file) => match file.try_data::<f32>() {
+            Ok(data) => data
+                .map(|v| v.map(f64::from))
+                .collect::<std::io::Result<_>>(),
+            Err(_) => {
+                return Err(refuse(format!(
+                    "dtype {dtype}: positions are float32 or float64"
+                )));
+            }
+        },
+    }
+    .map_err(|e| refuse(format!("the data: {e}")))
+}
+
 /// The CSV `bvhview positions` writes: a header `frame,joint,x,y,z`, then for frame N, N + 1,
 /// … (from the first row's, 0 unless `--frames` chose others) a row per joint, the same joints
 /// in the same order in every frame.
