@@ -77,9 +77,9 @@ pub fn read_positions(
                     "{shown}: a CSV names its joints; --joints is for an .npy"
                 )));
             }
-            // Read whole, as an .npy is: within the same budget.
-            let budget = max_size.min(crate::io::limits::MAX_WHOLE_FILE_BYTES);
-            let bytes = crate::io::read::read_file(path, budget)?;
+            // Read whole, as an .npy is: a regular file only (a FIFO would wait for a writer),
+            // within the same budget.
+            let bytes = crate::io::whole::read_binary_file(path, max_size)?;
             let text = std::str::from_utf8(&bytes)
                 .map_err(|_| Error::Usage(format!("{shown}: not UTF-8 text")))?;
             let (names, points) = read_csv(text, &shown)?;
@@ -109,15 +109,8 @@ pub fn read_npy(bytes: &[u8], shown: &str) -> Result<(usize, Vec<DVec3>), Error>
             )));
         }
     };
-    // Checked before anything is read: a header may promise more than the file holds (its
-    // data starts after the header's length, 2 bytes long in version 1, 4 after).
-    let data_start = match bytes.get(6) {
-        Some(1) => 10 + u64::from(u16::from_le_bytes([bytes[8], bytes[9]])),
-        _ => bytes.get(8..12).map_or(0, |b| {
-            12 + u64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        }),
-    };
-    let data_bytes = (bytes.len() as u64).saturating_sub(data_start);
+    // Checked before anything is read: a header may promise more than the file holds.
+    let data_bytes = (bytes.len() as u64).saturating_sub(data_start(bytes));
     let count = frames
         .checked_mul(joints)
         .and_then(|n| n.checked_mul(3))
@@ -127,21 +120,7 @@ pub fn read_npy(bytes: &[u8], shown: &str) -> Result<(usize, Vec<DVec3>), Error>
         return Err(refuse(format!("shape {shape:?}: no positions")));
     }
     let fortran = file.order() == npyz::Order::Fortran;
-    let dtype = file.dtype().descr();
-    let values: Vec<f64> = match file.try_data::<f64>() {
-        Ok(data) => data.collect::<std::io::Result<_>>(),
-        Err(file) => match file.try_data::<f32>() {
-            Ok(data) => data
-                .map(|v| v.map(f64::from))
-                .collect::<std::io::Result<_>>(),
-            Err(_) => {
-                return Err(refuse(format!(
-                    "dtype {dtype}: positions are float32 or float64"
-                )));
-            }
-        },
-    }
-    .map_err(|e| refuse(format!("the data: {e}")))?;
+    let values = numbers(file, shown)?;
     if values.len() as u64 != count {
         return Err(refuse(format!(
             "{} values for shape {shape:?}",
@@ -218,7 +197,7 @@ fn numbers(file: npyz::NpyFile<&[u8]>, shown: &str) -> Result<Vec<f64>, Error> {
                 .collect::<std::io::Result<_>>(),
             Err(_) => {
                 return Err(refuse(format!(
-                    "dtype {dtype}: positions are float32 or float64"
+                    "dtype {dtype}: expected float32 or float64 values"
                 )));
             }
         },
