@@ -59,6 +59,7 @@ pub mod dataset;
 pub mod edit;
 pub mod fbx;
 pub mod gltf;
+pub mod humanml3d;
 pub mod info;
 // The plumbing (errors, bounded reads, atomic outputs, limits, cores): private to the crate.
 pub(crate) mod io;

@@ -339,8 +339,8 @@ fn the_command_line_solves_an_npy_in_smpl_order_and_metres() {
 fn humanml3d_vectors_recover_its_own_positions() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/humanml3d");
     let vectors_bytes = std::fs::read(root.join("new_joint_vecs_012314.npy")).unwrap();
-    let vectors = bvhview::solve::humanml3d::read_vectors(&vectors_bytes, "vecs").unwrap();
-    let recovered = bvhview::solve::humanml3d::recover_from_ric(&vectors).unwrap();
+    let vectors = bvhview::humanml3d::read_vectors(&vectors_bytes, "vecs").unwrap();
+    let recovered = bvhview::humanml3d::recover_from_ric(&vectors).unwrap();
     let joints_bytes = std::fs::read(root.join("new_joints_012314.npy")).unwrap();
     let (count, positions) = bvhview::solve::read_npy(&joints_bytes, "joints").unwrap();
     assert_eq!((count, positions.len()), (22, 170 * 22));

@@ -219,15 +219,15 @@ pub(crate) fn from_humanml3d(
 ) -> PyResult<Motion> {
     let array = vectors.as_array();
     let shape = array.shape().to_vec();
-    if shape[1] != bvhview::solve::humanml3d::WIDTH || shape[0] == 0 {
+    if shape[1] != bvhview::humanml3d::WIDTH || shape[0] == 0 {
         return Err(PyValueError::new_err(format!(
             "vectors of shape {shape:?}: expected frames × {}",
-            bvhview::solve::humanml3d::WIDTH
+            bvhview::humanml3d::WIDTH
         )));
     }
     let values: Vec<f32> = array.iter().copied().collect();
     let points =
-        bvhview::solve::humanml3d::recover_from_ric(&values).map_err(|e| to_python(py, e))?;
+        bvhview::humanml3d::recover_from_ric(&values).map_err(|e| to_python(py, e))?;
     let positions: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
     let frames = shape[0];
     let array = numpy::ndarray::Array3::from_shape_vec((frames, 22, 3), positions)

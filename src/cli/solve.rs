@@ -76,8 +76,8 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
             }
             let shown = args.input.display().to_string();
             let bytes = crate::io::whole::read_binary_file(&args.input, args.max_size)?;
-            let vectors = crate::solve::humanml3d::read_vectors(&bytes, &shown)?;
-            let points = crate::solve::humanml3d::recover_from_ric(&vectors)
+            let vectors = crate::humanml3d::read_vectors(&bytes, &shown)?;
+            let points = crate::humanml3d::recover_from_ric(&vectors)
                 .map_err(|e| Error::Usage(format!("{shown}: {e}")))?;
             let positions = crate::solve::Positions::new(
                 crate::solve::joint_names("smpl22"),

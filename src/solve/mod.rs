@@ -12,7 +12,6 @@
 //! root moves the shallowest named joint to where the data puts it, scaled by the skeleton's
 //! legs over the data's (as retargeting scales a path).
 
-pub mod humanml3d;
 pub mod input;
 
 pub use input::*;

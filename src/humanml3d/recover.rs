@@ -3,7 +3,8 @@
 //! about y integrated from its angular velocity, its path from its velocity on the floor, its
 //! height as written, and the 21 other joints from their root-relative positions ("ric"),
 //! turned and carried with it. The rotations (6D) and velocities in the vectors are not read,
-//! as that recovery does not read them. Then [`super::solve`] puts the positions on a skeleton.
+//! as that recovery does not read them. Then [`crate::solve::solve`] puts the positions on a
+//! skeleton.
 //!
 //! A vector holds, in order: the root's angular velocity about y (1), its velocity on x and z
 //! (2), its height (1), 21 joints' root-relative positions (63), 21 joints' rotations in 6D
@@ -12,19 +13,16 @@
 //! about y is `2a` (its quirk: the angle comes from the quaternion's `y` part by `arcsin`, so
 //! it is half the turn), and that is what is undone here.
 
-use super::SMPL22_ORDER;
+use super::{JOINTS, WIDTH};
 use crate::io::error::Error;
 use glam::{DQuat, DVec3};
-
-/// Values in one HumanML3D feature vector (22 joints).
-pub const WIDTH: usize = 263;
 
 /// The joint positions (frames × 22, SMPL's order, metres, y up) that `vectors` (frames × 263,
 /// frame after frame) stand for, as HumanML3D's `recover_from_ric` gives them.
 ///
 /// ```
-/// let vectors = vec![0.0f32; 2 * bvhview::solve::humanml3d::WIDTH];
-/// let points = bvhview::solve::humanml3d::recover_from_ric(&vectors).unwrap();
+/// let vectors = vec![0.0f32; 2 * bvhview::humanml3d::WIDTH];
+/// let points = bvhview::humanml3d::recover_from_ric(&vectors).unwrap();
 /// assert_eq!(points.len(), 2 * 22);
 /// ```
 pub fn recover_from_ric(vectors: &[f32]) -> Result<Vec<DVec3>, Error> {
@@ -41,7 +39,7 @@ pub fn recover_from_ric(vectors: &[f32]) -> Result<Vec<DVec3>, Error> {
             at % WIDTH
         )));
     }
-    let joints = SMPL22_ORDER.len();
+    let joints = JOINTS;
     let frames = vectors.len() / WIDTH;
     let vector = |f: usize| &vectors[f * WIDTH..(f + 1) * WIDTH];
     let mut points = Vec::with_capacity(frames * joints);
@@ -73,14 +71,14 @@ pub fn recover_from_ric(vectors: &[f32]) -> Result<Vec<DVec3>, Error> {
 
 /// HumanML3D's root quaternion for the integrated angle `a`: `(w, x, y, z) = (cos a, 0, sin a,
 /// 0)`, a turn of `2a` about y.
-fn facing(a: f64) -> DQuat {
+pub(super) fn facing(a: f64) -> DQuat {
     DQuat::from_xyzw(0.0, a.sin(), 0.0, a.cos())
 }
 
 /// The vectors in an `.npy` of frames × 263 (float32 or float64), frame after frame.
 pub fn read_vectors(bytes: &[u8], shown: &str) -> Result<Vec<f32>, Error> {
     let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
-    let (rows, points) = super::input::read_npy_rows(bytes, shown, WIDTH)?;
+    let (rows, points) = crate::solve::input::read_npy_rows(bytes, shown, WIDTH)?;
     if rows == 0 {
         return Err(refuse("no vectors".into()));
     }
