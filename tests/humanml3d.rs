@@ -95,3 +95,241 @@ fn vectors_of_humanmls_own_positions_are_its_published_vectors() {
     println!("new_joints: worst difference {worst:.2e} m");
     assert!(worst < 1e-4, "{worst}");
 }
+
+/// Two takes of tests/data (CMU's walk as cgspeed converted it, and CMU 131_01 as BVH 1.1
+/// wrote it) in a folder of their own.
+fn two_takes() -> tempfile::TempDir {
+    let folder = tempfile::tempdir().unwrap();
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bvh");
+    for name in ["bvhparser_walk_01.bvh", "bvh11_131_01.bvh"] {
+        std::fs::copy(data.join(name), folder.path().join(name)).unwrap();
+    }
+    folder
+}
+
+fn humanml3d_options() -> dataset::Options {
+    dataset::Options {
+        fps: humanml3d::FPS,
+        onto: Some(bvhview::retarget::Target::load("smpl22", u64::MAX).unwrap()),
+        features: dataset::FeatureSet::HumanMl3d,
+        ..dataset::Options::default()
+    }
+}
+
+fn compile(folder: &Path, options: &dataset::Options, out: &Path) -> dataset::Summary {
+    let takes = dataset::takes(folder).unwrap();
+    let list = dataset::whole_list(folder, &takes);
+    dataset::compile(folder, takes, options, 1, out, list, |_, _, _, _| true).unwrap()
+}
+
+fn floats(path: &Path) -> Vec<f32> {
+    let bytes = std::fs::read(path).unwrap();
+    bytes[128..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+        .collect()
+}
+
+use bvhview::dataset;
+
+/// `dataset --onto smpl22 --features humanml3d`: per take the vectors of the positions the
+/// arrays compile gives for it (same take, same skeleton, same rate), the positions they
+/// stand for, and over the set HumanML3D's mean and part-wise spread.
+#[test]
+fn a_humanml3d_dataset_holds_each_takes_vectors_and_the_sets_mean_and_spread() {
+    let folder = two_takes();
+    let out = folder.path().join("humanml3d");
+    let summary = compile(folder.path(), &humanml3d_options(), &out);
+    assert_eq!((summary.clips, summary.groups), (2, 0));
+    let arrays = folder.path().join("arrays");
+    let plain = dataset::Options {
+        features: dataset::FeatureSet::Arrays,
+        ..humanml3d_options()
+    };
+    compile(folder.path(), &plain, &arrays);
+    let arrays = dataset::read::open(&arrays).unwrap();
+    let manifest = dataset::read::read_manifest(&out).unwrap();
+    let group = &arrays.manifest.groups[0];
+    let order: Vec<usize> = bvhview::solve::SMPL22_ORDER
+        .iter()
+        .map(|n| group.topology.joints.iter().position(|j| j == n).unwrap())
+        .collect();
+    let positions = &arrays.groups[0].arrays[0];
+    let mut all = Vec::new();
+    for (k, clip) in manifest.clips.iter().enumerate() {
+        let id = clip.id.as_deref().unwrap();
+        assert_eq!(id, format!("{k:06}"), "the take's place in the list");
+        let entry = &arrays.manifest.clips[k];
+        assert_eq!(entry.about.source, clip.about.source);
+        let rows = positions
+            .read_rows(entry.start..entry.start + entry.frames)
+            .unwrap();
+        let values: Vec<f32> = rows
+            .chunks_exact(4)
+            .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+            .collect();
+        let points = group.topology.joints.len();
+        let smpl: Vec<DVec3> = values
+            .chunks_exact(points * 3)
+            .flat_map(|pose| {
+                order.iter().map(move |&j| {
+                    DVec3::new(
+                        pose[3 * j].into(),
+                        pose[3 * j + 1].into(),
+                        pose[3 * j + 2].into(),
+                    )
+                })
+            })
+            .collect();
+        let expected = humanml3d::features(&smpl).unwrap();
+        let vectors = floats(&out.join(format!("new_joint_vecs/{id}.npy")));
+        let joints = floats(&out.join(format!("new_joints/{id}.npy")));
+        assert_eq!(vectors, expected.vectors);
+        assert_eq!(joints, expected.joints);
+        assert_eq!(clip.frames, entry.frames - 1);
+        all.extend(vectors);
+    }
+    let ids = std::fs::read_to_string(out.join("all.txt")).unwrap();
+    assert_eq!(ids, "000000\n000001\n");
+    // numpy's mean and std (population) over every vector, the std then one per part.
+    let rows = all.len() / WIDTH;
+    let mean: Vec<f64> = (0..WIDTH)
+        .map(|k| {
+            (0..rows)
+                .map(|r| f64::from(all[r * WIDTH + k]))
+                .sum::<f64>()
+                / rows as f64
+        })
+        .collect();
+    let std: Vec<f64> = (0..WIDTH)
+        .map(|k| {
+            let spread: f64 = (0..rows)
+                .map(|r| (f64::from(all[r * WIDTH + k]) - mean[k]).powi(2))
+                .sum();
+            (spread / rows as f64).sqrt()
+        })
+        .collect();
+    let written_mean = floats(&out.join("Mean.npy"));
+    let written_std = floats(&out.join("Std.npy"));
+    for k in 0..WIDTH {
+        assert!(
+            (f64::from(written_mean[k]) - mean[k]).abs() < 1e-6,
+            "mean {k}"
+        );
+    }
+    for (name, start, width) in PARTS {
+        let part = std[start..start + width].iter().sum::<f64>() / width as f64;
+        for k in start..start + width {
+            assert!(
+                (f64::from(written_std[k]) - part).abs() < 1e-6,
+                "{name} std {k}"
+            );
+        }
+    }
+}
+
+/// Pieces of a HumanML3D compile merge into the folder one compile writes, file for file.
+#[test]
+fn humanml3d_pieces_merge_into_the_whole_compile() {
+    let folder = two_takes();
+    let options = humanml3d_options();
+    let whole = folder.path().join("whole");
+    compile(folder.path(), &options, &whole);
+    let mut pieces = Vec::new();
+    for k in 0..2 {
+        let takes = dataset::takes(folder.path()).unwrap();
+        let (run, list) = dataset::piece(folder.path(), takes, k, 2).unwrap();
+        let out = folder.path().join(format!("piece_{k}"));
+        dataset::compile(folder.path(), run, &options, 1, &out, list, |_, _, _, _| {
+            true
+        })
+        .unwrap();
+        pieces.push(out);
+    }
+    let merged = folder.path().join("merged");
+    let summary = dataset::merge::merge(&pieces, &merged, dataset::merge::Join::Pieces).unwrap();
+    assert_eq!(summary.clips, 2);
+    for name in [
+        "manifest.json",
+        "Mean.npy",
+        "Std.npy",
+        "all.txt",
+        "new_joint_vecs/000000.npy",
+        "new_joint_vecs/000001.npy",
+        "new_joints/000001.npy",
+    ] {
+        assert_eq!(
+            std::fs::read(whole.join(name)).unwrap(),
+            std::fs::read(merged.join(name)).unwrap(),
+            "{name}"
+        );
+    }
+    // Folders are numbered anew: the same dataset twice holds four clips.
+    let twice = folder.path().join("twice");
+    let summary = dataset::merge::merge(
+        &[whole.clone(), whole.clone()],
+        &twice,
+        dataset::merge::Join::Folders,
+    )
+    .unwrap();
+    assert_eq!(summary.clips, 4);
+    let ids = std::fs::read_to_string(twice.join("all.txt")).unwrap();
+    assert_eq!(ids, "000000\n000001\n000002\n000003\n");
+}
+
+/// What HumanML3D's vectors cannot be made of is refused before any take is read; a
+/// HumanML3D folder made by someone else is checked as any dataset is.
+#[test]
+fn humanml3d_refuses_what_it_cannot_make_and_hostile_folders() {
+    let wrong = [
+        dataset::Options {
+            onto: None,
+            ..humanml3d_options()
+        },
+        dataset::Options {
+            fps: 30.0,
+            ..humanml3d_options()
+        },
+        dataset::Options {
+            root_relative: true,
+            ..humanml3d_options()
+        },
+    ];
+    let said: Vec<String> = wrong
+        .iter()
+        .map(|o| o.check().unwrap_err().to_string())
+        .collect();
+    assert!(said[0].contains("needs --onto smpl22"), "{}", said[0]);
+    assert!(said[1].contains("20 fps"), "{}", said[1]);
+    assert!(said[2].contains("--root-relative"), "{}", said[2]);
+
+    let folder = two_takes();
+    let out = folder.path().join("humanml3d");
+    compile(folder.path(), &humanml3d_options(), &out);
+    // The arrays' reader says what the folder is.
+    let error = dataset::read::open(&out).unwrap_err().to_string();
+    assert!(error.contains("HumanML3D's layout"), "{error}");
+    // A clip's file swapped for a link to a file outside is not followed.
+    let file = out.join("new_joint_vecs/000001.npy");
+    let outside = folder.path().join("outside.npy");
+    std::fs::rename(&file, &outside).unwrap();
+    std::os::unix::fs::symlink(&outside, &file).unwrap();
+    let opened = dataset::humanml3d::open(&out).unwrap();
+    let error = opened.features(1).unwrap_err().to_string();
+    assert!(error.contains("000001.npy"), "{error}");
+    std::fs::remove_file(&file).unwrap();
+    // A file cut short.
+    let bytes = std::fs::read(&outside).unwrap();
+    std::fs::write(&file, &bytes[..bytes.len() - 4]).unwrap();
+    let error = opened.features(1).unwrap_err().to_string();
+    assert!(error.contains("bytes where float32"), "{error}");
+    // An ID that is not six digits.
+    let manifest = std::fs::read_to_string(out.join("manifest.json")).unwrap();
+    std::fs::write(
+        out.join("manifest.json"),
+        manifest.replace("\"000001\"", "\"../x\""),
+    )
+    .unwrap();
+    let error = dataset::humanml3d::open(&out).unwrap_err().to_string();
+    assert!(error.contains("six digits"), "{error}");
+}

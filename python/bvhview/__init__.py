@@ -14,7 +14,7 @@ released while they run. ``bvhview.dask`` compiles a dataset on a Dask cluster.
 # Every result is a numpy array: import numpy with the package, not on the first array made.
 import numpy as _numpy  # noqa: F401
 
-from ._bvhview import Motion, ParseError, __version__, list_takes, load, load_many
+from ._bvhview import Motion, ParseError, __version__, humanml3d_features, list_takes, load, load_many
 from .dataset import Dataset, SkippedTake, compile_dataset, merge_datasets, write_parquet
 
 __all__ = [
@@ -24,6 +24,7 @@ __all__ = [
     "SkippedTake",
     "__version__",
     "compile_dataset",
+    "humanml3d_features",
     "list_takes",
     "load",
     "load_many",

@@ -11,11 +11,13 @@ __all__ = [
     "load",
     "load_many",
     "list_takes",
+    "humanml3d_features",
     "Motion",
     "ParseError",
     "__version__",
     "_from_state",
     "_compile_dataset",
+    "_dataset_manifest",
     "_merge_datasets",
     "_open_dataset",
     "_dataset_motion",
@@ -242,7 +244,7 @@ def list_takes(folder: _PathLike) -> list[tuple[pathlib.Path, pathlib.Path | Non
 def _compile_dataset(
     folder: _PathLike,
     out: _PathLike,
-    fps: float = 30.0,
+    fps: float | None = None,
     rotations: str = "6d",
     root_relative: bool = False,
     feet: Sequence[str] | None = None,
@@ -256,6 +258,7 @@ def _compile_dataset(
     quat_continuous: bool = False,
     names: dict[str, str] | str | os.PathLike[str] | None = None,
     lock_feet: bool = False,
+    features: str = "arrays",
 ) -> tuple[int, int, int, list[tuple[str, str | None, str]]]:
     """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped takes as
     (path, motion, reason))."""
@@ -264,6 +267,16 @@ def _merge_datasets(
     pieces: Sequence[_PathLike], out: _PathLike, join: str = "pieces"
 ) -> tuple[int, int, int, int]:
     """The native half of bvhview.merge_datasets: (clips, frames, groups, skipped)."""
+
+def humanml3d_features(
+    positions: npt.ArrayLike,
+) -> tuple[npt.NDArray[np.float32], npt.NDArray[np.float32]]:
+    """Joint positions (frames x 22 x 3: SMPL's order, metres, y up, 20 fps) as HumanML3D's
+    pipeline turns them into its vectors: ((frames - 1) x 263 vectors, the (frames - 1) x 22 x 3
+    positions they stand for)."""
+
+def _dataset_manifest(path: _PathLike) -> str:
+    """The manifest of the dataset at path as JSON, the dataset checked first (either layout)."""
 
 def _open_dataset(
     path: _PathLike,

@@ -27,7 +27,14 @@ from typing import Any, Literal
 
 import numpy as np
 
-from ._bvhview import Motion, _compile_dataset, _dataset_motion, _merge_datasets, _open_dataset
+from ._bvhview import (
+    Motion,
+    _compile_dataset,
+    _dataset_manifest,
+    _dataset_motion,
+    _merge_datasets,
+    _open_dataset,
+)
 
 #: The arrays of every group, as the manifest lists them (besides ``offsets`` and
 #: ``rest_offsets``).
@@ -73,7 +80,8 @@ def _checked(dataset: StrPath) -> tuple[dict[str, Any], list[dict[str, np.ndarra
 
 
 def _read_manifest(dataset: StrPath) -> dict[str, Any]:
-    return _checked(dataset)[0]
+    manifest: dict[str, Any] = json.loads(_dataset_manifest(os.fspath(dataset)))
+    return manifest
 
 
 class _Terminated(BaseException):
@@ -121,7 +129,7 @@ def compile_dataset(
     folder: StrPath,
     out: StrPath,
     *,
-    fps: float = 30.0,
+    fps: float | None = None,
     rotations: Literal["quat", "matrix", "6d", "euler", "axis_angle"] = "6d",
     root_relative: bool = False,
     feet: Sequence[str] | None = None,
@@ -135,6 +143,7 @@ def compile_dataset(
     quat_continuous: bool = False,
     names: dict[str, str] | StrPath | None = None,
     lock_feet: bool = False,
+    features: Literal["arrays", "humanml3d"] = "arrays",
 ) -> dict[str, Any]:
     """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
     them) into the new dataset folder ``out``; returns its manifest, whose ``"skipped"`` lists
@@ -166,9 +175,18 @@ def compile_dataset(
     guessed map as ``Motion.retarget``'s does ({source joint: target joint}, ``""`` leaves one
     out), or is a map file's path, whose ``[skeleton.FINGERPRINT]`` pairs apply to the takes of
     that skeleton only (``bvhview info`` prints the fingerprint). The manifest records ``onto`` and ``names``; ``merge_datasets`` refuses datasets made
-    with other ones."""
+    with other ones. ``fps`` defaults to 30.
+
+    ``features="humanml3d"`` (with ``onto="smpl22"``; ``fps`` then defaults to HumanML3D's 20)
+    writes HumanML3D's representation in its folder layout instead of the arrays: per take
+    ``new_joint_vecs/ID.npy`` (frames − 1 vectors of 263 values, as its own pipeline makes
+    them), ``new_joints/ID.npy`` (the joint positions they stand for), and over the set
+    ``Mean.npy``, ``Std.npy`` and ``all.txt`` (the IDs: each take's place in the folder's list,
+    six digits; the manifest names each ID's source)."""
     if parquet:
         _need_pyarrow()
+        if features != "arrays":
+            raise ValueError("parquet=True writes the arrays' frames; features=\"humanml3d\" has none")
     with _ended_cleanly():
         _, _, _, skipped = _compile_dataset(
             os.fspath(folder),
@@ -186,6 +204,7 @@ def compile_dataset(
             quat_continuous=quat_continuous,
             names=names if names is None or isinstance(names, dict) else os.fspath(names),
             lock_feet=lock_feet,
+            features=features,
         )
         for _, _, reason in skipped:
             warnings.warn(f"skipped {reason}", SkippedTake, stacklevel=2)

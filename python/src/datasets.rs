@@ -50,6 +50,18 @@ pub(crate) fn _open_dataset(py: Python<'_>, path: PathBuf) -> PyResult<OpenDatas
     })
 }
 
+/// The manifest of the dataset at `path` as JSON, the dataset checked by bvhview's reader
+/// first: its arrays, or with `features="humanml3d"` HumanML3D's layout.
+#[pyfunction]
+pub(crate) fn _dataset_manifest(py: Python<'_>, path: PathBuf) -> PyResult<String> {
+    guard("_dataset_manifest", || {
+        let manifest = py
+            .detach(|| read::read_manifest(&path))
+            .map_err(|e| to_python(py, e))?;
+        serde_json::to_string(&manifest).map_err(|e| PyValueError::new_err(e.to_string()))
+    })
+}
+
 /// The native half of `Dataset.to_motion`: arrays in the layout of group `group` of the dataset
 /// at `path` as a take on the group's skeleton (`clip`: whose bone lengths and travel joint; by
 /// default the group's first clip's).
@@ -197,15 +209,15 @@ pub(crate) fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePa
 /// groups, skipped as (path, motion, reason) triples). `takes`: a list of its own (relative
 /// paths); `piece`: (index, pieces), the run of the folder's list a Dask worker compiles.
 #[pyfunction]
-#[pyo3(signature = (folder, out, fps=30.0, rotations="6d", root_relative=false, feet=None,
+#[pyo3(signature = (folder, out, fps=None, rotations="6d", root_relative=false, feet=None,
     contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None, onto=None,
-    ground=false, quat_continuous=false, names=None, lock_feet=false))]
+    ground=false, quat_continuous=false, names=None, lock_feet=false, features="arrays"))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn _compile_dataset(
     py: Python<'_>,
     folder: PathBuf,
     out: PathBuf,
-    fps: f64,
+    fps: Option<f64>,
     rotations: &str,
     root_relative: bool,
     feet: Option<Vec<String>>,
@@ -219,6 +231,7 @@ pub(crate) fn _compile_dataset(
     quat_continuous: bool,
     names: Option<Bound<'_, PyAny>>,
     lock_feet: bool,
+    features: &str,
 ) -> PyResult<(usize, usize, usize, Vec<SkippedTake>)> {
     guard("_compile_dataset", || {
         if names.is_some() && onto.is_none() {
@@ -232,8 +245,18 @@ pub(crate) fn _compile_dataset(
                 pose::RotationKind::NAMES
             ))
         })?;
+        let features = bvhview::dataset::FeatureSet::parse(features).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "features={features:?}: expected \"arrays\" or \"humanml3d\""
+            ))
+        })?;
+        let fps = fps.unwrap_or(match features {
+            bvhview::dataset::FeatureSet::HumanMl3d => bvhview::humanml3d::FPS,
+            bvhview::dataset::FeatureSet::Arrays => bvhview::dataset::Options::default().fps,
+        });
         let options = bvhview::dataset::Options {
             fps,
+            features,
             rotations,
             root_relative,
             feet,

@@ -239,6 +239,8 @@ fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(_compile_dataset, module)?)?;
     module.add_function(wrap_pyfunction!(_merge_datasets, module)?)?;
     module.add_function(wrap_pyfunction!(_open_dataset, module)?)?;
+    module.add_function(wrap_pyfunction!(_dataset_manifest, module)?)?;
+    module.add_function(wrap_pyfunction!(retarget::humanml3d_features, module)?)?;
     module.add_function(wrap_pyfunction!(_dataset_motion, module)?)?;
     module.add_class::<Motion>()?;
     module.add("ParseError", module.py().get_type::<ParseError>())?;

@@ -236,3 +236,50 @@ pub(crate) fn from_humanml3d(
     let like: numpy::PyArrayLike3<'_, f64, numpy::AllowTypeChange> = array.extract()?;
     from_positions(py, like, skeleton, None, fps, None)
 }
+
+/// `bvhview.humanml3d_features`: joint positions (frames × 22 × 3, SMPL's order, metres, y up,
+/// 20 fps) as HumanML3D's pipeline turns them into its vectors: (vectors (frames − 1) × 263,
+/// the positions they stand for (frames − 1) × 22 × 3), float32.
+#[pyfunction]
+pub(crate) fn humanml3d_features<'py>(
+    py: Python<'py>,
+    positions: numpy::PyArrayLike3<'py, f64, numpy::AllowTypeChange>,
+) -> PyResult<(
+    Bound<'py, numpy::PyArray2<f32>>,
+    Bound<'py, numpy::PyArray3<f32>>,
+)> {
+    crate::guard("humanml3d_features", || {
+        let array = positions.as_array();
+        let shape = array.shape().to_vec();
+        if shape[1] != bvhview::humanml3d::JOINTS || shape[2] != 3 {
+            return Err(PyValueError::new_err(format!(
+                "positions of shape {shape:?}: expected frames × 22 × 3 (SMPL's joints)"
+            )));
+        }
+        let points: Vec<glam::DVec3> = array
+            .as_standard_layout()
+            .as_slice()
+            .expect("a standard layout")
+            .chunks_exact(3)
+            .map(|p| glam::DVec3::new(p[0], p[1], p[2]))
+            .collect();
+        let features = py
+            .detach(|| bvhview::humanml3d::features(&points))
+            .map_err(|e| to_python(py, e))?;
+        let rows = features.frames();
+        let vectors = numpy::ndarray::Array2::from_shape_vec(
+            (rows, bvhview::humanml3d::WIDTH),
+            features.vectors,
+        )
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        let joints = numpy::ndarray::Array3::from_shape_vec(
+            (rows, bvhview::humanml3d::JOINTS, 3),
+            features.joints,
+        )
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+        Ok((
+            numpy::PyArray2::from_owned_array(py, vectors),
+            numpy::PyArray3::from_owned_array(py, joints),
+        ))
+    })
+}

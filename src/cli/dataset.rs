@@ -11,9 +11,10 @@ pub(crate) struct DatasetArgs {
     /// The dataset folder to make (it must not exist, or be empty).
     #[arg(short, long)]
     output: PathBuf,
-    /// The one frame rate every clip is resampled to.
-    #[arg(long, default_value_t = 30.0)]
-    fps: f64,
+    /// The one frame rate every clip is resampled to (default: 30; with --features humanml3d,
+    /// HumanML3D's 20).
+    #[arg(long)]
+    fps: Option<f64>,
     /// How local rotations are written.
     #[arg(long, value_enum, default_value_t)]
     rotations: RotationsArg,
@@ -57,6 +58,22 @@ pub(crate) struct DatasetArgs {
     /// (SRC= leaves a source joint out), or a TOML or JSON file of such pairs. Repeatable.
     #[arg(long, value_name = "FILE|SRC=DST", requires = "onto")]
     map: Vec<String>,
+    /// What each take is written as: bvhview's arrays grouped by skeleton, or HumanML3D's
+    /// 263-value vectors in its folder layout (new_joint_vecs/ID.npy, new_joints/ID.npy,
+    /// Mean.npy, Std.npy, all.txt; with --onto smpl22), as its own pipeline makes them.
+    #[arg(long, value_enum, default_value_t)]
+    features: FeaturesArg,
+}
+
+/// `--features`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub(crate) enum FeaturesArg {
+    /// bvhview's arrays, grouped by skeleton topology.
+    #[default]
+    Arrays,
+    /// HumanML3D's feature vectors (text-to-motion models' training data).
+    #[value(name = "humanml3d")]
+    HumanMl3d,
 }
 
 /// `--rotations`.
@@ -92,8 +109,17 @@ impl From<RotationsArg> for RotationKind {
 /// Compiles; each skipped take is said on stderr with its `path:line:column`. Exits 2, writing
 /// nothing, when no take could be compiled; 0 otherwise (the manifest lists what was skipped).
 pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
+    let features = match args.features {
+        FeaturesArg::Arrays => dataset::FeatureSet::Arrays,
+        FeaturesArg::HumanMl3d => dataset::FeatureSet::HumanMl3d,
+    };
+    let default_fps = match features {
+        dataset::FeatureSet::HumanMl3d => crate::humanml3d::FPS,
+        dataset::FeatureSet::Arrays => Options::default().fps,
+    };
     let options = Options {
-        fps: args.fps,
+        fps: args.fps.unwrap_or(default_fps),
+        features,
         rotations: args.rotations.into(),
         root_relative: args.root_relative,
         feet: args.feet,
@@ -141,13 +167,22 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         },
     )?;
     progress.done();
+    let layout = match features {
+        dataset::FeatureSet::HumanMl3d => "HumanML3D's layout".to_string(),
+        dataset::FeatureSet::Arrays => crate::io::error::counted(summary.groups, "topology group"),
+    };
     wrote(format_args!(
-        "{}: {}, {} at {} fps in {}; {} skipped",
+        "{}: {}, {} at {} fps in {layout}; {} skipped",
         args.output.display(),
         crate::io::error::counted(summary.clips, "clip"),
-        crate::io::error::counted(summary.frames, "frame"),
+        crate::io::error::counted(
+            summary.frames,
+            match features {
+                dataset::FeatureSet::HumanMl3d => "vector",
+                dataset::FeatureSet::Arrays => "frame",
+            }
+        ),
         crate::limits::show(options.fps),
-        crate::io::error::counted(summary.groups, "topology group"),
         summary.skipped.len()
     ));
     Ok(ExitCode::SUCCESS)

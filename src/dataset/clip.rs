@@ -66,7 +66,7 @@ impl Source {
 /// # Ok(())
 /// # }
 /// ```
-#[derive(Clone, Debug, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
+#[derive(Clone, Debug, Default, PartialEq, Eq, Hash, serde::Serialize, serde::Deserialize)]
 pub struct Topology {
     /// Every point: joints and End Sites (named `<parent>_End`), in file order.
     pub joints: Vec<String>,
@@ -215,6 +215,9 @@ pub struct Clip {
     /// The skeleton the arrays are of (metres, Y up), written as its group's `skeleton.bvh`;
     /// `None` for a clip read back from a dataset, whose group has that file already.
     pub skeleton: Option<crate::Skeleton>,
+    /// With `--features humanml3d`: the take in HumanML3D's representation, made from
+    /// `positions` (the other arrays are not written).
+    pub humanml3d: Option<crate::humanml3d::Features>,
 }
 
 /// Why a take is not in the dataset.

@@ -4,8 +4,8 @@
 //! ([`super::store::Writer`]).
 
 use super::read::open;
-use super::store::{Takes, Writer, list_digest};
-use super::{Clip, Summary};
+use super::store::{Manifest, Takes, Writer, list_digest};
+use super::{Clip, FeatureSet, Summary};
 use crate::io::error::Error;
 use std::path::{Path, PathBuf};
 
@@ -51,45 +51,27 @@ pub enum Join {
 /// (consecutive runs of one folder's takes in path order); with [`Join::Folders`], any datasets
 /// made with the same options.
 pub fn merge(pieces: &[PathBuf], out: &Path, join: Join) -> Result<Summary, Error> {
-    let datasets = pieces
-        .iter()
-        .map(|p| open(p))
-        .collect::<Result<Vec<_>, Error>>()?;
-    let Some(first) = datasets.first() else {
+    let Some(first) = pieces.first() else {
         return Err(Error::Usage(
             "nothing to merge: no datasets given".to_string(),
         ));
     };
-    let options = first.manifest.options.options()?;
-    for (piece, dataset) in pieces.iter().zip(&datasets) {
-        if dataset.manifest.options != first.manifest.options {
-            return Err(Error::Usage(format!(
-                "{}: made with other options than {}; datasets are merged only when they share them",
-                piece.display(),
-                pieces[0].display()
-            )));
-        }
+    let (_, manifest) = super::read::open_manifest(first)?;
+    if manifest.options.features == FeatureSet::HumanMl3d.name() {
+        return super::humanml3d::merge(pieces, out, join, |manifests| {
+            takes_of(pieces, manifests, join)
+        });
     }
-    let takes = match join {
-        Join::Pieces => pieces_in_order(pieces, &datasets)?,
-        Join::Folders => {
-            let digests: Vec<super::Source> = datasets
-                .iter()
-                .map(|d| super::Source {
-                    path: d.manifest.takes.list.clone(),
-                    motion: None,
-                })
-                .collect();
-            let count = datasets.iter().map(|d| d.manifest.takes.count).sum();
-            Takes {
-                list: list_digest(&digests),
-                listed: count,
-                first: 0,
-                count,
-            }
-        }
-    };
-    let mut writer = Writer::create(out, &options, takes)?;
+    let datasets = pieces
+        .iter()
+        .map(|p| open(p))
+        .collect::<Result<Vec<_>, Error>>()?;
+    let manifests: Vec<&Manifest> = datasets.iter().map(|d| &d.manifest).collect();
+    let takes = takes_of(pieces, &manifests, join)?;
+    let first = &datasets[0];
+    let options = first.manifest.options.options()?;
+    // Checked when the pieces were compiled (their `onto` is a name here, not a skeleton).
+    let mut writer = Writer::create_unchecked(out, &options, takes)?;
     writer.keep_settings(first.manifest.options.clone());
     for (piece, dataset) in pieces.iter().zip(datasets) {
         let manifest = &dataset.manifest;
@@ -117,9 +99,10 @@ pub fn merge(pieces: &[PathBuf], out: &Path, join: Join) -> Result<Summary, Erro
                 velocities: floats(&array(4)?),
                 contacts: array(5)?,
                 skeleton: None,
+                humanml3d: None,
             };
             writer
-                .add_merged(&clip, &skeletons[entry.group])
+                .add_merged(&clip, &skeletons[entry.group], String::new())
                 .map_err(|e| Error::Usage(format!("{}: {e}", piece.display())))?;
         }
         for skipped in &manifest.skipped {
@@ -129,14 +112,48 @@ pub fn merge(pieces: &[PathBuf], out: &Path, join: Join) -> Result<Summary, Erro
     writer.finish()
 }
 
+/// The list of takes the merged datasets hold: the whole list their pieces are of, or for
+/// folders, one list of them all. Their options must be one.
+fn takes_of(pieces: &[PathBuf], manifests: &[&Manifest], join: Join) -> Result<Takes, Error> {
+    let first = manifests[0];
+    for (piece, manifest) in pieces.iter().zip(manifests) {
+        if manifest.options != first.options {
+            return Err(Error::Usage(format!(
+                "{}: made with other options than {}; datasets are merged only when they share them",
+                piece.display(),
+                pieces[0].display()
+            )));
+        }
+    }
+    match join {
+        Join::Pieces => pieces_in_order(pieces, manifests),
+        Join::Folders => {
+            let digests: Vec<super::Source> = manifests
+                .iter()
+                .map(|m| super::Source {
+                    path: m.takes.list.clone(),
+                    motion: None,
+                })
+                .collect();
+            let count = manifests.iter().map(|m| m.takes.count).sum();
+            Ok(Takes {
+                list: list_digest(&digests),
+                listed: count,
+                first: 0,
+                count,
+            })
+        }
+    }
+}
+
 /// Pieces of one compile, checked: one list of takes, its runs given in order, each take once,
 /// none missing. Their paths must come in path order too (a manifest edited by hand would
 /// otherwise merge into a dataset no compile makes).
-fn pieces_in_order(pieces: &[PathBuf], datasets: &[super::read::Dataset]) -> Result<Takes, Error> {
-    let first = &datasets[0].manifest.takes;
+fn pieces_in_order(pieces: &[PathBuf], manifests: &[&Manifest]) -> Result<Takes, Error> {
+    let first = &manifests[0].takes;
     let mut next = 0usize;
-    for (piece, dataset) in pieces.iter().zip(datasets) {
-        let takes = &dataset.manifest.takes;
+    for (piece, manifest) in pieces.iter().zip(manifests) {
+        let takes = &manifest.takes;
         if takes.list != first.list || takes.listed != first.listed {
             return Err(Error::Usage(format!(
                 "{}: a piece of another compile than {} (another folder or list of takes);                  to join datasets of different folders, merge them with join=\"folders\"",
@@ -158,7 +175,7 @@ fn pieces_in_order(pieces: &[PathBuf], datasets: &[super::read::Dataset]) -> Res
             )));
         }
         next += takes.count;
-        let held = dataset.manifest.clips.len() + dataset.manifest.skipped.len();
+        let held = manifest.clips.len() + manifest.skipped.len();
         if held != takes.count {
             return Err(Error::Usage(format!(
                 "{}: its manifest lists {held} takes where it says it holds {}",
@@ -174,8 +191,7 @@ fn pieces_in_order(pieces: &[PathBuf], datasets: &[super::read::Dataset]) -> Res
         )));
     }
     let mut last: Option<(String, &Path)> = None;
-    for (piece, dataset) in pieces.iter().zip(datasets) {
-        let manifest = &dataset.manifest;
+    for (piece, manifest) in pieces.iter().zip(manifests) {
         let mut paths: Vec<String> = manifest
             .clips
             .iter()

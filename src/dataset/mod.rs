@@ -8,6 +8,7 @@
 //! merges datasets compiled in pieces (on a cluster's workers) into the one a single process
 //! would have written, byte for byte.
 
+pub mod humanml3d;
 pub mod merge;
 pub mod quaternions;
 pub mod read;
@@ -115,7 +116,7 @@ pub fn compile_take_timed(
     stages.load = start.elapsed();
     let posed = quaternions::posed(&take, &item.path, options, &mut stages)?;
     let start = std::time::Instant::now();
-    let clip = finish(dir, item, options, take, posed);
+    let clip = with_humanml3d(item, options, finish(dir, item, options, take, posed))?;
     stages.derived = start.elapsed();
     Ok((clip, stages))
 }
@@ -126,7 +127,7 @@ pub fn compile_take_timed(
 pub fn compile_take_plain(dir: &Path, item: &Item, options: &Options) -> Result<Clip, Error> {
     let take = prepare(item, options)?;
     let posed = posed_plain(&take, &item.path, options)?;
-    Ok(finish(dir, item, options, take, posed))
+    with_humanml3d(item, options, finish(dir, item, options, take, posed))
 }
 
 /// A take loaded and checked for compiling, with the offset mode it is read in and how it
@@ -413,7 +414,46 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
             .flat_map(|j| j.offset.to_array())
             .collect(),
         skeleton: Some(skeleton),
+        humanml3d: None,
     }
+}
+
+/// With `--features humanml3d`, the clip's 22 SMPL joints in HumanML3D's representation
+/// ([`crate::humanml3d::features`]); the take is skipped, with why, where it has none (a take
+/// of one frame).
+fn with_humanml3d(item: &Item, options: &Options, mut clip: Clip) -> Result<Clip, Error> {
+    if options.features != FeatureSet::HumanMl3d {
+        return Ok(clip);
+    }
+    let names = &clip.topology.joints;
+    let order = crate::solve::SMPL22_ORDER
+        .iter()
+        .map(|name| names.iter().position(|n| n == name))
+        .collect::<Option<Vec<usize>>>()
+        .ok_or_else(|| {
+            Error::Usage(format!(
+                "{}: --features humanml3d: the skeleton the take is on lacks SMPL's joint names",
+                item.path.display()
+            ))
+        })?;
+    let points = names.len();
+    let positions: Vec<glam::DVec3> = clip
+        .positions
+        .chunks_exact(points * 3)
+        .flat_map(|pose| {
+            order.iter().map(move |&k| {
+                glam::DVec3::new(
+                    pose[3 * k].into(),
+                    pose[3 * k + 1].into(),
+                    pose[3 * k + 2].into(),
+                )
+            })
+        })
+        .collect();
+    let features = crate::humanml3d::features(&positions)
+        .map_err(|e| Error::Usage(format!("{}: {e}", item.path.display())))?;
+    clip.humanml3d = Some(features);
+    Ok(clip)
 }
 
 /// Points as one flat list of coordinates: the same memory, seen as floats (a `Vec3` is three

@@ -62,6 +62,38 @@ pub struct Options {
     /// Each take's planted feet held where they landed first (`--lock-feet`, as `convert
     /// --lock-feet` holds them).
     pub lock_feet: bool,
+    /// What each take is written as (`--features`).
+    pub features: FeatureSet,
+}
+
+/// What each take of a dataset is written as (`--features`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum FeatureSet {
+    /// bvhview's arrays, clips grouped by skeleton topology (`group_K/*.npy`).
+    #[default]
+    Arrays,
+    /// HumanML3D's representation ([`crate::humanml3d`]) in its folder layout: per take
+    /// `new_joint_vecs/ID.npy` (its 263-value vectors) and `new_joints/ID.npy` (the positions
+    /// they stand for), with `Mean.npy` and `Std.npy` over the set and `all.txt` listing the
+    /// IDs: the take's place in the folder's list of takes, six digits (`000042`).
+    HumanMl3d,
+}
+
+impl FeatureSet {
+    /// The name `--features` and the manifest give it.
+    pub fn name(self) -> &'static str {
+        match self {
+            FeatureSet::Arrays => "arrays",
+            FeatureSet::HumanMl3d => "humanml3d",
+        }
+    }
+
+    /// The set named `name`.
+    pub fn parse(name: &str) -> Option<FeatureSet> {
+        [FeatureSet::Arrays, FeatureSet::HumanMl3d]
+            .into_iter()
+            .find(|set| set.name() == name)
+    }
 }
 
 impl Default for Options {
@@ -76,6 +108,7 @@ impl Default for Options {
             ground: false,
             quat_continuous: false,
             lock_feet: false,
+            features: FeatureSet::Arrays,
             map: crate::retarget::MapPairs::default(),
             max_size: crate::take::DEFAULT_MAX_SIZE,
             onto: None,
@@ -117,6 +150,54 @@ impl Options {
             return Err(Error::Usage(
                 "--feet: expected point names separated by commas (as the dataset names them)"
                     .to_string(),
+            ));
+        }
+        if self.features == FeatureSet::HumanMl3d {
+            self.check_humanml3d()?;
+        }
+        Ok(())
+    }
+
+    /// HumanML3D's vectors are of SMPL's 22 joints at 20 fps, placed by its own processing.
+    fn check_humanml3d(&self) -> Result<(), Error> {
+        let refuse = |why: String| Err(Error::Usage(format!("--features humanml3d: {why}")));
+        let Some(target) = &self.onto else {
+            return refuse(
+                "needs --onto smpl22 (or a skeleton with SMPL's 22 joint names): HumanML3D's \
+                 vectors are of SMPL's 22 joints"
+                    .to_string(),
+            );
+        };
+        let missing: Vec<&str> = crate::solve::SMPL22_ORDER
+            .iter()
+            .filter(|name| !target.skeleton.joints.iter().any(|j| j.name == **name))
+            .copied()
+            .collect();
+        if !missing.is_empty() {
+            return refuse(format!(
+                "{} has no joint named {} (HumanML3D's vectors are of SMPL's 22 joints, by \
+                 the names of the built-in smpl22)",
+                target.name,
+                missing.join(", ")
+            ));
+        }
+        if self.fps != crate::humanml3d::FPS {
+            return refuse(format!(
+                "HumanML3D's vectors are made at 20 fps (its contact threshold is a step per \
+                 frame), not {}",
+                crate::limits::show(self.fps)
+            ));
+        }
+        let placed = [
+            ("--root-relative", self.root_relative),
+            ("--ground", self.ground),
+            ("--quat-continuous", self.quat_continuous),
+            ("--feet", self.feet.is_some()),
+        ];
+        if let Some((flag, _)) = placed.iter().find(|(_, on)| *on) {
+            return refuse(format!(
+                "{flag} has no part in HumanML3D's vectors (its processing grounds and centres \
+                 each take itself, and its contacts are of its own foot joints)"
             ));
         }
         Ok(())

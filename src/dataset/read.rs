@@ -162,23 +162,12 @@ fn item_size(dtype: &str) -> usize {
 /// user named; nothing inside it may be one).
 pub fn open(path: &Path) -> Result<Dataset, Error> {
     let refuse = |why: String| Error::Usage(format!("{}: {why}", path.display()));
-    let folder = open_folder(path)?;
-    let manifest_file = open_in(&folder, "manifest.json", false)
-        .map_err(|why| refuse(format!("manifest.json: {why}")))?;
-    let text = read_whole(&manifest_file, MAX_MANIFEST)
-        .map_err(|why| refuse(format!("manifest.json: {why}")))?;
-    let manifest_path = path.join("manifest.json");
-    let manifest: Manifest = serde_json::from_slice(&text).map_err(|e| Error::Parse {
-        path: manifest_path.display().to_string(),
-        line: e.line(),
-        column: e.column(),
-        message: e.to_string(),
-    })?;
-    if manifest.format != store::FORMAT {
+    let (folder, manifest) = open_manifest(path)?;
+    if manifest.options.features != super::FeatureSet::Arrays.name() {
         return Err(refuse(format!(
-            "format {:?}; this bvhview reads {:?}",
-            manifest.format,
-            store::FORMAT
+            "made with --features {}: HumanML3D's layout (new_joint_vecs/ID.npy, Mean.npy, \
+             Std.npy), which numpy reads as it is; bvhview's dataset reader reads its own arrays",
+            manifest.options.features
         )));
     }
     check_manifest(&manifest).map_err(refuse)?;
@@ -305,13 +294,44 @@ impl Dataset {
     }
 }
 
-/// Reads a dataset's manifest, checked with every file of the dataset ([`open`]).
-pub fn read_manifest(dataset: &Path) -> Result<Manifest, Error> {
-    Ok(open(dataset)?.manifest)
+/// The dataset folder at `path`, opened, and its manifest, read (not yet checked with its
+/// files) in a format this bvhview reads.
+pub(super) fn open_manifest(path: &Path) -> Result<(File, Manifest), Error> {
+    let refuse = |why: String| Error::Usage(format!("{}: {why}", path.display()));
+    let folder = open_folder(path)?;
+    let manifest_file = open_in(&folder, "manifest.json", false)
+        .map_err(|why| refuse(format!("manifest.json: {why}")))?;
+    let text = read_whole(&manifest_file, MAX_MANIFEST)
+        .map_err(|why| refuse(format!("manifest.json: {why}")))?;
+    let manifest_path = path.join("manifest.json");
+    let manifest: Manifest = serde_json::from_slice(&text).map_err(|e| Error::Parse {
+        path: manifest_path.display().to_string(),
+        line: e.line(),
+        column: e.column(),
+        message: e.to_string(),
+    })?;
+    if manifest.format != store::FORMAT {
+        return Err(refuse(format!(
+            "format {:?}; this bvhview reads {:?}",
+            manifest.format,
+            store::FORMAT
+        )));
+    }
+    Ok((folder, manifest))
 }
 
-/// Everything the manifest says that can be checked without its files.
-fn check_manifest(manifest: &Manifest) -> Result<(), String> {
+/// Reads a dataset's manifest, checked with every file of the dataset ([`open`]), or for a
+/// dataset in HumanML3D's layout, with its folders ([`super::humanml3d::open`]).
+pub fn read_manifest(dataset: &Path) -> Result<Manifest, Error> {
+    let (_, manifest) = open_manifest(dataset)?;
+    match manifest.options.features == super::FeatureSet::HumanMl3d.name() {
+        true => Ok(super::humanml3d::open(dataset)?.manifest),
+        false => Ok(open(dataset)?.manifest),
+    }
+}
+
+/// The manifest's options and its place in the list of takes, checked.
+pub(super) fn check_settings(manifest: &Manifest) -> Result<super::Options, String> {
     let options = manifest.options.options().map_err(|e| e.to_string())?;
     crate::limits::fps(options.fps, false).map_err(|e| e.to_string())?;
     if manifest.options.up != "y" || manifest.options.units != "metres" {
@@ -330,6 +350,12 @@ fn check_manifest(manifest: &Manifest) -> Result<(), String> {
             takes.listed
         ));
     }
+    Ok(options)
+}
+
+/// Everything the manifest says that can be checked without its files.
+fn check_manifest(manifest: &Manifest) -> Result<(), String> {
+    let options = check_settings(manifest)?;
     let mut ends = vec![0usize; manifest.groups.len()];
     let mut counts = vec![0usize; manifest.groups.len()];
     for (k, group) in manifest.groups.iter().enumerate() {
@@ -498,7 +524,7 @@ fn open_folder(path: &Path) -> Result<File, Error> {
 }
 
 /// `name` inside `folder`: never through a link, a folder or a regular file as asked.
-fn open_in(folder: &File, name: &str, want_folder: bool) -> Result<File, String> {
+pub(super) fn open_in(folder: &File, name: &str, want_folder: bool) -> Result<File, String> {
     use std::os::fd::AsRawFd;
     let plain = !name.is_empty() && name != "." && name != ".." && !name.contains('/');
     if !plain {
@@ -544,7 +570,7 @@ fn open_in(folder: &File, name: &str, want_folder: bool) -> Result<File, String>
 }
 
 /// A whole regular file of at most `most` bytes, its size known before it is read.
-fn read_whole(file: &File, most: u64) -> Result<Vec<u8>, String> {
+pub(super) fn read_whole(file: &File, most: u64) -> Result<Vec<u8>, String> {
     let size = file.metadata().map_err(|e| e.to_string())?.len();
     if size > most {
         return Err(format!("{size} bytes; at most {most} are read"));

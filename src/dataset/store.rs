@@ -3,7 +3,7 @@
 //! `offsets.npy`, where each clip starts. The folder is filled under a temporary name beside
 //! `out` and renamed at the end, so a dataset is there whole or not at all.
 
-use super::{About, Clip, Options, Skipped, Summary, Topology};
+use super::{About, Clip, FeatureSet, Options, Skipped, Summary, Topology};
 use crate::io::error::Error;
 use crate::model::pose::RotationKind;
 use std::collections::HashMap;
@@ -88,6 +88,18 @@ pub struct Settings {
     /// skeleton, and for one skeleton by its fingerprint.
     #[serde(default)]
     pub map: crate::retarget::MapPairs,
+    /// What each take is written as (`--features`): `arrays`, or `humanml3d`; absent in
+    /// older manifests and for arrays, so that their manifests stay as they were.
+    #[serde(default = "arrays", skip_serializing_if = "is_arrays")]
+    pub features: String,
+}
+
+fn arrays() -> String {
+    FeatureSet::Arrays.name().to_string()
+}
+
+fn is_arrays(name: &str) -> bool {
+    name == FeatureSet::Arrays.name()
 }
 
 impl Settings {
@@ -107,6 +119,7 @@ impl Settings {
             onto: options.onto.as_ref().map(|target| target.name.clone()),
             lock_feet: options.lock_feet,
             map: options.map.clone(),
+            features: options.features.name().to_string(),
         }
     }
 
@@ -128,6 +141,12 @@ impl Settings {
             quat_continuous: self.quat_continuous,
             lock_feet: self.lock_feet,
             map: self.map.clone(),
+            features: FeatureSet::parse(&self.features).ok_or_else(|| {
+                Error::Usage(format!(
+                    "features {:?}: not a set bvhview writes (arrays, humanml3d)",
+                    self.features
+                ))
+            })?,
             ..Options::default()
         })
     }
@@ -234,9 +253,14 @@ pub struct ClipEntry {
     #[serde(flatten)]
     pub about: About,
     pub group: usize,
-    /// Its first frame's row in the group's arrays.
+    /// Its first frame's row in the group's arrays (with `--features humanml3d`, which has no
+    /// groups: its first vector's row among all the dataset's vectors, in list order).
     pub start: usize,
     pub frames: usize,
+    /// With `--features humanml3d`: its files' name, `new_joint_vecs/ID.npy` (the take's place
+    /// in the list of takes compiled, six digits).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub id: Option<String>,
 }
 
 /// The arrays of a group, in the order the manifest lists them: name, element type, and the
@@ -410,17 +434,40 @@ pub struct Writer {
     by_topology: HashMap<Topology, usize>,
     clips: Vec<ClipEntry>,
     skipped: Vec<Skipped>,
+    /// With `--features humanml3d`: the mean and spread of every vector written.
+    vectors: Moments,
 }
+
+/// The folders of HumanML3D's layout: the vectors, and the positions they stand for.
+pub const HUMANML3D_FOLDERS: [&str; 2] = ["new_joint_vecs", "new_joints"];
 
 impl Writer {
     /// Starts a dataset at `out`, which must not exist or be an empty folder: made as every
     /// folder of outputs is ([`crate::io::output::NewFolder`]), under a temporary name beside it.
     pub fn create(out: &Path, options: &Options, takes: Takes) -> Result<Writer, Error> {
         options.check()?;
+        Writer::create_unchecked(out, options, takes)
+    }
+
+    /// [`Writer::create`] for options checked before: a merge's, whose skeleton is a name.
+    pub(super) fn create_unchecked(
+        out: &Path,
+        options: &Options,
+        takes: Takes,
+    ) -> Result<Writer, Error> {
         let folder = crate::io::output::NewFolder::create(
             out,
             "a dataset goes into a new (or empty) folder",
         )?;
+        if options.features == FeatureSet::HumanMl3d {
+            crate::io::output::in_partial_folder(|| {
+                for name in HUMANML3D_FOLDERS {
+                    let path = folder.path().join(name);
+                    std::fs::create_dir(&path).map_err(|e| Error::output(&path, e))?;
+                }
+                Ok(())
+            })?;
+        }
         Ok(Writer {
             out: out.to_path_buf(),
             folder: Some(folder),
@@ -432,6 +479,7 @@ impl Writer {
             by_topology: HashMap::new(),
             clips: Vec::new(),
             skipped: Vec::new(),
+            vectors: Moments::default(),
         })
     }
 
@@ -451,19 +499,41 @@ impl Writer {
             Some(skeleton) => skeleton_bvh(skeleton),
             None => Err(Error::Usage("a clip without its skeleton".to_string())),
         };
-        crate::io::output::in_partial_folder(|| self.add_files(clip, &skeleton))
+        // Clips and skips come in list order: this is the take's place in the list.
+        let id = format!(
+            "{:06}",
+            self.takes.first + self.clips.len() + self.skipped.len()
+        );
+        crate::io::output::in_partial_folder(|| self.add_files(clip, &skeleton, id))
     }
 
-    /// Adds a clip of a dataset being merged: a new group takes `skeleton` (its piece's).
-    pub(super) fn add_merged(&mut self, clip: &Clip, skeleton: &str) -> Result<(), Error> {
-        crate::io::output::in_partial_folder(|| self.add_files(clip, &|| Ok(skeleton.to_string())))
+    /// Adds a clip of a dataset being merged: a new group takes `skeleton` (its piece's); with
+    /// HumanML3D's layout the clip is named `id`.
+    pub(super) fn add_merged(
+        &mut self,
+        clip: &Clip,
+        skeleton: &str,
+        id: String,
+    ) -> Result<(), Error> {
+        crate::io::output::in_partial_folder(|| {
+            self.add_files(clip, &|| Ok(skeleton.to_string()), id)
+        })
+    }
+
+    /// The clips added so far.
+    pub(super) fn clip_count(&self) -> usize {
+        self.clips.len()
     }
 
     fn add_files(
         &mut self,
         clip: &Clip,
         skeleton: &dyn Fn() -> Result<String, Error>,
+        id: String,
     ) -> Result<(), Error> {
+        if self.options.features == FeatureSet::HumanMl3d {
+            return self.add_humanml3d(clip, id);
+        }
         let group = match self.by_topology.get(&clip.topology) {
             Some(&k) => k,
             None => {
@@ -547,8 +617,64 @@ impl Writer {
             group,
             start,
             frames: clip.frames,
+            id: None,
         });
         Ok(())
+    }
+
+    /// A clip in HumanML3D's layout: its vectors and positions as `ID.npy` in their folders.
+    fn add_humanml3d(&mut self, clip: &Clip, id: String) -> Result<(), Error> {
+        use crate::humanml3d::{JOINTS, WIDTH};
+        let Some(features) = &clip.humanml3d else {
+            return Err(Error::Usage(format!(
+                "{}: a clip without its HumanML3D vectors in a dataset of them",
+                clip.about.source.path
+            )));
+        };
+        let rows = features.frames();
+        let [vectors, joints] = HUMANML3D_FOLDERS;
+        for (folder, values, shape) in [
+            (vectors, &features.vectors, vec![rows, WIDTH]),
+            (joints, &features.joints, vec![rows, JOINTS, 3]),
+        ] {
+            let path = self.folder().join(folder).join(format!("{id}.npy"));
+            let mut bytes = npy_header("<f4", &shape);
+            bytes.extend(values.iter().flat_map(|v| v.to_le_bytes()));
+            std::fs::write(&path, bytes).map_err(|e| Error::output(&path, e))?;
+        }
+        self.vectors.add(&features.vectors, WIDTH);
+        let start = self.clips.iter().map(|c| c.frames).sum();
+        self.clips.push(ClipEntry {
+            about: clip.about.clone(),
+            group: 0,
+            start,
+            frames: rows,
+            id: Some(id),
+        });
+        Ok(())
+    }
+
+    /// HumanML3D's `Mean.npy` and `Std.npy` over every vector written (its spread one number
+    /// per part of the vector, [`crate::humanml3d::spread_by_part`]) and `all.txt`, the IDs.
+    fn finish_humanml3d(&self) -> Result<(), Error> {
+        use crate::humanml3d::WIDTH;
+        let stats = self.vectors.stats("vectors", WIDTH);
+        let mut std = stats.std;
+        crate::humanml3d::spread_by_part(&mut std);
+        for (name, values) in [("Mean.npy", &stats.mean), ("Std.npy", &std)] {
+            let path = self.folder().join(name);
+            let mut bytes = npy_header("<f4", &[WIDTH]);
+            bytes.extend(values.iter().flat_map(|v| v.to_le_bytes()));
+            std::fs::write(&path, bytes).map_err(|e| Error::output(&path, e))?;
+        }
+        let ids: String = self
+            .clips
+            .iter()
+            .filter_map(|c| c.id.as_deref())
+            .map(|id| format!("{id}\n"))
+            .collect();
+        let path = self.folder().join("all.txt");
+        std::fs::write(&path, ids).map_err(|e| Error::output(&path, e))
     }
 
     /// Lists a take that could not be compiled.
@@ -569,6 +695,9 @@ impl Writer {
     }
 
     fn complete(&mut self) -> Result<Summary, Error> {
+        if self.options.features == FeatureSet::HumanMl3d {
+            self.finish_humanml3d()?;
+        }
         let mut groups = Vec::new();
         for (k, open) in std::mem::take(&mut self.groups).into_iter().enumerate() {
             let name = format!("group_{k}");
@@ -644,7 +773,7 @@ impl Writer {
         }
         let summary = Summary {
             clips: self.clips.len(),
-            frames: groups.iter().map(|g| g.frames).sum(),
+            frames: self.clips.iter().map(|c| c.frames).sum(),
             groups: groups.len(),
             skipped: self.skipped.clone(),
         };
