@@ -219,11 +219,8 @@ fn a_humanml3d_dataset_holds_each_takes_vectors_and_the_sets_mean_and_spread() {
     }
     for (name, start, width) in PARTS {
         let part = std[start..start + width].iter().sum::<f64>() / width as f64;
-        for k in start..start + width {
-            assert!(
-                (f64::from(written_std[k]) - part).abs() < 1e-6,
-                "{name} std {k}"
-            );
+        for (k, &written) in written_std.iter().enumerate().skip(start).take(width) {
+            assert!((f64::from(written) - part).abs() < 1e-6, "{name} std {k}");
         }
     }
 }
