@@ -237,6 +237,12 @@ pub(crate) fn from_humanml3d(
     from_positions(py, like, skeleton, None, fps, None)
 }
 
+/// HumanML3D's vectors and the positions they stand for, as numpy arrays.
+type VectorsAndJoints<'py> = (
+    Bound<'py, numpy::PyArray2<f32>>,
+    Bound<'py, numpy::PyArray3<f32>>,
+);
+
 /// `bvhview.humanml3d_features`: joint positions (frames × 22 × 3, SMPL's order, metres, y up,
 /// 20 fps) as HumanML3D's pipeline turns them into its vectors: (vectors (frames − 1) × 263,
 /// the positions they stand for (frames − 1) × 22 × 3), float32.
@@ -244,10 +250,7 @@ pub(crate) fn from_humanml3d(
 pub(crate) fn humanml3d_features<'py>(
     py: Python<'py>,
     positions: numpy::PyArrayLike3<'py, f64, numpy::AllowTypeChange>,
-) -> PyResult<(
-    Bound<'py, numpy::PyArray2<f32>>,
-    Bound<'py, numpy::PyArray3<f32>>,
-)> {
+) -> PyResult<VectorsAndJoints<'py>> {
     crate::guard("humanml3d_features", || {
         let array = positions.as_array();
         let shape = array.shape().to_vec();

@@ -13,6 +13,11 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 DATA = REPO / "tests" / "data"
+# SMPL's 22 body joints in SMPL's order, by the built-in smpl22's names.
+SMPL22_ORDER = ["pelvis", "left_hip", "right_hip", "spine1", "left_knee", "right_knee", "spine2",
+                "left_ankle", "right_ankle", "spine3", "left_foot", "right_foot", "neck",
+                "left_collar", "right_collar", "head", "left_shoulder", "right_shoulder",
+                "left_elbow", "right_elbow", "left_wrist", "right_wrist"]
 EDGE = REPO / "tests" / "edge"
 # The whole corpus beside the checkout, as the Rust tests find it (CI has it).
 SHARED = REPO.parent / "shared" / "data"

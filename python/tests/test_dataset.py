@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 import bvhview
-from conftest import DATA, REPO
+from conftest import DATA, REPO, SMPL22_ORDER
 
 
 @pytest.fixture(scope="module")
@@ -706,3 +706,75 @@ def test_a_panic_inside_becomes_a_runtime_error(tmp_path, entry):
     finally:
         del os.environ["BVHVIEW_PLANT_PANIC"]
     assert not (tmp_path / "m").exists() and not (tmp_path / "c").exists()
+
+
+def test_humanml3d_features_compile_in_its_layout_and_on_a_dask_cluster(tmp_path):
+    """compile_dataset(features="humanml3d") as `bvhview dataset --features humanml3d`: HumanML3D's
+    layout, each take's vectors those bvhview.humanml3d_features makes of the positions of the
+    arrays compile (onto smpl22, 20 fps), Mean/Std as HumanML3D's cal_mean_variance computes
+    them; on a Dask cluster, pieces merge into the same files."""
+    folder = tmp_path / "takes"
+    folder.mkdir()
+    for name in ["bvhparser_walk_01.bvh", "bvh11_131_01.bvh", "opencollar_run.bvh"]:
+        shutil.copy(DATA / "bvh" / name, folder / name)
+    out = tmp_path / "h3"
+    manifest = quietly(folder, out, onto="smpl22", features="humanml3d")
+    assert manifest["options"]["features"] == "humanml3d" and manifest["options"]["fps"] == 20
+    ids = (out / "all.txt").read_text().split()
+    assert ids == [clip["id"] for clip in manifest["clips"]] == ["000000", "000001", "000002"]
+    arrays = tmp_path / "arrays"
+    quietly(folder, arrays, onto="smpl22", fps=20)
+    dataset = bvhview.Dataset(arrays)
+    names = dataset.manifest["groups"][0]["joints"]
+    order = [names.index(n) for n in SMPL22_ORDER]
+    everything = []
+    for k, clip_id in enumerate(ids):
+        vectors = np.load(out / "new_joint_vecs" / f"{clip_id}.npy")
+        joints = np.load(out / "new_joints" / f"{clip_id}.npy")
+        expected, expected_joints = bvhview.humanml3d_features(dataset[k]["positions"][:, order])
+        np.testing.assert_array_equal(vectors, expected)
+        np.testing.assert_array_equal(joints, expected_joints)
+        everything.append(vectors)
+    # HumanML3D's cal_mean_variance: numpy's mean and std, the std then one number per part.
+    data = np.concatenate(everything).astype(np.float64)
+    std = data.std(axis=0)
+    for start, end in [(0, 1), (1, 3), (3, 4), (4, 67), (67, 193), (193, 259), (259, 263)]:
+        std[start:end] = std[start:end].mean()
+    np.testing.assert_allclose(np.load(out / "Mean.npy"), data.mean(axis=0), atol=1e-6)
+    np.testing.assert_allclose(np.load(out / "Std.npy"), std, atol=1e-6)
+    # The arrays' reader says what the folder is; a dataset of vectors has no Parquet rows.
+    with pytest.raises(ValueError, match="HumanML3D's layout"):
+        bvhview.Dataset(out)
+    with pytest.raises(ValueError, match="parquet"):
+        quietly(folder, tmp_path / "pq", onto="smpl22", features="humanml3d", parquet=True)
+    with pytest.raises(ValueError, match="20 fps"):
+        quietly(folder, tmp_path / "fps", onto="smpl22", features="humanml3d", fps=30)
+
+    distributed = pytest.importorskip("distributed")
+    from bvhview.dask import compile_dataset as compile_on_cluster
+
+    with distributed.LocalCluster(
+        n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None
+    ) as cluster, distributed.Client(cluster) as client:
+        compile_on_cluster(
+            folder, tmp_path / "cluster", client=client, pieces=2, onto="smpl22",
+            features="humanml3d",
+        )
+    same_tree(out, tmp_path / "cluster")
+
+
+def test_humanml3d_features_of_its_own_positions_are_its_published_vectors():
+    """bvhview.humanml3d_features on HumanML3D's processed positions (tests/humanml3d) gives its
+    published vectors, but for the last frames: its last frame is not published, and the
+    facing is smoothed over 80 frames (tests/humanml3d.rs rebuilds it and checks every one)."""
+    root = DATA.parent / "humanml3d"
+    joints = np.load(root / "new_joints_012314.npy")
+    published = np.load(root / "new_joint_vecs_012314.npy")
+    vectors, positions = bvhview.humanml3d_features(joints)
+    assert vectors.shape == (169, 263) and positions.shape == (169, 22, 3)
+    np.testing.assert_allclose(vectors[:80], published[:80], atol=1e-5)
+    np.testing.assert_allclose(positions[:80], joints[:80], atol=1e-5)
+    with pytest.raises(ValueError, match="22"):
+        bvhview.humanml3d_features(joints[:, :21])
+    with pytest.raises(ValueError, match="one frame"):
+        bvhview.humanml3d_features(joints[:1])

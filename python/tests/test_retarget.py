@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import bvhview
-from conftest import DATA
+from conftest import DATA, SMPL22_ORDER
 
 MIXAMO = DATA / "bvh" / "bvhpython_test_freebvh.bvh"
 
@@ -134,11 +134,6 @@ def test_one_map_file_per_rig_from_python(cli, tmp_path):
     assert len(manifest["clips"]) == 2 and manifest["skipped"] == []
     assert len(manifest["options"]["map"]["by_skeleton"]) == 2
 
-
-SMPL22_ORDER = ["pelvis", "left_hip", "right_hip", "spine1", "left_knee", "right_knee", "spine2",
-                "left_ankle", "right_ankle", "spine3", "left_foot", "right_foot", "neck",
-                "left_collar", "right_collar", "head", "left_shoulder", "right_shoulder",
-                "left_elbow", "right_elbow", "left_wrist", "right_wrist"]
 
 
 def test_from_positions_solves_a_models_joints_back_onto_smpl22():
