@@ -182,6 +182,7 @@ fn main() {
         (Some(dir), None) => {
             folder(&dir);
             dataset_stages(&dir, load.rounds.unwrap_or(5));
+            humanml3d_against_onto(&dir, load.rounds.unwrap_or(5));
         }
         (None, Some(path)) if only_one_core => {
             println!("cpu: {}", cpu_description());
@@ -357,6 +358,9 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
 
     // The dataset's stages, then each command on one core against the same work in process.
     dataset_stages(path, if quick { 3 } else { 5 });
+    if retargets {
+        humanml3d_against_onto(path, if quick { 3 } else { 5 });
+    }
     one_core(path, load.rounds.unwrap_or(if quick { 3 } else { 5 }));
 
     // A sequence of pictures (`snapshot --frames`) against the article's display() alone.
@@ -948,21 +952,100 @@ fn one_core(path: &str, rounds: usize) {
     }
 }
 
+/// The folder a dataset of `path` is compiled from, and its takes: the file alone, or a folder
+/// of takes.
+fn dataset_items(path: &str) -> (std::path::PathBuf, Vec<bvhview::info::batch::Item>) {
+    let path = std::path::Path::new(path);
+    if path.is_dir() {
+        let items = bvhview::dataset::takes(path).unwrap_or_else(|e| input_error(e));
+        return (path.to_path_buf(), items);
+    }
+    let item = bvhview::info::batch::Item {
+        path: path.to_path_buf(),
+        motion: None,
+    };
+    (path.parent().expect("a folder").to_path_buf(), vec![item])
+}
+
+/// `dataset --onto smpl22 --features humanml3d` (issue 48) against `dataset --onto smpl22` (its
+/// default 30 fps, and at HumanML3D's 20), in this process, in turn in each round, on one
+/// thread and on every core: source frames per second.
+fn humanml3d_against_onto(path: &str, rounds: usize) {
+    use bvhview::dataset::{FeatureSet, Options};
+    let (dir, items) = dataset_items(path);
+    let target = bvhview::retarget::Target::load("smpl22", u64::MAX).expect("built in");
+    let onto = Options {
+        onto: Some(target),
+        ..Options::default()
+    };
+    let kinds = [
+        ("--onto smpl22 (30 fps)", onto.clone()),
+        (
+            "--onto smpl22 --fps 20",
+            Options {
+                fps: 20.0,
+                ..onto.clone()
+            },
+        ),
+        (
+            "--onto smpl22 --features humanml3d",
+            Options {
+                fps: 20.0,
+                features: FeatureSet::HumanMl3d,
+                ..onto
+            },
+        ),
+    ];
+    let frames: usize = items
+        .iter()
+        .filter_map(|item| {
+            bvhview::take::load_checked(&item.path, item.motion.as_deref(), None, 1, u64::MAX).ok()
+        })
+        .map(|take| take.motion.frame_count())
+        .sum();
+    let scratch = std::env::temp_dir().join(format!("bvhview-bench-h3-{}", std::process::id()));
+    for threads in [1, bvhview::plumbing::cores()] {
+        let mut times = vec![Vec::new(); kinds.len()];
+        for _ in 0..rounds {
+            for ((_, options), times) in kinds.iter().zip(&mut times) {
+                let _ = std::fs::remove_dir_all(&scratch);
+                let takes = bvhview::dataset::whole_list(&dir, &items);
+                let start = Instant::now();
+                bvhview::dataset::compile(
+                    &dir,
+                    items.clone(),
+                    options,
+                    threads,
+                    &scratch,
+                    takes,
+                    |_, _, _, _| true,
+                )
+                .expect("compiles");
+                times.push(start.elapsed());
+            }
+        }
+        println!(
+            "dataset onto smpl22, {threads} thread(s), {rounds} rounds in turn, source frames/s:"
+        );
+        for ((name, _), times) in kinds.iter().zip(&mut times) {
+            let (median, fastest) = median_and_min(times);
+            println!(
+                "  {name:36} median {:9.0} ({:.1} ms), fastest {:9.0}",
+                frames as f64 / median.as_secs_f64(),
+                median.as_secs_f64() * 1e3,
+                frames as f64 / fastest.as_secs_f64()
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&scratch);
+}
+
 /// `dataset` in this process, one thread: each stage's share of the time
 /// (`dataset::compile_take_timed`, summed over the takes), writing the files included. `path` is
 /// the file alone in its folder, or a folder of takes.
 fn dataset_stages(path: &str, rounds: usize) {
-    let path = std::path::Path::new(path);
-    let (dir, items) = if path.is_dir() {
-        let items = bvhview::dataset::takes(path).unwrap_or_else(|e| input_error(e));
-        (path, items)
-    } else {
-        let item = bvhview::info::batch::Item {
-            path: path.to_path_buf(),
-            motion: None,
-        };
-        (path.parent().expect("a folder"), vec![item])
-    };
+    let (dir, items) = dataset_items(path);
+    let dir = dir.as_path();
     let options = bvhview::dataset::Options::default();
     let scratch = std::env::temp_dir().join(format!("bvhview-bench-ds-{}", std::process::id()));
     let mut runs = Vec::new();

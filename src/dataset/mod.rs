@@ -346,8 +346,20 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
         continuous_quaternions(&mut rotations, topology.rotated.len());
     }
     let travel = crate::model::body::travel_joint(&skeleton, &world);
-    let derived = Derived::of(&world, points, travel, options);
-    let contacts = contacts(&world, points, &topology.feet, options);
+    // HumanML3D's vectors have velocities and contacts of their own (`with_humanml3d`).
+    let (derived, contacts) = match options.features {
+        FeatureSet::Arrays => (
+            Derived::of(&world, points, travel, options),
+            contacts(&world, points, &topology.feet, options),
+        ),
+        FeatureSet::HumanMl3d => (
+            Derived {
+                velocities: Vec::new(),
+                root_translations: Vec::new(),
+            },
+            Vec::new(),
+        ),
+    };
     let mut positions = world;
     if options.root_relative {
         for pose in positions.chunks_mut(points) {

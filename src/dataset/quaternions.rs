@@ -4,7 +4,7 @@
 //! kind are made from them. No Euler angles on the way, and frames the dataset does not keep
 //! are never touched. [`super::compile_take_plain`] makes the same clip step by step.
 
-use super::{Options, Posed, Prepared, Stages, topology_of};
+use super::{FeatureSet, Options, Posed, Prepared, Stages, topology_of};
 use crate::edit::{Picks, QuarterTurn, resample_picks};
 use crate::io::error::Error;
 use crate::model::motion::Motion;
@@ -119,7 +119,12 @@ pub(crate) fn posed(
         lap(&mut stages.fk);
 
         // Rotations as asked; Euler angles in the joint's own order (its channels' order, or
-        // Z Y X where a bone axis was baked in).
+        // Z Y X where a bone axis was baked in). HumanML3D's vectors are made of the positions
+        // alone: its datasets write no rotations.
+        let batch = match options.features {
+            FeatureSet::Arrays => &batch[..],
+            FeatureSet::HumanMl3d => &[],
+        };
         for (k, &(a, b, w)) in batch.iter().enumerate() {
             for &j in rotated {
                 let j = j as usize;

@@ -95,9 +95,9 @@ pub fn features(positions: &[DVec3]) -> Result<Features, Error> {
             SMPL22_ORDER[at % JOINTS]
         )));
     }
-    let mut points = uniform(positions, frames)?;
-    place(&mut points)?;
-    let rotations = inverse_kinematics(&points, frames)?;
+    let (mut points, mut directions) = uniform(positions, frames)?;
+    place(&mut points, &mut directions)?;
+    let rotations = inverse_kinematics(&points, &directions, frames)?;
     let vectors = vectors_of(&points, &rotations, frames);
     let joints = recover_from_ric(&vectors)?
         .iter()
@@ -113,8 +113,8 @@ pub fn joint_order() -> Vec<String> {
 
 /// `uniform_skeleton`: each bone along its own direction at the reference length, the root's
 /// path scaled by the reference legs over the take's (the right thigh and shin at the first
-/// frame, as HumanML3D measures them).
-fn uniform(positions: &[DVec3], frames: usize) -> Result<Vec<DVec3>, Error> {
+/// frame, as HumanML3D measures them). With each bone's unit direction (the root's is zero).
+fn uniform(positions: &[DVec3], frames: usize) -> Result<(Vec<DVec3>, Vec<DVec3>), Error> {
     let first = &positions[..JOINTS];
     let length = |j: usize| (first[j] - first[PARENTS[j]]).length();
     let legs = length(5) + length(8);
@@ -127,21 +127,24 @@ fn uniform(positions: &[DVec3], frames: usize) -> Result<Vec<DVec3>, Error> {
     }
     let scale = (REFERENCE_LENGTHS[5] + REFERENCE_LENGTHS[8]) / legs;
     let mut out = vec![DVec3::ZERO; positions.len()];
+    let mut directions = vec![DVec3::ZERO; positions.len()];
     for f in 0..frames {
-        let (from, to) = (
-            &positions[f * JOINTS..(f + 1) * JOINTS],
-            &mut out[f * JOINTS..(f + 1) * JOINTS],
+        let frame = f * JOINTS..(f + 1) * JOINTS;
+        let (from, to, along) = (
+            &positions[frame.clone()],
+            &mut out[frame.clone()],
+            &mut directions[frame],
         );
         to[0] = from[0] * scale;
         for chain in CHAINS {
             for pair in chain.windows(2) {
                 let (parent, joint) = (pair[0], pair[1]);
-                let direction = bone_direction(from, parent, joint, f)?;
-                to[joint] = to[parent] + direction * REFERENCE_LENGTHS[joint];
+                along[joint] = bone_direction(from, parent, joint, f)?;
+                to[joint] = to[parent] + along[joint] * REFERENCE_LENGTHS[joint];
             }
         }
     }
-    Ok(out)
+    Ok((out, directions))
 }
 
 /// The unit direction from `parent` to `joint` in one frame's `pose`, or why there is none.
@@ -165,7 +168,7 @@ fn bone_direction(
 /// `process_file`'s placing: the lowest point of the whole take on y = 0, the root's first
 /// place at x = z = 0, and the take turned about y so that the first frame faces +z (from the
 /// hips and the shoulders, right minus left).
-fn place(points: &mut [DVec3]) -> Result<(), Error> {
+fn place(points: &mut [DVec3], directions: &mut [DVec3]) -> Result<(), Error> {
     let floor = points.iter().map(|p| p.y).fold(f64::INFINITY, f64::min);
     let origin = DVec3::new(points[0].x, floor, points[0].z);
     points.iter_mut().for_each(|p| *p -= origin);
@@ -180,7 +183,9 @@ fn place(points: &mut [DVec3]) -> Result<(), Error> {
         )
     })?;
     let turn = between(forward, DVec3::Z);
+    let turn = DMat3::from_quat(turn);
     points.iter_mut().for_each(|p| *p = turn * *p);
+    directions.iter_mut().for_each(|d| *d = turn * *d);
     Ok(())
 }
 
@@ -190,12 +195,13 @@ fn horizontal(v: DVec3) -> Option<DVec3> {
     (length > 1e-12).then(|| v / length)
 }
 
-/// HumanML3D's `qbetween`: the quaternion turning `from` to `to`, `(|from||to| + from·to,
-/// from × to)` normalised, so its `w` is never negative. Exactly opposite directions (where it
+/// HumanML3D's `qbetween` of two unit directions: the quaternion turning `from` to `to`,
+/// `(|from||to| + from·to, from × to)` normalised, so its `w` is never negative. Exactly opposite directions (where it
 /// gives NaN) turn half a turn about an axis perpendicular to `from`.
 fn between(from: DVec3, to: DVec3) -> DQuat {
     let axis = from.cross(to);
-    let w = (from.length_squared() * to.length_squared()).sqrt() + from.dot(to);
+    // `|from||to|` is 1: every direction turned here is a unit vector.
+    let w = 1.0 + from.dot(to);
     let q = glam::DVec4::new(axis.x, axis.y, axis.z, w);
     let length = q.length();
     if length > 1e-12 {
@@ -209,7 +215,11 @@ fn between(from: DVec3, to: DVec3) -> DQuat {
 /// `inverse_kinematics_np(…, smooth_forward=True)`: per frame, the root's rotation (turning
 /// the smoothed facing to +z; the identity at the first frame) then, chain by chain, each
 /// joint's rotation relative to the chain's previous bone. Frames × 22 quaternions.
-fn inverse_kinematics(points: &[DVec3], frames: usize) -> Result<Vec<DQuat>, Error> {
+fn inverse_kinematics(
+    points: &[DVec3],
+    directions: &[DVec3],
+    frames: usize,
+) -> Result<Vec<DQuat>, Error> {
     // Its quirk: the hips' vector the other way round (the module's docs).
     let [right_hip, left_hip, right_shoulder, left_shoulder] = FACING_JOINTS;
     let forwards: Vec<DVec3> = points
@@ -233,26 +243,26 @@ fn inverse_kinematics(points: &[DVec3], frames: usize) -> Result<Vec<DQuat>, Err
                 DVec3::Z,
             ),
         };
-        let pose = &points[f * JOINTS..(f + 1) * JOINTS];
+        let along = &directions[f * JOINTS..(f + 1) * JOINTS];
         let out = &mut rotations[f * JOINTS..(f + 1) * JOINTS];
         out[0] = root;
         for chain in CHAINS {
             let mut carried = root;
-            for pair in chain.windows(2) {
-                let (parent, joint) = (pair[0], pair[1]);
+            for &joint in &chain[1..] {
                 let rest = DVec3::from_array(REST_DIRECTIONS[joint]);
-                let swing = between(rest, bone_direction(pose, parent, joint, f)?);
-                let local = carried.conjugate() * swing;
-                out[joint] = local;
-                carried *= local;
+                let swing = between(rest, along[joint]);
+                out[joint] = carried.conjugate() * swing;
+                // HumanML3D carries `R · R_loc`, which is the swing itself.
+                carried = swing;
             }
         }
     }
     Ok(rotations)
 }
 
-/// SciPy's `gaussian_filter1d(values, sigma, axis=0, mode='nearest')`: a Gaussian of `sigma`
-/// frames cut at four of them, the first and last values repeated past the ends.
+/// SciPy's `gaussian_filter1d(values, sigma, axis=0, mode='nearest')` on horizontal vectors: a
+/// Gaussian of `sigma` frames cut at four of them, the first and last values repeated past the
+/// ends.
 fn gaussian_nearest(values: &[DVec3], sigma: f64) -> Vec<DVec3> {
     let radius = (4.0 * sigma + 0.5) as usize;
     let mut weights: Vec<f64> = (0..=2 * radius)
@@ -264,18 +274,38 @@ fn gaussian_nearest(values: &[DVec3], sigma: f64) -> Vec<DVec3> {
     let total: f64 = weights.iter().sum();
     weights.iter_mut().for_each(|w| *w /= total);
     let last = values.len() - 1;
-    (0..values.len())
-        .map(|i| {
-            weights
-                .iter()
-                .enumerate()
-                .map(|(k, &w)| {
-                    let at = (i + k).saturating_sub(radius).min(last);
-                    values[at] * w
-                })
-                .sum()
-        })
-        .collect()
+    let mut out = vec![DVec3::ZERO; values.len()];
+    // Each axis padded with its end values, so that every output is one dot product with the
+    // weights (in eight sums side by side, which the compiler keeps in vector registers).
+    let mut padded = vec![0.0f64; values.len() + 2 * radius];
+    // The facing has no y (it is `y × across`): x and z only.
+    for axis in [0, 2] {
+        for (k, p) in padded.iter_mut().enumerate() {
+            *p = values[k.saturating_sub(radius).min(last)][axis];
+        }
+        for (i, o) in out.iter_mut().enumerate() {
+            o[axis] = dot(&padded[i..i + weights.len()], &weights);
+        }
+    }
+    out
+}
+
+/// `a · b`, summed in eight lanes.
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut lanes = [0.0f64; 8];
+    let (a8, b8) = (a.chunks_exact(8), b.chunks_exact(8));
+    let tail: f64 = a8
+        .remainder()
+        .iter()
+        .zip(b8.remainder())
+        .map(|(x, y)| x * y)
+        .sum();
+    for (x, y) in a8.zip(b8) {
+        for k in 0..8 {
+            lanes[k] += x[k] * y[k];
+        }
+    }
+    lanes.iter().sum::<f64>() + tail
 }
 
 /// The vectors, one per frame but the last, from the placed points and their rotations.
@@ -286,6 +316,8 @@ fn vectors_of(points: &[DVec3], rotations: &[DQuat], frames: usize) -> Vec<f32> 
     for f in 0..frames - 1 {
         let (here, next) = (pose(f), pose(f + 1));
         let (turn, turn_next) = (root(f), root(f + 1));
+        // As a matrix: it turns 43 points.
+        let turning_now = DMat3::from_quat(turn);
         let start = vectors.len();
         // The root: its turn to the next frame (half the angle), its step turned by the next
         // frame's rotation, its height.
@@ -296,7 +328,7 @@ fn vectors_of(points: &[DVec3], rotations: &[DQuat], frames: usize) -> Vec<f32> 
         // The other joints relative to the root on the floor, in this frame's facing.
         let floor = DVec3::new(here[0].x, 0.0, here[0].z);
         for p in &here[1..] {
-            vectors.extend((turn * (*p - floor)).as_vec3().to_array());
+            vectors.extend((turning_now * (*p - floor)).as_vec3().to_array());
         }
         for q in &rotations[f * JOINTS + 1..(f + 1) * JOINTS] {
             let m = DMat3::from_quat(*q);
@@ -304,7 +336,7 @@ fn vectors_of(points: &[DVec3], rotations: &[DQuat], frames: usize) -> Vec<f32> 
             vectors.extend(m.y_axis.as_vec3().to_array());
         }
         for (a, b) in here.iter().zip(next) {
-            vectors.extend((turn * (*b - *a)).as_vec3().to_array());
+            vectors.extend((turning_now * (*b - *a)).as_vec3().to_array());
         }
         for side in FOOT_POINTS {
             for j in side {
@@ -333,7 +365,7 @@ mod tests {
 
     #[test]
     fn the_gaussian_is_scipys_on_a_step() {
-        // SciPy: gaussian_filter1d([0]*100 + [1]*100, 20, mode='nearest')[[99, 100, 60]].
+        // SciPy: gaussian_filter1d([0]*100 + [1]*100, 20, mode="nearest") at 100 is 0.509974…
         let step: Vec<DVec3> = (0..200)
             .map(|i| DVec3::splat(f64::from(u8::from(i >= 100))))
             .collect();

@@ -53,7 +53,8 @@ pub fn recover_from_ric(vectors: &[f32]) -> Result<Vec<DVec3>, Error> {
             root += facing(angle).inverse() * step;
         }
         let here = vector(f);
-        let turn = facing(angle).inverse();
+        // As a matrix: it turns 21 joints.
+        let turn = glam::DMat3::from_quat(facing(angle).inverse());
         let at = DVec3::new(root.x, f64::from(here[3]), root.z);
         points.push(at);
         for j in 0..joints - 1 {
