@@ -122,7 +122,7 @@ pub(crate) fn posed(
         // Z Y X where a bone axis was baked in). HumanML3D's vectors are made of the positions
         // alone: its datasets write no rotations.
         let batch = match options.features {
-            FeatureSet::Arrays => &batch[..],
+            FeatureSet::Arrays => batch,
             FeatureSet::HumanMl3d => &[],
         };
         for (k, &(a, b, w)) in batch.iter().enumerate() {
