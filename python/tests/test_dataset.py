@@ -778,3 +778,16 @@ def test_humanml3d_features_of_its_own_positions_are_its_published_vectors():
         bvhview.humanml3d_features(joints[:, :21])
     with pytest.raises(ValueError, match="one frame"):
         bvhview.humanml3d_features(joints[:1])
+
+
+def test_datasets_compiled_with_a_map_merge(tmp_path):
+    """A dataset compiled onto a skeleton with names= merges (the merge once checked its options
+    again without the skeleton, and refused the map)."""
+    folder = tmp_path / "takes"
+    folder.mkdir()
+    shutil.copy(DATA / "bvh" / "bvhparser_walk_01.bvh", folder)
+    one = tmp_path / "one"
+    quietly(folder, one, onto="smpl22", names={"Head": "head"})
+    merged = bvhview.merge_datasets([one, one], tmp_path / "two", join="folders")
+    assert len(merged["clips"]) == 2
+    assert merged["options"]["map"]["all"] == [["Head", "head"]]
