@@ -157,10 +157,15 @@ impl Solved {
             self.scale
         );
         if let Some((j, e)) = worst {
-            text += &format!(
-                "; farthest from the data: {} by {e:.4}",
-                crate::model::skeleton::export_name(skeleton, j)
-            );
+            // Named as the data names it (an ASF point by the bone that ends there).
+            let name = crate::positions::export_points(skeleton)
+                .into_iter()
+                .find(|&(_, point)| point == j)
+                .map_or_else(
+                    || crate::model::skeleton::export_name(skeleton, j),
+                    |(n, _)| n,
+                );
+            text += &format!("; farthest from the data: {name} by {e:.4}");
         }
         if !self.unmatched.is_empty() {
             text += &format!("; not in the skeleton: {}", self.unmatched.join(", "));
@@ -200,23 +205,39 @@ pub fn solve(
     up: Option<Up>,
 ) -> Result<(Motion, Solved), Error> {
     let count = skeleton.joints.len();
-    let names: Vec<String> = (0..count)
-        .map(|j| crate::model::skeleton::export_name(skeleton, j))
-        .collect();
-    // Each skeleton point's data point: by name as exports write it (`LeftToeBase_End` for an
-    // End Site), else by the joint's own name, case aside.
+    // The points as every export names them (`positions`, `Take::point_names`, Python):
+    // `LeftToeBase_End` for an End Site; an ASF bone's name for the point where it ends.
+    let points = crate::positions::export_points(skeleton);
+    let names: Vec<&str> = points.iter().map(|(n, _)| n.as_str()).collect();
+    // Each skeleton point's data point: by that name, else case aside.
     let mut data_of: Vec<Option<usize>> = vec![None; count];
     let mut unmatched = Vec::new();
     for (k, name) in positions.names.iter().enumerate() {
-        let found = names.iter().position(|n| n == name).or_else(|| {
-            names
-                .iter()
-                .position(|n| n.eq_ignore_ascii_case(name))
-                .filter(|&j| data_of[j].is_none())
-        });
+        let found = points
+            .iter()
+            .find(|(n, _)| n == name)
+            .or_else(|| {
+                points
+                    .iter()
+                    .find(|(n, j)| n.eq_ignore_ascii_case(name) && data_of[*j].is_none())
+            })
+            .map(|&(_, j)| j);
         match found {
             Some(j) if data_of[j].is_none() => data_of[j] = Some(k),
             _ => unmatched.push(name.clone()),
+        }
+    }
+    // A joint that starts where a named sibling starts is where that sibling is, always: it
+    // takes the same data (ASF: every bone below a bone's end, which the export names once).
+    for j in 0..count {
+        let Some(p) = skeleton.joints[j].parent.filter(|_| data_of[j].is_none()) else {
+            continue;
+        };
+        let twin = skeleton.joints[p].children.iter().find(|&&c| {
+            c != j && data_of[c].is_some() && skeleton.joints[c].offset == skeleton.joints[j].offset
+        });
+        if let Some(&c) = twin {
+            data_of[j] = data_of[c];
         }
     }
     let matched = data_of.iter().flatten().count();
@@ -225,7 +246,7 @@ pub fn solve(
             "positions: {matched} of their {} joints are joints of the skeleton (its joints: \
              {}); name them as the skeleton does, or give the layout (--joints smpl22)",
             positions.names.len(),
-            names.iter().take(8).cloned().collect::<Vec<_>>().join(", ")
+            names.iter().take(8).copied().collect::<Vec<_>>().join(", ")
         )));
     }
     let mut rest = Vec::new();
