@@ -51,6 +51,18 @@ pub(crate) fn limited_angles(
     local: DQuat,
     bone: Option<DVec3>,
 ) -> ([f64; 3], DQuat) {
+    limited_angles_by(joint, local, bone, |_| 0.0)
+}
+
+/// [`limited_angles`], where of two channels' two solutions the one `cost` (of the local
+/// rotation each gives) finds cheaper is taken, the nearer one where they cost the same: `solve`
+/// takes the one whose joints below can reach the data.
+pub(crate) fn limited_angles_by(
+    joint: &Joint,
+    local: DQuat,
+    bone: Option<DVec3>,
+    cost: impl Fn(DQuat) -> f64,
+) -> ([f64; 3], DQuat) {
     let axes: Vec<usize> = joint
         .channels
         .iter()
@@ -94,15 +106,22 @@ pub(crate) fn limited_angles(
                         let d = (b.to_degrees() - angles[1]).rem_euclid(360.0);
                         d.min(360.0 - d)
                     };
-                    let beta = [phase + spread, phase - spread]
-                        .into_iter()
-                        .min_by(|&x, &y| near(x).total_cmp(&near(y)))
-                        .unwrap_or(phase);
-                    let mut beta = beta.to_degrees();
-                    beta -= 360.0 * ((beta - angles[1]) / 360.0).round();
-                    let turned = about(a2, beta) * u;
-                    if let Some(alpha) = hinge_angle(x1, turned, w) {
-                        angles[0] = alpha.to_degrees();
+                    // Each solution: its angles, what `cost` says of it, how far it is.
+                    let solutions = [phase + spread, phase - spread].map(|beta| {
+                        let mut beta = beta.to_degrees();
+                        beta -= 360.0 * ((beta - angles[1]) / 360.0).round();
+                        let alpha = hinge_angle(x1, about(a2, beta) * u, w)?.to_degrees();
+                        let turned = c * about(a1, alpha) * about(a2, beta) * c.inverse();
+                        Some((alpha, beta, cost(turned), near(beta.to_radians())))
+                    });
+                    let chosen = solutions.into_iter().flatten().min_by(|a, b| {
+                        match (a.2 - b.2).abs() > 1e-9 {
+                            true => a.2.total_cmp(&b.2),
+                            false => a.3.total_cmp(&b.3),
+                        }
+                    });
+                    if let Some((alpha, beta, _, _)) = chosen {
+                        angles[0] = alpha;
                         angles[1] = beta;
                     }
                 }

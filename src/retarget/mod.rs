@@ -42,8 +42,8 @@ mod plain;
 mod target;
 
 pub use align::*;
-pub(crate) use hinge::limited_angles;
 use hinge::*;
+pub(crate) use hinge::{limited_angles, limited_angles_by};
 pub use map::*;
 pub use map_file::*;
 pub use measure::*;

@@ -228,7 +228,8 @@ pub fn solve(
         }
     }
     // A joint that starts where a named sibling starts is where that sibling is, always: it
-    // takes the same data (ASF: every bone below a bone's end, which the export names once).
+    // takes the same data (ASF: every bone below a bone's end, which the export names once);
+    // so does one that starts where its named parent is (ASF's `lowerback` at the root).
     for j in 0..count {
         let Some(p) = skeleton.joints[j].parent.filter(|_| data_of[j].is_none()) else {
             continue;
@@ -238,6 +239,8 @@ pub fn solve(
         });
         if let Some(&c) = twin {
             data_of[j] = data_of[c];
+        } else if data_of[p].is_some() && skeleton.joints[j].offset.length() < 1e-9 {
+            data_of[j] = data_of[p];
         }
     }
     let matched = data_of.iter().flatten().count();
@@ -350,7 +353,7 @@ pub fn solve(
                         let to = data(f, d)? - at;
                         (to.length() > 1e-9 && bone.length() > 1e-9).then_some((bone, to))
                     }));
-                    match pairs[..] {
+                    let laid = match pairs[..] {
                         [] => parent,
                         [(bone, to)] => {
                             let swung = DQuat::from_rotation_arc(
@@ -360,6 +363,19 @@ pub fn solve(
                             hinge_twist(skeleton, &targets, j, swung, to, |d| data(f, d))
                         }
                         _ => best_rotation(&pairs),
+                    };
+                    // Bones all along one line leave the twist about it free: it is the one
+                    // that lets the joints below that turn about two axes reach their bones.
+                    match pairs.first() {
+                        Some(&(_, to))
+                            if joint.rotation_order.is_some()
+                                && pairs.iter().all(|(_, t)| {
+                                    t.normalize().cross(to.normalize()).length() < 1e-9
+                                }) =>
+                        {
+                            reach_twist(skeleton, &targets, j, laid, to, world[j], |d| data(f, d))
+                        }
+                        _ => laid,
                     }
                 }
                 _ => parent,
@@ -382,8 +398,29 @@ pub fn solve(
                     None => {
                         let bone = targets[j].first().map(|&(_, b)| b);
                         // In degrees already, as the channels take them: back to radians here.
-                        let (angles, realized) =
-                            crate::retarget::limited_angles(joint, local, bone);
+                        let cost = |turned: DQuat| {
+                            out_of_reach_deep(skeleton, &targets, j, parent * turned, |d| {
+                                data(f, d)
+                            })
+                        };
+                        let (angles, realized) = match bone.and_then(|b| twist_axis(joint, b)) {
+                            // A bone turning about itself (ASF's wrists): the turn that lets
+                            // the joints below reach.
+                            Some(axis) => {
+                                let turn = twist_search(&cost, previous[j].map(|a| a[0]), |t| {
+                                    axis.1 * DQuat::from_axis_angle(axis.0, t) * axis.1.inverse()
+                                });
+                                previous[j] = Some([turn.to_degrees(), 0.0, 0.0]);
+                                crate::retarget::limited_angles(
+                                    joint,
+                                    axis.1
+                                        * DQuat::from_axis_angle(axis.0, turn)
+                                        * axis.1.inverse(),
+                                    None,
+                                )
+                            }
+                            None => crate::retarget::limited_angles_by(joint, local, bone, cost),
+                        };
                         local = realized;
                         angles.map(f64::to_radians)
                     }
@@ -472,6 +509,209 @@ pub fn solve(
     ))
 }
 
+/// `wanted` (joint `j`'s world rotation, laying its bones along `to`) turned about `to` so that
+/// the joints below it that turn about two axes (ASF's clavicles below the thorax) can lay
+/// their bones where the data puts them: the twist that leaves the least out of their reach,
+/// of those the nearest to `before` (the joint's rotation in the frame before). Two axes
+/// `R1 · R2` reach a direction `w` only where `a1 · w` is within the reach of `a1 · R2(β) u`.
+fn reach_twist(
+    skeleton: &Skeleton,
+    targets: &[Vec<(usize, DVec3)>],
+    j: usize,
+    wanted: DQuat,
+    to: DVec3,
+    before: DQuat,
+    data: impl Fn(usize) -> Option<DVec3>,
+) -> DQuat {
+    let Some(axis) = to.try_normalize() else {
+        return wanted;
+    };
+    let out_of_reach = |twist: f64| {
+        let world = DQuat::from_axis_angle(axis, twist) * wanted;
+        out_of_reach_deep(skeleton, targets, j, world, &data)
+    };
+    if out_of_reach(0.0) <= 1e-12 {
+        return wanted;
+    }
+    let away = |twist: f64| (DQuat::from_axis_angle(axis, twist) * wanted).angle_between(before);
+    let better = |a: (f64, f64), b: (f64, f64)| {
+        // Less out of reach first; where both reach (within rounding), nearer the frame before.
+        if (a.1 - b.1).abs() > 1e-12 {
+            a.1 < b.1
+        } else {
+            away(a.0) < away(b.0)
+        }
+    };
+    const STEPS: usize = 360;
+    let mut best = (0.0, out_of_reach(0.0));
+    for k in 1..STEPS {
+        let twist = std::f64::consts::TAU * k as f64 / STEPS as f64 - std::f64::consts::PI;
+        let here = (twist, out_of_reach(twist));
+        if better(here, best) {
+            best = here;
+        }
+    }
+    // Refined around the best step, where the data is out of reach everywhere.
+    if best.1 > 1e-12 {
+        let (mut low, mut high) = (best.0 - 0.02, best.0 + 0.02);
+        for _ in 0..60 {
+            let (m1, m2) = (low + (high - low) / 3.0, high - (high - low) / 3.0);
+            if out_of_reach(m1) <= out_of_reach(m2) {
+                high = m2;
+            } else {
+                low = m1;
+            }
+        }
+        best.0 = (low + high) / 2.0;
+    }
+    DQuat::from_axis_angle(axis, best.0) * wanted
+}
+
+/// A joint's one rotation axis (and its channels' frame) where its bone lies along it: the
+/// joint turns its bone about itself only.
+fn twist_axis(joint: &crate::model::skeleton::Joint, bone: DVec3) -> Option<(DVec3, DQuat)> {
+    let axes: Vec<usize> = joint
+        .channels
+        .iter()
+        .filter(|c| c.is_rotation())
+        .map(|c| c.axis())
+        .collect();
+    let [a] = axes[..] else {
+        return None;
+    };
+    let c = joint
+        .axis
+        .map_or(DQuat::IDENTITY, |c| c.as_dquat().normalize());
+    let u = (c.inverse() * bone).try_normalize()?;
+    (DVec3::AXES[a].dot(u).abs() > 1.0 - 1e-9).then_some((DVec3::AXES[a], c))
+}
+
+/// The angle (radians) `cost` of the rotation `turned(angle)` finds cheapest, by steps of a
+/// degree then refined; where several cost nothing (within rounding), the one nearest `before`
+/// (degrees), or 0.
+fn twist_search(
+    cost: &impl Fn(DQuat) -> f64,
+    before: Option<f64>,
+    turned: impl Fn(f64) -> DQuat,
+) -> f64 {
+    let at = |t: f64| cost(turned(t));
+    let home = before.map_or(0.0, f64::to_radians);
+    let away = |t: f64| {
+        let d = (t - home).rem_euclid(std::f64::consts::TAU);
+        d.min(std::f64::consts::TAU - d)
+    };
+    let mut best = (home, at(home));
+    if best.1 <= 1e-12 {
+        return home;
+    }
+    const STEPS: usize = 360;
+    for k in 0..STEPS {
+        let t = home + std::f64::consts::TAU * k as f64 / STEPS as f64 - std::f64::consts::PI;
+        let c = at(t);
+        let closer = (c - best.1).abs() <= 1e-12 && away(t) < away(best.0);
+        if c < best.1 - 1e-12 || closer {
+            best = (t, c);
+        }
+    }
+    if best.1 > 1e-12 {
+        let step = std::f64::consts::TAU / STEPS as f64;
+        let (mut low, mut high) = (best.0 - step, best.0 + step);
+        for _ in 0..60 {
+            let (m1, m2) = (low + (high - low) / 3.0, high - (high - low) / 3.0);
+            if at(m1) <= at(m2) {
+                high = m2;
+            } else {
+                low = m1;
+            }
+        }
+        best.0 = (low + high) / 2.0;
+    }
+    best.0
+}
+
+/// [`out_of_reach_below`], and one step deeper: for each joint below that turns about two axes,
+/// what is out of reach below it when it takes the one of its two solutions that reaches best.
+fn out_of_reach_deep(
+    skeleton: &Skeleton,
+    targets: &[Vec<(usize, DVec3)>],
+    j: usize,
+    world: DQuat,
+    data: impl Fn(usize) -> Option<DVec3>,
+) -> f64 {
+    let mut total = out_of_reach_below(skeleton, targets, j, world, &data);
+    for &(d, _) in &targets[j] {
+        let joint = &skeleton.joints[d];
+        let turns = joint.channels.iter().filter(|c| c.is_rotation()).count();
+        if joint.rotation_order.is_some() || turns != 2 {
+            continue;
+        }
+        let Some(&(below, bone)) = targets[d].first() else {
+            continue;
+        };
+        let (Some(from), Some(to)) = (data(d), data(below)) else {
+            continue;
+        };
+        let (Some(rest), Some(goal)) =
+            ((world * bone).try_normalize(), (to - from).try_normalize())
+        else {
+            continue;
+        };
+        let local = world.inverse() * DQuat::from_rotation_arc(rest, goal) * world;
+        let (_, realized) = crate::retarget::limited_angles_by(joint, local, Some(bone), |t| {
+            out_of_reach_below(skeleton, targets, d, world * t, &data)
+        });
+        total += out_of_reach_below(skeleton, targets, d, world * realized, &data);
+    }
+    total
+}
+
+/// How far the data lies out of reach of the joints below `j` that turn about fewer than three
+/// axes, with `j` turned to `world`: for a hinge, how far its bone's direction leaves the
+/// plane the hinge turns it in; for two axes `R1 · R2`, how far `a1 · w` passes the reach of
+/// `a1 · R2(β) u`. 0 where every one of them can lay its bone where the data puts it.
+fn out_of_reach_below(
+    skeleton: &Skeleton,
+    targets: &[Vec<(usize, DVec3)>],
+    j: usize,
+    world: DQuat,
+    data: impl Fn(usize) -> Option<DVec3>,
+) -> f64 {
+    let mut total = 0.0;
+    for &(d, _) in &targets[j] {
+        let joint = &skeleton.joints[d];
+        if joint.rotation_order.is_some() {
+            continue;
+        }
+        let axes: Vec<DVec3> = joint
+            .channels
+            .iter()
+            .filter(|c| c.is_rotation())
+            .map(|c| DVec3::AXES[c.axis()])
+            .collect();
+        let Some(&(below, bone)) = targets[d].first() else {
+            continue;
+        };
+        let (Some(from), Some(to)) = (data(d), data(below)) else {
+            continue;
+        };
+        let c = joint
+            .axis
+            .map_or(DQuat::IDENTITY, |c| c.as_dquat().normalize());
+        let (Some(u), Some(w)) = (
+            (c.inverse() * bone).try_normalize(),
+            (c.inverse() * (world.inverse() * (to - from))).try_normalize(),
+        ) else {
+            continue;
+        };
+        total += match axes[..] {
+            [a] => (a.dot(w) - a.dot(u)).abs(),
+            [a1, a2] => (a1.dot(w).abs() - a1.dot(u).hypot(a1.dot(a2.cross(u)))).max(0.0),
+            _ => 0.0,
+        };
+    }
+    total
+}
+
 /// `wanted` (joint `j`'s world rotation, laying its one bone along `to`) turned about that
 /// bone so that, where the joint it turns towards is a hinge (one rotation channel: an ASF knee
 /// or elbow), the hinge's axis is across the plane the data bends in there: a hinge cannot
@@ -528,17 +768,33 @@ fn targets_of(
     data_of: &[Option<usize>],
     rest: &[(DQuat, DVec3)],
 ) -> Vec<(usize, DVec3)> {
-    let mut out = Vec::new();
-    let mut stack: Vec<usize> = skeleton.joints[j].children.iter().rev().copied().collect();
-    while let Some(c) = stack.pop() {
-        let bone = rest[c].1 - rest[j].1;
-        if data_of[c].is_some() && bone.length() > 1e-9 {
-            out.push((c, bone));
-        } else {
-            stack.extend(skeleton.joints[c].children.iter().rev().copied());
+    let gather = |past_turning: bool| {
+        let mut out = Vec::new();
+        let mut stack: Vec<usize> = skeleton.joints[j].children.iter().rev().copied().collect();
+        while let Some(c) = stack.pop() {
+            let bone = rest[c].1 - rest[j].1;
+            let turns = skeleton.joints[c]
+                .channels
+                .iter()
+                .any(|ch| ch.is_rotation());
+            if data_of[c].is_some() && bone.length() > 1e-9 {
+                out.push((c, bone));
+            } else if past_turning || data_of[c].is_none() || !turns {
+                stack.extend(skeleton.joints[c].children.iter().rev().copied());
+            }
         }
-    }
-    out
+        out
+    };
+    // The bones beyond a named joint that stands where this one does and turns (ASF's
+    // `lowerback` at the root) are that joint's to lay: this joint is laid by the others when
+    // they are enough (two bones not along one line: ASF's hips), else by all of them (CMU
+    // BVH's `LHipJoint` and `RHipJoint` turn at the hips, which need the thighs beyond).
+    let own = gather(false);
+    let enough = own.iter().any(|(_, a)| {
+        own.iter()
+            .any(|(_, b)| a.normalize().cross(b.normalize()).length() > 1e-3)
+    });
+    if enough { own } else { gather(true) }
 }
 
 /// The shallowest joint the data names at or below `root` (breadth first).
