@@ -1,37 +1,5 @@
-//! Joint positions to HumanML3D's feature vectors, as its `process_file` makes them.
-//!
-//! The steps, in its order: every bone set to the reference length along its own direction
-//! (the root's path scaled by the legs: `uniform_skeleton`); the lowest point of the take put on
-//! y = 0 and the root's first place at x = z = 0; the take turned about y to face +z at its
-//! first frame (from the hips and the shoulders); foot contacts; each joint's rotation from its
-//! bone's direction (its inverse kinematics); then the vector's parts from these.
-//!
-//! HumanML3D's quirks, kept so that vectors made here mean what its published ones mean:
-//!
-//! - **The facing its inverse kinematics reads is not the facing it turns the take by.** Its
-//!   `inverse_kinematics_np` unpacks the four facing joints as *left* hip, right hip, right
-//!   shoulder, left shoulder, while `process_file` passes right hip, left hip, …: the hips'
-//!   vector is taken the other way round, so the root's facing comes from the shoulders' width
-//!   *minus* the hips'. It still points forward on a human (shoulders are wider than hips), but
-//!   it leans with the difference; the root's rotation, every vector's facing and the first
-//!   bone of each chain carry it.
-//! - **That facing is smoothed** along time (a Gaussian of 20 frames' spread, edges repeated,
-//!   as SciPy's `gaussian_filter1d` with `mode='nearest'`), and **the first frame's root
-//!   rotation is the identity** whatever the body faces.
-//! - **The root's turn is stored as half its angle**: `arcsin` of the `y` part of the
-//!   quaternion from one frame's root rotation to the next, which is `sin(angle / 2)`.
-//! - **The root's step is turned by the next frame's rotation, the joints' by this frame's.**
-//! - **Rotations are swings only**: each bone's rotation is the shortest turn from its rest
-//!   direction to its direction now, relative to the chain's previous bone (not to its parent
-//!   in the tree: the arms' chains start from the root's facing, not from the chest), so no
-//!   bone carries a twist about itself.
-//! - **Contacts are by speed alone**: a foot point is in contact when its squared step to the
-//!   next frame is under 0.002 m² (its height is not read).
-//!
-//! Two cases HumanML3D does not survive (its numbers become NaN, and its mean and spread leave
-//! the clip out) are decided here instead: a bone pointing exactly against its rest direction
-//! turns half a turn about a perpendicular axis; a bone of zero length, or a first frame whose
-//! facing is straight up, refuses the take with the frame and the joint.
+//! Joint positions to HumanML3D's feature vectors, as its `process_file` makes them: the
+//! steps and quirks are in the docs of the module above ([`super`]).
 
 use super::*;
 use crate::io::error::Error;
@@ -66,10 +34,10 @@ const FACING_SMOOTHING: f64 = 20.0;
 ///
 /// # fn main() -> Result<(), bvhview::Error> {
 /// // 120 frames of a walk on SMPL's 22 joints (metres, y up), as HumanML3D's `new_joints`.
-/// let bytes = std::fs::read("tests/solve/walk_smpl22.npy")?;
-/// let (frames, points) = bvhview::solve::read_npy(&bytes, "walk_smpl22.npy")?;
+/// let bytes = std::fs::read("tests/solve/walk_smpl22.npy").expect("the repository's file");
+/// let (joints, points) = bvhview::solve::read_npy(&bytes, "walk_smpl22.npy")?;
 /// let features = humanml3d::features(&points)?;
-/// assert_eq!((frames, features.frames()), (120, 119));
+/// assert_eq!((joints, points.len() / joints, features.frames()), (22, 120, 119));
 /// assert_eq!(features.vectors.len(), 119 * humanml3d::WIDTH);
 /// # Ok(())
 /// # }
@@ -106,7 +74,7 @@ pub fn features(positions: &[DVec3]) -> Result<Features, Error> {
     Ok(Features { vectors, joints })
 }
 
-/// The names of [`SMPL22_ORDER`] as owned strings, the order [`features`] reads.
+/// The names of [`SMPL22_ORDER`] as owned strings, the order [`features()`] reads.
 pub fn joint_order() -> Vec<String> {
     SMPL22_ORDER.iter().map(|n| n.to_string()).collect()
 }

@@ -1,5 +1,5 @@
 //! HumanML3D's motion representation, both ways: the 263 numbers per frame that text-to-motion
-//! models train on (`dataset --features humanml3d`, [`features`]) and back to joint positions
+//! models train on (`dataset --features humanml3d`, [`features()`]) and back to joint positions
 //! (`solve --from humanml3d`, [`recover_from_ric`]).
 //!
 //! The layout and the processing are those of HumanML3D's own pipeline
@@ -18,7 +18,42 @@
 //!
 //! Where HumanML3D's processing has quirks, they are matched, so that vectors made here sit in
 //! the same space as its published ones (and its `Mean.npy`/`Std.npy`, and the models trained
-//! on them): the module [`features`] names each one.
+//! on them): the section below names each one.//!
+//! # How the vectors are made
+//!
+//!
+//! The steps, in its order: every bone set to the reference length along its own direction
+//! (the root's path scaled by the legs: `uniform_skeleton`); the lowest point of the take put on
+//! y = 0 and the root's first place at x = z = 0; the take turned about y to face +z at its
+//! first frame (from the hips and the shoulders); foot contacts; each joint's rotation from its
+//! bone's direction (its inverse kinematics); then the vector's parts from these.
+//!
+//! HumanML3D's quirks, kept so that vectors made here mean what its published ones mean:
+//!
+//! - **The facing its inverse kinematics reads is not the facing it turns the take by.** Its
+//!   `inverse_kinematics_np` unpacks the four facing joints as *left* hip, right hip, right
+//!   shoulder, left shoulder, while `process_file` passes right hip, left hip, …: the hips'
+//!   vector is taken the other way round, so the root's facing comes from the shoulders' width
+//!   *minus* the hips'. It still points forward on a human (shoulders are wider than hips), but
+//!   it leans with the difference; the root's rotation, every vector's facing and the first
+//!   bone of each chain carry it.
+//! - **That facing is smoothed** along time (a Gaussian of 20 frames' spread, edges repeated,
+//!   as SciPy's `gaussian_filter1d` with `mode='nearest'`), and **the first frame's root
+//!   rotation is the identity** whatever the body faces.
+//! - **The root's turn is stored as half its angle**: `arcsin` of the `y` part of the
+//!   quaternion from one frame's root rotation to the next, which is `sin(angle / 2)`.
+//! - **The root's step is turned by the next frame's rotation, the joints' by this frame's.**
+//! - **Rotations are swings only**: each bone's rotation is the shortest turn from its rest
+//!   direction to its direction now, relative to the chain's previous bone (not to its parent
+//!   in the tree: the arms' chains start from the root's facing, not from the chest), so no
+//!   bone carries a twist about itself.
+//! - **Contacts are by speed alone**: a foot point is in contact when its squared step to the
+//!   next frame is under 0.002 m² (its height is not read).
+//!
+//! Two cases HumanML3D does not survive (its numbers become NaN, and its mean and spread leave
+//! the clip out) are decided here instead: a bone pointing exactly against its rest direction
+//! turns half a turn about a perpendicular axis; a bone of zero length, or a first frame whose
+//! facing is straight up, refuses the take with the frame and the joint.
 
 mod features;
 mod recover;
@@ -100,7 +135,7 @@ pub const FOOT_POINTS: [[usize; 2]; 2] = [[7, 10], [8, 11]];
 pub const CONTACT_THRESHOLD: f64 = 0.002;
 
 /// Where each part starts in a vector, and its width: `(name, start, width)`. The normalising
-/// spread ([`Spread`]) is one number per part.
+/// spread ([`spread_by_part`]) is one number per part.
 pub const PARTS: [(&str, usize, usize); 7] = [
     ("root_turn", 0, 1),
     ("root_step", 1, 2),
