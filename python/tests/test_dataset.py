@@ -732,8 +732,9 @@ def test_humanml3d_features_compile_in_its_layout_and_on_a_dask_cluster(tmp_path
         vectors = np.load(out / "new_joint_vecs" / f"{clip_id}.npy")
         joints = np.load(out / "new_joints" / f"{clip_id}.npy")
         expected, expected_joints = bvhview.humanml3d_features(dataset[k]["positions"][:, order])
-        np.testing.assert_array_equal(vectors, expected)
-        np.testing.assert_array_equal(joints, expected_joints)
+        # Within float32 rounding: the compile picks the frames before retargeting them.
+        np.testing.assert_allclose(vectors, expected, atol=1e-5)
+        np.testing.assert_allclose(joints, expected_joints, atol=1e-5)
         everything.append(vectors)
     # HumanML3D's cal_mean_variance: numpy's mean and std, the std then one number per part.
     data = np.concatenate(everything).astype(np.float64)

@@ -112,7 +112,7 @@ pub fn compile_take_timed(
 ) -> Result<(Clip, Stages), Error> {
     let mut stages = Stages::default();
     let start = std::time::Instant::now();
-    let take = prepare(item, options)?;
+    let take = prepare(item, options, true)?;
     stages.load = start.elapsed();
     let posed = quaternions::posed(&take, &item.path, options, &mut stages)?;
     let start = std::time::Instant::now();
@@ -125,7 +125,7 @@ pub fn compile_take_timed(
 /// to metres, turned to Y up, its bone axes baked and resampled (each a pass over its channels,
 /// with Euler angles between), then forward kinematics and each rotation from the channels.
 pub fn compile_take_plain(dir: &Path, item: &Item, options: &Options) -> Result<Clip, Error> {
-    let take = prepare(item, options)?;
+    let take = prepare(item, options, false)?;
     let posed = posed_plain(&take, &item.path, options)?;
     with_humanml3d(item, options, finish(dir, item, options, take, posed))
 }
@@ -138,6 +138,8 @@ pub(crate) struct Prepared {
     stance: crate::model::stance::Stance,
     /// What `--onto` could not carry (the manifest's warnings).
     uncarried: Vec<String>,
+    /// The source's frame time and frames, as the file gives them.
+    source: (f64, usize),
 }
 
 /// What a take's frames become: the group's skeleton (metres, Y up, bone axes baked) and, at
@@ -154,7 +156,11 @@ pub(crate) struct Posed {
 }
 
 /// Loads `item` and checks that it can be compiled; retargets it when `options.onto` says so.
-fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
+/// `pick_first`: for HumanML3D's vectors, at a rate the source's is a whole multiple of, the
+/// frames kept are picked before retargeting rather than after (the same frames, bit for bit
+/// as the resampling keeps them; only the retargeted take's height differs, by where its
+/// lowest point is over fewer frames, which HumanML3D's floor takes away).
+fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared, Error> {
     let path = &item.path;
     if item.is_unpaired_motion() {
         return Err(Error::Usage(format!(
@@ -185,6 +191,27 @@ fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
             "{}: no frames to learn from (a skeleton without motion)",
             path.display()
         )));
+    }
+    let source = (frame_time, loaded.motion.frame_count());
+    let mut loaded = loaded;
+    if pick_first && options.features == FeatureSet::HumanMl3d && !options.lock_feet {
+        let motion = &loaded.motion;
+        let picks = crate::edit::resample_picks(
+            motion.frame_count(),
+            frame_time,
+            options.fps,
+            motion.channels,
+        )?;
+        if let crate::edit::Picks::Rows(rows) = picks
+            && rows.len() < motion.frame_count()
+        {
+            let mut data = Vec::with_capacity(rows.len() * motion.channels);
+            for &row in &rows {
+                data.extend_from_slice(motion.frame(row));
+            }
+            loaded.motion =
+                crate::Motion::new(1.0 / options.fps, motion.channels, rows.len(), data);
+        }
     }
     let mut uncarried = Vec::new();
     let loaded = match &options.onto {
@@ -240,6 +267,7 @@ fn prepare(item: &Item, options: &Options) -> Result<Prepared, Error> {
         mode,
         stance,
         uncarried,
+        source,
     })
 }
 
@@ -372,8 +400,8 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
     }
     let about = About {
         source: Source::of(dir, item),
-        source_frame_time: take.loaded.motion.frame_time,
-        source_frames: take.loaded.motion.frame_count(),
+        source_frame_time: take.source.0,
+        source_frames: take.source.1,
         up: match stance.up {
             Up::Y => "y",
             Up::Z => "z",
