@@ -67,6 +67,14 @@ pub struct Options {
 }
 
 /// What each take of a dataset is written as (`--features`).
+///
+/// ```
+/// use bvhview::dataset::FeatureSet;
+///
+/// assert_eq!(FeatureSet::parse("humanml3d"), Some(FeatureSet::HumanMl3d));
+/// assert_eq!(FeatureSet::default().name(), "arrays");
+/// assert_eq!(FeatureSet::parse("smpl"), None);
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum FeatureSet {
     /// bvhview's arrays, clips grouped by skeleton topology (`group_K/*.npy`).

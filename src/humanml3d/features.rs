@@ -7,6 +7,18 @@ use crate::solve::SMPL22_ORDER;
 use glam::{DMat3, DQuat, DVec3};
 
 /// A take in HumanML3D's representation, as its pipeline saves it.
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let bytes = std::fs::read("tests/humanml3d/new_joints_012314.npy").expect("in the repository");
+/// let (_, points) = bvhview::solve::read_npy(&bytes, "new_joints_012314.npy")?;
+/// let features = bvhview::humanml3d::features(&points)?;
+/// // One vector per step between frames; the positions they stand for, frame by frame.
+/// assert_eq!(features.frames(), 169);
+/// assert_eq!(features.joints.len(), 169 * 22 * 3);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Features {
     /// The feature vectors, (frames − 1) × [`WIDTH`], frame after frame (`new_joint_vecs`).
