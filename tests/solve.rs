@@ -395,6 +395,15 @@ fn humanml3d_vectors_recover_its_own_positions() {
     );
     let take = Take::open(&out).unwrap();
     assert_eq!(take.frame_count(), 170);
+    // smpl22's bones are not HumanML3D's: each point off the data is said, farthest first.
+    let said = String::from_utf8_lossy(&run.stderr);
+    let off = said
+        .lines()
+        .find(|l| l.contains("off the data"))
+        .unwrap_or_else(|| panic!("{said}"));
+    assert!(off.contains(": head by 3.92"), "{off}");
+    // Every joint but the pelvis, which the path puts where the data does.
+    assert_eq!(off.matches(" by ").count(), 21, "{off}");
     // A wrong width is refused.
     let run = bvhview()
         .args([
@@ -449,6 +458,8 @@ fn an_asf_takes_positions_csv_solves_back_onto_its_asf() {
     let said = String::from_utf8_lossy(&solved.stderr);
     assert!(solved.status.success(), "{said}");
     assert!(said.contains("path ×1.0000"), "{said}");
+    // Its own bones: nothing off the data.
+    assert!(!said.contains("off the data"), "{said}");
     // Every joint and End Site, where the solved take puts it: within 1e-4 of the figure.
     let back = Take::open(&out).unwrap();
     let take = bvhview::take::OpenOptions::new()

@@ -198,6 +198,15 @@ pub(crate) fn from_positions(
     for note in &solved.notes {
         warnings.call_method1("warn", (format!("from_positions: {note}"),))?;
     }
+    let off = solved.off_the_data(&target.skeleton);
+    if !off.is_empty() {
+        let text = format!(
+            "from_positions: the skeleton's bones are not the data's; off the data (skeleton \
+             units): {}",
+            off.join(", ")
+        );
+        warnings.call_method1("warn", (text,))?;
+    }
     let name = format!("positions on {}", target.name);
     Ok(Motion {
         loaded: bvhview::Take::new(target.skeleton, motion, name.clone()),

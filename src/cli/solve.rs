@@ -114,6 +114,14 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         "solved: {}{smoothed}",
         solved.summary(&target.skeleton)
     ));
+    let off = solved.off_the_data(&target.skeleton);
+    if !off.is_empty() {
+        // Bones of other lengths than the data's: each point where it stands off.
+        note(format_args!(
+            "off the data (the skeleton's bones are not the data's): {}",
+            off.join(", ")
+        ));
+    }
     let format = TakeFormat::of(&args.output);
     write_take(
         &args.output,

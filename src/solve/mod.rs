@@ -142,6 +142,36 @@ pub struct Solved {
 }
 
 impl Solved {
+    /// Each point the data names that the solved take puts farther than 1e-4 of the skeleton's
+    /// height from it (where the data's bones are not the skeleton's), farthest first, as
+    /// `name by distance` (skeleton units); empty when every one is nearer.
+    pub fn off_the_data(&self, skeleton: &Skeleton) -> Vec<String> {
+        let mut rest = Vec::new();
+        world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
+        let (low, high) = rest.iter().fold(
+            (DVec3::splat(f64::INFINITY), DVec3::splat(f64::NEG_INFINITY)),
+            |(low, high), (_, at)| (low.min(*at), high.max(*at)),
+        );
+        let size = (high - low).max_element().max(1e-9);
+        let points = crate::positions::export_points(skeleton);
+        let mut off: Vec<(usize, f64)> = self
+            .errors
+            .iter()
+            .copied()
+            .filter(|&(_, e)| e > 1e-4 * size)
+            .collect();
+        off.sort_by(|a, b| b.1.total_cmp(&a.1));
+        off.into_iter()
+            .map(|(j, e)| {
+                let name = points.iter().find(|&&(_, point)| point == j).map_or_else(
+                    || crate::model::skeleton::export_name(skeleton, j),
+                    |(n, _)| n.clone(),
+                );
+                format!("{name} by {e:.4}")
+            })
+            .collect()
+    }
+
     /// The figure `bvhview solve` prints: the matched joints, the worst one and the scale.
     pub fn summary(&self, skeleton: &Skeleton) -> String {
         let worst = self.errors.iter().copied().fold(
