@@ -198,12 +198,10 @@ pub(crate) fn from_positions(
     for note in &solved.notes {
         warnings.call_method1("warn", (format!("from_positions: {note}"),))?;
     }
-    let off = solved.off_the_data(&target.skeleton);
-    if !off.is_empty() {
+    if let Some(off) = solved.off_the_data_line(&target.skeleton) {
         let text = format!(
             "from_positions: the skeleton's bones are not the data's; off the data (skeleton \
-             units): {}",
-            off.join(", ")
+             units): {off}"
         );
         warnings.call_method1("warn", (text,))?;
     }

@@ -114,12 +114,10 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         "solved: {}{smoothed}",
         solved.summary(&target.skeleton)
     ));
-    let off = solved.off_the_data(&target.skeleton);
-    if !off.is_empty() {
+    if let Some(off) = solved.off_the_data_line(&target.skeleton) {
         // Bones of other lengths than the data's: each point where it stands off.
         note(format_args!(
-            "off the data (the skeleton's bones are not the data's): {}",
-            off.join(", ")
+            "off the data (the skeleton's bones are not the data's): {off}"
         ));
     }
     let format = TakeFormat::of(&args.output);

@@ -172,6 +172,17 @@ impl Solved {
             .collect()
     }
 
+    /// [`Solved::off_the_data`] as one line: the ten farthest, and how many more.
+    pub fn off_the_data_line(&self, skeleton: &Skeleton) -> Option<String> {
+        let off = self.off_the_data(skeleton);
+        let shown = off.iter().take(10).cloned().collect::<Vec<_>>().join(", ");
+        match off.len() {
+            0 => None,
+            1..=10 => Some(shown),
+            n => Some(format!("{shown} and {} more", n - 10)),
+        }
+    }
+
     /// The figure `bvhview solve` prints: the matched joints, the worst one and the scale.
     pub fn summary(&self, skeleton: &Skeleton) -> String {
         let worst = self.errors.iter().copied().fold(
