@@ -18,6 +18,28 @@ pub const FORMAT: &str = "bvhview-dataset 2";
 pub const HEADER: usize = 128;
 
 /// `manifest.json`.
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// use bvhview::dataset::{self, Options};
+///
+/// let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// // `folder` holds walk.bvh, CMU's walk (172 frames at 60 fps).
+/// let (takes, out) = (dataset::takes(folder.path())?, folder.path().join("dataset"));
+/// let list = dataset::whole_list(folder.path(), &takes);
+/// dataset::compile(folder.path(), takes, &Options::default(), 1, &out, list, |_, _, _, _| true)?;
+///
+/// let manifest = dataset::read::read_manifest(&out)?;
+/// assert_eq!(manifest.format, "bvhview-dataset 2");
+/// assert_eq!((manifest.takes.first, manifest.takes.count), (0, 1)); // the whole list
+/// let clip = &manifest.clips[0];
+/// assert_eq!((clip.about.source.path.as_str(), clip.group, clip.frames), ("walk.bvh", 0, 86));
+/// assert_eq!(manifest.groups[0].name, "group_0");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Manifest {
     pub format: String,

@@ -5,6 +5,19 @@ use crate::take::{self, extension};
 use std::path::{Path, PathBuf};
 
 /// One thing to load: a BVH file, an ASF with its AMC, an ASF alone, or an AMC without an ASF.
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// // tests/data/asf_amc holds CMU's heiden_12.asf and its motion heiden_12_02_01.amc: one take.
+/// let walk = bvhview::info::batch::collect_takes(std::path::Path::new("tests/data/asf_amc"))?;
+/// let item = &walk.items[0];
+/// assert!(item.path.ends_with("heiden_12.asf"));
+/// assert!(item.motion.as_ref().is_some_and(|m| m.ends_with("heiden_12_02_01.amc")));
+/// assert!(!item.is_unpaired_motion());
+/// assert!(walk.skipped.is_empty());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Item {
     pub path: PathBuf,

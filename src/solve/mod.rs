@@ -125,6 +125,24 @@ impl Positions {
 
 /// What [`solve`] did: which joints it matched, how it scaled, how near the solved take comes
 /// to the data.
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// use bvhview::solve::{Positions, joint_names, read_npy, solve};
+///
+/// // A CMU walk's 22 joints in SMPL's order, metres (tests/solve/walk_smpl22.npy), onto smpl22.
+/// let bytes = std::fs::read("tests/solve/walk_smpl22.npy").expect("in the repository");
+/// let (_, points) = read_npy(&bytes, "walk_smpl22.npy")?;
+/// let positions = Positions::new(joint_names("smpl22"), points, 1.0 / 120.0)?;
+/// let target = bvhview::retarget::Target::load("smpl22", u64::MAX)?;
+/// let (motion, solved) = solve(&target.skeleton, target.up, &positions, None)?;
+/// assert_eq!(motion.frame_count(), 120);
+/// assert!((solved.scale - 100.0).abs() < 1e-3); // metres onto smpl22's centimetres
+/// assert!(solved.unmatched.is_empty());
+/// assert!(solved.off_the_data(&target.skeleton).is_empty()); // smpl22's own bones
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Solved {
     /// The skeleton's legs over the data's (1 without legs in both): what the root's path is
