@@ -211,6 +211,21 @@ pub struct Joint {
 }
 
 impl Joint {
+    /// The axes (0 x, 1 y, 2 z) of the rotation channels, in file order.
+    pub fn rotation_axes(&self) -> Vec<usize> {
+        self.channels
+            .iter()
+            .filter(|c| c.is_rotation())
+            .map(|c| c.axis())
+            .collect()
+    }
+
+    /// [`Joint::axis`] in f64, normalised; the identity without one.
+    pub fn axis_f64(&self) -> glam::DQuat {
+        self.axis
+            .map_or(glam::DQuat::IDENTITY, |c| c.as_dquat().normalize())
+    }
+
     /// A joint called `name` under `parent`, at the parent's origin, with no channels, children
     /// or axis.
     pub fn new(name: String, parent: Option<usize>) -> Joint {

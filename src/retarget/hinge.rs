@@ -63,12 +63,7 @@ pub(crate) fn limited_angles_by(
     bone: Option<DVec3>,
     cost: impl Fn(DQuat) -> f64,
 ) -> ([f64; 3], DQuat) {
-    let axes: Vec<usize> = joint
-        .channels
-        .iter()
-        .filter(|c| c.is_rotation())
-        .map(|c| c.axis())
-        .collect();
+    let axes: Vec<usize> = joint.rotation_axes();
     let mut angles = [0.0; 3];
     let q = local.as_quat();
     for (angle, value) in angles.iter_mut().zip(channel_angles(
@@ -78,9 +73,7 @@ pub(crate) fn limited_angles_by(
     )) {
         *angle = f64::from(value);
     }
-    let c = joint
-        .axis
-        .map_or(DQuat::IDENTITY, |c| c.as_dquat().normalize());
+    let c = joint.axis_f64();
     if let Some(bone) = bone.filter(|b| b.length() > 1e-9) {
         // In the channels' frame: the bone at rest and where `local` puts it.
         let u = c.inverse() * bone;

@@ -589,95 +589,62 @@ fn reach_twist(
         let world = DQuat::from_axis_angle(axis, twist) * wanted;
         out_of_reach_deep(skeleton, targets, j, world, &data)
     };
-    if out_of_reach(0.0) <= 1e-12 {
-        return wanted;
-    }
     let away = |twist: f64| (DQuat::from_axis_angle(axis, twist) * wanted).angle_between(before);
-    let better = |a: (f64, f64), b: (f64, f64)| {
-        // Less out of reach first; where both reach (within rounding), nearer the frame before.
-        if (a.1 - b.1).abs() > 1e-12 {
-            a.1 < b.1
-        } else {
-            away(a.0) < away(b.0)
-        }
-    };
-    const STEPS: usize = 360;
-    let mut best = (0.0, out_of_reach(0.0));
-    for k in 1..STEPS {
-        let twist = std::f64::consts::TAU * k as f64 / STEPS as f64 - std::f64::consts::PI;
-        let here = (twist, out_of_reach(twist));
-        if better(here, best) {
-            best = here;
-        }
-    }
-    // Refined around the best step, where the data is out of reach everywhere.
-    if best.1 > 1e-12 {
-        let (mut low, mut high) = (best.0 - 0.02, best.0 + 0.02);
-        for _ in 0..60 {
-            let (m1, m2) = (low + (high - low) / 3.0, high - (high - low) / 3.0);
-            if out_of_reach(m1) <= out_of_reach(m2) {
-                high = m2;
-            } else {
-                low = m1;
-            }
-        }
-        best.0 = (low + high) / 2.0;
-    }
-    DQuat::from_axis_angle(axis, best.0) * wanted
+    let twist = least_cost_turn(out_of_reach, away, 0.0);
+    DQuat::from_axis_angle(axis, twist) * wanted
 }
 
 /// A joint's one rotation axis (and its channels' frame) where its bone lies along it: the
 /// joint turns its bone about itself only.
 fn twist_axis(joint: &crate::model::skeleton::Joint, bone: DVec3) -> Option<(DVec3, DQuat)> {
-    let axes: Vec<usize> = joint
-        .channels
-        .iter()
-        .filter(|c| c.is_rotation())
-        .map(|c| c.axis())
-        .collect();
+    let axes: Vec<usize> = joint.rotation_axes();
     let [a] = axes[..] else {
         return None;
     };
-    let c = joint
-        .axis
-        .map_or(DQuat::IDENTITY, |c| c.as_dquat().normalize());
+    let c = joint.axis_f64();
     let u = (c.inverse() * bone).try_normalize()?;
     (DVec3::AXES[a].dot(u).abs() > 1.0 - 1e-9).then_some((DVec3::AXES[a], c))
 }
 
-/// The angle (radians) `cost` of the rotation `turned(angle)` finds cheapest, by steps of a
-/// degree then refined; where several cost nothing (within rounding), the one nearest `before`
-/// (degrees), or 0.
+/// The angle (radians) `cost` of the rotation `turned(angle)` finds cheapest; where several
+/// cost nothing (within rounding), the one nearest `before` (degrees), or 0.
 fn twist_search(
     cost: &impl Fn(DQuat) -> f64,
     before: Option<f64>,
     turned: impl Fn(f64) -> DQuat,
 ) -> f64 {
-    let at = |t: f64| cost(turned(t));
     let home = before.map_or(0.0, f64::to_radians);
     let away = |t: f64| {
         let d = (t - home).rem_euclid(std::f64::consts::TAU);
         d.min(std::f64::consts::TAU - d)
     };
-    let mut best = (home, at(home));
-    if best.1 <= 1e-12 {
-        return home;
-    }
+    least_cost_turn(|t| cost(turned(t)), away, home)
+}
+
+/// The angle (radians, within half a turn of `start`) that `cost` finds cheapest: by steps of
+/// a degree, then refined where nothing costs 0; among those that cost the same (within
+/// rounding), the one `away` finds nearest. `start` itself when it costs nothing.
+fn least_cost_turn(cost: impl Fn(f64) -> f64, away: impl Fn(f64) -> f64, start: f64) -> f64 {
     const STEPS: usize = 360;
+    let step = std::f64::consts::TAU / STEPS as f64;
+    let mut best = (start, cost(start));
+    if best.1 <= 1e-12 {
+        return start;
+    }
     for k in 0..STEPS {
-        let t = home + std::f64::consts::TAU * k as f64 / STEPS as f64 - std::f64::consts::PI;
-        let c = at(t);
+        let t = start + step * k as f64 - std::f64::consts::PI;
+        let c = cost(t);
         let closer = (c - best.1).abs() <= 1e-12 && away(t) < away(best.0);
         if c < best.1 - 1e-12 || closer {
             best = (t, c);
         }
     }
     if best.1 > 1e-12 {
-        let step = std::f64::consts::TAU / STEPS as f64;
+        // Out of reach everywhere: the least, between the steps beside the best.
         let (mut low, mut high) = (best.0 - step, best.0 + step);
         for _ in 0..60 {
             let (m1, m2) = (low + (high - low) / 3.0, high - (high - low) / 3.0);
-            if at(m1) <= at(m2) {
+            if cost(m1) <= cost(m2) {
                 high = m2;
             } else {
                 low = m1;
@@ -700,7 +667,7 @@ fn out_of_reach_deep(
     let mut total = out_of_reach_below(skeleton, targets, j, world, &data);
     for &(d, _) in &targets[j] {
         let joint = &skeleton.joints[d];
-        let turns = joint.channels.iter().filter(|c| c.is_rotation()).count();
+        let turns = joint.rotation_axes().len();
         if joint.rotation_order.is_some() || turns != 2 {
             continue;
         }
@@ -742,10 +709,9 @@ fn out_of_reach_below(
             continue;
         }
         let axes: Vec<DVec3> = joint
-            .channels
-            .iter()
-            .filter(|c| c.is_rotation())
-            .map(|c| DVec3::AXES[c.axis()])
+            .rotation_axes()
+            .into_iter()
+            .map(|a| DVec3::AXES[a])
             .collect();
         let Some(&(below, bone)) = targets[d].first() else {
             continue;
@@ -753,9 +719,7 @@ fn out_of_reach_below(
         let (Some(from), Some(to)) = (data(d), data(below)) else {
             continue;
         };
-        let c = joint
-            .axis
-            .map_or(DQuat::IDENTITY, |c| c.as_dquat().normalize());
+        let c = joint.axis_f64();
         let (Some(u), Some(w)) = (
             (c.inverse() * bone).try_normalize(),
             (c.inverse() * (world.inverse() * (to - from))).try_normalize(),
@@ -788,12 +752,7 @@ fn hinge_twist(
         return wanted;
     };
     let hinge = &skeleton.joints[d];
-    let axes: Vec<usize> = hinge
-        .channels
-        .iter()
-        .filter(|c| c.is_rotation())
-        .map(|c| c.axis())
-        .collect();
+    let axes: Vec<usize> = hinge.rotation_axes();
     let ([axis], Some(&(below, _))) = (&axes[..], targets[d].first()) else {
         return wanted;
     };
@@ -805,10 +764,7 @@ fn hinge_twist(
         // The limb straight: any plane holds it.
         return wanted;
     };
-    let local_axis = hinge
-        .axis
-        .map_or(DQuat::IDENTITY, |c| c.as_dquat().normalize())
-        * DVec3::AXES[*axis];
+    let local_axis = hinge.axis_f64() * DVec3::AXES[*axis];
     let now = wanted * local_axis;
     let now = now - bone * now.dot(bone);
     let Some(now) = now.try_normalize() else {
