@@ -328,6 +328,19 @@ fn humanml3d_refuses_what_it_cannot_make_and_hostile_folders() {
     std::fs::write(&file, &bytes[..bytes.len() - 4]).unwrap();
     let error = opened.features(1).unwrap_err().to_string();
     assert!(error.contains("bytes where float32"), "{error}");
+    // A last clip whose vector count lies past any file's size: refused, no overflow.
+    std::fs::write(&file, &bytes).unwrap();
+    let manifest = std::fs::read_to_string(out.join("manifest.json")).unwrap();
+    let lying = manifest.replacen("\"frames\": 57,", "\"frames\": 9000000000000000000,", 1);
+    assert_ne!(lying, manifest, "the last clip's vectors");
+    std::fs::write(out.join("manifest.json"), &lying).unwrap();
+    let error = dataset::humanml3d::open(&out)
+        .unwrap()
+        .features(1)
+        .unwrap_err()
+        .to_string();
+    assert!(error.contains("more than any file holds"), "{error}");
+    std::fs::write(out.join("manifest.json"), &manifest).unwrap();
     // An ID that is not six digits.
     let manifest = std::fs::read_to_string(out.join("manifest.json")).unwrap();
     std::fs::write(

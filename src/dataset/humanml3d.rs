@@ -113,15 +113,19 @@ impl Dataset {
             let shown = format!("{}/{name}/{id}.npy", self.path.display());
             let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
             let file = open_in(folder, &format!("{id}.npy"), false).map_err(refuse)?;
-            let values: usize = shape.iter().product();
+            // A manifest's count is a claim: its byte size is checked without overflowing.
+            let bytes_of = shape
+                .iter()
+                .try_fold(4usize, |n, &d| n.checked_mul(d))
+                .and_then(|n| n.checked_add(HEADER))
+                .ok_or_else(|| refuse(format!("{rows} vectors: more than any file holds")))?;
             let size = file.metadata().map_err(|e| refuse(e.to_string()))?.len();
-            if size != (HEADER + 4 * values) as u64 {
+            if size != bytes_of as u64 {
                 return Err(refuse(format!(
-                    "{size} bytes where float32 of shape {shape:?} make {}",
-                    HEADER + 4 * values
+                    "{size} bytes where float32 of shape {shape:?} make {bytes_of}"
                 )));
             }
-            let mut bytes = vec![0u8; HEADER + 4 * values];
+            let mut bytes = vec![0u8; bytes_of];
             file.read_exact_at(&mut bytes, 0)
                 .map_err(|e| refuse(e.to_string()))?;
             if bytes[..HEADER] != npy_header("<f4", &shape)[..] {
