@@ -163,6 +163,15 @@ for doc_args in "--no-deps" "--no-deps --document-private-items"; do
     if RUSTDOCFLAGS="-D warnings" cargo doc --locked $doc_args >/dev/null 2>"$log"; then
         echo "cargo doc $doc_args: no warnings"
         passed=$((passed + 1))
+        # Every public type of the library's docs shows an example (one check).
+        if [ "$doc_args" = "--no-deps" ]; then
+            if python3 scripts/doc_examples.py "${CARGO_TARGET_DIR:-target}/doc/bvhview"; then
+                passed=$((passed + 1))
+            else
+                failed=$((failed + 1))
+                status=1
+            fi
+        fi
     else
         cat "$log" >&2
         echo "cargo doc $doc_args: failed" >&2

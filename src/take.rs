@@ -66,6 +66,23 @@ impl Format {
 
 /// A skeleton and its motion, from whichever format, with what the file said once and where it
 /// came from. Python's `bvhview.Motion` is this type; its methods have the same names.
+///
+/// ```
+/// use bvhview::Take;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let walk = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?;
+/// assert_eq!(walk.fps().round(), 120.0);
+/// let short = walk.trim(0..12).mirror()?;
+/// assert_eq!(short.frame_count(), 12);
+/// assert_eq!(short.frame(0).map(|values| values.len()), walk.frame(0).map(|v| v.len()));
+/// let path = std::env::temp_dir().join("bvhview-take-example.bvh");
+/// short.save(&path)?;
+/// assert_eq!(Take::open(&path)?.frame_count(), 12);
+/// # std::fs::remove_file(&path).ok();
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug)]
 pub struct Take {
     /// The joints, in pre-order.

@@ -153,7 +153,11 @@ pub(crate) fn _dataset_motion(
             })
             .map_err(|e| to_python(py, e))?;
         Ok(Motion {
-            loaded: Take::new(skeleton, motion, path.join(&entry.skeleton).display().to_string()),
+            loaded: Take::new(
+                skeleton,
+                motion,
+                path.join(&entry.skeleton).display().to_string(),
+            ),
             item: Item {
                 path: path.join(&entry.skeleton),
                 motion: None,
@@ -267,9 +271,7 @@ pub(crate) fn _compile_dataset(
             lock_feet,
             map: crate::retarget::map_pairs_of(py, names.as_ref())?,
             onto: onto
-                .map(|onto| {
-                    bvhview::retarget::Target::load(&onto, bvhview::take::DEFAULT_MAX_SIZE)
-                })
+                .map(|onto| bvhview::retarget::Target::load(&onto, bvhview::take::DEFAULT_MAX_SIZE))
                 .transpose()
                 .map_err(|e| to_python(py, e))?,
             ..Default::default()

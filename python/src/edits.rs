@@ -1,5 +1,6 @@
-//! Edits that make a new take: the crate's `edit` results wrapped as a `Motion`, and
-//! `Motion.from_arrays` (a take built from arrays on a template's skeleton).
+//! `Motion`'s methods that make a new take: `save`, the edits (the crate's `edit` results
+//! wrapped as a `Motion`), and `Motion.from_arrays` (a take built from arrays on a template's
+//! skeleton).
 
 use crate::*;
 
@@ -185,4 +186,237 @@ pub(crate) fn from_arrays(
     let mut take = template.edited(skeleton.clone(), motion, true);
     take.loaded.warnings.clear();
     Ok(take)
+}
+
+#[pymethods]
+impl Motion {
+    /// Writes the take as BVH (.bvh) or glTF (.glb binary, .gltf text), as `bvhview convert`
+    /// does: for BVH, ASF bone axes are baked into ZYX rotation channels and names with
+    /// whitespace or braces are written with `_`; glTF gets one node per joint and End Site and
+    /// the take's offset mode. The file takes its name only when complete.
+    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+        guard("save", || {
+            let extension = take::extension(&path);
+            let container = match extension.as_str() {
+                "bvh" => None,
+                "glb" => Some(bvhview::gltf::Container::Glb),
+                "gltf" => Some(bvhview::gltf::Container::Gltf),
+                _ => {
+                    return Err(PyValueError::new_err(format!(
+                        "{}: save writes .bvh, .glb or .gltf files, not '{extension}'",
+                        path.display()
+                    )));
+                }
+            };
+            py.detach(|| match container {
+                None => self.write_bvh(&path),
+                Some(container) => self.write_gltf(&path, container),
+            })
+            .map_err(|e| to_python(py, e))
+        })
+    }
+
+    /// Frames `start` to `stop` (stop left out; negative counts from the end, as a slice
+    /// does), as `bvhview convert --frames` keeps them: a new take.
+    #[pyo3(signature = (start=None, stop=None))]
+    fn trim(&self, start: Option<isize>, stop: Option<isize>) -> PyResult<Motion> {
+        guard("trim", || {
+            let count = self.loaded.motion.frame_count() as isize;
+            let at = |bound: Option<isize>, default: isize| {
+                let bound = bound.unwrap_or(default);
+                (if bound < 0 { bound + count } else { bound }).clamp(0, count) as usize
+            };
+            let (start, stop) = (at(start, 0), at(stop, count));
+            let motion = bvhview::edit::trim(&self.loaded.motion, start..stop.max(start));
+            Ok(self.edited(self.loaded.skeleton.clone(), motion, true))
+        })
+    }
+
+    /// The take at `fps` frames per second (any rate from 0.01 to 1000, whole or not; rotations
+    /// slerped), as `convert --fps` makes it.
+    fn resample(&self, py: Python<'_>, fps: f64) -> PyResult<Motion> {
+        guard("resample", || {
+            let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let motion = py
+                .detach(|| bvhview::edit::resample(skeleton, motion, fps))
+                .map_err(|e| to_python(py, e))?;
+            Ok(self.edited(skeleton.clone(), motion, true))
+        })
+    }
+
+    /// Every length times `factor` (OFFSETs and position channels), as `convert --scale`.
+    fn scale(&self, py: Python<'_>, factor: f32) -> PyResult<Motion> {
+        guard("scale", || {
+            if !(factor.is_finite() && factor != 0.0) {
+                return Err(PyValueError::new_err(format!(
+                    "scale {factor}: expected a finite number other than 0"
+                )));
+            }
+            let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let (skeleton, motion) = py
+                .detach(|| bvhview::edit::scale(skeleton, motion, factor))
+                .map_err(|e| to_python(py, e))?;
+            // The units an ASF stated hold no longer.
+            Ok(self.edited(skeleton, motion, factor == 1.0))
+        })
+    }
+
+    /// The mirror image, as `convert --mirror`: left and right joints swap their motion
+    /// (reflected across the body's middle) and every name and the skeleton's layout are kept,
+    /// so the clip keeps its dataset group; the counterparts as `mirror_names` guesses them,
+    /// `names` (joint → its counterpart, or a map file's path as `--mirror-names FILE` reads
+    /// it, `[skeleton.FINGERPRINT]` sections too) over the guess for the joints it lists. With
+    /// `rename=True`, as `convert --mirror-rename`: each joint reflected where it is and the
+    /// names exchanged instead (`names` then gives the new names).
+    #[pyo3(signature = (names=None, *, rename=false))]
+    fn mirror(
+        &self,
+        py: Python<'_>,
+        names: Option<Bound<'_, PyAny>>,
+        rename: bool,
+    ) -> PyResult<Motion> {
+        guard("mirror", || {
+            let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let names = crate::retarget::map_pairs_of(py, names.as_ref())?;
+            let options = bvhview::edit::MirrorOptions {
+                rename,
+                names: names.for_skeleton(skeleton).into_iter().collect(),
+            };
+            let (mirrored, motion) = py
+                .detach(|| bvhview::edit::mirror(skeleton, motion, &options))
+                .map_err(|e| to_python(py, e))?;
+            Ok(self.edited(mirrored, motion, true))
+        })
+    }
+
+    /// The counterparts `mirror()` swaps: each joint whose name marks a side (`LeftArm`,
+    /// `L_Arm`, `Arm.L`, CMU's `LHipJoint` and `lhumerus`, Daz's `lThigh`…) and whose
+    /// counterpart is in the skeleton, with the counterpart's name.
+    #[getter]
+    fn mirror_names(&self, py: Python<'_>) -> PyResult<std::collections::HashMap<String, String>> {
+        guard("mirror_names", || {
+            let joints = &self.loaded.skeleton.joints;
+            let partners =
+                bvhview::edit::mirror_partners(&self.loaded.skeleton, &Default::default())
+                    .map_err(|e| to_python(py, e))?;
+            Ok(partners
+                .iter()
+                .enumerate()
+                .filter(|&(j, &k)| k != j && !joints[j].end_site)
+                .map(|(j, &k)| (joints[j].name.clone(), joints[k].name.clone()))
+                .collect())
+        })
+    }
+
+    /// The take turned to stand along `axis` ("y" or "z") from its `up_axis`, as `convert --up`.
+    fn to_up(&self, py: Python<'_>, axis: &str) -> PyResult<Motion> {
+        guard("to_up", || {
+            let target = match axis {
+                "y" => pose::Up::Y,
+                "z" => pose::Up::Z,
+                other => {
+                    return Err(PyValueError::new_err(format!(
+                        "axis={other:?}: expected \"y\" or \"z\""
+                    )));
+                }
+            };
+            let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let (skeleton, motion) = py
+                .detach(|| {
+                    let up = self.loaded.stance(self.offset_mode).up;
+                    bvhview::edit::reorient(skeleton, motion, up, target)
+                })
+                .map_err(|e| to_python(py, e))?;
+            Ok(self.edited(skeleton, motion, true))
+        })
+    }
+
+    /// The travel joint (the root in most files) kept over its first frame's place along the
+    /// floor (across its `up_axis`), as `convert --in-place`.
+    fn in_place(&self, py: Python<'_>) -> PyResult<Motion> {
+        guard("in_place", || {
+            let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let motion = py.detach(|| {
+                let up = self.loaded.stance(self.offset_mode).up;
+                bvhview::edit::in_place(skeleton, motion, up)
+            });
+            Ok(self.edited(skeleton.clone(), motion, true))
+        })
+    }
+
+    /// The take with each planted foot held where it landed, as `convert --lock-feet`: two-bone
+    /// IK on thigh and shin during each contact, the foot's orientation and every bone's length
+    /// kept.
+    fn lock_feet(&self, py: Python<'_>) -> PyResult<Motion> {
+        guard("lock_feet", || {
+            let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let motion = py
+                .detach(|| {
+                    let stance = self.loaded.stance(self.offset_mode);
+                    bvhview::edit::lock_feet(
+                        skeleton,
+                        motion,
+                        self.offset_mode,
+                        stance.up,
+                        f64::from(stance.units.metres),
+                        &bvhview::edit::LockFeet::default(),
+                    )
+                })
+                .map_err(|e| to_python(py, e))?
+                .0;
+            Ok(self.edited(skeleton.clone(), motion, true))
+        })
+    }
+
+    /// The take with its jitter smoothed, as `convert --smooth HZ`: a zero-phase low-pass at
+    /// `hz` (below half the frame rate) on every position channel and every joint's rotation
+    /// (a sign-continuous quaternion path, renormalised). ValueError for a cutoff out of range.
+    pub(crate) fn smooth(&self, py: Python<'_>, hz: f64) -> PyResult<Motion> {
+        guard("smooth", || {
+            let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let motion = py
+                .detach(|| bvhview::edit::smooth(skeleton, motion, hz))
+                .map_err(|e| to_python(py, e))?;
+            Ok(self.edited(skeleton.clone(), motion, true))
+        })
+    }
+
+    /// The take moved along its `up_axis` so that the lowest point of its soles over the take
+    /// (each leg's ankle and what is below it; every joint for a body without two feet), in its
+    /// offset mode, is at 0, as `convert --ground`.
+    fn ground(&self, py: Python<'_>) -> PyResult<Motion> {
+        guard("ground", || {
+            let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let (skeleton, motion) = py
+                .detach(|| {
+                    let up = self.loaded.stance(self.offset_mode).up;
+                    bvhview::edit::ground(skeleton, motion, self.offset_mode, up)
+                })
+                .map_err(|e| to_python(py, e))?;
+            Ok(self.edited(skeleton, motion, true))
+        })
+    }
+
+    /// A take built from arrays on `template`'s skeleton (a Motion), to save as BVH or glTF:
+    /// `rotations`, every joint's local rotation per frame, as `local_rotations` gives them:
+    /// frames × joints × 4 (quat, w x y z), × 3 × 3 (matrix), × 6 (6d) or × 3 (euler: each
+    /// joint's rotation channels in file order, degrees), the kind told by the shape or `kind`;
+    /// `root_translations` (frames × 3) for the first root; `fps` (default: the template's).
+    /// Other position channels keep the template's values (its last frame's past its end). A
+    /// joint with fewer than three rotation channels (an ASF bone with one or two degrees of
+    /// freedom) takes the angles of the nearest rotation it can make.
+    #[staticmethod]
+    #[pyo3(signature = (template, rotations, root_translations=None, fps=None, kind=None))]
+    fn from_arrays(
+        py: Python<'_>,
+        template: &Motion,
+        rotations: numpy::PyArrayLikeDyn<'_, f32, numpy::AllowTypeChange>,
+        root_translations: Option<numpy::PyArrayLike2<'_, f32, numpy::AllowTypeChange>>,
+        fps: Option<f64>,
+        kind: Option<&str>,
+    ) -> PyResult<Motion> {
+        guard("from_arrays", || {
+            crate::edits::from_arrays(py, template, rotations, root_translations, fps, kind)
+        })
+    }
 }

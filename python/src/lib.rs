@@ -13,9 +13,9 @@
 //!   in so that no panic reaches Python.
 
 use bvhview::Error;
-use bvhview::take::{self, Take};
-use bvhview::plumbing::AtomicFile;
 use bvhview::model::pose::{self, FkPlan, FkScratch, LANES, OffsetMode};
+use bvhview::plumbing::AtomicFile;
+use bvhview::take::{self, Take};
 use glam::{Mat4, Vec3};
 use numpy::ndarray::ArrayView2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods, PyUntypedArrayMethods};

@@ -117,8 +117,8 @@ pub(crate) fn items_of(paths: &Bound<'_, PyAny>) -> PyResult<Vec<Item>> {
     // A str or os.PathLike is one path: not a sequence of one-letter paths.
     if let Ok(path) = paths.extract::<PathBuf>() {
         if path.is_dir() {
-            let found =
-                bvhview::info::batch::collect(&path).map_err(|e| PyOSError::new_err(e.to_string()))?;
+            let found = bvhview::info::batch::collect(&path)
+                .map_err(|e| PyOSError::new_err(e.to_string()))?;
             warn_skipped(paths.py(), &found, 1)?;
             return Ok(found
                 .items

@@ -1,6 +1,7 @@
-//! `Motion.retarget`: the take's motion on another skeleton (see the crate's `retarget`).
+//! `Motion.retarget`: the take's motion on another skeleton (see the crate's `retarget`), and
+//! takes solved from joint positions (`Motion.from_positions`, `Motion.from_humanml3d`).
 
-use crate::{Motion, to_python};
+use crate::{Motion, guard, to_python};
 use bvhview::retarget::{Map, MapPairs, Target};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -53,11 +54,15 @@ pub(crate) fn map_pairs_of(py: Python<'_>, names: Option<&Bound<'_, PyAny>>) -> 
             )));
         }
         Err(e) => {
-            return Err(pyo3::exceptions::PyFileNotFoundError::new_err(format!("{shown}: {e}")));
+            return Err(pyo3::exceptions::PyFileNotFoundError::new_err(format!(
+                "{shown}: {e}"
+            )));
         }
     };
     let text = String::from_utf8(text).map_err(|_| {
-        PyValueError::new_err(format!("{shown}: not UTF-8 text: a map file is TOML or JSON"))
+        PyValueError::new_err(format!(
+            "{shown}: not UTF-8 text: a map file is TOML or JSON"
+        ))
     })?;
     bvhview::retarget::parse_map_pairs(&text, &shown).map_err(|e| to_python(py, e))
 }
@@ -180,8 +185,8 @@ pub(crate) fn from_positions(
         })
         .collect();
     let target = target_of(py, skeleton)?;
-    let positions = bvhview::solve::Positions::new(names, points, 1.0 / fps)
-        .map_err(|e| to_python(py, e))?;
+    let positions =
+        bvhview::solve::Positions::new(names, points, 1.0 / fps).map_err(|e| to_python(py, e))?;
     let (motion, solved) = py
         .detach(|| bvhview::solve::solve(&target.skeleton, target.up, &positions, up))
         .map_err(|e| to_python(py, e))?;
@@ -233,8 +238,7 @@ pub(crate) fn from_humanml3d(
         )));
     }
     let values: Vec<f32> = array.iter().copied().collect();
-    let points =
-        bvhview::humanml3d::recover_from_ric(&values).map_err(|e| to_python(py, e))?;
+    let points = bvhview::humanml3d::recover_from_ric(&values).map_err(|e| to_python(py, e))?;
     let positions: Vec<f64> = points.iter().flat_map(|p| [p.x, p.y, p.z]).collect();
     let frames = shape[0];
     let array = numpy::ndarray::Array3::from_shape_vec((frames, 22, 3), positions)
@@ -292,4 +296,86 @@ pub(crate) fn humanml3d_features<'py>(
             numpy::PyArray3::from_owned_array(py, joints),
         ))
     })
+}
+
+#[pymethods]
+impl Motion {
+    /// The take's motion on another skeleton, as `bvhview retarget` puts it: `target` a Motion,
+    /// a built-in skeleton's name ("smpl22") or a file's path; `names` overrides the guessed
+    /// map ({source joint: target joint}; "" leaves a source joint out), or is a map file's path
+    /// (as `--map FILE` reads it, `[skeleton.FINGERPRINT]` sections too). Raises ValueError
+    /// naming the joint when the map cannot stand, and for a body that does not stand on two
+    /// legs onto one that does unless `any_body`.
+    #[pyo3(signature = (target, names=None, *, any_body=false))]
+    fn retarget(
+        &self,
+        py: Python<'_>,
+        target: &Bound<'_, PyAny>,
+        names: Option<Bound<'_, PyAny>>,
+        any_body: bool,
+    ) -> PyResult<Motion> {
+        guard("retarget", || {
+            crate::retarget::retarget(py, self, target, names.as_ref(), any_body)
+        })
+    }
+
+    /// The joint map `retarget(target)` would guess: {source joint: target joint}.
+    fn retarget_map(
+        &self,
+        py: Python<'_>,
+        target: &Bound<'_, PyAny>,
+    ) -> PyResult<std::collections::HashMap<String, String>> {
+        guard("retarget_map", || {
+            crate::retarget::retarget_map(py, self, target)
+        })
+    }
+
+    /// A take on `skeleton` (a Motion, a built-in skeleton's name such as "smpl22", or a file's
+    /// path) whose joints stand where `positions` (frames × joints × 3: a motion model's or a
+    /// pose estimator's output) puts them, as `bvhview solve` makes it: each bone laid along the
+    /// data's, the skeleton's lengths kept, the path scaled by the legs. `joints`: the
+    /// positions' joint names in order (a list, or a layout's name: "smpl22", the same as
+    /// "humanml3d"); 22 joints without it are read in SMPL's order. `up`: the positions' up axis
+    /// ("y" or "z") when it is not the skeleton's. `smooth`: a cutoff in Hz for jittery input,
+    /// as `smooth()`.
+    #[staticmethod]
+    #[pyo3(signature = (positions, skeleton, *, joints=None, fps, up=None, smooth=None))]
+    #[allow(clippy::too_many_arguments)]
+    fn from_positions(
+        py: Python<'_>,
+        positions: numpy::PyArrayLike3<'_, f64, numpy::AllowTypeChange>,
+        skeleton: &Bound<'_, PyAny>,
+        joints: Option<Bound<'_, PyAny>>,
+        fps: f64,
+        up: Option<&str>,
+        smooth: Option<f64>,
+    ) -> PyResult<Motion> {
+        guard("from_positions", || {
+            let solved =
+                crate::retarget::from_positions(py, positions, skeleton, joints.as_ref(), fps, up)?;
+            match smooth {
+                Some(hz) => solved.smooth(py, hz),
+                None => Ok(solved),
+            }
+        })
+    }
+
+    /// A take on `skeleton` (default "smpl22") from HumanML3D's 263-value feature vectors
+    /// (frames × 263, its `new_joint_vecs`), as `bvhview solve --from humanml3d`: the joint
+    /// positions its own `recover_from_ric` gives, then `from_positions`. `fps`: 20, as
+    /// HumanML3D's.
+    #[staticmethod]
+    #[pyo3(signature = (vectors, skeleton=None, *, fps=20.0))]
+    fn from_humanml3d(
+        py: Python<'_>,
+        vectors: numpy::PyArrayLike2<'_, f32, numpy::AllowTypeChange>,
+        skeleton: Option<Bound<'_, PyAny>>,
+        fps: f64,
+    ) -> PyResult<Motion> {
+        guard("from_humanml3d", || {
+            let smpl = pyo3::types::PyString::new(py, "smpl22").into_any();
+            let skeleton = skeleton.unwrap_or(smpl);
+            crate::retarget::from_humanml3d(py, vectors, &skeleton, fps)
+        })
+    }
 }

@@ -26,6 +26,7 @@ mod clip;
 mod continuity;
 mod feet;
 mod floor;
+mod manifest;
 mod options;
 
 pub use clip::*;

@@ -111,6 +111,25 @@ pub fn followable_errors(
 
 /// How a retargeted take stands and travels beside its source, each take in its own file's
 /// units turned y-up: what [`standing`] measures.
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::retarget::{self, Map, Ups};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let walk = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?.trim(0..60);
+/// let smpl = retarget::onto(&walk, "smpl22")?;
+/// let map = Map::guess(&walk.skeleton, &smpl.skeleton);
+/// // Metres per unit of the source: CMU's takes keep their ASF's unit, 1/0.45 inch.
+/// let stand = retarget::standing(
+///     &walk.skeleton, &walk.motion, &smpl.skeleton, &smpl.motion, &map, Ups::default(), 0.056,
+/// );
+/// assert!(stand.pelvis > 0.8, "the pelvis keeps its width");
+/// let expected = stand.ratio * stand.source_path;
+/// assert!((stand.target_path - expected).abs() <= 0.02 * expected, "the path scaled by the legs");
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Standing {
     /// The target's legs over the source's (the retarget's scale of the hips' path and floor).
