@@ -6,12 +6,15 @@ cd "$(dirname "$0")/.."
 
 # Debian packages the tests use: OSMesa for offscreen pictures, the X11/GL libraries the window
 # loads at run time, Xvfb, xdotool and xwd for the end-to-end window test, and g++ for the
-# article's own program, rebuilt from its text (tests/article_program.rs, with ../shared).
+# article's own program, rebuilt from its text (tests/article_program.rs, with ../shared), and
+# for OpenH264's C++ (the `video` feature). nasm adds OpenH264's assembly (faster; the build
+# works without it). ffmpeg checks the MP4s bvhview writes (tests/video.rs): a checker only,
+# bvhview never runs it.
 PACKAGES=(
     libosmesa6
     libx11-6 libx11-xcb1 libxcb1 libxcursor1 libxi6 libxkbcommon-x11-0
     libgl1 libglx-mesa0 libgl1-mesa-dri libegl1 libegl-mesa0
-    xvfb xauth xdotool x11-apps opencc g++
+    xvfb xauth xdotool x11-apps opencc g++ nasm ffmpeg
 )
 
 missing=()

@@ -880,3 +880,91 @@ fn fbx_and_glb_takes_dropped_on_the_window_join_the_take_shown() {
     assert!(!said.contains("error"), "{said}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+/// `--record` records what the window shows from the start, M stops and writes it, M again
+/// starts another (named after the file and the frame), and Esc writes that one: each checked by
+/// Debian's ffprobe and ffmpeg, its first and last pictures the snapshots of the frames shown.
+#[cfg(feature = "video")]
+#[test]
+fn the_window_records_what_it_shows_into_an_mp4() {
+    use common::video::{decoded, probe, psnr};
+    let _alone = one_at_a_time();
+    let input = oracle("inputs/tiny_crlf.bvh");
+    let bvh = bvhview::bvh::load_file(&input, Default::default()).unwrap();
+    let snapshot = |frame| {
+        bvhview::render::snapshot(
+            &bvh.skeleton,
+            &bvh.motion,
+            &SnapshotOptions {
+                frame,
+                ..SnapshotOptions::default()
+            },
+        )
+        .unwrap()
+    };
+    let (_xvfb, display) = start_xvfb();
+    let folder = tempfile::tempdir().unwrap();
+    let video = folder.path().join("recorded.mp4");
+    let (mut viewer, window) = open_viewer(
+        &display,
+        folder.path(),
+        &[&input, Path::new("--record"), &video],
+        "^bvhview - tiny_crlf.bvh - frame",
+    );
+    let log = folder.path().join("viewer-stderr.txt");
+    let said = |text: &str| {
+        let text = text.to_string();
+        let log = log.clone();
+        move || {
+            let printed = std::fs::read_to_string(&log).unwrap_or_default();
+            printed.contains(&text).then_some(printed)
+        }
+    };
+    wait_for(
+        "the recording to start",
+        Duration::from_secs(30),
+        said("recording"),
+    );
+    focus_until_keys_arrive(&display, &window, "frame 2 of 0-2", "frame 0 of 0-2");
+    run(&display, "xdotool", &["key", "w"]).expect("key w");
+    wait_for("frame 1", Duration::from_secs(30), || {
+        run(&display, "xdotool", &["getwindowname", &window]).filter(|t| t.contains("frame 1 of"))
+    });
+    let one = snapshot(1);
+    wait_for("frame 1 drawn", Duration::from_secs(30), || {
+        (capture(&display, &window).differing_pixels(&one) == 0).then_some(())
+    });
+    run(&display, "xdotool", &["key", "m"]).expect("key m");
+    let printed = wait_for("the video written", Duration::from_secs(60), said("wrote"));
+    assert!(
+        printed.contains(&format!("wrote {}:", video.display())),
+        "{printed}"
+    );
+    let probed = probe(&video);
+    assert_eq!(
+        (probed.codec.as_str(), probed.width, probed.height),
+        ("h264", 600, 600)
+    );
+    let pictures = decoded(&video, (600, 600));
+    assert!(pictures.len() >= 2, "{} pictures", pictures.len());
+    let first = psnr(&pictures[0], &snapshot(0).rgb);
+    let last = psnr(pictures.last().unwrap(), &one.rgb);
+    assert!(first >= 35.0 && last >= 35.0, "{first:.2} dB, {last:.2} dB");
+
+    // M again: a second recording, written when the window closes.
+    run(&display, "xdotool", &["key", "m"]).expect("key m");
+    wait_for(
+        "the second recording",
+        Duration::from_secs(30),
+        said("recording tiny_crlf_frame00001.mp4"),
+    );
+    run(&display, "xdotool", &["key", "Escape"]).expect("key Escape");
+    let status = wait_for("the viewer to quit on Esc", Duration::from_secs(60), || {
+        viewer.0.try_wait().unwrap()
+    });
+    assert!(status.success(), "exit status {status}");
+    let second = folder.path().join("tiny_crlf_frame00001.mp4");
+    let pictures = decoded(&second, (600, 600));
+    assert!(!pictures.is_empty());
+    assert!(psnr(&pictures[0], &one.rgb) >= 35.0);
+}

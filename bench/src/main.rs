@@ -7,6 +7,9 @@
 //! `cargo run --release -p bvhview-bench -- --folder DIR`: load + world positions of every .bvh
 //! file of a folder, the first pass of a fresh process against the best of later passes, with
 //! the page faults of each: what a cold process pays that a warm one does not.
+//!
+//! `cargo run --release -p bvhview-bench -- --encoders`: GIF, APNG and MP4 (H.264) encoding of
+//! the same pictures, alone (the full run includes it).
 
 use std::time::{Duration, Instant};
 
@@ -50,7 +53,8 @@ fn usage_error(message: &str) -> ! {
          usage: bvhview-bench BIG.bvh [--quick] [--rounds N] [--no-avx512] [--article PROGRAM]\n\
          \x20      (make BIG.bvh: cargo run --release --example make_big -- SOURCE.bvh BIG.bvh 100)\n\
          \x20      bvhview-bench BIG.bvh --one-core [--rounds N]   (only the one-core rows)\n\
-         \x20      bvhview-bench --folder DIR"
+         \x20      bvhview-bench --folder DIR\n\
+         \x20      bvhview-bench --encoders   (GIF, APNG and MP4 encoding only)"
     );
     std::process::exit(2);
 }
@@ -158,6 +162,10 @@ fn main() {
             },
             "--quick" => quick = true,
             "--one-core" => only_one_core = true,
+            "--encoders" => {
+                println!("cpu: {}", cpu_description());
+                return compare_encoders(false);
+            }
             "--in-process" => match (args.next(), args.next()) {
                 (Some(what), Some(path)) => return in_process(&what, &path),
                 _ => usage_error("--in-process needs info|positions|dataset and a file"),
@@ -365,6 +373,8 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
 
     // A sequence of pictures (`snapshot --frames`) against the article's display() alone.
     compare_sequences(quick);
+    // The same pictures encoded as GIF, APNG and MP4 video.
+    compare_encoders(quick);
 
     // Drawing, offscreen at the article's 600×600.
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/bvh");
@@ -777,6 +787,96 @@ fn compare_sequences(quick: bool) {
         ms(om) / ms(tm),
         ms(of) / ms(tf)
     );
+}
+
+/// The animated outputs' encoders on the same 640×480 pictures of the CMU take (drawn once,
+/// beforehand, in the article's look and the studio look): GIF, APNG and MP4 (H.264) on one
+/// thread, and MP4 on every core, round-robin. Per frame, median and fastest of the rounds, and
+/// how many times real time that is for a take at 30 and at 120 frames a second.
+fn compare_encoders(quick: bool) {
+    use bvhview::render::animation::{self, Format};
+    use bvhview::render::{Image, Look, Renderer, SnapshotOptions};
+    let file =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/bvh/assimp_01_01.bvh");
+    let Ok(take) = bvhview::take::load(&file, None, None) else {
+        println!("encoders: skipped (no {})", file.display());
+        return;
+    };
+    let (rounds, count) = if quick { (3, 30) } else { (5, 120) };
+    let (width, height) = (640, 480);
+    let mut renderer = Renderer::new(width, height).expect("OSMesa (apt-get install libosmesa6)");
+    let out = std::env::temp_dir().join(format!("bvhview-bench-encode-{}", std::process::id()));
+    std::fs::create_dir_all(&out).expect("a temporary folder");
+    let cores = bvhview::plumbing::cores();
+    for (look_name, look) in [("article", Look::Article), ("studio", Look::Studio)] {
+        let pictures: Vec<Image> = (0..count)
+            .map(|frame| {
+                let options = SnapshotOptions {
+                    frame: frame % take.motion.frame_count(),
+                    width,
+                    height,
+                    look,
+                    ..SnapshotOptions::default()
+                };
+                renderer
+                    .render(&take.skeleton, &take.motion, &options)
+                    .expect("draws")
+            })
+            .collect();
+        let encode = |format: Format, threads: usize| {
+            let start = Instant::now();
+            match (format, threads) {
+                (Format::Mp4, threads) => {
+                    let mut video =
+                        bvhview::render::video::Mp4::new((width, height), 30.0, threads)
+                            .expect("an encoder");
+                    for picture in &pictures {
+                        video.push(picture).expect("encodes");
+                    }
+                    std::fs::write(out.join("walk.mp4"), video.finish().expect("muxes"))
+                        .expect("writes");
+                }
+                (format, _) => {
+                    let path = out.join(if format == Format::Gif {
+                        "walk.gif"
+                    } else {
+                        "walk.apng"
+                    });
+                    let frames = pictures.iter().map(|p| Ok(p.clone()));
+                    animation::write(&path, format, (width, height), 30.0, frames, count)
+                        .expect("writes");
+                }
+            }
+            start.elapsed() / count as u32
+        };
+        let tools = [
+            ("GIF, one thread", Format::Gif, 1),
+            ("APNG, one thread", Format::Apng, 1),
+            ("MP4 (H.264), one thread", Format::Mp4, 1),
+            ("MP4 (H.264), every core", Format::Mp4, cores),
+        ];
+        let mut times: Vec<Vec<Duration>> = vec![Vec::new(); tools.len()];
+        for _ in 0..rounds {
+            for (tool, &(_, format, threads)) in tools.iter().enumerate() {
+                times[tool].push(encode(format, threads));
+            }
+        }
+        println!(
+            "encoding {count} pictures of 640×480, {look_name} look, {rounds} rounds in turn ({cores} cores; per frame, median and fastest):"
+        );
+        for (tool, &(name, _, _)) in tools.iter().enumerate() {
+            let (median, fastest) = median_and_min(&mut times[tool]);
+            let fps = 1.0 / median.as_secs_f64();
+            println!(
+                "  {name:<26} median {:6.2} ms   fastest {:6.2} ms   {:5.1}× real time at 30 fps, {:4.1}× at 120",
+                median.as_secs_f64() * 1e3,
+                fastest.as_secs_f64() * 1e3,
+                fps / 30.0,
+                fps / 120.0
+            );
+        }
+    }
+    std::fs::remove_dir_all(&out).ok();
 }
 
 /// The work of `bvhview info`, `positions -o FILE.csv` and `dataset DIR -o OUT` on the file at

@@ -16,7 +16,8 @@ pub(crate) struct SnapshotArgs {
     #[arg(long, default_value_t = 0, conflicts_with = "frames")]
     frame: usize,
     /// A sequence instead: N, A..B (B left out), A..=B, A.. or ..B, written as -o says: an
-    /// animated .gif, .apng or .png, or OUT/frame_NNNNN.png into a folder.
+    /// animated .gif, .apng or .png, an .mp4 video (H.264), or OUT/frame_NNNNN.png into a
+    /// folder.
     #[arg(long)]
     frames: Option<String>,
     #[command(flatten)]
@@ -53,8 +54,9 @@ pub(crate) struct SnapshotArgs {
     /// most 50 for GIF).
     #[arg(long)]
     fps: Option<f64>,
-    /// The PNG to write; with --frames an animated .gif, .apng or .png, or a folder to write one
-    /// PNG per frame into (created if missing; the folder it is in must exist).
+    /// The PNG to write; with --frames an animated .gif, .apng or .png, an .mp4 video, or a
+    /// folder to write one PNG per frame into (created if missing; the folder it is in must
+    /// exist).
     #[arg(short, long)]
     output: PathBuf,
 }
@@ -69,8 +71,17 @@ fn check_sequence_options(
     let format = match take::extension(&args.output).as_str() {
         "gif" => Some("a GIF"),
         "apng" => Some("an APNG"),
+        "mp4" => Some("an MP4 video"),
         _ => None,
     };
+    #[cfg(not(feature = "video"))]
+    if animated == Some(crate::render::animation::Format::Mp4) {
+        return Err(crate::io::absent::without(
+            "video",
+            "MP4 video",
+            &output.to_string(),
+        ));
+    }
     if args.frames.is_none()
         && let Some(format) = format
     {
@@ -81,7 +92,7 @@ fn check_sequence_options(
     if args.fps.is_some() {
         if args.frames.is_none() {
             return Err(Error::Usage(
-                "--fps needs --frames A..B: it is the rate of an animated .gif, .apng or .png"
+                "--fps needs --frames A..B: it is the rate of an animated .gif, .apng or .png, or an .mp4"
                     .into(),
             ));
         }
@@ -102,7 +113,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         None => check_output(&args.output, &["png"])?,
         Some(_) if animated.is_none() && !take::extension(&args.output).is_empty() => {
             return Err(Error::Usage(format!(
-                "-o {}: --frames writes an animated .gif, .apng or .png, or one PNG per frame into a folder such as frames/",
+                "-o {}: --frames writes an animated .gif, .apng or .png, an .mp4 video, or one PNG per frame into a folder such as frames/",
                 args.output.display()
             )));
         }
@@ -110,6 +121,9 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     }
     if let Some(fps) = args.fps {
         crate::limits::fps(fps, animated == Some(animation::Format::Gif))?;
+    }
+    if animated == Some(animation::Format::Mp4) {
+        animation::check_video_size(args.size.0, args.size.1)?;
     }
     let files = paired_takes(&args.files, &args.source)?;
     if args.overlay && files.len() < 2 {
@@ -244,8 +258,18 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
             |pictures| animation::write(output, format, size, fps, pictures, ticks.len()),
         )?;
         progress.done();
+        // H.264's pictures have even sides: say so where the video is not the size asked.
+        let even = animation::encoded_size(size.0, size.1);
+        let resized = if format == animation::Format::Mp4 && even != size {
+            format!(
+                " ({}x{}: H.264 needs even sides, the last column or row repeats)",
+                even.0, even.1
+            )
+        } else {
+            String::new()
+        };
         wrote(format_args!(
-            "{}: {} at {fps:.3} per second",
+            "{}: {} at {fps:.3} per second{resized}",
             output.display(),
             crate::io::error::counted(ticks.len(), "frame")
         ));

@@ -57,6 +57,11 @@ pub(crate) struct ViewerArgs {
     /// written in the article's view; `info` prints the guess).
     #[arg(long, value_enum)]
     up: Option<UpArg>,
+    /// Record what the window shows into this .mp4 from the start, at the take's rate (at most
+    /// 60 frames a second); M stops and writes it (so does closing the window), M again starts
+    /// another.
+    #[arg(long)]
+    record: Option<PathBuf>,
 }
 
 /// The window on a file (or the bundled walk): a build without the `window` feature has none.
@@ -80,7 +85,17 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         look,
         true_scale,
         up,
+        record,
     } = args;
+    if let Some(path) = &record {
+        check_output(path, &["mp4"])?;
+        #[cfg(not(feature = "video"))]
+        return Err(crate::io::absent::without(
+            "video",
+            "MP4 video",
+            &path.display().to_string(),
+        ));
+    }
     // Say there is no display before loading anything.
     crate::render::window::check_environment(crate::render::window::VIEWER_OFFSCREEN)?;
     let files = paired_takes(&files, &source)?;
@@ -123,6 +138,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         quiet: QUIET.load(std::sync::atomic::Ordering::Relaxed),
         true_scale,
         style_chosen: style.is_some(),
+        record,
     };
     crate::render::window::run(takes, options)?;
     Ok(ExitCode::SUCCESS)

@@ -1,5 +1,6 @@
-//! A take as one animated picture: GIF (the gif crate) or APNG (the png crate), frames drawn by
-//! the same offscreen renderer as `snapshot`, written whole or not at all (`io::output`).
+//! A take as one animated picture: GIF (the gif crate), APNG (the png crate) or MP4 video
+//! ([`crate::render::video`]), frames drawn by the same offscreen renderer as `snapshot`, written
+//! whole or not at all (`io::output`).
 
 use crate::io::error::Error;
 use crate::limits::GIF_MAX_FPS;
@@ -32,6 +33,8 @@ pub enum Format {
     Gif,
     /// Animated PNG (`.apng`, or `.png` with `--frames`).
     Apng,
+    /// H.264 video in an MP4 file (`.mp4`; the cargo feature `video`).
+    Mp4,
 }
 
 impl Format {
@@ -40,9 +43,35 @@ impl Format {
         match crate::take::extension(path).as_str() {
             "gif" => Some(Format::Gif),
             "apng" | "png" => Some(Format::Apng),
+            "mp4" => Some(Format::Mp4),
             _ => None,
         }
     }
+}
+
+/// The size an MP4 of pictures `width × height` is encoded at: each side rounded up to even
+/// (H.264's 4:2:0 pictures have even sides; the last column or row repeats).
+///
+/// ```
+/// use bvhview::render::animation::encoded_size;
+///
+/// assert_eq!(encoded_size(640, 480), (640, 480));
+/// assert_eq!(encoded_size(641, 481), (642, 482));
+/// ```
+pub fn encoded_size(width: u32, height: u32) -> (u32, u32) {
+    (width + width % 2, height + height % 2)
+}
+
+/// Refuses a video size OpenH264 cannot encode: it stops at H.264's level 5.2, 3840 × 2160
+/// either way up.
+pub fn check_video_size(width: u32, height: u32) -> Result<(), Error> {
+    if width == 0 || height == 0 || width.max(height) > 3840 || width.min(height) > 2160 {
+        return Err(Error::Usage(format!(
+            "an MP4 of {width}x{height}: the H.264 encoder (OpenH264) takes pictures up to \
+             3840x2160 (or 2160x3840)"
+        )));
+    }
+    Ok(())
 }
 
 /// The rate an animation plays at when none is asked for: the file's own (30 when the file has
@@ -56,7 +85,7 @@ pub fn default_fps(frame_time: f64, format: Format) -> f64 {
     // Within what `--fps` takes: an hour-long frame plays for 100 s.
     match format {
         Format::Gif => rate.clamp(crate::limits::MIN_FPS, GIF_MAX_FPS),
-        Format::Apng => rate.clamp(crate::limits::MIN_FPS, crate::limits::MAX_FPS),
+        Format::Apng | Format::Mp4 => rate.clamp(crate::limits::MIN_FPS, crate::limits::MAX_FPS),
     }
 }
 
@@ -195,6 +224,24 @@ pub fn write(
                     .map_err(|e| encoding(&e))?;
             }
             writer.finish().map_err(|e| encoding(&e))?;
+        }
+        #[cfg(feature = "video")]
+        Format::Mp4 => {
+            let mut video =
+                crate::render::video::Mp4::new((width, height), fps, crate::io::parallel::cores())?;
+            for image in frames {
+                video.push(&image?)?;
+            }
+            std::io::Write::write_all(out, &video.finish()?).map_err(|e| Error::output(path, e))?;
+        }
+        #[cfg(not(feature = "video"))]
+        Format::Mp4 => {
+            drop(frames);
+            return Err(crate::io::absent::without(
+                "video",
+                "MP4 video",
+                &path.display().to_string(),
+            ));
         }
     }
     file.commit()

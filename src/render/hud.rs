@@ -283,6 +283,7 @@ pub fn help_lines() -> Vec<String> {
         "N          joint names",
         "R          reload the files",
         "P          write this picture",
+        "M          record a video / stop",
         "drop       add a file",
         "K          skin on / off",
         "O          offset mode",

@@ -29,6 +29,8 @@ pub mod text;
 #[doc(hidden)]
 pub mod timeline;
 pub mod trace;
+#[cfg(feature = "video")]
+pub mod video;
 #[cfg(feature = "window")]
 pub(crate) mod window;
 

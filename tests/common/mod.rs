@@ -12,6 +12,8 @@
 
 use std::path::{Path, PathBuf};
 
+pub mod video;
+
 fn manifest() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))
 }

@@ -29,6 +29,8 @@ use winit::event_loop::{ActiveEventLoop, ControlFlow};
 use winit::keyboard::{Key, NamedKey};
 use winit::window::WindowId;
 
+#[cfg(feature = "video")]
+mod record;
 mod state;
 
 use state::*;
@@ -48,6 +50,8 @@ pub struct ViewerOptions {
     pub true_scale: bool,
     /// Whether `style` was asked for (`--style`, or B since): V then leaves it as it is.
     pub style_chosen: bool,
+    /// Record what the window shows into this MP4 from the start (`--record`; M stops).
+    pub record: Option<PathBuf>,
 }
 
 /// Playback speeds `+` and `-` step through.
@@ -132,6 +136,11 @@ pub fn run(takes: Vec<ViewerTake>, options: ViewerOptions) -> Result<(), Error> 
     event_loop
         .run_app(&mut app)
         .map_err(|e| Error::Environment(format!("the window's event loop failed: {e}")))?;
+    // A recording under way when the window closes is written.
+    let recorded = app.stop_recording();
+    if app.error.is_none() {
+        recorded?;
+    }
     match app.error {
         Some(error) => Err(error),
         None => Ok(()),
@@ -310,6 +319,7 @@ mod tests {
             quiet: true,
             true_scale: false,
             style_chosen: false,
+            record: None,
         }
     }
 

@@ -36,6 +36,11 @@ pub(super) struct Viewer {
     /// The last reload's or drop's error, shown top left until the next one succeeds.
     pub(super) problem: Option<String>,
     pub(super) painter: Painter,
+    /// The recording under way (M, `--record`), and one `--record` asked for when the window
+    /// opens.
+    #[cfg(feature = "video")]
+    pub(super) recording: Option<record::Recording>,
+    pub(super) record_at_start: Option<PathBuf>,
 }
 
 impl Viewer {
@@ -46,7 +51,6 @@ impl Viewer {
         };
         Viewer {
             takes,
-            options,
             frame: 0,
             camera: start,
             fit: false,
@@ -68,6 +72,10 @@ impl Viewer {
             seeking: false,
             problem: None,
             painter: Painter::default(),
+            #[cfg(feature = "video")]
+            recording: None,
+            record_at_start: options.record.clone(),
+            options,
         }
     }
 
@@ -280,7 +288,12 @@ impl Viewer {
     }
 
     pub(super) fn redraw(&mut self) -> Result<(), Error> {
-        self.paint()?;
+        let size = self.paint()?;
+        // The recording takes the picture before it is presented (the back buffer).
+        if let Err(error) = self.record(size) {
+            eprintln!("bvhview: {error}");
+            self.problem = Some(error.to_string());
+        }
         let title = self.title();
         let Some(running) = self.running.as_mut() else {
             return Ok(());
@@ -319,6 +332,87 @@ impl Viewer {
         image.write_png(&path)?;
         if !self.options.quiet {
             eprintln!("bvhview: wrote {} ({width}x{height})", path.display());
+        }
+        Ok(())
+    }
+
+    /// Where M records: `<first file's stem>_frame<N>.mp4`, N the frame it starts at.
+    pub(super) fn recording_name(&self) -> PathBuf {
+        self.picture_name().with_extension("mp4")
+    }
+
+    /// The picture just painted, into the recording if one is under way (`--record` starts
+    /// one when the window first draws).
+    fn record(&mut self, size: (u32, u32)) -> Result<(), Error> {
+        if let Some(path) = self.record_at_start.take() {
+            self.start_recording(path, size)?;
+        }
+        #[cfg(feature = "video")]
+        if let (Some(recording), Some(running)) = (self.recording.as_mut(), self.running.as_ref()) {
+            let result = recording.capture(Instant::now(), || {
+                let rgba = running.gl.read_rgba(size.0 as usize, size.1 as usize);
+                crate::render::Image::from_rgba_bottom_up(size.0, size.1, &rgba)
+            });
+            if result.is_err() {
+                self.recording = None;
+            }
+            result?;
+        }
+        Ok(())
+    }
+
+    /// M: starts recording into `<first file>_frame<N>.mp4`, or stops and writes the file.
+    pub(super) fn toggle_recording(&mut self) -> Result<(), Error> {
+        #[cfg(feature = "video")]
+        if self.recording.is_some() {
+            return self.stop_recording();
+        }
+        let size = self
+            .running
+            .as_ref()
+            .map_or((600, 600), |running| running.size);
+        self.start_recording(self.recording_name(), size)
+    }
+
+    #[cfg(feature = "video")]
+    fn start_recording(&mut self, path: PathBuf, size: (u32, u32)) -> Result<(), Error> {
+        let fps = crate::render::animation::default_fps(
+            self.clock().step / self.speed,
+            crate::render::animation::Format::Mp4,
+        );
+        let recording = record::Recording::start(path, size, fps, Instant::now())?;
+        if !self.options.quiet {
+            eprintln!(
+                "bvhview: recording {} (M stops)",
+                recording.path().display()
+            );
+        }
+        self.recording = Some(recording);
+        Ok(())
+    }
+
+    #[cfg(not(feature = "video"))]
+    fn start_recording(&mut self, path: PathBuf, _: (u32, u32)) -> Result<(), Error> {
+        Err(crate::io::absent::without(
+            "video",
+            "MP4 video",
+            &path.display().to_string(),
+        ))
+    }
+
+    /// Ends the recording under way, if any, and writes its file.
+    pub(super) fn stop_recording(&mut self) -> Result<(), Error> {
+        #[cfg(feature = "video")]
+        if let Some(recording) = self.recording.take() {
+            let written = recording.finish(Instant::now())?;
+            if !self.options.quiet {
+                eprintln!(
+                    "bvhview: wrote {}: {:.2} s, {}",
+                    written.path.display(),
+                    written.seconds,
+                    crate::io::error::counted(written.pictures as usize, "picture")
+                );
+            }
         }
         Ok(())
     }
@@ -449,6 +543,12 @@ impl Viewer {
                 "l" => self.looping = !self.looping,
                 "t" => self.follow = !self.follow,
                 "r" => self.reload(),
+                "m" => {
+                    if let Err(error) = self.toggle_recording() {
+                        eprintln!("bvhview: {error}");
+                        self.problem = Some(error.to_string());
+                    }
+                }
                 "p" => {
                     if let Err(error) = self.write_picture() {
                         eprintln!("bvhview: {error}");

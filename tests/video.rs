@@ -1,0 +1,209 @@
+//! `snapshot --frames A..B -o OUT.mp4` checked by programs nobody here wrote: Debian's ffprobe
+//! counts the frames and reads the rate, ffmpeg decodes every frame, and each decoded frame is
+//! held to the PNG snapshot of the same frame (PSNR ≥ 35 dB), in the article's look, the studio
+//! look at an odd size and a slower rate, and two takes overlaid.
+
+/// A build without the `video` feature says so, before drawing anything.
+mod common;
+
+#[cfg(not(feature = "video"))]
+#[test]
+fn a_build_without_video_names_the_feature() {
+    let dir = tempfile::tempdir().unwrap();
+    let video = dir.path().join("walk.mp4");
+    let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/bvh/bvhparser_walk_01.bvh");
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("snapshot")
+        .arg(&walk)
+        .args(["--frames", "0..2", "-o"])
+        .arg(&video)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        format!(
+            "bvhview: {}: this bvhview was built without MP4 video (cargo feature `video`); build it with `--features video`\n",
+            video.display()
+        )
+    );
+    assert!(!video.exists());
+}
+
+#[cfg(feature = "video")]
+mod with_video {
+    use super::common::video::*;
+
+    use std::path::{Path, PathBuf};
+    use std::process::Command;
+
+    fn bvhview(args: &[&str]) -> String {
+        let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+            .args(args)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
+        assert!(out.status.success(), "{args:?}: {stderr}");
+        stderr
+    }
+
+    fn walk() -> String {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/bvh/bvhparser_walk_01.bvh")
+            .display()
+            .to_string()
+    }
+
+    fn png_rgb(path: &Path) -> Vec<u8> {
+        let decoder =
+            png::Decoder::new(std::io::BufReader::new(std::fs::File::open(path).unwrap()));
+        let mut reader = decoder.read_info().unwrap();
+        let mut buffer = vec![0; reader.output_buffer_size().unwrap()];
+        let info = reader.next_frame(&mut buffer).unwrap();
+        assert_eq!(info.color_type, png::ColorType::Rgb);
+        buffer.truncate(info.buffer_size());
+        buffer
+    }
+
+    /// Writes `OUT.mp4` and the PNGs of frames `range` with the same options, then holds the video to
+    /// them: frame k of the video is PNG `frames[k]`. Returns the worst PSNR and what bvhview said.
+    fn video_against_pngs(
+        name: &str,
+        files: &[&str],
+        options: &[&str],
+        range: &str,
+        size: (u32, u32),
+        frames: &[usize],
+    ) -> (f64, Probe, String) {
+        let dir = tempfile::tempdir().unwrap();
+        let video = dir.path().join(format!("{name}.mp4"));
+        let pictures: PathBuf = dir.path().join("pictures");
+        let size_text = format!("{}x{}", size.0, size.1);
+        let mut args: Vec<&str> = vec!["snapshot"];
+        args.extend(files);
+        args.extend(options);
+        args.extend(["--size", &size_text, "--frames", range]);
+        let mut video_args = args.clone();
+        video_args.extend(["-o", video.to_str().unwrap()]);
+        let said = bvhview(&video_args);
+        // The PNGs: the same options without --fps (a folder has no rate), each frame of the range.
+        let mut png_args: Vec<&str> = Vec::new();
+        let mut skip = false;
+        for &arg in &args {
+            if skip {
+                skip = false;
+            } else if arg == "--fps" {
+                skip = true;
+            } else {
+                png_args.push(arg);
+            }
+        }
+        png_args.extend(["-o", pictures.to_str().unwrap()]);
+        bvhview(&png_args);
+        let probe = probe(&video);
+        let decoded = decoded(&video, size);
+        assert_eq!(decoded.len(), frames.len(), "{name}: frames decoded");
+        let mut worst = f64::INFINITY;
+        for (k, (picture, &frame)) in decoded.iter().zip(frames).enumerate() {
+            let png = png_rgb(&pictures.join(format!("frame_{frame:05}.png")));
+            let db = psnr(picture, &png);
+            assert!(
+                db >= 35.0,
+                "{name}: video frame {k} (frame {frame}) at {db:.2} dB"
+            );
+            worst = worst.min(db);
+        }
+        eprintln!(
+            "{name}: {} frames, the worst {worst:.2} dB from its PNG",
+            frames.len()
+        );
+        (worst, probe, said)
+    }
+
+    #[test]
+    fn a_video_holds_every_frame_at_the_take_s_rate_in_the_article_s_look() {
+        let frames: Vec<usize> = (0..120).collect();
+        let (worst, probe, said) =
+            video_against_pngs("article", &[&walk()], &[], "0..120", (640, 480), &frames);
+        assert_eq!(probe.codec, "h264");
+        assert_eq!((probe.width, probe.height), (640, 480));
+        assert_eq!(probe.rate, "120/1", "the take's 120 frames a second");
+        assert_eq!(probe.frames, 120);
+        assert!(
+            said.ends_with("120 frames at 120.000 per second\n"),
+            "{said}"
+        );
+        // Grey spheres on black: nearly lossless.
+        assert!(worst > 45.0, "{worst:.2} dB");
+    }
+
+    #[test]
+    fn an_odd_size_at_a_slower_rate_in_the_studio_look() {
+        // 120 frames a second shown at 30: every fourth frame.
+        let frames: Vec<usize> = (0..60).step_by(4).collect();
+        let (_, probe, said) = video_against_pngs(
+            "studio",
+            &[&walk()],
+            &["--look", "studio", "--fps", "30"],
+            "0..60",
+            (641, 481),
+            &frames,
+        );
+        assert_eq!((probe.width, probe.height), (642, 482), "even sides");
+        assert_eq!(probe.rate, "30/1");
+        assert_eq!(probe.frames, 15);
+        assert!(
+        said.ends_with("15 frames at 30.000 per second (642x482: H.264 needs even sides, the last column or row repeats)\n"),
+        "{said}"
+    );
+    }
+
+    #[test]
+    fn two_takes_overlaid_and_side_by_side() {
+        let tiny = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/oracle/inputs/tiny_crlf.bvh")
+            .display()
+            .to_string();
+        let frames: Vec<usize> = (0..3).collect();
+        for (name, options) in [
+            ("overlay", vec!["--overlay", "--look", "studio"]),
+            ("beside", vec!["--hud"]),
+        ] {
+            let (_, probe, _) = video_against_pngs(
+                name,
+                &[&walk(), &tiny],
+                &options,
+                "0..3",
+                (320, 240),
+                &frames,
+            );
+            assert_eq!(probe.frames, 3, "{name}");
+        }
+    }
+
+    #[test]
+    fn a_video_too_large_for_the_encoder_is_refused_before_any_drawing() {
+        let dir = tempfile::tempdir().unwrap();
+        let video = dir.path().join("wide.mp4");
+        let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+            .args([
+                "snapshot",
+                &walk(),
+                "--frames",
+                "0..2",
+                "--size",
+                "4000x100",
+                "-o",
+            ])
+            .arg(&video)
+            .output()
+            .unwrap();
+        assert_eq!(out.status.code(), Some(2));
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            "bvhview: an MP4 of 4000x100: the H.264 encoder (OpenH264) takes pictures up to 3840x2160 (or 2160x3840)\n"
+        );
+        assert!(!video.exists());
+    }
+}
