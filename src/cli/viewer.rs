@@ -24,6 +24,7 @@ Keys in the window:
   J / Shift+J   step through the recursion one joint at a time (Esc: whole picture)
   R             load the files again (a file that no longer loads keeps its last picture)
   P             write the picture shown to NAME_frameNNNNN.png
+  M             record what the window shows into NAME_frameNNNNN.mp4 / stop and write it
   drop a file   add it beside the others
   Esc           quit (the article)";
 

@@ -1,8 +1,8 @@
 //! The plumbing every reader, writer and command stands on: errors, bounded reads, line
 //! numbers, atomic outputs and the cores, and the limits (public as `crate::limits`). It uses nothing above it.
 
-// Only a build without FBX or glTF refuses their files.
-#[cfg(not(all(feature = "fbx", feature = "gltf")))]
+// Only a build without FBX, glTF or video refuses their files.
+#[cfg(not(all(feature = "fbx", feature = "gltf", feature = "video")))]
 pub mod absent;
 pub mod error;
 pub mod limits;
