@@ -289,7 +289,7 @@ fn first_mistakes_get_one_clear_line() {
                 "-o",
                 "out.txt",
             ],
-            "-o out.txt: --frames writes an animated .gif, .apng or .png, or one PNG per frame",
+            "-o out.txt: --frames writes an animated .gif, .apng or .png, an .mp4 video, or one PNG per frame",
         ),
         (
             vec!["info", "--bogus"],

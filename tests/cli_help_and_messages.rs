@@ -46,7 +46,8 @@ fn snapshot_and_convert_help_name_every_format_they_write() {
     assert!(
         top.contains(
             "snapshot   Draw offscreen (no display needed): one frame as PNG, or with --frames a \
-             sequence as an animated GIF or APNG, or as one PNG per frame in a folder\n"
+             sequence as an animated GIF or APNG, an MP4 video, or as one PNG per frame in a \
+             folder\n"
         ),
         "{top}"
     );
@@ -64,7 +65,8 @@ fn snapshot_and_convert_help_name_every_format_they_write() {
     assert!(
         snapshot.contains(
             "A sequence instead: N, A..B (B left out), A..=B, A.. or ..B, written as -o says: an \
-             animated .gif, .apng or .png, or OUT/frame_NNNNN.png into a folder\n"
+             animated .gif, .apng or .png, an .mp4 video (H.264), or OUT/frame_NNNNN.png into a \
+             folder\n"
         ),
         "{snapshot}"
     );
@@ -141,7 +143,7 @@ fn fps_without_an_animation_is_a_usage_error() {
             "-o",
             png.to_str().unwrap(),
         ],
-        "--fps needs --frames A..B: it is the rate of an animated .gif, .apng or .png",
+        "--fps needs --frames A..B: it is the rate of an animated .gif, .apng or .png, or an .mp4",
     );
     let folder = scratch("fps_folder");
     refused_with(

@@ -44,7 +44,7 @@ enum Command {
     )]
     Positions(cli::positions::PositionsArgs),
     /// Draw offscreen (no display needed): one frame as PNG, or with --frames a sequence as an
-    /// animated GIF or APNG, or as one PNG per frame in a folder.
+    /// animated GIF or APNG, an MP4 video, or as one PNG per frame in a folder.
     #[command(
         after_help = "Examples:\n  bvhview snapshot walk.bvh --frame 10 -o walk.png\n  bvhview snapshot dance.glb --frames 0..120 -o dance.gif"
     )]
