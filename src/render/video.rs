@@ -10,7 +10,8 @@
 //! shared colour is its mean, and each pixel's brightness the one that comes nearest its own
 //! red, green and blue with that colour. On the studio look's thin coloured lines that is 35.2
 //! dB from the PNG where colour taken level with the left column ([1 2 1]) gave 34.6, at the
-//! same quantiser. A key frame every two seconds lets a player seek.
+//! same quantiser. A key frame every two seconds' worth of pictures lets a player seek (in a
+//! window's recording, where a picture can last long, every 2 × fps pictures).
 
 use crate::io::error::Error;
 use crate::render::Image;
@@ -22,9 +23,9 @@ use openh264::encoder::{
 use openh264::formats::YUVSource;
 use std::io::Cursor;
 
-/// The quantiser every frame is encoded with (H.264's 0–51, lower is finer). At 12 the colour's
-/// half resolution is all that separates a frame from its PNG (a finer one measured the same):
-/// about 50 dB on the article's picture, 35 on the studio look's thin coloured lines.
+/// The quantiser frames are encoded with (H.264's 0–51, lower is finer; OpenH264's rate control
+/// may raise it a step or two at a change of scene). At 12 the colour's half resolution is all
+/// that separates a frame from its PNG: a finer one measured the same (GUIDE, Video).
 const QUANTISER: u8 = 12;
 
 /// An MP4 being written: pictures in, one H.264 sample each, the file's bytes at the end.
@@ -62,7 +63,8 @@ pub struct Mp4 {
 
 impl Mp4 {
     /// A video of pictures `width × height` at `fps` frames per second (from
-    /// [`crate::limits::MIN_FPS`] to [`crate::limits::MAX_FPS`]), encoded on `threads` cores.
+    /// [`crate::limits::MIN_FPS`] to [`crate::limits::MAX_FPS`]); `threads`: OpenH264's
+    /// (in one slice a picture, a second thread measured no faster: `bvhview-bench --encoders`).
     pub fn new((width, height): (u32, u32), fps: f64, threads: usize) -> Result<Mp4, Error> {
         crate::render::animation::check_video_size(width, height)?;
         let fps = crate::limits::fps(fps, false)?;
@@ -183,7 +185,8 @@ impl Mp4 {
                 brand(b"avc1"),
                 brand(b"mp41"),
             ],
-            timescale: 1000,
+            // The track's own: a movie in milliseconds rounded each frame down (1–4 % short).
+            timescale: self.timescale,
         };
         let mut writer = mp4::Mp4Writer::write_start(Cursor::new(Vec::new()), &config)?;
         writer.add_track(&mp4::TrackConfig {
@@ -360,7 +363,7 @@ mod tests {
 
     #[test]
     fn a_picture_of_another_size_is_refused() {
-        let mut video = Mp4::new((4, 4), 30.0, 1).unwrap();
+        let mut video = Mp4::new((16, 16), 30.0, 1).unwrap();
         let wrong = Image {
             width: 2,
             height: 4,
@@ -368,6 +371,10 @@ mod tests {
         };
         assert!(video.push(&wrong).unwrap_err().to_string().contains("2x4"));
         assert!(Mp4::new((0, 4), 30.0, 1).is_err());
-        assert!(Mp4::new((4, 4), 30.0, 1).unwrap().finish().is_err());
+        assert!(
+            Mp4::new((15, 16), 30.0, 1).is_err(),
+            "OpenH264 takes 16 pixels a side and more"
+        );
+        assert!(Mp4::new((16, 16), 30.0, 1).unwrap().finish().is_err());
     }
 }

@@ -27,6 +27,8 @@ pub struct Probe {
     pub height: u32,
     pub rate: String,
     pub frames: usize,
+    /// The stream's length in seconds, as the file states it.
+    pub seconds: f64,
 }
 
 pub fn probe(video: &Path) -> Probe {
@@ -39,7 +41,7 @@ pub fn probe(video: &Path) -> Probe {
             "v:0",
             "-count_frames",
             "-show_entries",
-            "stream=codec_name,width,height,r_frame_rate,nb_read_frames",
+            "stream=codec_name,width,height,r_frame_rate,nb_read_frames,duration",
             "-of",
             "default=noprint_wrappers=1",
             video.to_str().unwrap(),
@@ -58,6 +60,7 @@ pub fn probe(video: &Path) -> Probe {
         height: field("height").parse().unwrap(),
         rate: field("r_frame_rate"),
         frames: field("nb_read_frames").parse().unwrap(),
+        seconds: field("duration").parse().unwrap(),
     }
 }
 

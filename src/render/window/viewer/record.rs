@@ -1,10 +1,11 @@
 //! The window's recording (M, `--record OUT.mp4`): what the window shows, as it is shown, into an
-//! MP4 ([`crate::render::video`]) at the take's rate, at most 60 frames a second (a screen shows
-//! no more). A picture stays in the video for as long as it stayed on the screen, so a pause, a
-//! turn of the camera or a step with W plays back as it happened: one sample lasting as long as
-//! the picture stayed, not a copy per frame (a long pause costs nothing to encode). Pictures are
-//! encoded on another thread while the window goes on; the file is written when the recording
-//! stops (M again, or the window closing), whole or not at all.
+//! MP4 ([`crate::render::video`]) at the rate the window plays when it starts (the take's rate
+//! times the speed), at most 60 frames a second (a screen shows no more). A picture stays in the
+//! video for as long as it stayed on the screen, so a pause, a turn of the camera or a step with W
+//! plays back as it happened: one sample lasting as long as the picture stayed, not a copy per
+//! frame (a long pause costs nothing to encode). Pictures are encoded on another thread while the
+//! window goes on; the file is written when the recording stops (M again, or the window closing),
+//! whole or not at all.
 
 use crate::io::error::Error;
 use crate::render::Image;
@@ -73,19 +74,19 @@ impl Recording {
         (now.saturating_duration_since(self.started).as_secs_f64() * self.fps) as u64
     }
 
-    /// The window shows a new picture at `now` (`picture` reads it, only when it falls in a
-    /// later frame than the last one): the last one has lasted until then.
-    pub(super) fn capture(
-        &mut self,
-        now: Instant,
-        picture: impl FnOnce() -> Image,
-    ) -> Result<(), Error> {
+    /// The window shows a new picture at `now`: the last one has lasted until then. Within the
+    /// same frame of the video the new one takes the last one's place (the picture left on the
+    /// screen before a pause is the one the video keeps).
+    pub(super) fn capture(&mut self, now: Instant, picture: Image) -> Result<(), Error> {
         let frame = self.frame_at(now);
-        if self.last.as_ref().is_some_and(|&(_, from)| frame <= from) {
+        if let Some((last, from)) = self.last.as_mut()
+            && frame <= *from
+        {
+            *last = fitted(picture, self.size);
             return Ok(());
         }
         self.send_last(frame)?;
-        self.last = Some((fitted(picture(), self.size), frame));
+        self.last = Some((fitted(picture, self.size), frame));
         Ok(())
     }
 
@@ -184,13 +185,13 @@ mod tests {
         let path = folder.path().join("shown.mp4");
         let mut recording = Recording::start(path.clone(), (16, 16), 120.0, start).unwrap();
         // 120 frames a second asked: 60 taken. Shown at 0 s, then at 0.5 s, stopped at 1 s.
-        recording.capture(start, || grey(10, (16, 16))).unwrap();
-        // Nothing is read within the same frame.
+        recording.capture(start, grey(90, (16, 16))).unwrap();
+        // Within the same frame, a new picture takes the last one's place.
         recording
-            .capture(start + Duration::from_millis(5), || unreachable!())
+            .capture(start + Duration::from_millis(5), grey(10, (16, 16)))
             .unwrap();
         recording
-            .capture(start + Duration::from_millis(500), || grey(200, (20, 12)))
+            .capture(start + Duration::from_millis(500), grey(200, (20, 12)))
             .unwrap();
         let written = recording.finish(start + Duration::from_secs(1)).unwrap();
         assert_eq!((written.path, written.pictures), (path.clone(), 2));

@@ -349,10 +349,9 @@ impl Viewer {
         }
         #[cfg(feature = "video")]
         if let (Some(recording), Some(running)) = (self.recording.as_mut(), self.running.as_ref()) {
-            let result = recording.capture(Instant::now(), || {
-                let rgba = running.gl.read_rgba(size.0 as usize, size.1 as usize);
-                crate::render::Image::from_rgba_bottom_up(size.0, size.1, &rgba)
-            });
+            let rgba = running.gl.read_rgba(size.0 as usize, size.1 as usize);
+            let picture = crate::render::Image::from_rgba_bottom_up(size.0, size.1, &rgba);
+            let result = recording.capture(Instant::now(), picture);
             if result.is_err() {
                 self.recording = None;
             }
