@@ -210,22 +210,25 @@ fn capture(display: &str, window: &str) -> Image {
     Image { width, height, rgb }
 }
 
+/// The offscreen picture of `frame` with every option at its default: the window's first one.
+fn default_snapshot(bvh: &bvhview::bvh::Bvh, frame: usize) -> Image {
+    bvhview::render::snapshot(
+        &bvh.skeleton,
+        &bvh.motion,
+        &SnapshotOptions {
+            frame,
+            ..SnapshotOptions::default()
+        },
+    )
+    .unwrap()
+}
+
 #[test]
 fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     let _alone = one_at_a_time();
     let input = oracle("inputs/tiny_crlf.bvh");
     let bvh = bvhview::bvh::load_file(&input, Default::default()).unwrap();
-    let snapshot = |frame| {
-        bvhview::render::snapshot(
-            &bvh.skeleton,
-            &bvh.motion,
-            &SnapshotOptions {
-                frame,
-                ..SnapshotOptions::default()
-            },
-        )
-        .unwrap()
-    };
+    let snapshot = |frame| default_snapshot(&bvh, frame);
 
     let (_xvfb, display) = start_xvfb();
     let folder = std::env::temp_dir().join(format!("bvhview-window-one-{}", std::process::id()));
@@ -891,17 +894,7 @@ fn the_window_records_what_it_shows_into_an_mp4() {
     let _alone = one_at_a_time();
     let input = oracle("inputs/tiny_crlf.bvh");
     let bvh = bvhview::bvh::load_file(&input, Default::default()).unwrap();
-    let snapshot = |frame| {
-        bvhview::render::snapshot(
-            &bvh.skeleton,
-            &bvh.motion,
-            &SnapshotOptions {
-                frame,
-                ..SnapshotOptions::default()
-            },
-        )
-        .unwrap()
-    };
+    let snapshot = |frame| default_snapshot(&bvh, frame);
     let (_xvfb, display) = start_xvfb();
     let folder = tempfile::tempdir().unwrap();
     let video = folder.path().join("recorded.mp4");
