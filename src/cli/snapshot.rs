@@ -277,6 +277,14 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     }
     // The folder itself may be new, as a file may; the folders it is in must exist (a missing
     // one is refused as it is for `-o /no/such/x.png`).
+    if output.exists() && !output.is_dir() {
+        // A file or a device without an animated extension (`-o /dev/full`): not a folder.
+        return Err(Error::Usage(format!(
+            "-o {}: is not a folder; --frames writes an animated .gif, .apng or .png, an .mp4 \
+             video, or one PNG per frame into a folder",
+            output.display()
+        )));
+    }
     if !output.is_dir() {
         std::fs::create_dir(output).map_err(|e| Error::output(output, e))?;
     } else if std::fs::read_dir(output).is_ok_and(|mut entries| entries.next().is_some()) {
