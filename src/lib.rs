@@ -51,6 +51,7 @@
 
 pub mod acclaim;
 pub mod bvh;
+pub mod character;
 // The command line, in the library so that its plumbing stays private; `src/main.rs` calls
 // `cli::main`. Not part of the API.
 #[doc(hidden)]

@@ -5,13 +5,15 @@
 #[cfg(feature = "fbx")]
 pub mod read;
 #[cfg(feature = "fbx")]
+mod mesh;
+#[cfg(feature = "fbx")]
 mod records;
 
 #[cfg(feature = "fbx")]
-pub use read::{load, load_bytes, takes, takes_of_bytes};
+pub use read::{load, load_bytes, load_character, load_character_bytes, takes, takes_of_bytes};
 
 #[cfg(not(feature = "fbx"))]
-pub use absent::{load, load_bytes, takes, takes_of_bytes};
+pub use absent::{load, load_bytes, load_character, load_character_bytes, takes, takes_of_bytes};
 
 /// The entry points of a build without FBX: each refuses, naming the feature.
 #[cfg(not(feature = "fbx"))]
@@ -28,6 +30,26 @@ mod absent {
 
     /// Refuses: this build reads no FBX.
     pub fn load_bytes(_: &[u8], name: &str, _: Option<&str>, _: usize) -> Result<Read, Error> {
+        Err(without("fbx", "FBX", name))
+    }
+
+    /// Refuses: this build reads no FBX.
+    pub fn load_character(
+        path: &Path,
+        _: u64,
+        _: Option<&str>,
+        _: usize,
+    ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
+        Err(without("fbx", "FBX", &path.display().to_string()))
+    }
+
+    /// Refuses: this build reads no FBX.
+    pub fn load_character_bytes(
+        _: &[u8],
+        name: &str,
+        _: Option<&str>,
+        _: usize,
+    ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
         Err(without("fbx", "FBX", name))
     }
 

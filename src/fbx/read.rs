@@ -53,11 +53,12 @@ fn allocator(bytes: usize) -> ufbx::AllocatorOpts {
 }
 
 /// The load options (see the module's documentation for why each).
-fn load_options<'a>(bytes: usize) -> ufbx::LoadOpts<'a> {
+/// Blender's reading options; `geometry`: meshes and skins read too (a character).
+fn load_options<'a>(bytes: usize, geometry: bool) -> ufbx::LoadOpts<'a> {
     ufbx::LoadOpts {
         temp_allocator: allocator(bytes),
         result_allocator: allocator(bytes),
-        ignore_geometry: true,
+        ignore_geometry: !geometry,
         ignore_embedded: true,
         load_external_files: false,
         evaluate_skinning: false,
@@ -102,11 +103,11 @@ fn ufbx_error(name: &str, error: &ufbx::Error) -> Error {
     Error::Usage(format!("{name}: {what}"))
 }
 
-fn read_scene(bytes: &[u8], name: &str) -> Result<ufbx::SceneRoot, Error> {
+fn read_scene(bytes: &[u8], name: &str, geometry: bool) -> Result<ufbx::SceneRoot, Error> {
     if let Some(why) = not_fbx(bytes) {
         return Err(Error::Usage(format!("{name}: not an FBX file: {why}")));
     }
-    ufbx::load_memory(bytes, load_options(bytes.len())).map_err(|e| {
+    ufbx::load_memory(bytes, load_options(bytes.len(), geometry)).map_err(|e| {
         match (e.type_, super::records::first_fault(bytes)) {
             // ufbx says only "Failed to load" of a damaged binary file: say where.
             (ufbx::ErrorType::Unknown, Some(fault)) => {
@@ -233,7 +234,7 @@ pub fn takes(path: &Path, max_size: u64) -> Result<Vec<TakeInfo>, Error> {
 
 /// [`takes`] of a file's bytes, `name` naming it in errors.
 pub fn takes_of_bytes(bytes: &[u8], name: &str) -> Result<Vec<TakeInfo>, Error> {
-    let scene = read_scene(bytes, name)?;
+    let scene = read_scene(bytes, name, false)?;
     let fps = fps(&scene);
     scene
         .anim_stacks
@@ -252,7 +253,7 @@ pub fn takes_of_bytes(bytes: &[u8], name: &str) -> Result<Vec<TakeInfo>, Error> 
         .collect()
 }
 
-fn matrix(m: &ufbx::Matrix) -> DMat4 {
+pub(super) fn matrix(m: &ufbx::Matrix) -> DMat4 {
     DMat4::from_cols(
         DVec4::new(m.m00, m.m10, m.m20, 0.0),
         DVec4::new(m.m01, m.m11, m.m21, 0.0),
@@ -289,11 +290,25 @@ fn is_scenery(node: &ufbx::Node) -> bool {
 }
 
 /// The scene's nodes that make the skeleton, as indices into `scene.nodes`, parents first, with
-/// the parent of each among them.
-fn skeleton_nodes(scene: &ufbx::Scene) -> (Vec<usize>, Vec<Option<usize>>, bool) {
+/// the parent of each among them. `skin_bones`: the nodes a skin's clusters name are joints too
+/// (a character's mesh may be bound to nodes that are not marked as bones).
+fn skeleton_nodes(scene: &ufbx::Scene, skin_bones: bool) -> (Vec<usize>, Vec<Option<usize>>, bool) {
     let count = scene.nodes.len();
     let mut seed = vec![false; count];
     let mut bones = false;
+    if skin_bones {
+        for skin in scene.skin_deformers.iter() {
+            for cluster in skin.clusters.iter() {
+                if let Some(node) = cluster.bone_node.as_ref() {
+                    let i = node.element.typed_id as usize;
+                    if i < count && !node.is_root {
+                        seed[i] = true;
+                        bones = true;
+                    }
+                }
+            }
+        }
+    }
     for (i, node) in scene.nodes.iter().enumerate() {
         if attribute(node) == ufbx::ElementType::Bone && !node.is_root && !is_helper(node) {
             seed[i] = true;
@@ -460,11 +475,73 @@ pub fn load_bytes(
     take: Option<&str>,
     threads: usize,
 ) -> Result<Read, Error> {
-    let threads = threads.max(1);
+    let scene = read_scene(bytes, name, false)?;
+    load_scene(&scene, bytes.len(), name, take, threads, false).map(|(read, _)| read)
+}
+
+/// [`load`] with the file's meshes on its skeleton (a character), the nodes its skins are bound
+/// to among the joints: what the mesh reader said is among the take's warnings.
+pub fn load_character(
+    path: &Path,
+    max_size: u64,
+    take: Option<&str>,
+    threads: usize,
+) -> Result<(Read, crate::model::mesh::Mesh), Error> {
+    let bytes = crate::io::whole::read_binary_file(path, max_size)?;
+    load_character_bytes(&bytes, &path.display().to_string(), take, threads)
+}
+
+/// [`load_character`] of a file's bytes (the fuzz target's entry).
+pub fn load_character_bytes(
+    bytes: &[u8],
+    name: &str,
+    take: Option<&str>,
+    threads: usize,
+) -> Result<(Read, crate::model::mesh::Mesh), Error> {
+    let scene = read_scene(bytes, name, true)?;
+    let (mut read, joint) = load_scene(&scene, bytes.len(), name, take, threads, true)?;
+    let turn = unstated_axes_turn(&scene);
+    let (mesh, said) = super::mesh::read(&scene, name, bytes.len() as u64, &joint, turn)?;
+    read.warnings.extend(said);
+    Ok((read, mesh))
+}
+
+/// The take of a scene read, and the skeleton joint each scene node became.
+fn load_scene(
+    scene: &ufbx::SceneRoot,
+    bytes_len: usize,
+    name: &str,
+    take: Option<&str>,
+    threads: usize,
+    skin_bones: bool,
+) -> Result<(Read, Vec<Option<usize>>), Error> {
+    let (read, order, nodes) = load_nodes(scene, bytes_len, name, take, threads.max(1), skin_bones)?;
+    let index: std::collections::HashMap<&str, usize> = read
+        .skeleton
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(j, joint)| (joint.name.as_str(), j))
+        .collect();
+    let mut joint = vec![None; scene.nodes.len()];
+    for (&n, node) in order.iter().zip(&nodes) {
+        joint[n] = index.get(node.name.as_str()).copied();
+    }
+    Ok((read, joint))
+}
+
+/// The take of a scene, the scene nodes it was made of and the joints they became.
+fn load_nodes(
+    scene: &ufbx::SceneRoot,
+    bytes_len: usize,
+    name: &str,
+    take: Option<&str>,
+    threads: usize,
+    skin_bones: bool,
+) -> Result<(Read, Vec<usize>, Vec<Node>), Error> {
     let path = name;
-    let scene = read_scene(bytes, name)?;
     let bad = |why: String| Error::Usage(format!("{name}: {why}"));
-    let (order, parents, _bones) = skeleton_nodes(&scene);
+    let (order, parents, _bones) = skeleton_nodes(scene, skin_bones);
     if order.is_empty() {
         return Err(bad(
             "no skeleton: the file has no node (no bone, no animated node, nothing to stand)"
@@ -526,7 +603,7 @@ pub fn load_bytes(
         let chains = ancestors(&scene, &order);
         let values: usize = stack.layers.iter().map(|l| l.anim_values.len()).sum();
         let within = |nodes: usize| -> Result<(), Error> {
-            let budget = baked::frame_work_budget(bytes.len() as u64);
+            let budget = baked::frame_work_budget(bytes_len as u64);
             let nodes = nodes.max(order.len());
             let work = (nodes as u64).saturating_add(values as u64);
             if (count as u64).saturating_mul(work) <= budget {
@@ -547,14 +624,14 @@ pub fn load_bytes(
                 crate::limits::brief(fps),
                 crate::io::error::counted(count, "frame"),
                 crate::io::error::counted(order.len(), "joint"),
-                bytes.len(),
+                bytes_len,
                 baked::FRAME_WORK_PER_BYTE
             )))
         };
         within(chains.len())?;
         // One frame: the whole scene evaluated by ufbx at its time, the joints' world matrices.
         // Only the scene root (`Sync`) and numbers go to the threads: ufbx's element types are not.
-        let (root, memory, joints) = (&scene, bytes.len(), &order);
+        let (root, memory, joints) = (&scene, bytes_len, &order);
         let evaluate = move |f: usize| -> Result<Vec<Pose>, Error> {
             let stack = &root.anim_stacks[index];
             let time = begin + f as f64 / fps;
@@ -600,11 +677,14 @@ pub fn load_bytes(
                 out.extend(quick(f));
                 Ok(())
             })
-            .map(|(skeleton, motion)| Read {
-                skeleton,
-                motion,
-                warnings,
-                take: chosen,
+            .map(|(skeleton, motion)| {
+                let read = Read {
+                    skeleton,
+                    motion,
+                    warnings,
+                    take: chosen,
+                };
+                (read, order.clone(), nodes.clone())
             })
             .map_err(|e| match e {
                 Error::Usage(message) if !message.starts_with(name) => bad(message),
@@ -646,10 +726,11 @@ pub fn load_bytes(
         Error::Usage(message) if !message.starts_with(name) => bad(message),
         other => other,
     })?;
-    Ok(Read {
+    let read = Read {
         skeleton,
         motion,
         warnings,
         take: chosen,
-    })
+    };
+    Ok((read, order, nodes))
 }

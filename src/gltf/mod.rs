@@ -8,12 +8,15 @@ pub mod read;
 pub mod write;
 
 #[cfg(feature = "gltf")]
-pub use read::{KEY_VALUES_FLOOR, KEY_VALUES_PER_BYTE, load, load_bytes, takes};
+pub use read::{
+    KEY_VALUES_FLOOR, KEY_VALUES_PER_BYTE, load, load_bytes, load_character, load_character_bytes,
+    takes,
+};
 #[cfg(feature = "gltf")]
 pub use write::to_gltf;
 
 #[cfg(not(feature = "gltf"))]
-pub use absent::{load, load_bytes, takes, to_gltf};
+pub use absent::{load, load_bytes, load_character, load_character_bytes, takes, to_gltf};
 
 /// Which container: a binary `.glb`, or a `.gltf` text file with its buffer inline (base64).
 ///
@@ -60,6 +63,24 @@ mod absent {
 
     /// Refuses: this build reads no glTF.
     pub fn load_bytes(_: &[u8], name: &str, _: Option<&str>) -> Result<Read, Error> {
+        Err(without("gltf", "glTF", name))
+    }
+
+    /// Refuses: this build reads no glTF.
+    pub fn load_character(
+        path: &Path,
+        _: u64,
+        _: Option<&str>,
+    ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
+        Err(without("gltf", "glTF", &path.display().to_string()))
+    }
+
+    /// Refuses: this build reads no glTF.
+    pub fn load_character_bytes(
+        _: &[u8],
+        name: &str,
+        _: Option<&str>,
+    ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
         Err(without("gltf", "glTF", name))
     }
 

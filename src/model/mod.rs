@@ -9,6 +9,7 @@ pub mod body;
 #[doc(hidden)] // the generated skin the `body` look draws, for the tests
 pub mod bone_skin;
 pub mod euler;
+pub mod mesh;
 pub mod motion;
 pub mod pose;
 pub mod reading;

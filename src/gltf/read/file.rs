@@ -297,12 +297,17 @@ pub(super) fn parse(
     })
 }
 
-/// The values of an accessor as f32s, `width` per element, every byte checked to be in range.
-pub(super) fn accessor_values(
-    file: &File,
-    accessor: &gltf::Accessor,
-    width: usize,
-) -> Result<Vec<f32>, String> {
+/// Where an accessor's elements lie: its buffer, first byte, stride, component size and count,
+/// every byte checked to be inside its view and buffer.
+struct Located<'a> {
+    buffer: &'a [u8],
+    start: usize,
+    stride: usize,
+    size: usize,
+    count: usize,
+}
+
+fn locate<'a>(file: &'a File, accessor: &gltf::Accessor, width: usize) -> Result<Option<Located<'a>>, String> {
     let index = accessor.index();
     if accessor.sparse().is_some() {
         return Err(format!("accessor {index} is sparse (not read)"));
@@ -312,6 +317,7 @@ pub(super) fn accessor_values(
         Dimensions::Vec2 => 2,
         Dimensions::Vec3 => 3,
         Dimensions::Vec4 => 4,
+        Dimensions::Mat4 => 16,
         other => return Err(format!("accessor {index} is {other:?}, not a vector")),
     };
     if components != width {
@@ -321,12 +327,7 @@ pub(super) fn accessor_values(
     }
     let count = accessor.count();
     let Some(view) = accessor.view() else {
-        // No view: all zeros, by the specification.
-        return count
-            .checked_mul(width)
-            .filter(|&n| n <= 1 << 28)
-            .map(|n| vec![0.0; n])
-            .ok_or_else(|| format!("accessor {index} counts {count} elements"));
+        return Ok(None);
     };
     let size = match accessor.data_type() {
         DataType::I8 | DataType::U8 => 1,
@@ -344,14 +345,74 @@ pub(super) fn accessor_values(
         .and_then(|e| e.checked_add(if count > 0 { element } else { 0 }))
         .and_then(|e| e.checked_add(start?));
     match (start, end, view_end) {
-        (Some(_), Some(end), Some(view_end)) if end <= view_end && view_end <= buffer.len() => {}
-        _ => {
-            return Err(format!(
-                "accessor {index} reaches past its buffer view or buffer"
-            ));
+        (Some(start), Some(end), Some(view_end)) if end <= view_end && view_end <= buffer.len() => {
+            Ok(Some(Located { buffer, start, stride, size, count }))
+        }
+        _ => Err(format!(
+            "accessor {index} reaches past its buffer view or buffer"
+        )),
+    }
+}
+
+/// The values of an accessor of unsigned integers (indices, joints), exactly.
+pub(super) fn accessor_integers(
+    file: &File,
+    accessor: &gltf::Accessor,
+    width: usize,
+) -> Result<Vec<u32>, String> {
+    let index = accessor.index();
+    if accessor.normalized()
+        || !matches!(
+            accessor.data_type(),
+            DataType::U8 | DataType::U16 | DataType::U32
+        )
+    {
+        return Err(format!(
+            "accessor {index} holds {:?}{}, not unsigned integers",
+            accessor.data_type(),
+            if accessor.normalized() { " normalized" } else { "" }
+        ));
+    }
+    let Some(at) = locate(file, accessor, width)? else {
+        // No view: all zeros, by the specification.
+        return accessor
+            .count()
+            .checked_mul(width)
+            .filter(|&n| n <= 1 << 28)
+            .map(|n| vec![0; n])
+            .ok_or_else(|| format!("accessor {index} counts {} elements", accessor.count()));
+    };
+    let mut out = Vec::with_capacity(at.count * width);
+    for e in 0..at.count {
+        let first = at.start + e * at.stride;
+        for c in 0..width {
+            let b = &at.buffer[first + c * at.size..first + (c + 1) * at.size];
+            out.push(match at.size {
+                1 => u32::from(b[0]),
+                2 => u32::from(u16::from_le_bytes([b[0], b[1]])),
+                _ => u32::from_le_bytes([b[0], b[1], b[2], b[3]]),
+            });
         }
     }
-    let start = start.unwrap_or(0);
+    Ok(out)
+}
+
+/// The values of an accessor as f32s, `width` per element, every byte checked to be in range.
+pub(super) fn accessor_values(
+    file: &File,
+    accessor: &gltf::Accessor,
+    width: usize,
+) -> Result<Vec<f32>, String> {
+    let index = accessor.index();
+    let count = accessor.count();
+    let Some(Located { buffer, start, stride, size, .. }) = locate(file, accessor, width)? else {
+        // No view: all zeros, by the specification.
+        return count
+            .checked_mul(width)
+            .filter(|&n| n <= 1 << 28)
+            .map(|n| vec![0.0; n])
+            .ok_or_else(|| format!("accessor {index} counts {count} elements"));
+    };
     let normalized = accessor.normalized();
     let mut out = Vec::with_capacity(count * width);
     for e in 0..count {

@@ -31,6 +31,7 @@ use std::path::{Path, PathBuf};
 use std::rc::Rc;
 
 mod file;
+mod mesh;
 mod tracks;
 
 use file::*;
@@ -93,17 +94,45 @@ fn trs_matrix(trs: &Trs) -> DMat4 {
 /// Reads take `take` (an animation's name or index; the first when `None`) of the glTF at `path`.
 pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Error> {
     let file = read(path, max_size)?;
-    load_file(&file, &path.display().to_string(), take)
+    load_file(&file, &path.display().to_string(), take, false).map(|(read, _)| read)
+}
+
+/// [`load`] with the file's meshes on its skeleton (a character): what the mesh reader said is
+/// among the take's warnings.
+pub fn load_character(
+    path: &Path,
+    max_size: u64,
+    take: Option<&str>,
+) -> Result<(Read, crate::model::mesh::Mesh), Error> {
+    let file = read(path, max_size)?;
+    let (read, mesh) = load_file(&file, &path.display().to_string(), take, true)?;
+    Ok((read, mesh.unwrap_or_default()))
 }
 
 /// [`load`] of a GLB's or glTF's bytes alone (buffers inside it or in data: URIs), `name`
 /// naming it in errors (the fuzz target's entry).
 pub fn load_bytes(bytes: &[u8], name: &str, take: Option<&str>) -> Result<Read, Error> {
     let file = parse(bytes, name, None, bytes.len() as u64)?;
-    load_file(&file, name, take)
+    load_file(&file, name, take, false).map(|(read, _)| read)
 }
 
-fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error> {
+/// [`load_character`] of a GLB's or glTF's bytes alone (the fuzz target's entry).
+pub fn load_character_bytes(
+    bytes: &[u8],
+    name: &str,
+    take: Option<&str>,
+) -> Result<(Read, crate::model::mesh::Mesh), Error> {
+    let file = parse(bytes, name, None, bytes.len() as u64)?;
+    let (read, mesh) = load_file(&file, name, take, true)?;
+    Ok((read, mesh.unwrap_or_default()))
+}
+
+fn load_file(
+    file: &File,
+    path: &str,
+    take: Option<&str>,
+    with_mesh: bool,
+) -> Result<(Read, Option<crate::model::mesh::Mesh>), Error> {
     let document = &file.gltf.document;
     let count = document.nodes().len();
     // Parents, refusing shared children and cycles.
@@ -337,12 +366,41 @@ fn load_file(file: &File, path: &str, take: Option<&str>) -> Result<Read, Error>
         Error::Usage(message) if !message.starts_with(path) => bad(path, message),
         other => other,
     })?;
-    Ok(Read {
+    let mesh = if with_mesh {
+        // Every node's world matrix at rest, and the joint each selected node became.
+        let mut rest_world: Vec<Option<DMat4>> = vec![None; count];
+        let mut by_depth: Vec<usize> = (0..count).collect();
+        by_depth.sort_by_key(|&i| depth[i]);
+        for &n in &by_depth {
+            let above = parent[n].and_then(|p| rest_world[p]).unwrap_or(DMat4::IDENTITY);
+            rest_world[n] = Some(above * static_matrices[n]);
+        }
+        let rest_world: Vec<DMat4> = rest_world.into_iter().map(Option::unwrap_or_default).collect();
+        let mut joint = vec![None; count];
+        for (k, &n) in order.iter().enumerate() {
+            joint[n] = skeleton
+                .joints
+                .iter()
+                .position(|j| j.name == skeleton_nodes[k].name);
+        }
+        let frames = mesh::NodeFrames {
+            parent: &parent,
+            rest: &rest_world,
+            joint: &joint,
+        };
+        let (mesh, said) = mesh::read(file, path, &frames)?;
+        warnings.extend(said);
+        Some(mesh)
+    } else {
+        None
+    };
+    let read = Read {
         skeleton,
         motion,
         warnings,
         take: take_name,
-    })
+    };
+    Ok((read, mesh))
 }
 
 #[cfg(test)]

@@ -1,0 +1,244 @@
+//! A glTF's meshes as one [`Mesh`] on the skeleton the reader made: skinned primitives through
+//! their skin's joints and inverse bind matrices, every `JOINTS_n`/`WEIGHTS_n` pair read (any
+//! number of influences); a mesh without a skin on a node at or under a joint moves rigidly with
+//! that joint, one under no joint stays where it stands. Triangles only (strips, fans, lines and
+//! points are left out, said once).
+
+use super::*;
+use crate::model::mesh::{Bone, Mesh, MeshBuilder};
+use glam::{Mat4, Vec3};
+
+/// What [`read`] needs of the skeleton the reader made, per node of the file.
+pub(super) struct NodeFrames<'a> {
+    /// Each node's parent.
+    pub parent: &'a [Option<usize>],
+    /// Each node's world matrix in the file's rest pose (its static transforms).
+    pub rest: &'a [DMat4],
+    /// The skeleton joint a node became, if it did.
+    pub joint: &'a [Option<usize>],
+}
+
+/// bvhview's frame of a joint node (rotation and translation of its rest world matrix).
+fn our_frame(world: &DMat4) -> DMat4 {
+    let pose = Pose::of_matrix(world);
+    DMat4::from_rotation_translation(pose.rotation, pose.position)
+}
+
+/// The bone binding geometry given in `node`'s frame (`geometry`: the node's own coordinates,
+/// or a skin joint's through its inverse bind matrix) to the joint at or above `node`, or to
+/// nothing: `bind = ours(joint)⁻¹ · rest(node) · geometry`.
+fn bone_of(frames: &NodeFrames, node: usize, geometry: DMat4) -> Bone {
+    let geometry_to_world = frames.rest[node] * geometry;
+    let mut up = Some(node);
+    while let Some(n) = up {
+        if let Some(j) = frames.joint[n] {
+            let bind = our_frame(&frames.rest[n]).inverse() * geometry_to_world;
+            return Bone {
+                joint: Some(j),
+                bind: bind.as_mat4(),
+            };
+        }
+        up = frames.parent[n];
+    }
+    Bone {
+        joint: None,
+        bind: geometry_to_world.as_mat4(),
+    }
+}
+
+/// Every mesh of the file's default scene (or every node, without scenes), on the skeleton.
+pub(super) fn read(
+    file: &File,
+    path: &str,
+    frames: &NodeFrames,
+) -> Result<(Mesh, Vec<String>), Error> {
+    let document = &file.gltf.document;
+    let mut builder = MeshBuilder::new(path, file.bytes);
+    let mut left_out: Vec<String> = Vec::new();
+    let fail = |why: String| bad(path, why);
+    for node in document.nodes() {
+        let Some(mesh) = node.mesh() else { continue };
+        let n = node.index();
+        // Skinned: each of the skin's joints binds through its inverse bind matrix; the mesh's
+        // node transform is not used (glTF 2.0, 3.7.3.3).
+        let bones: Vec<u32> = match node.skin() {
+            Some(skin) => {
+                let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
+                let inverse_binds = match skin.inverse_bind_matrices() {
+                    Some(accessor) => {
+                        if accessor.count() != joints.len() {
+                            return Err(fail(format!(
+                                "skin {} has {} joints and {} inverse bind matrices",
+                                skin.index(),
+                                joints.len(),
+                                accessor.count()
+                            )));
+                        }
+                        matrices(file, &accessor).map_err(&fail)?
+                    }
+                    None => vec![DMat4::IDENTITY; joints.len()],
+                };
+                joints
+                    .iter()
+                    .zip(&inverse_binds)
+                    .map(|(&joint, inverse_bind)| {
+                        let bone = bone_of(frames, joint, *inverse_bind);
+                        builder.bone(bone)
+                    })
+                    .collect()
+            }
+            None => {
+                let bone = bone_of(frames, n, DMat4::IDENTITY);
+                vec![builder.bone(bone)]
+            }
+        };
+        // A vertex of a skinned mesh with no weight stays where its geometry is (the node's
+        // own transform is not used for a skin).
+        let fixed = builder.bone(Bone {
+            joint: None,
+            bind: if node.skin().is_some() {
+                Mat4::IDENTITY
+            } else {
+                frames.rest[n].as_mat4()
+            },
+        });
+        for primitive in mesh.primitives() {
+            if primitive.mode() != gltf::mesh::Mode::Triangles {
+                left_out.push(format!("a {:?} primitive of mesh {}", primitive.mode(), mesh.index()));
+                continue;
+            }
+            let Some(positions) = primitive.get(&gltf::Semantic::Positions) else {
+                left_out.push(format!("a primitive of mesh {} without positions", mesh.index()));
+                continue;
+            };
+            let count = positions.count();
+            builder.reserve(count as u64)?;
+            let xyz = accessor_values(file, &positions, 3).map_err(&fail)?;
+            let normals = match primitive.get(&gltf::Semantic::Normals) {
+                Some(a) if a.count() == count => Some(accessor_values(file, &a, 3).map_err(&fail)?),
+                Some(a) => {
+                    return Err(fail(format!(
+                        "mesh {}: {} normals for {count} positions",
+                        mesh.index(),
+                        a.count()
+                    )));
+                }
+                None => None,
+            };
+            // Every JOINTS_n with its WEIGHTS_n.
+            let mut sets: Vec<(Vec<u32>, Vec<f32>)> = Vec::new();
+            if node.skin().is_some() {
+                for set in 0.. {
+                    let joints = primitive.get(&gltf::Semantic::Joints(set));
+                    let weights = primitive.get(&gltf::Semantic::Weights(set));
+                    let (joints, weights) = match (joints, weights) {
+                        (None, None) => break,
+                        (Some(j), Some(w)) => (j, w),
+                        _ => {
+                            return Err(fail(format!(
+                                "mesh {}: JOINTS_{set} and WEIGHTS_{set} do not come in a pair",
+                                mesh.index()
+                            )));
+                        }
+                    };
+                    if joints.count() != count || weights.count() != count {
+                        return Err(fail(format!(
+                            "mesh {}: JOINTS_{set}/WEIGHTS_{set} count {}/{} for {count} \
+                             positions",
+                            mesh.index(),
+                            joints.count(),
+                            weights.count()
+                        )));
+                    }
+                    builder.reserve(4 * count as u64)?;
+                    sets.push((
+                        accessor_integers(file, &joints, 4).map_err(&fail)?,
+                        accessor_values(file, &weights, 4).map_err(&fail)?,
+                    ));
+                }
+            }
+            let first = builder.vertex_count();
+            let triangles_from = builder.triangle_corner_count();
+            for v in 0..count {
+                let position = Vec3::from_slice(&xyz[3 * v..3 * v + 3]);
+                let normal = normals
+                    .as_ref()
+                    .map_or(Vec3::ZERO, |n| Vec3::from_slice(&n[3 * v..3 * v + 3]));
+                let influences: Vec<(u32, f32)> = if node.skin().is_some() {
+                    let mut out = Vec::with_capacity(4 * sets.len());
+                    for (joints, weights) in &sets {
+                        for k in 0..4 {
+                            let (joint, weight) = (joints[4 * v + k], weights[4 * v + k]);
+                            if weight == 0.0 {
+                                continue;
+                            }
+                            let Some(&bone) = bones.get(joint as usize) else {
+                                return Err(fail(format!(
+                                    "mesh {}, vertex {v}: joint {joint} of a skin of {} joints",
+                                    mesh.index(),
+                                    bones.len()
+                                )));
+                            };
+                            out.push((bone, weight));
+                        }
+                    }
+                    out
+                } else {
+                    vec![(bones[0], 1.0)]
+                };
+                builder.vertex(position, normal, influences, fixed)?;
+            }
+            match primitive.indices() {
+                Some(indices) => {
+                    builder.reserve(indices.count() as u64 / 3)?;
+                    let corners = accessor_integers(file, &indices, 1).map_err(&fail)?;
+                    for t in corners.chunks_exact(3) {
+                        if let Some(&c) = t.iter().find(|&&c| c as usize >= count) {
+                            return Err(fail(format!(
+                                "mesh {}: index {c} of a primitive of {count} vertices",
+                                mesh.index()
+                            )));
+                        }
+                        builder.triangle([first + t[0], first + t[1], first + t[2]])?;
+                    }
+                }
+                None => {
+                    for t in 0..count as u32 / 3 {
+                        builder.triangle([first + 3 * t, first + 3 * t + 1, first + 3 * t + 2])?;
+                    }
+                }
+            }
+            if normals.is_none() {
+                builder.smooth_normals(first as usize, triangles_from);
+            }
+        }
+    }
+    let (mesh, mut said) = builder.finish();
+    if !left_out.is_empty() {
+        said.push(format!(
+            "{} left out of the mesh (triangles only): {}",
+            crate::io::error::counted(left_out.len(), "primitive"),
+            left_out.join(", ")
+        ));
+    }
+    Ok((mesh, said))
+}
+
+/// A MAT4 accessor's matrices (column-major, as glTF stores them).
+fn matrices(file: &File, accessor: &gltf::Accessor) -> Result<Vec<DMat4>, String> {
+    if accessor.dimensions() != Dimensions::Mat4 || accessor.data_type() != DataType::F32 {
+        return Err(format!(
+            "accessor {} (inverse bind matrices) is not MAT4 of floats",
+            accessor.index()
+        ));
+    }
+    let columns = accessor_values(file, accessor, 16)?;
+    let out: Vec<DMat4> = columns
+        .chunks_exact(16)
+        .map(|m| DMat4::from_cols_slice(&m.iter().map(|&v| f64::from(v)).collect::<Vec<_>>()))
+        .collect();
+    if let Some(k) = out.iter().position(|m| !m.is_finite()) {
+        return Err(format!("inverse bind matrix {k} is not finite"));
+    }
+    Ok(out)
+}

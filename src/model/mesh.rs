@@ -1,0 +1,514 @@
+//! A character's own skinned mesh, read from an FBX or a glTF beside its skeleton, and linear
+//! blend skinning for any number of bones and influences (seed 001's `v' = Σ wᵢ · Mᵢ · v`, now
+//! with the file's own bind matrices).
+//!
+//! Where [`crate::model::skin`] keeps the four strongest influences of a skin bvhview makes
+//! itself, a [`Mesh`] keeps every influence the file gives (CSR: each vertex's influences are
+//! `influences[influence_start[v]..influence_start[v + 1]]`).
+//!
+//! The readers fold a file's scale and pre-rotations into the BVH channels they hand over, so the
+//! world matrix bvhview computes for a joint is the file's with its scale left out:
+//! `file(f) = ours(f) · S`, with `S` the joint's own scale and shear. A [`Bone`] therefore binds
+//! the mesh through `S · inverse bind`, worked out once from the file's rest pose, and a vertex
+//! lands where the file's own skinning puts it as long as a joint's scale does not change during
+//! the take (a scale that is animated is not carried: BVH has none).
+
+use crate::io::error::Error;
+use crate::model::bone_skin::PosedBody;
+use glam::{Mat4, Vec3, Vec4};
+
+/// Vertices + triangles + influences a file of `bytes` bytes may hold, above
+/// [`MESH_ITEMS_FLOOR`]: a vertex takes at least 12 bytes in a glTF (three floats) and about
+/// as many in an FBX, an influence 2 and a triangle 3 in the tightest encodings, so four items a
+/// byte leaves room for any real file and bounds what a hostile one can ask for (instances of
+/// one mesh on many nodes multiply it).
+pub const MESH_ITEMS_PER_BYTE: u64 = 4;
+
+/// Items any file may hold, whatever its size.
+pub const MESH_ITEMS_FLOOR: u64 = 1 << 16;
+
+/// Vertices, influences or triangle corners past this are refused in any file (16 M: indices
+/// stay exact in 32-bit floats, and the largest film character has a few hundred thousand).
+pub const MAX_MESH_ITEMS: u64 = 1 << 24;
+
+/// Vertices + triangles + influences a file of `bytes` bytes may hold.
+pub fn mesh_budget(bytes: u64) -> u64 {
+    MESH_ITEMS_FLOOR
+        .saturating_add(MESH_ITEMS_PER_BYTE.saturating_mul(bytes))
+        .min(3 * MAX_MESH_ITEMS)
+}
+
+/// One bone's influence on a vertex.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Influence {
+    /// Into [`Mesh::bones`].
+    pub bone: u32,
+    /// Its share, the vertex's weights summing to 1.
+    pub weight: f32,
+}
+
+/// What moves a vertex: a joint of the skeleton through a bind matrix, or nothing (a vertex the
+/// file binds to no joint stays where the bind pose put it, as Blender leaves it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bone {
+    /// The joint (index into the skeleton's joints), or `None` for a bone that never moves.
+    pub joint: Option<usize>,
+    /// From the mesh's own coordinates to the joint's frame as bvhview computes it (the file's
+    /// inverse bind matrix with the joint's scale put back); for a bone that never moves, to
+    /// the world.
+    pub bind: Mat4,
+}
+
+/// A skinned mesh: vertices in the mesh's own coordinates, triangles, and every influence.
+///
+/// ```
+/// use bvhview::model::mesh::{Bone, Influence, Mesh};
+/// use glam::{Mat4, Vec3};
+///
+/// // One triangle on two bones: the first vertex follows bone 0, the others bone 1 and half
+/// // and half.
+/// let mesh = Mesh {
+///     positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+///     normals: vec![Vec3::Z; 3],
+///     triangles: vec![0, 1, 2],
+///     influence_start: vec![0, 1, 2, 4],
+///     influences: vec![
+///         Influence { bone: 0, weight: 1.0 },
+///         Influence { bone: 1, weight: 1.0 },
+///         Influence { bone: 0, weight: 0.5 },
+///         Influence { bone: 1, weight: 0.5 },
+///     ],
+///     bones: vec![
+///         Bone { joint: Some(0), bind: Mat4::IDENTITY },
+///         Bone { joint: Some(1), bind: Mat4::IDENTITY },
+///     ],
+/// };
+/// mesh.check().unwrap();
+/// // Joint 1 moves up by 2.
+/// let world = [Mat4::IDENTITY, Mat4::from_translation(Vec3::new(0.0, 2.0, 0.0))];
+/// let (mut positions, mut normals) = (Vec::new(), Vec::new());
+/// mesh.deform(&world, &mut positions, &mut normals);
+/// assert_eq!(positions, [Vec3::ZERO, Vec3::new(1.0, 2.0, 0.0), Vec3::new(0.0, 2.0, 0.0)]);
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Mesh {
+    /// Each vertex in the mesh's own coordinates (as the file gives it).
+    pub positions: Vec<Vec3>,
+    /// Each vertex's unit normal, in the same coordinates.
+    pub normals: Vec<Vec3>,
+    /// Three vertex indices a triangle.
+    pub triangles: Vec<u32>,
+    /// Where each vertex's influences start in `influences` (one more entry than vertices).
+    pub influence_start: Vec<u32>,
+    /// Every vertex's influences, weights summing to 1.
+    pub influences: Vec<Influence>,
+    /// The bones the influences name.
+    pub bones: Vec<Bone>,
+}
+
+impl Mesh {
+    /// How many vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// The influences of vertex `v`.
+    pub fn influences_of(&self, v: usize) -> &[Influence] {
+        let (a, b) = (self.influence_start[v], self.influence_start[v + 1]);
+        &self.influences[a as usize..b as usize]
+    }
+
+    /// Appends `other` (another mesh of the same character): its indices moved past this one's.
+    pub fn append(&mut self, other: Mesh) {
+        let (vertices, bones, influences) = (
+            self.positions.len() as u32,
+            self.bones.len() as u32,
+            self.influences.len() as u32,
+        );
+        if self.influence_start.is_empty() {
+            self.influence_start.push(0);
+        }
+        self.positions.extend(other.positions);
+        self.normals.extend(other.normals);
+        self.triangles
+            .extend(other.triangles.iter().map(|i| i + vertices));
+        self.influence_start
+            .extend(other.influence_start.iter().skip(1).map(|s| s + influences));
+        self.influences
+            .extend(other.influences.iter().map(|i| Influence {
+                bone: i.bone + bones,
+                weight: i.weight,
+            }));
+        self.bones.extend(other.bones);
+    }
+
+    /// Whether every index lies in range and every number is finite: what a reader checks
+    /// before it hands a mesh over (and what [`Mesh::deform`] relies on).
+    pub fn check(&self) -> Result<(), String> {
+        let vertices = self.positions.len();
+        if self.normals.len() != vertices || self.influence_start.len() != vertices + 1 {
+            return Err(format!(
+                "{vertices} positions, {} normals and {} influence starts do not match",
+                self.normals.len(),
+                self.influence_start.len()
+            ));
+        }
+        if self.triangles.len() % 3 != 0 {
+            return Err("triangle corners are not a multiple of 3".into());
+        }
+        if let Some(i) = self.triangles.iter().find(|&&i| i as usize >= vertices) {
+            return Err(format!(
+                "a triangle names vertex {i} of {vertices} vertices"
+            ));
+        }
+        if self.influence_start.first() != Some(&0)
+            || self.influence_start.windows(2).any(|w| w[0] > w[1])
+            || self.influence_start.last().map(|&s| s as usize) != Some(self.influences.len())
+        {
+            return Err("the influence starts do not rise to the influences' count".into());
+        }
+        for (v, p) in self.positions.iter().enumerate() {
+            if !p.is_finite() || !self.normals[v].is_finite() {
+                return Err(format!("vertex {v}: a position or normal that is not finite"));
+            }
+        }
+        for influence in &self.influences {
+            if influence.bone as usize >= self.bones.len() || !influence.weight.is_finite() {
+                return Err(format!(
+                    "an influence of bone {} of {} bones with weight {}",
+                    influence.bone,
+                    self.bones.len(),
+                    influence.weight
+                ));
+            }
+        }
+        if let Some(b) = self.bones.iter().position(|b| !b.bind.is_finite()) {
+            return Err(format!("bone {b}: a bind matrix that is not finite"));
+        }
+        Ok(())
+    }
+
+    /// The joints' world matrices → each bone's skinning matrix (joint · bind).
+    pub fn bone_matrices(&self, world: &[Mat4], out: &mut Vec<Mat4>) {
+        out.clear();
+        out.extend(self.bones.iter().map(|bone| match bone.joint {
+            Some(j) => world[j] * bone.bind,
+            None => bone.bind,
+        }));
+    }
+
+    /// Linear blend skinning: each vertex by the weighted sum of its bones' matrices (the sum
+    /// taken first, so a vertex costs one matrix product however many influences it has), into
+    /// `positions` and unit `normals`. `world` holds the skeleton's joint world matrices
+    /// ([`crate::model::pose::world_matrices`]).
+    pub fn deform(&self, world: &[Mat4], positions: &mut Vec<Vec3>, normals: &mut Vec<Vec3>) {
+        let mut matrices = Vec::with_capacity(self.bones.len());
+        self.bone_matrices(world, &mut matrices);
+        self.deform_with(&matrices, positions, normals);
+    }
+
+    /// [`Mesh::deform`] with the bone matrices already made.
+    pub fn deform_with(
+        &self,
+        bone_matrices: &[Mat4],
+        positions: &mut Vec<Vec3>,
+        normals: &mut Vec<Vec3>,
+    ) {
+        positions.clear();
+        normals.clear();
+        positions.reserve(self.positions.len());
+        normals.reserve(self.positions.len());
+        for (v, (&position, &normal)) in self.positions.iter().zip(&self.normals).enumerate() {
+            let (mut x, mut y, mut z, mut w) = (Vec4::ZERO, Vec4::ZERO, Vec4::ZERO, Vec4::ZERO);
+            for influence in self.influences_of(v) {
+                let m = &bone_matrices[influence.bone as usize];
+                let weight = influence.weight;
+                x += m.x_axis * weight;
+                y += m.y_axis * weight;
+                z += m.z_axis * weight;
+                w += m.w_axis * weight;
+            }
+            let blended = Mat4::from_cols(x, y, z, w);
+            positions.push(blended.transform_point3(position));
+            normals.push(blended.transform_vector3(normal).normalize_or_zero());
+        }
+    }
+
+    /// The mesh posed by the skeleton's joint world matrices, ready to draw.
+    pub fn pose(&self, world: &[Mat4], posed: &mut PosedBody) {
+        self.deform(world, &mut posed.positions, &mut posed.normals);
+        if posed.indices != self.triangles {
+            posed.indices.clone_from(&self.triangles);
+        }
+    }
+}
+
+/// Gathers a mesh vertex by vertex (for the readers): influences scaled to sum to 1 with a
+/// count of the vertices that needed it, influences of no weight dropped, and every count held
+/// to a budget.
+#[derive(Debug)]
+pub struct MeshBuilder {
+    mesh: Mesh,
+    budget: u64,
+    /// Vertices whose weights did not sum to 1 (within 1e-3) and were scaled.
+    pub renormalised: usize,
+    /// Vertices with no weight at all (they stay where the bind pose put them).
+    pub unweighted: usize,
+    name: String,
+}
+
+impl MeshBuilder {
+    /// A builder for the file `name` of `bytes` bytes (its budget, [`mesh_budget`]).
+    pub fn new(name: &str, bytes: u64) -> MeshBuilder {
+        MeshBuilder {
+            mesh: Mesh {
+                influence_start: vec![0],
+                ..Mesh::default()
+            },
+            budget: mesh_budget(bytes),
+            renormalised: 0,
+            unweighted: 0,
+            name: name.to_string(),
+        }
+    }
+
+    fn used(&self) -> u64 {
+        (self.mesh.positions.len() + self.mesh.triangles.len() / 3 + self.mesh.influences.len())
+            as u64
+    }
+
+    /// Refuses when `more` items would pass the budget.
+    pub fn reserve(&self, more: u64) -> Result<(), Error> {
+        let wanted = self.used().saturating_add(more);
+        if wanted > self.budget {
+            return Err(Error::Usage(format!(
+                "{}: its meshes ask for {wanted} vertices, triangles and influences, more than a \
+                 file of its size is read for ({} at most: {MESH_ITEMS_PER_BYTE} a byte above \
+                 {MESH_ITEMS_FLOOR}); refused as damaged or hostile",
+                self.name, self.budget
+            )));
+        }
+        Ok(())
+    }
+
+    /// Adds a bone; its index.
+    pub fn bone(&mut self, bone: Bone) -> u32 {
+        self.mesh.bones.push(bone);
+        (self.mesh.bones.len() - 1) as u32
+    }
+
+    /// Adds a vertex with its influences (bone, weight), weights of any sum; its index. A weight
+    /// that is not finite or is negative is refused (naming the vertex); weights of 0 are dropped; a
+    /// vertex with none is bound to `fallback` (a bone that never moves).
+    pub fn vertex(
+        &mut self,
+        position: Vec3,
+        normal: Vec3,
+        influences: impl IntoIterator<Item = (u32, f32)>,
+        fallback: u32,
+    ) -> Result<u32, Error> {
+        self.reserve(1)?;
+        let index = self.mesh.positions.len();
+        if !position.is_finite() || !normal.is_finite() {
+            return Err(Error::Usage(format!(
+                "{}: vertex {index} has a position or normal that is not finite",
+                self.name
+            )));
+        }
+        let start = self.mesh.influences.len();
+        for (bone, weight) in influences {
+            if !weight.is_finite() || weight < 0.0 {
+                return Err(Error::Usage(format!(
+                    "{}: vertex {index} has a weight of {weight} (weights are finite and not \
+                     negative)",
+                    self.name
+                )));
+            }
+            if bone as usize >= self.mesh.bones.len() {
+                return Err(Error::Usage(format!(
+                    "{}: vertex {index} is bound to joint {bone} of {} joints",
+                    self.name,
+                    self.mesh.bones.len()
+                )));
+            }
+            if weight > 0.0 {
+                self.reserve(1)?;
+                self.mesh.influences.push(Influence { bone, weight });
+            }
+        }
+        let added = &mut self.mesh.influences[start..];
+        let total: f32 = added.iter().map(|i| i.weight).sum();
+        if added.is_empty() || total <= 0.0 {
+            self.mesh.influences.truncate(start);
+            self.mesh.influences.push(Influence {
+                bone: fallback,
+                weight: 1.0,
+            });
+            self.unweighted += 1;
+        } else if (total - 1.0).abs() > 1e-3 {
+            for influence in added.iter_mut() {
+                influence.weight /= total;
+            }
+            self.renormalised += 1;
+        }
+        self.mesh.positions.push(position);
+        self.mesh.normals.push(normal.normalize_or_zero());
+        self.mesh
+            .influence_start
+            .push(self.mesh.influences.len() as u32);
+        Ok(index as u32)
+    }
+
+    /// Adds a triangle of vertices added before (indices checked).
+    pub fn triangle(&mut self, corners: [u32; 3]) -> Result<(), Error> {
+        self.reserve(1)?;
+        let vertices = self.mesh.positions.len();
+        if let Some(c) = corners.iter().find(|&&c| c as usize >= vertices) {
+            return Err(Error::Usage(format!(
+                "{}: a triangle names vertex {c} of {vertices}",
+                self.name
+            )));
+        }
+        self.mesh.triangles.extend(corners);
+        Ok(())
+    }
+
+    /// How many triangle corners so far (three a triangle).
+    pub fn triangle_corner_count(&self) -> usize {
+        self.mesh.triangles.len()
+    }
+
+    /// How many vertices so far.
+    pub fn vertex_count(&self) -> u32 {
+        self.mesh.positions.len() as u32
+    }
+
+    /// Replaces the normals of vertices `from..` by area-weighted sums of their triangles'
+    /// (for a file that gives none).
+    pub fn smooth_normals(&mut self, from: usize, triangles_from: usize) {
+        let mesh = &mut self.mesh;
+        for n in &mut mesh.normals[from..] {
+            *n = Vec3::ZERO;
+        }
+        for t in mesh.triangles[triangles_from..].chunks_exact(3) {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| i as usize);
+            let (pa, pb, pc) = (mesh.positions[a], mesh.positions[b], mesh.positions[c]);
+            let face = (pb - pa).cross(pc - pa);
+            for i in [a, b, c] {
+                if i >= from {
+                    mesh.normals[i] += face;
+                }
+            }
+        }
+        for n in &mut mesh.normals[from..] {
+            *n = n.normalize_or_zero();
+        }
+    }
+
+    /// The mesh, and a warning for each thing that was mended.
+    pub fn finish(self) -> (Mesh, Vec<String>) {
+        let mut said = Vec::new();
+        if self.renormalised > 0 {
+            said.push(format!(
+                "{} of {} mesh vertices have skin weights that do not sum to 1: scaled to sum to 1",
+                self.renormalised,
+                self.mesh.positions.len()
+            ));
+        }
+        if self.unweighted > 0 {
+            said.push(format!(
+                "{} of {} mesh vertices are bound to no joint: they stay where the bind pose puts \
+                 them",
+                self.unweighted,
+                self.mesh.positions.len()
+            ));
+        }
+        debug_assert!(self.mesh.check().is_ok());
+        (self.mesh, said)
+    }
+}
+
+/// A joint's scale and shear: what is left of its world matrix `file` once bvhview's
+/// rotation-and-translation frame of it (`ours`) is taken out, `S = ours⁻¹ · file`.
+pub fn frame_scale(ours: Mat4, file: Mat4) -> Mat4 {
+    ours.inverse() * file
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn builder() -> MeshBuilder {
+        let mut b = MeshBuilder::new("test", 0);
+        b.bone(Bone {
+            joint: Some(0),
+            bind: Mat4::IDENTITY,
+        });
+        b.bone(Bone {
+            joint: None,
+            bind: Mat4::IDENTITY,
+        });
+        b
+    }
+
+    #[test]
+    fn weights_are_scaled_to_one_and_counted() {
+        let mut b = builder();
+        b.vertex(Vec3::X, Vec3::Y, [(0, 0.25), (0, 0.25)], 1).unwrap();
+        b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], 1).unwrap();
+        b.vertex(Vec3::X, Vec3::Y, [(0, 0.0)], 1).unwrap();
+        let (mesh, said) = b.finish();
+        assert_eq!(mesh.influences_of(0)[0].weight, 0.5);
+        assert_eq!(mesh.influences_of(2), [Influence { bone: 1, weight: 1.0 }]);
+        assert_eq!(said.len(), 2, "{said:?}");
+        assert!(said[0].starts_with("1 of 3 mesh vertices"), "{said:?}");
+    }
+
+    #[test]
+    fn bad_numbers_and_indices_are_refused() {
+        let mut b = builder();
+        assert!(b.vertex(Vec3::NAN, Vec3::Y, [], 1).is_err());
+        assert!(b.vertex(Vec3::X, Vec3::Y, [(0, f32::NAN)], 1).is_err());
+        assert!(b.vertex(Vec3::X, Vec3::Y, [(0, -1.0)], 1).is_err());
+        assert!(b.vertex(Vec3::X, Vec3::Y, [(7, 1.0)], 1).is_err());
+        b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], 1).unwrap();
+        assert!(b.triangle([0, 0, 1]).is_err());
+    }
+
+    #[test]
+    fn the_budget_holds() {
+        let mut b = builder();
+        let budget = mesh_budget(0);
+        for _ in 0..budget {
+            if b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], 1).is_err() {
+                break;
+            }
+        }
+        let error = b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], 1).unwrap_err();
+        assert!(error.to_string().contains("refused as damaged or hostile"), "{error}");
+        assert!(b.used() <= budget);
+    }
+
+    /// Any number of influences blends: eight bones each moving the vertex by a different
+    /// amount land it at the weighted mean.
+    #[test]
+    fn many_influences_blend() {
+        let mut b = MeshBuilder::new("test", 0);
+        let mut world = Vec::new();
+        for j in 0..8 {
+            b.bone(Bone {
+                joint: Some(j),
+                bind: Mat4::IDENTITY,
+            });
+            world.push(Mat4::from_translation(Vec3::new(j as f32, 0.0, 0.0)));
+        }
+        let influences: Vec<(u32, f32)> = (0..8).map(|j| (j, 1.0 + j as f32)).collect();
+        b.vertex(Vec3::ZERO, Vec3::Y, influences, 0).unwrap();
+        let (mesh, _) = b.finish();
+        let (mut p, mut n) = (Vec::new(), Vec::new());
+        mesh.deform(&world, &mut p, &mut n);
+        let want = (0..8).map(|j| j as f32 * (1.0 + j as f32)).sum::<f32>() / 36.0;
+        assert!((p[0].x - want).abs() < 1e-5, "{} vs {want}", p[0].x);
+        assert_eq!(n[0], Vec3::Y);
+    }
+}
