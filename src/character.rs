@@ -103,3 +103,31 @@ impl Character {
         positions
     }
 }
+
+impl Character {
+    /// `take` put on this character's skeleton by role ([`crate::retarget::Target::apply`]:
+    /// rest poses aligned, the path scaled by leg length, the feet on the take's floor), ready
+    /// to skin. `pairs` (`SRC = DST` joint names) override the map; a body that is not a biped
+    /// is refused onto a biped character unless `any_body`.
+    pub fn dress(
+        &self,
+        take: &Take,
+        pairs: &[(String, String)],
+        any_body: bool,
+        threads: usize,
+    ) -> Result<Take, Error> {
+        let target = crate::retarget::Target::new(
+            self.take.name.clone(),
+            self.take.skeleton.clone(),
+            &self.take.motion,
+        );
+        let (skeleton, motion) = if any_body {
+            target.apply_any_body(&take.name, &take.skeleton, &take.motion, pairs, threads)?
+        } else {
+            target.apply(&take.name, &take.skeleton, &take.motion, pairs, threads)?
+        };
+        let mut dressed = take.edited(skeleton, motion, false);
+        dressed.offset_mode = OffsetMode::Replace;
+        Ok(dressed)
+    }
+}

@@ -25,8 +25,14 @@ fn obj_vertices(path: &str) -> Vec<Vec3> {
 /// along y).
 fn worst(a: &[Vec3], b: &[Vec3]) -> (f32, f32) {
     assert_eq!(a.len(), b.len());
-    let worst = a.iter().zip(b).map(|(p, q)| p.distance(*q)).fold(0.0, f32::max);
-    let (lo, hi) = b.iter().fold((f32::MAX, f32::MIN), |(l, h), p| (l.min(p.y), h.max(p.y)));
+    let worst = a
+        .iter()
+        .zip(b)
+        .map(|(p, q)| p.distance(*q))
+        .fold(0.0, f32::max);
+    let (lo, hi) = b
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(l, h), p| (l.min(p.y), h.max(p.y)));
     (worst, hi - lo)
 }
 
@@ -39,13 +45,17 @@ fn the_kenney_character_lands_where_maya_put_it() {
     let take = &kenney.take;
     for frame in [4usize, 9] {
         let ours = kenney.vertices(&take.skeleton, take.frame(frame).unwrap());
-        let maya: Vec<Vec3> =
-            obj_vertices(&format!("tests/data/characters/maya_kenney_character_{frame}.obj"))
-                .into_iter()
-                .map(|v| v * 0.01)
-                .collect();
+        let maya: Vec<Vec3> = obj_vertices(&format!(
+            "tests/data/characters/maya_kenney_character_{frame}.obj"
+        ))
+        .into_iter()
+        .map(|v| v * 0.01)
+        .collect();
         let (worst, height) = worst(&ours, &maya);
         eprintln!("frame {frame}: worst {worst} m of a height of {height} m");
-        assert!(worst <= 1e-4 * height, "frame {frame}: {worst} m, height {height} m");
+        assert!(
+            worst <= 1e-4 * height,
+            "frame {frame}: {worst} m, height {height} m"
+        );
     }
 }

@@ -7,6 +7,7 @@
 mod command;
 pub use command::main;
 
+pub(crate) mod character;
 pub(crate) mod convert;
 pub(crate) mod dataset;
 pub(crate) mod diff;

@@ -28,6 +28,11 @@ pub(crate) struct SnapshotArgs {
     /// Draw a generated skin around the bones, moved by linear blend skinning.
     #[arg(long)]
     skin: bool,
+    /// Put the take on a character: an .fbx, .glb or .gltf with a skinned mesh, the take
+    /// retargeted onto its skeleton by role and the mesh drawn skinned, lit. Once for every
+    /// file, or once per file in their order.
+    #[arg(long, value_name = "CHAR")]
+    character: Vec<PathBuf>,
     /// Draw only the first K joints in the order the recursion reaches them, the last one
     /// highlighted, with its GL calls written beside (the window's J key).
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
@@ -146,13 +151,24 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         let up = resolve_up(args.view.up, &stance, &name, framed_view);
         takes.push((short_name(file), loaded, up, stance));
     }
+    let characters = super::character::load_all(&args.character, files.len(), &args.source)?;
+    for (take, character) in takes.iter_mut().zip(&characters) {
+        if let Some(character) = character {
+            let dressed = character.dress(&take.1, &[], false, crate::io::parallel::cores())?;
+            take.3 = dressed.stance(mode);
+            take.2 = resolve_up(args.view.up, &take.3, &take.0, framed_view);
+            take.1 = dressed;
+        }
+    }
     let shown: Vec<Shown> = takes
         .iter()
-        .map(|(_, loaded, up, stance)| Shown {
+        .zip(&characters)
+        .map(|((_, loaded, up, stance), character)| Shown {
             skeleton: &loaded.skeleton,
             motion: &loaded.motion,
             up: *up,
             stance: *stance,
+            mesh: character.as_ref().map(|c| &c.mesh),
         })
         .collect();
     let clock = Clock::new(&shown.iter().map(|t| t.motion).collect::<Vec<_>>());
@@ -167,7 +183,13 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
             .unwrap_or_else(|| crate::render::paint::start_angle(files.len())),
         width: args.size.0,
         height: args.size.1,
-        style: style_for(args.view.style, args.look),
+        // A character's mesh alone unless a style is asked for (its rig may hold controls
+        // that are not part of the body).
+        style: if args.character.is_empty() || args.view.style.is_some() {
+            style_for(args.view.style, args.look)
+        } else {
+            crate::render::draw::Style::Points
+        },
         fit: args.view.fit.is_some(),
         offset_mode: mode,
         look: args.look.into(),

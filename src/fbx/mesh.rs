@@ -6,14 +6,14 @@
 
 use super::read::matrix;
 use crate::io::error::Error;
-use crate::model::baked::Pose;
 use crate::model::mesh::{Bone, Mesh, MeshBuilder};
 use glam::{DMat4, Vec3};
 
-/// bvhview's frame of a joint (the rotation and translation of its world matrix).
+/// bvhview's frame of a joint in the rest pose: a character's skeleton is read with its rest
+/// pose as its zero pose (`baked::build_with`), so every joint's frame there is the world's
+/// axes at the joint's place.
 fn our_frame(world: &DMat4) -> DMat4 {
-    let pose = Pose::of_matrix(world);
-    DMat4::from_rotation_translation(pose.rotation, pose.position)
+    DMat4::from_translation(world.w_axis.truncate())
 }
 
 /// The bone that binds geometry given in `node`'s frame (`geometry_to_node`) to the joint at or
@@ -66,7 +66,8 @@ pub(super) fn read(
         };
         let n = node.element.typed_id as usize;
         builder.reserve((mesh.vertices.len() + mesh.num_triangles) as u64)?;
-        let geometry_to_node = matrix(&node.node_to_world).inverse() * matrix(&node.geometry_to_world);
+        let geometry_to_node =
+            matrix(&node.node_to_world).inverse() * matrix(&node.geometry_to_world);
         // The node itself (a rigid mesh), and the bone a vertex without weights stays with.
         let rigid = builder.bone(bone_of(scene, joint, turn, n, geometry_to_node));
         let fixed = builder.bone(Bone {

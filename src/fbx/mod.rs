@@ -3,9 +3,9 @@
 //! feature, the same three entry points refuse every file with what to do.
 
 #[cfg(feature = "fbx")]
-pub mod read;
-#[cfg(feature = "fbx")]
 mod mesh;
+#[cfg(feature = "fbx")]
+pub mod read;
 #[cfg(feature = "fbx")]
 mod records;
 

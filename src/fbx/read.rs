@@ -515,7 +515,8 @@ fn load_scene(
     threads: usize,
     skin_bones: bool,
 ) -> Result<(Read, Vec<Option<usize>>), Error> {
-    let (read, order, nodes) = load_nodes(scene, bytes_len, name, take, threads.max(1), skin_bones)?;
+    let (read, order, nodes) =
+        load_nodes(scene, bytes_len, name, take, threads.max(1), skin_bones)?;
     let index: std::collections::HashMap<&str, usize> = read
         .skeleton
         .joints
@@ -583,7 +584,7 @@ fn load_nodes(
             pick_take(&names, take, path)?;
         }
         warnings.push("no animation in the file: its rest pose, as one frame".to_string());
-        baked::build(&nodes, &rest, 1, 1.0 / fps, |_, out| {
+        baked::build_with(&nodes, &rest, skin_bones, 1, 1.0 / fps, |_, out| {
             out.extend_from_slice(&rest);
             Ok(())
         })
@@ -673,7 +674,7 @@ fn load_nodes(
             }
         }
         if fast {
-            return baked::build(&nodes, &rest, count, 1.0 / fps, |f, out| {
+            return baked::build_with(&nodes, &rest, skin_bones, count, 1.0 / fps, |f, out| {
                 out.extend(quick(f));
                 Ok(())
             })
@@ -697,7 +698,7 @@ fn load_nodes(
         const BLOCK: usize = 256;
         let mut ready: std::collections::VecDeque<Vec<Pose>> = Default::default();
         let mut next = 0;
-        baked::build(&nodes, &rest, count, 1.0 / fps, |f, out| {
+        baked::build_with(&nodes, &rest, skin_bones, count, 1.0 / fps, |f, out| {
             if ready.is_empty() {
                 let block = BLOCK.min(count - next);
                 let mut results: Vec<Result<Vec<Pose>, Error>> = Vec::with_capacity(block);

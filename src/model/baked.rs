@@ -218,14 +218,44 @@ fn pose_fault(pose: &Pose) -> Option<&'static str> {
 /// `out` with the world pose of every node in frame `f` of `frames` (at least one: a file
 /// without animation passes its rest pose as its one frame). Frames are asked for once each, in
 /// order, and only their local poses are kept (28 bytes a joint and frame).
-pub fn build(
+///
+/// `zero_at_rest`: each joint's frame turned so that the file's rest pose is
+/// the skeleton's zero pose (every channel 0, as a BVH's rest pose is), its world rotation in a
+/// frame taken relative to its rest rotation. World positions are the same either way. A
+/// character's skeleton is read so: retargeting aligns rest poses, and a mesh is bound in its
+/// rest pose.
+pub fn build_with(
     nodes: &[Node],
     rest: &[Pose],
+    zero_at_rest: bool,
     frames: usize,
     frame_time: f64,
     mut pose_of: impl FnMut(usize, &mut Vec<Pose>) -> Result<(), Error>,
 ) -> Result<(Skeleton, Motion), Error> {
     debug_assert_eq!(nodes.len(), rest.len());
+    let file_rest = rest;
+    let zeroed: Vec<Pose>;
+    let rest = if zero_at_rest {
+        zeroed = rest
+            .iter()
+            .map(|pose| Pose {
+                rotation: DQuat::IDENTITY,
+                position: pose.position,
+            })
+            .collect();
+        &zeroed[..]
+    } else {
+        rest
+    };
+    let mut pose_of = move |f: usize, out: &mut Vec<Pose>| -> Result<(), Error> {
+        pose_of(f, out)?;
+        if zero_at_rest {
+            for (pose, at_rest) in out.iter_mut().zip(file_rest) {
+                pose.rotation = (pose.rotation * at_rest.rotation.inverse()).normalize();
+            }
+        }
+        Ok(())
+    };
     let count = nodes.len();
     // Every number is checked where it is made, and the joint named: a take with one that is
     // not finite is refused at load, never passed on to poses and exports.
@@ -470,7 +500,7 @@ mod tests {
         };
         let rest = pose(0.0);
         let frames: Vec<Vec<Pose>> = (0..5).map(|f| pose(f as f64 * 0.2)).collect();
-        let (skeleton, motion) = build(&nodes, &rest, frames.len(), 0.5, |f, out| {
+        let (skeleton, motion) = build_with(&nodes, &rest, false, frames.len(), 0.5, |f, out| {
             out.extend_from_slice(&frames[f]);
             Ok(())
         })

@@ -112,6 +112,17 @@ impl Mesh {
         self.positions.len()
     }
 
+    /// Which of a skeleton's `joints` move some vertex.
+    pub fn bound_joints(&self, joints: usize) -> Vec<bool> {
+        let mut bound = vec![false; joints];
+        for bone in &self.bones {
+            if let Some(slot) = bone.joint.and_then(|j| bound.get_mut(j)) {
+                *slot = true;
+            }
+        }
+        bound
+    }
+
     /// The influences of vertex `v`.
     pub fn influences_of(&self, v: usize) -> &[Influence] {
         let (a, b) = (self.influence_start[v], self.influence_start[v + 1]);
@@ -169,7 +180,9 @@ impl Mesh {
         }
         for (v, p) in self.positions.iter().enumerate() {
             if !p.is_finite() || !self.normals[v].is_finite() {
-                return Err(format!("vertex {v}: a position or normal that is not finite"));
+                return Err(format!(
+                    "vertex {v}: a position or normal that is not finite"
+                ));
             }
         }
         for influence in &self.influences {
@@ -454,12 +467,19 @@ mod tests {
     #[test]
     fn weights_are_scaled_to_one_and_counted() {
         let mut b = builder();
-        b.vertex(Vec3::X, Vec3::Y, [(0, 0.25), (0, 0.25)], 1).unwrap();
+        b.vertex(Vec3::X, Vec3::Y, [(0, 0.25), (0, 0.25)], 1)
+            .unwrap();
         b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], 1).unwrap();
         b.vertex(Vec3::X, Vec3::Y, [(0, 0.0)], 1).unwrap();
         let (mesh, said) = b.finish();
         assert_eq!(mesh.influences_of(0)[0].weight, 0.5);
-        assert_eq!(mesh.influences_of(2), [Influence { bone: 1, weight: 1.0 }]);
+        assert_eq!(
+            mesh.influences_of(2),
+            [Influence {
+                bone: 1,
+                weight: 1.0
+            }]
+        );
         assert_eq!(said.len(), 2, "{said:?}");
         assert!(said[0].starts_with("1 of 3 mesh vertices"), "{said:?}");
     }
@@ -485,7 +505,10 @@ mod tests {
             }
         }
         let error = b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], 1).unwrap_err();
-        assert!(error.to_string().contains("refused as damaged or hostile"), "{error}");
+        assert!(
+            error.to_string().contains("refused as damaged or hostile"),
+            "{error}"
+        );
         assert!(b.used() <= budget);
     }
 

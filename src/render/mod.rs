@@ -454,6 +454,7 @@ pub fn camera_for(
         motion,
         up: options.up,
         stance,
+        mesh: None,
     };
     paint::Painter::default().camera(&[take], options, &Overlay::default(), None)
 }

@@ -6,13 +6,13 @@
 use crate::io::error::Error;
 use crate::model::bone_skin::{Body, PosedBody};
 use crate::model::motion::Motion;
-use crate::model::pose::{OffsetMode, Up, world_positions};
+use crate::model::pose::{OffsetMode, Up, world_matrices, world_positions};
 use crate::model::skeleton::Skeleton;
 use crate::model::stance::Stance;
 use crate::render::fixed::FixedFunction;
 use crate::render::framing::{self, Room};
 use crate::render::scene::{self, Camera, Scene};
-use crate::render::studio::{self, Stage, take_extent};
+use crate::render::studio::{self, Stage, take_extent_of};
 use crate::render::{Look, Overlay, SnapshotOptions, draw_overlay, frame_values};
 use glam::Vec3;
 
@@ -26,6 +26,9 @@ pub struct Shown<'a> {
     /// How it stands, as guessed from its motion: its height and units size the studio and
     /// scale several takes to one height.
     pub stance: Stance,
+    /// A character's mesh bound to `skeleton`, drawn skinned in the skeleton's place
+    /// (`--character`); `None`: the skeleton as asked.
+    pub mesh: Option<&'a crate::model::mesh::Mesh>,
 }
 
 impl<'a> Shown<'a> {
@@ -49,6 +52,7 @@ impl<'a> Shown<'a> {
             motion,
             up,
             stance,
+            mesh: None,
         }
     }
 }
@@ -275,7 +279,9 @@ impl Painter {
                     .iter()
                     .zip(&scales)
                     .map(|(t, &scale)| {
-                        let (lo, hi) = take_extent(t.skeleton, t.motion, mode, t.up);
+                        let bound = t.mesh.map(|m| m.bound_joints(t.skeleton.joints.len()));
+                        let (lo, hi) =
+                            take_extent_of(t.skeleton, t.motion, mode, t.up, bound.as_deref());
                         (lo * scale, hi * scale)
                     })
                     .collect()
@@ -323,6 +329,43 @@ impl Painter {
         self.layout.as_ref().expect("made above")
     }
 
+    /// Poses each take's skin for its frame: a character's own mesh, or with `--skin` the
+    /// generated one.
+    fn pose_skins(
+        &mut self,
+        takes: &[Shown],
+        frames: &[Option<&[f32]>],
+        options: &SnapshotOptions,
+    ) {
+        let mode = options.offset_mode;
+        if !takes.iter().any(|take| options.skin || take.mesh.is_some()) {
+            return;
+        }
+        self.bodies.resize_with(takes.len(), || None);
+        self.posed.resize_with(takes.len(), PosedBody::default);
+        for (index, take) in takes.iter().enumerate() {
+            if let Some(mesh) = take.mesh {
+                // A character's own mesh, bound in its rest pose (channels 0).
+                let frame = frames[index].unwrap_or(&[]);
+                world_matrices(
+                    take.skeleton,
+                    frame,
+                    OffsetMode::Replace,
+                    &mut self.scratch.0,
+                );
+                mesh.pose(&self.scratch.0, &mut self.posed[index]);
+            } else if options.skin {
+                let body = self.bodies[index].get_or_insert_with(|| Body::new(take.skeleton, mode));
+                body.pose(
+                    take.skeleton,
+                    frames[index],
+                    &mut self.posed[index],
+                    &mut self.scratch,
+                );
+            }
+        }
+    }
+
     /// The camera [`Painter::paint`] draws `takes` with, for the same arguments.
     pub fn camera(
         &mut self,
@@ -335,7 +378,16 @@ impl Painter {
         let layout = self
             .layout(takes, options, options.look == Look::Studio)
             .clone();
-        Ok(camera_of(&layout, takes, &frames, options, overlay, moved))
+        self.pose_skins(takes, &frames, options);
+        Ok(camera_of(
+            &layout,
+            takes,
+            &frames,
+            &self.posed,
+            options,
+            overlay,
+            moved,
+        ))
     }
 
     /// Draws `takes` at tick `options.frame` of their [`Clock`] into the current context of
@@ -359,26 +411,23 @@ impl Painter {
             return Ok(());
         }
         let framed = options.fit || studio_look;
-        let camera = camera_of(&layout, takes, &frames, options, overlay, moved);
+        self.pose_skins(takes, &frames, options);
+        let skinned = |take: &Shown| options.skin || take.mesh.is_some();
+        let camera = camera_of(
+            &layout,
+            takes,
+            &frames,
+            &self.posed,
+            options,
+            overlay,
+            moved,
+        );
         // Sizes follow the figure: the studio's from its height, a framed view's from the
         // camera's distance, the article's its own 1.
         let sphere_radius = match &layout.stage {
             Some(stage) => stage.sphere_radius(),
             None => scene::sphere_radius(&camera, framed),
         };
-        if options.skin {
-            self.bodies.resize_with(takes.len(), || None);
-            self.posed.resize_with(takes.len(), PosedBody::default);
-            for (index, take) in takes.iter().enumerate() {
-                let body = self.bodies[index].get_or_insert_with(|| Body::new(take.skeleton, mode));
-                body.pose(
-                    take.skeleton,
-                    frames[index],
-                    &mut self.posed[index],
-                    &mut self.scratch,
-                );
-            }
-        }
         let scenes: Vec<Scene> = takes
             .iter()
             .enumerate()
@@ -388,7 +437,7 @@ impl Painter {
                 camera,
                 style: options.style,
                 offset_mode: mode,
-                skin: options.skin.then(|| &self.posed[index]),
+                skin: skinned(take).then(|| &self.posed[index]),
                 // The step view follows the first take's recursion.
                 shown: if index == 0 { options.step } else { None },
                 // Drawn under the take's scale: the same size on the picture for every take.
@@ -443,6 +492,7 @@ fn camera_of(
     layout: &Layout,
     takes: &[Shown],
     frames: &[Option<&[f32]>],
+    posed: &[PosedBody],
     options: &SnapshotOptions,
     overlay: &Overlay,
     moved: Option<&Camera>,
@@ -486,13 +536,13 @@ fn camera_of(
                 Vec3::new(root.x + side(1), y, root.z + side(4))
             })
             .collect();
-        points.extend(pose_points(takes, frames, mode, layout, &placed));
+        points.extend(pose_points(takes, frames, posed, mode, layout, &placed));
         framing::fit(&points, options.angle, pitch, size, room)
     } else if framed {
         let points = if options.whole_take {
             take_corners(layout)
         } else {
-            pose_points(takes, frames, mode, layout, &placed)
+            pose_points(takes, frames, posed, mode, layout, &placed)
         };
         framing::fit(&points, options.angle, pitch, size, room)
     } else {
@@ -592,6 +642,7 @@ fn take_corners(layout: &Layout) -> Vec<Vec3> {
 fn pose_points(
     takes: &[Shown],
     frames: &[Option<&[f32]>],
+    posed: &[PosedBody],
     mode: OffsetMode,
     layout: &Layout,
     placed: &dyn Fn(usize, Vec3) -> Vec3,
@@ -599,8 +650,16 @@ fn pose_points(
     let mut points = Vec::new();
     for (index, take) in takes.iter().enumerate() {
         let start = points.len();
-        for p in world_positions(take.skeleton, frames[index].unwrap_or(&[]), mode) {
-            points.push(placed(index, p));
+        match (take.mesh, posed.get(index)) {
+            // A character is framed by its mesh as posed (its rig's controls may stand apart).
+            (Some(_), Some(skin)) => {
+                points.extend(skin.positions.iter().map(|&p| placed(index, p)))
+            }
+            _ => {
+                for p in world_positions(take.skeleton, frames[index].unwrap_or(&[]), mode) {
+                    points.push(placed(index, p));
+                }
+            }
         }
         let pose = &points[start..];
         let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));

@@ -45,13 +45,29 @@ const CENTRE: [f32; 3] = [0.82, 0.82, 0.8];
 /// The lowest and highest corner of a box around every joint of every frame of a take, stood up
 /// (the rest pose for a take without frames).
 pub fn take_extent(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode, up: Up) -> (Vec3, Vec3) {
+    take_extent_of(skeleton, motion, mode, up, None)
+}
+
+/// [`take_extent`] of the joints `only` marks (all with `None`): a character's box is its
+/// mesh's joints', not its rig's controls left standing where they were.
+pub fn take_extent_of(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mode: OffsetMode,
+    up: Up,
+    only: Option<&[bool]>,
+) -> (Vec3, Vec3) {
+    let counts = |j: usize| only.is_none_or(|only| only.get(j).copied().unwrap_or(false));
     let stand = up.to_y_up();
     let plan = FkPlan::new(skeleton, mode);
     let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
     let (mut lo, mut hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
     let mut take = |frame: &[f32]| {
         plan.positions(frame, &mut points, &mut scratch);
-        for p in &points {
+        for (j, p) in points.iter().enumerate() {
+            if !counts(j) {
+                continue;
+            }
             let p = stand * *p;
             lo = lo.min(p);
             hi = hi.max(p);
@@ -59,7 +75,11 @@ pub fn take_extent(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode, up: U
     };
     if motion.frame_count() == 0 {
         // The rest pose: no row for the plan to read.
-        for p in crate::model::pose::world_positions(skeleton, &[], mode) {
+        let rest = crate::model::pose::world_positions(skeleton, &[], mode);
+        for (j, p) in rest.into_iter().enumerate() {
+            if !counts(j) {
+                continue;
+            }
             let p = stand * p;
             lo = lo.min(p);
             hi = hi.max(p);
@@ -238,8 +258,19 @@ fn shadow<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage, line_width
         let along = (p.y - stage.floor) / LIGHT.y;
         [p.x - LIGHT.x * along, shadow_y, p.z - LIGHT.z * along]
     };
-    gl.line_width(line_width * 4.0 / 3.0);
     gl.color3f(0.05, 0.05, 0.07);
+    // A skin casts its triangles (a character's rig may hold controls apart from its body).
+    if let Some(skin) = scene.skin {
+        let flat: Vec<Vec3> = skin
+            .positions
+            .iter()
+            .map(|&p| Vec3::from_array(cast(scene.place(p))))
+            .collect();
+        let up = vec![Vec3::Y; flat.len()];
+        gl.draw_triangles(&flat, &up, &skin.indices);
+        return;
+    }
+    gl.line_width(line_width * 4.0 / 3.0);
     gl.begin(GL_LINES);
     // Stepping through the recursion (J) shows the first `shown` joints: so does the shadow.
     let shown = scene.shown.unwrap_or(usize::MAX);

@@ -307,7 +307,11 @@ struct Located<'a> {
     count: usize,
 }
 
-fn locate<'a>(file: &'a File, accessor: &gltf::Accessor, width: usize) -> Result<Option<Located<'a>>, String> {
+fn locate<'a>(
+    file: &'a File,
+    accessor: &gltf::Accessor,
+    width: usize,
+) -> Result<Option<Located<'a>>, String> {
     let index = accessor.index();
     if accessor.sparse().is_some() {
         return Err(format!("accessor {index} is sparse (not read)"));
@@ -346,7 +350,13 @@ fn locate<'a>(file: &'a File, accessor: &gltf::Accessor, width: usize) -> Result
         .and_then(|e| e.checked_add(start?));
     match (start, end, view_end) {
         (Some(start), Some(end), Some(view_end)) if end <= view_end && view_end <= buffer.len() => {
-            Ok(Some(Located { buffer, start, stride, size, count }))
+            Ok(Some(Located {
+                buffer,
+                start,
+                stride,
+                size,
+                count,
+            }))
         }
         _ => Err(format!(
             "accessor {index} reaches past its buffer view or buffer"
@@ -370,7 +380,11 @@ pub(super) fn accessor_integers(
         return Err(format!(
             "accessor {index} holds {:?}{}, not unsigned integers",
             accessor.data_type(),
-            if accessor.normalized() { " normalized" } else { "" }
+            if accessor.normalized() {
+                " normalized"
+            } else {
+                ""
+            }
         ));
     }
     let Some(at) = locate(file, accessor, width)? else {
@@ -405,7 +419,14 @@ pub(super) fn accessor_values(
 ) -> Result<Vec<f32>, String> {
     let index = accessor.index();
     let count = accessor.count();
-    let Some(Located { buffer, start, stride, size, .. }) = locate(file, accessor, width)? else {
+    let Some(Located {
+        buffer,
+        start,
+        stride,
+        size,
+        ..
+    }) = locate(file, accessor, width)?
+    else {
         // No view: all zeros, by the specification.
         return count
             .checked_mul(width)

@@ -18,10 +18,11 @@ pub(super) struct NodeFrames<'a> {
     pub joint: &'a [Option<usize>],
 }
 
-/// bvhview's frame of a joint node (rotation and translation of its rest world matrix).
+/// bvhview's frame of a joint in the rest pose: a character's skeleton is read with its rest
+/// pose as its zero pose (`baked::build_with`), so every joint's frame there is the world's
+/// axes at the joint's place.
 fn our_frame(world: &DMat4) -> DMat4 {
-    let pose = Pose::of_matrix(world);
-    DMat4::from_rotation_translation(pose.rotation, pose.position)
+    DMat4::from_translation(world.w_axis.truncate())
 }
 
 /// The bone binding geometry given in `node`'s frame (`geometry`: the node's own coordinates,
@@ -104,11 +105,18 @@ pub(super) fn read(
         });
         for primitive in mesh.primitives() {
             if primitive.mode() != gltf::mesh::Mode::Triangles {
-                left_out.push(format!("a {:?} primitive of mesh {}", primitive.mode(), mesh.index()));
+                left_out.push(format!(
+                    "a {:?} primitive of mesh {}",
+                    primitive.mode(),
+                    mesh.index()
+                ));
                 continue;
             }
             let Some(positions) = primitive.get(&gltf::Semantic::Positions) else {
-                left_out.push(format!("a primitive of mesh {} without positions", mesh.index()));
+                left_out.push(format!(
+                    "a primitive of mesh {} without positions",
+                    mesh.index()
+                ));
                 continue;
             };
             let count = positions.count();

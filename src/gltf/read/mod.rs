@@ -318,7 +318,7 @@ fn load_file(
     }
     let (skeleton, motion) = if tracks.is_empty() {
         warnings.push("no animation in the file: its rest pose, as one frame".to_string());
-        baked::build(&skeleton_nodes, &rest, 1, 1.0 / fps, |_, out| {
+        baked::build_with(&skeleton_nodes, &rest, with_mesh, 1, 1.0 / fps, |_, out| {
             out.extend_from_slice(&rest);
             Ok(())
         })
@@ -338,29 +338,39 @@ fn load_file(
         let mut animated: Vec<Option<Trs>> = vec![None; count];
         let mut sample = [0.0f64; 4];
         let mut hints = vec![0usize; tracks.len()];
-        baked::build(&skeleton_nodes, &rest, frame_count, 1.0 / fps, |f, out| {
-            let time = start + f as f64 / fps;
-            for slot in animated.iter_mut() {
-                *slot = None;
-            }
-            for (track, hint) in tracks.iter().zip(hints.iter_mut()) {
-                let trs = animated[track.node].get_or_insert(statics[track.node]);
-                track.sample(time, hint, &mut sample);
-                match track.property {
-                    Property::Translation => trs.0 = DVec3::new(sample[0], sample[1], sample[2]),
-                    Property::Scale => trs.2 = DVec3::new(sample[0], sample[1], sample[2]),
-                    Property::Rotation => {
-                        trs.1 = unit(DQuat::from_xyzw(sample[0], sample[1], sample[2], sample[3]))
-                    }
-                    Property::MorphTargetWeights => {}
+        baked::build_with(
+            &skeleton_nodes,
+            &rest,
+            with_mesh,
+            frame_count,
+            1.0 / fps,
+            |f, out| {
+                let time = start + f as f64 / fps;
+                for slot in animated.iter_mut() {
+                    *slot = None;
                 }
-            }
-            out.extend(world_of(&|n| match &animated[n] {
-                Some(trs) => trs_matrix(trs),
-                None => static_matrices[n],
-            }));
-            Ok(())
-        })
+                for (track, hint) in tracks.iter().zip(hints.iter_mut()) {
+                    let trs = animated[track.node].get_or_insert(statics[track.node]);
+                    track.sample(time, hint, &mut sample);
+                    match track.property {
+                        Property::Translation => {
+                            trs.0 = DVec3::new(sample[0], sample[1], sample[2])
+                        }
+                        Property::Scale => trs.2 = DVec3::new(sample[0], sample[1], sample[2]),
+                        Property::Rotation => {
+                            trs.1 =
+                                unit(DQuat::from_xyzw(sample[0], sample[1], sample[2], sample[3]))
+                        }
+                        Property::MorphTargetWeights => {}
+                    }
+                }
+                out.extend(world_of(&|n| match &animated[n] {
+                    Some(trs) => trs_matrix(trs),
+                    None => static_matrices[n],
+                }));
+                Ok(())
+            },
+        )
     }
     .map_err(|e| match e {
         Error::Usage(message) if !message.starts_with(path) => bad(path, message),
@@ -372,10 +382,15 @@ fn load_file(
         let mut by_depth: Vec<usize> = (0..count).collect();
         by_depth.sort_by_key(|&i| depth[i]);
         for &n in &by_depth {
-            let above = parent[n].and_then(|p| rest_world[p]).unwrap_or(DMat4::IDENTITY);
+            let above = parent[n]
+                .and_then(|p| rest_world[p])
+                .unwrap_or(DMat4::IDENTITY);
             rest_world[n] = Some(above * static_matrices[n]);
         }
-        let rest_world: Vec<DMat4> = rest_world.into_iter().map(Option::unwrap_or_default).collect();
+        let rest_world: Vec<DMat4> = rest_world
+            .into_iter()
+            .map(Option::unwrap_or_default)
+            .collect();
         let mut joint = vec![None; count];
         for (k, &n) in order.iter().enumerate() {
             joint[n] = skeleton

@@ -258,6 +258,7 @@ impl Viewer {
                 motion: &t.loaded.motion,
                 up,
                 stance: t.stance,
+                mesh: None,
             })
             .collect()
     }
