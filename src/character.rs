@@ -25,6 +25,7 @@ use crate::model::pose::{OffsetMode, world_matrices};
 use crate::model::skeleton::Skeleton;
 use crate::take::{Format, Take, extension};
 use glam::{Mat4, Vec3};
+use std::io::Write;
 use std::path::Path;
 
 /// A skinned mesh and the take of its file.
@@ -130,4 +131,119 @@ impl Character {
         dressed.offset_mode = OffsetMode::Replace;
         Ok(dressed)
     }
+}
+
+/// How [`write_vertices`] writes: `frame,vertex,x,y,z` lines, a JSON document, or a NumPy
+/// array of shape (frames, vertices, 3), little-endian `float32`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum VertexFormat {
+    /// `frame,vertex,x,y,z`, one vertex per line.
+    Csv,
+    /// `{"frame_time":…,"vertices":N,"triangles":[[a,b,c],…],"frames":[{"frame":0,"positions":[[x,y,z],…]},…]}`.
+    Json,
+    /// A `.npy` array (frames, vertices, 3) of `<f4`.
+    Npy,
+}
+
+/// The skinned vertices of `character` moved by frames `frames` of a take on its skeleton
+/// (`skeleton`, `motion`: the character's own take, or one [`Character::dress`] made), into
+/// `out`. Every number is checked to be finite before it is written.
+///
+/// ```
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// # #[cfg(feature = "fbx")]
+/// # {
+/// use bvhview::character::{Character, VertexFormat, write_vertices};
+///
+/// let kenney = Character::open("tests/data/characters/maya_kenney_character_7700_binary.fbx")?;
+/// let (skeleton, motion) = (&kenney.take.skeleton, &kenney.take.motion);
+/// let mut npy = Vec::new();
+/// write_vertices(&mut npy, &kenney, skeleton, motion, 0..2, VertexFormat::Npy)?;
+/// assert_eq!(npy.len(), 128 + 2 * 804 * 3 * 4);
+/// # }
+/// # Ok(())
+/// # }
+/// ```
+pub fn write_vertices(
+    out: &mut dyn Write,
+    character: &Character,
+    skeleton: &Skeleton,
+    motion: &crate::model::motion::Motion,
+    frames: std::ops::Range<usize>,
+    format: VertexFormat,
+) -> std::io::Result<()> {
+    let mesh = &character.mesh;
+    let count = mesh.vertex_count();
+    let mut world = Vec::new();
+    let (mut positions, mut normals) = (Vec::new(), Vec::new());
+    let mut numbers = crate::positions::Shortest::default();
+    match format {
+        VertexFormat::Csv => out.write_all(b"frame,vertex,x,y,z\n")?,
+        VertexFormat::Json => {
+            write!(
+                out,
+                "{{\"frame_time\":{},\"vertices\":{count},\"triangles\":[",
+                motion.frame_time
+            )?;
+            for (k, t) in mesh.triangles.chunks_exact(3).enumerate() {
+                let comma = if k > 0 { "," } else { "" };
+                write!(out, "{comma}[{},{},{}]", t[0], t[1], t[2])?;
+            }
+            out.write_all(b"],\"frames\":[")?;
+        }
+        VertexFormat::Npy => out.write_all(&crate::dataset::store::npy_header(
+            "<f4",
+            &[frames.len(), count, 3],
+        ))?,
+    }
+    let first = frames.start;
+    for f in frames {
+        world_matrices(skeleton, motion.frame(f), OffsetMode::Replace, &mut world);
+        mesh.deform(&world, &mut positions, &mut normals);
+        if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
+            return Err(std::io::Error::other(crate::positions::NotFinite(format!(
+                "frame {f}, vertex {v}: a position that is not finite"
+            ))));
+        }
+        let mut text = Vec::with_capacity(count * 32);
+        match format {
+            VertexFormat::Csv => {
+                for (v, p) in positions.iter().enumerate() {
+                    write!(text, "{f},{v}")?;
+                    for c in p.to_array() {
+                        text.push(b',');
+                        text.extend_from_slice(numbers.format(c));
+                    }
+                    text.push(b'\n');
+                }
+            }
+            VertexFormat::Json => {
+                let comma = if f > first { "," } else { "" };
+                write!(text, "{comma}{{\"frame\":{f},\"positions\":[")?;
+                for (v, p) in positions.iter().enumerate() {
+                    text.extend_from_slice(if v > 0 { b",[" } else { b"[" });
+                    for (k, c) in p.to_array().into_iter().enumerate() {
+                        if k > 0 {
+                            text.push(b',');
+                        }
+                        text.extend_from_slice(numbers.format(c));
+                    }
+                    text.push(b']');
+                }
+                text.extend_from_slice(b"]}");
+            }
+            VertexFormat::Npy => {
+                for p in &positions {
+                    for c in p.to_array() {
+                        text.extend_from_slice(&c.to_le_bytes());
+                    }
+                }
+            }
+        }
+        out.write_all(&text)?;
+    }
+    if format == VertexFormat::Json {
+        out.write_all(b"]}\n")?;
+    }
+    Ok(())
 }

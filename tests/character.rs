@@ -59,3 +59,81 @@ fn the_kenney_character_lands_where_maya_put_it() {
         );
     }
 }
+
+/// A float32 `.npy` array as (shape, values).
+fn read_npy(path: &str) -> (Vec<usize>, Vec<f32>) {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[..6], b"\x93NUMPY");
+    let header_len = u16::from_le_bytes([bytes[8], bytes[9]]) as usize;
+    let header = std::str::from_utf8(&bytes[10..10 + header_len]).unwrap();
+    assert!(header.contains("'descr': '<f4'"), "{header}");
+    let shape_text = header
+        .split("'shape': (")
+        .nth(1)
+        .unwrap()
+        .split(')')
+        .next()
+        .unwrap();
+    let shape: Vec<usize> = shape_text
+        .split(',')
+        .filter(|s| !s.trim().is_empty())
+        .map(|s| s.trim().parse().unwrap())
+        .collect();
+    let values = bytes[10 + header_len..]
+        .chunks_exact(4)
+        .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+        .collect();
+    (shape, values)
+}
+
+/// Blender 5.2's evaluated meshes (tests/blender/evaluated_mesh.py: its own FBX importer, which
+/// is ufbx's, and its glTF importer) at four times of each character's own take: bvhview's
+/// skinned vertices are within 1e-4 of the figure's height of Blender's, every vertex, every
+/// time. Three characters from three tools: Maya (the Kenney character, ufbx's test file),
+/// Blender's FBX exporter (capsule man with Mixamo's names, up to eight influences a vertex) and
+/// the Khronos glTF Blender I/O exporter (the same figure, JOINTS_0/JOINTS_1).
+#[test]
+fn characters_agree_with_blender() {
+    // (file, reference, our frames at the reference's times)
+    let cases = [
+        (
+            KENNEY,
+            "maya_kenney_character_7700_binary.npy",
+            [0usize, 6, 12, 20],
+        ),
+        (
+            "tests/data/characters/capsule_mixamo.fbx",
+            "capsule_mixamo_fbx.npy",
+            [0, 8, 18, 29],
+        ),
+        (
+            "tests/data/characters/capsule_mixamo.glb",
+            "capsule_mixamo_glb.npy",
+            [0, 8, 18, 29],
+        ),
+    ];
+    for (file, reference, frames) in cases {
+        let character = Character::open(file).unwrap();
+        let take = &character.take;
+        let (shape, values) = read_npy(&format!("tests/data/characters/blender/{reference}"));
+        assert_eq!(shape, [4, character.mesh.vertex_count(), 3], "{file}");
+        let per_time = shape[1] * 3;
+        let mut worst_of_all = 0.0f32;
+        let mut height = 0.0f32;
+        for (k, &frame) in frames.iter().enumerate() {
+            let ours = character.vertices(&take.skeleton, take.frame(frame).unwrap());
+            let blender: Vec<Vec3> = values[k * per_time..(k + 1) * per_time]
+                .chunks_exact(3)
+                .map(Vec3::from_slice)
+                .collect();
+            let (worst, tall) = worst(&ours, &blender);
+            worst_of_all = worst_of_all.max(worst);
+            height = height.max(tall);
+        }
+        eprintln!("{file}: worst {worst_of_all:.3e} m of a height of {height:.3} m");
+        assert!(
+            worst_of_all <= 1e-4 * height,
+            "{file}: {worst_of_all} m, height {height} m"
+        );
+    }
+}

@@ -46,3 +46,17 @@ pub(crate) fn load_all(
     }
     Ok(out)
 }
+
+/// `take` (read from `path`) on `character`: the character's own take when the take is the
+/// character's file itself (its motion as the file has it, nothing retargeted), else
+/// [`Character::dress`].
+pub(crate) fn dressed(character: &Character, take: &Take, path: &Path) -> Result<Take, Error> {
+    let same_file = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+        (Ok(a), Ok(b)) => a == b,
+        _ => false,
+    };
+    if same_file(path, Path::new(&character.take.name)) && take.take == character.take.take {
+        return Ok(character.take.clone());
+    }
+    character.dress(take, &[], false, crate::io::parallel::cores())
+}

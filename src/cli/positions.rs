@@ -46,6 +46,15 @@ pub(crate) struct PositionsArgs {
     /// Output file (`-` or none: standard output).
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// Put the take on a character (.fbx, .glb or .gltf with a skinned mesh): retargeted onto
+    /// its skeleton by role; with --vertices, its skinned mesh is written.
+    #[arg(long, value_name = "CHAR")]
+    character: Option<PathBuf>,
+    /// With --character, write the skinned mesh's vertices instead of the joints: CSV
+    /// `frame,vertex,x,y,z`, JSON (with the triangles), or an .npy array (frames, vertices, 3)
+    /// of float32, in the character's units (metres).
+    #[arg(long, requires = "character")]
+    vertices: bool,
 }
 
 pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
@@ -54,9 +63,30 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
         args.output = None;
     }
     if let Some(output) = &args.output {
-        check_output(output, &["csv", "json"])?;
+        let formats: &[&str] = if args.vertices {
+            &["csv", "json", "npy"]
+        } else {
+            &["csv", "json"]
+        };
+        check_output(output, formats)?;
     }
     let loaded = load(&args.file, &args.source)?;
+    let character = match &args.character {
+        Some(path) => super::character::load_all(std::slice::from_ref(path), 1, &args.source)?
+            .pop()
+            .flatten(),
+        None => None,
+    };
+    let loaded = match &character {
+        Some(character) => super::character::dressed(character, &loaded, &args.file)?,
+        None => loaded,
+    };
+    if args.vertices && (args.left_handed || args.scale != 1.0 || args.format.is_some()) {
+        return Err(Error::Usage(
+            "--vertices writes the character's units as they are, its format told by -o              (.csv, .json, .npy): --left-handed, --scale and --format are for joints"
+                .into(),
+        ));
+    }
     let available = loaded.motion.frame_count().max(1);
     if loaded.motion.frame_count() == 0 {
         eprintln!(
@@ -79,6 +109,42 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
         crate::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, offset_mode)
     {
         eprintln!("bvhview: {}: warning: {warning}", args.file.display());
+    }
+    if let Some(character) = character.as_deref().filter(|_| args.vertices) {
+        let format = match args.output.as_deref().map(take::extension).as_deref() {
+            Some("json") => crate::character::VertexFormat::Json,
+            Some("npy") => crate::character::VertexFormat::Npy,
+            _ => crate::character::VertexFormat::Csv,
+        };
+        let output = args.output.as_deref();
+        if format == crate::character::VertexFormat::Npy && output.is_none() {
+            return Err(Error::Usage(
+                "--vertices: an .npy array goes to a file (-o OUT.npy)".into(),
+            ));
+        }
+        let mut out = open_output(output)?;
+        let result = crate::character::write_vertices(
+            &mut out,
+            character,
+            &loaded.skeleton,
+            &loaded.motion,
+            range.clone(),
+            format,
+        )
+        .and_then(|()| out.flush());
+        finish_write(out, result, output)?;
+        if let Some(path) = output {
+            wrote(format_args!(
+                "{}: {} × {}",
+                path.display(),
+                crate::io::error::counted(range.len(), "frame"),
+                match character.mesh.vertex_count() {
+                    1 => "1 vertex".to_string(),
+                    n => format!("{n} vertices"),
+                }
+            ));
+        }
+        return Ok(ExitCode::SUCCESS);
     }
     let options = PositionsOptions {
         format: args

@@ -152,9 +152,9 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         takes.push((short_name(file), loaded, up, stance));
     }
     let characters = super::character::load_all(&args.character, files.len(), &args.source)?;
-    for (take, character) in takes.iter_mut().zip(&characters) {
+    for ((take, character), (file, _)) in takes.iter_mut().zip(&characters).zip(&files) {
         if let Some(character) = character {
-            let dressed = character.dress(&take.1, &[], false, crate::io::parallel::cores())?;
+            let dressed = super::character::dressed(character, &take.1, file)?;
             take.3 = dressed.stance(mode);
             take.2 = resolve_up(args.view.up, &take.3, &take.0, framed_view);
             take.1 = dressed;

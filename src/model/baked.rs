@@ -219,7 +219,7 @@ fn pose_fault(pose: &Pose) -> Option<&'static str> {
 /// without animation passes its rest pose as its one frame). Frames are asked for once each, in
 /// order, and only their local poses are kept (28 bytes a joint and frame).
 ///
-/// `zero_at_rest`: each joint's frame turned so that the file's rest pose is
+/// `zero_at_rest` (a character's skeleton): no leaf becomes an End Site, and each joint's frame turned so that the file's rest pose is
 /// the skeleton's zero pose (every channel 0, as a BVH's rest pose is), its world rotation in a
 /// frame taken relative to its rest rotation. World positions are the same either way. A
 /// character's skeleton is read so: retargeting aligns rest poses, and a mesh is bound in its
@@ -342,7 +342,10 @@ pub fn build_with(
         let mut joint = Joint::new(nodes[i].name.clone(), nodes[i].parent);
         joint.offset = offset;
         joint.children = children[i].clone();
-        joint.end_site = nodes[i].parent.is_some() && children[i].is_empty() && !translates[i];
+        // A character's leaf joints keep their rotations: a mesh may be bound to them (a head,
+        // a hand without fingers).
+        joint.end_site =
+            !zero_at_rest && nodes[i].parent.is_some() && children[i].is_empty() && !translates[i];
         if !joint.end_site {
             if translates[i] {
                 joint
