@@ -65,6 +65,14 @@ for folder in "${folders[@]}"; do
         done
     done
 done
+# Characters (issue 49): takes put on each committed character, and each on itself.
+for character in tests/data/characters/*.fbx tests/data/characters/*.glb; do
+    name=$(basename "$character")
+    "$cli" convert -q tests/data/bvh/bvh11_131_01.bvh --frames 0..60 --character "$character" \
+        -o "$out/walk_on_${name%.*}_${name##*.}.glb" || failed=$((failed + 1))
+    "$cli" convert -q "$character" --character "$character" -o "$out/own_${name%.*}_${name##*.}.gltf" \
+        || failed=$((failed + 1))
+done
 "$cli" convert -q tests/oracle/inputs/tiny_crlf.bvh -o "$out/tiny_crlf.gltf"
 "$cli" convert -q tests/oracle/inputs/tiny_crlf.bvh --skin -o "$out/tiny_crlf.skin.gltf"
 

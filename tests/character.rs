@@ -137,3 +137,50 @@ fn characters_agree_with_blender() {
         );
     }
 }
+
+/// `convert --character` writes the character's mesh bound to the take's joints (a glTF skin per
+/// mesh of the file): read back as a character, every vertex is where bvhview put it, for each
+/// character on itself and for a CMU walk put on each.
+#[test]
+fn a_character_written_as_gltf_reads_back_the_same() {
+    use bvhview::gltf::{Container, to_gltf_character};
+    let walk = bvhview::Take::open("tests/data/bvh/bvh11_131_01.bvh")
+        .unwrap()
+        .trim(0..40);
+    let folder = tempfile::tempdir().unwrap();
+    for file in [
+        KENNEY,
+        "tests/data/characters/capsule_mixamo.fbx",
+        "tests/data/characters/capsule_mixamo.glb",
+    ] {
+        let character = Character::open(file).unwrap();
+        let on_walk = character.dress(&walk, &[], false, 2).unwrap();
+        for (label, take) in [("itself", &character.take), ("the walk", &on_walk)] {
+            let bytes = to_gltf_character(
+                &take.skeleton,
+                &take.motion,
+                &character.mesh,
+                Container::Glb,
+            )
+            .unwrap();
+            let path = folder.path().join("out.glb");
+            std::fs::write(&path, bytes).unwrap();
+            let back = Character::open(&path).unwrap();
+            assert_eq!(back.mesh.vertex_count(), character.mesh.vertex_count());
+            assert_eq!(back.take.frame_count(), take.frame_count());
+            let mut worst_of_all = (0.0f32, 0.0f32);
+            for frame in [0, take.frame_count() / 2, take.frame_count() - 1] {
+                let want = character.vertices(&take.skeleton, take.frame(frame).unwrap());
+                let got = back.vertices(&back.take.skeleton, back.take.frame(frame).unwrap());
+                let (worst, height) = worst(&got, &want);
+                worst_of_all = (worst_of_all.0.max(worst), worst_of_all.1.max(height));
+            }
+            let (worst, height) = worst_of_all;
+            eprintln!("{file} on {label}: worst {worst:.3e} m of {height:.3} m");
+            assert!(
+                worst <= 1e-5 * height,
+                "{file} on {label}: {worst} m of {height} m"
+            );
+        }
+    }
+}

@@ -367,6 +367,7 @@ fn frames_drawn_for_a_sequence_equal_single_pictures() {
         motion: &take.motion,
         up: bvhview::model::pose::Up::Y,
         stance: take.stance(OffsetMode::Replace),
+        mesh: None,
     }];
     let mut sequence = bvhview::render::Renderer::new(200, 150).unwrap();
     let mut single = bvhview::render::Renderer::new(200, 150).unwrap();

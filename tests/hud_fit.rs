@@ -176,6 +176,7 @@ fn labels_never_overlap_other_text() {
             motion: &l.motion,
             up: bvhview::model::pose::Up::Y,
             stance: l.stance(OffsetMode::Replace),
+            mesh: None,
         })
         .collect();
     let names: Vec<&str> = takes.iter().map(|(n, _)| n.as_str()).collect();

@@ -63,6 +63,11 @@ pub(crate) struct ConvertArgs {
     /// glTF only: add the viewer's generated skin as a mesh skinned to the joints.
     #[arg(long)]
     skin: bool,
+    /// glTF only: put the take (after the edits) on a character (.fbx, .glb or .gltf with a
+    /// skinned mesh), retargeted onto its skeleton by role, and write the character's mesh
+    /// bound to it: the take plays on the character in any glTF viewer.
+    #[arg(long, value_name = "CHAR", conflicts_with = "skin")]
+    character: Option<PathBuf>,
     /// The format a folder's takes are written in (a file's is its -o extension).
     #[arg(long, value_enum)]
     to: Option<TakeFormat>,
@@ -110,6 +115,35 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         eprintln!("bvhview: {}: warning: {warning}", args.input.display());
     }
     let loaded = edit(&args, loaded)?;
+    if let Some(path) = &args.character {
+        let character = super::character::load_all(std::slice::from_ref(path), 1, &args.source)?
+            .pop()
+            .flatten()
+            .expect("one character asked for");
+        let dressed = super::character::dressed(&character, &loaded, &args.input)?;
+        let container = match format {
+            TakeFormat::Gltf => crate::gltf::Container::Gltf,
+            _ => crate::gltf::Container::Glb,
+        };
+        let bytes = crate::gltf::to_gltf_character(
+            &dressed.skeleton,
+            &dressed.motion,
+            &character.mesh,
+            container,
+        )?;
+        let target = (!is_stdio(&args.output)).then_some(args.output.as_path());
+        let mut out = open_output(target)?;
+        let result = out.write_all(&bytes);
+        finish_write(out, result, target)?;
+        wrote(format_args!(
+            "{}: {} on {} ({} vertices)",
+            args.output.display(),
+            crate::io::error::counted(dressed.motion.frame_count(), "frame"),
+            path.display(),
+            character.mesh.vertex_count()
+        ));
+        return Ok(ExitCode::SUCCESS);
+    }
     write_take(
         &args.output,
         format,
@@ -129,6 +163,11 @@ fn threads(args: &ConvertArgs) -> usize {
 
 /// Refuses options that could not apply to any take, before anything is read.
 fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
+    if args.character.is_some() && format == TakeFormat::Bvh {
+        return Err(Error::Usage(
+            "--character needs a glTF output (.glb or .gltf); a BVH file has no mesh".into(),
+        ));
+    }
     if args.skin && format == TakeFormat::Bvh {
         return Err(Error::Usage(
             "--skin needs a glTF output (.glb or .gltf); a BVH file has no mesh".into(),
@@ -235,6 +274,12 @@ enum Outcome {
 /// nothing written.
 fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
     let dir = &args.input;
+    if args.character.is_some() {
+        return Err(Error::Usage(format!(
+            "{} is a folder: --character puts one take on a character (give a file)",
+            dir.display()
+        )));
+    }
     let format = args.to.ok_or_else(|| {
         Error::Usage(format!(
             "{} is a folder: say the format its takes are written in with --to bvh, glb or gltf \

@@ -64,16 +64,16 @@ pub(super) fn read(
         let Some(mesh) = node.mesh.as_ref() else {
             continue;
         };
+        builder.begin_part();
         let n = node.element.typed_id as usize;
         builder.reserve((mesh.vertices.len() + mesh.num_triangles) as u64)?;
         let geometry_to_node =
             matrix(&node.node_to_world).inverse() * matrix(&node.geometry_to_world);
-        // The node itself (a rigid mesh), and the bone a vertex without weights stays with.
-        let rigid = builder.bone(bone_of(scene, joint, turn, n, geometry_to_node));
-        let fixed = builder.bone(Bone {
+        // A vertex without weights stays where the bind pose put it.
+        let fixed = Bone {
             joint: None,
             bind: (turn * matrix(&node.geometry_to_world)).as_mat4(),
-        });
+        };
         if !mesh.blend_deformers.is_empty() {
             blend_shapes += 1;
         }
@@ -113,7 +113,8 @@ pub(super) fn read(
                     })
                     .collect()
             }
-            None => Vec::new(),
+            // A mesh without a skin moves with its node (or the joint above it).
+            None => vec![builder.bone(bone_of(scene, joint, turn, n, geometry_to_node))],
         };
         if let Some(skin) = skin {
             builder.reserve(skin.weights.len() as u64)?;
@@ -123,7 +124,7 @@ pub(super) fn read(
         for (v, position) in mesh.vertices.iter().enumerate() {
             let position = Vec3::new(position.x as f32, position.y as f32, position.z as f32);
             let influences: Vec<(u32, f32)> = match skin {
-                None => vec![(rigid, 1.0)],
+                None => vec![(clusters[0], 1.0)],
                 Some(skin) => {
                     let Some(vertex) = skin.vertices.get(v) else {
                         return Err(Error::Usage(format!(

@@ -561,12 +561,12 @@ fn load_nodes(
         })
         .collect::<Result<Vec<Node>, Error>>()?;
     let renamed = baked::unique_names(&mut nodes);
-    let turn = unstated_axes_turn(&scene);
+    let turn = unstated_axes_turn(scene);
     let rest: Vec<Pose> = order
         .iter()
         .map(|&i| Pose::of_matrix(&(turn * matrix(&scene.nodes[i].node_to_world))))
         .collect();
-    let fps = fps(&scene);
+    let fps = fps(scene);
     let mut warnings = renamed;
     if turn != DMat4::IDENTITY {
         warnings.push(
@@ -601,7 +601,7 @@ fn load_nodes(
         // 16 s, each frame blending every layer's curves). The nodes are the joints' ancestors
         // on the quick way, every node of the scene on the whole scene's evaluation (checked
         // again before it is taken).
-        let chains = ancestors(&scene, &order);
+        let chains = ancestors(scene, &order);
         let values: usize = stack.layers.iter().map(|l| l.anim_values.len()).sum();
         let within = |nodes: usize| -> Result<(), Error> {
             let budget = baked::frame_work_budget(bytes_len as u64);
@@ -657,7 +657,7 @@ fn load_nodes(
         // (it would not where ufbx keeps a node's inheritance its own way).
         let quick = |f: usize| -> Vec<Pose> {
             let time = begin + f as f64 / fps;
-            quick_poses(&scene, &stack.anim, &chains, &order, time)
+            quick_poses(scene, &stack.anim, &chains, &order, time)
         };
         let same = |a: &[Pose], b: &[Pose]| {
             a.iter().zip(b).all(|(p, q)| {

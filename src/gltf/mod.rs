@@ -13,10 +13,12 @@ pub use read::{
     takes,
 };
 #[cfg(feature = "gltf")]
-pub use write::to_gltf;
+pub use write::{to_gltf, to_gltf_character};
 
 #[cfg(not(feature = "gltf"))]
-pub use absent::{load, load_bytes, load_character, load_character_bytes, takes, to_gltf};
+pub use absent::{
+    load, load_bytes, load_character, load_character_bytes, takes, to_gltf, to_gltf_character,
+};
 
 /// Which container: a binary `.glb`, or a `.gltf` text file with its buffer inline (base64).
 ///
@@ -87,6 +89,22 @@ mod absent {
     /// Refuses: this build reads no glTF.
     pub fn takes(path: &Path, _: u64) -> Result<Vec<TakeInfo>, Error> {
         Err(without("gltf", "glTF", &path.display().to_string()))
+    }
+
+    /// Refuses: this build writes no glTF.
+    pub fn to_gltf_character(
+        _: &Skeleton,
+        _: &Motion,
+        _: &crate::model::mesh::Mesh,
+        container: Container,
+    ) -> Result<Vec<u8>, Error> {
+        to_gltf(
+            &Skeleton::default(),
+            &Motion::default(),
+            OffsetMode::Replace,
+            container,
+            false,
+        )
     }
 
     /// Refuses: this build writes no glTF.

@@ -8,6 +8,7 @@
 use super::Container;
 use crate::io::error::Error;
 use crate::model::bone_skin::Body;
+use crate::model::mesh::Mesh;
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, joint_translation, local_rotation};
 use crate::model::skeleton::Skeleton;
@@ -215,6 +216,186 @@ impl Data {
         }
         Ok(())
     }
+
+    /// A character's mesh ([`Mesh`]), bound to the joint nodes: each of its parts (the meshes
+    /// of the file it was read from) one mesh node with a skin of its own whose inverse bind
+    /// matrices are the part's bind matrices, every influence written (four a `JOINTS_n` /
+    /// `WEIGHTS_n` pair, as many pairs as the vertex with the most needs). A bone bound to no
+    /// joint is bound to one extra node at the origin.
+    fn character(&mut self, skeleton: &Skeleton, mesh: &Mesh) -> Result<(), Error> {
+        mesh.check()
+            .map_err(|why| Error::Usage(format!("cannot write the mesh: {why}")))?;
+        let array = Some(json::buffer::Target::ArrayBuffer);
+        let mut fixed_node: Option<json::Index<json::Node>> = None;
+        for k in 0..mesh.parts.len() {
+            let (vertices, corners, bones) = mesh.part_ranges(k);
+            if vertices.is_empty() || corners.is_empty() {
+                continue;
+            }
+            if bones.len() > usize::from(u16::MAX) {
+                return Err(Error::Usage(format!(
+                    "cannot write a glTF skin of {} bones: at most {} fit",
+                    bones.len(),
+                    u16::MAX
+                )));
+            }
+            let count = vertices.len();
+            let positions: Vec<f32> = mesh.positions[vertices.clone()]
+                .iter()
+                .flat_map(|p| p.to_array())
+                .collect();
+            let (lo, hi) = mesh.positions[vertices.clone()].iter().fold(
+                (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)),
+                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+            );
+            let position = self.accessor(
+                &positions,
+                count,
+                json::accessor::Type::Vec3,
+                Some((lo.to_array().to_vec(), hi.to_array().to_vec())),
+                array,
+            );
+            let normals: Vec<f32> = mesh.normals[vertices.clone()]
+                .iter()
+                .map(|n| n.try_normalize().unwrap_or(glam::Vec3::Y))
+                .flat_map(|n| n.to_array())
+                .collect();
+            let normal = self.accessor(&normals, count, json::accessor::Type::Vec3, None, array);
+            let sets = vertices
+                .clone()
+                .map(|v| mesh.influences_of(v).len())
+                .max()
+                .unwrap_or(1)
+                .div_ceil(4)
+                .max(1);
+            let mut attributes = vec![
+                (json::mesh::Semantic::Positions, position),
+                (json::mesh::Semantic::Normals, normal),
+            ];
+            for set in 0..sets {
+                let (mut joints, mut weights) = (Vec::new(), Vec::new());
+                for v in vertices.clone() {
+                    let influences = mesh.influences_of(v);
+                    for slot in 0..4 {
+                        // Unused slots: joint 0 with weight 0, as the format asks.
+                        let (joint, weight) = match influences.get(4 * set + slot) {
+                            Some(i) => ((i.bone as usize - bones.start) as u16, i.weight),
+                            None => (0, 0.0),
+                        };
+                        joints.extend(joint.to_le_bytes());
+                        weights.push(weight);
+                    }
+                }
+                let joints = self.raw_accessor(
+                    &joints,
+                    json::accessor::ComponentType::U16,
+                    count,
+                    json::accessor::Type::Vec4,
+                    None,
+                    array,
+                );
+                let weights =
+                    self.accessor(&weights, count, json::accessor::Type::Vec4, None, array);
+                attributes.push((json::mesh::Semantic::Joints(set as u32), joints));
+                attributes.push((json::mesh::Semantic::Weights(set as u32), weights));
+            }
+            let index_bytes: Vec<u8> = mesh.triangles[corners.clone()]
+                .iter()
+                .flat_map(|&c| (c - vertices.start as u32).to_le_bytes())
+                .collect();
+            let indices = self.raw_accessor(
+                &index_bytes,
+                json::accessor::ComponentType::U32,
+                corners.len(),
+                json::accessor::Type::Scalar,
+                None,
+                Some(json::buffer::Target::ElementArrayBuffer),
+            );
+            let inverse: Vec<f32> = mesh.bones[bones.clone()]
+                .iter()
+                .flat_map(|b| b.bind.to_cols_array())
+                .collect();
+            let inverse_bind = self.accessor(
+                &inverse,
+                bones.len(),
+                json::accessor::Type::Mat4,
+                None,
+                None,
+            );
+            let mut joints: Vec<json::Index<json::Node>> = Vec::with_capacity(bones.len());
+            for bone in &mesh.bones[bones.clone()] {
+                joints.push(match bone.joint {
+                    // A joint bound twice in one part (two clusters on one bone) is bound the
+                    // second time through a child node of its own at the joint (a skin names
+                    // each node once).
+                    Some(j) if joints.contains(&json::Index::new(j as u32)) => {
+                        let helper = self.root.push(json::Node {
+                            name: Some(format!("{}_bind", export_name(skeleton, j))),
+                            ..Default::default()
+                        });
+                        let node = &mut self.root.nodes[j];
+                        node.children.get_or_insert_with(Vec::new).push(helper);
+                        helper
+                    }
+                    Some(j) if j < skeleton.joints.len() => json::Index::new(j as u32),
+                    Some(j) => {
+                        return Err(Error::Usage(format!(
+                            "cannot write the mesh: a bone of joint {j} of {}",
+                            skeleton.joints.len()
+                        )));
+                    }
+                    None => *fixed_node.get_or_insert_with(|| {
+                        let node = self.root.push(json::Node {
+                            name: Some("mesh_origin".to_string()),
+                            ..Default::default()
+                        });
+                        if let Some(scene) = self.root.scenes.first_mut() {
+                            scene.nodes.push(node);
+                        }
+                        node
+                    }),
+                });
+            }
+            let name = format!("mesh{k}");
+            let primitive = json::mesh::Primitive {
+                attributes: attributes
+                    .into_iter()
+                    .map(|(semantic, accessor)| (Checked::Valid(semantic), accessor))
+                    .collect(),
+                extensions: Default::default(),
+                extras: Default::default(),
+                indices: Some(indices),
+                material: None,
+                mode: Checked::Valid(json::mesh::Mode::Triangles),
+                targets: None,
+            };
+            let gltf_mesh = self.root.push(json::Mesh {
+                extensions: Default::default(),
+                extras: Default::default(),
+                name: Some(name.clone()),
+                primitives: vec![primitive],
+                weights: None,
+            });
+            let skin = self.root.push(json::Skin {
+                extensions: Default::default(),
+                extras: Default::default(),
+                inverse_bind_matrices: Some(inverse_bind),
+                joints,
+                name: Some(name.clone()),
+                skeleton: None,
+            });
+            let node = self.root.push(json::Node {
+                name: Some(name),
+                mesh: Some(gltf_mesh),
+                skin: Some(skin),
+                ..Default::default()
+            });
+            if let Some(scene) = self.root.scenes.first_mut() {
+                scene.nodes.push(node);
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The skeleton and its motion as glTF: the bytes of the `.glb` or `.gltf` file.
@@ -224,6 +405,48 @@ pub fn to_gltf(
     mode: OffsetMode,
     container: Container,
     with_skin: bool,
+) -> Result<Vec<u8>, Error> {
+    let skin = if with_skin {
+        Skin::Generated
+    } else {
+        Skin::None
+    };
+    write(skeleton, motion, mode, container, skin)
+}
+
+/// A character's take as glTF: the skeleton and motion as [`to_gltf`] writes them, and the
+/// character's mesh bound to the joint nodes (see [`crate::character`]). Its vertices move in
+/// any glTF viewer as bvhview skins them.
+pub fn to_gltf_character(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mesh: &Mesh,
+    container: Container,
+) -> Result<Vec<u8>, Error> {
+    write(
+        skeleton,
+        motion,
+        OffsetMode::Replace,
+        container,
+        Skin::Mesh(mesh),
+    )
+}
+
+/// What skin a glTF carries.
+enum Skin<'a> {
+    None,
+    /// The viewer's generated skin.
+    Generated,
+    /// A character's own mesh.
+    Mesh(&'a Mesh),
+}
+
+fn write(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mode: OffsetMode,
+    container: Container,
+    skin: Skin,
 ) -> Result<Vec<u8>, Error> {
     let mut data = Data {
         bytes: Vec::new(),
@@ -267,8 +490,10 @@ pub fn to_gltf(
         nodes: roots,
     });
     data.root.scene = Some(scene);
-    if with_skin {
-        data.skin(skeleton, mode)?;
+    match skin {
+        Skin::None => {}
+        Skin::Generated => data.skin(skeleton, mode)?,
+        Skin::Mesh(mesh) => data.character(skeleton, mesh)?,
     }
 
     let frames = motion.frame_count();

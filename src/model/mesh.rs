@@ -59,6 +59,20 @@ pub struct Bone {
     pub bind: Mat4,
 }
 
+/// Where one of the file's meshes starts in a [`Mesh`] that gathers several: its vertices,
+/// triangle corners and bones run to the next part's (or the end). A part's vertices are moved
+/// only by its own bones, and a part binds each joint once (a writer gives each part its own
+/// skin).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Part {
+    /// Its first vertex.
+    pub first_vertex: u32,
+    /// Its first triangle corner (in [`Mesh::triangles`]).
+    pub first_corner: u32,
+    /// Its first bone.
+    pub first_bone: u32,
+}
+
 /// A skinned mesh: vertices in the mesh's own coordinates, triangles, and every influence.
 ///
 /// ```
@@ -82,6 +96,7 @@ pub struct Bone {
 ///         Bone { joint: Some(0), bind: Mat4::IDENTITY },
 ///         Bone { joint: Some(1), bind: Mat4::IDENTITY },
 ///     ],
+///     parts: vec![Default::default()],
 /// };
 /// mesh.check().unwrap();
 /// // Joint 1 moves up by 2.
@@ -104,12 +119,36 @@ pub struct Mesh {
     pub influences: Vec<Influence>,
     /// The bones the influences name.
     pub bones: Vec<Bone>,
+    /// The file's meshes gathered here, in order (at least one when there are vertices).
+    pub parts: Vec<Part>,
 }
 
 impl Mesh {
     /// How many vertices.
     pub fn vertex_count(&self) -> usize {
         self.positions.len()
+    }
+
+    /// Part `k`'s vertices, triangle corners and bones.
+    pub fn part_ranges(
+        &self,
+        k: usize,
+    ) -> (
+        std::ops::Range<usize>,
+        std::ops::Range<usize>,
+        std::ops::Range<usize>,
+    ) {
+        let part = self.parts[k];
+        let next = self.parts.get(k + 1).copied().unwrap_or(Part {
+            first_vertex: self.positions.len() as u32,
+            first_corner: self.triangles.len() as u32,
+            first_bone: self.bones.len() as u32,
+        });
+        (
+            part.first_vertex as usize..next.first_vertex as usize,
+            part.first_corner as usize..next.first_corner as usize,
+            part.first_bone as usize..next.first_bone as usize,
+        )
     }
 
     /// Which of a skeleton's `joints` move some vertex.
@@ -150,6 +189,12 @@ impl Mesh {
                 bone: i.bone + bones,
                 weight: i.weight,
             }));
+        let corners = self.triangles.len() as u32 - other.triangles.len() as u32;
+        self.parts.extend(other.parts.iter().map(|p| Part {
+            first_vertex: p.first_vertex + vertices,
+            first_corner: p.first_corner + corners,
+            first_bone: p.first_bone + bones,
+        }));
         self.bones.extend(other.bones);
     }
 
@@ -164,7 +209,7 @@ impl Mesh {
                 self.influence_start.len()
             ));
         }
-        if self.triangles.len() % 3 != 0 {
+        if !self.triangles.len().is_multiple_of(3) {
             return Err("triangle corners are not a multiple of 3".into());
         }
         if let Some(i) = self.triangles.iter().find(|&&i| i as usize >= vertices) {
@@ -197,6 +242,37 @@ impl Mesh {
         }
         if let Some(b) = self.bones.iter().position(|b| !b.bind.is_finite()) {
             return Err(format!("bone {b}: a bind matrix that is not finite"));
+        }
+        if vertices > 0 && self.parts.first() != Some(&Part::default()) {
+            return Err("the first part does not start at the first vertex".into());
+        }
+        for k in 0..self.parts.len() {
+            let (vertices, corners, bones) = self.part_ranges(k);
+            if vertices.start > vertices.end
+                || corners.start > corners.end
+                || bones.start > bones.end
+            {
+                return Err(format!("part {k} ends before it starts"));
+            }
+            for v in vertices.clone() {
+                if self
+                    .influences_of(v)
+                    .iter()
+                    .any(|i| !bones.contains(&(i.bone as usize)))
+                {
+                    return Err(format!(
+                        "vertex {v} of part {k} is moved by another part's bone"
+                    ));
+                }
+            }
+            if self.triangles[corners]
+                .iter()
+                .any(|&c| !vertices.contains(&(c as usize)))
+            {
+                return Err(format!(
+                    "a triangle of part {k} names another part's vertex"
+                ));
+            }
         }
         Ok(())
     }
@@ -268,6 +344,8 @@ pub struct MeshBuilder {
     /// Vertices with no weight at all (they stay where the bind pose put them).
     pub unweighted: usize,
     name: String,
+    /// The current part's bone for vertices with no weight, made when first needed.
+    fallback: Option<u32>,
 }
 
 impl MeshBuilder {
@@ -282,6 +360,7 @@ impl MeshBuilder {
             renormalised: 0,
             unweighted: 0,
             name: name.to_string(),
+            fallback: None,
         }
     }
 
@@ -304,6 +383,16 @@ impl MeshBuilder {
         Ok(())
     }
 
+    /// Starts the next of the file's meshes (each reader calls it before a mesh's bones).
+    pub fn begin_part(&mut self) {
+        self.mesh.parts.push(Part {
+            first_vertex: self.mesh.positions.len() as u32,
+            first_corner: self.mesh.triangles.len() as u32,
+            first_bone: self.mesh.bones.len() as u32,
+        });
+        self.fallback = None;
+    }
+
     /// Adds a bone; its index.
     pub fn bone(&mut self, bone: Bone) -> u32 {
         self.mesh.bones.push(bone);
@@ -311,14 +400,15 @@ impl MeshBuilder {
     }
 
     /// Adds a vertex with its influences (bone, weight), weights of any sum; its index. A weight
-    /// that is not finite or is negative is refused (naming the vertex); weights of 0 are dropped; a
-    /// vertex with none is bound to `fallback` (a bone that never moves).
+    /// that is not finite or is negative is refused (naming the vertex); weights of 0 are
+    /// dropped; a vertex with none is bound to `fallback` (a bone that never moves, added to the
+    /// part the first time a vertex needs it).
     pub fn vertex(
         &mut self,
         position: Vec3,
         normal: Vec3,
         influences: impl IntoIterator<Item = (u32, f32)>,
-        fallback: u32,
+        fallback: Bone,
     ) -> Result<u32, Error> {
         self.reserve(1)?;
         let index = self.mesh.positions.len();
@@ -353,10 +443,15 @@ impl MeshBuilder {
         let total: f32 = added.iter().map(|i| i.weight).sum();
         if added.is_empty() || total <= 0.0 {
             self.mesh.influences.truncate(start);
-            self.mesh.influences.push(Influence {
-                bone: fallback,
-                weight: 1.0,
-            });
+            let bone = match self.fallback {
+                Some(bone) => bone,
+                None => {
+                    let bone = self.bone(fallback);
+                    self.fallback = Some(bone);
+                    bone
+                }
+            };
+            self.mesh.influences.push(Influence { bone, weight: 1.0 });
             self.unweighted += 1;
         } else if (total - 1.0).abs() > 1e-3 {
             for influence in added.iter_mut() {
@@ -419,7 +514,10 @@ impl MeshBuilder {
     }
 
     /// The mesh, and a warning for each thing that was mended.
-    pub fn finish(self) -> (Mesh, Vec<String>) {
+    pub fn finish(mut self) -> (Mesh, Vec<String>) {
+        if self.mesh.parts.is_empty() && !self.mesh.positions.is_empty() {
+            self.mesh.parts.push(Part::default());
+        }
         let mut said = Vec::new();
         if self.renormalised > 0 {
             said.push(format!(
@@ -451,14 +549,15 @@ pub fn frame_scale(ours: Mat4, file: Mat4) -> Mat4 {
 mod tests {
     use super::*;
 
+    const FIXED: Bone = Bone {
+        joint: None,
+        bind: Mat4::IDENTITY,
+    };
+
     fn builder() -> MeshBuilder {
         let mut b = MeshBuilder::new("test", 0);
         b.bone(Bone {
             joint: Some(0),
-            bind: Mat4::IDENTITY,
-        });
-        b.bone(Bone {
-            joint: None,
             bind: Mat4::IDENTITY,
         });
         b
@@ -467,10 +566,10 @@ mod tests {
     #[test]
     fn weights_are_scaled_to_one_and_counted() {
         let mut b = builder();
-        b.vertex(Vec3::X, Vec3::Y, [(0, 0.25), (0, 0.25)], 1)
+        b.vertex(Vec3::X, Vec3::Y, [(0, 0.25), (0, 0.25)], FIXED)
             .unwrap();
-        b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], 1).unwrap();
-        b.vertex(Vec3::X, Vec3::Y, [(0, 0.0)], 1).unwrap();
+        b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], FIXED).unwrap();
+        b.vertex(Vec3::X, Vec3::Y, [(0, 0.0)], FIXED).unwrap();
         let (mesh, said) = b.finish();
         assert_eq!(mesh.influences_of(0)[0].weight, 0.5);
         assert_eq!(
@@ -487,11 +586,11 @@ mod tests {
     #[test]
     fn bad_numbers_and_indices_are_refused() {
         let mut b = builder();
-        assert!(b.vertex(Vec3::NAN, Vec3::Y, [], 1).is_err());
-        assert!(b.vertex(Vec3::X, Vec3::Y, [(0, f32::NAN)], 1).is_err());
-        assert!(b.vertex(Vec3::X, Vec3::Y, [(0, -1.0)], 1).is_err());
-        assert!(b.vertex(Vec3::X, Vec3::Y, [(7, 1.0)], 1).is_err());
-        b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], 1).unwrap();
+        assert!(b.vertex(Vec3::NAN, Vec3::Y, [], FIXED).is_err());
+        assert!(b.vertex(Vec3::X, Vec3::Y, [(0, f32::NAN)], FIXED).is_err());
+        assert!(b.vertex(Vec3::X, Vec3::Y, [(0, -1.0)], FIXED).is_err());
+        assert!(b.vertex(Vec3::X, Vec3::Y, [(7, 1.0)], FIXED).is_err());
+        b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], FIXED).unwrap();
         assert!(b.triangle([0, 0, 1]).is_err());
     }
 
@@ -500,11 +599,11 @@ mod tests {
         let mut b = builder();
         let budget = mesh_budget(0);
         for _ in 0..budget {
-            if b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], 1).is_err() {
+            if b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], FIXED).is_err() {
                 break;
             }
         }
-        let error = b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], 1).unwrap_err();
+        let error = b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], FIXED).unwrap_err();
         assert!(
             error.to_string().contains("refused as damaged or hostile"),
             "{error}"
@@ -526,7 +625,7 @@ mod tests {
             world.push(Mat4::from_translation(Vec3::new(j as f32, 0.0, 0.0)));
         }
         let influences: Vec<(u32, f32)> = (0..8).map(|j| (j, 1.0 + j as f32)).collect();
-        b.vertex(Vec3::ZERO, Vec3::Y, influences, 0).unwrap();
+        b.vertex(Vec3::ZERO, Vec3::Y, influences, FIXED).unwrap();
         let (mesh, _) = b.finish();
         let (mut p, mut n) = (Vec::new(), Vec::new());
         mesh.deform(&world, &mut p, &mut n);

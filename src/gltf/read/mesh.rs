@@ -59,6 +59,7 @@ pub(super) fn read(
     let fail = |why: String| bad(path, why);
     for node in document.nodes() {
         let Some(mesh) = node.mesh() else { continue };
+        builder.begin_part();
         let n = node.index();
         // Skinned: each of the skin's joints binds through its inverse bind matrix; the mesh's
         // node transform is not used (glTF 2.0, 3.7.3.3).
@@ -95,14 +96,14 @@ pub(super) fn read(
         };
         // A vertex of a skinned mesh with no weight stays where its geometry is (the node's
         // own transform is not used for a skin).
-        let fixed = builder.bone(Bone {
+        let fixed = Bone {
             joint: None,
             bind: if node.skin().is_some() {
                 Mat4::IDENTITY
             } else {
                 frames.rest[n].as_mat4()
             },
-        });
+        };
         for primitive in mesh.primitives() {
             if primitive.mode() != gltf::mesh::Mode::Triangles {
                 left_out.push(format!(
