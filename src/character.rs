@@ -131,6 +131,20 @@ impl Character {
         dressed.offset_mode = OffsetMode::Replace;
         Ok(dressed)
     }
+
+    /// `take`, read from the file `path`, on this character: the character's own take when it
+    /// is the character's file itself (its motion as the file has it, nothing retargeted), else
+    /// [`Character::dress`] by the guessed map.
+    pub fn dress_file(&self, take: &Take, path: &Path, threads: usize) -> Result<Take, Error> {
+        let same_file = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
+            (Ok(a), Ok(b)) => a == b,
+            _ => false,
+        };
+        if same_file(path, Path::new(&self.take.name)) && take.take == self.take.take {
+            return Ok(self.take.clone());
+        }
+        self.dress(take, &[], false, threads)
+    }
 }
 
 /// How [`write_vertices`] writes: `frame,vertex,x,y,z` lines, a JSON document, or a NumPy

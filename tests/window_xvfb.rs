@@ -973,3 +973,58 @@ fn the_window_records_what_it_shows_into_an_mp4() {
     assert!(!pictures.is_empty());
     assert!(psnr(&pictures[0], &one.rgb) >= 35.0);
 }
+
+/// Issue 49: `--character` puts the take on a character in the window as `snapshot` draws it
+/// (the studio look: the mesh skinned, lit, casting its shadow).
+#[test]
+fn viewer_shows_a_take_on_a_character_as_snapshot_does() {
+    let _alone = one_at_a_time();
+    let dir = std::env::temp_dir().join(format!("bvhview-window-char-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let walk = repo.join("tests/data/bvh/bvh11_131_01.bvh");
+    let character = repo.join("tests/data/characters/capsule_mixamo.fbx");
+    let png = dir.join("want.png");
+    let made = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("snapshot")
+        .arg(&walk)
+        .arg("--character")
+        .arg(&character)
+        .args(["--look", "studio", "-q", "-o"])
+        .arg(&png)
+        .status()
+        .unwrap();
+    assert!(made.success());
+    let want = Image::read_png(&png).unwrap();
+    let (_xvfb, display) = start_xvfb();
+    let (mut viewer, window) = open_viewer(
+        &display,
+        &dir,
+        &[
+            &walk,
+            Path::new("--character"),
+            &character,
+            Path::new("--look"),
+            Path::new("studio"),
+        ],
+        "^bvhview - bvh11_131_01.bvh - frame",
+    );
+    let start = Instant::now();
+    loop {
+        let seen = capture(&display, &window);
+        let differing = seen.differing_pixels(&want);
+        if differing * 1000 <= (want.width * want.height) as usize {
+            break;
+        }
+        if start.elapsed() > Duration::from_secs(29) {
+            let _ = seen.write_png(&std::env::temp_dir().join("bvhview-window-seen.png"));
+        }
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "{differing} pixels differ from the snapshot on the character"
+        );
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    let _ = viewer.0.kill();
+    let _ = viewer.0.wait();
+}

@@ -3,7 +3,7 @@
 
 use super::*;
 use crate::character::Character;
-use std::rc::Rc;
+use std::sync::Arc;
 
 /// The character each of `count` takes is put on: none without `--character`, one for all when
 /// given once, else one per take in order. A file named twice is read once. Each character's
@@ -12,7 +12,7 @@ pub(crate) fn load_all(
     paths: &[PathBuf],
     count: usize,
     source: &Source,
-) -> Result<Vec<Option<Rc<Character>>>, Error> {
+) -> Result<Vec<Option<Arc<Character>>>, Error> {
     if paths.is_empty() {
         return Ok(vec![None; count]);
     }
@@ -24,7 +24,7 @@ pub(crate) fn load_all(
             crate::io::error::counted(count, "take")
         )));
     }
-    let mut read: Vec<(PathBuf, Rc<Character>)> = Vec::new();
+    let mut read: Vec<(PathBuf, Arc<Character>)> = Vec::new();
     let mut out = Vec::with_capacity(count);
     for k in 0..count {
         let path = &paths[k.min(paths.len() - 1)];
@@ -32,7 +32,7 @@ pub(crate) fn load_all(
             out.push(Some(character.clone()));
             continue;
         }
-        let character = Rc::new(Character::open_with(
+        let character = Arc::new(Character::open_with(
             path,
             source.max_size,
             None,
@@ -45,18 +45,4 @@ pub(crate) fn load_all(
         out.push(Some(character));
     }
     Ok(out)
-}
-
-/// `take` (read from `path`) on `character`: the character's own take when the take is the
-/// character's file itself (its motion as the file has it, nothing retargeted), else
-/// [`Character::dress`].
-pub(crate) fn dressed(character: &Character, take: &Take, path: &Path) -> Result<Take, Error> {
-    let same_file = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
-        (Ok(a), Ok(b)) => a == b,
-        _ => false,
-    };
-    if same_file(path, Path::new(&character.take.name)) && take.take == character.take.take {
-        return Ok(character.take.clone());
-    }
-    character.dress(take, &[], false, crate::io::parallel::cores())
 }

@@ -120,7 +120,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
             .pop()
             .flatten()
             .expect("one character asked for");
-        let dressed = super::character::dressed(&character, &loaded, &args.input)?;
+        let dressed = character.dress_file(&loaded, &args.input, crate::io::parallel::cores())?;
         let container = match format {
             TakeFormat::Gltf => crate::gltf::Container::Gltf,
             _ => crate::gltf::Container::Glb,

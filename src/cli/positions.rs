@@ -78,7 +78,9 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
         None => None,
     };
     let loaded = match &character {
-        Some(character) => super::character::dressed(character, &loaded, &args.file)?,
+        Some(character) => {
+            character.dress_file(&loaded, &args.file, crate::io::parallel::cores())?
+        }
         None => loaded,
     };
     if args.vertices && (args.left_handed || args.scale != 1.0 || args.format.is_some()) {

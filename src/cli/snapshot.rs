@@ -154,7 +154,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     let characters = super::character::load_all(&args.character, files.len(), &args.source)?;
     for ((take, character), (file, _)) in takes.iter_mut().zip(&characters).zip(&files) {
         if let Some(character) = character {
-            let dressed = super::character::dressed(character, &take.1, file)?;
+            let dressed = character.dress_file(&take.1, file, crate::io::parallel::cores())?;
             take.3 = dressed.stance(mode);
             take.2 = resolve_up(args.view.up, &take.3, &take.0, framed_view);
             take.1 = dressed;

@@ -47,6 +47,11 @@ pub(crate) struct ViewerArgs {
     /// Start with a generated skin around the bones (K toggles it).
     #[arg(long)]
     skin: bool,
+    /// Put the take on a character: an .fbx, .glb or .gltf with a skinned mesh, the take
+    /// retargeted onto its skeleton by role and the mesh drawn skinned, lit. Once for every
+    /// file, or once per file in their order.
+    #[arg(long, value_name = "CHAR")]
+    character: Vec<PathBuf>,
     /// Start in the studio look (V switches).
     #[arg(long, value_enum, default_value_t)]
     look: LookArg,
@@ -83,6 +88,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         style,
         offset_mode,
         skin,
+        character,
         look,
         true_scale,
         up,
@@ -113,6 +119,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
             name,
             source: None,
             loaded,
+            character: None,
         });
     }
     for (path, motion) in files {
@@ -131,9 +138,20 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         take.up_asked = up.map(Up::from);
         takes.push(take);
     }
+    let characters = super::character::load_all(&character, takes.len(), &source)?;
+    for (take, character) in takes.iter_mut().zip(characters) {
+        if let Some(character) = character {
+            take.put_on(character, offset_mode)?;
+        }
+    }
     let options = ViewerOptions {
         offset_mode,
-        style: style_for(style, look),
+        // A character's mesh alone unless a style is asked for (its rig may hold controls).
+        style: if character.is_empty() || style.is_some() {
+            style_for(style, look)
+        } else {
+            crate::render::draw::Style::Points
+        },
         skin,
         look: look.into(),
         quiet: QUIET.load(std::sync::atomic::Ordering::Relaxed),

@@ -97,6 +97,9 @@ pub struct ViewerTake {
     pub stance: crate::model::stance::Stance,
     /// The up axis `--up` asked for; without it, R guesses again from what it reads.
     pub up_asked: Option<crate::model::pose::Up>,
+    /// The character the take is put on (`--character`): `loaded` is then the take retargeted
+    /// onto its skeleton, and its mesh is drawn.
+    pub character: Option<std::sync::Arc<crate::character::Character>>,
 }
 
 impl ViewerTake {
@@ -118,7 +121,28 @@ impl ViewerTake {
             up_asked: None,
             source: Some(source),
             loaded,
+            character: None,
         })
+    }
+
+    /// Puts the take on `character` (its take from the file retargeted onto the character's
+    /// skeleton), its stance and up axis guessed again.
+    pub fn put_on(
+        &mut self,
+        character: std::sync::Arc<crate::character::Character>,
+        mode: OffsetMode,
+    ) -> Result<(), Error> {
+        if let Some(source) = &self.source {
+            let threads = crate::io::parallel::cores();
+            self.loaded = character.dress_file(&self.loaded, &source.path, threads)?;
+        } else {
+            self.loaded =
+                character.dress(&self.loaded, &[], false, crate::io::parallel::cores())?;
+        }
+        self.stance = self.loaded.stance(mode);
+        self.up = self.up_asked.unwrap_or(self.stance.up);
+        self.character = Some(character);
+        Ok(())
     }
 }
 
@@ -364,6 +388,7 @@ mod tests {
             stance: loaded.stance(OffsetMode::Replace),
             loaded,
             up_asked: None,
+            character: None,
         };
         Viewer::new(vec![walk], quiet_options())
     }

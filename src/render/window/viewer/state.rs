@@ -258,7 +258,7 @@ impl Viewer {
                 motion: &t.loaded.motion,
                 up,
                 stance: t.stance,
-                mesh: None,
+                mesh: t.character.as_ref().map(|c| &c.mesh),
             })
             .collect()
     }
@@ -425,7 +425,15 @@ impl Viewer {
             let Some(source) = &take.source else {
                 continue;
             };
-            match source.load() {
+            let character = take.character.clone();
+            let loaded = source.load().and_then(|loaded| match &character {
+                // A take on a character is put on it again.
+                Some(character) => {
+                    character.dress_file(&loaded, &source.path, crate::io::parallel::cores())
+                }
+                None => Ok(loaded),
+            });
+            match loaded {
                 Ok(loaded) => {
                     take.stance = loaded.stance(self.options.offset_mode);
                     take.up = take.up_asked.unwrap_or(take.stance.up);
