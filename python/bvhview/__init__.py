@@ -14,10 +14,21 @@ released while they run. ``bvhview.dask`` compiles a dataset on a Dask cluster.
 # Every result is a numpy array: import numpy with the package, not on the first array made.
 import numpy as _numpy  # noqa: F401
 
-from ._bvhview import Motion, ParseError, __version__, humanml3d_features, list_takes, load, load_many
+from ._bvhview import (
+    Character,
+    Motion,
+    ParseError,
+    __version__,
+    humanml3d_features,
+    list_takes,
+    load,
+    load_character,
+    load_many,
+)
 from .dataset import Dataset, SkippedTake, compile_dataset, merge_datasets, write_parquet
 
 __all__ = [
+    "Character",
     "Dataset",
     "Motion",
     "ParseError",
@@ -27,6 +38,7 @@ __all__ = [
     "humanml3d_features",
     "list_takes",
     "load",
+    "load_character",
     "load_many",
     "merge_datasets",
     "write_parquet",

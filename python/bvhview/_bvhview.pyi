@@ -213,6 +213,32 @@ class Motion:
 
 __version__: str
 
+class Character:
+    """A skinned mesh read from an FBX or glTF file with the skeleton it is bound to. Immutable."""
+
+    @property
+    def path(self) -> str:
+        """The file read."""
+    @property
+    def motion(self) -> Motion:
+        """The file's own take on the character's skeleton."""
+    @property
+    def vertex_count(self) -> int:
+        """How many vertices the mesh has."""
+    @property
+    def triangles(self) -> npt.NDArray[np.uint32]:
+        """Triangles × 3 vertex indices."""
+    def dress(self, take: Motion, *, any_body: bool = False) -> Motion:
+        """`take` retargeted onto the character's skeleton by role."""
+    def vertices(
+        self, take: Motion | None = None, frames: _Frames | None = None
+    ) -> npt.NDArray[np.float32]:
+        """Skinned vertices, frames × vertices × 3 (vertices × 3 for one int), metres, Y up.
+        `take` (default: the character's own) must be on the character's skeleton."""
+
+def load_character(path: _PathLike, *, take: str | int | None = None) -> Character:
+    """A character: an .fbx, .glb or .gltf file with a skinned mesh."""
+
 def load(
     path: _PathLike,
     motion: _PathLike | None = None,

@@ -5,6 +5,7 @@
 //! numpy arrays and their errors into Python exceptions. The GIL is released for every load and
 //! every computation, so Python threads run meanwhile. By concern, as `src/` is:
 //! - `motion`: the `Motion` class (its properties and methods, thin), `load`, `load_many`;
+//! - `character`: the `Character` class (a skinned mesh), `load_character`;
 //! - `arrays`: frames chosen, positions, matrices and rotations as numpy arrays;
 //! - `edits`: edits that make a new take, and `Motion.from_arrays`;
 //! - `pickle`: a take pickled whole and rebuilt, checked;
@@ -31,6 +32,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Mutex, PoisonError};
 
 mod arrays;
+mod character;
 mod datasets;
 mod edits;
 mod loading;
@@ -39,6 +41,7 @@ mod pickle;
 mod retarget;
 
 use arrays::*;
+use character::*;
 use datasets::*;
 use loading::*;
 use motion::*;
@@ -243,6 +246,8 @@ fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_function(wrap_pyfunction!(retarget::humanml3d_features, module)?)?;
     module.add_function(wrap_pyfunction!(_dataset_motion, module)?)?;
     module.add_class::<Motion>()?;
+    module.add_class::<Character>()?;
+    module.add_function(wrap_pyfunction!(load_character, module)?)?;
     module.add("ParseError", module.py().get_type::<ParseError>())?;
     Ok(())
 }

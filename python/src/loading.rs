@@ -32,7 +32,7 @@ pub(crate) fn load_item(
 }
 
 /// `take=` of `load`: a take's name, or its index (as `bvhview info FILE` lists them).
-pub(crate) struct TakeChoice(String);
+pub(crate) struct TakeChoice(pub(crate) String);
 
 impl<'py> FromPyObject<'_, 'py> for TakeChoice {
     type Error = PyErr;
