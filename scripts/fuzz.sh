@@ -3,7 +3,7 @@
 #   scripts/fuzz.sh TARGET [EXECUTIONS|SECONDSs] [WORKDIR]   (default 10000000, /tmp/bvhview-fuzz)
 # A limit ending in `s` (`600s`) is a time limit in seconds instead of a count of executions.
 # TARGET: the loaders bvh, asf, amc, fbx, gltf (whole small FBX/glTF/GLB files of tests/data as
-# seeds); the writers write_bvh, write_gltf, write_positions; the dataset reader and merge,
+# seeds); the character readers fbx_character, gltf_character (skinned meshes); the writers write_bvh, write_gltf, write_positions; the dataset reader and merge,
 # dataset (its seeds: a small dataset's files behind the byte that picks which file they replace);
 # retarget map files, map (its seeds: a TOML and a JSON map between the two takes it retargets).
 # Seeds come from the repository's corpus at run time and are written under WORKDIR, never into
@@ -13,7 +13,7 @@
 # fuzz/src/lib.rs). Crashes land in WORKDIR/TARGET/out/default/crashes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-target=${1:?usage: scripts/fuzz.sh bvh|asf|amc|fbx|gltf|write_bvh|write_gltf|write_positions|dataset|map [EXECUTIONS] [WORKDIR]}
+target=${1:?usage: scripts/fuzz.sh bvh|asf|amc|fbx|gltf|fbx_character|gltf_character|write_bvh|write_gltf|write_positions|dataset|map [EXECUTIONS] [WORKDIR]}
 executions=${2:-10000000}
 case "$executions" in
     *s) limit=(-V "${executions%s}") ;;
@@ -40,6 +40,18 @@ case "$target" in
              [ "$(stat -c %s "$f")" -le 40000 ] && cp "$f" "$work/in/"; done ;;
     gltf) for f in "$data"/gltf/*.glb "$data"/gltf/*.gltf; do
              [ "$(stat -c %s "$f")" -le 120000 ] && cp "$f" "$work/in/"; done ;;
+    # Characters (issue 49): the committed characters, and the skinned glTF bvhview writes of a
+    # small take (a few KB: the fuzzer gets through it fast).
+    fbx_character) cp "$data"/characters/*.fbx "$work/in/"
+        for f in "$data"/fbx/ufbx/*.fbx; do
+            [ "$(stat -c %s "$f")" -le 40000 ] && cp "$f" "$work/in/"; done ;;
+    gltf_character)
+        cli=target/release/bvhview
+        [ -x "$cli" ] || { cli=target/debug/bvhview; cargo build --bin bvhview; }
+        "$cli" convert -q tests/oracle/inputs/tiny_crlf.bvh --skin -o "$work/in/skin.glb"
+        "$cli" convert -q tests/oracle/inputs/tiny_crlf.bvh --character \
+            "$data"/characters/capsule_mixamo.fbx -o "$work/in/capsule_tiny.glb"
+        cp "$data"/characters/*.glb "$work/in/" ;;
     write_bvh|write_gltf|write_positions)
         for f in tests/edge/*.bvh tests/oracle/inputs/*.bvh "$data"/bvh/*.bvh; do
             [ "$(stat -c %s "$f")" -le 4096 ] || continue

@@ -29,6 +29,24 @@ use std::io::Write;
 use std::path::Path;
 
 /// A skinned mesh and the take of its file.
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # #[cfg(all(feature = "fbx", feature = "gltf"))]
+/// # {
+/// use bvhview::{Take, character::Character};
+///
+/// let capsule = Character::open("tests/data/characters/capsule_mixamo.glb")?;
+/// // A CMU walk put on capsule man (Mixamo's names): retargeted by role, then skinned.
+/// let walk = Take::open("tests/data/bvh/bvh11_131_01.bvh")?.trim(0..10);
+/// let dressed = capsule.dress(&walk, &[], false, 1)?;
+/// assert_eq!(dressed.skeleton, capsule.take.skeleton);
+/// let vertices = capsule.vertices(&dressed.skeleton, dressed.frame(9).unwrap());
+/// assert_eq!(vertices.len(), capsule.mesh.vertex_count());
+/// # }
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug)]
 pub struct Character {
     /// The skeleton the mesh is bound to, with the file's own take (or its rest pose).
@@ -149,6 +167,24 @@ impl Character {
 
 /// How [`write_vertices`] writes: `frame,vertex,x,y,z` lines, a JSON document, or a NumPy
 /// array of shape (frames, vertices, 3), little-endian `float32`.
+///
+/// ```
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+/// # #[cfg(feature = "fbx")]
+/// # {
+/// use bvhview::character::{Character, VertexFormat, write_vertices};
+///
+/// let kenney = Character::open("tests/data/characters/maya_kenney_character_7700_binary.fbx")?;
+/// let (skeleton, motion) = (&kenney.take.skeleton, &kenney.take.motion);
+/// let mut csv = Vec::new();
+/// write_vertices(&mut csv, &kenney, skeleton, motion, 0..1, VertexFormat::Csv)?;
+/// let text = String::from_utf8(csv)?;
+/// assert_eq!(text.lines().next(), Some("frame,vertex,x,y,z"));
+/// assert_eq!(text.lines().count(), 1 + 804);
+/// # }
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum VertexFormat {
     /// `frame,vertex,x,y,z`, one vertex per line.

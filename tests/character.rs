@@ -184,3 +184,104 @@ fn a_character_written_as_gltf_reads_back_the_same() {
         }
     }
 }
+
+/// A glTF of two joints and one triangle skinned to them, written beside its buffer into
+/// `folder`; `joints`, `weights` per vertex (four each) and the triangle's `indices` as given.
+fn tiny_skinned_gltf(
+    folder: &std::path::Path,
+    name: &str,
+    joints: [[u16; 4]; 3],
+    weights: [[f32; 4]; 3],
+    indices: [u16; 3],
+) -> std::path::PathBuf {
+    let mut bin: Vec<u8> = Vec::new();
+    for p in [[0.0f32, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]] {
+        bin.extend(p.iter().flat_map(|v| v.to_le_bytes()));
+    }
+    for j in joints {
+        bin.extend(j.iter().flat_map(|v| v.to_le_bytes()));
+    }
+    for w in weights {
+        bin.extend(w.iter().flat_map(|v| v.to_le_bytes()));
+    }
+    bin.extend(indices.iter().flat_map(|v| v.to_le_bytes()));
+    bin.extend([0, 0]);
+    std::fs::write(folder.join(format!("{name}.bin")), &bin).unwrap();
+    let json = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0,2]}}],
+        "nodes":[{{"name":"root","children":[1]}},{{"name":"tip","translation":[0,1,0]}},
+                 {{"name":"mesh","mesh":0,"skin":0}}],
+        "skins":[{{"joints":[0,1]}}],
+        "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"JOINTS_0":1,"WEIGHTS_0":2}},"indices":3}}]}}],
+        "buffers":[{{"uri":"{name}.bin","byteLength":{}}}],
+        "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":24}},
+                       {{"buffer":0,"byteOffset":60,"byteLength":48}},{{"buffer":0,"byteOffset":108,"byteLength":6}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,1,0]}},
+                     {{"bufferView":1,"componentType":5123,"count":3,"type":"VEC4"}},
+                     {{"bufferView":2,"componentType":5126,"count":3,"type":"VEC4"}},
+                     {{"bufferView":3,"componentType":5123,"count":3,"type":"SCALAR"}}]}}"#,
+        bin.len()
+    );
+    let path = folder.join(format!("{name}.gltf"));
+    std::fs::write(&path, json).unwrap();
+    path
+}
+
+/// Hostile meshes (issue 49 point 6): weights that do not sum to one are scaled, with one
+/// warning for the file; a weight that is not a number, a negative weight, a joint past the
+/// skin and a triangle index past the vertices are each refused with what and where.
+#[test]
+fn hostile_meshes_get_an_exact_refusal_or_one_warning() {
+    let folder = tempfile::tempdir().unwrap();
+    let ok_joints = [[0, 1, 0, 0]; 3];
+    let good = tiny_skinned_gltf(
+        folder.path(),
+        "good",
+        ok_joints,
+        [[0.5, 0.5, 0.0, 0.0]; 3],
+        [0, 1, 2],
+    );
+    let character = Character::open(&good).unwrap();
+    assert_eq!(character.mesh.vertex_count(), 3);
+    assert!(character.take.warnings.iter().all(|w| !w.contains("sum to 1")));
+
+    let scaled = tiny_skinned_gltf(
+        folder.path(),
+        "scaled",
+        ok_joints,
+        [[1.0, 1.0, 0.0, 0.0], [2.0, 0.0, 0.0, 0.0], [0.5, 0.5, 0.0, 0.0]],
+        [0, 1, 2],
+    );
+    let character = Character::open(&scaled).unwrap();
+    let said: Vec<&String> =
+        character.take.warnings.iter().filter(|w| w.contains("sum to 1")).collect();
+    assert_eq!(said.len(), 1, "{:?}", character.take.warnings);
+    assert!(said[0].starts_with("2 of 3 mesh vertices"), "{said:?}");
+    let first = character.mesh.influences_of(0);
+    assert_eq!(first.iter().map(|i| i.weight).sum::<f32>(), 1.0);
+
+    let refused = |name: &str, joints, weights, indices, want: &str| {
+        let path = tiny_skinned_gltf(folder.path(), name, joints, weights, indices);
+        let error = Character::open(&path).unwrap_err().to_string();
+        assert!(error.contains(want), "{name}: {error}");
+        assert!(error.contains(&format!("{name}.gltf")), "{name}: {error}");
+    };
+    let nan = [[f32::NAN, 1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]];
+    refused("nan", ok_joints, nan, [0, 1, 2], "vertex 0 has a weight of NaN");
+    let negative = [[-1.0, 2.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]];
+    refused("negative", ok_joints, negative, [0, 1, 2], "vertex 0 has a weight of -1");
+    refused(
+        "joint",
+        [[0, 7, 0, 0], [0, 1, 0, 0], [0, 1, 0, 0]],
+        [[0.5, 0.5, 0.0, 0.0]; 3],
+        [0, 1, 2],
+        "vertex 0: joint 7 of a skin of 2 joints",
+    );
+    refused(
+        "index",
+        ok_joints,
+        [[0.5, 0.5, 0.0, 0.0]; 3],
+        [0, 1, 9],
+        "index 9 of a primitive of 3 vertices",
+    );
+}

@@ -39,6 +39,14 @@ pub fn mesh_budget(bytes: u64) -> u64 {
 }
 
 /// One bone's influence on a vertex.
+///
+/// ```
+/// use bvhview::model::mesh::Influence;
+///
+/// // Half of the vertex follows bone 3.
+/// let half = Influence { bone: 3, weight: 0.5 };
+/// assert_eq!((half.bone, half.weight), (3, 0.5));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Influence {
     /// Into [`Mesh::bones`].
@@ -49,6 +57,19 @@ pub struct Influence {
 
 /// What moves a vertex: a joint of the skeleton through a bind matrix, or nothing (a vertex the
 /// file binds to no joint stays where the bind pose put it, as Blender leaves it).
+///
+/// ```
+/// use bvhview::model::mesh::{Bone, Mesh};
+/// use glam::{Mat4, Vec3};
+///
+/// // Joint 0 stands at (0, 1, 0) at rest: the bind takes the mesh into its frame.
+/// let bone = Bone { joint: Some(0), bind: Mat4::from_translation(Vec3::new(0.0, -1.0, 0.0)) };
+/// let mesh = Mesh { bones: vec![bone], ..Mesh::default() };
+/// let mut skinning = Vec::new();
+/// // The joint moved up to (0, 3, 0): its bone's matrix moves the mesh up by 2.
+/// mesh.bone_matrices(&[Mat4::from_translation(Vec3::new(0.0, 3.0, 0.0))], &mut skinning);
+/// assert_eq!(skinning[0].transform_point3(Vec3::ZERO), Vec3::new(0.0, 2.0, 0.0));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Bone {
     /// The joint (index into the skeleton's joints), or `None` for a bone that never moves.
@@ -63,6 +84,26 @@ pub struct Bone {
 /// triangle corners and bones run to the next part's (or the end). A part's vertices are moved
 /// only by its own bones, and a part binds each joint once (a writer gives each part its own
 /// skin).
+///
+/// ```
+/// use bvhview::model::mesh::{Bone, MeshBuilder};
+/// use glam::{Mat4, Vec3};
+///
+/// let fixed = Bone { joint: None, bind: Mat4::IDENTITY };
+/// let mut builder = MeshBuilder::new("two meshes", 0);
+/// for _ in 0..2 {
+///     builder.begin_part();
+///     let bone = builder.bone(Bone { joint: Some(0), bind: Mat4::IDENTITY });
+///     for corner in [Vec3::ZERO, Vec3::X, Vec3::Y] {
+///         builder.vertex(corner, Vec3::Z, [(bone, 1.0)], fixed).unwrap();
+///     }
+///     let first = builder.vertex_count() - 3;
+///     builder.triangle([first, first + 1, first + 2]).unwrap();
+/// }
+/// let (mesh, _) = builder.finish();
+/// assert_eq!(mesh.parts[1].first_vertex, 3);
+/// assert_eq!(mesh.part_ranges(1), (3..6, 3..6, 1..2));
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Part {
     /// Its first vertex.
@@ -335,6 +376,24 @@ impl Mesh {
 /// Gathers a mesh vertex by vertex (for the readers): influences scaled to sum to 1 with a
 /// count of the vertices that needed it, influences of no weight dropped, and every count held
 /// to a budget.
+///
+/// ```
+/// use bvhview::model::mesh::{Bone, MeshBuilder};
+/// use glam::{Mat4, Vec3};
+///
+/// let fixed = Bone { joint: None, bind: Mat4::IDENTITY };
+/// let mut builder = MeshBuilder::new("file.glb", 1000);
+/// builder.begin_part();
+/// let bone = builder.bone(Bone { joint: Some(0), bind: Mat4::IDENTITY });
+/// // Weights of 2 and 2: scaled to a half each, and said once.
+/// builder.vertex(Vec3::ZERO, Vec3::Y, [(bone, 2.0), (bone, 2.0)], fixed).unwrap();
+/// // A NaN weight is refused, naming the vertex.
+/// let error = builder.vertex(Vec3::X, Vec3::Y, [(bone, f32::NAN)], fixed).unwrap_err();
+/// assert!(error.to_string().contains("vertex 1 has a weight of NaN"));
+/// let (mesh, said) = builder.finish();
+/// assert_eq!(mesh.influences_of(0)[0].weight, 0.5);
+/// assert_eq!(said, ["1 of 1 mesh vertices have skin weights that do not sum to 1: scaled to sum to 1"]);
+/// ```
 #[derive(Debug)]
 pub struct MeshBuilder {
     mesh: Mesh,
