@@ -41,3 +41,16 @@ $bvhview retarget tests/data/bvh/bvhparser_walk_01.bvh --onto smpl22 -q -o "$ret
 $bvhview snapshot tests/data/bvh/bvhparser_walk_01.bvh "$retargeted/walk_smpl22.bvh" --overlay \
     --look studio --style sticks --frame 150 --angle 0.35 --size 600x520 -q -o docs/retarget.png
 rm -r "$retargeted"
+# Characters (issue 49): each committed character, in the studio look, with a take on it.
+$bvhview snapshot tests/data/characters/maya_kenney_character_7700_binary.fbx \
+    --character tests/data/characters/maya_kenney_character_7700_binary.fbx --frame 12 \
+    --look studio --size 400x400 -q -o docs/character_kenney.png
+$bvhview snapshot tests/data/bvh/bvh11_131_01.bvh --character tests/data/characters/capsule_mixamo.fbx \
+    --frame 60 --look studio --size 400x400 -q -o docs/character_capsule_walk.png
+$bvhview snapshot tests/data/bvh/animateddrawings_rokoko_jesse_dance.bvh \
+    --character tests/data/characters/capsule_mixamo.glb --frame 500 --look studio --size 400x400 -q \
+    -o docs/character_capsule_dance.png
+$bvhview snapshot tests/data/bvh/bvh11_131_01.bvh tests/data/bvh/bvhpython_test_freebvh.bvh \
+    --character tests/data/characters/maya_kenney_character_7700_binary.fbx \
+    --character tests/data/characters/capsule_mixamo.glb --frame 60 --look studio --size 600x400 -q \
+    -o docs/character_two.png

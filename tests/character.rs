@@ -243,18 +243,32 @@ fn hostile_meshes_get_an_exact_refusal_or_one_warning() {
     );
     let character = Character::open(&good).unwrap();
     assert_eq!(character.mesh.vertex_count(), 3);
-    assert!(character.take.warnings.iter().all(|w| !w.contains("sum to 1")));
+    assert!(
+        character
+            .take
+            .warnings
+            .iter()
+            .all(|w| !w.contains("sum to 1"))
+    );
 
     let scaled = tiny_skinned_gltf(
         folder.path(),
         "scaled",
         ok_joints,
-        [[1.0, 1.0, 0.0, 0.0], [2.0, 0.0, 0.0, 0.0], [0.5, 0.5, 0.0, 0.0]],
+        [
+            [1.0, 1.0, 0.0, 0.0],
+            [2.0, 0.0, 0.0, 0.0],
+            [0.5, 0.5, 0.0, 0.0],
+        ],
         [0, 1, 2],
     );
     let character = Character::open(&scaled).unwrap();
-    let said: Vec<&String> =
-        character.take.warnings.iter().filter(|w| w.contains("sum to 1")).collect();
+    let said: Vec<&String> = character
+        .take
+        .warnings
+        .iter()
+        .filter(|w| w.contains("sum to 1"))
+        .collect();
     assert_eq!(said.len(), 1, "{:?}", character.take.warnings);
     assert!(said[0].starts_with("2 of 3 mesh vertices"), "{said:?}");
     let first = character.mesh.influences_of(0);
@@ -266,10 +280,30 @@ fn hostile_meshes_get_an_exact_refusal_or_one_warning() {
         assert!(error.contains(want), "{name}: {error}");
         assert!(error.contains(&format!("{name}.gltf")), "{name}: {error}");
     };
-    let nan = [[f32::NAN, 1.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]];
-    refused("nan", ok_joints, nan, [0, 1, 2], "vertex 0 has a weight of NaN");
-    let negative = [[-1.0, 2.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0]];
-    refused("negative", ok_joints, negative, [0, 1, 2], "vertex 0 has a weight of -1");
+    let nan = [
+        [f32::NAN, 1.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0, 0.0],
+    ];
+    refused(
+        "nan",
+        ok_joints,
+        nan,
+        [0, 1, 2],
+        "vertex 0 has a weight of NaN",
+    );
+    let negative = [
+        [-1.0, 2.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0, 0.0],
+    ];
+    refused(
+        "negative",
+        ok_joints,
+        negative,
+        [0, 1, 2],
+        "vertex 0 has a weight of -1",
+    );
     refused(
         "joint",
         [[0, 7, 0, 0], [0, 1, 0, 0], [0, 1, 0, 0]],

@@ -11,9 +11,10 @@
 //! `cargo run --release -p bvhview-bench -- --encoders`: GIF, APNG and MP4 (H.264) encoding of
 //! the same pictures, alone (the full run includes it).
 //!
-//! `cargo run --release -p bvhview-bench -- --skinning`: linear blend skinning of the committed
-//! characters and of a 30,000-vertex one (capsule man ten times over), vertex-influences a
-//! second on one core, beside the time a frame of the CMU walk takes to retarget and pose.
+//! `cargo run --release -p bvhview-bench -- --skinning [CHARACTER]`: linear blend skinning of
+//! the committed characters, of capsule man ten times over (29,040 vertices in one place) and of
+//! CHARACTER (the 30,888-vertex `capsule_fine.glb` of `tests/blender/make_capsule_character.py
+//! --fine`), vertex-influences a second on one core; then each drawn with the CMU walk on it.
 
 use std::time::{Duration, Instant};
 
@@ -172,7 +173,9 @@ fn main() {
             }
             "--skinning" => {
                 println!("cpu: {}", cpu_description());
-                return skinning(load.rounds.unwrap_or(7));
+                // An extra character (the 30,000-vertex one) may follow.
+                let extra: Vec<String> = args.by_ref().collect();
+                return skinning(7, extra.first().map(String::as_str));
             }
             "--in-process" => match (args.next(), args.next()) {
                 (Some(what), Some(path)) => return in_process(&what, &path),
@@ -1224,7 +1227,7 @@ fn dataset_stages(path: &str, rounds: usize) {
 /// Linear blend skinning on one core: each character's own take, every frame skinned in turn,
 /// `rounds` rounds; vertex-influences a second (median and fastest round), and what a frame
 /// costs beside a 120 fps take's 8.3 ms.
-fn skinning(rounds: usize) {
+fn skinning(rounds: usize, extra: Option<&str>) {
     use bvhview::character::Character;
     let files = [
         "tests/data/characters/maya_kenney_character_7700_binary.fbx",
@@ -1232,7 +1235,7 @@ fn skinning(rounds: usize) {
         "tests/data/characters/capsule_mixamo.glb",
     ];
     let mut cases: Vec<(String, Character)> = Vec::new();
-    for file in files {
+    for file in files.into_iter().chain(extra) {
         let character = Character::open(file).unwrap_or_else(|e| input_error(e));
         cases.push((
             file.rsplit('/').next().unwrap_or(file).to_string(),
@@ -1284,6 +1287,52 @@ fn skinning(rounds: usize) {
             fastest.as_secs_f64() * 1e3,
             rate(median),
             rate(fastest),
+        );
+    }
+    // What the window does a frame: the CMU walk (120 fps, 8.3 ms a frame) on each character,
+    // posed, skinned and drawn in the studio look at 600×600 by OSMesa's llvmpipe (the software
+    // GL the window gets under Xvfb), the picture read back as well.
+    let walk_path = "tests/data/bvh/bvh11_131_01.bvh";
+    let walk = bvhview::Take::open(walk_path)
+        .unwrap_or_else(|e| input_error(e))
+        .trim(0..120);
+    let Ok(mut renderer) = bvhview::render::Renderer::new(600, 600) else {
+        println!("  drawing: skipped (no OSMesa)");
+        return;
+    };
+    for (name, character) in &cases {
+        let dressed = character
+            .dress(&walk, &[], false, 1)
+            .unwrap_or_else(|e| input_error(e));
+        let shown = [bvhview::render::paint::Shown {
+            skeleton: &dressed.skeleton,
+            motion: &dressed.motion,
+            up: Default::default(),
+            stance: dressed.stance(Default::default()),
+            mesh: Some(&character.mesh),
+        }];
+        let mut times = Vec::new();
+        for _ in 0..rounds.min(3) {
+            let start = Instant::now();
+            for frame in 0..dressed.frame_count() {
+                let options = bvhview::render::SnapshotOptions {
+                    frame,
+                    look: bvhview::render::Look::Studio,
+                    style: bvhview::render::draw::Style::Points,
+                    ..Default::default()
+                };
+                renderer
+                    .render_all(&shown, &options, &Default::default())
+                    .expect("drawn");
+            }
+            times.push(start.elapsed() / dressed.frame_count() as u32);
+        }
+        times.sort();
+        println!(
+            "  drawn: the CMU walk on {name}, studio look 600x600 (OSMesa): {:.2} ms a frame \
+             median ({:.2} fastest); the take's 120 fps leave 8.33 ms",
+            times[times.len() / 2].as_secs_f64() * 1e3,
+            times[0].as_secs_f64() * 1e3
         );
     }
 }

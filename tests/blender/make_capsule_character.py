@@ -2,13 +2,15 @@
 
 Run with Blender 5.2 as a Python module (bpy from PyPI, Python 3.13):
 
-    python tests/blender/make_capsule_character.py OUT_FOLDER
+    python tests/blender/make_capsule_character.py OUT_FOLDER [--fine]
 
 The figure is a chain of capsules around an armature with Mixamo's `mixamorig:` bone names,
 weighted by bvhview's own rule (each vertex to every bone within reach, falling off with
 distance: up to eight influences a vertex), animated for 30 frames at 30 fps (a walk in place
 with a turn of the spine and a nod). Blender's FBX exporter writes `capsule_mixamo.fbx`, its
-glTF exporter (every influence kept) `capsule_mixamo.glb`.
+glTF exporter (every influence kept) `capsule_mixamo.glb`. With `--fine`, the capsules have
+36 sides and 38 rings (30,888 vertices: the bench's 30,000-vertex character), written as
+`capsule_fine.glb` only.
 """
 
 import math
@@ -18,7 +20,8 @@ import sys
 import bpy
 from mathutils import Vector
 
-OUT = sys.argv[-1]
+FINE = sys.argv[-1] == "--fine"
+OUT = sys.argv[-2] if FINE else sys.argv[-1]
 PREFIX = "mixamorig:"
 
 # (name, parent, head, tail) in metres, Z up, facing -Y (Blender's front).
@@ -79,7 +82,7 @@ def main():
 
     # One mesh: a capsule (a UV sphere stretched along the bone) around every bone.
     verts, faces = [], []
-    rings, sides = 10, 12
+    rings, sides = (38, 36) if FINE else (10, 12)
     for name, _, head, tail in BONES:
         a, b = Vector(head), Vector(tail)
         axis = b - a
@@ -106,6 +109,10 @@ def main():
                 faces.append((k, n, n + sides, k + sides))
     mesh = bpy.data.meshes.new("capsule_man_body")
     mesh.from_pydata([tuple(v) for v in verts], [], faces)
+    if FINE:
+        # Smooth shading: one normal a vertex, so the glTF keeps one vertex per capsule point.
+        for polygon in mesh.polygons:
+            polygon.use_smooth = True
     mesh.update()
     body = bpy.data.objects.new("Body", mesh)
     scene.collection.objects.link(body)
@@ -163,6 +170,15 @@ def main():
     bpy.ops.object.mode_set(mode="OBJECT")
 
     os.makedirs(OUT, exist_ok=True)
+    if FINE:
+        bpy.ops.export_scene.gltf(
+            filepath=os.path.join(OUT, "capsule_fine.glb"),
+            export_format="GLB",
+            export_all_influences=True,
+            export_animations=True,
+            export_force_sampling=True,
+        )
+        return
     bpy.ops.export_scene.fbx(
         filepath=os.path.join(OUT, "capsule_mixamo.fbx"),
         add_leaf_bones=False,
