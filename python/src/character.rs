@@ -82,7 +82,7 @@ impl Character {
     fn triangles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<u32>>> {
         let corners = self.inner.mesh.triangles.clone();
         let count = corners.len() / 3;
-        Ok(corners.into_pyarray(py).reshape([count, 3])?)
+        corners.into_pyarray(py).reshape([count, 3])
     }
 
     /// `take` put on the character: retargeted onto its skeleton by role (its rest pose

@@ -111,10 +111,10 @@ pub(super) fn read(
                         };
                         builder.bone(bone)
                     })
-                    .collect()
+                    .collect::<Result<_, _>>()?
             }
             // A mesh without a skin moves with its node (or the joint above it).
-            None => vec![builder.bone(bone_of(scene, joint, turn, n, geometry_to_node))],
+            None => vec![builder.bone(bone_of(scene, joint, turn, n, geometry_to_node))?],
         };
         if let Some(skin) = skin {
             builder.reserve(skin.weights.len() as u64)?;

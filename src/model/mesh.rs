@@ -93,7 +93,7 @@ pub struct Bone {
 /// let mut builder = MeshBuilder::new("two meshes", 0);
 /// for _ in 0..2 {
 ///     builder.begin_part();
-///     let bone = builder.bone(Bone { joint: Some(0), bind: Mat4::IDENTITY });
+///     let bone = builder.bone(Bone { joint: Some(0), bind: Mat4::IDENTITY }).unwrap();
 ///     for corner in [Vec3::ZERO, Vec3::X, Vec3::Y] {
 ///         builder.vertex(corner, Vec3::Z, [(bone, 1.0)], fixed).unwrap();
 ///     }
@@ -384,7 +384,7 @@ impl Mesh {
 /// let fixed = Bone { joint: None, bind: Mat4::IDENTITY };
 /// let mut builder = MeshBuilder::new("file.glb", 1000);
 /// builder.begin_part();
-/// let bone = builder.bone(Bone { joint: Some(0), bind: Mat4::IDENTITY });
+/// let bone = builder.bone(Bone { joint: Some(0), bind: Mat4::IDENTITY }).unwrap();
 /// // Weights of 2 and 2: scaled to a half each, and said once.
 /// builder.vertex(Vec3::ZERO, Vec3::Y, [(bone, 2.0), (bone, 2.0)], fixed).unwrap();
 /// // A NaN weight is refused, naming the vertex.
@@ -452,10 +452,21 @@ impl MeshBuilder {
         self.fallback = None;
     }
 
-    /// Adds a bone; its index.
-    pub fn bone(&mut self, bone: Bone) -> u32 {
+    /// Adds a bone; its index. A bind matrix that is not finite (a broken or degenerate
+    /// transform in the file) is refused.
+    pub fn bone(&mut self, bone: Bone) -> Result<u32, Error> {
+        if !bone.bind.is_finite() {
+            let joint = bone
+                .joint
+                .map_or("no joint".to_string(), |j| format!("joint {j}"));
+            return Err(Error::Usage(format!(
+                "{}: a skin's bind matrix for {joint} is not finite (a broken or degenerate \
+                 transform)",
+                self.name
+            )));
+        }
         self.mesh.bones.push(bone);
-        (self.mesh.bones.len() - 1) as u32
+        Ok((self.mesh.bones.len() - 1) as u32)
     }
 
     /// Adds a vertex with its influences (bone, weight), weights of any sum; its index. A weight
@@ -505,7 +516,7 @@ impl MeshBuilder {
             let bone = match self.fallback {
                 Some(bone) => bone,
                 None => {
-                    let bone = self.bone(fallback);
+                    let bone = self.bone(fallback)?;
                     self.fallback = Some(bone);
                     bone
                 }
@@ -618,7 +629,8 @@ mod tests {
         b.bone(Bone {
             joint: Some(0),
             bind: Mat4::IDENTITY,
-        });
+        })
+        .unwrap();
         b
     }
 
@@ -680,7 +692,8 @@ mod tests {
             b.bone(Bone {
                 joint: Some(j),
                 bind: Mat4::IDENTITY,
-            });
+            })
+            .unwrap();
             world.push(Mat4::from_translation(Vec3::new(j as f32, 0.0, 0.0)));
         }
         let influences: Vec<(u32, f32)> = (0..8).map(|j| (j, 1.0 + j as f32)).collect();

@@ -259,15 +259,24 @@ fn shadow<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage, line_width
         [p.x - LIGHT.x * along, shadow_y, p.z - LIGHT.z * along]
     };
     gl.color3f(0.05, 0.05, 0.07);
-    // A skin casts its triangles (a character's rig may hold controls apart from its body).
+    // A skin casts its triangles (a character's rig may hold controls apart from its body):
+    // `cast ∘ place` is affine, so GL projects the skin's own vertices through one matrix (no
+    // copy of a mesh a frame).
     if let Some(skin) = scene.skin {
-        let flat: Vec<Vec3> = skin
-            .positions
-            .iter()
-            .map(|&p| Vec3::from_array(cast(scene.place(p))))
-            .collect();
-        let up = vec![Vec3::Y; flat.len()];
-        gl.draw_triangles(&flat, &up, &skin.indices);
+        let origin = Vec3::from_array(cast(scene.place(Vec3::ZERO)));
+        let column = |axis: Vec3| Vec3::from_array(cast(scene.place(axis))) - origin;
+        let (x, y, z) = (column(Vec3::X), column(Vec3::Y), column(Vec3::Z));
+        #[rustfmt::skip]
+        let onto_floor = [
+            x.x, x.y, x.z, 0.0,
+            y.x, y.y, y.z, 0.0,
+            z.x, z.y, z.z, 0.0,
+            origin.x, origin.y, origin.z, 1.0,
+        ];
+        gl.push_matrix();
+        gl.mult_matrixf(&onto_floor);
+        gl.draw_triangles(&skin.positions, &skin.normals, &skin.indices);
+        gl.pop_matrix();
         return;
     }
     gl.line_width(line_width * 4.0 / 3.0);

@@ -87,11 +87,11 @@ pub(super) fn read(
                         let bone = bone_of(frames, joint, *inverse_bind);
                         builder.bone(bone)
                     })
-                    .collect()
+                    .collect::<Result<_, _>>()?
             }
             None => {
                 let bone = bone_of(frames, n, DMat4::IDENTITY);
-                vec![builder.bone(bone)]
+                vec![builder.bone(bone)?]
             }
         };
         // A vertex of a skinned mesh with no weight stays where its geometry is (the node's
