@@ -41,7 +41,7 @@ pub struct Pose {
 impl Pose {
     /// The rotation and translation of a world matrix (its scale and shear dropped). Axes with
     /// a NaN or an infinity give a rotation of NaNs (not the identity the axes' fallbacks
-    /// would make of it), which [`build`] refuses.
+    /// would make of it), which [`build_with`] refuses.
     pub fn of_matrix(matrix: &DMat4) -> Pose {
         let position = matrix.w_axis.truncate();
         let axes = glam::DMat3::from_mat4(*matrix);
