@@ -319,3 +319,57 @@ fn hostile_meshes_get_an_exact_refusal_or_one_warning() {
         "index 9 of a primitive of 3 vertices",
     );
 }
+
+/// Golden pictures of characters (the studio look, 400 × 400): the Kenney figure in its own
+/// take, and capsule man (Blender's FBX) with the CMU walk on it. At most 0.1 % of the pixels may
+/// differ (as for every golden picture); `BVHVIEW_BLESS=1` writes them anew.
+#[test]
+fn characters_match_their_golden_pictures() {
+    use bvhview::render::{Look, Renderer, SnapshotOptions, draw::Style, paint::Shown};
+    let walk = bvhview::Take::open("tests/data/bvh/bvh11_131_01.bvh").unwrap();
+    let bless = std::env::var_os("BVHVIEW_BLESS").is_some();
+    for (name, file, on_walk, frame) in [
+        ("character_kenney__f12__studio", KENNEY, false, 12),
+        (
+            "character_capsule_fbx__walk__f60__studio",
+            "tests/data/characters/capsule_mixamo.fbx",
+            true,
+            60,
+        ),
+    ] {
+        let character = Character::open(file).unwrap();
+        let take = if on_walk {
+            character.dress(&walk, &[], false, 2).unwrap()
+        } else {
+            character.take.clone()
+        };
+        let shown = [Shown {
+            skeleton: &take.skeleton,
+            motion: &take.motion,
+            up: Default::default(),
+            stance: take.stance(Default::default()),
+            mesh: Some(&character.mesh),
+        }];
+        let options = SnapshotOptions {
+            frame,
+            width: 400,
+            height: 400,
+            look: Look::Studio,
+            style: Style::Points,
+            ..SnapshotOptions::default()
+        };
+        let ours = Renderer::new(400, 400)
+            .unwrap()
+            .render_all(&shown, &options, &Default::default())
+            .unwrap();
+        let golden = std::path::Path::new("tests/snapshots").join(format!("{name}.png"));
+        if bless {
+            ours.write_png(&golden).unwrap();
+            continue;
+        }
+        let expected = bvhview::render::Image::read_png(&golden).unwrap();
+        let differing = ours.differing_pixels(&expected);
+        println!("drift {name}: {differing} of 160000 pixels differ (at most 160)");
+        assert!(differing <= 160, "{name}: {differing} pixels differ");
+    }
+}
