@@ -205,4 +205,21 @@ mod with_video {
             "bvhview: an MP4 of 8x600: the H.264 encoder (OpenH264) takes pictures of 16x16 and more\n"
         );
     }
+
+    /// Issue 49: a take on a character (the studio look: the mesh skinned and lit) on film, every
+    /// frame held to its PNG.
+    #[test]
+    fn a_video_of_a_take_on_a_character_holds_every_frame() {
+        let character = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/data/characters/capsule_mixamo.fbx")
+            .display()
+            .to_string();
+        let frames: Vec<usize> = (0..30).collect();
+        let options = ["--character", character.as_str(), "--look", "studio"];
+        let (worst, probe, _) =
+            video_against_pngs("character", &[&walk()], &options, "0..30", (320, 240), &frames);
+        assert_eq!(probe.codec, "h264");
+        assert_eq!(probe.frames, 30);
+        assert!(worst >= 35.0);
+    }
 }
