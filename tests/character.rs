@@ -373,3 +373,17 @@ fn characters_match_their_golden_pictures() {
         assert!(differing <= 160, "{name}: {differing} pixels differ");
     }
 }
+
+/// The travel joint is in the body's tree: the Kenney rig's IK controls (`LeftFootCtrl`, a root
+/// of its own listed first) are not the body's travel; `HipsCtrl`, the root above the hips, is.
+#[test]
+fn a_rig_s_controls_are_not_its_travel() {
+    let kenney = bvhview::Take::open(KENNEY).unwrap();
+    let travel = bvhview::model::body::travel::travel_joint_of_take(
+        &kenney.skeleton,
+        &kenney.motion,
+        Default::default(),
+    );
+    assert_eq!(kenney.skeleton.joints[0].name, "LeftFootCtrl");
+    assert_eq!(kenney.skeleton.joints[travel].name, "HipsCtrl");
+}

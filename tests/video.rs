@@ -216,8 +216,14 @@ mod with_video {
             .to_string();
         let frames: Vec<usize> = (0..30).collect();
         let options = ["--character", character.as_str(), "--look", "studio"];
-        let (worst, probe, _) =
-            video_against_pngs("character", &[&walk()], &options, "0..30", (320, 240), &frames);
+        let (worst, probe, _) = video_against_pngs(
+            "character",
+            &[&walk()],
+            &options,
+            "0..30",
+            (320, 240),
+            &frames,
+        );
         assert_eq!(probe.codec, "h264");
         assert_eq!(probe.frames, 30);
         assert!(worst >= 35.0);

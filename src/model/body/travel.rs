@@ -9,10 +9,23 @@ use glam::Vec3;
 /// The joints that may carry the travel: the root and the joints below it down to the first
 /// that branches (where legs and spine part), and the hips the names say with every joint above
 /// them. A limb is never one of them, though a file may give every joint position channels
-/// (Perception Neuron, Rigify, Bandai).
+/// (Perception Neuron, Rigify, Bandai). Where the hips are found, only the tree they are in
+/// counts: a rig's other roots are its controls (Maya's IK handles, `LeftFootCtrl`), never the
+/// body's travel.
 pub fn travel_candidates(skeleton: &Skeleton) -> Vec<bool> {
     let mut candidate = vec![false; skeleton.joints.len()];
-    for root in skeleton.roots() {
+    let hips = Body::of(skeleton).hips;
+    let root_of = |mut joint: usize| {
+        while let Some(parent) = skeleton.joints[joint].parent {
+            joint = parent;
+        }
+        joint
+    };
+    let body_root = hips.map(root_of);
+    for root in skeleton
+        .roots()
+        .filter(|&r| body_root.is_none_or(|b| b == r))
+    {
         let mut joint = root;
         loop {
             candidate[joint] = true;
@@ -28,7 +41,7 @@ pub fn travel_candidates(skeleton: &Skeleton) -> Vec<bool> {
             }
         }
     }
-    let mut above = Body::of(skeleton).hips;
+    let mut above = hips;
     while let Some(joint) = above {
         candidate[joint] = true;
         above = skeleton.joints[joint].parent;
@@ -38,15 +51,20 @@ pub fn travel_candidates(skeleton: &Skeleton) -> Vec<bool> {
 
 /// The joint whose position channels carry the take's travel across the floor: of the
 /// [`travel_candidates`] with position channels, the one whose world path strays farthest (x and
-/// z) from where it starts; the first root when none has position channels or none moves. Most
-/// files put the travel on the root; some (Bandai's) on `Hips` under a root that stays put.
+/// z) from where it starts; the root of the body's tree when none has position channels or none
+/// moves. Most files put the travel on the root; some (Bandai's) on `Hips` under a root that
+/// stays put.
 pub fn travel_joint(skeleton: &Skeleton, world: &[Vec3]) -> usize {
     let points = skeleton.joints.len();
-    let root = skeleton.roots().next().unwrap_or(0);
+    let candidates = travel_candidates(skeleton);
+    // The root of the body's tree (a rig's controls may stand in trees of their own).
+    let root = candidates
+        .iter()
+        .position(|&c| c)
+        .unwrap_or_else(|| skeleton.roots().next().unwrap_or(0));
     if points == 0 || world.is_empty() {
         return root;
     }
-    let candidates = travel_candidates(skeleton);
     let mut best = (root, 0.0f32);
     for (index, joint) in skeleton.joints.iter().enumerate() {
         if !candidates[index] || !joint.channels.iter().any(|c| c.is_position()) {
