@@ -41,7 +41,12 @@ fn files_under(dir: &Path) -> BTreeSet<PathBuf> {
 /// The output a take gets: its path under the corpus with the format's extension; the two
 /// takes of `gltf/` named `bvh11_131_01` (`.glb` and `.gltf`) keep theirs before it.
 fn expected_name(relative: &Path, format: &str) -> PathBuf {
-    let clashing = ["gltf/bvh11_131_01.glb", "gltf/bvh11_131_01.gltf"];
+    let clashing = [
+        "gltf/bvh11_131_01.glb",
+        "gltf/bvh11_131_01.gltf",
+        "characters/capsule_mixamo.fbx",
+        "characters/capsule_mixamo.glb",
+    ];
     match clashing.iter().any(|c| relative == Path::new(c)) {
         true => PathBuf::from(format!("{}.{format}", relative.display())),
         false => relative.with_extension(format),
