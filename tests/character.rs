@@ -321,7 +321,8 @@ fn hostile_meshes_get_an_exact_refusal_or_one_warning() {
 }
 
 /// Golden pictures of characters (the studio look, 400 × 400): the Kenney figure in its own
-/// take, and capsule man (Blender's FBX) with the CMU walk on it. At most 0.1 % of the pixels may
+/// take, and capsule man (Blender's FBX, and the glTF whose back faces are culled) with the CMU
+/// walk on it. At most 0.1 % of the pixels may
 /// differ (as for every golden picture); `BVHVIEW_BLESS=1` writes them anew.
 #[test]
 fn characters_match_their_golden_pictures() {
@@ -335,6 +336,13 @@ fn characters_match_their_golden_pictures() {
             "tests/data/characters/capsule_mixamo.fbx",
             true,
             60,
+        ),
+        // glTF's single-sided material: back faces culled (in the shadow too).
+        (
+            "character_capsule_glb__walk__f90__studio",
+            "tests/data/characters/capsule_mixamo.glb",
+            true,
+            90,
         ),
     ] {
         let character = Character::open(file).unwrap();
@@ -386,4 +394,19 @@ fn a_rig_s_controls_are_not_its_travel() {
     );
     assert_eq!(kenney.skeleton.joints[0].name, "LeftFootCtrl");
     assert_eq!(kenney.skeleton.joints[travel].name, "HipsCtrl");
+}
+
+/// Found by fuzzing (`scripts/fuzz.sh gltf_character`): a primitive whose POSITION names an
+/// accessor past the list made gltf-json's own validation panic (it indexes it unchecked); the
+/// reader now checks it first and refuses the file, for takes and characters alike.
+#[test]
+fn a_position_accessor_past_the_list_is_refused_not_a_panic() {
+    let json = br#"{"asset":{"version":"2.0"},"nodes":[{"mesh":0}],
+        "meshes":[{"primitives":[{"attributes":{"POSITION":5}}]}]}"#;
+    let take = bvhview::gltf::load_bytes(json, "bad.gltf", None)
+        .unwrap_err()
+        .to_string();
+    assert_eq!(take, "bad.gltf: mesh 0: a POSITION accessor 5 of 0");
+    let character = bvhview::gltf::load_character_bytes(json, "bad.gltf", None).unwrap_err();
+    assert_eq!(character.to_string(), take);
 }

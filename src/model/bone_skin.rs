@@ -25,6 +25,8 @@ pub struct PosedBody {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
     pub indices: Vec<u32>,
+    /// Its back faces are hidden (a character whose file says so); a generated skin shows both.
+    pub single_sided: bool,
 }
 
 impl Body {

@@ -92,7 +92,7 @@ pub struct Bone {
 /// let fixed = Bone { joint: None, bind: Mat4::IDENTITY };
 /// let mut builder = MeshBuilder::new("two meshes", 0);
 /// for _ in 0..2 {
-///     builder.begin_part();
+///     builder.begin_part(false);
 ///     let bone = builder.bone(Bone { joint: Some(0), bind: Mat4::IDENTITY }).unwrap();
 ///     for corner in [Vec3::ZERO, Vec3::X, Vec3::Y] {
 ///         builder.vertex(corner, Vec3::Z, [(bone, 1.0)], fixed).unwrap();
@@ -112,6 +112,9 @@ pub struct Part {
     pub first_corner: u32,
     /// Its first bone.
     pub first_bone: u32,
+    /// Whether its back faces are hidden (a glTF material's `doubleSided: false`, the
+    /// default there); an FBX's meshes show both sides, as Blender shows them.
+    pub single_sided: bool,
 }
 
 /// A skinned mesh: vertices in the mesh's own coordinates, triangles, and every influence.
@@ -184,12 +187,19 @@ impl Mesh {
             first_vertex: self.positions.len() as u32,
             first_corner: self.triangles.len() as u32,
             first_bone: self.bones.len() as u32,
+            single_sided: false,
         });
         (
             part.first_vertex as usize..next.first_vertex as usize,
             part.first_corner as usize..next.first_corner as usize,
             part.first_bone as usize..next.first_bone as usize,
         )
+    }
+
+    /// Whether every part hides its back faces (then a picture may cull them, as a glTF viewer
+    /// does).
+    pub fn single_sided(&self) -> bool {
+        !self.parts.is_empty() && self.parts.iter().all(|p| p.single_sided)
     }
 
     /// Which of a skeleton's `joints` move some vertex.
@@ -235,6 +245,7 @@ impl Mesh {
             first_vertex: p.first_vertex + vertices,
             first_corner: p.first_corner + corners,
             first_bone: p.first_bone + bones,
+            single_sided: p.single_sided,
         }));
         self.bones.extend(other.bones);
     }
@@ -284,7 +295,8 @@ impl Mesh {
         if let Some(b) = self.bones.iter().position(|b| !b.bind.is_finite()) {
             return Err(format!("bone {b}: a bind matrix that is not finite"));
         }
-        if vertices > 0 && self.parts.first() != Some(&Part::default()) {
+        let starts_at_zero = |p: &Part| (p.first_vertex, p.first_corner, p.first_bone) == (0, 0, 0);
+        if vertices > 0 && !self.parts.first().is_some_and(starts_at_zero) {
             return Err("the first part does not start at the first vertex".into());
         }
         for k in 0..self.parts.len() {
@@ -370,6 +382,7 @@ impl Mesh {
         if posed.indices != self.triangles {
             posed.indices.clone_from(&self.triangles);
         }
+        posed.single_sided = self.single_sided();
     }
 }
 
@@ -383,7 +396,7 @@ impl Mesh {
 ///
 /// let fixed = Bone { joint: None, bind: Mat4::IDENTITY };
 /// let mut builder = MeshBuilder::new("file.glb", 1000);
-/// builder.begin_part();
+/// builder.begin_part(false);
 /// let bone = builder.bone(Bone { joint: Some(0), bind: Mat4::IDENTITY }).unwrap();
 /// // Weights of 2 and 2: scaled to a half each, and said once.
 /// builder.vertex(Vec3::ZERO, Vec3::Y, [(bone, 2.0), (bone, 2.0)], fixed).unwrap();
@@ -442,12 +455,14 @@ impl MeshBuilder {
         Ok(())
     }
 
-    /// Starts the next of the file's meshes (each reader calls it before a mesh's bones).
-    pub fn begin_part(&mut self) {
+    /// Starts the next of the file's meshes (each reader calls it before a mesh's bones);
+    /// `single_sided`: its back faces are hidden.
+    pub fn begin_part(&mut self, single_sided: bool) {
         self.mesh.parts.push(Part {
             first_vertex: self.mesh.positions.len() as u32,
             first_corner: self.mesh.triangles.len() as u32,
             first_bone: self.mesh.bones.len() as u32,
+            single_sided,
         });
         self.fallback = None;
     }

@@ -23,6 +23,7 @@ pub const GL_LIGHT0: u32 = 0x4000;
 pub const GL_POSITION: u32 = 0x1203;
 pub const GL_DEPTH_TEST: u32 = 0x0B71;
 pub const GL_NORMALIZE: u32 = 0x0BA1;
+pub const GL_CULL_FACE: u32 = 0x0B44;
 pub const GL_LINES: u32 = 0x0001;
 pub const GL_LINE_LOOP: u32 = 0x0002;
 pub const GL_LINE_STRIP: u32 = 0x0003;

@@ -279,7 +279,7 @@ pub fn draw_take<G: FixedFunction>(gl: &mut G, scene: &Scene) {
         gl.rotatef(-90.0, 1.0, 0.0, 0.0);
     }
     if let Some(skin) = scene.skin {
-        gl.draw_triangles(&skin.positions, &skin.normals, &skin.indices);
+        draw_skin(gl, skin, skin.single_sided);
     }
     if let Some(style) = style {
         let pass = draw::Pass {
@@ -295,6 +295,22 @@ pub fn draw_take<G: FixedFunction>(gl: &mut G, scene: &Scene) {
     if moved {
         gl.pop_matrix();
         gl.disable(GL_NORMALIZE);
+    }
+}
+
+/// A posed skin's triangles, its back faces culled when `cull` (a skin whose file hides them:
+/// a glTF material that is not double-sided; what a glTF viewer draws, at half the triangles).
+pub fn draw_skin<G: FixedFunction>(
+    gl: &mut G,
+    skin: &crate::model::bone_skin::PosedBody,
+    cull: bool,
+) {
+    if cull {
+        gl.enable(GL_CULL_FACE);
+    }
+    gl.draw_triangles(&skin.positions, &skin.normals, &skin.indices);
+    if cull {
+        gl.disable(GL_CULL_FACE);
     }
 }
 

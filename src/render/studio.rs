@@ -275,7 +275,11 @@ fn shadow<G: FixedFunction>(gl: &mut G, scene: &Scene, stage: &Stage, line_width
         ];
         gl.push_matrix();
         gl.mult_matrixf(&onto_floor);
-        gl.draw_triangles(&skin.positions, &skin.normals, &skin.indices);
+        // A closed surface casts its outline twice, once by the faces towards the light and
+        // once by those away; seen from above the floor, the faces towards the light keep
+        // their winding, so a skin that hides its back faces casts them alone.
+        let from_above = scene.camera.eye()[1] > stage.floor;
+        crate::render::scene::draw_skin(gl, skin, skin.single_sided && from_above);
         gl.pop_matrix();
         return;
     }
@@ -303,7 +307,7 @@ fn figure<G: FixedFunction>(gl: &mut G, scene: &Scene) {
     }
     if let Some(skin) = scene.skin {
         gl.color3f(0.78, 0.74, 0.7);
-        gl.draw_triangles(&skin.positions, &skin.normals, &skin.indices);
+        crate::render::scene::draw_skin(gl, skin, skin.single_sided);
     }
     let style = match (scene.skin, scene.style) {
         (None, style) => Some(style),

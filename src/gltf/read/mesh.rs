@@ -59,7 +59,9 @@ pub(super) fn read(
     let fail = |why: String| bad(path, why);
     for node in document.nodes() {
         let Some(mesh) = node.mesh() else { continue };
-        builder.begin_part();
+        // glTF hides back faces unless a material says `doubleSided` (3.9.5).
+        let single_sided = mesh.primitives().all(|p| !p.material().double_sided());
+        builder.begin_part(single_sided);
         let n = node.index();
         // Skinned: each of the skin's joints binds through its inverse bind matrix; the mesh's
         // node transform is not used (glTF 2.0, 3.7.3.3).

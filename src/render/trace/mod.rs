@@ -568,6 +568,8 @@ const CAPS: &[(u32, &str)] = &[
     (GL_DEPTH_TEST, "GL_DEPTH_TEST"),
     (GL_LIGHTING, "GL_LIGHTING"),
     (GL_LIGHT0, "GL_LIGHT0"),
+    (GL_CULL_FACE, "GL_CULL_FACE"),
+    (GL_NORMALIZE, "GL_NORMALIZE"),
 ];
 const MODES: &[(u32, &str)] = &[
     (GL_QUADS, "GL_QUADS"),
