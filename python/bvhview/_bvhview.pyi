@@ -10,8 +10,10 @@ import numpy.typing as npt
 __all__ = [
     "load",
     "load_many",
+    "load_character",
     "list_takes",
     "humanml3d_features",
+    "Character",
     "Motion",
     "ParseError",
     "__version__",
@@ -213,6 +215,7 @@ class Motion:
 
 __version__: str
 
+@final
 class Character:
     """A skinned mesh read from an FBX or glTF file with the skeleton it is bound to. Immutable."""
 
