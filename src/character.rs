@@ -248,7 +248,13 @@ pub fn write_vertices(
     }
     let first = frames.start;
     for f in frames {
-        world_matrices(skeleton, motion.frame(f), OffsetMode::Replace, &mut world);
+        // A take of no frames has its rest pose as its one frame.
+        let row = if motion.frame_count() == 0 {
+            &[][..]
+        } else {
+            motion.frame(f)
+        };
+        world_matrices(skeleton, row, OffsetMode::Replace, &mut world);
         mesh.deform(&world, &mut positions, &mut normals);
         if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
             return Err(std::io::Error::other(crate::positions::NotFinite(format!(

@@ -410,3 +410,31 @@ fn a_position_accessor_past_the_list_is_refused_not_a_panic() {
     let character = bvhview::gltf::load_character_bytes(json, "bad.gltf", None).unwrap_err();
     assert_eq!(character.to_string(), take);
 }
+
+/// Review findings (issue 49): a take of no frames (an ASF alone: its rest pose) gives its rest
+/// pose's vertices, not a panic; a mesh whose bind mirrors it is not culled (its winding is
+/// turned over).
+#[test]
+fn a_take_without_frames_gives_the_rest_pose_and_mirrors_are_not_culled() {
+    use bvhview::character::{VertexFormat, write_vertices};
+    let capsule = Character::open("tests/data/characters/capsule_mixamo.glb").unwrap();
+    assert!(capsule.mesh.single_sided());
+    let asf = bvhview::Take::open("tests/data/asf_amc/heiden_12.asf").unwrap();
+    assert_eq!(asf.frame_count(), 0);
+    let dressed = capsule.dress(&asf, &[], false, 1).unwrap();
+    let mut npy = Vec::new();
+    write_vertices(
+        &mut npy,
+        &capsule,
+        &dressed.skeleton,
+        &dressed.motion,
+        0..1,
+        VertexFormat::Npy,
+    )
+    .unwrap();
+    assert_eq!(npy.len(), 128 + capsule.mesh.vertex_count() * 12);
+    let mut mirrored = capsule.mesh.clone();
+    mirrored.bones[0].bind =
+        glam::Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0)) * mirrored.bones[0].bind;
+    assert!(!mirrored.single_sided());
+}

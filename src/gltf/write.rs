@@ -344,16 +344,22 @@ impl Data {
                             skeleton.joints.len()
                         )));
                     }
-                    None => *fixed_node.get_or_insert_with(|| {
-                        let node = self.root.push(json::Node {
-                            name: Some("mesh_origin".to_string()),
-                            ..Default::default()
-                        });
-                        if let Some(scene) = self.root.scenes.first_mut() {
-                            scene.nodes.push(node);
+                    // Bones bound to no joint: a node at the origin, another for each more in one
+                    // part (a skin names each node once).
+                    None => match fixed_node.filter(|node| !joints.contains(node)) {
+                        Some(node) => node,
+                        None => {
+                            let node = self.root.push(json::Node {
+                                name: Some("mesh_origin".to_string()),
+                                ..Default::default()
+                            });
+                            if let Some(scene) = self.root.scenes.first_mut() {
+                                scene.nodes.push(node);
+                            }
+                            fixed_node = Some(node);
+                            node
                         }
-                        node
-                    }),
+                    },
                 });
             }
             let name = format!("mesh{k}");

@@ -199,7 +199,11 @@ impl Mesh {
     /// Whether every part hides its back faces (then a picture may cull them, as a glTF viewer
     /// does).
     pub fn single_sided(&self) -> bool {
-        !self.parts.is_empty() && self.parts.iter().all(|p| p.single_sided)
+        // A mirroring bind (a negative determinant) turns the winding over (glTF 3.7.4): such a
+        // mesh is drawn with both sides.
+        !self.parts.is_empty()
+            && self.parts.iter().all(|p| p.single_sided)
+            && self.bones.iter().all(|b| b.bind.determinant() > 0.0)
     }
 
     /// Which of a skeleton's `joints` move some vertex.
@@ -437,11 +441,13 @@ impl MeshBuilder {
     }
 
     fn used(&self) -> u64 {
-        (self.mesh.positions.len() + self.mesh.triangles.len() / 3 + self.mesh.influences.len())
-            as u64
+        (self.mesh.positions.len()
+            + self.mesh.triangles.len() / 3
+            + self.mesh.influences.len()
+            + self.mesh.bones.len()) as u64
     }
 
-    /// Refuses when `more` items would pass the budget.
+    /// Refuses when `more` items (vertices, triangles, influences, bones) would pass the budget.
     pub fn reserve(&self, more: u64) -> Result<(), Error> {
         let wanted = self.used().saturating_add(more);
         if wanted > self.budget {
@@ -480,6 +486,7 @@ impl MeshBuilder {
                 self.name
             )));
         }
+        self.reserve(1)?;
         self.mesh.bones.push(bone);
         Ok((self.mesh.bones.len() - 1) as u32)
     }
@@ -520,7 +527,8 @@ impl MeshBuilder {
                 )));
             }
             if weight > 0.0 {
-                self.reserve(1)?;
+                // This influence and the vertex it belongs to (pushed below).
+                self.reserve(2)?;
                 self.mesh.influences.push(Influence { bone, weight });
             }
         }
@@ -528,6 +536,7 @@ impl MeshBuilder {
         let total: f32 = added.iter().map(|i| i.weight).sum();
         if added.is_empty() || total <= 0.0 {
             self.mesh.influences.truncate(start);
+            self.reserve(2)?;
             let bone = match self.fallback {
                 Some(bone) => bone,
                 None => {

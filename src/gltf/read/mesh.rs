@@ -161,7 +161,9 @@ pub(super) fn read(
                             weights.count()
                         )));
                     }
-                    builder.reserve(4 * count as u64)?;
+                    // Every set read so far counts: a file may name the same accessors again
+                    // and again.
+                    builder.reserve((4 * count as u64).saturating_mul(sets.len() as u64 + 1))?;
                     sets.push((
                         accessor_integers(file, &joints, 4).map_err(&fail)?,
                         accessor_values(file, &weights, 4).map_err(&fail)?,
