@@ -106,7 +106,11 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
             "--scale {scale}: expected a finite number other than 0"
         )));
     }
-    let offset_mode = args.offset_mode.into();
+    // A take on a character is the character's skeleton, written for the replace mode.
+    let offset_mode = match &character {
+        Some(_) => OffsetMode::Replace,
+        None => args.offset_mode.into(),
+    };
     if let Some(warning) =
         crate::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, offset_mode)
     {

@@ -155,7 +155,8 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     for ((take, character), (file, _)) in takes.iter_mut().zip(&characters).zip(&files) {
         if let Some(character) = character {
             let dressed = character.dress_file(&take.1, file, crate::io::parallel::cores())?;
-            take.3 = dressed.stance(mode);
+            // The character's skeleton, read for the replace mode (see `Shown::offset_mode`).
+            take.3 = dressed.stance(OffsetMode::Replace);
             take.2 = resolve_up(args.view.up, &take.3, &take.0, framed_view);
             take.1 = dressed;
         }
@@ -199,8 +200,9 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         overlaid: args.overlay,
     };
     let output = &args.output;
-    let other_mode_likely = takes.iter().any(|(_, loaded, _, _)| {
-        crate::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode).is_some()
+    let other_mode_likely = shown.iter().any(|take| {
+        crate::info::offset_mode_warning(take.skeleton, take.motion, take.offset_mode(mode))
+            .is_some()
     });
     let several = takes.len() > 1;
     let lying_along_z = args.view.up.is_none()

@@ -376,7 +376,12 @@ impl Mesh {
             }
             let blended = Mat4::from_cols(x, y, z, w);
             positions.push(blended.transform_point3(position));
-            normals.push(blended.transform_vector3(normal).normalize_or_zero());
+            normals.push(normal_through(
+                x.truncate(),
+                y.truncate(),
+                z.truncate(),
+                normal,
+            ));
         }
     }
 
@@ -388,6 +393,17 @@ impl Mesh {
         }
         posed.single_sided = self.single_sided();
     }
+}
+
+/// `normal` turned by the linear part whose columns are `a`, `b`, `c`, as a normal turns: by
+/// the inverse transpose, so it stays square to the surface where a bone scales unevenly (the
+/// matrix itself would tilt it). The cofactor matrix is the inverse transpose times the
+/// determinant; its sign is put back so a mirroring matrix does not turn the normal inward.
+fn normal_through(a: Vec3, b: Vec3, c: Vec3, normal: Vec3) -> Vec3 {
+    let (bc, ca, ab) = (b.cross(c), c.cross(a), a.cross(b));
+    let turned = bc * normal.x + ca * normal.y + ab * normal.z;
+    let det = a.dot(bc);
+    (if det < 0.0 { -turned } else { turned }).normalize_or_zero()
 }
 
 /// Gathers a mesh vertex by vertex (for the readers): influences scaled to sum to 1 with a
@@ -728,5 +744,31 @@ mod tests {
         let want = (0..8).map(|j| j as f32 * (1.0 + j as f32)).sum::<f32>() / 36.0;
         assert!((p[0].x - want).abs() < 1e-5, "{} vs {want}", p[0].x);
         assert_eq!(n[0], Vec3::Y);
+    }
+
+    /// A bone that stretches along x turns a sloped surface's normal as the surface turns:
+    /// the surface x + y = 0 stretched twice along x is x + 2y = 0, whose normal is (1, 2, 0),
+    /// not the stretched (2, 1, 0). A mirror keeps the normal on the surface's outer side.
+    #[test]
+    fn normals_stay_square_to_a_surface_scaled_unevenly() {
+        let mut b = builder();
+        let sloped = Vec3::new(1.0, 1.0, 0.0).normalize();
+        b.vertex(Vec3::ZERO, sloped, [(0, 1.0)], FIXED).unwrap();
+        let (mesh, _) = b.finish();
+        let (mut p, mut n) = (Vec::new(), Vec::new());
+        mesh.deform(
+            &[Mat4::from_scale(Vec3::new(2.0, 1.0, 1.0))],
+            &mut p,
+            &mut n,
+        );
+        let want = Vec3::new(1.0, 2.0, 0.0).normalize();
+        assert!(n[0].abs_diff_eq(want, 1e-6), "{} vs {want}", n[0]);
+        mesh.deform(
+            &[Mat4::from_scale(Vec3::new(-1.0, 1.0, 1.0))],
+            &mut p,
+            &mut n,
+        );
+        let want = Vec3::new(-1.0, 1.0, 0.0).normalize();
+        assert!(n[0].abs_diff_eq(want, 1e-6), "{} vs {want}", n[0]);
     }
 }

@@ -32,6 +32,16 @@ pub struct Shown<'a> {
 }
 
 impl<'a> Shown<'a> {
+    /// The offset mode its bones are drawn in: `asked` (`--offset-mode`, O in the window), but
+    /// a take on a character is the character's skeleton, which the retarget wrote for the
+    /// replace mode its mesh is bound in.
+    pub fn offset_mode(&self, asked: OffsetMode) -> OffsetMode {
+        match self.mesh {
+            Some(_) => OffsetMode::Replace,
+            None => asked,
+        }
+    }
+
     /// A take as the file is written (or stood up by `up`), its stance guessed from its motion
     /// when `framed` (a framed or studio view sizes itself by it), else from its rest pose
     /// alone: the article's view uses none of it, and a picture per frame should not pay for it.
@@ -260,7 +270,7 @@ impl Painter {
             let own_heights: Vec<f32> = takes
                 .iter()
                 .map(|t| {
-                    if t.stance.mode == mode {
+                    if t.stance.mode == t.offset_mode(mode) {
                         t.stance.height_along(t.up)
                     } else {
                         0.0
@@ -280,8 +290,13 @@ impl Painter {
                     .zip(&scales)
                     .map(|(t, &scale)| {
                         let bound = t.mesh.map(|m| m.bound_joints(t.skeleton.joints.len()));
-                        let (lo, hi) =
-                            take_extent_of(t.skeleton, t.motion, mode, t.up, bound.as_deref());
+                        let (lo, hi) = take_extent_of(
+                            t.skeleton,
+                            t.motion,
+                            t.offset_mode(mode),
+                            t.up,
+                            bound.as_deref(),
+                        );
                         (lo * scale, hi * scale)
                     })
                     .collect()
@@ -436,7 +451,7 @@ impl Painter {
                 frame: frames[index],
                 camera,
                 style: options.style,
-                offset_mode: mode,
+                offset_mode: take.offset_mode(mode),
                 skin: skinned(take).then(|| &self.posed[index]),
                 // The step view follows the first take's recursion.
                 shown: if index == 0 { options.step } else { None },
@@ -521,7 +536,11 @@ fn camera_of(
         // the floor up, framed in the room with the pose (which may reach beyond it); the camera
         // keeps its distance as the figure moves.
         let root = first.skeleton.roots().next().map_or(Vec3::ZERO, |root| {
-            let points = world_positions(first.skeleton, frames[0].unwrap_or(&[]), mode);
+            let points = world_positions(
+                first.skeleton,
+                frames[0].unwrap_or(&[]),
+                first.offset_mode(mode),
+            );
             placed(0, points[root])
         });
         let half = stage.height * 0.5;
@@ -656,7 +675,11 @@ fn pose_points(
                 points.extend(skin.positions.iter().map(|&p| placed(index, p)))
             }
             _ => {
-                for p in world_positions(take.skeleton, frames[index].unwrap_or(&[]), mode) {
+                for p in world_positions(
+                    take.skeleton,
+                    frames[index].unwrap_or(&[]),
+                    take.offset_mode(mode),
+                ) {
                     points.push(placed(index, p));
                 }
             }

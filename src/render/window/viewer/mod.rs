@@ -103,6 +103,14 @@ pub struct ViewerTake {
 }
 
 impl ViewerTake {
+    /// The offset mode its bones are drawn in (see [`crate::render::paint::Shown::offset_mode`]).
+    pub fn offset_mode(&self, asked: OffsetMode) -> OffsetMode {
+        match self.character {
+            Some(_) => OffsetMode::Replace,
+            None => asked,
+        }
+    }
+
     /// A take loaded from `source`, its up axis guessed, its warnings said on stderr.
     pub fn from_source(source: TakeSource, mode: OffsetMode) -> Result<ViewerTake, Error> {
         let loaded = source.load()?;
@@ -139,9 +147,9 @@ impl ViewerTake {
             self.loaded =
                 character.dress(&self.loaded, &[], false, crate::io::parallel::cores())?;
         }
-        self.stance = self.loaded.stance(mode);
-        self.up = self.up_asked.unwrap_or(self.stance.up);
         self.character = Some(character);
+        self.stance = self.loaded.stance(self.offset_mode(mode));
+        self.up = self.up_asked.unwrap_or(self.stance.up);
         Ok(())
     }
 }

@@ -172,7 +172,7 @@ impl Viewer {
                 crate::info::offset_mode_warning(
                     &t.loaded.skeleton,
                     &t.loaded.motion,
-                    self.options.offset_mode,
+                    t.offset_mode(self.options.offset_mode),
                 )
                 .is_some()
             });
@@ -435,7 +435,7 @@ impl Viewer {
             });
             match loaded {
                 Ok(loaded) => {
-                    take.stance = loaded.stance(self.options.offset_mode);
+                    take.stance = loaded.stance(take.offset_mode(self.options.offset_mode));
                     take.up = take.up_asked.unwrap_or(take.stance.up);
                     take.loaded = loaded;
                 }
@@ -600,7 +600,9 @@ impl Viewer {
                     };
                     // Each take's stance as drawn in the new mode (its height sizes the view).
                     for take in &mut self.takes {
-                        take.stance = take.loaded.stance(self.options.offset_mode);
+                        take.stance = take
+                            .loaded
+                            .stance(take.offset_mode(self.options.offset_mode));
                         take.up = take.up_asked.unwrap_or(take.stance.up);
                     }
                     self.painter.forget();
