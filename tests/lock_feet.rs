@@ -151,3 +151,50 @@ fn a_leg_that_cannot_be_locked_is_said_and_left_as_it_was() {
     );
     assert_eq!(motion, take.motion);
 }
+
+/// A leg with joints between thigh, shin and ankle (MakeHuman's `upperleg02`, `lowerleg02`)
+/// is locked as two rigid stretches: the joints between keep their channels, no bone changes
+/// length. It was refused before ("joints between upperleg01.L and foot.L").
+#[test]
+fn a_leg_with_joints_between_is_locked_as_two_stretches() {
+    let walk = Take::open("tests/data/bvh/bvh11_131_01.bvh").unwrap();
+    let take = bvhview::retarget::onto(&walk, "tests/data/bvh/makehuman_tpose.bvh").unwrap();
+    let stance = take.stance(OffsetMode::Replace);
+    let (motion, report) = lock_feet(
+        &take.skeleton,
+        &take.motion,
+        OffsetMode::Replace,
+        stance.up,
+        f64::from(stance.units.metres),
+        &LockFeet::default(),
+    )
+    .unwrap();
+    assert!(report.notes.is_empty(), "{:?}", report.notes);
+    assert_eq!(report.feet.len(), 2);
+    for foot in &report.feet {
+        assert!(foot.contacts >= 3, "{foot:?}");
+        assert!(foot.drift_after <= 0.01, "{foot:?}");
+        assert!(foot.sliding_after <= 0.1 * foot.sliding_before, "{foot:?}");
+    }
+    let joint = |name: &str| take.skeleton.joints.iter().position(|j| j.name == name).unwrap();
+    for between in ["upperleg02.L", "lowerleg02.L", "upperleg02.R", "lowerleg02.R"] {
+        let j = &take.skeleton.joints[joint(between)];
+        for f in 0..motion.frame_count() {
+            assert_eq!(
+                j.values(motion.frame(f)),
+                j.values(take.motion.frame(f)),
+                "{between} frame {f}"
+            );
+        }
+    }
+    for f in (0..motion.frame_count()).step_by(5) {
+        let [before, after] = [&take.motion, &motion].map(|m| {
+            bvhview::model::pose::world_positions(&take.skeleton, m.frame(f), OffsetMode::Replace)
+        });
+        for (j, joint) in take.skeleton.joints.iter().enumerate() {
+            let Some(p) = joint.parent else { continue };
+            let (a, b) = ((before[j] - before[p]).length(), (after[j] - after[p]).length());
+            assert!((a - b).abs() <= 1e-4 * a.max(1.0), "{} {a} {b}", joint.name);
+        }
+    }
+}

@@ -111,7 +111,8 @@ impl FeetLocked {
     }
 }
 
-/// One leg: thigh, shin and ankle, each the parent of the next.
+/// One leg: thigh, shin and ankle, each above the next. Joints between them (MakeHuman's
+/// `upperleg02`, twist bones) keep their rotations: each stretch moves as one rigid bone.
 struct Leg {
     /// 0 left, 1 right.
     side: usize,
@@ -134,10 +135,14 @@ fn legs(skeleton: &Skeleton, body: &Body) -> (Vec<Leg>, Vec<String>) {
             continue;
         };
         let joints = &skeleton.joints;
-        if joints[shin].parent != Some(thigh) || joints[ankle].parent != Some(shin) {
+        let below = |joint: usize, ancestor: usize| {
+            std::iter::successors(joints[joint].parent, |&p| joints[p].parent)
+                .any(|p| p == ancestor)
+        };
+        if !below(shin, thigh) || !below(ankle, shin) {
             notes.push(format!(
-                "{word} leg not locked: joints between {} and {}",
-                joints[thigh].name, joints[ankle].name
+                "{word} leg not locked: {}, {} and {} are not one chain",
+                joints[thigh].name, joints[shin].name, joints[ankle].name
             ));
             continue;
         }
@@ -300,14 +305,16 @@ pub fn lock_feet_when(
             let shin_turn = turn_onto(moved_ankle - new_knee, new_ankle - new_knee);
             let thigh_world = thigh_turn * w[leg.thigh].0;
             let shin_world = shin_turn * thigh_turn * w[leg.shin].0;
-            let parent = skeleton.joints[leg.thigh]
-                .parent
-                .map_or(DQuat::IDENTITY, |p| w[p].0);
+            let parent = |j: usize| skeleton.joints[j].parent.map_or(DQuat::IDENTITY, |p| w[p].0);
+            // Each joint's parent as it stands after the turns above it (the thigh itself, or
+            // the joints between, which turn with it).
+            let shin_parent = thigh_turn * parent(leg.shin);
+            let ankle_parent = shin_turn * thigh_turn * parent(leg.ankle);
             let row = &mut data[f * channels..(f + 1) * channels];
             for (joint, local) in [
-                (leg.thigh, parent.inverse() * thigh_world),
-                (leg.shin, thigh_world.inverse() * shin_world),
-                (leg.ankle, shin_world.inverse() * w[leg.ankle].0),
+                (leg.thigh, parent(leg.thigh).inverse() * thigh_world),
+                (leg.shin, shin_parent.inverse() * shin_world),
+                (leg.ankle, ankle_parent.inverse() * w[leg.ankle].0),
             ] {
                 let joint = &skeleton.joints[joint];
                 let Some(order) = joint.rotation_order else {
