@@ -176,8 +176,19 @@ fn a_leg_with_joints_between_is_locked_as_two_stretches() {
         assert!(foot.drift_after <= 0.01, "{foot:?}");
         assert!(foot.sliding_after <= 0.1 * foot.sliding_before, "{foot:?}");
     }
-    let joint = |name: &str| take.skeleton.joints.iter().position(|j| j.name == name).unwrap();
-    for between in ["upperleg02.L", "lowerleg02.L", "upperleg02.R", "lowerleg02.R"] {
+    let joint = |name: &str| {
+        take.skeleton
+            .joints
+            .iter()
+            .position(|j| j.name == name)
+            .unwrap()
+    };
+    for between in [
+        "upperleg02.L",
+        "lowerleg02.L",
+        "upperleg02.R",
+        "lowerleg02.R",
+    ] {
         let j = &take.skeleton.joints[joint(between)];
         for f in 0..motion.frame_count() {
             assert_eq!(
@@ -193,7 +204,10 @@ fn a_leg_with_joints_between_is_locked_as_two_stretches() {
         });
         for (j, joint) in take.skeleton.joints.iter().enumerate() {
             let Some(p) = joint.parent else { continue };
-            let (a, b) = ((before[j] - before[p]).length(), (after[j] - after[p]).length());
+            let (a, b) = (
+                (before[j] - before[p]).length(),
+                (after[j] - after[p]).length(),
+            );
             assert!((a - b).abs() <= 1e-4 * a.max(1.0), "{} {a} {b}", joint.name);
         }
     }

@@ -974,6 +974,39 @@ fn the_window_records_what_it_shows_into_an_mp4() {
     assert!(psnr(&pictures[0], &one.rgb) >= 35.0);
 }
 
+/// An output asked for in the window that cannot be written (P onto a picture's name held by a
+/// folder) is said at once and shown, the window goes on, and the program's exit status says
+/// it when the window closes (it ended 0 before).
+#[test]
+fn an_output_the_window_could_not_write_fails_the_exit_status() {
+    let _alone = one_at_a_time();
+    let input = oracle("inputs/tiny_crlf.bvh");
+    let (_xvfb, display) = start_xvfb();
+    let folder = tempfile::tempdir().unwrap();
+    std::fs::create_dir(folder.path().join("tiny_crlf_frame00000.png")).unwrap();
+    let (mut viewer, window) = open_viewer(
+        &display,
+        folder.path(),
+        &[&input],
+        "^bvhview - tiny_crlf.bvh - frame",
+    );
+    focus_until_keys_arrive(&display, &window, "frame 2 of 0-2", "frame 0 of 0-2");
+    run(&display, "xdotool", &["key", "p"]).expect("key p");
+    let log = folder.path().join("viewer-stderr.txt");
+    let printed = wait_for("the refusal", Duration::from_secs(30), || {
+        let printed = std::fs::read_to_string(&log).unwrap_or_default();
+        printed
+            .contains("tiny_crlf_frame00000.png")
+            .then_some(printed)
+    });
+    assert!(printed.contains("folder"), "{printed}");
+    run(&display, "xdotool", &["key", "Escape"]).expect("key Escape");
+    let status = wait_for("the viewer to quit on Esc", Duration::from_secs(30), || {
+        viewer.0.try_wait().unwrap()
+    });
+    assert!(!status.success(), "exit status {status}");
+}
+
 /// Issue 49: `--character` puts the take on a character in the window as `snapshot` draws it
 /// (the studio look: the mesh skinned, lit, casting its shadow).
 #[test]

@@ -305,7 +305,11 @@ pub fn lock_feet_when(
             let shin_turn = turn_onto(moved_ankle - new_knee, new_ankle - new_knee);
             let thigh_world = thigh_turn * w[leg.thigh].0;
             let shin_world = shin_turn * thigh_turn * w[leg.shin].0;
-            let parent = |j: usize| skeleton.joints[j].parent.map_or(DQuat::IDENTITY, |p| w[p].0);
+            let parent = |j: usize| {
+                skeleton.joints[j]
+                    .parent
+                    .map_or(DQuat::IDENTITY, |p| w[p].0)
+            };
             // Each joint's parent as it stands after the turns above it (the thigh itself, or
             // the joints between, which turn with it).
             let shin_parent = thigh_turn * parent(leg.shin);

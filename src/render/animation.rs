@@ -238,7 +238,7 @@ pub fn write(
             for image in frames {
                 video.push(&image?)?;
             }
-            std::io::Write::write_all(out, &video.finish()?).map_err(|e| Error::output(path, e))?;
+            video.finish_into(out, path)?;
         }
         #[cfg(not(feature = "video"))]
         Format::Mp4 => {

@@ -21,14 +21,18 @@ use openh264::encoder::{
     VuiConfig,
 };
 use openh264::formats::YUVSource;
-use std::io::Cursor;
+use std::fs::File;
+use std::io::{BufWriter, Seek, SeekFrom, Write};
+use std::path::Path;
 
 /// The quantiser frames are encoded with (H.264's 0–51, lower is finer; OpenH264's rate control
 /// may raise it a step or two at a change of scene). At 12 the colour's half resolution is all
 /// that separates a frame from its PNG: a finer one measured the same (GUIDE, Video).
 const QUANTISER: u8 = 12;
 
-/// An MP4 being written: pictures in, one H.264 sample each, the file's bytes at the end.
+/// An MP4 being written: pictures in, one H.264 sample each, the file's bytes at the end. The
+/// samples wait in an unnamed temporary file (MP4's index goes after them and points back
+/// into them), so a long recording costs disk, not memory.
 ///
 /// ```
 /// use bvhview::render::{Image, video::Mp4};
@@ -52,7 +56,7 @@ pub struct Mp4 {
     /// The picture in YUV, kept from frame to frame.
     yuv: Planes,
     /// Started at the first frame, which carries the parameter sets the header needs.
-    writer: Option<mp4::Mp4Writer<Cursor<Vec<u8>>>>,
+    writer: Option<mp4::Mp4Writer<BufWriter<File>>>,
     /// Ticks per second of the track and ticks per frame: a frame lasts exactly `1 / fps`.
     timescale: u32,
     ticks: u32,
@@ -105,13 +109,23 @@ impl Mp4 {
     }
 
     /// Encodes the next picture, shown for `frames` frames (at least 1): one sample in the
-    /// file, however long it lasts (the window's recording holds a still picture this way).
-    pub fn push_lasting(&mut self, image: &Image, frames: u32) -> Result<(), Error> {
-        let frames = frames.max(1);
-        let duration = self
-            .ticks
-            .checked_mul(frames)
-            .ok_or_else(|| encoder_error(&format_args!("a picture {frames} frames long")))?;
+    /// file however long it lasts (the window's recording holds a still picture this way), or
+    /// as many as a sample's 32-bit duration needs for a still of days.
+    pub fn push_lasting(&mut self, image: &Image, frames: u64) -> Result<(), Error> {
+        let most = u64::from(u32::MAX / self.ticks);
+        let mut left = frames.max(1);
+        while left > 0 {
+            let now = left.min(most);
+            self.push_sample(image, now as u32)?;
+            left -= now;
+        }
+        self.pictures += 1;
+        Ok(())
+    }
+
+    /// One picture, one sample `frames` frames long (no more than its duration holds).
+    fn push_sample(&mut self, image: &Image, frames: u32) -> Result<(), Error> {
+        let duration = self.ticks * frames;
         if (image.width, image.height) != self.size
             || image.rgb.len() != image.width as usize * image.height as usize * 3
         {
@@ -169,12 +183,11 @@ impl Mp4 {
                 },
             )
             .map_err(|e| muxer_error(&e))?;
-        self.pictures += 1;
         self.frames += u64::from(frames);
         Ok(())
     }
 
-    fn start(&self, sps: Vec<u8>, pps: Vec<u8>) -> mp4::Result<mp4::Mp4Writer<Cursor<Vec<u8>>>> {
+    fn start(&self, sps: Vec<u8>, pps: Vec<u8>) -> mp4::Result<mp4::Mp4Writer<BufWriter<File>>> {
         let brand = |name: &[u8; 4]| mp4::FourCC::from(*name);
         let config = mp4::Mp4Config {
             major_brand: brand(b"isom"),
@@ -188,7 +201,8 @@ impl Mp4 {
             // The track's own: a movie in milliseconds rounded each frame down (1–4 % short).
             timescale: self.timescale,
         };
-        let mut writer = mp4::Mp4Writer::write_start(Cursor::new(Vec::new()), &config)?;
+        let samples = BufWriter::new(tempfile::tempfile()?);
+        let mut writer = mp4::Mp4Writer::write_start(samples, &config)?;
         writer.add_track(&mp4::TrackConfig {
             track_type: mp4::TrackType::Video,
             timescale: self.timescale,
@@ -208,13 +222,28 @@ impl Mp4 {
         (self.pictures, self.frames)
     }
 
-    /// The whole file: refused with no picture in it.
+    /// The whole file in memory: refused with no picture in it.
     pub fn finish(self) -> Result<Vec<u8>, Error> {
+        let mut bytes = Vec::new();
+        self.finish_into(&mut bytes, Path::new("the video in memory"))?;
+        Ok(bytes)
+    }
+
+    /// The whole file written to `out` (`path` names it in an error): refused with no
+    /// picture in it.
+    pub fn finish_into(self, out: &mut dyn Write, path: &Path) -> Result<(), Error> {
         let Some(mut writer) = self.writer else {
             return Err(Error::Usage("a video needs one frame or more".into()));
         };
         writer.write_end().map_err(|e| muxer_error(&e))?;
-        Ok(writer.into_writer().into_inner())
+        let mut file = writer
+            .into_writer()
+            .into_inner()
+            .map_err(|e| Error::output(path, e.into_error()))?;
+        file.seek(SeekFrom::Start(0))
+            .and_then(|_| std::io::copy(&mut file, out))
+            .map_err(|e| Error::output(path, e))?;
+        Ok(())
     }
 }
 
@@ -376,5 +405,29 @@ mod tests {
             "OpenH264 takes 16 pixels a side and more"
         );
         assert!(Mp4::new((16, 16), 30.0, 1).unwrap().finish().is_err());
+    }
+
+    /// A still longer than one sample's 32-bit duration (4,294,967 frames at 1,000 ticks a
+    /// frame: 9.9 hours at 120 fps) is split into samples of the same picture, each a frame
+    /// of the stream, lasting as long together; the file holds every one.
+    #[test]
+    fn a_still_of_days_is_split_into_samples() {
+        let mut video = Mp4::new((16, 16), 120.0, 1).unwrap();
+        let grey = Image {
+            width: 16,
+            height: 16,
+            rgb: vec![128; 16 * 16 * 3],
+        };
+        let long = 2 * u64::from(u32::MAX / 1000) + 7;
+        video.push_lasting(&grey, long).unwrap();
+        video.push(&grey).unwrap();
+        assert_eq!(video.length(), (2, long + 1));
+        let bytes = video.finish().unwrap();
+        let size = bytes.len() as u64;
+        let file = mp4::Mp4Reader::read_header(std::io::Cursor::new(bytes), size).unwrap();
+        let track = file.tracks().get(&1).unwrap();
+        assert_eq!(track.sample_count(), 4);
+        let seconds = (long + 1) as f64 / 120.0;
+        assert!((track.duration().as_secs_f64() - seconds).abs() < 1e-3);
     }
 }

@@ -391,12 +391,15 @@ fn load_file(
             .into_iter()
             .map(Option::unwrap_or_default)
             .collect();
+        // The first joint of each name, looked up once a node (a search per node was
+        // quadratic in a file of many nodes).
+        let mut by_name = std::collections::HashMap::with_capacity(skeleton.joints.len());
+        for (i, j) in skeleton.joints.iter().enumerate() {
+            by_name.entry(j.name.as_str()).or_insert(i);
+        }
         let mut joint = vec![None; count];
         for (k, &n) in order.iter().enumerate() {
-            joint[n] = skeleton
-                .joints
-                .iter()
-                .position(|j| j.name == skeleton_nodes[k].name);
+            joint[n] = by_name.get(skeleton_nodes[k].name.as_str()).copied();
         }
         let frames = mesh::NodeFrames {
             parent: &parent,

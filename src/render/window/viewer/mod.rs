@@ -173,9 +173,11 @@ pub fn run(takes: Vec<ViewerTake>, options: ViewerOptions) -> Result<(), Error> 
     if app.error.is_none() {
         recorded?;
     }
-    match app.error {
-        Some(error) => Err(error),
-        None => Ok(()),
+    // The first output asked for that failed while the window was open (said then) ends the
+    // program unsuccessfully, as a failed `snapshot -o` would.
+    match (app.error, app.failed_output) {
+        (Some(error), _) | (None, Some(error)) => Err(error),
+        (None, None) => Ok(()),
     }
 }
 

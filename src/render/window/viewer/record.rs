@@ -9,6 +9,7 @@
 
 use crate::io::error::Error;
 use crate::render::Image;
+use crate::render::video::Mp4;
 use std::path::{Path, PathBuf};
 use std::sync::mpsc::{SyncSender, sync_channel};
 use std::thread::JoinHandle;
@@ -28,8 +29,8 @@ pub(super) struct Recording {
     /// Pictures handed to the encoder, and the frames they last together.
     pictures: u64,
     frames: u64,
-    sender: Option<SyncSender<(Image, u32)>>,
-    encoder: Option<JoinHandle<Result<Vec<u8>, Error>>>,
+    sender: Option<SyncSender<(Image, u64)>>,
+    encoder: Option<JoinHandle<Result<Mp4, Error>>>,
 }
 
 impl Recording {
@@ -43,14 +44,14 @@ impl Recording {
         let fps = fps.min(MOST_FPS);
         crate::render::animation::check_video_size(size.0, size.1)?;
         // One core for the encoder: the window keeps the other.
-        let mut video = crate::render::video::Mp4::new(size, fps, 1)?;
+        let mut video = Mp4::new(size, fps, 1)?;
         // A few pictures in flight; when the encoder falls behind, the window waits for it.
-        let (sender, pictures) = sync_channel::<(Image, u32)>(4);
+        let (sender, pictures) = sync_channel::<(Image, u64)>(4);
         let encoder = std::thread::spawn(move || {
             for (picture, frames) in pictures {
                 video.push_lasting(&picture, frames)?;
             }
-            video.finish()
+            Ok(video)
         });
         Ok(Recording {
             path,
@@ -95,7 +96,7 @@ impl Recording {
         let Some((picture, from)) = self.last.take() else {
             return Ok(());
         };
-        let frames = u32::try_from(until.saturating_sub(from).max(1)).unwrap_or(u32::MAX);
+        let frames = until.saturating_sub(from).max(1);
         let sent = self
             .sender
             .as_ref()
@@ -108,11 +109,11 @@ impl Recording {
                 .unwrap_or_else(|| Error::Usage("the recording's encoder stopped early".into())));
         }
         self.pictures += 1;
-        self.frames += u64::from(frames);
+        self.frames += frames;
         Ok(())
     }
 
-    fn join(&mut self) -> Result<Vec<u8>, Error> {
+    fn join(&mut self) -> Result<Mp4, Error> {
         self.sender = None;
         match self.encoder.take() {
             Some(encoder) => encoder
@@ -128,9 +129,9 @@ impl Recording {
         // The picture on the screen lasts until now, and at least a frame.
         let end = self.frame_at(now);
         self.send_last(end)?;
-        let bytes = self.join()?;
+        let video = self.join()?;
         let mut file = crate::io::output::AtomicFile::create(&self.path)?;
-        std::io::Write::write_all(&mut file, &bytes).map_err(|e| Error::output(&self.path, e))?;
+        video.finish_into(&mut file, &self.path)?;
         file.commit()?;
         Ok(Written {
             path: self.path.clone(),

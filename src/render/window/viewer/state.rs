@@ -35,6 +35,9 @@ pub(super) struct Viewer {
     pub(super) seeking: bool,
     /// The last reload's or drop's error, shown top left until the next one succeeds.
     pub(super) problem: Option<String>,
+    /// The first output asked for that could not be written (a recording, a picture): shown
+    /// like a problem, and the program's exit status when the window closes.
+    pub(super) failed_output: Option<Error>,
     pub(super) painter: Painter,
     /// The recording under way (M, `--record`), and one `--record` asked for when the window
     /// opens.
@@ -71,6 +74,7 @@ impl Viewer {
             cursor: (0.0, 0.0),
             seeking: false,
             problem: None,
+            failed_output: None,
             painter: Painter::default(),
             #[cfg(feature = "video")]
             recording: None,
@@ -292,8 +296,7 @@ impl Viewer {
         let size = self.paint()?;
         // The recording takes the picture before it is presented (the back buffer).
         if let Err(error) = self.record(size) {
-            eprintln!("bvhview: {error}");
-            self.problem = Some(error.to_string());
+            self.output_failed(error);
         }
         let title = self.title();
         let Some(running) = self.running.as_mut() else {
@@ -398,6 +401,14 @@ impl Viewer {
             "MP4 video",
             &path.display().to_string(),
         ))
+    }
+
+    /// An output asked for could not be written: said now, shown in the window, and kept (the
+    /// first) for the exit status.
+    pub(super) fn output_failed(&mut self, error: Error) {
+        eprintln!("bvhview: {error}");
+        self.problem = Some(error.to_string());
+        self.failed_output.get_or_insert(error);
     }
 
     /// Ends the recording under way, if any, and writes its file.
@@ -553,14 +564,12 @@ impl Viewer {
                 "r" => self.reload(),
                 "m" => {
                     if let Err(error) = self.toggle_recording() {
-                        eprintln!("bvhview: {error}");
-                        self.problem = Some(error.to_string());
+                        self.output_failed(error);
                     }
                 }
                 "p" => {
                     if let Err(error) = self.write_picture() {
-                        eprintln!("bvhview: {error}");
-                        self.problem = Some(error.to_string());
+                        self.output_failed(error);
                     }
                 }
                 // The studio look and back; the camera starts again from the look's own.
