@@ -198,6 +198,29 @@ fn a_leg_with_joints_between_is_locked_as_two_stretches() {
             );
         }
     }
+    // The feet keep their world orientation on every frame, held or not: the ankle's turn
+    // undoes what the thigh and shin turns (and the joints between) did to its parent.
+    let ankles: Vec<usize> = report.feet.iter().map(|foot| foot.ankle).collect();
+    let (mut before, mut after) = (Vec::new(), Vec::new());
+    for f in 0..motion.frame_count() {
+        let world = bvhview::model::pose::world_transforms_f64;
+        world(
+            &take.skeleton,
+            take.motion.frame(f),
+            OffsetMode::Replace,
+            &mut before,
+        );
+        world(
+            &take.skeleton,
+            motion.frame(f),
+            OffsetMode::Replace,
+            &mut after,
+        );
+        for &ankle in &ankles {
+            let turned = before[ankle].0.angle_between(after[ankle].0);
+            assert!(turned < 1e-4, "frame {f}: the foot turned {turned} rad");
+        }
+    }
     for f in (0..motion.frame_count()).step_by(5) {
         let [before, after] = [&take.motion, &motion].map(|m| {
             bvhview::model::pose::world_positions(&take.skeleton, m.frame(f), OffsetMode::Replace)

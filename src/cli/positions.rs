@@ -106,11 +106,7 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
             "--scale {scale}: expected a finite number other than 0"
         )));
     }
-    // A take on a character is the character's skeleton, written for the replace mode.
-    let offset_mode = match &character {
-        Some(_) => OffsetMode::Replace,
-        None => args.offset_mode.into(),
-    };
+    let offset_mode = OffsetMode::from(args.offset_mode).for_take(character.is_some());
     if let Some(warning) =
         crate::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, offset_mode)
     {

@@ -146,7 +146,11 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         };
         let loaded = load(file, &source)?;
         let name = file.display().to_string();
-        warn_offset_mode(&loaded, mode, &name);
+        // On a character the retarget reads the file in the mode it was written for: no advice
+        // about --offset-mode, which does not apply.
+        if args.character.is_empty() {
+            warn_offset_mode(&loaded, mode, &name);
+        }
         let stance = loaded.stance(mode);
         let up = resolve_up(args.view.up, &stance, &name, framed_view);
         takes.push((short_name(file), loaded, up, stance));
@@ -155,8 +159,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     for ((take, character), (file, _)) in takes.iter_mut().zip(&characters).zip(&files) {
         if let Some(character) = character {
             let dressed = character.dress_file(&take.1, file, crate::io::parallel::cores())?;
-            // The character's skeleton, read for the replace mode (see `Shown::offset_mode`).
-            take.3 = dressed.stance(OffsetMode::Replace);
+            take.3 = dressed.stance(mode.for_take(true));
             take.2 = resolve_up(args.view.up, &take.3, &take.0, framed_view);
             take.1 = dressed;
         }

@@ -132,7 +132,10 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         };
         let mut take = ViewerTake::from_source(take_source, offset_mode)?;
         let name = path.display().to_string();
-        warn_offset_mode(&take.loaded, offset_mode, &name);
+        // On a character the retarget reads the file in the mode it was written for.
+        if character.is_empty() {
+            warn_offset_mode(&take.loaded, offset_mode, &name);
+        }
         resolve_up(up, &take.stance, &name, look == LookArg::Studio);
         take.up = up.map_or(take.stance.up, Up::from);
         take.up_asked = up.map(Up::from);

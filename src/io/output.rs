@@ -304,6 +304,16 @@ impl AtomicFile {
         })
     }
 
+    /// The folder a regular file is written in (its temporary file's, beside the output), where
+    /// a writer needing room for scratch data keeps it on the output's own disk; `None` for a
+    /// FIFO or a device (whose folder, /dev, is no place for files).
+    pub fn folder(&self) -> Option<&Path> {
+        match &self.writer {
+            Some(Writer::Replace { temporary, .. }) => temporary.get_ref().path().parent(),
+            _ => None,
+        }
+    }
+
     /// A FIFO, a device, or (`truncate`) a regular file reached through /dev or /proc: written
     /// to where it is.
     fn direct(path: &Path, truncate: bool) -> AtomicFile {

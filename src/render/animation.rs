@@ -233,8 +233,10 @@ pub fn write(
         }
         #[cfg(feature = "video")]
         Format::Mp4 => {
+            let folder = out.folder().map(Path::to_path_buf);
             let mut video =
-                crate::render::video::Mp4::new((width, height), fps, crate::io::parallel::cores())?;
+                crate::render::video::Mp4::new((width, height), fps, crate::io::parallel::cores())?
+                    .spool_in(folder.as_deref());
             for image in frames {
                 video.push(&image?)?;
             }

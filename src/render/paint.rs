@@ -32,14 +32,10 @@ pub struct Shown<'a> {
 }
 
 impl<'a> Shown<'a> {
-    /// The offset mode its bones are drawn in: `asked` (`--offset-mode`, O in the window), but
-    /// a take on a character is the character's skeleton, which the retarget wrote for the
-    /// replace mode its mesh is bound in.
+    /// The offset mode its bones are drawn in: `asked` (`--offset-mode`, O in the window), or
+    /// a character's ([`OffsetMode::for_take`]).
     pub fn offset_mode(&self, asked: OffsetMode) -> OffsetMode {
-        match self.mesh {
-            Some(_) => OffsetMode::Replace,
-            None => asked,
-        }
+        asked.for_take(self.mesh.is_some())
     }
 
     /// A take as the file is written (or stood up by `up`), its stance guessed from its motion

@@ -23,7 +23,7 @@ use openh264::encoder::{
 use openh264::formats::YUVSource;
 use std::fs::File;
 use std::io::{BufWriter, Seek, SeekFrom, Write};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// The quantiser frames are encoded with (H.264's 0–51, lower is finer; OpenH264's rate control
 /// may raise it a step or two at a change of scene). At 12 the colour's half resolution is all
@@ -32,7 +32,8 @@ const QUANTISER: u8 = 12;
 
 /// An MP4 being written: pictures in, one H.264 sample each, the file's bytes at the end. The
 /// samples wait in an unnamed temporary file (MP4's index goes after them and points back
-/// into them), so a long recording costs disk, not memory.
+/// into them), so a long recording costs disk, not memory: in the output's own folder when
+/// [`Mp4::spool_in`] names it (the system's temporary folder may be in memory), else there.
 ///
 /// ```
 /// use bvhview::render::{Image, video::Mp4};
@@ -57,6 +58,8 @@ pub struct Mp4 {
     yuv: Planes,
     /// Started at the first frame, which carries the parameter sets the header needs.
     writer: Option<mp4::Mp4Writer<BufWriter<File>>>,
+    /// Where the samples wait; `None`: the system's temporary folder.
+    spool: Option<PathBuf>,
     /// Ticks per second of the track and ticks per frame: a frame lasts exactly `1 / fps`.
     timescale: u32,
     ticks: u32,
@@ -96,11 +99,20 @@ impl Mp4 {
             even,
             yuv: Planes::new(even.0 as usize, even.1 as usize),
             writer: None,
+            spool: None,
             timescale,
             ticks: 1000,
             pictures: 0,
             frames: 0,
         })
+    }
+
+    /// Keeps the samples in `folder` until the end (the output's folder, so that they take room
+    /// on its disk and not in a temporary folder held in memory); `None` leaves them in the
+    /// system's temporary folder.
+    pub fn spool_in(mut self, folder: Option<&Path>) -> Mp4 {
+        self.spool = folder.map(Path::to_path_buf);
+        self
     }
 
     /// Encodes the next picture (of the size given to [`Mp4::new`]), one frame long.
@@ -112,7 +124,9 @@ impl Mp4 {
     /// file however long it lasts (the window's recording holds a still picture this way), or
     /// as many as a sample's 32-bit duration needs for a still of days.
     pub fn push_lasting(&mut self, image: &Image, frames: u64) -> Result<(), Error> {
-        let most = u64::from(u32::MAX / self.ticks);
+        // The muxer adds a sample's duration to the chunk's, kept in 32 bits, which holds up to
+        // a second before the chunk is written: a sample leaves that second free.
+        let most = u64::from((u32::MAX - self.timescale) / self.ticks);
         let mut left = frames.max(1);
         while left > 0 {
             let now = left.min(most);
@@ -168,26 +182,36 @@ impl Mp4 {
             let (Some(sps), Some(pps)) = (sps, pps) else {
                 return Err(encoder_error(&"the first frame has no parameter sets"));
             };
-            self.writer = Some(self.start(sps, pps).map_err(|e| muxer_error(&e))?);
+            let samples = match &self.spool {
+                Some(folder) => tempfile::tempfile_in(folder),
+                None => tempfile::tempfile(),
+            }
+            .map_err(|e| Error::output(&self.spool_folder(), e))?;
+            let started = self.start(BufWriter::new(samples), sps, pps);
+            self.writer = Some(started.map_err(|e| self.muxer_error(e))?);
         }
         let writer = self.writer.as_mut().expect("started above");
-        writer
-            .write_sample(
-                1,
-                &mp4::Mp4Sample {
-                    start_time: self.frames * u64::from(self.ticks),
-                    duration,
-                    rendering_offset: 0,
-                    is_sync: key,
-                    bytes: sample.into(),
-                },
-            )
-            .map_err(|e| muxer_error(&e))?;
+        let written = writer.write_sample(
+            1,
+            &mp4::Mp4Sample {
+                start_time: self.frames * u64::from(self.ticks),
+                duration,
+                rendering_offset: 0,
+                is_sync: key,
+                bytes: sample.into(),
+            },
+        );
+        written.map_err(|e| self.muxer_error(e))?;
         self.frames += u64::from(frames);
         Ok(())
     }
 
-    fn start(&self, sps: Vec<u8>, pps: Vec<u8>) -> mp4::Result<mp4::Mp4Writer<BufWriter<File>>> {
+    fn start(
+        &self,
+        samples: BufWriter<File>,
+        sps: Vec<u8>,
+        pps: Vec<u8>,
+    ) -> mp4::Result<mp4::Mp4Writer<BufWriter<File>>> {
         let brand = |name: &[u8; 4]| mp4::FourCC::from(*name);
         let config = mp4::Mp4Config {
             major_brand: brand(b"isom"),
@@ -201,7 +225,6 @@ impl Mp4 {
             // The track's own: a movie in milliseconds rounded each frame down (1–4 % short).
             timescale: self.timescale,
         };
-        let samples = BufWriter::new(tempfile::tempfile()?);
         let mut writer = mp4::Mp4Writer::write_start(samples, &config)?;
         writer.add_track(&mp4::TrackConfig {
             track_type: mp4::TrackType::Video,
@@ -215,6 +238,20 @@ impl Mp4 {
             }),
         })?;
         Ok(writer)
+    }
+
+    /// The folder the samples wait in.
+    fn spool_folder(&self) -> PathBuf {
+        self.spool.clone().unwrap_or_else(std::env::temp_dir)
+    }
+
+    /// The muxer's error: a file that could not be written names the folder the samples wait
+    /// in (a full disk is not the input's fault); anything else is the muxer's.
+    fn muxer_error(&self, e: mp4::Error) -> Error {
+        match e {
+            mp4::Error::IoError(e) => Error::output(&self.spool_folder(), e),
+            other => Error::Usage(format!("the MP4 writer: {other}")),
+        }
     }
 
     /// How many pictures are in, and the frames they last together.
@@ -231,15 +268,16 @@ impl Mp4 {
 
     /// The whole file written to `out` (`path` names it in an error): refused with no
     /// picture in it.
-    pub fn finish_into(self, out: &mut dyn Write, path: &Path) -> Result<(), Error> {
-        let Some(mut writer) = self.writer else {
+    pub fn finish_into(mut self, out: &mut dyn Write, path: &Path) -> Result<(), Error> {
+        let Some(mut writer) = self.writer.take() else {
             return Err(Error::Usage("a video needs one frame or more".into()));
         };
-        writer.write_end().map_err(|e| muxer_error(&e))?;
+        writer.write_end().map_err(|e| self.muxer_error(e))?;
+        // The samples' last bytes reach their file here.
         let mut file = writer
             .into_writer()
             .into_inner()
-            .map_err(|e| Error::output(path, e.into_error()))?;
+            .map_err(|e| Error::output(&self.spool_folder(), e.into_error()))?;
         file.seek(SeekFrom::Start(0))
             .and_then(|_| std::io::copy(&mut file, out))
             .map_err(|e| Error::output(path, e))?;
@@ -375,10 +413,6 @@ fn encoder_error(e: &dyn std::fmt::Display) -> Error {
     Error::Usage(format!("the H.264 encoder (OpenH264): {e}"))
 }
 
-fn muxer_error(e: &dyn std::fmt::Display) -> Error {
-    Error::Usage(format!("the MP4 writer: {e}"))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -407,27 +441,35 @@ mod tests {
         assert!(Mp4::new((16, 16), 30.0, 1).unwrap().finish().is_err());
     }
 
-    /// A still longer than one sample's 32-bit duration (4,294,967 frames at 1,000 ticks a
-    /// frame: 9.9 hours at 120 fps) is split into samples of the same picture, each a frame
-    /// of the stream, lasting as long together; the file holds every one.
+    /// A still longer than one sample's 32-bit duration (4,294,847 frames at 1,000 ticks a
+    /// frame and 120,000 a second: the muxer keeps a second of room in its 32-bit chunk
+    /// length; 9.9 hours at 120 fps) is split into samples of the same picture, lasting as long
+    /// together; a frame before it (in the same chunk) is what overflowed the muxer's sum. The
+    /// samples wait in the folder named, and nothing is left there.
     #[test]
     fn a_still_of_days_is_split_into_samples() {
-        let mut video = Mp4::new((16, 16), 120.0, 1).unwrap();
+        let folder = tempfile::tempdir().unwrap();
+        let mut video = Mp4::new((16, 16), 120.0, 1)
+            .unwrap()
+            .spool_in(Some(folder.path()));
         let grey = Image {
             width: 16,
             height: 16,
             rgb: vec![128; 16 * 16 * 3],
         };
-        let long = 2 * u64::from(u32::MAX / 1000) + 7;
+        let most = u64::from((u32::MAX - 120_000) / 1000);
+        let long = 2 * most + 7;
+        video.push(&grey).unwrap();
         video.push_lasting(&grey, long).unwrap();
         video.push(&grey).unwrap();
-        assert_eq!(video.length(), (2, long + 1));
+        assert_eq!(video.length(), (3, long + 2));
         let bytes = video.finish().unwrap();
+        assert_eq!(std::fs::read_dir(folder.path()).unwrap().count(), 0);
         let size = bytes.len() as u64;
         let file = mp4::Mp4Reader::read_header(std::io::Cursor::new(bytes), size).unwrap();
         let track = file.tracks().get(&1).unwrap();
-        assert_eq!(track.sample_count(), 4);
-        let seconds = (long + 1) as f64 / 120.0;
+        assert_eq!(track.sample_count(), 5);
+        let seconds = (long + 2) as f64 / 120.0;
         assert!((track.duration().as_secs_f64() - seconds).abs() < 1e-3);
     }
 }

@@ -54,6 +54,26 @@ pub enum OffsetMode {
     Add,
 }
 
+impl OffsetMode {
+    /// The mode a take's bones are read in: `self`, asked for the files; but a take put on a
+    /// character (`on_character`) is the character's skeleton, which the retarget wrote for
+    /// the replace mode its mesh is bound in (it reads the source in whichever mode the source
+    /// was written for).
+    ///
+    /// ```
+    /// use bvhview::model::pose::OffsetMode;
+    /// assert_eq!(OffsetMode::Add.for_take(false), OffsetMode::Add);
+    /// assert_eq!(OffsetMode::Add.for_take(true), OffsetMode::Replace);
+    /// ```
+    pub fn for_take(self, on_character: bool) -> OffsetMode {
+        if on_character {
+            OffsetMode::Replace
+        } else {
+            self
+        }
+    }
+}
+
 /// Which world axis points up in a file: BVH's usual Y, or Z as some exporters write.
 ///
 /// ```

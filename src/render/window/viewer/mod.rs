@@ -103,12 +103,9 @@ pub struct ViewerTake {
 }
 
 impl ViewerTake {
-    /// The offset mode its bones are drawn in (see [`crate::render::paint::Shown::offset_mode`]).
+    /// The offset mode its bones are drawn in ([`OffsetMode::for_take`]).
     pub fn offset_mode(&self, asked: OffsetMode) -> OffsetMode {
-        match self.character {
-            Some(_) => OffsetMode::Replace,
-            None => asked,
-        }
+        asked.for_take(self.character.is_some())
     }
 
     /// A take loaded from `source`, its up axis guessed, its warnings said on stderr.

@@ -8,6 +8,7 @@
 //! whole or not at all.
 
 use crate::io::error::Error;
+use crate::io::output::AtomicFile;
 use crate::render::Image;
 use crate::render::video::Mp4;
 use std::path::{Path, PathBuf};
@@ -20,6 +21,9 @@ pub(super) const MOST_FPS: f64 = 60.0;
 
 pub(super) struct Recording {
     path: PathBuf,
+    /// The file being written, made when the recording starts (a folder that is not there is
+    /// said then, not when the window closes); the samples wait beside it.
+    file: Option<AtomicFile>,
     size: (u32, u32),
     fps: f64,
     started: Instant,
@@ -43,8 +47,9 @@ impl Recording {
     ) -> Result<Recording, Error> {
         let fps = fps.min(MOST_FPS);
         crate::render::animation::check_video_size(size.0, size.1)?;
+        let file = AtomicFile::create(&path)?;
         // One core for the encoder: the window keeps the other.
-        let mut video = Mp4::new(size, fps, 1)?;
+        let mut video = Mp4::new(size, fps, 1)?.spool_in(file.folder());
         // A few pictures in flight; when the encoder falls behind, the window waits for it.
         let (sender, pictures) = sync_channel::<(Image, u64)>(4);
         let encoder = std::thread::spawn(move || {
@@ -55,6 +60,7 @@ impl Recording {
         });
         Ok(Recording {
             path,
+            file: Some(file),
             size,
             fps,
             started: now,
@@ -130,7 +136,9 @@ impl Recording {
         let end = self.frame_at(now);
         self.send_last(end)?;
         let video = self.join()?;
-        let mut file = crate::io::output::AtomicFile::create(&self.path)?;
+        let Some(mut file) = self.file.take() else {
+            return Err(Error::Usage("the recording has ended".into()));
+        };
         video.finish_into(&mut file, &self.path)?;
         file.commit()?;
         Ok(Written {
@@ -177,6 +185,18 @@ mod tests {
             height: size.1,
             rgb: vec![shade; size.0 as usize * size.1 as usize * 3],
         }
+    }
+
+    /// A recording into a folder that is not there is refused when it starts, not after the
+    /// whole session when the window closes.
+    #[test]
+    fn a_recording_into_a_missing_folder_is_refused_at_its_start() {
+        let folder = tempfile::tempdir().unwrap();
+        let path = folder.path().join("missing").join("take.mp4");
+        let error = Recording::start(path, (16, 16), 30.0, Instant::now())
+            .err()
+            .expect("refused");
+        assert!(error.to_string().contains("missing"), "{error}");
     }
 
     #[test]
