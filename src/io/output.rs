@@ -38,13 +38,7 @@ fn planted_pause() {
     }
 }
 
-/// A temporary folder being filled (a dataset), removed like a partial file on a signal until
-/// [`finished_folder`] says it has its name.
-pub fn partial_folder(path: &Path) {
-    partial().push(path.to_path_buf());
-}
-
-/// Runs `work` (which writes into a folder [`partial_folder`] named) while no signal cleanup can
+/// Runs `work` (which writes into a folder a [`NewFolder`] made) while no signal cleanup can
 /// run: a cleanup that started first keeps it from starting, as the process is ending; one that
 /// comes during it waits for it, then removes the folder with everything `work` made.
 pub fn in_partial_folder<R>(work: impl FnOnce() -> R) -> R {
@@ -52,7 +46,7 @@ pub fn in_partial_folder<R>(work: impl FnOnce() -> R) -> R {
     work()
 }
 
-/// The folder [`partial_folder`] named is finished (renamed) or gone.
+/// The folder a [`NewFolder`] made is finished (renamed) or gone: no signal's cleanup removes it.
 pub fn finished_folder(path: &Path) {
     partial().retain(|p| p != path);
 }
@@ -90,11 +84,16 @@ impl NewFolder {
         let name = out
             .file_name()
             .ok_or_else(|| Error::Usage(format!("{}: not a folder name", out.display())))?;
+        // Held while the folder is made and listed, as for a file: a signal in between waits
+        // for the lock and finds it listed (one that came after the folder appeared and before
+        // it was listed left it behind).
+        let mut partial = partial();
         let folder = tempfile::Builder::new()
             .prefix(&temporary_prefix(Some(name)))
             .tempdir_in(folder_of(out))
             .map_err(|e| Error::output(out, e))?;
-        partial_folder(folder.path());
+        partial.push(folder.path().to_path_buf());
+        drop(partial);
         planted_pause();
         Ok(NewFolder {
             out: out.to_path_buf(),
