@@ -9,8 +9,14 @@ use std::process::Command;
 
 fn locked(path: &str) -> (Take, bvhview::Motion, bvhview::edit::FeetLocked) {
     let take = Take::open(path).unwrap();
+    let (motion, report) = lock(&take);
+    (take, motion, report)
+}
+
+/// `take` with its feet locked by the default options, in its own stance.
+fn lock(take: &Take) -> (bvhview::Motion, bvhview::edit::FeetLocked) {
     let stance = take.stance(OffsetMode::Replace);
-    let (motion, report) = lock_feet(
+    lock_feet(
         &take.skeleton,
         &take.motion,
         OffsetMode::Replace,
@@ -18,8 +24,7 @@ fn locked(path: &str) -> (Take, bvhview::Motion, bvhview::edit::FeetLocked) {
         f64::from(stance.units.metres),
         &LockFeet::default(),
     )
-    .unwrap();
-    (take, motion, report)
+    .unwrap()
 }
 
 #[test]
@@ -159,16 +164,7 @@ fn a_leg_that_cannot_be_locked_is_said_and_left_as_it_was() {
 fn a_leg_with_joints_between_is_locked_as_two_stretches() {
     let walk = Take::open("tests/data/bvh/bvh11_131_01.bvh").unwrap();
     let take = bvhview::retarget::onto(&walk, "tests/data/bvh/makehuman_tpose.bvh").unwrap();
-    let stance = take.stance(OffsetMode::Replace);
-    let (motion, report) = lock_feet(
-        &take.skeleton,
-        &take.motion,
-        OffsetMode::Replace,
-        stance.up,
-        f64::from(stance.units.metres),
-        &LockFeet::default(),
-    )
-    .unwrap();
+    let (motion, report) = lock(&take);
     assert!(report.notes.is_empty(), "{:?}", report.notes);
     assert_eq!(report.feet.len(), 2);
     for foot in &report.feet {
