@@ -373,7 +373,10 @@ fn snapshot_frames_writes_a_sequence_equal_to_single_snapshots() {
     ]);
     let stderr = String::from_utf8_lossy(&again.stderr);
     assert_eq!(again.status.code(), Some(2), "{stderr}");
-    assert!(stderr.contains("already holds files"), "{stderr}");
+    assert!(
+        stderr.contains("already exists; the pictures go into a new (or empty) folder"),
+        "{stderr}"
+    );
     // A file or a device where the folder would go is no folder (`-o /dev/full` said "file
     // exists").
     let full = bvhview(&["snapshot", &tiny(), "--frames", "0..2", "-o", "/dev/full"]);

@@ -312,22 +312,20 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
             output.display()
         )));
     }
-    if !output.is_dir() {
-        std::fs::create_dir(output).map_err(|e| Error::output(output, e))?;
-    } else if std::fs::read_dir(output).is_ok_and(|mut entries| entries.next().is_some()) {
-        // As `convert DIR` refuses it: pictures of an earlier run left beside these (more
-        // frames then, or other names) would read as one sequence.
-        return Err(Error::Usage(format!(
-            "{}: already holds files; the pictures go into a new (or empty) folder",
-            output.display()
-        )));
-    }
+    // Made whole or not at all, as a file is: pictures of an earlier run left beside these
+    // (more frames then, or other names) would read as one sequence, so an existing folder must
+    // be empty, and one another user owns in a shared folder is refused (they could plant
+    // links in it while the pictures are written).
+    let folder = crate::io::output::NewFolder::create(
+        output,
+        "the pictures go into a new (or empty) folder",
+    )?;
     // One offscreen context for the whole sequence.
     let mut renderer = crate::render::Renderer::new(options.width, options.height)?;
     let digits = (range.end.max(1) - 1).to_string().len().max(5);
     let count = range.len();
     let first = range.start;
-    let name = |frame: usize| output.join(format!("frame_{frame:0digits$}.png"));
+    let name = |frame: usize| format!("frame_{frame:0digits$}.png");
     // Each picture is encoded and written on another core while the next one is drawn.
     animation::drawn_and_written(
         count,
@@ -338,11 +336,19 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         },
         |pictures| {
             for (i, picture) in pictures.enumerate() {
-                picture?.write_png_fast(&name(first + i))?;
+                let name = name(first + i);
+                // Messages name the picture where it is going, not the temporary folder.
+                let shown = output.join(&name);
+                let bytes = picture?.png_fast(&shown)?;
+                crate::io::output::in_partial_folder(|| {
+                    std::fs::write(folder.path().join(&name), bytes)
+                })
+                .map_err(|e| Error::output(&shown, e))?;
             }
             Ok(())
         },
     )?;
+    folder.commit()?;
     wrote(format_args!(
         "{} into {}",
         crate::io::error::counted(count, "picture"),

@@ -9,5 +9,6 @@ pub mod limits;
 pub mod lines;
 pub mod output;
 pub mod parallel;
+pub mod place;
 pub mod read;
 pub mod whole;

@@ -1,29 +1,57 @@
-//! Files written whole or not at all, safely on a shared machine. The crate `tempfile` makes the
-//! temporary file beside the output (a random name, created exclusively, so nobody can plant a
-//! symbolic link under it), and renames it over the output once everything is written. What
-//! `tempfile` does not do is here: an output that is a symbolic link is written through to its
-//! target (`>` in a shell does the same), an existing file keeps its mode and owner, and a FIFO
-//! or character device (`-o /dev/stdout`, a named pipe) is written to directly instead of being
-//! replaced. An error (or a panic) removes the temporary file. A program that calls
-//! [`remove_partials_on_signal`] (the CLI does; a library must not take signals from its host,
-//! Python for one) also removes them when it is interrupted or terminated.
+//! Files written whole or not at all, safely on a shared machine. The output's folder is found
+//! by [`place::walk`] (no link or folder another user controls is followed on the way) and held
+//! open; a temporary file is made in it under a random name, exclusively and following no link,
+//! and renamed over the output once everything is written. An output that is a symbolic link is
+//! written through to its target (`>` in a shell does the same), an existing file keeps its mode
+//! and owner, and a FIFO or character device (`-o /dev/stdout`, a named pipe) is written to
+//! directly instead of being replaced. An error (or a panic) removes the temporary file. A
+//! program that calls [`remove_partials_on_signal`] (the CLI does; a library must not take
+//! signals from its host, Python for one) also removes them when it is interrupted or
+//! terminated.
 
 use crate::io::error::Error;
 use crate::io::parallel::PerProcess;
-use std::fs::{File, Metadata};
+use crate::io::place::{self, Found, Place, Status};
+use std::ffi::{OsStr, OsString};
+use std::fs::File;
 use std::io::{self, BufWriter, Write};
-use std::os::unix::fs::{FileTypeExt, MetadataExt, PermissionsExt};
+use std::os::fd::OwnedFd;
+use std::os::unix::fs::PermissionsExt;
 use std::path::{Path, PathBuf};
-use std::sync::{Mutex, PoisonError};
-use tempfile::NamedTempFile;
+use std::sync::{Arc, Mutex, PoisonError};
 
-/// The temporary files being written, for the signal handler. Each process has its own: a child
-/// forked while its parent's thread was writing (Python's `save` releases the GIL) would wait
-/// for good for the lock that thread held, and the parent's files are not the child's.
-static PARTIAL: PerProcess<Mutex<Vec<PathBuf>>> = PerProcess::new(|| Mutex::new(Vec::new()));
+/// A temporary file or folder being written, for the signal handler: removed relative to the
+/// folder it was made in, held open, so a folder renamed meanwhile does not send the removal
+/// elsewhere.
+struct Partial {
+    /// Its path as walked: how it is told apart from the others, and how a folder is removed.
+    path: PathBuf,
+    folder: Arc<OwnedFd>,
+    name: OsString,
+    is_folder: bool,
+}
 
-fn partial() -> std::sync::MutexGuard<'static, Vec<PathBuf>> {
+impl Partial {
+    fn remove(&self) {
+        let _ = match self.is_folder {
+            // std's remove_dir_all follows no link inside the folder.
+            true => std::fs::remove_dir_all(&self.path),
+            false => place::remove_at(place::folder_as(&self.folder), &self.name, 0),
+        };
+    }
+}
+
+/// The temporary files being written. Each process has its own: a child forked while its
+/// parent's thread was writing (Python's `save` releases the GIL) would wait for good for the
+/// lock that thread held, and the parent's files are not the child's.
+static PARTIAL: PerProcess<Mutex<Vec<Partial>>> = PerProcess::new(|| Mutex::new(Vec::new()));
+
+fn partial() -> std::sync::MutexGuard<'static, Vec<Partial>> {
     PARTIAL.get().lock().unwrap_or_else(PoisonError::into_inner)
+}
+
+fn forget_partial(path: &Path) {
+    partial().retain(|p| p.path != path);
 }
 
 /// A test's switch (decision 14: no test waits on the clock): with `BVHVIEW_PLANT_PAUSE=output`
@@ -46,82 +74,96 @@ pub fn in_partial_folder<R>(work: impl FnOnce() -> R) -> R {
     work()
 }
 
-/// The folder a [`NewFolder`] made is finished (renamed) or gone: no signal's cleanup removes it.
-pub fn finished_folder(path: &Path) {
-    partial().retain(|p| p != path);
-}
-
-/// A folder of outputs (a dataset, `convert DIR`'s takes), there whole or not at all, as a file
-/// is: it is filled under a temporary name beside `out` and takes the name when
-/// [`NewFolder::commit`] is called. An error, a panic or a signal before that removes it.
-/// Whatever is written into [`NewFolder::path`] goes through [`in_partial_folder`], so that a
-/// signal's cleanup never races with a file being made there.
+/// A folder of outputs (a dataset, `convert DIR`'s takes, `snapshot --frames`' pictures), there
+/// whole or not at all, as a file is: it is filled under a temporary name beside `out` and takes
+/// the name when [`NewFolder::commit`] is called. An error, a panic or a signal before that
+/// removes it. Whatever is written into [`NewFolder::path`] goes through [`in_partial_folder`],
+/// so that a signal's cleanup never races with a file being made there.
 pub struct NewFolder {
     out: PathBuf,
-    folder: Option<tempfile::TempDir>,
+    /// The folder `out` is in, held open; the temporary folder's name in it; its path.
+    parent: Arc<OwnedFd>,
+    name: OsString,
+    temporary: OsString,
+    path: PathBuf,
+    committed: bool,
 }
 
 impl NewFolder {
     /// Starts the folder `out`, which must not exist or be an empty folder (`refusal` ends the
-    /// message that says it does: `a dataset goes into a new (or empty) folder`). As for a file:
-    /// a link another user planted in a sticky shared folder on the way to `out` is refused, the
-    /// temporary folder beside it has a random name made exclusively (`.OUT.XXXXXX`, `OUT` cut to
-    /// fit a long name, mode 0700 until it is whole), and a failure names its cause.
+    /// message that says it does: `a dataset goes into a new (or empty) folder`). As for a file,
+    /// nothing another user controls is followed on the way ([`place::walk`]), and an empty
+    /// folder of another user's in a shared folder is refused. The temporary folder beside it has
+    /// a random name made exclusively (`.OUT.XXXXXX`, `OUT` cut to fit a long name, mode 0700
+    /// until it is whole), and a failure names its cause.
     pub fn create(out: &Path, refusal: &str) -> Result<NewFolder, Error> {
-        refuse_planted_folders(out)?;
-        match std::fs::symlink_metadata(out) {
-            Err(e) if e.kind() == io::ErrorKind::NotFound => {}
-            Err(e) => return Err(Error::output(out, e)),
-            Ok(m) if m.is_dir() && std::fs::read_dir(out).is_ok_and(|mut d| d.next().is_none()) => {
-            }
-            Ok(_) => {
+        let Place {
+            folder,
+            folder_path,
+            name,
+            found,
+        } = place::walk(out, out)?;
+        match found {
+            Found::Nothing => {}
+            Found::Folder
+                if std::fs::read_dir(folder_path.join(&name))
+                    .is_ok_and(|mut d| d.next().is_none()) => {}
+            _ => {
                 return Err(Error::Usage(format!(
                     "{}: already exists; {refusal}",
                     out.display()
                 )));
             }
         }
-        let name = out
-            .file_name()
-            .ok_or_else(|| Error::Usage(format!("{}: not a folder name", out.display())))?;
+        let parent = Arc::new(folder);
         // Held while the folder is made and listed, as for a file: a signal in between waits
         // for the lock and finds it listed (one that came after the folder appeared and before
         // it was listed left it behind).
         let mut partial = partial();
-        let folder = tempfile::Builder::new()
-            .prefix(&temporary_prefix(Some(name)))
-            .tempdir_in(folder_of(out))
-            .map_err(|e| Error::output(out, e))?;
-        partial.push(folder.path().to_path_buf());
+        let (temporary, ()) = place::make_unique(&temporary_prefix(Some(&name)), "", |name| {
+            place::make_folder_at(place::folder_as(&parent), name, 0o700)
+        })
+        .map_err(|e| Error::output(out, e))?;
+        let path = folder_path.join(&temporary);
+        partial.push(Partial {
+            path: path.clone(),
+            folder: Arc::clone(&parent),
+            name: temporary.clone(),
+            is_folder: true,
+        });
         drop(partial);
         planted_pause();
         Ok(NewFolder {
             out: out.to_path_buf(),
-            folder: Some(folder),
+            parent,
+            name,
+            temporary,
+            path,
+            committed: false,
         })
     }
 
     /// Where the folder is being filled.
     pub fn path(&self) -> &Path {
-        self.folder.as_ref().expect("open until committed").path()
+        &self.path
     }
 
     /// Gives the folder its name: mode 0755, everything in it on the disk (one `syncfs`), renamed
     /// to `out`, and the rename made durable. On an error the temporary folder is removed.
     pub fn commit(mut self) -> Result<(), Error> {
-        let folder = self.folder.take().expect("committed once");
-        let made = folder.path().to_path_buf();
+        let parent = place::folder_as(&self.parent);
         let named = in_partial_folder(|| -> io::Result<()> {
-            std::fs::set_permissions(&made, std::fs::Permissions::from_mode(0o755))?;
-            sync_file_system(&made)?;
-            std::fs::rename(&made, &self.out)?;
-            File::open(folder_of(&self.out))?.sync_all()
+            std::fs::set_permissions(&self.path, std::fs::Permissions::from_mode(0o755))?;
+            sync_file_system(&self.path)?;
+            place::rename_at(parent, &self.temporary, &self.name)?;
+            place::sync_folder(parent);
+            Ok(())
         });
-        finished_folder(&made);
+        forget_partial(&self.path);
         match named {
             Ok(()) => {
                 // Renamed: the folder is the output now, not a temporary one to remove.
-                let _ = folder.keep();
+                self.committed = true;
                 Ok(())
             }
             Err(e) => Err(Error::output(&self.out, e)),
@@ -131,9 +173,10 @@ impl NewFolder {
 
 impl Drop for NewFolder {
     fn drop(&mut self) {
-        // Uncommitted: the signal handler forgets it, and `TempDir`'s own drop removes it.
-        if let Some(folder) = &self.folder {
-            finished_folder(folder.path());
+        // Uncommitted: the signal handler forgets it, and it is removed.
+        if !self.committed {
+            forget_partial(&self.path);
+            let _ = std::fs::remove_dir_all(&self.path);
         }
     }
 }
@@ -169,11 +212,8 @@ pub fn remove_partials_on_signal() {
         if let Some(signal) = signals.forever().next() {
             // Held to the end: no new temporary file can be made after the cleanup.
             let mut partial = partial();
-            for path in partial.drain(..) {
-                let _ = match path.is_dir() {
-                    true => std::fs::remove_dir_all(path),
-                    false => std::fs::remove_file(path),
-                };
+            for made in partial.drain(..) {
+                made.remove();
             }
             let what = match signal {
                 SIGINT => "interrupted",
@@ -208,19 +248,28 @@ pub struct AtomicFile {
 }
 
 enum Writer {
-    /// A FIFO or a device, opened at the first write (`true`: a regular file, truncated first):
-    /// opening a FIFO waits for its reader, which should not stop a refusal that comes before.
-    Pending(bool),
+    /// A FIFO, a device or a link of /proc, opened at the first write: opening a FIFO waits
+    /// for its reader, which should not stop a refusal that comes before.
+    Pending {
+        folder: OwnedFd,
+        name: OsString,
+        /// Through a link of /proc: followed, and a regular file there truncated (written in
+        /// place, as `cp` does). Otherwise no link is followed.
+        process_link: bool,
+    },
     /// A regular file (or none yet): a temporary file beside it takes its name at the end.
     Replace {
-        temporary: BufWriter<NamedTempFile>,
+        temporary: BufWriter<File>,
+        /// The folder, held open: the temporary file is made, renamed and removed in it.
+        folder: Arc<OwnedFd>,
+        folder_path: PathBuf,
+        temporary_name: OsString,
+        name: OsString,
         /// Bytes handed to the file, and how many of them the disk has been asked to take.
         written: u64,
         flushing: u64,
-        /// Where the rename goes: the output, or the file its symbolic links lead to.
-        target: PathBuf,
         /// The file being replaced, whose mode and owner the new one keeps.
-        old: Option<Box<Metadata>>,
+        old: Option<Status>,
     },
     /// A FIFO or a character device: there is nothing to replace, it is written to.
     Direct(BufWriter<File>),
@@ -229,77 +278,76 @@ enum Writer {
 impl AtomicFile {
     /// Starts writing `path` (its folder must exist).
     pub fn create(path: &Path) -> Result<AtomicFile, Error> {
-        // What the path leads to, links followed as the kernel follows them: a FIFO or a device
-        // is opened as named (`/dev/stdout` leads through /proc to a pipe that has no path).
-        match std::fs::metadata(path) {
-            Ok(m) if m.file_type().is_fifo() || m.file_type().is_char_device() => {
-                return Ok(AtomicFile::direct(path, false));
+        let Place {
+            folder,
+            folder_path,
+            name,
+            found,
+        } = place::walk(path, path)?;
+        let old = match found {
+            Found::ProcessLink | Found::Stream => {
+                let process_link = matches!(found, Found::ProcessLink);
+                return Ok(AtomicFile {
+                    path: path.to_path_buf(),
+                    writer: Some(Writer::Pending {
+                        folder,
+                        name,
+                        process_link,
+                    }),
+                });
             }
-            // `-o /dev/stdout` with stdout sent to a file: written in place, as `cp` does; the
-            // file the shell opened keeps its name.
-            Ok(m) if m.is_file() && is_system_alias(path) => {
-                return Ok(AtomicFile::direct(path, true));
-            }
-            _ => {}
-        }
-        refuse_planted_folders(path)?;
-        let target = follow_links(path)?;
-        let old = match std::fs::metadata(&target) {
-            Ok(metadata) => Some(metadata),
-            Err(e) if e.kind() == io::ErrorKind::NotFound => None,
-            Err(e) => return Err(Error::output(path, e)),
-        };
-        let writer = match &old {
-            Some(m) if m.is_dir() => {
+            Found::Folder => {
                 // As the OS says it (Python raises IsADirectoryError).
                 let error = io::Error::new(io::ErrorKind::IsADirectory, "is a folder");
                 return Err(Error::output(path, error));
             }
-            Some(m) if !m.is_file() => {
-                let what = if m.file_type().is_block_device() {
-                    "a block device"
-                } else {
-                    "a socket"
-                };
+            Found::Other(what) => {
                 return Err(Error::Usage(format!(
                     "-o {}: is {what}; bvhview writes regular files, FIFOs and character devices",
                     path.display()
                 )));
             }
-            _ => {
-                let folder = folder_of(&target);
-                if let Some(old) = &old {
-                    refuse_planted_file(path, old, folder)?;
-                }
-                let prefix = temporary_prefix(target.file_name());
-                // A new file gets the mode any new file gets (0666 less the umask); one that
-                // replaces another stays private until it takes the old one's mode.
-                let mode = if old.is_some() { 0o600 } else { 0o666 };
-                // Held while the file is made and listed, so that a signal in between finds it
-                // listed (the handler waits for the lock).
-                let mut partial = partial();
-                let temporary = tempfile::Builder::new()
-                    .prefix(&prefix)
-                    .suffix(".partial")
-                    .permissions(std::fs::Permissions::from_mode(mode))
-                    .tempfile_in(folder)
-                    .map_err(|e| Error::output(path, e))?;
-                // Made under the lock, and listed before it is let go.
-                partial.push(temporary.path().to_path_buf());
-                drop(partial);
-                planted_pause();
-                Writer::Replace {
-                    temporary: BufWriter::new(temporary),
-                    written: 0,
-                    flushing: 0,
-                    target,
-                    old: old.map(Box::new),
-                }
-            }
+            Found::File(old) => Some(old),
+            Found::Nothing => None,
         };
+        // A new file gets the mode any new file gets (0666 less the umask); one that replaces
+        // another stays private until it takes the old one's mode.
+        let mode = if old.is_some() { 0o600 } else { 0o666 };
+        let folder = Arc::new(folder);
+        // Held while the file is made and listed, so that a signal in between finds it listed
+        // (the handler waits for the lock).
+        let mut partial = partial();
+        let (temporary_name, file) =
+            place::make_unique(&temporary_prefix(Some(&name)), ".partial", |name| {
+                place::open_at(
+                    place::folder_as(&folder),
+                    name,
+                    libc::O_WRONLY | libc::O_CREAT | libc::O_EXCL | libc::O_NOFOLLOW,
+                    mode,
+                )
+            })
+            .map_err(|e| Error::output(path, e))?;
+        // Made under the lock, and listed before it is let go.
+        partial.push(Partial {
+            path: folder_path.join(&temporary_name),
+            folder: Arc::clone(&folder),
+            name: temporary_name.clone(),
+            is_folder: false,
+        });
+        drop(partial);
+        planted_pause();
         Ok(AtomicFile {
             path: path.to_path_buf(),
-            writer: Some(writer),
+            writer: Some(Writer::Replace {
+                temporary: BufWriter::new(File::from(file)),
+                folder,
+                folder_path,
+                temporary_name,
+                name,
+                written: 0,
+                flushing: 0,
+                old,
+            }),
         })
     }
 
@@ -308,17 +356,8 @@ impl AtomicFile {
     /// FIFO or a device (whose folder, /dev, is no place for files).
     pub fn folder(&self) -> Option<&Path> {
         match &self.writer {
-            Some(Writer::Replace { temporary, .. }) => temporary.get_ref().path().parent(),
+            Some(Writer::Replace { folder_path, .. }) => Some(folder_path),
             _ => None,
-        }
-    }
-
-    /// A FIFO, a device, or (`truncate`) a regular file reached through /dev or /proc: written
-    /// to where it is.
-    fn direct(path: &Path, truncate: bool) -> AtomicFile {
-        AtomicFile {
-            path: path.to_path_buf(),
-            writer: Some(Writer::Pending(truncate)),
         }
     }
 
@@ -328,34 +367,39 @@ impl AtomicFile {
         let failed = |e: io::Error| Error::output(&path, e);
         // Nothing was written to a FIFO or device: opened and closed all the same, so that its
         // reader sees the (empty) output end.
-        if matches!(self.writer, Some(Writer::Pending(_))) {
+        if matches!(self.writer, Some(Writer::Pending { .. })) {
             self.writer().map_err(&failed)?;
         }
         match self.writer.take().expect("committed once") {
-            Writer::Pending(_) => unreachable!("opened above"),
+            Writer::Pending { .. } => unreachable!("opened above"),
             Writer::Direct(mut writer) => writer.flush().map_err(failed),
             Writer::Replace {
                 temporary,
-                target,
+                folder,
+                folder_path,
+                temporary_name,
+                name,
                 old,
                 ..
             } => {
-                let kept = partial_path(temporary.get_ref());
                 let result = match temporary.into_inner() {
-                    Ok(temporary) => finish(temporary, &target, old.as_deref()).map_err(failed),
-                    Err(e) => Err(failed(e.into_error())),
+                    Ok(file) => finish(&file, &folder, &temporary_name, &name, old.as_ref()),
+                    Err(e) => Err(e.into_error()),
                 };
-                partial().retain(|p| *p != kept);
-                result
+                if result.is_err() {
+                    let _ = place::remove_at(place::folder_as(&folder), &temporary_name, 0);
+                }
+                forget_partial(&folder_path.join(&temporary_name));
+                result.map_err(failed)
             }
         }
     }
 }
 
 /// The start of a temporary name beside an output named `name` (a file, or a dataset's folder):
-/// `.NAME.`, the name cut to 200 bytes so that the whole temporary name (with `tempfile`'s six
-/// random characters and a suffix) stays within the 255 bytes a name may have.
-pub fn temporary_prefix(name: Option<&std::ffi::OsStr>) -> String {
+/// `.NAME.`, the name cut to 200 bytes so that the whole temporary name (with six random
+/// characters and a suffix) stays within the 255 bytes a name may have.
+pub fn temporary_prefix(name: Option<&OsStr>) -> String {
     let name = name.map_or("out".into(), |n| n.to_string_lossy());
     let mut cut = name.len().min(200);
     while !name.is_char_boundary(cut) {
@@ -364,87 +408,31 @@ pub fn temporary_prefix(name: Option<&std::ffi::OsStr>) -> String {
     format!(".{}.", &name[..cut])
 }
 
-/// Whether `path` names a file through the system's own links (`/dev/stdout`, `/dev/fd/3`,
-/// `/proc/self/fd/1`): whatever it leads to, it is written in place.
-fn is_system_alias(path: &Path) -> bool {
-    path.starts_with("/dev") || path.starts_with("/proc")
-}
-
 /// Whether [`AtomicFile::create`] writes `path` where it is rather than replacing it: a FIFO, a
-/// character device, or a path through /dev or /proc. Its name says nothing of its format.
+/// character device, or a link of /proc (`/dev/stdout`). Its name says nothing of its format.
 pub fn written_in_place(path: &Path) -> bool {
-    is_system_alias(path)
-        || std::fs::metadata(path)
-            .is_ok_and(|m| m.file_type().is_fifo() || m.file_type().is_char_device())
+    place::walk(path, path)
+        .is_ok_and(|place| matches!(place.found, Found::ProcessLink | Found::Stream))
 }
 
-/// The folder `path` is in (`.` for a bare name).
-fn folder_of(path: &Path) -> &Path {
-    match path.parent() {
-        Some(folder) if !folder.as_os_str().is_empty() => folder,
-        _ => Path::new("."),
-    }
-}
-
-/// Whether a folder is shared and sticky (/tmp): anyone may create files in it, but only their
-/// owner (or the folder's) may replace them.
-fn sticky_and_shared(folder: &Metadata) -> bool {
-    folder.mode() & 0o1002 == 0o1002
-}
-
-fn my_uid() -> u32 {
-    // SAFETY: geteuid has no preconditions and cannot fail.
-    unsafe { libc::geteuid() }
-}
-
-/// `fs.protected_regular`: in a sticky, shared folder, a file that belongs to neither whoever
-/// writes nor the folder's owner is not replaced (root would otherwise hand its output, with
-/// the planted file's owner and set-id bits, to whoever planted it).
-fn refuse_planted_file(path: &Path, old: &Metadata, folder: &Path) -> Result<(), Error> {
-    let folder = std::fs::metadata(folder).map_err(|e| Error::output(path, e))?;
-    if sticky_and_shared(&folder) && old.uid() != my_uid() && old.uid() != folder.uid() {
-        return Err(Error::Usage(format!(
-            "-o {}: belongs to another user (uid {}) in a shared folder; not replaced",
-            path.display(),
-            old.uid()
-        )));
-    }
-    Ok(())
-}
-
-/// The folders on the way to `path`: a link among them that another user planted in a sticky
-/// shared folder is not followed (as for the output itself, see [`refuse_planted_link`]). Every
-/// output checks it: files, and a dataset's folder.
-pub fn refuse_planted_folders(path: &Path) -> Result<(), Error> {
-    let mut ancestors: Vec<&Path> = path.ancestors().skip(1).collect();
-    ancestors.reverse();
-    for folder in ancestors.into_iter().filter(|a| !a.as_os_str().is_empty()) {
-        if let Ok(metadata) = std::fs::symlink_metadata(folder)
-            && metadata.file_type().is_symlink()
-        {
-            refuse_planted_link(path, folder, &metadata, folder_of(folder))?;
-        }
-    }
-    Ok(())
-}
-
-fn partial_path(temporary: &NamedTempFile) -> PathBuf {
-    temporary.path().to_path_buf()
-}
-
-/// Syncs, takes the old file's owner and mode, renames over the target and syncs its folder.
-/// On an error the temporary file is dropped, which removes it.
-fn finish(temporary: NamedTempFile, target: &Path, old: Option<&Metadata>) -> io::Result<()> {
-    let file = temporary.as_file();
+/// Syncs, takes the old file's owner and mode, renames over the output and syncs its folder.
+fn finish(
+    file: &File,
+    folder: &OwnedFd,
+    temporary: &OsStr,
+    name: &OsStr,
+    old: Option<&Status>,
+) -> io::Result<()> {
+    use std::os::unix::fs::MetadataExt;
     file.sync_all()?;
     if let Some(old) = old {
         let ours = file.metadata()?;
         // The set-id bits are not kept: the new content is not the program they were set for.
-        let mode = old.mode() & 0o1777;
-        if (ours.uid(), ours.gid()) != (old.uid(), old.gid()) {
+        let mode = old.mode & 0o1777;
+        if (ours.uid(), ours.gid()) != (old.uid, old.gid) {
             // Only root may give a file away; anyone else keeps what the file would get
             // anyway, as `sed -i` does.
-            match std::os::unix::fs::fchown(file, Some(old.uid()), Some(old.gid())) {
+            match std::os::unix::fs::fchown(file, Some(old.uid), Some(old.gid)) {
                 Err(e) if e.kind() == io::ErrorKind::PermissionDenied => {}
                 other => other?,
             }
@@ -452,65 +440,10 @@ fn finish(temporary: NamedTempFile, target: &Path, old: Option<&Metadata>) -> io
         // After the owner: a change of owner clears the set-id bits.
         file.set_permissions(std::fs::Permissions::from_mode(mode))?;
     }
-    temporary.persist(target).map_err(|e| e.error)?;
-    if let Ok(folder) = File::open(folder_of(target)) {
-        // The rename is durable once the folder is: a crash now leaves the old or the new file.
-        let _ = folder.sync_all();
-    }
-    Ok(())
-}
-
-/// The file `path` names once its symbolic links are followed. A link to nothing is refused
-/// (`cp` does not write through one either), and so is a link that another user planted in a
-/// sticky world-writable folder such as /tmp, as Linux's `fs.protected_symlinks` refuses it.
-fn follow_links(path: &Path) -> Result<PathBuf, Error> {
-    let mut current = path.to_path_buf();
-    // As many links as the kernel follows (ELOOP past 40).
-    for _ in 0..40 {
-        let metadata = match std::fs::symlink_metadata(&current) {
-            Ok(metadata) => metadata,
-            Err(e) if e.kind() == io::ErrorKind::NotFound && current != path => {
-                return Err(Error::Usage(format!(
-                    "-o {}: is a symbolic link to {}, which does not exist",
-                    path.display(),
-                    current.display()
-                )));
-            }
-            Err(e) if e.kind() == io::ErrorKind::NotFound => return Ok(current),
-            Err(e) => return Err(Error::output(path, e)),
-        };
-        if !metadata.file_type().is_symlink() {
-            return Ok(current);
-        }
-        let folder = folder_of(&current).to_path_buf();
-        refuse_planted_link(path, &current, &metadata, &folder)?;
-        let link = std::fs::read_link(&current).map_err(|e| Error::output(path, e))?;
-        current = folder.join(link);
-    }
-    Err(Error::Usage(format!(
-        "-o {}: too many levels of symbolic links",
-        path.display()
-    )))
-}
-
-/// `fs.protected_symlinks`: in a sticky, world-writable folder, a link is followed only if it
-/// belongs to whoever follows it or to the folder's owner.
-pub fn refuse_planted_link(
-    path: &Path,
-    link: &Path,
-    metadata: &Metadata,
-    folder: &Path,
-) -> Result<(), Error> {
-    let folder = std::fs::metadata(folder).map_err(|e| Error::output(path, e))?;
-    if sticky_and_shared(&folder) && metadata.uid() != my_uid() && metadata.uid() != folder.uid() {
-        return Err(Error::Usage(format!(
-            "-o {}: {} is a symbolic link another user (uid {}) made in a shared folder; \
-             not followed",
-            path.display(),
-            link.display(),
-            metadata.uid()
-        )));
-    }
+    let folder = place::folder_as(folder);
+    place::rename_at(folder, temporary, name)?;
+    // The rename is durable once the folder is: a crash now leaves the old or the new file.
+    place::sync_folder(folder);
     Ok(())
 }
 
@@ -518,11 +451,22 @@ impl AtomicFile {
     /// The writer, a pending FIFO or device opened now.
     fn writer(&mut self) -> io::Result<&mut Writer> {
         let writer = self.writer.as_mut().expect("not committed");
-        if let Writer::Pending(truncate) = *writer {
-            let file = std::fs::OpenOptions::new()
-                .write(true)
-                .truncate(truncate)
-                .open(&self.path)?;
+        if let Writer::Pending {
+            folder,
+            name,
+            process_link,
+        } = writer
+        {
+            let follow = if *process_link { 0 } else { libc::O_NOFOLLOW };
+            let file = File::from(place::open_at(
+                place::folder_as(folder),
+                name,
+                libc::O_WRONLY | follow,
+                0,
+            )?);
+            if *process_link && file.metadata()?.is_file() {
+                file.set_len(0)?;
+            }
             *writer = Writer::Direct(BufWriter::new(file));
         }
         Ok(writer)
@@ -567,31 +511,36 @@ impl Write for AtomicFile {
                 *written += n as u64;
                 if *written - *flushing >= WRITEBACK_STEP {
                     temporary.flush()?;
-                    start_writeback(temporary.get_ref().as_file(), *flushing..*written);
+                    start_writeback(temporary.get_ref(), *flushing..*written);
                     *flushing = *written;
                 }
                 Ok(n)
             }
             Writer::Direct(writer) => writer.write(bytes),
-            Writer::Pending(_) => unreachable!("opened by writer()"),
+            Writer::Pending { .. } => unreachable!("opened by writer()"),
         }
     }
     fn flush(&mut self) -> io::Result<()> {
         match self.writer()? {
             Writer::Replace { temporary, .. } => temporary.flush(),
             Writer::Direct(writer) => writer.flush(),
-            Writer::Pending(_) => unreachable!("opened by writer()"),
+            Writer::Pending { .. } => unreachable!("opened by writer()"),
         }
     }
 }
 
 impl Drop for AtomicFile {
     fn drop(&mut self) {
-        // Uncommitted: dropping the temporary file removes it (tempfile's own Drop).
-        if let Some(Writer::Replace { temporary, .. }) = self.writer.take() {
-            let kept = partial_path(temporary.get_ref());
-            drop(temporary.into_parts().0);
-            partial().retain(|p| *p != kept);
+        // Uncommitted: the temporary file is removed.
+        if let Some(Writer::Replace {
+            folder,
+            folder_path,
+            temporary_name,
+            ..
+        }) = self.writer.take()
+        {
+            let _ = place::remove_at(place::folder_as(&folder), &temporary_name, 0);
+            forget_partial(&folder_path.join(&temporary_name));
         }
     }
 }
@@ -599,6 +548,8 @@ impl Drop for AtomicFile {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::io::place::my_uid;
+    use std::os::unix::fs::{FileTypeExt, MetadataExt};
 
     fn folder(name: &str) -> PathBuf {
         let dir = std::env::temp_dir().join(format!("bvhview-{name}-{}", std::process::id()));
@@ -651,8 +602,8 @@ mod tests {
             AtomicFile::create(&path).unwrap(),
         );
         let names = |f: &AtomicFile| match f.writer.as_ref().unwrap() {
-            Writer::Replace { temporary, .. } => temporary.get_ref().path().to_path_buf(),
-            Writer::Direct(_) | Writer::Pending(_) => unreachable!(),
+            Writer::Replace { temporary_name, .. } => temporary_name.clone(),
+            Writer::Direct(_) | Writer::Pending { .. } => unreachable!(),
         };
         assert_ne!(names(&a), names(&b));
         drop((a, b));
