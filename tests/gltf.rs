@@ -641,3 +641,37 @@ fn a_joint_at_the_gimbal_lock_stays_where_the_file_has_it() {
         );
     }
 }
+
+/// glTF is +Y up by its specification: a figure lying along z (a four-legged animal's length)
+/// is read standing along y, never guessed Z up from its spread (the fox stood on its tail).
+#[test]
+fn a_gltf_figure_is_read_y_up_whatever_its_spread() {
+    let path = temp("lying_along_z.gltf");
+    std::fs::write(
+        &path,
+        r#"{"asset":{"version":"2.0"},"scene":0,"scenes":[{"nodes":[0]}],
+        "nodes":[{"name":"hips","children":[1,3]},
+                 {"name":"spine","translation":[0,0.1,40],"children":[2]},
+                 {"name":"head","translation":[0,0,30]},
+                 {"name":"tail","translation":[0,0,-50]}]}"#,
+    )
+    .unwrap();
+    let info = ok(&["info", path.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&info.stdout);
+    let up = text.lines().find(|l| l.starts_with("up axis:")).unwrap();
+    assert_eq!(
+        up.split_whitespace().collect::<Vec<_>>().join(" "),
+        "up axis: y (stated: the file states its axes)"
+    );
+    // A BVH of the same figure states nothing: its spread decides.
+    let bvh = temp("lying_along_z.bvh");
+    ok(&[
+        "convert",
+        path.to_str().unwrap(),
+        "-o",
+        bvh.to_str().unwrap(),
+    ]);
+    let info = ok(&["info", bvh.to_str().unwrap()]);
+    let text = String::from_utf8_lossy(&info.stdout);
+    assert!(text.contains("up axis:          z (sure"), "{text}");
+}

@@ -11,6 +11,7 @@ pub fn bake_axes(skeleton: &Skeleton, motion: &Motion) -> Result<(Skeleton, Moti
     let mut baked = Skeleton {
         joints: Vec::with_capacity(skeleton.joints.len()),
         source: skeleton.source,
+        y_up_stated: skeleton.y_up_stated,
     };
     let mut column = 0;
     for joint in &skeleton.joints {

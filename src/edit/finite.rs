@@ -62,7 +62,7 @@ mod tests {
             root.offset = glam::Vec3::ONE;
             let skeleton = Skeleton {
                 joints: vec![root],
-                source: Default::default(),
+                ..Skeleton::default()
             };
             (skeleton, Motion::new(1.0 / 30.0, 2, 2, vec![1.0; 4]))
         };

@@ -170,6 +170,8 @@ pub fn reorient(
     let quarter = QuarterTurn::between(from, to);
     let (turn, exactly) = (quarter.turn, |v| quarter.apply(v));
     let mut turned = skeleton.clone();
+    // Turned, it no longer stands the way its file stated.
+    turned.y_up_stated = skeleton.y_up_stated && to == crate::model::pose::Up::Y;
     for joint in &mut turned.joints {
         joint.offset = exactly(joint.offset);
         let positions = joint.channels.iter().filter(|c| c.is_position()).count();

@@ -515,8 +515,11 @@ fn load_scene(
     threads: usize,
     skin_bones: bool,
 ) -> Result<(Read, Vec<Option<usize>>), Error> {
-    let (read, order, nodes) =
+    let (mut read, order, nodes) =
         load_nodes(scene, bytes_len, name, take, threads.max(1), skin_bones)?;
+    // A header that states the axes was turned to +Y up by ufbx: read, never guessed. A file
+    // that states none (FBX 5) is read Z up by convention, which the motion may overrule.
+    read.skeleton.y_up_stated = scene.settings.axes.up != ufbx::CoordinateAxis::Unknown;
     let index: std::collections::HashMap<&str, usize> = read
         .skeleton
         .joints

@@ -387,6 +387,8 @@ pub fn build_with(
     let skeleton = Skeleton {
         joints: sorted,
         source: crate::model::skeleton::Source::Bvh,
+        // The reader says whether its file stated its axes (glTF always, FBX by its header).
+        y_up_stated: false,
     };
     let channels = column;
     let values = frames

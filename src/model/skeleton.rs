@@ -295,6 +295,10 @@ pub struct Skeleton {
     pub joints: Vec<Joint>,
     /// The format it was read from, for how exports name its points.
     pub source: Source,
+    /// The file states its axes and the reader turned them to bvhview's +Y up (glTF by its
+    /// specification, FBX by its header): the up axis is read, never guessed from the motion (a
+    /// fox spreads along its length). `false` for BVH and ASF, which state nothing.
+    pub y_up_stated: bool,
 }
 
 impl Skeleton {

@@ -30,7 +30,8 @@ const SURE: f32 = 2.0;
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Sureness {
-    /// The file says so (an ASF's `:units`), or the skeleton is one whose units are known.
+    /// The file says so (an ASF's `:units`, a glTF's or FBX's axes), or the skeleton is one
+    /// whose units are known.
     Stated,
     /// The evidence is clear: one answer well ahead of the others.
     Sure,
@@ -295,7 +296,9 @@ impl Stance {
         // one the root travels along least, if it travels; else BVH's Y.
         let (y, z) = (spread.y, spread.z);
         let (mut up, mut up_sureness, mut up_by_path) = (Up::Y, Sureness::Unsure, false);
-        if y.max(z) > 1e-6 {
+        if skeleton.y_up_stated {
+            up_sureness = Sureness::Stated;
+        } else if y.max(z) > 1e-6 {
             let ratio = y.max(z) / y.min(z).max(1e-6);
             if ratio >= LIKELY {
                 up = if z > y { Up::Z } else { Up::Y };
@@ -382,7 +385,9 @@ impl Stance {
             Up::Z => "z",
         };
         let poses = self.poses_text();
-        let why = if self.up_by_path {
+        let why = if self.up_sureness == Sureness::Stated {
+            "the file states its axes".to_string()
+        } else if self.up_by_path {
             format!(
                 "the root travels {} along y and {} along z over {poses}",
                 short(self.root_travel.y),

@@ -108,6 +108,7 @@ impl Asf {
             Skeleton {
                 joints,
                 source: Source::Acclaim,
+                y_up_stated: false,
             },
             maps,
         )

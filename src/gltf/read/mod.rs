@@ -376,6 +376,11 @@ fn load_file(
         Error::Usage(message) if !message.starts_with(path) => bad(path, message),
         other => other,
     })?;
+    // glTF is +Y up by its specification: read, never guessed.
+    let skeleton = crate::model::skeleton::Skeleton {
+        y_up_stated: true,
+        ..skeleton
+    };
     let mesh = if with_mesh {
         // Every node's world matrix at rest, and the joint each selected node became.
         let mut rest_world: Vec<Option<DMat4>> = vec![None; count];

@@ -103,6 +103,9 @@ impl Up {
     /// are left out: a root's child may be placed far away (Bandai's `joint_Root`), which says
     /// nothing about which way the body stands.
     pub fn guess(skeleton: &Skeleton) -> Up {
+        if skeleton.y_up_stated {
+            return Up::Y;
+        }
         let points = world_positions(skeleton, &[], OffsetMode::Replace);
         let body: Vec<Vec3> = points
             .iter()
