@@ -188,11 +188,14 @@ fn check_fk_against_seed_004(folder: &std::path::Path, takes: &[(&str, &str)]) {
     }
 }
 
+/// CMU's skeleton: the root, 30 bones and 7 End Sites.
+const CMU_JOINTS: usize = 38;
+
 #[test]
 fn every_repository_pair_loads_and_converts_to_bvh_with_the_same_positions() {
     check_pairs(
         &repo_data("asf_amc"),
-        &[("heiden_12", "heiden_12_02_01", 343)],
+        &[("heiden_12", "heiden_12_02_01", 343, CMU_JOINTS)],
     );
 }
 
@@ -202,34 +205,47 @@ fn every_whole_corpus_pair_loads_and_converts_to_bvh_with_the_same_positions() {
     check_pairs(
         &shared_data("asf_amc"),
         &[
-            ("heiden_12", "heiden_12_02_01", 343),
-            ("simchoni_charleston", "simchoni_charleston_1", 506),
-            ("simchoni_charleston", "simchoni_charleston_2", 0),
-            ("simchoni_lambada", "simchoni_lambada_1", 2180),
-            ("simchoni_pirouette", "simchoni_pirouette_1", 0),
+            ("heiden_12", "heiden_12_02_01", 343, CMU_JOINTS),
+            // Not CMU's: tab-separated, 19 bones and 5 End Sites.
+            ("pyasfamc_test", "pyasfamc_test", 300, 24),
+            (
+                "simchoni_charleston",
+                "simchoni_charleston_1",
+                506,
+                CMU_JOINTS,
+            ),
+            (
+                "simchoni_charleston",
+                "simchoni_charleston_2",
+                546,
+                CMU_JOINTS,
+            ),
+            ("simchoni_lambada", "simchoni_lambada_1", 2180, CMU_JOINTS),
+            (
+                "simchoni_pirouette",
+                "simchoni_pirouette_1",
+                591,
+                CMU_JOINTS,
+            ),
         ],
     );
 }
 
-fn check_pairs(folder: &std::path::Path, pairs: &[(&str, &str, usize)]) {
+/// Each pair (ASF, AMC, frames, joints with End Sites) loads, and converts to a BVH whose every
+/// point stands where the pair's does, on every frame.
+fn check_pairs(folder: &std::path::Path, pairs: &[(&str, &str, usize, usize)]) {
     assert_eq!(
         files_in(folder, "amc").len(),
         pairs.len(),
         "a pair in {} is not tested",
         folder.display()
     );
-    for &(asf_name, amc_name, frames) in pairs {
+    for &(asf_name, amc_name, frames, joints) in pairs {
         let asf_path = folder.join(format!("{asf_name}.asf"));
         let amc_path = folder.join(format!("{amc_name}.amc"));
         let loaded = bvhview::take::load(&asf_path, Some(&amc_path), None).unwrap();
-        if frames > 0 {
-            assert_eq!(loaded.motion.frame_count(), frames, "{amc_name}");
-        }
-        assert_eq!(
-            loaded.skeleton.joints.len(),
-            38,
-            "root + 30 bones + 7 End Sites"
-        );
+        assert_eq!(loaded.motion.frame_count(), frames, "{amc_name}");
+        assert_eq!(loaded.skeleton.joints.len(), joints, "{asf_name}");
 
         let out =
             std::env::temp_dir().join(format!("bvhview-{amc_name}-{}.bvh", std::process::id()));

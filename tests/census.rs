@@ -176,11 +176,12 @@ fn takes_in(root: &Path) -> Vec<(PathBuf, Option<PathBuf>)> {
         .map(|f| (f, None))
         .collect();
     for amc in files_in(&root.join("asf_amc"), "amc") {
-        // CMU-style names: SUBJECT_TAKE.amc beside SUBJECT.asf, or NAME_N.amc beside NAME.asf.
+        // CMU-style names: SUBJECT_TAKE.amc beside SUBJECT.asf, or NAME_N.amc beside NAME.asf;
+        // or NAME.amc beside NAME.asf.
         let stem = amc.file_stem().unwrap().to_str().unwrap();
-        let asf = (1..stem.len())
+        let asf = (1..=stem.len())
             .rev()
-            .filter(|&i| stem.as_bytes()[i] == b'_')
+            .filter(|&i| i == stem.len() || stem.as_bytes()[i] == b'_')
             .map(|i| root.join("asf_amc").join(format!("{}.asf", &stem[..i])))
             .find(|p| p.exists())
             .unwrap_or_else(|| panic!("no ASF for {}", amc.display()));
