@@ -150,9 +150,9 @@ impl Character {
         Ok(dressed)
     }
 
-    /// `take`, read from the file `path`, on this character: the character's own take when it
-    /// is the character's file itself (its motion as the file has it, nothing retargeted), else
-    /// [`Character::dress`] by the guessed map.
+    /// `take`, read from the file `path`, on this character: a take of the character's own
+    /// skeleton (any take of its file, whichever `--take` chose) as the file has it, nothing
+    /// retargeted, so exact; any other by [`Character::dress`] with the guessed map.
     pub fn dress_file(&self, take: &Take, path: &Path, threads: usize) -> Result<Take, Error> {
         let same_file = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
             (Ok(a), Ok(b)) => a == b,
@@ -161,7 +161,28 @@ impl Character {
         if same_file(path, Path::new(&self.take.name)) && take.take == self.take.take {
             return Ok(self.take.clone());
         }
+        if self.is_own_skeleton(&take.skeleton) {
+            let mut own = take.clone();
+            // The mesh is bound to joints whose OFFSETs its positions replace.
+            own.offset_mode = OffsetMode::Replace;
+            return Ok(own);
+        }
         self.dress(take, &[], false, threads)
+    }
+
+    /// Whether `skeleton` is the one the mesh is bound to: the same joints in the same order,
+    /// each with its parent, channels and OFFSET (another take of the character's own file, or
+    /// a file of the very same rig). Its motion then moves the mesh as it is.
+    pub fn is_own_skeleton(&self, skeleton: &Skeleton) -> bool {
+        let own = &self.take.skeleton;
+        own.joints.len() == skeleton.joints.len()
+            && own.joints.iter().zip(&skeleton.joints).all(|(a, b)| {
+                a.name == b.name
+                    && a.parent == b.parent
+                    && a.channels == b.channels
+                    && a.rotation_order == b.rotation_order
+                    && a.offset == b.offset
+            })
     }
 }
 
