@@ -475,3 +475,61 @@ fn a_take_on_a_character_ignores_the_files_offset_mode() {
     let differing = picture(OffsetMode::Add).differing_pixels(&picture(OffsetMode::Replace));
     assert_eq!(differing, 0);
 }
+
+/// Issue 58, finding 7: a `byteStride` shorter than its element (every vertex read from its
+/// neighbour's bytes) is refused naming file, mesh and accessor; a last index short of a
+/// triangle is left out and said once.
+#[test]
+fn a_stride_shorter_than_its_element_is_refused_and_a_short_triangle_said() {
+    let folder = tempfile::tempdir().unwrap();
+    let joints = [[0, 1, 0, 0]; 3];
+    let weights = [[0.5, 0.5, 0.0, 0.0]; 3];
+    let path = tiny_skinned_gltf(folder.path(), "stride", joints, weights, [0, 1, 2]);
+    let json = std::fs::read_to_string(&path).unwrap();
+    let strided = json.replacen(
+        r#""byteLength":36}"#,
+        r#""byteLength":36,"byteStride":4}"#,
+        1,
+    );
+    assert_ne!(strided, json);
+    std::fs::write(&path, strided).unwrap();
+    let error = Character::open(&path).unwrap_err().to_string();
+    assert!(
+        error.ends_with(
+            "stride.gltf: mesh '0': accessor 0: its buffer view's byteStride 4 is shorter than \
+             one element (12 bytes): the elements would overlap"
+        ),
+        "{error}"
+    );
+
+    let path = tiny_skinned_gltf(folder.path(), "short", joints, weights, [0, 1, 2]);
+    let json = std::fs::read_to_string(&path).unwrap();
+    // The two bytes of padding after the indices become a fourth index.
+    let four = json
+        .replacen(
+            r#""byteOffset":108,"byteLength":6"#,
+            r#""byteOffset":108,"byteLength":8"#,
+            1,
+        )
+        .replacen(
+            r#""count":3,"type":"SCALAR""#,
+            r#""count":4,"type":"SCALAR""#,
+            1,
+        );
+    std::fs::write(&path, four).unwrap();
+    let character = Character::open(&path).unwrap();
+    assert_eq!(character.mesh.triangles, [0, 1, 2]);
+    let said: Vec<&String> = character
+        .take
+        .warnings
+        .iter()
+        .filter(|w| w.contains("short of a triangle"))
+        .collect();
+    assert_eq!(
+        said,
+        [
+            "the last 1 or 2 indices of 1 primitive fall short of a triangle and are left out: \
+          mesh '0'"
+        ]
+    );
+}

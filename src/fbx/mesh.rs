@@ -64,7 +64,7 @@ pub(super) fn read(
         let Some(mesh) = node.mesh.as_ref() else {
             continue;
         };
-        builder.begin_part(false);
+        builder.begin_part(&mesh.element.name, false);
         let n = node.element.typed_id as usize;
         builder.reserve((mesh.vertices.len() + mesh.num_triangles) as u64)?;
         let geometry_to_node =
