@@ -533,3 +533,59 @@ fn a_stride_shorter_than_its_element_is_refused_and_a_short_triangle_said() {
         ]
     );
 }
+
+/// Issue 58, finding 6: an inverse bind scale of 3e38 skinned every vertex past what a float
+/// holds (`snapshot` drew a blank picture, `convert` wrote a GLB bvhview then refused): refused
+/// when the character is read, naming the joint and a vertex it moves.
+#[test]
+fn a_bind_that_skins_vertices_past_a_float_is_refused_when_read() {
+    let folder = tempfile::tempdir().unwrap();
+    let path = tiny_skinned_gltf(
+        folder.path(),
+        "huge",
+        [[0, 1, 0, 0]; 3],
+        [[1.0, 0.0, 0.0, 0.0]; 3],
+        [0, 1, 2],
+    );
+    let bin = folder.path().join("huge.bin");
+    let mut bytes = std::fs::read(&bin).unwrap();
+    let at = bytes.len();
+    for k in 0..2 {
+        let s = if k == 0 { 3e38f32 } else { 1.0 };
+        let m = [s, 0., 0., 0., 0., s, 0., 0., 0., 0., s, 0., 0., 0., 0., 1.];
+        bytes.extend(m.iter().flat_map(|v| v.to_le_bytes()));
+    }
+    std::fs::write(&bin, &bytes).unwrap();
+    let json = std::fs::read_to_string(&path)
+        .unwrap()
+        .replacen(
+            r#""joints":[0,1]"#,
+            r#""joints":[0,1],"inverseBindMatrices":4"#,
+            1,
+        )
+        .replacen(
+            &format!(r#""byteLength":{at}"#),
+            &format!(r#""byteLength":{}"#, bytes.len()),
+            1,
+        )
+        .replacen(
+            r#""byteLength":6}]"#,
+            &format!(r#""byteLength":6}},{{"buffer":0,"byteOffset":{at},"byteLength":128}}]"#),
+            1,
+        )
+        .replacen(
+            r#""type":"SCALAR"}]"#,
+            r#""type":"SCALAR"},{"bufferView":4,"componentType":5126,"count":2,"type":"MAT4"}]"#,
+            1,
+        );
+    std::fs::write(&path, json).unwrap();
+    let error = Character::open(&path).unwrap_err().to_string();
+    assert!(
+        error.ends_with(
+            "huge.gltf: the bind matrix of joint 'root' (mesh '0', vertex 0 is bound to it) holds \
+             3.00e38, past 1e12: its vertices would be skinned past what a float holds (the \
+             skin's inverse bind matrix is damaged: export the skin again)"
+        ),
+        "{error}"
+    );
+}
