@@ -589,3 +589,65 @@ fn a_bind_that_skins_vertices_past_a_float_is_refused_when_read() {
         "{error}"
     );
 }
+
+/// Issue 58, finding 2: one vertex of many influences gave every vertex as many glTF sets as
+/// it (3.9 GB for 100,000): a vertex is written with its strongest 8, scaled to sum to 1, in
+/// two `JOINTS_n`/`WEIGHTS_n` sets.
+#[test]
+fn a_vertex_of_many_influences_is_written_with_its_strongest_eight() {
+    use bvhview::model::mesh::Influence;
+    let folder = tempfile::tempdir().unwrap();
+    let path = tiny_skinned_gltf(
+        folder.path(),
+        "many",
+        [[0, 1, 0, 0]; 3],
+        [[0.5, 0.5, 0.0, 0.0]; 3],
+        [0, 1, 2],
+    );
+    let mut character = Character::open(&path).unwrap();
+    let mesh = &mut character.mesh;
+    // Vertex 0: 1,000 influences, weights 1 to 1000 alternating between the two joints.
+    let many: Vec<Influence> = (1..=1000)
+        .map(|k| Influence {
+            bone: k % 2,
+            weight: k as f32,
+        })
+        .collect();
+    let rest: Vec<Influence> = mesh.influences[mesh.influence_start[1] as usize..].to_vec();
+    mesh.influences = many.into_iter().chain(rest).collect();
+    let shift = 1000 - mesh.influence_start[1];
+    for start in &mut mesh.influence_start[1..] {
+        *start += shift;
+    }
+    mesh.check().unwrap();
+    assert_eq!(
+        bvhview::model::mesh::vertices_past_written_influences(mesh),
+        1
+    );
+    let take = &character.take;
+    let bytes = bvhview::gltf::to_gltf_character(
+        &take.skeleton,
+        &take.motion,
+        &character.mesh,
+        bvhview::gltf::Container::Glb,
+    )
+    .unwrap();
+    // Two sets: three vertices × 2 × (8 + 16) bytes, not 250 sets.
+    assert!(bytes.len() < 4000, "{} bytes", bytes.len());
+    let written = folder.path().join("written.glb");
+    std::fs::write(&written, bytes).unwrap();
+    let back = Character::open(&written).unwrap();
+    let kept: Vec<f32> = back
+        .mesh
+        .influences_of(0)
+        .iter()
+        .map(|i| i.weight)
+        .collect();
+    let total = (993..=1000).sum::<i32>() as f32;
+    let want: Vec<f32> = (993..=1000).rev().map(|k| k as f32 / total).collect();
+    assert_eq!(kept.len(), 8);
+    for (k, w) in kept.iter().zip(&want) {
+        assert!((k - w).abs() < 1e-6, "{kept:?} vs {want:?}");
+    }
+    assert_eq!(back.mesh.influences_of(1).len(), 2);
+}
