@@ -651,3 +651,104 @@ fn a_vertex_of_many_influences_is_written_with_its_strongest_eight() {
     }
     assert_eq!(back.mesh.influences_of(1).len(), 2);
 }
+
+/// An ASCII FBX 7.4 of one mesh (`vertices` as x,y,z…, `polygons` as FBX writes them, the last
+/// corner of each negated less one) on two joints, one skin cluster of `indexes` (weight 1
+/// each) on the first, written into `folder`.
+fn ascii_fbx(
+    folder: &std::path::Path,
+    name: &str,
+    vertices: &[f32],
+    polygons: &[i32],
+    indexes: &[i32],
+) -> std::path::PathBuf {
+    let list = |v: &[String]| v.join(",");
+    let vertices: Vec<String> = vertices.iter().map(|v| v.to_string()).collect();
+    let polygons: Vec<String> = polygons.iter().map(|v| v.to_string()).collect();
+    let indexes: Vec<String> = indexes.iter().map(|v| v.to_string()).collect();
+    let weights = vec!["1".to_string(); indexes.len()];
+    let identity = "1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1";
+    let text = format!(
+        "; FBX 7.4.0 project file\nFBXHeaderExtension:  {{\n FBXHeaderVersion: 1003\n FBXVersion: 7400\n}}\n\
+         Objects:  {{\n Geometry: 1000, \"Geometry::body\", \"Mesh\" {{\n  Vertices: *{} {{\n   a: {}\n  }}\n\
+         PolygonVertexIndex: *{} {{\n   a: {}\n  }}\n }}\n Model: 2000, \"Model::body\", \"Mesh\" {{\n }}\n\
+         Model: 3000, \"Model::Hips\", \"LimbNode\" {{\n }}\n Model: 3001, \"Model::Spine\", \"LimbNode\" {{\n\
+         Properties70:  {{\n   P: \"Lcl Translation\", \"Lcl Translation\", \"\", \"A\",0,1,0\n  }}\n }}\n\
+         NodeAttribute: 6000, \"NodeAttribute::Hips\", \"LimbNode\" {{\n  TypeFlags: \"Skeleton\"\n }}\n\
+         NodeAttribute: 6001, \"NodeAttribute::Spine\", \"LimbNode\" {{\n  TypeFlags: \"Skeleton\"\n }}\n\
+         Deformer: 4000, \"Deformer::skin\", \"Skin\" {{\n }}\n Deformer: 5000, \"SubDeformer::c0\", \"Cluster\" {{\n\
+         Indexes: *{} {{\n   a: {}\n  }}\n  Weights: *{} {{\n   a: {}\n  }}\n  Transform: *16 {{\n   a: {identity}\n  }}\n\
+         TransformLink: *16 {{\n   a: {identity}\n  }}\n }}\n}}\nConnections:  {{\n C: \"OO\",2000,0\n C: \"OO\",3000,0\n\
+         C: \"OO\",3001,3000\n C: \"OO\",6000,3000\n C: \"OO\",6001,3001\n C: \"OO\",1000,2000\n C: \"OO\",4000,1000\n\
+         C: \"OO\",5000,4000\n C: \"OO\",3000,5000\n}}\n",
+        vertices.len(),
+        list(&vertices),
+        polygons.len(),
+        list(&polygons),
+        indexes.len(),
+        list(&indexes),
+        weights.len(),
+        list(&weights)
+    );
+    let path = folder.join(format!("{name}.fbx"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Issue 58, findings 3 and 7: skin cluster indices past the vertices (or negative), which
+/// ufbx drops, are refused naming file, mesh and cluster; a polygon of more corners than ear
+/// clipping is given (quadratic: a 1,000,000-corner polygon ran past a minute) is cut into a
+/// fan and said once.
+#[test]
+fn fbx_clusters_past_the_vertices_are_refused_and_huge_polygons_are_fans() {
+    let folder = tempfile::tempdir().unwrap();
+    let triangle = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    for (name, index, shown) in [("past", 7, "7"), ("negative", -1, "-1")] {
+        let path = ascii_fbx(
+            folder.path(),
+            name,
+            &triangle,
+            &[0, 1, -3],
+            &[0, 1, 2, index],
+        );
+        let error = Character::open(&path).unwrap_err().to_string();
+        assert!(
+            error.ends_with(&format!(
+                "{name}.fbx: mesh 'body': skin cluster 'c0' names vertex {shown}, past the \
+                 mesh's 3 vertices (the skin is damaged: export it again)"
+            )),
+            "{error}"
+        );
+    }
+    let ok = ascii_fbx(folder.path(), "ok", &triangle, &[0, 1, -3], &[0, 1, 2]);
+    assert_eq!(Character::open(&ok).unwrap().mesh.triangles.len(), 3);
+
+    // A convex polygon of 2,000 corners: 1,998 triangles from corner 0.
+    let n = 2000;
+    let ring: Vec<f32> = (0..n)
+        .flat_map(|k| {
+            let a = std::f32::consts::TAU * k as f32 / n as f32;
+            [a.cos(), a.sin(), 0.0]
+        })
+        .collect();
+    let mut polygon: Vec<i32> = (0..n).collect();
+    polygon[n as usize - 1] = -n;
+    let path = ascii_fbx(folder.path(), "huge", &ring, &polygon, &[0]);
+    let character = Character::open(&path).unwrap();
+    let triangles = &character.mesh.triangles;
+    assert_eq!(triangles.len(), 3 * (n as usize - 2));
+    assert_eq!(triangles[..6], [0, 1, 2, 0, 2, 3]);
+    let said: Vec<&String> = character
+        .take
+        .warnings
+        .iter()
+        .filter(|w| w.contains("fans"))
+        .collect();
+    assert_eq!(
+        said,
+        [
+            "1 polygon of more than 1024 corners cut into fans from their first corner (a concave \
+          one may be drawn wrong: cut it into smaller polygons)"
+        ]
+    );
+}
