@@ -664,11 +664,11 @@ impl MeshBuilder {
         if total > MAX_WEIGHT_SUM {
             self.mesh.influences.truncate(start);
             return Err(Error::Usage(format!(
-                "{}: {} has skin weights summing to {}, past the largest 32-bit float (3.4e38); \
-                 weights are shares of a vertex (the file is damaged: export its skin again)",
+                "{}: {} has skin weights summing to {total:.2e}, past the largest 32-bit float \
+                 (3.4e38); weights are shares of a vertex (the file is damaged: export its skin \
+                 again)",
                 self.name,
                 at(&self.mesh),
-                format!("{total:.2e}")
             )));
         }
         let added = &mut self.mesh.influences[start..];
