@@ -98,6 +98,7 @@ impl Character {
                 path.display()
             )));
         }
+        skinnable(path, &read.skeleton, &mesh)?;
         let mut take = Take::new(read.skeleton, read.motion, path.display().to_string());
         take.warnings = read.warnings;
         take.format = Some(format);
@@ -121,6 +122,59 @@ impl Character {
         self.mesh.deform(&world, &mut positions, &mut normals);
         positions
     }
+}
+
+/// Largest value a bind matrix may hold: a vertex 1e12 units from its joint (a million
+/// kilometres in metres) is no character's. Past it, skinned positions overflow f32 (an inverse
+/// bind scale of 3e38 drew a blank picture and wrote a GLB bvhview then refused): the joint
+/// moves its vertices by a rotation and a translation, so a bind held to this keeps every
+/// vertex finite in any take.
+const MAX_BIND_VALUE: f32 = 1e12;
+
+/// Refuses a mesh whose vertices could not be skinned to finite positions: a bone's bind
+/// matrix past [`MAX_BIND_VALUE`] (naming its joint and a vertex it moves), or a vertex not
+/// finite in the rest pose (naming its mesh and index).
+fn skinnable(path: &Path, skeleton: &Skeleton, mesh: &Mesh) -> Result<(), Error> {
+    let joint_name = |b: usize| match mesh.bones[b].joint {
+        Some(j) => format!(
+            "joint '{}'",
+            crate::limits::quoted(&skeleton.joints[j].name)
+        ),
+        None => "the mesh's fixed frame".to_string(),
+    };
+    let huge = |m: &Mat4| m.to_cols_array().iter().any(|v| v.abs() > MAX_BIND_VALUE);
+    if let Some(b) = mesh.bones.iter().position(|b| huge(&b.bind)) {
+        let moved = (0..mesh.vertex_count())
+            .find(|&v| mesh.influences_of(v).iter().any(|i| i.bone as usize == b));
+        let vertex = moved.map_or(String::new(), |v| {
+            format!(" ({} is bound to it)", mesh.vertex_name(v))
+        });
+        let largest = mesh.bones[b]
+            .bind
+            .to_cols_array()
+            .iter()
+            .fold(0.0f32, |m, v| m.max(v.abs()));
+        return Err(Error::Usage(format!(
+            "{}: the bind matrix of {}{vertex} holds {largest:.2e}, past {MAX_BIND_VALUE:e}: its \
+             vertices would be skinned past what a float holds (the skin's inverse bind matrix \
+             is damaged: export the skin again)",
+            path.display(),
+            joint_name(b)
+        )));
+    }
+    let mut world = Vec::new();
+    world_matrices(skeleton, &[], OffsetMode::Replace, &mut world);
+    let (mut positions, mut normals) = (Vec::new(), Vec::new());
+    mesh.deform(&world, &mut positions, &mut normals);
+    if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
+        return Err(Error::Usage(format!(
+            "{}: {} is skinned to a position that is not finite in the rest pose (its bones' \
+             bind matrices are damaged: export the skin again)",
+            path.display(),
+            mesh.vertex_name(v)
+        )));
+    }
+    Ok(())
 }
 
 impl Character {

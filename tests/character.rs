@@ -475,3 +475,280 @@ fn a_take_on_a_character_ignores_the_files_offset_mode() {
     let differing = picture(OffsetMode::Add).differing_pixels(&picture(OffsetMode::Replace));
     assert_eq!(differing, 0);
 }
+
+/// Issue 58, finding 7: a `byteStride` shorter than its element (every vertex read from its
+/// neighbour's bytes) is refused naming file, mesh and accessor; a last index short of a
+/// triangle is left out and said once.
+#[test]
+fn a_stride_shorter_than_its_element_is_refused_and_a_short_triangle_said() {
+    let folder = tempfile::tempdir().unwrap();
+    let joints = [[0, 1, 0, 0]; 3];
+    let weights = [[0.5, 0.5, 0.0, 0.0]; 3];
+    let path = tiny_skinned_gltf(folder.path(), "stride", joints, weights, [0, 1, 2]);
+    let json = std::fs::read_to_string(&path).unwrap();
+    let strided = json.replacen(
+        r#""byteLength":36}"#,
+        r#""byteLength":36,"byteStride":4}"#,
+        1,
+    );
+    assert_ne!(strided, json);
+    std::fs::write(&path, strided).unwrap();
+    let error = Character::open(&path).unwrap_err().to_string();
+    assert!(
+        error.ends_with(
+            "stride.gltf: mesh '0': accessor 0: its buffer view's byteStride 4 is shorter than \
+             one element (12 bytes): the elements would overlap"
+        ),
+        "{error}"
+    );
+
+    let path = tiny_skinned_gltf(folder.path(), "short", joints, weights, [0, 1, 2]);
+    let json = std::fs::read_to_string(&path).unwrap();
+    // The two bytes of padding after the indices become a fourth index.
+    let four = json
+        .replacen(
+            r#""byteOffset":108,"byteLength":6"#,
+            r#""byteOffset":108,"byteLength":8"#,
+            1,
+        )
+        .replacen(
+            r#""count":3,"type":"SCALAR""#,
+            r#""count":4,"type":"SCALAR""#,
+            1,
+        );
+    std::fs::write(&path, four).unwrap();
+    let character = Character::open(&path).unwrap();
+    assert_eq!(character.mesh.triangles, [0, 1, 2]);
+    let said: Vec<&String> = character
+        .take
+        .warnings
+        .iter()
+        .filter(|w| w.contains("short of a triangle"))
+        .collect();
+    assert_eq!(
+        said,
+        [
+            "the last 1 or 2 indices of 1 primitive fall short of a triangle and are left out: \
+          mesh '0'"
+        ]
+    );
+}
+
+/// Issue 58, finding 6: an inverse bind scale of 3e38 skinned every vertex past what a float
+/// holds (`snapshot` drew a blank picture, `convert` wrote a GLB bvhview then refused): refused
+/// when the character is read, naming the joint and a vertex it moves.
+#[test]
+fn a_bind_that_skins_vertices_past_a_float_is_refused_when_read() {
+    let folder = tempfile::tempdir().unwrap();
+    let path = tiny_skinned_gltf(
+        folder.path(),
+        "huge",
+        [[0, 1, 0, 0]; 3],
+        [[1.0, 0.0, 0.0, 0.0]; 3],
+        [0, 1, 2],
+    );
+    let bin = folder.path().join("huge.bin");
+    let mut bytes = std::fs::read(&bin).unwrap();
+    let at = bytes.len();
+    for k in 0..2 {
+        let s = if k == 0 { 3e38f32 } else { 1.0 };
+        let m = [s, 0., 0., 0., 0., s, 0., 0., 0., 0., s, 0., 0., 0., 0., 1.];
+        bytes.extend(m.iter().flat_map(|v| v.to_le_bytes()));
+    }
+    std::fs::write(&bin, &bytes).unwrap();
+    let json = std::fs::read_to_string(&path)
+        .unwrap()
+        .replacen(
+            r#""joints":[0,1]"#,
+            r#""joints":[0,1],"inverseBindMatrices":4"#,
+            1,
+        )
+        .replacen(
+            &format!(r#""byteLength":{at}"#),
+            &format!(r#""byteLength":{}"#, bytes.len()),
+            1,
+        )
+        .replacen(
+            r#""byteLength":6}]"#,
+            &format!(r#""byteLength":6}},{{"buffer":0,"byteOffset":{at},"byteLength":128}}]"#),
+            1,
+        )
+        .replacen(
+            r#""type":"SCALAR"}]"#,
+            r#""type":"SCALAR"},{"bufferView":4,"componentType":5126,"count":2,"type":"MAT4"}]"#,
+            1,
+        );
+    std::fs::write(&path, json).unwrap();
+    let error = Character::open(&path).unwrap_err().to_string();
+    assert!(
+        error.ends_with(
+            "huge.gltf: the bind matrix of joint 'root' (mesh '0', vertex 0 is bound to it) holds \
+             3.00e38, past 1e12: its vertices would be skinned past what a float holds (the \
+             skin's inverse bind matrix is damaged: export the skin again)"
+        ),
+        "{error}"
+    );
+}
+
+/// Issue 58, finding 2: one vertex of many influences gave every vertex as many glTF sets as
+/// it (3.9 GB for 100,000): a vertex is written with its strongest 8, scaled to sum to 1, in
+/// two `JOINTS_n`/`WEIGHTS_n` sets.
+#[test]
+fn a_vertex_of_many_influences_is_written_with_its_strongest_eight() {
+    use bvhview::model::mesh::Influence;
+    let folder = tempfile::tempdir().unwrap();
+    let path = tiny_skinned_gltf(
+        folder.path(),
+        "many",
+        [[0, 1, 0, 0]; 3],
+        [[0.5, 0.5, 0.0, 0.0]; 3],
+        [0, 1, 2],
+    );
+    let mut character = Character::open(&path).unwrap();
+    let mesh = &mut character.mesh;
+    // Vertex 0: 1,000 influences, weights 1 to 1000 alternating between the two joints.
+    let many: Vec<Influence> = (1..=1000)
+        .map(|k| Influence {
+            bone: k % 2,
+            weight: k as f32,
+        })
+        .collect();
+    let rest: Vec<Influence> = mesh.influences[mesh.influence_start[1] as usize..].to_vec();
+    mesh.influences = many.into_iter().chain(rest).collect();
+    let shift = 1000 - mesh.influence_start[1];
+    for start in &mut mesh.influence_start[1..] {
+        *start += shift;
+    }
+    mesh.check().unwrap();
+    assert_eq!(
+        bvhview::model::mesh::vertices_past_written_influences(mesh),
+        1
+    );
+    let take = &character.take;
+    let bytes = bvhview::gltf::to_gltf_character(
+        &take.skeleton,
+        &take.motion,
+        &character.mesh,
+        bvhview::gltf::Container::Glb,
+    )
+    .unwrap();
+    // Two sets: three vertices × 2 × (8 + 16) bytes, not 250 sets.
+    assert!(bytes.len() < 4000, "{} bytes", bytes.len());
+    let written = folder.path().join("written.glb");
+    std::fs::write(&written, bytes).unwrap();
+    let back = Character::open(&written).unwrap();
+    let kept: Vec<f32> = back
+        .mesh
+        .influences_of(0)
+        .iter()
+        .map(|i| i.weight)
+        .collect();
+    let total = (993..=1000).sum::<i32>() as f32;
+    let want: Vec<f32> = (993..=1000).rev().map(|k| k as f32 / total).collect();
+    assert_eq!(kept.len(), 8);
+    for (k, w) in kept.iter().zip(&want) {
+        assert!((k - w).abs() < 1e-6, "{kept:?} vs {want:?}");
+    }
+    assert_eq!(back.mesh.influences_of(1).len(), 2);
+}
+
+/// An ASCII FBX 7.4 of one mesh (`vertices` as x,y,z…, `polygons` as FBX writes them, the last
+/// corner of each negated less one) on two joints, one skin cluster of `indexes` (weight 1
+/// each) on the first, written into `folder`.
+fn ascii_fbx(
+    folder: &std::path::Path,
+    name: &str,
+    vertices: &[f32],
+    polygons: &[i32],
+    indexes: &[i32],
+) -> std::path::PathBuf {
+    let list = |v: &[String]| v.join(",");
+    let vertices: Vec<String> = vertices.iter().map(|v| v.to_string()).collect();
+    let polygons: Vec<String> = polygons.iter().map(|v| v.to_string()).collect();
+    let indexes: Vec<String> = indexes.iter().map(|v| v.to_string()).collect();
+    let weights = vec!["1".to_string(); indexes.len()];
+    let identity = "1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1";
+    let text = format!(
+        "; FBX 7.4.0 project file\nFBXHeaderExtension:  {{\n FBXHeaderVersion: 1003\n FBXVersion: 7400\n}}\n\
+         Objects:  {{\n Geometry: 1000, \"Geometry::body\", \"Mesh\" {{\n  Vertices: *{} {{\n   a: {}\n  }}\n\
+         PolygonVertexIndex: *{} {{\n   a: {}\n  }}\n }}\n Model: 2000, \"Model::body\", \"Mesh\" {{\n }}\n\
+         Model: 3000, \"Model::Hips\", \"LimbNode\" {{\n }}\n Model: 3001, \"Model::Spine\", \"LimbNode\" {{\n\
+         Properties70:  {{\n   P: \"Lcl Translation\", \"Lcl Translation\", \"\", \"A\",0,1,0\n  }}\n }}\n\
+         NodeAttribute: 6000, \"NodeAttribute::Hips\", \"LimbNode\" {{\n  TypeFlags: \"Skeleton\"\n }}\n\
+         NodeAttribute: 6001, \"NodeAttribute::Spine\", \"LimbNode\" {{\n  TypeFlags: \"Skeleton\"\n }}\n\
+         Deformer: 4000, \"Deformer::skin\", \"Skin\" {{\n }}\n Deformer: 5000, \"SubDeformer::c0\", \"Cluster\" {{\n\
+         Indexes: *{} {{\n   a: {}\n  }}\n  Weights: *{} {{\n   a: {}\n  }}\n  Transform: *16 {{\n   a: {identity}\n  }}\n\
+         TransformLink: *16 {{\n   a: {identity}\n  }}\n }}\n}}\nConnections:  {{\n C: \"OO\",2000,0\n C: \"OO\",3000,0\n\
+         C: \"OO\",3001,3000\n C: \"OO\",6000,3000\n C: \"OO\",6001,3001\n C: \"OO\",1000,2000\n C: \"OO\",4000,1000\n\
+         C: \"OO\",5000,4000\n C: \"OO\",3000,5000\n}}\n",
+        vertices.len(),
+        list(&vertices),
+        polygons.len(),
+        list(&polygons),
+        indexes.len(),
+        list(&indexes),
+        weights.len(),
+        list(&weights)
+    );
+    let path = folder.join(format!("{name}.fbx"));
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Issue 58, findings 3 and 7: skin cluster indices past the vertices (or negative), which
+/// ufbx drops, are refused naming file, mesh and cluster; a polygon of more corners than ear
+/// clipping is given (quadratic: a 1,000,000-corner polygon ran past a minute) is cut into a
+/// fan and said once.
+#[test]
+fn fbx_clusters_past_the_vertices_are_refused_and_huge_polygons_are_fans() {
+    let folder = tempfile::tempdir().unwrap();
+    let triangle = [0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0];
+    for (name, index, shown) in [("past", 7, "7"), ("negative", -1, "-1")] {
+        let path = ascii_fbx(
+            folder.path(),
+            name,
+            &triangle,
+            &[0, 1, -3],
+            &[0, 1, 2, index],
+        );
+        let error = Character::open(&path).unwrap_err().to_string();
+        assert!(
+            error.ends_with(&format!(
+                "{name}.fbx: mesh 'body': skin cluster 'c0' names vertex {shown}, past the \
+                 mesh's 3 vertices (the skin is damaged: export it again)"
+            )),
+            "{error}"
+        );
+    }
+    let ok = ascii_fbx(folder.path(), "ok", &triangle, &[0, 1, -3], &[0, 1, 2]);
+    assert_eq!(Character::open(&ok).unwrap().mesh.triangles.len(), 3);
+
+    // A convex polygon of 2,000 corners: 1,998 triangles from corner 0.
+    let n = 2000;
+    let ring: Vec<f32> = (0..n)
+        .flat_map(|k| {
+            let a = std::f32::consts::TAU * k as f32 / n as f32;
+            [a.cos(), a.sin(), 0.0]
+        })
+        .collect();
+    let mut polygon: Vec<i32> = (0..n).collect();
+    polygon[n as usize - 1] = -n;
+    let path = ascii_fbx(folder.path(), "huge", &ring, &polygon, &[0]);
+    let character = Character::open(&path).unwrap();
+    let triangles = &character.mesh.triangles;
+    assert_eq!(triangles.len(), 3 * (n as usize - 2));
+    assert_eq!(triangles[..6], [0, 1, 2, 0, 2, 3]);
+    let said: Vec<&String> = character
+        .take
+        .warnings
+        .iter()
+        .filter(|w| w.contains("fans"))
+        .collect();
+    assert_eq!(
+        said,
+        [
+            "1 polygon of more than 1024 corners cut into fans from their first corner (a concave \
+          one may be drawn wrong: cut it into smaller polygons)"
+        ]
+    );
+}

@@ -125,6 +125,18 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
             TakeFormat::Gltf => crate::gltf::Container::Gltf,
             _ => crate::gltf::Container::Glb,
         };
+        let cut = crate::model::mesh::vertices_past_written_influences(&character.mesh);
+        if cut > 0 {
+            eprintln!(
+                "bvhview: {}: warning: {cut} of {} mesh vertices have more than {} skin \
+                 influences: the strongest {} are written, scaled to sum to 1 (glTF viewers read \
+                 at most 4 or 8)",
+                path.display(),
+                character.mesh.vertex_count(),
+                crate::model::mesh::MAX_WRITTEN_INFLUENCES,
+                crate::model::mesh::MAX_WRITTEN_INFLUENCES
+            );
+        }
         let bytes = crate::gltf::to_gltf_character(
             &dressed.skeleton,
             &dressed.motion,

@@ -47,6 +47,20 @@ fn bone_of(
     }
 }
 
+/// Most corners of a polygon cut by ufbx's ear clipping, whose time grows with the square of
+/// the corners (a 278 KB FBX of one 1,000,000-corner polygon ran past a minute). Below it the
+/// cost is at most this many steps a corner; past it a polygon is cut into a fan.
+const MAX_CLIPPED_CORNERS: usize = 1024;
+
+/// The triangles of a fan over the polygon of `count` corners from `first` (indices into the
+/// mesh's corners), replacing `out`.
+fn fan(first: u32, count: u32, out: &mut Vec<u32>) {
+    out.clear();
+    for k in 1..count.saturating_sub(1) {
+        out.extend([first, first + k, first + k + 1]);
+    }
+}
+
 /// Every mesh instance of the scene on the skeleton; `joint` gives the skeleton joint each scene
 /// node became, `turn` the turn the reader applies to the scene (FBX 5's unstated axes).
 pub(super) fn read(
@@ -60,11 +74,13 @@ pub(super) fn read(
     let mut said = Vec::new();
     let mut dual_quaternion = 0;
     let mut blend_shapes = 0;
+    // Polygons of more corners than ufbx's ear clipping is given, cut into fans.
+    let mut fans = 0;
     for node in scene.nodes.iter() {
         let Some(mesh) = node.mesh.as_ref() else {
             continue;
         };
-        builder.begin_part(false);
+        builder.begin_part(&mesh.element.name, false);
         let n = node.element.typed_id as usize;
         builder.reserve((mesh.vertices.len() + mesh.num_triangles) as u64)?;
         let geometry_to_node =
@@ -118,6 +134,24 @@ pub(super) fn read(
         };
         if let Some(skin) = skin {
             builder.reserve(skin.weights.len() as u64)?;
+            // ufbx leaves out a cluster's indices past the mesh's vertices (a negative one
+            // among them) without a word: the weights the file gives there are lost.
+            for cluster in skin.clusters.iter() {
+                let past = cluster
+                    .vertices
+                    .iter()
+                    .find(|&&v| v as usize >= mesh.vertices.len());
+                if let Some(&v) = past {
+                    return Err(Error::Usage(format!(
+                        "{name}: mesh '{}': skin cluster '{}' names vertex {}, past the mesh's \
+                         {} vertices (the skin is damaged: export it again)",
+                        crate::limits::quoted(&mesh.element.name),
+                        crate::limits::quoted(&cluster.element.name),
+                        v as i32,
+                        mesh.vertices.len()
+                    )));
+                }
+            }
         }
         let first = builder.vertex_count();
         let triangles_from = builder.triangle_corner_count();
@@ -159,13 +193,26 @@ pub(super) fn read(
             };
             builder.vertex(position, Vec3::ZERO, influences, fixed)?;
         }
-        let mut corners = vec![0u32; mesh.max_face_triangles.saturating_mul(3)];
+        let mut corners = vec![
+            0u32;
+            mesh.max_face_triangles
+                .min(MAX_CLIPPED_CORNERS)
+                .saturating_mul(3)
+        ];
+        let mut fanned = Vec::new();
         for face in mesh.faces.iter() {
             if face.num_indices < 3 {
                 continue;
             }
-            let triangles = mesh.triangulate_face(&mut corners, *face) as usize;
-            for t in corners[..3 * triangles].chunks_exact(3) {
+            let cut: &[u32] = if face.num_indices as usize > MAX_CLIPPED_CORNERS {
+                fans += 1;
+                fan(face.index_begin, face.num_indices, &mut fanned);
+                &fanned
+            } else {
+                let triangles = mesh.triangulate_face(&mut corners, *face) as usize;
+                &corners[..3 * triangles]
+            };
+            for t in cut.chunks_exact(3) {
                 let mut vertices = [0u32; 3];
                 for (slot, &index) in vertices.iter_mut().zip(t) {
                     let Some(&vertex) = mesh.vertex_indices.get(index as usize) else {
@@ -187,6 +234,13 @@ pub(super) fn read(
         said.push(format!(
             "{dual_quaternion} skins ask for dual quaternion skinning: drawn with linear blend \
              skinning"
+        ));
+    }
+    if fans > 0 {
+        said.push(format!(
+            "{} of more than {MAX_CLIPPED_CORNERS} corners cut into fans from their first corner \
+             (a concave one may be drawn wrong: cut it into smaller polygons)",
+            crate::io::error::counted(fans, "polygon")
         ));
     }
     if blend_shapes > 0 {

@@ -219,7 +219,8 @@ impl Data {
 
     /// A character's mesh ([`Mesh`]), bound to the joint nodes: each of its parts (the meshes
     /// of the file it was read from) one mesh node with a skin of its own whose inverse bind
-    /// matrices are the part's bind matrices, every influence written (four a `JOINTS_n` /
+    /// matrices are the part's bind matrices, each vertex's strongest
+    /// [`crate::model::mesh::MAX_WRITTEN_INFLUENCES`] influences written (four a `JOINTS_n` /
     /// `WEIGHTS_n` pair, as many pairs as the vertex with the most needs). A bone bound to no
     /// joint is bound to one extra node at the origin.
     fn character(&mut self, skeleton: &Skeleton, mesh: &Mesh) -> Result<(), Error> {
@@ -261,29 +262,37 @@ impl Data {
                 .flat_map(|n| n.to_array())
                 .collect();
             let normal = self.accessor(&normals, count, json::accessor::Type::Vec3, None, array);
+            let most = crate::model::mesh::MAX_WRITTEN_INFLUENCES;
             let sets = vertices
                 .clone()
-                .map(|v| mesh.influences_of(v).len())
+                .map(|v| mesh.influences_of(v).len().min(most))
                 .max()
                 .unwrap_or(1)
                 .div_ceil(4)
                 .max(1);
+            // Each vertex's strongest influences, `4 * sets` slots a vertex (unused: joint 0
+            // of weight 0, as the format asks).
+            let unused = crate::model::mesh::Influence {
+                bone: bones.start as u32,
+                weight: 0.0,
+            };
+            let mut written = Vec::with_capacity(count * 4 * sets);
+            let mut kept = Vec::new();
+            for v in vertices.clone() {
+                crate::model::mesh::strongest(mesh.influences_of(v), most, &mut kept);
+                kept.resize(4 * sets, unused);
+                written.extend_from_slice(&kept);
+            }
             let mut attributes = vec![
                 (json::mesh::Semantic::Positions, position),
                 (json::mesh::Semantic::Normals, normal),
             ];
             for set in 0..sets {
                 let (mut joints, mut weights) = (Vec::new(), Vec::new());
-                for v in vertices.clone() {
-                    let influences = mesh.influences_of(v);
-                    for slot in 0..4 {
-                        // Unused slots: joint 0 with weight 0, as the format asks.
-                        let (joint, weight) = match influences.get(4 * set + slot) {
-                            Some(i) => ((i.bone as usize - bones.start) as u16, i.weight),
-                            None => (0, 0.0),
-                        };
-                        joints.extend(joint.to_le_bytes());
-                        weights.push(weight);
+                for slots in written.chunks_exact(4 * sets) {
+                    for i in &slots[4 * set..4 * set + 4] {
+                        joints.extend(((i.bone as usize - bones.start) as u16).to_le_bytes());
+                        weights.push(i.weight);
                     }
                 }
                 let joints = self.raw_accessor(

@@ -41,6 +41,56 @@ pub const MAX_ANIMATION_FRAMES: usize = 100_000;
 /// Most values (frames × channels) an edit may make: 1 GiB of f32, a BVH file of about 2 GB.
 pub const MAX_GENERATED_VALUES: u64 = 1 << 28;
 
+/// Values (frames × target channels) a retarget may make for each value of the take it reads
+/// (frames × source channels) and each channel of the target, above [`RETARGET_VALUES_FLOOR`]:
+/// the take was paid for when it was read, so what it asks of the target is held to a multiple
+/// of it (a biped of 60 channels onto a character of 1,900 fits). A 982 KB take onto a glTF of
+/// 17,000 skin joints asked for 14.3 GB up front, and aborted.
+pub const RETARGET_VALUES_PER_VALUE: u64 = 32;
+
+/// Values (frames × target channels) any retarget may make: 16 M (10 minutes at 120 Hz onto
+/// 230 channels).
+pub const RETARGET_VALUES_FLOOR: u64 = 1 << 24;
+
+/// Whether retargeting `frames` frames of `source_channels` onto a skeleton of `joints` joints
+/// and `target_channels` channels stays within the budget: at most [`RETARGET_VALUES_PER_VALUE`]
+/// values a value of the take and of the target above [`RETARGET_VALUES_FLOOR`], and never past
+/// a third of [`MAX_GENERATED_VALUES`] (the retarget holds each chained joint's angles in f64
+/// beside the values: three times their memory at most). `what` names the take and the target.
+pub fn retarget_values(
+    what: &str,
+    frames: usize,
+    source_channels: usize,
+    joints: usize,
+    target_channels: usize,
+) -> Result<(), Error> {
+    let (frames, source, target) = (
+        frames as u64,
+        source_channels as u64,
+        target_channels as u64,
+    );
+    let wanted = frames.saturating_mul(target);
+    let budget = RETARGET_VALUES_PER_VALUE
+        .saturating_mul(frames.saturating_mul(source).saturating_add(target))
+        .saturating_add(RETARGET_VALUES_FLOOR)
+        .min(MAX_GENERATED_VALUES / 3);
+    if wanted > budget {
+        return Err(Error::Usage(format!(
+            "{what}: {} onto {} ({target} channels) make {} values, more than a take of {} \
+             values is put on a skeleton for (at most {}: {RETARGET_VALUES_PER_VALUE} a value \
+             of the take and the target, above {}); trim the take or use a skeleton with fewer \
+             joints",
+            crate::io::error::counted(frames, "frame"),
+            crate::io::error::counted(joints, "joint"),
+            show(wanted as f64),
+            show(frames.saturating_mul(source) as f64),
+            show(budget as f64),
+            show(RETARGET_VALUES_FLOOR as f64)
+        )));
+    }
+    Ok(())
+}
+
 /// Most bytes of a file read whole into memory (FBX, GLB, glTF JSON, one glTF buffer, an `.npy`
 /// of positions): 2 GiB. Past it a file is refused by its size on disk, before a byte is read
 /// (a sparse 6 GB file takes 4 KB of disk and would take 6 GB of memory).
@@ -245,6 +295,22 @@ mod tests {
         assert!(frame_time_option(Some(0.0)).is_err());
         assert!(name(MAX_NAME_BYTES + 1).is_err());
         assert!(name(MAX_NAME_BYTES).is_ok());
+    }
+
+    /// Issue 58, finding 1: 8,000 frames onto 17,021 joints is refused; a CMU walk onto a
+    /// 65-joint character is not.
+    #[test]
+    fn a_retarget_is_held_to_a_multiple_of_its_take() {
+        let error = retarget_values("walk.bvh onto big.glb", 8000, 60, 17_021, 51_066).unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "walk.bvh onto big.glb: 8000 frames onto 17021 joints (51066 channels) make 4.08528e8 \
+             values, more than a take of 480000 values is put on a skeleton for (at most \
+             3.3771328e7: 32 a value of the take and the target, above 1.6777216e7); trim the \
+             take or use a skeleton with fewer joints"
+        );
+        assert!(retarget_values("x", 4000, 96, 65, 198).is_ok());
+        assert!(retarget_values("x", usize::MAX, usize::MAX, 1, usize::MAX).is_err());
     }
 
     /// Issue 26, row 7: 243 GB of matrices is a `MemoryError`, not an abort.

@@ -92,7 +92,7 @@ pub struct Bone {
 /// let fixed = Bone { joint: None, bind: Mat4::IDENTITY };
 /// let mut builder = MeshBuilder::new("two meshes", 0);
 /// for _ in 0..2 {
-///     builder.begin_part(false);
+///     builder.begin_part("body", false);
 ///     let bone = builder.bone(Bone { joint: Some(0), bind: Mat4::IDENTITY }).unwrap();
 ///     for corner in [Vec3::ZERO, Vec3::X, Vec3::Y] {
 ///         builder.vertex(corner, Vec3::Z, [(bone, 1.0)], fixed).unwrap();
@@ -141,6 +141,7 @@ pub struct Part {
 ///         Bone { joint: Some(1), bind: Mat4::IDENTITY },
 ///     ],
 ///     parts: vec![Default::default()],
+///     part_names: vec!["triangle".into()],
 /// };
 /// mesh.check().unwrap();
 /// // Joint 1 moves up by 2.
@@ -165,6 +166,8 @@ pub struct Mesh {
     pub bones: Vec<Bone>,
     /// The file's meshes gathered here, in order (at least one when there are vertices).
     pub parts: Vec<Part>,
+    /// Each part's name in the file (for messages; a part without one is named by its index).
+    pub part_names: Vec<String>,
 }
 
 impl Mesh {
@@ -252,6 +255,24 @@ impl Mesh {
             single_sided: p.single_sided,
         }));
         self.bones.extend(other.bones);
+        self.part_names.extend(other.part_names);
+    }
+
+    /// The part holding vertex `v` and `v`'s index within it.
+    pub fn part_of_vertex(&self, v: usize) -> (usize, usize) {
+        let k = self
+            .parts
+            .partition_point(|p| p.first_vertex as usize <= v)
+            .saturating_sub(1);
+        let first = self.parts.get(k).map_or(0, |p| p.first_vertex as usize);
+        (k, v - first)
+    }
+
+    /// Vertex `v` as a message names it: `mesh 'Body', vertex 17` (its mesh in the file, and
+    /// its index there).
+    pub fn vertex_name(&self, v: usize) -> String {
+        let (k, local) = self.part_of_vertex(v);
+        format!("{}, vertex {local}", part_label(self.part_names.get(k), k))
     }
 
     /// Whether every index lies in range and every number is finite: what a reader checks
@@ -365,15 +386,21 @@ impl Mesh {
         positions.reserve(self.positions.len());
         normals.reserve(self.positions.len());
         for (v, (&position, &normal)) in self.positions.iter().zip(&self.normals).enumerate() {
-            let (mut x, mut y, mut z, mut w) = (Vec4::ZERO, Vec4::ZERO, Vec4::ZERO, Vec4::ZERO);
-            for influence in self.influences_of(v) {
-                let m = &bone_matrices[influence.bone as usize];
-                let weight = influence.weight;
-                x += m.x_axis * weight;
-                y += m.y_axis * weight;
-                z += m.z_axis * weight;
-                w += m.w_axis * weight;
-            }
+            let influences = self.influences_of(v);
+            let (x, y, z, w) = if influences.len() <= EXACT_IN_F32 {
+                let (mut x, mut y, mut z, mut w) = (Vec4::ZERO, Vec4::ZERO, Vec4::ZERO, Vec4::ZERO);
+                for influence in influences {
+                    let m = &bone_matrices[influence.bone as usize];
+                    let weight = influence.weight;
+                    x += m.x_axis * weight;
+                    y += m.y_axis * weight;
+                    z += m.z_axis * weight;
+                    w += m.w_axis * weight;
+                }
+                (x, y, z, w)
+            } else {
+                blend_in_f64(influences, bone_matrices)
+            };
             let blended = Mat4::from_cols(x, y, z, w);
             positions.push(blended.transform_point3(position));
             normals.push(normal_through(
@@ -394,6 +421,70 @@ impl Mesh {
         posed.single_sided = self.single_sided();
     }
 }
+
+/// Most influences a vertex is written with to a glTF: two `JOINTS_n`/`WEIGHTS_n` sets. The
+/// specification asks every viewer for one set only, and three.js, Babylon.js and Unity read
+/// that one; Blender, Godot and Unreal read two; none is known to read more. Two keep every
+/// vertex of real characters exact (Maya's default is 5, Blender's exporter writes 4) and bound
+/// the file: every vertex is given as many sets as the vertex with the most, so one vertex of
+/// 100,000 influences made a 1 MB FBX a 121 MB GLB. With two, the sets cost 48 bytes a vertex,
+/// inside the budget the mesh was read under.
+pub const MAX_WRITTEN_INFLUENCES: usize = 8;
+
+/// The vertices of `mesh` with more influences than [`MAX_WRITTEN_INFLUENCES`] (a glTF is
+/// written with their strongest, said once).
+pub fn vertices_past_written_influences(mesh: &Mesh) -> usize {
+    (0..mesh.vertex_count())
+        .filter(|&v| mesh.influences_of(v).len() > MAX_WRITTEN_INFLUENCES)
+        .count()
+}
+
+/// The strongest `most` of `influences` (the first of equal weights first), scaled to sum to 1
+/// when some are left out, into `out`.
+pub fn strongest(influences: &[Influence], most: usize, out: &mut Vec<Influence>) {
+    out.clear();
+    out.extend_from_slice(influences);
+    if out.len() > most {
+        out.sort_by(|a, b| b.weight.total_cmp(&a.weight));
+        out.truncate(most);
+        let total: f64 = out.iter().map(|i| f64::from(i.weight)).sum();
+        if total > 0.0 {
+            for influence in out.iter_mut() {
+                influence.weight = (f64::from(influence.weight) / total) as f32;
+            }
+        }
+    }
+}
+
+/// Influences a vertex may have and still be blended in f32: past a few dozen, the rounding of
+/// the running sums adds up (200,000 influences moved a vertex 6 mm).
+const EXACT_IN_F32: usize = 16;
+
+/// The columns of the weighted sum of `influences`' matrices, summed in f64.
+fn blend_in_f64(influences: &[Influence], bone_matrices: &[Mat4]) -> (Vec4, Vec4, Vec4, Vec4) {
+    let mut sum = [glam::DVec4::ZERO; 4];
+    for influence in influences {
+        let m = &bone_matrices[influence.bone as usize];
+        let weight = f64::from(influence.weight);
+        for (column, axis) in sum.iter_mut().zip([m.x_axis, m.y_axis, m.z_axis, m.w_axis]) {
+            *column += axis.as_dvec4() * weight;
+        }
+    }
+    let [x, y, z, w] = sum.map(|c| c.as_vec4());
+    (x, y, z, w)
+}
+
+/// A part as a message names it: `mesh 'Body'`, or `mesh 2` when the file gives no name.
+fn part_label(name: Option<&String>, k: usize) -> String {
+    match name {
+        Some(name) if !name.is_empty() => format!("mesh '{}'", crate::limits::quoted(name)),
+        _ => format!("mesh {k}"),
+    }
+}
+
+/// Most weights a vertex's sum may reach: past the largest 32-bit float, the sum the file's
+/// own consumers take (in f32) is infinite and every weight scales to 0.
+const MAX_WEIGHT_SUM: f64 = f32::MAX as f64;
 
 /// `normal` turned by the linear part whose columns are `a`, `b`, `c`, as a normal turns: by
 /// the inverse transpose, so it stays square to the surface where a bone scales unevenly (the
@@ -416,13 +507,16 @@ fn normal_through(a: Vec3, b: Vec3, c: Vec3, normal: Vec3) -> Vec3 {
 ///
 /// let fixed = Bone { joint: None, bind: Mat4::IDENTITY };
 /// let mut builder = MeshBuilder::new("file.glb", 1000);
-/// builder.begin_part(false);
+/// builder.begin_part("Body", false);
 /// let bone = builder.bone(Bone { joint: Some(0), bind: Mat4::IDENTITY }).unwrap();
 /// // Weights of 2 and 2: scaled to a half each, and said once.
 /// builder.vertex(Vec3::ZERO, Vec3::Y, [(bone, 2.0), (bone, 2.0)], fixed).unwrap();
 /// // A NaN weight is refused, naming the vertex.
 /// let error = builder.vertex(Vec3::X, Vec3::Y, [(bone, f32::NAN)], fixed).unwrap_err();
-/// assert!(error.to_string().contains("vertex 1 has a weight of NaN"));
+/// assert_eq!(
+///     error.to_string(),
+///     "file.glb: mesh 'Body', vertex 1 has a weight of NaN (weights are finite and not negative)"
+/// );
 /// let (mesh, said) = builder.finish();
 /// assert_eq!(mesh.influences_of(0)[0].weight, 0.5);
 /// assert_eq!(said, ["1 of 1 mesh vertices have skin weights that do not sum to 1: scaled to sum to 1"]);
@@ -477,9 +571,10 @@ impl MeshBuilder {
         Ok(())
     }
 
-    /// Starts the next of the file's meshes (each reader calls it before a mesh's bones);
-    /// `single_sided`: its back faces are hidden.
-    pub fn begin_part(&mut self, single_sided: bool) {
+    /// Starts the next of the file's meshes, `name` in the file (each reader calls it before a
+    /// mesh's bones); `single_sided`: its back faces are hidden.
+    pub fn begin_part(&mut self, name: &str, single_sided: bool) {
+        self.mesh.part_names.push(name.to_string());
         self.mesh.parts.push(Part {
             first_vertex: self.mesh.positions.len() as u32,
             first_corner: self.mesh.triangles.len() as u32,
@@ -520,25 +615,37 @@ impl MeshBuilder {
     ) -> Result<u32, Error> {
         self.reserve(1)?;
         let index = self.mesh.positions.len();
+        // The vertex as messages name it: its mesh and its index there.
+        let at = |mesh: &Mesh| {
+            let k = mesh.parts.len().saturating_sub(1);
+            let first = mesh.parts.last().map_or(0, |p| p.first_vertex as usize);
+            format!(
+                "{}, vertex {}",
+                part_label(mesh.part_names.get(k), k),
+                index - first
+            )
+        };
         if !position.is_finite() || !normal.is_finite() {
             return Err(Error::Usage(format!(
-                "{}: vertex {index} has a position or normal that is not finite",
-                self.name
+                "{}: {} has a position or normal that is not finite",
+                self.name,
+                at(&self.mesh)
             )));
         }
         let start = self.mesh.influences.len();
         for (bone, weight) in influences {
             if !weight.is_finite() || weight < 0.0 {
                 return Err(Error::Usage(format!(
-                    "{}: vertex {index} has a weight of {weight} (weights are finite and not \
-                     negative)",
-                    self.name
+                    "{}: {} has a weight of {weight} (weights are finite and not negative)",
+                    self.name,
+                    at(&self.mesh)
                 )));
             }
             if bone as usize >= self.mesh.bones.len() {
                 return Err(Error::Usage(format!(
-                    "{}: vertex {index} is bound to joint {bone} of {} joints",
+                    "{}: {} is bound to joint {bone} of {} joints",
                     self.name,
+                    at(&self.mesh),
                     self.mesh.bones.len()
                 )));
             }
@@ -548,8 +655,23 @@ impl MeshBuilder {
                 self.mesh.influences.push(Influence { bone, weight });
             }
         }
+        // Summed in f64: 200,000 weights summed in f32 drift by a part in a thousand, and two
+        // weights of 3e38 overflow it (every weight then scaled to 0).
+        let total: f64 = self.mesh.influences[start..]
+            .iter()
+            .map(|i| f64::from(i.weight))
+            .sum();
+        if total > MAX_WEIGHT_SUM {
+            self.mesh.influences.truncate(start);
+            return Err(Error::Usage(format!(
+                "{}: {} has skin weights summing to {total:.2e}, past the largest 32-bit float \
+                 (3.4e38); weights are shares of a vertex (the file is damaged: export its skin \
+                 again)",
+                self.name,
+                at(&self.mesh),
+            )));
+        }
         let added = &mut self.mesh.influences[start..];
-        let total: f32 = added.iter().map(|i| i.weight).sum();
         if added.is_empty() || total <= 0.0 {
             self.mesh.influences.truncate(start);
             self.reserve(2)?;
@@ -565,7 +687,7 @@ impl MeshBuilder {
             self.unweighted += 1;
         } else if (total - 1.0).abs() > 1e-3 {
             for influence in added.iter_mut() {
-                influence.weight /= total;
+                influence.weight = (f64::from(influence.weight) / total) as f32;
             }
             self.renormalised += 1;
         }
@@ -627,6 +749,7 @@ impl MeshBuilder {
     pub fn finish(mut self) -> (Mesh, Vec<String>) {
         if self.mesh.parts.is_empty() && !self.mesh.positions.is_empty() {
             self.mesh.parts.push(Part::default());
+            self.mesh.part_names.push(String::new());
         }
         let mut said = Vec::new();
         if self.renormalised > 0 {
@@ -744,6 +867,59 @@ mod tests {
         let want = (0..8).map(|j| j as f32 * (1.0 + j as f32)).sum::<f32>() / 36.0;
         assert!((p[0].x - want).abs() < 1e-5, "{} vs {want}", p[0].x);
         assert_eq!(n[0], Vec3::Y);
+    }
+
+    /// Issue 58, finding 5: two weights of 3e38 overflow an f32 sum (the vertex was scaled to 0
+    /// weight and landed at the origin, said only as "scaled"): refused, naming mesh and vertex.
+    #[test]
+    fn weights_whose_sum_overflows_a_float_are_refused_by_mesh_and_vertex() {
+        let mut b = MeshBuilder::new("test", 0);
+        b.begin_part("Body", false);
+        b.bone(Bone {
+            joint: Some(0),
+            bind: Mat4::IDENTITY,
+        })
+        .unwrap();
+        b.vertex(Vec3::X, Vec3::Y, [(0, 1.0)], FIXED).unwrap();
+        let error = b
+            .vertex(Vec3::X, Vec3::Y, [(0, 3e38), (0, 3e38)], FIXED)
+            .unwrap_err();
+        assert_eq!(
+            error.to_string(),
+            "test: mesh 'Body', vertex 1 has skin weights summing to 6.00e38, past the largest \
+             32-bit float (3.4e38); weights are shares of a vertex (the file is damaged: export \
+             its skin again)"
+        );
+        // Just under the largest float: scaled to halves.
+        b.vertex(Vec3::X, Vec3::Y, [(0, 1.5e38), (0, 1.5e38)], FIXED)
+            .unwrap();
+        let (mesh, _) = b.finish();
+        assert_eq!(mesh.influences_of(1)[0].weight, 0.5);
+        assert_eq!(mesh.vertex_name(1), "mesh 'Body', vertex 1");
+    }
+
+    /// Issue 58, finding 5: 200,000 weights on one vertex, summed and blended in f32, moved it
+    /// 6.2 mm; summed in f64 it lands where the weights say, to a micrometre.
+    #[test]
+    fn two_hundred_thousand_weights_land_a_vertex_where_they_say() {
+        let mut b = MeshBuilder::new("test", 1 << 20);
+        let mut world = Vec::new();
+        for j in 0..4 {
+            b.bone(Bone {
+                joint: Some(j),
+                bind: Mat4::IDENTITY,
+            })
+            .unwrap();
+            world.push(Mat4::from_translation(Vec3::new(j as f32, 0.0, 0.0)));
+        }
+        // Weights of 0.3 (not exact in binary) on bones 0..3 in turn: the mean move is 1.5 m.
+        let influences: Vec<(u32, f32)> = (0..200_000).map(|k| (k % 4, 0.3)).collect();
+        b.vertex(Vec3::ZERO, Vec3::Y, influences, FIXED).unwrap();
+        let (mesh, said) = b.finish();
+        assert_eq!(said.len(), 1, "{said:?}");
+        let (mut p, mut n) = (Vec::new(), Vec::new());
+        mesh.deform(&world, &mut p, &mut n);
+        assert!((p[0].x - 1.5).abs() < 1e-6, "{}", p[0].x);
     }
 
     /// A bone that stretches along x turns a sloped surface's normal as the surface turns:

@@ -64,6 +64,14 @@ pub fn retarget(
     ups: Ups,
     threads: usize,
 ) -> Result<(Skeleton, Motion), Error> {
+    // Checked again here for callers that come without a Target (its message names them).
+    crate::limits::retarget_values(
+        "the retarget",
+        motion.frame_count(),
+        source.channel_count(),
+        target.joints.len(),
+        target.channel_count(),
+    )?;
     let setup = Setup::new(source, motion, target, map, ups);
     let (data, finite) = fast::frames(&setup, source, motion, target, map, threads);
     if finite && target.joints.iter().all(|j| j.offset.is_finite()) {
@@ -89,6 +97,14 @@ pub fn retarget_plain(
     ups: Ups,
     threads: usize,
 ) -> Result<(Skeleton, Motion), Error> {
+    // Checked again here for callers that come without a Target (its message names them).
+    crate::limits::retarget_values(
+        "the retarget",
+        motion.frame_count(),
+        source.channel_count(),
+        target.joints.len(),
+        target.channel_count(),
+    )?;
     let setup = Setup::new(source, motion, target, map, ups);
     let values = plain_frames(&setup, source, motion, target, map, threads);
     finish(target, motion, values.iter().map(|&v| v as f32).collect())

@@ -194,6 +194,13 @@ impl Target {
         pairs: &[(String, String)],
         threads: usize,
     ) -> Result<(Skeleton, Motion), Error> {
+        crate::limits::retarget_values(
+            &format!("{source_name} onto {}", self.name),
+            motion.frame_count(),
+            skeleton.channel_count(),
+            self.skeleton.joints.len(),
+            self.skeleton.channel_count(),
+        )?;
         let mut map = Map::guess(skeleton, &self.skeleton);
         map.apply(pairs, skeleton, &self.skeleton)?;
         map.check(source_name, &self.name)?;

@@ -373,6 +373,14 @@ fn locate<'a>(
     };
     let element = size * width;
     let stride = view.stride().unwrap_or(element);
+    // A stride shorter than its element makes elements overlap: every vertex after the first
+    // read from its neighbour's bytes (glTF 3.6.2.4: byteStride is at least the element's size).
+    if stride < element {
+        return Err(format!(
+            "accessor {index}: its buffer view's byteStride {stride} is shorter than one element \
+             ({element} bytes): the elements would overlap"
+        ));
+    }
     let buffer = &file.buffers[view.buffer().index()];
     let view_end = view.offset().checked_add(view.length());
     let start = view.offset().checked_add(accessor.offset());

@@ -56,12 +56,15 @@ pub(super) fn read(
     let document = &file.gltf.document;
     let mut builder = MeshBuilder::new(path, file.bytes);
     let mut left_out: Vec<String> = Vec::new();
+    // Primitives whose last corners are short of a triangle.
+    let mut short: Vec<String> = Vec::new();
     let fail = |why: String| bad(path, why);
     for node in document.nodes() {
         let Some(mesh) = node.mesh() else { continue };
         // glTF hides back faces unless a material says `doubleSided` (3.9.5).
         let single_sided = mesh.primitives().all(|p| !p.material().double_sided());
-        builder.begin_part(single_sided);
+        builder.begin_part(&mesh_label(&mesh), single_sided);
+        let in_mesh = |why: String| bad(path, format!("mesh '{}': {why}", mesh_label(&mesh)));
         let n = node.index();
         // Skinned: each of the skin's joints binds through its inverse bind matrix; the mesh's
         // node transform is not used (glTF 2.0, 3.7.3.3).
@@ -78,7 +81,7 @@ pub(super) fn read(
                                 accessor.count()
                             )));
                         }
-                        matrices(file, &accessor).map_err(&fail)?
+                        matrices(file, &accessor).map_err(&in_mesh)?
                     }
                     None => vec![DMat4::IDENTITY; joints.len()],
                 };
@@ -124,9 +127,11 @@ pub(super) fn read(
             };
             let count = positions.count();
             builder.reserve(count as u64)?;
-            let xyz = accessor_values(file, &positions, 3).map_err(&fail)?;
+            let xyz = accessor_values(file, &positions, 3).map_err(&in_mesh)?;
             let normals = match primitive.get(&gltf::Semantic::Normals) {
-                Some(a) if a.count() == count => Some(accessor_values(file, &a, 3).map_err(&fail)?),
+                Some(a) if a.count() == count => {
+                    Some(accessor_values(file, &a, 3).map_err(&in_mesh)?)
+                }
                 Some(a) => {
                     return Err(fail(format!(
                         "mesh {}: {} normals for {count} positions",
@@ -165,8 +170,8 @@ pub(super) fn read(
                     // and again.
                     builder.reserve((4 * count as u64).saturating_mul(sets.len() as u64 + 1))?;
                     sets.push((
-                        accessor_integers(file, &joints, 4).map_err(&fail)?,
-                        accessor_values(file, &weights, 4).map_err(&fail)?,
+                        accessor_integers(file, &joints, 4).map_err(&in_mesh)?,
+                        accessor_values(file, &weights, 4).map_err(&in_mesh)?,
                     ));
                 }
             }
@@ -204,7 +209,10 @@ pub(super) fn read(
             match primitive.indices() {
                 Some(indices) => {
                     builder.reserve(indices.count() as u64 / 3)?;
-                    let corners = accessor_integers(file, &indices, 1).map_err(&fail)?;
+                    let corners = accessor_integers(file, &indices, 1).map_err(&in_mesh)?;
+                    if corners.len() % 3 != 0 {
+                        short.push(format!("mesh '{}'", mesh_label(&mesh)));
+                    }
                     for t in corners.chunks_exact(3) {
                         if let Some(&c) = t.iter().find(|&&c| c as usize >= count) {
                             return Err(fail(format!(
@@ -216,6 +224,9 @@ pub(super) fn read(
                     }
                 }
                 None => {
+                    if count % 3 != 0 {
+                        short.push(format!("mesh '{}'", mesh_label(&mesh)));
+                    }
                     for t in 0..count as u32 / 3 {
                         builder.triangle([first + 3 * t, first + 3 * t + 1, first + 3 * t + 2])?;
                     }
@@ -234,7 +245,22 @@ pub(super) fn read(
             left_out.join(", ")
         ));
     }
+    if !short.is_empty() {
+        // One line however many: the first three named.
+        let more = if short.len() > 3 { ", …" } else { "" };
+        said.push(format!(
+            "the last 1 or 2 indices of {} fall short of a triangle and are left out: {}{more}",
+            crate::io::error::counted(short.len(), "primitive"),
+            short[..short.len().min(3)].join(", ")
+        ));
+    }
     Ok((mesh, said))
+}
+
+/// A glTF mesh's name for messages: its own, else its index (`3`).
+fn mesh_label(mesh: &gltf::Mesh) -> String {
+    mesh.name()
+        .map_or_else(|| mesh.index().to_string(), str::to_string)
 }
 
 /// A MAT4 accessor's matrices (column-major, as glTF stores them).

@@ -288,9 +288,12 @@ fn load_file(
             DMat4::from_cols_array_2d(&m.map(|c| c.map(|v| v as f64)))
         })
         .collect();
-    // World matrices of the selected nodes, from local matrices of all nodes.
-    let world_of = |local: &dyn Fn(usize) -> DMat4| -> Vec<Pose> {
-        let mut cache: Vec<Option<DMat4>> = vec![None; count];
+    // World matrices of the selected nodes, from local matrices of all nodes. `cache` holds
+    // `None` for every node and is left so: only the nodes a call touches are cleared, so that
+    // a frame costs the posed nodes, not every node of the file (40,000 bare nodes × 4,000
+    // frames took 5 s).
+    let world_of = |local: &dyn Fn(usize) -> DMat4, cache: &mut Vec<Option<DMat4>>| -> Vec<Pose> {
+        let mut touched = Vec::new();
         let mut out = Vec::with_capacity(order.len());
         for &i in &order {
             let mut chain = Vec::new();
@@ -305,12 +308,17 @@ fn load_file(
             for &n in chain.iter().rev() {
                 let above = parent[n].and_then(|p| cache[p]).unwrap_or(DMat4::IDENTITY);
                 cache[n] = Some(above * local(n));
+                touched.push(n);
             }
             out.push(Pose::of_matrix(&cache[i].unwrap_or(DMat4::IDENTITY)));
         }
+        for n in touched {
+            cache[n] = None;
+        }
         out
     };
-    let rest = world_of(&|n| static_matrices[n]);
+    let mut cache: Vec<Option<DMat4>> = vec![None; count];
+    let rest = world_of(&|n| static_matrices[n], &mut cache);
     let timing = timing(&tracks);
     let (start, fps) = (timing.start, timing.fps);
     if let Some(warning) = &timing.warning {
@@ -346,8 +354,9 @@ fn load_file(
             1.0 / fps,
             |f, out| {
                 let time = start + f as f64 / fps;
-                for slot in animated.iter_mut() {
-                    *slot = None;
+                // Only the animated nodes were set (clearing every node cost nodes × frames).
+                for track in &tracks {
+                    animated[track.node] = None;
                 }
                 for (track, hint) in tracks.iter().zip(hints.iter_mut()) {
                     let trs = animated[track.node].get_or_insert(statics[track.node]);
@@ -364,10 +373,13 @@ fn load_file(
                         Property::MorphTargetWeights => {}
                     }
                 }
-                out.extend(world_of(&|n| match &animated[n] {
-                    Some(trs) => trs_matrix(trs),
-                    None => static_matrices[n],
-                }));
+                out.extend(world_of(
+                    &|n| match &animated[n] {
+                        Some(trs) => trs_matrix(trs),
+                        None => static_matrices[n],
+                    },
+                    &mut cache,
+                ));
                 Ok(())
             },
         )
