@@ -212,8 +212,22 @@ impl Character {
             (Ok(a), Ok(b)) => a == b,
             _ => false,
         };
-        if same_file(path, Path::new(&self.take.name)) && take.take == self.take.take {
-            return Ok(self.take.clone());
+        if same_file(path, Path::new(&self.take.name)) {
+            if take.take == self.take.take {
+                return Ok(self.take.clone());
+            }
+            // Another take of the character's file (`--take`): read as the character reads its
+            // own, on the skeleton its mesh is bound to (a take read alone keeps the nodes' own
+            // frames, not the bind pose's).
+            let other = Character::open_with(
+                path,
+                crate::take::DEFAULT_MAX_SIZE,
+                take.take.as_deref(),
+                threads,
+            )?;
+            if self.is_own_skeleton(&other.take.skeleton) {
+                return Ok(other.take);
+            }
         }
         if self.is_own_skeleton(&take.skeleton) {
             let mut own = take.clone();

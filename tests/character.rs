@@ -5,6 +5,7 @@
 
 use bvhview::character::Character;
 use glam::Vec3;
+use std::path::Path;
 
 const KENNEY: &str = "tests/data/characters/maya_kenney_character_7700_binary.fbx";
 
@@ -751,4 +752,75 @@ fn fbx_clusters_past_the_vertices_are_refused_and_huge_polygons_are_fans() {
           one may be drawn wrong: cut it into smaller polygons)"
         ]
     );
+}
+
+/// `--take` picks the take of the character's own file, and a take of the character's own
+/// skeleton is put on as the file has it: on a file whose take 1 is a copy of take 0, the
+/// vertices of take 1 were take 0 retargeted onto itself (0.25 m off); now they are equal.
+#[test]
+fn a_characters_own_takes_are_put_on_exactly() {
+    use serde_json::Value;
+    let glb = std::fs::read("tests/data/characters/capsule_mixamo.glb").unwrap();
+    let chunk = |at: usize| {
+        let length = u32::from_le_bytes(glb[at..at + 4].try_into().unwrap()) as usize;
+        (&glb[at + 8..at + 8 + length], at + 8 + length)
+    };
+    let (json, after) = chunk(12);
+    let (bin, _) = chunk(after);
+    let mut document: Value = serde_json::from_slice(json).unwrap();
+    let animations = document["animations"].as_array_mut().unwrap();
+    let mut copy = animations[0].clone();
+    copy["name"] = Value::from("Copy");
+    animations.push(copy);
+    let mut json = serde_json::to_vec(&document).unwrap();
+    while json.len() % 4 != 0 {
+        json.push(b' ');
+    }
+    let mut out = Vec::new();
+    out.extend_from_slice(b"glTF");
+    out.extend_from_slice(&2u32.to_le_bytes());
+    out.extend_from_slice(&((12 + 8 + json.len() + 8 + bin.len()) as u32).to_le_bytes());
+    out.extend_from_slice(&(json.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"JSON");
+    out.extend_from_slice(&json);
+    out.extend_from_slice(&(bin.len() as u32).to_le_bytes());
+    out.extend_from_slice(b"BIN\0");
+    out.extend_from_slice(bin);
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("two_takes.glb");
+    std::fs::write(&file, out).unwrap();
+    let file = file.to_str().unwrap();
+    let vertices = |take: &str| {
+        let csv = dir.path().join(format!("take{take}.csv"));
+        let run = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+            .args([
+                "positions",
+                file,
+                "--character",
+                file,
+                "--take",
+                take,
+                "--vertices",
+            ])
+            .arg("-o")
+            .arg(&csv)
+            .output()
+            .unwrap();
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        std::fs::read_to_string(csv).unwrap()
+    };
+    let (first, copy) = (vertices("0"), vertices("1"));
+    assert!(first.lines().count() > 1000, "{}", first.lines().count());
+    let differ = first.lines().zip(copy.lines()).find(|(a, b)| a != b);
+    assert_eq!(differ, None, "the first line that differs");
+    assert_eq!(first.len(), copy.len());
+    // In the library: the character read with its other take is on the same skeleton.
+    let character = Character::open(file).unwrap();
+    let other = Character::open_with(Path::new(file), u64::MAX, Some("1"), 1).unwrap();
+    assert!(character.is_own_skeleton(&other.take.skeleton));
+    assert_eq!(other.take.take.as_deref(), Some("Copy"));
 }
