@@ -773,7 +773,7 @@ fn a_characters_own_takes_are_put_on_exactly() {
     copy["name"] = Value::from("Copy");
     animations.push(copy);
     let mut json = serde_json::to_vec(&document).unwrap();
-    while json.len() % 4 != 0 {
+    while !json.len().is_multiple_of(4) {
         json.push(b' ');
     }
     let mut out = Vec::new();
