@@ -2,6 +2,9 @@
 
 use super::*;
 
+/// What a refusal by [`Target::check_body`] ends with: how to go ahead anyway.
+pub const ANY_BODY: &str = "--any-body (Python: any_body=True) puts it on anyway";
+
 /// The built-in target skeletons: `smpl22`, the 22 body joints of SMPL in the layout of
 /// HumanML3D, AMASS and most text-to-motion models, in centimetres, T-pose, Y up, facing +z.
 pub const BUILT_IN: &[(&str, &[u8])] = &[("smpl22", include_bytes!("../../assets/smpl22.bvh"))];
@@ -84,8 +87,9 @@ impl Target {
     /// take in messages.
     ///
     /// A take whose body does not stand on two legs (a quadruped rigged with 3ds Max Biped's
-    /// human names) is refused onto a target that does, with the reason; [`Target::apply_any_body`]
-    /// retargets it anyway.
+    /// human names) is refused onto a target that does, and a two-legged take onto a target
+    /// that does not (a person's walk onto a fox), with the reason ([`Target::check_body`]);
+    /// [`Target::apply_any_body`] retargets it anyway.
     pub fn apply(
         &self,
         source_name: &str,
@@ -98,9 +102,12 @@ impl Target {
         self.apply_any_body(source_name, skeleton, motion, pairs, threads)
     }
 
-    /// Fails when the take's body does not stand on two legs (its reading's
-    /// [`Doubt::NotBiped`]) and this target's does: the limbs would be carried over as a
-    /// person's (a front leg as an arm), which no map fixes.
+    /// Fails when one of the take's body and this target's stands on two legs and the other
+    /// does not (its reading's [`Doubt::NotBiped`]): the limbs would be carried over as a
+    /// person's (a front leg as an arm, or a person's arms onto a fox's front legs), which no
+    /// map fixes. The one rule of every command that puts a take on another skeleton
+    /// (`retarget`, `dataset --onto`, `--character`; Python's `retarget`, `dress`,
+    /// `compile_dataset`), each with its `--any-body` (`any_body=True`) to go ahead anyway.
     pub fn check_body(
         &self,
         source_name: &str,
@@ -117,11 +124,16 @@ impl Target {
             &self.skeleton,
             &Motion::new(1.0, self.skeleton.channel_count(), 0, Vec::new()),
         );
-        match two_legged(skeleton, motion) {
-            Some(Doubt::NotBiped(why)) if target_doubt.is_none() => Err(Error::Usage(format!(
+        match (two_legged(skeleton, motion), target_doubt) {
+            (Some(Doubt::NotBiped(why)), None) => Err(Error::Usage(format!(
                 "{source_name}: not a two-legged body ({why}), and {} is one: its limbs would \
-                 be carried over as a person's; `--any-body` retargets it anyway",
-                self.name
+                 be carried over as a person's; {ANY_BODY}",
+                crate::limits::quoted(&self.name)
+            ))),
+            (None, Some(Doubt::NotBiped(why))) => Err(Error::Usage(format!(
+                "{source_name}: a two-legged body, and {} is not ({why}): a person's limbs \
+                 would be carried onto it as if it were one; {ANY_BODY}",
+                crate::limits::quoted(&self.name)
             ))),
             _ => Ok(()),
         }
