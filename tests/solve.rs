@@ -552,8 +552,24 @@ fn hostile_positions_are_refused_in_one_line_before_they_are_read() {
         "wrap.csv",
         b"frame,joint,x,y,z\n18446744073709551615,pelvis,0,0,0\n0,pelvis,1,1,1\n",
     );
+    // A joint name of 10 MB, echoed whole before.
+    let long = "A".repeat(10_000_000);
+    let named = file(
+        "named.csv",
+        format!("frame,joint,x,y,z\n0,pelvis,0,0,0\n1,{long},0,0,0\n").as_bytes(),
+    );
     let p = |path: &Path| path.display().to_string();
     let cases = [
+        (
+            &named,
+            format!(
+                "{}:3: frame 1, joint \"{}\"… (10000000 bytes): expected frame 1, joint \
+                 \"pelvis\" (every frame lists the same joints in the same order, frame after \
+                 frame)",
+                p(&named),
+                &long[..64]
+            ),
+        ),
         (
             &claim,
             format!(
