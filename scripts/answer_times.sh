@@ -8,8 +8,63 @@
 #   character FILE          `positions FILE --character FILE --vertices` (read, bound, skinned)
 #   dress TAKE CHARACTER    `convert TAKE --character CHARACTER -o x.glb` (retargeted, written)
 #   find DIR -type f -size -1024k | scripts/answer_times.sh [BVHVIEW]   (default target/release)
+# With --crafted, the worst cases issue 58 crafted for the surfaces it touched instead (`solve`
+# inputs: an .npy header claiming 4 GB, sparse files of 1.86 GB, a large CSV; JSON maps of
+# 95,000 keys; MP4 rates), each under the same limits: "milliseconds peak-KB exit-code case",
+# slowest first, then the slowest answer and the largest peak.
+#   scripts/answer_times.sh --crafted [BVHVIEW]
 set -uo pipefail
 cd "$(dirname "$0")/.."
+
+if [ "${1:-}" = "--crafted" ]; then
+    cli=$(realpath "${2:-target/release/bvhview}")
+    walk=$(realpath tests/data/bvh/bvhparser_walk_01.bvh)
+    work=$(mktemp -d)
+    trap 'rm -rf "$work"' EXIT
+    cd "$work" || exit 1
+    # A version-2 .npy whose header length is 0xFFFFFFF0 (npyz asked for 4 GB), 27 bytes.
+    printf '\x93NUMPY\x02\x00\xf0\xff\xff\xff{{{{{{{{{{{{{{{' >claim.npy
+    # Files of 1.86 GB taking no disk, not what their names say.
+    truncate -s 1860000000 sparse.npy sparse.csv
+    # The positions CSV of 50,000 frames of SMPL's 22 joints (1.1 million rows).
+    awk 'BEGIN {
+        split("pelvis left_hip right_hip spine1 left_knee right_knee spine2 left_ankle right_ankle spine3 left_foot right_foot neck left_collar right_collar head left_shoulder right_shoulder left_elbow right_elbow left_wrist right_wrist", j, " ")
+        print "frame,joint,x,y,z"
+        for (f = 0; f < 50000; f++) for (i = 1; i <= 22; i++) printf "%d,%s,%.4f,%.4f,%.4f\n", f, j[i], i * 0.01, 1 + i * 0.02, f * 0.001
+    }' >large.csv
+    # JSON maps of 95,000 keys: the last repeating the first; the same under a fingerprint.
+    awk 'BEGIN { printf "{"; for (i = 0; i < 95000; i++) printf "\"k%06d\": \"x\",\n", i; print "\"k000000\": \"y\"}" }' >many.json
+    awk 'BEGIN { printf "{\"skeleton\": {\"abc\": {"; for (i = 0; i < 95000; i++) printf "%s\"k%06d\": \"x\"\n", (i ? "," : ""), i; print "}}}" }' >skeleton.json
+    mkdir takes && cp "$walk" takes/
+    cases=(
+        "npy-header-claims-4GB|solve claim.npy --onto smpl22 --fps 20 -o out.bvh"
+        "npy-sparse-1.86GB|solve sparse.npy --onto smpl22 --fps 20 -o out.bvh"
+        "humanml3d-sparse-1.86GB|solve sparse.npy --from humanml3d --onto smpl22 --fps 20 -o out.bvh"
+        "csv-sparse-1.86GB|solve sparse.csv --onto smpl22 --fps 20 -o out.bvh"
+        "csv-50000-frames|solve large.csv --onto smpl22 --fps 20 -o out.bvh"
+        "map-95000-keys|retarget $walk --onto smpl22 --map many.json --show-map"
+        "map-95000-skeleton-keys|retarget $walk --onto smpl22 --map skeleton.json --show-map"
+        "dataset-map-95000-keys|dataset takes --onto smpl22 --map many.json -o out.ds"
+        "mp4-fps-0.0137|snapshot $walk --frames 0..3 --fps 0.0137 -o slow.mp4"
+        "mp4-fps-1000|snapshot $walk --frames 0..30 --fps 1000 --size 64x64 -o fast.mp4"
+        "mp4-fps-one-third|snapshot $walk --frames 0..30 --fps 0.3333333 -o third.mp4"
+    )
+    results=$(for case in "${cases[@]}"; do
+        name=${case%%|*}
+        read -r -a args <<<"${case#*|}"
+        /usr/bin/time -o time.txt -f "%e %M" prlimit --as=4000000000 taskset -c 0 timeout 60 \
+            "$cli" "${args[@]}" >/dev/null 2>&1
+        code=$?
+        read -r seconds peak < <(tail -n 1 time.txt)
+        echo "$(awk -v s="$seconds" 'BEGIN { printf "%d", s * 1000 }') $peak $code $name"
+    done | sort -rn)
+    echo "$results"
+    echo "$results" | awk 'NR == 1 { print "slowest: " $4 " in " $1 " ms" }'
+    echo "$results" | sort -k2 -rn | awk 'NR == 1 { print "peak memory: " $4 ", " int($2 / 1024) " MB" }'
+    echo "$results" | awk '$3 != 0 && $3 != 2 { print "ended badly: " $0 }'
+    exit 0
+fi
+
 cli=${1:-target/release/bvhview}
 asf=tests/data/asf_amc/heiden_12.asf
 scratch=$(mktemp -d)

@@ -231,3 +231,41 @@ fn a_leg_with_joints_between_is_locked_as_two_stretches() {
         }
     }
 }
+
+/// Issue 58, point 9: a take of one frame printed an empty "feet locked:" line; it has no
+/// sliding to lock, and says so.
+#[test]
+fn one_frame_says_there_is_nothing_to_lock() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+    let (hierarchy, motion) = text.split_once("MOTION").unwrap();
+    let first_row = motion
+        .lines()
+        .skip_while(|l| !l.starts_with("Frame Time"))
+        .nth(1)
+        .unwrap();
+    let one = dir.path().join("one.bvh");
+    std::fs::write(
+        &one,
+        format!("{hierarchy}MOTION\nFrames: 1\nFrame Time: 0.0333333\n{first_row}\n"),
+    )
+    .unwrap();
+    let output = dir.path().join("out.bvh");
+    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .arg("convert")
+        .arg(&one)
+        .arg("--lock-feet")
+        .arg("-o")
+        .arg(&output)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{out:?}");
+    assert_eq!(
+        String::from_utf8(out.stderr).unwrap(),
+        format!(
+            "feet not locked: nothing to lock in 1 frame (a foot slides between frames)\n\
+             bvhview: wrote {}: 31 joints, 1 frame\n",
+            output.display()
+        )
+    );
+}

@@ -1007,6 +1007,77 @@ fn a_key_given_twice_is_refused_and_a_later_leave_out_wins() {
     );
 }
 
+/// Issue 58, point 6: a key given twice inside the `"skeleton"` section (a fingerprint, or a
+/// joint under one) kept the last silently; a map of 95,000 keys took 11 s to check (each key
+/// against every one before it); a JSON map after a byte-order mark was called "not a TOML
+/// map"; a key of 10 MB was echoed whole.
+#[test]
+fn a_json_map_refuses_every_key_given_twice_and_reads_after_a_byte_order_mark() {
+    let cases = [
+        (
+            "{\"skeleton\": {\"abc\": {\n  \"Hips\": \"pelvis\",\n  \"Hips\": \"spine1\"}}}",
+            "m.json:3:8: not a JSON map: \"Hips\" is given twice",
+        ),
+        (
+            "{\"skeleton\": {\n\"abc\": {},\n\"abc\": {\"Hips\": \"pelvis\"}}}",
+            "m.json:3:5: not a JSON map: \"abc\" is given twice",
+        ),
+    ];
+    for (text, said) in cases {
+        let error = retarget::parse_map_pairs(text, "m.json").unwrap_err();
+        assert_eq!(error.to_string(), said);
+    }
+    // 95,000 keys, the last a repeat of the second: refused where it is.
+    let mut many: String = (0..95_000)
+        .map(|i| format!("\"k{i:06}\": \"x\",\n"))
+        .collect();
+    many = format!("{{\n{many}\"k000001\": \"y\"}}");
+    let error = retarget::parse_map_pairs(&many, "m.json").unwrap_err();
+    assert_eq!(
+        error.to_string(),
+        "m.json:95002:9: not a JSON map: \"k000001\" is given twice"
+    );
+    // A byte-order mark first: read as the map it is.
+    let pairs =
+        retarget::parse_map_pairs("\u{feff}{\"Hips\": \"pelvis\", \"Spine\": null}", "m.json")
+            .unwrap();
+    assert_eq!(
+        pairs.all,
+        [
+            ("Hips".to_string(), "pelvis".to_string()),
+            ("Spine".to_string(), String::new())
+        ]
+    );
+    let pairs = retarget::parse_map_pairs("\u{feff}\"Hips\" = \"pelvis\"\n", "m.toml").unwrap();
+    assert_eq!(pairs.all, [("Hips".to_string(), "pelvis".to_string())]);
+    // A 10 MB key is echoed cut, with its length.
+    let long = "K".repeat(10_000_000);
+    let text = format!("{{\"{long}\": 3}}");
+    let error = retarget::parse_map_pairs(&text, "m.json").unwrap_err();
+    assert_eq!(
+        error.to_string(),
+        format!(
+            "m.json:1:1: \"{}\"… (10000000 bytes): expected a target joint's name, found a number",
+            "K".repeat(64)
+        )
+    );
+    let (skeleton, _) = take(&common::repo_data("bvh/assimp_01_01.bvh"));
+    let mut map = Map::guess(&skeleton, &skeleton);
+    let error = map
+        .apply(&[(long, String::new())], &skeleton, &skeleton)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        error.starts_with(&format!(
+            "map: the source has no joint named \"{}\"… (10000000 bytes) (it has",
+            "K".repeat(64)
+        )),
+        "{}",
+        &error[..200.min(error.len())]
+    );
+    assert!(error.len() < 1000, "{} bytes", error.len());
+}
+
 /// Issue 44: a map file that is not UTF-8 gets its line and column.
 #[test]
 fn a_map_file_that_is_not_utf8_is_refused_at_its_line_and_column() {

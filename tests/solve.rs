@@ -495,3 +495,170 @@ fn an_asf_takes_positions_csv_solves_back_onto_its_asf() {
     println!("ASF positions CSV solved back: {worst:.1e} of its size at worst");
     assert!(worst < 1e-4, "{worst}");
 }
+
+/// Issue 58, points 1 to 5: hostile positions files. Each is refused in one line naming the
+/// file and what is wrong in it (the frame and joint of a value), having read no more than the
+/// file's first bytes where the start is already wrong, and nothing is written.
+#[test]
+fn hostile_positions_are_refused_in_one_line_before_they_are_read() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = |name: &str, bytes: &[u8]| {
+        let path = dir.path().join(name);
+        std::fs::write(&path, bytes).unwrap();
+        path
+    };
+    // A version-2 header claiming 0xFFFFFFF0 bytes (npyz asked for 4 GB and aborted).
+    let mut claim = b"\x93NUMPY\x02\x00".to_vec();
+    claim.extend_from_slice(&0xFFFF_FFF0u32.to_le_bytes());
+    claim.extend_from_slice(&[b'{'; 15]);
+    let claim = file("claim.npy", &claim);
+    // A version-1 header claiming more than the file holds.
+    let mut short = b"\x93NUMPY\x01\x00".to_vec();
+    short.extend_from_slice(&1000u16.to_le_bytes());
+    short.extend_from_slice(&[b' '; 90]);
+    let short = file("short.npy", &short);
+    // Sparse files of 1.86 GB (a few KB of disk) that are not what their names say: read whole
+    // before their first bytes were checked.
+    let sparse = |name: &str| {
+        let path = dir.path().join(name);
+        std::fs::File::create(&path)
+            .unwrap()
+            .set_len(1_860_000_000)
+            .unwrap();
+        path
+    };
+    let sparse_npy = sparse("sparse.npy");
+    let sparse_csv = sparse("sparse.csv");
+    // A header that is not a Python dict (npyz's parser said so in 6 lines), and float16.
+    let bad_dict = dir.path().join("dict.npy");
+    npy(&bad_dict, "<f8", &[2, 22, 3], &[0.0; 132]);
+    let mut bytes = std::fs::read(&bad_dict).unwrap();
+    let close = bytes.iter().position(|&b| b == b'}').unwrap();
+    bytes[close] = b' ';
+    bytes[close - 2] = b' ';
+    let bad_dict = file("dict.npy", &bytes);
+    let half = dir.path().join("half.npy");
+    npy(&half, "<f2", &[2, 22, 3], &[]);
+    let mut bytes = std::fs::read(&half).unwrap();
+    bytes.extend_from_slice(&[0; 2 * 22 * 3 * 2]);
+    let half = file("half.npy", &bytes);
+    // Finite float64 positions past float32's range (solved to "spine1 by inf" and written).
+    let far = dir.path().join("far.npy");
+    let mut values = vec![0.0; 2 * 22 * 3];
+    values[(22 + 3) * 3 + 1] = -1e300;
+    npy(&far, "<f8", &[2, 22, 3], &values);
+    // The largest frame number then 0 read as consecutive (the sum wrapped).
+    let wrap = file(
+        "wrap.csv",
+        b"frame,joint,x,y,z\n18446744073709551615,pelvis,0,0,0\n0,pelvis,1,1,1\n",
+    );
+    // A joint name of 10 MB, echoed whole before.
+    let long = "A".repeat(10_000_000);
+    let named = file(
+        "named.csv",
+        format!("frame,joint,x,y,z\n0,pelvis,0,0,0\n1,{long},0,0,0\n").as_bytes(),
+    );
+    let p = |path: &Path| path.display().to_string();
+    let cases = [
+        (
+            &named,
+            format!(
+                "{}:3: frame 1, joint \"{}\"… (10000000 bytes): expected frame 1, joint \
+                 \"pelvis\" (every frame lists the same joints in the same order, frame after \
+                 frame)",
+                p(&named),
+                &long[..64]
+            ),
+        ),
+        (
+            &claim,
+            format!(
+                "{}: its .npy header claims 4294967280 bytes, more than the 65535 bvhview reads \
+                 (the file is damaged)",
+                p(&claim)
+            ),
+        ),
+        (
+            &short,
+            format!(
+                "{}: its .npy header claims 1000 bytes, and 90 follow in the file",
+                p(&short)
+            ),
+        ),
+        (
+            &sparse_npy,
+            format!(
+                "{}: not an .npy array (it does not begin with numpy's \\x93NUMPY)",
+                p(&sparse_npy)
+            ),
+        ),
+        (
+            &sparse_csv,
+            format!(
+                "{}:1: expected the header frame,joint,x,y,z (the CSV `bvhview positions` writes)",
+                p(&sparse_csv)
+            ),
+        ),
+        (
+            &bad_dict,
+            format!(
+                "{}: not an .npy array: its header: could not parse Python expression: syntax \
+                 error at 1:60 (expected minus_sign, fraction, pos_exponent, neg_exponent, or digit)",
+                p(&bad_dict)
+            ),
+        ),
+        (
+            &half,
+            format!(
+                "{}: dtype \"<f2\": not supported; bvhview reads float32 and float64 (<f4, >f4, \
+                 <f8, >f8)",
+                p(&half)
+            ),
+        ),
+        (
+            &far,
+            format!(
+                "{}: positions: frame 1, joint \"spine1\": position (0, -1e300, 0) is beyond a \
+                 32-bit float's range (±3.4e38), which bvhview's takes hold",
+                p(&far)
+            ),
+        ),
+        (
+            &wrap,
+            format!(
+                "{}:3: frame 0, joint \"pelvis\": expected nothing after frame \
+                 18446744073709551615, the largest frame number (every frame lists the same \
+                 joints in the same order, frame after frame)",
+                p(&wrap)
+            ),
+        ),
+    ];
+    let output = dir.path().join("out.bvh");
+    for (input, said) in cases {
+        let run = bvhview()
+            .args(["solve", &p(input), "--onto", "smpl22", "--fps", "20", "-o"])
+            .arg(&output)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{stderr}");
+        assert_eq!(stderr, format!("bvhview: {said}\n"));
+        assert!(!output.exists());
+    }
+    // HumanML3D's vectors are read by the same guarded reader.
+    let run = bvhview()
+        .args([
+            "solve",
+            &p(&claim),
+            "--from",
+            "humanml3d",
+            "--onto",
+            "smpl22",
+        ])
+        .args(["--fps", "20", "-o"])
+        .arg(&output)
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(stderr.contains("claims 4294967280 bytes"), "{stderr}");
+}

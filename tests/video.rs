@@ -192,6 +192,42 @@ mod with_video {
         }
     }
 
+    /// Issue 58, point 7: `--fps 0.0137` was written (and said) as 0.014, thousandths of a
+    /// frame a second; now the track's ticks hold it exactly, as ffprobe reads it, and a rate
+    /// no whole ticks hold (a third) is said as written, beside the one asked.
+    #[test]
+    fn a_video_is_written_at_the_rate_asked_or_says_the_one_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let video = dir.path().join("slow.mp4");
+        for (fps, said, rate) in [
+            ("0.0137", "0.0137 per second", "137/10000"),
+            (
+                "0.3333333",
+                "0.3333333333333333 per second (the nearest an MP4's whole ticks hold to the \
+                 0.3333333 asked)",
+                "1/3",
+            ),
+        ] {
+            let stderr = bvhview(&[
+                "snapshot",
+                &walk(),
+                "--frames",
+                "0..3",
+                "--fps",
+                fps,
+                "--size",
+                "32x32",
+                "-o",
+                video.to_str().unwrap(),
+            ]);
+            assert_eq!(
+                stderr,
+                format!("bvhview: wrote {}: 1 frame at {said}\n", video.display())
+            );
+            assert_eq!(probe(&video).rate, rate);
+        }
+    }
+
     #[test]
     fn a_video_too_large_for_the_encoder_is_refused_before_any_drawing() {
         let dir = tempfile::tempdir().unwrap();

@@ -490,3 +490,49 @@ fn a_take_whose_numbers_overflow_is_skipped_with_its_reason() {
             .all(|b| f32::from_le_bytes(b.try_into().unwrap()).is_finite())
     );
 }
+
+/// Issue 58, point 10: a folder whose only take is a link out of it said "no takes" and not
+/// why; the refusal now says what the walk skipped, and counts the rest.
+#[test]
+fn a_folder_of_only_skipped_takes_says_why_there_are_none() {
+    let temp = tempfile::tempdir().unwrap();
+    let dir = temp.path().join("takes");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(take(), temp.path().join("outside.bvh")).unwrap();
+    symlink("../outside.bvh", dir.join("walk.bvh")).unwrap();
+    let outside = std::fs::canonicalize(temp.path().join("outside.bvh")).unwrap();
+    let skipped = format!(
+        "skipped takes/walk.bvh: a link to {}, outside takes: not followed",
+        outside.display()
+    );
+    for command in [
+        [os("dataset"), os("takes"), os("-o"), os("out.ds")],
+        [os("convert"), os("takes"), os("--to"), os("bvh")],
+    ] {
+        let mut args = command.to_vec();
+        if command[0] == "convert" {
+            args.extend([os("-o"), os("out")]);
+        }
+        let out = bvhview(&args, temp.path());
+        assert_eq!(out.status.code(), Some(2));
+        assert_eq!(
+            String::from_utf8_lossy(&out.stderr),
+            format!(
+                "bvhview: takes: no takes (.bvh, .asf, .amc, .fbx, .gltf or .glb files): \
+                 {skipped}\n"
+            )
+        );
+    }
+    symlink("../outside.bvh", dir.join("zwalk.bvh")).unwrap();
+    let out = bvhview(
+        &[os("dataset"), os("takes"), os("-o"), os("out.ds")],
+        temp.path(),
+    );
+    assert_eq!(
+        String::from_utf8_lossy(&out.stderr),
+        format!(
+            "bvhview: takes: no takes (.bvh, .asf, .amc, .fbx, .gltf or .glb files): {skipped}, \
+             and 1 more\n"
+        )
+    );
+}

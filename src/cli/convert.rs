@@ -245,7 +245,8 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
             &crate::edit::LockFeet::default(),
         )?;
         super::note(format_args!(
-            "feet locked: {}",
+            "{}: {}",
+            locked.heading(),
             locked.summary(&loaded.skeleton)
         ));
         loaded.motion = motion;

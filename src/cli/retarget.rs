@@ -101,7 +101,11 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
     }
     let motion = if args.lock_feet {
         let (motion, locked) = crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?;
-        super::note(format_args!("feet locked: {}", locked.summary(&skeleton)));
+        super::note(format_args!(
+            "{}: {}",
+            locked.heading(),
+            locked.summary(&skeleton)
+        ));
         motion
     } else {
         motion

@@ -295,8 +295,26 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         } else {
             String::new()
         };
+        // An MP4's rate is whole ticks over whole ticks: the rate written is said, and the
+        // one asked beside it when they differ.
+        let (rate, asked) = match format {
+            #[cfg(feature = "video")]
+            animation::Format::Mp4 => {
+                let written = crate::render::video::written_rate(fps);
+                let shown = match (written * 1000.0).round() / 1000.0 == written {
+                    true => format!("{written:.3}"),
+                    false => format!("{written}"),
+                };
+                let asked = match written == fps {
+                    true => String::new(),
+                    false => format!(" (the nearest an MP4's whole ticks hold to the {fps} asked)"),
+                };
+                (shown, asked)
+            }
+            _ => (format!("{fps:.3}"), String::new()),
+        };
         wrote(format_args!(
-            "{}: {} at {fps:.3} per second{resized}",
+            "{}: {} at {rate} per second{asked}{resized}",
             output.display(),
             crate::io::error::counted(ticks.len(), "frame")
         ));

@@ -75,7 +75,7 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
                 ));
             }
             let shown = args.input.display().to_string();
-            let bytes = crate::io::whole::read_binary_file(&args.input, args.max_size)?;
+            let bytes = crate::solve::read_npy_file(&args.input, args.max_size)?;
             let vectors = crate::humanml3d::read_vectors(&bytes, &shown)?;
             let points = crate::humanml3d::recover_from_ric(&vectors)
                 .map_err(|e| Error::Usage(format!("{shown}: {e}")))?;

@@ -82,8 +82,9 @@ pub(super) fn named_feet(
     for name in names {
         let index = joints.iter().position(|j| j == name).ok_or_else(|| {
             Error::Usage(format!(
-                "{}: --feet names {name:?}, which this skeleton does not have",
-                path.display()
+                "{}: --feet names {}, which this skeleton does not have",
+                path.display(),
+                crate::io::error::quoted(name)
             ))
         })?;
         feet.push(index as u32);

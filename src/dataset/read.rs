@@ -361,14 +361,15 @@ fn check_manifest(manifest: &Manifest) -> Result<(), String> {
     for (k, group) in manifest.groups.iter().enumerate() {
         if group.name != format!("group_{k}") {
             return Err(format!(
-                "group {k} is named {:?}; bvhview names it group_{k}",
-                group.name
+                "group {k} is named {}; bvhview names it group_{k}",
+                crate::io::error::quoted(&group.name)
             ));
         }
         if group.skeleton != format!("{}/skeleton.bvh", group.name) {
             return Err(format!(
-                "{}: its skeleton is named {:?}",
-                group.name, group.skeleton
+                "{}: its skeleton is named {}",
+                group.name,
+                crate::io::error::quoted(&group.skeleton)
             ));
         }
         check_topology(&group.topology).map_err(|why| format!("{}: {why}", group.name))?;
@@ -412,8 +413,10 @@ fn check_manifest(manifest: &Manifest) -> Result<(), String> {
         for array in &group.arrays {
             if array.file != format!("{}/{}.npy", group.name, array.name) {
                 return Err(format!(
-                    "{}: the array {} is named {:?}",
-                    group.name, array.name, array.file
+                    "{}: the array {} is named {}",
+                    group.name,
+                    crate::io::error::quoted(&array.name),
+                    crate::io::error::quoted(&array.file)
                 ));
             }
         }
@@ -453,8 +456,8 @@ fn check_manifest(manifest: &Manifest) -> Result<(), String> {
             .all(|name| *name != clip.about.travel_joint)
         {
             return Err(format!(
-                "clip {i}: its travel joint {:?} is not in its skeleton",
-                clip.about.travel_joint
+                "clip {i}: its travel joint {} is not in its skeleton",
+                crate::io::error::quoted(&clip.about.travel_joint)
             ));
         }
     }
@@ -528,10 +531,13 @@ pub(super) fn open_in(folder: &File, name: &str, want_folder: bool) -> Result<Fi
     use std::os::fd::AsRawFd;
     let plain = !name.is_empty() && name != "." && name != ".." && !name.contains('/');
     if !plain {
-        return Err(format!("{name:?} is not a plain file name"));
+        return Err(format!(
+            "{} is not a plain file name",
+            crate::io::error::quoted(name)
+        ));
     }
     let c_name = CString::new(Path::new(name).as_os_str().as_bytes())
-        .map_err(|_| format!("{name:?} holds a NUL byte"))?;
+        .map_err(|_| format!("{} holds a NUL byte", crate::io::error::quoted(name)))?;
     let mut flags = libc::O_RDONLY | libc::O_CLOEXEC | libc::O_NOFOLLOW | libc::O_NONBLOCK;
     if want_folder {
         flags |= libc::O_DIRECTORY;

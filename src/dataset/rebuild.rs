@@ -169,12 +169,14 @@ pub fn motion_of(
         .is_some_and(|j| j.parent.is_none());
     if arrays.translations.is_none() && arrays.root_translations.is_some() && !travel_is_root {
         return refuse(format!(
-            "root_translations are the world positions of {:?}, which is not a root: give \
+            "root_translations are the world positions of {}, which is not a root: give \
              translations (frames x {translated} x 3) instead",
-            topology
-                .joints
-                .get(travel_joint)
-                .map_or("?", |n| n.as_str())
+            crate::io::error::quoted(
+                topology
+                    .joints
+                    .get(travel_joint)
+                    .map_or("?", |n| n.as_str())
+            )
         ));
     }
     let channels = skeleton.channel_count();

@@ -79,7 +79,7 @@ pub struct FootLocked {
 /// ```
 /// let none = bvhview::edit::FeetLocked::default();
 /// let walk = bvhview::Take::open("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
-/// assert_eq!(none.summary(&walk.skeleton), "");
+/// assert_eq!(none.summary(&walk.skeleton), "no foot locked");
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FeetLocked {
@@ -90,7 +90,17 @@ pub struct FeetLocked {
 }
 
 impl FeetLocked {
-    /// The figure `convert --lock-feet` prints: contacts, and the sliding before and after.
+    /// What the CLI's line of the [`summary`](FeetLocked::summary) begins with: `feet locked`,
+    /// or `feet not locked` when none was.
+    pub fn heading(&self) -> &'static str {
+        match self.feet.is_empty() {
+            true => "feet not locked",
+            false => "feet locked",
+        }
+    }
+
+    /// The figure `convert --lock-feet` prints: contacts, and the sliding before and after;
+    /// why a leg was not locked; never nothing.
     pub fn summary(&self, skeleton: &Skeleton) -> String {
         let mut parts: Vec<String> = self
             .feet
@@ -107,6 +117,9 @@ impl FeetLocked {
             })
             .collect();
         parts.extend(self.notes.iter().cloned());
+        if parts.is_empty() {
+            return "no foot locked".into();
+        }
         parts.join("; ")
     }
 }
@@ -204,6 +217,17 @@ pub fn lock_feet_when(
     let frames = motion.frame_count();
     let mut data = motion.data.clone();
     if legs.is_empty() || frames < 2 || !metres.is_finite() || metres <= 0.0 {
+        // Said, so that the report is never empty (the legs' own notes say why they are not).
+        if frames < 2 {
+            report.notes.push(format!(
+                "nothing to lock in {} (a foot slides between frames)",
+                crate::io::error::counted(frames, "frame")
+            ));
+        } else if !legs.is_empty() {
+            report
+                .notes
+                .push("nothing locked: the take's size in metres is not known".into());
+        }
         return Ok((motion.clone(), report));
     }
     let up = match up {

@@ -465,8 +465,15 @@ pub fn collect_takes(dir: &Path) -> Result<Walk, Error> {
     }
     let walk = collect(dir)?;
     if walk.items.is_empty() {
+        // What the walk left out is why there is none to make anything of (a take that is a
+        // link out of the folder): the first of it said, the rest counted.
+        let why = match &walk.skipped[..] {
+            [] => String::new(),
+            [only] => format!(": skipped {only}"),
+            [first, rest @ ..] => format!(": skipped {first}, and {} more", rest.len()),
+        };
         return Err(Error::Usage(format!(
-            "{}: no takes (.bvh, .asf, .amc, .fbx, .gltf or .glb files)",
+            "{}: no takes (.bvh, .asf, .amc, .fbx, .gltf or .glb files){why}",
             dir.display()
         )));
     }

@@ -161,3 +161,31 @@ pub fn counted(count: impl fmt::Display, noun: &str) -> String {
     let plural = if count == "1" { "" } else { "s" };
     format!("{count} {noun}{plural}")
 }
+
+/// Most characters of user-supplied text (a name, a key) a message echoes.
+pub const ECHO_CHARS: usize = 64;
+
+/// `text` as a message echoes a name or key: quoted, with Rust's escapes (a newline in it
+/// does not break the message's one line), and past [`ECHO_CHARS`] characters cut, with its
+/// length said (a 10 MB name is damage; echoed whole it buries the message).
+pub fn quoted(text: &str) -> String {
+    match text.char_indices().nth(ECHO_CHARS) {
+        None => format!("{text:?}"),
+        Some((cut, _)) => format!("{:?}… ({} bytes)", &text[..cut], text.len()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn an_echo_is_one_line_and_cut_past_its_length() {
+        assert_eq!(quoted("Left\nArm"), r#""Left\nArm""#);
+        assert_eq!(quoted(&"é".repeat(64)), format!("{:?}", "é".repeat(64)));
+        assert_eq!(
+            quoted(&"é".repeat(5_000_000)),
+            format!("{:?}… (10000000 bytes)", "é".repeat(64))
+        );
+    }
+}

@@ -42,17 +42,24 @@ pub fn open_regular(path: &Path) -> std::io::Result<(std::fs::File, u64)> {
 /// Exactly `length` bytes from the start of `file`, their room asked for first so that a
 /// refusal is an error, not an abort; fewer when the file shrinks while it is read.
 fn read_start(file: std::fs::File, length: u64) -> std::io::Result<Vec<u8>> {
+    let mut bytes = Vec::new();
+    read_more(file, length, &mut bytes)?;
+    Ok(bytes)
+}
+
+/// The next `length` bytes of `file` after `bytes`, their room asked for first (as
+/// [`read_start`]).
+fn read_more(file: std::fs::File, length: u64, bytes: &mut Vec<u8>) -> std::io::Result<()> {
     use std::io::Read;
     let room = usize::try_from(length).unwrap_or(usize::MAX);
-    let mut bytes = Vec::new();
     bytes.try_reserve_exact(room).map_err(|_| {
         std::io::Error::new(
             std::io::ErrorKind::OutOfMemory,
             format!("{length} bytes do not fit in memory"),
         )
     })?;
-    file.take(length).read_to_end(&mut bytes)?;
-    Ok(bytes)
+    file.take(length).read_to_end(bytes)?;
+    Ok(())
 }
 
 /// The whole of a binary file (FBX, GLB, glTF JSON, `.npy`), refused before any read unless it is a
@@ -64,6 +71,31 @@ pub fn read_binary_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     whole_file_size(length, max_size)
         .map_err(|why| Error::Usage(format!("{}: {why}", path.display())))?;
     read_start(file, length).map_err(|e| Error::io(path, e))
+}
+
+/// [`read_binary_file`] for a format whose first bytes say what it is (`.npy`'s magic and
+/// header length, a CSV's header): at most `head` bytes are read first and `check`ed with the
+/// file's size (its error is the caller's whole message), and the rest is read only if they pass, so that a large file of something else
+/// (or one whose header promises more than it holds) is refused having read a few bytes.
+pub fn read_binary_file_checked(
+    path: &Path,
+    max_size: u64,
+    head: u64,
+    check: impl FnOnce(&[u8], u64) -> Result<(), Error>,
+) -> Result<Vec<u8>, Error> {
+    use std::io::Read;
+    let (mut file, length) = open_regular(path).map_err(|e| Error::io(path, e))?;
+    let mut start = Vec::new();
+    (&mut file)
+        .take(head)
+        .read_to_end(&mut start)
+        .map_err(|e| Error::io(path, e))?;
+    check(&start, length)?;
+    whole_file_size(length, max_size)
+        .map_err(|why| Error::Usage(format!("{}: {why}", path.display())))?;
+    read_more(file, length.saturating_sub(start.len() as u64), &mut start)
+        .map_err(|e| Error::io(path, e))?;
+    Ok(start)
 }
 
 /// Why a file of `length` bytes is not read whole, if it is not.

@@ -68,6 +68,50 @@ pub struct Mp4 {
     frames: u64,
 }
 
+/// Most ticks a frame lasts, and most ticks a second, of an MP4's track.
+const MOST_TICKS: u32 = 100_000;
+const MOST_TIMESCALE: u32 = 1_000_000;
+
+/// The track's ticks a second and ticks a frame for `fps`: thousandths of a frame a second
+/// when they say it exactly (120 fps: 120,000 ticks a second, 1,000 a frame), else the whole
+/// ticks whose ratio is nearest `fps` (0.0137: 137 a second, 10,000 a frame; thousandths
+/// wrote it as 0.014).
+fn rate_ticks(fps: f64) -> (u32, u32) {
+    let thousandths = (fps * 1000.0).round();
+    if thousandths / 1000.0 == fps {
+        return (
+            thousandths.clamp(1.0, f64::from(MOST_TIMESCALE)) as u32,
+            1000,
+        );
+    }
+    let mut best = (
+        thousandths.clamp(1.0, f64::from(MOST_TIMESCALE)) as u32,
+        1000,
+    );
+    let mut error = (f64::from(best.0) / 1000.0 - fps).abs();
+    for ticks in 1..=MOST_TICKS {
+        let timescale = (fps * f64::from(ticks)).round();
+        if !(1.0..=f64::from(MOST_TIMESCALE)).contains(&timescale) {
+            continue;
+        }
+        let off = (timescale / f64::from(ticks) - fps).abs();
+        if off < error {
+            (best, error) = ((timescale as u32, ticks), off);
+        }
+        if off == 0.0 {
+            break;
+        }
+    }
+    best
+}
+
+/// The rate an MP4 asked for at `fps` is written at (its track's whole ticks a second over
+/// whole ticks a frame): `fps` itself, or the nearest such ratio.
+pub fn written_rate(fps: f64) -> f64 {
+    let (timescale, ticks) = rate_ticks(fps);
+    f64::from(timescale) / f64::from(ticks)
+}
+
 impl Mp4 {
     /// A video of pictures `width × height` at `fps` frames per second (from
     /// [`crate::limits::MIN_FPS`] to [`crate::limits::MAX_FPS`]); `threads`: OpenH264's
@@ -76,8 +120,7 @@ impl Mp4 {
         crate::render::animation::check_video_size(width, height)?;
         let fps = crate::limits::fps(fps, false)?;
         let even = crate::render::animation::encoded_size(width, height);
-        // Thousandths of a frame per second: 120 fps is 120000 ticks a second, 1000 a frame.
-        let timescale = (fps * 1000.0).round().max(1.0) as u32;
+        let (timescale, ticks) = rate_ticks(fps);
         let config = EncoderConfig::new()
             // The quantiser's range is one value, so every frame has the same quality and none
             // is dropped to meet a bit rate. (Buffer-based: the modes that aim at a bit rate
@@ -101,7 +144,7 @@ impl Mp4 {
             writer: None,
             spool: None,
             timescale,
-            ticks: 1000,
+            ticks,
             pictures: 0,
             frames: 0,
         })
@@ -439,6 +482,35 @@ mod tests {
             "OpenH264 takes 16 pixels a side and more"
         );
         assert!(Mp4::new((16, 16), 30.0, 1).unwrap().finish().is_err());
+    }
+
+    /// Issue 58: 0.0137 frames per second was written as 0.014 (thousandths of a frame a
+    /// second); now as 137 ticks a second over 10,000 a frame, exactly the rate asked, and a
+    /// rate of thousandths keeps its old ticks (outputs stay byte for byte).
+    #[test]
+    fn a_rate_is_written_as_asked_to_the_ticks_the_track_holds() {
+        assert_eq!(rate_ticks(0.0137), (137, 10_000));
+        assert_eq!(written_rate(0.0137), 0.0137);
+        assert_eq!(rate_ticks(120.0), (120_000, 1000));
+        assert_eq!(rate_ticks(29.97), (29_970, 1000));
+        assert_eq!(rate_ticks(1000.0), (1_000_000, 1000));
+        // A third of a frame a second is no decimal: the nearest ratio of whole ticks.
+        assert_eq!(rate_ticks(1.0 / 3.0), (1, 3));
+        let mut video = Mp4::new((16, 16), 0.0137, 1).unwrap();
+        let grey = Image {
+            width: 16,
+            height: 16,
+            rgb: vec![128; 16 * 16 * 3],
+        };
+        video.push(&grey).unwrap();
+        video.push(&grey).unwrap();
+        let bytes = video.finish().unwrap();
+        let size = bytes.len() as u64;
+        let file = mp4::Mp4Reader::read_header(std::io::Cursor::new(bytes), size).unwrap();
+        let track = file.tracks().get(&1).unwrap();
+        assert_eq!(track.timescale(), 137);
+        // Two frames of 10,000 ticks: 146 s, as 2 / 0.0137 is.
+        assert_eq!(track.trak.mdia.mdhd.duration, 20_000);
     }
 
     /// A still longer than one sample's 32-bit duration (4,294,847 frames at 1,000 ticks a

@@ -2,6 +2,7 @@
 //! overridden by `SRC = DST` pairs, shown as TOML, and checked for the joints every take needs.
 
 use super::*;
+use crate::io::error::quoted;
 
 /// The roles a take must have on both skeletons for a guessed map to stand (the chain).
 pub const REQUIRED: [Role; 9] = [
@@ -192,7 +193,8 @@ impl Map {
         for (src, dst) in pairs {
             let s = find(source, src).ok_or_else(|| {
                 Error::Usage(format!(
-                    "map: the source has no joint named {src:?} (it has {})",
+                    "map: the source has no joint named {} (it has {})",
+                    quoted(src),
                     some_names(source)
                 ))
             })?;
@@ -209,14 +211,17 @@ impl Map {
             }
             let t = find(target, dst).ok_or_else(|| {
                 Error::Usage(format!(
-                    "map: the target has no joint named {dst:?} (it has {})",
+                    "map: the target has no joint named {} (it has {})",
+                    quoted(dst),
                     some_names(target)
                 ))
             })?;
             if let Some(&(other, _)) = given.iter().find(|&&(o, tt)| tt == t && o != s) {
                 return Err(Error::Usage(format!(
-                    "map: two source joints, {:?} and {src:?}, mapped to one target joint {dst:?}",
-                    source.joints[other].name
+                    "map: two source joints, {} and {}, mapped to one target joint {}",
+                    quoted(&source.joints[other].name),
+                    quoted(src),
+                    quoted(dst)
                 )));
             }
             given.push((s, t));

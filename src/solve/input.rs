@@ -3,7 +3,7 @@
 //! the CSV `bvhview positions` writes (`frame,joint,x,y,z`, a row per joint and frame).
 
 use super::{Positions, SMPL22_ORDER};
-use crate::io::error::Error;
+use crate::io::error::{Error, quoted};
 use glam::DVec3;
 use std::path::Path;
 
@@ -43,7 +43,7 @@ pub fn read_positions(
         .to_ascii_lowercase();
     match extension.as_str() {
         "npy" => {
-            let bytes = crate::io::whole::read_binary_file(path, max_size)?;
+            let bytes = read_npy_file(path, max_size)?;
             let (joint_count, points) = read_npy(&bytes, &shown)?;
             let (names, note) = match joints {
                 Some(spec) => (joint_names(spec), None),
@@ -78,8 +78,14 @@ pub fn read_positions(
                 )));
             }
             // Read whole, as an .npy is: a regular file only (a FIFO would wait for a writer),
-            // within the same budget.
-            let bytes = crate::io::whole::read_binary_file(path, max_size)?;
+            // within the same budget, and only once its first line is the header.
+            let bytes =
+                crate::io::whole::read_binary_file_checked(path, max_size, 32, |start, _| {
+                    match start.starts_with(CSV_HEADER.as_bytes()) {
+                        true => Ok(()),
+                        false => Err(Error::Usage(format!("{shown}:1: {}", no_csv_header()))),
+                    }
+                })?;
             let text = std::str::from_utf8(&bytes)
                 .map_err(|_| Error::Usage(format!("{shown}: not UTF-8 text")))?;
             let (names, points) = read_csv(text, &shown)?;
@@ -94,11 +100,130 @@ pub fn read_positions(
     }
 }
 
+/// The most bytes an `.npy`'s header may take. numpy's own reader refuses more than 10,000;
+/// a version-1 header takes at most 65,535, and past that a header is damage (a length of
+/// 0xFFFFFFF0 would ask for 4 GB).
+pub const MAX_NPY_HEADER_BYTES: u64 = 65_535;
+
+/// The bytes an `.npy`'s magic, version and header length take in version 2 and 3 (10 in 1).
+const NPY_PREFIX_BYTES: u64 = 12;
+
+/// Where the data of an `.npy` of `size` bytes that begins with `start` starts (after its
+/// header), or why it is not an `.npy` bvhview reads: no magic, a version numpy does not
+/// write, a header longer than [`MAX_NPY_HEADER_BYTES`] or than the file.
+fn npy_data_start(start: &[u8], size: u64) -> Result<u64, String> {
+    if !start.starts_with(b"\x93NUMPY") {
+        return Err("not an .npy array (it does not begin with numpy's \\x93NUMPY)".into());
+    }
+    let (length, prefix) = match (start.get(6), start.get(7)) {
+        (Some(1), Some(0)) => (
+            start
+                .get(8..10)
+                .map(|b| u64::from(u16::from_le_bytes([b[0], b[1]]))),
+            10,
+        ),
+        (Some(2 | 3), Some(0)) => (
+            start
+                .get(8..12)
+                .map(|b| u64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))),
+            12,
+        ),
+        (Some(major), Some(minor)) => {
+            return Err(format!(
+                "an .npy of version {major}.{minor}; numpy writes versions 1.0, 2.0 and 3.0"
+            ));
+        }
+        _ => (None, 0),
+    };
+    let Some(length) = length else {
+        return Err(format!("{size} bytes: shorter than an .npy header"));
+    };
+    if length > MAX_NPY_HEADER_BYTES {
+        return Err(format!(
+            "its .npy header claims {length} bytes, more than the {MAX_NPY_HEADER_BYTES} \
+             bvhview reads (the file is damaged)"
+        ));
+    }
+    if prefix + length > size {
+        return Err(format!(
+            "its .npy header claims {length} bytes, and {} follow in the file",
+            size.saturating_sub(prefix)
+        ));
+    }
+    Ok(prefix + length)
+}
+
+/// The whole of the `.npy` at `path`, read only after its magic and header length are found
+/// sound ([`npy_data_start`]) and the file within `max_size`: neither a file of something
+/// else nor a damaged header makes bvhview read (or ask for) more than the file's first bytes.
+pub fn read_npy_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
+    crate::io::whole::read_binary_file_checked(path, max_size, NPY_PREFIX_BYTES, |start, size| {
+        npy_data_start(start, size)
+            .map(|_| ())
+            .map_err(|why| Error::Usage(format!("{}: {why}", path.display())))
+    })
+}
+
+/// `bytes`, an `.npy`, opened by npyz once its header is found sound ([`npy_data_start`]):
+/// the file, where its data starts and the bytes each value takes (float32 and float64 only).
+fn open_npy<'a>(
+    bytes: &'a [u8],
+    shown: &str,
+) -> Result<(npyz::NpyFile<&'a [u8]>, u64, u64), Error> {
+    let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
+    let start = npy_data_start(bytes, bytes.len() as u64).map_err(refuse)?;
+    let file = npyz::NpyFile::new(bytes)
+        .map_err(|e| refuse(format!("not an .npy array: {}", npy_error(&e))))?;
+    let width = match file.dtype() {
+        npyz::DType::Plain(kind)
+            if kind.type_char() == npyz::TypeChar::Float && matches!(kind.size_field(), 4 | 8) =>
+        {
+            kind.size_field()
+        }
+        other => {
+            return Err(refuse(format!(
+                "dtype {}: not supported; bvhview reads float32 and float64 (<f4, >f4, <f8, >f8)",
+                quoted(other.descr().trim_matches('\''))
+            )));
+        }
+    };
+    Ok((file, start, width))
+}
+
+/// npyz's error in one line: a header that is not a Python dict is told by its parser in
+/// several (the header again, a caret under the fault); its place and what it expected are
+/// what is kept.
+fn npy_error(error: &std::io::Error) -> String {
+    let text = error.to_string();
+    let lines: Vec<&str> = text
+        .lines()
+        .map(str::trim)
+        .filter(|l| !l.is_empty())
+        .collect();
+    let first = lines.first().copied().unwrap_or("");
+    let said = match first.split_once("-->") {
+        Some((what, at)) => {
+            let expected = lines.iter().find_map(|l| l.strip_prefix("= "));
+            let what = what.trim_end().trim_end_matches(':');
+            match expected {
+                Some(expected) => format!("its header: {what} at {} ({expected})", at.trim()),
+                None => format!("its header: {what} at {}", at.trim()),
+            }
+        }
+        None => first.to_string(),
+    };
+    // A message is one line of sane length, whatever the header held.
+    match said.char_indices().nth(200) {
+        Some((cut, _)) => format!("{}…", &said[..cut]),
+        None => said,
+    }
+}
+
 /// An `.npy` of frames × joints × 3 (or joints × 3: one frame): the joints a frame and every
 /// position, frame after frame.
 pub fn read_npy(bytes: &[u8], shown: &str) -> Result<(usize, Vec<DVec3>), Error> {
     let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
-    let file = npyz::NpyFile::new(bytes).map_err(|e| refuse(format!("not an .npy array: {e}")))?;
+    let (file, start, width) = open_npy(bytes, shown)?;
     let shape: Vec<u64> = file.shape().to_vec();
     let (frames, joints) = match shape[..] {
         [frames, joints, 3] => (frames, joints),
@@ -110,12 +235,17 @@ pub fn read_npy(bytes: &[u8], shown: &str) -> Result<(usize, Vec<DVec3>), Error>
         }
     };
     // Checked before anything is read: a header may promise more than the file holds.
-    let data_bytes = (bytes.len() as u64).saturating_sub(data_start(bytes));
+    let data_bytes = (bytes.len() as u64).saturating_sub(start);
     let count = frames
         .checked_mul(joints)
         .and_then(|n| n.checked_mul(3))
-        .filter(|&n| n.saturating_mul(4) <= data_bytes)
-        .ok_or_else(|| refuse(format!("shape {shape:?}: more than the file holds")))?;
+        .filter(|&n| n.saturating_mul(width) <= data_bytes)
+        .ok_or_else(|| {
+            refuse(format!(
+                "shape {shape:?} of {width}-byte values: more than the file's {data_bytes} bytes \
+                 of data hold"
+            ))
+        })?;
     if frames == 0 || joints == 0 {
         return Err(refuse(format!("shape {shape:?}: no positions")));
     }
@@ -143,7 +273,7 @@ pub fn read_npy(bytes: &[u8], shown: &str) -> Result<(usize, Vec<DVec3>), Error>
 /// numbers: the rows and the values, row after row.
 pub fn read_npy_rows(bytes: &[u8], shown: &str, width: usize) -> Result<(usize, Vec<f64>), Error> {
     let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
-    let file = npyz::NpyFile::new(bytes).map_err(|e| refuse(format!("not an .npy array: {e}")))?;
+    let (file, start, value_bytes) = open_npy(bytes, shown)?;
     let shape: Vec<u64> = file.shape().to_vec();
     let [rows, columns] = shape[..] else {
         return Err(refuse(format!(
@@ -155,10 +285,15 @@ pub fn read_npy_rows(bytes: &[u8], shown: &str, width: usize) -> Result<(usize, 
             "shape {shape:?}: expected frames × {width}"
         )));
     }
-    let data_bytes = (bytes.len() as u64).saturating_sub(data_start(bytes));
+    let data_bytes = (bytes.len() as u64).saturating_sub(start);
     rows.checked_mul(columns)
-        .filter(|&n| n.saturating_mul(4) <= data_bytes)
-        .ok_or_else(|| refuse(format!("shape {shape:?}: more than the file holds")))?;
+        .filter(|&n| n.saturating_mul(value_bytes) <= data_bytes)
+        .ok_or_else(|| {
+            refuse(format!(
+                "shape {shape:?} of {value_bytes}-byte values: more than the file's \
+                 {data_bytes} bytes of data hold"
+            ))
+        })?;
     let fortran = file.order() == npyz::Order::Fortran;
     let values = numbers(file, shown)?;
     let rows = rows as usize;
@@ -172,20 +307,7 @@ pub fn read_npy_rows(bytes: &[u8], shown: &str, width: usize) -> Result<(usize, 
     Ok((rows, ordered))
 }
 
-/// Where an `.npy`'s data starts: after its header, whose length takes 2 bytes in version 1
-/// and 4 after.
-fn data_start(bytes: &[u8]) -> u64 {
-    match bytes.get(6) {
-        Some(1) => bytes
-            .get(8..10)
-            .map_or(0, |b| 10 + u64::from(u16::from_le_bytes([b[0], b[1]]))),
-        _ => bytes.get(8..12).map_or(0, |b| {
-            12 + u64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
-        }),
-    }
-}
-
-/// Every value of an `.npy` of float64 or float32, as stored.
+/// Every value of an `.npy` of float64 or float32 ([`open_npy`] has checked which), as stored.
 fn numbers(file: npyz::NpyFile<&[u8]>, shown: &str) -> Result<Vec<f64>, Error> {
     let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
     let dtype = file.dtype().descr();
@@ -197,12 +319,21 @@ fn numbers(file: npyz::NpyFile<&[u8]>, shown: &str) -> Result<Vec<f64>, Error> {
                 .collect::<std::io::Result<_>>(),
             Err(_) => {
                 return Err(refuse(format!(
-                    "dtype {dtype}: expected float32 or float64 values"
+                    "dtype {}: expected float32 or float64 values",
+                    quoted(dtype.trim_matches('\''))
                 )));
             }
         },
     }
     .map_err(|e| refuse(format!("the data: {e}")))
+}
+
+/// The first line of the CSV `bvhview positions` writes.
+const CSV_HEADER: &str = "frame,joint,x,y,z";
+
+/// What is said of a CSV without [`CSV_HEADER`] first.
+fn no_csv_header() -> String {
+    format!("expected the header {CSV_HEADER} (the CSV `bvhview positions` writes)")
 }
 
 /// The CSV `bvhview positions` writes: a header `frame,joint,x,y,z`, then for frame N, N + 1,
@@ -212,13 +343,8 @@ pub fn read_csv(text: &str, shown: &str) -> Result<(Vec<String>, Vec<DVec3>), Er
     let at = |line: usize, why: String| Error::Usage(format!("{shown}:{line}: {why}"));
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
     match lines.next() {
-        Some((_, header)) if header.trim_end() == "frame,joint,x,y,z" => {}
-        _ => {
-            return Err(at(
-                1,
-                "expected the header frame,joint,x,y,z (the CSV `bvhview positions` writes)".into(),
-            ));
-        }
+        Some((_, header)) if header.trim_end() == CSV_HEADER => {}
+        _ => return Err(at(1, no_csv_header())),
     }
     let mut names: Vec<String> = Vec::new();
     let mut points = Vec::new();
@@ -249,18 +375,26 @@ pub fn read_csv(text: &str, shown: &str) -> Result<(Vec<String>, Vec<DVec3>), Er
         if f == start && frame == start {
             names.push(name.clone());
         } else {
-            if f == frame + 1 && joint == names.len() {
+            // The next frame's number: none after the largest a frame number can be (a
+            // wrapped sum would read 2^64 - 1 then 0 as consecutive).
+            let next = frame.checked_add(1);
+            if joint == names.len() && next == Some(f) {
                 (frame, joint) = (f, 0);
             }
             if f != frame || names.get(joint) != Some(name) {
+                let expected = match (names.get(joint), next) {
+                    (Some(want), _) => format!("frame {frame}, joint {}", quoted(want)),
+                    (None, Some(next)) => format!("frame {next}, joint {}", quoted(&names[0])),
+                    (None, None) => {
+                        format!("nothing after frame {frame}, the largest frame number")
+                    }
+                };
                 return Err(at(
                     number,
                     format!(
-                        "frame {f}, joint {name:?}: expected frame {frame}, joint {:?} (every \
-                         frame lists the same joints in the same order)",
-                        names
-                            .get(joint)
-                            .map_or("(none: the frame is complete)", |n| n)
+                        "frame {f}, joint {}: expected {expected} (every frame lists the same \
+                         joints in the same order, frame after frame)",
+                        quoted(name)
                     ),
                 ));
             }
@@ -343,7 +477,7 @@ mod tests {
         assert_eq!(
             read_csv(bad, "t.csv").unwrap_err().to_string(),
             "t.csv:4: frame 1, joint \"Arm\": expected frame 1, joint \"Hips\" (every frame lists \
-             the same joints in the same order)"
+             the same joints in the same order, frame after frame)"
         );
     }
 
@@ -384,11 +518,9 @@ mod tests {
         // A header promising more than the file holds is refused before anything is read.
         let mut short = header("<f8", false);
         short.extend_from_slice(&[0; 16]);
-        assert!(
-            read_npy(&short, "s.npy")
-                .unwrap_err()
-                .to_string()
-                .contains("more than the file holds")
+        assert_eq!(
+            read_npy(&short, "s.npy").unwrap_err().to_string(),
+            "s.npy: shape [2, 2, 3] of 8-byte values: more than the file's 16 bytes of data hold"
         );
     }
 }

@@ -20,7 +20,7 @@ use horn::best_rotation;
 pub use input::*;
 use reach::{hinge_twist, out_of_reach_deep, reach_twist, twist_axis, twist_search};
 
-use crate::io::error::Error;
+use crate::io::error::{Error, quoted};
 use crate::model::body::Body;
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
@@ -97,13 +97,26 @@ impl Positions {
         }
         let mut seen = std::collections::HashSet::new();
         if let Some(name) = names.iter().find(|n| !seen.insert(n.as_str())) {
-            return refuse(format!("the joint {name:?} is named twice"));
+            return refuse(format!("the joint {} is named twice", quoted(name)));
         }
         if let Some(at) = points.iter().position(|p| !p.is_finite()) {
             return refuse(format!(
-                "frame {}, joint {:?}: not a finite position",
+                "frame {}, joint {}: not a finite position",
                 at / names.len(),
-                names[at % names.len()]
+                quoted(&names[at % names.len()])
+            ));
+        }
+        // A take holds 32-bit floats: a position past their range (a float64 of 1e300) would
+        // solve to infinite offsets and distances, not to a take.
+        if let Some(at) = points.iter().position(|p| !p.as_vec3().is_finite()) {
+            return refuse(format!(
+                "frame {}, joint {}: position ({}, {}, {}) is beyond a 32-bit float's range \
+                 (±3.4e38), which bvhview's takes hold",
+                at / names.len(),
+                quoted(&names[at % names.len()]),
+                crate::io::limits::show(points[at].x),
+                crate::io::limits::show(points[at].y),
+                crate::io::limits::show(points[at].z)
             ));
         }
         if !(frame_time > 0.0 && frame_time.is_finite()) {
