@@ -181,7 +181,8 @@ impl Character {
     /// `take` put on this character's skeleton by role ([`crate::retarget::Target::apply`]:
     /// rest poses aligned, the path scaled by leg length, the feet on the take's floor), ready
     /// to skin. `pairs` (`SRC = DST` joint names) override the map; a body that is not a biped
-    /// is refused onto a biped character unless `any_body`.
+    /// is refused onto a biped character, and a biped onto a character that is not one, unless
+    /// `any_body` ([`crate::retarget::Target::check_body`]).
     pub fn dress(
         &self,
         take: &Take,
@@ -206,8 +207,15 @@ impl Character {
 
     /// `take`, read from the file `path`, on this character: a take of the character's own
     /// skeleton (any take of its file, whichever `--take` chose) as the file has it, nothing
-    /// retargeted, so exact; any other by [`Character::dress`] with the guessed map.
-    pub fn dress_file(&self, take: &Take, path: &Path, threads: usize) -> Result<Take, Error> {
+    /// retargeted, so exact; any other by [`Character::dress`] with the guessed map (`any_body`:
+    /// whether a body that is not two-legged goes onto a two-legged character, or the reverse).
+    pub fn dress_file(
+        &self,
+        take: &Take,
+        path: &Path,
+        any_body: bool,
+        threads: usize,
+    ) -> Result<Take, Error> {
         let same_file = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
             (Ok(a), Ok(b)) => a == b,
             _ => false,
@@ -235,7 +243,7 @@ impl Character {
             own.offset_mode = OffsetMode::Replace;
             return Ok(own);
         }
-        self.dress(take, &[], false, threads)
+        self.dress(take, &[], any_body, threads)
     }
 
     /// Whether `skeleton` is the one the mesh is bound to: the same joints in the same order,

@@ -437,6 +437,102 @@ fn a_four_legged_body_is_said_and_refused_onto_a_person_unless_insisted() {
     assert_eq!(person.status.code(), Some(0), "{:?}", person);
 }
 
+/// One rule both ways, everywhere a take goes onto another skeleton: a person's walk onto a
+/// four-legged target (`retarget --onto`, a character, `dataset --onto`) was put on without a
+/// word where the reverse was refused; now each refuses with the reason and `--any-body` goes
+/// ahead.
+#[test]
+fn a_person_onto_a_four_legged_body_is_refused_everywhere_unless_insisted() {
+    let elephant = "tests/body/biped_elephant.bvh";
+    let walk = "tests/data/bvh/bvhparser_walk_01.bvh";
+    let dir = tempfile::tempdir().unwrap();
+    let path = |name: &str| dir.path().join(name).display().to_string();
+    let run = |args: &[&str]| bvhview().args(args).output().unwrap();
+    let said = "bvhview: tests/data/bvh/bvhparser_walk_01.bvh: a two-legged body, and \
+                tests/body/biped_elephant.bvh is not (its head lies 80° from the legs' up; \
+                four-legged?): a person's limbs would be carried onto it as if it were one; \
+                `--any-body` retargets it anyway\n";
+    let refused = |out: &std::process::Output, written: &str| {
+        assert_eq!(out.status.code(), Some(2), "{out:?}");
+        assert_eq!(String::from_utf8_lossy(&out.stderr), said);
+        assert!(!std::path::Path::new(written).exists());
+    };
+    let on = path("on_elephant.bvh");
+    refused(
+        &run(&["retarget", walk, "--onto", elephant, "-o", &on]),
+        &on,
+    );
+    let insisted = run(&[
+        "retarget",
+        walk,
+        "--onto",
+        elephant,
+        "--any-body",
+        "-q",
+        "-o",
+        &on,
+    ]);
+    assert!(insisted.status.success(), "{insisted:?}");
+    // A four-legged character: the elephant with the generated skin as its mesh.
+    let character = path("elephant.glb");
+    let made = run(&["convert", elephant, "--skin", "-q", "-o", &character]);
+    assert!(made.status.success(), "{made:?}");
+    let picture = path("walk_on_elephant.png");
+    let snapshot = |extra: &[&str]| {
+        let mut args = vec![
+            "snapshot",
+            walk,
+            "--character",
+            &character,
+            "--size",
+            "64x64",
+        ];
+        args.extend_from_slice(extra);
+        args.extend(["-o", &picture]);
+        run(&args)
+    };
+    let out = snapshot(&[]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("a two-legged body, and ")
+            && stderr.contains("`--any-body` retargets it anyway"),
+        "{stderr}"
+    );
+    assert!(!std::path::Path::new(&picture).exists());
+    let out = snapshot(&["--any-body", "-q"]);
+    assert!(out.status.success(), "{out:?}");
+    // A dataset onto the elephant skips the walk with the reason, and takes it when insisted.
+    let takes = path("takes");
+    std::fs::create_dir(&takes).unwrap();
+    std::fs::copy(walk, dir.path().join("takes/walk.bvh")).unwrap();
+    let out = run(&[
+        "dataset",
+        &takes,
+        "--onto",
+        elephant,
+        "-o",
+        &path("skipped.ds"),
+    ]);
+    assert_eq!(out.status.code(), Some(2), "{out:?}");
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("`--any-body` retargets it anyway"),
+        "{out:?}"
+    );
+    let out = run(&[
+        "dataset",
+        &takes,
+        "--onto",
+        elephant,
+        "--any-body",
+        "-q",
+        "-o",
+        &path("made.ds"),
+    ]);
+    assert!(out.status.success(), "{out:?}");
+    assert!(dir.path().join("made.ds/manifest.json").is_file());
+}
+
 /// Joints as `(name, parent, offset)`, one frame of zeros.
 fn skeleton_text(joints: &[(&str, Option<&str>, [f32; 3])]) -> String {
     fn emit(

@@ -288,6 +288,7 @@ def _compile_dataset(
     names: dict[str, str] | str | os.PathLike[str] | None = None,
     lock_feet: bool = False,
     features: str = "arrays",
+    any_body: bool = False,
 ) -> tuple[int, int, int, list[tuple[str, str | None, str]]]:
     """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped takes as
     (path, motion, reason))."""

@@ -144,6 +144,7 @@ def compile_dataset(
     names: dict[str, str] | StrPath | None = None,
     lock_feet: bool = False,
     features: Literal["arrays", "humanml3d"] = "arrays",
+    any_body: bool = False,
 ) -> dict[str, Any]:
     """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
     them) into the new dataset folder ``out``; returns its manifest, whose ``"skipped"`` lists
@@ -174,7 +175,9 @@ def compile_dataset(
     whose map misses a required role is skipped with the reason; ``names`` overrides every take's
     guessed map as ``Motion.retarget``'s does ({source joint: target joint}, ``""`` leaves one
     out), or is a map file's path, whose ``[skeleton.FINGERPRINT]`` pairs apply to the takes of
-    that skeleton only (``bvhview info`` prints the fingerprint). The manifest records ``onto`` and ``names``; ``merge_datasets`` refuses datasets made
+    that skeleton only (``bvhview info`` prints the fingerprint); a take whose body is not
+    two-legged like the target's (or the reverse) is skipped with the reason unless
+    ``any_body``. The manifest records ``onto`` and ``names``; ``merge_datasets`` refuses datasets made
     with other ones. ``fps`` defaults to 30.
 
     ``features="humanml3d"`` (with ``onto="smpl22"``; ``fps`` then defaults to HumanML3D's 20)
@@ -205,6 +208,7 @@ def compile_dataset(
             names=names if names is None or isinstance(names, dict) else os.fspath(names),
             lock_feet=lock_feet,
             features=features,
+            any_body=any_body,
         )
         for _, _, reason in skipped:
             warnings.warn(f"skipped {reason}", SkippedTake, stacklevel=2)

@@ -215,7 +215,8 @@ pub(crate) fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePa
 #[pyfunction]
 #[pyo3(signature = (folder, out, fps=None, rotations="6d", root_relative=false, feet=None,
     contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None, onto=None,
-    ground=false, quat_continuous=false, names=None, lock_feet=false, features="arrays"))]
+    ground=false, quat_continuous=false, names=None, lock_feet=false, features="arrays",
+    any_body=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn _compile_dataset(
     py: Python<'_>,
@@ -236,6 +237,7 @@ pub(crate) fn _compile_dataset(
     names: Option<Bound<'_, PyAny>>,
     lock_feet: bool,
     features: &str,
+    any_body: bool,
 ) -> PyResult<(usize, usize, usize, Vec<SkippedTake>)> {
     guard("_compile_dataset", || {
         if names.is_some() && onto.is_none() {
@@ -274,6 +276,7 @@ pub(crate) fn _compile_dataset(
                 .map(|onto| bvhview::retarget::Target::load(&onto, bvhview::take::DEFAULT_MAX_SIZE))
                 .transpose()
                 .map_err(|e| to_python(py, e))?,
+            any_body,
             ..Default::default()
         };
         let threads = threads.unwrap_or_else(bvhview::plumbing::cores).max(1);

@@ -199,3 +199,12 @@ def test_from_humanml3d_recovers_its_own_positions():
         assert float(cos.min()) > np.cos(np.radians(1.0))
     with pytest.raises(ValueError, match="263"):
         bvhview.Motion.from_humanml3d(vectors[:, :200])
+
+
+def test_compile_dataset_onto_a_four_legged_body_needs_any_body(tmp_path):
+    options = dict(onto=BODY / "biped_elephant.bvh", takes=[("bvhparser_walk_01.bvh", None)])
+    with pytest.raises(ValueError, match="a two-legged body, and .* `any_body` retargets it anyway"):
+        bvhview.compile_dataset(DATA / "bvh", tmp_path / "refused", **options)
+    assert not (tmp_path / "refused").exists()
+    manifest = bvhview.compile_dataset(DATA / "bvh", tmp_path / "made", any_body=True, **options)
+    assert len(manifest["groups"]) == 1

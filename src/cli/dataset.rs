@@ -58,6 +58,10 @@ pub(crate) struct DatasetArgs {
     /// (SRC= leaves a source joint out), or a TOML or JSON file of such pairs. Repeatable.
     #[arg(long, value_name = "FILE|SRC=DST", requires = "onto")]
     map: Vec<String>,
+    /// With --onto: put on it takes whose body is not two-legged like the target's (a
+    /// four-legged take onto a person, or the reverse), which are skipped otherwise.
+    #[arg(long, requires = "onto")]
+    any_body: bool,
     /// What each take is written as: bvhview's arrays grouped by skeleton, or HumanML3D's
     /// 263-value vectors in its folder layout (new_joint_vecs/ID.npy, new_joints/ID.npy,
     /// Mean.npy, Std.npy, all.txt; with --onto smpl22), as its own pipeline makes them.
@@ -135,6 +139,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
             .as_deref()
             .map(|onto| crate::retarget::Target::load(onto, args.max_size))
             .transpose()?,
+        any_body: args.any_body,
     };
     // Options are checked before the folder is read (`Writer::create` checks them again).
     options.check()?;

@@ -219,13 +219,12 @@ fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared,
         Some(target) => {
             let pairs = options.map.for_skeleton(&loaded.skeleton);
             uncarried = target.uncarried_translations(&loaded.skeleton, &loaded.motion, &pairs)?;
-            let (skeleton, motion) = target.apply(
-                &path.display().to_string(),
-                &loaded.skeleton,
-                &loaded.motion,
-                &pairs,
-                1,
-            )?;
+            let name = path.display().to_string();
+            if !options.any_body {
+                target.check_body(&name, &loaded.skeleton, &loaded.motion)?;
+            }
+            let (skeleton, motion) =
+                target.apply_any_body(&name, &loaded.skeleton, &loaded.motion, &pairs, 1)?;
             // Planted feet held where they landed, during the source's contacts.
             let motion = match options.lock_feet {
                 true => crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?.0,

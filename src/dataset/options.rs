@@ -46,6 +46,9 @@ pub struct Options {
     /// Every take retargeted onto this skeleton first (`--onto`), so a folder of mixed
     /// skeletons makes one group; a take whose map misses a required role is skipped.
     pub onto: Option<crate::retarget::Target>,
+    /// With `onto`: put on it a take whose body is not two-legged like the target's (refused
+    /// otherwise, [`crate::retarget::Target::check_body`]; `--any-body`).
+    pub any_body: bool,
     /// With `onto`: `SRC = DST` pairs over every take's guessed map (`--map`), as `retarget
     /// --map` gives them (`SRC =` with an empty target leaves a source joint out); pairs for one
     /// skeleton apply to the takes of that skeleton only. A take that has no joint a pair for
@@ -120,6 +123,7 @@ impl Default for Options {
             map: crate::retarget::MapPairs::default(),
             max_size: crate::take::DEFAULT_MAX_SIZE,
             onto: None,
+            any_body: false,
         }
     }
 }

@@ -3,7 +3,8 @@
 use super::*;
 
 /// What a refusal by [`Target::check_body`] ends with: how to go ahead anyway.
-pub const ANY_BODY: &str = "--any-body (Python: any_body=True) puts it on anyway";
+/// Python's messages read it as "`any_body` retargets it anyway".
+pub const ANY_BODY: &str = "`--any-body` retargets it anyway";
 
 /// The built-in target skeletons: `smpl22`, the 22 body joints of SMPL in the layout of
 /// HumanML3D, AMASS and most text-to-motion models, in centimetres, T-pose, Y up, facing +z.

@@ -67,6 +67,8 @@ pub struct TakeSource {
     pub max_size: u64,
     /// The take of an FBX or glTF file (`--take`).
     pub take: Option<String>,
+    /// Put on a character whose body is not two-legged like the take's (`--any-body`).
+    pub any_body: bool,
 }
 
 impl TakeSource {
@@ -139,7 +141,8 @@ impl ViewerTake {
     ) -> Result<(), Error> {
         if let Some(source) = &self.source {
             let threads = crate::io::parallel::cores();
-            self.loaded = character.dress_file(&self.loaded, &source.path, threads)?;
+            self.loaded =
+                character.dress_file(&self.loaded, &source.path, source.any_body, threads)?;
         } else {
             self.loaded =
                 character.dress(&self.loaded, &[], false, crate::io::parallel::cores())?;
@@ -361,6 +364,7 @@ mod tests {
             frame_time: None,
             max_size: u64::MAX,
             take: None,
+            any_body: false,
         };
         Viewer::new(
             vec![ViewerTake::from_source(source, OffsetMode::Replace).unwrap()],

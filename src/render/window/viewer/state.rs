@@ -439,9 +439,12 @@ impl Viewer {
             let character = take.character.clone();
             let loaded = source.load().and_then(|loaded| match &character {
                 // A take on a character is put on it again.
-                Some(character) => {
-                    character.dress_file(&loaded, &source.path, crate::io::parallel::cores())
-                }
+                Some(character) => character.dress_file(
+                    &loaded,
+                    &source.path,
+                    source.any_body,
+                    crate::io::parallel::cores(),
+                ),
                 None => Ok(loaded),
             });
             match loaded {
@@ -464,6 +467,7 @@ impl Viewer {
             frame_time: None,
             max_size: crate::take::DEFAULT_MAX_SIZE,
             take: None,
+            any_body: false,
         };
         let problems = match ViewerTake::from_source(source, self.options.offset_mode) {
             Ok(take) => {
