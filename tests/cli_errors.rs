@@ -320,3 +320,22 @@ fn writes_say_what_they_wrote_unless_quiet() {
     assert!(quiet.status.success() && quiet.stderr.is_empty());
     std::fs::remove_file(out_path).unwrap();
 }
+
+/// `--character -` said "-: no such file": a character is read from a file, and says so.
+#[test]
+fn a_character_from_standard_input_is_refused_with_what_to_give() {
+    let out = scratch("stdin_character.png");
+    one_line(
+        &bvhview(&[
+            "snapshot",
+            &tiny(),
+            "--character",
+            "-",
+            "-o",
+            out.to_str().unwrap(),
+        ]),
+        2,
+        "--character -: a character is read from a file, not standard input",
+    );
+    assert!(!out.exists());
+}

@@ -28,6 +28,14 @@ pub(crate) fn load_all(
     let mut out = Vec::with_capacity(count);
     for k in 0..count {
         let path = &paths[k.min(paths.len() - 1)];
+        if path.as_os_str() == "-" {
+            // It said "-: no such file".
+            return Err(Error::Usage(
+                "--character -: a character is read from a file, not standard input (a glTF's \
+                 buffers and textures are found beside it); give its .fbx, .glb or .gltf path"
+                    .into(),
+            ));
+        }
         if let Some((_, character)) = read.iter().find(|(p, _)| p == path) {
             out.push(Some(character.clone()));
             continue;
