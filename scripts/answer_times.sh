@@ -10,7 +10,7 @@
 #   find DIR -type f -size -1024k | scripts/answer_times.sh [BVHVIEW]   (default target/release)
 # With --crafted, the worst cases issue 58 crafted for the surfaces it touched instead (`solve`
 # inputs: an .npy header claiming 4 GB, sparse files of 1.86 GB, a large CSV; JSON maps of
-# 95,000 keys; MP4 rates), each under the same limits: "milliseconds peak-KB exit-code case",
+# 95,000 keys; MP4 rates; characters, made by scripts/hostile_characters), each under the same limits: "milliseconds peak-KB exit-code case",
 # slowest first, then the slowest answer and the largest peak.
 #   scripts/answer_times.sh --crafted [BVHVIEW]
 set -uo pipefail
@@ -36,7 +36,26 @@ if [ "${1:-}" = "--crafted" ]; then
     awk 'BEGIN { printf "{"; for (i = 0; i < 95000; i++) printf "\"k%06d\": \"x\",\n", i; print "\"k000000\": \"y\"}" }' >many.json
     awk 'BEGIN { printf "{\"skeleton\": {\"abc\": {"; for (i = 0; i < 95000; i++) printf "%s\"k%06d\": \"x\"\n", (i ? "," : ""), i; print "}}}" }' >skeleton.json
     mkdir takes && cp "$walk" takes/
+    # Characters: 17,000 skin joints under an 8,000-frame take, 100,000 influences on a vertex,
+    # 40,000 bare nodes × 4,000 frames, weights that overflow, a bind scale of 3e38, a stride
+    # shorter than its element, a 60,000-corner polygon, cluster indices past the vertices.
+    characters=$(realpath "$OLDPWD/scripts/hostile_characters")
+    for made in f1 f2 "f4 40000 4000" f5 f6 f7; do
+        # shellcheck disable=SC2086
+        python3 "$characters/gltf.py" . $made >/dev/null
+    done
+    python3 "$characters/fbx.py" . tri 60000 >/dev/null
+    python3 "$characters/fbx.py" . cl >/dev/null
     cases=(
+        "character-17000-joints-8000-frames|convert f1_take.bvh --character f1_17000_joints.glb -o x.glb"
+        "character-100000-influences|convert $walk --character f2_many_influences.glb --any-body -o x.glb"
+        "character-40000-nodes-4000-frames|positions f4_nodes_frames.glb --character f4_nodes_frames.glb --vertices -o v.npy"
+        "character-weights-overflow|positions f5_overflow.glb --character f5_overflow.glb --vertices -o v.npy"
+        "character-200000-weights|positions f5_drift.glb --character f5_drift.glb --vertices -o v.npy"
+        "character-bind-scale-3e38|snapshot f6_infinite.glb --character f6_infinite.glb -o x.png"
+        "character-short-stride|positions f7_stride.glb --character f7_stride.glb --vertices -o v.npy"
+        "character-60000-corner-polygon|positions f3_polygon_60000.fbx --character f3_polygon_60000.fbx --vertices -o v.npy"
+        "character-cluster-past-vertices|positions f7_clusters.fbx --character f7_clusters.fbx --vertices -o v.npy"
         "npy-header-claims-4GB|solve claim.npy --onto smpl22 --fps 20 -o out.bvh"
         "npy-sparse-1.86GB|solve sparse.npy --onto smpl22 --fps 20 -o out.bvh"
         "humanml3d-sparse-1.86GB|solve sparse.npy --from humanml3d --onto smpl22 --fps 20 -o out.bvh"

@@ -8,7 +8,7 @@
 mod common;
 
 use bvhview::render::Image;
-use common::{files_in, repo_data, shared_data};
+use common::{asf_of, files_in, repo_data, shared_data};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -176,15 +176,7 @@ fn takes_in(root: &Path) -> Vec<(PathBuf, Option<PathBuf>)> {
         .map(|f| (f, None))
         .collect();
     for amc in files_in(&root.join("asf_amc"), "amc") {
-        // CMU-style names: SUBJECT_TAKE.amc beside SUBJECT.asf, or NAME_N.amc beside NAME.asf;
-        // or NAME.amc beside NAME.asf.
-        let stem = amc.file_stem().unwrap().to_str().unwrap();
-        let asf = (1..=stem.len())
-            .rev()
-            .filter(|&i| i == stem.len() || stem.as_bytes()[i] == b'_')
-            .map(|i| root.join("asf_amc").join(format!("{}.asf", &stem[..i])))
-            .find(|p| p.exists())
-            .unwrap_or_else(|| panic!("no ASF for {}", amc.display()));
+        let asf = asf_of(&amc);
         takes.push((asf, Some(amc)));
     }
     takes

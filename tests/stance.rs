@@ -12,6 +12,13 @@ use std::path::{Path, PathBuf};
 /// the answer comes from.
 const EXPECTED: &[(&str, Option<&str>, Up, &str, &str)] = &[
     (
+        "bvh/pybvh_bvh_test1.bvh",
+        None,
+        Up::Z,
+        "inches",
+        "pybvh's test take: Z up, spine bones of 4.45 (11 cm), 1.64 m tall",
+    ),
+    (
         "bvh/alinen_samba_dancing.bvh",
         None,
         Up::Y,
@@ -199,6 +206,13 @@ const EXPECTED: &[(&str, Option<&str>, Up, &str, &str)] = &[
         Up::Y,
         "CMU units (1/0.45 inch)",
         "its ASF: length 0.45",
+    ),
+    (
+        "asf_amc/pyasfamc_test.asf",
+        Some("asf_amc/pyasfamc_test.amc"),
+        Up::Y,
+        "millimetres",
+        "PyAsfAmc's test pair: not CMU's, `:units length 1.0`, bones in millimetres",
     ),
     (
         "asf_amc/simchoni_charleston.asf",

@@ -77,15 +77,15 @@ Connections:  {
 }
 """ % (len(verts), ",".join(verts), len(poly), ",".join(poly), len(ci), ",".join(map(str, ci)), len(ci), ",".join(["1"] * len(ci)))
     open(path, "w").write(out)
-which = sys.argv[1]
+OUT, which = sys.argv[1], sys.argv[2]
 if which == "tri":
-    fbx("/tmp/wtb/f3_polygon_%s.fbx" % sys.argv[2], corners=int(sys.argv[2]))
+    fbx(OUT + "/f3_polygon_%s.fbx" % sys.argv[3], corners=int(sys.argv[3]))
 if which == "cl":
-    fbx("/tmp/wtb/f7_clusters.fbx", corners=3, cluster_indexes=[0, 1, 2, 7, -1])
+    fbx(OUT + "/f7_clusters.fbx", corners=3, cluster_indexes=[0, 1, 2, 7, -1])
 if which == "degenerate":
-    n = int(sys.argv[2])
-    fbx("/tmp/wtb/f3_degenerate_%d.fbx" % n, corners=3)
-    s = open("/tmp/wtb/f3_degenerate_%d.fbx" % n).read()
+    n = int(sys.argv[3])
+    fbx(OUT + "/f3_degenerate_%d.fbx" % n, corners=3)
+    s = open(OUT + "/f3_degenerate_%d.fbx" % n).read()
     poly = [str(k % 3) for k in range(n - 1)] + [str(-((n - 1) % 3) - 1)]
     s = s.replace("PolygonVertexIndex: *3 {\n\t\t\ta: 0,1,-3", "PolygonVertexIndex: *%d {\n\t\t\ta: %s" % (n, ",".join(poly)))
-    open("/tmp/wtb/f3_degenerate_%d.fbx" % n, "w").write(s)
+    open(OUT + "/f3_degenerate_%d.fbx" % n, "w").write(s)

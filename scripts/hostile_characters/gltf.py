@@ -1,6 +1,6 @@
-# Crafts hostile glTF characters for issue 58 (helper-b).
+# Crafts hostile glTF characters (issue 58): gltf.py OUT CASE [NUMBERS]; README.md lists them.
 import json, struct, sys, os
-OUT = sys.argv[1] if len(sys.argv) > 1 else "/tmp/wtb"
+OUT = sys.argv[1]
 
 BIPED = [("Hips", None, [0, 1, 0]), ("Spine", 0, [0, .1, 0]), ("Chest", 1, [0, .2, 0]),
          ("Neck", 2, [0, .2, 0]), ("Head", 3, [0, .1, 0]),

@@ -311,7 +311,8 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
                     true => format!("{written:.3}"),
                     false => format!("{written}"),
                 };
-                let asked = match written == fps {
+                // Within the ten parts in a million a take's frame time is written to.
+                let asked = match (written - fps).abs() <= 1e-5 * fps {
                     true => String::new(),
                     false => format!(" (the nearest an MP4's whole ticks hold to the {fps} asked)"),
                 };

@@ -73,12 +73,13 @@ const MOST_TICKS: u32 = 100_000;
 const MOST_TIMESCALE: u32 = 1_000_000;
 
 /// The track's ticks a second and ticks a frame for `fps`: thousandths of a frame a second
-/// when they say it exactly (120 fps: 120,000 ticks a second, 1,000 a frame), else the whole
-/// ticks whose ratio is nearest `fps` (0.0137: 137 a second, 10,000 a frame; thousandths
-/// wrote it as 0.014).
+/// when they say it within 10 parts in a million (120 fps: 120,000 ticks a second, 1,000 a
+/// frame; a BVH's `Frame Time: 0.0083333`, 120.0005 fps, is the 120 it was written for), else
+/// the whole ticks whose ratio is nearest `fps` (0.0137: 137 a second, 10,000 a frame;
+/// thousandths wrote it as 0.014, 2% off).
 fn rate_ticks(fps: f64) -> (u32, u32) {
     let thousandths = (fps * 1000.0).round();
-    if thousandths / 1000.0 == fps {
+    if (thousandths / 1000.0 - fps).abs() <= 1e-5 * fps {
         return (
             thousandths.clamp(1.0, f64::from(MOST_TIMESCALE)) as u32,
             1000,
@@ -493,6 +494,8 @@ mod tests {
         assert_eq!(written_rate(0.0137), 0.0137);
         assert_eq!(rate_ticks(120.0), (120_000, 1000));
         assert_eq!(rate_ticks(29.97), (29_970, 1000));
+        // A frame time written to seven decimals is the rate it was written for.
+        assert_eq!(rate_ticks(1.0 / 0.0083333), (120_000, 1000));
         assert_eq!(rate_ticks(1000.0), (1_000_000, 1000));
         // A third of a frame a second is no decimal: the nearest ratio of whole ticks.
         assert_eq!(rate_ticks(1.0 / 3.0), (1, 3));

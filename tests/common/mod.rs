@@ -82,3 +82,18 @@ pub fn error_text(text: &str) -> String {
         Err(e) => e.to_string(),
     }
 }
+
+/// The ASF skeleton of an AMC motion in the same folder, by CMU's naming: `NAME.asf` for
+/// `NAME.amc`, or for `NAME_TAKE.amc` (`heiden_12.asf` for `heiden_12_02_01.amc`) the longest
+/// such `NAME`.
+#[allow(dead_code)]
+pub fn asf_of(amc: &Path) -> PathBuf {
+    let stem = amc.file_stem().unwrap().to_str().unwrap();
+    let folder = amc.parent().unwrap();
+    (1..=stem.len())
+        .rev()
+        .filter(|&i| i == stem.len() || stem.as_bytes()[i] == b'_')
+        .map(|i| folder.join(format!("{}.asf", &stem[..i])))
+        .find(|p| p.exists())
+        .unwrap_or_else(|| panic!("no ASF for {}", amc.display()))
+}
