@@ -27,6 +27,10 @@ pub(crate) struct RetargetArgs {
     /// how far the ankles slid during their contacts before and after.
     #[arg(long)]
     lock_feet: bool,
+    /// Write the result even when its check finds a side crossed or a width collapsed (it is
+    /// refused otherwise, exit 2); the check's line says what was wrong.
+    #[arg(long)]
+    force: bool,
     /// Print the map (as TOML --map reads) and the joints left unmapped, on stdout.
     #[arg(long)]
     show_map: bool,
@@ -99,6 +103,22 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
     for warning in target.uncarried_translations(&loaded.skeleton, &loaded.motion, &pairs)? {
         eprintln!("bvhview: {source_name}: warning: {warning}");
     }
+    // The answer checks itself against its source before it is written.
+    let check = target.check(&loaded.skeleton, &loaded.motion, &skeleton, &motion, &pairs);
+    if let Some(why) = check.refusal() {
+        if !args.force {
+            return Err(Error::Usage(format!(
+                "{source_name} onto {}: not written: {why} ({}); --force writes it anyway",
+                target.name,
+                check.line()
+            )));
+        }
+        eprintln!(
+            "bvhview: {source_name} onto {}: warning: written as --force asks though {why}",
+            target.name
+        );
+    }
+    super::note(format_args!("{}", check.line()));
     let motion = if args.lock_feet {
         let (motion, locked) = crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?;
         super::note(format_args!(

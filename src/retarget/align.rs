@@ -180,21 +180,35 @@ pub(super) fn alignments(
         let swung = arc(base * tv, sv) * base;
         let axis = sv.normalize();
         let (mut sin, mut cos) = (0.0, 0.0);
-        for d in mapped_below(target, &map.source_of, t) {
-            if Some(&d) == main.get(&t) || map.source_of[d] == Some(s) {
-                continue;
-            }
+        let mut todo: Vec<usize> = mapped_below(target, &map.source_of, t)
+            .into_iter()
+            .filter(|&d| Some(&d) != main.get(&t) && map.source_of[d] != Some(s))
+            .collect();
+        let mut descended = 0;
+        while let Some(d) = todo.pop() {
             let Some((tv, sv)) = vectors(d) else { continue };
             let a = swung * tv;
             let a = a - axis * a.dot(axis);
             let b = sv - axis * sv.dot(axis);
+            // A joint on the main bone's line says nothing of the turn about it (a source's
+            // clavicles that start on its spine: their rounding picked the chest's facing, and
+            // the collars crossed at the chest); the joints below it say it instead.
+            if a.length() < 0.1 * tv.length() || b.length() < 0.1 * sv.length() {
+                if descended < 64 {
+                    descended += 1;
+                    todo.extend(mapped_below(target, &map.source_of, d));
+                }
+                continue;
+            }
             sin += a.cross(b).dot(axis);
             cos += a.dot(b);
         }
-        let twist = if sin.abs() > 1e-12 * cos.abs().max(1e-300) {
-            DQuat::from_axis_angle(axis, sin.atan2(cos))
-        } else {
-            DQuat::IDENTITY
+        // Half a turn has no sine: the hips of a source that faces away from the target's rest
+        // (a Z-up take facing +y, -z once turned Y up) turn by the cosine's sign alone (a test
+        // of the sine alone left them unturned: the legs crossed at the pelvis).
+        let twist = match sin == 0.0 && cos >= 0.0 {
+            true => DQuat::IDENTITY,
+            false => DQuat::from_axis_angle(axis, sin.atan2(cos)),
         };
         aligned[t] = twist * swung;
     }

@@ -33,6 +33,7 @@ use crate::take::Take;
 use glam::{DQuat, DVec3};
 
 mod align;
+mod check;
 mod fast;
 mod hinge;
 mod map;
@@ -42,6 +43,7 @@ mod plain;
 mod target;
 
 pub use align::*;
+pub use check::*;
 use hinge::*;
 pub(crate) use hinge::{limited_angles, limited_angles_by};
 pub use map::*;

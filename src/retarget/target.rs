@@ -198,6 +198,37 @@ impl Target {
             .collect())
     }
 
+    /// [`super::check`] of `output`, which [`Target::apply`] made of `skeleton` and `motion`
+    /// with `pairs`: the output measured against its source by the same map and up axes.
+    pub fn check(
+        &self,
+        skeleton: &Skeleton,
+        motion: &Motion,
+        output_skeleton: &Skeleton,
+        output: &Motion,
+        pairs: &[(String, String)],
+    ) -> super::Check {
+        let mut map = Map::guess(skeleton, &self.skeleton);
+        // The pairs were applied once already, by the retarget this output came from.
+        let _ = map.apply(pairs, skeleton, &self.skeleton);
+        let ups = self.ups(skeleton, motion);
+        super::check(skeleton, motion, output_skeleton, output, &map, ups)
+    }
+
+    /// The take's up axis (guessed, or stated by its file) and this target's.
+    fn ups(&self, skeleton: &Skeleton, motion: &Motion) -> Ups {
+        Ups {
+            source: crate::model::stance::Stance::guess(
+                skeleton,
+                motion,
+                OffsetMode::Replace,
+                None,
+            )
+            .up,
+            target: self.up,
+        }
+    }
+
     /// [`Target::apply`] without the body check: any body onto any target.
     pub fn apply_any_body(
         &self,
@@ -217,16 +248,7 @@ impl Target {
         let mut map = Map::guess(skeleton, &self.skeleton);
         map.apply(pairs, skeleton, &self.skeleton)?;
         map.check(source_name, &self.name)?;
-        let ups = Ups {
-            source: crate::model::stance::Stance::guess(
-                skeleton,
-                motion,
-                OffsetMode::Replace,
-                None,
-            )
-            .up,
-            target: self.up,
-        };
+        let ups = self.ups(skeleton, motion);
         retarget(skeleton, motion, &self.skeleton, &map, ups, threads)
     }
 }

@@ -1,0 +1,264 @@
+//! The retarget checks its own answer: the output measured against its source with the same
+//! reading of the body, so that a take put on a skeleton is either right or said not to be.
+//! A side crossed (the left thigh where the source's right one is) or a width collapsed (both
+//! thighs from one point) is refused; the rest is said in one line.
+
+use super::*;
+
+/// An output's width (hips or shoulders, in its legs' lengths) below this fraction of the
+/// source's is collapsed: no two skeletons of people differ by half (the narrowest pelvis in the
+/// corpus is 0.16 legs, the widest 0.31; shoulders 0.28 to 0.49).
+pub const COLLAPSED: f64 = 0.5;
+
+/// A pair of joints across the body (the thighs at the hips, the upper arms at the shoulders)
+/// measured in the source and in the output.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Across {
+    /// The distance between the two, in the source's legs' lengths (the median over frames).
+    pub source_width: f64,
+    /// The same in the output, in its own legs' lengths.
+    pub width: f64,
+    /// The angle in degrees between the source's left-to-right line and the output's, seen
+    /// from above (the median over frames): near 0 when each side stands where the source's
+    /// does, near 180 when the sides are crossed.
+    pub turn: f64,
+}
+
+impl Across {
+    /// The sides stand on the other side of the body from the source's.
+    pub fn crossed(&self) -> bool {
+        self.turn > 90.0
+    }
+
+    /// The output's width is less than [`COLLAPSED`] of the source's.
+    pub fn collapsed(&self) -> bool {
+        self.width < COLLAPSED * self.source_width
+    }
+}
+
+/// What a retarget's output measures against its source.
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::retarget::{self, Map, Target};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let walk = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?.trim(0..60);
+/// let target = Target::load("smpl22", u64::MAX)?;
+/// let (skeleton, motion) = target.apply(&walk.name, &walk.skeleton, &walk.motion, &[], 1)?;
+/// let check = target.check(&walk.skeleton, &walk.motion, &skeleton, &motion, &[]);
+/// assert!(check.refusal().is_none(), "{}", check.line());
+/// assert!(check.hips.unwrap().turn < 10.0);
+/// assert!(check.directions.0 < 10.0, "the median bone within 10° of the source's");
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Check {
+    /// The thighs at the hips, when both skeletons have two.
+    pub hips: Option<Across>,
+    /// The upper arms at the shoulders, when both skeletons have two.
+    pub shoulders: Option<Across>,
+    /// Each mapped bone's direction against the source's, in degrees: the median and the 99th
+    /// percentile over the bones and frames.
+    pub directions: (f64, f64),
+    /// The hips' path along the floor over the source's scaled by the legs (1 when right;
+    /// `None` for a source that travels less than a tenth of its legs).
+    pub path: Option<f64>,
+    /// How far the output's lowest foot stands from the source's floor, scaled, in the
+    /// output's legs' lengths.
+    pub floor: f64,
+}
+
+impl Check {
+    /// Why the output cannot be stood behind, if it cannot: a side crossed or a width collapsed.
+    pub fn refusal(&self) -> Option<String> {
+        let mut why = Vec::new();
+        for (name, across) in [("hips", self.hips), ("shoulders", self.shoulders)] {
+            let Some(across) = across else { continue };
+            if across.crossed() {
+                why.push(format!(
+                    "its {name}' sides are crossed ({:.0}° from the source's)",
+                    across.turn
+                ));
+            }
+            if across.collapsed() {
+                why.push(format!(
+                    "its {name} stand {} leg lengths apart where the source's stand {}",
+                    brief(across.width),
+                    brief(across.source_width)
+                ));
+            }
+        }
+        (!why.is_empty()).then(|| why.join(", and "))
+    }
+
+    /// The one line of what held: sides, widths, bones, path, floor.
+    pub fn line(&self) -> String {
+        let mut parts = Vec::new();
+        let widths: Vec<String> = [("hips", self.hips), ("shoulders", self.shoulders)]
+            .into_iter()
+            .filter_map(|(name, across)| {
+                let a = across?;
+                Some(format!(
+                    "{name} {} → {} legs{}",
+                    brief(a.source_width),
+                    brief(a.width),
+                    if a.crossed() { " (sides crossed)" } else { "" }
+                ))
+            })
+            .collect();
+        if !widths.is_empty() {
+            let crossed = [self.hips, self.shoulders]
+                .iter()
+                .flatten()
+                .any(Across::crossed);
+            parts.push(format!(
+                "{}; {}",
+                if crossed {
+                    "sides crossed"
+                } else {
+                    "sides held"
+                },
+                widths.join(", ")
+            ));
+        }
+        parts.push(format!(
+            "bones {:.1}° median, {:.1}° p99 from the source's",
+            self.directions.0, self.directions.1
+        ));
+        if let Some(path) = self.path {
+            parts.push(format!("path ×{path:.2}"));
+        }
+        parts.push(format!("feet {} legs from the floor", brief(self.floor)));
+        format!("check: {}", parts.join("; "))
+    }
+}
+
+fn brief(value: f64) -> String {
+    crate::limits::brief(value)
+}
+
+/// At most this many frames, spread over the take, are measured.
+const FRAMES_MEASURED: usize = 240;
+
+/// [`Check`] of `output` (on `target`), retargeted from `source` by `map`.
+pub fn check(
+    source: &Skeleton,
+    source_motion: &Motion,
+    target: &Skeleton,
+    output: &Motion,
+    map: &Map,
+    ups: Ups,
+) -> Check {
+    let frames = source_motion.frame_count().min(output.frame_count());
+    let picked: Vec<usize> = if frames <= FRAMES_MEASURED {
+        (0..frames).collect()
+    } else {
+        (0..FRAMES_MEASURED)
+            .map(|i| i * (frames - 1) / (FRAMES_MEASURED - 1))
+            .collect()
+    };
+    let source_cut = pick(source_motion, &picked);
+    let output_cut = pick(output, &picked);
+    let (us, ut) = (to_y_up(ups.source), to_y_up(ups.target));
+    let source_mode = source_offset_mode(source, source_motion);
+    let (mut rest_s, mut rest_t) = (Vec::new(), Vec::new());
+    world_transforms_f64(source, &[], OffsetMode::Replace, &mut rest_s);
+    world_transforms_f64(target, &[], OffsetMode::Replace, &mut rest_t);
+    let legs_s = legs(source, &map.source_body, &rest_s);
+    let legs_t = legs(target, &map.target_body, &rest_t);
+    let pair = |body: &Body, limb: Limb| match body.limbs.map(|side| side[limb as usize]) {
+        [Some(left), Some(right)] => Some((left, right)),
+        _ => None,
+    };
+    let across_of = |limb: Limb| -> Option<(usize, usize, usize, usize)> {
+        let (sl, sr) = pair(&map.source_body, limb)?;
+        let (tl, tr) = pair(&map.target_body, limb)?;
+        Some((sl, sr, tl, tr))
+    };
+    let measured = [across_of(Limb::Thigh), across_of(Limb::UpperArm)];
+    let mut samples: [Vec<(f64, f64, f64)>; 2] = [Vec::new(), Vec::new()];
+    let (mut ws, mut wt) = (Vec::new(), Vec::new());
+    for frame in 0..picked.len() {
+        world_transforms_f64(source, source_cut.frame(frame), source_mode, &mut ws);
+        world_transforms_f64(
+            target,
+            output_cut.frame(frame),
+            OffsetMode::Replace,
+            &mut wt,
+        );
+        for (k, joints) in measured.iter().enumerate() {
+            let Some((sl, sr, tl, tr)) = *joints else {
+                continue;
+            };
+            let a = us * (ws[sr].1 - ws[sl].1);
+            let b = ut * (wt[tr].1 - wt[tl].1);
+            let (fa, fb) = (DVec3::new(a.x, 0.0, a.z), DVec3::new(b.x, 0.0, b.z));
+            // A line across the body that stands upright says nothing of the sides.
+            if fa.length() < 0.2 * a.length() || fb.length() < 0.2 * b.length() {
+                samples[k].push((a.length() / legs_s, b.length() / legs_t, f64::NAN));
+                continue;
+            }
+            let turn = fa.angle_between(fb).to_degrees();
+            samples[k].push((a.length() / legs_s, b.length() / legs_t, turn));
+        }
+    }
+    let across = |k: usize| -> Option<Across> {
+        let values = &samples[k];
+        if values.is_empty() {
+            return None;
+        }
+        let column = |f: fn(&(f64, f64, f64)) -> f64| -> Vec<f64> {
+            values.iter().map(f).filter(|v| v.is_finite()).collect()
+        };
+        let turns = column(|v| v.2);
+        Some(Across {
+            source_width: quantile(&column(|v| v.0), 0.5),
+            width: quantile(&column(|v| v.1), 0.5),
+            turn: if turns.is_empty() {
+                0.0
+            } else {
+                quantile(&turns, 0.5)
+            },
+        })
+    };
+    let errors: Vec<f64> = direction_errors(source, &source_cut, target, &output_cut, map, ups)
+        .into_iter()
+        .flatten()
+        .collect();
+    let standing = standing(source, source_motion, target, output, map, ups, 1.0);
+    let path = (standing.source_path > 0.1 * legs_s && standing.ratio > 0.0)
+        .then(|| standing.target_path / (standing.source_path * standing.ratio));
+    let floor = if standing.source_floor.is_finite() && standing.target_floor.is_finite() {
+        (standing.target_floor - standing.source_floor * standing.ratio).abs() / legs_t
+    } else {
+        0.0
+    };
+    Check {
+        hips: across(0),
+        shoulders: across(1),
+        directions: (quantile(&errors, 0.5), quantile(&errors, 0.99)),
+        path,
+        floor,
+    }
+}
+
+/// The legs' length at rest, or the rest pose's largest spread without legs (1 when nothing
+/// can be measured): what widths are counted in.
+fn legs(skeleton: &Skeleton, body: &Body, rest: &[(DQuat, DVec3)]) -> f64 {
+    let length = match body.hips {
+        Some(hips) => hip_height(skeleton, body, hips, rest),
+        None => body.leg_length(rest).unwrap_or(0.0),
+    };
+    if length > 1e-9 { length } else { 1.0 }
+}
+
+/// The frames `picked` of `motion`.
+fn pick(motion: &Motion, picked: &[usize]) -> Motion {
+    let mut data = Vec::with_capacity(picked.len() * motion.channels);
+    for &frame in picked {
+        data.extend_from_slice(motion.frame(frame));
+    }
+    Motion::new(motion.frame_time, motion.channels, picked.len(), data)
+}

@@ -1,0 +1,148 @@
+//! Every human family onto every family: each take of the corpus that reads as a two-legged body
+//! with two arms is put on every other family's skeleton (and SMPL's), and every result's own
+//! check ([`bvhview::retarget::Check`]) must hold: no side crossed, no width collapsed. Not a
+//! chosen list: a take added to tests/data or ../shared/data joins on its own. The table it
+//! prints is GUIDE's ("Retargeting onto every family").
+
+mod common;
+use bvhview::Take;
+use bvhview::model::body::{Body, Doubt, Limb};
+use bvhview::model::pose::OffsetMode;
+use bvhview::retarget::Target;
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+/// Frames of each source put on every target: enough to move, few enough for 900 pairs.
+const FRAMES: usize = 90;
+
+/// Every take under `root`: BVH files, ASF/AMC pairs, and FBX and glTF takes.
+fn takes_under(root: &Path) -> Vec<(PathBuf, Option<PathBuf>)> {
+    let mut found = Vec::new();
+    for entry in walkdir::WalkDir::new(root).sort_by_file_name() {
+        let path = entry.unwrap().into_path();
+        let extension = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        let malformed = path.components().any(|c| c.as_os_str() == "bvh_malformed");
+        match extension {
+            "bvh" | "fbx" | "glb" | "gltf" if !malformed => found.push((path, None)),
+            "amc" => found.push((common::asf_of(&path), Some(path))),
+            _ => {}
+        }
+    }
+    found
+}
+
+/// Two legs and two arms, standing: a person.
+fn human(take: &Take) -> bool {
+    let body = Body::of(&take.skeleton);
+    let limbs = [Limb::Thigh, Limb::Shin, Limb::UpperArm, Limb::ForeArm];
+    let whole = (0..2).all(|side| {
+        limbs
+            .iter()
+            .all(|&l| body.limbs[side][l as usize].is_some())
+    });
+    whole
+        && body.hips.is_some()
+        && !body
+            .doubts(&take.skeleton, &take.motion, OffsetMode::Replace)
+            .iter()
+            .any(|d| matches!(d, Doubt::NotBiped(_) | Doubt::NoTwoLegs))
+}
+
+/// One take per skeleton family (its fingerprint), the first found; the short name it goes by.
+fn families(roots: &[PathBuf]) -> Vec<(String, Take)> {
+    let mut by_family: BTreeMap<String, (String, Take)> = BTreeMap::new();
+    for root in roots {
+        for (path, motion) in takes_under(root) {
+            let Ok(take) = bvhview::take::load(&path, motion.as_deref(), None) else {
+                continue;
+            };
+            if !human(&take) {
+                continue;
+            }
+            let name = motion
+                .as_deref()
+                .unwrap_or(&path)
+                .file_stem()
+                .unwrap()
+                .to_string_lossy()
+                .into_owned();
+            let frames = take.motion.frame_count().min(FRAMES);
+            let take = if frames > 0 {
+                take.trim(0..frames)
+            } else {
+                take
+            };
+            by_family
+                .entry(take.skeleton.fingerprint())
+                .or_insert((name, take));
+        }
+    }
+    by_family.into_values().collect()
+}
+
+/// Each source onto each target: the checks that failed, and the table.
+fn everyone_onto_everyone(roots: &[PathBuf]) -> (Vec<String>, String, usize) {
+    let families = families(roots);
+    let mut targets: Vec<(String, Target)> = families
+        .iter()
+        .map(|(name, take)| {
+            (
+                name.clone(),
+                Target::new(name.clone(), take.skeleton.clone(), &take.motion),
+            )
+        })
+        .collect();
+    targets.push(("smpl22".into(), Target::load("smpl22", u64::MAX).unwrap()));
+    let mut failures = Vec::new();
+    let mut table = String::from(
+        "| source | onto every family: held / refused by its map / failed |\n|---|---|\n",
+    );
+    let mut pairs = 0;
+    for (source_name, source) in &families {
+        let (mut held, mut refused, mut failed) = (0, 0, Vec::new());
+        for (target_name, target) in &targets {
+            let put = target.apply(source_name, &source.skeleton, &source.motion, &[], 1);
+            let Ok((skeleton, motion)) = put else {
+                refused += 1;
+                continue;
+            };
+            pairs += 1;
+            let check = target.check(&source.skeleton, &source.motion, &skeleton, &motion, &[]);
+            match check.refusal() {
+                None => held += 1,
+                Some(why) => {
+                    failed.push(target_name.clone());
+                    failures.push(format!("{source_name} onto {target_name}: {why}"));
+                }
+            }
+        }
+        table.push_str(&format!(
+            "| {source_name} | {held} / {refused} / {}{} |\n",
+            failed.len(),
+            if failed.is_empty() {
+                String::new()
+            } else {
+                format!(" ({})", failed.join(", "))
+            }
+        ));
+    }
+    (failures, table, pairs)
+}
+
+#[test]
+fn every_repository_family_onto_every_family_keeps_its_sides_and_widths() {
+    let (failures, table, pairs) = everyone_onto_everyone(&[common::repo_data("")]);
+    println!("{table}");
+    assert!(pairs >= 100, "only {pairs} pairs retargeted");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn every_corpus_family_onto_every_family_keeps_its_sides_and_widths() {
+    let (failures, table, pairs) =
+        everyone_onto_everyone(&[common::repo_data(""), common::shared_data("")]);
+    println!("{table}");
+    assert!(pairs >= 200, "only {pairs} pairs retargeted");
+    assert!(failures.is_empty(), "{}", failures.join("\n"));
+}
