@@ -62,7 +62,7 @@ fn families(roots: &[PathBuf]) -> Vec<(String, Take)> {
             let name = motion
                 .as_deref()
                 .unwrap_or(&path)
-                .file_stem()
+                .file_name()
                 .unwrap()
                 .to_string_lossy()
                 .into_owned();

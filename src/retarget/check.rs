@@ -5,10 +5,17 @@
 
 use super::*;
 
-/// An output's width (hips or shoulders, in its legs' lengths) below this fraction of the
-/// source's is collapsed: no two skeletons of people differ by half (the narrowest pelvis in the
-/// corpus is 0.16 legs, the widest 0.31; shoulders 0.28 to 0.49).
+/// An output's width (hips or shoulders) below this fraction of its skeleton's own at rest is
+/// collapsed: the thighs part at the pelvis, the upper arms at the collars, and no motion of a
+/// person brings them to half their distance (a map that put both thighs on one source joint
+/// brought them to 0.012 of 31). Widths are not held to the source's: a cartoon's pelvis of
+/// 0.36 legs on SMPL's of 0.16 is right.
 pub const COLLAPSED: f64 = 0.5;
+
+/// A source's width below this many of its legs' lengths is no pelvis or shoulders at all: its
+/// reading of the body put both sides on one point (an ASF's pelvis bones read as thighs), and
+/// nothing put on it can be stood behind.
+pub const NO_WIDTH: f64 = 0.05;
 
 /// A pair of joints across the body (the thighs at the hips, the upper arms at the shoulders)
 /// measured in the source and in the output.
@@ -18,6 +25,8 @@ pub struct Across {
     pub source_width: f64,
     /// The same in the output, in its own legs' lengths.
     pub width: f64,
+    /// The output skeleton's own at rest, in its legs' lengths.
+    pub rest_width: f64,
     /// The angle in degrees between the source's left-to-right line and the output's, seen
     /// from above (the median over frames): near 0 when each side stands where the source's
     /// does, near 180 when the sides are crossed.
@@ -30,9 +39,14 @@ impl Across {
         self.turn > 90.0
     }
 
-    /// The output's width is less than [`COLLAPSED`] of the source's.
+    /// The output's width is less than [`COLLAPSED`] of its skeleton's own at rest.
     pub fn collapsed(&self) -> bool {
-        self.width < COLLAPSED * self.source_width
+        self.width < COLLAPSED * self.rest_width
+    }
+
+    /// The source's two sides stand on one point ([`NO_WIDTH`]).
+    pub fn no_source_width(&self) -> bool {
+        self.source_width < NO_WIDTH
     }
 }
 
@@ -84,8 +98,16 @@ impl Check {
             }
             if across.collapsed() {
                 why.push(format!(
-                    "its {name} stand {} leg lengths apart where the source's stand {}",
+                    "its {name} stand {} leg lengths apart where its skeleton has them {} apart \
+                     at rest",
                     brief(across.width),
+                    brief(across.rest_width)
+                ));
+            }
+            if across.no_source_width() {
+                why.push(format!(
+                    "the source's {name} stand {} leg lengths apart: its reading of the body put \
+                     both sides on one point",
                     brief(across.source_width)
                 ));
             }
@@ -178,6 +200,14 @@ pub fn check(
         Some((sl, sr, tl, tr))
     };
     let measured = [across_of(Limb::Thigh), across_of(Limb::UpperArm)];
+    let rest_widths: Vec<f64> = measured
+        .iter()
+        .map(|joints| {
+            joints.map_or(0.0, |(_, _, tl, tr)| {
+                (rest_t[tr].1 - rest_t[tl].1).length() / legs_t
+            })
+        })
+        .collect();
     let mut samples: [Vec<(f64, f64, f64)>; 2] = [Vec::new(), Vec::new()];
     let (mut ws, mut wt) = (Vec::new(), Vec::new());
     for frame in 0..picked.len() {
@@ -216,6 +246,7 @@ pub fn check(
         Some(Across {
             source_width: quantile(&column(|v| v.0), 0.5),
             width: quantile(&column(|v| v.1), 0.5),
+            rest_width: rest_widths[k],
             turn: if turns.is_empty() {
                 0.0
             } else {

@@ -45,6 +45,9 @@ pub struct Target {
     pub skeleton: Skeleton,
     /// Its up axis: its take's guessed stance's, or its rest pose's (see [`Target::new`]).
     pub up: Up,
+    /// Five frames spread over its take (none for a rest pose alone): how it stands, for
+    /// [`Target::check_body`] (a rig's rest pose may lie down where its takes stand).
+    poses: Motion,
 }
 
 impl Target {
@@ -80,7 +83,22 @@ impl Target {
         } else {
             Up::guess(&skeleton)
         };
-        Target { name, skeleton, up }
+        let frames = motion.frame_count();
+        let mut data = Vec::new();
+        let picked: Vec<usize> = match frames {
+            0 => Vec::new(),
+            _ => (0..5).map(|k| k * (frames - 1) / 4).collect(),
+        };
+        for &frame in &picked {
+            data.extend_from_slice(motion.frame(frame));
+        }
+        let poses = Motion::new(motion.frame_time, motion.channels, picked.len(), data);
+        Target {
+            name,
+            skeleton,
+            up,
+            poses,
+        }
     }
 
     /// A take on this skeleton by the guessed map (`pairs` override it), refused with the
@@ -121,10 +139,7 @@ impl Target {
                 .into_iter()
                 .find(|d| matches!(d, Doubt::NotBiped(_) | Doubt::NoTwoLegs))
         };
-        let target_doubt = two_legged(
-            &self.skeleton,
-            &Motion::new(1.0, self.skeleton.channel_count(), 0, Vec::new()),
-        );
+        let target_doubt = two_legged(&self.skeleton, &self.poses);
         match (two_legged(skeleton, motion), target_doubt) {
             (Some(Doubt::NotBiped(why)), None) => Err(Error::Usage(format!(
                 "{source_name}: not a two-legged body ({why}), and {} is one: its limbs would \
