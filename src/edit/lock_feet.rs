@@ -30,9 +30,11 @@ use std::ops::Range;
 /// )?;
 /// assert_eq!(locked.frame_count(), take.frame_count());
 /// let left = &report.feet[0];
-/// assert_eq!((take.skeleton.joints[left.ankle].name.as_str(), left.contacts), ("LeftAnkle", 10));
+/// assert_eq!((take.skeleton.joints[left.ankle].name.as_str(), left.contacts), ("LeftAnkle", 12));
+/// // Each contact is held within a millimetre or named with why (here: the leg does not reach).
+/// assert_eq!((left.held, left.not_held.len()), (8, 4));
 /// assert!(left.sliding_before > 0.4);
-/// assert!(report.summary(&take.skeleton).starts_with("LeftAnkle: 10 contacts, "));
+/// assert!(report.summary(&take.skeleton).starts_with("LeftAnkle: 12 contacts, 8 held, "));
 /// # Ok(())
 /// # }
 /// ```
