@@ -7,6 +7,7 @@ use crate::model::body::contact::{Planting, sliding};
 use crate::model::body::{Body, Limb};
 use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
 use glam::DVec3;
+use std::ops::Range;
 
 /// How feet are locked: when a foot counts as planted, and how the lock lets go; what locking
 /// did to one foot ([`FootLocked`]) and to the take ([`FeetLocked`]).
@@ -18,7 +19,7 @@ use glam::DVec3;
 /// # fn main() -> Result<(), bvhview::Error> {
 /// let take = bvhview::Take::open("tests/data/bvh/bvh11_131_01.bvh")?;
 /// let stance = take.stance(OffsetMode::Replace);
-/// let options = LockFeet { blend_frames: 4, ..LockFeet::default() };
+/// let options = LockFeet { catch_up: 0.5, ..LockFeet::default() };
 /// let (locked, report) = lock_feet(
 ///     &take.skeleton,
 ///     &take.motion,
@@ -28,10 +29,12 @@ use glam::DVec3;
 ///     &options,
 /// )?;
 /// assert_eq!(locked.frame_count(), take.frame_count());
-/// let left = report.feet[0];
-/// assert_eq!((take.skeleton.joints[left.ankle].name.as_str(), left.contacts), ("LeftAnkle", 10));
-/// assert!(left.drift_after < 0.001 && left.sliding_before > 0.4);
-/// assert!(report.summary(&take.skeleton).starts_with("LeftAnkle: 10 contacts, sliding 40.3 cm"));
+/// let left = &report.feet[0];
+/// assert_eq!((take.skeleton.joints[left.ankle].name.as_str(), left.contacts), ("LeftAnkle", 12));
+/// // Each contact is held within a millimetre or named with why (here: the leg does not reach).
+/// assert_eq!((left.held, left.not_held.len()), (8, 4));
+/// assert!(left.sliding_before > 0.4);
+/// assert!(report.summary(&take.skeleton).starts_with("LeftAnkle: 12 contacts, 8 held, "));
 /// # Ok(())
 /// # }
 /// ```
@@ -40,15 +43,22 @@ pub struct LockFeet {
     /// When an ankle is planted: the reading of the body's contacts
     /// ([`crate::model::body::contact`]), the same as the dataset's.
     pub planting: Planting,
-    /// Frames over which the lock lets go after a contact, so the ankle does not jump.
-    pub blend_frames: usize,
+    /// Out of a contact, the ankle comes back to where the take has it by at most this much of
+    /// what the take's ankle moves each frame, so it is never more than `1 + catch_up` times as
+    /// fast as the take's (a lock let go over a fixed number of frames snapped).
+    pub catch_up: f64,
+}
+
+impl LockFeet {
+    /// A contact is held when its ankle stays within this of where it landed (metres).
+    pub const HELD: f64 = 0.001;
 }
 
 impl Default for LockFeet {
     fn default() -> LockFeet {
         LockFeet {
             planting: Planting::default(),
-            blend_frames: 4,
+            catch_up: 0.5,
         }
     }
 }
@@ -56,21 +66,37 @@ impl Default for LockFeet {
 /// What locking did to one foot (the example on [`LockFeet`] reads one).
 ///
 /// ```
-/// let foot = bvhview::edit::FootLocked { ankle: 3, contacts: 2, ..Default::default() };
+/// let foot = bvhview::edit::FootLocked { ankle: 3, contacts: 2, held: 2, ..Default::default() };
 /// assert_eq!((foot.sliding_before, foot.drift_after), (0.0, 0.0));
+/// assert!(foot.not_held.is_empty());
 /// ```
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct FootLocked {
     /// The ankle joint.
     pub ankle: usize,
-    /// How many contacts were locked.
+    /// How many contacts the reading found (on the take, or on a retarget's source).
     pub contacts: usize,
-    /// How far the ankle slid along the floor during them (metres, frame to frame), before…
+    /// How many of them the written ankle stays within [`LockFeet::HELD`] of where it landed.
+    pub held: usize,
+    /// The others, each with why.
+    pub not_held: Vec<NotHeld>,
+    /// How far the ankle slid along the floor during them all (metres, frame to frame), before…
     pub sliding_before: f64,
     /// …and after.
     pub sliding_after: f64,
     /// The farthest the ankle strays along the floor from where it landed, after (metres).
     pub drift_after: f64,
+}
+
+/// A contact whose ankle locking did not hold (measured on what it wrote).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct NotHeld {
+    /// Its frames.
+    pub frames: Range<usize>,
+    /// The farthest the written ankle strays along the floor from where it landed (metres).
+    pub strayed: f64,
+    /// Why.
+    pub why: String,
 }
 
 /// What locking did, per foot locked, and why a leg was not (the example on [`LockFeet`]
@@ -99,21 +125,41 @@ impl FeetLocked {
         }
     }
 
-    /// The figure `convert --lock-feet` prints: contacts, and the sliding before and after;
-    /// why a leg was not locked; never nothing.
+    /// The figure `convert --lock-feet` prints, measured on what it wrote: contacts, how many
+    /// held, the sliding before and after, each contact not held with its frames and why; why a
+    /// leg was not locked; never nothing.
     pub fn summary(&self, skeleton: &Skeleton) -> String {
         let mut parts: Vec<String> = self
             .feet
             .iter()
             .map(|foot| {
-                format!(
-                    "{}: {}, sliding {:.1} cm → {:.1} cm, farthest from where it landed {:.1} cm",
+                let mut part = format!(
+                    "{}: {}, {} held, sliding {:.1} cm → {:.1} cm, farthest from where it landed {:.1} cm",
                     skeleton.joints[foot.ankle].name,
                     crate::io::error::counted(foot.contacts, "contact"),
+                    foot.held,
                     foot.sliding_before * 100.0,
                     foot.sliding_after * 100.0,
                     foot.drift_after * 100.0
-                )
+                );
+                let named: Vec<String> = foot
+                    .not_held
+                    .iter()
+                    .map(|n| {
+                        format!(
+                            "frames {}..{} ({:.1} cm: {})",
+                            n.frames.start,
+                            n.frames.end,
+                            n.strayed * 100.0,
+                            n.why
+                        )
+                    })
+                    .collect();
+                if !named.is_empty() {
+                    part.push_str(", not held: ");
+                    part.push_str(&named.join(", "));
+                }
+                part
             })
             .collect();
         parts.extend(self.notes.iter().cloned());
@@ -123,6 +169,9 @@ impl FeetLocked {
         parts.join("; ")
     }
 }
+
+/// One ankle, the contacts locking read on it, and why each it could not hold was let go.
+type Read = (usize, Vec<Range<usize>>, Vec<Option<String>>);
 
 /// One leg: thigh, shin and ankle, each above the next. Joints between them (MakeHuman's
 /// `upperleg02`, twist bones) keep their rotations: each stretch moves as one rigid bone.
@@ -243,7 +292,8 @@ pub fn lock_feet_when(
         })
         .collect();
     let channels = motion.channels;
-    let mut intervals: Vec<(usize, Vec<std::ops::Range<usize>>)> = Vec::new();
+    // Per leg: the contacts it locks on, and why each it could not hold was let go.
+    let mut read: Vec<Read> = Vec::new();
     // The ankles' own contacts, read together (each against the ground both stand on).
     let tracks: Vec<Vec<DVec3>> = legs
         .iter()
@@ -268,45 +318,82 @@ pub fn lock_feet_when(
             }
             None => own[k].clone(),
         };
-        // Where each frame's ankle is held, and how firmly (1 in a contact, less as it lets go).
-        let mut hold: Vec<Option<(DVec3, f64)>> = vec![None; frames];
-        let mut contacts = Vec::new();
-        for run in Planting::contacts(&planted) {
-            let (start, f) = (run.start, run.end);
-            let landed = flat(at(start));
-            // The lock lets go where the leg could no longer reach where the foot landed: the
-            // foot is lifting (the contact's last frames, the hips already moving on).
-            let reaches = |g: usize| {
-                let w = &world[g];
-                let length = (w[leg.shin].1 - w[leg.thigh].1).length()
-                    + (w[leg.ankle].1 - w[leg.shin].1).length();
-                let wanted = landed + up * at(g).dot(up);
-                (wanted - w[leg.thigh].1).length() < 0.999 * length
-            };
-            let end = (start..f).find(|&g| !reaches(g)).unwrap_or(f);
-            if end - start < 2 {
-                continue;
+        let contacts = Planting::contacts(&planted);
+        // Whether the leg reaches `flat_at` (along the floor) at frame `g`'s height, a little
+        // short of straight so that the knee keeps a bend to aim.
+        let reaches = |g: usize, flat_at: DVec3| {
+            let w = &world[g];
+            let length = (w[leg.shin].1 - w[leg.thigh].1).length()
+                + (w[leg.ankle].1 - w[leg.shin].1).length();
+            let wanted = flat_at + up * at(g).dot(up);
+            (wanted - w[leg.thigh].1).length() < 0.999 * length
+        };
+        // Where each frame's ankle goes along the floor: the source's, moved by `offset`. In a
+        // contact the offset keeps the ankle where it landed; out of one it shrinks by at most
+        // half of what the source ankle moves that frame, so the written ankle is never more
+        // than 1.5 times as fast as the source's (a lock let go over a fixed number of frames
+        // snapped, 3.1 m/s where the source went 0.5 m/s on PyMO's walk).
+        // Where the leg cannot reach the ankle moved by `offset` at frame `g`, the offset cut to
+        // what it reaches (the source's own ankle, no offset, is always reached; the points it
+        // reaches at a height are a disc, so one cut along the way finds the edge).
+        let within_reach = |g: usize, offset: DVec3| {
+            if reaches(g, flat(at(g)) + offset) {
+                return offset;
             }
-            contacts.push(start..end);
-            for held in &mut hold[start..end] {
-                *held = Some((landed, 1.0));
-            }
-            for k in 1..=options.blend_frames {
-                let g = end + k - 1;
-                if g >= frames || (g >= f && planted[g]) {
-                    break;
+            let (mut low, mut high) = (0.0, 1.0);
+            for _ in 0..30 {
+                let mid = 0.5 * (low + high);
+                match reaches(g, flat(at(g)) + offset * mid) {
+                    true => low = mid,
+                    false => high = mid,
                 }
-                let weight = 1.0 - k as f64 / (options.blend_frames + 1) as f64;
-                hold[g] = Some((landed, weight));
             }
-        }
+            offset * low
+        };
+        let mut offsets = Vec::with_capacity(frames);
+        let mut why: Vec<Option<String>> = vec![None; contacts.len()];
+        let mut offset = DVec3::ZERO;
+        let mut next = 0;
+        let mut landed = DVec3::ZERO;
         for f in 0..frames {
-            let Some((landed, weight)) = hold[f] else {
+            while next < contacts.len() && contacts[next].end <= f {
+                next += 1;
+            }
+            match contacts.get(next).filter(|c| c.contains(&f)) {
+                Some(contact) => {
+                    if f == contact.start {
+                        // It lands where the written ankle is (the source's, moved as it was
+                        // the frame before), so the lock starts without a jump.
+                        landed = flat(at(f)) + within_reach(f, offset);
+                    }
+                    offset = landed - flat(at(f));
+                    let reached = within_reach(f, offset);
+                    if reached != offset {
+                        // The leg drags the foot only as far as it must, and holds it there.
+                        why[next].get_or_insert_with(|| {
+                            format!("the leg does not reach where it landed from frame {f}")
+                        });
+                        offset = reached;
+                        landed = flat(at(f)) + offset;
+                    }
+                }
+                None => {
+                    if f > 0 {
+                        let step = (at(f) - at(f - 1)).length() * options.catch_up;
+                        offset -= offset.clamp_length_max(step);
+                    }
+                    offset = within_reach(f, offset);
+                }
+            }
+            offsets.push(offset);
+        }
+        for (f, &offset) in offsets.iter().enumerate() {
+            if offset == DVec3::ZERO {
                 continue;
-            };
+            }
             let w = &world[f];
             let (hip, knee, ankle) = (w[leg.thigh].1, w[leg.shin].1, w[leg.ankle].1);
-            let wanted = ankle + (landed - flat(ankle)) * weight;
+            let wanted = ankle + offset;
             let (l1, l2) = ((knee - hip).length(), (ankle - knee).length());
             let reach_to = wanted - hip;
             let Some(direction) = reach_to.try_normalize() else {
@@ -363,34 +450,54 @@ pub fn lock_feet_when(
                 }
             }
         }
-        intervals.push((leg.ankle, contacts));
+        read.push((leg.ankle, contacts, why));
     }
     let (_, locked) = finite(
         "--lock-feet",
         skeleton.clone(),
         Motion::new(motion.frame_time, channels, frames, data),
     )?;
-    // How far each ankle slides along the floor during its contacts, before and after, and
-    // the farthest it strays from where it landed.
-    let slid = |motion: &Motion, ankle: usize, contacts: &[std::ops::Range<usize>]| {
+    // What locking did, measured on what it wrote: the ankle's path along the floor during
+    // the contacts before and after, and each contact whose ankle strayed from where it landed.
+    let track_of = |motion: &Motion, ankle: usize| -> Vec<DVec3> {
         let mut world = Vec::new();
-        let track: Vec<DVec3> = (0..frames)
+        (0..frames)
             .map(|f| {
                 world_transforms_f64(skeleton, motion.frame(f), mode, &mut world);
                 world[ankle].1 * metres
             })
-            .collect();
-        sliding(&track, up, contacts)
+            .collect()
     };
-    for (ankle, contacts) in &intervals {
-        let (before, _) = slid(motion, *ankle, contacts);
-        let (after, drift) = slid(&locked, *ankle, contacts);
+    for (ankle, contacts, why) in read {
+        let (before, after) = (track_of(motion, ankle), track_of(&locked, ankle));
+        let (sliding_before, _) = sliding(&before, up, &contacts);
+        let (sliding_after, drift_after) = sliding(&after, up, &contacts);
+        let mut not_held = Vec::new();
+        for (contact, why) in contacts.iter().zip(why) {
+            let (_, strayed) = sliding(&after, up, std::slice::from_ref(contact));
+            if strayed <= LockFeet::HELD {
+                continue;
+            }
+            let why = why.unwrap_or_else(|| {
+                format!(
+                    "the legs' turns left it {:.1} mm from where it landed",
+                    strayed * 1000.0
+                )
+            });
+            not_held.push(NotHeld {
+                frames: contact.clone(),
+                strayed,
+                why,
+            });
+        }
         report.feet.push(FootLocked {
-            ankle: *ankle,
+            ankle,
             contacts: contacts.len(),
-            sliding_before: before,
-            sliding_after: after,
-            drift_after: drift,
+            held: contacts.len() - not_held.len(),
+            not_held,
+            sliding_before,
+            sliding_after,
+            drift_after,
         });
     }
     Ok((locked, report))
