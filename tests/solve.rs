@@ -9,7 +9,7 @@ mod common;
 use bvhview::model::pose::{OffsetMode, world_transforms_f64};
 use bvhview::solve::{Positions, solve};
 use bvhview::{Motion, Skeleton, Take};
-use glam::DVec3;
+use glam::{DVec3, Vec3};
 use std::path::Path;
 use std::process::Command;
 
@@ -661,4 +661,234 @@ fn hostile_positions_are_refused_in_one_line_before_they_are_read() {
         .unwrap();
     let stderr = String::from_utf8_lossy(&run.stderr);
     assert!(stderr.contains("claims 4294967280 bytes"), "{stderr}");
+}
+
+// Issue 59, point 4: `solve` continuous in time.
+
+/// `take`'s own positions (named as exports name them), each point moved by `noise` (frame,
+/// point → offset), solved back onto its skeleton: the solved motion, and the clean points.
+fn solve_own(take: &Take, noise: impl Fn(usize, usize) -> DVec3) -> (Motion, Vec<DVec3>) {
+    let mode =
+        bvhview::model::pose::guessed_mode(&take.skeleton, &take.motion, OffsetMode::Replace);
+    let points = points_of(&take.skeleton, &take.motion, mode);
+    let count = take.skeleton.joints.len();
+    let exported = bvhview::positions::export_points(&take.skeleton);
+    let names: Vec<String> = exported.iter().map(|(n, _)| n.clone()).collect();
+    let data: Vec<DVec3> = points
+        .chunks(count)
+        .enumerate()
+        .flat_map(|(f, pose)| {
+            let noise = &noise;
+            exported
+                .iter()
+                .enumerate()
+                .map(move |(k, &(_, j))| pose[j] + noise(f, k))
+        })
+        .collect();
+    let positions = Positions::new(names, data, take.motion.frame_time).unwrap();
+    let up = bvhview::model::pose::Up::guess(&take.skeleton);
+    let (motion, _) = solve(&take.skeleton, up, &positions, None).unwrap();
+    (motion, points)
+}
+
+/// Per joint that turns, the largest turn (degrees) of its rotation from a frame to the next.
+fn largest_turns(skeleton: &Skeleton, motion: &Motion) -> Vec<f64> {
+    let rotation = |j: usize, f: usize| {
+        let joint = &skeleton.joints[j];
+        bvhview::model::pose::channel_rotations_f64(joint, joint.values(motion.frame(f)))
+    };
+    (0..skeleton.joints.len())
+        .map(|j| {
+            (1..motion.frame_count())
+                .map(|f| {
+                    let d = rotation(j, f - 1).inverse() * rotation(j, f);
+                    2.0 * d.xyz().length().atan2(d.w.abs()).to_degrees()
+                })
+                .fold(0.0, f64::max)
+        })
+        .collect()
+}
+
+/// A take's own positions with ±`amount` on each coordinate (uniform, from a fixed-seed
+/// xorshift generator, so every run draws the same), solved back with and without `--smooth
+/// 6`, and the clean positions solved and smoothed: how far the points of each lie from the
+/// clean positions, on average and at worst.
+fn noisy_solve_errors(take: &Take, amount: f64) -> [(f64, f64); 3] {
+    let count = bvhview::positions::export_points(&take.skeleton).len();
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut draws = Vec::with_capacity(take.frame_count() * count * 3);
+    for _ in 0..take.frame_count() * count * 3 {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        draws.push(((state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0) * amount);
+    }
+    let noise = |f: usize, k: usize| {
+        let at = (f * count + k) * 3;
+        DVec3::new(draws[at], draws[at + 1], draws[at + 2])
+    };
+    let (motion, clean) = solve_own(take, noise);
+    let smooth = |motion: &Motion| bvhview::edit::smooth(&take.skeleton, motion, 6.0).unwrap();
+    let errors = |motion: &Motion| {
+        let back = points_of(&take.skeleton, motion, OffsetMode::Replace);
+        let apart: Vec<f64> = clean
+            .iter()
+            .zip(&back)
+            .map(|(a, b)| (*a - *b).length())
+            .collect();
+        let mean = apart.iter().sum::<f64>() / apart.len() as f64;
+        (mean, apart.iter().copied().fold(0.0, f64::max))
+    };
+    let (clean_motion, _) = solve_own(take, |_, _| DVec3::ZERO);
+    [
+        errors(&motion),
+        errors(&smooth(&motion)),
+        errors(&smooth(&clean_motion)),
+    ]
+}
+
+/// ±1 cm of noise on `take`'s positions (centimetres): smoothed at 6 Hz, the solved take lies
+/// nearer the clean positions on average than unsmoothed, and at worst no farther than the
+/// noise and the filter's own rounding of the clean take's fastest turns together.
+fn assert_smoothing_helps(take: &Take) {
+    let [(plain_mean, plain_worst), (mean, worst), (_, filter_worst)] =
+        noisy_solve_errors(take, 1.0);
+    println!(
+        "{} ±1 cm: unsmoothed {plain_mean:.3} cm on average, {plain_worst:.3} at worst; at 6 \
+         Hz {mean:.3}, {worst:.3} (clean at 6 Hz: {filter_worst:.3} at worst)",
+        take.name
+    );
+    assert!(
+        mean <= plain_mean && worst <= plain_worst + filter_worst,
+        "{}: smoothed {mean} cm on average, {worst} at worst; unsmoothed {plain_mean}, \
+         {plain_worst}; clean smoothed {filter_worst} at worst",
+        take.name
+    );
+}
+
+#[test]
+fn smoothing_a_noisy_solve_brings_it_nearer_the_clean_positions() {
+    let path = common::repo_data("bvh/animateddrawings_rokoko_jesse_dance.bvh");
+    assert_smoothing_helps(&Take::open(path).unwrap());
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn smoothing_a_noisy_bandai_solve_brings_it_nearer_the_clean_positions() {
+    let path = common::shared_data("bvh/bandai_dataset-1_dance-short_normal_001.bvh");
+    assert_smoothing_helps(&Take::open(path).unwrap());
+}
+
+/// A take's own positions solved back: no joint turns between two frames by more than half as
+/// much again as the source's largest turn, and 5°. The slack is for the twist of a lone bone,
+/// which the positions leave free: carried from frame to frame, it lands on the joint below
+/// (a forearm's twist on the hand) where the source's is its own; a flip is 90° to 180°.
+fn assert_no_flips(take: &Take) {
+    let (motion, _) = solve_own(take, |_, _| DVec3::ZERO);
+    let source = largest_turns(&take.skeleton, &take.motion);
+    let back = largest_turns(&take.skeleton, &motion);
+    let past: Vec<String> = take
+        .skeleton
+        .joints
+        .iter()
+        .enumerate()
+        .filter(|&(j, _)| back[j] > 1.5 * source[j] + 5.0)
+        .map(|(j, joint)| format!("{}: {:.1}° ({:.1}°)", joint.name, back[j], source[j]))
+        .collect();
+    assert!(past.is_empty(), "{}: solved (source) {past:?}", take.name);
+}
+
+#[test]
+fn a_solved_take_turns_no_more_between_frames_than_its_source() {
+    let path = common::repo_data("bvh/bvhpython_test_mocapbank.bvh");
+    assert_no_flips(&Take::open(path).unwrap());
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn a_solved_bandai_take_turns_no_more_between_frames_than_its_source() {
+    let path = common::shared_data("bvh/bandai_dataset-1_dance-short_normal_001.bvh");
+    assert_no_flips(&Take::open(path).unwrap());
+}
+
+/// A Perception Neuron-style take, every joint with position channels, its spine and neck
+/// stretching by up to 3 and 2 cm while the body turns (the channels replace the OFFSETs).
+fn translating_spine_take() -> Take {
+    let mut text = String::from(
+        "HIERARCHY\nROOT Hips\n{\n OFFSET 0 90 0\n CHANNELS 6 Xposition Yposition Zposition \
+         Yrotation Xrotation Zrotation\n JOINT Spine\n {\n  OFFSET 0 10 0\n  CHANNELS 6 \
+         Xposition Yposition Zposition Yrotation Xrotation Zrotation\n  JOINT Neck\n  {\n   \
+         OFFSET 0 40 0\n   CHANNELS 6 Xposition Yposition Zposition Yrotation Xrotation \
+         Zrotation\n   JOINT LeftArm\n   {\n    OFFSET 15 -5 0\n    CHANNELS 6 Xposition \
+         Yposition Zposition Yrotation Xrotation Zrotation\n    End Site\n    {\n     OFFSET \
+         25 0 0\n    }\n   }\n   End Site\n   {\n    OFFSET 0 20 3\n   }\n  }\n }\n",
+    );
+    for side in [1.0, -1.0] {
+        let name = if side > 0.0 { "Left" } else { "Right" };
+        text += &format!(
+            " JOINT {name}UpLeg\n {{\n  OFFSET {} 0 0\n  CHANNELS 6 Xposition Yposition \
+             Zposition Yrotation Xrotation Zrotation\n  JOINT {name}Leg\n  {{\n   OFFSET 0 -42 \
+             0\n   CHANNELS 6 Xposition Yposition Zposition Yrotation Xrotation Zrotation\n   \
+             JOINT {name}Foot\n   {{\n    OFFSET 0 -40 0\n    CHANNELS 6 Xposition Yposition \
+             Zposition Yrotation Xrotation Zrotation\n    End Site\n    {{\n     OFFSET 0 -5 \
+             12\n    }}\n   }}\n  }}\n }}\n",
+            9.0 * side
+        );
+    }
+    let frames = 60;
+    text += &format!("}}\nMOTION\nFrames: {frames}\nFrame Time: 0.033333\n");
+    for f in 0..frames {
+        let t = f as f64 / 10.0;
+        let (s, c) = t.sin_cos();
+        let row = [
+            // Hips: travels and turns.
+            [5.0 * t, 90.0 + s, 0.0, 30.0 * s, 5.0 * c, 3.0 * s],
+            // Spine and neck: their OFFSETs, stretched.
+            [0.0, 10.0 + 3.0 * s, 1.5 * c, 10.0 * c, 15.0 * s, -5.0 * s],
+            [0.5 * s, 40.0 + 2.0 * c, 0.0, -20.0 * s, 10.0 * c, 4.0 * c],
+            [15.0, -5.0, 0.0, 10.0 * s, 20.0 * c, -40.0 + 10.0 * s],
+            [9.0, 0.0, 0.0, 5.0 * s, -30.0 * s, 2.0 * c],
+            [0.0, -42.0, 0.0, 0.0, 20.0 + 20.0 * s, 0.0],
+            [0.0, -40.0, 0.0, 0.0, -10.0 * c, 0.0],
+            [-9.0, 0.0, 0.0, -5.0 * s, 30.0 * s, -2.0 * c],
+            [0.0, -42.0, 0.0, 0.0, 20.0 - 20.0 * s, 0.0],
+            [0.0, -40.0, 0.0, 0.0, 10.0 * c, 0.0],
+        ];
+        let values: Vec<String> = row.iter().flatten().map(|v| format!("{v:.4}")).collect();
+        text += &values.join(" ");
+        text += "\n";
+    }
+    bvhview::take::load_bytes_as(text.as_bytes(), Some("bvh"), "neuron.bvh", None, 1, None).unwrap()
+}
+
+/// Issue 59, point 4 (c): joints below the root with position channels take their
+/// translations from the positions (they kept their OFFSETs, 1.8 % of the height off).
+#[test]
+fn joints_with_position_channels_take_their_translations_from_the_positions() {
+    let take = translating_spine_take();
+    let worst = own_positions_back(&take);
+    println!("spine and neck stretching: {worst:.1e} of the size at worst");
+    assert!(worst < 1e-6, "{worst:e} of its size");
+    let (motion, _) = solve_own(&take, |_, _| DVec3::ZERO);
+    // The stretch is in the channels: each translation is as long as the source's (which way
+    // it points in its parent's frame is the parent's turn, which the hips' three bones share).
+    for name in ["Spine", "Neck"] {
+        let joint = take
+            .skeleton
+            .joints
+            .iter()
+            .find(|j| j.name == name)
+            .unwrap();
+        let length = |values: &[f32]| Vec3::from_slice(&values[..3]).length();
+        for f in 0..motion.frame_count() {
+            let (a, b) = (
+                joint.values(take.motion.frame(f)),
+                joint.values(motion.frame(f)),
+            );
+            assert!(
+                (length(a) - length(b)).abs() < 1e-3,
+                "{name} {f}: {a:?} {b:?}"
+            );
+        }
+    }
 }

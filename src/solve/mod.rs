@@ -3,14 +3,17 @@
 //! skeleton, in the skeleton's own channels and rotation orders.
 //!
 //! Each joint of the skeleton the data names turns so that the bones to its nearest named
-//! joints below it point where the data's do: with one such bone, by the smallest turn from
-//! where its parent carries it (the twist stays its parent's, so it is continuous over time);
-//! with several (the hips: both thighs and the spine; the chest: the neck and both clavicles),
-//! by the rotation that best lays them all (Horn's quaternion method), which lays each exactly
-//! when the data's shape is the skeleton's. Joints the data does not name keep their rest
-//! rotation. Bone lengths are the skeleton's: where the data's differ, directions are kept. The
-//! root moves the shallowest named joint to where the data puts it, scaled by the skeleton's
-//! legs over the data's (as retargeting scales a path).
+//! joints below it point where the data's do: with one such bone (or several along one line),
+//! by the smallest turn from where its parent carries it in the first frame, and after it by
+//! the turn nearest the frame before's (the data leaves the twist about the bone free: it is
+//! carried from frame to frame, so it never flips); with several (the hips: both thighs and
+//! the spine; the chest: the neck and both clavicles), by the rotation that best lays them all
+//! (Horn's quaternion method), which lays each exactly when the data's shape is the skeleton's.
+//! Euler angles are unwrapped to the nearest equivalent of the frame before's. Joints the data
+//! does not name keep their rest rotation. Bone lengths are the skeleton's (where the data's
+//! differ, directions are kept), but for named joints with position channels, which are put
+//! where the data says. The root moves the shallowest named joint to where the data puts it,
+//! scaled by the skeleton's legs over the data's (as retargeting scales a path).
 
 mod horn;
 pub mod input;
@@ -344,7 +347,7 @@ pub fn solve(
     // Per named joint, the named joints it turns towards and those bones at rest: the nearest
     // named joints below it, past any that stand where it stands at rest (CMU's `LHipJoint`
     // at the hips: the hips then turn towards the thighs beyond).
-    let targets: Vec<Vec<(usize, DVec3)>> = (0..count)
+    let mut targets: Vec<Vec<(usize, DVec3)>> = (0..count)
         .map(|j| match data_of[j] {
             Some(_) => targets_of(skeleton, j, &data_of, &rest),
             None => Vec::new(),
@@ -367,9 +370,9 @@ pub fn solve(
     }
     // What carries the path: the joint with position channels nearest above the hips (or the
     // shallowest named joint), which moves that joint to where the data puts it, scaled.
-    // Joints with position channels above it that the data names are put where it says (a
-    // root above the hips, Bandai's `joint_Root`); every other keeps its OFFSET, so bones keep
-    // the skeleton's lengths.
+    // Other joints with position channels that the data names are put where it says (a root
+    // above the hips, Bandai's `joint_Root`, a translating spine); every other keeps its OFFSET,
+    // so those bones keep the skeleton's lengths.
     let moves = |j: usize| skeleton.joints[j].channels.iter().any(|c| c.is_position());
     let hips = Body::of(skeleton)
         .hips
@@ -395,14 +398,18 @@ pub fn solve(
             hips.map_or("the hips", |h| skeleton.joints[h].name.as_str())
         ));
     }
+    // Every other named joint with position channels takes its translation from the data too
+    // (a Perception Neuron spine that stretches): the channels are there to move it.
     let placed: Vec<bool> = (0..count)
-        .map(|j| {
-            moves(j)
-                && data_of[j].is_some()
-                && carrier
-                    .is_some_and(|c| c != j && crate::model::body::is_ancestor(skeleton, j, c))
-        })
+        .map(|j| moves(j) && data_of[j].is_some() && Some(j) != carrier)
         .collect();
+    // The carrier is put where the data says by its own channels, so a joint above it (Bandai's
+    // `joint_Root`) need not turn towards it: turning would be a turn the data does not show.
+    if let Some(c) = carrier {
+        for above in targets.iter_mut() {
+            above.retain(|&(d, _)| d != c);
+        }
+    }
     let channels = skeleton.channel_count();
     let values = (frames as u64).saturating_mul(channels as u64);
     if values > crate::io::limits::MAX_GENERATED_VALUES {
@@ -418,6 +425,9 @@ pub fn solve(
     // One joint's bones and the data's, reused from joint to joint.
     let mut pairs: Vec<(DVec3, DVec3)> = Vec::new();
     let mut previous: Vec<Option<[f64; 3]>> = vec![None; count];
+    // Each joint's rotation in the frame before, from its parent: where the data leaves a turn
+    // free (the twist about a lone bone), the one nearest it, so nothing flips between frames.
+    let mut before: Vec<Option<DQuat>> = vec![None; count];
     for f in 0..frames {
         let row = &mut data_out[f * channels..(f + 1) * channels];
         for (j, joint) in skeleton.joints.iter().enumerate() {
@@ -430,13 +440,38 @@ pub fn solve(
                         (to.length() > 1e-9 && bone.length() > 1e-9).then_some((bone, to))
                     }));
                     let laid = match pairs[..] {
-                        [] => parent,
+                        [] => before[j].map_or(parent, |b| parent * b),
                         [(bone, to)] => {
                             let swung = DQuat::from_rotation_arc(
                                 (parent * bone).normalize(),
                                 to.normalize(),
                             ) * parent;
+                            let swung = match before[j] {
+                                Some(b) => nearest_twist(swung, to, parent * b),
+                                None => swung,
+                            };
                             hinge_twist(skeleton, &targets, j, swung, to, |d| data(f, d))
+                        }
+                        // Bones all along one line at rest (twins: MakeHuman's `Spine1` and
+                        // `Hips` from its `Root`) leave Horn's twist about them arbitrary: the
+                        // smallest swing onto the data's mean direction, twisted as before.
+                        [(first, _), ..] if along_one_line(pairs.iter().map(|p| p.0)) => {
+                            let first = first.normalize();
+                            let mean: DVec3 = pairs
+                                .iter()
+                                .map(|&(b, t)| b.normalize().dot(first).signum() * t.normalize())
+                                .sum();
+                            match mean.try_normalize() {
+                                Some(mean) => {
+                                    let swung =
+                                        DQuat::from_rotation_arc(parent * first, mean) * parent;
+                                    match before[j] {
+                                        Some(b) => nearest_twist(swung, mean, parent * b),
+                                        None => swung,
+                                    }
+                                }
+                                None => best_rotation(&pairs),
+                            }
                         }
                         _ => best_rotation(&pairs),
                     };
@@ -510,10 +545,11 @@ pub fn solve(
                     };
                 }
             }
+            before[j] = Some(local);
             world[j] = parent * local;
         }
-        // Then the translations, top down: the carrier's and those of the joints placed above
-        // it; the others' position channels keep their OFFSET.
+        // Then the translations, top down: the carrier's and those of the other named joints
+        // with position channels; the unnamed ones' position channels keep their OFFSET.
         for (j, joint) in skeleton.joints.iter().enumerate() {
             let (parent_rotation, parent_at) = joint
                 .parent
@@ -583,6 +619,27 @@ pub fn solve(
             notes,
         },
     ))
+}
+
+/// Whether every direction lies along the first's (either way), within rounding.
+fn along_one_line(mut directions: impl Iterator<Item = DVec3>) -> bool {
+    let Some(first) = directions.next().and_then(DVec3::try_normalize) else {
+        return true;
+    };
+    directions.all(|d| d.normalize().cross(first).length() < 1e-9)
+}
+
+/// `wanted` turned about `axis` (a world direction) to the turn nearest `goal`: of the
+/// rotations that lay a bone along `axis` as `wanted` does, the one nearest `goal`.
+fn nearest_twist(wanted: DQuat, axis: DVec3, goal: DQuat) -> DQuat {
+    let Some(axis) = axis.try_normalize() else {
+        return wanted;
+    };
+    // A twist T(θ) = (cos θ/2, sin θ/2 · axis) is nearest `goal` where T · wanted · goal⁻¹'s
+    // distance from ±1 is least: where T's 4-vector is most along goal · wanted⁻¹'s.
+    let m = goal * wanted.inverse();
+    let half = axis.dot(m.xyz()).atan2(m.w);
+    (DQuat::from_axis_angle(axis, 2.0 * half) * wanted).normalize()
 }
 
 /// The named joints `j` turns towards (see where it is called), in file order.
