@@ -179,6 +179,7 @@ pub(super) fn alignments(
         };
         let swung = arc(base * tv, sv) * base;
         let axis = sv.normalize();
+        let (main_tv, main_sv) = (tv, sv);
         let (mut sin, mut cos) = (0.0, 0.0);
         let mut todo: Vec<usize> = mapped_below(target, &map.source_of, t)
             .into_iter()
@@ -186,20 +187,25 @@ pub(super) fn alignments(
             .collect();
         let mut descended = 0;
         while let Some(d) = todo.pop() {
-            let Some((tv, sv)) = vectors(d) else { continue };
-            let a = swung * tv;
-            let a = a - axis * a.dot(axis);
-            let b = sv - axis * sv.dot(axis);
-            // A joint on the main bone's line says nothing of the turn about it (a source's
-            // clavicles that start on its spine: their rounding picked the chest's facing, and
-            // the collars crossed at the chest); the joints below it say it instead.
-            if a.length() < 0.1 * tv.length() || b.length() < 0.1 * sv.length() {
+            // A joint on the main bone's line, or where the joint is (CMU's collars start on
+            // the chest), says nothing of the turn about it: their rounding picked the chest's
+            // facing, and the collars crossed at the chest. The joints below it say it instead.
+            let informative = vectors(d).and_then(|(tv, sv)| {
+                let a = swung * tv;
+                let a = a - axis * a.dot(axis);
+                let b = sv - axis * sv.dot(axis);
+                let across = |v: DVec3, of: DVec3, main: DVec3| {
+                    v.length() >= 0.1 * of.length() && v.length() >= 0.02 * main.length()
+                };
+                (across(a, tv, main_tv) && across(b, sv, main_sv)).then_some((a, b))
+            });
+            let Some((a, b)) = informative else {
                 if descended < 64 {
                     descended += 1;
                     todo.extend(mapped_below(target, &map.source_of, d));
                 }
                 continue;
-            }
+            };
             sin += a.cross(b).dot(axis);
             cos += a.dot(b);
         }
@@ -258,4 +264,52 @@ pub(super) fn source_offset_mode(source: &Skeleton, motion: &Motion) -> OffsetMo
         Some(_) => OffsetMode::Add,
         None => OffsetMode::Replace,
     }
+}
+
+/// The source pose rest alignment reads the source's bones in: `None` for its rest pose, or a
+/// frame of its take where the rest pose says nothing of which way the body faces (its thighs,
+/// or its upper arms, on one point: Blender's FBX rest, every bone along its parent's +y, which
+/// left the hips and chest unturned and the sides crossed). The frame is the one of up to 64
+/// spread over the take where the narrower of the two widths is widest.
+pub(super) fn reference_frame(
+    source: &Skeleton,
+    motion: &Motion,
+    mode: OffsetMode,
+    body: &Body,
+    rest: &[(DQuat, DVec3)],
+) -> Option<usize> {
+    let pairs: Vec<(usize, usize)> = [Limb::Thigh, Limb::UpperArm]
+        .into_iter()
+        .filter_map(|limb| match body.limbs.map(|side| side[limb as usize]) {
+            [Some(left), Some(right)] => Some((left, right)),
+            _ => None,
+        })
+        .collect();
+    let legs = body.leg_length(rest).filter(|&l| l > 1e-9)?;
+    let narrowest = |world: &[(DQuat, DVec3)]| {
+        pairs
+            .iter()
+            .map(|&(l, r)| (world[l].1 - world[r].1).length() / legs)
+            .fold(f64::INFINITY, f64::min)
+    };
+    if pairs.is_empty() || narrowest(rest) >= super::NO_WIDTH || motion.frame_count() == 0 {
+        return None;
+    }
+    let frames = motion.frame_count();
+    let mut world = Vec::new();
+    let mut best: Option<(usize, f64)> = None;
+    let looked = frames.min(64);
+    for k in 0..looked {
+        let frame = match looked {
+            1 => 0,
+            _ => k * (frames - 1) / (looked - 1),
+        };
+        world_transforms_f64(source, motion.frame(frame), mode, &mut world);
+        let width = narrowest(&world);
+        if best.is_none_or(|(_, w)| width > w) {
+            best = Some((frame, width));
+        }
+    }
+    best.filter(|&(_, width)| width >= super::NO_WIDTH)
+        .map(|(frame, _)| frame)
 }

@@ -25,7 +25,7 @@ pub struct Across {
     pub source_width: f64,
     /// The same in the output, in its own legs' lengths.
     pub width: f64,
-    /// The output skeleton's own at rest, in its legs' lengths.
+    /// The output skeleton's own at rest (or, widest, in its take's poses), in its legs' lengths.
     pub rest_width: f64,
     /// The angle in degrees between the source's left-to-right line and the output's, seen
     /// from above (the median over frames): near 0 when each side stands where the source's
@@ -164,7 +164,9 @@ fn brief(value: f64) -> String {
 /// At most this many frames, spread over the take, are measured.
 const FRAMES_MEASURED: usize = 240;
 
-/// [`Check`] of `output` (on `target`), retargeted from `source` by `map`.
+/// [`Check`] of `output` (on `target`), retargeted from `source` by `map`. `target_poses`: poses
+/// of the target's own take, whose widths count as its rest's where its rest pose has none
+/// (Blender's FBX rest, every bone along +y).
 pub fn check(
     source: &Skeleton,
     source_motion: &Motion,
@@ -172,6 +174,7 @@ pub fn check(
     output: &Motion,
     map: &Map,
     ups: Ups,
+    target_poses: Option<&Motion>,
 ) -> Check {
     let frames = source_motion.frame_count().min(output.frame_count());
     let picked: Vec<usize> = if frames <= FRAMES_MEASURED {
@@ -200,12 +203,24 @@ pub fn check(
         Some((sl, sr, tl, tr))
     };
     let measured = [across_of(Limb::Thigh), across_of(Limb::UpperArm)];
+    let mut target_poses_world = vec![rest_t.clone()];
+    if let Some(poses) = target_poses {
+        for frame in 0..poses.frame_count() {
+            let mut world = Vec::new();
+            world_transforms_f64(target, poses.frame(frame), OffsetMode::Replace, &mut world);
+            target_poses_world.push(world);
+        }
+    }
     let rest_widths: Vec<f64> = measured
         .iter()
         .map(|joints| {
-            joints.map_or(0.0, |(_, _, tl, tr)| {
-                (rest_t[tr].1 - rest_t[tl].1).length() / legs_t
-            })
+            let Some((_, _, tl, tr)) = *joints else {
+                return 0.0;
+            };
+            target_poses_world
+                .iter()
+                .map(|w| (w[tr].1 - w[tl].1).length() / legs_t)
+                .fold(0.0, f64::max)
         })
         .collect();
     let mut samples: [Vec<(f64, f64, f64)>; 2] = [Vec::new(), Vec::new()];

@@ -66,6 +66,21 @@ pub fn retarget(
     ups: Ups,
     threads: usize,
 ) -> Result<(Skeleton, Motion), Error> {
+    retarget_posed(source, motion, target, None, map, ups, threads)
+}
+
+/// [`retarget`] onto a target that comes with poses of its own take (a [`Target`]'s): where
+/// its rest pose cannot say which way its body faces (Blender's FBX rest, every bone along +y),
+/// rest alignment reads its bones in one of those poses instead.
+pub(crate) fn retarget_posed(
+    source: &Skeleton,
+    motion: &Motion,
+    target: &Skeleton,
+    target_poses: Option<&Motion>,
+    map: &Map,
+    ups: Ups,
+    threads: usize,
+) -> Result<(Skeleton, Motion), Error> {
     // Checked again here for callers that come without a Target (its message names them).
     crate::limits::retarget_values(
         "the retarget",
@@ -74,7 +89,7 @@ pub fn retarget(
         target.joints.len(),
         target.channel_count(),
     )?;
-    let setup = Setup::new(source, motion, target, map, ups);
+    let setup = Setup::new(source, motion, target, map, ups, target_poses);
     let (data, finite) = fast::frames(&setup, source, motion, target, map, threads);
     if finite && target.joints.iter().all(|j| j.offset.is_finite()) {
         // What `finish` checks, checked already on the cores.
@@ -107,7 +122,7 @@ pub fn retarget_plain(
         target.joints.len(),
         target.channel_count(),
     )?;
-    let setup = Setup::new(source, motion, target, map, ups);
+    let setup = Setup::new(source, motion, target, map, ups, None);
     let values = plain_frames(&setup, source, motion, target, map, threads);
     finish(target, motion, values.iter().map(|&v| v as f32).collect())
 }
@@ -124,7 +139,7 @@ pub fn retargeted_values(
     threads: usize,
     fast: bool,
 ) -> Vec<f64> {
-    let setup = Setup::new(source, motion, target, map, ups);
+    let setup = Setup::new(source, motion, target, map, ups, None);
     match fast {
         true => fast::frames(&setup, source, motion, target, map, threads).0,
         false => plain_frames(&setup, source, motion, target, map, threads),

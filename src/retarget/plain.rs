@@ -30,6 +30,10 @@ pub(super) struct Setup {
     /// position channels and a parent: what they move it from its OFFSET, in the world, is
     /// scaled by the ratio and written into its own channels.
     pub(super) translated: Vec<Option<usize>>,
+    /// Per target joint no source joint drives, the turn from its parent it keeps: none at
+    /// rest, or its own in the pose of its take rest alignment read (a Blender FBX's pelvis
+    /// bones, which would stack both thighs on one point in its rest along +y).
+    pub(super) held: Vec<DQuat>,
 }
 
 impl Setup {
@@ -39,6 +43,7 @@ impl Setup {
         target: &Skeleton,
         map: &Map,
         ups: Ups,
+        target_poses: Option<&Motion>,
     ) -> Setup {
         let mode = OffsetMode::Replace;
         let source_mode = source_offset_mode(source, motion);
@@ -48,7 +53,51 @@ impl Setup {
         let mut target_rest = Vec::new();
         world_transforms_f64(source, &[], mode, &mut source_rest);
         world_transforms_f64(target, &[], mode, &mut target_rest);
-        let aligned = alignments(source, target, map, ups, &source_rest, &target_rest);
+        // The source's bones as a pose of its take shows them, where its rest pose cannot say
+        // which way the body faces: the target's rest turned onto that pose, then that pose's
+        // rotation taken back out, so that the frames' rotations carry over as from the rest.
+        // The same of the target, from its own take's poses when it comes with them.
+        let posed = |skeleton: &Skeleton, motion: &Motion, mode, body: &Body, rest: &[_]| {
+            let frame = reference_frame(skeleton, motion, mode, body, rest)?;
+            let mut world = Vec::new();
+            world_transforms_f64(skeleton, motion.frame(frame), mode, &mut world);
+            Some(world)
+        };
+        let source_posed = posed(source, motion, source_mode, &map.source_body, &source_rest);
+        let target_posed = target_poses
+            .and_then(|poses| posed(target, poses, mode, &map.target_body, &target_rest));
+        let aligned = alignments(
+            source,
+            target,
+            map,
+            ups,
+            source_posed.as_deref().unwrap_or(&source_rest),
+            target_posed.as_deref().unwrap_or(&target_rest),
+        );
+        let held: Vec<DQuat> = (0..target.joints.len())
+            .map(
+                |t| match (&target_posed, target.joints[t].parent, map.source_of[t]) {
+                    (Some(world), Some(p), None) => world[p].0.inverse() * world[t].0,
+                    _ => DQuat::IDENTITY,
+                },
+            )
+            .collect();
+        let aligned: Vec<DQuat> = aligned
+            .iter()
+            .enumerate()
+            .map(|(t, &a)| {
+                let Some(s) = map.source_of[t] else { return a };
+                // The source's pose taken back out, the target's put in: each turn of the take
+                // then carries over as from the rests.
+                let from = source_posed
+                    .as_ref()
+                    .map_or(DQuat::IDENTITY, |w| (us * w[s].0 * us.inverse()).inverse());
+                let to = target_posed
+                    .as_ref()
+                    .map_or(DQuat::IDENTITY, |w| ut * w[t].0 * ut.inverse());
+                from * a * to
+            })
+            .collect();
         // The hips pair that carries the path: the target's hips if mapped, else its first
         // mapped joint.
         let hips_t = map
@@ -156,6 +205,7 @@ impl Setup {
             reference_columns,
             bone_of,
             translated,
+            held,
         }
     }
 
@@ -204,6 +254,7 @@ pub(super) fn plain_frames(
         ref reference_columns,
         ref bone_of,
         ref translated,
+        ref held,
     } = *setup;
     let frames = motion.frame_count();
     let joints = target.joints.len();
@@ -254,7 +305,7 @@ pub(super) fn plain_frames(
                             None => rotation,
                         }
                     }
-                    None => parent_rotation,
+                    None => parent_rotation * held[t],
                 };
                 let mut rotation = rotation;
                 let local = parent_rotation.inverse() * rotation;

@@ -227,7 +227,15 @@ impl Target {
         // The pairs were applied once already, by the retarget this output came from.
         let _ = map.apply(pairs, skeleton, &self.skeleton);
         let ups = self.ups(skeleton, motion);
-        super::check(skeleton, motion, output_skeleton, output, &map, ups)
+        super::check(
+            skeleton,
+            motion,
+            output_skeleton,
+            output,
+            &map,
+            ups,
+            Some(&self.poses),
+        )
     }
 
     /// The take's up axis (guessed, or stated by its file) and this target's.
@@ -264,6 +272,14 @@ impl Target {
         map.apply(pairs, skeleton, &self.skeleton)?;
         map.check(source_name, &self.name)?;
         let ups = self.ups(skeleton, motion);
-        retarget(skeleton, motion, &self.skeleton, &map, ups, threads)
+        super::retarget_posed(
+            skeleton,
+            motion,
+            &self.skeleton,
+            Some(&self.poses),
+            &map,
+            ups,
+            threads,
+        )
     }
 }

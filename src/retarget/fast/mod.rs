@@ -331,7 +331,7 @@ mod tests {
                 source: up,
                 target: up,
             };
-            let setup = Setup::new(&source, &motion, &target, &map, ups);
+            let setup = Setup::new(&source, &motion, &target, &map, ups, None);
             let plan = Plan::new(&setup, &source, &target, &map);
             let frames = motion.frame_count().min(PIECE);
             let run = |width: &str| {

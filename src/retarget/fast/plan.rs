@@ -50,6 +50,8 @@ pub(super) struct TargetJoint {
     pub(super) offset: DVec3,
     pub(super) source: Option<usize>,
     pub(super) aligned: DQuat,
+    /// [`Setup::held`]'s.
+    pub(super) held: DQuat,
     pub(super) follow: Option<(usize, DVec3)>,
     pub(super) turn: Turn,
     pub(super) bone: Option<DVec3>,
@@ -253,6 +255,7 @@ impl<'a> Plan<'a> {
                     offset: joint.offset.as_dvec3(),
                     source: map.source_of[t],
                     aligned: setup.aligned[t],
+                    held: setup.held[t],
                     follow: setup.follow[t],
                     turn,
                     bone: setup.bone_of[t],
@@ -402,6 +405,9 @@ impl<'a> Plan<'a> {
                         rotation = follow(setup, &rotation, near, far, rest);
                     }
                     rotation
+                }
+                None if joint.held != DQuat::IDENTITY => {
+                    parent_rotation.mul(&Quats::splat(joint.held))
                 }
                 None => parent_rotation,
             };
