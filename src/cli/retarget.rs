@@ -20,7 +20,8 @@ pub(crate) struct RetargetArgs {
     #[arg(long, value_name = "FILE|SRC=DST")]
     map: Vec<String>,
     /// Retarget a body that does not stand on two legs (a quadruped with human joint names)
-    /// onto one that does, which is refused otherwise.
+    /// onto one that does, or the reverse, which is refused otherwise; the result is not held
+    /// to a person's widths either.
     #[arg(long)]
     any_body: bool,
     /// Hold each planted foot of the result where it landed (as `convert --lock-feet`), and say
@@ -105,7 +106,8 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
     }
     // The answer checks itself against its source before it is written.
     let check = target.check(&loaded.skeleton, &loaded.motion, &skeleton, &motion, &pairs);
-    if let Some(why) = check.refusal() {
+    // A body that is not a person's (`--any-body`) is not held to a person's widths.
+    if let Some(why) = check.refusal().filter(|_| !args.any_body) {
         if !args.force {
             return Err(Error::Usage(format!(
                 "{source_name} onto {}: not written: {why} ({}); --force writes it anyway",

@@ -307,9 +307,11 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
             #[cfg(feature = "video")]
             animation::Format::Mp4 => {
                 let written = crate::render::video::written_rate(fps);
+                // Thousandths as every rate was said before; else seven figures (a third of a
+                // frame a second, written as 1/3, is 0.3333333, not sixteen threes).
                 let shown = match (written * 1000.0).round() / 1000.0 == written {
                     true => format!("{written:.3}"),
-                    false => format!("{written}"),
+                    false => format!("{written:.7}").trim_end_matches('0').to_string(),
                 };
                 // Within the ten parts in a million a take's frame time is written to.
                 let asked = match (written - fps).abs() <= 1e-5 * fps {
