@@ -530,12 +530,20 @@ pub fn load_take(
                 }
                 None => Motion::new(frame_time, channels, 0, Vec::new()),
             };
+            let mut warnings = asf.warnings;
+            let motion = match acclaim::absolute::made_relative(&skeleton, &motion) {
+                Some((relative, word)) => {
+                    warnings.push(word);
+                    relative
+                }
+                None => motion,
+            };
             Ok(Take {
                 stated_units: crate::model::stance::asf_units(asf.units.length),
                 ..Take::read(
                     skeleton,
                     motion,
-                    asf.warnings,
+                    warnings,
                     Format::AsfAmc,
                     path.display().to_string(),
                 )

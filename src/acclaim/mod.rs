@@ -12,6 +12,7 @@
 //! So the channels of a joint are the dof rotations in reverse (`Zrotation Yrotation Xrotation`
 //! for `rx ry rz`), because a [`Skeleton`](crate::Skeleton)'s channels multiply in file order.
 
+pub mod absolute;
 pub mod amc;
 pub mod asf;
 mod text;

@@ -181,9 +181,14 @@ pub(super) fn alignments(
         let axis = sv.normalize();
         let (main_tv, main_sv) = (tv, sv);
         let (mut sin, mut cos) = (0.0, 0.0);
+        // Not the main bone's chain: what hangs off it further up (the arms off the chest,
+        // seen from the hips) turns with other joints and says nothing of this one's facing.
+        let main_end = main.get(&t).copied();
         let mut todo: Vec<usize> = mapped_below(target, &map.source_of, t)
             .into_iter()
-            .filter(|&d| Some(&d) != main.get(&t) && map.source_of[d] != Some(s))
+            .filter(|&d| {
+                map.source_of[d] != Some(s) && main_end.is_none_or(|m| !is_ancestor(target, d, m))
+            })
             .collect();
         let mut descended = 0;
         while let Some(d) = todo.pop() {

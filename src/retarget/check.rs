@@ -5,11 +5,11 @@
 
 use super::*;
 
-/// An output's width (hips or shoulders) below this fraction of its skeleton's own at rest is
-/// collapsed: the thighs part at the pelvis, the upper arms at the collars, and no motion of a
-/// person brings them to half their distance (a map that put both thighs on one source joint
-/// brought them to 0.012 of 31). Widths are not held to the source's: a cartoon's pelvis of
-/// 0.36 legs on SMPL's of 0.16 is right.
+/// An output's width (hips or shoulders) is collapsed when, as a fraction of its skeleton's own
+/// at rest, it is less than this fraction of the source's width over the source's own at rest:
+/// each follows its own proportions (a cartoon's pelvis of 0.36 legs on SMPL's of 0.16 is
+/// right) and narrows as the source narrows (shoulders drawn in to hold something), but no
+/// further (a map that put both thighs on one source joint brought them to 0.012 of 31).
 pub const COLLAPSED: f64 = 0.5;
 
 /// A source's width below this many of its legs' lengths is no pelvis or shoulders at all: its
@@ -27,6 +27,8 @@ pub struct Across {
     pub width: f64,
     /// The output skeleton's own at rest (or, widest, in its take's poses), in its legs' lengths.
     pub rest_width: f64,
+    /// The source skeleton's own at rest (or, widest, in the frames measured), in its legs.
+    pub source_rest_width: f64,
     /// The angle in degrees between the source's left-to-right line and the output's, seen
     /// from above (the median over frames): near 0 when each side stands where the source's
     /// does, near 180 when the sides are crossed.
@@ -39,9 +41,12 @@ impl Across {
         self.turn > 90.0
     }
 
-    /// The output's width is less than [`COLLAPSED`] of its skeleton's own at rest.
+    /// The output's width against its skeleton's own at rest is less than [`COLLAPSED`] of the
+    /// source's against its own.
     pub fn collapsed(&self) -> bool {
-        self.width < COLLAPSED * self.rest_width
+        let kept = |width: f64, rest: f64| if rest > 0.0 { width / rest } else { 1.0 };
+        kept(self.width, self.rest_width)
+            < COLLAPSED * kept(self.source_width, self.source_rest_width)
     }
 
     /// The source's two sides stand on one point ([`NO_WIDTH`]).
@@ -99,9 +104,11 @@ impl Check {
             if across.collapsed() {
                 why.push(format!(
                     "its {name} stand {} leg lengths apart where its skeleton has them {} apart \
-                     at rest",
+                     at rest (the source's {} of {})",
                     brief(across.width),
-                    brief(across.rest_width)
+                    brief(across.rest_width),
+                    brief(across.source_width),
+                    brief(across.source_rest_width)
                 ));
             }
             if across.no_source_width() {
@@ -211,6 +218,14 @@ pub fn check(
             target_poses_world.push(world);
         }
     }
+    let source_rest_widths: Vec<f64> = measured
+        .iter()
+        .map(|joints| {
+            joints.map_or(0.0, |(sl, sr, _, _)| {
+                (rest_s[sr].1 - rest_s[sl].1).length() / legs_s
+            })
+        })
+        .collect();
     let rest_widths: Vec<f64> = measured
         .iter()
         .map(|joints| {
@@ -262,6 +277,8 @@ pub fn check(
             source_width: quantile(&column(|v| v.0), 0.5),
             width: quantile(&column(|v| v.1), 0.5),
             rest_width: rest_widths[k],
+            source_rest_width: source_rest_widths[k]
+                .max(column(|v| v.0).into_iter().fold(0.0, f64::max)),
             turn: if turns.is_empty() {
                 0.0
             } else {

@@ -307,6 +307,7 @@ impl Body {
                 body.limbs[side_index(side)][slot] = shallowest(candidates);
             }
         }
+        body.shift_chains_read_one_bone_up(skeleton);
         let named = |word: Word| -> Vec<usize> {
             (0..joints.len())
                 .filter(|&j| words[j].is_some_and(|(_, w)| w == word))
@@ -392,6 +393,56 @@ impl Body {
         }
         body.read_fingers(skeleton);
         body
+    }
+
+    /// Limbs whose names label the joint at a bone's far end, as some ASF files name their
+    /// bones (PyAsfAmc's `LeftHip` is the pelvis bone that ends at the hip, `LeftKnee` the
+    /// thigh): read by name, every role sits one bone up (the thigh on the pelvis bone, the
+    /// clavicle on the chest). The bones' lengths tell: a thigh is about as long as the shin
+    /// below it, and a foot much shorter; an upper arm at least as long as the forearm, and a
+    /// hand shorter. A chain whose first bone is less than half the next and whose last is a
+    /// long bone again is moved one joint down.
+    fn shift_chains_read_one_bone_up(&mut self, skeleton: &Skeleton) {
+        let mut rest = Vec::new();
+        world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
+        let length = |a: usize, b: usize| (rest[b].1 - rest[a].1).length();
+        // The joint below `joint` towards `toward` when it lies under it, else its first child.
+        let below = |joint: usize, toward: Option<usize>| -> Option<usize> {
+            let children = &skeleton.joints[joint].children;
+            toward
+                .filter(|&t| t != joint && is_ancestor(skeleton, joint, t))
+                .and_then(|t| {
+                    children
+                        .iter()
+                        .copied()
+                        .find(|&c| is_ancestor(skeleton, c, t))
+                })
+                .or_else(|| children.first().copied())
+        };
+        for side in 0..2 {
+            let limbs = &mut self.limbs[side];
+            // Legs: thigh, shin, foot, toe.
+            if let [Some(thigh), Some(shin), Some(foot)] = [limbs[4], limbs[5], limbs[6]]
+                && let Some(next) = below(foot, limbs[7])
+            {
+                let (hip_bone, thigh_bone, shin_bone) =
+                    (length(thigh, shin), length(shin, foot), length(foot, next));
+                if hip_bone < 0.5 * thigh_bone && shin_bone > 0.6 * thigh_bone {
+                    let toe = below(next, limbs[7]).filter(|&t| !skeleton.joints[t].end_site);
+                    limbs[4..8].copy_from_slice(&[Some(shin), Some(foot), Some(next), toe]);
+                }
+            }
+            // Arms: clavicle, upper arm, forearm, hand.
+            if let [Some(upper), Some(fore), Some(hand)] = [limbs[1], limbs[2], limbs[3]]
+                && let Some(next) = below(hand, None)
+            {
+                let (collar_bone, upper_bone, fore_bone) =
+                    (length(upper, fore), length(fore, hand), length(hand, next));
+                if collar_bone < 0.8 * upper_bone && fore_bone > 0.6 * upper_bone {
+                    limbs[0..4].copy_from_slice(&[Some(upper), Some(fore), Some(hand), Some(next)]);
+                }
+            }
+        }
     }
 
     /// Every role found, with its joint.
