@@ -225,6 +225,19 @@ fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared,
             }
             let (skeleton, motion) =
                 target.apply_any_body(&name, &loaded.skeleton, &loaded.motion, &pairs, 1)?;
+            // The clip checks itself as `retarget` does: a side crossed or a width collapsed
+            // skips the take with the reason (a body `any_body` lets on is not held to a
+            // person's widths).
+            if !options.any_body {
+                let check =
+                    target.check(&loaded.skeleton, &loaded.motion, &skeleton, &motion, &pairs);
+                if let Some(why) = check.refusal() {
+                    return Err(Error::Usage(format!(
+                        "{name} onto {}: not compiled: {why}",
+                        target.name
+                    )));
+                }
+            }
             // Planted feet held where they landed, during the source's contacts.
             let motion = match options.lock_feet {
                 true => crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?.0,
