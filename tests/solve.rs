@@ -537,6 +537,22 @@ fn hostile_positions_are_refused_in_one_line_before_they_are_read() {
     bytes[close] = b' ';
     bytes[close - 2] = b' ';
     let bad_dict = file("dict.npy", &bytes);
+    // A header whose dict opens 20 braces deep, its shape 21 (the solve fuzzer's hangs): npyz's
+    // parser takes three times longer for each brace (12 took 28 s in a debug build); refused
+    // before it is parsed.
+    let deep = dir.path().join("deep.npy");
+    npy(&deep, "<f4", &[1, 22, 3], &[0.0; 66]);
+    let mut bytes = std::fs::read(&deep).unwrap();
+    bytes.splice(10..10, [b'{'; 19]);
+    let end = bytes.iter().position(|&b| b == b'\n').unwrap();
+    bytes.drain(end - 19..end);
+    let deep = file("deep.npy", &bytes);
+    // Shapes whose count (the solve fuzzer's crash) or, past a 0, whose strides overflow 64
+    // bits: npyz multiplied them unchecked, a panic where overflow is checked.
+    let huge = dir.path().join("huge.npy");
+    npy(&huge, "<f4", &[3, 6_666_666_666_666_666_663], &[]);
+    let strides = dir.path().join("strides.npy");
+    npy(&strides, "<f4", &[0, 1 << 40, 1 << 40, 3], &[]);
     let half = dir.path().join("half.npy");
     npy(&half, "<f2", &[2, 22, 3], &[]);
     let mut bytes = std::fs::read(&half).unwrap();
@@ -605,6 +621,30 @@ fn hostile_positions_are_refused_in_one_line_before_they_are_read() {
                 "{}: not an .npy array: its header: could not parse Python expression: syntax \
                  error at 1:60 (expected minus_sign, fraction, pos_exponent, neg_exponent, or digit)",
                 p(&bad_dict)
+            ),
+        ),
+        (
+            &deep,
+            format!(
+                "{}: its .npy header nests brackets 21 deep; an array's header nests at most 4 \
+                 (the file is damaged)",
+                p(&deep)
+            ),
+        ),
+        (
+            &huge,
+            format!(
+                "{}: shape [3, 6666666666666666663]: more values than a 64-bit count holds (the \
+                 file is damaged)",
+                p(&huge)
+            ),
+        ),
+        (
+            &strides,
+            format!(
+                "{}: shape [0, 1099511627776, 1099511627776, 3]: more values than a 64-bit count \
+                 holds (the file is damaged)",
+                p(&strides)
             ),
         ),
         (

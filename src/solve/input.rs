@@ -164,6 +164,80 @@ pub fn read_npy_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     })
 }
 
+/// The deepest an `.npy`'s header may nest brackets. numpy writes a dict holding a tuple (2
+/// levels) for the arrays bvhview reads, and a structured dtype's list of tuples of shapes in
+/// 4; the Python-literal parser npyz uses takes three times longer with each level of `{`
+/// (12 took 28 s in a debug build; the fuzzer's had 20), so a deeper header is refused before
+/// it is parsed.
+pub const MAX_NPY_HEADER_NESTING: usize = 4;
+
+/// How deep `header`'s brackets (`(`, `[`, `{`) nest, those in quoted strings aside.
+fn nesting(header: &[u8]) -> usize {
+    let (mut depth, mut deepest) = (0usize, 0usize);
+    let mut quote: Option<u8> = None;
+    let mut escaped = false;
+    for &b in header {
+        match quote {
+            Some(_) if escaped => escaped = false,
+            Some(_) if b == b'\\' => escaped = true,
+            Some(q) if b == q => quote = None,
+            Some(_) => {}
+            None => match b {
+                b'\'' | b'"' => quote = Some(b),
+                b'(' | b'[' | b'{' => {
+                    depth += 1;
+                    deepest = deepest.max(depth);
+                }
+                b')' | b']' | b'}' => depth = depth.saturating_sub(1),
+                _ => {}
+            },
+        }
+    }
+    deepest
+}
+
+/// The bytes of magic, version and length before an `.npy` header's text (10 in version 1).
+fn prefix_of(bytes: &[u8]) -> usize {
+    match bytes.get(6) {
+        Some(1) => 10,
+        _ => 12,
+    }
+}
+
+/// The shape a header's text gives, when its dimensions other than 0 multiply past a 64-bit
+/// count: npyz multiplies them (the count and each stride) unchecked, a panic where overflow is
+/// checked. The text is read by npyz's own parser (`py_literal`), so the shape is the one npyz
+/// would see; what that parser refuses is left to npyz to tell.
+fn overflowing_shape(text: &[u8]) -> Option<Vec<u64>> {
+    let text = std::str::from_utf8(text).ok()?;
+    let text = text.strip_suffix('\n').unwrap_or(text);
+    let py_literal::Value::Dict(entries) = text.parse::<py_literal::Value>().ok()? else {
+        return None;
+    };
+    let shape = entries.iter().find_map(|(key, value)| match (key, value) {
+        (py_literal::Value::String(key), py_literal::Value::Tuple(dims))
+        | (py_literal::Value::String(key), py_literal::Value::List(dims))
+            if key == "shape" =>
+        {
+            Some(dims)
+        }
+        _ => None,
+    })?;
+    let shape: Vec<u64> = shape
+        .iter()
+        .map(|dim| match dim {
+            py_literal::Value::Integer(n) => u64::try_from(n).ok(),
+            _ => None,
+        })
+        .collect::<Option<_>>()?;
+    let fits = shape
+        .iter()
+        .filter(|&&d| d != 0)
+        .try_fold(1u64, |count, &d| count.checked_mul(d))
+        .is_some();
+    (!fits).then_some(shape)
+}
+
 /// `bytes`, an `.npy`, opened by npyz once its header is found sound ([`npy_data_start`]):
 /// the file, where its data starts and the bytes each value takes (float32 and float64 only).
 fn open_npy<'a>(
@@ -172,6 +246,22 @@ fn open_npy<'a>(
 ) -> Result<(npyz::NpyFile<&'a [u8]>, u64, u64), Error> {
     let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
     let start = npy_data_start(bytes, bytes.len() as u64).map_err(refuse)?;
+    // The header's text: after the magic, the version and its length (whose bytes may be any).
+    let header = bytes
+        .get(prefix_of(bytes)..start as usize)
+        .unwrap_or_default();
+    let depth = nesting(header);
+    if depth > MAX_NPY_HEADER_NESTING {
+        return Err(refuse(format!(
+            "its .npy header nests brackets {depth} deep; an array's header nests at most \
+             {MAX_NPY_HEADER_NESTING} (the file is damaged)"
+        )));
+    }
+    if let Some(shape) = overflowing_shape(header) {
+        return Err(refuse(format!(
+            "shape {shape:?}: more values than a 64-bit count holds (the file is damaged)"
+        )));
+    }
     let file = npyz::NpyFile::new(bytes)
         .map_err(|e| refuse(format!("not an .npy array: {}", npy_error(&e))))?;
     let width = match file.dtype() {
