@@ -146,3 +146,47 @@ fn every_corpus_family_onto_every_family_keeps_its_sides_and_widths() {
     assert!(pairs >= 200, "only {pairs} pairs retargeted");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// A map that swaps the thighs crosses the sides at the hips: `retarget` says so and writes
+/// nothing; `--force` writes it and says it did.
+#[test]
+fn a_crossed_retarget_is_refused_unless_forced() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("crossed.bvh");
+    let run = |force: bool| {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"));
+        command.args([
+            "retarget",
+            "tests/data/bvh/bvhparser_walk_01.bvh",
+            "--onto",
+            "smpl22",
+            "--map",
+            "LeftUpLeg=right_hip",
+            "--map",
+            "RightUpLeg=left_hip",
+            "-o",
+        ]);
+        command.arg(&out);
+        if force {
+            command.arg("--force");
+        }
+        command.output().unwrap()
+    };
+    let refused = run(false);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert_eq!(refused.status.code(), Some(2), "{stderr}");
+    assert_eq!(stderr.lines().count(), 1, "{stderr}");
+    assert!(
+        stderr.starts_with(
+            "bvhview: tests/data/bvh/bvhparser_walk_01.bvh onto smpl22: not written: its hips' \
+             sides are crossed (180° from the source's)"
+        ),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    let forced = run(true);
+    let stderr = String::from_utf8_lossy(&forced.stderr);
+    assert!(forced.status.success(), "{stderr}");
+    assert!(stderr.contains("warning: written as --force asks though its hips' sides are crossed"));
+    assert!(out.is_file());
+}

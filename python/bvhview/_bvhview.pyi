@@ -150,12 +150,14 @@ class Motion:
         names: dict[str, str] | str | os.PathLike[str] | None = None,
         *,
         any_body: bool = False,
+        force: bool = False,
     ) -> Motion:
         """This take's motion on another skeleton: `bvhview retarget --onto`. `target`: a Motion,
         a built-in skeleton's name ("smpl22") or a file; `names` overrides the guessed map
         ({source joint: target joint}; "" leaves a source joint out), or is a map file's path
         (`--map FILE`, `[skeleton.FINGERPRINT]` sections too). A body that does not stand on two
-        legs is refused onto one that does unless `any_body`."""
+        legs is refused onto one that does unless `any_body`; a result whose check against its
+        source finds a side crossed or a width collapsed is refused unless `force`."""
     def retarget_map(self, target: Motion | str | os.PathLike[str]) -> dict[str, str]:
         """The map retarget(target) guesses: {source joint: target joint}."""
     @property

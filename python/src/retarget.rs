@@ -67,15 +67,17 @@ pub(crate) fn map_pairs_of(py: Python<'_>, names: Option<&Bound<'_, PyAny>>) -> 
     bvhview::retarget::parse_map_pairs(&text, &shown).map_err(|e| to_python(py, e))
 }
 
-/// `source.retarget(target, names, any_body)`: the guessed map overridden by `names` (a dict or
-/// a map file, [`map_pairs_of`]), checked (a body that does not stand on two legs is refused
-/// onto one that does unless `any_body`), then the motion carried over.
+/// `source.retarget(target, names, any_body, force)`: the guessed map overridden by `names` (a
+/// dict or a map file, [`map_pairs_of`]), checked (a body that does not stand on two legs is
+/// refused onto one that does unless `any_body`), the motion carried over, and the result
+/// checked against its source as `bvhview retarget` checks it (refused unless `force`).
 pub(crate) fn retarget(
     py: Python<'_>,
     source: &Motion,
     target: &Bound<'_, PyAny>,
     names: Option<&Bound<'_, PyAny>>,
     any_body: bool,
+    force: bool,
 ) -> PyResult<Motion> {
     let target = target_of(py, target)?;
     let loaded = &source.loaded;
@@ -86,13 +88,22 @@ pub(crate) fn retarget(
             if !any_body {
                 target.check_body(&name, &loaded.skeleton, &loaded.motion)?;
             }
-            target.apply_any_body(
+            let (skeleton, motion) = target.apply_any_body(
                 &name,
                 &loaded.skeleton,
                 &loaded.motion,
                 &pairs,
                 bvhview::plumbing::cores(),
-            )
+            )?;
+            let check = target.check(&loaded.skeleton, &loaded.motion, &skeleton, &motion, &pairs);
+            if let Some(why) = check.refusal().filter(|_| !any_body && !force) {
+                return Err(bvhview::Error::Usage(format!(
+                    "{name} onto {}: {why} ({}); force=True retargets it anyway",
+                    target.name,
+                    check.line()
+                )));
+            }
+            Ok((skeleton, motion))
         })
         .map_err(|e| to_python(py, e))?;
     Ok(source.edited(skeleton, motion, false))
@@ -304,18 +315,20 @@ impl Motion {
     /// a built-in skeleton's name ("smpl22") or a file's path; `names` overrides the guessed
     /// map ({source joint: target joint}; "" leaves a source joint out), or is a map file's path
     /// (as `--map FILE` reads it, `[skeleton.FINGERPRINT]` sections too). Raises ValueError
-    /// naming the joint when the map cannot stand, and for a body that does not stand on two
-    /// legs onto one that does unless `any_body`.
-    #[pyo3(signature = (target, names=None, *, any_body=false))]
+    /// naming the joint when the map cannot stand, for a body that does not stand on two
+    /// legs onto one that does unless `any_body`, and for a result whose check against its
+    /// source finds a side crossed or a width collapsed unless `force`.
+    #[pyo3(signature = (target, names=None, *, any_body=false, force=false))]
     fn retarget(
         &self,
         py: Python<'_>,
         target: &Bound<'_, PyAny>,
         names: Option<Bound<'_, PyAny>>,
         any_body: bool,
+        force: bool,
     ) -> PyResult<Motion> {
         guard("retarget", || {
-            crate::retarget::retarget(py, self, target, names.as_ref(), any_body)
+            crate::retarget::retarget(py, self, target, names.as_ref(), any_body, force)
         })
     }
 

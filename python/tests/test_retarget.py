@@ -208,3 +208,11 @@ def test_compile_dataset_onto_a_four_legged_body_needs_any_body(tmp_path):
     assert not (tmp_path / "refused").exists()
     manifest = bvhview.compile_dataset(DATA / "bvh", tmp_path / "made", any_body=True, **options)
     assert len(manifest["groups"]) == 1
+
+
+def test_a_retarget_that_crosses_the_sides_is_refused_unless_forced():
+    walk = bvhview.load(DATA / "bvh" / "bvhparser_walk_01.bvh")
+    swapped = {"LeftUpLeg": "right_hip", "RightUpLeg": "left_hip"}
+    with pytest.raises(ValueError, match="hips' sides are crossed .* force=True retargets it anyway"):
+        walk.retarget("smpl22", swapped)
+    assert walk.retarget("smpl22", swapped, force=True).joint_names[0] == "pelvis"
