@@ -84,6 +84,15 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
                 "format {format}, this bvhview reads {STATE_FORMAT}"
             )));
         }
+        // Not in the state: a glTF states its axes always, an FBX unless it said it did not.
+        let extension = std::path::Path::new(&path)
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase());
+        let y_up_stated = match extension.as_deref() {
+            Some("glb" | "gltf") => true,
+            Some("fbx") => !warnings.iter().any(|w| w.contains("states no axes")),
+            _ => false,
+        };
         let mut skeleton = bvhview::Skeleton {
             joints: Vec::with_capacity(joints.len()),
             source: if acclaim {
@@ -91,6 +100,7 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
             } else {
                 bvhview::model::skeleton::Source::Bvh
             },
+            y_up_stated,
         };
         if !bvhview::limits::frame_time_in_file(frame_time) {
             return Err(bad(&format!("a frame time of {frame_time} s")));
