@@ -213,7 +213,7 @@ impl Target {
             .collect())
     }
 
-    /// [`super::check`] of `output`, which [`Target::apply`] made of `skeleton` and `motion`
+    /// [`super::check()`] of `output`, which [`Target::apply`] made of `skeleton` and `motion`
     /// with `pairs`: the output measured against its source by the same map and up axes.
     pub fn check(
         &self,

@@ -154,7 +154,7 @@ fn npy_data_start(start: &[u8], size: u64) -> Result<u64, String> {
 }
 
 /// The whole of the `.npy` at `path`, read only after its magic and header length are found
-/// sound ([`npy_data_start`]) and the file within `max_size`: neither a file of something
+/// sound (`npy_data_start`) and the file within `max_size`: neither a file of something
 /// else nor a damaged header makes bvhview read (or ask for) more than the file's first bytes.
 pub fn read_npy_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     crate::io::whole::read_binary_file_checked(path, max_size, NPY_PREFIX_BYTES, |start, size| {
@@ -238,7 +238,7 @@ fn overflowing_shape(text: &[u8]) -> Option<Vec<u64>> {
     (!fits).then_some(shape)
 }
 
-/// `bytes`, an `.npy`, opened by npyz once its header is found sound ([`npy_data_start`]):
+/// `bytes`, an `.npy`, opened by npyz once its header is found sound (`npy_data_start`):
 /// the file, where its data starts and the bytes each value takes (float32 and float64 only).
 fn open_npy<'a>(
     bytes: &'a [u8],
