@@ -89,6 +89,14 @@ pub struct FootLocked {
 }
 
 /// A contact whose ankle locking did not hold (measured on what it wrote).
+///
+/// ```
+/// use bvhview::edit::NotHeld;
+///
+/// let missed = NotHeld { frames: 229..242, strayed: 0.027, why: "the leg does not reach".into() };
+/// assert_eq!(missed.frames.len(), 13);
+/// assert!(missed.strayed > bvhview::edit::LockFeet::HELD);
+/// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct NotHeld {
     /// Its frames.

@@ -19,6 +19,19 @@ pub const NO_WIDTH: f64 = 0.05;
 
 /// A pair of joints across the body (the thighs at the hips, the upper arms at the shoulders)
 /// measured in the source and in the output.
+///
+/// ```
+/// use bvhview::retarget::Across;
+///
+/// // A map that put both thighs on one source joint: 0.012 of a pelvis of 0.16 legs.
+/// let hips = Across { source_width: 0.22, source_rest_width: 0.22, width: 0.012,
+///                     rest_width: 0.16, turn: 3.0 };
+/// assert!(hips.collapsed() && !hips.crossed());
+/// // A cartoon's wide pelvis on SMPL's narrow one: each keeps its own proportions.
+/// let cartoon = Across { source_width: 0.36, source_rest_width: 0.36, width: 0.16,
+///                        rest_width: 0.16, turn: 2.0 };
+/// assert!(!cartoon.collapsed());
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Across {
     /// The distance between the two, in the source's legs' lengths (the median over frames).
