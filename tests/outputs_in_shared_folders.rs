@@ -157,7 +157,13 @@ fn a_planted_link_to_a_fifo_or_a_device_is_not_followed() {
     let mut read = Vec::new();
     let _ = std::io::Read::read_to_end(&mut &reader, &mut read);
     assert!(read.is_empty(), "{} bytes reached the FIFO", read.len());
-    plant_link(Path::new("/dev/null"), &m.shared.join("dev.csv"));
+    // A character device of the test's own (the null device's numbers), never the machine's.
+    let device = m.elsewhere.join("null");
+    let name = std::ffi::CString::new(device.as_os_str().as_encoded_bytes()).unwrap();
+    // SAFETY: a NUL-terminated path alive for the call.
+    let made = unsafe { libc::mknod(name.as_ptr(), libc::S_IFCHR | 0o666, libc::makedev(1, 3)) };
+    assert_eq!(made, 0, "{}", std::io::Error::last_os_error());
+    plant_link(&device, &m.shared.join("dev.csv"));
     refused_saying(
         &positions(&m.shared, "dev.csv"),
         "is a symbolic link another user (uid 65534) made in a shared folder; not followed",
