@@ -23,6 +23,7 @@ use crate::io::error::Error;
 use crate::model::mesh::Mesh;
 use crate::model::pose::{OffsetMode, world_matrices};
 use crate::model::skeleton::Skeleton;
+use crate::retarget::{Check, Insist};
 use crate::take::{Format, Take, extension};
 use glam::{Mat4, Vec3};
 use std::io::Write;
@@ -39,8 +40,9 @@ use std::path::Path;
 /// let capsule = Character::open("tests/data/characters/capsule_mixamo.glb")?;
 /// // A CMU walk put on capsule man (Mixamo's names): retargeted by role, then skinned.
 /// let walk = Take::open("tests/data/bvh/bvh11_131_01.bvh")?.trim(0..10);
-/// let dressed = capsule.dress(&walk, &[], false, 1)?;
+/// let (dressed, said) = capsule.dress(&walk, &[], Default::default(), 1)?;
 /// assert_eq!(dressed.skeleton, capsule.take.skeleton);
+/// assert!(said.check.unwrap().refusal().is_none());
 /// let vertices = capsule.vertices(&dressed.skeleton, dressed.frame(9).unwrap());
 /// assert_eq!(vertices.len(), capsule.mesh.vertex_count());
 /// # }
@@ -53,6 +55,52 @@ pub struct Character {
     pub take: Take,
     /// The mesh, bound to `take.skeleton`'s joints.
     pub mesh: Mesh,
+}
+
+/// What [`Character::dress`] says of a take it put on a character: the retarget's check of
+/// the result against the take, what was kept only because the caller insisted, and what the
+/// map could not carry. Empty for a take of the character's own skeleton (nothing retargeted).
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # #[cfg(feature = "gltf")]
+/// # {
+/// use bvhview::{Take, character::Character};
+///
+/// let capsule = Character::open("tests/data/characters/capsule_mixamo.glb")?;
+/// let walk = Take::open("tests/data/bvh/bvh11_131_01.bvh")?.trim(0..10);
+/// let (_, said) = capsule.dress(&walk, &[], Default::default(), 1)?;
+/// assert!(said.warnings("walk", "capsule").is_empty());
+/// assert!(said.check.unwrap().line().starts_with("check: sides held"));
+/// # }
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Dressed {
+    /// The result measured against the take, when it was retargeted.
+    pub check: Option<Check>,
+    /// Why the check refuses the result, when the caller's `force` kept it anyway.
+    pub forced: Option<String>,
+    /// What the map could not carry ([`crate::retarget::Retargeted::uncarried`]).
+    pub uncarried: Vec<String>,
+}
+
+impl Dressed {
+    /// Its warnings for a user, each a whole line (`TAKE: warning: …`).
+    pub fn warnings(&self, take_name: &str, character_name: &str) -> Vec<String> {
+        let mut lines: Vec<String> = self
+            .uncarried
+            .iter()
+            .map(|why| format!("{take_name}: warning: {why}"))
+            .collect();
+        if let Some(why) = &self.forced {
+            lines.push(format!(
+                "{take_name} onto {character_name}: warning: kept as --force asks though {why}"
+            ));
+        }
+        lines
+    }
 }
 
 impl Character {
@@ -180,49 +228,59 @@ fn skinnable(path: &Path, skeleton: &Skeleton, mesh: &Mesh) -> Result<(), Error>
 impl Character {
     /// `take` put on this character's skeleton by role ([`crate::retarget::Target::apply`]:
     /// rest poses aligned, the path scaled by leg length, the feet on the take's floor), ready
-    /// to skin. `pairs` (`SRC = DST` joint names) override the map; a body that is not a biped
-    /// is refused onto a biped character, and a biped onto a character that is not one, unless
-    /// `any_body` ([`crate::retarget::Target::check_body`]).
+    /// to skin. `pairs` (`SRC = DST` joint names) override the map. Refused as a retarget is: a
+    /// body that is not a biped onto a biped character, or the reverse, unless
+    /// `insist.any_body`; a result whose check against the take finds a side crossed or a width
+    /// collapsed unless `insist.force`. What the result measures against the take and what
+    /// was kept as insisted come back beside it, for the caller to say.
     pub fn dress(
         &self,
         take: &Take,
         pairs: &[(String, String)],
-        any_body: bool,
+        insist: Insist,
         threads: usize,
-    ) -> Result<Take, Error> {
+    ) -> Result<(Take, Dressed), Error> {
         let target = crate::retarget::Target::new(
             self.take.name.clone(),
             self.take.skeleton.clone(),
             &self.take.motion,
         );
-        let (skeleton, motion) = if any_body {
-            target.apply_any_body(&take.name, &take.skeleton, &take.motion, pairs, threads)?
-        } else {
-            target.apply(&take.name, &take.skeleton, &take.motion, pairs, threads)?
-        };
-        let mut dressed = take.edited(skeleton, motion, false);
+        let put = target.apply(
+            &take.name,
+            &take.skeleton,
+            &take.motion,
+            pairs,
+            insist,
+            threads,
+        )?;
+        let mut dressed = take.edited(put.skeleton, put.motion, false);
         dressed.offset_mode = OffsetMode::Replace;
-        Ok(dressed)
+        let said = Dressed {
+            check: Some(put.check),
+            forced: put.forced,
+            uncarried: put.uncarried,
+        };
+        Ok((dressed, said))
     }
 
     /// `take`, read from the file `path`, on this character: a take of the character's own
     /// skeleton (any take of its file, whichever `--take` chose) as the file has it, nothing
-    /// retargeted, so exact; any other by [`Character::dress`] with the guessed map (`any_body`:
+    /// retargeted, so exact; any other by [`Character::dress`] with the guessed map (`insist`:
     /// whether a body that is not two-legged goes onto a two-legged character, or the reverse).
     pub fn dress_file(
         &self,
         take: &Take,
         path: &Path,
-        any_body: bool,
+        insist: Insist,
         threads: usize,
-    ) -> Result<Take, Error> {
+    ) -> Result<(Take, Dressed), Error> {
         let same_file = |a: &Path, b: &Path| match (a.canonicalize(), b.canonicalize()) {
             (Ok(a), Ok(b)) => a == b,
             _ => false,
         };
         if same_file(path, Path::new(&self.take.name)) {
             if take.take == self.take.take {
-                return Ok(self.take.clone());
+                return Ok((self.take.clone(), Dressed::default()));
             }
             // Another take of the character's file (`--take`): read as the character reads its
             // own, on the skeleton its mesh is bound to (a take read alone keeps the nodes' own
@@ -234,16 +292,16 @@ impl Character {
                 threads,
             )?;
             if self.is_own_skeleton(&other.take.skeleton) {
-                return Ok(other.take);
+                return Ok((other.take, Dressed::default()));
             }
         }
         if self.is_own_skeleton(&take.skeleton) {
             let mut own = take.clone();
             // The mesh is bound to joints whose OFFSETs its positions replace.
             own.offset_mode = OffsetMode::Replace;
-            return Ok(own);
+            return Ok((own, Dressed::default()));
         }
-        self.dress(take, &[], any_body, threads)
+        self.dress(take, &[], insist, threads)
     }
 
     /// Whether `skeleton` is the one the mesh is bound to: the same joints in the same order,

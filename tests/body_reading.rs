@@ -906,7 +906,15 @@ fn fingers_are_carried_by_role_between_families() {
         e[e.len() / 2]
     };
     let mapped = target
-        .apply("mixamo", &source.skeleton, &source.motion, &[], 2)
+        .apply(
+            "mixamo",
+            &source.skeleton,
+            &source.motion,
+            &[],
+            Default::default(),
+            2,
+        )
+        .map(|put| (put.skeleton, put.motion))
         .unwrap();
     let by_role = median(finger_errors(&mapped));
     // The fingers left out, as they were before the reading knew them: straight at rest.
@@ -915,7 +923,15 @@ fn fingers_are_carried_by_role_between_families() {
         .map(|&t| (source_name(t).to_string(), String::new()))
         .collect();
     let unmapped = target
-        .apply("mixamo", &source.skeleton, &source.motion, &left_out, 2)
+        .apply(
+            "mixamo",
+            &source.skeleton,
+            &source.motion,
+            &left_out,
+            Default::default(),
+            2,
+        )
+        .map(|put| (put.skeleton, put.motion))
         .unwrap();
     let at_rest = median(finger_errors(&unmapped));
     assert!(by_role < 1.0, "fingers by role: median {by_role}°");

@@ -155,7 +155,10 @@ fn a_character_written_as_gltf_reads_back_the_same() {
         "tests/data/characters/capsule_mixamo.glb",
     ] {
         let character = Character::open(file).unwrap();
-        let on_walk = character.dress(&walk, &[], false, 2).unwrap();
+        let on_walk = character
+            .dress(&walk, &[], Default::default(), 2)
+            .unwrap()
+            .0;
         for (label, take) in [("itself", &character.take), ("the walk", &on_walk)] {
             let bytes = to_gltf_character(
                 &take.skeleton,
@@ -348,7 +351,10 @@ fn characters_match_their_golden_pictures() {
     ] {
         let character = Character::open(file).unwrap();
         let take = if on_walk {
-            character.dress(&walk, &[], false, 2).unwrap()
+            character
+                .dress(&walk, &[], Default::default(), 2)
+                .unwrap()
+                .0
         } else {
             character.take.clone()
         };
@@ -422,7 +428,7 @@ fn a_take_without_frames_gives_the_rest_pose_and_mirrors_are_not_culled() {
     assert!(capsule.mesh.single_sided());
     let asf = bvhview::Take::open("tests/data/asf_amc/heiden_12.asf").unwrap();
     assert_eq!(asf.frame_count(), 0);
-    let dressed = capsule.dress(&asf, &[], false, 1).unwrap();
+    let dressed = capsule.dress(&asf, &[], Default::default(), 1).unwrap().0;
     let mut npy = Vec::new();
     write_vertices(
         &mut npy,
@@ -450,7 +456,10 @@ fn a_take_on_a_character_ignores_the_files_offset_mode() {
     use bvhview::render::{Look, Renderer, SnapshotOptions, draw::Style, paint::Shown};
     let walk = bvhview::Take::open("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
     let character = Character::open("tests/data/characters/capsule_mixamo.glb").unwrap();
-    let take = character.dress(&walk, &[], false, 2).unwrap();
+    let take = character
+        .dress(&walk, &[], Default::default(), 2)
+        .unwrap()
+        .0;
     let picture = |offset_mode| {
         let shown = [Shown {
             skeleton: &take.skeleton,

@@ -530,8 +530,9 @@ fn position_channels_on_any_joint_are_carried_and_scaled() {
     // move cannot be carried: said, not dropped in silence. Onto itself nothing is said.
     let smpl = retarget::Target::load("smpl22", u64::MAX).unwrap();
     let said = smpl
-        .uncarried_translations(&skeleton, &motion, &[])
-        .unwrap();
+        .apply("take", &skeleton, &motion, &[], Default::default(), 1)
+        .unwrap()
+        .uncarried;
     assert_eq!(said.len(), 1, "{said:?}");
     assert!(
         said[0].starts_with("LeftForeArm's position channels move it up to 57.")
@@ -541,8 +542,9 @@ fn position_channels_on_any_joint_are_carried_and_scaled() {
     );
     let own = retarget::Target::new("own".into(), skeleton.clone(), &motion);
     assert!(
-        own.uncarried_translations(&skeleton, &motion, &[])
+        own.apply("own", &skeleton, &motion, &[], Default::default(), 1)
             .unwrap()
+            .uncarried
             .is_empty()
     );
     // The fast pass is the plain one.
@@ -910,9 +912,10 @@ fn a_folder_of_mixed_skeletons_compiles_onto_one_skeleton_as_one_group() {
     let mut compiled = 0;
     for path in common::files_in(&folder, "bvh") {
         let (skeleton, motion) = take(&path);
-        let Ok((out_skeleton, out)) = target.apply("take", &skeleton, &motion, &[], 2) else {
+        let Ok(put) = target.apply("take", &skeleton, &motion, &[], Default::default(), 2) else {
             continue;
         };
+        let (out_skeleton, out) = (put.skeleton, put.motion);
         compiled += 1;
         let ups = Ups {
             source: up_of(&skeleton, &motion),
@@ -944,8 +947,9 @@ fn a_folder_of_mixed_skeletons_compiles_onto_one_skeleton_as_one_group() {
 fn any_number_of_threads_gives_the_same_values() {
     let (skeleton, motion) = take(&common::repo_data("bvh/assimp_01_01.bvh"));
     let target = retarget::Target::load("smpl22", u64::MAX).unwrap();
-    let (_, one) = target.apply("CMU", &skeleton, &motion, &[], 1).unwrap();
-    let (_, three) = target.apply("CMU", &skeleton, &motion, &[], 3).unwrap();
+    let one = target.apply("CMU", &skeleton, &motion, &[], Default::default(), 1);
+    let three = target.apply("CMU", &skeleton, &motion, &[], Default::default(), 3);
+    let (one, three) = (one.unwrap().motion, three.unwrap().motion);
     assert!(motion.frame_count() > 2 * 512, "several pieces of frames");
     assert_eq!(one, three);
 }
@@ -967,10 +971,14 @@ fn a_skeleton_whose_names_say_nothing_maps_by_its_tree() {
     }
     // And it retargets onto the built-in skeleton as the named one does.
     let target = retarget::Target::load("smpl22", u64::MAX).unwrap();
-    let (_, from_names) = target.apply("named", &skeleton, &motion, &[], 1).unwrap();
-    let (_, from_tree) = target
-        .apply("anonymous", &anonymous, &motion, &[], 1)
-        .unwrap();
+    let from_names = target
+        .apply("named", &skeleton, &motion, &[], Default::default(), 1)
+        .unwrap()
+        .motion;
+    let from_tree = target
+        .apply("anonymous", &anonymous, &motion, &[], Default::default(), 1)
+        .unwrap()
+        .motion;
     let worst = from_names
         .data
         .iter()

@@ -8,7 +8,7 @@ mod common;
 use bvhview::Take;
 use bvhview::model::body::{Body, Doubt, Limb};
 use bvhview::model::pose::OffsetMode;
-use bvhview::retarget::Target;
+use bvhview::retarget::{Insist, Target};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
@@ -101,14 +101,25 @@ fn everyone_onto_everyone(roots: &[PathBuf]) -> (Vec<String>, String, usize) {
     for (source_name, source) in &families {
         let (mut held, mut refused, mut failed) = (0, 0, Vec::new());
         for (target_name, target) in &targets {
-            let put = target.apply(source_name, &source.skeleton, &source.motion, &[], 1);
-            let Ok((skeleton, motion)) = put else {
+            // Forced, so that a refused output is counted here with its reason.
+            let insist = Insist {
+                force: true,
+                ..Insist::default()
+            };
+            let put = target.apply(
+                source_name,
+                &source.skeleton,
+                &source.motion,
+                &[],
+                insist,
+                1,
+            );
+            let Ok(put) = put else {
                 refused += 1;
                 continue;
             };
             pairs += 1;
-            let check = target.check(&source.skeleton, &source.motion, &skeleton, &motion, &[]);
-            match check.refusal() {
+            match put.forced {
                 None => held += 1,
                 Some(why) => {
                     failed.push(target_name.clone());
@@ -189,4 +200,95 @@ fn a_crossed_retarget_is_refused_unless_forced() {
     assert!(forced.status.success(), "{stderr}");
     assert!(stderr.contains("warning: written as --force asks though its hips' sides are crossed"));
     assert!(out.is_file());
+}
+
+/// `dataset --onto` checks each clip as `retarget` does: a crossed take is skipped with the
+/// reason, `--force` keeps it with a warning, and every clip's figures are in the manifest.
+#[test]
+fn a_dataset_records_each_clips_check_and_skips_a_crossed_take_unless_forced() {
+    let dir = tempfile::tempdir().unwrap();
+    let takes = dir.path().join("takes");
+    std::fs::create_dir(&takes).unwrap();
+    std::fs::copy(
+        "tests/data/bvh/bvhparser_walk_01.bvh",
+        takes.join("walk.bvh"),
+    )
+    .unwrap();
+    let run = |out: &str, extra: &[&str]| {
+        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"));
+        command
+            .arg("dataset")
+            .arg(&takes)
+            .arg("-o")
+            .arg(dir.path().join(out));
+        command.args(["--onto", "smpl22"]).args(extra);
+        command.output().unwrap()
+    };
+    let manifest = |out: &str| -> serde_json::Value {
+        let text = std::fs::read_to_string(dir.path().join(out).join("manifest.json")).unwrap();
+        serde_json::from_str(&text).unwrap()
+    };
+    let right = run("right", &[]);
+    assert!(
+        right.status.success(),
+        "{}",
+        String::from_utf8_lossy(&right.stderr)
+    );
+    let clip = &manifest("right")["clips"][0];
+    let check = &clip["retarget_check"];
+    assert!(check["hips"]["turn"].as_f64().unwrap() < 10.0, "{check}");
+    assert!(check["bones_median"].as_f64().unwrap() < 5.0, "{check}");
+    let swap = [
+        "--map",
+        "LeftUpLeg=right_hip",
+        "--map",
+        "RightUpLeg=left_hip",
+    ];
+    let refused = run("refused", &swap);
+    let stderr = String::from_utf8_lossy(&refused.stderr);
+    assert!(!refused.status.success(), "{stderr}");
+    assert!(
+        stderr.contains("onto smpl22: not written: its hips' sides are crossed"),
+        "{stderr}"
+    );
+    let forced = run("forced", &[&swap[..], &["--force"]].concat());
+    assert!(
+        forced.status.success(),
+        "{}",
+        String::from_utf8_lossy(&forced.stderr)
+    );
+    let clip = &manifest("forced")["clips"][0];
+    assert!(clip["retarget_check"]["hips"]["turn"].as_f64().unwrap() > 170.0);
+    let warnings = clip["warnings"].to_string();
+    assert!(
+        warnings.contains("retarget: kept as --force asks though its hips' sides are crossed"),
+        "{warnings}"
+    );
+}
+
+/// A take put on a character is checked as a retarget is, and the check is said.
+#[test]
+#[cfg(feature = "gltf")]
+fn a_take_on_a_character_says_its_check() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        .args([
+            "positions",
+            "tests/data/bvh/bvh11_131_01.bvh",
+            "--character",
+        ])
+        .arg("tests/data/characters/capsule_mixamo.glb")
+        .arg("-o")
+        .arg(dir.path().join("on.csv"))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    assert!(
+        stderr.contains(
+            "tests/data/bvh/bvh11_131_01.bvh onto tests/data/characters/capsule_mixamo.glb: \
+             check: sides held; hips "
+        ),
+        "{stderr}"
+    );
 }

@@ -275,7 +275,14 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
             drop(bvhview::bvh::load_file(file, settings).expect("loads"));
             loads.push(start.elapsed());
             let start = Instant::now();
-            let moved = target.apply("BIG", &bvh.skeleton, &bvh.motion, &[], threads);
+            let moved = target.apply(
+                "BIG",
+                &bvh.skeleton,
+                &bvh.motion,
+                &[],
+                Default::default(),
+                threads,
+            );
             moves.push(start.elapsed());
             drop(moved);
         }
@@ -332,7 +339,14 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
         let (mut solves, mut moves) = (Vec::new(), Vec::new());
         for _ in 0..rounds {
             let start = Instant::now();
-            drop(target.apply("BIG", &bvh.skeleton, &bvh.motion, &[], 1));
+            drop(target.apply(
+                "BIG",
+                &bvh.skeleton,
+                &bvh.motion,
+                &[],
+                Default::default(),
+                1,
+            ));
             moves.push(start.elapsed());
             let start = Instant::now();
             drop(bvhview::solve::solve(&smpl, target.up, &positions, None).expect("solves"));
@@ -1302,7 +1316,7 @@ fn skinning(rounds: usize, extra: Option<&str>) {
     };
     for (name, character) in &cases {
         let dressed = character
-            .dress(&walk, &[], false, 1)
+            .dress(&walk, &[], Default::default(), 1)
             .unwrap_or_else(|e| input_error(e));
         let shown = [bvhview::render::paint::Shown {
             skeleton: &dressed.skeleton,

@@ -48,6 +48,11 @@ class Motion:
     @property
     def motion_path(self) -> str | None: ...
     @property
+    def retarget_check(self) -> dict[str, Any] | None:
+        """What the retarget that made this take measured it against its source: hips and
+        shoulders (widths in legs' lengths, turn in degrees, or None), bones_median and
+        bones_p99 (degrees), path, floor, line, refusal. None when no retarget made it."""
+    @property
     def offset_mode(self) -> _OffsetMode: ...
     @property
     def joint_names(self) -> list[str]:
@@ -157,7 +162,8 @@ class Motion:
         ({source joint: target joint}; "" leaves a source joint out), or is a map file's path
         (`--map FILE`, `[skeleton.FINGERPRINT]` sections too). A body that does not stand on two
         legs is refused onto one that does unless `any_body`; a result whose check against its
-        source finds a side crossed or a width collapsed is refused unless `force`."""
+        source finds a side crossed or a width collapsed is refused unless `force` (kept with a
+        UserWarning). The result's `retarget_check` holds the check."""
     def retarget_map(self, target: Motion | str | os.PathLike[str]) -> dict[str, str]:
         """The map retarget(target) guesses: {source joint: target joint}."""
     @property
@@ -233,8 +239,9 @@ class Character:
     @property
     def triangles(self) -> npt.NDArray[np.uint32]:
         """Triangles × 3 vertex indices."""
-    def dress(self, take: Motion, *, any_body: bool = False) -> Motion:
-        """`take` retargeted onto the character's skeleton by role."""
+    def dress(self, take: Motion, *, any_body: bool = False, force: bool = False) -> Motion:
+        """`take` retargeted onto the character's skeleton by role, checked as `retarget`
+        checks it (`any_body`, `force` as there); the result's `retarget_check` holds the check."""
     def vertices(
         self, take: Motion | None = None, frames: _Frames | None = None
     ) -> npt.NDArray[np.float32]:
@@ -291,6 +298,7 @@ def _compile_dataset(
     lock_feet: bool = False,
     features: str = "arrays",
     any_body: bool = False,
+    force: bool = False,
 ) -> tuple[int, int, int, list[tuple[str, str | None, str]]]:
     """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped takes as
     (path, motion, reason))."""

@@ -145,6 +145,7 @@ def compile_dataset(
     lock_feet: bool = False,
     features: Literal["arrays", "humanml3d"] = "arrays",
     any_body: bool = False,
+    force: bool = False,
 ) -> dict[str, Any]:
     """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
     them) into the new dataset folder ``out``; returns its manifest, whose ``"skipped"`` lists
@@ -177,7 +178,10 @@ def compile_dataset(
     out), or is a map file's path, whose ``[skeleton.FINGERPRINT]`` pairs apply to the takes of
     that skeleton only (``bvhview info`` prints the fingerprint); a take whose body is not
     two-legged like the target's (or the reverse) is skipped with the reason unless
-    ``any_body``. The manifest records ``onto`` and ``names``; ``merge_datasets`` refuses datasets made
+    ``any_body``. Each retargeted take is measured against its source as ``Motion.retarget``
+    measures it (each clip's ``"retarget_check"`` in the manifest); one whose sides cross or
+    whose widths collapse is skipped with the reason unless ``force`` (then kept, with a
+    warning in its clip's ``"warnings"``). The manifest records ``onto`` and ``names``; ``merge_datasets`` refuses datasets made
     with other ones. ``fps`` defaults to 30.
 
     ``features="humanml3d"`` (with ``onto="smpl22"``; ``fps`` then defaults to HumanML3D's 20)
@@ -209,6 +213,7 @@ def compile_dataset(
             lock_feet=lock_feet,
             features=features,
             any_body=any_body,
+            force=force,
         )
         for _, _, reason in skipped:
             warnings.warn(f"skipped {reason}", SkippedTake, stacklevel=2)

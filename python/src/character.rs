@@ -52,6 +52,7 @@ impl Character {
                 motion: None,
             },
             offset_mode: OffsetMode::Replace,
+            check: None,
         }
     }
 }
@@ -87,17 +88,33 @@ impl Character {
 
     /// `take` put on the character: retargeted onto its skeleton by role (its rest pose
     /// aligned, its path scaled by leg length, its feet on the take's floor), a new `Motion`.
-    /// A body that is not two-legged is refused unless `any_body=True`.
-    #[pyo3(signature = (take, *, any_body=false))]
-    fn dress(&self, py: Python<'_>, take: &Motion, any_body: bool) -> PyResult<Motion> {
+    /// A body that is not two-legged is refused unless `any_body=True`, and a result whose
+    /// check against the take finds a side crossed or a width collapsed unless `force=True`;
+    /// the result's `retarget_check` holds the check.
+    #[pyo3(signature = (take, *, any_body=false, force=false))]
+    fn dress(
+        &self,
+        py: Python<'_>,
+        take: &Motion,
+        any_body: bool,
+        force: bool,
+    ) -> PyResult<Motion> {
         guard("dress", || {
-            let dressed = py
+            let insist = bvhview::retarget::Insist { any_body, force };
+            let (dressed, said) = py
                 .detach(|| {
                     self.inner
-                        .dress(&take.loaded, &[], any_body, bvhview::plumbing::cores())
+                        .dress(&take.loaded, &[], insist, bvhview::plumbing::cores())
                 })
                 .map_err(|e| to_python(py, e))?;
-            Ok(self.motion_of(dressed))
+            let (source_name, name) = (
+                take.item.path.display().to_string(),
+                self.path.display().to_string(),
+            );
+            crate::retarget::warn_put(py, &source_name, &name, &said.forced, &said.uncarried)?;
+            let mut motion = self.motion_of(dressed);
+            motion.check = said.check;
+            Ok(motion)
         })
     }
 

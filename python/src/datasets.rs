@@ -163,6 +163,7 @@ pub(crate) fn _dataset_motion(
                 motion: None,
             },
             offset_mode: OffsetMode::Replace,
+            check: None,
         })
     })
 }
@@ -216,7 +217,7 @@ pub(crate) fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePa
 #[pyo3(signature = (folder, out, fps=None, rotations="6d", root_relative=false, feet=None,
     contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None, onto=None,
     ground=false, quat_continuous=false, names=None, lock_feet=false, features="arrays",
-    any_body=false))]
+    any_body=false, force=false))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn _compile_dataset(
     py: Python<'_>,
@@ -238,6 +239,7 @@ pub(crate) fn _compile_dataset(
     lock_feet: bool,
     features: &str,
     any_body: bool,
+    force: bool,
 ) -> PyResult<(usize, usize, usize, Vec<SkippedTake>)> {
     guard("_compile_dataset", || {
         if names.is_some() && onto.is_none() {
@@ -277,6 +279,7 @@ pub(crate) fn _compile_dataset(
                 .transpose()
                 .map_err(|e| to_python(py, e))?,
             any_body,
+            force,
             ..Default::default()
         };
         let threads = threads.unwrap_or_else(bvhview::plumbing::cores).max(1);

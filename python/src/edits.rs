@@ -20,6 +20,7 @@ impl Motion {
                 motion: self.item.motion.clone(),
             },
             offset_mode: self.offset_mode,
+            check: None,
         }
     }
 }

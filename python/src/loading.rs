@@ -91,6 +91,7 @@ pub(crate) fn load(
             loaded,
             item,
             offset_mode,
+            check: None,
         })
     })
 }
@@ -198,6 +199,7 @@ pub(crate) fn load_many(
                         loaded: take,
                         item,
                         offset_mode,
+                        check: None,
                     }
                     .into_pyobject(py)?
                     .into_any()

@@ -13,6 +13,9 @@ pub(crate) struct Motion {
     pub(crate) loaded: Take,
     pub(crate) item: Item,
     pub(crate) offset_mode: OffsetMode,
+    /// What the retarget that made this take measured it against its source; edits and
+    /// pickling drop it (what was measured is then not this take).
+    pub(crate) check: Option<bvhview::retarget::Check>,
 }
 
 #[pymethods]
@@ -27,6 +30,25 @@ impl Motion {
     #[getter]
     fn motion_path(&self) -> Option<String> {
         self.item.motion.as_ref().map(|p| p.display().to_string())
+    }
+
+    /// What the retarget (`retarget`, `Character.dress`) that made this take measured it
+    /// against its source, as a dict: `hips` and `shoulders` (each `source_width`, `width`,
+    /// `rest_width`, `source_rest_width` in legs' lengths and `turn` in degrees, or None),
+    /// `bones_median`, `bones_p99` (degrees), `path` (×, or None), `floor` (legs), `line`
+    /// (what `bvhview retarget` prints) and `refusal` (why it would be refused, or None).
+    /// None for a take no retarget made; an edit or a pickle drops it.
+    #[getter]
+    fn retarget_check<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyAny>>> {
+        let Some(check) = &self.check else {
+            return Ok(None);
+        };
+        let json = serde_json::to_string(check)
+            .map_err(|e| PyValueError::new_err(format!("retarget_check: {e}")))?;
+        let report = py.import("json")?.call_method1("loads", (json,))?;
+        report.set_item("line", check.line())?;
+        report.set_item("refusal", check.refusal())?;
+        Ok(Some(report))
     }
 
     /// "replace" or "add": how position channels combine with OFFSETs in `positions` and

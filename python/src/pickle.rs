@@ -188,6 +188,7 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
                 motion: motion_path.map(PathBuf::from),
             },
             offset_mode: parse_offset_mode(&mode)?,
+            check: None,
         })
     })
 }

@@ -83,30 +83,48 @@ pub(crate) fn retarget(
     let loaded = &source.loaded;
     let pairs = map_pairs_of(py, names)?.for_skeleton(&loaded.skeleton);
     let name = source.item.path.display().to_string();
-    let (skeleton, motion) = py
+    let insist = bvhview::retarget::Insist { any_body, force };
+    let put = py
         .detach(|| {
-            if !any_body {
-                target.check_body(&name, &loaded.skeleton, &loaded.motion)?;
-            }
-            let (skeleton, motion) = target.apply_any_body(
+            target.apply(
                 &name,
                 &loaded.skeleton,
                 &loaded.motion,
                 &pairs,
+                insist,
                 bvhview::plumbing::cores(),
-            )?;
-            let check = target.check(&loaded.skeleton, &loaded.motion, &skeleton, &motion, &pairs);
-            if let Some(why) = check.refusal().filter(|_| !any_body && !force) {
-                return Err(bvhview::Error::Usage(format!(
-                    "{name} onto {}: {why} ({}); force=True retargets it anyway",
-                    target.name,
-                    check.line()
-                )));
-            }
-            Ok((skeleton, motion))
+            )
         })
         .map_err(|e| to_python(py, e))?;
-    Ok(source.edited(skeleton, motion, false))
+    warn_put(py, &name, &target.name, &put.forced, &put.uncarried)?;
+    let mut result = source.edited(put.skeleton, put.motion, false);
+    result.check = Some(put.check);
+    Ok(result)
+}
+
+/// Python warnings (`UserWarning`) for what a retarget kept as insisted or could not carry.
+pub(crate) fn warn_put(
+    py: Python<'_>,
+    source_name: &str,
+    target_name: &str,
+    forced: &Option<String>,
+    uncarried: &[String],
+) -> PyResult<()> {
+    let warnings = py.import("warnings")?;
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    let warn = |text: String| -> PyResult<()> {
+        warnings.call_method1("warn", (text, &category, 2))?;
+        Ok(())
+    };
+    if let Some(why) = forced {
+        warn(format!(
+            "{source_name} onto {target_name}: kept as force=True asks though {why}"
+        ))?;
+    }
+    for why in uncarried {
+        warn(format!("{source_name}: {why}"))?;
+    }
+    Ok(())
 }
 
 /// `Motion.retarget_map(target)`: the guessed map as {source joint: target joint}.
@@ -229,6 +247,7 @@ pub(crate) fn from_positions(
             motion: None,
         },
         offset_mode: bvhview::model::pose::OffsetMode::Replace,
+        check: None,
     })
 }
 

@@ -213,6 +213,33 @@ def test_compile_dataset_onto_a_four_legged_body_needs_any_body(tmp_path):
 def test_a_retarget_that_crosses_the_sides_is_refused_unless_forced():
     walk = bvhview.load(DATA / "bvh" / "bvhparser_walk_01.bvh")
     swapped = {"LeftUpLeg": "right_hip", "RightUpLeg": "left_hip"}
-    with pytest.raises(ValueError, match="hips' sides are crossed .* force=True retargets it anyway"):
+    with pytest.raises(ValueError, match="hips' sides are crossed .* `force` writes it anyway"):
         walk.retarget("smpl22", swapped)
-    assert walk.retarget("smpl22", swapped, force=True).joint_names[0] == "pelvis"
+    with pytest.warns(UserWarning, match="kept as force=True asks though its hips' sides are crossed"):
+        forced = walk.retarget("smpl22", swapped, force=True)
+    assert forced.joint_names[0] == "pelvis"
+    # The report on the result: the same figures `bvhview retarget` prints.
+    report = forced.retarget_check
+    assert report["hips"]["turn"] > 170.0
+    assert report["refusal"].startswith("its hips' sides are crossed")
+    right = walk.retarget("smpl22").retarget_check
+    assert right["refusal"] is None and right["hips"]["turn"] < 10.0
+    assert right["bones_median"] < 5.0 and right["bones_p99"] < 20.0
+    assert 0.98 < right["path"] < 1.02
+    assert right["line"].startswith("check: sides held; hips ")
+    # An edit is no longer what was measured; a loaded take was never retargeted.
+    assert walk.retarget_check is None and walk.retarget("smpl22").trim(0, 10).retarget_check is None
+
+
+def test_a_dataset_onto_a_skeleton_records_each_clips_check(tmp_path):
+    folder = tmp_path / "takes"
+    folder.mkdir()
+    (folder / "walk.bvh").write_bytes((DATA / "bvh" / "bvhparser_walk_01.bvh").read_bytes())
+    manifest = bvhview.compile_dataset(folder, tmp_path / "made", onto="smpl22")
+    (clip,) = manifest["clips"]
+    check = clip["retarget_check"]
+    assert check["hips"]["turn"] < 10.0 and check["shoulders"]["turn"] < 10.0
+    assert check["bones_median"] < 5.0
+    # Without onto= nothing was retargeted, and no clip says it was.
+    plain = bvhview.compile_dataset(folder, tmp_path / "plain")
+    assert "retarget_check" not in plain["clips"][0]

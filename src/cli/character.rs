@@ -3,7 +3,54 @@
 
 use super::*;
 use crate::character::Character;
+use crate::retarget::Insist;
 use std::sync::Arc;
+
+/// How far `--character` goes against the refusals of putting a take on a character.
+#[derive(clap::Args, Clone, Copy, Debug, Default)]
+pub(crate) struct Insisting {
+    /// With --character: put the take on a character whose body is not two-legged like the
+    /// take's (a person's walk on a four-legged character, or the reverse), which is refused
+    /// otherwise: the limbs are carried over as a person's.
+    #[arg(long, requires = "character")]
+    pub any_body: bool,
+    /// With --character: keep a take whose retarget onto the character's skeleton finds a side
+    /// crossed or a width collapsed (legs crossing at the pelvis, both thighs from one point),
+    /// which is refused otherwise; said as a warning.
+    #[arg(long, requires = "character")]
+    pub force: bool,
+}
+
+impl Insisting {
+    pub(crate) fn insist(self) -> Insist {
+        Insist {
+            any_body: self.any_body,
+            force: self.force,
+        }
+    }
+}
+
+/// `take` (read from `path`) on `character` ([`Character::dress_file`]), with what the
+/// retarget measured said: its warnings always, its check line unless `-q`.
+pub(crate) fn dress(
+    character: &Character,
+    take: &crate::Take,
+    path: &Path,
+    insist: Insist,
+) -> Result<crate::Take, Error> {
+    let (dressed, said) = character.dress_file(take, path, insist, crate::io::parallel::cores())?;
+    let (take_name, character_name) = (path.display().to_string(), &character.take.name);
+    for warning in said.warnings(&take_name, character_name) {
+        eprintln!("bvhview: {warning}");
+    }
+    if let Some(check) = &said.check {
+        note(format_args!(
+            "{take_name} onto {character_name}: {}",
+            check.line()
+        ));
+    }
+    Ok(dressed)
+}
 
 /// The character each of `count` takes is put on: none without `--character`, one for all when
 /// given once, else one per take in order. A file named twice is read once. Each character's

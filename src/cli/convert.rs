@@ -68,11 +68,8 @@ pub(crate) struct ConvertArgs {
     /// bound to it: the take plays on the character in any glTF viewer.
     #[arg(long, value_name = "CHAR", conflicts_with = "skin")]
     character: Option<PathBuf>,
-    /// With --character: put the take on a character whose body is not two-legged like the
-    /// take's (a person's walk on a four-legged character, or the reverse), which is refused
-    /// otherwise: the limbs are carried over as a person's.
-    #[arg(long, requires = "character")]
-    any_body: bool,
+    #[command(flatten)]
+    insisting: super::character::Insisting,
     /// The format a folder's takes are written in (a file's is its -o extension).
     #[arg(long, value_enum)]
     to: Option<TakeFormat>,
@@ -125,12 +122,8 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
             .pop()
             .flatten()
             .expect("one character asked for");
-        let dressed = character.dress_file(
-            &loaded,
-            &args.input,
-            args.any_body,
-            crate::io::parallel::cores(),
-        )?;
+        let dressed =
+            super::character::dress(&character, &loaded, &args.input, args.insisting.insist())?;
         let container = match format {
             TakeFormat::Gltf => crate::gltf::Container::Gltf,
             _ => crate::gltf::Container::Glb,

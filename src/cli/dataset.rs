@@ -62,6 +62,10 @@ pub(crate) struct DatasetArgs {
     /// four-legged take onto a person, or the reverse), which are skipped otherwise.
     #[arg(long, requires = "onto")]
     any_body: bool,
+    /// With --onto: keep takes whose retarget's check finds a side crossed or a width
+    /// collapsed (skipped otherwise), each with a warning in the manifest.
+    #[arg(long, requires = "onto")]
+    force: bool,
     /// What each take is written as: bvhview's arrays grouped by skeleton, or HumanML3D's
     /// 263-value vectors in its folder layout (new_joint_vecs/ID.npy, new_joints/ID.npy,
     /// Mean.npy, Std.npy, all.txt; with --onto smpl22), as its own pipeline makes them.
@@ -140,6 +144,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
             .map(|onto| crate::retarget::Target::load(onto, args.max_size))
             .transpose()?,
         any_body: args.any_body,
+        force: args.force,
     };
     // Options are checked before the folder is read (`Writer::create` checks them again).
     options.check()?;

@@ -50,11 +50,8 @@ pub(crate) struct PositionsArgs {
     /// its skeleton by role; with --vertices, its skinned mesh is written.
     #[arg(long, value_name = "CHAR")]
     character: Option<PathBuf>,
-    /// With --character: put the take on a character whose body is not two-legged like the
-    /// take's (a person's walk on a four-legged character, or the reverse), which is refused
-    /// otherwise: the limbs are carried over as a person's.
-    #[arg(long, requires = "character")]
-    any_body: bool,
+    #[command(flatten)]
+    insisting: super::character::Insisting,
     /// With --character, write the skinned mesh's vertices instead of the joints: CSV
     /// `frame,vertex,x,y,z`, JSON (with the triangles), or an .npy array (frames, vertices, 3)
     /// of float32, in the character's units (metres).
@@ -83,12 +80,9 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
         None => None,
     };
     let loaded = match &character {
-        Some(character) => character.dress_file(
-            &loaded,
-            &args.file,
-            args.any_body,
-            crate::io::parallel::cores(),
-        )?,
+        Some(character) => {
+            super::character::dress(character, &loaded, &args.file, args.insisting.insist())?
+        }
         None => loaded,
     };
     if args.vertices && (args.left_handed || args.scale != 1.0 || args.format.is_some()) {

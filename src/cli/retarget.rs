@@ -1,7 +1,7 @@
 //! `bvhview retarget`: one take's motion on another skeleton, written as BVH or glTF.
 
 use super::*;
-use crate::retarget::{self, Map, Target};
+use crate::retarget::{self, Insist, Map, Target};
 
 #[derive(Args)]
 pub(crate) struct RetargetArgs {
@@ -91,35 +91,28 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
     let Some(output) = &args.output else {
         return Ok(ExitCode::SUCCESS);
     };
-    if !args.any_body {
-        target.check_body(&source_name, &loaded.skeleton, &loaded.motion)?;
-    }
-    let (skeleton, motion) = target.apply_any_body(
+    let insist = Insist {
+        any_body: args.any_body,
+        force: args.force,
+    };
+    let put = target.apply(
         &source_name,
         &loaded.skeleton,
         &loaded.motion,
         &pairs,
+        insist,
         crate::io::parallel::cores(),
     )?;
-    for warning in target.uncarried_translations(&loaded.skeleton, &loaded.motion, &pairs)? {
+    for warning in &put.uncarried {
         eprintln!("bvhview: {source_name}: warning: {warning}");
     }
-    // The answer checks itself against its source before it is written.
-    let check = target.check(&loaded.skeleton, &loaded.motion, &skeleton, &motion, &pairs);
-    // A body that is not a person's (`--any-body`) is not held to a person's widths.
-    if let Some(why) = check.refusal().filter(|_| !args.any_body) {
-        if !args.force {
-            return Err(Error::Usage(format!(
-                "{source_name} onto {}: not written: {why} ({}); --force writes it anyway",
-                target.name,
-                check.line()
-            )));
-        }
+    if let Some(why) = &put.forced {
         eprintln!(
             "bvhview: {source_name} onto {}: warning: written as --force asks though {why}",
             target.name
         );
     }
+    let (skeleton, motion, check) = (put.skeleton, put.motion, put.check);
     super::note(format_args!("{}", check.line()));
     let motion = if args.lock_feet {
         let (motion, locked) = crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?;

@@ -33,11 +33,8 @@ pub(crate) struct SnapshotArgs {
     /// file, or once per file in their order.
     #[arg(long, value_name = "CHAR")]
     character: Vec<PathBuf>,
-    /// With --character: put the take on a character whose body is not two-legged like the
-    /// take's (a person's walk on a four-legged character, or the reverse), which is refused
-    /// otherwise: the limbs are carried over as a person's.
-    #[arg(long, requires = "character")]
-    any_body: bool,
+    #[command(flatten)]
+    insisting: super::character::Insisting,
     /// Draw only the first K joints in the order the recursion reaches them, the last one
     /// highlighted, with its GL calls written beside (the window's J key).
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
@@ -164,7 +161,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     for ((take, character), (file, _)) in takes.iter_mut().zip(&characters).zip(&files) {
         if let Some(character) = character {
             let dressed =
-                character.dress_file(&take.1, file, args.any_body, crate::io::parallel::cores())?;
+                super::character::dress(character, &take.1, file, args.insisting.insist())?;
             take.3 = dressed.stance(mode.for_take(true));
             take.2 = resolve_up(args.view.up, &take.3, &take.0, framed_view);
             take.1 = dressed;

@@ -52,11 +52,8 @@ pub(crate) struct ViewerArgs {
     /// file, or once per file in their order.
     #[arg(long, value_name = "CHAR")]
     character: Vec<PathBuf>,
-    /// With --character: put the take on a character whose body is not two-legged like the
-    /// take's (a person's walk on a four-legged character, or the reverse), which is refused
-    /// otherwise: the limbs are carried over as a person's.
-    #[arg(long, requires = "character")]
-    any_body: bool,
+    #[command(flatten)]
+    insisting: super::character::Insisting,
     /// Start in the studio look (V switches).
     #[arg(long, value_enum, default_value_t)]
     look: LookArg,
@@ -94,7 +91,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         offset_mode,
         skin,
         character,
-        any_body,
+        insisting,
         look,
         true_scale,
         up,
@@ -135,7 +132,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
             frame_time: source.frame_time,
             max_size: source.max_size,
             take: source.take.clone(),
-            any_body,
+            insist: insisting.insist(),
         };
         let mut take = ViewerTake::from_source(take_source, offset_mode)?;
         let name = path.display().to_string();

@@ -168,6 +168,10 @@ pub struct About {
     /// The take's warnings as `info` gives them, and one when its foot points were guessed
     /// from the rest pose.
     pub warnings: Vec<String>,
+    /// With `--onto`: the retargeted take measured against its source (sides, widths, bones,
+    /// path, floor), as `retarget` prints it; absent otherwise and in older manifests.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub retarget_check: Option<crate::retarget::Check>,
 }
 
 /// One take's arrays, frame after frame (row-major, float32 but for the contacts).

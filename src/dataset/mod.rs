@@ -139,6 +139,8 @@ pub(crate) struct Prepared {
     stance: crate::model::stance::Stance,
     /// What `--onto` could not carry (the manifest's warnings).
     uncarried: Vec<String>,
+    /// With `--onto`: the output measured against its source.
+    check: Option<crate::retarget::Check>,
     /// The source's frame time and frames, as the file gives them.
     source: (f64, usize),
 }
@@ -214,30 +216,24 @@ fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared,
                 crate::Motion::new(1.0 / options.fps, motion.channels, rows.len(), data);
         }
     }
-    let mut uncarried = Vec::new();
+    let (mut uncarried, mut check) = (Vec::new(), None);
     let loaded = match &options.onto {
         Some(target) => {
             let pairs = options.map.for_skeleton(&loaded.skeleton);
-            uncarried = target.uncarried_translations(&loaded.skeleton, &loaded.motion, &pairs)?;
             let name = path.display().to_string();
-            if !options.any_body {
-                target.check_body(&name, &loaded.skeleton, &loaded.motion)?;
-            }
-            let (skeleton, motion) =
-                target.apply_any_body(&name, &loaded.skeleton, &loaded.motion, &pairs, 1)?;
+            let insist = crate::retarget::Insist {
+                any_body: options.any_body,
+                force: options.force,
+            };
             // The clip checks itself as `retarget` does: a side crossed or a width collapsed
-            // skips the take with the reason (a body `any_body` lets on is not held to a
-            // person's widths).
-            if !options.any_body {
-                let check =
-                    target.check(&loaded.skeleton, &loaded.motion, &skeleton, &motion, &pairs);
-                if let Some(why) = check.refusal() {
-                    return Err(Error::Usage(format!(
-                        "{name} onto {}: not compiled: {why}",
-                        target.name
-                    )));
-                }
+            // skips the take with the reason, unless `force`.
+            let put = target.apply(&name, &loaded.skeleton, &loaded.motion, &pairs, insist, 1)?;
+            uncarried = put.uncarried;
+            if let Some(why) = put.forced {
+                uncarried.push(format!("retarget: kept as --force asks though {why}"));
             }
+            check = Some(put.check);
+            let (skeleton, motion) = (put.skeleton, put.motion);
             // Planted feet held where they landed, during the source's contacts.
             let motion = match options.lock_feet {
                 true => crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?.0,
@@ -280,6 +276,7 @@ fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared,
         mode,
         stance,
         uncarried,
+        check,
         source,
     })
 }
@@ -450,6 +447,7 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
             }
             warnings
         },
+        retarget_check: take.check.clone(),
     };
     Clip {
         about,

@@ -49,6 +49,9 @@ pub struct Options {
     /// With `onto`: put on it a take whose body is not two-legged like the target's (refused
     /// otherwise, [`crate::retarget::Target::check_body`]; `--any-body`).
     pub any_body: bool,
+    /// With `onto`: keep a take whose output's check finds a side crossed or a width collapsed
+    /// (skipped otherwise, [`crate::retarget::Check::refusal`]; `--force`), with a warning.
+    pub force: bool,
     /// With `onto`: `SRC = DST` pairs over every take's guessed map (`--map`), as `retarget
     /// --map` gives them (`SRC =` with an empty target leaves a source joint out); pairs for one
     /// skeleton apply to the takes of that skeleton only. A take that has no joint a pair for
@@ -124,6 +127,7 @@ impl Default for Options {
             max_size: crate::take::DEFAULT_MAX_SIZE,
             onto: None,
             any_body: false,
+            force: false,
         }
     }
 }

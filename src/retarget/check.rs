@@ -32,7 +32,7 @@ pub const NO_WIDTH: f64 = 0.05;
 ///                        rest_width: 0.16, turn: 2.0 };
 /// assert!(!cartoon.collapsed());
 /// ```
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Across {
     /// The distance between the two, in the source's legs' lengths (the median over frames).
     pub source_width: f64,
@@ -72,28 +72,30 @@ impl Across {
 ///
 /// ```
 /// use bvhview::Take;
-/// use bvhview::retarget::{self, Map, Target};
+/// use bvhview::retarget::{Insist, Target};
 ///
 /// # fn main() -> Result<(), bvhview::Error> {
 /// let walk = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?.trim(0..60);
 /// let target = Target::load("smpl22", u64::MAX)?;
-/// let (skeleton, motion) = target.apply(&walk.name, &walk.skeleton, &walk.motion, &[], 1)?;
-/// let check = target.check(&walk.skeleton, &walk.motion, &skeleton, &motion, &[]);
+/// let put = target.apply(&walk.name, &walk.skeleton, &walk.motion, &[], Insist::default(), 1)?;
+/// let check = put.check;
 /// assert!(check.refusal().is_none(), "{}", check.line());
 /// assert!(check.hips.unwrap().turn < 10.0);
-/// assert!(check.directions.0 < 10.0, "the median bone within 10° of the source's");
+/// assert!(check.bones_median < 10.0, "the median bone within 10° of the source's");
 /// # Ok(())
 /// # }
 /// ```
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Check {
     /// The thighs at the hips, when both skeletons have two.
     pub hips: Option<Across>,
     /// The upper arms at the shoulders, when both skeletons have two.
     pub shoulders: Option<Across>,
-    /// Each mapped bone's direction against the source's, in degrees: the median and the 99th
-    /// percentile over the bones and frames.
-    pub directions: (f64, f64),
+    /// Each mapped bone's direction against the source's, in degrees: the median over the
+    /// bones and frames measured…
+    pub bones_median: f64,
+    /// … and the 99th percentile.
+    pub bones_p99: f64,
     /// The hips' path along the floor over the source's scaled by the legs (1 when right;
     /// `None` for a source that travels less than a tenth of its legs).
     pub path: Option<f64>,
@@ -167,7 +169,7 @@ impl Check {
         }
         parts.push(format!(
             "bones {:.1}° median, {:.1}° p99 from the source's",
-            self.directions.0, self.directions.1
+            self.bones_median, self.bones_p99
         ));
         if let Some(path) = self.path {
             parts.push(format!("path ×{path:.2}"));
@@ -302,6 +304,7 @@ pub fn check(
     let errors: Vec<f64> = direction_errors(source, &source_cut, target, &output_cut, map, ups)
         .into_iter()
         .flatten()
+        .filter(|e| e.is_finite())
         .collect();
     let standing = standing(source, source_motion, target, output, map, ups, 1.0);
     let path = (standing.source_path > 0.1 * legs_s && standing.ratio > 0.0)
@@ -314,7 +317,8 @@ pub fn check(
     Check {
         hips: across(0),
         shoulders: across(1),
-        directions: (quantile(&errors, 0.5), quantile(&errors, 0.99)),
+        bones_median: quantile(&errors, 0.5),
+        bones_p99: quantile(&errors, 0.99),
         path,
         floor,
     }

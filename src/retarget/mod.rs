@@ -222,13 +222,14 @@ fn finish(target: &Skeleton, motion: &Motion, data: Vec<f32>) -> Result<(Skeleto
 /// ```
 pub fn onto(take: &Take, onto: &str) -> Result<Take, Error> {
     let target = Target::load(onto, crate::take::DEFAULT_MAX_SIZE)?;
-    let (skeleton, motion) = target.apply(
+    let put = target.apply(
         &take.name,
         &take.skeleton,
         &take.motion,
         &[],
+        Insist::default(),
         crate::io::parallel::cores(),
     )?;
     let name = format!("{} on {}", take.name, target.name);
-    Ok(Take::new(skeleton, motion, name))
+    Ok(Take::new(put.skeleton, put.motion, name))
 }

@@ -6,6 +6,60 @@ use super::*;
 /// Python's messages read it as "`any_body` retargets it anyway".
 pub const ANY_BODY: &str = "`--any-body` retargets it anyway";
 
+/// What a refusal by [`Check::refusal`] ends with: how to write the output anyway.
+pub const FORCE: &str = "`--force` writes it anyway";
+
+/// How far a caller goes against [`Target::apply`]'s refusals: `any_body` puts a body on a
+/// skeleton of another kind (four legs onto two) and does not hold it to a person's widths;
+/// `force` keeps an output whose check finds a side crossed or a width collapsed.
+///
+/// ```
+/// use bvhview::retarget::Insist;
+///
+/// let insist = Insist { force: true, ..Insist::default() };
+/// assert!(!insist.any_body);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Insist {
+    /// Any body onto any skeleton (`--any-body`).
+    pub any_body: bool,
+    /// Written though its check refuses it (`--force`).
+    pub force: bool,
+}
+
+/// A take put on a target by [`Target::apply`]: the target's skeleton, the motion on it, and
+/// what the output measures against its source.
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::retarget::{Insist, Target};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let walk = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?.trim(0..60);
+/// let target = Target::load("smpl22", u64::MAX)?;
+/// let put = target.apply(&walk.name, &walk.skeleton, &walk.motion, &[], Insist::default(), 1)?;
+/// assert_eq!(put.motion.frame_count(), 60);
+/// assert!(put.forced.is_none() && put.check.refusal().is_none(), "{}", put.check.line());
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Retargeted {
+    /// The target's skeleton.
+    pub skeleton: Skeleton,
+    /// The take's motion on it.
+    pub motion: Motion,
+    /// The output measured against its source.
+    pub check: super::Check,
+    /// Why the check refuses the output, when [`Insist::force`] kept it anyway.
+    pub forced: Option<String>,
+    /// What the map could not carry, said in words: each mapped source joint (not the hips,
+    /// nor above them) whose position channels move it from its OFFSET, by more than 1e-4 of
+    /// the legs' length on some frame, onto a target joint without position channels, which
+    /// keeps its OFFSET.
+    pub uncarried: Vec<String>,
+}
+
 /// The built-in target skeletons: `smpl22`, the 22 body joints of SMPL in the layout of
 /// HumanML3D, AMASS and most text-to-motion models, in centimetres, T-pose, Y up, facing +z.
 pub const BUILT_IN: &[(&str, &[u8])] = &[("smpl22", include_bytes!("../../assets/smpl22.bvh"))];
@@ -31,9 +85,9 @@ pub fn built_in(name: &str) -> Option<(Skeleton, Motion)> {
 /// assert_eq!(target.name, "smpl22");
 /// assert_eq!(target.skeleton.joints[0].name, "pelvis");
 /// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?.trim(0..30);
-/// let (skeleton, motion) = target.apply("walk", &take.skeleton, &take.motion, &[], 1)?;
-/// assert_eq!(skeleton, target.skeleton);
-/// assert_eq!(motion.frame_count(), 30);
+/// let put = target.apply("walk", &take.skeleton, &take.motion, &[], Default::default(), 1)?;
+/// assert_eq!(put.skeleton, target.skeleton);
+/// assert_eq!(put.motion.frame_count(), 30);
 /// # Ok(())
 /// # }
 /// ```
@@ -101,24 +155,88 @@ impl Target {
         }
     }
 
-    /// A take on this skeleton by the guessed map (`pairs` override it), refused with the
-    /// reason when the map cannot stand, on up to `threads` threads. `source_name` names the
-    /// take in messages.
-    ///
-    /// A take whose body does not stand on two legs (a quadruped rigged with 3ds Max Biped's
-    /// human names) is refused onto a target that does, and a two-legged take onto a target
-    /// that does not (a person's walk onto a fox), with the reason ([`Target::check_body`]);
-    /// [`Target::apply_any_body`] retargets it anyway.
+    /// A take on this skeleton by the guessed map (`pairs` override it), on up to `threads`
+    /// threads, with what it measures against its source ([`Target::check`]); refused with the
+    /// reason when the map cannot stand, when the bodies differ ([`Target::check_body`]: a
+    /// quadruped rigged with 3ds Max Biped's human names onto a person, a person's walk onto a
+    /// fox) unless `insist.any_body`, and when the output's check finds a side crossed or a
+    /// width collapsed ([`Check::refusal`]) unless `insist.force` (then
+    /// [`Retargeted::forced`] holds the reason, for the caller to say). `source_name` names
+    /// the take in messages. The one way every command puts a take on another skeleton
+    /// (`retarget`, `dataset --onto`, `--character`; Python's `retarget`, `dress`,
+    /// `compile_dataset`).
     pub fn apply(
         &self,
         source_name: &str,
         skeleton: &Skeleton,
         motion: &Motion,
         pairs: &[(String, String)],
+        insist: Insist,
         threads: usize,
-    ) -> Result<(Skeleton, Motion), Error> {
-        self.check_body(source_name, skeleton, motion)?;
-        self.apply_any_body(source_name, skeleton, motion, pairs, threads)
+    ) -> Result<Retargeted, Error> {
+        if !insist.any_body {
+            self.check_body(source_name, skeleton, motion)?;
+        }
+        crate::limits::retarget_values(
+            &format!("{source_name} onto {}", self.name),
+            motion.frame_count(),
+            skeleton.channel_count(),
+            self.skeleton.joints.len(),
+            self.skeleton.channel_count(),
+        )?;
+        let map = self.map(source_name, skeleton, pairs)?;
+        let ups = self.ups(skeleton, motion);
+        let (out_skeleton, out) = super::retarget_posed(
+            skeleton,
+            motion,
+            &self.skeleton,
+            Some(&self.poses),
+            &map,
+            ups,
+            threads,
+        )?;
+        // The answer checks itself against its source before anyone writes it.
+        let check = super::check(
+            skeleton,
+            motion,
+            &out_skeleton,
+            &out,
+            &map,
+            ups,
+            Some(&self.poses),
+        );
+        // A body let on by `any_body` is not a person's, and not held to a person's widths.
+        let forced = check.refusal().filter(|_| !insist.any_body);
+        if let Some(why) = &forced
+            && !insist.force
+        {
+            return Err(Error::Usage(format!(
+                "{source_name} onto {}: not written: {why} ({}); {FORCE}",
+                crate::limits::quoted(&self.name),
+                check.line()
+            )));
+        }
+        Ok(Retargeted {
+            skeleton: out_skeleton,
+            motion: out,
+            check,
+            forced,
+            uncarried: self.uncarried_translations(skeleton, motion, &map),
+        })
+    }
+
+    /// The guessed map from `skeleton` onto this target with `pairs` over it, refused when it
+    /// cannot stand ([`Map::check`]).
+    pub fn map(
+        &self,
+        source_name: &str,
+        skeleton: &Skeleton,
+        pairs: &[(String, String)],
+    ) -> Result<Map, Error> {
+        let mut map = Map::guess(skeleton, &self.skeleton);
+        map.apply(pairs, skeleton, &self.skeleton)?;
+        map.check(source_name, &self.name)?;
+        Ok(map)
     }
 
     /// Fails when one of the take's body and this target's stands on two legs and the other
@@ -155,18 +273,14 @@ impl Target {
         }
     }
 
-    /// What retargeting the take onto this target by the same map as [`Target::apply`] cannot
-    /// carry, said in words: each mapped source joint (not the hips, nor above them) whose
-    /// position channels move it from its OFFSET, by more than 1e-4 of the legs' length on
-    /// some frame, onto a target joint without position channels, which keeps its OFFSET.
-    pub fn uncarried_translations(
+    /// What retargeting the take onto this target by `map` cannot carry, said in words
+    /// ([`Retargeted::uncarried`]).
+    fn uncarried_translations(
         &self,
         skeleton: &Skeleton,
         motion: &Motion,
-        pairs: &[(String, String)],
-    ) -> Result<Vec<String>, Error> {
-        let mut map = Map::guess(skeleton, &self.skeleton);
-        map.apply(pairs, skeleton, &self.skeleton)?;
+        map: &Map,
+    ) -> Vec<String> {
         let moves = |joint: &Joint| joint.channels.iter().any(|c| c.is_position());
         let hips = map.source_body.hips;
         let candidates: Vec<(usize, usize)> = (0..self.skeleton.joints.len())
@@ -180,7 +294,7 @@ impl Target {
             })
             .collect();
         if candidates.is_empty() {
-            return Ok(Vec::new());
+            return Vec::new();
         }
         let mode = source_offset_mode(skeleton, motion);
         let mut rest = Vec::new();
@@ -197,7 +311,7 @@ impl Target {
                 *far = far.max(moved.length());
             }
         }
-        Ok(candidates
+        candidates
             .iter()
             .zip(farthest)
             .filter(|&(_, far)| far > 1e-4 * legs)
@@ -210,32 +324,7 @@ impl Target {
                     self.skeleton.joints[t].name
                 )
             })
-            .collect())
-    }
-
-    /// [`super::check()`] of `output`, which [`Target::apply`] made of `skeleton` and `motion`
-    /// with `pairs`: the output measured against its source by the same map and up axes.
-    pub fn check(
-        &self,
-        skeleton: &Skeleton,
-        motion: &Motion,
-        output_skeleton: &Skeleton,
-        output: &Motion,
-        pairs: &[(String, String)],
-    ) -> super::Check {
-        let mut map = Map::guess(skeleton, &self.skeleton);
-        // The pairs were applied once already, by the retarget this output came from.
-        let _ = map.apply(pairs, skeleton, &self.skeleton);
-        let ups = self.ups(skeleton, motion);
-        super::check(
-            skeleton,
-            motion,
-            output_skeleton,
-            output,
-            &map,
-            ups,
-            Some(&self.poses),
-        )
+            .collect()
     }
 
     /// The take's up axis (guessed, or stated by its file) and this target's.
@@ -250,36 +339,5 @@ impl Target {
             .up,
             target: self.up,
         }
-    }
-
-    /// [`Target::apply`] without the body check: any body onto any target.
-    pub fn apply_any_body(
-        &self,
-        source_name: &str,
-        skeleton: &Skeleton,
-        motion: &Motion,
-        pairs: &[(String, String)],
-        threads: usize,
-    ) -> Result<(Skeleton, Motion), Error> {
-        crate::limits::retarget_values(
-            &format!("{source_name} onto {}", self.name),
-            motion.frame_count(),
-            skeleton.channel_count(),
-            self.skeleton.joints.len(),
-            self.skeleton.channel_count(),
-        )?;
-        let mut map = Map::guess(skeleton, &self.skeleton);
-        map.apply(pairs, skeleton, &self.skeleton)?;
-        map.check(source_name, &self.name)?;
-        let ups = self.ups(skeleton, motion);
-        super::retarget_posed(
-            skeleton,
-            motion,
-            &self.skeleton,
-            Some(&self.poses),
-            &map,
-            ups,
-            threads,
-        )
     }
 }

@@ -67,8 +67,8 @@ pub struct TakeSource {
     pub max_size: u64,
     /// The take of an FBX or glTF file (`--take`).
     pub take: Option<String>,
-    /// Put on a character whose body is not two-legged like the take's (`--any-body`).
-    pub any_body: bool,
+    /// How far putting it on a character goes against the refusals (`--any-body`, `--force`).
+    pub insist: crate::retarget::Insist,
 }
 
 impl TakeSource {
@@ -139,14 +139,25 @@ impl ViewerTake {
         character: std::sync::Arc<crate::character::Character>,
         mode: OffsetMode,
     ) -> Result<(), Error> {
-        if let Some(source) = &self.source {
-            let threads = crate::io::parallel::cores();
-            self.loaded =
-                character.dress_file(&self.loaded, &source.path, source.any_body, threads)?;
-        } else {
-            self.loaded =
-                character.dress(&self.loaded, &[], false, crate::io::parallel::cores())?;
+        let threads = crate::io::parallel::cores();
+        let (dressed, said) = match &self.source {
+            Some(source) => {
+                character.dress_file(&self.loaded, &source.path, source.insist, threads)?
+            }
+            None => character.dress(&self.loaded, &[], Default::default(), threads)?,
+        };
+        for warning in said.warnings(&self.name, &character.take.name) {
+            eprintln!("bvhview: {warning}");
         }
+        if let Some(check) = &said.check {
+            eprintln!(
+                "{} onto {}: {}",
+                self.name,
+                character.take.name,
+                check.line()
+            );
+        }
+        self.loaded = dressed;
         self.character = Some(character);
         self.stance = self.loaded.stance(self.offset_mode(mode));
         self.up = self.up_asked.unwrap_or(self.stance.up);
@@ -364,7 +375,7 @@ mod tests {
             frame_time: None,
             max_size: u64::MAX,
             take: None,
-            any_body: false,
+            insist: Default::default(),
         };
         Viewer::new(
             vec![ViewerTake::from_source(source, OffsetMode::Replace).unwrap()],

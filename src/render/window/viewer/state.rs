@@ -439,12 +439,14 @@ impl Viewer {
             let character = take.character.clone();
             let loaded = source.load().and_then(|loaded| match &character {
                 // A take on a character is put on it again.
-                Some(character) => character.dress_file(
-                    &loaded,
-                    &source.path,
-                    source.any_body,
-                    crate::io::parallel::cores(),
-                ),
+                Some(character) => character
+                    .dress_file(
+                        &loaded,
+                        &source.path,
+                        source.insist,
+                        crate::io::parallel::cores(),
+                    )
+                    .map(|(dressed, _)| dressed),
                 None => Ok(loaded),
             });
             match loaded {
@@ -467,7 +469,7 @@ impl Viewer {
             frame_time: None,
             max_size: crate::take::DEFAULT_MAX_SIZE,
             take: None,
-            any_body: false,
+            insist: Default::default(),
         };
         let problems = match ViewerTake::from_source(source, self.options.offset_mode) {
             Ok(take) => {
