@@ -1,9 +1,11 @@
 //! `--character` (the viewer, `snapshot`, `convert`, `positions`): the characters takes are put
 //! on, loaded once each.
 
-use super::*;
+use super::{Source, note};
 use crate::character::Character;
+use crate::io::error::Error;
 use crate::retarget::Insist;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// How far `--character` goes against the refusals of putting a take on a character.

@@ -1,10 +1,21 @@
 //! `bvhview convert`: a take, edited, written as BVH or glTF; or every take under a folder, each
 //! edited and written the same way into a new folder that mirrors it.
 
-use super::*;
+use super::{
+    OffsetModeArg, Prepared, Progress, Source, TakeFormat, UpArg, check_output, finish_write,
+    is_stdio, load_with_threads, open_output, write_take, wrote,
+};
 use crate::info::batch::Item;
+use crate::io::error::Error;
+use crate::model::pose::OffsetMode;
+use crate::take;
+use crate::take::Take;
+use clap::Args;
 use std::collections::{HashMap, HashSet};
 use std::ffi::OsString;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct ConvertArgs {

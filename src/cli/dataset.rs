@@ -1,8 +1,12 @@
 //! `bvhview dataset`: a folder of takes compiled into training arrays (`crate::dataset`).
 
-use super::*;
+use super::wrote;
 use crate::dataset::{self, Options};
+use crate::io::error::Error;
 use crate::model::pose::RotationKind;
+use clap::{Args, ValueEnum};
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct DatasetArgs {

@@ -1,6 +1,10 @@
 //! `bvhview diff`: how many pixels two pictures differ in, and where.
 
-use super::*;
+use super::{check_output, write_text, wrote};
+use crate::io::error::Error;
+use clap::Args;
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct DiffArgs {

@@ -1,7 +1,12 @@
 //! `bvhview generate`: the man page and shell completions, made from the one clap command (as
 //! `rg --generate` makes ripgrep's), so they never disagree with `--help`.
 
-use super::*;
+use super::{finish_write, is_stdio, open_output, wrote};
+use crate::io::error::Error;
+use clap::Args;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct GenerateArgs {

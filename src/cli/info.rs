@@ -1,6 +1,14 @@
 //! `bvhview info`: a take summed up, or every take under a folder, one line each.
 
-use super::*;
+use super::{OffsetModeArg, Source, load_or_default, load_quietly, write_text};
+use crate::io::error::Error;
+use crate::model::pose::OffsetMode;
+use crate::take;
+use clap::Args;
+use std::io;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct InfoArgs {

@@ -1,7 +1,16 @@
 //! `bvhview positions`: the world position of every joint and End Site, per frame, as CSV or JSON.
 
-use super::*;
+use super::{
+    OffsetModeArg, Source, check_output, finish_write, is_stdio, load, open_output, wrote,
+};
+use crate::io::error::Error;
+use crate::model::pose::OffsetMode;
 use crate::positions::{Format, PositionsOptions};
+use crate::take;
+use clap::{Args, ValueEnum};
+use std::io::Write;
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 /// `--format` of `positions`.
 #[derive(Clone, Copy, Debug, Default, ValueEnum)]

@@ -1,6 +1,10 @@
 //! `bvhview print`: the joint tree exactly as the article's `BVH::print()` prints it.
 
-use super::*;
+use super::{Source, load, write_text};
+use crate::io::error::Error;
+use clap::Args;
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct PrintArgs {

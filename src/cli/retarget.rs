@@ -1,7 +1,12 @@
 //! `bvhview retarget`: one take's motion on another skeleton, written as BVH or glTF.
 
-use super::*;
+use super::{Source, TakeFormat, check_output, load, write_take, write_text};
+use crate::io::error::Error;
+use crate::model::pose::OffsetMode;
 use crate::retarget::{self, Insist, Map, Target};
+use clap::Args;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct RetargetArgs {

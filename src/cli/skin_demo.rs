@@ -1,6 +1,10 @@
 //! `bvhview skin-demo`: the two-bone linear blend skinning demo, in a window or offscreen.
 
-use super::*;
+use super::{check_output, parse_size, wrote};
+use crate::io::error::Error;
+use clap::Args;
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct SkinDemoArgs {

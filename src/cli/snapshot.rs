@@ -1,8 +1,17 @@
 //! `bvhview snapshot`: a frame drawn offscreen as PNG, or a sequence as GIF, APNG or PNGs.
 
-use super::*;
+use super::{
+    FitArg, LookArg, Progress, Source, View, check_output, load, paired_takes, parse_size,
+    resolve_up, short_name, style_for, warn_offset_mode, wrote,
+};
+use crate::io::error::Error;
+use crate::model::pose::{OffsetMode, Up};
 use crate::render::paint::{Clock, Shown};
 use crate::render::{Overlay, SnapshotOptions};
+use crate::take;
+use clap::Args;
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct SnapshotArgs {

@@ -1,8 +1,13 @@
 //! `bvhview solve`: joint positions (a model's output, a pose estimator's) as a take on a
 //! skeleton, written as BVH or glTF.
 
-use super::*;
+use super::{TakeFormat, UpArg, check_output, note, parse_max_size, write_take};
+use crate::io::error::Error;
+use crate::model::pose::{OffsetMode, Up};
 use crate::retarget::Target;
+use clap::Args;
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct SolveArgs {

@@ -1,6 +1,11 @@
 //! `bvhview trace`: the GL calls one `display()` makes, in C, optionally explained.
 
-use super::*;
+use super::{FitArg, Source, View, load, resolve_up, write_text};
+use crate::io::error::Error;
+use crate::render::draw::Style;
+use clap::{Args, ValueEnum};
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct TraceArgs {

@@ -1,6 +1,16 @@
 //! `bvhview [FILES]`: the window, on the files or the bundled walk.
 
-use super::*;
+use super::{LookArg, OffsetModeArg, Source, StyleArg, UpArg};
+#[cfg(feature = "window")]
+use super::{
+    QUIET, check_output, load_or_default, paired_takes, resolve_up, style_for, warn_offset_mode,
+};
+use crate::io::error::Error;
+#[cfg(feature = "window")]
+use crate::model::pose::Up;
+use clap::Args;
+use std::path::PathBuf;
+use std::process::ExitCode;
 
 /// The window's keys, for `bvhview --help`.
 pub(crate) const WINDOW_KEYS: &str = "\

@@ -1,7 +1,8 @@
 //! What one take becomes: where it came from, its skeleton's topology, what the manifest says
 //! of it, its arrays; and a take that could not be compiled.
 
-use super::*;
+use crate::info::batch::Item;
+use std::path::Path;
 
 /// Where a take came from, as the manifest names it: paths relative to the folder compiled.
 ///

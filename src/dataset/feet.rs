@@ -1,7 +1,11 @@
 //! Feet, floor and contacts: which joints are the feet, the floor under them over a sliding
 //! window, and when each foot is planted.
 
-use super::*;
+use crate::io::error::Error;
+use crate::model::pose;
+use crate::model::pose::OffsetMode;
+use glam::Vec3;
+use std::path::Path;
 
 /// The feet of a skeleton standing in its rest pose, for a body whose legs the reading does not
 /// find (`rest`: world positions, Y up): at most two

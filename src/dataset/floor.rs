@@ -1,9 +1,10 @@
 //! When each foot touches the floor (the reading of the body's contacts), and a clip put on the
 //! floor (`--ground`).
 
-use super::*;
+use super::{Options, Topology};
 use crate::model::body::contact::Planting;
 use glam::DVec3;
+use glam::Vec3;
 
 /// Foot contacts, per frame and foot point: planted as the reading of the body reads it
 /// ([`crate::model::body::contact`]: within `options.contact_height` of where the point rests

@@ -32,7 +32,7 @@ mod options;
 pub use clip::*;
 use continuity::continuous_quaternions;
 pub use feet::*;
-use floor::*;
+use floor::{contacts, ground};
 pub use options::*;
 
 /// Every take under `dir` in path order: BVH files and ASF/AMC pairs (an AMC without a skeleton

@@ -1,6 +1,7 @@
 //! What every take is turned into: the compile's options, checked before any take is read.
 
-use super::*;
+use crate::io::error::Error;
+use crate::model::pose::RotationKind;
 
 /// What every take is turned into.
 ///

@@ -1,7 +1,12 @@
 //! Rotations into channel angles: fixed bone axes baked into BVH channels, and the angles of
 //! rotations given as numbers (quaternions, matrices, 6D) in a joint's own channel order.
 
-use super::*;
+use crate::edit::finite;
+use crate::io::error::Error;
+use crate::model::euler;
+use crate::model::motion::Motion;
+use crate::model::skeleton::{Channel, RotationOrder, Skeleton};
+use glam::DQuat;
 
 /// A BVH-ready copy: every fixed axis baked into the rotation channels, as BVH has no axis.
 /// Each joint with an axis or with rotation channels gets `Zrotation Yrotation Xrotation` holding
@@ -142,6 +147,7 @@ pub fn baked_for_bvh(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::edit::resample;
     use crate::edit::testing::*;
 
     /// Every order, at exactly ±90° of its middle axis and at 89.99°: what an edit writes turns

@@ -1,7 +1,9 @@
 //! The check every edit ends with: a value past the 32-bit range is refused, and a NaN that came
 //! in with the take is named where it is.
 
-use super::*;
+use crate::io::error::Error;
+use crate::model::motion::Motion;
+use crate::model::skeleton::Skeleton;
 
 /// The edited take, or an error naming the edit when a value in it is not finite (an OFFSET or
 /// a MOTION value past ±3.4e38 as a 32-bit float).

@@ -2,10 +2,15 @@
 //! thigh and shin the reading of the body finds; the foot keeps its world orientation, and no
 //! bone changes length (only rotation channels are written).
 
-use super::*;
+use crate::edit::finite;
+use crate::io::error::Error;
 use crate::model::body::contact::{Planting, sliding};
 use crate::model::body::{Body, Limb};
+use crate::model::euler;
+use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
+use crate::model::skeleton::Skeleton;
+use glam::DQuat;
 use glam::DVec3;
 use std::ops::Range;
 

@@ -1,7 +1,12 @@
 //! Mirroring a take: left and right swapped (or each joint reflected where it is), across the
 //! axis the figure's sides lie along.
 
-use super::*;
+use crate::io::error::Error;
+use crate::model::body::mirrored_name;
+use crate::model::euler;
+use crate::model::motion::Motion;
+use crate::model::skeleton::{Channel, RotationOrder, Skeleton};
+use glam::DQuat;
 
 /// How [`mirror()`] makes the mirror image.
 ///

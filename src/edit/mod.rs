@@ -2,13 +2,6 @@
 //! the 32-bit range (a scale, a difference, a turn of huge values) checks its result with
 //! [`finite()`] and refuses it rather than hand on an infinity no file can hold.
 
-use crate::io::error::Error;
-use crate::model::body::mirrored_name;
-use crate::model::euler;
-use crate::model::motion::Motion;
-use crate::model::skeleton::{Channel, RotationOrder, Skeleton};
-use glam::{DQuat, Quat};
-
 mod angles;
 mod finite;
 mod lock_feet;

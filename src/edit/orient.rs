@@ -1,7 +1,12 @@
 //! Where a take stands: its travel taken out (in place), its lowest point on the floor
 //! (ground), and a quarter turn from one up axis to another (reorient).
 
-use super::*;
+use crate::edit::finite;
+use crate::io::error::Error;
+use crate::model::euler;
+use crate::model::motion::Motion;
+use crate::model::skeleton::Skeleton;
+use glam::Quat;
 
 /// The ground plane's axes for an up axis: (the two across, the one up).
 fn plane(up: crate::model::pose::Up) -> ([usize; 2], usize) {

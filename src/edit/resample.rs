@@ -1,7 +1,11 @@
 //! Resampling a take to another frame rate: frames picked where the rates divide, rotations
 //! interpolated on the sphere where they do not.
 
-use super::*;
+use crate::edit::finite;
+use crate::io::error::Error;
+use crate::model::euler;
+use crate::model::motion::Motion;
+use crate::model::skeleton::Skeleton;
 
 /// Rates closer than this (relatively) count as equal: frame times are written with few digits
 /// (`0.033333` for 1/30, `.0083333` for 1/120).

@@ -1,6 +1,9 @@
 //! Trimming a take to a range of frames, and scaling every length.
 
-use super::*;
+use crate::edit::finite;
+use crate::io::error::Error;
+use crate::model::motion::Motion;
+use crate::model::skeleton::Skeleton;
 
 /// Only the frames in `range` (already checked against the take).
 pub fn trim(motion: &Motion, range: std::ops::Range<usize>) -> Motion {

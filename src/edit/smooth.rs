@@ -7,7 +7,12 @@
 //! by its odd reflection and the filter starts in its steady state for the first value, so a
 //! still take stays exactly still and the ends do not ring.
 
-use super::*;
+use crate::edit::finite;
+use crate::io::error::Error;
+use crate::model::euler;
+use crate::model::motion::Motion;
+use crate::model::skeleton::Skeleton;
+use glam::DQuat;
 
 /// A second-order Butterworth low-pass at `cutoff` Hz for samples `frame_time` seconds apart:
 /// `(b0, b1, b2, a1, a2)` of `y = b0 x + b1 x₋₁ + b2 x₋₂ − a1 y₋₁ − a2 y₋₂`.

@@ -9,7 +9,10 @@
 use crate::model::pose::OffsetMode;
 use crate::model::skeleton::Skeleton;
 use crate::render::draw::{self, Style};
-use crate::render::fixed::*;
+use crate::render::fixed::{
+    FixedFunction, GL_COLOR_BUFFER_BIT, GL_CULL_FACE, GL_DEPTH_BUFFER_BIT, GL_DEPTH_TEST,
+    GL_LIGHT0, GL_LIGHTING, GL_MODELVIEW, GL_NORMALIZE, GL_POSITION, GL_PROJECTION, GL_QUADS,
+};
 
 /// C++: `float R = 200.0f`: the camera's distance from the point it looks at.
 pub const R: f32 = 200.0;

@@ -11,7 +11,10 @@ use crate::model::pose::{FkPlan, FkScratch, OffsetMode, Up};
 use crate::model::skeleton::Skeleton;
 use crate::model::stance::Units;
 use crate::render::draw::{self, Style};
-use crate::render::fixed::*;
+use crate::render::fixed::{
+    FixedFunction, GL_AMBIENT, GL_COLOR_BUFFER_BIT, GL_COLOR_MATERIAL, GL_DEPTH_BUFFER_BIT,
+    GL_DIFFUSE, GL_LIGHTING, GL_LINES, GL_NORMALIZE,
+};
 use crate::render::scene::{Scene, look_at};
 use glam::Vec3;
 

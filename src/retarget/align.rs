@@ -1,7 +1,12 @@
 //! Rest alignment: which bones drive which, the turn that puts the target's rest bones onto
 //! the source's, and the heights the hips' path is scaled by.
 
-use super::*;
+use super::Map;
+use crate::model::body::{Body, Limb, is_ancestor};
+use crate::model::motion::Motion;
+use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
+use crate::model::skeleton::Skeleton;
+use glam::{DQuat, DVec3};
 
 /// The two skeletons' up axes, as their takes stand.
 ///

@@ -3,7 +3,14 @@
 //! A side crossed (the left thigh where the source's right one is) or a width collapsed (both
 //! thighs from one point) is refused; the rest is said in one line.
 
-use super::*;
+use super::{
+    Map, Ups, direction_errors, hip_height, quantile, source_offset_mode, standing, to_y_up,
+};
+use crate::model::body::{Body, Limb};
+use crate::model::motion::Motion;
+use crate::model::pose::{OffsetMode, world_transforms_f64};
+use crate::model::skeleton::Skeleton;
+use glam::{DQuat, DVec3};
 
 /// An output's width (hips or shoulders) is collapsed when, as a fraction of its skeleton's own
 /// at rest, it is less than this fraction of the source's width over the source's own at rest:

@@ -1,7 +1,10 @@
 //! Hinge limits: a joint with fewer than three rotation channels (an ASF knee) keeps the part
 //! of a rotation its channels can hold, in the form nearest the last frame's.
 
-use super::*;
+use crate::edit::channel_angles;
+use crate::model::pose::RotationKind;
+use crate::model::skeleton::Joint;
+use glam::{DQuat, DVec3};
 
 /// Of the two Euler forms of a rotation, and their turns by whole circles, the one nearest
 /// `reference` (degrees).

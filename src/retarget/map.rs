@@ -1,8 +1,11 @@
 //! The map from target joints to source joints: guessed by role, then by equal names,
 //! overridden by `SRC = DST` pairs, shown as TOML, and checked for the joints every take needs.
 
-use super::*;
+use super::mapped_below;
+use crate::io::error::Error;
 use crate::io::error::quoted;
+use crate::model::body::{Body, Limb, Role, Side, path_between};
+use crate::model::skeleton::Skeleton;
 
 /// The roles a take must have on both skeletons for a guessed map to stand (the chain).
 pub const REQUIRED: [Role; 9] = [

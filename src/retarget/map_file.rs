@@ -1,7 +1,8 @@
 //! Map files: the TOML or JSON `--map` reads (and `--show-map` prints), and `SRC=DST` pairs.
 
-use super::*;
+use crate::io::error::Error;
 use crate::io::error::quoted;
+use crate::model::skeleton::Skeleton;
 
 /// Pairs over a guessed map (`SRC = DST`, an empty DST leaving a source joint out): those for
 /// every skeleton, and those for one skeleton only, keyed by its

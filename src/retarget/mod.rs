@@ -23,14 +23,12 @@
 //! by side (src/retarget/fast.rs); [`retarget_plain`] is the same work a joint and a frame at a
 //! time, which a test holds it to (tests/retarget_fast.rs).
 
-use crate::edit::channel_angles;
 use crate::io::error::Error;
-use crate::model::body::*;
+use crate::model::body::Body;
 use crate::model::motion::Motion;
-use crate::model::pose::{OffsetMode, RotationKind, Up, world_transforms_f64};
-use crate::model::skeleton::{Joint, Skeleton};
+use crate::model::pose::OffsetMode;
+use crate::model::skeleton::Skeleton;
 use crate::take::Take;
-use glam::{DQuat, DVec3};
 
 mod align;
 mod check;
@@ -44,12 +42,11 @@ mod target;
 
 pub use align::*;
 pub use check::*;
-use hinge::*;
 pub(crate) use hinge::{limited_angles, limited_angles_by};
 pub use map::*;
 pub use map_file::*;
 pub use measure::*;
-use plain::*;
+use plain::{Setup, plain_frames};
 pub use target::*;
 
 /// The source's motion on the target skeleton: a take with the target's joints, offsets and

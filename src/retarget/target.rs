@@ -1,6 +1,11 @@
 //! The skeleton a take is put on: a file, or a built-in skeleton (`smpl22`).
 
-use super::*;
+use super::{Map, Ups, source_offset_mode};
+use crate::io::error::Error;
+use crate::model::body::{Body, Doubt, is_ancestor};
+use crate::model::motion::Motion;
+use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
+use crate::model::skeleton::{Joint, Skeleton};
 
 /// What a refusal by [`Target::check_body`] ends with: how to go ahead anyway.
 /// Python's messages read it as "`any_body` retargets it anyway".

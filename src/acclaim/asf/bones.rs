@@ -1,7 +1,10 @@
 //! An ASF skeleton as bvhview's `Skeleton`: each bone's fixed axis, its degrees of freedom as
 //! channels, and where each AMC value goes.
 
-use super::*;
+use super::{Asf, Bone, Dof};
+use crate::acclaim::{axis_rotation, bone_joint};
+use crate::model::skeleton::{Channel, Joint, RotationOrder, Skeleton, Source};
+use glam::Vec3;
 
 /// Where one AMC line's values go: the joint's first MOTION column, and per value the channel
 /// slot (relative to it) it fills.

@@ -4,11 +4,9 @@
 //! case, and an error with the line and column for anything malformed.
 
 use super::text::{Word, error_at, expected, expected_after, expected_at_start, lines, number};
-use super::{axis_rotation, bone_joint};
 use crate::io::error::Error;
 use crate::limits::MAX_DEPTH;
-use crate::model::skeleton::{Channel, Joint, RotationOrder, Skeleton, Source};
-use glam::Vec3;
+use crate::model::skeleton::Channel;
 use std::path::Path;
 
 mod bones;

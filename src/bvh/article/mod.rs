@@ -23,7 +23,7 @@ use std::path::Path;
 mod c_library;
 mod outcome;
 
-use c_library::*;
+use c_library::{c_strtod, is_c_space};
 pub use outcome::*;
 
 /// The axes `roateSpace` turns about for `flags`, in order (0, 1, 2 are X, Y, Z), or none: it

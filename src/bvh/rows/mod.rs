@@ -67,7 +67,7 @@ use words::{Problem, SliceSink};
 
 mod stream;
 
-use stream::*;
+use stream::{KeptBuffer, Source, Stream, kept_buffer, lock};
 
 /// The last place a chunk may end: after an LF, or after a CR that is not the buffer's last byte
 /// (it might be followed by an LF in the next read). `None` if there is none.

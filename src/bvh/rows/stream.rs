@@ -1,7 +1,9 @@
 //! A file read in chunks for the row reader: buffers kept between files, each chunk cut at a
 //! line end and handed to the workers in order.
 
-use super::*;
+use super::{CHUNK, Job, last_line_end};
+use crate::io::lines::{advance, count_lines};
+use std::io::Read;
 
 /// Where the rows come from: a reader, read a chunk at a time into each thread's buffer, or text
 /// already in memory, which the threads parse where it lies.

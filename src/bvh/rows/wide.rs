@@ -7,7 +7,18 @@
 
 use super::words::{Block, Problem, Sink, read_any_number};
 
-use std::arch::x86_64::*;
+use std::arch::x86_64::{
+    __m512i, _mm_cvtsi64_si128, _mm256_storeu_ps, _mm512_add_epi64, _mm512_and_si512,
+    _mm512_andnot_si512, _mm512_castpd_si512, _mm512_castsi512_pd, _mm512_cmpeq_epi8_mask,
+    _mm512_cmpeq_epi64_mask, _mm512_cmple_epu64_mask, _mm512_cmplt_epu8_mask, _mm512_cvtepi32_pd,
+    _mm512_cvtepi64_epi32, _mm512_cvtepu8_epi64, _mm512_cvtpd_ps, _mm512_loadu_pd,
+    _mm512_lzcnt_epi64, _mm512_madd_epi16, _mm512_maddubs_epi16, _mm512_mask_set1_epi64,
+    _mm512_mask_sub_epi64, _mm512_mask_xor_epi64, _mm512_maskz_sub_epi64, _mm512_movm_epi8,
+    _mm512_mul_epu32, _mm512_mul_pd, _mm512_or_si512, _mm512_permutexvar_pd, _mm512_set1_epi8,
+    _mm512_set1_epi16, _mm512_set1_epi32, _mm512_set1_epi64, _mm512_slli_epi64, _mm512_sllv_epi64,
+    _mm512_srli_epi64, _mm512_sub_epi8, _mm512_sub_epi64, _mm512_test_epi64_mask,
+    _mm512_testn_epi64_mask,
+};
 
 /// Whether this CPU can run [`Wide`]. The standard library asks the CPU once and keeps the
 /// answer in atomics, without a lock that a child forked mid-question would wait on.

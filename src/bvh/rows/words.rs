@@ -98,7 +98,10 @@ impl Block {
     #[cfg(target_arch = "x86_64")]
     #[inline(always)]
     fn of_64(bytes: &[u8; 64]) -> Block {
-        use std::arch::x86_64::*;
+        use std::arch::x86_64::{
+            __m128i, _mm_add_epi8, _mm_cmpeq_epi8, _mm_cmplt_epi8, _mm_loadu_si128,
+            _mm_movemask_epi8, _mm_or_si128, _mm_set1_epi8,
+        };
         let mut block = Block::default();
         for lane in 0..4 {
             // SAFETY: SSE2 is always present on x86-64, and the 16 bytes read are inside `bytes`.

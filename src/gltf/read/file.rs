@@ -1,7 +1,10 @@
 //! A glTF file and its buffers: base64 and percent-encoded URIs, buffers only from inside the
 //! file's folder, the GLB header, the validation, and accessors decoded once.
 
-use super::*;
+use super::bad;
+use crate::io::error::Error;
+use gltf::accessor::{DataType, Dimensions};
+use std::path::{Path, PathBuf};
 
 /// Decodes standard base64 (with or without padding); `None` on any other byte.
 pub(super) fn base64(text: &str) -> Option<Vec<u8>> {

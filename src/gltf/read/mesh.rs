@@ -4,9 +4,13 @@
 //! that joint, one under no joint stays where it stands. Triangles only (strips, fans, lines and
 //! points are left out, said once).
 
-use super::*;
+use super::bad;
+use crate::gltf::read::file::{File, accessor_integers, accessor_values};
+use crate::io::error::Error;
 use crate::model::mesh::{Bone, Mesh, MeshBuilder};
+use glam::DMat4;
 use glam::{Mat4, Vec3};
+use gltf::accessor::{DataType, Dimensions};
 
 /// What [`read`] needs of the skeleton the reader made, per node of the file.
 pub(super) struct NodeFrames<'a> {

@@ -24,17 +24,14 @@ use crate::io::error::Error;
 use crate::model::baked::{self, Node, Pose};
 use crate::model::reading::{Read, TakeInfo, choose_take, pick_take};
 use glam::{DMat4, DQuat, DVec3};
-use gltf::accessor::{DataType, Dimensions};
-use gltf::animation::{Interpolation, Property};
-use std::collections::HashMap;
-use std::path::{Path, PathBuf};
-use std::rc::Rc;
+use gltf::animation::Property;
+use std::path::Path;
 
 mod file;
 mod mesh;
 mod tracks;
 
-use file::*;
+use file::{File, parse, read};
 pub use tracks::*;
 
 fn bad(name: &str, why: impl std::fmt::Display) -> Error {
@@ -441,6 +438,10 @@ fn load_file(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::gltf::read::file::base64;
+    use crate::gltf::read::file::buffer_path;
+    use gltf::animation::Interpolation;
+    use std::rc::Rc;
 
     #[test]
     fn base64_decodes() {

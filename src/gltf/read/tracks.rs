@@ -1,7 +1,12 @@
 //! Animation tracks and the frame rate: each channel's keys decoded and bounded by the input's
 //! size, and the key step that fits the most keys.
 
-use super::*;
+use crate::gltf::read::file::{File, accessor_values};
+use crate::model::baked;
+use glam::DQuat;
+use gltf::animation::{Interpolation, Property};
+use std::collections::HashMap;
+use std::rc::Rc;
 
 /// One animated property of one node, read.
 pub(super) struct Track {

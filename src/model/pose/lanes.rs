@@ -1,7 +1,9 @@
 //! The fast forward kinematics: eight frames side by side in 32-bit lanes (`FkPlan`), held to
 //! the plain [`super::world_matrices`] by its tests.
 
-use super::*;
+use super::OffsetMode;
+use crate::model::skeleton::{Channel, Skeleton};
+use glam::Vec3;
 
 /// `(sin, cos)` of an angle in degrees: reduced to a quadrant, then polynomials good to about
 /// 1e-7 (a float's own precision), exact at multiples of 90°. Much faster than two libm calls.
@@ -639,6 +641,11 @@ pub fn positions_all_frames(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::pose::RotationKind;
+    use crate::model::pose::rotation_of_numbers;
+    use crate::model::pose::world_matrices;
+    use crate::model::pose::write_local_rotations;
+    use crate::model::pose::write_rotation;
 
     #[test]
     fn sin_cos_degrees_matches_libm() {

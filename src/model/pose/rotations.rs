@@ -1,7 +1,9 @@
 //! Rotations as numbers: a joint's rotation written as a quaternion, a matrix, 6D or Euler
 //! angles, and read back from them.
 
-use super::*;
+use super::{FkPlan, FkScratch, LANES, OffsetMode, local_rotation};
+use crate::model::skeleton::{Joint, Skeleton};
+use glam::{Mat4, Vec3};
 
 /// How a joint's local rotation is written as numbers (Python's `local_rotations(kind=…)`, the
 /// dataset's `--rotations`).

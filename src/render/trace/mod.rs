@@ -2,7 +2,11 @@
 //! call becomes one line of C. The window and the snapshots run the same code against real GL,
 //! so what the trace shows is what they draw.
 
-use crate::render::fixed::*;
+use crate::render::fixed::{
+    FixedFunction, GL_COLOR_BUFFER_BIT, GL_CULL_FACE, GL_DEPTH_BUFFER_BIT, GL_DEPTH_TEST,
+    GL_LIGHT0, GL_LIGHTING, GL_LINE_LOOP, GL_LINE_STRIP, GL_LINES, GL_MODELVIEW, GL_NORMALIZE,
+    GL_POSITION, GL_PROJECTION, GL_QUADS, GL_TRIANGLE_STRIP, Note,
+};
 
 mod verdict;
 

@@ -1,7 +1,7 @@
 //! What `trace --explain` says the article's program does with a file: the verdict line, in
 //! English or Traditional Chinese.
 
-use super::*;
+use super::{Language, axis_letters, plain};
 
 /// The first line of `--explain`: what the article's program does with the file as a whole, in
 /// one of four words (`reads it as written`, `misreads it`, `rejects it`, `crashes on it`;

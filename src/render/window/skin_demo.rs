@@ -1,7 +1,7 @@
 //! Seed 001's linear blend skinning demo in a window: two bones, three quads, a right-button
 //! drag bends the second bone.
 
-use super::gl::*;
+use super::gl::{Running, check_environment, keep_or_exit, open_gl_window};
 use crate::io::error::Error;
 use glutin::prelude::GlSurface;
 use std::num::NonZeroU32;

@@ -13,21 +13,16 @@
 //! own previous frame, and the carrier's translation, which waits for the take's floor, are left
 //! for one pass in frame order).
 
-use super::{Map, Setup, limited_angles, nearest_form};
-use crate::model::motion::Motion;
-use crate::model::pose::OffsetMode;
-use crate::model::skeleton::Skeleton;
+use crate::retarget::plain::Setup;
 use glam::{DQuat, DVec3};
-use std::sync::{Mutex, PoisonError};
 
 mod plan;
 mod quats;
 mod trig;
 
 pub(super) use plan::frames;
-use plan::*;
-use quats::*;
-use trig::*;
+use plan::{Move, Piece};
+use quats::{Points, Quats};
 
 /// Frames computed side by side: lane `l` of every value belongs to frame `l` of the batch.
 const LANES: usize = 8;
@@ -225,6 +220,12 @@ fn pieces<'a, T>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::retarget::Map;
+    use crate::retarget::OffsetMode;
+    use crate::retarget::fast::plan::Plan;
+    use crate::retarget::fast::plan::Scratch;
+    use crate::retarget::fast::trig::atan2;
+    use crate::retarget::fast::trig::sin_cos;
 
     /// A few million angles of every size the files hold, by a fixed xorshift.
     fn numbers(count: usize) -> impl Iterator<Item = f64> {

@@ -1,7 +1,19 @@
 //! The plan of one retarget: each source and target joint's work, laid out once, then run on
 //! pieces of eight frames.
 
-use super::*;
+use super::{
+    LANES, Lanes, PIECE, Value, all_finite, axis_order, follow, lanes, nearest_forms, pieces, turn,
+};
+use crate::model::motion::Motion;
+use crate::model::pose::OffsetMode;
+use crate::model::skeleton::Skeleton;
+use crate::retarget::Map;
+use crate::retarget::fast::quats::{Points, Quats};
+use crate::retarget::fast::trig::sin_cos;
+use crate::retarget::hinge::{limited_angles, nearest_form};
+use crate::retarget::plain::Setup;
+use glam::{DQuat, DVec3};
+use std::sync::{Mutex, PoisonError};
 
 /// A source joint whose world transform the map reads (or a descendant's does).
 pub(super) struct SourceJoint {

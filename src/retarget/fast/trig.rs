@@ -1,7 +1,7 @@
 //! `sin`, `cos` and `atan2` eight lanes at a time: loops over fdlibm's published polynomials,
 //! each lane as the one-value function computes it.
 
-use super::*;
+use super::{LANES, Lanes, lanes};
 
 /// fdlibm's constants: k_sin.c and k_cos.c's polynomials on [-π/4, π/4], the first two parts of
 /// π/2 and the tail (e_rem_pio2.c), s_atan.c's polynomial and atan(0.5), atan(1), atan(1.5),
@@ -51,7 +51,10 @@ mod fdlibm {
     ];
     pub(super) const PI_LO: f64 = 1.224_646_799_147_353_177_2e-16;
 }
-use fdlibm::*;
+use fdlibm::{
+    AT, ATAN_HI, ATAN_LO, C1, C2, C3, C4, C5, C6, PI_LO, PIO2_1, PIO2_2, PIO2_2T, S1, S2, S3, S4,
+    S5, S6,
+};
 
 /// Angles (radians) this far from 0 or beyond go to libm: the reduction by parts of π/2 (33 bits
 /// each) is exact for fewer than 2²⁰ quarter turns.

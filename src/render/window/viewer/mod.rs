@@ -7,33 +7,24 @@
 //! time, S goes back a frame, a mouse drag orbits, the wheel zooms, F frames the skeleton, B
 //! toggles the stick figure, K the generated skin.
 
-use super::gl::*;
+use super::gl::{check_environment, keep_or_exit};
 use crate::io::error::Error;
-use crate::model::motion::Motion;
 use crate::model::pose::OffsetMode;
+use crate::render::Look;
 use crate::render::draw::Style;
-use crate::render::paint::{Clock, Painter, Shown};
-use crate::render::scene::{self, Camera};
-use crate::render::timeline::Bar;
-use crate::render::{Look, Overlay, SnapshotOptions};
 use crate::take::Take;
-use glutin::prelude::GlSurface;
-use std::f32::consts::TAU;
-use std::num::NonZeroU32;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 use winit::application::ApplicationHandler;
-use winit::dpi::PhysicalSize;
 use winit::event::{ElementState, MouseButton, MouseScrollDelta, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, ControlFlow};
-use winit::keyboard::{Key, NamedKey};
 use winit::window::WindowId;
 
 #[cfg(feature = "video")]
 mod record;
 mod state;
 
-use state::*;
+use state::Viewer;
 
 /// How the window starts.
 #[derive(Clone, Debug)]
@@ -352,7 +343,9 @@ impl ApplicationHandler for Viewer {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::render::Camera;
     use std::path::Path;
+    use winit::keyboard::Key;
 
     /// The window's defaults, saying nothing of pictures written.
     fn quiet_options() -> ViewerOptions {

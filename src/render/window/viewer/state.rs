@@ -1,7 +1,27 @@
 //! The viewer's state and what each key and mouse move does to it (the article's `keyboard`:
 //! W the next frame, A/D the camera), and drawing one picture of it.
 
-use super::*;
+use super::{SPEEDS, TakeSource, ViewerOptions, ViewerTake, playback_step};
+use crate::io::error::Error;
+use crate::model::motion::Motion;
+use crate::model::pose::OffsetMode;
+use crate::render::draw::Style;
+use crate::render::paint::{Clock, Painter, Shown};
+use crate::render::scene::Camera;
+use crate::render::timeline::Bar;
+use crate::render::window::gl::{Running, WINDOW_SIZE, open_gl_window};
+#[cfg(feature = "video")]
+use crate::render::window::viewer::record;
+use crate::render::{Look, Overlay, SnapshotOptions, scene};
+use glutin::prelude::GlSurface;
+use std::f32::consts::TAU;
+use std::num::NonZeroU32;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+use winit::dpi::PhysicalSize;
+use winit::event::MouseButton;
+use winit::event_loop::ActiveEventLoop;
+use winit::keyboard::{Key, NamedKey};
 
 pub(super) struct Viewer {
     pub(super) takes: Vec<ViewerTake>,
