@@ -12,6 +12,8 @@ use std::fmt;
 pub mod contact;
 pub mod feet;
 pub mod fingers;
+mod geometry;
+mod legs;
 pub mod names;
 pub mod roles;
 pub mod sides;
