@@ -398,7 +398,10 @@ impl Stance {
         } else if let Some(legs) = self.legs_not_two {
             let what = match legs {
                 0 => "no legs, a hand or part of a body".to_string(),
-                n => format!("{n} legs, not a two-legged body"),
+                n => format!(
+                    "{} legs, not a two-legged body",
+                    crate::model::body::count_word(n)
+                ),
             };
             format!("{what}: no body to guess it from, the file's own y")
         } else if self.up_by_path {

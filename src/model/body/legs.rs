@@ -36,7 +36,7 @@ fn names_a_leg(name: &str) -> bool {
 }
 
 /// A count in words, as a person says it: `no`, `one` … `twelve`, then digits.
-pub(super) fn count_word(n: usize) -> String {
+pub(crate) fn count_word(n: usize) -> String {
     const WORDS: [&str; 13] = [
         "no", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine", "ten",
         "eleven", "twelve",

@@ -21,6 +21,7 @@ pub mod travel;
 pub mod verdict;
 
 pub use fingers::FINGERS;
+pub(crate) use legs::count_word;
 pub use names::*;
 pub use roles::*;
 pub use sides::*;
