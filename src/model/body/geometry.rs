@@ -51,20 +51,11 @@ fn up_and_left(body: &Body, skeleton: &Skeleton, rest: &[DVec3]) -> Option<(DVec
     Some((up, left, leg.length()))
 }
 
-/// Which of a chain's two sides lies on the body's left: `Some(true)` when the chain read as
-/// left lies left of the one read as right, `Some(false)` when it lies right of it, `None` when
-/// a side is missing or they lie too near to tell.
-fn lies_left(
-    chains: [&[Option<usize>]; 2],
-    rest: &[DVec3],
-    left: DVec3,
-    scale: f64,
-) -> Option<bool> {
-    let middle = |chain: &[Option<usize>]| -> Option<DVec3> {
-        let points: Vec<DVec3> = chain.iter().flatten().map(|&j| rest[j]).collect();
-        (!points.is_empty()).then(|| points.iter().sum::<DVec3>() / points.len() as f64)
-    };
-    let apart = (middle(chains[0])? - middle(chains[1])?).dot(left);
+/// Whether the joint read as left lies left of the one read as right: `Some(true)` when it
+/// does, `Some(false)` when it lies right of it, `None` when a side is missing or they lie too
+/// near to tell (clavicles by the spine).
+fn lies_left(pair: [Option<usize>; 2], rest: &[DVec3], left: DVec3, scale: f64) -> Option<bool> {
+    let apart = (rest[pair[0]?] - rest[pair[1]?]).dot(left);
     if apart > APART * scale {
         Some(true)
     } else if apart < -APART * scale {
@@ -88,13 +79,31 @@ impl Body {
         };
         let mut crossed = Vec::new();
         for (part, slots) in [("arm", 0..4), ("leg", 4..8)] {
-            let chains = [&self.limbs[0][slots.clone()], &self.limbs[1][slots.clone()]];
-            if lies_left(chains, &rest, left, scale) == Some(false) {
-                for slot in slots {
-                    let (l, r) = (self.limbs[0][slot], self.limbs[1][slot]);
-                    self.limbs[0][slot] = r;
-                    self.limbs[1][slot] = l;
+            // Each joint by where it lies; one too near the middle to tell (a clavicle) as the
+            // rest of its chain.
+            let said: Vec<Option<bool>> = slots
+                .clone()
+                .map(|slot| {
+                    let pair = [self.limbs[0][slot], self.limbs[1][slot]];
+                    lies_left(pair, &rest, left, scale)
+                })
+                .collect();
+            let (held, against) = said.iter().fold((0, 0), |(h, a), s| match s {
+                Some(true) => (h + 1, a),
+                Some(false) => (h, a + 1),
+                None => (h, a),
+            });
+            let mut moved = false;
+            for (slot, said) in slots.zip(said) {
+                if said.unwrap_or(against <= held) {
+                    continue;
                 }
+                let (l, r) = (self.limbs[0][slot], self.limbs[1][slot]);
+                self.limbs[0][slot] = r;
+                self.limbs[1][slot] = l;
+                moved = true;
+            }
+            if moved {
                 crossed.push(part);
             }
         }
