@@ -1227,8 +1227,10 @@ const CLASSES: &[(&str, &[&str], &[&str], &str)] = &[
             "right leg LeftUpLeg > LeftLeg > LeftFoot > LeftToe; ",
             "feet LeftFoot LeftToe RightFoot RightToe",
         ],
-        &["sides from geometry: the arm and leg named left lie on the body's right (by its \
-           toes' facing and its hips' up): sides read from where they lie, not from the names"],
+        &[
+            "sides from geometry: the arm and leg named left lie on the body's right (by its \
+           toes' facing and its hips' up): sides read from where they lie, not from the names",
+        ],
         "y (sure: the figure spreads 163 along y and 16.0 along z over 2 frames)",
     ),
     (
@@ -1315,7 +1317,10 @@ fn bodies_are_read_from_geometry_where_names_mislead_or_say_nothing() {
         assert_eq!(line("body:"), parts.concat(), "{path}");
         assert_eq!(line("up axis:"), *up, "{path}");
         for doubt in *doubts {
-            assert!(text.contains(&format!("  - body: {doubt}\n")), "{path}: {text}");
+            assert!(
+                text.contains(&format!("  - body: {doubt}\n")),
+                "{path}: {text}"
+            );
         }
     }
 }
@@ -1327,7 +1332,10 @@ fn bodies_are_read_from_geometry_where_names_mislead_or_say_nothing() {
 #[test]
 fn sides_follow_where_the_limbs_lie_when_the_names_say_the_other() {
     let mut checked = 0;
-    for (path, _) in READINGS.iter().filter(|(p, _)| p.starts_with("tests/body/")) {
+    for (path, _) in READINGS
+        .iter()
+        .filter(|(p, _)| p.starts_with("tests/body/"))
+    {
         let original = Take::open(path).unwrap();
         let read = Body::of(&original.skeleton);
         assert_eq!(read.sides_by_geometry, None, "{path}");
@@ -1341,8 +1349,9 @@ fn sides_follow_where_the_limbs_lie_when_the_names_say_the_other() {
         assert_eq!(body.limbs, read.limbs, "{path}");
         assert_eq!(body.fingers, read.fingers, "{path}");
         assert!(
-            body.sides_by_geometry.as_deref().is_some_and(|why| why
-                .starts_with("the arm and leg named left lie on the body's right")),
+            body.sides_by_geometry.as_deref().is_some_and(
+                |why| why.starts_with("the arm and leg named left lie on the body's right")
+            ),
             "{path}: {:?}",
             body.sides_by_geometry
         );

@@ -100,7 +100,9 @@ fn phalanges<'a>(skeleton: &Skeleton, chain: &'a [usize]) -> &'a [usize] {
         .map(|&j| last_number(&skeleton.joints[j].name))
         .collect();
     let counted_from_one = numbers[0] == Some(1)
-        && numbers.windows(2).all(|w| matches!(w, [Some(a), Some(b)] if b > a));
+        && numbers
+            .windows(2)
+            .all(|w| matches!(w, [Some(a), Some(b)] if b > a));
     if counted_from_one {
         &chain[..3]
     } else {

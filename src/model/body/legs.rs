@@ -12,7 +12,12 @@ const LEG_WORDS: [&str; 18] = [
 
 /// Whether a joint's name says it is part of a leg.
 fn names_a_leg(name: &str) -> bool {
-    if name.rsplit([':', '|']).next().unwrap_or(name).starts_with("__") {
+    if name
+        .rsplit([':', '|'])
+        .next()
+        .unwrap_or(name)
+        .starts_with("__")
+    {
         return false;
     }
     let words = tokens(name);
@@ -84,7 +89,13 @@ impl Body {
             return None;
         }
         match self.leg_count(skeleton) {
-            0 if !self.limbs.iter().any(|side| side[4..].iter().any(Option::is_some)) => Some(0),
+            0 if !self
+                .limbs
+                .iter()
+                .any(|side| side[4..].iter().any(Option::is_some)) =>
+            {
+                Some(0)
+            }
             n if n > 2 => Some(n),
             _ => None,
         }
