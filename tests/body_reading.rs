@@ -264,9 +264,9 @@ const READINGS: &[(&str, &[&str])] = &[
             "spine spine05 spine04 spine03 spine02 spine01; ",
             "neck neck01; ",
             "head head; ",
-            "left arm clavicle.L > shoulder01.L > lowerarm01.L > wrist.L; ",
+            "left arm clavicle.L > upperarm01.L > lowerarm01.L > wrist.L; ",
             "left leg upperleg01.L > lowerleg01.L > foot.L > toe1-1.L; ",
-            "right arm clavicle.R > shoulder01.R > lowerarm01.R > wrist.R; ",
+            "right arm clavicle.R > upperarm01.R > lowerarm01.R > wrist.R; ",
             "right leg upperleg01.R > lowerleg01.R > foot.R > toe1-1.R; ",
             "left fingers thumb finger1-1.L finger1-2.L finger1-3.L, index finger2-1.L finger2-2.L finger2-3.L, middle finger3-1.L finger3-2.L finger3-3.L, ring finger4-1.L finger4-2.L finger4-3.L, pinky finger5-1.L finger5-2.L finger5-3.L; ",
             "right fingers thumb finger1-1.R finger1-2.R finger1-3.R, index finger2-1.R finger2-2.R finger2-3.R, middle finger3-1.R finger3-2.R finger3-3.R, ring finger4-1.R finger4-2.R finger4-3.R, pinky finger5-1.R finger5-2.R finger5-3.R; ",
@@ -1118,4 +1118,280 @@ fn grounding_stands_the_soles_on_the_floor() {
     }
     assert!(lowest_sole.abs() < 1e-4, "{lowest_sole}");
     assert!((lowest_toe - 4.0).abs() < 1e-3, "{lowest_toe}");
+}
+
+/// One sample per class the names alone misread (tests/body/make_classes.py): the whole
+/// reading, what it doubts, and the up axis `info` says.
+const CLASSES: &[(&str, &[&str], &[&str], &str)] = &[
+    (
+        // The upper arm is the bone that reaches the elbow, not the shoulder piece above it.
+        "tests/body/makehuman_shoulder01.bvh",
+        &[
+            "from names; ",
+            "hips root; ",
+            "spine spine03 spine01; ",
+            "neck neck01; ",
+            "head head; ",
+            "left arm clavicle.L > upperarm01.L > lowerarm01.L > wrist.L; ",
+            "left leg upperleg01.L > lowerleg01.L > foot.L > toe1-1.L; ",
+            "right arm clavicle.R > upperarm01.R > lowerarm01.R > wrist.R; ",
+            "right leg upperleg01.R > lowerleg01.R > foot.R > toe1-1.R; ",
+            "feet foot.L toe1-1.L foot.R toe1-1.R",
+        ],
+        &[],
+        "y (sure: the figure spreads 163 along y and 18.0 along z over 2 frames)",
+    ),
+    (
+        // Palms before the finger roots are no finger bone; the head above the face.
+        "tests/body/rigify_palms_face.bvh",
+        &[
+            "from names; ",
+            "hips DEF-spine; ",
+            "spine DEF-spine.001 DEF-spine.002 DEF-spine.003; ",
+            "neck DEF-spine.004; ",
+            "head DEF-spine.006; ",
+            "left arm DEF-shoulder.L > DEF-upper_arm.L > DEF-forearm.L > DEF-hand.L; ",
+            "left leg DEF-thigh.L > DEF-shin.L > DEF-foot.L > DEF-toe.L; ",
+            "right arm DEF-shoulder.R > DEF-upper_arm.R > DEF-forearm.R > DEF-hand.R; ",
+            "right leg DEF-thigh.R > DEF-shin.R > DEF-foot.R > DEF-toe.R; ",
+            "left fingers thumb DEF-thumb.01.L DEF-thumb.02.L DEF-thumb.03.L, \
+             index DEF-f_index.01.L DEF-f_index.02.L DEF-f_index.03.L, \
+             middle DEF-f_middle.01.L DEF-f_middle.02.L DEF-f_middle.03.L, \
+             ring DEF-f_ring.01.L DEF-f_ring.02.L DEF-f_ring.03.L, \
+             pinky DEF-f_pinky.01.L DEF-f_pinky.02.L DEF-f_pinky.03.L; ",
+            "right fingers thumb DEF-thumb.01.R DEF-thumb.02.R DEF-thumb.03.R, \
+             index DEF-f_index.01.R DEF-f_index.02.R DEF-f_index.03.R, \
+             middle DEF-f_middle.01.R DEF-f_middle.02.R DEF-f_middle.03.R, \
+             ring DEF-f_ring.01.R DEF-f_ring.02.R DEF-f_ring.03.R, \
+             pinky DEF-f_pinky.01.R DEF-f_pinky.02.R DEF-f_pinky.03.R; ",
+            "feet DEF-foot.L DEF-toe.L DEF-foot.R DEF-toe.R",
+        ],
+        &[],
+        "y (sure: the figure spreads 161 along y and 20.0 along z over 2 frames)",
+    ),
+    (
+        // Carpals are no finger bone; a metacarpal named for its finger (`lPinky0`) is no
+        // phalanx; a fingertip marker counted on from 1 (`lRing4`) is none either.
+        "tests/body/daz_carpal.bvh",
+        &[
+            "from names; ",
+            "hips hip; ",
+            "spine abdomen chest; ",
+            "neck neck; ",
+            "head head; ",
+            "left arm lCollar > lShldr > lForeArm > lHand; ",
+            "left leg lThigh > lShin > lFoot > lToe; ",
+            "right arm rCollar > rShldr > rForeArm > rHand; ",
+            "right leg rThigh > rShin > rFoot > rToe; ",
+            "left fingers thumb lThumb1 lThumb2 lThumb3, index lIndex1 lIndex2 lIndex3, \
+             middle lMid1 lMid2 lMid3, ring lRing1 lRing2 lRing3, pinky lPinky1 lPinky2 lPinky3; ",
+            "right fingers thumb rThumb1 rThumb2 rThumb3, index rIndex1 rIndex2 rIndex3, \
+             middle rMid1 rMid2 rMid3, ring rRing1 rRing2 rRing3, pinky rPinky1 rPinky2 rPinky3; ",
+            "feet lFoot lToe rFoot rToe",
+        ],
+        &[],
+        "y (sure: the figure spreads 163 along y and 20.0 along z over 2 frames)",
+    ),
+    (
+        // The ball of the foot as the toe.
+        "tests/body/forefoot.bvh",
+        &[
+            "from names; ",
+            "hips Hips; ",
+            "spine Spine Spine1; ",
+            "neck Neck; ",
+            "head Head; ",
+            "left arm LeftShoulder > LeftArm > LeftForeArm > LeftHand; ",
+            "left leg LeftUpLeg > LeftLeg > LeftFoot > LeftForeFoot; ",
+            "right arm RightShoulder > RightArm > RightForeArm > RightHand; ",
+            "right leg RightUpLeg > RightLeg > RightFoot > RightForeFoot; ",
+            "feet LeftFoot LeftForeFoot RightFoot RightForeFoot",
+        ],
+        &[],
+        "y (sure: the figure spreads 163 along y and 16.0 along z over 2 frames)",
+    ),
+    (
+        // A face hung from the neck is the head.
+        "tests/body/face_under_neck.bvh",
+        &[
+            "from names; ",
+            "hips Hips; ",
+            "spine Spine Spine1; ",
+            "neck Neck; ",
+            "head Face; ",
+            "left arm LeftShoulder > LeftArm > LeftForeArm > LeftHand; ",
+            "left leg LeftUpLeg > LeftLeg > LeftFoot > LeftToe; ",
+            "right arm RightShoulder > RightArm > RightForeArm > RightHand; ",
+            "right leg RightUpLeg > RightLeg > RightFoot > RightToe; ",
+            "feet LeftFoot LeftToe RightFoot RightToe",
+        ],
+        &[],
+        "y (sure: the figure spreads 163 along y and 16.0 along z over 2 frames)",
+    ),
+    (
+        // Names on the wrong sides: the geometry wins, and says so.
+        "tests/body/sides_swapped.bvh",
+        &[
+            "from names; ",
+            "hips Hips; ",
+            "spine Spine Spine1; ",
+            "neck Neck; ",
+            "head Head; ",
+            "left arm RightShoulder > RightArm > RightForeArm > RightHand; ",
+            "left leg RightUpLeg > RightLeg > RightFoot > RightToe; ",
+            "right arm LeftShoulder > LeftArm > LeftForeArm > LeftHand; ",
+            "right leg LeftUpLeg > LeftLeg > LeftFoot > LeftToe; ",
+            "feet LeftFoot LeftToe RightFoot RightToe",
+        ],
+        &[
+            "sides from geometry: the arm and leg named left lie on the body's right (by its \
+           toes' facing and its hips' up): sides read from where they lie, not from the names",
+        ],
+        "y (sure: the figure spreads 163 along y and 16.0 along z over 2 frames)",
+    ),
+    (
+        // No side in any name, facing -z: the body's left is at -x (`Bone.02x`).
+        "tests/body/no_side_names.bvh",
+        &[
+            "from the tree; ",
+            "hips Bone; ",
+            "spine Bone.001 Bone.002; ",
+            "neck Bone.003; ",
+            "head Bone.004; ",
+            "left arm Bone.020 > Bone.021 > Bone.022 > Bone.023; ",
+            "left leg Bone.024 > Bone.025 > Bone.026 > Bone.027; ",
+            "right arm Bone.010 > Bone.011 > Bone.012 > Bone.013; ",
+            "right leg Bone.014 > Bone.015 > Bone.016 > Bone.017; ",
+            "feet Bone.016 Bone.017 Bone.026 Bone.027",
+        ],
+        &[],
+        "y (sure: the figure spreads 163 along y and 16.0 along z over 2 frames)",
+    ),
+    (
+        // A hand alone: no hips, and no up guessed from a body it does not have.
+        "tests/body/hand_alone.bvh",
+        &[
+            "from names; ",
+            "hips none; ",
+            "spine none; ",
+            "neck none; ",
+            "head none; ",
+            "left arm none > none > none > lHand; ",
+            "left leg none > none > none > none; ",
+            "right arm none > none > none > none; ",
+            "right leg none > none > none > none; ",
+            "left fingers thumb lThumb1 lThumb2 lThumb3, index lIndex1 lIndex2 lIndex3, \
+             middle lMid1 lMid2 lMid3, ring lRing1 lRing2 lRing3, pinky lPinky1 lPinky2 lPinky3; ",
+            "feet none",
+        ],
+        &["no legs: a hand or part of a body; its up axis is not guessed from a body"],
+        "y (unsure: no legs, a hand or part of a body: no body to guess it from, the file's own y)",
+    ),
+    (
+        // A crab: eight legs, and its flat body stood on no axis of its own.
+        "tests/body/crab.bvh",
+        &[
+            "from names; ",
+            "hips Body; ",
+            "spine none; ",
+            "neck none; ",
+            "head none; ",
+            "left arm none > none > none > none; ",
+            "left leg leg1.L > none > none > none; ",
+            "right arm none > none > none > none; ",
+            "right leg leg1.R > none > none > none; ",
+            "feet none",
+        ],
+        &["eight legs: not a two-legged body; its up axis is not guessed from a body"],
+        "y (unsure: eight legs, not a two-legged body: no body to guess it from, the file's own y)",
+    ),
+];
+
+#[test]
+fn bodies_are_read_from_geometry_where_names_mislead_or_say_nothing() {
+    for (path, parts, doubts, up) in CLASSES {
+        let take = Take::open(path).unwrap();
+        let body = Body::of(&take.skeleton);
+        assert_eq!(body.summary(&take.skeleton), parts.concat(), "{path}");
+        let said: Vec<String> = body
+            .doubts(&take.skeleton, &take.motion, OffsetMode::Replace)
+            .iter()
+            .map(ToString::to_string)
+            .collect();
+        assert_eq!(said, *doubts, "{path}");
+        assert_eq!(take.stance(OffsetMode::Replace).up_text(), *up, "{path}");
+        // `info` says the same: the body line, each doubt as a warning, the up axis.
+        let out = bvhview().args(["info", path]).output().unwrap();
+        assert!(out.status.success(), "{path}: {out:?}");
+        let text = String::from_utf8(out.stdout).unwrap();
+        let line = |key: &str| {
+            text.lines()
+                .find_map(|l| l.strip_prefix(key).map(str::trim))
+                .unwrap_or_else(|| panic!("{path}: no {key} in {text}"))
+                .to_string()
+        };
+        assert_eq!(line("body:"), parts.concat(), "{path}");
+        assert_eq!(line("up axis:"), *up, "{path}");
+        for doubt in *doubts {
+            assert!(
+                text.contains(&format!("  - body: {doubt}\n")),
+                "{path}: {text}"
+            );
+        }
+    }
+}
+
+/// Names that contradict where the limbs lie lose: every family's sample, mirrored in its names
+/// only (each name given its other side's, nothing moved), reads with the same joints in the
+/// same roles as the sample itself, whose names agree with the geometry and change nothing;
+/// the disagreement is said.
+#[test]
+fn sides_follow_where_the_limbs_lie_when_the_names_say_the_other() {
+    let mut checked = 0;
+    for (path, _) in READINGS
+        .iter()
+        .filter(|(p, _)| p.starts_with("tests/body/"))
+    {
+        let original = Take::open(path).unwrap();
+        let read = Body::of(&original.skeleton);
+        assert_eq!(read.sides_by_geometry, None, "{path}");
+        let mut mirrored = original.skeleton.clone();
+        for joint in &mut mirrored.joints {
+            if let Some(name) = bvhview::model::body::mirrored_name(&joint.name) {
+                joint.name = name;
+            }
+        }
+        let body = Body::of(&mirrored);
+        assert_eq!(body.limbs, read.limbs, "{path}");
+        assert_eq!(body.fingers, read.fingers, "{path}");
+        assert!(
+            body.sides_by_geometry.as_deref().is_some_and(
+                |why| why.starts_with("the arm and leg named left lie on the body's right")
+            ),
+            "{path}: {:?}",
+            body.sides_by_geometry
+        );
+        checked += 1;
+    }
+    assert_eq!(checked, 15);
+}
+
+/// A crab onto a person is refused as any body that does not stand on two legs is, and a hand
+/// alone has no legs to refuse it by.
+#[test]
+fn a_crab_onto_a_person_is_refused_unless_insisted() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("crab_on_smpl.bvh");
+    let refused = bvhview()
+        .args(["retarget", "tests/body/crab.bvh", "--onto", "smpl22", "-o"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(refused.status.code(), Some(2), "{refused:?}");
+    assert_eq!(
+        String::from_utf8(refused.stderr).unwrap(),
+        "bvhview: tests/body/crab.bvh: not a two-legged body (it has 8 legs), and smpl22 is \
+         one: its limbs would be carried over as a person's; `--any-body` retargets it anyway\n"
+    );
+    assert!(!out.exists());
 }

@@ -6,6 +6,7 @@
 //! Nothing here changes the article's picture, which draws every file as written; the studio
 //! look, `--fit`, `info` and the edits use the guess, and `--up` overrides it.
 
+use crate::model::body::Body;
 use crate::model::motion::Motion;
 use crate::model::pose::{FkPlan, FkScratch, OffsetMode, Up, world_positions};
 use crate::model::skeleton::Skeleton;
@@ -172,6 +173,9 @@ pub struct Stance {
     pub up_sureness: Sureness,
     /// Whether the root's path decided the up axis (the figure's spread did not).
     pub up_by_path: bool,
+    /// `Some(legs)` when the body has no legs (a hand alone) or more than two (a crab): its
+    /// spread says nothing of which way a person would stand, so the file's Y is kept.
+    pub legs_not_two: Option<usize>,
     /// The figure's spread along x, y and z (the median over the poses looked at), in the file's
     /// units, as the file is written.
     pub spread: Vec3,
@@ -296,8 +300,11 @@ impl Stance {
         // one the root travels along least, if it travels; else BVH's Y.
         let (y, z) = (spread.y, spread.z);
         let (mut up, mut up_sureness, mut up_by_path) = (Up::Y, Sureness::Unsure, false);
+        let legs_not_two = Body::of(skeleton).legs_not_two(skeleton);
         if skeleton.y_up_stated {
             up_sureness = Sureness::Stated;
+        } else if legs_not_two.is_some() {
+            // A hand or a crab lies as flat as it stands: no body to stand it up by.
         } else if y.max(z) > 1e-6 {
             let ratio = y.max(z) / y.min(z).max(1e-6);
             if ratio >= LIKELY {
@@ -342,6 +349,7 @@ impl Stance {
             up,
             up_sureness,
             up_by_path,
+            legs_not_two,
             spread,
             root_travel,
             units,
@@ -387,6 +395,15 @@ impl Stance {
         let poses = self.poses_text();
         let why = if self.up_sureness == Sureness::Stated {
             "the file states its axes".to_string()
+        } else if let Some(legs) = self.legs_not_two {
+            let what = match legs {
+                0 => "no legs, a hand or part of a body".to_string(),
+                n => format!(
+                    "{} legs, not a two-legged body",
+                    crate::model::body::count_word(n)
+                ),
+            };
+            format!("{what}: no body to guess it from, the file's own y")
         } else if self.up_by_path {
             format!(
                 "the root travels {} along y and {} along z over {poses}",

@@ -139,6 +139,9 @@ impl Target {
     pub fn new(name: String, skeleton: Skeleton, motion: &Motion) -> Target {
         let up = if motion.frame_count() > 1 {
             crate::model::stance::Stance::guess(&skeleton, motion, OffsetMode::Replace, None).up
+        } else if Body::of(&skeleton).legs_not_two(&skeleton).is_some() {
+            // No legs or many: no figure to stand up by, the file's Y (as `Stance::guess`).
+            Up::Y
         } else {
             Up::guess(&skeleton)
         };
@@ -256,11 +259,16 @@ impl Target {
         skeleton: &Skeleton,
         motion: &Motion,
     ) -> Result<(), Error> {
+        // Many legs (a crab) is refused as a body that does not stand on two is.
         let two_legged = |skeleton: &Skeleton, motion: &Motion| {
             Body::of(skeleton)
                 .doubts(skeleton, motion, OffsetMode::Replace)
                 .into_iter()
-                .find(|d| matches!(d, Doubt::NotBiped(_) | Doubt::NoTwoLegs))
+                .find_map(|d| match d {
+                    Doubt::ManyLegs(n) => Some(Doubt::NotBiped(format!("it has {n} legs"))),
+                    Doubt::NotBiped(_) | Doubt::NoTwoLegs => Some(d),
+                    _ => None,
+                })
         };
         let target_doubt = two_legged(&self.skeleton, &self.poses);
         match (two_legged(skeleton, motion), target_doubt) {

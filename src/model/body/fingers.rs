@@ -78,6 +78,38 @@ fn finger_word(name: &str) -> Option<(usize, Option<u32>)> {
     None
 }
 
+/// The number a name ends its words with (`f_index.01.L` 1, `LeftHandIndex4` 4), if any.
+fn last_number(name: &str) -> Option<u32> {
+    tokens(name)
+        .iter()
+        .rev()
+        .find(|w| w.bytes().all(|b| b.is_ascii_digit()))
+        .and_then(|w| w.parse().ok())
+}
+
+/// A finger's three phalanges among the joints named for it, from the hand out: the chain's
+/// last three, since a metacarpal named for its finger (`LeftHandIndex0`, `index_00_l`) comes
+/// first and is no phalanx; but where the names count from 1 to 4 or more, the fourth and on
+/// are the fingertip's markers (Mixamo's `LeftHandIndex4`), and the first three are kept.
+fn phalanges<'a>(skeleton: &Skeleton, chain: &'a [usize]) -> &'a [usize] {
+    if chain.len() <= 3 {
+        return chain;
+    }
+    let numbers: Vec<Option<u32>> = chain
+        .iter()
+        .map(|&j| last_number(&skeleton.joints[j].name))
+        .collect();
+    let counted_from_one = numbers[0] == Some(1)
+        && numbers
+            .windows(2)
+            .all(|w| matches!(w, [Some(a), Some(b)] if b > a));
+    if counted_from_one {
+        &chain[..3]
+    } else {
+        &chain[chain.len() - 3..]
+    }
+}
+
 impl Body {
     /// Reads the fingers under each hand found: `self.fingers[side][finger][bone]`.
     pub(super) fn read_fingers(&mut self, skeleton: &Skeleton) {
@@ -95,6 +127,7 @@ impl Body {
                 Some(0) => 0,
                 _ => 1,
             };
+            let mut chains: [Vec<usize>; 5] = Default::default();
             for (joint, (finger, number)) in below {
                 let finger = match number {
                     Some(n) => match (n as usize).checked_sub(from) {
@@ -103,20 +136,23 @@ impl Body {
                     },
                     None => finger,
                 };
-                let bones = &mut self.fingers[side][finger];
+                chains[finger].push(joint);
+            }
+            for (finger, mut chain) in chains.into_iter().enumerate() {
                 // A finger's bones in order from the hand: a joint of this finger above another
-                // goes first; at most three.
-                let depth_of = |j: usize| depth(skeleton, j);
-                let mut chain: Vec<usize> = bones.iter().flatten().copied().collect();
-                chain.push(joint);
-                chain.sort_by_key(|&j| (depth_of(j), j));
+                // goes first.
+                chain.sort_by_key(|&j| (depth(skeleton, j), j));
                 chain.dedup();
                 // Two chains named as one finger (a thumb and its mirror under one hand): keep
                 // the one that starts nearest the hand.
-                let first = chain[0];
+                let Some(&first) = chain.first() else {
+                    continue;
+                };
                 chain.retain(|&j| is_ancestor(skeleton, first, j));
-                *bones = [None; 3];
-                for (slot, &j) in bones.iter_mut().zip(&chain) {
+                let bones = phalanges(skeleton, &chain);
+                let slots = &mut self.fingers[side][finger];
+                *slots = [None; 3];
+                for (slot, &j) in slots.iter_mut().zip(bones) {
                     *slot = Some(j);
                 }
             }
@@ -163,6 +199,11 @@ mod tests {
             ("__Index1_L", None),
             ("LeftHandIndex4_End", None),
             ("LeftHand", None),
+            ("palm_index.L", None),
+            ("DEF-palm.01.L", None),
+            ("lCarpal1", None),
+            ("index_metacarpal_l", None),
+            ("f_index.01.L", Some((1, None))),
         ] {
             assert_eq!(finger_word(name), want, "{name}");
         }

@@ -12,6 +12,8 @@ use std::fmt;
 pub mod contact;
 pub mod feet;
 pub mod fingers;
+mod geometry;
+mod legs;
 pub mod names;
 pub mod roles;
 pub mod sides;
@@ -19,6 +21,7 @@ pub mod travel;
 pub mod verdict;
 
 pub use fingers::FINGERS;
+pub(crate) use legs::count_word;
 pub use names::*;
 pub use roles::*;
 pub use sides::*;

@@ -132,6 +132,9 @@ pub(super) enum Word {
     Spine,
     Neck,
     Head,
+    /// A face or skull that hangs from the head (Rigify's `ORG-face`): the head is the joint it
+    /// hangs from, or the face itself when it hangs from the neck.
+    Face,
     Collar,
     /// A clavicle where the side also has an upper arm (Mixamo's `LeftShoulder`), the upper arm
     /// where it also has a collar (SMPL's `left_shoulder`, Second Life's `mShoulderLeft`).
@@ -299,6 +302,7 @@ pub(super) fn word_of(name: &str) -> Option<(Option<Side>, Word)> {
         | "ab" | "waist" | "lowerspine" | "upperspine" | "midspine" => Some(Word::Spine),
         "neck" | "lowerneck" | "upperneck" | "necklower" | "neckupper" => Some(Word::Neck),
         "head" => Some(Word::Head),
+        "face" | "skull" => Some(Word::Face),
         _ => None,
     };
     if let Some(word) = central {
@@ -317,7 +321,8 @@ pub(super) fn word_of(name: &str) -> Option<(Option<Side>, Word)> {
         "foot" => Word::Foot,
         "ankle" => Word::Ankle,
         "buttock" => Word::Buttock,
-        "toe" | "toes" | "toebase" | "ball" => Word::Toe,
+        // The ball of the foot by any name (`LeftForeFoot`, `ball.L`).
+        "toe" | "toes" | "toebase" | "ball" | "forefoot" | "balloffoot" => Word::Toe,
         _ => return None,
     };
     side.map(|side| (Some(side), word))
@@ -387,6 +392,9 @@ mod tests {
             ("__UpLeg_L", None),
             ("__LeftShoulder", None),
             ("Skeleton1_LShin", Some((Some(Left), Word::Shin))),
+            ("LeftForeFoot", Some((Some(Left), Word::Toe))),
+            ("forefoot.R", Some((Some(Right), Word::Toe))),
+            ("ORG-face", Some((None, Word::Face))),
         ] {
             assert_eq!(role_of(name), want, "{name}");
         }

@@ -38,6 +38,10 @@ pub struct Body {
     pub fingers: [[[Option<usize>; 3]; 5]; 2],
     /// The limbs were read from the tree and the rest pose: the names said nothing of any.
     pub from_tree: bool,
+    /// Where the names' left and right contradict where the limbs lie (the body's up from its
+    /// feet to its hips, its facing from its feet to its toes), what the geometry moved, in
+    /// words: the chains now sit on the side they lie on.
+    pub sides_by_geometry: Option<String>,
 }
 
 pub(super) fn side_index(side: Side) -> usize {
@@ -238,6 +242,47 @@ pub(super) fn limbs_by_tree(
     Some((limbs, neck, head))
 }
 
+/// The upper arm among the joints a side's names call one (`upper_arms`) that lie above the
+/// elbow: the bone that reaches the elbow. A joint above another candidate is a shoulder piece,
+/// not the upper arm, when its bone bends more than 10° from the line on to the elbow or its
+/// name says shoulder where the next says upper arm (MakeHuman's `shoulder01.L` above
+/// `upperarm01.L`); candidates in line with the next (an upper arm split for its twist,
+/// `upperarm01`, `upperarm02`) are one bone, read from its first joint.
+fn upper_arm_above(
+    skeleton: &Skeleton,
+    upper_arms: &[usize],
+    elbow: usize,
+    word: impl Fn(usize) -> Option<Word>,
+) -> Option<usize> {
+    let mut chain: Vec<usize> = upper_arms
+        .iter()
+        .copied()
+        .filter(|&j| j != elbow && is_ancestor(skeleton, j, elbow))
+        .collect();
+    chain.sort_by_key(|&j| (depth(skeleton, j), j));
+    chain.dedup();
+    // Only one chain: every candidate must lie above the next.
+    if chain.windows(2).any(|w| !is_ancestor(skeleton, w[0], w[1])) {
+        return None;
+    }
+    let mut rest = Vec::new();
+    world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
+    let at = |j: usize| rest[j].1;
+    let mut upper = *chain.first()?;
+    for &next in &chain[1..] {
+        let (bone, on) = (at(next) - at(upper), at(elbow) - at(next));
+        let bent = match (bone.try_normalize(), on.try_normalize()) {
+            (Some(a), Some(b)) => a.dot(b) < 10f64.to_radians().cos(),
+            _ => false,
+        };
+        let named_apart = word(upper) == Some(Word::Shoulder) && word(next) == Some(Word::UpperArm);
+        if bent || named_apart {
+            upper = next;
+        }
+    }
+    Some(upper)
+}
+
 impl Body {
     /// The roles of a skeleton's joints, from their names and the tree.
     pub fn of(skeleton: &Skeleton) -> Body {
@@ -298,13 +343,24 @@ impl Body {
                     _ => return None,
                 })
             };
+            let mut upper_arms = Vec::new();
             for (slot, limb) in LIMBS.iter().enumerate() {
-                let candidates = (0..joints.len())
+                let candidates: Vec<usize> = (0..joints.len())
                     .filter(|&j| {
                         words[j].is_some_and(|(s, w)| s == Some(side) && limb_of(w) == Some(*limb))
                     })
                     .collect();
+                if *limb == Limb::UpperArm {
+                    upper_arms.clone_from(&candidates);
+                }
                 body.limbs[side_index(side)][slot] = shallowest(candidates);
+            }
+            let arm = &mut body.limbs[side_index(side)];
+            if let Some(elbow) = arm[Limb::ForeArm as usize] {
+                let word = |j: usize| words[j].map(|(_, w)| w);
+                if let Some(upper) = upper_arm_above(skeleton, &upper_arms, elbow, word) {
+                    arm[Limb::UpperArm as usize] = Some(upper);
+                }
             }
         }
         body.shift_chains_read_one_bone_up(skeleton);
@@ -334,22 +390,43 @@ impl Body {
         // The chest carries both arms; the hips both legs and the spine.
         let chest = pair_of(Limb::Clavicle, Limb::UpperArm);
         let legs = pair_of(Limb::Thigh, Limb::Shin);
-        let mut neck = shallowest(named(Word::Neck)).or(tree_neck_head.0);
+        let neck = shallowest(named(Word::Neck)).or(tree_neck_head.0);
         let head = shallowest(
             named(Word::Head)
                 .into_iter()
                 .filter(|&h| neck.is_none_or(|n| is_ancestor(skeleton, n, h)))
                 .collect(),
         );
-        let mut head = head.or(tree_neck_head.1);
+        let head = head.or(tree_neck_head.1);
+        // A root that is itself a limb (a hand alone, an arm alone) is no hips.
+        let limb_joints: Vec<usize> = body.limbs.iter().flatten().flatten().copied().collect();
         let hips = match (legs, chest.or(neck).or(head)) {
             (Some(legs), Some(top)) => common_ancestor(skeleton, legs, top),
             (Some(legs), None) => Some(legs),
-            _ => shallowest(named(Word::Hips)).or(skeleton.roots().next()),
+            _ => shallowest(named(Word::Hips))
+                .or(skeleton.roots().next())
+                .filter(|root| !limb_joints.contains(root)),
         };
-        let Some(hips) = hips else {
-            return body;
-        };
+        if let Some(hips) = hips {
+            body.read_centre(skeleton, hips, chest, neck, head, &named);
+        }
+        body.settle_sides(skeleton);
+        body.read_fingers(skeleton);
+        body
+    }
+
+    /// The hips, spine, neck and head, the hips known: `chest` carries both arms, `neck` and
+    /// `head` as their names say (either may be missing). `named` lists the joints a word names.
+    fn read_centre(
+        &mut self,
+        skeleton: &Skeleton,
+        hips: usize,
+        chest: Option<usize>,
+        mut neck: Option<usize>,
+        mut head: Option<usize>,
+        named: &dyn Fn(Word) -> Vec<usize>,
+    ) {
+        let body = self;
         body.hips = Some(hips);
         // Rigify names no neck or head: the spine words above the chest are them.
         if head.is_none()
@@ -369,6 +446,19 @@ impl Body {
                         .min_by_key(|&j| depth(skeleton, j));
                 }
             }
+        }
+        // A face under the neck (Rigify's `ORG-face`; a rig's `face` hung from its `neck`): the
+        // head is the joint it hangs from, or the face itself when it hangs from the neck.
+        if head.is_none() {
+            let under = neck.unwrap_or(hips);
+            let face = named(Word::Face)
+                .into_iter()
+                .filter(|&f| f != under && is_ancestor(skeleton, under, f))
+                .min_by_key(|&f| (depth(skeleton, f), f));
+            head = face.map(|f| match skeleton.joints[f].parent {
+                Some(p) if p != under && Some(p) != chest && is_ancestor(skeleton, under, p) => p,
+                _ => f,
+            });
         }
         body.neck = neck.filter(|&n| n != hips && is_ancestor(skeleton, hips, n));
         body.head = head.filter(|&h| h != hips && is_ancestor(skeleton, hips, h));
@@ -391,8 +481,6 @@ impl Body {
                 path
             };
         }
-        body.read_fingers(skeleton);
-        body
     }
 
     /// Limbs whose names label the joint at a bone's far end, as some ASF files name their

@@ -36,6 +36,15 @@ pub enum Doubt {
     /// Two legs and a spine, but not standing on the legs: the head lies along the ground
     /// (degrees from the legs' up), or the hands reach the floor as the feet do.
     NotBiped(String),
+    /// Something of a body was read (a hand, an arm, fingers) but no leg: a hand or part of a
+    /// body, whose up axis is not guessed from a figure it does not have.
+    NoLegs,
+    /// More legs than two (a crab's eight): not a two-legged body, and no up axis guessed from
+    /// it.
+    ManyLegs(usize),
+    /// The names' left and right contradict where the limbs lie, and the geometry was followed
+    /// ([`Body::sides_by_geometry`]).
+    SidesByGeometry(String),
 }
 
 impl fmt::Display for Doubt {
@@ -52,6 +61,15 @@ impl fmt::Display for Doubt {
                 write!(f, "sides undecided: a {role} but no {other}")
             }
             Doubt::NotBiped(why) => write!(f, "not a two-legged body: {why}"),
+            Doubt::NoLegs => f.write_str(
+                "no legs: a hand or part of a body; its up axis is not guessed from a body",
+            ),
+            Doubt::ManyLegs(n) => write!(
+                f,
+                "{} legs: not a two-legged body; its up axis is not guessed from a body",
+                super::legs::count_word(*n)
+            ),
+            Doubt::SidesByGeometry(why) => write!(f, "sides from geometry: {why}"),
         }
     }
 }
@@ -71,6 +89,16 @@ impl Body {
     /// axes, as Rokoko's does): a body that stands in any of them stands.
     pub fn doubts(&self, skeleton: &Skeleton, motion: &Motion, mode: OffsetMode) -> Vec<Doubt> {
         let mut doubts = Vec::new();
+        match self.legs_not_two(skeleton) {
+            Some(0) => doubts.push(Doubt::NoLegs),
+            Some(n) => doubts.push(Doubt::ManyLegs(n)),
+            None => {}
+        }
+        doubts.extend(self.sides_by_geometry.clone().map(Doubt::SidesByGeometry));
+        if !doubts.is_empty() && !matches!(doubts[0], Doubt::SidesByGeometry(_)) {
+            // A hand or a crab: what a person's reading would miss of it says nothing more.
+            return doubts;
+        }
         let has = |side: usize, limb: Limb| self.limbs[side][limb as usize].is_some();
         let legs = (0..2).all(|s| has(s, Limb::Thigh) && has(s, Limb::Shin));
         if !legs {

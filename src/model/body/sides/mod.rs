@@ -36,7 +36,7 @@ impl Side {
 /// Body parts a single `l` or `r` is written before in lower-case names (CMU's ASF bones
 /// `lhumerus`, `rfemur`; cgspeed's `lhip`, `lknee`, `lelbow`), and that may follow a lower-case
 /// `left`/`right` (`lefthand`).
-const PARTS: [&str; 48] = [
+const PARTS: [&str; 49] = [
     "hipjoint",
     "hip",
     "femur",
@@ -56,6 +56,7 @@ const PARTS: [&str; 48] = [
     "toe",
     "toebase",
     "ball",
+    "forefoot",
     "clavicle",
     "collar",
     "shoulder",
