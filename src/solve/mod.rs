@@ -347,11 +347,34 @@ pub fn solve(
     // Per named joint, the named joints it turns towards and those bones at rest: the nearest
     // named joints below it, past any that stand where it stands at rest (CMU's `LHipJoint`
     // at the hips: the hips then turn towards the thighs beyond).
-    let mut targets: Vec<Vec<(usize, DVec3)>> = (0..count)
+    let gathered: Vec<Vec<(usize, DVec3, usize)>> = (0..count)
         .map(|j| match data_of[j] {
             Some(_) => targets_of(skeleton, j, &data_of, &rest),
             None => Vec::new(),
         })
+        .collect();
+    // A joint whose every bone reaches its named joint past another named joint that turns
+    // (CMU's hips: the thighs past `LHipJoint` and `RHipJoint`, the chest past `lowerback`; its
+    // wrist: the fingers past `lhand`, the thumb's end past `LThumb`) puts nothing out of place
+    // whichever way it turns: the joints between lay those bones. How it turns is then a choice,
+    // and in it, each bone's direction from its parent's at rest (the one the joint continues).
+    let free: Vec<bool> = gathered
+        .iter()
+        .map(|found| found.len() > 1 && found.iter().all(|t| t.2 > 0))
+        .collect();
+    let from_parent: Vec<Option<DVec3>> = skeleton
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(j, joint)| {
+            joint
+                .parent
+                .and_then(|p| (rest[j].1 - rest[p].1).try_normalize())
+        })
+        .collect();
+    let mut targets: Vec<Vec<(usize, DVec3)>> = gathered
+        .iter()
+        .map(|found| found.iter().map(|&(d, bone, _)| (d, bone)).collect())
         .collect();
     let scale = scale_of(skeleton, &rest, &data_of, positions, turn);
     let mut notes = Vec::new();
@@ -428,6 +451,8 @@ pub fn solve(
     // Each joint's rotation in the frame before, from its parent: where the data leaves a turn
     // free (the twist about a lone bone), the one nearest it, so nothing flips between frames.
     let mut before: Vec<Option<DQuat>> = vec![None; count];
+    // Per joint laid by [`fit_or_carry`], whether it follows its fit (see there).
+    let mut following: Vec<bool> = vec![true; count];
     for f in 0..frames {
         let row = &mut data_out[f * channels..(f + 1) * channels];
         for (j, joint) in skeleton.joints.iter().enumerate() {
@@ -473,6 +498,13 @@ pub fn solve(
                                 None => best_rotation(&pairs),
                             }
                         }
+                        _ if free[j] => fit_or_carry(
+                            &pairs,
+                            from_parent[j],
+                            parent,
+                            before[j],
+                            &mut following[j],
+                        ),
                         _ => best_rotation(&pairs),
                     };
                     // Bones all along one line leave the twist about it free: it is the one
@@ -629,6 +661,68 @@ fn along_one_line(mut directions: impl Iterator<Item = DVec3>) -> bool {
     directions.all(|d| d.normalize().cross(first).length() < 1e-9)
 }
 
+/// The rotation of a joint whose bones all reach past joints that turn (see where it is
+/// called). The best rigid fit of them (Horn's) where the data fixes it: where their shape is
+/// the skeleton's (the fit lays each within 5°) and they spread across the bone the joint
+/// continues (the one most along its bone from its parent: the fingers after the forearm) by
+/// 25° or more. Where not, the fit is the turn of a joint between (CMU's thumb turning on its
+/// own, up to 90° from where it stands beside the fingers), or no turn at all about that bone
+/// (the thumb's end passing along the fingers), and it flips: CMU's wrist turned 179.6° between
+/// two frames where the source's turned 54.8°. There the joint lays only the bone it continues
+/// and keeps the twist about it from the frame before (at the first frame, the fit's, or where
+/// the data fixes nothing, the least turn from where its parent carries it); once the data
+/// fixes the fit again, the joint turns towards it by at most 5° a frame (less while the fit is
+/// trusted less: off by 5° to 15°, spread by 25° to 12°) and follows it again once there, so a
+/// thumb that comes back beside the fingers turned about them does not swing the wrist at once.
+/// `following` carries, from frame to frame, whether the joint follows its fit.
+fn fit_or_carry(
+    pairs: &[(DVec3, DVec3)],
+    from_parent: Option<DVec3>,
+    parent: DQuat,
+    before: Option<DQuat>,
+    following: &mut bool,
+) -> DQuat {
+    /// The most a joint turns towards its fit in a frame while it catches up (degrees).
+    const CATCH_UP: f64 = 5.0;
+    let fit = best_rotation(pairs);
+    let along = |bone: DVec3| from_parent.map_or(0.0, |d| bone.normalize().dot(d));
+    let Some(&(bone, to)) = pairs
+        .iter()
+        .max_by(|a, b| along(a.0).total_cmp(&along(b.0)))
+    else {
+        return fit;
+    };
+    let off = pairs
+        .iter()
+        .map(|&(bone, to)| (fit * bone).angle_between(to).to_degrees())
+        .fold(0.0, f64::max);
+    let spread = pairs
+        .iter()
+        .map(|&(_, other)| other.angle_between(to).to_degrees())
+        .map(|a| a.min(180.0 - a))
+        .fold(0.0, f64::max);
+    let between = |x: f64, none: f64, all: f64| ((x - none) / (all - none)).clamp(0.0, 1.0);
+    let trust = between(off, 15.0, 5.0) * between(spread, 12.0, 25.0);
+    if trust >= 1.0 && (*following || before.is_none()) {
+        *following = true;
+        return fit;
+    }
+    *following = false;
+    let swung = DQuat::from_rotation_arc((parent * bone).normalize(), to.normalize()) * parent;
+    let carried = match before {
+        Some(b) => nearest_twist(swung, to, parent * b),
+        None if trust > 0.0 => return nearest_twist(swung, to, fit),
+        None => return swung,
+    };
+    let apart = carried.angle_between(fit).to_degrees();
+    let step = CATCH_UP * trust;
+    if apart <= step {
+        *following = trust >= 1.0;
+        return fit;
+    }
+    carried.slerp(fit, step / apart).normalize()
+}
+
 /// `wanted` turned about `axis` (a world direction) to the turn nearest `goal`: of the
 /// rotations that lay a bone along `axis` as `wanted` does, the one nearest `goal`.
 fn nearest_twist(wanted: DQuat, axis: DVec3, goal: DQuat) -> DQuat {
@@ -642,26 +736,40 @@ fn nearest_twist(wanted: DQuat, axis: DVec3, goal: DQuat) -> DQuat {
     (DQuat::from_axis_angle(axis, 2.0 * half) * wanted).normalize()
 }
 
-/// The named joints `j` turns towards (see where it is called), in file order.
+/// The named joints `j` turns towards (see where it is called), in file order, each with how
+/// many named joints that turn stand between (0 for `j`'s own bones).
 fn targets_of(
     skeleton: &Skeleton,
     j: usize,
     data_of: &[Option<usize>],
     rest: &[(DQuat, DVec3)],
-) -> Vec<(usize, DVec3)> {
+) -> Vec<(usize, DVec3, usize)> {
     let gather = |past_turning: bool| {
         let mut out = Vec::new();
-        let mut stack: Vec<usize> = skeleton.joints[j].children.iter().rev().copied().collect();
-        while let Some(c) = stack.pop() {
+        let mut stack: Vec<(usize, usize)> = skeleton.joints[j]
+            .children
+            .iter()
+            .rev()
+            .map(|&c| (c, 0))
+            .collect();
+        while let Some((c, passed)) = stack.pop() {
             let bone = rest[c].1 - rest[j].1;
             let turns = skeleton.joints[c]
                 .channels
                 .iter()
                 .any(|ch| ch.is_rotation());
             if data_of[c].is_some() && bone.length() > 1e-9 {
-                out.push((c, bone));
+                out.push((c, bone, passed));
             } else if past_turning || data_of[c].is_none() || !turns {
-                stack.extend(skeleton.joints[c].children.iter().rev().copied());
+                // Past a named joint that turns, what lies beyond moves with that joint too.
+                let passed = passed + usize::from(data_of[c].is_some() && turns);
+                stack.extend(
+                    skeleton.joints[c]
+                        .children
+                        .iter()
+                        .rev()
+                        .map(|&d| (d, passed)),
+                );
             }
         }
         out
@@ -671,9 +779,9 @@ fn targets_of(
     // they are enough (two bones not along one line: ASF's hips), else by all of them (CMU
     // BVH's `LHipJoint` and `RHipJoint` turn at the hips, which need the thighs beyond).
     let own = gather(false);
-    let enough = own.iter().any(|(_, a)| {
+    let enough = own.iter().any(|(_, a, _)| {
         own.iter()
-            .any(|(_, b)| a.normalize().cross(b.normalize()).length() > 1e-3)
+            .any(|(_, b, _)| a.normalize().cross(b.normalize()).length() > 1e-3)
     });
     if enough { own } else { gather(true) }
 }
