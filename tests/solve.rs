@@ -992,3 +992,69 @@ fn a_solved_cmu_walk_turns_no_joint_more_than_its_source_frame_by_frame() {
         largest(&source[wrist])
     );
 }
+
+/// Issue 59, point 1: what `solve` prints is measured on what it wrote. After `--smooth` the
+/// figures are the smoothed take's (no "before --smooth"), and the line says where smoothing
+/// made them worse; every line carries the largest turn between frames against the data's.
+#[test]
+fn solve_prints_figures_measured_on_the_take_it_wrote() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("walk.csv");
+    let walk = common::repo_data("bvh/bvh11_131_01.bvh");
+    let run = bvhview()
+        .arg("positions")
+        .arg(&walk)
+        .arg("-o")
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(run.status.success());
+    let line = |smooth: &[&str]| {
+        let run = bvhview()
+            .arg("solve")
+            .arg(&csv)
+            .arg("--onto")
+            .arg(&walk)
+            .args(["--fps", "120"])
+            .args(smooth)
+            .arg("-o")
+            .arg(dir.path().join("back.bvh"))
+            .output()
+            .unwrap();
+        assert!(run.status.success());
+        let said = String::from_utf8_lossy(&run.stderr).to_string();
+        let line = said
+            .lines()
+            .find(|l| l.starts_with("solved: "))
+            .unwrap()
+            .to_string();
+        (line, said)
+    };
+    let (plain, _) = line(&[]);
+    assert_eq!(
+        plain,
+        "solved: 38 joints matched, path ×1.0000; farthest from the data: RFingers_End by \
+         0.0000; largest turn between frames: RThumb 172.3° (its bones: 172.3°)"
+    );
+    let (smoothed, said) = line(&["--smooth", "6"]);
+    assert!(!said.contains("before --smooth"), "{said}");
+    assert!(
+        smoothed.contains("farthest from the data: RThumb_End by 1.2611")
+            && smoothed
+                .contains("--smooth made worse: farthest from the data 1.2611 (without: 0.0000)"),
+        "{smoothed}"
+    );
+    // The figure is the written file's: read back, its points stand that far from the data.
+    let back = Take::open(dir.path().join("back.bvh")).unwrap();
+    let source = Take::open(&walk).unwrap();
+    let (a, b) = (
+        points_of(&source.skeleton, &source.motion, OffsetMode::Replace),
+        points_of(&back.skeleton, &back.motion, OffsetMode::Replace),
+    );
+    let worst = a
+        .iter()
+        .zip(&b)
+        .map(|(a, b)| (*a - *b).length())
+        .fold(0.0, f64::max);
+    assert!((worst - 1.2611).abs() < 1e-4, "{worst}");
+}

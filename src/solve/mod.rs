@@ -249,7 +249,9 @@ impl Solved {
     /// let after = solved.measured_on(&target.skeleton, target.up, &positions, None, &smoothed);
     /// // Smoothing a clean walk moves its points off the data, a little.
     /// assert!(after.worst() > solved.worst());
-    /// assert!(after.beyond_the_data.is_none());
+    /// assert!(after.worse_than(&solved, &target.skeleton).is_some());
+    /// // Unsmoothed, no joint turns past twice its bones' turn and 5° between two frames.
+    /// assert!(solved.beyond_the_data.is_none() && solved.largest_turn.is_some());
     /// # Ok(())
     /// # }
     /// ```
