@@ -103,27 +103,39 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         &positions,
         args.up.map(Up::from),
     )?;
-    let motion = match args.smooth {
-        Some(cutoff) => crate::edit::smooth(&target.skeleton, &motion, cutoff)?,
-        None => motion,
-    };
     for note in &solved.notes {
         eprintln!("bvhview: {}: warning: {note}", target.name);
     }
-    let smoothed = if args.smooth.is_some() {
-        " (before --smooth)"
-    } else {
-        ""
+    // What is printed is measured on what is written: after --smooth, and said where
+    // smoothing made a figure worse.
+    let (motion, solved, worse) = match args.smooth {
+        Some(cutoff) => {
+            let smoothed = crate::edit::smooth(&target.skeleton, &motion, cutoff)?;
+            let measured = solved.measured_on(
+                &target.skeleton,
+                target.up,
+                &positions,
+                args.up.map(Up::from),
+                &smoothed,
+            );
+            let worse = measured.worse_than(&solved, &target.skeleton);
+            (smoothed, measured, worse)
+        }
+        None => (motion, solved, None),
     };
+    let worse = worse.map_or(String::new(), |w| format!("; --smooth made worse: {w}"));
     note(format_args!(
-        "solved: {}{smoothed}",
+        "solved: {}{worse}",
         solved.summary(&target.skeleton)
     ));
     if let Some(off) = solved.off_the_data_line(&target.skeleton) {
-        // Bones of other lengths than the data's: each point where it stands off.
-        note(format_args!(
-            "off the data (the skeleton's bones are not the data's): {off}"
-        ));
+        // Bones of other lengths than the data's (or smoothing): each point where it stands off.
+        let why = if args.smooth.is_some() {
+            "the skeleton's bones are not the data's, or --smooth moved them"
+        } else {
+            "the skeleton's bones are not the data's"
+        };
+        note(format_args!("off the data ({why}): {off}"));
     }
     let format = TakeFormat::of(&args.output);
     write_take(

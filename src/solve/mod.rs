@@ -172,6 +172,14 @@ pub struct Solved {
     /// the farthest the solved take puts it from where the data does (scaled, in the
     /// skeleton's units), over every frame.
     pub errors: Vec<(usize, f64)>,
+    /// The largest turn of a joint between two frames: the joint, the first of the two frames,
+    /// its turn from its parent (degrees), and how far the data's bones it lays turn there, seen
+    /// from that parent (degrees). A twist about a bone is not in the data's figure: the
+    /// positions do not show it.
+    pub largest_turn: Option<(usize, usize, f64, f64)>,
+    /// As [`Solved::largest_turn`], the turn farthest past twice the data's and 5° (a flip the
+    /// data does not show), where one is; `None` where every turn is within.
+    pub beyond_the_data: Option<(usize, usize, f64, f64)>,
     /// Data points the skeleton has no point of that name for, left out.
     pub unmatched: Vec<String>,
     /// What could not be done as asked (a root without position channels; a joint that turns
@@ -221,7 +229,158 @@ impl Solved {
         }
     }
 
-    /// The figure `bvhview solve` prints: the matched joints, the worst one and the scale.
+    /// This report measured again on `motion`, a take of `skeleton` (as [`solve`] made it from
+    /// `positions`, read along `up`, then perhaps smoothed): so what `bvhview solve` prints is
+    /// measured on what it writes. The channels are measured as the take holds them, 32-bit
+    /// floats, which is what BVH stores: it writes each as its shortest round-trip form, so the
+    /// file reads back to these values exactly (glTF's quaternions are made from them, within
+    /// 1e-7).
+    ///
+    /// ```
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// use bvhview::solve::{Positions, joint_names, read_npy, solve};
+    ///
+    /// let bytes = std::fs::read("tests/solve/walk_smpl22.npy").expect("in the repository");
+    /// let (_, points) = read_npy(&bytes, "walk_smpl22.npy")?;
+    /// let positions = Positions::new(joint_names("smpl22"), points, 1.0 / 120.0)?;
+    /// let target = bvhview::retarget::Target::load("smpl22", u64::MAX)?;
+    /// let (motion, solved) = solve(&target.skeleton, target.up, &positions, None)?;
+    /// let smoothed = bvhview::edit::smooth(&target.skeleton, &motion, 6.0)?;
+    /// let after = solved.measured_on(&target.skeleton, target.up, &positions, None, &smoothed);
+    /// // Smoothing a clean walk moves its points off the data, a little.
+    /// assert!(after.worst() > solved.worst());
+    /// assert!(after.worse_than(&solved, &target.skeleton).is_some());
+    /// // Unsmoothed, no joint turns past twice its bones' turn and 5° between two frames.
+    /// assert!(solved.beyond_the_data.is_none() && solved.largest_turn.is_some());
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn measured_on(
+        &self,
+        skeleton: &Skeleton,
+        skeleton_up: Up,
+        positions: &Positions,
+        up: Option<Up>,
+        motion: &Motion,
+    ) -> Solved {
+        let count = skeleton.joints.len();
+        let points = crate::positions::export_points(skeleton);
+        let (data_of, _) = match_points(skeleton, &points, positions);
+        let turn = up_turn(skeleton_up, up);
+        let data = |frame: usize, joint: usize| -> Option<DVec3> {
+            data_of[joint].map(|k| turn * positions.at(frame, k))
+        };
+        let mut rest = Vec::new();
+        world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
+        // The bones each joint lays: to the nearest named joints below it.
+        let laid: Vec<Vec<usize>> = (0..count)
+            .map(|j| match data_of[j] {
+                Some(_) if !skeleton.joints[j].end_site => targets_of(skeleton, j, &data_of, &rest)
+                    .into_iter()
+                    .map(|(d, _, _)| d)
+                    .collect(),
+                _ => Vec::new(),
+            })
+            .collect();
+        let mut errors: Vec<(usize, f64)> = (0..count)
+            .filter(|&j| data_of[j].is_some())
+            .map(|j| (j, 0.0))
+            .collect();
+        let mut largest_turn: Option<(usize, usize, f64, f64)> = None;
+        let mut beyond_the_data: Option<(usize, usize, f64, f64)> = None;
+        let (mut posed, mut last) = (Vec::new(), Vec::new());
+        let frames = positions.frames().min(motion.frame_count());
+        for f in 0..frames {
+            world_transforms_f64(skeleton, motion.frame(f), OffsetMode::Replace, &mut posed);
+            for (j, error) in errors.iter_mut() {
+                if let Some(at) = data(f, *j) {
+                    *error = error.max((posed[*j].1 - at * self.scale).length());
+                }
+            }
+            if f > 0 {
+                let parent = |world: &[(DQuat, DVec3)], j: usize| {
+                    skeleton.joints[j]
+                        .parent
+                        .map_or(DQuat::IDENTITY, |p| world[p].0)
+                };
+                for (j, below) in laid.iter().enumerate().filter(|(_, b)| !b.is_empty()) {
+                    let (was, now) = (parent(&last, j), parent(&posed, j));
+                    let local = |world: &[(DQuat, DVec3)], p: DQuat| p.inverse() * world[j].0;
+                    let turned = local(&last, was)
+                        .angle_between(local(&posed, now))
+                        .to_degrees();
+                    // The data's bones, each seen from the joint's parent as the take turns it.
+                    let shown = below
+                        .iter()
+                        .filter_map(|&d| {
+                            let then = was.inverse() * (data(f - 1, d)? - data(f - 1, j)?);
+                            let here = now.inverse() * (data(f, d)? - data(f, j)?);
+                            let (then, here) = (then.try_normalize()?, here.try_normalize()?);
+                            Some(then.angle_between(here).to_degrees())
+                        })
+                        .fold(0.0, f64::max);
+                    let figure = (j, f - 1, turned, shown);
+                    if largest_turn.is_none_or(|(_, _, t, _)| turned > t) {
+                        largest_turn = Some(figure);
+                    }
+                    let past = turned - (2.0 * shown + 5.0);
+                    if past > 0.0
+                        && beyond_the_data.is_none_or(|(_, _, t, s)| past > t - (2.0 * s + 5.0))
+                    {
+                        beyond_the_data = Some(figure);
+                    }
+                }
+            }
+            std::mem::swap(&mut posed, &mut last);
+        }
+        Solved {
+            errors,
+            largest_turn,
+            beyond_the_data,
+            ..self.clone()
+        }
+    }
+
+    /// The farthest any point the data names stands from it (skeleton units; 0 without any).
+    pub fn worst(&self) -> f64 {
+        self.errors.iter().map(|&(_, e)| e).fold(0.0, f64::max)
+    }
+
+    /// What got worse in this report against `without` (the same take unsmoothed), as a clause
+    /// of [`Solved::summary`]'s line, or `None` when nothing did: smoothing that moves the
+    /// points farther from the data, or turns a joint farther past the data's turn, says so.
+    pub fn worse_than(&self, without: &Solved, skeleton: &Skeleton) -> Option<String> {
+        let mut worse = Vec::new();
+        if self.worst() > without.worst() + 1e-9 {
+            worse.push(format!(
+                "farthest from the data {:.4} (without: {:.4})",
+                self.worst(),
+                without.worst()
+            ));
+        }
+        let past = |s: &Solved| {
+            s.beyond_the_data
+                .map_or(0.0, |(_, _, t, d)| t - (2.0 * d + 5.0))
+        };
+        if past(self) > past(without) + 1e-9 {
+            let name = |s: &Solved| {
+                s.beyond_the_data
+                    .map_or(String::from("none"), |(j, _, t, d)| {
+                        format!("{} {t:.1}° ({d:.1}°)", skeleton.joints[j].name)
+                    })
+            };
+            worse.push(format!(
+                "turns past the data's {} (without: {})",
+                name(self),
+                name(without)
+            ));
+        }
+        (!worse.is_empty()).then(|| worse.join(", "))
+    }
+
+    /// The figure `bvhview solve` prints: the matched joints, the scale, the worst one, and the
+    /// largest turn between two frames against the data's (or the turn farthest past twice the
+    /// data's and 5°, named, where one is).
     pub fn summary(&self, skeleton: &Skeleton) -> String {
         let worst = self.errors.iter().copied().fold(
             None,
@@ -245,6 +404,19 @@ impl Solved {
                     |(n, _)| n,
                 );
             text += &format!("; farthest from the data: {name} by {e:.4}");
+        }
+        if let Some((j, f, turned, shown)) = self.beyond_the_data {
+            text += &format!(
+                "; turns more than the data shows: {} by {turned:.1}° between frames {f} and {} \
+                 (its bones: {shown:.1}°)",
+                skeleton.joints[j].name,
+                f + 1
+            );
+        } else if let Some((j, _, turned, shown)) = self.largest_turn {
+            text += &format!(
+                "; largest turn between frames: {} {turned:.1}° (its bones: {shown:.1}°)",
+                skeleton.joints[j].name
+            );
         }
         if !self.unmatched.is_empty() {
             text += &format!("; not in the skeleton: {}", self.unmatched.join(", "));
@@ -288,40 +460,7 @@ pub fn solve(
     // `LeftToeBase_End` for an End Site; an ASF bone's name for the point where it ends.
     let points = crate::positions::export_points(skeleton);
     let names: Vec<&str> = points.iter().map(|(n, _)| n.as_str()).collect();
-    // Each skeleton point's data point: by that name, else case aside.
-    let mut data_of: Vec<Option<usize>> = vec![None; count];
-    let mut unmatched = Vec::new();
-    for (k, name) in positions.names.iter().enumerate() {
-        let found = points
-            .iter()
-            .find(|(n, _)| n == name)
-            .or_else(|| {
-                points
-                    .iter()
-                    .find(|(n, j)| n.eq_ignore_ascii_case(name) && data_of[*j].is_none())
-            })
-            .map(|&(_, j)| j);
-        match found {
-            Some(j) if data_of[j].is_none() => data_of[j] = Some(k),
-            _ => unmatched.push(name.clone()),
-        }
-    }
-    // A joint that starts where a named sibling starts is where that sibling is, always: it
-    // takes the same data (ASF: every bone below a bone's end, which the export names once);
-    // so does one that starts where its named parent is (ASF's `lowerback` at the root).
-    for j in 0..count {
-        let Some(p) = skeleton.joints[j].parent.filter(|_| data_of[j].is_none()) else {
-            continue;
-        };
-        let twin = skeleton.joints[p].children.iter().find(|&&c| {
-            c != j && data_of[c].is_some() && skeleton.joints[c].offset == skeleton.joints[j].offset
-        });
-        if let Some(&c) = twin {
-            data_of[j] = data_of[c];
-        } else if data_of[p].is_some() && skeleton.joints[j].offset.length() < 1e-9 {
-            data_of[j] = data_of[p];
-        }
-    }
+    let (data_of, unmatched) = match_points(skeleton, &points, positions);
     let matched = data_of.iter().flatten().count();
     if matched < 2 {
         return Err(Error::Usage(format!(
@@ -334,12 +473,7 @@ pub fn solve(
     let mut rest = Vec::new();
     world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
     // The data turned to the skeleton's up axis.
-    let turn = match up {
-        Some(up) if up != skeleton_up => {
-            skeleton_up.to_y_up().as_dquat().inverse() * up.to_y_up().as_dquat()
-        }
-        _ => DQuat::IDENTITY,
-    };
+    let turn = up_turn(skeleton_up, up);
     let frames = positions.frames();
     let data = |frame: usize, joint: usize| -> Option<DVec3> {
         data_of[joint].map(|k| turn * positions.at(frame, k))
@@ -347,11 +481,34 @@ pub fn solve(
     // Per named joint, the named joints it turns towards and those bones at rest: the nearest
     // named joints below it, past any that stand where it stands at rest (CMU's `LHipJoint`
     // at the hips: the hips then turn towards the thighs beyond).
-    let mut targets: Vec<Vec<(usize, DVec3)>> = (0..count)
+    let gathered: Vec<Vec<(usize, DVec3, usize)>> = (0..count)
         .map(|j| match data_of[j] {
             Some(_) => targets_of(skeleton, j, &data_of, &rest),
             None => Vec::new(),
         })
+        .collect();
+    // A joint whose every bone reaches its named joint past another named joint that turns
+    // (CMU's hips: the thighs past `LHipJoint` and `RHipJoint`, the chest past `lowerback`; its
+    // wrist: the fingers past `lhand`, the thumb's end past `LThumb`) puts nothing out of place
+    // whichever way it turns: the joints between lay those bones. How it turns is then a choice,
+    // and in it, each bone's direction from its parent's at rest (the one the joint continues).
+    let free: Vec<bool> = gathered
+        .iter()
+        .map(|found| found.len() > 1 && found.iter().all(|t| t.2 > 0))
+        .collect();
+    let from_parent: Vec<Option<DVec3>> = skeleton
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(j, joint)| {
+            joint
+                .parent
+                .and_then(|p| (rest[j].1 - rest[p].1).try_normalize())
+        })
+        .collect();
+    let mut targets: Vec<Vec<(usize, DVec3)>> = gathered
+        .iter()
+        .map(|found| found.iter().map(|&(d, bone, _)| (d, bone)).collect())
         .collect();
     let scale = scale_of(skeleton, &rest, &data_of, positions, turn);
     let mut notes = Vec::new();
@@ -428,6 +585,8 @@ pub fn solve(
     // Each joint's rotation in the frame before, from its parent: where the data leaves a turn
     // free (the twist about a lone bone), the one nearest it, so nothing flips between frames.
     let mut before: Vec<Option<DQuat>> = vec![None; count];
+    // Per joint laid by [`fit_or_carry`], whether it follows its fit (see there).
+    let mut following: Vec<bool> = vec![true; count];
     for f in 0..frames {
         let row = &mut data_out[f * channels..(f + 1) * channels];
         for (j, joint) in skeleton.joints.iter().enumerate() {
@@ -473,6 +632,13 @@ pub fn solve(
                                 None => best_rotation(&pairs),
                             }
                         }
+                        _ if free[j] => fit_or_carry(
+                            &pairs,
+                            from_parent[j],
+                            parent,
+                            before[j],
+                            &mut following[j],
+                        ),
                         _ => best_rotation(&pairs),
                     };
                     // Bones all along one line leave the twist about it free: it is the one
@@ -591,34 +757,73 @@ pub fn solve(
         skeleton.clone(),
         Motion::new(positions.frame_time, channels, frames, data_out),
     )?;
-    // How near the solved take comes to the data.
-    let mut errors: Vec<(usize, f64)> = (0..count)
-        .filter(|&j| data_of[j].is_some())
-        .map(|j| (j, 0.0))
-        .collect();
-    let mut posed = Vec::new();
-    for f in 0..frames {
-        world_transforms_f64(
-            &skeleton_checked,
-            motion.frame(f),
-            OffsetMode::Replace,
-            &mut posed,
-        );
-        for (j, error) in errors.iter_mut() {
-            if let Some(at) = data(f, *j) {
-                *error = error.max((posed[*j].1 - at * scale).length());
-            }
+    // How near the solved take comes to the data, and how it turns, measured on the take as
+    // it stands (32-bit channels).
+    let unmeasured = Solved {
+        scale,
+        errors: Vec::new(),
+        largest_turn: None,
+        beyond_the_data: None,
+        unmatched,
+        notes,
+    };
+    let solved = unmeasured.measured_on(&skeleton_checked, skeleton_up, positions, up, &motion);
+    Ok((motion, solved))
+}
+
+/// Each skeleton point's data point (by the name every export gives it, else case aside; see
+/// [`solve`]), and the data's names the skeleton has no point of.
+fn match_points(
+    skeleton: &Skeleton,
+    points: &[(String, usize)],
+    positions: &Positions,
+) -> (Vec<Option<usize>>, Vec<String>) {
+    // Each skeleton point's data point: by that name, else case aside.
+    let count = skeleton.joints.len();
+    let mut data_of: Vec<Option<usize>> = vec![None; count];
+    let mut unmatched = Vec::new();
+    for (k, name) in positions.names.iter().enumerate() {
+        let found = points
+            .iter()
+            .find(|(n, _)| n == name)
+            .or_else(|| {
+                points
+                    .iter()
+                    .find(|(n, j)| n.eq_ignore_ascii_case(name) && data_of[*j].is_none())
+            })
+            .map(|&(_, j)| j);
+        match found {
+            Some(j) if data_of[j].is_none() => data_of[j] = Some(k),
+            _ => unmatched.push(name.clone()),
         }
     }
-    Ok((
-        motion,
-        Solved {
-            scale,
-            errors,
-            unmatched,
-            notes,
-        },
-    ))
+    // A joint that starts where a named sibling starts is where that sibling is, always: it
+    // takes the same data (ASF: every bone below a bone's end, which the export names once);
+    // so does one that starts where its named parent is (ASF's `lowerback` at the root).
+    for j in 0..count {
+        let Some(p) = skeleton.joints[j].parent.filter(|_| data_of[j].is_none()) else {
+            continue;
+        };
+        let twin = skeleton.joints[p].children.iter().find(|&&c| {
+            c != j && data_of[c].is_some() && skeleton.joints[c].offset == skeleton.joints[j].offset
+        });
+        if let Some(&c) = twin {
+            data_of[j] = data_of[c];
+        } else if data_of[p].is_some() && skeleton.joints[j].offset.length() < 1e-9 {
+            data_of[j] = data_of[p];
+        }
+    }
+    (data_of, unmatched)
+}
+
+/// The turn that brings positions standing along `up` to the skeleton's `skeleton_up`.
+fn up_turn(skeleton_up: Up, up: Option<Up>) -> DQuat {
+    match up {
+        Some(up) if up != skeleton_up => {
+            skeleton_up.to_y_up().as_dquat().inverse() * up.to_y_up().as_dquat()
+        }
+        _ => DQuat::IDENTITY,
+    }
 }
 
 /// Whether every direction lies along the first's (either way), within rounding.
@@ -627,6 +832,68 @@ fn along_one_line(mut directions: impl Iterator<Item = DVec3>) -> bool {
         return true;
     };
     directions.all(|d| d.normalize().cross(first).length() < 1e-9)
+}
+
+/// The rotation of a joint whose bones all reach past joints that turn (see where it is
+/// called). The best rigid fit of them (Horn's) where the data fixes it: where their shape is
+/// the skeleton's (the fit lays each within 5°) and they spread across the bone the joint
+/// continues (the one most along its bone from its parent: the fingers after the forearm) by
+/// 25° or more. Where not, the fit is the turn of a joint between (CMU's thumb turning on its
+/// own, up to 90° from where it stands beside the fingers), or no turn at all about that bone
+/// (the thumb's end passing along the fingers), and it flips: CMU's wrist turned 179.6° between
+/// two frames where the source's turned 54.8°. There the joint lays only the bone it continues
+/// and keeps the twist about it from the frame before (at the first frame, the fit's, or where
+/// the data fixes nothing, the least turn from where its parent carries it); once the data
+/// fixes the fit again, the joint turns towards it by at most 5° a frame (less while the fit is
+/// trusted less: off by 5° to 15°, spread by 25° to 12°) and follows it again once there, so a
+/// thumb that comes back beside the fingers turned about them does not swing the wrist at once.
+/// `following` carries, from frame to frame, whether the joint follows its fit.
+fn fit_or_carry(
+    pairs: &[(DVec3, DVec3)],
+    from_parent: Option<DVec3>,
+    parent: DQuat,
+    before: Option<DQuat>,
+    following: &mut bool,
+) -> DQuat {
+    /// The most a joint turns towards its fit in a frame while it catches up (degrees).
+    const CATCH_UP: f64 = 5.0;
+    let fit = best_rotation(pairs);
+    let along = |bone: DVec3| from_parent.map_or(0.0, |d| bone.normalize().dot(d));
+    let Some(&(bone, to)) = pairs
+        .iter()
+        .max_by(|a, b| along(a.0).total_cmp(&along(b.0)))
+    else {
+        return fit;
+    };
+    let off = pairs
+        .iter()
+        .map(|&(bone, to)| (fit * bone).angle_between(to).to_degrees())
+        .fold(0.0, f64::max);
+    let spread = pairs
+        .iter()
+        .map(|&(_, other)| other.angle_between(to).to_degrees())
+        .map(|a| a.min(180.0 - a))
+        .fold(0.0, f64::max);
+    let between = |x: f64, none: f64, all: f64| ((x - none) / (all - none)).clamp(0.0, 1.0);
+    let trust = between(off, 15.0, 5.0) * between(spread, 12.0, 25.0);
+    if trust >= 1.0 && (*following || before.is_none()) {
+        *following = true;
+        return fit;
+    }
+    *following = false;
+    let swung = DQuat::from_rotation_arc((parent * bone).normalize(), to.normalize()) * parent;
+    let carried = match before {
+        Some(b) => nearest_twist(swung, to, parent * b),
+        None if trust > 0.0 => return nearest_twist(swung, to, fit),
+        None => return swung,
+    };
+    let apart = carried.angle_between(fit).to_degrees();
+    let step = CATCH_UP * trust;
+    if apart <= step {
+        *following = trust >= 1.0;
+        return fit;
+    }
+    carried.slerp(fit, step / apart).normalize()
 }
 
 /// `wanted` turned about `axis` (a world direction) to the turn nearest `goal`: of the
@@ -642,26 +909,40 @@ fn nearest_twist(wanted: DQuat, axis: DVec3, goal: DQuat) -> DQuat {
     (DQuat::from_axis_angle(axis, 2.0 * half) * wanted).normalize()
 }
 
-/// The named joints `j` turns towards (see where it is called), in file order.
+/// The named joints `j` turns towards (see where it is called), in file order, each with how
+/// many named joints that turn stand between (0 for `j`'s own bones).
 fn targets_of(
     skeleton: &Skeleton,
     j: usize,
     data_of: &[Option<usize>],
     rest: &[(DQuat, DVec3)],
-) -> Vec<(usize, DVec3)> {
+) -> Vec<(usize, DVec3, usize)> {
     let gather = |past_turning: bool| {
         let mut out = Vec::new();
-        let mut stack: Vec<usize> = skeleton.joints[j].children.iter().rev().copied().collect();
-        while let Some(c) = stack.pop() {
+        let mut stack: Vec<(usize, usize)> = skeleton.joints[j]
+            .children
+            .iter()
+            .rev()
+            .map(|&c| (c, 0))
+            .collect();
+        while let Some((c, passed)) = stack.pop() {
             let bone = rest[c].1 - rest[j].1;
             let turns = skeleton.joints[c]
                 .channels
                 .iter()
                 .any(|ch| ch.is_rotation());
             if data_of[c].is_some() && bone.length() > 1e-9 {
-                out.push((c, bone));
+                out.push((c, bone, passed));
             } else if past_turning || data_of[c].is_none() || !turns {
-                stack.extend(skeleton.joints[c].children.iter().rev().copied());
+                // Past a named joint that turns, what lies beyond moves with that joint too.
+                let passed = passed + usize::from(data_of[c].is_some() && turns);
+                stack.extend(
+                    skeleton.joints[c]
+                        .children
+                        .iter()
+                        .rev()
+                        .map(|&d| (d, passed)),
+                );
             }
         }
         out
@@ -671,9 +952,9 @@ fn targets_of(
     // they are enough (two bones not along one line: ASF's hips), else by all of them (CMU
     // BVH's `LHipJoint` and `RHipJoint` turn at the hips, which need the thighs beyond).
     let own = gather(false);
-    let enough = own.iter().any(|(_, a)| {
+    let enough = own.iter().any(|(_, a, _)| {
         own.iter()
-            .any(|(_, b)| a.normalize().cross(b.normalize()).length() > 1e-3)
+            .any(|(_, b, _)| a.normalize().cross(b.normalize()).length() > 1e-3)
     });
     if enough { own } else { gather(true) }
 }
