@@ -158,6 +158,7 @@ pub(crate) fn from_positions(
     joints: Option<&Bound<'_, PyAny>>,
     fps: f64,
     up: Option<&str>,
+    smooth: Option<f64>,
 ) -> PyResult<Motion> {
     use pyo3::exceptions::PyValueError;
     if !(fps > 0.0 && fps.is_finite() && fps <= 1000.0) {
@@ -216,8 +217,11 @@ pub(crate) fn from_positions(
     let target = target_of(py, skeleton)?;
     let positions =
         bvhview::solve::Positions::new(names, points, 1.0 / fps).map_err(|e| to_python(py, e))?;
-    let (motion, solved) = py
-        .detach(|| bvhview::solve::solve(&target.skeleton, target.up, &positions, up))
+    // Measured on what is given back: after `smooth`, as `bvhview solve --smooth` measures.
+    let (motion, solved, worse) = py
+        .detach(|| {
+            bvhview::solve::solve_smoothed(&target.skeleton, target.up, &positions, up, smooth)
+        })
         .map_err(|e| to_python(py, e))?;
     // What was not used is said, as the CLI says it: a misspelt name leaves a joint at rest.
     let warnings = py.import("warnings")?;
@@ -233,11 +237,18 @@ pub(crate) fn from_positions(
         warnings.call_method1("warn", (format!("from_positions: {note}"),))?;
     }
     if let Some(off) = solved.off_the_data_line(&target.skeleton) {
-        let text = format!(
-            "from_positions: the skeleton's bones are not the data's; off the data (skeleton \
-             units): {off}"
-        );
+        let why = match smooth {
+            Some(_) => "the skeleton's bones are not the data's, or smooth= moved them",
+            None => "the skeleton's bones are not the data's",
+        };
+        let text = format!("from_positions: {why}; off the data (skeleton units): {off}");
         warnings.call_method1("warn", (text,))?;
+    }
+    if let Some(worse) = worse {
+        warnings.call_method1(
+            "warn",
+            (format!("from_positions: smooth= made worse: {worse}"),),
+        )?;
     }
     let name = format!("positions on {}", target.name);
     Ok(Motion {
@@ -275,7 +286,7 @@ pub(crate) fn from_humanml3d(
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let array = numpy::PyArray3::from_owned_array(py, array);
     let like: numpy::PyArrayLike3<'_, f64, numpy::AllowTypeChange> = array.extract()?;
-    from_positions(py, like, skeleton, None, fps, None)
+    from_positions(py, like, skeleton, None, fps, None, None)
 }
 
 /// HumanML3D's vectors and the positions they stand for, as numpy arrays.
@@ -383,12 +394,15 @@ impl Motion {
         smooth: Option<f64>,
     ) -> PyResult<Motion> {
         guard("from_positions", || {
-            let solved =
-                crate::retarget::from_positions(py, positions, skeleton, joints.as_ref(), fps, up)?;
-            match smooth {
-                Some(hz) => solved.smooth(py, hz),
-                None => Ok(solved),
-            }
+            crate::retarget::from_positions(
+                py,
+                positions,
+                skeleton,
+                joints.as_ref(),
+                fps,
+                up,
+                smooth,
+            )
         })
     }
 

@@ -97,32 +97,18 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         eprintln!("bvhview: {layout_note}");
     }
     let target = Target::load(&args.onto, args.max_size)?;
-    let (motion, solved) = crate::solve::solve(
+    // What is printed is measured on what is written: after --smooth, and said where
+    // smoothing made a figure worse.
+    let (motion, solved, worse) = crate::solve::solve_smoothed(
         &target.skeleton,
         target.up,
         &positions,
         args.up.map(Up::from),
+        args.smooth,
     )?;
     for note in &solved.notes {
         eprintln!("bvhview: {}: warning: {note}", target.name);
     }
-    // What is printed is measured on what is written: after --smooth, and said where
-    // smoothing made a figure worse.
-    let (motion, solved, worse) = match args.smooth {
-        Some(cutoff) => {
-            let smoothed = crate::edit::smooth(&target.skeleton, &motion, cutoff)?;
-            let measured = solved.measured_on(
-                &target.skeleton,
-                target.up,
-                &positions,
-                args.up.map(Up::from),
-                &smoothed,
-            );
-            let worse = measured.worse_than(&solved, &target.skeleton);
-            (smoothed, measured, worse)
-        }
-        None => (motion, solved, None),
-    };
     let worse = worse.map_or(String::new(), |w| format!("; --smooth made worse: {w}"));
     note(format_args!(
         "solved: {}{worse}",

@@ -771,6 +771,27 @@ pub fn solve(
     Ok((motion, solved))
 }
 
+/// [`solve`], then, with a `smooth` cutoff (Hz), [`crate::edit::smooth`]: the motion as it is
+/// written, its [`Solved`] measured on it, and what smoothing made worse than the unsmoothed
+/// solution ([`Solved::worse_than`]). The one way `bvhview solve` and Python's
+/// `from_positions` make a take, so that what each says is measured on what it gives.
+pub fn solve_smoothed(
+    skeleton: &Skeleton,
+    skeleton_up: Up,
+    positions: &Positions,
+    up: Option<Up>,
+    smooth: Option<f64>,
+) -> Result<(Motion, Solved, Option<String>), Error> {
+    let (motion, solved) = solve(skeleton, skeleton_up, positions, up)?;
+    let Some(cutoff) = smooth else {
+        return Ok((motion, solved, None));
+    };
+    let smoothed = crate::edit::smooth(skeleton, &motion, cutoff)?;
+    let measured = solved.measured_on(skeleton, skeleton_up, positions, up, &smoothed);
+    let worse = measured.worse_than(&solved, skeleton);
+    Ok((smoothed, measured, worse))
+}
+
 /// Each skeleton point's data point (by the name every export gives it, else case aside; see
 /// [`solve`]), and the data's names the skeleton has no point of.
 fn match_points(
