@@ -41,6 +41,7 @@ pub fn open_regular(path: &Path) -> std::io::Result<(std::fs::File, u64)> {
 
 /// Exactly `length` bytes from the start of `file`, their room asked for first so that a
 /// refusal is an error, not an abort; fewer when the file shrinks while it is read.
+#[cfg(any(feature = "fbx", feature = "gltf"))]
 fn read_start(file: std::fs::File, length: u64) -> std::io::Result<Vec<u8>> {
     let mut bytes = Vec::new();
     read_more(file, length, &mut bytes)?;
@@ -66,6 +67,7 @@ fn read_more(file: std::fs::File, length: u64, bytes: &mut Vec<u8>) -> std::io::
 /// regular file of at most `max_size` and [`crate::io::limits::MAX_WHOLE_FILE_BYTES`] bytes: these
 /// readers hold the whole file in memory, so its size on disk (a sparse file of 6 GB takes 4 KB)
 /// is what is checked, never what a read gets to.
+#[cfg(any(feature = "fbx", feature = "gltf"))]
 pub fn read_binary_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     let (file, length) = open_regular(path).map_err(|e| Error::io(path, e))?;
     whole_file_size(length, max_size)

@@ -1,7 +1,8 @@
 //! The foot points: per leg the ankle and the toe, read down the leg chain (never "the lowest
 //! points", which found shoulders, hand tips and fingers on real rigs), and the legs' length.
 
-use super::*;
+use super::{Body, Limb, is_ancestor};
+use crate::model::skeleton::Skeleton;
 
 impl Body {
     /// The ankle and the toe of each leg the reading found, in joint order: the toe is the

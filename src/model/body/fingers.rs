@@ -4,7 +4,8 @@
 //! `DEF-f_index.01.L`, CMU's `LThumb`). Palm bones (Perception Neuron's `LeftInHandIndex`,
 //! metacarpals) and helpers are left out: a finger's bones are its first three joints below them.
 
-use super::*;
+use super::{Body, Limb, Side, depth, is_ancestor, tokens};
+use crate::model::skeleton::Skeleton;
 
 /// The fingers in the order a finger's number means: 0 thumb, 1 index, 2 middle, 3 ring,
 /// 4 pinky.

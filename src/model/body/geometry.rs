@@ -3,7 +3,9 @@
 //! way is read alike. Names decide where this geometry cannot (no toes, a rest pose that stands
 //! on nothing); where it can and the names say the other side, or say none, it wins.
 
-use super::*;
+use super::{Body, Limb, is_ancestor};
+use crate::model::pose::{OffsetMode, world_transforms_f64};
+use crate::model::skeleton::Skeleton;
 use glam::DVec3;
 
 /// How far apart (along the body's left) the two sides of a chain must lie, in legs' lengths,

@@ -5,10 +5,6 @@
 //! part of bvhview that asks what a joint is (retargeting, mirroring, `info`, the viewer's
 //! names) asks here.
 
-use crate::model::pose::{OffsetMode, world_transforms_f64};
-use crate::model::skeleton::Skeleton;
-use std::fmt;
-
 pub mod contact;
 pub mod feet;
 pub mod fingers;

@@ -1,7 +1,8 @@
 //! Words in joint names: each family's names split into words, and the word a joint's name
 //! says it is (thigh, shin, upper arm…), with its side.
 
-use super::*;
+use super::Side;
+use std::fmt;
 
 /// The part of a limb a joint moves (the joint at the start of that bone).
 ///

@@ -1,7 +1,9 @@
 //! The roles of a skeleton's joints (hips, spine, neck, head, and per side the limbs), read
 //! from their names and, where names say less, from the tree.
 
-use super::*;
+use super::{LIMBS, Limb, Role, Side, Word, word_of};
+use crate::model::pose::{OffsetMode, world_transforms_f64};
+use crate::model::skeleton::Skeleton;
 
 /// A skeleton's joints by role: what [`crate::retarget::Map::guess`] pairs.
 ///

@@ -2,10 +2,14 @@
 //! `info`, `dataset` and `retarget` say (no two legs, no feet, a side without its other, a body
 //! that does not stand on two legs).
 
-use super::*;
+use super::{Body, LIMBS, Limb, Role, Side};
+use crate::model::body::fingers::FINGERS;
 use crate::model::motion::Motion;
+use crate::model::pose::{OffsetMode, world_transforms_f64};
+use crate::model::skeleton::Skeleton;
 use crate::model::skeleton::export_name;
 use glam::DVec3;
+use std::fmt;
 
 /// A doubt about a reading, said as a warning (or, onto a human target, as the reason a take is
 /// refused).
