@@ -53,12 +53,15 @@ cargo test --all-targets --locked --no-fail-fast -- --show-output "${test_args[@
 # The examples in the docs (`--all-targets` leaves doctests out).
 cargo test --doc --locked --no-fail-fast 2>&1 | tee -a "$log" || status=$?
 # The builds without the default features that matter: the library and CLI with neither the
-# window, FBX nor glTF, and with FBX alone. Tests that need a feature say so (Cargo.toml,
-# `#[cfg(feature = …)]`); the rest run on each build.
+# window, FBX nor glTF, and with FBX alone (the tests drive the command, so `cli` stays on).
+# Tests that need a feature say so (Cargo.toml, `#[cfg(feature = …)]`); the rest run on each
+# build. The library alone, without the command's crates (clap, signal-hook), is built too.
 # Their own target folder: the binary the checks below run (pytest, the glTF validator) stays
 # the one with every feature.
 features_target="${CARGO_TARGET_DIR:-target}/features"
-for features in "--no-default-features" "--no-default-features --features fbx"; do
+echo "cargo build --lib --no-default-features"
+cargo build --lib --no-default-features --locked --target-dir "$features_target" 2>&1 | tee -a "$log" || status=$?
+for features in "--no-default-features --features cli" "--no-default-features --features cli,fbx"; do
     echo "cargo test $features"
     # shellcheck disable=SC2086
     cargo test $features --locked --no-fail-fast --target-dir "$features_target" 2>&1 | tee -a "$log" || status=$?

@@ -55,6 +55,7 @@ pub mod character;
 // The command line, in the library so that its plumbing stays private; `src/main.rs` calls
 // `cli::main`. Not part of the API.
 #[doc(hidden)]
+#[cfg(feature = "cli")]
 pub mod cli;
 pub mod dataset;
 pub mod edit;

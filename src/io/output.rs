@@ -22,7 +22,8 @@ use std::sync::{Arc, Mutex, PoisonError};
 
 /// A temporary file or folder being written, for the signal handler: removed relative to the
 /// folder it was made in, held open, so a folder renamed meanwhile does not send the removal
-/// elsewhere.
+/// elsewhere. Only a program that removes them on a signal (the CLI) reads them back.
+#[cfg_attr(not(feature = "cli"), allow(dead_code))]
 struct Partial {
     /// Its path as walked: how it is told apart from the others, and how a folder is removed.
     path: PathBuf,
@@ -32,6 +33,7 @@ struct Partial {
 }
 
 impl Partial {
+    #[cfg(feature = "cli")]
     fn remove(&self) {
         let _ = match self.is_folder {
             // std's remove_dir_all follows no link inside the folder.
@@ -198,6 +200,7 @@ fn sync_file_system(folder: &Path) -> io::Result<()> {
 /// number (130 for Ctrl-C, 143 for `kill`, 129 for a closed terminal), and a shell loop around
 /// bvhview stops on Ctrl-C. A signal the process started with ignored (`nohup`, a background job
 /// of a script) stays ignored.
+#[cfg(feature = "cli")]
 pub fn remove_partials_on_signal() {
     use signal_hook::consts::{SIGHUP, SIGINT, SIGTERM};
     let wanted: Vec<i32> = [SIGINT, SIGTERM, SIGHUP]
@@ -231,6 +234,7 @@ pub fn remove_partials_on_signal() {
 }
 
 /// Whether `signal` was ignored when the process started (`nohup` ignores SIGHUP).
+#[cfg(feature = "cli")]
 fn ignored_at_start(signal: i32) -> bool {
     // SAFETY: sigaction with a null new action only reads the current one into `old`.
     unsafe {
@@ -410,6 +414,7 @@ pub fn temporary_prefix(name: Option<&OsStr>) -> String {
 
 /// Whether [`AtomicFile::create`] writes `path` where it is rather than replacing it: a FIFO, a
 /// character device, or a link of /proc (`/dev/stdout`). Its name says nothing of its format.
+#[cfg(feature = "cli")]
 pub fn written_in_place(path: &Path) -> bool {
     place::walk(path, path)
         .is_ok_and(|place| matches!(place.found, Found::ProcessLink | Found::Stream))
