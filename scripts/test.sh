@@ -59,6 +59,9 @@ cargo test --doc --locked --no-fail-fast 2>&1 | tee -a "$log" || status=$?
 # Their own target folder: the binary the checks below run (pytest, the glTF validator) stays
 # the one with every feature.
 features_target="${CARGO_TARGET_DIR:-target}/features"
+# The benchmarks are not run here (speed lives in `bench`), but they must keep compiling.
+echo "cargo check -p bvhview-bench"
+cargo check -p bvhview-bench --locked 2>&1 | tee -a "$log" || status=$?
 echo "cargo build --lib --no-default-features"
 cargo build --lib --no-default-features --locked --target-dir "$features_target" 2>&1 | tee -a "$log" || status=$?
 for features in "--no-default-features --features cli" "--no-default-features --features cli,fbx"; do

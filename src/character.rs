@@ -24,7 +24,7 @@ use crate::model::mesh::Mesh;
 use crate::model::pose::{OffsetMode, world_matrices};
 use crate::model::skeleton::Skeleton;
 use crate::retarget::{Check, Insist};
-use crate::take::{Format, Take, extension};
+use crate::take::{Format, Take};
 use glam::{Mat4, Vec3};
 use std::io::Write;
 use std::path::Path;
@@ -123,12 +123,12 @@ impl Character {
         } else {
             threads
         };
-        let (read, mesh, format) = match extension(path).as_str() {
-            "fbx" => {
+        let (read, mesh, format) = match Format::from_path(path) {
+            Some(Format::Fbx) => {
                 let (read, mesh) = crate::fbx::load_character(path, max_size, take, threads)?;
                 (read, mesh, Format::Fbx)
             }
-            "glb" | "gltf" => {
+            Some(Format::Gltf) => {
                 let (read, mesh) = crate::gltf::load_character(path, max_size, take)?;
                 (read, mesh, Format::Gltf)
             }
@@ -150,7 +150,7 @@ impl Character {
         let mut take = Take::new(read.skeleton, read.motion, path.display().to_string());
         take.warnings = read.warnings;
         take.format = Some(format);
-        take.take = read.take;
+        take.take_name = read.take;
         Ok(Character { take, mesh })
     }
 
@@ -279,7 +279,7 @@ impl Character {
             _ => false,
         };
         if same_file(path, Path::new(&self.take.name)) {
-            if take.take == self.take.take {
+            if take.take_name == self.take.take_name {
                 return Ok((self.take.clone(), Dressed::default()));
             }
             // Another take of the character's file (`--take`): read as the character reads its
@@ -288,7 +288,7 @@ impl Character {
             let other = Character::open_with(
                 path,
                 crate::take::DEFAULT_MAX_SIZE,
-                take.take.as_deref(),
+                take.take_name.as_deref(),
                 threads,
             )?;
             if self.is_own_skeleton(&other.take.skeleton) {

@@ -13,20 +13,20 @@ use std::sync::Mutex;
 /// The text a positions export writes.
 ///
 /// ```
-/// use bvhview::{Take, positions::{Format, PositionsOptions, write_positions}};
+/// use bvhview::{Take, positions::{PositionsFormat, PositionsOptions, write_positions}};
 ///
 /// # fn main() -> Result<(), bvhview::Error> {
 /// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
-/// let options = PositionsOptions { format: Format::Json, ..PositionsOptions::default() };
+/// let options = PositionsOptions { format: PositionsFormat::Json, ..PositionsOptions::default() };
 /// let mut json = Vec::new();
 /// write_positions(&mut json, &take.skeleton, &take.motion, 0..1, &options).unwrap();
 /// assert!(json.starts_with(b"{\"frame_time\":"));
-/// assert_eq!(PositionsOptions::default().format, Format::Csv);
+/// assert_eq!(PositionsOptions::default().format, PositionsFormat::Csv);
 /// # Ok(())
 /// # }
 /// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Format {
+pub enum PositionsFormat {
     /// `frame,joint,x,y,z`, one joint per line.
     #[default]
     Csv,
@@ -55,7 +55,7 @@ pub enum Format {
 #[derive(Clone, Debug)]
 pub struct PositionsOptions {
     /// CSV or JSON.
-    pub format: Format,
+    pub format: PositionsFormat,
     /// How position channels meet the OFFSET.
     pub offset_mode: OffsetMode,
     /// Negate z, turning the right-handed BVH frame into a left-handed one (Direct3D).
@@ -67,7 +67,7 @@ pub struct PositionsOptions {
 impl Default for PositionsOptions {
     fn default() -> PositionsOptions {
         PositionsOptions {
-            format: Format::Csv,
+            format: PositionsFormat::Csv,
             offset_mode: OffsetMode::Replace,
             left_handed: false,
             scale: 1.0,
@@ -231,8 +231,8 @@ fn write_with<W: Write + Send>(
     // short take writes nothing at all.
     let mut header = Vec::new();
     match options.format {
-        Format::Csv => writeln!(header, "frame,joint,x,y,z")?,
-        Format::Json => {
+        PositionsFormat::Csv => writeln!(header, "frame,joint,x,y,z")?,
+        PositionsFormat::Json => {
             write!(
                 header,
                 "{{\"frame_time\":{},\"joints\":[",
@@ -290,7 +290,7 @@ fn write_with<W: Write + Send>(
         return Err(error);
     }
     out.write_all(&header)?;
-    if options.format == Format::Json {
+    if options.format == PositionsFormat::Json {
         writeln!(out, "]}}")?;
     }
     Ok(())
@@ -431,7 +431,7 @@ fn format_block(job: &Job, frames: Range<usize>) -> Result<Vec<u8>, NotFinite> {
             }
         }
         match options.format {
-            Format::Csv => {
+            PositionsFormat::Csv => {
                 for (name, &(_, joint)) in names.iter().zip(points) {
                     let p = positions[joint] * scale;
                     text.extend_from_slice(frame_number.as_bytes());
@@ -444,7 +444,7 @@ fn format_block(job: &Job, frames: Range<usize>) -> Result<Vec<u8>, NotFinite> {
                     text.push(b'\n');
                 }
             }
-            Format::Json => {
+            PositionsFormat::Json => {
                 if frame > *first {
                     text.push(b',');
                 }
@@ -598,7 +598,7 @@ fn format_block_fast(job: &Job, frames: Range<usize>, spare: Vec<u8>) -> Result<
     let scale = options.scale;
     let joints = skeleton.joints.len();
     let names_len: usize = names.iter().map(String::len).sum();
-    let json = options.format == Format::Json;
+    let json = options.format == PositionsFormat::Json;
     let twins = twins(skeleton, points);
     // Where each point's `x,y,z` text is in this frame's rows, for its twins.
     let mut written = vec![0..0; points.len()];

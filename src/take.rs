@@ -25,20 +25,27 @@ use crate::model::pose::OffsetMode;
 use crate::model::skeleton::Skeleton;
 use std::path::Path;
 
-/// The format a take was read from.
+/// A format takes are read from: which files hold it (by extension or by their first bytes)
+/// and what they hold. The one list of formats: the readers, the folder walks and the messages
+/// all ask it.
 ///
 /// ```
 /// use bvhview::take::{Format, Take};
+/// use std::path::Path;
 ///
 /// # fn main() -> Result<(), bvhview::Error> {
-/// assert_eq!(Format::of_extension("glb"), Some(Format::Gltf));
+/// assert_eq!(Format::from_path(Path::new("WALK.GLB")), Some(Format::Gltf));
 /// assert_eq!(Format::of_extension("amc"), Some(Format::AsfAmc));
+/// assert_eq!(Format::sniff(b"\xEF\xBB\xBFHIERARCHY\nROOT Hips"), Some(Format::Bvh));
+/// assert_eq!(Format::Gltf.extensions(), ["gltf", "glb"]);
+/// assert!(Format::Fbx.holds_several_takes() && !Format::AsfAmc.stands_alone());
 /// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
 /// assert_eq!(take.format, Some(Format::Bvh));
 /// # Ok(())
 /// # }
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
 pub enum Format {
     /// BVH (Biovision Hierarchy): `.bvh`.
     Bvh,
@@ -51,16 +58,63 @@ pub enum Format {
 }
 
 impl Format {
-    /// The format a file of this (lower-case) extension holds: `bvh`, `asf`/`amc`, `fbx`,
-    /// `gltf`/`glb`.
-    pub fn of_extension(extension: &str) -> Option<Format> {
-        match extension {
-            "bvh" => Some(Format::Bvh),
-            "asf" | "amc" => Some(Format::AsfAmc),
-            "fbx" => Some(Format::Fbx),
-            "gltf" | "glb" => Some(Format::Gltf),
-            _ => None,
+    /// Every format, in the order messages list them.
+    pub const ALL: [Format; 4] = [Format::Bvh, Format::Fbx, Format::Gltf, Format::AsfAmc];
+
+    /// The (lower-case) extensions of its files.
+    pub fn extensions(self) -> &'static [&'static str] {
+        match self {
+            Format::Bvh => &["bvh"],
+            Format::AsfAmc => &["asf", "amc"],
+            Format::Fbx => &["fbx"],
+            Format::Gltf => &["gltf", "glb"],
         }
+    }
+
+    /// The format a file of this extension holds (case aside).
+    pub fn of_extension(extension: &str) -> Option<Format> {
+        let extension = extension.to_ascii_lowercase();
+        Format::ALL
+            .into_iter()
+            .find(|format| format.extensions().contains(&extension.as_str()))
+    }
+
+    /// The format a file holds by its extension.
+    pub fn from_path(path: &Path) -> Option<Format> {
+        Format::of_extension(&extension(path))
+    }
+
+    /// The format of a take's bytes by how they begin, for standard input, which has no
+    /// extension: `HIERARCHY` (after a byte-order mark or blanks) is BVH, `glTF` (binary GLB)
+    /// or `{` (its JSON) glTF, FBX's binary magic or an ASCII FBX's `; FBX` comment FBX. An
+    /// ASF is never told so: it needs its AMC beside it.
+    pub fn sniff(bytes: &[u8]) -> Option<Format> {
+        let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+        let start = text
+            .iter()
+            .position(|b| !b.is_ascii_whitespace())
+            .unwrap_or(text.len());
+        let text = &text[start..];
+        if text.len() >= 9 && text[..9].eq_ignore_ascii_case(b"HIERARCHY") {
+            Some(Format::Bvh)
+        } else if bytes.starts_with(b"glTF") || text.starts_with(b"{") {
+            Some(Format::Gltf)
+        } else if bytes.starts_with(b"Kaydara FBX Binary") || text.starts_with(b"; FBX") {
+            Some(Format::Fbx)
+        } else {
+            None
+        }
+    }
+
+    /// Whether one file holds takes to pick among (FBX animation stacks, glTF animations:
+    /// [`OpenOptions::take`]).
+    pub fn holds_several_takes(self) -> bool {
+        matches!(self, Format::Fbx | Format::Gltf)
+    }
+
+    /// Whether a file of it is a take on its own (an ASF skeleton needs its AMC motion).
+    pub fn stands_alone(self) -> bool {
+        self != Format::AsfAmc
     }
 }
 
@@ -97,8 +151,9 @@ pub struct Take {
     pub name: String,
     /// The format it was read from; `None` for a take made in memory.
     pub format: Option<Format>,
-    /// The take chosen in a file that holds several (an FBX stack, a glTF animation), by name.
-    pub take: Option<String>,
+    /// The name of the take chosen in a file that holds several (an FBX animation stack, a
+    /// glTF animation).
+    pub take_name: Option<String>,
     /// How position channels meet the OFFSET in [`Take::positions`], [`Take::ground`] and a
     /// glTF save: replace it (the article's reading, the default) or add to it.
     pub offset_mode: OffsetMode,
@@ -115,7 +170,7 @@ impl Take {
             stated_units: None,
             name: name.into(),
             format: None,
-            take: None,
+            take_name: None,
             offset_mode: OffsetMode::Replace,
         }
     }
@@ -133,6 +188,41 @@ impl Take {
             format: Some(format),
             ..Take::new(skeleton, motion, name)
         }
+    }
+
+    /// A reader's take, its frame time overridden by `frame_time` when given.
+    fn of_read(
+        read: crate::model::reading::Read,
+        format: Format,
+        frame_time: Option<f64>,
+        name: String,
+    ) -> Take {
+        let mut motion = read.motion;
+        if let Some(time) = frame_time {
+            motion.frame_time = time;
+        }
+        Take {
+            take_name: read.take,
+            ..Take::read(read.skeleton, motion, read.warnings, format, name)
+        }
+    }
+
+    /// The bundled walk: the take the window and `snapshot` show when given no file.
+    ///
+    /// ```
+    /// let walk = bvhview::Take::bundled()?;
+    /// assert_eq!(walk.skeleton.joints[0].name, "Hips");
+    /// # Ok::<(), bvhview::Error>(())
+    /// ```
+    pub fn bundled() -> Result<Take, Error> {
+        let file = bvh::load_bytes(crate::DEFAULT_MOTION, crate::DEFAULT_MOTION_NAME)?;
+        Ok(Take::read(
+            file.skeleton,
+            file.motion,
+            file.warnings,
+            Format::Bvh,
+            crate::DEFAULT_MOTION_NAME.to_string(),
+        ))
     }
 
     /// How the take stands (up axis, units, height), guessed from its motion in `mode`.
@@ -271,7 +361,7 @@ impl Take {
             stated_units: self.stated_units.filter(|_| same_lengths),
             name: self.name.clone(),
             format: self.format,
-            take: self.take.clone(),
+            take_name: self.take_name.clone(),
             offset_mode: self.offset_mode,
         }
     }
@@ -338,17 +428,19 @@ impl Take {
 /// ```
 #[derive(Clone, Debug, Default)]
 pub struct OpenOptions {
-    motion: Option<std::path::PathBuf>,
-    take: Option<String>,
-    frame_time: Option<f64>,
-    max_size: Option<u64>,
-    threads: Option<usize>,
-    offset_mode: Option<OffsetMode>,
+    pub(crate) motion: Option<std::path::PathBuf>,
+    pub(crate) take: Option<String>,
+    pub(crate) frame_time: Option<f64>,
+    pub(crate) max_size: Option<u64>,
+    pub(crate) threads: Option<usize>,
+    pub(crate) offset_mode: Option<OffsetMode>,
+    pub(crate) format: Option<Format>,
 }
 
 impl OpenOptions {
     /// The defaults: an FBX or glTF file's first take, the file's own rate, files up to
-    /// [`DEFAULT_MAX_SIZE`], every core, the article's offset mode.
+    /// [`DEFAULT_MAX_SIZE`], every core, the article's offset mode, the format told by the
+    /// path's extension (or by the first bytes, for [`OpenOptions::open_bytes`]).
     pub fn new() -> OpenOptions {
         OpenOptions::default()
     }
@@ -390,38 +482,65 @@ impl OpenOptions {
         self
     }
 
-    /// Opens the take at `path` with these options.
+    /// The format of the bytes [`OpenOptions::open_bytes`] reads, rather than the one their
+    /// first bytes tell ([`Format::sniff`]).
+    pub fn format(mut self, format: Format) -> OpenOptions {
+        self.format = Some(format);
+        self
+    }
+
+    /// Opens the take at `path` with these options, in the format its extension names.
     pub fn open(&self, path: impl AsRef<Path>) -> Result<Take, Error> {
-        let mut take = load_take(
-            path.as_ref(),
-            self.motion.as_deref(),
-            self.frame_time,
-            self.threads.unwrap_or_else(crate::io::parallel::cores),
-            self.max_size.unwrap_or(DEFAULT_MAX_SIZE),
-            self.take.as_deref(),
-        )?;
+        let mut take = load_take(path.as_ref(), self)?;
         take.offset_mode = self.offset_mode.unwrap_or(OffsetMode::Replace);
         Ok(take)
+    }
+
+    /// Opens a take from bytes in memory (standard input, a download) with these options:
+    /// in [`OpenOptions::format`], or the one its first bytes tell. `name` is what messages
+    /// call it. A glTF read so has no folder, so its buffers must be inside it (GLB or data
+    /// URIs); an ASF needs its AMC and is read from files only.
+    ///
+    /// ```
+    /// use bvhview::take::{Format, OpenOptions};
+    ///
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// let bytes = std::fs::read("tests/oracle/inputs/tiny_crlf.bvh").unwrap();
+    /// let take = OpenOptions::new().open_bytes(&bytes, "tiny")?;
+    /// assert_eq!((take.format, take.name.as_str()), (Some(Format::Bvh), "tiny"));
+    /// assert!(OpenOptions::new().format(Format::Fbx).open_bytes(&bytes, "tiny").is_err());
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn open_bytes(&self, bytes: &[u8], name: &str) -> Result<Take, Error> {
+        let mut take = load_bytes(bytes, name, self)?;
+        take.offset_mode = self.offset_mode.unwrap_or(OffsetMode::Replace);
+        Ok(take)
+    }
+
+    fn threads_or_cores(&self) -> usize {
+        self.threads.unwrap_or_else(crate::io::parallel::cores)
+    }
+
+    fn max_size_or_default(&self) -> u64 {
+        self.max_size.unwrap_or(DEFAULT_MAX_SIZE)
     }
 }
 
 /// A path's extension in lower case (`TAKE.BVH` → `bvh`), empty when it has none.
-pub fn extension(path: &Path) -> String {
+pub(crate) fn extension(path: &Path) -> String {
     path.extension()
         .map(|e| e.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default()
 }
 
-/// Loads `path` (`.bvh`, or `.asf` with `motion` an `.amc`). `frame_time` overrides the file's
-/// (AMC has none: CMU's 120 Hz is the default).
+/// The tests' shorthand, until they open takes through [`OpenOptions`] too.
+#[doc(hidden)]
 pub fn load(path: &Path, motion: Option<&Path>, frame_time: Option<f64>) -> Result<Take, Error> {
-    load_checked(
-        path,
-        motion,
-        frame_time,
-        crate::io::parallel::cores(),
-        DEFAULT_MAX_SIZE,
-    )
+    let mut options = OpenOptions::new();
+    options.motion = motion.map(Path::to_path_buf);
+    options.frame_time = frame_time;
+    options.open(path)
 }
 
 /// Files larger than this are refused unless `--max-size` says otherwise (8 GiB).
@@ -430,7 +549,7 @@ pub const DEFAULT_MAX_SIZE: u64 = 8 << 30;
 /// Fails unless `path` is a readable regular file of at most `max_size` bytes. A FIFO, a device
 /// or a socket is refused by its type before any read (a FIFO would wait for a writer for good,
 /// /dev/zero never ends); standard input is read as `-`.
-pub fn check_file(path: &Path, max_size: u64) -> Result<(), Error> {
+pub(crate) fn check_file(path: &Path, max_size: u64) -> Result<(), Error> {
     let metadata = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if metadata.is_dir() {
         return Err(Error::Usage(format!(
@@ -456,271 +575,165 @@ pub fn check_file(path: &Path, max_size: u64) -> Result<(), Error> {
     Ok(())
 }
 
-/// [`load`] parsing a BVH on at most `threads` threads and refusing files larger than `max_size`
-/// bytes before reading them.
-pub fn load_checked(
-    path: &Path,
-    motion: Option<&Path>,
-    frame_time: Option<f64>,
-    threads: usize,
-    max_size: u64,
-) -> Result<Take, Error> {
-    load_take(path, motion, frame_time, threads, max_size, None)
-}
-
-/// Whether bvhview reads files with this (lower-case) extension as takes of their own: `bvh`,
-/// `fbx`, `gltf`, `glb` (an `asf` needs its `amc`).
-pub fn is_take_extension(extension: &str) -> bool {
-    matches!(extension, "bvh" | "fbx" | "gltf" | "glb")
-}
-
-/// Whether a file holds takes that `--take` picks among (FBX animation stacks, glTF animations).
-pub fn has_takes(path: &Path) -> bool {
-    matches!(extension(path).as_str(), "fbx" | "gltf" | "glb")
-}
-
 /// The takes of an FBX or glTF file (name, frames, frame time), in file order; empty for the
 /// formats that hold one take.
 pub fn takes(path: &Path, max_size: u64) -> Result<Vec<crate::model::reading::TakeInfo>, Error> {
     check_file(path, max_size)?;
-    match extension(path).as_str() {
-        "fbx" => crate::fbx::takes(path, max_size),
-        "gltf" | "glb" => crate::gltf::takes(path, max_size),
+    match Format::from_path(path) {
+        Some(Format::Fbx) => crate::fbx::takes(path, max_size),
+        Some(Format::Gltf) => crate::gltf::takes(path, max_size),
         _ => Ok(Vec::new()),
     }
 }
 
-/// [`load_checked`] with the take of a file that holds several (FBX, glTF): `take` is its name
-/// or its index in [`takes`]; `None` reads the first.
-pub fn load_take(
-    path: &Path,
-    motion: Option<&Path>,
-    frame_time: Option<f64>,
-    threads: usize,
-    max_size: u64,
-    take: Option<&str>,
-) -> Result<Take, Error> {
+/// [`OpenOptions::open`]: the reader of the format `path`'s extension names.
+pub(crate) fn load_take(path: &Path, options: &OpenOptions) -> Result<Take, Error> {
+    let max_size = options.max_size_or_default();
+    let (motion, frame_time, take) = (
+        options.motion.as_deref(),
+        options.frame_time,
+        options.take.as_deref(),
+    );
     check_file(path, max_size)?;
     if let Some(motion) = motion {
         check_file(motion, max_size)?;
     }
     crate::limits::frame_time_option(frame_time)?;
-    match extension(path).as_str() {
-        "asf" => {
-            let asf = acclaim::load_asf(path, max_size)?;
-            let (skeleton, maps) = asf.to_skeleton();
-            let frame_time = frame_time.unwrap_or(acclaim::DEFAULT_FRAME_TIME);
-            let channels = skeleton.channel_count();
-            let motion = match motion {
-                Some(amc) => {
-                    if extension(amc) != "amc" {
-                        return Err(Error::Usage(format!(
-                            "--motion {}: expected an .amc file",
-                            amc.display()
-                        )));
-                    }
-                    acclaim::load_amc(
-                        amc,
-                        max_size,
-                        &maps,
-                        channels,
-                        asf.units.degrees,
-                        frame_time,
-                    )?
-                }
-                None => Motion::new(frame_time, channels, 0, Vec::new()),
-            };
-            let mut warnings = asf.warnings;
-            let motion = match acclaim::absolute::made_relative(&skeleton, &motion) {
-                Some((relative, word)) => {
-                    warnings.push(word);
-                    relative
-                }
-                None => motion,
-            };
-            Ok(Take {
-                stated_units: crate::model::stance::asf_units(asf.units.length),
-                ..Take::read(
-                    skeleton,
-                    motion,
-                    warnings,
-                    Format::AsfAmc,
-                    path.display().to_string(),
-                )
-            })
-        }
-        "amc" => Err(Error::Usage(format!(
-            "{}: an AMC file holds motion only; give its skeleton: bvhview COMMAND SKELETON.asf --motion {}",
+    let Some(format) = Format::from_path(path) else {
+        return Err(Error::Usage(format!(
+            "{}: unknown extension '{}': bvhview reads .bvh, .fbx, .gltf and .glb files and .asf \
+             skeletons (with --motion .amc)",
             path.display(),
+            extension(path)
+        )));
+    };
+    if take.is_some() && !format.holds_several_takes() {
+        return Err(Error::Usage(format!(
+            "--take: {} holds one take (only FBX and glTF files hold several)",
             path.display()
-        ))),
-        "fbx" | "gltf" | "glb" => {
-            if let Some(amc) = motion {
-                return Err(Error::Usage(format!(
-                    "--motion {}: only an ASF skeleton takes a motion file",
-                    amc.display()
-                )));
-            }
-            let (read, format) = if extension(path) == "fbx" {
-                (
-                    crate::fbx::load(path, max_size, take, threads)?,
-                    Format::Fbx,
-                )
-            } else {
-                (crate::gltf::load(path, max_size, take)?, Format::Gltf)
-            };
-            let mut motion = read.motion;
-            if let Some(time) = frame_time {
-                motion.frame_time = time;
-            }
-            // Both readers give metres (ufbx converts the FBX's UnitScaleFactor; glTF is
-            // metres by definition); the stance's guess from the figure's size says so.
-            Ok(Take {
-                take: read.take,
-                ..Take::read(
-                    read.skeleton,
-                    motion,
-                    read.warnings,
-                    format,
-                    path.display().to_string(),
-                )
-            })
+        )));
+    }
+    if let Some(amc) = motion.filter(|_| format != Format::AsfAmc) {
+        return Err(Error::Usage(format!(
+            "--motion {}: only an ASF skeleton takes a motion file",
+            amc.display()
+        )));
+    }
+    let name = path.display().to_string();
+    let read = match format {
+        Format::AsfAmc if extension(path) == "amc" => {
+            return Err(Error::Usage(format!(
+                "{}: an AMC file holds motion only; give its skeleton: bvhview COMMAND \
+                 SKELETON.asf --motion {}",
+                path.display(),
+                path.display()
+            )));
         }
-        "bvh" => {
-            if take.is_some() {
-                return Err(Error::Usage(format!(
-                    "--take: {} holds one take (only FBX and glTF files hold several)",
-                    path.display()
-                )));
-            }
-            if let Some(amc) = motion {
-                return Err(Error::Usage(format!(
-                    "--motion {}: only an ASF skeleton takes a motion file",
-                    amc.display()
-                )));
-            }
+        Format::AsfAmc => return load_asf_amc(path, options),
+        Format::Fbx => crate::fbx::load(path, max_size, take, options.threads_or_cores())?,
+        Format::Gltf => crate::gltf::load(path, max_size, take)?,
+        Format::Bvh => {
             let settings = bvh::loader::Settings {
-                threads,
+                threads: options.threads_or_cores(),
                 max_size,
                 ..Default::default()
             };
-            let mut file = bvh::load_file(path, settings)?;
-            if let Some(time) = frame_time {
-                file.motion.frame_time = time;
-            }
-            Ok(Take::read(
-                file.skeleton,
-                file.motion,
-                file.warnings,
-                Format::Bvh,
-                path.display().to_string(),
-            ))
-        }
-        other => Err(Error::Usage(format!(
-            "{}: unknown extension '{other}': bvhview reads .bvh, .fbx, .gltf and .glb files and .asf skeletons (with --motion .amc)",
-            path.display()
-        ))),
-    }
-}
-
-/// The format of a take's bytes by how they begin, for standard input, which has no extension:
-/// `HIERARCHY` (after a byte-order mark or blanks) is BVH, `glTF` binary GLB, `{` glTF text,
-/// and FBX's binary magic or an ASCII FBX's `; FBX` comment FBX.
-pub fn format_of_bytes(bytes: &[u8]) -> Option<&'static str> {
-    let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-    let start = text
-        .iter()
-        .position(|b| !b.is_ascii_whitespace())
-        .unwrap_or(text.len());
-    let text = &text[start..];
-    if text.len() >= 9 && text[..9].eq_ignore_ascii_case(b"HIERARCHY") {
-        Some("bvh")
-    } else if bytes.starts_with(b"glTF") {
-        Some("glb")
-    } else if text.starts_with(b"{") {
-        Some("gltf")
-    } else if bytes.starts_with(b"Kaydara FBX Binary") || text.starts_with(b"; FBX") {
-        Some("fbx")
-    } else {
-        None
-    }
-}
-
-/// A take from bytes in memory (standard input, `-`): in `format` (`bvh`, `fbx`, `gltf` or
-/// `glb`), or, given none, the one [`format_of_bytes`] tells. `name` is what messages call it;
-/// a glTF read so has no folder, so its buffers must be inside it (GLB or data URIs).
-pub fn load_bytes_as(
-    bytes: &[u8],
-    format: Option<&str>,
-    name: &str,
-    frame_time: Option<f64>,
-    threads: usize,
-    take: Option<&str>,
-) -> Result<Take, Error> {
-    crate::limits::frame_time_option(frame_time)?;
-    if bytes.is_empty() {
-        return Err(Error::Usage(format!("{name}: empty: no take to read")));
-    }
-    let format = match format.or_else(|| format_of_bytes(bytes)) {
-        Some(format) => format,
-        None => {
-            return Err(Error::Usage(format!(
-                "{name}: not a take bvhview can tell by its first bytes; name its format with \
-                 --from bvh, fbx, gltf or glb"
-            )));
-        }
-    };
-    let (read, format) = match format {
-        "bvh" => {
-            if take.is_some() {
-                return Err(Error::Usage(format!(
-                    "--take: {name} is a BVH, which holds one take"
-                )));
-            }
-            let file = bvh::load_bytes(bytes, name)?;
-            let read = crate::model::reading::Read {
+            let file = bvh::load_file(path, settings)?;
+            crate::model::reading::Read {
                 skeleton: file.skeleton,
                 motion: file.motion,
                 warnings: file.warnings,
                 take: None,
-            };
-            (read, Format::Bvh)
-        }
-        "fbx" => (
-            crate::fbx::load_bytes(bytes, name, take, threads)?,
-            Format::Fbx,
-        ),
-        "gltf" | "glb" => (crate::gltf::load_bytes(bytes, name, take)?, Format::Gltf),
-        other => {
-            return Err(Error::Usage(format!(
-                "--from {other}: bvhview reads bvh, fbx, gltf or glb from standard input"
-            )));
+            }
         }
     };
-    let mut motion = read.motion;
-    if let Some(time) = frame_time {
-        motion.frame_time = time;
-    }
+    // FBX and glTF readers give metres (ufbx converts the FBX's UnitScaleFactor; glTF is metres
+    // by definition); the stance's guess from the figure's size says so.
+    Ok(Take::of_read(read, format, frame_time, name))
+}
+
+/// An ASF skeleton at `path` with the AMC motion `options` names (none: its rest pose alone).
+fn load_asf_amc(path: &Path, options: &OpenOptions) -> Result<Take, Error> {
+    let max_size = options.max_size_or_default();
+    let asf = acclaim::load_asf(path, max_size)?;
+    let (skeleton, maps) = asf.to_skeleton();
+    let frame_time = options.frame_time.unwrap_or(acclaim::DEFAULT_FRAME_TIME);
+    let channels = skeleton.channel_count();
+    let motion = match options.motion.as_deref() {
+        Some(amc) => {
+            if extension(amc) != "amc" {
+                return Err(Error::Usage(format!(
+                    "--motion {}: expected an .amc file",
+                    amc.display()
+                )));
+            }
+            acclaim::load_amc(
+                amc,
+                max_size,
+                &maps,
+                channels,
+                asf.units.degrees,
+                frame_time,
+            )?
+        }
+        None => Motion::new(frame_time, channels, 0, Vec::new()),
+    };
+    let mut warnings = asf.warnings;
+    let motion = match acclaim::absolute::made_relative(&skeleton, &motion) {
+        Some((relative, word)) => {
+            warnings.push(word);
+            relative
+        }
+        None => motion,
+    };
     Ok(Take {
-        take: read.take,
+        stated_units: crate::model::stance::asf_units(asf.units.length),
         ..Take::read(
-            read.skeleton,
+            skeleton,
             motion,
-            read.warnings,
-            format,
-            name.to_string(),
+            warnings,
+            Format::AsfAmc,
+            path.display().to_string(),
         )
     })
 }
 
-/// The bundled walk.
-pub fn default_motion() -> Result<Take, Error> {
-    let file = bvh::load_bytes(crate::DEFAULT_MOTION, crate::DEFAULT_MOTION_NAME)?;
-    Ok(Take::read(
-        file.skeleton,
-        file.motion,
-        file.warnings,
-        Format::Bvh,
-        crate::DEFAULT_MOTION_NAME.to_string(),
-    ))
+/// [`OpenOptions::open_bytes`].
+fn load_bytes(bytes: &[u8], name: &str, options: &OpenOptions) -> Result<Take, Error> {
+    let (frame_time, take) = (options.frame_time, options.take.as_deref());
+    crate::limits::frame_time_option(frame_time)?;
+    if bytes.is_empty() {
+        return Err(Error::Usage(format!("{name}: empty: no take to read")));
+    }
+    let Some(format) = options.format.or_else(|| Format::sniff(bytes)) else {
+        return Err(Error::Usage(format!(
+            "{name}: not a take bvhview can tell by its first bytes; name its format with \
+             --from bvh, fbx, gltf or glb"
+        )));
+    };
+    if take.is_some() && !format.holds_several_takes() {
+        return Err(Error::Usage(format!(
+            "--take: {name} is a BVH, which holds one take"
+        )));
+    }
+    let read = match format {
+        Format::Bvh => {
+            let file = bvh::load_bytes(bytes, name)?;
+            crate::model::reading::Read {
+                skeleton: file.skeleton,
+                motion: file.motion,
+                warnings: file.warnings,
+                take: None,
+            }
+        }
+        Format::Fbx => crate::fbx::load_bytes(bytes, name, take, options.threads_or_cores())?,
+        Format::Gltf => crate::gltf::load_bytes(bytes, name, take)?,
+        Format::AsfAmc => {
+            return Err(Error::Usage(format!(
+                "{name}: an ASF skeleton is read from a file, beside its AMC motion; bvhview \
+                 reads bvh, fbx, gltf or glb from bytes"
+            )));
+        }
+    };
+    Ok(Take::of_read(read, format, frame_time, name.to_string()))
 }

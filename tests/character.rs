@@ -831,5 +831,5 @@ fn a_characters_own_takes_are_put_on_exactly() {
     let character = Character::open(file).unwrap();
     let other = Character::open_with(Path::new(file), u64::MAX, Some("1"), 1).unwrap();
     assert!(character.is_own_skeleton(&other.take.skeleton));
-    assert_eq!(other.take.take.as_deref(), Some("Copy"));
+    assert_eq!(other.take.take_name.as_deref(), Some("Copy"));
 }

@@ -24,7 +24,10 @@ fn load(path: &Path) -> Take {
 }
 
 fn load_take(path: &Path, take: &str) -> Take {
-    take::load_take(path, None, None, 1, take::DEFAULT_MAX_SIZE, Some(take))
+    take::OpenOptions::new()
+        .threads(1)
+        .take(take)
+        .open(path)
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
@@ -292,7 +295,12 @@ fn a_file_with_several_takes_reads_each_by_name_or_index() {
         assert_eq!(by_name.motion.frame_count(), take.frames, "{}", take.name);
         assert!(by_name.warnings.is_empty(), "{:?}", by_name.warnings);
     }
-    let error = take::load_take(&path, None, None, 1, u64::MAX, Some("nope")).unwrap_err();
+    let error = take::OpenOptions::new()
+        .threads(1)
+        .max_size(u64::MAX)
+        .take("nope")
+        .open(&path)
+        .unwrap_err();
     assert_eq!(error.exit_code(), 2);
     assert!(error.to_string().contains("no take 'nope'"), "{error}");
     let output = bvhview().arg("info").arg(&path).output().unwrap();

@@ -10,7 +10,7 @@ use bvhview::model::motion::Motion;
 use bvhview::model::pose::OffsetMode;
 use bvhview::model::skeleton::Skeleton;
 use bvhview::positions::{
-    Format, PositionsOptions, Shortest, write_positions, write_positions_plain,
+    PositionsFormat, PositionsOptions, Shortest, write_positions, write_positions_plain,
 };
 use common::*;
 use std::ops::Range;
@@ -128,7 +128,7 @@ fn same_both_ways(what: &str, skeleton: &Skeleton, motion: &Motion) {
     if count > 20 {
         ranges.push(3..count.min(30) - 1);
     }
-    for format in [Format::Csv, Format::Json] {
+    for format in [PositionsFormat::Csv, PositionsFormat::Json] {
         for scale in [1.0, 0.01, -2.5, 3e37] {
             for left_handed in [false, true] {
                 for offset_mode in [OffsetMode::Replace, OffsetMode::Add] {

@@ -898,7 +898,11 @@ fn translating_spine_take() -> Take {
         text += &values.join(" ");
         text += "\n";
     }
-    bvhview::take::load_bytes_as(text.as_bytes(), Some("bvh"), "neuron.bvh", None, 1, None).unwrap()
+    bvhview::take::OpenOptions::new()
+        .format(bvhview::take::Format::Bvh)
+        .threads(1)
+        .open_bytes(text.as_bytes(), "neuron.bvh")
+        .unwrap()
 }
 
 /// Issue 59, point 4 (c): joints below the root with position channels take their

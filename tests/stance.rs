@@ -282,7 +282,7 @@ fn the_repository_takes_read_right() {
     let checked = check_all(&|f| repo_data(f), false);
     assert!(checked >= 18, "only {checked} repository takes checked");
     // The bundled walk: made by examples/make_walk.rs in centimetres, Y up.
-    let walk = bvhview::take::default_motion().unwrap();
+    let walk = bvhview::Take::bundled().unwrap();
     let stance = walk.stance(OffsetMode::Replace);
     assert_eq!((stance.up, stance.units.name), (Up::Y, "centimetres"));
 }
@@ -492,7 +492,7 @@ fn tiny_non_root_position_channels_are_read_in_add_mode() {
 #[test]
 fn info_warns_of_humans_under_half_a_metre_or_over_two_and_a_half() {
     let dir = tempfile::tempdir().unwrap();
-    let walk = bvhview::take::default_motion().unwrap();
+    let walk = bvhview::Take::bundled().unwrap();
     let size = walk.stance(OffsetMode::Replace).size;
     let text = info_of(dir.path(), "walk.bvh", &walk);
     assert!(text.contains("warnings:         none"), "{text}");

@@ -130,7 +130,7 @@ fn several_takes_stand_at_one_height_unless_true_scale() {
 #[test]
 fn fit_take_frames_the_whole_path_from_one_camera() {
     use bvhview::render::{SnapshotOptions, camera_for, framing};
-    let walk = bvhview::take::default_motion().unwrap();
+    let walk = bvhview::Take::bundled().unwrap();
     let (skeleton, motion) = (&walk.skeleton, &walk.motion);
     let camera = |frame: usize, whole_take: bool| {
         let options = SnapshotOptions {

@@ -80,9 +80,10 @@ fn folder_pass(files: &[std::path::PathBuf]) -> (Duration, Duration, Option<i64>
     let mut kept = Vec::new();
     for file in files {
         let start = Instant::now();
-        let loaded =
-            bvhview::take::load_checked(file, None, None, bvhview::plumbing::cores(), u64::MAX)
-                .unwrap_or_else(|e| input_error(e));
+        let loaded = bvhview::take::OpenOptions::new()
+            .max_size(u64::MAX)
+            .open(file)
+            .unwrap_or_else(|e| input_error(e));
         let loaded_at = Instant::now();
         let plan = FkPlan::new(&loaded.skeleton, OffsetMode::Replace);
         let (mut points, mut scratch) = (Vec::new(), FkScratch::default());
@@ -256,7 +257,14 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
     let rounds = load.rounds.unwrap_or(if quick { 3 } else { 5 });
     let file = std::path::Path::new(path);
     let retargets = target
-        .apply("BIG", &bvh.skeleton, &bvh.motion, &[], 1)
+        .apply(
+            "BIG",
+            &bvh.skeleton,
+            &bvh.motion,
+            &[],
+            Default::default(),
+            1,
+        )
         .is_ok();
     if !retargets {
         println!("retarget onto smpl22: skipped: the file's skeleton has no human chain");
@@ -314,9 +322,17 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
     // retargeting the take there on one thread, round by round.
     if retargets {
         use bvhview::model::pose::{OffsetMode, world_transforms_f64};
-        let (smpl, moved) = target
-            .apply("BIG", &bvh.skeleton, &bvh.motion, &[], 1)
+        let put = target
+            .apply(
+                "BIG",
+                &bvh.skeleton,
+                &bvh.motion,
+                &[],
+                Default::default(),
+                1,
+            )
             .expect("retargets");
+        let (smpl, moved) = (put.skeleton, put.motion);
         let names: Vec<String> = (0..smpl.joints.len())
             .map(|j| bvhview::model::skeleton::export_name(&smpl, j))
             .collect();
@@ -750,7 +766,9 @@ fn compare_sequences(quick: bool) {
             },
             |pictures| {
                 for (i, picture) in pictures.enumerate() {
-                    picture?.write_png_fast(&out.join(format!("frame_{i:05}.png")))?;
+                    let path = out.join(format!("frame_{i:05}.png"));
+                    let bytes = picture?.png_fast(&path)?;
+                    std::fs::write(&path, bytes).map_err(|e| bvhview::Error::io(&path, e))?;
                 }
                 Ok(())
             },
@@ -820,7 +838,7 @@ fn compare_sequences(quick: bool) {
 /// thread, and MP4 on every core, round-robin. Per frame, median and fastest of the rounds, and
 /// how many times real time that is for a take at 30 and at 120 frames a second.
 fn compare_encoders(quick: bool) {
-    use bvhview::render::animation::{self, Format};
+    use bvhview::render::animation::{self, AnimationFormat};
     use bvhview::render::{Image, Look, Renderer, SnapshotOptions};
     let file =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/bvh/assimp_01_01.bvh");
@@ -849,10 +867,10 @@ fn compare_encoders(quick: bool) {
                     .expect("draws")
             })
             .collect();
-        let encode = |format: Format, threads: usize| {
+        let encode = |format: AnimationFormat, threads: usize| {
             let start = Instant::now();
             match (format, threads) {
-                (Format::Mp4, threads) => {
+                (AnimationFormat::Mp4, threads) => {
                     let mut video =
                         bvhview::render::video::Mp4::new((width, height), 30.0, threads)
                             .expect("an encoder");
@@ -863,7 +881,7 @@ fn compare_encoders(quick: bool) {
                         .expect("writes");
                 }
                 (format, _) => {
-                    let path = out.join(if format == Format::Gif {
+                    let path = out.join(if format == AnimationFormat::Gif {
                         "walk.gif"
                     } else {
                         "walk.apng"
@@ -876,10 +894,10 @@ fn compare_encoders(quick: bool) {
             start.elapsed() / count as u32
         };
         let tools = [
-            ("GIF, one thread", Format::Gif, 1),
-            ("APNG, one thread", Format::Apng, 1),
-            ("MP4 (H.264), one thread", Format::Mp4, 1),
-            ("MP4 (H.264), every core", Format::Mp4, cores),
+            ("GIF, one thread", AnimationFormat::Gif, 1),
+            ("APNG, one thread", AnimationFormat::Apng, 1),
+            ("MP4 (H.264), one thread", AnimationFormat::Mp4, 1),
+            ("MP4 (H.264), every core", AnimationFormat::Mp4, cores),
         ];
         let mut times: Vec<Vec<Duration>> = vec![Vec::new(); tools.len()];
         for _ in 0..rounds {
@@ -1125,7 +1143,13 @@ fn humanml3d_against_onto(path: &str, rounds: usize) {
     let frames: usize = items
         .iter()
         .filter_map(|item| {
-            bvhview::take::load_checked(&item.path, item.motion.as_deref(), None, 1, u64::MAX).ok()
+            let mut options = bvhview::take::OpenOptions::new()
+                .threads(1)
+                .max_size(u64::MAX);
+            if let Some(amc) = &item.motion {
+                options = options.motion(amc);
+            }
+            options.open(&item.path).ok()
         })
         .map(|take| take.motion.frame_count())
         .sum();
@@ -1315,7 +1339,7 @@ fn skinning(rounds: usize, extra: Option<&str>) {
         return;
     };
     for (name, character) in &cases {
-        let dressed = character
+        let (dressed, _) = character
             .dress(&walk, &[], Default::default(), 1)
             .unwrap_or_else(|e| input_error(e));
         let shown = [bvhview::render::paint::Shown {

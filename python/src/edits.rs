@@ -33,7 +33,10 @@ impl Motion {
     /// the take's offset mode. The file takes its name only when complete.
     fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         guard("save", || {
-            let extension = take::extension(&path);
+            let extension = path
+                .extension()
+                .map(|e| e.to_string_lossy().to_ascii_lowercase())
+                .unwrap_or_default();
             let container = match extension.as_str() {
                 "bvh" => None,
                 "glb" => Some(bvhview::gltf::Container::Glb),

@@ -22,13 +22,19 @@ pub(crate) fn load_item(
             return Err(Error::io(path, io::ErrorKind::IsADirectory.into()));
         }
     }
-    take::load_checked(
-        &item.path,
-        item.motion.as_deref(),
-        frame_time,
-        threads,
-        take::DEFAULT_MAX_SIZE,
-    )
+    open_options(item, frame_time, threads).open(&item.path)
+}
+
+/// How `load` opens `item`: its AMC, `frame_time` over the file's, on `threads` threads.
+fn open_options(item: &Item, frame_time: Option<f64>, threads: usize) -> take::OpenOptions {
+    let mut options = take::OpenOptions::new().threads(threads);
+    if let Some(amc) = &item.motion {
+        options = options.motion(amc);
+    }
+    if let Some(seconds) = frame_time {
+        options = options.frame_time(seconds);
+    }
+    options
 }
 
 /// `take=` of `load`: a take's name, or its index (as `bvhview info FILE` lists them).
@@ -75,14 +81,9 @@ pub(crate) fn load(
                         if item.path.is_dir() {
                             return Err(Error::io(&item.path, io::ErrorKind::IsADirectory.into()));
                         }
-                        take::load_take(
-                            &item.path,
-                            item.motion.as_deref(),
-                            frame_time,
-                            bvhview::plumbing::cores(),
-                            take::DEFAULT_MAX_SIZE,
-                            Some(&take.0),
-                        )
+                        open_options(&item, frame_time, bvhview::plumbing::cores())
+                            .take(take.0.as_str())
+                            .open(&item.path)
                     }
                 }
             })

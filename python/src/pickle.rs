@@ -174,7 +174,7 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
         let loaded = Take {
             warnings,
             stated_units: cmu_units.then_some(bvhview::model::stance::CMU_UNITS),
-            format: take::Format::of_extension(&take::extension(Path::new(&path))),
+            format: take::Format::from_path(Path::new(&path)),
             ..Take::new(
                 skeleton,
                 bvhview::Motion::new(frame_time, channels, frames, values),

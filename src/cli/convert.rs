@@ -446,20 +446,19 @@ fn convert_one(
     if let Err(reason) = name {
         return failed(reason.clone());
     }
-    let pick = args
-        .source
-        .take
-        .as_deref()
-        .filter(|_| take::has_takes(&item.path));
-    let result = take::load_take(
-        &item.path,
-        item.motion.as_deref(),
-        args.source.frame_time,
-        1,
-        args.source.max_size,
-        pick,
-    )
-    .and_then(|loaded| {
+    let pick =
+        args.source.take.as_deref().filter(|_| {
+            take::Format::from_path(&item.path).is_some_and(|f| f.holds_several_takes())
+        });
+    let options = take::OpenOptions {
+        motion: item.motion.clone(),
+        take: pick.map(String::from),
+        frame_time: args.source.frame_time,
+        max_size: Some(args.source.max_size),
+        threads: Some(1),
+        ..Default::default()
+    };
+    let result = take::load_take(&item.path, &options).and_then(|loaded| {
         let warnings = loaded.warnings.clone();
         let loaded = edit(args, loaded)?;
         let prepared = Prepared::new(

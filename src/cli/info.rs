@@ -40,7 +40,11 @@ pub(crate) fn run(args: InfoArgs) -> Result<ExitCode, Error> {
         None => name,
     };
     let mut text = crate::info::summary(&name, &loaded, offset_mode);
-    if let Some(path) = args.file.as_deref().filter(|p| take::has_takes(p)) {
+    if let Some(path) = args
+        .file
+        .as_deref()
+        .filter(|p| take::Format::from_path(p).is_some_and(|f| f.holds_several_takes()))
+    {
         text.push_str(&takes_text(&take::takes(path, args.source.max_size)?));
     }
     write_text(&text)?;

@@ -115,6 +115,20 @@ pub(crate) struct Source {
     max_size: u64,
 }
 
+impl Source {
+    /// How to open a take from these flags, on `threads` threads.
+    pub(crate) fn open_options(&self, threads: usize) -> take::OpenOptions {
+        take::OpenOptions {
+            motion: self.motion.clone(),
+            take: self.take.clone(),
+            frame_time: self.frame_time,
+            max_size: Some(self.max_size),
+            threads: Some(threads),
+            ..Default::default()
+        }
+    }
+}
+
 /// `8G` → 8 GiB; plain numbers are bytes.
 pub(crate) fn parse_max_size(text: &str) -> Result<u64, String> {
     let bad = || format!("expected a size such as 500M or 8G, found '{text}'");
@@ -381,14 +395,7 @@ pub(crate) fn load_with_threads(
                 path.display()
             )));
         }
-        return take::load_take(
-            path,
-            source.motion.as_deref(),
-            source.frame_time,
-            threads,
-            source.max_size,
-            source.take.as_deref(),
-        );
+        return take::load_take(path, &source.open_options(threads));
     }
     if let Some(motion) = &source.motion {
         return Err(Error::Usage(format!(
@@ -406,14 +413,15 @@ pub(crate) fn load_with_threads(
     )
     .read_to_end(&mut bytes)
     .map_err(|e| Error::io(Path::new("<stdin>"), e))?;
-    take::load_bytes_as(
-        &bytes,
-        source.from.as_deref(),
-        "<stdin>",
-        source.frame_time,
-        threads,
-        source.take.as_deref(),
-    )
+    let mut options = source.open_options(threads);
+    if let Some(from) = &source.from {
+        options.format = Some(take::Format::of_extension(from).ok_or_else(|| {
+            Error::Usage(format!(
+                "--from {from}: bvhview reads bvh, fbx, gltf or glb from standard input"
+            ))
+        })?);
+    }
+    options.open_bytes(&bytes, "<stdin>")
 }
 
 /// The named file, or the bundled walk; with the name to show.
@@ -431,7 +439,7 @@ pub(crate) fn load_or_default(
                 return Err(Error::Usage("--take needs an FBX or glTF file".into()));
             }
             crate::limits::frame_time_option(source.frame_time)?;
-            let mut walk = take::default_motion()?;
+            let mut walk = take::Take::bundled()?;
             if let Some(time) = source.frame_time {
                 walk.motion.frame_time = time;
             }

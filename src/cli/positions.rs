@@ -5,7 +5,7 @@ use super::{
 };
 use crate::io::error::Error;
 use crate::model::pose::OffsetMode;
-use crate::positions::{Format, PositionsOptions};
+use crate::positions::{PositionsFormat, PositionsOptions};
 use crate::take;
 use clap::{Args, ValueEnum};
 use std::io::Write;
@@ -22,11 +22,11 @@ enum FormatArg {
     Json,
 }
 
-impl From<FormatArg> for Format {
-    fn from(arg: FormatArg) -> Format {
+impl From<FormatArg> for PositionsFormat {
+    fn from(arg: FormatArg) -> PositionsFormat {
         match arg {
-            FormatArg::Csv => Format::Csv,
-            FormatArg::Json => Format::Json,
+            FormatArg::Csv => PositionsFormat::Csv,
+            FormatArg::Json => PositionsFormat::Json,
         }
     }
 }

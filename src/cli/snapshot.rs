@@ -81,7 +81,7 @@ pub(crate) struct SnapshotArgs {
 /// an animated output asked for with one frame, and `--fps` where no animation is written.
 fn check_sequence_options(
     args: &SnapshotArgs,
-    animated: Option<crate::render::animation::Format>,
+    animated: Option<crate::render::animation::AnimationFormat>,
 ) -> Result<(), Error> {
     let output = args.output.display();
     let format = match take::extension(&args.output).as_str() {
@@ -91,7 +91,7 @@ fn check_sequence_options(
         _ => None,
     };
     #[cfg(not(feature = "video"))]
-    if animated == Some(crate::render::animation::Format::Mp4) {
+    if animated == Some(crate::render::animation::AnimationFormat::Mp4) {
         return Err(crate::io::absent::without(
             "video",
             "MP4 video",
@@ -123,7 +123,7 @@ fn check_sequence_options(
 
 pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     use crate::render::animation;
-    let animated = animation::Format::of(&args.output);
+    let animated = animation::AnimationFormat::of(&args.output);
     check_sequence_options(&args, animated)?;
     match &args.frames {
         None => check_output(&args.output, &["png"])?,
@@ -136,9 +136,9 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         Some(_) => {}
     }
     if let Some(fps) = args.fps {
-        crate::limits::fps(fps, animated == Some(animation::Format::Gif))?;
+        crate::limits::fps(fps, animated == Some(animation::AnimationFormat::Gif))?;
     }
-    if animated == Some(animation::Format::Mp4) {
+    if animated == Some(animation::AnimationFormat::Mp4) {
         animation::check_video_size(args.size.0, args.size.1)?;
     }
     let files = paired_takes(&args.files, &args.source)?;
@@ -299,7 +299,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         progress.done();
         // H.264's pictures have even sides: say so where the video is not the size asked.
         let even = animation::encoded_size(size.0, size.1);
-        let resized = if format == animation::Format::Mp4 && even != size {
+        let resized = if format == animation::AnimationFormat::Mp4 && even != size {
             format!(
                 " ({}x{}: H.264 needs even sides, the last column or row repeats)",
                 even.0, even.1
@@ -311,7 +311,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         // one asked beside it when they differ.
         let (rate, asked) = match format {
             #[cfg(feature = "video")]
-            animation::Format::Mp4 => {
+            animation::AnimationFormat::Mp4 => {
                 let written = crate::render::video::written_rate(fps);
                 // Thousandths as every rate was said before; else seven figures (a third of a
                 // frame a second, written as 1/3, is 0.3333333, not sixteen threes).

@@ -180,8 +180,15 @@ fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared,
             )));
         }
     }
-    let loaded =
-        crate::take::load_checked(path, item.motion.as_deref(), None, 1, options.max_size)?;
+    let loaded = crate::take::load_take(
+        path,
+        &crate::take::OpenOptions {
+            motion: item.motion.clone(),
+            max_size: Some(options.max_size),
+            threads: Some(1),
+            ..Default::default()
+        },
+    )?;
     let frame_time = loaded.motion.frame_time;
     if !(frame_time > 0.0 && frame_time.is_finite()) {
         return Err(Error::Usage(format!(

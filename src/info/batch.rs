@@ -213,10 +213,7 @@ fn identity(metadata: &std::fs::Metadata) -> (u64, u64) {
 
 /// Whether a name is one of a take's (`.bvh`, `.fbx`, `.gltf`, `.glb`, `.asf`, `.amc`, any case).
 fn is_take_name(path: &Path) -> bool {
-    matches!(
-        extension(path).as_str(),
-        "bvh" | "fbx" | "gltf" | "glb" | "asf" | "amc"
-    )
+    crate::take::Format::from_path(path).is_some()
 }
 
 /// Why an entry cannot be read, as a skipped line says it.
@@ -414,8 +411,9 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
         let asfs: Vec<&PathBuf> = entries.iter().filter(|p| extension(p) == "asf").collect();
         let mut used = vec![false; asfs.len()];
         for path in entries {
+            let format = crate::take::Format::from_path(path);
             match extension(path).as_str() {
-                "bvh" | "fbx" | "gltf" | "glb" => items.push(Item {
+                _ if format.is_some_and(|f| f.stands_alone()) => items.push(Item {
                     path: path.clone(),
                     motion: None,
                 }),
@@ -547,14 +545,15 @@ pub fn run(
             let result = if item.is_unpaired_motion() {
                 Ok(None)
             } else {
-                take::load_checked(
-                    &item.path,
-                    item.motion.as_deref(),
-                    settings.frame_time,
-                    1,
-                    settings.max_size,
-                )
-                .map(|loaded| Some(describe(&loaded, settings.offset_mode)))
+                let options = take::OpenOptions {
+                    motion: item.motion.clone(),
+                    frame_time: settings.frame_time,
+                    max_size: Some(settings.max_size),
+                    threads: Some(1),
+                    ..Default::default()
+                };
+                take::load_take(&item.path, &options)
+                    .map(|loaded| Some(describe(&loaded, settings.offset_mode)))
             };
             Outcome {
                 item: item.clone(),

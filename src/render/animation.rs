@@ -11,24 +11,24 @@ use std::path::Path;
 /// The animated formats `snapshot --frames` writes.
 ///
 /// ```
-/// use bvhview::render::{Image, animation::{Format, default_fps, write}};
+/// use bvhview::render::{Image, animation::{AnimationFormat, default_fps, write}};
 /// use std::path::Path;
 ///
 /// # fn main() -> Result<(), bvhview::Error> {
-/// assert_eq!(Format::of(Path::new("walk.gif")), Some(Format::Gif));
-/// assert_eq!(Format::of(Path::new("walk.jpg")), None);
-/// assert_eq!(default_fps(1.0 / 120.0, Format::Gif), 50.0); // a GIF plays at most this fast
+/// assert_eq!(AnimationFormat::of(Path::new("walk.gif")), Some(AnimationFormat::Gif));
+/// assert_eq!(AnimationFormat::of(Path::new("walk.jpg")), None);
+/// assert_eq!(default_fps(1.0 / 120.0, AnimationFormat::Gif), 50.0); // a GIF plays at most this fast
 /// // Two 1 × 1 pictures, black then white, as a GIF at 10 fps.
 /// let pictures = [0, 255].map(|shade| Ok(Image { width: 1, height: 1, rgb: vec![shade; 3] }));
 /// let folder = tempfile::tempdir().unwrap();
 /// let path = folder.path().join("blink.gif");
-/// write(&path, Format::Gif, (1, 1), 10.0, pictures.into_iter(), 2)?;
+/// write(&path, AnimationFormat::Gif, (1, 1), 10.0, pictures.into_iter(), 2)?;
 /// assert!(std::fs::read(&path).unwrap().starts_with(b"GIF89a"));
 /// # Ok(())
 /// # }
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Format {
+pub enum AnimationFormat {
     /// GIF (`.gif`): 256 colours a frame, delays in hundredths of a second.
     Gif,
     /// Animated PNG (`.apng`, or `.png` with `--frames`).
@@ -37,13 +37,13 @@ pub enum Format {
     Mp4,
 }
 
-impl Format {
+impl AnimationFormat {
     /// The format an output name asks for, if animated.
-    pub fn of(path: &Path) -> Option<Format> {
+    pub fn of(path: &Path) -> Option<AnimationFormat> {
         match crate::take::extension(path).as_str() {
-            "gif" => Some(Format::Gif),
-            "apng" | "png" => Some(Format::Apng),
-            "mp4" => Some(Format::Mp4),
+            "gif" => Some(AnimationFormat::Gif),
+            "apng" | "png" => Some(AnimationFormat::Apng),
+            "mp4" => Some(AnimationFormat::Mp4),
             _ => None,
         }
     }
@@ -82,7 +82,7 @@ pub fn check_video_size(width: u32, height: u32) -> Result<(), Error> {
 
 /// The rate an animation plays at when none is asked for: the file's own (30 when the file has
 /// no frame time), at most [`GIF_MAX_FPS`] for a GIF.
-pub fn default_fps(frame_time: f64, format: Format) -> f64 {
+pub fn default_fps(frame_time: f64, format: AnimationFormat) -> f64 {
     let rate = if frame_time > 0.0 && frame_time.is_finite() {
         1.0 / frame_time
     } else {
@@ -90,8 +90,10 @@ pub fn default_fps(frame_time: f64, format: Format) -> f64 {
     };
     // Within what `--fps` takes: an hour-long frame plays for 100 s.
     match format {
-        Format::Gif => rate.clamp(crate::limits::MIN_FPS, GIF_MAX_FPS),
-        Format::Apng | Format::Mp4 => rate.clamp(crate::limits::MIN_FPS, crate::limits::MAX_FPS),
+        AnimationFormat::Gif => rate.clamp(crate::limits::MIN_FPS, GIF_MAX_FPS),
+        AnimationFormat::Apng | AnimationFormat::Mp4 => {
+            rate.clamp(crate::limits::MIN_FPS, crate::limits::MAX_FPS)
+        }
     }
 }
 
@@ -172,7 +174,7 @@ pub fn drawn_and_written<T: Send>(
 /// animation in `format` at `fps`, whole or not at all.
 pub fn write(
     path: &Path,
-    format: Format,
+    format: AnimationFormat,
     (width, height): (u32, u32),
     fps: f64,
     frames: impl Iterator<Item = Result<Image, Error>>,
@@ -183,7 +185,7 @@ pub fn write(
     let encoding =
         |e: &dyn std::fmt::Display| Error::output(path, std::io::Error::other(e.to_string()));
     match format {
-        Format::Gif => {
+        AnimationFormat::Gif => {
             let (w, h) = (
                 u16::try_from(width)
                     .map_err(|_| Error::Usage("a GIF is at most 65535 wide".into()))?,
@@ -204,7 +206,7 @@ pub fn write(
             }
             encoder.into_inner().map_err(|e| encoding(&e))?;
         }
-        Format::Apng => {
+        AnimationFormat::Apng => {
             let mut encoder = png::Encoder::new(out, width, height);
             encoder.set_color(png::ColorType::Rgb);
             encoder.set_depth(png::BitDepth::Eight);
@@ -232,7 +234,7 @@ pub fn write(
             writer.finish().map_err(|e| encoding(&e))?;
         }
         #[cfg(feature = "video")]
-        Format::Mp4 => {
+        AnimationFormat::Mp4 => {
             let folder = out.folder().map(Path::to_path_buf);
             let mut video =
                 crate::render::video::Mp4::new((width, height), fps, crate::io::parallel::cores())?
@@ -243,7 +245,7 @@ pub fn write(
             video.finish_into(out, path)?;
         }
         #[cfg(not(feature = "video"))]
-        Format::Mp4 => {
+        AnimationFormat::Mp4 => {
             drop(frames);
             return Err(crate::io::absent::without(
                 "video",
@@ -337,7 +339,7 @@ mod tests {
             sampled_frames(0..5, 0.04, 25.0).unwrap(),
             vec![0, 1, 2, 3, 4]
         );
-        assert_eq!(default_fps(1.0 / 120.0, Format::Gif), GIF_MAX_FPS);
-        assert_eq!(default_fps(1.0 / 120.0, Format::Apng), 120.0);
+        assert_eq!(default_fps(1.0 / 120.0, AnimationFormat::Gif), GIF_MAX_FPS);
+        assert_eq!(default_fps(1.0 / 120.0, AnimationFormat::Apng), 120.0);
     }
 }

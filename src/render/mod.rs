@@ -92,8 +92,7 @@ impl Image {
     /// A picture of a sequence (`snapshot --frames` into a folder) as PNG bytes: fdeflate's
     /// fast level, some three times quicker than [`Image::write_png`]'s, files two to four
     /// times larger, the same pixels. `path` names the output in a message.
-    #[cfg(feature = "cli")]
-    pub(crate) fn png_fast(&self, path: &Path) -> Result<Vec<u8>, Error> {
+    pub fn png_fast(&self, path: &Path) -> Result<Vec<u8>, Error> {
         let mut bytes = Vec::new();
         self.encode_png(&mut bytes, png::Compression::Fast, path)?;
         Ok(bytes)

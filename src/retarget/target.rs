@@ -126,8 +126,9 @@ impl Target {
                 )));
             }
         }
-        let loaded =
-            crate::take::load_checked(path, None, None, crate::io::parallel::cores(), max_size)?;
+        let loaded = crate::take::OpenOptions::new()
+            .max_size(max_size)
+            .open(path)?;
         Ok(Target::new(
             path.display().to_string(),
             loaded.skeleton,

@@ -64,14 +64,14 @@ pub struct TakeSource {
 
 impl TakeSource {
     fn load(&self) -> Result<Take, Error> {
-        crate::take::load_take(
-            &self.path,
-            self.motion.as_deref(),
-            self.frame_time,
-            crate::io::parallel::cores(),
-            self.max_size,
-            self.take.as_deref(),
-        )
+        let options = crate::take::OpenOptions {
+            motion: self.motion.clone(),
+            take: self.take.clone(),
+            frame_time: self.frame_time,
+            max_size: Some(self.max_size),
+            ..Default::default()
+        };
+        crate::take::load_take(&self.path, &options)
     }
 }
 
@@ -395,7 +395,7 @@ mod tests {
     /// changes nothing. R loads every file again, and keeps the last good take of a broken one.
     /// (No window is needed: these are the handlers the window's events call.)
     fn walk_viewer() -> Viewer {
-        let loaded = crate::take::default_motion().unwrap();
+        let loaded = crate::take::Take::bundled().unwrap();
         let walk = ViewerTake {
             name: crate::DEFAULT_MOTION_NAME.to_string(),
             source: None,

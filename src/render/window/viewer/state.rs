@@ -401,7 +401,7 @@ impl Viewer {
     fn start_recording(&mut self, path: PathBuf, size: (u32, u32)) -> Result<(), Error> {
         let fps = crate::render::animation::default_fps(
             self.clock().step / self.speed,
-            crate::render::animation::Format::Mp4,
+            crate::render::animation::AnimationFormat::Mp4,
         );
         let recording = record::Recording::start(path, size, fps, Instant::now())?;
         if !self.options.quiet {
