@@ -11,8 +11,8 @@ use crate::model::skeleton::Skeleton;
 use glam::{DQuat, DVec3};
 
 /// The angle in degrees between each bone's world direction in the source and in the
-/// retargeted take: per bone of [`bones`] (in its order), one per frame. The check of
-/// rest alignment; [`quantile`] of them all gives the figures in the guide.
+/// retargeted take: per bone of [`bones`] (in its order), one per frame: the check that the
+/// rest alignment holds; [`quantile`] of them all gives the figures in the guide.
 pub fn direction_errors(
     source: &Skeleton,
     source_motion: &Motion,
