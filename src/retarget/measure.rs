@@ -143,8 +143,9 @@ pub struct Standing {
     pub source_path: f64,
     /// The same in the target ([`Standing::ratio`] times the source's, when it is right).
     pub target_path: f64,
-    /// The lowest height of the source's foot points ([`Body::foot_points`]: its own ankles
-    /// and toes, mapped or not) over the take.
+    /// The lowest height of the source's foot points
+    /// ([`Body::foot_points`](crate::model::body::Body::foot_points): its own ankles and toes,
+    /// mapped or not) over the take.
     pub source_floor: f64,
     /// The same of the target's own foot points (the ratio times the source's: the target's
     /// feet on the source's floor).
