@@ -1,5 +1,6 @@
 //! Writes `assets/walk.bvh`, the default motion: one in-place walk cycle on the skeleton printed in
-//! seed 002 (an Xsens export: 23 joints, every rotation YXZ, a 6-channel root).
+//! the article on what each MOTION number means (an Xsens export: 23 joints, every rotation YXZ, a
+//! 6-channel root).
 //!
 //! `cargo run --example make_walk [OUT]` (default OUT: assets/walk.bvh). The cycle is made from
 //! sines: legs swing ±24°, knees bend in the swing, arms swing against the legs, hips bob and

@@ -1,17 +1,17 @@
 #!/usr/bin/env bash
 # Every file named on standard input through `bvhview info` (an .amc with the CMU skeleton of
-# tests/data), on one core and under a 4 GB address-space limit, as issue 44 asks: how long each
-# took, its peak memory and how it ended. Prints "milliseconds peak-KB exit-code line", slowest
-# first; exit codes other than 0 and 2 (a panic's 101, an abort's 134, a timeout's 124) are
-# listed again at the end, and the slowest answer and the largest peak last.
-# Characters (issue 58) are lines of two or three words:
+# tests/data), on one core and under a 4 GB address-space limit, to show that no file takes the
+# machine: how long each took, its peak memory and how it ended. Prints "milliseconds peak-KB
+# exit-code line", slowest first; exit codes other than 0 and 2 (a panic's 101, an abort's 134,
+# a timeout's 124) are listed again at the end, and the slowest answer and the largest peak last.
+# Characters are lines of two or three words:
 #   character FILE          `positions FILE --character FILE --vertices` (read, bound, skinned)
 #   dress TAKE CHARACTER    `convert TAKE --character CHARACTER -o x.glb` (retargeted, written)
 #   find DIR -type f -size -1024k | scripts/answer_times.sh [BVHVIEW]   (default target/release)
-# With --crafted, the worst cases issue 58 crafted for the surfaces it touched instead (`solve`
-# inputs: an .npy header claiming 4 GB, sparse files of 1.86 GB, a large CSV; JSON maps of
-# 95,000 keys; MP4 rates; characters, made by scripts/hostile_characters), each under the same limits: "milliseconds peak-KB exit-code case",
-# slowest first, then the slowest answer and the largest peak.
+# With --crafted, the crafted worst cases of the newer inputs instead (`solve` inputs: an .npy
+# header claiming 4 GB, sparse files of 1.86 GB, a large CSV; JSON maps of 95,000 keys; MP4 rates;
+# characters, made by scripts/hostile_characters), each under the same limits: "milliseconds
+# peak-KB exit-code case", slowest first, then the slowest answer and the largest peak.
 #   scripts/answer_times.sh --crafted [BVHVIEW]
 set -uo pipefail
 cd "$(dirname "$0")/.."

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Issue 36, point 6: loading a ~10 MB FBX take and a ~10 MB GLB with bvhview against Blender's
-# own import of the same file, and `convert DIR --to bvh` over a folder of takes.
+# How fast FBX and glTF come in: loading a ~10 MB FBX take and a ~10 MB GLB with bvhview against
+# Blender's own import of the same file, and `convert DIR --to bvh` over a folder of takes.
 #   scripts/bench_fbx_gltf.sh [WORKDIR]     (needs Blender: apt-get install blender python3-numpy)
 # The takes: CMU 01_01 (tests/data/bvh/assimp_01_01.bvh, 2752 frames at 120 Hz, 31 joints) with
 # its frames repeated (2× for the FBX, 3× for the GLB), exported by Blender

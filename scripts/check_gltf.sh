@@ -65,7 +65,7 @@ for folder in "${folders[@]}"; do
         done
     done
 done
-# Characters (issue 49): takes put on each committed character, and each on itself.
+# Characters: takes put on each committed character, and each on itself.
 for character in tests/data/characters/*.fbx tests/data/characters/*.glb; do
     name=$(basename "$character")
     "$cli" convert -q tests/data/bvh/bvh11_131_01.bvh --frames 0..60 --character "$character" \

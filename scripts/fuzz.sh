@@ -46,7 +46,7 @@ case "$target" in
              [ "$(stat -c %s "$f")" -le 40000 ] && cp "$f" "$work/in/"; done ;;
     gltf) for f in "$data"/gltf/*.glb "$data"/gltf/*.gltf; do
              [ "$(stat -c %s "$f")" -le 120000 ] && cp "$f" "$work/in/"; done ;;
-    # Characters (issue 49): the committed characters, and the skinned glTF bvhview writes of a
+    # Characters: the committed characters, and the skinned glTF bvhview writes of a
     # small take with its generated skin (a few KB: the fuzzer gets through it fast).
     fbx_character) cp "$data"/characters/*.fbx "$work/in/"
         for f in "$data"/fbx/ufbx/*.fbx; do

@@ -12,7 +12,7 @@ $bvhview snapshot tests/data/asf_amc/heiden_12.asf --motion tests/data/asf_amc/h
 # The chapter's side by side: our snapshot and where it differs from the article's own picture.
 $bvhview diff docs/xsens_seed002.png tests/oracle/refs/xsens_seed002_crlf_trail__f0__a10__600x600.png \
     -o docs/xsens_seed002_diff.png
-# Skinning: seed 001's demo, and a generated skin on a BVH skeleton.
+# Skinning: the skinning tutorial's demo, and a generated skin on a BVH skeleton.
 $bvhview skin-demo --bend 30,45 -o docs/skin_demo.png
 $bvhview snapshot tests/data/bvh/bvh11_131_01.bvh --frame 400 --skin --fit --angle 1.2 --size 400x400 -o docs/skin_cmu.png
 # An animation: the whole walk cycle as a GIF.
@@ -34,14 +34,14 @@ $bvhview snapshot tests/data/bvh/bvh11_131_01.bvh tests/data/bvh/opencollar_run.
     tests/data/bvh/bvhpython_test_freebvh.bvh --frame 30 --look studio --hud -q -o docs/three_units.png
 $bvhview snapshot tests/data/bvh/animateddrawings_rokoko_jesse_dance.bvh --frame 500 --look studio \
     --hud --size 240x240 -q -o docs/hud_240.png
-# Retargeting (issue 37): a CMU walk with its retargeting onto the built-in smpl22 drawn one over
+# Retargeting: a CMU walk with its retargeting onto the built-in smpl22 drawn one over
 # the other (the smpl22 figure paler), so that one camera sees both from the same side.
 retargeted=$(mktemp -d)
 $bvhview retarget tests/data/bvh/bvhparser_walk_01.bvh --onto smpl22 -q -o "$retargeted/walk_smpl22.bvh"
 $bvhview snapshot tests/data/bvh/bvhparser_walk_01.bvh "$retargeted/walk_smpl22.bvh" --overlay \
     --look studio --style sticks --frame 150 --angle 0.35 --size 600x520 -q -o docs/retarget.png
 rm -r "$retargeted"
-# Characters (issue 49): each committed character, in the studio look, with a take on it.
+# Characters: each committed character, in the studio look, with a take on it.
 $bvhview snapshot tests/data/characters/maya_kenney_character_7700_binary.fbx \
     --character tests/data/characters/maya_kenney_character_7700_binary.fbx --frame 12 \
     --look studio --size 400x400 -q -o docs/character_kenney.png

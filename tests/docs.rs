@@ -17,6 +17,16 @@
 //! `$ command` are its output, compared with what it prints (stdout, then stderr, the temporary
 //! folder taken out of the paths). A command that reads `../shared` is skipped, and said so,
 //! when that path is absent.
+//!
+//! The signs point right:
+//! - The code map, docs/GUIDE.md's "Where the code is", names every folder under `src/`, and
+//!   every path it names exists (read as [`code_map_paths`] says).
+//! - Every `src/…`, `tests/…`, `docs/…` and `scripts/…` path written in README.md, TEACHING.md,
+//!   TEACHING.zh-Hant.md, docs/*.md or a comment under `src/` exists; `*` and `…` stand for any
+//!   run of characters within one name, and at least one file must fit.
+//! - Nothing outside `tests/` points at an issue, a decision or an article by a number, or at
+//!   DESIGN.md or STYLE.md, which a reader of the repository cannot open: the reason is said in
+//!   place.
 // Helpers of the tests a build without every feature leaves out.
 #![cfg_attr(
     not(all(feature = "window", feature = "fbx", feature = "gltf")),
@@ -898,5 +908,498 @@ fn the_chapters_rust_blocks_are_the_code() {
     assert_eq!(
         blocks, 4,
         "load_file's body and draw_recursive, in each chapter"
+    );
+}
+
+/// The folders a path may start from, read from the repository's root wherever it is written.
+const ROOT_FOLDERS: &[&str] = &[
+    "src/",
+    "tests/",
+    "docs/",
+    "scripts/",
+    "assets/",
+    "python/",
+    "examples/",
+    "bench/",
+    "fuzz/",
+];
+
+/// The folders whose paths [`every_path_the_docs_and_comments_write_exists`] checks.
+const CHECKED_FOLDERS: &[&str] = &["src/", "tests/", "docs/", "scripts/"];
+
+/// Every file under `folder`, in name order; hidden folders, build outputs and Python's caches
+/// left out.
+fn files_under(folder: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    let mut stack = vec![folder.to_path_buf()];
+    while let Some(dir) = stack.pop() {
+        for entry in fs::read_dir(&dir).unwrap_or_else(|e| panic!("{}: {e}", dir.display())) {
+            let path = entry.expect("a folder's entry").path();
+            let name = path.file_name().unwrap_or_default().to_string_lossy();
+            if path.is_dir() {
+                if !name.starts_with('.') && name != "target" && name != "__pycache__" {
+                    stack.push(path);
+                }
+            } else {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+/// The section "Where the code is" of docs/GUIDE.md, with the line number of its heading.
+fn code_map_section() -> (usize, Vec<String>) {
+    let guide = read(&root().join("docs/GUIDE.md"));
+    let lines: Vec<&str> = guide.lines().collect();
+    let start = lines
+        .iter()
+        .position(|l| *l == "## Where the code is")
+        .expect("GUIDE.md has a section \"## Where the code is\"");
+    let section = lines[start + 1..]
+        .iter()
+        .take_while(|l| !l.starts_with("## ") && !l.starts_with("# "))
+        .map(|l| l.to_string())
+        .collect();
+    (start + 1, section)
+}
+
+/// Whether a code span is a path: no blanks, only the characters of file names, and a folder
+/// (`x/`), a Rust file (`x.rs`) or anything under one of [`ROOT_FOLDERS`].
+fn is_path_span(span: &str) -> bool {
+    !span.is_empty()
+        && span
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '/' | '-'))
+        && (span.ends_with('/')
+            || span.ends_with(".rs")
+            || ROOT_FOLDERS.iter().any(|f| span.starts_with(f)))
+}
+
+/// The paths a code map names, read as the map's reader reads them: each bullet (`- `, at any
+/// depth) that opens with a path names the folder the bullet is about (a file's own folder for a
+/// file), taken inside its parent bullet's folder; the bullet's other paths are inside that folder,
+/// except those starting with one of [`ROOT_FOLDERS`], which start from the repository's root.
+/// Outside the bullets every path starts from the root. Gives each path as written, as resolved
+/// (relative to the root), and the line it is on.
+fn code_map_paths(first_line: usize, section: &[String]) -> Vec<(usize, String, String)> {
+    // The bullets with their continuation lines joined, so that a code span may wrap.
+    let mut blocks: Vec<(usize, Option<usize>, String)> = Vec::new(); // line, indent, text
+    for (index, line) in section.iter().enumerate() {
+        let indent = line.len() - line.trim_start().len();
+        let trimmed = line.trim_start();
+        if trimmed.is_empty() {
+            continue;
+        }
+        if let Some(rest) = trimmed.strip_prefix("- ") {
+            blocks.push((first_line + index + 1, Some(indent), rest.to_string()));
+        } else if indent > 0
+            && let Some((_, Some(_), text)) = blocks.last_mut()
+        {
+            text.push(' ');
+            text.push_str(trimmed);
+        } else if let Some((_, None, text)) = blocks.last_mut() {
+            text.push(' ');
+            text.push_str(trimmed);
+        } else {
+            blocks.push((first_line + index + 1, None, trimmed.to_string()));
+        }
+    }
+    let mut found = Vec::new();
+    let mut open: Vec<(usize, String)> = Vec::new(); // indent, folder
+    for (line, indent, text) in blocks {
+        let parent = match indent {
+            Some(indent) => {
+                while open.last().is_some_and(|(i, _)| *i >= indent) {
+                    open.pop();
+                }
+                open.last().map(|(_, f)| f.clone()).unwrap_or_default()
+            }
+            None => {
+                open.clear();
+                String::new()
+            }
+        };
+        let resolve = |folder: &str, span: &str| {
+            if ROOT_FOLDERS.iter().any(|f| span.starts_with(f)) {
+                span.to_string()
+            } else {
+                format!("{folder}{span}")
+            }
+        };
+        let spans: Vec<&str> = text
+            .split('`')
+            .skip(1)
+            .step_by(2)
+            .filter(|s| is_path_span(s))
+            .collect();
+        let mut folder = parent.clone();
+        if let (Some(indent), Some(first)) = (indent, spans.first()) {
+            let path = resolve(&parent, first);
+            folder = match path.rfind('/') {
+                Some(at) => path[..=at].to_string(),
+                None => String::new(),
+            };
+            open.push((indent, folder.clone()));
+        }
+        for (index, span) in spans.into_iter().enumerate() {
+            // The path a bullet opens with is inside its parent's folder.
+            let inside = if index == 0 && indent.is_some() {
+                &parent
+            } else {
+                &folder
+            };
+            found.push((line, span.to_string(), resolve(inside, span)));
+        }
+    }
+    found
+}
+
+#[test]
+fn the_code_map_names_every_src_folder_and_every_path_it_names_exists() {
+    let (first_line, section) = code_map_section();
+    let paths = code_map_paths(first_line, &section);
+    let mut wrong = Vec::new();
+    for (line, written, path) in &paths {
+        if !root().join(path).exists() {
+            wrong.push(format!(
+                "docs/GUIDE.md:{line}: `{written}` ({path}) does not exist"
+            ));
+        }
+    }
+    let named: Vec<&str> = paths
+        .iter()
+        .map(|(_, _, path)| path.as_str())
+        .filter(|p| p.ends_with('/'))
+        .collect();
+    let mut folders = std::collections::BTreeSet::new();
+    for file in files_under(&root().join("src")) {
+        let mut folder = file.parent().expect("a file's folder");
+        while folder != root().join("src") {
+            let relative = folder.strip_prefix(root()).expect("under the root");
+            folders.insert(format!("{}/", relative.display()));
+            folder = folder.parent().expect("inside src/");
+        }
+    }
+    for folder in &folders {
+        if !named.contains(&folder.as_str()) {
+            wrong.push(format!(
+                "docs/GUIDE.md, \"Where the code is\": the folder `{folder}` is not named"
+            ));
+        }
+    }
+    let folders = folders.len();
+    println!(
+        "code map: {} paths named, {} of them folders; {folders} folders under src/",
+        paths.len(),
+        named.len()
+    );
+    assert!(
+        paths.len() > 100 && folders > 20,
+        "only {} paths in the code map and {folders} folders under src/: is the parser right?",
+        paths.len()
+    );
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+/// Whether `name` fits `pattern`, where `*` and `…` stand for any run of characters.
+fn fits(pattern: &str, name: &str) -> bool {
+    let pattern = pattern.replace('…', "*");
+    let mut pieces = pattern.split('*');
+    let first = pieces.next().unwrap_or("");
+    let Some(mut rest) = name.strip_prefix(first) else {
+        return false;
+    };
+    let pieces: Vec<&str> = pieces.collect();
+    for (i, piece) in pieces.iter().enumerate() {
+        if i + 1 == pieces.len() {
+            return rest.len() >= piece.len() && rest.ends_with(piece);
+        }
+        match rest.find(piece) {
+            Some(at) => rest = &rest[at + piece.len()..],
+            None => return false,
+        }
+    }
+    rest.is_empty()
+}
+
+/// Whether a path written in the docs names something that exists: as written, or, where it
+/// holds `*` or `…` (any run of characters within one name), at least one file or folder that
+/// fits it.
+fn path_exists(repository: &Path, path: &str) -> bool {
+    if repository.join(path).exists() {
+        return true;
+    }
+    if !path.contains(['*', '…']) {
+        return false;
+    }
+    let mut candidates = vec![repository.to_path_buf()];
+    for name in path.split('/').filter(|n| !n.is_empty()) {
+        let mut next = Vec::new();
+        for candidate in &candidates {
+            if name.contains(['*', '…']) {
+                let Ok(entries) = fs::read_dir(candidate) else {
+                    continue;
+                };
+                for entry in entries.flatten() {
+                    if fits(name, &entry.file_name().to_string_lossy()) {
+                        next.push(entry.path());
+                    }
+                }
+            } else if candidate.join(name).exists() {
+                next.push(candidate.join(name));
+            }
+        }
+        candidates = next;
+    }
+    !candidates.is_empty()
+}
+
+/// The paths under [`CHECKED_FOLDERS`] a text writes, in or out of code: each starts where no
+/// character of a path (`python/tests/…` is not `tests/…`) comes before it, runs over the
+/// characters of file names, `*` and `…`, and loses the full stop or comma of its sentence.
+fn written_paths(text: &str) -> Vec<String> {
+    let is_path_char =
+        |c: char| c.is_ascii_alphanumeric() || matches!(c, '_' | '.' | '/' | '-' | '*' | '…');
+    let mut found = Vec::new();
+    for (at, _) in text.char_indices() {
+        let rest = &text[at..];
+        if !CHECKED_FOLDERS.iter().any(|f| rest.starts_with(f))
+            || text[..at].chars().next_back().is_some_and(is_path_char)
+        {
+            continue;
+        }
+        let end = rest.find(|c: char| !is_path_char(c)).unwrap_or(rest.len());
+        let path = rest[..end].trim_end_matches(['.', ',']);
+        found.push(path.to_string());
+    }
+    found
+}
+
+/// The comments of a Rust file: whole lines of `//`, `///` and `//!`, and what follows ` // ` on
+/// a line of code.
+fn comments(source: &str) -> Vec<(usize, &str)> {
+    source
+        .lines()
+        .enumerate()
+        .filter_map(|(index, line)| {
+            let trimmed = line.trim_start();
+            if trimmed.starts_with("//") {
+                Some((index + 1, trimmed))
+            } else {
+                line.split_once(" // ")
+                    .map(|(_, comment)| (index + 1, comment))
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn every_path_the_docs_and_comments_write_exists() {
+    let repository = root();
+    let mut texts: Vec<(String, usize, String)> = Vec::new(); // file, line, text
+    let mut docs = vec![
+        root().join("README.md"),
+        root().join("TEACHING.md"),
+        root().join("TEACHING.zh-Hant.md"),
+    ];
+    docs.extend(docs_folder());
+    for doc in docs {
+        let name = doc
+            .strip_prefix(root())
+            .unwrap_or(&doc)
+            .display()
+            .to_string();
+        for (index, line) in read(&doc).lines().enumerate() {
+            texts.push((name.clone(), index + 1, line.to_string()));
+        }
+    }
+    for file in files_under(&root().join("src")) {
+        if file.extension().is_none_or(|e| e != "rs") {
+            continue;
+        }
+        let name = file
+            .strip_prefix(root())
+            .unwrap_or(&file)
+            .display()
+            .to_string();
+        for (line, comment) in comments(&read(&file)) {
+            texts.push((name.clone(), line, comment.to_string()));
+        }
+    }
+    let mut checked = 0;
+    let mut wrong = Vec::new();
+    for (file, line, text) in &texts {
+        for path in written_paths(text) {
+            checked += 1;
+            if !path_exists(&repository, &path) {
+                wrong.push(format!("{file}:{line}: {path} does not exist"));
+            }
+        }
+    }
+    println!("docs and comments: {checked} paths checked");
+    assert!(
+        checked > 300,
+        "only {checked} paths found: is the parser right?"
+    );
+    assert!(wrong.is_empty(), "{}", wrong.join("\n"));
+}
+
+/// The places a text points at an issue or decision by number ("issue 44", "Issue #12",
+/// "decision 14"), at DESIGN.md or STYLE.md, or at an article by its seed number ("seed 001"):
+/// things a reader of the repository cannot open.
+fn references_outside(text: &str) -> Vec<String> {
+    let lower = text.to_ascii_lowercase();
+    let bytes = lower.as_bytes();
+    let mut found = Vec::new();
+    for (word, numbered) in [
+        ("issue", true),
+        ("decision", true),
+        ("seed", true),
+        ("design.md", false),
+        ("style.md", false),
+    ] {
+        for (at, _) in lower.match_indices(word) {
+            if at > 0 && bytes[at - 1].is_ascii_alphanumeric() {
+                continue;
+            }
+            let mut end = at + word.len();
+            if numbered {
+                if bytes.get(end) == Some(&b's') && word != "seed" {
+                    end += 1;
+                }
+                if bytes.get(end) == Some(&b' ') {
+                    end += 1;
+                } else if word == "seed" {
+                    continue; // `xsens_seed002` is a file's name
+                }
+                if bytes.get(end) == Some(&b'#') {
+                    end += 1;
+                }
+                if !bytes.get(end).is_some_and(u8::is_ascii_digit) {
+                    continue;
+                }
+                while bytes.get(end).is_some_and(u8::is_ascii_digit) {
+                    end += 1;
+                }
+            }
+            found.push(text[at..end].to_string());
+        }
+    }
+    found
+}
+
+#[test]
+fn no_issue_decision_or_seed_number_outside_the_tests() {
+    let mut files: Vec<PathBuf> = [
+        "README.md",
+        "TEACHING.md",
+        "TEACHING.zh-Hant.md",
+        "CHANGELOG.md",
+        "python/README.md",
+    ]
+    .iter()
+    .map(|name| root().join(name))
+    .collect();
+    for folder in [
+        "src",
+        "docs",
+        "scripts",
+        "bench",
+        "examples",
+        "fuzz/src",
+        "python/src",
+        "python/bvhview",
+    ] {
+        files.extend(files_under(&root().join(folder)));
+    }
+    let mut read_files = 0;
+    let mut wrong = Vec::new();
+    for file in &files {
+        let bytes = fs::read(file).unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+        let Ok(text) = String::from_utf8(bytes) else {
+            continue; // a picture
+        };
+        read_files += 1;
+        let name = file
+            .strip_prefix(root())
+            .unwrap_or(file)
+            .display()
+            .to_string();
+        for (index, line) in text.lines().enumerate() {
+            for reference in references_outside(line) {
+                wrong.push(format!("{name}:{}: {reference}", index + 1));
+            }
+        }
+    }
+    println!("{read_files} files read for issue, decision and seed numbers");
+    assert!(read_files > 150, "only {read_files} files read");
+    assert!(
+        wrong.is_empty(),
+        "say the reason in place of a number nobody outside can look up:\n{}",
+        wrong.join("\n")
+    );
+}
+
+#[test]
+fn the_sign_checks_read_paths_as_a_reader_would() {
+    let map = [
+        "Intro `scripts/import_graph.py`, `cargo doc --open`.",
+        "",
+        "- `src/lib.rs` and `take.rs`; `tests/docs.rs`.",
+        "- `src/model/` is the model: `local =",
+        "  T(t)`, `skeleton.rs`.",
+        "  - `pose/` (`mod.rs`, `lanes.rs`)",
+        "",
+        "  - `body/sides/` `tests.rs`",
+        "- `src/io/` `limits.rs`",
+    ]
+    .map(String::from);
+    let resolved: Vec<(usize, String)> = code_map_paths(10, &map)
+        .into_iter()
+        .map(|(line, _, path)| (line, path))
+        .collect();
+    let expected = [
+        (11, "scripts/import_graph.py"),
+        (13, "src/lib.rs"),
+        (13, "src/take.rs"),
+        (13, "tests/docs.rs"),
+        (14, "src/model/"),
+        (14, "src/model/skeleton.rs"),
+        (16, "src/model/pose/"),
+        (16, "src/model/pose/mod.rs"),
+        (16, "src/model/pose/lanes.rs"),
+        (18, "src/model/body/sides/"),
+        (18, "src/model/body/sides/tests.rs"),
+        (19, "src/io/"),
+        (19, "src/io/limits.rs"),
+    ]
+    .map(|(line, path)| (line, path.to_string()));
+    assert_eq!(resolved, expected);
+    assert_eq!(
+        written_paths("see src/io/limits.rs, python/tests/x.py and `tests/data/bvh/*.bvh`."),
+        ["src/io/limits.rs", "tests/data/bvh/*.bvh"]
+    );
+    assert!(path_exists(&root(), "tests/data/bvh/*.bvh"));
+    assert!(path_exists(&root(), "src/…"));
+    assert!(!path_exists(&root(), "src/retarget/fast.rs"));
+    assert!(!path_exists(&root(), "tests/data/bvh/*.nothing"));
+    assert_eq!(
+        comments("//! a\nlet x = 1; // b\nlet url = \"https://x\";\n"),
+        [(1, "//! a"), (2, "b")]
+    );
+    assert_eq!(
+        references_outside(
+            "Issue 44, issue #12, issues 45–49, decision 14, DESIGN.md, seed 001, xsens_seed002, tissue 3, the issue"
+        ),
+        [
+            "Issue 44",
+            "issue #12",
+            "issues 45",
+            "decision 14",
+            "seed 001",
+            "DESIGN.md"
+        ]
     );
 }

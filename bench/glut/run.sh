@@ -1,5 +1,5 @@
 #!/bin/sh
-# The article's whole GLUT program (seed 000: BVH.h, BVH.cpp, main.cpp), rebuilt from its text
+# The article's whole GLUT program (BVH.h, BVH.cpp, main.cpp), rebuilt from the article's text
 # and drawn by real OpenGL (freeglut, Mesa llvmpipe) under Xvfb: its first picture of a file.
 #
 # usage: bench/glut/run.sh SEED.txt FILE.bvh OUT_DIR

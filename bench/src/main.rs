@@ -249,7 +249,7 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
         transforms as f64 / 1e6 / t_fk.as_secs_f64()
     );
 
-    // Retargeting onto the built-in smpl22 (issue 37): FK plus a rotation per joint, against
+    // Retargeting onto the built-in smpl22: FK plus a rotation per joint, against
     // loading the same file, thread for thread. Each round loads on one thread, retargets on one
     // thread, then the same on every thread; ratios are taken round by round.
     let target = bvhview::retarget::Target::load("smpl22", u64::MAX).expect("built in");
@@ -317,7 +317,7 @@ fn big(path: &str, quick: bool, load: &LoadOptions) {
         );
     }
 
-    // Joint positions back to rotations (issue 48): the take's 22 joints on smpl22, as a
+    // Joint positions back to rotations: the take's 22 joints on smpl22, as a
     // motion model outputs them, solved back onto smpl22 on one thread, in turn with
     // retargeting the take there on one thread, round by round.
     if retargets {
@@ -1111,7 +1111,7 @@ fn dataset_items(path: &str) -> (std::path::PathBuf, Vec<bvhview::info::batch::I
     (path.parent().expect("a folder").to_path_buf(), vec![item])
 }
 
-/// `dataset --onto smpl22 --features humanml3d` (issue 48) against `dataset --onto smpl22` (its
+/// `dataset --onto smpl22 --features humanml3d` against `dataset --onto smpl22` (its
 /// default 30 fps, and at HumanML3D's 20), in this process, in turn in each round, on one
 /// thread and on every core: source frames per second.
 fn humanml3d_against_onto(path: &str, rounds: usize) {

@@ -78,7 +78,7 @@ fn guard<T>(entry: &str, work: impl FnOnce() -> PyResult<T>) -> PyResult<T> {
     })
 }
 
-/// A test's switch (decision 14: no test waits on the clock). With `BVHVIEW_PLANT_PAUSE` set to
+/// A test's switch (no test waits on the clock). With `BVHVIEW_PLANT_PAUSE` set to
 /// `entry` and `BVHVIEW_PLANT_FOLDER` to a folder, the entry point, once it has let go of the
 /// GIL, makes `paused` in that folder and waits until `release` appears there: only a thread that
 /// runs Python meanwhile can make it, which proves the GIL let go. Not released within 60 s, the
@@ -105,9 +105,10 @@ fn planted_pause_without_the_gil(entry: &str) -> Result<(), Error> {
     Ok(())
 }
 
-/// A message of the crate in a Python user's words: the CLI's options become the arguments
-/// of the same names (`--fps 0` → `fps=0`, `--contact-speed` → `contact_speed=`), and the
-/// command an AMC file alone is pointed to becomes the call (issue 44).
+/// A message of the crate in a Python user's words: the CLI's options become the arguments of the
+/// same names (`--fps 0` → `fps=0`, `--contact-speed` → `contact_speed=`), and the command an AMC
+/// file alone is pointed to becomes the call that reads the pair (`bvhview.load("SKELETON.asf",
+/// motion=…)`).
 fn python_words(text: &str) -> String {
     const AMC_ALONE: &str = "bvhview COMMAND SKELETON.asf --motion ";
     let text = match text.split_once(AMC_ALONE) {

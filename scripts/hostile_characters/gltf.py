@@ -1,4 +1,4 @@
-# Crafts hostile glTF characters (issue 58): gltf.py OUT CASE [NUMBERS]; README.md lists them.
+# Crafts hostile glTF characters: gltf.py OUT CASE [NUMBERS]; README.md lists them.
 import json, struct, sys, os
 OUT = sys.argv[1]
 

@@ -1,7 +1,7 @@
-//! The AMC motion file: a header (`:FULLY-SPECIFIED`, `:DEGREES` or `:RADIANS`), then per frame
-//! its number on a line of its own and one line per bone: the name and its dof values in the
-//! ASF's order. Seed 004's `Read_AMC` stops at 5000 frames; here there is no limit, frame numbers
-//! must count up by one, and every bone with a dof must appear once per frame.
+//! The AMC motion file: a header (`:FULLY-SPECIFIED`, `:DEGREES` or `:RADIANS`), then per frame its
+//! number on a line of its own and one line per bone: the name and its dof values in the ASF's
+//! order. The ASF/AMC article's `Read_AMC` stops at 5000 frames; here there is no limit, frame
+//! numbers must count up by one, and every bone with a dof must appear once per frame.
 
 use super::asf::ValueMap;
 use super::text::{LineWords, error_at, expected, expected_at_start, number};
@@ -107,7 +107,8 @@ pub fn parse_amc(
             continue;
         }
         if frame_number.is_none() {
-            // Nothing of the file was an AMC's yet: it may not be motion at all (issue 44).
+            // Nothing of the file was an AMC's yet: it may not be motion at all, so
+            // none of it is quoted.
             if !header_seen {
                 return Err(expected_at_start(
                     source,

@@ -339,8 +339,8 @@ impl<'a> Loader<'a> {
     }
 
     /// The error of a file that does not begin with HIERARCHY: not a BVH file, perhaps not
-    /// motion at all, so its first word is shown only when it misspells HIERARCHY (issue 44: a
-    /// link to a private file put a line of it in a dataset's manifest).
+    /// motion at all, so its first word is shown only when it misspells HIERARCHY (a link to
+    /// a private file once put a line of it in a dataset's manifest).
     fn not_a_bvh(&self, header: Option<Token>) -> Error {
         match header {
             Some(t) => {

@@ -501,7 +501,7 @@ fn output_names(dir: &Path, items: &[Item], format: TakeFormat) -> Vec<Result<Pa
             .map(Path::to_path_buf)
             .unwrap_or_else(|_| take.file_name().map(PathBuf::from).unwrap_or_default())
     };
-    // Not `with_extension`: it turns `..bvh` into `..`, the folder above (issue 44).
+    // Not `with_extension`: it turns `..bvh` into `..`, the folder above.
     let short = |item: &Item| {
         let path = relative(item);
         let mut name = path.file_stem().unwrap_or_default().to_os_string();

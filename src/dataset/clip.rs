@@ -78,7 +78,8 @@ pub struct Topology {
     /// The points whose translation moves: every joint with position channels. The others'
     /// translations are their rest offsets.
     pub translated: Vec<u32>,
-    /// The points foot contacts are given for (named by `--feet`, or [`guess_feet`]).
+    /// The points foot contacts are given for (named by `--feet`, or
+    /// [`guess_feet`](crate::dataset::guess_feet)).
     pub feet: Vec<u32>,
     /// Each rotated point's rotation channels in file order (`ZXY`; empty without any): the
     /// order of its Euler angles, and of the product `R1 · R2 · R3`.

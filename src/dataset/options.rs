@@ -32,9 +32,10 @@ pub struct Options {
     pub rotations: RotationKind,
     /// Positions relative to the root's place on the floor (x and z) in each frame.
     pub root_relative: bool,
-    /// The points foot contacts are given for, by name; `None`: the ankle and toe of each leg
-    /// as the reading of the body finds them ([`crate::model::body::Body::foot_points`]), or,
-    /// for a body without two feet, guessed from the rest pose ([`guess_feet`]) with a warning.
+    /// The points foot contacts are given for, by name; `None`: the ankle and toe of each leg as
+    /// the reading of the body finds them ([`crate::model::body::Body::foot_points`]), or, for a
+    /// body without two feet, guessed from the rest pose
+    /// ([`guess_feet`](crate::dataset::guess_feet)) with a warning.
     pub feet: Option<Vec<String>>,
     /// A foot point is in contact when it is at most this high (metres) above its own floor
     /// (the lowest it comes within a second each way: the reading of the body's contacts,

@@ -95,7 +95,7 @@ pub fn motion_of(
     )
     .map_err(|error| {
         // Numbers of another kind (quaternions given to a 6D dataset): say which, and how to
-        // name them (issue 44).
+        // name them.
         let fits: Vec<&str> = [
             RotationKind::Quat,
             RotationKind::Matrix,

@@ -9,7 +9,8 @@ use crate::model::skeleton::Skeleton;
 /// a MOTION value past ±3.4e38 as a 32-bit float).
 pub fn finite(edit: &str, skeleton: Skeleton, motion: Motion) -> Result<(Skeleton, Motion), Error> {
     // A NaN was not made by the edit (no edit makes one of finite values): it came in with the
-    // take, and the message says so rather than blame the edit (issue 44: `--scale 1`).
+    // take, and the message says so rather than blame the edit (`--scale 1` once
+    // did).
     let nan = |value: f32| value.is_nan();
     if let Some(joint) = skeleton.joints.iter().find(|j| !j.offset.is_finite()) {
         if joint.offset.to_array().into_iter().any(nan) {
@@ -55,7 +56,7 @@ pub fn first_non_finite(values: &[f32]) -> Option<usize> {
 mod tests {
     use super::*;
 
-    /// Issue 44: a NaN that came in with the take is named as one, where it is, not blamed on
+    /// A NaN that came in with the take is named as one, where it is, not blamed on
     /// the edit ("--scale 1 gives values too large"); an overflow the edit made still is.
     #[test]
     fn a_nan_is_named_where_it_is_and_an_overflow_blames_the_edit() {

@@ -21,7 +21,7 @@
 //!   (`ignore_geometry`, `ignore_embedded`, `load_external_files = false`), so a file is only
 //!   its nodes and curves.
 //!
-//! Limits (decision 8, a hostile file must not take the machine): ufbx's temporary and result
+//! Limits (a hostile file gets an error, never takes the machine): ufbx's temporary and result
 //! allocators are capped at 256 MiB + 64 bytes per byte of the file and at 16 M allocations plus
 //! 16 per byte, nodes nest at most [`crate::limits::MAX_DEPTH`] deep, and a take has at most
 //! `model::baked::MAX_FRAMES` frames. The file is read whole, so it is refused by its size on
@@ -268,7 +268,7 @@ fn is_helper(node: &ufbx::Node) -> bool {
 
 /// What the file's node is (a bone, a camera, …). Where ufbx makes a helper for a node (Maya's
 /// segment scale compensation, HumanIK rigs, geometric transforms), it moves the node's
-/// attribute onto the helper: the node's kind is then its helper's (issue 44: the helpers were
+/// attribute onto the helper: the node's kind is then its helper's (the helpers were once
 /// read as the bones, named `node<k>`, and the file's bones were lost).
 fn attribute(node: &ufbx::Node) -> ufbx::ElementType {
     let helpers = [&node.scale_helper, &node.geometry_transform_helper];
@@ -279,7 +279,7 @@ fn attribute(node: &ufbx::Node) -> ufbx::ElementType {
 }
 
 /// A camera, a light or a camera switcher (MotionBuilder's Producer cameras among them) is
-/// never a joint, animated or not (issue 44: a scene without LimbNodes read its cameras as the
+/// never a joint, animated or not (a scene without LimbNodes once read its cameras as the
 /// skeleton).
 fn is_scenery(node: &ufbx::Node) -> bool {
     use ufbx::ElementType::{Camera, CameraSwitcher, Light, StereoCamera};

@@ -41,8 +41,8 @@ impl Features {
 /// The spread of the Gaussian HumanML3D smooths the facing with, in frames.
 const FACING_SMOOTHING: f64 = 20.0;
 
-/// HumanML3D's feature vectors of a take: `positions` holds frames × 22 joint positions in
-/// SMPL's order ([`SMPL22_ORDER`]), metres, y up, +z forward, at [`FPS`].
+/// HumanML3D's feature vectors of a take: `positions` holds frames × 22 joint positions in SMPL's
+/// order ([`SMPL22_ORDER`]), metres, y up, +z forward, at [`FPS`](crate::humanml3d::FPS).
 ///
 /// ```
 /// use bvhview::humanml3d;

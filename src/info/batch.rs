@@ -362,7 +362,8 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
         if !is_take_name(path) {
             continue;
         }
-        // A link to a file outside `dir` is not followed either (issue 44).
+        // A link to a file outside `dir` is not followed either: what it points at is not
+        // the user's to show.
         if entry.path_is_symlink()
             && let Some(reason) = link_refused(path, &root, dir)
         {
@@ -606,7 +607,7 @@ mod tests {
         assert_eq!(paired("cmu_07_05-walk", &[]), None);
     }
 
-    /// Issue 35: CMU's downloads name a subject's skeleton `cmu_07-walk.asf` and its takes
+    /// CMU's downloads name a subject's skeleton `cmu_07-walk.asf` and its takes
     /// `cmu_07_05-walk.amc` (`NN-x.asf` with `NN_MM-x.amc`, with or without a prefix).
     #[test]
     fn an_amc_pairs_with_the_asf_named_as_cmu_downloads_name_them() {

@@ -283,7 +283,8 @@ mod tests {
         assert!(fps(1e300, false).is_err());
         assert!(fps(60.0, true).is_err());
         assert_eq!(fps(60.0, false).unwrap(), 60.0);
-        // Issue 26, row 4: `Frame Time: 1e308`, `--fps 1e300` and `--fps 1e7` on two frames.
+        // Rates that would make an animation of endless frames: `Frame Time: 1e308`, `--fps 1e300`
+        // and `--fps 1e7` on two frames.
         assert!(animation_frames(100, 1e308, 30.0).is_err());
         assert!(animation_frames(100, 0.01, 1e300).is_err());
         assert!(animation_frames(2, 1.0 / 30.0, 1e7).is_err());
@@ -297,8 +298,7 @@ mod tests {
         assert!(name(MAX_NAME_BYTES).is_ok());
     }
 
-    /// Issue 58, finding 1: 8,000 frames onto 17,021 joints is refused; a CMU walk onto a
-    /// 65-joint character is not.
+    /// 8,000 frames onto 17,021 joints is refused; a CMU walk onto a 65-joint character is not.
     #[test]
     fn a_retarget_is_held_to_a_multiple_of_its_take() {
         let error = retarget_values("walk.bvh onto big.glb", 8000, 60, 17_021, 51_066).unwrap_err();
@@ -313,7 +313,7 @@ mod tests {
         assert!(retarget_values("x", usize::MAX, usize::MAX, 1, usize::MAX).is_err());
     }
 
-    /// Issue 26, row 7: 243 GB of matrices is a `MemoryError`, not an abort.
+    /// 243 GB of matrices is a `MemoryError`, not an abort.
     #[test]
     fn an_allocation_the_machine_cannot_give_is_an_error() {
         let error = zeroed_floats(100_000_000 * 38 * 16, "world_matrices").unwrap_err();

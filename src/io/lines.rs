@@ -127,7 +127,7 @@ pub fn line_column(text: &[u8], offset: usize) -> (usize, usize) {
 
 #[cfg(test)]
 mod tests {
-    /// Issue 44: a file that is not motion text is not quoted; a misspelt keyword is.
+    /// A file that is not motion text is not quoted; a misspelt keyword is.
     #[test]
     fn a_first_word_is_shown_only_when_it_misspells_a_keyword() {
         let shown = |word: &[u8]| shown_first_word(word, &["HIERARCHY"]);

@@ -56,10 +56,10 @@ fn forget_partial(path: &Path) {
     partial().retain(|p| p.path != path);
 }
 
-/// A test's switch (decision 14: no test waits on the clock): with `BVHVIEW_PLANT_PAUSE=output`
-/// in its environment, a process that has just made a temporary output (a file or a folder)
-/// stops there for good, so that a test can send it a signal at that known point instead of
-/// guessing how long the work takes. Only a signal ends the pause.
+/// A test's switch (no test waits on the clock): with `BVHVIEW_PLANT_PAUSE=output` in its
+/// environment, a process that has just made a temporary output (a file or a folder) stops there
+/// for good, so that a test can send it a signal at that known point instead of guessing how long
+/// the work takes. Only a signal ends the pause.
 fn planted_pause() {
     if std::env::var_os("BVHVIEW_PLANT_PAUSE").is_some_and(|point| point == "output") {
         loop {
@@ -588,8 +588,8 @@ mod tests {
         std::fs::remove_dir_all(dir).unwrap();
     }
 
-    /// Issue 26, row 1: the old temporary name was `.NAME.PID.partial`, created by following
-    /// whatever was there. A link planted under that name (or any name) is never written.
+    /// The old temporary name was `.NAME.PID.partial`, created by following whatever was there. A
+    /// link planted under that name (or any name) is never written.
     #[test]
     fn a_link_planted_under_the_old_temporary_name_is_not_followed() {
         let dir = folder("planted");
@@ -615,7 +615,7 @@ mod tests {
         std::fs::remove_dir_all(dir).unwrap();
     }
 
-    /// Issue 26, row 9: the mode of the file replaced is kept; a link is written through.
+    /// The mode of the file replaced is kept; a link is written through.
     #[test]
     fn an_existing_file_keeps_its_mode_and_a_link_is_written_through() {
         let dir = folder("keep");
@@ -645,7 +645,8 @@ mod tests {
         std::fs::remove_dir_all(dir).unwrap();
     }
 
-    /// Issue 26, row 9, the owner: only root can check it (only root may give files away).
+    /// The owner of the file replaced is kept too: only root can check it (only root may give files
+    /// away).
     #[test]
     fn an_existing_file_keeps_its_owner_when_root_writes_it() {
         // SAFETY: geteuid has no preconditions.
@@ -714,7 +715,7 @@ mod tests {
         std::fs::remove_dir_all(elsewhere).unwrap();
     }
 
-    /// Issue 26, row 3: a character device is written to, not replaced.
+    /// A character device is written to, not replaced.
     #[test]
     fn a_character_device_is_written_to() {
         write(Path::new("/dev/null"), b"gone").unwrap();
@@ -728,7 +729,7 @@ mod tests {
         assert!(error.contains("is a folder"), "{error}");
     }
 
-    /// Issue 26, row 2: saves of one path at once each leave a whole file.
+    /// Saves of one path at once each leave a whole file.
     #[test]
     fn concurrent_writes_of_one_path_each_leave_a_whole_file() {
         let dir = folder("concurrent");

@@ -414,7 +414,7 @@ mod tests {
         }
     }
 
-    /// Issue 39: `done` (writing a block of the export) must not hold up the other workers.
+    /// `done` (writing a block of the export) must not hold up the other workers.
     /// Piece 0 waits for piece 1 to start, piece 1 for piece 0's `done` to start, and that
     /// `done` for piece 2 to start: the thread of piece 1 must be free to take piece 2.
     #[test]
@@ -487,7 +487,7 @@ mod tests {
 
     /// Threads that have started a piece; [`Meeting::arrive`] holds a piece until `wanted` of
     /// them have (or 20 s have passed), so a test sees the work shared by arrangement, not by
-    /// guessing how long a helper takes to wake (decision 14).
+    /// guessing how long a helper takes to wake: no test waits on the clock.
     struct Meeting {
         seen: Mutex<std::collections::HashSet<std::thread::ThreadId>>,
         wanted: usize,

@@ -1,5 +1,6 @@
 //! A take given as world transforms of named nodes, frame by frame → the `Skeleton` + `Motion` a
-//! BVH loads into (decision 11: every format is one more loader, not one more model).
+//! BVH loads into: every format is one more loader, not one more model, so every command takes
+//! it unchanged.
 //!
 //! The FBX and glTF readers evaluate their scenes themselves (ufbx for FBX: pre/post rotations,
 //! pivots, scale inheritance, unit and axis conversion all included) and hand over, for every
@@ -122,10 +123,9 @@ pub fn frame_count(start: f64, end: f64, fps: f64, joints: usize) -> Result<usiz
     Ok(frames as usize)
 }
 
-/// Makes every joint's name unique, as Blender's importers do: a name met again becomes
-/// `name.001` (`.002`, …, skipping names the file has), so that the BVH written has one joint
-/// per name. Says each renaming, for the take's warnings (issue 44: two joints of one name were
-/// written silently).
+/// Makes every joint's name unique, as Blender's importers do: a name met again becomes `name.001`
+/// (`.002`, …, skipping names the file has), so that the BVH written has one joint per name. Says
+/// each renaming, for the take's warnings (two joints of one name were once written silently).
 pub fn unique_names(nodes: &mut [Node]) -> Vec<String> {
     use std::collections::HashSet;
     let mut taken: HashSet<String> = nodes.iter().map(|n| n.name.clone()).collect();
@@ -446,8 +446,8 @@ pub fn world_positions(skeleton: &Skeleton, motion: &Motion, f: usize) -> Vec<Ve
 mod tests {
     use super::*;
 
-    /// Issue 44: two nodes of one name become `name` and `name.001` (a name the file has is
-    /// skipped), each renaming said.
+    /// Two nodes of one name become `name` and `name.001` (a name the file has is skipped), each
+    /// renaming said.
     #[test]
     fn names_met_again_get_blenders_suffixes() {
         let node = |name: &str| Node {

@@ -1,7 +1,8 @@
-//! A skin for any skeleton (the paper's closing proposal, seed 003): an open cylinder around each
-//! bone, made in the rest pose. Along the first quarter of a bone its vertices are shared with the
-//! parent bone, along the last quarter with the child, half and half where they meet, so elbows
-//! bend smoothly. Every frame, `skin.rs` moves it with the bones' world matrices from `pose`.
+//! A skin for any skeleton (the closing proposal of the paper on point and stick-figure models): an
+//! open cylinder around each bone, made in the rest pose. Along the first quarter of a bone its
+//! vertices are shared with the parent bone, along the last quarter with the child, half and half
+//! where they meet, so elbows bend smoothly. Every frame, `skin.rs` moves it with the bones' world
+//! matrices from `pose`.
 
 use crate::model::pose::{OffsetMode, world_matrices};
 use crate::model::skeleton::Skeleton;

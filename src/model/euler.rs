@@ -1,14 +1,14 @@
-//! The one exact Euler split (DESIGN decision 13): a rotation turned into three channel angles
-//! in 64-bit floats, from a normalised rotation, exact at and near ±90° of the middle axis (the
-//! gimbal lock) for all six orders.
+//! The one exact Euler split, which every rotation turned into channel angles goes through: a
+//! rotation turned into three channel angles in 64-bit floats, from a normalised rotation, exact at
+//! and near ±90° of the middle axis (the gimbal lock) for all six orders.
 //!
-//! Why not `glam`'s `to_euler`: it reads the angles off a quaternion assumed to be of length 1,
-//! and near the lock its first and third angles come from two numbers that are both rounding
-//! noise. A 32-bit quaternion a hair off length 1 that turns a child 90° about the middle axis
-//! of ZYX split as `180 89.99999 180`, which puts the child 25° away from where the file has it
-//! (issue 44). Here the middle angle is taken with `atan2` against the length of the other two
-//! (never `asin`), and the first angle is solved from the rotation with the third already
-//! removed, so the three angles multiply back to the rotation whatever the middle one is.
+//! Why not `glam`'s `to_euler`: it reads the angles off a quaternion assumed to be of length 1, and
+//! near the lock its first and third angles come from two numbers that are both rounding noise. A
+//! 32-bit quaternion a hair off length 1 that turns a child 90° about the middle axis of ZYX split
+//! as `180 89.99999 180`, which puts the child 25° away from where the file has it. Here the middle
+//! angle is taken with `atan2` against the length of the other two (never `asin`), and the first
+//! angle is solved from the rotation with the third already removed, so the three angles multiply
+//! back to the rotation whatever the middle one is.
 
 use crate::model::skeleton::RotationOrder;
 use glam::{DMat3, DQuat, DVec3};
@@ -46,7 +46,7 @@ pub fn split(q: DQuat, order: RotationOrder, previous: Option<[f64; 3]>) -> [f64
     // m.col(c)[r] is row r, column c.
     let at = |row: usize, column: usize| m.col(column)[row];
     let sign = handedness(i, j);
-    // Not `hypot`: retargeting's eight-lane copy (src/retarget/fast.rs) computes the same.
+    // Not `hypot`: retargeting's eight-lane copy (src/retarget/fast/) computes the same.
     let cos_middle = (at(i, i) * at(i, i) + at(i, j) * at(i, j)).sqrt();
     let middle = (sign * at(i, k)).atan2(cos_middle);
     let third = if cos_middle > LOCK {
@@ -156,8 +156,8 @@ mod tests {
         }
     }
 
-    /// Issue 44's case: a child turned exactly 90° about the middle axis of ZYX came out at
-    /// (0, 1, 0) instead of (−0.906, 0.423, 0).
+    /// A child turned exactly 90° about the middle axis of ZYX once came out at (0, 1, 0) instead
+    /// of (−0.906, 0.423, 0).
     #[test]
     fn a_child_turned_90_degrees_about_the_middle_axis_stays_where_it_is() {
         let q = compose(

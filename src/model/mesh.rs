@@ -1,6 +1,6 @@
-//! A character's own skinned mesh, read from an FBX or a glTF beside its skeleton, and linear
-//! blend skinning for any number of bones and influences (seed 001's `v' = Σ wᵢ · Mᵢ · v`, now
-//! with the file's own bind matrices).
+//! A character's own skinned mesh, read from an FBX or a glTF beside its skeleton, and linear blend
+//! skinning for any number of bones and influences (the skinning tutorial's `v' = Σ wᵢ · Mᵢ · v`,
+//! now with the file's own bind matrices).
 //!
 //! Where [`crate::model::skin`] keeps the four strongest influences of a skin bvhview makes
 //! itself, a [`Mesh`] keeps every influence the file gives (CSR: each vertex's influences are
@@ -869,8 +869,8 @@ mod tests {
         assert_eq!(n[0], Vec3::Y);
     }
 
-    /// Issue 58, finding 5: two weights of 3e38 overflow an f32 sum (the vertex was scaled to 0
-    /// weight and landed at the origin, said only as "scaled"): refused, naming mesh and vertex.
+    /// Two weights of 3e38 overflow an f32 sum (the vertex was scaled to 0 weight and landed at the
+    /// origin, said only as "scaled"): refused, naming mesh and vertex.
     #[test]
     fn weights_whose_sum_overflows_a_float_are_refused_by_mesh_and_vertex() {
         let mut b = MeshBuilder::new("test", 0);
@@ -898,8 +898,8 @@ mod tests {
         assert_eq!(mesh.vertex_name(1), "mesh 'Body', vertex 1");
     }
 
-    /// Issue 58, finding 5: 200,000 weights on one vertex, summed and blended in f32, moved it
-    /// 6.2 mm; summed in f64 it lands where the weights say, to a micrometre.
+    /// 200,000 weights on one vertex, summed and blended in f32, once moved it 6.2 mm; summed in
+    /// f64 it lands where the weights say, to a micrometre.
     #[test]
     fn two_hundred_thousand_weights_land_a_vertex_where_they_say() {
         let mut b = MeshBuilder::new("test", 1 << 20);

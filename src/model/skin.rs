@@ -1,6 +1,7 @@
-//! Linear blend skinning (seed 001): each vertex of a skin moves with the bones that influence it,
-//! `v' = Σ wᵢ · (Bᵢ · Aᵢ⁻¹) · v`, where `Aᵢ` is bone i's world matrix in the pose the skin was
-//! made in (the bind pose) and `Bᵢ` its world matrix now. Nothing here knows about GL.
+//! Linear blend skinning, as the skinning tutorial has it: each vertex of a skin moves with the
+//! bones that influence it, `v' = Σ wᵢ · (Bᵢ · Aᵢ⁻¹) · v`, where `Aᵢ` is bone i's world matrix in
+//! the pose the skin was made in (the bind pose) and `Bᵢ` its world matrix now. Nothing here knows
+//! about GL.
 
 use glam::{Mat4, Vec3};
 

@@ -409,7 +409,7 @@ pub fn draw_overlay<G: fixed::FixedFunction>(
     if let Some(scene) = scenes.first()
         && let Some(shown) = scene.shown
     {
-        // Issue 44: at 300x300 the big glyphs ran off the right and covered two thirds of it.
+        // At 300x300 the big glyphs once ran off the right and covered two thirds of it.
         let font = text::Font::for_picture(width, height);
         let lines = step::lines(
             scene.skeleton,

@@ -1,4 +1,4 @@
-//! Seed 001's skinning demo: two bones of length 3, three quads of four vertices each (yellow,
+//! The skinning tutorial's demo: two bones of length 3, three quads of four vertices each (yellow,
 //! green, blue, bottom to top). The bottom quad's lower edge follows bone 1, the top quad's upper
 //! edge bone 2, and every other vertex is weighted half and half, so the middle quad bends
 //! smoothly when bone 2 turns. Drawn as the demo draws it: line loops for the quads and a

@@ -485,7 +485,7 @@ mod tests {
         assert!(Mp4::new((16, 16), 30.0, 1).unwrap().finish().is_err());
     }
 
-    /// Issue 58: 0.0137 frames per second was written as 0.014 (thousandths of a frame a
+    /// 0.0137 frames per second was once written as 0.014 (thousandths of a frame a
     /// second); now as 137 ticks a second over 10,000 a frame, exactly the rate asked, and a
     /// rate of thousandths keeps its old ticks (outputs stay byte for byte).
     #[test]

@@ -68,11 +68,11 @@ pub(super) fn subtree_size(skeleton: &Skeleton, joint: usize) -> usize {
         .sum::<usize>()
 }
 
-/// The bones both skeletons have, one per mapped target joint: to the next mapped joint down
-/// its chain (the spine's way at the hips and chest, else the largest branch), where neither
-/// skeleton's bone has zero length (CMU's `LowerBack` and `Neck` sit where their parents do: its
-/// hips and chest have no bone there). `(target joint, target child)`; the source's are their
-/// map. The bones [`direction_errors`] measures.
+/// The bones both skeletons have, one per mapped target joint: to the next mapped joint down its
+/// chain (the spine's way at the hips and chest, else the largest branch), where neither skeleton's
+/// bone has zero length (CMU's `LowerBack` and `Neck` sit where their parents do: its hips and
+/// chest have no bone there). `(target joint, target child)`; the source's are their map. The bones
+/// [`direction_errors`](crate::retarget::direction_errors) measures.
 pub fn bones(source: &Skeleton, target: &Skeleton, map: &Map) -> Vec<(usize, usize)> {
     main_bones(source, target, map)
         .into_iter()

@@ -11,8 +11,8 @@ use crate::model::skeleton::Skeleton;
 use glam::{DQuat, DVec3};
 
 /// The angle in degrees between each bone's world direction in the source and in the
-/// retargeted take: per bone of [`bones`] (in its order), one per frame. The check of
-/// rest alignment; [`quantile`] of them all gives the figures in the guide.
+/// retargeted take: per bone of [`bones`] (in its order), one per frame: the check that the
+/// rest alignment holds; [`quantile`] of them all gives the figures in the guide.
 pub fn direction_errors(
     source: &Skeleton,
     source_motion: &Motion,
@@ -143,8 +143,9 @@ pub struct Standing {
     pub source_path: f64,
     /// The same in the target ([`Standing::ratio`] times the source's, when it is right).
     pub target_path: f64,
-    /// The lowest height of the source's foot points ([`Body::foot_points`]: its own ankles
-    /// and toes, mapped or not) over the take.
+    /// The lowest height of the source's foot points
+    /// ([`Body::foot_points`](crate::model::body::Body::foot_points): its own ankles and toes,
+    /// mapped or not) over the take.
     pub source_floor: f64,
     /// The same of the target's own foot points (the ratio times the source's: the target's
     /// feet on the source's floor).

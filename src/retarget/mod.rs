@@ -20,7 +20,7 @@
 //!
 //! Rotations are carried in 64-bit floats (see [`crate::model::pose::world_transforms_f64`]), so a take
 //! retargeted onto its own skeleton gives back its own values. [`retarget`] runs eight frames side
-//! by side (src/retarget/fast.rs); [`retarget_plain`] is the same work a joint and a frame at a
+//! by side (src/retarget/fast/); [`retarget_plain`] is the same work a joint and a frame at a
 //! time, which a test holds it to (tests/retarget_fast.rs).
 
 use crate::io::error::Error;
@@ -53,7 +53,7 @@ pub use target::*;
 /// channels, and the source's frames and frame time, computed on up to `threads` threads (the
 /// same values on any number). See the module's docs for the steps.
 ///
-/// The fast path (eight frames at a time, src/retarget/fast.rs); [`retarget_plain`] is the same
+/// The fast path (eight frames at a time, src/retarget/fast/); [`retarget_plain`] is the same
 /// work a joint and a frame at a time, which a test holds it to.
 pub fn retarget(
     source: &Skeleton,

@@ -1,5 +1,5 @@
 //! The plain pass: one joint and one frame at a time, the reference the eight-lane pass
-//! (`fast.rs`) is held to.
+//! (`fast/`) is held to.
 
 use super::{
     Map, Ups, alignments, arc, floor_points, hip_height, main_bones, reference_frame,

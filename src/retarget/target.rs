@@ -11,7 +11,8 @@ use crate::model::skeleton::{Joint, Skeleton};
 /// Python's messages read it as "`any_body` retargets it anyway".
 pub const ANY_BODY: &str = "`--any-body` retargets it anyway";
 
-/// What a refusal by [`Check::refusal`] ends with: how to write the output anyway.
+/// What a refusal by [`Check::refusal`](crate::retarget::Check::refusal) ends with: how to write
+/// the output anyway.
 pub const FORCE: &str = "`--force` writes it anyway";
 
 /// How far a caller goes against [`Target::apply`]'s refusals: `any_body` puts a body on a
@@ -165,14 +166,14 @@ impl Target {
     }
 
     /// A take on this skeleton by the guessed map (`pairs` override it), on up to `threads`
-    /// threads, with what it measures against its source ([`Target::check`]); refused with the
-    /// reason when the map cannot stand, when the bodies differ ([`Target::check_body`]: a
-    /// quadruped rigged with 3ds Max Biped's human names onto a person, a person's walk onto a
-    /// fox) unless `insist.any_body`, and when the output's check finds a side crossed or a
-    /// width collapsed ([`Check::refusal`]) unless `insist.force` (then
-    /// [`Retargeted::forced`] holds the reason, for the caller to say). `source_name` names
-    /// the take in messages. The one way every command puts a take on another skeleton
-    /// (`retarget`, `dataset --onto`, `--character`; Python's `retarget`, `dress`,
+    /// threads, with what it measures against its source ([`check`](fn@crate::retarget::check));
+    /// refused with the reason when the map cannot stand, when the bodies differ
+    /// ([`Target::check_body`]: a quadruped rigged with 3ds Max Biped's human names onto a person,
+    /// a person's walk onto a fox) unless `insist.any_body`, and when the output's check finds a
+    /// side crossed or a width collapsed ([`Check::refusal`](crate::retarget::Check::refusal))
+    /// unless `insist.force` (then [`Retargeted::forced`] holds the reason, for the caller to say).
+    /// `source_name` names the take in messages. The one way every command puts a take on another
+    /// skeleton (`retarget`, `dataset --onto`, `--character`; Python's `retarget`, `dress`,
     /// `compile_dataset`).
     pub fn apply(
         &self,

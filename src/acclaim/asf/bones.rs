@@ -36,8 +36,9 @@ pub struct ValueMap {
 }
 
 impl Asf {
-    /// The skeleton seed 004 describes, as joints (DESIGN.md decision 7), and for each AMC line
-    /// name (the root first, then bones in :bonedata order) where its values go.
+    /// The skeleton the ASF/AMC article describes, as joints (a bone starts at its parent's end,
+    /// turning about its fixed axis), and for each AMC line name (the root first, then bones in
+    /// :bonedata order) where its values go.
     pub fn to_skeleton(&self) -> (Skeleton, Vec<ValueMap>) {
         let mut joints: Vec<Joint> = Vec::new();
         let mut maps = Vec::new();

@@ -1,7 +1,7 @@
 //! The ASF skeleton file: `:units`, `:root`, `:bonedata` (begin … end per bone: id, name,
 //! direction, length, axis, dof, limits) and `:hierarchy` (begin, one `parent child…` line per
-//! parent, end). Seed 004's `Read_ASF`; unlike it, any number of bones and frames, keywords in any
-//! case, and an error with the line and column for anything malformed.
+//! parent, end). The ASF/AMC article's `Read_ASF`; unlike it, any number of bones and frames,
+//! keywords in any case, and an error with the line and column for anything malformed.
 
 use super::text::{Word, error_at, expected, expected_after, expected_at_start, lines, number};
 use crate::io::error::Error;

@@ -191,7 +191,7 @@ fn load_file(
         }
     }
     // No skin and no animation, and nothing but nodes (a rest pose as bvhview writes one, from a
-    // take of 0 frames): the tree is the skeleton, its bare leaves End Sites (issue 44: bvhview
+    // take of 0 frames): the tree is the skeleton, its bare leaves End Sites (bvhview once
     // could not read back its own output).
     let bare = document.meshes().len() == 0 && document.cameras().len() == 0;
     if !seed.iter().any(|&s| s) && animations.is_empty() && bare {
@@ -508,7 +508,7 @@ mod tests {
         ] {
             assert!(buffer_path(&folder, uri).is_err(), "{uri}");
         }
-        // Issue 44: `./x.bin` is beside the file; an empty URI and a missing file say so.
+        // `./x.bin` is beside the file; an empty URI and a missing file say so.
         let dir = tempfile::tempdir().unwrap();
         std::fs::write(dir.path().join("x.bin"), [0u8; 4]).unwrap();
         assert!(buffer_path(dir.path(), "./x.bin").is_ok());

@@ -35,8 +35,8 @@ pub struct Body {
     /// `[left, right]`, each in [`Limb`] order: clavicle, upper arm, forearm, hand, thigh, shin,
     /// foot, toe.
     pub limbs: [[Option<usize>; 8]; 2],
-    /// `[left, right]` × [`FINGERS`] (thumb, index, middle, ring, pinky) × up to three bones
-    /// from the hand out, read from names under each hand.
+    /// `[left, right]` × [`FINGERS`](crate::model::body::FINGERS) (thumb, index, middle, ring,
+    /// pinky) × up to three bones from the hand out, read from names under each hand.
     pub fingers: [[[Option<usize>; 3]; 5]; 2],
     /// The limbs were read from the tree and the rest pose: the names said nothing of any.
     pub from_tree: bool,

@@ -79,8 +79,9 @@ pub(super) struct PlannedJoint {
     pub(super) axis: Option<glam::Quat>,
 }
 
-/// Forward kinematics compiled for one skeleton: the same products as [`world_matrices`], kept
-/// as quaternion + translation, for exporting every frame of long takes fast.
+/// Forward kinematics compiled for one skeleton: the same products as
+/// [`world_matrices`](super::world_matrices), kept as quaternion + translation, for exporting every
+/// frame of long takes fast.
 ///
 /// ```
 /// use bvhview::{Take, model::pose::{FkPlan, FkScratch, OffsetMode, world_positions}};

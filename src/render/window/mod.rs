@@ -1,6 +1,6 @@
 //! The window: a GL context on a winit window (glutin, compatibility profile), and the two
-//! programs that run in it, the viewer (`viewer.rs`, the article's `main` and `keyboard`) and
-//! the skinning demo (`skin_demo.rs`, seed 001).
+//! programs that run in it, the viewer (`viewer/`, the article's `main` and `keyboard`) and
+//! the skinning demo (`skin_demo.rs`, the skinning tutorial's).
 
 mod gl;
 mod skin_demo;

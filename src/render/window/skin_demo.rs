@@ -1,5 +1,5 @@
-//! Seed 001's linear blend skinning demo in a window: two bones, three quads, a right-button
-//! drag bends the second bone.
+//! The skinning tutorial's linear blend skinning demo in a window: two bones, three quads, a
+//! right-button drag bends the second bone.
 
 use super::gl::{Running, check_environment, keep_or_exit, open_gl_window};
 use crate::io::error::Error;
@@ -11,8 +11,8 @@ use winit::event_loop::ActiveEventLoop;
 use winit::keyboard::{Key, NamedKey};
 use winit::window::WindowId;
 
-/// Seed 001's demo in a window: a right-button drag bends the second bone about Y (up and down)
-/// and Z (left and right); Esc quits.
+/// The skinning tutorial's demo in a window: a right-button drag bends the second bone about Y
+/// (up and down) and Z (left and right); Esc quits.
 pub fn run_skin_demo(bend: (f32, f32)) -> Result<(), Error> {
     check_environment(super::gl::SKIN_DEMO_OFFSCREEN)?;
     let event_loop = super::gl::new_event_loop(super::gl::SKIN_DEMO_OFFSCREEN)?;
@@ -88,7 +88,7 @@ impl ApplicationHandler for SkinDemo {
             }
             WindowEvent::CursorMoved { position, .. } if self.dragging => {
                 if let Some((x, y)) = self.drag {
-                    // As seed 001: one degree per pixel; Z follows x, Y follows y.
+                    // As the tutorial has it: one degree per pixel; Z follows x, Y follows y.
                     self.bend.1 += (position.x - x) as f32;
                     self.bend.0 -= (position.y - y) as f32;
                     running.window.request_redraw();

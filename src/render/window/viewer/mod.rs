@@ -422,7 +422,7 @@ mod tests {
             .unwrap()
     }
 
-    /// Issue 27 row 16: C in the studio look did nothing visible after T; it resets that view's
+    /// C in the studio look once did nothing visible after T; it resets that view's
     /// camera (turn, zoom, following) and stays in the look.
     #[test]
     fn c_resets_the_studio_camera_too() {
@@ -442,7 +442,7 @@ mod tests {
         assert_eq!(camera_drawn(&viewer), start);
     }
 
-    /// Issue 27 row 15: the article's view says in the title how to frame a take it leaves
+    /// The article's view says in the title how to frame a take it leaves
     /// empty or cut off; its picture stays the article's.
     #[test]
     fn the_article_view_says_how_to_see_more_in_its_title() {
@@ -482,7 +482,7 @@ mod tests {
         assert_eq!(viewer.takes[0].stance, before);
     }
 
-    /// Issue 27 row 7: a reload's error is wrapped between words to any picture, never cut.
+    /// A reload's error is wrapped between words to any picture, never cut.
     #[test]
     fn a_reload_error_is_wrapped_to_the_picture() {
         let mut viewer = walk_viewer();
