@@ -119,12 +119,17 @@ pub fn run(bytes: &[u8], length: u64, written: Option<(&Skeleton, &Motion)>) -> 
         Err(crash) => (Verdict::Crashes(crash), None),
         Ok(()) => {
             let walk = article.stack_walk(&loaded);
-            let verdict =
-                match article.misread(&loaded, &joints, buffer.len() as u64, length, written, &walk)
-                {
-                    Some(misread) => Verdict::Misreads(misread),
-                    None => Verdict::ReadsAsWritten,
-                };
+            let verdict = match article.misread(
+                &loaded,
+                &joints,
+                buffer.len() as u64,
+                length,
+                written,
+                &walk,
+            ) {
+                Some(misread) => Verdict::Misreads(misread),
+                None => Verdict::ReadsAsWritten,
+            };
             (verdict, walk.errors)
         }
     };
@@ -564,7 +569,10 @@ impl Article<'_> {
             depths.push(depth);
         }
         let same_shape = joints.len() == skeleton.joints.len()
-            && joints.iter().zip(&depths).all(|(j, &depth)| j.depth == depth);
+            && joints
+                .iter()
+                .zip(&depths)
+                .all(|(j, &depth)| j.depth == depth);
         if !same_shape {
             return Some(Misread::Joints {
                 article: joints.len(),
