@@ -357,6 +357,24 @@ fn a_joint_without_a_name_is_refused_where_the_name_should_be() {
         "{text}"
     );
     assert_eq!(error.exit_code(), 2);
+    // What the article does instead, with its reason (UBSan: index -1 in newNode).
+    let path = edge("joint_without_name.bvh");
+    let first = |lang: &str| {
+        let out = bvhview(&["trace", path.to_str().unwrap(), "--explain", "--lang", lang]);
+        String::from_utf8(out.stdout).unwrap()
+    };
+    assert_eq!(
+        first("en"),
+        "// what the article's program does with this file: misreads it: a joint on line 6 has \
+         no name: newNode copies no byte and writes its terminator at name[-1] \
+         (UndefinedBehaviorSanitizer: index -1 out of bounds), and keeps the joint with an empty \
+         name\n"
+    );
+    assert_eq!(
+        first("zh"),
+        "// 原文的程式對這個檔案：讀錯：第 6 行的關節沒有名字：newNode 一個位元組也沒複製，把結尾的 \
+         0 寫到 name[-1]（UndefinedBehaviorSanitizer：索引 -1 超出範圍），這個關節就以空的名字留下\n"
+    );
 }
 
 /// Issue 47: a chain deeper than GL's modelview stack. The article's loader reads it whole, but
@@ -382,13 +400,24 @@ fn a_chain_deeper_than_the_gl_stack_misdraws_the_branch_after_it() {
         "// what the article's program does with this file: misreads it: its draw pushes one \
          matrix per joint and GL's stack holds 32: at 'Chain31' glPushMatrix overflows and is \
          ignored, the pops after it take the matrices of joints above, and 'Branch' is drawn \
-         from a matrix that is not its own"
+         from a matrix that is not its own: in frame 0 at (10, 0, 0), where the file puts it at \
+         (10, 30, 0)"
     );
     assert_eq!(
         first_line("zh"),
         "// 原文的程式對這個檔案：讀錯：它的 draw 每個關節推入一個矩陣，GL 的矩陣堆疊只有 32 層：\
          到了 'Chain31'，glPushMatrix 溢位而被忽略，之後的彈出拿走了上層關節的矩陣，'Branch' \
-         用的不是自己的矩陣"
+         用的不是自己的矩陣：第 0 個影格畫在 (10, 0, 0)，檔案要它在 (10, 30, 0)"
+    );
+    // What glGetError says (measured with bench/glut/run.sh: 7 overflows, 7 underflows).
+    let out = bvhview(&["trace", text, "--explain"]);
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(
+        stdout.lines().nth(1).unwrap(),
+        "// GL's modelview stack holds 32 matrices, and the article's draw would hold 39 at once \
+         (the view, and one per joint and End Site down its deepest path): glGetError says \
+         GL_STACK_OVERFLOW after each of 7 pushes, from 'Chain31' on, and GL_STACK_UNDERFLOW \
+         after each of 7 pops"
     );
     let bvh = load_edge("chain_36_deep.bvh");
     let world = world_positions(&bvh.skeleton, bvh.motion.frame(0), OffsetMode::Replace);
@@ -399,6 +428,164 @@ fn a_chain_deeper_than_the_gl_stack_misdraws_the_branch_after_it() {
         .position(|j| j.name == "Branch")
         .unwrap();
     assert_eq!(world[branch], Vec3::new(10.0, 30.0, 0.0));
+}
+
+/// A chain of `joints` joints under the root (the root included: `joints` in all), then an End
+/// Site, laid out as the article reads it (CR LF, numbers of 8 characters), rows of zeros but
+/// frame 1's y = 30.
+fn chain(joints: usize) -> String {
+    let mut text = String::from(
+        "HIERARCHY\r\nROOT Hips\r\n{\r\n\tOFFSET 0.00 0.00 0.00\r\n\tCHANNELS 6 Xposition \
+         Yposition Zposition Zrotation Xrotation Yrotation\r\n",
+    );
+    for i in 1..joints {
+        let tabs = "\t".repeat(i);
+        text += &format!(
+            "{tabs}JOINT Chain{i:02}\r\n{tabs}{{\r\n{tabs}\tOFFSET 0.000000 2.000000 0.000000\r\n\
+             {tabs}\tCHANNELS 3 Zrotation Xrotation Yrotation\r\n"
+        );
+    }
+    let tabs = "\t".repeat(joints);
+    text += &format!(
+        "{tabs}End Site\r\n{tabs}{{\r\n{tabs}\tOFFSET 0.000000 2.000000 0.000000\r\n{tabs}}}\r\n"
+    );
+    for i in (0..joints).rev() {
+        text += &format!("{}}}\r\n", "\t".repeat(i));
+    }
+    let width = joints * 3 + 3;
+    let zeros = |n: usize| "0.000000 ".repeat(n);
+    text += &format!(
+        "MOTION\r\nFrames: 2\r\nFrame Time: 0.033333\r\n{}\r\n0.000000 30.000000 {}\r\n",
+        zeros(width),
+        zeros(width - 2)
+    );
+    text
+}
+
+/// bvhview's depth limit counts every level of the tree, End Sites included: 1,000. A chain of
+/// 999 joints (the root included) and its End Site is 1,000 deep and loads; one of 1,000 joints
+/// and its End Site is refused. The article's program reads the 1,001-deep file as written (its
+/// draw overflows GL's stack, but a chain alone draws every sphere on the way down: measured,
+/// 0 pixels differ), and `--explain` says so, with what glGetError says.
+#[test]
+fn the_depth_limit_is_1000_levels_end_sites_included() {
+    let dir = tempfile::tempdir().unwrap();
+    let deepest = dir.path().join("chain_999.bvh");
+    std::fs::write(&deepest, chain(999)).unwrap();
+    let bvh = load_path(&deepest);
+    assert_eq!(bvh.skeleton.joints.len(), 1000);
+    let refused = dir.path().join("chain_1000.bvh");
+    std::fs::write(&refused, chain(1000)).unwrap();
+    let out = bvhview(&["trace", refused.to_str().unwrap(), "--explain"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8(out.stderr).unwrap(),
+        format!(
+            "bvhview: {}:4002:1001: joints nest deeper than 1000 levels\n",
+            refused.display()
+        )
+    );
+    assert_eq!(
+        String::from_utf8(out.stdout).unwrap(),
+        "// what the article's program does with this file: reads it as written: print and the \
+         draw of every frame are what the file says (joints, names, OFFSETs, translations, \
+         rotations)\n\
+         // GL's modelview stack holds 32 matrices, and the article's draw would hold 1002 at \
+         once (the view, and one per joint and End Site down its deepest path): glGetError says \
+         GL_STACK_OVERFLOW after each of 970 pushes, from 'Chain31' on, and GL_STACK_UNDERFLOW \
+         after each of 970 pops\n"
+    );
+}
+
+/// A chain of 40 joints under the root: the article's draw overflows GL's stack and reads the
+/// file as written all the same; `--explain` says the errors glGetError reports (measured with
+/// bench/glut/run.sh: 11 of each), in both languages.
+#[test]
+fn a_chain_40_deep_is_read_as_written_with_gl_stack_errors_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("chain_40.bvh");
+    std::fs::write(&path, chain(41)).unwrap();
+    let lines = |lang: &str| {
+        let out = bvhview(&["trace", path.to_str().unwrap(), "--explain", "--lang", lang]);
+        assert!(out.status.success());
+        let text = String::from_utf8(out.stdout).unwrap();
+        text.lines().take(2).map(str::to_string).collect::<Vec<_>>()
+    };
+    assert_eq!(
+        lines("en"),
+        [
+            "// what the article's program does with this file: reads it as written: print and \
+             the draw of every frame are what the file says (joints, names, OFFSETs, \
+             translations, rotations)",
+            "// GL's modelview stack holds 32 matrices, and the article's draw would hold 43 at \
+             once (the view, and one per joint and End Site down its deepest path): glGetError \
+             says GL_STACK_OVERFLOW after each of 11 pushes, from 'Chain31' on, and \
+             GL_STACK_UNDERFLOW after each of 11 pops",
+        ]
+    );
+    assert_eq!(
+        lines("zh"),
+        [
+            "// 原文的程式對這個檔案：如實讀入：print 與每個影格的 draw 都和檔案所寫的相同（關節、\
+             名字、OFFSET、平移與旋轉）",
+            "// GL 的模型檢視矩陣堆疊只有 32 層，原文的 draw 同時要放 43 個矩陣（檢視矩陣，加上最深\
+             一條路徑上每個關節與 End Site 各一個）：glGetError 在 11 次推入後都回報 \
+             GL_STACK_OVERFLOW（從 'Chain31' 的推入起），在 11 次彈出後都回報 GL_STACK_UNDERFLOW",
+        ]
+    );
+}
+
+/// A blank line between two MOTION rows: the article's row loop reads it right (`atof` skips
+/// the line end before the next number: `print` and both frames' draw calls are the control
+/// file's, measured, ASan and UBSan silent), and so does bvhview.
+#[test]
+fn a_blank_line_between_rows_is_read_as_no_row() {
+    let base = load_edge("article_base_crlf.bvh");
+    let blank = load_edge("blank_line_between_rows.bvh");
+    assert_eq!(blank.skeleton, base.skeleton);
+    assert_eq!(blank.motion, base.motion);
+    assert!(blank.warnings.is_empty());
+    assert_eq!(
+        print_of("blank_line_between_rows.bvh"),
+        print_of("article_base_crlf.bvh")
+    );
+}
+
+/// An empty file: `new unsigned char[0]`, and the check of the header reads the byte after it
+/// (valgrind reports it, ASan does not), which is not `H`: `loadFile` returns 0, and the crash is
+/// `init`'s print of the null root (SIGSEGV in `printRecursive`; measured).
+#[test]
+fn explain_on_an_empty_file_says_the_header_check_finds_no_h() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("empty.bvh");
+    std::fs::write(&path, b"").unwrap();
+    let out = bvhview(&["trace", path.to_str().unwrap(), "--explain"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert_eq!(
+        String::from_utf8(out.stdout).unwrap(),
+        "// what the article's program does with this file: rejects it: the file is empty: new \
+         unsigned char[0] gives a buffer of no bytes, and the check of the header compares the \
+         byte after it with the H of HIERARCHY (valgrind reports that read, AddressSanitizer \
+         does not); it is not H; loadFile returns 0 (init then prints the null root anyway, \
+         which crashes)\n"
+    );
+}
+
+/// A row of 6 values where the article reads 9: the note names the article's column as one of
+/// its own rows, past the end of the file's.
+#[test]
+fn explain_notes_a_column_past_the_files_rows() {
+    let path = edge("root_rotations_only.bvh");
+    let out = bvhview(&["trace", path.to_str().unwrap(), "--explain"]);
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert!(
+        text.contains(
+            "// Zrotation: column [3]; the article's pFrame[0] is [6] of its rows of 9 values \
+             (jointCount * 3 + 3), past the end of the file's rows of 6\n"
+        ),
+        "{text}"
+    );
+    assert!(!text.contains("column [6]"), "{text}");
 }
 
 // Issue 25: five more defects of the article's loader, each with its input in tests/edge, and

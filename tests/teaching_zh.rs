@@ -48,6 +48,9 @@ const AVOIDED: &[(&str, &str)] = &[
         "主程式 (a small main program, not a device driver)",
     ),
     ("黃金測試", "參考圖片, 參考輸出"),
+    // Not a mainland word: Taiwan's word for a camera's pixels. The chapter says 像素 (see
+    // ALLOWED), one word throughout.
+    ("畫素", "像素"),
 ];
 
 fn chapter() -> (String, String) {

@@ -64,11 +64,22 @@ pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
         Ok(loaded) => loaded,
         Err(error) => {
             // What the article's program does with a file bvhview refuses is still worth a line.
-            if args.explain
-                && let Ok(article) = crate::bvh::article::run_file(&args.file, None)
-            {
-                let line = crate::render::trace::verdict_line(&article.verdict, language);
-                write_text(&format!("{line}\n"))?;
+            // A file refused only for its depth is read again, deeper, to compare with.
+            if args.explain {
+                let deeper = crate::bvh::loader::load_deeper(
+                    &args.file,
+                    crate::bvh::article::EXPLAIN_MAX_DEPTH,
+                )
+                .ok();
+                let written = deeper.as_ref().map(|bvh| (&bvh.skeleton, &bvh.motion));
+                if let Ok(article) = crate::bvh::article::run_file(&args.file, written) {
+                    let mut text = crate::render::trace::verdict_line(&article.verdict, language);
+                    if let Some(stack) = &article.gl_stack {
+                        text.push('\n');
+                        text.push_str(&crate::render::trace::gl_stack_line(stack, language));
+                    }
+                    write_text(&format!("{text}\n"))?;
+                }
             }
             return Err(error);
         }

@@ -83,6 +83,7 @@ pub fn run(bytes: &[u8], length: u64, written: Option<(&Skeleton, &Motion)>) -> 
         return Outcome {
             verdict: Verdict::Crashes(Crash::FileLength { length }),
             joints: None,
+            gl_stack: None,
         };
     }
     let buffer = &bytes[..(size as usize).min(bytes.len())];
@@ -94,6 +95,7 @@ pub fn run(bytes: &[u8], length: u64, written: Option<(&Skeleton, &Motion)>) -> 
         current: 0,
         joint_count: 1,
         garbage: Vec::new(),
+        unnamed: None,
     };
     let loaded = match article.load_file() {
         Ok(loaded) => loaded,
@@ -101,26 +103,40 @@ pub fn run(bytes: &[u8], length: u64, written: Option<(&Skeleton, &Motion)>) -> 
             return Outcome {
                 verdict: Verdict::Crashes(crash),
                 joints: None,
+                gl_stack: None,
             };
         }
         Err(Stop::Reject(rejection)) => {
             return Outcome {
                 verdict: Verdict::Rejects(rejection),
                 joints: None,
+                gl_stack: None,
             };
         }
     };
     let joints = article.pre_order();
-    let verdict = match article.draw(&loaded) {
-        Err(crash) => Verdict::Crashes(crash),
-        Ok(()) => match article.misread(&loaded, &joints, buffer.len() as u64, length, written) {
-            Some(misread) => Verdict::Misreads(misread),
-            None => Verdict::ReadsAsWritten,
-        },
+    let (verdict, gl_stack) = match article.draw(&loaded) {
+        Err(crash) => (Verdict::Crashes(crash), None),
+        Ok(()) => {
+            let walk = article.stack_walk(&loaded);
+            let verdict = match article.misread(
+                &loaded,
+                &joints,
+                buffer.len() as u64,
+                length,
+                written,
+                &walk,
+            ) {
+                Some(misread) => Verdict::Misreads(misread),
+                None => Verdict::ReadsAsWritten,
+            };
+            (verdict, walk.errors)
+        }
     };
     Outcome {
         verdict,
         joints: Some(joints),
+        gl_stack,
     }
 }
 
@@ -156,6 +172,19 @@ struct Article<'a> {
     current: usize,
     joint_count: u32,
     garbage: Vec<(String, f32, Place)>,
+    /// Where the first `newNode` that copied no byte was called: it writes `name[-1]`.
+    unnamed: Option<Place>,
+}
+
+/// What GL's stack does to the article's draw of frame 0 (see [`Article::stack_walk`]).
+struct StackWalk {
+    /// The first joint whose push GL ignores.
+    overflow: Option<usize>,
+    /// The first joint drawn from a matrix that is not its own (`Some(None)`: the floor).
+    wrong: Option<Option<usize>>,
+    /// Where that joint's sphere lands in frame 0, and where the file puts it.
+    drawn: Option<([f32; 3], [f32; 3])>,
+    errors: Option<GlStack>,
 }
 
 impl Article<'_> {
@@ -264,12 +293,17 @@ impl Article<'_> {
     /// C++: `BVH::newNode`: up to 24 bytes until the line feed; the terminator goes one byte
     /// before the last byte copied (meant to drop the CR), and `p` skips one more byte.
     fn new_node(&mut self, step: Step) -> Result<usize, Stop> {
+        let called_at = self.p;
         let mut name = Vec::new();
         while name.len() < 24 && self.byte(step)? != b'\n' {
             name.push(self.buffer[self.p]);
             self.p += 1;
         }
         let copied = name.len().min(23);
+        if copied == 0 && self.unnamed.is_none() {
+            // `node->name[i-1] = 0` with i = 0.
+            self.unnamed = Some(self.place(called_at));
+        }
         name.truncate(copied.saturating_sub(1));
         // printf("%s") stops at the first 0.
         if let Some(zero) = name.iter().position(|&b| b == 0) {
@@ -306,6 +340,12 @@ impl Article<'_> {
 
     /// C++: `BVH::loadFile`, from the header check to the last row.
     fn load_file(&mut self) -> Result<Loaded, Stop> {
+        // `new unsigned char[0]` for an empty file: the first byte compared lies past it.
+        // Measured: valgrind reports that read, AddressSanitizer does not, and the byte is not
+        // `H`, so loadFile returns 0 (and init's print of the null root is what crashes).
+        if self.buffer.is_empty() {
+            return Err(Stop::Reject(Rejection::Empty));
+        }
         for &expected in b"HIERARCHY" {
             if self.byte(Step::Header)? != expected {
                 return Err(Stop::Reject(Rejection::NotHierarchy));
@@ -506,25 +546,33 @@ impl Article<'_> {
         read: u64,
         length: u64,
         written: Option<(&Skeleton, &Motion)>,
+        walk: &StackWalk,
     ) -> Option<Misread> {
         if read < length {
             return Some(Misread::Cut { read, length });
+        }
+        if let Some(at) = self.unnamed {
+            return Some(Misread::NoName { at });
         }
         let garbage = (!self.garbage.is_empty()).then(|| Misread::Garbage(self.garbage.clone()));
         let Some((skeleton, motion)) = written else {
             return Some(garbage.unwrap_or(Misread::Refused));
         };
-        // The tree: the same joints and End Sites, at the same depths, in the same order.
-        let depth = |mut joint: usize| {
-            let mut depth = 0;
-            while let Some(parent) = skeleton.joints[joint].parent {
-                joint = parent;
-                depth += 1;
-            }
-            depth
-        };
+        // The tree: the same joints and End Sites, at the same depths, in the same order. A
+        // parent comes before its children in the file, so each depth is its parent's plus one.
+        let mut depths: Vec<usize> = Vec::with_capacity(skeleton.joints.len());
+        for joint in &skeleton.joints {
+            let depth = joint
+                .parent
+                .and_then(|parent| depths.get(parent))
+                .map_or(0, |depth| depth + 1);
+            depths.push(depth);
+        }
         let same_shape = joints.len() == skeleton.joints.len()
-            && joints.iter().enumerate().all(|(i, j)| j.depth == depth(i));
+            && joints
+                .iter()
+                .zip(&depths)
+                .all(|(j, &depth)| j.depth == depth);
         if !same_shape {
             return Some(Misread::Joints {
                 article: joints.len(),
@@ -605,61 +653,113 @@ impl Article<'_> {
                 }
             }
         }
-        garbage.or_else(|| self.matrix_stack())
+        garbage.or_else(|| {
+            let name = |node: usize| String::from_utf8_lossy(&self.nodes[node].name).into_owned();
+            Some(Misread::MatrixStack {
+                overflow: name(walk.overflow?),
+                wrong: walk.wrong?.map(name),
+                drawn: walk.drawn,
+            })
+        })
     }
 
     /// C++: `drawRecursive`'s `glPushMatrix` / `glPopMatrix` against GL's stack of
-    /// [`GL_STACK_DEPTH`] matrices, then `display`'s floor: which matrix each draw uses. A stack
-    /// entry is the matrix of a joint (as `Some(node)`: what its translate and rotate make of its
-    /// parent's), the view (`View`), or one that is no joint's (`Wrong`).
-    fn matrix_stack(&self) -> Option<Misread> {
+    /// [`GL_STACK_DEPTH`] matrices, then `display`'s floor: which matrix each draw uses, and what
+    /// `glGetError` says. A stack entry is the matrix of a joint (as `Some(node)`: what its
+    /// translate and rotate make of its parent's), the view (`View`), or one that is no joint's
+    /// (`Wrong`). Beside it runs the same stack of numbers for frame 0 (the view taken as the
+    /// identity, so that a sphere's place is in the world), and each joint's own matrix.
+    fn stack_walk(&self, loaded: &Loaded) -> StackWalk {
+        use glam::{Mat4, Vec3};
         #[derive(Clone, Copy, PartialEq)]
         enum Matrix {
             View,
             Joint(usize),
             Wrong,
         }
-        let name = |node: usize| String::from_utf8_lossy(&self.nodes[node].name).into_owned();
-        let mut stack = vec![Matrix::View];
-        let (mut overflow, mut wrong) = (None, None);
-        // (node, its parent's matrix, entering) in draw order, without recursion: a tree as deep
-        // as the file allows.
-        let mut events = vec![(0, Matrix::View, true)];
-        while let Some((node, parent, entering)) = events.pop() {
+        let row = &loaded.rows[..loaded.width.min(loaded.rows.len())];
+        let value = |column: usize| row.get(column).copied().unwrap_or(0.0);
+        let mut stack = vec![(Matrix::View, Mat4::IDENTITY)];
+        // Each joint's own matrix: its parent's, translated and turned.
+        let mut own = vec![Mat4::IDENTITY; self.nodes.len()];
+        let (mut overflow, mut wrong, mut drawn) = (None, None, None);
+        let (mut overflows, mut underflows, mut deepest) = (0, 0, 1);
+        let mut p_frame = 3;
+        // (node, its parent's matrix, entering, how many matrices the draw holds there) in draw
+        // order, without recursion: a tree as deep as the file allows.
+        let mut events = vec![(0, Matrix::View, true, 1)];
+        while let Some((node, parent, entering, held)) = events.pop() {
             if !entering {
                 // glPopMatrix: GL ignores a pop of the last entry (a stack underflow).
                 if stack.len() > 1 {
                     stack.pop();
+                } else {
+                    underflows += 1;
                 }
                 continue;
             }
+            let held = held + 1;
+            deepest = deepest.max(held);
             let top = *stack.last().expect("the stack keeps its bottom entry");
             if stack.len() < GL_STACK_DEPTH {
                 stack.push(top);
-            } else if overflow.is_none() {
-                overflow = Some(node);
+            } else {
+                overflows += 1;
+                overflow.get_or_insert(node);
             }
-            let drawn = if top == parent {
+            // glTranslatef (the root by columns 0 to 2, as draw copies them), then roateSpace.
+            let n = &self.nodes[node];
+            let mut local = if node == 0 {
+                Mat4::from_translation(Vec3::new(value(0), value(1), value(2)))
+            } else {
+                Mat4::from_translation(Vec3::from(n.offset))
+            };
+            if let Some(axes) = axes_turned(n.flags) {
+                for (i, axis) in axes.into_iter().enumerate() {
+                    let about = [Vec3::X, Vec3::Y, Vec3::Z][axis];
+                    local *= Mat4::from_axis_angle(about, value(p_frame + i).to_radians());
+                }
+            }
+            if n.flags != 0 {
+                p_frame += 3;
+            }
+            let parents = match parent {
+                Matrix::Joint(p) => own[p],
+                _ => Mat4::IDENTITY,
+            };
+            own[node] = parents * local;
+            let entry = stack.last_mut().expect("the stack keeps its bottom entry");
+            let matrix = if entry.0 == parent {
                 Matrix::Joint(node)
             } else {
                 Matrix::Wrong
             };
-            *stack.last_mut().expect("the stack keeps its bottom entry") = drawn;
-            if drawn == Matrix::Wrong && wrong.is_none() {
+            *entry = (matrix, entry.1 * local);
+            if matrix == Matrix::Wrong && wrong.is_none() {
                 wrong = Some(Some(node));
+                let place = |m: Mat4| m.w_axis.truncate().to_array();
+                drawn = Some((place(entry.1), place(own[node])));
             }
-            events.push((node, parent, false));
-            for &child in self.nodes[node].children.iter().rev() {
-                events.push((child, Matrix::Joint(node), true));
+            events.push((node, parent, false, held));
+            for &child in n.children.iter().rev() {
+                events.push((child, Matrix::Joint(node), true, held));
             }
         }
-        if wrong.is_none() && stack.last() != Some(&Matrix::View) {
+        if wrong.is_none() && stack.last().map(|entry| entry.0) != Some(Matrix::View) {
             wrong = Some(None);
         }
-        Some(Misread::MatrixStack {
-            overflow: name(overflow?),
-            wrong: wrong?.map(name),
-        })
+        let name = |node: usize| String::from_utf8_lossy(&self.nodes[node].name).into_owned();
+        StackWalk {
+            overflow,
+            wrong,
+            drawn,
+            errors: overflow.map(|first| GlStack {
+                deepest,
+                overflows,
+                first: name(first),
+                underflows,
+            }),
+        }
     }
 }
 

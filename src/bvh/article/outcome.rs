@@ -63,6 +63,10 @@ pub enum Step {
 pub enum Rejection {
     /// The first nine bytes are not `HIERARCHY`.
     NotHierarchy,
+    /// The file is empty: `new unsigned char[0]`, and the check of the header reads the byte
+    /// after that empty buffer (valgrind reports it; AddressSanitizer does not), which is not
+    /// the `H` of `HIERARCHY`.
+    Empty,
     /// The dispatcher met a byte it has no case for and printed `_%c_ _%d_ file format error!!`.
     FormatError { byte: u8, at: Place },
     /// The dispatcher met a 0 byte (`if(*p == 0)`, meant for the end of the buffer).
@@ -133,6 +137,10 @@ pub enum Misread {
         article: Vec<(usize, f32)>,
         file: Vec<(usize, f32)>,
     },
+    /// A `JOINT` (or `End`) with no name before its line end: `newNode` copies no byte and
+    /// writes its terminator at `name[-1]` (UndefinedBehaviorSanitizer: index -1 out of bounds),
+    /// and the joint's name is empty.
+    NoName { at: Place },
     /// It loads a file that bvhview refuses, and no more is known.
     Refused,
     /// Its draw pushes one matrix per joint, and GL's modelview stack holds [`GL_STACK_DEPTH`]:
@@ -142,12 +150,34 @@ pub enum Misread {
     MatrixStack {
         overflow: String,
         wrong: Option<String>,
+        /// Where the sphere of `wrong` lands in frame 0 (world coordinates), and where the file
+        /// puts it.
+        drawn: Option<([f32; 3], [f32; 3])>,
     },
+}
+
+/// What GL's modelview stack says of the article's draw when the tree is deeper than it holds:
+/// `glGetError` after each push and pop (measured with `bench/glut/run.sh`).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GlStack {
+    /// The most matrices the draw would hold at once: the view, and one per joint and End Site
+    /// on the deepest path.
+    pub deepest: usize,
+    /// Pushes GL ignores (`GL_STACK_OVERFLOW`), the first of them at `first`.
+    pub overflows: usize,
+    pub first: String,
+    /// Pops GL ignores (`GL_STACK_UNDERFLOW`): the stack is down to its last entry.
+    pub underflows: usize,
 }
 
 /// The modelview stack depth the article's draw has: GL's minimum, and Mesa's (which drew the
 /// reference pictures) exactly; the identity at the bottom is one of them.
 pub const GL_STACK_DEPTH: usize = 32;
+
+/// How deep a file `trace --explain` reads again when bvhview refuses it for its depth alone
+/// ([`crate::limits::MAX_DEPTH`]), to say what the article's program does with it. Measured: the
+/// article's program, plain and with AddressSanitizer, reads a chain this deep as written.
+pub const EXPLAIN_MAX_DEPTH: usize = 10_000;
 
 /// A joint of the article's tree, as `print` shows it.
 #[derive(Clone, Debug, PartialEq)]
@@ -166,4 +196,6 @@ pub struct ArticleJoint {
 pub struct Outcome {
     pub verdict: Verdict,
     pub joints: Option<Vec<ArticleJoint>>,
+    /// Where its draw runs past GL's matrix stack, if it draws and does.
+    pub gl_stack: Option<GlStack>,
 }

@@ -167,6 +167,8 @@ struct Explain {
     language: Language,
     mode: crate::model::pose::OffsetMode,
     joints: Vec<JointFacts>,
+    /// Values in a row of the file, and in a row as the article reads it (`jointCount * 3 + 3`).
+    widths: (usize, usize),
     /// The joints whose calls are under way, innermost last, with the rotations and the axis
     /// matrices (C, then C⁻¹) issued so far.
     open: Vec<(usize, usize, usize)>,
@@ -300,11 +302,14 @@ impl Recorder {
                 }
             })
             .collect();
+        let article_joints = skeleton.joints.iter().filter(|j| !j.end_site).count();
+        let widths = (skeleton.channel_count(), article_joints * 3 + 3);
         let mut recorder = Recorder {
             explain: Some(Explain {
                 language,
                 mode,
                 joints,
+                widths,
                 open: Vec::new(),
             }),
             ..Recorder::new(numbers)
@@ -313,6 +318,9 @@ impl Recorder {
             recorder
                 .lines
                 .push(verdict_line(&outcome.verdict, language));
+            if let Some(stack) = &outcome.gl_stack {
+                recorder.lines.push(gl_stack_line(stack, language));
+            }
             // It never drew: what the notes say of it is what its draw would do.
             if outcome.joints.is_none() {
                 recorder.lines.push(match language {
@@ -452,6 +460,7 @@ impl Recorder {
                 let (column, channel) = *joint.rotation_columns.get(rotations_done)?;
                 let article = joint.article_column + rotations_done;
                 let (flags, axes) = (joint.article_flags, joint.article_axes);
+                let (file_width, article_width) = explain.widths;
                 let last = explain.open.len() - 1;
                 self.explain.as_mut()?.open[last].1 += 1;
                 let i = rotations_done;
@@ -476,16 +485,34 @@ impl Recorder {
                     });
                 };
                 let letter = ["X", "Y", "Z"][axis];
-                match (axis == channel.axis(), article == column, zh) {
+                // Where the article's value lies: a column of the file, or past the end of the
+                // file's rows (its rows are wider).
+                let same_column = article == column;
+                let another = match (article < file_width, zh) {
+                    (false, _) => "",
+                    (true, true) => "，另一個通道的值",
+                    (true, false) => ", another channel's value",
+                };
+                let article = match (article < file_width, zh) {
+                    (true, true) => format!("第 [{article}] 欄"),
+                    (true, false) => format!("column [{article}]"),
+                    (false, true) => format!(
+                        "它每列 {article_width} 個值（jointCount * 3 + 3）中的第 [{article}] 個，超過檔案每列 {file_width} 個值的結尾"
+                    ),
+                    (false, false) => format!(
+                        "[{article}] of its rows of {article_width} values (jointCount * 3 + 3), past the end of the file's rows of {file_width}"
+                    ),
+                };
+                match (axis == channel.axis(), same_column, zh) {
                     (true, true, true) => format!("{channel}：第 [{column}] 欄，即 pFrame[{i}]"),
                     (true, true, false) => {
                         format!("{channel}: column [{column}], the article's pFrame[{i}]")
                     }
                     (true, false, true) => format!(
-                        "{channel}：第 [{column}] 欄；原文的 pFrame[{i}] 卻是第 [{article}] 欄，另一個通道的值"
+                        "{channel}：第 [{column}] 欄；原文的 pFrame[{i}] 卻是{article}{another}"
                     ),
                     (true, false, false) => format!(
-                        "{channel}: column [{column}]; the article's pFrame[{i}] is column [{article}], another channel's value"
+                        "{channel}: column [{column}]; the article's pFrame[{i}] is {article}{another}"
                     ),
                     (false, true, true) => format!(
                         "{channel}：第 [{column}] 欄；原文在這裡繞 {letter} 軸旋轉，用的是同一個 pFrame[{i}]"
@@ -494,10 +521,10 @@ impl Recorder {
                         "{channel}: column [{column}]; the article turns about {letter} here, by the same pFrame[{i}]"
                     ),
                     (false, false, true) => format!(
-                        "{channel}：第 [{column}] 欄；原文在這裡繞 {letter} 軸旋轉，用的是 pFrame[{i}]，即第 [{article}] 欄"
+                        "{channel}：第 [{column}] 欄；原文在這裡繞 {letter} 軸旋轉，用的是 pFrame[{i}]，即{article}"
                     ),
                     (false, false, false) => format!(
-                        "{channel}: column [{column}]; the article turns about {letter} here, by pFrame[{i}], column [{article}]"
+                        "{channel}: column [{column}]; the article turns about {letter} here, by pFrame[{i}], {article}"
                     ),
                 }
             }

@@ -31,6 +31,12 @@ pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) 
                     "its first nine bytes are not HIERARCHY".to_string()
                 }
                 (Rejection::NotHierarchy, true) => "檔案的前九個位元組不是 HIERARCHY".to_string(),
+                (Rejection::Empty, false) => {
+                    "the file is empty: new unsigned char[0] gives a buffer of no bytes, and the check of the header compares the byte after it with the H of HIERARCHY (valgrind reports that read, AddressSanitizer does not); it is not H".to_string()
+                }
+                (Rejection::Empty, true) => {
+                    "檔案是空的：new unsigned char[0] 給出零個位元組的緩衝區，檢查檔頭時拿它後面的那個位元組和 HIERARCHY 的 H 比較（valgrind 回報這次讀取，AddressSanitizer 不會），那不是 H".to_string()
+                }
                 (Rejection::FormatError { byte, at: place }, _) => {
                     let shown = match byte {
                         0x21..=0x7E => (*byte as char).to_string(),
@@ -307,26 +313,58 @@ pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) 
                         ),
                     }
                 }
+                (Misread::NoName { at: place }, false) => format!(
+                    "a joint on line {} has no name: newNode copies no byte and writes its terminator at name[-1] (UndefinedBehaviorSanitizer: index -1 out of bounds), and keeps the joint with an empty name",
+                    place.line
+                ),
+                (Misread::NoName { at: place }, true) => format!(
+                    "第 {} 行的關節沒有名字：newNode 一個位元組也沒複製，把結尾的 0 寫到 name[-1]（UndefinedBehaviorSanitizer：索引 -1 超出範圍），這個關節就以空的名字留下",
+                    place.line
+                ),
                 (Misread::Refused, false) => {
                     "it loads this file, which bvhview refuses (below)".to_string()
                 }
                 (Misread::Refused, true) => "它載入了 bvhview 拒絕的這個檔案（見下）".to_string(),
-                (Misread::MatrixStack { overflow, wrong }, false) => format!(
+                (
+                    Misread::MatrixStack {
+                        overflow,
+                        wrong,
+                        drawn,
+                    },
+                    false,
+                ) => format!(
                     "its draw pushes one matrix per joint and GL's stack holds {}: at '{overflow}' \
                      glPushMatrix overflows and is ignored, the pops after it take the matrices \
-                     of joints above, and {} is drawn from a matrix that is not its own",
+                     of joints above, and {} is drawn from a matrix that is not its own{}",
                     crate::bvh::article::GL_STACK_DEPTH,
                     wrong
                         .as_ref()
-                        .map_or("the floor".to_string(), |joint| format!("'{joint}'"))
+                        .map_or("the floor".to_string(), |joint| format!("'{joint}'")),
+                    drawn.map_or(String::new(), |(drawn, meant)| format!(
+                        ": in frame 0 at {}, where the file puts it at {}",
+                        plain(&drawn),
+                        plain(&meant)
+                    ))
                 ),
-                (Misread::MatrixStack { overflow, wrong }, true) => format!(
+                (
+                    Misread::MatrixStack {
+                        overflow,
+                        wrong,
+                        drawn,
+                    },
+                    true,
+                ) => format!(
                     "它的 draw 每個關節推入一個矩陣，GL 的矩陣堆疊只有 {} 層：到了 '{overflow}'，\
-                     glPushMatrix 溢位而被忽略，之後的彈出拿走了上層關節的矩陣，{}用的不是自己的矩陣",
+                     glPushMatrix 溢位而被忽略，之後的彈出拿走了上層關節的矩陣，{}用的不是自己的矩陣{}",
                     crate::bvh::article::GL_STACK_DEPTH,
                     wrong
                         .as_ref()
-                        .map_or("地板".to_string(), |joint| format!("'{joint}' "))
+                        .map_or("地板".to_string(), |joint| format!("'{joint}' ")),
+                    drawn.map_or(String::new(), |(drawn, meant)| format!(
+                        "：第 0 個影格畫在 {}，檔案要它在 {}",
+                        plain(&drawn),
+                        plain(&meant)
+                    ))
                 ),
             };
             if zh {
@@ -340,5 +378,26 @@ pub fn verdict_line(verdict: &crate::bvh::article::Verdict, language: Language) 
         format!("// 原文的程式對這個檔案：{why}")
     } else {
         format!("// what the article's program does with this file: {why}")
+    }
+}
+
+/// The line after the verdict when the article's draw runs past GL's matrix stack: what
+/// `glGetError` says after its pushes and pops (measured with `bench/glut/run.sh`), whatever the
+/// verdict. A chain alone still draws right: every sphere is drawn on the way down.
+pub fn gl_stack_line(stack: &crate::bvh::article::GlStack, language: Language) -> String {
+    let crate::bvh::article::GlStack {
+        deepest,
+        overflows,
+        first,
+        underflows,
+    } = stack;
+    let depth = crate::bvh::article::GL_STACK_DEPTH;
+    match language {
+        Language::English => format!(
+            "// GL's modelview stack holds {depth} matrices, and the article's draw would hold {deepest} at once (the view, and one per joint and End Site down its deepest path): glGetError says GL_STACK_OVERFLOW after each of {overflows} pushes, from '{first}' on, and GL_STACK_UNDERFLOW after each of {underflows} pops"
+        ),
+        Language::Chinese => format!(
+            "// GL 的模型檢視矩陣堆疊只有 {depth} 層，原文的 draw 同時要放 {deepest} 個矩陣（檢視矩陣，加上最深一條路徑上每個關節與 End Site 各一個）：glGetError 在 {overflows} 次推入後都回報 GL_STACK_OVERFLOW（從 '{first}' 的推入起），在 {underflows} 次彈出後都回報 GL_STACK_UNDERFLOW"
+        ),
     }
 }
