@@ -13,7 +13,7 @@
 //! children; a joint besides the root), compares what it prints and draws with `bvhview print`
 //! and `bvhview trace`, byte for byte, as Part 7 compares them.
 
-mod common;
+use crate::common;
 use common::*;
 use std::path::{Path, PathBuf};
 use std::process::Command;
@@ -64,24 +64,11 @@ fn article_output(file: &Path, frame: Option<usize>) -> String {
     text
 }
 
-fn bvhview(args: &[&std::ffi::OsStr]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    String::from_utf8(out.stdout).unwrap()
-}
-
 /// `bvhview trace FILE --frame N` without `display`'s camera (its first four lines) and floor
 /// (its last six): the calls `draw` makes, as Part 7's `sed '1,4d' | head -n -6` keeps them.
 fn bvhview_draw(file: &Path, frame: usize) -> String {
     let frame = frame.to_string();
-    let trace = bvhview(&[
+    let trace = bvhview_stdout(&[
         "trace".as_ref(),
         file.as_os_str(),
         "--frame".as_ref(),
@@ -166,7 +153,7 @@ fn the_article_reads_bvh_converted_from_fbx_as_bvhview_does() {
     for fbx in &fbx_files {
         let name = fbx.file_stem().unwrap().to_string_lossy().into_owned();
         let bvh = temp.path().join(format!("{name}.bvh"));
-        let converted = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        let converted = crate::common::bvhview_command()
             .arg("convert")
             .arg(fbx)
             .arg("-o")
@@ -182,7 +169,7 @@ fn the_article_reads_bvh_converted_from_fbx_as_bvhview_does() {
             continue;
         }
         assert!(
-            article_output(&bvh, None) == bvhview(&["print".as_ref(), bvh.as_os_str()]),
+            article_output(&bvh, None) == bvhview_stdout(&["print".as_ref(), bvh.as_os_str()]),
             "{name}: the article's tree differs from `bvhview print`"
         );
         let frames = loaded.motion.frame_count();

@@ -2,12 +2,11 @@
 //! article does with each); these tests pin what bvhview does with it instead. Every input is the
 //! control file `article_base_crlf.bvh` (which the article reads) changed in one way only.
 
-mod common;
+use crate::common;
 use bvhview::model::pose::{OffsetMode, world_positions};
 use bvhview::{Channel, RotationOrder};
 use common::*;
 use glam::Vec3;
-use std::process::Command;
 
 const ROW_0: [f32; 9] = [0.0, 30.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
 const ROW_1: [f32; 9] = [5.0, 30.0, -3.0, 10.0, 20.0, 30.0, -40.0, 50.0, 60.0];
@@ -22,13 +21,6 @@ const ROOT_CHANNELS: [Channel; 6] = [
 
 fn load_edge(name: &str) -> bvhview::bvh::Bvh {
     load_path(&edge(name))
-}
-
-fn bvhview(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 fn print_of(name: &str) -> String {

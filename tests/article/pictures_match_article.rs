@@ -2,7 +2,7 @@
 //! (tests/oracle/refs), the sphere against freeglut's triangles, and the GL matrix stack
 //! against `pose`.
 
-mod common;
+use crate::common;
 use bvhview::render::fixed::{FixedFunction, GL_MODELVIEW_MATRIX, GlTable};
 use bvhview::render::scene::{self, Camera, Scene};
 use bvhview::render::{Image, Renderer, SnapshotOptions, draw::Style, sphere::Sphere};

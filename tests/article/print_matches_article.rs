@@ -1,8 +1,7 @@
 //! `print` writes byte for byte what the article's own program printed (tests/oracle/print).
 
-mod common;
+use crate::common;
 use common::*;
-use std::process::Command;
 
 #[test]
 fn print_matches_the_article_for_every_oracle_file() {
@@ -13,7 +12,7 @@ fn print_matches_the_article_for_every_oracle_file() {
         if !input.exists() {
             input = data(&format!("bvh/{name}.bvh"));
         }
-        let output = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        let output = crate::common::bvhview_command()
             .arg("print")
             .arg(&input)
             .output()

@@ -368,7 +368,7 @@ fn explain_writes_its_chinese_notes_in_taiwans_register() {
     }
     let mut notes = std::collections::BTreeSet::new();
     for path in &inputs {
-        let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        let out = crate::common::bvhview_command()
             .args([
                 "trace",
                 path.to_str().unwrap(),

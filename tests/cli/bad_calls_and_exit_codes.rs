@@ -1,16 +1,9 @@
 //! Every kind of bad call gets one line on stderr and its documented exit code: 2 for bad input,
 //! 1 for everything else.
 
-mod common;
+use crate::common;
 use common::*;
 use std::process::{Command, Output};
-
-fn bvhview(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
-        .args(args)
-        .output()
-        .unwrap()
-}
 
 /// Runs as an unprivileged user when the tests run as root (root may read and write anything).
 fn bvhview_unprivileged(args: &[&str]) -> Output {
@@ -37,7 +30,7 @@ fn bvhview_unprivileged(args: &[&str]) -> Output {
             .arg(binary);
         c
     } else {
-        Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        crate::common::bvhview_command()
     };
     command.args(args);
     // Another test thread forking while the copy was open for writing keeps that descriptor

@@ -5,16 +5,9 @@
     allow(dead_code, unused_imports)
 )]
 
-mod common;
+use crate::common;
 use common::*;
 use std::process::{Command, Output};
-
-fn bvhview(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
-        .args(args)
-        .output()
-        .unwrap()
-}
 
 fn tiny() -> String {
     oracle("inputs/tiny_crlf.bvh").display().to_string()
@@ -200,7 +193,7 @@ fn info_without_a_file_describes_the_bundled_walk() {
 #[test]
 fn the_window_without_a_display_says_so_in_one_line() {
     for args in [&[][..], &[tiny().as_str()][..]] {
-        let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        let out = crate::common::bvhview_command()
             .args(args)
             .env_remove("DISPLAY")
             .env_remove("WAYLAND_DISPLAY")
@@ -216,7 +209,7 @@ fn the_window_without_a_display_says_so_in_one_line() {
     }
     // Issue 44: the skinning demo points to its own offscreen form, and a display nobody serves
     // is named without the source path winit's error carries.
-    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .arg("skin-demo")
         .env_remove("DISPLAY")
         .env_remove("WAYLAND_DISPLAY")
@@ -227,7 +220,7 @@ fn the_window_without_a_display_says_so_in_one_line() {
         stderr.ends_with("`bvhview skin-demo -o out.png` draws without one\n"),
         "{stderr}"
     );
-    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .arg(tiny())
         .env("DISPLAY", ":55")
         .output()
@@ -1329,7 +1322,7 @@ fn positions_to_a_json_name_write_json() {
 #[test]
 fn info_of_a_folder_into_a_closed_pipe_ends_quietly() {
     let data = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/bvh");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let mut child = crate::common::bvhview_command()
         .arg("info")
         .arg(&data)
         .stdout(std::process::Stdio::piped())
@@ -1347,7 +1340,7 @@ fn info_of_a_folder_into_a_closed_pipe_ends_quietly() {
 /// Runs bvhview with `input` on its standard input.
 fn with_stdin(args: &[&str], input: &[u8]) -> Output {
     use std::io::Write as _;
-    let mut child = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let mut child = crate::common::bvhview_command()
         .args(args)
         .stdin(std::process::Stdio::piped())
         .stdout(std::process::Stdio::piped())

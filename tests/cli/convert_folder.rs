@@ -9,18 +9,11 @@
     allow(dead_code, unused_imports)
 )]
 
-mod common;
+use crate::common;
 use common::*;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn bvhview<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use std::process::Output;
 
 fn stderr(out: &Output) -> String {
     String::from_utf8_lossy(&out.stderr).into_owned()
@@ -472,7 +465,7 @@ fn a_conversion_terminated_midway_leaves_nothing() {
     let out = temp.path().join("out");
     // The planted pause holds the conversion once its temporary folder exists, until the signal
     // comes (decision 14: no test waits on the clock).
-    let mut child = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let mut child = crate::common::bvhview_command()
         .env("BVHVIEW_PLANT_PAUSE", "output")
         .arg("convert")
         .arg(Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data"))

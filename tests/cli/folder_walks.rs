@@ -7,7 +7,7 @@
 use bvhview::info::batch::{self, Item, Walk};
 use std::os::unix::fs::symlink;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output, Stdio};
+use std::process::{Output, Stdio};
 use std::time::{Duration, Instant};
 
 /// How long any walk or command here may take: they take well under a second.
@@ -32,8 +32,8 @@ fn collect(dir: &Path) -> Walk {
 }
 
 /// bvhview with `args`, killed and failed if it runs longer than [`LIMIT`].
-fn bvhview(args: &[&std::ffi::OsStr], dir: &Path) -> Output {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+fn bvhview_within_limit(args: &[&std::ffi::OsStr], dir: &Path) -> Output {
+    let mut child = crate::common::bvhview_command()
         .args(args)
         .current_dir(dir)
         .stdin(Stdio::null())
@@ -190,8 +190,8 @@ fn a_link_to_a_file_outside_the_folder_is_skipped_and_never_quoted() {
             .unwrap_or_else(|| panic!("{name}: {:?}", walk.skipped));
         assert!(skip.reason.contains("outside"), "{}", skip.reason);
     }
-    let info = bvhview(&[os("info"), os("takes")], temp.path());
-    let dataset = bvhview(
+    let info = bvhview_within_limit(&[os("info"), os("takes")], temp.path());
+    let dataset = bvhview_within_limit(
         &[os("dataset"), os("takes"), os("-o"), os("out.ds")],
         temp.path(),
     );
@@ -227,7 +227,7 @@ fn a_file_that_is_not_motion_is_not_quoted() {
         ("c.bvh", &b"\x7fELF\x02\x01\x01sk-private"[..]),
     ] {
         std::fs::write(temp.path().join(name), content).unwrap();
-        let out = bvhview(&[os("info"), os(name)], temp.path());
+        let out = bvhview_within_limit(&[os("info"), os(name)], temp.path());
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{stderr}");
         assert!(stderr.contains(":1:1: expected "), "{stderr}");
@@ -261,7 +261,7 @@ fn an_unreadable_subfolder_is_skipped_and_said() {
 fn info_and_dataset_on_a_looping_folder_end_and_say_what_they_skipped() {
     let temp = tempfile::tempdir().unwrap();
     trapped_folder(temp.path());
-    let out = bvhview(&[os("info"), os("takes")], temp.path());
+    let out = bvhview_within_limit(&[os("info"), os("takes")], temp.path());
     let (stdout, stderr) = (
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr),
@@ -281,7 +281,7 @@ fn info_and_dataset_on_a_looping_folder_end_and_say_what_they_skipped() {
         8
     );
 
-    let out = bvhview(
+    let out = bvhview_within_limit(
         &[os("dataset"), os("takes"), os("-o"), os("walk.ds")],
         temp.path(),
     );
@@ -326,7 +326,7 @@ fn a_folder_pairs_asf_and_amc_as_cmu_downloads_name_them() {
             pair("cmu_08-walk.asf", "cmu_08_01-walk.amc"),
         ]
     );
-    let out = bvhview(&[os("info"), dir.as_os_str()], dir);
+    let out = bvhview_within_limit(&[os("info"), dir.as_os_str()], dir);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(out.status.success(), "{stdout}");
     assert!(stdout.contains("2 files: 2 ok"), "{stdout}");
@@ -342,7 +342,7 @@ fn a_dataset_with_a_250_byte_name_is_written() {
     std::fs::copy(take(), dir.join("a.bvh")).unwrap();
     let name = format!("{}.ds", "n".repeat(247));
     assert_eq!(name.len(), 250);
-    let out = bvhview(
+    let out = bvhview_within_limit(
         &[os("dataset"), os("takes"), os("-o"), os(&name)],
         temp.path(),
     );
@@ -369,7 +369,7 @@ fn a_dataset_that_cannot_be_made_says_the_real_cause() {
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::copy(take(), dir.join("a.bvh")).unwrap();
     let run = |out: &str| {
-        let out = bvhview(
+        let out = bvhview_within_limit(
             &[os("dataset"), os("takes"), os("-o"), os(out)],
             temp.path(),
         );
@@ -405,7 +405,7 @@ fn a_dataset_is_not_written_through_a_link_planted_in_a_shared_folder() {
     let planted = shared.join("pl");
     symlink(&victim, &planted).unwrap();
     std::os::unix::fs::lchown(&planted, Some(1234), Some(1234)).unwrap();
-    let out = bvhview(
+    let out = bvhview_within_limit(
         &[
             os("dataset"),
             os("takes"),
@@ -423,7 +423,7 @@ fn a_dataset_is_not_written_through_a_link_planted_in_a_shared_folder() {
     assert_eq!(std::fs::read_dir(&victim).unwrap().count(), 0);
     // The link is root's own: followed, as file outputs follow it.
     std::os::unix::fs::lchown(&planted, Some(0), Some(0)).unwrap();
-    let out = bvhview(
+    let out = bvhview_within_limit(
         &[
             os("dataset"),
             os("takes"),
@@ -451,7 +451,7 @@ fn a_take_whose_numbers_overflow_is_skipped_with_its_reason() {
                 Site\n      {\n        OFFSET 0 1 0\n      }\n    }\n  }\n}\nMOTION\nFrames: 2\n\
                 Frame Time: 0.0333333\n0 0 0 0 0 0 0 0 0 0 0 0\n1 0 0 0 0 0 0 0 0 0 0 0\n";
     std::fs::write(dir.join("huge.bvh"), huge).unwrap();
-    let out = bvhview(
+    let out = bvhview_within_limit(
         &[os("dataset"), os("takes"), os("-o"), os("alone.ds")],
         temp.path(),
     );
@@ -464,7 +464,7 @@ fn a_take_whose_numbers_overflow_is_skipped_with_its_reason() {
     assert!(!temp.path().join("alone.ds").exists());
 
     std::fs::copy(take(), dir.join("ok.bvh")).unwrap();
-    let out = bvhview(
+    let out = bvhview_within_limit(
         &[os("dataset"), os("takes"), os("-o"), os("mixed.ds")],
         temp.path(),
     );
@@ -513,7 +513,7 @@ fn a_folder_of_only_skipped_takes_says_why_there_are_none() {
         if command[0] == "convert" {
             args.extend([os("-o"), os("out")]);
         }
-        let out = bvhview(&args, temp.path());
+        let out = bvhview_within_limit(&args, temp.path());
         assert_eq!(out.status.code(), Some(2));
         assert_eq!(
             String::from_utf8_lossy(&out.stderr),
@@ -524,7 +524,7 @@ fn a_folder_of_only_skipped_takes_says_why_there_are_none() {
         );
     }
     symlink("../outside.bvh", dir.join("zwalk.bvh")).unwrap();
-    let out = bvhview(
+    let out = bvhview_within_limit(
         &[os("dataset"), os("takes"), os("-o"), os("out.ds")],
         temp.path(),
     );

@@ -1,17 +1,10 @@
 //! Issue 27 rows 13 and 14: every help line says what the command does, options that only a
 //! sequence gives a meaning to are refused without one, and counts read "1 frame", "2 frames".
 
-mod common;
+use crate::common;
 use common::*;
 use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn bvhview(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use std::process::Command;
 
 fn help(args: &[&str]) -> String {
     let out = bvhview(args);

@@ -7,18 +7,11 @@
     allow(dead_code, unused_imports)
 )]
 
-mod common;
+use crate::common;
 use common::*;
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-
-fn bvhview(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
-        .args(args)
-        .output()
-        .unwrap()
-}
 
 fn scratch(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("bvhview-hostile-{}", std::process::id()));

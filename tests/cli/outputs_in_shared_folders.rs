@@ -7,7 +7,7 @@
 
 use std::os::unix::fs::{PermissionsExt, symlink};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
 const NOBODY: u32 = 65534;
 
@@ -28,7 +28,7 @@ fn take() -> String {
 }
 
 fn bvhview_in(folder: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    crate::common::bvhview_command()
         .args(args)
         .current_dir(folder)
         .output()

@@ -7,7 +7,7 @@
 //! `BVHVIEW_CLI_BIN=/path/to/bvhview BVHVIEW_CLI_WRITE=1 cargo test --test cli_outputs`.
 //! Pictures are left out: they are held by the golden tests, at the renderer's tolerance.
 
-mod common;
+use crate::common;
 
 use sha2::{Digest, Sha256};
 use std::path::{Path, PathBuf};

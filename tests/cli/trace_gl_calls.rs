@@ -1,11 +1,10 @@
 //! `bvhview trace`: the calls one display() makes, in C with printf's %f.
 
-mod common;
+use crate::common;
 use common::*;
-use std::process::Command;
 
 fn trace(args: &[&str]) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .arg("trace")
         .args(args)
         .output()
@@ -104,7 +103,7 @@ fn explain_annotates_the_same_calls_in_both_languages() {
     }
     // Every sphere's world position, against `positions` (both print the same float).
     let explained = trace(&[&input, "--frame", "1", "--explain"]);
-    let csv = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let csv = crate::common::bvhview_command()
         .args(["positions", &input, "--frames", "1"])
         .output()
         .unwrap()
@@ -197,7 +196,7 @@ const WORDS: [(&str, &str); 4] = [
 /// `trace FILE --explain`'s first line, in English or Chinese, whether bvhview loads the file or
 /// not (then the line comes before the error, and the exit code is 2).
 fn verdict(path: &str, lang: &str) -> String {
-    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .args(["trace", path, "--explain", "--lang", lang])
         .output()
         .unwrap();

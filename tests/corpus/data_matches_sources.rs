@@ -2,7 +2,7 @@
 //! tests/data/SOURCES.md with an existing licence file and no non-redistributable licence, and
 //! every copy still byte for byte the shared corpus's (when ../shared is there).
 
-mod common;
+use crate::common;
 use common::*;
 use std::collections::BTreeSet;
 use std::path::Path;

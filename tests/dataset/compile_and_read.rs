@@ -7,6 +7,7 @@
     allow(dead_code, unused_imports)
 )]
 
+use crate::common::bvhview;
 use bvhview::dataset::{self, Options, merge, read, store};
 use bvhview::model::pose::{self, OffsetMode, RotationKind, Up};
 use std::path::{Path, PathBuf};
@@ -600,13 +601,6 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
             _ => assert_eq!(shape[1..], [rotated, kind.width()]),
         }
     }
-}
-
-fn bvhview(args: &[&str]) -> std::process::Output {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
-        .args(args)
-        .output()
-        .unwrap()
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]

@@ -1,13 +1,12 @@
 //! ASF/AMC: hand-computed FK, seed 004's own algorithm on real takes, every real pair, errors,
 //! and conversion to BVH.
 
-mod common;
+use crate::common;
 use bvhview::acclaim::amc::parse_amc;
 use bvhview::acclaim::asf::parse_asf;
 use bvhview::model::pose::{OffsetMode, world_matrices};
 use common::*;
 use glam::{DMat3, DVec3, Vec3};
-use std::process::Command;
 
 /// A root whose order lists rotations first (RZ RY RX, not the default TX TY TZ RX RY RZ), a bone
 /// `a` along +X with axis C = Rz(90°) and one dof, and a bone `b` along +Y without dof.
@@ -249,7 +248,7 @@ fn check_pairs(folder: &std::path::Path, pairs: &[(&str, &str, usize, usize)]) {
 
         let out =
             std::env::temp_dir().join(format!("bvhview-{amc_name}-{}.bvh", std::process::id()));
-        let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        let status = crate::common::bvhview_command()
             .arg("convert")
             .arg(&asf_path)
             .arg("--motion")
@@ -417,7 +416,7 @@ fn every_command_takes_an_asf_amc_pair() {
     let asf = data("asf_amc/heiden_12.asf").display().to_string();
     let amc = data("asf_amc/heiden_12_02_01.amc").display().to_string();
     let run = |args: &[&str]| {
-        Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        crate::common::bvhview_command()
             .args(args)
             .output()
             .unwrap()
@@ -501,7 +500,7 @@ fn every_command_takes_an_asf_amc_pair() {
 #[test]
 fn directions_that_are_not_unit_vectors_are_normalised_with_one_warning() {
     let asf = edge("asf_direction_not_unit.asf");
-    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .args(["positions", asf.to_str().unwrap()])
         .output()
         .unwrap();
@@ -571,7 +570,7 @@ fn info_on_a_folder_pairs_takes_by_cmu_subject_and_notes_unpaired_ones() {
     std::fs::copy(&take, dir.join("07_05.amc")).unwrap();
     std::fs::copy(&take, dir.join("12_01.amc")).unwrap();
     std::fs::copy(&take, dir.join("lone/walk.amc")).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .args(["info", dir.to_str().unwrap()])
         .output()
         .unwrap();

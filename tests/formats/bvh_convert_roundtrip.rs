@@ -1,8 +1,7 @@
 //! `convert` writes BVH that loads back to the same skeleton and the same values.
 
-mod common;
+use crate::common;
 use common::*;
-use std::process::Command;
 
 #[test]
 fn every_repository_file_round_trips_exactly() {
@@ -39,7 +38,7 @@ fn check_round_trips(folder: &std::path::Path) {
 fn convert_command_writes_a_loadable_file() {
     let out = std::env::temp_dir().join(format!("bvhview-convert-{}.bvh", std::process::id()));
     let input = data("bvh/opencollar_run.bvh");
-    let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let status = crate::common::bvhview_command()
         .args(["convert"])
         .arg(&input)
         .arg("-o")
@@ -65,7 +64,7 @@ fn convert_writes_names_with_blanks_safe_and_says_so() {
     let input = dir.join(format!("bvhview-blank-{}.bvh", std::process::id()));
     let out = dir.join(format!("bvhview-blank-out-{}.bvh", std::process::id()));
     std::fs::write(&input, text).unwrap();
-    let result = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let result = crate::common::bvhview_command()
         .arg("convert")
         .arg(&input)
         .arg("-o")
@@ -95,7 +94,7 @@ fn convert_edits_trim_resample_and_scale() {
     let dir = std::env::temp_dir();
     let out = dir.join(format!("bvhview-edits-{}.bvh", std::process::id()));
     let input = data("bvh/bvh11_131_01.bvh");
-    let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let status = crate::common::bvhview_command()
         .arg("convert")
         .arg(&input)
         .args([
@@ -137,7 +136,7 @@ fn convert_edits_up_mirror_in_place_and_ground() {
     let out = std::env::temp_dir().join(format!("bvhview-edits2-{}.bvh", std::process::id()));
     let input = data("bvh/makehuman_walk1.bvh");
     let run = |extra: &[&str]| {
-        let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        let status = crate::common::bvhview_command()
             .arg("convert")
             .arg(&input)
             .args(extra)

@@ -1,6 +1,6 @@
 //! Broken input gets `path:line:column: message`; odd but valid input loads.
 
-mod common;
+use crate::common;
 use common::*;
 
 /// Every file in bvh_malformed (tests/data and ../shared/data hold the same ten) with the exact

@@ -1,7 +1,7 @@
 //! Every real BVH file loads, with the counts and values its text holds: the repository's own
 //! corpus (tests/data/bvh) always, the whole corpus (../shared/data/bvh) when it is there.
 
-mod common;
+use crate::common;
 use bvhview::{Channel, RotationOrder};
 use common::*;
 

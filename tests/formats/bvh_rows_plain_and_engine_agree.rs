@@ -3,7 +3,7 @@
 //! row count and warnings, and the same error at the same line and column: on every file of the
 //! repository, the whole corpus when it is there, every `tests/edge` input, and generated text.
 
-mod common;
+use crate::common;
 use bvhview::bvh::loader::{RowReader, Settings};
 use common::*;
 use proptest::prelude::*;

@@ -8,10 +8,10 @@
 //!   of the figure's height of the source BVH's;
 //! - bvhview's own glTF export read back: the take it was written from (1e-5 of the height).
 
+use crate::common::bvhview_command;
 use bvhview::model::pose::{OffsetMode, world_positions};
 use bvhview::take::{self, Take};
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn data(path: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -26,10 +26,6 @@ fn load(path: &Path) -> Take {
 fn load_take(path: &Path, take: &str) -> Take {
     take::load_take(path, None, None, 1, take::DEFAULT_MAX_SIZE, Some(take))
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
-}
-
-fn bvhview() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
 }
 
 /// The spread of frame 0's joints along their widest axis.
@@ -295,7 +291,7 @@ fn a_file_with_several_takes_reads_each_by_name_or_index() {
     let error = take::load_take(&path, None, None, 1, u64::MAX, Some("nope")).unwrap_err();
     assert_eq!(error.exit_code(), 2);
     assert!(error.to_string().contains("no take 'nope'"), "{error}");
-    let output = bvhview().arg("info").arg(&path).output().unwrap();
+    let output = bvhview_command().arg("info").arg(&path).output().unwrap();
     let text = String::from_utf8_lossy(&output.stdout);
     assert!(text.contains("takes: 3"), "{text}");
 }
@@ -389,7 +385,7 @@ fn own_gltf_export_reads_back_as_the_take() {
     for source in ["bvh11_131_01", "bvhpython_test_freebvh", "makehuman_walk1"] {
         let bvh_path = data("bvh").join(format!("{source}.bvh"));
         let glb = dir.path().join(format!("{source}.glb"));
-        let status = bvhview()
+        let status = bvhview_command()
             .args(["convert", "-q"])
             .arg(&bvh_path)
             .arg("-o")
@@ -417,7 +413,7 @@ fn fbx_converts_to_a_bvh_that_reads_back() {
     let dir = tempfile::tempdir().unwrap();
     let fbx = data("fbx/bvh11_131_01.fbx");
     let out = dir.path().join("walk.bvh");
-    let status = bvhview()
+    let status = bvhview_command()
         .args(["convert", "-q"])
         .arg(&fbx)
         .arg("-o")
@@ -444,7 +440,7 @@ fn fbx_converts_to_gltf_keeping_the_skeleton() {
     let dir = tempfile::tempdir().unwrap();
     let fbx = data("fbx/bvhpython_test_freebvh.fbx");
     let glb = dir.path().join("mixamo.glb");
-    let status = bvhview()
+    let status = bvhview_command()
         .args(["convert", "-q"])
         .arg(&fbx)
         .arg("-o")

@@ -3,20 +3,13 @@
 //! which must give the world positions `bvhview positions` prints, frame by frame. The Khronos
 //! validator and Blender check the same files from outside (scripts/test.sh, tests/blender).
 
-mod common;
+use crate::common;
 use common::*;
 use glam::{Mat4, Quat, Vec3};
 use gltf_json as json;
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn bvhview(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
-        .args(args)
-        .output()
-        .unwrap()
-}
+use std::process::Output;
 
 fn ok(args: &[&str]) -> Output {
     let out = bvhview(args);

@@ -3,12 +3,10 @@
 //! doubts said when it is weak, a four-legged body refused onto a person, and the dataset's feet,
 //! `--ground` and `--quat-continuous`.
 
-mod common;
-
+use crate::common::bvhview_command;
 use bvhview::Take;
 use bvhview::model::body::{Body, Doubt};
 use bvhview::model::pose::OffsetMode;
-use std::process::Command;
 
 /// Each file and its reading, as `info`'s `body:` line says it (split at `; `).
 const READINGS: &[(&str, &[&str])] = &[
@@ -343,10 +341,6 @@ const READINGS: &[(&str, &[&str])] = &[
     ),
 ];
 
-fn bvhview() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
-}
-
 #[test]
 fn every_family_is_read_whole() {
     for (path, parts) in READINGS {
@@ -362,7 +356,7 @@ fn every_family_is_read_whole() {
             );
         }
         // `info` says the same line.
-        let out = bvhview().args(["info", path]).output().unwrap();
+        let out = bvhview_command().args(["info", path]).output().unwrap();
         let text = String::from_utf8(out.stdout).unwrap();
         assert!(
             text.lines()
@@ -383,7 +377,7 @@ fn a_four_legged_body_is_said_and_refused_onto_a_person_unless_insisted() {
             "its head lies 80° from the legs' up; four-legged?".to_string()
         )]
     );
-    let info = bvhview().args(["info", path]).output().unwrap();
+    let info = bvhview_command().args(["info", path]).output().unwrap();
     let text = String::from_utf8(info.stdout).unwrap();
     assert!(
         text.contains(
@@ -393,7 +387,7 @@ fn a_four_legged_body_is_said_and_refused_onto_a_person_unless_insisted() {
     );
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("on_smpl.bvh");
-    let refused = bvhview()
+    let refused = bvhview_command()
         .args(["retarget", path, "--onto", "smpl22", "-o"])
         .arg(&out)
         .output()
@@ -406,7 +400,7 @@ fn a_four_legged_body_is_said_and_refused_onto_a_person_unless_insisted() {
          person's; `--any-body` retargets it anyway\n"
     );
     assert!(!out.exists());
-    let insisted = bvhview()
+    let insisted = bvhview_command()
         .args([
             "retarget",
             path,
@@ -422,7 +416,7 @@ fn a_four_legged_body_is_said_and_refused_onto_a_person_unless_insisted() {
     assert_eq!(insisted.status.code(), Some(0));
     assert_eq!(Take::open(&out).unwrap().skeleton.joints.len(), 22 + 5);
     // A person onto a person is never asked.
-    let person = bvhview()
+    let person = bvhview_command()
         .args([
             "retarget",
             "tests/body/biped_human.bvh",
@@ -446,7 +440,7 @@ fn a_person_on_a_four_legged_character_is_refused_unless_insisted() {
     let walk = "tests/data/bvh/bvhparser_walk_01.bvh";
     let dir = tempfile::tempdir().unwrap();
     let path = |name: &str| dir.path().join(name).display().to_string();
-    let run = |args: &[&str]| bvhview().args(args).output().unwrap();
+    let run = |args: &[&str]| bvhview_command().args(args).output().unwrap();
     let character = path("elephant.glb");
     let made = run(&["convert", elephant, "--skin", "-q", "-o", &character]);
     assert!(made.status.success(), "{made:?}");
@@ -487,7 +481,7 @@ fn a_person_onto_a_four_legged_body_is_refused_everywhere_unless_insisted() {
     let walk = "tests/data/bvh/bvhparser_walk_01.bvh";
     let dir = tempfile::tempdir().unwrap();
     let path = |name: &str| dir.path().join(name).display().to_string();
-    let run = |args: &[&str]| bvhview().args(args).output().unwrap();
+    let run = |args: &[&str]| bvhview_command().args(args).output().unwrap();
     let said = "bvhview: tests/data/bvh/bvhparser_walk_01.bvh: a two-legged body, and \
                 tests/body/biped_elephant.bvh is not (its head lies 80° from the legs' up; \
                 four-legged?): a person's limbs would be carried onto it as if it were one; \
@@ -839,7 +833,7 @@ fn a_retargeted_take_stands_on_its_own_feet_where_the_source_stood() {
         dir.path().join("on_smpl.bvh"),
     );
     std::fs::write(&source, text).unwrap();
-    let run = bvhview()
+    let run = bvhview_command()
         .arg("retarget")
         .arg(&source)
         .args(["--onto", "tests/body/smpl.bvh", "-q", "-o"])
@@ -952,7 +946,7 @@ fn a_dataset_onto_one_skeleton_takes_a_map_and_records_both() {
         .unwrap();
     }
     let (onto, plain) = (dir.path().join("onto"), dir.path().join("plain"));
-    let run = bvhview()
+    let run = bvhview_command()
         .arg("dataset")
         .arg(&takes)
         .args(["--onto", "smpl22", "--map", "LeftToe=", "-o"])
@@ -978,7 +972,7 @@ fn a_dataset_onto_one_skeleton_takes_a_map_and_records_both() {
         manifest.skipped[0].error
     );
     // A dataset made onto a skeleton does not merge with one made without.
-    let run = bvhview()
+    let run = bvhview_command()
         .arg("dataset")
         .arg(&takes)
         .arg("-o")
@@ -999,7 +993,7 @@ fn a_dataset_onto_one_skeleton_takes_a_map_and_records_both() {
             .contains("made with other options than"),
     );
     // --map alone is refused by clap, before any take is read.
-    let alone = bvhview()
+    let alone = bvhview_command()
         .arg("dataset")
         .arg(&takes)
         .args(["--map", "LeftToe=", "-o"])
@@ -1019,7 +1013,7 @@ fn one_map_file_serves_a_folder_of_mixed_rigs_by_fingerprint() {
         let path = format!("tests/body/{family}.bvh");
         std::fs::copy(&path, takes.join(format!("{family}.bvh"))).unwrap();
         // The fingerprint `info` prints.
-        let info = bvhview().args(["info", &path]).output().unwrap();
+        let info = bvhview_command().args(["info", &path]).output().unwrap();
         let text = String::from_utf8(info.stdout).unwrap();
         let fingerprint = text
             .lines()
@@ -1036,7 +1030,7 @@ fn one_map_file_serves_a_folder_of_mixed_rigs_by_fingerprint() {
     let map_file = dir.path().join("map.toml");
     std::fs::write(&map_file, &map).unwrap();
     let out = dir.path().join("ds");
-    let run = bvhview()
+    let run = bvhview_command()
         .arg("dataset")
         .arg(&takes)
         .args(["--onto", "smpl22", "-q", "--map"])
@@ -1053,7 +1047,7 @@ fn one_map_file_serves_a_folder_of_mixed_rigs_by_fingerprint() {
     assert_eq!(manifest.options.map.by_skeleton.len(), 2);
     // The same pairs given for every skeleton skip both takes, each lacking the other's joint.
     let flat = dir.path().join("flat");
-    let run = bvhview()
+    let run = bvhview_command()
         .arg("dataset")
         .arg(&takes)
         .args([
@@ -1321,7 +1315,7 @@ fn bodies_are_read_from_geometry_where_names_mislead_or_say_nothing() {
         assert_eq!(said, *doubts, "{path}");
         assert_eq!(take.stance(OffsetMode::Replace).up_text(), *up, "{path}");
         // `info` says the same: the body line, each doubt as a warning, the up axis.
-        let out = bvhview().args(["info", path]).output().unwrap();
+        let out = bvhview_command().args(["info", path]).output().unwrap();
         assert!(out.status.success(), "{path}: {out:?}");
         let text = String::from_utf8(out.stdout).unwrap();
         let line = |key: &str| {
@@ -1382,7 +1376,7 @@ fn sides_follow_where_the_limbs_lie_when_the_names_say_the_other() {
 fn a_crab_onto_a_person_is_refused_unless_insisted() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("crab_on_smpl.bvh");
-    let refused = bvhview()
+    let refused = bvhview_command()
         .args(["retarget", "tests/body/crab.bvh", "--onto", "smpl22", "-o"])
         .arg(&out)
         .output()

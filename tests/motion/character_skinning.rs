@@ -801,7 +801,7 @@ fn a_characters_own_takes_are_put_on_exactly() {
     let file = file.to_str().unwrap();
     let vertices = |take: &str| {
         let csv = dir.path().join(format!("take{take}.csv"));
-        let run = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        let run = crate::common::bvhview_command()
             .args([
                 "positions",
                 file,

@@ -1,7 +1,7 @@
 //! The generated skin: in the rest pose it is the mesh it was made as, and the middle of each
 //! bone moves rigidly with its joint.
 
-mod common;
+use crate::common;
 use bvhview::model::bone_skin::{Body, PosedBody};
 use bvhview::model::pose::{OffsetMode, world_matrices};
 use common::*;

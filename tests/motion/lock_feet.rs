@@ -5,9 +5,8 @@
 use bvhview::Take;
 use bvhview::edit::{LockFeet, lock_feet};
 use bvhview::model::pose::OffsetMode;
-use std::process::Command;
 
-mod common;
+use crate::common;
 
 use bvhview::model::body::contact::{Planting, sliding};
 use bvhview::model::body::{Body, Limb};
@@ -119,7 +118,7 @@ fn planted_ankles_stay_where_they_landed_and_no_bone_changes_length() {
 #[test]
 fn convert_says_the_sliding_before_and_after() {
     let dir = tempfile::tempdir().unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .args([
             "convert",
             "tests/data/bvh/bvh11_131_01.bvh",
@@ -273,7 +272,7 @@ fn one_frame_says_there_is_nothing_to_lock() {
     )
     .unwrap();
     let output = dir.path().join("out.bvh");
-    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .arg("convert")
         .arg(&one)
         .arg("--lock-feet")
@@ -367,7 +366,7 @@ fn said(line: &str) -> Vec<Said> {
 /// The line `args` print that starts `feet locked: `, and the file they wrote.
 fn run_locked(args: &[&str], dir: &std::path::Path) -> (String, Take) {
     let output = dir.join("locked.bvh");
-    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .args(args)
         .arg("-o")
         .arg(&output)
@@ -547,7 +546,7 @@ fn retarget_holds_every_source_contact_or_says_why() {
         dir.path(),
     );
     let unlocked = dir.path().join("unlocked.bvh");
-    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .args(["retarget", source, "--onto", target, "-o"])
         .arg(&unlocked)
         .output()

@@ -3,7 +3,7 @@
 //! world positions are the counterparts' reflected, twice gives the take back bit for bit, and a
 //! mirrored clip lands in its original's dataset group.
 
-mod common;
+use crate::common;
 
 use bvhview::edit::{MirrorOptions, lateral_axis, mirror, mirror_partners};
 use bvhview::model::body::name_side;
@@ -230,7 +230,7 @@ fn mirror_names_come_as_pairs_or_from_a_map_file_per_skeleton() {
     .unwrap();
     let run = |extra: &[&str], name: &str| {
         let out = dir.path().join(name);
-        let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        let status = crate::common::bvhview_command()
             .arg("convert")
             .arg(&input)
             .arg("--mirror")
@@ -256,7 +256,7 @@ fn mirror_names_come_as_pairs_or_from_a_map_file_per_skeleton() {
     let twice = {
         let once = dir.path().join("file.bvh");
         let out = dir.path().join("twice.bvh");
-        let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        let status = crate::common::bvhview_command()
             .args([
                 "convert",
                 once.to_str().unwrap(),

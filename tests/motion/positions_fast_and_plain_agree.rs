@@ -5,7 +5,7 @@
 //! (`export::Shortest`, from zmij) must be what `ryu` wrote before: on millions of values here,
 //! on every f32 with `cargo run --release --example every_f32`.
 
-mod common;
+use crate::common;
 use bvhview::model::motion::Motion;
 use bvhview::model::pose::OffsetMode;
 use bvhview::model::skeleton::Skeleton;

@@ -7,15 +7,15 @@
     allow(dead_code, unused_imports)
 )]
 
-mod common;
+use crate::common;
 
+use crate::common::bvhview_command;
 use bvhview::model::body::{Body, Role};
 use bvhview::model::pose::{OffsetMode, Up};
 use bvhview::retarget::{self, Map, Ups};
 use bvhview::{Motion, Skeleton};
 use glam::{Quat, Vec3};
 use std::path::Path;
-use std::process::Command;
 
 fn take(path: &Path) -> (Skeleton, Motion) {
     let loaded = bvhview::take::load(path, None, None).unwrap();
@@ -722,10 +722,6 @@ fn real_skeletons_onto_each_other_keep_bone_directions_and_feet() {
     }
 }
 
-fn bvhview() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
-}
-
 #[test]
 fn bad_input_exits_2_and_writes_nothing() {
     let dir = tempfile::tempdir().unwrap();
@@ -799,7 +795,7 @@ fn bad_input_exits_2_and_writes_nothing() {
         (vec!["--onto".into(), "nosuchskeleton".into()], "built-in"),
     ];
     for (args, said) in cases {
-        let result = bvhview()
+        let result = bvhview_command()
             .arg("retarget")
             .arg(&cmu)
             .args(&args)
@@ -824,7 +820,7 @@ fn bad_input_exits_2_and_writes_nothing() {
 fn the_command_writes_bvh_and_glb_and_a_shown_map_reads_back() {
     let dir = tempfile::tempdir().unwrap();
     let source = common::repo_data("bvh/bvhpython_test_freebvh.bvh");
-    let shown = bvhview()
+    let shown = bvhview_command()
         .args(["retarget"])
         .arg(&source)
         .args(["--onto", "smpl22", "--show-map"])
@@ -840,7 +836,7 @@ fn the_command_writes_bvh_and_glb_and_a_shown_map_reads_back() {
     std::fs::write(&map, &text).unwrap();
     for name in ["out.bvh", "out.glb"] {
         let out = dir.path().join(name);
-        let status = bvhview()
+        let status = bvhview_command()
             .arg("retarget")
             .arg(&source)
             .args(["--onto", "smpl22", "--map"])
@@ -857,7 +853,7 @@ fn the_command_writes_bvh_and_glb_and_a_shown_map_reads_back() {
     assert_eq!(motion.frame_count(), 69);
     // Unmapping a source joint leaves its target at rest.
     let out = dir.path().join("unmapped.bvh");
-    let status = bvhview()
+    let status = bvhview_command()
         .arg("retarget")
         .arg(&source)
         .args(["--onto", "smpl22", "--map", "mixamorig:LeftForeArm=", "-o"])
@@ -887,7 +883,7 @@ fn a_folder_of_mixed_skeletons_compiles_onto_one_skeleton_as_one_group() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("set");
     let folder = common::repo_data("bvh");
-    let result = bvhview()
+    let result = bvhview_command()
         .args(["dataset"])
         .arg(&folder)
         .arg("-o")
@@ -1092,7 +1088,7 @@ fn a_map_file_that_is_not_utf8_is_refused_at_its_line_and_column() {
     let temp = tempfile::tempdir().unwrap();
     let map = temp.path().join("bad.toml");
     std::fs::write(&map, b"\"Hips\" = \"pelvis\"\n\"Sp\xffine\" = \"spine1\"\n").unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .arg("retarget")
         .arg(common::repo_data("bvh/assimp_01_01.bvh"))
         .args(["--onto", "smpl22", "--show-map", "--map"])

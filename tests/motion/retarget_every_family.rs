@@ -4,7 +4,7 @@
 //! chosen list: a take added to tests/data or ../shared/data joins on its own. The table it
 //! prints is GUIDE's ("Retargeting onto every family").
 
-mod common;
+use crate::common;
 use bvhview::Take;
 use bvhview::model::body::{Body, Doubt, Limb};
 use bvhview::model::pose::OffsetMode;
@@ -165,7 +165,7 @@ fn a_crossed_retarget_is_refused_unless_forced() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("crossed.bvh");
     let run = |force: bool| {
-        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"));
+        let mut command = crate::common::bvhview_command();
         command.args([
             "retarget",
             "tests/data/bvh/bvhparser_walk_01.bvh",
@@ -215,7 +215,7 @@ fn a_dataset_records_each_clips_check_and_skips_a_crossed_take_unless_forced() {
     )
     .unwrap();
     let run = |out: &str, extra: &[&str]| {
-        let mut command = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"));
+        let mut command = crate::common::bvhview_command();
         command
             .arg("dataset")
             .arg(&takes)
@@ -271,7 +271,7 @@ fn a_dataset_records_each_clips_check_and_skips_a_crossed_take_unless_forced() {
 #[cfg(feature = "gltf")]
 fn a_take_on_a_character_says_its_check() {
     let dir = tempfile::tempdir().unwrap();
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .args([
             "positions",
             "tests/data/bvh/bvh11_131_01.bvh",

@@ -6,7 +6,7 @@
 //! kernels against libm, both within an ulp), so their channel values, before the rounding to 32
 //! bits, agree within [`DEGREES`] and their translations within [`RELATIVE`].
 
-mod common;
+use crate::common;
 
 use bvhview::model::pose::{OffsetMode, Up};
 use bvhview::retarget::{self, Map, Ups};

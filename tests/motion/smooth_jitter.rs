@@ -3,7 +3,7 @@
 //! nearer the clean walk: the mean distance of every point to where the clean take puts it at
 //! least halved. The figures are printed for docs/GUIDE.md (`--nocapture`).
 
-mod common;
+use crate::common;
 
 use bvhview::Take;
 use bvhview::model::pose::{OffsetMode, world_transforms_f64};

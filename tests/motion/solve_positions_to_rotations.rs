@@ -4,14 +4,14 @@
 //! command line reads `.npy` (SMPL's order, metres, float32 or float64) and the CSV `positions`
 //! writes, and refuses what it cannot read with exit 2.
 
-mod common;
+use crate::common;
 
+use crate::common::bvhview_command;
 use bvhview::model::pose::{OffsetMode, world_transforms_f64};
 use bvhview::solve::{Positions, solve};
 use bvhview::{Motion, Skeleton, Take};
 use glam::{DVec3, Vec3};
 use std::path::Path;
-use std::process::Command;
 
 /// Every point's world position in every frame (64-bit FK), the take's offset mode.
 fn points_of(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode) -> Vec<DVec3> {
@@ -203,10 +203,6 @@ fn the_whole_corpus_solves_back() {
     assert!(acclaim_checked >= 5, "{acclaim_checked} ASF/AMC takes");
 }
 
-fn bvhview() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_bvhview"))
-}
-
 /// A little-endian `.npy` of `shape` holding `values` as `descr` (`<f4` or `<f8`).
 fn npy(path: &Path, descr: &str, shape: &[usize], values: &[f64]) {
     let shape_text = match shape {
@@ -260,7 +256,7 @@ fn the_command_line_solves_an_npy_in_smpl_order_and_metres() {
     let input = dir.path().join("walk.npy");
     npy(&input, "<f4", &[60, 22, 3], &values);
     let out = dir.path().join("walk.bvh");
-    let run = bvhview()
+    let run = bvhview_command()
         .args([
             "solve",
             input.to_str().unwrap(),
@@ -301,7 +297,7 @@ fn the_command_line_solves_an_npy_in_smpl_order_and_metres() {
     ];
     for (extra, said) in cases {
         let bad_out = dir.path().join("bad.bvh");
-        let mut command = bvhview();
+        let mut command = bvhview_command();
         command.args(["solve", input.to_str().unwrap(), "--onto", "smpl22"]);
         if !extra.contains(&"--fps".to_string()) {
             command.args(["--fps", "20"]);
@@ -331,7 +327,7 @@ fn the_command_line_solves_an_npy_in_smpl_order_and_metres() {
         (&flat, "expected frames × joints × 3"),
         (&csv, "0 of their 2 joints are joints of the skeleton"),
     ] {
-        let run = bvhview()
+        let run = bvhview_command()
             .args([
                 "solve",
                 file.to_str().unwrap(),
@@ -371,7 +367,7 @@ fn humanml3d_vectors_recover_its_own_positions() {
     assert!(worst < 1e-4, "{worst}");
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("h.bvh");
-    let run = bvhview()
+    let run = bvhview_command()
         .args([
             "solve",
             root.join("new_joint_vecs_012314.npy").to_str().unwrap(),
@@ -407,7 +403,7 @@ fn humanml3d_vectors_recover_its_own_positions() {
     assert_eq!(off.matches(" by ").count(), 10, "{off}");
     assert!(off.ends_with(" and 11 more"), "{off}");
     // A wrong width is refused.
-    let run = bvhview()
+    let run = bvhview_command()
         .args([
             "solve",
             root.join("new_joints_012314.npy").to_str().unwrap(),
@@ -437,7 +433,7 @@ fn an_asf_takes_positions_csv_solves_back_onto_its_asf() {
     let csv = folder.path().join("asf.csv");
     let asf = common::repo_data("asf_amc/heiden_12.asf");
     let amc = common::repo_data("asf_amc/heiden_12_02_01.amc");
-    let written = bvhview()
+    let written = bvhview_command()
         .args(["positions"])
         .arg(&asf)
         .arg("--motion")
@@ -448,7 +444,7 @@ fn an_asf_takes_positions_csv_solves_back_onto_its_asf() {
         .unwrap();
     assert!(written.status.success(), "{written:?}");
     let out = folder.path().join("back.bvh");
-    let solved = bvhview()
+    let solved = bvhview_command()
         .arg("solve")
         .arg(&csv)
         .arg("--onto")
@@ -675,7 +671,7 @@ fn hostile_positions_are_refused_in_one_line_before_they_are_read() {
     ];
     let output = dir.path().join("out.bvh");
     for (input, said) in cases {
-        let run = bvhview()
+        let run = bvhview_command()
             .args(["solve", &p(input), "--onto", "smpl22", "--fps", "20", "-o"])
             .arg(&output)
             .output()
@@ -686,7 +682,7 @@ fn hostile_positions_are_refused_in_one_line_before_they_are_read() {
         assert!(!output.exists());
     }
     // HumanML3D's vectors are read by the same guarded reader.
-    let run = bvhview()
+    let run = bvhview_command()
         .args([
             "solve",
             &p(&claim),
@@ -1001,7 +997,7 @@ fn solve_prints_figures_measured_on_the_take_it_wrote() {
     let dir = tempfile::tempdir().unwrap();
     let csv = dir.path().join("walk.csv");
     let walk = common::repo_data("bvh/bvh11_131_01.bvh");
-    let run = bvhview()
+    let run = bvhview_command()
         .arg("positions")
         .arg(&walk)
         .arg("-o")
@@ -1010,7 +1006,7 @@ fn solve_prints_figures_measured_on_the_take_it_wrote() {
         .unwrap();
     assert!(run.status.success());
     let line = |smooth: &[&str]| {
-        let run = bvhview()
+        let run = bvhview_command()
             .arg("solve")
             .arg(&csv)
             .arg("--onto")

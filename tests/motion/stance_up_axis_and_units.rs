@@ -2,7 +2,7 @@
 //! matches what each file's source says (or, where it says nothing, what was checked by hand once
 //! from the figure: a person between 1.4 and 2 m tall in exactly one of the candidate units).
 
-mod common;
+use crate::common;
 
 use bvhview::model::pose::{OffsetMode, Up};
 use common::{repo_data, shared_data};
@@ -391,7 +391,7 @@ fn info_of(dir: &Path, name: &str, take: &bvhview::take::Take) -> String {
     let mut bytes = Vec::new();
     bvhview::bvh::writer::write_bvh(&mut bytes, &take.skeleton, &take.motion).unwrap();
     std::fs::write(&path, bytes).unwrap();
-    let info = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let info = crate::common::bvhview_command()
         .arg("info")
         .arg(&path)
         .output()

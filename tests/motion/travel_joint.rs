@@ -2,7 +2,7 @@
 //! every joint position channels (Bandai, Perception Neuron, Rigify) had its travel read from
 //! whichever limb strayed farthest.
 
-mod common;
+use crate::common;
 
 use bvhview::Take;
 use bvhview::model::body::travel_joint_of_take;
@@ -63,7 +63,7 @@ fn the_travel_is_the_hips_not_the_limb_that_strays_farthest() {
     let take = Take::open(&path).unwrap();
     let travel = travel_joint_of_take(&take.skeleton, &take.motion, OffsetMode::Replace);
     assert_eq!(take.skeleton.joints[travel].name, "Hips");
-    let info = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let info = crate::common::bvhview_command()
         .arg("info")
         .arg(&path)
         .output()

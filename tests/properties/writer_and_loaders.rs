@@ -1,7 +1,7 @@
 //! Property tests: random skeletons and motions survive the writer and the loader unchanged, and
 //! random damage to the real files never makes a loader panic.
 
-mod common;
+use crate::common;
 use bvhview::{Channel, Joint, Motion, RotationOrder, Skeleton};
 use common::*;
 use glam::Vec3;

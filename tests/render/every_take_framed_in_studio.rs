@@ -5,7 +5,7 @@
 //! studio's backdrop, grid and shadows are each one flat colour, so whatever else lies outside
 //! the HUD's lines and the timeline is the figure.
 
-mod common;
+use crate::common;
 
 use bvhview::render::Image;
 use common::{asf_of, files_in, repo_data, shared_data};

@@ -2,7 +2,7 @@
 //! 173-joint rig, a root written JOINT) and of the opt-in styles, under tests/snapshots/.
 //! `BVHVIEW_BLESS=1 cargo test --test golden` rewrites them; look at every one before committing.
 
-mod common;
+use crate::common;
 use bvhview::model::pose::OffsetMode;
 use bvhview::render::scene::{self, Scene};
 use bvhview::render::{Image, Look, SnapshotOptions, draw::Style};

@@ -2,7 +2,7 @@
 //! mid-word, names shortened in the middle, fewer lines on small pictures, labels clear of
 //! other text; golden pictures at 160×120, 240×240 and 600×600.
 
-mod common;
+use crate::common;
 
 use bvhview::model::pose::OffsetMode;
 use bvhview::render::hud::{self, Hud, HudTake};
@@ -306,7 +306,7 @@ fn the_step_text_fits_a_small_picture() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("step.png");
     let walk = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
-    let run = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let run = crate::common::bvhview_command()
         .arg("snapshot")
         .arg(&walk)
         .args(["--frame", "10", "--fit", "--angle", "0.6", "--step", "5"])

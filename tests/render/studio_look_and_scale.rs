@@ -4,11 +4,10 @@
 
 use bvhview::render::Image;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 fn snapshot(dir: &Path, name: &str, args: &[&str]) -> Image {
     let out = dir.join(name);
-    let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let status = crate::common::bvhview_command()
         .arg("snapshot")
         .args(args)
         .args(["-q", "-o"])
@@ -99,7 +98,7 @@ fn several_takes_stand_at_one_height_unless_true_scale() {
     let walk = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
     let walk = walk.to_str().unwrap();
     let child = dir.join("child.bvh");
-    let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let status = crate::common::bvhview_command()
         .args(["convert", walk, "--scale", "0.008", "-q", "-o"])
         .arg(&child)
         .status()
@@ -171,7 +170,7 @@ fn fit_is_a_flag_before_a_file() {
     let walk = walk.to_str().unwrap();
     for fit in ["--fit", "--fit=pose", "--fit=take"] {
         let out = dir.join("fit.png");
-        let status = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        let status = crate::common::bvhview_command()
             .args(["snapshot", fit, walk, "-q", "-o"])
             .arg(&out)
             .status()

@@ -3,15 +3,13 @@
 //! held to the PNG snapshot of the same frame (PSNR ≥ 35 dB), in the article's look, the studio
 //! look at an odd size and a slower rate, and two takes overlaid.
 
-mod common;
-
 /// `snapshot` of the walk's frames 0..2 with `options` into `walk.mp4` in `dir`, refused: the
 /// message (exit 2, nothing written).
 fn refused(dir: &std::path::Path, options: &[&str]) -> String {
     let video = dir.join("walk.mp4");
     let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/bvh/bvhparser_walk_01.bvh");
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let out = crate::common::bvhview_command()
         .arg("snapshot")
         .arg(&walk)
         .args(["--frames", "0..2"])
@@ -41,16 +39,13 @@ fn a_build_without_video_names_the_feature() {
 
 #[cfg(feature = "video")]
 mod with_video {
-    use super::common::video::*;
+    use crate::common::video::*;
 
     use std::path::{Path, PathBuf};
-    use std::process::Command;
 
-    fn bvhview(args: &[&str]) -> String {
-        let out = Command::new(env!("CARGO_BIN_EXE_bvhview"))
-            .args(args)
-            .output()
-            .unwrap();
+    /// Runs `bvhview ARGS`, which must succeed; what it said on stderr.
+    fn bvhview_stderr(args: &[&str]) -> String {
+        let out = crate::common::bvhview(args);
         let stderr = String::from_utf8_lossy(&out.stderr).into_owned();
         assert!(out.status.success(), "{args:?}: {stderr}");
         stderr
@@ -94,7 +89,7 @@ mod with_video {
         args.extend(["--size", &size_text, "--frames", range]);
         let mut video_args = args.clone();
         video_args.extend(["-o", video.to_str().unwrap()]);
-        let said = bvhview(&video_args);
+        let said = bvhview_stderr(&video_args);
         // The PNGs: the same options without --fps (a folder has no rate), each frame of the range.
         let mut png_args: Vec<&str> = Vec::new();
         let mut skip = false;
@@ -108,7 +103,7 @@ mod with_video {
             }
         }
         png_args.extend(["-o", pictures.to_str().unwrap()]);
-        bvhview(&png_args);
+        bvhview_stderr(&png_args);
         let probe = probe(&video);
         let decoded = decoded(&video, size);
         assert_eq!(decoded.len(), frames.len(), "{name}: frames decoded");
@@ -204,7 +199,7 @@ mod with_video {
             // Within ten parts in a million of a third: written as one, said as asked.
             ("0.3333333", "0.3333333 per second", "1/3"),
         ] {
-            let stderr = bvhview(&[
+            let stderr = bvhview_stderr(&[
                 "snapshot",
                 &walk(),
                 "--frames",

@@ -5,7 +5,7 @@
 //! as a file manager drops them) join the take shown. Needs Xvfb, xdotool and xwd
 //! (scripts/test.sh installs them).
 
-mod common;
+use crate::common;
 use bvhview::render::draw::Style;
 use bvhview::render::{Image, SnapshotOptions};
 use common::*;
@@ -107,7 +107,7 @@ fn start_xvfb() -> (Guard, String) {
 /// file there, for [`open_viewer`]'s message.
 fn start_viewer(display: &str, folder: &Path, args: &[&Path]) -> (Guard, std::path::PathBuf) {
     let log = folder.join("viewer-stderr.txt");
-    let viewer = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let viewer = crate::common::bvhview_command()
         .args(args)
         .current_dir(folder)
         .env("DISPLAY", display)
@@ -392,7 +392,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     // I shows the HUD: the picture `snapshot --hud` writes for the same state. H shows the help
     // instead, and both go away again.
     let hud_png = std::env::temp_dir().join(format!("bvhview-hud-{}.png", std::process::id()));
-    let made = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let made = crate::common::bvhview_command()
         .args([
             "snapshot",
             input.to_str().unwrap(),
@@ -431,7 +431,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
             std::process::id(),
             args.join("_").replace(['/', ' '], "")
         ));
-        let made = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        let made = crate::common::bvhview_command()
             .arg("snapshot")
             .arg(&input)
             .args(args)
@@ -578,7 +578,7 @@ fn viewer_shows_takes_side_by_side_reloads_and_writes_pictures() {
     std::fs::write(&second, &tiny).unwrap();
     let snapshot = |files: &[&Path], extra: &[&str]| {
         let png = dir.join("want.png");
-        let made = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+        let made = crate::common::bvhview_command()
             .arg("snapshot")
             .args(files)
             .args(extra)
@@ -850,7 +850,7 @@ fn fbx_and_glb_takes_dropped_on_the_window_join_the_take_shown() {
     titled("bvhview - bvh11_131_01.bvh + bvh11_131_01.fbx + bvhpython_test_freebvh.glb - ");
 
     let png = dir.join("want.png");
-    let made = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let made = crate::common::bvhview_command()
         .arg("snapshot")
         .args([&bvh, &fbx, &glb])
         .args(["--angle", "10", "-q", "-o"])
@@ -1018,7 +1018,7 @@ fn viewer_shows_a_take_on_a_character_as_snapshot_does() {
     let walk = repo.join("tests/data/bvh/bvh11_131_01.bvh");
     let character = repo.join("tests/data/characters/capsule_mixamo.fbx");
     let png = dir.join("want.png");
-    let made = Command::new(env!("CARGO_BIN_EXE_bvhview"))
+    let made = crate::common::bvhview_command()
         .arg("snapshot")
         .arg(&walk)
         .arg("--character")
