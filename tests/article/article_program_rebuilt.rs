@@ -1,5 +1,5 @@
 //! The article's own program, built from its text, on BVH files bvhview converted from FBX
-//! (issue 36, point 4: "the article's patched loader where it can").
+//! ("the article's patched loader where it can": FBX takes the article reads through a BVH).
 //!
 //! `bench/article.py --patched --print` rebuilds the article's `BVH.cpp` from
 //! `../shared/seeds/000_*.txt` with its loader made robust to whitespace, line endings and number
@@ -200,7 +200,7 @@ fn the_article_reads_bvh_converted_from_fbx_as_bvhview_does() {
             "maya_bone_radius_6100_ascii",
             "maya_bone_radius_7500_ascii",
             "maya_character_7500_binary",
-            // Since issue 44 its helpers are folded into the character's bones.
+            // Its helpers are folded into the character's bones.
             "maya_human_ik_7400_binary",
         ]
     );

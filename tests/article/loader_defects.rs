@@ -285,7 +285,7 @@ fn joint_site_with_channels_0_is_an_end_site_and_takes_no_columns() {
     assert_eq!(joints[3].values(bvh.motion.frame(1)), [70.0, 0.0, 0.0]);
 }
 
-/// Issue 47: a root written `JOINT` (the control file otherwise). The article never checks the
+/// A root written `JOINT` (the control file otherwise). The article never checks the
 /// root's keyword; its fixed 7-byte skip for `\r\nROOT ` stops on the blank before the name, so
 /// it names the root `" Hips"` and loads the rest as the control file. Here it is the root,
 /// named as written, with the control file's model.
@@ -299,7 +299,7 @@ fn a_root_written_joint_is_read_as_the_root_it_is() {
     assert_eq!(bvh.skeleton.joints[0].parent, None);
 }
 
-/// Issue 47: two blanks between Chest's rotation channel names. The article reads its letters 10
+/// Two blanks between Chest's rotation channel names. The article reads its letters 10
 /// and 20 bytes on and lands on blanks, and its 30-byte step on the `n` of `Yrotation` (a format
 /// error). Here the names are words: the control file's model.
 #[test]
@@ -310,7 +310,7 @@ fn blanks_between_channel_names_do_not_matter() {
     assert_eq!(bvh.motion, control.motion);
 }
 
-/// Issue 47: a root with three rotation channels and rows of six numbers. The article counts
+/// A root with three rotation channels and rows of six numbers. The article counts
 /// `jointCount * 3 + 3` = 9 numbers a row, as if every root had three positions, and reads past
 /// its buffer. Here a row is as wide as the channels: the root stays at its OFFSET and turns.
 #[test]
@@ -325,7 +325,7 @@ fn a_root_with_rotations_only_reads_rows_of_its_own_width() {
     assert_eq!(world[0], Vec3::ZERO);
 }
 
-/// Issue 47: `JOINT Chest ` with a blank before the line end. The article keeps the blank in the
+/// `JOINT Chest ` with a blank before the line end. The article keeps the blank in the
 /// name (`"Chest "`); here a name is a word, and the file is the control file.
 #[test]
 fn a_joint_name_ends_at_its_last_letter() {
@@ -335,7 +335,7 @@ fn a_joint_name_ends_at_its_last_letter() {
     assert_eq!(bvh.skeleton, control.skeleton);
 }
 
-/// Issue 47: a bare `JOINT`. The article's `newNode` copies nothing and writes `name[-1]`, and the
+/// A bare `JOINT`. The article's `newNode` copies nothing and writes `name[-1]`, and the
 /// file loads with an empty name; here it is refused where the name should be.
 #[test]
 fn a_joint_without_a_name_is_refused_where_the_name_should_be() {
@@ -351,7 +351,7 @@ fn a_joint_without_a_name_is_refused_where_the_name_should_be() {
     assert_eq!(error.exit_code(), 2);
 }
 
-/// Issue 47: a chain deeper than GL's modelview stack. The article's loader reads it whole, but
+/// A chain deeper than GL's modelview stack. The article's loader reads it whole, but
 /// its draw pushes one matrix per joint: at `Chain31` (the 32nd push) the push is ignored, and
 /// `Branch`, drawn after the chain returns, gets an ancestor's matrix. `--explain` says so in
 /// both languages; here every joint stands where forward kinematics puts it.
@@ -393,7 +393,7 @@ fn a_chain_deeper_than_the_gl_stack_misdraws_the_branch_after_it() {
     assert_eq!(world[branch], Vec3::new(10.0, 30.0, 0.0));
 }
 
-// Issue 25: five more defects of the article's loader, each with its input in tests/edge, and
+// Five more defects of the article's loader, each with its input in tests/edge, and
 // the smaller ones the chapter gives a sentence each.
 
 /// A skeleton of the root alone (Hips and its End Site, six columns): the article's `loadFile`
@@ -646,7 +646,7 @@ fn a_failed_load_closes_its_file() {
     );
 }
 
-// Issue 38: four more defects of the article's program, each with an input (two of them made
+// Four more defects of the article's program, each with an input (two of them made
 // here, gigabytes long but sparse) and what bvhview does instead. tests/edge/README.md records what
 // the rebuilt program does with each; `bvh::article` repeats it, and `trace --explain` says it.
 

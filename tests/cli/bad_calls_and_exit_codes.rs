@@ -208,7 +208,7 @@ fn a_file_larger_than_max_size_is_refused_before_reading() {
 
 /// A path with no size up front (here a link to /proc/self/smaps, a regular file that says it
 /// holds 0 bytes and holds many thousands) is read only up to `--max-size`, for every format. A
-/// device (/dev/zero, endless) is refused by its type before any read (issue 44).
+/// device (/dev/zero, endless) is refused by its type before any read.
 #[test]
 fn max_size_bounds_what_is_read_from_any_path() {
     let dir = scratch("endless");

@@ -207,7 +207,7 @@ fn the_window_without_a_display_says_so_in_one_line() {
              `bvhview snapshot FILE -o out.png` draws without one\n"
         );
     }
-    // Issue 44: the skinning demo points to its own offscreen form, and a display nobody serves
+    // The skinning demo points to its own offscreen form, and a display nobody serves
     // is named without the source path winit's error carries.
     let out = crate::common::bvhview_command()
         .arg("skin-demo")
@@ -250,10 +250,10 @@ fn info_on_the_repository_folder_lists_every_file_and_sums_up() {
     );
     let text = String::from_utf8(out.stdout).unwrap();
     let lines: Vec<&str> = text.lines().collect();
-    // The BVH and ASF/AMC takes, and the FBX and glTF ones (issue 36), the characters among
-    // them (issue 49).
+    // The BVH and ASF/AMC takes, and the FBX and glTF ones, the characters among
+    // them.
     assert_eq!(lines.len(), 68, "{text}");
-    // Two FBX files of cameras only have no skeleton (issue 44): 56 of 67 load.
+    // Two FBX files of cameras only have no skeleton: 56 of 67 load.
     assert_eq!(lines.iter().filter(|l| l.starts_with("ok ")).count(), 56);
     assert!(
         lines[0].starts_with("ok     ")
@@ -359,7 +359,7 @@ fn snapshot_frames_writes_a_sequence_equal_to_single_snapshots() {
     let a = bvhview::render::Image::read_png(&dir.join("frame_00002.png")).unwrap();
     let b = bvhview::render::Image::read_png(&single).unwrap();
     assert_eq!(a.differing_pixels(&b), 0);
-    // Issue 44: a second run into the folder, now holding pictures, is refused as `convert`
+    // A second run into the folder, now holding pictures, is refused as `convert`
     // refuses it (it left frame_00003… of a longer earlier run beside the new ones).
     let again = bvhview(&[
         "snapshot",
@@ -389,7 +389,7 @@ fn snapshot_frames_writes_a_sequence_equal_to_single_snapshots() {
 }
 
 /// Frame times past an hour or under a microsecond (other than 0) are refused where they stand
-/// (issue 26: `Frame Time: 1e308` made an animation panic, `1e-320` played at "inf" frames per
+/// (`Frame Time: 1e308` made an animation panic, `1e-320` played at "inf" frames per
 /// second); 0, which some exporters write, loads.
 #[test]
 fn absurd_frame_times_are_refused_where_they_stand() {
@@ -931,7 +931,7 @@ fn help_and_the_help_overlay_list_every_window_key() {
 
 /// Ctrl-C while an animated picture is being written: the hidden temporary is removed, nothing
 /// appears under the output's name, and the process ends by the signal itself, which a shell
-/// reports as 128 + its number (issue 26, row 11: it was 130 for every signal).
+/// reports as 128 + its number (it was 130 for every signal).
 #[test]
 fn an_interrupted_write_leaves_nothing() {
     // Ctrl-C, and what a service manager or a closed terminal sends.
@@ -952,7 +952,7 @@ fn interrupt_a_write(signal: &str, number: i32, what: &str) {
     let out = dir.join("walk.gif");
     let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
     // The planted pause holds the write once its temporary file exists, until the signal comes
-    // (decision 14: no test waits on the clock).
+    // (no test waits on the clock: a sleep would make the verdict depend on the machine's speed).
     let mut child = with_default_signals(&mut std::process::Command::new(env!(
         "CARGO_BIN_EXE_bvhview"
     )))
@@ -1103,7 +1103,7 @@ fn a_rig_in_millimetres_or_metres_draws_like_one_in_centimetres() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// Issue 26, row 3: `-o` onto a FIFO writes into it (a reader gets the CSV) and leaves it a
+/// `-o` onto a FIFO writes into it (a reader gets the CSV) and leaves it a
 /// FIFO; onto a device, the device stays. Both used to be replaced by a regular file.
 #[test]
 fn an_output_that_is_a_fifo_or_a_device_is_written_to() {
@@ -1145,7 +1145,7 @@ fn an_output_that_is_a_fifo_or_a_device_is_written_to() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// `--version` names the row reader this machine runs (issue 26: machines differ, and one
+/// `--version` names the row reader this machine runs (machines differ, and one
 /// without AVX-512 never runs rows/wide.rs).
 #[test]
 fn version_names_the_row_reader() {
@@ -1162,7 +1162,7 @@ fn version_names_the_row_reader() {
     );
 }
 
-/// Issue 25: the article's picture for every file, by default. Each repository file's default
+/// The article's picture for every file, by default. Each repository file's default
 /// snapshot is the one made with the guess off (`--up y`, every file as written, as the
 /// article's program draws it); a file that stands along z says so once, with what stands it up
 /// (stderr, and the HUD when shown).
@@ -1248,7 +1248,7 @@ fn with_default_signals(command: &mut Command) -> &mut Command {
     }
 }
 
-/// A shell sees 128 + the signal, and `nohup` keeps SIGHUP ignored (issue 26 review: signal
+/// A shell sees 128 + the signal, and `nohup` keeps SIGHUP ignored (signal
 /// handling replaced an inherited SIG_IGN, so `nohup bvhview …` died on hang-up).
 #[test]
 fn a_shell_sees_128_plus_the_signal_and_nohup_is_kept() {
@@ -1258,8 +1258,8 @@ fn a_shell_sees_128_plus_the_signal_and_nohup_is_kept() {
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("walk.gif");
     // The planted pause holds bvhview once its temporary file exists, until a signal ends it: the
-    // signals arrive mid-write however fast the machine (decision 14). With SIGHUP ignored, the
-    // SIGTERM after it is what ends the process.
+    // signals arrive mid-write however fast the machine (no sleep decides the verdict). With
+    // SIGHUP ignored, the SIGTERM after it is what ends the process.
     let script = format!(
         "{{trap}} BVHVIEW_PLANT_PAUSE=output '{bin}' snapshot '{walk}' --frames 0..2 --size 64x64 --fps 30 -q -o '{out}' & \
          pid=$!; while [ -z \"$(ls -A '{dir}')\" ] && kill -0 $pid; do sleep 0.01; done; kill -HUP $pid; {{then}} wait $pid; echo $?",
@@ -1316,7 +1316,7 @@ fn positions_to_a_json_name_write_json() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// Issue 44: `bvhview info DIR | head -1` ended in a panic ("failed printing to stdout: Broken
+/// `bvhview info DIR | head -1` ended in a panic ("failed printing to stdout: Broken
 /// pipe", exit 101). A reader that has gone ends the output quietly; the exit code is the one
 /// the files earned. The pipe is closed before bvhview writes, so it is gone at the first line.
 #[test]
@@ -1358,7 +1358,7 @@ fn with_stdin(args: &[&str], input: &[u8]) -> Output {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44: `-` reads a take from standard input and writes to standard output, as a user
+/// `-` reads a take from standard input and writes to standard output, as a user
 /// piping between Unix tools expects; the format comes from --from or --to, or the first bytes.
 #[test]
 fn a_dash_reads_standard_input_and_writes_standard_output() {
@@ -1417,7 +1417,7 @@ fn a_dash_reads_standard_input_and_writes_standard_output() {
     assert!(String::from_utf8_lossy(&empty.stderr).contains("<stdin>: empty: no take to read"));
 }
 
-/// Issue 44: `snapshot --overlay` (and side by side) refused ASF/AMC takes. An .amc right after
+/// `snapshot --overlay` (and side by side) refused ASF/AMC takes. An .amc right after
 /// its .asf is its motion: the pair stands beside a BVH, and the picture of the pair alone is
 /// the one `--motion` gives.
 #[test]

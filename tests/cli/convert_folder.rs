@@ -1,4 +1,4 @@
-//! `bvhview convert DIR -o OUT --to FORMAT` (issue 36): every take of the repository's corpus
+//! `bvhview convert DIR -o OUT --to FORMAT`: every take of the repository's corpus
 //! (BVH, ASF/AMC, FBX, glTF/GLB, and the malformed files) converted at once. Each output is the
 //! same bytes as `convert TAKE -o OUT/TAKE.FORMAT` alone writes and loads back with the same
 //! positions; every take that fails alone is said as failing, with the same message, and the
@@ -464,7 +464,8 @@ fn a_conversion_terminated_midway_leaves_nothing() {
     let temp = tempfile::tempdir().unwrap();
     let out = temp.path().join("out");
     // The planted pause holds the conversion once its temporary folder exists, until the signal
-    // comes (decision 14: no test waits on the clock).
+    // comes (no test waits on the clock: a sleep would make the verdict depend on the
+    // machine's speed).
     let mut child = crate::common::bvhview_command()
         .env("BVHVIEW_PLANT_PAUSE", "output")
         .arg("convert")
@@ -504,7 +505,7 @@ fn a_conversion_terminated_midway_leaves_nothing() {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44: a take named `..bvh` was written to `out/..` ("is a directory", exit 1, nothing
+/// A take named `..bvh` was written to `out/..` ("is a directory", exit 1, nothing
 /// written for any take): `with_extension` turns `..bvh` into `..`.
 #[test]
 fn a_take_named_dot_dot_bvh_converts_beside_the_others() {

@@ -1,4 +1,4 @@
-//! Issue 35, "Writing and walking": folder walks (`bvhview::info::batch::collect`, `info DIR`,
+//! Folder walks (`bvhview::info::batch::collect`, `info DIR`,
 //! `dataset`) on folders with symbolic-link loops, links out, links to one file or folder twice,
 //! FIFOs and broken links; CMU's ASF/AMC names; and `dataset -o`'s output rules (long names,
 //! a folder that takes no new name, links planted in shared folders, numbers that overflow).
@@ -57,7 +57,7 @@ fn os(text: &str) -> &std::ffi::OsStr {
     std::ffi::OsStr::new(text)
 }
 
-/// A folder of takes with every trap of issue 35:
+/// A folder of takes with every trap a folder walk can meet:
 /// ```text
 /// takes/a.bvh            takes/sub/b.bvh
 /// takes/x -> .           takes/y -> .          (two links back up: exponential before)
@@ -163,7 +163,7 @@ fn two_links_to_one_file_are_one_take_kept_at_its_first_path() {
     assert_eq!(walk.skipped.len(), 3, "{:?}", walk.skipped);
 }
 
-/// Issue 44: a link to a file outside the folder is not followed, by `info DIR` or `dataset`,
+/// A link to a file outside the folder is not followed, by `info DIR` or `dataset`,
 /// and nothing of that file reaches stderr or the dataset's manifest. Before, the link was
 /// followed and the parse error quoted the private file's first line into `manifest.json`.
 #[test]
@@ -295,7 +295,7 @@ fn info_and_dataset_on_a_looping_folder_end_and_say_what_they_skipped() {
     assert!(manifest["skipped"].as_array().unwrap().is_empty());
 }
 
-/// Issue 35, point 5: CMU's downloads name a subject's skeleton `cmu_07-walk.asf` and its takes
+/// CMU's downloads name a subject's skeleton `cmu_07-walk.asf` and its takes
 /// `cmu_07_05-walk.amc`.
 #[test]
 fn a_folder_pairs_asf_and_amc_as_cmu_downloads_name_them() {
@@ -491,7 +491,7 @@ fn a_take_whose_numbers_overflow_is_skipped_with_its_reason() {
     );
 }
 
-/// Issue 58, point 10: a folder whose only take is a link out of it said "no takes" and not
+/// A folder whose only take is a link out of it said "no takes" and not
 /// why; the refusal now says what the walk skipped, and counts the rest.
 #[test]
 fn a_folder_of_only_skipped_takes_says_why_there_are_none() {

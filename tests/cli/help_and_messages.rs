@@ -1,4 +1,4 @@
-//! Issue 27 rows 13 and 14: every help line says what the command does, options that only a
+//! Every help line says what the command does, options that only a
 //! sequence gives a meaning to are refused without one, and counts read "1 frame", "2 frames".
 
 use crate::common;
@@ -258,7 +258,7 @@ fn counts_of_one_are_singular_in_every_message_that_writes_them() {
     );
 }
 
-/// Issue 44: every command that reads takes names every format it reads (FBX and glTF beside
+/// Every command that reads takes names every format it reads (FBX and glTF beside
 /// BVH and ASF/AMC) in its `--help`, with examples after it, as ripgrep's and cargo's do.
 #[test]
 fn every_help_names_every_format_a_command_reads_with_examples() {
@@ -290,7 +290,7 @@ fn every_help_names_every_format_a_command_reads_with_examples() {
     }
 }
 
-/// Issue 44: the man page and the completions are made from the clap command; bash loads the
+/// The man page and the completions are made from the clap command; bash loads the
 /// completions and offers the commands for `bvhview re<TAB>`.
 #[test]
 fn the_man_page_and_completions_are_generated_from_the_command() {

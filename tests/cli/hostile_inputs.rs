@@ -1,4 +1,4 @@
-//! Hostile inputs and options (issue 26): counts, rates, sizes and names from a file or an option
+//! Hostile inputs and options: counts, rates, sizes and names from a file or an option
 //! that once panicked, aborted, rendered without end or wrote a file nothing could read. Each
 //! now gets one line on stderr, exit 2, and no output file.
 // Helpers of the tests a build without every feature leaves out.
@@ -266,7 +266,7 @@ fn a_writer_that_cannot_nest_deeper_says_so_before_writing() {
 }
 
 /// Row 8: a link to /dev/zero grew the header buffer to --max-size (8.4 GB) before failing.
-/// Since issue 44 a device is refused by its type before any read; the peak memory of every
+/// A device is refused by its type before any read; the peak memory of every
 /// child this test has waited for stays far below that of the old run.
 #[test]
 fn a_link_to_dev_zero_is_refused_without_reading_gigabytes() {
@@ -421,7 +421,7 @@ proptest! {
     }
 }
 
-/// From the review of issue 26: a FIFO named like a take in a folder is skipped, not waited on;
+/// A FIFO named like a take in a folder is skipped, not waited on;
 /// a name of bytes that are not UTF-8 is counted as kept (U+FFFD, three bytes each), so what
 /// loads also converts; resampling values near the 32-bit limit gives no NaN; a picture past
 /// 8192x8192 is refused.
@@ -505,7 +505,7 @@ fn review_findings_stay_fixed() {
     assert!(!png.exists());
 }
 
-/// Issue 27, row 10: `--frames` into a folder whose parent is missing is refused, as a file in a
+/// `--frames` into a folder whose parent is missing is refused, as a file in a
 /// missing folder is (it made every missing folder); the folder itself may be new.
 #[test]
 fn a_frame_folder_in_a_missing_folder_is_refused() {
@@ -543,7 +543,7 @@ fn a_frame_folder_in_a_missing_folder_is_refused() {
     assert_eq!(std::fs::read_dir(&new).unwrap().count(), 2);
 }
 
-/// Issue 36: an FBX or glTF reader handed damage. A small deterministic generator (xorshift).
+/// An FBX or glTF reader handed damage. A small deterministic generator (xorshift).
 struct Noise(u64);
 
 impl Noise {
@@ -790,7 +790,7 @@ fn hostile_gltf_buffers_and_counts_are_refused() {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 36, `scripts/fuzz.sh gltf` (10 minutes): its three timeouts, kept here byte for byte as
+/// `scripts/fuzz.sh gltf` (10 minutes): its three timeouts, kept here byte for byte as
 /// the bytes they changed in `tests/data/gltf/bvh11_131_01.glb`. Each flips the sign (and some
 /// bits) of the first key time, 1/120 s, to about -495 s: the keys still rise, so the take ran
 /// from -495 s to 0.5 s, 59,469 frames of 32 joints (1.2 s in a release build, over AFL's 1 s;
@@ -846,7 +846,7 @@ fn truncated_and_noise_fbx_are_refused_by_the_cli() {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44: ufbx says only "Failed to load" of most damaged binary files; the message says
+/// ufbx says only "Failed to load" of most damaged binary files; the message says
 /// which record is broken, where, and inside which records. A text file that is not FBX is
 /// called that, not "truncated", and nothing of it is quoted.
 #[test]
@@ -906,7 +906,7 @@ fn a_glb_header_shorter_than_itself_is_refused_not_a_panic() {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44: a Draco-compressed glTF's refusal was one line of 12,214 characters (an error per
+/// A Draco-compressed glTF's refusal was one line of 12,214 characters (an error per
 /// accessor); it names the required extension first, then two more and how many are left.
 #[test]
 fn a_draco_gltf_is_refused_in_one_short_line_naming_the_extension() {
@@ -939,7 +939,7 @@ fn a_draco_gltf_is_refused_in_one_short_line_naming_the_extension() {
     assert!(out.stderr.len() - path.display().to_string().len() < 300);
 }
 
-// Issue 44, "every file a stranger sends": the glTF and FBX readers.
+// Every file a stranger sends: the glTF and FBX readers.
 
 /// One animated property of a glTF made by [`gltf_take`]: its node, path, key times and values.
 struct Keys {
@@ -1058,13 +1058,13 @@ fn bvhview_within_4gb(args: &[&str]) -> Output {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44, point 1: a glTF whose buffer is a FIFO waited for a writer for ever; a FIFO named
+/// A glTF whose buffer is a FIFO waited for a writer for ever; a FIFO named
 /// `.fbx` too. Buffers and files are opened without waiting and refused by their type before a
 /// read. The FIFO's writer is a thread that waits to be let through once the command is done:
 /// a reader that opened the FIFO would get it at once and read nothing (a different message),
 /// so this test fails, not hangs, against such a reader.
 #[test]
-fn issue44_a_buffer_or_file_that_is_not_a_regular_file_is_refused_before_a_read() {
+fn a_buffer_or_file_that_is_not_a_regular_file_is_refused_before_a_read() {
     let dir = tempfile::tempdir().unwrap();
     let fifo_answer = |fifo: PathBuf, args: Vec<String>| -> Output {
         assert!(
@@ -1136,13 +1136,13 @@ fn issue44_a_buffer_or_file_that_is_not_a_regular_file_is_refused_before_a_read(
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44, point 2: a buffer of 6 GB on disk (sparse) of which 32 bytes are used was read
+/// A buffer of 6 GB on disk (sparse) of which 32 bytes are used was read
 /// whole (an abort under a 4 GB address space); a sparse 6 GB `.fbx` asked for 6 GB at once
 /// ("memory allocation of 6000000001 bytes failed", SIGABRT). Now a buffer is read to its
 /// byteLength only (a shorter file is refused), and a file read whole is refused by its size
 /// on disk past 2 GiB, before a byte is read.
 #[test]
-fn issue44_sparse_files_are_read_only_as_far_as_used_or_refused_by_size() {
+fn sparse_files_are_read_only_as_far_as_used_or_refused_by_size() {
     let dir = tempfile::tempdir().unwrap();
     let take = [slide(0, vec![0.0, 1.0])];
     let gltf = write_gltf(dir.path(), "sparse", r#"[{"name": "root"}]"#, &take, false);
@@ -1198,12 +1198,12 @@ fn issue44_sparse_files_are_read_only_as_far_as_used_or_refused_by_size() {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44, point 3: 3,600 channels on one sampler of 56,000 keys decoded the sampler 3,600
+/// 3,600 channels on one sampler of 56,000 keys decoded the sampler 3,600
 /// times (3.8 GB, then an abort); keys 1 ms apart with one key at 1,000 s made a million
 /// frames of a 15.5 KB file (13 s). Each accessor is now decoded once, and both asks are
 /// refused by the file's size before the work; a fair share of one sampler still loads.
 #[test]
-fn issue44_gltf_animation_work_is_bounded_by_the_input_size() {
+fn gltf_animation_work_is_bounded_by_the_input_size() {
     let dir = tempfile::tempdir().unwrap();
     let many = |count: usize| {
         let children: Vec<String> = (1..count).map(|i| i.to_string()).collect();
@@ -1280,13 +1280,13 @@ fn issue44_gltf_animation_work_is_bounded_by_the_input_size() {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44, point 4: 31 keys at 30 fps and one 1.5 ms later read as 668 frames at 666.7 fps;
+/// 31 keys at 30 fps and one 1.5 ms later read as 668 frames at 666.7 fps;
 /// keys 0.5 ms apart refused the file for "a frame rate of 1999.9 fps" it never states. The
 /// rate is the key step that fits the most keys (a warning says when some do not fit); a rate
 /// past 1000 fps is sampled at 1000 with a warning; tracks keyed only at their ends do not
 /// outvote the one keyed at every frame.
 #[test]
-fn issue44_gltf_frame_rate_is_the_key_step_that_fits_the_most_keys() {
+fn gltf_frame_rate_is_the_key_step_that_fits_the_most_keys() {
     let dir = tempfile::tempdir().unwrap();
     let mut times: Vec<f32> = (0..31).map(|k| k as f32 / 30.0).collect();
     times.push(1.0015);
@@ -1380,10 +1380,10 @@ fn curve_on_rotation(text: String, value: &str) -> String {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44, point 5: NaN rotation keys (FBX, glTF) read as no rotation while NaN
+/// NaN rotation keys (FBX, glTF) read as no rotation while NaN
 /// translations were refused. Both are refused now, by node and key or time.
 #[test]
-fn issue44_non_finite_rotation_keys_are_refused_by_node_and_time() {
+fn non_finite_rotation_keys_are_refused_by_node_and_time() {
     let dir = tempfile::tempdir().unwrap();
     let keys = Keys {
         node: 0,
@@ -1421,11 +1421,11 @@ fn issue44_non_finite_rotation_keys_are_refused_by_node_and_time() {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44, point 6: rest offsets past a 32-bit float (FBX `UnitScaleFactor` 1e300; a glTF
+/// Rest offsets past a 32-bit float (FBX `UnitScaleFactor` 1e300; a glTF
 /// node scaled 1e30 with a child at 1e30) loaded, `info` exit 0, positions NaN. Refused at
 /// load, by joint.
 #[test]
-fn issue44_non_finite_rest_offsets_are_refused_by_joint() {
+fn non_finite_rest_offsets_are_refused_by_joint() {
     let dir = tempfile::tempdir().unwrap();
     let nodes = r#"[{"name": "root", "scale": [1e30, 1e30, 1e30], "children": [1]},
                     {"name": "kid", "translation": [1e30, 0, 0]}]"#;
@@ -1471,11 +1471,11 @@ fn issue44_non_finite_rest_offsets_are_refused_by_joint() {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44, point 7: an FBX take whose LocalStart is after its LocalStop, or that states no
+/// An FBX take whose LocalStart is after its LocalStop, or that states no
 /// range, loaded as one frame without a word. The first is refused; the second is read over
 /// its keys (0 s to 1.8333 s here: 56 frames at 30 fps), and a warning says so.
 #[test]
-fn issue44_fbx_take_ranges_backwards_are_refused_and_missing_ones_read_over_the_keys() {
+fn fbx_take_ranges_backwards_are_refused_and_missing_ones_read_over_the_keys() {
     let dir = tempfile::tempdir().unwrap();
     let stop = "92372316000";
     let backwards = edited_fbx(dir.path(), "backwards.fbx", |t| {
@@ -1511,11 +1511,11 @@ fn issue44_fbx_take_ranges_backwards_are_refused_and_missing_ones_read_over_the_
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44, point 3 for FBX: a 16 KB file whose range says nine hours (960,001 frames at 30
+/// The same bound for FBX: a 16 KB file whose range says nine hours (960,001 frames at 30
 /// fps) had every frame evaluated (2.6 s in a debug build); its frames × joints are now held
 /// to the file's size as a glTF's are, and refused before a frame is evaluated.
 #[test]
-fn issue44_an_fbx_range_longer_than_its_size_allows_is_refused() {
+fn an_fbx_range_longer_than_its_size_allows_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     let nine_hours = (46_186_158_000u64 * 32_000).to_string();
     let long = edited_fbx(dir.path(), "long.fbx", |t| {
@@ -1604,12 +1604,12 @@ fn layered_fbx(dir: &Path, copies: u64, seconds: u64) -> PathBuf {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44: every layer's curves are blended at every frame, so they count in the budget. 40
+/// Every layer's curves are blended at every frame, so they count in the budget. 40
 /// copies of Maya's three layers (a 568 KB file) over 40,000 s at 24 fps asked for 960,000 frames
 /// of 520 animated values (16 s in a release build); refused by name. The file as Maya saved it
 /// reads.
 #[test]
-fn issue44_an_fbx_frame_budget_counts_every_layers_values() {
+fn an_fbx_frame_budget_counts_every_layers_values() {
     let dir = tempfile::tempdir().unwrap();
     let text = load_refused(&layered_fbx(dir.path(), 40, 40_000));
     assert!(
@@ -1621,11 +1621,11 @@ fn issue44_an_fbx_frame_budget_counts_every_layers_values() {
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]
-/// Issue 44, point 3 for FBX: the nodes a frame evaluates count, not the joints alone. One
+/// The same bound for FBX: the nodes a frame evaluates count, not the joints alone. One
 /// animated node under a chain of 900 empty nodes for 400 s at 30 fps: 12,001 frames, each
 /// posing 901 nodes (11 M transforms from a 70 KB file), is refused by name.
 #[test]
-fn issue44_an_fbx_frame_budget_counts_every_node_evaluated() {
+fn an_fbx_frame_budget_counts_every_node_evaluated() {
     let dir = tempfile::tempdir().unwrap();
     let seconds_400 = (46_186_158_000u64 * 400).to_string();
     let chain = edited_fbx(dir.path(), "chain.fbx", |t| {

@@ -1,5 +1,5 @@
 //! The CLI's outputs on the repository's own files, byte for byte, against a manifest written
-//! by the binary before a change (issue 45: the house was rebuilt without changing what it does).
+//! by the binary before a change (the house was rebuilt without changing what it does).
 //!
 //! `tests/cli_outputs.tsv` holds, per command, its exit code and the SHA-256 of its stdout, its
 //! stderr and every file it wrote (paths of the scratch folder replaced by `$OUT`). To write the

@@ -131,10 +131,10 @@ fn explain_annotates_the_same_calls_in_both_languages() {
     }
 }
 
-/// Issue 25: where a joint's own columns are not the ones the article's `pFrame` reads
+/// Where a joint's own columns are not the ones the article's `pFrame` reads
 /// (position channels on a joint other than the root), `--explain` says which column the
 /// article reads instead, numbers End Sites as `info` does (they are not joints), and says whether
-/// position channels replace the OFFSET or are added to it. Issue 38: its first line says what
+/// position channels replace the OFFSET or are added to it. Its first line says what
 /// the article's program does with the file (here it rejects it, at the `Z` its `p += 30` lands
 /// on), and the second that the notes below are what its draw would do.
 #[test]
@@ -205,7 +205,7 @@ fn verdict(path: &str, lang: &str) -> String {
     stdout.lines().next().unwrap_or_default().to_string()
 }
 
-/// Issue 38: the table at the end of tests/edge/README.md gives, for every input of tests/edge,
+/// The table at the end of tests/edge/README.md gives, for every input of tests/edge,
 /// tests/oracle/inputs and tests/data/bvh, what the article's program rebuilt from its text did
 /// with it in one of four words. `--explain` must say the same word, in both languages, and the
 /// table must list every such file.
@@ -267,7 +267,7 @@ fn explain_says_what_the_articles_program_does_with_every_input() {
     assert!(counts.iter().all(|&n| n > 0), "{counts:?}");
 }
 
-/// Issue 38: for the flags the article's six cases do not expect, `--explain` says what it turns:
+/// For the flags the article's six cases do not expect, `--explain` says what it turns:
 /// `Yrotation Yrotation Yrotation` gives flags 4, for which `roateSpace` has no case (nothing
 /// turns, `pFrame` moves on), and `Xrotation Xrotation Yrotation` gives 1, the flags of ZYX.
 #[test]
@@ -322,7 +322,7 @@ fn explain_names_the_axes_the_articles_flags_turn() {
     }
 }
 
-/// Issue 38: the root's OFFSET is read in 5-byte steps, with one more where a step lands on a
+/// The root's OFFSET is read in 5-byte steps, with one more where a step lands on a
 /// space, so its numbers may be four or five characters wide (with one space between): `10.25
 /// 20.50 30.75` is read as written. Six characters are not: the second step lands inside the
 /// first number (y = atof("0 20.500 …") = 0), the third inside the second (z = 500), as the

@@ -373,7 +373,7 @@ fn resampling_velocities_contacts_and_root_relative_frames_follow_their_definiti
         .collect();
     assert_eq!(
         names,
-        // The reading of the body (issue 46): each leg's ankle and toe joint.
+        // The reading of the body: each leg's ankle and toe joint.
         ["LeftFoot", "LeftToeBase", "RightFoot", "RightToeBase"]
     );
     // The ground under a frame: the lowest any foot point comes within 30 frames either way;
@@ -624,9 +624,9 @@ fn the_command_lists_what_it_skipped_and_refuses_what_it_cannot_make() {
         ),
         "{stderr}"
     );
-    // 35 groups: Maya's HumanIK save of its character has the plain save's 49 bones (issue 44);
-    // feet read from the legs give one skeleton's takes the same feet whatever their rest pose
-    // (issue 46); the three characters of issue 49 (tests/data/characters) are takes too.
+    // 35 groups: Maya's HumanIK save of its character has the plain save's 49 bones;
+    // feet read from the legs give one skeleton's takes the same feet whatever their rest pose;
+    // the three characters of tests/data/characters are takes too.
     assert!(
         stderr.contains("56 clips, 5629 frames at 30 fps in 35 topology groups; 11 skipped"),
         "{stderr}"

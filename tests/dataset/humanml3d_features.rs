@@ -1,4 +1,4 @@
-//! Issue 48, point 2: HumanML3D's feature vectors made as its own pipeline makes them, checked
+//! HumanML3D's feature vectors made as its own pipeline makes them, checked
 //! against its published pair (tests/humanml3d, MIT: `new_joints/012314.npy`, the processed
 //! positions, and `new_joint_vecs/012314.npy`, the vectors its pipeline made).
 

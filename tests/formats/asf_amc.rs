@@ -1,4 +1,4 @@
-//! ASF/AMC: hand-computed FK, seed 004's own algorithm on real takes, every real pair, errors,
+//! ASF/AMC: hand-computed FK, the ASF/AMC article's own algorithm on real takes, every real pair, errors,
 //! and conversion to BVH.
 
 use crate::common;
@@ -71,11 +71,11 @@ fn rot(axis: usize, degrees: f64) -> DMat3 {
     }
 }
 
-/// Seed 004's `cal_global_coord`, written again in f64 from the article: for each bone, its
+/// The ASF/AMC article's `cal_global_coord`, written again in f64 from the article: for each bone, its
 /// vector in its own axis frame, then up to the root: rotate by the dof (x, then y, then z),
 /// by the bone's axis, add the parent's direction × length, undo the parent's axis; finally the
 /// root's rotation and translation. CMU files use `axis … XYZ` and root order TX TY TZ RX RY RZ.
-fn seed004_positions(
+fn acclaim_article_positions(
     asf: &bvhview::acclaim::Asf,
     amc_frame: &[(String, Vec<f64>)],
 ) -> Vec<(String, DVec3)> {
@@ -170,7 +170,7 @@ fn check_fk_against_seed_004(folder: &std::path::Path, takes: &[(&str, &str)]) {
         let loaded = bvhview::take::load(&asf_path, Some(&amc_path), None).unwrap();
         let amc_text = std::fs::read_to_string(&amc_path).unwrap();
         for n in [1, 50, 300] {
-            let expected = seed004_positions(&asf, &amc_frame(&amc_text, n));
+            let expected = acclaim_article_positions(&asf, &amc_frame(&amc_text, n));
             let got = export_positions(&loaded.skeleton, loaded.motion.frame(n - 1));
             assert_eq!(got.len(), expected.len());
             for (name, want) in &expected {
@@ -495,7 +495,7 @@ fn every_command_takes_an_asf_amc_pair() {
     std::fs::remove_file(picture).unwrap();
 }
 
-// Issue 27 row 11: Acclaim's `direction` is a unit vector and `length` the bone's length. A file
+// Acclaim's `direction` is a unit vector and `length` the bone's length. A file
 // whose directions are longer drew blown up ("stands 496588.812 tall"), without a word.
 #[test]
 fn directions_that_are_not_unit_vectors_are_normalised_with_one_warning() {
@@ -558,7 +558,7 @@ fn a_direction_of_zero_length_is_an_error_at_its_line_and_column() {
     );
 }
 
-// Issue 27 row 12: CMU names a subject's skeleton `07.asf` and its takes `07_05.amc`; a take
+// CMU names a subject's skeleton `07.asf` and its takes `07_05.amc`; a take
 // without its skeleton is listed as such, not failed.
 #[test]
 fn info_on_a_folder_pairs_takes_by_cmu_subject_and_notes_unpaired_ones() {

@@ -1,4 +1,4 @@
-//! The row loop exists twice (issue 25): `rows::read_rows_simple`, the article's loop in plain
+//! The row loop exists twice: `rows::read_rows_simple`, the article's loop in plain
 //! Rust, and the engine the loader runs. Both must give the same values bit for bit, the same
 //! row count and warnings, and the same error at the same line and column: on every file of the
 //! repository, the whole corpus when it is there, every `tests/edge` input, and generated text.
@@ -88,7 +88,7 @@ fn both_row_loops_agree_on_the_whole_corpus() {
     }
 }
 
-/// Past the last row nothing waits for a whole line (issue 38): a line longer than the engine's
+/// Past the last row nothing waits for a whole line: a line longer than the engine's
 /// chunks is counted in pieces, once, on its own line, and a NUL byte there stops both readers at
 /// the same place, however far into the line it is.
 #[test]

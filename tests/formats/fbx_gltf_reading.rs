@@ -1,4 +1,4 @@
-//! FBX and glTF in (issue 36): files made by others, read into the same Skeleton + Motion a BVH
+//! FBX and glTF in: files made by others, read into the same Skeleton + Motion a BVH
 //! loads into.
 //!
 //! - ufbx's own test files (tests/data/fbx/ufbx, MIT/Unlicense): what bvhview reads of each is
@@ -199,7 +199,7 @@ fn ascii_and_binary_saves_of_one_scene_agree() {
     }
 }
 
-/// Issue 44: Maya's segment scale compensation makes ufbx add helper nodes and move each bone's
+/// Maya's segment scale compensation makes ufbx add helper nodes and move each bone's
 /// attribute onto its helper; the joints are still the file's bones, named and parented as in
 /// the file. The HumanIK save of Maya's character (a helper above nearly every bone) reads as the
 /// plain save does: the same 49 joints, and every point within 1e-6 of its height on all 120
@@ -244,7 +244,7 @@ fn maya_scale_helpers_are_folded_into_the_files_bones() {
     }
 }
 
-/// Issue 44: FBX 5 files state no axes; Blender reads their coordinates as its Z up, and so does
+/// FBX 5 files state no axes; Blender reads their coordinates as its Z up, and so does
 /// bvhview (turned to Y up, front +Z), saying so. 3ds Max 2009's cube stands unturned at frame 0
 /// in the file: here its root turns −90° about x, and it slides along x as in the file.
 #[test]
@@ -296,7 +296,7 @@ fn a_file_with_several_takes_reads_each_by_name_or_index() {
     assert!(text.contains("takes: 3"), "{text}");
 }
 
-/// Cameras, lights and camera switchers are never joints (issue 44: the ASCII save of the
+/// Cameras, lights and camera switchers are never joints (the ASCII save of the
 /// MotionBuilder actor read its seven Producer cameras and the Camera Switcher as a skeleton,
 /// and Blender's three orthographic cameras were a skeleton of three joints).
 #[test]

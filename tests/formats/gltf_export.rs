@@ -516,7 +516,7 @@ fn a_zero_frame_time_is_refused_until_given() {
     check_times(&gltf, 1, 0.0);
 }
 
-/// Issue 44: a take of 0 frames converted to glTF (no animation, no skin) was refused by
+/// A take of 0 frames converted to glTF (no animation, no skin) was refused by
 /// `bvhview info` ("no skeleton"): bvhview could not read back its own output. A file of bare
 /// nodes is its tree: the same joints and End Sites, at the same rest offsets.
 #[test]
@@ -555,7 +555,7 @@ fn a_take_of_no_frames_converts_to_gltf_and_reads_back() {
     }
 }
 
-/// Issue 44: two nodes of one name were kept so, and the BVH written had two joints of one
+/// Two nodes of one name were kept so, and the BVH written had two joints of one
 /// name. The later one is read as `name.001`, as Blender names it, and `info` says so.
 #[test]
 fn two_nodes_of_one_name_are_made_unique_and_said() {
@@ -596,7 +596,7 @@ fn two_nodes_of_one_name_are_made_unique_and_said() {
     assert!(bvh.contains("JOINT arm.001"), "{bvh}");
 }
 
-/// Issue 44: a child turned exactly 90° about the middle axis of ZYX (its 32-bit quaternion a
+/// A child turned exactly 90° about the middle axis of ZYX (its 32-bit quaternion a
 /// hair off length 1) read as `180 89.99999 180` and stood 25° from where the file has it. The
 /// one exact split (src/euler.rs) keeps it in place, at the lock and beside it.
 #[test]

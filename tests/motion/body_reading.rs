@@ -1,4 +1,4 @@
-//! One reading of the body (issue 46): the whole reading of each naming family's sample
+//! One reading of the body: the whole reading of each naming family's sample
 //! skeleton (tests/body/, made by `tests/body/make.py`, and the repository's real files), the
 //! doubts said when it is weak, a four-legged body refused onto a person, and the dataset's feet,
 //! `--ground` and `--quat-continuous`.
@@ -843,7 +843,7 @@ fn a_retargeted_take_stands_on_its_own_feet_where_the_source_stood() {
     assert!(run.status.success(), "{run:?}");
     let (source, target) = (Take::open(&source).unwrap(), Take::open(&out).unwrap());
     assert_eq!(lowest_foot(&source), 0.0);
-    // Before issue 46 the target's toes went where the source's tips were: 4 cm under.
+    // Placed by the source's tips, the target's toes went 4 cm under: the body's reading places them.
     assert!(
         lowest_foot(&target).abs() < 1e-4,
         "{}",

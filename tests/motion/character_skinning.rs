@@ -1,4 +1,4 @@
-//! Characters (issue 49): skinned meshes from FBX and glTF moved by linear blend skinning, held
+//! Characters: skinned meshes from FBX and glTF moved by linear blend skinning, held
 //! to what other programs compute for the same files.
 
 #![cfg(all(feature = "fbx", feature = "gltf"))]
@@ -231,7 +231,7 @@ fn tiny_skinned_gltf(
     path
 }
 
-/// Hostile meshes (issue 49 point 6): weights that do not sum to one are scaled, with one
+/// Hostile meshes: weights that do not sum to one are scaled, with one
 /// warning for the file; a weight that is not a number, a negative weight, a joint past the
 /// skin and a triangle index past the vertices are each refused with what and where.
 #[test]
@@ -418,7 +418,7 @@ fn a_position_accessor_past_the_list_is_refused_not_a_panic() {
     assert_eq!(character.to_string(), take);
 }
 
-/// Review findings (issue 49): a take of no frames (an ASF alone: its rest pose) gives its rest
+/// A take of no frames (an ASF alone: its rest pose) gives its rest
 /// pose's vertices, not a panic; a mesh whose bind mirrors it is not culled (its winding is
 /// turned over).
 #[test]
@@ -486,7 +486,7 @@ fn a_take_on_a_character_ignores_the_files_offset_mode() {
     assert_eq!(differing, 0);
 }
 
-/// Issue 58, finding 7: a `byteStride` shorter than its element (every vertex read from its
+/// A `byteStride` shorter than its element (every vertex read from its
 /// neighbour's bytes) is refused naming file, mesh and accessor; a last index short of a
 /// triangle is left out and said once.
 #[test]
@@ -544,7 +544,7 @@ fn a_stride_shorter_than_its_element_is_refused_and_a_short_triangle_said() {
     );
 }
 
-/// Issue 58, finding 6: an inverse bind scale of 3e38 skinned every vertex past what a float
+/// An inverse bind scale of 3e38 skinned every vertex past what a float
 /// holds (`snapshot` drew a blank picture, `convert` wrote a GLB bvhview then refused): refused
 /// when the character is read, naming the joint and a vertex it moves.
 #[test]
@@ -600,7 +600,7 @@ fn a_bind_that_skins_vertices_past_a_float_is_refused_when_read() {
     );
 }
 
-/// Issue 58, finding 2: one vertex of many influences gave every vertex as many glTF sets as
+/// One vertex of many influences gave every vertex as many glTF sets as
 /// it (3.9 GB for 100,000): a vertex is written with its strongest 8, scaled to sum to 1, in
 /// two `JOINTS_n`/`WEIGHTS_n` sets.
 #[test]
@@ -705,7 +705,7 @@ fn ascii_fbx(
     path
 }
 
-/// Issue 58, findings 3 and 7: skin cluster indices past the vertices (or negative), which
+/// Skin cluster indices past the vertices (or negative), which
 /// ufbx drops, are refused naming file, mesh and cluster; a polygon of more corners than ear
 /// clipping is given (quadratic: a 1,000,000-corner polygon ran past a minute) is cut into a
 /// fan and said once.

@@ -1,4 +1,4 @@
-//! Foot locking (issue 46, point 5): during each contact the reading of the body finds, the
+//! Foot locking: during each contact the reading of the body finds, the
 //! ankle stays where it landed, by two-bone IK on thigh and shin; only those legs' rotation
 //! channels change, so every bone keeps its length.
 
@@ -253,7 +253,7 @@ fn a_leg_with_joints_between_is_locked_as_two_stretches() {
     }
 }
 
-/// Issue 58, point 9: a take of one frame printed an empty "feet locked:" line; it has no
+/// A take of one frame printed an empty "feet locked:" line; it has no
 /// sliding to lock, and says so.
 #[test]
 fn one_frame_says_there_is_nothing_to_lock() {
@@ -291,7 +291,7 @@ fn one_frame_says_there_is_nothing_to_lock() {
     );
 }
 
-// Issue 59, point 5: foot locking says what it did not do. Every contact the reading of the
+// Foot locking says what it did not do. Every contact the reading of the
 // body finds (docs/GUIDE.md: within 5 cm of where the ankle rests on the ground both feet stand
 // on within a second, slower than 0.5 m/s; `model::body::contact`) is held in the written file
 // or named with why not, the printed figures are a measurement of the written file, and the

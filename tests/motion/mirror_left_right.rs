@@ -1,4 +1,4 @@
-//! Issue 35, point 5: `mirror` swaps the motion of left and right and keeps every name and the
+//! `mirror` swaps the motion of left and right and keeps every name and the
 //! skeleton's layout, on real takes of every naming family the repository holds: the mirrored
 //! world positions are the counterparts' reflected, twice gives the take back bit for bit, and a
 //! mirrored clip lands in its original's dataset group.

@@ -1,4 +1,4 @@
-//! The positions export exists twice (issue 39): `export::write_positions_plain`, the plain
+//! The positions export exists twice: `export::write_positions_plain`, the plain
 //! formatter, and `write_positions`, the fast one the CLI runs. Both must write the same bytes
 //! (or refuse with the same error) for every file of the repository, the rest pose, ASF/AMC,
 //! generated names and values, CSV and JSON, with every option. And the float text both use

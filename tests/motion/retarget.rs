@@ -1,4 +1,4 @@
-//! Retargeting (issue 37): A → A exact, A → A′ (renamed, A-pose rest, ×1.3) by bone directions
+//! Retargeting: A → A exact, A → A′ (renamed, A-pose rest, ×1.3) by bone directions
 //! and the root's path, a sample skeleton per naming family, the real corpus's skeletons onto
 //! each other and onto the built-in one, and bad input from the command line.
 // Helpers of the tests a build without every feature leaves out.
@@ -989,7 +989,7 @@ fn a_skeleton_whose_names_say_nothing_maps_by_its_tree() {
     );
 }
 
-/// Issue 44: a JSON map with a key given twice kept the last silently (TOML refuses it), and
+/// A JSON map with a key given twice kept the last silently (TOML refuses it), and
 /// `--map A=b --map A=` ignored the later "leave out".
 #[test]
 fn a_key_given_twice_is_refused_and_a_later_leave_out_wins() {
@@ -1011,7 +1011,7 @@ fn a_key_given_twice_is_refused_and_a_later_leave_out_wins() {
     );
 }
 
-/// Issue 58, point 6: a key given twice inside the `"skeleton"` section (a fingerprint, or a
+/// A key given twice inside the `"skeleton"` section (a fingerprint, or a
 /// joint under one) kept the last silently; a map of 95,000 keys took 11 s to check (each key
 /// against every one before it); a JSON map after a byte-order mark was called "not a TOML
 /// map"; a key of 10 MB was echoed whole.
@@ -1082,7 +1082,7 @@ fn a_json_map_refuses_every_key_given_twice_and_reads_after_a_byte_order_mark() 
     assert!(error.len() < 1000, "{} bytes", error.len());
 }
 
-/// Issue 44: a map file that is not UTF-8 gets its line and column.
+/// A map file that is not UTF-8 gets its line and column.
 #[test]
 fn a_map_file_that_is_not_utf8_is_refused_at_its_line_and_column() {
     let temp = tempfile::tempdir().unwrap();

@@ -1,4 +1,4 @@
-//! Issue 48, point 4: smoothing jittery motion (`--smooth HZ`, `edit::smooth`). A real walk with
+//! Smoothing jittery motion (`--smooth HZ`, `edit::smooth`). A real walk with
 //! noise added, to its channels or to its joint positions before they are solved, comes back
 //! nearer the clean walk: the mean distance of every point to where the clean take puts it at
 //! least halved. The figures are printed for docs/GUIDE.md (`--nocapture`).

@@ -1,4 +1,4 @@
-//! Issue 48, point 1: joint positions to rotations (`bvhview solve`, `solve::solve`). Real takes'
+//! Joint positions to rotations (`bvhview solve`, `solve::solve`). Real takes'
 //! positions solved onto their own skeleton, and their 22 joints (retargeted onto `smpl22`)
 //! solved back onto `smpl22`, come back within 1e-4 of the figure's height on every frame; the
 //! command line reads `.npy` (SMPL's order, metres, float32 or float64) and the CSV `positions`
@@ -346,7 +346,7 @@ fn the_command_line_solves_an_npy_in_smpl_order_and_metres() {
     }
 }
 
-/// Issue 48, point 3: HumanML3D's own processed pair (tests/humanml3d, MIT): its 263-value
+/// HumanML3D's own processed pair (tests/humanml3d, MIT): its 263-value
 /// vectors recovered as its `recover_from_ric` does give its processed positions back within
 /// 1e-4 m on every joint and frame; `solve --from humanml3d` puts them on `smpl22`.
 #[test]
@@ -492,7 +492,7 @@ fn an_asf_takes_positions_csv_solves_back_onto_its_asf() {
     assert!(worst < 1e-4, "{worst}");
 }
 
-/// Issue 58, points 1 to 5: hostile positions files. Each is refused in one line naming the
+/// Hostile positions files. Each is refused in one line naming the
 /// file and what is wrong in it (the frame and joint of a value), having read no more than the
 /// file's first bytes where the start is already wrong, and nothing is written.
 #[test]
@@ -699,7 +699,7 @@ fn hostile_positions_are_refused_in_one_line_before_they_are_read() {
     assert!(stderr.contains("claims 4294967280 bytes"), "{stderr}");
 }
 
-// Issue 59, point 4: `solve` continuous in time.
+// `solve` continuous in time.
 
 /// `take`'s own positions (named as exports name them), each point moved by `noise` (frame,
 /// point → offset), solved back onto its skeleton: the solved motion, and the clean points.
@@ -897,7 +897,7 @@ fn translating_spine_take() -> Take {
     bvhview::take::load_bytes_as(text.as_bytes(), Some("bvh"), "neuron.bvh", None, 1, None).unwrap()
 }
 
-/// Issue 59, point 4 (c): joints below the root with position channels take their
+/// Joints below the root with position channels take their
 /// translations from the positions (they kept their OFFSETs, 1.8 % of the height off).
 #[test]
 fn joints_with_position_channels_take_their_translations_from_the_positions() {
@@ -947,7 +947,7 @@ fn turns(skeleton: &Skeleton, motion: &Motion) -> Vec<Vec<f64>> {
         .collect()
 }
 
-/// Issue 59, point 4: a CMU walk's own positions solved back. Its wrists are laid by bones
+/// A CMU walk's own positions solved back. Its wrists are laid by bones
 /// past joints that turn on their own (the fingers past `lhand`, the thumb's end past
 /// `LThumb`), and CMU's thumb wanders, up to 90° from where it stands beside the fingers and
 /// along them: the wrist followed it (179.6° between two frames where the source's turned
@@ -989,7 +989,7 @@ fn a_solved_cmu_walk_turns_no_joint_more_than_its_source_frame_by_frame() {
     );
 }
 
-/// Issue 59, point 1: what `solve` prints is measured on what it wrote. After `--smooth` the
+/// What `solve` prints is measured on what it wrote. After `--smooth` the
 /// figures are the smoothed take's (no "before --smooth"), and the line says where smoothing
 /// made them worse; every line carries the largest turn between frames against the data's.
 #[test]

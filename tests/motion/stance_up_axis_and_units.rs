@@ -1,4 +1,4 @@
-//! Issue 27, point 1: the up axis and the units are guessed from the motion, and the guess
+//! The up axis and the units are guessed from the motion, and the guess
 //! matches what each file's source says (or, where it says nothing, what was checked by hand once
 //! from the figure: a person between 1.4 and 2 m tall in exactly one of the candidate units).
 
@@ -334,7 +334,7 @@ fn rest_poses_that_mislead_read_right_from_the_motion() {
     assert!((stance.height - 183.0).abs() < 1e-3, "{}", stance.height);
 }
 
-/// `convert --up/--scale` writes files that read back as written (issue 27 row 3), and `info`
+/// `convert --up/--scale` writes files that read back as written, and `info`
 /// prints the guess with how sure it is.
 #[test]
 fn converted_takes_read_back_as_written() {
@@ -419,7 +419,7 @@ fn makehuman_with(value: &dyn Fn(usize, usize) -> f32) -> bvhview::take::Take {
     take
 }
 
-/// Issue 35: MakeHuman takes whose non-root position channels are tiny but not zero (up to 7e-4
+/// MakeHuman takes whose non-root position channels are tiny but not zero (up to 7e-4
 /// against OFFSETs of about 0.33) are written for `--offset-mode add`; read in replace mode
 /// their bones collapse ("stands 2.08 tall, 0.208 m").
 #[test]
@@ -486,7 +486,7 @@ fn tiny_non_root_position_channels_are_read_in_add_mode() {
     }
 }
 
-/// Issue 35: `info` warns when a human-like skeleton is under 0.5 m or over 2.5 m in the units
+/// `info` warns when a human-like skeleton is under 0.5 m or over 2.5 m in the units
 /// guessed for it (a 0.25 m or 3.9 m "human"), and not for a person's size nor for a skeleton
 /// that is not a person's.
 #[test]

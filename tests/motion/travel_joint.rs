@@ -1,4 +1,4 @@
-//! The travel joint is the hips or a joint above them, never a limb (issue 46): a file that gives
+//! The travel joint is the hips or a joint above them, never a limb: a file that gives
 //! every joint position channels (Bandai, Perception Neuron, Rigify) had its travel read from
 //! whichever limb strayed farthest.
 

@@ -239,7 +239,7 @@ proptest! {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 300, ..ProptestConfig::default() })]
 
-    /// `bvhview solve`'s readers (issue 48): an `.npy` or a positions CSV with any bytes
+    /// `bvhview solve`'s readers: an `.npy` or a positions CSV with any bytes
     /// changed, cut or added never panics; what reads is solved onto smpl22 without a panic.
     #[test]
     fn damaged_positions_never_panic(damage in damage(), csv in any::<bool>()) {

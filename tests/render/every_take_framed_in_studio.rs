@@ -1,4 +1,4 @@
-//! Issue 27, point 5: every take drawn with `snapshot --fit --look studio --hud` at its first,
+//! Every take drawn with `snapshot --fit --look studio --hud` at its first,
 //! middle and last frame (and at the middle one with `--follow`) shows its whole figure inside
 //! the picture, clear of the HUD, and at
 //! least a third of the picture tall. Measured on the pictures `bvhview` writes, from the colours of their pixels: the

@@ -269,7 +269,7 @@ fn check_goldens(cases: Vec<Case>) {
     }
 }
 
-/// Seed 001's skinning demo at a few bends, against golden pictures; the middle quad's vertices
+/// The skinning tutorial's demo (two bones moving three quads) at a few bends, against golden pictures; the middle quad's vertices
 /// sit halfway between the two bones' transforms.
 #[test]
 fn skin_demo_matches_its_golden_pictures() {

@@ -1,4 +1,4 @@
-//! Issue 27, point 3: the HUD and the labels fit any picture from 160×120 up: no line cut
+//! The HUD and the labels fit any picture from 160×120 up: no line cut
 //! mid-word, names shortened in the middle, fewer lines on small pictures, labels clear of
 //! other text; golden pictures at 160×120, 240×240 and 600×600.
 
@@ -297,7 +297,7 @@ fn hud_pictures_match_their_goldens_at_three_sizes() {
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
-/// Issue 44: GUIDE's own `snapshot --frame 10 --fit --angle 0.6 --step 5 --size 300x300` drew
+/// GUIDE's own `snapshot --frame 10 --fit --angle 0.6 --step 5 --size 300x300` drew
 /// the step view's text in the big glyphs: cut at the right, over two thirds of the picture. It
 /// is drawn in the picture's font now: every line whole, clear of the right edge, in the bottom
 /// half.

@@ -1,4 +1,4 @@
-//! Issue 27, point 2: the studio look draws sticks with the spheres unless `--style` says
+//! The studio look draws sticks with the spheres unless `--style` says
 //! otherwise, and several takes stand at one height unless `--true-scale` keeps their true sizes.
 //! Measured on the pictures `bvhview snapshot` writes.
 

@@ -187,7 +187,7 @@ mod with_video {
         }
     }
 
-    /// Issue 58, point 7: `--fps 0.0137` was written (and said) as 0.014, thousandths of a
+    /// `--fps 0.0137` was written (and said) as 0.014, thousandths of a
     /// frame a second; now the track's ticks hold it exactly, as ffprobe reads it, and a rate
     /// no decimal holds (a third) as the nearest whole ticks.
     #[test]
@@ -233,7 +233,7 @@ mod with_video {
         );
     }
 
-    /// Issue 49: a take on a character (the studio look: the mesh skinned and lit) on film, every
+    /// A take on a character (the studio look: the mesh skinned and lit) on film, every
     /// frame held to its PNG.
     #[test]
     fn a_video_of_a_take_on_a_character_holds_every_frame() {

@@ -240,7 +240,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
         "^bvhview - tiny_crlf.bvh - frame",
     );
     let title = |frame: &str| {
-        // The article's view ends its title with how to see more (issue 27 row 15).
+        // The article's view ends its title with how to see more.
         let want =
             format!("bvhview - tiny_crlf.bvh - frame {frame} - F frames it, V studio, H keys");
         let display = display.clone();
@@ -815,7 +815,7 @@ fn drop_files(display: &str, window: &str, files: &[&Path]) -> bool {
     }
 }
 
-/// Issue 36: an FBX take and a GLB take dropped on the window join the BVH take shown, as a
+/// An FBX take and a GLB take dropped on the window join the BVH take shown, as a
 /// dropped BVH does: the title names each, nothing is said on stderr, and the window shows what
 /// `snapshot` draws of the three side by side (at the angle the window started with, one take's).
 #[test]
@@ -1007,7 +1007,7 @@ fn an_output_the_window_could_not_write_fails_the_exit_status() {
     assert!(!status.success(), "exit status {status}");
 }
 
-/// Issue 49: `--character` puts the take on a character in the window as `snapshot` draws it
+/// `--character` puts the take on a character in the window as `snapshot` draws it
 /// (the studio look: the mesh skinned, lit, casting its shadow).
 #[test]
 fn viewer_shows_a_take_on_a_character_as_snapshot_does() {
