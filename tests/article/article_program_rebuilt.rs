@@ -161,7 +161,7 @@ fn the_article_reads_bvh_converted_from_fbx_as_bvhview_does() {
             .output()
             .unwrap();
         if !converted.status.success() {
-            // A file with no skeleton (tests/fbx_gltf.rs pins which): nothing to read.
+            // A file with no skeleton (tests/formats/fbx_gltf_reading.rs pins which): nothing to read.
             continue;
         }
         let loaded = bvhview::take::load(&bvh, None, None).unwrap();

@@ -9,7 +9,7 @@
 //!
 //! Needs the `opencc` command (Debian's `opencc` package, which reads its configurations from
 //! /usr/share/opencc; `scripts/test.sh` installs it). Without it this test fails and says so.
-//! `BVHVIEW_TEACHING_ZH=FILE cargo test --test teaching_zh` checks another copy, e.g. an older one
+//! `BVHVIEW_TEACHING_ZH=FILE cargo test --test article teaching_zh` checks another copy, e.g. an older one
 //! from `git show`.
 
 use std::io::Write;

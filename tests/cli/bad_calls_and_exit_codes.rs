@@ -97,7 +97,7 @@ fn a_folder_where_a_file_is_needed_is_bad_input() {
             "is a folder, not a file",
         );
     }
-    // `convert` takes a folder (tests/convert_folder.rs), with the format its takes go in.
+    // `convert` takes a folder (tests/cli/convert_folder.rs), with the format its takes go in.
     one_line(
         &bvhview(&["convert", folder.as_str(), "-o", "/tmp/x.bvh"]),
         2,

@@ -4,7 +4,7 @@
 //! `tests/cli_outputs.tsv` holds, per command, its exit code and the SHA-256 of its stdout, its
 //! stderr and every file it wrote (paths of the scratch folder replaced by `$OUT`). To write the
 //! manifest from another build of the binary (say, the last commit's):
-//! `BVHVIEW_CLI_BIN=/path/to/bvhview BVHVIEW_CLI_WRITE=1 cargo test --test cli_outputs`.
+//! `BVHVIEW_CLI_BIN=/path/to/bvhview BVHVIEW_CLI_WRITE=1 cargo test --test cli outputs_manifest`.
 //! Pictures are left out: they are held by the golden tests, at the renderer's tolerance.
 
 use crate::common;

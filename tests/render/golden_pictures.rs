@@ -1,6 +1,6 @@
 //! Golden pictures of files the article cannot load (6-channel joints, CR-only line endings, a
 //! 173-joint rig, a root written JOINT) and of the opt-in styles, under tests/snapshots/.
-//! `BVHVIEW_BLESS=1 cargo test --test golden` rewrites them; look at every one before committing.
+//! `BVHVIEW_BLESS=1 cargo test --test render golden_pictures` rewrites them; look at every one before committing.
 
 use crate::common;
 use bvhview::model::pose::OffsetMode;

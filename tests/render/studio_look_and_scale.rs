@@ -52,7 +52,7 @@ fn the_studio_draws_sticks_with_the_spheres_by_default() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// The studio's flat colours: backdrop, grid, shadow (as in tests/census.rs).
+/// The studio's flat colours: backdrop, grid, shadow (as in tests/render/every_take_framed_in_studio.rs).
 fn figure_columns(image: &Image) -> Vec<(u32, u32, u32)> {
     let flat = |p: &[u8]| {
         [[31u8, 33, 41], [76, 82, 97], [13, 13, 18]]
