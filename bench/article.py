@@ -20,7 +20,7 @@ frame N, as `bvhview trace` writes them). `--patched` builds the loader made rob
 whitespace, line endings and number widths, as the one that made tests/oracle was (its README):
 the `PATCHES` below replace the article's fixed strides with reads that stop where a name or a
 number does, and nothing else (`getFlags` and its fixed 10-byte steps between channel names,
-the three channels per joint, `print` and `draw` stay the article's). `tests/article_program.rs`
+the three channels per joint, `print` and `draw` stay the article's). `tests/article/article_program_rebuilt.rs`
 runs it on BVH files bvhview writes.
 """
 

@@ -6,9 +6,9 @@ cd "$(dirname "$0")/.."
 
 # Debian packages the tests use: OSMesa for offscreen pictures, the X11/GL libraries the window
 # loads at run time, Xvfb, xdotool and xwd for the end-to-end window test, and g++ for the
-# article's own program, rebuilt from its text (tests/article_program.rs, with ../shared), and
+# article's own program, rebuilt from its text (tests/article/article_program_rebuilt.rs, with ../shared), and
 # for OpenH264's C++ (the `video` feature). nasm adds OpenH264's assembly (faster; the build
-# works without it). ffmpeg checks the MP4s bvhview writes (tests/video.rs): a checker only,
+# works without it). ffmpeg checks the MP4s bvhview writes (tests/render/video_mp4.rs): a checker only,
 # bvhview never runs it.
 PACKAGES=(
     libosmesa6

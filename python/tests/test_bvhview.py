@@ -260,10 +260,10 @@ def test_frames_select_like_numpy():
 
 # Errors: exact places, the exceptions Python users expect, never a panic.
 
-# The expected messages are the Rust tests' own table, read from tests/bvh_errors.rs.
+# The expected messages are the Rust tests' own table, read from tests/formats/bvh_errors.rs.
 MALFORMED = re.findall(
     r'\(\s*"([^"]+\.bvh)",\s*(?:Some\(\s*"((?:[^"\\]|\\.)*)"\s*\)|None)',
-    (REPO / "tests" / "bvh_errors.rs").read_text(),
+    (REPO / "tests" / "formats" / "bvh_errors.rs").read_text(),
 )
 
 

@@ -769,7 +769,7 @@ def test_humanml3d_features_compile_in_its_layout_and_on_a_dask_cluster(tmp_path
 def test_humanml3d_features_of_its_own_positions_are_its_published_vectors():
     """bvhview.humanml3d_features on HumanML3D's processed positions (tests/humanml3d) gives its
     published vectors, but for the last frames: its last frame is not published, and the
-    facing is smoothed over 80 frames (tests/humanml3d.rs rebuilds it and checks every one)."""
+    facing is smoothed over 80 frames (tests/dataset/humanml3d_features.rs rebuilds it and checks every one)."""
     root = DATA.parent / "humanml3d"
     joints = np.load(root / "new_joints_012314.npy")
     published = np.load(root / "new_joint_vecs_012314.npy")

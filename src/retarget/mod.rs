@@ -21,7 +21,7 @@
 //! Rotations are carried in 64-bit floats (see [`crate::model::pose::world_transforms_f64`]), so a take
 //! retargeted onto its own skeleton gives back its own values. [`retarget`] runs eight frames side
 //! by side (src/retarget/fast/); [`retarget_plain`] is the same work a joint and a frame at a
-//! time, which a test holds it to (tests/retarget_fast.rs).
+//! time, which a test holds it to (tests/motion/retarget_fast_and_plain_agree.rs).
 
 use crate::io::error::Error;
 use crate::model::body::Body;

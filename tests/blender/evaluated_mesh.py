@@ -1,4 +1,4 @@
-"""Blender's evaluated mesh of a character file at given times, for tests/character.rs.
+"""Blender's evaluated mesh of a character file at given times, for tests/motion/character_skinning.rs.
 
 Run with Blender 5.2 as a Python module (bpy from PyPI, Python 3.13):
 

@@ -14,7 +14,7 @@ exporters:
 - OUT_DIR/gltf/NAME.glb: glTF binary, every frame sampled;
 - OUT_DIR/gltf/NAME.gltf + NAME.bin for the first source only (the separate-files form).
 
-bvhview reads them back in tests/fbx_gltf.rs and compares every joint's world position in every
+bvhview reads them back in tests/formats/fbx_gltf_reading.rs and compares every joint's world position in every
 frame with the source BVH's. The files are written by Blender, not by bvhview: a reference that
 is not bvhview's own.
 """

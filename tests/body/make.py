@@ -2,7 +2,7 @@
 """Writes three of the sample skeletons of tests/body/ (the others are written by hand): cgspeed's
 lowercase conversion of CMU, a person and an elephant rigged with 3ds Max Biped's names. Names as
 each tool writes them, a human's proportions in centimetres, Y up, facing +Z, left at +X, one
-frame of zeros. `tests/body_reading.rs` asserts bvhview's whole reading of each. Run from
+frame of zeros. `tests/motion/body_reading.rs` asserts bvhview's whole reading of each. Run from
 tests/body/."""
 
 # Where each part sits in the rest pose (left side; the right mirrors x).

@@ -3,7 +3,7 @@
 where names mislead (MakeHuman's `shoulder01` above `upperarm01`, palms and carpals before the
 fingers, `LeftForeFoot`, a `face` under the neck), where names say the wrong side or none, and
 bodies that are no person (a hand alone, an eight-legged crab). Each is a made-up skeleton with
-plausible places in centimetres, two frames (the second moves the root). `tests/body_reading.rs`
+plausible places in centimetres, two frames (the second moves the root). `tests/motion/body_reading.rs`
 asserts bvhview's reading of each. Run from tests/body/."""
 
 

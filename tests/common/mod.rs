@@ -1,4 +1,5 @@
-//! Helpers shared by the integration tests.
+//! Helpers shared by the integration tests: the CLI runner ([`bvhview`], [`bvhview_command`],
+//! [`bvhview_stdout`]) and the paths of test data.
 //!
 //! Three places hold test input:
 //! - `tests/data/`: the repository's own corpus, a redistributable subset of the shared corpus,
@@ -10,9 +11,33 @@
 //!   is there, and [`shared_data`] fails loudly when it is not.
 #![allow(dead_code)]
 
+use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
 
 pub mod video;
+
+/// The `bvhview` binary cargo built for these tests, as a command to add arguments,
+/// environment or a working folder to.
+pub fn bvhview_command() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_bvhview"))
+}
+
+/// Runs `bvhview ARGS` to its end: its exit status, stdout and stderr, whatever they are.
+pub fn bvhview<S: AsRef<OsStr>>(args: &[S]) -> Output {
+    bvhview_command().args(args).output().unwrap()
+}
+
+/// Runs `bvhview ARGS`, which must succeed (else the test fails with its stderr); its stdout.
+pub fn bvhview_stdout<S: AsRef<OsStr> + std::fmt::Debug>(args: &[S]) -> String {
+    let out = bvhview(args);
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    String::from_utf8(out.stdout).unwrap()
+}
 
 fn manifest() -> &'static Path {
     Path::new(env!("CARGO_MANIFEST_DIR"))

@@ -12,7 +12,7 @@
 //! crash. The program rebuilt with AddressSanitizer stops at exactly such a read; the plain build
 //! may die there (SIGSEGV) or run on with whatever bytes lie beyond. `tests/edge/README.md`
 //! records what the rebuilt program does with every input of `tests/edge` and
-//! `tests/oracle/inputs` and with the repository's files, and `tests/trace.rs` requires this
+//! `tests/oracle/inputs` and with the repository's files, and `tests/cli/trace_gl_calls.rs` requires this
 //! module to give the same word for each.
 
 use crate::io::lines::line_column;
