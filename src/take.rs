@@ -534,9 +534,13 @@ pub(crate) fn extension(path: &Path) -> String {
         .unwrap_or_default()
 }
 
-/// The tests' shorthand, until they open takes through [`OpenOptions`] too.
-#[doc(hidden)]
-pub fn load(path: &Path, motion: Option<&Path>, frame_time: Option<f64>) -> Result<Take, Error> {
+/// The unit tests' shorthand for [`OpenOptions::open`] with an AMC and a frame time.
+#[cfg(test)]
+pub(crate) fn load(
+    path: &Path,
+    motion: Option<&Path>,
+    frame_time: Option<f64>,
+) -> Result<Take, Error> {
     let mut options = OpenOptions::new();
     options.motion = motion.map(Path::to_path_buf);
     options.frame_time = frame_time;

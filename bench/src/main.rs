@@ -737,7 +737,7 @@ fn compare_sequences(quick: bool) {
     use bvhview::render::{Renderer, SnapshotOptions, animation, paint::Shown};
     let file =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/bvh/assimp_01_01.bvh");
-    let Ok(take) = bvhview::take::load(&file, None, None) else {
+    let Ok(take) = bvhview::Take::open(&file) else {
         println!("sequence: skipped (no {})", file.display());
         return;
     };
@@ -842,7 +842,7 @@ fn compare_encoders(quick: bool) {
     use bvhview::render::{Image, Look, Renderer, SnapshotOptions};
     let file =
         std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data/bvh/assimp_01_01.bvh");
-    let Ok(take) = bvhview::take::load(&file, None, None) else {
+    let Ok(take) = bvhview::Take::open(&file) else {
         println!("encoders: skipped (no {})", file.display());
         return;
     };
@@ -934,14 +934,14 @@ fn in_process(what: &str, path: &str) {
     match what {
         "info" => {
             // What the CLI prints: the load, then the summary (units, up axis, warnings).
-            let loaded = bvhview::take::load(file, None, None).expect("loads");
+            let loaded = bvhview::Take::open(file).expect("loads");
             let summary =
                 bvhview::info::summary(path, &loaded, bvhview::model::pose::OffsetMode::Replace);
             std::hint::black_box(summary);
         }
         "positions" => {
             // Written as the CLI writes it: a temporary file, synced, renamed.
-            let loaded = bvhview::take::load(file, None, None).expect("loads");
+            let loaded = bvhview::Take::open(file).expect("loads");
             let frames = loaded.motion.frame_count();
             let mut out = std::io::BufWriter::with_capacity(
                 1 << 20,

@@ -96,7 +96,10 @@ fn a_long_amc_take_needs_at_most_twice_its_size() {
     let size = std::fs::metadata(&amc).unwrap().len() as usize;
     let before = LIVE.load(Ordering::Relaxed);
     PEAK.store(before, Ordering::Relaxed);
-    let loaded = bvhview::take::load(&data.join("heiden_12.asf"), Some(&amc), None).unwrap();
+    let loaded = bvhview::take::OpenOptions::new()
+        .motion(&amc)
+        .open(data.join("heiden_12.asf"))
+        .unwrap();
     let peak = PEAK.load(Ordering::Relaxed) - before;
     std::fs::remove_file(&amc).unwrap();
     assert_eq!(loaded.motion.frame_count(), number);

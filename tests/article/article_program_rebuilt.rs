@@ -164,7 +164,7 @@ fn the_article_reads_bvh_converted_from_fbx_as_bvhview_does() {
             // A file with no skeleton (tests/formats/fbx_gltf_reading.rs pins which): nothing to read.
             continue;
         }
-        let loaded = bvhview::take::load(&bvh, None, None).unwrap();
+        let loaded = crate::common::load_take(&bvh, None, None).unwrap();
         if !the_article_can_read(&loaded.skeleton) {
             continue;
         }

@@ -1206,7 +1206,7 @@ fn the_default_view_is_the_article_picture_for_every_file() {
         let (as_written, _) = shot(&["--up", "y"], "y");
         assert_eq!(default.differing_pixels(&as_written), 0, "{input:?}");
         let stands_along_z = {
-            let loaded = bvhview::take::load(
+            let loaded = crate::common::load_take(
                 std::path::Path::new(&input[0]),
                 input.get(2).map(std::path::Path::new),
                 None,

@@ -48,7 +48,7 @@ fn expected_name(relative: &Path, format: &str) -> PathBuf {
 
 /// World positions of every point of every frame, as bits.
 fn position_bits(path: &Path) -> Vec<u32> {
-    let loaded = bvhview::take::load(path, None, None).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = crate::common::load_take(path, None, None).unwrap_or_else(|e| panic!("{e}"));
     let mut bits = Vec::new();
     for f in 0..loaded.motion.frame_count() {
         let points = bvhview::model::pose::world_positions(
@@ -452,7 +452,7 @@ fn to_for_a_file_must_agree_with_its_extension() {
         "bvh".as_ref(),
     ]);
     assert!(agreed.status.success(), "{}", stderr(&agreed));
-    assert!(bvhview::take::load(&out, None, None).is_ok());
+    assert!(crate::common::load_take(&out, None, None).is_ok());
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]

@@ -782,7 +782,7 @@ fn hostile_gltf_buffers_and_counts_are_refused() {
     std::os::unix::fs::symlink(&outside, &link).unwrap();
     let linked = folder.join("linked.gltf");
     std::fs::write(&linked, gltf_with(r#""uri": "link.bin""#, "")).unwrap();
-    let error = bvhview::take::load(&linked, None, None).unwrap_err();
+    let error = crate::common::load_take(&linked, None, None).unwrap_err();
     assert!(
         error.to_string().contains("leads out of the glTF's folder"),
         "{error}"
@@ -1027,7 +1027,7 @@ fn write_gltf(dir: &Path, name: &str, nodes: &str, tracks: &[Keys], shared: bool
 
 /// `input::load`'s error for `path`, checked to be a refusal (exit 2, one line, `path: …`).
 fn load_refused(path: &Path) -> String {
-    let error = match bvhview::take::load(path, None, None) {
+    let error = match crate::common::load_take(path, None, None) {
         Ok(loaded) => panic!(
             "{}: loaded ({} frames), not refused",
             path.display(),
@@ -1234,7 +1234,7 @@ fn gltf_animation_work_is_bounded_by_the_input_size() {
         .map(|n| turn(n, if n == 0 { 300 } else { 0 }))
         .collect();
     let path = write_gltf(dir.path(), "fair", &many(200), &tracks, true);
-    let loaded = bvhview::take::load(&path, None, None).unwrap();
+    let loaded = crate::common::load_take(&path, None, None).unwrap();
     assert_eq!(loaded.motion.frame_count(), 300);
     // 999 keys 1 ms apart, then one at 900 s.
     let mut times: Vec<f32> = (0..999).map(|k| k as f32 * 1e-3).collect();
@@ -1297,7 +1297,7 @@ fn gltf_frame_rate_is_the_key_step_that_fits_the_most_keys() {
         &[slide(0, times)],
         false,
     );
-    let loaded = bvhview::take::load(&odd, None, None).unwrap();
+    let loaded = crate::common::load_take(&odd, None, None).unwrap();
     assert_eq!(loaded.motion.frame_count(), 31);
     assert_eq!(loaded.motion.frame_time, 1.0 / 30.0);
     let said = loaded.warnings.join("\n");
@@ -1324,7 +1324,7 @@ fn gltf_frame_rate_is_the_key_step_that_fits_the_most_keys() {
         &[slide(0, fast)],
         false,
     );
-    let loaded = bvhview::take::load(&fast, None, None).unwrap();
+    let loaded = crate::common::load_take(&fast, None, None).unwrap();
     assert_eq!(loaded.motion.frame_time, 1e-3);
     assert_eq!(loaded.motion.frame_count(), 50);
     let said = loaded.warnings.join("\n");
@@ -1348,7 +1348,7 @@ fn gltf_frame_rate_is_the_key_step_that_fits_the_most_keys() {
         &tracks,
         false,
     );
-    let loaded = bvhview::take::load(&ends, None, None).unwrap();
+    let loaded = crate::common::load_take(&ends, None, None).unwrap();
     assert_eq!(loaded.motion.frame_count(), 61);
     assert_eq!(loaded.motion.frame_time, 1.0 / 30.0);
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
@@ -1501,7 +1501,7 @@ fn fbx_take_ranges_backwards_are_refused_and_missing_ones_read_over_the_keys() {
             .collect::<Vec<_>>()
             .join("\n")
     });
-    let loaded = bvhview::take::load(&none, None, None).unwrap();
+    let loaded = crate::common::load_take(&none, None, None).unwrap();
     assert_eq!(loaded.motion.frame_count(), 56);
     let said = loaded.warnings.join("\n");
     assert!(
@@ -1616,7 +1616,7 @@ fn an_fbx_frame_budget_counts_every_layers_values() {
         text.contains("960000 frames of 1 joint (") && text.contains(" in 120 layers)"),
         "{text}"
     );
-    let loaded = bvhview::take::load(&layered_fbx(dir.path(), 1, 5), None, None).unwrap();
+    let loaded = crate::common::load_take(&layered_fbx(dir.path(), 1, 5), None, None).unwrap();
     assert_eq!(loaded.motion.frame_count(), 120);
 }
 

@@ -122,3 +122,20 @@ pub fn asf_of(amc: &Path) -> PathBuf {
         .find(|p| p.exists())
         .unwrap_or_else(|| panic!("no ASF for {}", amc.display()))
 }
+
+/// A take through the library's one door ([`bvhview::take::OpenOptions`]): `path`, with
+/// `motion` (an ASF's AMC) and `frame_time` over the file's when given.
+pub fn load_take(
+    path: &Path,
+    motion: Option<&Path>,
+    frame_time: Option<f64>,
+) -> Result<bvhview::Take, bvhview::Error> {
+    let mut options = bvhview::take::OpenOptions::new();
+    if let Some(amc) = motion {
+        options = options.motion(amc);
+    }
+    if let Some(seconds) = frame_time {
+        options = options.frame_time(seconds);
+    }
+    options.open(path)
+}

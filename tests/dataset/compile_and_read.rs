@@ -135,7 +135,7 @@ fn the_repository_compiles_into_groups_whose_arrays_the_manifest_describes() {
     let mut skipped = manifest.skipped.iter();
     for item in &items {
         let source = dataset::Source::of(Path::new(DATA), item);
-        let loads = bvhview::take::load(&item.path, item.motion.as_deref(), None)
+        let loads = crate::common::load_take(&item.path, item.motion.as_deref(), None)
             .is_ok_and(|l| l.motion.frame_count() > 0);
         if loads {
             assert_eq!(clips.next().unwrap().about.source, source);
@@ -144,7 +144,7 @@ fn the_repository_compiles_into_groups_whose_arrays_the_manifest_describes() {
             assert_eq!(entry.source, source);
             // A malformed file is named with its line and column.
             if let Err(bvhview::Error::Parse { line, column, .. }) =
-                bvhview::take::load(&item.path, None, None)
+                crate::common::load_take(&item.path, None, None)
             {
                 // As the manifest keeps it: relative to the folder compiled.
                 let at = format!("{}:{line}:{column}: ", source.path);
@@ -250,7 +250,7 @@ fn positions_are_the_loaders_fk_in_metres_with_y_up() {
         assert_eq!(clip.about.up, if up == Up::Z { "z" } else { "y" });
         assert_eq!(clip.about.metres_per_unit, metres);
         let loaded =
-            bvhview::take::load(&Path::new(DATA).join("bvh").join(name), None, None).unwrap();
+            crate::common::load_take(&Path::new(DATA).join("bvh").join(name), None, None).unwrap();
         assert_eq!(clip.frames, loaded.motion.frame_count());
         let positions = clip_rows(&out, &manifest, name, "positions");
         let points = loaded.skeleton.joints.len();

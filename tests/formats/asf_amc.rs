@@ -167,7 +167,7 @@ fn check_fk_against_seed_004(folder: &std::path::Path, takes: &[(&str, &str)]) {
         let asf_path = folder.join(format!("{asf_name}.asf"));
         let amc_path = folder.join(format!("{amc_name}.amc"));
         let asf = bvhview::acclaim::load_asf(&asf_path, u64::MAX).unwrap();
-        let loaded = bvhview::take::load(&asf_path, Some(&amc_path), None).unwrap();
+        let loaded = crate::common::load_take(&asf_path, Some(&amc_path), None).unwrap();
         let amc_text = std::fs::read_to_string(&amc_path).unwrap();
         for n in [1, 50, 300] {
             let expected = acclaim_article_positions(&asf, &amc_frame(&amc_text, n));
@@ -242,7 +242,7 @@ fn check_pairs(folder: &std::path::Path, pairs: &[(&str, &str, usize, usize)]) {
     for &(asf_name, amc_name, frames, joints) in pairs {
         let asf_path = folder.join(format!("{asf_name}.asf"));
         let amc_path = folder.join(format!("{amc_name}.amc"));
-        let loaded = bvhview::take::load(&asf_path, Some(&amc_path), None).unwrap();
+        let loaded = crate::common::load_take(&asf_path, Some(&amc_path), None).unwrap();
         assert_eq!(loaded.motion.frame_count(), frames, "{amc_name}");
         assert_eq!(loaded.skeleton.joints.len(), joints, "{asf_name}");
 

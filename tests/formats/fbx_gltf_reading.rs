@@ -20,7 +20,7 @@ fn data(path: &str) -> PathBuf {
 }
 
 fn load(path: &Path) -> Take {
-    take::load(path, None, None).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+    crate::common::load_take(path, None, None).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 
 fn load_take(path: &Path, take: &str) -> Take {
@@ -315,7 +315,7 @@ fn a_file_without_a_skeleton_says_so() {
         "blender_402_ortho_scale_unit_7400_binary.fbx",
     ] {
         let path = data("fbx/ufbx").join(name);
-        let error = take::load(&path, None, None).unwrap_err();
+        let error = crate::common::load_take(&path, None, None).unwrap_err();
         assert!(error.to_string().contains("no skeleton"), "{name}: {error}");
         assert_eq!(error.exit_code(), 2);
     }

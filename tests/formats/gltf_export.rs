@@ -618,7 +618,7 @@ fn a_joint_at_the_gimbal_lock_stays_where_the_file_has_it() {
             ),
         )
         .unwrap();
-        let take = bvhview::take::load(&file, None, None).unwrap();
+        let take = crate::common::load_take(&file, None, None).unwrap();
         let points = world_positions(&take.skeleton, take.motion.frame(0), OffsetMode::Replace);
         let tip = take
             .skeleton

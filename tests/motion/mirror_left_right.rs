@@ -38,7 +38,7 @@ const TAKES: &[(&str, Option<&str>, usize)] = &[
 
 fn load(file: &str, motion: Option<&str>) -> bvhview::take::Take {
     let motion = motion.map(repo_data);
-    bvhview::take::load(&repo_data(file), motion.as_deref(), None).unwrap()
+    crate::common::load_take(&repo_data(file), motion.as_deref(), None).unwrap()
 }
 
 /// The mirror of one take: every joint whose name marks a side finds its counterpart (`sided`
@@ -120,14 +120,14 @@ fn mirrored_takes_are_their_counterparts_reflected_and_mirror_twice_gives_them_b
 #[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
 fn every_take_of_the_corpus_mirrors() {
     for path in common::files_in(&common::shared_data("bvh"), "bvh") {
-        let take = bvhview::take::load(&path, None, None).unwrap();
+        let take = crate::common::load_take(&path, None, None).unwrap();
         check(&path.display().to_string(), &take, None);
     }
     let folder = common::shared_data("asf_amc");
     for amc in common::files_in(&folder, "amc") {
         let name = amc.file_name().unwrap().to_str().unwrap();
         let skeleton = &common::asf_of(&amc);
-        let take = bvhview::take::load(skeleton, Some(&amc), None).unwrap();
+        let take = crate::common::load_take(skeleton, Some(&amc), None).unwrap();
         // CMU's 24 sided joints; PyAsfAmc's 14 (seven pairs).
         let sided = if name.starts_with("pyasfamc") { 14 } else { 24 };
         check(name, &take, Some(sided));
@@ -182,8 +182,8 @@ fn a_mirrored_clip_lands_in_its_originals_dataset_group() {
 
     // The mirrored file, loaded back, is the mirror image of the original (as written: six
     // decimals).
-    let a = bvhview::take::load(&original, None, None).unwrap();
-    let b = bvhview::take::load(&takes.join("walk_mirrored.bvh"), None, None).unwrap();
+    let a = crate::common::load_take(&original, None, None).unwrap();
+    let b = crate::common::load_take(&takes.join("walk_mirrored.bvh"), None, None).unwrap();
     let partners = mirror_partners(&a.skeleton, &Default::default()).unwrap();
     let mode = OffsetMode::Replace;
     for frame in [0, 100, 343] {
@@ -218,7 +218,9 @@ fn mirror_names_come_as_pairs_or_from_a_map_file_per_skeleton() {
         .replace("JOINT RightUpLeg", "JOINT ThighB");
     let input = dir.path().join("renamed.bvh");
     std::fs::write(&input, &text).unwrap();
-    let skeleton = bvhview::take::load(&input, None, None).unwrap().skeleton;
+    let skeleton = crate::common::load_take(&input, None, None)
+        .unwrap()
+        .skeleton;
     let map = dir.path().join("sides.toml");
     std::fs::write(
         &map,
@@ -269,9 +271,9 @@ fn mirror_names_come_as_pairs_or_from_a_map_file_per_skeleton() {
             .status()
             .unwrap();
         assert!(status.success());
-        bvhview::take::load(&out, None, None).unwrap().motion
+        crate::common::load_take(&out, None, None).unwrap().motion
     };
-    let original = bvhview::take::load(&input, None, None).unwrap().motion;
+    let original = crate::common::load_take(&input, None, None).unwrap().motion;
     for (a, b) in twice.data.iter().zip(&original.data) {
         assert!((a - b).abs() < 1e-3, "{a} {b}");
     }

@@ -192,9 +192,9 @@ fn fast_and_plain_write_the_same_bytes_for_every_repository_file() {
 fn fast_and_plain_write_the_same_bytes_for_asf_amc_and_the_rest_pose() {
     let asf = repo_data("asf_amc/heiden_12.asf");
     let amc = repo_data("asf_amc/heiden_12_02_01.amc");
-    let loaded = bvhview::take::load(&asf, Some(&amc), None).unwrap();
+    let loaded = crate::common::load_take(&asf, Some(&amc), None).unwrap();
     same_both_ways("heiden_12", &loaded.skeleton, &loaded.motion);
-    let rest = bvhview::take::load(&asf, None, None).unwrap();
+    let rest = crate::common::load_take(&asf, None, None).unwrap();
     same_both_ways("heiden_12 rest", &rest.skeleton, &rest.motion);
     let bvh = load_path(&edge("frames_zero.bvh"));
     assert_eq!(bvh.motion.frame_count(), 0);
@@ -217,7 +217,7 @@ fn fast_and_plain_write_the_same_bytes_for_every_corpus_take() {
             .filter(|asf| name.starts_with(&*asf.file_stem().unwrap().to_string_lossy()))
             .max_by_key(|asf| asf.as_os_str().len())
             .unwrap_or_else(|| panic!("no skeleton for {name}"));
-        let loaded = bvhview::take::load(&asf, Some(&amc), None).unwrap();
+        let loaded = crate::common::load_take(&asf, Some(&amc), None).unwrap();
         same_both_ways(&name, &loaded.skeleton, &loaded.motion);
     }
 }

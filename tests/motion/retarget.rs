@@ -18,7 +18,7 @@ use glam::{Quat, Vec3};
 use std::path::Path;
 
 fn take(path: &Path) -> (Skeleton, Motion) {
-    let loaded = bvhview::take::load(path, None, None).unwrap();
+    let loaded = crate::common::load_take(path, None, None).unwrap();
     (loaded.skeleton, loaded.motion)
 }
 
@@ -73,7 +73,7 @@ fn a_take_onto_its_own_skeleton_is_exact() {
 /// joints give back their own values too, as the three-channel ones do.
 #[test]
 fn an_asf_take_with_hinges_onto_its_own_skeleton_is_exact() {
-    let loaded = bvhview::take::load(
+    let loaded = crate::common::load_take(
         &common::repo_data("asf_amc/heiden_12.asf"),
         Some(&common::repo_data("asf_amc/heiden_12_02_01.amc")),
         None,
@@ -601,7 +601,7 @@ fn real_skeletons_onto_each_other_keep_bone_directions_and_feet() {
         .map(|(name, path, amc)| {
             let amc = amc.map(common::shared_data);
             let loaded =
-                bvhview::take::load(&common::shared_data(path), amc.as_deref(), None).unwrap();
+                crate::common::load_take(&common::shared_data(path), amc.as_deref(), None).unwrap();
             let (s, m) = (loaded.skeleton, loaded.motion);
             // At most 600 frames of each: enough poses, a debug build's time.
             let frames = m.frame_count().min(600);

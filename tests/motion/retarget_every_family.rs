@@ -53,7 +53,7 @@ fn families(roots: &[PathBuf]) -> Vec<(String, Take)> {
     let mut by_family: BTreeMap<String, (String, Take)> = BTreeMap::new();
     for root in roots {
         for (path, motion) in takes_under(root) {
-            let Ok(take) = bvhview::take::load(&path, motion.as_deref(), None) else {
+            let Ok(take) = crate::common::load_take(&path, motion.as_deref(), None) else {
                 continue;
             };
             if !human(&take) {

@@ -35,7 +35,7 @@ fn up_of(skeleton: &Skeleton, motion: &Motion) -> Up {
 fn takes(root: &Path) -> Vec<(String, Skeleton, Motion)> {
     let mut takes = Vec::new();
     for path in common::files_in(&root.join("bvh"), "bvh") {
-        let loaded = bvhview::take::load(&path, None, None).unwrap();
+        let loaded = crate::common::load_take(&path, None, None).unwrap();
         takes.push((path, loaded.skeleton, loaded.motion));
     }
     let asf = root.join("asf_amc");
@@ -48,7 +48,7 @@ fn takes(root: &Path) -> Vec<(String, Skeleton, Motion)> {
                 .to_string_lossy()
                 .starts_with(&stem)
             {
-                let loaded = bvhview::take::load(&skeleton, Some(&amc), None).unwrap();
+                let loaded = crate::common::load_take(&skeleton, Some(&amc), None).unwrap();
                 takes.push((amc, loaded.skeleton, loaded.motion));
             }
         }
@@ -214,7 +214,7 @@ fn the_fast_pass_gives_the_plain_pass_s_values_on_the_whole_corpus() {
 #[test]
 fn a_path_too_long_for_32_bits_is_refused_by_both_passes() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/body/cmu.bvh");
-    let loaded = bvhview::take::load(&path, None, None).unwrap();
+    let loaded = crate::common::load_take(&path, None, None).unwrap();
     let (source, mut motion) = (loaded.skeleton, loaded.motion);
     let root = &source.joints[0];
     for frame in 0..motion.frame_count() {

@@ -245,7 +245,7 @@ const EXPECTED: &[(&str, Option<&str>, Up, &str, &str)] = &[
 ];
 
 fn check(file: &Path, motion: Option<&Path>, up: Up, units: &str, source: &str) {
-    let loaded = bvhview::take::load(file, motion, None).unwrap();
+    let loaded = crate::common::load_take(file, motion, None).unwrap();
     let stance = loaded.stance(OffsetMode::Replace);
     assert_eq!(
         (stance.up, stance.units.name),
@@ -324,7 +324,7 @@ fn rest_poses_that_mislead_read_right_from_the_motion() {
         "centimetres",
         "hand-written",
     );
-    let loaded = bvhview::take::load(&dir.join("rest_y_motion_z.bvh"), None, None).unwrap();
+    let loaded = crate::common::load_take(&dir.join("rest_y_motion_z.bvh"), None, None).unwrap();
     assert_eq!(
         Up::guess(&loaded.skeleton),
         Up::Y,
@@ -402,7 +402,8 @@ fn info_of(dir: &Path, name: &str, take: &bvhview::take::Take) -> String {
 
 /// MakeHuman's take with its non-root position channels set by `value(joint, axis)`.
 fn makehuman_with(value: &dyn Fn(usize, usize) -> f32) -> bvhview::take::Take {
-    let mut take = bvhview::take::load(&repo_data("bvh/makehuman_tpose.bvh"), None, None).unwrap();
+    let mut take =
+        crate::common::load_take(&repo_data("bvh/makehuman_tpose.bvh"), None, None).unwrap();
     let width = take.motion.channels;
     for (j, joint) in take.skeleton.joints.iter().enumerate() {
         if joint.parent.is_none() {
@@ -532,7 +533,7 @@ fn info_warns_of_humans_under_half_a_metre_or_over_two_and_a_half() {
     }
     // Not a person: a two-joint take 3 m tall says nothing of it.
     let simple =
-        bvhview::take::load(&repo_data("bvh/bvhanim_test_simple.bvh"), None, None).unwrap();
+        crate::common::load_take(&repo_data("bvh/bvhanim_test_simple.bvh"), None, None).unwrap();
     assert_eq!(bvhview::info::human_like(&simple.skeleton), None);
     let stance = simple.stance(OffsetMode::Replace);
     assert_eq!(bvhview::info::size_warning(&simple.skeleton, &stance), None);
@@ -557,7 +558,7 @@ fn the_repository_people_are_human_like() {
         "bvh/opencollar_run.bvh",
         "bvh/opencollar_oc_stand_boy01.bvh",
     ] {
-        let take = bvhview::take::load(&repo_data(file), None, None).unwrap();
+        let take = crate::common::load_take(&repo_data(file), None, None).unwrap();
         let found = bvhview::info::human_like(&take.skeleton);
         assert!(found.is_some(), "{file}");
         let stance = take.stance(OffsetMode::Replace);
@@ -567,13 +568,14 @@ fn the_repository_people_are_human_like() {
             "{file}"
         );
     }
-    let asf = bvhview::take::load(
+    let asf = crate::common::load_take(
         &repo_data("asf_amc/heiden_12.asf"),
         Some(&repo_data("asf_amc/heiden_12_02_01.amc")),
         None,
     )
     .unwrap();
     assert!(bvhview::info::human_like(&asf.skeleton).is_some());
-    let usd = bvhview::take::load(&repo_data("bvh/usdbvhanim_test_bvh.bvh"), None, None).unwrap();
+    let usd =
+        crate::common::load_take(&repo_data("bvh/usdbvhanim_test_bvh.bvh"), None, None).unwrap();
     assert_eq!(bvhview::info::human_like(&usd.skeleton), None);
 }

@@ -58,7 +58,7 @@ fn measure(image: &Image, hud_lines: usize) -> Seen {
 /// How many lines the HUD of one take has at 600×600: what `snapshot --hud` draws (the test
 /// reads them back from the HUD's own layout, which the picture's text follows).
 fn hud_lines(file: &Path, motion: Option<&Path>) -> usize {
-    let loaded = bvhview::take::load(file, motion, None).unwrap();
+    let loaded = crate::common::load_take(file, motion, None).unwrap();
     let name = file.file_name().unwrap().to_string_lossy().into_owned();
     let other_mode_likely = bvhview::info::offset_mode_warning(
         &loaded.skeleton,
@@ -97,7 +97,7 @@ fn census(label: &str, takes: &[(PathBuf, Option<PathBuf>)]) {
     let mut failures = Vec::new();
     let mut smallest = f32::MAX;
     for (file, motion) in takes {
-        let loaded = bvhview::take::load(file, motion.as_deref(), None).unwrap();
+        let loaded = crate::common::load_take(file, motion.as_deref(), None).unwrap();
         let last = loaded.motion.frame_count().max(1) - 1;
         let lines = hud_lines(file, motion.as_deref());
         let name = motion

@@ -237,7 +237,8 @@ fn check_goldens(cases: Vec<Case>) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
     for case in cases {
         let motion = case.motion.map(input_path);
-        let bvh = bvhview::take::load(&input_path(case.input), motion.as_deref(), None).unwrap();
+        let bvh =
+            crate::common::load_take(&input_path(case.input), motion.as_deref(), None).unwrap();
         let ours = bvhview::render::snapshot(&bvh.skeleton, &bvh.motion, &case.options).unwrap();
         let golden = dir.join(format!("{}.png", case.name));
         if bless {
@@ -320,7 +321,7 @@ fn check_fit_shows_every_file(folder: &Path, pairs: &[(&str, &str)]) {
         inputs.push((folder.join(asf), Some(folder.join(amc))));
     }
     for (path, motion) in inputs {
-        let loaded = bvhview::take::load(&path, motion.as_deref(), None).unwrap();
+        let loaded = crate::common::load_take(&path, motion.as_deref(), None).unwrap();
         let options = SnapshotOptions {
             frame: loaded.motion.frame_count() / 2,
             fit: true,
@@ -361,7 +362,7 @@ fn with_fit_every_whole_corpus_file_shows_its_skeleton() {
 /// elsewhere, then drawn into again) gives the pictures `render_all` gives, frame after frame.
 #[test]
 fn frames_drawn_for_a_sequence_equal_single_pictures() {
-    let take = bvhview::take::load(&repo_data("bvh/bvh11_131_01.bvh"), None, None).unwrap();
+    let take = crate::common::load_take(&repo_data("bvh/bvh11_131_01.bvh"), None, None).unwrap();
     let shown = [bvhview::render::paint::Shown {
         skeleton: &take.skeleton,
         motion: &take.motion,

@@ -160,7 +160,7 @@ fn three_takes() -> Vec<(String, bvhview::take::Take)> {
             .into_owned();
         (
             name,
-            bvhview::take::load(&repo_data(f), None, None).unwrap(),
+            crate::common::load_take(&repo_data(f), None, None).unwrap(),
         )
     })
     .collect()
