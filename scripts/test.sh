@@ -59,9 +59,12 @@ cargo test --doc --locked --no-fail-fast 2>&1 | tee -a "$log" || status=$?
 # Their own target folder: the binary the checks below run (pytest, the glTF validator) stays
 # the one with every feature.
 features_target="${CARGO_TARGET_DIR:-target}/features"
-# The benchmarks are not run here (speed lives in `bench`), but they must keep compiling.
+# The benchmarks and the fuzz targets are not run here (speed lives in `bench`; fuzzing in
+# scripts/fuzz.sh), but they must keep compiling against the library.
 echo "cargo check -p bvhview-bench"
 cargo check -p bvhview-bench --locked 2>&1 | tee -a "$log" || status=$?
+echo "cargo check (fuzz targets)"
+cargo check --manifest-path fuzz/Cargo.toml --bins --locked --target-dir "${CARGO_TARGET_DIR:-target}" 2>&1 | tee -a "$log" || status=$?
 echo "cargo build --lib --no-default-features"
 cargo build --lib --no-default-features --locked --target-dir "$features_target" 2>&1 | tee -a "$log" || status=$?
 for features in "--no-default-features --features cli" "--no-default-features --features cli,fbx"; do

@@ -24,7 +24,7 @@ use crate::model::mesh::Mesh;
 use crate::model::pose::{OffsetMode, world_matrices};
 use crate::model::skeleton::Skeleton;
 use crate::retarget::{Check, Insist};
-use crate::take::{Format, Take};
+use crate::take::{Format, OpenOptions, Take};
 use glam::{Mat4, Vec3};
 use std::io::Write;
 use std::path::Path;
@@ -106,30 +106,21 @@ impl Dressed {
 impl Character {
     /// Opens a character from an `.fbx`, `.glb` or `.gltf` file with at least one mesh.
     pub fn open(path: impl AsRef<Path>) -> Result<Character, Error> {
-        Character::open_with(path.as_ref(), crate::take::DEFAULT_MAX_SIZE, None, 0)
+        Character::open_with(path.as_ref(), &OpenOptions::new())
     }
 
-    /// [`Character::open`] with the file's take `take` (name or index), a size limit and
-    /// threads (0: every core).
-    pub fn open_with(
-        path: &Path,
-        max_size: u64,
-        take: Option<&str>,
-        threads: usize,
-    ) -> Result<Character, Error> {
+    /// [`Character::open`] with `options`: the file's take (name or index), a size limit,
+    /// threads.
+    pub fn open_with(path: &Path, options: &OpenOptions) -> Result<Character, Error> {
+        let max_size = options.max_size_or_default();
         crate::take::check_file(path, max_size)?;
-        let threads = if threads == 0 {
-            crate::io::parallel::cores()
-        } else {
-            threads
-        };
         let (read, mesh, format) = match Format::from_path(path) {
             Some(Format::Fbx) => {
-                let (read, mesh) = crate::fbx::load_character(path, max_size, take, threads)?;
+                let (read, mesh) = crate::fbx::load_character(path, options)?;
                 (read, mesh, Format::Fbx)
             }
             Some(Format::Gltf) => {
-                let (read, mesh) = crate::gltf::load_character(path, max_size, take)?;
+                let (read, mesh) = crate::gltf::load_character(path, options)?;
                 (read, mesh, Format::Gltf)
             }
             _ => {
@@ -285,12 +276,9 @@ impl Character {
             // Another take of the character's file (`--take`): read as the character reads its
             // own, on the skeleton its mesh is bound to (a take read alone keeps the nodes' own
             // frames, not the bind pose's).
-            let other = Character::open_with(
-                path,
-                crate::take::DEFAULT_MAX_SIZE,
-                take.take_name.as_deref(),
-                threads,
-            )?;
+            let mut options = OpenOptions::new().threads(threads);
+            options.take = take.take_name.clone();
+            let other = Character::open_with(path, &options)?;
             if self.is_own_skeleton(&other.take.skeleton) {
                 return Ok((other.take, Dressed::default()));
             }

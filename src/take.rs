@@ -518,11 +518,11 @@ impl OpenOptions {
         Ok(take)
     }
 
-    fn threads_or_cores(&self) -> usize {
+    pub(crate) fn threads_or_cores(&self) -> usize {
         self.threads.unwrap_or_else(crate::io::parallel::cores)
     }
 
-    fn max_size_or_default(&self) -> u64 {
+    pub(crate) fn max_size_or_default(&self) -> u64 {
         self.max_size.unwrap_or(DEFAULT_MAX_SIZE)
     }
 }
@@ -634,8 +634,8 @@ pub(crate) fn load_take(path: &Path, options: &OpenOptions) -> Result<Take, Erro
             )));
         }
         Format::AsfAmc => return load_asf_amc(path, options),
-        Format::Fbx => crate::fbx::load(path, max_size, take, options.threads_or_cores())?,
-        Format::Gltf => crate::gltf::load(path, max_size, take)?,
+        Format::Fbx => crate::fbx::load(path, options)?,
+        Format::Gltf => crate::gltf::load(path, options)?,
         Format::Bvh => {
             let settings = bvh::loader::Settings {
                 threads: options.threads_or_cores(),
@@ -730,8 +730,8 @@ fn load_bytes(bytes: &[u8], name: &str, options: &OpenOptions) -> Result<Take, E
                 take: None,
             }
         }
-        Format::Fbx => crate::fbx::load_bytes(bytes, name, take, options.threads_or_cores())?,
-        Format::Gltf => crate::gltf::load_bytes(bytes, name, take)?,
+        Format::Fbx => crate::fbx::load_bytes(bytes, name, options)?,
+        Format::Gltf => crate::gltf::load_bytes(bytes, name, options)?,
         Format::AsfAmc => {
             return Err(Error::Usage(format!(
                 "{name}: an ASF skeleton is read from a file, beside its AMC motion; bvhview \

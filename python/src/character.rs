@@ -27,12 +27,11 @@ pub(crate) fn load_character(
     guard("load_character", || {
         let inner = py
             .detach(|| {
-                Inner::open_with(
-                    &path,
-                    take::DEFAULT_MAX_SIZE,
-                    take.as_ref().map(|t| t.0.as_str()),
-                    bvhview::plumbing::cores(),
-                )
+                let mut options = take::OpenOptions::new();
+                if let Some(choice) = &take {
+                    options = options.take(choice.0.as_str());
+                }
+                Inner::open_with(&path, &options)
             })
             .map_err(|e| to_python(py, e))?;
         Ok(Character {

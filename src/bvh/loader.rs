@@ -109,6 +109,7 @@ pub fn load_file<'a>(input: impl Into<Input<'a>>, settings: Settings) -> Result<
 /// [`load_file`] of a path with another depth limit than [`MAX_DEPTH`], for `trace --explain`
 /// alone: it compares the article's reading of a file bvhview refuses only for its depth with
 /// what the file says, and walks the tree without recursion. The same steps as `load_file`.
+#[cfg(feature = "cli")]
 pub(crate) fn load_deeper(path: &Path, max_depth: usize) -> Result<Bvh, Error> {
     let settings = Settings::default();
     let mut bvh = Loader::open(Input::Path(path), settings)?;

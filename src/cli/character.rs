@@ -89,12 +89,8 @@ pub(crate) fn load_all(
             out.push(Some(character.clone()));
             continue;
         }
-        let character = Arc::new(Character::open_with(
-            path,
-            source.max_size,
-            None,
-            crate::io::parallel::cores(),
-        )?);
+        let options = crate::take::OpenOptions::new().max_size(source.max_size);
+        let character = Arc::new(Character::open_with(path, &options)?);
         for warning in &character.take.warnings {
             eprintln!("bvhview: {}: warning: {warning}", path.display());
         }

@@ -21,24 +21,23 @@ mod absent {
     use crate::io::absent::without;
     use crate::io::error::Error;
     use crate::model::reading::{Read, TakeInfo};
+    use crate::take::OpenOptions;
     use std::path::Path;
 
     /// Refuses: this build reads no FBX.
-    pub fn load(path: &Path, _: u64, _: Option<&str>, _: usize) -> Result<Read, Error> {
+    pub fn load(path: &Path, _: &OpenOptions) -> Result<Read, Error> {
         Err(without("fbx", "FBX", &path.display().to_string()))
     }
 
     /// Refuses: this build reads no FBX.
-    pub fn load_bytes(_: &[u8], name: &str, _: Option<&str>, _: usize) -> Result<Read, Error> {
+    pub fn load_bytes(_: &[u8], name: &str, _: &OpenOptions) -> Result<Read, Error> {
         Err(without("fbx", "FBX", name))
     }
 
     /// Refuses: this build reads no FBX.
     pub fn load_character(
         path: &Path,
-        _: u64,
-        _: Option<&str>,
-        _: usize,
+        _: &OpenOptions,
     ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
         Err(without("fbx", "FBX", &path.display().to_string()))
     }
@@ -47,8 +46,7 @@ mod absent {
     pub fn load_character_bytes(
         _: &[u8],
         name: &str,
-        _: Option<&str>,
-        _: usize,
+        _: &OpenOptions,
     ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
         Err(without("fbx", "FBX", name))
     }

@@ -41,6 +41,7 @@ use super::records::BINARY_MAGIC;
 use crate::io::error::Error;
 use crate::model::baked::{self, Node, Pose};
 use crate::model::reading::{Read, TakeInfo, choose_take, pick_take};
+use crate::take::OpenOptions;
 use glam::{DMat4, DVec4};
 use std::path::Path;
 
@@ -462,19 +463,16 @@ fn quick_poses(
         .collect()
 }
 
-/// Reads take `take` (a name or an index; the first when `None`) of the FBX file at `path`.
-pub fn load(path: &Path, max_size: u64, take: Option<&str>, threads: usize) -> Result<Read, Error> {
-    let bytes = crate::io::whole::read_binary_file(path, max_size)?;
-    load_bytes(&bytes, &path.display().to_string(), take, threads)
+/// Reads the FBX file at `path` with `options` (its take, size limit and threads; the first
+/// take unless [`OpenOptions::take`] names another, by name or index).
+pub fn load(path: &Path, options: &OpenOptions) -> Result<Read, Error> {
+    let bytes = crate::io::whole::read_binary_file(path, options.max_size_or_default())?;
+    load_bytes(&bytes, &path.display().to_string(), options)
 }
 
 /// [`load`] of a file's bytes, `name` naming it in errors (the fuzz target's entry).
-pub fn load_bytes(
-    bytes: &[u8],
-    name: &str,
-    take: Option<&str>,
-    threads: usize,
-) -> Result<Read, Error> {
+pub fn load_bytes(bytes: &[u8], name: &str, options: &OpenOptions) -> Result<Read, Error> {
+    let (take, threads) = (options.take.as_deref(), options.threads_or_cores());
     let scene = read_scene(bytes, name, false)?;
     load_scene(&scene, bytes.len(), name, take, threads, false).map(|(read, _)| read)
 }
@@ -483,21 +481,19 @@ pub fn load_bytes(
 /// to among the joints: what the mesh reader said is among the take's warnings.
 pub fn load_character(
     path: &Path,
-    max_size: u64,
-    take: Option<&str>,
-    threads: usize,
+    options: &OpenOptions,
 ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
-    let bytes = crate::io::whole::read_binary_file(path, max_size)?;
-    load_character_bytes(&bytes, &path.display().to_string(), take, threads)
+    let bytes = crate::io::whole::read_binary_file(path, options.max_size_or_default())?;
+    load_character_bytes(&bytes, &path.display().to_string(), options)
 }
 
 /// [`load_character`] of a file's bytes (the fuzz target's entry).
 pub fn load_character_bytes(
     bytes: &[u8],
     name: &str,
-    take: Option<&str>,
-    threads: usize,
+    options: &OpenOptions,
 ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
+    let (take, threads) = (options.take.as_deref(), options.threads_or_cores());
     let scene = read_scene(bytes, name, true)?;
     let (mut read, joint) = load_scene(&scene, bytes.len(), name, take, threads, true)?;
     let turn = unstated_axes_turn(&scene);

@@ -56,23 +56,23 @@ mod absent {
     use crate::model::pose::OffsetMode;
     use crate::model::reading::{Read, TakeInfo};
     use crate::model::skeleton::Skeleton;
+    use crate::take::OpenOptions;
     use std::path::Path;
 
     /// Refuses: this build reads no glTF.
-    pub fn load(path: &Path, _: u64, _: Option<&str>) -> Result<Read, Error> {
+    pub fn load(path: &Path, _: &OpenOptions) -> Result<Read, Error> {
         Err(without("gltf", "glTF", &path.display().to_string()))
     }
 
     /// Refuses: this build reads no glTF.
-    pub fn load_bytes(_: &[u8], name: &str, _: Option<&str>) -> Result<Read, Error> {
+    pub fn load_bytes(_: &[u8], name: &str, _: &OpenOptions) -> Result<Read, Error> {
         Err(without("gltf", "glTF", name))
     }
 
     /// Refuses: this build reads no glTF.
     pub fn load_character(
         path: &Path,
-        _: u64,
-        _: Option<&str>,
+        _: &OpenOptions,
     ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
         Err(without("gltf", "glTF", &path.display().to_string()))
     }
@@ -81,7 +81,7 @@ mod absent {
     pub fn load_character_bytes(
         _: &[u8],
         name: &str,
-        _: Option<&str>,
+        _: &OpenOptions,
     ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
         Err(without("gltf", "glTF", name))
     }

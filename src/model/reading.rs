@@ -36,7 +36,7 @@ pub struct TakeInfo {
 /// # #[cfg(feature = "gltf")]
 /// # {
 /// let path = std::path::Path::new("tests/data/gltf/bvh11_131_01.glb");
-/// let read = bvhview::gltf::load(path, 1 << 30, None)?;
+/// let read = bvhview::gltf::load(path, &bvhview::take::OpenOptions::new())?;
 /// assert_eq!(read.motion.frame_count(), 60);
 /// assert_eq!(read.take.as_deref(), Some("bvh11_131_01"));
 /// # }

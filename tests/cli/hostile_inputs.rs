@@ -624,9 +624,13 @@ fn damaged_fbx_and_gltf_are_refused_not_crashed() {
         for _ in 0..setting("BVHVIEW_MUTATIONS", 400) {
             let input = damaged(bytes, &mut noise);
             let result = if name.ends_with(".fbx") {
-                bvhview::fbx::load_bytes(&input, name, None, 1)
+                bvhview::fbx::load_bytes(
+                    &input,
+                    name,
+                    &bvhview::take::OpenOptions::new().threads(1),
+                )
             } else {
-                bvhview::gltf::load_bytes(&input, name, None)
+                bvhview::gltf::load_bytes(&input, name, &Default::default())
             };
             match result {
                 Ok(read) => {
@@ -763,13 +767,15 @@ fn hostile_gltf_buffers_and_counts_are_refused() {
         "\"count\": 1000000000, \"type\": \"SCALAR\"",
         1,
     );
-    let error = bvhview::gltf::load_bytes(huge.as_bytes(), "huge.gltf", None).unwrap_err();
+    let error =
+        bvhview::gltf::load_bytes(huge.as_bytes(), "huge.gltf", &Default::default()).unwrap_err();
     assert!(error.to_string().contains("huge.gltf: "), "{error}");
     let backwards = gltf_with(
         r#""uri": "data:application/octet-stream;base64,AACAPwAAAAAAAAAAAAAAAAAAAAAAAIA/AAAAAAAAAAA=""#,
         "",
     );
-    let error = bvhview::gltf::load_bytes(backwards.as_bytes(), "back.gltf", None).unwrap_err();
+    let error = bvhview::gltf::load_bytes(backwards.as_bytes(), "back.gltf", &Default::default())
+        .unwrap_err();
     assert!(
         error.to_string().contains("not finite and increasing"),
         "{error}"

@@ -410,11 +410,12 @@ fn a_rig_s_controls_are_not_its_travel() {
 fn a_position_accessor_past_the_list_is_refused_not_a_panic() {
     let json = br#"{"asset":{"version":"2.0"},"nodes":[{"mesh":0}],
         "meshes":[{"primitives":[{"attributes":{"POSITION":5}}]}]}"#;
-    let take = bvhview::gltf::load_bytes(json, "bad.gltf", None)
+    let take = bvhview::gltf::load_bytes(json, "bad.gltf", &Default::default())
         .unwrap_err()
         .to_string();
     assert_eq!(take, "bad.gltf: mesh 0: a POSITION accessor 5 of 0");
-    let character = bvhview::gltf::load_character_bytes(json, "bad.gltf", None).unwrap_err();
+    let character =
+        bvhview::gltf::load_character_bytes(json, "bad.gltf", &Default::default()).unwrap_err();
     assert_eq!(character.to_string(), take);
 }
 
@@ -829,7 +830,14 @@ fn a_characters_own_takes_are_put_on_exactly() {
     assert_eq!(first.len(), copy.len());
     // In the library: the character read with its other take is on the same skeleton.
     let character = Character::open(file).unwrap();
-    let other = Character::open_with(Path::new(file), u64::MAX, Some("1"), 1).unwrap();
+    let other = Character::open_with(
+        Path::new(file),
+        &bvhview::take::OpenOptions::new()
+            .max_size(u64::MAX)
+            .take("1")
+            .threads(1),
+    )
+    .unwrap();
     assert!(character.is_own_skeleton(&other.take.skeleton));
     assert_eq!(other.take.take_name.as_deref(), Some("Copy"));
 }

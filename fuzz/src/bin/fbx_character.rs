@@ -3,7 +3,7 @@
 //! at its last frame.
 fn main() {
     afl::fuzz!(|data: &[u8]| {
-        if let Ok((read, mesh)) = bvhview::fbx::load_character_bytes(data, "fuzz.character", None, 1) {
+        if let Ok((read, mesh)) = bvhview::fbx::load_character_bytes(data, "fuzz.character", &bvhview::take::OpenOptions::new().threads(1)) {
             mesh.check().expect("a mesh the reader hands over is consistent");
             let last = read.motion.frame_count().saturating_sub(1);
             let mut world = Vec::new();

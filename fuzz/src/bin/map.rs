@@ -19,7 +19,7 @@ fn main() {
         };
         match parse_map(text, "fuzz.toml") {
             Ok(pairs) => {
-                let _ = onto.apply("source.bvh", &source.skeleton, &source_motion, &pairs, 1);
+                let _ = onto.apply("source.bvh", &source.skeleton, &source_motion, &pairs, Default::default(), 1);
             }
             Err(error) => assert!(matches!(error, bvhview::Error::Parse { .. }), "{error}"),
         }

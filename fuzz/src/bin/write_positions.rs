@@ -1,7 +1,7 @@
 //! The positions export (CSV and JSON), fed what the BVH loader makes of any bytes: whatever it
 //! writes must parse back, every number finite, one row per frame and point; whatever it
 //! refuses must be refused before the header.
-use bvhview::positions::{Format, PositionsOptions};
+use bvhview::positions::{PositionsFormat, PositionsOptions};
 use bvhview_fuzz::split;
 
 fn main() {
@@ -13,9 +13,9 @@ fn main() {
         let frames = bvh.motion.frame_count().max(1);
         let options = PositionsOptions {
             format: if choice & 1 == 0 {
-                Format::Csv
+                PositionsFormat::Csv
             } else {
-                Format::Json
+                PositionsFormat::Json
             },
             offset_mode: if choice & 2 == 0 {
                 bvhview::model::pose::OffsetMode::Replace
@@ -43,7 +43,7 @@ fn main() {
             Ok(()) => {
                 let text = String::from_utf8(out).expect("the export is UTF-8");
                 match options.format {
-                    Format::Csv => {
+                    PositionsFormat::Csv => {
                         let mut lines = text.lines();
                         assert_eq!(lines.next(), Some("frame,joint,x,y,z"));
                         let mut rows = 0;
@@ -59,7 +59,7 @@ fn main() {
                         }
                         assert_eq!(rows, frames * points);
                     }
-                    Format::Json => {
+                    PositionsFormat::Json => {
                         let value: serde_json::Value =
                             serde_json::from_str(&text).unwrap_or_else(|e| panic!("JSON: {e}"));
                         let written = value["frames"].as_array().expect("frames").len();

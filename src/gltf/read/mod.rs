@@ -23,6 +23,7 @@
 use crate::io::error::Error;
 use crate::model::baked::{self, Node, Pose};
 use crate::model::reading::{Read, TakeInfo, choose_take, pick_take};
+use crate::take::OpenOptions;
 use glam::{DMat4, DQuat, DVec3};
 use gltf::animation::Property;
 use std::path::Path;
@@ -88,9 +89,11 @@ fn trs_matrix(trs: &Trs) -> DMat4 {
     DMat4::from_scale_rotation_translation(trs.2, trs.1, trs.0)
 }
 
-/// Reads take `take` (an animation's name or index; the first when `None`) of the glTF at `path`.
-pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Error> {
-    let file = read(path, max_size)?;
+/// Reads the glTF at `path` with `options` (its take, by an animation's name or index, the
+/// first unless [`OpenOptions::take`] names another; its size limit).
+pub fn load(path: &Path, options: &OpenOptions) -> Result<Read, Error> {
+    let file = read(path, options.max_size_or_default())?;
+    let take = options.take.as_deref();
     load_file(&file, &path.display().to_string(), take, false).map(|(read, _)| read)
 }
 
@@ -98,29 +101,29 @@ pub fn load(path: &Path, max_size: u64, take: Option<&str>) -> Result<Read, Erro
 /// among the take's warnings.
 pub fn load_character(
     path: &Path,
-    max_size: u64,
-    take: Option<&str>,
+    options: &OpenOptions,
 ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
-    let file = read(path, max_size)?;
+    let file = read(path, options.max_size_or_default())?;
+    let take = options.take.as_deref();
     let (read, mesh) = load_file(&file, &path.display().to_string(), take, true)?;
     Ok((read, mesh.unwrap_or_default()))
 }
 
 /// [`load`] of a GLB's or glTF's bytes alone (buffers inside it or in data: URIs), `name`
 /// naming it in errors (the fuzz target's entry).
-pub fn load_bytes(bytes: &[u8], name: &str, take: Option<&str>) -> Result<Read, Error> {
+pub fn load_bytes(bytes: &[u8], name: &str, options: &OpenOptions) -> Result<Read, Error> {
     let file = parse(bytes, name, None, bytes.len() as u64)?;
-    load_file(&file, name, take, false).map(|(read, _)| read)
+    load_file(&file, name, options.take.as_deref(), false).map(|(read, _)| read)
 }
 
 /// [`load_character`] of a GLB's or glTF's bytes alone (the fuzz target's entry).
 pub fn load_character_bytes(
     bytes: &[u8],
     name: &str,
-    take: Option<&str>,
+    options: &OpenOptions,
 ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
     let file = parse(bytes, name, None, bytes.len() as u64)?;
-    let (read, mesh) = load_file(&file, name, take, true)?;
+    let (read, mesh) = load_file(&file, name, options.take.as_deref(), true)?;
     Ok((read, mesh.unwrap_or_default()))
 }
 
