@@ -175,9 +175,16 @@ fn to_python(py: Python<'_>, error: Error) -> PyErr {
         Error::Io { path, source } | Error::Output { path, source } => {
             os_error(&path, &source, &text)
         }
-        Error::Usage(_) => PyValueError::new_err(text),
+        // An argument by its keyword, as Python spells it.
+        Error::InvalidArgument {
+            name,
+            value,
+            expected,
+        } => PyValueError::new_err(format!("{name}={value}: {expected}")),
         Error::Memory(_) => PyMemoryError::new_err(text),
         Error::Environment(_) => PyRuntimeError::new_err(text),
+        // A format this build lacks, a request that cannot be done: the caller's to change.
+        _ => PyValueError::new_err(text),
     }
 }
 

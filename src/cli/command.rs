@@ -143,9 +143,11 @@ pub fn main() -> ExitCode {
     }
 }
 
+/// The error said as the command line says it (an argument by its flag), and its exit code:
+/// 2 when the caller's input or request is at fault, 1 when the machine is.
 fn report(error: &Error) -> ExitCode {
-    eprintln!("bvhview: {error}");
-    ExitCode::from(error.exit_code() as u8)
+    eprintln!("bvhview: {}", cli::said(error));
+    ExitCode::from(if error.is_the_callers() { 2 } else { 1 })
 }
 
 /// A mistyped command is taken for a file name (the window takes files): when the first word is

@@ -483,7 +483,7 @@ fn convert_one(
     });
     match result {
         Ok(done) => Outcome::Converted(done),
-        Err(error) => failed(error.to_string()),
+        Err(error) => failed(super::said(&error)),
     }
 }
 

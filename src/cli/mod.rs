@@ -129,6 +129,18 @@ impl Source {
     }
 }
 
+/// An error as the command line says it: an argument by its flag (`--frame-time 0: …`).
+pub(crate) fn said(error: &Error) -> String {
+    match error {
+        Error::InvalidArgument {
+            name,
+            value,
+            expected,
+        } => format!("--{} {value}: {expected}", name.replace('_', "-")),
+        _ => error.to_string(),
+    }
+}
+
 /// `8G` → 8 GiB; plain numbers are bytes.
 pub(crate) fn parse_max_size(text: &str) -> Result<u64, String> {
     let bad = || format!("expected a size such as 500M or 8G, found '{text}'");
@@ -252,7 +264,7 @@ pub(crate) fn parse_size(text: &str) -> Result<(u32, u32), String> {
     let (w, h) = text.split_once(['x', 'X']).ok_or_else(bad)?;
     let w: u32 = w.trim().parse().map_err(|_| bad())?;
     let h: u32 = h.trim().parse().map_err(|_| bad())?;
-    crate::limits::picture_size(w, h).map_err(|e| e.to_string())?;
+    crate::limits::picture_size(w, h).map_err(|e| said(&e))?;
     Ok((w, h))
 }
 

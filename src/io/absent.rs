@@ -4,9 +4,10 @@
 use crate::io::error::Error;
 
 /// The refusal of a file whose format this build has no code for (its cargo feature is off).
-pub fn without(feature: &str, format: &str, file: &str) -> Error {
-    Error::Usage(format!(
-        "{file}: this bvhview was built without {format} (cargo feature `{feature}`); \
-         build it with `--features {feature}`"
-    ))
+pub fn without(feature: &'static str, format: &'static str, file: &str) -> Error {
+    Error::Unsupported {
+        input: file.to_string(),
+        what: format,
+        feature,
+    }
 }

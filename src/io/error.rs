@@ -18,6 +18,7 @@ use std::path::{Path, PathBuf};
 /// }
 /// ```
 #[derive(Debug)]
+#[non_exhaustive]
 pub enum Error {
     /// The input is malformed: `path:line:column: message`.
     Parse {
@@ -44,6 +45,27 @@ pub enum Error {
         /// Why the system could not write it.
         source: io::Error,
     },
+    /// An argument the caller gave is outside what it may be: its name as the library spells it
+    /// (`frame_time`, `fps`, `size`), the value as given, and what is expected. Each front end
+    /// names the argument its own way: the command line `--frame-time 0: …`, Python
+    /// `frame_time=0: …`; [`fmt::Display`] writes `frame_time 0: …`.
+    InvalidArgument {
+        /// The argument's name, in snake case.
+        name: &'static str,
+        /// Its value as the caller gave it.
+        value: String,
+        /// What it may be.
+        expected: String,
+    },
+    /// The input needs a part this build was made without (a format behind a cargo feature).
+    Unsupported {
+        /// The input's name.
+        input: String,
+        /// What it is (`FBX`, `glTF`, `MP4 video`).
+        what: &'static str,
+        /// The cargo feature that brings it.
+        feature: &'static str,
+    },
     /// Anything else the user asked for that cannot be done (a frame out of range, a bad option).
     Usage(String),
     /// The machine lacks something (a display, a library): not the input's fault.
@@ -69,19 +91,24 @@ impl Error {
         }
     }
 
-    /// The CLI's exit code: 2 for bad input, 1 for everything else.
-    pub fn exit_code(&self) -> i32 {
+    /// Whether the caller's input or request is at fault (a broken file, a missing input, a bad
+    /// argument, a format this build lacks), rather than the machine (a display, memory, a
+    /// disk that refuses a write). The command line exits 2 for the first, 1 for the second.
+    pub fn is_the_callers(&self) -> bool {
         match self {
-            Error::Parse { .. } | Error::Usage(_) => 2,
-            Error::Environment(_) | Error::Memory(_) | Error::Output { .. } => 1,
+            Error::Parse { .. }
+            | Error::Usage(_)
+            | Error::InvalidArgument { .. }
+            | Error::Unsupported { .. } => true,
+            Error::Environment(_) | Error::Memory(_) | Error::Output { .. } => false,
             // A missing or unreadable input is the caller's input; the rest is the machine's.
-            Error::Io { source, .. } => match source.kind() {
+            Error::Io { source, .. } => matches!(
+                source.kind(),
                 io::ErrorKind::NotFound
-                | io::ErrorKind::IsADirectory
-                | io::ErrorKind::InvalidData
-                | io::ErrorKind::FileTooLarge => 2,
-                _ => 1,
-            },
+                    | io::ErrorKind::IsADirectory
+                    | io::ErrorKind::InvalidData
+                    | io::ErrorKind::FileTooLarge
+            ),
         }
     }
 }
@@ -126,6 +153,20 @@ impl fmt::Display for Error {
                     _ => write!(f, "cannot write {}: {}", path.display(), io_message(source)),
                 }
             }
+            Error::InvalidArgument {
+                name,
+                value,
+                expected,
+            } => write!(f, "{name} {value}: {expected}"),
+            Error::Unsupported {
+                input,
+                what,
+                feature,
+            } => write!(
+                f,
+                "{input}: this bvhview was built without {what} (cargo feature `{feature}`); \
+                 build it with `--features {feature}`"
+            ),
             Error::Usage(message) | Error::Environment(message) | Error::Memory(message) => {
                 f.write_str(message)
             }
@@ -152,7 +193,14 @@ fn io_message(error: &io::Error) -> String {
     }
 }
 
-impl std::error::Error for Error {}
+impl std::error::Error for Error {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            Error::Io { source, .. } | Error::Output { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
 
 /// A count with its noun, singular for 1 (`1 frame`, `0 frames`, `2 frames`); every noun counted
 /// in messages takes a plain `s`.

@@ -150,11 +150,14 @@ pub fn frame_time_in_file(seconds: f64) -> bool {
 pub fn frame_time_option(seconds: Option<f64>) -> Result<(), Error> {
     match seconds {
         Some(time) if !(MIN_FRAME_TIME..=MAX_FRAME_TIME).contains(&time) => {
-            Err(Error::Usage(format!(
-                "--frame-time {}: expected seconds per frame, from {} to {MAX_FRAME_TIME}",
-                show(time),
-                show(MIN_FRAME_TIME)
-            )))
+            Err(Error::InvalidArgument {
+                name: "frame_time",
+                value: show(time),
+                expected: format!(
+                    "expected seconds per frame, from {} to {MAX_FRAME_TIME}",
+                    show(MIN_FRAME_TIME)
+                ),
+            })
         }
         _ => Ok(()),
     }
@@ -169,10 +172,11 @@ pub fn fps(fps: f64, gif: bool) -> Result<f64, Error> {
         } else {
             ""
         };
-        return Err(Error::Usage(format!(
-            "--fps {}: expected frames per second from {MIN_FPS} to {most}{why}",
-            show(fps)
-        )));
+        return Err(Error::InvalidArgument {
+            name: "fps",
+            value: show(fps),
+            expected: format!("expected frames per second from {MIN_FPS} to {most}{why}"),
+        });
     }
     Ok(fps)
 }
@@ -218,14 +222,17 @@ pub const MAX_PICTURE_PIXELS: u64 = 8192 * 8192;
 
 /// A picture's size: 1 to 16384 pixels each way, at most [`MAX_PICTURE_PIXELS`] in all.
 pub fn picture_size(width: u32, height: u32) -> Result<(), Error> {
+    let invalid = |expected: String| Error::InvalidArgument {
+        name: "size",
+        value: format!("{width}x{height}"),
+        expected,
+    };
     if width == 0 || height == 0 || width > 16384 || height > 16384 {
-        return Err(Error::Usage(format!(
-            "--size {width}x{height}: width and height must be 1 to 16384"
-        )));
+        return Err(invalid("width and height must be 1 to 16384".into()));
     }
     if u64::from(width) * u64::from(height) > MAX_PICTURE_PIXELS {
-        return Err(Error::Usage(format!(
-            "--size {width}x{height}: at most {MAX_PICTURE_PIXELS} pixels (8192x8192)"
+        return Err(invalid(format!(
+            "at most {MAX_PICTURE_PIXELS} pixels (8192x8192)"
         )));
     }
     Ok(())
