@@ -638,7 +638,7 @@ fn viewer_shows_takes_side_by_side_reloads_and_writes_pictures() {
     let after_edit = snapshot(&[&first, &second], &[]);
     close_to("the edit after R", &after_edit);
 
-    // A broken file: R keeps the last good take and shows the error line top left.
+    // A broken file: R keeps the last good take and shows the error line where the HUD goes.
     std::fs::write(&second, "HIERARCHY\nROOT Hips\n{\n").unwrap();
     run(&display, "xdotool", &["key", "r"]).expect("key r");
     let start = Instant::now();
@@ -921,7 +921,7 @@ fn the_window_records_what_it_shows_into_an_mp4() {
     focus_until_keys_arrive(&display, &window, "frame 2 (0-2)", "frame 0 (0-2)");
     run(&display, "xdotool", &["key", "w"]).expect("key w");
     wait_for("frame 1", Duration::from_secs(30), || {
-        run(&display, "xdotool", &["getwindowname", &window]).filter(|t| t.contains("frame 1 of"))
+        run(&display, "xdotool", &["getwindowname", &window]).filter(|t| t.contains("frame 1 ("))
     });
     let one = snapshot(1);
     wait_for("frame 1 drawn", Duration::from_secs(30), || {
