@@ -48,8 +48,8 @@ pub(crate) struct SnapshotArgs {
     /// highlighted, with its GL calls written beside (the window's J key).
     #[arg(long, value_name = "K", value_parser = clap::value_parser!(u64).range(1..))]
     step: Option<u64>,
-    /// Write the HUD top left (the file, the frame, its time, the rate, the display mode) and
-    /// the timeline along the bottom (the window's I key).
+    /// Write the timeline along the bottom and the HUD bottom left above it (the file, the
+    /// frame, its time, the rate, the display mode; top left with --step): the window's I key.
     #[arg(long)]
     hud: bool,
     /// The studio look: grid floor, shadows, bones coloured by side, the take framed.

@@ -1,5 +1,6 @@
 //! The HUD (I in the window, `snapshot --hud`) and the help (H): text on top of the picture,
-//! top left, never part of the article's picture.
+//! bottom left above the timeline (top left in the step view), never part of the article's
+//! picture.
 
 use crate::model::pose::OffsetMode;
 use crate::render::draw::Style;
@@ -43,6 +44,12 @@ pub struct Hud<'a> {
     pub lying_along_z: bool,
 }
 
+/// How the HUD and the title say the frame shown: counted from 0, as `--frame` counts it, with
+/// the range the take holds: `frame 0 (0-39)`.
+pub fn frame_of(frame: usize, frames: usize) -> String {
+    format!("frame {frame} (0-{})", frames.saturating_sub(1))
+}
+
 /// What the article's view says of a file whose rest pose stands along z: it is drawn as
 /// written, as the article draws every file, and what stands it up.
 pub const LYING_HINT: &str = "stands along z in its motion: drawn as written, as the article \
@@ -52,10 +59,10 @@ fn frames_text(take: &HudTake) -> (String, String) {
     if take.frames == 0 {
         ("rest pose (no frames)".to_string(), "rest pose".to_string())
     } else {
-        (
-            format!("frame {} of 0-{}", take.frame, take.frames - 1),
-            format!("frame {}/{}", take.frame, take.frames - 1),
-        )
+        let long = frame_of(take.frame, take.frames);
+        // The short form drops the word, not the form: `0 (0-39)`.
+        let short = long.trim_start_matches("frame ").to_string();
+        (long, short)
     }
 }
 
@@ -155,12 +162,49 @@ pub fn fit(lines: &[Line], (width, height): (u32, u32), room: usize) -> Vec<Stri
         .collect()
 }
 
-/// Pixels along the top that `lines` HUD lines cover in `font`, with a gap below them.
+/// Where the HUD's lines (or the help's) sit on a picture.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Place {
+    /// Bottom left, the last line lowest, its band starting this many pixels up: just above the
+    /// timeline. The article's camera puts the figure in the upper two thirds of the picture
+    /// and the floor's near half below it, so the HUD covers the floor, not the head.
+    BottomLeft(f32),
+    /// Top left, the first line highest: in the step view, whose text takes the bottom.
+    TopLeft,
+}
+
+impl Place {
+    /// The HUD's place on a `width × height` picture: bottom left, above the timeline when it is
+    /// shown (8 pixels up when not), or top left in the step view (`stepping`).
+    pub fn for_picture((width, height): (u32, u32), timeline: bool, stepping: bool) -> Place {
+        if stepping {
+            Place::TopLeft
+        } else if timeline {
+            Place::BottomLeft(crate::render::timeline::Bar::for_picture(width, height).room())
+        } else {
+            Place::BottomLeft(8.0)
+        }
+    }
+}
+
+/// Pixels along the top that `lines` HUD lines cover in `font`, with a gap below them (the HUD
+/// top left, in the step view).
 pub fn reserved_height(lines: usize, font: Font) -> f32 {
     if lines == 0 {
         0.0
     } else {
         (8 + font.line * lines as i32 + (font.line - font.cell) + 6) as f32
+    }
+}
+
+/// Pixels along the top and along the bottom that `lines` HUD lines at `place` keep from a framed
+/// figure in `font`, with a gap beside them: `(top, bottom)`; the bottom one counts from the
+/// picture's edge, the timeline's room with it.
+pub fn reserved(lines: usize, font: Font, place: Place) -> (f32, f32) {
+    match place {
+        Place::TopLeft => (reserved_height(lines, font), 0.0),
+        Place::BottomLeft(_) if lines == 0 => (0.0, 0.0),
+        Place::BottomLeft(above) => (0.0, above + (font.line * lines as i32 + 6) as f32),
     }
 }
 
@@ -296,14 +340,17 @@ pub fn help_lines() -> Vec<String> {
     .to_vec()
 }
 
-/// The help's lines fitted to a `width × height` picture: as many as its height holds.
+/// The help's lines fitted to a `width × height` picture: as many as its height holds above the
+/// timeline.
 pub fn help_fitted(size: (u32, u32)) -> Vec<String> {
     let font = Font::for_picture(size.0, size.1);
     let lines: Vec<Line> = help_lines()
         .into_iter()
         .map(|line| Line::text(1, line.clone(), line))
         .collect();
-    let room = ((size.1 as i32 - 16) / font.line).max(1) as usize;
+    // Below them, the timeline's room (the help sits where the HUD does).
+    let below = crate::render::timeline::Bar::for_picture(size.0, size.1).room() as i32;
+    let room = ((size.1 as i32 - 16 - below) / font.line).max(1) as usize;
     fit(&lines, size, room)
 }
 
@@ -311,33 +358,55 @@ pub fn help_fitted(size: (u32, u32)) -> Vec<String> {
 /// label or the studio grid.
 const BACKING: [f32; 3] = [0.05, 0.05, 0.07];
 
-/// Draws `lines` top left on a picture `width × height`, in white, each on a dark band as wide as
-/// its text.
-pub fn draw<G: FixedFunction>(gl: &mut G, (width, height): (u32, u32), lines: &[String]) {
+/// Draws `lines` at `place` on a picture `width × height`, in white, each on a dark band as wide
+/// as its text.
+pub fn draw<G: FixedFunction>(
+    gl: &mut G,
+    (width, height): (u32, u32),
+    lines: &[String],
+    place: Place,
+) {
     let font = Font::for_picture(width, height);
-    let bands: Vec<_> = bands((width, height), lines)
+    let bands: Vec<_> = bands((width, height), lines, place)
         .into_iter()
         .map(|band| (BACKING, band))
         .collect();
     pixels::fill(gl, (width, height), &bands);
-    text::draw_lines_in(gl, height, Corner::TopLeft, lines, [1.0, 1.0, 1.0], font);
+    let corner = match place {
+        Place::TopLeft => Corner::TopLeft,
+        Place::BottomLeft(above) => Corner::BottomLeftAt(baseline_above(above, font)),
+    };
+    text::draw_lines_in(gl, height, corner, lines, [1.0, 1.0, 1.0], font);
 }
 
-/// Where `lines` go on a `width × height` picture: the band behind each one that is not empty.
-pub fn bands((width, height): (u32, u32), lines: &[String]) -> Vec<Rect> {
+/// Where `lines` go at `place` on a `width × height` picture: the band behind each one that is
+/// not empty.
+pub fn bands((width, height): (u32, u32), lines: &[String], place: Place) -> Vec<Rect> {
     let font = Font::for_picture(width, height);
     lines
         .iter()
         .enumerate()
         .filter(|(_, line)| !line.is_empty())
-        .map(|(i, line)| band(height, i, line.chars().count(), font))
+        .map(|(i, line)| {
+            let baseline = match place {
+                Place::TopLeft => height as i32 - 8 - font.line * (i as i32 + 1),
+                Place::BottomLeft(above) => {
+                    baseline_above(above, font) + font.line * (lines.len() - 1 - i) as i32
+                }
+            };
+            band(baseline, line.chars().count(), font)
+        })
         .collect()
 }
 
-/// The band behind top-left line `index` of `chars` glyphs: the glyphs' cells and the gap below
+/// The baseline of the lowest line whose band starts `above` pixels up.
+fn baseline_above(above: f32, font: Font) -> i32 {
+    above.ceil() as i32 + (font.line - font.cell)
+}
+
+/// The band behind a line of `chars` glyphs on `baseline`: the glyphs' cells and the gap below
 /// them, with 4 pixels to each side, so the bands of consecutive lines meet.
-fn band(height: u32, index: usize, chars: usize, font: Font) -> Rect {
-    let baseline = height as i32 - 8 - font.line * (index as i32 + 1);
+fn band(baseline: i32, chars: usize, font: Font) -> Rect {
     Rect {
         left: 4.0,
         right: (8 + font.cell * chars as i32 + 4) as f32,

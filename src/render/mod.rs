@@ -359,7 +359,8 @@ pub enum Look {
 /// ```
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Overlay {
-    /// Lines of text top left: the HUD's, or the help's.
+    /// Lines of text bottom left above the timeline (top left in the step view): the HUD's, or
+    /// the help's.
     pub lines: Vec<String>,
     /// The timeline along the bottom (with the HUD): the frame shown, and how many there are.
     pub timeline: Option<(usize, usize)>,
@@ -383,10 +384,11 @@ pub fn draw_overlay<G: fixed::FixedFunction>(
             names::draw(gl, scene);
         }
     }
+    let stepping = scenes.first().is_some_and(|s| s.shown.is_some());
+    let place = hud::Place::for_picture((width, height), overlay.timeline.is_some(), stepping);
     if !overlay.labels.is_empty() {
         // Labels keep clear of the HUD's lines and stay above the timeline.
-        let mut taken = hud::bands((width, height), &overlay.lines);
-        let stepping = scenes.first().is_some_and(|s| s.shown.is_some());
+        let mut taken = hud::bands((width, height), &overlay.lines, place);
         let mut lowest = 2.0;
         if overlay.timeline.is_some() && !stepping {
             let bar = timeline::Bar::for_picture(width, height);
@@ -422,9 +424,8 @@ pub fn draw_overlay<G: fixed::FixedFunction>(
         step::draw_overlay(gl, &lines, font);
     }
     if !overlay.lines.is_empty() {
-        hud::draw(gl, (width, height), &overlay.lines);
+        hud::draw(gl, (width, height), &overlay.lines, place);
     }
-    let stepping = scenes.first().is_some_and(|s| s.shown.is_some());
     if let (Some((frame, frames)), false) = (overlay.timeline, stepping) {
         timeline::draw(gl, width, height, frame, frames);
     }

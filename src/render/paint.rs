@@ -610,22 +610,27 @@ fn take_scales(takes: &[Shown], heights: &[f32], true_scale: bool) -> Vec<f32> {
         .collect()
 }
 
-/// Pixels kept free along the top for each take's label, over the HUD's lines.
+/// Pixels kept free along the top for each take's label.
 pub const LABEL_ROOM: f32 = 14.0;
 
-/// The part of the picture a framed figure may use: below the HUD's lines and the labels, above
-/// the timeline (the step view's text, which takes the bottom, leaves it be).
+/// The part of the picture a framed figure may use: below the labels, above the HUD's lines and
+/// the timeline; in the step view below the HUD's lines (the step view's text, which takes the
+/// bottom, leaves it be).
 pub fn figure_room(overlay: &Overlay, (width, height): (u32, u32), stepping: bool) -> Room {
+    use crate::render::hud::{Place, reserved};
     let font = crate::render::text::Font::for_picture(width, height);
-    let mut top = crate::render::hud::reserved_height(overlay.lines.len(), font);
+    let timeline = overlay.timeline.is_some() && !stepping;
+    let place = Place::for_picture((width, height), timeline, stepping);
+    let (mut top, hud_bottom) = reserved(overlay.lines.len(), font, place);
     if !overlay.labels.is_empty() {
         top += LABEL_ROOM;
     }
-    let bottom = if overlay.timeline.is_some() && !stepping {
+    let bar = if timeline {
         crate::render::timeline::Bar::for_picture(width, height).room()
     } else {
         0.0
     };
+    let bottom = hud_bottom.max(bar);
     Room::below(width, height, top, bottom)
 }
 

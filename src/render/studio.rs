@@ -1,7 +1,7 @@
 //! The studio look (`--look studio`, V in the window): a dark backdrop, a grid floor at the
 //! take's lowest point, the figure's shadow cast straight down onto it, bones and joints coloured
 //! by side (left blue, right orange, centre grey), sticks with the spheres, and a camera that
-//! frames the pose shown, or follows the root (T), below the HUD (`paint`). Its sizes come from the skeleton: the grid's squares are half a metre in
+//! frames the pose shown, or follows the root (T), above the HUD (`paint`). Its sizes come from the skeleton: the grid's squares are half a metre in
 //! the units the skeleton's height suggests. None of it is the article's picture, which stays the
 //! default.
 

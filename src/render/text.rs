@@ -148,7 +148,9 @@ pub enum Corner {
     /// Bottom left, the last line lowest: the step view (the article's camera shows the skeleton
     /// in the upper half).
     BottomLeft,
-    /// Top left, the first line highest: the HUD and the help.
+    /// Bottom left, the last line's baseline this many pixels up: the HUD, above the timeline.
+    BottomLeftAt(i32),
+    /// Top left, the first line highest: the HUD and the help in the step view.
     TopLeft,
 }
 
@@ -178,6 +180,7 @@ pub fn draw_lines_in<G: FixedFunction>(
     for (i, line) in lines.iter().enumerate() {
         let baseline = match corner {
             Corner::BottomLeft => 8 + font.line * (lines.len() - 1 - i) as i32,
+            Corner::BottomLeftAt(lowest) => lowest + font.line * (lines.len() - 1 - i) as i32,
             Corner::TopLeft => height as i32 - 8 - font.line * (i as i32 + 1),
         };
         gl.window_pos(8, baseline);

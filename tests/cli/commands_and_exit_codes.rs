@@ -693,7 +693,7 @@ fn animated_snapshots_hold_the_frames_at_their_rate() {
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-/// `snapshot --hud` writes the HUD top left (pinned picture); without it the picture is the
+/// `snapshot --hud` writes the HUD bottom left above the timeline (pinned picture); without it the picture is the
 /// article's, unchanged.
 #[test]
 fn snapshot_hud_is_pinned_and_opt_in() {

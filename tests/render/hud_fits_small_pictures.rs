@@ -338,3 +338,82 @@ fn the_step_text_fits_a_small_picture() {
     let band = bottom - top;
     assert!(band < height / 2, "the text covers {band} of {height} rows");
 }
+
+/// The HUD of one take in the article's view at 600×600, as `snapshot --hud` writes it.
+fn article_hud(name: &str, frames: usize) -> Vec<String> {
+    Hud {
+        takes: vec![HudTake {
+            name,
+            frame: frames.saturating_sub(1),
+            frames,
+            frame_time: 1.0 / 30.0,
+        }],
+        time: 0.0,
+        playing: false,
+        speed: 1.0,
+        looping: true,
+        look: Look::Article,
+        follow: false,
+        style: Style::Points,
+        skin: false,
+        fit: false,
+        offset_mode: OffsetMode::Replace,
+        other_mode_likely: false,
+        lying_along_z: false,
+    }
+    .lines((600, 600))
+}
+
+/// The HUD once sat top left, over the head of the bundled walk in the article's view. It sits
+/// bottom left now, above the timeline, over the floor's near half: no joint of the walk (at
+/// every frame) or of the repository's takes (at three frames) is drawn under its bands.
+#[test]
+fn the_hud_in_the_article_view_covers_no_joint() {
+    let mut takes = vec![("walk.bvh".to_string(), bvhview::Take::bundled().unwrap())];
+    for file in [
+        "bvh11_131_01.bvh",
+        "opencollar_run.bvh",
+        "bvhpython_test_freebvh.bvh",
+    ] {
+        let take = bvhview::Take::open(repo_data(&format!("bvh/{file}"))).unwrap();
+        takes.push((file.to_string(), take));
+    }
+    let size = (600, 600);
+    let place = hud::Place::for_picture(size, true, false);
+    assert!(matches!(place, hud::Place::BottomLeft(_)), "{place:?}");
+    let mut renderer = bvhview::render::Renderer::new(size.0, size.1).unwrap();
+    for (name, take) in &takes {
+        let count = take.motion.frame_count();
+        let lines = article_hud(name, count);
+        let bands = hud::bands(size, &lines, place);
+        assert_eq!(bands.len(), lines.len());
+        let frames: Vec<usize> = if name == "walk.bvh" {
+            (0..count).collect()
+        } else {
+            vec![0, count / 2, count - 1]
+        };
+        for frame in frames {
+            let options = SnapshotOptions {
+                frame,
+                ..SnapshotOptions::default()
+            };
+            let picture = renderer
+                .render(&take.skeleton, &take.motion, &options)
+                .unwrap();
+            for band in &bands {
+                for up in band.bottom as u32..band.top as u32 {
+                    let row = size.1 - 1 - up;
+                    for x in band.left as u32..band.right as u32 {
+                        let at = 3 * (row * size.0 + x) as usize;
+                        // A sphere is lit grey; the floor and the clear colour are near black.
+                        let pixel = &picture.rgb[at..at + 3];
+                        assert!(
+                            pixel.iter().all(|&c| c < 60),
+                            "{name} frame {frame}: the HUD covers a joint at ({x}, {row}): {pixel:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+}

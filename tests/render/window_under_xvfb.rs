@@ -254,7 +254,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     wait_for(
         "frame 0 in the title",
         Duration::from_secs(30),
-        title("0 of 0-2"),
+        title("0 (0-2)"),
     );
     let first = snapshot(0);
     let seen = wait_for("the first picture", Duration::from_secs(30), || {
@@ -268,12 +268,12 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     );
 
     // winit reads keys through XInput2, which ignores synthetic events: focus, then type (XTEST).
-    focus_until_keys_arrive(&display, &window, "frame 2 of 0-2", "frame 0 of 0-2");
+    focus_until_keys_arrive(&display, &window, "frame 2 (0-2)", "frame 0 (0-2)");
     run(&display, "xdotool", &["key", "w"]).expect("key w");
     wait_for(
         "frame 1 in the title",
         Duration::from_secs(30),
-        title("1 of 0-2"),
+        title("1 (0-2)"),
     );
     let second = snapshot(1);
     let start = Instant::now();
@@ -384,10 +384,10 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     wait_for(
         "the offset mode in the title",
         Duration::from_secs(30),
-        title("1 of 0-2 - position channels added to OFFSET"),
+        title("1 (0-2) - position channels added to OFFSET"),
     );
     run(&display, "xdotool", &["key", "o"]).expect("key o");
-    wait_for("the title back", Duration::from_secs(30), title("1 of 0-2"));
+    wait_for("the title back", Duration::from_secs(30), title("1 (0-2)"));
 
     // I shows the HUD: the picture `snapshot --hud` writes for the same state. H shows the help
     // instead, and both go away again.
@@ -487,13 +487,13 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     wait_for(
         "End: the last frame",
         Duration::from_secs(30),
-        title("2 of 0-2"),
+        title("2 (0-2)"),
     );
     key("Home");
     wait_for(
         "Home: the first frame",
         Duration::from_secs(30),
-        title("0 of 0-2"),
+        title("0 (0-2)"),
     );
 
     // With the HUD, the timeline: a click at its right end seeks to the last frame, a drag back
@@ -504,7 +504,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     wait_for(
         "a click on the timeline",
         Duration::from_secs(30),
-        title("2 of 0-2"),
+        title("2 (0-2)"),
     );
     close_to(
         "the HUD at frame 2",
@@ -520,7 +520,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     wait_for(
         "a drag along the timeline",
         Duration::from_secs(30),
-        title("0 of 0-2"),
+        title("0 (0-2)"),
     );
     let hud_first = cli_snapshot(&["--hud"]);
     close_to("the HUD at frame 0 again", &hud_first);
@@ -638,7 +638,7 @@ fn viewer_shows_takes_side_by_side_reloads_and_writes_pictures() {
     let after_edit = snapshot(&[&first, &second], &[]);
     close_to("the edit after R", &after_edit);
 
-    // A broken file: R keeps the last good take and shows the error line top left.
+    // A broken file: R keeps the last good take and shows the error line where the HUD goes.
     std::fs::write(&second, "HIERARCHY\nROOT Hips\n{\n").unwrap();
     run(&display, "xdotool", &["key", "r"]).expect("key r");
     let start = Instant::now();
@@ -918,10 +918,10 @@ fn the_window_records_what_it_shows_into_an_mp4() {
         Duration::from_secs(30),
         said("recording"),
     );
-    focus_until_keys_arrive(&display, &window, "frame 2 of 0-2", "frame 0 of 0-2");
+    focus_until_keys_arrive(&display, &window, "frame 2 (0-2)", "frame 0 (0-2)");
     run(&display, "xdotool", &["key", "w"]).expect("key w");
     wait_for("frame 1", Duration::from_secs(30), || {
-        run(&display, "xdotool", &["getwindowname", &window]).filter(|t| t.contains("frame 1 of"))
+        run(&display, "xdotool", &["getwindowname", &window]).filter(|t| t.contains("frame 1 ("))
     });
     let one = snapshot(1);
     wait_for("frame 1 drawn", Duration::from_secs(30), || {
@@ -990,7 +990,7 @@ fn an_output_the_window_could_not_write_fails_the_exit_status() {
         &[&input],
         "^bvhview - tiny_crlf.bvh - frame",
     );
-    focus_until_keys_arrive(&display, &window, "frame 2 of 0-2", "frame 0 of 0-2");
+    focus_until_keys_arrive(&display, &window, "frame 2 (0-2)", "frame 0 (0-2)");
     run(&display, "xdotool", &["key", "p"]).expect("key p");
     let log = folder.path().join("viewer-stderr.txt");
     let printed = wait_for("the refusal", Duration::from_secs(30), || {

@@ -492,7 +492,7 @@ mod tests {
         viewer.problem = Some(error.to_string());
         for size in [(160, 120), (240, 240), (600, 600)] {
             let font = crate::render::text::Font::for_picture(size.0, size.1);
-            let lines = viewer.top_left(size);
+            let lines = viewer.hud_lines(size);
             assert!(
                 lines
                     .iter()

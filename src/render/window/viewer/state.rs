@@ -40,7 +40,8 @@ pub(super) struct Viewer {
     pub(super) error: Option<Error>,
     /// The step view: how many joints, in drawing order, are drawn (J, Shift+J; Esc leaves it).
     pub(super) step: Option<usize>,
-    /// The HUD (I) and the help (H), top left; the help takes the HUD's place while shown.
+    /// The HUD (I) and the help (H), bottom left above the timeline (top left in the step view);
+    /// the help takes the HUD's place while shown.
     pub(super) hud: bool,
     pub(super) help: bool,
     /// Joint names beside the joints (N).
@@ -53,7 +54,8 @@ pub(super) struct Viewer {
     /// Where the mouse is, and whether a press on the timeline is seeking.
     pub(super) cursor: (f64, f64),
     pub(super) seeking: bool,
-    /// The last reload's or drop's error, shown top left until the next one succeeds.
+    /// The last reload's or drop's error, shown first of the HUD's lines until the next one
+    /// succeeds.
     pub(super) problem: Option<String>,
     /// The first output asked for that could not be written (a recording, a picture): shown
     /// like a problem, and the program's exit status when the window closes.
@@ -121,7 +123,7 @@ impl Viewer {
         let names: Vec<&str> = self.takes.iter().map(|t| t.name.as_str()).collect();
         let clock = self.clock();
         let at = if self.takes.len() == 1 {
-            format!("frame {} of 0-{}", self.frame, clock.count - 1)
+            crate::render::hud::frame_of(self.frame, clock.count)
         } else {
             format!(
                 "{:.3} s of {:.3} s",
@@ -167,7 +169,7 @@ impl Viewer {
     }
 
     /// The HUD's lines (or the help's), with the last reload's error first.
-    pub(super) fn top_left(&self, size: (u32, u32)) -> Vec<String> {
+    pub(super) fn hud_lines(&self, size: (u32, u32)) -> Vec<String> {
         use crate::render::hud::{self, Line};
         let mut lines = Vec::new();
         if let Some(problem) = &self.problem {
@@ -257,7 +259,7 @@ impl Viewer {
         };
         let several = self.takes.len() > 1;
         let overlay = Overlay {
-            lines: self.top_left((width, height)),
+            lines: self.hud_lines((width, height)),
             timeline: self.hud.then_some((self.frame, self.frame_count())),
             names: self.names,
             labels: if self.hud && several {
