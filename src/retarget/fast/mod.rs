@@ -158,7 +158,7 @@ fn axis_order(order: crate::model::skeleton::RotationOrder) -> ([usize; 3], f64)
     ([i, j, k], crate::model::euler::handedness(i, j))
 }
 
-/// [`nearest_form`] of every lane: its operations in its order, as one loop over the lanes that
+/// [`nearest_form`](crate::retarget::hinge::nearest_form) of every lane: its operations in its order, as one loop over the lanes that
 /// the compiler vectorises.
 #[inline(always)]
 fn nearest_forms(angles: &[Lanes; 3], reference: &[Lanes; 3]) -> [Lanes; 3] {
