@@ -21,7 +21,7 @@ mod absent {
     use crate::io::absent::without;
     use crate::io::error::Error;
     use crate::model::reading::{Read, TakeInfo};
-    use crate::take::OpenOptions;
+    use crate::take::options::OpenOptions;
     use std::path::Path;
 
     /// Refuses: this build reads no FBX.

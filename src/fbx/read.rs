@@ -41,7 +41,7 @@ use super::records::BINARY_MAGIC;
 use crate::io::error::Error;
 use crate::model::baked::{self, Node, Pose};
 use crate::model::reading::{Read, TakeInfo, choose_take, pick_take};
-use crate::take::OpenOptions;
+use crate::take::options::OpenOptions;
 use glam::{DMat4, DVec4};
 use std::path::Path;
 

@@ -56,7 +56,7 @@ mod absent {
     use crate::model::pose::OffsetMode;
     use crate::model::reading::{Read, TakeInfo};
     use crate::model::skeleton::Skeleton;
-    use crate::take::OpenOptions;
+    use crate::take::options::OpenOptions;
     use std::path::Path;
 
     /// Refuses: this build reads no glTF.

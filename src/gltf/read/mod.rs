@@ -23,7 +23,7 @@
 use crate::io::error::Error;
 use crate::model::baked::{self, Node, Pose};
 use crate::model::reading::{Read, TakeInfo, choose_take, pick_take};
-use crate::take::OpenOptions;
+use crate::take::options::OpenOptions;
 use glam::{DMat4, DQuat, DVec3};
 use gltf::animation::Property;
 use std::path::Path;

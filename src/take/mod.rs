@@ -25,98 +25,12 @@ use crate::model::pose::OffsetMode;
 use crate::model::skeleton::Skeleton;
 use std::path::Path;
 
-/// A format takes are read from: which files hold it (by extension or by their first bytes)
-/// and what they hold. The one list of formats: the readers, the folder walks and the messages
-/// all ask it.
-///
-/// ```
-/// use bvhview::take::{Format, Take};
-/// use std::path::Path;
-///
-/// # fn main() -> Result<(), bvhview::Error> {
-/// assert_eq!(Format::from_path(Path::new("WALK.GLB")), Some(Format::Gltf));
-/// assert_eq!(Format::of_extension("amc"), Some(Format::AsfAmc));
-/// assert_eq!(Format::sniff(b"\xEF\xBB\xBFHIERARCHY\nROOT Hips"), Some(Format::Bvh));
-/// assert_eq!(Format::Gltf.extensions(), ["gltf", "glb"]);
-/// assert!(Format::Fbx.holds_several_takes() && !Format::AsfAmc.stands_alone());
-/// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
-/// assert_eq!(take.format, Some(Format::Bvh));
-/// # Ok(())
-/// # }
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[non_exhaustive]
-pub enum Format {
-    /// BVH (Biovision Hierarchy): `.bvh`.
-    Bvh,
-    /// An ASF skeleton with its AMC motion (CMU's Acclaim format).
-    AsfAmc,
-    /// Autodesk FBX, binary or ASCII: `.fbx`.
-    Fbx,
-    /// glTF 2.0, `.gltf` or `.glb`.
-    Gltf,
-}
+pub(crate) mod format;
+pub(crate) mod options;
 
-impl Format {
-    /// Every format, in the order messages list them.
-    pub const ALL: [Format; 4] = [Format::Bvh, Format::Fbx, Format::Gltf, Format::AsfAmc];
-
-    /// The (lower-case) extensions of its files.
-    pub fn extensions(self) -> &'static [&'static str] {
-        match self {
-            Format::Bvh => &["bvh"],
-            Format::AsfAmc => &["asf", "amc"],
-            Format::Fbx => &["fbx"],
-            Format::Gltf => &["gltf", "glb"],
-        }
-    }
-
-    /// The format a file of this extension holds (case aside).
-    pub fn of_extension(extension: &str) -> Option<Format> {
-        let extension = extension.to_ascii_lowercase();
-        Format::ALL
-            .into_iter()
-            .find(|format| format.extensions().contains(&extension.as_str()))
-    }
-
-    /// The format a file holds by its extension.
-    pub fn from_path(path: &Path) -> Option<Format> {
-        Format::of_extension(&extension(path))
-    }
-
-    /// The format of a take's bytes by how they begin, for standard input, which has no
-    /// extension: `HIERARCHY` (after a byte-order mark or blanks) is BVH, `glTF` (binary GLB)
-    /// or `{` (its JSON) glTF, FBX's binary magic or an ASCII FBX's `; FBX` comment FBX. An
-    /// ASF is never told so: it needs its AMC beside it.
-    pub fn sniff(bytes: &[u8]) -> Option<Format> {
-        let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
-        let start = text
-            .iter()
-            .position(|b| !b.is_ascii_whitespace())
-            .unwrap_or(text.len());
-        let text = &text[start..];
-        if text.len() >= 9 && text[..9].eq_ignore_ascii_case(b"HIERARCHY") {
-            Some(Format::Bvh)
-        } else if bytes.starts_with(b"glTF") || text.starts_with(b"{") {
-            Some(Format::Gltf)
-        } else if bytes.starts_with(b"Kaydara FBX Binary") || text.starts_with(b"; FBX") {
-            Some(Format::Fbx)
-        } else {
-            None
-        }
-    }
-
-    /// Whether one file holds takes to pick among (FBX animation stacks, glTF animations:
-    /// [`OpenOptions::take`]).
-    pub fn holds_several_takes(self) -> bool {
-        matches!(self, Format::Fbx | Format::Gltf)
-    }
-
-    /// Whether a file of it is a take on its own (an ASF skeleton needs its AMC motion).
-    pub fn stands_alone(self) -> bool {
-        self != Format::AsfAmc
-    }
-}
+pub use format::Format;
+pub(crate) use format::extension;
+pub use options::{DEFAULT_MAX_SIZE, OpenOptions};
 
 /// A skeleton and its motion, from whichever format, with what the file said once and where it
 /// came from. Python's `bvhview.Motion` is this type; its methods have the same names.
@@ -412,83 +326,8 @@ impl Take {
     }
 }
 
-/// How to open a take: options for [`Take::open_with`], each with a default, set in a chain.
-///
-/// ```
-/// use bvhview::{OpenOptions, model::pose::OffsetMode};
-///
-/// # fn main() -> Result<(), bvhview::Error> {
-/// let options = OpenOptions::new().frame_time(0.5).threads(1).offset_mode(OffsetMode::Add);
-/// let take = options.open("tests/oracle/inputs/tiny_crlf.bvh")?;
-/// assert_eq!((take.fps(), take.offset_mode), (2.0, OffsetMode::Add));
-/// // Files larger than `max_size` are refused before they are read.
-/// assert!(OpenOptions::new().max_size(100).open("tests/oracle/inputs/tiny_crlf.bvh").is_err());
-/// # Ok(())
-/// # }
-/// ```
-#[derive(Clone, Debug, Default)]
-pub struct OpenOptions {
-    pub(crate) motion: Option<std::path::PathBuf>,
-    pub(crate) take: Option<String>,
-    pub(crate) frame_time: Option<f64>,
-    pub(crate) max_size: Option<u64>,
-    pub(crate) threads: Option<usize>,
-    pub(crate) offset_mode: Option<OffsetMode>,
-    pub(crate) format: Option<Format>,
-}
-
+/// The door itself: opening with these options, by the reader of the format.
 impl OpenOptions {
-    /// The defaults: an FBX or glTF file's first take, the file's own rate, files up to
-    /// [`DEFAULT_MAX_SIZE`], every core, the article's offset mode, the format told by the
-    /// path's extension (or by the first bytes, for [`OpenOptions::open_bytes`]).
-    pub fn new() -> OpenOptions {
-        OpenOptions::default()
-    }
-
-    /// The AMC motion of an ASF skeleton.
-    pub fn motion(mut self, amc: impl AsRef<Path>) -> OpenOptions {
-        self.motion = Some(amc.as_ref().to_path_buf());
-        self
-    }
-
-    /// The take of an FBX or glTF file that holds several: its name, or its index in
-    /// [`takes`].
-    pub fn take(mut self, take: impl Into<String>) -> OpenOptions {
-        self.take = Some(take.into());
-        self
-    }
-
-    /// Seconds per frame, over the file's (AMC files state none: 1/120 by default).
-    pub fn frame_time(mut self, seconds: f64) -> OpenOptions {
-        self.frame_time = Some(seconds);
-        self
-    }
-
-    /// Refuse files larger than this many bytes, before reading them.
-    pub fn max_size(mut self, bytes: u64) -> OpenOptions {
-        self.max_size = Some(bytes);
-        self
-    }
-
-    /// Threads to read with (a BVH's rows, an FBX's frames).
-    pub fn threads(mut self, threads: usize) -> OpenOptions {
-        self.threads = Some(threads);
-        self
-    }
-
-    /// How position channels meet the OFFSET: replace it (the default) or add to it.
-    pub fn offset_mode(mut self, mode: OffsetMode) -> OpenOptions {
-        self.offset_mode = Some(mode);
-        self
-    }
-
-    /// The format of the bytes [`OpenOptions::open_bytes`] reads, rather than the one their
-    /// first bytes tell ([`Format::sniff`]).
-    pub fn format(mut self, format: Format) -> OpenOptions {
-        self.format = Some(format);
-        self
-    }
-
     /// Opens the take at `path` with these options, in the format its extension names.
     pub fn open(&self, path: impl AsRef<Path>) -> Result<Take, Error> {
         let mut take = load_take(path.as_ref(), self)?;
@@ -517,21 +356,6 @@ impl OpenOptions {
         take.offset_mode = self.offset_mode.unwrap_or(OffsetMode::Replace);
         Ok(take)
     }
-
-    pub(crate) fn threads_or_cores(&self) -> usize {
-        self.threads.unwrap_or_else(crate::io::parallel::cores)
-    }
-
-    pub(crate) fn max_size_or_default(&self) -> u64 {
-        self.max_size.unwrap_or(DEFAULT_MAX_SIZE)
-    }
-}
-
-/// A path's extension in lower case (`TAKE.BVH` → `bvh`), empty when it has none.
-pub(crate) fn extension(path: &Path) -> String {
-    path.extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase())
-        .unwrap_or_default()
 }
 
 /// The unit tests' shorthand for [`OpenOptions::open`] with an AMC and a frame time.
@@ -546,9 +370,6 @@ pub(crate) fn load(
     options.frame_time = frame_time;
     options.open(path)
 }
-
-/// Files larger than this are refused unless `--max-size` says otherwise (8 GiB).
-pub const DEFAULT_MAX_SIZE: u64 = 8 << 30;
 
 /// Fails unless `path` is a readable regular file of at most `max_size` bytes. A FIFO, a device
 /// or a socket is refused by its type before any read (a FIFO would wait for a writer for good,

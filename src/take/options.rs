@@ -1,0 +1,95 @@
+//! How a take is opened: the options every reader is given ([`OpenOptions`]), apart from the
+//! readers themselves so that they can take them without depending on the front door.
+
+use super::format::Format;
+use crate::model::pose::OffsetMode;
+use std::path::Path;
+
+/// Files larger than this are refused unless `--max-size` says otherwise (8 GiB).
+pub const DEFAULT_MAX_SIZE: u64 = 8 << 30;
+
+/// How to open a take: options for [`Take::open_with`](crate::take::Take::open_with), each with a default, set in a chain.
+///
+/// ```
+/// use bvhview::{OpenOptions, model::pose::OffsetMode};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let options = OpenOptions::new().frame_time(0.5).threads(1).offset_mode(OffsetMode::Add);
+/// let take = options.open("tests/oracle/inputs/tiny_crlf.bvh")?;
+/// assert_eq!((take.fps(), take.offset_mode), (2.0, OffsetMode::Add));
+/// // Files larger than `max_size` are refused before they are read.
+/// assert!(OpenOptions::new().max_size(100).open("tests/oracle/inputs/tiny_crlf.bvh").is_err());
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug, Default)]
+pub struct OpenOptions {
+    pub(crate) motion: Option<std::path::PathBuf>,
+    pub(crate) take: Option<String>,
+    pub(crate) frame_time: Option<f64>,
+    pub(crate) max_size: Option<u64>,
+    pub(crate) threads: Option<usize>,
+    pub(crate) offset_mode: Option<OffsetMode>,
+    pub(crate) format: Option<Format>,
+}
+
+impl OpenOptions {
+    /// The defaults: an FBX or glTF file's first take, the file's own rate, files up to
+    /// [`DEFAULT_MAX_SIZE`], every core, the article's offset mode, the format told by the
+    /// path's extension (or by the first bytes, for [`OpenOptions::open_bytes`]).
+    pub fn new() -> OpenOptions {
+        OpenOptions::default()
+    }
+
+    /// The AMC motion of an ASF skeleton.
+    pub fn motion(mut self, amc: impl AsRef<Path>) -> OpenOptions {
+        self.motion = Some(amc.as_ref().to_path_buf());
+        self
+    }
+
+    /// The take of an FBX or glTF file that holds several: its name, or its index in
+    /// [`takes`](crate::take::takes).
+    pub fn take(mut self, take: impl Into<String>) -> OpenOptions {
+        self.take = Some(take.into());
+        self
+    }
+
+    /// Seconds per frame, over the file's (AMC files state none: 1/120 by default).
+    pub fn frame_time(mut self, seconds: f64) -> OpenOptions {
+        self.frame_time = Some(seconds);
+        self
+    }
+
+    /// Refuse files larger than this many bytes, before reading them.
+    pub fn max_size(mut self, bytes: u64) -> OpenOptions {
+        self.max_size = Some(bytes);
+        self
+    }
+
+    /// Threads to read with (a BVH's rows, an FBX's frames).
+    pub fn threads(mut self, threads: usize) -> OpenOptions {
+        self.threads = Some(threads);
+        self
+    }
+
+    /// How position channels meet the OFFSET: replace it (the default) or add to it.
+    pub fn offset_mode(mut self, mode: OffsetMode) -> OpenOptions {
+        self.offset_mode = Some(mode);
+        self
+    }
+
+    /// The format of the bytes [`OpenOptions::open_bytes`] reads, rather than the one their
+    /// first bytes tell ([`Format::sniff`]).
+    pub fn format(mut self, format: Format) -> OpenOptions {
+        self.format = Some(format);
+        self
+    }
+
+    pub(crate) fn threads_or_cores(&self) -> usize {
+        self.threads.unwrap_or_else(crate::io::parallel::cores)
+    }
+
+    pub(crate) fn max_size_or_default(&self) -> u64 {
+        self.max_size.unwrap_or(DEFAULT_MAX_SIZE)
+    }
+}
