@@ -280,23 +280,15 @@ pub fn lock_feet_when(
     let mut data = motion.data.clone();
     if legs.is_empty() || frames < 2 || !metres.is_finite() || metres <= 0.0 {
         // Said, so that the report is never empty (the legs' own notes say why they are not).
-        if frames < 2 {
-            report.notes.push(format!(
-                "nothing to lock in {} (a foot slides between frames)",
-                crate::io::error::counted(frames, "frame")
-            ));
-        } else if !legs.is_empty() {
-            report
-                .notes
-                .push("nothing locked: the take's size in metres is not known".into());
-        }
+        report
+            .notes
+            .extend(why_nothing_locked(legs.is_empty(), frames));
         return Ok((motion.clone(), report));
     }
     let up = match up {
         Up::Y => DVec3::Y,
         Up::Z => DVec3::Z,
     };
-    let flat = |v: DVec3| v - up * v.dot(up);
     let world: Vec<Vec<(DQuat, DVec3)>> = (0..frames)
         .map(|f| {
             let mut out = Vec::new();
@@ -318,7 +310,6 @@ pub fn lock_feet_when(
         .collect();
     let own = options.planting.frames_of(&tracks, up, motion.frame_time);
     for (k, leg) in legs.iter().enumerate() {
-        let at = |f: usize| world[f][leg.ankle].1;
         let planted = match planted {
             Some(sides) if sides[leg.side].len() == frames => sides[leg.side].clone(),
             Some(_) => {
@@ -332,37 +323,109 @@ pub fn lock_feet_when(
             None => own[k].clone(),
         };
         let contacts = Planting::contacts(&planted);
-        // Whether the leg reaches `flat_at` (along the floor) at frame `g`'s height, a little
-        // short of straight so that the knee keeps a bend to aim.
-        let reaches = |g: usize, flat_at: DVec3| {
-            let w = &world[g];
-            let length = (w[leg.shin].1 - w[leg.thigh].1).length()
-                + (w[leg.ankle].1 - w[leg.shin].1).length();
-            let wanted = flat_at + up * at(g).dot(up);
-            (wanted - w[leg.thigh].1).length() < 0.999 * length
+        let reach = Reach {
+            world: &world,
+            up,
+            leg,
         };
-        // Where each frame's ankle goes along the floor: the source's, moved by `offset`. In a
-        // contact the offset keeps the ankle where it landed; out of one it shrinks by at most
-        // half of what the source ankle moves that frame, so the written ankle is never more
-        // than 1.5 times as fast as the source's (a lock let go over a fixed number of frames
-        // snapped, 3.1 m/s where the source went 0.5 m/s on PyMO's walk).
-        // Where the leg cannot reach the ankle moved by `offset` at frame `g`, the offset cut to
-        // what it reaches (the source's own ankle, no offset, is always reached; the points it
-        // reaches at a height are a disc, so one cut along the way finds the edge).
-        let within_reach = |g: usize, offset: DVec3| {
-            if reaches(g, flat(at(g)) + offset) {
-                return offset;
+        let (offsets, why) = reach.offsets(&contacts, options.catch_up);
+        for (f, &offset) in offsets.iter().enumerate() {
+            let row = &mut data[f * channels..(f + 1) * channels];
+            write_leg(skeleton, motion.frame(f), &world[f], leg, offset, row);
+        }
+        read.push((leg.ankle, contacts, why));
+    }
+    let (_, locked) = finite(
+        "--lock-feet",
+        skeleton.clone(),
+        Motion::new(motion.frame_time, channels, frames, data),
+    )?;
+    let track_of =
+        |motion: &Motion, ankle: usize| ankle_track(skeleton, motion, mode, metres, ankle, frames);
+    for (ankle, contacts, why) in read {
+        let (before, after) = (track_of(motion, ankle), track_of(&locked, ankle));
+        report
+            .feet
+            .push(foot_locked(ankle, &before, &after, up, contacts, why));
+    }
+    Ok((locked, report))
+}
+
+/// Why [`lock_feet_when`] locked nothing, where the legs' own notes do not say it: too few
+/// frames, or (with legs to lock) the take's size in metres unknown.
+fn why_nothing_locked(no_legs: bool, frames: usize) -> Option<String> {
+    if frames < 2 {
+        Some(format!(
+            "nothing to lock in {} (a foot slides between frames)",
+            crate::io::error::counted(frames, "frame")
+        ))
+    } else if !no_legs {
+        Some("nothing locked: the take's size in metres is not known".into())
+    } else {
+        None
+    }
+}
+
+/// One leg through the take: where its ankle can be put along the floor, frame by frame.
+struct Reach<'a> {
+    /// Every frame's world rotations and places.
+    world: &'a [Vec<(DQuat, DVec3)>],
+    /// The up axis.
+    up: DVec3,
+    leg: &'a Leg,
+}
+
+impl Reach<'_> {
+    /// Frame `g`'s ankle as the take has it.
+    fn at(&self, g: usize) -> DVec3 {
+        self.world[g][self.leg.ankle].1
+    }
+
+    /// `v` along the floor (its height taken out).
+    fn flat(&self, v: DVec3) -> DVec3 {
+        v - self.up * v.dot(self.up)
+    }
+
+    /// Whether the leg reaches `flat_at` (along the floor) at frame `g`'s height, a little
+    /// short of straight so that the knee keeps a bend to aim.
+    fn reaches(&self, g: usize, flat_at: DVec3) -> bool {
+        let (w, leg) = (&self.world[g], self.leg);
+        let length =
+            (w[leg.shin].1 - w[leg.thigh].1).length() + (w[leg.ankle].1 - w[leg.shin].1).length();
+        let wanted = flat_at + self.up * self.at(g).dot(self.up);
+        (wanted - w[leg.thigh].1).length() < 0.999 * length
+    }
+
+    /// Where the leg cannot reach the ankle moved by `offset` at frame `g`, the offset cut to
+    /// what it reaches (the source's own ankle, no offset, is always reached; the points it
+    /// reaches at a height are a disc, so one cut along the way finds the edge).
+    fn within_reach(&self, g: usize, offset: DVec3) -> DVec3 {
+        if self.reaches(g, self.flat(self.at(g)) + offset) {
+            return offset;
+        }
+        let (mut low, mut high) = (0.0, 1.0);
+        for _ in 0..30 {
+            let mid = 0.5 * (low + high);
+            match self.reaches(g, self.flat(self.at(g)) + offset * mid) {
+                true => low = mid,
+                false => high = mid,
             }
-            let (mut low, mut high) = (0.0, 1.0);
-            for _ in 0..30 {
-                let mid = 0.5 * (low + high);
-                match reaches(g, flat(at(g)) + offset * mid) {
-                    true => low = mid,
-                    false => high = mid,
-                }
-            }
-            offset * low
-        };
+        }
+        offset * low
+    }
+
+    /// Where each frame's ankle goes along the floor: the source's, moved by the offset
+    /// returned per frame, and per contact why it could not be held (see inside).
+    fn offsets(
+        &self,
+        contacts: &[Range<usize>],
+        catch_up: f64,
+    ) -> (Vec<DVec3>, Vec<Option<String>>) {
+        // In a contact the offset keeps the ankle where it landed; out of one it shrinks by at
+        // most half of what the source ankle moves that frame, so the written ankle is never
+        // more than 1.5 times as fast as the source's (a lock let go over a fixed number of
+        // frames snapped, 3.1 m/s where the source went 0.5 m/s on PyMO's walk).
+        let frames = self.world.len();
         let mut offsets = Vec::with_capacity(frames);
         let mut why: Vec<Option<String>> = vec![None; contacts.len()];
         let mut offset = DVec3::ZERO;
@@ -377,141 +440,171 @@ pub fn lock_feet_when(
                     if f == contact.start {
                         // It lands where the written ankle is (the source's, moved as it was
                         // the frame before), so the lock starts without a jump.
-                        landed = flat(at(f)) + within_reach(f, offset);
+                        landed = self.flat(self.at(f)) + self.within_reach(f, offset);
                     }
-                    offset = landed - flat(at(f));
-                    let reached = within_reach(f, offset);
+                    offset = landed - self.flat(self.at(f));
+                    let reached = self.within_reach(f, offset);
                     if reached != offset {
                         // The leg drags the foot only as far as it must, and holds it there.
                         why[next].get_or_insert_with(|| {
                             format!("the leg does not reach where it landed from frame {f}")
                         });
                         offset = reached;
-                        landed = flat(at(f)) + offset;
+                        landed = self.flat(self.at(f)) + offset;
                     }
                 }
                 None => {
                     if f > 0 {
-                        let step = (at(f) - at(f - 1)).length() * options.catch_up;
+                        let step = (self.at(f) - self.at(f - 1)).length() * catch_up;
                         offset -= offset.clamp_length_max(step);
                     }
-                    offset = within_reach(f, offset);
+                    offset = self.within_reach(f, offset);
                 }
             }
             offsets.push(offset);
         }
-        for (f, &offset) in offsets.iter().enumerate() {
-            if offset == DVec3::ZERO {
-                continue;
-            }
-            let w = &world[f];
-            let (hip, knee, ankle) = (w[leg.thigh].1, w[leg.shin].1, w[leg.ankle].1);
-            let wanted = ankle + offset;
-            let (l1, l2) = ((knee - hip).length(), (ankle - knee).length());
-            let reach_to = wanted - hip;
-            let Some(direction) = reach_to.try_normalize() else {
-                continue;
-            };
-            let d = reach_to
-                .length()
-                .clamp((l1 - l2).abs() + 1e-9, l1 + l2 - 1e-9);
-            // The knee stays in the plane it bends in now.
-            let bend = (knee - hip) - direction * (knee - hip).dot(direction);
-            let Some(pole) = bend.try_normalize() else {
-                continue;
-            };
-            let along = (l1 * l1 - l2 * l2 + d * d) / (2.0 * d);
-            let new_knee =
-                hip + direction * along + pole * (l1 * l1 - along * along).max(0.0).sqrt();
-            let new_ankle = hip + direction * d;
-            let thigh_turn = turn_onto(knee - hip, new_knee - hip);
-            let moved_ankle = new_knee + thigh_turn * (ankle - knee);
-            let shin_turn = turn_onto(moved_ankle - new_knee, new_ankle - new_knee);
-            let thigh_world = thigh_turn * w[leg.thigh].0;
-            let shin_world = shin_turn * thigh_turn * w[leg.shin].0;
-            let parent = |j: usize| {
-                skeleton.joints[j]
-                    .parent
-                    .map_or(DQuat::IDENTITY, |p| w[p].0)
-            };
-            // Each joint's parent as it stands after the turns above it (the thigh itself, or
-            // the joints between, which turn with it).
-            let shin_parent = thigh_turn * parent(leg.shin);
-            let ankle_parent = shin_turn * thigh_turn * parent(leg.ankle);
-            let row = &mut data[f * channels..(f + 1) * channels];
-            for (joint, local) in [
-                (leg.thigh, parent(leg.thigh).inverse() * thigh_world),
-                (leg.shin, shin_parent.inverse() * shin_world),
-                (leg.ankle, ankle_parent.inverse() * w[leg.ankle].0),
-            ] {
-                let joint = &skeleton.joints[joint];
-                let Some(order) = joint.rotation_order else {
-                    continue;
-                };
-                let values = joint.values(motion.frame(f));
-                let rotations: Vec<usize> = joint
-                    .channels
-                    .iter()
-                    .enumerate()
-                    .filter(|(_, c)| c.is_rotation())
-                    .map(|(i, _)| i)
-                    .collect();
-                let previous = [0, 1, 2].map(|k| f64::from(values[rotations[k]]).to_radians());
-                let angles = euler::split(local, order, Some(previous));
-                for (k, &i) in rotations.iter().enumerate() {
-                    row[joint.first_channel + i] = angles[k].to_degrees() as f32;
-                }
-            }
-        }
-        read.push((leg.ankle, contacts, why));
+        (offsets, why)
     }
-    let (_, locked) = finite(
-        "--lock-feet",
-        skeleton.clone(),
-        Motion::new(motion.frame_time, channels, frames, data),
-    )?;
-    // What locking did, measured on what it wrote: the ankle's path along the floor during
-    // the contacts before and after, and each contact whose ankle strayed from where it landed.
-    let track_of = |motion: &Motion, ankle: usize| -> Vec<DVec3> {
-        let mut world = Vec::new();
-        (0..frames)
-            .map(|f| {
-                world_transforms_f64(skeleton, motion.frame(f), mode, &mut world);
-                world[ankle].1 * metres
-            })
-            .collect()
+}
+
+/// One frame's `leg` turned so that its ankle stands `offset` from where the take has it
+/// (`w`, the frame's world rotations and places; `values`, its channels), written into `row`;
+/// nothing where the offset is zero or the leg has no direction or bend to aim by.
+fn write_leg(
+    skeleton: &Skeleton,
+    values: &[f32],
+    w: &[(DQuat, DVec3)],
+    leg: &Leg,
+    offset: DVec3,
+    row: &mut [f32],
+) {
+    if offset == DVec3::ZERO {
+        return;
+    }
+    let Some(turned) = leg_turned(skeleton, w, leg, offset) else {
+        return;
     };
-    for (ankle, contacts, why) in read {
-        let (before, after) = (track_of(motion, ankle), track_of(&locked, ankle));
-        let (sliding_before, _) = sliding(&before, up, &contacts);
-        let (sliding_after, drift_after) = sliding(&after, up, &contacts);
-        let mut not_held = Vec::new();
-        for (contact, why) in contacts.iter().zip(why) {
-            let (_, strayed) = sliding(&after, up, std::slice::from_ref(contact));
-            if strayed <= LockFeet::HELD {
-                continue;
-            }
-            let why = why.unwrap_or_else(|| {
-                format!(
-                    "the legs' turns left it {:.1} mm from where it landed",
-                    strayed * 1000.0
-                )
-            });
-            not_held.push(NotHeld {
-                frames: contact.clone(),
-                strayed,
-                why,
-            });
+    for (joint, local) in turned {
+        let joint = &skeleton.joints[joint];
+        let Some(order) = joint.rotation_order else {
+            continue;
+        };
+        let values = joint.values(values);
+        let rotations: Vec<usize> = joint
+            .channels
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.is_rotation())
+            .map(|(i, _)| i)
+            .collect();
+        let previous = [0, 1, 2].map(|k| f64::from(values[rotations[k]]).to_radians());
+        let angles = euler::split(local, order, Some(previous));
+        for (k, &i) in rotations.iter().enumerate() {
+            row[joint.first_channel + i] = angles[k].to_degrees() as f32;
         }
-        report.feet.push(FootLocked {
-            ankle,
-            contacts: contacts.len(),
-            held: contacts.len() - not_held.len(),
-            not_held,
-            sliding_before,
-            sliding_after,
-            drift_after,
+    }
+}
+
+/// The thigh's, shin's and ankle's rotations from their parents that put the ankle `offset`
+/// from where it stands in `w` (one frame's world rotations and places), the knee in the
+/// plane it bends in; `None` where the leg has no direction or bend to aim by.
+fn leg_turned(
+    skeleton: &Skeleton,
+    w: &[(DQuat, DVec3)],
+    leg: &Leg,
+    offset: DVec3,
+) -> Option<[(usize, DQuat); 3]> {
+    let (hip, knee, ankle) = (w[leg.thigh].1, w[leg.shin].1, w[leg.ankle].1);
+    let wanted = ankle + offset;
+    let (l1, l2) = ((knee - hip).length(), (ankle - knee).length());
+    let reach_to = wanted - hip;
+    let direction = reach_to.try_normalize()?;
+    let d = reach_to
+        .length()
+        .clamp((l1 - l2).abs() + 1e-9, l1 + l2 - 1e-9);
+    // The knee stays in the plane it bends in now.
+    let bend = (knee - hip) - direction * (knee - hip).dot(direction);
+    let pole = bend.try_normalize()?;
+    let along = (l1 * l1 - l2 * l2 + d * d) / (2.0 * d);
+    let new_knee = hip + direction * along + pole * (l1 * l1 - along * along).max(0.0).sqrt();
+    let new_ankle = hip + direction * d;
+    let thigh_turn = turn_onto(knee - hip, new_knee - hip);
+    let moved_ankle = new_knee + thigh_turn * (ankle - knee);
+    let shin_turn = turn_onto(moved_ankle - new_knee, new_ankle - new_knee);
+    let thigh_world = thigh_turn * w[leg.thigh].0;
+    let shin_world = shin_turn * thigh_turn * w[leg.shin].0;
+    let parent = |j: usize| {
+        skeleton.joints[j]
+            .parent
+            .map_or(DQuat::IDENTITY, |p| w[p].0)
+    };
+    // Each joint's parent as it stands after the turns above it (the thigh itself, or
+    // the joints between, which turn with it).
+    let shin_parent = thigh_turn * parent(leg.shin);
+    let ankle_parent = shin_turn * thigh_turn * parent(leg.ankle);
+    Some([
+        (leg.thigh, parent(leg.thigh).inverse() * thigh_world),
+        (leg.shin, shin_parent.inverse() * shin_world),
+        (leg.ankle, ankle_parent.inverse() * w[leg.ankle].0),
+    ])
+}
+
+/// Joint `ankle`'s place in each of `motion`'s first `frames` frames, in metres.
+fn ankle_track(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mode: OffsetMode,
+    metres: f64,
+    ankle: usize,
+    frames: usize,
+) -> Vec<DVec3> {
+    let mut world = Vec::new();
+    (0..frames)
+        .map(|f| {
+            world_transforms_f64(skeleton, motion.frame(f), mode, &mut world);
+            world[ankle].1 * metres
+        })
+        .collect()
+}
+
+/// What locking did to one foot, measured on what it wrote: the ankle's path along the floor
+/// during the `contacts` `before` and `after` (its tracks), and each contact whose ankle
+/// strayed from where it landed, with `why` (per contact, where locking said).
+fn foot_locked(
+    ankle: usize,
+    before: &[DVec3],
+    after: &[DVec3],
+    up: DVec3,
+    contacts: Vec<Range<usize>>,
+    why: Vec<Option<String>>,
+) -> FootLocked {
+    let (sliding_before, _) = sliding(before, up, &contacts);
+    let (sliding_after, drift_after) = sliding(after, up, &contacts);
+    let mut not_held = Vec::new();
+    for (contact, why) in contacts.iter().zip(why) {
+        let (_, strayed) = sliding(after, up, std::slice::from_ref(contact));
+        if strayed <= LockFeet::HELD {
+            continue;
+        }
+        let why = why.unwrap_or_else(|| {
+            format!(
+                "the legs' turns left it {:.1} mm from where it landed",
+                strayed * 1000.0
+            )
+        });
+        not_held.push(NotHeld {
+            frames: contact.clone(),
+            strayed,
+            why,
         });
     }
-    Ok((locked, report))
+    FootLocked {
+        ankle,
+        contacts: contacts.len(),
+        held: contacts.len() - not_held.len(),
+        not_held,
+        sliding_before,
+        sliding_after,
+        drift_after,
+    }
 }

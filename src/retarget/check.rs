@@ -260,9 +260,46 @@ pub fn check(
                 .fold(0.0, f64::max)
         })
         .collect();
+    let samples = width_samples(
+        (source, &source_cut, source_mode, us, legs_s),
+        (target, &output_cut, ut, legs_t),
+        &measured,
+    );
+    let across = |k: usize| across(&samples[k], rest_widths[k], source_rest_widths[k]);
+    let errors: Vec<f64> = direction_errors(source, &source_cut, target, &output_cut, map, ups)
+        .into_iter()
+        .flatten()
+        .filter(|e| e.is_finite())
+        .collect();
+    let standing = standing(source, source_motion, target, output, map, ups, 1.0);
+    let path = (standing.source_path > 0.1 * legs_s && standing.ratio > 0.0)
+        .then(|| standing.target_path / (standing.source_path * standing.ratio));
+    let floor = if standing.source_floor.is_finite() && standing.target_floor.is_finite() {
+        (standing.target_floor - standing.source_floor * standing.ratio).abs() / legs_t
+    } else {
+        0.0
+    };
+    Check {
+        hips: across(0),
+        shoulders: across(1),
+        bones_median: quantile(&errors, 0.5),
+        bones_p99: quantile(&errors, 0.99),
+        path,
+        floor,
+    }
+}
+
+/// Per line across the body `measured` (source left and right, target left and right), per
+/// frame of the cut takes: its width on the source and on the target (in legs), and the turn
+/// between them along the floor in degrees (NaN where either stands upright).
+fn width_samples(
+    (source, source_cut, source_mode, us, legs_s): (&Skeleton, &Motion, OffsetMode, DQuat, f64),
+    (target, output_cut, ut, legs_t): (&Skeleton, &Motion, DQuat, f64),
+    measured: &[Option<(usize, usize, usize, usize)>; 2],
+) -> [Vec<(f64, f64, f64)>; 2] {
     let mut samples: [Vec<(f64, f64, f64)>; 2] = [Vec::new(), Vec::new()];
     let (mut ws, mut wt) = (Vec::new(), Vec::new());
-    for frame in 0..picked.len() {
+    for frame in 0..source_cut.frame_count().min(output_cut.frame_count()) {
         world_transforms_f64(source, source_cut.frame(frame), source_mode, &mut ws);
         world_transforms_f64(
             target,
@@ -286,49 +323,30 @@ pub fn check(
             samples[k].push((a.length() / legs_s, b.length() / legs_t, turn));
         }
     }
-    let across = |k: usize| -> Option<Across> {
-        let values = &samples[k];
-        if values.is_empty() {
-            return None;
-        }
-        let column = |f: fn(&(f64, f64, f64)) -> f64| -> Vec<f64> {
-            values.iter().map(f).filter(|v| v.is_finite()).collect()
-        };
-        let turns = column(|v| v.2);
-        Some(Across {
-            source_width: quantile(&column(|v| v.0), 0.5),
-            width: quantile(&column(|v| v.1), 0.5),
-            rest_width: rest_widths[k],
-            source_rest_width: source_rest_widths[k]
-                .max(column(|v| v.0).into_iter().fold(0.0, f64::max)),
-            turn: if turns.is_empty() {
-                0.0
-            } else {
-                quantile(&turns, 0.5)
-            },
-        })
-    };
-    let errors: Vec<f64> = direction_errors(source, &source_cut, target, &output_cut, map, ups)
-        .into_iter()
-        .flatten()
-        .filter(|e| e.is_finite())
-        .collect();
-    let standing = standing(source, source_motion, target, output, map, ups, 1.0);
-    let path = (standing.source_path > 0.1 * legs_s && standing.ratio > 0.0)
-        .then(|| standing.target_path / (standing.source_path * standing.ratio));
-    let floor = if standing.source_floor.is_finite() && standing.target_floor.is_finite() {
-        (standing.target_floor - standing.source_floor * standing.ratio).abs() / legs_t
-    } else {
-        0.0
-    };
-    Check {
-        hips: across(0),
-        shoulders: across(1),
-        bones_median: quantile(&errors, 0.5),
-        bones_p99: quantile(&errors, 0.99),
-        path,
-        floor,
+    samples
+}
+
+/// One line across the body measured over the frames (`values`, see [`width_samples`]), with
+/// its widths at rest; `None` without frames.
+fn across(values: &[(f64, f64, f64)], rest_width: f64, source_rest_width: f64) -> Option<Across> {
+    if values.is_empty() {
+        return None;
     }
+    let column = |f: fn(&(f64, f64, f64)) -> f64| -> Vec<f64> {
+        values.iter().map(f).filter(|v| v.is_finite()).collect()
+    };
+    let turns = column(|v| v.2);
+    Some(Across {
+        source_width: quantile(&column(|v| v.0), 0.5),
+        width: quantile(&column(|v| v.1), 0.5),
+        rest_width,
+        source_rest_width: source_rest_width.max(column(|v| v.0).into_iter().fold(0.0, f64::max)),
+        turn: if turns.is_empty() {
+            0.0
+        } else {
+            quantile(&turns, 0.5)
+        },
+    })
 }
 
 /// The legs' length at rest, or the rest pose's largest spread without legs (1 when nothing

@@ -455,100 +455,16 @@ pub fn solve(
     positions: &Positions,
     up: Option<Up>,
 ) -> Result<(Motion, Solved), Error> {
-    let count = skeleton.joints.len();
-    // The points as every export names them (`positions`, `Take::point_names`, Python):
-    // `LeftToeBase_End` for an End Site; an ASF bone's name for the point where it ends.
-    let points = crate::positions::export_points(skeleton);
-    let names: Vec<&str> = points.iter().map(|(n, _)| n.as_str()).collect();
-    let (data_of, unmatched) = match_points(skeleton, &points, positions);
-    let matched = data_of.iter().flatten().count();
-    if matched < 2 {
-        return Err(Error::Usage(format!(
-            "positions: {matched} of their {} joints are joints of the skeleton (its joints: \
-             {}); name them as the skeleton does, or give the layout (--joints smpl22)",
-            positions.names.len(),
-            names.iter().take(8).copied().collect::<Vec<_>>().join(", ")
-        )));
-    }
+    let (data_of, unmatched) = matched_points(skeleton, positions)?;
     let mut rest = Vec::new();
     world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
     // The data turned to the skeleton's up axis.
     let turn = up_turn(skeleton_up, up);
-    let frames = positions.frames();
-    let data = |frame: usize, joint: usize| -> Option<DVec3> {
-        data_of[joint].map(|k| turn * positions.at(frame, k))
-    };
-    // Per named joint, the named joints it turns towards and those bones at rest: the nearest
-    // named joints below it, past any that stand where it stands at rest (CMU's `LHipJoint`
-    // at the hips: the hips then turn towards the thighs beyond).
-    let gathered: Vec<Vec<(usize, DVec3, usize)>> = (0..count)
-        .map(|j| match data_of[j] {
-            Some(_) => targets_of(skeleton, j, &data_of, &rest),
-            None => Vec::new(),
-        })
-        .collect();
-    // A joint whose every bone reaches its named joint past another named joint that turns
-    // (CMU's hips: the thighs past `LHipJoint` and `RHipJoint`, the chest past `lowerback`; its
-    // wrist: the fingers past `lhand`, the thumb's end past `LThumb`) puts nothing out of place
-    // whichever way it turns: the joints between lay those bones. How it turns is then a choice,
-    // and in it, each bone's direction from its parent's at rest (the one the joint continues).
-    let free: Vec<bool> = gathered
-        .iter()
-        .map(|found| found.len() > 1 && found.iter().all(|t| t.2 > 0))
-        .collect();
-    let from_parent: Vec<Option<DVec3>> = skeleton
-        .joints
-        .iter()
-        .enumerate()
-        .map(|(j, joint)| {
-            joint
-                .parent
-                .and_then(|p| (rest[j].1 - rest[p].1).try_normalize())
-        })
-        .collect();
-    let mut targets: Vec<Vec<(usize, DVec3)>> = gathered
-        .iter()
-        .map(|found| found.iter().map(|&(d, bone, _)| (d, bone)).collect())
-        .collect();
+    let (mut targets, free) = bones_to_lay(skeleton, &data_of, &rest);
+    let from_parent = from_parent(skeleton, &rest);
     let scale = scale_of(skeleton, &rest, &data_of, positions, turn);
-    let mut notes = Vec::new();
-    let limited: Vec<bool> = skeleton
-        .joints
-        .iter()
-        .map(|j| !j.end_site && j.rotation_order.is_none())
-        .collect();
-    for (j, joint) in skeleton.joints.iter().enumerate() {
-        if limited[j] && joint.channels.iter().any(|c| c.is_rotation()) && !targets[j].is_empty() {
-            notes.push(format!(
-                "{} turns about fewer than three axes: its bones lie as near the data's as it can",
-                joint.name
-            ));
-        }
-    }
-    // What carries the path: the joint with position channels nearest above the hips (or the
-    // shallowest named joint), which moves that joint to where the data puts it, scaled.
-    // Other joints with position channels that the data names are put where it says (a root
-    // above the hips, Bandai's `joint_Root`, a translating spine); every other keeps its OFFSET,
-    // so those bones keep the skeleton's lengths.
-    let moves = |j: usize| skeleton.joints[j].channels.iter().any(|c| c.is_position());
-    let hips = Body::of(skeleton)
-        .hips
-        .filter(|&h| data_of[h].is_some())
-        .or_else(|| {
-            skeleton
-                .roots()
-                .find_map(|root| shallowest_named(skeleton, root, &data_of))
-        });
-    let carrier = hips.and_then(|h| {
-        let mut at = Some(h);
-        while let Some(j) = at {
-            if moves(j) {
-                return Some(j);
-            }
-            at = skeleton.joints[j].parent;
-        }
-        None
-    });
+    let mut notes = fewer_axes_notes(skeleton, &targets);
+    let (hips, carrier) = path_carrier(skeleton, &data_of);
     if carrier.is_none() {
         notes.push(format!(
             "no joint at or above {} has position channels: the take does not travel",
@@ -557,8 +473,8 @@ pub fn solve(
     }
     // Every other named joint with position channels takes its translation from the data too
     // (a Perception Neuron spine that stretches): the channels are there to move it.
-    let placed: Vec<bool> = (0..count)
-        .map(|j| moves(j) && data_of[j].is_some() && Some(j) != carrier)
+    let placed: Vec<bool> = (0..skeleton.joints.len())
+        .map(|j| moves(skeleton, j) && data_of[j].is_some() && Some(j) != carrier)
         .collect();
     // The carrier is put where the data says by its own channels, so a joint above it (Bandai's
     // `joint_Root`) need not turn towards it: turning would be a turn the data does not show.
@@ -567,6 +483,7 @@ pub fn solve(
             above.retain(|&(d, _)| d != c);
         }
     }
+    let frames = positions.frames();
     let channels = skeleton.channel_count();
     let values = (frames as u64).saturating_mul(channels as u64);
     if values > crate::io::limits::MAX_GENERATED_VALUES {
@@ -576,182 +493,21 @@ pub fn solve(
             crate::io::limits::MAX_GENERATED_VALUES
         )));
     }
-    let mut data_out = vec![0.0f32; frames * channels];
-    let mut world: Vec<DQuat> = vec![DQuat::IDENTITY; count];
-    let mut at: Vec<DVec3> = vec![DVec3::ZERO; count];
-    // One joint's bones and the data's, reused from joint to joint.
-    let mut pairs: Vec<(DVec3, DVec3)> = Vec::new();
-    let mut previous: Vec<Option<[f64; 3]>> = vec![None; count];
-    // Each joint's rotation in the frame before, from its parent: where the data leaves a turn
-    // free (the twist about a lone bone), the one nearest it, so nothing flips between frames.
-    let mut before: Vec<Option<DQuat>> = vec![None; count];
-    // Per joint laid by [`fit_or_carry`], whether it follows its fit (see there).
-    let mut following: Vec<bool> = vec![true; count];
-    for f in 0..frames {
-        let row = &mut data_out[f * channels..(f + 1) * channels];
-        for (j, joint) in skeleton.joints.iter().enumerate() {
-            let parent = joint.parent.map_or(DQuat::IDENTITY, |p| world[p]);
-            let wanted = match data(f, j) {
-                Some(at) if !targets[j].is_empty() => {
-                    pairs.clear();
-                    pairs.extend(targets[j].iter().filter_map(|&(d, bone)| {
-                        let to = data(f, d)? - at;
-                        (to.length() > 1e-9 && bone.length() > 1e-9).then_some((bone, to))
-                    }));
-                    let laid = match pairs[..] {
-                        [] => before[j].map_or(parent, |b| parent * b),
-                        [(bone, to)] => {
-                            let swung = DQuat::from_rotation_arc(
-                                (parent * bone).normalize(),
-                                to.normalize(),
-                            ) * parent;
-                            let swung = match before[j] {
-                                Some(b) => nearest_twist(swung, to, parent * b),
-                                None => swung,
-                            };
-                            hinge_twist(skeleton, &targets, j, swung, to, |d| data(f, d))
-                        }
-                        // Bones all along one line at rest (twins: MakeHuman's `Spine1` and
-                        // `Hips` from its `Root`) leave Horn's twist about them arbitrary: the
-                        // smallest swing onto the data's mean direction, twisted as before.
-                        [(first, _), ..] if along_one_line(pairs.iter().map(|p| p.0)) => {
-                            let first = first.normalize();
-                            let mean: DVec3 = pairs
-                                .iter()
-                                .map(|&(b, t)| b.normalize().dot(first).signum() * t.normalize())
-                                .sum();
-                            match mean.try_normalize() {
-                                Some(mean) => {
-                                    let swung =
-                                        DQuat::from_rotation_arc(parent * first, mean) * parent;
-                                    match before[j] {
-                                        Some(b) => nearest_twist(swung, mean, parent * b),
-                                        None => swung,
-                                    }
-                                }
-                                None => best_rotation(&pairs),
-                            }
-                        }
-                        _ if free[j] => fit_or_carry(
-                            &pairs,
-                            from_parent[j],
-                            parent,
-                            before[j],
-                            &mut following[j],
-                        ),
-                        _ => best_rotation(&pairs),
-                    };
-                    // Bones all along one line leave the twist about it free: it is the one
-                    // that lets the joints below that turn about two axes reach their bones.
-                    match pairs.first() {
-                        Some(&(_, to))
-                            if joint.rotation_order.is_some()
-                                && pairs.iter().all(|(_, t)| {
-                                    t.normalize().cross(to.normalize()).length() < 1e-9
-                                }) =>
-                        {
-                            reach_twist(skeleton, &targets, j, laid, to, world[j], |d| data(f, d))
-                        }
-                        _ => laid,
-                    }
-                }
-                _ => parent,
-            };
-            let mut local = (parent.inverse() * wanted).normalize();
-            if !joint.end_site {
-                let angles = match joint.rotation_order {
-                    Some(order) => {
-                        let channel = match joint.axis {
-                            Some(c) => {
-                                let c = c.as_dquat().normalize();
-                                c.inverse() * local * c
-                            }
-                            None => local,
-                        };
-                        let angles = crate::model::euler::split(channel, order, previous[j]);
-                        previous[j] = Some(angles);
-                        angles
-                    }
-                    None => {
-                        let bone = targets[j].first().map(|&(_, b)| b);
-                        // In degrees already, as the channels take them: back to radians here.
-                        let cost = |turned: DQuat| {
-                            out_of_reach_deep(skeleton, &targets, j, parent * turned, |d| {
-                                data(f, d)
-                            })
-                        };
-                        let (angles, realized) = match bone.and_then(|b| twist_axis(joint, b)) {
-                            // A bone turning about itself (ASF's wrists): the turn that lets
-                            // the joints below reach.
-                            Some(axis) => {
-                                let turn = twist_search(&cost, previous[j].map(|a| a[0]), |t| {
-                                    axis.1 * DQuat::from_axis_angle(axis.0, t) * axis.1.inverse()
-                                });
-                                previous[j] = Some([turn.to_degrees(), 0.0, 0.0]);
-                                crate::retarget::limited_angles(
-                                    joint,
-                                    axis.1
-                                        * DQuat::from_axis_angle(axis.0, turn)
-                                        * axis.1.inverse(),
-                                    None,
-                                )
-                            }
-                            None => crate::retarget::limited_angles_by(joint, local, bone, cost),
-                        };
-                        local = realized;
-                        angles.map(f64::to_radians)
-                    }
-                };
-                let mut rotations = angles.into_iter();
-                for (i, channel) in joint.channels.iter().enumerate() {
-                    row[joint.first_channel + i] = if channel.is_position() {
-                        joint.offset[channel.axis()]
-                    } else {
-                        rotations.next().unwrap_or(0.0).to_degrees() as f32
-                    };
-                }
-            }
-            before[j] = Some(local);
-            world[j] = parent * local;
-        }
-        // Then the translations, top down: the carrier's and those of the other named joints
-        // with position channels; the unnamed ones' position channels keep their OFFSET.
-        for (j, joint) in skeleton.joints.iter().enumerate() {
-            let (parent_rotation, parent_at) = joint
-                .parent
-                .map_or((DQuat::IDENTITY, DVec3::ZERO), |p| (world[p], at[p]));
-            let rest_translation = match joint.parent {
-                Some(p) => rest[j].1 - rest[p].1,
-                None => rest[j].1,
-            };
-            let translation = if placed[j] {
-                data(f, j).map(|to| parent_rotation.inverse() * (to * scale - parent_at))
-            } else if Some(j) == carrier {
-                hips.and_then(|h| {
-                    let to = data(f, h)?;
-                    // Where the hips stand from the carrier: the bones between, turned.
-                    let mut below = DVec3::ZERO;
-                    let mut k = h;
-                    while k != j {
-                        let p = skeleton.joints[k].parent?;
-                        below += world[p] * (rest[k].1 - rest[p].1);
-                        k = p;
-                    }
-                    Some(parent_rotation.inverse() * (to * scale - below - parent_at))
-                })
-            } else {
-                None
-            };
-            at[j] = parent_at + parent_rotation * translation.unwrap_or(rest_translation);
-            if let Some(translation) = translation {
-                for (i, channel) in joint.channels.iter().enumerate() {
-                    if channel.is_position() {
-                        row[joint.first_channel + i] = translation[channel.axis()] as f32;
-                    }
-                }
-            }
-        }
-    }
+    let plan = Plan {
+        skeleton,
+        positions,
+        data_of,
+        turn,
+        rest,
+        targets,
+        free,
+        from_parent,
+        scale,
+        hips,
+        carrier,
+        placed,
+    };
+    let data_out = plan.channels(frames, channels);
     let (skeleton_checked, motion) = crate::edit::finite(
         "solve",
         skeleton.clone(),
@@ -769,6 +525,427 @@ pub fn solve(
     };
     let solved = unmeasured.measured_on(&skeleton_checked, skeleton_up, positions, up, &motion);
     Ok((motion, solved))
+}
+
+/// Each skeleton joint's data point and the data's names the skeleton has no point of (see
+/// [`match_points`]); refused when fewer than two joints are matched.
+fn matched_points(
+    skeleton: &Skeleton,
+    positions: &Positions,
+) -> Result<(Vec<Option<usize>>, Vec<String>), Error> {
+    // The points as every export names them (`positions`, `Take::point_names`, Python):
+    // `LeftToeBase_End` for an End Site; an ASF bone's name for the point where it ends.
+    let points = crate::positions::export_points(skeleton);
+    let names: Vec<&str> = points.iter().map(|(n, _)| n.as_str()).collect();
+    let (data_of, unmatched) = match_points(skeleton, &points, positions);
+    let matched = data_of.iter().flatten().count();
+    if matched < 2 {
+        return Err(Error::Usage(format!(
+            "positions: {matched} of their {} joints are joints of the skeleton (its joints: \
+             {}); name them as the skeleton does, or give the layout (--joints smpl22)",
+            positions.names.len(),
+            names.iter().take(8).copied().collect::<Vec<_>>().join(", ")
+        )));
+    }
+    Ok((data_of, unmatched))
+}
+
+/// Per joint, the named joints it turns towards with those bones at rest, and whether how it
+/// turns is free (see inside).
+fn bones_to_lay(
+    skeleton: &Skeleton,
+    data_of: &[Option<usize>],
+    rest: &[(DQuat, DVec3)],
+) -> (Vec<Vec<(usize, DVec3)>>, Vec<bool>) {
+    // Per named joint, the named joints it turns towards and those bones at rest: the nearest
+    // named joints below it, past any that stand where it stands at rest (CMU's `LHipJoint`
+    // at the hips: the hips then turn towards the thighs beyond).
+    let gathered: Vec<Vec<(usize, DVec3, usize)>> = (0..skeleton.joints.len())
+        .map(|j| match data_of[j] {
+            Some(_) => targets_of(skeleton, j, data_of, rest),
+            None => Vec::new(),
+        })
+        .collect();
+    // A joint whose every bone reaches its named joint past another named joint that turns
+    // (CMU's hips: the thighs past `LHipJoint` and `RHipJoint`, the chest past `lowerback`; its
+    // wrist: the fingers past `lhand`, the thumb's end past `LThumb`) puts nothing out of place
+    // whichever way it turns: the joints between lay those bones. How it turns is then a choice,
+    // and in it, each bone's direction from its parent's at rest (the one the joint continues).
+    let free: Vec<bool> = gathered
+        .iter()
+        .map(|found| found.len() > 1 && found.iter().all(|t| t.2 > 0))
+        .collect();
+    let targets = gathered
+        .iter()
+        .map(|found| found.iter().map(|&(d, bone, _)| (d, bone)).collect())
+        .collect();
+    (targets, free)
+}
+
+/// Per joint, the direction of its bone from its parent at rest (`None` at a root or where
+/// the bone has no length).
+fn from_parent(skeleton: &Skeleton, rest: &[(DQuat, DVec3)]) -> Vec<Option<DVec3>> {
+    skeleton
+        .joints
+        .iter()
+        .enumerate()
+        .map(|(j, joint)| {
+            joint
+                .parent
+                .and_then(|p| (rest[j].1 - rest[p].1).try_normalize())
+        })
+        .collect()
+}
+
+/// A note per joint that turns towards the data about fewer than three axes (ASF's limited
+/// joints).
+fn fewer_axes_notes(skeleton: &Skeleton, targets: &[Vec<(usize, DVec3)>]) -> Vec<String> {
+    let mut notes = Vec::new();
+    let limited: Vec<bool> = skeleton
+        .joints
+        .iter()
+        .map(|j| !j.end_site && j.rotation_order.is_none())
+        .collect();
+    for (j, joint) in skeleton.joints.iter().enumerate() {
+        if limited[j] && joint.channels.iter().any(|c| c.is_rotation()) && !targets[j].is_empty() {
+            notes.push(format!(
+                "{} turns about fewer than three axes: its bones lie as near the data's as it can",
+                joint.name
+            ));
+        }
+    }
+    notes
+}
+
+/// Whether joint `j` has position channels.
+fn moves(skeleton: &Skeleton, j: usize) -> bool {
+    skeleton.joints[j].channels.iter().any(|c| c.is_position())
+}
+
+/// The hips the path is measured at and the joint that carries the path (see inside).
+fn path_carrier(skeleton: &Skeleton, data_of: &[Option<usize>]) -> (Option<usize>, Option<usize>) {
+    // What carries the path: the joint with position channels nearest above the hips (or the
+    // shallowest named joint), which moves that joint to where the data puts it, scaled.
+    // Other joints with position channels that the data names are put where it says (a root
+    // above the hips, Bandai's `joint_Root`, a translating spine); every other keeps its OFFSET,
+    // so those bones keep the skeleton's lengths.
+    let hips = Body::of(skeleton)
+        .hips
+        .filter(|&h| data_of[h].is_some())
+        .or_else(|| {
+            skeleton
+                .roots()
+                .find_map(|root| shallowest_named(skeleton, root, data_of))
+        });
+    let carrier = hips.and_then(|h| {
+        let mut at = Some(h);
+        while let Some(j) = at {
+            if moves(skeleton, j) {
+                return Some(j);
+            }
+            at = skeleton.joints[j].parent;
+        }
+        None
+    });
+    (hips, carrier)
+}
+
+/// What [`solve`] lays every frame by, worked out once from the skeleton and the data.
+struct Plan<'a> {
+    skeleton: &'a Skeleton,
+    positions: &'a Positions,
+    /// Each joint's data point.
+    data_of: Vec<Option<usize>>,
+    /// The turn from the data's up axis to the skeleton's.
+    turn: DQuat,
+    /// Each joint's world rotation and place at rest.
+    rest: Vec<(DQuat, DVec3)>,
+    /// Per joint, the named joints it turns towards and those bones at rest.
+    targets: Vec<Vec<(usize, DVec3)>>,
+    /// Per joint, whether how it turns is a choice ([`fit_or_carry`]).
+    free: Vec<bool>,
+    /// Per joint, its bone's direction from its parent at rest.
+    from_parent: Vec<Option<DVec3>>,
+    /// The skeleton's legs over the data's.
+    scale: f64,
+    /// The joint the path is put at.
+    hips: Option<usize>,
+    /// The joint whose position channels carry the path.
+    carrier: Option<usize>,
+    /// Per joint, whether the data puts it by its own position channels.
+    placed: Vec<bool>,
+}
+
+/// What [`solve`] carries from joint to joint and frame to frame.
+struct Carried {
+    /// Each joint's world rotation, this frame as far as laid, else the frame before's.
+    world: Vec<DQuat>,
+    /// Each joint's world place this frame.
+    at: Vec<DVec3>,
+    /// One joint's bones and the data's, reused from joint to joint.
+    pairs: Vec<(DVec3, DVec3)>,
+    /// Each joint's angles in the frame before, to unwrap to.
+    previous: Vec<Option<[f64; 3]>>,
+    /// Each joint's rotation in the frame before, from its parent: where the data leaves a turn
+    /// free (the twist about a lone bone), the one nearest it, so nothing flips between frames.
+    before: Vec<Option<DQuat>>,
+    /// Per joint laid by [`fit_or_carry`], whether it follows its fit (see there).
+    following: Vec<bool>,
+}
+
+impl Plan<'_> {
+    /// Where the data puts joint `joint` in `frame`, turned to the skeleton's up axis.
+    fn data(&self, frame: usize, joint: usize) -> Option<DVec3> {
+        self.data_of[joint].map(|k| self.turn * self.positions.at(frame, k))
+    }
+
+    /// Every frame's channels, frame after frame.
+    fn channels(&self, frames: usize, channels: usize) -> Vec<f32> {
+        let count = self.skeleton.joints.len();
+        let mut data_out = vec![0.0f32; frames * channels];
+        let mut carried = Carried {
+            world: vec![DQuat::IDENTITY; count],
+            at: vec![DVec3::ZERO; count],
+            pairs: Vec::new(),
+            previous: vec![None; count],
+            before: vec![None; count],
+            following: vec![true; count],
+        };
+        for f in 0..frames {
+            let row = &mut data_out[f * channels..(f + 1) * channels];
+            self.turn_joints(f, &mut carried, row);
+            self.place_joints(f, &mut carried, row);
+        }
+        data_out
+    }
+
+    /// Frame `f`'s rotations, top down, written into `row`.
+    fn turn_joints(&self, f: usize, carried: &mut Carried, row: &mut [f32]) {
+        for (j, joint) in self.skeleton.joints.iter().enumerate() {
+            let parent = joint.parent.map_or(DQuat::IDENTITY, |p| carried.world[p]);
+            let wanted = self.wanted(f, j, parent, carried);
+            let mut local = (parent.inverse() * wanted).normalize();
+            if !joint.end_site {
+                let angles;
+                (angles, local) = self.angles(f, j, parent, local, &mut carried.previous[j]);
+                let mut rotations = angles.into_iter();
+                for (i, channel) in joint.channels.iter().enumerate() {
+                    row[joint.first_channel + i] = if channel.is_position() {
+                        joint.offset[channel.axis()]
+                    } else {
+                        rotations.next().unwrap_or(0.0).to_degrees() as f32
+                    };
+                }
+            }
+            carried.before[j] = Some(local);
+            carried.world[j] = parent * local;
+        }
+    }
+
+    /// Joint `j`'s world rotation in frame `f`, its parent's being `parent`: its bones laid
+    /// where the data's are, or where its parent carries it when the data lays none.
+    fn wanted(&self, f: usize, j: usize, parent: DQuat, carried: &mut Carried) -> DQuat {
+        let at = match self.data(f, j) {
+            Some(at) if !self.targets[j].is_empty() => at,
+            _ => return parent,
+        };
+        carried.pairs.clear();
+        carried
+            .pairs
+            .extend(self.targets[j].iter().filter_map(|&(d, bone)| {
+                let to = self.data(f, d)? - at;
+                (to.length() > 1e-9 && bone.length() > 1e-9).then_some((bone, to))
+            }));
+        let pairs = &carried.pairs;
+        let laid = self.laid(
+            f,
+            j,
+            parent,
+            pairs,
+            carried.before[j],
+            &mut carried.following[j],
+        );
+        // Bones all along one line leave the twist about it free: it is the one
+        // that lets the joints below that turn about two axes reach their bones.
+        match pairs.first() {
+            Some(&(_, to))
+                if self.skeleton.joints[j].rotation_order.is_some()
+                    && pairs
+                        .iter()
+                        .all(|(_, t)| t.normalize().cross(to.normalize()).length() < 1e-9) =>
+            {
+                let data = |d| self.data(f, d);
+                reach_twist(
+                    self.skeleton,
+                    &self.targets,
+                    j,
+                    laid,
+                    to,
+                    carried.world[j],
+                    data,
+                )
+            }
+            _ => laid,
+        }
+    }
+
+    /// The world rotation that lays joint `j`'s bones along the data's `pairs` (rest bone,
+    /// data's bone) in frame `f`: by the smallest swing and the twist nearest the frame
+    /// before's (`before`, from `parent`) with one bone or several along one line; else by
+    /// [`fit_or_carry`] where how it turns is free, else by the best rigid fit (Horn's).
+    fn laid(
+        &self,
+        f: usize,
+        j: usize,
+        parent: DQuat,
+        pairs: &[(DVec3, DVec3)],
+        before: Option<DQuat>,
+        following: &mut bool,
+    ) -> DQuat {
+        match pairs[..] {
+            [] => before.map_or(parent, |b| parent * b),
+            [(bone, to)] => {
+                let swung =
+                    DQuat::from_rotation_arc((parent * bone).normalize(), to.normalize()) * parent;
+                let swung = match before {
+                    Some(b) => nearest_twist(swung, to, parent * b),
+                    None => swung,
+                };
+                hinge_twist(self.skeleton, &self.targets, j, swung, to, |d| {
+                    self.data(f, d)
+                })
+            }
+            // Bones all along one line at rest (twins: MakeHuman's `Spine1` and
+            // `Hips` from its `Root`) leave Horn's twist about them arbitrary: the
+            // smallest swing onto the data's mean direction, twisted as before.
+            [(first, _), ..] if along_one_line(pairs.iter().map(|p| p.0)) => {
+                let first = first.normalize();
+                let mean: DVec3 = pairs
+                    .iter()
+                    .map(|&(b, t)| b.normalize().dot(first).signum() * t.normalize())
+                    .sum();
+                match mean.try_normalize() {
+                    Some(mean) => {
+                        let swung = DQuat::from_rotation_arc(parent * first, mean) * parent;
+                        match before {
+                            Some(b) => nearest_twist(swung, mean, parent * b),
+                            None => swung,
+                        }
+                    }
+                    None => best_rotation(pairs),
+                }
+            }
+            _ if self.free[j] => {
+                fit_or_carry(pairs, self.from_parent[j], parent, before, following)
+            }
+            _ => best_rotation(pairs),
+        }
+    }
+
+    /// Joint `j`'s rotation channels (radians, file order) for `local` (its rotation from
+    /// `parent`) in frame `f`, and the rotation they make: unwrapped to `previous` (the frame
+    /// before's, updated) with three axes; with fewer, the nearest they reach.
+    fn angles(
+        &self,
+        f: usize,
+        j: usize,
+        parent: DQuat,
+        local: DQuat,
+        previous: &mut Option<[f64; 3]>,
+    ) -> ([f64; 3], DQuat) {
+        let joint = &self.skeleton.joints[j];
+        if let Some(order) = joint.rotation_order {
+            let channel = match joint.axis {
+                Some(c) => {
+                    let c = c.as_dquat().normalize();
+                    c.inverse() * local * c
+                }
+                None => local,
+            };
+            let angles = crate::model::euler::split(channel, order, *previous);
+            *previous = Some(angles);
+            return (angles, local);
+        }
+        let bone = self.targets[j].first().map(|&(_, b)| b);
+        // In degrees already, as the channels take them: back to radians here.
+        let cost = |turned: DQuat| {
+            out_of_reach_deep(self.skeleton, &self.targets, j, parent * turned, |d| {
+                self.data(f, d)
+            })
+        };
+        let (angles, realized) = match bone.and_then(|b| twist_axis(joint, b)) {
+            // A bone turning about itself (ASF's wrists): the turn that lets
+            // the joints below reach.
+            Some(axis) => {
+                let turn = twist_search(&cost, previous.map(|a| a[0]), |t| {
+                    axis.1 * DQuat::from_axis_angle(axis.0, t) * axis.1.inverse()
+                });
+                *previous = Some([turn.to_degrees(), 0.0, 0.0]);
+                crate::retarget::limited_angles(
+                    joint,
+                    axis.1 * DQuat::from_axis_angle(axis.0, turn) * axis.1.inverse(),
+                    None,
+                )
+            }
+            None => crate::retarget::limited_angles_by(joint, local, bone, cost),
+        };
+        (angles.map(f64::to_radians), realized)
+    }
+
+    /// Frame `f`'s translations, top down, written into `row`: the carrier's and those of the
+    /// other named joints with position channels; the unnamed ones' position channels keep
+    /// their OFFSET.
+    fn place_joints(&self, f: usize, carried: &mut Carried, row: &mut [f32]) {
+        let (world, at) = (&carried.world, &mut carried.at);
+        for (j, joint) in self.skeleton.joints.iter().enumerate() {
+            let (parent_rotation, parent_at) = joint
+                .parent
+                .map_or((DQuat::IDENTITY, DVec3::ZERO), |p| (world[p], at[p]));
+            let rest_translation = match joint.parent {
+                Some(p) => self.rest[j].1 - self.rest[p].1,
+                None => self.rest[j].1,
+            };
+            let translation = if self.placed[j] {
+                self.data(f, j)
+                    .map(|to| parent_rotation.inverse() * (to * self.scale - parent_at))
+            } else if Some(j) == self.carrier {
+                self.carried_path(f, j, world, parent_rotation, parent_at)
+            } else {
+                None
+            };
+            at[j] = parent_at + parent_rotation * translation.unwrap_or(rest_translation);
+            if let Some(translation) = translation {
+                for (i, channel) in joint.channels.iter().enumerate() {
+                    if channel.is_position() {
+                        row[joint.first_channel + i] = translation[channel.axis()] as f32;
+                    }
+                }
+            }
+        }
+    }
+
+    /// The carrier `j`'s translation in frame `f` that puts the hips where the data does,
+    /// scaled, its parent turned by `parent_rotation` and standing at `parent_at`.
+    fn carried_path(
+        &self,
+        f: usize,
+        j: usize,
+        world: &[DQuat],
+        parent_rotation: DQuat,
+        parent_at: DVec3,
+    ) -> Option<DVec3> {
+        let h = self.hips?;
+        let to = self.data(f, h)?;
+        // Where the hips stand from the carrier: the bones between, turned.
+        let mut below = DVec3::ZERO;
+        let mut k = h;
+        while k != j {
+            let p = self.skeleton.joints[k].parent?;
+            below += world[p] * (self.rest[k].1 - self.rest[p].1);
+            k = p;
+        }
+        Some(parent_rotation.inverse() * (to * self.scale - below - parent_at))
+    }
 }
 
 /// [`solve`], then, with a `smooth` cutoff (Hz), [`crate::edit::smooth`]: the motion as it is

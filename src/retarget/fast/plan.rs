@@ -149,6 +149,124 @@ pub(super) fn with_ancestors(
     marked
 }
 
+/// The MOTION columns a plan reads, each given its place once, in the order first asked.
+#[derive(Default)]
+struct Inputs {
+    columns: Vec<usize>,
+    place_of: std::collections::HashMap<usize, usize>,
+}
+
+impl Inputs {
+    /// `column`'s place among the columns read, given it if it has none yet.
+    fn place(&mut self, column: usize) -> usize {
+        *self.place_of.entry(column).or_insert_with(|| {
+            self.columns.push(column);
+            self.columns.len() - 1
+        })
+    }
+}
+
+/// Per source joint, whether the plan reads it, and whether it reads its position (see
+/// inside).
+fn source_joints_read(
+    setup: &Setup,
+    source: &Skeleton,
+    target: &Skeleton,
+    map: &Map,
+) -> (Vec<bool>, Vec<bool>) {
+    // The source joints read: mapped ones, the far ends of followed chords, the hips, the
+    // leg points, and their ancestors.
+    // Of those, the ones whose positions are read: the ends of followed chords, the hips,
+    // the leg points, and their ancestors.
+    let placed_joints: Vec<usize> = (0..target.joints.len())
+        .filter_map(|t| Some((map.source_of[t]?, setup.follow[t]?.0)))
+        .flat_map(|(s, sd)| [s, sd])
+        .chain(setup.hips.map(|(_, s)| s))
+        .chain(setup.source_legs.iter().copied())
+        .chain(setup.translated.iter().flatten().copied())
+        .collect();
+    let placed = with_ancestors(source, placed_joints.iter().copied());
+    let needed = with_ancestors(
+        source,
+        map.source_of.iter().flatten().copied().chain(placed_joints),
+    );
+    (needed, placed)
+}
+
+/// Source joint `index` as the plan reads it: its rotation channels pushed onto `rotations`,
+/// its position channels read where `placed`, each column given its place in `inputs`.
+fn source_joint(
+    source: &Skeleton,
+    index: usize,
+    placed: bool,
+    inputs: &mut Inputs,
+    rotations: &mut Vec<(usize, usize)>,
+) -> SourceJoint {
+    let joint = &source.joints[index];
+    let first = rotations.len();
+    let mut positions = Vec::new();
+    for (i, channel) in joint.channels.iter().enumerate() {
+        let column = joint.first_channel + i;
+        if channel.is_rotation() {
+            rotations.push((channel.axis(), inputs.place(column)));
+        } else if channel.is_position() && placed {
+            positions.push((channel.axis(), inputs.place(column)));
+        }
+    }
+    SourceJoint {
+        index,
+        parent: joint.parent,
+        offset: joint.offset.as_dvec3(),
+        positions,
+        rotations: first..rotations.len(),
+        axis: joint.axis.map(|c| c.as_dquat().normalize()),
+        placed,
+    }
+}
+
+/// How a target joint's rotation channels are found, by how many it has.
+fn turn_of(joint: &crate::model::skeleton::Joint) -> Turn {
+    let rotation_channels = joint.channels.iter().filter(|c| c.is_rotation()).count();
+    match joint.rotation_order {
+        Some(order) => Turn::Euler {
+            order: axis_order(order),
+            axis: joint.axis.map(|c| c.as_dquat().normalize()),
+        },
+        None if rotation_channels > 0 => Turn::Limited,
+        None => Turn::Fixed(crate::model::pose::local_rotation_f64(
+            joint,
+            &vec![0.0; joint.channels.len()],
+        )),
+    }
+}
+
+/// Where each of target joint `t`'s channels takes its value from, with its MOTION column.
+fn columns_of(setup: &Setup, target: &Skeleton, t: usize) -> Vec<(usize, Column)> {
+    let joint = &target.joints[t];
+    let mut rotation = 0;
+    joint
+        .channels
+        .iter()
+        .enumerate()
+        .map(|(i, channel)| {
+            let column = joint.first_channel + i;
+            if channel.is_position() {
+                if Some(t) == setup.carrier {
+                    (column, Column::Carried(channel.axis()))
+                } else if setup.translated[t].is_some() {
+                    (column, Column::Translated(channel.axis()))
+                } else {
+                    let offset = joint.offset.as_dvec3();
+                    (column, Column::Offset(offset[channel.axis()]))
+                }
+            } else {
+                rotation += 1;
+                (column, Column::Angle(rotation - 1))
+            }
+        })
+        .collect()
+}
+
 impl<'a> Plan<'a> {
     pub(super) fn new(
         setup: &'a Setup,
@@ -156,57 +274,17 @@ impl<'a> Plan<'a> {
         target: &'a Skeleton,
         map: &Map,
     ) -> Plan<'a> {
-        // The source joints read: mapped ones, the far ends of followed chords, the hips, the
-        // leg points, and their ancestors.
-        // Of those, the ones whose positions are read: the ends of followed chords, the hips,
-        // the leg points, and their ancestors.
-        let placed_joints: Vec<usize> = (0..target.joints.len())
-            .filter_map(|t| Some((map.source_of[t]?, setup.follow[t]?.0)))
-            .flat_map(|(s, sd)| [s, sd])
-            .chain(setup.hips.map(|(_, s)| s))
-            .chain(setup.source_legs.iter().copied())
-            .chain(setup.translated.iter().flatten().copied())
-            .collect();
-        let placed = with_ancestors(source, placed_joints.iter().copied());
-        let needed = with_ancestors(
-            source,
-            map.source_of.iter().flatten().copied().chain(placed_joints),
-        );
+        let (needed, placed) = source_joints_read(setup, source, target, map);
         // The MOTION columns read, each gathered once per batch.
-        let mut inputs = Vec::new();
-        let mut input_of = std::collections::HashMap::new();
-        let mut input = |column: usize| {
-            *input_of.entry(column).or_insert_with(|| {
-                inputs.push(column);
-                inputs.len() - 1
-            })
-        };
+        let mut inputs = Inputs::default();
         let mut rotations = Vec::new();
         let source_joints: Vec<SourceJoint> = source
             .joints
             .iter()
             .enumerate()
             .filter(|&(j, _)| needed[j])
-            .map(|(index, joint)| {
-                let first = rotations.len();
-                let mut positions = Vec::new();
-                for (i, channel) in joint.channels.iter().enumerate() {
-                    let column = joint.first_channel + i;
-                    if channel.is_rotation() {
-                        rotations.push((channel.axis(), input(column)));
-                    } else if channel.is_position() && placed[index] {
-                        positions.push((channel.axis(), input(column)));
-                    }
-                }
-                SourceJoint {
-                    index,
-                    parent: joint.parent,
-                    offset: joint.offset.as_dvec3(),
-                    positions,
-                    rotations: first..rotations.len(),
-                    axis: joint.axis.map(|c| c.as_dquat().normalize()),
-                    placed: placed[index],
-                }
+            .map(|(index, _)| {
+                source_joint(source, index, placed[index], &mut inputs, &mut rotations)
             })
             .collect();
         let target_placed = with_ancestors(
@@ -218,50 +296,14 @@ impl<'a> Plan<'a> {
                 .chain(setup.target_legs.iter().copied()),
         );
         let mut chained = Vec::new();
-        let target_joints = target
-            .joints
-            .iter()
-            .enumerate()
-            .map(|(t, joint)| {
-                let rotation_channels = joint.channels.iter().filter(|c| c.is_rotation()).count();
-                let turn = match joint.rotation_order {
-                    Some(order) => Turn::Euler {
-                        order: axis_order(order),
-                        axis: joint.axis.map(|c| c.as_dquat().normalize()),
-                    },
-                    None if rotation_channels > 0 => Turn::Limited,
-                    None => Turn::Fixed(crate::model::pose::local_rotation_f64(
-                        joint,
-                        &vec![0.0; joint.channels.len()],
-                    )),
-                };
-                let reference = setup.reference_columns[t].map(|c| c.map(&mut input));
+        let target_joints = (0..target.joints.len())
+            .map(|t| {
+                let reference = setup.reference_columns[t].map(|c| c.map(|c| inputs.place(c)));
+                let joint = &target.joints[t];
                 let follows_itself = joint.rotation_order.is_some() && reference.is_none();
                 if follows_itself {
                     chained.push(t);
                 }
-                let mut rotation = 0;
-                let columns = joint
-                    .channels
-                    .iter()
-                    .enumerate()
-                    .map(|(i, channel)| {
-                        let column = joint.first_channel + i;
-                        if channel.is_position() {
-                            if Some(t) == setup.carrier {
-                                (column, Column::Carried(channel.axis()))
-                            } else if setup.translated[t].is_some() {
-                                (column, Column::Translated(channel.axis()))
-                            } else {
-                                let offset = joint.offset.as_dvec3();
-                                (column, Column::Offset(offset[channel.axis()]))
-                            }
-                        } else {
-                            rotation += 1;
-                            (column, Column::Angle(rotation - 1))
-                        }
-                    })
-                    .collect();
                 TargetJoint {
                     parent: joint.parent,
                     offset: joint.offset.as_dvec3(),
@@ -269,11 +311,11 @@ impl<'a> Plan<'a> {
                     aligned: setup.aligned[t],
                     held: setup.held[t],
                     follow: setup.follow[t],
-                    turn,
+                    turn: turn_of(joint),
                     bone: setup.bone_of[t],
                     reference,
                     chained: follows_itself.then(|| chained.len() - 1),
-                    columns,
+                    columns: columns_of(setup, target, t),
                     placed: target_placed[t],
                     translated: setup.translated[t],
                 }
@@ -291,7 +333,7 @@ impl<'a> Plan<'a> {
             source_joints_by_index,
             source_count: source.joints.len(),
             rotations,
-            inputs,
+            inputs: inputs.columns,
             target_joints,
             chained,
             channels: target.channel_count(),
@@ -378,6 +420,7 @@ impl<'a> Plan<'a> {
 
     /// Every target joint's world rotation and position and its rotation channels' angles (one
     /// Euler form, degrees), for one batch.
+    // Whole: the hot loop over the joints, inlined into each lane width's piece.
     #[inline(always)]
     pub(super) fn target_pass(&self, scratch: &mut Scratch) {
         let setup = self.setup;
