@@ -1,12 +1,17 @@
 //! Rest alignment: which bones drive which, the turn that puts the target's rest bones onto
 //! the source's, and the heights the hips' path is scaled by.
 
-use super::Map;
 use crate::model::body::{Body, Limb, is_ancestor};
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
 use crate::model::skeleton::Skeleton;
+use crate::retarget::map::{Map, mapped_below};
 use glam::{DQuat, DVec3};
+
+/// A source's width below this many of its legs' lengths is no pelvis or shoulders at all: its
+/// reading of the body put both sides on one point (an ASF's pelvis bones read as thighs), and
+/// nothing put on it can be stood behind.
+pub const NO_WIDTH: f64 = 0.05;
 
 /// The two skeletons' up axes, as their takes stand.
 ///
@@ -43,21 +48,6 @@ pub(super) fn to_y_up(up: Up) -> DQuat {
         Up::Y => DQuat::IDENTITY,
         Up::Z => DQuat::from_rotation_x(-std::f64::consts::FRAC_PI_2),
     }
-}
-
-/// Nearest mapped joints below `joint`: down each branch to the first mapped one.
-pub(super) fn mapped_below(skeleton: &Skeleton, map: &[Option<usize>], joint: usize) -> Vec<usize> {
-    let mut found = Vec::new();
-    let mut stack: Vec<usize> = skeleton.joints[joint].children.clone();
-    while let Some(j) = stack.pop() {
-        if map[j].is_some() {
-            found.push(j);
-        } else {
-            stack.extend(skeleton.joints[j].children.iter().copied());
-        }
-    }
-    found.sort_unstable();
-    found
 }
 
 pub(super) fn subtree_size(skeleton: &Skeleton, joint: usize) -> usize {
@@ -302,7 +292,7 @@ pub(super) fn reference_frame(
             .map(|&(l, r)| (world[l].1 - world[r].1).length() / legs)
             .fold(f64::INFINITY, f64::min)
     };
-    if pairs.is_empty() || narrowest(rest) >= super::NO_WIDTH || motion.frame_count() == 0 {
+    if pairs.is_empty() || narrowest(rest) >= NO_WIDTH || motion.frame_count() == 0 {
         return None;
     }
     let frames = motion.frame_count();
@@ -320,6 +310,6 @@ pub(super) fn reference_frame(
             best = Some((frame, width));
         }
     }
-    best.filter(|&(_, width)| width >= super::NO_WIDTH)
+    best.filter(|&(_, width)| width >= NO_WIDTH)
         .map(|(frame, _)| frame)
 }

@@ -3,13 +3,13 @@
 //! A side crossed (the left thigh where the source's right one is) or a width collapsed (both
 //! thighs from one point) is refused; the rest is said in one line.
 
-use super::{
-    Map, Ups, direction_errors, hip_height, quantile, source_offset_mode, standing, to_y_up,
-};
 use crate::model::body::{Body, Limb};
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, world_transforms_f64};
 use crate::model::skeleton::Skeleton;
+use crate::retarget::align::{NO_WIDTH, Ups, hip_height, source_offset_mode, to_y_up};
+use crate::retarget::map::Map;
+use crate::retarget::measure::{direction_errors, quantile, standing};
 use glam::{DQuat, DVec3};
 
 /// An output's width (hips or shoulders) is collapsed when, as a fraction of its skeleton's own
@@ -18,11 +18,6 @@ use glam::{DQuat, DVec3};
 /// right) and narrows as the source narrows (shoulders drawn in to hold something), but no
 /// further (a map that put both thighs on one source joint brought them to 0.012 of 31).
 pub const COLLAPSED: f64 = 0.5;
-
-/// A source's width below this many of its legs' lengths is no pelvis or shoulders at all: its
-/// reading of the body put both sides on one point (an ASF's pelvis bones read as thighs), and
-/// nothing put on it can be stood behind.
-pub const NO_WIDTH: f64 = 0.05;
 
 /// A pair of joints across the body (the thighs at the hips, the upper arms at the shoulders)
 /// measured in the source and in the output.

@@ -1,7 +1,6 @@
 //! The map from target joints to source joints: guessed by role, then by equal names,
 //! overridden by `SRC = DST` pairs, shown as TOML, and checked for the joints every take needs.
 
-use super::mapped_below;
 use crate::io::error::Error;
 use crate::io::error::quoted;
 use crate::model::body::{Body, Limb, Role, Side, path_between};
@@ -351,4 +350,19 @@ pub(super) fn some_names(skeleton: &Skeleton) -> String {
     } else {
         shown.join(", ")
     }
+}
+
+/// Nearest mapped joints below `joint`: down each branch to the first mapped one.
+pub(super) fn mapped_below(skeleton: &Skeleton, map: &[Option<usize>], joint: usize) -> Vec<usize> {
+    let mut found = Vec::new();
+    let mut stack: Vec<usize> = skeleton.joints[joint].children.clone();
+    while let Some(j) = stack.pop() {
+        if map[j].is_some() {
+            found.push(j);
+        } else {
+            stack.extend(skeleton.joints[j].children.iter().copied());
+        }
+    }
+    found.sort_unstable();
+    found
 }

@@ -2,12 +2,13 @@
 //! followable joints are, and how the retargeted take stands and travels (the hips' path, the
 //! floor, how far planted feet slide).
 
-use super::{Map, Ups, bones, hip_height, source_offset_mode, to_y_up};
 use crate::model::body::Limb;
 use crate::model::body::contact::{Planting, sliding};
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, world_transforms_f64};
 use crate::model::skeleton::Skeleton;
+use crate::retarget::align::{Ups, bones, hip_height, source_offset_mode, to_y_up};
+use crate::retarget::map::Map;
 use glam::{DQuat, DVec3};
 
 /// The angle in degrees between each bone's world direction in the source and in the

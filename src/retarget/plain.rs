@@ -1,15 +1,16 @@
 //! The plain pass: one joint and one frame at a time, the reference the eight-lane pass
 //! (`fast/`) is held to.
 
-use super::{
-    Map, Ups, alignments, arc, floor_points, hip_height, main_bones, reference_frame,
-    source_offset_mode, to_y_up,
-};
 use crate::model::body::{Body, is_ancestor, path_between};
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, world_transforms_f64};
 use crate::model::skeleton::{Joint, Skeleton};
+use crate::retarget::align::{
+    Ups, alignments, arc, floor_points, hip_height, main_bones, reference_frame,
+    source_offset_mode, to_y_up,
+};
 use crate::retarget::hinge::{limited_angles, nearest_form};
+use crate::retarget::map::Map;
 use glam::{DQuat, DVec3};
 
 /// What the pass over the frames needs, worked out once from the skeletons and the map: the

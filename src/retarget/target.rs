@@ -1,11 +1,13 @@
 //! The skeleton a take is put on: a file, or a built-in skeleton (`smpl22`).
 
-use super::{Map, Ups, source_offset_mode};
 use crate::io::error::Error;
 use crate::model::body::{Body, Doubt, is_ancestor};
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
 use crate::model::skeleton::{Joint, Skeleton};
+use crate::retarget::align::{Ups, source_offset_mode};
+use crate::retarget::map::Map;
+use crate::take::Take;
 
 /// What a refusal by [`Target::check_body`] ends with: how to go ahead anyway.
 /// Python's messages read it as "`any_body` retargets it anyway".
@@ -56,7 +58,7 @@ pub struct Retargeted {
     /// The take's motion on it.
     pub motion: Motion,
     /// The output measured against its source.
-    pub check: super::Check,
+    pub check: crate::retarget::check::Check,
     /// Why the check refuses the output, when [`Insist::force`] kept it anyway.
     pub forced: Option<String>,
     /// What the map could not carry, said in words: each mapped source joint (not the hips,
@@ -196,7 +198,7 @@ impl Target {
         )?;
         let map = self.map(source_name, skeleton, pairs)?;
         let ups = self.ups(skeleton, motion);
-        let (out_skeleton, out) = super::retarget_posed(
+        let (out_skeleton, out) = crate::retarget::run::retarget_posed(
             skeleton,
             motion,
             &self.skeleton,
@@ -206,7 +208,7 @@ impl Target {
             threads,
         )?;
         // The answer checks itself against its source before anyone writes it.
-        let check = super::check(
+        let check = crate::retarget::check::check(
             skeleton,
             motion,
             &out_skeleton,
@@ -355,4 +357,33 @@ impl Target {
             target: self.up,
         }
     }
+}
+
+/// A take's motion on another skeleton, one call from a [`Take`]: `onto` is a file (.bvh, .fbx,
+/// .gltf, .glb, .asf; its skeleton only) or a built-in skeleton's name (`smpl22`). Joints are
+/// matched by role from their names, as `bvhview retarget` matches them.
+///
+/// ```
+/// use bvhview::Take;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_walk_01.bvh")?.trim(0..30);
+/// let smpl = bvhview::retarget::onto(&take, "smpl22")?;
+/// assert_eq!(smpl.frame_count(), 30);
+/// assert!(smpl.point_names().iter().any(|n| n == "left_knee"));
+/// # Ok(())
+/// # }
+/// ```
+pub fn onto(take: &Take, onto: &str) -> Result<Take, Error> {
+    let target = Target::load(onto, crate::take::DEFAULT_MAX_SIZE)?;
+    let put = target.apply(
+        &take.name,
+        &take.skeleton,
+        &take.motion,
+        &[],
+        Insist::default(),
+        crate::io::parallel::cores(),
+    )?;
+    let name = format!("{} on {}", take.name, target.name);
+    Ok(Take::new(put.skeleton, put.motion, name))
 }

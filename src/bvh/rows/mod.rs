@@ -39,15 +39,11 @@ use number::is_blank;
 pub use number::parse_number;
 pub use simple::read_rows_simple;
 
-/// Set: the rows go through the one-at-a-time reader even where the CPU has AVX-512, as on a
-/// machine without it (`bvhview-bench --no-avx512` measures that reader here). Same values.
-static ONE_AT_A_TIME: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
-
 /// Makes every later load read its rows one number at a time (`rows/scan.rs`) even where the
 /// CPU has AVX-512, or lets it use AVX-512 again: for benchmarks of the reader machines without
 /// AVX-512 run.
 pub fn read_one_at_a_time(on: bool) {
-    ONE_AT_A_TIME.store(on, std::sync::atomic::Ordering::Relaxed);
+    words::ONE_AT_A_TIME.store(on, std::sync::atomic::Ordering::Relaxed);
 }
 
 /// Which reader the MOTION rows go through on this machine, in words (`bvhview --version` says
@@ -57,7 +53,7 @@ pub fn row_reader() -> &'static str {
     if wide::available() {
         return "AVX-512, eight numbers at a time (rows/wide.rs)";
     }
-    if ONE_AT_A_TIME.load(std::sync::atomic::Ordering::Relaxed) {
+    if words::ONE_AT_A_TIME.load(std::sync::atomic::Ordering::Relaxed) {
         return "one number at a time (rows/scan.rs), AVX-512 turned off (read_one_at_a_time)";
     }
     "one number at a time (rows/scan.rs); this CPU has no AVX-512, so rows/wide.rs never runs"

@@ -23,7 +23,7 @@ use std::arch::x86_64::{
 /// Whether this CPU can run [`Wide`]. The standard library asks the CPU once and keeps the
 /// answer in atomics, without a lock that a child forked mid-question would wait on.
 pub(super) fn available() -> bool {
-    !super::ONE_AT_A_TIME.load(std::sync::atomic::Ordering::Relaxed)
+    !super::words::ONE_AT_A_TIME.load(std::sync::atomic::Ordering::Relaxed)
         && std::arch::is_x86_feature_detected!("avx512f")
         && std::arch::is_x86_feature_detected!("avx512bw")
         && std::arch::is_x86_feature_detected!("avx512cd")

@@ -5,6 +5,11 @@
 use super::number::{decimal_to_f32, eight_digits, is_blank, parse_number, read_decimal};
 use crate::io::lines::is_line_end;
 
+/// Set: the rows go through the one-at-a-time reader even where the CPU has AVX-512, as on a
+/// machine without it (`bvhview-bench --no-avx512` measures that reader here). Same values.
+pub(super) static ONE_AT_A_TIME: std::sync::atomic::AtomicBool =
+    std::sync::atomic::AtomicBool::new(false);
+
 /// What went wrong in a row, at a byte offset of the part being parsed.
 #[derive(Clone, Copy, Debug)]
 pub(super) enum Problem {

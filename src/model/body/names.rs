@@ -1,7 +1,8 @@
 //! Words in joint names: each family's names split into words, and the word a joint's name
 //! says it is (thigh, shin, upper arm…), with its side.
 
-use super::Side;
+use crate::model::body::fingers::FINGERS;
+use crate::model::body::sides::Side;
 use std::fmt;
 
 /// The part of a limb a joint moves (the joint at the start of that bone).
@@ -119,7 +120,7 @@ impl fmt::Display for Role {
             }
             Role::Finger(side, finger, bone) => {
                 let side = if *side == Side::Left { "left" } else { "right" };
-                let finger = super::FINGERS.get(*finger as usize).unwrap_or(&"finger");
+                let finger = FINGERS.get(*finger as usize).unwrap_or(&"finger");
                 write!(f, "{side} {finger} {}", bone + 1)
             }
         }

@@ -1,7 +1,7 @@
 //! The travel joint: the joint whose position channels carry a take across the floor. It is
 //! the hips or a joint above them, never a limb.
 
-use crate::model::body::Body;
+use crate::model::body::roles::Body;
 use crate::model::pose::{OffsetMode, world_positions};
 use crate::model::skeleton::Skeleton;
 use glam::Vec3;

@@ -1,7 +1,7 @@
 //! The fast forward kinematics: eight frames side by side in 32-bit lanes (`FkPlan`), held to
 //! the plain [`super::world_matrices`] by its tests.
 
-use super::OffsetMode;
+use super::mode::OffsetMode;
 use crate::model::skeleton::{Channel, Skeleton};
 use glam::Vec3;
 

@@ -135,7 +135,7 @@ fn follow(setup: &Setup, rotation: &Quats, near: &Points, far: &Points, rest: DV
     for l in 0..LANES {
         if moves[l] && dot[l] < -(1.0 - 2.0 * f64::EPSILON) {
             let r = rotation.get(l);
-            out.set(l, super::arc(r * rest, chord.get(l)) * r);
+            out.set(l, crate::retarget::align::arc(r * rest, chord.get(l)) * r);
         }
     }
     out
@@ -220,8 +220,8 @@ fn pieces<'a, T>(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::pose::OffsetMode;
     use crate::retarget::Map;
-    use crate::retarget::OffsetMode;
     use crate::retarget::fast::plan::Plan;
     use crate::retarget::fast::plan::Scratch;
     use crate::retarget::fast::trig::atan2;

@@ -7,10 +7,10 @@ use super::{
 use crate::model::motion::Motion;
 use crate::model::pose::OffsetMode;
 use crate::model::skeleton::Skeleton;
-use crate::retarget::Map;
 use crate::retarget::fast::quats::{Points, Quats};
 use crate::retarget::fast::trig::sin_cos;
 use crate::retarget::hinge::{limited_angles, nearest_form};
+use crate::retarget::map::Map;
 use crate::retarget::plain::Setup;
 use glam::{DQuat, DVec3};
 use std::sync::{Mutex, PoisonError};
