@@ -5,16 +5,8 @@
 //! languages side by side, and a case cannot be said in one and forgotten in the other. Each
 //! phrase builds both columns; `verdict_line` says the one asked for.
 
-use super::{Language, axis_letters, plain};
+use super::{Both, Language, axis_letters, both, plain};
 use crate::bvh::article::{Crash, Misread, Place, Rejection, Step, Verdict};
-
-/// One phrase in both languages, English first.
-type Both = [String; 2];
-
-/// A row of fixed text: the same phrase in English and in Chinese.
-fn both(english: &str, chinese: &str) -> Both {
-    [english.to_string(), chinese.to_string()]
-}
 
 /// The first line of `--explain`: what the article's program does with the file as a whole, in
 /// one of four words (`reads it as written`, `misreads it`, `rejects it`, `crashes on it`;
