@@ -301,27 +301,7 @@ enum Outcome {
 /// nothing written.
 fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
     let dir = &args.input;
-    if args.character.is_some() {
-        return Err(Error::Usage(format!(
-            "{} is a folder: --character puts one take on a character (give a file)",
-            dir.display()
-        )));
-    }
-    let format = args.to.ok_or_else(|| {
-        Error::Usage(format!(
-            "{} is a folder: say the format its takes are written in with --to bvh, glb or gltf \
-             (-o names the folder to make)",
-            dir.display()
-        ))
-    })?;
-    check_options(args, format)?;
-    if let Some(motion) = &args.source.motion {
-        return Err(Error::Usage(format!(
-            "--motion {}: a folder pairs each AMC with its ASF itself",
-            motion.display()
-        )));
-    }
-    crate::limits::frame_time_option(args.source.frame_time)?;
+    let format = folder_format(args)?;
     let walk = crate::info::batch::collect_takes(dir)?;
     for line in walk.skipped_lines() {
         super::note(format_args!("{line}"));
@@ -347,27 +327,10 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
             progress.done();
             match outcome {
                 Outcome::Converted(done) => {
-                    for warning in &done.warnings {
-                        eprintln!("bvhview: {}: warning: {warning}", take.display());
-                    }
                     let name = names[index].as_ref().expect("converted takes have a name");
-                    let path = folder.path().join(name);
-                    let written = crate::io::output::in_partial_folder(|| {
-                        if let Some(parent) = path.parent() {
-                            std::fs::create_dir_all(parent)?;
-                        }
-                        std::fs::write(&path, &done.bytes)
-                    });
-                    if let Err(e) = written {
-                        fatal = Some(Error::output(&args.output.join(name), e));
+                    if let Err(error) = write_converted(args, &folder, take, name, &done) {
+                        fatal = Some(error);
                         return false;
-                    }
-                    for (joint, written) in &done.renamed {
-                        eprintln!(
-                            "bvhview: {}: joint {joint:?} written as {written:?} (a BVH name \
-                             holds no whitespace or braces)",
-                            args.output.join(name).display()
-                        );
                     }
                     converted += 1;
                 }
@@ -409,6 +372,66 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
     } else {
         ExitCode::SUCCESS
     })
+}
+
+/// The format a folder's takes are written in (`--to`), once the options that mean nothing for
+/// a folder are refused.
+fn folder_format(args: &ConvertArgs) -> Result<TakeFormat, Error> {
+    let dir = &args.input;
+    if args.character.is_some() {
+        return Err(Error::Usage(format!(
+            "{} is a folder: --character puts one take on a character (give a file)",
+            dir.display()
+        )));
+    }
+    let format = args.to.ok_or_else(|| {
+        Error::Usage(format!(
+            "{} is a folder: say the format its takes are written in with --to bvh, glb or gltf \
+             (-o names the folder to make)",
+            dir.display()
+        ))
+    })?;
+    check_options(args, format)?;
+    if let Some(motion) = &args.source.motion {
+        return Err(Error::Usage(format!(
+            "--motion {}: a folder pairs each AMC with its ASF itself",
+            motion.display()
+        )));
+    }
+    crate::limits::frame_time_option(args.source.frame_time)?;
+    Ok(format)
+}
+
+/// Writes one converted take into the folder being made, as `name`: its warnings first, then
+/// the joints it renamed to be written as BVH.
+fn write_converted(
+    args: &ConvertArgs,
+    folder: &crate::io::output::NewFolder,
+    take: &Path,
+    name: &Path,
+    done: &Converted,
+) -> Result<(), Error> {
+    for warning in &done.warnings {
+        eprintln!("bvhview: {}: warning: {warning}", take.display());
+    }
+    let path = folder.path().join(name);
+    let written = crate::io::output::in_partial_folder(|| {
+        if let Some(parent) = path.parent() {
+            std::fs::create_dir_all(parent)?;
+        }
+        std::fs::write(&path, &done.bytes)
+    });
+    if let Err(e) = written {
+        return Err(Error::output(&args.output.join(name), e));
+    }
+    for (joint, written) in &done.renamed {
+        eprintln!(
+            "bvhview: {}: joint {joint:?} written as {written:?} (a BVH name \
+             holds no whitespace or braces)",
+            args.output.join(name).display()
+        );
+    }
+    Ok(())
 }
 
 /// The file a take is named by: its AMC for an ASF/AMC pair, else its own.

@@ -81,19 +81,7 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
         };
         check_output(output, formats)?;
     }
-    let loaded = load(&args.file, &args.source)?;
-    let character = match &args.character {
-        Some(path) => super::character::load_all(std::slice::from_ref(path), 1, &args.source)?
-            .pop()
-            .flatten(),
-        None => None,
-    };
-    let loaded = match &character {
-        Some(character) => {
-            super::character::dress(character, &loaded, &args.file, args.insisting.insist())?
-        }
-        None => loaded,
-    };
+    let (loaded, character) = load_dressed(&args)?;
     if args.vertices && (args.left_handed || args.scale != 1.0 || args.format.is_some()) {
         return Err(Error::Usage(
             "--vertices writes the character's units as they are, its format told by -o              (.csv, .json, .npy): --left-handed, --scale and --format are for joints"
@@ -124,41 +112,91 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
         eprintln!("bvhview: {}: warning: {warning}", args.file.display());
     }
     if let Some(character) = character.as_deref().filter(|_| args.vertices) {
-        let format = match args.output.as_deref().map(take::extension).as_deref() {
-            Some("json") => crate::character::VertexFormat::Json,
-            Some("npy") => crate::character::VertexFormat::Npy,
-            _ => crate::character::VertexFormat::Csv,
-        };
-        let output = args.output.as_deref();
-        if format == crate::character::VertexFormat::Npy && output.is_none() {
-            return Err(Error::Usage(
-                "--vertices: an .npy array goes to a file (-o OUT.npy)".into(),
-            ));
-        }
-        let mut out = open_output(output)?;
-        let result = crate::character::write_vertices(
-            &mut out,
-            character,
-            &loaded.skeleton,
-            &loaded.motion,
-            range.clone(),
-            format,
-        )
-        .and_then(|()| out.flush());
-        finish_write(out, result, output)?;
-        if let Some(path) = output {
-            wrote(format_args!(
-                "{}: {} × {}",
-                path.display(),
-                crate::io::error::counted(range.len(), "frame"),
-                match character.mesh.vertex_count() {
-                    1 => "1 vertex".to_string(),
-                    n => format!("{n} vertices"),
-                }
-            ));
-        }
-        return Ok(ExitCode::SUCCESS);
+        return write_vertices(&args, character, &loaded, range);
     }
+    write_joints(&args, &loaded, range, offset_mode)
+}
+
+/// The take of `args.file`, and the character it is put on with `--character` (the take then
+/// retargeted onto the character's skeleton).
+fn load_dressed(
+    args: &PositionsArgs,
+) -> Result<
+    (
+        take::Take,
+        Option<std::sync::Arc<crate::character::Character>>,
+    ),
+    Error,
+> {
+    let loaded = load(&args.file, &args.source)?;
+    let character = match &args.character {
+        Some(path) => super::character::load_all(std::slice::from_ref(path), 1, &args.source)?
+            .pop()
+            .flatten(),
+        None => None,
+    };
+    let loaded = match &character {
+        Some(character) => {
+            super::character::dress(character, &loaded, &args.file, args.insisting.insist())?
+        }
+        None => loaded,
+    };
+    Ok((loaded, character))
+}
+
+/// `--vertices`: the character's skinned vertices in the frames of `range`, as CSV, JSON or
+/// `.npy` by -o's extension; then what was written.
+fn write_vertices(
+    args: &PositionsArgs,
+    character: &crate::character::Character,
+    loaded: &take::Take,
+    range: std::ops::Range<usize>,
+) -> Result<ExitCode, Error> {
+    let format = match args.output.as_deref().map(take::extension).as_deref() {
+        Some("json") => crate::character::VertexFormat::Json,
+        Some("npy") => crate::character::VertexFormat::Npy,
+        _ => crate::character::VertexFormat::Csv,
+    };
+    let output = args.output.as_deref();
+    if format == crate::character::VertexFormat::Npy && output.is_none() {
+        return Err(Error::Usage(
+            "--vertices: an .npy array goes to a file (-o OUT.npy)".into(),
+        ));
+    }
+    let mut out = open_output(output)?;
+    let result = crate::character::write_vertices(
+        &mut out,
+        character,
+        &loaded.skeleton,
+        &loaded.motion,
+        range.clone(),
+        format,
+    )
+    .and_then(|()| out.flush());
+    finish_write(out, result, output)?;
+    if let Some(path) = output {
+        wrote(format_args!(
+            "{}: {} × {}",
+            path.display(),
+            crate::io::error::counted(range.len(), "frame"),
+            match character.mesh.vertex_count() {
+                1 => "1 vertex".to_string(),
+                n => format!("{n} vertices"),
+            }
+        ));
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The world position of every joint and End Site in the frames of `range`, as CSV or JSON;
+/// then what was written.
+fn write_joints(
+    args: &PositionsArgs,
+    loaded: &take::Take,
+    range: std::ops::Range<usize>,
+    offset_mode: OffsetMode,
+) -> Result<ExitCode, Error> {
+    let scale = args.scale;
     let options = PositionsOptions {
         format: args
             .format

@@ -7,7 +7,7 @@ use super::{
 use crate::io::error::Error;
 use crate::model::pose::{OffsetMode, Up};
 use crate::render::paint::{Clock, Shown};
-use crate::render::{Overlay, SnapshotOptions};
+use crate::render::{Overlay, SnapshotOptions, animation};
 use crate::take;
 use clap::Args;
 use std::path::PathBuf;
@@ -81,7 +81,7 @@ pub(crate) struct SnapshotArgs {
 /// an animated output asked for with one frame, and `--fps` where no animation is written.
 fn check_sequence_options(
     args: &SnapshotArgs,
-    animated: Option<crate::render::animation::AnimationFormat>,
+    animated: Option<animation::AnimationFormat>,
 ) -> Result<(), Error> {
     let output = args.output.display();
     let format = match take::extension(&args.output).as_str() {
@@ -91,7 +91,7 @@ fn check_sequence_options(
         _ => None,
     };
     #[cfg(not(feature = "video"))]
-    if animated == Some(crate::render::animation::AnimationFormat::Mp4) {
+    if animated == Some(animation::AnimationFormat::Mp4) {
         return Err(crate::io::absent::without(
             "video",
             "MP4 video",
@@ -121,10 +121,87 @@ fn check_sequence_options(
     Ok(())
 }
 
+/// A file as the snapshot draws it: the take (dressed on its character when it has one),
+/// with its name, the way up it is drawn and its stance.
+struct Prepared {
+    /// The file's name without its folders, as the HUD and the labels say it.
+    name: String,
+    take: take::Take,
+    up: Up,
+    stance: crate::model::stance::Stance,
+}
+
 pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
-    use crate::render::animation;
     let animated = animation::AnimationFormat::of(&args.output);
-    check_sequence_options(&args, animated)?;
+    check_options(&args, animated)?;
+    let files = paired_takes(&args.files, &args.source)?;
+    if args.overlay && files.len() < 2 {
+        return Err(Error::Usage(
+            "--overlay draws several files one over the other: give two files or more".into(),
+        ));
+    }
+    let mode: OffsetMode = args.view.offset_mode.into();
+    let framed_view = args.view.fit.is_some() || args.look == LookArg::Studio;
+    let mut takes = load_takes(&args, &files, mode, framed_view)?;
+    let characters = super::character::load_all(&args.character, files.len(), &args.source)?;
+    for ((prepared, character), (file, _)) in takes.iter_mut().zip(&characters).zip(&files) {
+        if let Some(character) = character {
+            let dressed =
+                super::character::dress(character, &prepared.take, file, args.insisting.insist())?;
+            prepared.stance = dressed.stance(mode.for_take(true));
+            prepared.up = resolve_up(args.view.up, &prepared.stance, &prepared.name, framed_view);
+            prepared.take = dressed;
+        }
+    }
+    let shown: Vec<Shown> = takes
+        .iter()
+        .zip(&characters)
+        .map(|(prepared, character)| Shown {
+            skeleton: &prepared.take.skeleton,
+            motion: &prepared.take.motion,
+            up: prepared.up,
+            stance: prepared.stance,
+            mesh: character.as_ref().map(|c| &c.mesh),
+        })
+        .collect();
+    let clock = Clock::new(&shown.iter().map(|t| t.motion).collect::<Vec<_>>());
+    let options = snapshot_options(&args, mode, shown[0].up, files.len());
+    let other_mode_likely = shown.iter().any(|take| {
+        crate::info::offset_mode_warning(take.skeleton, take.motion, take.offset_mode(mode))
+            .is_some()
+    });
+    let lying_along_z = args.view.up.is_none()
+        && !framed_view
+        && takes.iter().any(|prepared| prepared.stance.up == Up::Z);
+    let overlay = |tick: usize| -> Overlay {
+        overlay_at(
+            tick,
+            &args,
+            &takes,
+            &clock,
+            &options,
+            (other_mode_likely, lying_along_z),
+        )
+    };
+    let output = &args.output;
+    let Some(frames) = &args.frames else {
+        return write_picture(&shown, &options, &overlay, output);
+    };
+    let range = crate::positions::parse_frames(frames, clock.count)?;
+    if let Some(format) = animated {
+        return write_animation(&args, format, range, &clock, &shown, &options, &overlay);
+    }
+    write_folder(output, range, &shown, &options, &overlay)
+}
+
+/// Refuses, before any work, an output and options that do not go together: a sequence
+/// option without `--frames`, an output `--frames` cannot write, a rate or a video size out of
+/// bounds.
+fn check_options(
+    args: &SnapshotArgs,
+    animated: Option<animation::AnimationFormat>,
+) -> Result<(), Error> {
+    check_sequence_options(args, animated)?;
     match &args.frames {
         None => check_output(&args.output, &["png"])?,
         Some(_) if animated.is_none() && !take::extension(&args.output).is_empty() => {
@@ -141,16 +218,19 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     if animated == Some(animation::AnimationFormat::Mp4) {
         animation::check_video_size(args.size.0, args.size.1)?;
     }
-    let files = paired_takes(&args.files, &args.source)?;
-    if args.overlay && files.len() < 2 {
-        return Err(Error::Usage(
-            "--overlay draws several files one over the other: give two files or more".into(),
-        ));
-    }
-    let mode: OffsetMode = args.view.offset_mode.into();
-    let framed_view = args.view.fit.is_some() || args.look == LookArg::Studio;
+    Ok(())
+}
+
+/// Loads each file (an ASF with its AMC), saying on stderr what it looks written for and which
+/// way it stands, in the order given.
+fn load_takes(
+    args: &SnapshotArgs,
+    files: &[(PathBuf, Option<PathBuf>)],
+    mode: OffsetMode,
+    framed_view: bool,
+) -> Result<Vec<Prepared>, Error> {
     let mut takes = Vec::with_capacity(files.len());
-    for (file, motion) in &files {
+    for (file, motion) in files {
         let source = Source {
             motion: motion.clone(),
             ..args.source.clone()
@@ -164,39 +244,33 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         }
         let stance = loaded.stance(mode);
         let up = resolve_up(args.view.up, &stance, &name, framed_view);
-        takes.push((short_name(file), loaded, up, stance));
+        takes.push(Prepared {
+            name: short_name(file),
+            take: loaded,
+            up,
+            stance,
+        });
     }
-    let characters = super::character::load_all(&args.character, files.len(), &args.source)?;
-    for ((take, character), (file, _)) in takes.iter_mut().zip(&characters).zip(&files) {
-        if let Some(character) = character {
-            let dressed =
-                super::character::dress(character, &take.1, file, args.insisting.insist())?;
-            take.3 = dressed.stance(mode.for_take(true));
-            take.2 = resolve_up(args.view.up, &take.3, &take.0, framed_view);
-            take.1 = dressed;
-        }
-    }
-    let shown: Vec<Shown> = takes
-        .iter()
-        .zip(&characters)
-        .map(|((_, loaded, up, stance), character)| Shown {
-            skeleton: &loaded.skeleton,
-            motion: &loaded.motion,
-            up: *up,
-            stance: *stance,
-            mesh: character.as_ref().map(|c| &c.mesh),
-        })
-        .collect();
-    let clock = Clock::new(&shown.iter().map(|t| t.motion).collect::<Vec<_>>());
-    let options = SnapshotOptions {
-        up: shown[0].up,
+    Ok(takes)
+}
+
+/// What every picture is drawn with, from the arguments: `up` is the first take's, and `count`
+/// files share the view.
+fn snapshot_options(
+    args: &SnapshotArgs,
+    mode: OffsetMode,
+    up: Up,
+    count: usize,
+) -> SnapshotOptions {
+    SnapshotOptions {
+        up,
         skin: args.skin,
         step: args.step.map(|k| usize::try_from(k).unwrap_or(usize::MAX)),
         frame: args.frame,
         angle: args
             .view
             .angle
-            .unwrap_or_else(|| crate::render::paint::start_angle(files.len())),
+            .unwrap_or_else(|| crate::render::paint::start_angle(count)),
         width: args.size.0,
         height: args.size.1,
         // A character's mesh alone unless a style is asked for (its rig may hold controls
@@ -213,128 +287,163 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         whole_take: args.view.fit == Some(FitArg::Take),
         true_scale: args.view.true_scale,
         overlaid: args.overlay,
-    };
-    let output = &args.output;
-    let other_mode_likely = shown.iter().any(|take| {
-        crate::info::offset_mode_warning(take.skeleton, take.motion, take.offset_mode(mode))
-            .is_some()
-    });
-    let several = takes.len() > 1;
-    let lying_along_z = args.view.up.is_none()
-        && !framed_view
-        && takes.iter().any(|(_, _, _, stance)| stance.up == Up::Z);
-    let overlay = |tick: usize| -> Overlay {
-        let mut overlay = Overlay {
-            names: args.names,
-            ..Overlay::default()
-        };
-        if !args.hud {
-            return overlay;
-        }
-        overlay.timeline = Some((tick, clock.count));
-        if several {
-            overlay.labels = takes.iter().map(|(name, ..)| name.clone()).collect();
-        }
-        overlay.lines = crate::render::hud::Hud {
-            takes: takes
-                .iter()
-                .map(|(name, loaded, ..)| crate::render::hud::HudTake {
-                    name,
-                    frame: clock.frame_of(&loaded.motion, tick),
-                    frames: loaded.motion.frame_count(),
-                    frame_time: loaded.motion.frame_time,
-                })
-                .collect(),
-            time: clock.seconds(tick),
-            playing: false,
-            speed: 1.0,
-            looping: true,
-            look: options.look,
-            follow: options.follow,
-            style: options.style,
-            skin: options.skin,
-            fit: options.fit,
-            offset_mode: options.offset_mode,
-            other_mode_likely,
-            lying_along_z,
-        }
-        .lines((options.width, options.height));
-        overlay
-    };
-    let Some(frames) = &args.frames else {
-        let image = crate::render::Renderer::new(options.width, options.height)?.render_all(
-            &shown,
-            &options,
-            &overlay(options.frame),
-        )?;
-        image.write_png(output)?;
-        wrote(format_args!(
-            "{} ({}x{})",
-            output.display(),
-            image.width,
-            image.height
-        ));
-        return Ok(ExitCode::SUCCESS);
-    };
-    let range = crate::positions::parse_frames(frames, clock.count)?;
-    if let Some(format) = animated {
-        let fps = args
-            .fps
-            .unwrap_or_else(|| animation::default_fps(clock.step, format));
-        let ticks = animation::sampled_frames(range, clock.step, fps)?;
-        let mut renderer = crate::render::Renderer::new(options.width, options.height)?;
-        let progress = Progress::new(ticks.len());
-        let size = (options.width, options.height);
-        // Each picture is encoded on another core while the next one is drawn.
-        animation::drawn_and_written(
-            ticks.len(),
-            |i, spare| {
-                progress.show(i + 1);
-                let frame = ticks[i];
-                let options = SnapshotOptions { frame, ..options };
-                renderer.render_frame(&shown, &options, &overlay(frame), spare)
-            },
-            |pictures| animation::write(output, format, size, fps, pictures, ticks.len()),
-        )?;
-        progress.done();
-        // H.264's pictures have even sides: say so where the video is not the size asked.
-        let even = animation::encoded_size(size.0, size.1);
-        let resized = if format == animation::AnimationFormat::Mp4 && even != size {
-            format!(
-                " ({}x{}: H.264 needs even sides, the last column or row repeats)",
-                even.0, even.1
-            )
-        } else {
-            String::new()
-        };
-        // An MP4's rate is whole ticks over whole ticks: the rate written is said, and the
-        // one asked beside it when they differ.
-        let (rate, asked) = match format {
-            #[cfg(feature = "video")]
-            animation::AnimationFormat::Mp4 => {
-                let written = crate::render::video::written_rate(fps);
-                // Thousandths as every rate was said before; else seven figures (a third of a
-                // frame a second, written as 1/3, is 0.3333333, not sixteen threes).
-                let shown = match (written * 1000.0).round() / 1000.0 == written {
-                    true => format!("{written:.3}"),
-                    false => format!("{written:.7}").trim_end_matches('0').to_string(),
-                };
-                // Within the ten parts in a million a take's frame time is written to.
-                let asked = match (written - fps).abs() <= 1e-5 * fps {
-                    true => String::new(),
-                    false => format!(" (the nearest an MP4's whole ticks hold to the {fps} asked)"),
-                };
-                (shown, asked)
-            }
-            _ => (format!("{fps:.3}"), String::new()),
-        };
-        wrote(format_args!(
-            "{}: {} at {rate} per second{asked}{resized}",
-            output.display(),
-            crate::io::error::counted(ticks.len(), "frame")
-        ));
-        return Ok(ExitCode::SUCCESS);
     }
+}
+
+/// What is written over the picture of `tick`: the names with `--names`; with `--hud` the
+/// timeline, each take's label when there are several, and the HUD's lines (`hints`: whether a
+/// take looks written for the other offset mode, and whether one lies along z).
+fn overlay_at(
+    tick: usize,
+    args: &SnapshotArgs,
+    takes: &[Prepared],
+    clock: &Clock,
+    options: &SnapshotOptions,
+    (other_mode_likely, lying_along_z): (bool, bool),
+) -> Overlay {
+    let mut overlay = Overlay {
+        names: args.names,
+        ..Overlay::default()
+    };
+    if !args.hud {
+        return overlay;
+    }
+    overlay.timeline = Some((tick, clock.count));
+    if takes.len() > 1 {
+        overlay.labels = takes.iter().map(|prepared| prepared.name.clone()).collect();
+    }
+    overlay.lines = crate::render::hud::Hud {
+        takes: takes
+            .iter()
+            .map(|prepared| crate::render::hud::HudTake {
+                name: &prepared.name,
+                frame: clock.frame_of(&prepared.take.motion, tick),
+                frames: prepared.take.motion.frame_count(),
+                frame_time: prepared.take.motion.frame_time,
+            })
+            .collect(),
+        time: clock.seconds(tick),
+        playing: false,
+        speed: 1.0,
+        looping: true,
+        look: options.look,
+        follow: options.follow,
+        style: options.style,
+        skin: options.skin,
+        fit: options.fit,
+        offset_mode: options.offset_mode,
+        other_mode_likely,
+        lying_along_z,
+    }
+    .lines((options.width, options.height));
+    overlay
+}
+
+/// One frame, `options.frame`, drawn offscreen and written as a PNG.
+fn write_picture(
+    shown: &[Shown],
+    options: &SnapshotOptions,
+    overlay: &dyn Fn(usize) -> Overlay,
+    output: &std::path::Path,
+) -> Result<ExitCode, Error> {
+    let image = crate::render::Renderer::new(options.width, options.height)?.render_all(
+        shown,
+        options,
+        &overlay(options.frame),
+    )?;
+    image.write_png(output)?;
+    wrote(format_args!(
+        "{} ({}x{})",
+        output.display(),
+        image.width,
+        image.height
+    ));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The frames of `range`, sampled at `--fps` (or the default rate for the format), drawn and
+/// written as one animated GIF, APNG or MP4; then what was written, at what rate and size.
+fn write_animation(
+    args: &SnapshotArgs,
+    format: animation::AnimationFormat,
+    range: std::ops::Range<usize>,
+    clock: &Clock,
+    shown: &[Shown],
+    options: &SnapshotOptions,
+    overlay: &dyn Fn(usize) -> Overlay,
+) -> Result<ExitCode, Error> {
+    let output = &args.output;
+    let fps = args
+        .fps
+        .unwrap_or_else(|| animation::default_fps(clock.step, format));
+    let ticks = animation::sampled_frames(range, clock.step, fps)?;
+    let mut renderer = crate::render::Renderer::new(options.width, options.height)?;
+    let progress = Progress::new(ticks.len());
+    let size = (options.width, options.height);
+    // Each picture is encoded on another core while the next one is drawn.
+    animation::drawn_and_written(
+        ticks.len(),
+        |i, spare| {
+            progress.show(i + 1);
+            let frame = ticks[i];
+            let options = SnapshotOptions { frame, ..*options };
+            renderer.render_frame(shown, &options, &overlay(frame), spare)
+        },
+        |pictures| animation::write(output, format, size, fps, pictures, ticks.len()),
+    )?;
+    progress.done();
+    // H.264's pictures have even sides: say so where the video is not the size asked.
+    let even = animation::encoded_size(size.0, size.1);
+    let resized = if format == animation::AnimationFormat::Mp4 && even != size {
+        format!(
+            " ({}x{}: H.264 needs even sides, the last column or row repeats)",
+            even.0, even.1
+        )
+    } else {
+        String::new()
+    };
+    let (rate, asked) = rate_said(format, fps);
+    wrote(format_args!(
+        "{}: {} at {rate} per second{asked}{resized}",
+        output.display(),
+        crate::io::error::counted(ticks.len(), "frame")
+    ));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// The rate an animation is written at, as said after it, and the one asked beside it when
+/// they differ. An MP4's rate is whole ticks over whole ticks, so it may not be the rate asked.
+fn rate_said(format: animation::AnimationFormat, fps: f64) -> (String, String) {
+    match format {
+        #[cfg(feature = "video")]
+        animation::AnimationFormat::Mp4 => {
+            let written = crate::render::video::written_rate(fps);
+            // Thousandths as every rate was said before; else seven figures (a third of a
+            // frame a second, written as 1/3, is 0.3333333, not sixteen threes).
+            let shown = match (written * 1000.0).round() / 1000.0 == written {
+                true => format!("{written:.3}"),
+                false => format!("{written:.7}").trim_end_matches('0').to_string(),
+            };
+            // Within the ten parts in a million a take's frame time is written to.
+            let asked = match (written - fps).abs() <= 1e-5 * fps {
+                true => String::new(),
+                false => format!(" (the nearest an MP4's whole ticks hold to the {fps} asked)"),
+            };
+            (shown, asked)
+        }
+        _ => (format!("{fps:.3}"), String::new()),
+    }
+}
+
+/// The frames of `range` as one PNG each, `frame_NNNNN.png`, into a new (or empty) folder made
+/// whole or not at all.
+fn write_folder(
+    output: &std::path::Path,
+    range: std::ops::Range<usize>,
+    shown: &[Shown],
+    options: &SnapshotOptions,
+    overlay: &dyn Fn(usize) -> Overlay,
+) -> Result<ExitCode, Error> {
     // The folder itself may be new, as a file may; the folders it is in must exist (a missing
     // one is refused as it is for `-o /no/such/x.png`).
     if output.exists() && !output.is_dir() {
@@ -364,8 +473,8 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
         count,
         |i, spare| {
             let frame = first + i;
-            let options = SnapshotOptions { frame, ..options };
-            renderer.render_frame(&shown, &options, &overlay(frame), spare)
+            let options = SnapshotOptions { frame, ..*options };
+            renderer.render_frame(shown, &options, &overlay(frame), spare)
         },
         |pictures| {
             for (i, picture) in pictures.enumerate() {

@@ -577,6 +577,18 @@ fn load_nodes(
         .iter()
         .map(|s| s.element.name.to_string())
         .collect();
+    let baking = Baking {
+        scene,
+        name,
+        bytes_len,
+        threads,
+        skin_bones,
+        order: &order,
+        nodes: &nodes,
+        rest: &rest,
+        turn,
+        fps,
+    };
     let mut chosen: Option<String> = None;
     let (skeleton, motion) = if scene.anim_stacks.is_empty() {
         if take.is_some() {
@@ -587,145 +599,12 @@ fn load_nodes(
             out.extend_from_slice(&rest);
             Ok(())
         })
+        .map_err(|e| baking.named(e))?
     } else {
         let (index, stack_name) = choose_take(&names, take, path, &mut warnings)?;
         chosen = Some(stack_name);
-        let stack = &scene.anim_stacks[index];
-        let (begin, end, said) = stack_range(stack).map_err(&bad)?;
-        warnings.extend(said);
-        let count = baked::frame_count(begin, end, fps, order.len()).map_err(&bad)?;
-        // Each frame is evaluated: the take's frames × (nodes evaluated + animated values of
-        // every layer) are held to the file's size, as a glTF's are (a 16 KB file whose range
-        // says nine hours asked for 960,000 frames; a 568 KB file of 40 layers for 40,000 s took
-        // 16 s, each frame blending every layer's curves). The nodes are the joints' ancestors
-        // on the quick way, every node of the scene on the whole scene's evaluation (checked
-        // again before it is taken).
-        let chains = ancestors(scene, &order);
-        let values: usize = stack.layers.iter().map(|l| l.anim_values.len()).sum();
-        let within = |nodes: usize| -> Result<(), Error> {
-            let budget = baked::frame_work_budget(bytes_len as u64);
-            let nodes = nodes.max(order.len());
-            let work = (nodes as u64).saturating_add(values as u64);
-            if (count as u64).saturating_mul(work) <= budget {
-                return Ok(());
-            }
-            let evaluated = format!(
-                "{} evaluated, {} in {}",
-                crate::io::error::counted(nodes, "node"),
-                crate::io::error::counted(values, "animated value"),
-                crate::io::error::counted(stack.layers.len(), "layer")
-            );
-            Err(bad(format!(
-                "take '{}' lasts {} s at {} fps: {} of {} ({evaluated}), more than a file of {} \
-                 bytes is read for (frames × (nodes evaluated + animated values) at most \
-                 {budget}, {} a byte); refused as damaged or hostile",
-                crate::limits::quoted(&stack.element.name),
-                crate::limits::brief(end - begin),
-                crate::limits::brief(fps),
-                crate::io::error::counted(count, "frame"),
-                crate::io::error::counted(order.len(), "joint"),
-                bytes_len,
-                baked::FRAME_WORK_PER_BYTE
-            )))
-        };
-        within(chains.len())?;
-        // One frame: the whole scene evaluated by ufbx at its time, the joints' world matrices.
-        // Only the scene root (`Sync`) and numbers go to the threads: ufbx's element types are not.
-        let (root, memory, joints) = (&scene, bytes_len, &order);
-        let evaluate = move |f: usize| -> Result<Vec<Pose>, Error> {
-            let stack = &root.anim_stacks[index];
-            let time = begin + f as f64 / fps;
-            let options = ufbx::EvaluateOpts {
-                temp_allocator: allocator(memory),
-                result_allocator: allocator(memory),
-                evaluate_skinning: false,
-                evaluate_caches: false,
-                load_external_files: false,
-                ..Default::default()
-            };
-            let evaluated = ufbx::evaluate_scene(root, &stack.anim, time, options)
-                .map_err(|e| ufbx_error(name, &e))?;
-            Ok(joints
-                .iter()
-                .map(|&i| Pose::of_matrix(&(turn * matrix(&evaluated.nodes[i].node_to_world))))
-                .collect())
-        };
-        // The quick way: each node's local transform (ufbx's `evaluate_transform`, adjustments
-        // included) multiplied down from the root, for the joints' ancestors only. Used when it
-        // gives what the whole scene's evaluation gives at the first, middle and last frames
-        // (it would not where ufbx keeps a node's inheritance its own way).
-        let quick = |f: usize| -> Vec<Pose> {
-            let time = begin + f as f64 / fps;
-            quick_poses(scene, &stack.anim, &chains, &order, time)
-        };
-        let same = |a: &[Pose], b: &[Pose]| {
-            a.iter().zip(b).all(|(p, q)| {
-                let size = 1.0 + p.position.abs().max_element();
-                (p.position - q.position).abs().max_element() <= 1e-9 * size
-                    && p.rotation.dot(q.rotation).abs() >= 1.0 - 1e-12
-            })
-        };
-        let mut fast = true;
-        for f in [0, count / 2, count - 1] {
-            if !same(&quick(f), &evaluate(f)?) {
-                fast = false;
-                break;
-            }
-        }
-        if fast {
-            return baked::build_with(&nodes, &rest, skin_bones, count, 1.0 / fps, |f, out| {
-                out.extend(quick(f));
-                Ok(())
-            })
-            .map(|(skeleton, motion)| {
-                let read = Read {
-                    skeleton,
-                    motion,
-                    warnings,
-                    take: chosen,
-                };
-                (read, order.clone(), nodes.clone())
-            })
-            .map_err(|e| match e {
-                Error::Usage(message) if !message.starts_with(name) => bad(message),
-                other => other,
-            });
-        }
-        // The whole scene is evaluated in each frame: its every node counts.
-        within(scene.nodes.len())?;
-        // Frames are evaluated on `threads` threads, BLOCK at a time, and handed over in order.
-        const BLOCK: usize = 256;
-        let mut ready: std::collections::VecDeque<Vec<Pose>> = Default::default();
-        let mut next = 0;
-        baked::build_with(&nodes, &rest, skin_bones, count, 1.0 / fps, |f, out| {
-            if ready.is_empty() {
-                let block = BLOCK.min(count - next);
-                let mut results: Vec<Result<Vec<Pose>, Error>> = Vec::with_capacity(block);
-                crate::io::parallel::map_in_order(
-                    block,
-                    threads,
-                    2 * threads.max(1),
-                    |k| evaluate(next + k),
-                    |_, result| {
-                        let ok = result.is_ok();
-                        results.push(result);
-                        ok
-                    },
-                );
-                for result in results {
-                    ready.push_back(result?);
-                }
-                next += block;
-            }
-            debug_assert_eq!(f + ready.len(), next);
-            out.extend(ready.pop_front().unwrap_or_default());
-            Ok(())
-        })
-    }
-    .map_err(|e| match e {
-        Error::Usage(message) if !message.starts_with(name) => bad(message),
-        other => other,
-    })?;
+        baking.stack(index, &mut warnings)?
+    };
     let read = Read {
         skeleton,
         motion,
@@ -733,4 +612,222 @@ fn load_nodes(
         take: chosen,
     };
     Ok((read, order, nodes))
+}
+
+/// What baking a scene's take needs: the scene and its file (name, size), the threads to
+/// evaluate on, the joints (`order`: the scene nodes they are, `nodes`: their names and
+/// parents, `rest`: their rest pose), the turn of a file that states no axes, and the rate.
+/// Only the scene root (`Sync`) and numbers go to the threads: ufbx's element types are not.
+struct Baking<'a> {
+    scene: &'a ufbx::SceneRoot,
+    name: &'a str,
+    bytes_len: usize,
+    threads: usize,
+    skin_bones: bool,
+    order: &'a [usize],
+    nodes: &'a [Node],
+    rest: &'a [Pose],
+    turn: DMat4,
+    fps: f64,
+}
+
+impl Baking<'_> {
+    /// An error of the file, named.
+    fn bad(&self, why: String) -> Error {
+        Error::Usage(format!("{}: {why}", self.name))
+    }
+
+    /// An error of the baking, named by the file when it is not already.
+    fn named(&self, error: Error) -> Error {
+        match error {
+            Error::Usage(message) if !message.starts_with(self.name) => self.bad(message),
+            other => other,
+        }
+    }
+
+    /// Every frame of the take of anim stack `index`: the quick way where it agrees with the
+    /// whole scene's evaluation at the first, middle and last frames, else the whole scene
+    /// evaluated in each frame on the threads. What the stack's range says goes to `warnings`.
+    fn stack(
+        &self,
+        index: usize,
+        warnings: &mut Vec<String>,
+    ) -> Result<
+        (
+            crate::model::skeleton::Skeleton,
+            crate::model::motion::Motion,
+        ),
+        Error,
+    > {
+        let (scene, order, fps) = (self.scene, self.order, self.fps);
+        let stack = &scene.anim_stacks[index];
+        let (begin, end, said) = stack_range(stack).map_err(|why| self.bad(why))?;
+        warnings.extend(said);
+        let count =
+            baked::frame_count(begin, end, fps, order.len()).map_err(|why| self.bad(why))?;
+        // Each frame is evaluated: the take's frames × (nodes evaluated + animated values of
+        // every layer) are held to the file's size, as a glTF's are (a 16 KB file whose range
+        // says nine hours asked for 960,000 frames; a 568 KB file of 40 layers for 40,000 s took
+        // 16 s, each frame blending every layer's curves). The nodes are the joints' ancestors
+        // on the quick way, every node of the scene on the whole scene's evaluation (checked
+        // again before it is taken).
+        let chains = ancestors(scene, order);
+        let values: usize = stack.layers.iter().map(|l| l.anim_values.len()).sum();
+        let span = Span { begin, end, count };
+        self.within(index, &span, values, chains.len())?;
+        // The quick way: each node's local transform (ufbx's `evaluate_transform`, adjustments
+        // included) multiplied down from the root, for the joints' ancestors only. Used when it
+        // gives what the whole scene's evaluation gives at the first, middle and last frames
+        // (it would not where ufbx keeps a node's inheritance its own way).
+        let quick = |f: usize| -> Vec<Pose> {
+            let time = begin + f as f64 / fps;
+            quick_poses(scene, &stack.anim, &chains, order, time)
+        };
+        let mut fast = true;
+        for f in [0, count / 2, count - 1] {
+            if !same_poses(&quick(f), &self.evaluate(index, begin, f)?) {
+                fast = false;
+                break;
+            }
+        }
+        if fast {
+            return baked::build_with(
+                self.nodes,
+                self.rest,
+                self.skin_bones,
+                count,
+                1.0 / fps,
+                |f, out| {
+                    out.extend(quick(f));
+                    Ok(())
+                },
+            )
+            .map_err(|e| self.named(e));
+        }
+        // The whole scene is evaluated in each frame: its every node counts.
+        self.within(index, &span, values, scene.nodes.len())?;
+        self.evaluated_on_threads(index, begin, count)
+            .map_err(|e| self.named(e))
+    }
+
+    /// Refuses a take whose frames × (nodes evaluated + animated values) exceed what a file
+    /// of its size is read for.
+    fn within(&self, index: usize, span: &Span, values: usize, nodes: usize) -> Result<(), Error> {
+        let stack = &self.scene.anim_stacks[index];
+        let (order, count) = (self.order, span.count);
+        let budget = baked::frame_work_budget(self.bytes_len as u64);
+        let nodes = nodes.max(order.len());
+        let work = (nodes as u64).saturating_add(values as u64);
+        if (count as u64).saturating_mul(work) <= budget {
+            return Ok(());
+        }
+        let evaluated = format!(
+            "{} evaluated, {} in {}",
+            crate::io::error::counted(nodes, "node"),
+            crate::io::error::counted(values, "animated value"),
+            crate::io::error::counted(stack.layers.len(), "layer")
+        );
+        Err(self.bad(format!(
+            "take '{}' lasts {} s at {} fps: {} of {} ({evaluated}), more than a file of {} \
+             bytes is read for (frames × (nodes evaluated + animated values) at most \
+             {budget}, {} a byte); refused as damaged or hostile",
+            crate::limits::quoted(&stack.element.name),
+            crate::limits::brief(span.end - span.begin),
+            crate::limits::brief(self.fps),
+            crate::io::error::counted(count, "frame"),
+            crate::io::error::counted(order.len(), "joint"),
+            self.bytes_len,
+            baked::FRAME_WORK_PER_BYTE
+        )))
+    }
+
+    /// One frame: the whole scene evaluated by ufbx at its time, the joints' world matrices.
+    fn evaluate(&self, index: usize, begin: f64, f: usize) -> Result<Vec<Pose>, Error> {
+        let root = self.scene;
+        let stack = &root.anim_stacks[index];
+        let time = begin + f as f64 / self.fps;
+        let options = ufbx::EvaluateOpts {
+            temp_allocator: allocator(self.bytes_len),
+            result_allocator: allocator(self.bytes_len),
+            evaluate_skinning: false,
+            evaluate_caches: false,
+            load_external_files: false,
+            ..Default::default()
+        };
+        let evaluated = ufbx::evaluate_scene(root, &stack.anim, time, options)
+            .map_err(|e| ufbx_error(self.name, &e))?;
+        Ok(self
+            .order
+            .iter()
+            .map(|&i| Pose::of_matrix(&(self.turn * matrix(&evaluated.nodes[i].node_to_world))))
+            .collect())
+    }
+
+    /// Every frame with the whole scene evaluated: on the threads, BLOCK frames at a time,
+    /// handed over in order.
+    fn evaluated_on_threads(
+        &self,
+        index: usize,
+        begin: f64,
+        count: usize,
+    ) -> Result<
+        (
+            crate::model::skeleton::Skeleton,
+            crate::model::motion::Motion,
+        ),
+        Error,
+    > {
+        const BLOCK: usize = 256;
+        let threads = self.threads;
+        let mut ready: std::collections::VecDeque<Vec<Pose>> = Default::default();
+        let mut next = 0;
+        baked::build_with(
+            self.nodes,
+            self.rest,
+            self.skin_bones,
+            count,
+            1.0 / self.fps,
+            |f, out| {
+                if ready.is_empty() {
+                    let block = BLOCK.min(count - next);
+                    let mut results: Vec<Result<Vec<Pose>, Error>> = Vec::with_capacity(block);
+                    crate::io::parallel::map_in_order(
+                        block,
+                        threads,
+                        2 * threads.max(1),
+                        |k| self.evaluate(index, begin, next + k),
+                        |_, result| {
+                            let ok = result.is_ok();
+                            results.push(result);
+                            ok
+                        },
+                    );
+                    for result in results {
+                        ready.push_back(result?);
+                    }
+                    next += block;
+                }
+                debug_assert_eq!(f + ready.len(), next);
+                out.extend(ready.pop_front().unwrap_or_default());
+                Ok(())
+            },
+        )
+    }
+}
+
+/// A take's time range, and the frames it holds at the scene's rate.
+struct Span {
+    begin: f64,
+    end: f64,
+    count: usize,
+}
+
+/// Whether the quick way's poses are the whole scene's: places within a billionth of their
+/// size, rotations within 1e-12 of the same.
+fn same_poses(a: &[Pose], b: &[Pose]) -> bool {
+    a.iter().zip(b).all(|(p, q)| {
+        let size = 1.0 + p.position.abs().max_element();
+        (p.position - q.position).abs().max_element() <= 1e-9 * size
+            && p.rotation.dot(q.rotation).abs() >= 1.0 - 1e-12
+    })
 }

@@ -96,6 +96,83 @@ impl Data {
         })
     }
 
+    /// Appends a mesh's vertex places as one accessor with their bounds, as glTF asks of
+    /// `POSITION`.
+    fn positions(&mut self, points: &[glam::Vec3]) -> json::Index<json::Accessor> {
+        let positions: Vec<f32> = points.iter().flat_map(|p| p.to_array()).collect();
+        let (lo, hi) = points.iter().fold(
+            (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)),
+            |(lo, hi), p| (lo.min(*p), hi.max(*p)),
+        );
+        self.accessor(
+            &positions,
+            points.len(),
+            json::accessor::Type::Vec3,
+            Some((lo.to_array().to_vec(), hi.to_array().to_vec())),
+            Some(json::buffer::Target::ArrayBuffer),
+        )
+    }
+
+    /// Appends a mesh's triangle corners (`count` of them) as one accessor of indices.
+    fn indices(&mut self, bytes: &[u8], count: usize) -> json::Index<json::Accessor> {
+        self.raw_accessor(
+            bytes,
+            json::accessor::ComponentType::U32,
+            count,
+            json::accessor::Type::Scalar,
+            None,
+            Some(json::buffer::Target::ElementArrayBuffer),
+        )
+    }
+
+    /// Appends one skinned mesh named `name`: its triangles with `attributes`, a skin of
+    /// `joints` with `inverse_bind`, and a node in the scene that holds both.
+    fn skinned_node(
+        &mut self,
+        name: &str,
+        attributes: Vec<(json::mesh::Semantic, json::Index<json::Accessor>)>,
+        indices: json::Index<json::Accessor>,
+        inverse_bind: json::Index<json::Accessor>,
+        joints: Vec<json::Index<json::Node>>,
+    ) {
+        let primitive = json::mesh::Primitive {
+            attributes: attributes
+                .into_iter()
+                .map(|(semantic, accessor)| (Checked::Valid(semantic), accessor))
+                .collect(),
+            extensions: Default::default(),
+            extras: Default::default(),
+            indices: Some(indices),
+            material: None,
+            mode: Checked::Valid(json::mesh::Mode::Triangles),
+            targets: None,
+        };
+        let mesh = self.root.push(json::Mesh {
+            extensions: Default::default(),
+            extras: Default::default(),
+            name: Some(name.to_string()),
+            primitives: vec![primitive],
+            weights: None,
+        });
+        let skin = self.root.push(json::Skin {
+            extensions: Default::default(),
+            extras: Default::default(),
+            inverse_bind_matrices: Some(inverse_bind),
+            joints,
+            name: Some(name.to_string()),
+            skeleton: None,
+        });
+        let node = self.root.push(json::Node {
+            name: Some(name.to_string()),
+            mesh: Some(mesh),
+            skin: Some(skin),
+            ..Default::default()
+        });
+        if let Some(scene) = self.root.scenes.first_mut() {
+            scene.nodes.push(node);
+        }
+    }
+
     /// The generated skin (`render::body`) as a mesh on a root node, bound to every joint node
     /// by a glTF skin whose inverse bind matrices are the body's own.
     fn skin(&mut self, skeleton: &Skeleton, mode: OffsetMode) -> Result<(), Error> {
@@ -114,22 +191,9 @@ impl Data {
             ));
         }
         let count = vertices.len();
-        let positions: Vec<f32> = vertices
-            .iter()
-            .flat_map(|v| v.position.to_array())
-            .collect();
-        let (lo, hi) = vertices.iter().fold(
-            (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)),
-            |(lo, hi), v| (lo.min(v.position), hi.max(v.position)),
-        );
         let array = Some(json::buffer::Target::ArrayBuffer);
-        let position = self.accessor(
-            &positions,
-            count,
-            json::accessor::Type::Vec3,
-            Some((lo.to_array().to_vec(), hi.to_array().to_vec())),
-            array,
-        );
+        let points: Vec<glam::Vec3> = vertices.iter().map(|v| v.position).collect();
+        let position = self.positions(&points);
         let normals: Vec<f32> = vertices
             .iter()
             .flat_map(|v| v.normal.normalize().to_array())
@@ -158,14 +222,7 @@ impl Data {
             .collect();
         let weights_0 = self.accessor(&weights, count, json::accessor::Type::Vec4, None, array);
         let index_bytes: Vec<u8> = body.indices.iter().flat_map(|i| i.to_le_bytes()).collect();
-        let indices = self.raw_accessor(
-            &index_bytes,
-            json::accessor::ComponentType::U32,
-            body.indices.len(),
-            json::accessor::Type::Scalar,
-            None,
-            Some(json::buffer::Target::ElementArrayBuffer),
-        );
+        let indices = self.indices(&index_bytes, body.indices.len());
         let inverse: Vec<f32> = body
             .skin
             .inverse_bind
@@ -173,47 +230,14 @@ impl Data {
             .flat_map(|m| m.to_cols_array())
             .collect();
         let inverse_bind = self.accessor(&inverse, joints, json::accessor::Type::Mat4, None, None);
-        let attributes = [
+        let attributes = vec![
             (json::mesh::Semantic::Positions, position),
             (json::mesh::Semantic::Normals, normal),
             (json::mesh::Semantic::Joints(0), joints_0),
             (json::mesh::Semantic::Weights(0), weights_0),
-        ]
-        .into_iter()
-        .map(|(semantic, accessor)| (Checked::Valid(semantic), accessor))
-        .collect();
-        let mesh = self.root.push(json::Mesh {
-            extensions: Default::default(),
-            extras: Default::default(),
-            name: Some("skin".to_string()),
-            primitives: vec![json::mesh::Primitive {
-                attributes,
-                extensions: Default::default(),
-                extras: Default::default(),
-                indices: Some(indices),
-                material: None,
-                mode: Checked::Valid(json::mesh::Mode::Triangles),
-                targets: None,
-            }],
-            weights: None,
-        });
-        let skin = self.root.push(json::Skin {
-            extensions: Default::default(),
-            extras: Default::default(),
-            inverse_bind_matrices: Some(inverse_bind),
-            joints: (0..joints).map(|j| json::Index::new(j as u32)).collect(),
-            name: Some("skin".to_string()),
-            skeleton: None,
-        });
-        let node = self.root.push(json::Node {
-            name: Some("skin".to_string()),
-            mesh: Some(mesh),
-            skin: Some(skin),
-            ..Default::default()
-        });
-        if let Some(scene) = self.root.scenes.first_mut() {
-            scene.nodes.push(node);
-        }
+        ];
+        let joints = (0..joints).map(|j| json::Index::new(j as u32)).collect();
+        self.skinned_node("skin", attributes, indices, inverse_bind, joints);
         Ok(())
     }
 
@@ -226,7 +250,6 @@ impl Data {
     fn character(&mut self, skeleton: &Skeleton, mesh: &Mesh) -> Result<(), Error> {
         mesh.check()
             .map_err(|why| Error::Usage(format!("cannot write the mesh: {why}")))?;
-        let array = Some(json::buffer::Target::ArrayBuffer);
         let mut fixed_node: Option<json::Index<json::Node>> = None;
         for k in 0..mesh.parts.len() {
             let (vertices, corners, bones) = mesh.part_ranges(k);
@@ -241,85 +264,24 @@ impl Data {
                 )));
             }
             let count = vertices.len();
-            let positions: Vec<f32> = mesh.positions[vertices.clone()]
-                .iter()
-                .flat_map(|p| p.to_array())
-                .collect();
-            let (lo, hi) = mesh.positions[vertices.clone()].iter().fold(
-                (glam::Vec3::splat(f32::MAX), glam::Vec3::splat(f32::MIN)),
-                |(lo, hi), p| (lo.min(*p), hi.max(*p)),
-            );
-            let position = self.accessor(
-                &positions,
-                count,
-                json::accessor::Type::Vec3,
-                Some((lo.to_array().to_vec(), hi.to_array().to_vec())),
-                array,
-            );
+            let position = self.positions(&mesh.positions[vertices.clone()]);
             let normals: Vec<f32> = mesh.normals[vertices.clone()]
                 .iter()
                 .map(|n| n.try_normalize().unwrap_or(glam::Vec3::Y))
                 .flat_map(|n| n.to_array())
                 .collect();
+            let array = Some(json::buffer::Target::ArrayBuffer);
             let normal = self.accessor(&normals, count, json::accessor::Type::Vec3, None, array);
-            let most = crate::model::mesh::MAX_WRITTEN_INFLUENCES;
-            let sets = vertices
-                .clone()
-                .map(|v| mesh.influences_of(v).len().min(most))
-                .max()
-                .unwrap_or(1)
-                .div_ceil(4)
-                .max(1);
-            // Each vertex's strongest influences, `4 * sets` slots a vertex (unused: joint 0
-            // of weight 0, as the format asks).
-            let unused = crate::model::mesh::Influence {
-                bone: bones.start as u32,
-                weight: 0.0,
-            };
-            let mut written = Vec::with_capacity(count * 4 * sets);
-            let mut kept = Vec::new();
-            for v in vertices.clone() {
-                crate::model::mesh::strongest(mesh.influences_of(v), most, &mut kept);
-                kept.resize(4 * sets, unused);
-                written.extend_from_slice(&kept);
-            }
             let mut attributes = vec![
                 (json::mesh::Semantic::Positions, position),
                 (json::mesh::Semantic::Normals, normal),
             ];
-            for set in 0..sets {
-                let (mut joints, mut weights) = (Vec::new(), Vec::new());
-                for slots in written.chunks_exact(4 * sets) {
-                    for i in &slots[4 * set..4 * set + 4] {
-                        joints.extend(((i.bone as usize - bones.start) as u16).to_le_bytes());
-                        weights.push(i.weight);
-                    }
-                }
-                let joints = self.raw_accessor(
-                    &joints,
-                    json::accessor::ComponentType::U16,
-                    count,
-                    json::accessor::Type::Vec4,
-                    None,
-                    array,
-                );
-                let weights =
-                    self.accessor(&weights, count, json::accessor::Type::Vec4, None, array);
-                attributes.push((json::mesh::Semantic::Joints(set as u32), joints));
-                attributes.push((json::mesh::Semantic::Weights(set as u32), weights));
-            }
+            attributes.extend(self.influences(mesh, vertices.clone(), bones.clone()));
             let index_bytes: Vec<u8> = mesh.triangles[corners.clone()]
                 .iter()
                 .flat_map(|&c| (c - vertices.start as u32).to_le_bytes())
                 .collect();
-            let indices = self.raw_accessor(
-                &index_bytes,
-                json::accessor::ComponentType::U32,
-                corners.len(),
-                json::accessor::Type::Scalar,
-                None,
-                Some(json::buffer::Target::ElementArrayBuffer),
-            );
+            let indices = self.indices(&index_bytes, corners.len());
             let inverse: Vec<f32> = mesh.bones[bones.clone()]
                 .iter()
                 .flat_map(|b| b.bind.to_cols_array())
@@ -331,85 +293,124 @@ impl Data {
                 None,
                 None,
             );
-            let mut joints: Vec<json::Index<json::Node>> = Vec::with_capacity(bones.len());
-            for bone in &mesh.bones[bones.clone()] {
-                joints.push(match bone.joint {
-                    // A joint bound twice in one part (two clusters on one bone) is bound the
-                    // second time through a child node of its own at the joint (a skin names
-                    // each node once).
-                    Some(j) if joints.contains(&json::Index::new(j as u32)) => {
-                        let helper = self.root.push(json::Node {
-                            name: Some(format!("{}_bind", export_name(skeleton, j))),
-                            ..Default::default()
-                        });
-                        let node = &mut self.root.nodes[j];
-                        node.children.get_or_insert_with(Vec::new).push(helper);
-                        helper
-                    }
-                    Some(j) if j < skeleton.joints.len() => json::Index::new(j as u32),
-                    Some(j) => {
-                        return Err(Error::Usage(format!(
-                            "cannot write the mesh: a bone of joint {j} of {}",
-                            skeleton.joints.len()
-                        )));
-                    }
-                    // Bones bound to no joint: a node at the origin, another for each more in one
-                    // part (a skin names each node once).
-                    None => match fixed_node.filter(|node| !joints.contains(node)) {
-                        Some(node) => node,
-                        None => {
-                            let node = self.root.push(json::Node {
-                                name: Some("mesh_origin".to_string()),
-                                ..Default::default()
-                            });
-                            if let Some(scene) = self.root.scenes.first_mut() {
-                                scene.nodes.push(node);
-                            }
-                            fixed_node = Some(node);
-                            node
-                        }
-                    },
-                });
-            }
-            let name = format!("mesh{k}");
-            let primitive = json::mesh::Primitive {
-                attributes: attributes
-                    .into_iter()
-                    .map(|(semantic, accessor)| (Checked::Valid(semantic), accessor))
-                    .collect(),
-                extensions: Default::default(),
-                extras: Default::default(),
-                indices: Some(indices),
-                material: None,
-                mode: Checked::Valid(json::mesh::Mode::Triangles),
-                targets: None,
-            };
-            let gltf_mesh = self.root.push(json::Mesh {
-                extensions: Default::default(),
-                extras: Default::default(),
-                name: Some(name.clone()),
-                primitives: vec![primitive],
-                weights: None,
-            });
-            let skin = self.root.push(json::Skin {
-                extensions: Default::default(),
-                extras: Default::default(),
-                inverse_bind_matrices: Some(inverse_bind),
+            let joints = self.part_joints(skeleton, &mesh.bones[bones], &mut fixed_node)?;
+            self.skinned_node(
+                &format!("mesh{k}"),
+                attributes,
+                indices,
+                inverse_bind,
                 joints,
-                name: Some(name.clone()),
-                skeleton: None,
-            });
-            let node = self.root.push(json::Node {
-                name: Some(name),
-                mesh: Some(gltf_mesh),
-                skin: Some(skin),
-                ..Default::default()
-            });
-            if let Some(scene) = self.root.scenes.first_mut() {
-                scene.nodes.push(node);
-            }
+            );
         }
         Ok(())
+    }
+
+    /// The `JOINTS_n` / `WEIGHTS_n` accessors of one part of a character's mesh: each vertex's
+    /// strongest influences, four a pair, as many pairs as the vertex with the most needs
+    /// (unused slots: joint 0 of weight 0, as the format asks).
+    fn influences(
+        &mut self,
+        mesh: &Mesh,
+        vertices: std::ops::Range<usize>,
+        bones: std::ops::Range<usize>,
+    ) -> Vec<(json::mesh::Semantic, json::Index<json::Accessor>)> {
+        let array = Some(json::buffer::Target::ArrayBuffer);
+        let count = vertices.len();
+        let most = crate::model::mesh::MAX_WRITTEN_INFLUENCES;
+        let sets = vertices
+            .clone()
+            .map(|v| mesh.influences_of(v).len().min(most))
+            .max()
+            .unwrap_or(1)
+            .div_ceil(4)
+            .max(1);
+        // Each vertex's strongest influences, `4 * sets` slots a vertex (unused: joint 0
+        // of weight 0, as the format asks).
+        let unused = crate::model::mesh::Influence {
+            bone: bones.start as u32,
+            weight: 0.0,
+        };
+        let mut written = Vec::with_capacity(count * 4 * sets);
+        let mut kept = Vec::new();
+        for v in vertices {
+            crate::model::mesh::strongest(mesh.influences_of(v), most, &mut kept);
+            kept.resize(4 * sets, unused);
+            written.extend_from_slice(&kept);
+        }
+        let mut attributes = Vec::with_capacity(2 * sets);
+        for set in 0..sets {
+            let (mut joints, mut weights) = (Vec::new(), Vec::new());
+            for slots in written.chunks_exact(4 * sets) {
+                for i in &slots[4 * set..4 * set + 4] {
+                    joints.extend(((i.bone as usize - bones.start) as u16).to_le_bytes());
+                    weights.push(i.weight);
+                }
+            }
+            let joints = self.raw_accessor(
+                &joints,
+                json::accessor::ComponentType::U16,
+                count,
+                json::accessor::Type::Vec4,
+                None,
+                array,
+            );
+            let weights = self.accessor(&weights, count, json::accessor::Type::Vec4, None, array);
+            attributes.push((json::mesh::Semantic::Joints(set as u32), joints));
+            attributes.push((json::mesh::Semantic::Weights(set as u32), weights));
+        }
+        attributes
+    }
+
+    /// The nodes a part's skin names, one per bone: the bone's joint node, a helper child node
+    /// of it where the joint is bound twice, or (bound to no joint) a node at the origin,
+    /// `fixed_node`, shared by the parts while none names it twice.
+    fn part_joints(
+        &mut self,
+        skeleton: &Skeleton,
+        bones: &[crate::model::mesh::Bone],
+        fixed_node: &mut Option<json::Index<json::Node>>,
+    ) -> Result<Vec<json::Index<json::Node>>, Error> {
+        let mut joints: Vec<json::Index<json::Node>> = Vec::with_capacity(bones.len());
+        for bone in bones {
+            joints.push(match bone.joint {
+                // A joint bound twice in one part (two clusters on one bone) is bound the
+                // second time through a child node of its own at the joint (a skin names
+                // each node once).
+                Some(j) if joints.contains(&json::Index::new(j as u32)) => {
+                    let helper = self.root.push(json::Node {
+                        name: Some(format!("{}_bind", export_name(skeleton, j))),
+                        ..Default::default()
+                    });
+                    let node = &mut self.root.nodes[j];
+                    node.children.get_or_insert_with(Vec::new).push(helper);
+                    helper
+                }
+                Some(j) if j < skeleton.joints.len() => json::Index::new(j as u32),
+                Some(j) => {
+                    return Err(Error::Usage(format!(
+                        "cannot write the mesh: a bone of joint {j} of {}",
+                        skeleton.joints.len()
+                    )));
+                }
+                // Bones bound to no joint: a node at the origin, another for each more in one
+                // part (a skin names each node once).
+                None => match fixed_node.filter(|node| !joints.contains(node)) {
+                    Some(node) => node,
+                    None => {
+                        let node = self.root.push(json::Node {
+                            name: Some("mesh_origin".to_string()),
+                            ..Default::default()
+                        });
+                        if let Some(scene) = self.root.scenes.first_mut() {
+                            scene.nodes.push(node);
+                        }
+                        *fixed_node = Some(node);
+                        node
+                    }
+                },
+            });
+        }
+        Ok(joints)
     }
 }
 
@@ -456,6 +457,8 @@ enum Skin<'a> {
     Mesh(&'a Mesh),
 }
 
+/// The glTF file of a skeleton, its motion and its skin, as `container` holds it. Each step
+/// appends to one [`Data`]: the nodes, the skin, the animation, then the file.
 fn write(
     skeleton: &Skeleton,
     motion: &Motion,
@@ -463,56 +466,82 @@ fn write(
     container: Container,
     skin: Skin,
 ) -> Result<Vec<u8>, Error> {
-    let mut data = Data {
-        bytes: Vec::new(),
-        root: json::Root::default(),
-        buffer: json::Index::new(0),
-        not_finite: None,
-    };
-    data.root.asset.generator = Some(format!("bvhview {}", env!("CARGO_PKG_VERSION")));
-    data.buffer = data.root.push(json::Buffer {
-        byte_length: USize64(0),
-        extensions: Default::default(),
-        extras: Default::default(),
-        name: None,
-        uri: None,
-    });
-    // Nodes in pre-order, so a joint's index is its node's.
-    for (index, joint) in skeleton.joints.iter().enumerate() {
-        if !joint.offset.is_finite() {
-            data.not_finite.get_or_insert("an OFFSET");
-        }
-        let children = joint
-            .children
-            .iter()
-            .map(|&c| json::Index::new(c as u32))
-            .collect::<Vec<_>>();
-        data.root.push(json::Node {
-            name: Some(export_name(skeleton, index)),
-            translation: Some(joint.offset.to_array()),
-            children: (!children.is_empty()).then_some(children),
-            ..Default::default()
-        });
-    }
-    let roots = skeleton
-        .roots()
-        .map(|r| json::Index::new(r as u32))
-        .collect();
-    let scene = data.root.push(json::Scene {
-        extensions: Default::default(),
-        extras: Default::default(),
-        name: None,
-        nodes: roots,
-    });
-    data.root.scene = Some(scene);
+    let mut data = Data::new();
+    data.nodes(skeleton);
     match skin {
         Skin::None => {}
         Skin::Generated => data.skin(skeleton, mode)?,
         Skin::Mesh(mesh) => data.character(skeleton, mesh)?,
     }
+    data.animation(skeleton, motion, mode)?;
+    data.file(container)
+}
 
-    let frames = motion.frame_count();
-    if frames > 0 {
+impl Data {
+    /// No data yet: one buffer, and the generator said.
+    fn new() -> Data {
+        let mut data = Data {
+            bytes: Vec::new(),
+            root: json::Root::default(),
+            buffer: json::Index::new(0),
+            not_finite: None,
+        };
+        data.root.asset.generator = Some(format!("bvhview {}", env!("CARGO_PKG_VERSION")));
+        data.buffer = data.root.push(json::Buffer {
+            byte_length: USize64(0),
+            extensions: Default::default(),
+            extras: Default::default(),
+            name: None,
+            uri: None,
+        });
+        data
+    }
+
+    /// One node per joint and End Site in pre-order, so a joint's index is its node's, each at
+    /// its OFFSET; and the scene of the roots.
+    fn nodes(&mut self, skeleton: &Skeleton) {
+        for (index, joint) in skeleton.joints.iter().enumerate() {
+            if !joint.offset.is_finite() {
+                self.not_finite.get_or_insert("an OFFSET");
+            }
+            let children = joint
+                .children
+                .iter()
+                .map(|&c| json::Index::new(c as u32))
+                .collect::<Vec<_>>();
+            self.root.push(json::Node {
+                name: Some(export_name(skeleton, index)),
+                translation: Some(joint.offset.to_array()),
+                children: (!children.is_empty()).then_some(children),
+                ..Default::default()
+            });
+        }
+        let roots = skeleton
+            .roots()
+            .map(|r| json::Index::new(r as u32))
+            .collect();
+        let scene = self.root.push(json::Scene {
+            extensions: Default::default(),
+            extras: Default::default(),
+            name: None,
+            nodes: roots,
+        });
+        self.root.scene = Some(scene);
+    }
+
+    /// The take as one animation (none for a take of no frames, or without channels): one time
+    /// accessor, then a rotation track per joint with rotation channels and a translation
+    /// track per joint with position channels.
+    fn animation(
+        &mut self,
+        skeleton: &Skeleton,
+        motion: &Motion,
+        mode: OffsetMode,
+    ) -> Result<(), Error> {
+        let frames = motion.frame_count();
+        if frames == 0 {
+            return Ok(());
+        }
         let times: Vec<f32> = (0..frames)
             .map(|i| (i as f64 * motion.frame_time) as f32)
             .collect();
@@ -531,46 +560,18 @@ fn write(
             )));
         }
         let last = *times.last().expect("frames > 0");
-        let time = data.accessor(
+        let time = self.accessor(
             &times,
             frames,
             json::accessor::Type::Scalar,
             Some((vec![0.0], vec![last])),
             None,
         );
-        let mut channels = Vec::new();
-        let mut samplers = Vec::new();
-        let mut track = |data: &mut Data, node: usize, values: Vec<f32>, rotation: bool| {
-            let (kind, property) = if rotation {
-                (
-                    json::accessor::Type::Vec4,
-                    json::animation::Property::Rotation,
-                )
-            } else {
-                (
-                    json::accessor::Type::Vec3,
-                    json::animation::Property::Translation,
-                )
-            };
-            let output = data.accessor(&values, frames, kind, None, None);
-            samplers.push(json::animation::Sampler {
-                extensions: Default::default(),
-                extras: Default::default(),
-                input: time,
-                interpolation: Checked::Valid(json::animation::Interpolation::Linear),
-                output,
-            });
-            channels.push(json::animation::Channel {
-                sampler: json::Index::new(samplers.len() as u32 - 1),
-                target: json::animation::Target {
-                    extensions: Default::default(),
-                    extras: Default::default(),
-                    node: json::Index::new(node as u32),
-                    path: Checked::Valid(property),
-                },
-                extensions: Default::default(),
-                extras: Default::default(),
-            });
+        let mut tracks = Tracks {
+            time,
+            frames,
+            channels: Vec::new(),
+            samplers: Vec::new(),
         };
         for (index, joint) in skeleton.joints.iter().enumerate() {
             if joint.channels.iter().any(|c| c.is_rotation()) {
@@ -580,7 +581,7 @@ fn write(
                     let q = glam::Quat::from_mat4(&matrix).normalize();
                     values.extend(q.to_array());
                 }
-                track(&mut data, index, values, true);
+                tracks.push(self, index, values, true);
             }
             if joint.channels.iter().any(|c| c.is_position()) {
                 let mut values = Vec::with_capacity(frames * 3);
@@ -588,69 +589,121 @@ fn write(
                     let t = joint_translation(joint, joint.values(motion.frame(frame)), mode);
                     values.extend(t.to_array());
                 }
-                track(&mut data, index, values, false);
+                tracks.push(self, index, values, false);
             }
         }
-        if !channels.is_empty() {
-            data.root.push(json::Animation {
+        if !tracks.channels.is_empty() {
+            self.root.push(json::Animation {
                 extensions: Default::default(),
                 extras: Default::default(),
-                channels,
+                channels: tracks.channels,
                 name: Some("take".to_string()),
-                samplers,
+                samplers: tracks.samplers,
             });
         }
+        Ok(())
     }
-    // JSON has no infinity: a take whose values overflow 32-bit floats is refused, not written
-    // with `null`s that no reader loads.
-    if let Some(what) = data.not_finite {
-        return Err(Error::Usage(format!(
-            "cannot write glTF: {what} is not finite (too large for a 32-bit float)"
-        )));
-    }
-    while !data.bytes.len().is_multiple_of(4) {
-        data.bytes.push(0);
-    }
-    let length = data.bytes.len();
-    data.root.buffers[0].byte_length = USize64::from(length);
-    if length == 0 {
-        // No data at all (a rest pose): no buffer either.
-        data.root.buffers.clear();
-    }
-    let serialised = |root: &json::Root| {
-        root.to_vec()
-            .map_err(|e| Error::Usage(format!("cannot write glTF: {e}")))
-    };
-    match container {
-        Container::Gltf => {
-            if length > 0 {
-                data.root.buffers[0].uri = Some(format!(
-                    "data:application/octet-stream;base64,{}",
-                    base64(&data.bytes)
-                ));
-            }
-            serialised(&data.root)
+
+    /// The file's bytes: the JSON with its buffer inline as base64 (`.gltf`), or the JSON and
+    /// the buffer as a GLB's two chunks. A value that is not finite is refused here.
+    fn file(mut self, container: Container) -> Result<Vec<u8>, Error> {
+        // JSON has no infinity: a take whose values overflow 32-bit floats is refused, not
+        // written with `null`s that no reader loads.
+        if let Some(what) = self.not_finite {
+            return Err(Error::Usage(format!(
+                "cannot write glTF: {what} is not finite (too large for a 32-bit float)"
+            )));
         }
-        Container::Glb => {
-            let mut text = serialised(&data.root)?;
-            while !text.len().is_multiple_of(4) {
-                text.push(b' ');
-            }
-            let total = 12 + 8 + text.len() + if length > 0 { 8 + length } else { 0 };
-            let mut out = Vec::with_capacity(total);
-            out.extend_from_slice(b"glTF");
-            out.extend_from_slice(&2u32.to_le_bytes());
-            out.extend_from_slice(&(total as u32).to_le_bytes());
-            out.extend_from_slice(&(text.len() as u32).to_le_bytes());
-            out.extend_from_slice(b"JSON");
-            out.extend_from_slice(&text);
-            if length > 0 {
-                out.extend_from_slice(&(length as u32).to_le_bytes());
-                out.extend_from_slice(b"BIN\0");
-                out.extend_from_slice(&data.bytes);
-            }
-            Ok(out)
+        while !self.bytes.len().is_multiple_of(4) {
+            self.bytes.push(0);
         }
+        let length = self.bytes.len();
+        self.root.buffers[0].byte_length = USize64::from(length);
+        if length == 0 {
+            // No data at all (a rest pose): no buffer either.
+            self.root.buffers.clear();
+        }
+        let serialised = |root: &json::Root| {
+            root.to_vec()
+                .map_err(|e| Error::Usage(format!("cannot write glTF: {e}")))
+        };
+        match container {
+            Container::Gltf => {
+                if length > 0 {
+                    self.root.buffers[0].uri = Some(format!(
+                        "data:application/octet-stream;base64,{}",
+                        base64(&self.bytes)
+                    ));
+                }
+                serialised(&self.root)
+            }
+            Container::Glb => {
+                let mut text = serialised(&self.root)?;
+                while !text.len().is_multiple_of(4) {
+                    text.push(b' ');
+                }
+                let total = 12 + 8 + text.len() + if length > 0 { 8 + length } else { 0 };
+                let mut out = Vec::with_capacity(total);
+                out.extend_from_slice(b"glTF");
+                out.extend_from_slice(&2u32.to_le_bytes());
+                out.extend_from_slice(&(total as u32).to_le_bytes());
+                out.extend_from_slice(&(text.len() as u32).to_le_bytes());
+                out.extend_from_slice(b"JSON");
+                out.extend_from_slice(&text);
+                if length > 0 {
+                    out.extend_from_slice(&(length as u32).to_le_bytes());
+                    out.extend_from_slice(b"BIN\0");
+                    out.extend_from_slice(&self.bytes);
+                }
+                Ok(out)
+            }
+        }
+    }
+}
+
+/// The animation being written: its one time accessor over `frames` frames, and a sampler and
+/// a channel per track.
+struct Tracks {
+    time: json::Index<json::Accessor>,
+    frames: usize,
+    channels: Vec<json::animation::Channel>,
+    samplers: Vec<json::animation::Sampler>,
+}
+
+impl Tracks {
+    /// A track of `node`: its values per frame (rotations as quaternions, or translations)
+    /// as one accessor, sampled linearly.
+    fn push(&mut self, data: &mut Data, node: usize, values: Vec<f32>, rotation: bool) {
+        let (kind, property) = if rotation {
+            (
+                json::accessor::Type::Vec4,
+                json::animation::Property::Rotation,
+            )
+        } else {
+            (
+                json::accessor::Type::Vec3,
+                json::animation::Property::Translation,
+            )
+        };
+        let output = data.accessor(&values, self.frames, kind, None, None);
+        self.samplers.push(json::animation::Sampler {
+            extensions: Default::default(),
+            extras: Default::default(),
+            input: self.time,
+            interpolation: Checked::Valid(json::animation::Interpolation::Linear),
+            output,
+        });
+        self.channels.push(json::animation::Channel {
+            sampler: json::Index::new(self.samplers.len() as u32 - 1),
+            target: json::animation::Target {
+                extensions: Default::default(),
+                extras: Default::default(),
+                node: json::Index::new(node as u32),
+                path: Checked::Valid(property),
+            },
+            extensions: Default::default(),
+            extras: Default::default(),
+        });
     }
 }
 

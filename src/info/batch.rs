@@ -266,147 +266,194 @@ fn link_refused(path: &Path, root: &Path, dir: &Path) -> Option<String> {
 /// Each of these, and every entry that cannot be read, is in [`Walk::skipped`]. A `dir` that
 /// cannot be read is an error.
 pub fn collect(dir: &Path) -> Result<Walk, Error> {
-    use std::collections::{BTreeMap, HashMap};
     std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
     let root = std::fs::canonicalize(dir).map_err(|e| Error::io(dir, e))?;
-    let mut skipped = Vec::new();
-    let skip = |skipped: &mut Vec<Skip>, path: &Path, reason: String| {
-        skipped.push(Skip {
-            path: path.to_path_buf(),
-            reason,
-        })
-    };
-    // Each folder's take files in name order (regular files, each once), for the pairing.
-    let mut folders: BTreeMap<PathBuf, Vec<PathBuf>> = BTreeMap::new();
-    let mut folders_seen: HashMap<(u64, u64), PathBuf> = HashMap::new();
-    let mut files_seen: HashMap<(u64, u64), PathBuf> = HashMap::new();
-    // The ASFs met again under another name: still their folder's skeleton, never listed alone
-    // twice.
-    let mut repeated_asfs: Vec<PathBuf> = Vec::new();
+    let mut found = Found::new(dir, root);
     let mut walk = walkdir::WalkDir::new(dir)
         .follow_links(true)
         .sort_by_file_name()
         .into_iter();
     while let Some(next) = walk.next() {
-        let entry = match next {
-            Ok(entry) => entry,
-            Err(error) => {
-                let path = error.path().unwrap_or(dir).to_path_buf();
-                if let Some(ancestor) = error.loop_ancestor() {
-                    let reason = format!(
-                        "a link back to {}, which holds it (a loop): not followed",
-                        ancestor.display()
-                    );
-                    skip(&mut skipped, &path, reason);
-                    continue;
-                }
-                if error.path() == Some(dir) {
-                    let source = error
-                        .into_io_error()
-                        .unwrap_or_else(|| std::io::Error::other("cannot be walked"));
-                    return Err(Error::io(dir, source));
-                }
-                let broken = std::fs::symlink_metadata(&path)
-                    .is_ok_and(|m| m.file_type().is_symlink())
-                    && !path.exists();
-                if broken {
-                    // A broken link that no take's name has is not worth a line.
-                    if is_take_name(&path) {
-                        let reason = match std::fs::read_link(&path) {
-                            Ok(to) => format!("a link to {}, which does not exist", to.display()),
-                            Err(_) => "a link to nothing".to_string(),
-                        };
-                        skip(&mut skipped, &path, reason);
-                    }
-                } else {
-                    let reason = match error.io_error() {
-                        Some(io) => unreadable(io),
-                        None => error.to_string(),
-                    };
-                    skip(&mut skipped, &path, format!("cannot be read: {reason}"));
-                }
-                continue;
-            }
-        };
-        let path = entry.path();
-        if entry.file_type().is_dir() {
-            if entry.depth() > 0
-                && entry.path_is_symlink()
-                && let Some(reason) = link_refused(path, &root, dir)
-            {
-                walk.skip_current_dir();
-                skip(&mut skipped, path, reason);
-                continue;
-            }
-            let id = match entry.metadata() {
-                Ok(metadata) => identity(&metadata),
-                Err(e) => {
+        match next {
+            Err(error) => found.failed(error)?,
+            Ok(entry) if entry.file_type().is_dir() => {
+                if !found.folder(&entry) {
                     walk.skip_current_dir();
-                    skip(
-                        &mut skipped,
-                        path,
-                        format!("cannot be read: {}", walk_error(&e)),
-                    );
-                    continue;
                 }
-            };
-            if let Some(first) = folders_seen.get(&id) {
-                walk.skip_current_dir();
-                let reason = format!("the folder {} again: walked once", first.display());
-                skip(&mut skipped, path, reason);
-                continue;
             }
-            folders_seen.insert(id, path.to_path_buf());
-            continue;
+            Ok(entry) => found.file(&entry),
         }
-        if !is_take_name(path) {
-            continue;
+    }
+    let mut items = pair(&found.folders, &found.repeated_asfs);
+    items.sort_by(|a, b| {
+        (a.motion.as_ref().unwrap_or(&a.path)).cmp(b.motion.as_ref().unwrap_or(&b.path))
+    });
+    Ok(Walk {
+        items,
+        skipped: found.skipped,
+    })
+}
+
+/// What the walk of [`collect`] has met so far: each folder's take files in name order
+/// (regular files, each once), for the pairing; what it skipped; and the folders and files
+/// already seen, by identity.
+struct Found<'a> {
+    /// The folder walked, and its real path.
+    dir: &'a Path,
+    root: PathBuf,
+    skipped: Vec<Skip>,
+    folders: std::collections::BTreeMap<PathBuf, Vec<PathBuf>>,
+    folders_seen: std::collections::HashMap<(u64, u64), PathBuf>,
+    files_seen: std::collections::HashMap<(u64, u64), PathBuf>,
+    /// The ASFs met again under another name: still their folder's skeleton, never listed
+    /// alone twice.
+    repeated_asfs: Vec<PathBuf>,
+}
+
+impl<'a> Found<'a> {
+    /// Nothing met yet in the walk of `dir`, whose real path is `root`.
+    fn new(dir: &'a Path, root: PathBuf) -> Found<'a> {
+        Found {
+            dir,
+            root,
+            skipped: Vec::new(),
+            folders: Default::default(),
+            folders_seen: Default::default(),
+            files_seen: Default::default(),
+            repeated_asfs: Vec::new(),
         }
-        // A link to a file outside `dir` is not followed either: what it points at is not
-        // the user's to show.
-        if entry.path_is_symlink()
-            && let Some(reason) = link_refused(path, &root, dir)
-        {
-            skip(&mut skipped, path, reason);
-            continue;
-        }
-        if !entry.file_type().is_file() {
-            skip(
-                &mut skipped,
-                path,
-                format!(
-                    "{}, not a take",
-                    crate::io::read::kind_of(&entry.file_type())
-                ),
+    }
+
+    /// Notes `path` as skipped, and why.
+    fn skip(&mut self, path: &Path, reason: String) {
+        self.skipped.push(Skip {
+            path: path.to_path_buf(),
+            reason,
+        })
+    }
+
+    /// An entry the walk could not give: a link back up (a loop), a broken link with a take's
+    /// name, or what cannot be read, each skipped. `dir` itself unreadable is the error.
+    fn failed(&mut self, error: walkdir::Error) -> Result<(), Error> {
+        let dir = self.dir;
+        let path = error.path().unwrap_or(dir).to_path_buf();
+        if let Some(ancestor) = error.loop_ancestor() {
+            let reason = format!(
+                "a link back to {}, which holds it (a loop): not followed",
+                ancestor.display()
             );
-            continue;
+            self.skip(&path, reason);
+            return Ok(());
+        }
+        if error.path() == Some(dir) {
+            let source = error
+                .into_io_error()
+                .unwrap_or_else(|| std::io::Error::other("cannot be walked"));
+            return Err(Error::io(dir, source));
+        }
+        let broken = std::fs::symlink_metadata(&path).is_ok_and(|m| m.file_type().is_symlink())
+            && !path.exists();
+        if broken {
+            // A broken link that no take's name has is not worth a line.
+            if is_take_name(&path) {
+                let reason = match std::fs::read_link(&path) {
+                    Ok(to) => format!("a link to {}, which does not exist", to.display()),
+                    Err(_) => "a link to nothing".to_string(),
+                };
+                self.skip(&path, reason);
+            }
+        } else {
+            let reason = match error.io_error() {
+                Some(io) => unreadable(io),
+                None => error.to_string(),
+            };
+            self.skip(&path, format!("cannot be read: {reason}"));
+        }
+        Ok(())
+    }
+
+    /// A folder met in the walk: whether to walk into it. Not a link out of `dir`, not one
+    /// that cannot be read, not one walked already under another path.
+    fn folder(&mut self, entry: &walkdir::DirEntry) -> bool {
+        let path = entry.path();
+        if entry.depth() > 0
+            && entry.path_is_symlink()
+            && let Some(reason) = link_refused(path, &self.root, self.dir)
+        {
+            self.skip(path, reason);
+            return false;
         }
         let id = match entry.metadata() {
             Ok(metadata) => identity(&metadata),
             Err(e) => {
-                skip(
-                    &mut skipped,
-                    path,
-                    format!("cannot be read: {}", walk_error(&e)),
-                );
-                continue;
+                self.skip(path, format!("cannot be read: {}", walk_error(&e)));
+                return false;
             }
         };
-        let folder = path.parent().unwrap_or(dir).to_path_buf();
-        match files_seen.get(&id) {
+        if let Some(first) = self.folders_seen.get(&id) {
+            let reason = format!("the folder {} again: walked once", first.display());
+            self.skip(path, reason);
+            return false;
+        }
+        self.folders_seen.insert(id, path.to_path_buf());
+        true
+    }
+
+    /// A file met in the walk: kept in its folder's list when it has a take's name, is a
+    /// regular file inside `dir`, and was not met before under another name (an ASF always is:
+    /// it is the skeleton of its folder's AMCs).
+    fn file(&mut self, entry: &walkdir::DirEntry) {
+        let path = entry.path();
+        if !is_take_name(path) {
+            return;
+        }
+        // A link to a file outside `dir` is not followed either: what it points at is not
+        // the user's to show.
+        if entry.path_is_symlink()
+            && let Some(reason) = link_refused(path, &self.root, self.dir)
+        {
+            self.skip(path, reason);
+            return;
+        }
+        if !entry.file_type().is_file() {
+            let kind = crate::io::read::kind_of(&entry.file_type());
+            self.skip(path, format!("{kind}, not a take"));
+            return;
+        }
+        let id = match entry.metadata() {
+            Ok(metadata) => identity(&metadata),
+            Err(e) => {
+                self.skip(path, format!("cannot be read: {}", walk_error(&e)));
+                return;
+            }
+        };
+        let folder = path.parent().unwrap_or(self.dir).to_path_buf();
+        match self.files_seen.get(&id) {
             // An ASF is every AMC's in its folder, whatever other name it has elsewhere.
-            Some(_) if extension(path) == "asf" => repeated_asfs.push(path.to_path_buf()),
+            Some(_) if extension(path) == "asf" => self.repeated_asfs.push(path.to_path_buf()),
             Some(first) => {
                 let reason = format!("the file {} again: listed once", first.display());
-                skip(&mut skipped, path, reason);
-                continue;
+                self.skip(path, reason);
+                return;
             }
             None => {
-                files_seen.insert(id, path.to_path_buf());
+                self.files_seen.insert(id, path.to_path_buf());
             }
         }
-        folders.entry(folder).or_default().push(path.to_path_buf());
+        self.folders
+            .entry(folder)
+            .or_default()
+            .push(path.to_path_buf());
     }
+}
+
+/// The items of each folder's take files: a take that stands alone as it is, an AMC with the
+/// ASF `skeleton_for` gives it (or unpaired), then each ASF no AMC used and not met before
+/// under another name (`repeated_asfs`), alone.
+fn pair(
+    folders: &std::collections::BTreeMap<PathBuf, Vec<PathBuf>>,
+    repeated_asfs: &[PathBuf],
+) -> Vec<Item> {
     let mut items = Vec::new();
     for entries in folders.values() {
         let asfs: Vec<&PathBuf> = entries.iter().filter(|p| extension(p) == "asf").collect();
@@ -443,10 +490,7 @@ pub fn collect(dir: &Path) -> Result<Walk, Error> {
             }
         }
     }
-    items.sort_by(|a, b| {
-        (a.motion.as_ref().unwrap_or(&a.path)).cmp(b.motion.as_ref().unwrap_or(&b.path))
-    });
-    Ok(Walk { items, skipped })
+    items
 }
 
 /// [`collect`] for a command that makes something of the takes (`dataset`, `convert DIR`): `dir`

@@ -204,109 +204,124 @@ pub fn planted(owner: u32, folder: &Status) -> bool {
 /// Walks `path` to the output's place; `shown` is the path as the user named it, for messages.
 /// Every folder on the way must exist.
 pub fn walk(path: &Path, shown: &Path) -> Result<Place, Error> {
-    let failed = |e: io::Error| Error::output(shown, e);
-    let mut todo = steps_reversed(path);
-    let absolute = path.is_absolute();
-    let mut folder = open_root(absolute).map_err(failed)?;
-    let mut folder_status = status_of(folder_as(&folder)).map_err(failed)?;
-    let mut folder_path = PathBuf::from(if absolute { "/" } else { "" });
-    let mut links = 0;
-    // The link the last name was reached through, for the message when it leads nowhere.
-    let mut last_link: Option<PathBuf> = None;
-    while let Some(step) = todo.pop() {
-        let name = match step {
-            Step::Root => {
-                folder = open_root(true).map_err(failed)?;
-                folder_status = status_of(folder_as(&folder)).map_err(failed)?;
-                folder_path = PathBuf::from("/");
-                continue;
-            }
-            Step::Up => {
-                folder = open_at(
-                    folder_as(&folder),
-                    OsStr::new(".."),
-                    libc::O_PATH | libc::O_DIRECTORY,
-                    0,
-                )
-                .map_err(failed)?;
-                folder_status = status_of(folder_as(&folder)).map_err(failed)?;
-                match folder_path.components().next_back() {
-                    Some(Component::Normal(_)) => {
-                        folder_path.pop();
-                    }
-                    Some(Component::RootDir) => {}
-                    _ => folder_path.push(".."),
+    let mut walker = Walker::start(path, shown)?;
+    while let Some(step) = walker.todo.pop() {
+        match step {
+            Step::Root => walker.root()?,
+            Step::Up => walker.up()?,
+            Step::Name(name) => {
+                if let Some(found) = walker.name(&name)? {
+                    return Ok(walker.place(name, found));
                 }
-                continue;
             }
-            Step::Name(name) => name,
-        };
-        let last = todo.is_empty();
-        let here = folder_path.join(&name);
+        }
+    }
+    Err(not_a_name(shown))
+}
+
+/// Where the walk of an output's path is: the steps left (a link's target added as it is
+/// met), the folder reached (open, with its status and its path as the user would write it),
+/// the links followed so far, and the link the last name was reached through, for the message
+/// when it leads nowhere.
+struct Walker<'a> {
+    shown: &'a Path,
+    todo: Vec<Step>,
+    folder: OwnedFd,
+    folder_status: Status,
+    folder_path: PathBuf,
+    links: usize,
+    last_link: Option<PathBuf>,
+}
+
+impl<'a> Walker<'a> {
+    /// An I/O error on the way, said of the output.
+    fn failed(&self, e: io::Error) -> Error {
+        Error::output(self.shown, e)
+    }
+
+    /// At the start of `path`: `/` for an absolute path, else the current folder.
+    fn start(path: &Path, shown: &'a Path) -> Result<Walker<'a>, Error> {
+        let failed = |e: io::Error| Error::output(shown, e);
+        let absolute = path.is_absolute();
+        let folder = open_root(absolute).map_err(failed)?;
+        let folder_status = status_of(folder_as(&folder)).map_err(failed)?;
+        Ok(Walker {
+            shown,
+            todo: steps_reversed(path),
+            folder,
+            folder_status,
+            folder_path: PathBuf::from(if absolute { "/" } else { "" }),
+            links: 0,
+            last_link: None,
+        })
+    }
+
+    /// A step to `/` (a link's absolute target).
+    fn root(&mut self) -> Result<(), Error> {
+        self.folder = open_root(true).map_err(|e| self.failed(e))?;
+        self.folder_status = status_of(folder_as(&self.folder)).map_err(|e| self.failed(e))?;
+        self.folder_path = PathBuf::from("/");
+        Ok(())
+    }
+
+    /// A step up, `..`, to the folder's parent.
+    fn up(&mut self) -> Result<(), Error> {
+        self.folder = open_at(
+            folder_as(&self.folder),
+            OsStr::new(".."),
+            libc::O_PATH | libc::O_DIRECTORY,
+            0,
+        )
+        .map_err(|e| self.failed(e))?;
+        self.folder_status = status_of(folder_as(&self.folder)).map_err(|e| self.failed(e))?;
+        match self.folder_path.components().next_back() {
+            Some(Component::Normal(_)) => {
+                self.folder_path.pop();
+            }
+            Some(Component::RootDir) => {}
+            _ => self.folder_path.push(".."),
+        }
+        Ok(())
+    }
+
+    /// A step to `name` in the folder reached: a link is followed (its target's steps added),
+    /// a folder entered; the last name is what the walk finds (`Some`), unless it is a link.
+    /// Nothing another user controls in a shared folder is followed, entered or replaced.
+    fn name(&mut self, name: &OsStr) -> Result<Option<Found>, Error> {
+        let shown = self.shown;
+        let last = self.todo.is_empty();
+        let here = self.folder_path.join(name);
         let opened = open_at(
-            folder_as(&folder),
-            &name,
+            folder_as(&self.folder),
+            name,
             libc::O_PATH | libc::O_NOFOLLOW,
             0,
         );
         let entry = match opened {
             Err(e) if e.kind() == io::ErrorKind::NotFound && last => {
-                if let Some(link) = last_link {
+                if let Some(link) = &self.last_link {
                     return Err(Error::Usage(format!(
                         "-o {}: is a symbolic link to {}, which does not exist",
                         shown.display(),
                         link.display()
                     )));
                 }
-                return Ok(Place {
-                    folder,
-                    folder_path: dot_if_empty(folder_path),
-                    name,
-                    found: Found::Nothing,
-                });
+                return Ok(Some(Found::Nothing));
             }
-            Err(e) => return Err(failed(e)),
+            Err(e) => return Err(self.failed(e)),
             Ok(entry) => entry,
         };
-        let status = status_of(folder_as(&entry)).map_err(failed)?;
+        let status = status_of(folder_as(&entry)).map_err(|e| self.failed(e))?;
         match status.kind() {
             libc::S_IFLNK => {
-                if last && in_proc(folder_as(&folder)) {
-                    return Ok(Place {
-                        folder,
-                        folder_path: dot_if_empty(folder_path),
-                        name,
-                        found: Found::ProcessLink,
-                    });
+                if last && in_proc(folder_as(&self.folder)) {
+                    return Ok(Some(Found::ProcessLink));
                 }
-                if planted(status.uid, &folder_status) {
-                    return Err(Error::Usage(format!(
-                        "-o {}: {} is a symbolic link another user (uid {}) made in a shared \
-                         folder; not followed",
-                        shown.display(),
-                        here.display(),
-                        status.uid
-                    )));
-                }
-                links += 1;
-                if links > MAX_LINKS {
-                    return Err(Error::Usage(format!(
-                        "-o {}: too many levels of symbolic links",
-                        shown.display()
-                    )));
-                }
-                let target = read_link(folder_as(&entry)).map_err(failed)?;
-                if last {
-                    last_link = Some(folder_path.join(&target));
-                }
-                todo.extend(steps_reversed(&target));
-                // A link to "." or "/" leaves no name: the folder it leads to is the last step.
-                if last && todo.is_empty() {
-                    return Err(not_a_name(shown));
-                }
+                self.link(&entry, &status, &here, last)?;
+                Ok(None)
             }
             libc::S_IFDIR => {
-                if planted(status.uid, &folder_status) {
+                if planted(status.uid, &self.folder_status) {
                     return Err(Error::Usage(format!(
                         "-o {}: {} is a folder another user (uid {}) owns in a shared folder; \
                          not written into",
@@ -316,16 +331,12 @@ pub fn walk(path: &Path, shown: &Path) -> Result<Place, Error> {
                     )));
                 }
                 if last {
-                    return Ok(Place {
-                        folder,
-                        folder_path: dot_if_empty(folder_path),
-                        name,
-                        found: Found::Folder,
-                    });
+                    return Ok(Some(Found::Folder));
                 }
-                folder = entry;
-                folder_status = status;
-                folder_path = here;
+                self.folder = entry;
+                self.folder_status = status;
+                self.folder_path = here;
+                Ok(None)
             }
             kind if last => {
                 let found = match kind {
@@ -335,7 +346,7 @@ pub fn walk(path: &Path, shown: &Path) -> Result<Place, Error> {
                     _ => Found::Other("a socket"),
                 };
                 if matches!(found, Found::File(_) | Found::Stream)
-                    && planted(status.uid, &folder_status)
+                    && planted(status.uid, &self.folder_status)
                 {
                     return Err(Error::Usage(format!(
                         "-o {}: belongs to another user (uid {}) in a shared folder; not replaced",
@@ -343,17 +354,59 @@ pub fn walk(path: &Path, shown: &Path) -> Result<Place, Error> {
                         status.uid
                     )));
                 }
-                return Ok(Place {
-                    folder,
-                    folder_path: dot_if_empty(folder_path),
-                    name,
-                    found,
-                });
+                Ok(Some(found))
             }
-            _ => return Err(failed(io::Error::from_raw_os_error(libc::ENOTDIR))),
+            _ => Err(self.failed(io::Error::from_raw_os_error(libc::ENOTDIR))),
         }
     }
-    Err(not_a_name(shown))
+
+    /// A symbolic link met at `here` (`entry`, of `status`): followed, its target's steps next,
+    /// unless another user planted it in a shared folder or there are too many levels.
+    fn link(
+        &mut self,
+        entry: &OwnedFd,
+        status: &Status,
+        here: &Path,
+        last: bool,
+    ) -> Result<(), Error> {
+        let shown = self.shown;
+        if planted(status.uid, &self.folder_status) {
+            return Err(Error::Usage(format!(
+                "-o {}: {} is a symbolic link another user (uid {}) made in a shared \
+                 folder; not followed",
+                shown.display(),
+                here.display(),
+                status.uid
+            )));
+        }
+        self.links += 1;
+        if self.links > MAX_LINKS {
+            return Err(Error::Usage(format!(
+                "-o {}: too many levels of symbolic links",
+                shown.display()
+            )));
+        }
+        let target = read_link(folder_as(entry)).map_err(|e| self.failed(e))?;
+        if last {
+            self.last_link = Some(self.folder_path.join(&target));
+        }
+        self.todo.extend(steps_reversed(&target));
+        // A link to "." or "/" leaves no name: the folder it leads to is the last step.
+        if last && self.todo.is_empty() {
+            return Err(not_a_name(shown));
+        }
+        Ok(())
+    }
+
+    /// The walk's end: `name` in the folder reached, and what it is.
+    fn place(self, name: OsString, found: Found) -> Place {
+        Place {
+            folder: self.folder,
+            folder_path: dot_if_empty(self.folder_path),
+            name,
+            found,
+        }
+    }
 }
 
 fn not_a_name(shown: &Path) -> Error {

@@ -338,7 +338,8 @@ impl Article<'_> {
         ]))
     }
 
-    /// C++: `BVH::loadFile`, from the header check to the last row.
+    /// C++: `BVH::loadFile`, from the header check to the last row. Kept whole past a screen:
+    /// it follows the article's `loadFile` line by line, for a student reading the two together.
     fn load_file(&mut self) -> Result<Loaded, Stop> {
         // `new unsigned char[0]` for an empty file: the first byte compared lies past it.
         // Measured: valgrind reports that read, AddressSanitizer does not, and the byte is not
@@ -538,7 +539,10 @@ impl Article<'_> {
         Ok(())
     }
 
-    /// The first thing the article reads or draws otherwise than the file says, if any.
+    /// The first thing the article reads or draws otherwise than the file says, if any: the
+    /// file cut short, a joint without a name, then (where bvhview reads the file) the tree,
+    /// the frame count and every frame as draw draws it, then words `atof` took for numbers,
+    /// and last GL's matrix stack.
     fn misread(
         &self,
         loaded: &Loaded,
@@ -558,43 +562,8 @@ impl Article<'_> {
         let Some((skeleton, motion)) = written else {
             return Some(garbage.unwrap_or(Misread::Refused));
         };
-        // The tree: the same joints and End Sites, at the same depths, in the same order. A
-        // parent comes before its children in the file, so each depth is its parent's plus one.
-        let mut depths: Vec<usize> = Vec::with_capacity(skeleton.joints.len());
-        for joint in &skeleton.joints {
-            let depth = joint
-                .parent
-                .and_then(|parent| depths.get(parent))
-                .map_or(0, |depth| depth + 1);
-            depths.push(depth);
-        }
-        let same_shape = joints.len() == skeleton.joints.len()
-            && joints
-                .iter()
-                .zip(&depths)
-                .all(|(j, &depth)| j.depth == depth);
-        if !same_shape {
-            return Some(Misread::Joints {
-                article: joints.len(),
-                file: skeleton.joints.len(),
-            });
-        }
-        for (article, file) in joints.iter().zip(&skeleton.joints) {
-            if article.name != file.name {
-                return Some(Misread::Name {
-                    file: file.name.clone(),
-                    article: article.name.clone(),
-                });
-            }
-        }
-        for (article, file) in joints.iter().zip(&skeleton.joints) {
-            if article.offset != file.offset.to_array() {
-                return Some(Misread::Offset {
-                    joint: file.name.clone(),
-                    article: article.offset,
-                    file: file.offset.to_array(),
-                });
-            }
+        if let Some(misread) = tree_misread(joints, skeleton) {
+            return Some(misread);
         }
         if loaded.frames as usize != motion.frame_count() {
             return Some(Misread::Frames {
@@ -602,7 +571,27 @@ impl Article<'_> {
                 file: motion.frame_count(),
             });
         }
-        // Every frame as draw draws it, against the file's translations and rotations.
+        if let Some(misread) = self.drawn_misread(loaded, skeleton, motion) {
+            return Some(misread);
+        }
+        garbage.or_else(|| {
+            let name = |node: usize| String::from_utf8_lossy(&self.nodes[node].name).into_owned();
+            Some(Misread::MatrixStack {
+                overflow: name(walk.overflow?),
+                wrong: walk.wrong?.map(name),
+                drawn: walk.drawn,
+            })
+        })
+    }
+
+    /// Every frame as draw draws it, against the file's translations and rotations: the first
+    /// joint the article translates or turns otherwise.
+    fn drawn_misread(
+        &self,
+        loaded: &Loaded,
+        skeleton: &Skeleton,
+        motion: &Motion,
+    ) -> Option<Misread> {
         let order = self.order();
         for frame in 0..motion.frame_count() {
             let row = &loaded.rows[frame * loaded.width..(frame + 1) * loaded.width];
@@ -653,14 +642,7 @@ impl Article<'_> {
                 }
             }
         }
-        garbage.or_else(|| {
-            let name = |node: usize| String::from_utf8_lossy(&self.nodes[node].name).into_owned();
-            Some(Misread::MatrixStack {
-                overflow: name(walk.overflow?),
-                wrong: walk.wrong?.map(name),
-                drawn: walk.drawn,
-            })
-        })
+        None
     }
 
     /// C++: `drawRecursive`'s `glPushMatrix` / `glPopMatrix` against GL's stack of
@@ -761,6 +743,50 @@ impl Article<'_> {
             }),
         }
     }
+}
+
+/// The tree the article loaded against the file's: the same joints and End Sites, at the same
+/// depths, in the same order, then the same names, then the same OFFSETs. The first that
+/// differs, if any.
+fn tree_misread(joints: &[ArticleJoint], skeleton: &Skeleton) -> Option<Misread> {
+    // A parent comes before its children in the file, so each depth is its parent's plus one.
+    let mut depths: Vec<usize> = Vec::with_capacity(skeleton.joints.len());
+    for joint in &skeleton.joints {
+        let depth = joint
+            .parent
+            .and_then(|parent| depths.get(parent))
+            .map_or(0, |depth| depth + 1);
+        depths.push(depth);
+    }
+    let same_shape = joints.len() == skeleton.joints.len()
+        && joints
+            .iter()
+            .zip(&depths)
+            .all(|(j, &depth)| j.depth == depth);
+    if !same_shape {
+        return Some(Misread::Joints {
+            article: joints.len(),
+            file: skeleton.joints.len(),
+        });
+    }
+    for (article, file) in joints.iter().zip(&skeleton.joints) {
+        if article.name != file.name {
+            return Some(Misread::Name {
+                file: file.name.clone(),
+                article: article.name.clone(),
+            });
+        }
+    }
+    for (article, file) in joints.iter().zip(&skeleton.joints) {
+        if article.offset != file.offset.to_array() {
+            return Some(Misread::Offset {
+                joint: file.name.clone(),
+                article: article.offset,
+                file: file.offset.to_array(),
+            });
+        }
+    }
+    None
 }
 
 #[cfg(test)]

@@ -57,52 +57,57 @@ pub(super) fn read(
     path: &str,
     frames: &NodeFrames,
 ) -> Result<(Mesh, Vec<String>), Error> {
-    let document = &file.gltf.document;
-    let mut builder = MeshBuilder::new(path, file.bytes);
-    let mut left_out: Vec<String> = Vec::new();
-    // Primitives whose last corners are short of a triangle.
-    let mut short: Vec<String> = Vec::new();
-    let fail = |why: String| bad(path, why);
-    for node in document.nodes() {
+    let mut reading = Reading {
+        file,
+        path,
+        builder: MeshBuilder::new(path, file.bytes),
+        left_out: Vec::new(),
+        short: Vec::new(),
+    };
+    for node in file.gltf.document.nodes() {
         let Some(mesh) = node.mesh() else { continue };
+        reading.node(frames, &node, &mesh)?;
+    }
+    Ok(reading.finish())
+}
+
+/// One `JOINTS_n` with its `WEIGHTS_n`: four joints and four weights a vertex.
+type WeightSet = (Vec<u32>, Vec<f32>);
+
+/// The meshes read so far, and what is said of them at the end.
+struct Reading<'a> {
+    file: &'a File,
+    path: &'a str,
+    builder: MeshBuilder,
+    /// Primitives that are not triangles or have no positions.
+    left_out: Vec<String>,
+    /// Primitives whose last corners are short of a triangle.
+    short: Vec<String>,
+}
+
+impl Reading<'_> {
+    /// An error of the file.
+    fn fail(&self, why: String) -> Error {
+        bad(self.path, why)
+    }
+
+    /// An error of one of its meshes, named.
+    fn in_mesh(&self, mesh: &gltf::Mesh) -> impl Fn(String) -> Error + use<'_> {
+        let label = mesh_label(mesh);
+        move |why: String| bad(self.path, format!("mesh '{label}': {why}"))
+    }
+
+    /// The mesh of `node` as a part of its own: its bones, then each of its primitives.
+    fn node(
+        &mut self,
+        frames: &NodeFrames,
+        node: &gltf::Node,
+        mesh: &gltf::Mesh,
+    ) -> Result<(), Error> {
         // glTF hides back faces unless a material says `doubleSided` (3.9.5).
         let single_sided = mesh.primitives().all(|p| !p.material().double_sided());
-        builder.begin_part(&mesh_label(&mesh), single_sided);
-        let in_mesh = |why: String| bad(path, format!("mesh '{}': {why}", mesh_label(&mesh)));
-        let n = node.index();
-        // Skinned: each of the skin's joints binds through its inverse bind matrix; the mesh's
-        // node transform is not used (glTF 2.0, 3.7.3.3).
-        let bones: Vec<u32> = match node.skin() {
-            Some(skin) => {
-                let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
-                let inverse_binds = match skin.inverse_bind_matrices() {
-                    Some(accessor) => {
-                        if accessor.count() != joints.len() {
-                            return Err(fail(format!(
-                                "skin {} has {} joints and {} inverse bind matrices",
-                                skin.index(),
-                                joints.len(),
-                                accessor.count()
-                            )));
-                        }
-                        matrices(file, &accessor).map_err(&in_mesh)?
-                    }
-                    None => vec![DMat4::IDENTITY; joints.len()],
-                };
-                joints
-                    .iter()
-                    .zip(&inverse_binds)
-                    .map(|(&joint, inverse_bind)| {
-                        let bone = bone_of(frames, joint, *inverse_bind);
-                        builder.bone(bone)
-                    })
-                    .collect::<Result<_, _>>()?
-            }
-            None => {
-                let bone = bone_of(frames, n, DMat4::IDENTITY);
-                vec![builder.bone(bone)?]
-            }
-        };
+        self.builder.begin_part(&mesh_label(mesh), single_sided);
+        let bones = self.bones(frames, node, mesh)?;
         // A vertex of a skinned mesh with no weight stays where its geometry is (the node's
         // own transform is not used for a skin).
         let fixed = Bone {
@@ -110,155 +115,256 @@ pub(super) fn read(
             bind: if node.skin().is_some() {
                 Mat4::IDENTITY
             } else {
-                frames.rest[n].as_mat4()
+                frames.rest[node.index()].as_mat4()
             },
         };
         for primitive in mesh.primitives() {
-            if primitive.mode() != gltf::mesh::Mode::Triangles {
-                left_out.push(format!(
-                    "a {:?} primitive of mesh {}",
-                    primitive.mode(),
-                    mesh.index()
-                ));
-                continue;
-            }
-            let Some(positions) = primitive.get(&gltf::Semantic::Positions) else {
-                left_out.push(format!(
-                    "a primitive of mesh {} without positions",
-                    mesh.index()
-                ));
-                continue;
-            };
-            let count = positions.count();
-            builder.reserve(count as u64)?;
-            let xyz = accessor_values(file, &positions, 3).map_err(&in_mesh)?;
-            let normals = match primitive.get(&gltf::Semantic::Normals) {
-                Some(a) if a.count() == count => {
-                    Some(accessor_values(file, &a, 3).map_err(&in_mesh)?)
-                }
-                Some(a) => {
-                    return Err(fail(format!(
-                        "mesh {}: {} normals for {count} positions",
-                        mesh.index(),
-                        a.count()
+            self.primitive(node, mesh, &primitive, &bones, fixed)?;
+        }
+        Ok(())
+    }
+
+    /// The bones a node's mesh binds to. Skinned: each of the skin's joints binds through its
+    /// inverse bind matrix; the mesh's node transform is not used (glTF 2.0, 3.7.3.3). Else the
+    /// one bone of the joint at or above the node.
+    fn bones(
+        &mut self,
+        frames: &NodeFrames,
+        node: &gltf::Node,
+        mesh: &gltf::Mesh,
+    ) -> Result<Vec<u32>, Error> {
+        let Some(skin) = node.skin() else {
+            let bone = bone_of(frames, node.index(), DMat4::IDENTITY);
+            return Ok(vec![self.builder.bone(bone)?]);
+        };
+        let joints: Vec<usize> = skin.joints().map(|j| j.index()).collect();
+        let inverse_binds = match skin.inverse_bind_matrices() {
+            Some(accessor) => {
+                if accessor.count() != joints.len() {
+                    return Err(self.fail(format!(
+                        "skin {} has {} joints and {} inverse bind matrices",
+                        skin.index(),
+                        joints.len(),
+                        accessor.count()
                     )));
                 }
-                None => None,
+                matrices(self.file, &accessor).map_err(self.in_mesh(mesh))?
+            }
+            None => vec![DMat4::IDENTITY; joints.len()],
+        };
+        joints
+            .iter()
+            .zip(&inverse_binds)
+            .map(|(&joint, inverse_bind)| {
+                let bone = bone_of(frames, joint, *inverse_bind);
+                self.builder.bone(bone)
+            })
+            .collect()
+    }
+
+    /// One primitive of a node's mesh: its vertices with their influences, then its triangles
+    /// (its normals smoothed from them when it has none). A primitive that is not triangles,
+    /// or has no positions, is left out.
+    fn primitive(
+        &mut self,
+        node: &gltf::Node,
+        mesh: &gltf::Mesh,
+        primitive: &gltf::Primitive,
+        bones: &[u32],
+        fixed: Bone,
+    ) -> Result<(), Error> {
+        if primitive.mode() != gltf::mesh::Mode::Triangles {
+            self.left_out.push(format!(
+                "a {:?} primitive of mesh {}",
+                primitive.mode(),
+                mesh.index()
+            ));
+            return Ok(());
+        }
+        let Some(positions) = primitive.get(&gltf::Semantic::Positions) else {
+            self.left_out.push(format!(
+                "a primitive of mesh {} without positions",
+                mesh.index()
+            ));
+            return Ok(());
+        };
+        let count = positions.count();
+        self.builder.reserve(count as u64)?;
+        let xyz = accessor_values(self.file, &positions, 3).map_err(self.in_mesh(mesh))?;
+        let normals = match primitive.get(&gltf::Semantic::Normals) {
+            Some(a) if a.count() == count => {
+                Some(accessor_values(self.file, &a, 3).map_err(self.in_mesh(mesh))?)
+            }
+            Some(a) => {
+                return Err(self.fail(format!(
+                    "mesh {}: {} normals for {count} positions",
+                    mesh.index(),
+                    a.count()
+                )));
+            }
+            None => None,
+        };
+        let sets = if node.skin().is_some() {
+            self.weight_sets(mesh, primitive, count)?
+        } else {
+            Vec::new()
+        };
+        let first = self.builder.vertex_count();
+        let triangles_from = self.builder.triangle_corner_count();
+        for v in 0..count {
+            let position = Vec3::from_slice(&xyz[3 * v..3 * v + 3]);
+            let normal = normals
+                .as_ref()
+                .map_or(Vec3::ZERO, |n| Vec3::from_slice(&n[3 * v..3 * v + 3]));
+            let influences: Vec<(u32, f32)> = if node.skin().is_some() {
+                self.influences(mesh, &sets, bones, v)?
+            } else {
+                vec![(bones[0], 1.0)]
             };
-            // Every JOINTS_n with its WEIGHTS_n.
-            let mut sets: Vec<(Vec<u32>, Vec<f32>)> = Vec::new();
-            if node.skin().is_some() {
-                for set in 0.. {
-                    let joints = primitive.get(&gltf::Semantic::Joints(set));
-                    let weights = primitive.get(&gltf::Semantic::Weights(set));
-                    let (joints, weights) = match (joints, weights) {
-                        (None, None) => break,
-                        (Some(j), Some(w)) => (j, w),
-                        _ => {
-                            return Err(fail(format!(
-                                "mesh {}: JOINTS_{set} and WEIGHTS_{set} do not come in a pair",
-                                mesh.index()
-                            )));
-                        }
-                    };
-                    if joints.count() != count || weights.count() != count {
-                        return Err(fail(format!(
-                            "mesh {}: JOINTS_{set}/WEIGHTS_{set} count {}/{} for {count} \
-                             positions",
-                            mesh.index(),
-                            joints.count(),
-                            weights.count()
-                        )));
-                    }
-                    // Every set read so far counts: a file may name the same accessors again
-                    // and again.
-                    builder.reserve((4 * count as u64).saturating_mul(sets.len() as u64 + 1))?;
-                    sets.push((
-                        accessor_integers(file, &joints, 4).map_err(&in_mesh)?,
-                        accessor_values(file, &weights, 4).map_err(&in_mesh)?,
-                    ));
+            self.builder.vertex(position, normal, influences, fixed)?;
+        }
+        self.triangles(mesh, primitive, count, first)?;
+        if normals.is_none() {
+            self.builder.smooth_normals(first as usize, triangles_from);
+        }
+        Ok(())
+    }
+
+    /// Every `JOINTS_n` of a skinned primitive with its `WEIGHTS_n`, for `count` vertices.
+    fn weight_sets(
+        &mut self,
+        mesh: &gltf::Mesh,
+        primitive: &gltf::Primitive,
+        count: usize,
+    ) -> Result<Vec<WeightSet>, Error> {
+        let mut sets: Vec<WeightSet> = Vec::new();
+        for set in 0.. {
+            let joints = primitive.get(&gltf::Semantic::Joints(set));
+            let weights = primitive.get(&gltf::Semantic::Weights(set));
+            let (joints, weights) = match (joints, weights) {
+                (None, None) => break,
+                (Some(j), Some(w)) => (j, w),
+                _ => {
+                    return Err(self.fail(format!(
+                        "mesh {}: JOINTS_{set} and WEIGHTS_{set} do not come in a pair",
+                        mesh.index()
+                    )));
                 }
+            };
+            if joints.count() != count || weights.count() != count {
+                return Err(self.fail(format!(
+                    "mesh {}: JOINTS_{set}/WEIGHTS_{set} count {}/{} for {count} \
+                     positions",
+                    mesh.index(),
+                    joints.count(),
+                    weights.count()
+                )));
             }
-            let first = builder.vertex_count();
-            let triangles_from = builder.triangle_corner_count();
-            for v in 0..count {
-                let position = Vec3::from_slice(&xyz[3 * v..3 * v + 3]);
-                let normal = normals
-                    .as_ref()
-                    .map_or(Vec3::ZERO, |n| Vec3::from_slice(&n[3 * v..3 * v + 3]));
-                let influences: Vec<(u32, f32)> = if node.skin().is_some() {
-                    let mut out = Vec::with_capacity(4 * sets.len());
-                    for (joints, weights) in &sets {
-                        for k in 0..4 {
-                            let (joint, weight) = (joints[4 * v + k], weights[4 * v + k]);
-                            if weight == 0.0 {
-                                continue;
-                            }
-                            let Some(&bone) = bones.get(joint as usize) else {
-                                return Err(fail(format!(
-                                    "mesh {}, vertex {v}: joint {joint} of a skin of {} joints",
-                                    mesh.index(),
-                                    bones.len()
-                                )));
-                            };
-                            out.push((bone, weight));
-                        }
-                    }
-                    out
-                } else {
-                    vec![(bones[0], 1.0)]
+            // Every set read so far counts: a file may name the same accessors again
+            // and again.
+            self.builder
+                .reserve((4 * count as u64).saturating_mul(sets.len() as u64 + 1))?;
+            sets.push((
+                accessor_integers(self.file, &joints, 4).map_err(self.in_mesh(mesh))?,
+                accessor_values(self.file, &weights, 4).map_err(self.in_mesh(mesh))?,
+            ));
+        }
+        Ok(sets)
+    }
+
+    /// The bones and weights of vertex `v` of a skinned primitive: every influence of every
+    /// set with a weight, its joint one of the skin's.
+    fn influences(
+        &self,
+        mesh: &gltf::Mesh,
+        sets: &[WeightSet],
+        bones: &[u32],
+        v: usize,
+    ) -> Result<Vec<(u32, f32)>, Error> {
+        let mut out = Vec::with_capacity(4 * sets.len());
+        for (joints, weights) in sets {
+            for k in 0..4 {
+                let (joint, weight) = (joints[4 * v + k], weights[4 * v + k]);
+                if weight == 0.0 {
+                    continue;
+                }
+                let Some(&bone) = bones.get(joint as usize) else {
+                    return Err(self.fail(format!(
+                        "mesh {}, vertex {v}: joint {joint} of a skin of {} joints",
+                        mesh.index(),
+                        bones.len()
+                    )));
                 };
-                builder.vertex(position, normal, influences, fixed)?;
-            }
-            match primitive.indices() {
-                Some(indices) => {
-                    builder.reserve(indices.count() as u64 / 3)?;
-                    let corners = accessor_integers(file, &indices, 1).map_err(&in_mesh)?;
-                    if corners.len() % 3 != 0 {
-                        short.push(format!("mesh '{}'", mesh_label(&mesh)));
-                    }
-                    for t in corners.chunks_exact(3) {
-                        if let Some(&c) = t.iter().find(|&&c| c as usize >= count) {
-                            return Err(fail(format!(
-                                "mesh {}: index {c} of a primitive of {count} vertices",
-                                mesh.index()
-                            )));
-                        }
-                        builder.triangle([first + t[0], first + t[1], first + t[2]])?;
-                    }
-                }
-                None => {
-                    if count % 3 != 0 {
-                        short.push(format!("mesh '{}'", mesh_label(&mesh)));
-                    }
-                    for t in 0..count as u32 / 3 {
-                        builder.triangle([first + 3 * t, first + 3 * t + 1, first + 3 * t + 2])?;
-                    }
-                }
-            }
-            if normals.is_none() {
-                builder.smooth_normals(first as usize, triangles_from);
+                out.push((bone, weight));
             }
         }
+        Ok(out)
     }
-    let (mesh, mut said) = builder.finish();
-    if !left_out.is_empty() {
-        said.push(format!(
-            "{} left out of the mesh (triangles only): {}",
-            crate::io::error::counted(left_out.len(), "primitive"),
-            left_out.join(", ")
-        ));
+
+    /// A primitive's triangles, by its indices or, without them, its vertices three by three;
+    /// corners short of a last triangle are left out (said once at the end).
+    fn triangles(
+        &mut self,
+        mesh: &gltf::Mesh,
+        primitive: &gltf::Primitive,
+        count: usize,
+        first: u32,
+    ) -> Result<(), Error> {
+        match primitive.indices() {
+            Some(indices) => {
+                self.builder.reserve(indices.count() as u64 / 3)?;
+                let corners =
+                    accessor_integers(self.file, &indices, 1).map_err(self.in_mesh(mesh))?;
+                if corners.len() % 3 != 0 {
+                    self.short.push(format!("mesh '{}'", mesh_label(mesh)));
+                }
+                for t in corners.chunks_exact(3) {
+                    if let Some(&c) = t.iter().find(|&&c| c as usize >= count) {
+                        return Err(self.fail(format!(
+                            "mesh {}: index {c} of a primitive of {count} vertices",
+                            mesh.index()
+                        )));
+                    }
+                    self.builder
+                        .triangle([first + t[0], first + t[1], first + t[2]])?;
+                }
+            }
+            None => {
+                if !count.is_multiple_of(3) {
+                    self.short.push(format!("mesh '{}'", mesh_label(mesh)));
+                }
+                for t in 0..count as u32 / 3 {
+                    self.builder
+                        .triangle([first + 3 * t, first + 3 * t + 1, first + 3 * t + 2])?;
+                }
+            }
+        }
+        Ok(())
     }
-    if !short.is_empty() {
-        // One line however many: the first three named.
-        let more = if short.len() > 3 { ", …" } else { "" };
-        said.push(format!(
-            "the last 1 or 2 indices of {} fall short of a triangle and are left out: {}{more}",
-            crate::io::error::counted(short.len(), "primitive"),
-            short[..short.len().min(3)].join(", ")
-        ));
+
+    /// The mesh, and what was said of it: the builder's lines, then the primitives left out
+    /// and those short of a triangle, one line each.
+    fn finish(self) -> (Mesh, Vec<String>) {
+        let (mesh, mut said) = self.builder.finish();
+        let (left_out, short) = (self.left_out, self.short);
+        if !left_out.is_empty() {
+            said.push(format!(
+                "{} left out of the mesh (triangles only): {}",
+                crate::io::error::counted(left_out.len(), "primitive"),
+                left_out.join(", ")
+            ));
+        }
+        if !short.is_empty() {
+            // One line however many: the first three named.
+            let more = if short.len() > 3 { ", …" } else { "" };
+            said.push(format!(
+                "the last 1 or 2 indices of {} fall short of a triangle and are left out: {}{more}",
+                crate::io::error::counted(short.len(), "primitive"),
+                short[..short.len().min(3)].join(", ")
+            ));
+        }
+        (mesh, said)
     }
-    Ok((mesh, said))
 }
 
 /// A glTF mesh's name for messages: its own, else its index (`3`).

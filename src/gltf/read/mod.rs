@@ -127,6 +127,8 @@ pub fn load_character_bytes(
     Ok((read, mesh.unwrap_or_default()))
 }
 
+/// Reads the take (and with `with_mesh` the character's mesh) from a file already read: the node
+/// tree, the take chosen, the skeleton picked out of the tree, then every frame baked.
 fn load_file(
     file: &File,
     path: &str,
@@ -134,6 +136,106 @@ fn load_file(
     with_mesh: bool,
 ) -> Result<(Read, Option<crate::model::mesh::Mesh>), Error> {
     let document = &file.gltf.document;
+    let count = document.nodes().len();
+    let (parent, depth) = node_tree(document, path)?;
+    let animations: Vec<gltf::Animation> = document.animations().collect();
+    let names: Vec<String> = animations.iter().map(animation_name).collect();
+    let mut warnings = Vec::new();
+    let mut take_name = None;
+    let chosen = if animations.is_empty() {
+        if take.is_some() {
+            pick_take(&names, take, path)?;
+        }
+        None
+    } else {
+        let (index, name) = choose_take(&names, take, path, &mut warnings)?;
+        take_name = Some(name);
+        Some(&animations[index])
+    };
+    let tracks = match chosen {
+        Some(animation) => tracks(file, animation).map_err(|why| bad(path, why))?,
+        None => Vec::new(),
+    };
+    let nodes: Vec<gltf::Node> = document.nodes().collect();
+    let selected = selected_nodes(document, &nodes, &animations, &parent);
+    let mut order: Vec<usize> = (0..count).filter(|&i| selected[i]).collect();
+    if order.is_empty() {
+        return Err(bad(
+            path,
+            "no skeleton: the file has no skin and no animated node",
+        ));
+    }
+    order.sort_by_key(|&i| depth[i]);
+    let mut skeleton_nodes = joint_nodes(&order, &parent, &nodes, path)?;
+    warnings.extend(baked::unique_names(&mut skeleton_nodes));
+    let tree = Tree::new(parent, depth, order, &nodes);
+    let mut cache: Vec<Option<DMat4>> = vec![None; count];
+    let rest = tree.world_poses(&|n| tree.static_matrices[n], &mut cache);
+    let timing = timing(&tracks);
+    if let Some(warning) = &timing.warning {
+        warnings.push(warning.clone());
+    }
+    let (skeleton, motion) = if tracks.is_empty() {
+        warnings.push("no animation in the file: its rest pose, as one frame".to_string());
+        baked::build_with(
+            &skeleton_nodes,
+            &rest,
+            with_mesh,
+            1,
+            1.0 / timing.fps,
+            |_, out| {
+                out.extend_from_slice(&rest);
+                Ok(())
+            },
+        )
+    } else {
+        let frame_count = frames_within(
+            &timing,
+            tree.order.len(),
+            tree.posed_count(),
+            tracks.len(),
+            file.bytes,
+        )
+        .map_err(|why| bad(path, why))?;
+        let take = Animated {
+            tree: &tree,
+            tracks: &tracks,
+            timing: &timing,
+            frame_count,
+        };
+        take.bake(&skeleton_nodes, &rest, with_mesh, cache)
+    }
+    .map_err(|e| match e {
+        Error::Usage(message) if !message.starts_with(path) => bad(path, message),
+        other => other,
+    })?;
+    // glTF is +Y up by its specification: read, never guessed.
+    let skeleton = crate::model::skeleton::Skeleton {
+        y_up_stated: true,
+        ..skeleton
+    };
+    let mesh = if with_mesh {
+        let (mesh, said) = character_mesh(file, path, &tree, &skeleton, &skeleton_nodes)?;
+        warnings.extend(said);
+        Some(mesh)
+    } else {
+        None
+    };
+    let read = Read {
+        skeleton,
+        motion,
+        warnings,
+        take: take_name,
+    };
+    Ok((read, mesh))
+}
+
+/// Each node's parent and depth, refusing shared children, cycles, and a tree deeper than
+/// [`crate::limits::MAX_DEPTH`].
+fn node_tree(
+    document: &gltf::Document,
+    path: &str,
+) -> Result<(Vec<Option<usize>>, Vec<usize>), Error> {
     let count = document.nodes().len();
     // Parents, refusing shared children and cycles.
     let mut parent = vec![None; count];
@@ -157,26 +259,19 @@ fn load_file(
             up = parent[p];
         }
     }
+    Ok((parent, depth))
+}
 
-    let animations: Vec<gltf::Animation> = document.animations().collect();
-    let names: Vec<String> = animations.iter().map(animation_name).collect();
-    let mut warnings = Vec::new();
-    let mut take_name = None;
-    let chosen = if animations.is_empty() {
-        if take.is_some() {
-            pick_take(&names, take, path)?;
-        }
-        None
-    } else {
-        let (index, name) = choose_take(&names, take, path, &mut warnings)?;
-        take_name = Some(name);
-        Some(&animations[index])
-    };
-    let tracks = match chosen {
-        Some(animation) => tracks(file, animation).map_err(|why| bad(path, why))?,
-        None => Vec::new(),
-    };
-
+/// The nodes that make the skeleton: the skins' joints, else every node an animation moves
+/// (else, in a file of bare nodes alone, the whole tree); with the nodes between them, and the
+/// bare leaves under them as End Sites.
+fn selected_nodes(
+    document: &gltf::Document,
+    nodes: &[gltf::Node],
+    animations: &[gltf::Animation],
+    parent: &[Option<usize>],
+) -> Vec<bool> {
+    let count = nodes.len();
     // The skeleton: skin joints, else every node any animation moves; and the nodes between.
     let mut seed = vec![false; count];
     for skin in document.skins() {
@@ -185,7 +280,7 @@ fn load_file(
         }
     }
     if !seed.iter().any(|&s| s) {
-        for animation in &animations {
+        for animation in animations {
             for channel in animation.channels() {
                 if channel.target().property() != Property::MorphTargetWeights {
                     seed[channel.target().node().index()] = true;
@@ -198,7 +293,7 @@ fn load_file(
     // could not read back its own output).
     let bare = document.meshes().len() == 0 && document.cameras().len() == 0;
     if !seed.iter().any(|&s| s) && animations.is_empty() && bare {
-        for node in document.nodes() {
+        for node in nodes {
             seed[node.index()] = node.children().len() > 0 || parent[node.index()].is_none();
         }
     }
@@ -222,8 +317,7 @@ fn load_file(
     }
     // A bare leaf under a joint (no mesh, no camera, no children: an end point, as bvhview's
     // own export writes a BVH's End Sites) joins as an End Site.
-    let nodes: Vec<gltf::Node> = document.nodes().collect();
-    for node in &nodes {
+    for node in nodes {
         let i = node.index();
         if !selected[i]
             && parent[i].is_some_and(|p| selected[p])
@@ -234,19 +328,22 @@ fn load_file(
             selected[i] = true;
         }
     }
-    let mut order: Vec<usize> = (0..count).filter(|&i| selected[i]).collect();
-    if order.is_empty() {
-        return Err(bad(
-            path,
-            "no skeleton: the file has no skin and no animated node",
-        ));
-    }
-    order.sort_by_key(|&i| depth[i]);
-    let mut position = vec![usize::MAX; count];
+    selected
+}
+
+/// The skeleton's joints, one per node of `order`: its name, and its parent the nearest
+/// selected node above it.
+fn joint_nodes(
+    order: &[usize],
+    parent: &[Option<usize>],
+    nodes: &[gltf::Node],
+    path: &str,
+) -> Result<Vec<Node>, Error> {
+    let mut position = vec![usize::MAX; nodes.len()];
     for (k, &i) in order.iter().enumerate() {
         position[i] = k;
     }
-    let mut skeleton_nodes = order
+    order
         .iter()
         .enumerate()
         .map(|(k, &i)| {
@@ -265,37 +362,69 @@ fn load_file(
                 parent: joint_parent,
             })
         })
-        .collect::<Result<Vec<Node>, Error>>()?;
-    warnings.extend(baked::unique_names(&mut skeleton_nodes));
+        .collect()
+}
 
-    // Static transforms.
-    let statics: Vec<Trs> = nodes
-        .iter()
-        .map(|node| {
-            let (t, r, s) = node.transform().decomposed();
-            let r = DQuat::from_xyzw(r[0] as f64, r[1] as f64, r[2] as f64, r[3] as f64);
-            (
-                DVec3::from(t.map(|v| v as f64)),
-                unit(r),
-                DVec3::from(s.map(|v| v as f64)),
-            )
-        })
-        .collect();
-    let static_matrices: Vec<DMat4> = nodes
-        .iter()
-        .map(|node| {
-            let m = node.transform().matrix();
-            DMat4::from_cols_array_2d(&m.map(|c| c.map(|v| v as f64)))
-        })
-        .collect();
-    // World matrices of the selected nodes, from local matrices of all nodes. `cache` holds
-    // `None` for every node and is left so: only the nodes a call touches are cleared, so that
-    // a frame costs the posed nodes, not every node of the file (40,000 bare nodes × 4,000
-    // frames took 5 s).
-    let world_of = |local: &dyn Fn(usize) -> DMat4, cache: &mut Vec<Option<DMat4>>| -> Vec<Pose> {
+/// The file's node tree as the reader poses it: each node's parent and depth and its static
+/// transform (as translation, rotation, scale and as the matrix the file gives), and the nodes
+/// that became joints, parents first.
+struct Tree {
+    parent: Vec<Option<usize>>,
+    depth: Vec<usize>,
+    statics: Vec<Trs>,
+    static_matrices: Vec<DMat4>,
+    order: Vec<usize>,
+}
+
+impl Tree {
+    /// The tree of `nodes`, with the joints in `order`.
+    fn new(
+        parent: Vec<Option<usize>>,
+        depth: Vec<usize>,
+        order: Vec<usize>,
+        nodes: &[gltf::Node],
+    ) -> Tree {
+        let statics: Vec<Trs> = nodes
+            .iter()
+            .map(|node| {
+                let (t, r, s) = node.transform().decomposed();
+                let r = DQuat::from_xyzw(r[0] as f64, r[1] as f64, r[2] as f64, r[3] as f64);
+                (
+                    DVec3::from(t.map(|v| v as f64)),
+                    unit(r),
+                    DVec3::from(s.map(|v| v as f64)),
+                )
+            })
+            .collect();
+        let static_matrices: Vec<DMat4> = nodes
+            .iter()
+            .map(|node| {
+                let m = node.transform().matrix();
+                DMat4::from_cols_array_2d(&m.map(|c| c.map(|v| v as f64)))
+            })
+            .collect();
+        Tree {
+            parent,
+            depth,
+            statics,
+            static_matrices,
+            order,
+        }
+    }
+
+    /// World matrices of the joints, from local matrices of all nodes. `cache` holds `None`
+    /// for every node and is left so: only the nodes a call touches are cleared, so that a
+    /// frame costs the posed nodes, not every node of the file (40,000 bare nodes × 4,000
+    /// frames took 5 s).
+    fn world_poses(
+        &self,
+        local: &dyn Fn(usize) -> DMat4,
+        cache: &mut [Option<DMat4>],
+    ) -> Vec<Pose> {
+        let parent = &self.parent;
         let mut touched = Vec::new();
-        let mut out = Vec::with_capacity(order.len());
-        for &i in &order {
+        let mut out = Vec::with_capacity(self.order.len());
+        for &i in &self.order {
             let mut chain = Vec::new();
             let mut up = Some(i);
             while let Some(n) = up {
@@ -316,50 +445,84 @@ fn load_file(
             cache[n] = None;
         }
         out
-    };
-    let mut cache: Vec<Option<DMat4>> = vec![None; count];
-    let rest = world_of(&|n| static_matrices[n], &mut cache);
-    let timing = timing(&tracks);
-    let (start, fps) = (timing.start, timing.fps);
-    if let Some(warning) = &timing.warning {
-        warnings.push(warning.clone());
     }
-    let (skeleton, motion) = if tracks.is_empty() {
-        warnings.push("no animation in the file: its rest pose, as one frame".to_string());
-        baked::build_with(&skeleton_nodes, &rest, with_mesh, 1, 1.0 / fps, |_, out| {
-            out.extend_from_slice(&rest);
-            Ok(())
-        })
-    } else {
-        // The nodes posed in each frame: the joints and every node above them.
-        let mut posed = vec![false; count];
-        for &i in &order {
+
+    /// How many nodes each frame poses: the joints and every node above them.
+    fn posed_count(&self) -> usize {
+        let mut posed = vec![false; self.parent.len()];
+        for &i in &self.order {
             let mut up = Some(i);
             while let Some(n) = up.filter(|&n| !posed[n]) {
                 posed[n] = true;
-                up = parent[n];
+                up = self.parent[n];
             }
         }
-        let nodes = posed.iter().filter(|&&p| p).count();
-        let frame_count = frames_within(&timing, order.len(), nodes, tracks.len(), file.bytes)
-            .map_err(|why| bad(path, why))?;
-        let mut animated: Vec<Option<Trs>> = vec![None; count];
+        posed.iter().filter(|&&p| p).count()
+    }
+
+    /// Every node's world matrix at rest.
+    fn rest_world(&self) -> Vec<DMat4> {
+        let count = self.parent.len();
+        let mut rest_world: Vec<Option<DMat4>> = vec![None; count];
+        let mut by_depth: Vec<usize> = (0..count).collect();
+        by_depth.sort_by_key(|&i| self.depth[i]);
+        for &n in &by_depth {
+            let above = self.parent[n]
+                .and_then(|p| rest_world[p])
+                .unwrap_or(DMat4::IDENTITY);
+            rest_world[n] = Some(above * self.static_matrices[n]);
+        }
+        rest_world
+            .into_iter()
+            .map(Option::unwrap_or_default)
+            .collect()
+    }
+}
+
+/// The chosen animation on the tree: its tracks, sampled at `timing`'s rate for `frame_count`
+/// frames.
+struct Animated<'a> {
+    tree: &'a Tree,
+    tracks: &'a [Track],
+    timing: &'a Timing,
+    frame_count: usize,
+}
+
+impl Animated<'_> {
+    /// Every frame baked: each track sampled at the frame's time onto its node's static
+    /// transform, then the joints' world matrices (`cache`: as [`Tree::world_poses`] takes it).
+    fn bake(
+        &self,
+        skeleton_nodes: &[Node],
+        rest: &[Pose],
+        with_mesh: bool,
+        mut cache: Vec<Option<DMat4>>,
+    ) -> Result<
+        (
+            crate::model::skeleton::Skeleton,
+            crate::model::motion::Motion,
+        ),
+        Error,
+    > {
+        let (tree, tracks) = (self.tree, self.tracks);
+        let (start, fps) = (self.timing.start, self.timing.fps);
+        let mut animated: Vec<Option<Trs>> = vec![None; tree.parent.len()];
         let mut sample = [0.0f64; 4];
         let mut hints = vec![0usize; tracks.len()];
         baked::build_with(
-            &skeleton_nodes,
-            &rest,
+            skeleton_nodes,
+            rest,
             with_mesh,
-            frame_count,
+            self.frame_count,
             1.0 / fps,
             |f, out| {
                 let time = start + f as f64 / fps;
                 // Only the animated nodes were set (clearing every node cost nodes × frames).
-                for track in &tracks {
+                for track in tracks {
                     animated[track.node] = None;
                 }
                 for (track, hint) in tracks.iter().zip(hints.iter_mut()) {
-                    let trs = animated[track.node].get_or_insert(statics[track.node]);
+                    let trs = animated[track.node].get_or_insert(tree.statics[track.node]);
                     track.sample(time, hint, &mut sample);
                     match track.property {
                         Property::Translation => {
@@ -373,10 +536,10 @@ fn load_file(
                         Property::MorphTargetWeights => {}
                     }
                 }
-                out.extend(world_of(
+                out.extend(tree.world_poses(
                     &|n| match &animated[n] {
                         Some(trs) => trs_matrix(trs),
-                        None => static_matrices[n],
+                        None => tree.static_matrices[n],
                     },
                     &mut cache,
                 ));
@@ -384,58 +547,34 @@ fn load_file(
             },
         )
     }
-    .map_err(|e| match e {
-        Error::Usage(message) if !message.starts_with(path) => bad(path, message),
-        other => other,
-    })?;
-    // glTF is +Y up by its specification: read, never guessed.
-    let skeleton = crate::model::skeleton::Skeleton {
-        y_up_stated: true,
-        ..skeleton
+}
+
+/// The file's skinned meshes on the skeleton read: every node's world matrix at rest, and the
+/// joint each selected node became (by name: the first joint of each).
+fn character_mesh(
+    file: &File,
+    path: &str,
+    tree: &Tree,
+    skeleton: &crate::model::skeleton::Skeleton,
+    skeleton_nodes: &[Node],
+) -> Result<(crate::model::mesh::Mesh, Vec<String>), Error> {
+    let rest_world = tree.rest_world();
+    // The first joint of each name, looked up once a node (a search per node was
+    // quadratic in a file of many nodes).
+    let mut by_name = std::collections::HashMap::with_capacity(skeleton.joints.len());
+    for (i, j) in skeleton.joints.iter().enumerate() {
+        by_name.entry(j.name.as_str()).or_insert(i);
+    }
+    let mut joint = vec![None; tree.parent.len()];
+    for (k, &n) in tree.order.iter().enumerate() {
+        joint[n] = by_name.get(skeleton_nodes[k].name.as_str()).copied();
+    }
+    let frames = mesh::NodeFrames {
+        parent: &tree.parent,
+        rest: &rest_world,
+        joint: &joint,
     };
-    let mesh = if with_mesh {
-        // Every node's world matrix at rest, and the joint each selected node became.
-        let mut rest_world: Vec<Option<DMat4>> = vec![None; count];
-        let mut by_depth: Vec<usize> = (0..count).collect();
-        by_depth.sort_by_key(|&i| depth[i]);
-        for &n in &by_depth {
-            let above = parent[n]
-                .and_then(|p| rest_world[p])
-                .unwrap_or(DMat4::IDENTITY);
-            rest_world[n] = Some(above * static_matrices[n]);
-        }
-        let rest_world: Vec<DMat4> = rest_world
-            .into_iter()
-            .map(Option::unwrap_or_default)
-            .collect();
-        // The first joint of each name, looked up once a node (a search per node was
-        // quadratic in a file of many nodes).
-        let mut by_name = std::collections::HashMap::with_capacity(skeleton.joints.len());
-        for (i, j) in skeleton.joints.iter().enumerate() {
-            by_name.entry(j.name.as_str()).or_insert(i);
-        }
-        let mut joint = vec![None; count];
-        for (k, &n) in order.iter().enumerate() {
-            joint[n] = by_name.get(skeleton_nodes[k].name.as_str()).copied();
-        }
-        let frames = mesh::NodeFrames {
-            parent: &parent,
-            rest: &rest_world,
-            joint: &joint,
-        };
-        let (mesh, said) = mesh::read(file, path, &frames)?;
-        warnings.extend(said);
-        Some(mesh)
-    } else {
-        None
-    };
-    let read = Read {
-        skeleton,
-        motion,
-        warnings,
-        take: take_name,
-    };
-    Ok((read, mesh))
+    mesh::read(file, path, &frames)
 }
 
 #[cfg(test)]

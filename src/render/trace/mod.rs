@@ -156,6 +156,15 @@ fn plain(values: &[f32]) -> String {
     format!("({})", values.join(", "))
 }
 
+/// One phrase of a note in both languages, English first: the notes read as a two-column table,
+/// and the language asked for picks the column.
+type Both = [String; 2];
+
+/// A row of fixed text: the same phrase in English and in Chinese.
+fn both(english: &str, chinese: &str) -> Both {
+    [english.to_string(), chinese.to_string()]
+}
+
 /// A joint as `info` counts it.
 enum Label {
     Joint(usize),
@@ -224,84 +233,8 @@ impl Recorder {
         language: Language,
         article: Option<&crate::bvh::article::Outcome>,
     ) -> Recorder {
-        let world = crate::model::pose::world_positions(skeleton, frame.unwrap_or(&[]), mode);
-        // The article's flags: from its own tree where it loaded one joint for joint like
-        // bvhview's, else from the channels as if the file were laid out as the article needs.
-        let loaded = article
-            .and_then(|outcome| outcome.joints.as_ref())
-            .filter(|joints| {
-                joints.len() == skeleton.joints.len()
-                    && joints
-                        .iter()
-                        .zip(&skeleton.joints)
-                        .all(|(a, j)| (a.depth == 0) == j.parent.is_none())
-            });
-        let flags: Vec<u8> = match loaded {
-            Some(joints) => joints.iter().map(|j| j.flags).collect(),
-            None => skeleton.joints.iter().map(channel_flags).collect(),
-        };
-        // Pre-order: a joint's number and the article's `pFrame` follow the joints before it.
-        let mut joints_before = 0;
-        let mut turned_before = 0;
-        let joints = skeleton
-            .joints
-            .iter()
-            .zip(world)
-            .zip(flags)
-            .map(|((joint, world), article_flags)| {
-                // The article's pFrame moves on by 3 after a joint only when its flags are not 0.
-                let article_column = 3 + 3 * turned_before;
-                if article_flags != 0 {
-                    turned_before += 1;
-                }
-                let label = if joint.end_site {
-                    let parent = joint
-                        .parent
-                        .map_or("", |p| skeleton.joints[p].name.as_str());
-                    Label::EndSiteOf(parent.to_string())
-                } else {
-                    joints_before += 1;
-                    Label::Joint(joints_before - 1)
-                };
-                let columns_of = |rotation: bool| {
-                    joint
-                        .channels
-                        .iter()
-                        .enumerate()
-                        .filter(|(_, c)| c.is_rotation() == rotation)
-                        .map(|(i, &c)| (joint.first_channel + i, c))
-                        .collect()
-                };
-                // The article's root goes to columns 0, 1 and 2 as x, y and z: said where the
-                // root's first three channels are not Xposition, Yposition, Zposition.
-                let xyz_first = joint
-                    .channels
-                    .iter()
-                    .take(3)
-                    .map(|c| c.is_position().then_some(c.axis()))
-                    .eq([Some(0), Some(1), Some(2)]);
-                let root_translation = match frame {
-                    Some(row) if joint.parent.is_none() && !xyz_first && row.len() >= 3 => {
-                        Some([row[0], row[1], row[2]])
-                    }
-                    _ => None,
-                };
-                JointFacts {
-                    name: joint.name.clone(),
-                    label,
-                    article_column,
-                    article_flags,
-                    article_axes: crate::bvh::article::axes_turned(article_flags),
-                    root_translation,
-                    columns: joint.first_channel..joint.first_channel + joint.channels.len(),
-                    rotation_columns: columns_of(true),
-                    position_columns: columns_of(false),
-                    offset: joint.offset,
-                    world,
-                    is_root: joint.parent.is_none(),
-                }
-            })
-            .collect();
+        let flags = article_flags(skeleton, article);
+        let joints = joint_facts(skeleton, frame, mode, flags);
         let article_joints = skeleton.joints.iter().filter(|j| !j.end_site).count();
         let widths = (skeleton.channel_count(), article_joints * 3 + 3);
         let mut recorder = Recorder {
@@ -315,19 +248,7 @@ impl Recorder {
             ..Recorder::new(numbers)
         };
         if let Some(outcome) = article {
-            recorder
-                .lines
-                .push(verdict_line(&outcome.verdict, language));
-            if let Some(stack) = &outcome.gl_stack {
-                recorder.lines.push(gl_stack_line(stack, language));
-            }
-            // It never drew: what the notes say of it is what its draw would do.
-            if outcome.joints.is_none() {
-                recorder.lines.push(match language {
-                    Language::English => "// the article's program stops before it draws: the notes below say what its draw would make of each joint's channels".to_string(),
-                    Language::Chinese => "// 原文的程式在 draw 之前就停了：以下的註解說明它的 draw 會怎麼處理每個關節的通道".to_string(),
-                });
-            }
+            recorder.lines.extend(outcome_lines(outcome, language));
         }
         recorder
     }
@@ -408,147 +329,97 @@ impl Recorder {
 
     /// The note for a call of the joint being drawn, if any.
     fn note_for(&mut self, name: &str, language: Language) -> Option<String> {
-        let zh = language == Language::Chinese;
         let depth = self.modelview.len() - 1;
         let explain = self.explain.as_ref()?;
         let &(index, rotations_done, axes_done) = explain.open.last()?;
         let joint = &explain.joints[index];
-        let note = match name {
-            "glPushMatrix" if zh => format!("{}：推入矩陣堆疊，深度 {depth}", joint.name),
-            "glPushMatrix" => format!("{}: push, stack depth {depth}", joint.name),
-            "glPopMatrix" if zh => format!("{} 畫完：彈出，回到深度 {depth}", joint.name),
-            "glPopMatrix" => format!("{} done: pop, back to depth {depth}", joint.name),
-            "glTranslatef" => {
-                let offset = self.point(joint.offset);
-                let replaced: Vec<String> = joint
-                    .position_columns
-                    .iter()
-                    .map(|(column, channel)| format!("{channel} = [{column}]"))
-                    .collect();
-                let add = explain.mode == crate::model::pose::OffsetMode::Add;
-                let replaced = replaced.join(", ");
-                let ours = match (replaced.is_empty(), add, zh) {
-                    (true, _, _) => format!("OFFSET {offset}"),
-                    (false, false, true) => {
-                        format!("OFFSET {offset}，位置通道取代其分量：{replaced}")
-                    }
-                    (false, true, true) => format!("OFFSET {offset}，加上位置通道：{replaced}"),
-                    (false, false, false) => format!("OFFSET {offset}, replaced by {replaced}"),
-                    (false, true, false) => format!("OFFSET {offset} plus {replaced}"),
-                };
-                // What the article translates by, where it is not that.
-                let article = match (joint.root_translation, zh) {
-                    (Some(row), true) => Some(format!(
-                        "原文把第 [0]、[1]、[2] 欄當作 x、y、z 平移：{}",
-                        plain(&row)
-                    )),
-                    (Some(row), false) => Some(format!(
-                        "the article translates by columns [0], [1], [2] as x, y, z: {}",
-                        plain(&row)
-                    )),
-                    (None, _) if joint.is_root || replaced.is_empty() => None,
-                    (None, true) => Some("原文只用 OFFSET 平移".to_string()),
-                    (None, false) => Some("the article translates by the OFFSET alone".to_string()),
-                };
-                match (article, zh) {
-                    (Some(article), true) => format!("{ours}；{article}"),
-                    (Some(article), false) => format!("{ours}; {article}"),
-                    (None, _) => ours,
-                }
-            }
+        let [english, chinese] = match name {
+            "glPushMatrix" => [
+                format!("{}: push, stack depth {depth}", joint.name),
+                format!("{}：推入矩陣堆疊，深度 {depth}", joint.name),
+            ],
+            "glPopMatrix" => [
+                format!("{} done: pop, back to depth {depth}", joint.name),
+                format!("{} 畫完：彈出，回到深度 {depth}", joint.name),
+            ],
+            "glTranslatef" => self.translation_note(joint, explain.mode),
             "glRotatef" => {
-                let (column, channel) = *joint.rotation_columns.get(rotations_done)?;
-                let article = joint.article_column + rotations_done;
-                let (flags, axes) = (joint.article_flags, joint.article_axes);
-                let (file_width, article_width) = explain.widths;
+                let &(column, channel) = joint.rotation_columns.get(rotations_done)?;
+                let note = rotation_note(joint, explain.widths, column, channel, rotations_done);
                 let last = explain.open.len() - 1;
                 self.explain.as_mut()?.open[last].1 += 1;
-                let i = rotations_done;
-                let Some(axes) = axes else {
-                    return Some(if zh {
-                        format!(
-                            "{channel}：第 [{column}] 欄；原文不轉這個關節（它的 flags 是 {flags}）"
-                        )
-                    } else {
-                        format!(
-                            "{channel}: column [{column}]; the article does not turn this joint (its flags are {flags})"
-                        )
-                    });
-                };
-                let Some(&axis) = axes.get(i) else {
-                    return Some(if zh {
-                        format!("{channel}：第 [{column}] 欄；原文只轉這個關節三次")
-                    } else {
-                        format!(
-                            "{channel}: column [{column}]; the article turns this joint three times only"
-                        )
-                    });
-                };
-                let letter = ["X", "Y", "Z"][axis];
-                // Where the article's value lies: a column of the file, or past the end of the
-                // file's rows (its rows are wider).
-                let same_column = article == column;
-                let another = match (article < file_width, zh) {
-                    (false, _) => "",
-                    (true, true) => "，另一個通道的值",
-                    (true, false) => ", another channel's value",
-                };
-                let article = match (article < file_width, zh) {
-                    (true, true) => format!("第 [{article}] 欄"),
-                    (true, false) => format!("column [{article}]"),
-                    (false, true) => format!(
-                        "它每列 {article_width} 個值（jointCount * 3 + 3）中的第 [{article}] 個，超過檔案每列 {file_width} 個值的結尾"
-                    ),
-                    (false, false) => format!(
-                        "[{article}] of its rows of {article_width} values (jointCount * 3 + 3), past the end of the file's rows of {file_width}"
-                    ),
-                };
-                match (axis == channel.axis(), same_column, zh) {
-                    (true, true, true) => format!("{channel}：第 [{column}] 欄，即 pFrame[{i}]"),
-                    (true, true, false) => {
-                        format!("{channel}: column [{column}], the article's pFrame[{i}]")
-                    }
-                    (true, false, true) => format!(
-                        "{channel}：第 [{column}] 欄；原文的 pFrame[{i}] 卻是{article}{another}"
-                    ),
-                    (true, false, false) => format!(
-                        "{channel}: column [{column}]; the article's pFrame[{i}] is {article}{another}"
-                    ),
-                    (false, true, true) => format!(
-                        "{channel}：第 [{column}] 欄；原文在這裡繞 {letter} 軸旋轉，用的是同一個 pFrame[{i}]"
-                    ),
-                    (false, true, false) => format!(
-                        "{channel}: column [{column}]; the article turns about {letter} here, by the same pFrame[{i}]"
-                    ),
-                    (false, false, true) => format!(
-                        "{channel}：第 [{column}] 欄；原文在這裡繞 {letter} 軸旋轉，用的是 pFrame[{i}]，即{article}"
-                    ),
-                    (false, false, false) => format!(
-                        "{channel}: column [{column}]; the article turns about {letter} here, by pFrame[{i}], {article}"
-                    ),
-                }
+                note
             }
             "glMultMatrixf" => {
                 let last = explain.open.len() - 1;
                 self.explain.as_mut()?.open[last].2 += 1;
-                match (axes_done, zh) {
-                    (0, true) => "骨骼自己的軸 C（ASF）".to_string(),
-                    (_, true) => "C 的反矩陣 C⁻¹".to_string(),
-                    (0, false) => "the bone's own axis C (ASF)".to_string(),
-                    (_, false) => "and C⁻¹: the channels turn about C".to_string(),
+                match axes_done {
+                    0 => both("the bone's own axis C (ASF)", "骨骼自己的軸 C（ASF）"),
+                    _ => both("and C⁻¹: the channels turn about C", "C 的反矩陣 C⁻¹"),
                 }
             }
             "glutSolidSphere" => {
                 let world = self.point(joint.world);
-                if zh {
-                    format!("{} 的球，世界座標 {world}", joint.name)
-                } else {
-                    format!("{}'s sphere, at {world} in the world", joint.name)
-                }
+                [
+                    format!("{}'s sphere, at {world} in the world", joint.name),
+                    format!("{} 的球，世界座標 {world}", joint.name),
+                ]
             }
             _ => return None,
         };
-        Some(note)
+        Some(match language {
+            Language::English => english,
+            Language::Chinese => chinese,
+        })
+    }
+
+    /// The note on a joint's `glTranslatef`: its OFFSET and the position channels that replace
+    /// or add to it, then what the article translates by where that differs.
+    fn translation_note(&self, joint: &JointFacts, mode: crate::model::pose::OffsetMode) -> Both {
+        let offset = self.point(joint.offset);
+        let replaced: Vec<String> = joint
+            .position_columns
+            .iter()
+            .map(|(column, channel)| format!("{channel} = [{column}]"))
+            .collect();
+        let add = mode == crate::model::pose::OffsetMode::Add;
+        let replaced = replaced.join(", ");
+        let [ours_en, ours_zh] = match (replaced.is_empty(), add) {
+            (true, _) => [format!("OFFSET {offset}"), format!("OFFSET {offset}")],
+            (false, false) => [
+                format!("OFFSET {offset}, replaced by {replaced}"),
+                format!("OFFSET {offset}，位置通道取代其分量：{replaced}"),
+            ],
+            (false, true) => [
+                format!("OFFSET {offset} plus {replaced}"),
+                format!("OFFSET {offset}，加上位置通道：{replaced}"),
+            ],
+        };
+        // What the article translates by, where it is not that.
+        let article = match joint.root_translation {
+            Some(row) => Some([
+                format!(
+                    "the article translates by columns [0], [1], [2] as x, y, z: {}",
+                    plain(&row)
+                ),
+                format!(
+                    "原文把第 [0]、[1]、[2] 欄當作 x、y、z 平移：{}",
+                    plain(&row)
+                ),
+            ]),
+            None if joint.is_root || replaced.is_empty() => None,
+            None => Some(both(
+                "the article translates by the OFFSET alone",
+                "原文只用 OFFSET 平移",
+            )),
+        };
+        match article {
+            Some([article_en, article_zh]) => [
+                format!("{ours_en}; {article_en}"),
+                format!("{ours_zh}；{article_zh}"),
+            ],
+            None => [ours_en, ours_zh],
+        }
     }
 
     /// Applies `m` to the current modelview matrix, if modelview is the current mode.
@@ -557,6 +428,203 @@ impl Recorder {
             let top = self.modelview.last_mut().expect("the stack is never empty");
             *top *= m;
         }
+    }
+}
+
+/// The article's flags for each joint: from its own tree where it loaded one joint for joint
+/// like bvhview's, else from the channels as if the file were laid out as the article needs.
+fn article_flags(
+    skeleton: &crate::model::skeleton::Skeleton,
+    article: Option<&crate::bvh::article::Outcome>,
+) -> Vec<u8> {
+    let loaded = article
+        .and_then(|outcome| outcome.joints.as_ref())
+        .filter(|joints| {
+            joints.len() == skeleton.joints.len()
+                && joints
+                    .iter()
+                    .zip(&skeleton.joints)
+                    .all(|(a, j)| (a.depth == 0) == j.parent.is_none())
+        });
+    match loaded {
+        Some(joints) => joints.iter().map(|j| j.flags).collect(),
+        None => skeleton.joints.iter().map(channel_flags).collect(),
+    }
+}
+
+/// What `--explain` says about each joint, in pre-order: a joint's number and the article's
+/// `pFrame` follow the joints before it.
+fn joint_facts(
+    skeleton: &crate::model::skeleton::Skeleton,
+    frame: Option<&[f32]>,
+    mode: crate::model::pose::OffsetMode,
+    flags: Vec<u8>,
+) -> Vec<JointFacts> {
+    let world = crate::model::pose::world_positions(skeleton, frame.unwrap_or(&[]), mode);
+    let mut joints_before = 0;
+    let mut turned_before = 0;
+    skeleton
+        .joints
+        .iter()
+        .zip(world)
+        .zip(flags)
+        .map(|((joint, world), article_flags)| {
+            // The article's pFrame moves on by 3 after a joint only when its flags are not 0.
+            let article_column = 3 + 3 * turned_before;
+            if article_flags != 0 {
+                turned_before += 1;
+            }
+            let label = if joint.end_site {
+                let parent = joint
+                    .parent
+                    .map_or("", |p| skeleton.joints[p].name.as_str());
+                Label::EndSiteOf(parent.to_string())
+            } else {
+                joints_before += 1;
+                Label::Joint(joints_before - 1)
+            };
+            JointFacts {
+                name: joint.name.clone(),
+                label,
+                article_column,
+                article_flags,
+                article_axes: crate::bvh::article::axes_turned(article_flags),
+                root_translation: root_translation(joint, frame),
+                columns: joint.first_channel..joint.first_channel + joint.channels.len(),
+                rotation_columns: columns_of(joint, true),
+                position_columns: columns_of(joint, false),
+                offset: joint.offset,
+                world,
+                is_root: joint.parent.is_none(),
+            }
+        })
+        .collect()
+}
+
+/// A joint's MOTION columns with their channels: its rotations (`rotation`) or its positions.
+fn columns_of(
+    joint: &crate::model::skeleton::Joint,
+    rotation: bool,
+) -> Vec<(usize, crate::model::skeleton::Channel)> {
+    joint
+        .channels
+        .iter()
+        .enumerate()
+        .filter(|(_, c)| c.is_rotation() == rotation)
+        .map(|(i, &c)| (joint.first_channel + i, c))
+        .collect()
+}
+
+/// What the article translates the root by in `frame`: columns 0, 1 and 2 as x, y and z. Said
+/// only where the root's first three channels are not Xposition, Yposition, Zposition.
+fn root_translation(
+    joint: &crate::model::skeleton::Joint,
+    frame: Option<&[f32]>,
+) -> Option<[f32; 3]> {
+    let xyz_first = joint
+        .channels
+        .iter()
+        .take(3)
+        .map(|c| c.is_position().then_some(c.axis()))
+        .eq([Some(0), Some(1), Some(2)]);
+    match frame {
+        Some(row) if joint.parent.is_none() && !xyz_first && row.len() >= 3 => {
+            Some([row[0], row[1], row[2]])
+        }
+        _ => None,
+    }
+}
+
+/// The lines before the calls: the verdict on the file, what GL's stack says of the article's
+/// draw, and whether the article's program got as far as drawing.
+fn outcome_lines(outcome: &crate::bvh::article::Outcome, language: Language) -> Vec<String> {
+    let mut lines = vec![verdict_line(&outcome.verdict, language)];
+    if let Some(stack) = &outcome.gl_stack {
+        lines.push(gl_stack_line(stack, language));
+    }
+    // It never drew: what the notes say of it is what its draw would do.
+    if outcome.joints.is_none() {
+        lines.push(match language {
+            Language::English => "// the article's program stops before it draws: the notes below say what its draw would make of each joint's channels".to_string(),
+            Language::Chinese => "// 原文的程式在 draw 之前就停了：以下的註解說明它的 draw 會怎麼處理每個關節的通道".to_string(),
+        });
+    }
+    lines
+}
+
+/// The note on the `i`-th `glRotatef` of a joint, for the rotation channel at `column`: the
+/// column the article's `pFrame[i]` reads and the axis it turns about, where either differs
+/// from the file's (`widths`: values in a row of the file, and in a row as the article reads it).
+fn rotation_note(
+    joint: &JointFacts,
+    (file_width, article_width): (usize, usize),
+    column: usize,
+    channel: crate::model::skeleton::Channel,
+    i: usize,
+) -> Both {
+    let flags = joint.article_flags;
+    let Some(axes) = joint.article_axes else {
+        return [
+            format!(
+                "{channel}: column [{column}]; the article does not turn this joint (its flags are {flags})"
+            ),
+            format!("{channel}：第 [{column}] 欄；原文不轉這個關節（它的 flags 是 {flags}）"),
+        ];
+    };
+    let Some(&axis) = axes.get(i) else {
+        return [
+            format!("{channel}: column [{column}]; the article turns this joint three times only"),
+            format!("{channel}：第 [{column}] 欄；原文只轉這個關節三次"),
+        ];
+    };
+    let letter = ["X", "Y", "Z"][axis];
+    let article = joint.article_column + i;
+    // Where the article's value lies: a column of the file, or past the end of the file's rows
+    // (its rows are wider).
+    let [article_en, article_zh] = if article < file_width {
+        [format!("column [{article}]"), format!("第 [{article}] 欄")]
+    } else {
+        [
+            format!(
+                "[{article}] of its rows of {article_width} values (jointCount * 3 + 3), past the end of the file's rows of {file_width}"
+            ),
+            format!(
+                "它每列 {article_width} 個值（jointCount * 3 + 3）中的第 [{article}] 個，超過檔案每列 {file_width} 個值的結尾"
+            ),
+        ]
+    };
+    let [another_en, another_zh] = if article < file_width {
+        both(", another channel's value", "，另一個通道的值")
+    } else {
+        both("", "")
+    };
+    match (axis == channel.axis(), article == column) {
+        (true, true) => [
+            format!("{channel}: column [{column}], the article's pFrame[{i}]"),
+            format!("{channel}：第 [{column}] 欄，即 pFrame[{i}]"),
+        ],
+        (true, false) => [
+            format!(
+                "{channel}: column [{column}]; the article's pFrame[{i}] is {article_en}{another_en}"
+            ),
+            format!("{channel}：第 [{column}] 欄；原文的 pFrame[{i}] 卻是{article_zh}{another_zh}"),
+        ],
+        (false, true) => [
+            format!(
+                "{channel}: column [{column}]; the article turns about {letter} here, by the same pFrame[{i}]"
+            ),
+            format!(
+                "{channel}：第 [{column}] 欄；原文在這裡繞 {letter} 軸旋轉，用的是同一個 pFrame[{i}]"
+            ),
+        ],
+        (false, false) => [
+            format!(
+                "{channel}: column [{column}]; the article turns about {letter} here, by pFrame[{i}], {article_en}"
+            ),
+            format!(
+                "{channel}：第 [{column}] 欄；原文在這裡繞 {letter} 軸旋轉，用的是 pFrame[{i}]，即{article_zh}"
+            ),
+        ],
     }
 }
 
