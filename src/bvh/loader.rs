@@ -14,7 +14,7 @@ pub use super::options::{Input, RowReader, Settings};
 use super::rows::{self, RowParser, parse_number};
 use crate::io::error::Error;
 use crate::io::lines::{is_line_end, line_column, shown_first_word, shown_word};
-use crate::limits::{MAX_DEPTH, MAX_HEADER_BYTES};
+use crate::limits::MAX_HEADER_BYTES;
 use crate::model::motion::Motion;
 use crate::model::skeleton::{Channel, Joint, RotationOrder, Skeleton};
 use glam::Vec3;
@@ -106,33 +106,6 @@ pub fn load_file<'a>(input: impl Into<Input<'a>>, settings: Settings) -> Result<
     Ok(bvh.finish(frames, frame_time, rows))
 }
 
-/// [`load_file`] of a path with another depth limit than [`MAX_DEPTH`], for `trace --explain`
-/// alone: it compares the article's reading of a file bvhview refuses only for its depth with
-/// what the file says, and walks the tree without recursion. The same steps as `load_file`.
-#[cfg(feature = "cli")]
-pub(crate) fn load_deeper(path: &Path, max_depth: usize) -> Result<Bvh, Error> {
-    let settings = Settings::default();
-    let mut bvh = Loader::open(Input::Path(path), settings)?;
-    bvh.max_depth = max_depth;
-    bvh.process_hierarchy()?;
-    loop {
-        match bvh.next_keyword()? {
-            Keyword::LeftBrace(brace) => bvh.process_left_brace(brace)?,
-            Keyword::RightBrace(brace) => bvh.process_right_brace(brace)?,
-            Keyword::Joint(keyword) => bvh.process_joint(keyword)?,
-            Keyword::End(keyword) => bvh.process_end(keyword)?,
-            Keyword::Offset(keyword) => bvh.process_offset(keyword)?,
-            Keyword::Channels(keyword) => bvh.process_channels(keyword)?,
-            Keyword::Motion => break,
-            Keyword::EndOfFile => return Ok(bvh.finish(0, 0.0, (Vec::new(), Vec::new()))),
-        }
-    }
-    let (frames, frames_line) = bvh.process_frames()?;
-    let frame_time = bvh.process_frame_time()?;
-    let rows = bvh.read_rows(frames, frames_line, settings)?;
-    Ok(bvh.finish(frames, frame_time, rows))
-}
-
 /// Parses BVH text. `source` names the input in error messages (`source:line:column: …`).
 pub fn load_bytes(text: &[u8], source: &str) -> Result<Bvh, Error> {
     load_file(Input::Bytes(text, source), Settings::default())
@@ -189,7 +162,7 @@ struct Loader<'a> {
     /// A joint whose name was read and whose `{` must come next.
     awaiting_brace: Option<usize>,
     channel_count: usize,
-    /// The deepest nesting accepted: [`MAX_DEPTH`], but for [`load_deeper`].
+    /// The deepest nesting accepted ([`Settings::max_depth`]).
     max_depth: usize,
 }
 
@@ -222,7 +195,7 @@ impl<'a> Loader<'a> {
             current_node: None,
             awaiting_brace: None,
             channel_count: 0,
-            max_depth: MAX_DEPTH,
+            max_depth: settings.max_depth,
         };
         loader.read_more()?;
         Ok(loader)

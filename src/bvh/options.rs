@@ -33,6 +33,10 @@ pub struct Settings {
     pub first_read: usize,
     /// The row engine, or the article's plain loop (`rows::read_rows_simple`).
     pub rows: RowReader,
+    /// The deepest nesting accepted, End Sites included: [`crate::limits::MAX_DEPTH`];
+    /// `trace --explain` reads a file refused only for its depth again, deeper, to compare the
+    /// article's reading with what the file says.
+    pub max_depth: usize,
 }
 
 impl Default for Settings {
@@ -43,6 +47,7 @@ impl Default for Settings {
             max_size: u64::MAX,
             first_read: 64 << 10,
             rows: RowReader::Engine,
+            max_depth: crate::limits::MAX_DEPTH,
         }
     }
 }

@@ -66,9 +66,12 @@ pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
             // What the article's program does with a file bvhview refuses is still worth a line.
             // A file refused only for its depth is read again, deeper, to compare with.
             if args.explain {
-                let deeper = crate::bvh::loader::load_deeper(
-                    &args.file,
-                    crate::bvh::article::EXPLAIN_MAX_DEPTH,
+                let deeper = crate::bvh::load_file(
+                    args.file.as_path(),
+                    crate::bvh::loader::Settings {
+                        max_depth: crate::bvh::article::EXPLAIN_MAX_DEPTH,
+                        ..Default::default()
+                    },
                 )
                 .ok();
                 let written = deeper.as_ref().map(|bvh| (&bvh.skeleton, &bvh.motion));
