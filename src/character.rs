@@ -20,6 +20,7 @@
 //! ```
 
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::mesh::Mesh;
 use crate::model::pose::{OffsetMode, world_matrices};
 use crate::model::skeleton::Skeleton;
@@ -88,16 +89,20 @@ pub struct Dressed {
 
 impl Dressed {
     /// Its warnings for a user, each a whole line (`TAKE: warning: …`).
-    pub fn warnings(&self, take_name: &str, character_name: &str) -> Vec<String> {
-        let mut lines: Vec<String> = self
+    pub fn warnings(&self, take_name: &str, character_name: &str) -> Vec<Message> {
+        let mut lines: Vec<Message> = self
             .uncarried
             .iter()
-            .map(|why| format!("{take_name}: warning: {why}"))
+            .map(|why| format!("{take_name}: warning: {why}").into())
             .collect();
         if let Some(why) = &self.forced {
-            lines.push(format!(
-                "{take_name} onto {character_name}: warning: kept as --force asks though {why}"
-            ));
+            lines.push(
+                Message::from(format!(
+                    "{take_name} onto {character_name}: warning: kept as "
+                ))
+                .argument("force", None)
+                .text(format!(" asks though {why}")),
+            );
         }
         lines
     }
@@ -124,7 +129,7 @@ impl Character {
                 (read, mesh, Format::Gltf)
             }
             _ => {
-                return Err(Error::Usage(format!(
+                return Err(Error::usage(format!(
                     "{}: a character is an FBX or glTF file (.fbx, .glb, .gltf) with a skinned \
                      mesh",
                     path.display()
@@ -132,7 +137,7 @@ impl Character {
             }
         };
         if mesh.vertex_count() == 0 || mesh.triangles.is_empty() {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: no mesh to draw (a character needs a mesh with triangles)",
                 path.display()
             )));
@@ -193,7 +198,7 @@ fn skinnable(path: &Path, skeleton: &Skeleton, mesh: &Mesh) -> Result<(), Error>
             .to_cols_array()
             .iter()
             .fold(0.0f32, |m, v| m.max(v.abs()));
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{}: the bind matrix of {}{vertex} holds {largest:.2e}, past {MAX_BIND_VALUE:e}: its \
              vertices would be skinned past what a float holds (the skin's inverse bind matrix \
              is damaged: export the skin again)",
@@ -206,7 +211,7 @@ fn skinnable(path: &Path, skeleton: &Skeleton, mesh: &Mesh) -> Result<(), Error>
     let (mut positions, mut normals) = (Vec::new(), Vec::new());
     mesh.deform(&world, &mut positions, &mut normals);
     if let Some(v) = positions.iter().position(|p| !p.is_finite()) {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{}: {} is skinned to a position that is not finite in the rest pose (its bones' \
              bind matrices are damaged: export the skin again)",
             path.display(),

@@ -85,6 +85,7 @@ pub mod teaching_zh_hant {}
 pub use io::error::Error;
 /// The limits every count, rate and size is held to (what bvhview refuses, and where).
 pub use io::limits;
+pub use io::message::{Argument, Message, RustSpelling, Spelling};
 pub use model::motion::Motion;
 pub use model::skeleton::{Channel, Joint, RotationOrder, Skeleton};
 pub use take::{OpenOptions, Take};

@@ -80,9 +80,11 @@ impl Default for PositionsOptions {
 pub fn parse_frames(text: &str, frame_count: usize) -> Result<Range<usize>, Error> {
     let last = frame_count.saturating_sub(1);
     let bad = || {
-        Error::Usage(format!(
-            "--frames {text}: expected N, A..B (B left out), A..=B, A.. or ..B within frames 0 to {last}"
-        ))
+        Error::invalid(
+            "frames",
+            text,
+            format!("expected N, A..B (B left out), A..=B, A.. or ..B within frames 0 to {last}"),
+        )
     };
     let number = |s: &str| -> Result<usize, Error> { s.trim().parse().map_err(|_| bad()) };
     let range = if let Some((a, b)) = text.split_once("..=") {
@@ -101,9 +103,11 @@ pub fn parse_frames(text: &str, frame_count: usize) -> Result<Range<usize>, Erro
         n..n.checked_add(1).ok_or_else(bad)?
     };
     if range.start >= range.end {
-        return Err(Error::Usage(format!(
-            "--frames {text}: no frames: A..B leaves B out (for frame A alone, give A or A..=A)"
-        )));
+        return Err(Error::invalid(
+            "frames",
+            text,
+            "no frames: A..B leaves B out (for frame A alone, give A or A..=A)",
+        ));
     }
     if range.end > frame_count {
         return Err(bad());
@@ -351,7 +355,7 @@ fn push_float(text: &mut Vec<u8>, shortest: &mut Shortest, value: f32) {
 fn not_finite_at(frame: usize, name: &str, p: Vec3) -> NotFinite {
     NotFinite(format!(
         "frame {frame}, {name}: the position ({}, {}, {}) is not a finite number \
-         (the offsets, the values or --scale overflow)",
+         (the offsets, the values or a scale overflow)",
         p.x, p.y, p.z
     ))
 }

@@ -288,8 +288,8 @@ pub(crate) fn _compile_dataset(
         let result = py.detach(|| {
             let (items, list) = match (&takes, piece) {
                 (Some(_), Some(_)) => {
-                    return Err(Error::Usage(
-                        "takes= and piece= cannot be given together".to_string(),
+                    return Err(Error::usage(
+                        "takes= and piece= cannot be given together",
                     ));
                 }
                 (Some(pairs), None) => {
@@ -315,7 +315,7 @@ pub(crate) fn _compile_dataset(
             // the compile at that known point.
             let pause = std::env::var_os("BVHVIEW_PLANT_PAUSE")
                 .is_some_and(|point| point == "_compile_dataset");
-            let interrupted = |_: &_, _: Option<&str>, _: usize, _: usize| loop {
+            let interrupted = |_: &_, _: Option<&Error>, _: usize, _: usize| loop {
                 let checked = Python::attach(|py| py.check_signals());
                 match checked {
                     Err(raised) => {

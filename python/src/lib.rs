@@ -13,7 +13,7 @@
 //! - here: the module, errors as Python exceptions, and [`guard`], which every entry point runs
 //!   in so that no panic reaches Python.
 
-use bvhview::Error;
+use bvhview::{Argument, Error, Spelling};
 use bvhview::model::pose::{self, FkPlan, FkScratch, LANES, OffsetMode};
 use bvhview::plumbing::AtomicFile;
 use bvhview::take::{self, Take};
@@ -88,15 +88,15 @@ fn planted_pause_without_the_gil(entry: &str) -> Result<(), Error> {
         return Ok(());
     }
     let Some(folder) = std::env::var_os("BVHVIEW_PLANT_FOLDER").map(PathBuf::from) else {
-        return Err(Error::Usage(
-            "BVHVIEW_PLANT_PAUSE needs BVHVIEW_PLANT_FOLDER".into(),
+        return Err(Error::usage(
+            "BVHVIEW_PLANT_PAUSE needs BVHVIEW_PLANT_FOLDER",
         ));
     };
     std::fs::write(folder.join("paused"), b"").map_err(|e| Error::io(&folder, e))?;
     let start = std::time::Instant::now();
     while !folder.join("release").exists() {
         if start.elapsed() > std::time::Duration::from_secs(60) {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "the pause planted in {entry} was not released within 60 s"
             )));
         }
@@ -105,53 +105,31 @@ fn planted_pause_without_the_gil(entry: &str) -> Result<(), Error> {
     Ok(())
 }
 
-/// A message of the crate in a Python user's words: the CLI's options become the arguments of the
-/// same names (`--fps 0` → `fps=0`, `--contact-speed` → `contact_speed=`), and the command an AMC
-/// file alone is pointed to becomes the call that reads the pair (`bvhview.load("SKELETON.asf",
-/// motion=…)`).
-fn python_words(text: &str) -> String {
-    const AMC_ALONE: &str = "bvhview COMMAND SKELETON.asf --motion ";
-    let text = match text.split_once(AMC_ALONE) {
-        Some((before, motion)) => {
-            format!("{before}bvhview.load(\"SKELETON.asf\", motion=\"{motion}\")")
+/// How a Python user writes the crate's arguments: as keywords of the same names (`fps=0`,
+/// `contact_speed`), and an ASF skeleton with its motion as the call that reads the pair
+/// (`bvhview.load("SKELETON.asf", motion="WALK.amc")`).
+#[derive(Debug)]
+struct Keywords;
+
+impl Spelling for Keywords {
+    fn argument(&self, argument: &Argument) -> String {
+        match &argument.value {
+            Some(value) => format!("{}={value}", argument.name),
+            None => argument.name.to_string(),
         }
-        None => text.to_string(),
-    };
-    let mut out = String::with_capacity(text.len());
-    let mut rest = text.as_str();
-    while let Some(at) = rest.find("--") {
-        let (before, flag) = rest.split_at(at);
-        out.push_str(before);
-        let name_len = flag[2..]
-            .find(|c: char| !(c.is_ascii_lowercase() || c == '-'))
-            .unwrap_or(flag.len() - 2);
-        let name = &flag[2..2 + name_len];
-        let starts_word = before.is_empty() || before.ends_with([' ', '(', '`', '\'', '"']);
-        if name.is_empty() || !starts_word {
-            out.push_str("--");
-            rest = &flag[2..];
-            continue;
-        }
-        out.push_str(&name.replace('-', "_"));
-        // `--fps 0` → `fps=0`; `--up:` → `up:`.
-        let after = &flag[2 + name_len..];
-        rest = match after.strip_prefix(' ') {
-            Some(value) if !value.is_empty() => {
-                out.push('=');
-                value
-            }
-            _ => after,
-        };
     }
-    out.push_str(rest);
-    out
+
+    fn opening(&self, file: &str, with: &Argument) -> String {
+        let value = with.value.as_deref().unwrap_or("");
+        format!("bvhview.load({file:?}, {}={value:?})", with.name)
+    }
 }
 
 /// Every error of the crate as the Python exception a Python user expects: a malformed file is a
 /// `ParseError` (a `ValueError`), a missing file a `FileNotFoundError`, other I/O an `OSError`,
 /// a request that cannot be met a `ValueError`.
 fn to_python(py: Python<'_>, error: Error) -> PyErr {
-    let text = python_words(&error.to_string());
+    let text = error.spelled(&Keywords);
     match error {
         Error::Parse {
             path,
@@ -175,12 +153,6 @@ fn to_python(py: Python<'_>, error: Error) -> PyErr {
         Error::Io { path, source } | Error::Output { path, source } => {
             os_error(&path, &source, &text)
         }
-        // An argument by its keyword, as Python spells it.
-        Error::InvalidArgument {
-            name,
-            value,
-            expected,
-        } => PyValueError::new_err(format!("{name}={value}: {expected}")),
         Error::Memory(_) => PyMemoryError::new_err(text),
         Error::Environment(_) => PyRuntimeError::new_err(text),
         // A format this build lacks, a request that cannot be done: the caller's to change.

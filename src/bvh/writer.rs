@@ -42,7 +42,7 @@ pub fn renamed(skeleton: &Skeleton) -> Vec<(String, String)> {
 /// [`crate::limits`]. Called before anything is written, so a take that cannot be written
 /// leaves no file.
 pub fn check(skeleton: &Skeleton, motion: &Motion) -> Result<(), Error> {
-    let refuse = |why: String| Err(Error::Usage(format!("cannot write BVH: {why}")));
+    let refuse = |why: String| Err(Error::usage(format!("cannot write BVH: {why}")));
     if let Some(joint) = skeleton.joints.iter().find(|j| !j.offset.is_finite()) {
         return refuse(format!("the OFFSET of '{}' is not finite", joint.name));
     }

@@ -43,7 +43,7 @@ pub(crate) fn dress(
     let (dressed, said) = character.dress_file(take, path, insist, crate::io::parallel::cores())?;
     let (take_name, character_name) = (path.display().to_string(), &character.take.name);
     for warning in said.warnings(&take_name, character_name) {
-        eprintln!("bvhview: {warning}");
+        eprintln!("bvhview: {}", warning.spelled(&super::Flags));
     }
     if let Some(check) = &said.check {
         note(format_args!(
@@ -66,7 +66,7 @@ pub(crate) fn load_all(
         return Ok(vec![None; count]);
     }
     if paths.len() != 1 && paths.len() != count {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "--character: give one for every take, or one per take in their order ({} given \
              for {})",
             paths.len(),
@@ -79,10 +79,9 @@ pub(crate) fn load_all(
         let path = &paths[k.min(paths.len() - 1)];
         if path.as_os_str() == "-" {
             // It said "-: no such file".
-            return Err(Error::Usage(
+            return Err(Error::usage(
                 "--character -: a character is read from a file, not standard input (a glTF's \
-                 buffers and textures are found beside it); give its .fbx, .glb or .gltf path"
-                    .into(),
+                 buffers and textures are found beside it); give its .fbx, .glb or .gltf path",
             ));
         }
         if let Some((_, character)) = read.iter().find(|(p, _)| p == path) {
@@ -92,7 +91,11 @@ pub(crate) fn load_all(
         let options = crate::take::OpenOptions::new().max_size(source.max_size);
         let character = Arc::new(Character::open_with(path, &options)?);
         for warning in &character.take.warnings {
-            eprintln!("bvhview: {}: warning: {warning}", path.display());
+            eprintln!(
+                "bvhview: {}: warning: {}",
+                path.display(),
+                warning.spelled(&super::Flags)
+            );
         }
         read.push((path.clone(), character.clone()));
         out.push(Some(character));

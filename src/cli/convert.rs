@@ -100,8 +100,8 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
     }
     // `-o -`: standard output, in the format --to names (there is no extension to tell it).
     if is_stdio(&args.output) && args.to.is_none() {
-        return Err(Error::Usage(
-            "-o -: name the format written to standard output with --to bvh, glb or gltf".into(),
+        return Err(Error::usage(
+            "-o -: name the format written to standard output with --to bvh, glb or gltf",
         ));
     }
     if !is_stdio(&args.output) {
@@ -113,7 +113,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         && !is_stdio(&args.output)
         && !crate::io::output::written_in_place(&args.output)
     {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "--to {}: -o {} is a .{} file (--to is for a folder; a file is written in the \
              format its extension names)",
             to.extension(),
@@ -125,7 +125,11 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
     check_options(&args, format)?;
     let loaded = load_with_threads(&args.input, &args.source, threads(&args))?;
     for warning in &loaded.warnings {
-        eprintln!("bvhview: {}: warning: {warning}", args.input.display());
+        eprintln!(
+            "bvhview: {}: warning: {}",
+            args.input.display(),
+            warning.spelled(&super::Flags)
+        );
     }
     let loaded = edit(&args, loaded)?;
     if let Some(path) = &args.character {
@@ -190,13 +194,13 @@ fn threads(args: &ConvertArgs) -> usize {
 /// Refuses options that could not apply to any take, before anything is read.
 fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
     if args.character.is_some() && format == TakeFormat::Bvh {
-        return Err(Error::Usage(
-            "--character needs a glTF output (.glb or .gltf); a BVH file has no mesh".into(),
+        return Err(Error::usage(
+            "--character needs a glTF output (.glb or .gltf); a BVH file has no mesh",
         ));
     }
     if args.skin && format == TakeFormat::Bvh {
-        return Err(Error::Usage(
-            "--skin needs a glTF output (.glb or .gltf); a BVH file has no mesh".into(),
+        return Err(Error::usage(
+            "--skin needs a glTF output (.glb or .gltf); a BVH file has no mesh",
         ));
     }
     if let Some(fps) = args.fps {
@@ -205,7 +209,7 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
     if let Some(factor) = args.scale
         && !(factor.is_finite() && factor != 0.0)
     {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "--scale {factor}: expected a finite number other than 0"
         )));
     }
@@ -352,7 +356,7 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
         return Err(error);
     }
     if converted == 0 {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{}: no take could be converted ({} failed, {} skipped), so nothing was written",
             dir.display(),
             failed,
@@ -379,13 +383,13 @@ fn run_folder(args: &ConvertArgs) -> Result<ExitCode, Error> {
 fn folder_format(args: &ConvertArgs) -> Result<TakeFormat, Error> {
     let dir = &args.input;
     if args.character.is_some() {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{} is a folder: --character puts one take on a character (give a file)",
             dir.display()
         )));
     }
     let format = args.to.ok_or_else(|| {
-        Error::Usage(format!(
+        Error::usage(format!(
             "{} is a folder: say the format its takes are written in with --to bvh, glb or gltf \
              (-o names the folder to make)",
             dir.display()
@@ -393,7 +397,7 @@ fn folder_format(args: &ConvertArgs) -> Result<TakeFormat, Error> {
     })?;
     check_options(args, format)?;
     if let Some(motion) = &args.source.motion {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "--motion {}: a folder pairs each AMC with its ASF itself",
             motion.display()
         )));
@@ -482,7 +486,11 @@ fn convert_one(
         ..Default::default()
     };
     let result = take::load_take(&item.path, &options).and_then(|loaded| {
-        let warnings = loaded.warnings.clone();
+        let warnings: Vec<String> = loaded
+            .warnings
+            .iter()
+            .map(|w| w.spelled(&super::Flags))
+            .collect();
         let loaded = edit(args, loaded)?;
         let prepared = Prepared::new(
             format,
@@ -495,7 +503,7 @@ fn convert_one(
         prepared
             .write_to(&mut bytes)
             .map_err(|e| match crate::positions::not_finite(&e) {
-                Some(_) => Error::Usage(e.to_string()),
+                Some(_) => Error::usage(e.to_string()),
                 None => Error::output(take, e),
             })?;
         Ok(Converted {

@@ -174,7 +174,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
             // A line goes on a line of its own, the bar drawn again below it.
             progress.done();
             if let Some(error) = error {
-                super::note(format_args!("skipped {error}"));
+                super::note(format_args!("skipped {}", super::said(error)));
             }
             progress.show(finished);
             true

@@ -28,7 +28,7 @@ pub(crate) fn run(args: DiffArgs) -> Result<ExitCode, Error> {
         Image::read_png(&args.second)?,
     );
     if (a.width, a.height) != (b.width, b.height) {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "the pictures differ in size: {}x{} and {}x{}",
             a.width, a.height, b.width, b.height
         )));

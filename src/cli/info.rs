@@ -39,7 +39,7 @@ pub(crate) fn run(args: InfoArgs) -> Result<ExitCode, Error> {
         Some(take) => format!("{name} + {}", take.display()),
         None => name,
     };
-    let mut text = crate::info::summary(&name, &loaded, offset_mode);
+    let mut text = crate::info::summary(&name, &loaded, offset_mode, &super::Flags);
     if let Some(path) = args
         .file
         .as_deref()
@@ -78,7 +78,7 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
     }
     let items = walk.items;
     if items.is_empty() {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{}: no .bvh, .fbx, .gltf, .glb, .asf or .amc files",
             dir.display()
         )));
@@ -86,7 +86,7 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
     let threads = crate::io::parallel::cores();
     let progress = super::Progress::new(items.len());
     if let Some(motion) = &source.motion {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "--motion {}: a folder pairs each AMC with its ASF itself",
             motion.display()
         )));
@@ -112,7 +112,7 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
                 outcome.item.path.display(),
                 outcome.item.wanted_skeleton()
             ),
-            Err(error) => format!("error  {error}"),
+            Err(error) => format!("error  {}", super::said(error)),
         };
         progress.done();
         let mut out = io::stdout().lock();

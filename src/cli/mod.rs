@@ -23,6 +23,7 @@ pub(crate) mod trace;
 pub(crate) mod viewer;
 
 pub(crate) use crate::io::error::Error;
+use crate::io::message::{Argument, Spelling};
 pub(crate) use crate::model::pose::{OffsetMode, Up};
 pub(crate) use crate::render::Look;
 pub(crate) use crate::render::draw::Style;
@@ -129,16 +130,38 @@ impl Source {
     }
 }
 
-/// An error as the command line says it: an argument by its flag (`--frame-time 0: …`).
-pub(crate) fn said(error: &Error) -> String {
-    match error {
-        Error::InvalidArgument {
-            name,
-            value,
-            expected,
-        } => format!("--{} {value}: {expected}", name.replace('_', "-")),
-        _ => error.to_string(),
+/// What the article's view says of a file whose rest pose stands along z: it is drawn as
+/// written, as the article draws every file, and what stands it up.
+const LYING_HINT: &str = "stands along z in its motion: drawn as written, as the article \
+     draws every file (--up z or --look studio stands it up; V in the window)";
+
+/// How the command line writes the library's arguments: `--max-size 8G`, and an opening of an
+/// ASF skeleton with its motion as `bvhview COMMAND SKELETON.asf --motion WALK.amc`.
+#[derive(Debug)]
+pub(crate) struct Flags;
+
+impl Spelling for Flags {
+    fn argument(&self, argument: &Argument) -> String {
+        // The one argument whose flag is not its name: a format is named by what it is read
+        // from (`--from bvh`), beside `--to` for what is written.
+        let flag = match argument.name {
+            "format" => "from".to_string(),
+            name => name.replace('_', "-"),
+        };
+        match &argument.value {
+            Some(value) => format!("--{flag} {value}"),
+            None => format!("--{flag}"),
+        }
     }
+
+    fn opening(&self, file: &str, with: &Argument) -> String {
+        format!("bvhview COMMAND {file} {}", self.argument(with))
+    }
+}
+
+/// An error as the command line says it: each argument by its flag (`--frame-time 0: …`).
+pub(crate) fn said(error: &Error) -> String {
+    error.spelled(&Flags)
 }
 
 /// `8G` → 8 GiB; plain numbers are bytes.
@@ -244,7 +267,7 @@ pub(crate) fn resolve_up(
                  written)"
             );
         } else {
-            eprintln!("bvhview: {name}: {}", crate::render::hud::LYING_HINT);
+            eprintln!("bvhview: {name}: {}", LYING_HINT);
         }
     }
     if framed { stance.up } else { Up::Y }
@@ -254,7 +277,7 @@ pub(crate) fn resolve_up(
 pub(crate) fn warn_offset_mode(loaded: &Take, mode: OffsetMode, name: &str) {
     if let Some(warning) = crate::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, mode)
     {
-        eprintln!("bvhview: {name}: warning: {warning}");
+        eprintln!("bvhview: {name}: warning: {}", warning.spelled(&Flags));
     }
 }
 
@@ -294,7 +317,7 @@ pub(crate) fn check_output(path: &Path, formats: &[&str]) -> Result<(), Error> {
         return Ok(());
     }
     let list: Vec<String> = formats.iter().map(|f| format!(".{f}")).collect();
-    Err(Error::Usage(format!(
+    Err(Error::usage(format!(
         "-o {}: this command writes {}",
         path.display(),
         list.join(" or ")
@@ -342,7 +365,11 @@ impl Progress {
 pub(crate) fn load(path: &Path, source: &Source) -> Result<Take, Error> {
     let loaded = load_quietly(path, source)?;
     for warning in &loaded.warnings {
-        eprintln!("bvhview: {}: warning: {warning}", path.display());
+        eprintln!(
+            "bvhview: {}: warning: {}",
+            path.display(),
+            warning.spelled(&Flags)
+        );
     }
     Ok(loaded)
 }
@@ -366,7 +393,7 @@ pub(crate) fn paired_takes(
         let path = &files[k];
         if is(path, "asf") && files.get(k + 1).is_some_and(|next| is(next, "amc")) {
             if source.motion.is_some() {
-                return Err(Error::Usage(format!(
+                return Err(Error::usage(format!(
                     "{}: give its motion once, as the .amc after it or with --motion",
                     path.display()
                 )));
@@ -379,10 +406,9 @@ pub(crate) fn paired_takes(
         }
     }
     if takes.len() > 1 && source.motion.is_some() {
-        return Err(Error::Usage(
+        return Err(Error::usage(
             "--motion goes with one ASF skeleton; to show ASF/AMC takes beside others, give \
-             each .amc right after its .asf (a.asf a.amc b.bvh)"
-                .into(),
+             each .amc right after its .asf (a.asf a.amc b.bvh)",
         ));
     }
     Ok(takes)
@@ -402,7 +428,7 @@ pub(crate) fn load_with_threads(
 ) -> Result<Take, Error> {
     if !is_stdio(path) {
         if source.from.is_some() {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "--from is for standard input (-); {} is named by its extension",
                 path.display()
             )));
@@ -410,7 +436,7 @@ pub(crate) fn load_with_threads(
         return take::load_take(path, &source.open_options(threads));
     }
     if let Some(motion) = &source.motion {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "--motion {}: an ASF skeleton is read from a file, not standard input",
             motion.display()
         )));
@@ -418,17 +444,13 @@ pub(crate) fn load_with_threads(
     use std::io::Read as _;
     let mut bytes = Vec::new();
     let limit = source.max_size;
-    crate::io::read::Bounded::saying(
-        io::stdin().lock(),
-        limit,
-        format!("more than --max-size {limit} bytes"),
-    )
-    .read_to_end(&mut bytes)
-    .map_err(|e| Error::io(Path::new("<stdin>"), e))?;
+    crate::io::read::Bounded::new(io::stdin().lock(), limit)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(Path::new("<stdin>"), e))?;
     let mut options = source.open_options(threads);
     if let Some(from) = &source.from {
         options.format = Some(take::Format::of_extension(from).ok_or_else(|| {
-            Error::Usage(format!(
+            Error::usage(format!(
                 "--from {from}: bvhview reads bvh, fbx, gltf or glb from standard input"
             ))
         })?);
@@ -445,10 +467,10 @@ pub(crate) fn load_or_default(
         Some(path) => Ok((path.display().to_string(), load(path, source)?)),
         None => {
             if source.motion.is_some() {
-                return Err(Error::Usage("--motion needs an ASF skeleton file".into()));
+                return Err(Error::usage("--motion needs an ASF skeleton file"));
             }
             if source.take.is_some() {
-                return Err(Error::Usage("--take needs an FBX or glTF file".into()));
+                return Err(Error::usage("--take needs an FBX or glTF file"));
             }
             crate::limits::frame_time_option(source.frame_time)?;
             let mut walk = take::Take::bundled()?;
@@ -510,7 +532,7 @@ pub(crate) fn written(result: io::Result<()>, path: Option<&Path>) -> Result<(),
     match result {
         Ok(()) => Ok(()),
         Err(e) if path.is_none() && e.kind() == io::ErrorKind::BrokenPipe => Ok(()),
-        Err(e) if crate::positions::not_finite(&e).is_some() => Err(Error::Usage(e.to_string())),
+        Err(e) if crate::positions::not_finite(&e).is_some() => Err(Error::usage(e.to_string())),
         Err(e) => Err(Error::output(path.unwrap_or(Path::new("<stdout>")), e)),
     }
 }

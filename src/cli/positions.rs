@@ -83,9 +83,8 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
     }
     let (loaded, character) = load_dressed(&args)?;
     if args.vertices && (args.left_handed || args.scale != 1.0 || args.format.is_some()) {
-        return Err(Error::Usage(
-            "--vertices writes the character's units as they are, its format told by -o              (.csv, .json, .npy): --left-handed, --scale and --format are for joints"
-                .into(),
+        return Err(Error::usage(
+            "--vertices writes the character's units as they are, its format told by -o              (.csv, .json, .npy): --left-handed, --scale and --format are for joints",
         ));
     }
     let available = loaded.motion.frame_count().max(1);
@@ -101,7 +100,7 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
     };
     let scale = args.scale;
     if !(scale.is_finite() && scale != 0.0) {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "--scale {scale}: expected a finite number other than 0"
         )));
     }
@@ -109,7 +108,11 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
     if let Some(warning) =
         crate::info::offset_mode_warning(&loaded.skeleton, &loaded.motion, offset_mode)
     {
-        eprintln!("bvhview: {}: warning: {warning}", args.file.display());
+        eprintln!(
+            "bvhview: {}: warning: {}",
+            args.file.display(),
+            warning.spelled(&super::Flags)
+        );
     }
     if let Some(character) = character.as_deref().filter(|_| args.vertices) {
         return write_vertices(&args, character, &loaded, range);
@@ -159,8 +162,8 @@ fn write_vertices(
     };
     let output = args.output.as_deref();
     if format == crate::character::VertexFormat::Npy && output.is_none() {
-        return Err(Error::Usage(
-            "--vertices: an .npy array goes to a file (-o OUT.npy)".into(),
+        return Err(Error::usage(
+            "--vertices: an .npy array goes to a file (-o OUT.npy)",
         ));
     }
     let mut out = open_output(output)?;

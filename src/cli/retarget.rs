@@ -67,7 +67,7 @@ pub(crate) fn map_pairs(values: &[String]) -> Result<retarget::MapPairs, Error> 
         } else if let Some(pair) = retarget::parse_pair(value) {
             pairs.all.push(pair);
         } else {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "--map {value}: expected SRC=DST or a TOML or JSON map file"
             )));
         }
@@ -79,8 +79,8 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
     if let Some(output) = &args.output {
         check_output(output, &["bvh", "glb", "gltf"])?;
     } else if !args.show_map {
-        return Err(Error::Usage(
-            "retarget: give -o OUT.bvh|.glb|.gltf, or --show-map to see the map only".into(),
+        return Err(Error::usage(
+            "retarget: give -o OUT.bvh|.glb|.gltf, or --show-map to see the map only",
         ));
     }
     let loaded = load(&args.input, &args.source)?;

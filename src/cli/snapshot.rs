@@ -101,19 +101,18 @@ fn check_sequence_options(
     if args.frames.is_none()
         && let Some(format) = format
     {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "-o {output}: {format} needs --frames A..B (one frame is written as .png)"
         )));
     }
     if args.fps.is_some() {
         if args.frames.is_none() {
-            return Err(Error::Usage(
-                "--fps needs --frames A..B: it is the rate of an animated .gif, .apng or .png, or an .mp4"
-                    .into(),
+            return Err(Error::usage(
+                "--fps needs --frames A..B: it is the rate of an animated .gif, .apng or .png, or an .mp4",
             ));
         }
         if animated.is_none() {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "--fps is the rate of an animation; -o {output} is a folder of PNGs, which has none"
             )));
         }
@@ -136,8 +135,8 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     check_options(&args, animated)?;
     let files = paired_takes(&args.files, &args.source)?;
     if args.overlay && files.len() < 2 {
-        return Err(Error::Usage(
-            "--overlay draws several files one over the other: give two files or more".into(),
+        return Err(Error::usage(
+            "--overlay draws several files one over the other: give two files or more",
         ));
     }
     let mode: OffsetMode = args.view.offset_mode.into();
@@ -205,7 +204,7 @@ fn check_options(
     match &args.frames {
         None => check_output(&args.output, &["png"])?,
         Some(_) if animated.is_none() && !take::extension(&args.output).is_empty() => {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "-o {}: --frames writes an animated .gif, .apng or .png, an .mp4 video, or one PNG per frame into a folder such as frames/",
                 args.output.display()
             )));
@@ -448,7 +447,7 @@ fn write_folder(
     // one is refused as it is for `-o /no/such/x.png`).
     if output.exists() && !output.is_dir() {
         // A file or a device without an animated extension (`-o /dev/full`): not a folder.
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "-o {}: is not a folder; --frames writes an animated .gif, .apng or .png, an .mp4 \
              video, or one PNG per frame into a folder",
             output.display()

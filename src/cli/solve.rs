@@ -59,7 +59,7 @@ pub(crate) enum SolveFrom {
 pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
     check_output(&args.output, &["bvh", "glb", "gltf"])?;
     if !(args.fps > 0.0 && args.fps.is_finite() && args.fps <= 1000.0) {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "--fps {}: frames per second from above 0 to 1000",
             args.fps
         )));
@@ -73,28 +73,27 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         )?,
         SolveFrom::Humanml3d => {
             if args.joints.is_some() {
-                return Err(Error::Usage(
+                return Err(Error::usage(
                     "--from humanml3d: its 22 joints are SMPL's, in SMPL's order; --joints is for \
-                     positions"
-                        .into(),
+                     positions",
                 ));
             }
             let shown = args.input.display().to_string();
             let bytes = crate::solve::read_npy_file(&args.input, args.max_size)?;
             let vectors = crate::humanml3d::read_vectors(&bytes, &shown)?;
-            let points = crate::humanml3d::recover_from_ric(&vectors)
-                .map_err(|e| Error::Usage(format!("{shown}: {e}")))?;
+            let points =
+                crate::humanml3d::recover_from_ric(&vectors).map_err(|e| e.about(&shown))?;
             let positions = crate::solve::Positions::new(
                 crate::solve::joint_names("smpl22"),
                 points,
                 1.0 / args.fps,
             )
-            .map_err(|e| Error::Usage(format!("{shown}: {e}")))?;
+            .map_err(|e| e.about(&shown))?;
             (positions, None)
         }
     };
     if let Some(layout_note) = layout_note {
-        eprintln!("bvhview: {layout_note}");
+        eprintln!("bvhview: {}", layout_note.spelled(&super::Flags));
     }
     let target = Target::load(&args.onto, args.max_size)?;
     // What is printed is measured on what is written: after --smooth, and said where

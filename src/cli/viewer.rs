@@ -144,7 +144,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
             take: source.take.clone(),
             insist: insisting.insist(),
         };
-        let mut take = ViewerTake::from_source(take_source, offset_mode)?;
+        let mut take = ViewerTake::from_source(take_source, offset_mode, &super::Flags)?;
         let name = path.display().to_string();
         // On a character the retarget reads the file in the mode it was written for.
         if character.is_empty() {
@@ -158,7 +158,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
     let characters = super::character::load_all(&character, takes.len(), &source)?;
     for (take, character) in takes.iter_mut().zip(characters) {
         if let Some(character) = character {
-            take.put_on(character, offset_mode)?;
+            take.put_on(character, offset_mode, &super::Flags)?;
         }
     }
     let options = ViewerOptions {
@@ -175,6 +175,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         true_scale,
         style_chosen: style.is_some(),
         record,
+        spelling: &super::Flags,
     };
     crate::render::window::run(takes, options)?;
     Ok(ExitCode::SUCCESS)

@@ -2,6 +2,7 @@
 //! window, and when each foot is planted.
 
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::pose;
 use crate::model::pose::OffsetMode;
 use glam::Vec3;
@@ -85,11 +86,14 @@ pub(super) fn named_feet(
     let mut feet = Vec::new();
     for name in names {
         let index = joints.iter().position(|j| j == name).ok_or_else(|| {
-            Error::Usage(format!(
-                "{}: --feet names {}, which this skeleton does not have",
-                path.display(),
-                crate::io::error::quoted(name)
-            ))
+            Error::usage(
+                Message::from(format!("{}: ", path.display()))
+                    .argument("feet", None)
+                    .text(format!(
+                        " names {}, which this skeleton does not have",
+                        crate::io::error::quoted(name)
+                    )),
+            )
         })?;
         feet.push(index as u32);
     }

@@ -8,6 +8,7 @@ use super::store::{HEADER, HUMANML3D_FOLDERS, Manifest, Takes, Writer, npy_heade
 use super::{Clip, FeatureSet, Summary, merge::Join};
 use crate::humanml3d::{Features, JOINTS, WIDTH};
 use crate::io::error::Error;
+use crate::io::message::Message;
 use std::fs::File;
 use std::os::unix::fs::FileExt;
 use std::path::{Path, PathBuf};
@@ -53,12 +54,17 @@ pub struct Dataset {
 /// place in the list of takes, and its clips (each with a six-digit ID, in rising order, their
 /// vectors' rows one after another).
 pub fn open(path: &Path) -> Result<Dataset, Error> {
-    let refuse = |why: String| Error::Usage(format!("{}: {why}", path.display()));
+    let refuse = |why: String| Error::usage(format!("{}: {why}", path.display()));
     let (folder, manifest) = open_manifest(path)?;
     let options = check_settings(&manifest).map_err(refuse)?;
     if options.features != FeatureSet::HumanMl3d {
-        return Err(refuse(
-            "not a dataset in HumanML3D's layout (made without --features humanml3d)".to_string(),
+        return Err(Error::usage(
+            Message::from(format!(
+                "{}: not a dataset in HumanML3D's layout (made without ",
+                path.display()
+            ))
+            .argument("features", Some("humanml3d"))
+            .text(")"),
         ));
     }
     if !manifest.groups.is_empty() {
@@ -111,7 +117,7 @@ impl Dataset {
             .zip([vec![rows, WIDTH], vec![rows, JOINTS, 3]])
         {
             let shown = format!("{}/{name}/{id}.npy", self.path.display());
-            let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
+            let refuse = |why: String| Error::usage(format!("{shown}: {why}"));
             let file = open_in(folder, &format!("{id}.npy"), false).map_err(refuse)?;
             // A manifest's count is a claim: its byte size is checked without overflowing.
             let bytes_of = shape
@@ -190,7 +196,7 @@ pub(super) fn merge(
             };
             writer
                 .add_merged(&clip, "", id)
-                .map_err(|e| Error::Usage(format!("{}: {e}", piece.display())))?;
+                .map_err(|e| e.about(&piece.display().to_string()))?;
         }
         for skipped in &dataset.manifest.skipped {
             writer.skip(skipped.clone());

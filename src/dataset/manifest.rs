@@ -161,7 +161,7 @@ impl Settings {
     /// reader of the dataset compare and rebuild with.
     pub fn options(&self) -> Result<Options, Error> {
         let rotations = RotationKind::parse(&self.rotations).ok_or_else(|| {
-            Error::Usage(format!(
+            Error::usage(format!(
                 "rotations {:?}: not a kind bvhview writes",
                 self.rotations
             ))
@@ -178,7 +178,7 @@ impl Settings {
             lock_feet: self.lock_feet,
             map: self.map.clone(),
             features: FeatureSet::parse(&self.features).ok_or_else(|| {
-                Error::Usage(format!(
+                Error::usage(format!(
                     "features {:?}: not a set bvhview writes (arrays, humanml3d)",
                     self.features
                 ))

@@ -52,9 +52,7 @@ pub enum Join {
 /// made with the same options.
 pub fn merge(pieces: &[PathBuf], out: &Path, join: Join) -> Result<Summary, Error> {
     let Some(first) = pieces.first() else {
-        return Err(Error::Usage(
-            "nothing to merge: no datasets given".to_string(),
-        ));
+        return Err(Error::usage("nothing to merge: no datasets given"));
     };
     let (_, manifest) = super::read::open_manifest(first)?;
     if manifest.options.features == FeatureSet::HumanMl3d.name() {
@@ -103,7 +101,7 @@ pub fn merge(pieces: &[PathBuf], out: &Path, join: Join) -> Result<Summary, Erro
             };
             writer
                 .add_merged(&clip, &skeletons[entry.group], String::new())
-                .map_err(|e| Error::Usage(format!("{}: {e}", piece.display())))?;
+                .map_err(|e| e.about(&piece.display().to_string()))?;
         }
         for skipped in &manifest.skipped {
             writer.skip(skipped.clone());
@@ -118,7 +116,7 @@ fn takes_of(pieces: &[PathBuf], manifests: &[&Manifest], join: Join) -> Result<T
     let first = manifests[0];
     for (piece, manifest) in pieces.iter().zip(manifests) {
         if manifest.options != first.options {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: made with other options than {}; datasets are merged only when they share them",
                 piece.display(),
                 pieces[0].display()
@@ -155,7 +153,7 @@ fn pieces_in_order(pieces: &[PathBuf], manifests: &[&Manifest]) -> Result<Takes,
     for (piece, manifest) in pieces.iter().zip(manifests) {
         let takes = &manifest.takes;
         if takes.list != first.list || takes.listed != first.listed {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: a piece of another compile than {} (another folder or list of takes);                  to join datasets of different folders, merge them with join=\"folders\"",
                 piece.display(),
                 pieces[0].display()
@@ -169,7 +167,7 @@ fn pieces_in_order(pieces: &[PathBuf], manifests: &[&Manifest]) -> Result<Takes,
                     takes.first
                 ),
             };
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: {why}; pieces must be consecutive runs of list_takes, given in order,                  each take in one piece",
                 piece.display()
             )));
@@ -177,7 +175,7 @@ fn pieces_in_order(pieces: &[PathBuf], manifests: &[&Manifest]) -> Result<Takes,
         next += takes.count;
         let held = manifest.clips.len() + manifest.skipped.len();
         if held != takes.count {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: its manifest lists {held} takes where it says it holds {}",
                 piece.display(),
                 takes.count
@@ -185,7 +183,7 @@ fn pieces_in_order(pieces: &[PathBuf], manifests: &[&Manifest]) -> Result<Takes,
         }
     }
     if next != first.listed {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "the pieces hold takes 0 to {next} of {}; the rest of the list is missing",
             first.listed
         )));
@@ -205,7 +203,7 @@ fn pieces_in_order(pieces: &[PathBuf], manifests: &[&Manifest]) -> Result<Takes,
             if let Some((before, where_before)) = &last
                 && Path::new(before) >= Path::new(&path)
             {
-                return Err(Error::Usage(format!(
+                return Err(Error::usage(format!(
                     "{}: {path} comes after {before} in {}; pieces must be consecutive runs of \
                      list_takes, given in order, each take in one piece",
                     piece.display(),

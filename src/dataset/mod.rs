@@ -18,6 +18,7 @@ pub mod store;
 
 use crate::info::batch::Item;
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::pose::{self, FkPlan, FkScratch, OffsetMode, RotationKind, Up};
 use glam::Vec3;
 use std::path::{Path, PathBuf};
@@ -166,7 +167,7 @@ pub(crate) struct Posed {
 fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared, Error> {
     let path = &item.path;
     if item.is_unpaired_motion() {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{}: motion without a skeleton ({} is not beside it)",
             path.display(),
             item.wanted_skeleton()
@@ -174,7 +175,7 @@ fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared,
     }
     for name in std::iter::once(path).chain(&item.motion) {
         if name.to_str().is_none() {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: the name is not UTF-8, which the manifest (JSON) cannot hold",
                 name.display()
             )));
@@ -191,13 +192,13 @@ fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared,
     )?;
     let frame_time = loaded.motion.frame_time;
     if !(frame_time > 0.0 && frame_time.is_finite()) {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{}: Frame Time {frame_time}: no rate to resample from, nor to take velocities at",
             path.display()
         )));
     }
     if loaded.motion.frame_count() == 0 {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{}: no frames to learn from (a skeleton without motion)",
             path.display()
         )));
@@ -237,7 +238,7 @@ fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared,
             let put = target.apply(&name, &loaded.skeleton, &loaded.motion, &pairs, insist, 1)?;
             uncarried = put.uncarried;
             if let Some(why) = put.forced {
-                uncarried.push(format!("retarget: kept as --force asks though {why}"));
+                uncarried.push(format!("retarget: kept, as forced, though {why}"));
             }
             check = Some(put.check);
             let (skeleton, motion) = (put.skeleton, put.motion);
@@ -434,7 +435,12 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
         travel_joint: names[travel].clone(),
         // The stance guessed once (its up axis is not in any warning).
         warnings: {
-            let mut warnings = crate::info::warnings_with(&take.loaded, mode, stance);
+            // The manifest is read by whoever uses the dataset: its words name arguments as
+            // the library does (`offset_mode add`).
+            let mut warnings: Vec<String> = crate::info::warnings_with(&take.loaded, mode, stance)
+                .iter()
+                .map(ToString::to_string)
+                .collect();
             warnings.extend(take.uncarried.iter().cloned());
             if options.feet.is_none() && feet_of(&skeleton, mode).1 {
                 let feet: Vec<&str> = topology
@@ -444,7 +450,7 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
                     .collect();
                 warnings.push(format!(
                     "feet: no ankle read below each leg; contacts are for points guessed from \
-                     the rest pose ({}); name them with --feet",
+                     the rest pose ({}); name them with `feet`",
                     if feet.is_empty() {
                         "none found".to_string()
                     } else {
@@ -489,10 +495,11 @@ fn with_humanml3d(item: &Item, options: &Options, mut clip: Clip) -> Result<Clip
         .map(|name| names.iter().position(|n| n == name))
         .collect::<Option<Vec<usize>>>()
         .ok_or_else(|| {
-            Error::Usage(format!(
-                "{}: --features humanml3d: the skeleton the take is on lacks SMPL's joint names",
-                item.path.display()
-            ))
+            Error::usage(
+                Message::from(format!("{}: ", item.path.display()))
+                    .argument("features", Some("humanml3d"))
+                    .text(": the skeleton the take is on lacks SMPL's joint names"),
+            )
         })?;
     let points = names.len();
     let positions: Vec<glam::DVec3> = clip
@@ -509,7 +516,7 @@ fn with_humanml3d(item: &Item, options: &Options, mut clip: Clip) -> Result<Clip
         })
         .collect();
     let features = crate::humanml3d::features(&positions)
-        .map_err(|e| Error::Usage(format!("{}: {e}", item.path.display())))?;
+        .map_err(|e| e.about(&item.path.display().to_string()))?;
     clip.humanml3d = Some(features);
     Ok(clip)
 }
@@ -597,7 +604,7 @@ pub struct Summary {
 
 /// Compiles `items` (found under `dir`, whose relative paths the manifest gives) on `threads`
 /// threads into the dataset folder `out`, which must not exist or be empty. `done(source, error,
-/// finished, total)` is called for every take in order, with the error as the loader said it;
+/// finished, total)` is called for every take in order, with the error the take was skipped for;
 /// it returns false to stop (an interrupt), and then nothing is written. `takes` says which run
 /// of which list `items` are ([`whole_list`], [`piece`]): a compile of a whole list of which no
 /// take compiled is refused and writes nothing too (a piece of a bigger compile may have none).
@@ -608,7 +615,7 @@ pub fn compile(
     threads: usize,
     out: &Path,
     takes: store::Takes,
-    mut done: impl FnMut(&Source, Option<&str>, usize, usize) -> bool + Send,
+    mut done: impl FnMut(&Source, Option<&Error>, usize, usize) -> bool + Send,
 ) -> Result<Summary, Error> {
     let require_clips = takes.first == 0 && takes.count == takes.listed;
     let mut writer = store::Writer::create(out, options, takes)?;
@@ -623,7 +630,7 @@ pub fn compile(
             let item = &items[index];
             compile_take(dir, item, options)
                 .and_then(|clip| refuse_non_finite(item, clip))
-                .map_err(|e| (Source::of(dir, item), e.to_string()))
+                .map_err(|e| (Source::of(dir, item), e))
         },
         |index, result| {
             let outcome = match result {
@@ -631,18 +638,19 @@ pub fn compile(
                     clips += 1;
                     match done(&clip.about.source, None, index + 1, total) {
                         true => writer.add(&clip),
-                        false => Err(Error::Usage("interrupted".to_string())),
+                        false => Err(Error::usage("interrupted")),
                     }
                 }
                 Err((source, error)) => {
                     let go_on = done(&source, Some(&error), index + 1, total);
+                    // The manifest's words name arguments as the library does.
                     writer.skip(Skipped {
-                        error: relative_error(dir, &error),
+                        error: relative_error(dir, &error.to_string()),
                         source,
                     });
                     match go_on {
                         true => Ok(()),
-                        false => Err(Error::Usage("interrupted".to_string())),
+                        false => Err(Error::usage("interrupted")),
                     }
                 }
             };
@@ -665,7 +673,7 @@ pub fn compile(
             .iter()
             .map(|s| format!("\n  {}", s.error))
             .collect();
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{}: no take could be compiled ({} skipped), so no dataset was written:{reasons}",
             dir.display(),
             crate::io::error::counted(total, "take")
@@ -725,7 +733,7 @@ fn refuse_non_finite(item: &Item, clip: Clip) -> Result<Clip, Error> {
             ),
             (_, None) => format!("frame {}", at / per_frame),
         };
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{take}: {name} overflow: {} at {whose}; the take's numbers are too large for \
              float32 (its OFFSETs or channel values), so it is not written",
             values[at]
@@ -765,7 +773,7 @@ pub fn piece(
     pieces: usize,
 ) -> Result<(Vec<Item>, store::Takes), Error> {
     if pieces == 0 || index >= pieces {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "piece {index} of {pieces}: expected 0 <= piece < pieces"
         )));
     }

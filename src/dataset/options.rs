@@ -1,6 +1,7 @@
 //! What every take is turned into: the compile's options, checked before any take is read.
 
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::pose::RotationKind;
 
 /// What every take is turned into.
@@ -138,36 +139,44 @@ impl Options {
     /// Refuses rates and thresholds no dataset can be made with.
     pub fn check(&self) -> Result<(), Error> {
         crate::limits::fps(self.fps, false)?;
-        let positive = |name: &str, value: f32| {
+        let positive = |name: &'static str, value: f32| {
             if value.is_finite() && value >= 0.0 {
                 Ok(())
             } else {
-                Err(Error::Usage(format!(
-                    "{name} {value}: expected a finite number of at least 0"
-                )))
+                Err(Error::invalid(
+                    name,
+                    value.to_string(),
+                    "expected a finite number of at least 0",
+                ))
             }
         };
-        positive("--contact-height", self.contact_height)?;
-        positive("--contact-speed", self.contact_speed)?;
+        positive("contact_height", self.contact_height)?;
+        positive("contact_speed", self.contact_speed)?;
         if !self.map.is_empty() && self.onto.is_none() {
-            return Err(Error::Usage(
-                "`--map` needs `--onto`: its pairs name joints of the skeleton every take is put on"
-                    .to_string(),
+            return Err(Error::usage(
+                Message::from("`")
+                    .argument("map", None)
+                    .text("` needs `")
+                    .argument("onto", None)
+                    .text("`: its pairs name joints of the skeleton every take is put on"),
             ));
         }
         if self.quat_continuous && self.rotations != RotationKind::Quat {
-            return Err(Error::Usage(format!(
-                "--quat-continuous: only quaternions have a sign to choose (--rotations quat), \
-                 not {}",
-                self.rotations.name()
-            )));
+            return Err(Error::invalid(
+                "quat_continuous",
+                "",
+                Message::from("only quaternions have a sign to choose (")
+                    .argument("rotations", Some("quat"))
+                    .text(format!("), not {}", self.rotations.name())),
+            ));
         }
         if let Some(feet) = &self.feet
             && (feet.is_empty() || feet.iter().any(|name| name.is_empty()))
         {
-            return Err(Error::Usage(
-                "--feet: expected point names separated by commas (as the dataset names them)"
-                    .to_string(),
+            return Err(Error::invalid(
+                "feet",
+                "",
+                "expected point names separated by commas (as the dataset names them)",
             ));
         }
         if self.features == FeatureSet::HumanMl3d {
@@ -178,12 +187,15 @@ impl Options {
 
     /// HumanML3D's vectors are of SMPL's 22 joints at 20 fps, placed by its own processing.
     fn check_humanml3d(&self) -> Result<(), Error> {
-        let refuse = |why: String| Err(Error::Usage(format!("--features humanml3d: {why}")));
+        let refuse = |why: Message| Err(Error::invalid("features", "humanml3d", why));
         let Some(target) = &self.onto else {
             return refuse(
-                "needs --onto smpl22 (or a skeleton with SMPL's 22 joint names): HumanML3D's \
-                 vectors are of SMPL's 22 joints"
-                    .to_string(),
+                Message::from("needs ")
+                    .argument("onto", Some("smpl22"))
+                    .text(
+                        " (or a skeleton with SMPL's 22 joint names): HumanML3D's vectors are \
+                         of SMPL's 22 joints",
+                    ),
             );
         };
         let missing: Vec<&str> = crate::solve::SMPL22_ORDER
@@ -192,30 +204,36 @@ impl Options {
             .copied()
             .collect();
         if !missing.is_empty() {
-            return refuse(format!(
-                "{} has no joint named {} (HumanML3D's vectors are of SMPL's 22 joints, by \
-                 the names of the built-in smpl22)",
-                target.name,
-                missing.join(", ")
-            ));
+            return refuse(
+                format!(
+                    "{} has no joint named {} (HumanML3D's vectors are of SMPL's 22 joints, by \
+                     the names of the built-in smpl22)",
+                    target.name,
+                    missing.join(", ")
+                )
+                .into(),
+            );
         }
         if self.fps != crate::humanml3d::FPS {
-            return refuse(format!(
-                "HumanML3D's vectors are made at 20 fps (its contact threshold is a step per \
-                 frame), not {}",
-                crate::limits::show(self.fps)
-            ));
+            return refuse(
+                format!(
+                    "HumanML3D's vectors are made at 20 fps (its contact threshold is a step per \
+                     frame), not {}",
+                    crate::limits::show(self.fps)
+                )
+                .into(),
+            );
         }
         let placed = [
-            ("--root-relative", self.root_relative),
-            ("--ground", self.ground),
-            ("--quat-continuous", self.quat_continuous),
-            ("--feet", self.feet.is_some()),
+            ("root_relative", self.root_relative),
+            ("ground", self.ground),
+            ("quat_continuous", self.quat_continuous),
+            ("feet", self.feet.is_some()),
         ];
-        if let Some((flag, _)) = placed.iter().find(|(_, on)| *on) {
-            return refuse(format!(
-                "{flag} has no part in HumanML3D's vectors (its processing grounds and centres \
-                 each take itself, and its contacts are of its own foot joints)"
+        if let Some(&(option, _)) = placed.iter().find(|(_, on)| *on) {
+            return refuse(Message::of_argument(option, None).text(
+                " has no part in HumanML3D's vectors (its processing grounds and centres each \
+                 take itself, and its contacts are of its own foot joints)",
             ));
         }
         Ok(())

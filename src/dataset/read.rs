@@ -16,6 +16,7 @@
 
 use super::store::{self, HEADER, Manifest};
 use crate::io::error::Error;
+use crate::io::message::Message;
 use std::ffi::CString;
 use std::fs::File;
 use std::os::fd::{FromRawFd, OwnedFd};
@@ -137,7 +138,7 @@ impl ArrayFile {
     pub fn read_rows(&self, rows: std::ops::Range<usize>) -> Result<Vec<u8>, Error> {
         let width = self.row_bytes();
         if rows.end > self.shape[0] || rows.start > rows.end {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: rows {} to {} of {}",
                 self.name, rows.start, rows.end, self.shape[0]
             )));
@@ -145,7 +146,7 @@ impl ArrayFile {
         let mut bytes = vec![0u8; (rows.end - rows.start) * width];
         self.file
             .read_exact_at(&mut bytes, (HEADER + rows.start * width) as u64)
-            .map_err(|e| Error::Usage(format!("{}: {e}", self.name)))?;
+            .map_err(|e| Error::usage(format!("{}: {e}", self.name)))?;
         Ok(bytes)
     }
 }
@@ -161,14 +162,17 @@ fn item_size(dtype: &str) -> usize {
 /// Opens and checks the dataset at `path` (the folder itself may be reached through a link the
 /// user named; nothing inside it may be one).
 pub fn open(path: &Path) -> Result<Dataset, Error> {
-    let refuse = |why: String| Error::Usage(format!("{}: {why}", path.display()));
+    let refuse = |why: String| Error::usage(format!("{}: {why}", path.display()));
     let (folder, manifest) = open_manifest(path)?;
     if manifest.options.features != super::FeatureSet::Arrays.name() {
-        return Err(refuse(format!(
-            "made with --features {}: HumanML3D's layout (new_joint_vecs/ID.npy, Mean.npy, \
-             Std.npy), which numpy reads as it is; bvhview's dataset reader reads its own arrays",
-            manifest.options.features
-        )));
+        return Err(Error::usage(
+            Message::from(format!("{}: made with ", path.display()))
+                .argument("features", Some(&manifest.options.features))
+                .text(
+                    ": HumanML3D's layout (new_joint_vecs/ID.npy, Mean.npy, Std.npy), which \
+                     numpy reads as it is; bvhview's dataset reader reads its own arrays",
+                ),
+        ));
     }
     check_manifest(&manifest).map_err(refuse)?;
     let mut groups = Vec::with_capacity(manifest.groups.len());
@@ -252,14 +256,14 @@ impl Dataset {
     pub fn skeleton_text(&self, k: usize) -> Result<String, Error> {
         let file = &self.groups[k].skeleton;
         let bytes = read_whole(file, MAX_SKELETON).map_err(|why| {
-            Error::Usage(format!(
+            Error::usage(format!(
                 "{}: {}: {why}",
                 self.path.display(),
                 self.manifest.groups[k].skeleton
             ))
         })?;
         String::from_utf8(bytes).map_err(|_| {
-            Error::Usage(format!(
+            Error::usage(format!(
                 "{}: {}: not UTF-8",
                 self.path.display(),
                 self.manifest.groups[k].skeleton
@@ -286,7 +290,7 @@ impl Dataset {
             || own.translated != topology.translated
             || own.rotation_orders != topology.rotation_orders
         {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{name}: not the skeleton of its group (its joints, parents or channels differ from the manifest's)"
             )));
         }
@@ -297,7 +301,7 @@ impl Dataset {
 /// The dataset folder at `path`, opened, and its manifest, read (not yet checked with its
 /// files) in a format this bvhview reads.
 pub(super) fn open_manifest(path: &Path) -> Result<(File, Manifest), Error> {
-    let refuse = |why: String| Error::Usage(format!("{}: {why}", path.display()));
+    let refuse = |why: String| Error::usage(format!("{}: {why}", path.display()));
     let folder = open_folder(path)?;
     let manifest_file = open_in(&folder, "manifest.json", false)
         .map_err(|why| refuse(format!("manifest.json: {why}")))?;
@@ -520,7 +524,7 @@ fn open_folder(path: &Path) -> Result<File, Error> {
         .custom_flags(libc::O_DIRECTORY | libc::O_NONBLOCK)
         .open(path)
         .map_err(|e| match e.raw_os_error() {
-            Some(libc::ENOTDIR) => Error::Usage(format!("{}: not a folder", path.display())),
+            Some(libc::ENOTDIR) => Error::usage(format!("{}: not a folder", path.display())),
             _ => Error::io(path, e),
         })?;
     Ok(folder)

@@ -64,7 +64,7 @@ pub fn motion_of(
     arrays: &Arrays,
     fps: f64,
 ) -> Result<(Skeleton, Motion), Error> {
-    let refuse = |why: String| Err(Error::Usage(why));
+    let refuse = |why: String| Err(Error::usage(why));
     crate::limits::fps(fps, false)?;
     let points = topology.joints.len();
     let (rotated, translated) = (topology.rotated.len(), topology.translated.len());
@@ -75,7 +75,7 @@ pub fn motion_of(
         == Some(values)
     {
         true => Ok(()),
-        false => Err(Error::Usage(format!(
+        false => Err(Error::usage(format!(
             "{name}: {values} numbers where {frames} frames of {shape} make {}",
             frames.saturating_mul(per_frame)
         ))),
@@ -113,7 +113,7 @@ pub fn motion_of(
         .collect();
         match fits.is_empty() {
             true => error,
-            false => Error::Usage(format!(
+            false => Error::usage(format!(
                 "{error}; they fit {} numbers: name their kind (kind=\"{}\")",
                 fits.join(" or "),
                 fits.join("\" or kind=\"")
@@ -184,7 +184,7 @@ pub fn motion_of(
         .checked_mul(channels)
         .filter(|&n| n as u64 <= crate::limits::MAX_GENERATED_VALUES)
         .ok_or_else(|| {
-            Error::Usage(format!(
+            Error::usage(format!(
                 "{frames} frames of {channels} values: more than a take holds"
             ))
         })?;

@@ -248,7 +248,7 @@ impl Writer {
     pub fn add(&mut self, clip: &Clip) -> Result<(), Error> {
         let skeleton = || match &clip.skeleton {
             Some(skeleton) => skeleton_bvh(skeleton),
-            None => Err(Error::Usage("a clip without its skeleton".to_string())),
+            None => Err(Error::usage("a clip without its skeleton")),
         };
         // Clips and skips come in list order: this is the take's place in the list.
         let id = format!(
@@ -377,7 +377,7 @@ impl Writer {
     fn add_humanml3d(&mut self, clip: &Clip, id: String) -> Result<(), Error> {
         use crate::humanml3d::{JOINTS, WIDTH};
         let Some(features) = &clip.humanml3d else {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: a clip without its HumanML3D vectors in a dataset of them",
                 clip.about.source.path
             )));

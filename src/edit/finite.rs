@@ -2,19 +2,24 @@
 //! in with the take is named where it is.
 
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::motion::Motion;
 use crate::model::skeleton::Skeleton;
 
 /// The edited take, or an error naming the edit when a value in it is not finite (an OFFSET or
 /// a MOTION value past ±3.4e38 as a 32-bit float).
-pub fn finite(edit: &str, skeleton: Skeleton, motion: Motion) -> Result<(Skeleton, Motion), Error> {
+pub fn finite(
+    edit: impl Into<Message>,
+    skeleton: Skeleton,
+    motion: Motion,
+) -> Result<(Skeleton, Motion), Error> {
     // A NaN was not made by the edit (no edit makes one of finite values): it came in with the
     // take, and the message says so rather than blame the edit (`--scale 1` once
     // did).
     let nan = |value: f32| value.is_nan();
     if let Some(joint) = skeleton.joints.iter().find(|j| !j.offset.is_finite()) {
         if joint.offset.to_array().into_iter().any(nan) {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "the OFFSET of joint {:?} is not a number (NaN); nothing was written",
                 joint.name
             )));
@@ -22,7 +27,7 @@ pub fn finite(edit: &str, skeleton: Skeleton, motion: Motion) -> Result<(Skeleto
     } else if let Some(at) = first_non_finite(&motion.data) {
         if nan(motion.data[at]) {
             let channels = motion.channels.max(1);
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "frame {}, value {} is not a number (NaN); nothing was written",
                 at / channels,
                 at % channels + 1
@@ -31,8 +36,8 @@ pub fn finite(edit: &str, skeleton: Skeleton, motion: Motion) -> Result<(Skeleto
     } else {
         return Ok((skeleton, motion));
     }
-    Err(Error::Usage(format!(
-        "{edit} gives values too large for a 32-bit float; nothing was written"
+    Err(Error::usage(edit.into().text(
+        " gives values too large for a 32-bit float; nothing was written",
     )))
 }
 
@@ -71,7 +76,7 @@ mod tests {
         };
         let (mut skeleton, motion) = take();
         skeleton.joints[0].offset.y = f32::NAN;
-        let error = finite("--scale 1", skeleton, motion)
+        let error = finite(Message::of_argument("scale", Some("1")), skeleton, motion)
             .unwrap_err()
             .to_string();
         assert_eq!(
@@ -80,7 +85,7 @@ mod tests {
         );
         let (skeleton, mut motion) = take();
         motion.data[3] = f32::NAN;
-        let error = finite("--scale 1", skeleton, motion)
+        let error = finite(Message::of_argument("scale", Some("1")), skeleton, motion)
             .unwrap_err()
             .to_string();
         assert_eq!(
@@ -89,15 +94,19 @@ mod tests {
         );
         let (skeleton, mut motion) = take();
         motion.data[0] = f32::INFINITY;
-        let error = finite("--scale 1e38", skeleton, motion)
-            .unwrap_err()
-            .to_string();
+        let error = finite(
+            Message::of_argument("scale", Some("1e38")),
+            skeleton,
+            motion,
+        )
+        .unwrap_err()
+        .to_string();
         assert!(
-            error.starts_with("--scale 1e38 gives values too large"),
+            error.starts_with("scale 1e38 gives values too large"),
             "{error}"
         );
         let (skeleton, motion) = take();
-        assert!(finite("--scale 1", skeleton, motion).is_ok());
+        assert!(finite(Message::of_argument("scale", Some("1")), skeleton, motion).is_ok());
     }
 
     #[test]

@@ -4,6 +4,7 @@
 
 use crate::edit::finite;
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::body::contact::{Planting, sliding};
 use crate::model::body::{Body, Limb};
 use crate::model::euler;
@@ -336,7 +337,7 @@ pub fn lock_feet_when(
         read.push((leg.ankle, contacts, why));
     }
     let (_, locked) = finite(
-        "--lock-feet",
+        Message::of_argument("lock_feet", None),
         skeleton.clone(),
         Motion::new(motion.frame_time, channels, frames, data),
     )?;

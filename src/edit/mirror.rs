@@ -79,7 +79,7 @@ pub fn mirror_partners(
     for (from, to) in names {
         let find = |name: &str| {
             index.get(name).copied().ok_or_else(|| {
-                Error::Usage(format!(
+                Error::usage(format!(
                     "mirror names: '{name}' is not a joint of the skeleton (a swap pairs joints \
                      the skeleton has)"
                 ))
@@ -88,7 +88,7 @@ pub fn mirror_partners(
         let (a, b) = (find(from)?, find(to)?);
         for (x, y) in [(a, b), (b, a)] {
             if given.get(&x).is_some_and(|&other| other != y) {
-                return Err(Error::Usage(format!(
+                return Err(Error::usage(format!(
                     "mirror names: '{}' is given two counterparts",
                     joints[x].name
                 )));
@@ -123,7 +123,7 @@ pub fn mirror_partners(
             partners[j] = k;
             partners[k] = j;
         } else if given.contains_key(&j) {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "mirror names: '{}' and '{}' cannot swap their motion (their parents are not \
                  counterparts, or their channels differ)",
                 joints[j].name, joints[k].name

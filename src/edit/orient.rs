@@ -3,6 +3,7 @@
 
 use crate::edit::finite;
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::euler;
 use crate::model::motion::Motion;
 use crate::model::skeleton::Skeleton;
@@ -82,7 +83,11 @@ pub fn ground(
     let mut grounded = skeleton.clone();
     let mut data = motion.data.clone();
     if !lowest.is_finite() {
-        return finite("--ground", grounded, motion.clone());
+        return finite(
+            Message::of_argument("ground", None),
+            grounded,
+            motion.clone(),
+        );
     }
     for root in skeleton.roots() {
         let joint = &skeleton.joints[root];
@@ -100,7 +105,7 @@ pub fn ground(
         }
     }
     finite(
-        "--ground",
+        Message::of_argument("ground", None),
         grounded,
         Motion::new(motion.frame_time, motion.channels, frames, data),
     )
@@ -183,11 +188,15 @@ pub fn reorient(
         let rotations = joint.channels.iter().filter(|c| c.is_rotation()).count();
         if (positions != 0 && positions != 3) || (rotations != 0 && joint.rotation_order.is_none())
         {
-            return Err(Error::Usage(format!(
-                "--up: '{}' has channels that cannot be turned to another axis (it needs three \
-                 position channels or none, and three rotations on distinct axes or none)",
-                joint.name
-            )));
+            return Err(Error::invalid(
+                "up",
+                "",
+                format!(
+                    "'{}' has channels that cannot be turned to another axis (it needs three \
+                     position channels or none, and three rotations on distinct axes or none)",
+                    joint.name
+                ),
+            ));
         }
     }
     let mut data = motion.data.clone();
@@ -229,7 +238,7 @@ pub fn reorient(
     }
     let frames = motion.frame_count();
     finite(
-        "--up",
+        Message::of_argument("up", None),
         turned,
         Motion::new(motion.frame_time, motion.channels, frames, data),
     )

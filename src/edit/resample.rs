@@ -3,6 +3,7 @@
 
 use crate::edit::finite;
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::euler;
 use crate::model::motion::Motion;
 use crate::model::skeleton::Skeleton;
@@ -96,7 +97,7 @@ pub fn resample_picks(
     let mut between = Vec::new();
     between.try_reserve_exact(count).map_err(|_| {
         Error::Memory(format!(
-            "--fps {}: {count} frames do not fit in memory",
+            "resampled to {} frames a second: {count} frames do not fit in memory",
             crate::limits::show(fps)
         ))
     })?;
@@ -136,7 +137,8 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion
     let mut data = Vec::new();
     data.try_reserve_exact(count * width).map_err(|_| {
         Error::Memory(format!(
-            "--fps {}: {count} frames of {width} values do not fit in memory",
+            "resampled to {} frames a second: {count} frames of {width} values do not fit in \
+             memory",
             crate::limits::show(fps)
         ))
     })?;
@@ -173,7 +175,7 @@ pub fn resample(skeleton: &Skeleton, motion: &Motion, fps: f64) -> Result<Motion
     }
     let motion = Motion::new(1.0 / fps, width, count, data);
     finite(
-        &format!("--fps {}", crate::limits::show(fps)),
+        Message::of_argument("fps", Some(&crate::limits::show(fps))),
         skeleton.clone(),
         motion,
     )

@@ -2,6 +2,7 @@
 
 use crate::edit::finite;
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::motion::Motion;
 use crate::model::skeleton::Skeleton;
 
@@ -44,7 +45,7 @@ pub fn scale(
     }
     let frames = motion.frame_count();
     finite(
-        &format!("--scale {}", crate::limits::show(factor)),
+        Message::of_argument("scale", Some(&crate::limits::show(factor))),
         scaled,
         Motion::new(motion.frame_time, motion.channels, frames, data),
     )

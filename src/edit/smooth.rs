@@ -9,6 +9,7 @@
 
 use crate::edit::finite;
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::euler;
 use crate::model::motion::Motion;
 use crate::model::skeleton::Skeleton;
@@ -88,16 +89,19 @@ pub fn zero_phase(values: &[f64], cutoff: f64, frame_time: f64) -> Vec<f64> {
 pub fn smooth(skeleton: &Skeleton, motion: &Motion, cutoff: f64) -> Result<Motion, Error> {
     let frames = motion.frame_count();
     if !(motion.frame_time > 0.0 && motion.frame_time.is_finite()) {
-        return Err(Error::Usage(format!(
-            "--smooth: Frame Time {}: no rate to filter at",
-            motion.frame_time
-        )));
+        return Err(Error::invalid(
+            "smooth",
+            "",
+            format!("Frame Time {}: no rate to filter at", motion.frame_time),
+        ));
     }
     let nyquist = 0.5 / motion.frame_time;
     if !(cutoff > 0.0 && cutoff < nyquist) {
-        return Err(Error::Usage(format!(
-            "--smooth {cutoff}: a cutoff in Hz above 0 and below half the frame rate ({nyquist:.3})"
-        )));
+        return Err(Error::invalid(
+            "smooth",
+            cutoff.to_string(),
+            format!("a cutoff in Hz above 0 and below half the frame rate ({nyquist:.3})"),
+        ));
     }
     let channels = motion.channels;
     let mut data = motion.data.clone();
@@ -172,7 +176,7 @@ pub fn smooth(skeleton: &Skeleton, motion: &Motion, cutoff: f64) -> Result<Motio
         }
     }
     let (_, smoothed) = finite(
-        "--smooth",
+        Message::of_argument("smooth", None),
         skeleton.clone(),
         Motion::new(motion.frame_time, channels, frames, data),
     )?;

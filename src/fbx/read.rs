@@ -39,6 +39,7 @@
 
 use super::records::BINARY_MAGIC;
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::baked::{self, Node, Pose};
 use crate::model::reading::{Read, TakeInfo, choose_take, pick_take};
 use crate::take::options::OpenOptions;
@@ -101,18 +102,18 @@ fn ufbx_error(name: &str, error: &ufbx::Error) -> Error {
             }
         }
     };
-    Error::Usage(format!("{name}: {what}"))
+    Error::usage(format!("{name}: {what}"))
 }
 
 fn read_scene(bytes: &[u8], name: &str, geometry: bool) -> Result<ufbx::SceneRoot, Error> {
     if let Some(why) = not_fbx(bytes) {
-        return Err(Error::Usage(format!("{name}: not an FBX file: {why}")));
+        return Err(Error::usage(format!("{name}: not an FBX file: {why}")));
     }
     ufbx::load_memory(bytes, load_options(bytes.len(), geometry)).map_err(|e| {
         match (e.type_, super::records::first_fault(bytes)) {
             // ufbx says only "Failed to load" of a damaged binary file: say where.
             (ufbx::ErrorType::Unknown, Some(fault)) => {
-                Error::Usage(format!("{name}: damaged FBX: {fault}"))
+                Error::usage(format!("{name}: damaged FBX: {fault}"))
             }
             _ => ufbx_error(name, &e),
         }
@@ -242,9 +243,9 @@ pub fn takes_of_bytes(bytes: &[u8], name: &str) -> Result<Vec<TakeInfo>, Error> 
         .iter()
         .map(|stack| {
             let (begin, end, _) =
-                stack_range(stack).map_err(|why| Error::Usage(format!("{name}: {why}")))?;
+                stack_range(stack).map_err(|why| Error::usage(format!("{name}: {why}")))?;
             let frames = baked::frame_count(begin, end, fps, 1)
-                .map_err(|why| Error::Usage(format!("{name}: {why}")))?;
+                .map_err(|why| Error::usage(format!("{name}: {why}")))?;
             Ok(TakeInfo {
                 name: stack.element.name.to_string(),
                 frames,
@@ -498,7 +499,7 @@ pub fn load_character_bytes(
     let (mut read, joint) = load_scene(&scene, bytes.len(), name, take, threads, true)?;
     let turn = unstated_axes_turn(&scene);
     let (mesh, said) = super::mesh::read(&scene, name, bytes.len() as u64, &joint, turn)?;
-    read.warnings.extend(said);
+    read.warnings.extend(said.into_iter().map(Message::from));
     Ok((read, mesh))
 }
 
@@ -540,7 +541,7 @@ fn load_nodes(
     skin_bones: bool,
 ) -> Result<(Read, Vec<usize>, Vec<Node>), Error> {
     let path = name;
-    let bad = |why: String| Error::Usage(format!("{name}: {why}"));
+    let bad = |why: String| Error::usage(format!("{name}: {why}"));
     let (order, parents, _bones) = skeleton_nodes(scene, skin_bones);
     if order.is_empty() {
         return Err(bad(
@@ -566,7 +567,7 @@ fn load_nodes(
         .map(|&i| Pose::of_matrix(&(turn * matrix(&scene.nodes[i].node_to_world))))
         .collect();
     let fps = fps(scene);
-    let mut warnings = renamed;
+    let mut warnings: Vec<Message> = renamed.into_iter().map(Message::from).collect();
     if turn != DMat4::IDENTITY {
         warnings.push(
             "the file states no axes (FBX 5 and older): read as Z up, as Blender reads it".into(),
@@ -594,7 +595,7 @@ fn load_nodes(
         if take.is_some() {
             pick_take(&names, take, path)?;
         }
-        warnings.push("no animation in the file: its rest pose, as one frame".to_string());
+        warnings.push("no animation in the file: its rest pose, as one frame".into());
         baked::build_with(&nodes, &rest, skin_bones, 1, 1.0 / fps, |_, out| {
             out.extend_from_slice(&rest);
             Ok(())
@@ -634,13 +635,15 @@ struct Baking<'a> {
 impl Baking<'_> {
     /// An error of the file, named.
     fn bad(&self, why: String) -> Error {
-        Error::Usage(format!("{}: {why}", self.name))
+        Error::usage(format!("{}: {why}", self.name))
     }
 
     /// An error of the baking, named by the file when it is not already.
     fn named(&self, error: Error) -> Error {
         match error {
-            Error::Usage(message) if !message.starts_with(self.name) => self.bad(message),
+            Error::Usage(message) if !message.starts_with(self.name) => {
+                Error::Usage(message.after(&format!("{}: ", self.name)))
+            }
             other => other,
         }
     }
@@ -651,7 +654,7 @@ impl Baking<'_> {
     fn stack(
         &self,
         index: usize,
-        warnings: &mut Vec<String>,
+        warnings: &mut Vec<Message>,
     ) -> Result<
         (
             crate::model::skeleton::Skeleton,
@@ -662,7 +665,7 @@ impl Baking<'_> {
         let (scene, order, fps) = (self.scene, self.order, self.fps);
         let stack = &scene.anim_stacks[index];
         let (begin, end, said) = stack_range(stack).map_err(|why| self.bad(why))?;
-        warnings.extend(said);
+        warnings.extend(said.into_iter().map(Message::from));
         let count =
             baked::frame_count(begin, end, fps, order.len()).map_err(|why| self.bad(why))?;
         // Each frame is evaluated: the take's frames × (nodes evaluated + animated values of

@@ -7,6 +7,7 @@
 
 use super::Container;
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::bone_skin::Body;
 use crate::model::mesh::Mesh;
 use crate::model::motion::Motion;
@@ -178,7 +179,7 @@ impl Data {
     fn skin(&mut self, skeleton: &Skeleton, mode: OffsetMode) -> Result<(), Error> {
         let joints = skeleton.joints.len();
         if joints > usize::from(u16::MAX) {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "cannot write a glTF skin for {joints} joints: at most {} fit",
                 u16::MAX
             )));
@@ -186,8 +187,8 @@ impl Data {
         let body = Body::new(skeleton, mode);
         let vertices = &body.skin.vertices;
         if vertices.is_empty() || body.indices.is_empty() {
-            return Err(Error::Usage(
-                "cannot write a glTF skin: the skeleton has no bone long enough to wrap".into(),
+            return Err(Error::usage(
+                "cannot write a glTF skin: the skeleton has no bone long enough to wrap",
             ));
         }
         let count = vertices.len();
@@ -249,7 +250,7 @@ impl Data {
     /// joint is bound to one extra node at the origin.
     fn character(&mut self, skeleton: &Skeleton, mesh: &Mesh) -> Result<(), Error> {
         mesh.check()
-            .map_err(|why| Error::Usage(format!("cannot write the mesh: {why}")))?;
+            .map_err(|why| Error::usage(format!("cannot write the mesh: {why}")))?;
         let mut fixed_node: Option<json::Index<json::Node>> = None;
         for k in 0..mesh.parts.len() {
             let (vertices, corners, bones) = mesh.part_ranges(k);
@@ -257,7 +258,7 @@ impl Data {
                 continue;
             }
             if bones.len() > usize::from(u16::MAX) {
-                return Err(Error::Usage(format!(
+                return Err(Error::usage(format!(
                     "cannot write a glTF skin of {} bones: at most {} fit",
                     bones.len(),
                     u16::MAX
@@ -387,7 +388,7 @@ impl Data {
                 }
                 Some(j) if j < skeleton.joints.len() => json::Index::new(j as u32),
                 Some(j) => {
-                    return Err(Error::Usage(format!(
+                    return Err(Error::usage(format!(
                         "cannot write the mesh: a bone of joint {j} of {}",
                         skeleton.joints.len()
                     )));
@@ -551,13 +552,16 @@ impl Data {
             .windows(2)
             .position(|w| !(w[1] > w[0] && w[1].is_finite()))
         {
-            return Err(Error::Usage(format!(
-                "cannot write glTF: with a frame time of {} s frames {i} and {} fall at the same \
-                 time ({} s); give the take its rate with --frame-time SECONDS",
-                crate::limits::show(motion.frame_time),
-                i + 1,
-                crate::limits::show(times[i + 1])
-            )));
+            return Err(Error::usage(
+                Message::from(format!(
+                    "cannot write glTF: with a frame time of {} s frames {i} and {} fall at the \
+                     same time ({} s); give the take its rate with ",
+                    crate::limits::show(motion.frame_time),
+                    i + 1,
+                    crate::limits::show(times[i + 1])
+                ))
+                .argument("frame_time", Some("SECONDS")),
+            ));
         }
         let last = *times.last().expect("frames > 0");
         let time = self.accessor(
@@ -610,7 +614,7 @@ impl Data {
         // JSON has no infinity: a take whose values overflow 32-bit floats is refused, not
         // written with `null`s that no reader loads.
         if let Some(what) = self.not_finite {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "cannot write glTF: {what} is not finite (too large for a 32-bit float)"
             )));
         }
@@ -625,7 +629,7 @@ impl Data {
         }
         let serialised = |root: &json::Root| {
             root.to_vec()
-                .map_err(|e| Error::Usage(format!("cannot write glTF: {e}")))
+                .map_err(|e| Error::usage(format!("cannot write glTF: {e}")))
         };
         match container {
             Container::Gltf => {

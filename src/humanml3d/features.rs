@@ -59,20 +59,19 @@ const FACING_SMOOTHING: f64 = 20.0;
 /// ```
 pub fn features(positions: &[DVec3]) -> Result<Features, Error> {
     if positions.is_empty() || !positions.len().is_multiple_of(JOINTS) {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "humanml3d: {} points are not whole frames of {JOINTS} joints",
             positions.len()
         )));
     }
     let frames = positions.len() / JOINTS;
     if frames < 2 {
-        return Err(Error::Usage(
-            "humanml3d: a take of one frame has no vectors (each is a step to the next frame)"
-                .to_string(),
+        return Err(Error::usage(
+            "humanml3d: a take of one frame has no vectors (each is a step to the next frame)",
         ));
     }
     if let Some(at) = positions.iter().position(|p| !p.is_finite()) {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "humanml3d: frame {}, joint {}: not a finite position",
             at / JOINTS,
             SMPL22_ORDER[at % JOINTS]
@@ -102,10 +101,9 @@ fn uniform(positions: &[DVec3], frames: usize) -> Result<(Vec<DVec3>, Vec<DVec3>
     let length = |j: usize| (first[j] - first[PARENTS[j]]).length();
     let legs = length(5) + length(8);
     if legs.is_nan() || legs <= 0.0 {
-        return Err(Error::Usage(
+        return Err(Error::usage(
             "humanml3d: the right thigh and shin have no length at the first frame, so the take \
-             cannot be scaled to the reference skeleton"
-                .to_string(),
+             cannot be scaled to the reference skeleton",
         ));
     }
     let scale = (REFERENCE_LENGTHS[5] + REFERENCE_LENGTHS[8]) / legs;
@@ -141,7 +139,7 @@ fn bone_direction(
     let length = bone.length();
     match length > 0.0 {
         true => Ok(bone / length),
-        false => Err(Error::Usage(format!(
+        false => Err(Error::usage(format!(
             "humanml3d: frame {frame}: {} is where {} is; the bone between has no direction",
             SMPL22_ORDER[joint], SMPL22_ORDER[parent]
         ))),
@@ -159,10 +157,9 @@ fn place(points: &mut [DVec3], directions: &mut [DVec3]) -> Result<(), Error> {
     let across =
         (points[right_hip] - points[left_hip]) + (points[right_shoulder] - points[left_shoulder]);
     let forward = horizontal(DVec3::Y.cross(across.normalize_or_zero())).ok_or_else(|| {
-        Error::Usage(
+        Error::usage(
             "humanml3d: frame 0: the hips and shoulders give no facing (they lie along the up \
-             axis)"
-                .to_string(),
+             axis)",
         )
     })?;
     let turn = between(forward, DVec3::Z);
@@ -219,7 +216,7 @@ fn inverse_kinematics(
             0 => DQuat::IDENTITY,
             _ => between(
                 horizontal(smoothed[f]).ok_or_else(|| {
-                    Error::Usage(format!(
+                    Error::usage(format!(
                         "humanml3d: frame {f}: the hips and shoulders give no facing"
                     ))
                 })?,

@@ -27,13 +27,13 @@ use glam::{DQuat, DVec3};
 /// ```
 pub fn recover_from_ric(vectors: &[f32]) -> Result<Vec<DVec3>, Error> {
     if vectors.is_empty() || !vectors.len().is_multiple_of(WIDTH) {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "humanml3d: {} values are not whole vectors of {WIDTH}",
             vectors.len()
         )));
     }
     if let Some(at) = vectors.iter().position(|v| !v.is_finite()) {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "humanml3d: vector {}, value {}: not a finite number",
             at / WIDTH,
             at % WIDTH
@@ -78,7 +78,7 @@ pub(super) fn facing(a: f64) -> DQuat {
 
 /// The vectors in an `.npy` of frames × 263 (float32 or float64), frame after frame.
 pub fn read_vectors(bytes: &[u8], shown: &str) -> Result<Vec<f32>, Error> {
-    let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
+    let refuse = |why: String| Error::usage(format!("{shown}: {why}"));
     let (rows, points) = crate::solve::input::read_npy_rows(bytes, shown, WIDTH)?;
     if rows == 0 {
         return Err(refuse("no vectors".into()));

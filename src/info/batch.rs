@@ -502,7 +502,7 @@ pub fn collect_takes(dir: &Path) -> Result<Walk, Error> {
     match std::fs::metadata(dir) {
         Err(e) => return Err(Error::io(dir, e)),
         Ok(m) if !m.is_dir() => {
-            return Err(Error::Usage(format!("{}: not a folder", dir.display())));
+            return Err(Error::usage(format!("{}: not a folder", dir.display())));
         }
         Ok(_) => {}
     }
@@ -515,7 +515,7 @@ pub fn collect_takes(dir: &Path) -> Result<Walk, Error> {
             [only] => format!(": skipped {only}"),
             [first, rest @ ..] => format!(": skipped {first}, and {} more", rest.len()),
         };
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{}: no takes (.bvh, .asf, .amc, .fbx, .gltf or .glb files){why}",
             dir.display()
         )));

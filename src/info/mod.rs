@@ -3,6 +3,7 @@
 #[doc(hidden)] // the walk and the batch, for the command line and the Python package
 pub mod batch;
 
+use crate::io::message::{Message, Spelling};
 use crate::model::motion::Motion;
 use crate::model::pose::OffsetMode;
 use crate::model::skeleton::Skeleton;
@@ -24,16 +25,20 @@ pub fn readable(value: f64, decimals: usize) -> String {
 
 /// Every warning `info` gives for a file: the loader's, the offset-mode guess, then the size of
 /// a human-like figure.
-pub fn warnings(loaded: &Take, mode: OffsetMode) -> Vec<String> {
+pub fn warnings(loaded: &Take, mode: OffsetMode) -> Vec<Message> {
     warnings_with(loaded, mode, &loaded.stance(mode))
 }
 
 /// [`warnings`] with the take's stance already guessed.
-pub fn warnings_with(loaded: &Take, mode: OffsetMode, stance: &Stance) -> Vec<String> {
+pub fn warnings_with(loaded: &Take, mode: OffsetMode, stance: &Stance) -> Vec<Message> {
     let mut warnings = loaded.warnings.clone();
     warnings.extend(offset_mode_warning(&loaded.skeleton, &loaded.motion, mode));
     warnings.extend(size_warning(&loaded.skeleton, stance));
-    warnings.extend(body_warnings(&loaded.skeleton, &loaded.motion, mode));
+    warnings.extend(
+        body_warnings(&loaded.skeleton, &loaded.motion, mode)
+            .into_iter()
+            .map(Message::from),
+    );
     warnings
 }
 
@@ -79,7 +84,7 @@ pub fn human_like(skeleton: &Skeleton) -> Option<String> {
 /// spans less than 0.5 m or more than 2.5 m: the units, or the offset mode, are likely wrong.
 /// The figure's size (its largest spread, standing or lying) is what is compared: a person
 /// lying down stands low but still spans a person's length.
-pub fn size_warning(skeleton: &Skeleton, stance: &Stance) -> Option<String> {
+pub fn size_warning(skeleton: &Skeleton, stance: &Stance) -> Option<Message> {
     let metres = stance.size * stance.units.metres;
     if !metres.is_finite() || stance.size <= 1e-6 || (HUMAN_LEAST..=HUMAN_MOST).contains(&metres) {
         return None;
@@ -90,18 +95,25 @@ pub fn size_warning(skeleton: &Skeleton, stance: &Stance) -> Option<String> {
     } else {
         format!("over the {HUMAN_MOST} m a person spans at most")
     };
-    Some(format!(
+    let said = format!(
         "a human-like skeleton ({joints}) spans {} m in {}, {bound} (it stands {} m tall): the \
-         units or the offset mode may be wrong (`convert --scale` rescales; `--offset-mode` \
-         says how position channels count)",
+         units or the offset mode may be wrong (`",
         readable(f64::from(metres), 3),
         stance.units.name,
         readable(f64::from(stance.height * stance.units.metres), 3),
-    ))
+    );
+    Some(
+        Message::from(said)
+            .argument("scale", None)
+            .text("` rescales; `")
+            .argument("offset_mode", None)
+            .text("` says how position channels count)"),
+    )
 }
 
-/// A human-readable summary: joints, End Sites, channels, frames, timing, orders, warnings.
-pub fn summary(name: &str, loaded: &Take, mode: OffsetMode) -> String {
+/// A human-readable summary: joints, End Sites, channels, frames, timing, orders, warnings (an
+/// argument a warning names written as `spelling` writes it).
+pub fn summary(name: &str, loaded: &Take, mode: OffsetMode, spelling: &dyn Spelling) -> String {
     let skeleton = &loaded.skeleton;
     let motion = &loaded.motion;
     let end_sites = skeleton.end_site_count();
@@ -175,7 +187,7 @@ pub fn summary(name: &str, loaded: &Take, mode: OffsetMode) -> String {
     } else {
         let _ = writeln!(out, "warnings:");
         for warning in &warnings {
-            let _ = writeln!(out, "  - {warning}");
+            let _ = writeln!(out, "  - {}", warning.spelled(spelling));
         }
     }
     out
@@ -226,20 +238,22 @@ pub fn offset_mode_warning(
     skeleton: &Skeleton,
     motion: &Motion,
     mode: OffsetMode,
-) -> Option<String> {
+) -> Option<Message> {
     let (matching, candidates) =
         crate::model::pose::written_for_other_mode(skeleton, motion, mode)?;
     Some(match mode {
-        OffsetMode::Replace => format!(
+        OffsetMode::Replace => Message::from(format!(
             "{matching} of {candidates} non-root joints with position channels have them at or \
              near 0 at frame 0 (within 5% of their OFFSETs' length) while their OFFSETs are not: \
-             the file looks written for `--offset-mode add` (position added to OFFSET); with the \
-             default (replace) those bones collapse"
-        ),
-        OffsetMode::Add => format!(
+             the file looks written for `"
+        ))
+        .argument("offset_mode", Some("add"))
+        .text("` (position added to OFFSET); with the default (replace) those bones collapse"),
+        OffsetMode::Add => Message::from(format!(
             "{matching} of {candidates} non-root joints with position channels repeat their OFFSET \
-             at frame 0 (within 5% of its length): the file looks written for the default \
-             `--offset-mode replace`; adding doubles those bones"
-        ),
+             at frame 0 (within 5% of its length): the file looks written for the default `"
+        ))
+        .argument("offset_mode", Some("replace"))
+        .text("`; adding doubles those bones"),
     })
 }

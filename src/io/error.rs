@@ -4,6 +4,8 @@ use std::fmt;
 use std::io;
 use std::path::{Path, PathBuf};
 
+use crate::io::message::{Argument, Message, RustSpelling, Spelling};
+
 /// What went wrong, and where: a broken file says its `file:line:column`.
 ///
 /// ```
@@ -46,16 +48,37 @@ pub enum Error {
         source: io::Error,
     },
     /// An argument the caller gave is outside what it may be: its name as the library spells it
-    /// (`frame_time`, `fps`, `size`), the value as given, and what is expected. Each front end
-    /// names the argument its own way: the command line `--frame-time 0: …`, Python
-    /// `frame_time=0: …`; [`fmt::Display`] writes `frame_time 0: …`.
+    /// (`frame_time`, `fps`, `size`), the value as given (empty when the message shows none),
+    /// and what is expected. Each front end names the argument its own way ([`Error::spelled`]):
+    /// the command line `--frame-time 0: …`, Python `frame_time=0: …`; [`fmt::Display`] writes
+    /// `frame_time 0: …`.
     InvalidArgument {
         /// The argument's name, in snake case.
         name: &'static str,
-        /// Its value as the caller gave it.
+        /// Its value as the caller gave it, or empty.
         value: String,
-        /// What it may be.
-        expected: String,
+        /// What it may be (it may name other arguments).
+        expected: Message,
+    },
+    /// More of something than bvhview reads or makes: what was counted, the most allowed, and
+    /// how many there were (or would be). The message says it in words, with the argument
+    /// that raises the limit where one does (`max_size`).
+    Limit {
+        /// What was counted (`bytes`, `values`, `frames`, `mesh items`).
+        what: &'static str,
+        /// The most allowed.
+        limit: u64,
+        /// How many there were, or would be.
+        found: u64,
+        /// The whole message.
+        message: Message,
+    },
+    /// The input's name ends in an extension of no format bvhview reads.
+    UnknownFormat {
+        /// The input's name.
+        input: String,
+        /// Its extension as written (empty when it has none).
+        extension: String,
     },
     /// The input needs a part this build was made without (a format behind a cargo feature).
     Unsupported {
@@ -66,8 +89,9 @@ pub enum Error {
         /// The cargo feature that brings it.
         feature: &'static str,
     },
-    /// Anything else the user asked for that cannot be done (a frame out of range, a bad option).
-    Usage(String),
+    /// Anything else the caller asked for that cannot be done (a skeleton that cannot take a
+    /// motion, a file whose content is unusable); the message may name the caller's arguments.
+    Usage(Message),
     /// The machine lacks something (a display, a library): not the input's fault.
     Environment(String),
     /// More memory than the machine gives was asked for (Python's `MemoryError`).
@@ -75,8 +99,22 @@ pub enum Error {
 }
 
 impl Error {
-    /// [`Error::Io`]: `path` could not be read.
+    /// [`Error::Io`]: `path` could not be read; a read held to `max_size` that went past it
+    /// ([`PastMaxSize`]) is the [`Error::Limit`] it is.
     pub fn io(path: &Path, source: io::Error) -> Error {
+        let past = source
+            .get_ref()
+            .and_then(|inner| inner.downcast_ref::<PastMaxSize>());
+        if let Some(&PastMaxSize { max_size }) = past {
+            return Error::Limit {
+                what: "bytes",
+                limit: max_size,
+                found: max_size.saturating_add(1),
+                message: Message::from(format!("{}: more than ", path.display()))
+                    .argument("max_size", Some(&max_size.to_string()))
+                    .text(" bytes"),
+            };
+        }
         Error::Io {
             path: path.to_path_buf(),
             source,
@@ -99,6 +137,8 @@ impl Error {
             Error::Parse { .. }
             | Error::Usage(_)
             | Error::InvalidArgument { .. }
+            | Error::Limit { .. }
+            | Error::UnknownFormat { .. }
             | Error::Unsupported { .. } => true,
             Error::Environment(_) | Error::Memory(_) | Error::Output { .. } => false,
             // A missing or unreadable input is the caller's input; the rest is the machine's.
@@ -113,64 +153,191 @@ impl Error {
     }
 }
 
-impl fmt::Display for Error {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+impl Error {
+    /// [`Error::Usage`] of `message`.
+    pub fn usage(message: impl Into<Message>) -> Error {
+        Error::Usage(message.into())
+    }
+
+    /// The error said of `subject` (`walk.npy: …`): a message of its own keeps its arguments
+    /// and its kind; an argument's error becomes a usage error that still names it.
+    pub fn about(self, subject: &str) -> Error {
+        let before = format!("{subject}: ");
         match self {
+            Error::Usage(message) => Error::Usage(message.after(&before)),
+            Error::Limit {
+                what,
+                limit,
+                found,
+                message,
+            } => Error::Limit {
+                what,
+                limit,
+                found,
+                message: message.after(&before),
+            },
+            Error::InvalidArgument {
+                name,
+                value,
+                expected,
+            } => Error::Usage(
+                Message::from(before)
+                    .argument(name, (!value.is_empty()).then_some(value.as_str()))
+                    .text(": ")
+                    .then(expected),
+            ),
+            Error::Memory(text) => Error::Memory(format!("{before}{text}")),
+            Error::Environment(text) => Error::Environment(format!("{before}{text}")),
+            other => Error::Usage(Message::from(format!("{before}{other}"))),
+        }
+    }
+
+    /// [`Error::Limit`] of an input of `size` bytes, more than `max_size` allows.
+    pub fn too_big(input: &str, size: u64, max_size: u64) -> Error {
+        Error::Limit {
+            what: "bytes",
+            limit: max_size,
+            found: size,
+            message: Message::from(format!("{input}: {size} bytes, more than "))
+                .argument("max_size", Some(&max_size.to_string())),
+        }
+    }
+
+    /// [`Error::InvalidArgument`]: the argument `name` (snake case) given as `value` is not
+    /// what is `expected`.
+    pub fn invalid(
+        name: &'static str,
+        value: impl Into<String>,
+        expected: impl Into<Message>,
+    ) -> Error {
+        Error::InvalidArgument {
+            name,
+            value: value.into(),
+            expected: expected.into(),
+        }
+    }
+
+    /// The message with each argument of the caller's it names spelled by `spelling` (what
+    /// [`fmt::Display`] writes is [`RustSpelling`]'s).
+    ///
+    /// ```
+    /// use bvhview::{Argument, Error, Spelling};
+    ///
+    /// #[derive(Debug)]
+    /// struct Python;
+    /// impl Spelling for Python {
+    ///     fn argument(&self, argument: &Argument) -> String {
+    ///         match &argument.value {
+    ///             Some(value) => format!("{}={value}", argument.name),
+    ///             None => argument.name.to_string(),
+    ///         }
+    ///     }
+    ///     fn opening(&self, file: &str, with: &Argument) -> String {
+    ///         format!("bvhview.load({file:?}, {}=…)", with.name)
+    ///     }
+    /// }
+    ///
+    /// let error = bvhview::limits::fps(0.0, false).unwrap_err();
+    /// assert_eq!(
+    ///     error.spelled(&Python),
+    ///     "fps=0: expected frames per second from 0.01 to 1000"
+    /// );
+    /// assert_eq!(error.to_string(), "fps 0: expected frames per second from 0.01 to 1000");
+    /// ```
+    pub fn spelled(&self, spelling: &dyn Spelling) -> String {
+        match self {
+            Error::InvalidArgument {
+                name,
+                value,
+                expected,
+            } => {
+                let argument = Argument {
+                    name,
+                    value: (!value.is_empty()).then(|| value.clone()),
+                };
+                format!(
+                    "{}: {}",
+                    spelling.argument(&argument),
+                    expected.spelled(spelling)
+                )
+            }
+            Error::Limit { message, .. } | Error::Usage(message) => message.spelled(spelling),
+            Error::UnknownFormat { input, extension } => format!(
+                "{input}: unknown extension '{extension}': bvhview reads .bvh, .fbx, .gltf and \
+                 .glb files and .asf skeletons (with {})",
+                spelling.argument(&Argument {
+                    name: "motion",
+                    value: Some(".amc".into())
+                })
+            ),
             Error::Parse {
                 path,
                 line,
                 column,
                 message,
-            } => write!(f, "{path}:{line}:{column}: {message}"),
+            } => format!("{path}:{line}:{column}: {message}"),
             Error::Io { path, source } => match source.kind() {
-                io::ErrorKind::NotFound => write!(f, "{}: no such file", path.display()),
+                io::ErrorKind::NotFound => format!("{}: no such file", path.display()),
                 io::ErrorKind::PermissionDenied => {
-                    write!(f, "{}: permission denied (cannot read it)", path.display())
+                    format!("{}: permission denied (cannot read it)", path.display())
                 }
-                _ => write!(f, "{}: {}", path.display(), io_message(source)),
+                _ => format!("{}: {}", path.display(), io_message(source)),
             },
             Error::Output { path, source } => {
                 let folder = path.parent().filter(|p| !p.as_os_str().is_empty());
                 match (source.kind(), folder) {
                     // The folder is there, but nothing can be made in it (/proc answers a new
                     // name with "no such file"): said as such, not as a missing folder.
-                    (io::ErrorKind::NotFound, Some(folder)) if folder.is_dir() => write!(
-                        f,
+                    (io::ErrorKind::NotFound, Some(folder)) if folder.is_dir() => format!(
                         "cannot write {}: nothing can be created in {} (the system says: {})",
                         path.display(),
                         folder.display(),
                         io_message(source)
                     ),
-                    (io::ErrorKind::NotFound, Some(folder)) => write!(
-                        f,
+                    (io::ErrorKind::NotFound, Some(folder)) => format!(
                         "cannot write {}: the folder {} does not exist",
                         path.display(),
                         folder.display()
                     ),
                     (io::ErrorKind::PermissionDenied, _) => {
-                        write!(f, "cannot write {}: permission denied", path.display())
+                        format!("cannot write {}: permission denied", path.display())
                     }
-                    _ => write!(f, "cannot write {}: {}", path.display(), io_message(source)),
+                    _ => format!("cannot write {}: {}", path.display(), io_message(source)),
                 }
             }
-            Error::InvalidArgument {
-                name,
-                value,
-                expected,
-            } => write!(f, "{name} {value}: {expected}"),
             Error::Unsupported {
                 input,
                 what,
                 feature,
-            } => write!(
-                f,
+            } => format!(
                 "{input}: this bvhview was built without {what} (cargo feature `{feature}`); \
                  build it with `--features {feature}`"
             ),
-            Error::Usage(message) | Error::Environment(message) | Error::Memory(message) => {
-                f.write_str(message)
-            }
+            Error::Environment(message) | Error::Memory(message) => message.clone(),
         }
+    }
+}
+
+/// What a read held to `max_size` bytes fails with past it, as the source of an
+/// [`io::ErrorKind::FileTooLarge`] error: [`Error::io`] turns it into an [`Error::Limit`] naming
+/// the `max_size` argument (`found` is then "at least one byte more").
+#[derive(Debug)]
+pub struct PastMaxSize {
+    /// The `max_size` the read was held to.
+    pub max_size: u64,
+}
+
+impl fmt::Display for PastMaxSize {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "more than max_size {} bytes", self.max_size)
+    }
+}
+
+impl std::error::Error for PastMaxSize {}
+
+impl fmt::Display for Error {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.spelled(&RustSpelling))
     }
 }
 

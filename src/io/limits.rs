@@ -75,7 +75,7 @@ pub fn retarget_values(
         .saturating_add(RETARGET_VALUES_FLOOR)
         .min(MAX_GENERATED_VALUES / 3);
     if wanted > budget {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{what}: {} onto {} ({target} channels) make {} values, more than a take of {} \
              values is put on a skeleton for (at most {}: {RETARGET_VALUES_PER_VALUE} a value \
              of the take and the target, above {}); trim the take or use a skeleton with fewer \
@@ -149,16 +149,14 @@ pub fn frame_time_in_file(seconds: f64) -> bool {
 /// [`MAX_FRAME_TIME`].
 pub fn frame_time_option(seconds: Option<f64>) -> Result<(), Error> {
     match seconds {
-        Some(time) if !(MIN_FRAME_TIME..=MAX_FRAME_TIME).contains(&time) => {
-            Err(Error::InvalidArgument {
-                name: "frame_time",
-                value: show(time),
-                expected: format!(
-                    "expected seconds per frame, from {} to {MAX_FRAME_TIME}",
-                    show(MIN_FRAME_TIME)
-                ),
-            })
-        }
+        Some(time) if !(MIN_FRAME_TIME..=MAX_FRAME_TIME).contains(&time) => Err(Error::invalid(
+            "frame_time",
+            show(time),
+            format!(
+                "expected seconds per frame, from {} to {MAX_FRAME_TIME}",
+                show(MIN_FRAME_TIME)
+            ),
+        )),
         _ => Ok(()),
     }
 }
@@ -172,11 +170,11 @@ pub fn fps(fps: f64, gif: bool) -> Result<f64, Error> {
         } else {
             ""
         };
-        return Err(Error::InvalidArgument {
-            name: "fps",
-            value: show(fps),
-            expected: format!("expected frames per second from {MIN_FPS} to {most}{why}"),
-        });
+        return Err(Error::invalid(
+            "fps",
+            show(fps),
+            format!("expected frames per second from {MIN_FPS} to {most}{why}"),
+        ));
     }
     Ok(fps)
 }
@@ -185,7 +183,7 @@ pub fn fps(fps: f64, gif: bool) -> Result<f64, Error> {
 fn frames_at(frames: usize, frame_time: f64, fps: f64, most: u64) -> Result<usize, Error> {
     let count = (frames as f64 * frame_time * fps).round().max(1.0);
     if !(count.is_finite() && count <= most as f64) {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{} of {} s at {} per second make {} frames; at most {most} can be made",
             crate::io::error::counted(frames, "frame"),
             show(frame_time),
@@ -222,11 +220,7 @@ pub const MAX_PICTURE_PIXELS: u64 = 8192 * 8192;
 
 /// A picture's size: 1 to 16384 pixels each way, at most [`MAX_PICTURE_PIXELS`] in all.
 pub fn picture_size(width: u32, height: u32) -> Result<(), Error> {
-    let invalid = |expected: String| Error::InvalidArgument {
-        name: "size",
-        value: format!("{width}x{height}"),
-        expected,
-    };
+    let invalid = |expected: String| Error::invalid("size", format!("{width}x{height}"), expected);
     if width == 0 || height == 0 || width > 16384 || height > 16384 {
         return Err(invalid("width and height must be 1 to 16384".into()));
     }

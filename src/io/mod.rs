@@ -7,6 +7,7 @@ pub mod absent;
 pub mod error;
 pub mod limits;
 pub mod lines;
+pub mod message;
 pub mod output;
 pub mod parallel;
 pub mod place;

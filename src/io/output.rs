@@ -111,7 +111,7 @@ impl NewFolder {
                 if std::fs::read_dir(folder_path.join(&name))
                     .is_ok_and(|mut d| d.next().is_none()) => {}
             _ => {
-                return Err(Error::Usage(format!(
+                return Err(Error::usage(format!(
                     "{}: already exists; {refusal}",
                     out.display()
                 )));
@@ -306,7 +306,7 @@ impl AtomicFile {
                 return Err(Error::output(path, error));
             }
             Found::Other(what) => {
-                return Err(Error::Usage(format!(
+                return Err(Error::usage(format!(
                     "-o {}: is {what}; bvhview writes regular files, FIFOs and character devices",
                     path.display()
                 )));

@@ -300,7 +300,7 @@ impl<'a> Walker<'a> {
         let entry = match opened {
             Err(e) if e.kind() == io::ErrorKind::NotFound && last => {
                 if let Some(link) = &self.last_link {
-                    return Err(Error::Usage(format!(
+                    return Err(Error::usage(format!(
                         "-o {}: is a symbolic link to {}, which does not exist",
                         shown.display(),
                         link.display()
@@ -322,7 +322,7 @@ impl<'a> Walker<'a> {
             }
             libc::S_IFDIR => {
                 if planted(status.uid, &self.folder_status) {
-                    return Err(Error::Usage(format!(
+                    return Err(Error::usage(format!(
                         "-o {}: {} is a folder another user (uid {}) owns in a shared folder; \
                          not written into",
                         shown.display(),
@@ -348,7 +348,7 @@ impl<'a> Walker<'a> {
                 if matches!(found, Found::File(_) | Found::Stream)
                     && planted(status.uid, &self.folder_status)
                 {
-                    return Err(Error::Usage(format!(
+                    return Err(Error::usage(format!(
                         "-o {}: belongs to another user (uid {}) in a shared folder; not replaced",
                         shown.display(),
                         status.uid
@@ -371,7 +371,7 @@ impl<'a> Walker<'a> {
     ) -> Result<(), Error> {
         let shown = self.shown;
         if planted(status.uid, &self.folder_status) {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "-o {}: {} is a symbolic link another user (uid {}) made in a shared \
                  folder; not followed",
                 shown.display(),
@@ -381,7 +381,7 @@ impl<'a> Walker<'a> {
         }
         self.links += 1;
         if self.links > MAX_LINKS {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "-o {}: too many levels of symbolic links",
                 shown.display()
             )));
@@ -410,7 +410,7 @@ impl<'a> Walker<'a> {
 }
 
 fn not_a_name(shown: &Path) -> Error {
-    Error::Usage(format!(
+    Error::usage(format!(
         "-o {}: names a folder, not a file or folder to make in it",
         shown.display()
     ))

@@ -70,8 +70,7 @@ fn read_more(file: std::fs::File, length: u64, bytes: &mut Vec<u8>) -> std::io::
 #[cfg(any(feature = "fbx", feature = "gltf"))]
 pub fn read_binary_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     let (file, length) = open_regular(path).map_err(|e| Error::io(path, e))?;
-    whole_file_size(length, max_size)
-        .map_err(|why| Error::Usage(format!("{}: {why}", path.display())))?;
+    whole_file_size(&path.display().to_string(), length, max_size)?;
     read_start(file, length).map_err(|e| Error::io(path, e))
 }
 
@@ -93,49 +92,58 @@ pub fn read_binary_file_checked(
         .read_to_end(&mut start)
         .map_err(|e| Error::io(path, e))?;
     check(&start, length)?;
-    whole_file_size(length, max_size)
-        .map_err(|why| Error::Usage(format!("{}: {why}", path.display())))?;
+    whole_file_size(&path.display().to_string(), length, max_size)?;
     read_more(file, length.saturating_sub(start.len() as u64), &mut start)
         .map_err(|e| Error::io(path, e))?;
     Ok(start)
 }
 
-/// Why a file of `length` bytes is not read whole, if it is not.
-fn whole_file_size(length: u64, max_size: u64) -> Result<(), String> {
+/// Why `input`, a file of `length` bytes, is not read whole, if it is not.
+fn whole_file_size(input: &str, length: u64, max_size: u64) -> Result<(), Error> {
     let budget = crate::io::limits::MAX_WHOLE_FILE_BYTES;
     if length > max_size {
-        return Err(format!("{length} bytes, more than --max-size {max_size}"));
+        return Err(Error::too_big(input, length, max_size));
     }
     if length > budget {
-        return Err(format!(
-            "{length} bytes, more than the {} GiB bvhview reads of a binary file (FBX, glTF, .npy: \
-             read whole into memory); not read",
-            budget >> 30
-        ));
+        return Err(Error::Limit {
+            what: "bytes",
+            limit: budget,
+            found: length,
+            message: format!(
+                "{input}: {length} bytes, more than the {} GiB bvhview reads of a binary file \
+                 (FBX, glTF, .npy: read whole into memory); not read",
+                budget >> 30
+            )
+            .into(),
+        });
     }
     Ok(())
 }
 
 /// The first `length` bytes of the regular file at `path` (a glTF buffer of `byteLength`
-/// bytes: what lies past it is never read), or why not, in words without the path: not a
-/// regular file, shorter than `length`, or `length` past `max_size` or
+/// bytes: what lies past it is never read), or why not, said of `input` (how the caller names
+/// the file): not a regular file, shorter than `length`, or `length` past `max_size` or
 /// [`crate::io::limits::MAX_WHOLE_FILE_BYTES`].
 #[cfg(feature = "gltf")]
-pub fn read_file_start(path: &Path, length: u64, max_size: u64) -> Result<Vec<u8>, String> {
-    let said = |e: std::io::Error| crate::io::error::Error::io(path, e).to_string();
-    let (file, size) = open_regular(path).map_err(|e| {
-        let text = said(e);
-        // The path is the caller's to say; keep what follows it.
+pub fn read_file_start(
+    path: &Path,
+    length: u64,
+    max_size: u64,
+    input: &str,
+) -> Result<Vec<u8>, Error> {
+    // The system's words without the path, which `input` says.
+    let said = |e: std::io::Error| {
+        let text = Error::io(path, e).to_string();
         let prefix = format!("{}: ", path.display());
-        text.strip_prefix(&prefix).unwrap_or(&text).to_string()
-    })?;
-    whole_file_size(length, max_size)?;
+        let why = text.strip_prefix(&prefix).unwrap_or(&text);
+        Error::usage(format!("{input}: {why}"))
+    };
+    let (file, size) = open_regular(path).map_err(said)?;
+    whole_file_size(input, length, max_size)?;
     if size < length {
-        return Err(format!("{size} bytes, fewer than its byteLength {length}"));
+        return Err(Error::usage(format!(
+            "{input}: {size} bytes, fewer than its byteLength {length}"
+        )));
     }
-    read_start(file, length).map_err(|e| {
-        let text = said(e);
-        let prefix = format!("{}: ", path.display());
-        text.strip_prefix(&prefix).unwrap_or(&text).to_string()
-    })
+    read_start(file, length).map_err(said)
 }

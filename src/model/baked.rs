@@ -261,7 +261,7 @@ pub fn build_with(
     // not finite is refused at load, never passed on to poses and exports.
     for (node, pose) in nodes.iter().zip(rest) {
         if let Some(fault) = pose_fault(pose) {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "joint '{}': its rest pose has {fault}",
                 crate::limits::quoted(&node.name)
             )));
@@ -281,14 +281,14 @@ pub fn build_with(
         world.clear();
         pose_of(f, &mut world)?;
         if world.len() != count {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "frame {f} has {} poses for {count} joints",
                 world.len()
             )));
         }
         for (node, pose) in nodes.iter().zip(&world) {
             if let Some(fault) = pose_fault(pose) {
-                return Err(Error::Usage(format!(
+                return Err(Error::usage(format!(
                     "joint '{}', frame {f} (at {} s): {fault}",
                     crate::limits::quoted(&node.name),
                     crate::limits::brief(f as f64 * frame_time)
@@ -334,7 +334,7 @@ pub fn build_with(
             first
         };
         if !offset.is_finite() {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "joint '{}': a rest offset that is not finite (past a 32-bit float)",
                 crate::limits::quoted(&nodes[i].name)
             )));
@@ -395,7 +395,7 @@ pub fn build_with(
         .checked_mul(channels)
         .filter(|&v| v as u64 <= crate::limits::MAX_GENERATED_VALUES)
         .ok_or_else(|| {
-            Error::Usage(format!(
+            Error::usage(format!(
                 "{frames} frames of {channels} channels: more than bvhview reads"
             ))
         })?;
@@ -422,7 +422,7 @@ pub fn build_with(
             .iter()
             .find(|j| (j.first_channel..j.first_channel + j.channels.len()).contains(&column))
             .map_or("?".to_string(), |j| crate::limits::quoted(&j.name));
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "joint '{joint}', frame {frame}: the file's transforms give a value that is not \
              finite (a zero scale or a broken matrix)"
         )));

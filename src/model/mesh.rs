@@ -561,7 +561,7 @@ impl MeshBuilder {
     pub fn reserve(&self, more: u64) -> Result<(), Error> {
         let wanted = self.used().saturating_add(more);
         if wanted > self.budget {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: its meshes ask for {wanted} vertices, triangles and influences, more than a \
                  file of its size is read for ({} at most: {MESH_ITEMS_PER_BYTE} a byte above \
                  {MESH_ITEMS_FLOOR}); refused as damaged or hostile",
@@ -591,7 +591,7 @@ impl MeshBuilder {
             let joint = bone
                 .joint
                 .map_or("no joint".to_string(), |j| format!("joint {j}"));
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: a skin's bind matrix for {joint} is not finite (a broken or degenerate \
                  transform)",
                 self.name
@@ -626,7 +626,7 @@ impl MeshBuilder {
             )
         };
         if !position.is_finite() || !normal.is_finite() {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: {} has a position or normal that is not finite",
                 self.name,
                 at(&self.mesh)
@@ -635,14 +635,14 @@ impl MeshBuilder {
         let start = self.mesh.influences.len();
         for (bone, weight) in influences {
             if !weight.is_finite() || weight < 0.0 {
-                return Err(Error::Usage(format!(
+                return Err(Error::usage(format!(
                     "{}: {} has a weight of {weight} (weights are finite and not negative)",
                     self.name,
                     at(&self.mesh)
                 )));
             }
             if bone as usize >= self.mesh.bones.len() {
-                return Err(Error::Usage(format!(
+                return Err(Error::usage(format!(
                     "{}: {} is bound to joint {bone} of {} joints",
                     self.name,
                     at(&self.mesh),
@@ -663,7 +663,7 @@ impl MeshBuilder {
             .sum();
         if total > MAX_WEIGHT_SUM {
             self.mesh.influences.truncate(start);
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: {} has skin weights summing to {total:.2e}, past the largest 32-bit float \
                  (3.4e38); weights are shares of a vertex (the file is damaged: export its skin \
                  again)",
@@ -704,7 +704,7 @@ impl MeshBuilder {
         self.reserve(1)?;
         let vertices = self.mesh.positions.len();
         if let Some(c) = corners.iter().find(|&&c| c as usize >= vertices) {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{}: a triangle names vertex {c} of {vertices}",
                 self.name
             )));

@@ -2,6 +2,7 @@
 //! takes a file holds, one picked by name or index.
 
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::motion::Motion;
 use crate::model::skeleton::Skeleton;
 
@@ -50,7 +51,7 @@ pub struct Read {
     /// The take's frames, one column per channel of `skeleton`.
     pub motion: Motion,
     /// Things that were accepted but deserve a word, each said once.
-    pub warnings: Vec<String>,
+    pub warnings: Vec<Message>,
     /// The take read, by name, when the file holds takes (none: its rest pose).
     pub take: Option<String>,
 }
@@ -76,7 +77,7 @@ pub fn pick_take(names: &[String], take: Option<&str>, file: &str) -> Result<usi
             .collect();
         format!("it has {}", quoted.join(", "))
     };
-    Err(Error::Usage(format!("{file}: no take '{take}' ({list})")))
+    Err(Error::usage(format!("{file}: no take '{take}' ({list})")))
 }
 
 /// [`pick_take`] for a file whose takes are `names` (at least one): the index and name of the
@@ -86,16 +87,19 @@ pub fn choose_take(
     names: &[String],
     take: Option<&str>,
     file: &str,
-    warnings: &mut Vec<String>,
+    warnings: &mut Vec<Message>,
 ) -> Result<(usize, String), Error> {
     let index = pick_take(names, take, file)?;
     if take.is_none() && names.len() > 1 {
-        warnings.push(format!(
-            "{} takes; reading take 0 '{}' (--take NAME|INDEX picks another; `bvhview info` \
-             lists them)",
-            names.len(),
-            names[0]
-        ));
+        warnings.push(
+            Message::from(format!(
+                "{} takes; reading take 0 '{}' (",
+                names.len(),
+                names[0]
+            ))
+            .argument("take", Some("NAME|INDEX"))
+            .text(" picks another; `bvhview info` lists them)"),
+        );
     }
     Ok((index, names[index].clone()))
 }

@@ -66,13 +66,13 @@ pub fn encoded_size(width: u32, height: u32) -> (u32, u32) {
 /// at H.264's level 5.2, 3840 × 2160 either way up.
 pub fn check_video_size(width: u32, height: u32) -> Result<(), Error> {
     if width < 16 || height < 16 {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "an MP4 of {width}x{height}: the H.264 encoder (OpenH264) takes pictures of 16x16 \
              and more"
         )));
     }
     if width.max(height) > 3840 || width.min(height) > 2160 {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "an MP4 of {width}x{height}: the H.264 encoder (OpenH264) takes pictures up to \
              3840x2160 (or 2160x3840)"
         )));
@@ -187,10 +187,8 @@ pub fn write(
     match format {
         AnimationFormat::Gif => {
             let (w, h) = (
-                u16::try_from(width)
-                    .map_err(|_| Error::Usage("a GIF is at most 65535 wide".into()))?,
-                u16::try_from(height)
-                    .map_err(|_| Error::Usage("a GIF is at most 65535 high".into()))?,
+                u16::try_from(width).map_err(|_| Error::usage("a GIF is at most 65535 wide"))?,
+                u16::try_from(height).map_err(|_| Error::usage("a GIF is at most 65535 high"))?,
             );
             let mut encoder = gif::Encoder::new(out, w, h, &[]).map_err(|e| encoding(&e))?;
             encoder
@@ -290,7 +288,7 @@ mod tests {
             |i| {
                 drawn += 1;
                 if i == 7 {
-                    Err(Error::Usage("frame 7".into()))
+                    Err(Error::usage("frame 7"))
                 } else {
                     Ok(picture(0))
                 }
@@ -314,7 +312,7 @@ mod tests {
             },
             |mut pictures| -> Result<(), Error> {
                 pictures.next();
-                Err(Error::Usage("disk full".into()))
+                Err(Error::usage("disk full"))
             },
         )
         .unwrap_err();

@@ -50,11 +50,6 @@ pub fn frame_of(frame: usize, frames: usize) -> String {
     format!("frame {frame} (0-{})", frames.saturating_sub(1))
 }
 
-/// What the article's view says of a file whose rest pose stands along z: it is drawn as
-/// written, as the article draws every file, and what stands it up.
-pub const LYING_HINT: &str = "stands along z in its motion: drawn as written, as the article \
-     draws every file (--up z or --look studio stands it up; V in the window)";
-
 fn frames_text(take: &HudTake) -> (String, String) {
     if take.frames == 0 {
         ("rest pose (no frames)".to_string(), "rest pose".to_string())

@@ -128,7 +128,7 @@ impl Image {
     /// to 8).
     pub fn read_png(path: &Path) -> Result<Image, Error> {
         let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
-        let bad = |e: png::DecodingError| Error::Usage(format!("{}: {e}", path.display()));
+        let bad = |e: png::DecodingError| Error::usage(format!("{}: {e}", path.display()));
         let mut decoder = png::Decoder::new(std::io::BufReader::new(file));
         decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
         let mut reader = decoder.read_info().map_err(bad)?;
@@ -479,16 +479,19 @@ pub fn frame_values(motion: &Motion, index: usize) -> Result<Option<&[f32]>, Err
         return if index == 0 {
             Ok(None)
         } else {
-            Err(Error::Usage(format!(
-                "--frame {index}: the file has no frames (only 0, the rest pose)"
-            )))
+            Err(Error::invalid(
+                "frame",
+                index.to_string(),
+                "the file has no frames (only 0, the rest pose)",
+            ))
         };
     }
     if index >= motion.frame_count() {
-        return Err(Error::Usage(format!(
-            "--frame {index}: the file has frames 0 to {}",
-            motion.frame_count() - 1
-        )));
+        return Err(Error::invalid(
+            "frame",
+            index.to_string(),
+            format!("the file has frames 0 to {}", motion.frame_count() - 1),
+        ));
     }
     Ok(Some(motion.frame(index)))
 }
@@ -603,8 +606,8 @@ impl Renderer {
     ) -> Result<(), Error> {
         let (width, height) = self.context.size();
         if (options.width, options.height) != (width, height) {
-            return Err(Error::Usage(
-                "a renderer draws at the size it was made with".into(),
+            return Err(Error::usage(
+                "a renderer draws at the size it was made with",
             ));
         }
         self.context.make_current()?;

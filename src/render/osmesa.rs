@@ -148,7 +148,7 @@ impl OsMesa {
     /// while the last one is encoded elsewhere, without a copy.
     pub fn swap_buffer(&mut self, spare: Vec<u8>) -> Result<Vec<u8>, Error> {
         if spare.len() != self.buffer.len() {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "a picture buffer of {} bytes for a {}x{} context",
                 spare.len(),
                 self.width,

@@ -480,12 +480,15 @@ fn frames_at<'a>(
 ) -> Result<Vec<Option<&'a [f32]>>, Error> {
     let clock = Clock::new(&takes.iter().map(|t| t.motion).collect::<Vec<_>>());
     if takes.len() > 1 && options.frame >= clock.count {
-        return Err(Error::Usage(format!(
-            "--frame {}: the takes together have frames 0 to {} (at {} s each)",
-            options.frame,
-            clock.count - 1,
-            clock.step
-        )));
+        return Err(Error::invalid(
+            "frame",
+            options.frame.to_string(),
+            format!(
+                "the takes together have frames 0 to {} (at {} s each)",
+                clock.count - 1,
+                clock.step
+            ),
+        ));
     }
     let mut frames = Vec::with_capacity(takes.len());
     for take in takes {

@@ -187,7 +187,7 @@ impl Mp4 {
         if (image.width, image.height) != self.size
             || image.rgb.len() != image.width as usize * image.height as usize * 3
         {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "a {}x{} picture in a {}x{} video",
                 image.width, image.height, self.size.0, self.size.1
             )));
@@ -294,7 +294,7 @@ impl Mp4 {
     fn muxer_error(&self, e: mp4::Error) -> Error {
         match e {
             mp4::Error::IoError(e) => Error::output(&self.spool_folder(), e),
-            other => Error::Usage(format!("the MP4 writer: {other}")),
+            other => Error::usage(format!("the MP4 writer: {other}")),
         }
     }
 
@@ -314,7 +314,7 @@ impl Mp4 {
     /// picture in it.
     pub fn finish_into(mut self, out: &mut dyn Write, path: &Path) -> Result<(), Error> {
         let Some(mut writer) = self.writer.take() else {
-            return Err(Error::Usage("a video needs one frame or more".into()));
+            return Err(Error::usage("a video needs one frame or more"));
         };
         writer.write_end().map_err(|e| self.muxer_error(e))?;
         // The samples' last bytes reach their file here.
@@ -454,7 +454,7 @@ fn without_start_code(nal: &[u8]) -> &[u8] {
 }
 
 fn encoder_error(e: &dyn std::fmt::Display) -> Error {
-    Error::Usage(format!("the H.264 encoder (OpenH264): {e}"))
+    Error::usage(format!("the H.264 encoder (OpenH264): {e}"))
 }
 
 #[cfg(test)]

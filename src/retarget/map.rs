@@ -3,6 +3,7 @@
 
 use crate::io::error::Error;
 use crate::io::error::quoted;
+use crate::io::message::Message;
 use crate::model::body::{Body, Limb, Role, Side, path_between};
 use crate::model::skeleton::Skeleton;
 
@@ -194,7 +195,7 @@ impl Map {
         let mut given: Vec<(usize, usize)> = Vec::new();
         for (src, dst) in pairs {
             let s = find(source, src).ok_or_else(|| {
-                Error::Usage(format!(
+                Error::usage(format!(
                     "map: the source has no joint named {} (it has {})",
                     quoted(src),
                     some_names(source)
@@ -212,14 +213,14 @@ impl Map {
                 continue;
             }
             let t = find(target, dst).ok_or_else(|| {
-                Error::Usage(format!(
+                Error::usage(format!(
                     "map: the target has no joint named {} (it has {})",
                     quoted(dst),
                     some_names(target)
                 ))
             })?;
             if let Some(&(other, _)) = given.iter().find(|&&(o, tt)| tt == t && o != s) {
-                return Err(Error::Usage(format!(
+                return Err(Error::usage(format!(
                     "map: two source joints, {} and {}, mapped to one target joint {}",
                     quoted(&source.joints[other].name),
                     quoted(src),
@@ -248,7 +249,7 @@ impl Map {
             if self.source_of.iter().flatten().count() >= 2 {
                 return Ok(());
             }
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{target_name}: fewer than two joints mapped; nothing to retarget"
             )));
         }
@@ -265,11 +266,15 @@ impl Map {
         ] {
             let missing = missing(body);
             if !missing.is_empty() {
-                return Err(Error::Usage(format!(
-                    "{name}: the {what} has no mappable chain: no joint found for {} \
-                     (name them with --map SRC=DST or a map file)",
-                    missing.join(", ")
-                )));
+                return Err(Error::usage(
+                    Message::from(format!(
+                        "{name}: the {what} has no mappable chain: no joint found for {} \
+                         (name them with ",
+                        missing.join(", ")
+                    ))
+                    .argument("map", Some("SRC=DST"))
+                    .text(" or a map file)"),
+                ));
             }
         }
         Ok(())

@@ -72,7 +72,7 @@ impl MapPairs {
 pub fn parse_map(text: &str, name: &str) -> Result<Vec<(String, String)>, Error> {
     let pairs = parse_map_pairs(text, name)?;
     if !pairs.by_skeleton.is_empty() {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{name}: pairs for one skeleton ([skeleton.…]) are read where a take's skeleton is known"
         )));
     }

@@ -1,6 +1,7 @@
 //! The skeleton a take is put on: a file, or a built-in skeleton (`smpl22`).
 
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::body::{Body, Doubt, is_ancestor};
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
@@ -9,13 +10,21 @@ use crate::retarget::align::{Ups, source_offset_mode};
 use crate::retarget::map::Map;
 use crate::take::Take;
 
-/// What a refusal by [`Target::check_body`] ends with: how to go ahead anyway.
-/// Python's messages read it as "`any_body` retargets it anyway".
-pub const ANY_BODY: &str = "`--any-body` retargets it anyway";
+/// What a refusal by [`Target::check_body`] ends with: how to go ahead anyway (the command
+/// line says "`--any-body` retargets it anyway", Python "`any_body` retargets it anyway").
+fn any_body_goes_ahead() -> Message {
+    Message::from("`")
+        .argument("any_body", None)
+        .text("` retargets it anyway")
+}
 
 /// What a refusal by [`Check::refusal`](crate::retarget::Check::refusal) ends with: how to write
 /// the output anyway.
-pub const FORCE: &str = "`--force` writes it anyway";
+fn force_goes_ahead() -> Message {
+    Message::from("`")
+        .argument("force", None)
+        .text("` writes it anyway")
+}
 
 /// How far a caller goes against [`Target::apply`]'s refusals: `any_body` puts a body on a
 /// skeleton of another kind (four legs onto two) and does not hold it to a person's widths;
@@ -123,10 +132,14 @@ impl Target {
             }
             if crate::take::extension(path).is_empty() {
                 let names: Vec<&str> = BUILT_IN.iter().map(|(n, _)| *n).collect();
-                return Err(Error::Usage(format!(
-                    "--onto {onto}: neither a file nor a built-in skeleton ({})",
-                    names.join(", ")
-                )));
+                return Err(Error::invalid(
+                    "onto",
+                    onto,
+                    format!(
+                        "neither a file nor a built-in skeleton ({})",
+                        names.join(", ")
+                    ),
+                ));
             }
         }
         let loaded = crate::take::OpenOptions::new()
@@ -222,11 +235,14 @@ impl Target {
         if let Some(why) = &forced
             && !insist.force
         {
-            return Err(Error::Usage(format!(
-                "{source_name} onto {}: not written: {why} ({}); {FORCE}",
-                crate::limits::quoted(&self.name),
-                check.line()
-            )));
+            return Err(Error::usage(
+                Message::from(format!(
+                    "{source_name} onto {}: not written: {why} ({}); ",
+                    crate::limits::quoted(&self.name),
+                    check.line()
+                ))
+                .then(force_goes_ahead()),
+            ));
         }
         Ok(Retargeted {
             skeleton: out_skeleton,
@@ -276,16 +292,22 @@ impl Target {
         };
         let target_doubt = two_legged(&self.skeleton, &self.poses);
         match (two_legged(skeleton, motion), target_doubt) {
-            (Some(Doubt::NotBiped(why)), None) => Err(Error::Usage(format!(
-                "{source_name}: not a two-legged body ({why}), and {} is one: its limbs would \
-                 be carried over as a person's; {ANY_BODY}",
-                crate::limits::quoted(&self.name)
-            ))),
-            (None, Some(Doubt::NotBiped(why))) => Err(Error::Usage(format!(
-                "{source_name}: a two-legged body, and {} is not ({why}): a person's limbs \
-                 would be carried onto it as if it were one; {ANY_BODY}",
-                crate::limits::quoted(&self.name)
-            ))),
+            (Some(Doubt::NotBiped(why)), None) => Err(Error::usage(
+                Message::from(format!(
+                    "{source_name}: not a two-legged body ({why}), and {} is one: its limbs \
+                     would be carried over as a person's; ",
+                    crate::limits::quoted(&self.name)
+                ))
+                .then(any_body_goes_ahead()),
+            )),
+            (None, Some(Doubt::NotBiped(why))) => Err(Error::usage(
+                Message::from(format!(
+                    "{source_name}: a two-legged body, and {} is not ({why}): a person's limbs \
+                     would be carried onto it as if it were one; ",
+                    crate::limits::quoted(&self.name)
+                ))
+                .then(any_body_goes_ahead()),
+            )),
             _ => Ok(()),
         }
     }

@@ -4,6 +4,7 @@
 
 use super::{Positions, SMPL22_ORDER};
 use crate::io::error::{Error, quoted};
+use crate::io::message::Message;
 use glam::DVec3;
 use std::path::Path;
 
@@ -34,7 +35,7 @@ pub fn read_positions(
     joints: Option<&str>,
     frame_time: f64,
     max_size: u64,
-) -> Result<(Positions, Option<String>), Error> {
+) -> Result<(Positions, Option<Message>), Error> {
     let shown = path.display().to_string();
     let extension = path
         .extension()
@@ -49,33 +50,46 @@ pub fn read_positions(
                 Some(spec) => (joint_names(spec), None),
                 None if joint_count == 22 => (
                     joint_names("smpl22"),
-                    Some(format!(
-                        "{shown}: 22 unnamed joints read in SMPL's order (pelvis, left_hip, \
-                         right_hip, …; --joints names them otherwise)"
-                    )),
+                    Some(
+                        Message::from(format!(
+                            "{shown}: 22 unnamed joints read in SMPL's order (pelvis, left_hip, \
+                             right_hip, …; "
+                        ))
+                        .argument("joints", None)
+                        .text(" names them otherwise)"),
+                    ),
                 ),
                 None => {
-                    return Err(Error::Usage(format!(
-                        "{shown}: {joint_count} unnamed joints a frame: name them in order with \
-                         --joints A,B,… (or --joints smpl22 for SMPL's 22)"
-                    )));
+                    return Err(Error::usage(
+                        Message::from(format!(
+                            "{shown}: {joint_count} unnamed joints a frame: name them in order \
+                             with "
+                        ))
+                        .argument("joints", Some("A,B,…"))
+                        .text(" (or ")
+                        .argument("joints", Some("smpl22"))
+                        .text(" for SMPL's 22)"),
+                    ));
                 }
             };
             if names.len() != joint_count {
-                return Err(Error::Usage(format!(
-                    "{shown}: {joint_count} joints a frame, and --joints names {}",
-                    names.len()
-                )));
+                return Err(Error::usage(
+                    Message::from(format!("{shown}: {joint_count} joints a frame, and "))
+                        .argument("joints", None)
+                        .text(format!(" names {}", names.len())),
+                ));
             }
-            let positions = Positions::new(names, points, frame_time)
-                .map_err(|e| Error::Usage(format!("{shown}: {e}")))?;
+            let positions =
+                Positions::new(names, points, frame_time).map_err(|e| e.about(&shown))?;
             Ok((positions, note))
         }
         "csv" => {
             if joints.is_some() {
-                return Err(Error::Usage(format!(
-                    "{shown}: a CSV names its joints; --joints is for an .npy"
-                )));
+                return Err(Error::usage(
+                    Message::from(format!("{shown}: a CSV names its joints; "))
+                        .argument("joints", None)
+                        .text(" is for an .npy"),
+                ));
             }
             // Read whole, as an .npy is: a regular file only (a FIFO would wait for a writer),
             // within the same budget, and only once its first line is the header.
@@ -83,17 +97,17 @@ pub fn read_positions(
                 crate::io::whole::read_binary_file_checked(path, max_size, 32, |start, _| {
                     match start.starts_with(CSV_HEADER.as_bytes()) {
                         true => Ok(()),
-                        false => Err(Error::Usage(format!("{shown}:1: {}", no_csv_header()))),
+                        false => Err(Error::usage(format!("{shown}:1: {}", no_csv_header()))),
                     }
                 })?;
             let text = std::str::from_utf8(&bytes)
-                .map_err(|_| Error::Usage(format!("{shown}: not UTF-8 text")))?;
+                .map_err(|_| Error::usage(format!("{shown}: not UTF-8 text")))?;
             let (names, points) = read_csv(text, &shown)?;
-            let positions = Positions::new(names, points, frame_time)
-                .map_err(|e| Error::Usage(format!("{shown}: {e}")))?;
+            let positions =
+                Positions::new(names, points, frame_time).map_err(|e| e.about(&shown))?;
             Ok((positions, None))
         }
-        _ => Err(Error::Usage(format!(
+        _ => Err(Error::usage(format!(
             "{shown}: positions are read from .npy (frames × joints × 3) or the .csv `bvhview \
              positions` writes"
         ))),
@@ -160,7 +174,7 @@ pub fn read_npy_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     crate::io::whole::read_binary_file_checked(path, max_size, NPY_PREFIX_BYTES, |start, size| {
         npy_data_start(start, size)
             .map(|_| ())
-            .map_err(|why| Error::Usage(format!("{}: {why}", path.display())))
+            .map_err(|why| Error::usage(format!("{}: {why}", path.display())))
     })
 }
 
@@ -244,7 +258,7 @@ fn open_npy<'a>(
     bytes: &'a [u8],
     shown: &str,
 ) -> Result<(npyz::NpyFile<&'a [u8]>, u64, u64), Error> {
-    let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
+    let refuse = |why: String| Error::usage(format!("{shown}: {why}"));
     let start = npy_data_start(bytes, bytes.len() as u64).map_err(refuse)?;
     // The header's text: after the magic, the version and its length (whose bytes may be any).
     let header = bytes
@@ -312,7 +326,7 @@ fn npy_error(error: &std::io::Error) -> String {
 /// An `.npy` of frames × joints × 3 (or joints × 3: one frame): the joints a frame and every
 /// position, frame after frame.
 pub fn read_npy(bytes: &[u8], shown: &str) -> Result<(usize, Vec<DVec3>), Error> {
-    let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
+    let refuse = |why: String| Error::usage(format!("{shown}: {why}"));
     let (file, start, width) = open_npy(bytes, shown)?;
     let shape: Vec<u64> = file.shape().to_vec();
     let (frames, joints) = match shape[..] {
@@ -362,7 +376,7 @@ pub fn read_npy(bytes: &[u8], shown: &str) -> Result<(usize, Vec<DVec3>), Error>
 /// An `.npy` of rows of `width` values each (frames × width; HumanML3D's feature vectors), as
 /// numbers: the rows and the values, row after row.
 pub fn read_npy_rows(bytes: &[u8], shown: &str, width: usize) -> Result<(usize, Vec<f64>), Error> {
-    let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
+    let refuse = |why: String| Error::usage(format!("{shown}: {why}"));
     let (file, start, value_bytes) = open_npy(bytes, shown)?;
     let shape: Vec<u64> = file.shape().to_vec();
     let [rows, columns] = shape[..] else {
@@ -399,7 +413,7 @@ pub fn read_npy_rows(bytes: &[u8], shown: &str, width: usize) -> Result<(usize, 
 
 /// Every value of an `.npy` of float64 or float32 ([`open_npy`] has checked which), as stored.
 fn numbers(file: npyz::NpyFile<&[u8]>, shown: &str) -> Result<Vec<f64>, Error> {
-    let refuse = |why: String| Error::Usage(format!("{shown}: {why}"));
+    let refuse = |why: String| Error::usage(format!("{shown}: {why}"));
     let dtype = file.dtype().descr();
     match file.try_data::<f64>() {
         Ok(data) => data.collect::<std::io::Result<_>>(),
@@ -430,7 +444,7 @@ fn no_csv_header() -> String {
 /// … (from the first row's, 0 unless `--frames` chose others) a row per joint, the same joints
 /// in the same order in every frame.
 pub fn read_csv(text: &str, shown: &str) -> Result<(Vec<String>, Vec<DVec3>), Error> {
-    let at = |line: usize, why: String| Error::Usage(format!("{shown}:{line}: {why}"));
+    let at = |line: usize, why: String| Error::usage(format!("{shown}:{line}: {why}"));
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
     match lines.next() {
         Some((_, header)) if header.trim_end() == CSV_HEADER => {}
@@ -496,7 +510,7 @@ pub fn read_csv(text: &str, shown: &str) -> Result<(Vec<String>, Vec<DVec3>), Er
         return Err(at(2, "no positions".into()));
     }
     if joint != names.len() {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{shown}: the last frame ({frame}) lists {joint} of its {} joints",
             names.len()
         )));

@@ -24,6 +24,7 @@ pub use input::*;
 use reach::{hinge_twist, out_of_reach_deep, reach_twist, twist_axis, twist_search};
 
 use crate::io::error::{Error, quoted};
+use crate::io::message::Message;
 use crate::model::body::Body;
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
@@ -90,7 +91,7 @@ impl Positions {
         points: Vec<DVec3>,
         frame_time: f64,
     ) -> Result<Positions, Error> {
-        let refuse = |why: String| Err(Error::Usage(format!("positions: {why}")));
+        let refuse = |why: String| Err(Error::usage(format!("positions: {why}")));
         if names.is_empty() || !points.len().is_multiple_of(names.len()) {
             return refuse(format!(
                 "{} points are not whole frames of {} joints",
@@ -487,7 +488,7 @@ pub fn solve(
     let channels = skeleton.channel_count();
     let values = (frames as u64).saturating_mul(channels as u64);
     if values > crate::io::limits::MAX_GENERATED_VALUES {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "positions: {frames} frames × {channels} channels are {values} values, more than the \
              {} bvhview makes in one take",
             crate::io::limits::MAX_GENERATED_VALUES
@@ -540,12 +541,16 @@ fn matched_points(
     let (data_of, unmatched) = match_points(skeleton, &points, positions);
     let matched = data_of.iter().flatten().count();
     if matched < 2 {
-        return Err(Error::Usage(format!(
-            "positions: {matched} of their {} joints are joints of the skeleton (its joints: \
-             {}); name them as the skeleton does, or give the layout (--joints smpl22)",
-            positions.names.len(),
-            names.iter().take(8).copied().collect::<Vec<_>>().join(", ")
-        )));
+        return Err(Error::usage(
+            Message::from(format!(
+                "positions: {matched} of their {} joints are joints of the skeleton (its \
+                 joints: {}); name them as the skeleton does, or give the layout (",
+                positions.names.len(),
+                names.iter().take(8).copied().collect::<Vec<_>>().join(", ")
+            ))
+            .argument("joints", Some("smpl22"))
+            .text(")"),
+        ));
     }
     Ok((data_of, unmatched))
 }

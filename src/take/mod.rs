@@ -20,6 +20,7 @@
 use crate::acclaim;
 use crate::bvh;
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::motion::Motion;
 use crate::model::pose::OffsetMode;
 use crate::model::skeleton::Skeleton;
@@ -57,8 +58,9 @@ pub struct Take {
     pub skeleton: Skeleton,
     /// The frames, one column per channel of `skeleton`.
     pub motion: Motion,
-    /// What the file said once: things accepted that deserve a word.
-    pub warnings: Vec<String>,
+    /// What the file said once: things accepted that deserve a word (a warning may name an
+    /// argument, as [`Error`]'s messages do).
+    pub warnings: Vec<Message>,
     /// The units the file states (an ASF's `:units length`), if any.
     pub stated_units: Option<crate::model::stance::Units>,
     /// What messages call it: its path, or "the bundled walk".
@@ -93,12 +95,12 @@ impl Take {
     fn read(
         skeleton: Skeleton,
         motion: Motion,
-        warnings: Vec<String>,
+        warnings: impl IntoIterator<Item = impl Into<Message>>,
         format: Format,
         name: String,
     ) -> Take {
         Take {
-            warnings,
+            warnings: warnings.into_iter().map(Into::into).collect(),
             format: Some(format),
             ..Take::new(skeleton, motion, name)
         }
@@ -191,7 +193,7 @@ impl Take {
             "glb" => self.gltf(crate::gltf::Container::Glb)?,
             "gltf" => self.gltf(crate::gltf::Container::Gltf)?,
             other => {
-                return Err(Error::Usage(format!(
+                return Err(Error::usage(format!(
                     "{}: save writes .bvh, .glb or .gltf files, not '{other}'",
                     path.display()
                 )));
@@ -377,25 +379,25 @@ pub(crate) fn load(
 pub(crate) fn check_file(path: &Path, max_size: u64) -> Result<(), Error> {
     let metadata = std::fs::metadata(path).map_err(|e| Error::io(path, e))?;
     if metadata.is_dir() {
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{}: is a folder, not a file (`bvhview info FOLDER` reads every file in one)",
             path.display()
         )));
     }
     if !metadata.is_file() {
         let what = crate::io::read::kind_of(&metadata.file_type());
-        return Err(Error::Usage(format!(
+        return Err(Error::usage(format!(
             "{}: {what}, not a regular file; bvhview reads takes from files (`-` reads standard \
              input)",
             path.display()
         )));
     }
     if metadata.len() > max_size {
-        return Err(Error::Usage(format!(
-            "{}: {} bytes, more than --max-size {max_size}",
-            path.display(),
-            metadata.len()
-        )));
+        return Err(Error::too_big(
+            &path.display().to_string(),
+            metadata.len(),
+            max_size,
+        ));
     }
     Ok(())
 }
@@ -425,34 +427,38 @@ pub(crate) fn load_take(path: &Path, options: &OpenOptions) -> Result<Take, Erro
     }
     crate::limits::frame_time_option(frame_time)?;
     let Some(format) = Format::from_path(path) else {
-        return Err(Error::Usage(format!(
-            "{}: unknown extension '{}': bvhview reads .bvh, .fbx, .gltf and .glb files and .asf \
-             skeletons (with --motion .amc)",
-            path.display(),
-            extension(path)
-        )));
+        return Err(Error::UnknownFormat {
+            input: path.display().to_string(),
+            extension: extension(path),
+        });
     };
     if take.is_some() && !format.holds_several_takes() {
-        return Err(Error::Usage(format!(
-            "--take: {} holds one take (only FBX and glTF files hold several)",
-            path.display()
-        )));
+        return Err(Error::invalid(
+            "take",
+            "",
+            format!(
+                "{} holds one take (only FBX and glTF files hold several)",
+                path.display()
+            ),
+        ));
     }
     if let Some(amc) = motion.filter(|_| format != Format::AsfAmc) {
-        return Err(Error::Usage(format!(
-            "--motion {}: only an ASF skeleton takes a motion file",
-            amc.display()
-        )));
+        return Err(Error::invalid(
+            "motion",
+            amc.display().to_string(),
+            "only an ASF skeleton takes a motion file",
+        ));
     }
     let name = path.display().to_string();
     let read = match format {
         Format::AsfAmc if extension(path) == "amc" => {
-            return Err(Error::Usage(format!(
-                "{}: an AMC file holds motion only; give its skeleton: bvhview COMMAND \
-                 SKELETON.asf --motion {}",
-                path.display(),
-                path.display()
-            )));
+            let shown = path.display().to_string();
+            return Err(Error::usage(
+                Message::from(format!(
+                    "{shown}: an AMC file holds motion only; give its skeleton: "
+                ))
+                .opening("SKELETON.asf", "motion", &shown),
+            ));
         }
         Format::AsfAmc => return load_asf_amc(path, options),
         Format::Fbx => crate::fbx::load(path, options)?,
@@ -467,7 +473,7 @@ pub(crate) fn load_take(path: &Path, options: &OpenOptions) -> Result<Take, Erro
             crate::model::reading::Read {
                 skeleton: file.skeleton,
                 motion: file.motion,
-                warnings: file.warnings,
+                warnings: file.warnings.into_iter().map(Message::from).collect(),
                 take: None,
             }
         }
@@ -487,10 +493,11 @@ fn load_asf_amc(path: &Path, options: &OpenOptions) -> Result<Take, Error> {
     let motion = match options.motion.as_deref() {
         Some(amc) => {
             if extension(amc) != "amc" {
-                return Err(Error::Usage(format!(
-                    "--motion {}: expected an .amc file",
-                    amc.display()
-                )));
+                return Err(Error::invalid(
+                    "motion",
+                    amc.display().to_string(),
+                    "expected an .amc file",
+                ));
             }
             acclaim::load_amc(
                 amc,
@@ -528,18 +535,22 @@ fn load_bytes(bytes: &[u8], name: &str, options: &OpenOptions) -> Result<Take, E
     let (frame_time, take) = (options.frame_time, options.take.as_deref());
     crate::limits::frame_time_option(frame_time)?;
     if bytes.is_empty() {
-        return Err(Error::Usage(format!("{name}: empty: no take to read")));
+        return Err(Error::usage(format!("{name}: empty: no take to read")));
     }
     let Some(format) = options.format.or_else(|| Format::sniff(bytes)) else {
-        return Err(Error::Usage(format!(
-            "{name}: not a take bvhview can tell by its first bytes; name its format with \
-             --from bvh, fbx, gltf or glb"
-        )));
+        return Err(Error::usage(
+            Message::from(format!(
+                "{name}: not a take bvhview can tell by its first bytes; name its format with "
+            ))
+            .argument("format", Some("bvh, fbx, gltf or glb")),
+        ));
     };
     if take.is_some() && !format.holds_several_takes() {
-        return Err(Error::Usage(format!(
-            "--take: {name} is a BVH, which holds one take"
-        )));
+        return Err(Error::invalid(
+            "take",
+            "",
+            format!("{name} is a BVH, which holds one take"),
+        ));
     }
     let read = match format {
         Format::Bvh => {
@@ -547,14 +558,14 @@ fn load_bytes(bytes: &[u8], name: &str, options: &OpenOptions) -> Result<Take, E
             crate::model::reading::Read {
                 skeleton: file.skeleton,
                 motion: file.motion,
-                warnings: file.warnings,
+                warnings: file.warnings.into_iter().map(Message::from).collect(),
                 take: None,
             }
         }
         Format::Fbx => crate::fbx::load_bytes(bytes, name, options)?,
         Format::Gltf => crate::gltf::load_bytes(bytes, name, options)?,
         Format::AsfAmc => {
-            return Err(Error::Usage(format!(
+            return Err(Error::usage(format!(
                 "{name}: an ASF skeleton is read from a file, beside its AMC motion; bvhview \
                  reads bvh, fbx, gltf or glb from bytes"
             )));

@@ -479,7 +479,7 @@ fn positions_that_are_not_finite_are_refused() {
         assert_eq!(
             String::from_utf8(out.stderr).unwrap(),
             "bvhview: frame 0, Chest_End: the position (0, inf, 0) is not a finite number \
-             (the offsets, the values or --scale overflow)\n"
+             (the offsets, the values or a scale overflow)\n"
         );
     }
     // To a file: refused before the end, so nothing appears under its name or beside it.

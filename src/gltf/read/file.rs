@@ -3,6 +3,7 @@
 
 use super::bad;
 use crate::io::error::Error;
+use crate::io::message::Message;
 use gltf::accessor::{DataType, Dimensions};
 use std::path::{Path, PathBuf};
 
@@ -292,8 +293,15 @@ pub(super) fn parse(
                 let Some((_, payload)) = uri.split_once(";base64,") else {
                     return Err(bad(path, "a data: URI that is not base64"));
                 };
-                if payload.len() as u64 / 4 * 3 > max_size {
-                    return Err(bad(path, "a data: URI larger than --max-size"));
+                let size = payload.len() as u64 / 4 * 3;
+                if size > max_size {
+                    return Err(Error::Limit {
+                        what: "bytes",
+                        limit: max_size,
+                        found: size,
+                        message: Message::from(format!("{path}: a data: URI larger than "))
+                            .argument("max_size", None),
+                    });
                 }
                 base64(payload)
                     .ok_or_else(|| bad(path, "a data: URI with bytes that are not base64"))?
@@ -306,8 +314,8 @@ pub(super) fn parse(
                 let file = buffer_path(folder, uri).map_err(|why| bad(path, why))?;
                 // Only the buffer's byteLength is read (what lies past it is never used), from a
                 // regular file only: a FIFO, a device or a socket is refused before a read.
-                crate::io::whole::read_file_start(&file, buffer.length() as u64, max_size)
-                    .map_err(|why| bad(path, format!("buffer '{uri}': {why}")))?
+                let input = format!("{path}: buffer '{uri}'");
+                crate::io::whole::read_file_start(&file, buffer.length() as u64, max_size, &input)?
             }
         };
         if data.len() < buffer.length() {

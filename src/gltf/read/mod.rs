@@ -21,6 +21,7 @@
 //! by node, key and time; the node tree is checked for cycles and shared children.
 
 use crate::io::error::Error;
+use crate::io::message::Message;
 use crate::model::baked::{self, Node, Pose};
 use crate::model::reading::{Read, TakeInfo, choose_take, pick_take};
 use crate::take::options::OpenOptions;
@@ -36,7 +37,7 @@ use file::{File, parse, read};
 pub use tracks::*;
 
 fn bad(name: &str, why: impl std::fmt::Display) -> Error {
-    Error::Usage(format!("{name}: {why}"))
+    Error::usage(format!("{name}: {why}"))
 }
 
 fn animation_name(animation: &gltf::Animation) -> String {
@@ -140,7 +141,7 @@ fn load_file(
     let (parent, depth) = node_tree(document, path)?;
     let animations: Vec<gltf::Animation> = document.animations().collect();
     let names: Vec<String> = animations.iter().map(animation_name).collect();
-    let mut warnings = Vec::new();
+    let mut warnings: Vec<Message> = Vec::new();
     let mut take_name = None;
     let chosen = if animations.is_empty() {
         if take.is_some() {
@@ -167,16 +168,20 @@ fn load_file(
     }
     order.sort_by_key(|&i| depth[i]);
     let mut skeleton_nodes = joint_nodes(&order, &parent, &nodes, path)?;
-    warnings.extend(baked::unique_names(&mut skeleton_nodes));
+    warnings.extend(
+        baked::unique_names(&mut skeleton_nodes)
+            .into_iter()
+            .map(Message::from),
+    );
     let tree = Tree::new(parent, depth, order, &nodes);
     let mut cache: Vec<Option<DMat4>> = vec![None; count];
     let rest = tree.world_poses(&|n| tree.static_matrices[n], &mut cache);
     let timing = timing(&tracks);
     if let Some(warning) = &timing.warning {
-        warnings.push(warning.clone());
+        warnings.push(warning.clone().into());
     }
     let (skeleton, motion) = if tracks.is_empty() {
-        warnings.push("no animation in the file: its rest pose, as one frame".to_string());
+        warnings.push("no animation in the file: its rest pose, as one frame".into());
         baked::build_with(
             &skeleton_nodes,
             &rest,
@@ -206,7 +211,9 @@ fn load_file(
         take.bake(&skeleton_nodes, &rest, with_mesh, cache)
     }
     .map_err(|e| match e {
-        Error::Usage(message) if !message.starts_with(path) => bad(path, message),
+        Error::Usage(message) if !message.starts_with(path) => {
+            Error::Usage(message.after(&format!("{path}: ")))
+        }
         other => other,
     })?;
     // glTF is +Y up by its specification: read, never guessed.
@@ -216,7 +223,7 @@ fn load_file(
     };
     let mesh = if with_mesh {
         let (mesh, said) = character_mesh(file, path, &tree, &skeleton, &skeleton_nodes)?;
-        warnings.extend(said);
+        warnings.extend(said.into_iter().map(Message::from));
         Some(mesh)
     } else {
         None

@@ -9,6 +9,7 @@
 
 use super::gl::{check_environment, keep_or_exit};
 use crate::io::error::Error;
+use crate::io::message::Spelling;
 use crate::model::pose::OffsetMode;
 use crate::render::Look;
 use crate::render::draw::Style;
@@ -43,6 +44,8 @@ pub struct ViewerOptions {
     pub style_chosen: bool,
     /// Record what the window shows into this MP4 from the start (`--record`; M stops).
     pub record: Option<PathBuf>,
+    /// How messages on stderr and in the window write an argument (the command line's flags).
+    pub spelling: &'static dyn Spelling,
 }
 
 /// Playback speeds `+` and `-` step through.
@@ -102,10 +105,19 @@ impl ViewerTake {
     }
 
     /// A take loaded from `source`, its up axis guessed, its warnings said on stderr.
-    pub fn from_source(source: TakeSource, mode: OffsetMode) -> Result<ViewerTake, Error> {
+    /// Arguments in the warnings are written as `spelling` writes them.
+    pub fn from_source(
+        source: TakeSource,
+        mode: OffsetMode,
+        spelling: &dyn Spelling,
+    ) -> Result<ViewerTake, Error> {
         let loaded = source.load()?;
         for warning in &loaded.warnings {
-            eprintln!("bvhview: {}: warning: {warning}", source.path.display());
+            eprintln!(
+                "bvhview: {}: warning: {}",
+                source.path.display(),
+                warning.spelled(spelling)
+            );
         }
         let name = source.path.file_name().map_or_else(
             || source.path.display().to_string(),
@@ -129,6 +141,7 @@ impl ViewerTake {
         &mut self,
         character: std::sync::Arc<crate::character::Character>,
         mode: OffsetMode,
+        spelling: &dyn Spelling,
     ) -> Result<(), Error> {
         let threads = crate::io::parallel::cores();
         let (dressed, said) = match &self.source {
@@ -138,7 +151,7 @@ impl ViewerTake {
             None => character.dress(&self.loaded, &[], Default::default(), threads)?,
         };
         for warning in said.warnings(&self.name, &character.take.name) {
-            eprintln!("bvhview: {warning}");
+            eprintln!("bvhview: {}", warning.spelled(spelling));
         }
         if let Some(check) = &said.check {
             eprintln!(
@@ -163,7 +176,7 @@ impl ViewerTake {
 pub fn run(takes: Vec<ViewerTake>, options: ViewerOptions) -> Result<(), Error> {
     check_environment(super::gl::VIEWER_OFFSCREEN)?;
     if takes.is_empty() {
-        return Err(Error::Usage("nothing to show".into()));
+        return Err(Error::usage("nothing to show"));
     }
     let event_loop = super::gl::new_event_loop(super::gl::VIEWER_OFFSCREEN)?;
     let mut app = Viewer::new(takes, options);
@@ -358,6 +371,7 @@ mod tests {
             true_scale: false,
             style_chosen: false,
             record: None,
+            spelling: &crate::io::message::RustSpelling,
         }
     }
 
@@ -371,7 +385,14 @@ mod tests {
             insist: Default::default(),
         };
         Viewer::new(
-            vec![ViewerTake::from_source(source, OffsetMode::Replace).unwrap()],
+            vec![
+                ViewerTake::from_source(
+                    source,
+                    OffsetMode::Replace,
+                    &crate::io::message::RustSpelling,
+                )
+                .unwrap(),
+            ],
             quiet_options(),
         )
     }

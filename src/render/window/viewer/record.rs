@@ -112,7 +112,7 @@ impl Recording {
             return Err(self
                 .join()
                 .err()
-                .unwrap_or_else(|| Error::Usage("the recording's encoder stopped early".into())));
+                .unwrap_or_else(|| Error::usage("the recording's encoder stopped early")));
         }
         self.pictures += 1;
         self.frames += frames;
@@ -125,7 +125,7 @@ impl Recording {
             Some(encoder) => encoder
                 .join()
                 .unwrap_or_else(|panic| std::panic::resume_unwind(panic)),
-            None => Err(Error::Usage("the recording has ended".into())),
+            None => Err(Error::usage("the recording has ended")),
         }
     }
 
@@ -137,7 +137,7 @@ impl Recording {
         self.send_last(end)?;
         let video = self.join()?;
         let Some(mut file) = self.file.take() else {
-            return Err(Error::Usage("the recording has ended".into()));
+            return Err(Error::usage("the recording has ended"));
         };
         video.finish_into(&mut file, &self.path)?;
         file.commit()?;

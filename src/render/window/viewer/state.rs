@@ -493,12 +493,13 @@ impl Viewer {
             take: None,
             insist: Default::default(),
         };
-        let problems = match ViewerTake::from_source(source, self.options.offset_mode) {
+        let spelling = self.options.spelling;
+        let problems = match ViewerTake::from_source(source, self.options.offset_mode, spelling) {
             Ok(take) => {
                 self.takes.push(take);
                 Vec::new()
             }
-            Err(error) => vec![error.to_string()],
+            Err(error) => vec![error.spelled(spelling)],
         };
         self.after_change(problems);
     }
