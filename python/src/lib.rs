@@ -109,7 +109,7 @@ fn planted_pause_without_the_gil(entry: &str) -> Result<(), Error> {
 /// `contact_speed`), and an ASF skeleton with its motion as the call that reads the pair
 /// (`bvhview.load("SKELETON.asf", motion="WALK.amc")`).
 #[derive(Debug)]
-struct Keywords;
+pub(crate) struct Keywords;
 
 impl Spelling for Keywords {
     fn argument(&self, argument: &Argument) -> String {

@@ -212,6 +212,9 @@ impl Motion {
     #[getter]
     fn warnings(&self) -> Vec<String> {
         bvhview::info::warnings(&self.loaded, self.offset_mode)
+            .iter()
+            .map(|warning| warning.spelled(&Keywords))
+            .collect()
     }
 
     /// The MOTION values, frames × channels (float32), read-only. A view of the loaded data, not

@@ -49,7 +49,12 @@ impl Motion {
             self.item.path.display().to_string(),
             self.item.motion.as_ref().map(|p| p.display().to_string()),
             offset_mode_name(self.offset_mode).to_string(),
-            self.loaded.warnings.clone(),
+            // As Python says them: a pickle holds text, not the arguments a warning names.
+            self.loaded
+                .warnings
+                .iter()
+                .map(|warning| warning.spelled(&Keywords))
+                .collect(),
             skeleton.source == bvhview::model::skeleton::Source::Acclaim,
             self.loaded.stated_units.is_some(),
             joints,
@@ -172,7 +177,7 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
         }
         let frames = values.len().checked_div(channels).unwrap_or(0);
         let loaded = Take {
-            warnings,
+            warnings: warnings.into_iter().map(bvhview::Message::from).collect(),
             stated_units: cmu_units.then_some(bvhview::model::stance::CMU_UNITS),
             format: take::Format::from_path(Path::new(&path)),
             ..Take::new(
