@@ -238,7 +238,7 @@ fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared,
             let put = target.apply(&name, &loaded.skeleton, &loaded.motion, &pairs, insist, 1)?;
             uncarried = put.uncarried;
             if let Some(why) = put.forced {
-                uncarried.push(format!("retarget: kept, as forced, though {why}"));
+                uncarried.push(format!("retarget: kept as `force` asks though {why}"));
             }
             check = Some(put.check);
             let (skeleton, motion) = (put.skeleton, put.motion);

@@ -304,9 +304,13 @@ fn humanml3d_refuses_what_it_cannot_make_and_hostile_folders() {
         .iter()
         .map(|o| o.check().unwrap_err().to_string())
         .collect();
-    assert!(said[0].contains("needs --onto smpl22"), "{}", said[0]);
+    assert!(
+        said[0].contains("features humanml3d: needs onto smpl22"),
+        "{}",
+        said[0]
+    );
     assert!(said[1].contains("20 fps"), "{}", said[1]);
-    assert!(said[2].contains("--root-relative"), "{}", said[2]);
+    assert!(said[2].contains("root_relative has no part"), "{}", said[2]);
 
     let folder = two_takes();
     let out = folder.path().join("humanml3d");

@@ -689,7 +689,7 @@ fn dataset_feet_come_from_the_legs_and_a_body_without_them_is_said() {
         clips[2].1.about.warnings,
         [
             "feet: no ankle read below each leg; contacts are for points guessed from the rest \
-          pose (none found); name them with --feet"
+          pose (none found); name them with `feet`"
         ]
     );
 }
@@ -795,9 +795,20 @@ fn quat_continuous_keeps_each_joints_sign_along_time() {
         quat_continuous: true,
         ..Default::default()
     };
+    let refused = six_d.check().unwrap_err();
+    assert!(
+        matches!(
+            refused,
+            bvhview::Error::InvalidArgument {
+                name: "quat_continuous",
+                ..
+            }
+        ),
+        "{refused:?}"
+    );
     assert_eq!(
-        six_d.check().unwrap_err().to_string(),
-        "--quat-continuous: only quaternions have a sign to choose (--rotations quat), not 6d"
+        refused.to_string(),
+        "quat_continuous: only quaternions have a sign to choose (rotations quat), not 6d"
     );
 }
 

@@ -261,7 +261,7 @@ fn a_dataset_records_each_clips_check_and_skips_a_crossed_take_unless_forced() {
     assert!(clip["retarget_check"]["hips"]["turn"].as_f64().unwrap() > 170.0);
     let warnings = clip["warnings"].to_string();
     assert!(
-        warnings.contains("retarget: kept as --force asks though its hips' sides are crossed"),
+        warnings.contains("retarget: kept as `force` asks though its hips' sides are crossed"),
         "{warnings}"
     );
 }
