@@ -166,6 +166,55 @@ pub(crate) struct Posed {
 /// lowest point is over fewer frames, which HumanML3D's floor takes away).
 fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared, Error> {
     let path = &item.path;
+    let mut loaded = load_checked(item, options)?;
+    let source = (loaded.motion.frame_time, loaded.motion.frame_count());
+    if pick_first && options.features == FeatureSet::HumanMl3d && !options.lock_feet {
+        pick_frames(&mut loaded, options)?;
+    }
+    let (loaded, uncarried, check) = match &options.onto {
+        Some(target) => {
+            let (loaded, uncarried, check) = put_onto(target, loaded, path, options)?;
+            (loaded, uncarried, Some(check))
+        }
+        None => (loaded, Vec::new(), None),
+    };
+    let mode =
+        match pose::written_for_other_mode(&loaded.skeleton, &loaded.motion, OffsetMode::Replace) {
+            Some(_) => OffsetMode::Add,
+            None => OffsetMode::Replace,
+        };
+    let mut stance = loaded.stance(mode);
+    if let Some(target) = &options.onto {
+        // A retargeted take stands as its target does (one frame says little about it).
+        stance.up = target.up;
+    }
+    let mut loaded = loaded;
+    if options.lock_feet && options.onto.is_none() {
+        // Planted feet held where they landed (`convert --lock-feet`), before any posing.
+        let (motion, _) = crate::edit::lock_feet(
+            &loaded.skeleton,
+            &loaded.motion,
+            mode,
+            stance.up,
+            f64::from(stance.units.metres),
+            &crate::edit::LockFeet::default(),
+        )?;
+        loaded.motion = motion;
+    }
+    Ok(Prepared {
+        loaded,
+        mode,
+        stance,
+        uncarried,
+        check,
+        source,
+    })
+}
+
+/// `item` loaded, refused if it is motion without its skeleton, has a name the manifest cannot
+/// hold, or has no rate or no frames.
+fn load_checked(item: &Item, options: &Options) -> Result<crate::take::Take, Error> {
+    let path = &item.path;
     if item.is_unpaired_motion() {
         return Err(Error::usage(format!(
             "{}: motion without a skeleton ({} is not beside it)",
@@ -203,90 +252,64 @@ fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared,
             path.display()
         )));
     }
-    let source = (frame_time, loaded.motion.frame_count());
-    let mut loaded = loaded;
-    if pick_first && options.features == FeatureSet::HumanMl3d && !options.lock_feet {
-        let motion = &loaded.motion;
-        let picks = crate::edit::resample_picks(
-            motion.frame_count(),
-            frame_time,
-            options.fps,
-            motion.channels,
-        )?;
-        if let crate::edit::Picks::Rows(rows) = picks
-            && rows.len() < motion.frame_count()
-        {
-            let mut data = Vec::with_capacity(rows.len() * motion.channels);
-            for &row in &rows {
-                data.extend_from_slice(motion.frame(row));
-            }
-            loaded.motion =
-                crate::Motion::new(1.0 / options.fps, motion.channels, rows.len(), data);
+    Ok(loaded)
+}
+
+/// Keeps only the frames the resampling to `options.fps` would keep, where it keeps whole
+/// frames (the source's rate a whole multiple of the dataset's).
+fn pick_frames(loaded: &mut crate::take::Take, options: &Options) -> Result<(), Error> {
+    let motion = &loaded.motion;
+    let picks = crate::edit::resample_picks(
+        motion.frame_count(),
+        motion.frame_time,
+        options.fps,
+        motion.channels,
+    )?;
+    if let crate::edit::Picks::Rows(rows) = picks
+        && rows.len() < motion.frame_count()
+    {
+        let mut data = Vec::with_capacity(rows.len() * motion.channels);
+        for &row in &rows {
+            data.extend_from_slice(motion.frame(row));
         }
+        loaded.motion = crate::Motion::new(1.0 / options.fps, motion.channels, rows.len(), data);
     }
-    let (mut uncarried, mut check) = (Vec::new(), None);
-    let loaded = match &options.onto {
-        Some(target) => {
-            let pairs = options.map.for_skeleton(&loaded.skeleton);
-            let name = path.display().to_string();
-            let insist = crate::retarget::Insist {
-                any_body: options.any_body,
-                force: options.force,
-            };
-            // The clip checks itself as `retarget` does: a side crossed or a width collapsed
-            // skips the take with the reason, unless `force`.
-            let put = target.apply(&name, &loaded.skeleton, &loaded.motion, &pairs, insist, 1)?;
-            uncarried = put.uncarried;
-            if let Some(why) = put.forced {
-                uncarried.push(format!("retarget: kept as `force` asks though {why}"));
-            }
-            check = Some(put.check);
-            let (skeleton, motion) = (put.skeleton, put.motion);
-            // Planted feet held where they landed, during the source's contacts.
-            let motion = match options.lock_feet {
-                true => crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?.0,
-                false => motion,
-            };
-            crate::take::Take {
-                skeleton,
-                motion,
-                stated_units: None,
-                ..loaded
-            }
-        }
-        None => loaded,
+    Ok(())
+}
+
+/// `loaded` retargeted onto `target` (`--onto`), with what it could not carry and its check.
+fn put_onto(
+    target: &crate::retarget::Target,
+    loaded: crate::take::Take,
+    path: &Path,
+    options: &Options,
+) -> Result<(crate::take::Take, Vec<String>, crate::retarget::Check), Error> {
+    let pairs = options.map.for_skeleton(&loaded.skeleton);
+    let name = path.display().to_string();
+    let insist = crate::retarget::Insist {
+        any_body: options.any_body,
+        force: options.force,
     };
-    let mode =
-        match pose::written_for_other_mode(&loaded.skeleton, &loaded.motion, OffsetMode::Replace) {
-            Some(_) => OffsetMode::Add,
-            None => OffsetMode::Replace,
-        };
-    let mut stance = loaded.stance(mode);
-    if let Some(target) = &options.onto {
-        // A retargeted take stands as its target does (one frame says little about it).
-        stance.up = target.up;
+    // The clip checks itself as `retarget` does: a side crossed or a width collapsed
+    // skips the take with the reason, unless `force`.
+    let put = target.apply(&name, &loaded.skeleton, &loaded.motion, &pairs, insist, 1)?;
+    let mut uncarried = put.uncarried;
+    if let Some(why) = put.forced {
+        uncarried.push(format!("retarget: kept as `force` asks though {why}"));
     }
-    let mut loaded = loaded;
-    if options.lock_feet && options.onto.is_none() {
-        // Planted feet held where they landed (`convert --lock-feet`), before any posing.
-        let (motion, _) = crate::edit::lock_feet(
-            &loaded.skeleton,
-            &loaded.motion,
-            mode,
-            stance.up,
-            f64::from(stance.units.metres),
-            &crate::edit::LockFeet::default(),
-        )?;
-        loaded.motion = motion;
-    }
-    Ok(Prepared {
-        loaded,
-        mode,
-        stance,
-        uncarried,
-        check,
-        source,
-    })
+    let (skeleton, motion) = (put.skeleton, put.motion);
+    // Planted feet held where they landed, during the source's contacts.
+    let motion = match options.lock_feet {
+        true => crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?.0,
+        false => motion,
+    };
+    let take = crate::take::Take {
+        skeleton,
+        motion,
+        stated_units: None,
+        ..loaded
+    };
+    Ok((take, uncarried, put.check))
 }
 
 /// The group's topology for `skeleton` (the feet named in `options`, or guessed) and the names
@@ -638,7 +661,7 @@ pub fn compile(
                     clips += 1;
                     match done(&clip.about.source, None, index + 1, total) {
                         true => writer.add(&clip),
-                        false => Err(Error::usage("interrupted")),
+                        false => Err(Error::usage("interrupted".to_string())),
                     }
                 }
                 Err((source, error)) => {
@@ -650,7 +673,7 @@ pub fn compile(
                     });
                     match go_on {
                         true => Ok(()),
-                        false => Err(Error::usage("interrupted")),
+                        false => Err(Error::usage("interrupted".to_string())),
                     }
                 }
             };

@@ -64,9 +64,24 @@ pub fn motion_of(
     arrays: &Arrays,
     fps: f64,
 ) -> Result<(Skeleton, Motion), Error> {
-    let refuse = |why: String| Err(Error::usage(why));
     crate::limits::fps(fps, false)?;
-    let points = topology.joints.len();
+    check_shapes(topology, arrays)?;
+    check_numbers(topology, arrays)?;
+    let skeleton = placed(skeleton, topology, travel_joint, rest, arrays)?;
+    let channels = skeleton.channel_count();
+    let data = rows(&skeleton, topology, travel_joint, arrays)?;
+    let motion = Motion::new(1.0 / fps, channels, arrays.frames, data);
+    crate::edit::finite("rebuilding the take", skeleton, motion)
+}
+
+/// A refusal: the arrays do not make a take, and `why`.
+fn refuse<T>(why: String) -> Result<T, Error> {
+    Err(Error::usage(why))
+}
+
+/// Refuses arrays without frames, or whose numbers are not as many as their frames of
+/// `topology` make.
+fn check_shapes(topology: &Topology, arrays: &Arrays) -> Result<(), Error> {
     let (rotated, translated) = (topology.rotated.len(), topology.translated.len());
     let width = arrays.kind.width();
     let frames = arrays.frames;
@@ -93,33 +108,7 @@ pub fn motion_of(
         rotated * width,
         rotation_shape,
     )
-    .map_err(|error| {
-        // Numbers of another kind (quaternions given to a 6D dataset): say which, and how to
-        // name them.
-        let fits: Vec<&str> = [
-            RotationKind::Quat,
-            RotationKind::Matrix,
-            RotationKind::SixD,
-            RotationKind::Euler,
-            RotationKind::AxisAngle,
-        ]
-        .into_iter()
-        .filter(|k| {
-            k.width() != width
-                && frames.saturating_mul(rotated).saturating_mul(k.width())
-                    == arrays.rotations.len()
-        })
-        .map(RotationKind::name)
-        .collect();
-        match fits.is_empty() {
-            true => error,
-            false => Error::usage(format!(
-                "{error}; they fit {} numbers: name their kind (kind=\"{}\")",
-                fits.join(" or "),
-                fits.join("\" or kind=\"")
-            )),
-        }
-    })?;
+    .map_err(|error| kinds_that_fit(error, arrays, rotated))?;
     if let Some(t) = arrays.translations {
         shape_of(
             "translations",
@@ -131,6 +120,42 @@ pub fn motion_of(
     if let Some(t) = arrays.root_translations {
         shape_of("root_translations", t.len(), 3, "3".to_string())?;
     }
+    Ok(())
+}
+
+/// `error` (rotations of the wrong count) with the other kinds whose count the rotations fit
+/// (quaternions given to a 6D dataset) and how to name them, if any.
+fn kinds_that_fit(error: Error, arrays: &Arrays, rotated: usize) -> Error {
+    let (width, frames) = (arrays.kind.width(), arrays.frames);
+    let fits: Vec<&str> = [
+        RotationKind::Quat,
+        RotationKind::Matrix,
+        RotationKind::SixD,
+        RotationKind::Euler,
+        RotationKind::AxisAngle,
+    ]
+    .into_iter()
+    .filter(|k| {
+        k.width() != width
+            && frames.saturating_mul(rotated).saturating_mul(k.width()) == arrays.rotations.len()
+    })
+    .map(RotationKind::name)
+    .collect();
+    match fits.is_empty() {
+        true => error,
+        false => Error::usage(format!(
+            "{error}; they fit {} numbers: name their kind (kind=\"{}\")",
+            fits.join(" or "),
+            fits.join("\" or kind=\"")
+        )),
+    }
+}
+
+/// Refuses a number that is not finite, or rotation numbers that are no rotation, by where
+/// they are.
+fn check_numbers(topology: &Topology, arrays: &Arrays) -> Result<(), Error> {
+    let rotated = topology.rotated.len();
+    let width = arrays.kind.width();
     for (name, values) in [
         ("rotations", Some(arrays.rotations)),
         ("translations", arrays.translations),
@@ -151,6 +176,20 @@ pub fn motion_of(
             }
         }
     }
+    Ok(())
+}
+
+/// `skeleton` with `rest` as its OFFSETs when given; refuses root translations for a travel
+/// joint that is not a root (its world position is not its translation).
+fn placed(
+    skeleton: &Skeleton,
+    topology: &Topology,
+    travel_joint: usize,
+    rest: Option<&[f32]>,
+    arrays: &Arrays,
+) -> Result<Skeleton, Error> {
+    let points = topology.joints.len();
+    let translated = topology.translated.len();
     let mut skeleton = skeleton.clone();
     if let Some(rest) = rest {
         if rest.len() != points * 3 {
@@ -179,6 +218,22 @@ pub fn motion_of(
             )
         ));
     }
+    Ok(skeleton)
+}
+
+/// The MOTION rows: each joint's channels in each frame, positions from its translation (the
+/// arrays', the root translations' for the travel joint, else its OFFSET), rotations from its
+/// rotation's Euler angles (0 for a joint the arrays do not rotate).
+fn rows(
+    skeleton: &Skeleton,
+    topology: &Topology,
+    travel_joint: usize,
+    arrays: &Arrays,
+) -> Result<Vec<f32>, Error> {
+    let points = topology.joints.len();
+    let (rotated, translated) = (topology.rotated.len(), topology.translated.len());
+    let width = arrays.kind.width();
+    let frames = arrays.frames;
     let channels = skeleton.channel_count();
     let values = frames
         .checked_mul(channels)
@@ -227,6 +282,5 @@ pub fn motion_of(
             }
         }
     }
-    let motion = Motion::new(1.0 / fps, channels, frames, data);
-    crate::edit::finite("rebuilding the take", skeleton, motion)
+    Ok(data)
 }

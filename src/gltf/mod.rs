@@ -2,11 +2,13 @@
 //! behind the default feature `gltf`. Without the feature, the same entry points refuse with
 //! what to do.
 
+mod container;
 #[cfg(feature = "gltf")]
 pub mod read;
 #[cfg(feature = "gltf")]
 pub mod write;
 
+pub use container::Container;
 #[cfg(feature = "gltf")]
 pub use read::{
     KEY_VALUES_FLOOR, KEY_VALUES_PER_BYTE, load, load_bytes, load_character, load_character_bytes,
@@ -20,36 +22,10 @@ pub use absent::{
     load, load_bytes, load_character, load_character_bytes, takes, to_gltf, to_gltf_character,
 };
 
-/// Which container: a binary `.glb`, or a `.gltf` text file with its buffer inline (base64).
-///
-/// ```
-/// use bvhview::{Take, gltf::{Container, to_gltf}, model::pose::OffsetMode};
-///
-/// # fn main() -> Result<(), bvhview::Error> {
-/// # #[cfg(feature = "gltf")]
-/// # {
-/// let take = Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
-/// let (skeleton, motion) = (&take.skeleton, &take.motion);
-/// let glb = to_gltf(skeleton, motion, OffsetMode::Replace, Container::Glb, false)?;
-/// assert!(glb.starts_with(b"glTF"));
-/// let text = to_gltf(skeleton, motion, OffsetMode::Replace, Container::Gltf, false)?;
-/// assert!(text.starts_with(b"{"));
-/// # }
-/// # Ok(())
-/// # }
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Container {
-    /// Binary glTF: a JSON chunk and a binary chunk in one file.
-    Glb,
-    /// A JSON text file with its buffer inline as a base64 data URI.
-    Gltf,
-}
-
 /// The entry points of a build without glTF: each refuses, naming the feature.
 #[cfg(not(feature = "gltf"))]
 mod absent {
-    use super::Container;
+    use super::container::Container;
     use crate::io::absent::without;
     use crate::io::error::Error;
     use crate::model::motion::Motion;

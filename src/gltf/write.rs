@@ -5,7 +5,7 @@
 //! and a translation track per joint with position channels (bvhview's offset mode). With a skin,
 //! the viewer's generated skin as a mesh bound to the joint nodes. Built with the gltf-json crate.
 
-use super::Container;
+use super::container::Container;
 use crate::io::error::Error;
 use crate::io::message::Message;
 use crate::model::bone_skin::Body;

@@ -256,9 +256,20 @@ pub fn build_with(
         }
         Ok(())
     };
-    let count = nodes.len();
-    // Every number is checked where it is made, and the joint named: a take with one that is
-    // not finite is refused at load, never passed on to poses and exports.
+    check_rest(nodes, rest)?;
+    let sampled = Sampled::read(nodes, rest, frames, frame_time, &mut pose_of)?;
+    let layout = Layout::new(nodes, &sampled, zero_at_rest, frames)?;
+    let (skeleton, channels) = layout.skeleton();
+    let data = layout.rows(&sampled, frames, channels)?;
+    check_rows(&skeleton, &data, channels)?;
+    let motion = Motion::new(frame_time, channels, frames, data);
+    Ok((skeleton, motion))
+}
+
+/// Refuses a rest pose with a value that is not finite, naming the joint. Every number is
+/// checked where it is made: a take with one that is not finite is refused at load, never
+/// passed on to poses and exports.
+fn check_rest(nodes: &[Node], rest: &[Pose]) -> Result<(), Error> {
     for (node, pose) in nodes.iter().zip(rest) {
         if let Some(fault) = pose_fault(pose) {
             return Err(Error::usage(format!(
@@ -267,102 +278,228 @@ pub fn build_with(
             )));
         }
     }
-    let rest_local = locals(nodes, rest);
-    let mut rotations: Vec<glam::Quat> = Vec::with_capacity(frames * count);
-    let mut translations: Vec<Vec3> = Vec::with_capacity(frames * count);
-    // The figure's size, for "the same translation in every frame".
-    let (mut low, mut high) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
-    for pose in rest {
-        low = low.min(pose.position);
-        high = high.max(pose.position);
-    }
-    let mut world = Vec::with_capacity(count);
-    for f in 0..frames {
-        world.clear();
-        pose_of(f, &mut world)?;
-        if world.len() != count {
-            return Err(Error::usage(format!(
-                "frame {f} has {} poses for {count} joints",
-                world.len()
-            )));
-        }
-        for (node, pose) in nodes.iter().zip(&world) {
-            if let Some(fault) = pose_fault(pose) {
-                return Err(Error::usage(format!(
-                    "joint '{}', frame {f} (at {} s): {fault}",
-                    crate::limits::quoted(&node.name),
-                    crate::limits::brief(f as f64 * frame_time)
-                )));
-            }
+    Ok(())
+}
+
+/// The local poses of the rest pose and of every frame, and how far a translation may move and
+/// still count as the same in every frame.
+struct Sampled {
+    /// Each node's local (rotation, translation) in the rest pose.
+    rest_local: Vec<(DQuat, DVec3)>,
+    /// Frame by frame, each node's local rotation.
+    rotations: Vec<glam::Quat>,
+    /// Frame by frame, each node's local translation.
+    translations: Vec<Vec3>,
+    /// A millionth of the figure's size.
+    tolerance: f32,
+}
+
+impl Sampled {
+    /// Asks `pose_of` for every frame in order, refusing a frame with the wrong number of poses
+    /// or a pose that is not finite (naming the joint, the frame and its time).
+    fn read(
+        nodes: &[Node],
+        rest: &[Pose],
+        frames: usize,
+        frame_time: f64,
+        pose_of: &mut impl FnMut(usize, &mut Vec<Pose>) -> Result<(), Error>,
+    ) -> Result<Sampled, Error> {
+        let count = nodes.len();
+        let rest_local = locals(nodes, rest);
+        let mut rotations: Vec<glam::Quat> = Vec::with_capacity(frames * count);
+        let mut translations: Vec<Vec3> = Vec::with_capacity(frames * count);
+        // The figure's size, for "the same translation in every frame".
+        let (mut low, mut high) = (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN));
+        for pose in rest {
             low = low.min(pose.position);
             high = high.max(pose.position);
         }
-        for (rotation, translation) in locals(nodes, &world) {
-            rotations.push(rotation.as_quat());
-            translations.push(translation.as_vec3());
+        let mut world = Vec::with_capacity(count);
+        for f in 0..frames {
+            world.clear();
+            pose_of(f, &mut world)?;
+            if world.len() != count {
+                return Err(Error::usage(format!(
+                    "frame {f} has {} poses for {count} joints",
+                    world.len()
+                )));
+            }
+            for (node, pose) in nodes.iter().zip(&world) {
+                if let Some(fault) = pose_fault(pose) {
+                    return Err(Error::usage(format!(
+                        "joint '{}', frame {f} (at {} s): {fault}",
+                        crate::limits::quoted(&node.name),
+                        crate::limits::brief(f as f64 * frame_time)
+                    )));
+                }
+                low = low.min(pose.position);
+                high = high.max(pose.position);
+            }
+            for (rotation, translation) in locals(nodes, &world) {
+                rotations.push(rotation.as_quat());
+                translations.push(translation.as_vec3());
+            }
         }
-    }
-    let size = if count > 0 && high.cmpge(low).all() {
-        (high - low).max_element().max(1e-9)
-    } else {
-        1.0
-    };
-    let tolerance = (1e-6 * size) as f32;
-
-    let mut children = vec![Vec::new(); count];
-    for (i, node) in nodes.iter().enumerate() {
-        if let Some(p) = node.parent {
-            children[p].push(i);
-        }
-    }
-
-    let mut joints: Vec<Joint> = Vec::with_capacity(count);
-    // For each node: translates (needs position channels) and its OFFSET.
-    let mut translates = vec![false; count];
-    for i in 0..count {
-        let first = if frames > 0 {
-            translations[i]
+        let size = if count > 0 && high.cmpge(low).all() {
+            (high - low).max_element().max(1e-9)
         } else {
-            rest_local[i].1.as_vec3()
+            1.0
         };
-        let constant = (0..frames)
-            .all(|f| (translations[f * count + i] - first).abs().max_element() <= tolerance);
-        translates[i] = nodes[i].parent.is_none() || !constant;
-        let offset = if translates[i] {
-            rest_local[i].1.as_vec3()
-        } else {
-            first
-        };
-        if !offset.is_finite() {
-            return Err(Error::usage(format!(
-                "joint '{}': a rest offset that is not finite (past a 32-bit float)",
-                crate::limits::quoted(&nodes[i].name)
-            )));
+        Ok(Sampled {
+            rest_local,
+            rotations,
+            translations,
+            tolerance: (1e-6 * size) as f32,
+        })
+    }
+}
+
+/// The joints in the nodes' order, which of them translate, and the order a BVH lists them in.
+struct Layout {
+    joints: Vec<Joint>,
+    /// Per node: whether it has position channels.
+    translates: Vec<bool>,
+    /// The nodes in pre-order, a joint's whole subtree before its next sibling.
+    order: Vec<usize>,
+}
+
+impl Layout {
+    /// Each node's joint: its OFFSET (the translation when it stays the same in every frame,
+    /// else the rest pose's with position channels), its channels, whether it is an End Site.
+    fn new(
+        nodes: &[Node],
+        sampled: &Sampled,
+        zero_at_rest: bool,
+        frames: usize,
+    ) -> Result<Layout, Error> {
+        let count = nodes.len();
+        let (translations, rest_local) = (&sampled.translations, &sampled.rest_local);
+        let mut children = vec![Vec::new(); count];
+        for (i, node) in nodes.iter().enumerate() {
+            if let Some(p) = node.parent {
+                children[p].push(i);
+            }
         }
-        let mut joint = Joint::new(nodes[i].name.clone(), nodes[i].parent);
-        joint.offset = offset;
-        joint.children = children[i].clone();
-        // A character's leaf joints keep their rotations: a mesh may be bound to them (a head,
-        // a hand without fingers).
-        joint.end_site =
-            !zero_at_rest && nodes[i].parent.is_some() && children[i].is_empty() && !translates[i];
-        if !joint.end_site {
-            if translates[i] {
+
+        let mut joints: Vec<Joint> = Vec::with_capacity(count);
+        // For each node: translates (needs position channels) and its OFFSET.
+        let mut translates = vec![false; count];
+        for i in 0..count {
+            let first = if frames > 0 {
+                translations[i]
+            } else {
+                rest_local[i].1.as_vec3()
+            };
+            let constant = (0..frames).all(|f| {
+                (translations[f * count + i] - first).abs().max_element() <= sampled.tolerance
+            });
+            translates[i] = nodes[i].parent.is_none() || !constant;
+            let offset = if translates[i] {
+                rest_local[i].1.as_vec3()
+            } else {
+                first
+            };
+            if !offset.is_finite() {
+                return Err(Error::usage(format!(
+                    "joint '{}': a rest offset that is not finite (past a 32-bit float)",
+                    crate::limits::quoted(&nodes[i].name)
+                )));
+            }
+            let mut joint = Joint::new(nodes[i].name.clone(), nodes[i].parent);
+            joint.offset = offset;
+            joint.children = children[i].clone();
+            // A character's leaf joints keep their rotations: a mesh may be bound to them (a
+            // head, a hand without fingers).
+            joint.end_site = !zero_at_rest
+                && nodes[i].parent.is_some()
+                && children[i].is_empty()
+                && !translates[i];
+            if !joint.end_site {
+                if translates[i] {
+                    joint.channels.extend([
+                        Channel::Xposition,
+                        Channel::Yposition,
+                        Channel::Zposition,
+                    ]);
+                }
                 joint
                     .channels
-                    .extend([Channel::Xposition, Channel::Yposition, Channel::Zposition]);
+                    .extend([Channel::Zrotation, Channel::Yrotation, Channel::Xrotation]);
+                joint.rotation_order = Some(RotationOrder::Zyx);
             }
-            joint
-                .channels
-                .extend([Channel::Zrotation, Channel::Yrotation, Channel::Xrotation]);
-            joint.rotation_order = Some(RotationOrder::Zyx);
+            joints.push(joint);
         }
-        joints.push(joint);
+        let order = pre_order(nodes, &children);
+        Ok(Layout {
+            joints,
+            translates,
+            order,
+        })
     }
-    // Pre-order with contiguous channel columns: the nodes come parent first, but a BVH lists a
-    // joint's whole subtree before its next sibling.
-    let mut order = Vec::with_capacity(count);
-    let mut stack: Vec<usize> = (0..count)
+
+    /// The skeleton, its joints in pre-order with contiguous channel columns, and how many
+    /// channels it has.
+    fn skeleton(&self) -> (Skeleton, usize) {
+        let mut new_index = vec![0; self.joints.len()];
+        for (n, &i) in self.order.iter().enumerate() {
+            new_index[i] = n;
+        }
+        let mut sorted: Vec<Joint> = self.order.iter().map(|&i| self.joints[i].clone()).collect();
+        let mut column = 0;
+        for joint in &mut sorted {
+            joint.parent = joint.parent.map(|p| new_index[p]);
+            for child in &mut joint.children {
+                *child = new_index[*child];
+            }
+            joint.first_channel = column;
+            column += joint.channels.len();
+        }
+        let skeleton = Skeleton {
+            joints: sorted,
+            source: crate::model::skeleton::Source::Bvh,
+            // The reader says whether its file stated its axes (glTF always, FBX by its header).
+            y_up_stated: false,
+        };
+        (skeleton, column)
+    }
+
+    /// The MOTION rows: per frame, each joint in pre-order, its translation if it has position
+    /// channels, then its Euler angles, each the nearest to its previous frame's.
+    fn rows(&self, sampled: &Sampled, frames: usize, channels: usize) -> Result<Vec<f32>, Error> {
+        let count = self.joints.len();
+        let values = frames
+            .checked_mul(channels)
+            .filter(|&v| v as u64 <= crate::limits::MAX_GENERATED_VALUES)
+            .ok_or_else(|| {
+                Error::usage(format!(
+                    "{frames} frames of {channels} channels: more than bvhview reads"
+                ))
+            })?;
+        let mut data = Vec::with_capacity(values);
+        let mut previous: Vec<Option<[f64; 3]>> = vec![None; count];
+        for f in 0..frames {
+            for &i in &self.order {
+                if self.joints[i].end_site {
+                    continue;
+                }
+                if self.translates[i] {
+                    data.extend(sampled.translations[f * count + i].to_array());
+                }
+                let rotation = sampled.rotations[f * count + i].as_dquat();
+                let angles = euler_zyx(rotation, previous[i]);
+                previous[i] = Some(angles);
+                data.extend(angles.map(|v| v as f32));
+            }
+        }
+        Ok(data)
+    }
+}
+
+/// The nodes in pre-order: they come parent first, but a BVH lists a joint's whole subtree
+/// before its next sibling, so that a joint's channel columns are contiguous.
+fn pre_order(nodes: &[Node], children: &[Vec<usize>]) -> Vec<usize> {
+    let mut order = Vec::with_capacity(nodes.len());
+    let mut stack: Vec<usize> = (0..nodes.len())
         .filter(|&i| nodes[i].parent.is_none())
         .rev()
         .collect();
@@ -370,52 +507,12 @@ pub fn build_with(
         order.push(i);
         stack.extend(children[i].iter().rev());
     }
-    let mut new_index = vec![0; count];
-    for (n, &i) in order.iter().enumerate() {
-        new_index[i] = n;
-    }
-    let mut sorted: Vec<Joint> = order.iter().map(|&i| joints[i].clone()).collect();
-    let mut column = 0;
-    for joint in &mut sorted {
-        joint.parent = joint.parent.map(|p| new_index[p]);
-        for child in &mut joint.children {
-            *child = new_index[*child];
-        }
-        joint.first_channel = column;
-        column += joint.channels.len();
-    }
-    let skeleton = Skeleton {
-        joints: sorted,
-        source: crate::model::skeleton::Source::Bvh,
-        // The reader says whether its file stated its axes (glTF always, FBX by its header).
-        y_up_stated: false,
-    };
-    let channels = column;
-    let values = frames
-        .checked_mul(channels)
-        .filter(|&v| v as u64 <= crate::limits::MAX_GENERATED_VALUES)
-        .ok_or_else(|| {
-            Error::usage(format!(
-                "{frames} frames of {channels} channels: more than bvhview reads"
-            ))
-        })?;
-    let mut data = Vec::with_capacity(values);
-    let mut previous: Vec<Option<[f64; 3]>> = vec![None; count];
-    for f in 0..frames {
-        for &i in &order {
-            if joints[i].end_site {
-                continue;
-            }
-            if translates[i] {
-                data.extend(translations[f * count + i].to_array());
-            }
-            let rotation = rotations[f * count + i].as_dquat();
-            let angles = euler_zyx(rotation, previous[i]);
-            previous[i] = Some(angles);
-            data.extend(angles.map(|v| v as f32));
-        }
-    }
-    if let Some(at) = crate::edit::first_non_finite(&data) {
+    order
+}
+
+/// Refuses rows with a value that is not finite, naming its joint and frame.
+fn check_rows(skeleton: &Skeleton, data: &[f32], channels: usize) -> Result<(), Error> {
+    if let Some(at) = crate::edit::first_non_finite(data) {
         let (frame, column) = (at / channels.max(1), at % channels.max(1));
         let joint = skeleton
             .joints
@@ -427,8 +524,7 @@ pub fn build_with(
              finite (a zero scale or a broken matrix)"
         )));
     }
-    let motion = Motion::new(frame_time, channels, frames, data);
-    Ok((skeleton, motion))
+    Ok(())
 }
 
 /// The world position of every joint of `skeleton` in frame `f` as BVH FK computes it, in f64

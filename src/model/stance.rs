@@ -228,40 +228,49 @@ fn is_cmu_skeleton(skeleton: &Skeleton) -> bool {
     (has("LHipJoint") && has("RHipJoint")) || (has("lhipjoint") && has("lfemur"))
 }
 
-impl Stance {
-    /// The guess for `skeleton` with `motion`, its poses computed in `mode` (or the other mode
-    /// when the file looks written for it). `stated`: units the file states (an ASF's).
-    pub fn guess(
+/// The points the figure's spread is measured on: every point but the roots (a root may stand
+/// far from the figure, as Bandai's joint_Root does on the floor), unless that leaves nothing.
+fn body_points(skeleton: &Skeleton) -> Vec<usize> {
+    let children: Vec<usize> = (0..skeleton.joints.len())
+        .filter(|&i| skeleton.joints[i].parent.is_some())
+        .collect();
+    if children.len() > 1 {
+        children
+    } else {
+        (0..skeleton.joints.len()).collect()
+    }
+}
+
+/// The frames looked at: every one of `frames`, or [`SAMPLED_POSES`] spread evenly from the
+/// first to the last.
+fn sampled_frames(frames: usize) -> Vec<usize> {
+    if frames <= SAMPLED_POSES {
+        (0..frames).collect()
+    } else {
+        (0..SAMPLED_POSES)
+            .map(|i| i * (frames - 1) / (SAMPLED_POSES - 1))
+            .collect()
+    }
+}
+
+/// The figure's spread in each pose looked at, and how far its root travels.
+struct Spreads {
+    spreads: Vec<Vec3>,
+    root_travel: Vec3,
+}
+
+impl Spreads {
+    /// The spreads of `body` in the `sampled` frames (the rest pose's, `rest_spread`, without
+    /// frames), and the box of the root's path.
+    fn measure(
         skeleton: &Skeleton,
         motion: &Motion,
         mode: OffsetMode,
-        stated: Option<Units>,
-    ) -> Stance {
-        let mode = crate::model::pose::guessed_mode(skeleton, motion, mode);
-        // The body: every point but the roots (a root may stand far from the figure, as
-        // Bandai's joint_Root does on the floor), unless that leaves nothing.
-        let body: Vec<usize> = {
-            let children: Vec<usize> = (0..skeleton.joints.len())
-                .filter(|&i| skeleton.joints[i].parent.is_some())
-                .collect();
-            if children.len() > 1 {
-                children
-            } else {
-                (0..skeleton.joints.len()).collect()
-            }
-        };
+        body: &[usize],
+        sampled: &[usize],
+        rest_spread: Vec3,
+    ) -> Spreads {
         let root = skeleton.roots().next();
-        let rest = world_positions(skeleton, &[], mode);
-        let rest_spread = spread(body.iter().map(|&i| rest[i])).map_or(Vec3::ZERO, |(s, _)| s);
-
-        let frames = motion.frame_count();
-        let sampled: Vec<usize> = if frames <= SAMPLED_POSES {
-            (0..frames).collect()
-        } else {
-            (0..SAMPLED_POSES)
-                .map(|i| i * (frames - 1) / (SAMPLED_POSES - 1))
-                .collect()
-        };
         let mut spreads: Vec<Vec3> = Vec::with_capacity(sampled.len().max(1));
         let (mut path_lo, mut path_hi) = (Vec3::splat(f32::MAX), Vec3::splat(f32::MIN));
         if sampled.is_empty() {
@@ -277,7 +286,7 @@ impl Stance {
                 pose_spreads(
                     &batch,
                     joints,
-                    &body,
+                    body,
                     root,
                     &mut spreads,
                     &mut path_lo,
@@ -290,14 +299,26 @@ impl Stance {
         } else {
             Vec3::ZERO
         };
-        let axis_median =
-            |axis: usize| median(&mut spreads.iter().map(|s| s[axis]).collect::<Vec<_>>());
-        let spread = Vec3::new(axis_median(0), axis_median(1), axis_median(2));
-        let largest = median(&mut spreads.iter().map(|s| s.max_element()).collect::<Vec<_>>());
-        let size = largest.max(rest_spread.max_element());
+        Spreads {
+            spreads,
+            root_travel,
+        }
+    }
+}
 
-        // Up: the axis the figure spreads along most of y and z; when neither clearly wins, the
-        // one the root travels along least, if it travels; else BVH's Y.
+/// Which way the figure stands, and what says so.
+struct Upright {
+    up: Up,
+    sureness: Sureness,
+    /// The root's path decided (the spread did not).
+    by_path: bool,
+    legs_not_two: Option<usize>,
+}
+
+impl Upright {
+    /// Up: the axis the figure spreads along most of y and z; when neither clearly wins, the
+    /// one the root travels along least, if it travels; else BVH's Y.
+    fn guess(skeleton: &Skeleton, spread: Vec3, root_travel: Vec3, size: f32) -> Upright {
         let (y, z) = (spread.y, spread.z);
         let (mut up, mut up_sureness, mut up_by_path) = (Up::Y, Sureness::Unsure, false);
         let legs_not_two = Body::of(skeleton).legs_not_two(skeleton);
@@ -323,33 +344,74 @@ impl Stance {
                 }
             }
         }
+        Upright {
+            up,
+            sureness: up_sureness,
+            by_path: up_by_path,
+            legs_not_two,
+        }
+    }
+}
+
+/// The units: those the file states, CMU's for CMU's skeleton of a person's size in them, else
+/// the guess from the figure's `size`.
+fn units_of(
+    skeleton: &Skeleton,
+    stated: Option<Units>,
+    size: f32,
+) -> (Units, Sureness, UnitsBasis) {
+    match stated {
+        Some(units) => (units, Sureness::Stated, UnitsBasis::Asf),
+        None if is_cmu_skeleton(skeleton) && (1.0..=2.4).contains(&(size * CMU_UNITS.metres)) => {
+            (CMU_UNITS, Sureness::Stated, UnitsBasis::CmuSkeleton)
+        }
+        None => {
+            let (units, sureness) = Units::guess_with_sureness(size);
+            (units, sureness, UnitsBasis::Size)
+        }
+    }
+}
+
+impl Stance {
+    /// The guess for `skeleton` with `motion`, its poses computed in `mode` (or the other mode
+    /// when the file looks written for it). `stated`: units the file states (an ASF's).
+    pub fn guess(
+        skeleton: &Skeleton,
+        motion: &Motion,
+        mode: OffsetMode,
+        stated: Option<Units>,
+    ) -> Stance {
+        let mode = crate::model::pose::guessed_mode(skeleton, motion, mode);
+        let body = body_points(skeleton);
+        let rest = world_positions(skeleton, &[], mode);
+        let rest_spread = spread(body.iter().map(|&i| rest[i])).map_or(Vec3::ZERO, |(s, _)| s);
+        let sampled = sampled_frames(motion.frame_count());
+        let Spreads {
+            spreads,
+            root_travel,
+        } = Spreads::measure(skeleton, motion, mode, &body, &sampled, rest_spread);
+        let axis_median =
+            |axis: usize| median(&mut spreads.iter().map(|s| s[axis]).collect::<Vec<_>>());
+        let spread = Vec3::new(axis_median(0), axis_median(1), axis_median(2));
+        let largest = median(&mut spreads.iter().map(|s| s.max_element()).collect::<Vec<_>>());
+        let size = largest.max(rest_spread.max_element());
+
+        let upright = Upright::guess(skeleton, spread, root_travel, size);
         let height = median(
             &mut spreads
                 .iter()
-                .map(|s| match up {
+                .map(|s| match upright.up {
                     Up::Y => s.y,
                     Up::Z => s.z,
                 })
                 .collect::<Vec<_>>(),
         );
-
-        let (units, units_sureness, units_basis) = match stated {
-            Some(units) => (units, Sureness::Stated, UnitsBasis::Asf),
-            None if is_cmu_skeleton(skeleton)
-                && (1.0..=2.4).contains(&(size * CMU_UNITS.metres)) =>
-            {
-                (CMU_UNITS, Sureness::Stated, UnitsBasis::CmuSkeleton)
-            }
-            None => {
-                let (units, sureness) = Units::guess_with_sureness(size);
-                (units, sureness, UnitsBasis::Size)
-            }
-        };
+        let (units, units_sureness, units_basis) = units_of(skeleton, stated, size);
         Stance {
-            up,
-            up_sureness,
-            up_by_path,
-            legs_not_two,
+            up: upright.up,
+            up_sureness: upright.sureness,
+            up_by_path: upright.by_path,
+            legs_not_two: upright.legs_not_two,
             spread,
             root_travel,
             units,

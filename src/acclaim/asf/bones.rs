@@ -1,8 +1,8 @@
 //! An ASF skeleton as bvhview's `Skeleton`: each bone's fixed axis, its degrees of freedom as
 //! channels, and where each AMC value goes.
 
-use super::{Asf, Bone, Dof};
-use crate::acclaim::{axis_rotation, bone_joint};
+use super::parsed::{Asf, Bone, Dof};
+use crate::acclaim::rotation::{axis_rotation, bone_joint};
 use crate::model::skeleton::{Channel, Joint, RotationOrder, Skeleton, Source};
 use glam::Vec3;
 

@@ -6,182 +6,14 @@
 use super::text::{Word, error_at, expected, expected_after, expected_at_start, lines, number};
 use crate::io::error::Error;
 use crate::limits::MAX_DEPTH;
-use crate::model::skeleton::Channel;
 use std::path::Path;
 
 mod bones;
+mod parsed;
 
-pub use bones::*;
-
-/// One degree of freedom as the ASF names it.
-///
-/// ```
-/// use bvhview::acclaim::{asf::Dof, load_asf};
-///
-/// # fn main() -> Result<(), bvhview::Error> {
-/// let asf = load_asf("tests/data/asf_amc/heiden_12.asf".as_ref(), 1 << 20)?;
-/// // `order TX TY TZ RX RY RZ`
-/// assert_eq!(asf.root.order, [Dof::Tx, Dof::Ty, Dof::Tz, Dof::Rx, Dof::Ry, Dof::Rz]);
-/// # Ok(())
-/// # }
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Dof {
-    /// `rx`: a rotation about X.
-    Rx,
-    /// `ry`: a rotation about Y.
-    Ry,
-    /// `rz`: a rotation about Z.
-    Rz,
-    /// `tx`: a translation along X.
-    Tx,
-    /// `ty`: a translation along Y.
-    Ty,
-    /// `tz`: a translation along Z.
-    Tz,
-}
-
-impl Dof {
-    fn parse(text: &str) -> Option<Dof> {
-        Some(match text.to_ascii_lowercase().as_str() {
-            "rx" => Dof::Rx,
-            "ry" => Dof::Ry,
-            "rz" => Dof::Rz,
-            "tx" => Dof::Tx,
-            "ty" => Dof::Ty,
-            "tz" => Dof::Tz,
-            _ => return None,
-        })
-    }
-
-    fn channel(self) -> Channel {
-        match self {
-            Dof::Rx => Channel::Xrotation,
-            Dof::Ry => Channel::Yrotation,
-            Dof::Rz => Channel::Zrotation,
-            Dof::Tx => Channel::Xposition,
-            Dof::Ty => Channel::Yposition,
-            Dof::Tz => Channel::Zposition,
-        }
-    }
-
-    fn is_rotation(self) -> bool {
-        matches!(self, Dof::Rx | Dof::Ry | Dof::Rz)
-    }
-}
-
-/// `:units`.
-///
-/// ```
-/// use bvhview::acclaim::load_asf;
-///
-/// # fn main() -> Result<(), bvhview::Error> {
-/// let asf = load_asf("tests/data/asf_amc/heiden_12.asf".as_ref(), 1 << 20)?;
-/// assert_eq!(asf.units.length, 0.45); // `length 0.45`
-/// assert!(asf.units.degrees); // `angle deg`
-/// # Ok(())
-/// # }
-/// ```
-#[derive(Clone, Debug, PartialEq)]
-pub struct Units {
-    /// `mass`: the mass unit (1 when the file does not say).
-    pub mass: f64,
-    /// `length`: the length unit the file states (CMU's `0.45`; 1 when the file does not say).
-    pub length: f64,
-    /// `angle deg` (true) or `angle rad`.
-    pub degrees: bool,
-}
-
-/// `:root`.
-///
-/// ```
-/// use bvhview::acclaim::load_asf;
-///
-/// # fn main() -> Result<(), bvhview::Error> {
-/// let asf = load_asf("tests/data/asf_amc/heiden_12.asf".as_ref(), 1 << 20)?;
-/// assert_eq!(asf.root.order.len(), 6); // `order TX TY TZ RX RY RZ`
-/// assert_eq!(asf.root.axis_order, [0, 1, 2]); // `axis XYZ`
-/// assert_eq!(asf.root.position, [0.0; 3]);
-/// # Ok(())
-/// # }
-/// ```
-#[derive(Clone, Debug, PartialEq)]
-pub struct Root {
-    /// The AMC root line's values, in this order.
-    pub order: Vec<Dof>,
-    /// The order of the orientation's rotations (`axis XYZ`).
-    pub axis_order: [usize; 3],
-    /// `position`: where the root starts, in file units.
-    pub position: [f64; 3],
-    /// Degrees.
-    pub orientation: [f64; 3],
-}
-
-/// One `begin … end` block of `:bonedata`.
-///
-/// ```
-/// use bvhview::acclaim::load_asf;
-///
-/// # fn main() -> Result<(), bvhview::Error> {
-/// let asf = load_asf("tests/data/asf_amc/heiden_12.asf".as_ref(), 1 << 20)?;
-/// let femur = asf.bones.iter().find(|bone| bone.name == "lfemur").unwrap();
-/// assert_eq!((femur.id, femur.axis), (Some(2), [0.0, 0.0, 20.0]));
-/// assert_eq!(femur.dof.len(), femur.limits.len()); // `dof rx ry rz`, one limit each
-/// # Ok(())
-/// # }
-/// ```
-#[derive(Clone, Debug, PartialEq)]
-pub struct Bone {
-    /// `id`, if the block has one.
-    pub id: Option<i64>,
-    /// `name`: how the hierarchy and the AMC lines call the bone.
-    pub name: String,
-    /// `direction`: the unit vector from the bone's start to its end, in world axes.
-    pub direction: [f64; 3],
-    /// `length`: how far the bone's end is from its start, in file units.
-    pub length: f64,
-    /// Degrees.
-    pub axis: [f64; 3],
-    /// The order of the `axis` rotations (`XYZ` is `[0, 1, 2]`).
-    pub axis_order: [usize; 3],
-    /// The AMC line's values for this bone, in this order.
-    pub dof: Vec<Dof>,
-    /// `(min, max)` per dof, in degrees for rotations; infinite where the file says `inf`.
-    pub limits: Vec<(f64, f64)>,
-    /// Where the block starts, for messages.
-    pub line: usize,
-}
-
-/// A parsed ASF file.
-///
-/// ```
-/// use bvhview::acclaim::load_asf;
-///
-/// # fn main() -> Result<(), bvhview::Error> {
-/// let asf = load_asf("tests/data/asf_amc/heiden_12.asf".as_ref(), 1 << 20)?;
-/// assert_eq!(asf.bones.len(), 30);
-/// assert_eq!(asf.children.len(), asf.bones.len());
-/// let names: Vec<&str> = asf.root_children.iter().map(|&b| asf.bones[b].name.as_str()).collect();
-/// assert!(names.contains(&"lhipjoint"));
-/// # Ok(())
-/// # }
-/// ```
-#[derive(Clone, Debug, PartialEq)]
-pub struct Asf {
-    /// `:units`.
-    pub units: Units,
-    /// `:root`.
-    pub root: Root,
-    /// `:bonedata`, in file order.
-    pub bones: Vec<Bone>,
-    /// Children of the root, as bone indices.
-    pub root_children: Vec<usize>,
-    /// Children of each bone, as bone indices.
-    pub children: Vec<Vec<usize>>,
-    /// What was read but changed or left out (a direction rescaled to a unit vector, a bone
-    /// missing from `:hierarchy`).
-    pub warnings: Vec<String>,
-}
+pub use bones::ValueMap;
+use bones::bone_vector;
+pub use parsed::{Asf, Bone, Dof, Root, Units};
 
 /// Reads an ASF file; reading stops with an error past `max_size` bytes.
 pub fn load_asf(path: &Path, max_size: u64) -> Result<Asf, Error> {
@@ -265,54 +97,50 @@ struct BoneData {
 /// then the tree is built from `:hierarchy`.
 pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
     let all = lines(text);
-    let mut units = Units {
-        mass: 1.0,
-        length: 1.0,
-        degrees: true,
-    };
-    let mut root: Option<Root> = None;
-    let mut data = BoneData::default();
-    // Each hierarchy line: the parent's name, then its children's.
-    let mut hierarchy: Vec<Vec<Word<'_>>> = Vec::new();
-    let mut seen_hierarchy = false;
-    let mut seen_bonedata = false;
-    let mut section = Section::None;
-
+    let mut reading = Reading::new();
     for line in &all {
+        reading.line(source, line)?;
+    }
+    let end_line = all.last().map_or(1, |l| l[0].line + 1);
+    reading.finish(source, end_line)
+}
+
+/// An ASF file as its lines are read: what each section has said so far.
+struct Reading<'a> {
+    units: Units,
+    root: Option<Root>,
+    data: BoneData,
+    /// Each hierarchy line: the parent's name, then its children's.
+    hierarchy: Vec<Vec<Word<'a>>>,
+    seen_hierarchy: bool,
+    seen_bonedata: bool,
+    section: Section,
+}
+
+impl<'a> Reading<'a> {
+    fn new() -> Reading<'a> {
+        Reading {
+            units: Units {
+                mass: 1.0,
+                length: 1.0,
+                degrees: true,
+            },
+            root: None,
+            data: BoneData::default(),
+            hierarchy: Vec::new(),
+            seen_hierarchy: false,
+            seen_bonedata: false,
+            section: Section::None,
+        }
+    }
+
+    /// One line: a section's name opens it, any other line belongs to the open section.
+    fn line(&mut self, source: &str, line: &[Word<'a>]) -> Result<(), Error> {
         let first = &line[0];
         if first.text.starts_with(':') {
-            if let Some(bone) = &data.current {
-                return Err(expected(
-                    source,
-                    first,
-                    &format!("'end' to close bone '{}'", bone.name),
-                ));
-            }
-            section = match first.text.to_ascii_lowercase().as_str() {
-                ":units" => Section::Units,
-                ":root" => {
-                    root = Some(Root {
-                        order: Vec::new(),
-                        axis_order: [0, 1, 2],
-                        position: [0.0; 3],
-                        orientation: [0.0; 3],
-                    });
-                    Section::Root
-                }
-                ":bonedata" => {
-                    seen_bonedata = true;
-                    Section::BoneData
-                }
-                ":hierarchy" => {
-                    seen_hierarchy = true;
-                    Section::Hierarchy
-                }
-                _ => Section::Other,
-            };
-            data.pending_limits = 0;
-            continue;
+            return self.open(source, first);
         }
-        match section {
+        match self.section {
             Section::None => {
                 return Err(expected_at_start(
                     source,
@@ -330,75 +158,132 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
                 ));
             }
             Section::Other => {}
-            Section::Units => units_line(source, line, &mut units)?,
+            Section::Units => units_line(source, line, &mut self.units)?,
             Section::Root => root_line(
                 source,
                 line,
-                root.as_mut().expect(":root opened the section"),
+                self.root.as_mut().expect(":root opened the section"),
             )?,
-            Section::BoneData => bonedata_line(
-                source,
-                line,
-                &mut data.bones,
-                &mut data.names,
-                &mut data.current,
-                &mut data.pending_limits,
-            )?,
-            Section::Hierarchy => hierarchy_line(source, line, &mut hierarchy)?,
+            Section::BoneData => self.data.line(source, line)?,
+            Section::Hierarchy => hierarchy_line(source, line, &mut self.hierarchy)?,
         }
-    }
-    let end_line = all.last().map_or(1, |l| l[0].line + 1);
-    let BoneData {
-        mut bones,
-        names,
-        current,
-        ..
-    } = data;
-    if let Some(bone) = &current {
-        return Err(error_at(
-            source,
-            end_line,
-            1,
-            format!(
-                "expected 'end' to close bone '{}', found end of file",
-                bone.name
-            ),
-        ));
-    }
-    let Some(mut root) = root else {
-        return Err(error_at(
-            source,
-            end_line,
-            1,
-            "missing section :root".into(),
-        ));
-    };
-    if !seen_bonedata {
-        return Err(error_at(
-            source,
-            end_line,
-            1,
-            "missing section :bonedata".into(),
-        ));
-    }
-    if !seen_hierarchy {
-        return Err(error_at(
-            source,
-            end_line,
-            1,
-            "missing section :hierarchy".into(),
-        ));
-    }
-    if root.order.is_empty() {
-        root.order = vec![Dof::Tx, Dof::Ty, Dof::Tz, Dof::Rx, Dof::Ry, Dof::Rz];
+        Ok(())
     }
 
-    if !units.degrees {
-        to_degrees(&mut root, &mut bones);
+    /// A section's name (`:root`, …): the section it opens, once the bone before is closed.
+    fn open(&mut self, source: &str, first: &Word<'_>) -> Result<(), Error> {
+        if let Some(bone) = &self.data.current {
+            return Err(expected(
+                source,
+                first,
+                &format!("'end' to close bone '{}'", bone.name),
+            ));
+        }
+        self.section = match first.text.to_ascii_lowercase().as_str() {
+            ":units" => Section::Units,
+            ":root" => {
+                self.root = Some(Root {
+                    order: Vec::new(),
+                    axis_order: [0, 1, 2],
+                    position: [0.0; 3],
+                    orientation: [0.0; 3],
+                });
+                Section::Root
+            }
+            ":bonedata" => {
+                self.seen_bonedata = true;
+                Section::BoneData
+            }
+            ":hierarchy" => {
+                self.seen_hierarchy = true;
+                Section::Hierarchy
+            }
+            _ => Section::Other,
+        };
+        self.data.pending_limits = 0;
+        Ok(())
     }
-    let mut warnings: Vec<String> = normalise_directions(&mut bones).into_iter().collect();
-    for bone in &bones {
-        // Each number fits a 32-bit float; their product must too.
+
+    /// The file read to its end (`end_line` is past its last line): refuses a bone left open or
+    /// a section missing, then the angles in degrees, the directions unit vectors, the tree.
+    fn finish(self, source: &str, end_line: usize) -> Result<Asf, Error> {
+        let Reading {
+            units,
+            root,
+            data,
+            hierarchy,
+            seen_hierarchy,
+            seen_bonedata,
+            ..
+        } = self;
+        let BoneData {
+            mut bones,
+            names,
+            current,
+            ..
+        } = data;
+        if let Some(bone) = &current {
+            return Err(error_at(
+                source,
+                end_line,
+                1,
+                format!(
+                    "expected 'end' to close bone '{}', found end of file",
+                    bone.name
+                ),
+            ));
+        }
+        let Some(mut root) = root else {
+            return Err(error_at(
+                source,
+                end_line,
+                1,
+                "missing section :root".into(),
+            ));
+        };
+        if !seen_bonedata {
+            return Err(error_at(
+                source,
+                end_line,
+                1,
+                "missing section :bonedata".into(),
+            ));
+        }
+        if !seen_hierarchy {
+            return Err(error_at(
+                source,
+                end_line,
+                1,
+                "missing section :hierarchy".into(),
+            ));
+        }
+        if root.order.is_empty() {
+            root.order = vec![Dof::Tx, Dof::Ty, Dof::Tz, Dof::Rx, Dof::Ry, Dof::Rz];
+        }
+
+        if !units.degrees {
+            to_degrees(&mut root, &mut bones);
+        }
+        let mut warnings: Vec<String> = normalise_directions(&mut bones).into_iter().collect();
+        check_bone_vectors(source, &bones)?;
+        let (root_children, children, tree_warnings) =
+            build_tree(source, &bones, &names, &hierarchy)?;
+        warnings.extend(tree_warnings);
+        Ok(Asf {
+            units,
+            root,
+            bones,
+            root_children,
+            children,
+            warnings,
+        })
+    }
+}
+
+/// Refuses a bone whose `direction × length` is past a 32-bit float: each number fits one;
+/// their product must too.
+fn check_bone_vectors(source: &str, bones: &[Bone]) -> Result<(), Error> {
+    for bone in bones {
         if !bone_vector(bone).is_finite() {
             return Err(error_at(
                 source,
@@ -411,16 +296,7 @@ pub fn parse_asf(text: &str, source: &str) -> Result<Asf, Error> {
             ));
         }
     }
-    let (root_children, children, tree_warnings) = build_tree(source, &bones, &names, &hierarchy)?;
-    warnings.extend(tree_warnings);
-    Ok(Asf {
-        units,
-        root,
-        bones,
-        root_children,
-        children,
-        warnings,
-    })
+    Ok(())
 }
 
 /// How far a direction's length may be from 1 and still be taken as written: files print six
@@ -516,21 +392,29 @@ fn root_line(source: &str, line: &[Word<'_>], root: &mut Root) -> Result<(), Err
     Ok(())
 }
 
-/// A line of `:bonedata`: `begin`, a field of the current bone, or `end`.
-fn bonedata_line(
-    source: &str,
-    line: &[Word<'_>],
-    bones: &mut Vec<Bone>,
-    names: &mut std::collections::HashMap<String, usize>,
-    current: &mut Option<Bone>,
-    pending_limits: &mut usize,
-) -> Result<(), Error> {
-    let first = &line[0];
-    if first.is("begin") {
-        if current.is_some() {
+impl BoneData {
+    /// A line of `:bonedata`: `begin`, a field of the current bone, or `end`.
+    fn line(&mut self, source: &str, line: &[Word<'_>]) -> Result<(), Error> {
+        let first = &line[0];
+        if first.is("begin") {
+            return self.begin(source, first);
+        }
+        let Some(bone) = self.current.as_mut() else {
+            return Err(expected(source, first, "'begin'"));
+        };
+        if first.is("end") {
+            self.end(source, first)
+        } else {
+            bone_field(source, line, bone, &mut self.pending_limits)
+        }
+    }
+
+    /// `begin`: a new bone, with neither name, direction nor length yet.
+    fn begin(&mut self, source: &str, first: &Word<'_>) -> Result<(), Error> {
+        if self.current.is_some() {
             return Err(expected(source, first, "'end' before the next 'begin'"));
         }
-        *current = Some(Bone {
+        self.current = Some(Bone {
             id: None,
             name: String::new(),
             direction: [f64::NAN; 3],
@@ -541,14 +425,13 @@ fn bonedata_line(
             limits: Vec::new(),
             line: first.line,
         });
-        *pending_limits = 0;
-        return Ok(());
+        self.pending_limits = 0;
+        Ok(())
     }
-    let Some(bone) = current.as_mut() else {
-        return Err(expected(source, first, "'begin'"));
-    };
-    if first.is("end") {
-        let bone = current.take().expect("checked above");
+
+    /// `end`: the current bone is complete, under a name no bone before it has.
+    fn end(&mut self, source: &str, first: &Word<'_>) -> Result<(), Error> {
+        let bone = self.current.take().expect("checked above");
         let what = if bone.name.is_empty() {
             Some("a name")
         } else if bone.direction[0].is_nan() {
@@ -571,7 +454,7 @@ fn bonedata_line(
                 format!("'{name}' (begun at line {}) ends without {what}", bone.line),
             ));
         }
-        if names.contains_key(&bone.name) {
+        if self.names.contains_key(&bone.name) {
             return Err(error_at(
                 source,
                 bone.line,
@@ -579,9 +462,22 @@ fn bonedata_line(
                 format!("a second bone named '{}'", bone.name),
             ));
         }
-        names.insert(bone.name.clone(), bones.len());
-        bones.push(bone);
-    } else if first.is("id") {
+        self.names.insert(bone.name.clone(), self.bones.len());
+        self.bones.push(bone);
+        Ok(())
+    }
+}
+
+/// A field of the bone between `begin` and `end`: id, name, direction, length, axis, dof or
+/// limits (`pending_limits` counts the limits its dofs still expect).
+fn bone_field(
+    source: &str,
+    line: &[Word<'_>],
+    bone: &mut Bone,
+    pending_limits: &mut usize,
+) -> Result<(), Error> {
+    let first = &line[0];
+    if first.is("id") {
         let word = line
             .get(1)
             .ok_or_else(|| expected_after(source, line, "an id"))?;
@@ -626,59 +522,10 @@ fn bonedata_line(
             .ok_or_else(|| expected_after(source, line, "a rotation order such as XYZ"))?;
         bone.axis_order = axis_order(source, word)?;
     } else if first.is("dof") {
-        bone.dof.clear();
-        for word in &line[1..] {
-            let dof = if word.is("l") {
-                return Err(error_at(
-                    source,
-                    word.line,
-                    word.column,
-                    "dof 'l' (a bone that stretches) is not supported".into(),
-                ));
-            } else {
-                Dof::parse(word.text).ok_or_else(|| expected(source, word, "rx, ry or rz"))?
-            };
-            if !dof.is_rotation() {
-                return Err(error_at(
-                    source,
-                    word.line,
-                    word.column,
-                    format!(
-                        "dof '{}' on a bone is not supported: only the root translates",
-                        word.text
-                    ),
-                ));
-            }
-            if bone.dof.contains(&dof) {
-                return Err(error_at(
-                    source,
-                    word.line,
-                    word.column,
-                    format!("dof '{}' listed twice", word.text),
-                ));
-            }
-            bone.dof.push(dof);
-        }
+        dof_line(source, line, bone)?;
         *pending_limits = bone.dof.len();
     } else if first.is("limits") || first.text.starts_with('(') {
-        // `limits (a b)` then one `(a b)` line per further dof; parentheses may be
-        // written apart from the numbers.
-        let words: Vec<&Word<'_>> = line
-            .iter()
-            .skip(usize::from(first.is("limits")))
-            .filter(|w| !w.text.chars().all(|c| c == '(' || c == ')'))
-            .collect();
-        if words.len() != 2 || *pending_limits == 0 {
-            let what = if *pending_limits == 0 {
-                "no more limits than dofs"
-            } else {
-                "(min max)"
-            };
-            return Err(expected(source, first, what));
-        }
-        bone.limits
-            .push((bound(source, words[0])?, bound(source, words[1])?));
-        *pending_limits -= 1;
+        limits_line(source, line, bone, pending_limits)?;
     } else if first.is("bodymass") || first.is("cofmass") {
         // Known extras some exporters write; they do not change the skeleton.
     } else {
@@ -688,6 +535,72 @@ fn bonedata_line(
             "id, name, direction, length, axis, dof, limits or end",
         ));
     }
+    Ok(())
+}
+
+/// `dof rx ry rz`: the bone's rotations, each once (a bone neither translates nor stretches).
+fn dof_line(source: &str, line: &[Word<'_>], bone: &mut Bone) -> Result<(), Error> {
+    bone.dof.clear();
+    for word in &line[1..] {
+        let dof = if word.is("l") {
+            return Err(error_at(
+                source,
+                word.line,
+                word.column,
+                "dof 'l' (a bone that stretches) is not supported".into(),
+            ));
+        } else {
+            Dof::parse(word.text).ok_or_else(|| expected(source, word, "rx, ry or rz"))?
+        };
+        if !dof.is_rotation() {
+            return Err(error_at(
+                source,
+                word.line,
+                word.column,
+                format!(
+                    "dof '{}' on a bone is not supported: only the root translates",
+                    word.text
+                ),
+            ));
+        }
+        if bone.dof.contains(&dof) {
+            return Err(error_at(
+                source,
+                word.line,
+                word.column,
+                format!("dof '{}' listed twice", word.text),
+            ));
+        }
+        bone.dof.push(dof);
+    }
+    Ok(())
+}
+
+/// `limits (a b)`, then one `(a b)` line per further dof; parentheses may be written apart
+/// from the numbers.
+fn limits_line(
+    source: &str,
+    line: &[Word<'_>],
+    bone: &mut Bone,
+    pending_limits: &mut usize,
+) -> Result<(), Error> {
+    let first = &line[0];
+    let words: Vec<&Word<'_>> = line
+        .iter()
+        .skip(usize::from(first.is("limits")))
+        .filter(|w| !w.text.chars().all(|c| c == '(' || c == ')'))
+        .collect();
+    if words.len() != 2 || *pending_limits == 0 {
+        let what = if *pending_limits == 0 {
+            "no more limits than dofs"
+        } else {
+            "(min max)"
+        };
+        return Err(expected(source, first, what));
+    }
+    bone.limits
+        .push((bound(source, words[0])?, bound(source, words[1])?));
+    *pending_limits -= 1;
     Ok(())
 }
 

@@ -1,11 +1,16 @@
 //! A glTF file and its buffers: base64 and percent-encoded URIs, buffers only from inside the
 //! file's folder, the GLB header, the validation, and accessors decoded once.
 
-use super::bad;
 use crate::io::error::Error;
 use crate::io::message::Message;
 use gltf::accessor::{DataType, Dimensions};
 use std::path::{Path, PathBuf};
+
+/// A refusal of the file `name`: why, after its name. Here, beside the reading it refuses, so
+/// the reader's parts take it from a sibling rather than from the module above.
+pub(super) fn bad(name: &str, why: impl std::fmt::Display) -> Error {
+    Error::usage(format!("{name}: {why}"))
+}
 
 /// Decodes standard base64 (with or without padding); `None` on any other byte.
 pub(super) fn base64(text: &str) -> Option<Vec<u8>> {

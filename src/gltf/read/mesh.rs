@@ -4,8 +4,7 @@
 //! that joint, one under no joint stays where it stands. Triangles only (strips, fans, lines and
 //! points are left out, said once).
 
-use super::bad;
-use crate::gltf::read::file::{File, accessor_integers, accessor_values};
+use crate::gltf::read::file::{File, accessor_integers, accessor_values, bad};
 use crate::io::error::Error;
 use crate::model::mesh::{Bone, Mesh, MeshBuilder};
 use glam::DMat4;

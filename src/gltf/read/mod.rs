@@ -33,12 +33,8 @@ mod file;
 mod mesh;
 mod tracks;
 
-use file::{File, parse, read};
+use file::{File, bad, parse, read};
 pub use tracks::*;
-
-fn bad(name: &str, why: impl std::fmt::Display) -> Error {
-    Error::usage(format!("{name}: {why}"))
-}
 
 fn animation_name(animation: &gltf::Animation) -> String {
     animation

@@ -4,6 +4,7 @@
 use super::{LIMBS, Limb, Role, Side, Word, word_of};
 use crate::model::pose::{OffsetMode, world_transforms_f64};
 use crate::model::skeleton::Skeleton;
+use glam::{DQuat, DVec3};
 
 /// A skeleton's joints by role: what [`crate::retarget::Map::guess`] pairs.
 ///
@@ -100,6 +101,9 @@ pub(crate) fn path_between(skeleton: &Skeleton, from: usize, to: usize) -> Vec<u
     Vec::new()
 }
 
+/// `[left, right]`, each in [`Limb`] order.
+type Limbs = [[Option<usize>; 8]; 2];
+
 /// Limbs, neck and head from the tree alone, for a skeleton whose names say nothing: the hips
 /// are the first joint with three branches at least three joints long (the largest the spine,
 /// the other two the legs); the chest the first joint up the spine with two such branches (the
@@ -107,74 +111,18 @@ pub(crate) fn path_between(skeleton: &Skeleton, from: usize, to: usize) -> Vec<u
 /// first joint with two children or more (fingers), else the last; down each leg the last four
 /// joints are thigh, shin, foot and toe (three: no toe). Sides by the rest pose, as BVH faces
 /// +z: left at +x.
-#[allow(clippy::type_complexity)]
-pub(super) fn limbs_by_tree(
-    skeleton: &Skeleton,
-) -> Option<([[Option<usize>; 8]; 2], Option<usize>, Option<usize>)> {
+pub(super) fn limbs_by_tree(skeleton: &Skeleton) -> Option<(Limbs, Option<usize>, Option<usize>)> {
+    let tree = Tree::new(skeleton);
     let joints = &skeleton.joints;
-    let count = joints.len();
-    let (mut height, mut size) = (vec![0usize; count], vec![0usize; count]);
-    for j in (0..count).rev() {
-        if joints[j].end_site {
-            continue;
-        }
-        height[j] = 1 + joints[j]
-            .children
-            .iter()
-            .map(|&c| height[c])
-            .max()
-            .unwrap_or(0);
-        size[j] = 1 + joints[j].children.iter().map(|&c| size[c]).sum::<usize>();
-    }
-    let long = |j: usize| -> Vec<usize> {
-        let mut branches: Vec<usize> = joints[j]
-            .children
-            .iter()
-            .copied()
-            .filter(|&c| height[c] >= 3)
-            .collect();
-        branches.sort_by_key(|&c| std::cmp::Reverse(size[c]));
-        branches
-    };
-    let main_path = |from: usize| -> Vec<usize> {
-        let mut path = vec![from];
-        let mut j = from;
-        while let Some(&next) = joints[j]
-            .children
-            .iter()
-            .filter(|&&c| !joints[c].end_site)
-            .max_by_key(|&&c| (size[c], std::cmp::Reverse(c)))
-        {
-            path.push(next);
-            j = next;
-        }
-        path
-    };
-    let mut rest = Vec::new();
-    world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
-    let hips = (0..count).find(|&j| !joints[j].end_site && long(j).len() >= 3)?;
-    let branches = long(hips);
+    let hips = (0..joints.len()).find(|&j| !joints[j].end_site && tree.long(j).len() >= 3)?;
+    let branches = tree.long(hips);
     let (spine, legs) = (branches[0], [branches[1], branches[2]]);
     let mut chest = spine;
-    while long(chest).len() < 2 {
-        chest = *main_path(chest).get(1)?;
+    while tree.long(chest).len() < 2 {
+        chest = *tree.main_path(chest).get(1)?;
     }
-    let up = (rest[chest].1 - rest[hips].1).normalize_or_zero();
-    let mut arms = long(chest);
-    let others: Vec<usize> = joints[chest]
-        .children
-        .iter()
-        .copied()
-        .filter(|c| !joints[*c].end_site)
-        .collect();
-    // The branch that goes on upward is the neck, not an arm.
-    let upward = others.iter().copied().max_by(|&a, &b| {
-        let rise = |c: usize| {
-            let end = *main_path(c).last().unwrap_or(&c);
-            (rest[end].1 - rest[chest].1).normalize_or_zero().dot(up)
-        };
-        rise(a).total_cmp(&rise(b))
-    });
+    let mut arms = tree.long(chest);
+    let upward = tree.upward(chest, hips);
     if arms.len() > 2 {
         arms.retain(|&a| Some(a) != upward);
     }
@@ -182,16 +130,132 @@ pub(super) fn limbs_by_tree(
     if arms.len() < 2 {
         return None;
     }
-    let side_of = |j: usize, of: usize| {
-        if rest[j].1.x - rest[of].1.x >= 0.0 {
+    let mut limbs = [[None; 8]; 2];
+    for &arm in &arms {
+        tree.place_arm(&mut limbs, arm, chest)?;
+    }
+    for &leg in &legs {
+        tree.place_leg(&mut limbs, leg, hips);
+    }
+    if limbs[0][Limb::Thigh as usize].is_none() || limbs[1][Limb::Thigh as usize].is_none() {
+        return None;
+    }
+    let (neck, head) = match upward.filter(|u| !arms.contains(u)) {
+        Some(u) => {
+            let path = tree.main_path(u);
+            if path.len() >= 2 {
+                (Some(path[0]), path.last().copied())
+            } else {
+                (None, Some(path[0]))
+            }
+        }
+        None => (None, None),
+    };
+    Some((limbs, neck, head))
+}
+
+/// A skeleton's tree as [`limbs_by_tree`] reads it: how tall and how large each joint's
+/// subtree is, and the rest pose.
+struct Tree<'a> {
+    skeleton: &'a Skeleton,
+    /// Per joint: the most joints on a way down from it, itself included (0 for an End Site).
+    height: Vec<usize>,
+    /// Per joint: the joints under it, itself included (0 for an End Site).
+    size: Vec<usize>,
+    /// World rotation and position of each joint at rest.
+    rest: Vec<(DQuat, DVec3)>,
+}
+
+impl<'a> Tree<'a> {
+    fn new(skeleton: &'a Skeleton) -> Self {
+        let joints = &skeleton.joints;
+        let count = joints.len();
+        let (mut height, mut size) = (vec![0usize; count], vec![0usize; count]);
+        for j in (0..count).rev() {
+            if joints[j].end_site {
+                continue;
+            }
+            height[j] = 1 + joints[j]
+                .children
+                .iter()
+                .map(|&c| height[c])
+                .max()
+                .unwrap_or(0);
+            size[j] = 1 + joints[j].children.iter().map(|&c| size[c]).sum::<usize>();
+        }
+        let mut rest = Vec::new();
+        world_transforms_f64(skeleton, &[], OffsetMode::Replace, &mut rest);
+        Tree {
+            skeleton,
+            height,
+            size,
+            rest,
+        }
+    }
+
+    /// The branches under `j` at least three joints long, the largest first.
+    fn long(&self, j: usize) -> Vec<usize> {
+        let mut branches: Vec<usize> = self.skeleton.joints[j]
+            .children
+            .iter()
+            .copied()
+            .filter(|&c| self.height[c] >= 3)
+            .collect();
+        branches.sort_by_key(|&c| std::cmp::Reverse(self.size[c]));
+        branches
+    }
+
+    /// The way down from `from` through the largest child at each joint.
+    fn main_path(&self, from: usize) -> Vec<usize> {
+        let joints = &self.skeleton.joints;
+        let mut path = vec![from];
+        let mut j = from;
+        while let Some(&next) = joints[j]
+            .children
+            .iter()
+            .filter(|&&c| !joints[c].end_site)
+            .max_by_key(|&&c| (self.size[c], std::cmp::Reverse(c)))
+        {
+            path.push(next);
+            j = next;
+        }
+        path
+    }
+
+    /// The branch of `chest` that goes on upward (from the hips to the chest): the neck, not an
+    /// arm.
+    fn upward(&self, chest: usize, hips: usize) -> Option<usize> {
+        let (joints, rest) = (&self.skeleton.joints, &self.rest);
+        let up = (rest[chest].1 - rest[hips].1).normalize_or_zero();
+        let others: Vec<usize> = joints[chest]
+            .children
+            .iter()
+            .copied()
+            .filter(|c| !joints[*c].end_site)
+            .collect();
+        others.iter().copied().max_by(|&a, &b| {
+            let rise = |c: usize| {
+                let end = *self.main_path(c).last().unwrap_or(&c);
+                (rest[end].1 - rest[chest].1).normalize_or_zero().dot(up)
+            };
+            rise(a).total_cmp(&rise(b))
+        })
+    }
+
+    /// The side `j` is on seen from `of`: left (0) at +x, else right (1).
+    fn side_of(&self, j: usize, of: usize) -> usize {
+        if self.rest[j].1.x - self.rest[of].1.x >= 0.0 {
             0
         } else {
             1
         }
-    };
-    let mut limbs = [[None; 8]; 2];
-    for &arm in &arms {
-        let path = main_path(arm);
+    }
+
+    /// The arm down from `arm`: the hand the first joint with two children or more, then the
+    /// forearm, the upper arm and the clavicle above it. `None` for an arm too short.
+    fn place_arm(&self, limbs: &mut Limbs, arm: usize, chest: usize) -> Option<()> {
+        let joints = &self.skeleton.joints;
+        let path = self.main_path(arm);
         let at = (2..path.len())
             .find(|&i| {
                 joints[path[i]]
@@ -205,18 +269,21 @@ pub(super) fn limbs_by_tree(
         if at < 2 {
             return None;
         }
-        let side = side_of(path[at], chest);
+        let side = self.side_of(path[at], chest);
         limbs[side][Limb::Hand as usize] = Some(path[at]);
         limbs[side][Limb::ForeArm as usize] = Some(path[at - 1]);
         limbs[side][Limb::UpperArm as usize] = Some(path[at - 2]);
         if at >= 3 {
             limbs[side][Limb::Clavicle as usize] = Some(path[at - 3]);
         }
+        Some(())
     }
-    for &leg in &legs {
-        let path = main_path(leg);
+
+    /// The leg down from `leg`: its last four joints thigh, shin, foot and toe (three: no toe).
+    fn place_leg(&self, limbs: &mut Limbs, leg: usize, hips: usize) {
+        let path = self.main_path(leg);
         let n = path.len();
-        let side = side_of(path[n - 1], hips);
+        let side = self.side_of(path[n - 1], hips);
         let (thigh, toe) = if n >= 4 {
             (n - 4, Some(n - 1))
         } else {
@@ -227,21 +294,6 @@ pub(super) fn limbs_by_tree(
         limbs[side][Limb::Foot as usize] = Some(path[thigh + 2]);
         limbs[side][Limb::Toe as usize] = toe.map(|i| path[i]);
     }
-    if limbs[0][Limb::Thigh as usize].is_none() || limbs[1][Limb::Thigh as usize].is_none() {
-        return None;
-    }
-    let (neck, head) = match upward.filter(|u| !arms.contains(u)) {
-        Some(u) => {
-            let path = main_path(u);
-            if path.len() >= 2 {
-                (Some(path[0]), path.last().copied())
-            } else {
-                (None, Some(path[0]))
-            }
-        }
-        None => (None, None),
-    };
-    Some((limbs, neck, head))
 }
 
 /// The upper arm among the joints a side's names call one (`upper_arms`) that lie above the
@@ -285,92 +337,124 @@ fn upper_arm_above(
     Some(upper)
 }
 
-impl Body {
-    /// The roles of a skeleton's joints, from their names and the tree.
-    pub fn of(skeleton: &Skeleton) -> Body {
-        let joints = &skeleton.joints;
-        let words: Vec<Option<(Option<Side>, Word)>> = joints
+/// A skeleton's joints as their names read: each joint's side and word (none for an End Site
+/// or a name that says nothing).
+struct Names<'a> {
+    skeleton: &'a Skeleton,
+    words: Vec<Option<(Option<Side>, Word)>>,
+}
+
+impl<'a> Names<'a> {
+    fn new(skeleton: &'a Skeleton) -> Self {
+        let words = skeleton
+            .joints
             .iter()
             .map(|j| if j.end_site { None } else { word_of(&j.name) })
             .collect();
-        let has = |side: Side, want: &[Word]| {
-            words
-                .iter()
-                .flatten()
-                .any(|&(s, w)| s == Some(side) && want.contains(&w))
-        };
-        // The shallowest joint of each role, words read in the light of the rest of the side.
-        let mut body = Body::default();
-        // Among joints at one depth, the first by name: MakeHuman's five toes give `toe1-1`
-        // on both sides, whatever order the file lists them in.
-        let shallowest = |candidates: Vec<usize>| {
-            candidates
-                .into_iter()
-                .min_by_key(|&j| (depth(skeleton, j), joints[j].name.as_str(), j))
-        };
-        for side in [Side::Left, Side::Right] {
-            let limb_of = |word: Word| -> Option<Limb> {
-                Some(match word {
-                    Word::Collar => Limb::Clavicle,
-                    Word::Shoulder => {
-                        if has(side, &[Word::Collar]) || !has(side, &[Word::UpperArm]) {
-                            Limb::UpperArm
-                        } else {
-                            Limb::Clavicle
-                        }
-                    }
-                    Word::UpperArm => Limb::UpperArm,
-                    Word::ForeArm => Limb::ForeArm,
-                    Word::Hand | Word::Wrist => Limb::Hand,
-                    Word::Thigh => Limb::Thigh,
-                    Word::Leg => {
-                        if has(side, &[Word::Thigh]) {
-                            Limb::Shin
-                        } else {
-                            Limb::Thigh
-                        }
-                    }
-                    Word::Shin => Limb::Shin,
-                    Word::Foot => {
-                        if has(side, &[Word::Ankle]) {
-                            Limb::Toe
-                        } else {
-                            Limb::Foot
-                        }
-                    }
-                    Word::Ankle => Limb::Foot,
-                    Word::Buttock if has(side, &[Word::Thigh]) => return None,
-                    Word::Buttock => Limb::Thigh,
-                    Word::Toe => Limb::Toe,
-                    _ => return None,
-                })
-            };
-            let mut upper_arms = Vec::new();
-            for (slot, limb) in LIMBS.iter().enumerate() {
-                let candidates: Vec<usize> = (0..joints.len())
-                    .filter(|&j| {
-                        words[j].is_some_and(|(s, w)| s == Some(side) && limb_of(w) == Some(*limb))
-                    })
-                    .collect();
-                if *limb == Limb::UpperArm {
-                    upper_arms.clone_from(&candidates);
+        Names { skeleton, words }
+    }
+
+    /// Whether a joint of `side` says one of `want`.
+    fn has(&self, side: Side, want: &[Word]) -> bool {
+        self.words
+            .iter()
+            .flatten()
+            .any(|&(s, w)| s == Some(side) && want.contains(&w))
+    }
+
+    /// The limb `word` names on `side`, in the light of the rest of the side (a shoulder is the
+    /// clavicle where the side names an upper arm and no collar; a leg the shin below a thigh).
+    fn limb_of(&self, side: Side, word: Word) -> Option<Limb> {
+        Some(match word {
+            Word::Collar => Limb::Clavicle,
+            Word::Shoulder => {
+                if self.has(side, &[Word::Collar]) || !self.has(side, &[Word::UpperArm]) {
+                    Limb::UpperArm
+                } else {
+                    Limb::Clavicle
                 }
-                body.limbs[side_index(side)][slot] = shallowest(candidates);
             }
-            let arm = &mut body.limbs[side_index(side)];
-            if let Some(elbow) = arm[Limb::ForeArm as usize] {
-                let word = |j: usize| words[j].map(|(_, w)| w);
-                if let Some(upper) = upper_arm_above(skeleton, &upper_arms, elbow, word) {
-                    arm[Limb::UpperArm as usize] = Some(upper);
+            Word::UpperArm => Limb::UpperArm,
+            Word::ForeArm => Limb::ForeArm,
+            Word::Hand | Word::Wrist => Limb::Hand,
+            Word::Thigh => Limb::Thigh,
+            Word::Leg => {
+                if self.has(side, &[Word::Thigh]) {
+                    Limb::Shin
+                } else {
+                    Limb::Thigh
                 }
+            }
+            Word::Shin => Limb::Shin,
+            Word::Foot => {
+                if self.has(side, &[Word::Ankle]) {
+                    Limb::Toe
+                } else {
+                    Limb::Foot
+                }
+            }
+            Word::Ankle => Limb::Foot,
+            Word::Buttock if self.has(side, &[Word::Thigh]) => return None,
+            Word::Buttock => Limb::Thigh,
+            Word::Toe => Limb::Toe,
+            _ => return None,
+        })
+    }
+
+    /// The shallowest of `candidates`; among joints at one depth, the first by name:
+    /// MakeHuman's five toes give `toe1-1` on both sides, whatever order the file lists them in.
+    fn shallowest(&self, candidates: Vec<usize>) -> Option<usize> {
+        let joints = &self.skeleton.joints;
+        candidates
+            .into_iter()
+            .min_by_key(|&j| (depth(self.skeleton, j), joints[j].name.as_str(), j))
+    }
+
+    /// The joints whose names say `word`, on either side or none.
+    fn named(&self, word: Word) -> Vec<usize> {
+        (0..self.skeleton.joints.len())
+            .filter(|&j| self.words[j].is_some_and(|(_, w)| w == word))
+            .collect()
+    }
+
+    /// The limbs of `side` by name, each the shallowest joint that names it, the upper arm the
+    /// one that reaches the elbow.
+    fn read_side(&self, body: &mut Body, side: Side) {
+        let mut upper_arms = Vec::new();
+        for (slot, limb) in LIMBS.iter().enumerate() {
+            let candidates: Vec<usize> = (0..self.skeleton.joints.len())
+                .filter(|&j| {
+                    self.words[j].is_some_and(|(s, w)| {
+                        s == Some(side) && self.limb_of(side, w) == Some(*limb)
+                    })
+                })
+                .collect();
+            if *limb == Limb::UpperArm {
+                upper_arms.clone_from(&candidates);
+            }
+            body.limbs[side_index(side)][slot] = self.shallowest(candidates);
+        }
+        let arm = &mut body.limbs[side_index(side)];
+        if let Some(elbow) = arm[Limb::ForeArm as usize] {
+            let word = |j: usize| self.words[j].map(|(_, w)| w);
+            if let Some(upper) = upper_arm_above(self.skeleton, &upper_arms, elbow, word) {
+                arm[Limb::UpperArm as usize] = Some(upper);
             }
         }
+    }
+}
+
+impl Body {
+    /// The roles of a skeleton's joints, from their names and the tree.
+    pub fn of(skeleton: &Skeleton) -> Body {
+        let names = Names::new(skeleton);
+        // The shallowest joint of each role, words read in the light of the rest of the side.
+        let mut body = Body::default();
+        for side in [Side::Left, Side::Right] {
+            names.read_side(&mut body, side);
+        }
         body.shift_chains_read_one_bone_up(skeleton);
-        let named = |word: Word| -> Vec<usize> {
-            (0..joints.len())
-                .filter(|&j| words[j].is_some_and(|(_, w)| w == word))
-                .collect()
-        };
+        let named = |word: Word| names.named(word);
         // Names that say nothing of any limb (`J1`, `bone_07`): the tree and the rest pose.
         let mut tree_neck_head = (None, None);
         if body
@@ -392,8 +476,8 @@ impl Body {
         // The chest carries both arms; the hips both legs and the spine.
         let chest = pair_of(Limb::Clavicle, Limb::UpperArm);
         let legs = pair_of(Limb::Thigh, Limb::Shin);
-        let neck = shallowest(named(Word::Neck)).or(tree_neck_head.0);
-        let head = shallowest(
+        let neck = names.shallowest(named(Word::Neck)).or(tree_neck_head.0);
+        let head = names.shallowest(
             named(Word::Head)
                 .into_iter()
                 .filter(|&h| neck.is_none_or(|n| is_ancestor(skeleton, n, h)))
@@ -405,7 +489,8 @@ impl Body {
         let hips = match (legs, chest.or(neck).or(head)) {
             (Some(legs), Some(top)) => common_ancestor(skeleton, legs, top),
             (Some(legs), None) => Some(legs),
-            _ => shallowest(named(Word::Hips))
+            _ => names
+                .shallowest(named(Word::Hips))
                 .or(skeleton.roots().next())
                 .filter(|root| !limb_joints.contains(root)),
         };

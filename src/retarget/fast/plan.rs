@@ -1,14 +1,13 @@
 //! The plan of one retarget: each source and target joint's work, laid out once, then run on
 //! pieces of eight frames.
 
-use super::{
-    LANES, Lanes, PIECE, Value, all_finite, axis_order, follow, lanes, nearest_forms, pieces, turn,
-};
 use crate::model::motion::Motion;
 use crate::model::pose::OffsetMode;
 use crate::model::skeleton::Skeleton;
+use crate::retarget::fast::lanes::{LANES, Lanes, lanes};
 use crate::retarget::fast::quats::{Points, Quats};
 use crate::retarget::fast::trig::sin_cos;
+use crate::retarget::fast::turns::{axis_order, follow, nearest_forms, turn};
 use crate::retarget::hinge::{limited_angles, nearest_form};
 use crate::retarget::map::Map;
 use crate::retarget::plain::Setup;
@@ -817,3 +816,54 @@ pub(super) type Piece<'a, T> = (
     &'a mut [[f64; 3]],
     &'a mut Vec<Move>,
 );
+
+/// Frames a worker takes at a time (a multiple of [`LANES`]).
+pub(super) const PIECE: usize = 512;
+
+/// A channel value as written: 32-bit in a take, 64-bit for the test against the plain pass.
+pub(in crate::retarget) trait Value: Copy + Default + Send {
+    fn of(value: f64) -> Self;
+    fn is_finite(self) -> bool;
+}
+
+impl Value for f32 {
+    fn of(value: f64) -> f32 {
+        value as f32
+    }
+    fn is_finite(self) -> bool {
+        f32::is_finite(self)
+    }
+}
+
+impl Value for f64 {
+    fn of(value: f64) -> f64 {
+        value
+    }
+    fn is_finite(self) -> bool {
+        f64::is_finite(self)
+    }
+}
+
+/// Whether every value is finite, by a loop without an early exit (which the compiler
+/// vectorises).
+fn all_finite<T: Value>(values: &[T]) -> bool {
+    values.iter().fold(true, |all, v| all & v.is_finite())
+}
+
+/// The pieces of the outputs, in frame order.
+fn pieces<'a, T>(
+    frames: usize,
+    (mut rows, channels): (&'a mut [T], usize),
+    (mut angles, width): (&'a mut [[f64; 3]], usize),
+    moves: &'a mut [Vec<Move>],
+) -> impl Iterator<Item = Piece<'a, T>> {
+    moves.iter_mut().enumerate().map(move |(piece, moves)| {
+        let first = piece * PIECE;
+        let count = (frames - first).min(PIECE);
+        let (piece_rows, rest) = std::mem::take(&mut rows).split_at_mut(count * channels);
+        rows = rest;
+        let (piece_angles, rest) = std::mem::take(&mut angles).split_at_mut(count * width);
+        angles = rest;
+        (first, count, piece_rows, piece_angles, moves)
+    })
+}

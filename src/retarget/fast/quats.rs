@@ -1,6 +1,6 @@
 //! Quaternions and points in lanes: eight frames' rotations and positions side by side.
 
-use super::{LANES, Lanes, lanes, mask};
+use crate::retarget::fast::lanes::{LANES, Lanes, lanes, mask};
 use crate::retarget::fast::trig::{atan2, sin_cos};
 use glam::{DQuat, DVec3};
 

@@ -1,7 +1,7 @@
 //! `sin`, `cos` and `atan2` eight lanes at a time: loops over fdlibm's published polynomials,
 //! each lane as the one-value function computes it.
 
-use super::{LANES, Lanes, lanes};
+use crate::retarget::fast::lanes::{LANES, Lanes, lanes};
 
 /// fdlibm's constants: k_sin.c and k_cos.c's polynomials on [-π/4, π/4], the first two parts of
 /// π/2 and the tail (e_rem_pio2.c), s_atan.c's polynomial and atan(0.5), atan(1), atan(1.5),
