@@ -54,7 +54,7 @@ pub struct Dataset {
 /// place in the list of takes, and its clips (each with a six-digit ID, in rising order, their
 /// vectors' rows one after another).
 pub fn open(path: &Path) -> Result<Dataset, Error> {
-    let refuse = |why: String| Error::usage(format!("{}: {why}", path.display()));
+    let refuse = |why: String| Error::decoding(path.display(), why);
     let (folder, manifest) = open_manifest(path)?;
     let options = check_settings(&manifest).map_err(refuse)?;
     if options.features != FeatureSet::HumanMl3d {
@@ -117,7 +117,7 @@ impl Dataset {
             .zip([vec![rows, WIDTH], vec![rows, JOINTS, 3]])
         {
             let shown = format!("{}/{name}/{id}.npy", self.path.display());
-            let refuse = |why: String| Error::usage(format!("{shown}: {why}"));
+            let refuse = |why: String| Error::decoding(&shown, why);
             let file = open_in(folder, &format!("{id}.npy"), false).map_err(refuse)?;
             // A manifest's count is a claim: its byte size is checked without overflowing.
             let bytes_of = shape

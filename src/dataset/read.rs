@@ -162,7 +162,7 @@ fn item_size(dtype: &str) -> usize {
 /// Opens and checks the dataset at `path` (the folder itself may be reached through a link the
 /// user named; nothing inside it may be one).
 pub fn open(path: &Path) -> Result<Dataset, Error> {
-    let refuse = |why: String| Error::usage(format!("{}: {why}", path.display()));
+    let refuse = |why: String| Error::decoding(path.display(), why);
     let (folder, manifest) = open_manifest(path)?;
     if manifest.options.features != super::FeatureSet::Arrays.name() {
         return Err(Error::usage(
@@ -301,7 +301,7 @@ impl Dataset {
 /// The dataset folder at `path`, opened, and its manifest, read (not yet checked with its
 /// files) in a format this bvhview reads.
 pub(super) fn open_manifest(path: &Path) -> Result<(File, Manifest), Error> {
-    let refuse = |why: String| Error::usage(format!("{}: {why}", path.display()));
+    let refuse = |why: String| Error::decoding(path.display(), why);
     let folder = open_folder(path)?;
     let manifest_file = open_in(&folder, "manifest.json", false)
         .map_err(|why| refuse(format!("manifest.json: {why}")))?;

@@ -203,15 +203,17 @@ impl Reading<'_> {
                 .iter()
                 .find(|&&v| v as usize >= mesh.vertices.len());
             if let Some(&v) = past {
-                return Err(Error::usage(format!(
-                    "{}: mesh '{}': skin cluster '{}' names vertex {}, past the mesh's \
-                     {} vertices (the skin is damaged: export it again)",
+                return Err(Error::decoding(
                     self.name,
-                    crate::limits::quoted(&mesh.element.name),
-                    crate::limits::quoted(&cluster.element.name),
-                    v as i32,
-                    mesh.vertices.len()
-                )));
+                    format!(
+                        "mesh '{}': skin cluster '{}' names vertex {}, past the mesh's \
+                     {} vertices (the skin is damaged: export it again)",
+                        crate::limits::quoted(&mesh.element.name),
+                        crate::limits::quoted(&cluster.element.name),
+                        v as i32,
+                        mesh.vertices.len()
+                    ),
+                ));
             }
         }
         Ok(())
@@ -228,30 +230,39 @@ impl Reading<'_> {
     ) -> Result<Vec<(u32, f32)>, Error> {
         let name = self.name;
         let Some(vertex) = skin.vertices.get(v) else {
-            return Err(Error::usage(format!(
-                "{name}: mesh '{}' has {} vertices and its skin {}",
-                crate::limits::quoted(&mesh.element.name),
-                mesh.vertices.len(),
-                skin.vertices.len()
-            )));
+            return Err(Error::decoding(
+                name,
+                format!(
+                    "mesh '{}' has {} vertices and its skin {}",
+                    crate::limits::quoted(&mesh.element.name),
+                    mesh.vertices.len(),
+                    skin.vertices.len()
+                ),
+            ));
         };
         let begin = vertex.weight_begin as usize;
         let end = begin.saturating_add(vertex.num_weights as usize);
         let Some(weights) = skin.weights.get(begin..end) else {
-            return Err(Error::usage(format!(
-                "{name}: mesh '{}', vertex {v}: its weights lie past the skin's",
-                crate::limits::quoted(&mesh.element.name)
-            )));
+            return Err(Error::decoding(
+                name,
+                format!(
+                    "mesh '{}', vertex {v}: its weights lie past the skin's",
+                    crate::limits::quoted(&mesh.element.name)
+                ),
+            ));
         };
         let mut out = Vec::with_capacity(weights.len());
         for weight in weights {
             let Some(&bone) = clusters.get(weight.cluster_index as usize) else {
-                return Err(Error::usage(format!(
-                    "{name}: mesh '{}', vertex {v}: cluster {} of {}",
-                    crate::limits::quoted(&mesh.element.name),
-                    weight.cluster_index,
-                    clusters.len()
-                )));
+                return Err(Error::decoding(
+                    name,
+                    format!(
+                        "mesh '{}', vertex {v}: cluster {} of {}",
+                        crate::limits::quoted(&mesh.element.name),
+                        weight.cluster_index,
+                        clusters.len()
+                    ),
+                ));
             };
             out.push((bone, weight.weight as f32));
         }
@@ -284,11 +295,13 @@ impl Reading<'_> {
                 let mut vertices = [0u32; 3];
                 for (slot, &index) in vertices.iter_mut().zip(t) {
                     let Some(&vertex) = mesh.vertex_indices.get(index as usize) else {
-                        return Err(Error::usage(format!(
-                            "{}: mesh '{}': a polygon corner past its indices",
+                        return Err(Error::decoding(
                             self.name,
-                            crate::limits::quoted(&mesh.element.name)
-                        )));
+                            format!(
+                                "mesh '{}': a polygon corner past its indices",
+                                crate::limits::quoted(&mesh.element.name)
+                            ),
+                        ));
                     };
                     *slot = first + vertex;
                 }

@@ -102,18 +102,18 @@ fn ufbx_error(name: &str, error: &ufbx::Error) -> Error {
             }
         }
     };
-    Error::usage(format!("{name}: {what}"))
+    Error::decoding(name, what)
 }
 
 fn read_scene(bytes: &[u8], name: &str, geometry: bool) -> Result<ufbx::SceneRoot, Error> {
     if let Some(why) = not_fbx(bytes) {
-        return Err(Error::usage(format!("{name}: not an FBX file: {why}")));
+        return Err(Error::decoding(name, format!("not an FBX file: {why}")));
     }
     ufbx::load_memory(bytes, load_options(bytes.len(), geometry)).map_err(|e| {
         match (e.type_, super::records::first_fault(bytes)) {
             // ufbx says only "Failed to load" of a damaged binary file: say where.
             (ufbx::ErrorType::Unknown, Some(fault)) => {
-                Error::usage(format!("{name}: damaged FBX: {fault}"))
+                Error::decoding(name, format!("damaged FBX: {fault}"))
             }
             _ => ufbx_error(name, &e),
         }
@@ -242,10 +242,9 @@ pub fn takes_of_bytes(bytes: &[u8], name: &str) -> Result<Vec<TakeInfo>, Error> 
         .anim_stacks
         .iter()
         .map(|stack| {
-            let (begin, end, _) =
-                stack_range(stack).map_err(|why| Error::usage(format!("{name}: {why}")))?;
-            let frames = baked::frame_count(begin, end, fps, 1)
-                .map_err(|why| Error::usage(format!("{name}: {why}")))?;
+            let (begin, end, _) = stack_range(stack).map_err(|why| Error::decoding(name, why))?;
+            let frames =
+                baked::frame_count(begin, end, fps, 1).map_err(|why| Error::decoding(name, why))?;
             Ok(TakeInfo {
                 name: stack.element.name.to_string(),
                 frames,
@@ -541,7 +540,7 @@ fn load_nodes(
     skin_bones: bool,
 ) -> Result<(Read, Vec<usize>, Vec<Node>), Error> {
     let path = name;
-    let bad = |why: String| Error::usage(format!("{name}: {why}"));
+    let bad = |why: String| Error::decoding(name, why);
     let (order, parents, _bones) = skeleton_nodes(scene, skin_bones);
     if order.is_empty() {
         return Err(bad(
@@ -635,14 +634,14 @@ struct Baking<'a> {
 impl Baking<'_> {
     /// An error of the file, named.
     fn bad(&self, why: String) -> Error {
-        Error::usage(format!("{}: {why}", self.name))
+        Error::decoding(self.name, why)
     }
 
-    /// An error of the baking, named by the file when it is not already.
+    /// An error of the baking (the file's transforms), named by the file.
     fn named(&self, error: Error) -> Error {
         match error {
             Error::Usage(message) if !message.starts_with(self.name) => {
-                Error::Usage(message.after(&format!("{}: ", self.name)))
+                self.bad(message.to_string())
             }
             other => other,
         }

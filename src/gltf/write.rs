@@ -179,10 +179,15 @@ impl Data {
     fn skin(&mut self, skeleton: &Skeleton, mode: OffsetMode) -> Result<(), Error> {
         let joints = skeleton.joints.len();
         if joints > usize::from(u16::MAX) {
-            return Err(Error::usage(format!(
-                "cannot write a glTF skin for {joints} joints: at most {} fit",
-                u16::MAX
-            )));
+            return Err(Error::limit(
+                "joints",
+                u16::MAX.into(),
+                joints as u64,
+                format!(
+                    "cannot write a glTF skin for {joints} joints: at most {} fit",
+                    u16::MAX
+                ),
+            ));
         }
         let body = Body::new(skeleton, mode);
         let vertices = &body.skin.vertices;
@@ -258,11 +263,16 @@ impl Data {
                 continue;
             }
             if bones.len() > usize::from(u16::MAX) {
-                return Err(Error::usage(format!(
-                    "cannot write a glTF skin of {} bones: at most {} fit",
-                    bones.len(),
-                    u16::MAX
-                )));
+                return Err(Error::limit(
+                    "bones",
+                    u16::MAX.into(),
+                    bones.len() as u64,
+                    format!(
+                        "cannot write a glTF skin of {} bones: at most {} fit",
+                        bones.len(),
+                        u16::MAX
+                    ),
+                ));
             }
             let count = vertices.len();
             let position = self.positions(&mesh.positions[vertices.clone()]);

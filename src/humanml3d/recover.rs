@@ -78,7 +78,7 @@ pub(super) fn facing(a: f64) -> DQuat {
 
 /// The vectors in an `.npy` of frames × 263 (float32 or float64), frame after frame.
 pub fn read_vectors(bytes: &[u8], shown: &str) -> Result<Vec<f32>, Error> {
-    let refuse = |why: String| Error::usage(format!("{shown}: {why}"));
+    let refuse = |why: String| Error::decoding(shown, why);
     let (rows, points) = crate::solve::input::read_npy_rows(bytes, shown, WIDTH)?;
     if rows == 0 {
         return Err(refuse("no vectors".into()));

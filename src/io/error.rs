@@ -33,6 +33,15 @@ pub enum Error {
         /// What was expected and what was found.
         message: String,
     },
+    /// The input's content is malformed or cannot be used, where no line and column say
+    /// where: a binary FBX or glTF, an `.npy`, a mesh's skin, a dataset folder. A caller going
+    /// through many files skips this one; nothing it asked for was wrong.
+    Decoding {
+        /// The input's name: its path, or the name given to bytes in memory.
+        input: String,
+        /// What is wrong with it.
+        message: String,
+    },
     /// An input file could not be read.
     Io {
         /// The file.
@@ -135,6 +144,7 @@ impl Error {
     pub fn is_the_callers(&self) -> bool {
         match self {
             Error::Parse { .. }
+            | Error::Decoding { .. }
             | Error::Usage(_)
             | Error::InvalidArgument { .. }
             | Error::Limit { .. }
@@ -154,6 +164,14 @@ impl Error {
 }
 
 impl Error {
+    /// [`Error::Decoding`]: `input`'s content is wrong, as `message` says.
+    pub fn decoding(input: impl fmt::Display, message: impl fmt::Display) -> Error {
+        Error::Decoding {
+            input: input.to_string(),
+            message: message.to_string(),
+        }
+    }
+
     /// [`Error::Usage`] of `message`.
     pub fn usage(message: impl Into<Message>) -> Error {
         Error::Usage(message.into())
@@ -189,6 +207,17 @@ impl Error {
             Error::Memory(text) => Error::Memory(format!("{before}{text}")),
             Error::Environment(text) => Error::Environment(format!("{before}{text}")),
             other => Error::Usage(Message::from(format!("{before}{other}"))),
+        }
+    }
+
+    /// [`Error::Limit`]: `found` of `what` (`values`, `frames`), more than `limit`, said by
+    /// `message`.
+    pub fn limit(what: &'static str, limit: u64, found: u64, message: impl Into<Message>) -> Error {
+        Error::Limit {
+            what,
+            limit,
+            found,
+            message: message.into(),
         }
     }
 
@@ -276,6 +305,7 @@ impl Error {
                 column,
                 message,
             } => format!("{path}:{line}:{column}: {message}"),
+            Error::Decoding { input, message } => format!("{input}: {message}"),
             Error::Io { path, source } => match source.kind() {
                 io::ErrorKind::NotFound => format!("{}: no such file", path.display()),
                 io::ErrorKind::PermissionDenied => {

@@ -75,18 +75,23 @@ pub fn retarget_values(
         .saturating_add(RETARGET_VALUES_FLOOR)
         .min(MAX_GENERATED_VALUES / 3);
     if wanted > budget {
-        return Err(Error::usage(format!(
-            "{what}: {} onto {} ({target} channels) make {} values, more than a take of {} \
+        return Err(Error::limit(
+            "values",
+            budget,
+            wanted,
+            format!(
+                "{what}: {} onto {} ({target} channels) make {} values, more than a take of {} \
              values is put on a skeleton for (at most {}: {RETARGET_VALUES_PER_VALUE} a value \
              of the take and the target, above {}); trim the take or use a skeleton with fewer \
              joints",
-            crate::io::error::counted(frames, "frame"),
-            crate::io::error::counted(joints, "joint"),
-            show(wanted as f64),
-            show(frames.saturating_mul(source) as f64),
-            show(budget as f64),
-            show(RETARGET_VALUES_FLOOR as f64)
-        )));
+                crate::io::error::counted(frames, "frame"),
+                crate::io::error::counted(joints, "joint"),
+                show(wanted as f64),
+                show(frames.saturating_mul(source) as f64),
+                show(budget as f64),
+                show(RETARGET_VALUES_FLOOR as f64)
+            ),
+        ));
     }
     Ok(())
 }
@@ -183,13 +188,18 @@ pub fn fps(fps: f64, gif: bool) -> Result<f64, Error> {
 fn frames_at(frames: usize, frame_time: f64, fps: f64, most: u64) -> Result<usize, Error> {
     let count = (frames as f64 * frame_time * fps).round().max(1.0);
     if !(count.is_finite() && count <= most as f64) {
-        return Err(Error::usage(format!(
-            "{} of {} s at {} per second make {} frames; at most {most} can be made",
-            crate::io::error::counted(frames, "frame"),
-            show(frame_time),
-            show(fps),
-            show(count)
-        )));
+        return Err(Error::limit(
+            "frames",
+            most,
+            count.min(u64::MAX as f64) as u64,
+            format!(
+                "{} of {} s at {} per second make {} frames; at most {most} can be made",
+                crate::io::error::counted(frames, "frame"),
+                show(frame_time),
+                show(fps),
+                show(count)
+            ),
+        ));
     }
     Ok(count as usize)
 }

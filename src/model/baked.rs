@@ -471,9 +471,12 @@ impl Layout {
             .checked_mul(channels)
             .filter(|&v| v as u64 <= crate::limits::MAX_GENERATED_VALUES)
             .ok_or_else(|| {
-                Error::usage(format!(
-                    "{frames} frames of {channels} channels: more than bvhview reads"
-                ))
+                Error::limit(
+                    "values",
+                    crate::limits::MAX_GENERATED_VALUES,
+                    (frames as u64).saturating_mul(channels as u64),
+                    format!("{frames} frames of {channels} channels: more than bvhview reads"),
+                )
             })?;
         let mut data = Vec::with_capacity(values);
         let mut previous: Vec<Option<[f64; 3]>> = vec![None; count];

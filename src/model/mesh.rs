@@ -561,12 +561,17 @@ impl MeshBuilder {
     pub fn reserve(&self, more: u64) -> Result<(), Error> {
         let wanted = self.used().saturating_add(more);
         if wanted > self.budget {
-            return Err(Error::usage(format!(
-                "{}: its meshes ask for {wanted} vertices, triangles and influences, more than a \
-                 file of its size is read for ({} at most: {MESH_ITEMS_PER_BYTE} a byte above \
-                 {MESH_ITEMS_FLOOR}); refused as damaged or hostile",
-                self.name, self.budget
-            )));
+            return Err(Error::limit(
+                "mesh items",
+                self.budget,
+                wanted,
+                format!(
+                    "{}: its meshes ask for {wanted} vertices, triangles and influences, more \
+                     than a file of its size is read for ({} at most: {MESH_ITEMS_PER_BYTE} a \
+                     byte above {MESH_ITEMS_FLOOR}); refused as damaged or hostile",
+                    self.name, self.budget
+                ),
+            ));
         }
         Ok(())
     }
@@ -591,11 +596,13 @@ impl MeshBuilder {
             let joint = bone
                 .joint
                 .map_or("no joint".to_string(), |j| format!("joint {j}"));
-            return Err(Error::usage(format!(
-                "{}: a skin's bind matrix for {joint} is not finite (a broken or degenerate \
-                 transform)",
-                self.name
-            )));
+            return Err(Error::decoding(
+                &self.name,
+                format!(
+                    "a skin's bind matrix for {joint} is not finite (a broken or degenerate \
+                 transform)"
+                ),
+            ));
         }
         self.reserve(1)?;
         self.mesh.bones.push(bone);
@@ -626,28 +633,34 @@ impl MeshBuilder {
             )
         };
         if !position.is_finite() || !normal.is_finite() {
-            return Err(Error::usage(format!(
-                "{}: {} has a position or normal that is not finite",
-                self.name,
-                at(&self.mesh)
-            )));
+            return Err(Error::decoding(
+                &self.name,
+                format!(
+                    "{} has a position or normal that is not finite",
+                    at(&self.mesh)
+                ),
+            ));
         }
         let start = self.mesh.influences.len();
         for (bone, weight) in influences {
             if !weight.is_finite() || weight < 0.0 {
-                return Err(Error::usage(format!(
-                    "{}: {} has a weight of {weight} (weights are finite and not negative)",
-                    self.name,
-                    at(&self.mesh)
-                )));
+                return Err(Error::decoding(
+                    &self.name,
+                    format!(
+                        "{} has a weight of {weight} (weights are finite and not negative)",
+                        at(&self.mesh)
+                    ),
+                ));
             }
             if bone as usize >= self.mesh.bones.len() {
-                return Err(Error::usage(format!(
-                    "{}: {} is bound to joint {bone} of {} joints",
-                    self.name,
-                    at(&self.mesh),
-                    self.mesh.bones.len()
-                )));
+                return Err(Error::decoding(
+                    &self.name,
+                    format!(
+                        "{} is bound to joint {bone} of {} joints",
+                        at(&self.mesh),
+                        self.mesh.bones.len()
+                    ),
+                ));
             }
             if weight > 0.0 {
                 // This influence and the vertex it belongs to (pushed below).
@@ -663,13 +676,15 @@ impl MeshBuilder {
             .sum();
         if total > MAX_WEIGHT_SUM {
             self.mesh.influences.truncate(start);
-            return Err(Error::usage(format!(
-                "{}: {} has skin weights summing to {total:.2e}, past the largest 32-bit float \
+            return Err(Error::decoding(
+                &self.name,
+                format!(
+                    "{} has skin weights summing to {total:.2e}, past the largest 32-bit float \
                  (3.4e38); weights are shares of a vertex (the file is damaged: export its skin \
                  again)",
-                self.name,
-                at(&self.mesh),
-            )));
+                    at(&self.mesh),
+                ),
+            ));
         }
         let added = &mut self.mesh.influences[start..];
         if added.is_empty() || total <= 0.0 {
@@ -704,10 +719,10 @@ impl MeshBuilder {
         self.reserve(1)?;
         let vertices = self.mesh.positions.len();
         if let Some(c) = corners.iter().find(|&&c| c as usize >= vertices) {
-            return Err(Error::usage(format!(
-                "{}: a triangle names vertex {c} of {vertices}",
-                self.name
-            )));
+            return Err(Error::decoding(
+                &self.name,
+                format!("a triangle names vertex {c} of {vertices}"),
+            ));
         }
         self.mesh.triangles.extend(corners);
         Ok(())

@@ -187,8 +187,22 @@ pub fn write(
     match format {
         AnimationFormat::Gif => {
             let (w, h) = (
-                u16::try_from(width).map_err(|_| Error::usage("a GIF is at most 65535 wide"))?,
-                u16::try_from(height).map_err(|_| Error::usage("a GIF is at most 65535 high"))?,
+                u16::try_from(width).map_err(|_| {
+                    Error::limit(
+                        "pixels wide",
+                        65535,
+                        width.into(),
+                        "a GIF is at most 65535 wide",
+                    )
+                })?,
+                u16::try_from(height).map_err(|_| {
+                    Error::limit(
+                        "pixels high",
+                        65535,
+                        height.into(),
+                        "a GIF is at most 65535 high",
+                    )
+                })?,
             );
             let mut encoder = gif::Encoder::new(out, w, h, &[]).map_err(|e| encoding(&e))?;
             encoder

@@ -174,7 +174,7 @@ pub fn read_npy_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     crate::io::whole::read_binary_file_checked(path, max_size, NPY_PREFIX_BYTES, |start, size| {
         npy_data_start(start, size)
             .map(|_| ())
-            .map_err(|why| Error::usage(format!("{}: {why}", path.display())))
+            .map_err(|why| Error::decoding(path.display(), why))
     })
 }
 
@@ -258,7 +258,7 @@ fn open_npy<'a>(
     bytes: &'a [u8],
     shown: &str,
 ) -> Result<(npyz::NpyFile<&'a [u8]>, u64, u64), Error> {
-    let refuse = |why: String| Error::usage(format!("{shown}: {why}"));
+    let refuse = |why: String| Error::decoding(shown, why);
     let start = npy_data_start(bytes, bytes.len() as u64).map_err(refuse)?;
     // The header's text: after the magic, the version and its length (whose bytes may be any).
     let header = bytes
@@ -326,7 +326,7 @@ fn npy_error(error: &std::io::Error) -> String {
 /// An `.npy` of frames × joints × 3 (or joints × 3: one frame): the joints a frame and every
 /// position, frame after frame.
 pub fn read_npy(bytes: &[u8], shown: &str) -> Result<(usize, Vec<DVec3>), Error> {
-    let refuse = |why: String| Error::usage(format!("{shown}: {why}"));
+    let refuse = |why: String| Error::decoding(shown, why);
     let (file, start, width) = open_npy(bytes, shown)?;
     let shape: Vec<u64> = file.shape().to_vec();
     let (frames, joints) = match shape[..] {
@@ -376,7 +376,7 @@ pub fn read_npy(bytes: &[u8], shown: &str) -> Result<(usize, Vec<DVec3>), Error>
 /// An `.npy` of rows of `width` values each (frames × width; HumanML3D's feature vectors), as
 /// numbers: the rows and the values, row after row.
 pub fn read_npy_rows(bytes: &[u8], shown: &str, width: usize) -> Result<(usize, Vec<f64>), Error> {
-    let refuse = |why: String| Error::usage(format!("{shown}: {why}"));
+    let refuse = |why: String| Error::decoding(shown, why);
     let (file, start, value_bytes) = open_npy(bytes, shown)?;
     let shape: Vec<u64> = file.shape().to_vec();
     let [rows, columns] = shape[..] else {
@@ -413,7 +413,7 @@ pub fn read_npy_rows(bytes: &[u8], shown: &str, width: usize) -> Result<(usize, 
 
 /// Every value of an `.npy` of float64 or float32 ([`open_npy`] has checked which), as stored.
 fn numbers(file: npyz::NpyFile<&[u8]>, shown: &str) -> Result<Vec<f64>, Error> {
-    let refuse = |why: String| Error::usage(format!("{shown}: {why}"));
+    let refuse = |why: String| Error::decoding(shown, why);
     let dtype = file.dtype().descr();
     match file.try_data::<f64>() {
         Ok(data) => data.collect::<std::io::Result<_>>(),

@@ -4,4 +4,5 @@
 mod common;
 
 mod links_and_commands;
+mod messages_name_arguments_as_data;
 mod testing_md_lists_every_test_file;

@@ -11,6 +11,7 @@ mod bvh_errors;
 mod bvh_real_files;
 mod bvh_rows_plain_and_engine_agree;
 mod bvh_streaming;
+mod error_kinds;
 #[cfg(all(feature = "fbx", feature = "gltf"))]
 mod fbx_gltf_reading;
 #[cfg(feature = "gltf")]

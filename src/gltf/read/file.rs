@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 /// A refusal of the file `name`: why, after its name. Here, beside the reading it refuses, so
 /// the reader's parts take it from a sibling rather than from the module above.
 pub(super) fn bad(name: &str, why: impl std::fmt::Display) -> Error {
-    Error::usage(format!("{name}: {why}"))
+    Error::decoding(name, why)
 }
 
 /// Decodes standard base64 (with or without padding); `None` on any other byte.

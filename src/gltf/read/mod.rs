@@ -207,9 +207,7 @@ fn load_file(
         take.bake(&skeleton_nodes, &rest, with_mesh, cache)
     }
     .map_err(|e| match e {
-        Error::Usage(message) if !message.starts_with(path) => {
-            Error::Usage(message.after(&format!("{path}: ")))
-        }
+        Error::Usage(message) if !message.starts_with(path) => Error::decoding(path, message),
         other => other,
     })?;
     // glTF is +Y up by its specification: read, never guessed.
