@@ -109,7 +109,7 @@ pub enum Error {
 
 impl Error {
     /// [`Error::Io`]: `path` could not be read; a read held to `max_size` that went past it
-    /// ([`PastMaxSize`]) is the [`Error::Limit`] it is.
+    /// (the reader's own `PastMaxSize`) is the [`Error::Limit`] it is.
     pub fn io(path: &Path, source: io::Error) -> Error {
         let past = source
             .get_ref()
@@ -352,7 +352,7 @@ impl Error {
 /// [`io::ErrorKind::FileTooLarge`] error: [`Error::io`] turns it into an [`Error::Limit`] naming
 /// the `max_size` argument (`found` is then "at least one byte more").
 #[derive(Debug)]
-pub struct PastMaxSize {
+pub(crate) struct PastMaxSize {
     /// The `max_size` the read was held to.
     pub max_size: u64,
 }

@@ -6,6 +6,20 @@ use std::fmt;
 
 /// One of the caller's arguments as a message names it: its name in snake case, as the library
 /// spells it, and the value given or meant, when the message shows one.
+///
+/// ```
+/// use bvhview::Error;
+///
+/// match bvhview::limits::frame_time_option(Some(0.0)).unwrap_err() {
+///     Error::InvalidArgument { name, value, .. } => {
+///         assert_eq!((name, value.as_str()), ("frame_time", "0"))
+///     }
+///     other => panic!("{other:?}"),
+/// }
+/// let message = bvhview::Message::of_argument("max_size", Some("8G"));
+/// let argument = message.arguments().next().unwrap();
+/// assert_eq!((argument.name, argument.value.as_deref()), ("max_size", Some("8G")));
+/// ```
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Argument {
     /// The argument's name, in snake case (`max_size`, `frame_time`).
@@ -47,6 +61,16 @@ pub trait Spelling: fmt::Debug {
 
 /// The library's own spelling, what [`fmt::Display`] writes: `max_size 8G`, and an opening as
 /// Rust writes it.
+///
+/// ```
+/// use bvhview::{Message, RustSpelling};
+///
+/// let message = Message::from("give its skeleton: ").opening("07.asf", "motion", "07_05.amc");
+/// assert_eq!(
+///     message.spelled(&RustSpelling),
+///     r#"give its skeleton: Take::open_with("07.asf", OpenOptions::new().motion("07_05.amc"))"#
+/// );
+/// ```
 #[derive(Clone, Copy, Debug, Default)]
 pub struct RustSpelling;
 
