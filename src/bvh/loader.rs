@@ -742,8 +742,8 @@ mod tests {
     /// does from memory, and a joint named MOTION is a joint (nothing scans ahead for MOTION).
     #[test]
     fn a_file_read_in_small_pieces_loads_as_from_memory() {
-        let dir = std::env::temp_dir().join(format!("bvhview-pieces-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let folder = tempfile::tempdir().unwrap();
+        let dir = folder.path();
         let plain = file_with("MOTION\r\nFrames :\t3\r\nFRAME TIME : 0.01\r\n", 3);
         let named = String::from_utf8(plain.clone())
             .unwrap()

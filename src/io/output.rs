@@ -557,10 +557,12 @@ mod tests {
     use std::os::unix::fs::{FileTypeExt, MetadataExt};
 
     fn folder(name: &str) -> PathBuf {
-        let dir = std::env::temp_dir().join(format!("bvhview-{name}-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        std::fs::create_dir_all(&dir).unwrap();
-        dir
+        // A folder of its own, kept: a process id comes round again, a tempfile name does not.
+        tempfile::Builder::new()
+            .prefix(&format!("bvhview-{name}-"))
+            .tempdir()
+            .unwrap()
+            .keep()
     }
 
     fn write(path: &Path, bytes: &[u8]) -> Result<(), Error> {

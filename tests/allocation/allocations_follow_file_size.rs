@@ -90,7 +90,12 @@ fn a_long_amc_take_needs_at_most_twice_its_size() {
             }
         }
     }
-    let amc = std::env::temp_dir().join(format!("bvhview-long-{}.amc", std::process::id()));
+    let amc = tempfile::Builder::new()
+        .prefix("bvhview-long-")
+        .tempdir()
+        .unwrap()
+        .keep()
+        .join("long.amc");
     std::fs::write(&amc, &text).unwrap();
     drop(text);
     let size = std::fs::metadata(&amc).unwrap().len() as usize;

@@ -203,7 +203,7 @@ fn gl_matrix_stack_equals_pose_world_times_view() {
     deep.push_str("MOTION\nFrames: 1\nFrame Time: 0.1\n");
     deep.push_str(&"2 1 ".repeat(200));
     deep.push('\n');
-    let deep_path = std::env::temp_dir().join(format!("bvhview-deep-{}.bvh", std::process::id()));
+    let deep_path = crate::common::scratch_folder("deep").join("deep.bvh");
     std::fs::write(&deep_path, &deep).unwrap();
     for name in [
         "tiny_crlf.bvh",

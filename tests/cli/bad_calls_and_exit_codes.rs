@@ -62,7 +62,7 @@ fn tiny() -> String {
 }
 
 fn scratch(name: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("bvhview-errors-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("errors");
     std::fs::create_dir_all(&dir).unwrap();
     // Readable and enterable by the unprivileged user.
     let _ = Command::new("chmod")

@@ -316,7 +316,7 @@ fn info_on_a_folder_lists_every_file_and_sums_up() {
 
 #[test]
 fn snapshot_frames_writes_a_sequence_equal_to_single_snapshots() {
-    let dir = std::env::temp_dir().join(format!("bvhview-seq-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("seq");
     let out = bvhview(&[
         "snapshot",
         &tiny(),
@@ -395,8 +395,7 @@ fn snapshot_frames_writes_a_sequence_equal_to_single_snapshots() {
 fn absurd_frame_times_are_refused_where_they_stand() {
     let base = std::fs::read_to_string(edge("article_base_crlf.bvh")).unwrap();
     for (time, loads) in [("1e300", false), ("1e-320", false), ("0", true)] {
-        let path =
-            std::env::temp_dir().join(format!("bvhview-time-{time}-{}.bvh", std::process::id()));
+        let path = crate::common::scratch_folder("time-x").join(format!("time-{time}.bvh"));
         std::fs::write(
             &path,
             base.replace("Frame Time: 0.033333", &format!("Frame Time: {time}")),
@@ -465,7 +464,7 @@ fn info_on_a_folder_honours_max_size_frame_time_and_offset_mode() {
 #[test]
 fn positions_that_are_not_finite_are_refused() {
     let base = std::fs::read_to_string(edge("article_base_crlf.bvh")).unwrap();
-    let path = std::env::temp_dir().join(format!("bvhview-overflow-{}.bvh", std::process::id()));
+    let path = crate::common::scratch_folder("overflow").join("overflow.bvh");
     std::fs::write(
         &path,
         base.replace("OFFSET 0.000000 15.000000 0.000000", "OFFSET 0 3e38 0")
@@ -483,7 +482,7 @@ fn positions_that_are_not_finite_are_refused() {
         );
     }
     // To a file: refused before the end, so nothing appears under its name or beside it.
-    let dir = std::env::temp_dir().join(format!("bvhview-refused-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("refused");
     std::fs::create_dir_all(&dir).unwrap();
     let csv = dir.join("out.csv");
     let out = bvhview(&[
@@ -508,7 +507,7 @@ fn positions_that_are_not_finite_are_refused() {
 /// differ, and names a file it cannot read.
 #[test]
 fn diff_reads_grey_and_colour_pictures_and_names_bad_files() {
-    let dir = std::env::temp_dir().join(format!("bvhview-diff-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("diff");
     std::fs::create_dir_all(&dir).unwrap();
     let write = |name: &str, color: png::ColorType, pixel: &[u8]| {
         let path = dir.join(name);
@@ -552,7 +551,7 @@ fn diff_reads_grey_and_colour_pictures_and_names_bad_files() {
 #[test]
 fn snapshot_says_once_what_it_guessed_about_conventions() {
     let file = data("bvh/makehuman_tpose.bvh").display().to_string();
-    let dir = std::env::temp_dir().join(format!("bvhview-conventions-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("conventions");
     std::fs::create_dir_all(&dir).unwrap();
     let picture = |name: &str| dir.join(name).display().to_string();
     let (guessed, upright, lying) = (picture("g.png"), picture("z.png"), picture("y.png"));
@@ -610,7 +609,7 @@ fn snapshot_says_once_what_it_guessed_about_conventions() {
 /// (a palette: the same frames, counted and timed), at the file's rate or `--fps`.
 #[test]
 fn animated_snapshots_hold_the_frames_at_their_rate() {
-    let dir = std::env::temp_dir().join(format!("bvhview-anim-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("anim");
     std::fs::create_dir_all(&dir).unwrap();
     let apng = dir.join("walk.apng");
     let out = bvhview(&[
@@ -697,7 +696,7 @@ fn animated_snapshots_hold_the_frames_at_their_rate() {
 /// article's, unchanged.
 #[test]
 fn snapshot_hud_is_pinned_and_opt_in() {
-    let dir = std::env::temp_dir().join(format!("bvhview-hudpin-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("hudpin");
     std::fs::create_dir_all(&dir).unwrap();
     let (with, without) = (dir.join("with.png"), dir.join("without.png"));
     let input = tiny();
@@ -726,7 +725,7 @@ fn snapshot_hud_is_pinned_and_opt_in() {
 /// same options draw without it.
 #[test]
 fn snapshot_names_are_pinned_and_opt_in() {
-    let dir = std::env::temp_dir().join(format!("bvhview-namespin-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("namespin");
     std::fs::create_dir_all(&dir).unwrap();
     let (with, without) = (dir.join("with.png"), dir.join("without.png"));
     let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
@@ -799,7 +798,7 @@ fn info_guesses_the_units_from_the_height() {
 /// labelled with the HUD; a frame past both takes' ends is refused.
 #[test]
 fn snapshot_of_two_takes_side_by_side_is_pinned() {
-    let dir = std::env::temp_dir().join(format!("bvhview-twopin-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("twopin");
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("two.png");
     let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
@@ -848,7 +847,7 @@ fn snapshot_of_two_takes_side_by_side_is_pinned() {
 /// side the two stand apart; with one file it is refused.
 #[test]
 fn snapshot_overlay_draws_takes_where_they_stand() {
-    let dir = std::env::temp_dir().join(format!("bvhview-overlay-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("overlay");
     std::fs::create_dir_all(&dir).unwrap();
     let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
     let walk = walk.to_str().unwrap();
@@ -946,8 +945,7 @@ fn an_interrupted_write_leaves_nothing() {
 
 fn interrupt_a_write(signal: &str, number: i32, what: &str) {
     use std::os::unix::process::ExitStatusExt;
-    let dir =
-        std::env::temp_dir().join(format!("bvhview-interrupt-{signal}-{}", std::process::id()));
+    let dir = crate::common::scratch_folder(&format!("interrupt-{signal}"));
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("walk.gif");
     let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
@@ -1011,7 +1009,7 @@ fn interrupt_a_write(signal: &str, number: i32, what: &str) {
 /// rest pose stands still while the other plays.
 #[test]
 fn a_rest_pose_beside_a_take_draws_in_every_look() {
-    let dir = std::env::temp_dir().join(format!("bvhview-restbeside-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("restbeside");
     std::fs::create_dir_all(&dir).unwrap();
     let rest = dir.join("rest.bvh");
     std::fs::write(
@@ -1056,7 +1054,7 @@ fn a_rest_pose_beside_a_take_draws_in_every_look() {
 /// under 5 units away) draws as the walk does, and `info` says what it guesses.
 #[test]
 fn a_rig_in_millimetres_or_metres_draws_like_one_in_centimetres() {
-    let dir = std::env::temp_dir().join(format!("bvhview-scales-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("scales");
     std::fs::create_dir_all(&dir).unwrap();
     let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
     let snapshot = |input: &std::path::Path, output: &std::path::Path| {
@@ -1108,7 +1106,7 @@ fn a_rig_in_millimetres_or_metres_draws_like_one_in_centimetres() {
 #[test]
 fn an_output_that_is_a_fifo_or_a_device_is_written_to() {
     use std::os::unix::fs::FileTypeExt;
-    let dir = std::env::temp_dir().join(format!("bvhview-fifo-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("fifo");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let fifo = dir.join("out.csv");
@@ -1168,7 +1166,7 @@ fn version_names_the_row_reader() {
 /// (stderr, and the HUD when shown).
 #[test]
 fn the_default_view_is_the_article_picture_for_every_file() {
-    let dir = std::env::temp_dir().join(format!("bvhview-default-view-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("default-view");
     std::fs::create_dir_all(&dir).unwrap();
     let mut inputs: Vec<Vec<String>> = std::fs::read_dir(repo_data("bvh"))
         .unwrap()
@@ -1254,7 +1252,7 @@ fn with_default_signals(command: &mut Command) -> &mut Command {
 fn a_shell_sees_128_plus_the_signal_and_nohup_is_kept() {
     let bin = env!("CARGO_BIN_EXE_bvhview");
     let walk = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
-    let dir = std::env::temp_dir().join(format!("bvhview-nohup-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("nohup");
     std::fs::create_dir_all(&dir).unwrap();
     let out = dir.join("walk.gif");
     // The planted pause holds bvhview once its temporary file exists, until a signal ends it: the
@@ -1288,7 +1286,7 @@ fn a_shell_sees_128_plus_the_signal_and_nohup_is_kept() {
 /// decides when given.
 #[test]
 fn positions_to_a_json_name_write_json() {
-    let dir = std::env::temp_dir().join(format!("bvhview-json-name-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("json-name");
     std::fs::create_dir_all(&dir).unwrap();
     let json = dir.join("p.json");
     let out = bvhview(&["positions", &tiny(), "-q", "-o", json.to_str().unwrap()]);

@@ -17,9 +17,10 @@ fn tiny() -> String {
 }
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("bvhview-messages-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir.join(name)
+    static FOLDER: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    FOLDER
+        .get_or_init(|| crate::common::scratch_folder("messages"))
+        .join(name)
 }
 
 /// A usage error: exit 2, `bvhview: MESSAGE` and nothing more on stderr.

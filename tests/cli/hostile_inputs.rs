@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("bvhview-hostile-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("hostile");
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
 }

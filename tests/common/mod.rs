@@ -23,6 +23,17 @@ pub fn bvhview_command() -> Command {
     Command::new(env!("CARGO_BIN_EXE_bvhview"))
 }
 
+/// A new, empty folder of its own in the system's temporary folder, kept after the test (a
+/// test reads its pictures when it fails). Never named by the process id: ids come round
+/// again, and a folder left by an earlier run of the same id is not empty.
+pub fn scratch_folder(label: &str) -> PathBuf {
+    tempfile::Builder::new()
+        .prefix(&format!("bvhview-{label}-"))
+        .tempdir()
+        .unwrap()
+        .keep()
+}
+
 /// Runs `bvhview ARGS` to its end: its exit status, stdout and stderr, whatever they are.
 pub fn bvhview<S: AsRef<OsStr>>(args: &[S]) -> Output {
     bvhview_command().args(args).output().unwrap()

@@ -246,8 +246,7 @@ fn check_pairs(folder: &std::path::Path, pairs: &[(&str, &str, usize, usize)]) {
         assert_eq!(loaded.motion.frame_count(), frames, "{amc_name}");
         assert_eq!(loaded.skeleton.joints.len(), joints, "{asf_name}");
 
-        let out =
-            std::env::temp_dir().join(format!("bvhview-{amc_name}-{}.bvh", std::process::id()));
+        let out = crate::common::scratch_folder("x").join(format!("{amc_name}.bvh"));
         let status = crate::common::bvhview_command()
             .arg("convert")
             .arg(&asf_path)
@@ -473,7 +472,7 @@ fn every_command_takes_an_asf_amc_pair() {
             .unwrap()
             .contains("give its skeleton: bvhview COMMAND SKELETON.asf --motion")
     );
-    let picture = std::env::temp_dir().join(format!("bvhview-asf-{}.png", std::process::id()));
+    let picture = crate::common::scratch_folder("asf").join("asf.png");
     let snap = run(&[
         "snapshot",
         &asf,
@@ -562,7 +561,7 @@ fn a_direction_of_zero_length_is_an_error_at_its_line_and_column() {
 // without its skeleton is listed as such, not failed.
 #[test]
 fn info_on_a_folder_pairs_takes_by_cmu_subject_and_notes_unpaired_ones() {
-    let dir = std::env::temp_dir().join(format!("bvhview-cmu-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("cmu");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(dir.join("lone")).unwrap();
     std::fs::copy(data("asf_amc/heiden_12.asf"), dir.join("07.asf")).unwrap();

@@ -36,7 +36,7 @@ fn check_round_trips(folder: &std::path::Path) {
 
 #[test]
 fn convert_command_writes_a_loadable_file() {
-    let out = std::env::temp_dir().join(format!("bvhview-convert-{}.bvh", std::process::id()));
+    let out = crate::common::scratch_folder("convert").join("convert.bvh");
     let input = data("bvh/opencollar_run.bvh");
     let status = crate::common::bvhview_command()
         .args(["convert"])
@@ -60,7 +60,7 @@ fn convert_writes_names_with_blanks_safe_and_says_so() {
     let text = std::fs::read_to_string(edge("article_base_crlf.bvh"))
         .unwrap()
         .replace("JOINT Chest", "JOINT Upper Chest");
-    let dir = std::env::temp_dir();
+    let dir = crate::common::scratch_folder("temp");
     let input = dir.join(format!("bvhview-blank-{}.bvh", std::process::id()));
     let out = dir.join(format!("bvhview-blank-out-{}.bvh", std::process::id()));
     std::fs::write(&input, text).unwrap();
@@ -91,7 +91,7 @@ fn convert_writes_names_with_blanks_safe_and_says_so() {
 /// an original frame, to float precision), scaled; world positions scale with it.
 #[test]
 fn convert_edits_trim_resample_and_scale() {
-    let dir = std::env::temp_dir();
+    let dir = crate::common::scratch_folder("temp");
     let out = dir.join(format!("bvhview-edits-{}.bvh", std::process::id()));
     let input = data("bvh/bvh11_131_01.bvh");
     let status = crate::common::bvhview_command()
@@ -133,7 +133,7 @@ fn convert_edits_trim_resample_and_scale() {
 /// its lowest point over the take is at 0.
 #[test]
 fn convert_edits_up_mirror_in_place_and_ground() {
-    let out = std::env::temp_dir().join(format!("bvhview-edits2-{}.bvh", std::process::id()));
+    let out = crate::common::scratch_folder("edits2").join("edits2.bvh");
     let input = data("bvh/makehuman_walk1.bvh");
     let run = |extra: &[&str]| {
         let status = crate::common::bvhview_command()

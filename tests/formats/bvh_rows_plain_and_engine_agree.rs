@@ -218,7 +218,7 @@ proptest! {
         }),
     ) {
         let text = format!("{}MOTION\nFrames: {frames}\nFrame Time: 0.5\n{rows}", header(&channels));
-        let dir = std::env::temp_dir().join(format!("bvhview-rows-simple-{}", std::process::id()));
+        let dir = crate::common::scratch_folder("rows-simple");
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("generated.bvh");
         std::fs::write(&path, &text).unwrap();

@@ -30,7 +30,7 @@ fn both(
     let from_memory = bvhview::bvh::load_bytes(text.as_bytes(), "t.bvh").map_err(|e| e.to_string());
     static NEXT: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let n = NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let path = std::env::temp_dir().join(format!("bvhview-stream-{}-{n}.bvh", std::process::id()));
+    let path = crate::common::scratch_folder("stream").join(format!("stream-{n}.bvh"));
     std::fs::write(&path, text).unwrap();
     let load = |threads: usize| {
         bvhview::bvh::load_file(
@@ -305,7 +305,7 @@ fn unusual_and_malformed_motion_headers_stream_to_the_same_result() {
 /// finished a line cut by the header's read).
 #[test]
 fn a_named_pipe_loads_the_same_as_the_file() {
-    let dir = std::env::temp_dir().join(format!("bvhview-fifo-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("fifo");
     std::fs::create_dir_all(&dir).unwrap();
     // 3000 rows, the last without its line end.
     let rows = take(3000, 0, "\n").trim_end().to_string();

@@ -25,7 +25,7 @@ fn ok(args: &[&str]) -> Output {
 fn temp(name: &str) -> PathBuf {
     static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
     let call = CALLS.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-    let dir = std::env::temp_dir().join(format!("bvhview-gltf-{}-{call}", std::process::id()));
+    let dir = crate::common::scratch_folder(&format!("gltf-{call}"));
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
 }

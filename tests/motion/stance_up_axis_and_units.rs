@@ -339,7 +339,7 @@ fn rest_poses_that_mislead_read_right_from_the_motion() {
 #[test]
 fn converted_takes_read_back_as_written() {
     let exe = env!("CARGO_BIN_EXE_bvhview");
-    let dir = std::env::temp_dir().join(format!("bvhview-stance-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("stance");
     std::fs::create_dir_all(&dir).unwrap();
     let walk = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
     for (edits, up, units) in [

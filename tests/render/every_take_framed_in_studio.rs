@@ -96,8 +96,7 @@ fn hud_lines(file: &Path, motion: Option<&Path>) -> usize {
 /// Draws every take at three frames and checks each picture; prints the census.
 fn census(label: &str, takes: &[(PathBuf, Option<PathBuf>)]) {
     let exe = env!("CARGO_BIN_EXE_bvhview");
-    let dir = std::env::temp_dir().join(format!("bvhview-census-{label}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_folder(&format!("census-{label}"));
     let mut failures = Vec::new();
     let mut smallest = f32::MAX;
     for (file, motion) in takes {

@@ -225,8 +225,7 @@ fn labels_never_overlap_other_text() {
 
 fn golden(name: &str, args: &[&str], size: (u32, u32)) {
     let exe = env!("CARGO_BIN_EXE_bvhview");
-    let dir = std::env::temp_dir().join(format!("bvhview-hud-fit-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_folder("hud-fit");
     let out = dir.join(format!("{name}.png"));
     let status = std::process::Command::new(exe)
         .arg("snapshot")
@@ -264,8 +263,7 @@ fn golden(name: &str, args: &[&str], size: (u32, u32)) {
 #[test]
 fn hud_pictures_match_their_goldens_at_three_sizes() {
     // A long file name: a copy of a repository take under the name the issue saw cut.
-    let dir = std::env::temp_dir().join(format!("bvhview-hud-name-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_folder("hud-name");
     let long = dir.join(LONG_NAME);
     std::fs::copy(repo_data("bvh/bvh11_131_01.bvh"), &long).unwrap();
     let three: Vec<String> = [

@@ -20,9 +20,7 @@ fn snapshot(dir: &Path, name: &str, args: &[&str]) -> Image {
 }
 
 fn scratch(label: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("bvhview-{label}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    crate::common::scratch_folder(label)
 }
 
 #[test]

@@ -231,8 +231,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
     let snapshot = |frame| default_snapshot(&bvh, frame);
 
     let (_xvfb, display) = start_xvfb();
-    let folder = std::env::temp_dir().join(format!("bvhview-window-one-{}", std::process::id()));
-    std::fs::create_dir_all(&folder).unwrap();
+    let folder = crate::common::scratch_folder("window-one");
     let (mut viewer, window) = open_viewer(
         &display,
         &folder,
@@ -391,7 +390,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
 
     // I shows the HUD: the picture `snapshot --hud` writes for the same state. H shows the help
     // instead, and both go away again.
-    let hud_png = std::env::temp_dir().join(format!("bvhview-hud-{}.png", std::process::id()));
+    let hud_png = crate::common::scratch_folder("hud").join("hud.png");
     let made = crate::common::bvhview_command()
         .args([
             "snapshot",
@@ -426,9 +425,8 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
 
     // The same pictures as `snapshot` with the same options, to within 0.1% of the pixels.
     let cli_snapshot = |args: &[&str]| {
-        let png = std::env::temp_dir().join(format!(
-            "bvhview-window-{}-{}.png",
-            std::process::id(),
+        let png = crate::common::scratch_folder("window").join(format!(
+            "snapshot{}.png",
             args.join("_").replace(['/', ' '], "")
         ));
         let made = crate::common::bvhview_command()
@@ -569,8 +567,7 @@ fn viewer_steps_a_frame_with_w_and_shows_the_snapshot_picture() {
 #[test]
 fn viewer_shows_takes_side_by_side_reloads_and_writes_pictures() {
     let _alone = one_at_a_time();
-    let dir = std::env::temp_dir().join(format!("bvhview-window-two-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_folder("window-two");
     let first = dir.join("first.bvh");
     let second = dir.join("second.bvh");
     let tiny = std::fs::read_to_string(oracle("inputs/tiny_crlf.bvh")).unwrap();
@@ -821,8 +818,7 @@ fn drop_files(display: &str, window: &str, files: &[&Path]) -> bool {
 #[test]
 fn fbx_and_glb_takes_dropped_on_the_window_join_the_take_shown() {
     let _alone = one_at_a_time();
-    let dir = std::env::temp_dir().join(format!("bvhview-window-drop-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = crate::common::scratch_folder("window-drop");
     let bvh = data("bvh/bvh11_131_01.bvh");
     let fbx = data("fbx/bvh11_131_01.fbx");
     let glb = data("gltf/bvhpython_test_freebvh.glb");
@@ -1012,7 +1008,7 @@ fn an_output_the_window_could_not_write_fails_the_exit_status() {
 #[test]
 fn viewer_shows_a_take_on_a_character_as_snapshot_does() {
     let _alone = one_at_a_time();
-    let dir = std::env::temp_dir().join(format!("bvhview-window-char-{}", std::process::id()));
+    let dir = crate::common::scratch_folder("window-char");
     std::fs::create_dir_all(&dir).unwrap();
     let repo = Path::new(env!("CARGO_MANIFEST_DIR"));
     let walk = repo.join("tests/data/bvh/bvh11_131_01.bvh");

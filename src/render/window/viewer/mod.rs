@@ -532,8 +532,8 @@ mod tests {
 
     #[test]
     fn dropped_files_join_and_reloads_keep_the_last_good_take() {
-        let dir = std::env::temp_dir().join(format!("bvhview-drop-{}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
+        let folder = tempfile::tempdir().unwrap();
+        let dir = folder.path();
         let take = |frames: usize| {
             let mut text = String::from(
                 "HIERARCHY\nROOT Hips\n{\n OFFSET 0 0 0\n CHANNELS 3 Zrotation Xrotation \
