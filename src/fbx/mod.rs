@@ -8,6 +8,8 @@ mod mesh;
 pub mod read;
 #[cfg(feature = "fbx")]
 mod records;
+#[cfg(feature = "fbx")]
+pub mod write;
 
 #[cfg(feature = "fbx")]
 pub use read::{load, load_bytes, load_character, load_character_bytes, takes, takes_of_bytes};

@@ -170,8 +170,9 @@ impl Take {
         options.open(path)
     }
 
-    /// Writes the take by the extension of `path`: `.bvh`, or glTF as `.glb` (binary) or
-    /// `.gltf` (text, data inline). The file is written whole or not at all.
+    /// Writes the take by the extension of `path`: `.bvh`, glTF as `.glb` (binary) or `.gltf`
+    /// (text, data inline), or `.fbx` (FBX 7.4 binary, in centimetres). The file is written
+    /// whole or not at all.
     ///
     /// ```
     /// use bvhview::take::Take;
@@ -192,9 +193,10 @@ impl Take {
             "bvh" => self.bvh_text()?.into_bytes(),
             "glb" => self.gltf(crate::gltf::Container::Glb)?,
             "gltf" => self.gltf(crate::gltf::Container::Gltf)?,
+            "fbx" => self.fbx_bytes(&path.display().to_string())?,
             other => {
                 return Err(Error::usage(format!(
-                    "{}: save writes .bvh, .glb or .gltf files, not '{other}'",
+                    "{}: save writes .bvh, .glb, .gltf or .fbx files, not '{other}'",
                     path.display()
                 )));
             }
@@ -223,6 +225,45 @@ impl Take {
             container,
             false,
         )
+    }
+
+    /// The take as an FBX 7.4 binary file in centimetres, its units and up axis as
+    /// [`Take::stance`] reads them; the animation stack is named after the take.
+    #[cfg(feature = "fbx")]
+    pub fn fbx(&self) -> Result<crate::fbx::write::Written, Error> {
+        let stance = self.stance(self.offset_mode);
+        let settings = crate::fbx::write::Settings {
+            take_name: self.take_label(),
+            offset_mode: self.offset_mode,
+            metres_per_unit: f64::from(stance.units.metres),
+            up: stance.up,
+            out_metres_per_unit: 0.01,
+        };
+        crate::fbx::write::to_bytes(&self.skeleton, &self.motion, &settings)
+    }
+
+    /// [`Take::fbx`]'s bytes, or what this build lacks to make them; `output` names the file.
+    fn fbx_bytes(&self, output: &str) -> Result<Vec<u8>, Error> {
+        #[cfg(feature = "fbx")]
+        {
+            let _ = output;
+            Ok(self.fbx()?.bytes)
+        }
+        #[cfg(not(feature = "fbx"))]
+        Err(crate::io::absent::without("fbx", "FBX", output))
+    }
+
+    /// What a take is called inside a file that names takes: the take chosen in the file it
+    /// came from, else its file's name without the extension.
+    pub fn take_label(&self) -> String {
+        if let Some(name) = &self.take_name {
+            return name.clone();
+        }
+        let stem = Path::new(&self.name)
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned());
+        stem.filter(|s| !s.is_empty())
+            .unwrap_or_else(|| "Take".to_string())
     }
 
     /// Frames in the take.

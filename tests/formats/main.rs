@@ -14,6 +14,8 @@ mod bvh_streaming;
 mod error_kinds;
 #[cfg(all(feature = "fbx", feature = "gltf"))]
 mod fbx_gltf_reading;
+#[cfg(feature = "fbx")]
+mod fbx_out;
 #[cfg(feature = "gltf")]
 mod gltf_export;
 mod loading_in_a_forked_child;

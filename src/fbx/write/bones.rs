@@ -1,0 +1,254 @@
+//! The joints as FBX writes them: each one's rest translation, Euler order and keys, taken from
+//! the take's channels.
+
+use super::records::{Records, Value};
+use super::{AXES, PROPERTIES, attribute_id, curve_id, curve_node_id, model_id};
+use crate::io::error::Error;
+use crate::model::euler;
+use crate::model::motion::Motion;
+use crate::model::pose::{OffsetMode, joint_translation, local_rotation_f64};
+use crate::model::skeleton::{RotationOrder, Skeleton, export_name};
+
+/// One joint (or End Site) as a `Model`.
+pub(super) struct Bone {
+    /// Its name, as `positions` names it (an End Site is `<parent>_End`).
+    pub(super) name: String,
+    pub(super) parent: Option<usize>,
+    /// The rest translation (the OFFSET), in written units.
+    pub(super) translation: [f64; 3],
+    /// FBX's `RotationOrder` (0 is XYZ, FBX's default).
+    order: i32,
+    /// Per frame, the translation in written units, when the joint has position channels.
+    moves: Option<Vec<[f32; 3]>>,
+    /// Per frame, the rotation in degrees about X, Y and Z, when it has rotation channels.
+    turns: Option<Vec<[f32; 3]>>,
+}
+
+impl Bone {
+    /// Curves this bone's motion takes: three per animated property.
+    pub(super) fn curve_count(&self) -> usize {
+        3 * self.animated_properties().count()
+    }
+
+    /// The animated properties (0 translation, 1 rotation).
+    pub(super) fn animated_properties(&self) -> impl Iterator<Item = usize> + '_ {
+        [self.moves.is_some(), self.turns.is_some()]
+            .into_iter()
+            .enumerate()
+            .filter_map(|(p, animated)| animated.then_some(p))
+    }
+
+    /// Its `NodeAttribute` and `Model`.
+    pub(super) fn write_objects(&self, out: &mut Records, index: usize) -> Result<(), Error> {
+        let attribute = format!("{}\0\x01NodeAttribute", self.name);
+        out.open(
+            "NodeAttribute",
+            &[
+                Value::I64(attribute_id(index)),
+                Value::Str(&attribute),
+                Value::Str("LimbNode"),
+            ],
+        )?;
+        out.leaf("TypeFlags", &[Value::Str("Skeleton")])?;
+        out.close()?;
+        let model = format!("{}\0\x01Model", self.name);
+        out.open(
+            "Model",
+            &[
+                Value::I64(model_id(index)),
+                Value::Str(&model),
+                Value::Str("LimbNode"),
+            ],
+        )?;
+        out.leaf("Version", &[Value::I32(232)])?;
+        out.open("Properties70", &[])?;
+        if self.order != 0 {
+            out.property("RotationOrder", ["enum", "", ""], &[Value::I32(self.order)])?;
+            // Maya and the FBX SDK apply a rotation order only to a node whose rotation is
+            // "active".
+            out.property("RotationActive", ["bool", "", ""], &[Value::I32(1)])?;
+        }
+        // No scale is written: the inheritance is the SDK's default for joints.
+        out.property("InheritType", ["enum", "", ""], &[Value::I32(1)])?;
+        let [x, y, z] = self.translation;
+        out.property(
+            "Lcl Translation",
+            ["Lcl Translation", "", "A"],
+            &[Value::F64(x), Value::F64(y), Value::F64(z)],
+        )?;
+        let zero = [Value::F64(0.0); 3];
+        out.property("Lcl Rotation", ["Lcl Rotation", "", "A"], &zero)?;
+        let one = [Value::F64(1.0); 3];
+        out.property("Lcl Scaling", ["Lcl Scaling", "", "A"], &one)?;
+        out.close()?;
+        out.leaf("Shading", &[Value::Bool(true)])?;
+        out.leaf("Culling", &[Value::Str("CullingOff")])?;
+        out.close()
+    }
+
+    /// Its curve nodes and curves, keyed at `times`.
+    pub(super) fn write_curves(
+        &self,
+        out: &mut Records,
+        index: usize,
+        times: &[i64],
+    ) -> Result<(), Error> {
+        for (p, keys) in [&self.moves, &self.turns].into_iter().enumerate() {
+            let Some(keys) = keys else { continue };
+            let node = format!("{}\0\x01AnimCurveNode", PROPERTIES[p].1);
+            out.open(
+                "AnimationCurveNode",
+                &[
+                    Value::I64(curve_node_id(index, p)),
+                    Value::Str(&node),
+                    Value::Str(""),
+                ],
+            )?;
+            out.open("Properties70", &[])?;
+            for (axis, name) in AXES.iter().enumerate() {
+                let first = keys.first().map_or(0.0, |k| f64::from(k[axis]));
+                out.property(name, ["Number", "", "A"], &[Value::F64(first)])?;
+            }
+            out.close()?;
+            out.close()?;
+            for axis in 0..3 {
+                let values: Vec<f32> = keys.iter().map(|k| k[axis]).collect();
+                write_curve(out, curve_id(index, p, axis), times, &values)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One `AnimationCurve`: linear keys at `times` with `values`.
+fn write_curve(out: &mut Records, id: i64, times: &[i64], values: &[f32]) -> Result<(), Error> {
+    out.open(
+        "AnimationCurve",
+        &[
+            Value::I64(id),
+            Value::Str("\0\x01AnimCurve"),
+            Value::Str(""),
+        ],
+    )?;
+    out.leaf("Default", &[Value::F64(0.0)])?;
+    out.leaf("KeyVer", &[Value::I32(4009)])?;
+    out.i64_array("KeyTime", times)?;
+    out.f32_array("KeyValueFloat", values)?;
+    // One attribute for every key: linear interpolation (FBX's eInterpolationLinear).
+    out.i32_array("KeyAttrFlags", &[LINEAR])?;
+    out.f32_array("KeyAttrDataFloat", &[0.0; 4])?;
+    out.i32_array("KeyAttrRefCount", &[values.len() as i32])?;
+    out.close()
+}
+
+/// `KeyAttrFlags` of a linear key.
+const LINEAR: i32 = 0x0000_0004;
+
+/// FBX's `RotationOrder` of a BVH rotation order. BVH lists the outermost rotation first
+/// (`Zrotation Xrotation Yrotation` is Rz·Rx·Ry); FBX names them in the order they apply
+/// (eEulerYXZ: Y first, then X, then Z), so each is the other read backwards.
+fn fbx_order(order: RotationOrder) -> i32 {
+    match order {
+        RotationOrder::Zyx => 0, // eEulerXYZ
+        RotationOrder::Yzx => 1, // eEulerXZY
+        RotationOrder::Zxy => 3, // eEulerYXZ
+        RotationOrder::Xzy => 2, // eEulerYZX
+        RotationOrder::Yxz => 4, // eEulerZXY
+        RotationOrder::Xyz => 5, // eEulerZYX
+    }
+}
+
+/// A name FBX can hold: no control character (FBX separates a name from its class with
+/// `\0\x01`); each one becomes `_`.
+fn fbx_name(name: &str) -> String {
+    name.chars()
+        .map(|c| if c.is_control() { '_' } else { c })
+        .collect()
+}
+
+/// Every joint of `skeleton` as a bone, its keys from `motion`, lengths times `scale`; and the
+/// names changed on the way.
+pub(super) fn of(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mode: OffsetMode,
+    scale: f64,
+) -> Result<(Vec<Bone>, Vec<String>), Error> {
+    let baked = crate::edit::baked_for_bvh(skeleton, motion)?;
+    let (skeleton, motion) = baked.as_ref().map_or((skeleton, motion), |(s, m)| (s, m));
+    let mut renamed = Vec::new();
+    let bones = (0..skeleton.joints.len())
+        .map(|i| {
+            let joint = &skeleton.joints[i];
+            let written = export_name(skeleton, i);
+            let name = fbx_name(&written);
+            if name != written {
+                renamed.push(format!("{written:?} → {name:?}"));
+            }
+            let offset = joint.offset.to_array().map(|v| f64::from(v) * scale);
+            let has = |rotation: bool| joint.channels.iter().any(|c| c.is_rotation() == rotation);
+            let frames = || (0..motion.frame_count()).map(|f| joint.values(motion.frame(f)));
+            let animated = motion.frame_count() > 0;
+            let moves = (animated && has(false)).then(|| {
+                frames()
+                    .map(|values| {
+                        let t = joint_translation(joint, values, mode);
+                        t.to_array().map(|v| (f64::from(v) * scale) as f32)
+                    })
+                    .collect()
+            });
+            let (order, turns) = match (animated && has(true), joint.rotation_order) {
+                (false, _) => (0, None),
+                (true, Some(order)) => (
+                    fbx_order(order),
+                    Some(
+                        frames()
+                            .map(|values| {
+                                let mut xyz = [0.0f32; 3];
+                                for (channel, &value) in joint.channels.iter().zip(values) {
+                                    if channel.is_rotation() {
+                                        xyz[channel.axis()] = value;
+                                    }
+                                }
+                                xyz
+                            })
+                            .collect(),
+                    ),
+                ),
+                // Two rotation channels, or one axis twice: the rotation they make, split
+                // into FBX's default order (XYZ), continuous from frame to frame.
+                (true, None) => (0, Some(split_frames(joint, frames()))),
+            };
+            Bone {
+                name,
+                parent: joint.parent,
+                translation: offset,
+                order,
+                moves,
+                turns,
+            }
+        })
+        .collect();
+    Ok((bones, renamed))
+}
+
+/// Each frame's rotation of `joint` split into X, Y and Z degrees of FBX's XYZ order (BVH's
+/// `Zrotation Yrotation Xrotation`), continuous from frame to frame.
+fn split_frames<'a>(
+    joint: &crate::model::skeleton::Joint,
+    frames: impl Iterator<Item = &'a [f32]>,
+) -> Vec<[f32; 3]> {
+    let mut previous = None;
+    frames
+        .map(|values| {
+            let angles = euler::split(
+                local_rotation_f64(joint, values),
+                RotationOrder::Zyx,
+                previous,
+            );
+            previous = Some(angles);
+            // File order Z, Y, X.
+            [angles[2], angles[1], angles[0]].map(|a| a.to_degrees() as f32)
+        })
+        .collect()
+}

@@ -1,0 +1,480 @@
+//! FBX out: a take as an FBX 7.4 binary file (version 7400, what Unreal, Unity, Maya,
+//! MotionBuilder and Blender read). The records are fbxcel's; the scene is ours: each joint a
+//! `Model` of type LimbNode with a Skeleton `NodeAttribute`, its rest pose in `Lcl Translation`
+//! and `Lcl Rotation`, its motion in one `AnimationCurveNode` per animated property with a curve
+//! keyed at every frame, its Euler order in `RotationOrder` (the six BVH orders are FBX's six:
+//! kept, not split again), the rest pose as the bind pose, units and up axis in
+//! `GlobalSettings`.
+
+mod bones;
+mod records;
+
+use crate::io::error::Error;
+use crate::io::message::Message;
+use crate::model::motion::Motion;
+use crate::model::pose::{OffsetMode, Up};
+use crate::model::skeleton::Skeleton;
+use bones::Bone;
+use records::{Records, Value};
+
+/// FBX time: ticks per second.
+pub const TICKS_PER_SECOND: f64 = 46_186_158_000.0;
+
+/// What a file states beside the joints: the take's name, how position channels count, the
+/// take's units and up axis, and the units written.
+#[derive(Clone, Debug)]
+pub struct Settings {
+    /// The animation stack's name (what an engine lists the take as).
+    pub take_name: String,
+    /// How position channels combine with OFFSET.
+    pub offset_mode: OffsetMode,
+    /// Metres per unit of the take.
+    pub metres_per_unit: f64,
+    /// The take's up axis, stated in the file (engines stand it up).
+    pub up: Up,
+    /// Metres per unit written: 0.01 (centimetres, what engines expect) unless asked otherwise.
+    pub out_metres_per_unit: f64,
+}
+
+/// An FBX file in memory, and the joints whose names it had to change.
+#[derive(Clone, Debug)]
+pub struct Written {
+    /// The file's bytes.
+    pub bytes: Vec<u8>,
+    /// `old → new` for each name FBX cannot hold (a control character, FBX's own separator).
+    pub renamed: Vec<String>,
+}
+
+/// Most bytes an FBX 7.4 file holds: its records' offsets are 32-bit.
+const MAX_FILE_BYTES: u64 = u32::MAX as u64;
+
+/// `skeleton` and `motion` as an FBX 7.4 binary file.
+///
+/// ```
+/// use bvhview::Take;
+/// use bvhview::fbx::write::{Settings, to_bytes};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let take = Take::open("tests/data/bvh/bvhparser_simple.bvh")?;
+/// let settings = Settings {
+///     take_name: "simple".into(),
+///     offset_mode: take.offset_mode,
+///     metres_per_unit: 0.01,
+///     up: bvhview::model::pose::Up::Y,
+///     out_metres_per_unit: 0.01,
+/// };
+/// let written = to_bytes(&take.skeleton, &take.motion, &settings)?;
+/// assert!(written.bytes.starts_with(b"Kaydara FBX Binary  \0\x1a\0"));
+/// # Ok(())
+/// # }
+/// ```
+pub fn to_bytes(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    settings: &Settings,
+) -> Result<Written, Error> {
+    let frames = motion.frame_count();
+    if frames > 1 && !(motion.frame_time > 0.0 && motion.frame_time.is_finite()) {
+        return Err(Error::usage(
+            Message::from(format!(
+                "cannot write FBX: a frame time of {} s puts every frame at one time; give the \
+                 take its rate with ",
+                motion.frame_time
+            ))
+            .argument("frame_time", Some("SECONDS")),
+        ));
+    }
+    let scale = scale_between(settings.metres_per_unit, settings.out_metres_per_unit);
+    let (bones, renamed) = bones::of(skeleton, motion, settings.offset_mode, scale)?;
+    let curves: usize = bones.iter().map(Bone::curve_count).sum();
+    let estimate = (curves as u64)
+        .saturating_mul(frames as u64)
+        .saturating_mul(12);
+    if estimate > MAX_FILE_BYTES {
+        return Err(Error::limit(
+            "bytes",
+            MAX_FILE_BYTES,
+            estimate,
+            format!(
+                "cannot write FBX: {curves} curves of {frames} keys make about {estimate} bytes, \
+                 more than an FBX file's 32-bit offsets reach ({MAX_FILE_BYTES})"
+            ),
+        ));
+    }
+    // A rate FBX names is keyed at that rate exactly: `Frame Time: 0.0083333` is 1/120 written
+    // with 7 digits, and an importer counts frames at 120 per second.
+    let (_, rate) = time_mode(motion.frame_time);
+    let scene = Scene {
+        bones: &bones,
+        settings,
+        frames,
+        frame_time: 1.0 / rate,
+    };
+    Ok(Written {
+        bytes: scene.write()?,
+        renamed,
+    })
+}
+
+/// Written units per unit of the take, exact for the usual pairs (centimetres to centimetres is
+/// 1, not 0.99999998): the ratio is rounded to 9 significant digits, more than a unit's name
+/// holds.
+fn scale_between(metres_per_unit: f64, out_metres_per_unit: f64) -> f64 {
+    let ratio = metres_per_unit / out_metres_per_unit;
+    if !(ratio.is_finite() && ratio > 0.0) {
+        return 1.0;
+    }
+    let digits = 10f64.powi(8 - ratio.log10().floor() as i32);
+    (ratio * digits).round() / digits
+}
+
+/// The scene being written, and the ids of its objects.
+struct Scene<'a> {
+    bones: &'a [Bone],
+    settings: &'a Settings,
+    frames: usize,
+    frame_time: f64,
+}
+
+/// Object ids: the scene's root is 0; everything else counts up from here (any positive
+/// 64-bit id is an id; fixed ones make the same take the same bytes).
+const FIRST_ID: i64 = 1_000_000;
+
+/// The ids of one bone's objects.
+fn model_id(bone: usize) -> i64 {
+    FIRST_ID + 16 * bone as i64
+}
+fn attribute_id(bone: usize) -> i64 {
+    model_id(bone) + 1
+}
+/// Property `p` (0 translation, 1 rotation): its curve node, then its three curves.
+fn curve_node_id(bone: usize, p: usize) -> i64 {
+    model_id(bone) + 2 + 4 * p as i64
+}
+fn curve_id(bone: usize, p: usize, axis: usize) -> i64 {
+    curve_node_id(bone, p) + 1 + axis as i64
+}
+const STACK_ID: i64 = 10;
+const LAYER_ID: i64 = 11;
+const POSE_ID: i64 = 12;
+const DOCUMENT_ID: i64 = 13;
+
+/// The animated properties, by index.
+const PROPERTIES: [(&str, &str); 2] = [("Lcl Translation", "T"), ("Lcl Rotation", "R")];
+const AXES: [&str; 3] = ["d|X", "d|Y", "d|Z"];
+
+impl Scene<'_> {
+    fn write(&self) -> Result<Vec<u8>, Error> {
+        let mut out = Records::new()?;
+        self.header(&mut out)?;
+        self.global_settings(&mut out)?;
+        self.documents(&mut out)?;
+        out.leaf("References", &[])?;
+        self.definitions(&mut out)?;
+        out.open("Objects", &[])?;
+        for (i, bone) in self.bones.iter().enumerate() {
+            bone.write_objects(&mut out, i)?;
+        }
+        self.bind_pose(&mut out)?;
+        if self.animated() {
+            self.animation_objects(&mut out)?;
+        }
+        out.close()?;
+        self.connections(&mut out)?;
+        self.takes(&mut out)?;
+        out.finish()
+    }
+
+    fn animated(&self) -> bool {
+        self.frames > 0
+    }
+
+    /// The last key's time in FBX ticks: (frames − 1) × frame time.
+    fn stop(&self) -> i64 {
+        key_time(self.frames.saturating_sub(1), self.frame_time)
+    }
+
+    fn header(&self, out: &mut Records) -> Result<(), Error> {
+        let creator = format!("bvhview {}", env!("CARGO_PKG_VERSION"));
+        out.open("FBXHeaderExtension", &[])?;
+        out.leaf("FBXHeaderVersion", &[Value::I32(1003)])?;
+        out.leaf("FBXVersion", &[Value::I32(7400)])?;
+        out.leaf("EncryptionType", &[Value::I32(0)])?;
+        // A fixed time: the same take makes the same bytes.
+        out.open("CreationTimeStamp", &[])?;
+        for (name, value) in [
+            ("Version", 1000),
+            ("Year", 1970),
+            ("Month", 1),
+            ("Day", 1),
+            ("Hour", 0),
+            ("Minute", 0),
+            ("Second", 0),
+            ("Millisecond", 0),
+        ] {
+            out.leaf(name, &[Value::I32(value)])?;
+        }
+        out.close()?;
+        out.leaf("Creator", &[Value::Str(&creator)])?;
+        out.close()?;
+        out.leaf("FileId", &[Value::Raw(&[0x62; 16])])?;
+        out.leaf("CreationTime", &[Value::Str("1970-01-01 00:00:00:000")])?;
+        out.leaf("Creator", &[Value::Str(&creator)])
+    }
+
+    fn global_settings(&self, out: &mut Records) -> Result<(), Error> {
+        let unit_cm = self.settings.out_metres_per_unit * 100.0;
+        // Y up: front +Z, right +X. Z up: front −Y, right +X (Blender's, 3ds Max's).
+        let (up, front, front_sign) = match self.settings.up {
+            Up::Y => (1, 2, 1),
+            Up::Z => (2, 1, -1),
+        };
+        let (mode, rate) = time_mode(self.frame_time);
+        out.open("GlobalSettings", &[])?;
+        out.leaf("Version", &[Value::I32(1000)])?;
+        out.open("Properties70", &[])?;
+        let int = ["int", "Integer", ""];
+        for (name, value) in [
+            ("UpAxis", up),
+            ("UpAxisSign", 1),
+            ("FrontAxis", front),
+            ("FrontAxisSign", front_sign),
+            ("CoordAxis", 0),
+            ("CoordAxisSign", 1),
+            ("OriginalUpAxis", up),
+            ("OriginalUpAxisSign", 1),
+        ] {
+            out.property(name, int, &[Value::I32(value)])?;
+        }
+        let number = ["double", "Number", ""];
+        out.property("UnitScaleFactor", number, &[Value::F64(unit_cm)])?;
+        out.property("OriginalUnitScaleFactor", number, &[Value::F64(unit_cm)])?;
+        out.property("TimeMode", ["enum", "", ""], &[Value::I32(mode)])?;
+        let time = ["KTime", "Time", ""];
+        out.property("TimeSpanStart", time, &[Value::I64(0)])?;
+        out.property("TimeSpanStop", time, &[Value::I64(self.stop())])?;
+        out.property("CustomFrameRate", number, &[Value::F64(rate)])?;
+        out.close()?;
+        out.close()
+    }
+
+    fn documents(&self, out: &mut Records) -> Result<(), Error> {
+        out.open("Documents", &[])?;
+        out.leaf("Count", &[Value::I32(1)])?;
+        out.open(
+            "Document",
+            &[
+                Value::I64(DOCUMENT_ID),
+                Value::Str("Scene"),
+                Value::Str("Scene"),
+            ],
+        )?;
+        out.open("Properties70", &[])?;
+        out.property("SourceObject", ["object", "", ""], &[])?;
+        out.property(
+            "ActiveAnimStackName",
+            ["KString", "", ""],
+            &[Value::Str(&self.settings.take_name)],
+        )?;
+        out.close()?;
+        out.leaf("RootNode", &[Value::I64(0)])?;
+        out.close()?;
+        out.close()
+    }
+
+    fn definitions(&self, out: &mut Records) -> Result<(), Error> {
+        let bones = self.bones.len() as i32;
+        let curve_nodes: i32 = self.bones.iter().map(|b| b.curve_count() as i32 / 3).sum();
+        let mut types = vec![
+            ("GlobalSettings", 1),
+            ("Model", bones),
+            ("NodeAttribute", bones),
+            ("Pose", 1),
+        ];
+        if self.animated() {
+            types.extend([
+                ("AnimationStack", 1),
+                ("AnimationLayer", 1),
+                ("AnimationCurveNode", curve_nodes),
+                ("AnimationCurve", 3 * curve_nodes),
+            ]);
+        }
+        out.open("Definitions", &[])?;
+        out.leaf("Version", &[Value::I32(100)])?;
+        out.leaf("Count", &[Value::I32(types.iter().map(|t| t.1).sum())])?;
+        for (name, count) in types {
+            out.open("ObjectType", &[Value::Str(name)])?;
+            out.leaf("Count", &[Value::I32(count)])?;
+            out.close()?;
+        }
+        out.close()
+    }
+
+    /// The rest pose as the bind pose: every bone's world matrix with no rotation.
+    fn bind_pose(&self, out: &mut Records) -> Result<(), Error> {
+        let name = format!("{}\0\x01Pose", self.settings.take_name);
+        out.open(
+            "Pose",
+            &[
+                Value::I64(POSE_ID),
+                Value::Str(&name),
+                Value::Str("BindPose"),
+            ],
+        )?;
+        out.leaf("Type", &[Value::Str("BindPose")])?;
+        out.leaf("Version", &[Value::I32(100)])?;
+        out.leaf("NbPoseNodes", &[Value::I32(self.bones.len() as i32)])?;
+        let mut world: Vec<[f64; 3]> = Vec::with_capacity(self.bones.len());
+        for (i, bone) in self.bones.iter().enumerate() {
+            let base = bone.parent.map_or([0.0; 3], |p| world[p]);
+            let at = [0, 1, 2].map(|k| base[k] + bone.translation[k]);
+            world.push(at);
+            let mut matrix = [0.0; 16];
+            for k in 0..3 {
+                matrix[5 * k] = 1.0;
+                matrix[12 + k] = at[k];
+            }
+            matrix[15] = 1.0;
+            out.open("PoseNode", &[])?;
+            out.leaf("Node", &[Value::I64(model_id(i))])?;
+            out.f64_array("Matrix", &matrix)?;
+            out.close()?;
+        }
+        out.close()
+    }
+
+    fn animation_objects(&self, out: &mut Records) -> Result<(), Error> {
+        let stack = format!("{}\0\x01AnimStack", self.settings.take_name);
+        out.open(
+            "AnimationStack",
+            &[Value::I64(STACK_ID), Value::Str(&stack), Value::Str("")],
+        )?;
+        out.open("Properties70", &[])?;
+        let time = ["KTime", "Time", ""];
+        for name in ["LocalStart", "ReferenceStart"] {
+            out.property(name, time, &[Value::I64(0)])?;
+        }
+        for name in ["LocalStop", "ReferenceStop"] {
+            out.property(name, time, &[Value::I64(self.stop())])?;
+        }
+        out.close()?;
+        out.close()?;
+        out.leaf(
+            "AnimationLayer",
+            &[
+                Value::I64(LAYER_ID),
+                Value::Str("BaseLayer\0\x01AnimLayer"),
+                Value::Str(""),
+            ],
+        )?;
+        let times: Vec<i64> = (0..self.frames)
+            .map(|f| key_time(f, self.frame_time))
+            .collect();
+        for (i, bone) in self.bones.iter().enumerate() {
+            bone.write_curves(out, i, &times)?;
+        }
+        Ok(())
+    }
+
+    fn connections(&self, out: &mut Records) -> Result<(), Error> {
+        out.open("Connections", &[])?;
+        let oo = |out: &mut Records, child: i64, parent: i64| {
+            out.leaf(
+                "C",
+                &[Value::Str("OO"), Value::I64(child), Value::I64(parent)],
+            )
+        };
+        for (i, bone) in self.bones.iter().enumerate() {
+            oo(out, model_id(i), bone.parent.map_or(0, model_id))?;
+            oo(out, attribute_id(i), model_id(i))?;
+        }
+        if self.animated() {
+            oo(out, LAYER_ID, STACK_ID)?;
+            for (i, bone) in self.bones.iter().enumerate() {
+                for p in bone.animated_properties() {
+                    let node = curve_node_id(i, p);
+                    oo(out, node, LAYER_ID)?;
+                    let property = Value::Str(PROPERTIES[p].0);
+                    let op = [Value::Str("OP"), Value::I64(node), Value::I64(model_id(i))];
+                    out.leaf("C", &[op[0], op[1], op[2], property])?;
+                    for (axis, name) in AXES.iter().enumerate() {
+                        let curve = [Value::I64(curve_id(i, p, axis)), Value::I64(node)];
+                        out.leaf(
+                            "C",
+                            &[Value::Str("OP"), curve[0], curve[1], Value::Str(name)],
+                        )?;
+                    }
+                }
+            }
+        }
+        out.close()
+    }
+
+    fn takes(&self, out: &mut Records) -> Result<(), Error> {
+        out.open("Takes", &[])?;
+        out.leaf("Current", &[Value::Str(&self.settings.take_name)])?;
+        if self.animated() {
+            let file = format!("{}.tak", self.settings.take_name);
+            out.open("Take", &[Value::Str(&self.settings.take_name)])?;
+            out.leaf("FileName", &[Value::Str(&file)])?;
+            let span = [Value::I64(0), Value::I64(self.stop())];
+            out.leaf("LocalTime", &span)?;
+            out.leaf("ReferenceTime", &span)?;
+            out.close()?;
+        }
+        out.close()
+    }
+}
+
+/// Frame `frame`'s time in FBX ticks.
+fn key_time(frame: usize, frame_time: f64) -> i64 {
+    (frame as f64 * frame_time * TICKS_PER_SECOND).round() as i64
+}
+
+/// `GlobalSettings`' `TimeMode` for a take of `frame_time` seconds a frame, and its rate: FBX's
+/// own mode for the rates it names (24, 30, 60, 120, …), else custom with `CustomFrameRate`.
+fn time_mode(frame_time: f64) -> (i32, f64) {
+    let rate = if frame_time > 0.0 && frame_time.is_finite() {
+        1.0 / frame_time
+    } else {
+        30.0
+    };
+    let named = [
+        (120.0, 1),
+        (100.0, 2),
+        (60.0, 3),
+        (50.0, 4),
+        (48.0, 5),
+        (30.0, 6),
+        (25.0, 10),
+        (24.0, 11),
+        (1000.0, 12),
+        (96.0, 15),
+        (72.0, 16),
+    ];
+    // Frame times are written with few digits (.0083333 for 1/120): within a millionth.
+    match named
+        .iter()
+        .find(|(fps, _)| ((rate - fps) / fps).abs() < 1e-5)
+    {
+        Some(&(fps, mode)) => (mode, fps),
+        None => (14, rate),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{key_time, scale_between, time_mode};
+
+    #[test]
+    fn units_rates_and_times_are_exact_where_they_can_be() {
+        assert_eq!(scale_between(f64::from(0.01f32), 0.01), 1.0);
+        assert_eq!(scale_between(f64::from(0.0254f32), 0.01), 2.54);
+        assert_eq!(scale_between(1.0, 0.01), 100.0);
+        assert_eq!(scale_between(0.001, 0.01), 0.1);
+        assert_eq!(time_mode(1.0 / 30.0), (6, 30.0));
+        assert_eq!(time_mode(0.0083333), (1, 120.0));
+        assert_eq!(time_mode(1.0 / 29.0).0, 14);
+        assert_eq!(key_time(30, 1.0 / 30.0), 46_186_158_000);
+    }
+}

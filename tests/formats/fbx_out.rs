@@ -1,0 +1,90 @@
+//! FBX out, read back by bvhview's own reader (ufbx): every take of the repository's corpus
+//! written and read again, every joint where it was on every frame.
+
+use crate::common::{data, files_in};
+use bvhview::Take;
+use bvhview::model::pose::{Up, world_positions};
+use std::path::Path;
+
+/// Every joint of `source` (by the name `positions` gives it) against the joint of that name
+/// read back from its FBX, on every frame, in metres: the largest distance over the figure's
+/// height.
+fn worst_error(source: &Take, back: &Take) -> (f32, String) {
+    let stance = source.stance(source.offset_mode);
+    let metres = stance.units.metres;
+    let names: Vec<String> = (0..source.skeleton.joints.len())
+        .map(|i| bvhview::model::skeleton::export_name(&source.skeleton, i))
+        .collect();
+    let back_names: Vec<String> = (0..back.skeleton.joints.len())
+        .map(|i| bvhview::model::skeleton::export_name(&back.skeleton, i))
+        .collect();
+    let height = (stance.height * metres).max(1e-6);
+    let frames = source.motion.frame_count().max(1);
+    assert_eq!(back.motion.frame_count().max(1), frames, "{}", source.name);
+    let (mut worst, mut at) = (0.0f32, String::new());
+    for f in 0..frames {
+        let row = |take: &Take| {
+            if take.motion.frame_count() == 0 {
+                Vec::new()
+            } else {
+                take.motion.frame(f).to_vec()
+            }
+        };
+        let want = world_positions(&source.skeleton, &row(source), source.offset_mode);
+        let got = world_positions(&back.skeleton, &row(back), back.offset_mode);
+        // The same joints in the same order (End Sites of one joint share their name).
+        assert_eq!(names, back_names, "{}", source.name);
+        for (i, name) in names.iter().enumerate() {
+            let j = i;
+            let mut p = want[i] * metres;
+            if stance.up == Up::Z {
+                p = glam::Vec3::new(p.x, p.z, -p.y);
+            }
+            let error = (p - got[j]).length() / height;
+            if error > worst {
+                worst = error;
+                at = format!("frame {f}, {name}: {p} vs {}", got[j]);
+            }
+        }
+    }
+    (worst, at)
+}
+
+fn round_trip(path: &Path, motion: Option<&Path>) {
+    let mut options = bvhview::OpenOptions::new();
+    if let Some(motion) = motion {
+        options = options.motion(motion);
+    }
+    let source = Take::open_with(path, &options).unwrap();
+    let written = source.fbx().unwrap();
+    let folder = tempfile::tempdir().unwrap();
+    let out = folder.path().join("out.fbx");
+    std::fs::write(&out, &written.bytes).unwrap();
+    let back = Take::open(&out).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let (worst, at) = worst_error(&source, &back);
+    assert!(
+        worst <= 1e-5,
+        "{}: {worst:e} of the height at {at}",
+        path.display()
+    );
+}
+
+#[test]
+fn every_bvh_take_reads_back_where_it_was() {
+    for path in files_in(&data("bvh"), "bvh") {
+        round_trip(&path, None);
+    }
+}
+
+#[test]
+fn asf_amc_fbx_and_gltf_takes_read_back_where_they_were() {
+    for amc in files_in(&data("asf_amc"), "amc") {
+        round_trip(&crate::common::asf_of(&amc), Some(&amc));
+    }
+    for path in files_in(&data("fbx"), "fbx") {
+        round_trip(&path, None);
+    }
+    for path in files_in(&data("gltf"), "glb") {
+        round_trip(&path, None);
+    }
+}
