@@ -87,7 +87,8 @@ pub(crate) struct ConvertArgs {
     /// Threads (default: every core): a folder converts one take per thread.
     #[arg(long)]
     threads: Option<usize>,
-    /// The file to write: .bvh, or glTF as .glb (binary) or .gltf (text, data inline); `-` is
+    /// The file to write: .bvh, glTF as .glb (binary) or .gltf (text, data inline), or .fbx
+    /// (FBX 7.4 binary, in centimetres); `-` is
     /// standard output, in the format --to names. For a folder, the folder to make (it must not
     /// exist, or be empty).
     #[arg(short, long)]
@@ -101,11 +102,11 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
     // `-o -`: standard output, in the format --to names (there is no extension to tell it).
     if is_stdio(&args.output) && args.to.is_none() {
         return Err(Error::usage(
-            "-o -: name the format written to standard output with --to bvh, glb or gltf",
+            "-o -: name the format written to standard output with --to bvh, glb, gltf or fbx",
         ));
     }
     if !is_stdio(&args.output) {
-        check_output(&args.output, &["bvh", "glb", "gltf"])?;
+        check_output(&args.output, &["bvh", "glb", "gltf", "fbx"])?;
     }
     let format = TakeFormat::of(&args.output);
     if let Some(to) = args.to
@@ -174,6 +175,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         ));
         return Ok(ExitCode::SUCCESS);
     }
+    let take_name = loaded.take_label();
     write_take(
         &args.output,
         format,
@@ -181,6 +183,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         loaded.motion,
         args.offset_mode.into(),
         args.skin,
+        Some(&take_name),
     )
 }
 
@@ -193,15 +196,23 @@ fn threads(args: &ConvertArgs) -> usize {
 
 /// Refuses options that could not apply to any take, before anything is read.
 fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
-    if args.character.is_some() && format == TakeFormat::Bvh {
-        return Err(Error::usage(
-            "--character needs a glTF output (.glb or .gltf); a BVH file has no mesh",
-        ));
-    }
-    if args.skin && format == TakeFormat::Bvh {
-        return Err(Error::usage(
-            "--skin needs a glTF output (.glb or .gltf); a BVH file has no mesh",
-        ));
+    // FBX out writes the skeleton and its motion; a mesh is not written into FBX yet.
+    let no_mesh = match format {
+        TakeFormat::Bvh => Some("a BVH file has no mesh"),
+        TakeFormat::Fbx => Some("FBX out writes the skeleton and its motion, not yet a mesh"),
+        TakeFormat::Glb | TakeFormat::Gltf => None,
+    };
+    if let Some(why) = no_mesh {
+        for (asked, flag) in [
+            (args.character.is_some(), "--character"),
+            (args.skin, "--skin"),
+        ] {
+            if asked {
+                return Err(Error::usage(format!(
+                    "{flag} needs a glTF output (.glb or .gltf); {why}"
+                )));
+            }
+        }
     }
     if let Some(fps) = args.fps {
         crate::limits::fps(fps, false)?;
@@ -390,7 +401,7 @@ fn folder_format(args: &ConvertArgs) -> Result<TakeFormat, Error> {
     }
     let format = args.to.ok_or_else(|| {
         Error::usage(format!(
-            "{} is a folder: say the format its takes are written in with --to bvh, glb or gltf \
+            "{} is a folder: say the format its takes are written in with --to bvh, glb, gltf or fbx \
              (-o names the folder to make)",
             dir.display()
         ))
@@ -492,12 +503,14 @@ fn convert_one(
             .map(|w| w.spelled(&super::Flags))
             .collect();
         let loaded = edit(args, loaded)?;
+        let take_name = loaded.take_label();
         let prepared = Prepared::new(
             format,
             loaded.skeleton,
             loaded.motion,
             args.offset_mode.into(),
             args.skin,
+            &take_name,
         )?;
         let mut bytes = Vec::new();
         prepared

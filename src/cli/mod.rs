@@ -560,6 +560,8 @@ pub(crate) enum TakeFormat {
     Glb,
     /// glTF 2.0, JSON text with the data inline.
     Gltf,
+    /// FBX 7.4, binary.
+    Fbx,
 }
 
 impl TakeFormat {
@@ -568,6 +570,7 @@ impl TakeFormat {
         match take::extension(path).as_str() {
             "glb" => TakeFormat::Glb,
             "gltf" => TakeFormat::Gltf,
+            "fbx" => TakeFormat::Fbx,
             _ => TakeFormat::Bvh,
         }
     }
@@ -578,34 +581,40 @@ impl TakeFormat {
             TakeFormat::Bvh => "bvh",
             TakeFormat::Glb => "glb",
             TakeFormat::Gltf => "gltf",
+            TakeFormat::Fbx => "fbx",
         }
     }
 }
 
 /// A take ready to be written in a format, everything that could refuse it done first, so that a
-/// take that cannot be written leaves no file: glTF encoded; BVH with its ASF axes baked into
-/// the rotation channels and checked (it is written as it streams out). One take, one file:
-/// `convert` and `retarget` write through here, `convert DIR` too.
+/// take that cannot be written leaves no file: glTF and FBX encoded; BVH with its ASF axes baked
+/// into the rotation channels and checked (it is written as it streams out). One take, one
+/// file: `convert` and `retarget` write through here, `convert DIR` too.
 pub(crate) struct Prepared {
     skeleton: crate::Skeleton,
     motion: crate::Motion,
-    /// The glTF file; `None` for BVH.
-    gltf: Option<Vec<u8>>,
+    format: TakeFormat,
+    /// The glTF or FBX file; `None` for BVH.
+    encoded: Option<Vec<u8>>,
+    /// FBX: the names it could not hold, `old → new`.
+    fbx_renamed: Vec<String>,
 }
 
 impl Prepared {
-    /// `mode` and `skin` are the glTF writer's (how position channels combine, whether a skin is
-    /// generated).
+    /// `mode` and `skin` are the glTF and FBX writers' (how position channels combine, whether
+    /// a skin is generated); `take_name` names the take inside an FBX file.
     pub(crate) fn new(
         format: TakeFormat,
         skeleton: crate::Skeleton,
         motion: crate::Motion,
         mode: OffsetMode,
         skin: bool,
+        take_name: &str,
     ) -> Result<Prepared, Error> {
         let container = match format {
             TakeFormat::Glb => crate::gltf::Container::Glb,
             TakeFormat::Gltf => crate::gltf::Container::Gltf,
+            TakeFormat::Fbx => return Prepared::fbx(skeleton, motion, mode, take_name),
             TakeFormat::Bvh => {
                 // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
                 let (skeleton, motion) =
@@ -614,7 +623,9 @@ impl Prepared {
                 return Ok(Prepared {
                     skeleton,
                     motion,
-                    gltf: None,
+                    format,
+                    encoded: None,
+                    fbx_renamed: Vec::new(),
                 });
             }
         };
@@ -622,13 +633,47 @@ impl Prepared {
         Ok(Prepared {
             skeleton,
             motion,
-            gltf: Some(bytes),
+            format,
+            encoded: Some(bytes),
+            fbx_renamed: Vec::new(),
         })
+    }
+
+    /// FBX: its units and up axis as the take's stance reads them.
+    #[cfg(feature = "fbx")]
+    fn fbx(
+        skeleton: crate::Skeleton,
+        motion: crate::Motion,
+        mode: OffsetMode,
+        take_name: &str,
+    ) -> Result<Prepared, Error> {
+        let mut take = Take::new(skeleton, motion, take_name.to_string());
+        take.offset_mode = mode;
+        take.take_name = Some(take_name.to_string());
+        let written = take.fbx()?;
+        Ok(Prepared {
+            skeleton: take.skeleton,
+            motion: take.motion,
+            format: TakeFormat::Fbx,
+            encoded: Some(written.bytes),
+            fbx_renamed: written.renamed,
+        })
+    }
+
+    /// FBX in a build without it: refused, naming the feature.
+    #[cfg(not(feature = "fbx"))]
+    fn fbx(
+        _: crate::Skeleton,
+        _: crate::Motion,
+        _: OffsetMode,
+        take_name: &str,
+    ) -> Result<Prepared, Error> {
+        Err(crate::io::absent::without("fbx", "FBX", take_name))
     }
 
     /// Writes the file.
     pub(crate) fn write_to(&self, out: &mut impl Write) -> io::Result<()> {
-        match &self.gltf {
+        match &self.encoded {
             Some(bytes) => out.write_all(bytes),
             None => crate::bvh::writer::write_bvh(out, &self.skeleton, &self.motion),
         }
@@ -636,9 +681,9 @@ impl Prepared {
 
     /// Joints whose names a BVH file cannot hold, with the names written: (name, written).
     pub(crate) fn renamed(&self) -> Vec<(String, String)> {
-        match self.gltf {
-            Some(_) => Vec::new(),
-            None => crate::bvh::writer::renamed(&self.skeleton),
+        match self.format {
+            TakeFormat::Bvh => crate::bvh::writer::renamed(&self.skeleton),
+            _ => Vec::new(),
         }
     }
 
@@ -651,16 +696,22 @@ impl Prepared {
                 path.display()
             );
         }
+        for renamed in &self.fbx_renamed {
+            eprintln!(
+                "bvhview: {}: joint {renamed} (an FBX name holds no control character)",
+                path.display()
+            );
+        }
     }
 
-    /// What the file holds: `31 joints, 60 frames` (BVH), `32 nodes, 60 frames` (glTF).
+    /// What the file holds: `31 joints, 60 frames` (BVH), `32 nodes, 60 frames` (glTF, FBX).
     pub(crate) fn summary(&self) -> String {
-        let (count, what) = match self.gltf {
-            Some(_) => (self.skeleton.joints.len(), "node"),
-            None => (
+        let (count, what) = match self.format {
+            TakeFormat::Bvh => (
                 self.skeleton.joints.iter().filter(|j| !j.end_site).count(),
                 "joint",
             ),
+            _ => (self.skeleton.joints.len(), "node"),
         };
         format!(
             "{}, {}",
@@ -670,10 +721,19 @@ impl Prepared {
     }
 }
 
+/// A file's name without its extension (`Take` for `-`): what an FBX file calls the take it
+/// holds when nothing else names it.
+fn stem_of(output: &Path) -> String {
+    output
+        .file_stem()
+        .filter(|_| !is_stdio(output))
+        .map_or_else(|| "Take".to_string(), |s| s.to_string_lossy().into_owned())
+}
+
 /// Writes a take to `output` in `format` (as a rule the output's, [`TakeFormat::of`]), whole or
 /// not at all, and says what was written: the one way a command that makes a take writes it.
 /// `mode` and `skin` are the glTF writer's (how position channels combine, whether a skin is
-/// generated).
+/// generated); `take_name` names the take in an FBX file (else the output's name).
 pub(crate) fn write_take(
     output: &Path,
     format: TakeFormat,
@@ -681,8 +741,10 @@ pub(crate) fn write_take(
     motion: crate::Motion,
     mode: OffsetMode,
     skin: bool,
+    take_name: Option<&str>,
 ) -> Result<ExitCode, Error> {
-    let prepared = Prepared::new(format, skeleton, motion, mode, skin)?;
+    let take_name = take_name.map_or_else(|| stem_of(output), str::to_string);
+    let prepared = Prepared::new(format, skeleton, motion, mode, skin, &take_name)?;
     // `-o -`: standard output.
     let path = (!is_stdio(output)).then_some(output);
     let mut out = open_output(path)?;

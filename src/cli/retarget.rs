@@ -77,10 +77,10 @@ pub(crate) fn map_pairs(values: &[String]) -> Result<retarget::MapPairs, Error> 
 
 pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
     if let Some(output) = &args.output {
-        check_output(output, &["bvh", "glb", "gltf"])?;
+        check_output(output, &["bvh", "glb", "gltf", "fbx"])?;
     } else if !args.show_map {
         return Err(Error::usage(
-            "retarget: give -o OUT.bvh|.glb|.gltf, or --show-map to see the map only",
+            "retarget: give -o OUT.bvh|.glb|.gltf|.fbx, or --show-map to see the map only",
         ));
     }
     let loaded = load(&args.input, &args.source)?;
@@ -131,5 +131,13 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
         motion
     };
     let format = TakeFormat::of(output);
-    write_take(output, format, skeleton, motion, OffsetMode::Replace, false)
+    write_take(
+        output,
+        format,
+        skeleton,
+        motion,
+        OffsetMode::Replace,
+        false,
+        None,
+    )
 }
