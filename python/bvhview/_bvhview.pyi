@@ -218,7 +218,8 @@ class Motion:
         """A take from HumanML3D's 263-value vectors (frames x 263): `bvhview solve --from
         humanml3d`. skeleton: default "smpl22"."""
     def save(self, path: _PathLike) -> None:
-        """Writes BVH (.bvh) or glTF (.glb binary, .gltf text), as `bvhview convert` does."""
+        """Writes BVH (.bvh), glTF (.glb binary, .gltf text) or FBX (.fbx, 7.4 binary in
+        centimetres), as `bvhview convert` does."""
     def __len__(self) -> int: ...
 
 __version__: str

@@ -27,10 +27,11 @@ impl Motion {
 
 #[pymethods]
 impl Motion {
-    /// Writes the take as BVH (.bvh) or glTF (.glb binary, .gltf text), as `bvhview convert`
-    /// does: for BVH, ASF bone axes are baked into ZYX rotation channels and names with
-    /// whitespace or braces are written with `_`; glTF gets one node per joint and End Site and
-    /// the take's offset mode. The file takes its name only when complete.
+    /// Writes the take as BVH (.bvh), glTF (.glb binary, .gltf text) or FBX (.fbx), as
+    /// `bvhview convert` does: for BVH, ASF bone axes are baked into ZYX rotation channels and
+    /// names with whitespace or braces are written with `_`; glTF and FBX get one node per
+    /// joint and End Site and the take's offset mode. The file takes its name only when
+    /// complete.
     fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
         guard("save", || {
             let extension = path
@@ -38,17 +39,18 @@ impl Motion {
                 .map(|e| e.to_string_lossy().to_ascii_lowercase())
                 .unwrap_or_default();
             let container = match extension.as_str() {
-                "bvh" => None,
+                "bvh" | "fbx" => None,
                 "glb" => Some(bvhview::gltf::Container::Glb),
                 "gltf" => Some(bvhview::gltf::Container::Gltf),
                 _ => {
                     return Err(PyValueError::new_err(format!(
-                        "{}: save writes .bvh, .glb or .gltf files, not '{extension}'",
+                        "{}: save writes .bvh, .glb, .gltf or .fbx files, not '{extension}'",
                         path.display()
                     )));
                 }
             };
             py.detach(|| match container {
+                None if extension == "fbx" => self.write_fbx(&path),
                 None => self.write_bvh(&path),
                 Some(container) => self.write_gltf(&path, container),
             })

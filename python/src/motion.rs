@@ -560,6 +560,13 @@ impl Motion {
         out.commit()
     }
 
+    /// FBX 7.4 binary in centimetres, as `Take::save` writes it.
+    pub(crate) fn write_fbx(&self, path: &Path) -> Result<(), Error> {
+        let mut take = self.loaded.clone();
+        take.offset_mode = self.offset_mode;
+        take.save(path)
+    }
+
     pub(crate) fn write_gltf(
         &self,
         path: &Path,

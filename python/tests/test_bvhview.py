@@ -565,8 +565,8 @@ def test_save_bakes_asf_axes_and_keeps_the_positions(tmp_path):
     np.testing.assert_allclose(back.positions(), before, rtol=0, atol=1e-4 * height)
 
 
-@pytest.mark.parametrize("extension", ["glb", "gltf"])
-def test_save_writes_the_same_gltf_as_the_cli(cli, tmp_path, extension):
+@pytest.mark.parametrize("extension", ["glb", "gltf", "fbx"])
+def test_save_writes_the_same_gltf_and_fbx_as_the_cli(cli, tmp_path, extension):
     for path, motion in [(DATA / "bvh" / "opencollar_run.bvh", None), (ASF, AMC)]:
         ours = tmp_path / f"ours.{extension}"
         theirs = tmp_path / f"cli.{extension}"
@@ -576,13 +576,14 @@ def test_save_writes_the_same_gltf_as_the_cli(cli, tmp_path, extension):
             args += ["--motion", str(motion)]
         subprocess.run(args + ["-o", str(theirs)], check=True)
         assert ours.read_bytes() == theirs.read_bytes()
-        assert ours.read_bytes()[:4] == (b"glTF" if extension == "glb" else b'{"ac')
+        start = {"glb": b"glTF", "gltf": b'{"ac', "fbx": b"Kayd"}[extension]
+        assert ours.read_bytes()[:4] == start
 
 
 def test_save_refuses_an_unknown_extension(tmp_path):
     take = bvhview.load(DATA / "bvh" / "opencollar_run.bvh")
-    with pytest.raises(ValueError, match=r"save writes \.bvh, \.glb or \.gltf files, not 'fbx'"):
-        take.save(tmp_path / "x.fbx")
+    with pytest.raises(ValueError, match=r"save writes \.bvh, \.glb, \.gltf or \.fbx files, not 'obj'"):
+        take.save(tmp_path / "x.obj")
     assert list(tmp_path.iterdir()) == []
 
 

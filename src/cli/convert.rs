@@ -175,7 +175,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         ));
         return Ok(ExitCode::SUCCESS);
     }
-    let take_name = loaded.take_label();
+    let label = super::TakeLabel::of(&loaded);
     write_take(
         &args.output,
         format,
@@ -183,7 +183,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         loaded.motion,
         args.offset_mode.into(),
         args.skin,
-        Some(&take_name),
+        Some(label),
     )
 }
 
@@ -503,14 +503,14 @@ fn convert_one(
             .map(|w| w.spelled(&super::Flags))
             .collect();
         let loaded = edit(args, loaded)?;
-        let take_name = loaded.take_label();
+        let label = super::TakeLabel::of(&loaded);
         let prepared = Prepared::new(
             format,
             loaded.skeleton,
             loaded.motion,
             args.offset_mode.into(),
             args.skin,
-            &take_name,
+            &label,
         )?;
         let mut bytes = Vec::new();
         prepared

@@ -586,6 +586,31 @@ impl TakeFormat {
     }
 }
 
+/// What an FBX file says of the take beyond its joints: the take's name, and the units its
+/// file stated (an ASF's), which the FBX's units are worked out from.
+pub(crate) struct TakeLabel {
+    pub(crate) name: String,
+    pub(crate) stated_units: Option<crate::model::stance::Units>,
+}
+
+impl TakeLabel {
+    /// `take`'s name in its file (or its file's), and its stated units.
+    pub(crate) fn of(take: &Take) -> TakeLabel {
+        TakeLabel {
+            name: take.take_label(),
+            stated_units: take.stated_units,
+        }
+    }
+
+    /// A take made by a command, named after the file it goes to.
+    pub(crate) fn output(path: &Path) -> TakeLabel {
+        TakeLabel {
+            name: stem_of(path),
+            stated_units: None,
+        }
+    }
+}
+
 /// A take ready to be written in a format, everything that could refuse it done first, so that a
 /// take that cannot be written leaves no file: glTF and FBX encoded; BVH with its ASF axes baked
 /// into the rotation channels and checked (it is written as it streams out). One take, one
@@ -602,19 +627,19 @@ pub(crate) struct Prepared {
 
 impl Prepared {
     /// `mode` and `skin` are the glTF and FBX writers' (how position channels combine, whether
-    /// a skin is generated); `take_name` names the take inside an FBX file.
+    /// a skin is generated); `label` names the take inside an FBX file.
     pub(crate) fn new(
         format: TakeFormat,
         skeleton: crate::Skeleton,
         motion: crate::Motion,
         mode: OffsetMode,
         skin: bool,
-        take_name: &str,
+        label: &TakeLabel,
     ) -> Result<Prepared, Error> {
         let container = match format {
             TakeFormat::Glb => crate::gltf::Container::Glb,
             TakeFormat::Gltf => crate::gltf::Container::Gltf,
-            TakeFormat::Fbx => return Prepared::fbx(skeleton, motion, mode, take_name),
+            TakeFormat::Fbx => return Prepared::fbx(skeleton, motion, mode, label),
             TakeFormat::Bvh => {
                 // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
                 let (skeleton, motion) =
@@ -645,11 +670,12 @@ impl Prepared {
         skeleton: crate::Skeleton,
         motion: crate::Motion,
         mode: OffsetMode,
-        take_name: &str,
+        label: &TakeLabel,
     ) -> Result<Prepared, Error> {
-        let mut take = Take::new(skeleton, motion, take_name.to_string());
+        let mut take = Take::new(skeleton, motion, label.name.clone());
         take.offset_mode = mode;
-        take.take_name = Some(take_name.to_string());
+        take.take_name = Some(label.name.clone());
+        take.stated_units = label.stated_units;
         let written = take.fbx()?;
         Ok(Prepared {
             skeleton: take.skeleton,
@@ -666,9 +692,9 @@ impl Prepared {
         _: crate::Skeleton,
         _: crate::Motion,
         _: OffsetMode,
-        take_name: &str,
+        label: &TakeLabel,
     ) -> Result<Prepared, Error> {
-        Err(crate::io::absent::without("fbx", "FBX", take_name))
+        Err(crate::io::absent::without("fbx", "FBX", &label.name))
     }
 
     /// Writes the file.
@@ -733,7 +759,7 @@ fn stem_of(output: &Path) -> String {
 /// Writes a take to `output` in `format` (as a rule the output's, [`TakeFormat::of`]), whole or
 /// not at all, and says what was written: the one way a command that makes a take writes it.
 /// `mode` and `skin` are the glTF writer's (how position channels combine, whether a skin is
-/// generated); `take_name` names the take in an FBX file (else the output's name).
+/// generated); `label` names the take in an FBX file (else the output's name does).
 pub(crate) fn write_take(
     output: &Path,
     format: TakeFormat,
@@ -741,10 +767,10 @@ pub(crate) fn write_take(
     motion: crate::Motion,
     mode: OffsetMode,
     skin: bool,
-    take_name: Option<&str>,
+    label: Option<TakeLabel>,
 ) -> Result<ExitCode, Error> {
-    let take_name = take_name.map_or_else(|| stem_of(output), str::to_string);
-    let prepared = Prepared::new(format, skeleton, motion, mode, skin, &take_name)?;
+    let label = label.unwrap_or_else(|| TakeLabel::output(output));
+    let prepared = Prepared::new(format, skeleton, motion, mode, skin, &label)?;
     // `-o -`: standard output.
     let path = (!is_stdio(output)).then_some(output);
     let mut out = open_output(path)?;
