@@ -252,3 +252,17 @@ fn split_frames<'a>(
         })
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{RotationOrder, fbx_name, fbx_order};
+
+    #[test]
+    fn names_lose_only_control_characters_and_orders_read_backwards() {
+        assert_eq!(fbx_name("mixamorig:Hips"), "mixamorig:Hips");
+        assert_eq!(fbx_name("a\0\x01b\nc"), "a__b_c");
+        assert_eq!(fbx_order(RotationOrder::Zxy), 3);
+        assert_eq!(fbx_order(RotationOrder::Zyx), 0);
+        assert_eq!(fbx_order(RotationOrder::Xyz), 5);
+    }
+}

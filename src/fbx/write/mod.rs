@@ -86,21 +86,7 @@ pub fn to_bytes(
     }
     let scale = scale_between(settings.metres_per_unit, settings.out_metres_per_unit);
     let (bones, renamed) = bones::of(skeleton, motion, settings.offset_mode, scale)?;
-    let curves: usize = bones.iter().map(Bone::curve_count).sum();
-    let estimate = (curves as u64)
-        .saturating_mul(frames as u64)
-        .saturating_mul(12);
-    if estimate > MAX_FILE_BYTES {
-        return Err(Error::limit(
-            "bytes",
-            MAX_FILE_BYTES,
-            estimate,
-            format!(
-                "cannot write FBX: {curves} curves of {frames} keys make about {estimate} bytes, \
-                 more than an FBX file's 32-bit offsets reach ({MAX_FILE_BYTES})"
-            ),
-        ));
-    }
+    fits(bones.iter().map(Bone::curve_count).sum(), frames)?;
     // A rate FBX names is keyed at that rate exactly: `Frame Time: 0.0083333` is 1/120 written
     // with 7 digits, and an importer counts frames at 120 per second.
     let (_, rate) = time_mode(motion.frame_time);
@@ -116,15 +102,35 @@ pub fn to_bytes(
     })
 }
 
+/// Refuses, before a byte is written, a take whose `curves` curves of `frames` keys (a 64-bit
+/// time and a 32-bit value each) pass the 4 GiB an FBX 7.4 file's 32-bit offsets reach.
+fn fits(curves: usize, frames: usize) -> Result<(), Error> {
+    let estimate = (curves as u64)
+        .saturating_mul(frames as u64)
+        .saturating_mul(12);
+    if estimate > MAX_FILE_BYTES {
+        return Err(Error::limit(
+            "bytes",
+            MAX_FILE_BYTES,
+            estimate,
+            format!(
+                "cannot write FBX: {curves} curves of {frames} keys make about {estimate} bytes, \
+                 more than an FBX file's 32-bit offsets reach ({MAX_FILE_BYTES})"
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// Written units per unit of the take, exact for the usual pairs (centimetres to centimetres is
-/// 1, not 0.99999998): the ratio is rounded to 9 significant digits, more than a unit's name
-/// holds.
+/// 1, inches to centimetres 2.54, not 2.5399999): the ratio is rounded to 7 significant digits,
+/// what the take's 32-bit metres per unit hold.
 fn scale_between(metres_per_unit: f64, out_metres_per_unit: f64) -> f64 {
     let ratio = metres_per_unit / out_metres_per_unit;
     if !(ratio.is_finite() && ratio > 0.0) {
         return 1.0;
     }
-    let digits = 10f64.powi(8 - ratio.log10().floor() as i32);
+    let digits = 10f64.powi(6 - ratio.log10().floor() as i32);
     (ratio * digits).round() / digits
 }
 
@@ -464,7 +470,8 @@ fn time_mode(frame_time: f64) -> (i32, f64) {
 
 #[cfg(test)]
 mod tests {
-    use super::{key_time, scale_between, time_mode};
+    use super::{fits, key_time, scale_between, time_mode};
+    use crate::io::error::Error;
 
     #[test]
     fn units_rates_and_times_are_exact_where_they_can_be() {
@@ -476,5 +483,22 @@ mod tests {
         assert_eq!(time_mode(0.0083333), (1, 120.0));
         assert_eq!(time_mode(1.0 / 29.0).0, 14);
         assert_eq!(key_time(30, 1.0 / 30.0), 46_186_158_000);
+    }
+
+    /// 180 curves (60 joints rotated and moved) of 2 million keys pass 4 GiB; of 1 million not.
+    #[test]
+    fn a_take_past_the_32_bit_offsets_is_refused_before_writing() {
+        assert!(fits(180, 1_000_000).is_ok());
+        match fits(180, 2_000_000) {
+            Err(Error::Limit {
+                what, limit, found, ..
+            }) => {
+                assert_eq!(
+                    (what, limit, found),
+                    ("bytes", u64::from(u32::MAX), 4_320_000_000)
+                );
+            }
+            other => panic!("{other:?}"),
+        }
     }
 }
