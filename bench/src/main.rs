@@ -11,6 +11,10 @@
 //! `cargo run --release -p bvhview-bench -- --encoders`: GIF, APNG and MP4 (H.264) encoding of
 //! the same pictures, alone (the full run includes it).
 //!
+//! `cargo run --release -p bvhview-bench -- --writers FILE [--rounds N]`: the same take written
+//! as BVH, glTF (.glb) and FBX into memory on one thread, interleaved round-robin, median and
+//! fastest of each, in nanoseconds a frame-value (frames × channels).
+//!
 //! `cargo run --release -p bvhview-bench -- --skinning [CHARACTER]`: linear blend skinning of
 //! the committed characters, of capsule man ten times over (29,040 vertices in one place) and of
 //! CHARACTER (the 30,888-vertex `capsule_fine.glb` of `tests/blender/make_capsule_character.py
@@ -178,6 +182,20 @@ fn main() {
                 let extra: Vec<String> = args.by_ref().collect();
                 return skinning(7, extra.first().map(String::as_str));
             }
+            "--writers" => match args.next() {
+                Some(path) if !path.starts_with("--") => {
+                    let rounds = match (args.next().as_deref(), args.next()) {
+                        (Some("--rounds"), Some(n)) => n.parse().ok().filter(|&n| n > 0),
+                        (None, None) => Some(7),
+                        _ => None,
+                    };
+                    let rounds =
+                        rounds.unwrap_or_else(|| usage_error("--writers FILE [--rounds N]"));
+                    println!("cpu: {}", cpu_description());
+                    return compare_writers(&path, rounds);
+                }
+                _ => usage_error("--writers needs a take"),
+            },
             "--in-process" => match (args.next(), args.next()) {
                 (Some(what), Some(path)) => return in_process(&what, &path),
                 _ => usage_error("--in-process needs info|positions|dataset and a file"),
@@ -605,6 +623,71 @@ fn article_seconds(program: &str, path: &str) -> Duration {
     try_article(program, path).unwrap_or_else(|e| input_error(e))
 }
 
+/// BVH, glTF and FBX out of the take at `path`, into memory on one thread, each writer in turn
+/// in every round: each one's median and fastest in nanoseconds a frame-value, and FBX's pace
+/// against BVH's (above 1: FBX out is faster a value than BVH out).
+fn compare_writers(path: &str, rounds: usize) {
+    let take = bvhview::Take::open(path).unwrap_or_else(|e| input_error(e));
+    let values = (take.motion.frame_count() * take.motion.channels).max(1);
+    println!(
+        "take: {path} ({} joints, {} frames, {values} frame-values), one thread, {rounds} rounds",
+        take.skeleton.joints.len(),
+        take.motion.frame_count()
+    );
+    type Writer<'a> = (&'a str, Box<dyn Fn() -> usize + 'a>);
+    let writers: Vec<Writer> = vec![
+        (
+            "BVH",
+            Box::new(|| {
+                take.bvh_text()
+                    .map(|t| t.len())
+                    .unwrap_or_else(|e| input_error(e))
+            }),
+        ),
+        (
+            "glTF (.glb)",
+            Box::new(|| {
+                take.gltf(bvhview::gltf::Container::Glb)
+                    .map(|b| b.len())
+                    .unwrap_or_else(|e| input_error(e))
+            }),
+        ),
+        (
+            "FBX",
+            Box::new(|| {
+                take.fbx()
+                    .map(|w| w.bytes.len())
+                    .unwrap_or_else(|e| input_error(e))
+            }),
+        ),
+    ];
+    let mut times = vec![Vec::new(); writers.len()];
+    let mut sizes = vec![0; writers.len()];
+    for _ in 0..rounds {
+        for (k, (_, write)) in writers.iter().enumerate() {
+            let start = Instant::now();
+            sizes[k] = write();
+            times[k].push(start.elapsed());
+        }
+    }
+    let per_value = |d: Duration| d.as_secs_f64() * 1e9 / values as f64;
+    let mut medians = Vec::new();
+    for (k, (name, _)) in writers.iter().enumerate() {
+        let (median, fastest) = median_and_min(&mut times[k]);
+        medians.push(median);
+        println!(
+            "{name:12} median {:7.2} ns a value, fastest {:7.2} ({:.1} MB)",
+            per_value(median),
+            per_value(fastest),
+            sizes[k] as f64 / 1e6
+        );
+    }
+    println!(
+        "FBX's pace against BVH's (medians): {:.2}x",
+        medians[0].as_secs_f64() / medians[2].as_secs_f64()
+    );
+}
+
 /// The median and the fastest of some timings.
 fn median_and_min(times: &mut [Duration]) -> (Duration, Duration) {
     times.sort();
@@ -935,8 +1018,12 @@ fn in_process(what: &str, path: &str) {
         "info" => {
             // What the CLI prints: the load, then the summary (units, up axis, warnings).
             let loaded = bvhview::Take::open(file).expect("loads");
-            let summary =
-                bvhview::info::summary(path, &loaded, bvhview::model::pose::OffsetMode::Replace);
+            let summary = bvhview::info::summary(
+                path,
+                &loaded,
+                bvhview::model::pose::OffsetMode::Replace,
+                &bvhview::RustSpelling,
+            );
             std::hint::black_box(summary);
         }
         "positions" => {
