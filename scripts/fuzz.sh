@@ -3,7 +3,7 @@
 #   scripts/fuzz.sh TARGET [EXECUTIONS|SECONDSs] [WORKDIR]   (default 10000000, /tmp/bvhview-fuzz)
 # A limit ending in `s` (`600s`) is a time limit in seconds instead of a count of executions.
 # TARGET: the loaders bvh, asf, amc, fbx, gltf (whole small FBX/glTF/GLB files of tests/data as
-# seeds); the character readers fbx_character, gltf_character (skinned meshes); the writers write_bvh, write_gltf, write_positions; the dataset reader and merge,
+# seeds); the character readers fbx_character, gltf_character (skinned meshes); the writers write_bvh, write_gltf, write_fbx, write_positions; the dataset reader and merge,
 # dataset (its seeds: a small dataset's files behind the byte that picks which file they replace);
 # retarget map files, map (its seeds: a TOML and a JSON map between the two takes it retargets);
 # solve's positions readers and solve onto smpl22, solve (its seeds: the positions CSV and the
@@ -19,7 +19,7 @@
 # and is a crash (-m 4000, in MB).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-target=${1:?usage: scripts/fuzz.sh bvh|asf|amc|fbx|gltf|fbx_character|gltf_character|write_bvh|write_gltf|write_positions|dataset|map|solve [EXECUTIONS] [WORKDIR]}
+target=${1:?usage: scripts/fuzz.sh bvh|asf|amc|fbx|gltf|fbx_character|gltf_character|write_bvh|write_gltf|write_fbx|write_positions|dataset|map|solve [EXECUTIONS] [WORKDIR]}
 executions=${2:-10000000}
 case "$executions" in
     *s) limit=(-V "${executions%s}") ;;
@@ -56,7 +56,7 @@ case "$target" in
         [ -x "$cli" ] || { cli=target/debug/bvhview; cargo build --bin bvhview; }
         "$cli" convert -q tests/oracle/inputs/tiny_crlf.bvh --skin -o "$work/in/skin.glb"
         cp "$data"/characters/*.glb "$work/in/" ;;
-    write_bvh|write_gltf|write_positions)
+    write_bvh|write_gltf|write_fbx|write_positions)
         for f in tests/edge/*.bvh tests/oracle/inputs/*.bvh "$data"/bvh/*.bvh; do
             [ "$(stat -c %s "$f")" -le 4096 ] || continue
             for choice in 00 01 02 04 08 0b 41 83 c5 f1; do

@@ -25,6 +25,25 @@ pub(super) struct Bone {
 }
 
 impl Bone {
+    /// What is not finite in it (an OFFSET or a key past 32-bit floats, in written units), if
+    /// anything: `joint 'Hips', frame 3: a translation that is not finite`.
+    pub(super) fn not_finite(&self) -> Option<String> {
+        let name = crate::io::error::quoted(&self.name);
+        if !self.translation.iter().all(|v| v.is_finite()) {
+            return Some(format!("joint {name}: an OFFSET that is not finite"));
+        }
+        for (what, keys) in [("translation", &self.moves), ("rotation", &self.turns)] {
+            let frame = keys
+                .iter()
+                .flatten()
+                .position(|k| !k.iter().all(|v| v.is_finite()));
+            if let Some(frame) = frame {
+                return Some(format!("joint {name}, frame {frame}: a {what} that is not finite"));
+            }
+        }
+        None
+    }
+
     /// Curves this bone's motion takes: three per animated property.
     pub(super) fn curve_count(&self) -> usize {
         3 * self.animated_properties().count()

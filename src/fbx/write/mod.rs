@@ -86,6 +86,9 @@ pub fn to_bytes(
     }
     let scale = scale_between(settings.metres_per_unit, settings.out_metres_per_unit);
     let (bones, renamed) = bones::of(skeleton, motion, settings.offset_mode, scale)?;
+    if let Some(fault) = bones.iter().find_map(Bone::not_finite) {
+        return Err(Error::usage(format!("cannot write FBX: {fault}")));
+    }
     fits(bones.iter().map(Bone::curve_count).sum(), frames)?;
     // A rate FBX names is keyed at that rate exactly: `Frame Time: 0.0083333` is 1/120 written
     // with 7 digits, and an importer counts frames at 120 per second.
