@@ -30,11 +30,12 @@ mod floor;
 mod manifest;
 mod options;
 
-pub use clip::*;
+pub use clip::{About, Clip, Skipped, Source, Topology};
 use continuity::continuous_quaternions;
-pub use feet::*;
+pub use feet::guess_feet;
+use feet::{feet_of, named_feet};
 use floor::{contacts, ground};
-pub use options::*;
+pub use options::{FeatureSet, Options};
 
 /// Every take under `dir` in path order: BVH files and ASF/AMC pairs (an AMC without a skeleton
 /// and an ASF without motion are listed too, and skipped with a reason). A folder without any

@@ -12,7 +12,10 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 use super::manifest::Moments;
-pub use super::manifest::*;
+pub use super::manifest::{
+    ArrayEntry, ArrayStats, ClipEntry, FORMAT, Group, HEADER, Manifest, Settings, Takes,
+    list_digest,
+};
 
 /// The arrays of a group, in the order the manifest lists them: name, element type, and the
 /// shape of one frame.

@@ -58,8 +58,8 @@
 mod features;
 mod recover;
 
-pub use features::*;
-pub use recover::*;
+pub use features::{Features, features, joint_order, spread_by_part};
+pub use recover::{read_vectors, recover_from_ric};
 
 /// Values in one HumanML3D feature vector (22 joints).
 pub const WIDTH: usize = 263;

@@ -20,7 +20,10 @@ pub mod input;
 mod reach;
 
 use horn::best_rotation;
-pub use input::*;
+pub use input::{
+    MAX_NPY_HEADER_BYTES, MAX_NPY_HEADER_NESTING, joint_names, read_csv, read_npy, read_npy_file,
+    read_npy_rows, read_positions,
+};
 use reach::{hinge_twist, out_of_reach_deep, reach_twist, twist_axis, twist_search};
 
 use crate::io::error::{Error, quoted};

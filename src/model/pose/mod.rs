@@ -24,9 +24,12 @@ mod lanes;
 mod mode;
 mod rotations;
 
-pub use lanes::*;
+pub use lanes::{FkPlan, FkScratch, LANES, positions_all_frames, sin_cos_batch, sin_cos_degrees};
 pub use mode::OffsetMode;
-pub use rotations::*;
+pub use rotations::{
+    RotationKind, rotation_numbers_problem, rotation_of_numbers, write_local_rotations, write_quat,
+    write_rotation,
+};
 
 /// Which world axis points up in a file: BVH's usual Y, or Z as some exporters write.
 ///

@@ -10,7 +10,7 @@ use crate::render::fixed::{
 
 mod verdict;
 
-pub use verdict::*;
+pub use verdict::{gl_stack_line, verdict_line};
 
 /// How numbers are written.
 ///
