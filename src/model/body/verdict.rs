@@ -3,7 +3,7 @@
 //! that does not stand on two legs).
 
 use super::{Body, LIMBS, Limb, Role, Side};
-use crate::model::body::fingers::FINGERS;
+use crate::model::body::names::FINGERS;
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, world_transforms_f64};
 use crate::model::skeleton::Skeleton;
