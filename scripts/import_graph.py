@@ -4,15 +4,17 @@ uses which, and any circle in it. Prints one line per module with what it uses, 
 circles; exits 1 if there is one. A module is a file (src/bvh/rows/scan.rs is bvh::rows::scan);
 mod.rs and lib.rs are their folder's module, `crate` the root. Every path counts: a `use` in
 any form (`use super::{A, b::C};`, `use crate::x::{self, Y as Z}`, nested braces, spread over
-lines, `pub use child::Item`, a glob), a path written in the code (`crate::x::f()`,
-`super::super::T`, `child::f()` in the module that declares `child`). A path counts as a use of
-the longest module it names: `crate::Error` uses the root, `super::Item` the parent. So a child
-that names its parent's (or an ancestor's) own items, or what the parent re-exports, uses it
-like any other module, and a mod.rs and a file below it that use each other are a circle. Test
-code says nothing: an item under `#[cfg(test)]` (a `mod tests { … }`, a test-only `fn`, a
-`#[cfg(test)] mod name;` and its file) is left out, and so are comments and strings. A
-visibility such as `pub(in crate::retarget)` names no use. The command line (src/cli/,
-src/main.rs) is left out. Usage: scripts/import_graph.py [--quiet]"""
+lines, `pub use child::Item`, a glob), and a path written in the code (`crate::x::f()`,
+`super::super::T`, `child::f()` in the module that declares `child`), in inline modules too.
+A path counts as a use of the longest module it names: `super::Item` uses the parent, even
+when the parent only re-exports Item. So a child that names what its mod.rs holds or
+re-exports uses the mod.rs like any other module, and a mod.rs and a file below it that use
+each other are a circle. The one exception is the crate root's re-exports, the library's
+public names: `crate::Error` is a use of where `Error` is defined (the root's own items count
+like any other). Test code says nothing: an item under `#[cfg(test)]` (a `mod tests { … }`, a
+test-only `fn`, a `#[cfg(test)] mod name;` and its file) is left out, and so are comments and
+strings. A visibility such as `pub(in crate::retarget)` names no use. The command line
+(src/cli/, src/main.rs) is left out. Usage: scripts/import_graph.py [--quiet]"""
 import re
 import sys
 from pathlib import Path
@@ -186,14 +188,14 @@ def crate_graph(src: Path, leave_out: set[str]) -> dict[str, list[str]]:
         return module.split("::") if module != "crate" else []
 
     def home(absolute: list[str], depth: int = 0) -> str:
-        """The module that the absolute path names, or that holds the item it names. An item a
-        module only imports (`pub use child::Item`) is at home where it is defined."""
+        """The module that the absolute path names, or that holds the item it names. An item the
+        crate root only re-exports (`pub use io::error::Error`) is at home where it is defined."""
         n = len(absolute)
         while n and "::".join(absolute[:n]) not in modules:
             n -= 1
         module = "::".join(absolute[:n]) or "crate"
         rest = absolute[n:]
-        if rest and depth < 20 and rest[0] in imports[module] and rest[0] not in defined[module]:
+        if module == "crate" and rest and depth < 20 and rest[0] in imports[module] and rest[0] not in defined[module]:
             return home(imports[module][rest[0]] + rest[1:], depth + 1)
         return module
 
