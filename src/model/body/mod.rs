@@ -18,7 +18,6 @@ pub mod verdict;
 
 pub(crate) use legs::count_word;
 pub use names::FINGERS;
-use names::{LIMBS, NOT_PARTS, Word, tokens, word_of};
 pub use names::{Limb, Role};
 pub use roles::Body;
 pub(crate) use roles::{is_ancestor, path_between};
