@@ -3,9 +3,11 @@
 //! through the checked reader ([`super::read`]) and written by the dataset writer
 //! ([`super::store::Writer`]).
 
+use super::clip::Clip;
+use super::options::FeatureSet;
 use super::read::open;
 use super::store::{Manifest, Takes, Writer, list_digest};
-use super::{Clip, FeatureSet, Summary};
+use super::summary::Summary;
 use crate::io::error::Error;
 use std::path::{Path, PathBuf};
 

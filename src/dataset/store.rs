@@ -3,7 +3,9 @@
 //! `offsets.npy`, where each clip starts. The folder is filled under a temporary name beside
 //! `out` and renamed at the end, so a dataset is there whole or not at all.
 
-use super::{Clip, FeatureSet, Options, Skipped, Summary, Topology};
+use super::clip::{Clip, Skipped, Topology};
+use super::options::{FeatureSet, Options};
+use super::summary::Summary;
 use crate::io::error::Error;
 use crate::model::pose::RotationKind;
 use std::collections::HashMap;
