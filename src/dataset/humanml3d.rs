@@ -4,9 +4,9 @@
 //! such datasets merged (the pieces of a cluster's compile, or folders).
 
 use super::clip::Clip;
-use super::merge::Join;
+use super::folder::{check_settings, open_in, open_manifest};
+use super::join::Join;
 use super::options::FeatureSet;
-use super::read::{check_settings, open_in, open_manifest};
 use super::store::{HEADER, HUMANML3D_FOLDERS, Manifest, Takes, Writer, npy_header};
 use super::summary::Summary;
 use crate::humanml3d::{Features, JOINTS, WIDTH};

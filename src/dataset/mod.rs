@@ -27,6 +27,8 @@ mod clip;
 mod continuity;
 mod feet;
 mod floor;
+mod folder;
+mod join;
 mod manifest;
 mod options;
 mod steps;
