@@ -35,6 +35,7 @@ pub mod timeline;
 pub mod trace;
 #[cfg(feature = "video")]
 pub mod video;
+mod video_size;
 #[cfg(feature = "window")]
 pub(crate) mod window;
 
