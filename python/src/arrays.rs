@@ -1,7 +1,14 @@
 //! A take's numbers as numpy arrays: frames chosen, world positions and matrices, local
 //! rotations, computed on the crate's FK and shared among the cores.
 
-use crate::*;
+use crate::loaded::Motion;
+use bvhview::Error;
+use bvhview::model::pose::{self, FkPlan, FkScratch, LANES};
+use glam::{Mat4, Vec3};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use pyo3::types::PySlice;
+use std::sync::{Mutex, PoisonError};
 
 /// Joint transforms computed per piece of work (some 50 µs of it): small enough to share a
 /// take of a thousand frames among the cores, large enough that taking a piece and waking a

@@ -1,8 +1,17 @@
 //! The `Character` class: a skinned mesh read from an FBX or glTF file with its skeleton
 //! (`bvhview::character::Character`), takes put on it, and its skinned vertices as numpy arrays.
 
-use crate::*;
+use crate::common::{guard, to_python};
+use crate::loaded::Item;
+use crate::loaded::Motion;
+use crate::loading::TakeChoice;
 use bvhview::character::Character as Inner;
+use bvhview::model::pose::OffsetMode;
+use bvhview::take::{self, Take};
+use numpy::{IntoPyArray, PyArray2, PyArrayMethods};
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use std::path::PathBuf;
 use std::sync::Arc;
 
 /// A character: a skinned mesh and the skeleton it is bound to, read from an FBX or glTF file.

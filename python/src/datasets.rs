@@ -1,9 +1,19 @@
 //! Datasets: the folder of takes compiled (`bvhview::dataset`), read back through the crate's
 //! hardened reader (`dataset::read`), and arrays in a dataset's layout turned back into a take.
 
-use crate::*;
+use crate::common::{guard, to_python};
+use crate::loaded::Item;
+use crate::loaded::Motion;
+use bvhview::Error;
 use bvhview::dataset::{read, rebuild};
+use bvhview::model::pose::{self, OffsetMode};
+use bvhview::take::Take;
+use numpy::PyUntypedArrayMethods;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
 use std::os::fd::IntoRawFd;
+use std::path::{Path, PathBuf};
+use std::sync::{Mutex, PoisonError};
 
 /// One array of a checked dataset, as Python maps it: (name, file descriptor, dtype, shape). The
 /// descriptor is the one the check read through: Python maps it and closes it.
@@ -288,9 +298,7 @@ pub(crate) fn _compile_dataset(
         let result = py.detach(|| {
             let (items, list) = match (&takes, piece) {
                 (Some(_), Some(_)) => {
-                    return Err(Error::usage(
-                        "takes= and piece= cannot be given together",
-                    ));
+                    return Err(Error::usage("takes= and piece= cannot be given together"));
                 }
                 (Some(pairs), None) => {
                     let items = bvhview::dataset::items_in(&folder, pairs);

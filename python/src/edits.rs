@@ -2,7 +2,14 @@
 //! wrapped as a `Motion`), and `Motion.from_arrays` (a take built from arrays on a template's
 //! skeleton).
 
-use crate::*;
+use crate::common::{guard, to_python};
+use crate::loaded::Item;
+use crate::loaded::Motion;
+use bvhview::model::pose::{self, OffsetMode};
+use numpy::PyUntypedArrayMethods;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use std::path::PathBuf;
 
 impl Motion {
     /// A new take from this one's edit: the same path, offset mode and loader warnings;

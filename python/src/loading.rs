@@ -1,14 +1,16 @@
 //! Loading takes into `Motion`s: what to load (a file, or an ASF with its AMC), which take of a
 //! file that holds several, and `load` / `load_many`.
 
-use crate::*;
-
-/// One thing to load: a BVH file, or an ASF skeleton with an optional AMC motion.
-#[derive(Clone, Debug)]
-pub(crate) struct Item {
-    pub(crate) path: PathBuf,
-    pub(crate) motion: Option<PathBuf>,
-}
+use crate::common::{guard, parse_offset_mode, planted_pause_without_the_gil, to_python};
+use crate::datasets::warn_skipped;
+use crate::loaded::{Item, Motion};
+use bvhview::Error;
+use bvhview::take::{self, Take};
+use pyo3::exceptions::{PyOSError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::PyTuple;
+use std::io;
+use std::path::PathBuf;
 
 /// Loads one item with the crate's checks, on `threads` threads. A folder is refused as the OS
 /// refuses to read one, so that Python sees an `IsADirectoryError`.

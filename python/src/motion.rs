@@ -2,21 +2,21 @@
 //! gives, each a thin layer over `arrays` and the crate. The methods that make a new take live
 //! in `edits` (and `retarget`), in `#[pymethods]` blocks of their own.
 
-use crate::*;
-
-/// A loaded take: the skeleton, the MOTION values, and forward kinematics on them.
-///
-/// Frozen: nothing changes after loading, so `values` can be a view of the loaded data (no
-/// copy) and computations can read it without the GIL.
-#[pyclass(frozen, module = "bvhview", name = "Motion")]
-pub(crate) struct Motion {
-    pub(crate) loaded: Take,
-    pub(crate) item: Item,
-    pub(crate) offset_mode: OffsetMode,
-    /// What the retarget that made this take measured it against its source; edits and
-    /// pickling drop it (what was measured is then not this take).
-    pub(crate) check: Option<bvhview::retarget::Check>,
-}
+use crate::arrays::row_major;
+use crate::common::{Keywords, guard, offset_mode_name, to_python};
+use crate::loaded::Motion;
+use crate::pickle::State;
+use bvhview::Error;
+use bvhview::model::pose::{self};
+use bvhview::plumbing::AtomicFile;
+use glam::{Mat4, Vec3};
+use numpy::ndarray::ArrayView2;
+use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
+use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::IntoPyDict;
+use std::io::Write;
+use std::path::Path;
 
 #[pymethods]
 impl Motion {

@@ -1,6 +1,13 @@
 //! Pickling: a take travels whole (skeleton and values), for multiprocessing, Dask and Ray.
 
-use crate::*;
+use crate::common::{Keywords, guard, offset_mode_name, parse_offset_mode};
+use crate::loaded::Item;
+use crate::loaded::Motion;
+use bvhview::take::{self, Take};
+use glam::Vec3;
+use pyo3::exceptions::PyValueError;
+use pyo3::prelude::*;
+use std::path::{Path, PathBuf};
 
 /// A joint as pickled: name, parent (-1 for a root), OFFSET, channel names, End Site or not,
 /// its fixed axis (an ASF bone's, as x, y, z, w) if any.

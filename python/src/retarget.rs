@@ -1,7 +1,8 @@
 //! `Motion.retarget`: the take's motion on another skeleton (see the crate's `retarget`), and
 //! takes solved from joint positions (`Motion.from_positions`, `Motion.from_humanml3d`).
 
-use crate::{Motion, guard, to_python};
+use crate::common::{guard, to_python};
+use crate::loaded::Motion;
 use bvhview::retarget::{Map, MapPairs, Target};
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -253,7 +254,7 @@ pub(crate) fn from_positions(
     let name = format!("positions on {}", target.name);
     Ok(Motion {
         loaded: bvhview::Take::new(target.skeleton, motion, name.clone()),
-        item: crate::loading::Item {
+        item: crate::loaded::Item {
             path: PathBuf::from(name),
             motion: None,
         },
@@ -303,7 +304,7 @@ pub(crate) fn humanml3d_features<'py>(
     py: Python<'py>,
     positions: numpy::PyArrayLike3<'py, f64, numpy::AllowTypeChange>,
 ) -> PyResult<VectorsAndJoints<'py>> {
-    crate::guard("humanml3d_features", || {
+    guard("humanml3d_features", || {
         let array = positions.as_array();
         let shape = array.shape().to_vec();
         if shape[1] != bvhview::humanml3d::JOINTS || shape[2] != 3 {

@@ -1,7 +1,8 @@
 //! When each foot touches the floor (the reading of the body's contacts), and a clip put on the
 //! floor (`--ground`).
 
-use super::{Options, Topology};
+use super::clip::Topology;
+use super::options::Options;
 use crate::model::body::contact::Planting;
 use glam::DVec3;
 use glam::Vec3;

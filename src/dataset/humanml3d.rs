@@ -3,9 +3,12 @@
 //! folder without following links, their headers and sizes those of the manifest's clip. And
 //! such datasets merged (the pieces of a cluster's compile, or folders).
 
-use super::read::{check_settings, open_in, open_manifest};
+use super::clip::Clip;
+use super::folder::{check_settings, open_in, open_manifest};
+use super::join::Join;
+use super::options::FeatureSet;
 use super::store::{HEADER, HUMANML3D_FOLDERS, Manifest, Takes, Writer, npy_header};
-use super::{Clip, FeatureSet, Summary, merge::Join};
+use super::summary::Summary;
 use crate::humanml3d::{Features, JOINTS, WIDTH};
 use crate::io::error::Error;
 use crate::io::message::Message;

@@ -1,7 +1,8 @@
 //! `manifest.json`: what a dataset holds and how it was made (the options, the takes' list,
 //! each group's arrays and statistics, each clip's place), and the statistics' running sums.
 
-use super::{About, FeatureSet, Options, Skipped, Topology};
+use super::clip::{About, Skipped, Source, Topology};
+use super::options::{FeatureSet, Options};
 use crate::io::error::Error;
 use crate::model::pose::RotationKind;
 
@@ -70,7 +71,7 @@ pub struct Takes {
 /// A name for a list of takes (their paths relative to the folder, in order): 64-bit FNV-1a of
 /// the paths, each ended by a 0 byte, in hex. It tells pieces of one compile from pieces of
 /// another; it is not a guard against anyone forging it.
-pub fn list_digest(sources: &[super::Source]) -> String {
+pub fn list_digest(sources: &[Source]) -> String {
     let mut hash: u64 = 0xcbf2_9ce4_8422_2325;
     for source in sources {
         let motion = source.motion.as_deref().unwrap_or("");

@@ -3,9 +3,13 @@
 //! through the checked reader ([`super::read`]) and written by the dataset writer
 //! ([`super::store::Writer`]).
 
+use super::clip::Clip;
+use super::folder::open_manifest;
+pub use super::join::Join;
+use super::options::FeatureSet;
 use super::read::open;
 use super::store::{Manifest, Takes, Writer, list_digest};
-use super::{Clip, FeatureSet, Summary};
+use super::summary::Summary;
 use crate::io::error::Error;
 use std::path::{Path, PathBuf};
 
@@ -16,37 +20,6 @@ fn floats(bytes: &[u8]) -> Vec<f32> {
         .collect()
 }
 
-/// How [`merge`] joins its pieces.
-///
-/// ```
-/// # fn main() -> Result<(), bvhview::Error> {
-/// # use bvhview::dataset::{self, Options};
-/// # let folder = tempfile::tempdir().unwrap();
-/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
-/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
-/// # let (takes, out) = (dataset::takes(folder.path())?, folder.path().join("dataset"));
-/// # let list = dataset::whole_list(folder.path(), &takes);
-/// # dataset::compile(folder.path(), takes, &Options::default(), 1, &out, list, |_, _, _, _| true)?;
-/// use bvhview::dataset::merge::{Join, merge};
-///
-/// // `out` is a dataset of one clip (the walk, 86 frames at 30 fps); join it to itself.
-/// let twice = folder.path().join("twice");
-/// let summary = merge(&[out.clone(), out], &twice, Join::Folders)?;
-/// assert_eq!((summary.clips, summary.frames, summary.groups), (2, 172, 1));
-/// # Ok(())
-/// # }
-/// ```
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Join {
-    /// Pieces of one compile: every take of its list once, the pieces given in order, no gap.
-    /// The result is byte for byte the dataset one compile would have written.
-    #[default]
-    Pieces,
-    /// Datasets of any folders made with the same options: clips one after the other, grouped
-    /// by skeleton topology.
-    Folders,
-}
-
 /// Merges datasets into `out`. With [`Join::Pieces`], they are pieces of one compile
 /// (consecutive runs of one folder's takes in path order); with [`Join::Folders`], any datasets
 /// made with the same options.
@@ -54,7 +27,7 @@ pub fn merge(pieces: &[PathBuf], out: &Path, join: Join) -> Result<Summary, Erro
     let Some(first) = pieces.first() else {
         return Err(Error::usage("nothing to merge: no datasets given"));
     };
-    let (_, manifest) = super::read::open_manifest(first)?;
+    let (_, manifest) = open_manifest(first)?;
     if manifest.options.features == FeatureSet::HumanMl3d.name() {
         return super::humanml3d::merge(pieces, out, join, |manifests| {
             takes_of(pieces, manifests, join)

@@ -27,14 +27,22 @@ mod clip;
 mod continuity;
 mod feet;
 mod floor;
+mod folder;
+mod join;
 mod manifest;
 mod options;
+mod steps;
+mod summary;
 
-pub use clip::*;
+pub use clip::{About, Clip, Skipped, Source, Topology};
 use continuity::continuous_quaternions;
-pub use feet::*;
+use feet::feet_of;
+pub use feet::guess_feet;
 use floor::{contacts, ground};
-pub use options::*;
+pub use options::{FeatureSet, Options};
+pub use steps::Stages;
+use steps::{Posed, Prepared, topology_of};
+pub use summary::Summary;
 
 /// Every take under `dir` in path order: BVH files and ASF/AMC pairs (an AMC without a skeleton
 /// and an ASF without motion are listed too, and skipped with a reason). A folder without any
@@ -55,55 +63,6 @@ pub fn walk(dir: &Path) -> Result<crate::info::batch::Walk, Error> {
 /// by step as `convert` does, within float rounding (a test holds them together).
 pub fn compile_take(dir: &Path, item: &Item, options: &Options) -> Result<Clip, Error> {
     compile_take_timed(dir, item, options).map(|(clip, _)| clip)
-}
-
-/// How long each stage of [`compile_take`] took, for the benchmark's shares.
-///
-/// ```
-/// use bvhview::dataset::{self, Options, Stages};
-///
-/// # fn main() -> Result<(), bvhview::Error> {
-/// # let folder = tempfile::tempdir().unwrap();
-/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
-/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
-/// // `folder` holds walk.bvh, a copy of tests/data/bvh/bvhparser_walk_01.bvh.
-/// let takes = dataset::takes(folder.path())?;
-/// let options = Options::default();
-/// let (clip, stages) = dataset::compile_take_timed(folder.path(), &takes[0], &options)?;
-/// assert_eq!(clip.frames, 86);
-/// let mut total = Stages::default();
-/// total.add(&stages);
-/// total.add(&stages);
-/// assert_eq!(total.fk, stages.fk * 2);
-/// # Ok(())
-/// # }
-/// ```
-#[derive(Clone, Copy, Debug, Default)]
-pub struct Stages {
-    /// Reading and parsing the file (and retargeting it, with `onto`).
-    pub load: std::time::Duration,
-    /// The kept frames' channels to quaternions and translations.
-    pub rotations: std::time::Duration,
-    /// Interpolating, scaling and turning them to the dataset's rate, metres and Y up.
-    pub resample: std::time::Duration,
-    /// World positions from them.
-    pub fk: std::time::Duration,
-    /// The rotations as the kind asked for, and the translations.
-    pub kinds: std::time::Duration,
-    /// Root path, velocities, foot contacts, root-relative positions.
-    pub derived: std::time::Duration,
-}
-
-impl Stages {
-    /// Another take's stages added to these.
-    pub fn add(&mut self, other: &Stages) {
-        self.load += other.load;
-        self.rotations += other.rotations;
-        self.resample += other.resample;
-        self.fk += other.fk;
-        self.kinds += other.kinds;
-        self.derived += other.derived;
-    }
 }
 
 /// [`compile_take`], and how long each of its stages took.
@@ -130,33 +89,6 @@ pub fn compile_take_plain(dir: &Path, item: &Item, options: &Options) -> Result<
     let take = prepare(item, options, false)?;
     let posed = posed_plain(&take, &item.path, options)?;
     with_humanml3d(item, options, finish(dir, item, options, take, posed))
-}
-
-/// A take loaded and checked for compiling, with the offset mode it is read in and how it
-/// stands.
-pub(crate) struct Prepared {
-    loaded: crate::take::Take,
-    mode: OffsetMode,
-    stance: crate::model::stance::Stance,
-    /// What `--onto` could not carry (the manifest's warnings).
-    uncarried: Vec<String>,
-    /// With `--onto`: the output measured against its source.
-    check: Option<crate::retarget::Check>,
-    /// The source's frame time and frames, as the file gives them.
-    source: (f64, usize),
-}
-
-/// What a take's frames become: the group's skeleton (metres, Y up, bone axes baked) and, at
-/// the dataset's rate, every point's world position and the rotated and translated joints'
-/// local rotations and translations.
-pub(crate) struct Posed {
-    skeleton: crate::Skeleton,
-    topology: Topology,
-    names: Vec<String>,
-    frames: usize,
-    world: Vec<Vec3>,
-    rotations: Vec<f32>,
-    translations: Vec<f32>,
 }
 
 /// Loads `item` and checks that it can be compiled; retargets it when `options.onto` says so.
@@ -310,24 +242,6 @@ fn put_onto(
         ..loaded
     };
     Ok((take, uncarried, put.check))
-}
-
-/// The group's topology for `skeleton` (the feet named in `options`, or guessed) and the names
-/// its points are exported by.
-fn topology_of(
-    path: &Path,
-    skeleton: &crate::Skeleton,
-    options: &Options,
-    mode: OffsetMode,
-) -> Result<(Topology, Vec<String>), Error> {
-    let names: Vec<String> = (0..skeleton.joints.len())
-        .map(|i| crate::model::skeleton::export_name(skeleton, i))
-        .collect();
-    let feet = match &options.feet {
-        Some(wanted) => named_feet(path, &names, wanted)?,
-        None => feet_of(skeleton, mode).0,
-    };
-    Ok((Topology::of(skeleton, feet), names))
 }
 
 /// The plain posing of [`compile_take_plain`].
@@ -590,39 +504,6 @@ impl Derived {
         }
         derived
     }
-}
-
-/// How a compile went: clips written, takes skipped.
-///
-/// ```
-/// use bvhview::dataset::{self, Options};
-///
-/// # fn main() -> Result<(), bvhview::Error> {
-/// # let folder = tempfile::tempdir().unwrap();
-/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
-/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
-/// // `folder` holds walk.bvh, a copy of tests/data/bvh/bvhparser_walk_01.bvh.
-/// # std::fs::write(folder.path().join("broken.bvh"), "HIERARCHY\nROOT Hips\n").unwrap();
-/// // and broken.bvh, whose hierarchy stops after its root's name.
-/// let (takes, out) = (dataset::takes(folder.path())?, folder.path().join("dataset"));
-/// let list = dataset::whole_list(folder.path(), &takes);
-/// let (dir, options) = (folder.path(), Options::default());
-/// let summary = dataset::compile(dir, takes, &options, 1, &out, list, |_, _, _, _| true)?;
-/// assert_eq!((summary.clips, summary.frames, summary.groups), (1, 86, 1));
-/// assert_eq!(summary.skipped.len(), 1);
-/// # Ok(())
-/// # }
-/// ```
-#[derive(Debug, Default)]
-pub struct Summary {
-    /// Clips written.
-    pub clips: usize,
-    /// Frames in all the clips written, at the dataset's rate.
-    pub frames: usize,
-    /// Groups written: one per topology.
-    pub groups: usize,
-    /// The takes that failed, in list order, with why.
-    pub skipped: Vec<Skipped>,
 }
 
 /// Compiles `items` (found under `dir`, whose relative paths the manifest gives) on `threads`

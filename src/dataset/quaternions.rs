@@ -4,7 +4,9 @@
 //! kind are made from them. No Euler angles on the way, and frames the dataset does not keep
 //! are never touched. [`super::compile_take_plain`] makes the same clip step by step.
 
-use super::{FeatureSet, Options, Posed, Prepared, Stages, Topology, topology_of};
+use super::clip::Topology;
+use super::options::{FeatureSet, Options};
+use super::steps::{Posed, Prepared, Stages, topology_of};
 use crate::edit::{Picks, QuarterTurn, resample_picks};
 use crate::io::error::Error;
 use crate::model::motion::Motion;

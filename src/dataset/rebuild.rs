@@ -1,7 +1,7 @@
 //! The way back: arrays in a dataset's layout (a clip, or a model's output shaped like one)
 //! turned into a take on the group's skeleton, to save as BVH or glTF.
 
-use super::Topology;
+use super::clip::Topology;
 use crate::io::error::Error;
 use crate::model::pose::RotationKind;
 use crate::{Motion, Skeleton};

@@ -3,7 +3,9 @@
 //! `offsets.npy`, where each clip starts. The folder is filled under a temporary name beside
 //! `out` and renamed at the end, so a dataset is there whole or not at all.
 
-use super::{Clip, FeatureSet, Options, Skipped, Summary, Topology};
+use super::clip::{Clip, Skipped, Topology};
+use super::options::{FeatureSet, Options};
+use super::summary::Summary;
 use crate::io::error::Error;
 use crate::model::pose::RotationKind;
 use std::collections::HashMap;
@@ -12,7 +14,10 @@ use std::io::{self, Write};
 use std::path::{Path, PathBuf};
 
 use super::manifest::Moments;
-pub use super::manifest::*;
+pub use super::manifest::{
+    ArrayEntry, ArrayStats, ClipEntry, FORMAT, Group, HEADER, Manifest, Settings, Takes,
+    list_digest,
+};
 
 /// The arrays of a group, in the order the manifest lists them: name, element type, and the
 /// shape of one frame.

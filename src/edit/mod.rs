@@ -13,11 +13,11 @@ mod smooth;
 #[cfg(test)]
 mod testing;
 
-pub use angles::*;
-pub use finite::*;
-pub use lock_feet::*;
-pub use mirror::*;
-pub use orient::*;
-pub use resample::*;
-pub use scale::*;
-pub use smooth::*;
+pub use angles::{bake_axes, baked_for_bvh, channel_angles};
+pub use finite::{finite, first_non_finite};
+pub use lock_feet::{FeetLocked, FootLocked, LockFeet, NotHeld, lock_feet, lock_feet_when};
+pub use mirror::{MirrorOptions, lateral_axis, mirror, mirror_partners};
+pub use orient::{QuarterTurn, ground, in_place, reorient};
+pub use resample::{Picks, Resampling, SAME_RATE, resample, resample_picks};
+pub use scale::{scale, trim};
+pub use smooth::{smooth, zero_phase};

@@ -4,7 +4,7 @@
 //! `geometry_to_bone` bind matrices and every weight (any number a vertex). A mesh without a
 //! skin moves rigidly with the joint at or above its node, or stays where it stands.
 
-use super::read::matrix;
+use super::matrix::matrix;
 use crate::io::error::Error;
 use crate::model::mesh::{Bone, Mesh, MeshBuilder};
 use glam::{DMat4, Vec3};

@@ -3,6 +3,8 @@
 //! feature, the same three entry points refuse every file with what to do.
 
 #[cfg(feature = "fbx")]
+mod matrix;
+#[cfg(feature = "fbx")]
 mod mesh;
 #[cfg(feature = "fbx")]
 pub mod read;

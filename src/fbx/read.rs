@@ -37,13 +37,14 @@
 //! through `model::baked`, which folds pre/post rotations, rest orientations
 //! and scale into BVH channels that give the same world positions.
 
+use super::matrix::matrix;
 use super::records::BINARY_MAGIC;
 use crate::io::error::Error;
 use crate::io::message::Message;
 use crate::model::baked::{self, Node, Pose};
 use crate::model::reading::{Read, TakeInfo, choose_take, pick_take};
 use crate::take::options::OpenOptions;
-use glam::{DMat4, DVec4};
+use glam::DMat4;
 use std::path::Path;
 
 fn allocator(bytes: usize) -> ufbx::AllocatorOpts {
@@ -252,15 +253,6 @@ pub fn takes_of_bytes(bytes: &[u8], name: &str) -> Result<Vec<TakeInfo>, Error> 
             })
         })
         .collect()
-}
-
-pub(super) fn matrix(m: &ufbx::Matrix) -> DMat4 {
-    DMat4::from_cols(
-        DVec4::new(m.m00, m.m10, m.m20, 0.0),
-        DVec4::new(m.m01, m.m11, m.m21, 0.0),
-        DVec4::new(m.m02, m.m12, m.m22, 0.0),
-        DVec4::new(m.m03, m.m13, m.m23, 1.0),
-    )
 }
 
 fn is_helper(node: &ufbx::Node) -> bool {

@@ -1,10 +1,11 @@
 //! Joint positions to HumanML3D's feature vectors, as its `process_file` makes them: the
 //! steps and quirks are in the docs of the module above ([`super`]).
 
-use super::{
+use super::layout::{
     CHAINS, CONTACT_THRESHOLD, FACING_JOINTS, FOOT_POINTS, JOINTS, PARENTS, PARTS,
-    REFERENCE_LENGTHS, REST_DIRECTIONS, WIDTH, recover_from_ric,
+    REFERENCE_LENGTHS, REST_DIRECTIONS, WIDTH,
 };
+use super::recover::recover_from_ric;
 use crate::io::error::Error;
 use crate::solve::SMPL22_ORDER;
 use glam::{DMat3, DQuat, DVec3};

@@ -13,7 +13,7 @@
 //! about y is `2a` (its quirk: the angle comes from the quaternion's `y` part by `arcsin`, so
 //! it is half the turn), and that is what is undone here.
 
-use super::{JOINTS, WIDTH};
+use super::layout::{JOINTS, WIDTH};
 use crate::io::error::Error;
 use glam::{DQuat, DVec3};
 

@@ -31,7 +31,7 @@ pub struct Hud<'a> {
     pub speed: f64,
     pub looping: bool,
     /// The studio look, and whether its camera follows the root.
-    pub look: crate::render::Look,
+    pub look: crate::render::options::Look,
     pub follow: bool,
     pub style: Style,
     pub skin: bool,
@@ -251,8 +251,8 @@ impl Hud<'_> {
             (_, true) => "skin and sticks",
         };
         let camera = match (self.look, self.follow, self.fit) {
-            (crate::render::Look::Studio, true, _) => "studio, following the root",
-            (crate::render::Look::Studio, false, _) => "studio",
+            (crate::render::options::Look::Studio, true, _) => "studio, following the root",
+            (crate::render::options::Look::Studio, false, _) => "studio",
             (_, _, true) => "framed",
             _ => "the article's camera",
         };

@@ -169,7 +169,7 @@ impl OsMesa {
         // copy into a second buffer.
         // SAFETY: this context is current on this thread (every drawing call needs it).
         unsafe { glow::HasContext::finish(&self.gl.gl) };
-        crate::render::Image::from_rgba_bottom_up(self.width, self.height, &self.buffer).rgb
+        crate::render::image::Image::from_rgba_bottom_up(self.width, self.height, &self.buffer).rgb
     }
 }
 

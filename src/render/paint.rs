@@ -9,11 +9,13 @@ use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, Up, world_matrices, world_positions};
 use crate::model::skeleton::Skeleton;
 use crate::model::stance::Stance;
+use crate::render::current_frame::frame_values;
 use crate::render::fixed::FixedFunction;
 use crate::render::framing::{self, Room};
+use crate::render::options::{Look, SnapshotOptions};
+use crate::render::overlay::{Overlay, draw_overlay};
 use crate::render::scene::{self, Camera, Scene};
 use crate::render::studio::{self, Stage, take_extent_of};
-use crate::render::{Look, Overlay, SnapshotOptions, draw_overlay, frame_values};
 use glam::Vec3;
 
 /// One take to show.

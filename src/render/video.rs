@@ -15,6 +15,7 @@
 
 use crate::io::error::Error;
 use crate::render::Image;
+use crate::render::video_size::{check_video_size, encoded_size};
 use openh264::OpenH264API;
 use openh264::encoder::{
     Encoder, EncoderConfig, FrameRate, FrameType, IntraFramePeriod, QpRange, RateControlMode,
@@ -118,9 +119,9 @@ impl Mp4 {
     /// [`crate::limits::MIN_FPS`] to [`crate::limits::MAX_FPS`]); `threads`: OpenH264's
     /// (in one slice a picture, a second thread measured no faster: `bvhview-bench --encoders`).
     pub fn new((width, height): (u32, u32), fps: f64, threads: usize) -> Result<Mp4, Error> {
-        crate::render::animation::check_video_size(width, height)?;
+        check_video_size(width, height)?;
         let fps = crate::limits::fps(fps, false)?;
-        let even = crate::render::animation::encoded_size(width, height);
+        let even = encoded_size(width, height);
         let (timescale, ticks) = rate_ticks(fps);
         let config = EncoderConfig::new()
             // The quantiser's range is one value, so every frame has the same quality and none

@@ -34,11 +34,11 @@ mod plain;
 mod run;
 mod target;
 
-pub use align::*;
-pub use check::*;
+pub use align::{NO_WIDTH, Ups, bones};
+pub use check::{Across, COLLAPSED, Check, check};
 pub(crate) use hinge::{limited_angles, limited_angles_by};
-pub use map::*;
-pub use map_file::*;
-pub use measure::*;
-pub use run::*;
-pub use target::*;
+pub use map::{How, Map, REQUIRED};
+pub use map_file::{MapPairs, parse_map, parse_map_pairs, parse_pair};
+pub use measure::{Standing, direction_errors, followable_errors, quantile, standing};
+pub use run::{lock_feet_from_source, retarget, retarget_plain, retargeted_values};
+pub use target::{BUILT_IN, Insist, Retargeted, Target, built_in, onto};

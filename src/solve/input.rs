@@ -2,7 +2,7 @@
 //! either byte order, C or Fortran order, as numpy writes them; read by the `npyz` crate), or
 //! the CSV `bvhview positions` writes (`frame,joint,x,y,z`, a row per joint and frame).
 
-use super::{Positions, SMPL22_ORDER};
+use super::positions::{Positions, SMPL22_ORDER};
 use crate::io::error::{Error, quoted};
 use crate::io::message::Message;
 use glam::DVec3;

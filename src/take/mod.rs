@@ -26,9 +26,11 @@ use crate::model::pose::OffsetMode;
 use crate::model::skeleton::Skeleton;
 use std::path::Path;
 
+pub(crate) mod bundled;
 pub(crate) mod format;
 pub(crate) mod options;
 
+use bundled::{DEFAULT_MOTION, DEFAULT_MOTION_NAME};
 pub use format::Format;
 pub(crate) use format::extension;
 pub use options::{DEFAULT_MAX_SIZE, OpenOptions};
@@ -131,13 +133,13 @@ impl Take {
     /// # Ok::<(), bvhview::Error>(())
     /// ```
     pub fn bundled() -> Result<Take, Error> {
-        let file = bvh::load_bytes(crate::DEFAULT_MOTION, crate::DEFAULT_MOTION_NAME)?;
+        let file = bvh::load_bytes(DEFAULT_MOTION, DEFAULT_MOTION_NAME)?;
         Ok(Take::read(
             file.skeleton,
             file.motion,
             file.warnings,
             Format::Bvh,
-            crate::DEFAULT_MOTION_NAME.to_string(),
+            DEFAULT_MOTION_NAME.to_string(),
         ))
     }
 

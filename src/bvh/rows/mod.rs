@@ -12,12 +12,9 @@
 //! row by row, 64 bytes at a time; this module feeds the pieces to the cores and puts their rows
 //! in order ([`RowParser`]).
 
-use crate::io::error::{Error, counted};
+use crate::io::error::Error;
 use crate::io::lines::{advance, count_lines, is_line_end};
 use std::io::Read;
-
-/// Bytes of MOTION text handed to the parser at a time.
-pub const CHUNK: usize = 1 << 20;
 
 /// The smallest chunk: a small input is cut into about eight chunks, but not smaller ones.
 const SMALLEST_CHUNK: usize = 64 * 1024;
@@ -28,6 +25,9 @@ pub const UNKNOWN_ROOM: u64 = u64::MAX;
 /// Values reserved up front for an input of unknown length (64 MB of `f32`).
 const UNKNOWN_ROOM_VALUES: u64 = 16 << 20;
 
+mod chunks;
+mod ending;
+mod located;
 mod number;
 mod scan;
 mod simple;
@@ -35,6 +35,9 @@ mod simple;
 mod wide;
 mod words;
 
+pub use chunks::{CHUNK, last_line_end};
+use ending::{Ending, nul_after_the_rows};
+use located::Located;
 use number::is_blank;
 pub use number::parse_number;
 pub use simple::read_rows_simple;
@@ -59,25 +62,11 @@ pub fn row_reader() -> &'static str {
     "one number at a time (rows/scan.rs); this CPU has no AVX-512, so rows/wide.rs never runs"
 }
 use scan::parse_rows;
-use words::{Problem, SliceSink};
+use words::SliceSink;
 
 mod stream;
 
 use stream::{KeptBuffer, Source, Stream, kept_buffer, lock};
-
-/// The last place a chunk may end: after an LF, or after a CR that is not the buffer's last byte
-/// (it might be followed by an LF in the next read). `None` if there is none.
-pub fn last_line_end(buffer: &[u8]) -> Option<usize> {
-    let last = buffer.len().checked_sub(1)?;
-    for i in (0..=last).rev() {
-        match buffer[i] {
-            b'\n' => return Some(i + 1),
-            b'\r' if i < last => return Some(i + 1),
-            _ => {}
-        }
-    }
-    None
-}
 
 /// The result's spare room, written by several threads at once (each in its own stretch).
 #[derive(Clone, Copy)]
@@ -98,22 +87,6 @@ unsafe impl Send for Room {}
 // SAFETY: as for Send: shared only to hand each thread its own stretch.
 unsafe impl Sync for Room {}
 
-/// A chunk handed to a thread: its text is in the thread's buffer, or at `range` of the text
-/// held in memory.
-struct Job {
-    index: usize,
-    length: usize,
-    range: Option<std::ops::Range<usize>>,
-    /// Where its text starts.
-    line: usize,
-    column: usize,
-    /// The row its rows go to, how many lines it has (at most that many rows), and how many rows
-    /// it may write (fewer only in the last chunk, at the end of the room).
-    placed: usize,
-    bound: usize,
-    limit: usize,
-}
-
 /// What a thread made of a chunk.
 struct Chunk {
     index: usize,
@@ -124,67 +97,6 @@ struct Chunk {
     problem: Option<Located>,
     /// The text beyond the rows the chunk could write, with its line and column.
     rest: Option<(Vec<u8>, usize, usize)>,
-}
-
-/// A problem found in a chunk, placed in the file but not yet numbered: a chunk parsed on another
-/// thread does not know how many rows the chunks before it hold.
-struct Located {
-    line: usize,
-    column: usize,
-    /// The row it is in, counted from the chunk's first row.
-    row_in_chunk: usize,
-    /// The frame's problem (its value count), or a word that is not a number.
-    what: Result<Option<usize>, String>,
-}
-
-impl Located {
-    /// Where `problem`, in row `row_in_chunk` of `chunk` (which starts at `start`), is in the file.
-    fn new(chunk: &[u8], start: (usize, usize), row_in_chunk: usize, problem: Problem) -> Located {
-        let (offset, what) = match problem {
-            Problem::TooMany(at) => (at, Ok(None)),
-            Problem::TooFew(at, count) => (at, Ok(Some(count))),
-            Problem::NotANumber(at, end) => {
-                let word = String::from_utf8_lossy(&chunk[at..end]);
-                let word: String = if word.chars().count() > 40 {
-                    format!("{}…", word.chars().take(40).collect::<String>())
-                } else {
-                    word.into_owned()
-                };
-                (at, Err(word))
-            }
-        };
-        let (line, column) = advance(start, count_lines(&chunk[..offset]));
-        Located {
-            line,
-            column,
-            row_in_chunk,
-            what,
-        }
-    }
-
-    /// The error, once the chunk's first row is known to be row `first_row` (counted from 0) of
-    /// the MOTION section; `width` values make a row. Frames are named from 0, as `--frame`
-    /// names them.
-    fn into_error(self, source: &str, width: usize, first_row: usize) -> Error {
-        let frame = first_row + self.row_in_chunk;
-        let message = match self.what {
-            Ok(None) => format!(
-                "frame {frame} has more than the {} the channels need",
-                counted(width, "value")
-            ),
-            Ok(Some(count)) => format!(
-                "frame {frame} has {}, expected {width} (one per channel)",
-                counted(count, "value")
-            ),
-            Err(word) => format!("expected a finite number, found '{word}'"),
-        };
-        Error::Parse {
-            path: source.to_string(),
-            line: self.line,
-            column: self.column,
-            message,
-        }
-    }
 }
 
 /// Collects `frames` rows of `width` values from text fed in line-aligned chunks.
@@ -583,80 +495,6 @@ impl RowParser {
         };
         ending.check(&self.source, self.frames, self.frames_line, self.width)?;
         Ok((self.data, ending.warnings(self.frames, self.frames_line)))
-    }
-}
-
-/// How the rows ended, as both readers report it: rows read (lines, for a skeleton without
-/// channels), the place where the text ended, and the rows beyond `Frames:` (the first one's
-/// line, how many).
-struct Ending {
-    rows: u64,
-    at: (usize, usize),
-    extra: Option<(usize, usize)>,
-}
-
-impl Ending {
-    /// An error at the end of the text when fewer than `frames` rows came.
-    fn check(
-        &self,
-        source: &str,
-        frames: u64,
-        frames_line: usize,
-        width: usize,
-    ) -> Result<(), Error> {
-        if self.rows >= frames {
-            return Ok(());
-        }
-        Err(self.error(source, frames, frames_line, width))
-    }
-
-    /// The error of a text that ends after `self.rows` rows, fewer than `frames`.
-    fn error(&self, source: &str, frames: u64, frames_line: usize, width: usize) -> Error {
-        let message = if width == 0 {
-            format!(
-                "Frames: {frames} (line {frames_line}) but only {} {}",
-                counted(self.rows, "line"),
-                if self.rows == 1 { "follows" } else { "follow" }
-            )
-        } else {
-            format!(
-                "expected {} as Frames: says (line {frames_line}), found {}: the file ends",
-                counted(frames, "frame"),
-                self.rows
-            )
-        };
-        Error::Parse {
-            path: source.to_string(),
-            line: self.at.0,
-            column: self.at.1,
-            message,
-        }
-    }
-
-    /// The warning about rows beyond `Frames:`, if any.
-    fn warnings(&self, frames: u64, frames_line: usize) -> Vec<String> {
-        self.extra
-            .map(|(line, count)| {
-                let rows = if count == 1 { "row" } else { "rows" };
-                format!(
-                    "{count} extra {rows} after the {frames} announced by Frames: (line {frames_line}) ignored, from line {line} on"
-                )
-            })
-            .into_iter()
-            .collect()
-    }
-}
-
-/// A NUL byte after the last row, at `(line, column)`: no text file holds one, and zeros there
-/// are what a file cut short, or one longer than what was written into it, holds. Both readers
-/// stop there, rather than count the rest of the file as rows to ignore.
-fn nul_after_the_rows(source: &str, (line, column): (usize, usize)) -> Error {
-    Error::Parse {
-        path: source.to_string(),
-        line,
-        column,
-        message: "found a NUL byte after the last frame: from here on the file is not text"
-            .to_string(),
     }
 }
 

@@ -1,7 +1,9 @@
 //! C++: the row loop at the end of `BVH::loadFile`, in plain Rust.
 
+use super::ending::{Ending, nul_after_the_rows};
+use super::located::Located;
+use super::number::{is_blank, parse_number};
 use super::words::Problem;
-use super::{Ending, Located, is_blank, nul_after_the_rows, parse_number};
 use crate::io::error::Error;
 use crate::io::lines::{advance, count_lines, is_line_end};
 

@@ -1,7 +1,7 @@
 //! A file read in chunks for the row reader: buffers kept between files, each chunk cut at a
 //! line end and handed to the workers in order.
 
-use super::{CHUNK, Job, last_line_end};
+use super::chunks::{CHUNK, Job, last_line_end};
 use crate::io::lines::{advance, count_lines};
 use std::io::Read;
 

@@ -38,7 +38,9 @@ impl Bone {
                 .flatten()
                 .position(|k| !k.iter().all(|v| v.is_finite()));
             if let Some(frame) = frame {
-                return Some(format!("joint {name}, frame {frame}: a {what} that is not finite"));
+                return Some(format!(
+                    "joint {name}, frame {frame}: a {what} that is not finite"
+                ));
             }
         }
         None

@@ -34,7 +34,8 @@ mod mesh;
 mod tracks;
 
 use file::{File, bad, parse, read};
-pub use tracks::*;
+pub use tracks::{KEY_VALUES_FLOOR, KEY_VALUES_PER_BYTE};
+use tracks::{Timing, Track, frames_within, timing, tracks};
 
 fn animation_name(animation: &gltf::Animation) -> String {
     animation

@@ -4,12 +4,11 @@
 //! `DEF-f_index.01.L`, CMU's `LThumb`). Palm bones (Perception Neuron's `LeftInHandIndex`,
 //! metacarpals) and helpers are left out: a finger's bones are its first three joints below them.
 
-use super::{Body, Limb, Side, depth, is_ancestor, tokens};
+pub use super::names::FINGERS;
+use super::names::{Limb, tokens};
+use super::roles::{Body, depth, is_ancestor};
+use super::sides::Side;
 use crate::model::skeleton::Skeleton;
-
-/// The fingers in the order a finger's number means: 0 thumb, 1 index, 2 middle, 3 ring,
-/// 4 pinky.
-pub const FINGERS: [&str; 5] = ["thumb", "index", "middle", "ring", "pinky"];
 
 /// The finger a name's words say, counted from 0 for the thumb, and whether it says it by a
 /// number after `finger` (`finger2`, `Finger0`) rather than a word: such numbers count from 1

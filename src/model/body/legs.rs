@@ -2,7 +2,8 @@
 //! eight. A body with no legs or more than two is no standing person: its up axis is not
 //! guessed from a figure it does not have, and it is not carried over as a person's.
 
-use super::{Body, NOT_PARTS, Word, tokens, word_of};
+use super::names::{NOT_PARTS, Word, tokens, word_of};
+use super::roles::Body;
 use crate::model::skeleton::Skeleton;
 
 /// Words that name a leg's part, with or without a side (`Leg1_L`, `leg3.R.001`, `lfemur`).

@@ -16,10 +16,11 @@ pub mod sides;
 pub mod travel;
 pub mod verdict;
 
-pub use fingers::FINGERS;
 pub(crate) use legs::count_word;
-pub use names::*;
-pub use roles::*;
-pub use sides::*;
-pub use travel::*;
-pub use verdict::*;
+pub use names::FINGERS;
+pub use names::{Limb, Role};
+pub use roles::Body;
+pub(crate) use roles::{is_ancestor, path_between};
+pub use sides::{Side, mirrored_name, name_side};
+pub use travel::{travel_candidates, travel_joint, travel_joint_of_take};
+pub use verdict::Doubt;

@@ -1,9 +1,12 @@
 //! Words in joint names: each family's names split into words, and the word a joint's name
 //! says it is (thigh, shin, upper arm…), with its side.
 
-use crate::model::body::fingers::FINGERS;
 use crate::model::body::sides::Side;
 use std::fmt;
+
+/// The fingers in the order a finger's number means: 0 thumb, 1 index, 2 middle, 3 ring,
+/// 4 pinky.
+pub const FINGERS: [&str; 5] = ["thumb", "index", "middle", "ring", "pinky"];
 
 /// The part of a limb a joint moves (the joint at the start of that bone).
 ///
@@ -95,7 +98,7 @@ pub enum Role {
     Head,
     /// One part of an arm or a leg on one side.
     Limb(Side, Limb),
-    /// A finger's bone: the finger (0 thumb … 4 pinky, see [`super::FINGERS`]) and the bone
+    /// A finger's bone: the finger (0 thumb … 4 pinky, see [`FINGERS`]) and the bone
     /// from the hand out (0, 1, 2).
     Finger(Side, u8, u8),
 }

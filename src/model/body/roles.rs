@@ -1,7 +1,8 @@
 //! The roles of a skeleton's joints (hips, spine, neck, head, and per side the limbs), read
 //! from their names and, where names say less, from the tree.
 
-use super::{LIMBS, Limb, Role, Side, Word, word_of};
+use super::names::{LIMBS, Limb, Role, Word, word_of};
+use super::sides::Side;
 use crate::model::pose::{OffsetMode, world_transforms_f64};
 use crate::model::skeleton::Skeleton;
 use glam::{DQuat, DVec3};

@@ -2,8 +2,10 @@
 //! `info`, `dataset` and `retarget` say (no two legs, no feet, a side without its other, a body
 //! that does not stand on two legs).
 
-use super::{Body, LIMBS, Limb, Role, Side};
-use crate::model::body::fingers::FINGERS;
+use super::names::{LIMBS, Limb, Role};
+use super::roles::Body;
+use super::sides::Side;
+use crate::model::body::names::FINGERS;
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, world_transforms_f64};
 use crate::model::skeleton::Skeleton;

@@ -17,16 +17,21 @@
 //! 32-bit path cannot meet the test and stays the one everything else uses (speed, and the
 //! picture's exact GL product); a unit test below holds the two to the same positions.
 
-use crate::model::skeleton::{Channel, Joint, Skeleton};
+use crate::model::skeleton::{Joint, Skeleton};
 use glam::{Mat4, Vec3};
 
+mod channels;
 mod lanes;
 mod mode;
 mod rotations;
 
-pub use lanes::*;
+pub use channels::{channel_rotation, channel_rotations, local_rotation};
+pub use lanes::{FkPlan, FkScratch, LANES, positions_all_frames, sin_cos_batch, sin_cos_degrees};
 pub use mode::OffsetMode;
-pub use rotations::*;
+pub use rotations::{
+    RotationKind, rotation_numbers_problem, rotation_of_numbers, write_local_rotations, write_quat,
+    write_rotation,
+};
 
 /// Which world axis points up in a file: BVH's usual Y, or Z as some exporters write.
 ///
@@ -180,39 +185,6 @@ pub fn joint_translation(joint: &Joint, values: &[f32], mode: OffsetMode) -> Vec
     t
 }
 
-/// The rotation of one channel, as `glRotatef(degrees, axis)` makes it.
-pub fn channel_rotation(channel: Channel, degrees: f32) -> Mat4 {
-    let radians = degrees.to_radians();
-    match channel.axis() {
-        0 => Mat4::from_rotation_x(radians),
-        1 => Mat4::from_rotation_y(radians),
-        _ => Mat4::from_rotation_z(radians),
-    }
-}
-
-/// `R1 · R2 · R3`: the joint's rotation channels in file order.
-pub fn channel_rotations(joint: &Joint, values: &[f32]) -> Mat4 {
-    let mut rotation = Mat4::IDENTITY;
-    for (channel, &value) in joint.channels.iter().zip(values) {
-        if channel.is_rotation() {
-            rotation *= channel_rotation(*channel, value);
-        }
-    }
-    rotation
-}
-
-/// A joint's rotation for one frame: `R1 · R2 · R3` of its channels, or `C · R1 · R2 · R3 · C⁻¹`
-/// when it turns about a fixed axis C of its own (ASF bones); `values` are the joint's channel
-/// values. Every matrix form of a joint's rotation is this one (the FK plan's quaternion lanes
-/// compute the same product, and the draw issues it as GL calls).
-pub fn local_rotation(joint: &Joint, values: &[f32]) -> Mat4 {
-    let rotation = channel_rotations(joint, values);
-    match joint.axis {
-        None => rotation,
-        Some(axis) => Mat4::from_quat(axis) * rotation * Mat4::from_quat(axis.inverse()),
-    }
-}
-
 /// `T(t) · R1 · R2 · R3` for one joint, or `T(t) · C · R1 · R2 · R3 · C⁻¹` when the joint has a
 /// fixed axis C (ASF bones); `values` are this joint's channel values.
 pub fn local_matrix(joint: &Joint, values: &[f32], mode: OffsetMode) -> Mat4 {
@@ -319,7 +291,7 @@ pub fn world_transforms_f64(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::skeleton::Channel::*;
+    use crate::model::skeleton::Channel::{self, *};
 
     fn joint(offset: Vec3, channels: Vec<Channel>) -> Joint {
         let mut joint = Joint::new("j".into(), None);

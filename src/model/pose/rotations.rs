@@ -1,7 +1,9 @@
 //! Rotations as numbers: a joint's rotation written as a quaternion, a matrix, 6D or Euler
 //! angles, and read back from them.
 
-use super::{FkPlan, FkScratch, LANES, OffsetMode, local_rotation};
+use super::channels::local_rotation;
+use super::lanes::{FkPlan, FkScratch, LANES};
+use super::mode::OffsetMode;
 use crate::model::skeleton::{Joint, Skeleton};
 use glam::{Mat4, Vec3};
 

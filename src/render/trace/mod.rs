@@ -8,9 +8,12 @@ use crate::render::fixed::{
     GL_POSITION, GL_PROJECTION, GL_QUADS, GL_TRIANGLE_STRIP, Note,
 };
 
+mod language;
 mod verdict;
 
-pub use verdict::*;
+pub use language::Language;
+use language::{Both, axis_letters, both, plain};
+pub use verdict::{gl_stack_line, verdict_line};
 
 /// How numbers are written.
 ///
@@ -40,35 +43,6 @@ pub enum Numbers {
     /// As apitrace, but doubles to seven digits as floats are: short enough to read on the
     /// picture (the step view's listing).
     Short,
-}
-
-/// The language of `--explain`'s notes.
-///
-/// ```
-/// use bvhview::model::pose::OffsetMode;
-/// use bvhview::render::{draw::{Style, draw}, trace::{Language, Numbers, Recorder}};
-///
-/// # fn main() -> Result<(), bvhview::Error> {
-/// let take = bvhview::Take::open("tests/oracle/inputs/tiny_crlf.bvh")?;
-/// let (frame, mode) = (Some(take.motion.frame(1)), OffsetMode::Replace);
-/// let explained = |language| {
-///     let mut gl = Recorder::explaining(Numbers::Printf, &take.skeleton, frame, mode, language, None);
-///     draw(&mut gl, &take.skeleton, frame, Style::Points, mode);
-///     gl
-/// };
-/// let (english, chinese) = (explained(Language::English), explained(Language::Chinese));
-/// assert!(english.lines[1].ends_with("// Hips: push, stack depth 1"));
-/// assert!(chinese.lines[1].ends_with("// Hips：推入矩陣堆疊，深度 1"));
-/// # Ok(())
-/// # }
-/// ```
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub enum Language {
-    /// English.
-    #[default]
-    English,
-    /// Traditional Chinese, in the article's terms.
-    Chinese,
 }
 
 /// What `--explain` says about one joint.
@@ -142,27 +116,6 @@ fn channel_flags(joint: &crate::model::skeleton::Joint) -> u8 {
         return 0;
     }
     crate::bvh::article::get_flags([0, 1, 2].map(|i| b"XYZ"[letters[i].axis()]))
-}
-
-/// The axis names, in order.
-fn axis_letters(axes: impl IntoIterator<Item = usize>, zh: bool) -> String {
-    let letters: Vec<&str> = axes.into_iter().map(|a| ["X", "Y", "Z"][a]).collect();
-    letters.join(if zh { "、" } else { ", " })
-}
-
-/// A number of a note: as `{}` writes an `f32` (`30`, `-3`, `0.033333`).
-fn plain(values: &[f32]) -> String {
-    let values: Vec<String> = values.iter().map(|v| v.to_string()).collect();
-    format!("({})", values.join(", "))
-}
-
-/// One phrase of a note in both languages, English first: the notes read as a two-column table,
-/// and the language asked for picks the column.
-type Both = [String; 2];
-
-/// A row of fixed text: the same phrase in English and in Chinese.
-fn both(english: &str, chinese: &str) -> Both {
-    [english.to_string(), chinese.to_string()]
 }
 
 /// A joint as `info` counts it.

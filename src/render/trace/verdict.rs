@@ -5,7 +5,7 @@
 //! languages side by side, and a case cannot be said in one and forgotten in the other. Each
 //! phrase builds both columns; `verdict_line` says the one asked for.
 
-use super::{Both, Language, axis_letters, both, plain};
+use super::language::{Both, Language, axis_letters, both, plain};
 use crate::bvh::article::{Crash, Misread, Place, Rejection, Step, Verdict};
 
 /// The first line of `--explain`: what the article's program does with the file as a whole, in

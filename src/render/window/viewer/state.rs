@@ -1,7 +1,8 @@
 //! The viewer's state and what each key and mouse move does to it (the article's `keyboard`:
 //! W the next frame, A/D the camera), and drawing one picture of it.
 
-use super::{SPEEDS, TakeSource, ViewerOptions, ViewerTake, playback_step};
+use super::playback::{SPEEDS, playback_step};
+use super::takes::{TakeSource, ViewerOptions, ViewerTake};
 use crate::io::error::Error;
 use crate::model::motion::Motion;
 use crate::model::pose::OffsetMode;
