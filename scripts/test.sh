@@ -168,6 +168,19 @@ else
     echo "blender: not installed, the Blender import check is skipped (apt-get install blender python3-numpy)"
     ignored=$((ignored + 1))
 fi
+# Independent readers of the FBX export: assimp (libassimp, apt-get) and three.js's FBXLoader (npm,
+# into the target folder's tools/fbx-readers) read every corpus take converted to FBX, each file a
+# test (tests/fbx_readers/run_checks.sh); a reader that cannot be installed is skipped, one line.
+fbx_log=$(mktemp)
+trap 'rm -f "$log" "$pylog" "$gltf_log" "$fbx_log"' EXIT
+bash tests/fbx_readers/run_checks.sh "$cli" >"$fbx_log" 2>&1 || status=1
+grep -E 'FAIL|skipped|^fbx readers:' "$fbx_log" || true
+read -r fbx_checked fbx_failed <<<"$(awk '/^fbx readers: [0-9]+ files checked/ { print $3, $6 }' "$fbx_log")"
+fbx_checked=${fbx_checked:-0}
+fbx_failed=${fbx_failed:-1} # no closing line: the script itself failed
+passed=$((passed + fbx_checked - fbx_failed))
+failed=$((failed + fbx_failed))
+ignored=$((ignored + $(grep -c '^fbx readers: .*: skipped$' "$fbx_log" || true)))
 # The docs build without a warning, public and private items (TEACHING.md links the private
 # process_* functions); each build counts as a test.
 for doc_args in "--no-deps" "--no-deps --document-private-items"; do

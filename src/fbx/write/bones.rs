@@ -222,7 +222,7 @@ pub(super) fn of(
                 (false, _) => (0, None),
                 (true, Some(order)) => (
                     fbx_order(order),
-                    Some(
+                    Some(continuous(
                         frames()
                             .map(|values| {
                                 let mut xyz = [0.0f32; 3];
@@ -234,7 +234,7 @@ pub(super) fn of(
                                 xyz
                             })
                             .collect(),
-                    ),
+                    )),
                 ),
                 // Two rotation channels, or one axis twice: the rotation they make, split
                 // into FBX's default order (XYZ), continuous from frame to frame.
@@ -251,6 +251,24 @@ pub(super) fn of(
         })
         .collect();
     Ok((bones, renamed))
+}
+
+/// `turns` (degrees per frame) with each angle moved by whole turns to within 180° of the frame
+/// before, as [`split_frames`] keeps a split continuous: the same rotation at every key, and a
+/// curve that does not spin the long way round between two frames where a channel passes ±180°
+/// (FBX interpolates each angle on its own; three.js's FBXLoader, r187, also loses the key that
+/// follows a step of 180° or more).
+fn continuous(mut turns: Vec<[f32; 3]>) -> Vec<[f32; 3]> {
+    for f in 1..turns.len() {
+        let before = turns[f - 1];
+        for (angle, before) in turns[f].iter_mut().zip(before) {
+            let whole = ((f64::from(before) - f64::from(*angle)) / 360.0).round();
+            if whole != 0.0 {
+                *angle = (f64::from(*angle) + 360.0 * whole) as f32;
+            }
+        }
+    }
+    turns
 }
 
 /// Each frame's rotation of `joint` split into X, Y and Z degrees of FBX's XYZ order (BVH's
@@ -276,7 +294,24 @@ fn split_frames<'a>(
 
 #[cfg(test)]
 mod tests {
-    use super::{RotationOrder, fbx_name, fbx_order};
+    use super::{RotationOrder, continuous, fbx_name, fbx_order};
+
+    #[test]
+    fn angles_move_by_whole_turns_to_within_half_a_turn_of_the_frame_before() {
+        let turns = vec![
+            [-101.86, -80.77, -98.91],
+            [132.67, -81.86, 136.8],
+            [170.0, 10.0, -170.0],
+        ];
+        assert_eq!(
+            continuous(turns),
+            [
+                [-101.86, -80.77, -98.91],
+                [132.67 - 360.0, -81.86, 136.8 - 360.0],
+                [170.0 - 360.0, 10.0, -170.0],
+            ]
+        );
+    }
 
     #[test]
     fn names_lose_only_control_characters_and_orders_read_backwards() {

@@ -368,7 +368,12 @@ impl Scene<'_> {
         }
         out.close()?;
         out.close()?;
-        out.leaf(
+        // The layer holds a list of children (an empty `Properties70`), as every object does in
+        // the FBX SDK's files (`AnimationLayer: …, "AnimLayer::BaseLayer", "" { }`): assimp (5.2)
+        // builds an object only from a record with one ("expected compound scope" otherwise),
+        // and a stack whose layer it cannot build has no layer, so no animation. fbxcel ends a
+        // record with its list only when the record has a child or no values.
+        out.open(
             "AnimationLayer",
             &[
                 Value::I64(LAYER_ID),
@@ -376,6 +381,9 @@ impl Scene<'_> {
                 Value::Str(""),
             ],
         )?;
+        out.open("Properties70", &[])?;
+        out.close()?;
+        out.close()?;
         let times: Vec<i64> = (0..self.frames)
             .map(|f| key_time(f, self.frame_time))
             .collect();
