@@ -590,6 +590,8 @@ impl TakeFormat {
 /// file stated (an ASF's), which the FBX's units are worked out from.
 pub(crate) struct TakeLabel {
     pub(crate) name: String,
+    // Read by the FBX writer only.
+    #[cfg_attr(not(feature = "fbx"), allow(dead_code))]
     pub(crate) stated_units: Option<crate::model::stance::Units>,
 }
 

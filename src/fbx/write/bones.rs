@@ -1,8 +1,8 @@
 //! The joints as FBX writes them: each one's rest translation, Euler order and keys, taken from
 //! the take's channels.
 
+use super::ids::{AXES, PROPERTIES, attribute_id, curve_id, curve_node_id, model_id};
 use super::records::{Records, Value};
-use super::{AXES, PROPERTIES, attribute_id, curve_id, curve_node_id, model_id};
 use crate::io::error::Error;
 use crate::model::euler;
 use crate::model::motion::Motion;

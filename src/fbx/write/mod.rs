@@ -7,6 +7,7 @@
 //! `GlobalSettings`.
 
 mod bones;
+mod ids;
 mod records;
 
 use crate::io::error::Error;
@@ -15,6 +16,10 @@ use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, Up};
 use crate::model::skeleton::Skeleton;
 use bones::Bone;
+use ids::{
+    AXES, DOCUMENT_ID, LAYER_ID, POSE_ID, PROPERTIES, STACK_ID, attribute_id, curve_id,
+    curve_node_id, model_id,
+};
 use records::{Records, Value};
 
 /// FBX time: ticks per second.
@@ -144,33 +149,6 @@ struct Scene<'a> {
     frames: usize,
     frame_time: f64,
 }
-
-/// Object ids: the scene's root is 0; everything else counts up from here (any positive
-/// 64-bit id is an id; fixed ones make the same take the same bytes).
-const FIRST_ID: i64 = 1_000_000;
-
-/// The ids of one bone's objects.
-fn model_id(bone: usize) -> i64 {
-    FIRST_ID + 16 * bone as i64
-}
-fn attribute_id(bone: usize) -> i64 {
-    model_id(bone) + 1
-}
-/// Property `p` (0 translation, 1 rotation): its curve node, then its three curves.
-fn curve_node_id(bone: usize, p: usize) -> i64 {
-    model_id(bone) + 2 + 4 * p as i64
-}
-fn curve_id(bone: usize, p: usize, axis: usize) -> i64 {
-    curve_node_id(bone, p) + 1 + axis as i64
-}
-const STACK_ID: i64 = 10;
-const LAYER_ID: i64 = 11;
-const POSE_ID: i64 = 12;
-const DOCUMENT_ID: i64 = 13;
-
-/// The animated properties, by index.
-const PROPERTIES: [(&str, &str); 2] = [("Lcl Translation", "T"), ("Lcl Rotation", "R")];
-const AXES: [&str; 3] = ["d|X", "d|Y", "d|Z"];
 
 impl Scene<'_> {
     fn write(&self) -> Result<Vec<u8>, Error> {
