@@ -258,7 +258,15 @@ pub(super) fn of(
 /// curve that does not spin the long way round between two frames where a channel passes ±180°
 /// (FBX interpolates each angle on its own; three.js's FBXLoader, r187, also loses the key that
 /// follows a step of 180° or more).
+///
+/// Each angle is first taken to within one turn of 0 by its exact remainder (`%` is exact in
+/// floating point), so that a channel of 1e8 degrees keys the rotation it means: a reader
+/// interpolating or taking the sine of the value as written loses it (ufbx's evaluation did,
+/// found by fuzzing).
 fn continuous(mut turns: Vec<[f32; 3]>) -> Vec<[f32; 3]> {
+    for angle in turns.iter_mut().flatten() {
+        *angle %= 360.0;
+    }
     for f in 1..turns.len() {
         let before = turns[f - 1];
         for (angle, before) in turns[f].iter_mut().zip(before) {
@@ -280,8 +288,15 @@ fn split_frames<'a>(
     let mut previous = None;
     frames
         .map(|values| {
+            // Within a turn of 0 first (an exact remainder), as `continuous` takes them.
+            let values: Vec<f32> = joint
+                .channels
+                .iter()
+                .zip(values)
+                .map(|(channel, &v)| if channel.is_rotation() { v % 360.0 } else { v })
+                .collect();
             let angles = euler::split(
-                local_rotation_f64(joint, values),
+                local_rotation_f64(joint, &values),
                 RotationOrder::Zyx,
                 previous,
             );

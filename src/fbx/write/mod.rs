@@ -98,6 +98,20 @@ pub fn to_bytes(
     // A rate FBX names is keyed at that rate exactly: `Frame Time: 0.0083333` is 1/120 written
     // with 7 digits, and an importer counts frames at 120 per second.
     let (_, rate) = time_mode(motion.frame_time);
+    if frames > 1 && rate > crate::limits::MAX_FPS {
+        return Err(Error::limit(
+            "frames per second",
+            crate::limits::MAX_FPS as u64,
+            rate.ceil() as u64,
+            Message::from(format!(
+                "cannot write FBX: {} frames a second, more than the {} bvhview reads back from \
+                 FBX; resample the take with ",
+                crate::limits::show(rate),
+                crate::limits::MAX_FPS
+            ))
+            .argument("fps", None),
+        ));
+    }
     let scene = Scene {
         bones: &bones,
         settings,
