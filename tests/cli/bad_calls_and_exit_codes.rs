@@ -101,7 +101,7 @@ fn a_folder_where_a_file_is_needed_is_bad_input() {
     one_line(
         &bvhview(&["convert", folder.as_str(), "-o", "/tmp/x.bvh"]),
         2,
-        "is a folder: say the format its takes are written in with --to bvh, glb or gltf",
+        "is a folder: say the format its takes are written in with --to bvh, glb, gltf or fbx",
     );
 }
 

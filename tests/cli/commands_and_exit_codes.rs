@@ -1406,7 +1406,7 @@ fn a_dash_reads_standard_input_and_writes_standard_output() {
     // No --to for standard output, and bytes nothing can tell: one clear line each, exit 2.
     let untold = with_stdin(&["convert", "-", "-o", "-"], &bytes);
     assert_eq!(untold.status.code(), Some(2));
-    assert!(String::from_utf8_lossy(&untold.stderr).contains("--to bvh, glb or gltf"));
+    assert!(String::from_utf8_lossy(&untold.stderr).contains("--to bvh, glb, gltf or fbx"));
     let unknown = with_stdin(&["info", "-"], b"just some words\n");
     assert_eq!(unknown.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&unknown.stderr).contains("--from bvh, fbx, gltf or glb"));
