@@ -29,8 +29,15 @@ impl Bone {
     /// anything: `joint 'Hips', frame 3: a translation that is not finite`.
     pub(super) fn not_finite(&self) -> Option<String> {
         let name = crate::io::error::quoted(&self.name);
-        if !self.translation.iter().all(|v| v.is_finite()) {
-            return Some(format!("joint {name}: an OFFSET that is not finite"));
+        // Written as 64-bit, read back as 32-bit: past 3.4e38 in written units is refused.
+        if !self
+            .translation
+            .iter()
+            .all(|v| v.abs() <= f64::from(f32::MAX))
+        {
+            return Some(format!(
+                "joint {name}: an OFFSET that is not finite in centimetres as a 32-bit float"
+            ));
         }
         for (what, keys) in [("translation", &self.moves), ("rotation", &self.turns)] {
             let frame = keys

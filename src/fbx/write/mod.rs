@@ -97,7 +97,11 @@ pub fn to_bytes(
     fits(bones.iter().map(Bone::curve_count).sum(), frames)?;
     // A rate FBX names is keyed at that rate exactly: `Frame Time: 0.0083333` is 1/120 written
     // with 7 digits, and an importer counts frames at 120 per second.
-    let (_, rate) = time_mode(motion.frame_time);
+    let (_, mut rate) = time_mode(motion.frame_time);
+    // One frame has no span: a rate no reader takes is written as FBX's default instead.
+    if frames <= 1 && !(crate::limits::MIN_FPS..=crate::limits::MAX_FPS).contains(&rate) {
+        rate = 30.0;
+    }
     if frames > 1 && rate > crate::limits::MAX_FPS {
         return Err(Error::limit(
             "frames per second",
