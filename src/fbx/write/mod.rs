@@ -27,6 +27,21 @@ pub const TICKS_PER_SECOND: f64 = 46_186_158_000.0;
 
 /// What a file states beside the joints: the take's name, how position channels count, the
 /// take's units and up axis, and the units written.
+///
+/// ```
+/// use bvhview::fbx::write::Settings;
+/// use bvhview::model::pose::{OffsetMode, Up};
+///
+/// // A take in inches, Z up, written in centimetres as engines expect.
+/// let settings = Settings {
+///     take_name: "walk".into(),
+///     offset_mode: OffsetMode::Replace,
+///     metres_per_unit: 0.0254,
+///     up: Up::Z,
+///     out_metres_per_unit: 0.01,
+/// };
+/// assert_eq!(settings.take_name, "walk");
+/// ```
 #[derive(Clone, Debug)]
 pub struct Settings {
     /// The animation stack's name (what an engine lists the take as).
@@ -42,6 +57,17 @@ pub struct Settings {
 }
 
 /// An FBX file in memory, and the joints whose names it had to change.
+///
+/// ```
+/// use bvhview::Take;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let written = Take::open("tests/data/bvh/bvhparser_simple.bvh")?.fbx()?;
+/// assert!(written.bytes.starts_with(b"Kaydara FBX Binary"));
+/// assert!(written.renamed.is_empty());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug)]
 pub struct Written {
     /// The file's bytes.
