@@ -117,6 +117,17 @@ impl Character {
     /// [`Character::open`] with `options`: the file's take (name or index), a size limit,
     /// threads.
     pub fn open_with(path: &Path, options: &OpenOptions) -> Result<Character, Error> {
+        Character::open_if_any(path, options)?.ok_or_else(|| {
+            Error::usage(format!(
+                "{}: no mesh to draw (a character needs a mesh with triangles)",
+                path.display()
+            ))
+        })
+    }
+
+    /// [`Character::open_with`], or `None` for a file without a mesh with triangles (a take
+    /// alone): what `convert CHAR.fbx -o copy.fbx` asks to keep a file's mesh.
+    pub fn open_if_any(path: &Path, options: &OpenOptions) -> Result<Option<Character>, Error> {
         let max_size = options.max_size_or_default();
         crate::take::check_file(path, max_size)?;
         let (read, mesh, format) = match Format::from_path(path) {
@@ -137,17 +148,14 @@ impl Character {
             }
         };
         if mesh.vertex_count() == 0 || mesh.triangles.is_empty() {
-            return Err(Error::usage(format!(
-                "{}: no mesh to draw (a character needs a mesh with triangles)",
-                path.display()
-            )));
+            return Ok(None);
         }
         skinnable(path, &read.skeleton, &mesh)?;
         let mut take = Take::new(read.skeleton, read.motion, path.display().to_string());
         take.warnings = read.warnings;
         take.format = Some(format);
         take.take_name = read.take;
-        Ok(Character { take, mesh })
+        Ok(Some(Character { take, mesh }))
     }
 
     /// The joints' world matrices of `skeleton` (the character's, or one with the same joints

@@ -133,47 +133,21 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         );
     }
     let loaded = edit(&args, loaded)?;
-    if let Some(path) = &args.character {
-        let character = super::character::load_all(std::slice::from_ref(path), 1, &args.source)?
+    let character = match &args.character {
+        Some(path) => super::character::load_all(std::slice::from_ref(path), 1, &args.source)?
             .pop()
             .flatten()
-            .expect("one character asked for");
-        let dressed =
-            super::character::dress(&character, &loaded, &args.input, args.insisting.insist())?;
-        let container = match format {
-            TakeFormat::Gltf => crate::gltf::Container::Gltf,
-            _ => crate::gltf::Container::Glb,
-        };
-        let cut = crate::model::mesh::vertices_past_written_influences(&character.mesh);
-        if cut > 0 {
-            eprintln!(
-                "bvhview: {}: warning: {cut} of {} mesh vertices have more than {} skin \
-                 influences: the strongest {} are written, scaled to sum to 1 (glTF viewers read \
-                 at most 4 or 8)",
-                path.display(),
-                character.mesh.vertex_count(),
-                crate::model::mesh::MAX_WRITTEN_INFLUENCES,
-                crate::model::mesh::MAX_WRITTEN_INFLUENCES
-            );
+            .map(|character| (path.clone(), character)),
+        // A character file converted to FBX keeps its mesh.
+        None if format == TakeFormat::Fbx && own_mesh_kept(&loaded) => {
+            let options = crate::take::OpenOptions::new().max_size(args.source.max_size);
+            crate::character::Character::open_if_any(&args.input, &options)?
+                .map(|character| (args.input.clone(), std::sync::Arc::new(character)))
         }
-        let bytes = crate::gltf::to_gltf_character(
-            &dressed.skeleton,
-            &dressed.motion,
-            &character.mesh,
-            container,
-        )?;
-        let target = (!is_stdio(&args.output)).then_some(args.output.as_path());
-        let mut out = open_output(target)?;
-        let result = out.write_all(&bytes);
-        finish_write(out, result, target)?;
-        wrote(format_args!(
-            "{}: {} on {} ({} vertices)",
-            args.output.display(),
-            crate::io::error::counted(dressed.motion.frame_count(), "frame"),
-            path.display(),
-            character.mesh.vertex_count()
-        ));
-        return Ok(ExitCode::SUCCESS);
+        None => None,
+    };
+    if let Some((path, character)) = character {
+        return write_character(&args, format, &loaded, &path, &character);
     }
     let label = super::TakeLabel::of(&loaded);
     write_take(
@@ -185,6 +159,94 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         args.skin,
         Some(label),
     )
+}
+
+/// Whether `take` comes from a file that may hold a skinned mesh of its own (FBX or glTF).
+fn own_mesh_kept(take: &Take) -> bool {
+    matches!(
+        take.format,
+        Some(crate::take::Format::Fbx | crate::take::Format::Gltf)
+    )
+}
+
+/// `loaded` (after the edits) put on `character` (read from `path`) and written with the
+/// character's mesh: glTF or FBX.
+fn write_character(
+    args: &ConvertArgs,
+    format: TakeFormat,
+    loaded: &Take,
+    path: &Path,
+    character: &crate::character::Character,
+) -> Result<ExitCode, Error> {
+    let dressed = super::character::dress(character, loaded, &args.input, args.insisting.insist())?;
+    let bytes = match format {
+        TakeFormat::Fbx => fbx_character(&dressed, &character.mesh, &args.output)?,
+        _ => {
+            let container = match format {
+                TakeFormat::Gltf => crate::gltf::Container::Gltf,
+                _ => crate::gltf::Container::Glb,
+            };
+            let cut = crate::model::mesh::vertices_past_written_influences(&character.mesh);
+            if cut > 0 {
+                eprintln!(
+                    "bvhview: {}: warning: {cut} of {} mesh vertices have more than {} skin \
+                     influences: the strongest {} are written, scaled to sum to 1 (glTF viewers \
+                     read at most 4 or 8)",
+                    path.display(),
+                    character.mesh.vertex_count(),
+                    crate::model::mesh::MAX_WRITTEN_INFLUENCES,
+                    crate::model::mesh::MAX_WRITTEN_INFLUENCES
+                );
+            }
+            crate::gltf::to_gltf_character(
+                &dressed.skeleton,
+                &dressed.motion,
+                &character.mesh,
+                container,
+            )?
+        }
+    };
+    let target = (!is_stdio(&args.output)).then_some(args.output.as_path());
+    let mut out = open_output(target)?;
+    let result = out.write_all(&bytes);
+    finish_write(out, result, target)?;
+    wrote(format_args!(
+        "{}: {} on {} ({} vertices)",
+        args.output.display(),
+        crate::io::error::counted(dressed.motion.frame_count(), "frame"),
+        path.display(),
+        character.mesh.vertex_count()
+    ));
+    Ok(ExitCode::SUCCESS)
+}
+
+/// A dressed take and its character's mesh as FBX bytes, or what this build lacks.
+fn fbx_character(
+    dressed: &Take,
+    mesh: &crate::model::mesh::Mesh,
+    output: &Path,
+) -> Result<Vec<u8>, Error> {
+    #[cfg(feature = "fbx")]
+    {
+        let _ = output;
+        let written = dressed.fbx_character(mesh)?;
+        for change in &written.renamed {
+            eprintln!(
+                "bvhview: {}: joint {change} (an FBX name holds no control character)",
+                output.display()
+            );
+        }
+        Ok(written.bytes)
+    }
+    #[cfg(not(feature = "fbx"))]
+    {
+        let _ = (dressed, mesh);
+        Err(crate::io::absent::without(
+            "fbx",
+            "FBX",
+            &output.display().to_string(),
+        ))
+    }
 }
 
 /// The threads asked for, at least 1.
@@ -199,7 +261,7 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
     // FBX out writes the skeleton and its motion; a mesh is not written into FBX yet.
     let no_mesh = match format {
         TakeFormat::Bvh => Some("a BVH file has no mesh"),
-        TakeFormat::Fbx => Some("FBX out writes the skeleton and its motion, not yet a mesh"),
+        TakeFormat::Fbx => None,
         TakeFormat::Glb | TakeFormat::Gltf => None,
     };
     if let Some(why) = no_mesh {

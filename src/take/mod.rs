@@ -233,15 +233,44 @@ impl Take {
     /// [`Take::stance`] reads them; the animation stack is named after the take.
     #[cfg(feature = "fbx")]
     pub fn fbx(&self) -> Result<crate::fbx::write::Written, Error> {
+        crate::fbx::write::to_bytes(&self.skeleton, &self.motion, &self.fbx_settings())
+    }
+
+    /// [`Take::fbx`] with a character's mesh bound to the joints (`mesh` bound to this take's
+    /// skeleton, as [`crate::character::Character::dress`] gives it): an animated skinned
+    /// character in one file.
+    ///
+    /// ```
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// use bvhview::character::Character;
+    ///
+    /// let kenney = Character::open("tests/data/characters/maya_kenney_character_7700_binary.fbx")?;
+    /// let written = kenney.take.fbx_character(&kenney.mesh)?;
+    /// assert!(written.bytes.starts_with(b"Kaydara FBX Binary"));
+    /// # Ok(())
+    /// # }
+    /// ```
+    #[cfg(feature = "fbx")]
+    pub fn fbx_character(
+        &self,
+        mesh: &crate::model::mesh::Mesh,
+    ) -> Result<crate::fbx::write::Written, Error> {
+        let settings = self.fbx_settings();
+        crate::fbx::write::character_to_bytes(&self.skeleton, &self.motion, mesh, &settings)
+    }
+
+    /// What an FBX file of this take states: its name, units and up axis as
+    /// [`Take::stance`] reads them, written in centimetres.
+    #[cfg(feature = "fbx")]
+    fn fbx_settings(&self) -> crate::fbx::write::Settings {
         let stance = self.stance(self.offset_mode);
-        let settings = crate::fbx::write::Settings {
+        crate::fbx::write::Settings {
             take_name: self.take_label(),
             offset_mode: self.offset_mode,
             metres_per_unit: f64::from(stance.units.metres),
             up: stance.up,
             out_metres_per_unit: 0.01,
-        };
-        crate::fbx::write::to_bytes(&self.skeleton, &self.motion, &settings)
+        }
     }
 
     /// [`Take::fbx`]'s bytes, or what this build lacks to make them; `output` names the file.

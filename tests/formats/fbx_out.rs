@@ -89,3 +89,63 @@ fn asf_amc_fbx_and_gltf_takes_read_back_where_they_were() {
         round_trip(&path, None);
     }
 }
+
+/// Every vertex of `character`'s mesh skinned by `take` (on its skeleton), every frame.
+fn skinned(character: &bvhview::character::Character, take: &Take) -> Vec<Vec<glam::Vec3>> {
+    (0..take.motion.frame_count().max(1))
+        .map(|f| {
+            let row = if take.motion.frame_count() == 0 {
+                &[][..]
+            } else {
+                take.motion.frame(f)
+            };
+            character.vertices(&take.skeleton, row)
+        })
+        .collect()
+}
+
+/// A character's mesh written into FBX (skin, clusters, every influence) and read back: every
+/// vertex where bvhview's own skinning put it, on every frame, within 1e-5 of the mesh's
+/// height; the file's own take as it is (`convert CHAR -o copy.fbx`), and a walk put on it.
+#[test]
+fn a_character_reads_back_with_every_vertex_where_it_was() {
+    use bvhview::character::Character;
+    let mut characters = vec![
+        data("characters/capsule_mixamo.fbx"),
+        data("characters/maya_kenney_character_7700_binary.fbx"),
+    ];
+    if cfg!(feature = "gltf") {
+        characters.push(data("characters/capsule_mixamo.glb"));
+    }
+    let walk = Take::open(data("bvh/bvh11_131_01.bvh"))
+        .unwrap()
+        .trim(0..12);
+    let folder = tempfile::tempdir().unwrap();
+    for path in characters {
+        let character = Character::open(&path).unwrap();
+        let (dressed, _) = character.dress(&walk, &[], Default::default(), 1).unwrap();
+        for (label, take) in [("own take", &character.take), ("walk", &dressed)] {
+            let out = folder.path().join("character.fbx");
+            std::fs::write(&out, take.fbx_character(&character.mesh).unwrap().bytes).unwrap();
+            let back = Character::open(&out).unwrap();
+            assert_eq!(back.mesh.vertex_count(), character.mesh.vertex_count());
+            assert_eq!(back.mesh.triangles, character.mesh.triangles);
+            let (want, got) = (skinned(&character, take), skinned(&back, &back.take));
+            assert_eq!(want.len(), got.len(), "{}: {label}", path.display());
+            let rest = &want[0];
+            let height = rest.iter().map(|p| p.y).fold(f32::MIN, f32::max)
+                - rest.iter().map(|p| p.y).fold(f32::MAX, f32::min);
+            let worst = want
+                .iter()
+                .flatten()
+                .zip(got.iter().flatten())
+                .map(|(a, b)| a.distance(*b))
+                .fold(0.0f32, f32::max);
+            assert!(
+                worst <= 1e-5 * height,
+                "{} ({label}): a vertex {worst} off, height {height}",
+                path.display()
+            );
+        }
+    }
+}

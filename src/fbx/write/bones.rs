@@ -53,6 +53,18 @@ impl Bone {
         None
     }
 
+    /// A node at the origin that never moves (what a mesh bone bound to no joint links to).
+    pub(super) fn fixed(name: &str) -> Bone {
+        Bone {
+            name: name.to_string(),
+            parent: None,
+            translation: [0.0; 3],
+            order: 0,
+            moves: None,
+            turns: None,
+        }
+    }
+
     /// Curves this bone's motion takes: three per animated property.
     pub(super) fn curve_count(&self) -> usize {
         3 * self.animated_properties().count()
@@ -188,7 +200,7 @@ fn fbx_order(order: RotationOrder) -> i32 {
 
 /// A name FBX can hold: no control character (FBX separates a name from its class with
 /// `\0\x01`); each one becomes `_`.
-fn fbx_name(name: &str) -> String {
+pub(super) fn fbx_name(name: &str) -> String {
     name.chars()
         .map(|c| if c.is_control() { '_' } else { c })
         .collect()

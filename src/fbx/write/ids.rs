@@ -25,6 +25,27 @@ pub(super) fn curve_id(bone: usize, p: usize, axis: usize) -> i64 {
     curve_node_id(bone, p) + 1 + axis as i64
 }
 
+/// A character's meshes: part `k`'s `Model`, `Geometry` and skin `Deformer` (past every
+/// bone's ids: a bone's run up from [`FIRST_ID`] in steps of 16).
+const FIRST_MESH_ID: i64 = 1 << 40;
+
+pub(super) fn mesh_model_id(part: usize) -> i64 {
+    FIRST_MESH_ID + 4 * part as i64
+}
+
+pub(super) fn geometry_id(part: usize) -> i64 {
+    mesh_model_id(part) + 1
+}
+
+pub(super) fn skin_id(part: usize) -> i64 {
+    mesh_model_id(part) + 2
+}
+
+/// The cluster of mesh bone `bone` (an index into the mesh's bones, unique across its parts).
+pub(super) fn cluster_id(bone: usize) -> i64 {
+    (1 << 41) + bone as i64
+}
+
 /// The one animation stack, its one layer, the bind pose and the document.
 pub(super) const STACK_ID: i64 = 10;
 pub(super) const LAYER_ID: i64 = 11;

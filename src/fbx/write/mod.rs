@@ -9,9 +9,11 @@
 mod bones;
 mod ids;
 mod records;
+mod skin;
 
 use crate::io::error::Error;
 use crate::io::message::Message;
+use crate::model::mesh::Mesh;
 use crate::model::motion::Motion;
 use crate::model::pose::{OffsetMode, Up};
 use crate::model::skeleton::Skeleton;
@@ -21,6 +23,7 @@ use ids::{
     curve_node_id, model_id,
 };
 use records::{Records, Value};
+use skin::Skin;
 
 /// FBX time: ticks per second.
 pub const TICKS_PER_SECOND: f64 = 46_186_158_000.0;
@@ -104,6 +107,55 @@ pub fn to_bytes(
     motion: &Motion,
     settings: &Settings,
 ) -> Result<Written, Error> {
+    write(skeleton, motion, None, settings)
+}
+
+/// A character's take as an FBX 7.4 binary file: `skeleton` and `motion` as [`to_bytes`]
+/// writes them, and `mesh` bound to the joints by a skin deformer with one cluster per bone
+/// (every influence kept): one file an engine imports as an animated skinned character.
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # #[cfg(feature = "gltf")]
+/// # {
+/// use bvhview::character::Character;
+/// use bvhview::fbx::write::{Settings, character_to_bytes};
+///
+/// let capsule = Character::open("tests/data/characters/capsule_mixamo.glb")?;
+/// let take = &capsule.take;
+/// let settings = Settings {
+///     take_name: "capsule".into(),
+///     offset_mode: take.offset_mode,
+///     metres_per_unit: 1.0,
+///     up: bvhview::model::pose::Up::Y,
+///     out_metres_per_unit: 0.01,
+/// };
+/// let written = character_to_bytes(&take.skeleton, &take.motion, &capsule.mesh, &settings)?;
+/// // Read back, the mesh has every vertex.
+/// let path = std::env::temp_dir().join(format!("capsule-doc-{}.fbx", std::process::id()));
+/// std::fs::write(&path, &written.bytes)?;
+/// let back = Character::open(&path);
+/// std::fs::remove_file(&path)?;
+/// assert_eq!(back?.mesh.vertex_count(), capsule.mesh.vertex_count());
+/// # }
+/// # Ok(())
+/// # }
+/// ```
+pub fn character_to_bytes(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mesh: &Mesh,
+    settings: &Settings,
+) -> Result<Written, Error> {
+    write(skeleton, motion, Some(mesh), settings)
+}
+
+fn write(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mesh: Option<&Mesh>,
+    settings: &Settings,
+) -> Result<Written, Error> {
     let frames = motion.frame_count();
     if frames > 1 && !(motion.frame_time > 0.0 && motion.frame_time.is_finite()) {
         return Err(Error::usage(
@@ -116,7 +168,17 @@ pub fn to_bytes(
         ));
     }
     let scale = scale_between(settings.metres_per_unit, settings.out_metres_per_unit);
-    let (bones, renamed) = bones::of(skeleton, motion, settings.offset_mode, scale)?;
+    let (mut bones, renamed) = bones::of(skeleton, motion, settings.offset_mode, scale)?;
+    let skin = match mesh {
+        Some(mesh) => {
+            let origin = Skin::needs_origin(mesh).then(|| {
+                bones.push(Bone::fixed("mesh_origin"));
+                bones.len() - 1
+            });
+            Some(Skin::new(mesh, scale, origin)?)
+        }
+        None => None,
+    };
     if let Some(fault) = bones.iter().find_map(Bone::not_finite) {
         return Err(Error::usage(format!("cannot write FBX: {fault}")));
     }
@@ -144,6 +206,7 @@ pub fn to_bytes(
     }
     let scene = Scene {
         bones: &bones,
+        skin: skin.as_ref(),
         settings,
         frames,
         frame_time: 1.0 / rate,
@@ -189,6 +252,7 @@ fn scale_between(metres_per_unit: f64, out_metres_per_unit: f64) -> f64 {
 /// The scene being written, and the ids of its objects.
 struct Scene<'a> {
     bones: &'a [Bone],
+    skin: Option<&'a Skin<'a>>,
     settings: &'a Settings,
     frames: usize,
     frame_time: f64,
@@ -205,6 +269,9 @@ impl Scene<'_> {
         out.open("Objects", &[])?;
         for (i, bone) in self.bones.iter().enumerate() {
             bone.write_objects(&mut out, i)?;
+        }
+        if let Some(skin) = self.skin {
+            skin.write_objects(&mut out, self.bones)?;
         }
         self.bind_pose(&mut out)?;
         if self.animated() {
@@ -316,12 +383,19 @@ impl Scene<'_> {
     fn definitions(&self, out: &mut Records) -> Result<(), Error> {
         let bones = self.bones.len() as i32;
         let curve_nodes: i32 = self.bones.iter().map(|b| b.curve_count() as i32 / 3).sum();
+        let (meshes, geometries, deformers) = self.skin.map_or((0, 0, 0), Skin::counts);
         let mut types = vec![
             ("GlobalSettings", 1),
-            ("Model", bones),
+            ("Model", bones + meshes as i32),
             ("NodeAttribute", bones),
             ("Pose", 1),
         ];
+        if geometries > 0 {
+            types.extend([
+                ("Geometry", geometries as i32),
+                ("Deformer", deformers as i32),
+            ]);
+        }
         if self.animated() {
             types.extend([
                 ("AnimationStack", 1),
@@ -341,7 +415,8 @@ impl Scene<'_> {
         out.close()
     }
 
-    /// The rest pose as the bind pose: every bone's world matrix with no rotation.
+    /// The rest pose as the bind pose: every bone's world matrix with no rotation; a joint a
+    /// mesh is bound to, its world matrix when the mesh was bound; each mesh at the origin.
     fn bind_pose(&self, out: &mut Records) -> Result<(), Error> {
         let name = format!("{}\0\x01Pose", self.settings.take_name);
         out.open(
@@ -354,22 +429,29 @@ impl Scene<'_> {
         )?;
         out.leaf("Type", &[Value::Str("BindPose")])?;
         out.leaf("Version", &[Value::I32(100)])?;
-        out.leaf("NbPoseNodes", &[Value::I32(self.bones.len() as i32)])?;
-        let mut world: Vec<[f64; 3]> = Vec::with_capacity(self.bones.len());
-        for (i, bone) in self.bones.iter().enumerate() {
-            let base = bone.parent.map_or([0.0; 3], |p| world[p]);
-            let at = [0, 1, 2].map(|k| base[k] + bone.translation[k]);
-            world.push(at);
-            let mut matrix = [0.0; 16];
-            for k in 0..3 {
-                matrix[5 * k] = 1.0;
-                matrix[12 + k] = at[k];
-            }
-            matrix[15] = 1.0;
+        let bound = self.skin.map_or_else(Vec::new, Skin::bind_pose);
+        let meshes: Vec<i64> = self.skin.map_or_else(Vec::new, |s| s.model_ids().collect());
+        let count = self.bones.len() + meshes.len();
+        out.leaf("NbPoseNodes", &[Value::I32(count as i32)])?;
+        let node = |out: &mut Records, id: i64, matrix: glam::DMat4| {
             out.open("PoseNode", &[])?;
-            out.leaf("Node", &[Value::I64(model_id(i))])?;
-            out.f64_array("Matrix", &matrix)?;
-            out.close()?;
+            out.leaf("Node", &[Value::I64(id)])?;
+            out.f64_array("Matrix", &matrix.to_cols_array())?;
+            out.close()
+        };
+        let mut world: Vec<glam::DVec3> = Vec::with_capacity(self.bones.len());
+        for (i, bone) in self.bones.iter().enumerate() {
+            let base = bone.parent.map_or(glam::DVec3::ZERO, |p| world[p]);
+            let at = base + glam::DVec3::from_array(bone.translation);
+            world.push(at);
+            let matrix = match bound.iter().find(|(b, _)| *b == i) {
+                Some(&(_, matrix)) => matrix,
+                None => glam::DMat4::from_translation(at),
+            };
+            node(out, model_id(i), matrix)?;
+        }
+        for id in meshes {
+            node(out, id, glam::DMat4::IDENTITY)?;
         }
         out.close()
     }
@@ -426,6 +508,9 @@ impl Scene<'_> {
         for (i, bone) in self.bones.iter().enumerate() {
             oo(out, model_id(i), bone.parent.map_or(0, model_id))?;
             oo(out, attribute_id(i), model_id(i))?;
+        }
+        if let Some(skin) = self.skin {
+            skin.connect(&mut |child, parent| oo(out, child, parent))?;
         }
         if self.animated() {
             oo(out, LAYER_ID, STACK_ID)?;
