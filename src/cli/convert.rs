@@ -74,9 +74,10 @@ pub(crate) struct ConvertArgs {
     /// glTF only: add the viewer's generated skin as a mesh skinned to the joints.
     #[arg(long)]
     skin: bool,
-    /// glTF only: put the take (after the edits) on a character (.fbx, .glb or .gltf with a
+    /// glTF or FBX: put the take (after the edits) on a character (.fbx, .glb or .gltf with a
     /// skinned mesh), retargeted onto its skeleton by role, and write the character's mesh
-    /// bound to it: the take plays on the character in any glTF viewer.
+    /// bound to it: the take plays on the character in any glTF viewer or engine. A character
+    /// file converted to FBX keeps its own mesh without this.
     #[arg(long, value_name = "CHAR", conflicts_with = "skin")]
     character: Option<PathBuf>,
     #[command(flatten)]
@@ -258,23 +259,27 @@ fn threads(args: &ConvertArgs) -> usize {
 
 /// Refuses options that could not apply to any take, before anything is read.
 fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
-    // FBX out writes the skeleton and its motion; a mesh is not written into FBX yet.
-    let no_mesh = match format {
-        TakeFormat::Bvh => Some("a BVH file has no mesh"),
-        TakeFormat::Fbx => None,
-        TakeFormat::Glb | TakeFormat::Gltf => None,
-    };
-    if let Some(why) = no_mesh {
-        for (asked, flag) in [
-            (args.character.is_some(), "--character"),
-            (args.skin, "--skin"),
-        ] {
-            if asked {
-                return Err(Error::usage(format!(
-                    "{flag} needs a glTF output (.glb or .gltf); {why}"
-                )));
-            }
+    // A BVH file has no mesh; FBX out writes a character's mesh, not the viewer's generated
+    // skin (a picture aid, not a character).
+    match format {
+        TakeFormat::Bvh if args.skin => {
+            return Err(Error::usage(
+                "--skin needs a glTF output (.glb or .gltf); a BVH file has no mesh",
+            ));
         }
+        TakeFormat::Bvh if args.character.is_some() => {
+            return Err(Error::usage(
+                "--character needs a glTF or FBX output (.glb, .gltf or .fbx); a BVH file has no \
+                 mesh",
+            ));
+        }
+        TakeFormat::Fbx if args.skin => {
+            return Err(Error::usage(
+                "--skin needs a glTF output (.glb or .gltf): FBX out writes a character's own \
+                 mesh (--character CHAR), not the viewer's generated skin",
+            ));
+        }
+        _ => {}
     }
     if let Some(fps) = args.fps {
         crate::limits::fps(fps, false)?;

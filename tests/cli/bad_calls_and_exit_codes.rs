@@ -332,3 +332,69 @@ fn a_character_from_standard_input_is_refused_with_what_to_give() {
     );
     assert!(!out.exists());
 }
+
+/// FBX out takes a character: `--character` to .fbx writes its mesh, a character file converted
+/// to FBX keeps its own; the viewer's generated skin stays glTF's, and a BVH has no mesh.
+#[cfg(feature = "fbx")]
+#[test]
+fn convert_to_fbx_writes_a_characters_mesh_and_refuses_the_generated_skin() {
+    let folder = common::scratch_folder("fbx_character");
+    let kenney = data("characters/maya_kenney_character_7700_binary.fbx");
+    let copy = folder.join("copy.fbx");
+    let out = bvhview(&[
+        "convert".as_ref(),
+        kenney.as_os_str(),
+        "-o".as_ref(),
+        copy.as_os_str(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let back = bvhview::character::Character::open(&copy).unwrap();
+    assert_eq!(back.mesh.vertex_count(), 804);
+    assert_eq!(back.take.frame_count(), 21);
+    let walk = data("bvh/bvh11_131_01.bvh");
+    let capsule = data("characters/capsule_mixamo.fbx");
+    let dressed = folder.join("walk.fbx");
+    let out = bvhview(&[
+        "convert".as_ref(),
+        walk.as_os_str(),
+        "--frames".as_ref(),
+        "0..10".as_ref(),
+        "--character".as_ref(),
+        capsule.as_os_str(),
+        "-o".as_ref(),
+        dressed.as_os_str(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    let back = bvhview::character::Character::open(&dressed).unwrap();
+    assert_eq!(
+        (back.mesh.vertex_count(), back.take.frame_count()),
+        (2904, 10)
+    );
+    let refused = folder.join("skin.fbx");
+    one_line(
+        &bvhview(&[
+            "convert".as_ref(),
+            walk.as_os_str(),
+            "--skin".as_ref(),
+            "-o".as_ref(),
+            refused.as_os_str(),
+        ]),
+        2,
+        "--skin needs a glTF output (.glb or .gltf): FBX out writes a character's own mesh",
+    );
+    let bvh = folder.join("walk.bvh");
+    one_line(
+        &bvhview(&[
+            "convert".as_ref(),
+            walk.as_os_str(),
+            "--character".as_ref(),
+            capsule.as_os_str(),
+            "-o".as_ref(),
+            bvh.as_os_str(),
+        ]),
+        2,
+        "--character needs a glTF or FBX output (.glb, .gltf or .fbx); a BVH file has no mesh",
+    );
+    assert!(!refused.exists() && !bvh.exists());
+    std::fs::remove_dir_all(&folder).unwrap();
+}
