@@ -305,6 +305,68 @@ impl Character {
         self.dress(take, &[], insist, threads)
     }
 
+    /// Writes `take` with this character's mesh bound to it, by the extension of `path`: glTF
+    /// (`.glb`, `.gltf`) or FBX (`.fbx`), the file whole or not at all. `take` must be on the
+    /// character's skeleton: its own take, or one [`Character::dress`] made.
+    ///
+    /// ```
+    /// # fn main() -> Result<(), Box<dyn std::error::Error>> {
+    /// # #[cfg(feature = "fbx")]
+    /// # {
+    /// use bvhview::character::Character;
+    ///
+    /// let kenney = Character::open("tests/data/characters/maya_kenney_character_7700_binary.fbx")?;
+    /// let folder = tempfile::tempdir()?;
+    /// kenney.save(&kenney.take, folder.path().join("kenney.fbx"))?;
+    /// let back = Character::open(folder.path().join("kenney.fbx"))?;
+    /// assert_eq!(back.mesh.vertex_count(), 804);
+    /// # }
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn save(&self, take: &Take, path: impl AsRef<Path>) -> Result<(), Error> {
+        let path = path.as_ref();
+        if !self.is_own_skeleton(&take.skeleton) {
+            return Err(Error::usage(format!(
+                "{}: the take is not on this character's skeleton ({} joints, {} here): put it \
+                 on the character first (dress)",
+                path.display(),
+                take.skeleton.joints.len(),
+                self.take.skeleton.joints.len()
+            )));
+        }
+        let extension = path
+            .extension()
+            .map(|e| e.to_string_lossy().to_ascii_lowercase())
+            .unwrap_or_default();
+        let gltf = |container| {
+            crate::gltf::to_gltf_character(&take.skeleton, &take.motion, &self.mesh, container)
+        };
+        let bytes = match extension.as_str() {
+            "glb" => gltf(crate::gltf::Container::Glb)?,
+            "gltf" => gltf(crate::gltf::Container::Gltf)?,
+            #[cfg(feature = "fbx")]
+            "fbx" => take.fbx_character(&self.mesh)?.bytes,
+            #[cfg(not(feature = "fbx"))]
+            "fbx" => {
+                return Err(crate::io::absent::without(
+                    "fbx",
+                    "FBX",
+                    &path.display().to_string(),
+                ));
+            }
+            other => {
+                return Err(Error::usage(format!(
+                    "{}: a character is saved as .glb, .gltf or .fbx, not '{other}'",
+                    path.display()
+                )));
+            }
+        };
+        let mut out = crate::io::output::AtomicFile::create(path)?;
+        out.write_all(&bytes).map_err(|e| Error::output(path, e))?;
+        out.commit()
+    }
+
     /// Whether `skeleton` is the one the mesh is bound to: the same joints in the same order,
     /// each with its parent, channels and OFFSET (another take of the character's own file, or
     /// a file of the very same rig). Its motion then moves the mesh as it is.

@@ -126,6 +126,27 @@ impl Character {
         })
     }
 
+    /// Writes `take` (default: the character's own take) with the character's mesh bound to
+    /// it: glTF (.glb, .gltf) or FBX (.fbx), as `bvhview convert --character` does; one file an
+    /// engine imports as an animated skinned character. `take` must be on the character's
+    /// skeleton (its own take, or one `dress` made). The file takes its name only when
+    /// complete.
+    #[pyo3(signature = (path, take=None))]
+    fn save(&self, py: Python<'_>, path: PathBuf, take: Option<&Motion>) -> PyResult<()> {
+        guard("save", || {
+            let own;
+            let take = match take {
+                Some(take) => take,
+                None => {
+                    own = self.motion();
+                    &own
+                }
+            };
+            py.detach(|| self.inner.save(&take.loaded, &path))
+                .map_err(|e| to_python(py, e))
+        })
+    }
+
     /// The skinned vertices in the frames selected of `take` (default: the character's own
     /// take), frames × vertices × 3, float32, in the character's units (metres), Y up. `take`
     /// must be on the character's skeleton (its own take, or one `dress` made). `frames` as

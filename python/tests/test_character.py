@@ -56,3 +56,23 @@ def test_a_file_without_a_mesh_is_refused():
         bvhview.load_character(REPO / "tests" / "data" / "fbx" / "bvh11_131_01.fbx")
     with pytest.raises(ValueError, match="FBX or glTF"):
         bvhview.load_character(REPO / "tests" / "data" / "bvh" / "bvh11_131_01.bvh")
+
+
+def test_a_character_saved_as_fbx_and_glb_reads_back_with_every_vertex(tmp_path):
+    walk = bvhview.load(REPO / "tests" / "data" / "bvh" / "bvh11_131_01.bvh").trim(0, 8)
+    capsule = bvhview.load_character(CHARACTERS / "capsule_mixamo.fbx")
+    dressed = capsule.dress(walk)
+    want = capsule.vertices(dressed)
+    height = np.ptp(want[0, :, 1])
+    for name in ("walk.fbx", "walk.glb"):
+        capsule.save(tmp_path / name, dressed)
+        back = bvhview.load_character(tmp_path / name)
+        got = back.vertices()
+        assert got.shape == want.shape
+        assert np.abs(got - want).max() <= 1e-5 * height
+    # The character's own take by default; a take off its skeleton is refused by name.
+    capsule.save(tmp_path / "own.fbx")
+    assert bvhview.load_character(tmp_path / "own.fbx").vertex_count == capsule.vertex_count
+    with pytest.raises(ValueError, match="dress"):
+        capsule.save(tmp_path / "no.fbx", walk)
+    assert not (tmp_path / "no.fbx").exists()

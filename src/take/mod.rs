@@ -255,7 +255,12 @@ impl Take {
         &self,
         mesh: &crate::model::mesh::Mesh,
     ) -> Result<crate::fbx::write::Written, Error> {
-        let settings = self.fbx_settings();
+        // The mesh is bound to joints whose OFFSETs position channels replace, as glTF's
+        // character is written.
+        let settings = crate::fbx::write::Settings {
+            offset_mode: crate::model::pose::OffsetMode::Replace,
+            ..self.fbx_settings()
+        };
         crate::fbx::write::character_to_bytes(&self.skeleton, &self.motion, mesh, &settings)
     }
 

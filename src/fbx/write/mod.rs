@@ -115,7 +115,7 @@ pub fn to_bytes(
 /// (every influence kept): one file an engine imports as an animated skinned character.
 ///
 /// ```
-/// # fn main() -> Result<(), bvhview::Error> {
+/// # fn main() -> Result<(), Box<dyn std::error::Error>> {
 /// # #[cfg(feature = "gltf")]
 /// # {
 /// use bvhview::character::Character;
@@ -132,11 +132,10 @@ pub fn to_bytes(
 /// };
 /// let written = character_to_bytes(&take.skeleton, &take.motion, &capsule.mesh, &settings)?;
 /// // Read back, the mesh has every vertex.
-/// let path = std::env::temp_dir().join(format!("capsule-doc-{}.fbx", std::process::id()));
-/// std::fs::write(&path, &written.bytes)?;
-/// let back = Character::open(&path);
-/// std::fs::remove_file(&path)?;
-/// assert_eq!(back?.mesh.vertex_count(), capsule.mesh.vertex_count());
+/// let folder = tempfile::tempdir()?;
+/// std::fs::write(folder.path().join("capsule.fbx"), &written.bytes)?;
+/// let back = Character::open(folder.path().join("capsule.fbx"))?;
+/// assert_eq!(back.mesh.vertex_count(), capsule.mesh.vertex_count());
 /// # }
 /// # Ok(())
 /// # }
