@@ -206,13 +206,74 @@ pub(super) fn fbx_name(name: &str) -> String {
         .collect()
 }
 
-/// Every joint of `skeleton` as a bone, its keys from `motion`, lengths times `scale`; and the
-/// names changed on the way.
+/// A Z-up take turned to Y up as it is written, exactly: every point (x, y, z) becomes
+/// (x, z, −y), a quarter turn Q about X. A joint's rotation R becomes Q·R·Q⁻¹, whose channels
+/// are the same angles about the turned axes: about X stays about X, about Y becomes about −Z
+/// (the angle negated), about Z becomes about Y. The channel values are moved and negated, never
+/// split again, and the Euler order is the turned axes' order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Turn {
+    z_up: bool,
+}
+
+impl Turn {
+    /// The turn that stands a take of `up` up in Y (none for a Y-up take).
+    pub(super) fn to_y_up(up: crate::model::pose::Up) -> Turn {
+        Turn {
+            z_up: up == crate::model::pose::Up::Z,
+        }
+    }
+
+    /// The axis (0 X, 1 Y, 2 Z) and sign that a value along or about `axis` goes to.
+    pub(super) fn axis(self, axis: usize) -> (usize, f32) {
+        match (self.z_up, axis) {
+            (false, a) | (true, a @ 0) => (a, 1.0),
+            (true, 1) => (2, -1.0),
+            (true, _) => (1, 1.0),
+        }
+    }
+
+    /// A point or direction turned.
+    pub(super) fn point(self, v: [f64; 3]) -> [f64; 3] {
+        let mut out = [0.0; 3];
+        for (a, value) in v.into_iter().enumerate() {
+            let (to, sign) = self.axis(a);
+            out[to] = value * f64::from(sign);
+        }
+        out
+    }
+
+    /// The matrix of the turn (entries 0 and ±1: products with it are exact).
+    pub(super) fn matrix(self) -> glam::DMat4 {
+        let [x, y, z] = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]]
+            .map(|column| glam::DVec3::from_array(self.point(column)).extend(0.0));
+        glam::DMat4::from_cols(x, y, z, glam::DVec4::W)
+    }
+
+    /// Q·q·Q⁻¹: the rotation about the turned axis, by the same angle.
+    fn rotation(self, q: glam::DQuat) -> glam::DQuat {
+        let [x, y, z] = self.point([q.x, q.y, q.z]);
+        glam::DQuat::from_xyzw(x, y, z, q.w)
+    }
+
+    /// The Euler order of `order`'s rotation once turned.
+    fn order(self, order: RotationOrder) -> RotationOrder {
+        let mut axes = [0; 3];
+        for (slot, letter) in axes.iter_mut().zip(order.letters().bytes()) {
+            *slot = self.axis(usize::from(letter - b'x')).0;
+        }
+        RotationOrder::from_axes(axes).unwrap_or(order)
+    }
+}
+
+/// Every joint of `skeleton` as a bone, its keys from `motion`, lengths times `scale`, turned
+/// by `turn`; and the names changed on the way.
 pub(super) fn of(
     skeleton: &Skeleton,
     motion: &Motion,
     mode: OffsetMode,
     scale: f64,
+    turn: Turn,
 ) -> Result<(Vec<Bone>, Vec<String>), Error> {
     let baked = crate::edit::baked_for_bvh(skeleton, motion)?;
     let (skeleton, motion) = baked.as_ref().map_or((skeleton, motion), |(s, m)| (s, m));
@@ -225,29 +286,31 @@ pub(super) fn of(
             if name != written {
                 renamed.push(format!("{written:?} → {name:?}"));
             }
-            let offset = joint.offset.to_array().map(|v| f64::from(v) * scale);
+            let offset = turn.point(joint.offset.to_array().map(|v| f64::from(v) * scale));
             let has = |rotation: bool| joint.channels.iter().any(|c| c.is_rotation() == rotation);
             let frames = || (0..motion.frame_count()).map(|f| joint.values(motion.frame(f)));
             let animated = motion.frame_count() > 0;
             let moves = (animated && has(false)).then(|| {
                 frames()
                     .map(|values| {
-                        let t = joint_translation(joint, values, mode);
-                        t.to_array().map(|v| (f64::from(v) * scale) as f32)
+                        let t = joint_translation(joint, values, mode).to_array();
+                        turn.point(t.map(|v| f64::from(v) * scale))
+                            .map(|v| v as f32)
                     })
                     .collect()
             });
             let (order, turns) = match (animated && has(true), joint.rotation_order) {
                 (false, _) => (0, None),
                 (true, Some(order)) => (
-                    fbx_order(order),
+                    fbx_order(turn.order(order)),
                     Some(continuous(
                         frames()
                             .map(|values| {
                                 let mut xyz = [0.0f32; 3];
                                 for (channel, &value) in joint.channels.iter().zip(values) {
                                     if channel.is_rotation() {
-                                        xyz[channel.axis()] = value;
+                                        let (axis, sign) = turn.axis(channel.axis());
+                                        xyz[axis] = sign * value;
                                     }
                                 }
                                 xyz
@@ -257,7 +320,7 @@ pub(super) fn of(
                 ),
                 // Two rotation channels, or one axis twice: the rotation they make, split
                 // into FBX's default order (XYZ), continuous from frame to frame.
-                (true, None) => (0, Some(split_frames(joint, frames()))),
+                (true, None) => (0, Some(split_frames(joint, frames(), turn))),
             };
             Bone {
                 name,
@@ -298,11 +361,12 @@ fn continuous(mut turns: Vec<[f32; 3]>) -> Vec<[f32; 3]> {
     turns
 }
 
-/// Each frame's rotation of `joint` split into X, Y and Z degrees of FBX's XYZ order (BVH's
-/// `Zrotation Yrotation Xrotation`), continuous from frame to frame.
+/// Each frame's rotation of `joint`, turned by `turn`, split into X, Y and Z degrees of FBX's
+/// XYZ order (BVH's `Zrotation Yrotation Xrotation`), continuous from frame to frame.
 fn split_frames<'a>(
     joint: &crate::model::skeleton::Joint,
     frames: impl Iterator<Item = &'a [f32]>,
+    turn: Turn,
 ) -> Vec<[f32; 3]> {
     let mut previous = None;
     frames
@@ -315,7 +379,7 @@ fn split_frames<'a>(
                 .map(|(channel, &v)| if channel.is_rotation() { v % 360.0 } else { v })
                 .collect();
             let angles = euler::split(
-                local_rotation_f64(joint, &values),
+                turn.rotation(local_rotation_f64(joint, &values)),
                 RotationOrder::Zyx,
                 previous,
             );
@@ -328,7 +392,46 @@ fn split_frames<'a>(
 
 #[cfg(test)]
 mod tests {
-    use super::{RotationOrder, continuous, fbx_name, fbx_order};
+    use super::{RotationOrder, Turn, continuous, fbx_name, fbx_order};
+
+    /// Turned, each order's channels (moved to the turned axes, negated where the axis flips)
+    /// make Q·R·Q⁻¹ for every order: the same rotation seen Y up, no split.
+    #[test]
+    fn a_z_up_rotation_turns_by_moving_its_channels() {
+        use crate::model::euler::compose;
+        let turn = Turn::to_y_up(crate::model::pose::Up::Z);
+        let q = glam::DQuat::from_rotation_x(-std::f64::consts::FRAC_PI_2);
+        assert!((turn.matrix() - glam::DMat4::from_quat(q)).abs_diff_eq(glam::DMat4::ZERO, 1e-15));
+        for order in [
+            RotationOrder::Zyx,
+            RotationOrder::Yzx,
+            RotationOrder::Zxy,
+            RotationOrder::Xzy,
+            RotationOrder::Yxz,
+            RotationOrder::Xyz,
+        ] {
+            let angles = [0.3, -1.1, 2.5];
+            let axes: Vec<usize> = order
+                .letters()
+                .bytes()
+                .map(|c| usize::from(c - b'x'))
+                .collect();
+            let turned: Vec<f64> = axes
+                .iter()
+                .zip(angles)
+                .map(|(&a, angle)| angle * f64::from(turn.axis(a).1))
+                .collect();
+            let want = q * compose(angles, order) * q.conjugate();
+            let got = compose([turned[0], turned[1], turned[2]], turn.order(order));
+            assert!(
+                want.dot(got).abs() > 1.0 - 1e-12,
+                "{order:?}: {want} vs {got}"
+            );
+        }
+        let none = Turn::to_y_up(crate::model::pose::Up::Y);
+        assert_eq!(none.point([1.0, 2.0, 3.0]), [1.0, 2.0, 3.0]);
+        assert_eq!(turn.point([1.0, 2.0, 3.0]), [1.0, 3.0, -2.0]);
+    }
 
     #[test]
     fn angles_move_by_whole_turns_to_within_half_a_turn_of_the_frame_before() {

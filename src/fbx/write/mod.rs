@@ -3,8 +3,8 @@
 //! `Model` of type LimbNode with a Skeleton `NodeAttribute`, its rest pose in `Lcl Translation`
 //! and `Lcl Rotation`, its motion in one `AnimationCurveNode` per animated property with a curve
 //! keyed at every frame, its Euler order in `RotationOrder` (the six BVH orders are FBX's six:
-//! kept, not split again), the rest pose as the bind pose, units and up axis in
-//! `GlobalSettings`.
+//! kept, not split again), the rest pose as the bind pose, centimetres and Y up in
+//! `GlobalSettings` (a Z-up take turned exactly as it is written).
 
 mod bones;
 mod ids;
@@ -53,7 +53,8 @@ pub struct Settings {
     pub offset_mode: OffsetMode,
     /// Metres per unit of the take.
     pub metres_per_unit: f64,
-    /// The take's up axis, stated in the file (engines stand it up).
+    /// The take's up axis: a Z-up take is turned to Y up as it is written (exactly: channels
+    /// moved to the turned axes, not split again), so the file is Y up as engines expect.
     pub up: Up,
     /// Metres per unit written: 0.01 (centimetres, what engines expect) unless asked otherwise.
     pub out_metres_per_unit: f64,
@@ -167,14 +168,15 @@ fn write(
         ));
     }
     let scale = scale_between(settings.metres_per_unit, settings.out_metres_per_unit);
-    let (mut bones, renamed) = bones::of(skeleton, motion, settings.offset_mode, scale)?;
+    let turn = bones::Turn::to_y_up(settings.up);
+    let (mut bones, renamed) = bones::of(skeleton, motion, settings.offset_mode, scale, turn)?;
     let skin = match mesh {
         Some(mesh) => {
             let origin = Skin::needs_origin(mesh).then(|| {
                 bones.push(Bone::fixed("mesh_origin"));
                 bones.len() - 1
             });
-            Some(Skin::new(mesh, scale, origin)?)
+            Some(Skin::new(mesh, scale, turn, origin)?)
         }
         None => None,
     };
@@ -321,11 +323,8 @@ impl Scene<'_> {
 
     fn global_settings(&self, out: &mut Records) -> Result<(), Error> {
         let unit_cm = self.settings.out_metres_per_unit * 100.0;
-        // Y up: front +Z, right +X. Z up: front −Y, right +X (Blender's, 3ds Max's).
-        let (up, front, front_sign) = match self.settings.up {
-            Up::Y => (1, 2, 1),
-            Up::Z => (2, 1, -1),
-        };
+        // Y up, front +Z, right +X, as engines expect: a Z-up take was turned as it was written.
+        let (up, front, front_sign) = (1, 2, 1);
         let (mode, rate) = time_mode(self.frame_time);
         out.open("GlobalSettings", &[])?;
         out.leaf("Version", &[Value::I32(1000)])?;

@@ -9,7 +9,7 @@
 //! origin): every reader's `TransformLink⁻¹ · Transform` or `Transform` alone then gives the
 //! same bind.
 
-use super::bones::Bone;
+use super::bones::{Bone, Turn};
 use super::ids::{cluster_id, geometry_id, mesh_model_id, model_id, skin_id};
 use super::records::{Records, Value};
 use crate::io::error::Error;
@@ -22,6 +22,8 @@ pub(super) struct Skin<'a> {
     mesh: &'a Mesh,
     /// Written units per unit of the take.
     scale: f64,
+    /// The turn of a Z-up take to Y up, as the joints are turned.
+    turn: Turn,
     /// The parts written (a part without vertices or triangles is left out).
     parts: Vec<usize>,
     /// The bone (index into the written bones) a joint-less mesh bone links to.
@@ -31,7 +33,12 @@ pub(super) struct Skin<'a> {
 impl<'a> Skin<'a> {
     /// The parts of `mesh` to write, lengths times `scale`; `origin` is the written bone that
     /// stands at the origin for mesh bones bound to no joint (see [`Skin::needs_origin`]).
-    pub(super) fn new(mesh: &'a Mesh, scale: f64, origin: Option<usize>) -> Result<Self, Error> {
+    pub(super) fn new(
+        mesh: &'a Mesh,
+        scale: f64,
+        turn: Turn,
+        origin: Option<usize>,
+    ) -> Result<Self, Error> {
         mesh.check()
             .map_err(|why| Error::usage(format!("cannot write the mesh: {why}")))?;
         let parts = (0..mesh.parts.len())
@@ -43,6 +50,7 @@ impl<'a> Skin<'a> {
         Ok(Skin {
             mesh,
             scale,
+            turn,
             parts,
             origin,
         })
@@ -79,12 +87,14 @@ impl<'a> Skin<'a> {
         }
     }
 
-    /// A bone's bind matrix in written units: the translation scaled, the rest kept.
+    /// A bone's bind matrix in written units (the translation scaled, the rest kept), turned
+    /// as the joints and the mesh are: Q·B·Q⁻¹.
     fn bind(&self, bone: usize) -> DMat4 {
         let bind = self.mesh.bones[bone].bind.as_dmat4();
         let (x, y, z) = (bind.x_axis, bind.y_axis, bind.z_axis);
         let w = bind.w_axis.truncate() * self.scale;
-        DMat4::from_cols(x, y, z, w.extend(1.0))
+        let q = self.turn.matrix();
+        q * DMat4::from_cols(x, y, z, w.extend(1.0)) * q.transpose()
     }
 
     /// Each linked joint's world matrix when the mesh was bound (first part that binds it
@@ -143,7 +153,7 @@ impl<'a> Skin<'a> {
         let first = vertices.start as u32;
         let positions: Vec<f64> = self.mesh.positions[vertices.clone()]
             .iter()
-            .flat_map(|p| (p.as_dvec3() * self.scale).to_array())
+            .flat_map(|p| self.turn.point((p.as_dvec3() * self.scale).to_array()))
             .collect();
         let polygons: Vec<i32> = self.mesh.triangles[corners]
             .chunks_exact(3)
@@ -154,7 +164,10 @@ impl<'a> Skin<'a> {
             .collect();
         let normals: Vec<f64> = self.mesh.normals[vertices]
             .iter()
-            .flat_map(|n| n.as_dvec3().try_normalize().unwrap_or(DVec3::Y).to_array())
+            .flat_map(|n| {
+                let n = n.as_dvec3().try_normalize().unwrap_or(DVec3::Y);
+                self.turn.point(n.to_array())
+            })
             .collect();
         let geometry = format!("{name}\0\x01Geometry");
         out.open(
