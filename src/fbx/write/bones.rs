@@ -172,12 +172,12 @@ fn write_curve(out: &mut Records, id: i64, times: &[i64], values: &[f32]) -> Res
     )?;
     out.leaf("Default", &[Value::F64(0.0)])?;
     out.leaf("KeyVer", &[Value::I32(4009)])?;
-    out.i64_array("KeyTime", times)?;
-    out.f32_array("KeyValueFloat", values)?;
+    out.array("KeyTime", times)?;
+    out.array("KeyValueFloat", values)?;
     // One attribute for every key: linear interpolation (FBX's eInterpolationLinear).
-    out.i32_array("KeyAttrFlags", &[LINEAR])?;
-    out.f32_array("KeyAttrDataFloat", &[0.0; 4])?;
-    out.i32_array("KeyAttrRefCount", &[values.len() as i32])?;
+    out.array("KeyAttrFlags", &[LINEAR])?;
+    out.array("KeyAttrDataFloat", &[0.0f32; 4])?;
+    out.array("KeyAttrRefCount", &[values.len() as i32])?;
     out.close()
 }
 

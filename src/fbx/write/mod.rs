@@ -434,7 +434,7 @@ impl Scene<'_> {
         let node = |out: &mut Records, id: i64, matrix: glam::DMat4| {
             out.open("PoseNode", &[])?;
             out.leaf("Node", &[Value::I64(id)])?;
-            out.f64_array("Matrix", &matrix.to_cols_array())?;
+            out.array("Matrix", &matrix.to_cols_array())?;
             out.close()
         };
         let mut world: Vec<glam::DVec3> = Vec::with_capacity(self.bones.len());

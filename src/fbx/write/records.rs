@@ -72,39 +72,11 @@ impl Records {
         self.leaf("P", &all)
     }
 
-    /// A record holding one array of 64-bit integers (key times).
-    pub(super) fn i64_array(&mut self, name: &str, values: &[i64]) -> Result<(), Error> {
+    /// A record holding one array: key times (`i64`), key values (`f32`), indices (`i32`),
+    /// vertices, weights and matrices (`f64`).
+    pub(super) fn array<T: ArrayElement>(&mut self, name: &str, values: &[T]) -> Result<(), Error> {
         let mut attributes = self.writer.new_node(name).map_err(failed)?;
-        attributes
-            .append_arr_i64_from_iter(ArrayAttributeEncoding::Direct, values.iter().copied())
-            .map_err(failed)?;
-        self.close()
-    }
-
-    /// A record holding one array of 32-bit floats (key values).
-    pub(super) fn f32_array(&mut self, name: &str, values: &[f32]) -> Result<(), Error> {
-        let mut attributes = self.writer.new_node(name).map_err(failed)?;
-        attributes
-            .append_arr_f32_from_iter(ArrayAttributeEncoding::Direct, values.iter().copied())
-            .map_err(failed)?;
-        self.close()
-    }
-
-    /// A record holding one array of 32-bit integers.
-    pub(super) fn i32_array(&mut self, name: &str, values: &[i32]) -> Result<(), Error> {
-        let mut attributes = self.writer.new_node(name).map_err(failed)?;
-        attributes
-            .append_arr_i32_from_iter(ArrayAttributeEncoding::Direct, values.iter().copied())
-            .map_err(failed)?;
-        self.close()
-    }
-
-    /// A record holding one array of 64-bit floats (a matrix).
-    pub(super) fn f64_array(&mut self, name: &str, values: &[f64]) -> Result<(), Error> {
-        let mut attributes = self.writer.new_node(name).map_err(failed)?;
-        attributes
-            .append_arr_f64_from_iter(ArrayAttributeEncoding::Direct, values.iter().copied())
-            .map_err(failed)?;
+        T::append(&mut attributes, values).map_err(failed)?;
         self.close()
     }
 
@@ -133,3 +105,31 @@ fn append(
     }
     .map_err(failed)
 }
+
+/// A number FBX stores in an array record; each type has its own array code.
+pub(super) trait ArrayElement: Copy {
+    fn append(
+        attributes: &mut AttributesWriter<'_, Cursor<Vec<u8>>>,
+        values: &[Self],
+    ) -> Result<(), fbxcel::writer::v7400::binary::Error>;
+}
+
+macro_rules! array_element {
+    ($type:ty, $append:ident) => {
+        impl ArrayElement for $type {
+            fn append(
+                attributes: &mut AttributesWriter<'_, Cursor<Vec<u8>>>,
+                values: &[Self],
+            ) -> Result<(), fbxcel::writer::v7400::binary::Error> {
+                attributes
+                    .$append(ArrayAttributeEncoding::Direct, values.iter().copied())
+                    .map(|_| ())
+            }
+        }
+    };
+}
+
+array_element!(i32, append_arr_i32_from_iter);
+array_element!(i64, append_arr_i64_from_iter);
+array_element!(f32, append_arr_f32_from_iter);
+array_element!(f64, append_arr_f64_from_iter);

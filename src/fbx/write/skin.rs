@@ -181,14 +181,14 @@ impl<'a> Skin<'a> {
         out.open("Properties70", &[])?;
         out.close()?;
         out.leaf("GeometryVersion", &[Value::I32(124)])?;
-        out.f64_array("Vertices", &positions)?;
-        out.i32_array("PolygonVertexIndex", &polygons)?;
+        out.array("Vertices", &positions)?;
+        out.array("PolygonVertexIndex", &polygons)?;
         out.open("LayerElementNormal", &[Value::I32(0)])?;
         out.leaf("Version", &[Value::I32(101)])?;
         out.leaf("Name", &[Value::Str("")])?;
         out.leaf("MappingInformationType", &[Value::Str("ByVertice")])?;
         out.leaf("ReferenceInformationType", &[Value::Str("Direct")])?;
-        out.f64_array("Normals", &normals)?;
+        out.array("Normals", &normals)?;
         out.close()?;
         out.open("Layer", &[Value::I32(0)])?;
         out.leaf("Version", &[Value::I32(100)])?;
@@ -225,10 +225,10 @@ impl<'a> Skin<'a> {
             )?;
             out.leaf("Version", &[Value::I32(100)])?;
             out.leaf("UserData", &[Value::Str(""), Value::Str("")])?;
-            out.i32_array("Indexes", &indexes[b])?;
-            out.f64_array("Weights", &weights[b])?;
-            out.f64_array("Transform", &transform.to_cols_array())?;
-            out.f64_array("TransformLink", &transform.inverse().to_cols_array())?;
+            out.array("Indexes", &indexes[b])?;
+            out.array("Weights", &weights[b])?;
+            out.array("Transform", &transform.to_cols_array())?;
+            out.array("TransformLink", &transform.inverse().to_cols_array())?;
             out.close()?;
         }
         Ok(())
