@@ -345,16 +345,7 @@ impl Character {
         let bytes = match extension.as_str() {
             "glb" => gltf(crate::gltf::Container::Glb)?,
             "gltf" => gltf(crate::gltf::Container::Gltf)?,
-            #[cfg(feature = "fbx")]
-            "fbx" => take.fbx_character(&self.mesh)?.bytes,
-            #[cfg(not(feature = "fbx"))]
-            "fbx" => {
-                return Err(crate::io::absent::without(
-                    "fbx",
-                    "FBX",
-                    &path.display().to_string(),
-                ));
-            }
+            "fbx" => take.fbx_bytes(Some(&self.mesh), &path.display().to_string())?,
             other => {
                 return Err(Error::usage(format!(
                     "{}: a character is saved as .glb, .gltf or .fbx, not '{other}'",
@@ -362,9 +353,7 @@ impl Character {
                 )));
             }
         };
-        let mut out = crate::io::output::AtomicFile::create(path)?;
-        out.write_all(&bytes).map_err(|e| Error::output(path, e))?;
-        out.commit()
+        crate::io::output::AtomicFile::write_whole(path, &bytes)
     }
 
     /// Whether `skeleton` is the one the mesh is bound to: the same joints in the same order,

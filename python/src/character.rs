@@ -65,6 +65,16 @@ impl Character {
     }
 }
 
+impl Character {
+    /// `take`, or the character's own take (kept in `own`).
+    fn take_or_own<'a>(&self, take: Option<&'a Motion>, own: &'a mut Option<Motion>) -> &'a Motion {
+        match take {
+            Some(take) => take,
+            None => own.insert(self.motion()),
+        }
+    }
+}
+
 #[pymethods]
 impl Character {
     /// The file read.
@@ -134,14 +144,8 @@ impl Character {
     #[pyo3(signature = (path, take=None))]
     fn save(&self, py: Python<'_>, path: PathBuf, take: Option<&Motion>) -> PyResult<()> {
         guard("save", || {
-            let own;
-            let take = match take {
-                Some(take) => take,
-                None => {
-                    own = self.motion();
-                    &own
-                }
-            };
+            let mut own = None;
+            let take = self.take_or_own(take, &mut own);
             py.detach(|| self.inner.save(&take.loaded, &path))
                 .map_err(|e| to_python(py, e))
         })
@@ -159,14 +163,8 @@ impl Character {
         frames: Option<&Bound<'py, PyAny>>,
     ) -> PyResult<Bound<'py, PyAny>> {
         guard("vertices", || {
-            let own;
-            let take = match take {
-                Some(take) => take,
-                None => {
-                    own = self.motion();
-                    &own
-                }
-            };
+            let mut own = None;
+            let take = self.take_or_own(take, &mut own);
             let skeleton = &take.loaded.skeleton;
             let ours = &self.inner.take.skeleton;
             let same = skeleton.joints.len() == ours.joints.len()

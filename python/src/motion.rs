@@ -15,7 +15,6 @@ use numpy::{IntoPyArray, PyArray1, PyArray2, PyArrayMethods};
 use pyo3::exceptions::{PyIndexError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::IntoPyDict;
-use std::io::Write;
 use std::path::Path;
 
 #[pymethods]
@@ -554,10 +553,7 @@ impl Motion {
     pub(crate) fn write_bvh(&self, path: &Path) -> Result<(), Error> {
         // Refused before the file is opened: nothing is written (a ValueError).
         let text = self.loaded.bvh_text()?;
-        let mut out = AtomicFile::create(path)?;
-        out.write_all(text.as_bytes())
-            .map_err(|e| Error::output(path, e))?;
-        out.commit()
+        AtomicFile::write_whole(path, text.as_bytes())
     }
 
     /// FBX 7.4 binary in centimetres, as `Take::save` writes it.
@@ -579,8 +575,6 @@ impl Motion {
             container,
             false,
         )?;
-        let mut out = AtomicFile::create(path)?;
-        out.write_all(&bytes).map_err(|e| Error::output(path, e))?;
-        out.commit()
+        AtomicFile::write_whole(path, &bytes)
     }
 }

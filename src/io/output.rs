@@ -280,6 +280,14 @@ enum Writer {
 }
 
 impl AtomicFile {
+    /// Writes `bytes` as the whole of `path`: the file takes its name only when complete.
+    pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), Error> {
+        use std::io::Write;
+        let mut out = AtomicFile::create(path)?;
+        out.write_all(bytes).map_err(|e| Error::output(path, e))?;
+        out.commit()
+    }
+
     /// Starts writing `path` (its folder must exist).
     pub fn create(path: &Path) -> Result<AtomicFile, Error> {
         let Place {

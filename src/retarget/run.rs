@@ -41,14 +41,7 @@ pub(crate) fn retarget_posed(
     ups: Ups,
     threads: usize,
 ) -> Result<(Skeleton, Motion), Error> {
-    // Checked again here for callers that come without a Target (its message names them).
-    crate::limits::retarget_values(
-        "the retarget",
-        motion.frame_count(),
-        source.channel_count(),
-        target.joints.len(),
-        target.channel_count(),
-    )?;
+    within_limits(source, motion, target)?;
     let setup = Setup::new(source, motion, target, map, ups, target_poses);
     let (data, finite) = fast::frames(&setup, source, motion, target, map, threads);
     if finite && target.joints.iter().all(|j| j.offset.is_finite()) {
@@ -64,6 +57,18 @@ pub(crate) fn retarget_posed(
     finish(target, motion, data)
 }
 
+/// The values a retarget makes, held to the limits: checked again here for callers that come
+/// without a Target (its message names them).
+fn within_limits(source: &Skeleton, motion: &Motion, target: &Skeleton) -> Result<(), Error> {
+    crate::limits::retarget_values(
+        "the retarget",
+        motion.frame_count(),
+        source.channel_count(),
+        target.joints.len(),
+        target.channel_count(),
+    )
+}
+
 /// [`retarget`] done plainly: glam's 64-bit quaternions and libm's `sin`, `cos` and `atan2`, a
 /// joint and a frame at a time. What the fast path is checked against.
 pub fn retarget_plain(
@@ -74,14 +79,7 @@ pub fn retarget_plain(
     ups: Ups,
     threads: usize,
 ) -> Result<(Skeleton, Motion), Error> {
-    // Checked again here for callers that come without a Target (its message names them).
-    crate::limits::retarget_values(
-        "the retarget",
-        motion.frame_count(),
-        source.channel_count(),
-        target.joints.len(),
-        target.channel_count(),
-    )?;
+    within_limits(source, motion, target)?;
     let setup = Setup::new(source, motion, target, map, ups, None);
     let values = plain_frames(&setup, source, motion, target, map, threads);
     finish(target, motion, values.iter().map(|&v| v as f32).collect())

@@ -189,13 +189,12 @@ impl Take {
     /// # }
     /// ```
     pub fn save(&self, path: impl AsRef<Path>) -> Result<(), Error> {
-        use std::io::Write;
         let path = path.as_ref();
         let bytes = match extension(path).as_str() {
             "bvh" => self.bvh_text()?.into_bytes(),
             "glb" => self.gltf(crate::gltf::Container::Glb)?,
             "gltf" => self.gltf(crate::gltf::Container::Gltf)?,
-            "fbx" => self.fbx_bytes(&path.display().to_string())?,
+            "fbx" => self.fbx_bytes(None, &path.display().to_string())?,
             other => {
                 return Err(Error::usage(format!(
                     "{}: save writes .bvh, .glb, .gltf or .fbx files, not '{other}'",
@@ -203,9 +202,7 @@ impl Take {
                 )));
             }
         };
-        let mut out = crate::io::output::AtomicFile::create(path)?;
-        out.write_all(&bytes).map_err(|e| Error::output(path, e))?;
-        out.commit()
+        crate::io::output::AtomicFile::write_whole(path, &bytes)
     }
 
     /// The take as BVH text. A skeleton with fixed bone axes (ASF) has them baked into its
@@ -278,15 +275,26 @@ impl Take {
         }
     }
 
-    /// [`Take::fbx`]'s bytes, or what this build lacks to make them; `output` names the file.
-    fn fbx_bytes(&self, output: &str) -> Result<Vec<u8>, Error> {
+    /// [`Take::fbx`]'s bytes (with `mesh`: [`Take::fbx_character`]'s), or what this build
+    /// lacks to make them; `output` names the file.
+    pub(crate) fn fbx_bytes(
+        &self,
+        mesh: Option<&crate::model::mesh::Mesh>,
+        output: &str,
+    ) -> Result<Vec<u8>, Error> {
         #[cfg(feature = "fbx")]
         {
             let _ = output;
-            Ok(self.fbx()?.bytes)
+            Ok(match mesh {
+                Some(mesh) => self.fbx_character(mesh)?.bytes,
+                None => self.fbx()?.bytes,
+            })
         }
         #[cfg(not(feature = "fbx"))]
-        Err(crate::io::absent::without("fbx", "FBX", output))
+        {
+            let _ = mesh;
+            Err(crate::io::absent::without("fbx", "FBX", output))
+        }
     }
 
     /// What a take is called inside a file that names takes: the take chosen in the file it

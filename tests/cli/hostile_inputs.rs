@@ -1306,12 +1306,7 @@ fn gltf_frame_rate_is_the_key_step_that_fits_the_most_keys() {
     let loaded = crate::common::load_take(&odd, None, None).unwrap();
     assert_eq!(loaded.motion.frame_count(), 31);
     assert_eq!(loaded.motion.frame_time, 1.0 / 30.0);
-    let said = loaded
-        .warnings
-        .iter()
-        .map(ToString::to_string)
-        .collect::<Vec<_>>()
-        .join("\n");
+    let said = warnings_of(&loaded);
     assert!(
         said.contains("1 of 32 key times do not fall on a frame at 30 fps"),
         "{said}"
@@ -1338,12 +1333,7 @@ fn gltf_frame_rate_is_the_key_step_that_fits_the_most_keys() {
     let loaded = crate::common::load_take(&fast, None, None).unwrap();
     assert_eq!(loaded.motion.frame_time, 1e-3);
     assert_eq!(loaded.motion.frame_count(), 50);
-    let said = loaded
-        .warnings
-        .iter()
-        .map(ToString::to_string)
-        .collect::<Vec<_>>()
-        .join("\n");
+    let said = warnings_of(&loaded);
     assert!(
         said.contains("its keys are 0.5 ms apart (2000 fps); sampled at 1000 fps"),
         "{said}"
@@ -1519,12 +1509,7 @@ fn fbx_take_ranges_backwards_are_refused_and_missing_ones_read_over_the_keys() {
     });
     let loaded = crate::common::load_take(&none, None, None).unwrap();
     assert_eq!(loaded.motion.frame_count(), 56);
-    let said = loaded
-        .warnings
-        .iter()
-        .map(ToString::to_string)
-        .collect::<Vec<_>>()
-        .join("\n");
+    let said = warnings_of(&loaded);
     assert!(
         said.contains("take 'Take 001' states no time range (no LocalStart or LocalStop): read over its keys, 0 s to 1.8333 s"),
         "{said}"
@@ -1682,4 +1667,13 @@ fn an_fbx_frame_budget_counts_every_node_evaluated() {
         ),
         "{text}"
     );
+}
+
+/// A take's warnings, one a line.
+fn warnings_of(take: &bvhview::Take) -> String {
+    take.warnings
+        .iter()
+        .map(ToString::to_string)
+        .collect::<Vec<_>>()
+        .join("\n")
 }
