@@ -168,9 +168,11 @@ else
     echo "blender: not installed, the Blender import check is skipped (apt-get install blender python3-numpy)"
     ignored=$((ignored + 1))
 fi
-# Independent readers of the FBX export: assimp (libassimp, apt-get) and three.js's FBXLoader (npm,
-# into the target folder's tools/fbx-readers) read every corpus take converted to FBX, each file a
-# test (tests/fbx_readers/run_checks.sh); a reader that cannot be installed is skipped, one line.
+# Independent readers of the FBX export: assimp (libassimp, apt-get), three.js's FBXLoader (npm,
+# into the target folder's tools/fbx-readers) and Blender's importer (bpy from pip, in a Python 3.13
+# venv there, or BVHVIEW_BPY=python) read every corpus take converted to FBX, and Blender the
+# characters' meshes, each file a test (tests/fbx_readers/run_checks.sh); a reader that cannot be
+# installed is skipped, one line.
 fbx_log=$(mktemp)
 trap 'rm -f "$log" "$pylog" "$gltf_log" "$fbx_log"' EXIT
 bash tests/fbx_readers/run_checks.sh "$cli" >"$fbx_log" 2>&1 || status=1

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What an FBX reader read (check_assimp's or check_three.mjs's JSON) against what bvhview wrote.
+"""What an FBX reader read (check_assimp's, check_three.mjs's or check_blender.py's JSON) against what bvhview wrote.
 
     compare.py --hierarchy TAKE.bvh --positions TAKE.csv --info TAKE.info --take NAME \
         [--bone-ends] DUMP.json [DUMP.json ...]
@@ -19,7 +19,8 @@ Z-up file up is expected, and only for a Z-up take); the node tree is the take's
 reader spells them, parents); one animation named after the take, channels on exactly the joints
 with channels, every frame keyed, its duration (frames - 1) x frame time; and every joint's world
 position at each frame in the dump within the tolerance of the figure's height, in metres (the
-reader's lengths times the file's UnitScaleFactor, centimetres).
+reader's lengths times the file's UnitScaleFactor, centimetres). Blender's world is Z up: a Y-up
+take's positions are compared turned as Blender turns the file, (x, y, z) -> (x, -z, y).
 
 Prints one line per reader, `READER: worst E of the height (frame F, JOINT)` or `READER: FAIL: ...`,
 and exits with the number of readers that failed.
@@ -108,6 +109,7 @@ def three_name(name):
 def check(dump, take, args):
     """Problems found (a list of strings), and the worst error over the height with where."""
     three = dump["reader"].startswith("three")
+    blender = dump["reader"].startswith("blender")
     problems = []
     if "error" in dump:
         return [f"did not load: {dump['error']}"], None
@@ -117,7 +119,9 @@ def check(dump, take, args):
             continue  # three.js turns a Z-up file up, and says so; checked below
         problems.append(f"said: {message}")
 
-    # The node tree: the reader's root (assimp's RootNode, three.js's Group) left out, and
+    # The node tree: the reader's root (assimp's RootNode, three.js's Group, Blender's Armature
+    # object: Blender makes the joints bones of an armature object it adds for the scene's root,
+    # itself no node of the file) left out, and
     # assimp's helper nodes for pivots (none expected: the file has none).
     nodes = dump["nodes"]
     kept, where = [], {}
@@ -138,8 +142,9 @@ def check(dump, take, args):
     for (_, name, parent), (want, want_parent, _) in zip(kept, joints):
         spelled = three_name(want) if three else want
         seen[spelled] = seen.get(spelled, -1) + 1
-        # assimp numbers a name met again (Foot_End, Foot_End001).
-        ok = name == spelled or (not three and seen[spelled] and name == f"{spelled}{seen[spelled]:03d}")
+        # assimp numbers a name met again (Foot_End, Foot_End001), Blender too (Foot_End.001).
+        again = f".{seen[spelled]:03d}" if blender else f"{seen[spelled]:03d}"
+        ok = name == spelled or (not three and seen[spelled] and name == spelled + again)
         if not ok:
             problems.append(f"node {name!r} where {want!r} was written")
         if parent != want_parent:
@@ -200,6 +205,8 @@ def check(dump, take, args):
             want = [v * info["metres"] for v in p]
             if three and info["up"] == "z":
                 want = [want[0], want[2], -want[1]]  # three.js turns Z up to Y up
+            if blender and info["up"] == "y":
+                want = [want[0], -want[2], want[1]]  # Blender turns Y up to Z up
             have = [v * to_metres for v in got[j]]
             error = math.dist(want, have) / info["height"]
             if not error <= worst:

@@ -1,17 +1,22 @@
 #!/usr/bin/env bash
-# FBX out read by two readers nobody here wrote: assimp (Debian's libassimp, through
-# check_assimp.cpp) and three.js's FBXLoader (npm `three`, pinned in package.json, through
-# check_three.mjs). Every take of tests/data (BVH, the ASF/AMC pair, FBX, glTF; and the whole
+# FBX out read by three readers nobody here wrote: assimp (Debian's libassimp, through
+# check_assimp.cpp), three.js's FBXLoader (npm `three`, pinned in package.json, through
+# check_three.mjs) and Blender 5.2's FBX importer (PyPI `bpy`, pinned here, through
+# check_blender.py). Every take of tests/data (BVH, the ASF/AMC pair, FBX, glTF; and the whole
 # corpus in ../shared/data when it is beside the checkout) is converted to FBX by bvhview, read
 # by each reader, and compared by compare.py with what bvhview says of the source take: node
 # tree, animation, duration, and every joint at frames 0, 1, N/2 and N-1 within 1e-4 of the
-# figure's height.
+# figure's height. Each character of tests/data/characters, with its own take and with a walk
+# put on it, is converted to FBX with its mesh, and Blender's deformed mesh is compared by
+# compare_mesh.py with bvhview's skinning, each vertex within 1e-4 of the height.
 #
 # Usage: tests/fbx_readers/run_checks.sh [BVHVIEW] [WORKDIR]
 # What a reader needs is installed when missing: as root, apt-get installs libassimp-dev,
 # pkg-config and g++ (assimp) and nodejs and npm (three.js); npm installs three into
-# ${CARGO_TARGET_DIR:-target}/tools/fbx-readers. A reader that cannot be set up is skipped with
-# one line ("fbx readers: three.js skipped: ..."). The last line is
+# ${CARGO_TARGET_DIR:-target}/tools/fbx-readers; a venv of Python 3.13 (python3.13, or pyenv's)
+# with bpy and numpy from pip goes into its bpy/ (about 400 MB). BVHVIEW_BPY=/path/to/python
+# uses a Python that has bpy 5.2.3 and numpy instead (nothing installed). A reader that cannot be
+# set up is skipped with one line ("fbx readers: three.js: ...: skipped"). The last line is
 # "fbx readers: N files checked, F failed" (readers: ...); the exit status is F.
 set -uo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -73,6 +78,38 @@ if command -v node >/dev/null && command -v npm >/dev/null; then
 else
     skipped+=("three.js: node and npm missing (apt-get install nodejs npm)")
 fi
+# Blender: bpy (Blender 5.2 as a Python module, from PyPI) in a venv of Python 3.13 (the only
+# Python bpy 5.2 is built for) in the tools folder; BVHVIEW_BPY=/path/to/python uses a Python
+# that has bpy already (then nothing is installed). Python 3.13 is python3.13 on PATH, or
+# pyenv's newest 3.13.
+bpy_want=5.2.3
+bpy_python=${BVHVIEW_BPY:-$tools/bpy/bin/python}
+bpy_have() { "$bpy_python" -c 'import bpy, numpy; print(bpy.app.version_string.split()[0])' 2>/dev/null | tail -n 1; }
+if [ -z "${BVHVIEW_BPY:-}" ] && [ "$(bpy_have)" != "$bpy_want" ]; then
+    py313=
+    if python3.13 -c '' 2>/dev/null; then
+        py313=$(command -v python3.13)
+    elif command -v pyenv >/dev/null; then
+        version=$(pyenv versions --bare 2>/dev/null | grep -E '^3\.13(\.[0-9]+)?$' | sort -t. -k3 -n | tail -n 1)
+        [ -n "$version" ] && py313=$(pyenv root)/versions/$version/bin/python3.13
+    fi
+    if [ -n "$py313" ] && [ -x "$py313" ]; then
+        echo "installing: bpy==$bpy_want numpy into $tools/bpy (for the FBX reader checks; about 400 MB)"
+        { [ -x "$tools/bpy/bin/python" ] || "$py313" -m venv "$tools/bpy"; } >"$work/bpy.log" 2>&1 \
+            && "$tools/bpy/bin/python" -m pip install -q --disable-pip-version-check "bpy==$bpy_want" numpy \
+                >>"$work/bpy.log" 2>&1
+    else
+        echo "no Python 3.13 (python3.13 on PATH, or pyenv install 3.13)" >"$work/bpy.log"
+    fi
+fi
+bpy_version=$(bpy_have)
+if [ "$bpy_version" = "$bpy_want" ]; then
+    readers+=(blender)
+elif [ -s "$work/bpy.log" ]; then
+    skipped+=("blender: bpy $bpy_want could not be set up in $tools/bpy ($(tail -n 1 "$work/bpy.log"))")
+else
+    skipped+=("blender: $bpy_python has bpy ${bpy_version:-none}, not $bpy_want")
+fi
 for line in "${skipped[@]}"; do
     echo "fbx readers: $line: skipped"
 done
@@ -111,6 +148,7 @@ check() { # check NAME [--bone-ends] INPUT... (INPUT: a file, or an ASF and --mo
         case $reader in
             assimp) "$tools/check_assimp" "$w.fbx" "$frames" "${at[@]}" >"$w.assimp.json" 2>"$w.assimp.err" ;;
             three) node "$tools/check_three.mjs" "$w.fbx" "$frames" "${at[@]}" >"$w.three.json" 2>"$w.three.err" ;;
+            blender) "$bpy_python" "$here/check_blender.py" "$w.fbx" "$frames" "${at[@]}" >"$w.blender.json" 2>"$w.blender.err" ;;
         esac
         dumps+=("$w.$reader.json")
     done
@@ -143,5 +181,61 @@ for folder in "${folders[@]}"; do
         done
     done
 done
+
+# Characters: the skinned mesh as a reader deforms it, against bvhview's own skinning
+# (`positions --character CHAR --vertices`), at frames 0, 1, N/2 and N-1, by compare_mesh.py:
+# each character file with its own take, and 20 frames of a walk put on it. The walk is cut
+# first (convert --frames) and then put on the character, for the FBX and for the vertices
+# alike: the retarget stands the feet on the floor over the frames it is given, and `positions
+# --frames` picks frames after it, so `positions WALK --frames 0..20 --character` would stand
+# 5 mm (capsule man) to 36 mm (Kenney) higher than `convert WALK --frames 0..20 --character`.
+# Only Blender gives the mesh (assimp and three.js are not asked for it).
+mesh_readers=()
+for reader in "${readers[@]}"; do
+    [ "$reader" = blender ] && mesh_readers+=(blender)
+done
+check_character() { # check_character NAME CHAR [INPUT]: INPUT's take (default CHAR's own) on CHAR
+    local name=$1 char=$2 input=${3:-$2}
+    local w=$work/$name
+    checked=$((checked + 1))
+    if ! "$cli" convert -q "$input" --character "$char" -o "$w.fbx" 2>"$w.err" \
+        || ! "$cli" positions -q "$input" --character "$char" --vertices -o "$w.vertices.npy" 2>>"$w.err" \
+        || ! "$cli" info "$w.fbx" >"$w.info" 2>>"$w.err"; then
+        echo "$name: FAIL: bvhview: $(head -c 300 "$w.err")"
+        failed=$((failed + 1))
+        return
+    fi
+    local frames at=() dumps=()
+    frames=$(awk '/^frames:/ { print $2 }' "$w.info")
+    for f in 0 1 $((frames / 2)) $((frames - 1)); do
+        [ "$f" -ge 0 ] && [ "$f" -lt "$frames" ] && [[ " ${at[*]} " != *" $f "* ]] && at+=("$f")
+    done
+    for reader in "${mesh_readers[@]}"; do
+        case $reader in
+            blender) "$bpy_python" "$here/check_blender.py" --mesh "$w.blender.npy" "$w.fbx" "$frames" "${at[@]}" \
+                >"$w.blender.json" 2>"$w.blender.err" ;;
+        esac
+        dumps+=("$w.$reader.json")
+    done
+    if ! python3 "$here/compare_mesh.py" --vertices "$w.vertices.npy" --frames "$(IFS=,; echo "${at[*]}")" \
+        "${dumps[@]}" >"$w.compare" 2>&1; then
+        failed=$((failed + 1))
+    fi
+    sed "s/^/$name: /" "$w.compare"
+}
+if [ ${#mesh_readers[@]} -gt 0 ]; then
+    walk=$root/tests/data/bvh/bvh11_131_01.bvh
+    "$cli" convert -q "$walk" --frames 0..20 -o "$work/walk_0-20.bvh"
+    for folder in "${folders[@]}"; do
+        for char in "$folder"/characters/*.fbx "$folder"/characters/*.glb; do
+            [ -e "$char" ] || continue
+            name=$(basename "$char")
+            [ -n "${done_names[character:$name]:-}" ] && continue
+            done_names[character:$name]=1
+            check_character "$name.own_take" "$char"
+            check_character "$name.walk_0-20" "$char" "$work/walk_0-20.bvh"
+        done
+    done
+fi
 echo "fbx readers: $checked files checked, $failed failed (readers: ${readers[*]})"
 exit $((failed > 255 ? 255 : failed)) # an exit status is one byte
