@@ -243,3 +243,11 @@ def test_a_dataset_onto_a_skeleton_records_each_clips_check(tmp_path):
     # Without onto= nothing was retargeted, and no clip says it was.
     plain = bvhview.compile_dataset(folder, tmp_path / "plain")
     assert "retarget_check" not in plain["clips"][0]
+
+
+def test_a_built_in_skeleton_loads_as_a_take_by_its_name():
+    smpl22 = bvhview.load("smpl22")
+    assert smpl22.frame_count == 1
+    assert smpl22.joint_names[:3] == ["pelvis", "left_hip", "left_knee"]
+    pelvis = smpl22.positions()[0, 0]
+    assert pelvis.tolist() == [0.0, 97.0, 0.0]

@@ -20,9 +20,17 @@ pub(crate) struct InfoArgs {
     /// How position channels combine with OFFSET (checked by the warnings).
     #[arg(long, value_enum, default_value_t)]
     offset_mode: OffsetModeArg,
+    /// List the built-in skeletons (each one a take every command reads by its name, such as
+    /// `bvhview info smpl22`): joints, units and where it comes from.
+    #[arg(long, conflicts_with = "file")]
+    list_skeletons: bool,
 }
 
 pub(crate) fn run(args: InfoArgs) -> Result<ExitCode, Error> {
+    if args.list_skeletons {
+        write_text(&built_in_list()?)?;
+        return Ok(ExitCode::SUCCESS);
+    }
     let offset_mode = args.offset_mode.into();
     if let Some(dir) = args.file.as_deref().filter(|f| f.is_dir()) {
         return batch(dir, &args.source, offset_mode);
@@ -49,6 +57,31 @@ pub(crate) fn run(args: InfoArgs) -> Result<ExitCode, Error> {
     }
     write_text(&text)?;
     Ok(ExitCode::SUCCESS)
+}
+
+/// The built-in skeletons, one line each: name, joints, units as `info` reads them, source.
+fn built_in_list() -> Result<String, Error> {
+    let mut text = String::new();
+    for &(name, about) in crate::retarget::BUILT_IN_ABOUT {
+        let built_in = take::OpenOptions::new().open(name)?;
+        let stance = built_in.stance(OffsetMode::Replace);
+        let joints = built_in
+            .skeleton
+            .joints
+            .iter()
+            .filter(|j| !j.end_site)
+            .count();
+        text.push_str(&format!(
+            "{name}: {joints} joints, {}, {:.2} m tall at rest, {} up; {about}\n",
+            stance.units.name,
+            stance.height * stance.units.metres,
+            match stance.up {
+                crate::model::pose::Up::Y => "y",
+                crate::model::pose::Up::Z => "z",
+            }
+        ));
+    }
+    Ok(text)
 }
 
 /// The takes of an FBX or glTF file, one line each, as `--take` picks them.

@@ -41,4 +41,4 @@ pub use map::{How, Map, REQUIRED};
 pub use map_file::{MapPairs, parse_map, parse_map_pairs, parse_pair};
 pub use measure::{Standing, direction_errors, followable_errors, quantile, standing};
 pub use run::{lock_feet_from_source, retarget, retarget_plain, retargeted_values};
-pub use target::{BUILT_IN, Insist, Retargeted, Target, built_in, onto};
+pub use target::{BUILT_IN, BUILT_IN_ABOUT, Insist, Retargeted, Target, built_in, onto};

@@ -81,6 +81,14 @@ pub struct Retargeted {
 /// HumanML3D, AMASS and most text-to-motion models, in centimetres, T-pose, Y up, facing +z.
 pub const BUILT_IN: &[(&str, &[u8])] = &[("smpl22", include_bytes!("../../assets/smpl22.bvh"))];
 
+/// What each built-in skeleton is and where it comes from (`bvhview info --list-skeletons`).
+pub const BUILT_IN_ABOUT: &[(&str, &str)] = &[(
+    "smpl22",
+    "the 22 body joints of SMPL (its kinematic tree and joint names) in the layout of \
+     HumanML3D, AMASS and most text-to-motion models, a T-pose facing +z; lengths of bvhview's \
+     own adult figure (no SMPL model file is shipped)",
+)];
+
 /// A built-in skeleton by name (see [`BUILT_IN`]), with its one rest frame.
 pub fn built_in(name: &str) -> Option<(Skeleton, Motion)> {
     let (_, bytes) = BUILT_IN

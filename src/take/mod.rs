@@ -506,6 +506,9 @@ pub(crate) fn load_take(path: &Path, options: &OpenOptions) -> Result<Take, Erro
         options.frame_time,
         options.take.as_deref(),
     );
+    if let Some(built_in) = built_in_name(path) {
+        return load_built_in(path, built_in, options);
+    }
     check_file(path, max_size)?;
     if let Some(motion) = motion {
         check_file(motion, max_size)?;
@@ -566,6 +569,52 @@ pub(crate) fn load_take(path: &Path, options: &OpenOptions) -> Result<Take, Erro
     // FBX and glTF readers give metres (ufbx converts the FBX's UnitScaleFactor; glTF is metres
     // by definition); the stance's guess from the figure's size says so.
     Ok(Take::of_read(read, format, frame_time, name))
+}
+
+/// The built-in skeleton `path` names: a bare name without an extension or a folder, such as
+/// `smpl22` (see [`crate::retarget::BUILT_IN`]).
+fn built_in_name(path: &Path) -> Option<&'static str> {
+    let name = path.to_str()?;
+    if path.components().count() != 1 || !extension(path).is_empty() {
+        return None;
+    }
+    crate::retarget::BUILT_IN
+        .iter()
+        .map(|(built_in, _)| *built_in)
+        .find(|built_in| built_in.eq_ignore_ascii_case(name))
+}
+
+/// A built-in skeleton as a take: its rest pose, one frame (its units guessed as a file's are:
+/// every built-in stands a person's height in centimetres). A file of
+/// that name in the current folder wins, read by its first bytes, and a warning says so.
+fn load_built_in(path: &Path, name: &str, options: &OpenOptions) -> Result<Take, Error> {
+    if std::fs::symlink_metadata(path).is_ok() {
+        let max_size = options.max_size_or_default();
+        check_file(path, max_size)?;
+        let bytes = crate::io::read::read_file(path, max_size)?;
+        let mut take = load_bytes(&bytes, &path.display().to_string(), options)?;
+        take.warnings.push(Message::from(format!(
+            "the file '{}' in this folder was read, not the built-in skeleton {name} (give \
+             another path to the file, or move it, to read the built-in one)",
+            path.display()
+        )));
+        return Ok(take);
+    }
+    if options.motion.is_some() || options.take.is_some() {
+        return Err(Error::usage(format!(
+            "{name} is a built-in skeleton: its rest pose is its one take (no motion file, no \
+             take to choose)"
+        )));
+    }
+    let (skeleton, motion) = crate::retarget::built_in(name)
+        .ok_or_else(|| Error::usage(format!("the built-in skeleton {name} does not load")))?;
+    Ok(Take::read(
+        skeleton,
+        motion,
+        Vec::<Message>::new(),
+        Format::Bvh,
+        name.to_string(),
+    ))
 }
 
 /// An ASF skeleton at `path` with the AMC motion `options` names (none: its rest pose alone).

@@ -1479,3 +1479,45 @@ fn an_asf_amc_pair_stands_beside_other_takes() {
     ]);
     assert_eq!(both.status.code(), Some(2));
 }
+
+/// A built-in skeleton is a take every command reads by its name: its rest pose, one frame;
+/// `info --list-skeletons` names each one; a file of that name in the current folder wins and
+/// is said.
+#[test]
+fn built_in_skeletons_are_takes_every_command_reads() {
+    let info = bvhview_stdout(&["info", "smpl22"]);
+    assert!(info.contains("joints:           22\n"), "{info}");
+    assert!(info.contains("frames:           1\n"), "{info}");
+    assert!(
+        info.contains("units:            centimetres (sure"),
+        "{info}"
+    );
+    let printed = bvhview_stdout(&["print", "smpl22"]);
+    assert!(printed.starts_with("pelvis : "), "{printed}");
+    let folder = common::scratch_folder("built_in");
+    let csv = folder.join("smpl22.csv");
+    bvhview_stdout(&["positions", "smpl22", "-o", csv.to_str().unwrap()]);
+    let rows = rows(&std::fs::read_to_string(&csv).unwrap());
+    assert_eq!(rows.len(), 27);
+    assert_eq!(find(&rows, 0, "pelvis"), [0.0, 97.0, 0.0]);
+    let listed = bvhview_stdout(&["info", "--list-skeletons"]);
+    assert!(listed.starts_with("smpl22: 22 joints, centimetres, 1.74 m tall at rest, y up; "));
+    // A file named like the built-in, in the current folder: read, and said.
+    std::fs::copy(data("bvh/bvhparser_simple.bvh"), folder.join("smpl22")).unwrap();
+    let out = bvhview_command()
+        .args(["info", "smpl22"])
+        .current_dir(&folder)
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(!text.contains("joints:           22\n"), "{text}");
+    assert!(
+        text.contains("the file 'smpl22' in this folder was read, not the built-in skeleton"),
+        "{text}"
+    );
+    // A built-in has no motion file and no takes to choose.
+    let out = bvhview(&["info", "smpl22", "--take", "1"]);
+    assert_eq!(out.status.code(), Some(2));
+    std::fs::remove_dir_all(&folder).unwrap();
+}
