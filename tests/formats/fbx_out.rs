@@ -149,3 +149,31 @@ fn a_character_reads_back_with_every_vertex_where_it_was() {
         }
     }
 }
+
+/// A rate bvhview could not read back from FBX (slower than a frame every 100 s, faster than
+/// 1000 a second) is refused before a byte is written, with the limit named.
+#[test]
+fn a_rate_the_reader_refuses_is_not_written() {
+    for (frame_time, what, limit, found) in [
+        ("1110", "seconds a frame", 100, 1110),
+        ("0.0001", "frames per second", 1000, 10_000),
+    ] {
+        let text = format!(
+            "HIERARCHY\nROOT Hips\n{{\n OFFSET 0 0 0\n CHANNELS 3 Zrotation Xrotation \
+             Yrotation\n End Site\n {{\n OFFSET 0 10 0\n }}\n}}\nMOTION\nFrames: 2\nFrame Time: \
+             {frame_time}\n0 0 0\n10 0 0\n"
+        );
+        let take = bvhview::OpenOptions::new()
+            .open_bytes(text.as_bytes(), "slow.bvh")
+            .unwrap();
+        match take.fbx() {
+            Err(bvhview::Error::Limit {
+                what: w,
+                limit: l,
+                found: f,
+                ..
+            }) => assert_eq!((w, l, f), (what, limit, found), "{frame_time}"),
+            other => panic!("{frame_time}: {other:?}"),
+        }
+    }
+}

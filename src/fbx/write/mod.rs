@@ -191,6 +191,20 @@ fn write(
     if frames <= 1 && !(crate::limits::MIN_FPS..=crate::limits::MAX_FPS).contains(&rate) {
         rate = 30.0;
     }
+    if frames > 1 && rate < crate::limits::MIN_FPS {
+        let most = 1.0 / crate::limits::MIN_FPS;
+        return Err(Error::limit(
+            "seconds a frame",
+            most as u64,
+            motion.frame_time.ceil() as u64,
+            Message::from(format!(
+                "cannot write FBX: a frame every {} s, slower than the one every {most} s \
+                 bvhview reads back from FBX; resample the take with ",
+                crate::limits::show(motion.frame_time)
+            ))
+            .argument("fps", None),
+        ));
+    }
     if frames > 1 && rate > crate::limits::MAX_FPS {
         return Err(Error::limit(
             "frames per second",
