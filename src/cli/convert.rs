@@ -56,6 +56,19 @@ pub(crate) struct ConvertArgs {
     /// OLD=NEW names.
     #[arg(long = "mirror-names", value_name = "PAIR|FILE")]
     mirror_names: Vec<String>,
+    /// One channel layout (last, after every other edit): every root three positions then three
+    /// rotations, every other joint three rotations. A non-root joint's position channels that
+    /// never move go into its OFFSET (said); ones that move are refused by name.
+    #[arg(long, value_enum, value_name = "LAYOUT")]
+    channels: Option<ChannelsArg>,
+    /// One Euler order for every joint's rotation channels (last): ZYX, YZX, ZXY, XZY, YXZ or
+    /// XYZ, each joint's rotation split once into it (world positions kept).
+    #[arg(long, value_enum, ignore_case = true, value_name = "ORDER")]
+    order: Option<OrderArg>,
+    /// Names without an exporter's prefix (last): a namespace (`mixamorig:`, `Armature|`) and
+    /// a prefix every joint shares up to a separator (`Bip01 `, `CC_Base_`).
+    #[arg(long)]
+    strip_prefix: bool,
     /// Hold each planted foot where it landed (two-bone IK on thigh and shin), and say how far
     /// the ankles slid during their contacts before and after (sixth).
     #[arg(long)]
@@ -156,7 +169,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         format,
         loaded.skeleton,
         loaded.motion,
-        args.offset_mode.into(),
+        written_mode(&args),
         args.skin,
         Some(label),
     )
@@ -354,7 +367,71 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
         (loaded.skeleton, loaded.motion) =
             crate::edit::ground(&loaded.skeleton, &loaded.motion, OffsetMode::Replace, up)?;
     }
+    let wanted = canonical_asked(args);
+    if wanted.any() {
+        let said;
+        (loaded.skeleton, loaded.motion, said) = crate::edit::canonical(
+            &loaded.skeleton,
+            &loaded.motion,
+            args.offset_mode.into(),
+            &wanted,
+        )?;
+        for line in said {
+            super::note(format_args!("{}: {line}", args.input.display()));
+        }
+    }
     Ok(loaded)
+}
+
+/// The canonical layout the options ask for.
+fn canonical_asked(args: &ConvertArgs) -> crate::edit::Canonical {
+    crate::edit::Canonical {
+        root6_rot3: args.channels.is_some(),
+        order: args.order.map(OrderArg::order),
+        strip_prefix: args.strip_prefix,
+    }
+}
+
+/// How the written take's position channels combine with OFFSET: as `--offset-mode` says,
+/// but replacing it once `--channels` made the root's positions its whole translation.
+fn written_mode(args: &ConvertArgs) -> OffsetMode {
+    match args.channels {
+        Some(_) => OffsetMode::Replace,
+        None => args.offset_mode.into(),
+    }
+}
+
+/// `--channels`: the one layout there is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum ChannelsArg {
+    /// Every root three positions then three rotations, every other joint three rotations.
+    #[value(name = "root6,rot3")]
+    Root6Rot3,
+}
+
+/// `--order`: the six Euler orders, named as BVH lists the channels (outermost first).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum OrderArg {
+    Zyx,
+    Yzx,
+    Zxy,
+    Xzy,
+    Yxz,
+    Xyz,
+}
+
+impl OrderArg {
+    fn order(self) -> crate::model::skeleton::RotationOrder {
+        use crate::model::skeleton::RotationOrder as R;
+        match self {
+            OrderArg::Zyx => R::Zyx,
+            OrderArg::Yzx => R::Yzx,
+            OrderArg::Zxy => R::Zxy,
+            OrderArg::Xzy => R::Xzy,
+            OrderArg::Yxz => R::Yxz,
+            OrderArg::Xyz => R::Xyz,
+        }
+    }
 }
 
 /// A take converted in memory, for the folder: what to write and what to say.
@@ -575,7 +652,7 @@ fn convert_one(
             format,
             loaded.skeleton,
             loaded.motion,
-            args.offset_mode.into(),
+            written_mode(args),
             args.skin,
             &label,
         )?;

@@ -7,6 +7,7 @@
 mod common;
 
 mod body_reading;
+mod canonical_layout;
 mod character_skinning;
 mod generated_skin;
 mod lock_feet;
