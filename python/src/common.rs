@@ -168,3 +168,11 @@ pub(crate) fn offset_mode_name(mode: OffsetMode) -> &'static str {
         OffsetMode::Add => "add",
     }
 }
+
+/// One Python warning (`UserWarning`), said from the caller's line.
+pub(crate) fn warn(py: Python<'_>, text: &str) -> PyResult<()> {
+    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
+    py.import("warnings")?
+        .call_method1("warn", (text, &category, 2))?;
+    Ok(())
+}

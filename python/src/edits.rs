@@ -157,6 +157,78 @@ impl Motion {
         })
     }
 
+    /// The take in a canonical layout, as `convert --channels root6,rot3 --order ORDER
+    /// --strip-prefix`: `channels="root6,rot3"` gives every root three positions then three
+    /// rotations and every other joint three rotations (a still position channel below the
+    /// root goes into the OFFSET; a moving one is refused by name); `order` ("ZYX", "XYZ", any
+    /// of the six) splits every joint's rotation once into that order; `strip_prefix=True`
+    /// drops a namespace (`mixamorig:`) and a prefix every joint shares. World positions are
+    /// kept; what changed is said as warnings.
+    #[pyo3(signature = (*, channels=None, order=None, strip_prefix=false))]
+    fn canonical(
+        &self,
+        py: Python<'_>,
+        channels: Option<&str>,
+        order: Option<&str>,
+        strip_prefix: bool,
+    ) -> PyResult<Motion> {
+        guard("canonical", || {
+            let root6_rot3 = match channels {
+                None => false,
+                Some("root6,rot3") => true,
+                Some(other) => {
+                    return Err(PyValueError::new_err(format!(
+                        "channels={other:?}: expected \"root6,rot3\""
+                    )));
+                }
+            };
+            let order = match order {
+                None => None,
+                Some(letters) => {
+                    let axes: Vec<usize> = letters
+                        .to_ascii_lowercase()
+                        .bytes()
+                        .filter_map(|c| match c {
+                            b'x' => Some(0),
+                            b'y' => Some(1),
+                            b'z' => Some(2),
+                            _ => None,
+                        })
+                        .collect();
+                    let order = (axes.len() == 3 && letters.len() == 3)
+                        .then(|| {
+                            bvhview::model::skeleton::RotationOrder::from_axes([
+                                axes[0], axes[1], axes[2],
+                            ])
+                        })
+                        .flatten();
+                    Some(order.ok_or_else(|| {
+                        PyValueError::new_err(format!(
+                            "order={letters:?}: expected one of ZYX, YZX, ZXY, XZY, YXZ, XYZ"
+                        ))
+                    })?)
+                }
+            };
+            let wanted = bvhview::edit::Canonical {
+                root6_rot3,
+                order,
+                strip_prefix,
+            };
+            let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
+            let (skeleton, motion, said) = py
+                .detach(|| bvhview::edit::canonical(skeleton, motion, self.offset_mode, &wanted))
+                .map_err(|e| to_python(py, e))?;
+            for line in said {
+                crate::common::warn(py, &format!("{}: {line}", self.item.path.display()))?;
+            }
+            let mut edited = self.edited(skeleton, motion, true);
+            if root6_rot3 {
+                edited.offset_mode = bvhview::model::pose::OffsetMode::Replace;
+            }
+            Ok(edited)
+        })
+    }
+
     /// The take turned to stand along `axis` ("y" or "z") from its `up_axis`, as `convert --up`.
     fn to_up(&self, py: Python<'_>, axis: &str) -> PyResult<Motion> {
         guard("to_up", || {

@@ -111,12 +111,7 @@ pub(crate) fn warn_put(
     forced: &Option<String>,
     uncarried: &[String],
 ) -> PyResult<()> {
-    let warnings = py.import("warnings")?;
-    let category = py.get_type::<pyo3::exceptions::PyUserWarning>();
-    let warn = |text: String| -> PyResult<()> {
-        warnings.call_method1("warn", (text, &category, 2))?;
-        Ok(())
-    };
+    let warn = |text: String| crate::common::warn(py, &text);
     if let Some(why) = forced {
         warn(format!(
             "{source_name} onto {target_name}: kept as force=True asks though {why}"

@@ -266,3 +266,13 @@ def test_a_missing_folder_is_file_not_found_and_load_picks_a_take(tmp_path):
         bvhview.load(glb, take="no such take")
     with pytest.raises(ValueError, match="take"):
         bvhview.load(REPO / "assets" / "walk.bvh", take=0)
+
+
+def test_canonical_layout_keeps_every_joint_where_it_was():
+    take = bvhview.load(REPO / "tests" / "data" / "bvh" / "bvhpython_test_freebvh.bvh")
+    with pytest.warns(UserWarning, match="lost their prefix"):
+        canonical = take.canonical(channels="root6,rot3", order="XYZ", strip_prefix=True)
+    assert canonical.joint_names[0] == "Hips"
+    assert np.abs(canonical.positions() - take.positions()).max() < 1e-3
+    with pytest.raises(ValueError, match="expected one of ZYX"):
+        take.canonical(order="ABC")
