@@ -65,6 +65,11 @@ pub(crate) struct ConvertArgs {
     /// XYZ, each joint's rotation split once into it (world positions kept).
     #[arg(long, value_enum, ignore_case = true, value_name = "ORDER")]
     order: Option<OrderArg>,
+    /// The units to write in (last): mm, cm, m, in, ft, or metres per unit (`0.0254`). The take
+    /// is scaled from its own units (as `info` reads them); FBX states them in
+    /// `UnitScaleFactor` (default there: centimetres).
+    #[arg(long, value_name = "UNITS", value_parser = parse_units)]
+    out_units: Option<crate::model::stance::Units>,
     /// Names without an exporter's prefix (last): a namespace (`mixamorig:`, `Armature|`) and
     /// a prefix every joint shares up to a separator (`Bip01 `, `CC_Base_`).
     #[arg(long)]
@@ -163,7 +168,10 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
     if let Some((path, character)) = character {
         return write_character(&args, format, &loaded, &path, &character);
     }
-    let label = super::TakeLabel::of(&loaded);
+    let label = super::TakeLabel {
+        out_units: args.out_units,
+        ..super::TakeLabel::of(&loaded)
+    };
     write_take(
         &args.output,
         format,
@@ -380,6 +388,39 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
             super::note(format_args!("{}: {line}", args.input.display()));
         }
     }
+    if let Some(units) = args.out_units {
+        loaded = in_units(args, loaded, units)?;
+    }
+    Ok(loaded)
+}
+
+/// `--out-units`: a unit's name or a number of metres per unit.
+fn parse_units(text: &str) -> Result<crate::model::stance::Units, String> {
+    crate::model::stance::Units::named(text).ok_or_else(|| {
+        format!("expected mm, cm, m, in, ft or a number of metres per unit above 0, not '{text}'")
+    })
+}
+
+/// The take in `units`, scaled from its own (as its stance reads them), and said.
+fn in_units(
+    args: &ConvertArgs,
+    mut loaded: Take,
+    units: crate::model::stance::Units,
+) -> Result<Take, Error> {
+    let own = loaded.stance(OffsetMode::Replace);
+    let factor = (f64::from(own.units.metres) / f64::from(units.metres)) as f32;
+    if factor != 1.0 {
+        (loaded.skeleton, loaded.motion) =
+            crate::edit::scale(&loaded.skeleton, &loaded.motion, factor)?;
+    }
+    super::note(format_args!(
+        "{}: {} ({}) written in {} (×{factor})",
+        args.input.display(),
+        own.units.name,
+        own.units_sureness.word(),
+        units.name,
+    ));
+    loaded.stated_units = Some(units);
     Ok(loaded)
 }
 
@@ -647,7 +688,10 @@ fn convert_one(
             .map(|w| w.spelled(&super::Flags))
             .collect();
         let loaded = edit(args, loaded)?;
-        let label = super::TakeLabel::of(&loaded);
+        let label = super::TakeLabel {
+            out_units: args.out_units,
+            ..super::TakeLabel::of(&loaded)
+        };
         let prepared = Prepared::new(
             format,
             loaded.skeleton,

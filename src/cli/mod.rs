@@ -593,6 +593,9 @@ pub(crate) struct TakeLabel {
     // Read by the FBX writer only.
     #[cfg_attr(not(feature = "fbx"), allow(dead_code))]
     pub(crate) stated_units: Option<crate::model::stance::Units>,
+    /// The units an FBX file is written in (`--out-units`; default centimetres).
+    #[cfg_attr(not(feature = "fbx"), allow(dead_code))]
+    pub(crate) out_units: Option<crate::model::stance::Units>,
 }
 
 impl TakeLabel {
@@ -601,6 +604,7 @@ impl TakeLabel {
         TakeLabel {
             name: take.take_label(),
             stated_units: take.stated_units,
+            out_units: None,
         }
     }
 
@@ -609,6 +613,7 @@ impl TakeLabel {
         TakeLabel {
             name: stem_of(path),
             stated_units: None,
+            out_units: None,
         }
     }
 }
@@ -678,7 +683,10 @@ impl Prepared {
         take.offset_mode = mode;
         take.take_name = Some(label.name.clone());
         take.stated_units = label.stated_units;
-        let written = take.fbx()?;
+        let written = match label.out_units {
+            Some(units) => take.fbx_in(units)?,
+            None => take.fbx()?,
+        };
         Ok(Prepared {
             skeleton: take.skeleton,
             motion: take.motion,

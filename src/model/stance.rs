@@ -95,6 +95,36 @@ pub struct Units {
 }
 
 impl Units {
+    /// The units a user names: `mm`, `cm`, `m`, `in`, `ft` (or their long names), or a number
+    /// of metres per unit (`0.0254`); `None` for anything else.
+    ///
+    /// ```
+    /// use bvhview::model::stance::Units;
+    ///
+    /// assert_eq!(Units::named("cm").unwrap().metres, 0.01);
+    /// assert_eq!(Units::named("feet").unwrap().name, "feet");
+    /// assert_eq!(Units::named("0.5").unwrap().metres, 0.5);
+    /// assert!(Units::named("-1").is_none() && Units::named("parsecs").is_none());
+    /// ```
+    pub fn named(text: &str) -> Option<Units> {
+        let (name, metres) = match text.trim().to_ascii_lowercase().as_str() {
+            "mm" | "millimetres" | "millimeters" => ("millimetres", 0.001),
+            "cm" | "centimetres" | "centimeters" => ("centimetres", 0.01),
+            "dm" | "decimetres" | "decimeters" => ("decimetres", 0.1),
+            "m" | "metres" | "meters" => ("metres", 1.0),
+            "in" | "inches" => ("inches", 0.0254),
+            "ft" | "feet" => ("feet", 0.3048),
+            number => {
+                let metres: f32 = number.parse().ok()?;
+                return (metres.is_finite() && metres > 0.0).then_some(Units {
+                    name: "units of the length given",
+                    metres,
+                });
+            }
+        };
+        Some(Units { name, metres })
+    }
+
     /// The units in which a figure of size `height` (its largest spread, see [`Stance::size`])
     /// comes nearest to a person's 1.7 m, by ratio: metres, decimetres (MakeHuman's),
     /// centimetres, millimetres or inches.

@@ -230,7 +230,28 @@ impl Take {
     /// [`Take::stance`] reads them; the animation stack is named after the take.
     #[cfg(feature = "fbx")]
     pub fn fbx(&self) -> Result<crate::fbx::write::Written, Error> {
-        crate::fbx::write::to_bytes(&self.skeleton, &self.motion, &self.fbx_settings())
+        crate::fbx::write::to_bytes(&self.skeleton, &self.motion, &self.fbx_settings(0.01))
+    }
+
+    /// [`Take::fbx`] written in `units` instead of centimetres (`UnitScaleFactor` says them).
+    ///
+    /// ```
+    /// use bvhview::{Take, model::stance::Units};
+    ///
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// let take = Take::open("tests/data/bvh/bvhparser_simple.bvh")?;
+    /// let metres = take.fbx_in(Units::named("m").unwrap())?;
+    /// assert!(metres.bytes.starts_with(b"Kaydara FBX Binary"));
+    /// # Ok(())
+    /// # }
+    /// ```
+    #[cfg(feature = "fbx")]
+    pub fn fbx_in(
+        &self,
+        units: crate::model::stance::Units,
+    ) -> Result<crate::fbx::write::Written, Error> {
+        let settings = self.fbx_settings(f64::from(units.metres));
+        crate::fbx::write::to_bytes(&self.skeleton, &self.motion, &settings)
     }
 
     /// [`Take::fbx`] with a character's mesh bound to the joints (`mesh` bound to this take's
@@ -256,22 +277,22 @@ impl Take {
         // character is written.
         let settings = crate::fbx::write::Settings {
             offset_mode: crate::model::pose::OffsetMode::Replace,
-            ..self.fbx_settings()
+            ..self.fbx_settings(0.01)
         };
         crate::fbx::write::character_to_bytes(&self.skeleton, &self.motion, mesh, &settings)
     }
 
     /// What an FBX file of this take states: its name, units and up axis as
-    /// [`Take::stance`] reads them, written in centimetres.
+    /// [`Take::stance`] reads them, written in `out_metres_per_unit` (0.01: centimetres).
     #[cfg(feature = "fbx")]
-    fn fbx_settings(&self) -> crate::fbx::write::Settings {
+    fn fbx_settings(&self, out_metres_per_unit: f64) -> crate::fbx::write::Settings {
         let stance = self.stance(self.offset_mode);
         crate::fbx::write::Settings {
             take_name: self.take_label(),
             offset_mode: self.offset_mode,
             metres_per_unit: f64::from(stance.units.metres),
             up: stance.up,
-            out_metres_per_unit: 0.01,
+            out_metres_per_unit,
         }
     }
 

@@ -1521,3 +1521,64 @@ fn built_in_skeletons_are_takes_every_command_reads() {
     assert_eq!(out.status.code(), Some(2));
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// `convert --out-units`: the take scaled from its own units into the ones asked for, in BVH,
+/// and in FBX stated in `UnitScaleFactor` (read back as the same metres).
+#[cfg(feature = "fbx")]
+#[test]
+fn convert_writes_the_units_asked_for() {
+    let folder = common::scratch_folder("out_units");
+    let walk = data("bvh/bvh11_131_01.bvh");
+    let csv = |input: &std::path::Path, name: &str| {
+        let out = folder.join(name);
+        bvhview_stdout(&[
+            "positions".as_ref(),
+            input.as_os_str(),
+            "--frames".as_ref(),
+            "7".as_ref(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ]);
+        rows(&std::fs::read_to_string(out).unwrap())
+    };
+    let source = csv(&walk, "source.csv");
+    // CMU units are 1/0.45 inch: 0.0254 / 0.45 metres.
+    let factor = 0.0254f32 / 0.45;
+    for (name, units, per_metre) in [
+        ("m.bvh", "m", 1.0f32),
+        ("mm.bvh", "mm", 1000.0),
+        ("m.fbx", "m", 1.0),
+    ] {
+        let out = folder.join(name);
+        bvhview_stdout(&[
+            "convert".as_ref(),
+            walk.as_os_str(),
+            "--out-units".as_ref(),
+            units.as_ref(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ]);
+        let written = csv(&out, &format!("{name}.csv"));
+        assert_eq!(written.len(), source.len());
+        for (a, b) in source.iter().zip(&written) {
+            for k in 0..3 {
+                let want = a.2[k] * factor * per_metre;
+                assert!(
+                    (want - b.2[k]).abs() <= 1e-4 * per_metre,
+                    "{name}: {a:?} vs {b:?}"
+                );
+            }
+        }
+    }
+    let out = bvhview(&[
+        "convert",
+        walk.to_str().unwrap(),
+        "--out-units",
+        "parsecs",
+        "-o",
+        "x.bvh",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("expected mm, cm, m, in, ft"));
+    std::fs::remove_dir_all(&folder).unwrap();
+}
