@@ -395,7 +395,7 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
 }
 
 /// `--out-units`: a unit's name or a number of metres per unit.
-fn parse_units(text: &str) -> Result<crate::model::stance::Units, String> {
+pub(crate) fn parse_units(text: &str) -> Result<crate::model::stance::Units, String> {
     crate::model::stance::Units::named(text).ok_or_else(|| {
         format!("expected mm, cm, m, in, ft or a number of metres per unit above 0, not '{text}'")
     })

@@ -49,6 +49,10 @@ pub(crate) struct PositionsArgs {
     /// Multiply every coordinate (default 1: the file's own units).
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     scale: f32,
+    /// The units to write in: mm, cm, m, in, ft, or metres per unit; the take's own units are
+    /// what `info` reads (the factor is said on stderr, and --scale multiplies on top).
+    #[arg(long, value_name = "UNITS", value_parser = super::convert::parse_units, conflicts_with = "vertices")]
+    out_units: Option<crate::model::stance::Units>,
     /// How position channels combine with OFFSET.
     #[arg(long, value_enum, default_value_t)]
     offset_mode: OffsetModeArg,
@@ -98,11 +102,22 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
         Some(text) => crate::positions::parse_frames(text, available)?,
         None => 0..available,
     };
-    let scale = args.scale;
+    let mut scale = args.scale;
     if !(scale.is_finite() && scale != 0.0) {
         return Err(Error::usage(format!(
             "--scale {scale}: expected a finite number other than 0"
         )));
+    }
+    if let Some(units) = args.out_units {
+        let own = loaded.stance(OffsetMode::from(args.offset_mode)).units;
+        let factor = (f64::from(own.metres) / f64::from(units.metres)) as f32;
+        super::note(format_args!(
+            "{}: {} written in {} (×{factor})",
+            args.file.display(),
+            own.name,
+            units.name
+        ));
+        scale *= factor;
     }
     let offset_mode = OffsetMode::from(args.offset_mode).for_take(character.is_some());
     if let Some(warning) =
@@ -117,7 +132,7 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
     if let Some(character) = character.as_deref().filter(|_| args.vertices) {
         return write_vertices(&args, character, &loaded, range);
     }
-    write_joints(&args, &loaded, range, offset_mode)
+    write_joints(&args, &loaded, range, offset_mode, scale)
 }
 
 /// The take of `args.file`, and the character it is put on with `--character` (the take then
@@ -191,15 +206,15 @@ fn write_vertices(
     Ok(ExitCode::SUCCESS)
 }
 
-/// The world position of every joint and End Site in the frames of `range`, as CSV or JSON;
-/// then what was written.
+/// The world position of every joint and End Site in the frames of `range`, as CSV or JSON,
+/// times `scale`; then what was written.
 fn write_joints(
     args: &PositionsArgs,
     loaded: &take::Take,
     range: std::ops::Range<usize>,
     offset_mode: OffsetMode,
+    scale: f32,
 ) -> Result<ExitCode, Error> {
-    let scale = args.scale;
     let options = PositionsOptions {
         format: args
             .format

@@ -1582,3 +1582,25 @@ fn convert_writes_the_units_asked_for() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("expected mm, cm, m, in, ft"));
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// `positions --out-units`: every coordinate in the units asked for, from the take's own.
+#[test]
+fn positions_write_the_units_asked_for() {
+    let walk = data("bvh/bvh11_131_01.bvh").display().to_string();
+    let own = rows(&bvhview_stdout(&["positions", &walk, "--frames", "3"]));
+    let metres = rows(&bvhview_stdout(&[
+        "positions",
+        &walk,
+        "--frames",
+        "3",
+        "--out-units",
+        "m",
+    ]));
+    let factor = 0.0254f32 / 0.45; // CMU units
+    for (a, b) in own.iter().zip(&metres) {
+        assert!(
+            (0..3).all(|k| (a.2[k] * factor - b.2[k]).abs() < 1e-5),
+            "{a:?} vs {b:?}"
+        );
+    }
+}
