@@ -169,6 +169,15 @@ class Motion:
     @property
     def mirror_names(self) -> dict[str, str]:
         """The counterparts mirror() swaps: each sided joint's name with its counterpart's."""
+    def canonical(
+        self,
+        *,
+        channels: Literal["root6,rot3"] | None = None,
+        order: str | None = None,
+        strip_prefix: bool = False,
+    ) -> Motion:
+        """One channel layout, one Euler order, names without prefixes (`convert --channels
+        root6,rot3 --order ORDER --strip-prefix`); world positions kept."""
     def to_up(self, axis: Literal["y", "z"]) -> Motion:
         """Turned to stand along axis from the guessed up axis: `convert --up`."""
     def in_place(self) -> Motion:
@@ -248,6 +257,9 @@ class Character:
     ) -> npt.NDArray[np.float32]:
         """Skinned vertices, frames × vertices × 3 (vertices × 3 for one int), metres, Y up.
         `take` (default: the character's own) must be on the character's skeleton."""
+    def save(self, path: _PathLike, take: Motion | None = None) -> None:
+        """Writes `take` (default: the character's own) with the mesh bound to it: glTF
+        (.glb, .gltf) or FBX (.fbx), as `bvhview convert --character` does."""
 
 def load_character(path: _PathLike, *, take: str | int | None = None) -> Character:
     """A character: an .fbx, .glb or .gltf file with a skinned mesh."""
@@ -259,10 +271,12 @@ def load(
     frame_time: float | None = None,
     *,
     take: str | int | None = None,
+    units: str | float | None = None,
 ) -> Motion:
     """A take: a .bvh, .fbx, .gltf or .glb file, or an .asf skeleton with `motion` its .amc
-    take. `take` picks one take of an FBX or glTF file that holds several (its name, or its
-    index as `bvhview info FILE` lists them; default: the first)."""
+    take, or a built-in skeleton by name ("smpl22"). `take` picks one take of an FBX or glTF
+    file that holds several (its name, or its index as `bvhview info FILE` lists them; default:
+    the first). `units` ("mm", "cm", "m", "in", "ft" or metres per unit) over the guess."""
 
 def load_many(
     paths: _PathLike | Sequence[Union[_PathLike, Tuple[_PathLike, _PathLike]]],
@@ -300,6 +314,7 @@ def _compile_dataset(
     features: str = "arrays",
     any_body: bool = False,
     force: bool = False,
+    units: str | float | None = None,
 ) -> tuple[int, int, int, list[tuple[str, str | None, str]]]:
     """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped takes as
     (path, motion, reason))."""

@@ -146,6 +146,7 @@ def compile_dataset(
     features: Literal["arrays", "humanml3d"] = "arrays",
     any_body: bool = False,
     force: bool = False,
+    units: str | float | None = None,
 ) -> dict[str, Any]:
     """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
     them) into the new dataset folder ``out``; returns its manifest, whose ``"skipped"`` lists
@@ -182,7 +183,9 @@ def compile_dataset(
     measures it (each clip's ``"retarget_check"`` in the manifest); one whose sides cross or
     whose widths collapse is skipped with the reason unless ``force`` (then kept, with a
     warning in its clip's ``"warnings"``). The manifest records ``onto`` and ``names``; ``merge_datasets`` refuses datasets made
-    with other ones. ``fps`` defaults to 30.
+    with other ones. ``fps`` defaults to 30. ``units`` ("mm", "cm", "m", "in", "ft" or metres per
+    unit) says what every take's lengths are in, over the guess; each clip's ``"units_given"``
+    in the manifest records it.
 
     ``features="humanml3d"`` (with ``onto="smpl22"``; ``fps`` then defaults to HumanML3D's 20)
     writes HumanML3D's representation in its folder layout instead of the arrays: per take
@@ -213,6 +216,7 @@ def compile_dataset(
             lock_feet=lock_feet,
             features=features,
             any_body=any_body,
+            units=units,
             force=force,
         )
         for _, _, reason in skipped:

@@ -39,6 +39,21 @@ fn open_options(item: &Item, frame_time: Option<f64>, threads: usize) -> take::O
     options
 }
 
+/// `units=`: a unit's name ("mm", "cm", "m", "in", "ft") or a number of metres per unit.
+pub(crate) fn parse_units(value: &Bound<'_, PyAny>) -> PyResult<bvhview::model::stance::Units> {
+    let text = match value.extract::<f64>() {
+        Ok(metres) => metres.to_string(),
+        Err(_) => value.extract::<String>().map_err(|_| {
+            PyValueError::new_err("units=: expected \"mm\", \"cm\", \"m\", \"in\", \"ft\" or metres per unit")
+        })?,
+    };
+    bvhview::model::stance::Units::named(&text).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "units={text:?}: expected \"mm\", \"cm\", \"m\", \"in\", \"ft\" or a number of metres per unit above 0"
+        ))
+    })
+}
+
 /// `take=` of `load`: a take's name, or its index (as `bvhview info FILE` lists them).
 pub(crate) struct TakeChoice(pub(crate) String);
 
@@ -60,9 +75,10 @@ impl<'py> FromPyObject<'_, 'py> for TakeChoice {
 /// take (an .asf alone gives the rest pose). `offset_mode`: "replace" (default) or "add";
 /// `frame_time` overrides the file's (AMC files have none: 1/120 s is the default); `take`
 /// picks one take of an FBX or glTF file that holds several, by name or index (default: the
-/// first).
+/// first); `units` ("mm", "cm", "m", "in", "ft" or metres per unit) says what the lengths are
+/// in, over the guess (`up_axis`/`units` then say so; every measure in metres takes them).
 #[pyfunction]
-#[pyo3(signature = (path, motion=None, offset_mode="replace", frame_time=None, *, take=None))]
+#[pyo3(signature = (path, motion=None, offset_mode="replace", frame_time=None, *, take=None, units=None))]
 pub(crate) fn load(
     py: Python<'_>,
     path: PathBuf,
@@ -70,11 +86,13 @@ pub(crate) fn load(
     offset_mode: &str,
     frame_time: Option<f64>,
     take: Option<TakeChoice>,
+    units: Option<Bound<'_, PyAny>>,
 ) -> PyResult<Motion> {
     guard("load", || {
         let offset_mode = parse_offset_mode(offset_mode)?;
+        let units = units.as_ref().map(parse_units).transpose()?;
         let item = Item { path, motion };
-        let loaded = py
+        let mut loaded = py
             .detach(|| {
                 planted_pause_without_the_gil("load")?;
                 match &take {
@@ -90,6 +108,10 @@ pub(crate) fn load(
                 }
             })
             .map_err(|e| to_python(py, e))?;
+        if let Some(units) = units {
+            loaded.stated_units = Some(units);
+            loaded.units_given = true;
+        }
         Ok(Motion {
             loaded,
             item,

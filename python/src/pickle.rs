@@ -14,8 +14,9 @@ use std::path::{Path, PathBuf};
 pub(crate) type JointState = (String, i64, [f32; 3], Vec<String>, bool, Option<[f32; 4]>);
 
 /// A take as pickled: a format number, path, AMC path, offset mode, warnings, whether the
-/// skeleton is an ASF's, whether it stated CMU's units, the joints, the Frame Time, the values
-/// per frame and the values (float32, little-endian bytes).
+/// skeleton is an ASF's, the units stated (metres per unit, and whether the caller gave them),
+/// the joints, the Frame Time, the values per frame and the values (float32, little-endian
+/// bytes).
 pub(crate) type State = (
     u32,
     String,
@@ -23,7 +24,7 @@ pub(crate) type State = (
     String,
     Vec<String>,
     bool,
-    bool,
+    Option<(f32, bool)>,
     Vec<JointState>,
     f64,
     usize,
@@ -31,7 +32,7 @@ pub(crate) type State = (
 );
 
 /// The version of `State` this module writes and reads.
-pub(crate) const STATE_FORMAT: u32 = 1;
+pub(crate) const STATE_FORMAT: u32 = 2;
 
 impl Motion {
     pub(crate) fn state(&self) -> State {
@@ -63,7 +64,9 @@ impl Motion {
                 .map(|warning| warning.spelled(&Keywords))
                 .collect(),
             skeleton.source == bvhview::model::skeleton::Source::Acclaim,
-            self.loaded.stated_units.is_some(),
+            self.loaded
+                .stated_units
+                .map(|units| (units.metres, self.loaded.units_given)),
             joints,
             motion.frame_time,
             motion.channels,
@@ -83,7 +86,7 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
             mode,
             warnings,
             acclaim,
-            cmu_units,
+            stated_units,
             joints,
             frame_time,
             channels,
@@ -95,6 +98,9 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
             return Err(bad(&format!(
                 "format {format}, this bvhview reads {STATE_FORMAT}"
             )));
+        }
+        if stated_units.is_some_and(|(metres, _)| !(metres.is_finite() && metres > 0.0)) {
+            return Err(bad("units that are not a length above 0"));
         }
         // Not in the state: a glTF states its axes always, an FBX unless it said it did not.
         let extension = std::path::Path::new(&path)
@@ -185,7 +191,9 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
         let frames = values.len().checked_div(channels).unwrap_or(0);
         let loaded = Take {
             warnings: warnings.into_iter().map(bvhview::Message::from).collect(),
-            stated_units: cmu_units.then_some(bvhview::model::stance::CMU_UNITS),
+            stated_units: stated_units
+                .map(|(metres, _)| bvhview::model::stance::Units::of_metres(metres)),
+            units_given: stated_units.is_some_and(|(_, given)| given),
             format: take::Format::from_path(Path::new(&path)),
             ..Take::new(
                 skeleton,

@@ -723,7 +723,7 @@ def test_a_take_pickles_whole_and_comes_back_equal():
         np.testing.assert_array_equal(back.positions(), take.positions())
         np.testing.assert_array_equal(back.world_matrices([0]), take.world_matrices([0]))
     with pytest.raises(ValueError, match="not a pickled bvhview.Motion"):
-        bvhview._bvhview._from_state((99, "", None, "replace", [], False, False, [], 0.1, 0, b""))
+        bvhview._bvhview._from_state((99, "", None, "replace", [], False, None, [], 0.1, 0, b""))
 
 
 def _frames_of(take):
@@ -1003,7 +1003,7 @@ def test_a_joint_of_two_channels_bent_past_a_right_angle_comes_back(tmp_path):
 )
 def test_a_state_that_no_take_pickles_is_refused(joints, frame_time, data, said):
     channels = sum(len(j[3]) for j in joints)
-    state = (1, "x.bvh", None, "replace", [], False, False, joints, frame_time, channels, data)
+    state = (2, "x.bvh", None, "replace", [], False, None, joints, frame_time, channels, data)
     with pytest.raises(ValueError, match=said):
         bvhview._bvhview._from_state(state)
 
@@ -1028,3 +1028,18 @@ def test_errors_name_python_arguments_not_cli_options():
     take = bvhview.load(DATA / "bvh" / "bvh11_131_01.bvh")
     with pytest.raises(ValueError, match=r"^(?!.*--)fps=0: expected frames per second"):
         take.resample(0)
+
+
+def test_units_given_replace_the_guess_and_travel_in_a_pickle():
+    import pickle
+
+    path = DATA / "bvh" / "bvhparser_simple.bvh"
+    guessed = bvhview.load(path)
+    given = bvhview.load(path, units="cm")
+    assert guessed.units == "inches"
+    assert (given.units, given.metres_per_unit) == ("centimetres", pytest.approx(0.01))
+    back = pickle.loads(pickle.dumps(given))
+    assert (back.units, back.metres_per_unit) == ("centimetres", pytest.approx(0.01))
+    assert bvhview.load(path, units=0.5).metres_per_unit == 0.5
+    with pytest.raises(ValueError, match="units="):
+        bvhview.load(path, units="parsecs")

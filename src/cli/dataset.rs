@@ -54,6 +54,10 @@ pub(crate) struct DatasetArgs {
     /// Files larger than this many bytes are skipped.
     #[arg(long, default_value_t = crate::take::DEFAULT_MAX_SIZE)]
     max_size: u64,
+    /// The units every take's lengths are in, over the guess: mm, cm, m, in, ft, or metres per
+    /// unit (the manifest records that they were given).
+    #[arg(long, value_name = "UNITS", value_parser = super::convert::parse_units)]
+    units: Option<crate::model::stance::Units>,
     /// Retarget every take onto this skeleton first (a file, or the built-in `smpl22`), so that
     /// the folder makes one group; takes whose map misses a required role are skipped.
     #[arg(long, value_name = "TARGET")]
@@ -142,6 +146,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         lock_feet: args.lock_feet,
         map: super::retarget::map_pairs(&args.map)?,
         max_size: args.max_size,
+        units: args.units,
         onto: args
             .onto
             .as_deref()

@@ -114,6 +114,11 @@ pub(crate) struct Source {
     /// Refuse input files larger than this (bytes; K, M, G suffixes), before reading them.
     #[arg(long, value_name = "SIZE", default_value = "8G", value_parser = parse_max_size)]
     max_size: u64,
+    /// The units the take's lengths are in, over the guess (`info` reads them): mm, cm, m, in,
+    /// ft, or metres per unit. Every measure in metres takes them (floor, framing, heights,
+    /// retarget scale).
+    #[arg(long, value_name = "UNITS", value_parser = convert::parse_units)]
+    units: Option<crate::model::stance::Units>,
 }
 
 impl Source {
@@ -125,6 +130,7 @@ impl Source {
             frame_time: self.frame_time,
             max_size: Some(self.max_size),
             threads: Some(threads),
+            units: self.units,
             ..Default::default()
         }
     }

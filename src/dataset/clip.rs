@@ -163,6 +163,10 @@ pub struct About {
     pub units: String,
     /// Metres in one of those units: what every length was multiplied by.
     pub metres_per_unit: f32,
+    /// Whether the units were given (`--units`, `units=`) rather than guessed or stated by the
+    /// file; absent (false) in older manifests.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub units_given: bool,
     /// How position channels combined with OFFSETs (the mode the file looks written for).
     pub offset_mode: String,
     /// The point whose travel `root_translations` holds and root-relative positions remove.

@@ -168,6 +168,7 @@ fn load_checked(item: &Item, options: &Options) -> Result<crate::take::Take, Err
             motion: item.motion.clone(),
             max_size: Some(options.max_size),
             threads: Some(1),
+            units: options.units,
             ..Default::default()
         },
     )?;
@@ -239,6 +240,7 @@ fn put_onto(
         skeleton,
         motion,
         stated_units: None,
+        units_given: false,
         ..loaded
     };
     Ok((take, uncarried, put.check))
@@ -364,6 +366,7 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
         .to_string(),
         units: stance.units.name.to_string(),
         metres_per_unit: stance.units.metres,
+        units_given: stance.units_basis == crate::model::stance::UnitsBasis::Given,
         offset_mode: match mode {
             OffsetMode::Replace => "replace",
             OffsetMode::Add => "add",

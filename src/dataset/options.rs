@@ -73,6 +73,9 @@ pub struct Options {
     pub lock_feet: bool,
     /// What each take is written as (`--features`).
     pub features: FeatureSet,
+    /// The units every take's lengths are in, over the guess (`--units`); the manifest says
+    /// each clip's units were given.
+    pub units: Option<crate::model::stance::Units>,
 }
 
 /// What each take of a dataset is written as (`--features`).
@@ -131,6 +134,7 @@ impl Default for Options {
             onto: None,
             any_body: false,
             force: false,
+            units: None,
         }
     }
 }

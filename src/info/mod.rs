@@ -80,11 +80,16 @@ pub fn human_like(skeleton: &Skeleton) -> Option<String> {
     ))
 }
 
-/// Warns when a human-like skeleton ([`human_like`]), in the units guessed (or stated) for it,
-/// spans less than 0.5 m or more than 2.5 m: the units, or the offset mode, are likely wrong.
+/// Warns when a human-like skeleton ([`human_like`]), in the units guessed (or stated by the
+/// file) for it, spans less than 0.5 m or more than 2.5 m: the units, or the offset mode, are
+/// likely wrong. Units the caller gave are not second-guessed.
 /// The figure's size (its largest spread, standing or lying) is what is compared: a person
 /// lying down stands low but still spans a person's length.
 pub fn size_warning(skeleton: &Skeleton, stance: &Stance) -> Option<Message> {
+    // Units the caller gave are theirs to know (a child, a doll, a giant).
+    if stance.units_basis == crate::model::stance::UnitsBasis::Given {
+        return None;
+    }
     let metres = stance.size * stance.units.metres;
     if !metres.is_finite() || stance.size <= 1e-6 || (HUMAN_LEAST..=HUMAN_MOST).contains(&metres) {
         return None;

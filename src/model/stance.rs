@@ -75,6 +75,8 @@ pub enum UnitsBasis {
     CmuSkeleton,
     /// The figure's size, nearest a person's 1.7 m.
     Size,
+    /// Given by the caller (`--units`, `units=`), not guessed.
+    Given,
 }
 
 /// The units a file's lengths look written in, guessed from how tall its skeleton stands.
@@ -95,6 +97,29 @@ pub struct Units {
 }
 
 impl Units {
+    /// The units of `metres` metres per unit, by name where they have one (`centimetres`,
+    /// CMU's), else as a length given.
+    ///
+    /// ```
+    /// use bvhview::model::stance::Units;
+    ///
+    /// assert_eq!(Units::of_metres(0.0254).name, "inches");
+    /// assert_eq!(Units::of_metres(0.5).name, "units of the length given");
+    /// ```
+    pub fn of_metres(metres: f32) -> Units {
+        if metres == CMU_UNITS.metres {
+            return CMU_UNITS;
+        }
+        ["mm", "cm", "dm", "m", "in", "ft"]
+            .into_iter()
+            .filter_map(Units::named)
+            .find(|units| units.metres == metres)
+            .unwrap_or(Units {
+                name: "units of the length given",
+                metres,
+            })
+    }
+
     /// The units a user names: `mm`, `cm`, `m`, `in`, `ft` (or their long names), or a number
     /// of metres per unit (`0.0254`); `None` for anything else.
     ///
@@ -387,11 +412,11 @@ impl Upright {
 /// the guess from the figure's `size`.
 fn units_of(
     skeleton: &Skeleton,
-    stated: Option<Units>,
+    stated: Option<(Units, UnitsBasis)>,
     size: f32,
 ) -> (Units, Sureness, UnitsBasis) {
     match stated {
-        Some(units) => (units, Sureness::Stated, UnitsBasis::Asf),
+        Some((units, basis)) => (units, Sureness::Stated, basis),
         None if is_cmu_skeleton(skeleton) && (1.0..=2.4).contains(&(size * CMU_UNITS.metres)) => {
             (CMU_UNITS, Sureness::Stated, UnitsBasis::CmuSkeleton)
         }
@@ -410,6 +435,17 @@ impl Stance {
         motion: &Motion,
         mode: OffsetMode,
         stated: Option<Units>,
+    ) -> Stance {
+        Stance::guess_stated(skeleton, motion, mode, stated.map(|u| (u, UnitsBasis::Asf)))
+    }
+
+    /// [`Stance::guess`] with the units stated and what states them (the file's ASF
+    /// `:units`, or the caller: [`UnitsBasis::Given`]).
+    pub fn guess_stated(
+        skeleton: &Skeleton,
+        motion: &Motion,
+        mode: OffsetMode,
+        stated: Option<(Units, UnitsBasis)>,
     ) -> Stance {
         let mode = crate::model::pose::guessed_mode(skeleton, motion, mode);
         let body = body_points(skeleton);
@@ -524,6 +560,7 @@ impl Stance {
             UnitsBasis::Asf => "the ASF's :units".to_string(),
             UnitsBasis::CmuSkeleton => "CMU's skeleton (LHipJoint, RHipJoint)".to_string(),
             UnitsBasis::Size => format!("the figure spans {}", short(self.size)),
+            UnitsBasis::Given => "given, not guessed".to_string(),
         };
         format!(
             "{} ({}: {why}; it stands {} tall, {} m)",

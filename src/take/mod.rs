@@ -65,6 +65,9 @@ pub struct Take {
     pub warnings: Vec<Message>,
     /// The units the file states (an ASF's `:units length`), if any.
     pub stated_units: Option<crate::model::stance::Units>,
+    /// Whether `stated_units` were given by the caller ([`OpenOptions::units`]) rather than
+    /// stated by the file.
+    pub units_given: bool,
     /// What messages call it: its path, or "the bundled walk".
     pub name: String,
     /// The format it was read from; `None` for a take made in memory.
@@ -86,6 +89,7 @@ impl Take {
             motion,
             warnings: Vec::new(),
             stated_units: None,
+            units_given: false,
             name: name.into(),
             format: None,
             take_name: None,
@@ -145,7 +149,14 @@ impl Take {
 
     /// How the take stands (up axis, units, height), guessed from its motion in `mode`.
     pub fn stance(&self, mode: OffsetMode) -> crate::model::stance::Stance {
-        crate::model::stance::Stance::guess(&self.skeleton, &self.motion, mode, self.stated_units)
+        use crate::model::stance::UnitsBasis;
+        let basis = if self.units_given {
+            UnitsBasis::Given
+        } else {
+            UnitsBasis::Asf
+        };
+        let stated = self.stated_units.map(|units| (units, basis));
+        crate::model::stance::Stance::guess_stated(&self.skeleton, &self.motion, mode, stated)
     }
 
     /// Opens a take by its file's extension: `.bvh`, `.fbx`, `.gltf`, `.glb`, or an `.asf`
@@ -381,6 +392,7 @@ impl Take {
             motion,
             warnings: self.warnings.clone(),
             stated_units: self.stated_units.filter(|_| same_lengths),
+            units_given: self.units_given && same_lengths,
             name: self.name.clone(),
             format: self.format,
             take_name: self.take_name.clone(),
@@ -460,7 +472,7 @@ impl OpenOptions {
     /// # }
     /// ```
     pub fn open_bytes(&self, bytes: &[u8], name: &str) -> Result<Take, Error> {
-        let mut take = load_bytes(bytes, name, self)?;
+        let mut take = self.give_units(load_bytes(bytes, name, self)?);
         take.offset_mode = self.offset_mode.unwrap_or(OffsetMode::Replace);
         Ok(take)
     }
@@ -521,6 +533,11 @@ pub fn takes(path: &Path, max_size: u64) -> Result<Vec<crate::model::reading::Ta
 
 /// [`OpenOptions::open`]: the reader of the format `path`'s extension names.
 pub(crate) fn load_take(path: &Path, options: &OpenOptions) -> Result<Take, Error> {
+    Ok(options.give_units(load_take_as_written(path, options)?))
+}
+
+/// [`load_take`] before the units the options give.
+fn load_take_as_written(path: &Path, options: &OpenOptions) -> Result<Take, Error> {
     let max_size = options.max_size_or_default();
     let (motion, frame_time, take) = (
         options.motion.as_deref(),

@@ -31,6 +31,7 @@ pub struct OpenOptions {
     pub(crate) threads: Option<usize>,
     pub(crate) offset_mode: Option<OffsetMode>,
     pub(crate) format: Option<Format>,
+    pub(crate) units: Option<crate::model::stance::Units>,
 }
 
 impl OpenOptions {
@@ -83,6 +84,35 @@ impl OpenOptions {
     pub fn format(mut self, format: Format) -> OpenOptions {
         self.format = Some(format);
         self
+    }
+
+    /// The units the take's lengths are in, over the guess (and over what the file states):
+    /// every measure in metres (floor, framing, heights, retarget scale) takes them.
+    ///
+    /// ```
+    /// use bvhview::{OpenOptions, model::stance::Units};
+    ///
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// // A 61 cm figure in centimetres, which the guess would read as inches.
+    /// let take = OpenOptions::new()
+    ///     .units(Units::named("cm").unwrap())
+    ///     .open("tests/data/bvh/bvhparser_simple.bvh")?;
+    /// assert_eq!(take.stance(take.offset_mode).units.name, "centimetres");
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn units(mut self, units: crate::model::stance::Units) -> OpenOptions {
+        self.units = Some(units);
+        self
+    }
+
+    /// `take` with the units given in these options, if any, over its own.
+    pub(crate) fn give_units(&self, mut take: crate::take::Take) -> crate::take::Take {
+        if let Some(units) = self.units {
+            take.stated_units = Some(units);
+            take.units_given = true;
+        }
+        take
     }
 
     pub(crate) fn threads_or_cores(&self) -> usize {

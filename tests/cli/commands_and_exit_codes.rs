@@ -1604,3 +1604,44 @@ fn positions_write_the_units_asked_for() {
         );
     }
 }
+
+/// `--units` says what a take's lengths are in, over the guess: `info` shows them given, the
+/// size warning that second-guesses units is not said, and a dataset's heights follow them and
+/// its manifest records that they were given.
+#[test]
+fn units_given_replace_the_guess() {
+    let simple = data("bvh/bvhparser_simple.bvh").display().to_string();
+    let guessed = bvhview_stdout(&["info", &simple]);
+    assert!(
+        guessed.contains("units:            inches (likely"),
+        "{guessed}"
+    );
+    let given = bvhview_stdout(&["info", &simple, "--units", "cm"]);
+    assert!(
+        given.contains("units:            centimetres (stated: given, not guessed; it stands 29.2 tall, 0.292 m)"),
+        "{given}"
+    );
+    assert!(given.contains("warnings:         none"), "{given}");
+    let folder = common::scratch_folder("units_given");
+    std::fs::create_dir(folder.join("takes")).unwrap();
+    std::fs::copy(
+        data("bvh/bvhparser_simple.bvh"),
+        folder.join("takes/simple.bvh"),
+    )
+    .unwrap();
+    let out = folder.join("set");
+    bvhview_stdout(&[
+        "dataset",
+        folder.join("takes").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--units",
+        "cm",
+    ]);
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let clip = &manifest["clips"][0];
+    assert_eq!(clip["units"], "centimetres");
+    assert_eq!(clip["units_given"], true);
+    std::fs::remove_dir_all(&folder).unwrap();
+}
