@@ -118,7 +118,6 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
         );
     }
     let (skeleton, motion, check) = (put.skeleton, put.motion, put.check);
-    super::note(format_args!("{}", check.line()));
     let motion = if args.lock_feet {
         let (motion, locked) = crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?;
         super::note(format_args!(
@@ -126,8 +125,18 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
             locked.heading(),
             locked.summary(&skeleton)
         ));
+        // The check is of what is written: measured again on the locked legs.
+        let locked_check = target.measure(
+            &source_name,
+            &loaded.skeleton,
+            &loaded.motion,
+            &pairs,
+            &motion,
+        )?;
+        super::note(format_args!("{} (after --lock-feet)", locked_check.line()));
         motion
     } else {
+        super::note(format_args!("{}", check.line()));
         motion
     };
     let format = TakeFormat::of(output);

@@ -231,10 +231,15 @@ fn put_onto(
         uncarried.push(format!("retarget: kept as `force` asks though {why}"));
     }
     let (skeleton, motion) = (put.skeleton, put.motion);
-    // Planted feet held where they landed, during the source's contacts.
-    let motion = match options.lock_feet {
-        true => crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?.0,
-        false => motion,
+    // Planted feet held where they landed, during the source's contacts; the check measured
+    // again on what is written.
+    let (motion, check) = match options.lock_feet {
+        true => {
+            let motion = crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?.0;
+            let check = target.measure(&name, &loaded.skeleton, &loaded.motion, &pairs, &motion)?;
+            (motion, check)
+        }
+        false => (motion, put.check),
     };
     let take = crate::take::Take {
         skeleton,
@@ -243,7 +248,7 @@ fn put_onto(
         units_given: false,
         ..loaded
     };
-    Ok((take, uncarried, put.check))
+    Ok((take, uncarried, check))
 }
 
 /// The plain posing of [`compile_take_plain`].

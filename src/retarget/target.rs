@@ -261,6 +261,31 @@ impl Target {
         })
     }
 
+    /// What `output` (a take on this skeleton, as [`Target::apply`] made it and an edit such as
+    /// [`crate::retarget::lock_feet_from_source`] changed it after) measures against its source
+    /// (`skeleton`, `motion`), by the same map and up axes: the answer checked again once it
+    /// is what will be written.
+    pub fn measure(
+        &self,
+        source_name: &str,
+        skeleton: &Skeleton,
+        motion: &Motion,
+        pairs: &[(String, String)],
+        output: &Motion,
+    ) -> Result<crate::retarget::check::Check, Error> {
+        let map = self.map(source_name, skeleton, pairs)?;
+        let ups = self.ups(skeleton, motion);
+        Ok(crate::retarget::check::check(
+            skeleton,
+            motion,
+            &self.skeleton,
+            output,
+            &map,
+            ups,
+            Some(&self.poses),
+        ))
+    }
+
     /// The guessed map from `skeleton` onto this target with `pairs` over it, refused when it
     /// cannot stand ([`Map::check`]).
     pub fn map(

@@ -1645,3 +1645,36 @@ fn units_given_replace_the_guess() {
     assert_eq!(clip["units_given"], true);
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// With `--lock-feet`, `retarget`'s check line measures what is written, the locked legs (their
+/// bones leave the source's directions while the feet are held), not the take before the lock.
+#[test]
+fn the_retarget_check_measures_the_locked_take() {
+    let folder = common::scratch_folder("lock_check");
+    let walk = data("bvh/bvh11_131_01.bvh").display().to_string();
+    let check_line = |extra: &[&str]| {
+        let out = folder.join("out.bvh");
+        let mut args = vec![
+            "retarget",
+            &walk,
+            "--onto",
+            "smpl22",
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let output = bvhview(&args);
+        assert_eq!(output.status.code(), Some(0), "{output:?}");
+        String::from_utf8_lossy(&output.stderr)
+            .lines()
+            .find(|l| l.starts_with("check: "))
+            .unwrap()
+            .to_string()
+    };
+    let free = check_line(&[]);
+    let locked = check_line(&["--lock-feet"]);
+    assert!(free.contains("bones 0.0° median, 0.0° p99"), "{free}");
+    assert!(locked.ends_with("(after --lock-feet)"), "{locked}");
+    assert!(!locked.contains("0.0° p99"), "{locked}");
+    std::fs::remove_dir_all(&folder).unwrap();
+}
