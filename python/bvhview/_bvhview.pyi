@@ -175,9 +175,11 @@ class Motion:
         channels: Literal["root6,rot3"] | None = None,
         order: str | None = None,
         strip_prefix: bool = False,
+        names: str | None = None,
     ) -> Motion:
-        """One channel layout, one Euler order, names without prefixes (`convert --channels
-        root6,rot3 --order ORDER --strip-prefix`); world positions kept."""
+        """One channel layout, one Euler order, names without prefixes or of a family
+        (`convert --channels root6,rot3 --order ORDER --strip-prefix --names smpl22`); world
+        positions kept."""
     def to_up(self, axis: Literal["y", "z"]) -> Motion:
         """Turned to stand along axis from the guessed up axis: `convert --up`."""
     def in_place(self) -> Motion:

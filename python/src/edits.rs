@@ -162,15 +162,18 @@ impl Motion {
     /// rotations and every other joint three rotations (a still position channel below the
     /// root goes into the OFFSET; a moving one is refused by name); `order` ("ZYX", "XYZ", any
     /// of the six) splits every joint's rotation once into that order; `strip_prefix=True`
-    /// drops a namespace (`mixamorig:`) and a prefix every joint shares. World positions are
-    /// kept; what changed is said as warnings.
-    #[pyo3(signature = (*, channels=None, order=None, strip_prefix=false))]
+    /// drops a namespace (`mixamorig:`) and a prefix every joint shares; `names` (a built-in
+    /// skeleton such as "smpl22", or a file) gives each joint the reading of the body maps onto
+    /// that skeleton its joint's name. World positions are kept; what changed is said as
+    /// warnings.
+    #[pyo3(signature = (*, channels=None, order=None, strip_prefix=false, names=None))]
     fn canonical(
         &self,
         py: Python<'_>,
         channels: Option<&str>,
         order: Option<&str>,
         strip_prefix: bool,
+        names: Option<String>,
     ) -> PyResult<Motion> {
         guard("canonical", || {
             let root6_rot3 = match channels {
@@ -216,7 +219,19 @@ impl Motion {
             };
             let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
             let (skeleton, motion, said) = py
-                .detach(|| bvhview::edit::canonical(skeleton, motion, self.offset_mode, &wanted))
+                .detach(|| {
+                    let (skeleton, motion, mut said) =
+                        bvhview::edit::canonical(skeleton, motion, self.offset_mode, &wanted)?;
+                    let Some(family) = &names else {
+                        return Ok((skeleton, motion, said));
+                    };
+                    let family =
+                        bvhview::retarget::Target::load(family, bvhview::take::DEFAULT_MAX_SIZE)?;
+                    let (named, more) =
+                        bvhview::edit::names_of_family(&skeleton, &family.skeleton)?;
+                    said.extend(more);
+                    Ok::<_, bvhview::Error>((named, motion, said))
+                })
                 .map_err(|e| to_python(py, e))?;
             for line in said {
                 crate::common::warn(py, &format!("{}: {line}", self.item.path.display()))?;

@@ -70,6 +70,11 @@ pub(crate) struct ConvertArgs {
     /// `UnitScaleFactor` (default there: centimetres).
     #[arg(long, value_name = "UNITS", value_parser = parse_units)]
     out_units: Option<crate::model::stance::Units>,
+    /// Names of a family (last): each joint the reading of the body maps onto a joint of this
+    /// skeleton (a built-in one such as `smpl22`, or a file) takes its name; the rest keep
+    /// theirs.
+    #[arg(long, value_name = "FAMILY|FILE")]
+    names: Option<String>,
     /// Names without an exporter's prefix (last): a namespace (`mixamorig:`, `Armature|`) and
     /// a prefix every joint shares up to a separator (`Bip01 `, `CC_Base_`).
     #[arg(long)]
@@ -384,6 +389,14 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
             args.offset_mode.into(),
             &wanted,
         )?;
+        for line in said {
+            super::note(format_args!("{}: {line}", args.input.display()));
+        }
+    }
+    if let Some(family) = &args.names {
+        let family = crate::retarget::Target::load(family, args.source.max_size)?;
+        let said;
+        (loaded.skeleton, said) = crate::edit::names_of_family(&loaded.skeleton, &family.skeleton)?;
         for line in said {
             super::note(format_args!("{}: {line}", args.input.display()));
         }

@@ -179,3 +179,23 @@ fn moving_position_channels_below_the_root_are_refused_and_still_ones_kept() {
         "{said:?}"
     );
 }
+
+/// `--names smpl22`: every repository take whose body the reading maps takes SMPL's names for
+/// the joints it maps (the pelvis, knees and wrists among them), keeps the rest, and no two
+/// joints share a name.
+#[test]
+fn names_of_a_family_come_from_the_body_reading() {
+    let smpl = Take::open("smpl22").unwrap();
+    let mut named_takes = 0;
+    for take in corpus(repo_data) {
+        let Ok((named, _)) = bvhview::edit::names_of_family(&take.skeleton, &smpl.skeleton) else {
+            continue;
+        };
+        let has = |name: &str| named.joints.iter().any(|j| j.name == name);
+        if has("pelvis") && has("left_knee") && has("right_wrist") {
+            named_takes += 1;
+        }
+        assert_eq!(named.joints.len(), take.skeleton.joints.len());
+    }
+    assert!(named_takes >= 16, "{named_takes} takes named");
+}
