@@ -276,3 +276,6 @@ def test_canonical_layout_keeps_every_joint_where_it_was():
     assert np.abs(canonical.positions() - take.positions()).max() < 1e-3
     with pytest.raises(ValueError, match="expected one of ZYX"):
         take.canonical(order="ABC")
+    with pytest.warns(UserWarning, match="family's names"):
+        named = take.canonical(names="smpl22")
+    assert named.joint_names[0] == "pelvis"
