@@ -176,6 +176,7 @@ class Motion:
         order: str | None = None,
         strip_prefix: bool = False,
         names: str | None = None,
+        rest: Literal["tpose"] | None = None,
     ) -> Motion:
         """One channel layout, one Euler order, names without prefixes or of a family
         (`convert --channels root6,rot3 --order ORDER --strip-prefix --names smpl22`); world

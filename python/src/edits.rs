@@ -164,9 +164,11 @@ impl Motion {
     /// of the six) splits every joint's rotation once into that order; `strip_prefix=True`
     /// drops a namespace (`mixamorig:`) and a prefix every joint shares; `names` (a built-in
     /// skeleton such as "smpl22", or a file) gives each joint the reading of the body maps onto
-    /// that skeleton its joint's name. World positions are kept; what changed is said as
-    /// warnings.
-    #[pyo3(signature = (*, channels=None, order=None, strip_prefix=false, names=None))]
+    /// that skeleton its joint's name; `rest="tpose"` first resets the rest pose to a T-pose
+    /// by the reading of the body (`convert --rest tpose`). World positions are kept; what
+    /// changed is said as warnings.
+    #[pyo3(signature = (*, channels=None, order=None, strip_prefix=false, names=None, rest=None))]
+    #[allow(clippy::too_many_arguments)]
     fn canonical(
         &self,
         py: Python<'_>,
@@ -174,8 +176,18 @@ impl Motion {
         order: Option<&str>,
         strip_prefix: bool,
         names: Option<String>,
+        rest: Option<&str>,
     ) -> PyResult<Motion> {
         guard("canonical", || {
+            let tpose = match rest {
+                None => false,
+                Some("tpose") => true,
+                Some(other) => {
+                    return Err(PyValueError::new_err(format!(
+                        "rest={other:?}: expected \"tpose\""
+                    )));
+                }
+            };
             let root6_rot3 = match channels {
                 None => false,
                 Some("root6,rot3") => true,
@@ -220,8 +232,22 @@ impl Motion {
             let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
             let (skeleton, motion, said) = py
                 .detach(|| {
-                    let (skeleton, motion, mut said) =
-                        bvhview::edit::canonical(skeleton, motion, self.offset_mode, &wanted)?;
+                    let (mut mode, mut said) = (self.offset_mode, Vec::new());
+                    let rested;
+                    let (skeleton, motion) = if tpose {
+                        let up = self.loaded.stance(mode).up;
+                        let (s, m, words) =
+                            bvhview::edit::rest_tpose(skeleton, motion, mode, up)?;
+                        said.extend(words);
+                        mode = bvhview::model::pose::OffsetMode::Replace;
+                        rested = (s, m);
+                        (&rested.0, &rested.1)
+                    } else {
+                        (skeleton, motion)
+                    };
+                    let (skeleton, motion, more) =
+                        bvhview::edit::canonical(skeleton, motion, mode, &wanted)?;
+                    said.extend(more);
                     let Some(family) = &names else {
                         return Ok((skeleton, motion, said));
                     };
@@ -237,7 +263,7 @@ impl Motion {
                 crate::common::warn(py, &format!("{}: {line}", self.item.path.display()))?;
             }
             let mut edited = self.edited(skeleton, motion, true);
-            if root6_rot3 {
+            if root6_rot3 || tpose {
                 edited.offset_mode = bvhview::model::pose::OffsetMode::Replace;
             }
             Ok(edited)

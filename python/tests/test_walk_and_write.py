@@ -279,3 +279,8 @@ def test_canonical_layout_keeps_every_joint_where_it_was():
     with pytest.warns(UserWarning, match="family's names"):
         named = take.canonical(names="smpl22")
     assert named.joint_names[0] == "pelvis"
+    walk = bvhview.load(REPO / "tests" / "data" / "bvh" / "bvh11_131_01.bvh")
+    with pytest.warns(UserWarning, match="T-pose"):
+        tposed = walk.canonical(rest="tpose")
+    height = np.ptp(walk.positions()[..., 1])
+    assert np.abs(tposed.positions() - walk.positions()).max() < 1e-4 * height

@@ -56,6 +56,11 @@ pub(crate) struct ConvertArgs {
     /// OLD=NEW names.
     #[arg(long = "mirror-names", value_name = "PAIR|FILE")]
     mirror_names: Vec<String>,
+    /// The rest pose reset (after --ground, before the layout options): `tpose`, arms level and
+    /// out, legs straight down, spine up, by the reading of the body; every joint's world
+    /// position kept on every frame.
+    #[arg(long, value_enum, value_name = "POSE")]
+    rest: Option<RestArg>,
     /// One channel layout (last, after every other edit): every root three positions then three
     /// rotations, every other joint three rotations. A non-root joint's position channels that
     /// never move go into its OFFSET (said); ones that move are refused by name.
@@ -380,15 +385,22 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
         (loaded.skeleton, loaded.motion) =
             crate::edit::ground(&loaded.skeleton, &loaded.motion, OffsetMode::Replace, up)?;
     }
+    // How position channels count from here: the T-pose rest writes whole translations.
+    let mut mode: OffsetMode = args.offset_mode.into();
+    if let Some(RestArg::Tpose) = args.rest {
+        let said;
+        (loaded.skeleton, loaded.motion, said) =
+            crate::edit::rest_tpose(&loaded.skeleton, &loaded.motion, mode, up)?;
+        mode = OffsetMode::Replace;
+        for line in said {
+            super::note(format_args!("{}: {line}", args.input.display()));
+        }
+    }
     let wanted = canonical_asked(args);
     if wanted.any() {
         let said;
-        (loaded.skeleton, loaded.motion, said) = crate::edit::canonical(
-            &loaded.skeleton,
-            &loaded.motion,
-            args.offset_mode.into(),
-            &wanted,
-        )?;
+        (loaded.skeleton, loaded.motion, said) =
+            crate::edit::canonical(&loaded.skeleton, &loaded.motion, mode, &wanted)?;
         for line in said {
             super::note(format_args!("{}: {line}", args.input.display()));
         }
@@ -447,12 +459,19 @@ fn canonical_asked(args: &ConvertArgs) -> crate::edit::Canonical {
 }
 
 /// How the written take's position channels combine with OFFSET: as `--offset-mode` says,
-/// but replacing it once `--channels` made the root's positions its whole translation.
+/// but replacing it once `--channels` or `--rest` made the positions whole translations.
 fn written_mode(args: &ConvertArgs) -> OffsetMode {
-    match args.channels {
-        Some(_) => OffsetMode::Replace,
-        None => args.offset_mode.into(),
+    match (args.channels, args.rest) {
+        (None, None) => args.offset_mode.into(),
+        _ => OffsetMode::Replace,
     }
+}
+
+/// `--rest`: the rest poses there are.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+enum RestArg {
+    /// Arms level and out, legs straight down, spine up.
+    Tpose,
 }
 
 /// `--channels`: the one layout there is.

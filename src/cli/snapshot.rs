@@ -24,6 +24,10 @@ pub(crate) struct SnapshotArgs {
     /// Frame to draw, from 0.
     #[arg(long, default_value_t = 0, conflicts_with = "frames")]
     frame: usize,
+    /// Draw each take's rest pose (its OFFSETs, every channel at 0) instead of a frame; its up
+    /// axis is still read from its motion.
+    #[arg(long, conflicts_with_all = ["frames", "frame"])]
+    rest: bool,
     /// A sequence instead: N, A..B (B left out), A..=B, A.. or ..B, written as -o says: an
     /// animated .gif, .apng or .png, an .mp4 video (H.264), or OUT/frame_NNNNN.png into a
     /// folder.
@@ -234,7 +238,7 @@ fn load_takes(
             motion: motion.clone(),
             ..args.source.clone()
         };
-        let loaded = load(file, &source)?;
+        let mut loaded = load(file, &source)?;
         let name = file.display().to_string();
         // On a character the retarget reads the file in the mode it was written for: no advice
         // about --offset-mode, which does not apply.
@@ -243,6 +247,10 @@ fn load_takes(
         }
         let stance = loaded.stance(mode);
         let up = resolve_up(args.view.up, &stance, &name, framed_view);
+        if args.rest {
+            let motion = &loaded.motion;
+            loaded.motion = crate::Motion::new(motion.frame_time, motion.channels, 0, Vec::new());
+        }
         takes.push(Prepared {
             name: short_name(file),
             take: loaded,

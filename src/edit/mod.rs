@@ -9,6 +9,7 @@ mod lock_feet;
 mod mirror;
 mod orient;
 mod resample;
+mod rest;
 mod scale;
 mod smooth;
 #[cfg(test)]
@@ -21,5 +22,6 @@ pub use lock_feet::{FeetLocked, FootLocked, LockFeet, NotHeld, lock_feet, lock_f
 pub use mirror::{MirrorOptions, lateral_axis, mirror, mirror_partners};
 pub use orient::{QuarterTurn, ground, in_place, reorient};
 pub use resample::{Picks, Resampling, SAME_RATE, resample, resample_picks};
+pub use rest::rest_tpose;
 pub use scale::{scale, trim};
 pub use smooth::{smooth, zero_phase};

@@ -116,6 +116,58 @@ pub fn size_warning(skeleton: &Skeleton, stance: &Stance) -> Option<Message> {
     )
 }
 
+/// `info`'s line on the rest pose, for a body with two arms and two legs: how far each arm
+/// (shoulder to wrist) lies from level and each leg (hip to ankle) from straight down, and what
+/// pose that is (a T-pose: every one within 5°).
+pub fn rest_pose_text(
+    skeleton: &Skeleton,
+    body: &crate::model::body::Body,
+    up: crate::model::pose::Up,
+) -> Option<String> {
+    use crate::model::body::Limb;
+    let up = match up {
+        crate::model::pose::Up::Y => glam::DVec3::Y,
+        crate::model::pose::Up::Z => glam::DVec3::Z,
+    };
+    let rest = crate::model::pose::world_positions(skeleton, &[], OffsetMode::Replace);
+    let bone = |side: usize, from: Limb, to: Limb| -> Option<glam::DVec3> {
+        let a = body.limbs[side][from as usize]?;
+        let b = body.limbs[side][to as usize]?;
+        (rest[b] - rest[a]).as_dvec3().try_normalize()
+    };
+    let mut arms = [0.0; 2];
+    let mut legs = [0.0; 2];
+    for side in 0..2 {
+        // Above level is positive.
+        arms[side] = bone(side, Limb::UpperArm, Limb::Hand)?
+            .dot(up)
+            .asin()
+            .to_degrees();
+        legs[side] = bone(side, Limb::Thigh, Limb::Foot)?
+            .dot(-up)
+            .clamp(-1.0, 1.0)
+            .acos()
+            .to_degrees();
+    }
+    let level = |a: f64| if a >= 0.0 { "above" } else { "below" };
+    let pose = if arms.iter().chain(&legs).all(|a| a.abs() <= 5.0) {
+        "a T-pose"
+    } else if arms.iter().all(|a| (-60.0..=-20.0).contains(a)) {
+        "an A-pose"
+    } else {
+        "neither a T-pose nor an A-pose"
+    };
+    Some(format!(
+        "{pose}: arms {:.1}° {} and {:.1}° {} level, legs {:.1}° and {:.1}° from straight down",
+        arms[0].abs(),
+        level(arms[0]),
+        arms[1].abs(),
+        level(arms[1]),
+        legs[0],
+        legs[1]
+    ))
+}
+
 /// A human-readable summary: joints, End Sites, channels, frames, timing, orders, warnings (an
 /// argument a warning names written as `spelling` writes it).
 pub fn summary(name: &str, loaded: &Take, mode: OffsetMode, spelling: &dyn Spelling) -> String {
@@ -173,10 +225,13 @@ pub fn summary(name: &str, loaded: &Take, mode: OffsetMode, spelling: &dyn Spell
         "none read (no limb, neck or head, by name or by the tree)".to_string()
     };
     let _ = writeln!(out, "body:             {reading}");
+    let stance = loaded.stance(mode);
+    if let Some(rest) = rest_pose_text(skeleton, &body, stance.up) {
+        let _ = writeln!(out, "rest pose:        {rest}");
+    }
     // What a map file's `[skeleton.<fingerprint>]` pairs are keyed by.
     let _ = writeln!(out, "fingerprint:      {}", skeleton.fingerprint());
     // Guessed from the motion; the article's view still draws the file as written.
-    let stance = loaded.stance(mode);
     let _ = writeln!(out, "up axis:          {}", stance.up_text());
     if stance.size > 1e-6 {
         let _ = writeln!(out, "units:            {}", stance.units_text());

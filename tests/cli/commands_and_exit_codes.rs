@@ -1678,3 +1678,41 @@ fn the_retarget_check_measures_the_locked_take() {
     assert!(!locked.contains("0.0° p99"), "{locked}");
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// `convert --rest tpose` makes a T-pose rest (as `info` reads it) of a CMU walk whose rest has
+/// the arms down, and `snapshot --rest` draws a rest pose (not with --frames).
+#[test]
+fn a_t_pose_rest_is_read_and_drawn() {
+    let folder = common::scratch_folder("tpose");
+    let walk = data("bvh/bvh11_131_01.bvh").display().to_string();
+    let before = bvhview_stdout(&["info", &walk]);
+    assert!(
+        before.contains("rest pose:        neither a T-pose nor an A-pose: arms 90.0° below"),
+        "{before}"
+    );
+    let tpose = folder.join("tpose.bvh");
+    bvhview_stdout(&[
+        "convert",
+        &walk,
+        "--rest",
+        "tpose",
+        "-o",
+        tpose.to_str().unwrap(),
+    ]);
+    let after = bvhview_stdout(&["info", tpose.to_str().unwrap()]);
+    assert!(after.contains("rest pose:        a T-pose: arms 0.0° above and 0.0° above level, legs 0.0° and 0.0° from straight down"), "{after}");
+    let png = folder.join("rest.png");
+    bvhview_stdout(&[
+        "snapshot",
+        tpose.to_str().unwrap(),
+        "--rest",
+        "-o",
+        png.to_str().unwrap(),
+    ]);
+    assert!(std::fs::metadata(&png).unwrap().len() > 0);
+    let out = bvhview(&[
+        "snapshot", &walk, "--rest", "--frames", "0..3", "-o", "x.gif",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    std::fs::remove_dir_all(&folder).unwrap();
+}

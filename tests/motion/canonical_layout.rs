@@ -199,3 +199,40 @@ fn names_of_a_family_come_from_the_body_reading() {
     }
     assert!(named_takes >= 16, "{named_takes} takes named");
 }
+
+/// `--rest tpose` on every take whose body has arms and legs: every joint where it was on every
+/// frame (within 1e-4 of the height), and the rest pose `info` reads is a T-pose within 1°.
+fn rest_tpose_keeps_every_joint(takes: &[Take], at_least: usize) {
+    let mut posed = 0;
+    for take in takes {
+        let up = take.stance(take.offset_mode).up;
+        let Ok((skeleton, motion, _)) =
+            bvhview::edit::rest_tpose(&take.skeleton, &take.motion, take.offset_mode, up)
+        else {
+            continue;
+        };
+        let error = worst(take, &skeleton, &motion, OffsetMode::Replace);
+        assert!(error <= 1e-4, "{}: {error:e} of the height", take.name);
+        let body = bvhview::model::body::Body::of(&skeleton);
+        let line = bvhview::info::rest_pose_text(&skeleton, &body, up).unwrap();
+        let angles: Vec<f64> = line
+            .split(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .filter_map(|w| w.parse().ok())
+            .collect();
+        assert!(line.starts_with("a T-pose"), "{}: {line}", take.name);
+        assert!(angles.iter().all(|a| *a <= 1.0), "{}: {line}", take.name);
+        posed += 1;
+    }
+    assert!(posed >= at_least, "{posed} takes T-posed");
+}
+
+#[test]
+fn every_repository_take_with_arms_and_legs_rests_in_a_t_pose() {
+    rest_tpose_keeps_every_joint(&corpus(repo_data), 16);
+}
+
+#[test]
+#[ignore = "needs ../shared/data; scripts/test.sh runs it when the folder is there"]
+fn every_whole_corpus_take_with_arms_and_legs_rests_in_a_t_pose() {
+    rest_tpose_keeps_every_joint(&corpus(shared_data), 31);
+}
