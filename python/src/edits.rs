@@ -32,15 +32,30 @@ impl Motion {
     }
 }
 
+/// Whether keyword `name` asks for its one value `only` (`None`: not asked); any other value
+/// is refused by name.
+fn the_one(name: &str, value: Option<&str>, only: &str) -> PyResult<bool> {
+    match value {
+        None => Ok(false),
+        Some(value) if value == only => Ok(true),
+        Some(other) => Err(PyValueError::new_err(format!(
+            "{name}={other:?}: expected {only:?}"
+        ))),
+    }
+}
+
 #[pymethods]
 impl Motion {
     /// Writes the take as BVH (.bvh), glTF (.glb binary, .gltf text) or FBX (.fbx), as
     /// `bvhview convert` does: for BVH, ASF bone axes are baked into ZYX rotation channels and
     /// names with whitespace or braces are written with `_`; glTF and FBX get one node per
-    /// joint and End Site and the take's offset mode. The file takes its name only when
-    /// complete.
-    fn save(&self, py: Python<'_>, path: PathBuf) -> PyResult<()> {
+    /// joint and End Site and the take's offset mode. `units` ("mm", "cm", "m", "in", "ft" or
+    /// metres per unit) writes the take in those units, scaled from its own (`units`); an FBX
+    /// states them (centimetres without). The file takes its name only when complete.
+    #[pyo3(signature = (path, *, units=None))]
+    fn save(&self, py: Python<'_>, path: PathBuf, units: Option<Bound<'_, PyAny>>) -> PyResult<()> {
         guard("save", || {
+            let units = units.as_ref().map(crate::loading::parse_units).transpose()?;
             let extension = path
                 .extension()
                 .map(|e| e.to_string_lossy().to_ascii_lowercase())
@@ -56,10 +71,20 @@ impl Motion {
                     )));
                 }
             };
-            py.detach(|| match container {
-                None if extension == "fbx" => self.write_fbx(&path),
-                None => self.write_bvh(&path),
-                Some(container) => self.write_gltf(&path, container),
+            py.detach(|| {
+                let scaled;
+                let take = match units {
+                    Some(units) => {
+                        scaled = self.in_units(units)?;
+                        &scaled
+                    }
+                    None => self,
+                };
+                match container {
+                    None if extension == "fbx" => take.write_fbx(&path, units),
+                    None => take.write_bvh(&path),
+                    Some(container) => take.write_gltf(&path, container),
+                }
             })
             .map_err(|e| to_python(py, e))
         })
@@ -179,24 +204,8 @@ impl Motion {
         rest: Option<&str>,
     ) -> PyResult<Motion> {
         guard("canonical", || {
-            let tpose = match rest {
-                None => false,
-                Some("tpose") => true,
-                Some(other) => {
-                    return Err(PyValueError::new_err(format!(
-                        "rest={other:?}: expected \"tpose\""
-                    )));
-                }
-            };
-            let root6_rot3 = match channels {
-                None => false,
-                Some("root6,rot3") => true,
-                Some(other) => {
-                    return Err(PyValueError::new_err(format!(
-                        "channels={other:?}: expected \"root6,rot3\""
-                    )));
-                }
-            };
+            let tpose = the_one("rest", rest, "tpose")?;
+            let root6_rot3 = the_one("channels", channels, "root6,rot3")?;
             let order = match order {
                 None => None,
                 Some(letters) => {

@@ -556,11 +556,31 @@ impl Motion {
         AtomicFile::write_whole(path, text.as_bytes())
     }
 
-    /// FBX 7.4 binary in centimetres, as `Take::save` writes it.
-    pub(crate) fn write_fbx(&self, path: &Path) -> Result<(), Error> {
+    /// FBX 7.4 binary in centimetres (or `units`), as `Take::save` writes it.
+    pub(crate) fn write_fbx(
+        &self,
+        path: &Path,
+        units: Option<bvhview::model::stance::Units>,
+    ) -> Result<(), Error> {
         let mut take = self.loaded.clone();
         take.offset_mode = self.offset_mode;
-        take.save(path)
+        match units {
+            Some(units) => AtomicFile::write_whole(path, &take.fbx_in(units)?.bytes),
+            None => take.save(path),
+        }
+    }
+
+    /// The take scaled from its own units (as its stance reads them) into `units`, which it
+    /// then states.
+    pub(crate) fn in_units(&self, units: bvhview::model::stance::Units) -> Result<Motion, Error> {
+        let own = self.loaded.stance(self.offset_mode).units;
+        let factor = (f64::from(own.metres) / f64::from(units.metres)) as f32;
+        let (skeleton, motion) =
+            bvhview::edit::scale(&self.loaded.skeleton, &self.loaded.motion, factor)?;
+        let mut scaled = self.edited(skeleton, motion, false);
+        scaled.loaded.stated_units = Some(units);
+        scaled.loaded.units_given = true;
+        Ok(scaled)
     }
 
     pub(crate) fn write_gltf(

@@ -284,3 +284,14 @@ def test_canonical_layout_keeps_every_joint_where_it_was():
         tposed = walk.canonical(rest="tpose")
     height = np.ptp(walk.positions()[..., 1])
     assert np.abs(tposed.positions() - walk.positions()).max() < 1e-4 * height
+
+
+def test_save_writes_the_units_asked_for(tmp_path):
+    walk = bvhview.load(REPO / "tests" / "data" / "bvh" / "bvh11_131_01.bvh").trim(0, 5)
+    metres = walk.positions() * walk.metres_per_unit
+    for name in ("m.bvh", "m.fbx"):
+        walk.save(tmp_path / name, units="m")
+        back = bvhview.load(tmp_path / name)
+        assert np.abs(back.positions() * back.metres_per_unit - metres).max() < 1e-5
+    with pytest.raises(ValueError, match="units="):
+        walk.save(tmp_path / "x.bvh", units="furlongs")

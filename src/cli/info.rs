@@ -65,12 +65,8 @@ fn built_in_list() -> Result<String, Error> {
     for &(name, about) in crate::retarget::BUILT_IN_ABOUT {
         let built_in = take::OpenOptions::new().open(name)?;
         let stance = built_in.stance(OffsetMode::Replace);
-        let joints = built_in
-            .skeleton
-            .joints
-            .iter()
-            .filter(|j| !j.end_site)
-            .count();
+        let skeleton = &built_in.skeleton;
+        let joints = skeleton.joints.len() - skeleton.end_site_count();
         text.push_str(&format!(
             "{name}: {joints} joints, {}, {:.2} m tall at rest, {} up; {about}\n",
             stance.units.name,
