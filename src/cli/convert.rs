@@ -414,7 +414,7 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
         }
     }
     if let Some(units) = args.out_units {
-        loaded = in_units(args, loaded, units)?;
+        loaded = super::in_units(&args.input.display().to_string(), loaded, units)?;
     }
     Ok(loaded)
 }
@@ -424,29 +424,6 @@ pub(crate) fn parse_units(text: &str) -> Result<crate::model::stance::Units, Str
     crate::model::stance::Units::named(text).ok_or_else(|| {
         format!("expected mm, cm, m, in, ft or a number of metres per unit above 0, not '{text}'")
     })
-}
-
-/// The take in `units`, scaled from its own (as its stance reads them), and said.
-fn in_units(
-    args: &ConvertArgs,
-    mut loaded: Take,
-    units: crate::model::stance::Units,
-) -> Result<Take, Error> {
-    let own = loaded.stance(OffsetMode::Replace);
-    let factor = (f64::from(own.units.metres) / f64::from(units.metres)) as f32;
-    if factor != 1.0 {
-        (loaded.skeleton, loaded.motion) =
-            crate::edit::scale(&loaded.skeleton, &loaded.motion, factor)?;
-    }
-    super::note(format_args!(
-        "{}: {} ({}) written in {} (×{factor})",
-        args.input.display(),
-        own.units.name,
-        own.units_sureness.word(),
-        units.name,
-    ));
-    loaded.stated_units = Some(units);
-    Ok(loaded)
 }
 
 /// The canonical layout the options ask for.

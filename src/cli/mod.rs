@@ -624,6 +624,65 @@ impl TakeLabel {
     }
 }
 
+/// `take` in `units` (`--out-units`), scaled from its own (as its stance reads them), which it
+/// then states; said on stderr under `name`.
+pub(crate) fn in_units(
+    name: &str,
+    mut take: Take,
+    units: crate::model::stance::Units,
+) -> Result<Take, Error> {
+    let own = take.stance(OffsetMode::Replace);
+    let factor = (f64::from(own.units.metres) / f64::from(units.metres)) as f32;
+    if factor != 1.0 {
+        (take.skeleton, take.motion) = crate::edit::scale(&take.skeleton, &take.motion, factor)?;
+    }
+    note(format_args!(
+        "{name}: {} ({}) written in {} (×{factor})",
+        own.units.name,
+        own.units_sureness.word(),
+        units.name,
+    ));
+    take.stated_units = Some(units);
+    Ok(take)
+}
+
+/// A command's result (`retarget`, `solve`) written at `output`, in `units` when asked.
+pub(crate) fn write_result(
+    output: &Path,
+    skeleton: crate::Skeleton,
+    motion: crate::Motion,
+    units: Option<crate::model::stance::Units>,
+) -> Result<ExitCode, Error> {
+    let format = TakeFormat::of(output);
+    let Some(units) = units else {
+        return write_take(
+            output,
+            format,
+            skeleton,
+            motion,
+            OffsetMode::Replace,
+            false,
+            None,
+        );
+    };
+    let take = Take::new(skeleton, motion, stem_of(output));
+    let take = in_units(&output.display().to_string(), take, units)?;
+    let label = TakeLabel {
+        stated_units: Some(units),
+        out_units: Some(units),
+        ..TakeLabel::output(output)
+    };
+    write_take(
+        output,
+        format,
+        take.skeleton,
+        take.motion,
+        OffsetMode::Replace,
+        false,
+        Some(label),
+    )
+}
+
 /// A take ready to be written in a format, everything that could refuse it done first, so that a
 /// take that cannot be written leaves no file: glTF and FBX encoded; BVH with its ASF axes baked
 /// into the rotation channels and checked (it is written as it streams out). One take, one

@@ -1,8 +1,7 @@
 //! `bvhview retarget`: one take's motion on another skeleton, written as BVH or glTF.
 
-use super::{Source, TakeFormat, check_output, load, write_take, write_text};
+use super::{Source, check_output, load, write_text};
 use crate::io::error::Error;
-use crate::model::pose::OffsetMode;
 use crate::retarget::{self, Insist, Map, Target};
 use clap::Args;
 use std::path::{Path, PathBuf};
@@ -40,9 +39,13 @@ pub(crate) struct RetargetArgs {
     /// Print the map (as TOML --map reads) and the joints left unmapped, on stdout.
     #[arg(long)]
     show_map: bool,
-    /// The file to write: .bvh, or glTF as .glb (binary) or .gltf (text, data inline).
+    /// The file to write: .bvh, glTF as .glb (binary) or .gltf (text, data inline), or .fbx.
     #[arg(short, long)]
     output: Option<PathBuf>,
+    /// The units to write in: mm, cm, m, in, ft, or metres per unit (the result is in the
+    /// target's own units without it).
+    #[arg(long, value_name = "UNITS", value_parser = super::convert::parse_units)]
+    out_units: Option<crate::model::stance::Units>,
 }
 
 /// The `--map` values as pairs, in order: files read (their `[skeleton.…]` sections kept for
@@ -139,14 +142,5 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
         super::note(format_args!("{}", check.line()));
         motion
     };
-    let format = TakeFormat::of(output);
-    write_take(
-        output,
-        format,
-        skeleton,
-        motion,
-        OffsetMode::Replace,
-        false,
-        None,
-    )
+    super::write_result(output, skeleton, motion, args.out_units)
 }

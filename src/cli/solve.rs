@@ -1,9 +1,9 @@
 //! `bvhview solve`: joint positions (a model's output, a pose estimator's) as a take on a
 //! skeleton, written as BVH or glTF.
 
-use super::{TakeFormat, UpArg, check_output, note, parse_max_size, write_take};
+use super::{UpArg, check_output, note, parse_max_size};
 use crate::io::error::Error;
-use crate::model::pose::{OffsetMode, Up};
+use crate::model::pose::Up;
 use crate::retarget::Target;
 use clap::Args;
 use std::path::PathBuf;
@@ -42,9 +42,13 @@ pub(crate) struct SolveArgs {
     /// Refuse inputs larger than this (K, M, G suffixes).
     #[arg(long, value_name = "SIZE", default_value = "8G", value_parser = parse_max_size)]
     max_size: u64,
-    /// The file to write: .bvh, or glTF as .glb (binary) or .gltf (text, data inline).
+    /// The file to write: .bvh, glTF as .glb (binary) or .gltf (text, data inline), or .fbx.
     #[arg(short, long)]
     output: PathBuf,
+    /// The units to write in: mm, cm, m, in, ft, or metres per unit (the result is in the
+    /// target's own units without it).
+    #[arg(long, value_name = "UNITS", value_parser = super::convert::parse_units)]
+    out_units: Option<crate::model::stance::Units>,
 }
 
 /// What `solve` reads.
@@ -122,14 +126,5 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         };
         note(format_args!("off the data ({why}): {off}"));
     }
-    let format = TakeFormat::of(&args.output);
-    write_take(
-        &args.output,
-        format,
-        target.skeleton,
-        motion,
-        OffsetMode::Replace,
-        false,
-        None,
-    )
+    super::write_result(&args.output, target.skeleton, motion, args.out_units)
 }

@@ -1716,3 +1716,45 @@ fn a_t_pose_rest_is_read_and_drawn() {
     assert_eq!(out.status.code(), Some(2));
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// `retarget --out-units m`: the result (in the target's centimetres) written in metres.
+#[test]
+fn retarget_writes_the_units_asked_for() {
+    let folder = common::scratch_folder("retarget_units");
+    let walk = data("bvh/bvh11_131_01.bvh").display().to_string();
+    let (cm, m) = (folder.join("cm.bvh"), folder.join("m.bvh"));
+    bvhview_stdout(&[
+        "retarget",
+        &walk,
+        "--onto",
+        "smpl22",
+        "-o",
+        cm.to_str().unwrap(),
+    ]);
+    bvhview_stdout(&[
+        "retarget",
+        &walk,
+        "--onto",
+        "smpl22",
+        "--out-units",
+        "m",
+        "-o",
+        m.to_str().unwrap(),
+    ]);
+    let at = |path: &std::path::Path| {
+        rows(&bvhview_stdout(&[
+            "positions",
+            path.to_str().unwrap(),
+            "--frames",
+            "9",
+        ]))
+    };
+    for (a, b) in at(&cm).iter().zip(&at(&m)) {
+        assert!(
+            (0..3).all(|k| (a.2[k] * 0.01 - b.2[k]).abs() < 1e-5),
+            "{a:?} vs {b:?}"
+        );
+    }
+    assert!(bvhview_stdout(&["info", m.to_str().unwrap()]).contains("units:            metres"));
+    std::fs::remove_dir_all(&folder).unwrap();
+}
