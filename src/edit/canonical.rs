@@ -226,13 +226,17 @@ fn still_translation(
         }
     }
     if farthest > 0.0 {
-        return Err(Error::usage(format!(
-            "joint '{}' has position channels that move it {} from where frame 0 puts it (frame \
-             {when}): the canonical layout (root6,rot3) has position channels on the root only, \
-             and dropping these would move its bones; convert without --channels keeps them",
-            crate::limits::quoted(&joint.name),
-            crate::limits::show(f64::from(farthest))
-        )));
+        return Err(Error::usage(
+            crate::io::message::Message::from(format!(
+                "joint '{}' has position channels that move it {} from where frame 0 puts it \
+                 (frame {when}): the canonical layout (root6,rot3) has position channels on the \
+                 root only, and dropping these would move its bones; without ",
+                crate::limits::quoted(&joint.name),
+                crate::limits::show(f64::from(farthest))
+            ))
+            .argument("channels", None)
+            .text(" they are kept"),
+        ));
     }
     said.push(format!(
         "joint '{}': its position channels never move it; their value is its OFFSET now",
@@ -284,12 +288,16 @@ fn strip_prefixes(skeleton: &mut Skeleton) -> Result<Vec<String>, Error> {
         if let Some(k) = names[..i].iter().position(|other| other == name)
             && !skeleton.joints[i].end_site
         {
-            return Err(Error::usage(format!(
-                "--strip-prefix: '{}' and '{}' would both be named '{}'",
-                crate::limits::quoted(&original[k]),
-                crate::limits::quoted(&original[i]),
-                crate::limits::quoted(name)
-            )));
+            return Err(Error::usage(
+                crate::io::message::Message::from("")
+                    .argument("strip_prefix", None)
+                    .text(format!(
+                        ": '{}' and '{}' would both be named '{}'",
+                        crate::limits::quoted(&original[k]),
+                        crate::limits::quoted(&original[i]),
+                        crate::limits::quoted(name)
+                    )),
+            ));
         }
     }
     let changed: Vec<String> = original

@@ -63,8 +63,12 @@ pub fn rest_tpose(
         .collect();
     let left = left_of(&body, &rest, up).ok_or_else(|| {
         Error::usage(
-            "--rest tpose: the reading of the body finds no left and right thighs or upper arms \
-             to tell which way is out",
+            crate::io::message::Message::from("")
+                .argument("rest", Some("tpose"))
+                .text(
+                    ": the reading of the body finds no left and right thighs or upper arms to \
+                     tell which way is out",
+                ),
         )
     })?;
     let forward = left.cross(up);
