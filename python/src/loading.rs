@@ -41,6 +41,11 @@ fn open_options(item: &Item, frame_time: Option<f64>, threads: usize) -> take::O
 
 /// `units=`: a unit's name ("mm", "cm", "m", "in", "ft") or a number of metres per unit.
 pub(crate) fn parse_units(value: &Bound<'_, PyAny>) -> PyResult<bvhview::model::stance::Units> {
+    if value.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(PyValueError::new_err(
+            "units=: expected \"mm\", \"cm\", \"m\", \"in\", \"ft\" or metres per unit, not a bool",
+        ));
+    }
     let text = match value.extract::<f64>() {
         Ok(metres) => metres.to_string(),
         Err(_) => value.extract::<String>().map_err(|_| {
@@ -49,7 +54,7 @@ pub(crate) fn parse_units(value: &Bound<'_, PyAny>) -> PyResult<bvhview::model::
     };
     bvhview::model::stance::Units::named(&text).ok_or_else(|| {
         PyValueError::new_err(format!(
-            "units={text:?}: expected \"mm\", \"cm\", \"m\", \"in\", \"ft\" or a number of metres per unit above 0"
+            "units={text:?}: expected \"mm\", \"cm\", \"m\", \"in\", \"ft\" or a number of metres per unit from 1e-9 to 1000"
         ))
     })
 }

@@ -161,22 +161,30 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
             warning.spelled(&super::Flags)
         );
     }
-    let loaded = edit(&args, loaded)?;
     let character = match &args.character {
         Some(path) => super::character::load_all(std::slice::from_ref(path), 1, &args.source)?
             .pop()
             .flatten()
             .map(|character| (path.clone(), character)),
         // A character file converted to FBX keeps its mesh.
-        None if format == TakeFormat::Fbx && own_mesh_kept(&loaded) => {
-            let options = crate::take::OpenOptions::new().max_size(args.source.max_size);
-            crate::character::Character::open_if_any(&args.input, &options)?
-                .map(|character| (args.input.clone(), std::sync::Arc::new(character)))
+        None if format == TakeFormat::Fbx && !is_stdio(&args.input) && own_mesh_kept(&loaded) => {
+            own_character(&args)
         }
         None => None,
     };
+    // A character file's own take is read as its character reads it: on the skeleton its mesh
+    // is bound to (the bind pose's frames), which the edits then change.
+    let loaded = match (&character, &args.character) {
+        (Some((_, own)), None) => Take {
+            warnings: loaded.warnings,
+            ..own.take.clone()
+        },
+        _ => loaded,
+    };
+    // With a character, --out-units scales the take and the mesh together as they are written.
+    let loaded = edit(&args, loaded, character.is_none())?;
     if let Some((path, character)) = character {
-        return write_character(&args, format, &loaded, &path, &character);
+        return write_character(&args, format, loaded, &path, &character);
     }
     let label = super::TakeLabel {
         out_units: args.out_units,
@@ -193,6 +201,44 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
     )
 }
 
+/// The input file's own character (its skinned mesh), read as `--character` reads one, or
+/// none: a file without a mesh, or one whose mesh cannot be skinned (then said: the take is
+/// written without it).
+fn own_character(
+    args: &ConvertArgs,
+) -> Option<(PathBuf, std::sync::Arc<crate::character::Character>)> {
+    let mut options = crate::take::OpenOptions::new().max_size(args.source.max_size);
+    if let Some(take) = &args.source.take {
+        options = options.take(take.as_str());
+    }
+    match crate::character::Character::open_if_any(&args.input, &options) {
+        Ok(character) => {
+            character.map(|character| (args.input.clone(), std::sync::Arc::new(character)))
+        }
+        Err(why) => {
+            eprintln!(
+                "bvhview: {}: warning: its mesh is not written ({}); the take is",
+                args.input.display(),
+                super::said(&why)
+            );
+            None
+        }
+    }
+}
+
+/// Whether two skeletons are one rig: the same joints (names aside) with the same parents,
+/// channels, OFFSETs and axes; a mesh bound to one is bound to the other.
+fn same_rig(a: &crate::Skeleton, b: &crate::Skeleton) -> bool {
+    a.joints.len() == b.joints.len()
+        && a.joints.iter().zip(&b.joints).all(|(a, b)| {
+            a.parent == b.parent
+                && a.channels == b.channels
+                && a.offset == b.offset
+                && a.axis == b.axis
+                && a.end_site == b.end_site
+        })
+}
+
 /// Whether `take` comes from a file that may hold a skinned mesh of its own (FBX or glTF).
 fn own_mesh_kept(take: &Take) -> bool {
     matches!(
@@ -206,19 +252,61 @@ fn own_mesh_kept(take: &Take) -> bool {
 fn write_character(
     args: &ConvertArgs,
     format: TakeFormat,
-    loaded: &Take,
+    loaded: Take,
     path: &Path,
     character: &crate::character::Character,
 ) -> Result<ExitCode, Error> {
-    let dressed = super::character::dress(character, loaded, &args.input, args.insisting.insist())?;
+    let own = args.character.is_none();
+    let mut dressed = if own {
+        // The file's own take, edited: its mesh goes with it while the edits keep the rig.
+        if !same_rig(&loaded.skeleton, &character.take.skeleton) {
+            eprintln!(
+                "bvhview: {}: warning: its mesh is not written: the edits changed the skeleton \
+                 it is bound to (its OFFSETs, channels or joints)",
+                args.input.display()
+            );
+            let mut loaded = loaded;
+            if let Some(units) = args.out_units {
+                loaded = super::in_units(&args.input.display().to_string(), loaded, units)?;
+            }
+            let label = super::TakeLabel {
+                out_units: args.out_units,
+                ..super::TakeLabel::of(&loaded)
+            };
+            let mode = written_mode(args);
+            return write_take(
+                &args.output,
+                format,
+                loaded.skeleton,
+                loaded.motion,
+                mode,
+                false,
+                Some(label),
+            );
+        }
+        Take {
+            offset_mode: OffsetMode::Replace,
+            ..loaded
+        }
+    } else {
+        super::character::dress(character, &loaded, &args.input, args.insisting.insist())?
+    };
+    let mut mesh = std::borrow::Cow::Borrowed(&character.mesh);
+    if let Some(units) = args.out_units {
+        let own_units = dressed.stance(OffsetMode::Replace).units.metres;
+        let factor = (f64::from(own_units) / f64::from(units.metres)) as f32;
+        dressed = super::in_units(&args.input.display().to_string(), dressed, units)?;
+        mesh = std::borrow::Cow::Owned(character.mesh.scaled(factor));
+    }
+    let units = args.out_units;
     let bytes = match format {
-        TakeFormat::Fbx => fbx_character(&dressed, &character.mesh, &args.output)?,
+        TakeFormat::Fbx => fbx_character(&dressed, &mesh, units, &args.output)?,
         _ => {
             let container = match format {
                 TakeFormat::Gltf => crate::gltf::Container::Gltf,
                 _ => crate::gltf::Container::Glb,
             };
-            let cut = crate::model::mesh::vertices_past_written_influences(&character.mesh);
+            let cut = crate::model::mesh::vertices_past_written_influences(&mesh);
             if cut > 0 {
                 eprintln!(
                     "bvhview: {}: warning: {cut} of {} mesh vertices have more than {} skin \
@@ -230,12 +318,7 @@ fn write_character(
                     crate::model::mesh::MAX_WRITTEN_INFLUENCES
                 );
             }
-            crate::gltf::to_gltf_character(
-                &dressed.skeleton,
-                &dressed.motion,
-                &character.mesh,
-                container,
-            )?
+            crate::gltf::to_gltf_character(&dressed.skeleton, &dressed.motion, &mesh, container)?
         }
     };
     let target = (!is_stdio(&args.output)).then_some(args.output.as_path());
@@ -256,12 +339,16 @@ fn write_character(
 fn fbx_character(
     dressed: &Take,
     mesh: &crate::model::mesh::Mesh,
+    units: Option<crate::model::stance::Units>,
     output: &Path,
 ) -> Result<Vec<u8>, Error> {
     #[cfg(feature = "fbx")]
     {
         let _ = output;
-        let written = dressed.fbx_character(mesh)?;
+        let written = match units {
+            Some(units) => dressed.fbx_character_in(mesh, units)?,
+            None => dressed.fbx_character(mesh)?,
+        };
         for change in &written.renamed {
             eprintln!(
                 "bvhview: {}: joint {change} (an FBX name holds no control character)",
@@ -272,7 +359,7 @@ fn fbx_character(
     }
     #[cfg(not(feature = "fbx"))]
     {
-        let _ = (dressed, mesh);
+        let _ = (dressed, mesh, units);
         Err(crate::io::absent::without(
             "fbx",
             "FBX",
@@ -327,7 +414,7 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
 
 /// The edits, in this order: trim, smooth, resample, scale, up axis, mirror, lock feet, in
 /// place, ground.
-fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
+fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take, Error> {
     if let Some(frames) = &args.frames {
         let range = crate::positions::parse_frames(frames, loaded.motion.frame_count())?;
         loaded.motion = crate::edit::trim(&loaded.motion, range);
@@ -341,6 +428,9 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
     if let Some(factor) = args.scale {
         (loaded.skeleton, loaded.motion) =
             crate::edit::scale(&loaded.skeleton, &loaded.motion, factor)?;
+        // Scaled, its lengths are no longer in the units stated or given: guessed again.
+        loaded.stated_units = None;
+        loaded.units_given = false;
     }
     // The take's up axis as guessed from its motion (scaling changes no axis).
     let mut up = loaded.stance(OffsetMode::Replace).up;
@@ -413,7 +503,7 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
             super::note(format_args!("{}: {line}", args.input.display()));
         }
     }
-    if let Some(units) = args.out_units {
+    if let Some(units) = args.out_units.filter(|_| in_out_units) {
         loaded = super::in_units(&args.input.display().to_string(), loaded, units)?;
     }
     Ok(loaded)
@@ -422,7 +512,7 @@ fn edit(args: &ConvertArgs, mut loaded: Take) -> Result<Take, Error> {
 /// `--out-units`: a unit's name or a number of metres per unit.
 pub(crate) fn parse_units(text: &str) -> Result<crate::model::stance::Units, String> {
     crate::model::stance::Units::named(text).ok_or_else(|| {
-        format!("expected mm, cm, m, in, ft or a number of metres per unit above 0, not '{text}'")
+        format!("expected mm, cm, m, in, ft or a number of metres per unit from 1e-9 to 1000, not '{text}'")
     })
 }
 
@@ -696,7 +786,7 @@ fn convert_one(
             .iter()
             .map(|w| w.spelled(&super::Flags))
             .collect();
-        let loaded = edit(args, loaded)?;
+        let loaded = edit(args, loaded, true)?;
         let label = super::TakeLabel {
             out_units: args.out_units,
             ..super::TakeLabel::of(&loaded)

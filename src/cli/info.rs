@@ -63,7 +63,9 @@ pub(crate) fn run(args: InfoArgs) -> Result<ExitCode, Error> {
 fn built_in_list() -> Result<String, Error> {
     let mut text = String::new();
     for &(name, about) in crate::retarget::BUILT_IN_ABOUT {
-        let built_in = take::OpenOptions::new().open(name)?;
+        let (skeleton, motion) = crate::retarget::built_in(name)
+            .ok_or_else(|| Error::usage(format!("the built-in skeleton {name} does not load")))?;
+        let built_in = take::Take::new(skeleton, motion, name.to_string());
         let stance = built_in.stance(OffsetMode::Replace);
         let skeleton = &built_in.skeleton;
         let joints = skeleton.joints.len() - skeleton.end_site_count();

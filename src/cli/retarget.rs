@@ -137,6 +137,18 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
             &motion,
         )?;
         super::note(format_args!("{} (after --lock-feet)", locked_check.line()));
+        // Held to what the result before the lock was held to.
+        if let Some(why) = locked_check
+            .refusal()
+            .filter(|_| !args.any_body && !args.force)
+        {
+            return Err(Error::usage(format!(
+                "{source_name} onto {}: not written: after --lock-feet {why} ({}); --force \
+                 writes it anyway",
+                target.name,
+                locked_check.line()
+            )));
+        }
         motion
     } else {
         super::note(format_args!("{}", check.line()));

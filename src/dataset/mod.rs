@@ -237,6 +237,15 @@ fn put_onto(
         true => {
             let motion = crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?.0;
             let check = target.measure(&name, &loaded.skeleton, &loaded.motion, &pairs, &motion)?;
+            if let Some(why) = check
+                .refusal()
+                .filter(|_| !options.any_body && !options.force)
+            {
+                return Err(Error::usage(format!(
+                    "{name} onto {}: skipped: once its feet are locked, {why}",
+                    target.name
+                )));
+            }
             (motion, check)
         }
         false => (motion, put.check),

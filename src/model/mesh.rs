@@ -171,6 +171,32 @@ pub struct Mesh {
 }
 
 impl Mesh {
+    /// The mesh `factor` times as large, as its skeleton is when [`crate::edit::scale`] scales
+    /// it: every vertex, and each bind matrix's translation (the joints' frames scale with the
+    /// skeleton; rotations stay).
+    ///
+    /// ```
+    /// use bvhview::model::mesh::{Bone, Mesh};
+    /// use glam::{Mat4, Vec3};
+    ///
+    /// let bone = Bone { joint: Some(0), bind: Mat4::from_translation(Vec3::new(0.0, -1.0, 0.0)) };
+    /// let mesh = Mesh { positions: vec![Vec3::Y], bones: vec![bone], ..Mesh::default() };
+    /// let big = mesh.scaled(100.0);
+    /// assert_eq!(big.positions[0], Vec3::new(0.0, 100.0, 0.0));
+    /// assert_eq!(big.bones[0].bind.w_axis.y, -100.0);
+    /// ```
+    pub fn scaled(&self, factor: f32) -> Mesh {
+        let mut scaled = self.clone();
+        for p in &mut scaled.positions {
+            *p *= factor;
+        }
+        for bone in &mut scaled.bones {
+            let w = bone.bind.w_axis;
+            bone.bind.w_axis = (w.truncate() * factor).extend(w.w);
+        }
+        scaled
+    }
+
     /// How many vertices.
     pub fn vertex_count(&self) -> usize {
         self.positions.len()

@@ -140,11 +140,11 @@ impl Units {
             "in" | "inches" => ("inches", 0.0254),
             "ft" | "feet" => ("feet", 0.3048),
             number => {
+                // A length a take's unit could be: a nanometre to a kilometre.
                 let metres: f32 = number.parse().ok()?;
-                return (metres.is_finite() && metres > 0.0).then_some(Units {
-                    name: "units of the length given",
-                    metres,
-                });
+                return (1e-9..=1e3)
+                    .contains(&metres)
+                    .then(|| Units::of_metres(metres));
             }
         };
         Some(Units { name, metres })

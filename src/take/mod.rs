@@ -284,11 +284,21 @@ impl Take {
         &self,
         mesh: &crate::model::mesh::Mesh,
     ) -> Result<crate::fbx::write::Written, Error> {
+        self.fbx_character_in(mesh, crate::model::stance::Units::of_metres(0.01))
+    }
+
+    /// [`Take::fbx_character`] written in `units` instead of centimetres.
+    #[cfg(feature = "fbx")]
+    pub fn fbx_character_in(
+        &self,
+        mesh: &crate::model::mesh::Mesh,
+        units: crate::model::stance::Units,
+    ) -> Result<crate::fbx::write::Written, Error> {
         // The mesh is bound to joints whose OFFSETs position channels replace, as glTF's
         // character is written.
         let settings = crate::fbx::write::Settings {
             offset_mode: crate::model::pose::OffsetMode::Replace,
-            ..self.fbx_settings(0.01)
+            ..self.fbx_settings(f64::from(units.metres))
         };
         crate::fbx::write::character_to_bytes(&self.skeleton, &self.motion, mesh, &settings)
     }
@@ -626,7 +636,8 @@ fn built_in_name(path: &Path) -> Option<&'static str> {
 /// every built-in stands a person's height in centimetres). A file of
 /// that name in the current folder wins, read by its first bytes, and a warning says so.
 fn load_built_in(path: &Path, name: &str, options: &OpenOptions) -> Result<Take, Error> {
-    if std::fs::symlink_metadata(path).is_ok() {
+    // Only a regular file of that name wins (a folder called smpl22 does not hide the built-in).
+    if std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
         let max_size = options.max_size_or_default();
         check_file(path, max_size)?;
         let bytes = crate::io::read::read_file(path, max_size)?;

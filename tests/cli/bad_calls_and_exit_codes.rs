@@ -398,3 +398,83 @@ fn convert_to_fbx_writes_a_characters_mesh_and_refuses_the_generated_skin() {
     assert!(!refused.exists() && !bvh.exists());
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// A character file converted to FBX keeps its mesh and takes the edits that keep its rig
+/// (frames, names, units); an edit that changes the rig writes the take without the mesh and
+/// says so; a take piped in converts to FBX as before.
+#[cfg(feature = "fbx")]
+#[test]
+fn a_character_file_to_fbx_takes_its_edits() {
+    let folder = common::scratch_folder("own_character");
+    let capsule = data("characters/capsule_mixamo.fbx").display().to_string();
+    let cut = folder.join("cut.fbx");
+    bvhview_stdout(&[
+        "convert",
+        &capsule,
+        "--frames",
+        "0..5",
+        "--strip-prefix",
+        "--out-units",
+        "mm",
+        "-o",
+        cut.to_str().unwrap(),
+    ]);
+    let back = bvhview::character::Character::open(&cut).unwrap();
+    assert_eq!(
+        (back.take.frame_count(), back.mesh.vertex_count()),
+        (5, 2904)
+    );
+    assert_eq!(back.take.skeleton.joints[0].name, "Hips");
+    let scaled = folder.join("scaled.fbx");
+    let out = bvhview(&[
+        "convert",
+        &capsule,
+        "--scale",
+        "2",
+        "-o",
+        scaled.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("its mesh is not written: the edits changed")
+    );
+    assert!(bvhview::character::Character::open(&scaled).is_err());
+    let piped = folder.join("piped.fbx");
+    let out = bvhview_command()
+        .args([
+            "convert",
+            "-",
+            "--from",
+            "fbx",
+            "-o",
+            piped.to_str().unwrap(),
+        ])
+        .stdin(std::fs::File::open(data("fbx/bvh11_131_01.fbx")).unwrap())
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    std::fs::remove_dir_all(&folder).unwrap();
+}
+
+/// A folder named like a built-in skeleton does not hide it where a take is read (only a
+/// regular file wins; `info DIR` still lists a folder it is given).
+#[test]
+fn a_folder_named_like_a_built_in_does_not_hide_it() {
+    let folder = common::scratch_folder("built_in_folder");
+    std::fs::create_dir(folder.join("smpl22")).unwrap();
+    let out = bvhview_command()
+        .args(["print", "smpl22"])
+        .current_dir(&folder)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    assert!(String::from_utf8_lossy(&out.stdout).starts_with("pelvis : "));
+    let walk = data("bvh/bvh11_131_01.bvh").display().to_string();
+    let out = bvhview_command()
+        .args(["retarget", &walk, "--onto", "smpl22", "-o", "r.bvh"])
+        .current_dir(&folder)
+        .output()
+        .unwrap();
+    assert_eq!(out.status.code(), Some(0), "{out:?}");
+    std::fs::remove_dir_all(&folder).unwrap();
+}

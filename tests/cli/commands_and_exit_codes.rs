@@ -1758,3 +1758,27 @@ fn retarget_writes_the_units_asked_for() {
     assert!(bvhview_stdout(&["info", m.to_str().unwrap()]).contains("units:            metres"));
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// Units given, then `--scale`: the scaled lengths are no longer in the units given, so they are
+/// guessed again (a 1.74 m figure in centimetres scaled by 0.01 is written 1.74 m tall).
+#[test]
+fn units_given_then_scaled_are_guessed_again() {
+    let folder = common::scratch_folder("units_scaled");
+    let free = data("bvh/bvhpython_test_freebvh.bvh").display().to_string();
+    let out = folder.join("u.bvh");
+    bvhview_stdout(&[
+        "convert",
+        &free,
+        "--units",
+        "cm",
+        "--scale",
+        "0.01",
+        "--out-units",
+        "m",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let info = bvhview_stdout(&["info", out.to_str().unwrap()]);
+    assert!(info.contains("it stands 1.74 tall, 1.74 m"), "{info}");
+    std::fs::remove_dir_all(&folder).unwrap();
+}

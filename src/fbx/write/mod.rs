@@ -336,7 +336,8 @@ impl Scene<'_> {
     }
 
     fn global_settings(&self, out: &mut Records) -> Result<(), Error> {
-        let unit_cm = self.settings.out_metres_per_unit * 100.0;
+        // Centimetres per unit, exact for the usual units (2.54 for inches, not 2.5399999).
+        let unit_cm = scale_between(self.settings.out_metres_per_unit, 0.01);
         // Y up, front +Z, right +X, as engines expect: a Z-up take was turned as it was written.
         let (up, front, front_sign) = (1, 2, 1);
         let (mode, rate) = time_mode(self.frame_time);
