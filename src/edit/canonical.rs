@@ -107,7 +107,7 @@ pub fn canonical(
             .order
             .or(joint.rotation_order)
             .unwrap_or(RotationOrder::Zyx);
-        if (needs_three || wanted.order.is_some()) && (!rotations.is_empty() || needs_three) {
+        if needs_three || (wanted.order.is_some() && !rotations.is_empty()) {
             let same = joint.rotation_order == Some(order) && joint.axis.is_none();
             plan.rotations = if same {
                 Rotations::Kept
