@@ -176,3 +176,23 @@ pub(crate) fn warn(py: Python<'_>, text: &str) -> PyResult<()> {
         .call_method1("warn", (text, &category, 2))?;
     Ok(())
 }
+
+/// `units=`: a unit's name ("mm", "cm", "m", "in", "ft") or a number of metres per unit.
+pub(crate) fn parse_units(value: &Bound<'_, PyAny>) -> PyResult<bvhview::model::stance::Units> {
+    if value.is_instance_of::<pyo3::types::PyBool>() {
+        return Err(PyValueError::new_err(
+            "units=: expected \"mm\", \"cm\", \"m\", \"in\", \"ft\" or metres per unit, not a bool",
+        ));
+    }
+    let text = match value.extract::<f64>() {
+        Ok(metres) => metres.to_string(),
+        Err(_) => value.extract::<String>().map_err(|_| {
+            PyValueError::new_err("units=: expected \"mm\", \"cm\", \"m\", \"in\", \"ft\" or metres per unit")
+        })?,
+    };
+    bvhview::model::stance::Units::named(&text).ok_or_else(|| {
+        PyValueError::new_err(format!(
+            "units={text:?}: expected \"mm\", \"cm\", \"m\", \"in\", \"ft\" or a number of metres per unit from 1e-9 to 1000"
+        ))
+    })
+}

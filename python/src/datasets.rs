@@ -291,7 +291,7 @@ pub(crate) fn _compile_dataset(
                 .map_err(|e| to_python(py, e))?,
             any_body,
             force,
-            units: units.as_ref().map(crate::loading::parse_units).transpose()?,
+            units: units.as_ref().map(crate::common::parse_units).transpose()?,
             ..Default::default()
         };
         let threads = threads.unwrap_or_else(bvhview::plumbing::cores).max(1);

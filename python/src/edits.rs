@@ -55,7 +55,7 @@ impl Motion {
     #[pyo3(signature = (path, *, units=None))]
     fn save(&self, py: Python<'_>, path: PathBuf, units: Option<Bound<'_, PyAny>>) -> PyResult<()> {
         guard("save", || {
-            let units = units.as_ref().map(crate::loading::parse_units).transpose()?;
+            let units = units.as_ref().map(crate::common::parse_units).transpose()?;
             let extension = path
                 .extension()
                 .map(|e| e.to_string_lossy().to_ascii_lowercase())
@@ -263,7 +263,7 @@ impl Motion {
                     let family =
                         bvhview::retarget::Target::load(family, bvhview::take::DEFAULT_MAX_SIZE)?;
                     let (named, more) =
-                        bvhview::edit::names_of_family(&skeleton, &family.skeleton)?;
+                        bvhview::retarget::names_of_family(&skeleton, &family.skeleton)?;
                     said.extend(more);
                     Ok::<_, bvhview::Error>((named, motion, said))
                 })

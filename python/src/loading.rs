@@ -39,26 +39,6 @@ fn open_options(item: &Item, frame_time: Option<f64>, threads: usize) -> take::O
     options
 }
 
-/// `units=`: a unit's name ("mm", "cm", "m", "in", "ft") or a number of metres per unit.
-pub(crate) fn parse_units(value: &Bound<'_, PyAny>) -> PyResult<bvhview::model::stance::Units> {
-    if value.is_instance_of::<pyo3::types::PyBool>() {
-        return Err(PyValueError::new_err(
-            "units=: expected \"mm\", \"cm\", \"m\", \"in\", \"ft\" or metres per unit, not a bool",
-        ));
-    }
-    let text = match value.extract::<f64>() {
-        Ok(metres) => metres.to_string(),
-        Err(_) => value.extract::<String>().map_err(|_| {
-            PyValueError::new_err("units=: expected \"mm\", \"cm\", \"m\", \"in\", \"ft\" or metres per unit")
-        })?,
-    };
-    bvhview::model::stance::Units::named(&text).ok_or_else(|| {
-        PyValueError::new_err(format!(
-            "units={text:?}: expected \"mm\", \"cm\", \"m\", \"in\", \"ft\" or a number of metres per unit from 1e-9 to 1000"
-        ))
-    })
-}
-
 /// `take=` of `load`: a take's name, or its index (as `bvhview info FILE` lists them).
 pub(crate) struct TakeChoice(pub(crate) String);
 
@@ -95,7 +75,7 @@ pub(crate) fn load(
 ) -> PyResult<Motion> {
     guard("load", || {
         let offset_mode = parse_offset_mode(offset_mode)?;
-        let units = units.as_ref().map(parse_units).transpose()?;
+        let units = units.as_ref().map(crate::common::parse_units).transpose()?;
         let item = Item { path, motion };
         let mut loaded = py
             .detach(|| {

@@ -2,6 +2,7 @@
 
 #[doc(hidden)] // what the original program does with a file: `print --explain` and the tests
 pub mod article;
+pub mod built_in;
 pub mod loader;
 mod options;
 pub mod print;

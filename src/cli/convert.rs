@@ -498,7 +498,8 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
     if let Some(family) = &args.names {
         let family = crate::retarget::Target::load(family, args.source.max_size)?;
         let said;
-        (loaded.skeleton, said) = crate::edit::names_of_family(&loaded.skeleton, &family.skeleton)?;
+        (loaded.skeleton, said) =
+            crate::retarget::names_of_family(&loaded.skeleton, &family.skeleton)?;
         for line in said {
             super::note(format_args!("{}: {line}", args.input.display()));
         }

@@ -16,7 +16,7 @@ mod smooth;
 mod testing;
 
 pub use angles::{bake_axes, baked_for_bvh, channel_angles};
-pub use canonical::{Canonical, canonical, names_of_family};
+pub use canonical::{Canonical, canonical};
 pub use finite::{finite, first_non_finite};
 pub use lock_feet::{FeetLocked, FootLocked, LockFeet, NotHeld, lock_feet, lock_feet_when};
 pub use mirror::{MirrorOptions, lateral_axis, mirror, mirror_partners};

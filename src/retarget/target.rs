@@ -1,5 +1,6 @@
 //! The skeleton a take is put on: a file, or a built-in skeleton (`smpl22`).
 
+use crate::bvh::built_in::{BUILT_IN, built_in};
 use crate::io::error::Error;
 use crate::io::message::Message;
 use crate::model::body::{Body, Doubt, is_ancestor};
@@ -75,27 +76,6 @@ pub struct Retargeted {
     /// the legs' length on some frame, onto a target joint without position channels, which
     /// keeps its OFFSET.
     pub uncarried: Vec<String>,
-}
-
-/// The built-in target skeletons: `smpl22`, the 22 body joints of SMPL in the layout of
-/// HumanML3D, AMASS and most text-to-motion models, in centimetres, T-pose, Y up, facing +z.
-pub const BUILT_IN: &[(&str, &[u8])] = &[("smpl22", include_bytes!("../../assets/smpl22.bvh"))];
-
-/// What each built-in skeleton is and where it comes from (`bvhview info --list-skeletons`).
-pub const BUILT_IN_ABOUT: &[(&str, &str)] = &[(
-    "smpl22",
-    "the 22 body joints of SMPL (its kinematic tree and joint names) in the layout of \
-     HumanML3D, AMASS and most text-to-motion models, a T-pose facing +z; lengths of bvhview's \
-     own adult figure (no SMPL model file is shipped)",
-)];
-
-/// A built-in skeleton by name (see [`BUILT_IN`]), with its one rest frame.
-pub fn built_in(name: &str) -> Option<(Skeleton, Motion)> {
-    let (_, bytes) = BUILT_IN
-        .iter()
-        .find(|(n, _)| n.eq_ignore_ascii_case(name))?;
-    let file = crate::bvh::load_bytes(bytes, name).ok()?;
-    Some((file.skeleton, file.motion))
 }
 
 /// A skeleton to retarget onto: a file's or a built-in one, with its up axis and the name to

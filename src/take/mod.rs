@@ -482,7 +482,7 @@ impl OpenOptions {
     /// # }
     /// ```
     pub fn open_bytes(&self, bytes: &[u8], name: &str) -> Result<Take, Error> {
-        let mut take = self.give_units(load_bytes(bytes, name, self)?);
+        let mut take = give_units(self, load_bytes(bytes, name, self)?);
         take.offset_mode = self.offset_mode.unwrap_or(OffsetMode::Replace);
         Ok(take)
     }
@@ -543,7 +543,16 @@ pub fn takes(path: &Path, max_size: u64) -> Result<Vec<crate::model::reading::Ta
 
 /// [`OpenOptions::open`]: the reader of the format `path`'s extension names.
 pub(crate) fn load_take(path: &Path, options: &OpenOptions) -> Result<Take, Error> {
-    Ok(options.give_units(load_take_as_written(path, options)?))
+    Ok(give_units(options, load_take_as_written(path, options)?))
+}
+
+/// `take` with the units `options` give, if any, over its own.
+fn give_units(options: &OpenOptions, mut take: Take) -> Take {
+    if let Some(units) = options.units {
+        take.stated_units = Some(units);
+        take.units_given = true;
+    }
+    take
 }
 
 /// [`load_take`] before the units the options give.
@@ -620,13 +629,13 @@ fn load_take_as_written(path: &Path, options: &OpenOptions) -> Result<Take, Erro
 }
 
 /// The built-in skeleton `path` names: a bare name without an extension or a folder, such as
-/// `smpl22` (see [`crate::retarget::BUILT_IN`]).
+/// `smpl22` (see [`crate::bvh::built_in::BUILT_IN`]).
 fn built_in_name(path: &Path) -> Option<&'static str> {
     let name = path.to_str()?;
     if path.components().count() != 1 || !extension(path).is_empty() {
         return None;
     }
-    crate::retarget::BUILT_IN
+    crate::bvh::built_in::BUILT_IN
         .iter()
         .map(|(built_in, _)| *built_in)
         .find(|built_in| built_in.eq_ignore_ascii_case(name))
@@ -655,7 +664,7 @@ fn load_built_in(path: &Path, name: &str, options: &OpenOptions) -> Result<Take,
              take to choose)"
         )));
     }
-    let (skeleton, motion) = crate::retarget::built_in(name)
+    let (skeleton, motion) = crate::bvh::built_in::built_in(name)
         .ok_or_else(|| Error::usage(format!("the built-in skeleton {name} does not load")))?;
     Ok(Take::read(
         skeleton,

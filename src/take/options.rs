@@ -106,15 +106,6 @@ impl OpenOptions {
         self
     }
 
-    /// `take` with the units given in these options, if any, over its own.
-    pub(crate) fn give_units(&self, mut take: crate::take::Take) -> crate::take::Take {
-        if let Some(units) = self.units {
-            take.stated_units = Some(units);
-            take.units_given = true;
-        }
-        take
-    }
-
     pub(crate) fn threads_or_cores(&self) -> usize {
         self.threads.unwrap_or_else(crate::io::parallel::cores)
     }

@@ -188,7 +188,8 @@ fn names_of_a_family_come_from_the_body_reading() {
     let smpl = Take::open("smpl22").unwrap();
     let mut named_takes = 0;
     for take in corpus(repo_data) {
-        let Ok((named, _)) = bvhview::edit::names_of_family(&take.skeleton, &smpl.skeleton) else {
+        let Ok((named, _)) = bvhview::retarget::names_of_family(&take.skeleton, &smpl.skeleton)
+        else {
             continue;
         };
         let has = |name: &str| named.joints.iter().any(|j| j.name == name);
