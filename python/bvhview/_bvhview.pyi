@@ -275,11 +275,13 @@ def load(
     *,
     take: str | int | None = None,
     units: str | float | None = None,
+    up: Literal["y", "z"] | None = None,
 ) -> Motion:
     """A take: a .bvh, .fbx, .gltf or .glb file, or an .asf skeleton with `motion` its .amc
     take, or a built-in skeleton by name ("smpl22"). `take` picks one take of an FBX or glTF
     file that holds several (its name, or its index as `bvhview info FILE` lists them; default:
-    the first). `units` ("mm", "cm", "m", "in", "ft" or metres per unit) over the guess."""
+    the first). `units` ("mm", "cm", "m", "in", "ft" or metres per unit) and `up` ("y" or "z")
+    over the guess."""
 
 def load_many(
     paths: _PathLike | Sequence[Union[_PathLike, Tuple[_PathLike, _PathLike]]],
@@ -318,6 +320,7 @@ def _compile_dataset(
     any_body: bool = False,
     force: bool = False,
     units: str | float | None = None,
+    up: str | None = None,
 ) -> tuple[int, int, int, list[tuple[str, str | None, str]]]:
     """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped takes as
     (path, motion, reason))."""

@@ -147,6 +147,7 @@ def compile_dataset(
     any_body: bool = False,
     force: bool = False,
     units: str | float | None = None,
+    up: Literal["y", "z"] | None = None,
 ) -> dict[str, Any]:
     """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
     them) into the new dataset folder ``out``; returns its manifest, whose ``"skipped"`` lists
@@ -185,7 +186,8 @@ def compile_dataset(
     warning in its clip's ``"warnings"``). The manifest records ``onto`` and ``names``; ``merge_datasets`` refuses datasets made
     with other ones. ``fps`` defaults to 30. ``units`` ("mm", "cm", "m", "in", "ft" or metres per
     unit) says what every take's lengths are in, over the guess; each clip's ``"units_given"``
-    in the manifest records it.
+    in the manifest records it; ``up`` ("y" or "z") the axis every take stands along, over
+    the guess (``"up_given"`` per clip).
 
     ``features="humanml3d"`` (with ``onto="smpl22"``; ``fps`` then defaults to HumanML3D's 20)
     writes HumanML3D's representation in its folder layout instead of the arrays: per take
@@ -217,6 +219,7 @@ def compile_dataset(
             features=features,
             any_body=any_body,
             units=units,
+            up=up,
             force=force,
         )
         for _, _, reason in skipped:

@@ -177,6 +177,17 @@ pub(crate) fn warn(py: Python<'_>, text: &str) -> PyResult<()> {
     Ok(())
 }
 
+/// `up=`: "y" or "z".
+pub(crate) fn parse_up(value: &str) -> PyResult<bvhview::model::pose::Up> {
+    match value {
+        "y" => Ok(bvhview::model::pose::Up::Y),
+        "z" => Ok(bvhview::model::pose::Up::Z),
+        other => Err(PyValueError::new_err(format!(
+            "up={other:?}: expected \"y\" or \"z\""
+        ))),
+    }
+}
+
 /// `units=`: a unit's name ("mm", "cm", "m", "in", "ft") or a number of metres per unit.
 pub(crate) fn parse_units(value: &Bound<'_, PyAny>) -> PyResult<bvhview::model::stance::Units> {
     if value.is_instance_of::<pyo3::types::PyBool>() {

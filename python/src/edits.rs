@@ -298,7 +298,10 @@ impl Motion {
                     bvhview::edit::reorient(skeleton, motion, up, target)
                 })
                 .map_err(|e| to_python(py, e))?;
-            Ok(self.edited(skeleton, motion, true))
+            let mut turned = self.edited(skeleton, motion, true);
+            // Turned, it stands along the axis asked for (an up axis given before is no longer).
+            turned.loaded.stated_up = turned.loaded.stated_up.map(|_| target);
+            Ok(turned)
         })
     }
 

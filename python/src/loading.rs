@@ -63,7 +63,8 @@ impl<'py> FromPyObject<'_, 'py> for TakeChoice {
 /// first); `units` ("mm", "cm", "m", "in", "ft" or metres per unit) says what the lengths are
 /// in, over the guess (`up_axis`/`units` then say so; every measure in metres takes them).
 #[pyfunction]
-#[pyo3(signature = (path, motion=None, offset_mode="replace", frame_time=None, *, take=None, units=None))]
+#[pyo3(signature = (path, motion=None, offset_mode="replace", frame_time=None, *, take=None, units=None, up=None))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn load(
     py: Python<'_>,
     path: PathBuf,
@@ -72,10 +73,12 @@ pub(crate) fn load(
     frame_time: Option<f64>,
     take: Option<TakeChoice>,
     units: Option<Bound<'_, PyAny>>,
+    up: Option<&str>,
 ) -> PyResult<Motion> {
     guard("load", || {
         let offset_mode = parse_offset_mode(offset_mode)?;
         let units = units.as_ref().map(crate::common::parse_units).transpose()?;
+        let up = up.map(crate::common::parse_up).transpose()?;
         let item = Item { path, motion };
         let mut loaded = py
             .detach(|| {
@@ -96,6 +99,9 @@ pub(crate) fn load(
         if let Some(units) = units {
             loaded.stated_units = Some(units);
             loaded.units_given = true;
+        }
+        if up.is_some() {
+            loaded.stated_up = up;
         }
         Ok(Motion {
             loaded,

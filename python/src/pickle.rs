@@ -15,8 +15,8 @@ pub(crate) type JointState = (String, i64, [f32; 3], Vec<String>, bool, Option<[
 
 /// A take as pickled: a format number, path, AMC path, offset mode, warnings, whether the
 /// skeleton is an ASF's, the units stated (metres per unit, and whether the caller gave them),
-/// the joints, the Frame Time, the values per frame and the values (float32, little-endian
-/// bytes).
+/// the joints, the Frame Time, the values per frame, the values (float32, little-endian
+/// bytes) and the up axis the caller gave ("y", "z" or none).
 pub(crate) type State = (
     u32,
     String,
@@ -29,6 +29,7 @@ pub(crate) type State = (
     f64,
     usize,
     Vec<u8>,
+    Option<String>,
 );
 
 /// The version of `State` this module writes and reads.
@@ -71,6 +72,13 @@ impl Motion {
             motion.frame_time,
             motion.channels,
             motion.data.iter().flat_map(|v| v.to_le_bytes()).collect(),
+            self.loaded.stated_up.map(|up| {
+                match up {
+                    bvhview::model::pose::Up::Y => "y",
+                    bvhview::model::pose::Up::Z => "z",
+                }
+                .to_string()
+            }),
         )
     }
 }
@@ -91,6 +99,7 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
             frame_time,
             channels,
             data,
+            stated_up,
         ) = state;
         let bad =
             |what: &str| PyValueError::new_err(format!("not a pickled bvhview.Motion: {what}"));
@@ -194,6 +203,10 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
             stated_units: stated_units
                 .map(|(metres, _)| bvhview::model::stance::Units::of_metres(metres)),
             units_given: stated_units.is_some_and(|(_, given)| given),
+            stated_up: stated_up
+                .as_deref()
+                .map(crate::common::parse_up)
+                .transpose()?,
             format: take::Format::from_path(Path::new(&path)),
             ..Take::new(
                 skeleton,

@@ -723,7 +723,7 @@ def test_a_take_pickles_whole_and_comes_back_equal():
         np.testing.assert_array_equal(back.positions(), take.positions())
         np.testing.assert_array_equal(back.world_matrices([0]), take.world_matrices([0]))
     with pytest.raises(ValueError, match="not a pickled bvhview.Motion"):
-        bvhview._bvhview._from_state((99, "", None, "replace", [], False, None, [], 0.1, 0, b""))
+        bvhview._bvhview._from_state((99, "", None, "replace", [], False, None, [], 0.1, 0, b"", None))
 
 
 def _frames_of(take):
@@ -1003,7 +1003,7 @@ def test_a_joint_of_two_channels_bent_past_a_right_angle_comes_back(tmp_path):
 )
 def test_a_state_that_no_take_pickles_is_refused(joints, frame_time, data, said):
     channels = sum(len(j[3]) for j in joints)
-    state = (2, "x.bvh", None, "replace", [], False, None, joints, frame_time, channels, data)
+    state = (2, "x.bvh", None, "replace", [], False, None, joints, frame_time, channels, data, None)
     with pytest.raises(ValueError, match=said):
         bvhview._bvhview._from_state(state)
 
@@ -1043,3 +1043,16 @@ def test_units_given_replace_the_guess_and_travel_in_a_pickle():
     assert bvhview.load(path, units=0.5).metres_per_unit == 0.5
     with pytest.raises(ValueError, match="units="):
         bvhview.load(path, units="parsecs")
+
+
+def test_an_up_axis_given_replaces_the_guess_and_travels_in_a_pickle():
+    import pickle
+
+    path = DATA / "bvh" / "makehuman_walk1.bvh"
+    assert bvhview.load(path).up_axis == "z"
+    given = bvhview.load(path, up="y")
+    assert given.up_axis == "y"
+    assert pickle.loads(pickle.dumps(given)).up_axis == "y"
+    assert given.to_up("z").up_axis == "z"
+    with pytest.raises(ValueError, match="up="):
+        bvhview.load(path, up="w")

@@ -249,7 +249,7 @@ def test_unpickling_refuses_nan_axes_and_values():
     for bad in (np.nan, np.inf, -np.inf):
         values[4:8] = np.float32(bad).tobytes()
         with pytest.raises(ValueError, match="not a finite number"):
-            bvhview._bvhview._from_state(state[:10] + (bytes(values),))
+            bvhview._bvhview._from_state(state[:10] + (bytes(values),) + state[11:])
     assert bvhview._bvhview._from_state(state).frame_count == take.frame_count
 
 

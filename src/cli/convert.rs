@@ -439,6 +439,7 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
         (loaded.skeleton, loaded.motion) =
             crate::edit::reorient(&loaded.skeleton, &loaded.motion, up, target)?;
         up = target;
+        loaded.stated_up = loaded.stated_up.map(|_| target);
     }
     if args.mirror || args.mirror_rename {
         let options = crate::edit::MirrorOptions {

@@ -58,6 +58,10 @@ pub(crate) struct DatasetArgs {
     /// unit (the manifest records that they were given).
     #[arg(long, value_name = "UNITS", value_parser = super::convert::parse_units)]
     units: Option<crate::model::stance::Units>,
+    /// The axis every take stands along, over the guess (the manifest records that it was
+    /// given).
+    #[arg(long, value_enum)]
+    up: Option<super::UpArg>,
     /// Retarget every take onto this skeleton first (a file, or the built-in `smpl22`), so that
     /// the folder makes one group; takes whose map misses a required role are skipped.
     #[arg(long, value_name = "TARGET")]
@@ -147,6 +151,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         map: super::retarget::map_pairs(&args.map)?,
         max_size: args.max_size,
         units: args.units,
+        up: args.up.map(Into::into),
         onto: args
             .onto
             .as_deref()

@@ -20,13 +20,17 @@ pub(crate) struct InfoArgs {
     /// How position channels combine with OFFSET (checked by the warnings).
     #[arg(long, value_enum, default_value_t)]
     offset_mode: OffsetModeArg,
+    /// The axis the take stands along, over the guess (`info` then says it was given).
+    #[arg(long, value_enum)]
+    up: Option<super::UpArg>,
     /// List the built-in skeletons (each one a take every command reads by its name, such as
     /// `bvhview info smpl22`): joints, units and where it comes from.
     #[arg(long, conflicts_with = "file")]
     list_skeletons: bool,
 }
 
-pub(crate) fn run(args: InfoArgs) -> Result<ExitCode, Error> {
+pub(crate) fn run(mut args: InfoArgs) -> Result<ExitCode, Error> {
+    args.source.up = args.up.map(Into::into);
     if args.list_skeletons {
         write_text(&built_in_list()?)?;
         return Ok(ExitCode::SUCCESS);

@@ -119,6 +119,11 @@ pub(crate) struct Source {
     /// retarget scale).
     #[arg(long, value_name = "UNITS", value_parser = convert::parse_units)]
     units: Option<crate::model::stance::Units>,
+    /// The axis the take stands along, over the guess: set by `info --up` (and `dataset
+    /// --up`, through its options); the window's and `snapshot`'s `--up` is their view's,
+    /// `convert`'s the axis to turn the take to.
+    #[arg(skip)]
+    up: Option<crate::model::pose::Up>,
 }
 
 impl Source {
@@ -131,6 +136,7 @@ impl Source {
             max_size: Some(self.max_size),
             threads: Some(threads),
             units: self.units,
+            up: self.up,
             ..Default::default()
         }
     }

@@ -167,6 +167,10 @@ pub struct About {
     /// file; absent (false) in older manifests.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub units_given: bool,
+    /// Whether the up axis was given (`--up`, `up=`) rather than guessed or stated by the file;
+    /// absent (false) in older manifests.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub up_given: bool,
     /// How position channels combined with OFFSETs (the mode the file looks written for).
     pub offset_mode: String,
     /// The point whose travel `root_translations` holds and root-relative positions remove.

@@ -119,6 +119,7 @@ fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared,
     if let Some(target) = &options.onto {
         // A retargeted take stands as its target does (one frame says little about it).
         stance.up = target.up;
+        stance.up_given = false;
     }
     let mut loaded = loaded;
     if options.lock_feet && options.onto.is_none() {
@@ -169,6 +170,7 @@ fn load_checked(item: &Item, options: &Options) -> Result<crate::take::Take, Err
             max_size: Some(options.max_size),
             threads: Some(1),
             units: options.units,
+            up: options.up,
             ..Default::default()
         },
     )?;
@@ -381,6 +383,7 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
         units: stance.units.name.to_string(),
         metres_per_unit: stance.units.metres,
         units_given: stance.units_basis == crate::model::stance::UnitsBasis::Given,
+        up_given: stance.up_given,
         offset_mode: match mode {
             OffsetMode::Replace => "replace",
             OffsetMode::Add => "add",

@@ -76,6 +76,9 @@ pub struct Options {
     /// The units every take's lengths are in, over the guess (`--units`); the manifest says
     /// each clip's units were given.
     pub units: Option<crate::model::stance::Units>,
+    /// The axis every take stands along, over the guess (`--up`); the manifest says each
+    /// clip's up axis was given.
+    pub up: Option<crate::model::pose::Up>,
 }
 
 /// What each take of a dataset is written as (`--features`).
@@ -135,6 +138,7 @@ impl Default for Options {
             any_body: false,
             force: false,
             units: None,
+            up: None,
         }
     }
 }

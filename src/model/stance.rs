@@ -228,6 +228,8 @@ pub struct Stance {
     pub up_sureness: Sureness,
     /// Whether the root's path decided the up axis (the figure's spread did not).
     pub up_by_path: bool,
+    /// Whether the up axis was given by the caller (`--up`, `up=`), not guessed.
+    pub up_given: bool,
     /// `Some(legs)` when the body has no legs (a hand alone) or more than two (a crab): its
     /// spread says nothing of which way a person would stand, so the file's Y is kept.
     pub legs_not_two: Option<usize>,
@@ -476,6 +478,7 @@ impl Stance {
         Stance {
             up: upright.up,
             up_sureness: upright.sureness,
+            up_given: false,
             up_by_path: upright.by_path,
             legs_not_two: upright.legs_not_two,
             spread,
@@ -501,6 +504,30 @@ impl Stance {
         )
     }
 
+    /// This stance with the up axis the caller gives (`--up`, `up=`) over the guess: the height
+    /// measured along it, said as given.
+    ///
+    /// ```
+    /// use bvhview::Take;
+    /// use bvhview::model::pose::{OffsetMode, Up};
+    ///
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// let walk = Take::open("tests/data/bvh/makehuman_walk1.bvh")?.stance(OffsetMode::Replace);
+    /// assert_eq!(walk.up, Up::Z);
+    /// let given = walk.with_up(Up::Y);
+    /// assert!(given.up_given && given.up == Up::Y && given.height < walk.height);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn with_up(mut self, up: Up) -> Stance {
+        self.height = self.height_along(up);
+        self.up = up;
+        self.up_sureness = Sureness::Stated;
+        self.up_by_path = false;
+        self.up_given = true;
+        self
+    }
+
     /// The figure's height standing, in the file's units: the guess's, or, when `--up` asks for
     /// the other axis, the figure's spread along it (the median over the frames looked at).
     pub fn height_along(&self, up: Up) -> f32 {
@@ -521,7 +548,9 @@ impl Stance {
             Up::Z => "z",
         };
         let poses = self.poses_text();
-        let why = if self.up_sureness == Sureness::Stated {
+        let why = if self.up_given {
+            "given, not guessed".to_string()
+        } else if self.up_sureness == Sureness::Stated {
             "the file states its axes".to_string()
         } else if let Some(legs) = self.legs_not_two {
             let what = match legs {

@@ -68,6 +68,8 @@ pub struct Take {
     /// Whether `stated_units` were given by the caller ([`OpenOptions::units`]) rather than
     /// stated by the file.
     pub units_given: bool,
+    /// The up axis the caller gave ([`OpenOptions::up`]), over the guess.
+    pub stated_up: Option<crate::model::pose::Up>,
     /// What messages call it: its path, or "the bundled walk".
     pub name: String,
     /// The format it was read from; `None` for a take made in memory.
@@ -90,6 +92,7 @@ impl Take {
             warnings: Vec::new(),
             stated_units: None,
             units_given: false,
+            stated_up: None,
             name: name.into(),
             format: None,
             take_name: None,
@@ -156,7 +159,12 @@ impl Take {
             UnitsBasis::Asf
         };
         let stated = self.stated_units.map(|units| (units, basis));
-        crate::model::stance::Stance::guess_stated(&self.skeleton, &self.motion, mode, stated)
+        let stance =
+            crate::model::stance::Stance::guess_stated(&self.skeleton, &self.motion, mode, stated);
+        match self.stated_up {
+            Some(up) => stance.with_up(up),
+            None => stance,
+        }
     }
 
     /// Opens a take by its file's extension: `.bvh`, `.fbx`, `.gltf`, `.glb`, or an `.asf`
@@ -403,6 +411,8 @@ impl Take {
             warnings: self.warnings.clone(),
             stated_units: self.stated_units.filter(|_| same_lengths),
             units_given: self.units_given && same_lengths,
+            // An edit keeps the axes (one that turns the take says its new up axis itself).
+            stated_up: self.stated_up,
             name: self.name.clone(),
             format: self.format,
             take_name: self.take_name.clone(),
@@ -551,6 +561,9 @@ fn give_units(options: &OpenOptions, mut take: Take) -> Take {
     if let Some(units) = options.units {
         take.stated_units = Some(units);
         take.units_given = true;
+    }
+    if options.up.is_some() {
+        take.stated_up = options.up;
     }
     take
 }

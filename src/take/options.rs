@@ -32,6 +32,7 @@ pub struct OpenOptions {
     pub(crate) offset_mode: Option<OffsetMode>,
     pub(crate) format: Option<Format>,
     pub(crate) units: Option<crate::model::stance::Units>,
+    pub(crate) up: Option<crate::model::pose::Up>,
 }
 
 impl OpenOptions {
@@ -103,6 +104,24 @@ impl OpenOptions {
     /// ```
     pub fn units(mut self, units: crate::model::stance::Units) -> OpenOptions {
         self.units = Some(units);
+        self
+    }
+
+    /// The axis the take stands along, over the guess: every measure that needs it (floor,
+    /// heights, retarget, datasets) takes it, and `info` says it was given.
+    ///
+    /// ```
+    /// use bvhview::OpenOptions;
+    /// use bvhview::model::pose::Up;
+    ///
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// let take = OpenOptions::new().up(Up::Z).open("tests/data/bvh/makehuman_walk1.bvh")?;
+    /// assert!(take.stance(take.offset_mode).up_given);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn up(mut self, up: crate::model::pose::Up) -> OpenOptions {
+        self.up = Some(up);
         self
     }
 

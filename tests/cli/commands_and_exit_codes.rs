@@ -1782,3 +1782,44 @@ fn units_given_then_scaled_are_guessed_again() {
     assert!(info.contains("it stands 1.74 tall, 1.74 m"), "{info}");
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// `info --up` and `dataset --up` say what axis a take stands along, over the guess: `info` says
+/// it was given, and a dataset turns the take by it and records it per clip.
+#[test]
+fn an_up_axis_given_replaces_the_guess() {
+    let walk = data("bvh/makehuman_walk1.bvh").display().to_string();
+    let guessed = bvhview_stdout(&["info", &walk]);
+    assert!(guessed.contains("up axis:          z (sure"), "{guessed}");
+    let given = bvhview_stdout(&["info", &walk, "--up", "y"]);
+    assert!(
+        given.contains("up axis:          y (stated: given, not guessed)"),
+        "{given}"
+    );
+    let folder = common::scratch_folder("up_given");
+    std::fs::create_dir(folder.join("takes")).unwrap();
+    std::fs::copy(
+        data("bvh/makehuman_walk1.bvh"),
+        folder.join("takes/walk.bvh"),
+    )
+    .unwrap();
+    let takes = folder.join("takes");
+    let manifest = |up: &[&str], name: &str| -> serde_json::Value {
+        let out = folder.join(name);
+        let mut args = vec![
+            "dataset",
+            takes.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(up);
+        bvhview_stdout(&args);
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap()
+    };
+    let guessed = manifest(&[], "guessed");
+    let given = manifest(&["--up", "y"], "given");
+    assert_eq!(guessed["clips"][0]["up"], "z");
+    assert!(guessed["clips"][0].get("up_given").is_none());
+    assert_eq!(given["clips"][0]["up"], "y");
+    assert_eq!(given["clips"][0]["up_given"], true);
+    std::fs::remove_dir_all(&folder).unwrap();
+}
