@@ -249,16 +249,19 @@ impl Character {
             self.take.skeleton.clone(),
             &self.take.motion,
         );
-        let put = target.apply(
+        let put = target.apply_up(
             &take.name,
             &take.skeleton,
             &take.motion,
+            take.stated_up,
             pairs,
             insist,
             threads,
         )?;
         let mut dressed = take.edited(put.skeleton, put.motion, false);
         dressed.offset_mode = OffsetMode::Replace;
+        // On the character it stands as the character does.
+        dressed.stated_up = None;
         let said = Dressed {
             check: Some(put.check),
             forced: put.forced,

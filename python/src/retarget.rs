@@ -87,10 +87,11 @@ pub(crate) fn retarget(
     let insist = bvhview::retarget::Insist { any_body, force };
     let put = py
         .detach(|| {
-            target.apply(
+            target.apply_up(
                 &name,
                 &loaded.skeleton,
                 &loaded.motion,
+                loaded.stated_up,
                 &pairs,
                 insist,
                 bvhview::plumbing::cores(),
@@ -99,6 +100,8 @@ pub(crate) fn retarget(
         .map_err(|e| to_python(py, e))?;
     warn_put(py, &name, &target.name, &put.forced, &put.uncarried)?;
     let mut result = source.edited(put.skeleton, put.motion, false);
+    // On the target it stands as the target does.
+    result.loaded.stated_up = None;
     result.check = Some(put.check);
     Ok(result)
 }

@@ -14,6 +14,9 @@ pub(crate) struct RetargetArgs {
     input: PathBuf,
     #[command(flatten)]
     source: Source,
+    /// The axis the take stands along, over the guess (the retarget turns it up by it).
+    #[arg(long, value_enum)]
+    up: Option<super::UpArg>,
     /// The skeleton to put it on: a .bvh, .fbx, .gltf, .glb or .asf file (its motion is not used), or a built-in
     /// skeleton: `smpl22` (the 22 SMPL body joints of HumanML3D and most motion models).
     #[arg(long, value_name = "TARGET")]
@@ -78,7 +81,8 @@ pub(crate) fn map_pairs(values: &[String]) -> Result<retarget::MapPairs, Error> 
     Ok(pairs)
 }
 
-pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
+pub(crate) fn run(mut args: RetargetArgs) -> Result<ExitCode, Error> {
+    args.source.up = args.up.map(Into::into);
     if let Some(output) = &args.output {
         check_output(output, &["bvh", "glb", "gltf", "fbx"])?;
     } else if !args.show_map {
@@ -103,10 +107,11 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
         any_body: args.any_body,
         force: args.force,
     };
-    let put = target.apply(
+    let put = target.apply_up(
         &source_name,
         &loaded.skeleton,
         &loaded.motion,
+        loaded.stated_up,
         &pairs,
         insist,
         crate::io::parallel::cores(),
@@ -133,6 +138,7 @@ pub(crate) fn run(args: RetargetArgs) -> Result<ExitCode, Error> {
             &source_name,
             &loaded.skeleton,
             &loaded.motion,
+            loaded.stated_up,
             &pairs,
             &motion,
         )?;

@@ -227,7 +227,15 @@ fn put_onto(
     };
     // The clip checks itself as `retarget` does: a side crossed or a width collapsed
     // skips the take with the reason, unless `force`.
-    let put = target.apply(&name, &loaded.skeleton, &loaded.motion, &pairs, insist, 1)?;
+    let put = target.apply_up(
+        &name,
+        &loaded.skeleton,
+        &loaded.motion,
+        loaded.stated_up,
+        &pairs,
+        insist,
+        1,
+    )?;
     let mut uncarried = put.uncarried;
     if let Some(why) = put.forced {
         uncarried.push(format!("retarget: kept as `force` asks though {why}"));
@@ -238,7 +246,14 @@ fn put_onto(
     let (motion, check) = match options.lock_feet {
         true => {
             let motion = crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?.0;
-            let check = target.measure(&name, &loaded.skeleton, &loaded.motion, &pairs, &motion)?;
+            let check = target.measure(
+                &name,
+                &loaded.skeleton,
+                &loaded.motion,
+                loaded.stated_up,
+                &pairs,
+                &motion,
+            )?;
             if let Some(why) = check
                 .refusal()
                 .filter(|_| !options.any_body && !options.force)

@@ -187,6 +187,22 @@ impl Target {
         insist: Insist,
         threads: usize,
     ) -> Result<Retargeted, Error> {
+        self.apply_up(source_name, skeleton, motion, None, pairs, insist, threads)
+    }
+
+    /// [`Target::apply`] with the axis the take stands along given (`--up`, `up=`), over the
+    /// guess from its motion.
+    #[allow(clippy::too_many_arguments)]
+    pub fn apply_up(
+        &self,
+        source_name: &str,
+        skeleton: &Skeleton,
+        motion: &Motion,
+        source_up: Option<Up>,
+        pairs: &[(String, String)],
+        insist: Insist,
+        threads: usize,
+    ) -> Result<Retargeted, Error> {
         if !insist.any_body {
             self.check_body(source_name, skeleton, motion)?;
         }
@@ -198,7 +214,7 @@ impl Target {
             self.skeleton.channel_count(),
         )?;
         let map = self.map(source_name, skeleton, pairs)?;
-        let ups = self.ups(skeleton, motion);
+        let ups = self.ups(skeleton, motion, source_up);
         let (out_skeleton, out) = crate::retarget::run::retarget_posed(
             skeleton,
             motion,
@@ -250,11 +266,12 @@ impl Target {
         source_name: &str,
         skeleton: &Skeleton,
         motion: &Motion,
+        source_up: Option<Up>,
         pairs: &[(String, String)],
         output: &Motion,
     ) -> Result<crate::retarget::check::Check, Error> {
         let map = self.map(source_name, skeleton, pairs)?;
-        let ups = self.ups(skeleton, motion);
+        let ups = self.ups(skeleton, motion, source_up);
         Ok(crate::retarget::check::check(
             skeleton,
             motion,
@@ -380,15 +397,11 @@ impl Target {
     }
 
     /// The take's up axis (guessed, or stated by its file) and this target's.
-    fn ups(&self, skeleton: &Skeleton, motion: &Motion) -> Ups {
+    fn ups(&self, skeleton: &Skeleton, motion: &Motion, given: Option<Up>) -> Ups {
+        let guess =
+            || crate::model::stance::Stance::guess(skeleton, motion, OffsetMode::Replace, None).up;
         Ups {
-            source: crate::model::stance::Stance::guess(
-                skeleton,
-                motion,
-                OffsetMode::Replace,
-                None,
-            )
-            .up,
+            source: given.unwrap_or_else(guess),
             target: self.up,
         }
     }

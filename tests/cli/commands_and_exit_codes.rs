@@ -1823,3 +1823,35 @@ fn an_up_axis_given_replaces_the_guess() {
     assert_eq!(given["clips"][0]["up_given"], true);
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// `retarget --up`: the axis given turns the take up as the guess would: the right one gives
+/// the guess's bytes, the wrong one (a Z-up MakeHuman walk said to be Y up) a figure lying down.
+#[test]
+fn retarget_takes_the_up_axis_given() {
+    let folder = common::scratch_folder("retarget_up");
+    let walk = data("bvh/makehuman_walk1.bvh").display().to_string();
+    let written = |up: &[&str], name: &str| {
+        let out = folder.join(name);
+        let mut args = vec![
+            "retarget",
+            &walk,
+            "--onto",
+            "smpl22",
+            "-o",
+            out.to_str().unwrap(),
+            "--force",
+        ];
+        args.extend_from_slice(up);
+        let output = bvhview(&args);
+        assert_eq!(output.status.code(), Some(0), "{output:?}");
+        std::fs::read(out).unwrap()
+    };
+    let guessed = written(&[], "guessed.bvh");
+    let right = written(&["--up", "z"], "right.bvh");
+    let wrong = written(&["--up", "y"], "wrong.bvh");
+    assert_eq!(guessed, right);
+    assert_ne!(guessed, wrong);
+    let lying = bvhview_stdout(&["info", folder.join("wrong.bvh").to_str().unwrap()]);
+    assert!(lying.contains("up axis:          z"), "{lying}");
+    std::fs::remove_dir_all(&folder).unwrap();
+}
