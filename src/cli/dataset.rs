@@ -67,8 +67,10 @@ pub(crate) struct DatasetArgs {
     #[arg(long, value_name = "TARGET")]
     onto: Option<String>,
     /// With --onto: override every take's guessed joint map, as `retarget --map` does: SRC=DST
-    /// (SRC= leaves a source joint out), or a TOML or JSON file of such pairs. Repeatable.
-    #[arg(long, value_name = "FILE|SRC=DST", requires = "onto")]
+    /// (SRC= leaves a source joint out), or a TOML or JSON file of such pairs. A file's
+    /// `[stated.FINGERPRINT]` sections (`units = "cm"`, `up = "z"`) say what each rig's takes
+    /// are, with or without --onto. Repeatable.
+    #[arg(long, value_name = "FILE|SRC=DST")]
     map: Vec<String>,
     /// With --onto: put on it takes whose body is not two-legged like the target's (a
     /// four-legged take onto a person, or the reverse), which are skipped otherwise.

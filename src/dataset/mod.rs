@@ -163,7 +163,7 @@ fn load_checked(item: &Item, options: &Options) -> Result<crate::take::Take, Err
             )));
         }
     }
-    let loaded = crate::take::load_take(
+    let mut loaded = crate::take::load_take(
         path,
         &crate::take::OpenOptions {
             motion: item.motion.clone(),
@@ -174,6 +174,15 @@ fn load_checked(item: &Item, options: &Options) -> Result<crate::take::Take, Err
             ..Default::default()
         },
     )?;
+    // A map's `[stated.<fingerprint>]` says what this rig's takes are, where the options do not.
+    let stated = options.map.stated_for(&loaded.skeleton);
+    if let Some(units) = stated.units.filter(|_| options.units.is_none()) {
+        loaded.stated_units = Some(units);
+        loaded.units_given = true;
+    }
+    if let Some(up) = stated.up.filter(|_| options.up.is_none()) {
+        loaded.stated_up = Some(up);
+    }
     let frame_time = loaded.motion.frame_time;
     if !(frame_time > 0.0 && frame_time.is_finite()) {
         return Err(Error::usage(format!(

@@ -31,6 +31,19 @@ pub struct MapPairs {
     pub all: Vec<(String, String)>,
     /// Pairs for one skeleton, by fingerprint, after `all`.
     pub by_skeleton: Vec<(String, Vec<(String, String)>)>,
+    /// What one skeleton's takes are, by fingerprint (a map file's `[stated.<fingerprint>]`:
+    /// `units = "cm"`, `up = "z"`), for folders of mixed rigs.
+    #[serde(skip)]
+    pub stated: Vec<(String, Stated)>,
+}
+
+/// A skeleton's units and up axis, as a map file states them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stated {
+    /// The units its lengths are in.
+    pub units: Option<crate::model::stance::Units>,
+    /// The axis it stands along.
+    pub up: Option<crate::model::pose::Up>,
 }
 
 impl MapPairs {
@@ -38,7 +51,7 @@ impl MapPairs {
     pub fn from_pairs(all: Vec<(String, String)>) -> MapPairs {
         MapPairs {
             all,
-            by_skeleton: Vec::new(),
+            ..MapPairs::default()
         }
     }
 
@@ -51,6 +64,21 @@ impl MapPairs {
     pub fn extend(&mut self, other: MapPairs) {
         self.all.extend(other.all);
         self.by_skeleton.extend(other.by_skeleton);
+        self.stated.extend(other.stated);
+    }
+
+    /// What the map states of `skeleton`'s takes (its fingerprint's `[stated.…]`; the last
+    /// one given wins), if anything.
+    pub fn stated_for(&self, skeleton: &Skeleton) -> Stated {
+        let fingerprint = skeleton.fingerprint();
+        let mut stated = Stated::default();
+        for (key, own) in &self.stated {
+            if *key == fingerprint {
+                stated.units = own.units.or(stated.units);
+                stated.up = own.up.or(stated.up);
+            }
+        }
+        stated
     }
 
     /// The pairs that apply to `skeleton`: those for every skeleton, then those under its
@@ -71,7 +99,7 @@ impl MapPairs {
 /// `[skeleton.…]` sections is refused here.
 pub fn parse_map(text: &str, name: &str) -> Result<Vec<(String, String)>, Error> {
     let pairs = parse_map_pairs(text, name)?;
-    if !pairs.by_skeleton.is_empty() {
+    if !pairs.by_skeleton.is_empty() || !pairs.stated.is_empty() {
         return Err(Error::usage(format!(
             "{name}: pairs for one skeleton ([skeleton.…]) are read where a take's skeleton is known"
         )));
@@ -123,6 +151,34 @@ pub fn parse_map_pairs(text: &str, name: &str) -> Result<MapPairs, Error> {
         };
         for (key, value) in value.0 {
             match value {
+                JsonItem::Object(rigs) if key == "stated" => {
+                    for (fingerprint, fields) in rigs.0 {
+                        let JsonItem::Object(fields) = fields else {
+                            return Err(bad(
+                                line_of(text, &fingerprint),
+                                1,
+                                format!(
+                                    "stated {}: expected an object of units and up",
+                                    quoted(&fingerprint)
+                                ),
+                            ));
+                        };
+                        let mut said = Vec::new();
+                        for (field, value) in fields.0 {
+                            let JsonItem::Name(value) = value else {
+                                return Err(bad(
+                                    line_of(text, &field),
+                                    1,
+                                    format!("{}: expected a string", quoted(&field)),
+                                ));
+                            };
+                            said.push((field, value));
+                        }
+                        let stated = stated_of(&said)
+                            .map_err(|why| bad(line_of(text, &fingerprint), 1, why))?;
+                        out.stated.push((fingerprint, stated));
+                    }
+                }
                 JsonItem::Object(skeletons) if key == "skeleton" => {
                     for (fingerprint, pairs) in skeletons.0 {
                         let JsonItem::Object(pairs) = pairs else {
@@ -168,6 +224,34 @@ pub fn parse_map_pairs(text: &str, name: &str) -> Result<MapPairs, Error> {
         };
         for (key, value) in value {
             match value {
+                toml::Value::Table(rigs) if key == "stated" => {
+                    for (fingerprint, fields) in rigs {
+                        let toml::Value::Table(fields) = fields else {
+                            return Err(bad(
+                                line_of(text, &fingerprint),
+                                1,
+                                format!(
+                                    "stated.{}: expected a table of units and up",
+                                    quoted(&fingerprint)
+                                ),
+                            ));
+                        };
+                        let mut said = Vec::new();
+                        for (field, value) in fields {
+                            let toml::Value::String(value) = value else {
+                                return Err(bad(
+                                    line_of(text, &field),
+                                    1,
+                                    format!("{}: expected a string in quotes", quoted(&field)),
+                                ));
+                            };
+                            said.push((field, value));
+                        }
+                        let stated = stated_of(&said)
+                            .map_err(|why| bad(line_of(text, &fingerprint), 1, why))?;
+                        out.stated.push((fingerprint, stated));
+                    }
+                }
                 toml::Value::Table(skeletons) if key == "skeleton" => {
                     for (fingerprint, pairs) in skeletons {
                         let toml::Value::Table(pairs) = pairs else {
@@ -192,6 +276,39 @@ pub fn parse_map_pairs(text: &str, name: &str) -> Result<MapPairs, Error> {
         }
     }
     Ok(out)
+}
+
+/// A `[stated.<fingerprint>]` section's fields: `units` (a unit's name or metres per unit) and
+/// `up` (`y` or `z`); anything else is refused by name.
+fn stated_of(fields: &[(String, String)]) -> Result<Stated, String> {
+    let mut stated = Stated::default();
+    for (field, value) in fields {
+        match field.as_str() {
+            "units" => {
+                stated.units =
+                    Some(crate::model::stance::Units::named(value).ok_or_else(|| {
+                        format!(
+                            "units {}: expected mm, cm, m, in, ft or metres per unit",
+                            quoted(value)
+                        )
+                    })?);
+            }
+            "up" => {
+                stated.up = Some(match value.as_str() {
+                    "y" => crate::model::pose::Up::Y,
+                    "z" => crate::model::pose::Up::Z,
+                    other => return Err(format!("up {}: expected y or z", quoted(other))),
+                });
+            }
+            other => {
+                return Err(format!(
+                    "{}: a stated section holds units and up only",
+                    quoted(other)
+                ));
+            }
+        }
+    }
+    Ok(stated)
 }
 
 /// A JSON map's entries (or its `"skeleton"` section's, or one fingerprint's) in file order.

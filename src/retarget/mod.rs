@@ -40,7 +40,7 @@ pub use align::{NO_WIDTH, Ups, bones};
 pub use check::{Across, COLLAPSED, Check, check};
 pub(crate) use hinge::{limited_angles, limited_angles_by};
 pub use map::{How, Map, REQUIRED};
-pub use map_file::{MapPairs, parse_map, parse_map_pairs, parse_pair};
+pub use map_file::{MapPairs, Stated, parse_map, parse_map_pairs, parse_pair};
 pub use measure::{Standing, direction_errors, followable_errors, quantile, standing};
 pub use names::names_of_family;
 pub use run::{lock_feet_from_source, retarget, retarget_plain, retargeted_values};

@@ -1855,3 +1855,72 @@ fn retarget_takes_the_up_axis_given() {
     assert!(lying.contains("up axis:          z"), "{lying}");
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// A map file's `[stated.FINGERPRINT]` sections say what each rig of a mixed folder is: a
+/// dataset takes each one's units and up axis as given; a wrong value is refused with its line.
+#[test]
+fn a_map_file_states_each_rigs_units_and_up_axis() {
+    let folder = common::scratch_folder("stated_rigs");
+    let takes = folder.join("takes");
+    std::fs::create_dir(&takes).unwrap();
+    for name in ["bvhparser_simple.bvh", "makehuman_walk1.bvh"] {
+        std::fs::copy(data(&format!("bvh/{name}")), takes.join(name)).unwrap();
+    }
+    let fingerprint = |name: &str| {
+        let info = bvhview_stdout(&["info", takes.join(name).to_str().unwrap()]);
+        info.lines()
+            .find_map(|l| l.strip_prefix("fingerprint:"))
+            .unwrap()
+            .trim()
+            .to_string()
+    };
+    let map = folder.join("rigs.toml");
+    std::fs::write(
+        &map,
+        format!(
+            "[stated.{}]\nunits = \"cm\"\n\n[stated.{}]\nup = \"y\"\n",
+            fingerprint("bvhparser_simple.bvh"),
+            fingerprint("makehuman_walk1.bvh")
+        ),
+    )
+    .unwrap();
+    let out = folder.join("set");
+    bvhview_stdout(&[
+        "dataset",
+        takes.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--map",
+        map.to_str().unwrap(),
+    ]);
+    let manifest: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let clip = |path: &str| {
+        manifest["clips"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["path"] == path)
+            .unwrap()
+            .clone()
+    };
+    assert_eq!(clip("bvhparser_simple.bvh")["units"], "centimetres");
+    assert_eq!(clip("bvhparser_simple.bvh")["units_given"], true);
+    assert_eq!(clip("makehuman_walk1.bvh")["up"], "y");
+    assert_eq!(clip("makehuman_walk1.bvh")["up_given"], true);
+    std::fs::write(&map, "[stated.abc]\nup = \"w\"\n").unwrap();
+    let out = bvhview(&[
+        "dataset",
+        takes.to_str().unwrap(),
+        "-o",
+        folder.join("no").to_str().unwrap(),
+        "--map",
+        map.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("rigs.toml:1:1: up \"w\": expected y or z"),
+        "{out:?}"
+    );
+    std::fs::remove_dir_all(&folder).unwrap();
+}
