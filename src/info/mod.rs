@@ -232,9 +232,31 @@ pub fn summary(name: &str, loaded: &Take, mode: OffsetMode, spelling: &dyn Spell
     // What a map file's `[skeleton.<fingerprint>]` pairs are keyed by.
     let _ = writeln!(out, "fingerprint:      {}", skeleton.fingerprint());
     // Guessed from the motion; the article's view still draws the file as written.
-    let _ = writeln!(out, "up axis:          {}", stance.up_text());
+    // A guess that is not sure names the option that says it.
+    let say = |name: &'static str, unsure: bool| {
+        if unsure {
+            Message::from("; ")
+                .argument(name, None)
+                .text(" says it")
+                .spelled(spelling)
+        } else {
+            String::new()
+        }
+    };
+    let unsure = |s: crate::model::stance::Sureness| s == crate::model::stance::Sureness::Unsure;
+    let _ = writeln!(
+        out,
+        "up axis:          {}{}",
+        stance.up_text(),
+        say("up", unsure(stance.up_sureness))
+    );
     if stance.size > 1e-6 {
-        let _ = writeln!(out, "units:            {}", stance.units_text());
+        let _ = writeln!(
+            out,
+            "units:            {}{}",
+            stance.units_text(),
+            say("units", unsure(stance.units_sureness))
+        );
     } else {
         let _ = writeln!(
             out,
