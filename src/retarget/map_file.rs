@@ -38,6 +38,19 @@ pub struct MapPairs {
 }
 
 /// A skeleton's units and up axis, as a map file states them.
+///
+/// ```
+/// use bvhview::retarget::parse_map_pairs;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let map = parse_map_pairs("[stated.c57cd18da1dc]\nunits = \"cm\"\nup = \"z\"\n", "rigs.toml")?;
+/// let (fingerprint, stated) = &map.stated[0];
+/// assert_eq!(fingerprint, "c57cd18da1dc");
+/// assert_eq!(stated.units.unwrap().name, "centimetres");
+/// assert_eq!(stated.up, Some(bvhview::model::pose::Up::Z));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Stated {
     /// The units its lengths are in.

@@ -1623,23 +1623,8 @@ fn units_given_replace_the_guess() {
     );
     assert!(given.contains("warnings:         none"), "{given}");
     let folder = common::scratch_folder("units_given");
-    std::fs::create_dir(folder.join("takes")).unwrap();
-    std::fs::copy(
-        data("bvh/bvhparser_simple.bvh"),
-        folder.join("takes/simple.bvh"),
-    )
-    .unwrap();
-    let out = folder.join("set");
-    bvhview_stdout(&[
-        "dataset",
-        folder.join("takes").to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--units",
-        "cm",
-    ]);
-    let manifest: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let takes = takes_folder(&folder, &["bvhparser_simple.bvh"]);
+    let manifest = compiled(&takes, &folder.join("set"), &["--units", "cm"]);
     let clip = &manifest["clips"][0];
     assert_eq!(clip["units"], "centimetres");
     assert_eq!(clip["units_given"], true);
@@ -1796,27 +1781,9 @@ fn an_up_axis_given_replaces_the_guess() {
         "{given}"
     );
     let folder = common::scratch_folder("up_given");
-    std::fs::create_dir(folder.join("takes")).unwrap();
-    std::fs::copy(
-        data("bvh/makehuman_walk1.bvh"),
-        folder.join("takes/walk.bvh"),
-    )
-    .unwrap();
-    let takes = folder.join("takes");
-    let manifest = |up: &[&str], name: &str| -> serde_json::Value {
-        let out = folder.join(name);
-        let mut args = vec![
-            "dataset",
-            takes.to_str().unwrap(),
-            "-o",
-            out.to_str().unwrap(),
-        ];
-        args.extend_from_slice(up);
-        bvhview_stdout(&args);
-        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap()
-    };
-    let guessed = manifest(&[], "guessed");
-    let given = manifest(&["--up", "y"], "given");
+    let takes = takes_folder(&folder, &["makehuman_walk1.bvh"]);
+    let guessed = compiled(&takes, &folder.join("guessed"), &[]);
+    let given = compiled(&takes, &folder.join("given"), &["--up", "y"]);
     assert_eq!(guessed["clips"][0]["up"], "z");
     assert!(guessed["clips"][0].get("up_given").is_none());
     assert_eq!(given["clips"][0]["up"], "y");
@@ -1861,11 +1828,7 @@ fn retarget_takes_the_up_axis_given() {
 #[test]
 fn a_map_file_states_each_rigs_units_and_up_axis() {
     let folder = common::scratch_folder("stated_rigs");
-    let takes = folder.join("takes");
-    std::fs::create_dir(&takes).unwrap();
-    for name in ["bvhparser_simple.bvh", "makehuman_walk1.bvh"] {
-        std::fs::copy(data(&format!("bvh/{name}")), takes.join(name)).unwrap();
-    }
+    let takes = takes_folder(&folder, &["bvhparser_simple.bvh", "makehuman_walk1.bvh"]);
     let fingerprint = |name: &str| {
         let info = bvhview_stdout(&["info", takes.join(name).to_str().unwrap()]);
         info.lines()
@@ -1884,17 +1847,11 @@ fn a_map_file_states_each_rigs_units_and_up_axis() {
         ),
     )
     .unwrap();
-    let out = folder.join("set");
-    bvhview_stdout(&[
-        "dataset",
-        takes.to_str().unwrap(),
-        "-o",
-        out.to_str().unwrap(),
-        "--map",
-        map.to_str().unwrap(),
-    ]);
-    let manifest: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    let manifest = compiled(
+        &takes,
+        &folder.join("set"),
+        &["--map", map.to_str().unwrap()],
+    );
     let clip = |path: &str| {
         manifest["clips"]
             .as_array()
@@ -1923,4 +1880,27 @@ fn a_map_file_states_each_rigs_units_and_up_axis() {
         "{out:?}"
     );
     std::fs::remove_dir_all(&folder).unwrap();
+}
+
+/// A folder `takes` under `folder` with copies of these repository BVH files.
+fn takes_folder(folder: &std::path::Path, names: &[&str]) -> std::path::PathBuf {
+    let takes = folder.join("takes");
+    std::fs::create_dir(&takes).unwrap();
+    for name in names {
+        std::fs::copy(data(&format!("bvh/{name}")), takes.join(name)).unwrap();
+    }
+    takes
+}
+
+/// `bvhview dataset TAKES -o OUT EXTRA…`, and the manifest it wrote.
+fn compiled(takes: &std::path::Path, out: &std::path::Path, extra: &[&str]) -> serde_json::Value {
+    let mut args = vec![
+        "dataset",
+        takes.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    bvhview_stdout(&args);
+    serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap()
 }
