@@ -7,6 +7,8 @@ mod matrix;
 #[cfg(feature = "fbx")]
 mod mesh;
 #[cfg(feature = "fbx")]
+mod plain;
+#[cfg(feature = "fbx")]
 pub mod read;
 #[cfg(feature = "fbx")]
 mod records;

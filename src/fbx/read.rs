@@ -466,7 +466,35 @@ pub fn load(path: &Path, options: &OpenOptions) -> Result<Read, Error> {
 pub fn load_bytes(bytes: &[u8], name: &str, options: &OpenOptions) -> Result<Read, Error> {
     let (take, threads) = (options.take.as_deref(), options.threads_or_cores());
     let scene = read_scene(bytes, name, false)?;
-    load_scene(&scene, bytes.len(), name, take, threads, false).map(|(read, _)| read)
+    let how = How {
+        threads,
+        skin_bones: false,
+        exact: true,
+    };
+    load_scene(&scene, bytes.len(), name, take, how).map(|(read, _)| read)
+}
+
+/// How a scene's take is read: on how many threads, whether the nodes a skin is bound to are
+/// joints (a character), and whether a plain take is read exactly (its own channels and units).
+#[derive(Clone, Copy)]
+struct How {
+    threads: usize,
+    skin_bones: bool,
+    exact: bool,
+}
+
+/// [`load_bytes`] the baked way always: every frame evaluated by ufbx and baked into ZYX
+/// channels in metres, even where the take is plain and [`load_bytes`] reads its own channels
+/// in its own units (see the `plain` module). What the test that proves the two equal reads.
+pub fn load_bytes_baked(bytes: &[u8], name: &str, options: &OpenOptions) -> Result<Read, Error> {
+    let (take, threads) = (options.take.as_deref(), options.threads_or_cores());
+    let scene = read_scene(bytes, name, false)?;
+    let how = How {
+        threads,
+        skin_bones: false,
+        exact: false,
+    };
+    load_scene(&scene, bytes.len(), name, take, how).map(|(read, _)| read)
 }
 
 /// [`load`] with the file's meshes on its skeleton (a character), the nodes its skins are bound
@@ -487,7 +515,13 @@ pub fn load_character_bytes(
 ) -> Result<(Read, crate::model::mesh::Mesh), Error> {
     let (take, threads) = (options.take.as_deref(), options.threads_or_cores());
     let scene = read_scene(bytes, name, true)?;
-    let (mut read, joint) = load_scene(&scene, bytes.len(), name, take, threads, true)?;
+    // A character is baked always: its mesh is bound to its rest pose, made each joint's zero.
+    let how = How {
+        threads,
+        skin_bones: true,
+        exact: false,
+    };
+    let (mut read, joint) = load_scene(&scene, bytes.len(), name, take, how)?;
     let turn = unstated_axes_turn(&scene);
     let (mesh, said) = super::mesh::read(&scene, name, bytes.len() as u64, &joint, turn)?;
     read.warnings.extend(said.into_iter().map(Message::from));
@@ -500,11 +534,9 @@ fn load_scene(
     bytes_len: usize,
     name: &str,
     take: Option<&str>,
-    threads: usize,
-    skin_bones: bool,
+    how: How,
 ) -> Result<(Read, Vec<Option<usize>>), Error> {
-    let (mut read, order, nodes) =
-        load_nodes(scene, bytes_len, name, take, threads.max(1), skin_bones)?;
+    let (mut read, order, nodes) = load_nodes(scene, bytes_len, name, take, how)?;
     // A header that states the axes was turned to +Y up by ufbx: read, never guessed. A file
     // that states none (FBX 5) is read Z up by convention, which the motion may overrule.
     read.skeleton.y_up_stated = scene.settings.axes.up != ufbx::CoordinateAxis::Unknown;
@@ -528,9 +560,9 @@ fn load_nodes(
     bytes_len: usize,
     name: &str,
     take: Option<&str>,
-    threads: usize,
-    skin_bones: bool,
+    how: How,
 ) -> Result<(Read, Vec<usize>, Vec<Node>), Error> {
+    let (threads, skin_bones) = (how.threads.max(1), how.skin_bones);
     let path = name;
     let bad = |why: String| Error::decoding(name, why);
     let (order, parents, _bones) = skeleton_nodes(scene, skin_bones);
@@ -580,8 +612,10 @@ fn load_nodes(
         rest: &rest,
         turn,
         fps,
+        exact: how.exact && !skin_bones && turn == DMat4::IDENTITY,
     };
     let mut chosen: Option<String> = None;
+    let mut stated_units = None;
     let (skeleton, motion) = if scene.anim_stacks.is_empty() {
         if take.is_some() {
             pick_take(&names, take, path)?;
@@ -595,21 +629,24 @@ fn load_nodes(
     } else {
         let (index, stack_name) = choose_take(&names, take, path, &mut warnings)?;
         chosen = Some(stack_name);
-        baking.stack(index, &mut warnings)?
+        let (skeleton, motion, units) = baking.stack(index, &mut warnings)?;
+        stated_units = units;
+        (skeleton, motion)
     };
     let read = Read {
         skeleton,
         motion,
         warnings,
         take: chosen,
+        stated_units,
     };
     Ok((read, order, nodes))
 }
 
 /// What baking a scene's take needs: the scene and its file (name, size), the threads to
 /// evaluate on, the joints (`order`: the scene nodes they are, `nodes`: their names and
-/// parents, `rest`: their rest pose), the turn of a file that states no axes, and the rate.
-/// Only the scene root (`Sync`) and numbers go to the threads: ufbx's element types are not.
+/// parents, `rest`: their rest pose), the turn of a file that states no axes, the rate, and
+/// whether a plain take may be read exactly. Only the scene root (`Sync`) and numbers go to the threads: ufbx's element types are not.
 struct Baking<'a> {
     scene: &'a ufbx::SceneRoot,
     name: &'a str,
@@ -621,7 +658,16 @@ struct Baking<'a> {
     rest: &'a [Pose],
     turn: DMat4,
     fps: f64,
+    exact: bool,
 }
+
+/// A take read: its skeleton, its motion, and the units they are in where the file states them
+/// (a plain take read exactly; `None`: metres, baked).
+type Taken = (
+    crate::model::skeleton::Skeleton,
+    crate::model::motion::Motion,
+    Option<crate::model::stance::Units>,
+);
 
 impl Baking<'_> {
     /// An error of the file, named.
@@ -639,20 +685,11 @@ impl Baking<'_> {
         }
     }
 
-    /// Every frame of the take of anim stack `index`: the quick way where it agrees with the
-    /// whole scene's evaluation at the first, middle and last frames, else the whole scene
+    /// Every frame of the take of anim stack `index`: a plain take's own channels where they
+    /// agree with the whole scene's evaluation at the first, middle and last frames (see the
+    /// `plain` module), else baked: the quick way where it agrees so, else the whole scene
     /// evaluated in each frame on the threads. What the stack's range says goes to `warnings`.
-    fn stack(
-        &self,
-        index: usize,
-        warnings: &mut Vec<Message>,
-    ) -> Result<
-        (
-            crate::model::skeleton::Skeleton,
-            crate::model::motion::Motion,
-        ),
-        Error,
-    > {
+    fn stack(&self, index: usize, warnings: &mut Vec<Message>) -> Result<Taken, Error> {
         let (scene, order, fps) = (self.scene, self.order, self.fps);
         let stack = &scene.anim_stacks[index];
         let (begin, end, said) = stack_range(stack).map_err(|why| self.bad(why))?;
@@ -669,6 +706,9 @@ impl Baking<'_> {
         let values: usize = stack.layers.iter().map(|l| l.anim_values.len()).sum();
         let span = Span { begin, end, count };
         self.within(index, &span, values, chains.len())?;
+        if let Some(taken) = self.exactly(index, begin, count)? {
+            return Ok(taken);
+        }
         // The quick way: each node's local transform (ufbx's `evaluate_transform`, adjustments
         // included) multiplied down from the root, for the joints' ancestors only. Used when it
         // gives what the whole scene's evaluation gives at the first, middle and last frames
@@ -684,6 +724,7 @@ impl Baking<'_> {
                 break;
             }
         }
+        let baked = |(skeleton, motion)| (skeleton, motion, None);
         if fast {
             return baked::build_with(
                 self.nodes,
@@ -696,12 +737,60 @@ impl Baking<'_> {
                     Ok(())
                 },
             )
+            .map(baked)
             .map_err(|e| self.named(e));
         }
         // The whole scene is evaluated in each frame: its every node counts.
         self.within(index, &span, values, scene.nodes.len())?;
         self.evaluated_on_threads(index, begin, count)
+            .map(baked)
             .map_err(|e| self.named(e))
+    }
+
+    /// The take of anim stack `index` read exactly, in the file's units, where it is plain and
+    /// that reading gives the whole scene's evaluation at the first, middle and last frames:
+    /// world places (in metres) within a millionth of the figure's size, world rotations within
+    /// 1e-9 of the same.
+    fn exactly(&self, index: usize, begin: f64, count: usize) -> Result<Option<Taken>, Error> {
+        let scene = self.scene;
+        let metres = scene.settings.original_unit_meters;
+        if !(self.exact && metres.is_finite() && metres > 0.0) {
+            return Ok(None);
+        }
+        let stack = &scene.anim_stacks[index];
+        let Some(plain) = super::plain::read(
+            scene,
+            stack,
+            self.order,
+            self.nodes,
+            (begin, count, self.fps),
+        ) else {
+            return Ok(None);
+        };
+        let mut world = Vec::new();
+        for f in [0, count / 2, count - 1] {
+            let truth = self.evaluate(index, begin, f)?;
+            let size = truth
+                .iter()
+                .map(|p| p.position.abs().max_element())
+                .fold(1e-9, f64::max);
+            crate::model::pose::world_transforms_f64(
+                &plain.skeleton,
+                plain.motion.frame(f),
+                crate::model::pose::OffsetMode::Replace,
+                &mut world,
+            );
+            let agrees = world.iter().zip(&plain.to_node).all(|((rotation, at), &k)| {
+                let want = &truth[k];
+                (*at * metres - want.position).abs().max_element() <= 1e-6 * size
+                    && rotation.dot(want.rotation).abs() >= 1.0 - 1e-9
+            });
+            if !agrees {
+                return Ok(None);
+            }
+        }
+        let units = crate::model::stance::Units::of_metres(metres as f32);
+        Ok(Some((plain.skeleton, plain.motion, Some(units))))
     }
 
     /// Refuses a take whose frames × (nodes evaluated + animated values) exceed what a file

@@ -440,27 +440,7 @@ impl Layout {
     /// The skeleton, its joints in pre-order with contiguous channel columns, and how many
     /// channels it has.
     fn skeleton(&self) -> (Skeleton, usize) {
-        let mut new_index = vec![0; self.joints.len()];
-        for (n, &i) in self.order.iter().enumerate() {
-            new_index[i] = n;
-        }
-        let mut sorted: Vec<Joint> = self.order.iter().map(|&i| self.joints[i].clone()).collect();
-        let mut column = 0;
-        for joint in &mut sorted {
-            joint.parent = joint.parent.map(|p| new_index[p]);
-            for child in &mut joint.children {
-                *child = new_index[*child];
-            }
-            joint.first_channel = column;
-            column += joint.channels.len();
-        }
-        let skeleton = Skeleton {
-            joints: sorted,
-            source: crate::model::skeleton::Source::Bvh,
-            // The reader says whether its file stated its axes (glTF always, FBX by its header).
-            y_up_stated: false,
-        };
-        (skeleton, column)
+        sorted_skeleton(&self.joints, &self.order)
     }
 
     /// The MOTION rows: per frame, each joint in pre-order, its translation if it has position
@@ -498,9 +478,35 @@ impl Layout {
     }
 }
 
+/// `joints` (parents and children as indices into it) as a skeleton in `order` (a pre-order of
+/// them), each joint's channel columns after the one before; and how many channels it has.
+pub(crate) fn sorted_skeleton(joints: &[Joint], order: &[usize]) -> (Skeleton, usize) {
+    let mut new_index = vec![0; joints.len()];
+    for (n, &i) in order.iter().enumerate() {
+        new_index[i] = n;
+    }
+    let mut sorted: Vec<Joint> = order.iter().map(|&i| joints[i].clone()).collect();
+    let mut column = 0;
+    for joint in &mut sorted {
+        joint.parent = joint.parent.map(|p| new_index[p]);
+        for child in &mut joint.children {
+            *child = new_index[*child];
+        }
+        joint.first_channel = column;
+        column += joint.channels.len();
+    }
+    let skeleton = Skeleton {
+        joints: sorted,
+        source: crate::model::skeleton::Source::Bvh,
+        // The reader says whether its file stated its axes (glTF always, FBX by its header).
+        y_up_stated: false,
+    };
+    (skeleton, column)
+}
+
 /// The nodes in pre-order: they come parent first, but a BVH lists a joint's whole subtree
 /// before its next sibling, so that a joint's channel columns are contiguous.
-fn pre_order(nodes: &[Node], children: &[Vec<usize>]) -> Vec<usize> {
+pub(crate) fn pre_order(nodes: &[Node], children: &[Vec<usize>]) -> Vec<usize> {
     let mut order = Vec::with_capacity(nodes.len());
     let mut stack: Vec<usize> = (0..nodes.len())
         .filter(|&i| nodes[i].parent.is_none())

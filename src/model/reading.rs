@@ -54,6 +54,9 @@ pub struct Read {
     pub warnings: Vec<Message>,
     /// The take read, by name, when the file holds takes (none: its rest pose).
     pub take: Option<String>,
+    /// The units the lengths are in, where the file states them and the reader keeps them (a
+    /// plain FBX take, read in its file's units); `None`: guessed from the figure.
+    pub stated_units: Option<crate::model::stance::Units>,
 }
 
 /// Picks a take by name, or by its index in `info`'s list.

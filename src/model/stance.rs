@@ -71,6 +71,8 @@ impl Sureness {
 pub enum UnitsBasis {
     /// The ASF's `:units length` (CMU's 0.45: lengths in 1/0.45 inch).
     Asf,
+    /// The FBX's `UnitScaleFactor`: a plain FBX take is read in its file's own units.
+    Fbx,
     /// A skeleton known by its joints' names (CMU's, as cgspeed converted it to BVH).
     CmuSkeleton,
     /// The figure's size, nearest a person's 1.7 m.
@@ -587,6 +589,7 @@ impl Stance {
     pub fn units_text(&self) -> String {
         let why = match self.units_basis {
             UnitsBasis::Asf => "the ASF's :units".to_string(),
+            UnitsBasis::Fbx => "the FBX's UnitScaleFactor".to_string(),
             UnitsBasis::CmuSkeleton => "CMU's skeleton (LHipJoint, RHipJoint)".to_string(),
             UnitsBasis::Size => format!("the figure spans {}", short(self.size)),
             UnitsBasis::Given => "given, not guessed".to_string(),

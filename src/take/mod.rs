@@ -63,7 +63,8 @@ pub struct Take {
     /// What the file said once: things accepted that deserve a word (a warning may name an
     /// argument, as [`Error`]'s messages do).
     pub warnings: Vec<Message>,
-    /// The units the file states (an ASF's `:units length`), if any.
+    /// The units the file states (an ASF's `:units length`, the `UnitScaleFactor` of an FBX
+    /// take read in its own units), if any.
     pub stated_units: Option<crate::model::stance::Units>,
     /// Whether `stated_units` were given by the caller ([`OpenOptions::units`]) rather than
     /// stated by the file.
@@ -128,6 +129,7 @@ impl Take {
         }
         Take {
             take_name: read.take,
+            stated_units: read.stated_units,
             ..Take::read(read.skeleton, motion, read.warnings, format, name)
         }
     }
@@ -155,6 +157,8 @@ impl Take {
         use crate::model::stance::UnitsBasis;
         let basis = if self.units_given {
             UnitsBasis::Given
+        } else if self.format == Some(Format::Fbx) {
+            UnitsBasis::Fbx
         } else {
             UnitsBasis::Asf
         };
@@ -633,6 +637,7 @@ fn load_take_as_written(path: &Path, options: &OpenOptions) -> Result<Take, Erro
                 motion: file.motion,
                 warnings: file.warnings.into_iter().map(Message::from).collect(),
                 take: None,
+                stated_units: None,
             }
         }
     };
@@ -765,6 +770,7 @@ fn load_bytes(bytes: &[u8], name: &str, options: &OpenOptions) -> Result<Take, E
                 motion: file.motion,
                 warnings: file.warnings.into_iter().map(Message::from).collect(),
                 take: None,
+                stated_units: None,
             }
         }
         Format::Fbx => crate::fbx::load_bytes(bytes, name, options)?,

@@ -286,7 +286,11 @@ pub(super) fn of(
             if name != written {
                 renamed.push(format!("{written:?} → {name:?}"));
             }
-            let offset = turn.point(joint.offset.to_array().map(|v| f64::from(v) * scale));
+            // Rounded to 32 bits, as the keys are: read back as a take's OFFSET (32-bit), it
+            // writes the same 64-bit value again.
+            let offset = turn
+                .point(joint.offset.to_array().map(|v| f64::from(v) * scale))
+                .map(|v| f64::from(v as f32));
             let has = |rotation: bool| joint.channels.iter().any(|c| c.is_rotation() == rotation);
             let frames = || (0..motion.frame_count()).map(|f| joint.values(motion.frame(f)));
             let animated = motion.frame_count() > 0;

@@ -595,8 +595,16 @@ fn time_mode(frame_time: f64) -> (i32, f64) {
         .find(|(fps, _)| ((rate - fps) / fps).abs() < 1e-5)
     {
         Some(&(fps, mode)) => (mode, fps),
-        None => (14, rate),
+        None => (14, significant(rate, 12)),
     }
+}
+
+/// `value` rounded to `digits` significant digits: a custom rate written so that the frame
+/// time a reader takes from it (1 / rate) gives the same rate again, however the last bit of
+/// 1 / (1 / rate) falls.
+fn significant(value: f64, digits: i32) -> f64 {
+    let scale = 10f64.powi(digits - 1 - value.abs().log10().floor() as i32);
+    (value * scale).round() / scale
 }
 
 #[cfg(test)]

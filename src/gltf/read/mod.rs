@@ -228,6 +228,7 @@ fn load_file(
         motion,
         warnings,
         take: take_name,
+        stated_units: None,
     };
     Ok((read, mesh))
 }
