@@ -80,7 +80,9 @@ pub(super) fn read(
             .element
             .props
             .find_prop(TRANSLATION)
-            .map_or([0.0; 3], |p| [p.value_vec4.x, p.value_vec4.y, p.value_vec4.z]);
+            .map_or([0.0; 3], |p| {
+                [p.value_vec4.x, p.value_vec4.y, p.value_vec4.z]
+            });
         let offset = glam::DVec3::from_array(t).as_vec3();
         if !offset.is_finite() {
             return None;
@@ -294,7 +296,10 @@ mod tests {
         ] {
             let order = bvh_order(fbx).unwrap();
             let angles = crate::model::euler::axes(order).map(|a| [x, y, z][a]);
-            assert!(compose(angles, order).dot(applied).abs() > 1.0 - 1e-15, "{fbx:?}");
+            assert!(
+                compose(angles, order).dot(applied).abs() > 1.0 - 1e-15,
+                "{fbx:?}"
+            );
         }
         assert_eq!(bvh_order(Fbx::Spheric), None);
     }

@@ -780,11 +780,14 @@ impl Baking<'_> {
                 crate::model::pose::OffsetMode::Replace,
                 &mut world,
             );
-            let agrees = world.iter().zip(&plain.to_node).all(|((rotation, at), &k)| {
-                let want = &truth[k];
-                (*at * metres - want.position).abs().max_element() <= 1e-6 * size
-                    && rotation.dot(want.rotation).abs() >= 1.0 - 1e-9
-            });
+            let agrees = world
+                .iter()
+                .zip(&plain.to_node)
+                .all(|((rotation, at), &k)| {
+                    let want = &truth[k];
+                    (*at * metres - want.position).abs().max_element() <= 1e-6 * size
+                        && rotation.dot(want.rotation).abs() >= 1.0 - 1e-9
+                });
             if !agrees {
                 return Ok(None);
             }

@@ -143,7 +143,6 @@ fn written_twice(path: &Path, motion: Option<&Path>) {
         worst <= 1e-5,
         "{shown}: read exactly and baked, {worst:e} of the height apart"
     );
-
 }
 
 #[test]
@@ -160,6 +159,22 @@ fn every_take_written_read_and_written_again_gives_the_same_bytes() {
     #[cfg(feature = "gltf")]
     for path in files_in(&data("gltf"), "glb") {
         written_twice(&path, None);
+    }
+}
+
+/// Blender's exports (each bone's rest orientation in its `Lcl Rotation`, pre-rotations in some
+/// ufbx files) are not plain: they are baked (in metres, their units guessed from the figure as
+/// before), every joint in ZYX channels.
+#[test]
+fn a_take_that_is_not_plain_is_baked() {
+    for path in [
+        data("fbx/bvh11_131_01.fbx"),
+        data("fbx/ufbx/maya_human_ik_7400_binary.fbx"),
+    ] {
+        let take = Take::open(&path).unwrap();
+        assert_eq!(take.stated_units, None, "{}", path.display());
+        let orders = take.skeleton.joints.iter().filter_map(|j| j.rotation_order);
+        assert!(orders.into_iter().all(|o| o == bvhview::RotationOrder::Zyx));
     }
 }
 
