@@ -12,7 +12,7 @@
 //! and writes again the same bytes.
 //!
 //! The reader takes this way only where it gives what ufbx's evaluation of the whole scene
-//! gives (checked at the first, middle and last frames: the world places, scaled to metres,
+//! gives at the keys' times (checked at the first, middle and last frames: the world places, scaled to metres,
 //! within a millionth of the figure's size, and the world rotations); every other take is
 //! evaluated and baked (see [`super::read`]). `load_bytes_baked` reads any file the baked way,
 //! and a test proves the two equal on every take of the corpus written as FBX.
@@ -91,6 +91,7 @@ pub(super) fn read(
     }
     let mut moves: Vec<Option<[Vec<f32>; 3]>> = vec![None; order.len()];
     let mut turns: Vec<Option<[Vec<f32>; 3]>> = vec![None; order.len()];
+    let mut times: Option<Vec<f64>> = None;
     for prop in layer.anim_props.iter() {
         let element = &prop.element;
         if element.type_ != ufbx::ElementType::Node {
@@ -110,11 +111,12 @@ pub(super) fn read(
         if slot.is_some() {
             return None;
         }
-        *slot = Some(keys(&prop.anim_value, begin, count, fps)?);
+        *slot = Some(keys(&prop.anim_value, begin, count, fps, &mut times)?);
     }
-    Some(Plain::build(
-        nodes, offsets, orders, moves, turns, count, fps,
-    ))
+    let times = times?;
+    let mut plain = Plain::build(nodes, offsets, orders, moves, turns, count, fps);
+    plain.times = times;
+    Some(plain)
 }
 
 /// A take read exactly: its skeleton and motion in the file's units, and where each joint came
@@ -124,6 +126,8 @@ pub(super) struct Plain {
     pub(super) motion: Motion,
     /// Joint `j`'s index in the nodes the take was read from.
     pub(super) to_node: Vec<usize>,
+    /// The time of each frame's keys, in seconds (every curve keys the same times).
+    pub(super) times: Vec<f64>,
 }
 
 impl Plain {
@@ -188,6 +192,7 @@ impl Plain {
             skeleton,
             motion: Motion::new(1.0 / fps, channels, count, data),
             to_node,
+            times: Vec::new(),
         }
     }
 }
@@ -247,8 +252,15 @@ fn bvh_order(order: ufbx::RotationOrder) -> Option<RotationOrder> {
 
 /// The three curves of `value`, one key at each of the `count` frames from `begin` at `fps`
 /// (within a ten-thousandth of a frame), as 32-bit values; `None` when a curve is missing, a
-/// key falls between frames or a value is not finite.
-fn keys(value: &ufbx::AnimValue, begin: f64, count: usize, fps: f64) -> Option<[Vec<f32>; 3]> {
+/// key falls between frames, a value is not finite, or the keys' times are not exactly `times`
+/// (the first curve's, which `times` takes when it is `None`).
+fn keys(
+    value: &ufbx::AnimValue,
+    begin: f64,
+    count: usize,
+    fps: f64,
+    times: &mut Option<Vec<f64>>,
+) -> Option<[Vec<f32>; 3]> {
     let mut out: [Vec<f32>; 3] = Default::default();
     for (axis, curve) in value.curves.iter().enumerate() {
         let curve = curve.as_ref()?;
@@ -256,14 +268,24 @@ fn keys(value: &ufbx::AnimValue, begin: f64, count: usize, fps: f64) -> Option<[
         if keys.len() != count {
             return None;
         }
-        let mut values = Vec::with_capacity(count);
-        for (f, key) in keys.iter().enumerate() {
-            let at = (key.time - begin) * fps;
-            let value = key.value as f32;
-            if !((at - f as f64).abs() <= 1e-4 && value.is_finite()) {
-                return None;
+        let at: Vec<f64> = keys.iter().map(|key| key.time).collect();
+        match times {
+            Some(times) if *times != at => return None,
+            Some(_) => {}
+            None => {
+                let on_frames = at
+                    .iter()
+                    .enumerate()
+                    .all(|(f, time)| ((time - begin) * fps - f as f64).abs() <= 1e-4);
+                if !on_frames {
+                    return None;
+                }
+                *times = Some(at);
             }
-            values.push(value);
+        }
+        let values: Vec<f32> = keys.iter().map(|key| key.value as f32).collect();
+        if !values.iter().all(|v| v.is_finite()) {
+            return None;
         }
         out[axis] = values;
     }

@@ -748,7 +748,7 @@ impl Baking<'_> {
     }
 
     /// The take of anim stack `index` read exactly, in the file's units, where it is plain and
-    /// that reading gives the whole scene's evaluation at the first, middle and last frames:
+    /// that reading gives the whole scene's evaluation at the first, middle and last frames' keys:
     /// world places (in metres) within a millionth of the figure's size, world rotations within
     /// 1e-9 of the same.
     fn exactly(&self, index: usize, begin: f64, count: usize) -> Result<Option<Taken>, Error> {
@@ -769,7 +769,9 @@ impl Baking<'_> {
         };
         let mut world = Vec::new();
         for f in [0, count / 2, count - 1] {
-            let truth = self.evaluate(index, begin, f)?;
+            // At the keys' own time: a key a fraction of a tick off the frame's time is the
+            // key, and the curve between two keys a fraction of a tick away is not compared.
+            let truth = self.evaluate_at(index, plain.times[f])?;
             let size = truth
                 .iter()
                 .map(|p| p.position.abs().max_element())
@@ -829,9 +831,13 @@ impl Baking<'_> {
 
     /// One frame: the whole scene evaluated by ufbx at its time, the joints' world matrices.
     fn evaluate(&self, index: usize, begin: f64, f: usize) -> Result<Vec<Pose>, Error> {
+        self.evaluate_at(index, begin + f as f64 / self.fps)
+    }
+
+    /// The whole scene evaluated by ufbx at `time`, the joints' world matrices.
+    fn evaluate_at(&self, index: usize, time: f64) -> Result<Vec<Pose>, Error> {
         let root = self.scene;
         let stack = &root.anim_stacks[index];
-        let time = begin + f as f64 / self.fps;
         let options = ufbx::EvaluateOpts {
             temp_allocator: allocator(self.bytes_len),
             result_allocator: allocator(self.bytes_len),

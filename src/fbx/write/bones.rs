@@ -198,6 +198,54 @@ fn fbx_order(order: RotationOrder) -> i32 {
     }
 }
 
+/// Each joint's name as the file holds it and a reader takes it back: one FBX can hold
+/// ([`fbx_name`]), trimmed, `node<k>` for an empty one (as bvhview's reader names it,
+/// `model::baked`), an End Site its parent's name so written with `_End` (as `positions` names
+/// it), and a name met again — in the order a reader meets the nodes, by depth, then in file
+/// order — given Blender's suffix `.001`. The names are unique, so a reader keeps them, and a take
+/// read back writes the same names again.
+fn reader_names(skeleton: &Skeleton) -> Result<Vec<String>, Error> {
+    use std::collections::HashSet;
+    let count = skeleton.joints.len();
+    let mut depth = vec![0usize; count];
+    for (i, joint) in skeleton.joints.iter().enumerate() {
+        depth[i] = joint.parent.map_or(0, |p| depth[p] + 1);
+    }
+    let mut met: Vec<usize> = (0..count).collect();
+    met.sort_by_key(|&i| depth[i]);
+    let own = |k: usize, i: usize| {
+        crate::model::baked::joint_name(&fbx_name(&skeleton.joints[i].name), k)
+            .map_err(|why| Error::usage(format!("cannot write FBX: {why}")))
+    };
+    let mut taken: HashSet<String> = HashSet::new();
+    for (k, &i) in met.iter().enumerate() {
+        if !skeleton.joints[i].end_site {
+            taken.insert(own(k, i)?);
+        }
+    }
+    let mut names = vec![String::new(); count];
+    let mut seen: HashSet<String> = HashSet::new();
+    for (k, &i) in met.iter().enumerate() {
+        let joint = &skeleton.joints[i];
+        let name = match (joint.end_site, joint.parent) {
+            (true, Some(parent)) => format!("{}_End", names[parent]),
+            _ => own(k, i)?,
+        };
+        let name = if seen.contains(&name) {
+            (1..)
+                .map(|n| format!("{name}.{n:03}"))
+                .find(|candidate| !taken.contains(candidate) && !seen.contains(candidate))
+                .expect("some suffix is free")
+        } else {
+            name
+        };
+        taken.insert(name.clone());
+        seen.insert(name.clone());
+        names[i] = name;
+    }
+    Ok(names)
+}
+
 /// A name FBX can hold: no control character (FBX separates a name from its class with
 /// `\0\x01`); each one becomes `_`.
 pub(super) fn fbx_name(name: &str) -> String {
@@ -278,11 +326,12 @@ pub(super) fn of(
     let baked = crate::edit::baked_for_bvh(skeleton, motion)?;
     let (skeleton, motion) = baked.as_ref().map_or((skeleton, motion), |(s, m)| (s, m));
     let mut renamed = Vec::new();
+    let names = reader_names(skeleton)?;
     let bones = (0..skeleton.joints.len())
         .map(|i| {
             let joint = &skeleton.joints[i];
             let written = export_name(skeleton, i);
-            let name = fbx_name(&written);
+            let name = names[i].clone();
             if name != written {
                 renamed.push(format!("{written:?} → {name:?}"));
             }
@@ -303,7 +352,13 @@ pub(super) fn of(
                     })
                     .collect()
             });
+            // A leaf joint without channels that is not an End Site keys a rotation of 0: a
+            // leaf never keyed reads back as an End Site.
+            let keyless_leaf = !joint.end_site && joint.children.is_empty() && !has(false);
             let (order, turns) = match (animated && has(true), joint.rotation_order) {
+                (false, _) if animated && keyless_leaf => {
+                    (0, Some(vec![[0.0; 3]; motion.frame_count()]))
+                }
                 (false, _) => (0, None),
                 (true, Some(order)) => (
                     fbx_order(turn.order(order)),
@@ -323,8 +378,9 @@ pub(super) fn of(
                     )),
                 ),
                 // Two rotation channels, or one axis twice: the rotation they make, split
-                // into FBX's default order (XYZ), continuous from frame to frame.
-                (true, None) => (0, Some(split_frames(joint, frames(), turn))),
+                // into FBX's default order (XYZ), continuous from frame to frame (and made so
+                // as the other joints' keys are, which a second write of it does again).
+                (true, None) => (0, Some(continuous(split_frames(joint, frames(), turn)))),
             };
             Bone {
                 name,
@@ -356,13 +412,24 @@ fn continuous(mut turns: Vec<[f32; 3]>) -> Vec<[f32; 3]> {
     for f in 1..turns.len() {
         let before = turns[f - 1];
         for (angle, before) in turns[f].iter_mut().zip(before) {
-            let whole = ((f64::from(before) - f64::from(*angle)) / 360.0).round();
-            if whole != 0.0 {
-                *angle = (f64::from(*angle) + 360.0 * whole) as f32;
-            }
+            *angle = nearest_turn(*angle, before);
         }
     }
     turns
+}
+
+/// `angle` moved by whole turns into (before − 180°, before + 180°]: one value for every angle of
+/// the same remainder (exactly half a turn away is always the one above), so that the values
+/// written, read back and made continuous again are the same.
+fn nearest_turn(angle: f32, before: f32) -> f32 {
+    let (angle, before) = (f64::from(angle), f64::from(before));
+    let mut moved = angle + 360.0 * ((before - angle) / 360.0).round();
+    if moved <= before - 180.0 {
+        moved += 360.0;
+    } else if moved > before + 180.0 {
+        moved -= 360.0;
+    }
+    moved as f32
 }
 
 /// Each frame's rotation of `joint`, turned by `turn`, split into X, Y and Z degrees of FBX's
@@ -452,6 +519,31 @@ mod tests {
                 [170.0 - 360.0, 10.0, -170.0],
             ]
         );
+    }
+
+    /// Half a turn from the frame before is always the value above it, however the angle came:
+    /// made continuous twice, keys are the same.
+    #[test]
+    fn half_a_turn_away_is_always_above_and_twice_continuous_is_once() {
+        assert_eq!(super::nearest_turn(180.0, 0.0), 180.0);
+        assert_eq!(super::nearest_turn(-180.0, 0.0), 180.0);
+        assert_eq!(super::nearest_turn(540.0, 0.0), 180.0);
+        assert_eq!(super::nearest_turn(-190.0, 0.0), 170.0);
+        let turns = vec![
+            [0.0, 10.0, 170.0],
+            [-180.0, 190.0, -10.0],
+            [540.0, -170.0, 350.0],
+        ];
+        let once = continuous(turns);
+        assert_eq!(
+            once,
+            [
+                [0.0, 10.0, 170.0],
+                [180.0, 190.0, 350.0],
+                [180.0, 190.0, 350.0]
+            ]
+        );
+        assert_eq!(continuous(once.clone()), once);
     }
 
     #[test]

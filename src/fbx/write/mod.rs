@@ -156,6 +156,15 @@ fn write(
     mesh: Option<&Mesh>,
     settings: &Settings,
 ) -> Result<Written, Error> {
+    // A take of no frames is written as its rest pose, one frame: what a reader makes of a file
+    // without animation, so that it writes again the same.
+    let rest;
+    let motion = if motion.frame_count() == 0 {
+        rest = rest_frame(skeleton, motion, settings.offset_mode);
+        &rest
+    } else {
+        motion
+    };
     let frames = motion.frame_count();
     if frames > 1 && !(motion.frame_time > 0.0 && motion.frame_time.is_finite()) {
         return Err(Error::usage(
@@ -230,6 +239,21 @@ fn write(
         bytes: scene.write()?,
         renamed,
     })
+}
+
+/// One frame of `skeleton`'s rest pose at `motion`'s rate: every rotation 0, each position
+/// channel where the OFFSET puts the joint (the OFFSET's value replacing it, 0 added to it).
+fn rest_frame(skeleton: &Skeleton, motion: &Motion, mode: OffsetMode) -> Motion {
+    let mut row = Vec::with_capacity(skeleton.channel_count());
+    for joint in &skeleton.joints {
+        for channel in &joint.channels {
+            row.push(match (channel.is_position(), mode) {
+                (true, OffsetMode::Replace) => joint.offset[channel.axis()],
+                _ => 0.0,
+            });
+        }
+    }
+    Motion::new(motion.frame_time, row.len(), 1, row)
 }
 
 /// Refuses, before a byte is written, a take whose `curves` curves of `frames` keys (a 64-bit
