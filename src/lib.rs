@@ -71,6 +71,7 @@ pub mod plumbing;
 pub mod positions;
 pub mod render;
 pub mod retarget;
+pub mod smpl;
 pub mod solve;
 pub mod take;
 

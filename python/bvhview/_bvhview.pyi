@@ -277,7 +277,7 @@ def load(
     units: str | float | None = None,
     up: Literal["y", "z"] | None = None,
 ) -> Motion:
-    """A take: a .bvh, .fbx, .gltf or .glb file, or an .asf skeleton with `motion` its .amc
+    """A take: a .bvh, .fbx, .gltf, .glb or AMASS .npz file, or an .asf skeleton with `motion` its .amc
     take, or a built-in skeleton by name ("smpl22"). `take` picks one take of an FBX or glTF
     file that holds several (its name, or its index as `bvhview info FILE` lists them; default:
     the first). `units` ("mm", "cm", "m", "in", "ft" or metres per unit) and `up` ("y" or "z")

@@ -56,7 +56,7 @@ impl<'py> FromPyObject<'_, 'py> for TakeChoice {
     }
 }
 
-/// Loads a take: a .bvh, .fbx, .gltf or .glb file, or an .asf skeleton with `motion` its .amc
+/// Loads a take: a .bvh, .fbx, .gltf, .glb or AMASS .npz file, or an .asf skeleton with `motion` its .amc
 /// take (an .asf alone gives the rest pose). `offset_mode`: "replace" (default) or "add";
 /// `frame_time` overrides the file's (AMC files have none: 1/120 s is the default); `take`
 /// picks one take of an FBX or glTF file that holds several, by name or index (default: the

@@ -487,7 +487,7 @@ def test_datasets_pickle_as_memory_maps_and_refuse_odd_windows(compiled):
 def test_nothing_to_compile_is_refused_with_every_reason_and_pieces_must_be_whole(tmp_path):
     empty = tmp_path / "empty"
     empty.mkdir()
-    with pytest.raises(ValueError, match=r"no takes \(.bvh, .asf, .amc, .fbx, .gltf or .glb files\)"):
+    with pytest.raises(ValueError, match=r"no takes \(.bvh, .asf, .amc, .fbx, .gltf, .glb or .npz files\)"):
         bvhview.compile_dataset(empty, tmp_path / "a")
     broken = tmp_path / "broken"
     broken.mkdir()

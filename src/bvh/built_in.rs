@@ -5,16 +5,41 @@ use crate::model::motion::Motion;
 use crate::model::skeleton::Skeleton;
 
 /// The built-in target skeletons: `smpl22`, the 22 body joints of SMPL in the layout of
-/// HumanML3D, AMASS and most text-to-motion models, in centimetres, T-pose, Y up, facing +z.
-pub const BUILT_IN: &[(&str, &[u8])] = &[("smpl22", include_bytes!("../../assets/smpl22.bvh"))];
+/// HumanML3D, AMASS and most text-to-motion models, and the whole joint sets of the SMPL family's
+/// three model types (`smpl24`, `smplh52`, `smplx55`, made by `scripts/make_smpl_builtins.py`),
+/// in centimetres, T-pose, Y up, facing +z.
+pub const BUILT_IN: &[(&str, &[u8])] = &[
+    ("smpl22", include_bytes!("../../assets/smpl22.bvh")),
+    ("smpl24", include_bytes!("../../assets/smpl24.bvh")),
+    ("smplh52", include_bytes!("../../assets/smplh52.bvh")),
+    ("smplx55", include_bytes!("../../assets/smplx55.bvh")),
+];
 
 /// What each built-in skeleton is and where it comes from (`bvhview info --list-skeletons`).
-pub const BUILT_IN_ABOUT: &[(&str, &str)] = &[(
-    "smpl22",
-    "the 22 body joints of SMPL (its kinematic tree and joint names) in the layout of \
-     HumanML3D, AMASS and most text-to-motion models, a T-pose facing +z; lengths of bvhview's \
-     own adult figure (no SMPL model file is shipped)",
-)];
+pub const BUILT_IN_ABOUT: &[(&str, &str)] = &[
+    (
+        "smpl22",
+        "the 22 body joints of SMPL (its kinematic tree and joint names) in the layout of \
+         HumanML3D, AMASS and most text-to-motion models, a T-pose facing +z; lengths of \
+         bvhview's own adult figure (no SMPL model file is shipped)",
+    ),
+    (
+        "smpl24",
+        "SMPL's 24 joints (smpl22 and a joint in each hand), as an AMASS SMPL file poses them; \
+         lengths of bvhview's own adult figure",
+    ),
+    (
+        "smplh52",
+        "SMPL-H's 52 joints (smpl22 and fifteen finger joints a hand), as AMASS's SMPL-H files \
+         pose them; lengths of bvhview's own adult figure, hands measured on no model",
+    ),
+    (
+        "smplx55",
+        "SMPL-X's 55 joints (smpl22, jaw, two eyes and fifteen finger joints a hand), as \
+         AMASS's SMPL-X files pose them; lengths of bvhview's own adult figure, hands and face \
+         measured on no model",
+    ),
+];
 
 /// A built-in skeleton by name (see [`BUILT_IN`]), with its one rest frame.
 pub fn built_in(name: &str) -> Option<(Skeleton, Motion)> {

@@ -33,7 +33,7 @@ impl From<FormatArg> for PositionsFormat {
 
 #[derive(Args)]
 pub(crate) struct PositionsArgs {
-    /// A take: .bvh, .fbx, .gltf or .glb, or an .asf skeleton (its motion with --motion).
+    /// A take: .bvh, .fbx, .gltf, .glb or AMASS .npz, or an .asf skeleton (its motion with --motion).
     file: PathBuf,
     #[command(flatten)]
     source: Source,

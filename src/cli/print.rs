@@ -8,7 +8,7 @@ use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct PrintArgs {
-    /// A take: .bvh, .fbx, .gltf or .glb, or an .asf skeleton (its motion with --motion).
+    /// A take: .bvh, .fbx, .gltf, .glb or AMASS .npz, or an .asf skeleton (its motion with --motion).
     file: PathBuf,
     #[command(flatten)]
     source: Source,

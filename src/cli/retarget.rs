@@ -9,7 +9,7 @@ use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct RetargetArgs {
-    /// The take to move: .bvh, .fbx, .gltf or .glb, or an .asf skeleton with its motion in
+    /// The take to move: .bvh, .fbx, .gltf, .glb or AMASS .npz, or an .asf skeleton with its motion in
     /// --motion.
     input: PathBuf,
     #[command(flatten)]

@@ -15,7 +15,7 @@ use std::process::ExitCode;
 
 #[derive(Args)]
 pub(crate) struct SnapshotArgs {
-    /// A take: .bvh, .fbx, .gltf or .glb, or an .asf skeleton (its motion with --motion, or
+    /// A take: .bvh, .fbx, .gltf, .glb or AMASS .npz, or an .asf skeleton (its motion with --motion, or
     /// the .amc right after it); several files stand side by side on one timeline.
     #[arg(required = true, num_args = 1..)]
     files: Vec<PathBuf>,

@@ -516,7 +516,7 @@ pub fn collect_takes(dir: &Path) -> Result<Walk, Error> {
             [first, rest @ ..] => format!(": skipped {first}, and {} more", rest.len()),
         };
         return Err(Error::usage(format!(
-            "{}: no takes (.bvh, .asf, .amc, .fbx, .gltf or .glb files){why}",
+            "{}: no takes (.bvh, .asf, .amc, .fbx, .gltf, .glb or .npz files){why}",
             dir.display()
         )));
     }

@@ -292,8 +292,8 @@ impl Error {
             }
             Error::Limit { message, .. } | Error::Usage(message) => message.spelled(spelling),
             Error::UnknownFormat { input, extension } => format!(
-                "{input}: unknown extension '{extension}': bvhview reads .bvh, .fbx, .gltf and \
-                 .glb files and .asf skeletons (with {})",
+                "{input}: unknown extension '{extension}': bvhview reads .bvh, .fbx, .gltf, \
+                 .glb and AMASS .npz files and .asf skeletons (with {})",
                 spelling.argument(&Argument {
                     name: "motion",
                     value: Some(".amc".into())

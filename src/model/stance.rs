@@ -73,6 +73,8 @@ pub enum UnitsBasis {
     Asf,
     /// The FBX's `UnitScaleFactor`: a plain FBX take is read in its file's own units.
     Fbx,
+    /// AMASS's metres (the SMPL family's models and their `trans` are in metres).
+    Amass,
     /// A skeleton known by its joints' names (CMU's, as cgspeed converted it to BVH).
     CmuSkeleton,
     /// The figure's size, nearest a person's 1.7 m.
@@ -590,6 +592,7 @@ impl Stance {
         let why = match self.units_basis {
             UnitsBasis::Asf => "the ASF's :units".to_string(),
             UnitsBasis::Fbx => "the FBX's UnitScaleFactor".to_string(),
+            UnitsBasis::Amass => "AMASS's metres".to_string(),
             UnitsBasis::CmuSkeleton => "CMU's skeleton (LHipJoint, RHipJoint)".to_string(),
             UnitsBasis::Size => format!("the figure spans {}", short(self.size)),
             UnitsBasis::Given => "given, not guessed".to_string(),

@@ -259,6 +259,177 @@ fn open_npy<'a>(
     shown: &str,
 ) -> Result<(npyz::NpyFile<&'a [u8]>, u64, u64), Error> {
     let refuse = |why: String| Error::decoding(shown, why);
+    let (file, start) = open_npy_any(bytes, shown)?;
+    let width = match file.dtype() {
+        npyz::DType::Plain(kind)
+            if kind.type_char() == npyz::TypeChar::Float && matches!(kind.size_field(), 4 | 8) =>
+        {
+            kind.size_field()
+        }
+        other => {
+            return Err(refuse(format!(
+                "dtype {}: not supported; bvhview reads float32 and float64 (<f4, >f4, <f8, >f8)",
+                quoted(other.descr().trim_matches('\''))
+            )));
+        }
+    };
+    Ok((file, start, width))
+}
+
+/// An array of an `.npy` as bvhview reads any (an `.npz`'s member): its shape and values as
+/// numbers (floats, integers and booleans, in C order), as text (numpy's `U` and `S` strings),
+/// or only its dtype — anything else, an object array above all: a pickle, never loaded.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum NpyArray {
+    Numbers {
+        shape: Vec<usize>,
+        values: Vec<f64>,
+    },
+    Text {
+        shape: Vec<usize>,
+        values: Vec<String>,
+    },
+    Other {
+        dtype: String,
+    },
+}
+
+/// [`NpyArray`] of `bytes`, an `.npy`, its header found sound and its data checked to hold every
+/// value its shape says before one is read.
+pub(crate) fn npy_array(bytes: &[u8], shown: &str) -> Result<NpyArray, Error> {
+    let refuse = |why: String| Error::decoding(shown, why);
+    let (file, start) = open_npy_any(bytes, shown)?;
+    let npyz::DType::Plain(kind) = file.dtype() else {
+        return Ok(NpyArray::Other {
+            dtype: file.dtype().descr(),
+        });
+    };
+    let shape: Vec<u64> = file.shape().to_vec();
+    use npyz::TypeChar as T;
+    // A `U` string's size counts code points, four bytes each.
+    let size = match kind.type_char() {
+        T::UnicodeStr => kind.size_field().saturating_mul(4),
+        _ => kind.size_field(),
+    };
+    let data = &bytes[start as usize..];
+    let count = shape
+        .iter()
+        .try_fold(1u64, |n, &d| n.checked_mul(d))
+        .filter(|&n| n.checked_mul(size).is_some_and(|b| b <= data.len() as u64))
+        .ok_or_else(|| {
+            refuse(format!(
+                "shape {shape:?} of {size}-byte values: more than the file's {} bytes of data \
+                 hold",
+                data.len()
+            ))
+        })? as usize;
+    let fortran = file.order() == npyz::Order::Fortran;
+    let dims: Vec<usize> = shape.iter().map(|&d| d as usize).collect();
+    let big = kind.endianness() == npyz::Endianness::Big;
+    let size = size as usize;
+    let cells = || data[..count * size].chunks_exact(size.max(1));
+    let numbers: Option<Vec<f64>> = match (kind.type_char(), size) {
+        (T::Float, 4) => Some(
+            cells()
+                .map(|c| f64::from(f32::from_bits(word(c, big) as u32)))
+                .collect(),
+        ),
+        (T::Float, 8) => Some(cells().map(|c| f64::from_bits(word(c, big))).collect()),
+        (T::Int, 1 | 2 | 4 | 8) => Some(
+            cells()
+                .map(|c| {
+                    let shift = 64 - 8 * c.len() as u32;
+                    (((word(c, big) << shift) as i64) >> shift) as f64
+                })
+                .collect(),
+        ),
+        (T::Uint | T::Bool, 1 | 2 | 4 | 8) => Some(cells().map(|c| word(c, big) as f64).collect()),
+        _ => None,
+    };
+    if let Some(values) = numbers {
+        return Ok(NpyArray::Numbers {
+            values: in_c_order(values, &dims, fortran),
+            shape: dims,
+        });
+    }
+    let text: Option<Vec<String>> = match kind.type_char() {
+        T::ByteStr => Some(
+            cells()
+                .map(|c| {
+                    let end = c.iter().rposition(|&b| b != 0).map_or(0, |e| e + 1);
+                    String::from_utf8_lossy(&c[..end]).into_owned()
+                })
+                .collect(),
+        ),
+        T::UnicodeStr => Some(
+            cells()
+                .map(|c| {
+                    c.chunks_exact(4)
+                        .map(|unit| word(unit, big) as u32)
+                        .take_while(|&unit| unit != 0)
+                        .map(|unit| char::from_u32(unit).unwrap_or('\u{fffd}'))
+                        .collect()
+                })
+                .collect(),
+        ),
+        _ => None,
+    };
+    Ok(match text {
+        Some(values) => NpyArray::Text {
+            values: in_c_order(values, &dims, fortran),
+            shape: dims,
+        },
+        None => NpyArray::Other {
+            dtype: kind.to_string(),
+        },
+    })
+}
+
+/// The unsigned number of `bytes` (at most 8), little- or big-endian.
+fn word(bytes: &[u8], big: bool) -> u64 {
+    let mut value = 0u64;
+    for k in 0..bytes.len() {
+        let b = if big {
+            bytes[k]
+        } else {
+            bytes[bytes.len() - 1 - k]
+        };
+        value = (value << 8) | u64::from(b);
+    }
+    value
+}
+
+/// `values` of an array of shape `dims` in C order (the last index fastest), from Fortran order
+/// (the first fastest) when `fortran`.
+fn in_c_order<V: Clone>(values: Vec<V>, dims: &[usize], fortran: bool) -> Vec<V> {
+    if !fortran || dims.len() < 2 {
+        return values;
+    }
+    let count = values.len();
+    let mut index = vec![0usize; dims.len()];
+    (0..count)
+        .map(|_| {
+            // The Fortran position of the C-order index, then the next C-order index.
+            let mut at = 0;
+            for d in (0..dims.len()).rev() {
+                at = at * dims[d] + index[d];
+            }
+            for d in (0..dims.len()).rev() {
+                index[d] += 1;
+                if index[d] < dims[d] {
+                    break;
+                }
+                index[d] = 0;
+            }
+            values[at].clone()
+        })
+        .collect()
+}
+
+/// `bytes`, an `.npy` of any dtype, opened by npyz once its header is found sound: the file and
+/// where its data starts.
+fn open_npy_any<'a>(bytes: &'a [u8], shown: &str) -> Result<(npyz::NpyFile<&'a [u8]>, u64), Error> {
+    let refuse = |why: String| Error::decoding(shown, why);
     let start = npy_data_start(bytes, bytes.len() as u64).map_err(refuse)?;
     // The header's text: after the magic, the version and its length (whose bytes may be any).
     let header = bytes
@@ -278,20 +449,7 @@ fn open_npy<'a>(
     }
     let file = npyz::NpyFile::new(bytes)
         .map_err(|e| refuse(format!("not an .npy array: {}", npy_error(&e))))?;
-    let width = match file.dtype() {
-        npyz::DType::Plain(kind)
-            if kind.type_char() == npyz::TypeChar::Float && matches!(kind.size_field(), 4 | 8) =>
-        {
-            kind.size_field()
-        }
-        other => {
-            return Err(refuse(format!(
-                "dtype {}: not supported; bvhview reads float32 and float64 (<f4, >f4, <f8, >f8)",
-                quoted(other.descr().trim_matches('\''))
-            )));
-        }
-    };
-    Ok((file, start, width))
+    Ok((file, start))
 }
 
 /// npyz's error in one line: a header that is not a Python dict is told by its parser in

@@ -32,11 +32,19 @@ pub enum Format {
     Fbx,
     /// glTF 2.0, `.gltf` or `.glb`.
     Gltf,
+    /// AMASS's `.npz`: SMPL, SMPL-H or SMPL-X parameters (see [`crate::smpl`]).
+    Amass,
 }
 
 impl Format {
     /// Every format, in the order messages list them.
-    pub const ALL: [Format; 4] = [Format::Bvh, Format::Fbx, Format::Gltf, Format::AsfAmc];
+    pub const ALL: [Format; 5] = [
+        Format::Bvh,
+        Format::Fbx,
+        Format::Gltf,
+        Format::AsfAmc,
+        Format::Amass,
+    ];
 
     /// The (lower-case) extensions of its files.
     pub fn extensions(self) -> &'static [&'static str] {
@@ -45,6 +53,7 @@ impl Format {
             Format::AsfAmc => &["asf", "amc"],
             Format::Fbx => &["fbx"],
             Format::Gltf => &["gltf", "glb"],
+            Format::Amass => &["npz"],
         }
     }
 
@@ -63,8 +72,8 @@ impl Format {
 
     /// The format of a take's bytes by how they begin, for standard input, which has no
     /// extension: `HIERARCHY` (after a byte-order mark or blanks) is BVH, `glTF` (binary GLB)
-    /// or `{` (its JSON) glTF, FBX's binary magic or an ASCII FBX's `; FBX` comment FBX. An
-    /// ASF is never told so: it needs its AMC beside it.
+    /// or `{` (its JSON) glTF, FBX's binary magic or an ASCII FBX's `; FBX` comment FBX, a zip's
+    /// `PK\x03\x04` an AMASS `.npz`. An ASF is never told so: it needs its AMC beside it.
     pub fn sniff(bytes: &[u8]) -> Option<Format> {
         let text = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
         let start = text
@@ -78,6 +87,8 @@ impl Format {
             Some(Format::Gltf)
         } else if bytes.starts_with(b"Kaydara FBX Binary") || text.starts_with(b"; FBX") {
             Some(Format::Fbx)
+        } else if bytes.starts_with(b"PK\x03\x04") {
+            Some(Format::Amass)
         } else {
             None
         }

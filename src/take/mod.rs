@@ -159,6 +159,8 @@ impl Take {
             UnitsBasis::Given
         } else if self.format == Some(Format::Fbx) {
             UnitsBasis::Fbx
+        } else if self.format == Some(Format::Amass) {
+            UnitsBasis::Amass
         } else {
             UnitsBasis::Asf
         };
@@ -625,6 +627,10 @@ fn load_take_as_written(path: &Path, options: &OpenOptions) -> Result<Take, Erro
         Format::AsfAmc => return load_asf_amc(path, options),
         Format::Fbx => crate::fbx::load(path, options)?,
         Format::Gltf => crate::gltf::load(path, options)?,
+        Format::Amass => {
+            let bytes = crate::io::whole::read_binary_file(path, max_size)?;
+            crate::smpl::load_bytes(&bytes, &name, frame_time)?
+        }
         Format::Bvh => {
             let settings = bvh::loader::Settings {
                 threads: options.threads_or_cores(),
@@ -775,6 +781,7 @@ fn load_bytes(bytes: &[u8], name: &str, options: &OpenOptions) -> Result<Take, E
         }
         Format::Fbx => crate::fbx::load_bytes(bytes, name, options)?,
         Format::Gltf => crate::gltf::load_bytes(bytes, name, options)?,
+        Format::Amass => crate::smpl::load_bytes(bytes, name, frame_time)?,
         Format::AsfAmc => {
             return Err(Error::usage(format!(
                 "{name}: an ASF skeleton is read from a file, beside its AMC motion; bvhview \

@@ -518,7 +518,7 @@ fn a_folder_of_only_skipped_takes_says_why_there_are_none() {
         assert_eq!(
             String::from_utf8_lossy(&out.stderr),
             format!(
-                "bvhview: takes: no takes (.bvh, .asf, .amc, .fbx, .gltf or .glb files): \
+                "bvhview: takes: no takes (.bvh, .asf, .amc, .fbx, .gltf, .glb or .npz files): \
                  {skipped}\n"
             )
         );
@@ -531,7 +531,7 @@ fn a_folder_of_only_skipped_takes_says_why_there_are_none() {
     assert_eq!(
         String::from_utf8_lossy(&out.stderr),
         format!(
-            "bvhview: takes: no takes (.bvh, .asf, .amc, .fbx, .gltf or .glb files): {skipped}, \
+            "bvhview: takes: no takes (.bvh, .asf, .amc, .fbx, .gltf, .glb or .npz files): {skipped}, \
              and 1 more\n"
         )
     );

@@ -5,6 +5,7 @@
 #[path = "../common/mod.rs"]
 mod common;
 
+mod amass;
 mod asf_amc;
 mod bvh_convert_roundtrip;
 mod bvh_errors;

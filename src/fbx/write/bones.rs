@@ -423,13 +423,19 @@ fn continuous(mut turns: Vec<[f32; 3]>) -> Vec<[f32; 3]> {
 /// written, read back and made continuous again are the same.
 fn nearest_turn(angle: f32, before: f32) -> f32 {
     let (angle, before) = (f64::from(angle), f64::from(before));
-    let mut moved = angle + 360.0 * ((before - angle) / 360.0).round();
-    if moved <= before - 180.0 {
-        moved += 360.0;
-    } else if moved > before + 180.0 {
-        moved -= 360.0;
+    let mut moved = (angle + 360.0 * ((before - angle) / 360.0).round()) as f32;
+    // Checked on the 32-bit value written: one rounded past an edge is moved back.
+    for _ in 0..2 {
+        let value = f64::from(moved);
+        if value <= before - 180.0 {
+            moved = (value + 360.0) as f32;
+        } else if value > before + 180.0 {
+            moved = (value - 360.0) as f32;
+        } else {
+            break;
+        }
     }
-    moved as f32
+    moved
 }
 
 /// Each frame's rotation of `joint`, turned by `turn`, split into X, Y and Z degrees of FBX's

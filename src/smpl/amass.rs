@@ -1,0 +1,394 @@
+//! AMASS's motion files as takes: SMPL, SMPL-H and SMPL-X parameters in an `.npz`.
+//!
+//! A file holds, per frame, each joint's rotation as an axis-angle (`poses`, or SMPL-X's split
+//! `root_orient`, `pose_body`, `pose_hand`, `pose_jaw`, `pose_eye`) and the body's translation
+//! (`trans`, metres), with its rate (`mocap_framerate` or `mocap_frame_rate`), shape (`betas`),
+//! `gender` and `surface_model_type`. The take is the model type's own kinematic tree and joint
+//! names; each axis-angle becomes its rotation exactly (in 64-bit floats), split once into the
+//! joint's channels; AMASS's Z up is turned to bvhview's Y up (a quarter turn about X applied to
+//! the root's rotation and place: the figure moves the same), and lengths are metres.
+//!
+//! Joint offsets come from the built-in skeleton of the model type (bvhview's own adult figure:
+//! no model file is shipped, and reading the user's is not done yet), said in one line: the
+//! file's `betas` shape a body this reading does not have. The pelvis rests at the origin, so the
+//! figure stands where `trans` puts the model's origin, not its pelvis.
+
+use super::layout::ModelType;
+use super::npz::Npz;
+use crate::io::error::Error;
+use crate::io::message::Message;
+use crate::model::motion::Motion;
+use crate::model::skeleton::Skeleton;
+use crate::solve::input::NpyArray;
+use glam::DQuat;
+
+/// An AMASS file's parameters, checked.
+#[derive(Clone, Debug)]
+pub struct Amass {
+    /// The body model the poses are for.
+    pub model: ModelType,
+    /// Frames a second.
+    pub fps: f64,
+    /// Per frame, each joint's axis-angle (radians), [`ModelType::pose_width`] values.
+    pub poses: Vec<f64>,
+    /// Per frame, the model's translation (metres, AMASS's Z up).
+    pub trans: Vec<f64>,
+    /// The shape parameters, as the file gives them.
+    pub betas: Vec<f64>,
+    /// `male`, `female` or `neutral`, as the file says.
+    pub gender: Option<String>,
+    /// What was said while reading it.
+    pub warnings: Vec<Message>,
+}
+
+impl Amass {
+    /// Frames in the take.
+    pub fn frame_count(&self) -> usize {
+        self.poses.len() / self.model.pose_width()
+    }
+}
+
+/// An array's shape and its numbers (C order).
+type Numbers<'a> = (&'a [usize], &'a [f64]);
+
+/// The numbers of `key`, with its shape, or why not: missing (`None`), or not numbers.
+fn numbers<'a>(
+    npz: &'a Npz,
+    key: &str,
+    shown: &str,
+) -> Result<Option<Numbers<'a>>, Error> {
+    match npz.get(key) {
+        None => Ok(None),
+        Some(NpyArray::Numbers { shape, values }) => Ok(Some((shape, values))),
+        Some(NpyArray::Text { .. }) => Err(Error::decoding(
+            shown,
+            format!("'{key}' holds text, not numbers"),
+        )),
+        Some(NpyArray::Other { dtype }) => Err(Error::decoding(
+            shown,
+            format!(
+                "'{key}' is an array of dtype {dtype} (an object array is a pickle, which \
+                 bvhview never loads); it must hold numbers"
+            ),
+        )),
+    }
+}
+
+/// The one text of `key` (a 0-d or one-element string array), if it holds one.
+fn text(npz: &Npz, key: &str) -> Option<String> {
+    match npz.get(key)? {
+        NpyArray::Text { values, .. } if values.len() == 1 => Some(values[0].clone()),
+        _ => None,
+    }
+}
+
+/// A frames × `width` array of `key`: its frames.
+fn rows(
+    shape: &[usize],
+    values: &[f64],
+    width: usize,
+    key: &str,
+    shown: &str,
+) -> Result<usize, Error> {
+    match shape {
+        [frames, w] if *w == width && frames * w == values.len() => Ok(*frames),
+        _ => Err(Error::decoding(
+            shown,
+            format!("'{key}' has shape {shape:?}; expected frames × {width}"),
+        )),
+    }
+}
+
+/// The SMPL-X keys that split a pose, and the values each holds a frame.
+const SPLIT: [(&str, usize); 5] = [
+    ("root_orient", 3),
+    ("pose_body", 63),
+    ("pose_hand", 90),
+    ("pose_jaw", 3),
+    ("pose_eye", 6),
+];
+
+/// Reads an AMASS-layout `.npz` from its arrays. `frame_time` (seconds) stands in for a file
+/// that states no rate.
+pub fn read(npz: &Npz, shown: &str, frame_time: Option<f64>) -> Result<Amass, Error> {
+    let bad = |why: String| Error::decoding(shown, why);
+    let mut warnings: Vec<Message> = Vec::new();
+    let stated = match text(npz, "surface_model_type") {
+        Some(name) => Some(ModelType::named(&name).ok_or_else(|| {
+            bad(format!(
+                "surface_model_type '{}': not a model bvhview reads (smpl, smplh, smplx)",
+                crate::limits::quoted(&name)
+            ))
+        })?),
+        None => None,
+    };
+    let (model, poses) = if let Some((shape, values)) = numbers(npz, "poses", shown)? {
+        let width = shape.get(1).copied().unwrap_or(0);
+        let model = match (ModelType::of_pose_width(width), stated) {
+            (Some(model), Some(said)) if model != said => {
+                return Err(bad(format!(
+                    "'poses' has {width} values a frame, {}'s, and surface_model_type says {}",
+                    model.label(),
+                    said.label()
+                )));
+            }
+            (Some(model), _) => model,
+            (None, _) => {
+                return Err(bad(format!(
+                    "'poses' has shape {shape:?}; expected frames × 72 (SMPL), 156 (SMPL-H) or \
+                     165 (SMPL-X)"
+                )));
+            }
+        };
+        rows(shape, values, width, "poses", shown)?;
+        (model, values.to_vec())
+    } else if npz.get("root_orient").is_some() || npz.get("pose_body").is_some() {
+        split_poses(npz, shown, stated, &mut warnings)?
+    } else {
+        let keys: Vec<&str> = npz.names().collect();
+        return Err(bad(format!(
+            "no poses: an AMASS file holds 'poses' (or SMPL-X's 'root_orient' and \
+             'pose_body'); this one holds {}",
+            if keys.is_empty() {
+                "nothing".to_string()
+            } else {
+                keys.iter()
+                    .map(|k| format!("'{}'", crate::limits::quoted(k)))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            }
+        )));
+    };
+    let frames = poses.len() / model.pose_width();
+    if frames == 0 {
+        return Err(bad("no frames: 'poses' has none".into()));
+    }
+    if let Some(bad_value) = poses.iter().position(|v| !v.is_finite()) {
+        return Err(bad(format!(
+            "'poses', frame {}: a value that is not finite",
+            bad_value / model.pose_width()
+        )));
+    }
+    let trans = match numbers(npz, "trans", shown)? {
+        Some((shape, values)) => {
+            let rows = rows(shape, values, 3, "trans", shown)?;
+            if rows != frames {
+                return Err(bad(format!(
+                    "'trans' has {rows} frames and the poses {frames}"
+                )));
+            }
+            if let Some(at) = values.iter().position(|v| !v.is_finite()) {
+                return Err(bad(format!(
+                    "'trans', frame {}: a value that is not finite",
+                    at / 3
+                )));
+            }
+            values.to_vec()
+        }
+        None => {
+            warnings.push("no 'trans': the body stays at the origin".into());
+            vec![0.0; 3 * frames]
+        }
+    };
+    let fps = rate(npz, shown, frame_time)?;
+    let betas = match numbers(npz, "betas", shown)? {
+        Some((_, values)) => values.to_vec(),
+        None => Vec::new(),
+    };
+    Ok(Amass {
+        model,
+        fps,
+        poses,
+        trans,
+        betas,
+        gender: text(npz, "gender"),
+        warnings,
+    })
+}
+
+/// The frames a second a file states (`mocap_framerate`, or `mocap_frame_rate` as AMASS's
+/// SMPL-X files spell it), else 1 / `frame_time`; refused when neither says.
+fn rate(npz: &Npz, shown: &str, frame_time: Option<f64>) -> Result<f64, Error> {
+    for key in ["mocap_framerate", "mocap_frame_rate"] {
+        if let Some((_, values)) = numbers(npz, key, shown)? {
+            let [fps] = values[..] else {
+                return Err(Error::decoding(
+                    shown,
+                    format!("'{key}' holds {} values; expected one", values.len()),
+                ));
+            };
+            if !(crate::limits::MIN_FPS..=crate::limits::MAX_FPS).contains(&fps) {
+                return Err(Error::decoding(
+                    shown,
+                    format!(
+                        "'{key}' is {}; a rate is {} to {} frames a second",
+                        crate::limits::brief(fps),
+                        crate::limits::MIN_FPS,
+                        crate::limits::MAX_FPS
+                    ),
+                ));
+            }
+            return Ok(fps);
+        }
+    }
+    match frame_time {
+        Some(time) => Ok(1.0 / time),
+        None => Err(Error::usage(
+            Message::from(format!(
+                "{shown}: no rate ('mocap_framerate' or 'mocap_frame_rate'); give it with "
+            ))
+            .argument("frame_time", Some("SECONDS")),
+        )),
+    }
+}
+
+/// SMPL-X's split keys (or SMPL-H's `root_orient`, `pose_body` and `pose_hand`) as one pose a
+/// frame, the model type from the keys present (or `stated`); a part the file lacks is zero, said.
+fn split_poses(
+    npz: &Npz,
+    shown: &str,
+    stated: Option<ModelType>,
+    warnings: &mut Vec<Message>,
+) -> Result<(ModelType, Vec<f64>), Error> {
+    let has = |key: &str| npz.get(key).is_some();
+    let model = stated.unwrap_or(if has("pose_jaw") || has("pose_eye") {
+        ModelType::Smplx
+    } else {
+        ModelType::Smplh
+    });
+    let mut frames: Option<usize> = None;
+    let mut parts: Vec<(&str, usize, Option<&[f64]>)> = Vec::new();
+    for (key, width) in SPLIT {
+        let wanted = match model {
+            ModelType::Smplx => true,
+            ModelType::Smplh => matches!(key, "root_orient" | "pose_body" | "pose_hand"),
+            ModelType::Smpl => matches!(key, "root_orient" | "pose_body"),
+        };
+        if !wanted {
+            continue;
+        }
+        let values = match numbers(npz, key, shown)? {
+            Some((shape, values)) => {
+                let rows = rows(shape, values, width, key, shown)?;
+                if frames.is_some_and(|f| f != rows) {
+                    return Err(Error::decoding(
+                        shown,
+                        format!(
+                            "'{key}' has {rows} frames, the keys before it {}",
+                            frames.unwrap_or(0)
+                        ),
+                    ));
+                }
+                frames = Some(rows);
+                Some(values)
+            }
+            None if matches!(key, "root_orient" | "pose_body") => {
+                return Err(Error::decoding(
+                    shown,
+                    format!("no '{key}': a split pose needs 'root_orient' and 'pose_body'"),
+                ));
+            }
+            None => {
+                warnings.push(format!("no '{key}': zero in every frame").into());
+                None
+            }
+        };
+        parts.push((key, width, values));
+    }
+    let frames = frames.unwrap_or(0);
+    let mut poses = Vec::with_capacity(frames * model.pose_width());
+    for f in 0..frames {
+        for &(_, width, values) in &parts {
+            match values {
+                Some(values) => poses.extend_from_slice(&values[f * width..(f + 1) * width]),
+                None => poses.extend(std::iter::repeat_n(0.0, width)),
+            }
+        }
+        // SMPL's two hand joints have no key of their own in a split file.
+        if model == ModelType::Smpl {
+            poses.extend([0.0; 6]);
+        }
+    }
+    Ok((model, poses))
+}
+
+/// The quarter turn about X that stands AMASS's Z up in bvhview's Y up: (x, y, z) → (x, z, −y).
+fn z_up_to_y_up() -> DQuat {
+    DQuat::from_rotation_x(-std::f64::consts::FRAC_PI_2)
+}
+
+/// `amass` as a skeleton and motion in metres, Y up: the built-in skeleton of its model type,
+/// each joint's axis-angle split into its channels, the root placed by `trans`; and what is said.
+pub fn to_take(amass: &Amass) -> Result<(Skeleton, Motion, Vec<Message>), Error> {
+    let model = amass.model;
+    let (skeleton, _) = crate::bvh::built_in::built_in(model.built_in()).ok_or_else(|| {
+        Error::usage(format!(
+            "the built-in skeleton {} does not load",
+            model.built_in()
+        ))
+    })?;
+    let (skeleton, rest) = crate::edit::scale(
+        &skeleton,
+        &Motion::new(
+            amass_frame_time(amass),
+            skeleton.channel_count(),
+            0,
+            Vec::new(),
+        ),
+        0.01,
+    )?;
+    drop(rest);
+    let mut skeleton = skeleton;
+    // AMASS states Z up; the take is turned to Y up, which it states.
+    skeleton.y_up_stated = true;
+    let names = model.joint_names();
+    let index_of: Vec<Option<usize>> = skeleton
+        .joints
+        .iter()
+        .map(|joint| {
+            (!joint.end_site)
+                .then(|| names.iter().position(|n| *n == joint.name))
+                .flatten()
+        })
+        .collect();
+    let frames = amass.frame_count();
+    let width = model.pose_width();
+    let turn = z_up_to_y_up();
+    let channels = skeleton.channel_count();
+    let mut data = Vec::with_capacity(frames * channels);
+    let mut previous: Vec<Option<[f64; 3]>> = vec![None; skeleton.joints.len()];
+    for f in 0..frames {
+        let pose = &amass.poses[f * width..(f + 1) * width];
+        for (j, joint) in skeleton.joints.iter().enumerate() {
+            let Some(k) = index_of[j] else { continue };
+            let axis_angle = glam::DVec3::from_slice(&pose[3 * k..3 * k + 3]);
+            let mut rotation = DQuat::from_scaled_axis(axis_angle);
+            if joint.parent.is_none() {
+                rotation = turn * rotation;
+                let place = turn * glam::DVec3::from_slice(&amass.trans[3 * f..3 * f + 3]);
+                data.extend(place.to_array().map(|v| v as f32));
+            }
+            let order = joint.rotation_order.unwrap_or(crate::RotationOrder::Zyx);
+            let angles = crate::model::euler::split(rotation, order, previous[j]);
+            previous[j] = Some(angles);
+            data.extend(angles.map(|a| a.to_degrees() as f32));
+        }
+    }
+    let motion = Motion::new(amass_frame_time(amass), channels, frames, data);
+    let mut said = amass.warnings.clone();
+    said.push(
+        format!(
+            "{} parameters read on bvhview's built-in {} figure (its lengths, not this body's \
+             shape: the file's betas need the model file, which bvhview does not read yet); \
+             AMASS's Z up turned to Y up",
+            model.label(),
+            model.built_in()
+        )
+        .into(),
+    );
+    Ok((skeleton, motion, said))
+}
+
+fn amass_frame_time(amass: &Amass) -> f64 {
+    1.0 / amass.fps
+}
