@@ -250,11 +250,11 @@ fn info_on_the_repository_folder_lists_every_file_and_sums_up() {
     );
     let text = String::from_utf8(out.stdout).unwrap();
     let lines: Vec<&str> = text.lines().collect();
-    // The BVH and ASF/AMC takes, and the FBX and glTF ones, the characters among
-    // them.
-    assert_eq!(lines.len(), 68, "{text}");
-    // Two FBX files of cameras only have no skeleton: 56 of 67 load.
-    assert_eq!(lines.iter().filter(|l| l.starts_with("ok ")).count(), 56);
+    // The BVH and ASF/AMC takes, the FBX and glTF ones (the characters among them) and the
+    // three AMASS files.
+    assert_eq!(lines.len(), 71, "{text}");
+    // Two FBX files of cameras only have no skeleton: 59 of 70 load.
+    assert_eq!(lines.iter().filter(|l| l.starts_with("ok ")).count(), 59);
     assert!(
         lines[0].starts_with("ok     ")
             && lines[0].contains("heiden_12.asf + ")
@@ -269,9 +269,13 @@ fn info_on_the_repository_folder_lists_every_file_and_sums_up() {
             )
     );
     assert!(
-        lines[67].starts_with("67 files: 56 ok, 11 failed; 10.6 MB in "),
+        text.contains("smpl/amass_smplx_walk.npz: 55 joints, 60 frames, 2.0 s (1 warning)\n"),
+        "{text}"
+    );
+    assert!(
+        lines[70].starts_with("70 files: 59 ok, 11 failed; 10.9 MB in "),
         "{}",
-        lines[67]
+        lines[70]
     );
 }
 
