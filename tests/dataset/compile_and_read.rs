@@ -626,9 +626,10 @@ fn the_command_lists_what_it_skipped_and_refuses_what_it_cannot_make() {
     );
     // 35 groups: Maya's HumanIK save of its character has the plain save's 49 bones;
     // feet read from the legs give one skeleton's takes the same feet whatever their rest pose;
-    // the three characters of tests/data/characters are takes too.
+    // the three characters of tests/data/characters are takes too, and the three AMASS files
+    // (SMPL, SMPL-H, SMPL-X: three skeletons).
     assert!(
-        stderr.contains("56 clips, 5629 frames at 30 fps in 35 topology groups; 11 skipped"),
+        stderr.contains("59 clips, 5734 frames at 30 fps in 38 topology groups; 11 skipped"),
         "{stderr}"
     );
     assert_eq!(read::read_manifest(&out).unwrap().options.rotations, "quat");
