@@ -230,8 +230,9 @@ class Motion:
         """A take from HumanML3D's 263-value vectors (frames x 263): `bvhview solve --from
         humanml3d`. skeleton: default "smpl22"."""
     def save(self, path: _PathLike, *, units: str | float | None = None) -> None:
-        """Writes BVH (.bvh), glTF (.glb binary, .gltf text) or FBX (.fbx, 7.4 binary in
-        centimetres), as `bvhview convert` does; `units` writes in those units instead."""
+        """Writes BVH (.bvh), glTF (.glb binary, .gltf text), FBX (.fbx, 7.4 binary in
+        centimetres) or AMASS's .npz (a take on a SMPL-family skeleton), as `bvhview convert`
+        does; `units` writes in those units instead."""
     def __len__(self) -> int: ...
 
 __version__: str

@@ -46,8 +46,9 @@ fn the_one(name: &str, value: Option<&str>, only: &str) -> PyResult<bool> {
 
 #[pymethods]
 impl Motion {
-    /// Writes the take as BVH (.bvh), glTF (.glb binary, .gltf text) or FBX (.fbx), as
-    /// `bvhview convert` does: for BVH, ASF bone axes are baked into ZYX rotation channels and
+    /// Writes the take as BVH (.bvh), glTF (.glb binary, .gltf text), FBX (.fbx) or AMASS's
+    /// .npz (a take on a SMPL-family skeleton: SMPL, SMPL-H or SMPL-X parameters, in metres,
+    /// Z up), as `bvhview convert` does: for BVH, ASF bone axes are baked into ZYX rotation channels and
     /// names with whitespace or braces are written with `_`; glTF and FBX get one node per
     /// joint and End Site and the take's offset mode. `units` ("mm", "cm", "m", "in", "ft" or
     /// metres per unit) writes the take in those units, scaled from its own (`units`); an FBX
@@ -61,12 +62,12 @@ impl Motion {
                 .map(|e| e.to_string_lossy().to_ascii_lowercase())
                 .unwrap_or_default();
             let container = match extension.as_str() {
-                "bvh" | "fbx" => None,
+                "bvh" | "fbx" | "npz" => None,
                 "glb" => Some(bvhview::gltf::Container::Glb),
                 "gltf" => Some(bvhview::gltf::Container::Gltf),
                 _ => {
                     return Err(PyValueError::new_err(format!(
-                        "{}: save writes .bvh, .glb, .gltf or .fbx files, not '{extension}'",
+                        "{}: save writes .bvh, .glb, .gltf, .fbx or .npz files, not '{extension}'",
                         path.display()
                     )));
                 }
@@ -82,6 +83,7 @@ impl Motion {
                 };
                 match container {
                     None if extension == "fbx" => take.write_fbx(&path, units),
+                    None if extension == "npz" => take.write_amass(&path),
                     None => take.write_bvh(&path),
                     Some(container) => take.write_gltf(&path, container),
                 }

@@ -570,6 +570,13 @@ impl Motion {
         }
     }
 
+    /// The take as AMASS's `.npz` at `path` ([`bvhview::Take::amass`]).
+    pub(crate) fn write_amass(&self, path: &Path) -> Result<(), Error> {
+        let mut take = self.loaded.clone();
+        take.offset_mode = self.offset_mode;
+        take.save(path)
+    }
+
     /// The take scaled from its own units (as its stance reads them) into `units`, which it
     /// then states.
     pub(crate) fn in_units(&self, units: bvhview::model::stance::Units) -> Result<Motion, Error> {

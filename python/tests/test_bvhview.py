@@ -582,7 +582,7 @@ def test_save_writes_the_same_gltf_and_fbx_as_the_cli(cli, tmp_path, extension):
 
 def test_save_refuses_an_unknown_extension(tmp_path):
     take = bvhview.load(DATA / "bvh" / "opencollar_run.bvh")
-    with pytest.raises(ValueError, match=r"save writes \.bvh, \.glb, \.gltf or \.fbx files, not 'obj'"):
+    with pytest.raises(ValueError, match=r"save writes \.bvh, \.glb, \.gltf, \.fbx or \.npz files, not 'obj'"):
         take.save(tmp_path / "x.obj")
     assert list(tmp_path.iterdir()) == []
 

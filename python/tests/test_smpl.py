@@ -37,3 +37,16 @@ def test_the_knee_turns_as_the_file_says():
     for f in (0, 17, 59):
         want = rotation(arrays["poses"][f, 3 * 4 : 3 * 4 + 3])
         np.testing.assert_allclose(rotations[f, knee], want, atol=1e-6)
+
+
+def test_save_writes_amass_as_the_cli_does(cli, tmp_path):
+    import subprocess
+
+    path = DATA / "smpl" / "amass_smplx_walk.npz"
+    bvhview.load(path).save(tmp_path / "mine.npz")
+    subprocess.run([str(cli), "convert", "-q", str(path), "-o", str(tmp_path / "cli.npz")], check=True)
+    assert (tmp_path / "mine.npz").read_bytes() == (tmp_path / "cli.npz").read_bytes()
+    before, after = np.load(path), np.load(tmp_path / "mine.npz")
+    np.testing.assert_allclose(after["poses"], before["poses"], atol=1e-6)
+    np.testing.assert_allclose(after["trans"], before["trans"], atol=1e-6)
+    assert str(after["surface_model_type"]) == "smplx"

@@ -135,7 +135,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
         ));
     }
     if !is_stdio(&args.output) {
-        check_output(&args.output, &["bvh", "glb", "gltf", "fbx"])?;
+        check_output(&args.output, &["bvh", "glb", "gltf", "fbx", "npz"])?;
     }
     let format = TakeFormat::of(&args.output);
     if let Some(to) = args.to

@@ -574,6 +574,9 @@ pub(crate) enum TakeFormat {
     Gltf,
     /// FBX 7.4, binary.
     Fbx,
+    /// AMASS's `.npz`: SMPL-family parameters of a take on a SMPL-family skeleton.
+    #[value(name = "npz")]
+    Amass,
 }
 
 impl TakeFormat {
@@ -583,6 +586,7 @@ impl TakeFormat {
             "glb" => TakeFormat::Glb,
             "gltf" => TakeFormat::Gltf,
             "fbx" => TakeFormat::Fbx,
+            "npz" => TakeFormat::Amass,
             _ => TakeFormat::Bvh,
         }
     }
@@ -594,6 +598,7 @@ impl TakeFormat {
             TakeFormat::Glb => "glb",
             TakeFormat::Gltf => "gltf",
             TakeFormat::Fbx => "fbx",
+            TakeFormat::Amass => "npz",
         }
     }
 }
@@ -718,6 +723,7 @@ impl Prepared {
             TakeFormat::Glb => crate::gltf::Container::Glb,
             TakeFormat::Gltf => crate::gltf::Container::Gltf,
             TakeFormat::Fbx => return Prepared::fbx(skeleton, motion, mode, label),
+            TakeFormat::Amass => return Prepared::amass(skeleton, motion, mode, label),
             TakeFormat::Bvh => {
                 // BVH has no fixed bone axis: bake ASF axes into the rotation channels.
                 let (skeleton, motion) =
@@ -764,6 +770,29 @@ impl Prepared {
             format: TakeFormat::Fbx,
             encoded: Some(written.bytes),
             fbx_renamed: written.renamed,
+        })
+    }
+
+    /// AMASS's `.npz`: the take's units and up axis as its stance reads them.
+    fn amass(
+        skeleton: crate::Skeleton,
+        motion: crate::Motion,
+        mode: OffsetMode,
+        label: &TakeLabel,
+    ) -> Result<Prepared, Error> {
+        let mut take = Take::new(skeleton, motion, label.name.clone());
+        take.offset_mode = mode;
+        take.stated_units = label.stated_units;
+        let (bytes, said) = take.amass()?;
+        for line in said {
+            note(format_args!("bvhview: {}: {line}", label.name));
+        }
+        Ok(Prepared {
+            skeleton: take.skeleton,
+            motion: take.motion,
+            format: TakeFormat::Amass,
+            encoded: Some(bytes),
+            fbx_renamed: Vec::new(),
         })
     }
 

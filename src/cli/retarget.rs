@@ -84,7 +84,7 @@ pub(crate) fn map_pairs(values: &[String]) -> Result<retarget::MapPairs, Error> 
 pub(crate) fn run(mut args: RetargetArgs) -> Result<ExitCode, Error> {
     args.source.up = args.up.map(Into::into);
     if let Some(output) = &args.output {
-        check_output(output, &["bvh", "glb", "gltf", "fbx"])?;
+        check_output(output, &["bvh", "glb", "gltf", "fbx", "npz"])?;
     } else if !args.show_map {
         return Err(Error::usage(
             "retarget: give -o OUT.bvh|.glb|.gltf|.fbx, or --show-map to see the map only",

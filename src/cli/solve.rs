@@ -61,7 +61,7 @@ pub(crate) enum SolveFrom {
 }
 
 pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
-    check_output(&args.output, &["bvh", "glb", "gltf", "fbx"])?;
+    check_output(&args.output, &["bvh", "glb", "gltf", "fbx", "npz"])?;
     if !(args.fps > 0.0 && args.fps.is_finite() && args.fps <= 1000.0) {
         return Err(Error::usage(format!(
             "--fps {}: frames per second from above 0 to 1000",

@@ -52,11 +52,7 @@ impl Amass {
 type Numbers<'a> = (&'a [usize], &'a [f64]);
 
 /// The numbers of `key`, with its shape, or why not: missing (`None`), or not numbers.
-fn numbers<'a>(
-    npz: &'a Npz,
-    key: &str,
-    shown: &str,
-) -> Result<Option<Numbers<'a>>, Error> {
+fn numbers<'a>(npz: &'a Npz, key: &str, shown: &str) -> Result<Option<Numbers<'a>>, Error> {
     match npz.get(key) {
         None => Ok(None),
         Some(NpyArray::Numbers { shape, values }) => Ok(Some((shape, values))),
@@ -391,4 +387,175 @@ pub fn to_take(amass: &Amass) -> Result<(Skeleton, Motion, Vec<Message>), Error>
 
 fn amass_frame_time(amass: &Amass) -> f64 {
     1.0 / amass.fps
+}
+
+/// The model type whose joints a skeleton has, by name: the largest whose 22 body joints and
+/// some of whose own joints (hands, jaw, eyes) it has; a skeleton of the body's 22 alone is
+/// written as SMPL-H, hands zero, as AMASS and HumanML3D keep them.
+fn model_of(skeleton: &Skeleton) -> Option<ModelType> {
+    let has = |name: &str| {
+        skeleton
+            .joints
+            .iter()
+            .any(|j| !j.end_site && j.name == name)
+    };
+    let body = ModelType::Smpl.joint_names();
+    if !body[..22].iter().all(|n| has(n)) {
+        return None;
+    }
+    Some(
+        if has("jaw") || has("left_eye_smplhf") || has("right_eye_smplhf") {
+            ModelType::Smplx
+        } else if has("left_hand") || has("right_hand") {
+            ModelType::Smpl
+        } else {
+            ModelType::Smplh
+        },
+    )
+}
+
+/// A take on a SMPL-family skeleton (its joints named as the model's: the built-in `smpl22`,
+/// `smpl24`, `smplh52`, `smplx55`, an AMASS file read, a take retargeted onto one) as AMASS's
+/// parameters: each joint's rotation as an axis-angle, the root's turned from the take's up axis
+/// to AMASS's Z up, `trans` the pelvis's place in metres (`metres` per unit of the take, position
+/// channels meeting the OFFSET by `mode`); a
+/// model joint the skeleton lacks (hands, jaw, eyes) is zero in every frame, said. `betas` zero
+/// (a neutral shape), the gender neutral.
+pub fn of_take(
+    skeleton: &Skeleton,
+    motion: &Motion,
+    mode: crate::model::pose::OffsetMode,
+    metres: f64,
+    up: crate::model::pose::Up,
+    shown: &str,
+) -> Result<Amass, Error> {
+    let model = model_of(skeleton).ok_or_else(|| {
+        Error::usage(format!(
+            "{shown}: an AMASS file is written from a take on a SMPL-family skeleton (joints \
+             named pelvis, left_hip, … as smpl22, smpl24, smplh52 and smplx55 name them); \
+             retarget the take onto one first (bvhview retarget TAKE --onto smplh52)"
+        ))
+    })?;
+    let names = model.joint_names();
+    let joint_of: Vec<Option<usize>> = names
+        .iter()
+        .map(|n| {
+            skeleton
+                .joints
+                .iter()
+                .position(|j| !j.end_site && &j.name == n)
+        })
+        .collect();
+    let mut warnings: Vec<Message> = Vec::new();
+    let missing: Vec<&str> = names
+        .iter()
+        .zip(&joint_of)
+        .filter(|(_, j)| j.is_none())
+        .map(|(n, _)| n.as_str())
+        .collect();
+    if !missing.is_empty() {
+        warnings.push(
+            format!(
+                "{} of {}'s joints are not in the take ({} …): zero in every frame",
+                missing.len(),
+                model.label(),
+                missing[0]
+            )
+            .into(),
+        );
+    }
+    let root = joint_of[0].filter(|&j| skeleton.joints[j].parent.is_none());
+    let Some(root) = root else {
+        return Err(Error::usage(format!(
+            "{shown}: the take's pelvis is not its root; an AMASS file poses the pelvis as the \
+             root"
+        )));
+    };
+    // The take's world to AMASS's: Y up turned to Z up (the inverse of the reader's turn).
+    let back = match up {
+        crate::model::pose::Up::Z => DQuat::IDENTITY,
+        _ => z_up_to_y_up().inverse(),
+    };
+    let frames = motion.frame_count();
+    let width = model.pose_width();
+    let mut poses = Vec::with_capacity(frames * width);
+    let mut trans = Vec::with_capacity(frames * 3);
+    let mut world = Vec::new();
+    for f in 0..frames {
+        let row = motion.frame(f);
+        crate::model::pose::world_transforms_f64(skeleton, row, mode, &mut world);
+        for (k, joint) in joint_of.iter().enumerate() {
+            let rotation = match joint {
+                Some(j) => {
+                    let local = crate::model::pose::local_rotation_f64(
+                        &skeleton.joints[*j],
+                        skeleton.joints[*j].values(row),
+                    );
+                    if k == 0 { back * local } else { local }
+                }
+                None => DQuat::IDENTITY,
+            };
+            poses.extend(rotation.normalize().to_scaled_axis().to_array());
+        }
+        let place = back * (world[root].1 * metres);
+        trans.extend(place.to_array());
+    }
+    if !(motion.frame_time > 0.0 && motion.frame_time.is_finite()) {
+        return Err(Error::usage(format!(
+            "{shown}: a frame time of {} s; an AMASS file states its rate",
+            motion.frame_time
+        )));
+    }
+    Ok(Amass {
+        model,
+        fps: 1.0 / motion.frame_time,
+        poses,
+        trans,
+        betas: vec![0.0; 16],
+        gender: Some("neutral".into()),
+        warnings,
+    })
+}
+
+/// `amass` as an `.npz` in AMASS's layout (stored members, as numpy's `savez` writes them):
+/// `poses`, `trans`, `betas`, `gender`, and the rate as AMASS's SMPL+H files name it
+/// (`mocap_framerate`); a SMPL-X file also `surface_model_type`, `mocap_frame_rate` and the
+/// split keys (`root_orient`, `pose_body`, `pose_hand`, `pose_jaw`, `pose_eye`).
+pub fn to_npz(amass: &Amass) -> Result<Vec<u8>, Error> {
+    let frames = amass.frame_count();
+    let width = amass.model.pose_width();
+    let mut members: Vec<(String, Vec<u8>)> = vec![
+        (
+            "poses".into(),
+            super::npz::npy_f64(&[frames, width], &amass.poses),
+        ),
+        (
+            "trans".into(),
+            super::npz::npy_f64(&[frames, 3], &amass.trans),
+        ),
+        (
+            "betas".into(),
+            super::npz::npy_f64(&[amass.betas.len()], &amass.betas),
+        ),
+        (
+            "gender".into(),
+            super::npz::npy_text(amass.gender.as_deref().unwrap_or("neutral")),
+        ),
+    ];
+    let rate = super::npz::npy_f64(&[], &[amass.fps]);
+    if amass.model == ModelType::Smplx {
+        members.push(("surface_model_type".into(), super::npz::npy_text("smplx")));
+        members.push(("mocap_frame_rate".into(), rate));
+        let mut start = 0;
+        for (key, part) in SPLIT {
+            let values: Vec<f64> = (0..frames)
+                .flat_map(|f| amass.poses[f * width + start..f * width + start + part].to_vec())
+                .collect();
+            members.push((key.into(), super::npz::npy_f64(&[frames, part], &values)));
+            start += part;
+        }
+    } else {
+        members.push(("mocap_framerate".into(), rate));
+    }
+    super::npz::write(&members)
 }

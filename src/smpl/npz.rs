@@ -134,3 +134,69 @@ pub fn read(bytes: &[u8], shown: &str) -> Result<Npz, Error> {
     }
     Ok(Npz { arrays })
 }
+
+/// An `.npy` (version 1) of float64 values of `shape` (`[]`: one value, 0-d), C order.
+pub(crate) fn npy_f64(shape: &[usize], values: &[f64]) -> Vec<u8> {
+    let mut out = npy_header("<f8", shape);
+    for v in values {
+        out.extend(v.to_le_bytes());
+    }
+    out
+}
+
+/// A 0-d `.npy` of one unicode string, as numpy saves `np.array("male")` (`<U4`).
+pub(crate) fn npy_text(text: &str) -> Vec<u8> {
+    let count = text.chars().count().max(1);
+    let mut out = npy_header(&format!("<U{count}"), &[]);
+    for c in text.chars() {
+        out.extend((c as u32).to_le_bytes());
+    }
+    if text.is_empty() {
+        out.extend([0u8; 4]);
+    }
+    out
+}
+
+/// The magic, version 1 and a header of `descr` and `shape`, padded as numpy pads it (the data
+/// starts at a multiple of 64 bytes).
+fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
+    let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
+    let shape = match dims.len() {
+        1 => format!("({},)", dims[0]),
+        _ => format!("({})", dims.join(", ")),
+    };
+    let mut header = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
+    while (10 + header.len() + 1) % 64 != 0 {
+        header.push(' ');
+    }
+    header.push('\n');
+    let mut out = b"\x93NUMPY\x01\x00".to_vec();
+    out.extend((header.len() as u16).to_le_bytes());
+    out.extend(header.as_bytes());
+    out
+}
+
+/// An `.npz` of `members` (each an array's name, without `.npy`, and its bytes), stored as
+/// numpy's `savez` stores them.
+pub(crate) fn write(members: &[(String, Vec<u8>)]) -> Result<Vec<u8>, Error> {
+    use std::io::Write;
+    let failed = |e: &dyn std::fmt::Display| Error::usage(format!("cannot write the .npz: {e}"));
+    let mut out = std::io::Cursor::new(Vec::new());
+    let mut zip = zip::ZipWriter::new(&mut out);
+    // A fixed time: the same take makes the same bytes.
+    let options = zip::write::SimpleFileOptions::default()
+        .compression_method(zip::CompressionMethod::Stored)
+        .last_modified_time(zip::DateTime::default())
+        .large_file(
+            members
+                .iter()
+                .any(|(_, b)| b.len() as u64 >= u32::MAX as u64),
+        );
+    for (name, bytes) in members {
+        zip.start_file(format!("{name}.npy"), options)
+            .map_err(|e| failed(&e))?;
+        zip.write_all(bytes).map_err(|e| failed(&e))?;
+    }
+    zip.finish().map_err(|e| failed(&e))?;
+    Ok(out.into_inner())
+}

@@ -198,8 +198,9 @@ impl Take {
     }
 
     /// Writes the take by the extension of `path`: `.bvh`, glTF as `.glb` (binary) or `.gltf`
-    /// (text, data inline), or `.fbx` (FBX 7.4 binary, in centimetres). The file is written
-    /// whole or not at all.
+    /// (text, data inline), `.fbx` (FBX 7.4 binary, in centimetres), or `.npz` (AMASS's layout,
+    /// for a take on a SMPL-family skeleton: [`Take::amass`]). The file is written whole or not
+    /// at all.
     ///
     /// ```
     /// use bvhview::take::Take;
@@ -220,14 +221,47 @@ impl Take {
             "glb" => self.gltf(crate::gltf::Container::Glb)?,
             "gltf" => self.gltf(crate::gltf::Container::Gltf)?,
             "fbx" => self.fbx_bytes(None, &path.display().to_string())?,
+            "npz" => self.amass()?.0,
             other => {
                 return Err(Error::usage(format!(
-                    "{}: save writes .bvh, .glb, .gltf or .fbx files, not '{other}'",
+                    "{}: save writes .bvh, .glb, .gltf, .fbx or .npz files, not '{other}'",
                     path.display()
                 )));
             }
         };
         crate::io::output::AtomicFile::write_whole(path, &bytes)
+    }
+
+    /// The take as AMASS's `.npz` (SMPL, SMPL-H or SMPL-X parameters, by the joints its
+    /// skeleton has), and what is said of it: the take must be on a SMPL-family skeleton (the
+    /// built-in `smpl22`, `smpl24`, `smplh52`, `smplx55`, an AMASS file read, a take retargeted
+    /// onto one). See [`crate::smpl::amass::of_take`].
+    ///
+    /// ```
+    /// use bvhview::Take;
+    ///
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// let walk = Take::open("tests/data/smpl/amass_smplh_walk.npz")?;
+    /// let (bytes, said) = walk.amass()?;
+    /// assert!(bytes.starts_with(b"PK") && said.is_empty());
+    /// let back = bvhview::OpenOptions::new()
+    ///     .format(bvhview::take::Format::Amass)
+    ///     .open_bytes(&bytes, "back.npz")?;
+    /// assert_eq!(back.frame_count(), walk.frame_count());
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn amass(&self) -> Result<(Vec<u8>, Vec<Message>), Error> {
+        let stance = self.stance(self.offset_mode);
+        let params = crate::smpl::amass::of_take(
+            &self.skeleton,
+            &self.motion,
+            self.offset_mode,
+            f64::from(stance.units.metres),
+            stance.up,
+            &self.name,
+        )?;
+        Ok((crate::smpl::amass::to_npz(&params)?, params.warnings))
     }
 
     /// The take as BVH text. A skeleton with fixed bone axes (ASF) has them baked into its
