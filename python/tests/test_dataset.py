@@ -82,8 +82,9 @@ def test_the_package_writes_what_the_command_writes(compiled, cli, tmp_path):
         "lock_feet": False,
         "map": {"all": [], "by_skeleton": []},
     }
-    # 67 takes: the three characters of tests/data/characters (issue 49) are takes too.
-    assert manifest["takes"]["listed"] == manifest["takes"]["count"] == 67
+    # 70 takes: the three characters of tests/data/characters (issue 49) are takes too, and the
+    # three AMASS files of tests/data/smpl.
+    assert manifest["takes"]["listed"] == manifest["takes"]["count"] == 70
     # Skipped takes: each named with its path:line:column, as the command said them.
     # The manifest names paths relative to the folder, the command's stderr as given.
     for skipped in manifest["skipped"]:
@@ -129,7 +130,7 @@ def test_the_arrays_rebuild_the_positions_by_the_documented_numpy_fk(tmp_path, k
     channels below the root included."""
     out = tmp_path / kind
     manifest = quietly(DATA, out, rotations=kind)
-    assert check_fk(out, manifest, kind) == 56
+    assert check_fk(out, manifest, kind) == 59
 
 
 def test_the_whole_corpus_rebuilds_by_numpy_fk(tmp_path):
@@ -301,7 +302,7 @@ def test_to_motion_takes_root_translations_and_refuses_what_is_no_take(compiled,
 
 def test_windows_strides_shards_and_groups(compiled):
     manifest = json.loads((compiled / "manifest.json").read_text())
-    with pytest.raises(ValueError, match="35 skeleton topologies.*choose one with group="):
+    with pytest.raises(ValueError, match="38 skeleton topologies.*choose one with group="):
         bvhview.Dataset(compiled, window=8)
     group = next(k for k, g in enumerate(manifest["groups"]) if g["clips"] == 3)
     data = bvhview.Dataset(compiled, window=2, stride=1, group=group)
@@ -376,7 +377,7 @@ def test_dask_workers_compile_pieces_that_merge_into_the_single_process_dataset(
         with pytest.raises(ValueError, match="already exists"):
             bvhview.dask.compile_dataset(DATA, tmp_path / "single", client=client)
     same_tree(single, tmp_path / "cluster")
-    assert len(manifest["clips"]) == 56
+    assert len(manifest["clips"]) == 59
     # Only the dataset is left: the pieces' folder is gone.
     assert sorted(p.name for p in tmp_path.iterdir()) == ["cluster", "single"]
 
@@ -505,13 +506,13 @@ def test_nothing_to_compile_is_refused_with_every_reason_and_pieces_must_be_whol
     takes = bvhview.list_takes(DATA)
     first = quietly(DATA, tmp_path / "p0", takes=takes[:5])
     second = quietly(DATA, tmp_path / "p1", takes=takes[5:])
-    assert len(first["clips"]) + len(second["clips"]) == 56
+    assert len(first["clips"]) + len(second["clips"]) == 59
     # Lists of takes of their own are two compiles: joined as folders, not as pieces.
     with pytest.raises(ValueError, match="another compile"):
         bvhview.merge_datasets([tmp_path / "p0", tmp_path / "p1"], tmp_path / "m")
     assert not (tmp_path / "m").exists()
     joined = bvhview.merge_datasets([tmp_path / "p0", tmp_path / "p1"], tmp_path / "m", join="folders")
-    assert len(joined["clips"]) == 56
+    assert len(joined["clips"]) == 59
     # Pieces of one compile: a gap or a piece given twice is refused.
     from bvhview._bvhview import _compile_dataset
 
@@ -524,7 +525,7 @@ def test_nothing_to_compile_is_refused_with_every_reason_and_pieces_must_be_whol
     with pytest.raises(ValueError, match="an earlier piece holds"):
         bvhview.merge_datasets([tmp_path / "q0", tmp_path / "q0"], tmp_path / "twice")
     whole = bvhview.merge_datasets([tmp_path / f"q{k}" for k in range(3)], tmp_path / "whole")
-    assert len(whole["clips"]) == 56
+    assert len(whole["clips"]) == 59
     assert not any((tmp_path / n).exists() for n in ("gap", "short", "twice"))
 
 

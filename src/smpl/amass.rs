@@ -23,6 +23,18 @@ use crate::solve::input::NpyArray;
 use glam::DQuat;
 
 /// An AMASS file's parameters, checked.
+///
+/// ```
+/// use bvhview::smpl::{ModelType, amass, npz};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let bytes = std::fs::read("tests/data/smpl/amass_smplx_walk.npz").unwrap();
+/// let params = amass::read(&npz::read(&bytes, "walk.npz")?, "walk.npz", None)?;
+/// assert_eq!((params.model, params.frame_count(), params.fps), (ModelType::Smplx, 60, 30.0));
+/// assert_eq!(params.gender.as_deref(), Some("female"));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug)]
 pub struct Amass {
     /// The body model the poses are for.

@@ -21,6 +21,17 @@ pub const INFLATED_PER_BYTE: u64 = 64;
 pub const INFLATED_FLOOR: u64 = 16 << 20;
 
 /// An `.npz`'s arrays, by name (`poses` for the member `poses.npy`), in archive order.
+///
+/// ```
+/// use bvhview::smpl::npz;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let bytes = std::fs::read("tests/data/smpl/amass_smplh_walk.npz").unwrap();
+/// let arrays = npz::read(&bytes, "walk.npz")?;
+/// assert!(arrays.names().any(|name| name == "poses"));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, Default)]
 pub struct Npz {
     arrays: Vec<(String, NpyArray)>,
