@@ -41,11 +41,40 @@ pub const BUILT_IN_ABOUT: &[(&str, &str)] = &[
     ),
 ];
 
-/// A built-in skeleton by name (see [`BUILT_IN`]), with its one rest frame.
-pub fn built_in(name: &str) -> Option<(Skeleton, Motion)> {
-    let (_, bytes) = BUILT_IN
+/// Other names of built-in skeletons: a model type's name for its whole joint set, as AMASS's
+/// `surface_model_type` and `--onto smplh` say it.
+pub const ALIASES: &[(&str, &str)] = &[
+    ("smpl", "smpl24"),
+    ("smplh", "smplh52"),
+    ("smplx", "smplx55"),
+];
+
+/// The built-in skeleton `name` (or one of its [`ALIASES`]) names, case aside.
+///
+/// ```
+/// use bvhview::bvh::built_in::name_of;
+///
+/// assert_eq!(name_of("SMPLH"), Some("smplh52"));
+/// assert_eq!(name_of("smpl22"), Some("smpl22"));
+/// assert_eq!(name_of("walk"), None);
+/// ```
+pub fn name_of(name: &str) -> Option<&'static str> {
+    let alias = ALIASES
         .iter()
-        .find(|(n, _)| n.eq_ignore_ascii_case(name))?;
+        .find(|(alias, _)| alias.eq_ignore_ascii_case(name))
+        .map(|(_, built_in)| *built_in);
+    alias.or_else(|| {
+        BUILT_IN
+            .iter()
+            .map(|(built_in, _)| *built_in)
+            .find(|built_in| built_in.eq_ignore_ascii_case(name))
+    })
+}
+
+/// A built-in skeleton by name (see [`BUILT_IN`] and [`ALIASES`]), with its one rest frame.
+pub fn built_in(name: &str) -> Option<(Skeleton, Motion)> {
+    let name = name_of(name)?;
+    let (_, bytes) = BUILT_IN.iter().find(|(n, _)| *n == name)?;
     let file = crate::bvh::load_bytes(bytes, name).ok()?;
     Some((file.skeleton, file.motion))
 }

@@ -693,10 +693,7 @@ fn built_in_name(path: &Path) -> Option<&'static str> {
     if path.components().count() != 1 || !extension(path).is_empty() {
         return None;
     }
-    crate::bvh::built_in::BUILT_IN
-        .iter()
-        .map(|(built_in, _)| *built_in)
-        .find(|built_in| built_in.eq_ignore_ascii_case(name))
+    crate::bvh::built_in::name_of(name)
 }
 
 /// A built-in skeleton as a take: its rest pose, one frame (its units guessed as a file's are:
