@@ -442,11 +442,14 @@ pub fn of_take(
     shown: &str,
 ) -> Result<Amass, Error> {
     let model = model_of(skeleton).ok_or_else(|| {
-        Error::usage(format!(
-            "{shown}: an AMASS file is written from a take on a SMPL-family skeleton (joints \
-             named pelvis, left_hip, … as smpl22, smpl24, smplh52 and smplx55 name them); \
-             retarget the take onto one first (bvhview retarget TAKE --onto smplh52)"
-        ))
+        Error::usage(
+            Message::from(format!(
+                "{shown}: an AMASS file is written from a take on a SMPL-family skeleton (joints \
+                 named pelvis, left_hip, … as smpl22, smpl24, smplh52 and smplx55 name them); \
+                 put the take on one first with retarget's "
+            ))
+            .argument("onto", Some("smplh")),
+        )
     })?;
     let names = model.joint_names();
     let joint_of: Vec<Option<usize>> = names

@@ -325,3 +325,26 @@ fn a_take_written_as_amass_reads_back_where_it_was() {
         assert!(worst < 1e-4, "{target}: {worst:e} of the height");
     }
 }
+
+/// A take on another skeleton is refused, saying how to put it on one; nothing is written.
+#[test]
+fn a_take_on_another_skeleton_is_not_written_as_amass() {
+    let walk = Take::open(data("bvh/bvh11_131_01.bvh")).unwrap();
+    let said = walk.amass().unwrap_err().to_string();
+    assert!(
+        said.contains("an AMASS file is written from a take on a SMPL-family skeleton")
+            && said.ends_with("put the take on one first with retarget's onto smplh"),
+        "{said}"
+    );
+    let folder = crate::common::scratch_folder("amass-refused");
+    let out = folder.join("walk.npz");
+    let run = crate::common::bvhview(&[
+        "convert",
+        data("bvh/bvh11_131_01.bvh").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(run.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&run.stderr).contains("retarget's --onto smplh"));
+    assert!(!out.exists());
+}
