@@ -41,7 +41,6 @@ pub fn open_regular(path: &Path) -> std::io::Result<(std::fs::File, u64)> {
 
 /// Exactly `length` bytes from the start of `file`, their room asked for first so that a
 /// refusal is an error, not an abort; fewer when the file shrinks while it is read.
-#[cfg(any(feature = "fbx", feature = "gltf"))]
 fn read_start(file: std::fs::File, length: u64) -> std::io::Result<Vec<u8>> {
     let mut bytes = Vec::new();
     read_more(file, length, &mut bytes)?;
@@ -63,11 +62,11 @@ fn read_more(file: std::fs::File, length: u64, bytes: &mut Vec<u8>) -> std::io::
     Ok(())
 }
 
-/// The whole of a binary file (FBX, GLB, glTF JSON, `.npy`), refused before any read unless it is a
-/// regular file of at most `max_size` and [`crate::io::limits::MAX_WHOLE_FILE_BYTES`] bytes: these
-/// readers hold the whole file in memory, so its size on disk (a sparse file of 6 GB takes 4 KB)
-/// is what is checked, never what a read gets to.
-#[cfg(any(feature = "fbx", feature = "gltf"))]
+/// The whole of a binary file (FBX, GLB, glTF JSON, `.npy`, `.npz`), refused before any read
+/// unless it is a regular file of at most `max_size` and
+/// [`crate::io::limits::MAX_WHOLE_FILE_BYTES`] bytes: these readers hold the whole file in
+/// memory, so its size on disk (a sparse file of 6 GB takes 4 KB) is what is checked, never
+/// what a read gets to.
 pub fn read_binary_file(path: &Path, max_size: u64) -> Result<Vec<u8>, Error> {
     let (file, length) = open_regular(path).map_err(|e| Error::io(path, e))?;
     whole_file_size(&path.display().to_string(), length, max_size)?;
