@@ -15,6 +15,11 @@
 //! as BVH, glTF (.glb) and FBX into memory on one thread, interleaved round-robin, median and
 //! fastest of each, in nanoseconds a frame-value (frames × channels).
 //!
+//! `cargo run --release -p bvhview-bench -- --amass FEATURES.npy [--rounds N]`: HumanML3D's
+//! feature vectors to AMASS's `.npz` in memory, as `solve --from humanml3d --onto smpl22 -o
+//! out.npz` does (positions recovered, rotations solved, axis-angles written), on one thread,
+//! the clip repeated to 10,000 frames: frames a second, median and fastest.
+//!
 //! `cargo run --release -p bvhview-bench -- --skinning [CHARACTER]`: linear blend skinning of
 //! the committed characters, of capsule man ten times over (29,040 vertices in one place) and of
 //! CHARACTER (the 30,888-vertex `capsule_fine.glb` of `tests/blender/make_capsule_character.py
@@ -196,6 +201,20 @@ fn main() {
                 }
                 _ => usage_error("--writers needs a take"),
             },
+            "--amass" => match args.next() {
+                Some(path) if !path.starts_with("--") => {
+                    let rounds = match (args.next().as_deref(), args.next()) {
+                        (Some("--rounds"), Some(n)) => n.parse().ok().filter(|&n| n > 0),
+                        (None, None) => Some(7),
+                        _ => None,
+                    };
+                    let rounds =
+                        rounds.unwrap_or_else(|| usage_error("--amass FEATURES.npy [--rounds N]"));
+                    println!("cpu: {}", cpu_description());
+                    return humanml3d_to_amass(&path, rounds);
+                }
+                _ => usage_error("--amass needs HumanML3D feature vectors (.npy)"),
+            },
             "--in-process" => match (args.next(), args.next()) {
                 (Some(what), Some(path)) => return in_process(&what, &path),
                 _ => usage_error("--in-process needs info|positions|dataset and a file"),
@@ -229,6 +248,56 @@ fn main() {
         (None, Some(path)) => big(&path, quick, &load),
         (None, None) => usage_error("no file given"),
     }
+}
+
+/// HumanML3D's vectors at `path` (repeated to 10,000 frames) to AMASS's `.npz` on one thread,
+/// `rounds` times: frames a second, median and fastest.
+fn humanml3d_to_amass(path: &str, rounds: usize) {
+    const FRAMES: usize = 10_000;
+    let bytes = std::fs::read(path).unwrap_or_else(|e| input_error(format!("{path}: {e}")));
+    let clip = bvhview::humanml3d::read_vectors(&bytes, path).unwrap_or_else(|e| input_error(e));
+    let width = bvhview::humanml3d::WIDTH;
+    let clip_frames = clip.len() / width;
+    if clip_frames == 0 {
+        input_error(format!("{path}: no frames"));
+    }
+    let vectors: Vec<f32> = clip
+        .chunks_exact(width)
+        .cycle()
+        .take(FRAMES)
+        .flatten()
+        .copied()
+        .collect();
+    let target = bvhview::retarget::Target::load("smpl22", u64::MAX).expect("built in");
+    let once = || {
+        let points = bvhview::humanml3d::recover_from_ric(&vectors).expect("recovered");
+        let positions = bvhview::solve::Positions::new(
+            bvhview::solve::joint_names("smpl22"),
+            points,
+            1.0 / 20.0,
+        )
+        .expect("positions");
+        let (motion, _, _) =
+            bvhview::solve::solve_smoothed(&target.skeleton, target.up, &positions, None, None)
+                .expect("solved");
+        let take = bvhview::Take::new(target.skeleton.clone(), motion, "humanml3d");
+        take.amass().expect("written").0.len()
+    };
+    let mut times = Vec::with_capacity(rounds);
+    let mut written = 0;
+    for _ in 0..rounds {
+        let start = Instant::now();
+        written = once();
+        times.push(start.elapsed());
+    }
+    let (median, fastest) = median_and_min(&mut times);
+    println!(
+        "humanml3d → amass .npz, one thread: {FRAMES} frames ({clip_frames}-frame clip repeated), \
+         {written} bytes; {:.0} frames/s median ({:.3} s), {:.0} fastest",
+        FRAMES as f64 / median.as_secs_f64(),
+        median.as_secs_f64(),
+        FRAMES as f64 / fastest.as_secs_f64()
+    );
 }
 
 /// Every throughput of the bench on one big file.

@@ -200,10 +200,11 @@ fn fbx_order(order: RotationOrder) -> i32 {
 
 /// Each joint's name as the file holds it and a reader takes it back: one FBX can hold
 /// ([`fbx_name`]), trimmed, `node<k>` for an empty one (as bvhview's reader names it,
-/// `model::baked`), an End Site its parent's name so written with `_End` (as `positions` names
-/// it), and a name met again — in the order a reader meets the nodes, by depth, then in file
-/// order — given Blender's suffix `.001`. The names are unique, so a reader keeps them, and a take
-/// read back writes the same names again.
+/// `model::baked`), and a joint's name met again — in the order a reader meets the nodes, by
+/// depth, then in file order — given Blender's suffix `.001`; an End Site is its parent's name
+/// so written with `_End` (as `positions` names it; the End Sites of one joint share it, which
+/// FBX allows and a reader reads back as End Sites of that joint). A take read back writes the
+/// same names again.
 fn reader_names(skeleton: &Skeleton) -> Result<Vec<String>, Error> {
     use std::collections::HashSet;
     let count = skeleton.joints.len();
@@ -229,15 +230,17 @@ fn reader_names(skeleton: &Skeleton) -> Result<Vec<String>, Error> {
         let joint = &skeleton.joints[i];
         let name = match (joint.end_site, joint.parent) {
             (true, Some(parent)) => format!("{}_End", names[parent]),
-            _ => own(k, i)?,
-        };
-        let name = if seen.contains(&name) {
-            (1..)
-                .map(|n| format!("{name}.{n:03}"))
-                .find(|candidate| !taken.contains(candidate) && !seen.contains(candidate))
-                .expect("some suffix is free")
-        } else {
-            name
+            _ => {
+                let name = own(k, i)?;
+                if seen.contains(&name) {
+                    (1..)
+                        .map(|n| format!("{name}.{n:03}"))
+                        .find(|candidate| !taken.contains(candidate) && !seen.contains(candidate))
+                        .expect("some suffix is free")
+                } else {
+                    name
+                }
+            }
         };
         taken.insert(name.clone());
         seen.insert(name.clone());
