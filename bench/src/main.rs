@@ -189,13 +189,7 @@ fn main() {
             }
             "--writers" => match args.next() {
                 Some(path) if !path.starts_with("--") => {
-                    let rounds = match (args.next().as_deref(), args.next()) {
-                        (Some("--rounds"), Some(n)) => n.parse().ok().filter(|&n| n > 0),
-                        (None, None) => Some(7),
-                        _ => None,
-                    };
-                    let rounds =
-                        rounds.unwrap_or_else(|| usage_error("--writers FILE [--rounds N]"));
+                    let rounds = rounds_after(&mut args, "--writers FILE [--rounds N]");
                     println!("cpu: {}", cpu_description());
                     return compare_writers(&path, rounds);
                 }
@@ -203,13 +197,7 @@ fn main() {
             },
             "--amass" => match args.next() {
                 Some(path) if !path.starts_with("--") => {
-                    let rounds = match (args.next().as_deref(), args.next()) {
-                        (Some("--rounds"), Some(n)) => n.parse().ok().filter(|&n| n > 0),
-                        (None, None) => Some(7),
-                        _ => None,
-                    };
-                    let rounds =
-                        rounds.unwrap_or_else(|| usage_error("--amass FEATURES.npy [--rounds N]"));
+                    let rounds = rounds_after(&mut args, "--amass FEATURES.npy [--rounds N]");
                     println!("cpu: {}", cpu_description());
                     return humanml3d_to_amass(&path, rounds);
                 }
@@ -298,6 +286,17 @@ fn humanml3d_to_amass(path: &str, rounds: usize) {
         median.as_secs_f64(),
         FRAMES as f64 / fastest.as_secs_f64()
     );
+}
+
+/// The rounds an option's file may be followed by (`--rounds N`, else 7); anything else is a
+/// usage error that shows `usage`.
+fn rounds_after(args: &mut impl Iterator<Item = String>, usage: &str) -> usize {
+    let rounds = match (args.next().as_deref(), args.next()) {
+        (Some("--rounds"), Some(n)) => n.parse().ok().filter(|&n| n > 0),
+        (None, None) => Some(7),
+        _ => None,
+    };
+    rounds.unwrap_or_else(|| usage_error(usage))
 }
 
 /// Every throughput of the bench on one big file.

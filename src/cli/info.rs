@@ -114,7 +114,7 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
     let items = walk.items;
     if items.is_empty() {
         return Err(Error::usage(format!(
-            "{}: no .bvh, .fbx, .gltf, .glb, .asf or .amc files",
+            "{}: no .bvh, .fbx, .gltf, .glb, .npz, .asf or .amc files",
             dir.display()
         )));
     }

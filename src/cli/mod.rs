@@ -625,6 +625,21 @@ impl TakeLabel {
         }
     }
 
+    /// `skeleton` and `motion` as the take this label names: its name (and take name), its
+    /// stated units, position channels meeting the OFFSET by `mode`.
+    pub(crate) fn take(
+        &self,
+        skeleton: crate::Skeleton,
+        motion: crate::Motion,
+        mode: OffsetMode,
+    ) -> Take {
+        let mut take = Take::new(skeleton, motion, self.name.clone());
+        take.offset_mode = mode;
+        take.take_name = Some(self.name.clone());
+        take.stated_units = self.stated_units;
+        take
+    }
+
     /// A take made by a command, named after the file it goes to.
     pub(crate) fn output(path: &Path) -> TakeLabel {
         TakeLabel {
@@ -756,10 +771,7 @@ impl Prepared {
         mode: OffsetMode,
         label: &TakeLabel,
     ) -> Result<Prepared, Error> {
-        let mut take = Take::new(skeleton, motion, label.name.clone());
-        take.offset_mode = mode;
-        take.take_name = Some(label.name.clone());
-        take.stated_units = label.stated_units;
+        let take = label.take(skeleton, motion, mode);
         let written = match label.out_units {
             Some(units) => take.fbx_in(units)?,
             None => take.fbx()?,
@@ -780,9 +792,7 @@ impl Prepared {
         mode: OffsetMode,
         label: &TakeLabel,
     ) -> Result<Prepared, Error> {
-        let mut take = Take::new(skeleton, motion, label.name.clone());
-        take.offset_mode = mode;
-        take.stated_units = label.stated_units;
+        let take = label.take(skeleton, motion, mode);
         let (bytes, said) = take.amass()?;
         for line in said {
             note(format_args!("bvhview: {}: {line}", label.name));

@@ -335,18 +335,14 @@ pub fn to_take(amass: &Amass) -> Result<(Skeleton, Motion, Vec<Message>), Error>
             model.built_in()
         ))
     })?;
-    let (skeleton, rest) = crate::edit::scale(
-        &skeleton,
-        &Motion::new(
-            amass_frame_time(amass),
-            skeleton.channel_count(),
-            0,
-            Vec::new(),
-        ),
-        0.01,
-    )?;
-    drop(rest);
-    let mut skeleton = skeleton;
+    // Centimetres to metres: the lengths alone (the built-in's one rest frame is not used).
+    let no_frames = Motion::new(
+        amass_frame_time(amass),
+        skeleton.channel_count(),
+        0,
+        Vec::new(),
+    );
+    let (mut skeleton, _) = crate::edit::scale(&skeleton, &no_frames, 0.01)?;
     // AMASS states Z up; the take is turned to Y up, which it states.
     skeleton.y_up_stated = true;
     let names = model.joint_names();

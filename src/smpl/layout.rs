@@ -21,31 +21,8 @@ pub enum ModelType {
     Smplx,
 }
 
-/// The 22 body joints every model type begins with, in SMPL's order.
-const BODY: [&str; 22] = [
-    "pelvis",
-    "left_hip",
-    "right_hip",
-    "spine1",
-    "left_knee",
-    "right_knee",
-    "spine2",
-    "left_ankle",
-    "right_ankle",
-    "spine3",
-    "left_foot",
-    "right_foot",
-    "neck",
-    "left_collar",
-    "right_collar",
-    "head",
-    "left_shoulder",
-    "right_shoulder",
-    "left_elbow",
-    "right_elbow",
-    "left_wrist",
-    "right_wrist",
-];
+/// The 22 body joints every model type begins with, in SMPL's order (the solver's layout).
+const BODY: [&str; 22] = crate::solve::SMPL22_ORDER;
 
 /// The parent of each of [`BODY`] (the root has none).
 const BODY_PARENTS: [Option<usize>; 22] = [
