@@ -348,3 +348,27 @@ fn a_take_on_another_skeleton_is_not_written_as_amass() {
     assert!(String::from_utf8_lossy(&run.stderr).contains("retarget's --onto smplh"));
     assert!(!out.exists());
 }
+
+/// A directory that lies about a member's size, or where a member starts, is refused by name:
+/// no read past what the archive holds, no panic.
+#[test]
+fn an_archive_whose_directory_lies_is_refused() {
+    let honest = npz(&smpl_members(), true);
+    let patched = |field: usize, value: u32| {
+        let mut bytes = honest.clone();
+        let at = bytes
+            .windows(4)
+            .position(|w| w == b"PK\x01\x02")
+            .expect("a central directory");
+        bytes[at + field..at + field + 4].copy_from_slice(&value.to_le_bytes());
+        opened(&bytes).unwrap_err()
+    };
+    // The uncompressed size (offset 24), much larger and smaller than the member; where the
+    // member's local header is (offset 42).
+    let huge = patched(24, 0x7fff_ffff);
+    assert!(huge.contains("its members inflate to 2147483"), "{huge}");
+    let small = patched(24, 10);
+    assert!(small.contains("member 'poses.npy': damaged"), "{small}");
+    let moved = patched(42, 0x00ff_ffff);
+    assert!(moved.starts_with("hostile.npz: member 0:"), "{moved}");
+}
