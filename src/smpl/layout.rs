@@ -22,7 +22,7 @@ pub enum ModelType {
 }
 
 /// The 22 body joints every model type begins with, in SMPL's order (the solver's layout).
-const BODY: [&str; 22] = crate::solve::SMPL22_ORDER;
+const BODY: [&str; 22] = crate::solve::positions::SMPL22_ORDER;
 
 /// The parent of each of [`BODY`] (the root has none).
 const BODY_PARENTS: [Option<usize>; 22] = [

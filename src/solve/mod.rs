@@ -17,7 +17,7 @@
 
 mod horn;
 pub mod input;
-mod positions;
+pub(crate) mod positions;
 mod reach;
 
 use horn::best_rotation;
