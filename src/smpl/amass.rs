@@ -64,7 +64,7 @@ impl Amass {
 type Numbers<'a> = (&'a [usize], &'a [f64]);
 
 /// The numbers of `key`, with its shape, or why not: missing (`None`), or not numbers.
-fn numbers<'a>(npz: &'a Npz, key: &str, shown: &str) -> Result<Option<Numbers<'a>>, Error> {
+pub(super) fn numbers<'a>(npz: &'a Npz, key: &str, shown: &str) -> Result<Option<Numbers<'a>>, Error> {
     match npz.get(key) {
         None => Ok(None),
         Some(NpyArray::Numbers { shape, values }) => Ok(Some((shape, values))),

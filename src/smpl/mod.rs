@@ -4,6 +4,7 @@
 
 pub mod amass;
 pub mod layout;
+pub mod model;
 pub mod npz;
 
 pub use layout::ModelType;

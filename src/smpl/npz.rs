@@ -43,6 +43,15 @@ impl Npz {
         self.arrays.iter().find(|(n, _)| n == name).map(|(_, a)| a)
     }
 
+    /// The numbers of the array named `name` (its shape, and its values in C order), if the
+    /// file holds it and it holds numbers.
+    pub fn numbers(&self, name: &str) -> Option<(&[usize], &[f64])> {
+        match self.get(name)? {
+            NpyArray::Numbers { shape, values } => Some((shape, values)),
+            _ => None,
+        }
+    }
+
     /// The arrays' names, in archive order.
     pub fn names(&self) -> impl Iterator<Item = &str> {
         self.arrays.iter().map(|(n, _)| n.as_str())

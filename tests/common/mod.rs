@@ -15,6 +15,8 @@ use std::ffi::OsStr;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
+pub mod npz;
+pub mod smpl_models;
 pub mod video;
 
 /// The `bvhview` binary cargo built for these tests, as a command to add arguments,

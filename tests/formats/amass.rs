@@ -4,10 +4,10 @@
 //! refused by name.
 
 use crate::common::data;
+use crate::common::npz::{f64s, npy, npz};
 use bvhview::Take;
 use bvhview::smpl::{ModelType, amass, npz};
 use glam::{DQuat, DVec3};
-use std::io::Write;
 
 /// Every joint of every frame: the channels' rotation is the file's axis-angle (the root's
 /// turned from Z up to Y up), within what 32-bit channels hold; the pelvis is where `trans`
@@ -74,49 +74,6 @@ fn a_file_says_its_model_and_the_figure_it_was_read_on() {
     let stance = take.stance(take.offset_mode);
     assert_eq!(stance.up, bvhview::model::pose::Up::Y);
     assert!((1.5..1.9).contains(&stance.height), "{}", stance.height);
-}
-
-/// An `.npy` of float64 values of `shape` (or of `dtype` with raw `data`).
-fn npy(dtype: &str, shape: &[usize], data: &[u8]) -> Vec<u8> {
-    let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
-    let shape = match dims.len() {
-        1 => format!("({},)", dims[0]),
-        _ => format!("({})", dims.join(", ")),
-    };
-    let mut header = format!("{{'descr': '{dtype}', 'fortran_order': False, 'shape': {shape}, }}");
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend((header.len() as u16).to_le_bytes());
-    out.extend(header.as_bytes());
-    out.extend(data);
-    out
-}
-
-fn f64s(values: &[f64]) -> Vec<u8> {
-    values.iter().flat_map(|v| v.to_le_bytes()).collect()
-}
-
-/// An `.npz` of `members` (name, bytes), stored or deflated.
-fn npz(members: &[(&str, Vec<u8>)], deflated: bool) -> Vec<u8> {
-    let mut out = std::io::Cursor::new(Vec::new());
-    let mut zip = zip::ZipWriter::new(&mut out);
-    let method = if deflated {
-        zip::CompressionMethod::Deflated
-    } else {
-        zip::CompressionMethod::Stored
-    };
-    let options = zip::write::SimpleFileOptions::default()
-        .compression_method(method)
-        .large_file(true);
-    for (name, bytes) in members {
-        zip.start_file(*name, options).unwrap();
-        zip.write_all(bytes).unwrap();
-    }
-    zip.finish().unwrap();
-    out.into_inner()
 }
 
 /// An archive's members: each one's name and bytes.

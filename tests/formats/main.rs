@@ -20,3 +20,4 @@ mod fbx_out;
 #[cfg(feature = "gltf")]
 mod gltf_export;
 mod loading_in_a_forked_child;
+mod smpl_model;
