@@ -124,6 +124,11 @@ pub(crate) struct Source {
     /// `convert`'s the axis to turn the take to.
     #[arg(skip)]
     up: Option<crate::model::pose::Up>,
+    /// The SMPL-family model file an AMASS take's body is read with (an .npz, or a folder with
+    /// one per gender): the joints of the file's betas, not bvhview's built-in figure's
+    /// lengths; as --character, its mesh.
+    #[arg(long, value_name = "MODEL.npz|DIR")]
+    body_model: Option<PathBuf>,
 }
 
 impl Source {
@@ -137,6 +142,7 @@ impl Source {
             threads: Some(threads),
             units: self.units,
             up: self.up,
+            body_model: self.body_model.clone(),
             ..Default::default()
         }
     }

@@ -64,7 +64,11 @@ impl Amass {
 type Numbers<'a> = (&'a [usize], &'a [f64]);
 
 /// The numbers of `key`, with its shape, or why not: missing (`None`), or not numbers.
-pub(super) fn numbers<'a>(npz: &'a Npz, key: &str, shown: &str) -> Result<Option<Numbers<'a>>, Error> {
+pub(super) fn numbers<'a>(
+    npz: &'a Npz,
+    key: &str,
+    shown: &str,
+) -> Result<Option<Numbers<'a>>, Error> {
     match npz.get(key) {
         None => Ok(None),
         Some(NpyArray::Numbers { shape, values }) => Ok(Some((shape, values))),
@@ -325,14 +329,19 @@ fn z_up_to_y_up() -> DQuat {
     DQuat::from_rotation_x(-std::f64::consts::FRAC_PI_2)
 }
 
-/// `amass` as a skeleton and motion in metres, Y up: the built-in skeleton of its model type,
-/// each joint's axis-angle split into its channels, the root placed by `trans`; and what is said.
-pub fn to_take(amass: &Amass) -> Result<(Skeleton, Motion, Vec<Message>), Error> {
-    let model = amass.model;
-    let (skeleton, _) = crate::bvh::built_in::built_in(model.built_in()).ok_or_else(|| {
+/// `amass` as a skeleton and motion in metres, Y up: the built-in skeleton of its model type
+/// (its joints' offsets those of `model`'s body of the file's betas, when a model file is
+/// given), each joint's axis-angle split into its channels, the root placed by `trans`; what is
+/// said; and the model's pelvis at rest, when a model gave it.
+pub fn to_take(
+    amass: &Amass,
+    model: Option<&super::model::BodyModel>,
+) -> Result<(Skeleton, Motion, Vec<Message>, Option<[f64; 3]>), Error> {
+    let model_type = amass.model;
+    let (skeleton, _) = crate::bvh::built_in::built_in(model_type.built_in()).ok_or_else(|| {
         Error::usage(format!(
             "the built-in skeleton {} does not load",
-            model.built_in()
+            model_type.built_in()
         ))
     })?;
     // Centimetres to metres: the lengths alone (the built-in's one rest frame is not used).
@@ -345,7 +354,7 @@ pub fn to_take(amass: &Amass) -> Result<(Skeleton, Motion, Vec<Message>), Error>
     let (mut skeleton, _) = crate::edit::scale(&skeleton, &no_frames, 0.01)?;
     // AMASS states Z up; the take is turned to Y up, which it states.
     skeleton.y_up_stated = true;
-    let names = model.joint_names();
+    let names = model_type.joint_names();
     let index_of: Vec<Option<usize>> = skeleton
         .joints
         .iter()
@@ -355,8 +364,32 @@ pub fn to_take(amass: &Amass) -> Result<(Skeleton, Motion, Vec<Message>), Error>
                 .flatten()
         })
         .collect();
+    let mut said = amass.warnings.clone();
+    let rest_pelvis = match model {
+        Some(body) => {
+            let shaped = body.shaped(&amass.betas, &[])?;
+            model_offsets(&mut skeleton, &index_of, &shaped.joints);
+            said.push(body_line(amass, body, shaped.betas_used).into());
+            Some(shaped.joints[0].to_array())
+        }
+        None => {
+            said.push(
+                Message::from(format!(
+                    "{} parameters read on bvhview's built-in {} figure (its lengths, not this \
+                     body's shape, and trans taken as the pelvis's place: the file's betas need \
+                     the model file, given by ",
+                    model_type.label(),
+                    model_type.built_in()
+                ))
+                .argument("body_model", Some("MODEL.npz"))
+                .text("); AMASS's Z up turned to Y up"),
+            );
+            None
+        }
+    };
+    let pelvis = glam::DVec3::from(rest_pelvis.unwrap_or([0.0; 3]));
     let frames = amass.frame_count();
-    let width = model.pose_width();
+    let width = model_type.pose_width();
     let turn = z_up_to_y_up();
     let channels = skeleton.channel_count();
     let mut data = Vec::with_capacity(frames * channels);
@@ -369,7 +402,8 @@ pub fn to_take(amass: &Amass) -> Result<(Skeleton, Motion, Vec<Message>), Error>
             let mut rotation = DQuat::from_scaled_axis(axis_angle);
             if joint.parent.is_none() {
                 rotation = turn * rotation;
-                let place = turn * glam::DVec3::from_slice(&amass.trans[3 * f..3 * f + 3]);
+                let place =
+                    turn * (glam::DVec3::from_slice(&amass.trans[3 * f..3 * f + 3]) + pelvis);
                 data.extend(place.to_array().map(|v| v as f32));
             }
             let order = joint.rotation_order.unwrap_or(crate::RotationOrder::Zyx);
@@ -379,18 +413,46 @@ pub fn to_take(amass: &Amass) -> Result<(Skeleton, Motion, Vec<Message>), Error>
         }
     }
     let motion = Motion::new(amass_frame_time(amass), channels, frames, data);
-    let mut said = amass.warnings.clone();
-    said.push(
-        format!(
-            "{} parameters read on bvhview's built-in {} figure (its lengths, not this body's \
-             shape: the file's betas need the model file, which bvhview does not read yet); \
-             AMASS's Z up turned to Y up",
-            model.label(),
-            model.built_in()
-        )
-        .into(),
-    );
-    Ok((skeleton, motion, said))
+    Ok((skeleton, motion, said, rest_pelvis))
+}
+
+/// Each model joint's OFFSET in `skeleton` (`index_of` its model index) made the model's: its
+/// rest joint less its parent's (the root's: where the model's pelvis rests); End Sites keep
+/// the built-in figure's.
+fn model_offsets(skeleton: &mut Skeleton, index_of: &[Option<usize>], joints: &[glam::DVec3]) {
+    for j in 0..skeleton.joints.len() {
+        let Some(k) = index_of[j] else { continue };
+        let parent = skeleton.joints[j].parent.and_then(|p| index_of[p]);
+        let offset = match (skeleton.joints[j].parent, parent) {
+            (None, _) => joints[k],
+            (Some(_), Some(p)) => joints[k] - joints[p],
+            (Some(_), None) => continue,
+        };
+        skeleton.joints[j].offset = offset.as_vec3();
+    }
+}
+
+/// What a take read with a model file says: the model, the betas used, the genders.
+fn body_line(amass: &Amass, body: &super::model::BodyModel, betas_used: usize) -> String {
+    let betas = match (amass.betas.len(), betas_used) {
+        (0, _) => "no betas in the file: its mean shape".to_string(),
+        (given, used) if given == used => format!("its {given} betas"),
+        (given, used) => format!(
+            "{used} of its {given} betas (the model has {} shape components)",
+            body.shape_count()
+        ),
+    };
+    let gender = match (amass.gender.as_deref(), body.gender.as_deref()) {
+        (Some(file), Some(model)) if !file.eq_ignore_ascii_case(model) => {
+            format!("; the file says {file}, the model is {model}")
+        }
+        _ => String::new(),
+    };
+    format!(
+        "{} parameters read on the body of {} ({betas}{gender}); AMASS's Z up turned to Y up",
+        amass.model.label(),
+        body.name
+    )
 }
 
 fn amass_frame_time(amass: &Amass) -> f64 {
@@ -427,14 +489,17 @@ fn model_of(skeleton: &Skeleton) -> Option<ModelType> {
 /// parameters: each joint's rotation as an axis-angle, the root's turned from the take's up axis
 /// to AMASS's Z up, `trans` the pelvis's place in metres (`metres` per unit of the take, position
 /// channels meeting the OFFSET by `mode`); a
-/// model joint the skeleton lacks (hands, jaw, eyes) is zero in every frame, said. `betas` zero
-/// (a neutral shape), the gender neutral.
+/// model joint the skeleton lacks (hands, jaw, eyes) is zero in every frame, said. `body` (an
+/// AMASS file's, read on this skeleton) gives the betas and gender, and `trans` is then the
+/// pelvis less where the body's model rests it; without one, `betas` zero (a neutral shape),
+/// the gender neutral.
 pub fn of_take(
     skeleton: &Skeleton,
     motion: &Motion,
     mode: crate::model::pose::OffsetMode,
     metres: f64,
     up: crate::model::pose::Up,
+    body: Option<&super::Body>,
     shown: &str,
 ) -> Result<Amass, Error> {
     let model = model_of(skeleton).ok_or_else(|| {
@@ -487,6 +552,9 @@ pub fn of_take(
         crate::model::pose::Up::Z => DQuat::IDENTITY,
         _ => z_up_to_y_up().inverse(),
     };
+    // The body the take was read with, where it is of this model type.
+    let body = body.filter(|b| b.model == model);
+    let rest_pelvis = glam::DVec3::from(body.and_then(|b| b.rest_pelvis).unwrap_or([0.0; 3]));
     let frames = motion.frame_count();
     let width = model.pose_width();
     let mut poses = Vec::with_capacity(frames * width);
@@ -508,7 +576,7 @@ pub fn of_take(
             };
             poses.extend(rotation.normalize().to_scaled_axis().to_array());
         }
-        let place = back * (world[root].1 * metres);
+        let place = back * (world[root].1 * metres) - rest_pelvis;
         trans.extend(place.to_array());
     }
     if !(motion.frame_time > 0.0 && motion.frame_time.is_finite()) {
@@ -522,8 +590,11 @@ pub fn of_take(
         fps: 1.0 / motion.frame_time,
         poses,
         trans,
-        betas: vec![0.0; 16],
-        gender: Some("neutral".into()),
+        betas: body.map_or_else(|| vec![0.0; 16], |b| b.betas.clone()),
+        gender: Some(
+            body.and_then(|b| b.gender.clone())
+                .unwrap_or_else(|| "neutral".into()),
+        ),
         warnings,
     })
 }

@@ -11,18 +11,107 @@ pub use layout::ModelType;
 
 use crate::io::error::Error;
 use crate::model::reading::Read;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
 
-/// The take of `bytes`, an AMASS-layout `.npz` named `shown`; `frame_time` stands in for a file
-/// that states no rate.
-pub fn load_bytes(bytes: &[u8], shown: &str, frame_time: Option<f64>) -> Result<Read, Error> {
+/// The SMPL-family body a take was read with: an AMASS file's `betas` and `gender`, and where
+/// its model file put the pelvis at rest. An AMASS file written from the take keeps them.
+///
+/// ```
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let walk = bvhview::Take::open("tests/data/smpl/amass_smplx_walk.npz")?;
+/// let body = walk.body.as_ref().unwrap();
+/// assert_eq!(body.gender.as_deref(), Some("female"));
+/// assert!(body.rest_pelvis.is_none()); // no model file given: bvhview's own lengths
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    /// The model type of the parameters.
+    pub model: ModelType,
+    /// The shape parameters, as the file gave them.
+    pub betas: Vec<f64>,
+    /// `female`, `male` or `neutral`, as the file said.
+    pub gender: Option<String>,
+    /// The model's pelvis at rest for these betas (metres, the model's axes), when a model file
+    /// gave the joints: the file's `trans` is where the pelvis is, less this.
+    pub rest_pelvis: Option<[f64; 3]>,
+}
+
+/// The take of `bytes`, an AMASS-layout `.npz` named `shown`, and the body it holds;
+/// `frame_time` stands in for a file that states no rate; `body_model` is the user's model file
+/// (or a folder of them) for the joints' offsets.
+pub fn load_bytes(
+    bytes: &[u8],
+    shown: &str,
+    frame_time: Option<f64>,
+    body_model: Option<&Path>,
+) -> Result<(Read, Body), Error> {
     let npz = npz::read(bytes, shown)?;
     let amass = amass::read(&npz, shown, frame_time)?;
-    let (skeleton, motion, warnings) = amass::to_take(&amass)?;
-    Ok(Read {
+    let model = match body_model {
+        Some(path) => Some(open_model(path, amass.gender.as_deref(), amass.model)?),
+        None => None,
+    };
+    let (skeleton, motion, warnings, rest_pelvis) = amass::to_take(&amass, model.as_deref())?;
+    let body = Body {
+        model: amass.model,
+        betas: amass.betas.clone(),
+        gender: amass.gender.clone(),
+        rest_pelvis,
+    };
+    let read = Read {
         skeleton,
         motion,
         warnings,
         take: None,
         stated_units: Some(crate::model::stance::Units::of_metres(1.0)),
-    })
+    };
+    Ok((read, body))
+}
+
+/// Model files read in this process, by path and gender: a folder of AMASS files read with one
+/// model reads it once.
+type ModelCache = Vec<(PathBuf, Option<String>, ModelType, Arc<model::BodyModel>)>;
+
+/// The body model at `path` (a file, or a folder holding one per gender) for `gender` and of
+/// type `wanted`, read once per process.
+pub fn open_model(
+    path: &Path,
+    gender: Option<&str>,
+    wanted: ModelType,
+) -> Result<Arc<model::BodyModel>, Error> {
+    static CACHE: Mutex<ModelCache> = Mutex::new(Vec::new());
+    let gender = gender.map(|g| g.trim().to_ascii_lowercase());
+    let key = (path.to_path_buf(), gender.clone(), wanted);
+    if let Ok(cache) = CACHE.lock()
+        && let Some((.., model)) = cache
+            .iter()
+            .find(|(p, g, t, _)| (p, g, *t) == (&key.0, &key.1, key.2))
+    {
+        return Ok(model.clone());
+    }
+    let model = Arc::new(model::BodyModel::open(
+        path,
+        gender.as_deref(),
+        Some(wanted),
+    )?);
+    if model.model != wanted {
+        return Err(Error::usage(format!(
+            "{}: a {} model; the motion is {} parameters (give a {} model file)",
+            model.name,
+            model.model.label(),
+            wanted.label(),
+            wanted.label()
+        )));
+    }
+    if let Ok(mut cache) = CACHE.lock() {
+        // A few models at most: each holds its blend shapes (100 MB for SMPL-X).
+        if cache.len() >= 3 {
+            cache.remove(0);
+        }
+        cache.push((key.0, key.1, key.2, model.clone()));
+    }
+    Ok(model)
 }

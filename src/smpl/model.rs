@@ -83,7 +83,7 @@ pub struct Posed {
 
 impl BodyModel {
     /// Reads a model file, or the one in a folder for `gender` (`female`, `male`, `neutral`;
-    /// none: the neutral one, else the only one) and, where the folder holds several, of the
+    /// none, or none of that gender there: the neutral one, else the only one) and, where the folder holds several, of the
     /// type `wanted` (by name): `SMPLX_NEUTRAL.npz`, `smplh/male/model.npz` and the like.
     pub fn open(
         path: &Path,
@@ -130,7 +130,9 @@ impl BodyModel {
                 } else {
                     ""
                 };
-                refuse(format!("no '{key}' array: not a SMPL-family model file{hint}"))
+                refuse(format!(
+                    "no '{key}' array: not a SMPL-family model file{hint}"
+                ))
             })
         };
         let finite = |key: &str, values: &[f64]| match values.iter().position(|v| !v.is_finite()) {
@@ -194,9 +196,11 @@ impl BodyModel {
         finite("shapedirs", shape_dirs)?;
         // SMPL-X's columns are shape then expression: 300 + 100, or 10 + 10 in older files.
         let (shape_count, expression_start, expression_count) = match model {
-            ModelType::Smplx if shape_dirs_width >= SMPLX_SHAPE_SPACE + 100 => {
-                (SMPLX_SHAPE_SPACE, SMPLX_SHAPE_SPACE, shape_dirs_width - SMPLX_SHAPE_SPACE)
-            }
+            ModelType::Smplx if shape_dirs_width >= SMPLX_SHAPE_SPACE + 100 => (
+                SMPLX_SHAPE_SPACE,
+                SMPLX_SHAPE_SPACE,
+                shape_dirs_width - SMPLX_SHAPE_SPACE,
+            ),
             ModelType::Smplx if shape_dirs_width >= 20 => (10, 10, 10),
             ModelType::Smplx => (shape_dirs_width, shape_dirs_width, 0),
             _ => (shape_dirs_width, shape_dirs_width, 0),
@@ -303,11 +307,7 @@ impl BodyModel {
     /// The body of shape `betas` (and SMPL-X's `expression`) at rest; components past the
     /// model's are not used (said by [`Shaped::betas_used`]), missing ones are zero.
     pub fn shaped(&self, betas: &[f64], expression: &[f64]) -> Result<Shaped, Error> {
-        if let Some(i) = betas
-            .iter()
-            .chain(expression)
-            .position(|v| !v.is_finite())
-        {
+        if let Some(i) = betas.iter().chain(expression).position(|v| !v.is_finite()) {
             return Err(Error::usage(format!(
                 "{}: shape value {i} is not a finite number",
                 self.name
@@ -480,20 +480,17 @@ fn model_in_folder(
     }
     found.sort();
     let wanted_gender = gender.map(|g| g.to_ascii_lowercase());
-    let pick: Vec<&PathBuf> = match &wanted_gender {
-        Some(g) => found
+    let of_gender = |gender: &str| -> Vec<&PathBuf> {
+        found
             .iter()
-            .filter(|p| {
-                gender_of(p.strip_prefix(folder).unwrap_or(p)).as_deref() == Some(g.as_str())
-            })
-            .collect(),
-        None => {
-            let neutral: Vec<&PathBuf> = found
-                .iter()
-                .filter(|p| {
-                    gender_of(p.strip_prefix(folder).unwrap_or(p)).as_deref() == Some("neutral")
-                })
-                .collect();
+            .filter(|p| gender_of(p.strip_prefix(folder).unwrap_or(p)).as_deref() == Some(gender))
+            .collect()
+    };
+    // A gender the folder has no model of is read on its neutral one (said by the take).
+    let pick: Vec<&PathBuf> = match wanted_gender.as_deref().map(of_gender) {
+        Some(picked) if !picked.is_empty() => picked,
+        _ => {
+            let neutral = of_gender("neutral");
             if neutral.is_empty() && found.len() == 1 {
                 found.iter().collect()
             } else {
@@ -535,7 +532,10 @@ fn model_in_folder(
 
 /// The model type a model file's name says (`SMPLX_…`, `smplh/…`, `SMPL_…`).
 fn type_of_name(path: &Path) -> Option<ModelType> {
-    let said = path.to_string_lossy().to_ascii_lowercase().replace(['-', '+'], "");
+    let said = path
+        .to_string_lossy()
+        .to_ascii_lowercase()
+        .replace(['-', '+'], "");
     if said.contains("smplx") {
         Some(ModelType::Smplx)
     } else if said.contains("smplh") {

@@ -81,6 +81,9 @@ pub struct Take {
     /// How position channels meet the OFFSET in [`Take::positions`], [`Take::ground`] and a
     /// glTF save: replace it (the article's reading, the default) or add to it.
     pub offset_mode: OffsetMode,
+    /// The SMPL-family body an AMASS file said (its betas and gender), kept while the skeleton
+    /// and its lengths are the file's, for an AMASS file written from the take.
+    pub body: Option<crate::smpl::Body>,
 }
 
 impl Take {
@@ -98,6 +101,7 @@ impl Take {
             format: None,
             take_name: None,
             offset_mode: OffsetMode::Replace,
+            body: None,
         }
     }
 
@@ -259,6 +263,7 @@ impl Take {
             self.offset_mode,
             f64::from(stance.units.metres),
             stance.up,
+            self.body.as_ref(),
             &self.name,
         )?;
         Ok((crate::smpl::amass::to_npz(&params)?, params.warnings))
@@ -446,7 +451,6 @@ impl Take {
     /// the units a file stated kept only when the edit kept every length.
     pub fn edited(&self, skeleton: Skeleton, motion: Motion, same_lengths: bool) -> Take {
         Take {
-            skeleton,
             motion,
             warnings: self.warnings.clone(),
             stated_units: self.stated_units.filter(|_| same_lengths),
@@ -457,6 +461,11 @@ impl Take {
             format: self.format,
             take_name: self.take_name.clone(),
             offset_mode: self.offset_mode,
+            body: self
+                .body
+                .clone()
+                .filter(|_| same_lengths && skeleton == self.skeleton),
+            skeleton,
         }
     }
 
@@ -663,7 +672,7 @@ fn load_take_as_written(path: &Path, options: &OpenOptions) -> Result<Take, Erro
         Format::Gltf => crate::gltf::load(path, options)?,
         Format::Amass => {
             let bytes = crate::io::whole::read_binary_file(path, max_size)?;
-            crate::smpl::load_bytes(&bytes, &name, frame_time)?
+            return load_amass(&bytes, name, options);
         }
         Format::Bvh => {
             let settings = bvh::loader::Settings {
@@ -684,6 +693,19 @@ fn load_take_as_written(path: &Path, options: &OpenOptions) -> Result<Take, Erro
     // FBX and glTF readers give metres (ufbx converts the FBX's UnitScaleFactor; glTF is metres
     // by definition); the stance's guess from the figure's size says so.
     Ok(Take::of_read(read, format, frame_time, name))
+}
+
+/// The take of an AMASS file's `bytes`, with the body it holds.
+fn load_amass(bytes: &[u8], name: String, options: &OpenOptions) -> Result<Take, Error> {
+    let (read, body) = crate::smpl::load_bytes(
+        bytes,
+        &name,
+        options.frame_time,
+        options.body_model.as_deref(),
+    )?;
+    let mut take = Take::of_read(read, Format::Amass, options.frame_time, name);
+    take.body = Some(body);
+    Ok(take)
 }
 
 /// The built-in skeleton `path` names: a bare name without an extension or a folder, such as
@@ -812,7 +834,7 @@ fn load_bytes(bytes: &[u8], name: &str, options: &OpenOptions) -> Result<Take, E
         }
         Format::Fbx => crate::fbx::load_bytes(bytes, name, options)?,
         Format::Gltf => crate::gltf::load_bytes(bytes, name, options)?,
-        Format::Amass => crate::smpl::load_bytes(bytes, name, frame_time)?,
+        Format::Amass => return load_amass(bytes, name.to_string(), options),
         Format::AsfAmc => {
             return Err(Error::usage(format!(
                 "{name}: an ASF skeleton is read from a file, beside its AMC motion; bvhview \

@@ -33,6 +33,7 @@ pub struct OpenOptions {
     pub(crate) format: Option<Format>,
     pub(crate) units: Option<crate::model::stance::Units>,
     pub(crate) up: Option<crate::model::pose::Up>,
+    pub(crate) body_model: Option<std::path::PathBuf>,
 }
 
 impl OpenOptions {
@@ -53,6 +54,14 @@ impl OpenOptions {
     /// [`takes`](crate::take::takes).
     pub fn take(mut self, take: impl Into<String>) -> OpenOptions {
         self.take = Some(take.into());
+        self
+    }
+
+    /// The user's SMPL-family model file (an `.npz`, or a folder with one per gender): an
+    /// AMASS file's joints are then that body's, of the file's betas, not bvhview's built-in
+    /// figure's.
+    pub fn body_model(mut self, path: impl AsRef<Path>) -> OpenOptions {
+        self.body_model = Some(path.as_ref().to_path_buf());
         self
     }
 

@@ -105,14 +105,26 @@ pub fn model_npz(model: ModelType, rest: &[[f64; 3]]) -> Vec<u8> {
         .collect();
     let tree: Vec<u8> = parents
         .iter()
-        .map(|&p| if p == usize::MAX { 4294967295 } else { p as i64 })
+        .map(|&p| {
+            if p == usize::MAX {
+                4294967295
+            } else {
+                p as i64
+            }
+        })
         .chain(0..joints as i64)
         .flat_map(|v| v.to_le_bytes())
         .collect();
     let members = vec![
         ("kintree_table.npy", npy("<i8", &[2, joints], &tree)),
-        ("v_template.npy", npy("<f8", &[vertices, 3], &f64s(&template))),
-        ("weights.npy", npy("<f8", &[vertices, joints], &f64s(&weights))),
+        (
+            "v_template.npy",
+            npy("<f8", &[vertices, 3], &f64s(&template)),
+        ),
+        (
+            "weights.npy",
+            npy("<f8", &[vertices, joints], &f64s(&weights)),
+        ),
         (
             "J_regressor.npy",
             npy("<f8", &[joints, vertices], &f64s(&regressor)),

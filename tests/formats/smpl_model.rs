@@ -4,12 +4,15 @@
 
 use crate::common::{data, smpl_models};
 use bvhview::smpl::model::BodyModel;
-use bvhview::smpl::{ModelType, npz};
+use bvhview::smpl::{ModelType, amass, npz};
 use glam::DVec3;
 
 /// The committed outputs of `smplx` for `model`.
 fn reference(model: ModelType) -> npz::Npz {
-    let name = format!("smpl/reference/{}_smplx.npz", model.label().replace('-', "").to_lowercase());
+    let name = format!(
+        "smpl/reference/{}_smplx.npz",
+        model.label().replace('-', "").to_lowercase()
+    );
     let bytes = std::fs::read(data(&name)).unwrap();
     npz::read(&bytes, &name).unwrap()
 }
@@ -40,10 +43,18 @@ fn the_forward_pass_is_smplx_s_on_every_model_type() {
         assert_eq!(body.model, model);
         let joints = model.joint_count();
         // The same model as the script's: its template where the script sampled it.
-        let index: Vec<usize> = rows(&file, "vertex_index", 1).iter().map(|r| r[0] as usize).collect();
+        let index: Vec<usize> = rows(&file, "vertex_index", 1)
+            .iter()
+            .map(|r| r[0] as usize)
+            .collect();
         let rest = body.shaped(&[], &[]).unwrap();
         for (k, sample) in rows(&file, "template_sample", 3).iter().enumerate() {
-            assert_eq!(rest.vertices[index[k]], DVec3::from_slice(sample), "{model:?} vertex {}", index[k]);
+            assert_eq!(
+                rest.vertices[index[k]],
+                DVec3::from_slice(sample),
+                "{model:?} vertex {}",
+                index[k]
+            );
         }
         let expression_width = file.numbers("expression").unwrap().0[1];
         let (betas, poses, trans, expression) = (
@@ -69,7 +80,95 @@ fn the_forward_pass_is_smplx_s_on_every_model_type() {
             }
         }
         eprintln!("{model:?}: worst joint {worst_joint:.2e} m, worst vertex {worst_vertex:.2e} m");
-        assert!(worst_joint < 1e-6, "{model:?}: a joint {worst_joint} m from smplx's");
-        assert!(worst_vertex < 1e-5, "{model:?}: a vertex {worst_vertex} m from smplx's");
+        assert!(
+            worst_joint < 1e-6,
+            "{model:?}: a joint {worst_joint} m from smplx's"
+        );
+        assert!(
+            worst_vertex < 1e-5,
+            "{model:?}: a vertex {worst_vertex} m from smplx's"
+        );
+    }
+}
+
+/// The fake model of `model` written as a model file in `folder`, named as the real ones are.
+fn model_file(model: ModelType, folder: &std::path::Path) -> std::path::PathBuf {
+    let file = reference(model);
+    let rest: Vec<[f64; 3]> = rows(&file, "rest_joints", 3)
+        .iter()
+        .map(|r| [r[0], r[1], r[2]])
+        .collect();
+    let name = format!("{}_NEUTRAL.npz", model.label().replace('-', ""));
+    let path = folder.join(name);
+    std::fs::write(&path, smpl_models::model_npz(model, &rest)).unwrap();
+    path
+}
+
+/// An AMASS file read with the user's model: every joint of every frame where the model's
+/// forward pass puts it (the file's betas, `trans`, Z up turned to Y up), and written again
+/// the same arrays, betas and gender kept.
+#[test]
+fn an_amass_file_read_on_a_model_stands_where_the_model_puts_it() {
+    let folder = crate::common::scratch_folder("body-model");
+    for (file, model) in [
+        ("smpl/amass_smplh_walk.npz", ModelType::Smplh),
+        ("smpl/amass_smplx_walk.npz", ModelType::Smplx),
+        ("smpl/smpl_walk_compressed.npz", ModelType::Smpl),
+    ] {
+        model_file(model, &folder);
+        let take = bvhview::OpenOptions::new()
+            .body_model(&folder)
+            .open(data(file))
+            .unwrap();
+        let said: Vec<String> = take.warnings.iter().map(|w| w.to_string()).collect();
+        assert!(
+            said.iter()
+                .any(|w| w.contains("read on the body of") && w.contains("NEUTRAL.npz")),
+            "{file}: {said:?}"
+        );
+        let bytes = std::fs::read(data(file)).unwrap();
+        let params = amass::read(&npz::read(&bytes, file).unwrap(), file, None).unwrap();
+        let body = BodyModel::open(&folder, None, Some(model)).unwrap();
+        let shaped = body.shaped(&params.betas, &[]).unwrap();
+        let names = model.joint_names();
+        let width = model.pose_width();
+        let mut worst = 0.0f64;
+        // Every seventh frame: the forward pass of a debug build is slow.
+        for f in (0..take.frame_count()).step_by(7) {
+            let trans = DVec3::from_slice(&params.trans[3 * f..3 * f + 3]);
+            let posed = body.forward(&shaped, &params.poses[f * width..(f + 1) * width], trans);
+            let got = take.positions(f).unwrap();
+            for (j, joint) in take.skeleton.joints.iter().enumerate() {
+                let Some(k) = names.iter().position(|n| *n == joint.name) else {
+                    continue;
+                };
+                let p = posed.joints[k];
+                // AMASS's Z up in bvhview's Y up: (x, y, z) → (x, z, −y).
+                let want = DVec3::new(p.x, p.z, -p.y);
+                worst = worst.max(got[j].as_dvec3().distance(want));
+            }
+        }
+        assert!(worst < 1e-5, "{file}: a joint {worst} m from the model's");
+        let (written, _) = take.amass().unwrap();
+        let back = amass::read(&npz::read(&written, "back.npz").unwrap(), "back", None).unwrap();
+        // A file that says no gender is written neutral.
+        let gender = params.gender.clone().or(Some("neutral".into()));
+        assert_eq!(
+            (&back.betas, &back.gender),
+            (&params.betas, &gender),
+            "{file}"
+        );
+        let far = |a: &[f64], b: &[f64]| {
+            a.iter()
+                .zip(b)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max)
+        };
+        assert!(
+            far(&back.trans, &params.trans) < 1e-6,
+            "{file}: trans {}",
+            far(&back.trans, &params.trans)
+        );
+        assert!(far(&back.poses, &params.poses) < 1e-6, "{file}: poses");
     }
 }
