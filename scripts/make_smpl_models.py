@@ -111,11 +111,28 @@ def model_arrays(rest, parents, vertices, faces, shapes):
         "v_template": template,
         "weights": weights,
         "J_regressor": regressor,
-        "shapedirs": noise(1, vertices * 3 * shapes, 0.01).reshape(vertices, 3, shapes),
-        "posedirs": noise(2, vertices * 3 * features, 0.01).reshape(vertices, 3, features),
-        "f": np.stack([i % vertices, (i + nb) % vertices, (i + 9 * nb) % vertices],
-                      axis=1).astype(np.uint32),
+        "shapedirs": noise(1, vertices * 3 * shapes, 0.002).reshape(vertices, 3, shapes),
+        "posedirs": noise(2, vertices * 3 * features, 0.001).reshape(vertices, 3, features),
+        "f": tube_faces(faces, vertices, nb),
     }
+
+
+def tube_faces(faces, vertices, nb):
+    """Two triangles a quad of a bone's tube: from step m to m + 1 along it, corner a to a + 1
+    around it, in one layer; a corner past the last vertex folds to the quad's first."""
+    out = []
+    for i in range(faces):
+        v0 = (i // 2) % vertices
+        b0, k = v0 % nb, v0 // nb
+        m, a, layer = min(k % 9, 7), (k // 9) % 8, k // 72
+        # A quad past the last vertex (the last layer is cut short) folds to a point.
+        vid = lambda m, a: (lambda v: v if v < vertices else v0)(b0 + nb * (m + 9 * a + 72 * layer))
+        a1 = (a + 1) % 8
+        if i % 2 == 0:
+            out.append((vid(m, a), vid(m + 1, a), vid(m + 1, a1)))
+        else:
+            out.append((vid(m, a), vid(m + 1, a1), vid(m, a1)))
+    return np.array(out, dtype=np.uint32)
 
 
 def layout(kind):

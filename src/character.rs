@@ -26,9 +26,11 @@ use crate::model::pose::{OffsetMode, world_matrices};
 use crate::model::skeleton::Skeleton;
 use crate::retarget::{Check, Insist};
 use crate::take::{Format, OpenOptions, Take};
+use crate::smpl::model::BodyModel;
 use glam::{Mat4, Vec3};
 use std::io::Write;
 use std::path::Path;
+use std::sync::Arc;
 
 /// A skinned mesh and the take of its file.
 ///
@@ -56,6 +58,9 @@ pub struct Character {
     pub take: Take,
     /// The mesh, bound to `take.skeleton`'s joints.
     pub mesh: Mesh,
+    /// The body model it was made of, and whether its betas were given (else an AMASS take
+    /// put on it lends its own).
+    body: Option<(Arc<BodyModel>, bool)>,
 }
 
 /// What [`Character::dress`] says of a take it put on a character: the retarget's check of
@@ -139,10 +144,15 @@ impl Character {
                 let (read, mesh) = crate::gltf::load_character(path, options)?;
                 (read, mesh, Format::Gltf)
             }
+            Some(Format::Amass) => {
+                let model = crate::smpl::open_model(path, None, None)?;
+                let betas = options.betas.as_deref();
+                return Character::from_body_model(model, betas, &[]).map(Some);
+            }
             _ => {
                 return Err(Error::usage(format!(
                     "{}: a character is an FBX or glTF file (.fbx, .glb, .gltf) with a skinned \
-                     mesh",
+                     mesh, or a SMPL-family model file (.npz)",
                     path.display()
                 )));
             }
@@ -155,7 +165,102 @@ impl Character {
         take.warnings = read.warnings;
         take.format = Some(format);
         take.take_name = read.take;
-        Ok(Some(Character { take, mesh }))
+        Ok(Some(Character {
+            take,
+            mesh,
+            body: None,
+        }))
+    }
+
+    /// The user's body model as a character: its mesh of shape `betas` (none: the mean shape,
+    /// and an AMASS take put on it by [`Character::for_take`] lends its own) and SMPL-X's
+    /// `expression` (empty: none), bound by the
+    /// model's weights to the built-in figure of its type with the model's joints, moved by
+    /// its pose blend shapes and linear blend skinning as `smplx` moves it. Its take is the rest
+    /// pose, one frame, metres, Y up.
+    pub fn from_body_model(
+        model: Arc<BodyModel>,
+        betas: Option<&[f64]>,
+        expression: &[f64],
+    ) -> Result<Character, Error> {
+        let shaped = model.shaped(betas.unwrap_or(&[]), expression)?;
+        let (mut skeleton, index_of) = crate::smpl::amass::figure(model.model)?;
+        crate::smpl::amass::model_offsets(&mut skeleton, &index_of, &shaped.joints);
+        let joint_of: Vec<usize> = (0..model.model.joint_count())
+            .map(|k| index_of.iter().position(|&i| i == Some(k)))
+            .collect::<Option<_>>()
+            .ok_or_else(|| {
+                Error::usage(format!(
+                    "the built-in {} lacks a joint of {}",
+                    model.model.built_in(),
+                    model.model.label()
+                ))
+            })?;
+        // One rest frame: no joint turned, the root where the model rests its pelvis.
+        let channels = skeleton.channel_count();
+        let mut rest = vec![0.0f32; channels];
+        let root = &skeleton.joints[joint_of[0]];
+        for (c, channel) in root.channels.iter().enumerate() {
+            if channel.is_position() {
+                rest[root.first_channel + c] = root.offset[channel.axis()];
+            }
+        }
+        let motion = crate::model::motion::Motion::new(1.0 / 30.0, channels, 1, rest);
+        let vertices = model.vertex_count();
+        let bytes = (vertices * joint_of.len() * 8) as u64;
+        let mut builder = crate::model::mesh::MeshBuilder::new(&model.name, bytes);
+        builder.begin_part(&model.name, false);
+        for (k, joint) in shaped.joints.iter().enumerate() {
+            builder.bone(crate::model::mesh::Bone {
+                joint: Some(joint_of[k]),
+                bind: Mat4::from_translation(-joint.as_vec3()),
+            })?;
+        }
+        let still = crate::model::mesh::Bone {
+            joint: None,
+            bind: Mat4::IDENTITY,
+        };
+        for (v, position) in shaped.vertices.iter().enumerate() {
+            let weights = model.weights_of(v).iter().map(|&(k, w)| (k, w as f32));
+            builder.vertex(position.as_vec3(), Vec3::Y, weights, still)?;
+        }
+        for corners in model.faces.chunks_exact(3) {
+            builder.triangle([corners[0], corners[1], corners[2]])?;
+        }
+        builder.smooth_normals(0, 0);
+        let (mut mesh, said) = builder.finish();
+        let parents = model.parents();
+        mesh.pose_blend = Some(Arc::new(crate::model::mesh::PoseBlend {
+            joints: (1..joint_of.len())
+                .map(|k| (joint_of[k], joint_of[parents[k].unwrap_or(0)]))
+                .collect(),
+            dirs: model.pose_dirs().iter().map(|&d| d as f32).collect(),
+        }));
+        let mut take = Take::new(skeleton, motion, model.name.clone());
+        take.warnings = said.into_iter().map(Message::from).collect();
+        take.stated_units = Some(crate::model::stance::Units::of_metres(1.0));
+        take.body = Some(crate::smpl::Body {
+            model: model.model,
+            betas: betas.unwrap_or(&[]).to_vec(),
+            gender: model.gender.clone(),
+            rest_pelvis: Some(shaped.joints[0].to_array()),
+        });
+        Ok(Character {
+            take,
+            mesh,
+            body: Some((model, betas.is_some())),
+        })
+    }
+
+    /// This character as `take` would have it: a body model whose betas were not given, shaped
+    /// by the betas of an AMASS take of its model type; else itself.
+    pub fn for_take(self: &Arc<Self>, take: &Take) -> Result<Arc<Character>, Error> {
+        match (&self.body, &take.body) {
+            (Some((model, false)), Some(body)) if body.model == model.model => Ok(Arc::new(
+                Character::from_body_model(model.clone(), Some(&body.betas), &[])?,
+            )),
+            _ => Ok(self.clone()),
+        }
     }
 
     /// The joints' world matrices of `skeleton` (the character's, or one with the same joints
@@ -299,6 +404,9 @@ impl Character {
                 return Ok((other.take, Dressed::default()));
             }
         }
+        if let Some(own) = self.same_body_model(take) {
+            return Ok((own, Dressed::default()));
+        }
         if self.is_own_skeleton(&take.skeleton) {
             let mut own = take.clone();
             // The mesh is bound to joints whose OFFSETs its positions replace.
@@ -357,6 +465,48 @@ impl Character {
             }
         };
         crate::io::output::AtomicFile::write_whole(path, &bytes)
+    }
+
+    /// `take` on this body model character when it holds that model type's parameters (an
+    /// AMASS file read with or without the model): the same rotations, exactly, on the model's
+    /// joints, the root moved from where the take's reading rested the pelvis to where the
+    /// model rests it.
+    fn same_body_model(&self, take: &Take) -> Option<Take> {
+        let (model, _) = self.body.as_ref()?;
+        let body = take.body.as_ref().filter(|b| b.model == model.model)?;
+        let own = &self.take.skeleton;
+        let same_joints = own.joints.len() == take.skeleton.joints.len()
+            && own.joints.iter().zip(&take.skeleton.joints).all(|(a, b)| {
+                a.name == b.name
+                    && a.parent == b.parent
+                    && a.channels == b.channels
+                    && a.rotation_order == b.rotation_order
+            });
+        if !same_joints {
+            return None;
+        }
+        let rest = |p: Option<[f64; 3]>| glam::DVec3::from(p.unwrap_or([0.0; 3]));
+        let own_pelvis = self.take.body.as_ref().and_then(|b| b.rest_pelvis);
+        let delta = rest(own_pelvis) - rest(body.rest_pelvis);
+        // The take stands AMASS's Z up in Y up: (x, y, z) → (x, z, −y).
+        let shift = glam::DVec3::new(delta.x, delta.z, -delta.y).as_vec3();
+        let root = &own.joints[0];
+        let mut motion = take.motion.clone();
+        let width = motion.channels.max(1);
+        for row in motion.data.chunks_exact_mut(width) {
+            for (c, channel) in root.channels.iter().enumerate() {
+                if channel.is_position() {
+                    row[root.first_channel + c] += shift[channel.axis()];
+                }
+            }
+        }
+        let mut dressed = take.edited(own.clone(), motion, false);
+        dressed.offset_mode = OffsetMode::Replace;
+        dressed.body = Some(crate::smpl::Body {
+            rest_pelvis: own_pelvis,
+            ..body.clone()
+        });
+        Some(dressed)
     }
 
     /// Whether `skeleton` is the one the mesh is bound to: the same joints in the same order,

@@ -32,14 +32,17 @@ impl Insisting {
     }
 }
 
-/// `take` (read from `path`) on `character` ([`Character::dress_file`]), with what the
-/// retarget measured said: its warnings always, its check line unless `-q`.
+/// `take` (read from `path`) on `character` ([`Character::dress_file`]; a body model shaped
+/// by an AMASS take's betas first, [`Character::for_take`]), with what the retarget measured
+/// said: its warnings always, its check line unless `-q`. The character it went on comes back
+/// beside it.
 pub(crate) fn dress(
-    character: &Character,
+    character: &Arc<Character>,
     take: &crate::Take,
     path: &Path,
     insist: Insist,
-) -> Result<crate::Take, Error> {
+) -> Result<(crate::Take, Arc<Character>), Error> {
+    let character = character.for_take(take)?;
     let (dressed, said) = character.dress_file(take, path, insist, crate::io::parallel::cores())?;
     let (take_name, character_name) = (path.display().to_string(), &character.take.name);
     for warning in said.warnings(&take_name, character_name) {
@@ -51,7 +54,7 @@ pub(crate) fn dress(
             check.line()
         ));
     }
-    Ok(dressed)
+    Ok((dressed, character))
 }
 
 /// The character each of `count` takes is put on: none without `--character`, one for all when
@@ -88,7 +91,10 @@ pub(crate) fn load_all(
             out.push(Some(character.clone()));
             continue;
         }
-        let options = crate::take::OpenOptions::new().max_size(source.max_size);
+        let mut options = crate::take::OpenOptions::new().max_size(source.max_size);
+        if let Some(betas) = &source.betas {
+            options = options.betas(betas);
+        }
         let character = Arc::new(Character::open_with(path, &options)?);
         for warning in &character.take.warnings {
             eprintln!(

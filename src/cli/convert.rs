@@ -254,9 +254,10 @@ fn write_character(
     format: TakeFormat,
     loaded: Take,
     path: &Path,
-    character: &crate::character::Character,
+    character: &std::sync::Arc<crate::character::Character>,
 ) -> Result<ExitCode, Error> {
     let own = args.character.is_none();
+    let mut character = character.clone();
     let mut dressed = if own {
         // The file's own take, edited: its mesh goes with it while the edits keep the rig.
         if !same_rig(&loaded.skeleton, &character.take.skeleton) {
@@ -289,7 +290,10 @@ fn write_character(
             ..loaded
         }
     } else {
-        super::character::dress(character, &loaded, &args.input, args.insisting.insist())?
+        let (dressed, worn) =
+            super::character::dress(&character, &loaded, &args.input, args.insisting.insist())?;
+        character = worn;
+        dressed
     };
     let mut mesh = std::borrow::Cow::Borrowed(&character.mesh);
     if let Some(units) = args.out_units {

@@ -153,13 +153,14 @@ fn load_dressed(
             .flatten(),
         None => None,
     };
-    let loaded = match &character {
+    Ok(match &character {
         Some(character) => {
-            super::character::dress(character, &loaded, &args.file, args.insisting.insist())?
+            let (loaded, worn) =
+                super::character::dress(character, &loaded, &args.file, args.insisting.insist())?;
+            (loaded, Some(worn))
         }
-        None => loaded,
-    };
-    Ok((loaded, character))
+        None => (loaded, character),
+    })
 }
 
 /// `--vertices`: the character's skinned vertices in the frames of `range`, as CSV, JSON or

@@ -146,11 +146,13 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     let mode: OffsetMode = args.view.offset_mode.into();
     let framed_view = args.view.fit.is_some() || args.look == LookArg::Studio;
     let mut takes = load_takes(&args, &files, mode, framed_view)?;
-    let characters = super::character::load_all(&args.character, files.len(), &args.source)?;
-    for ((prepared, character), (file, _)) in takes.iter_mut().zip(&characters).zip(&files) {
+    let mut characters =
+        super::character::load_all(&args.character, files.len(), &args.source)?;
+    for ((prepared, character), (file, _)) in takes.iter_mut().zip(&mut characters).zip(&files) {
         if let Some(character) = character {
-            let dressed =
+            let (dressed, worn) =
                 super::character::dress(character, &prepared.take, file, args.insisting.insist())?;
+            *character = worn;
             prepared.stance = dressed.stance(mode.for_take(true));
             prepared.up = resolve_up(args.view.up, &prepared.stance, &prepared.name, framed_view);
             prepared.take = dressed;

@@ -158,6 +158,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
     let characters = super::character::load_all(&character, takes.len(), &source)?;
     for (take, character) in takes.iter_mut().zip(characters) {
         if let Some(character) = character {
+            let character = character.for_take(&take.loaded)?;
             take.put_on(character, offset_mode, &super::Flags)?;
         }
     }

@@ -142,6 +142,7 @@ pub struct Part {
 ///     ],
 ///     parts: vec![Default::default()],
 ///     part_names: vec!["triangle".into()],
+///     pose_blend: None,
 /// };
 /// mesh.check().unwrap();
 /// // Joint 1 moves up by 2.
@@ -168,6 +169,74 @@ pub struct Mesh {
     pub parts: Vec<Part>,
     /// Each part's name in the file (for messages; a part without one is named by its index).
     pub part_names: Vec<String>,
+    /// Offsets added to the first vertices before skinning, by the joints' rotations (a SMPL
+    /// body model's pose blend shapes); none for a file's mesh.
+    pub pose_blend: Option<std::sync::Arc<PoseBlend>>,
+}
+
+/// Pose blend shapes, as the SMPL family's models have them: each vertex moved, before
+/// skinning, by a linear sum of every posed joint's local rotation less the identity (`R − I`,
+/// row by row: nine features a joint).
+///
+/// ```
+/// use bvhview::model::mesh::PoseBlend;
+/// use glam::{Mat4, Vec3};
+///
+/// // One vertex, moved along x by the (0, 1) entry of joint 1's rotation under joint 0.
+/// let mut dirs = vec![0.0; 27];
+/// dirs[1] = 1.0;
+/// let blend = PoseBlend { joints: vec![(1, 0)], dirs };
+/// let quarter = Mat4::from_rotation_z(std::f32::consts::FRAC_PI_2);
+/// let moved = blend.apply(&[Vec3::ZERO], &[Mat4::IDENTITY, quarter]);
+/// assert!((moved[0] - Vec3::new(-1.0, 0.0, 0.0)).length() < 1e-6);
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct PoseBlend {
+    /// Each posed joint of the skeleton, with its parent: (joint, parent).
+    pub joints: Vec<(usize, usize)>,
+    /// The offsets: vertex, axis, feature (nine a joint of `joints`), as a model file's
+    /// `posedirs`.
+    pub dirs: Vec<f32>,
+}
+
+impl PoseBlend {
+    /// The vertices `rest` moved by the blend shapes of the joints' world matrices `world`
+    /// (those past the blend shapes' vertices as they are).
+    pub fn apply(&self, rest: &[Vec3], world: &[Mat4]) -> Vec<Vec3> {
+        let rotation = |m: &Mat4| {
+            let r = glam::Mat3::from_mat4(*m);
+            // A scaled skeleton's frames: the rotation alone.
+            glam::Mat3::from_cols(
+                r.x_axis.normalize_or_zero(),
+                r.y_axis.normalize_or_zero(),
+                r.z_axis.normalize_or_zero(),
+            )
+        };
+        let mut features = Vec::with_capacity(9 * self.joints.len());
+        for &(joint, parent) in &self.joints {
+            let local = rotation(&world[parent]).transpose() * rotation(&world[joint])
+                - glam::Mat3::IDENTITY;
+            for row in 0..3 {
+                features.extend([local.x_axis[row], local.y_axis[row], local.z_axis[row]]);
+            }
+        }
+        let width = features.len();
+        let mut moved = rest.to_vec();
+        if width == 0 {
+            return moved;
+        }
+        for (v, chunk) in self.dirs.chunks_exact(3 * width).enumerate().take(rest.len()) {
+            let axis = |k: usize| {
+                chunk[k * width..(k + 1) * width]
+                    .iter()
+                    .zip(&features)
+                    .map(|(d, f)| d * f)
+                    .sum::<f32>()
+            };
+            moved[v] += Vec3::new(axis(0), axis(1), axis(2));
+        }
+        moved
+    }
 }
 
 impl Mesh {
@@ -193,6 +262,11 @@ impl Mesh {
         for bone in &mut scaled.bones {
             let w = bone.bind.w_axis;
             bone.bind.w_axis = (w.truncate() * factor).extend(w.w);
+        }
+        if let Some(blend) = &mut scaled.pose_blend {
+            for d in &mut std::sync::Arc::make_mut(blend).dirs {
+                *d *= factor;
+            }
         }
         scaled
     }
@@ -397,21 +471,39 @@ impl Mesh {
     pub fn deform(&self, world: &[Mat4], positions: &mut Vec<Vec3>, normals: &mut Vec<Vec3>) {
         let mut matrices = Vec::with_capacity(self.bones.len());
         self.bone_matrices(world, &mut matrices);
-        self.deform_with(&matrices, positions, normals);
+        match &self.pose_blend {
+            Some(blend) => {
+                let rest = blend.apply(&self.positions, world);
+                self.skin(&rest, &matrices, positions, normals);
+            }
+            None => self.skin(&self.positions, &matrices, positions, normals),
+        }
     }
 
-    /// [`Mesh::deform`] with the bone matrices already made.
+    /// [`Mesh::deform`] with the bone matrices already made (no pose blend shapes: they need
+    /// the joints').
     pub fn deform_with(
         &self,
         bone_matrices: &[Mat4],
         positions: &mut Vec<Vec3>,
         normals: &mut Vec<Vec3>,
     ) {
+        self.skin(&self.positions, bone_matrices, positions, normals);
+    }
+
+    /// Linear blend skinning of the vertices `rest` (this mesh's, or moved by blend shapes).
+    fn skin(
+        &self,
+        rest: &[Vec3],
+        bone_matrices: &[Mat4],
+        positions: &mut Vec<Vec3>,
+        normals: &mut Vec<Vec3>,
+    ) {
         positions.clear();
         normals.clear();
-        positions.reserve(self.positions.len());
-        normals.reserve(self.positions.len());
-        for (v, (&position, &normal)) in self.positions.iter().zip(&self.normals).enumerate() {
+        positions.reserve(rest.len());
+        normals.reserve(rest.len());
+        for (v, (&position, &normal)) in rest.iter().zip(&self.normals).enumerate() {
             let influences = self.influences_of(v);
             let (x, y, z, w) = if influences.len() <= EXACT_IN_F32 {
                 let (mut x, mut y, mut z, mut w) = (Vec4::ZERO, Vec4::ZERO, Vec4::ZERO, Vec4::ZERO);

@@ -338,32 +338,7 @@ pub fn to_take(
     model: Option<&super::model::BodyModel>,
 ) -> Result<(Skeleton, Motion, Vec<Message>, Option<[f64; 3]>), Error> {
     let model_type = amass.model;
-    let (skeleton, _) = crate::bvh::built_in::built_in(model_type.built_in()).ok_or_else(|| {
-        Error::usage(format!(
-            "the built-in skeleton {} does not load",
-            model_type.built_in()
-        ))
-    })?;
-    // Centimetres to metres: the lengths alone (the built-in's one rest frame is not used).
-    let no_frames = Motion::new(
-        amass_frame_time(amass),
-        skeleton.channel_count(),
-        0,
-        Vec::new(),
-    );
-    let (mut skeleton, _) = crate::edit::scale(&skeleton, &no_frames, 0.01)?;
-    // AMASS states Z up; the take is turned to Y up, which it states.
-    skeleton.y_up_stated = true;
-    let names = model_type.joint_names();
-    let index_of: Vec<Option<usize>> = skeleton
-        .joints
-        .iter()
-        .map(|joint| {
-            (!joint.end_site)
-                .then(|| names.iter().position(|n| *n == joint.name))
-                .flatten()
-        })
-        .collect();
+    let (mut skeleton, index_of) = figure(model_type)?;
     let mut said = amass.warnings.clone();
     let rest_pelvis = match model {
         Some(body) => {
@@ -416,10 +391,37 @@ pub fn to_take(
     Ok((skeleton, motion, said, rest_pelvis))
 }
 
+/// The built-in figure of `model_type` in metres, Y up stated, and each of its joints' index in
+/// the model type's order (`None` for End Sites).
+pub(crate) fn figure(model_type: ModelType) -> Result<(Skeleton, Vec<Option<usize>>), Error> {
+    let (skeleton, _) = crate::bvh::built_in::built_in(model_type.built_in()).ok_or_else(|| {
+        Error::usage(format!(
+            "the built-in skeleton {} does not load",
+            model_type.built_in()
+        ))
+    })?;
+    // Centimetres to metres: the lengths alone (the built-in's one rest frame is not used).
+    let no_frames = Motion::new(1.0 / 30.0, skeleton.channel_count(), 0, Vec::new());
+    let (mut skeleton, _) = crate::edit::scale(&skeleton, &no_frames, 0.01)?;
+    // AMASS and the models are metres; the take is Y up, which it states.
+    skeleton.y_up_stated = true;
+    let names = model_type.joint_names();
+    let index_of = skeleton
+        .joints
+        .iter()
+        .map(|joint| {
+            (!joint.end_site)
+                .then(|| names.iter().position(|n| *n == joint.name))
+                .flatten()
+        })
+        .collect();
+    Ok((skeleton, index_of))
+}
+
 /// Each model joint's OFFSET in `skeleton` (`index_of` its model index) made the model's: its
 /// rest joint less its parent's (the root's: where the model's pelvis rests); End Sites keep
 /// the built-in figure's.
-fn model_offsets(skeleton: &mut Skeleton, index_of: &[Option<usize>], joints: &[glam::DVec3]) {
+pub(crate) fn model_offsets(skeleton: &mut Skeleton, index_of: &[Option<usize>], joints: &[glam::DVec3]) {
     for j in 0..skeleton.joints.len() {
         let Some(k) = index_of[j] else { continue };
         let parent = skeleton.joints[j].parent.and_then(|p| index_of[p]);

@@ -51,7 +51,7 @@ pub fn load_bytes(
     let npz = npz::read(bytes, shown)?;
     let amass = amass::read(&npz, shown, frame_time)?;
     let model = match body_model {
-        Some(path) => Some(open_model(path, amass.gender.as_deref(), amass.model)?),
+        Some(path) => Some(open_model(path, amass.gender.as_deref(), Some(amass.model))?),
         None => None,
     };
     let (skeleton, motion, warnings, rest_pelvis) = amass::to_take(&amass, model.as_deref())?;
@@ -73,14 +73,14 @@ pub fn load_bytes(
 
 /// Model files read in this process, by path and gender: a folder of AMASS files read with one
 /// model reads it once.
-type ModelCache = Vec<(PathBuf, Option<String>, ModelType, Arc<model::BodyModel>)>;
+type ModelCache = Vec<(PathBuf, Option<String>, Option<ModelType>, Arc<model::BodyModel>)>;
 
 /// The body model at `path` (a file, or a folder holding one per gender) for `gender` and of
-/// type `wanted`, read once per process.
+/// type `wanted` (any, for `None`), read once per process.
 pub fn open_model(
     path: &Path,
     gender: Option<&str>,
-    wanted: ModelType,
+    wanted: Option<ModelType>,
 ) -> Result<Arc<model::BodyModel>, Error> {
     static CACHE: Mutex<ModelCache> = Mutex::new(Vec::new());
     let gender = gender.map(|g| g.trim().to_ascii_lowercase());
@@ -92,12 +92,8 @@ pub fn open_model(
     {
         return Ok(model.clone());
     }
-    let model = Arc::new(model::BodyModel::open(
-        path,
-        gender.as_deref(),
-        Some(wanted),
-    )?);
-    if model.model != wanted {
+    let model = Arc::new(model::BodyModel::open(path, gender.as_deref(), wanted)?);
+    if let Some(wanted) = wanted.filter(|&w| w != model.model) {
         return Err(Error::usage(format!(
             "{}: a {} model; the motion is {} parameters (give a {} model file)",
             model.name,

@@ -294,6 +294,16 @@ impl BodyModel {
         self.template.len()
     }
 
+    /// Vertex `v`'s skinning weights: joint (the model type's order), weight.
+    pub(crate) fn weights_of(&self, v: usize) -> &[(u32, f64)] {
+        &self.weights[self.weight_start[v] as usize..self.weight_start[v + 1] as usize]
+    }
+
+    /// The pose blend shapes: vertex, axis, feature (nine a joint after the root).
+    pub(crate) fn pose_dirs(&self) -> &[f64] {
+        &self.pose_dirs
+    }
+
     /// How many shape components (`betas`) it has.
     pub fn shape_count(&self) -> usize {
         self.shape_count

@@ -34,6 +34,7 @@ pub struct OpenOptions {
     pub(crate) units: Option<crate::model::stance::Units>,
     pub(crate) up: Option<crate::model::pose::Up>,
     pub(crate) body_model: Option<std::path::PathBuf>,
+    pub(crate) betas: Option<Vec<f64>>,
 }
 
 impl OpenOptions {
@@ -62,6 +63,13 @@ impl OpenOptions {
     /// figure's.
     pub fn body_model(mut self, path: impl AsRef<Path>) -> OpenOptions {
         self.body_model = Some(path.as_ref().to_path_buf());
+        self
+    }
+
+    /// The shape of a body model opened as a character ([`crate::character::Character`]):
+    /// its first betas (the rest zero). Without them, the mean shape, or an AMASS take's own.
+    pub fn betas(mut self, betas: &[f64]) -> OpenOptions {
+        self.betas = Some(betas.to_vec());
         self
     }
 

@@ -54,6 +54,22 @@ pub fn sizes(model: ModelType) -> (usize, usize, usize) {
     }
 }
 
+/// Triangle `i` of the tubes: two a quad, from step m to m + 1 along a bone, corner a to a + 1
+/// around it, in one layer (the script's `tube_faces`).
+fn tube_face(i: usize, vertices: usize, nb: usize) -> [usize; 3] {
+    let v0 = (i / 2) % vertices;
+    let (b0, k) = (v0 % nb, v0 / nb);
+    let (m, a, layer) = ((k % 9).min(7), (k / 9) % 8, k / 72);
+    // A corner past the last vertex (the last layer is cut short) folds to the quad's first.
+    let vid = |m: usize, a: usize| Some(b0 + nb * (m + 9 * a + 72 * layer)).filter(|&v| v < vertices).unwrap_or(v0);
+    let a1 = (a + 1) % 8;
+    if i % 2 == 0 {
+        [vid(m, a), vid(m + 1, a), vid(m + 1, a1)]
+    } else {
+        [vid(m, a), vid(m + 1, a1), vid(m, a1)]
+    }
+}
+
 /// The `.npz` of the fake model of `model` built on `rest` (its joints at rest, metres).
 pub fn model_npz(model: ModelType, rest: &[[f64; 3]]) -> Vec<u8> {
     let parents: Vec<usize> = model
@@ -100,7 +116,7 @@ pub fn model_npz(model: ModelType, rest: &[[f64; 3]]) -> Vec<u8> {
     }
     let features = 9 * nb;
     let triangles: Vec<u8> = (0..faces)
-        .flat_map(|i| [i % vertices, (i + nb) % vertices, (i + 9 * nb) % vertices])
+        .flat_map(|i| tube_face(i, vertices, nb))
         .flat_map(|v| (v as u32).to_le_bytes())
         .collect();
     let tree: Vec<u8> = parents
@@ -134,7 +150,7 @@ pub fn model_npz(model: ModelType, rest: &[[f64; 3]]) -> Vec<u8> {
             npy(
                 "<f8",
                 &[vertices, 3, shapes],
-                &f64s(&noise(1, vertices * 3 * shapes, 0.01)),
+                &f64s(&noise(1, vertices * 3 * shapes, 0.002)),
             ),
         ),
         (
@@ -142,7 +158,7 @@ pub fn model_npz(model: ModelType, rest: &[[f64; 3]]) -> Vec<u8> {
             npy(
                 "<f8",
                 &[vertices, 3, features],
-                &f64s(&noise(2, vertices * 3 * features, 0.01)),
+                &f64s(&noise(2, vertices * 3 * features, 0.001)),
             ),
         ),
         ("f.npy", npy("<u4", &[faces, 3], &triangles)),

@@ -172,3 +172,57 @@ fn an_amass_file_read_on_a_model_stands_where_the_model_puts_it() {
         assert!(far(&back.poses, &params.poses) < 1e-6, "{file}: poses");
     }
 }
+
+/// The body model as a character: its mesh skinned by bvhview's drawing path (32-bit floats,
+/// pose blend shapes, linear blend skinning) where `smplx` puts every vertex, for an AMASS
+/// take of each reference body (its pose, betas and trans) put on it.
+#[test]
+fn a_body_model_character_is_skinned_as_smplx_skins_it() {
+    use crate::common::npz::{f64s, npy, npz as archive};
+    for model in ModelType::ALL {
+        let (body, file) = fake_model(model);
+        let body = std::sync::Arc::new(body);
+        let joints = model.joint_count();
+        let index: Vec<usize> = rows(&file, "vertex_index", 1).iter().map(|r| r[0] as usize).collect();
+        let expression_width = file.numbers("expression").unwrap().0[1];
+        let (betas, poses, trans, expression) = (
+            rows(&file, "betas", 10),
+            rows(&file, "poses", 3 * joints),
+            rows(&file, "trans", 3),
+            rows(&file, "expression", expression_width),
+        );
+        let want = rows(&file, "vertices", 3 * index.len());
+        let mut worst = 0.0f64;
+        // Four bodies of the twenty: each is a character of its own shape.
+        for i in [0, 5, 11, 19] {
+            let character = bvhview::character::Character::from_body_model(body.clone(), Some(betas[i]), expression[i]).unwrap();
+            let take = bvhview::OpenOptions::new()
+                .format(bvhview::take::Format::Amass)
+                .open_bytes(
+                    &archive(
+                        &[
+                            ("poses.npy", npy("<f8", &[1, 3 * joints], &f64s(poses[i]))),
+                            ("trans.npy", npy("<f8", &[1, 3], &f64s(trans[i]))),
+                            ("betas.npy", npy("<f8", &[10], &f64s(betas[i]))),
+                            ("mocap_framerate.npy", npy("<f8", &[], &f64s(&[30.0]))),
+                        ],
+                        false,
+                    ),
+                    "body.npz",
+                )
+                .unwrap();
+            let (dressed, said) = character
+                .dress_file(&take, std::path::Path::new("body.npz"), Default::default(), 1)
+                .unwrap();
+            assert!(said.check.is_none(), "{model:?}: retargeted, not put on as it is");
+            let vertices = character.vertices(&dressed.skeleton, dressed.frame(0).unwrap());
+            for (k, w) in want[i].chunks_exact(3).enumerate() {
+                // smplx's Z up in the take's Y up.
+                let w = DVec3::new(w[0], w[2], -w[1]);
+                worst = worst.max(vertices[index[k]].as_dvec3().distance(w));
+            }
+        }
+        eprintln!("{model:?}: worst skinned vertex {worst:.2e} m");
+        assert!(worst < 1e-5, "{model:?}: a vertex {worst} m from smplx's");
+    }
+}
