@@ -111,10 +111,23 @@ def model_arrays(rest, parents, vertices, faces, shapes):
         "v_template": template,
         "weights": weights,
         "J_regressor": regressor,
-        "shapedirs": noise(1, vertices * 3 * shapes, 0.002).reshape(vertices, 3, shapes),
+        "shapedirs": shape_dirs(template, rest, par, bone, shapes),
         "posedirs": noise(2, vertices * 3 * features, 0.001).reshape(vertices, 3, features),
         "f": tube_faces(faces, vertices, nb),
     }
+
+
+def shape_dirs(template, rest, par, bone, shapes):
+    """Noise, and a stretch: component l (of the first ten) moves each vertex of the bones
+    numbered l modulo ten away from the bone's parent joint by 5% a unit, so that the betas
+    lengthen bones as a real model's do."""
+    vertices = len(template)
+    dirs = noise(1, vertices * 3 * shapes, 0.002).reshape(vertices, 3, shapes)
+    stretch = 0.05 * (template - rest[par])
+    for l in range(min(10, shapes)):
+        on = bone % 10 == l
+        dirs[on, :, l] = dirs[on, :, l] + stretch[on]
+    return dirs
 
 
 def tube_faces(faces, vertices, nb):

@@ -102,6 +102,12 @@ pub(crate) struct ConvertArgs {
     /// glTF only: add the viewer's generated skin as a mesh skinned to the joints.
     #[arg(long)]
     skin: bool,
+    /// Put the take (after the edits, before --out-units) on another skeleton by role, as
+    /// `retarget --onto` does: a file, or a built-in skeleton (`smpl22`; `smpl`, `smplh`,
+    /// `smplx` for the SMPL family, whose -o out.npz writes AMASS's parameters; with
+    /// --body-model, on that model with its betas fitted to the take's bones).
+    #[arg(long, value_name = "TARGET", conflicts_with_all = ["character", "skin"])]
+    onto: Option<String>,
     /// glTF or FBX: put the take (after the edits) on a character (.fbx, .glb or .gltf with a
     /// skinned mesh), retargeted onto its skeleton by role, and write the character's mesh
     /// bound to it: the take plays on the character in any glTF viewer or engine. A character
@@ -302,6 +308,14 @@ fn write_character(
         dressed = super::in_units(&args.input.display().to_string(), dressed, units)?;
         mesh = std::borrow::Cow::Owned(character.mesh.scaled(factor));
     }
+    if mesh.pose_blend.is_some() {
+        eprintln!(
+            "bvhview: {}: warning: the body model's pose blend shapes are not written (a skin \
+             in {} has none): the mesh moves by its skin alone, as without them",
+            args.output.display(),
+            if format == TakeFormat::Fbx { "FBX" } else { "glTF" }
+        );
+    }
     let units = args.out_units;
     let bytes = match format {
         TakeFormat::Fbx => fbx_character(&dressed, &mesh, units, &args.output)?,
@@ -419,6 +433,7 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
 /// The edits, in this order: trim, smooth, resample, scale, up axis, mirror, lock feet, in
 /// place, ground.
 fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take, Error> {
+    let before = loaded.skeleton.clone();
     if let Some(frames) = &args.frames {
         let range = crate::positions::parse_frames(frames, loaded.motion.frame_count())?;
         loaded.motion = crate::edit::trim(&loaded.motion, range);
@@ -508,6 +523,22 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
         for line in said {
             super::note(format_args!("{}: {line}", args.input.display()));
         }
+    }
+    if loaded.skeleton != before {
+        // Its lengths or joints changed: no longer the body an AMASS file said.
+        loaded.body = None;
+    }
+    if let Some(onto) = &args.onto {
+        let (target, body) = super::retarget::target_for(onto, &args.source, &loaded)?;
+        let name = args.input.display().to_string();
+        let (skeleton, motion, check) =
+            super::retarget::put_onto(&loaded, &name, &target, &[], Default::default())?;
+        super::note(format_args!("{name} onto {}: {}", target.name, check.line()));
+        let mut put = loaded.edited(skeleton, motion, false);
+        put.offset_mode = OffsetMode::Replace;
+        put.stated_up = None;
+        put.body = body;
+        loaded = put;
     }
     if let Some(units) = args.out_units.filter(|_| in_out_units) {
         loaded = super::in_units(&args.input.display().to_string(), loaded, units)?;

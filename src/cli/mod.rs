@@ -623,6 +623,8 @@ pub(crate) struct TakeLabel {
     /// The units an FBX file is written in (`--out-units`; default centimetres).
     #[cfg_attr(not(feature = "fbx"), allow(dead_code))]
     pub(crate) out_units: Option<crate::model::stance::Units>,
+    /// The SMPL-family body the take holds (an AMASS file's betas and gender).
+    pub(crate) body: Option<crate::smpl::Body>,
 }
 
 impl TakeLabel {
@@ -632,6 +634,7 @@ impl TakeLabel {
             name: take.take_label(),
             stated_units: take.stated_units,
             out_units: None,
+            body: take.body.clone(),
         }
     }
 
@@ -647,6 +650,7 @@ impl TakeLabel {
         take.offset_mode = mode;
         take.take_name = Some(self.name.clone());
         take.stated_units = self.stated_units;
+        take.body = self.body.clone();
         take
     }
 
@@ -656,6 +660,7 @@ impl TakeLabel {
             name: stem_of(path),
             stated_units: None,
             out_units: None,
+            body: None,
         }
     }
 }
@@ -682,32 +687,26 @@ pub(crate) fn in_units(
     Ok(take)
 }
 
-/// A command's result (`retarget`, `solve`) written at `output`, in `units` when asked.
+/// A command's result (`retarget`, `solve`) written at `output`, in `units` when asked; `body`
+/// the SMPL-family body it is on (betas fitted to its source), for an AMASS file.
 pub(crate) fn write_result(
     output: &Path,
     skeleton: crate::Skeleton,
     motion: crate::Motion,
     units: Option<crate::model::stance::Units>,
+    body: Option<crate::smpl::Body>,
 ) -> Result<ExitCode, Error> {
     let format = TakeFormat::of(output);
-    let Some(units) = units else {
-        return write_take(
-            output,
-            format,
-            skeleton,
-            motion,
-            OffsetMode::Replace,
-            false,
-            None,
-        );
-    };
-    let take = Take::new(skeleton, motion, stem_of(output));
-    let take = in_units(&output.display().to_string(), take, units)?;
-    let label = TakeLabel {
-        stated_units: Some(units),
-        out_units: Some(units),
+    let mut take = Take::new(skeleton, motion, stem_of(output));
+    let mut label = TakeLabel {
+        body,
         ..TakeLabel::output(output)
     };
+    if let Some(units) = units {
+        take = in_units(&output.display().to_string(), take, units)?;
+        label.stated_units = Some(units);
+        label.out_units = Some(units);
+    }
     write_take(
         output,
         format,
@@ -805,7 +804,11 @@ impl Prepared {
         let take = label.take(skeleton, motion, mode);
         let (bytes, said) = take.amass()?;
         for line in said {
-            note(format_args!("bvhview: {}: {line}", label.name));
+            note(format_args!(
+                "bvhview: {}: {}",
+                label.name,
+                line.spelled(&Flags)
+            ));
         }
         Ok(Prepared {
             skeleton: take.skeleton,

@@ -81,6 +81,66 @@ pub(crate) fn map_pairs(values: &[String]) -> Result<retarget::MapPairs, Error> 
     Ok(pairs)
 }
 
+/// The skeleton `onto` names; with `--body-model` and a SMPL-family built-in (`smpl22`,
+/// `smpl`, `smplh`, `smplx` …), the model's own figure with its betas fitted to `loaded`'s
+/// bones (said), and the body it is.
+pub(crate) fn target_for(
+    onto: &str,
+    source: &Source,
+    loaded: &crate::Take,
+) -> Result<(Target, Option<crate::smpl::Body>), Error> {
+    let target = Target::load(onto, source.max_size)?;
+    let family = crate::bvh::built_in::name_of(onto)
+        .filter(|name| name.starts_with("smpl") && !Path::new(onto).exists());
+    let (Some(path), Some(_)) = (&source.body_model, family) else {
+        return Ok((target, None));
+    };
+    let wanted = crate::smpl::fit::model_type_of_target(onto);
+    let model = crate::smpl::open_model(path, None, wanted)?;
+    let metres = f64::from(loaded.stance(loaded.offset_mode).units.metres);
+    let fitted = crate::smpl::fit::shaped_to(&model, &loaded.skeleton, metres)?;
+    super::note(format_args!(
+        "{} onto {onto}: {}",
+        loaded.name, fitted.said
+    ));
+    let name = format!("{onto} ({})", model.name);
+    Ok((
+        Target::new(name, fitted.skeleton, &fitted.rest),
+        Some(fitted.body),
+    ))
+}
+
+/// `loaded` (read from `source_name`) put on `target` by role (`pairs` over the guessed map),
+/// what the map could not carry and what was kept only as `insist` asks said as warnings; the
+/// result and its check against the take.
+pub(crate) fn put_onto(
+    loaded: &crate::Take,
+    source_name: &str,
+    target: &Target,
+    pairs: &[(String, String)],
+    insist: Insist,
+) -> Result<(crate::Skeleton, crate::model::motion::Motion, retarget::Check), Error> {
+    let put = target.apply_up(
+        source_name,
+        &loaded.skeleton,
+        &loaded.motion,
+        loaded.stated_up,
+        pairs,
+        insist,
+        crate::io::parallel::cores(),
+    )?;
+    for warning in &put.uncarried {
+        eprintln!("bvhview: {source_name}: warning: {warning}");
+    }
+    if let Some(why) = &put.forced {
+        eprintln!(
+            "bvhview: {source_name} onto {}: warning: written as --force asks though {why}",
+            target.name
+        );
+    }
+    Ok((put.skeleton, put.motion, put.check))
+}
+
 pub(crate) fn run(mut args: RetargetArgs) -> Result<ExitCode, Error> {
     args.source.up = args.up.map(Into::into);
     if let Some(output) = &args.output {
@@ -92,7 +152,7 @@ pub(crate) fn run(mut args: RetargetArgs) -> Result<ExitCode, Error> {
     }
     let loaded = load(&args.input, &args.source)?;
     let pairs = map_pairs(&args.map)?.for_skeleton(&loaded.skeleton);
-    let target = Target::load(&args.onto, args.source.max_size)?;
+    let (target, body) = target_for(&args.onto, &args.source, &loaded)?;
     let source_name = args.input.display().to_string();
     if args.show_map {
         let mut map = Map::guess(&loaded.skeleton, &target.skeleton);
@@ -107,25 +167,7 @@ pub(crate) fn run(mut args: RetargetArgs) -> Result<ExitCode, Error> {
         any_body: args.any_body,
         force: args.force,
     };
-    let put = target.apply_up(
-        &source_name,
-        &loaded.skeleton,
-        &loaded.motion,
-        loaded.stated_up,
-        &pairs,
-        insist,
-        crate::io::parallel::cores(),
-    )?;
-    for warning in &put.uncarried {
-        eprintln!("bvhview: {source_name}: warning: {warning}");
-    }
-    if let Some(why) = &put.forced {
-        eprintln!(
-            "bvhview: {source_name} onto {}: warning: written as --force asks though {why}",
-            target.name
-        );
-    }
-    let (skeleton, motion, check) = (put.skeleton, put.motion, put.check);
+    let (skeleton, motion, check) = put_onto(&loaded, &source_name, &target, &pairs, insist)?;
     let motion = if args.lock_feet {
         let (motion, locked) = crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?;
         super::note(format_args!(
@@ -160,5 +202,5 @@ pub(crate) fn run(mut args: RetargetArgs) -> Result<ExitCode, Error> {
         super::note(format_args!("{}", check.line()));
         motion
     };
-    super::write_result(output, skeleton, motion, args.out_units)
+    super::write_result(output, skeleton, motion, args.out_units, body)
 }

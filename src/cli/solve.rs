@@ -126,5 +126,5 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         };
         note(format_args!("off the data ({why}): {off}"));
     }
-    super::write_result(&args.output, target.skeleton, motion, args.out_units)
+    super::write_result(&args.output, target.skeleton, motion, args.out_units, None)
 }

@@ -556,6 +556,16 @@ pub fn of_take(
     };
     // The body the take was read with, where it is of this model type.
     let body = body.filter(|b| b.model == model);
+    if body.is_none() {
+        warnings.push(
+            Message::from(
+                "betas zero and gender neutral (the model's mean shape; trans is the pelvis's \
+                 place): a model file given by ",
+            )
+            .argument("body_model", Some("MODEL.npz"))
+            .text(" fits the betas to the take's bones"),
+        );
+    }
     let rest_pelvis = glam::DVec3::from(body.and_then(|b| b.rest_pelvis).unwrap_or([0.0; 3]));
     let frames = motion.frame_count();
     let width = model.pose_width();

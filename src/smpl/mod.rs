@@ -3,6 +3,7 @@
 //! [`amass`] (the parameters, and the take they make).
 
 pub mod amass;
+pub mod fit;
 pub mod layout;
 pub mod model;
 pub mod npz;

@@ -102,6 +102,20 @@ pub fn model_npz(model: ModelType, rest: &[[f64; 3]]) -> Vec<u8> {
         weights[v * joints + par] = 1.0 - t / 2.0;
         weights[v * joints + bone] = t / 2.0;
     }
+    // Noise, and a stretch: component l (of the first ten) moves each vertex of the bones
+    // numbered l modulo ten away from the bone's parent joint by 5% a unit.
+    let mut shape_dirs = noise(1, vertices * 3 * shapes, 0.002);
+    for v in 0..vertices {
+        let bone = 1 + v % nb;
+        let l = bone % 10;
+        if l < shapes.min(10) {
+            for a in 0..3 {
+                let stretch = 0.05 * (template[3 * v + a] - rest[parents[bone]][a]);
+                let at = (3 * v + a) * shapes + l;
+                shape_dirs[at] += stretch;
+            }
+        }
+    }
     let mut regressor = vec![0.0; joints * vertices];
     let first_child = (1..joints).find(|&b| parents[b] == 0).unwrap();
     for j in 0..joints {
@@ -147,11 +161,7 @@ pub fn model_npz(model: ModelType, rest: &[[f64; 3]]) -> Vec<u8> {
         ),
         (
             "shapedirs.npy",
-            npy(
-                "<f8",
-                &[vertices, 3, shapes],
-                &f64s(&noise(1, vertices * 3 * shapes, 0.002)),
-            ),
+            npy("<f8", &[vertices, 3, shapes], &f64s(&shape_dirs)),
         ),
         (
             "posedirs.npy",
