@@ -226,3 +226,69 @@ fn a_body_model_character_is_skinned_as_smplx_skins_it() {
         assert!(worst < 1e-5, "{model:?}: a vertex {worst} m from smplx's");
     }
 }
+
+/// Betas fitted to a figure of the model's own shape give that figure's bones back: the
+/// model shaped by known betas, then fitted from its skeleton alone.
+#[test]
+fn betas_fitted_to_a_body_of_the_model_give_its_bones_back() {
+    for model in ModelType::ALL {
+        let (body, _) = fake_model(model);
+        let body = std::sync::Arc::new(body);
+        let truth = [1.5, -0.8, 0.6, 2.0, -1.2, 0.3, -0.4, 1.1, -2.0, 0.9];
+        let shaped = bvhview::character::Character::from_body_model(body.clone(), Some(&truth), &[]).unwrap();
+        let fitted = bvhview::smpl::fit::shaped_to(&body, &shaped.take.skeleton, 1.0).unwrap();
+        let (want, got) = (&shaped.take.skeleton, &fitted.skeleton);
+        let mut worst = 0.0f32;
+        for (a, b) in want.joints.iter().zip(&got.joints) {
+            assert_eq!(a.name, b.name);
+            if !a.end_site && a.parent.is_some() {
+                worst = worst.max((a.offset.length() - b.offset.length()).abs());
+            }
+        }
+        assert!(fitted.said.contains("→ 0.0% median"), "{model:?}: {}", fitted.said);
+        assert!(worst < 1e-4, "{model:?}: a bone {worst} m from the shaped body's");
+    }
+}
+
+/// Any take put on the user's model (betas fitted to its bones), written as AMASS's `.npz`
+/// and read back with the model: every joint where the take on the model had it, within 1e-4
+/// of its height; the betas and gender written are the fitted body's.
+#[test]
+fn a_take_put_on_a_model_and_written_reads_back_where_it_was() {
+    let folder = crate::common::scratch_folder("fitted");
+    let walk = bvhview::Take::open(data("bvh/bvh11_131_01.bvh")).unwrap().trim(0..120);
+    let metres = f64::from(walk.stance(walk.offset_mode).units.metres);
+    for model in ModelType::ALL {
+        model_file(model, &folder);
+        let body = bvhview::smpl::open_model(&folder, None, Some(model)).unwrap();
+        let fitted = bvhview::smpl::fit::shaped_to(&body, &walk.skeleton, metres).unwrap();
+        let target = bvhview::retarget::Target::new("model".into(), fitted.skeleton, &fitted.rest);
+        let put = target
+            .apply_up("walk", &walk.skeleton, &walk.motion, None, &[], Default::default(), 1)
+            .unwrap();
+        let mut take = bvhview::Take::new(put.skeleton, put.motion, "walk on the model");
+        take.body = Some(fitted.body.clone());
+        let (bytes, _) = take.amass().unwrap();
+        let written = amass::read(&npz::read(&bytes, "w.npz").unwrap(), "w", None).unwrap();
+        assert_eq!(written.betas, fitted.body.betas, "{model:?}");
+        assert!(written.betas.iter().any(|b| *b != 0.0), "{model:?}: no betas fitted");
+        let back = bvhview::OpenOptions::new()
+            .body_model(&folder)
+            .format(bvhview::take::Format::Amass)
+            .open_bytes(&bytes, "w.npz")
+            .unwrap();
+        let height = f64::from(take.stance(take.offset_mode).height);
+        let mut worst = 0.0f64;
+        for f in (0..take.frame_count()).step_by(10) {
+            let (a, b) = (take.positions(f).unwrap(), back.positions(f).unwrap());
+            for (j, joint) in take.skeleton.joints.iter().enumerate() {
+                if joint.end_site {
+                    continue;
+                }
+                let k = back.skeleton.joints.iter().position(|b| b.name == joint.name).unwrap();
+                worst = worst.max(f64::from(a[j].distance(b[k])));
+            }
+        }
+        assert!(worst < 1e-4 * height, "{model:?}: a joint {worst} m away (height {height})");
+    }
+}
