@@ -313,7 +313,11 @@ fn write_character(
             "bvhview: {}: warning: the body model's pose blend shapes are not written (a skin \
              in {} has none): the mesh moves by its skin alone, as without them",
             args.output.display(),
-            if format == TakeFormat::Fbx { "FBX" } else { "glTF" }
+            if format == TakeFormat::Fbx {
+                "FBX"
+            } else {
+                "glTF"
+            }
         );
     }
     let units = args.out_units;
@@ -533,7 +537,11 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
         let name = args.input.display().to_string();
         let (skeleton, motion, check) =
             super::retarget::put_onto(&loaded, &name, &target, &[], Default::default())?;
-        super::note(format_args!("{name} onto {}: {}", target.name, check.line()));
+        super::note(format_args!(
+            "{name} onto {}: {}",
+            target.name,
+            check.line()
+        ));
         let mut put = loaded.edited(skeleton, motion, false);
         put.offset_mode = OffsetMode::Replace;
         put.stated_up = None;

@@ -131,7 +131,12 @@ pub(crate) struct Source {
     body_model: Option<PathBuf>,
     /// The shape of a body model given as --character: its first betas, comma-separated (the
     /// rest zero). Without them: the mean shape, or an AMASS take's own betas.
-    #[arg(long, value_name = "B1,B2,…", value_delimiter = ',', allow_negative_numbers = true)]
+    #[arg(
+        long,
+        value_name = "B1,B2,…",
+        value_delimiter = ',',
+        allow_negative_numbers = true
+    )]
     pub(crate) betas: Option<Vec<f64>>,
 }
 

@@ -99,10 +99,7 @@ pub(crate) fn target_for(
     let model = crate::smpl::open_model(path, None, wanted)?;
     let metres = f64::from(loaded.stance(loaded.offset_mode).units.metres);
     let fitted = crate::smpl::fit::shaped_to(&model, &loaded.skeleton, metres)?;
-    super::note(format_args!(
-        "{} onto {onto}: {}",
-        loaded.name, fitted.said
-    ));
+    super::note(format_args!("{} onto {onto}: {}", loaded.name, fitted.said));
     let name = format!("{onto} ({})", model.name);
     Ok((
         Target::new(name, fitted.skeleton, &fitted.rest),
@@ -119,7 +116,14 @@ pub(crate) fn put_onto(
     target: &Target,
     pairs: &[(String, String)],
     insist: Insist,
-) -> Result<(crate::Skeleton, crate::model::motion::Motion, retarget::Check), Error> {
+) -> Result<
+    (
+        crate::Skeleton,
+        crate::model::motion::Motion,
+        retarget::Check,
+    ),
+    Error,
+> {
     let put = target.apply_up(
         source_name,
         &loaded.skeleton,

@@ -146,8 +146,7 @@ pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
     let mode: OffsetMode = args.view.offset_mode.into();
     let framed_view = args.view.fit.is_some() || args.look == LookArg::Studio;
     let mut takes = load_takes(&args, &files, mode, framed_view)?;
-    let mut characters =
-        super::character::load_all(&args.character, files.len(), &args.source)?;
+    let mut characters = super::character::load_all(&args.character, files.len(), &args.source)?;
     for ((prepared, character), (file, _)) in takes.iter_mut().zip(&mut characters).zip(&files) {
         if let Some(character) = character {
             let (dressed, worn) =

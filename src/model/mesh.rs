@@ -225,7 +225,12 @@ impl PoseBlend {
         if width == 0 {
             return moved;
         }
-        for (v, chunk) in self.dirs.chunks_exact(3 * width).enumerate().take(rest.len()) {
+        for (v, chunk) in self
+            .dirs
+            .chunks_exact(3 * width)
+            .enumerate()
+            .take(rest.len())
+        {
             let axis = |k: usize| {
                 chunk[k * width..(k + 1) * width]
                     .iter()

@@ -421,7 +421,11 @@ pub(crate) fn figure(model_type: ModelType) -> Result<(Skeleton, Vec<Option<usiz
 /// Each model joint's OFFSET in `skeleton` (`index_of` its model index) made the model's: its
 /// rest joint less its parent's (the root's: where the model's pelvis rests); End Sites keep
 /// the built-in figure's.
-pub(crate) fn model_offsets(skeleton: &mut Skeleton, index_of: &[Option<usize>], joints: &[glam::DVec3]) {
+pub(crate) fn model_offsets(
+    skeleton: &mut Skeleton,
+    index_of: &[Option<usize>],
+    joints: &[glam::DVec3],
+) {
     for j in 0..skeleton.joints.len() {
         let Some(k) = index_of[j] else { continue };
         let parent = skeleton.joints[j].parent.and_then(|p| index_of[p]);

@@ -167,7 +167,9 @@ fn fit(
             normal[i][i] += PULL;
             rhs[i] -= PULL * betas[i];
         }
-        let Some(step) = solve(normal, rhs) else { break };
+        let Some(step) = solve(normal, rhs) else {
+            break;
+        };
         // The step, halved until it lowers the cost (Gauss-Newton overshoots where a bone's
         // direction turns); past ±5 a body model's shape is no body's.
         let now = cost(&betas);

@@ -52,7 +52,11 @@ pub fn load_bytes(
     let npz = npz::read(bytes, shown)?;
     let amass = amass::read(&npz, shown, frame_time)?;
     let model = match body_model {
-        Some(path) => Some(open_model(path, amass.gender.as_deref(), Some(amass.model))?),
+        Some(path) => Some(open_model(
+            path,
+            amass.gender.as_deref(),
+            Some(amass.model),
+        )?),
         None => None,
     };
     let (skeleton, motion, warnings, rest_pelvis) = amass::to_take(&amass, model.as_deref())?;
@@ -74,7 +78,12 @@ pub fn load_bytes(
 
 /// Model files read in this process, by path and gender: a folder of AMASS files read with one
 /// model reads it once.
-type ModelCache = Vec<(PathBuf, Option<String>, Option<ModelType>, Arc<model::BodyModel>)>;
+type ModelCache = Vec<(
+    PathBuf,
+    Option<String>,
+    Option<ModelType>,
+    Arc<model::BodyModel>,
+)>;
 
 /// The body model at `path` (a file, or a folder holding one per gender) for `gender` and of
 /// type `wanted` (any, for `None`), read once per process.

@@ -61,7 +61,11 @@ fn tube_face(i: usize, vertices: usize, nb: usize) -> [usize; 3] {
     let (b0, k) = (v0 % nb, v0 / nb);
     let (m, a, layer) = ((k % 9).min(7), (k / 9) % 8, k / 72);
     // A corner past the last vertex (the last layer is cut short) folds to the quad's first.
-    let vid = |m: usize, a: usize| Some(b0 + nb * (m + 9 * a + 72 * layer)).filter(|&v| v < vertices).unwrap_or(v0);
+    let vid = |m: usize, a: usize| {
+        Some(b0 + nb * (m + 9 * a + 72 * layer))
+            .filter(|&v| v < vertices)
+            .unwrap_or(v0)
+    };
     let a1 = (a + 1) % 8;
     if i % 2 == 0 {
         [vid(m, a), vid(m + 1, a), vid(m + 1, a1)]

@@ -183,7 +183,10 @@ fn a_body_model_character_is_skinned_as_smplx_skins_it() {
         let (body, file) = fake_model(model);
         let body = std::sync::Arc::new(body);
         let joints = model.joint_count();
-        let index: Vec<usize> = rows(&file, "vertex_index", 1).iter().map(|r| r[0] as usize).collect();
+        let index: Vec<usize> = rows(&file, "vertex_index", 1)
+            .iter()
+            .map(|r| r[0] as usize)
+            .collect();
         let expression_width = file.numbers("expression").unwrap().0[1];
         let (betas, poses, trans, expression) = (
             rows(&file, "betas", 10),
@@ -195,7 +198,12 @@ fn a_body_model_character_is_skinned_as_smplx_skins_it() {
         let mut worst = 0.0f64;
         // Four bodies of the twenty: each is a character of its own shape.
         for i in [0, 5, 11, 19] {
-            let character = bvhview::character::Character::from_body_model(body.clone(), Some(betas[i]), expression[i]).unwrap();
+            let character = bvhview::character::Character::from_body_model(
+                body.clone(),
+                Some(betas[i]),
+                expression[i],
+            )
+            .unwrap();
             let take = bvhview::OpenOptions::new()
                 .format(bvhview::take::Format::Amass)
                 .open_bytes(
@@ -212,9 +220,17 @@ fn a_body_model_character_is_skinned_as_smplx_skins_it() {
                 )
                 .unwrap();
             let (dressed, said) = character
-                .dress_file(&take, std::path::Path::new("body.npz"), Default::default(), 1)
+                .dress_file(
+                    &take,
+                    std::path::Path::new("body.npz"),
+                    Default::default(),
+                    1,
+                )
                 .unwrap();
-            assert!(said.check.is_none(), "{model:?}: retargeted, not put on as it is");
+            assert!(
+                said.check.is_none(),
+                "{model:?}: retargeted, not put on as it is"
+            );
             let vertices = character.vertices(&dressed.skeleton, dressed.frame(0).unwrap());
             for (k, w) in want[i].chunks_exact(3).enumerate() {
                 // smplx's Z up in the take's Y up.
@@ -235,7 +251,9 @@ fn betas_fitted_to_a_body_of_the_model_give_its_bones_back() {
         let (body, _) = fake_model(model);
         let body = std::sync::Arc::new(body);
         let truth = [1.5, -0.8, 0.6, 2.0, -1.2, 0.3, -0.4, 1.1, -2.0, 0.9];
-        let shaped = bvhview::character::Character::from_body_model(body.clone(), Some(&truth), &[]).unwrap();
+        let shaped =
+            bvhview::character::Character::from_body_model(body.clone(), Some(&truth), &[])
+                .unwrap();
         let fitted = bvhview::smpl::fit::shaped_to(&body, &shaped.take.skeleton, 1.0).unwrap();
         let (want, got) = (&shaped.take.skeleton, &fitted.skeleton);
         let mut worst = 0.0f32;
@@ -245,8 +263,15 @@ fn betas_fitted_to_a_body_of_the_model_give_its_bones_back() {
                 worst = worst.max((a.offset.length() - b.offset.length()).abs());
             }
         }
-        assert!(fitted.said.contains("→ 0.0% median"), "{model:?}: {}", fitted.said);
-        assert!(worst < 1e-4, "{model:?}: a bone {worst} m from the shaped body's");
+        assert!(
+            fitted.said.contains("→ 0.0% median"),
+            "{model:?}: {}",
+            fitted.said
+        );
+        assert!(
+            worst < 1e-4,
+            "{model:?}: a bone {worst} m from the shaped body's"
+        );
     }
 }
 
@@ -256,7 +281,9 @@ fn betas_fitted_to_a_body_of_the_model_give_its_bones_back() {
 #[test]
 fn a_take_put_on_a_model_and_written_reads_back_where_it_was() {
     let folder = crate::common::scratch_folder("fitted");
-    let walk = bvhview::Take::open(data("bvh/bvh11_131_01.bvh")).unwrap().trim(0..120);
+    let walk = bvhview::Take::open(data("bvh/bvh11_131_01.bvh"))
+        .unwrap()
+        .trim(0..120);
     let metres = f64::from(walk.stance(walk.offset_mode).units.metres);
     for model in ModelType::ALL {
         model_file(model, &folder);
@@ -264,14 +291,25 @@ fn a_take_put_on_a_model_and_written_reads_back_where_it_was() {
         let fitted = bvhview::smpl::fit::shaped_to(&body, &walk.skeleton, metres).unwrap();
         let target = bvhview::retarget::Target::new("model".into(), fitted.skeleton, &fitted.rest);
         let put = target
-            .apply_up("walk", &walk.skeleton, &walk.motion, None, &[], Default::default(), 1)
+            .apply_up(
+                "walk",
+                &walk.skeleton,
+                &walk.motion,
+                None,
+                &[],
+                Default::default(),
+                1,
+            )
             .unwrap();
         let mut take = bvhview::Take::new(put.skeleton, put.motion, "walk on the model");
         take.body = Some(fitted.body.clone());
         let (bytes, _) = take.amass().unwrap();
         let written = amass::read(&npz::read(&bytes, "w.npz").unwrap(), "w", None).unwrap();
         assert_eq!(written.betas, fitted.body.betas, "{model:?}");
-        assert!(written.betas.iter().any(|b| *b != 0.0), "{model:?}: no betas fitted");
+        assert!(
+            written.betas.iter().any(|b| *b != 0.0),
+            "{model:?}: no betas fitted"
+        );
         let back = bvhview::OpenOptions::new()
             .body_model(&folder)
             .format(bvhview::take::Format::Amass)
@@ -285,10 +323,167 @@ fn a_take_put_on_a_model_and_written_reads_back_where_it_was() {
                 if joint.end_site {
                     continue;
                 }
-                let k = back.skeleton.joints.iter().position(|b| b.name == joint.name).unwrap();
+                let k = back
+                    .skeleton
+                    .joints
+                    .iter()
+                    .position(|b| b.name == joint.name)
+                    .unwrap();
                 worst = worst.max(f64::from(a[j].distance(b[k])));
             }
         }
-        assert!(worst < 1e-4 * height, "{model:?}: a joint {worst} m away (height {height})");
+        assert!(
+            worst < 1e-4 * height,
+            "{model:?}: a joint {worst} m away (height {height})"
+        );
     }
+}
+
+/// Model files that are not what they say: each refused by name, nothing used before it holds.
+#[test]
+fn hostile_model_files_are_refused_by_name() {
+    use crate::common::npz::{f64s, npy, npz as archive};
+    let (body, file) = fake_model(ModelType::Smpl);
+    drop(body);
+    let rest: Vec<[f64; 3]> = rows(&file, "rest_joints", 3)
+        .iter()
+        .map(|r| [r[0], r[1], r[2]])
+        .collect();
+    let good = smpl_models::model_npz(ModelType::Smpl, &rest);
+    let members = npz::read(&good, "good.npz").unwrap();
+    // The good model's members, as bytes, with one replaced or left out.
+    let rebuilt = |replace: &str, with: Option<Vec<u8>>| -> Vec<u8> {
+        let mut out: Vec<(String, Vec<u8>)> = Vec::new();
+        for name in members.names() {
+            let bytes = if name == replace {
+                match &with {
+                    Some(bytes) => bytes.clone(),
+                    None => continue,
+                }
+            } else {
+                let (shape, values) = members.numbers(name).unwrap();
+                npy("<f8", shape, &f64s(values))
+            };
+            out.push((format!("{name}.npy"), bytes));
+        }
+        archive(&out, false)
+    };
+    let refused = |bytes: Vec<u8>| {
+        BodyModel::from_bytes(&bytes, "hostile.npz")
+            .unwrap_err()
+            .to_string()
+    };
+    let cases: Vec<(&str, Vec<u8>, &str)> = vec![
+        (
+            "no posedirs",
+            rebuilt("posedirs", None),
+            "no 'posedirs' array",
+        ),
+        (
+            "a pickled J_regressor",
+            rebuilt("J_regressor", Some(npy("|O", &[], b"\x80\x02N."))),
+            "'J_regressor' is an array of dtype",
+        ),
+        (
+            "posedirs of another type's width",
+            rebuilt(
+                "posedirs",
+                Some(npy("<f8", &[6890, 3, 9], &f64s(&vec![0.0; 6890 * 27]))),
+            ),
+            "'posedirs' has shape [6890, 3, 9]; expected 6890 × 3 × 207",
+        ),
+        (
+            "a weight that is not a number",
+            rebuilt(
+                "weights",
+                Some(npy(
+                    "<f8",
+                    &[6890, 24],
+                    &f64s(&[&[f64::NAN][..], &vec![0.0; 6890 * 24 - 1]].concat()),
+                )),
+            ),
+            "'weights' value 0 is not a finite number",
+        ),
+        (
+            "a triangle past the vertices",
+            rebuilt("f", Some(npy("<f8", &[1, 3], &f64s(&[0.0, 1.0, 6890.0])))),
+            "'f' value 2 (6890) is not a vertex of the 6890",
+        ),
+        (
+            "a tree of 23 joints",
+            rebuilt(
+                "kintree_table",
+                Some(npy("<f8", &[2, 23], &f64s(&vec![0.0; 46]))),
+            ),
+            "its tree has 23 joints; SMPL has 24, SMPL-H 52, SMPL-X 55",
+        ),
+        (
+            "a tree whose knee hangs from the wrong hip",
+            rebuilt(
+                "kintree_table",
+                Some({
+                    let mut tree: Vec<f64> = ModelType::Smpl
+                        .parents()
+                        .iter()
+                        .map(|p| p.map_or(-1.0, |p| p as f64))
+                        .collect();
+                    tree[4] = 2.0;
+                    tree.extend((0..24).map(|k| k as f64));
+                    npy("<f8", &[2, 24], &f64s(&tree))
+                }),
+            ),
+            "'kintree_table' column 4 says joint 4 under 2; SMPL's joint 4 (left_knee) is under 1",
+        ),
+    ];
+    for (what, bytes, said) in cases {
+        let message = refused(bytes);
+        assert!(message.contains(said), "{what}: {message}");
+    }
+    // An AMASS motion file given as a model says what it is.
+    let motion = std::fs::read(data("smpl/amass_smplh_walk.npz")).unwrap();
+    assert!(refused(motion).contains("this is a motion file, AMASS's"));
+    // A pickled model file is never opened.
+    let folder = crate::common::scratch_folder("pickle");
+    std::fs::write(folder.join("SMPL_NEUTRAL.pkl"), b"\x80\x02N.").unwrap();
+    let message = BodyModel::open(&folder.join("SMPL_NEUTRAL.pkl"), None, None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        message.contains("a pickled model file (.pkl) is not read"),
+        "{message}"
+    );
+}
+
+/// A folder of model files: the one of the motion's gender, else the neutral one; a link in
+/// it is not followed out of it; several of one gender and type, named.
+#[test]
+fn a_model_is_found_in_a_folder_by_gender_and_type() {
+    let folder = crate::common::scratch_folder("models");
+    let neutral = model_file(ModelType::Smplh, &folder);
+    // The male one, in a folder of its own as AMASS's downloads have it.
+    std::fs::create_dir(folder.join("male")).unwrap();
+    std::fs::copy(&neutral, folder.join("male/model.npz")).unwrap();
+    let open = |gender| BodyModel::open(&folder, gender, Some(ModelType::Smplh)).map(|m| m.name);
+    assert!(open(Some("male")).unwrap().ends_with("male/model.npz"));
+    assert!(
+        open(Some("female")).unwrap().ends_with("SMPLH_NEUTRAL.npz"),
+        "no female: the neutral one"
+    );
+    assert!(open(None).unwrap().ends_with("SMPLH_NEUTRAL.npz"));
+    // A link named as a female model, pointing out of the folder: not followed.
+    let outside = crate::common::scratch_folder("outside");
+    std::fs::copy(&neutral, outside.join("elsewhere.npz")).unwrap();
+    std::os::unix::fs::symlink(
+        outside.join("elsewhere.npz"),
+        folder.join("SMPLH_FEMALE.npz"),
+    )
+    .unwrap();
+    assert!(open(Some("female")).unwrap().ends_with("SMPLH_NEUTRAL.npz"));
+    // Two neutral SMPL-H files: named, none picked.
+    std::fs::copy(&neutral, folder.join("smplh_neutral_copy.npz")).unwrap();
+    let message = open(None).unwrap_err().to_string();
+    assert!(
+        message.contains("2 model files for a neutral body"),
+        "{message}"
+    );
 }
