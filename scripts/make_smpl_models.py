@@ -11,7 +11,7 @@ two joints, joints regressed from four vertices each, and shape and pose blend s
 The values come from integers by a splitmix64 hash and the four exactly rounded operations
 only, so `tests/common/smpl_models.rs` makes the very same model in Rust without the file. The
 script runs `smplx` (64-bit floats, full hand poses, flat hand mean) on 20 random bodies of each
-type and writes `tests/data/smpl/reference/<type>_smplx.npz`: the inputs, every joint, a sample
+type and writes `tests/smpl/<type>_smplx.npz`: the inputs, every joint, a sample
 of the vertices, and the rest joints the model was built on. bvhview's forward pass must agree
 with it (tests/formats/smpl_model.rs).
 
@@ -248,7 +248,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     parser.add_argument("--cli", default=os.path.join(here, "target/debug/bvhview"))
     parser.add_argument("--models", help="keep the model files in this folder")
-    parser.add_argument("--out", default=os.path.join(here, "tests/data/smpl/reference"))
+    parser.add_argument("--out", default=os.path.join(here, "tests/smpl"))
     args = parser.parse_args()
     os.makedirs(args.out, exist_ok=True)
     with tempfile.TemporaryDirectory() as scratch:

@@ -336,6 +336,8 @@ fn skinnable(path: &Path, skeleton: &Skeleton, mesh: &Mesh) -> Result<(), Error>
 
 impl Character {
     /// `take` put on this character's skeleton by role ([`crate::retarget::Target::apply`]:
+    /// (a take of a body model character's own type, an AMASS file's, is put on as it is:
+    /// its rotations on the model's joints, nothing retargeted)
     /// rest poses aligned, the path scaled by leg length, the feet on the take's floor), ready
     /// to skin. `pairs` (`SRC = DST` joint names) override the map. Refused as a retarget is: a
     /// body that is not a biped onto a biped character, or the reverse, unless
@@ -349,6 +351,9 @@ impl Character {
         insist: Insist,
         threads: usize,
     ) -> Result<(Take, Dressed), Error> {
+        if let Some(own) = self.same_body_model(take) {
+            return Ok((own, Dressed::default()));
+        }
         let target = crate::retarget::Target::new(
             self.take.name.clone(),
             self.take.skeleton.clone(),
@@ -403,9 +408,6 @@ impl Character {
             if self.is_own_skeleton(&other.take.skeleton) {
                 return Ok((other.take, Dressed::default()));
             }
-        }
-        if let Some(own) = self.same_body_model(take) {
-            return Ok((own, Dressed::default()));
         }
         if self.is_own_skeleton(&take.skeleton) {
             let mut own = take.clone();

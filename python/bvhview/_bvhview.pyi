@@ -265,8 +265,11 @@ class Character:
         """Writes `take` (default: the character's own) with the mesh bound to it: glTF
         (.glb, .gltf) or FBX (.fbx), as `bvhview convert --character` does."""
 
-def load_character(path: _PathLike, *, take: str | int | None = None) -> Character:
-    """A character: an .fbx, .glb or .gltf file with a skinned mesh."""
+def load_character(
+    path: _PathLike, *, take: str | int | None = None, betas: Sequence[float] | None = None
+) -> Character:
+    """A character: an .fbx, .glb or .gltf file with a skinned mesh, or a SMPL-family model
+    file (.npz) of shape `betas`."""
 
 def load(
     path: _PathLike,
@@ -277,12 +280,14 @@ def load(
     take: str | int | None = None,
     units: str | float | None = None,
     up: Literal["y", "z"] | None = None,
+    body_model: _PathLike | None = None,
 ) -> Motion:
     """A take: a .bvh, .fbx, .gltf, .glb or AMASS .npz file, or an .asf skeleton with `motion` its .amc
     take, or a built-in skeleton by name ("smpl22"). `take` picks one take of an FBX or glTF
     file that holds several (its name, or its index as `bvhview info FILE` lists them; default:
     the first). `units` ("mm", "cm", "m", "in", "ft" or metres per unit) and `up` ("y" or "z")
-    over the guess."""
+    over the guess. `body_model`: the user's SMPL-family model file (or a folder of them) an
+    AMASS file's body is read with."""
 
 def load_many(
     paths: _PathLike | Sequence[Union[_PathLike, Tuple[_PathLike, _PathLike]]],

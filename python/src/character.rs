@@ -24,14 +24,17 @@ pub(crate) struct Character {
     path: PathBuf,
 }
 
-/// Loads a character: an .fbx, .glb or .gltf file with a skinned mesh. `take` picks the file's
-/// own take by name or index (default: the first).
+/// Loads a character: an .fbx, .glb or .gltf file with a skinned mesh, or the user's
+/// SMPL-family model file (.npz) of shape `betas` (default: the mean shape), moved by its pose
+/// blend shapes and skin as `smplx` moves it. `take` picks the file's own take by name or index
+/// (default: the first).
 #[pyfunction]
-#[pyo3(signature = (path, *, take=None))]
+#[pyo3(signature = (path, *, take=None, betas=None))]
 pub(crate) fn load_character(
     py: Python<'_>,
     path: PathBuf,
     take: Option<TakeChoice>,
+    betas: Option<Vec<f64>>,
 ) -> PyResult<Character> {
     guard("load_character", || {
         let inner = py
@@ -39,6 +42,9 @@ pub(crate) fn load_character(
                 let mut options = take::OpenOptions::new();
                 if let Some(choice) = &take {
                     options = options.take(choice.0.as_str());
+                }
+                if let Some(betas) = &betas {
+                    options = options.betas(betas);
                 }
                 Inner::open_with(&path, &options)
             })

@@ -61,9 +61,11 @@ impl<'py> FromPyObject<'_, 'py> for TakeChoice {
 /// `frame_time` overrides the file's (AMC files have none: 1/120 s is the default); `take`
 /// picks one take of an FBX or glTF file that holds several, by name or index (default: the
 /// first); `units` ("mm", "cm", "m", "in", "ft" or metres per unit) says what the lengths are
-/// in, over the guess (`up_axis`/`units` then say so; every measure in metres takes them).
+/// in, over the guess (`up_axis`/`units` then say so; every measure in metres takes them);
+/// `body_model` is the user's SMPL-family model file (or a folder with one per gender) an
+/// AMASS file's body is read with: the joints of the file's betas.
 #[pyfunction]
-#[pyo3(signature = (path, motion=None, offset_mode="replace", frame_time=None, *, take=None, units=None, up=None))]
+#[pyo3(signature = (path, motion=None, offset_mode="replace", frame_time=None, *, take=None, units=None, up=None, body_model=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn load(
     py: Python<'_>,
@@ -74,6 +76,7 @@ pub(crate) fn load(
     take: Option<TakeChoice>,
     units: Option<Bound<'_, PyAny>>,
     up: Option<&str>,
+    body_model: Option<PathBuf>,
 ) -> PyResult<Motion> {
     guard("load", || {
         let offset_mode = parse_offset_mode(offset_mode)?;
@@ -83,15 +86,26 @@ pub(crate) fn load(
         let mut loaded = py
             .detach(|| {
                 planted_pause_without_the_gil("load")?;
-                match &take {
-                    None => load_item(&item, frame_time, bvhview::plumbing::cores()),
-                    Some(take) => {
+                match (&take, &body_model) {
+                    (None, None) => load_item(&item, frame_time, bvhview::plumbing::cores()),
+                    (None, Some(model)) => {
                         if item.path.is_dir() {
                             return Err(Error::io(&item.path, io::ErrorKind::IsADirectory.into()));
                         }
                         open_options(&item, frame_time, bvhview::plumbing::cores())
-                            .take(take.0.as_str())
+                            .body_model(model)
                             .open(&item.path)
+                    }
+                    (Some(take), _) => {
+                        if item.path.is_dir() {
+                            return Err(Error::io(&item.path, io::ErrorKind::IsADirectory.into()));
+                        }
+                        let mut options = open_options(&item, frame_time, bvhview::plumbing::cores())
+                            .take(take.0.as_str());
+                        if let Some(model) = &body_model {
+                            options = options.body_model(model);
+                        }
+                        options.open(&item.path)
                     }
                 }
             })

@@ -50,3 +50,47 @@ def test_save_writes_amass_as_the_cli_does(cli, tmp_path):
     np.testing.assert_allclose(after["poses"], before["poses"], atol=1e-6)
     np.testing.assert_allclose(after["trans"], before["trans"], atol=1e-6)
     assert str(after["surface_model_type"]) == "smplx"
+
+
+def fake_model(kind, folder):
+    """The fake model `scripts/make_smpl_models.py` makes, built on the rest joints of its
+    committed reference (tests/smpl/), written in `folder`; and that reference."""
+    import importlib.util
+
+    from conftest import REPO
+
+    spec = importlib.util.spec_from_file_location("make_smpl_models", REPO / "scripts" / "make_smpl_models.py")
+    maker = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(maker)
+    reference = np.load(REPO / "tests" / "smpl" / f"{kind}_smplx.npz")
+    _, vertices, faces, shapes = maker.TYPES[kind]
+    _, parents = maker.layout(kind)
+    arrays = maker.model_arrays(reference["rest_joints"], parents, vertices, faces, shapes)
+    path = folder / f"{kind.upper()}_NEUTRAL.npz"
+    maker.write_model(str(path), kind, arrays, parents)
+    return path, reference
+
+
+@pytest.mark.parametrize("kind,width", [("smpl", 72), ("smplh", 156)])
+def test_a_body_model_character_moves_as_smplx_moves_it(tmp_path, kind, width):
+    model, reference = fake_model(kind, tmp_path)
+    for i in (3, 14):
+        character = bvhview.load_character(model, betas=reference["betas"][i])
+        motion = tmp_path / f"body{i}.npz"
+        np.savez(motion, poses=reference["poses"][i : i + 1], trans=reference["trans"][i : i + 1],
+                 betas=reference["betas"][i], mocap_framerate=np.array(30.0))
+        take = character.dress(bvhview.load(motion))
+        vertices = character.vertices(take, frames=0)[reference["vertex_index"]]
+        want = reference["vertices"][i]
+        # smplx's Z up in bvhview's Y up: (x, y, z) -> (x, z, -y).
+        want = np.stack([want[:, 0], want[:, 2], -want[:, 1]], axis=1)
+        np.testing.assert_allclose(vertices, want, atol=1e-5)
+
+
+def test_an_amass_file_read_on_a_model_stands_as_the_model_puts_it(tmp_path):
+    model, _ = fake_model("smplh", tmp_path)
+    plain = bvhview.load(DATA / "smpl" / "amass_smplh_walk.npz")
+    on_model = bvhview.load(DATA / "smpl" / "amass_smplh_walk.npz", body_model=tmp_path)
+    assert any("read on the body of" in w and model.name in w for w in on_model.warnings)
+    # The same rotations; the pelvis placed from the model's rest pelvis, not trans alone.
+    np.testing.assert_allclose(plain.local_rotations(kind="matrix"), on_model.local_rotations(kind="matrix"), atol=1e-6)

@@ -1,6 +1,6 @@
 //! The user's body model: bvhview's forward pass against the `smplx` package's, on the fake
 //! models of `scripts/make_smpl_models.py` (made again by `common::smpl_models`), whose outputs
-//! the script committed under `tests/data/smpl/reference/`.
+//! the script committed under `tests/smpl/`.
 
 use crate::common::{data, smpl_models};
 use bvhview::smpl::model::BodyModel;
@@ -10,10 +10,10 @@ use glam::DVec3;
 /// The committed outputs of `smplx` for `model`.
 fn reference(model: ModelType) -> npz::Npz {
     let name = format!(
-        "smpl/reference/{}_smplx.npz",
+        "tests/smpl/{}_smplx.npz",
         model.label().replace('-', "").to_lowercase()
     );
-    let bytes = std::fs::read(data(&name)).unwrap();
+    let bytes = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(&name)).unwrap();
     npz::read(&bytes, &name).unwrap()
 }
 
