@@ -42,6 +42,11 @@ pub(crate) struct SolveArgs {
     /// Refuse inputs larger than this (K, M, G suffixes).
     #[arg(long, value_name = "SIZE", default_value = "8G", value_parser = parse_max_size)]
     max_size: u64,
+    /// The user's SMPL-family model file (an .npz, or a folder with a neutral one): the points
+    /// are solved onto the model's own figure, its betas fitted to their bone lengths (no
+    /// optimisation of the pose), and `-o out.npz` writes them with the betas.
+    #[arg(long, value_name = "MODEL.npz|DIR")]
+    body_model: Option<std::path::PathBuf>,
     /// The file to write: .bvh, glTF as .glb (binary) or .gltf (text, data inline), or .fbx.
     #[arg(short, long)]
     output: PathBuf,
@@ -99,7 +104,19 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
     if let Some(layout_note) = layout_note {
         eprintln!("bvhview: {}", layout_note.spelled(&super::Flags));
     }
-    let target = Target::load(&args.onto, args.max_size)?;
+    let (target, body) = match &args.body_model {
+        Some(path) => {
+            // The model's own figure, its betas fitted to the positions' bones.
+            let wanted = crate::smpl::fit::model_type_of_target(&args.onto);
+            let model = crate::smpl::open_model(path, None, wanted)?;
+            let fitted = crate::smpl::fit::shaped_to_positions(&model, &positions)?;
+            note(format_args!("{}: {}", args.input.display(), fitted.said));
+            let name = format!("{} ({})", args.onto, model.name);
+            let target = Target::new(name, fitted.skeleton, &fitted.rest);
+            (target, Some(fitted.body))
+        }
+        None => (Target::load(&args.onto, args.max_size)?, None),
+    };
     // What is printed is measured on what is written: after --smooth, and said where
     // smoothing made a figure worse.
     let (motion, solved, worse) = crate::solve::solve_smoothed(
@@ -126,5 +143,5 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         };
         note(format_args!("off the data ({why}): {off}"));
     }
-    super::write_result(&args.output, target.skeleton, motion, args.out_units, None)
+    super::write_result(&args.output, target.skeleton, motion, args.out_units, body)
 }

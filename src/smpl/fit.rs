@@ -57,8 +57,46 @@ pub fn shaped_to(model: &BodyModel, source: &Skeleton, metres: f64) -> Result<Fi
             let (a, b) = (joint_of(parent)?, joint_of(k)?);
             let (a, b) = (map.source_of[a]?, map.source_of[b]?);
             let length = world[a].1.distance(world[b].1) * metres;
-            (a != b && length.is_finite() && length > 0.0).then_some(length)
+            (a != b).then_some(length)
         })
+        .collect();
+    shaped_to_lengths(model, &lengths)
+}
+
+/// `model` shaped to joint positions (metres), each named as the model names its joints
+/// (`pelvis`, `left_hip`, …): each bone the positions have both joints of measured as its
+/// median length over the frames.
+pub fn shaped_to_positions(
+    model: &BodyModel,
+    positions: &crate::solve::Positions,
+) -> Result<Fitted, Error> {
+    let names = model.model.joint_names();
+    let count = positions.names.len().max(1);
+    let column = |name: &str| positions.names.iter().position(|n| n == name);
+    let lengths: Vec<Option<f64>> = model
+        .parents()
+        .iter()
+        .enumerate()
+        .map(|(k, parent)| {
+            let (a, b) = (column(&names[(*parent)?])?, column(&names[k])?);
+            let mut seen: Vec<f64> = positions
+                .points
+                .chunks_exact(count)
+                .map(|frame| frame[a].distance(frame[b]))
+                .collect();
+            seen.sort_by(f64::total_cmp);
+            seen.get(seen.len() / 2).copied()
+        })
+        .collect();
+    shaped_to_lengths(model, &lengths)
+}
+
+/// `model` shaped to bone `lengths` (metres; one a joint, the bone from its parent, `None`
+/// where not measured): the betas fitted, and the figure they make.
+pub fn shaped_to_lengths(model: &BodyModel, lengths: &[Option<f64>]) -> Result<Fitted, Error> {
+    let lengths: Vec<Option<f64>> = lengths
+        .iter()
+        .map(|l| l.filter(|l| l.is_finite() && *l > 0.0))
         .collect();
     let measured = lengths.iter().flatten().count();
     if measured < 3 {
@@ -68,6 +106,7 @@ pub fn shaped_to(model: &BodyModel, source: &Skeleton, metres: f64) -> Result<Fi
             model.model.label()
         )));
     }
+    let (figure, index_of) = super::amass::figure(model.model)?;
     let count = FITTED_BETAS.min(model.shape_count());
     let (betas, before, after) = fit(model, &lengths, count)?;
     let shaped = model.shaped(&betas, &[])?;

@@ -13,7 +13,8 @@ fn reference(model: ModelType) -> npz::Npz {
         "tests/smpl/{}_smplx.npz",
         model.label().replace('-', "").to_lowercase()
     );
-    let bytes = std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(&name)).unwrap();
+    let bytes =
+        std::fs::read(std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(&name)).unwrap();
     npz::read(&bytes, &name).unwrap()
 }
 
