@@ -333,10 +333,7 @@ fn z_up_to_y_up() -> DQuat {
 /// (its joints' offsets those of `model`'s body of the file's betas, when a model file is
 /// given), each joint's axis-angle split into its channels, the root placed by `trans`; what is
 /// said; and the model's pelvis at rest, when a model gave it.
-pub fn to_take(
-    amass: &Amass,
-    model: Option<&super::model::BodyModel>,
-) -> Result<(Skeleton, Motion, Vec<Message>, Option<[f64; 3]>), Error> {
+pub fn to_take(amass: &Amass, model: Option<&super::model::BodyModel>) -> Result<OnFigure, Error> {
     let model_type = amass.model;
     let (mut skeleton, index_of) = figure(model_type)?;
     let mut said = amass.warnings.clone();
@@ -388,7 +385,25 @@ pub fn to_take(
         }
     }
     let motion = Motion::new(amass_frame_time(amass), channels, frames, data);
-    Ok((skeleton, motion, said, rest_pelvis))
+    Ok(OnFigure {
+        skeleton,
+        motion,
+        said,
+        rest_pelvis,
+    })
+}
+
+/// An AMASS file's take on a figure ([`to_take`]).
+#[derive(Clone, Debug)]
+pub struct OnFigure {
+    /// The figure: the built-in skeleton of the model type, its offsets the model's when given.
+    pub skeleton: Skeleton,
+    /// The frames.
+    pub motion: Motion,
+    /// What is said of the reading.
+    pub said: Vec<Message>,
+    /// The model's pelvis at rest (metres, its axes), when a model file gave the joints.
+    pub rest_pelvis: Option<[f64; 3]>,
 }
 
 /// The built-in figure of `model_type` in metres, Y up stated, and each of its joints' index in

@@ -59,7 +59,12 @@ pub fn load_bytes(
         )?),
         None => None,
     };
-    let (skeleton, motion, warnings, rest_pelvis) = amass::to_take(&amass, model.as_deref())?;
+    let amass::OnFigure {
+        skeleton,
+        motion,
+        said: warnings,
+        rest_pelvis,
+    } = amass::to_take(&amass, model.as_deref())?;
     let body = Body {
         model: amass.model,
         betas: amass.betas.clone(),

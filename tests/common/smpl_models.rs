@@ -10,26 +10,11 @@ const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
 const MIX1: u64 = 0xBF58_476D_1CE4_E5B9;
 const MIX2: u64 = 0x94D0_49BB_1331_11EB;
 
-const CORNER_C: [f64; 8] = [
-    1.0,
-    0.7071067811865476,
-    0.0,
-    -0.7071067811865476,
-    -1.0,
-    -0.7071067811865476,
-    0.0,
-    0.7071067811865476,
-];
-const CORNER_S: [f64; 8] = [
-    0.0,
-    0.7071067811865476,
-    1.0,
-    0.7071067811865476,
-    0.0,
-    -0.7071067811865476,
-    -1.0,
-    -0.7071067811865476,
-];
+/// An eighth turn's cosine: the script's literal 0.7071067811865476, the same double.
+const H: f64 = std::f64::consts::FRAC_1_SQRT_2;
+
+const CORNER_C: [f64; 8] = [1.0, H, 0.0, -H, -1.0, -H, 0.0, H];
+const CORNER_S: [f64; 8] = [0.0, H, 1.0, H, 0.0, -H, -1.0, -H];
 
 /// `count` values in [-scale, scale), as the script's `noise`.
 pub fn noise(seed: u64, count: usize, scale: f64) -> Vec<f64> {
@@ -67,7 +52,7 @@ fn tube_face(i: usize, vertices: usize, nb: usize) -> [usize; 3] {
             .unwrap_or(v0)
     };
     let a1 = (a + 1) % 8;
-    if i % 2 == 0 {
+    if i.is_multiple_of(2) {
         [vid(m, a), vid(m + 1, a), vid(m + 1, a1)]
     } else {
         [vid(m, a), vid(m + 1, a1), vid(m, a1)]
