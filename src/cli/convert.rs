@@ -308,16 +308,12 @@ fn write_character(
         dressed = super::in_units(&args.input.display().to_string(), dressed, units)?;
         mesh = std::borrow::Cow::Owned(character.mesh.scaled(factor));
     }
-    if mesh.pose_blend.is_some() {
+    if mesh.pose_blend.is_some() && format == TakeFormat::Fbx {
         eprintln!(
-            "bvhview: {}: warning: the body model's pose blend shapes are not written (a skin \
-             in {} has none): the mesh moves by its skin alone, as without them",
+            "bvhview: {}: warning: the body model's pose blend shapes are not written (bvhview's \
+             FBX has no blend shapes yet; a .glb keeps them as morph targets): the mesh moves by \
+             its skin alone",
             args.output.display(),
-            if format == TakeFormat::Fbx {
-                "FBX"
-            } else {
-                "glTF"
-            }
         );
     }
     let units = args.out_units;

@@ -135,7 +135,19 @@ impl Data {
         indices: json::Index<json::Accessor>,
         inverse_bind: json::Index<json::Accessor>,
         joints: Vec<json::Index<json::Node>>,
-    ) {
+        targets: Vec<json::Index<json::Accessor>>,
+    ) -> json::Index<json::Node> {
+        let weights = (!targets.is_empty()).then(|| vec![0.0; targets.len()]);
+        let targets = (!targets.is_empty()).then(|| {
+            targets
+                .into_iter()
+                .map(|positions| json::mesh::MorphTarget {
+                    positions: Some(positions),
+                    normals: None,
+                    tangents: None,
+                })
+                .collect()
+        });
         let primitive = json::mesh::Primitive {
             attributes: attributes
                 .into_iter()
@@ -146,14 +158,14 @@ impl Data {
             indices: Some(indices),
             material: None,
             mode: Checked::Valid(json::mesh::Mode::Triangles),
-            targets: None,
+            targets,
         };
         let mesh = self.root.push(json::Mesh {
             extensions: Default::default(),
             extras: Default::default(),
             name: Some(name.to_string()),
             primitives: vec![primitive],
-            weights: None,
+            weights,
         });
         let skin = self.root.push(json::Skin {
             extensions: Default::default(),
@@ -172,6 +184,7 @@ impl Data {
         if let Some(scene) = self.root.scenes.first_mut() {
             scene.nodes.push(node);
         }
+        node
     }
 
     /// The generated skin (`render::body`) as a mesh on a root node, bound to every joint node
@@ -243,7 +256,14 @@ impl Data {
             (json::mesh::Semantic::Weights(0), weights_0),
         ];
         let joints = (0..joints).map(|j| json::Index::new(j as u32)).collect();
-        self.skinned_node("skin", attributes, indices, inverse_bind, joints);
+        self.skinned_node(
+            "skin",
+            attributes,
+            indices,
+            inverse_bind,
+            joints,
+            Vec::new(),
+        );
         Ok(())
     }
 
@@ -253,9 +273,15 @@ impl Data {
     /// [`crate::model::mesh::MAX_WRITTEN_INFLUENCES`] influences written (four a `JOINTS_n` /
     /// `WEIGHTS_n` pair, as many pairs as the vertex with the most needs). A bone bound to no
     /// joint is bound to one extra node at the origin.
-    fn character(&mut self, skeleton: &Skeleton, mesh: &Mesh) -> Result<(), Error> {
+    fn character(
+        &mut self,
+        skeleton: &Skeleton,
+        mesh: &Mesh,
+        shapes: Option<&BlendWeights>,
+    ) -> Result<Morphed, Error> {
         mesh.check()
             .map_err(|why| Error::usage(format!("cannot write the mesh: {why}")))?;
+        let mut morphed = Vec::new();
         let mut fixed_node: Option<json::Index<json::Node>> = None;
         for k in 0..mesh.parts.len() {
             let (vertices, corners, bones) = mesh.part_ranges(k);
@@ -305,15 +331,55 @@ impl Data {
                 None,
             );
             let joints = self.part_joints(skeleton, &mesh.bones[bones], &mut fixed_node)?;
-            self.skinned_node(
+            // The pose blend shapes of a body model (its one part) as morph targets: one a
+            // feature, its weights animated with the take.
+            let blend = mesh
+                .pose_blend
+                .as_deref()
+                .filter(|b| vertices.start == 0 && b.vertex_count() >= vertices.end)
+                .zip(shapes.filter(|s| !s.targets.is_empty()));
+            let targets = match blend {
+                Some((blend, shapes)) => self.blend_targets(blend, shapes, vertices.clone()),
+                None => Vec::new(),
+            };
+            let node = self.skinned_node(
                 &format!("mesh{k}"),
                 attributes,
                 indices,
                 inverse_bind,
                 joints,
+                targets,
             );
+            if let Some((_, shapes)) = blend {
+                morphed.push((node, shapes.weights.clone()));
+            }
         }
-        Ok(())
+        Ok(morphed)
+    }
+
+    /// The morph targets of `blend` that `shapes` weighs: each vertex's offset for a feature,
+    /// or its opposite.
+    fn blend_targets(
+        &mut self,
+        blend: &crate::model::mesh::PoseBlend,
+        shapes: &BlendWeights,
+        vertices: std::ops::Range<usize>,
+    ) -> Vec<json::Index<json::Accessor>> {
+        let width = 9 * blend.joints.len();
+        shapes
+            .targets
+            .iter()
+            .map(|&(feature, sign)| {
+                let offsets: Vec<glam::Vec3> = vertices
+                    .clone()
+                    .map(|v| {
+                        let at = |axis: usize| blend.dirs[(3 * v + axis) * width + feature];
+                        glam::Vec3::new(at(0), at(1), at(2)) * sign
+                    })
+                    .collect();
+                self.positions(&offsets)
+            })
+            .collect()
     }
 
     /// The `JOINTS_n` / `WEIGHTS_n` accessors of one part of a character's mesh: each vertex's
@@ -459,6 +525,54 @@ pub fn to_gltf_character(
     )
 }
 
+/// The mesh nodes whose morph targets are a body model's pose blend shapes, with their weights
+/// (frame after frame).
+type Morphed = Vec<(json::Index<json::Node>, Vec<f32>)>;
+
+/// A body model's pose blend shapes as a take weighs them, for morph targets. Each feature
+/// (`R − I`, an entry of a joint's rotation) is written as a target where the take moves it
+/// above zero and as its opposite where below, each weighed by that part of the feature:
+/// every weight is then from 0 to 2 (Blender's importer clamps negative weights to 0), and a
+/// reader that ignores morph targets sees the body's shaped rest mesh.
+struct BlendWeights {
+    /// Each target: its feature and sign.
+    targets: Vec<(usize, f32)>,
+    /// Each frame's weights, one a target.
+    weights: Vec<f32>,
+}
+
+impl BlendWeights {
+    /// The weights of `blend` over `motion`'s frames of `skeleton`.
+    fn of(
+        blend: &crate::model::mesh::PoseBlend,
+        skeleton: &Skeleton,
+        motion: &Motion,
+        mode: OffsetMode,
+    ) -> BlendWeights {
+        let mut world = Vec::new();
+        let features: Vec<Vec<f32>> = (0..motion.frame_count())
+            .map(|frame| {
+                crate::model::pose::world_matrices(skeleton, motion.frame(frame), mode, &mut world);
+                blend.features(&world)
+            })
+            .collect();
+        let width = 9 * blend.joints.len();
+        let mut targets = Vec::new();
+        for feature in 0..width {
+            for sign in [1.0f32, -1.0] {
+                if features.iter().any(|f| f[feature] * sign > 0.0) {
+                    targets.push((feature, sign));
+                }
+            }
+        }
+        let weights = features
+            .iter()
+            .flat_map(|f| targets.iter().map(|&(k, sign)| (f[k] * sign).max(0.0)))
+            .collect();
+        BlendWeights { targets, weights }
+    }
+}
+
 /// What skin a glTF carries.
 enum Skin<'a> {
     None,
@@ -479,12 +593,21 @@ fn write(
 ) -> Result<Vec<u8>, Error> {
     let mut data = Data::new();
     data.nodes(skeleton);
-    match skin {
-        Skin::None => {}
-        Skin::Generated => data.skin(skeleton, mode)?,
-        Skin::Mesh(mesh) => data.character(skeleton, mesh)?,
-    }
-    data.animation(skeleton, motion, mode)?;
+    let morphed = match skin {
+        Skin::None => Vec::new(),
+        Skin::Generated => {
+            data.skin(skeleton, mode)?;
+            Vec::new()
+        }
+        Skin::Mesh(mesh) => {
+            let shapes = mesh
+                .pose_blend
+                .as_deref()
+                .map(|blend| BlendWeights::of(blend, skeleton, motion, mode));
+            data.character(skeleton, mesh, shapes.as_ref())?
+        }
+    };
+    data.animation(skeleton, motion, mode, &morphed)?;
     data.file(container)
 }
 
@@ -548,6 +671,7 @@ impl Data {
         skeleton: &Skeleton,
         motion: &Motion,
         mode: OffsetMode,
+        morphed: &Morphed,
     ) -> Result<(), Error> {
         let frames = motion.frame_count();
         if frames == 0 {
@@ -605,6 +729,9 @@ impl Data {
                 }
                 tracks.push(self, index, values, false);
             }
+        }
+        for (node, weights) in morphed {
+            tracks.push_weights(self, *node, weights.clone());
         }
         if !tracks.channels.is_empty() {
             self.root.push(json::Animation {
@@ -700,6 +827,27 @@ impl Tracks {
             )
         };
         let output = data.accessor(&values, self.frames, kind, None, None);
+        self.channel(node as u32, output, property);
+    }
+
+    /// The morph target weights of the mesh `node`, all of a frame after another's.
+    fn push_weights(&mut self, data: &mut Data, node: json::Index<json::Node>, values: Vec<f32>) {
+        let count = values.len();
+        let output = data.accessor(&values, count, json::accessor::Type::Scalar, None, None);
+        self.channel(
+            node.value() as u32,
+            output,
+            json::animation::Property::MorphTargetWeights,
+        );
+    }
+
+    /// A linear sampler of `output` over the take's times, and its channel to `node`.
+    fn channel(
+        &mut self,
+        node: u32,
+        output: json::Index<json::Accessor>,
+        property: json::animation::Property,
+    ) {
         self.samplers.push(json::animation::Sampler {
             extensions: Default::default(),
             extras: Default::default(),
@@ -712,7 +860,7 @@ impl Tracks {
             target: json::animation::Target {
                 extensions: Default::default(),
                 extras: Default::default(),
-                node: json::Index::new(node as u32),
+                node: json::Index::new(node),
                 path: Checked::Valid(property),
             },
             extensions: Default::default(),

@@ -203,23 +203,7 @@ impl PoseBlend {
     /// The vertices `rest` moved by the blend shapes of the joints' world matrices `world`
     /// (those past the blend shapes' vertices as they are).
     pub fn apply(&self, rest: &[Vec3], world: &[Mat4]) -> Vec<Vec3> {
-        let rotation = |m: &Mat4| {
-            let r = glam::Mat3::from_mat4(*m);
-            // A scaled skeleton's frames: the rotation alone.
-            glam::Mat3::from_cols(
-                r.x_axis.normalize_or_zero(),
-                r.y_axis.normalize_or_zero(),
-                r.z_axis.normalize_or_zero(),
-            )
-        };
-        let mut features = Vec::with_capacity(9 * self.joints.len());
-        for &(joint, parent) in &self.joints {
-            let local = rotation(&world[parent]).transpose() * rotation(&world[joint])
-                - glam::Mat3::IDENTITY;
-            for row in 0..3 {
-                features.extend([local.x_axis[row], local.y_axis[row], local.z_axis[row]]);
-            }
-        }
+        let features = self.features(world);
         let width = features.len();
         let mut moved = rest.to_vec();
         if width == 0 {
@@ -241,6 +225,35 @@ impl PoseBlend {
             moved[v] += Vec3::new(axis(0), axis(1), axis(2));
         }
         moved
+    }
+
+    /// How many vertices the blend shapes move (the first ones of the mesh).
+    pub fn vertex_count(&self) -> usize {
+        self.dirs.len() / (27 * self.joints.len()).max(1)
+    }
+
+    /// The blend shapes' weights for the joints' world matrices `world`: each posed joint's
+    /// rotation under its parent less the identity, row by row (what a glTF morph target's
+    /// weights animate).
+    pub fn features(&self, world: &[Mat4]) -> Vec<f32> {
+        let rotation = |m: &Mat4| {
+            let r = glam::Mat3::from_mat4(*m);
+            // A scaled skeleton's frames: the rotation alone.
+            glam::Mat3::from_cols(
+                r.x_axis.normalize_or_zero(),
+                r.y_axis.normalize_or_zero(),
+                r.z_axis.normalize_or_zero(),
+            )
+        };
+        let mut features = Vec::with_capacity(9 * self.joints.len());
+        for &(joint, parent) in &self.joints {
+            let local = rotation(&world[parent]).transpose() * rotation(&world[joint])
+                - glam::Mat3::IDENTITY;
+            for row in 0..3 {
+                features.extend([local.x_axis[row], local.y_axis[row], local.z_axis[row]]);
+            }
+        }
+        features
     }
 }
 

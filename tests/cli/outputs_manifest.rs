@@ -83,6 +83,9 @@ fn commands() -> Vec<String> {
         commands.push("info tests/data".into());
     }
     commands.push("dataset tests/data/bvh -o $OUT/ds".into());
+    commands.push(
+        "convert tests/data/bvh/bvh11_131_01.bvh --frames 0..10 --onto smplh -o $OUT/o.npz".into(),
+    );
     commands.push("generate man".into());
     commands
 }

@@ -488,3 +488,79 @@ fn a_model_is_found_in_a_folder_by_gender_and_type() {
         "{message}"
     );
 }
+
+/// A body model character written as glTF: its pose blend shapes are morph targets whose
+/// weights move every vertex, before the skin, as bvhview's own drawing moves it on every frame
+/// (the glTF specification's sum, done here from the file; Blender 5.2's importer agreed within
+/// 1e-6 m when this was written, see tests/smpl/README.md).
+#[cfg(feature = "gltf")]
+#[test]
+fn a_body_model_written_as_gltf_carries_its_pose_blend_shapes() {
+    let (body, _) = fake_model(ModelType::Smpl);
+    let character =
+        bvhview::character::Character::from_body_model(std::sync::Arc::new(body), None, &[])
+            .unwrap();
+    let walk = bvhview::Take::open(data("smpl/smpl_walk_compressed.npz"))
+        .unwrap()
+        .trim(0..12);
+    let (take, _) = character.dress(&walk, &[], Default::default(), 1).unwrap();
+    let folder = crate::common::scratch_folder("body-gltf");
+    let path = folder.join("body.glb");
+    character.save(&take, &path).unwrap();
+    let bytes = std::fs::read(&path).unwrap();
+    let file = gltf::Gltf::from_slice(&bytes).unwrap();
+    let blob = file.blob.as_deref();
+    let primitive = file.meshes().next().unwrap().primitives().next().unwrap();
+    let reader = primitive.reader(|_| blob);
+    let rest: Vec<glam::Vec3> = reader
+        .read_positions()
+        .unwrap()
+        .map(glam::Vec3::from)
+        .collect();
+    let targets: Vec<Vec<glam::Vec3>> = reader
+        .read_morph_targets()
+        .map(|(positions, _, _)| positions.unwrap().map(glam::Vec3::from).collect())
+        .collect();
+    assert!(targets.len() > 100, "{} targets", targets.len());
+    let animation = file.animations().next().unwrap();
+    let weights: Vec<f32> = animation
+        .channels()
+        .find_map(|channel| match channel.reader(|_| blob).read_outputs()? {
+            gltf::animation::util::ReadOutputs::MorphTargetWeights(w) => {
+                Some(w.into_f32().collect())
+            }
+            _ => None,
+        })
+        .unwrap();
+    assert_eq!(weights.len(), take.frame_count() * targets.len());
+    assert!(
+        weights.iter().all(|w| *w >= 0.0),
+        "a negative weight (Blender reads it as 0)"
+    );
+    let blend = character.mesh.pose_blend.as_deref().unwrap();
+    let mut world = Vec::new();
+    let mut worst = 0.0f32;
+    for f in 0..take.frame_count() {
+        let row = &weights[f * targets.len()..(f + 1) * targets.len()];
+        bvhview::model::pose::world_matrices(
+            &take.skeleton,
+            take.frame(f).unwrap(),
+            take.offset_mode,
+            &mut world,
+        );
+        let want = blend.apply(&rest, &world);
+        for (v, want) in want.iter().enumerate() {
+            let got = rest[v]
+                + targets
+                    .iter()
+                    .zip(row)
+                    .map(|(t, w)| t[v] * *w)
+                    .sum::<glam::Vec3>();
+            worst = worst.max(got.distance(*want));
+        }
+    }
+    assert!(
+        worst < 1e-6,
+        "a vertex {worst} m from bvhview's pose blend shapes"
+    );
+}
