@@ -14,7 +14,7 @@
 //! figure stands where `trans` puts the model's origin, not its pelvis.
 
 use super::layout::ModelType;
-use super::npz::Npz;
+use super::npz::{Npz, numbers};
 use crate::io::error::Error;
 use crate::io::message::Message;
 use crate::model::motion::Motion;
@@ -57,32 +57,6 @@ impl Amass {
     /// Frames in the take.
     pub fn frame_count(&self) -> usize {
         self.poses.len() / self.model.pose_width()
-    }
-}
-
-/// An array's shape and its numbers (C order).
-type Numbers<'a> = (&'a [usize], &'a [f64]);
-
-/// The numbers of `key`, with its shape, or why not: missing (`None`), or not numbers.
-pub(super) fn numbers<'a>(
-    npz: &'a Npz,
-    key: &str,
-    shown: &str,
-) -> Result<Option<Numbers<'a>>, Error> {
-    match npz.get(key) {
-        None => Ok(None),
-        Some(NpyArray::Numbers { shape, values }) => Ok(Some((shape, values))),
-        Some(NpyArray::Text { .. }) => Err(Error::decoding(
-            shown,
-            format!("'{key}' holds text, not numbers"),
-        )),
-        Some(NpyArray::Other { dtype }) => Err(Error::decoding(
-            shown,
-            format!(
-                "'{key}' is an array of dtype {dtype} (an object array is a pickle, which \
-                 bvhview never loads); it must hold numbers"
-            ),
-        )),
     }
 }
 
@@ -394,6 +368,20 @@ pub fn to_take(amass: &Amass, model: Option<&super::model::BodyModel>) -> Result
 }
 
 /// An AMASS file's take on a figure ([`to_take`]).
+///
+/// ```
+/// use bvhview::smpl::{amass, npz};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let bytes = std::fs::read("tests/data/smpl/amass_smplh_walk.npz").unwrap();
+/// let params = amass::read(&npz::read(&bytes, "walk.npz")?, "walk.npz", None)?;
+/// // No model file: bvhview's own figure, the pelvis where `trans` puts it.
+/// let taken = amass::to_take(&params, None)?;
+/// assert_eq!(taken.motion.frame_count(), 60);
+/// assert!(taken.rest_pelvis.is_none());
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug)]
 pub struct OnFigure {
     /// The figure: the built-in skeleton of the model type, its offsets the model's when given.
@@ -520,7 +508,7 @@ pub fn of_take(
     mode: crate::model::pose::OffsetMode,
     metres: f64,
     up: crate::model::pose::Up,
-    body: Option<&super::Body>,
+    body: Option<&super::body::Body>,
     shown: &str,
 ) -> Result<Amass, Error> {
     let model = model_of(skeleton).ok_or_else(|| {

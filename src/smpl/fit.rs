@@ -22,6 +22,20 @@ const PULL: f64 = 1e-8;
 /// The model's figure shaped to the source: its skeleton (the built-in figure of the model's
 /// type, the model's joints of the fitted betas), one rest frame, the body it is, and a line
 /// saying how well the bones fit.
+///
+/// ```no_run
+/// use bvhview::smpl::{fit, model::BodyModel};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let smplx = BodyModel::open("models/SMPLX_NEUTRAL.npz".as_ref(), None, None)?;
+/// let walk = bvhview::Take::open("tests/data/bvh/bvh11_131_01.bvh")?;
+/// let metres = f64::from(walk.stance(walk.offset_mode).units.metres);
+/// let fitted = fit::shaped_to(&smplx, &walk.skeleton, metres)?;
+/// println!("{}", fitted.said); // betas fitted …: 12.3% → 2.1% median length difference
+/// assert_eq!(fitted.body.betas.len(), 10);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug)]
 pub struct Fitted {
     /// The model's figure of the fitted shape, metres, Y up.

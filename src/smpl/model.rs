@@ -8,9 +8,8 @@
 //! is used before it holds: a pickled array (the sparse `J_regressor` of some conversions) is
 //! refused by name, as is a `.pkl` (chumpy's pickles are not read: convert them to `.npz`).
 
-use super::amass::numbers;
 use super::layout::ModelType;
-use super::npz::Npz;
+use super::npz::{Npz, numbers};
 use crate::io::error::Error;
 use glam::{DMat3, DVec3};
 use std::path::{Path, PathBuf};
@@ -62,6 +61,18 @@ pub struct BodyModel {
 }
 
 /// A body of a given shape in its rest pose: each vertex and joint, metres, the model's Y up.
+///
+/// ```no_run
+/// use bvhview::smpl::model::BodyModel;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let smpl = BodyModel::open("models/SMPL_NEUTRAL.npz".as_ref(), None, None)?;
+/// let tall = smpl.shaped(&[-2.0], &[])?;
+/// let pelvis_to_head = tall.joints[15] - tall.joints[0];
+/// assert!(pelvis_to_head.y > 0.0); // the model stands along y
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shaped {
     /// `v_template + shapedirs · (betas, expression)`.
@@ -73,6 +84,21 @@ pub struct Shaped {
 }
 
 /// A posed body: each joint and vertex in the world, `trans` added.
+///
+/// ```no_run
+/// use bvhview::smpl::model::BodyModel;
+/// use glam::DVec3;
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let smplh = BodyModel::open("models/".as_ref(), Some("female"), None)?;
+/// let body = smplh.shaped(&[0.3; 16], &[])?;
+/// let mut pose = vec![0.0; 156];
+/// pose[3 * 4] = 1.2; // the left knee bent about x
+/// let posed = smplh.forward(&body, &pose, DVec3::new(0.0, 0.0, 0.9));
+/// assert_eq!(posed.joints.len(), 52);
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Posed {
     /// The joints, in the model type's order.
@@ -106,7 +132,8 @@ impl BodyModel {
                 file.display()
             )));
         }
-        let bytes = crate::io::whole::read_binary_file(&file, crate::take::DEFAULT_MAX_SIZE)?;
+        let bytes =
+            crate::io::whole::read_binary_file(&file, crate::take::options::DEFAULT_MAX_SIZE)?;
         let shown = file.display().to_string();
         let mut model = BodyModel::from_bytes(&bytes, &shown)?;
         model.gender = gender_of(&file);

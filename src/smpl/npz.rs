@@ -155,6 +155,32 @@ pub fn read(bytes: &[u8], shown: &str) -> Result<Npz, Error> {
     Ok(Npz { arrays })
 }
 
+/// An array's shape and its numbers (C order).
+type Numbers<'a> = (&'a [usize], &'a [f64]);
+
+/// The numbers of `key`, with its shape, or why not: missing (`None`), or not numbers.
+pub(crate) fn numbers<'a>(
+    npz: &'a Npz,
+    key: &str,
+    shown: &str,
+) -> Result<Option<Numbers<'a>>, Error> {
+    match npz.get(key) {
+        None => Ok(None),
+        Some(NpyArray::Numbers { shape, values }) => Ok(Some((shape, values))),
+        Some(NpyArray::Text { .. }) => Err(Error::decoding(
+            shown,
+            format!("'{key}' holds text, not numbers"),
+        )),
+        Some(NpyArray::Other { dtype }) => Err(Error::decoding(
+            shown,
+            format!(
+                "'{key}' is an array of dtype {dtype} (an object array is a pickle, which \
+                 bvhview never loads); it must hold numbers"
+            ),
+        )),
+    }
+}
+
 /// An `.npy` (version 1) of float64 values of `shape` (`[]`: one value, 0-d), C order.
 pub(crate) fn npy_f64(shape: &[usize], values: &[f64]) -> Vec<u8> {
     let mut out = npy_header("<f8", shape);
