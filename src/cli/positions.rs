@@ -65,6 +65,12 @@ pub(crate) struct PositionsArgs {
     character: Option<PathBuf>,
     #[command(flatten)]
     insisting: super::character::Insisting,
+    /// Write the joints as a pose estimator's keypoints of this layout (h36m17, coco17,
+    /// mediapipe33, body25, smpl24): an .npy of frames × points × 4 (x, y, z in metres, and a
+    /// confidence: 1, or 0 with NaN where the skeleton has no such point, as a face's), each
+    /// point at the joint of its role; `solve --layout` reads it back.
+    #[arg(long, value_name = "LAYOUT", conflicts_with_all = ["vertices", "character"])]
+    layout: Option<String>,
     /// With --character, write the skinned mesh's vertices instead of the joints: CSV
     /// `frame,vertex,x,y,z`, JSON (with the triangles), or an .npy array (frames, vertices, 3)
     /// of float32, in the character's units (metres).
@@ -78,7 +84,9 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
         args.output = None;
     }
     if let Some(output) = &args.output {
-        let formats: &[&str] = if args.vertices {
+        let formats: &[&str] = if args.layout.is_some() {
+            &["npy"]
+        } else if args.vertices {
             &["csv", "json", "npy"]
         } else {
             &["csv", "json"]
@@ -132,6 +140,9 @@ pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
     if let Some(character) = character.as_deref().filter(|_| args.vertices) {
         return write_vertices(&args, character, &loaded, range);
     }
+    if let Some(layout) = &args.layout {
+        return write_keypoints(&args, layout, &loaded, range);
+    }
     write_joints(&args, &loaded, range, offset_mode, scale)
 }
 
@@ -165,6 +176,61 @@ fn load_dressed(
 
 /// `--vertices`: the character's skinned vertices in the frames of `range`, as CSV, JSON or
 /// `.npy` by -o's extension; then what was written.
+/// `--layout`: the joints as a layout's keypoints, an .npy of frames × points × 4 (float32).
+fn write_keypoints(
+    args: &PositionsArgs,
+    layout: &str,
+    loaded: &take::Take,
+    range: std::ops::Range<usize>,
+) -> Result<ExitCode, Error> {
+    use crate::solve::layouts::{Layout, of_take};
+    let layout = Layout::named(layout).ok_or_else(|| {
+        let names: Vec<&str> = Layout::ALL.iter().map(|l| l.label()).collect();
+        Error::usage(format!(
+            "--layout {layout}: not a layout bvhview knows ({})",
+            names.join(", ")
+        ))
+    })?;
+    let Some(output) = args.output.as_deref() else {
+        return Err(Error::usage(
+            "--layout: an .npy array goes to a file (-o OUT.npy)",
+        ));
+    };
+    let metres = f64::from(
+        loaded
+            .stance(OffsetMode::from(args.offset_mode))
+            .units
+            .metres,
+    );
+    let keypoints = of_take(&loaded.trim(range.clone()), layout, metres)?;
+    let count = layout.points().len();
+    let frames = keypoints.points.len() / count;
+    let mut bytes = crate::dataset::store::npy_header("<f4", &[frames, count, 4]);
+    for (point, confidence) in keypoints.points.iter().zip(&keypoints.confidence) {
+        for value in [point.x, point.y, point.z, *confidence] {
+            bytes.extend((value as f32).to_le_bytes());
+        }
+    }
+    let mut out = open_output(Some(output))?;
+    let result = out.write_all(&bytes).and_then(|()| out.flush());
+    finish_write(out, result, Some(output))?;
+    let absent = keypoints.confidence[..count]
+        .iter()
+        .filter(|c| **c == 0.0)
+        .count();
+    wrote(format_args!(
+        "{}: {} × {count} {} keypoints{}",
+        output.display(),
+        crate::io::error::counted(frames, "frame"),
+        layout.label(),
+        match absent {
+            0 => String::new(),
+            n => format!(" ({n} the skeleton has not: NaN, confidence 0)"),
+        }
+    ));
+    Ok(ExitCode::SUCCESS)
+}
+
 fn write_vertices(
     args: &PositionsArgs,
     character: &crate::character::Character,

@@ -28,6 +28,18 @@ pub(crate) struct SolveArgs {
     /// order (and said).
     #[arg(long, value_name = "LAYOUT|A,B,…")]
     joints: Option<String>,
+    /// The positions are a pose estimator's keypoints in this layout: h36m17 (Human3.6M's 17,
+    /// as VideoPose3D and MotionBERT write them), coco17, mediapipe33, body25 (OpenPose) or
+    /// smpl24; an .npy of frames × points × 3, or × 4 with a confidence last, the .csv
+    /// `positions --layout` writes, or a .json array of the same. Each point goes to the
+    /// skeleton's joint of its role; joints the layout lacks are placed from the others, points
+    /// a frame lacks filled from the frames around, the figure stood up along +y; all said.
+    #[arg(long, value_name = "LAYOUT", conflicts_with = "joints")]
+    layout: Option<String>,
+    /// With --layout: a point under this confidence counts as missing from its frame and is
+    /// filled from the frames around it.
+    #[arg(long, value_name = "C", default_value_t = 0.3, requires = "layout")]
+    min_confidence: f64,
     /// Frames per second of the positions (neither an .npy nor the CSV holds it; HumanML3D's
     /// are 20).
     #[arg(long)]
@@ -73,14 +85,52 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
             args.fps
         )));
     }
-    let (positions, layout_note) = match args.from {
-        SolveFrom::Positions => crate::solve::read_positions(
+    let layout = match &args.layout {
+        Some(name) => Some(crate::solve::layouts::Layout::named(name).ok_or_else(|| {
+            let names: Vec<&str> = crate::solve::layouts::Layout::ALL
+                .iter()
+                .map(|l| l.label())
+                .collect();
+            Error::usage(format!(
+                "--layout {name}: not a layout bvhview knows ({})",
+                names.join(", ")
+            ))
+        })?),
+        None => None,
+    };
+    if layout.is_some() && args.from == SolveFrom::Humanml3d {
+        return Err(Error::usage(
+            "--from humanml3d: its 22 joints are SMPL's; --layout is for a pose estimator's \
+             keypoints",
+        ));
+    }
+    let (positions, layout_note) = match (args.from, layout) {
+        (_, Some(layout)) => {
+            let keypoints = crate::solve::layouts::read_keypoints(
+                &args.input,
+                layout,
+                1.0 / args.fps,
+                args.max_size,
+            )?;
+            let shown = args.input.display().to_string();
+            let up_given = args.up.map(|up| match Up::from(up) {
+                Up::Y => glam::DVec3::Y,
+                Up::Z => glam::DVec3::Z,
+            });
+            let placed =
+                crate::solve::layouts::to_smpl(&keypoints, args.min_confidence, up_given, &shown)?;
+            for line in &placed.said {
+                note(format_args!("{shown}: {line}"));
+            }
+            (placed.positions, None)
+        }
+        (SolveFrom::Positions, None) => crate::solve::read_positions(
             &args.input,
             args.joints.as_deref(),
             1.0 / args.fps,
             args.max_size,
         )?,
-        SolveFrom::Humanml3d => {
+        (SolveFrom::Humanml3d, None) => {
             if args.joints.is_some() {
                 return Err(Error::usage(
                     "--from humanml3d: its 22 joints are SMPL's, in SMPL's order; --joints is for \
@@ -117,13 +167,22 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         }
         None => (Target::load(&args.onto, args.max_size)?, None),
     };
+    // Keypoints stand along +y, named as SMPL's joints: each given to the target's joint of
+    // its role.
+    let (positions, data_up) = match layout {
+        Some(_) => (
+            crate::solve::layouts::onto_skeleton(&positions, &target.skeleton)?,
+            Some(Up::Y),
+        ),
+        None => (positions, args.up.map(Up::from)),
+    };
     // What is printed is measured on what is written: after --smooth, and said where
     // smoothing made a figure worse.
     let (motion, solved, worse) = crate::solve::solve_smoothed(
         &target.skeleton,
         target.up,
         &positions,
-        args.up.map(Up::from),
+        data_up,
         args.smooth,
     )?;
     for note in &solved.notes {

@@ -17,6 +17,7 @@
 
 mod horn;
 pub mod input;
+pub mod layouts;
 pub(crate) mod positions;
 mod reach;
 

@@ -10,6 +10,7 @@ mod body_reading;
 mod canonical_layout;
 mod character_skinning;
 mod generated_skin;
+mod keypoint_layouts;
 mod lock_feet;
 mod mirror_left_right;
 mod positions_fast_and_plain_agree;
