@@ -145,7 +145,7 @@ impl Character {
                 (read, mesh, Format::Gltf)
             }
             Some(Format::Amass) => {
-                let model = crate::smpl::open_model(path, None, None)?;
+                let model = crate::smpl::open_model(path, None, None, max_size)?;
                 let betas = options.betas.as_deref();
                 return Character::from_body_model(model, betas, &[]).map(Some);
             }
@@ -236,6 +236,8 @@ impl Character {
                 .collect(),
             dirs: model.pose_dirs().iter().map(|&d| d as f32).collect(),
         }));
+        // A model's joints are checked as a file's skin is: bind matrices within bounds.
+        skinnable(Path::new(&model.name), &skeleton, &mesh)?;
         let mut take = Take::new(skeleton, motion, model.name.clone());
         take.warnings = said.into_iter().map(Message::from).collect();
         take.stated_units = Some(crate::model::stance::Units::of_metres(1.0));

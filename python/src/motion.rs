@@ -587,6 +587,8 @@ impl Motion {
         let mut scaled = self.edited(skeleton, motion, false);
         scaled.loaded.stated_units = Some(units);
         scaled.loaded.units_given = true;
+        // The same body in other units: an AMASS file's betas and rest pelvis are metres.
+        scaled.loaded.body = self.loaded.body.clone();
         Ok(scaled)
     }
 

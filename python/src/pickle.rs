@@ -16,7 +16,8 @@ pub(crate) type JointState = (String, i64, [f32; 3], Vec<String>, bool, Option<[
 /// A take as pickled: a format number, path, AMC path, offset mode, warnings, whether the
 /// skeleton is an ASF's, the units stated (metres per unit, and whether the caller gave them),
 /// the joints, the Frame Time, the values per frame, the values (float32, little-endian
-/// bytes) and the up axis the caller gave ("y", "z" or none).
+/// bytes), and the up axis the caller gave ("y", "z" or none) with the SMPL-family body an
+/// AMASS file said.
 pub(crate) type State = (
     u32,
     String,
@@ -29,11 +30,15 @@ pub(crate) type State = (
     f64,
     usize,
     Vec<u8>,
-    Option<String>,
+    (Option<String>, Option<BodyState>),
 );
 
+/// An AMASS file's body as pickled: the model type (`smpl`, `smplh`, `smplx`), betas, gender,
+/// and the model's rest pelvis when a model file gave the joints.
+pub(crate) type BodyState = (String, Vec<f64>, Option<String>, Option<[f64; 3]>);
+
 /// The version of `State` this module writes and reads.
-pub(crate) const STATE_FORMAT: u32 = 2;
+pub(crate) const STATE_FORMAT: u32 = 3;
 
 impl Motion {
     pub(crate) fn state(&self) -> State {
@@ -72,13 +77,23 @@ impl Motion {
             motion.frame_time,
             motion.channels,
             motion.data.iter().flat_map(|v| v.to_le_bytes()).collect(),
-            self.loaded.stated_up.map(|up| {
-                match up {
-                    bvhview::model::pose::Up::Y => "y",
-                    bvhview::model::pose::Up::Z => "z",
-                }
-                .to_string()
-            }),
+            (
+                self.loaded.stated_up.map(|up| {
+                    match up {
+                        bvhview::model::pose::Up::Y => "y",
+                        bvhview::model::pose::Up::Z => "z",
+                    }
+                    .to_string()
+                }),
+                self.loaded.body.as_ref().map(|body| {
+                    (
+                        body.model.label().replace('-', "").to_ascii_lowercase(),
+                        body.betas.clone(),
+                        body.gender.clone(),
+                        body.rest_pelvis,
+                    )
+                }),
+            ),
         )
     }
 }
@@ -99,7 +114,7 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
             frame_time,
             channels,
             data,
-            stated_up,
+            (stated_up, body),
         ) = state;
         let bad =
             |what: &str| PyValueError::new_err(format!("not a pickled bvhview.Motion: {what}"));
@@ -208,6 +223,16 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
                 .map(crate::common::parse_up)
                 .transpose()?,
             format: take::Format::from_path(Path::new(&path)),
+            body: match body {
+                Some((model, betas, gender, rest_pelvis)) => Some(bvhview::smpl::Body {
+                    model: bvhview::smpl::ModelType::named(&model)
+                        .ok_or_else(|| bad("a body of no SMPL model type"))?,
+                    betas,
+                    gender,
+                    rest_pelvis,
+                }),
+                None => None,
+            },
             ..Take::new(
                 skeleton,
                 bvhview::Motion::new(frame_time, channels, frames, values),

@@ -723,7 +723,7 @@ def test_a_take_pickles_whole_and_comes_back_equal():
         np.testing.assert_array_equal(back.positions(), take.positions())
         np.testing.assert_array_equal(back.world_matrices([0]), take.world_matrices([0]))
     with pytest.raises(ValueError, match="not a pickled bvhview.Motion"):
-        bvhview._bvhview._from_state((99, "", None, "replace", [], False, None, [], 0.1, 0, b"", None))
+        bvhview._bvhview._from_state((99, "", None, "replace", [], False, None, [], 0.1, 0, b"", (None, None)))
 
 
 def _frames_of(take):
@@ -1003,7 +1003,7 @@ def test_a_joint_of_two_channels_bent_past_a_right_angle_comes_back(tmp_path):
 )
 def test_a_state_that_no_take_pickles_is_refused(joints, frame_time, data, said):
     channels = sum(len(j[3]) for j in joints)
-    state = (2, "x.bvh", None, "replace", [], False, None, joints, frame_time, channels, data, None)
+    state = (3, "x.bvh", None, "replace", [], False, None, joints, frame_time, channels, data, (None, None))
     with pytest.raises(ValueError, match=said):
         bvhview._bvhview._from_state(state)
 

@@ -94,3 +94,15 @@ def test_an_amass_file_read_on_a_model_stands_as_the_model_puts_it(tmp_path):
     assert any("read on the body of" in w and model.name in w for w in on_model.warnings)
     # The same rotations; the pelvis placed from the model's rest pelvis, not trans alone.
     np.testing.assert_allclose(plain.local_rotations(kind="matrix"), on_model.local_rotations(kind="matrix"), atol=1e-6)
+
+
+def test_a_pickled_amass_take_keeps_its_body(tmp_path):
+    import pickle
+
+    path = DATA / "smpl" / "amass_smplh_walk.npz"
+    take = pickle.loads(pickle.dumps(bvhview.load(path)))
+    out = tmp_path / "again.npz"
+    take.save(out)
+    written, source = np.load(out), np.load(path)
+    np.testing.assert_array_equal(written["betas"], source["betas"])
+    assert str(written["gender"]) == str(source["gender"])

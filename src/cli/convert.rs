@@ -245,6 +245,16 @@ fn same_rig(a: &crate::Skeleton, b: &crate::Skeleton) -> bool {
         })
 }
 
+/// Whether two skeletons have the same joints, by name and parent, and bones of the same
+/// lengths (within 32-bit rounding), however they are turned.
+fn same_bones(a: &crate::Skeleton, b: &crate::Skeleton) -> bool {
+    a.joints.len() == b.joints.len()
+        && a.joints.iter().zip(&b.joints).all(|(a, b)| {
+            let (x, y) = (a.offset.length(), b.offset.length());
+            a.name == b.name && a.parent == b.parent && (x - y).abs() <= 1e-6 * x.max(y).max(1.0)
+        })
+}
+
 /// Whether `take` comes from a file that may hold a skinned mesh of its own (FBX or glTF).
 fn own_mesh_kept(take: &Take) -> bool {
     matches!(
@@ -524,8 +534,9 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
             super::note(format_args!("{}: {line}", args.input.display()));
         }
     }
-    if loaded.skeleton != before {
-        // Its lengths or joints changed: no longer the body an AMASS file said.
+    if !same_bones(&loaded.skeleton, &before) {
+        // Its lengths or joints changed: no longer the body an AMASS file said (a turn, as
+        // `--up` makes, keeps it).
         loaded.body = None;
     }
     if let Some(onto) = &args.onto {
@@ -819,6 +830,7 @@ fn convert_one(
         frame_time: args.source.frame_time,
         max_size: Some(args.source.max_size),
         threads: Some(1),
+        body_model: args.source.body_model.clone(),
         ..Default::default()
     };
     let result = take::load_take(&item.path, &options).and_then(|loaded| {

@@ -96,7 +96,7 @@ pub(crate) fn target_for(
         return Ok((target, None));
     };
     let wanted = crate::smpl::fit::model_type_of_target(onto);
-    let model = crate::smpl::open_model(path, None, wanted)?;
+    let model = crate::smpl::open_model(path, None, wanted, source.max_size)?;
     let metres = f64::from(loaded.stance(loaded.offset_mode).units.metres);
     let fitted = crate::smpl::fit::shaped_to(&model, &loaded.skeleton, metres)?;
     super::note(format_args!("{} onto {onto}: {}", loaded.name, fitted.said));

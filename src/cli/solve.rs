@@ -158,7 +158,7 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         Some(path) => {
             // The model's own figure, its betas fitted to the positions' bones.
             let wanted = crate::smpl::fit::model_type_of_target(&args.onto);
-            let model = crate::smpl::open_model(path, None, wanted)?;
+            let model = crate::smpl::open_model(path, None, wanted, args.max_size)?;
             let fitted = crate::smpl::fit::shaped_to_positions(&model, &positions)?;
             note(format_args!("{}: {}", args.input.display(), fitted.said));
             let name = format!("{} ({})", args.onto, model.name);

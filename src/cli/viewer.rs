@@ -143,6 +143,7 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
             max_size: source.max_size,
             take: source.take.clone(),
             insist: insisting.insist(),
+            body_model: source.body_model.clone(),
         };
         let mut take = ViewerTake::from_source(take_source, offset_mode, &super::Flags)?;
         let name = path.display().to_string();

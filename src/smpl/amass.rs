@@ -567,10 +567,12 @@ pub fn of_take(
         warnings.push(
             Message::from(
                 "betas zero and gender neutral (the model's mean shape; trans is the pelvis's \
-                 place): a model file given by ",
+                 place): put the take on a SMPL-family figure with a model file (",
             )
+            .argument("onto", Some("smplh"))
+            .text(" with ")
             .argument("body_model", Some("MODEL.npz"))
-            .text(" fits the betas to the take's bones"),
+            .text(") to fit the betas to its bones"),
         );
     }
     let rest_pelvis = glam::DVec3::from(body.and_then(|b| b.rest_pelvis).unwrap_or([0.0; 3]));

@@ -27,7 +27,7 @@ const PULL: f64 = 1e-8;
 /// use bvhview::smpl::{fit, model::BodyModel};
 ///
 /// # fn main() -> Result<(), bvhview::Error> {
-/// let smplx = BodyModel::open("models/SMPLX_NEUTRAL.npz".as_ref(), None, None)?;
+/// let smplx = BodyModel::open("models/SMPLX_NEUTRAL.npz".as_ref(), None, None, u64::MAX)?;
 /// let walk = bvhview::Take::open("tests/data/bvh/bvh11_131_01.bvh")?;
 /// let metres = f64::from(walk.stance(walk.offset_mode).units.metres);
 /// let fitted = fit::shaped_to(&smplx, &walk.skeleton, metres)?;
@@ -77,9 +77,10 @@ pub fn shaped_to(model: &BodyModel, source: &Skeleton, metres: f64) -> Result<Fi
     shaped_to_lengths(model, &lengths)
 }
 
-/// `model` shaped to joint positions (metres), each named as the model names its joints
-/// (`pelvis`, `left_hip`, …): each bone the positions have both joints of measured as its
-/// median length over the frames.
+/// `model` shaped to joint positions, each named as the model names its joints (`pelvis`,
+/// `left_hip`, …): each bone the positions have both joints of measured as its median length
+/// over the frames, in the units (metres, centimetres, …) in which the bones come nearest the
+/// model's mean body's.
 pub fn shaped_to_positions(
     model: &BodyModel,
     positions: &crate::solve::Positions,
@@ -102,7 +103,28 @@ pub fn shaped_to_positions(
             seen.get(seen.len() / 2).copied()
         })
         .collect();
-    shaped_to_lengths(model, &lengths)
+    // Positions carry no units: those in which their bones come nearest the model's mean
+    // body's (metres for a model's output, centimetres for a CMU take's `positions`).
+    let mean = model.shaped(&[], &[])?.joints;
+    let parents = model.parents();
+    let (mut data, mut body) = (0.0, 0.0);
+    for (k, length) in lengths.iter().enumerate() {
+        if let (Some(length), Some(p)) = (length, parents[k]) {
+            data += length;
+            body += mean[k].distance(mean[p]);
+        }
+    }
+    let units = crate::model::stance::Units::guess((1.7 * data / body.max(1e-12)) as f32);
+    let metres = f64::from(units.metres);
+    let lengths: Vec<Option<f64>> = lengths.iter().map(|l| l.map(|l| l * metres)).collect();
+    let mut fitted = shaped_to_lengths(model, &lengths)?;
+    if metres != 1.0 {
+        fitted.said.push_str(&format!(
+            " (the positions read as {}, by their size)",
+            units.name
+        ));
+    }
+    Ok(fitted)
 }
 
 /// `model` shaped to bone `lengths` (metres; one a joint, the bone from its parent, `None`

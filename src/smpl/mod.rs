@@ -25,23 +25,49 @@ pub fn load_bytes(
     shown: &str,
     frame_time: Option<f64>,
     body_model: Option<&Path>,
+    max_size: u64,
 ) -> Result<(Read, Body), Error> {
     let npz = npz::read(bytes, shown)?;
     let amass = amass::read(&npz, shown, frame_time)?;
+    // A model of another type than the motion's (given for a target: `convert walk_smplh.npz
+    // --onto smplx --body-model SMPLX_NEUTRAL.npz`) does not read it: said, and the built-in
+    // figure reads it.
+    let mut other_type = None;
     let model = match body_model {
-        Some(path) => Some(open_model(
-            path,
-            amass.gender.as_deref(),
-            Some(amass.model),
-        )?),
+        Some(path) if path.is_dir() => {
+            match open_model(path, amass.gender.as_deref(), Some(amass.model), max_size) {
+                Ok(model) => Some(model),
+                Err(why) => {
+                    other_type = Some(why.to_string());
+                    None
+                }
+            }
+        }
+        Some(path) => {
+            let model = open_model(path, amass.gender.as_deref(), None, max_size)?;
+            if model.model == amass.model {
+                Some(model)
+            } else {
+                other_type = Some(format!(
+                    "{}: a {} model, and the motion is {} parameters",
+                    model.name,
+                    model.model.label(),
+                    amass.model.label()
+                ));
+                None
+            }
+        }
         None => None,
     };
     let amass::OnFigure {
         skeleton,
         motion,
-        said: warnings,
+        said: mut warnings,
         rest_pelvis,
     } = amass::to_take(&amass, model.as_deref())?;
+    if let Some(why) = other_type {
+        warnings.push(format!("the body model does not read this take ({why})").into());
+    }
     let body = Body {
         model: amass.model,
         betas: amass.betas.clone(),
@@ -68,11 +94,12 @@ type ModelCache = Vec<(
 )>;
 
 /// The body model at `path` (a file, or a folder holding one per gender) for `gender` and of
-/// type `wanted` (any, for `None`), read once per process.
+/// type `wanted` (any, for `None`), of at most `max_size` bytes, read once per process.
 pub fn open_model(
     path: &Path,
     gender: Option<&str>,
     wanted: Option<ModelType>,
+    max_size: u64,
 ) -> Result<Arc<model::BodyModel>, Error> {
     static CACHE: Mutex<ModelCache> = Mutex::new(Vec::new());
     let gender = gender.map(|g| g.trim().to_ascii_lowercase());
@@ -84,7 +111,12 @@ pub fn open_model(
     {
         return Ok(model.clone());
     }
-    let model = Arc::new(model::BodyModel::open(path, gender.as_deref(), wanted)?);
+    let model = Arc::new(model::BodyModel::open(
+        path,
+        gender.as_deref(),
+        wanted,
+        max_size,
+    )?);
     if let Some(wanted) = wanted.filter(|&w| w != model.model) {
         return Err(Error::usage(format!(
             "{}: a {} model; the motion is {} parameters (give a {} model file)",

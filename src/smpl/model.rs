@@ -26,7 +26,7 @@ const MAX_VERTICES: usize = 1 << 20;
 /// use bvhview::smpl::model::BodyModel;
 ///
 /// # fn main() -> Result<(), bvhview::Error> {
-/// let smplx = BodyModel::open("models/SMPLX_NEUTRAL.npz".as_ref(), None, None)?;
+/// let smplx = BodyModel::open("models/SMPLX_NEUTRAL.npz".as_ref(), None, None, u64::MAX)?;
 /// let body = smplx.shaped(&[0.5, -1.0], &[])?;
 /// let posed = smplx.forward(&body, &vec![0.0; 165], glam::DVec3::ZERO);
 /// assert_eq!(posed.vertices.len(), 10475);
@@ -66,7 +66,7 @@ pub struct BodyModel {
 /// use bvhview::smpl::model::BodyModel;
 ///
 /// # fn main() -> Result<(), bvhview::Error> {
-/// let smpl = BodyModel::open("models/SMPL_NEUTRAL.npz".as_ref(), None, None)?;
+/// let smpl = BodyModel::open("models/SMPL_NEUTRAL.npz".as_ref(), None, None, u64::MAX)?;
 /// let tall = smpl.shaped(&[-2.0], &[])?;
 /// let pelvis_to_head = tall.joints[15] - tall.joints[0];
 /// assert!(pelvis_to_head.y > 0.0); // the model stands along y
@@ -90,7 +90,7 @@ pub struct Shaped {
 /// use glam::DVec3;
 ///
 /// # fn main() -> Result<(), bvhview::Error> {
-/// let smplh = BodyModel::open("models/".as_ref(), Some("female"), None)?;
+/// let smplh = BodyModel::open("models/".as_ref(), Some("female"), None, u64::MAX)?;
 /// let body = smplh.shaped(&[0.3; 16], &[])?;
 /// let mut pose = vec![0.0; 156];
 /// pose[3 * 4] = 1.2; // the left knee bent about x
@@ -108,13 +108,14 @@ pub struct Posed {
 }
 
 impl BodyModel {
-    /// Reads a model file, or the one in a folder for `gender` (`female`, `male`, `neutral`;
+    /// Reads a model file (at most `max_size` bytes), or the one in a folder for `gender` (`female`, `male`, `neutral`;
     /// none, or none of that gender there: the neutral one, else the only one) and, where the folder holds several, of the
     /// type `wanted` (by name): `SMPLX_NEUTRAL.npz`, `smplh/male/model.npz` and the like.
     pub fn open(
         path: &Path,
         gender: Option<&str>,
         wanted: Option<ModelType>,
+        max_size: u64,
     ) -> Result<BodyModel, Error> {
         let file = if path.is_dir() {
             model_in_folder(path, gender, wanted)?
@@ -132,25 +133,28 @@ impl BodyModel {
                 file.display()
             )));
         }
-        let bytes =
-            crate::io::whole::read_binary_file(&file, crate::take::options::DEFAULT_MAX_SIZE)?;
+        let bytes = crate::io::whole::read_binary_file(&file, max_size)?;
         let shown = file.display().to_string();
         let mut model = BodyModel::from_bytes(&bytes, &shown)?;
-        model.gender = gender_of(&file);
+        // The file's own name says it (`SMPLX_FEMALE.npz`), else its folder's (`female/model.npz`),
+        // never a folder further up (`/data/female_study/SMPLX_NEUTRAL.npz` is neutral).
+        let named = |p: Option<&std::ffi::OsStr>| p.and_then(|n| gender_of(Path::new(n)));
+        model.gender =
+            named(file.file_name()).or_else(|| named(file.parent().and_then(Path::file_name)));
         Ok(model)
     }
 
     /// Reads a model from the bytes of its `.npz`, named `shown` in errors.
     pub fn from_bytes(bytes: &[u8], shown: &str) -> Result<BodyModel, Error> {
         let npz = super::npz::read(bytes, shown)?;
-        BodyModel::from_npz(&npz, shown)
+        BodyModel::from_npz(npz, shown)
     }
 
     /// Reads a model from an `.npz`'s arrays.
-    pub fn from_npz(npz: &Npz, shown: &str) -> Result<BodyModel, Error> {
+    pub fn from_npz(mut npz: Npz, shown: &str) -> Result<BodyModel, Error> {
         let refuse = |why: String| Error::decoding(shown, why);
         let need = |key: &str| -> Result<(&[usize], &[f64]), Error> {
-            numbers(npz, key, shown)?.ok_or_else(|| {
+            numbers(&npz, key, shown)?.ok_or_else(|| {
                 let hint = if npz.get("poses").is_some() || npz.get("trans").is_some() {
                     " (this is a motion file, AMASS's: a body model holds v_template, \
                      shapedirs, posedirs, J_regressor, weights, kintree_table and f)"
@@ -298,17 +302,20 @@ impl BodyModel {
                 )));
             }
         };
+        // The blend shapes, checked above, moved out rather than copied (SMPL-X's are 240 MB).
+        let mut moved = |key: &str| npz.take_numbers(key).map(|(_, v)| v).unwrap_or_default();
+        let (shape_dirs, pose_dirs) = (moved("shapedirs"), moved("posedirs"));
         Ok(BodyModel {
             model,
             name: shown.to_string(),
             gender: None,
             template,
-            shape_dirs: shape_dirs.to_vec(),
+            shape_dirs,
             shape_dirs_width,
             shape_count,
             expression_start,
             expression_count,
-            pose_dirs: pose_dirs.to_vec(),
+            pose_dirs,
             regressor,
             weight_start,
             weights: sparse,
@@ -516,11 +523,25 @@ fn model_in_folder(
         }
     }
     found.sort();
+    // The type first: files whose names say another type are not candidates (a name that
+    // says none, `male/model.npz`, is); then the gender among them.
+    let relative = |p: &PathBuf| {
+        p.strip_prefix(folder)
+            .map(Path::to_path_buf)
+            .unwrap_or_default()
+    };
+    let found: Vec<PathBuf> = found
+        .into_iter()
+        .filter(|p| match (wanted, type_of_name(&relative(p))) {
+            (Some(wanted), Some(named)) => wanted == named,
+            _ => true,
+        })
+        .collect();
     let wanted_gender = gender.map(|g| g.to_ascii_lowercase());
     let of_gender = |gender: &str| -> Vec<&PathBuf> {
         found
             .iter()
-            .filter(|p| gender_of(p.strip_prefix(folder).unwrap_or(p)).as_deref() == Some(gender))
+            .filter(|p| gender_of(&relative(p)).as_deref() == Some(gender))
             .collect()
     };
     // A gender the folder has no model of is read on its neutral one (said by the take).
@@ -534,16 +555,6 @@ fn model_in_folder(
                 neutral
             }
         }
-    };
-    let of_type: Vec<&PathBuf> = pick
-        .iter()
-        .copied()
-        .filter(|p| wanted.is_some() && type_of_name(p.strip_prefix(folder).unwrap_or(p)) == wanted)
-        .collect();
-    let pick = if pick.len() > 1 && !of_type.is_empty() {
-        of_type
-    } else {
-        pick
     };
     match pick.as_slice() {
         [one] => Ok((*one).clone()),

@@ -52,6 +52,19 @@ impl Npz {
         }
     }
 
+    /// The numbers of the array named `name`, moved out of the archive (a model's blend shapes
+    /// are not held twice).
+    pub(crate) fn take_numbers(&mut self, name: &str) -> Option<(Vec<usize>, Vec<f64>)> {
+        let at = self
+            .arrays
+            .iter()
+            .position(|(n, a)| n == name && matches!(a, NpyArray::Numbers { .. }))?;
+        match self.arrays.remove(at).1 {
+            NpyArray::Numbers { shape, values } => Some((shape, values)),
+            _ => None,
+        }
+    }
+
     /// The arrays' names, in archive order.
     pub fn names(&self) -> impl Iterator<Item = &str> {
         self.arrays.iter().map(|(n, _)| n.as_str())

@@ -702,6 +702,7 @@ fn load_amass(bytes: &[u8], name: String, options: &OpenOptions) -> Result<Take,
         &name,
         options.frame_time,
         options.body_model.as_deref(),
+        options.max_size_or_default(),
     )?;
     let mut take = Take::of_read(read, Format::Amass, options.frame_time, name);
     take.body = Some(body);

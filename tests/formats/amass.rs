@@ -329,3 +329,49 @@ fn an_archive_whose_directory_lies_is_refused() {
     let moved = patched(42, 0x00ff_ffff);
     assert!(moved.starts_with("hostile.npz: member 0:"), "{moved}");
 }
+
+/// An AMASS file converted to AMASS again keeps its betas and gender through edits that keep
+/// its bones (a turn to Z up), and loses them, said, through one that changes them (a scale).
+#[test]
+fn convert_keeps_the_body_while_the_bones_are_the_files() {
+    let folder = crate::common::scratch_folder("convert-body");
+    // Its betas are not zero, and it says male.
+    let source = data("smpl/amass_smplh_walk.npz");
+    let before = amass::read(
+        &npz::read(&std::fs::read(&source).unwrap(), "walk").unwrap(),
+        "walk",
+        None,
+    )
+    .unwrap();
+    for (edit, kept) in [(&["--up", "z"][..], true), (&["--scale", "2"][..], false)] {
+        let out = folder.join(format!("{}.npz", edit[0].trim_start_matches('-')));
+        let mut args = vec!["convert".to_string(), source.display().to_string()];
+        args.extend(edit.iter().map(|s| s.to_string()));
+        args.extend(["-o".to_string(), out.display().to_string()]);
+        let run = crate::common::bvhview(&args);
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let after = amass::read(
+            &npz::read(&std::fs::read(&out).unwrap(), "out").unwrap(),
+            "out",
+            None,
+        )
+        .unwrap();
+        assert_eq!(
+            after.betas == before.betas,
+            kept,
+            "{edit:?}: {:?}",
+            after.betas
+        );
+        assert_eq!(after.gender == before.gender, kept, "{edit:?}");
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(
+            stderr.contains("betas zero and gender neutral"),
+            !kept,
+            "{stderr}"
+        );
+    }
+}

@@ -129,7 +129,7 @@ fn an_amass_file_read_on_a_model_stands_where_the_model_puts_it() {
         );
         let bytes = std::fs::read(data(file)).unwrap();
         let params = amass::read(&npz::read(&bytes, file).unwrap(), file, None).unwrap();
-        let body = BodyModel::open(&folder, None, Some(model)).unwrap();
+        let body = BodyModel::open(&folder, None, Some(model), u64::MAX).unwrap();
         let shaped = body.shaped(&params.betas, &[]).unwrap();
         let names = model.joint_names();
         let width = model.pose_width();
@@ -288,7 +288,7 @@ fn a_take_put_on_a_model_and_written_reads_back_where_it_was() {
     let metres = f64::from(walk.stance(walk.offset_mode).units.metres);
     for model in ModelType::ALL {
         model_file(model, &folder);
-        let body = bvhview::smpl::open_model(&folder, None, Some(model)).unwrap();
+        let body = bvhview::smpl::open_model(&folder, None, Some(model), u64::MAX).unwrap();
         let fitted = bvhview::smpl::fit::shaped_to(&body, &walk.skeleton, metres).unwrap();
         let target = bvhview::retarget::Target::new("model".into(), fitted.skeleton, &fitted.rest);
         let put = target
@@ -446,7 +446,7 @@ fn hostile_model_files_are_refused_by_name() {
     // A pickled model file is never opened.
     let folder = crate::common::scratch_folder("pickle");
     std::fs::write(folder.join("SMPL_NEUTRAL.pkl"), b"\x80\x02N.").unwrap();
-    let message = BodyModel::open(&folder.join("SMPL_NEUTRAL.pkl"), None, None)
+    let message = BodyModel::open(&folder.join("SMPL_NEUTRAL.pkl"), None, None, u64::MAX)
         .unwrap_err()
         .to_string();
     assert!(
@@ -464,7 +464,8 @@ fn a_model_is_found_in_a_folder_by_gender_and_type() {
     // The male one, in a folder of its own as AMASS's downloads have it.
     std::fs::create_dir(folder.join("male")).unwrap();
     std::fs::copy(&neutral, folder.join("male/model.npz")).unwrap();
-    let open = |gender| BodyModel::open(&folder, gender, Some(ModelType::Smplh)).map(|m| m.name);
+    let open =
+        |gender| BodyModel::open(&folder, gender, Some(ModelType::Smplh), u64::MAX).map(|m| m.name);
     assert!(open(Some("male")).unwrap().ends_with("male/model.npz"));
     assert!(
         open(Some("female")).unwrap().ends_with("SMPLH_NEUTRAL.npz"),
@@ -480,6 +481,27 @@ fn a_model_is_found_in_a_folder_by_gender_and_type() {
     )
     .unwrap();
     assert!(open(Some("female")).unwrap().ends_with("SMPLH_NEUTRAL.npz"));
+    // The type before the gender: a male SMPL-X take in a folder of a male SMPL-H model and a
+    // neutral SMPL-X one is read on the SMPL-X one.
+    let mixed = crate::common::scratch_folder("mixed");
+    std::fs::copy(&neutral, mixed.join("SMPLH_MALE.npz")).unwrap();
+    model_file(ModelType::Smplx, &mixed);
+    let picked = BodyModel::open(&mixed, Some("male"), Some(ModelType::Smplx), u64::MAX).unwrap();
+    assert!(
+        picked.name.ends_with("SMPLX_NEUTRAL.npz"),
+        "{}",
+        picked.name
+    );
+    // The gender is the file's name's, or its folder's, never a folder's further up.
+    let study = crate::common::scratch_folder("female_study");
+    let file = model_file(ModelType::Smpl, &study);
+    let model = BodyModel::open(&file, None, None, u64::MAX).unwrap();
+    assert_eq!(
+        model.gender.as_deref(),
+        Some("neutral"),
+        "{}",
+        file.display()
+    );
     // Two neutral SMPL-H files: named, none picked.
     std::fs::copy(&neutral, folder.join("smplh_neutral_copy.npz")).unwrap();
     let message = open(None).unwrap_err().to_string();
@@ -563,4 +585,58 @@ fn a_body_model_written_as_gltf_carries_its_pose_blend_shapes() {
         worst < 1e-6,
         "a vertex {worst} m from bvhview's pose blend shapes"
     );
+}
+
+/// A model of another type than an AMASS file's (given for a target) does not read it: said,
+/// and the take is read on the built-in figure.
+#[test]
+fn a_model_of_another_type_does_not_read_a_take() {
+    let folder = crate::common::scratch_folder("other-type");
+    let smplx = model_file(ModelType::Smplx, &folder);
+    let take = bvhview::OpenOptions::new()
+        .body_model(&smplx)
+        .open(data("smpl/amass_smplh_walk.npz"))
+        .unwrap();
+    let said: Vec<String> = take.warnings.iter().map(|w| w.to_string()).collect();
+    assert!(
+        said.iter()
+            .any(|w| w.contains("the body model does not read this take")
+                && w.contains("a SMPL-X model, and the motion is SMPL-H parameters")),
+        "{said:?}"
+    );
+    assert!(take.body.unwrap().rest_pelvis.is_none());
+}
+
+/// Betas fitted to positions are the same whatever units the positions are in (a CMU take's
+/// `positions` are centimetres, a model's output metres): the units are read from their size.
+#[test]
+fn betas_fitted_to_positions_do_not_depend_on_their_units() {
+    let (body, _) = fake_model(ModelType::Smpl);
+    let walk = bvhview::Take::open(data("bvh/bvh11_131_01.bvh"))
+        .unwrap()
+        .trim(0..30);
+    let metres = f64::from(walk.stance(walk.offset_mode).units.metres);
+    let keypoints =
+        bvhview::solve::layouts::of_take(&walk, bvhview::solve::layouts::Layout::Smpl24, metres)
+            .unwrap();
+    let placed = bvhview::solve::layouts::to_smpl(&keypoints, 0.3, None, "k").unwrap();
+    let in_metres = bvhview::smpl::fit::shaped_to_positions(&body, &placed.positions).unwrap();
+    let mut in_cm = placed.positions.clone();
+    for p in &mut in_cm.points {
+        *p *= 100.0;
+    }
+    let from_cm = bvhview::smpl::fit::shaped_to_positions(&body, &in_cm).unwrap();
+    assert!(
+        from_cm.said.contains("read as centimetres"),
+        "{}",
+        from_cm.said
+    );
+    for (a, b) in in_metres.body.betas.iter().zip(&from_cm.body.betas) {
+        assert!(
+            (a - b).abs() < 1e-5,
+            "{:?} {:?}",
+            in_metres.body.betas,
+            from_cm.body.betas
+        );
+    }
 }

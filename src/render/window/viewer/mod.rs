@@ -217,6 +217,7 @@ mod tests {
             max_size: u64::MAX,
             take: None,
             insist: Default::default(),
+            body_model: None,
         };
         Viewer::new(
             vec![

@@ -493,6 +493,7 @@ impl Viewer {
             max_size: crate::take::DEFAULT_MAX_SIZE,
             take: None,
             insist: Default::default(),
+            body_model: None,
         };
         let spelling = self.options.spelling;
         let problems = match ViewerTake::from_source(source, self.options.offset_mode, spelling) {

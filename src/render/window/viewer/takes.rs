@@ -41,6 +41,8 @@ pub struct TakeSource {
     pub take: Option<String>,
     /// How far putting it on a character goes against the refusals (`--any-body`, `--force`).
     pub insist: crate::retarget::Insist,
+    /// The SMPL-family model file an AMASS take's body is read with (`--body-model`).
+    pub body_model: Option<PathBuf>,
 }
 
 impl TakeSource {
@@ -50,6 +52,7 @@ impl TakeSource {
             take: self.take.clone(),
             frame_time: self.frame_time,
             max_size: Some(self.max_size),
+            body_model: self.body_model.clone(),
             ..Default::default()
         };
         crate::take::load_take(&self.path, &options)
