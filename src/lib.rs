@@ -63,6 +63,7 @@ pub mod fbx;
 pub mod gltf;
 pub mod humanml3d;
 pub mod info;
+pub mod metrics;
 // The plumbing (errors, bounded reads, atomic outputs, limits, cores): private to the crate.
 pub(crate) mod io;
 pub mod model;

@@ -86,6 +86,14 @@ enum Command {
   bvhview solve sample.npy --onto smpl22 --fps 20 -o sample.bvh
   bvhview solve walk.csv --onto walk.bvh --fps 120 -o back.bvh")]
     Solve(cli::solve::SolveArgs),
+    /// How plausible a motion is, in the numbers papers report: foot skating (GMD's skating
+    /// ratio), PhysDiff's penetration, floating and sliding, jitter and bone-length drift; per
+    /// take, or a table for a folder.
+    #[command(after_help = "Examples:
+  bvhview metrics walk.bvh
+  bvhview metrics generated/ -o metrics.csv
+  bvhview metrics sample.npy --fps 20 --floor 0")]
+    Metrics(cli::metrics::MetricsArgs),
     /// Write the man page or shell completions on stdout, made from this command's own help.
     #[command(
         after_help = "Install them with, for example:\n  bvhview generate man -o ~/.local/share/man/man1/bvhview.1\n  bvhview generate complete-bash -o ~/.local/share/bash-completion/completions/bvhview\n  bvhview generate complete-zsh -o ~/.zfunc/_bvhview\n  bvhview generate complete-fish -o ~/.config/fish/completions/bvhview.fish"
@@ -135,6 +143,7 @@ pub fn main() -> ExitCode {
         Some(Command::Dataset(args)) => cli::dataset::run(args),
         Some(Command::Retarget(args)) => cli::retarget::run(args),
         Some(Command::Solve(args)) => cli::solve::run(args),
+        Some(Command::Metrics(args)) => cli::metrics::run(args),
         Some(Command::Generate(args)) => cli::generate::run(args, Cli::command()),
     };
     match result {

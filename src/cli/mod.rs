@@ -13,6 +13,7 @@ pub(crate) mod dataset;
 pub(crate) mod diff;
 pub(crate) mod generate;
 pub(crate) mod info;
+pub(crate) mod metrics;
 pub(crate) mod positions;
 pub(crate) mod print;
 pub(crate) mod retarget;

@@ -13,6 +13,7 @@ mod generated_skin;
 mod keypoint_layouts;
 mod lock_feet;
 mod mirror_left_right;
+mod plausibility_metrics;
 mod positions_fast_and_plain_agree;
 mod retarget;
 mod retarget_every_family;
