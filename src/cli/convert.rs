@@ -449,7 +449,18 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
         loaded.motion = crate::edit::trim(&loaded.motion, range);
     }
     if let Some(cutoff) = args.smooth {
-        loaded.motion = crate::edit::smooth(&loaded.skeleton, &loaded.motion, cutoff)?;
+        let smoothed = crate::edit::smooth(&loaded.skeleton, &loaded.motion, cutoff)?;
+        let said = super::effect(
+            "--smooth",
+            &loaded.skeleton,
+            &loaded.motion,
+            &smoothed,
+            &loaded,
+        );
+        if let Some(line) = said {
+            super::note(format_args!("{}: {line}", args.input.display()));
+        }
+        loaded.motion = smoothed;
     }
     if let Some(fps) = args.fps {
         loaded.motion = crate::edit::resample(&loaded.skeleton, &loaded.motion, fps)?;
@@ -496,6 +507,16 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
             locked.heading(),
             locked.summary(&loaded.skeleton)
         ));
+        let said = super::effect(
+            "--lock-feet",
+            &loaded.skeleton,
+            &loaded.motion,
+            &motion,
+            &loaded,
+        );
+        if let Some(line) = said {
+            super::note(format_args!("{}: {line}", args.input.display()));
+        }
         loaded.motion = motion;
     }
     if args.in_place {

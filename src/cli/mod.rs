@@ -693,6 +693,37 @@ pub(crate) fn in_units(
     Ok(take)
 }
 
+/// What an edit (`--lock-feet`, `--smooth`) did to a take, in `bvhview metrics`' figures: one
+/// line, before → after; nothing for a take the metrics cannot measure (no two feet).
+pub(crate) fn effect(
+    what: &str,
+    skeleton: &crate::Skeleton,
+    before: &crate::Motion,
+    after: &crate::Motion,
+    like: &Take,
+) -> Option<String> {
+    let measured = |motion: &crate::Motion| {
+        let take = like.edited(skeleton.clone(), motion.clone(), true);
+        let figure = crate::metrics::figure_of_take(&take).ok()?;
+        crate::metrics::measure(&figure, &crate::metrics::Thresholds::default()).ok()
+    };
+    let (a, b) = (measured(before)?, measured(after)?);
+    Some(format!(
+        "{what}: skating ratio {:.4} → {:.4}; skate {:.2} → {:.2} mm; penetrate {:.2} → {:.2} \
+         mm; float {:.2} → {:.2} mm; jitter {:.1} → {:.1} m/s³ (as bvhview metrics measures)",
+        a.skating_ratio,
+        b.skating_ratio,
+        a.skate,
+        b.skate,
+        a.penetrate,
+        b.penetrate,
+        a.float,
+        b.float,
+        a.jitter,
+        b.jitter
+    ))
+}
+
 /// A command's result (`retarget`, `solve`) written at `output`, in `units` when asked; `body`
 /// the SMPL-family body it is on (betas fitted to its source), for an AMASS file.
 pub(crate) fn write_result(

@@ -173,12 +173,25 @@ pub(crate) fn run(mut args: RetargetArgs) -> Result<ExitCode, Error> {
     };
     let (skeleton, motion, check) = put_onto(&loaded, &source_name, &target, &pairs, insist)?;
     let motion = if args.lock_feet {
-        let (motion, locked) = crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?;
+        let (locked_motion, locked) =
+            crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?;
         super::note(format_args!(
             "{}: {}",
             locked.heading(),
             locked.summary(&skeleton)
         ));
+        // Measured as `metrics` measures the result: its units read from its figure.
+        let on_target = crate::Take::new(skeleton.clone(), motion.clone(), source_name.clone());
+        if let Some(line) = super::effect(
+            "--lock-feet",
+            &skeleton,
+            &motion,
+            &locked_motion,
+            &on_target,
+        ) {
+            super::note(format_args!("{source_name} onto {}: {line}", target.name));
+        }
+        let motion = locked_motion;
         // The check is of what is written: measured again on the locked legs.
         let locked_check = target.measure(
             &source_name,
