@@ -24,6 +24,7 @@ from ._bvhview import (
     load,
     load_character,
     load_many,
+    metrics,
 )
 from .dataset import Dataset, SkippedTake, compile_dataset, merge_datasets, write_parquet
 
@@ -41,5 +42,6 @@ __all__ = [
     "load_character",
     "load_many",
     "merge_datasets",
+    "metrics",
     "write_parquet",
 ]

@@ -10,6 +10,7 @@ import numpy.typing as npt
 __all__ = [
     "load",
     "load_many",
+    "metrics",
     "load_character",
     "list_takes",
     "humanml3d_features",
@@ -288,6 +289,18 @@ def load(
     the first). `units` ("mm", "cm", "m", "in", "ft" or metres per unit) and `up` ("y" or "z")
     over the guess. `body_model`: the user's SMPL-family model file (or a folder of them) an
     AMASS file's body is read with."""
+
+def metrics(
+    take: Motion,
+    *,
+    floor: float | None = None,
+    contact_height: float = 0.05,
+    skate_speed: float = 0.5,
+    window: int = 5,
+    float_tolerance: float = 0.005,
+) -> dict[str, Any]:
+    """How plausible a take is, as `bvhview metrics` measures it: GMD's skating ratio,
+    PhysDiff's penetrate/float/skate (mm), jitter, bone drift, the floor and each foot."""
 
 def load_many(
     paths: _PathLike | Sequence[Union[_PathLike, Tuple[_PathLike, _PathLike]]],

@@ -55,6 +55,7 @@ fn _bvhview(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     module.add_function(wrap_pyfunction!(load, module)?)?;
     module.add_function(wrap_pyfunction!(load_many, module)?)?;
+    module.add_function(wrap_pyfunction!(loading::metrics, module)?)?;
     module.add_function(wrap_pyfunction!(_from_state, module)?)?;
     module.add_function(wrap_pyfunction!(list_takes, module)?)?;
     module.add_function(wrap_pyfunction!(_compile_dataset, module)?)?;

@@ -244,3 +244,75 @@ pub(crate) fn load_many(
         Ok(loaded)
     })
 }
+
+/// How plausible `take` is, as `bvhview metrics` measures it: a dict of GMD's `skating_ratio`,
+/// PhysDiff's `penetrate_mm`, `float_mm`, `skate_mm`, `phys_err_mm`, `jitter_m_s3`, the
+/// `floor_m` (given by `floor`, else read from the motion) and per foot its contact and skating
+/// frame pairs. The thresholds default to the papers' (5 cm, 0.5 m/s, 5 frames, 5 mm).
+#[pyfunction]
+#[pyo3(signature = (take, *, floor=None, contact_height=0.05, skate_speed=0.5, window=5, float_tolerance=0.005))]
+pub(crate) fn metrics<'py>(
+    py: Python<'py>,
+    take: &Motion,
+    floor: Option<f64>,
+    contact_height: f64,
+    skate_speed: f64,
+    window: usize,
+    float_tolerance: f64,
+) -> PyResult<Bound<'py, pyo3::types::PyDict>> {
+    guard("metrics", || {
+        for (name, value) in [
+            ("contact_height", contact_height),
+            ("skate_speed", skate_speed),
+            ("float_tolerance", float_tolerance),
+        ] {
+            if !(value > 0.0 && value.is_finite()) {
+                return Err(PyValueError::new_err(format!(
+                    "{name}={value}: a number above 0"
+                )));
+            }
+        }
+        let thresholds = bvhview::metrics::Thresholds {
+            contact_height,
+            skate_speed,
+            window: window.max(1),
+            float_tolerance,
+            floor,
+        };
+        let mut loaded = take.loaded.clone();
+        loaded.offset_mode = take.offset_mode;
+        let measured = py
+            .detach(|| {
+                let figure = bvhview::metrics::figure_of_take(&loaded)?;
+                bvhview::metrics::measure(&figure, &thresholds)
+            })
+            .map_err(|e| to_python(py, e))?;
+        let out = pyo3::types::PyDict::new(py);
+        out.set_item("frames", measured.frames)?;
+        out.set_item("fps", measured.fps)?;
+        out.set_item("skating_ratio", measured.skating_ratio)?;
+        out.set_item("penetrate_mm", measured.penetrate)?;
+        out.set_item("penetrate_worst_mm", measured.penetrate_worst)?;
+        out.set_item("float_mm", measured.float)?;
+        out.set_item("skate_mm", measured.skate)?;
+        out.set_item("phys_err_mm", measured.phys_err())?;
+        out.set_item("jitter_m_s3", measured.jitter)?;
+        out.set_item(
+            "bone_drift",
+            measured.bone_drift.as_ref().map_or(0.0, |(d, _)| *d),
+        )?;
+        out.set_item("floor_m", measured.floor)?;
+        out.set_item("floor_from", measured.floor_from)?;
+        let feet = pyo3::types::PyList::empty(py);
+        for foot in &measured.feet {
+            let entry = pyo3::types::PyDict::new(py);
+            entry.set_item("point", &foot.name)?;
+            entry.set_item("contact_pairs", foot.contact_pairs)?;
+            entry.set_item("skating_pairs", foot.skating_pairs)?;
+            entry.set_item("mean_slide_m_s", foot.mean_slide)?;
+            feet.append(entry)?;
+        }
+        out.set_item("feet", feet)?;
+        Ok(out)
+    })
+}

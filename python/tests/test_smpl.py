@@ -106,3 +106,19 @@ def test_a_pickled_amass_take_keeps_its_body(tmp_path):
     written, source = np.load(out), np.load(path)
     np.testing.assert_array_equal(written["betas"], source["betas"])
     assert str(written["gender"]) == str(source["gender"])
+
+
+def test_metrics_are_the_clis(cli):
+    import subprocess
+
+    path = DATA / "bvh" / "bvh11_131_01.bvh"
+    measured = bvhview.metrics(bvhview.load(path))
+    printed = subprocess.run([cli, "metrics", str(path)], capture_output=True, text=True, check=True).stdout
+    assert f"skating ratio {measured['skating_ratio']:.4f};" in printed
+    assert f"skate {measured['skate_mm']:.2f} mm;" in printed
+    assert measured["phys_err_mm"] == pytest.approx(
+        measured["penetrate_mm"] + measured["float_mm"] + measured["skate_mm"]
+    )
+    assert [f["point"] for f in measured["feet"]] == ["LeftToe", "RightToe"]
+    with pytest.raises(ValueError, match="skate_speed=0"):
+        bvhview.metrics(bvhview.load(path), skate_speed=0)
