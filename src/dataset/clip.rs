@@ -182,6 +182,57 @@ pub struct About {
     /// path, floor), as `retarget` prints it; absent otherwise and in older manifests.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub retarget_check: Option<crate::retarget::Check>,
+    /// How plausible the clip is as written, as `bvhview metrics` measures it (the floor read
+    /// from the motion); absent for a clip without two feet and in older manifests.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub metrics: Option<ClipMetrics>,
+}
+
+/// A clip's plausibility figures in the manifest ([`crate::metrics::Metrics`]).
+///
+/// ```
+/// use bvhview::dataset::{self, Options};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// # let folder = tempfile::tempdir().unwrap();
+/// # let bvh = std::fs::read("tests/data/bvh/bvhparser_walk_01.bvh").unwrap();
+/// # std::fs::write(folder.path().join("walk.bvh"), bvh).unwrap();
+/// // `folder` holds walk.bvh, a copy of tests/data/bvh/bvhparser_walk_01.bvh.
+/// let item = &dataset::takes(folder.path())?[0];
+/// let clip = dataset::compile_take(folder.path(), item, &Options::default())?;
+/// let metrics = clip.about.metrics.unwrap();
+/// assert!((0.0..=1.0).contains(&metrics.skating_ratio));
+/// # Ok(())
+/// # }
+/// ```
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ClipMetrics {
+    /// GMD's skating ratio.
+    pub skating_ratio: f64,
+    /// PhysDiff's Penetrate (mm).
+    pub penetrate_mm: f64,
+    /// PhysDiff's Float (mm).
+    pub float_mm: f64,
+    /// PhysDiff's Skate (mm).
+    pub skate_mm: f64,
+    /// Mean jerk (m/s³).
+    pub jitter_m_s3: f64,
+    /// The floor measured against (metres).
+    pub floor_m: f64,
+}
+
+impl ClipMetrics {
+    /// The manifest's figures of `metrics`.
+    pub fn of(metrics: &crate::metrics::Metrics) -> ClipMetrics {
+        ClipMetrics {
+            skating_ratio: metrics.skating_ratio,
+            penetrate_mm: metrics.penetrate,
+            float_mm: metrics.float,
+            skate_mm: metrics.skate,
+            jitter_m_s3: metrics.jitter,
+            floor_m: metrics.floor,
+        }
+    }
 }
 
 /// One take's arrays, frame after frame (row-major, float32 but for the contacts).

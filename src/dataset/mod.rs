@@ -34,7 +34,7 @@ mod options;
 mod steps;
 mod summary;
 
-pub use clip::{About, Clip, Skipped, Source, Topology};
+pub use clip::{About, Clip, ClipMetrics, Skipped, Source, Topology};
 use continuity::continuous_quaternions;
 use feet::feet_of;
 pub use feet::guess_feet;
@@ -385,6 +385,8 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
             Vec::new(),
         ),
     };
+    // Every clip is at the dataset's one rate.
+    let metrics = clip_metrics(&skeleton, &names, &world, 1.0 / options.fps);
     let mut positions = world;
     if options.root_relative {
         for pose in positions.chunks_mut(points) {
@@ -442,6 +444,7 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
             warnings
         },
         retarget_check: take.check.clone(),
+        metrics,
     };
     Clip {
         about,
@@ -461,6 +464,36 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
         skeleton: Some(skeleton),
         humanml3d: None,
     }
+}
+
+/// The clip's plausibility as written (`world`: its points, metres, y up, `frame_time` apart),
+/// as `bvhview metrics` measures it; `None` for a body without two feet.
+fn clip_metrics(
+    skeleton: &crate::Skeleton,
+    names: &[String],
+    world: &[Vec3],
+    frame_time: f64,
+) -> Option<crate::dataset::clip::ClipMetrics> {
+    let body = crate::model::body::Body::of(skeleton);
+    let feet = body.foot_points(skeleton);
+    if feet.len() < 4 || frame_time.is_nan() || frame_time <= 0.0 {
+        return None;
+    }
+    let figure = crate::metrics::Figure {
+        names: names.to_vec(),
+        points: world.iter().map(|p| p.as_dvec3()).collect(),
+        feet: vec![feet[1], feet[3]],
+        soles: body.sole_points(skeleton),
+        bones: skeleton
+            .joints
+            .iter()
+            .enumerate()
+            .filter_map(|(j, joint)| Some((joint.parent?, j)))
+            .collect(),
+        fps: 1.0 / frame_time,
+    };
+    let measured = crate::metrics::measure(&figure, &crate::metrics::Thresholds::default()).ok()?;
+    Some(crate::dataset::clip::ClipMetrics::of(&measured))
 }
 
 /// With `--features humanml3d`, the clip's 22 SMPL joints in HumanML3D's representation

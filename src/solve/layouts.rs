@@ -252,6 +252,16 @@ impl Layout {
 
 /// Keypoints of a layout: frame after frame, each point's position, and how sure the
 /// estimator was of it (1 where the input gives none).
+///
+/// ```
+/// use bvhview::solve::layouts::{Keypoints, Layout};
+///
+/// // One frame of COCO's 17 points, x, y, z and a confidence each.
+/// let values = vec![0.5; 17 * 4];
+/// let keypoints = Keypoints::new(Layout::Coco17, &[1, 17, 4], &values, 1.0 / 30.0, "k.npy")?;
+/// assert_eq!((keypoints.frames(), keypoints.confidence[0]), (1, 0.5));
+/// # Ok::<(), bvhview::Error>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Keypoints {
     /// The layout.
@@ -322,6 +332,19 @@ impl Keypoints {
 }
 
 /// What [`to_smpl`] made of keypoints: SMPL-named positions, and what it said.
+///
+/// ```
+/// use bvhview::solve::layouts::{Layout, of_take, to_smpl};
+///
+/// # fn main() -> Result<(), bvhview::Error> {
+/// let walk = bvhview::Take::open("tests/data/bvh/bvh11_131_01.bvh")?.trim(0..10);
+/// let coco = of_take(&walk, Layout::Coco17, 0.01)?; // the walk is in centimetres
+/// let placed = to_smpl(&coco, 0.3, None, "walk")?;
+/// assert!(placed.positions.names.iter().any(|n| n == "pelvis")); // between the hips
+/// assert!(placed.said.iter().any(|s| s.contains("coco17 has no pelvis")));
+/// # Ok(())
+/// # }
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Placed {
     /// The positions, named as SMPL's joints (those the layout has or places).

@@ -374,6 +374,11 @@ fn picking_frames_before_retargeting_gives_the_same_vectors() {
             fast_about.retarget_check.take().unwrap(),
             plain_about.retarget_check.take().unwrap(),
         );
+        crate::fast_and_plain_posing_agree::near_metrics(
+            "picked first",
+            fast_about.metrics.take(),
+            plain_about.metrics.take(),
+        );
         assert_eq!(fast_about, plain_about);
         for (x, y) in [(c.hips, d.hips), (c.shoulders, d.shoulders)] {
             let (x, y) = (x.unwrap(), y.unwrap());

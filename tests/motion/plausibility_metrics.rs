@@ -226,3 +226,56 @@ fn positions_that_cannot_be_measured_are_refused_by_name() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("give it with --fps"));
 }
+
+/// A dataset's clips carry the figures `metrics` gives the take at the dataset's rate.
+#[test]
+fn a_datasets_clips_carry_their_metrics() {
+    let folder = crate::common::scratch_folder("dataset-metrics");
+    let takes = folder.join("takes");
+    std::fs::create_dir(&takes).unwrap();
+    std::fs::copy(repo_data("bvh/bvh11_131_01.bvh"), takes.join("walk.bvh")).unwrap();
+    let out = folder.join("walk.ds");
+    let run = bvhview(&[
+        "dataset",
+        takes.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("manifest.json")).unwrap()).unwrap();
+    let clip = &manifest["clips"][0]["metrics"];
+    let at_30 = folder.join("walk30.bvh");
+    let run = bvhview(&[
+        "convert",
+        takes.join("walk.bvh").to_str().unwrap(),
+        "--fps",
+        "30",
+        "-o",
+        at_30.to_str().unwrap(),
+    ]);
+    assert!(run.status.success());
+    let take = bvhview::Take::open(&at_30).unwrap();
+    let measured = measure(
+        &bvhview::metrics::figure_of_take(&take).unwrap(),
+        &Thresholds::default(),
+    )
+    .unwrap();
+    for (key, value) in [
+        ("skating_ratio", measured.skating_ratio),
+        ("penetrate_mm", measured.penetrate),
+        ("float_mm", measured.float),
+        ("skate_mm", measured.skate),
+    ] {
+        let written = clip[key].as_f64().unwrap();
+        // The dataset's positions are 32-bit floats, the BVH's 32-bit channels: near, not equal.
+        assert!(
+            (written - value).abs() <= 1e-3 * value.abs().max(1.0),
+            "{key}: {written} against {value}"
+        );
+    }
+}
