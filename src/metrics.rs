@@ -228,6 +228,17 @@ pub fn measure(figure: &Figure, thresholds: &Thresholds) -> Result<Metrics, Erro
             figure.fps
         )));
     }
+    let outside = figure
+        .feet
+        .iter()
+        .chain(&figure.soles)
+        .chain(figure.bones.iter().flat_map(|(a, b)| [a, b]))
+        .find(|&&p| p >= count);
+    if let Some(p) = outside {
+        return Err(Error::usage(format!(
+            "metrics: point {p} named, and a frame holds {count}"
+        )));
+    }
     if let Some(i) = figure.points.iter().position(|p| !p.is_finite()) {
         return Err(Error::usage(format!(
             "metrics: point {} of frame {} is not a finite position",
@@ -351,13 +362,19 @@ fn window_mean(values: &[f64], size: usize) -> Vec<f64> {
     let size = size.max(1);
     // scipy centres an even window one value to the left of the middle.
     let before = size / 2;
-    (0..values.len())
+    // The sums of the values up to each index: a window's sum is a difference of two, and a
+    // window longer than the values costs no more than the values.
+    let mut running = Vec::with_capacity(values.len() + 1);
+    running.push(0.0);
+    for v in values {
+        running.push(running.last().copied().unwrap_or(0.0) + v);
+    }
+    let n = values.len();
+    (0..n)
         .map(|i| {
-            let sum: f64 = (0..size)
-                .filter_map(|k| (i + k).checked_sub(before))
-                .filter_map(|j| values.get(j))
-                .sum();
-            sum / size as f64
+            let start = i.saturating_sub(before).min(n);
+            let end = (i + (size - before)).min(n);
+            (running[end] - running[start]) / size as f64
         })
         .collect()
 }
@@ -423,16 +440,21 @@ pub fn figure_of_take(take: &crate::Take) -> Result<Figure, Error> {
             take.name
         )));
     }
-    // foot_points: left ankle, left toe, right ankle, right toe.
+    // foot_points: each leg's ankle then toe, in joint order.
     let feet = vec![foot_points[1], foot_points[3]];
     let soles = body.sole_points(&take.skeleton);
+    // Every joint's place (an index per joint, as the feet, soles and bones are: an ASF's
+    // exported points are not one a joint).
     let frames = take.frame_count().max(1);
-    let mut points = Vec::with_capacity(frames * take.skeleton.joints.len());
+    let joints = take.skeleton.joints.len();
+    let mut points = Vec::with_capacity(frames * joints);
+    let mut world = Vec::new();
     for f in 0..frames {
-        let at = take
-            .positions(f.min(take.frame_count().saturating_sub(1)))
-            .unwrap_or_default();
-        points.extend(at.iter().map(|p| turn * (p.as_dvec3() * metres)));
+        let row = take
+            .motion
+            .frame(f.min(take.frame_count().saturating_sub(1)));
+        crate::model::pose::world_transforms_f64(&take.skeleton, row, take.offset_mode, &mut world);
+        points.extend(world.iter().map(|(_, p)| turn * (*p * metres)));
     }
     let bones = take
         .skeleton
@@ -442,7 +464,12 @@ pub fn figure_of_take(take: &crate::Take) -> Result<Figure, Error> {
         .filter_map(|(j, joint)| Some((joint.parent?, j)))
         .collect();
     Ok(Figure {
-        names: take.point_names(),
+        names: take
+            .skeleton
+            .joints
+            .iter()
+            .map(|j| j.name.clone())
+            .collect(),
         points,
         feet,
         soles,

@@ -20,6 +20,12 @@
 //! out.npz` does (positions recovered, rotations solved, axis-angles written), on one thread,
 //! the clip repeated to 10,000 frames: frames a second, median and fastest.
 //!
+//! `cargo run --release -p bvhview-bench -- --keypoints TAKE [--rounds N]`: a take's joints as
+//! each keypoint layout's points (as `positions --layout` writes them), then read back as
+//! `solve --layout` reads them (points to roles, missing joints placed, the figure stood up) and
+//! solved onto the take's own skeleton, on one thread, the take repeated to 10,000 frames: frames
+//! a second per layout, median and fastest.
+//!
 //! `cargo run --release -p bvhview-bench -- --skinning [CHARACTER]`: linear blend skinning of
 //! the committed characters, of capsule man ten times over (29,040 vertices in one place) and of
 //! CHARACTER (the 30,888-vertex `capsule_fine.glb` of `tests/blender/make_capsule_character.py
@@ -203,6 +209,14 @@ fn main() {
                 }
                 _ => usage_error("--amass needs HumanML3D feature vectors (.npy)"),
             },
+            "--keypoints" => match args.next() {
+                Some(path) if !path.starts_with("--") => {
+                    let rounds = rounds_after(&mut args, "--keypoints TAKE [--rounds N]");
+                    println!("cpu: {}", cpu_description());
+                    return keypoints(&path, rounds);
+                }
+                _ => usage_error("--keypoints needs a take"),
+            },
             "--in-process" => match (args.next(), args.next()) {
                 (Some(what), Some(path)) => return in_process(&what, &path),
                 _ => usage_error("--in-process needs info|positions|dataset and a file"),
@@ -286,6 +300,63 @@ fn humanml3d_to_amass(path: &str, rounds: usize) {
         median.as_secs_f64(),
         FRAMES as f64 / fastest.as_secs_f64()
     );
+}
+
+/// Keypoints of every layout solved onto a take's skeleton, one thread (`--keypoints`).
+fn keypoints(path: &str, rounds: usize) {
+    use bvhview::solve::layouts::{Keypoints, Layout, of_take, onto_skeleton, to_smpl};
+    const FRAMES: usize = 10_000;
+    let take = bvhview::Take::open(path).unwrap_or_else(|e| input_error(e));
+    let stance = take.stance(take.offset_mode);
+    let metres = f64::from(stance.units.metres);
+    for layout in Layout::ALL {
+        let clip = of_take(&take, layout, metres).unwrap_or_else(|e| input_error(e));
+        let count = layout.points().len();
+        let clip_frames = clip.points.len() / count;
+        let values: Vec<f64> = clip
+            .points
+            .chunks_exact(count)
+            .zip(clip.confidence.chunks_exact(count))
+            .cycle()
+            .take(FRAMES)
+            .flat_map(|(points, sure)| {
+                points
+                    .iter()
+                    .zip(sure)
+                    .flat_map(|(p, c)| [p.x, p.y, p.z, *c])
+                    .collect::<Vec<_>>()
+            })
+            .collect();
+        let once = || {
+            let keypoints = Keypoints::new(layout, &[FRAMES, count, 4], &values, 1.0 / 30.0, "k")
+                .expect("keypoints");
+            let placed = to_smpl(&keypoints, 0.3, None, "k").expect("placed");
+            let (positions, _) = onto_skeleton(&placed.positions, &take.skeleton).expect("renamed");
+            let (motion, _) = bvhview::solve::solve(
+                &take.skeleton,
+                stance.up,
+                &positions,
+                Some(bvhview::model::pose::Up::Y),
+            )
+            .expect("solved");
+            motion.frame_count()
+        };
+        let mut times = Vec::with_capacity(rounds);
+        for _ in 0..rounds {
+            let start = Instant::now();
+            assert_eq!(once(), FRAMES);
+            times.push(start.elapsed());
+        }
+        let (median, fastest) = median_and_min(&mut times);
+        println!(
+            "{} keypoints → {path}'s skeleton, one thread: {FRAMES} frames ({clip_frames}-frame \
+             take repeated); {:.0} frames/s median ({:.3} s), {:.0} fastest",
+            layout.label(),
+            FRAMES as f64 / median.as_secs_f64(),
+            median.as_secs_f64(),
+            FRAMES as f64 / fastest.as_secs_f64()
+        );
+    }
 }
 
 /// The rounds an option's file may be followed by (`--rounds N`, else 7); anything else is a

@@ -217,6 +217,8 @@ class Motion:
         fps: float,
         up: Literal["y", "z"] | None = None,
         smooth: float | None = None,
+        layout: str | None = None,
+        min_confidence: float = 0.3,
     ) -> Motion:
         """Joint positions (frames x joints x 3) as a take on skeleton (a Motion, "smpl22" or a
         file's path): `bvhview solve`. joints: their names in order, or "smpl22"/"humanml3d";

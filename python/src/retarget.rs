@@ -149,7 +149,73 @@ pub(crate) fn retarget_map(
         .collect())
 }
 
+/// `Motion.from_positions(..., layout=)`: a pose estimator's keypoints (frames × points × 3, or
+/// × 4 with a confidence) in `layout`, as `bvhview solve --layout` reads them.
+#[allow(clippy::too_many_arguments)]
+fn from_keypoints(
+    py: Python<'_>,
+    positions: numpy::PyArrayLike3<'_, f64, numpy::AllowTypeChange>,
+    skeleton: &Bound<'_, PyAny>,
+    layout: &str,
+    fps: f64,
+    up: Option<bvhview::model::pose::Up>,
+    smooth: Option<f64>,
+    min_confidence: f64,
+) -> PyResult<Motion> {
+    use bvhview::solve::layouts::{Keypoints, Layout, onto_skeleton, to_smpl};
+    use pyo3::exceptions::PyValueError;
+    let layout = Layout::named(layout).ok_or_else(|| {
+        let names: Vec<&str> = Layout::ALL.iter().map(|l| l.label()).collect();
+        PyValueError::new_err(format!(
+            "layout={layout:?}: not a layout bvhview knows ({})",
+            names.join(", ")
+        ))
+    })?;
+    let shape = positions.as_array().shape().to_vec();
+    let values: Vec<f64> = positions.as_array().iter().copied().collect();
+    let keypoints = Keypoints::new(layout, &shape, &values, 1.0 / fps, "positions")
+        .map_err(|e| to_python(py, e))?;
+    let up_given = up.map(|up| match up {
+        bvhview::model::pose::Up::Y => glam::DVec3::Y,
+        bvhview::model::pose::Up::Z => glam::DVec3::Z,
+    });
+    let placed = to_smpl(&keypoints, min_confidence, up_given, "positions")
+        .map_err(|e| to_python(py, e))?;
+    let warnings = py.import("warnings")?;
+    for line in &placed.said {
+        warnings.call_method1("warn", (format!("from_positions: {line}"),))?;
+    }
+    let target = target_of(py, skeleton)?;
+    let (positions, unused) =
+        onto_skeleton(&placed.positions, &target.skeleton).map_err(|e| to_python(py, e))?;
+    if !unused.is_empty() {
+        let text = format!(
+            "from_positions: {} has no joint of the role of {}: not used",
+            target.name,
+            unused.join(", ")
+        );
+        warnings.call_method1("warn", (text,))?;
+    }
+    let up = Some(bvhview::model::pose::Up::Y);
+    let (motion, _, _) = py
+        .detach(|| {
+            bvhview::solve::solve_smoothed(&target.skeleton, target.up, &positions, up, smooth)
+        })
+        .map_err(|e| to_python(py, e))?;
+    let name = format!("{} keypoints on {}", layout.label(), target.name);
+    Ok(Motion {
+        loaded: bvhview::Take::new(target.skeleton, motion, name.clone()),
+        item: crate::loaded::Item {
+            path: PathBuf::from(name),
+            motion: None,
+        },
+        offset_mode: bvhview::model::pose::OffsetMode::Replace,
+        check: None,
+    })
+}
+
 /// `Motion.from_positions`: joint positions (frames × joints × 3) as a take on a skeleton.
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn from_positions(
     py: Python<'_>,
     positions: numpy::PyArrayLike3<'_, f64, numpy::AllowTypeChange>,
@@ -158,6 +224,8 @@ pub(crate) fn from_positions(
     fps: f64,
     up: Option<&str>,
     smooth: Option<f64>,
+    layout: Option<&str>,
+    min_confidence: f64,
 ) -> PyResult<Motion> {
     use pyo3::exceptions::PyValueError;
     if !(fps > 0.0 && fps.is_finite() && fps <= 1000.0) {
@@ -175,6 +243,9 @@ pub(crate) fn from_positions(
             )));
         }
     };
+    if let Some(name) = layout {
+        return from_keypoints(py, positions, skeleton, name, fps, up, smooth, min_confidence);
+    }
     let shape = positions.as_array().shape().to_vec();
     if shape.len() != 3 || shape[2] != 3 || shape[0] == 0 || shape[1] == 0 {
         return Err(PyValueError::new_err(format!(
@@ -285,7 +356,7 @@ pub(crate) fn from_humanml3d(
         .map_err(|e| PyValueError::new_err(e.to_string()))?;
     let array = numpy::PyArray3::from_owned_array(py, array);
     let like: numpy::PyArrayLike3<'_, f64, numpy::AllowTypeChange> = array.extract()?;
-    from_positions(py, like, skeleton, None, fps, None, None)
+    from_positions(py, like, skeleton, None, fps, None, None, None, 0.3)
 }
 
 /// HumanML3D's vectors and the positions they stand for, as numpy arrays.
@@ -379,9 +450,12 @@ impl Motion {
     /// positions' joint names in order (a list, or a layout's name: "smpl22", the same as
     /// "humanml3d"); 22 joints without it are read in SMPL's order. `up`: the positions' up axis
     /// ("y" or "z") when it is not the skeleton's. `smooth`: a cutoff in Hz for jittery input,
-    /// as `smooth()`.
+    /// as `smooth()`. `layout`: the positions are a pose estimator's keypoints in this layout
+    /// ("h36m17", "coco17", "mediapipe33", "body25", "smpl24"; frames × points × 3, or × 4 with
+    /// a confidence), as `bvhview solve --layout` reads them; points under `min_confidence`
+    /// count as missing and are filled from the frames around.
     #[staticmethod]
-    #[pyo3(signature = (positions, skeleton, *, joints=None, fps, up=None, smooth=None))]
+    #[pyo3(signature = (positions, skeleton, *, joints=None, fps, up=None, smooth=None, layout=None, min_confidence=0.3))]
     #[allow(clippy::too_many_arguments)]
     fn from_positions(
         py: Python<'_>,
@@ -391,6 +465,8 @@ impl Motion {
         fps: f64,
         up: Option<&str>,
         smooth: Option<f64>,
+        layout: Option<&str>,
+        min_confidence: f64,
     ) -> PyResult<Motion> {
         guard("from_positions", || {
             crate::retarget::from_positions(
@@ -401,6 +477,8 @@ impl Motion {
                 fps,
                 up,
                 smooth,
+                layout,
+                min_confidence,
             )
         })
     }

@@ -122,3 +122,22 @@ def test_metrics_are_the_clis(cli):
     assert [f["point"] for f in measured["feet"]] == ["LeftToe", "RightToe"]
     with pytest.raises(ValueError, match="skate_speed=0"):
         bvhview.metrics(bvhview.load(path), skate_speed=0)
+
+
+def test_keypoints_of_a_layout_become_a_take(cli, tmp_path):
+    import subprocess
+
+    walk = DATA / "bvh" / "bvh11_131_01.bvh"
+    keypoints = tmp_path / "walk_coco.npy"
+    subprocess.run([cli, "positions", str(walk), "--layout", "coco17", "--frames", "0..60",
+                    "-o", str(keypoints)], check=True, capture_output=True)
+    points = np.load(keypoints)
+    assert points.shape == (60, 17, 4)
+    with pytest.warns(UserWarning, match="coco17 has no pelvis"):
+        take = bvhview.Motion.from_positions(points, walk, fps=120, layout="coco17")
+    back = tmp_path / "back.bvh"
+    subprocess.run([cli, "solve", str(keypoints), "--layout", "coco17", "--fps", "120", "--onto",
+                    str(walk), "-o", str(back)], check=True, capture_output=True)
+    np.testing.assert_allclose(take.positions(), bvhview.load(back).positions(), atol=1e-3)
+    with pytest.raises(ValueError, match="18 points a frame; coco17 has 17"):
+        bvhview.Motion.from_positions(np.zeros((2, 18, 3)), walk, fps=30, layout="coco17")

@@ -116,7 +116,17 @@ pub(crate) fn run(args: MetricsArgs) -> Result<ExitCode, Error> {
             )));
         }
     } else {
+        let mut thresholds = thresholds;
         let figure = if crate::take::extension(&args.input) == "npy" {
+            // Positions in SMPL's order stand on y = 0, as HumanML3D's and GMD's do.
+            if thresholds.floor.is_none() {
+                thresholds.floor = Some(0.0);
+                note(format_args!(
+                    "{}: the floor at y = 0, as HumanML3D's positions stand (--floor says \
+                     otherwise)",
+                    args.input.display()
+                ));
+            }
             positions_figure(&args.input, args.fps, args.source.max_size)?
         } else {
             figure_of_take(&super::load(&args.input, &args.source)?)?

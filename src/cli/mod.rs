@@ -707,6 +707,10 @@ pub(crate) fn effect(
         let figure = crate::metrics::figure_of_take(&take).ok()?;
         crate::metrics::measure(&figure, &crate::metrics::Thresholds::default()).ok()
     };
+    // Nothing to say of an edit that changed nothing, or of one frame (no motion to measure).
+    if before == after || before.frame_count() < 2 {
+        return None;
+    }
     let (a, b) = (measured(before)?, measured(after)?);
     Some(format!(
         "{what}: skating ratio {:.4} → {:.4}; skate {:.2} → {:.2} mm; penetrate {:.2} → {:.2} \

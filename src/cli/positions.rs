@@ -196,13 +196,11 @@ fn write_keypoints(
             "--layout: an .npy array goes to a file (-o OUT.npy)",
         ));
     };
-    let metres = f64::from(
-        loaded
-            .stance(OffsetMode::from(args.offset_mode))
-            .units
-            .metres,
-    );
-    let keypoints = of_take(&loaded.trim(range.clone()), layout, metres)?;
+    let mode = OffsetMode::from(args.offset_mode);
+    let metres = f64::from(loaded.stance(mode).units.metres);
+    let mut trimmed = loaded.trim(range.clone());
+    trimmed.offset_mode = mode;
+    let keypoints = of_take(&trimmed, layout, metres)?;
     let count = layout.points().len();
     let frames = keypoints.points.len() / count;
     let mut bytes = crate::dataset::store::npy_header("<f4", &[frames, count, 4]);

@@ -30,8 +30,8 @@ pub(crate) struct SolveArgs {
     joints: Option<String>,
     /// The positions are a pose estimator's keypoints in this layout: h36m17 (Human3.6M's 17,
     /// as VideoPose3D and MotionBERT write them), coco17, mediapipe33, body25 (OpenPose) or
-    /// smpl24; an .npy of frames × points × 3, or × 4 with a confidence last, the .csv
-    /// `positions --layout` writes, or a .json array of the same. Each point goes to the
+    /// smpl24; an .npy of frames × points × 3, or × 4 with a confidence last (as `positions
+    /// --layout` writes it), a .json array of the same, or a positions .csv of its points. Each point goes to the
     /// skeleton's joint of its role; joints the layout lacks are placed from the others, points
     /// a frame lacks filled from the frames around, the figure stood up along +y; all said.
     #[arg(long, value_name = "LAYOUT", conflicts_with = "joints")]
@@ -66,6 +66,28 @@ pub(crate) struct SolveArgs {
     /// target's own units without it).
     #[arg(long, value_name = "UNITS", value_parser = super::convert::parse_units)]
     out_units: Option<crate::model::stance::Units>,
+}
+
+/// `positions` without the points named in `placed` (joints a layout lacks, placed from its
+/// other points).
+fn measured_points(
+    positions: &crate::solve::Positions,
+    placed: &[String],
+) -> Result<crate::solve::Positions, Error> {
+    if placed.is_empty() {
+        return Ok(positions.clone());
+    }
+    let keep: Vec<usize> = (0..positions.names.len())
+        .filter(|&c| !placed.contains(&positions.names[c]))
+        .collect();
+    let count = positions.names.len();
+    let points = positions
+        .points
+        .chunks_exact(count)
+        .flat_map(|frame| keep.iter().map(|&c| frame[c]).collect::<Vec<_>>())
+        .collect();
+    let names = keep.iter().map(|&c| positions.names[c].clone()).collect();
+    crate::solve::Positions::new(names, points, positions.frame_time)
 }
 
 /// What `solve` reads.
@@ -104,6 +126,7 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
              keypoints",
         ));
     }
+    let mut placed_names: Vec<String> = Vec::new();
     let (positions, layout_note) = match (args.from, layout) {
         (_, Some(layout)) => {
             let keypoints = crate::solve::layouts::read_keypoints(
@@ -122,6 +145,7 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
             for line in &placed.said {
                 note(format_args!("{shown}: {line}"));
             }
+            placed_names = placed.placed;
             (placed.positions, None)
         }
         (SolveFrom::Positions, None) => crate::solve::read_positions(
@@ -156,10 +180,12 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
     }
     let (target, body) = match &args.body_model {
         Some(path) => {
-            // The model's own figure, its betas fitted to the positions' bones.
+            // The model's own figure, its betas fitted to the positions' bones: those of points
+            // the data holds (a layout's joints placed from others are not measured).
             let wanted = crate::smpl::fit::model_type_of_target(&args.onto);
             let model = crate::smpl::open_model(path, None, wanted, args.max_size)?;
-            let fitted = crate::smpl::fit::shaped_to_positions(&model, &positions)?;
+            let measured = measured_points(&positions, &placed_names)?;
+            let fitted = crate::smpl::fit::shaped_to_positions(&model, &measured)?;
             note(format_args!("{}: {}", args.input.display(), fitted.said));
             let name = format!("{} ({})", args.onto, model.name);
             let target = Target::new(name, fitted.skeleton, &fitted.rest);
@@ -170,10 +196,19 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
     // Keypoints stand along +y, named as SMPL's joints: each given to the target's joint of
     // its role.
     let (positions, data_up) = match layout {
-        Some(_) => (
-            crate::solve::layouts::onto_skeleton(&positions, &target.skeleton)?,
-            Some(Up::Y),
-        ),
+        Some(_) => {
+            let (renamed, unused) =
+                crate::solve::layouts::onto_skeleton(&positions, &target.skeleton)?;
+            if !unused.is_empty() {
+                note(format_args!(
+                    "{}: {} has no joint of the role of {}: not used",
+                    args.input.display(),
+                    target.name,
+                    unused.join(", ")
+                ));
+            }
+            (renamed, Some(Up::Y))
+        }
         None => (positions, args.up.map(Up::from)),
     };
     // What is printed is measured on what is written: after --smooth, and said where

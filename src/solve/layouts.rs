@@ -143,32 +143,18 @@ const BODY25: [&str; 25] = [
     "right_heel",
 ];
 
-const SMPL24: [&str; 24] = [
-    "pelvis",
-    "left_hip",
-    "right_hip",
-    "spine1",
-    "left_knee",
-    "right_knee",
-    "spine2",
-    "left_ankle",
-    "right_ankle",
-    "spine3",
-    "left_foot",
-    "right_foot",
-    "neck",
-    "left_collar",
-    "right_collar",
-    "head",
-    "left_shoulder",
-    "right_shoulder",
-    "left_elbow",
-    "right_elbow",
-    "left_wrist",
-    "right_wrist",
-    "left_hand",
-    "right_hand",
-];
+/// SMPL's 24 joints: the body's 22 (the solver's list) and a hand each side.
+const SMPL24: [&str; 24] = {
+    let mut all = [""; 24];
+    let mut k = 0;
+    while k < 22 {
+        all[k] = SMPL22_ORDER[k];
+        k += 1;
+    }
+    all[22] = "left_hand";
+    all[23] = "right_hand";
+    all
+};
 
 /// The limbs' joints every layout has under the same names as SMPL's.
 const LIMBS: [&str; 12] = [
@@ -349,6 +335,9 @@ impl Keypoints {
 pub struct Placed {
     /// The positions, named as SMPL's joints (those the layout has or places).
     pub positions: Positions,
+    /// The joints placed from other points (not the layout's own): a fit of lengths leaves
+    /// their bones out.
+    pub placed: Vec<String>,
     /// What was placed, filled, turned or left out, a line each.
     pub said: Vec<String>,
 }
@@ -511,7 +500,12 @@ pub fn to_smpl(
     let names = placed_names.iter().map(|n| n.to_string()).collect();
     let positions =
         Positions::new(names, flat, keypoints.frame_time).map_err(|e| e.about(shown))?;
-    Ok(Placed { positions, said })
+    let placed = placed_said.iter().map(|n| n.to_string()).collect();
+    Ok(Placed {
+        positions,
+        placed,
+        said,
+    })
 }
 
 /// SMPL's joint `name` placed from the layout's points (`at`) and the pelvis and neck already
@@ -583,7 +577,7 @@ fn nearest_axis(direction: DVec3) -> DVec3 {
     } else {
         DVec3::Z * direction.z.signum()
     };
-    if axis.is_finite() && axis != DVec3::ZERO {
+    if direction.is_finite() && a.max_element() > 0.0 {
         axis
     } else {
         DVec3::Y
@@ -607,19 +601,20 @@ fn axis_name(axis: DVec3) -> String {
 }
 
 /// SMPL-named positions renamed for `skeleton` by role: each of its joints the guessed map from
-/// SMPL's 22 finds takes that joint's positions; joints it does not find are left out. A
-/// skeleton named as SMPL's is given them as they are.
+/// SMPL's 22 finds takes that joint's positions. A skeleton named as SMPL's is given them as
+/// they are. Beside them, the SMPL joints the map finds no joint for (their points not used).
 pub fn onto_skeleton(
     positions: &Positions,
     skeleton: &crate::model::skeleton::Skeleton,
-) -> Result<Positions, Error> {
+) -> Result<(Positions, Vec<String>), Error> {
     let named = |n: &str| skeleton.joints.iter().any(|j| !j.end_site && j.name == n);
     if positions.names.iter().all(|n| named(n)) {
-        return Ok(positions.clone());
+        return Ok((positions.clone(), Vec::new()));
     }
     let (smpl, _) = crate::bvh::built_in::built_in("smpl22")
         .ok_or_else(|| Error::usage("the built-in skeleton smpl22 does not load"))?;
     let map = crate::retarget::Map::guess(&smpl, skeleton);
+    let points = crate::positions::export_points(skeleton);
     let count = positions.names.len();
     let mut names = Vec::new();
     let mut columns = Vec::new();
@@ -632,10 +627,15 @@ pub fn onto_skeleton(
         else {
             continue;
         };
+        // The point the solver reads at joint j, as every export names it (an ASF names the
+        // point where a bone ends by the bone).
+        let Some((point, _)) = points.iter().find(|(_, at)| *at == j) else {
+            continue;
+        };
         if skeleton.joints[j].end_site || columns.contains(&column) {
             continue;
         }
-        names.push(skeleton.joints[j].name.clone());
+        names.push(point.clone());
         columns.push(column);
     }
     let frames = positions.frames();
@@ -643,13 +643,17 @@ pub fn onto_skeleton(
     for f in 0..frames {
         points.extend(columns.iter().map(|&c| positions.points[f * count + c]));
     }
-    Positions::new(names, points, positions.frame_time)
+    let unused = (0..count)
+        .filter(|c| !columns.contains(c))
+        .map(|c| positions.names[c].clone())
+        .collect();
+    Ok((Positions::new(names, points, positions.frame_time)?, unused))
 }
 
 /// Keypoints of `layout` in `path`: an `.npy` of frames × points × 3 (or × 4, a confidence
-/// last), the `.csv` `bvhview positions --layout` writes (`frame,joint,x,y,z`, each point named
-/// as the layout names it), or a `.json` array of frames × points × 3 or 4 (or an object whose
-/// `keypoints` holds one); `frame_time` seconds apart.
+/// last), a positions `.csv` (`frame,joint,x,y,z`, each point named as the layout names it,
+/// every point in every frame), or a `.json` array of frames × points × 3 or 4 (or an object
+/// whose `keypoints` holds one; at most [`MAX_JSON_BYTES`]); `frame_time` seconds apart.
 pub fn read_keypoints(
     path: &std::path::Path,
     layout: Layout,
@@ -693,7 +697,9 @@ pub fn read_keypoints(
             (vec![positions.frames(), count, 3], values)
         }
         "json" => {
-            let bytes = crate::io::whole::read_binary_file(path, max_size)?;
+            // A JSON tree takes some 30 times its text in memory: keypoints as JSON are held to
+            // what an .npy would carry easily.
+            let bytes = crate::io::whole::read_binary_file(path, max_size.min(MAX_JSON_BYTES))?;
             json_keypoints(&bytes, &shown)?
         }
         _ => {
@@ -704,6 +710,9 @@ pub fn read_keypoints(
     };
     Keypoints::new(layout, &shape, &values, frame_time, &shown)
 }
+
+/// The largest keypoints file read as JSON (64 MiB): a longer take goes in an `.npy`.
+pub const MAX_JSON_BYTES: u64 = 64 << 20;
 
 /// A JSON array of frames × points × 3 or 4 numbers (`null` for a point a frame lacks), or an
 /// object whose `keypoints` holds one: its shape and values.
@@ -774,12 +783,17 @@ pub fn of_take(take: &crate::Take, layout: Layout, metres: f64) -> Result<Keypoi
     let frames = take.frame_count().max(1);
     let mut points = Vec::with_capacity(frames * joint_of_point.len());
     let mut confidence = Vec::with_capacity(points.capacity());
+    // Each joint's place, by joint (an ASF's exported points are not one a joint).
+    let mut world = Vec::new();
     for f in 0..frames {
-        let at = take.positions(f.min(take.frame_count().saturating_sub(1)));
+        let row = take
+            .motion
+            .frame(f.min(take.frame_count().saturating_sub(1)));
+        crate::model::pose::world_transforms_f64(&take.skeleton, row, take.offset_mode, &mut world);
         for joint in &joint_of_point {
-            let point = match (joint, &at) {
-                (Some(j), Some(at)) => at[*j].as_dvec3() * metres,
-                _ => DVec3::NAN,
+            let point = match joint {
+                Some(j) => world[*j].1 * metres,
+                None => DVec3::NAN,
             };
             confidence.push(if point.is_finite() { 1.0 } else { 0.0 });
             points.push(point);

@@ -84,6 +84,7 @@ const SUBCOMMANDS: &[&str] = &[
     "dataset",
     "retarget",
     "solve",
+    "metrics",
     "generate",
     "help",
 ];
