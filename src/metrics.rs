@@ -118,6 +118,10 @@ pub struct Metrics {
     pub penetrate_worst: f64,
     /// PhysDiff's Float (mm).
     pub float: f64,
+    /// The share of frames that float: the lowest point above the floor by more than the
+    /// tolerance, in a run of such frames that is not a flight (the hips falling as a thrown
+    /// body falls, between 0.5 g and 1.5 g, over at least 3 frames).
+    pub floating_frames: f64,
     /// PhysDiff's Skate (mm).
     pub skate: f64,
     /// Mean jerk (m/s³).
@@ -149,13 +153,14 @@ impl Metrics {
             format!("; bone drift {:.2}% ({b})", 100.0 * d)
         });
         format!(
-            "skating ratio {:.4}; penetrate {:.2} mm (worst {:.1}); float {:.2} mm; skate {:.2} \
-             mm; phys-err {:.2} mm; jitter {:.2} m/s³{drift}; floor {:.4} m ({}); {} frames at \
+            "skating ratio {:.4}; penetrate {:.2} mm (worst {:.1}); float {:.2} mm ({:.1}% of \
+             frames floating); skate {:.2} mm; phys-err {:.2} mm; jitter {:.2} m/s³{drift}; floor {:.4} m ({}); {} frames at \
              {:.2} fps ({})",
             self.skating_ratio,
             self.penetrate,
             self.penetrate_worst,
             self.float,
+            100.0 * self.floating_frames,
             self.skate,
             self.phys_err(),
             self.jitter,
@@ -190,6 +195,7 @@ impl Metrics {
 ///     feet: vec![0],
 ///     soles: vec![0],
 ///     bones: vec![(1, 0)],
+///     hips: Some(1),
 ///     fps: 10.0,
 /// };
 /// let floor = Thresholds { floor: Some(0.0), ..Thresholds::default() };
@@ -212,6 +218,9 @@ pub struct Figure {
     pub soles: Vec<usize>,
     /// Bones: parent point, child point.
     pub bones: Vec<(usize, usize)>,
+    /// The hips (the pelvis), whose path tells a jump from a hover; none: every airborne frame
+    /// counts as floating.
+    pub hips: Option<usize>,
     /// Frames a second.
     pub fps: f64,
 }
@@ -233,6 +242,7 @@ pub fn measure(figure: &Figure, thresholds: &Thresholds) -> Result<Metrics, Erro
         .iter()
         .chain(&figure.soles)
         .chain(figure.bones.iter().flat_map(|(a, b)| [a, b]))
+        .chain(&figure.hips)
         .find(|&&p| p >= count);
     if let Some(p) = outside {
         return Err(Error::usage(format!(
@@ -321,6 +331,11 @@ pub fn measure(figure: &Figure, thresholds: &Thresholds) -> Result<Metrics, Erro
             }
         })
         .collect();
+    let airborne: Vec<bool> = lowest
+        .iter()
+        .map(|l| l - floor > thresholds.float_tolerance)
+        .collect();
+    let floating = floating_frames(&airborne, figure, frames);
     let skate: Vec<f64> = (0..pairs)
         .map(|t| match skate_count[t] {
             0 => 0.0,
@@ -350,10 +365,82 @@ pub fn measure(figure: &Figure, thresholds: &Thresholds) -> Result<Metrics, Erro
         penetrate: mean(&depth),
         penetrate_worst: depth.iter().fold(0.0, |m, d| m.max(*d)),
         float: mean(&float),
+        floating_frames: floating as f64 / frames as f64,
         skate: mean(&skate),
         jitter,
         bone_drift,
     })
+}
+
+/// Gravity, metres a second squared.
+const GRAVITY: f64 = 9.81;
+
+/// How many frames float: airborne frames (`airborne`) in runs that are not a flight. A run is
+/// a flight when the hips over it fall as a thrown body falls: the quadratic that best fits their
+/// height curves down at between 0.5 g and 1.5 g. A run shorter than 3 frames shows no curve and
+/// counts as a flight; without hips every airborne frame floats.
+fn floating_frames(airborne: &[bool], figure: &Figure, frames: usize) -> usize {
+    let count = figure.names.len();
+    let mut floating = 0;
+    let mut f = 0;
+    while f < frames {
+        if !airborne[f] {
+            f += 1;
+            continue;
+        }
+        let start = f;
+        while f < frames && airborne[f] {
+            f += 1;
+        }
+        let run = start..f;
+        let flight = match figure.hips {
+            None => false,
+            Some(_) if run.len() < 3 => true,
+            Some(hips) => {
+                let heights: Vec<(f64, f64)> = run
+                    .clone()
+                    .map(|k| {
+                        let t = (k - start) as f64 / figure.fps;
+                        (t, figure.points[k * count + hips].y)
+                    })
+                    .collect();
+                let curve = 2.0 * quadratic_term(&heights);
+                (-1.5 * GRAVITY..=-0.5 * GRAVITY).contains(&curve)
+            }
+        };
+        if !flight {
+            floating += run.len();
+        }
+    }
+    floating
+}
+
+/// The `a` of the least-squares `a t² + b t + c` through `points` (t, y), by Cramer's rule on
+/// the normal equations.
+fn quadratic_term(points: &[(f64, f64)]) -> f64 {
+    // Sums of t⁰ … t⁴, and of y t⁰ … y t².
+    let mut s = [0.0f64; 5];
+    let mut r = [0.0f64; 3];
+    for &(t, y) in points {
+        let mut power = 1.0;
+        for (k, slot) in s.iter_mut().enumerate() {
+            *slot += power;
+            if let Some(r) = r.get_mut(k) {
+                *r += power * y;
+            }
+            power *= t;
+        }
+    }
+    let det = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1])
+            - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let whole = det([[s[4], s[3], s[2]], [s[3], s[2], s[1]], [s[2], s[1], s[0]]]);
+    if whole.abs() < 1e-18 {
+        return 0.0;
+    }
+    det([[r[2], s[3], s[2]], [r[1], s[2], s[1]], [r[0], s[1], s[0]]]) / whole
 }
 
 /// The mean of `values` over a window of `size` centred on each (numpy's `uniform_filter1d`
@@ -432,6 +519,7 @@ pub fn figure_of_take(take: &crate::Take) -> Result<Figure, Error> {
     let metres = f64::from(stance.units.metres);
     let turn = stance.up.to_y_up().as_dquat();
     let body = crate::model::body::Body::of(&take.skeleton);
+    let hips = body.hips;
     let foot_points = body.foot_points(&take.skeleton);
     if foot_points.len() < 4 {
         return Err(Error::usage(format!(
@@ -474,6 +562,7 @@ pub fn figure_of_take(take: &crate::Take) -> Result<Figure, Error> {
         feet,
         soles,
         bones,
+        hips,
         fps: take.fps(),
     })
 }

@@ -294,6 +294,7 @@ pub(crate) fn metrics<'py>(
         out.set_item("penetrate_mm", measured.penetrate)?;
         out.set_item("penetrate_worst_mm", measured.penetrate_worst)?;
         out.set_item("float_mm", measured.float)?;
+        out.set_item("floating_frames", measured.floating_frames)?;
         out.set_item("skate_mm", measured.skate)?;
         out.set_item("phys_err_mm", measured.phys_err())?;
         out.set_item("jitter_m_s3", measured.jitter)?;

@@ -43,7 +43,7 @@ pub(crate) struct MetricsArgs {
 }
 
 /// The columns of the table, in order.
-const COLUMNS: [&str; 13] = [
+const COLUMNS: [&str; 14] = [
     "take",
     "frames",
     "fps",
@@ -51,6 +51,7 @@ const COLUMNS: [&str; 13] = [
     "penetrate_mm",
     "penetrate_worst_mm",
     "float_mm",
+    "floating_frames",
     "skate_mm",
     "phys_err_mm",
     "jitter_m_s3",
@@ -210,6 +211,7 @@ fn positions_figure(path: &Path, fps: Option<f64>, max_size: u64) -> Result<Figu
             .map(|n| point(n))
             .collect::<Result<_, _>>()?,
         bones,
+        hips: index("pelvis"),
         names,
         points: positions.points,
         fps,
@@ -222,13 +224,14 @@ fn csv(rows: &[(String, Metrics)]) -> String {
         let quoted = format!("\"{}\"", name.replace('"', "\"\""));
         let drift = m.bone_drift.as_ref().map_or(0.0, |(d, _)| *d);
         text.push_str(&format!(
-            "{quoted},{},{},{},{},{},{},{},{},{},{},{},{}\n",
+            "{quoted},{},{},{},{},{},{},{},{},{},{},{},{},{}\n",
             m.frames,
             m.fps,
             m.skating_ratio,
             m.penetrate,
             m.penetrate_worst,
             m.float,
+            m.floating_frames,
             m.skate,
             m.phys_err(),
             m.jitter,
@@ -252,6 +255,7 @@ fn json(rows: &[(String, Metrics)], thresholds: &Thresholds) -> String {
                 "penetrate_mm": m.penetrate,
                 "penetrate_worst_mm": m.penetrate_worst,
                 "float_mm": m.float,
+                "floating_frames": m.floating_frames,
                 "skate_mm": m.skate,
                 "phys_err_mm": m.phys_err(),
                 "jitter_m_s3": m.jitter,

@@ -213,6 +213,9 @@ pub struct ClipMetrics {
     pub penetrate_mm: f64,
     /// PhysDiff's Float (mm).
     pub float_mm: f64,
+    /// The share of frames that float, flights aside ([`crate::metrics::Metrics`]).
+    #[serde(default)]
+    pub floating_frames: f64,
     /// PhysDiff's Skate (mm).
     pub skate_mm: f64,
     /// Mean jerk (m/s³).
@@ -228,6 +231,7 @@ impl ClipMetrics {
             skating_ratio: metrics.skating_ratio,
             penetrate_mm: metrics.penetrate,
             float_mm: metrics.float,
+            floating_frames: metrics.floating_frames,
             skate_mm: metrics.skate,
             jitter_m_s3: metrics.jitter,
             floor_m: metrics.floor,

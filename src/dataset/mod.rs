@@ -490,6 +490,7 @@ fn clip_metrics(
             .enumerate()
             .filter_map(|(j, joint)| Some((joint.parent?, j)))
             .collect(),
+        hips: body.hips,
         fps: 1.0 / frame_time,
     };
     let measured = crate::metrics::measure(&figure, &crate::metrics::Thresholds::default()).ok()?;

@@ -326,3 +326,61 @@ fn an_asf_takes_keypoints_and_metrics_are_its_joints() {
     let feet: Vec<&str> = measured.feet.iter().map(|f| f.name.as_str()).collect();
     assert_eq!(feet, ["ltoes", "rtoes"]);
 }
+
+/// Keypoint files that lie or hold what no layout is: refused with exit 2, naming what was
+/// found, nothing written.
+#[test]
+fn hostile_keypoint_files_are_refused() {
+    let folder = crate::common::scratch_folder("hostile-keypoints");
+    let npy = |shape: &str, values: usize| {
+        let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}");
+        while (10 + header.len() + 1) % 64 != 0 {
+            header.push(' ');
+        }
+        header.push('\n');
+        let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
+        bytes.extend((header.len() as u16).to_le_bytes());
+        bytes.extend(header.as_bytes());
+        bytes.extend((0..values).flat_map(|v| (v as f64).to_le_bytes()));
+        bytes
+    };
+    let walk = data("bvh/bvh11_131_01.bvh");
+    for (name, bytes, said) in [
+        // A header that promises a thousand frames over ten values.
+        (
+            "lying.npy",
+            npy("(1000, 17, 3)", 10),
+            "more than the file's",
+        ),
+        (
+            "eighteen.npy",
+            npy("(2, 18, 3)", 108),
+            "18 points a frame; coco17 has 17",
+        ),
+        (
+            "empty.npy",
+            npy("(0, 17, 3)", 0),
+            "no frames of coco17 keypoints",
+        ),
+    ] {
+        let path = folder.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        let out = folder.join(format!("{name}.bvh"));
+        let run = crate::common::bvhview(&[
+            "solve",
+            path.to_str().unwrap(),
+            "--layout",
+            "coco17",
+            "--fps",
+            "30",
+            "--onto",
+            walk.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ]);
+        let stderr = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{name}: {stderr}");
+        assert!(stderr.contains(said), "{name}: {stderr}");
+        assert!(!out.exists(), "{name}: wrote {}", out.display());
+    }
+}

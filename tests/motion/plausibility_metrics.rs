@@ -57,6 +57,7 @@ fn figure(points: Vec<DVec3>, fps: f64) -> Figure {
         feet: vec![10, 11],
         soles: vec![7, 10, 8, 11],
         bones: (1..22).map(|k| (parents[k].unwrap(), k)).collect(),
+        hips: Some(0),
         fps,
     }
 }
@@ -278,4 +279,52 @@ fn a_datasets_clips_carry_their_metrics() {
             "{key}: {written} against {value}"
         );
     }
+}
+
+/// A jump is not floating, a hover is: frames above the floor count as floating only where the
+/// hips do not fall as a thrown body falls.
+#[test]
+fn a_jump_is_a_flight_and_a_hover_floats() {
+    let fps = 30.0;
+    // 60 frames: standing 20, then 20 in the air, then standing 20.
+    let body = |air: &dyn Fn(f64) -> f64| -> Vec<DVec3> {
+        (0..60)
+            .flat_map(|f| {
+                let lift = if (20..40).contains(&f) {
+                    air((f - 20) as f64 / fps)
+                } else {
+                    0.0
+                };
+                // A foot, and the hips a metre above it.
+                [DVec3::new(0.0, lift, 0.0), DVec3::new(0.0, 1.0 + lift, 0.0)]
+            })
+            .collect()
+    };
+    let figure = |points| Figure {
+        names: vec!["toe".into(), "hips".into()],
+        points,
+        feet: vec![0],
+        soles: vec![0],
+        bones: vec![(1, 0)],
+        hips: Some(1),
+        fps,
+    };
+    let floor = Thresholds {
+        floor: Some(0.0),
+        ..Thresholds::default()
+    };
+    // Thrown up at 3.3 m/s: in the air for 0.67 s, as gravity has it.
+    let jump = measure(
+        &figure(body(&|t| (3.3 * t - 0.5 * 9.81 * t * t).max(0.001))),
+        &floor,
+    )
+    .unwrap();
+    let hover = measure(&figure(body(&|_| 0.2)), &floor).unwrap();
+    assert_eq!(jump.floating_frames, 0.0, "{}", jump.line());
+    assert!(
+        (hover.floating_frames - 20.0 / 60.0).abs() < 1e-12,
+        "{}",
+        hover.line()
+    );
+    assert!(jump.float > 0.0 && hover.float > 0.0);
 }
