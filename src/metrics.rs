@@ -534,16 +534,10 @@ pub fn figure_of_take(take: &crate::Take) -> Result<Figure, Error> {
     // Every joint's place (an index per joint, as the feet, soles and bones are: an ASF's
     // exported points are not one a joint).
     let frames = take.frame_count().max(1);
-    let joints = take.skeleton.joints.len();
-    let mut points = Vec::with_capacity(frames * joints);
-    let mut world = Vec::new();
-    for f in 0..frames {
-        let row = take
-            .motion
-            .frame(f.min(take.frame_count().saturating_sub(1)));
-        crate::model::pose::world_transforms_f64(&take.skeleton, row, take.offset_mode, &mut world);
-        points.extend(world.iter().map(|(_, p)| turn * (*p * metres)));
-    }
+    let points = (0..frames)
+        .flat_map(|f| take.joint_places(f))
+        .map(|p| turn * (p * metres))
+        .collect();
     let bones = take
         .skeleton
         .joints

@@ -203,15 +203,20 @@ fn from_keypoints(
         })
         .map_err(|e| to_python(py, e))?;
     let name = format!("{} keypoints on {}", layout.label(), target.name);
-    Ok(Motion {
-        loaded: bvhview::Take::new(target.skeleton, motion, name.clone()),
+    Ok(solved_motion(target.skeleton, motion, name))
+}
+
+/// A solved take as a `Motion` named `name` (its position channels replace the OFFSETs).
+fn solved_motion(skeleton: bvhview::Skeleton, motion: bvhview::Motion, name: String) -> Motion {
+    Motion {
+        loaded: bvhview::Take::new(skeleton, motion, name.clone()),
         item: crate::loaded::Item {
             path: PathBuf::from(name),
             motion: None,
         },
         offset_mode: bvhview::model::pose::OffsetMode::Replace,
         check: None,
-    })
+    }
 }
 
 /// `Motion.from_positions`: joint positions (frames × joints × 3) as a take on a skeleton.
@@ -321,15 +326,7 @@ pub(crate) fn from_positions(
         )?;
     }
     let name = format!("positions on {}", target.name);
-    Ok(Motion {
-        loaded: bvhview::Take::new(target.skeleton, motion, name.clone()),
-        item: crate::loaded::Item {
-            path: PathBuf::from(name),
-            motion: None,
-        },
-        offset_mode: bvhview::model::pose::OffsetMode::Replace,
-        check: None,
-    })
+    Ok(solved_motion(target.skeleton, motion, name))
 }
 
 /// `Motion.from_humanml3d`: HumanML3D's feature vectors (frames × 263) recovered to joint

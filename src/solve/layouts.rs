@@ -783,16 +783,12 @@ pub fn of_take(take: &crate::Take, layout: Layout, metres: f64) -> Result<Keypoi
     let frames = take.frame_count().max(1);
     let mut points = Vec::with_capacity(frames * joint_of_point.len());
     let mut confidence = Vec::with_capacity(points.capacity());
-    // Each joint's place, by joint (an ASF's exported points are not one a joint).
-    let mut world = Vec::new();
     for f in 0..frames {
-        let row = take
-            .motion
-            .frame(f.min(take.frame_count().saturating_sub(1)));
-        crate::model::pose::world_transforms_f64(&take.skeleton, row, take.offset_mode, &mut world);
+        // Each joint's place, by joint (an ASF's exported points are not one a joint).
+        let places = take.joint_places(f);
         for joint in &joint_of_point {
             let point = match joint {
-                Some(j) => world[*j].1 * metres,
+                Some(j) => places[*j] * metres,
                 None => DVec3::NAN,
             };
             confidence.push(if point.is_finite() { 1.0 } else { 0.0 });

@@ -434,6 +434,25 @@ impl Take {
             .collect()
     }
 
+    /// Every joint's world position at frame `index` (the last frame past the end, the rest
+    /// pose with none), in 64-bit floats, in the take's own units, axes and offset mode: one a
+    /// joint, End Sites too, by joint index (an ASF's [`Take::positions`] are its exported
+    /// points, which are not one a joint).
+    ///
+    /// ```
+    /// let walk = bvhview::Take::open("tests/data/bvh/bvh11_131_01.bvh")?;
+    /// let places = walk.joint_places(10);
+    /// assert_eq!(places.len(), walk.skeleton.joints.len());
+    /// # Ok::<(), bvhview::Error>(())
+    /// ```
+    pub fn joint_places(&self, index: usize) -> Vec<glam::DVec3> {
+        let last = self.frame_count().saturating_sub(1);
+        let row = self.motion.frame(index.min(last));
+        let mut world = Vec::new();
+        crate::model::pose::world_transforms_f64(&self.skeleton, row, self.offset_mode, &mut world);
+        world.into_iter().map(|(_, place)| place).collect()
+    }
+
     /// The world position of every point at frame `index` (forward kinematics, in the
     /// take's own units and axes), in [`Take::point_names`]' order; `None` past the last frame.
     pub fn positions(&self, index: usize) -> Option<Vec<glam::Vec3>> {

@@ -47,19 +47,9 @@ fn round_trip(take: &Take, layout: Layout) -> Option<f64> {
         bvhview::solve::solve(&take.skeleton, stance.up, &positions, Some(Up::Y)).unwrap();
     let solved = Take::new(take.skeleton.clone(), motion, "solved");
     let mut angles = Vec::new();
-    // Each joint's place, by joint (an ASF's exported points are not one a joint).
-    let joints = |take: &Take, f: usize| {
-        let mut world = Vec::new();
-        bvhview::model::pose::world_transforms_f64(
-            &take.skeleton,
-            take.motion.frame(f),
-            take.offset_mode,
-            &mut world,
-        );
-        world.into_iter().map(|(_, p)| p).collect::<Vec<_>>()
-    };
     for f in 0..take.frame_count() {
-        let (a, b) = (joints(take, f), joints(&solved, f));
+        // By joint (an ASF's exported points are not one a joint).
+        let (a, b) = (take.joint_places(f), solved.joint_places(f));
         for &(p, c) in &bones {
             let (u, v) = (a[c] - a[p], b[c] - b[p]);
             angles.push(u.angle_between(v).to_degrees());
