@@ -7,6 +7,15 @@ use bvhview::smpl::model::BodyModel;
 use bvhview::smpl::{ModelType, amass, npz};
 use glam::DVec3;
 
+/// A folder of its own for a test's files, removed when the test ends: model files are hundreds
+/// of megabytes, and a kept folder a run would fill a disk.
+fn scratch(label: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("bvhview-{label}-"))
+        .tempdir()
+        .unwrap()
+}
+
 /// The committed outputs of `smplx` for `model`.
 fn reference(model: ModelType) -> npz::Npz {
     let name = format!(
@@ -110,7 +119,8 @@ fn model_file(model: ModelType, folder: &std::path::Path) -> std::path::PathBuf 
 /// the same arrays, betas and gender kept.
 #[test]
 fn an_amass_file_read_on_a_model_stands_where_the_model_puts_it() {
-    let folder = crate::common::scratch_folder("body-model");
+    let folder_scratch = scratch("body-model");
+    let folder = folder_scratch.path().to_path_buf();
     for (file, model) in [
         ("smpl/amass_smplh_walk.npz", ModelType::Smplh),
         ("smpl/amass_smplx_walk.npz", ModelType::Smplx),
@@ -281,7 +291,8 @@ fn betas_fitted_to_a_body_of_the_model_give_its_bones_back() {
 /// of its height; the betas and gender written are the fitted body's.
 #[test]
 fn a_take_put_on_a_model_and_written_reads_back_where_it_was() {
-    let folder = crate::common::scratch_folder("fitted");
+    let folder_scratch = scratch("fitted");
+    let folder = folder_scratch.path().to_path_buf();
     let walk = bvhview::Take::open(data("bvh/bvh11_131_01.bvh"))
         .unwrap()
         .trim(0..120);
@@ -444,7 +455,8 @@ fn hostile_model_files_are_refused_by_name() {
     let motion = std::fs::read(data("smpl/amass_smplh_walk.npz")).unwrap();
     assert!(refused(motion).contains("this is a motion file, AMASS's"));
     // A pickled model file is never opened.
-    let folder = crate::common::scratch_folder("pickle");
+    let folder_scratch = scratch("pickle");
+    let folder = folder_scratch.path().to_path_buf();
     std::fs::write(folder.join("SMPL_NEUTRAL.pkl"), b"\x80\x02N.").unwrap();
     let message = BodyModel::open(&folder.join("SMPL_NEUTRAL.pkl"), None, None, u64::MAX)
         .unwrap_err()
@@ -459,7 +471,8 @@ fn hostile_model_files_are_refused_by_name() {
 /// it is not followed out of it; several of one gender and type, named.
 #[test]
 fn a_model_is_found_in_a_folder_by_gender_and_type() {
-    let folder = crate::common::scratch_folder("models");
+    let folder_scratch = scratch("models");
+    let folder = folder_scratch.path().to_path_buf();
     let neutral = model_file(ModelType::Smplh, &folder);
     // The male one, in a folder of its own as AMASS's downloads have it.
     std::fs::create_dir(folder.join("male")).unwrap();
@@ -473,7 +486,8 @@ fn a_model_is_found_in_a_folder_by_gender_and_type() {
     );
     assert!(open(None).unwrap().ends_with("SMPLH_NEUTRAL.npz"));
     // A link named as a female model, pointing out of the folder: not followed.
-    let outside = crate::common::scratch_folder("outside");
+    let outside_scratch = scratch("outside");
+    let outside = outside_scratch.path().to_path_buf();
     std::fs::copy(&neutral, outside.join("elsewhere.npz")).unwrap();
     std::os::unix::fs::symlink(
         outside.join("elsewhere.npz"),
@@ -483,7 +497,8 @@ fn a_model_is_found_in_a_folder_by_gender_and_type() {
     assert!(open(Some("female")).unwrap().ends_with("SMPLH_NEUTRAL.npz"));
     // The type before the gender: a male SMPL-X take in a folder of a male SMPL-H model and a
     // neutral SMPL-X one is read on the SMPL-X one.
-    let mixed = crate::common::scratch_folder("mixed");
+    let mixed_scratch = scratch("mixed");
+    let mixed = mixed_scratch.path().to_path_buf();
     std::fs::copy(&neutral, mixed.join("SMPLH_MALE.npz")).unwrap();
     model_file(ModelType::Smplx, &mixed);
     let picked = BodyModel::open(&mixed, Some("male"), Some(ModelType::Smplx), u64::MAX).unwrap();
@@ -493,7 +508,8 @@ fn a_model_is_found_in_a_folder_by_gender_and_type() {
         picked.name
     );
     // The gender is the file's name's, or its folder's, never a folder's further up.
-    let study = crate::common::scratch_folder("female_study");
+    let study_scratch = scratch("female_study");
+    let study = study_scratch.path().to_path_buf();
     let file = model_file(ModelType::Smpl, &study);
     let model = BodyModel::open(&file, None, None, u64::MAX).unwrap();
     assert_eq!(
@@ -526,7 +542,8 @@ fn a_body_model_written_as_gltf_carries_its_pose_blend_shapes() {
         .unwrap()
         .trim(0..12);
     let (take, _) = character.dress(&walk, &[], Default::default(), 1).unwrap();
-    let folder = crate::common::scratch_folder("body-gltf");
+    let folder_scratch = scratch("body-gltf");
+    let folder = folder_scratch.path().to_path_buf();
     let path = folder.join("body.glb");
     character.save(&take, &path).unwrap();
     let bytes = std::fs::read(&path).unwrap();
@@ -591,7 +608,8 @@ fn a_body_model_written_as_gltf_carries_its_pose_blend_shapes() {
 /// and the take is read on the built-in figure.
 #[test]
 fn a_model_of_another_type_does_not_read_a_take() {
-    let folder = crate::common::scratch_folder("other-type");
+    let folder_scratch = scratch("other-type");
+    let folder = folder_scratch.path().to_path_buf();
     let smplx = model_file(ModelType::Smplx, &folder);
     let take = bvhview::OpenOptions::new()
         .body_model(&smplx)
