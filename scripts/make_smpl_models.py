@@ -15,8 +15,9 @@ type and writes `tests/smpl/<type>_smplx.npz`: the inputs, every joint, a sample
 of the vertices, and the rest joints the model was built on. bvhview's forward pass must agree
 with it (tests/formats/smpl_model.rs).
 
-    python3 -m venv /tmp/smplx && /tmp/smplx/bin/pip install torch smplx numpy
-    cargo build && /tmp/smplx/bin/python scripts/make_smpl_models.py [--models DIR]
+    work=$(mktemp -d)   # a folder of your own for the venv (and the models, if kept)
+    python3 -m venv "$work/venv" && "$work/venv/bin/pip" install torch smplx numpy
+    cargo build && "$work/venv/bin/python" scripts/make_smpl_models.py [--models "$work/models"]
 
 `--models DIR` keeps the model files there (to try `--body-model`, `--character`).
 """

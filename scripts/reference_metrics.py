@@ -15,9 +15,10 @@ what it returns to tests/metrics/gmd_skating.npz:
 
 Every motion is float64; GMD's function takes the rate as 20 frames a second.
 
-    python3 -m venv /tmp/gmd && /tmp/gmd/bin/pip install torch numpy scipy
-    git clone https://github.com/korrawe/guided-motion-diffusion /tmp/gmd-src
-    /tmp/gmd/bin/python scripts/reference_metrics.py --gmd /tmp/gmd-src
+    work=$(mktemp -d)   # a folder of your own for the venv and the checkout
+    python3 -m venv "$work/venv" && "$work/venv/bin/pip" install torch numpy scipy
+    git clone https://github.com/korrawe/guided-motion-diffusion "$work/gmd"
+    "$work/venv/bin/python" scripts/reference_metrics.py --gmd "$work/gmd"
 """
 
 import argparse
