@@ -182,8 +182,8 @@ class Motion:
         """One channel layout, one Euler order, names without prefixes or of a family
         (`convert --channels root6,rot3 --order ORDER --strip-prefix --names smpl22`); world
         positions kept."""
-    def to_up(self, axis: Literal["y", "z"]) -> Motion:
-        """Turned to stand along axis from the guessed up axis: `convert --up`."""
+    def to_up(self, axis: Literal["y", "z", "x", "-y", "-z", "-x"]) -> Motion:
+        """Turned to stand along axis from the guessed up axis: `convert --out-up`."""
     def in_place(self) -> Motion:
         """The root kept over its place along the floor: `convert --in-place`."""
     def ground(self) -> Motion:
@@ -215,7 +215,7 @@ class Motion:
         *,
         joints: list[str] | str | None = None,
         fps: float,
-        up: Literal["y", "z"] | None = None,
+        up: Literal["y", "z", "x", "-y", "-z", "-x"] | None = None,
         smooth: float | None = None,
         layout: str | None = None,
         min_confidence: float = 0.3,
@@ -282,14 +282,15 @@ def load(
     *,
     take: str | int | None = None,
     units: str | float | None = None,
-    up: Literal["y", "z"] | None = None,
+    up: Literal["y", "z", "x", "-y", "-z", "-x"] | None = None,
     body_model: _PathLike | None = None,
 ) -> Motion:
     """A take: a .bvh, .fbx, .gltf, .glb or AMASS .npz file, or an .asf skeleton with `motion` its .amc
     take, or a built-in skeleton by name ("smpl22"). `take` picks one take of an FBX or glTF
     file that holds several (its name, or its index as `bvhview info FILE` lists them; default:
-    the first). `units` ("mm", "cm", "m", "in", "ft" or metres per unit) and `up` ("y" or "z")
-    over the guess. `body_model`: the user's SMPL-family model file (or a folder of them) an
+    the first). `units` ("mm", "cm", "m", "in", "ft" or metres per unit) and `up` ("y", "z",
+    "x", "-y", "-z" or "-x"; the last four turn the take to stand along y as it is read, with a
+    warning in `warnings`) over the guess. `body_model`: the user's SMPL-family model file (or a folder of them) an
     AMASS file's body is read with."""
 
 def metrics(
@@ -342,6 +343,7 @@ def _compile_dataset(
     force: bool = False,
     units: str | float | None = None,
     up: str | None = None,
+    out_units: str | float | None = None,
 ) -> tuple[int, int, int, list[tuple[str, str | None, str]]]:
     """The native half of bvhview.compile_dataset: (clips, frames, groups, skipped takes as
     (path, motion, reason))."""

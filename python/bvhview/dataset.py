@@ -147,7 +147,8 @@ def compile_dataset(
     any_body: bool = False,
     force: bool = False,
     units: str | float | None = None,
-    up: Literal["y", "z"] | None = None,
+    up: Literal["y", "z", "x", "-y", "-z", "-x"] | None = None,
+    out_units: str | float | None = None,
 ) -> dict[str, Any]:
     """Compile every take under ``folder`` (or the ``takes`` listed, as ``list_takes`` gives
     them) into the new dataset folder ``out``; returns its manifest, whose ``"skipped"`` lists
@@ -186,8 +187,12 @@ def compile_dataset(
     warning in its clip's ``"warnings"``). The manifest records ``onto`` and ``names``; ``merge_datasets`` refuses datasets made
     with other ones. ``fps`` defaults to 30. ``units`` ("mm", "cm", "m", "in", "ft" or metres per
     unit) says what every take's lengths are in, over the guess; each clip's ``"units_given"``
-    in the manifest records it; ``up`` ("y" or "z") the axis every take stands along, over
-    the guess (``"up_given"`` per clip).
+    in the manifest records it; ``up`` ("y", "z", "x", "-y", "-z" or "-x") the axis every take
+    stands along, over the guess (``"up_given"`` per clip; a take said to stand along x, -y, -z
+    or -x is turned to y as it is read). ``out_units`` writes every length (positions,
+    translations, velocities, OFFSETs, each group's ``skeleton.bvh``) in those units instead of
+    metres, recorded as the manifest's ``"units"`` and ``"metres_per_unit"``; contact thresholds
+    and metrics stay in metres, and ``features="humanml3d"`` is metres by its definition.
 
     ``features="humanml3d"`` (with ``onto="smpl22"``; ``fps`` then defaults to HumanML3D's 20)
     writes HumanML3D's representation in its folder layout instead of the arrays: per take
@@ -220,6 +225,7 @@ def compile_dataset(
             any_body=any_body,
             units=units,
             up=up,
+            out_units=out_units,
             force=force,
         )
         for _, _, reason in skipped:

@@ -177,15 +177,14 @@ pub(crate) fn warn(py: Python<'_>, text: &str) -> PyResult<()> {
     Ok(())
 }
 
-/// `up=`: "y" or "z".
-pub(crate) fn parse_up(value: &str) -> PyResult<bvhview::model::pose::Up> {
-    match value {
-        "y" => Ok(bvhview::model::pose::Up::Y),
-        "z" => Ok(bvhview::model::pose::Up::Z),
-        other => Err(PyValueError::new_err(format!(
-            "up={other:?}: expected \"y\" or \"z\""
-        ))),
-    }
+/// `up=`: "y", "z", "x", "-y", "-z" or "-x" (a take said to stand along one of the last
+/// four is turned to stand along y as it is read).
+pub(crate) fn parse_up(value: &str) -> PyResult<bvhview::model::pose::UpAxis> {
+    value.parse().map_err(|_| {
+        PyValueError::new_err(format!(
+            "up={value:?}: expected \"y\", \"z\", \"x\", \"-y\", \"-z\" or \"-x\""
+        ))
+    })
 }
 
 /// `units=`: a unit's name ("mm", "cm", "m", "in", "ft") or a number of metres per unit.

@@ -227,7 +227,7 @@ pub(crate) fn list_takes(py: Python<'_>, folder: PathBuf) -> PyResult<Vec<TakePa
 #[pyo3(signature = (folder, out, fps=None, rotations="6d", root_relative=false, feet=None,
     contact_height=0.05, contact_speed=0.5, takes=None, piece=None, threads=None, onto=None,
     ground=false, quat_continuous=false, names=None, lock_feet=false, features="arrays",
-    any_body=false, force=false, units=None, up=None))]
+    any_body=false, force=false, units=None, up=None, out_units=None))]
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn _compile_dataset(
     py: Python<'_>,
@@ -252,6 +252,7 @@ pub(crate) fn _compile_dataset(
     force: bool,
     units: Option<Bound<'_, PyAny>>,
     up: Option<&str>,
+    out_units: Option<Bound<'_, PyAny>>,
 ) -> PyResult<(usize, usize, usize, Vec<SkippedTake>)> {
     guard("_compile_dataset", || {
         if names.is_some() && onto.is_none() {
@@ -294,6 +295,10 @@ pub(crate) fn _compile_dataset(
             force,
             units: units.as_ref().map(crate::common::parse_units).transpose()?,
             up: up.map(crate::common::parse_up).transpose()?,
+            out_units: out_units
+                .as_ref()
+                .map(crate::common::parse_units)
+                .transpose()?,
             ..Default::default()
         };
         let threads = threads.unwrap_or_else(bvhview::plumbing::cores).max(1);

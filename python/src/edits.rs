@@ -281,18 +281,15 @@ impl Motion {
         })
     }
 
-    /// The take turned to stand along `axis` ("y" or "z") from its `up_axis`, as `convert --up`.
+    /// The take turned to stand along `axis` ("y", "z", "x", "-y", "-z" or "-x") from its
+    /// `up_axis`, as `convert --out-up`.
     fn to_up(&self, py: Python<'_>, axis: &str) -> PyResult<Motion> {
         guard("to_up", || {
-            let target = match axis {
-                "y" => pose::Up::Y,
-                "z" => pose::Up::Z,
-                other => {
-                    return Err(PyValueError::new_err(format!(
-                        "axis={other:?}: expected \"y\" or \"z\""
-                    )));
-                }
-            };
+            let target: pose::UpAxis = axis.parse().map_err(|_| {
+                PyValueError::new_err(format!(
+                    "axis={axis:?}: expected \"y\", \"z\", \"x\", \"-y\", \"-z\" or \"-x\""
+                ))
+            })?;
             let (skeleton, motion) = (&self.loaded.skeleton, &self.loaded.motion);
             let (skeleton, motion) = py
                 .detach(|| {
@@ -301,8 +298,12 @@ impl Motion {
                 })
                 .map_err(|e| to_python(py, e))?;
             let mut turned = self.edited(skeleton, motion, true);
-            // Turned, it stands along the axis asked for (an up axis given before is no longer).
-            turned.loaded.stated_up = turned.loaded.stated_up.map(|_| target);
+            // Turned, it stands along the axis asked for (an up axis given before is no longer;
+            // one the stances do not stand along is guessed again).
+            turned.loaded.stated_up = turned
+                .loaded
+                .stated_up
+                .and_then(|_| target.standing());
             Ok(turned)
         })
     }

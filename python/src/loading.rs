@@ -114,8 +114,8 @@ pub(crate) fn load(
             loaded.stated_units = Some(units);
             loaded.units_given = true;
         }
-        if up.is_some() {
-            loaded.stated_up = up;
+        if let Some(axis) = up {
+            loaded.stand_along(axis).map_err(|e| to_python(py, e))?;
         }
         Ok(Motion {
             loaded,

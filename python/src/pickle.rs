@@ -218,10 +218,12 @@ pub(crate) fn _from_state(state: State) -> PyResult<Motion> {
             stated_units: stated_units
                 .map(|(metres, _)| bvhview::model::stance::Units::of_metres(metres)),
             units_given: stated_units.is_some_and(|(_, given)| given),
+            // A pickle holds y or z: a take given another was turned to y as it was read.
             stated_up: stated_up
                 .as_deref()
                 .map(crate::common::parse_up)
-                .transpose()?,
+                .transpose()?
+                .and_then(bvhview::model::pose::UpAxis::standing),
             format: take::Format::from_path(Path::new(&path)),
             body: match body {
                 Some((model, betas, gender, rest_pelvis)) => Some(bvhview::smpl::Body {

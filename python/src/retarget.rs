@@ -158,7 +158,7 @@ fn from_keypoints(
     skeleton: &Bound<'_, PyAny>,
     layout: &str,
     fps: f64,
-    up: Option<bvhview::model::pose::Up>,
+    up: Option<bvhview::model::pose::UpAxis>,
     smooth: Option<f64>,
     min_confidence: f64,
 ) -> PyResult<Motion> {
@@ -175,10 +175,7 @@ fn from_keypoints(
     let values: Vec<f64> = positions.as_array().iter().copied().collect();
     let keypoints = Keypoints::new(layout, &shape, &values, 1.0 / fps, "positions")
         .map_err(|e| to_python(py, e))?;
-    let up_given = up.map(|up| match up {
-        bvhview::model::pose::Up::Y => glam::DVec3::Y,
-        bvhview::model::pose::Up::Z => glam::DVec3::Z,
-    });
+    let up_given = up.map(|up| up.vector().as_dvec3());
     let placed = to_smpl(&keypoints, min_confidence, up_given, "positions")
         .map_err(|e| to_python(py, e))?;
     let warnings = py.import("warnings")?;
@@ -196,7 +193,7 @@ fn from_keypoints(
         );
         warnings.call_method1("warn", (text,))?;
     }
-    let up = Some(bvhview::model::pose::Up::Y);
+    let up = Some(bvhview::model::pose::UpAxis::Y);
     let (motion, _, _) = py
         .detach(|| {
             bvhview::solve::solve_smoothed(&target.skeleton, target.up, &positions, up, smooth)
@@ -238,16 +235,7 @@ pub(crate) fn from_positions(
             "fps={fps}: expected frames per second from above 0 to 1000"
         )));
     }
-    let up = match up {
-        None => None,
-        Some("y") | Some("Y") => Some(bvhview::model::pose::Up::Y),
-        Some("z") | Some("Z") => Some(bvhview::model::pose::Up::Z),
-        Some(other) => {
-            return Err(PyValueError::new_err(format!(
-                "up={other:?}: expected \"y\" or \"z\""
-            )));
-        }
-    };
+    let up = up.map(crate::common::parse_up).transpose()?;
     if let Some(name) = layout {
         return from_keypoints(py, positions, skeleton, name, fps, up, smooth, min_confidence);
     }

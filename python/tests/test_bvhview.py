@@ -751,13 +751,14 @@ def test_takes_travel_to_worker_processes():
         (lambda t: t.resample(47.3), ["--fps", "47.3"]),
         (lambda t: t.scale(0.01), ["--scale", "0.01"]),
         (lambda t: t.mirror(), ["--mirror"]),
-        (lambda t: t.to_up("z"), ["--up", "z"]),
+        (lambda t: t.to_up("z"), ["--out-up", "z"]),
+        (lambda t: t.to_up("-x"), ["--out-up", "-x"]),
         (lambda t: t.in_place(), ["--in-place"]),
         (lambda t: t.ground(), ["--ground"]),
     ],
     ids=[
-        "trim", "trim-end", "resample", "resample-odd", "scale", "mirror", "to_up", "in_place",
-        "ground",
+        "trim", "trim-end", "resample", "resample-odd", "scale", "mirror", "to_up", "to_up_x",
+        "in_place", "ground",
     ],
 )
 def test_edits_as_methods_are_the_cli_edits(cli, tmp_path, edit, flags):

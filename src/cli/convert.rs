@@ -1,6 +1,7 @@
 //! `bvhview convert`: a take, edited, written as BVH or glTF; or every take under a folder, each
 //! edited and written the same way into a new folder that mirrors it.
 
+use crate::model::pose::UpAxis;
 use super::{
     OffsetModeArg, Prepared, Progress, Source, TakeFormat, UpArg, check_output, finish_write,
     is_stdio, load_with_threads, open_output, write_take, wrote,
@@ -39,9 +40,16 @@ pub(crate) struct ConvertArgs {
     /// Multiply every length, OFFSETs and position channels (applied third).
     #[arg(long, allow_negative_numbers = true)]
     scale: Option<f32>,
-    /// Turn the take to this up axis from its own, as `info` guesses it (fourth).
-    #[arg(long, value_enum)]
+    /// The axis the file stands along, over the guess, as `info --up` reads it: y, z, x, -y,
+    /// -z or -x (the last four turn the take to stand along y as it is read, said). To turn
+    /// the take, --out-up.
+    #[arg(long, value_enum, allow_hyphen_values = true)]
     up: Option<UpArg>,
+    /// Turn the take to stand along this axis from its own (as `info` reads it, or --up says
+    /// it): y or z fourth, before the edits that stand on the floor; x, -y, -z or -x last,
+    /// after every other edit. FBX is written y up and AMASS z up whatever the take.
+    #[arg(long, value_enum, allow_hyphen_values = true)]
+    out_up: Option<UpArg>,
     /// The mirror image across the body's middle (fifth): left and right joints swap their
     /// motion, every name and the skeleton's layout kept.
     #[arg(long)]
@@ -130,7 +138,8 @@ pub(crate) struct ConvertArgs {
     output: PathBuf,
 }
 
-pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
+pub(crate) fn run(mut args: ConvertArgs) -> Result<ExitCode, Error> {
+    args.source.up = args.up.map(Into::into);
     if !is_stdio(&args.input) && args.input.is_dir() {
         return run_folder(&args);
     }
@@ -160,6 +169,7 @@ pub(crate) fn run(args: ConvertArgs) -> Result<ExitCode, Error> {
     let format = args.to.unwrap_or(format);
     check_options(&args, format)?;
     let loaded = load_with_threads(&args.input, &args.source, threads(&args))?;
+    say_up_is_the_files(&args, &loaded);
     for warning in &loaded.warnings {
         eprintln!(
             "bvhview: {}: warning: {}",
@@ -427,6 +437,20 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
         }
         _ => {}
     }
+    // FBX states Y up and AMASS is Z up: their writers turn the take to it.
+    let own_axis = match format {
+        TakeFormat::Fbx => Some(("y", UpArg::Y, "FBX")),
+        TakeFormat::Amass => Some(("z", UpArg::Z, "AMASS .npz")),
+        _ => None,
+    };
+    if let (Some(out_up), Some((name, axis, what))) = (args.out_up, own_axis)
+        && out_up != axis
+    {
+        return Err(Error::usage(format!(
+            "--out-up {}: {what} is written {name} up whatever the take (its writer turns it)",
+            crate::model::pose::UpAxis::from(out_up)
+        )));
+    }
     if let Some(fps) = args.fps {
         crate::limits::fps(fps, false)?;
     }
@@ -440,8 +464,33 @@ fn check_options(args: &ConvertArgs, format: TakeFormat) -> Result<(), Error> {
     Ok(())
 }
 
-/// The edits, in this order: trim, smooth, resample, scale, up axis, mirror, lock feet, in
-/// place, ground.
+/// `convert --up` says what the file is, as every command's `--up` does; before, it turned the
+/// take. Where the axis given is not the one the motion reads, say how to turn it.
+fn say_up_is_the_files(args: &ConvertArgs, loaded: &Take) {
+    let Some(given) = args.up.map(UpAxis::from).and_then(UpAxis::standing) else {
+        return;
+    };
+    let guessed = crate::model::stance::Stance::guess(
+        &loaded.skeleton,
+        &loaded.motion,
+        OffsetMode::Replace,
+        None,
+    );
+    if guessed.up != given {
+        super::note(format_args!(
+            "{}: --up {} says the file stands along {} (its motion reads {}); --out-up {} \
+             turns a take",
+            args.input.display(),
+            UpAxis::from(given),
+            UpAxis::from(given),
+            UpAxis::from(guessed.up),
+            UpAxis::from(given),
+        ));
+    }
+}
+
+/// The edits, in this order: trim, smooth, resample, scale, up axis (y or z), mirror, lock
+/// feet, in place, ground, rest, layout, names, onto; an up axis other than y or z last.
 fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take, Error> {
     let before = loaded.skeleton.clone();
     if let Some(frames) = &args.frames {
@@ -472,10 +521,9 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
         loaded.stated_units = None;
         loaded.units_given = false;
     }
-    // The take's up axis as guessed from its motion (scaling changes no axis).
+    // The take's up axis as guessed from its motion or given (scaling changes no axis).
     let mut up = loaded.stance(OffsetMode::Replace).up;
-    if let Some(target) = args.up {
-        let target = target.into();
+    if let Some(target) = args.out_up.and_then(|axis| UpAxis::from(axis).standing()) {
         (loaded.skeleton, loaded.motion) =
             crate::edit::reorient(&loaded.skeleton, &loaded.motion, up, target)?;
         up = target;
@@ -575,6 +623,13 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
         put.stated_up = None;
         put.body = body;
         loaded = put;
+    }
+    // A turn to an axis the stances do not stand along comes after every edit that stands on
+    // the floor (each turns with the take, so the order changes nothing else).
+    if let Some(target) = args.out_up.map(UpAxis::from).filter(|a| a.standing().is_none()) {
+        (loaded.skeleton, loaded.motion) =
+            crate::edit::reorient(&loaded.skeleton, &loaded.motion, up, target)?;
+        loaded.stated_up = None;
     }
     if let Some(units) = args.out_units.filter(|_| in_out_units) {
         loaded = super::in_units(&args.input.display().to_string(), loaded, units)?;
@@ -852,6 +907,8 @@ fn convert_one(
         max_size: Some(args.source.max_size),
         threads: Some(1),
         body_model: args.source.body_model.clone(),
+        units: args.source.units,
+        up: args.source.up,
         ..Default::default()
     };
     let result = take::load_take(&item.path, &options).and_then(|loaded| {

@@ -60,8 +60,13 @@ pub(crate) struct DatasetArgs {
     units: Option<crate::model::stance::Units>,
     /// The axis every take stands along, over the guess (the manifest records that it was
     /// given).
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, allow_hyphen_values = true)]
     up: Option<super::UpArg>,
+    /// The units every length is written in: mm, cm, m, in, ft, or metres per unit (default
+    /// metres; the manifest records them). Contact thresholds and metrics stay in metres;
+    /// `--features humanml3d` is metres by its definition.
+    #[arg(long, value_name = "UNITS", value_parser = super::convert::parse_units)]
+    out_units: Option<crate::model::stance::Units>,
     /// Retarget every take onto this skeleton first (a file, or the built-in `smpl22`), so that
     /// the folder makes one group; takes whose map misses a required role are skipped.
     #[arg(long, value_name = "TARGET")]
@@ -161,6 +166,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
             .transpose()?,
         any_body: args.any_body,
         force: args.force,
+        out_units: args.out_units,
     };
     // Options are checked before the folder is read (`Writer::create` checks them again).
     options.check()?;

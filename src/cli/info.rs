@@ -21,7 +21,7 @@ pub(crate) struct InfoArgs {
     #[arg(long, value_enum, default_value_t)]
     offset_mode: OffsetModeArg,
     /// The axis the take stands along, over the guess (`info` then says it was given).
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, allow_hyphen_values = true)]
     up: Option<super::UpArg>,
     /// List the built-in skeletons (each one a take every command reads by its name, such as
     /// `bvhview info smpl22`): joints, units and where it comes from.

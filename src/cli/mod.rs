@@ -120,11 +120,11 @@ pub(crate) struct Source {
     /// retarget scale).
     #[arg(long, value_name = "UNITS", value_parser = convert::parse_units)]
     units: Option<crate::model::stance::Units>,
-    /// The axis the take stands along, over the guess: set by `info --up` (and `dataset
-    /// --up`, through its options); the window's and `snapshot`'s `--up` is their view's,
-    /// `convert`'s the axis to turn the take to.
+    /// The axis the take stands along, over the guess: set from each command's own `--up`
+    /// (the window's and `snapshot`'s set it only for an axis the take is turned from, x, -x,
+    /// -y or -z; y and z are their view's).
     #[arg(skip)]
-    up: Option<crate::model::pose::Up>,
+    up: Option<crate::model::pose::UpAxis>,
     /// The SMPL-family model file an AMASS take's body is read with (an .npz, or a folder with
     /// one per gender): the joints of the file's betas, not bvhview's built-in figure's
     /// lengths; as --character, its mesh.
@@ -231,7 +231,7 @@ pub(crate) struct View {
     offset_mode: OffsetModeArg,
     /// The file's up axis (default: guessed from the motion in a framed or studio view, as
     /// written in the article's view; `info` prints the guess).
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, allow_hyphen_values = true)]
     up: Option<UpArg>,
     /// With several files, keep each at its true size (lengths converted by the units guessed
     /// for each); by default they are scaled to the first one's height.
@@ -257,21 +257,54 @@ pub(crate) fn style_for(style: Option<StyleArg>, look: LookArg) -> Style {
     }
 }
 
-/// `--up`.
-#[derive(Clone, Copy, Debug, ValueEnum)]
+/// `--up`: the axis a file stands along.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub(crate) enum UpArg {
     /// Y up, as BVH files usually are (the article draws every file this way).
     Y,
     /// Z up (MakeHuman's files, for example).
     Z,
+    /// X up: the take is turned to stand along y as it is read (said).
+    X,
+    /// −Y up (a camera's image axes): turned to y as it is read (said).
+    #[value(name = "-y")]
+    NegY,
+    /// −Z up: turned to y as it is read (said).
+    #[value(name = "-z")]
+    NegZ,
+    /// −X up: turned to y as it is read (said).
+    #[value(name = "-x")]
+    NegX,
 }
 
-impl From<UpArg> for Up {
-    fn from(arg: UpArg) -> Up {
+impl From<UpArg> for crate::model::pose::UpAxis {
+    fn from(arg: UpArg) -> crate::model::pose::UpAxis {
+        use crate::model::pose::UpAxis;
         match arg {
-            UpArg::Y => Up::Y,
-            UpArg::Z => Up::Z,
+            UpArg::Y => UpAxis::Y,
+            UpArg::Z => UpAxis::Z,
+            UpArg::X => UpAxis::X,
+            UpArg::NegY => UpAxis::NegY,
+            UpArg::NegZ => UpAxis::NegZ,
+            UpArg::NegX => UpAxis::NegX,
         }
+    }
+}
+
+impl UpArg {
+    /// The axis a view stands the take along once it is read: y or z as given; y for the
+    /// four a take is turned from as it is read ([`UpArg::turned_when_read`]).
+    pub(crate) fn view(self) -> Up {
+        crate::model::pose::UpAxis::from(self)
+            .standing()
+            .unwrap_or(Up::Y)
+    }
+
+    /// The axis a view's `--up` has the take turned from as it is read: x, -x, -y or -z
+    /// (y and z are drawn by turning the view, the take kept as written).
+    pub(crate) fn turned_when_read(up: Option<UpArg>) -> Option<crate::model::pose::UpAxis> {
+        up.map(crate::model::pose::UpAxis::from)
+            .filter(|axis| axis.standing().is_none())
     }
 }
 
@@ -286,7 +319,7 @@ pub(crate) fn resolve_up(
     framed: bool,
 ) -> Up {
     if let Some(arg) = arg {
-        return arg.into();
+        return arg.view();
     }
     if stance.up == Up::Z {
         if framed {

@@ -37,6 +37,11 @@ pub(crate) struct PositionsArgs {
     file: PathBuf,
     #[command(flatten)]
     source: Source,
+    /// The axis the take stands along, over the guess (as `info --up`): positions are written
+    /// in the file's own axes for y and z; x, -y, -z and -x turn the take to stand along y as
+    /// it is read (said), so the positions come out y up.
+    #[arg(long, value_enum, allow_hyphen_values = true)]
+    up: Option<super::UpArg>,
     /// Frames to write: N, A..B (B excluded), A..=B, A.. or ..B (default: all).
     #[arg(long)]
     frames: Option<String>,
@@ -79,6 +84,7 @@ pub(crate) struct PositionsArgs {
 }
 
 pub(crate) fn run(mut args: PositionsArgs) -> Result<ExitCode, Error> {
+    args.source.up = args.up.map(Into::into);
     // `-o -` is standard output, as no -o is.
     if args.output.as_deref().is_some_and(is_stdio) {
         args.output = None;

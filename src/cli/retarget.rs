@@ -15,7 +15,7 @@ pub(crate) struct RetargetArgs {
     #[command(flatten)]
     source: Source,
     /// The axis the take stands along, over the guess (the retarget turns it up by it).
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, allow_hyphen_values = true)]
     up: Option<super::UpArg>,
     /// The skeleton to put it on: a .bvh, .fbx, .gltf, .glb or .asf file (its motion is not used), or a built-in
     /// skeleton: `smpl22` (the 22 SMPL body joints of HumanML3D and most motion models).

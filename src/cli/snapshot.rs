@@ -134,7 +134,8 @@ struct Prepared {
     stance: crate::model::stance::Stance,
 }
 
-pub(crate) fn run(args: SnapshotArgs) -> Result<ExitCode, Error> {
+pub(crate) fn run(mut args: SnapshotArgs) -> Result<ExitCode, Error> {
+    args.source.up = super::UpArg::turned_when_read(args.view.up);
     let animated = animation::AnimationFormat::of(&args.output);
     check_options(&args, animated)?;
     let files = paired_takes(&args.files, &args.source)?;

@@ -3,7 +3,6 @@
 
 use super::{UpArg, check_output, note, parse_max_size};
 use crate::io::error::Error;
-use crate::model::pose::Up;
 use crate::retarget::Target;
 use clap::Args;
 use std::path::PathBuf;
@@ -45,7 +44,7 @@ pub(crate) struct SolveArgs {
     #[arg(long)]
     fps: f64,
     /// The positions' up axis, when it is not the skeleton's (HumanML3D's is y).
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, allow_hyphen_values = true)]
     up: Option<UpArg>,
     /// Smooth jittery positions (a pose estimator's): a zero-phase low-pass at this cutoff in
     /// Hz on the solved root path and rotations, as `convert --smooth`.
@@ -136,10 +135,9 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
                 args.max_size,
             )?;
             let shown = args.input.display().to_string();
-            let up_given = args.up.map(|up| match Up::from(up) {
-                Up::Y => glam::DVec3::Y,
-                Up::Z => glam::DVec3::Z,
-            });
+            let up_given = args
+                .up
+                .map(|up| crate::model::pose::UpAxis::from(up).vector().as_dvec3());
             let placed =
                 crate::solve::layouts::to_smpl(&keypoints, args.min_confidence, up_given, &shown)?;
             for line in &placed.said {
@@ -207,9 +205,9 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
                     unused.join(", ")
                 ));
             }
-            (renamed, Some(Up::Y))
+            (renamed, Some(crate::model::pose::UpAxis::Y))
         }
-        None => (positions, args.up.map(Up::from)),
+        None => (positions, args.up.map(Into::into)),
     };
     // What is printed is measured on what is written: after --smooth, and said where
     // smoothing made a figure worse.

@@ -53,7 +53,8 @@ enum NumbersArg {
     Apitrace,
 }
 
-pub(crate) fn run(args: TraceArgs) -> Result<ExitCode, Error> {
+pub(crate) fn run(mut args: TraceArgs) -> Result<ExitCode, Error> {
+    args.source.up = super::UpArg::turned_when_read(args.view.up);
     use crate::render::scene::{self, Scene};
     use crate::render::trace::{Language, Numbers, Recorder};
     let language = match args.lang {

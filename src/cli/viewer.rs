@@ -7,7 +7,6 @@ use super::{
 };
 use crate::io::error::Error;
 #[cfg(feature = "window")]
-use crate::model::pose::Up;
 use clap::Args;
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -73,7 +72,7 @@ pub(crate) struct ViewerArgs {
     true_scale: bool,
     /// The file's up axis (default: guessed from the motion in a framed or studio view, as
     /// written in the article's view; `info` prints the guess).
-    #[arg(long, value_enum)]
+    #[arg(long, value_enum, allow_hyphen_values = true)]
     up: Option<UpArg>,
     /// Record what the window shows into this .mp4 from the start, at the take's rate (at most
     /// 60 frames a second); M stops and writes it (so does closing the window), M again starts
@@ -118,6 +117,8 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
     }
     // Say there is no display before loading anything.
     crate::render::window::check_environment(crate::render::window::VIEWER_OFFSCREEN)?;
+    let mut source = source;
+    source.up = UpArg::turned_when_read(up);
     let files = paired_takes(&files, &source)?;
     let offset_mode = offset_mode.into();
     let mut takes = Vec::with_capacity(files.len().max(1));
@@ -126,9 +127,9 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
         let stance = loaded.stance(offset_mode);
         resolve_up(up, &stance, &name, look == LookArg::Studio);
         takes.push(ViewerTake {
-            up: up.map_or(stance.up, Up::from),
+            up: up.map_or(stance.up, UpArg::view),
             stance,
-            up_asked: up.map(Up::from),
+            up_asked: up.map(UpArg::view),
             name,
             source: None,
             loaded,
@@ -144,6 +145,8 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
             take: source.take.clone(),
             insist: insisting.insist(),
             body_model: source.body_model.clone(),
+            units: source.units,
+            up: source.up,
         };
         let mut take = ViewerTake::from_source(take_source, offset_mode, &super::Flags)?;
         let name = path.display().to_string();
@@ -152,8 +155,8 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
             warn_offset_mode(&take.loaded, offset_mode, &name);
         }
         resolve_up(up, &take.stance, &name, look == LookArg::Studio);
-        take.up = up.map_or(take.stance.up, Up::from);
-        take.up_asked = up.map(Up::from);
+        take.up = up.map_or(take.stance.up, UpArg::view);
+        take.up_asked = up.map(UpArg::view);
         takes.push(take);
     }
     let characters = super::character::load_all(&character, takes.len(), &source)?;

@@ -46,8 +46,16 @@ pub(super) fn open_manifest(path: &Path) -> Result<(File, Manifest), Error> {
 pub(super) fn check_settings(manifest: &Manifest) -> Result<Options, String> {
     let options = manifest.options.options().map_err(|e| e.to_string())?;
     crate::limits::fps(options.fps, false).map_err(|e| e.to_string())?;
-    if manifest.options.up != "y" || manifest.options.units != "metres" {
-        return Err("the manifest's up axis or units are not bvhview's (y, metres)".to_string());
+    let units = &manifest.options;
+    let metres = units.metres_per_unit;
+    let units_read = (1e-9..=1e3).contains(&metres)
+        && crate::model::stance::Units::of_metres(metres).name == units.units;
+    if manifest.options.up != "y" || !units_read {
+        return Err(format!(
+            "the manifest's up axis or units are not bvhview's (y; metres, or units and their \
+             metres_per_unit): {} and {} ({metres} m)",
+            units.up, units.units
+        ));
     }
     let takes = &manifest.takes;
     if takes

@@ -102,8 +102,13 @@ pub struct Settings {
     pub floor_window_s: f64,
     /// The up axis of the arrays: `y`.
     pub up: String,
-    /// The units of the arrays' lengths: `metres`.
+    /// The units of the arrays' lengths: `metres`, or those `--out-units` named
+    /// (`centimetres`).
     pub units: String,
+    /// Metres per unit of the arrays' lengths (`--out-units`); absent for metres, as in older
+    /// manifests.
+    #[serde(default = "one_metre", skip_serializing_if = "is_one_metre")]
+    pub metres_per_unit: f32,
     /// Each clip's lowest foot point put on y = 0 (`--ground`); absent in older manifests.
     #[serde(default)]
     pub ground: bool,
@@ -128,6 +133,14 @@ pub struct Settings {
     pub features: String,
 }
 
+fn one_metre() -> f32 {
+    1.0
+}
+
+fn is_one_metre(metres: &f32) -> bool {
+    *metres == 1.0
+}
+
 fn arrays() -> String {
     FeatureSet::Arrays.name().to_string()
 }
@@ -147,7 +160,8 @@ impl Settings {
             contact_speed_m_per_s: options.contact_speed,
             floor_window_s: crate::model::body::contact::Planting::default().window,
             up: "y".to_string(),
-            units: "metres".to_string(),
+            units: options.out_units.map_or("metres", |u| u.name).to_string(),
+            metres_per_unit: options.out_units.map_or(1.0, |u| u.metres),
             ground: options.ground,
             quat_continuous: options.quat_continuous,
             onto: options.onto.as_ref().map(|target| target.name.clone()),
@@ -178,6 +192,8 @@ impl Settings {
             quat_continuous: self.quat_continuous,
             lock_feet: self.lock_feet,
             map: self.map.clone(),
+            out_units: (self.metres_per_unit != 1.0)
+                .then(|| crate::model::stance::Units::of_metres(self.metres_per_unit)),
             features: FeatureSet::parse(&self.features).ok_or_else(|| {
                 Error::usage(format!(
                     "features {:?}: not a set bvhview writes (arrays, humanml3d)",

@@ -181,7 +181,7 @@ fn load_checked(item: &Item, options: &Options) -> Result<crate::take::Take, Err
         loaded.units_given = true;
     }
     if let Some(up) = stated.up.filter(|_| options.up.is_none()) {
-        loaded.stated_up = Some(up);
+        loaded.stand_along(up)?;
     }
     let frame_time = loaded.motion.frame_time;
     if !(frame_time > 0.0 && frame_time.is_finite()) {
@@ -446,7 +446,7 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
         retarget_check: take.check.clone(),
         metrics,
     };
-    Clip {
+    let clip = Clip {
         about,
         topology,
         frames,
@@ -463,7 +463,32 @@ fn finish(dir: &Path, item: &Item, options: &Options, take: Prepared, posed: Pos
             .collect(),
         skeleton: Some(skeleton),
         humanml3d: None,
+    };
+    match options.out_units {
+        Some(units) if units.metres != 1.0 => in_out_units(clip, units),
+        _ => clip,
     }
+}
+
+/// The clip's lengths from metres into `units` (`--out-units`): every position, translation,
+/// velocity and OFFSET, and its skeleton's; contacts and metrics were measured in metres before.
+fn in_out_units(mut clip: Clip, units: crate::model::stance::Units) -> Clip {
+    let per_metre = (1.0 / f64::from(units.metres)) as f32;
+    for lengths in [
+        &mut clip.positions,
+        &mut clip.translations,
+        &mut clip.root_translations,
+        &mut clip.velocities,
+        &mut clip.rest_offsets,
+    ] {
+        lengths.iter_mut().for_each(|v| *v *= per_metre);
+    }
+    if let Some(skeleton) = &mut clip.skeleton {
+        for joint in &mut skeleton.joints {
+            joint.offset *= per_metre;
+        }
+    }
+    clip
 }
 
 /// The clip's plausibility as written (`world`: its points, metres, y up, `frame_time` apart),

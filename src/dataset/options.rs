@@ -78,7 +78,12 @@ pub struct Options {
     pub units: Option<crate::model::stance::Units>,
     /// The axis every take stands along, over the guess (`--up`); the manifest says each
     /// clip's up axis was given.
-    pub up: Option<crate::model::pose::Up>,
+    pub up: Option<crate::model::pose::UpAxis>,
+    /// The units every length is written in (`--out-units`): positions, translations,
+    /// velocities, OFFSETs and each group's `skeleton.bvh`; `None`: metres. The contact
+    /// thresholds and the clips' metrics stay in metres. HumanML3D's vectors are metres by
+    /// their definition.
+    pub out_units: Option<crate::model::stance::Units>,
 }
 
 /// What each take of a dataset is written as (`--features`).
@@ -139,6 +144,7 @@ impl Default for Options {
             force: false,
             units: None,
             up: None,
+            out_units: None,
         }
     }
 }
@@ -158,6 +164,16 @@ impl Options {
                 ))
             }
         };
+        if let Some(units) = self.out_units
+            && units.metres != 1.0
+            && self.features == FeatureSet::HumanMl3d
+        {
+            return Err(Error::usage(
+                Message::from("`")
+                    .argument("out_units", Some(units.name))
+                    .text("`: HumanML3D's vectors are in metres by their definition"),
+            ));
+        }
         positive("contact_height", self.contact_height)?;
         positive("contact_speed", self.contact_speed)?;
         if !self.map.is_empty() && self.onto.is_none() {

@@ -6,6 +6,7 @@ use crate::io::error::Error;
 use crate::io::message::Message;
 use crate::model::euler;
 use crate::model::motion::Motion;
+use crate::model::pose::UpAxis;
 use crate::model::skeleton::Skeleton;
 use glam::Quat;
 
@@ -133,10 +134,11 @@ pub struct QuarterTurn {
 }
 
 impl QuarterTurn {
-    /// The turn that takes a take standing along `from` to one standing along `to`.
-    pub fn between(from: crate::model::pose::Up, to: crate::model::pose::Up) -> QuarterTurn {
+    /// The turn that takes a take standing along `from` to one standing along `to` (either
+    /// an [`Up`](crate::model::pose::Up) or any signed [`UpAxis`]).
+    pub fn between(from: impl Into<UpAxis>, to: impl Into<UpAxis>) -> QuarterTurn {
         // Into Y-up from `from`, then out of Y-up into `to`.
-        let turn = to.to_y_up().inverse() * from.to_y_up();
+        let turn = to.into().to_y_up().inverse() * from.into().to_y_up();
         let axes = glam::Mat3::from_quat(turn)
             .to_cols_array_2d()
             .map(|c| c.map(f32::round));
@@ -171,9 +173,10 @@ impl QuarterTurn {
 pub fn reorient(
     skeleton: &Skeleton,
     motion: &Motion,
-    from: crate::model::pose::Up,
-    to: crate::model::pose::Up,
+    from: impl Into<UpAxis>,
+    to: impl Into<UpAxis>,
 ) -> Result<(Skeleton, Motion), Error> {
+    let (from, to) = (from.into(), to.into());
     if from == to {
         return Ok((skeleton.clone(), motion.clone()));
     }
@@ -181,7 +184,7 @@ pub fn reorient(
     let (turn, exactly) = (quarter.turn, |v| quarter.apply(v));
     let mut turned = skeleton.clone();
     // Turned, it no longer stands the way its file stated.
-    turned.y_up_stated = skeleton.y_up_stated && to == crate::model::pose::Up::Y;
+    turned.y_up_stated = skeleton.y_up_stated && to == UpAxis::Y;
     for joint in &mut turned.joints {
         joint.offset = exactly(joint.offset);
         let positions = joint.channels.iter().filter(|c| c.is_position()).count();

@@ -47,7 +47,7 @@ pub struct MapPairs {
 /// let (fingerprint, stated) = &map.stated[0];
 /// assert_eq!(fingerprint, "c57cd18da1dc");
 /// assert_eq!(stated.units.unwrap().name, "centimetres");
-/// assert_eq!(stated.up, Some(bvhview::model::pose::Up::Z));
+/// assert_eq!(stated.up, Some(bvhview::model::pose::UpAxis::Z));
 /// # Ok(())
 /// # }
 /// ```
@@ -56,7 +56,7 @@ pub struct Stated {
     /// The units its lengths are in.
     pub units: Option<crate::model::stance::Units>,
     /// The axis it stands along.
-    pub up: Option<crate::model::pose::Up>,
+    pub up: Option<crate::model::pose::UpAxis>,
 }
 
 impl MapPairs {
@@ -307,11 +307,9 @@ fn stated_of(fields: &[(String, String)]) -> Result<Stated, String> {
                     })?);
             }
             "up" => {
-                stated.up = Some(match value.as_str() {
-                    "y" => crate::model::pose::Up::Y,
-                    "z" => crate::model::pose::Up::Z,
-                    other => return Err(format!("up {}: expected y or z", quoted(other))),
-                });
+                stated.up = Some(value.parse().map_err(|_| {
+                    format!("up {}: expected y, z, x, -y, -z or -x", quoted(value))
+                })?);
             }
             other => {
                 return Err(format!(

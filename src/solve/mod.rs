@@ -33,7 +33,7 @@ use crate::io::error::Error;
 use crate::io::message::Message;
 use crate::model::body::Body;
 use crate::model::motion::Motion;
-use crate::model::pose::{OffsetMode, Up, world_transforms_f64};
+use crate::model::pose::{OffsetMode, Up, UpAxis, world_transforms_f64};
 use crate::model::skeleton::Skeleton;
 use glam::{DQuat, DVec3};
 
@@ -154,7 +154,7 @@ impl Solved {
         skeleton: &Skeleton,
         skeleton_up: Up,
         positions: &Positions,
-        up: Option<Up>,
+        up: Option<UpAxis>,
         motion: &Motion,
     ) -> Solved {
         let count = skeleton.joints.len();
@@ -347,7 +347,7 @@ pub fn solve(
     skeleton: &Skeleton,
     skeleton_up: Up,
     positions: &Positions,
-    up: Option<Up>,
+    up: Option<UpAxis>,
 ) -> Result<(Motion, Solved), Error> {
     let (data_of, unmatched) = matched_points(skeleton, positions)?;
     let mut rest = Vec::new();
@@ -854,7 +854,7 @@ pub fn solve_smoothed(
     skeleton: &Skeleton,
     skeleton_up: Up,
     positions: &Positions,
-    up: Option<Up>,
+    up: Option<UpAxis>,
     smooth: Option<f64>,
 ) -> Result<(Motion, Solved, Option<String>), Error> {
     let (motion, solved) = solve(skeleton, skeleton_up, positions, up)?;
@@ -913,9 +913,9 @@ fn match_points(
 }
 
 /// The turn that brings positions standing along `up` to the skeleton's `skeleton_up`.
-fn up_turn(skeleton_up: Up, up: Option<Up>) -> DQuat {
+fn up_turn(skeleton_up: Up, up: Option<UpAxis>) -> DQuat {
     match up {
-        Some(up) if up != skeleton_up => {
+        Some(up) if up != UpAxis::from(skeleton_up) => {
             skeleton_up.to_y_up().as_dquat().inverse() * up.to_y_up().as_dquat()
         }
         _ => DQuat::IDENTITY,

@@ -466,6 +466,53 @@ impl Take {
         )
     }
 
+    /// The caller's word on the axis the take stands along, over the guess (`--up`, `up=`):
+    /// along +y or +z it is kept as stated ([`Take::stated_up`]); along x, −x, −y or −z the
+    /// take is turned exactly to stand along +y ([`crate::edit::reorient`]: every OFFSET and
+    /// position moved to the turned axes, every rotation Q·R·Q⁻¹ in its joint's order) and a
+    /// warning says so, for bvhview's stances stand along y or z. A joint whose channels
+    /// cannot be turned (two position channels) refuses it by name.
+    ///
+    /// ```
+    /// use bvhview::{OpenOptions, Take};
+    /// use bvhview::model::pose::{OffsetMode, Up, UpAxis};
+    ///
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// let walk = Take::open("tests/data/bvh/makehuman_walk1.bvh")?; // stands along +z
+    /// let mut upside_down = walk.clone();
+    /// upside_down.stand_along(UpAxis::NegZ)?;
+    /// let stance = upside_down.stance(OffsetMode::Replace);
+    /// assert!(stance.up_given && stance.up == Up::Y);
+    /// // Stood on its head: the feet are now above the hips.
+    /// let joint = |name: &str| upside_down.skeleton.joints.iter().position(|j| j.name == name);
+    /// let p = upside_down.positions(0).unwrap();
+    /// assert!(p[joint("Foot_L").unwrap()].y > p[joint("Root").unwrap()].y);
+    /// assert!(upside_down.warnings.iter().any(|w| w.to_string().contains("turned")));
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn stand_along(&mut self, axis: crate::model::pose::UpAxis) -> Result<(), Error> {
+        use crate::model::pose::{Up, UpAxis};
+        if let Some(up) = axis.standing() {
+            self.stated_up = Some(up);
+            return Ok(());
+        }
+        let (skeleton, motion) =
+            crate::edit::reorient(&self.skeleton, &self.motion, axis, UpAxis::Y)?;
+        self.skeleton = skeleton;
+        self.motion = motion;
+        self.stated_up = Some(Up::Y);
+        self.warnings.push(
+            Message::of_argument("up", Some(&axis.to_string())).text(format!(
+                ": turned to stand along +y as it was read ({} about {}), every position and \
+                 rotation with it: bvhview stands takes along y or z",
+                if axis == UpAxis::NegY { "a half turn" } else { "a quarter turn" },
+                if matches!(axis, UpAxis::X | UpAxis::NegX) { "z" } else { "x" },
+            )),
+        );
+        Ok(())
+    }
+
     /// The take with `skeleton` and `motion` from an edit: the same name, format and warnings;
     /// the units a file stated kept only when the edit kept every length.
     pub fn edited(&self, skeleton: Skeleton, motion: Motion, same_lengths: bool) -> Take {
@@ -560,7 +607,7 @@ impl OpenOptions {
     /// # }
     /// ```
     pub fn open_bytes(&self, bytes: &[u8], name: &str) -> Result<Take, Error> {
-        let mut take = give_units(self, load_bytes(bytes, name, self)?);
+        let mut take = give_units(self, load_bytes(bytes, name, self)?)?;
         take.offset_mode = self.offset_mode.unwrap_or(OffsetMode::Replace);
         Ok(take)
     }
@@ -621,19 +668,19 @@ pub fn takes(path: &Path, max_size: u64) -> Result<Vec<crate::model::reading::Ta
 
 /// [`OpenOptions::open`]: the reader of the format `path`'s extension names.
 pub(crate) fn load_take(path: &Path, options: &OpenOptions) -> Result<Take, Error> {
-    Ok(give_units(options, load_take_as_written(path, options)?))
+    give_units(options, load_take_as_written(path, options)?)
 }
 
-/// `take` with the units `options` give, if any, over its own.
-fn give_units(options: &OpenOptions, mut take: Take) -> Take {
+/// `take` with the units and up axis `options` give, if any, over its own.
+fn give_units(options: &OpenOptions, mut take: Take) -> Result<Take, Error> {
     if let Some(units) = options.units {
         take.stated_units = Some(units);
         take.units_given = true;
     }
-    if options.up.is_some() {
-        take.stated_up = options.up;
+    if let Some(axis) = options.up {
+        take.stand_along(axis)?;
     }
-    take
+    Ok(take)
 }
 
 /// [`load_take`] before the units the options give.

@@ -32,7 +32,7 @@ pub struct OpenOptions {
     pub(crate) offset_mode: Option<OffsetMode>,
     pub(crate) format: Option<Format>,
     pub(crate) units: Option<crate::model::stance::Units>,
-    pub(crate) up: Option<crate::model::pose::Up>,
+    pub(crate) up: Option<crate::model::pose::UpAxis>,
     pub(crate) body_model: Option<std::path::PathBuf>,
     pub(crate) betas: Option<Vec<f64>>,
 }
@@ -137,8 +137,12 @@ impl OpenOptions {
     /// # Ok(())
     /// # }
     /// ```
-    pub fn up(mut self, up: crate::model::pose::Up) -> OpenOptions {
-        self.up = Some(up);
+    ///
+    /// Any signed axis may be given ([`UpAxis`](crate::model::pose::UpAxis)): a take stated
+    /// to stand along x, −x, −y or −z is turned to stand along +y as it is read
+    /// ([`Take::stand_along`](crate::Take::stand_along)).
+    pub fn up(mut self, up: impl Into<crate::model::pose::UpAxis>) -> OpenOptions {
+        self.up = Some(up.into());
         self
     }
 

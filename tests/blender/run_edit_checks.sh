@@ -37,11 +37,11 @@ walk=$D/makehuman_walk1.bvh
 "$B" convert -q "$free" --scale 1.7 -o "$W/free_scale.bvh"
 check pass "$free" "$W/free_scale.bvh" scale 1.7
 check fail "$free" "$W/free_scale.bvh" scale 1.69
-"$B" convert -q "$free" --up z -o "$W/free_up_z.bvh"
+"$B" convert -q "$free" --out-up z -o "$W/free_up_z.bvh"
 check pass "$free" "$W/free_up_z.bvh" up-z
-"$B" convert -q "$run" --up z -o "$W/run_up_z.bvh"
+"$B" convert -q "$run" --out-up z -o "$W/run_up_z.bvh"
 check pass "$run" "$W/run_up_z.bvh" up-z
-"$B" convert -q "$walk" --up y -o "$W/walk_up_y.bvh"
+"$B" convert -q "$walk" --out-up y -o "$W/walk_up_y.bvh"
 check pass "$walk" "$W/walk_up_y.bvh" up-y
 check fail "$walk" "$W/walk_up_y.bvh" up-z
 "$B" convert -q "$run" --frames 5..20 -o "$W/run_frames.bvh"

@@ -158,7 +158,7 @@ fn every_take_of_the_corpus_converts_to_bvh_as_it_converts_alone() {
 #[cfg(all(feature = "fbx", feature = "gltf"))]
 #[test]
 fn every_take_of_the_corpus_converts_to_glb_with_edits_as_it_converts_alone() {
-    folder_equals_takes_alone("glb", &["--fps", "24", "--up", "y"]);
+    folder_equals_takes_alone("glb", &["--fps", "24", "--out-up", "y"]);
 }
 
 #[cfg(all(feature = "fbx", feature = "gltf"))]

@@ -392,7 +392,7 @@ proptest! {
             args.extend(["--scale".into(), format!("{scale:e}")]);
         }
         if let Some(up) = up {
-            args.extend(["--up".into(), up.into()]);
+            args.extend(["--out-up".into(), up.into()]);
         }
         for (flag, on) in [("--mirror", mirror), ("--in-place", in_place), ("--ground", ground)] {
             if on {

@@ -151,7 +151,7 @@ fn convert_edits_up_mirror_in_place_and_ground() {
     };
     let original = bvhview::bvh::load_file(&input, Default::default()).unwrap();
     let mode = bvhview::model::pose::OffsetMode::Replace;
-    let upright = run(&["--up", "y"]);
+    let upright = run(&["--out-up", "y"]);
     assert_eq!(
         bvhview::model::pose::Up::guess(&upright.skeleton),
         bvhview::model::pose::Up::Y
@@ -172,7 +172,7 @@ fn convert_edits_up_mirror_in_place_and_ground() {
             assert!((stand * *b).abs_diff_eq(*a, 1e-4), "frame {frame}: {b} {a}");
         }
     }
-    let edited = run(&["--up", "y", "--mirror", "--in-place", "--ground"]);
+    let edited = run(&["--out-up", "y", "--mirror", "--in-place", "--ground"]);
     let mut lowest = f32::MAX;
     let mut roots = Vec::new();
     for frame in 0..edited.motion.frame_count() {
@@ -201,7 +201,7 @@ fn convert_edits_up_mirror_in_place_and_ground() {
     // `--mirror` swaps the sides' motion and keeps every name; `--mirror-rename` exchanges the
     // names instead.
     assert_eq!(names, original_names);
-    let renamed = run(&["--up", "y", "--mirror-rename"]);
+    let renamed = run(&["--out-up", "y", "--mirror-rename"]);
     let left = original_names
         .iter()
         .position(|n| {

@@ -343,11 +343,11 @@ fn converted_takes_read_back_as_written() {
     std::fs::create_dir_all(&dir).unwrap();
     let walk = Path::new(env!("CARGO_MANIFEST_DIR")).join("assets/walk.bvh");
     for (edits, up, units) in [
-        (&["--up", "z"][..], "z", "centimetres"),
+        (&["--out-up", "z"][..], "z", "centimetres"),
         (&["--scale", "0.01"][..], "y", "metres"),
         (&["--scale", "10"][..], "y", "millimetres"),
         (&["--scale", "0.3937"][..], "y", "inches"),
-        (&["--up", "z", "--scale", "0.1"][..], "z", "decimetres"),
+        (&["--out-up", "z", "--scale", "0.1"][..], "z", "decimetres"),
     ] {
         let out = dir.join("converted.bvh");
         let status = std::process::Command::new(exe)

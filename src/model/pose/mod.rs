@@ -95,6 +95,121 @@ impl Up {
     }
 }
 
+/// An up axis a caller can state: any of the six signed axes. bvhview's stances stand along
+/// +Y or +Z ([`Up`]); a take stated to stand along another is turned exactly to +Y when it
+/// is read ([`crate::Take::stand_along`]), and says so.
+///
+/// ```
+/// use bvhview::model::pose::{Up, UpAxis};
+/// use glam::Vec3;
+///
+/// let axis: UpAxis = "-z".parse().unwrap();
+/// assert_eq!(axis, UpAxis::NegZ);
+/// assert_eq!(axis.standing(), None); // turned to +Y when read
+/// assert_eq!(UpAxis::from(Up::Z).standing(), Some(Up::Z));
+/// assert!((axis.to_y_up() * Vec3::NEG_Z).abs_diff_eq(Vec3::Y, 1e-6));
+/// assert_eq!(axis.to_string(), "-z");
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum UpAxis {
+    /// +X.
+    X,
+    /// −X.
+    NegX,
+    /// +Y: BVH's usual convention.
+    Y,
+    /// −Y (a camera's image axes).
+    NegY,
+    /// +Z, as some exporters write.
+    Z,
+    /// −Z.
+    NegZ,
+}
+
+impl UpAxis {
+    /// Every axis, in the order `--up` lists them.
+    pub const ALL: [UpAxis; 6] = [
+        UpAxis::Y,
+        UpAxis::Z,
+        UpAxis::X,
+        UpAxis::NegY,
+        UpAxis::NegZ,
+        UpAxis::NegX,
+    ];
+
+    /// The stance's own up axis when it is one ([`Up::Y`], [`Up::Z`]); `None` for the four a
+    /// take is turned from.
+    pub fn standing(self) -> Option<Up> {
+        match self {
+            UpAxis::Y => Some(Up::Y),
+            UpAxis::Z => Some(Up::Z),
+            _ => None,
+        }
+    }
+
+    /// The rotation that takes this axis to +Y by a quarter or half turn (about X for ±Z and
+    /// −Y, about Z for ±X), as [`Up::to_y_up`] does for +Z.
+    pub fn to_y_up(self) -> glam::Quat {
+        use std::f32::consts::{FRAC_PI_2, PI};
+        match self {
+            UpAxis::Y => glam::Quat::IDENTITY,
+            UpAxis::Z => glam::Quat::from_rotation_x(-FRAC_PI_2),
+            UpAxis::NegZ => glam::Quat::from_rotation_x(FRAC_PI_2),
+            UpAxis::NegY => glam::Quat::from_rotation_x(PI),
+            UpAxis::X => glam::Quat::from_rotation_z(FRAC_PI_2),
+            UpAxis::NegX => glam::Quat::from_rotation_z(-FRAC_PI_2),
+        }
+    }
+
+    /// The unit vector along the axis.
+    pub fn vector(self) -> Vec3 {
+        match self {
+            UpAxis::X => Vec3::X,
+            UpAxis::NegX => Vec3::NEG_X,
+            UpAxis::Y => Vec3::Y,
+            UpAxis::NegY => Vec3::NEG_Y,
+            UpAxis::Z => Vec3::Z,
+            UpAxis::NegZ => Vec3::NEG_Z,
+        }
+    }
+}
+
+impl From<Up> for UpAxis {
+    fn from(up: Up) -> UpAxis {
+        match up {
+            Up::Y => UpAxis::Y,
+            Up::Z => UpAxis::Z,
+        }
+    }
+}
+
+impl std::fmt::Display for UpAxis {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            UpAxis::X => "x",
+            UpAxis::NegX => "-x",
+            UpAxis::Y => "y",
+            UpAxis::NegY => "-y",
+            UpAxis::Z => "z",
+            UpAxis::NegZ => "-z",
+        })
+    }
+}
+
+impl std::str::FromStr for UpAxis {
+    type Err = String;
+
+    /// `y`, `z`, `x`, `-y`, `-z`, `-x` (a leading `+` and capitals read too).
+    fn from_str(text: &str) -> Result<UpAxis, String> {
+        let lower = text.trim().to_ascii_lowercase();
+        let wanted = lower.strip_prefix('+').unwrap_or(&lower);
+        UpAxis::ALL
+            .into_iter()
+            .find(|axis| axis.to_string() == wanted)
+            .ok_or_else(|| format!("expected an up axis (y, z, x, -y, -z or -x), found '{text}'"))
+    }
+}
+
 /// How near a position channel's values must be to 0 (or to the OFFSET) to count as "written
 /// for the other mode", as a fraction of the OFFSET's length along the channels' axes.
 pub const OTHER_MODE_NEAR: f32 = 0.05;

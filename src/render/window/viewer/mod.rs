@@ -218,6 +218,8 @@ mod tests {
             take: None,
             insist: Default::default(),
             body_model: None,
+            units: None,
+            up: None,
         };
         Viewer::new(
             vec![

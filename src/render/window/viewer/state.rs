@@ -494,6 +494,8 @@ impl Viewer {
             take: None,
             insist: Default::default(),
             body_model: None,
+            units: None,
+            up: None,
         };
         let spelling = self.options.spelling;
         let problems = match ViewerTake::from_source(source, self.options.offset_mode, spelling) {

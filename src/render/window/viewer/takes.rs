@@ -43,6 +43,11 @@ pub struct TakeSource {
     pub insist: crate::retarget::Insist,
     /// The SMPL-family model file an AMASS take's body is read with (`--body-model`).
     pub body_model: Option<PathBuf>,
+    /// The units its lengths are in, over the guess (`--units`).
+    pub units: Option<crate::model::stance::Units>,
+    /// The axis it stands along, over the guess (`--up`): x, -x, -y and -z turn it to y as it
+    /// is read.
+    pub up: Option<crate::model::pose::UpAxis>,
 }
 
 impl TakeSource {
@@ -53,6 +58,8 @@ impl TakeSource {
             frame_time: self.frame_time,
             max_size: Some(self.max_size),
             body_model: self.body_model.clone(),
+            units: self.units,
+            up: self.up,
             ..Default::default()
         };
         crate::take::load_take(&self.path, &options)
