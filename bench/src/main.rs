@@ -336,7 +336,7 @@ fn keypoints(path: &str, rounds: usize) {
                 &take.skeleton,
                 stance.up,
                 &positions,
-                Some(bvhview::model::pose::Up::Y),
+                Some(bvhview::model::pose::UpAxis::Y),
             )
             .expect("solved");
             motion.frame_count()

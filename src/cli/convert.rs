@@ -1,7 +1,6 @@
 //! `bvhview convert`: a take, edited, written as BVH or glTF; or every take under a folder, each
 //! edited and written the same way into a new folder that mirrors it.
 
-use crate::model::pose::UpAxis;
 use super::{
     OffsetModeArg, Prepared, Progress, Source, TakeFormat, UpArg, check_output, finish_write,
     is_stdio, load_with_threads, open_output, write_take, wrote,
@@ -9,6 +8,7 @@ use super::{
 use crate::info::batch::Item;
 use crate::io::error::Error;
 use crate::model::pose::OffsetMode;
+use crate::model::pose::UpAxis;
 use crate::take;
 use crate::take::Take;
 use clap::Args;
@@ -626,7 +626,11 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
     }
     // A turn to an axis the stances do not stand along comes after every edit that stands on
     // the floor (each turns with the take, so the order changes nothing else).
-    if let Some(target) = args.out_up.map(UpAxis::from).filter(|a| a.standing().is_none()) {
+    if let Some(target) = args
+        .out_up
+        .map(UpAxis::from)
+        .filter(|a| a.standing().is_none())
+    {
         (loaded.skeleton, loaded.motion) =
             crate::edit::reorient(&loaded.skeleton, &loaded.motion, up, target)?;
         loaded.stated_up = None;

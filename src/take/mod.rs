@@ -506,8 +506,16 @@ impl Take {
             Message::of_argument("up", Some(&axis.to_string())).text(format!(
                 ": turned to stand along +y as it was read ({} about {}), every position and \
                  rotation with it: bvhview stands takes along y or z",
-                if axis == UpAxis::NegY { "a half turn" } else { "a quarter turn" },
-                if matches!(axis, UpAxis::X | UpAxis::NegX) { "z" } else { "x" },
+                if axis == UpAxis::NegY {
+                    "a half turn"
+                } else {
+                    "a quarter turn"
+                },
+                if matches!(axis, UpAxis::X | UpAxis::NegX) {
+                    "z"
+                } else {
+                    "x"
+                },
             )),
         );
         Ok(())

@@ -1880,7 +1880,8 @@ fn a_map_file_states_each_rigs_units_and_up_axis() {
     ]);
     assert_eq!(out.status.code(), Some(2));
     assert!(
-        String::from_utf8_lossy(&out.stderr).contains("rigs.toml:1:1: up \"w\": expected y or z"),
+        String::from_utf8_lossy(&out.stderr)
+            .contains("rigs.toml:1:1: up \"w\": expected y, z, x, -y, -z or -x"),
         "{out:?}"
     );
     std::fs::remove_dir_all(&folder).unwrap();

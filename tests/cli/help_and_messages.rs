@@ -74,8 +74,9 @@ fn snapshot_and_convert_help_name_every_format_they_write() {
     let convert = help(&["convert", "--help"]);
     assert!(
         convert.contains(
-            "Turn the take to this up axis from its own, as `info` guesses it (fourth)\n"
-        ),
+            "Turn the take to stand along this axis from its own (as `info` reads it, or --up \
+             says it): y or z fourth"
+        ) && convert.contains("The axis the file stands along, over the guess, as `info --up`"),
         "{convert}"
     );
     // `help COMMAND` says the same as `COMMAND --help`.

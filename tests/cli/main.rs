@@ -15,3 +15,4 @@ mod hostile_inputs;
 mod outputs_in_shared_folders;
 mod outputs_manifest;
 mod trace_gl_calls;
+mod up_axes;

@@ -878,3 +878,137 @@ fn takes_without_a_frame_time_or_a_utf8_name_are_skipped_with_the_reason() {
     );
     assert!(reasons[1].contains("is not UTF-8"), "{reasons:?}");
 }
+
+/// `out_units` (`dataset --out-units`): every length of every clip written in those units
+/// (positions, translations, root translations, velocities, OFFSETs and each group's
+/// `skeleton.bvh`) and everything else as in metres (rotations, contacts, the metrics); the
+/// manifest says the units, a merge of pieces in them gives the whole compile's bytes, the
+/// dataset reads back, and HumanML3D's metres are not converted but refused.
+#[test]
+fn out_units_write_every_length_in_them_and_nothing_else_changes() {
+    let temp = tempfile::tempdir().unwrap();
+    let metres = temp.path().join("metres");
+    compile(&metres, &Options::default(), 2);
+    let inches = bvhview::model::stance::Units::named("in").unwrap();
+    let options = Options {
+        out_units: Some(inches),
+        ..Options::default()
+    };
+    let converted = temp.path().join("inches");
+    compile(&converted, &options, 2);
+    let manifest = |out: &Path| read::read_manifest(out).unwrap();
+    let (m, c) = (manifest(&metres), manifest(&converted));
+    assert_eq!(
+        (c.options.units.as_str(), c.options.metres_per_unit),
+        ("inches", 0.0254)
+    );
+    assert_eq!(
+        (m.options.units.as_str(), m.options.metres_per_unit),
+        ("metres", 1.0)
+    );
+    let raw: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(metres.join("manifest.json")).unwrap())
+            .unwrap();
+    let options_written = raw["options"].as_object().unwrap();
+    assert!(
+        !options_written.contains_key("metres_per_unit"),
+        "a metres manifest stays as it was: {options_written:?}"
+    );
+    assert_eq!(m.clips.len(), c.clips.len());
+    let per_inch = (1.0 / 0.0254f64) as f32;
+    let mut compared = 0;
+    for (a, b) in m.clips.iter().zip(&c.clips) {
+        assert_eq!(a.about.metrics, b.about.metrics, "metrics stay in metres");
+        assert_eq!(a.about.source, b.about.source);
+        let name = a.about.source.path.as_str();
+        for array in [
+            "positions",
+            "translations",
+            "root_translations",
+            "velocities",
+        ] {
+            let (before, after) = (
+                clip_rows(&metres, &m, name, array),
+                clip_rows(&converted, &c, name, array),
+            );
+            assert_eq!(before.len(), after.len());
+            for (x, y) in before.iter().zip(&after) {
+                assert_eq!(x * per_inch, *y, "{name} {array}");
+                compared += 1;
+            }
+        }
+        for array in ["rotations", "foot_contacts"] {
+            let group = |man: &store::Manifest, out: &Path, clip: &store::ClipEntry| {
+                let entry = man.groups[clip.group]
+                    .arrays
+                    .iter()
+                    .find(|e| e.name == array)
+                    .unwrap();
+                let npy = read_npy(&out.join(&entry.file));
+                let row = npy.data.len() / npy.shape[0];
+                npy.data[clip.start * row..(clip.start + clip.frames) * row].to_vec()
+            };
+            assert_eq!(
+                group(&m, &metres, a),
+                group(&c, &converted, b),
+                "{name} {array}"
+            );
+        }
+    }
+    assert!(compared > 100_000, "{compared} lengths compared");
+    // Each group's skeleton and rest OFFSETs: in inches.
+    let dataset = read::open(&converted).unwrap();
+    let in_metres = read::open(&metres).unwrap();
+    for k in 0..m.groups.len() {
+        let (a, b) = (in_metres.skeleton(k).unwrap(), dataset.skeleton(k).unwrap());
+        for (p, q) in a.joints.iter().zip(&b.joints) {
+            let wanted = p.offset * per_inch;
+            assert!(
+                (wanted - q.offset).abs().max_element()
+                    <= 1e-4 * wanted.abs().max_element().max(1.0),
+                "{} {:?} {:?}",
+                p.name,
+                wanted,
+                q.offset
+            );
+        }
+        let rest = |out: &Path, man: &store::Manifest| {
+            let name = &man.groups[k].name;
+            read_npy(&out.join(name).join("rest_offsets.npy")).floats()
+        };
+        for (x, y) in rest(&metres, &m).iter().zip(rest(&converted, &c)) {
+            assert_eq!(x * per_inch, y);
+        }
+    }
+    // Pieces in inches merge into the whole compile's bytes.
+    let items = dataset::takes(Path::new(DATA)).unwrap();
+    let mut pieces = Vec::new();
+    for k in 0..2 {
+        let (run, takes) = dataset::piece(Path::new(DATA), items.clone(), k, 2).unwrap();
+        let piece = temp.path().join(format!("piece_{k}"));
+        dataset::compile(
+            Path::new(DATA),
+            run,
+            &options,
+            1,
+            &piece,
+            takes,
+            |_, _, _, _| true,
+        )
+        .unwrap();
+        pieces.push(piece);
+    }
+    let merged = temp.path().join("merged");
+    merge::merge(&pieces, &merged, merge::Join::Pieces).unwrap();
+    same_files(&converted, &merged);
+    // HumanML3D's vectors are metres by their definition.
+    let humanml3d = Options {
+        features: dataset::FeatureSet::HumanMl3d,
+        ..options.clone()
+    };
+    let refused = humanml3d.check().unwrap_err().to_string();
+    assert!(
+        refused.contains("out_units inches") && refused.contains("metres by their definition"),
+        "{refused}"
+    );
+}

@@ -343,7 +343,10 @@ fn convert_keeps_the_body_while_the_bones_are_the_files() {
         None,
     )
     .unwrap();
-    for (edit, kept) in [(&["--out-up", "z"][..], true), (&["--scale", "2"][..], false)] {
+    for (edit, kept) in [
+        (&["--out-up", "z"][..], true),
+        (&["--scale", "2"][..], false),
+    ] {
         let out = folder.join(format!("{}.npz", edit[0].trim_start_matches('-')));
         let mut args = vec!["convert".to_string(), source.display().to_string()];
         args.extend(edit.iter().map(|s| s.to_string()));

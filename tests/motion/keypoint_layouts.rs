@@ -44,7 +44,7 @@ fn round_trip(take: &Take, layout: Layout) -> Option<f64> {
     let placed = to_smpl(&keypoints, 0.3, Some(up), "keypoints").unwrap();
     let (positions, _) = onto_skeleton(&placed.positions, &take.skeleton).unwrap();
     let (motion, _) =
-        bvhview::solve::solve(&take.skeleton, stance.up, &positions, Some(Up::Y)).unwrap();
+        bvhview::solve::solve(&take.skeleton, stance.up, &positions, Some(Up::Y.into())).unwrap();
     let solved = Take::new(take.skeleton.clone(), motion, "solved");
     let mut angles = Vec::new();
     for f in 0..take.frame_count() {
