@@ -1057,3 +1057,18 @@ def test_an_up_axis_given_replaces_the_guess_and_travels_in_a_pickle():
     assert given.to_up("z").up_axis == "z"
     with pytest.raises(ValueError, match="up="):
         bvhview.load(path, up="w")
+
+
+@pytest.mark.parametrize("axis", ["x", "-x", "-y", "-z"])
+def test_any_signed_up_axis_stands_a_take_turned_to_it_back_up(axis, tmp_path):
+    """A walk turned to stand along `axis` (`to_up`, as `convert --out-up`), saved and loaded
+    with up=axis, is the walk again: turned to y as it is read, and said in its warnings."""
+    walk = bvhview.load(DATA / "bvh" / "bvhparser_walk_01.bvh")
+    turned = walk.to_up(axis)
+    assert np.abs(turned.positions() - walk.positions()).max() > 10
+    path = tmp_path / "turned.bvh"
+    turned.save(path)
+    back = bvhview.load(path, up=axis)
+    assert back.up_axis == "y"
+    assert any(f"up={axis}: turned to stand along +y" in w for w in back.warnings)
+    np.testing.assert_allclose(back.positions(), walk.positions(), atol=1e-4 * 25.4)

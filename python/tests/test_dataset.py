@@ -795,3 +795,34 @@ def test_datasets_compiled_with_a_map_merge(tmp_path):
     merged = bvhview.merge_datasets([one, one], tmp_path / "two", join="folders")
     assert len(merged["clips"]) == 2
     assert merged["options"]["map"]["all"] == [["Head", "head"]]
+
+
+def test_out_units_write_every_length_in_them(tmp_path, compiled):
+    """compile_dataset(out_units="cm") as `dataset --out-units cm`: every length in centimetres,
+    the rest as in metres, the units in the manifest; HumanML3D's metres are refused."""
+    out = tmp_path / "cm"
+    manifest = quietly(DATA, out, out_units="cm")
+    metres = json.loads((compiled / "manifest.json").read_text())
+    assert (manifest["options"]["units"], manifest["options"]["metres_per_unit"]) == (
+        "centimetres",
+        pytest.approx(0.01),
+    )
+    assert "metres_per_unit" not in metres["options"]
+    for clip, before in zip(manifest["clips"], metres["clips"]):
+        for array in ["positions", "velocities", "root_translations"]:
+            np.testing.assert_allclose(
+                clip_rows(out, manifest, clip, array),
+                clip_rows(compiled, metres, before, array) * np.float32(100),
+                rtol=1e-6,
+                atol=1e-6,
+            )
+        for array in ["rotations", "foot_contacts"]:
+            np.testing.assert_array_equal(
+                clip_rows(out, manifest, clip, array), clip_rows(compiled, metres, before, array)
+            )
+    dataset = bvhview.Dataset(out, group=0)
+    first = [c for c in manifest["clips"] if c["group"] == 0]
+    assert len(dataset) == len(first)
+    np.testing.assert_array_equal(dataset[0]["positions"], clip_rows(out, manifest, first[0], "positions"))
+    with pytest.raises(ValueError, match="HumanML3D's vectors are in metres"):
+        quietly(DATA, tmp_path / "h", out_units="cm", features="humanml3d", onto="smpl22")
