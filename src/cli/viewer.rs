@@ -6,7 +6,6 @@ use super::{
     QUIET, check_output, load_or_default, paired_takes, resolve_up, style_for, warn_offset_mode,
 };
 use crate::io::error::Error;
-#[cfg(feature = "window")]
 use clap::Args;
 use std::path::PathBuf;
 use std::process::ExitCode;
