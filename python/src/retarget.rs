@@ -15,7 +15,8 @@ pub(crate) fn target_of(py: Python<'_>, target: &Bound<'_, PyAny>) -> PyResult<T
         let motion = motion.get();
         let loaded = &motion.loaded;
         let name = motion.item.path.display().to_string();
-        return Ok(Target::new(name, loaded.skeleton.clone(), &loaded.motion));
+        // With the units and up axis its loader was given, over the guess.
+        return Ok(Target::of_take(name, loaded));
     }
     let Ok(path) = target.extract::<PathBuf>() else {
         return Err(PyTypeError::new_err(
@@ -100,8 +101,10 @@ pub(crate) fn retarget(
         .map_err(|e| to_python(py, e))?;
     warn_put(py, &name, &target.name, &put.forced, &put.uncarried)?;
     let mut result = source.edited(put.skeleton, put.motion, false);
-    // On the target it stands as the target does.
-    result.loaded.stated_up = None;
+    // On the target it stands as the target does, in its units: as given for it, or guessed.
+    result.loaded.stated_up = target.up_given.then_some(target.up);
+    result.loaded.stated_units = target.units;
+    result.loaded.units_given = target.units.is_some();
     result.check = Some(put.check);
     Ok(result)
 }

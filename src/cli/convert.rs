@@ -116,6 +116,8 @@ pub(crate) struct ConvertArgs {
     /// --body-model, on that model with its betas fitted to the take's bones).
     #[arg(long, value_name = "TARGET", conflicts_with_all = ["character", "skin"])]
     onto: Option<String>,
+    #[command(flatten)]
+    onto_stated: super::OntoStated,
     /// glTF or FBX: put the take (after the edits) on a character (.fbx, .glb or .gltf with a
     /// skinned mesh), retargeted onto its skeleton by role, and write the character's mesh
     /// bound to it: the take plays on the character in any glTF viewer or engine. A character
@@ -609,7 +611,8 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
         loaded.body = None;
     }
     if let Some(onto) = &args.onto {
-        let (target, body) = super::retarget::target_for(onto, &args.source, &loaded)?;
+        let (target, body) =
+            super::retarget::target_for(onto, &args.onto_stated, &args.source, &loaded)?;
         let name = args.input.display().to_string();
         let (skeleton, motion, check) =
             super::retarget::put_onto(&loaded, &name, &target, &[], Default::default())?;
@@ -620,7 +623,10 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
         ));
         let mut put = loaded.edited(skeleton, motion, false);
         put.offset_mode = OffsetMode::Replace;
-        put.stated_up = None;
+        // On the target, it is what the user said of the target, if anything.
+        put.stated_up = target.up_given.then_some(target.up);
+        put.stated_units = target.units;
+        put.units_given = target.units.is_some();
         put.body = body;
         loaded = put;
     }

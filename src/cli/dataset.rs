@@ -71,6 +71,8 @@ pub(crate) struct DatasetArgs {
     /// the folder makes one group; takes whose map misses a required role are skipped.
     #[arg(long, value_name = "TARGET")]
     onto: Option<String>,
+    #[command(flatten)]
+    onto_stated: super::OntoStated,
     /// With --onto: override every take's guessed joint map, as `retarget --map` does: SRC=DST
     /// (SRC= leaves a source joint out), or a TOML or JSON file of such pairs. A file's
     /// `[stated.FINGERPRINT]` sections (`units = "cm"`, `up = "z"`) say what each rig's takes
@@ -162,7 +164,7 @@ pub(crate) fn run(args: DatasetArgs) -> Result<ExitCode, Error> {
         onto: args
             .onto
             .as_deref()
-            .map(|onto| crate::retarget::Target::load(onto, args.max_size))
+            .map(|onto| args.onto_stated.target(onto, args.max_size))
             .transpose()?,
         any_body: args.any_body,
         force: args.force,

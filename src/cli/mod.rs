@@ -239,6 +239,38 @@ pub(crate) struct View {
     true_scale: bool,
 }
 
+/// `--onto-units`, `--onto-up`: what the user says of the skeleton a take is put on.
+#[derive(Args, Clone, Debug, Default)]
+pub(crate) struct OntoStated {
+    /// The units the target skeleton's lengths are in, over the guess (as `--units` says a
+    /// take's): mm, cm, m, in, ft, or metres per unit. `--out-units` and the feet's thresholds
+    /// take them.
+    #[arg(long, value_name = "UNITS", value_parser = convert::parse_units)]
+    pub(crate) onto_units: Option<crate::model::stance::Units>,
+    /// The axis the target skeleton stands along, over the guess (as `--up` says a take's):
+    /// y, z, x, -y, -z or -x (the last four turn it to stand along y as it is read).
+    #[arg(long, value_enum, allow_hyphen_values = true)]
+    pub(crate) onto_up: Option<UpArg>,
+}
+
+impl OntoStated {
+    /// The target named `onto` with what these say of it.
+    pub(crate) fn target(
+        &self,
+        onto: &str,
+        max_size: u64,
+    ) -> Result<crate::retarget::Target, Error> {
+        let mut options = take::OpenOptions::new().max_size(max_size);
+        if let Some(units) = self.onto_units {
+            options = options.units(units);
+        }
+        if let Some(up) = self.onto_up {
+            options = options.up(crate::model::pose::UpAxis::from(up));
+        }
+        crate::retarget::Target::open(onto, &options)
+    }
+}
+
 /// `--fit`: what the framed camera keeps in the picture.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub(crate) enum FitArg {
@@ -769,9 +801,15 @@ pub(crate) fn write_result(
     motion: crate::Motion,
     units: Option<crate::model::stance::Units>,
     body: Option<crate::smpl::Body>,
+    target: &crate::retarget::Target,
 ) -> Result<ExitCode, Error> {
     let format = TakeFormat::of(output);
     let mut take = Take::new(skeleton, motion, stem_of(output));
+    // Its lengths are the target's: in the units the user gave for it, if any.
+    if let Some(own) = target.units {
+        take.stated_units = Some(own);
+        take.units_given = true;
+    }
     let mut label = TakeLabel {
         body,
         ..TakeLabel::output(output)

@@ -14,6 +14,8 @@ pub(crate) struct RetargetArgs {
     input: PathBuf,
     #[command(flatten)]
     source: Source,
+    #[command(flatten)]
+    onto_stated: super::OntoStated,
     /// The axis the take stands along, over the guess (the retarget turns it up by it).
     #[arg(long, value_enum, allow_hyphen_values = true)]
     up: Option<super::UpArg>,
@@ -86,10 +88,11 @@ pub(crate) fn map_pairs(values: &[String]) -> Result<retarget::MapPairs, Error> 
 /// bones (said), and the body it is.
 pub(crate) fn target_for(
     onto: &str,
+    stated: &super::OntoStated,
     source: &Source,
     loaded: &crate::Take,
 ) -> Result<(Target, Option<crate::smpl::Body>), Error> {
-    let target = Target::load(onto, source.max_size)?;
+    let target = stated.target(onto, source.max_size)?;
     let family = crate::bvh::built_in::name_of(onto)
         .filter(|name| name.starts_with("smpl") && !Path::new(onto).exists());
     let (Some(path), Some(_)) = (&source.body_model, family) else {
@@ -156,7 +159,7 @@ pub(crate) fn run(mut args: RetargetArgs) -> Result<ExitCode, Error> {
     }
     let loaded = load(&args.input, &args.source)?;
     let pairs = map_pairs(&args.map)?.for_skeleton(&loaded.skeleton);
-    let (target, body) = target_for(&args.onto, &args.source, &loaded)?;
+    let (target, body) = target_for(&args.onto, &args.onto_stated, &args.source, &loaded)?;
     let source_name = args.input.display().to_string();
     if args.show_map {
         let mut map = Map::guess(&loaded.skeleton, &target.skeleton);
@@ -173,8 +176,13 @@ pub(crate) fn run(mut args: RetargetArgs) -> Result<ExitCode, Error> {
     };
     let (skeleton, motion, check) = put_onto(&loaded, &source_name, &target, &pairs, insist)?;
     let motion = if args.lock_feet {
-        let (locked_motion, locked) =
-            crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?;
+        let (locked_motion, locked) = crate::retarget::lock_feet_from_source_as(
+            &loaded,
+            &skeleton,
+            &motion,
+            target.up_given.then_some(target.up),
+            target.units,
+        )?;
         super::note(format_args!(
             "{}: {}",
             locked.heading(),
@@ -219,5 +227,5 @@ pub(crate) fn run(mut args: RetargetArgs) -> Result<ExitCode, Error> {
         super::note(format_args!("{}", check.line()));
         motion
     };
-    super::write_result(output, skeleton, motion, args.out_units, body)
+    super::write_result(output, skeleton, motion, args.out_units, body, &target)
 }

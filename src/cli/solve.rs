@@ -17,6 +17,8 @@ pub(crate) struct SolveArgs {
     /// used), or the built-in `smpl22`.
     #[arg(long, value_name = "SKELETON")]
     onto: String,
+    #[command(flatten)]
+    onto_stated: super::OntoStated,
     /// What the input holds: joint positions (the default), or HumanML3D's 263-value feature
     /// vectors (frames × 263 .npy, `new_joint_vecs`), recovered to positions as HumanML3D's
     /// `recover_from_ric` does.
@@ -189,7 +191,7 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
             let target = Target::new(name, fitted.skeleton, &fitted.rest);
             (target, Some(fitted.body))
         }
-        None => (Target::load(&args.onto, args.max_size)?, None),
+        None => (args.onto_stated.target(&args.onto, args.max_size)?, None),
     };
     // Keypoints stand along +y, named as SMPL's joints: each given to the target's joint of
     // its role.
@@ -235,5 +237,12 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         };
         note(format_args!("off the data ({why}): {off}"));
     }
-    super::write_result(&args.output, target.skeleton, motion, args.out_units, body)
+    super::write_result(
+        &args.output,
+        target.skeleton.clone(),
+        motion,
+        args.out_units,
+        body,
+        &target,
+    )
 }

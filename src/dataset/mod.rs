@@ -119,7 +119,7 @@ fn prepare(item: &Item, options: &Options, pick_first: bool) -> Result<Prepared,
     if let Some(target) = &options.onto {
         // A retargeted take stands as its target does (one frame says little about it).
         stance.up = target.up;
-        stance.up_given = false;
+        stance.up_given = target.up_given;
     }
     let mut loaded = loaded;
     if options.lock_feet && options.onto.is_none() {
@@ -254,7 +254,14 @@ fn put_onto(
     // again on what is written.
     let (motion, check) = match options.lock_feet {
         true => {
-            let motion = crate::retarget::lock_feet_from_source(&loaded, &skeleton, &motion)?.0;
+            let motion = crate::retarget::lock_feet_from_source_as(
+                &loaded,
+                &skeleton,
+                &motion,
+                target.up_given.then_some(target.up),
+                target.units,
+            )?
+            .0;
             let check = target.measure(
                 &name,
                 &loaded.skeleton,
@@ -276,11 +283,12 @@ fn put_onto(
         }
         false => (motion, put.check),
     };
+    // On the target, its lengths are in the target's units: as the user gave them, or guessed.
     let take = crate::take::Take {
         skeleton,
         motion,
-        stated_units: None,
-        units_given: false,
+        stated_units: target.units,
+        units_given: target.units.is_some(),
         ..loaded
     };
     Ok((take, uncarried, check))

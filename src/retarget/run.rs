@@ -129,6 +129,19 @@ pub fn lock_feet_from_source(
     target: &Skeleton,
     out: &Motion,
 ) -> Result<(Motion, crate::edit::FeetLocked), Error> {
+    lock_feet_from_source_as(source, target, out, None, None)
+}
+
+/// [`lock_feet_from_source`] with the target's up axis and units as the user gave them
+/// ([`Target::up_given`](crate::retarget::Target::up_given),
+/// [`Target::units`](crate::retarget::Target::units)), over the guess from `out`.
+pub fn lock_feet_from_source_as(
+    source: &Take,
+    target: &Skeleton,
+    out: &Motion,
+    up: Option<crate::model::pose::Up>,
+    units: Option<crate::model::stance::Units>,
+) -> Result<(Motion, crate::edit::FeetLocked), Error> {
     let source_mode = source_offset_mode(&source.skeleton, &source.motion);
     let source_stance = source.stance(source_mode);
     let planted = Body::of(&source.skeleton).planted_ankles(
@@ -139,11 +152,12 @@ pub fn lock_feet_from_source(
         &crate::edit::LockFeet::default().planting,
     );
     let target_stance = crate::model::stance::Stance::guess(target, out, OffsetMode::Replace, None);
+    let metres = units.map_or(target_stance.units.metres, |units| units.metres);
     crate::edit::lock_feet_when(
         target,
         out,
         OffsetMode::Replace,
-        (target_stance.up, f64::from(target_stance.units.metres)),
+        (up.unwrap_or(target_stance.up), f64::from(metres)),
         &crate::edit::LockFeet::default(),
         Some(&planted),
     )

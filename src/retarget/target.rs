@@ -102,8 +102,14 @@ pub struct Target {
     pub name: String,
     /// The skeleton takes are put on.
     pub skeleton: Skeleton,
-    /// Its up axis: its take's guessed stance's, or its rest pose's (see [`Target::new`]).
+    /// Its up axis: its take's guessed stance's, or its rest pose's (see [`Target::new`]), or
+    /// the one the user gave ([`Target::of_take`]).
     pub up: Up,
+    /// The units of its lengths when the user gave them (`--onto-units`, a take loaded with
+    /// `units=`); `None`: guessed from its figure wherever they are needed.
+    pub units: Option<crate::model::stance::Units>,
+    /// Whether [`Target::up`] was given by the user rather than guessed.
+    pub up_given: bool,
     /// Five frames spread over its take (none for a rest pose alone): how it stands, for
     /// [`Target::check_body`] (a rig's rest pose may lie down where its takes stand).
     poses: Motion,
@@ -164,8 +170,53 @@ impl Target {
             name,
             skeleton,
             up,
+            units: None,
+            up_given: false,
             poses,
         }
+    }
+
+    /// The target a take is, with what its caller said of it: the up axis given
+    /// ([`Take::stated_up`](crate::Take::stated_up), over the guess) and the units given
+    /// ([`Take::units_given`](crate::Take::units_given)).
+    ///
+    /// ```
+    /// use bvhview::OpenOptions;
+    /// use bvhview::model::{pose::Up, stance::Units};
+    /// use bvhview::retarget::Target;
+    ///
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// let walk = OpenOptions::new()
+    ///     .up(Up::Y)
+    ///     .units(Units::named("m").unwrap())
+    ///     .open("tests/data/bvh/makehuman_walk1.bvh")?;
+    /// let target = Target::of_take("walk", &walk);
+    /// assert_eq!((target.up, target.units.unwrap().name), (Up::Y, "metres"));
+    /// // Guessed, the MakeHuman walk stands along z.
+    /// assert_eq!(Target::load("tests/data/bvh/makehuman_walk1.bvh", u64::MAX)?.up, Up::Z);
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn of_take(name: impl Into<String>, take: &crate::Take) -> Target {
+        let mut target = Target::new(name.into(), take.skeleton.clone(), &take.motion);
+        if let Some(up) = take.stated_up {
+            target.up = up;
+            target.up_given = true;
+        }
+        target.units = take.stated_units.filter(|_| take.units_given);
+        target
+    }
+
+    /// [`Target::load`] with what the caller says of it: `options`' units and up axis (a take
+    /// said to stand along x, −x, −y or −z is turned to stand along y as it is read, as any
+    /// take is) and its file-size limit. Without units or an up axis, [`Target::load`].
+    pub fn open(onto: &str, options: &crate::take::OpenOptions) -> Result<Target, Error> {
+        let max_size = options.max_size_or_default();
+        if options.units.is_none() && options.up.is_none() {
+            return Target::load(onto, max_size);
+        }
+        let take = options.open(onto)?;
+        Ok(Target::of_take(onto, &take))
     }
 
     /// A take on this skeleton by the guessed map (`pairs` override it), on up to `threads`

@@ -170,3 +170,124 @@ fn convert_up_says_what_the_file_is_and_out_up_turns_it() {
     }
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// What the user says of the skeleton a take is put on (`--onto-units`, `--onto-up`) replaces
+/// the guess as `--units` and `--up` do for a take: a 174 cm figure scaled to 61 cm, still in
+/// centimetres, is read as inches by its size; said to be centimetres, what `retarget`,
+/// `solve` and `convert --onto` write in metres is 0.61 m tall, not 1.55 m. A target turned to
+/// stand along −z and said so gives the take on the upright target back.
+#[test]
+fn what_the_user_says_of_a_target_replaces_the_guess() {
+    let folder = scratch_folder("onto_stated");
+    std::fs::create_dir_all(&folder).unwrap();
+    let out = |name: &str| folder.join(name).display().to_string();
+    let freebvh = data("bvh/bvhpython_test_freebvh.bvh").display().to_string();
+    let walk = data("bvh/bvhparser_walk_01.bvh").display().to_string();
+    let small = out("small.bvh");
+    let made = bvhview(&["convert", &freebvh, "--scale", "0.35", "-o", &small]);
+    assert_eq!(made.status.code(), Some(0), "{made:?}");
+    let info = bvhview_stdout(&["info", &small]);
+    assert!(
+        info_line(&info, "units:")
+            .contains("inches (sure: the figure spans 67.9; it stands 61.0 tall, 1.55 m)"),
+        "{info}"
+    );
+    let tall = |file: &str| {
+        let info = bvhview_stdout(&["info", file, "--units", "m"]);
+        let line = info_line(&info, "units:");
+        let metres: f64 = line
+            .split("it stands ")
+            .nth(1)
+            .and_then(|rest| rest.split(' ').next())
+            .unwrap()
+            .parse()
+            .unwrap();
+        metres
+    };
+    let commands: [Vec<&str>; 3] = [
+        vec!["retarget", &walk, "--onto", &small],
+        vec!["convert", &walk, "--onto", &small],
+        vec!["solve", "SMPL_POSITIONS", "--onto", &small, "--fps", "20"],
+    ];
+    let positions = out("walk_smpl.npy");
+    let on_smpl = bvhview(&["positions", &walk, "--layout", "smpl24", "-o", &positions]);
+    assert_eq!(on_smpl.status.code(), Some(0), "{on_smpl:?}");
+    for command in commands {
+        let name = command[0];
+        let args: Vec<&str> = command
+            .iter()
+            .map(|a| {
+                if *a == "SMPL_POSITIONS" {
+                    positions.as_str()
+                } else {
+                    a
+                }
+            })
+            .collect();
+        let mut args = args;
+        if name == "solve" {
+            args.extend(["--layout", "smpl24"]);
+        }
+        let guessed = out(&format!("{name}_guessed.bvh"));
+        let given = out(&format!("{name}_given.bvh"));
+        for (file, extra) in [(&guessed, &[][..]), (&given, &["--onto-units", "cm"][..])] {
+            let mut all = args.clone();
+            all.extend(extra);
+            all.extend(["--out-units", "m", "-o", file]);
+            let run = bvhview(&all);
+            assert_eq!(run.status.code(), Some(0), "{name}: {run:?}");
+        }
+        let (guessed, given) = (tall(&guessed), tall(&given));
+        assert!((guessed - 1.51).abs() < 0.02, "{name}: {guessed} m guessed");
+        assert!((given - 0.596).abs() < 0.01, "{name}: {given} m given");
+    }
+    // A dataset of takes put on it says the units given for it, per clip.
+    let takes = folder.join("takes");
+    std::fs::create_dir(&takes).unwrap();
+    std::fs::copy(&walk, takes.join("walk.bvh")).unwrap();
+    for (extra, units, given) in [
+        (&[][..], "inches", None),
+        (&["--onto-units", "cm"][..], "centimetres", Some(true)),
+    ] {
+        let dataset = folder.join(format!("dataset_{units}"));
+        let mut args = vec![
+            "dataset",
+            takes.to_str().unwrap(),
+            "--onto",
+            &small,
+            "-o",
+            dataset.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let run = bvhview(&args);
+        assert_eq!(run.status.code(), Some(0), "{run:?}");
+        let manifest: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(dataset.join("manifest.json")).unwrap())
+                .unwrap();
+        let clip = &manifest["clips"][0];
+        assert_eq!(clip["units"], units, "{clip}");
+        assert_eq!(clip["units_given"].as_bool(), given, "{clip}");
+    }
+    // A target turned to stand along −z, said so: the take on it is the take on the upright one.
+    let lying = out("small_negz.bvh");
+    let turned = bvhview(&["convert", &small, "--out-up=-z", "-o", &lying]);
+    assert_eq!(turned.status.code(), Some(0), "{turned:?}");
+    for (target, extra, file) in [
+        (&small, &[][..], out("upright.bvh")),
+        (&lying, &["--onto-up=-z"][..], out("stated.bvh")),
+    ] {
+        let mut args = vec!["retarget", walk.as_str(), "--onto", target, "-o", &file];
+        args.extend(extra);
+        let run = bvhview(&args);
+        assert_eq!(run.status.code(), Some(0), "{run:?}");
+    }
+    let upright = positions_csv(&["positions", &out("upright.bvh"), "--frames", "0..40"]);
+    let stated = positions_csv(&["positions", &out("stated.bvh"), "--frames", "0..40"]);
+    assert_eq!(upright.len(), stated.len());
+    for (a, b) in upright.iter().zip(&stated) {
+        for k in 0..3 {
+            assert!((a[k] - b[k]).abs() <= 1e-4 * 61.0, "{a:?} and {b:?}");
+        }
+    }
+    std::fs::remove_dir_all(&folder).unwrap();
+}
