@@ -189,6 +189,9 @@ class Motion:
     def ground(self) -> Motion:
         """The lowest point of the soles (each ankle and what is below it) moved to 0:
         `convert --ground`."""
+    def in_units(self, units: str | float) -> Motion:
+        """Every length scaled from the take's own units to these ("mm", "cm", "m", "in", "ft"
+        or metres per unit): `convert --out-units`; positions() then come out in them."""
     def smooth(self, hz: float) -> Motion:
         """Jitter smoothed: a zero-phase low-pass at hz (below half the frame rate) on every
         position channel and joint rotation: `convert --smooth`."""

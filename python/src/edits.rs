@@ -374,6 +374,18 @@ impl Motion {
         })
     }
 
+    /// The take in other units, `units` ("mm", "cm", "m", "in", "ft" or metres per unit): every
+    /// length scaled from its own (`units`, as guessed or given), as `convert --out-units`; its
+    /// `positions()` then come out in them.
+    #[pyo3(name = "in_units")]
+    fn to_units(&self, py: Python<'_>, units: Bound<'_, PyAny>) -> PyResult<Motion> {
+        guard("in_units", || {
+            let units = crate::common::parse_units(&units)?;
+            py.detach(|| self.in_units(units))
+                .map_err(|e| to_python(py, e))
+        })
+    }
+
     /// A take built from arrays on `template`'s skeleton (a Motion), to save as BVH or glTF:
     /// `rotations`, every joint's local rotation per frame, as `local_rotations` gives them:
     /// frames × joints × 4 (quat, w x y z), × 3 × 3 (matrix), × 6 (6d) or × 3 (euler: each

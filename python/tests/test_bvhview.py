@@ -1059,6 +1059,27 @@ def test_an_up_axis_given_replaces_the_guess_and_travels_in_a_pickle():
         bvhview.load(path, up="w")
 
 
+def test_in_units_is_convert_out_units(cli, tmp_path):
+    """Motion.in_units is `convert --out-units`: the same floats, positions in those units."""
+    source = DATA / "bvh" / "bvhparser_walk_01.bvh"
+    out = tmp_path / "m.bvh"
+    run = subprocess.run(
+        [str(cli), "convert", str(source), "--out-units", "m", "-q", "-o", str(out)],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 0, run.stderr
+    walk = bvhview.load(source)
+    ours = walk.in_units("m")
+    np.testing.assert_array_equal(ours.values, bvhview.load(out).values)
+    assert (ours.units, ours.metres_per_unit) == ("metres", 1.0)
+    np.testing.assert_allclose(
+        ours.positions(), walk.positions() * walk.metres_per_unit, rtol=1e-5, atol=1e-6
+    )
+    with pytest.raises(ValueError, match="units="):
+        walk.in_units("furlongs")
+
+
 @pytest.mark.parametrize("axis", ["x", "-x", "-y", "-z"])
 def test_any_signed_up_axis_stands_a_take_turned_to_it_back_up(axis, tmp_path):
     """A walk turned to stand along `axis` (`to_up`, as `convert --out-up`), saved and loaded
@@ -1072,3 +1093,17 @@ def test_any_signed_up_axis_stands_a_take_turned_to_it_back_up(axis, tmp_path):
     assert back.up_axis == "y"
     assert any(f"up={axis}: turned to stand along +y" in w for w in back.warnings)
     np.testing.assert_allclose(back.positions(), walk.positions(), atol=1e-4 * 25.4)
+
+
+def test_a_target_loaded_with_units_and_up_keeps_them_on_the_take_put_on_it(tmp_path):
+    """A target Motion loaded with units= and up= is the target as the user says it is
+    (`--onto-units`, `--onto-up`): the take put on it is in those units and stands that way."""
+    walk = bvhview.load(DATA / "bvh" / "bvhparser_walk_01.bvh")
+    small = bvhview.load(DATA / "bvh" / "bvhpython_test_freebvh.bvh").scale(0.35)
+    small.save(tmp_path / "small.bvh")
+    guessed = walk.retarget(bvhview.load(tmp_path / "small.bvh"))
+    assert guessed.units == "inches"
+    given = walk.retarget(bvhview.load(tmp_path / "small.bvh", units="cm", up="y"))
+    assert (given.units, given.up_axis) == ("centimetres", "y")
+    np.testing.assert_array_equal(given.values, guessed.values)
+    assert given.in_units("m").positions()[:, :, 1].max() < 0.7
