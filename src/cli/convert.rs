@@ -186,7 +186,16 @@ pub(crate) fn run(mut args: ConvertArgs) -> Result<ExitCode, Error> {
             .map(|character| (path.clone(), character)),
         // A character file converted to FBX keeps its mesh.
         None if format == TakeFormat::Fbx && !is_stdio(&args.input) && own_mesh_kept(&loaded) => {
-            own_character(&args)
+            if let Some(axis) = UpArg::turned_when_read(args.up) {
+                eprintln!(
+                    "bvhview: {}: warning: its mesh is not written: --up {axis} turns the take \
+                     as it is read, not its mesh; the take is",
+                    args.input.display()
+                );
+                None
+            } else {
+                own_character(&args)
+            }
         }
         None => None,
     };
@@ -228,6 +237,13 @@ fn own_character(
     let mut options = crate::take::OpenOptions::new().max_size(args.source.max_size);
     if let Some(take) = &args.source.take {
         options = options.take(take.as_str());
+    }
+    // What the user said of the file (a turning --up never comes here: see `run`).
+    if let Some(units) = args.source.units {
+        options = options.units(units);
+    }
+    if let Some(up) = args.source.up {
+        options = options.up(up);
     }
     match crate::character::Character::open_if_any(&args.input, &options) {
         Ok(character) => {
@@ -472,6 +488,10 @@ fn say_up_is_the_files(args: &ConvertArgs, loaded: &Take) {
     let Some(given) = args.up.map(UpAxis::from).and_then(UpAxis::standing) else {
         return;
     };
+    if args.out_up.is_some() {
+        // Both said: what the file is, and what to turn it to.
+        return;
+    }
     let guessed = crate::model::stance::Stance::guess(
         &loaded.skeleton,
         &loaded.motion,
@@ -525,7 +545,12 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
     }
     // The take's up axis as guessed from its motion or given (scaling changes no axis).
     let mut up = loaded.stance(OffsetMode::Replace).up;
-    if let Some(target) = args.out_up.and_then(|axis| UpAxis::from(axis).standing()) {
+    // With --onto, the take stands as its target does: any turn comes after it.
+    let turned_now = args
+        .out_up
+        .and_then(|axis| UpAxis::from(axis).standing())
+        .filter(|_| args.onto.is_none());
+    if let Some(target) = turned_now {
         (loaded.skeleton, loaded.motion) =
             crate::edit::reorient(&loaded.skeleton, &loaded.motion, up, target)?;
         up = target;
@@ -629,17 +654,19 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
         put.units_given = target.units.is_some();
         put.body = body;
         loaded = put;
+        up = target.up;
     }
     // A turn to an axis the stances do not stand along comes after every edit that stands on
-    // the floor (each turns with the take, so the order changes nothing else).
+    // the floor (each turns with the take, so the order changes nothing else); with --onto,
+    // every turn does, from the target's axis.
     if let Some(target) = args
         .out_up
         .map(UpAxis::from)
-        .filter(|a| a.standing().is_none())
+        .filter(|a| a.standing().is_none() || args.onto.is_some())
     {
         (loaded.skeleton, loaded.motion) =
             crate::edit::reorient(&loaded.skeleton, &loaded.motion, up, target)?;
-        loaded.stated_up = None;
+        loaded.stated_up = target.standing();
     }
     if let Some(units) = args.out_units.filter(|_| in_out_units) {
         loaded = super::in_units(&args.input.display().to_string(), loaded, units)?;

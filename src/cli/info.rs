@@ -131,6 +131,8 @@ fn batch(dir: &Path, source: &Source, offset_mode: OffsetMode) -> Result<ExitCod
         frame_time: source.frame_time,
         max_size: source.max_size,
         offset_mode,
+        units: source.units,
+        up: source.up,
     };
     let outcomes = crate::info::batch::run(items, threads, settings, |outcome, finished, _| {
         let line = match &outcome.result {

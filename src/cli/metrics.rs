@@ -17,6 +17,10 @@ pub(crate) struct MetricsArgs {
     input: PathBuf,
     #[command(flatten)]
     source: Source,
+    /// The axis the take stands along, over the guess (as `info --up`): y, z, x, -y, -z or -x
+    /// (the last four turn it to stand along y as it is read, said).
+    #[arg(long, value_enum, allow_hyphen_values = true)]
+    up: Option<super::UpArg>,
     /// The floor's height in metres (0 for HumanML3D's and AMASS's motion, which stand on it);
     /// default: read from the motion, the median of the lowest point while a foot is planted.
     #[arg(long, value_name = "METRES", allow_negative_numbers = true)]
@@ -60,7 +64,8 @@ const COLUMNS: [&str; 14] = [
     "floor_from",
 ];
 
-pub(crate) fn run(args: MetricsArgs) -> Result<ExitCode, Error> {
+pub(crate) fn run(mut args: MetricsArgs) -> Result<ExitCode, Error> {
+    args.source.up = args.up.map(Into::into);
     if let Some(output) = &args.output {
         check_output(output, &["csv", "json"])?;
     }

@@ -245,15 +245,28 @@ pub(crate) struct OntoStated {
     /// The units the target skeleton's lengths are in, over the guess (as `--units` says a
     /// take's): mm, cm, m, in, ft, or metres per unit. `--out-units` and the feet's thresholds
     /// take them.
-    #[arg(long, value_name = "UNITS", value_parser = convert::parse_units)]
+    #[arg(long, value_name = "UNITS", value_parser = convert::parse_units, requires = "onto")]
     pub(crate) onto_units: Option<crate::model::stance::Units>,
     /// The axis the target skeleton stands along, over the guess (as `--up` says a take's):
-    /// y, z, x, -y, -z or -x (the last four turn it to stand along y as it is read).
-    #[arg(long, value_enum, allow_hyphen_values = true)]
+    /// y, z, x, -y, -z or -x (the last four turn it to stand along y as it is read, so the
+    /// take is written on the turned skeleton, y up).
+    #[arg(long, value_enum, allow_hyphen_values = true, requires = "onto")]
     pub(crate) onto_up: Option<UpArg>,
 }
 
 impl OntoStated {
+    /// Refuses them for a body model's own figure (`--body-model` with an SMPL-family
+    /// target), whose units (metres) and axis (y) the model file says.
+    pub(crate) fn refused_with_body_model(&self) -> Result<(), Error> {
+        if self.onto_units.is_some() || self.onto_up.is_some() {
+            return Err(Error::usage(
+                "--onto-units and --onto-up say what a target file is; with --body-model the \
+                 target is the model's own figure, in metres and y up as its file says",
+            ));
+        }
+        Ok(())
+    }
+
     /// The target named `onto` with what these say of it.
     pub(crate) fn target(
         &self,
@@ -293,10 +306,13 @@ pub(crate) fn style_for(style: Option<StyleArg>, look: LookArg) -> Style {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
 pub(crate) enum UpArg {
     /// Y up, as BVH files usually are (the article draws every file this way).
+    #[value(alias = "+y")]
     Y,
     /// Z up (MakeHuman's files, for example).
+    #[value(alias = "+z")]
     Z,
     /// X up: the take is turned to stand along y as it is read (said).
+    #[value(alias = "+x")]
     X,
     /// −Y up (a camera's image axes): turned to y as it is read (said).
     #[value(name = "-y")]
@@ -570,6 +586,14 @@ pub(crate) fn load_or_default(
             if let Some(time) = source.frame_time {
                 walk.motion.frame_time = time;
             }
+            // What the user says of it, as of any take.
+            if let Some(units) = source.units {
+                walk.stated_units = Some(units);
+                walk.units_given = true;
+            }
+            if let Some(up) = source.up {
+                walk.stand_along(up)?;
+            }
             Ok((crate::DEFAULT_MOTION_NAME.to_string(), walk))
         }
     }
@@ -696,6 +720,9 @@ pub(crate) struct TakeLabel {
     pub(crate) out_units: Option<crate::model::stance::Units>,
     /// The SMPL-family body the take holds (an AMASS file's betas and gender).
     pub(crate) body: Option<crate::smpl::Body>,
+    /// The up axis the user gave (`--up`, `--onto-up`): the FBX and AMASS writers turn the take
+    /// from it, not from the guess.
+    pub(crate) stated_up: Option<Up>,
 }
 
 impl TakeLabel {
@@ -706,6 +733,7 @@ impl TakeLabel {
             stated_units: take.stated_units,
             out_units: None,
             body: take.body.clone(),
+            stated_up: take.stated_up,
         }
     }
 
@@ -721,6 +749,7 @@ impl TakeLabel {
         take.offset_mode = mode;
         take.take_name = Some(self.name.clone());
         take.stated_units = self.stated_units;
+        take.stated_up = self.stated_up;
         take.body = self.body.clone();
         take
     }
@@ -732,6 +761,7 @@ impl TakeLabel {
             stated_units: None,
             out_units: None,
             body: None,
+            stated_up: None,
         }
     }
 }
@@ -812,6 +842,8 @@ pub(crate) fn write_result(
     }
     let mut label = TakeLabel {
         body,
+        stated_units: target.units,
+        stated_up: target.up_given.then_some(target.up),
         ..TakeLabel::output(output)
     };
     if let Some(units) = units {

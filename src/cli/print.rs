@@ -12,9 +12,14 @@ pub(crate) struct PrintArgs {
     file: PathBuf,
     #[command(flatten)]
     source: Source,
+    /// The axis the take stands along, over the guess (as `info --up`): y, z, x, -y, -z or -x
+    /// (the last four turn it to stand along y as it is read, said).
+    #[arg(long, value_enum, allow_hyphen_values = true)]
+    up: Option<super::UpArg>,
 }
 
-pub(crate) fn run(args: PrintArgs) -> Result<ExitCode, Error> {
+pub(crate) fn run(mut args: PrintArgs) -> Result<ExitCode, Error> {
+    args.source.up = args.up.map(Into::into);
     let loaded = load(&args.file, &args.source)?;
     write_text(&crate::bvh::print::print(&loaded.skeleton))?;
     Ok(ExitCode::SUCCESS)

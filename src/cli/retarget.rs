@@ -98,6 +98,7 @@ pub(crate) fn target_for(
     let (Some(path), Some(_)) = (&source.body_model, family) else {
         return Ok((target, None));
     };
+    stated.refused_with_body_model()?;
     let wanted = crate::smpl::fit::model_type_of_target(onto);
     let model = crate::smpl::open_model(path, None, wanted, source.max_size)?;
     let metres = f64::from(loaded.stance(loaded.offset_mode).units.metres);

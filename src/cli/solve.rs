@@ -182,6 +182,7 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         Some(path) => {
             // The model's own figure, its betas fitted to the positions' bones: those of points
             // the data holds (a layout's joints placed from others are not measured).
+            args.onto_stated.refused_with_body_model()?;
             let wanted = crate::smpl::fit::model_type_of_target(&args.onto);
             let model = crate::smpl::open_model(path, None, wanted, args.max_size)?;
             let measured = measured_points(&positions, &placed_names)?;

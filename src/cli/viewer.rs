@@ -123,6 +123,12 @@ pub(crate) fn run(args: ViewerArgs) -> Result<ExitCode, Error> {
     let mut takes = Vec::with_capacity(files.len().max(1));
     if files.is_empty() {
         let (name, loaded) = load_or_default(None, &source)?;
+        for warning in &loaded.warnings {
+            eprintln!(
+                "bvhview: {name}: warning: {}",
+                warning.spelled(&super::Flags)
+            );
+        }
         let stance = loaded.stance(offset_mode);
         resolve_up(up, &stance, &name, look == LookArg::Studio);
         takes.push(ViewerTake {

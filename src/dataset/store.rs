@@ -43,18 +43,7 @@ pub fn layout(
 
 /// The `.npy` header (version 1.0) of an array of `descr` with `shape`, [`HEADER`] bytes long.
 pub fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
-    let dims: Vec<String> = shape.iter().map(usize::to_string).collect();
-    let shape = match dims.len() {
-        1 => format!("({},)", dims[0]),
-        _ => format!("({})", dims.join(", ")),
-    };
-    let dict = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
-    let mut header = b"\x93NUMPY\x01\x00".to_vec();
-    header.extend(((HEADER - 10) as u16).to_le_bytes());
-    header.extend(dict.as_bytes());
-    header.resize(HEADER - 1, b' ');
-    header.push(b'\n');
-    header
+    crate::io::npy::header(descr, shape, HEADER)
 }
 
 /// An array written frame by frame; its header, which holds the row count, is written each

@@ -193,7 +193,7 @@ pub fn reorient(
         {
             return Err(Error::invalid(
                 "up",
-                "",
+                format!("{from} to {to}"),
                 format!(
                     "'{}' has channels that cannot be turned to another axis (it needs three \
                      position channels or none, and three rotations on distinct axes or none)",

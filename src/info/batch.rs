@@ -532,6 +532,10 @@ pub struct Settings {
     pub max_size: u64,
     /// The convention the offset-mode warning is judged against.
     pub offset_mode: crate::model::pose::OffsetMode,
+    /// The units every take's lengths are in, over the guess (`--units`).
+    pub units: Option<crate::model::stance::Units>,
+    /// The axis every take stands along, over the guess (`--up`).
+    pub up: Option<crate::model::pose::UpAxis>,
 }
 
 impl Default for Settings {
@@ -540,6 +544,8 @@ impl Default for Settings {
             frame_time: None,
             max_size: take::DEFAULT_MAX_SIZE,
             offset_mode: crate::model::pose::OffsetMode::default(),
+            units: None,
+            up: None,
         }
     }
 }
@@ -595,6 +601,8 @@ pub fn run(
                     frame_time: settings.frame_time,
                     max_size: Some(settings.max_size),
                     threads: Some(1),
+                    units: settings.units,
+                    up: settings.up,
                     ..Default::default()
                 };
                 take::load_take(&item.path, &options)

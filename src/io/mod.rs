@@ -8,6 +8,7 @@ pub mod error;
 pub mod limits;
 pub mod lines;
 pub mod message;
+pub mod npy;
 pub mod output;
 pub mod parallel;
 pub mod place;

@@ -211,12 +211,13 @@ fn fit(
         off.sort_by(f64::total_cmp);
         off.get(off.len() / 2).copied().unwrap_or(0.0)
     };
-    // What is minimised: the lengths' squared misses, and the pull towards the mean shape.
+    // What is minimised: the lengths' squared relative misses (what the line printed measures,
+    // so that a short bone counts as much as a long one), and the pull towards the mean shape.
     let cost = |betas: &[f64]| {
         let misses: f64 = lengths
             .iter()
             .enumerate()
-            .filter_map(|(k, l)| Some((bone(k, betas).length() - (*l)?).powi(2)))
+            .filter_map(|(k, l)| Some(((bone(k, betas).length() - (*l)?) / (*l)?).powi(2)))
             .sum();
         misses + PULL * betas.iter().map(|b| b * b).sum::<f64>()
     };
@@ -228,9 +229,12 @@ fn fit(
             let Some(length) = *length else { continue };
             let b = bone(k, &betas);
             let along = b.normalize_or_zero();
-            let residual = b.length() - length;
+            let residual = (b.length() - length) / length;
             let p = parents[k].unwrap_or(k);
-            let row: Vec<f64> = moves.iter().map(|m| along.dot(m[k] - m[p])).collect();
+            let row: Vec<f64> = moves
+                .iter()
+                .map(|m| along.dot(m[k] - m[p]) / length)
+                .collect();
             for i in 0..count {
                 rhs[i] -= row[i] * residual;
                 for j in 0..count {

@@ -219,20 +219,7 @@ pub(crate) fn npy_text(text: &str) -> Vec<u8> {
 /// The magic, version 1 and a header of `descr` and `shape`, padded as numpy pads it (the data
 /// starts at a multiple of 64 bytes).
 fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
-    let dims: Vec<String> = shape.iter().map(|d| d.to_string()).collect();
-    let shape = match dims.len() {
-        1 => format!("({},)", dims[0]),
-        _ => format!("({})", dims.join(", ")),
-    };
-    let mut header = format!("{{'descr': '{descr}', 'fortran_order': False, 'shape': {shape}, }}");
-    while (10 + header.len() + 1) % 64 != 0 {
-        header.push(' ');
-    }
-    header.push('\n');
-    let mut out = b"\x93NUMPY\x01\x00".to_vec();
-    out.extend((header.len() as u16).to_le_bytes());
-    out.extend(header.as_bytes());
-    out
+    crate::io::npy::header(descr, shape, 0)
 }
 
 /// An `.npz` of `members` (each an array's name, without `.npy`, and its bytes), stored as

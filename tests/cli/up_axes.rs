@@ -20,6 +20,23 @@ fn positions_csv(args: &[&str]) -> Vec<[f64; 3]> {
         .collect()
 }
 
+/// Where `joint` is at frame 0 of a `positions` CSV of `file` read with `extra` options.
+fn joint_at_first_frame(file: &str, joint: &str, extra: &[&str]) -> [f64; 3] {
+    let mut args = vec!["positions", file, "--frames", "0"];
+    args.extend(extra);
+    let text = bvhview_stdout(&args);
+    let line = text
+        .lines()
+        .find(|line| line.split(',').nth(1) == Some(joint))
+        .unwrap_or_else(|| panic!("no {joint} in {text}"));
+    let v: Vec<f64> = line
+        .split(',')
+        .skip(2)
+        .map(|v| v.parse().unwrap())
+        .collect();
+    [v[0], v[1], v[2]]
+}
+
 /// `info`'s value on the line that starts with `label`.
 fn info_line(info: &str, label: &str) -> String {
     info.lines()
@@ -56,6 +73,22 @@ fn every_signed_up_axis_reads_a_take_turned_to_it_back_standing() {
             .map(|(a, b)| (0..3).map(|k| (a[k] - b[k]).abs()).fold(0.0, f64::max))
             .fold(0.0, f64::max);
         assert!(moved > 10.0, "--out-up {axis} moved the walk by {moved}");
+        // Written along `axis`: from the feet to the head is that way, by most of the height.
+        let (head, foot) = (
+            joint_at_first_frame(turned, "Head", &[]),
+            joint_at_first_frame(turned, "LeftFoot", &[]),
+        );
+        let rise: Vec<f64> = (0..3).map(|k| head[k] - foot[k]).collect();
+        let (along, sign) = match axis {
+            "x" => (0, 1.0),
+            "-x" => (0, -1.0),
+            "-y" => (1, -1.0),
+            _ => (2, -1.0),
+        };
+        assert!(
+            sign * rise[along] > 18.0 && (0..3).all(|k| k == along || rise[k].abs() < 8.0),
+            "--out-up {axis}: from the foot to the head is {rise:?}"
+        );
         let read = bvhview(&[
             "positions",
             turned,
@@ -140,20 +173,65 @@ fn convert_up_says_what_the_file_is_and_out_up_turns_it() {
     assert_eq!(turned.status.code(), Some(0), "{turned:?}");
     let info = bvhview_stdout(&["info", &out("turned.bvh")]);
     assert!(info_line(&info, "up axis:").contains(" z (sure"), "{info}");
-    // The file's axis given and the axis wanted: a turn from what the user says.
+    // The file's axis given and the axis wanted: a turn from what the user says, not from the
+    // guess. The Y-up walk said to stand along z and turned to y: (x, y, z) → (x, z, −y).
     let both = bvhview(&[
         "convert",
-        &out("turned.bvh"),
+        &walk,
         "--up",
         "z",
         "--out-up",
         "y",
         "-o",
-        &out("back.bvh"),
+        &out("from_z.bvh"),
     ]);
     assert_eq!(both.status.code(), Some(0), "{both:?}");
-    let info = bvhview_stdout(&["info", &out("back.bvh")]);
-    assert!(info_line(&info, "up axis:").contains(" y (sure"), "{info}");
+    assert!(
+        !String::from_utf8_lossy(&both.stderr).contains("turns a take"),
+        "{both:?}"
+    );
+    let (before, after) = (
+        joint_at_first_frame(&walk, "Head", &[]),
+        joint_at_first_frame(&out("from_z.bvh"), "Head", &[]),
+    );
+    for (k, wanted) in [before[0], before[2], -before[1]].into_iter().enumerate() {
+        assert!(
+            (after[k] - wanted).abs() < 1e-3,
+            "{before:?} turned to {after:?}"
+        );
+    }
+    // Put on a target, the take stands as the target does; --out-up turns it from there.
+    let onto = bvhview(&[
+        "convert",
+        &walk,
+        "--onto",
+        "smpl22",
+        "--out-up",
+        "x",
+        "-o",
+        &out("onto_x.bvh"),
+    ]);
+    assert_eq!(onto.status.code(), Some(0), "{onto:?}");
+    let (head, foot) = (
+        joint_at_first_frame(&out("onto_x.bvh"), "head", &[]),
+        joint_at_first_frame(&out("onto_x.bvh"), "left_ankle", &[]),
+    );
+    assert!(
+        head[0] - foot[0] > 100.0,
+        "onto smpl22, --out-up x: {head:?} {foot:?}"
+    );
+    // The FBX writer turns the take to y from the axis the user gave, not from the guess: the
+    // Y-up walk said to stand along z lies along −z in the FBX (centimetres).
+    let fbx = bvhview(&["convert", &walk, "--up", "z", "-o", &out("said_z.fbx")]);
+    assert_eq!(fbx.status.code(), Some(0), "{fbx:?}");
+    let (head, foot) = (
+        joint_at_first_frame(&out("said_z.fbx"), "Head", &[]),
+        joint_at_first_frame(&out("said_z.fbx"), "LeftFoot", &[]),
+    );
+    assert!(
+        foot[2] - head[2] > 100.0 && (head[1] - foot[1]).abs() < 20.0,
+        "--up z into FBX: {head:?} {foot:?}"
+    );
     for (output, axis, why) in [
         ("turned.fbx", "z", "FBX is written y up whatever the take"),
         (

@@ -915,7 +915,8 @@ fn out_units_write_every_length_in_them_and_nothing_else_changes() {
         "a metres manifest stays as it was: {options_written:?}"
     );
     assert_eq!(m.clips.len(), c.clips.len());
-    let per_inch = (1.0 / 0.0254f64) as f32;
+    // As the writer computes it: metres per unit, 32-bit, inverted in 64 bits.
+    let per_inch = (1.0 / f64::from(0.0254f32)) as f32;
     let mut compared = 0;
     for (a, b) in m.clips.iter().zip(&c.clips) {
         assert_eq!(a.about.metrics, b.about.metrics, "metrics stay in metres");

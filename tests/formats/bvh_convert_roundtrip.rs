@@ -128,7 +128,7 @@ fn convert_edits_trim_resample_and_scale() {
     }
 }
 
-/// `convert --up y --mirror --in-place --ground` on MakeHuman's Z-up walk: the result is guessed
+/// `convert --out-up y --mirror --in-place --ground` on MakeHuman's Z-up walk: the result is guessed
 /// Y-up, stands where the viewer stood the original, is its mirror image, does not travel, and
 /// its lowest point over the take is at 0.
 #[test]

@@ -334,7 +334,7 @@ fn rest_poses_that_mislead_read_right_from_the_motion() {
     assert!((stance.height - 183.0).abs() < 1e-3, "{}", stance.height);
 }
 
-/// `convert --up/--scale` writes files that read back as written, and `info`
+/// `convert --out-up/--scale` writes files that read back as written, and `info`
 /// prints the guess with how sure it is.
 #[test]
 fn converted_takes_read_back_as_written() {
