@@ -19,6 +19,9 @@ pub const FITTED_BETAS: usize = 10;
 /// centimetre a beta: this weighs a beta's square as a tenth of a millimetre's).
 const PULL: f64 = 1e-8;
 
+/// The relative miss at which a bone's pull on the fit starts to fade (Cauchy's scale): 10%.
+const ROBUST: f64 = 0.1;
+
 /// The model's figure shaped to the source: its skeleton (the built-in figure of the model's
 /// type, the model's joints of the fitted betas), one rest frame, the body it is, and a line
 /// saying how well the bones fit.
@@ -156,13 +159,23 @@ pub fn shaped_to_lengths(model: &BodyModel, lengths: &[Option<f64>]) -> Result<F
             row[root.first_channel + c] = root.offset[channel.axis()];
         }
     }
-    let said = format!(
-        "betas fitted to the source's bone lengths on {} ({count} components, {measured} \
-         bones): {:.1}% → {:.1}% median length difference",
-        model.name,
-        100.0 * before,
-        100.0 * after
-    );
+    let said = if betas.iter().all(|b| *b == 0.0) {
+        format!(
+            "the mean shape of {} kept: no fit of its betas to the source's bone lengths \
+             ({count} components, {measured} bones) lowers their median length difference, \
+             {:.1}%",
+            model.name,
+            100.0 * before
+        )
+    } else {
+        format!(
+            "betas fitted to the source's bone lengths on {} ({count} components, {measured} \
+             bones): {:.1}% → {:.1}% median length difference",
+            model.name,
+            100.0 * before,
+            100.0 * after
+        )
+    };
     Ok(Fitted {
         skeleton,
         rest: Motion::new(1.0 / 30.0, channels, 1, row),
@@ -177,7 +190,7 @@ pub fn shaped_to_lengths(model: &BodyModel, lengths: &[Option<f64>]) -> Result<F
 }
 
 /// The betas (`count` of them) whose bones are `lengths` long, and the median relative length
-/// difference before (the mean shape) and after.
+/// difference before (the mean shape) and after; the mean shape itself when no fit lowers it.
 fn fit(
     model: &BodyModel,
     lengths: &[Option<f64>],
@@ -211,13 +224,16 @@ fn fit(
         off.sort_by(f64::total_cmp);
         off.get(off.len() / 2).copied().unwrap_or(0.0)
     };
-    // What is minimised: the lengths' squared relative misses (what the line printed measures,
-    // so that a short bone counts as much as a long one), and the pull towards the mean shape.
+    // What is minimised: each length's relative miss (what the line printed measures, so a
+    // short bone counts as much as a long one) through Cauchy's ρ(r) = ln(1 + (r/c)²), so that
+    // the few bones two skeletons define differently (a collar, a hip joint) do not pull every
+    // other bone off, and the pull towards the mean shape.
+    let rho = |r: f64| (1.0 + (r / ROBUST).powi(2)).ln();
     let cost = |betas: &[f64]| {
         let misses: f64 = lengths
             .iter()
             .enumerate()
-            .filter_map(|(k, l)| Some(((bone(k, betas).length() - (*l)?) / (*l)?).powi(2)))
+            .filter_map(|(k, l)| Some(rho((bone(k, betas).length() - (*l)?) / (*l)?)))
             .sum();
         misses + PULL * betas.iter().map(|b| b * b).sum::<f64>()
     };
@@ -229,11 +245,15 @@ fn fit(
             let Some(length) = *length else { continue };
             let b = bone(k, &betas);
             let along = b.normalize_or_zero();
-            let residual = (b.length() - length) / length;
+            let miss = (b.length() - length) / length;
+            // Iteratively reweighted: Cauchy's weight 1 / (1 + (r/c)²), as a square root on
+            // the row and the residual.
+            let weight = (1.0 / (1.0 + (miss / ROBUST).powi(2))).sqrt();
+            let residual = weight * miss;
             let p = parents[k].unwrap_or(k);
             let row: Vec<f64> = moves
                 .iter()
-                .map(|m| along.dot(m[k] - m[p]) / length)
+                .map(|m| weight * along.dot(m[k] - m[p]) / length)
                 .collect();
             for i in 0..count {
                 rhs[i] -= row[i] * residual;
@@ -276,7 +296,12 @@ fn fit(
             break;
         }
     }
-    Ok((betas.clone(), spread(&vec![0.0; count]), spread(&betas)))
+    // What the line prints is the median: a fit that does not lower it keeps the mean shape.
+    let (before, after) = (spread(&vec![0.0; count]), spread(&betas));
+    if after > before {
+        return Ok((vec![0.0; count], before, before));
+    }
+    Ok((betas, before, after))
 }
 
 /// `a x = b` by Gaussian elimination with partial pivoting; `None` for a singular `a`.
