@@ -658,3 +658,48 @@ fn betas_fitted_to_positions_do_not_depend_on_their_units() {
         );
     }
 }
+
+/// The fit lowers the median relative length difference it prints, on every take of the
+/// repository that maps onto the model (the relative misses through a robust loss: a collar or
+/// hip joint defined otherwise does not pull the other bones off), or keeps the mean shape and
+/// says so: never a fit that leaves the bones further off than the mean shape.
+#[test]
+fn a_fit_lowers_the_median_difference_or_keeps_the_mean_shape() {
+    let folder_scratch = scratch("robust_fit");
+    let folder = folder_scratch.path().to_path_buf();
+    model_file(ModelType::Smplh, &folder);
+    let body = bvhview::smpl::open_model(&folder, None, Some(ModelType::Smplh), u64::MAX).unwrap();
+    let percent = |said: &str| -> Vec<f64> {
+        said.split('%')
+            .filter_map(|part| part.rsplit([' ', ',']).next()?.parse().ok())
+            .collect()
+    };
+    let (mut fitted_count, mut kept) = (0, Vec::new());
+    for entry in std::fs::read_dir(data("bvh")).unwrap() {
+        let path = entry.unwrap().path();
+        let Ok(take) = bvhview::Take::open(&path) else {
+            continue;
+        };
+        let metres = f64::from(take.stance(take.offset_mode).units.metres);
+        let Ok(fitted) = bvhview::smpl::fit::shaped_to(&body, &take.skeleton, metres) else {
+            continue;
+        };
+        let figures = percent(&fitted.said);
+        if fitted.body.betas.iter().all(|b| *b == 0.0) {
+            assert!(fitted.said.contains("mean shape"), "{}", fitted.said);
+            kept.push(path.file_name().unwrap().to_string_lossy().into_owned());
+        } else {
+            assert_eq!(figures.len(), 2, "{}", fitted.said);
+            assert!(
+                figures[1] <= figures[0],
+                "{}: {}",
+                path.display(),
+                fitted.said
+            );
+            fitted_count += 1;
+        }
+    }
+    // The CMU walk's median falls from 23.3% to 7.6% on the fake SMPL-H model.
+    assert!(fitted_count >= 12, "{fitted_count} fitted, kept: {kept:?}");
+    assert_eq!(kept, ["bvhparser_simple.bvh"]);
+}
