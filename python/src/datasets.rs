@@ -162,12 +162,19 @@ pub(crate) fn _dataset_motion(
                 )
             })
             .map_err(|e| to_python(py, e))?;
+        let mut loaded = Take::new(
+            skeleton,
+            motion,
+            path.join(&entry.skeleton).display().to_string(),
+        );
+        // The dataset's units, as its manifest says them (metres, or `out_units`): stated, not
+        // guessed again from the figure.
+        let metres = manifest.options.metres_per_unit;
+        loaded.stated_units = Some(bvhview::model::stance::Units::of_metres(metres));
+        loaded.units_given = true;
+        loaded.stated_up = Some(bvhview::model::pose::Up::Y);
         Ok(Motion {
-            loaded: Take::new(
-                skeleton,
-                motion,
-                path.join(&entry.skeleton).display().to_string(),
-            ),
+            loaded,
             item: Item {
                 path: path.join(&entry.skeleton),
                 motion: None,

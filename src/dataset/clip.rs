@@ -161,7 +161,8 @@ pub struct About {
     pub up: String,
     /// The guessed units' name (`metres`, `centimetres`, `inches`, `CMU units (1/0.45 inch)`…).
     pub units: String,
-    /// Metres in one of those units: what every length was multiplied by.
+    /// Metres in one of those units: what every length was multiplied by to make metres (then
+    /// divided by the dataset's `out_units`' own, when the manifest names other units).
     pub metres_per_unit: f32,
     /// Whether the units were given (`--units`, `units=`) rather than guessed or stated by the
     /// file; absent (false) in older manifests.
