@@ -74,6 +74,29 @@ fn compile(out: &Path, options: &Options, threads: usize) -> dataset::Summary {
     .unwrap()
 }
 
+/// The repository's takes compiled as `count` pieces cut by [`dataset::piece`] (as a Dask
+/// compile cuts them), into `LABEL_K` folders under `dir`.
+fn even_pieces(dir: &Path, options: &Options, count: usize, label: &str) -> Vec<PathBuf> {
+    let items = dataset::takes(Path::new(DATA)).unwrap();
+    (0..count)
+        .map(|k| {
+            let (run, takes) = dataset::piece(Path::new(DATA), items.clone(), k, count).unwrap();
+            let piece = dir.join(format!("{label}_{k}"));
+            dataset::compile(
+                Path::new(DATA),
+                run,
+                options,
+                1,
+                &piece,
+                takes,
+                |_, _, _, _| true,
+            )
+            .unwrap();
+            piece
+        })
+        .collect()
+}
+
 /// Every file of two dataset folders, byte for byte.
 fn same_files(a: &Path, b: &Path) {
     let mut files = Vec::new();
@@ -468,22 +491,7 @@ fn threads_and_pieces_merged_give_the_same_bytes_and_rotation_kinds_their_widths
     merge::merge(&pieces, &merged, merge::Join::Pieces).unwrap();
     same_files(&whole, &merged);
     // dataset::piece cuts the same runs a Dask compile merges.
-    let mut even = Vec::new();
-    for k in 0..3 {
-        let (run, takes) = dataset::piece(Path::new(DATA), items.clone(), k, 3).unwrap();
-        let piece = temp.path().join(format!("even_{k}"));
-        dataset::compile(
-            Path::new(DATA),
-            run,
-            &Options::default(),
-            1,
-            &piece,
-            takes,
-            |_, _, _, _| true,
-        )
-        .unwrap();
-        even.push(piece);
-    }
+    let even = even_pieces(temp.path(), &Options::default(), 3, "even");
     let merged_even = temp.path().join("merged_even");
     merge::merge(&even, &merged_even, merge::Join::Pieces).unwrap();
     same_files(&whole, &merged_even);
@@ -982,23 +990,7 @@ fn out_units_write_every_length_in_them_and_nothing_else_changes() {
         }
     }
     // Pieces in inches merge into the whole compile's bytes.
-    let items = dataset::takes(Path::new(DATA)).unwrap();
-    let mut pieces = Vec::new();
-    for k in 0..2 {
-        let (run, takes) = dataset::piece(Path::new(DATA), items.clone(), k, 2).unwrap();
-        let piece = temp.path().join(format!("piece_{k}"));
-        dataset::compile(
-            Path::new(DATA),
-            run,
-            &options,
-            1,
-            &piece,
-            takes,
-            |_, _, _, _| true,
-        )
-        .unwrap();
-        pieces.push(piece);
-    }
+    let pieces = even_pieces(temp.path(), &options, 2, "piece");
     let merged = temp.path().join("merged");
     merge::merge(&pieces, &merged, merge::Join::Pieces).unwrap();
     same_files(&converted, &merged);
