@@ -471,7 +471,8 @@ impl Take {
     /// take is turned exactly to stand along +y ([`crate::edit::reorient`]: every OFFSET and
     /// position moved to the turned axes, every rotation Q·R·Q⁻¹ in its joint's order) and a
     /// warning says so, for bvhview's stances stand along y or z. A joint whose channels
-    /// cannot be turned (two position channels) refuses it by name.
+    /// cannot be turned (two position channels, or fewer than three rotations: an ASF knee's
+    /// one degree of freedom) refuses it by name.
     ///
     /// ```
     /// use bvhview::{OpenOptions, Take};
