@@ -166,9 +166,18 @@ impl QuarterTurn {
     }
 }
 
+/// Whether a joint's rotation turns as Q·R·Q⁻¹ split again into its own three channels (a BVH
+/// joint's), rather than by its axis (an ASF bone's, or a hinge's given one).
+fn by_channels(joint: &crate::model::skeleton::Joint) -> bool {
+    joint.rotation_order.is_some() && joint.axis.is_none()
+}
+
 /// The take turned from one up axis to another, so that it loads the same way in the other
 /// convention: every OFFSET and position turned by the rotation Q between them, every joint's
-/// rotation R replaced by Q·R·Q⁻¹ in the joint's own channel order. The world positions come
+/// rotation R replaced by Q·R·Q⁻¹ in the joint's own channel order. An ASF bone, whose local
+/// rotation is C·R·C⁻¹ about its axis C, gets the axis Q·C instead and keeps its channels as
+/// they are, and a joint of one or two rotations (a hinge) the axis Q: their degrees of freedom
+/// turn with them (a BVH writer bakes such axes into three channels). The world positions come
 /// out turned by Q.
 pub fn reorient(
     skeleton: &Skeleton,
@@ -187,16 +196,21 @@ pub fn reorient(
     turned.y_up_stated = skeleton.y_up_stated && to == UpAxis::Y;
     for joint in &mut turned.joints {
         joint.offset = exactly(joint.offset);
-        let positions = joint.channels.iter().filter(|c| c.is_position()).count();
+        // Q·(C·R·C⁻¹)·Q⁻¹ = (Q·C)·R·(Q·C)⁻¹: the channels stay, the axis turns. A joint with
+        // one or two rotations (a hinge) has no three channels to turn R in: it gets the axis Q.
         let rotations = joint.channels.iter().filter(|c| c.is_rotation()).count();
-        if (positions != 0 && positions != 3) || (rotations != 0 && joint.rotation_order.is_none())
-        {
+        if rotations != 0 && !by_channels(joint) {
+            let c = joint.axis.unwrap_or(Quat::IDENTITY);
+            joint.axis = Some((turn * c).normalize());
+        }
+        let positions = joint.channels.iter().filter(|c| c.is_position()).count();
+        if positions != 0 && positions != 3 {
             return Err(Error::invalid(
                 "up",
                 format!("{from} to {to}"),
                 format!(
-                    "'{}' has channels that cannot be turned to another axis (it needs three \
-                     position channels or none, and three rotations on distinct axes or none)",
+                    "'{}' has position channels that cannot be turned to another axis (it \
+                     needs three or none)",
                     joint.name
                 ),
             ));
@@ -228,7 +242,7 @@ pub fn reorient(
                         row[column] = p[axis];
                     }
                 }
-                if let Some(order) = joint.rotation_order {
+                if let Some(order) = joint.rotation_order.filter(|_| by_channels(joint)) {
                     let r = crate::model::pose::channel_rotations_f64(joint, values);
                     let turn = turn.as_dquat();
                     let angles = euler::split_degrees(turn * r * turn.inverse(), order);

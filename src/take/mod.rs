@@ -470,9 +470,9 @@ impl Take {
     /// along +y or +z it is kept as stated ([`Take::stated_up`]); along x, −x, −y or −z the
     /// take is turned exactly to stand along +y ([`crate::edit::reorient`]: every OFFSET and
     /// position moved to the turned axes, every rotation Q·R·Q⁻¹ in its joint's order) and a
-    /// warning says so, for bvhview's stances stand along y or z. A joint whose channels
-    /// cannot be turned (two position channels, or fewer than three rotations: an ASF knee's
-    /// one degree of freedom) refuses it by name.
+    /// warning says so, for bvhview's stances stand along y or z. An ASF bone turns by its
+    /// axis and a hinge (one or two rotations) is given one; a joint of one or two position
+    /// channels cannot turn and refuses it by name.
     ///
     /// ```
     /// use bvhview::{OpenOptions, Take};

@@ -373,3 +373,74 @@ fn what_the_user_says_of_a_target_replaces_the_guess() {
     }
     std::fs::remove_dir_all(&folder).unwrap();
 }
+
+/// Joints whose rotations cannot be split again in their own channels turn by their axis: an
+/// ASF bone (C·R·C⁻¹ about its axis C: the axis becomes Q·C, the channels stay, its one or two
+/// degrees of freedom too) and a BVH hinge of one rotation (given the axis Q; the BVH writer
+/// bakes it into three channels). Each, turned to an axis and read back along it, is where it
+/// was on every frame; an ASF read with `--up x` is the ASF turned by a quarter turn about z.
+#[test]
+fn hinges_and_asf_bones_turn_by_their_axis() {
+    let folder = scratch_folder("up_hinges");
+    std::fs::create_dir_all(&folder).unwrap();
+    let out = |name: &str| folder.join(name).display().to_string();
+    let hinge = out("hinge.bvh");
+    std::fs::write(
+        &hinge,
+        "HIERARCHY\nROOT Hips\n{\n\tOFFSET 0 0 0\n\tCHANNELS 6 Xposition Yposition Zposition \
+         Zrotation Xrotation Yrotation\n\tJOINT Knee\n\t{\n\t\tOFFSET 0 -40 0\n\t\tCHANNELS 1 \
+         Xrotation\n\t\tJOINT Ankle\n\t\t{\n\t\t\tOFFSET 0 -40 5\n\t\t\tCHANNELS 2 Zrotation \
+         Xrotation\n\t\t\tEnd Site\n\t\t\t{\n\t\t\t\tOFFSET 0 0 12\n\t\t\t}\n\t\t}\n\t}\n}\n\
+         MOTION\nFrames: 3\nFrame Time: 0.1\n0 90 0 0 0 0 10 5 5\n1 91 2 10 20 5 40 10 -5\n\
+         2 92 4 20 -10 15 80 -20 30\n",
+    )
+    .unwrap();
+    let asf = data("asf_amc/heiden_12.asf").display().to_string();
+    let amc = data("asf_amc/heiden_12_02_01.amc").display().to_string();
+    let sources: [(&str, Vec<&str>); 2] = [
+        ("hinge", vec![hinge.as_str()]),
+        ("asf", vec![asf.as_str(), "--motion", amc.as_str()]),
+    ];
+    for (name, source) in &sources {
+        // The take as BVH writes it, unturned: the reference (an ASF's points are named
+        // otherwise than its BVH's).
+        let plain = out(&format!("{name}_plain.bvh"));
+        let mut args = vec!["convert"];
+        args.extend(source);
+        args.extend(["-o", &plain]);
+        assert_eq!(bvhview(&args).status.code(), Some(0));
+        let before = positions_csv(&["positions", &plain]);
+        for axis in ["x", "-z"] {
+            let turned = out(&format!("{name}_{axis}.bvh"));
+            let mut args = vec!["convert"];
+            args.extend(source);
+            let out_up = format!("--out-up={axis}");
+            args.extend([out_up.as_str(), "-o", &turned]);
+            let run = bvhview(&args);
+            assert_eq!(run.status.code(), Some(0), "{name} {axis}: {run:?}");
+            let back = positions_csv(&["positions", &turned, &format!("--up={axis}")]);
+            assert_eq!(back.len(), before.len(), "{name} {axis}");
+            for (a, b) in before.iter().zip(&back) {
+                for k in 0..3 {
+                    assert!(
+                        (a[k] - b[k]).abs() < 1e-3,
+                        "{name} --up {axis}: {a:?} {b:?}"
+                    );
+                }
+            }
+        }
+    }
+    // Read along x, the ASF's points are its own turned by Rz(90°): (x, y, z) → (−y, x, z).
+    let own = positions_csv(&["positions", &asf, "--motion", &amc]);
+    let turned = positions_csv(&["positions", &asf, "--motion", &amc, "--up", "x"]);
+    for (a, b) in own.iter().zip(&turned) {
+        let wanted = [-a[1], a[0], a[2]];
+        for k in 0..3 {
+            assert!(
+                (wanted[k] - b[k]).abs() < 1e-3,
+                "{a:?} read along x as {b:?}"
+            );
+        }
+    }
+    std::fs::remove_dir_all(&folder).unwrap();
+}
