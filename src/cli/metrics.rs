@@ -124,6 +124,13 @@ pub(crate) fn run(mut args: MetricsArgs) -> Result<ExitCode, Error> {
     } else {
         let mut thresholds = thresholds;
         let figure = if crate::take::extension(&args.input) == "npy" {
+            if args.up.is_some() || args.source.units.is_some() {
+                return Err(Error::usage(format!(
+                    "{}: an .npy of positions is SMPL's joints in metres and y up, as \
+                     HumanML3D's are; --up and --units say what a take is",
+                    args.input.display()
+                )));
+            }
             // Positions in SMPL's order stand on y = 0, as HumanML3D's and GMD's do.
             if thresholds.floor.is_none() {
                 thresholds.floor = Some(0.0);

@@ -133,6 +133,13 @@ fn every_signed_up_axis_reads_a_take_turned_to_it_back_standing() {
         info.contains("legs 176.6° and 176.6° from straight down"),
         "{info}"
     );
+    // An .npy of positions is SMPL's joints, metres and y up: no axis to state.
+    let npy = bvhview(&["metrics", "positions.npy", "--up", "z"]);
+    assert_eq!(npy.status.code(), Some(2), "{npy:?}");
+    assert!(
+        String::from_utf8_lossy(&npy.stderr).contains("--up and --units say what a take is"),
+        "{npy:?}"
+    );
     // A value that is no axis is refused by clap with the six it takes.
     let refused = bvhview(&["info", &makehuman, "--up", "w"]);
     assert_eq!(refused.status.code(), Some(2));
