@@ -313,10 +313,13 @@ def load_many(
     offset_mode: _OffsetMode = "replace",
     frame_time: float | None = None,
     errors: Literal["raise", "return"] = "raise",
+    *,
+    units: str | float | None = None,
+    up: Literal["y", "z", "x", "-y", "-z", "-x"] | None = None,
 ) -> list[Motion]:
     """Every path (or (asf, amc) pair) loaded on all cores, in order; a folder: every BVH file
     and ASF/AMC pair under it, in path order. With errors="return", a failed entry is its
-    exception instead."""
+    exception instead. `units` and `up` say what every take is, as load()'s do."""
 
 def _from_state(state: tuple[object, ...]) -> Motion:
     """A take from its pickled state (what `pickle` calls; not for calling directly)."""

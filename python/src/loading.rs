@@ -169,17 +169,23 @@ pub(crate) fn items_of(paths: &Bound<'_, PyAny>) -> PyResult<Vec<Item>> {
 /// Loads every entry (a path, or an (asf, amc) pair) on all cores, in list order; given a
 /// folder, every take under it in path order. `errors="raise"` raises the first failure in
 /// list order; `errors="return"` puts the exception in the failed entry's place instead.
+/// `units` and `up` say what every take is, as `load`'s do.
 #[pyfunction]
-#[pyo3(signature = (paths, offset_mode="replace", frame_time=None, errors="raise"))]
+#[pyo3(signature = (paths, offset_mode="replace", frame_time=None, errors="raise", *, units=None, up=None))]
+#[allow(clippy::too_many_arguments)]
 pub(crate) fn load_many(
     py: Python<'_>,
     paths: &Bound<'_, PyAny>,
     offset_mode: &str,
     frame_time: Option<f64>,
     errors: &str,
+    units: Option<Bound<'_, PyAny>>,
+    up: Option<&str>,
 ) -> PyResult<Vec<Py<PyAny>>> {
     guard("load_many", || {
         let offset_mode = parse_offset_mode(offset_mode)?;
+        let units = units.as_ref().map(crate::common::parse_units).transpose()?;
+        let up = up.map(crate::common::parse_up).transpose()?;
         let return_errors = match errors {
             "raise" => false,
             "return" => true,
@@ -210,7 +216,17 @@ pub(crate) fn load_many(
                 items.len(),
                 cores,
                 2 * cores,
-                |turn| load_item(&items[order[turn]], frame_time, threads_per_file),
+                |turn| {
+                    let mut take = load_item(&items[order[turn]], frame_time, threads_per_file)?;
+                    if let Some(units) = units {
+                        take.stated_units = Some(units);
+                        take.units_given = true;
+                    }
+                    if let Some(axis) = up {
+                        take.stand_along(axis)?;
+                    }
+                    Ok(take)
+                },
                 |turn, result| {
                     slots[order[turn]] = Some(result);
                     true

@@ -1107,3 +1107,16 @@ def test_a_target_loaded_with_units_and_up_keeps_them_on_the_take_put_on_it(tmp_
     assert (given.units, given.up_axis) == ("centimetres", "y")
     np.testing.assert_array_equal(given.values, guessed.values)
     assert given.in_units("m").positions()[:, :, 1].max() < 0.7
+
+
+def test_load_many_says_what_every_take_is_as_load_does():
+    """load_many(units=, up=) gives every take what load(units=, up=) gives one."""
+    paths = [DATA / "bvh" / "bvhparser_walk_01.bvh", DATA / "bvh" / "makehuman_walk1.bvh"]
+    many = bvhview.load_many(paths, units="cm", up="-z")
+    for path, take in zip(paths, many):
+        one = bvhview.load(path, units="cm", up="-z")
+        assert (take.units, take.up_axis) == ("centimetres", "y")
+        np.testing.assert_array_equal(take.positions(), one.positions())
+        assert take.warnings == one.warnings
+    with pytest.raises(ValueError, match="up="):
+        bvhview.load_many(paths, up="w")
