@@ -605,10 +605,9 @@ pub fn write_vertices(
             }
             out.write_all(b"],\"frames\":[")?;
         }
-        VertexFormat::Npy => out.write_all(&crate::dataset::store::npy_header(
-            "<f4",
-            &[frames.len(), count, 3],
-        ))?,
+        VertexFormat::Npy => {
+            out.write_all(&crate::io::npy::header("<f4", &[frames.len(), count, 3], 0))?
+        }
     }
     let first = frames.start;
     for f in frames {

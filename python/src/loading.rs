@@ -110,13 +110,7 @@ pub(crate) fn load(
                 }
             })
             .map_err(|e| to_python(py, e))?;
-        if let Some(units) = units {
-            loaded.stated_units = Some(units);
-            loaded.units_given = true;
-        }
-        if let Some(axis) = up {
-            loaded.stand_along(axis).map_err(|e| to_python(py, e))?;
-        }
+        loaded.given(units, up).map_err(|e| to_python(py, e))?;
         Ok(Motion {
             loaded,
             item,
@@ -218,13 +212,7 @@ pub(crate) fn load_many(
                 2 * cores,
                 |turn| {
                     let mut take = load_item(&items[order[turn]], frame_time, threads_per_file)?;
-                    if let Some(units) = units {
-                        take.stated_units = Some(units);
-                        take.units_given = true;
-                    }
-                    if let Some(axis) = up {
-                        take.stand_along(axis)?;
-                    }
+                    take.given(units, up)?;
                     Ok(take)
                 },
                 |turn, result| {

@@ -102,9 +102,7 @@ pub(crate) fn retarget(
     warn_put(py, &name, &target.name, &put.forced, &put.uncarried)?;
     let mut result = source.edited(put.skeleton, put.motion, false);
     // On the target it stands as the target does, in its units: as given for it, or guessed.
-    result.loaded.stated_up = target.up_given.then_some(target.up);
-    result.loaded.stated_units = target.units;
-    result.loaded.units_given = target.units.is_some();
+    target.state_on(&mut result.loaded);
     result.check = Some(put.check);
     Ok(result)
 }
@@ -167,13 +165,8 @@ fn from_keypoints(
 ) -> PyResult<Motion> {
     use bvhview::solve::layouts::{Keypoints, Layout, onto_skeleton, to_smpl};
     use pyo3::exceptions::PyValueError;
-    let layout = Layout::named(layout).ok_or_else(|| {
-        let names: Vec<&str> = Layout::ALL.iter().map(|l| l.label()).collect();
-        PyValueError::new_err(format!(
-            "layout={layout:?}: not a layout bvhview knows ({})",
-            names.join(", ")
-        ))
-    })?;
+    let layout = Layout::parse(layout)
+        .map_err(|why| PyValueError::new_err(format!("layout={layout:?}: {why}")))?;
     let shape = positions.as_array().shape().to_vec();
     let values: Vec<f64> = positions.as_array().iter().copied().collect();
     let keypoints = Keypoints::new(layout, &shape, &values, 1.0 / fps, "positions")

@@ -649,9 +649,7 @@ fn edit(args: &ConvertArgs, mut loaded: Take, in_out_units: bool) -> Result<Take
         let mut put = loaded.edited(skeleton, motion, false);
         put.offset_mode = OffsetMode::Replace;
         // On the target, it is what the user said of the target, if anything.
-        put.stated_up = target.up_given.then_some(target.up);
-        put.stated_units = target.units;
-        put.units_given = target.units.is_some();
+        target.state_on(&mut put);
         put.body = body;
         loaded = put;
         up = target.up;

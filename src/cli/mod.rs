@@ -280,7 +280,12 @@ impl OntoStated {
         if let Some(up) = self.onto_up {
             options = options.up(crate::model::pose::UpAxis::from(up));
         }
-        crate::retarget::Target::open(onto, &options)
+        let target = crate::retarget::Target::open(onto, &options)?;
+        // Said once, as a take's are (a target turned to stand along y, for one).
+        for warning in &target.warnings {
+            eprintln!("bvhview: {onto}: warning: {}", warning.spelled(&Flags));
+        }
+        Ok(target)
     }
 }
 
@@ -587,13 +592,7 @@ pub(crate) fn load_or_default(
                 walk.motion.frame_time = time;
             }
             // What the user says of it, as of any take.
-            if let Some(units) = source.units {
-                walk.stated_units = Some(units);
-                walk.units_given = true;
-            }
-            if let Some(up) = source.up {
-                walk.stand_along(up)?;
-            }
+            walk.given(source.units, source.up)?;
             Ok((crate::DEFAULT_MOTION_NAME.to_string(), walk))
         }
     }
@@ -835,16 +834,13 @@ pub(crate) fn write_result(
 ) -> Result<ExitCode, Error> {
     let format = TakeFormat::of(output);
     let mut take = Take::new(skeleton, motion, stem_of(output));
-    // Its lengths are the target's: in the units the user gave for it, if any.
-    if let Some(own) = target.units {
-        take.stated_units = Some(own);
-        take.units_given = true;
-    }
+    // It stands as the target does, in its units: as the user said them, if at all.
+    target.state_on(&mut take);
     let mut label = TakeLabel {
         body,
-        stated_units: target.units,
-        stated_up: target.up_given.then_some(target.up),
-        ..TakeLabel::output(output)
+        // The take is named after the file it goes to, dots and all.
+        name: stem_of(output),
+        ..TakeLabel::of(&take)
     };
     if let Some(units) = units {
         take = in_units(&output.display().to_string(), take, units)?;

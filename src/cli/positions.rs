@@ -190,13 +190,8 @@ fn write_keypoints(
     range: std::ops::Range<usize>,
 ) -> Result<ExitCode, Error> {
     use crate::solve::layouts::{Layout, of_take};
-    let layout = Layout::named(layout).ok_or_else(|| {
-        let names: Vec<&str> = Layout::ALL.iter().map(|l| l.label()).collect();
-        Error::usage(format!(
-            "--layout {layout}: not a layout bvhview knows ({})",
-            names.join(", ")
-        ))
-    })?;
+    let layout =
+        Layout::parse(layout).map_err(|why| Error::usage(format!("--layout {layout}: {why}")))?;
     let Some(output) = args.output.as_deref() else {
         return Err(Error::usage(
             "--layout: an .npy array goes to a file (-o OUT.npy)",
@@ -209,7 +204,7 @@ fn write_keypoints(
     let keypoints = of_take(&trimmed, layout, metres)?;
     let count = layout.points().len();
     let frames = keypoints.points.len() / count;
-    let mut bytes = crate::dataset::store::npy_header("<f4", &[frames, count, 4]);
+    let mut bytes = crate::io::npy::header("<f4", &[frames, count, 4], 0);
     for (point, confidence) in keypoints.points.iter().zip(&keypoints.confidence) {
         for value in [point.x, point.y, point.z, *confidence] {
             bytes.extend((value as f32).to_le_bytes());

@@ -92,11 +92,10 @@ pub(crate) fn target_for(
     source: &Source,
     loaded: &crate::Take,
 ) -> Result<(Target, Option<crate::smpl::Body>), Error> {
-    let target = stated.target(onto, source.max_size)?;
     let family = crate::bvh::built_in::name_of(onto)
         .filter(|name| name.starts_with("smpl") && !Path::new(onto).exists());
     let (Some(path), Some(_)) = (&source.body_model, family) else {
-        return Ok((target, None));
+        return Ok((stated.target(onto, source.max_size)?, None));
     };
     stated.refused_with_body_model()?;
     let wanted = crate::smpl::fit::model_type_of_target(onto);
@@ -177,20 +176,15 @@ pub(crate) fn run(mut args: RetargetArgs) -> Result<ExitCode, Error> {
     };
     let (skeleton, motion, check) = put_onto(&loaded, &source_name, &target, &pairs, insist)?;
     let motion = if args.lock_feet {
-        let (locked_motion, locked) = crate::retarget::lock_feet_from_source_as(
-            &loaded,
-            &skeleton,
-            &motion,
-            target.up_given.then_some(target.up),
-            target.units,
-        )?;
+        // The take on the target, as the user said the target is (else guessed again).
+        let mut on_target = crate::Take::new(skeleton.clone(), motion.clone(), source_name.clone());
+        target.state_on(&mut on_target);
+        let (locked_motion, locked) = crate::retarget::lock_feet_from_source(&loaded, &on_target)?;
         super::note(format_args!(
             "{}: {}",
             locked.heading(),
             locked.summary(&skeleton)
         ));
-        // Measured as `metrics` measures the result: its units read from its figure.
-        let on_target = crate::Take::new(skeleton.clone(), motion.clone(), source_name.clone());
         if let Some(line) = super::effect(
             "--lock-feet",
             &skeleton,

@@ -109,16 +109,10 @@ pub(crate) fn run(args: SolveArgs) -> Result<ExitCode, Error> {
         )));
     }
     let layout = match &args.layout {
-        Some(name) => Some(crate::solve::layouts::Layout::named(name).ok_or_else(|| {
-            let names: Vec<&str> = crate::solve::layouts::Layout::ALL
-                .iter()
-                .map(|l| l.label())
-                .collect();
-            Error::usage(format!(
-                "--layout {name}: not a layout bvhview knows ({})",
-                names.join(", ")
-            ))
-        })?),
+        Some(name) => Some(
+            crate::solve::layouts::Layout::parse(name)
+                .map_err(|why| Error::usage(format!("--layout {name}: {why}")))?,
+        ),
         None => None,
     };
     if layout.is_some() && args.from == SolveFrom::Humanml3d {

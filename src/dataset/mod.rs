@@ -176,13 +176,10 @@ fn load_checked(item: &Item, options: &Options) -> Result<crate::take::Take, Err
     )?;
     // A map's `[stated.<fingerprint>]` says what this rig's takes are, where the options do not.
     let stated = options.map.stated_for(&loaded.skeleton);
-    if let Some(units) = stated.units.filter(|_| options.units.is_none()) {
-        loaded.stated_units = Some(units);
-        loaded.units_given = true;
-    }
-    if let Some(up) = stated.up.filter(|_| options.up.is_none()) {
-        loaded.stand_along(up)?;
-    }
+    loaded.given(
+        stated.units.filter(|_| options.units.is_none()),
+        stated.up.filter(|_| options.up.is_none()),
+    )?;
     let frame_time = loaded.motion.frame_time;
     if !(frame_time > 0.0 && frame_time.is_finite()) {
         return Err(Error::usage(format!(
@@ -249,19 +246,14 @@ fn put_onto(
     if let Some(why) = put.forced {
         uncarried.push(format!("retarget: kept as `force` asks though {why}"));
     }
-    let (skeleton, motion) = (put.skeleton, put.motion);
+    // On the target, as the user said the target is (its units, its axis), or guessed.
+    let mut on_target = crate::take::Take::new(put.skeleton, put.motion, name.clone());
+    target.state_on(&mut on_target);
     // Planted feet held where they landed, during the source's contacts; the check measured
     // again on what is written.
-    let (motion, check) = match options.lock_feet {
+    let (locked, check) = match options.lock_feet {
         true => {
-            let motion = crate::retarget::lock_feet_from_source_as(
-                &loaded,
-                &skeleton,
-                &motion,
-                target.up_given.then_some(target.up),
-                target.units,
-            )?
-            .0;
+            let motion = crate::retarget::lock_feet_from_source(&loaded, &on_target)?.0;
             let check = target.measure(
                 &name,
                 &loaded.skeleton,
@@ -279,16 +271,16 @@ fn put_onto(
                     target.name
                 )));
             }
-            (motion, check)
+            (Some(motion), check)
         }
-        false => (motion, put.check),
+        false => (None, put.check),
     };
-    // On the target, its lengths are in the target's units: as the user gave them, or guessed.
     let take = crate::take::Take {
-        skeleton,
-        motion,
-        stated_units: target.units,
-        units_given: target.units.is_some(),
+        skeleton: on_target.skeleton,
+        motion: locked.unwrap_or(on_target.motion),
+        stated_units: on_target.stated_units,
+        units_given: on_target.units_given,
+        stated_up: on_target.stated_up,
         ..loaded
     };
     Ok((take, uncarried, check))

@@ -43,7 +43,5 @@ pub use map::{How, Map, REQUIRED};
 pub use map_file::{MapPairs, Stated, parse_map, parse_map_pairs, parse_pair};
 pub use measure::{Standing, direction_errors, followable_errors, quantile, standing};
 pub use names::names_of_family;
-pub use run::{
-    lock_feet_from_source, lock_feet_from_source_as, retarget, retarget_plain, retargeted_values,
-};
+pub use run::{lock_feet_from_source, retarget, retarget_plain, retargeted_values};
 pub use target::{Insist, Retargeted, Target, onto};

@@ -108,7 +108,9 @@ pub fn retargeted_values(
 /// [`crate::edit::lock_feet`]) during the contacts of the source's ankles
 /// ([`Body::planted_ankles`]), not its own: the source says when a foot is planted, while the
 /// retargeted feet, on legs of other proportions, may slide enough that their own reading
-/// misses the contact. Each take stands as [`Take::stance`] guesses (up, metres per unit).
+/// misses the contact. Each take stands as [`Take::stance`] reads it (up, metres per unit): the
+/// result `out` (the take on the target) with what the user said of the target, if anything
+/// ([`Target::state_on`](crate::retarget::Target::state_on)).
 ///
 /// ```
 /// use bvhview::Take;
@@ -116,8 +118,7 @@ pub fn retargeted_values(
 /// # fn main() -> Result<(), bvhview::Error> {
 /// let source = Take::open("tests/data/bvh/bvh11_131_01.bvh")?;
 /// let smpl = bvhview::retarget::onto(&source, "smpl22")?;
-/// let (locked, report) =
-///     bvhview::retarget::lock_feet_from_source(&source, &smpl.skeleton, &smpl.motion)?;
+/// let (locked, report) = bvhview::retarget::lock_feet_from_source(&source, &smpl)?;
 /// assert_eq!(locked.frame_count(), source.frame_count());
 /// // Every contact of the source's ankles is held on the target or named with why.
 /// assert!(report.feet.iter().all(|foot| foot.held + foot.not_held.len() == foot.contacts));
@@ -126,21 +127,7 @@ pub fn retargeted_values(
 /// ```
 pub fn lock_feet_from_source(
     source: &Take,
-    target: &Skeleton,
-    out: &Motion,
-) -> Result<(Motion, crate::edit::FeetLocked), Error> {
-    lock_feet_from_source_as(source, target, out, None, None)
-}
-
-/// [`lock_feet_from_source`] with the target's up axis and units as the user gave them
-/// ([`Target::up_given`](crate::retarget::Target::up_given),
-/// [`Target::units`](crate::retarget::Target::units)), over the guess from `out`.
-pub fn lock_feet_from_source_as(
-    source: &Take,
-    target: &Skeleton,
-    out: &Motion,
-    up: Option<crate::model::pose::Up>,
-    units: Option<crate::model::stance::Units>,
+    out: &Take,
 ) -> Result<(Motion, crate::edit::FeetLocked), Error> {
     let source_mode = source_offset_mode(&source.skeleton, &source.motion);
     let source_stance = source.stance(source_mode);
@@ -151,13 +138,12 @@ pub fn lock_feet_from_source_as(
         (source_stance.up, f64::from(source_stance.units.metres)),
         &crate::edit::LockFeet::default().planting,
     );
-    let target_stance = crate::model::stance::Stance::guess(target, out, OffsetMode::Replace, None);
-    let metres = units.map_or(target_stance.units.metres, |units| units.metres);
+    let target_stance = out.stance(OffsetMode::Replace);
     crate::edit::lock_feet_when(
-        target,
-        out,
+        &out.skeleton,
+        &out.motion,
         OffsetMode::Replace,
-        (up.unwrap_or(target_stance.up), f64::from(metres)),
+        (target_stance.up, f64::from(target_stance.units.metres)),
         &crate::edit::LockFeet::default(),
         Some(&planted),
     )

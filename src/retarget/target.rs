@@ -110,6 +110,8 @@ pub struct Target {
     pub units: Option<crate::model::stance::Units>,
     /// Whether [`Target::up`] was given by the user rather than guessed.
     pub up_given: bool,
+    /// What reading it said once (a target turned to stand along y as it was read, for one).
+    pub warnings: Vec<crate::io::message::Message>,
     /// Five frames spread over its take (none for a rest pose alone): how it stands, for
     /// [`Target::check_body`] (a rig's rest pose may lie down where its takes stand).
     poses: Motion,
@@ -172,6 +174,7 @@ impl Target {
             up,
             units: None,
             up_given: false,
+            warnings: Vec::new(),
             poses,
         }
     }
@@ -204,7 +207,21 @@ impl Target {
             target.up_given = true;
         }
         target.units = take.stated_units.filter(|_| take.units_given);
+        target.warnings = take.warnings.clone();
         target
+    }
+
+    /// The up axis the user gave for it, if any.
+    pub fn stated_up(&self) -> Option<Up> {
+        self.up_given.then_some(self.up)
+    }
+
+    /// `take`, put on this target, with what the user said of the target: its up axis and
+    /// units (none said: both guessed from the take again).
+    pub fn state_on(&self, take: &mut crate::Take) {
+        take.stated_up = self.stated_up();
+        take.stated_units = self.units;
+        take.units_given = self.units.is_some();
     }
 
     /// [`Target::load`] with what the caller says of it: `options`' units and up axis (a take

@@ -196,7 +196,7 @@ pub(crate) fn numbers<'a>(
 
 /// An `.npy` (version 1) of float64 values of `shape` (`[]`: one value, 0-d), C order.
 pub(crate) fn npy_f64(shape: &[usize], values: &[f64]) -> Vec<u8> {
-    let mut out = npy_header("<f8", shape);
+    let mut out = crate::io::npy::header("<f8", shape, 0);
     for v in values {
         out.extend(v.to_le_bytes());
     }
@@ -206,7 +206,7 @@ pub(crate) fn npy_f64(shape: &[usize], values: &[f64]) -> Vec<u8> {
 /// A 0-d `.npy` of one unicode string, as numpy saves `np.array("male")` (`<U4`).
 pub(crate) fn npy_text(text: &str) -> Vec<u8> {
     let count = text.chars().count().max(1);
-    let mut out = npy_header(&format!("<U{count}"), &[]);
+    let mut out = crate::io::npy::header(&format!("<U{count}"), &[], 0);
     for c in text.chars() {
         out.extend((c as u32).to_le_bytes());
     }
@@ -214,12 +214,6 @@ pub(crate) fn npy_text(text: &str) -> Vec<u8> {
         out.extend([0u8; 4]);
     }
     out
-}
-
-/// The magic, version 1 and a header of `descr` and `shape`, padded as numpy pads it (the data
-/// starts at a multiple of 64 bytes).
-fn npy_header(descr: &str, shape: &[usize]) -> Vec<u8> {
-    crate::io::npy::header(descr, shape, 0)
 }
 
 /// An `.npz` of `members` (each an array's name, without `.npy`, and its bytes), stored as

@@ -192,6 +192,25 @@ impl Layout {
         })
     }
 
+    /// [`Layout::named`], or why not, naming every layout (for the caller to put after its
+    /// option: `--layout X: …`, `layout="X": …`).
+    ///
+    /// ```
+    /// use bvhview::solve::layouts::Layout;
+    ///
+    /// assert_eq!(Layout::parse("COCO"), Ok(Layout::Coco17));
+    /// assert_eq!(
+    ///     Layout::parse("vicon").unwrap_err(),
+    ///     "not a layout bvhview knows (h36m17, coco17, mediapipe33, body25, smpl24)"
+    /// );
+    /// ```
+    pub fn parse(name: &str) -> Result<Layout, String> {
+        Layout::named(name).ok_or_else(|| {
+            let names: Vec<&str> = Layout::ALL.iter().map(|l| l.label()).collect();
+            format!("not a layout bvhview knows ({})", names.join(", "))
+        })
+    }
+
     /// Its name, as `--layout` takes it.
     pub fn label(self) -> &'static str {
         match self {

@@ -466,6 +466,38 @@ impl Take {
         )
     }
 
+    /// What the caller says the take is, over the guess: its units (`--units`, `units=`; then
+    /// [`Take::units_given`]) and the axis it stands along ([`Take::stand_along`]). The one way
+    /// every reader, command and Python loader takes them.
+    ///
+    /// ```
+    /// use bvhview::Take;
+    /// use bvhview::model::{pose::{OffsetMode, Up, UpAxis}, stance::Units};
+    ///
+    /// # fn main() -> Result<(), bvhview::Error> {
+    /// let mut walk = Take::open("tests/data/bvh/makehuman_walk1.bvh")?;
+    /// walk.given(Units::named("cm"), Some(UpAxis::Y))?;
+    /// let stance = walk.stance(OffsetMode::Replace);
+    /// assert!(walk.units_given && stance.up_given && stance.up == Up::Y);
+    /// assert_eq!(stance.units.name, "centimetres");
+    /// # Ok(())
+    /// # }
+    /// ```
+    pub fn given(
+        &mut self,
+        units: Option<crate::model::stance::Units>,
+        up: Option<crate::model::pose::UpAxis>,
+    ) -> Result<(), Error> {
+        if let Some(units) = units {
+            self.stated_units = Some(units);
+            self.units_given = true;
+        }
+        match up {
+            Some(axis) => self.stand_along(axis),
+            None => Ok(()),
+        }
+    }
+
     /// The caller's word on the axis the take stands along, over the guess (`--up`, `up=`):
     /// along +y or +z it is kept as stated ([`Take::stated_up`]); along x, −x, −y or −z the
     /// take is turned exactly to stand along +y ([`crate::edit::reorient`]: every OFFSET and
@@ -682,13 +714,7 @@ pub(crate) fn load_take(path: &Path, options: &OpenOptions) -> Result<Take, Erro
 
 /// `take` with the units and up axis `options` give, if any, over its own.
 fn give_units(options: &OpenOptions, mut take: Take) -> Result<Take, Error> {
-    if let Some(units) = options.units {
-        take.stated_units = Some(units);
-        take.units_given = true;
-    }
-    if let Some(axis) = options.up {
-        take.stand_along(axis)?;
-    }
+    take.given(options.units, options.up)?;
     Ok(take)
 }
 

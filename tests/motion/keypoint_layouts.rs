@@ -322,34 +322,23 @@ fn an_asf_takes_keypoints_and_metrics_are_its_joints() {
 #[test]
 fn hostile_keypoint_files_are_refused() {
     let folder = crate::common::scratch_folder("hostile-keypoints");
-    let npy = |shape: &str, values: usize| {
-        let mut header = format!("{{'descr': '<f8', 'fortran_order': False, 'shape': {shape}, }}");
-        while (10 + header.len() + 1) % 64 != 0 {
-            header.push(' ');
-        }
-        header.push('\n');
-        let mut bytes = b"\x93NUMPY\x01\x00".to_vec();
-        bytes.extend((header.len() as u16).to_le_bytes());
-        bytes.extend(header.as_bytes());
-        bytes.extend((0..values).flat_map(|v| (v as f64).to_le_bytes()));
-        bytes
+    // A header of `shape` over `values` float64s (the first one says more than it holds).
+    let npy = |shape: &[usize], values: usize| {
+        let data: Vec<u8> = (0..values).flat_map(|v| (v as f64).to_le_bytes()).collect();
+        crate::common::npz::npy("<f8", shape, &data)
     };
     let walk = data("bvh/bvh11_131_01.bvh");
     for (name, bytes, said) in [
         // A header that promises a thousand frames over ten values.
-        (
-            "lying.npy",
-            npy("(1000, 17, 3)", 10),
-            "more than the file's",
-        ),
+        ("lying.npy", npy(&[1000, 17, 3], 10), "more than the file's"),
         (
             "eighteen.npy",
-            npy("(2, 18, 3)", 108),
+            npy(&[2, 18, 3], 108),
             "18 points a frame; coco17 has 17",
         ),
         (
             "empty.npy",
-            npy("(0, 17, 3)", 0),
+            npy(&[0, 17, 3], 0),
             "no frames of coco17 keypoints",
         ),
     ] {

@@ -666,8 +666,8 @@ fn real_skeletons_onto_each_other_keep_bone_directions_and_feet() {
             let expected_path = stand.ratio * stand.source_path;
             let path_error = (stand.target_path - expected_path).abs() / expected_path.max(1e-6);
             let source_take = bvhview::Take::new(source.clone(), motion.clone(), *source_name);
-            let (locked, _) =
-                retarget::lock_feet_from_source(&source_take, &out_skeleton, &out).unwrap();
+            let on_target = bvhview::Take::new(out_skeleton.clone(), out.clone(), "out");
+            let (locked, _) = retarget::lock_feet_from_source(&source_take, &on_target).unwrap();
             let stand_locked = retarget::standing(
                 source,
                 motion,
